@@ -1,0 +1,22 @@
+# Warnings and sanitizers for every FoveaRT target.
+#   foveart_target_defaults(<target>) applies them; third-party headers are
+#   included as SYSTEM so their warnings stay out of ours.
+
+set(FOVEART_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
+    -Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual -Wnull-dereference
+    -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+set(FOVEART_C_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion)
+
+if(FOVEART_SANITIZE)
+  string(REPLACE ";" "," _san "${FOVEART_SANITIZE}")
+  add_compile_options(-fsanitize=${_san} -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  add_link_options(-fsanitize=${_san})
+  message(STATUS "FoveaRT: sanitizers ${_san}")
+endif()
+
+function(foveart_target_defaults target)
+  target_compile_options(${target} PRIVATE
+    $<$<COMPILE_LANGUAGE:CXX>:${FOVEART_WARNINGS}>
+    $<$<COMPILE_LANGUAGE:C>:${FOVEART_C_WARNINGS}>
+    $<$<BOOL:${FOVEART_WERROR}>:-Werror>)
+endfunction()

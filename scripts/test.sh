@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The README's test command: installs what is missing, builds, and runs every test
+#   1. RelWithDebInfo build  -> ctest
+#   2. AddressSanitizer + UBSan build -> ctest
+#   3. ThreadSanitizer build of the threaded suites (label "threaded") -> ctest
+# Usage: scripts/test.sh [--quick]   (--quick: step 1 only, for local iteration)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+jobs=$(nproc)
+quick=0; [ "${1:-}" = "--quick" ] && quick=1
+
+bash scripts/setup.sh
+
+# Isolate tests from the developer's OpenXR/Vulkan configuration.
+export LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0"
+export ASAN_OPTIONS="detect_leaks=1:verify_asan_link_order=0"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export TSAN_OPTIONS="suppressions=$root/tests/sanitizers/tsan.supp:halt_on_error=1:second_deadlock_stack=1"
+
+run_suite() {  # dir, cmake args..., then ctest label filter in CTEST_ARGS
+  local dir=$1; shift
+  echo "=== configure $dir ($*)"
+  cmake -S . -B "$dir" -G Ninja "$@" >/dev/null
+  echo "=== build $dir"
+  cmake --build "$dir" -j "$jobs" ${BUILD_TARGET:+--target $BUILD_TARGET}
+  echo "=== test $dir"
+  ctest --test-dir "$dir" --output-on-failure -j "$jobs" --timeout 600 ${CTEST_ARGS:-}
+}
+
+SECONDS=0
+CTEST_ARGS="" run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON
+echo "=== release suite done in ${SECONDS}s"
+[ $quick = 1 ] && exit 0
+
+CTEST_ARGS="" run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DFOVEART_BUILD_BENCH=OFF \
+  "-DFOVEART_SANITIZE=address;undefined"
+echo "=== asan/ubsan suite done in ${SECONDS}s"
+
+BUILD_TARGET=threaded_tests CTEST_ARGS="-L threaded" run_suite build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DFOVEART_BUILD_BENCH=OFF -DFOVEART_SANITIZE=thread
+echo "=== tsan suite done in ${SECONDS}s"
