@@ -3,5 +3,10 @@
 # foveart_foveation is defined.
 target_sources(foveart_foveation PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/src/interpolation_weights.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/interpolation_table.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/gather.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/interpolation_cache.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/taa.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/image_metrics.cpp
 )
 target_link_libraries(foveart_foveation PUBLIC Eigen3::Eigen PRIVATE PkgConfig::XXHASH Threads::Threads)

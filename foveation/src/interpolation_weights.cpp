@@ -101,6 +101,14 @@ WeightStatus msm_weights(std::span<const Vec2d> nb, Vec2d q, std::span<double> o
 
 WeightInfo interpolation_weights(const InterpOptions& o, std::span<const Vec2d> nb,
                                  std::span<const std::uint32_t> ids, Vec2d q, std::span<double> out) {
+  return detail::weights_cached(o, nb, ids, q, out, nullptr);
+}
+
+namespace detail {
+
+WeightInfo weights_cached(const InterpOptions& o, std::span<const Vec2d> nb,
+                          std::span<const std::uint32_t> ids, Vec2d q, std::span<double> out,
+                          RbfCache* cache) {
   const std::size_t n = nb.size();
   if (n < 1 || n > std::size_t(kMaxNeighbors) || out.size() != n || (!ids.empty() && ids.size() != n)) {
     throw std::invalid_argument("interpolation_weights: need 1.." + std::to_string(kMaxNeighbors) +
@@ -144,10 +152,21 @@ WeightInfo interpolation_weights(const InterpOptions& o, std::span<const Vec2d> 
   if (!ids.empty()) {
     std::stable_sort(perm.begin(), perm.begin() + long(n), [&](int a, int b) { return ids[std::size_t(a)] < ids[std::size_t(b)]; });
   }
-  std::array<Vec2d, kMaxNeighbors> pts{};
-  for (std::size_t i = 0; i < n; ++i) pts[i] = nb[std::size_t(perm[i])];
-  detail::RbfSystem sys;
-  sys.factor(o, std::span<const Vec2d>(pts.data(), n));
+  RbfCache local;
+  RbfCache& c = cache ? *cache : local;
+  bool hit = !ids.empty() && c.n == int(n);
+  for (std::size_t i = 0; hit && i < n; ++i) hit = c.ids[i] == ids[std::size_t(perm[i])];
+  if (hit) {
+    ++c.hits;
+  } else {
+    std::array<Vec2d, kMaxNeighbors> pts{};
+    for (std::size_t i = 0; i < n; ++i) pts[i] = nb[std::size_t(perm[i])];
+    c.system.factor(o, std::span<const Vec2d>(pts.data(), n));
+    c.n = ids.empty() ? -1 : int(n);
+    for (std::size_t i = 0; i < n && !ids.empty(); ++i) c.ids[i] = ids[std::size_t(perm[i])];
+    ++c.misses;
+  }
+  const RbfSystem& sys = c.system;
   info.rcond = sys.rcond();
   info.merged = sys.merged();
   info.collinear = sys.collinear();
@@ -163,6 +182,8 @@ WeightInfo interpolation_weights(const InterpOptions& o, std::span<const Vec2d> 
   info.status = WeightStatus::fallback_msm;
   return info;
 }
+
+}  // namespace detail
 
 // ---- RbfSystem ----------------------------------------------------------------
 

@@ -55,4 +55,19 @@ class RbfSystem {
   bool collinear_ = false;
 };
 
+// A factored system kept for the next query with the same neighbour set.
+struct RbfCache {
+  RbfSystem system;
+  std::array<std::uint32_t, kMaxNeighbors> ids{};
+  int n = -1;
+  std::size_t hits = 0;
+  std::size_t misses = 0;
+};
+
+// interpolation_weights() with an optional cache: the factorisation depends only
+// on the set of ids (canonical ascending order), so a hit gives identical bits.
+WeightInfo weights_cached(const InterpOptions& options, std::span<const Vec2d> neighbors,
+                          std::span<const std::uint32_t> ids, Vec2d query, std::span<double> out,
+                          RbfCache* cache);
+
 }  // namespace foveart::foveation::detail
