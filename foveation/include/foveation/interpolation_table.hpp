@@ -63,7 +63,9 @@ struct InterpolationTable {
   std::size_t bytes() const {
     return weights_f32.size() * 4 + weights_f16.size() * 2 + weight_sum.size() * 4;
   }
+  // Stored weight of tap j (NN: 1 for the nearest, no storage).
   float weight(std::size_t pixel, int j) const {
+    if (!has_weights()) return j == 0 ? 1.0f : 0.0f;
     const std::size_t i = pixel * std::size_t(options.k) + std::size_t(j);
     return precision == WeightPrecision::f16 ? half_to_float(weights_f16[i]) : weights_f32[i];
   }
