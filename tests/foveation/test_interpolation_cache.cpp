@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CacheTest : ::testing::Test {
+struct InterpolationCacheTest : ::testing::Test {
   void SetUp() override {
     dir = fs::temp_directory_path() / ("foveart_interp_cache_" + std::to_string(::getpid()) + "_" +
                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -44,7 +44,7 @@ struct CacheTest : ::testing::Test {
   InterpOptions opts;
 };
 
-TEST_F(CacheTest, RoundTripServesIdenticalWeights) {
+TEST_F(InterpolationCacheTest, RoundTripServesIdenticalWeights) {
   const auto built = load_or_build();
   EXPECT_FALSE(built.from_cache);
   const auto loaded = load_or_build();
@@ -55,7 +55,7 @@ TEST_F(CacheTest, RoundTripServesIdenticalWeights) {
   EXPECT_EQ(loaded.table.stats.factorizations, built.table.stats.factorizations);
 }
 
-TEST_F(CacheTest, TruncatedFileIsRejectedAndRebuilt) {
+TEST_F(InterpolationCacheTest, TruncatedFileIsRejectedAndRebuilt) {
   load_or_build();
   const auto file = only_file();
   fs::resize_file(file, fs::file_size(file) - 7);
@@ -67,7 +67,7 @@ TEST_F(CacheTest, TruncatedFileIsRejectedAndRebuilt) {
   EXPECT_TRUE(load_or_build().from_cache);  // the rebuild was stored
 }
 
-TEST_F(CacheTest, CorruptPayloadIsRejected) {
+TEST_F(InterpolationCacheTest, CorruptPayloadIsRejected) {
   load_or_build();
   const auto file = only_file();
   {
@@ -81,7 +81,7 @@ TEST_F(CacheTest, CorruptPayloadIsRejected) {
   EXPECT_NE(logs[0].find("checksum"), std::string::npos) << logs[0];
 }
 
-TEST_F(CacheTest, OtherVersionAndOtherParametersAreRejected) {
+TEST_F(InterpolationCacheTest, OtherVersionAndOtherParametersAreRejected) {
   load_or_build();
   const auto file = only_file();
   const auto params = interpolation_cache_params(key, points, opts, WeightPrecision::f16);

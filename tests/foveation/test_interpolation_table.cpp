@@ -34,7 +34,7 @@ PointColors random_colors(std::size_t n, std::uint32_t seed) {
   return point_colors_from_all(rgb);
 }
 
-class TableTest : public ::testing::Test {
+class InterpolationTableTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     points_ = new PointSet(test::foveated_points());
@@ -47,16 +47,16 @@ class TableTest : public ::testing::Test {
   static PointSet* points_;
   static NeighborTable* neighbors_;
 };
-PointSet* TableTest::points_ = nullptr;
-NeighborTable* TableTest::neighbors_ = nullptr;
+PointSet* InterpolationTableTest::points_ = nullptr;
+NeighborTable* InterpolationTableTest::neighbors_ = nullptr;
 
-TEST_F(TableTest, AllIndicesValid) {
+TEST_F(InterpolationTableTest, AllIndicesValid) {
   for (std::size_t p = 0; p < neighbors_->pixel_count(); ++p) {
     for (int j = 0; j < neighbors_->k(); ++j) ASSERT_LT(neighbors_->neighbor(p, j), points_->size());
   }
 }
 
-TEST_F(TableTest, WeightsEqualTheOneQueryCode) {
+TEST_F(InterpolationTableTest, WeightsEqualTheOneQueryCode) {
   for (auto m : test::kAllMethods) {
     for (int k : {1, 5, 20}) {
       const auto t = build_interpolation_table(*points_, *neighbors_, opts(m, k), WeightPrecision::f32, 2);
@@ -76,7 +76,7 @@ TEST_F(TableTest, WeightsEqualTheOneQueryCode) {
   }
 }
 
-TEST_F(TableTest, IdenticalAcrossRunsAndThreadCounts) {
+TEST_F(InterpolationTableTest, IdenticalAcrossRunsAndThreadCounts) {
   for (auto m : {InterpMethod::msm, InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
     const auto a = build_interpolation_table(*points_, *neighbors_, opts(m, 10), WeightPrecision::f32, 1);
     const auto b = build_interpolation_table(*points_, *neighbors_, opts(m, 10), WeightPrecision::f32, 2);
@@ -87,7 +87,7 @@ TEST_F(TableTest, IdenticalAcrossRunsAndThreadCounts) {
   }
 }
 
-TEST_F(TableTest, MsmWeightsNonNegativeAndNormalisedInFloat) {
+TEST_F(InterpolationTableTest, MsmWeightsNonNegativeAndNormalisedInFloat) {
   const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::msm, 20), WeightPrecision::f32, 2);
   for (std::size_t p = 0; p < t.pixel_count(); ++p) {
     float sum = 0;
@@ -99,7 +99,7 @@ TEST_F(TableTest, MsmWeightsNonNegativeAndNormalisedInFloat) {
   }
 }
 
-TEST_F(TableTest, GatherReproducesConstantsForEveryMethod) {
+TEST_F(InterpolationTableTest, GatherReproducesConstantsForEveryMethod) {
   const auto colors = uniform_colors(points_->size(), 0.25f, 0.5f, 0.75f);
   ImageRgb out;
   for (auto m : test::kAllMethods) {
@@ -116,7 +116,7 @@ TEST_F(TableTest, GatherReproducesConstantsForEveryMethod) {
   }
 }
 
-TEST_F(TableTest, ThesisPlainRbfDarkensConstants) {
+TEST_F(InterpolationTableTest, ThesisPlainRbfDarkensConstants) {
   const auto colors = uniform_colors(points_->size(), 1.0f, 1.0f, 1.0f);
   ImageRgb out;
   auto o = opts(InterpMethod::rbf_mq, 5);
@@ -130,7 +130,7 @@ TEST_F(TableTest, ThesisPlainRbfDarkensConstants) {
   EXPECT_GT(worst, 1e-3);
 }
 
-TEST_F(TableTest, MsmGatherStaysWithinTapRange) {
+TEST_F(InterpolationTableTest, MsmGatherStaysWithinTapRange) {
   const auto colors = random_colors(points_->size(), 3);
   const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::msm, 10), WeightPrecision::f16, 2);
   const auto map = test::centre_mapping();
@@ -151,7 +151,7 @@ TEST_F(TableTest, MsmGatherStaysWithinTapRange) {
   }
 }
 
-TEST_F(TableTest, RbfClampRemovesOvershootOnAStep) {
+TEST_F(InterpolationTableTest, RbfClampRemovesOvershootOnAStep) {
   std::vector<float> rgb;
   for (const auto& p : points_->position_px) {
     const float v = p.x < float(test::kScreenW) ? 0.0f : 1.0f;
@@ -173,7 +173,7 @@ TEST_F(TableTest, RbfClampRemovesOvershootOnAStep) {
   EXPECT_LT(std::max(-rlo, rhi - 1.0f), 0.75f);
 }
 
-TEST_F(TableTest, HalfWeightsCostLittleAccuracy) {
+TEST_F(InterpolationTableTest, HalfWeightsCostLittleAccuracy) {
   // Smooth colour field: compare half-weight and float-weight gathers.
   std::vector<float> rgb;
   for (const auto& p : points_->position_px) {
@@ -195,7 +195,7 @@ TEST_F(TableTest, HalfWeightsCostLittleAccuracy) {
   }
 }
 
-TEST(TableLattice, NearestNeighbourTiesGoToLowestIndex) {
+TEST(InterpolationTableLattice, NearestNeighbourTiesGoToLowestIndex) {
   const auto points = test::lattice_points();
   const auto nt = NeighborTable::build(points, 4);
   std::vector<float> rgb;
