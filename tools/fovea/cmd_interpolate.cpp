@@ -197,7 +197,10 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
   return 0;
 }
 
+}  // namespace foveart::tools
+
 void register_interpolate(CLI::App& app) {
+  using namespace foveart::tools;
   auto args = std::make_shared<InterpolateArgs>();
   auto* sub = app.add_subcommand("interpolate", "Interpolate scattered samples at query points (CSV in, values out)");
   sub->add_option("--method", args->method, "nn, msm, rbf-mq or rbf-gauss")->required();
@@ -216,5 +219,3 @@ void register_interpolate(CLI::App& app) {
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }
-
-}  // namespace foveart::tools

@@ -247,7 +247,10 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
 
 }  // namespace
 
+}  // namespace foveart::tools
+
 void register_reconstruct(CLI::App& app) {
+  using namespace foveart::tools;
   auto a = std::make_shared<ReconstructArgs>();
   auto* sub = app.add_subcommand("reconstruct", "Foveate an image: sample it at the visible points and reconstruct");
   sub->add_option("--image", a->image, "input PNG (or any format stb_image reads)")->required();
@@ -277,5 +280,3 @@ void register_reconstruct(CLI::App& app) {
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }
-
-}  // namespace foveart::tools

@@ -10,10 +10,11 @@ namespace CLI {
 class App;
 }
 
-namespace foveart::tools {
-
+// Registration with the fovea tool (declared for main.cpp in commands.hpp).
 void register_interpolate(CLI::App& app);
 void register_reconstruct(CLI::App& app);
+
+namespace foveart::tools {
 
 // --- fovea interpolate ---------------------------------------------------------
 struct InterpolateArgs {
