@@ -120,7 +120,7 @@ void BM_Gather(benchmark::State& state) {
 }
 BENCHMARK(BM_Gather)
     ->ArgsProduct({{0}, {1}, {1, 2}})
-    ->ArgsProduct({{1, 2, 3}, {5, 10, 15, 20}, {1, 2}})
+    ->ArgsProduct({{1, 2}, {5, 10, 15, 20}, {1, 2}})  // gather cost does not depend on the RBF kernel
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);
@@ -151,7 +151,7 @@ void BM_GatherFloatWeightsK20(benchmark::State& state) {
   state.counters["weights_MB"] = double(t.table.bytes()) / 1e6;
   state.SetLabel(std::string(fv::method_name(m)) + " k=20 f32");
 }
-BENCHMARK(BM_GatherFloatWeightsK20)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(BM_GatherFloatWeightsK20)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
 void BM_RbfTablePrecompute(benchmark::State& state) {
   auto& s = scene();
