@@ -7,6 +7,10 @@
 #include <string>
 #include <thread>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace foveart::foveation {
 
 // ---- Point colours ------------------------------------------------------------
@@ -78,6 +82,19 @@ inline std::uint32_t load24(const std::uint8_t* p) {
 inline float weight_of(const float* w, int j) { return w[j]; }
 inline float weight_of(const std::uint16_t* w, int j) { return half_to_float(w[j]); }
 
+#if defined(__x86_64__) && defined(__GNUC__)
+// Half weights through the F16C instruction when the CPU has it (runtime check).
+struct F16c {
+  const std::uint16_t* p;
+};
+struct HalfF16c {  // half weights read with F16C (same layout as std::uint16_t)
+  std::uint16_t bits;
+};
+static_assert(sizeof(HalfF16c) == 2);
+inline float weight_of(const HalfF16c* w, int j) { return half_to_float(reinterpret_cast<const std::uint16_t*>(w)[j]); }
+__attribute__((target("f16c"))) inline float weight_of(F16c w, int j) { return _cvtsh_ss(w.p[j]); }
+#endif
+
 struct Frame {
   const NeighborTable* nt;
   const InterpolationTable* table;
@@ -136,11 +153,21 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
   ++stats.fallback;
 }
 
-// Rows [y0, y1) of the screen. kClamp: RBF clamp to the taps' range.
-template <typename W, bool kClamp>
+template <typename W>
+inline const W* weight_view(const W* w) { return w; }
+#if defined(__x86_64__) && defined(__GNUC__)
+inline F16c weight_view(const HalfF16c* w) { return F16c{reinterpret_cast<const std::uint16_t*>(w)}; }
+#endif
+
+// Rows [y0, y1) of the screen. kClamp: RBF clamp to the taps' range; kTaps:
+// the tap count when known at compile time (unrolled), 0 = t.k().
+template <typename W, bool kClamp, int kTaps>
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("f16c")))
+#endif
 void gather_rows(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
   const auto& t = *f.table;
-  const int k = t.k();
+  const int k = kTaps > 0 ? kTaps : t.k();
   const std::size_t stride = std::size_t(f.nt->k()) * 3;
   const std::uint8_t* packed = f.nt->packed().data();
   const int w_px = f.out->width_px;
@@ -153,12 +180,13 @@ void gather_rows(const Frame& f, const W* weights, int y0, int y1, GatherStats& 
       const std::size_t cp = row + std::size_t(x);
       const std::uint8_t* nb = packed + cp * stride;
       const W* w = weights + cp * std::size_t(k);
+      const auto wv = weight_view(w);
       v4 acc = {0, 0, 0, 0};
       v4 lo = {INFINITY, INFINITY, INFINITY, INFINITY};
       v4 hi = -lo;
       for (int j = 0; j < k; ++j) {
         const v4 c = load(f.colors[load24(nb + 3 * j)]);
-        acc += weight_of(w, j) * c;
+        acc += weight_of(wv, j) * c;
         lo = lo < c ? lo : c;
         if constexpr (kClamp) hi = hi > c ? hi : c;
       }
@@ -194,17 +222,35 @@ void gather_rows_nn(const Frame& f, int y0, int y1, GatherStats& stats) {
   }
 }
 
+template <typename W, bool kClamp>
+void gather_rows_k(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
+  switch (f.table->k()) {  // the thesis's k values unrolled
+    case 5: return gather_rows<W, kClamp, 5>(f, weights, y0, y1, stats);
+    case 10: return gather_rows<W, kClamp, 10>(f, weights, y0, y1, stats);
+    case 15: return gather_rows<W, kClamp, 15>(f, weights, y0, y1, stats);
+    case 20: return gather_rows<W, kClamp, 20>(f, weights, y0, y1, stats);
+    default: return gather_rows<W, kClamp, 0>(f, weights, y0, y1, stats);
+  }
+}
+
 void gather_band(const Frame& f, int y0, int y1, GatherStats& stats) {
   const auto& t = *f.table;
   const bool clamp = t.is_rbf() && f.options->clamp_rbf;
   if (!t.has_weights()) {
     gather_rows_nn(f, y0, y1, stats);
   } else if (t.precision == WeightPrecision::f16) {
-    clamp ? gather_rows<std::uint16_t, true>(f, t.weights_f16.data(), y0, y1, stats)
-          : gather_rows<std::uint16_t, false>(f, t.weights_f16.data(), y0, y1, stats);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (__builtin_cpu_supports("f16c")) {
+      const auto* h = reinterpret_cast<const HalfF16c*>(t.weights_f16.data());
+      clamp ? gather_rows_k<HalfF16c, true>(f, h, y0, y1, stats) : gather_rows_k<HalfF16c, false>(f, h, y0, y1, stats);
+      return;
+    }
+#endif
+    clamp ? gather_rows_k<std::uint16_t, true>(f, t.weights_f16.data(), y0, y1, stats)
+          : gather_rows_k<std::uint16_t, false>(f, t.weights_f16.data(), y0, y1, stats);
   } else {
-    clamp ? gather_rows<float, true>(f, t.weights_f32.data(), y0, y1, stats)
-          : gather_rows<float, false>(f, t.weights_f32.data(), y0, y1, stats);
+    clamp ? gather_rows_k<float, true>(f, t.weights_f32.data(), y0, y1, stats)
+          : gather_rows_k<float, false>(f, t.weights_f32.data(), y0, y1, stats);
   }
 }
 
