@@ -65,7 +65,8 @@ TEST(InterpolationInvalid, NaNPointNeverSpreads) {
   }
   const auto colors = point_colors_from_all(rgb);
   for (auto m : test::kAllMethods) {
-    for (int k : {1, 5, 20}) {
+    for (int k : {5, 20}) {
+      if (m == InterpMethod::nn && k == 20) continue;  // NN has one tap whatever k is
       const auto t = build_interpolation_table(s.points, s.nt, opts(m, k), WeightPrecision::f16, 2);
       ImageRgb out;
       const auto stats = gather(s.nt, t, colors, s.map, out);
