@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <numbers>
 #include <vector>
@@ -57,12 +58,16 @@ TEST(Prediction, SmoothPursuitErrorIsBounded) {
   FilterConfig raw;
   raw.one_euro.enabled = false;
   const PursuitRun r = run_pursuit(raw, 20'000'000);
+  std::printf("[ measured ] pursuit 20 ms ahead, no smoothing: mean %.3f max %.3f deg (hold-last %.3f)\n",
+              r.mean_error_predicted, r.max_error_predicted, r.mean_error_latest);
   EXPECT_LT(r.max_error_predicted, 0.25) << "20 ms ahead on a noise-free pursuit";
   EXPECT_LT(r.mean_error_predicted, 0.25 * r.mean_error_latest) << "prediction must beat holding the last sample";
 }
 
 TEST(Prediction, SmoothPursuitWithDefaultSmoothing) {
   const PursuitRun r = run_pursuit(FilterConfig{}, 20'000'000);
+  std::printf("[ measured ] pursuit 20 ms ahead, default One Euro: mean %.3f max %.3f deg (hold-last %.3f)\n",
+              r.mean_error_predicted, r.max_error_predicted, r.mean_error_latest);
   EXPECT_LT(r.mean_error_predicted, 0.6) << "One Euro lag + 20 ms horizon, default tuning";
   EXPECT_LT(r.mean_error_predicted, r.mean_error_latest);
 }
