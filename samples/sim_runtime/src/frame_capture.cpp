@@ -55,7 +55,9 @@ bool FrameCapture::write_png(const std::string& path, const std::vector<uint8_t>
     rgb[i * 3 + 1] = t[1];
     rgb[i * 3 + 2] = bgra ? t[0] : t[2];
   }
-  stbi_write_png_compression_level = 1;  // fast; captures are for inspection
+  // Fast settings: one cheap filter and low effort; captures are for inspection.
+  stbi_write_png_compression_level = 1;
+  stbi_write_force_png_filter = 1;  // "sub"
   return stbi_write_png(path.c_str(), static_cast<int>(w), static_cast<int>(h), 3, rgb.data(),
                         static_cast<int>(w * 3)) != 0;
 }
