@@ -1,11 +1,13 @@
 // An OpenXR application against the simulated FOVE 0 through the real loader
 // (libopenxr_loader): views, pacing, swapchain misuse, eye gaze, frame budget.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <stb_image.h>
 
 #include "sim_runtime/sim_env.h"
 #include "xr_test_app.h"
@@ -383,6 +385,143 @@ TEST_F(SimRuntime, BadConfigurationFailsInstanceCreation) {
     XrTestApp app;
     EXPECT_EQ(app.create_instance(), XR_ERROR_INITIALIZATION_FAILED) << vars.begin()->first;
   }
+}
+
+}  // namespace
+}  // namespace foveart::sim::test
+
+namespace foveart::sim::test {
+namespace {
+
+// Fills the acquired image with one colour on the app's queue, as an app would render.
+void clear_image(XrTestApp& app, VkImage image, const VkClearColorValue& colour) {
+  VkQueue queue = VK_NULL_HANDLE;
+  vkGetDeviceQueue(app.vk_device, app.queue_family, 0, &queue);
+  VkCommandPoolCreateInfo pool_info{};
+  pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  pool_info.queueFamilyIndex = app.queue_family;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateCommandPool(app.vk_device, &pool_info, nullptr, &pool), VK_SUCCESS);
+  VkCommandBufferAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  alloc.commandPool = pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateCommandBuffers(app.vk_device, &alloc, &cmd), VK_SUCCESS);
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  vkBeginCommandBuffer(cmd, &begin);
+  const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // as the runtime hands it out
+  barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = range;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &barrier);
+  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &colour, 1, &range);
+  barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  barrier.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the layout the spec wants at release
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &barrier);
+  vkEndCommandBuffer(cmd);
+  VkSubmitInfo submit{};
+  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  ASSERT_EQ(vkQueueSubmit(queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+  // No wait here: the runtime's readback is ordered after this on the same queue.
+  vkQueueWaitIdle(queue);  // only so the pool can be destroyed now
+  vkDestroyCommandPool(app.vk_device, pool, nullptr);
+}
+
+TEST_F(SimRuntime, CaptureWritesEveryProjectionLayerViewInItsColours) {
+  const std::string capture = fresh_dir("capture");
+  set_env({{"FOVEART_SIM_CLOCK", "virtual"}, {"FOVEART_SIM_CAPTURE_DIR", capture}});
+  XrTestApp app;
+  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
+  ASSERT_EQ(app.create_session(), XR_SUCCESS);
+  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));  // frame 0 is an empty frame
+  XrSpace local = make_reference_space(app.session, XR_REFERENCE_SPACE_TYPE_LOCAL);
+
+  // Layer 0 in RGBA, layer 1 in BGRA (checks the channel swizzle).
+  const int64_t formats[] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM};
+  const VkClearColorValue colours[] = {{{1.0F, 0.0F, 0.0F, 1.0F}}, {{0.0F, 0.0F, 1.0F, 1.0F}}};
+  XrSwapchain swapchains[2]{};
+  for (int l = 0; l < 2; ++l) {
+    auto info = xr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
+    info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+    info.format = formats[l];
+    info.sampleCount = info.faceCount = info.arraySize = info.mipCount = 1;
+    info.width = 64;
+    info.height = 32;
+    ASSERT_EQ(xrCreateSwapchain(app.session, &info, &swapchains[l]), XR_SUCCESS);
+  }
+  XrFrameState frame = xr<XrFrameState>(XR_TYPE_FRAME_STATE);
+  ASSERT_EQ(xrWaitFrame(app.session, nullptr, &frame), XR_SUCCESS);
+  ASSERT_EQ(xrBeginFrame(app.session, nullptr), XR_SUCCESS);
+  for (int l = 0; l < 2; ++l) {
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateSwapchainImages(swapchains[l], 0, &n, nullptr), XR_SUCCESS);
+    std::vector<XrSwapchainImageVulkan2KHR> images(n, xr<XrSwapchainImageVulkan2KHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR));
+    ASSERT_EQ(xrEnumerateSwapchainImages(swapchains[l], n, &n,
+                                         reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())),
+              XR_SUCCESS);
+    uint32_t index = 0;
+    ASSERT_EQ(xrAcquireSwapchainImage(swapchains[l], nullptr, &index), XR_SUCCESS);
+    auto wait = xr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+    wait.timeout = XR_INFINITE_DURATION;
+    ASSERT_EQ(xrWaitSwapchainImage(swapchains[l], &wait), XR_SUCCESS);
+    clear_image(app, images[index].image, colours[l]);
+    ASSERT_EQ(xrReleaseSwapchainImage(swapchains[l], nullptr), XR_SUCCESS);
+  }
+  std::vector<XrCompositionLayerProjectionView> views[2];
+  XrCompositionLayerProjection layers[2];
+  const XrCompositionLayerBaseHeader* headers[2];
+  for (int l = 0; l < 2; ++l) {
+    views[l].assign(2, xr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW));
+    for (auto& v : views[l]) {
+      v.pose.orientation.w = 1.0F;
+      v.subImage.swapchain = swapchains[l];
+      v.subImage.imageRect = {{0, 0}, {64, 32}};
+    }
+    layers[l] = xr<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
+    layers[l].space = local;
+    layers[l].viewCount = 2;
+    layers[l].views = views[l].data();
+    headers[l] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layers[l]);
+  }
+  auto end = xr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+  end.displayTime = frame.predictedDisplayTime;
+  end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  end.layerCount = 2;
+  end.layers = headers;
+  ASSERT_EQ(xrEndFrame(app.session, &end), XR_SUCCESS);
+
+  const std::string frame_name = "frame_000001";
+  const std::pair<std::string, std::array<int, 3>> expected[] = {
+      {frame_name + "_left.png", {255, 0, 0}},         {frame_name + "_right.png", {255, 0, 0}},
+      {frame_name + "_layer1_left.png", {0, 0, 255}}, {frame_name + "_layer1_right.png", {0, 0, 255}}};
+  for (const auto& [name, rgb] : expected) {
+    int w = 0, h = 0, comp = 0;
+    unsigned char* data = stbi_load((capture + "/" + name).c_str(), &w, &h, &comp, 3);
+    ASSERT_NE(data, nullptr) << name;
+    EXPECT_EQ(w, 64);
+    EXPECT_EQ(h, 32);
+    const size_t mid = (static_cast<size_t>(h / 2) * static_cast<size_t>(w) + static_cast<size_t>(w / 2)) * 3;
+    EXPECT_EQ(data[mid + 0], rgb[0]) << name;
+    EXPECT_EQ(data[mid + 1], rgb[1]) << name;
+    EXPECT_EQ(data[mid + 2], rgb[2]) << name;
+    stbi_image_free(data);
+  }
+  for (XrSwapchain sc : swapchains) EXPECT_EQ(xrDestroySwapchain(sc), XR_SUCCESS);
 }
 
 }  // namespace
