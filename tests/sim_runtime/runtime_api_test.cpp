@@ -526,3 +526,43 @@ TEST_F(SimRuntime, CaptureWritesEveryProjectionLayerViewInItsColours) {
 
 }  // namespace
 }  // namespace foveart::sim::test
+
+namespace foveart::sim::test {
+namespace {
+
+TEST_F(SimRuntime, OlderVulkanEnableWorksAndUnenabledExtensionsAreUnsupported) {
+  const char* ext[] = {XR_KHR_VULKAN_ENABLE_EXTENSION_NAME};
+  auto info = xr<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
+  std::snprintf(info.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "v1");
+  info.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
+  info.enabledExtensionCount = 1;
+  info.enabledExtensionNames = ext;
+  XrInstance instance = XR_NULL_HANDLE;
+  ASSERT_EQ(xrCreateInstance(&info, &instance), XR_SUCCESS);
+  auto sys = xr<XrSystemGetInfo>(XR_TYPE_SYSTEM_GET_INFO);
+  sys.formFactor = XR_FORM_FACTOR_HANDHELD_DISPLAY;
+  XrSystemId system = XR_NULL_SYSTEM_ID;
+  EXPECT_EQ(xrGetSystem(instance, &sys, &system), XR_ERROR_FORM_FACTOR_UNSUPPORTED);
+  sys.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
+  ASSERT_EQ(xrGetSystem(instance, &sys, &system), XR_SUCCESS);
+
+  PFN_xrVoidFunction fn = nullptr;
+  ASSERT_EQ(xrGetInstanceProcAddr(instance, "xrGetVulkanInstanceExtensionsKHR", &fn), XR_SUCCESS);
+  auto get_ext = reinterpret_cast<PFN_xrGetVulkanInstanceExtensionsKHR>(fn);
+  uint32_t n = 0;
+  ASSERT_EQ(get_ext(instance, system, 0, &n, nullptr), XR_SUCCESS);
+  EXPECT_EQ(n, 1U);  // the empty string: the runtime needs no Vulkan extensions
+  ASSERT_EQ(xrGetInstanceProcAddr(instance, "xrGetVulkanGraphicsRequirementsKHR", &fn), XR_SUCCESS);
+  auto req = xr<XrGraphicsRequirementsVulkanKHR>(XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN_KHR);
+  ASSERT_EQ(reinterpret_cast<PFN_xrGetVulkanGraphicsRequirementsKHR>(fn)(instance, system, &req), XR_SUCCESS);
+  EXPECT_LE(req.minApiVersionSupported, XR_MAKE_VERSION(1, 0, 0));
+
+  // Not enabled: XR_KHR_vulkan_enable2, XR_KHR_convert_timespec_time.
+  EXPECT_EQ(xrGetInstanceProcAddr(instance, "xrCreateVulkanInstanceKHR", &fn), XR_ERROR_FUNCTION_UNSUPPORTED);
+  EXPECT_EQ(fn, nullptr);
+  EXPECT_EQ(xrGetInstanceProcAddr(instance, "xrConvertTimespecTimeToTimeKHR", &fn), XR_ERROR_FUNCTION_UNSUPPORTED);
+  EXPECT_EQ(xrDestroyInstance(instance), XR_SUCCESS);
+}
+
+}  // namespace
+}  // namespace foveart::sim::test
