@@ -596,3 +596,27 @@ TEST_F(SimRuntime, OlderVulkanEnableWorksAndUnenabledExtensionsAreUnsupported) {
 
 }  // namespace
 }  // namespace foveart::sim::test
+
+namespace foveart::sim::test {
+namespace {
+
+TEST_F(SimRuntime, RequestExitSessionWalksDownToExiting) {
+  set_env({{"FOVEART_SIM_CLOCK", "virtual"}});
+  XrTestApp app;
+  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
+  ASSERT_EQ(app.create_session(), XR_SUCCESS);
+  EXPECT_EQ(xrRequestExitSession(app.session), XR_ERROR_SESSION_NOT_RUNNING);
+  EXPECT_EQ(xrEndSession(app.session), XR_ERROR_SESSION_NOT_RUNNING);
+  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
+  EXPECT_EQ(xrEndSession(app.session), XR_ERROR_SESSION_NOT_STOPPING);
+  ASSERT_EQ(xrRequestExitSession(app.session), XR_SUCCESS);
+  app.states.clear();
+  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_EXITING, 5));
+  const std::vector<XrSessionState> expected{
+      XR_SESSION_STATE_VISIBLE, XR_SESSION_STATE_SYNCHRONIZED, XR_SESSION_STATE_STOPPING,
+      XR_SESSION_STATE_IDLE, XR_SESSION_STATE_EXITING};
+  EXPECT_EQ(app.states, expected);
+}
+
+}  // namespace
+}  // namespace foveart::sim::test
