@@ -9,6 +9,8 @@
 #define TINYGLTF_NO_STB_IMAGE_WRITE
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -61,7 +63,7 @@ class Loader {
     const std::vector<int> roots = root_nodes();
     std::vector<bool> on_path(model_.nodes.size(), false);
     for (int node : roots) visit_node(node, glm::mat4(1.0f), on_path, 0);
-    if (scene_.mesh.triangles.empty()) throw BadInput("no triangles to render");
+    if (scene_.mesh.triangles.empty()) scene_.warnings.push_back("no triangles: nothing to ray trace");
   }
 
  private:
@@ -524,29 +526,76 @@ class Loader {
     size_t degenerate = 0;
     for (const glm::uvec3& t : tris) {
       const glm::uvec3 g = glm::uvec3(static_cast<uint32_t>(first)) + (flip ? glm::uvec3(t.x, t.z, t.y) : t);
-      const glm::vec3 c = glm::cross(m.positions[g.y] - m.positions[g.x], m.positions[g.z] - m.positions[g.x]);
-      if (!(glm::dot(c, c) > 0.0f) || !std::isfinite(c.x + c.y + c.z)) {
+      const glm::dvec3 c = glm::cross(glm::dvec3(m.positions[g.y] - m.positions[g.x]),
+                                      glm::dvec3(m.positions[g.z] - m.positions[g.x]));
+      if (g.x == g.y || g.y == g.z || g.x == g.z || !(glm::dot(c, c) > 0.0)) {
         ++degenerate;
         continue;
       }
       m.triangles.push_back(g);
       m.triangle_material.push_back(material);
     }
-    if (degenerate > 0)
-      scene_.warnings.push_back(what + ": " + std::to_string(degenerate) + " degenerate triangles skipped");
+    degenerate_ += degenerate;
   }
 
   const tinygltf::Model& model_;
   Scene& scene_;
   std::vector<int> texture_map_;
   int default_material_ = -1;
+
+ public:
+  size_t degenerate_ = 0;  // zero-area triangles skipped (reported once)
 };
 
-bool is_glb(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  char magic[4] = {};
-  f.read(magic, 4);
-  return f.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+// The JSON part of a .gltf or .glb file, or an error.
+std::string read_json_text(const std::string& path, bool* out_glb, std::string* out_json) {
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  if (!f) return "cannot open file";
+  const std::streamoff size = f.tellg();
+  if (size < 0) return "cannot read file";
+  std::string bytes(static_cast<size_t>(size), '\0');
+  f.seekg(0);
+  if (!f.read(bytes.data(), size)) return "cannot read file";
+  *out_glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (!*out_glb) {
+    *out_json = std::move(bytes);
+    return "";
+  }
+  // GLB: 12-byte header, then chunk 0 (length, type 'JSON', data).
+  uint32_t header[5] = {};
+  if (bytes.size() < sizeof(header)) return "truncated GLB header";
+  std::memcpy(header, bytes.data(), sizeof(header));
+  if (header[1] != 2) return "GLB version " + std::to_string(header[1]) + " is not 2";
+  if (header[4] != 0x4E4F534Au) return "GLB first chunk is not JSON";
+  if (header[3] > bytes.size() - sizeof(header)) return "GLB JSON chunk is longer than the file";
+  *out_json = bytes.substr(sizeof(header), header[3]);
+  return "";
+}
+
+// Checks tinygltf does not make (or words poorly): malformed JSON with its
+// position, unsupported required extensions (e.g. Draco) and mesh primitives
+// that are not an array.
+std::string precheck(const std::string& path, bool* out_glb) {
+  std::string text;
+  if (std::string e = read_json_text(path, out_glb, &text); !e.empty()) return e;
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    return "malformed JSON (at byte " + std::to_string(e.byte) + ")";
+  }
+  if (!j.is_object()) return "top level JSON value is not an object";
+  if (auto it = j.find("extensionsRequired"); it != j.end() && it->is_array())
+    for (const auto& ext : *it)
+      if (ext.is_string() && !kSupportedExtensions.count(ext.get<std::string>()))
+        return "unsupported required extension " + ext.get<std::string>();
+  if (auto it = j.find("meshes"); it != j.end() && it->is_array())
+    for (size_t i = 0; i < it->size(); ++i) {
+      const auto& mesh = (*it)[i];
+      if (mesh.is_object() && mesh.contains("primitives") && !mesh["primitives"].is_array())
+        return "meshes[" + std::to_string(i) + "].primitives is not an array";
+    }
+  return "";
 }
 
 std::string one_line(std::string s) {
@@ -565,10 +614,15 @@ LoadResult load_gltf(const std::string& path) {
       result.error = path + ": no such file";
       return result;
     }
+    bool glb = false;
+    if (std::string bad = precheck(path, &glb); !bad.empty()) {
+      result.error = path + ": " + bad;
+      return result;
+    }
     tinygltf::Model model;
     tinygltf::TinyGLTF gltf;
     std::string err, warn;
-    const bool ok = is_glb(path) ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
+    const bool ok = glb ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
                                  : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
     if (!ok) {
       result.error = path + ": " + (err.empty() ? std::string("not a valid glTF 2.0 file") : one_line(err));
@@ -578,7 +632,10 @@ LoadResult load_gltf(const std::string& path) {
     scene.source = path;
     if (!warn.empty()) scene.warnings.push_back(one_line(warn));
     // Fill unused uv arrays consistently: a set present in a later primitive pads earlier ones.
-    Loader(model, scene).run();
+    Loader loader(model, scene);
+    loader.run();
+    if (loader.degenerate_ > 0)
+      scene.warnings.push_back(std::to_string(loader.degenerate_) + " zero-area triangles skipped");
     Mesh& m = scene.mesh;
     if (!m.uv0.empty()) m.uv0.resize(m.positions.size(), glm::vec2(0.0f));
     if (!m.uv1.empty()) m.uv1.resize(m.positions.size(), glm::vec2(0.0f));

@@ -26,7 +26,7 @@ Camera framing_camera(const Scene& scene) {
   const glm::vec3 centre = 0.5f * (b.min + b.max);
   const float radius = std::max(0.5f * glm::length(b.max - b.min), 1e-3f);
   Camera c;
-  c.yfov_rad = 0.9f;
+  c.yfov_rad = 1.5f;  // about the FOVE vertical field of view
   // Far enough that the bounding sphere fits in the vertical field of view.
   c.position_m = centre + glm::vec3(0.0f, 0.0f, radius / std::sin(0.5f * c.yfov_rad) * 1.05f);
   c.orientation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);  // looking down -z at the centre

@@ -166,9 +166,9 @@ void Tracer::Impl::add_geometry(const std::vector<uint32_t>& tris, unsigned int 
 
 bool Tracer::Impl::build(std::string* error) {
   const Mesh& m = scene.mesh;
-  if (m.triangles.empty() || m.triangle_material.size() != m.triangles.size() ||
+  if (m.triangle_material.size() != m.triangles.size() ||
       m.normals.size() != m.positions.size()) {
-    if (error) *error = scene.source + ": scene has no triangles or inconsistent mesh arrays";
+    if (error) *error = scene.source + ": inconsistent mesh arrays";
     return false;
   }
   for (size_t i = 0; i < m.triangles.size(); ++i) {
@@ -291,7 +291,9 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
                                       texcoord(tri, m.base_color_texcoord, u, v)));
     }
     base[i] = c;
-    color[in.target[i]] += in.weight[i] * (m.emissive + c * (diffuse_weight(m) * scene.ambient));
+    // Ambient with a view-facing falloff: shape cues for unlit scenes, no rays needed.
+    const float ambient_shape = 0.4f + 0.6f * cos_view[i];
+    color[in.target[i]] += in.weight[i] * (m.emissive + c * (diffuse_weight(m) * ambient_shape) * scene.ambient);
   }
 
   if constexpr (kShadows) {
