@@ -4,6 +4,8 @@
 // neighbour table. Built only when the foveation core is part of the build.
 #include "render_foveated.hpp"
 
+#include <cmath>
+
 #ifdef FOVEART_HAVE_FOVEATION
 #include <foveation/display_model.hpp>
 #include <foveation/gaze_mapping.hpp>
@@ -27,6 +29,12 @@ namespace foveart::tools {
 #ifndef FOVEART_HAVE_FOVEATION
 
 bool foveated_available() { return false; }
+
+std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
+  if (preset != "fove") return std::nullopt;
+  const double d = 0.5 * 1280.0 / std::tan(0.5 * 95.0 * 3.14159265358979 / 180.0);  // FOVE 0, 95 deg
+  return PresetGeometry{1280, 1440, std::atan(640.0 / d), std::atan(720.0 / d)};
+}
 
 FoveatedResult render_foveated(engine::Tracer&, const FoveartEyeView&, const FoveatedRequest&) {
   FoveatedResult r;
@@ -57,6 +65,14 @@ void parallel_rows(uint32_t height, int threads, Rows&& rows) {
 }  // namespace
 
 bool foveated_available() { return true; }
+
+std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
+  const std::optional<foveation::DisplayModel> d = foveation::display_preset(preset);
+  if (!d || !d->validate().empty()) return std::nullopt;
+  // Pinhole: D pixels from the eye, the image spans +-W/2 and +-H/2.
+  return PresetGeometry{d->width_px, d->height_px, std::atan(0.5 * d->width_px / d->view_distance_px),
+                        std::atan(0.5 * d->height_px / d->view_distance_px)};
+}
 
 FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& req) {
   FoveatedResult r;
