@@ -155,7 +155,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     report["points"] = fr.points;
     report["foveated"] = {{"rays", rays_json(minus(tracer->counts(), before))}, {"method", o.method},
                           {"k", req.k}, {"scale", o.scale}, {"precompute_ms", fr.precompute_ms},
-                          {"trace_ms", fr.trace_ms}, {"reconstruct_ms", fr.reconstruct_ms}, {"total_ms", fov_total}};
+                          {"trace_ms", fr.trace_ms}, {"samples_ms", fr.samples_ms}, {"reconstruct_ms", fr.reconstruct_ms}, {"total_ms", fov_total}};
   }
   if (o.mode == "both") {
     report["speedup"] = fov_total > 0.0 ? full_total / fov_total : 0.0;

@@ -30,6 +30,7 @@ struct FoveatedResult {
   uint64_t points = 0;        // visible points traced
   double precompute_ms = 0.0; // point set + neighbour table (load or build), not in total
   double trace_ms = 0.0;      // visible points + ray samples + tracing
+  double samples_ms = 0.0;    // of which: visible points + ray samples (bookkeeping)
   double reconstruct_ms = 0.0;
   std::string error;          // non-empty on failure
 };
