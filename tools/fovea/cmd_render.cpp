@@ -68,8 +68,6 @@ std::string check(const RenderOptions& o) {
     return "--size must be between 8 and 16384 pixels per side";
   if (o.mode != "full" && !foveated_available())
     return "--mode " + o.mode + " needs the foveation core, which is not part of this build";
-  if (o.mode != "full" && o.method != "nn")
-    return "--method " + o.method + " is not available yet in render (use nn)";
   return "";
 }
 
