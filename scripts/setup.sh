@@ -7,7 +7,7 @@ PACKAGES=(
   # toolchain
   build-essential cmake ninja-build pkg-config git
   # foveation core
-  libglm-dev libeigen3-dev libnanoflann-dev
+  libglm-dev libeigen3-dev libnanoflann-dev libxxhash-dev
   # tools: CLI parsing, JSON, images, plots
   libcli11-dev nlohmann-json3-dev libstb-dev libplplot-dev plplot-driver-cairo
   # sample engine
