@@ -82,7 +82,7 @@ struct Reader {
   void apply(const json& obj, LayerConfig* c, bool top_level) const {
     static constexpr std::string_view kKeys[] = {
         "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-        "taa", "gaze_source", "gaze_provider", "worker_threads", "applications"};
+        "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables", "applications"};
     for (const auto& item : obj.items()) {
       bool known = false;
       for (std::string_view k : kKeys) known = known || item.key() == k;
@@ -99,13 +99,15 @@ struct Reader {
     }
     read_string(obj, "log_file", {}, &c->log_file);
     read_string(obj, "interpolation", {"nearest", "shepard", "rbf"}, &c->interpolation);
-    read_uint(obj, "k", 1, 32, &c->k);
+    read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
     read_bool(obj, "taa", &c->taa);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);
     read_uint(obj, "worker_threads", 0, 256, &c->worker_threads);
+    read_string(obj, "cache_dir", {}, &c->cache_dir);
+    read_bool(obj, "wait_for_tables", &c->wait_for_tables);
   }
 };
 

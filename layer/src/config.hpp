@@ -37,6 +37,8 @@ struct LayerConfig {
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...
   uint32_t worker_threads = 0;           // 0: hardware concurrency
+  std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
+  bool wait_for_tables = false;          // block the first frame until the tables are ready
 };
 
 struct ConfigResult {

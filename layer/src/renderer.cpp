@@ -33,6 +33,8 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.gaze_source = gaze_source_from_name(config.gaze_source);
   s.gaze_provider_spec = config.gaze_provider;
   s.worker_threads = config.worker_threads;
+  s.cache_dir = config.cache_dir;
+  s.wait_for_tables = config.wait_for_tables;
 
   if (info.traceRays == nullptr) {
     *out_error = "traceRays must not be NULL";
@@ -45,8 +47,8 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
     return false;
   }
   s.interpolation = info.interpolation;
-  if (info.k > 32) {
-    *out_error = "k = " + std::to_string(info.k) + " is outside 1..32 (0 = config default)";
+  if (info.k > 20) {
+    *out_error = "k = " + std::to_string(info.k) + " is outside 1..20 (0 = config default)";
     return false;
   }
   if (info.k != 0) s.k = info.k;

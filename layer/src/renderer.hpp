@@ -24,6 +24,8 @@ struct RendererSettings {
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";
   uint32_t worker_threads = 0;
+  std::string cache_dir;
+  bool wait_for_tables = false;
 };
 
 // App's create info over the config's defaults (zero fields take the config).

@@ -69,7 +69,7 @@ TEST(ResolveSettings, BadFieldsAreNamed) {
   };
   const Case cases[] = {
       {[](auto* i) { i->traceRays = nullptr; }, "traceRays"},
-      {[](auto* i) { i->k = 33; }, "k"},
+      {[](auto* i) { i->k = 21; }, "k"},
       {[](auto* i) { i->densityScale = NAN; }, "densityScale"},
       {[](auto* i) { i->densityScale = -1.0f; }, "densityScale"},
       {[](auto* i) { i->raysPerPoint = 65; }, "raysPerPoint"},

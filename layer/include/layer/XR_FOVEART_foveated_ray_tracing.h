@@ -80,6 +80,10 @@ static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_FIXED_FOVEATION
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART = 0x00000002;
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART = 0x00000004;
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART = 0x00000008;
+/* The point set / neighbour tables are still being built or loaded. */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART = 0x00000010;
+/* The frame path is not available (no Vulkan session, build without foveation). */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART = 0x00000020;
 
 typedef struct XrFoveatedRendererCreateInfoFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART */
@@ -87,9 +91,9 @@ typedef struct XrFoveatedRendererCreateInfoFOVEART {
   FoveartTraceRaysFn traceRays; /* required */
   void* userData;               /* passed back to traceRays unchanged */
   XrFoveatedInterpolationFOVEART interpolation;
-  uint32_t k;           /* neighbours per pixel (1 for nearest), 1..32 */
-  float densityScale;   /* point density scale (thesis "scale"), > 0; 1 = thesis density */
-  uint32_t raysPerPoint; /* jittered rays per point, 1..64 (thesis: 32) */
+  uint32_t k;           /* neighbours per pixel (1 for nearest), 1..20; 0 = config */
+  float densityScale;   /* point density scale (thesis "scale"), (0, 16]; 0 = config */
+  uint32_t raysPerPoint; /* jittered rays per point, 1..64 (thesis: 32); 0 = config */
   XrBool32 taaEnable;
   XrFoveatedGazeSourceFOVEART gazeSource;
   const char* gazeProviderSpec; /* for ..._PROVIDER: "sim", "replay:FILE", ...; NULL = config */
