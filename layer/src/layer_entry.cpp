@@ -71,7 +71,16 @@ XrResult create_api_layer_instance(const XrInstanceCreateInfo* info, const XrApi
     if (name != nullptr && std::strcmp(name, XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME) == 0) continue;
     extensions.push_back(name);
   }
+  // Nor our layer name: what is below us never learns about us.
+  std::vector<const char*> layers;
+  for (uint32_t i = 0; i < info->enabledApiLayerCount; ++i) {
+    const char* name = info->enabledApiLayerNames[i];
+    if (name != nullptr && kLayerName == name) continue;
+    layers.push_back(name);
+  }
   XrInstanceCreateInfo down_info = *info;
+  down_info.enabledApiLayerCount = static_cast<uint32_t>(layers.size());
+  down_info.enabledApiLayerNames = layers.empty() ? nullptr : layers.data();
   down_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   down_info.enabledExtensionNames = extensions.empty() ? nullptr : extensions.data();
 

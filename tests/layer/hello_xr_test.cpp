@@ -44,7 +44,7 @@ ProcessResult run_hello_xr(const IsolatedEnv& env, const std::string& tag, const
   // hello_xr is not instrumented; the sanitized layer/runtime need the ASan runtime first.
   IsolatedEnv::set("LD_PRELOAD", FOVEART_TEST_ASAN_RUNTIME);
 #endif
-  auto result = run_process({"hello_xr", "-g", "Vulkan2", "-v", "Stereo"}, env.root() / (tag + ".log"), kTimeoutS);
+  auto result = run_process({"hello_xr", "-g", "Vulkan2"}, env.root() / (tag + ".log"), kTimeoutS);
   ::unsetenv("LD_PRELOAD");
   return result;
 }
@@ -83,9 +83,20 @@ TEST_F(HelloXr, StackedWithValidationLayersReportsNoErrors) {
   IsolatedEnv::set("XR_ENABLE_API_LAYERS",
                    (std::string("XR_APILAYER_LUNARG_core_validation:") + XR_FOVEART_API_LAYER_NAME).c_str());
   IsolatedEnv::set("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation");
+  IsolatedEnv::set("VK_LAYER_PATH", "/usr/share/vulkan/explicit_layer.d");
+  // Loader logs prove the validation layers were really in the chain.
+  IsolatedEnv::set("XR_LOADER_DEBUG", "info");
+  IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   const auto run = run_hello_xr(env, "validated", env.root() / "frames");
-  ::unsetenv("VK_INSTANCE_LAYERS");
+  for (const char* name : {"VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
+    ::unsetenv(name);
+  }
   ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* loaded : {"succeeded loading layer XR_APILAYER_LUNARG_core_validation",
+                             "succeeded loading layer XR_APILAYER_FOVEART_foveated_ray_tracing",
+                             "Insert instance layer \"VK_LAYER_KHRONOS_validation\""}) {
+    EXPECT_NE(run.output.find(loaded), std::string::npos) << "missing: " << loaded;
+  }
   for (const char* marker : {"Validation Error", "VUID-", "VALID_USAGE", "XR_ERROR"}) {
     EXPECT_EQ(run.output.find(marker), std::string::npos) << marker << " in:\n" << run.output;
   }

@@ -49,7 +49,7 @@ class IsolatedEnv {
     set("FOVEART_SIM_CLOCK", "virtual");
     for (const char* name : {"XR_ENABLE_API_LAYERS", "FOVEART_CONFIG", "FOVEART_DISABLE",
                              "FOVEART_ENABLE_IMPLICIT_LAYER", "FOVEART_DISABLE_IMPLICIT_LAYER",
-                             "VK_INSTANCE_LAYERS", "XR_LOADER_DEBUG"}) {
+                             "VK_INSTANCE_LAYERS"}) {
       ::unsetenv(name);
     }
   }
