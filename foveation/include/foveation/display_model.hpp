@@ -49,6 +49,21 @@ inline double point_radius_px(double display_cpd, double cutoff_cpd) {
   return display_cpd / fc0 - (1.0 - kPixelDiscRadiusPx);
 }
 
+// How two points' discs may meet (the thesis does not say; docs/foveation.md).
+enum class DiscRule : int {
+  // |x_i - x_j| >= max(r_i, r_j): p is the Poisson-disc distance. Reproduces the
+  // counts of thesis Table 1; the default.
+  kMinDistance = 0,
+  // |x_i - x_j| >= r_i + r_j: p is the radius of a disc no other disc overlaps,
+  // so at most one point per pixel at the fovea (the intent stated for eq. 4).
+  kNonOverlapping = 1,
+};
+
+// Smallest allowed distance between two points of radii r_i and r_j.
+inline float min_point_distance_px(DiscRule rule, float ri, float rj) {
+  return rule == DiscRule::kNonOverlapping ? ri + rj : std::fmax(ri, rj);
+}
+
 // One eye's display as the foveation sees it.
 struct DisplayModel {
   std::string name = "custom";
@@ -56,6 +71,7 @@ struct DisplayModel {
   int height_px = 0;  // per eye
   double view_distance_px = 0.0;  // D = N v; pixels per degree at the centre = D pi / 180
   double scale = 1.0;             // density scaling factor, multiplies eccentricity
+  DiscRule disc_rule = DiscRule::kMinDistance;
   CsfParams csf{};
 
   // Display by per-eye resolution and horizontal field of view (pinhole, symmetric).

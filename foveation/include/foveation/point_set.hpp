@@ -1,10 +1,10 @@
 // The perceptual point set: adaptive Poisson-disc points on the 2W x 2H canvas
 // with the centre of interest at (W, H) (thesis 4.1).
 //
-// Disc rule: every point i owns a disc of radius r_i = p(x_i) (eq. 4) and no two
-// discs overlap: |x_i - x_j| >= r_i + r_j. At the fovea r = sqrt(1/pi), a disc
-// of one pixel's area, so the density never exceeds one point per pixel (the
-// intent the thesis states for eq. 4). See docs/foveation.md for why this rule.
+// Every point i keeps r_i = p(x_i) (eq. 4), the radius of the disc its rays are
+// cast through (thesis 4.2). Pairs obey the display's DiscRule: by default
+// |x_i - x_j| >= max(r_i, r_j), which reproduces thesis Table 1; see
+// docs/foveation.md for the choice.
 #pragma once
 
 #include <cstdint>

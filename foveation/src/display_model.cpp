@@ -1,0 +1,84 @@
+// Display construction, validation and presets (thesis 4.1; FOVE/Vive numbers
+// from ARCHITECTURE.md "Numbers to keep at hand").
+#include "foveation/display_model.hpp"
+
+#include <array>
+#include <sstream>
+
+namespace foveart::foveation {
+namespace {
+
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+
+// Viewing distance (pixels) at which the thesis's counts of Table 1 are
+// reproduced on a 1280 x 1440 screen (v = D / N); see docs/foveation.md.
+constexpr double kThesisViewDistanceWidths = 0.85;
+
+}  // namespace
+
+DisplayModel DisplayModel::from_fov(int width_px, int height_px, double horizontal_fov_deg) {
+  DisplayModel d;
+  d.width_px = width_px;
+  d.height_px = height_px;
+  // Pinhole: half the width subtends half the field of view.
+  d.view_distance_px = 0.5 * width_px / std::tan(0.5 * horizontal_fov_deg / kDegPerRad);
+  if (!(horizontal_fov_deg > 0.0 && horizontal_fov_deg < 180.0)) d.view_distance_px = std::nan("");
+  return d;
+}
+
+DisplayModel DisplayModel::from_pixels_per_degree(int width_px, int height_px, double pixels_per_degree) {
+  DisplayModel d;
+  d.width_px = width_px;
+  d.height_px = height_px;
+  // At the centre one degree spans D * (pi / 180) pixels.
+  d.view_distance_px = pixels_per_degree * kDegPerRad;
+  return d;
+}
+
+DisplayModel DisplayModel::from_thesis(int width_px, int height_px, double view_distance_widths) {
+  DisplayModel d;
+  d.width_px = width_px;
+  d.height_px = height_px;
+  d.view_distance_px = double(width_px) * view_distance_widths;  // eq. 1: N v
+  return d;
+}
+
+double DisplayModel::horizontal_fov_deg() const {
+  return 2.0 * std::atan(0.5 * width_px / view_distance_px) * kDegPerRad;
+}
+
+std::string DisplayModel::validate() const {
+  std::ostringstream err;
+  if (width_px <= 0 || height_px <= 0) {
+    err << "display size must be positive (got " << width_px << "x" << height_px << ")";
+  } else if (width_px > 16384 || height_px > 16384) {
+    err << "display size " << width_px << "x" << height_px << " exceeds 16384 pixels per side";
+  } else if (!std::isfinite(view_distance_px) || view_distance_px <= 0.0) {
+    err << "viewing distance must be finite and positive (field of view below 180 degrees, "
+           "pixels per degree > 0)";
+  } else if (!std::isfinite(scale) || scale <= 0.0) {
+    err << "density scale must be finite and > 0 (got " << scale << ")";
+  } else if (!(csf.ct0 > 0.0 && csf.ct0 < 1.0) || !(csf.alpha > 0.0) || !(csf.e2_deg > 0.0)) {
+    err << "CSF parameters out of range (need 0 < CT0 < 1, alpha > 0, e2 > 0)";
+  }
+  return err.str();
+}
+
+std::optional<DisplayModel> display_preset(std::string_view name) {
+  DisplayModel d;
+  if (name == "fove") {
+    d = DisplayModel::from_fov(1280, 1440, 95.0);  // FOVE 0: 2560x1440, ~95 deg
+  } else if (name == "vive") {
+    d = DisplayModel::from_fov(1080, 1200, 110.0);  // HTC Vive: 2160x1200, ~110 deg
+  } else if (name == "thesis") {
+    d = DisplayModel::from_thesis(1280, 1440, kThesisViewDistanceWidths);
+  } else {
+    return std::nullopt;
+  }
+  d.name = std::string(name);
+  return d;
+}
+
+std::vector<std::string> display_preset_names() { return {"fove", "vive", "thesis"}; }
+
+}  // namespace foveart::foveation

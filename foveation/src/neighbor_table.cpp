@@ -1,0 +1,155 @@
+// k nearest points per canvas pixel (thesis 4.1), built with nanoflann's k-d tree.
+#include "foveation/neighbor_table.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <atomic>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include <nanoflann.hpp>
+
+namespace foveart::foveation {
+namespace {
+
+struct PointCloud {
+  const std::vector<glm::vec2>* pts;
+  std::size_t kdtree_get_point_count() const { return pts->size(); }
+  float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*pts)[i][int(dim)]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const { return false; }
+};
+
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
+    nanoflann::L2_Simple_Adaptor<float, PointCloud, double>, PointCloud, 2, std::uint32_t>;
+
+// Pixels are processed in square tiles. Every pixel q of a tile with centre c
+// and half-diagonal h has its k nearest points within d_k(c) + 2h of c (they lie
+// within d_k(q) <= d_k(c) + h of q), so one radius search per tile yields a
+// candidate set that provably contains each pixel's k nearest, ties included.
+constexpr int kTilePx = 4;
+
+struct Candidate {
+  double d2;
+  std::uint32_t index;
+  bool operator<(const Candidate& o) const { return d2 != o.d2 ? d2 < o.d2 : index < o.index; }
+};
+
+void put24(std::uint8_t* dst, std::uint32_t v) {
+  dst[0] = std::uint8_t(v & 0xFF);
+  dst[1] = std::uint8_t((v >> 8) & 0xFF);
+  dst[2] = std::uint8_t((v >> 16) & 0xFF);
+}
+
+class TileQuery {
+ public:
+  TileQuery(const KdTree& tree, const std::vector<glm::vec2>& pts, int k)
+      : tree_(tree), pts_(pts), k_(k), idx_(std::size_t(k)), dist_(std::size_t(k)) {}
+
+  // Writes the k nearest of every pixel of the tile [x0, x1) x [y0, y1).
+  void run(int x0, int y0, int x1, int y1, int width_px, std::uint8_t* packed) {
+    const double cx = 0.5 * (x0 + x1);
+    const double cy = 0.5 * (y0 + y1);
+    const double h = 0.5 * std::hypot(double(x1 - x0), double(y1 - y0));
+    const float c[2] = {float(cx), float(cy)};
+    const std::size_t n = tree_.knnSearch(c, std::size_t(k_), idx_.data(), dist_.data());
+    double dk = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::vec2 p = pts_[idx_[i]];
+      dk = std::max(dk, std::hypot(double(p.x) - cx, double(p.y) - cy));
+    }
+    // Margin covers the float rounding of the tree's own distance test.
+    const double radius = dk + 2.0 * h + 1e-3;
+    hits_.clear();
+    tree_.radiusSearch(c, radius * radius, hits_, nanoflann::SearchParams(32, 0.0f, false));
+    for (int y = y0; y < y1; ++y) {
+      for (int x = x0; x < x1; ++x) {
+        const double qx = double(x) + 0.5;
+        const double qy = double(y) + 0.5;
+        cand_.resize(hits_.size());
+        for (std::size_t i = 0; i < hits_.size(); ++i) {
+          const glm::vec2 p = pts_[hits_[i].first];
+          const double dx = double(p.x) - qx;
+          const double dy = double(p.y) - qy;
+          cand_[i] = {dx * dx + dy * dy, hits_[i].first};
+        }
+        const auto kth = cand_.begin() + k_;
+        std::partial_sort(cand_.begin(), kth, cand_.end());
+        std::uint8_t* dst = packed + (std::size_t(y) * std::size_t(width_px) + std::size_t(x)) * std::size_t(k_) * 3;
+        for (int j = 0; j < k_; ++j) put24(dst + 3 * j, cand_[std::size_t(j)].index);
+      }
+    }
+  }
+
+ private:
+  const KdTree& tree_;
+  const std::vector<glm::vec2>& pts_;
+  int k_;
+  std::vector<std::uint32_t> idx_;
+  std::vector<double> dist_;
+  std::vector<std::pair<std::uint32_t, double>> hits_;
+  std::vector<Candidate> cand_;
+};
+
+}  // namespace
+
+NeighborTable NeighborTable::build(const PointSet& points, int k, const ProgressFn& progress) {
+  if (k < 1 || k > kMaxNeighbors) {
+    throw std::invalid_argument("k must be in 1.." + std::to_string(kMaxNeighbors) + " (got " +
+                                std::to_string(k) + ")");
+  }
+  if (points.size() < std::size_t(k)) {
+    throw std::invalid_argument("point set has " + std::to_string(points.size()) +
+                                " points, fewer than k = " + std::to_string(k));
+  }
+  if (points.size() >= (1u << 24)) throw std::invalid_argument("point set exceeds 2^24 points");
+
+  NeighborTable t;
+  t.k_ = k;
+  t.width_px_ = points.canvas_width_px;
+  t.height_px_ = points.canvas_height_px;
+  t.packed_.assign(t.pixel_count() * std::size_t(k) * 3 + 1, 0);
+
+  PointCloud cloud{&points.position_px};
+  KdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+
+  const int tile_rows = (t.height_px_ + kTilePx - 1) / kTilePx;
+  std::atomic<int> next_row{0};
+  std::atomic<int> rows_done{0};
+  auto worker = [&](bool reports) {
+    TileQuery query(tree, points.position_px, k);
+    for (int ty = next_row.fetch_add(1); ty < tile_rows; ty = next_row.fetch_add(1)) {
+      const int y0 = ty * kTilePx;
+      const int y1 = std::min(y0 + kTilePx, t.height_px_);
+      for (int x0 = 0; x0 < t.width_px_; x0 += kTilePx) {
+        query.run(x0, y0, std::min(x0 + kTilePx, t.width_px_), y1, t.width_px_, t.packed_.data());
+      }
+      const int done = rows_done.fetch_add(1) + 1;
+      if (reports && progress && (done & 15) == 0) progress(double(done) / double(tile_rows));
+    }
+  };
+  const unsigned n_threads = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < n_threads; ++i) pool.emplace_back(worker, false);
+  worker(true);
+  for (auto& th : pool) th.join();
+  if (progress) progress(1.0);
+  return t;
+}
+
+NeighborTable NeighborTable::from_packed(int width_px, int height_px, int k, std::vector<std::uint8_t> packed) {
+  if (k < 1 || k > kMaxNeighbors || width_px <= 0 || height_px <= 0 ||
+      packed.size() != std::size_t(width_px) * std::size_t(height_px) * std::size_t(k) * 3 + 1) {
+    throw std::invalid_argument("neighbour table: packed size does not match its dimensions");
+  }
+  NeighborTable t;
+  t.k_ = k;
+  t.width_px_ = width_px;
+  t.height_px_ = height_px;
+  t.packed_ = std::move(packed);
+  return t;
+}
+
+}  // namespace foveart::foveation

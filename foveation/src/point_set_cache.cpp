@@ -1,0 +1,297 @@
+// Versioned, checksummed cache files for the point set and neighbour table.
+//
+// File = Header (fixed 128 bytes, little-endian, host layout checked below) +
+// payload. The header records every parameter the data depends on; the payload
+// and the header each carry an XXH3-64 checksum.
+#include "foveation/point_set_cache.hpp"
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <xxhash.h>
+
+namespace foveart::foveation {
+namespace {
+
+constexpr char kMagic[8] = {'F', 'O', 'V', 'E', 'A', 'R', 'T', 'C'};
+enum class Kind : std::uint32_t { kPointSet = 1, kNeighborTable = 2 };
+
+struct Header {
+  char magic[8];
+  std::uint32_t version;
+  std::uint32_t kind;
+  // Key: every parameter the data depends on.
+  std::int32_t width_px;
+  std::int32_t height_px;
+  double view_distance_px;
+  double scale;
+  double ct0;
+  double alpha;
+  double e2_deg;
+  std::uint64_t seed;
+  std::int32_t k;
+  std::int32_t disc_rule;
+  // Payload description.
+  std::uint64_t payload_bytes;
+  std::uint64_t payload_xxh3;
+  std::uint8_t reserved[32];
+  std::uint64_t header_xxh3;  // over every byte above
+};
+static_assert(sizeof(Header) == 136, "cache header layout changed: bump kCacheFormatVersion");
+
+Header make_header(Kind kind, const PointSetKey& key) {
+  Header h{};
+  std::memcpy(h.magic, kMagic, sizeof kMagic);
+  h.version = kCacheFormatVersion;
+  h.kind = std::uint32_t(kind);
+  h.width_px = key.display.width_px;
+  h.height_px = key.display.height_px;
+  h.view_distance_px = key.display.view_distance_px;
+  h.scale = key.display.scale;
+  h.ct0 = key.display.csf.ct0;
+  h.alpha = key.display.csf.alpha;
+  h.e2_deg = key.display.csf.e2_deg;
+  h.seed = key.seed;
+  h.k = (kind == Kind::kPointSet) ? 0 : key.k;
+  h.disc_rule = int(key.display.disc_rule);
+  return h;
+}
+
+std::uint64_t header_checksum(const Header& h) { return XXH3_64bits(&h, offsetof(Header, header_xxh3)); }
+
+std::string key_hex(Kind kind, const PointSetKey& key) {
+  const Header h = make_header(kind, key);
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx",
+                static_cast<unsigned long long>(XXH3_64bits(&h, offsetof(Header, payload_bytes))));
+  return buf;
+}
+
+std::string save_file(const std::filesystem::path& file, Header h, const std::vector<std::uint8_t>& payload) {
+  h.payload_bytes = payload.size();
+  h.payload_xxh3 = XXH3_64bits(payload.data(), payload.size());
+  h.header_xxh3 = header_checksum(h);
+  std::error_code ec;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (ec) return "cannot create cache directory " + file.parent_path().string() + ": " + ec.message();
+  const std::filesystem::path tmp = file.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return "cannot write cache file " + tmp.string();
+    out.write(reinterpret_cast<const char*>(&h), sizeof h);
+    out.write(reinterpret_cast<const char*>(payload.data()), std::streamsize(payload.size()));
+    if (!out) return "write failed for cache file " + tmp.string();
+  }
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) return "cannot move cache file into place " + file.string() + ": " + ec.message();
+  return {};
+}
+
+// Reads and checks the whole file; nullopt with *error on any mismatch.
+std::optional<std::vector<std::uint8_t>> load_file(const std::filesystem::path& file, Kind kind,
+                                                   const PointSetKey& key, std::string* error) {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = "cache " + file.string() + ": " + why;
+    return std::nullopt;
+  };
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return fail("not found");
+  Header h{};
+  in.read(reinterpret_cast<char*>(&h), sizeof h);
+  if (in.gcount() != std::streamsize(sizeof h)) return fail("truncated header");
+  if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return fail("not a FoveaRT cache file");
+  if (h.version != kCacheFormatVersion) {
+    return fail("format version " + std::to_string(h.version) + ", expected " +
+                std::to_string(kCacheFormatVersion));
+  }
+  if (h.header_xxh3 != header_checksum(h)) return fail("header checksum mismatch (corrupt)");
+  if (h.kind != std::uint32_t(kind)) return fail("holds another kind of data");
+  const Header want = make_header(kind, key);
+  if (std::memcmp(&h.width_px, &want.width_px, offsetof(Header, payload_bytes) - offsetof(Header, width_px)) != 0) {
+    std::ostringstream msg;
+    msg << "built for other parameters (" << h.width_px << "x" << h.height_px << ", view distance "
+        << h.view_distance_px << " px, scale " << h.scale << ", seed " << h.seed << ", k " << h.k << ")";
+    return fail(msg.str());
+  }
+  const auto start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto remaining = std::uint64_t(in.tellg() - start);
+  if (remaining != h.payload_bytes) {
+    return fail("payload is " + std::to_string(remaining) + " bytes, header says " +
+                std::to_string(h.payload_bytes) + " (truncated or padded)");
+  }
+  in.seekg(start);
+  std::vector<std::uint8_t> payload(h.payload_bytes);
+  in.read(reinterpret_cast<char*>(payload.data()), std::streamsize(payload.size()));
+  if (!in) return fail("read error");
+  if (XXH3_64bits(payload.data(), payload.size()) != h.payload_xxh3) return fail("payload checksum mismatch (corrupt)");
+  return payload;
+}
+
+template <class T>
+void append(std::vector<std::uint8_t>& buf, const T* data, std::size_t count) {
+  const auto* b = reinterpret_cast<const std::uint8_t*>(data);
+  buf.insert(buf.end(), b, b + sizeof(T) * count);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+std::filesystem::path point_set_cache_path(const std::filesystem::path& dir, const PointSetKey& key) {
+  return dir / ("points_" + key_hex(Kind::kPointSet, key) + ".fovc");
+}
+
+std::filesystem::path neighbor_table_cache_path(const std::filesystem::path& dir, const PointSetKey& key) {
+  return dir / ("neighbors_k" + std::to_string(key.k) + "_" + key_hex(Kind::kNeighborTable, key) + ".fovc");
+}
+
+std::string save_point_set(const std::filesystem::path& file, const PointSetKey& key, const PointSet& points) {
+  std::vector<std::uint8_t> payload;
+  const std::uint32_t dims[2] = {std::uint32_t(points.canvas_width_px), std::uint32_t(points.canvas_height_px)};
+  const std::uint64_t n = points.size();
+  append(payload, dims, 2);
+  append(payload, &n, 1);
+  append(payload, points.position_px.data(), points.size());
+  append(payload, points.radius_px.data(), points.size());
+  return save_file(file, make_header(Kind::kPointSet, key), payload);
+}
+
+std::optional<PointSet> load_point_set(const std::filesystem::path& file, const PointSetKey& key,
+                                       std::string* error) {
+  auto payload = load_file(file, Kind::kPointSet, key, error);
+  if (!payload) return std::nullopt;
+  auto fail = [&](const std::string& why) {
+    if (error) *error = "cache " + file.string() + ": " + why;
+    return std::nullopt;
+  };
+  std::uint32_t dims[2];
+  std::uint64_t n = 0;
+  if (payload->size() < sizeof dims + sizeof n) return fail("payload too short");
+  std::memcpy(dims, payload->data(), sizeof dims);
+  std::memcpy(&n, payload->data() + sizeof dims, sizeof n);
+  if (payload->size() != sizeof dims + sizeof n + n * (sizeof(glm::vec2) + sizeof(float))) {
+    return fail("point count does not match payload size");
+  }
+  if (int(dims[0]) != key.display.canvas_width_px() || int(dims[1]) != key.display.canvas_height_px()) {
+    return fail("canvas size does not match the display");
+  }
+  PointSet ps;
+  ps.canvas_width_px = int(dims[0]);
+  ps.canvas_height_px = int(dims[1]);
+  ps.position_px.resize(n);
+  ps.radius_px.resize(n);
+  const std::uint8_t* p = payload->data() + sizeof dims + sizeof n;
+  std::memcpy(ps.position_px.data(), p, n * sizeof(glm::vec2));
+  std::memcpy(ps.radius_px.data(), p + n * sizeof(glm::vec2), n * sizeof(float));
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec2 q = ps.position_px[i];
+    if (!(q.x >= 0.0f && q.y >= 0.0f && q.x < float(dims[0]) && q.y < float(dims[1])) ||
+        !(ps.radius_px[i] > 0.0f)) {
+      return fail("point " + std::to_string(i) + " is outside the canvas or has no radius");
+    }
+  }
+  return ps;
+}
+
+std::string save_neighbor_table(const std::filesystem::path& file, const PointSetKey& key,
+                                const NeighborTable& table) {
+  std::vector<std::uint8_t> payload;
+  payload.reserve(table.bytes() + 12);
+  const std::uint32_t dims[3] = {std::uint32_t(table.width_px()), std::uint32_t(table.height_px()),
+                                 std::uint32_t(table.k())};
+  append(payload, dims, 3);
+  append(payload, table.packed().data(), table.packed().size());
+  PointSetKey k = key;
+  k.k = table.k();
+  return save_file(file, make_header(Kind::kNeighborTable, k), payload);
+}
+
+std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& file, const PointSetKey& key,
+                                                 std::string* error) {
+  auto payload = load_file(file, Kind::kNeighborTable, key, error);
+  if (!payload) return std::nullopt;
+  std::uint32_t dims[3];
+  if (payload->size() < sizeof dims) {
+    if (error) *error = "cache " + file.string() + ": payload too short";
+    return std::nullopt;
+  }
+  std::memcpy(dims, payload->data(), sizeof dims);
+  std::vector<std::uint8_t> packed(payload->begin() + sizeof dims, payload->end());
+  payload.reset();
+  try {
+    return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(packed));
+  } catch (const std::invalid_argument& e) {
+    if (error) *error = "cache " + file.string() + ": " + e.what();
+    return std::nullopt;
+  }
+}
+
+FoveationTables load_or_build_tables(const std::optional<std::filesystem::path>& cache_dir,
+                                     const PointSetKey& key, const ProgressFn& progress, const LogFn& log) {
+  FoveationTables out;
+  auto say = [&](const std::string& s) { if (log) log(s); };
+  // The point set is ~10% of the work, the table ~90%.
+  auto sub = [&](double lo, double hi) -> ProgressFn {
+    if (!progress) return {};
+    return [=, &progress](double f) { progress(lo + (hi - lo) * f); };
+  };
+
+  auto t0 = std::chrono::steady_clock::now();
+  std::string err;
+  if (cache_dir) {
+    if (auto ps = load_point_set(point_set_cache_path(*cache_dir, key), key, &err)) {
+      out.points = std::move(*ps);
+      out.points_from_cache = true;
+    } else if (std::filesystem::exists(point_set_cache_path(*cache_dir, key))) {
+      say(err + "; rebuilding");
+    }
+  }
+  if (!out.points_from_cache) {
+    out.points = generate_point_set(key.display, key.seed, sub(0.0, 0.1));
+    if (cache_dir) {
+      if (auto e = save_point_set(point_set_cache_path(*cache_dir, key), key, out.points); !e.empty()) say(e);
+    }
+  }
+  out.generation_ms = ms_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  bool have_table = false;
+  if (cache_dir) {
+    if (auto t = load_neighbor_table(neighbor_table_cache_path(*cache_dir, key), key, &err)) {
+      // Only trust a table whose indices all address this point set.
+      bool valid = t->width_px() == out.points.canvas_width_px && t->height_px() == out.points.canvas_height_px;
+      for (std::size_t p = 0; valid && p < t->pixel_count(); ++p) {
+        for (int j = 0; j < t->k(); ++j) valid = valid && t->neighbor(p, j) < out.points.size();
+      }
+      if (valid && !out.points_from_cache) valid = false;  // table of a replaced point set
+      if (valid) {
+        out.neighbors = std::move(*t);
+        have_table = true;
+        out.neighbors_from_cache = true;
+      } else {
+        say("cache " + neighbor_table_cache_path(*cache_dir, key).string() +
+            ": does not match the point set; rebuilding");
+      }
+    } else if (std::filesystem::exists(neighbor_table_cache_path(*cache_dir, key))) {
+      say(err + "; rebuilding");
+    }
+  }
+  if (!have_table) {
+    out.neighbors = NeighborTable::build(out.points, key.k, sub(0.1, 1.0));
+    if (cache_dir) {
+      if (auto e = save_neighbor_table(neighbor_table_cache_path(*cache_dir, key), key, out.neighbors); !e.empty()) {
+        say(e);
+      }
+    }
+  }
+  out.table_ms = ms_since(t0);
+  if (progress) progress(1.0);
+  return out;
+}
+
+}  // namespace foveart::foveation

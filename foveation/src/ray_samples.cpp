@@ -1,0 +1,42 @@
+// Per-point jittered ray samples (thesis 4.2: same seed every frame).
+#include "foveation/ray_samples.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "hash.hpp"
+
+namespace foveart::foveation {
+
+glm::vec2 unit_disc_sample(std::uint64_t seed, std::uint32_t point_index, int s) {
+  const std::uint64_t key = detail::mix64(seed ^ detail::mix64((std::uint64_t(point_index) << 16) ^
+                                                               std::uint64_t(s)));
+  const double u = detail::unit_double(key);
+  const double v = detail::unit_double(detail::mix64(key));
+  // Uniform by area: r = sqrt(u), theta = 2 pi v.
+  const double r = std::sqrt(u);
+  const double theta = 2.0 * std::numbers::pi * v;
+  return {float(r * std::cos(theta)), float(r * std::sin(theta))};
+}
+
+RaySamples generate_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp,
+                                std::uint64_t seed) {
+  if (spp < 1) throw std::invalid_argument("rays per point must be >= 1");
+  RaySamples out;
+  out.spp = spp;
+  out.sample_px.resize(visible.size() * std::size_t(spp));
+  out.point_index.resize(visible.size() * std::size_t(spp));
+  for (std::size_t v = 0; v < visible.size(); ++v) {
+    const std::uint32_t p = visible.point_index[v];
+    const float radius = points.radius_px[p];
+    for (int s = 0; s < spp; ++s) {
+      const std::size_t o = v * std::size_t(spp) + std::size_t(s);
+      out.sample_px[o] = visible.screen_px[v] + unit_disc_sample(seed, p, s) * radius;
+      out.point_index[o] = p;
+    }
+  }
+  return out;
+}
+
+}  // namespace foveart::foveation

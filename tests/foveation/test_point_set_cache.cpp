@@ -1,0 +1,169 @@
+// Cache round trip, and every kind of bad cache rejected (never served).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <unistd.h>
+#include <glm/geometric.hpp>
+
+#include <fstream>
+
+#include "foveation/point_set_cache.hpp"
+
+namespace fv = foveart::foveation;
+namespace fs = std::filesystem;
+
+namespace {
+
+class CacheTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("foveart_cache_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    key_.display = fv::DisplayModel::from_thesis(100, 80, 0.85);
+    key_.display.scale = 3.0;
+    key_.seed = 3;
+    key_.k = 6;
+    points_ = fv::generate_point_set(key_.display, key_.seed);
+    table_ = fv::NeighborTable::build(points_, key_.k);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::vector<char> read(const fs::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  void write(const fs::path& f, const std::vector<char>& bytes) {
+    std::ofstream out(f, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+  }
+  // The file is rejected with a message containing `why`.
+  void expect_rejected(const fs::path& f, const std::string& why) {
+    std::string err;
+    EXPECT_FALSE(fv::load_point_set(f, key_, &err).has_value());
+    EXPECT_NE(err.find(why), std::string::npos) << err;
+    EXPECT_NE(err.find(f.string()), std::string::npos) << "message names the file: " << err;
+  }
+
+  fs::path dir_;
+  fv::PointSetKey key_;
+  fv::PointSet points_;
+  fv::NeighborTable table_;
+};
+
+}  // namespace
+
+TEST_F(CacheTest, RoundTrip) {
+  const auto pf = fv::point_set_cache_path(dir_, key_);
+  const auto tf = fv::neighbor_table_cache_path(dir_, key_);
+  ASSERT_EQ(fv::save_point_set(pf, key_, points_), "");
+  ASSERT_EQ(fv::save_neighbor_table(tf, key_, table_), "");
+  std::string err;
+  const auto ps = fv::load_point_set(pf, key_, &err);
+  ASSERT_TRUE(ps.has_value()) << err;
+  ASSERT_EQ(ps->size(), points_.size());
+  EXPECT_EQ(0, std::memcmp(ps->position_px.data(), points_.position_px.data(), points_.size() * sizeof(glm::vec2)));
+  EXPECT_EQ(ps->radius_px, points_.radius_px);
+  const auto t = fv::load_neighbor_table(tf, key_, &err);
+  ASSERT_TRUE(t.has_value()) << err;
+  EXPECT_EQ(t->packed(), table_.packed());
+  EXPECT_EQ(t->k(), 6);
+}
+
+TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
+  const auto pf = fv::point_set_cache_path(dir_, key_);
+  ASSERT_EQ(fv::save_point_set(pf, key_, points_), "");
+  const auto good = read(pf);
+
+  expect_rejected(dir_ / "missing.fovc", "not found");
+
+  auto bytes = good;
+  bytes.resize(bytes.size() - 5);
+  write(pf, bytes);
+  expect_rejected(pf, "truncated");
+
+  bytes = good;
+  bytes.resize(40);
+  write(pf, bytes);
+  expect_rejected(pf, "truncated header");
+
+  bytes = good;
+  bytes[bytes.size() - 3] ^= 0x10;  // one bit in the radii
+  write(pf, bytes);
+  expect_rejected(pf, "payload checksum");
+
+  bytes = good;
+  bytes[20] ^= 0x01;  // a parameter in the header
+  write(pf, bytes);
+  expect_rejected(pf, "header checksum");
+
+  bytes = good;
+  bytes[8] = 99;  // version field
+  write(pf, bytes);
+  expect_rejected(pf, "format version 99");
+
+  bytes = good;
+  bytes[0] = 'X';
+  write(pf, bytes);
+  expect_rejected(pf, "not a FoveaRT cache");
+
+  write(pf, std::vector<char>(500, '\x42'));
+  expect_rejected(pf, "not a FoveaRT cache");
+
+  bytes = good;
+  bytes.push_back('z');
+  write(pf, bytes);
+  expect_rejected(pf, "padded");
+
+  // Other parameters: a valid file for another seed, scale or display.
+  write(pf, good);
+  for (auto mutate : std::vector<std::function<void(fv::PointSetKey&)>>{
+           [](fv::PointSetKey& k) { k.seed = 4; },
+           [](fv::PointSetKey& k) { k.display.scale = 1.5; },
+           [](fv::PointSetKey& k) { k.display.view_distance_px += 1e-9; },
+           [](fv::PointSetKey& k) { k.display.disc_rule = fv::DiscRule::kNonOverlapping; }}) {
+    fv::PointSetKey other = key_;
+    mutate(other);
+    std::string err;
+    EXPECT_FALSE(fv::load_point_set(pf, other, &err).has_value());
+    EXPECT_NE(err.find("other parameters"), std::string::npos) << err;
+  }
+
+  // A neighbour table file is not a point set (and the other way round).
+  const auto tf = fv::neighbor_table_cache_path(dir_, key_);
+  ASSERT_EQ(fv::save_neighbor_table(tf, key_, table_), "");
+  expect_rejected(tf, "another kind");
+  std::string err;
+  EXPECT_FALSE(fv::load_neighbor_table(pf, key_, &err).has_value());
+  fv::PointSetKey k7 = key_;
+  k7.k = 7;
+  EXPECT_FALSE(fv::load_neighbor_table(tf, k7, &err).has_value());
+}
+
+TEST_F(CacheTest, LoadOrBuildRebuildsABadCacheAndSaysSo) {
+  std::vector<std::string> log;
+  auto first = fv::load_or_build_tables(dir_, key_, {}, [&](const std::string& s) { log.push_back(s); });
+  EXPECT_FALSE(first.points_from_cache);
+  EXPECT_FALSE(first.neighbors_from_cache);
+  auto second = fv::load_or_build_tables(dir_, key_);
+  EXPECT_TRUE(second.points_from_cache);
+  EXPECT_TRUE(second.neighbors_from_cache);
+  EXPECT_EQ(second.neighbors.packed(), first.neighbors.packed());
+
+  // Corrupt the table: reported, rebuilt, identical result, cache repaired.
+  const auto tf = fv::neighbor_table_cache_path(dir_, key_);
+  auto bytes = read(tf);
+  bytes[bytes.size() / 2] ^= 0x7F;
+  write(tf, bytes);
+  log.clear();
+  auto third = fv::load_or_build_tables(dir_, key_, {}, [&](const std::string& s) { log.push_back(s); });
+  EXPECT_FALSE(third.neighbors_from_cache);
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_NE(log[0].find("checksum"), std::string::npos) << log[0];
+  EXPECT_EQ(third.neighbors.packed(), first.neighbors.packed());
+  EXPECT_TRUE(fv::load_or_build_tables(dir_, key_).neighbors_from_cache);
+}

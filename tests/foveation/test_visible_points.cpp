@@ -1,0 +1,103 @@
+// Gaze mapping, visible-point selection and per-point ray samples (thesis 4.2).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+#include <numeric>
+#include <unistd.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/point_set.hpp"
+#include "foveation/ray_samples.hpp"
+#include "foveation/visible_points.hpp"
+
+namespace fv = foveart::foveation;
+
+namespace {
+const fv::PointSet& small_set() {
+  static const fv::PointSet ps = [] {
+    auto d = fv::DisplayModel::from_thesis(200, 160, 0.85);
+    d.scale = 3.0;
+    return fv::generate_point_set(d, 4);
+  }();
+  return ps;
+}
+}  // namespace
+
+TEST(GazeMapping, CentredGazePutsTheCentreOfInterestOnIt) {
+  const auto m = fv::map_gaze(200, 160, {100.0f, 80.0f});
+  EXPECT_FALSE(m.clamped);
+  EXPECT_EQ(m.canvas_from_screen_x_px, 100);
+  EXPECT_EQ(m.canvas_from_screen_y_px, 80);
+  // Canvas centre (W, H) lands on the gaze.
+  const glm::vec2 s = m.screen_from_canvas({200.0f, 160.0f});
+  EXPECT_EQ(s, glm::vec2(100.0f, 80.0f));
+}
+
+TEST(GazeMapping, OffScreenIsClampedAndReportedNonFiniteIsAnError) {
+  const auto m = fv::map_gaze(200, 160, {-30.0f, 500.0f});
+  EXPECT_TRUE(m.clamped);
+  EXPECT_EQ(m.gaze_px, glm::vec2(0.0f, 160.0f));
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_THROW(fv::map_gaze(200, 160, {nan, 3.0f}), std::invalid_argument);
+  EXPECT_THROW(fv::map_gaze(200, 160, {3.0f, inf}), std::invalid_argument);
+  EXPECT_THROW(fv::map_gaze(200, 160, {-inf, 0.0f}), std::invalid_argument);
+  EXPECT_THROW(fv::map_gaze(0, 160, {0.0f, 0.0f}), std::invalid_argument);
+}
+
+TEST(VisiblePoints, ScreenPlusMarginInStableOrder) {
+  const auto& ps = small_set();
+  for (const glm::vec2 g : {glm::vec2(100, 80), glm::vec2(0, 0), glm::vec2(200, 160), glm::vec2(37.3f, 151.9f)}) {
+    const auto m = fv::map_gaze(200, 160, g);
+    const auto vis = fv::select_visible_points(ps, m);
+    std::size_t expected = 0;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const glm::vec2 s = m.screen_from_canvas(ps.position_px[i]);
+      if (s.x >= -10.0f && s.x < 210.0f && s.y >= -10.0f && s.y < 170.0f) ++expected;
+    }
+    EXPECT_EQ(vis.size(), expected);
+    for (std::size_t v = 0; v < vis.size(); ++v) {
+      if (v > 0) {
+        ASSERT_LT(vis.point_index[v - 1], vis.point_index[v]);
+      }
+      EXPECT_EQ(vis.screen_px[v], m.screen_from_canvas(ps.position_px[vis.point_index[v]]));
+    }
+    // Same gaze, same selection.
+    EXPECT_EQ(fv::select_visible_points(ps, m).point_index, vis.point_index);
+  }
+  // Centred gaze sees the dense middle of the canvas: more points than at a corner.
+  EXPECT_GT(fv::select_visible_points(ps, fv::map_gaze(200, 160, {100, 80})).size(),
+            fv::select_visible_points(ps, fv::map_gaze(200, 160, {0, 0})).size());
+}
+
+TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {
+  const auto& ps = small_set();
+  const auto vis = fv::select_visible_points(ps, fv::map_gaze(200, 160, {100, 80}));
+  const int spp = 8;
+  const auto a = fv::generate_ray_samples(ps, vis, spp, 1234);
+  ASSERT_EQ(a.size(), vis.size() * spp);
+  double sum_r2 = 0.0;
+  for (std::size_t v = 0; v < vis.size(); ++v) {
+    for (int s = 0; s < spp; ++s) {
+      const std::size_t o = v * spp + std::size_t(s);
+      ASSERT_EQ(a.point_index[o], vis.point_index[v]);
+      const float r = ps.radius_px[vis.point_index[v]];
+      const float dist = glm::length(a.sample_px[o] - vis.screen_px[v]);
+      ASSERT_LE(dist, r * 1.0001f);
+      sum_r2 += double(dist * dist) / double(r * r);
+    }
+  }
+  // Uniform by area in a unit disc: E[r^2] = 1/2.
+  EXPECT_NEAR(sum_r2 / double(a.size()), 0.5, 0.01);
+  const auto b = fv::generate_ray_samples(ps, vis, spp, 1234);
+  EXPECT_EQ(0, std::memcmp(a.sample_px.data(), b.sample_px.data(), a.size() * sizeof(glm::vec2)));
+  // A point's samples do not depend on which other points are visible.
+  EXPECT_EQ(fv::unit_disc_sample(1234, 77, 3), fv::unit_disc_sample(1234, 77, 3));
+  EXPECT_NE(fv::unit_disc_sample(1234, 77, 3), fv::unit_disc_sample(1235, 77, 3));
+  EXPECT_THROW(fv::generate_ray_samples(ps, vis, 0, 1), std::invalid_argument);
+}
