@@ -1,0 +1,73 @@
+// Foveation core costs on the FOVE preset (issue: point set + table <= 10 s built,
+// <= 0.5 s from cache; table memory). Run: build/bin/foveation_bench
+//   --benchmark_format=json > out/foveation_bench.json
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "foveation/ray_samples.hpp"
+#include "foveation/visible_points.hpp"
+
+namespace fv = foveart::foveation;
+
+namespace {
+
+const fv::DisplayModel& fove() {
+  static const fv::DisplayModel d = *fv::display_preset("fove");
+  return d;
+}
+
+const fv::PointSet& fove_points() {
+  static const fv::PointSet ps = fv::generate_point_set(fove(), 1);
+  return ps;
+}
+
+void BM_GeneratePointSet(benchmark::State& state) {
+  auto d = *fv::display_preset(state.range(0) == 0 ? "fove" : "thesis");
+  for (auto _ : state) benchmark::DoNotOptimize(fv::generate_point_set(d, 1).size());
+  state.counters["points"] = double(fv::generate_point_set(d, 1).size());
+}
+BENCHMARK(BM_GeneratePointSet)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_BuildNeighborTable(benchmark::State& state) {
+  const auto& ps = fove_points();
+  std::size_t bytes = 0;
+  for (auto _ : state) bytes = fv::NeighborTable::build(ps, int(state.range(0))).bytes();
+  state.counters["table_MB"] = double(bytes) / 1e6;
+}
+BENCHMARK(BM_BuildNeighborTable)->Arg(20)->Arg(5)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+
+void BM_LoadFromCache(benchmark::State& state) {
+  const auto dir = std::filesystem::temp_directory_path() / "foveart_bench_cache";
+  fv::PointSetKey key{fove(), 1, 20};
+  fv::load_or_build_tables(dir, key);  // warm: build and store once
+  for (auto _ : state) {
+    auto t = fv::load_or_build_tables(dir, key);
+    if (!t.neighbors_from_cache) state.SkipWithError("table was not served from the cache");
+  }
+  std::filesystem::remove_all(dir);
+}
+BENCHMARK(BM_LoadFromCache)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+
+void BM_SelectVisiblePoints(benchmark::State& state) {
+  const auto& ps = fove_points();
+  const auto m = fv::map_gaze(1280, 1440, {640.0f, 720.0f});
+  std::size_t n = 0;
+  for (auto _ : state) n = fv::select_visible_points(ps, m).size();
+  state.counters["visible"] = double(n);
+}
+BENCHMARK(BM_SelectVisiblePoints)->Unit(benchmark::kMillisecond);
+
+void BM_RaySamples(benchmark::State& state) {
+  const auto& ps = fove_points();
+  const auto vis = fv::select_visible_points(ps, fv::map_gaze(1280, 1440, {640.0f, 720.0f}));
+  for (auto _ : state) benchmark::DoNotOptimize(fv::generate_ray_samples(ps, vis, int(state.range(0)), 7).size());
+  state.counters["rays"] = double(vis.size()) * double(state.range(0));
+}
+BENCHMARK(BM_RaySamples)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,58 @@
+#include "toolkit/image_io.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+namespace foveart::toolkit {
+
+float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+float linear_to_srgb(float c) {
+  c = std::clamp(std::isfinite(c) ? c : 0.0f, 0.0f, 1.0f);
+  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+std::string write_png_u8(const std::string& path, int width, int height, int channels,
+                         const std::vector<std::uint8_t>& pixels) {
+  if (width <= 0 || height <= 0 || (channels != 1 && channels != 3 && channels != 4) ||
+      pixels.size() != std::size_t(width) * std::size_t(height) * std::size_t(channels)) {
+    return "cannot write " + path + ": image size does not match its pixels";
+  }
+  errno = 0;
+  if (stbi_write_png(path.c_str(), width, height, channels, pixels.data(), width * channels) == 0) {
+    return "cannot write " + path + (errno != 0 ? std::string(": ") + std::strerror(errno) : std::string());
+  }
+  return {};
+}
+
+std::string write_png_linear(const std::string& path, const ImageRgb& image) {
+  std::vector<std::uint8_t> px(image.rgb.size());
+  for (std::size_t i = 0; i < px.size(); ++i) {
+    px[i] = std::uint8_t(std::lround(linear_to_srgb(image.rgb[i]) * 255.0f));
+  }
+  return write_png_u8(path, image.width, image.height, 3, px);
+}
+
+std::string read_image_linear(const std::string& path, ImageRgb* out) {
+  int w = 0, h = 0, n = 0;
+  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
+  if (data == nullptr) {
+    const char* why = stbi_failure_reason();
+    return "cannot read image " + path + ": " + (why ? why : "unknown error");
+  }
+  out->width = w;
+  out->height = h;
+  out->rgb.resize(std::size_t(w) * std::size_t(h) * 3);
+  for (std::size_t i = 0; i < out->rgb.size(); ++i) out->rgb[i] = srgb_to_linear(float(data[i]) / 255.0f);
+  stbi_image_free(data);
+  return {};
+}
+
+}  // namespace foveart::toolkit

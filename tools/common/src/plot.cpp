@@ -1,0 +1,145 @@
+#include "toolkit/plot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+
+#include <plplot/plstream.h>
+
+namespace foveart::toolkit {
+namespace {
+
+// PLplot aborts the process on an unwritable file: check first.
+std::string check_writable(const std::string& path) {
+  std::ofstream probe(path, std::ios::binary | std::ios::app);
+  if (!probe) return "cannot write plot " + path;
+  return {};
+}
+
+void light_theme(plstream& pls, const PlotSpec& spec, const std::string& path) {
+  pls.sdev("pngcairo");
+  pls.sfnam(path.c_str());
+  pls.spage(0, 0, spec.width_px, spec.height_px, 0, 0);
+  pls.scol0(0, 255, 255, 255);  // background
+  pls.scol0(1, 0, 0, 0);        // axes and text
+  pls.init();
+}
+
+const int kSeriesColours[][3] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {255, 127, 14},
+                                 {148, 103, 189}, {140, 86, 75}, {227, 119, 194}, {127, 127, 127}};
+
+}  // namespace
+
+std::string write_plot_png(const std::string& path, const PlotSpec& spec, const std::vector<PlotSeries>& series) {
+  if (auto err = check_writable(path); !err.empty()) return err;
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
+  for (const auto& s : series) {
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      x0 = std::min(x0, s.x[i]);
+      x1 = std::max(x1, s.x[i]);
+      y0 = std::min(y0, s.y[i]);
+      y1 = std::max(y1, s.y[i]);
+    }
+  }
+  if (!(x1 >= x0) || !(y1 >= y0)) return "cannot plot " + path + ": no finite data";
+  if (x1 == x0) x1 = x0 + 1.0;
+  if (y1 == y0) y1 = y0 + 1.0;
+  const double pad = 0.05 * (y1 - y0);
+  y0 = std::min(y0, 0.0) == 0.0 && y0 >= 0.0 ? 0.0 : y0 - pad;
+  y1 += pad;
+
+  plstream pls;
+  light_theme(pls, spec, path);
+  for (std::size_t i = 0; i < std::size(kSeriesColours); ++i) {
+    pls.scol0(PLINT(i + 2), kSeriesColours[i][0], kSeriesColours[i][1], kSeriesColours[i][2]);
+  }
+  pls.col0(1);
+  pls.env(x0, x1, y0, y1, 0, 2);  // 2: with grid
+  pls.lab(spec.x_label.c_str(), spec.y_label.c_str(), spec.title.c_str());
+  std::vector<PLINT> opt, colours, styles, symbol_colours, symbol_numbers;
+  std::vector<PLFLT> widths, scales;
+  std::vector<const char*> texts, symbols;
+  for (std::size_t si = 0; si < series.size(); ++si) {
+    const auto& s = series[si];
+    const PLINT colour = PLINT(2 + si % std::size(kSeriesColours));
+    pls.col0(colour);
+    const PLINT n = PLINT(std::min(s.x.size(), s.y.size()));
+    if (s.points) {
+      pls.poin(n, s.x.data(), s.y.data(), 17);
+    } else {
+      pls.width(2.0);
+      pls.line(n, s.x.data(), s.y.data());
+    }
+    if (s.label.empty()) continue;  // drawn, but not in the legend
+    opt.push_back(s.points ? PL_LEGEND_SYMBOL : PL_LEGEND_LINE);
+    colours.push_back(colour);
+    styles.push_back(1);
+    widths.push_back(2.0);
+    symbol_colours.push_back(colour);
+    symbol_numbers.push_back(1);
+    scales.push_back(1.0);
+    texts.push_back(s.label.c_str());
+    symbols.push_back("#(728)");
+  }
+  if (!texts.empty()) {
+    PLFLT lw = 0, lh = 0;
+    pls.col0(1);
+    pls.legend(&lw, &lh, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, PL_POSITION_RIGHT | PL_POSITION_TOP,
+               0.02, 0.02, 0.1, 0, 0, 1, 0, 0, PLINT(texts.size()), opt.data(), 1.0, 1.0, 2.0, 1.0,
+               colours.data(), texts.data(), nullptr, nullptr, nullptr, nullptr, colours.data(),
+               styles.data(), widths.data(), symbol_colours.data(), scales.data(), symbol_numbers.data(),
+               symbols.data());
+  }
+  return {};
+}
+
+std::string write_heatmap_png(const std::string& path, const PlotSpec& spec, int cols, int rows,
+                              const std::vector<double>& values, double x_min, double x_max, double y_min,
+                              double y_max) {
+  if (auto err = check_writable(path); !err.empty()) return err;
+  if (cols <= 0 || rows <= 0 || values.size() != std::size_t(cols) * std::size_t(rows)) {
+    return "cannot plot " + path + ": grid size does not match its values";
+  }
+  double vmin = std::numeric_limits<double>::infinity(), vmax = -vmin;
+  for (double v : values) {
+    if (std::isfinite(v)) {
+      vmin = std::min(vmin, v);
+      vmax = std::max(vmax, v);
+    }
+  }
+  if (!(vmax >= vmin)) return "cannot plot " + path + ": no finite data";
+  if (vmax == vmin) vmax = vmin + 1.0;
+
+  plstream pls;
+  light_theme(pls, spec, path);
+  pls.col0(1);
+  pls.env(x_min, x_max, y_min, y_max, 0, 0);
+  pls.lab(spec.x_label.c_str(), spec.y_label.c_str(), spec.title.c_str());
+  // PLplot indexes z[x][y].
+  std::vector<std::vector<PLFLT>> z{std::size_t(cols), std::vector<PLFLT>(std::size_t(rows))};
+  std::vector<PLFLT*> zp(static_cast<std::size_t>(cols), nullptr);
+  for (int x = 0; x < cols; ++x) {
+    for (int y = 0; y < rows; ++y) {
+      const double v = values[std::size_t(y) * std::size_t(cols) + std::size_t(x)];
+      z[std::size_t(x)][std::size_t(y)] = std::isfinite(v) ? v : vmin;
+    }
+    zp[std::size_t(x)] = z[std::size_t(x)].data();
+  }
+  pls.spal1("cmap1_blue_yellow.pal", true);
+  pls.image(zp.data(), cols, rows, x_min, x_max, y_min, y_max, vmin, vmax, x_min, x_max, y_min, y_max);
+  PLFLT cw = 0, ch = 0;
+  PLINT label_opts[] = {PL_COLORBAR_LABEL_BOTTOM};
+  const char* labels[] = {""};
+  const char* axis_opts[] = {"bcvtm"};
+  PLINT n_values[] = {2};
+  PLFLT vals[] = {vmin, vmax};
+  PLFLT* vals_p[] = {vals};
+  pls.colorbar(&cw, &ch, PL_COLORBAR_IMAGE, PL_POSITION_RIGHT, 0.02, 0.0, 0.03, 0.8, 0, 1, 1, 0.0, 0.0, 0,
+               0.0, 1, label_opts, labels, 1, axis_opts, nullptr, nullptr, n_values, vals_p);
+  return {};
+}
+
+}  // namespace foveart::toolkit
