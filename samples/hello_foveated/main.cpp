@@ -3,7 +3,11 @@
 //   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf] [--k N]
 //                  [--scale S] [--spp N] [--no-taa] [--gaze none|provider|eye_gaze]
 //                  [--gaze-provider SPEC] [--json]
+#include <algorithm>
+#include <cmath>
+#include <vector>
 #include <cstdio>
+#include <stdexcept>
 #include <iostream>
 #include <map>
 #include <string>
@@ -17,12 +21,39 @@
 
 namespace {
 
+// --fault: the engine misbehaving on purpose, to watch the layer's fallback.
+struct FaultyEngine {
+  void* tracer = nullptr;
+  std::string fault;  // "nan" | "error" | "throw"
+};
+
+int32_t faulty_trace_rays(void* user_data, const FoveartRayBatch* batch) {
+  auto* engine = static_cast<FaultyEngine*>(user_data);
+  if (engine->fault == "error") return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  if (engine->fault == "throw") throw std::runtime_error("injected engine exception");
+  const int32_t r = foveart_engine_trace_rays(engine->tracer, batch);
+  if (batch->ray_count > 0) batch->out_rgb[0] = std::nanf("");
+  return r;
+}
+
 const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
   switch (s) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: return "provider";
     case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: return "eye_gaze_interaction";
     default: return "none";
   }
+}
+
+// Percentile by nearest rank; 0 for no samples.
+float percentile(std::vector<float> v, double p) {
+  if (v.empty()) return 0.0f;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
+  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+nlohmann::json distribution(const std::vector<float>& v) {
+  return {{"p50", percentile(v, 50)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
 }
 
 nlohmann::json stats_json(const foveart::hello::AppResult& r) {
@@ -46,7 +77,11 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"fallback_flags", s.fallbackFlags},
           {"callback_failures", s.callbackFailures},
           {"invalid_colours", s.invalidColours},
-          {"gaze_lost_frames", s.gazeLostFrames}};
+          {"gaze_lost_frames", s.gazeLostFrames},
+          {"per_frame",
+           {{"gaze_age_ms", distribution(r.gaze_age_ms)},
+            {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
+            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}}}}};
 }
 
 }  // namespace
@@ -60,6 +95,7 @@ int main(int argc, char** argv) {
   bool no_taa = false;
   bool json = false;
   bool no_explicit_layer = false;
+  std::string fault;
   cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
   cli.add_option("--interp", interp, "interpolation")->check(CLI::IsMember({"nearest", "shepard", "rbf"}));
   cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
@@ -72,6 +108,8 @@ int main(int argc, char** argv) {
   cli.add_flag("--no-explicit-layer", no_explicit_layer,
                "do not name the layer (it is enabled implicitly or by XR_ENABLE_API_LAYERS)");
   cli.add_flag("--json", json, "print the layer's stats as JSON");
+  cli.add_option("--fault", fault, "test aid: make the engine return NaN, an error or throw")
+      ->check(CLI::IsMember({"nan", "error", "throw"}));
   CLI11_PARSE(cli, argc, argv);
 
   const std::map<std::string, XrFoveatedInterpolationFOVEART> interps{
@@ -104,6 +142,11 @@ int main(int argc, char** argv) {
   }
   options.trace_rays = &foveart_engine_trace_rays;
   options.user_data = tracer.get();
+  FaultyEngine faulty{tracer.get(), fault};
+  if (!fault.empty()) {
+    options.trace_rays = &faulty_trace_rays;
+    options.user_data = &faulty;
+  }
 
   const auto result = foveart::hello::run_app(options);
   if (!result.ok) {

@@ -69,8 +69,8 @@ class App {
     create_session();
     create_swapchains();
     create_renderer();
-    loop();
     AppResult result;
+    loop(&result);
     result.ok = true;
     result.frames = frames_;
     result.stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
@@ -296,7 +296,7 @@ class App {
     }
   }
 
-  void loop() {
+  void loop(AppResult* result) {
     while (poll_events()) {
       if (options_.max_frames != 0 && frames_ >= options_.max_frames) break;
       if (!running_) continue;
@@ -348,6 +348,17 @@ class App {
       end.layers = layers;
       check(xrEndFrame(session_, &end), "xrEndFrame");
       ++frames_;
+      auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
+      check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
+      if (stats.framesTraced > traced_) {
+        traced_ = stats.framesTraced;
+        if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
+        for (int e = 0; e < 2; ++e) {
+          result->overhead_ms[e].push_back(stats.selectMs[e] + stats.interpolateMs[e] + stats.taaMs[e] +
+                                           stats.uploadMs[e]);
+          result->trace_ms[e].push_back(stats.traceMs[e]);
+        }
+      }
     }
   }
 
@@ -383,6 +394,7 @@ class App {
   XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
   bool running_ = false;
   uint64_t frames_ = 0;
+  uint64_t traced_ = 0;
   EyeSwapchain eyes_[2];
   VkInstance vk_instance_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #define XR_USE_GRAPHICS_API_VULKAN
 #include <vulkan/vulkan.h>
@@ -38,6 +39,11 @@ struct AppResult {
   std::string error;
   uint64_t frames = 0;
   XrFoveatedRendererStatsFOVEART stats{};
+  // Per traced frame: gaze age at composition, and the layer's own time per eye
+  // excluding the callback (select + interpolate + TAA + upload).
+  std::vector<float> gaze_age_ms;
+  std::vector<float> overhead_ms[2];
+  std::vector<float> trace_ms[2];
 };
 
 AppResult run_app(const AppOptions& options);
