@@ -1,0 +1,662 @@
+// glTF 2.0 -> engine Scene. Every read from a buffer is bounds-checked: a
+// broken file produces "<file>: <problem>", never a crash.
+#include <engine/gltf_loader.hpp>
+
+#include <engine/default_scene.hpp>
+
+#include "srgb.hpp"
+
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#include <tiny_gltf.h>
+
+#include <nlohmann/json.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+namespace foveart::engine {
+namespace {
+
+// Thrown inside this file only; load_gltf turns it into LoadResult::error.
+struct BadInput : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Extensions the engine understands; any other *required* one is an error.
+const std::set<std::string> kSupportedExtensions = {
+    "KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior",
+    "KHR_materials_emissive_strength", "KHR_materials_pbrSpecularGlossiness"};
+
+constexpr int kMaxNodeDepth = 256;
+
+double number_or(const tinygltf::Value& obj, const char* key, double fallback) {
+  if (!obj.IsObject() || !obj.Has(key)) return fallback;
+  const tinygltf::Value& v = obj.Get(key);
+  return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const char* name) {
+  auto it = ext.find(name);
+  return it == ext.end() ? nullptr : &it->second;
+}
+
+class Loader {
+ public:
+  Loader(const tinygltf::Model& model, Scene& scene) : model_(model), scene_(scene) {}
+
+  void run() {
+    check_required_extensions();
+    load_textures();
+    load_materials();
+    const std::vector<int> roots = root_nodes();
+    std::vector<bool> on_path(model_.nodes.size(), false);
+    for (int node : roots) visit_node(node, glm::mat4(1.0f), on_path, 0);
+    if (scene_.mesh.triangles.empty()) scene_.warnings.push_back("no triangles: nothing to ray trace");
+  }
+
+ private:
+  void check_required_extensions() {
+    for (const std::string& ext : model_.extensionsRequired) {
+      if (!kSupportedExtensions.count(ext))
+        throw BadInput("unsupported required extension " + ext);
+    }
+    for (const std::string& ext : model_.extensionsUsed) {
+      if (!kSupportedExtensions.count(ext)) scene_.warnings.push_back("ignored extension " + ext);
+    }
+  }
+
+  // -- Buffers ------------------------------------------------------------------------
+  // Component values of one accessor as floats (normalised integers mapped to [0,1] or
+  // [-1,1]); `components` per element. Applies sparse substitution.
+  std::vector<float> read_accessor(int index, const std::string& what, int* out_components) const {
+    if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
+      throw BadInput(what + ": accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = model_.accessors[index];
+    const int ncomp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+    const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+    if (ncomp <= 0 || csize <= 0 || ncomp > 16)
+      throw BadInput(what + ": accessor " + std::to_string(index) + " has an invalid type");
+    *out_components = ncomp;
+    std::vector<float> out(a.count * static_cast<size_t>(ncomp), 0.0f);
+    if (a.bufferView >= 0) {
+      const uint8_t* base = nullptr;
+      size_t stride = 0;
+      view_range(a, a.bufferView, a.byteOffset, a.count, static_cast<size_t>(ncomp * csize), what,
+                 &base, &stride);
+      for (size_t i = 0; i < a.count; ++i)
+        for (int c = 0; c < ncomp; ++c)
+          out[i * ncomp + c] = component(base + i * stride + static_cast<size_t>(c * csize),
+                                         a.componentType, a.normalized);
+    }
+    if (a.sparse.isSparse) apply_sparse(a, ncomp, csize, what, out);
+    for (float v : out)
+      if (!std::isfinite(v)) throw BadInput(what + ": accessor " + std::to_string(index) +
+                                            " holds a non-finite value");
+    return out;
+  }
+
+  // Checks that `count` elements of `elem_bytes` fit in the buffer view.
+  void view_range(const tinygltf::Accessor& a, int view_index, size_t offset, size_t count,
+                  size_t elem_bytes, const std::string& what, const uint8_t** out_base,
+                  size_t* out_stride) const {
+    if (view_index < 0 || static_cast<size_t>(view_index) >= model_.bufferViews.size())
+      throw BadInput(what + ": bufferView " + std::to_string(view_index) + " does not exist");
+    const tinygltf::BufferView& v = model_.bufferViews[view_index];
+    if (v.buffer < 0 || static_cast<size_t>(v.buffer) >= model_.buffers.size())
+      throw BadInput(what + ": buffer " + std::to_string(v.buffer) + " does not exist");
+    const tinygltf::Buffer& b = model_.buffers[v.buffer];
+    if (v.byteOffset > b.data.size() || v.byteLength > b.data.size() - v.byteOffset)
+      throw BadInput(what + ": bufferView " + std::to_string(view_index) +
+                     " lies outside its buffer (" + std::to_string(b.data.size()) + " bytes)");
+    const int s = a.ByteStride(v);
+    const size_t stride = s > 0 ? static_cast<size_t>(s) : elem_bytes;
+    if (stride < elem_bytes && v.byteStride != 0)
+      throw BadInput(what + ": byteStride smaller than an element");
+    if (count > 0) {
+      const size_t need = offset + (count - 1) * stride + elem_bytes;
+      if (need > v.byteLength || offset > v.byteLength)
+        throw BadInput(what + ": accessor reads past the end of bufferView " +
+                       std::to_string(view_index));
+    }
+    *out_base = b.data.data() + v.byteOffset + offset;
+    *out_stride = stride;
+  }
+
+  static float component(const uint8_t* p, int type, bool normalized) {
+    switch (type) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+        const float v = static_cast<float>(*p);
+        return normalized ? v / 255.0f : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        int8_t s; std::memcpy(&s, p, 1);
+        return normalized ? std::max(static_cast<float>(s) / 127.0f, -1.0f) : static_cast<float>(s);
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t u; std::memcpy(&u, p, 2);
+        return normalized ? static_cast<float>(u) / 65535.0f : static_cast<float>(u);
+      }
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t s; std::memcpy(&s, p, 2);
+        return normalized ? std::max(static_cast<float>(s) / 32767.0f, -1.0f)
+                          : static_cast<float>(s);
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t u; std::memcpy(&u, p, 4); return static_cast<float>(u);
+      }
+      case TINYGLTF_COMPONENT_TYPE_INT: { int32_t s; std::memcpy(&s, p, 4); return static_cast<float>(s); }
+      default: return 0.0f;
+    }
+  }
+
+  static uint32_t read_index(const uint8_t* p, int type) {
+    switch (type) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return *p;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); return u; }
+      default: { uint32_t u; std::memcpy(&u, p, 4); return u; }
+    }
+  }
+
+  void apply_sparse(const tinygltf::Accessor& a, int ncomp, int csize, const std::string& what,
+                    std::vector<float>& out) const {
+    if (a.sparse.count < 0 || static_cast<size_t>(a.sparse.count) > a.count)
+      throw BadInput(what + ": sparse count out of range");
+    const size_t n = static_cast<size_t>(a.sparse.count);
+    const int itype = a.sparse.indices.componentType;
+    const int isize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(itype));
+    if (isize <= 0) throw BadInput(what + ": sparse indices have an invalid component type");
+    tinygltf::Accessor tmp;  // strides of sparse arrays are always tight
+    const uint8_t* ibase = nullptr;
+    const uint8_t* vbase = nullptr;
+    size_t istride = 0;
+    size_t vstride = 0;
+    tmp.componentType = itype;
+    tmp.type = TINYGLTF_TYPE_SCALAR;
+    view_range(tmp, a.sparse.indices.bufferView, static_cast<size_t>(a.sparse.indices.byteOffset), n,
+               static_cast<size_t>(isize), what + " (sparse indices)", &ibase, &istride);
+    tmp.componentType = a.componentType;
+    tmp.type = a.type;
+    view_range(tmp, a.sparse.values.bufferView, static_cast<size_t>(a.sparse.values.byteOffset), n,
+               static_cast<size_t>(ncomp * csize), what + " (sparse values)", &vbase, &vstride);
+    for (size_t i = 0; i < n; ++i) {
+      const uint32_t target = read_index(ibase + i * istride, itype);
+      if (target >= a.count) throw BadInput(what + ": sparse index out of range");
+      for (int c = 0; c < ncomp; ++c)
+        out[target * ncomp + c] = component(vbase + i * vstride + static_cast<size_t>(c * csize),
+                                            a.componentType, a.normalized);
+    }
+  }
+
+  std::vector<uint32_t> read_indices(int index, const std::string& what) const {
+    if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
+      throw BadInput(what + ": index accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = model_.accessors[index];
+    const int t = a.componentType;
+    if (a.type != TINYGLTF_TYPE_SCALAR ||
+        (t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+         t != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+      throw BadInput(what + ": indices must be unsigned integer scalars");
+    if (a.sparse.isSparse) {  // rare for indices; go through the float path (exact below 2^24)
+      int ncomp = 0;
+      std::vector<float> f = read_accessor(index, what, &ncomp);
+      return std::vector<uint32_t>(f.begin(), f.end());
+    }
+    const size_t isize = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(t)));
+    std::vector<uint32_t> out(a.count);
+    if (a.bufferView < 0) return out;
+    const uint8_t* base = nullptr;
+    size_t stride = 0;
+    view_range(a, a.bufferView, a.byteOffset, a.count, isize, what, &base, &stride);
+    for (size_t i = 0; i < a.count; ++i) out[i] = read_index(base + i * stride, t);
+    return out;
+  }
+
+  // -- Textures and materials -----------------------------------------------------------
+  void load_textures() {
+    texture_map_.assign(model_.textures.size(), -1);
+    for (size_t i = 0; i < model_.textures.size(); ++i) {
+      const tinygltf::Texture& t = model_.textures[i];
+      int source = t.source;
+      if (source < 0) {  // e.g. only in an unsupported extension (KHR_texture_basisu)
+        scene_.warnings.push_back("texture " + std::to_string(i) + " has no usable image");
+        continue;
+      }
+      if (static_cast<size_t>(source) >= model_.images.size())
+        throw BadInput("texture " + std::to_string(i) + " refers to missing image " +
+                       std::to_string(source));
+      const tinygltf::Image& img = model_.images[source];
+      const int comp = img.component;
+      const int bytes = img.bits == 16 ? 2 : 1;
+      if (img.width <= 0 || img.height <= 0 || comp < 1 || comp > 4 || (img.bits != 8 && img.bits != 16) ||
+          img.image.size() < static_cast<size_t>(img.width) * img.height * comp * bytes) {
+        scene_.warnings.push_back("image " + std::to_string(source) + " (" + img.uri +
+                                  ") could not be decoded; texture ignored");
+        continue;
+      }
+      Texture tex;
+      tex.width = static_cast<uint32_t>(img.width);
+      tex.height = static_cast<uint32_t>(img.height);
+      tex.texels.resize(static_cast<size_t>(tex.width) * tex.height);
+      for (size_t p = 0; p < tex.texels.size(); ++p) {
+        float c[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+        for (int k = 0; k < comp; ++k) {
+          const size_t at = (p * comp + k) * bytes;
+          const float v = bytes == 2 ? static_cast<float>(img.image[at] | (img.image[at + 1] << 8)) / 65535.0f
+                                     : static_cast<float>(img.image[at]) / 255.0f;
+          c[k] = v;
+        }
+        if (comp <= 2) {  // grey (+ alpha)
+          c[3] = comp == 2 ? c[1] : 1.0f;
+          c[1] = c[2] = c[0];
+        }
+        tex.texels[p] = glm::vec4(srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2]), c[3]);
+      }
+      if (t.sampler >= 0 && static_cast<size_t>(t.sampler) < model_.samplers.size()) {
+        const tinygltf::Sampler& s = model_.samplers[t.sampler];
+        tex.wrap_s = wrap(s.wrapS);
+        tex.wrap_t = wrap(s.wrapT);
+        tex.nearest = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
+      }
+      texture_map_[i] = static_cast<int>(scene_.textures.size());
+      scene_.textures.push_back(std::move(tex));
+    }
+  }
+
+  static WrapMode wrap(int w) {
+    if (w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return WrapMode::kClamp;
+    if (w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return WrapMode::kMirror;
+    return WrapMode::kRepeat;
+  }
+
+  int texture_index(int gltf_index) const {
+    if (gltf_index < 0) return -1;
+    if (static_cast<size_t>(gltf_index) >= texture_map_.size())
+      throw BadInput("material refers to missing texture " + std::to_string(gltf_index));
+    return texture_map_[gltf_index];
+  }
+
+  void load_materials() {
+    for (const tinygltf::Material& m : model_.materials) {
+      Material out;
+      out.name = m.name;
+      const auto& pbr = m.pbrMetallicRoughness;
+      if (pbr.baseColorFactor.size() == 4)
+        out.base_color = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
+                                   pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+      out.base_color_texture = texture_index(pbr.baseColorTexture.index);
+      out.base_color_texcoord = pbr.baseColorTexture.texCoord;
+      out.metallic = static_cast<float>(std::clamp(pbr.metallicFactor, 0.0, 1.0));
+      out.roughness = static_cast<float>(std::clamp(pbr.roughnessFactor, 0.0, 1.0));
+      if (m.emissiveFactor.size() == 3)
+        out.emissive = glm::vec3(m.emissiveFactor[0], m.emissiveFactor[1], m.emissiveFactor[2]);
+      if (const tinygltf::Value* e = find_extension(m.extensions, "KHR_materials_emissive_strength"))
+        out.emissive *= static_cast<float>(number_or(*e, "emissiveStrength", 1.0));
+      if (m.alphaMode == "MASK") out.alpha_mode = AlphaMode::kMask;
+      else if (m.alphaMode == "BLEND") out.alpha_mode = AlphaMode::kBlend;
+      out.alpha_cutoff = static_cast<float>(m.alphaCutoff);
+      out.double_sided = m.doubleSided;
+      if (const tinygltf::Value* e = find_extension(m.extensions, "KHR_materials_transmission"))
+        out.transmission = static_cast<float>(std::clamp(number_or(*e, "transmissionFactor", 0.0), 0.0, 1.0));
+      if (const tinygltf::Value* e = find_extension(m.extensions, "KHR_materials_ior"))
+        out.ior = static_cast<float>(std::max(number_or(*e, "ior", 1.5), 1.0));
+      if (const tinygltf::Value* e = find_extension(m.extensions, "KHR_materials_pbrSpecularGlossiness")) {
+        // Approximate: diffuse as base colour, glossiness as smoothness, no metal.
+        if (e->IsObject() && e->Has("diffuseFactor") && e->Get("diffuseFactor").IsArray() &&
+            e->Get("diffuseFactor").ArrayLen() == 4)
+          for (int k = 0; k < 4; ++k)
+            out.base_color[k] = static_cast<float>(e->Get("diffuseFactor").Get(k).GetNumberAsDouble());
+        if (e->IsObject() && e->Has("diffuseTexture") && e->Get("diffuseTexture").IsObject())
+          out.base_color_texture =
+              texture_index(static_cast<int>(number_or(e->Get("diffuseTexture"), "index", -1.0)));
+        out.metallic = 0.0f;
+        out.roughness = 1.0f - static_cast<float>(std::clamp(number_or(*e, "glossinessFactor", 1.0), 0.0, 1.0));
+      }
+      if (out.base_color_texcoord < 0 || out.base_color_texcoord > 1) {
+        scene_.warnings.push_back("material '" + m.name + "' uses TEXCOORD_" +
+                                  std::to_string(out.base_color_texcoord) + "; only 0 and 1 are read");
+        out.base_color_texture = -1;
+      }
+      scene_.materials.push_back(std::move(out));
+    }
+  }
+
+  uint32_t default_material() {
+    if (default_material_ < 0) {
+      default_material_ = static_cast<int>(scene_.materials.size());
+      Material m;
+      m.name = "(default)";
+      scene_.materials.push_back(m);
+    }
+    return static_cast<uint32_t>(default_material_);
+  }
+
+  // -- Node hierarchy ------------------------------------------------------------------
+  std::vector<int> root_nodes() const {
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+      int s = model_.defaultScene;
+      if (s < 0) s = 0;
+      if (static_cast<size_t>(s) >= model_.scenes.size())
+        throw BadInput("default scene " + std::to_string(s) + " does not exist");
+      roots = model_.scenes[s].nodes;
+    } else {  // no scene: every node that is nobody's child
+      std::vector<bool> child(model_.nodes.size(), false);
+      for (const tinygltf::Node& n : model_.nodes)
+        for (int c : n.children)
+          if (c >= 0 && static_cast<size_t>(c) < child.size()) child[c] = true;
+      for (size_t i = 0; i < child.size(); ++i)
+        if (!child[i]) roots.push_back(static_cast<int>(i));
+    }
+    return roots;
+  }
+
+  static glm::mat4 local_matrix(const tinygltf::Node& n) {
+    if (n.matrix.size() == 16) {
+      glm::mat4 m;
+      for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = static_cast<float>(n.matrix[i]);  // column-major
+      return m;
+    }
+    glm::mat4 m(1.0f);
+    if (n.translation.size() == 3)
+      m = glm::translate(m, glm::vec3(n.translation[0], n.translation[1], n.translation[2]));
+    if (n.rotation.size() == 4)
+      m *= glm::mat4_cast(glm::normalize(glm::quat(static_cast<float>(n.rotation[3]), static_cast<float>(n.rotation[0]),
+                                                   static_cast<float>(n.rotation[1]), static_cast<float>(n.rotation[2]))));
+    if (n.scale.size() == 3) m = glm::scale(m, glm::vec3(n.scale[0], n.scale[1], n.scale[2]));
+    return m;
+  }
+
+  void visit_node(int index, const glm::mat4& parent, std::vector<bool>& on_path, int depth) {
+    if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
+      throw BadInput("node " + std::to_string(index) + " does not exist");
+    if (on_path[index] || depth > kMaxNodeDepth)
+      throw BadInput("node " + std::to_string(index) + " is its own ancestor (cyclic hierarchy)");
+    on_path[index] = true;
+    const tinygltf::Node& n = model_.nodes[index];
+    const glm::mat4 world = parent * local_matrix(n);
+    if (n.mesh >= 0) add_mesh(n.mesh, world);
+    if (n.camera >= 0) add_camera(n.camera, world);
+    if (const tinygltf::Value* e = find_extension(n.extensions, "KHR_lights_punctual"))
+      add_light(static_cast<int>(number_or(*e, "light", -1.0)), world);
+    for (int c : n.children) visit_node(c, world, on_path, depth + 1);
+    on_path[index] = false;
+  }
+
+  void add_camera(int index, const glm::mat4& world) {
+    if (scene_.camera || index < 0 || static_cast<size_t>(index) >= model_.cameras.size()) return;
+    const tinygltf::Camera& c = model_.cameras[index];
+    Camera cam;
+    cam.position_m = glm::vec3(world[3]);
+    const glm::mat3 r(glm::normalize(glm::vec3(world[0])), glm::normalize(glm::vec3(world[1])),
+                      glm::normalize(glm::vec3(world[2])));
+    cam.orientation = glm::normalize(glm::quat_cast(r));
+    if (c.type == "perspective" && c.perspective.yfov > 0.0) {
+      cam.yfov_rad = static_cast<float>(c.perspective.yfov);
+      cam.aspect = static_cast<float>(c.perspective.aspectRatio);
+    } else {
+      scene_.warnings.push_back("camera " + std::to_string(index) + " is not perspective; using its pose only");
+    }
+    scene_.camera = cam;
+  }
+
+  void add_light(int index, const glm::mat4& world) {
+    if (index < 0 || static_cast<size_t>(index) >= model_.lights.size())
+      throw BadInput("node refers to missing light " + std::to_string(index));
+    const tinygltf::Light& l = model_.lights[index];
+    Light out;
+    if (l.type == "directional") out.type = LightType::kDirectional;
+    else if (l.type == "spot") out.type = LightType::kSpot;
+    else if (l.type == "point") out.type = LightType::kPoint;
+    else throw BadInput("light " + std::to_string(index) + " has unknown type '" + l.type + "'");
+    if (l.color.size() == 3) out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+    out.intensity = static_cast<float>(l.intensity);
+    out.range = static_cast<float>(l.range);
+    out.inner_cone_rad = static_cast<float>(l.spot.innerConeAngle);
+    out.outer_cone_rad = static_cast<float>(l.spot.outerConeAngle);
+    out.position = glm::vec3(world[3]);
+    out.direction = glm::normalize(glm::vec3(world * glm::vec4(0.0f, 0.0f, -1.0f, 0.0f)));
+    scene_.lights.push_back(out);
+  }
+
+  void add_mesh(int index, const glm::mat4& world) {
+    if (static_cast<size_t>(index) >= model_.meshes.size())
+      throw BadInput("node refers to missing mesh " + std::to_string(index));
+    const tinygltf::Mesh& mesh = model_.meshes[index];
+    for (size_t p = 0; p < mesh.primitives.size(); ++p)
+      add_primitive(mesh.primitives[p],
+                    "mesh " + std::to_string(index) + " ('" + mesh.name + "') primitive " + std::to_string(p),
+                    world);
+  }
+
+  void add_primitive(const tinygltf::Primitive& prim, const std::string& what, const glm::mat4& world) {
+    const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      scene_.warnings.push_back(what + ": points/lines are not ray traced; skipped");
+      return;
+    }
+    auto pos_it = prim.attributes.find("POSITION");
+    if (pos_it == prim.attributes.end()) {
+      scene_.warnings.push_back(what + ": no POSITION; skipped");
+      return;
+    }
+    int ncomp = 0;
+    const std::vector<float> pos = read_accessor(pos_it->second, what + " POSITION", &ncomp);
+    if (ncomp != 3) throw BadInput(what + ": POSITION must be VEC3");
+    const size_t nvert = pos.size() / 3;
+    std::vector<float> nrm, uv[2];
+    if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
+      nrm = read_accessor(it->second, what + " NORMAL", &ncomp);
+      if (ncomp != 3 || nrm.size() != pos.size())
+        throw BadInput(what + ": NORMAL must be VEC3 with one entry per vertex");
+    }
+    for (int set = 0; set < 2; ++set) {
+      if (auto it = prim.attributes.find("TEXCOORD_" + std::to_string(set)); it != prim.attributes.end()) {
+        uv[set] = read_accessor(it->second, what + " TEXCOORD_" + std::to_string(set), &ncomp);
+        if (ncomp != 2 || uv[set].size() != nvert * 2)
+          throw BadInput(what + ": TEXCOORD_" + std::to_string(set) + " must be VEC2 with one entry per vertex");
+      }
+    }
+    std::vector<uint32_t> idx;
+    if (prim.indices >= 0) {
+      idx = read_indices(prim.indices, what + " indices");
+      for (size_t i = 0; i < idx.size(); ++i)
+        if (idx[i] >= nvert)
+          throw BadInput(what + ": index " + std::to_string(idx[i]) + " at position " + std::to_string(i) +
+                         " is out of range (" + std::to_string(nvert) + " vertices)");
+    } else {
+      idx.resize(nvert);
+      for (size_t i = 0; i < nvert; ++i) idx[i] = static_cast<uint32_t>(i);
+    }
+    std::vector<glm::uvec3> tris;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      for (size_t i = 0; i + 2 < idx.size(); i += 3) tris.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t i = 0; i + 2 < idx.size(); ++i)
+        tris.push_back(i % 2 == 0 ? glm::uvec3(idx[i], idx[i + 1], idx[i + 2])
+                                  : glm::uvec3(idx[i + 1], idx[i], idx[i + 2]));
+    } else {
+      for (size_t i = 1; i + 1 < idx.size(); ++i) tris.emplace_back(idx[0], idx[i], idx[i + 1]);
+    }
+
+    uint32_t material = 0;
+    if (prim.material >= 0) {
+      if (static_cast<size_t>(prim.material) >= model_.materials.size())
+        throw BadInput(what + ": material " + std::to_string(prim.material) + " does not exist");
+      material = static_cast<uint32_t>(prim.material);
+    } else {
+      material = default_material();
+    }
+
+    Mesh& m = scene_.mesh;
+    const size_t first = m.positions.size();
+    if (first + nvert > 0xFFFFFFFFu) throw BadInput(what + ": too many vertices");
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+    const bool flip = glm::determinant(glm::mat3(world)) < 0.0f;
+    for (size_t v = 0; v < nvert; ++v) {
+      m.positions.push_back(glm::vec3(world * glm::vec4(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2], 1.0f)));
+      glm::vec3 n(0.0f);
+      if (!nrm.empty()) {
+        n = normal_matrix * glm::vec3(nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2]);
+        const float len = glm::length(n);
+        n = len > 1e-12f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
+      }
+      m.normals.push_back(n);
+    }
+    for (int set = 0; set < 2; ++set) {
+      std::vector<glm::vec2>& dst = set == 0 ? m.uv0 : m.uv1;
+      if (uv[set].empty() && dst.empty()) continue;
+      dst.resize(first, glm::vec2(0.0f));  // earlier primitives without this set
+      for (size_t v = 0; v < nvert; ++v)
+        dst.push_back(uv[set].empty() ? glm::vec2(0.0f) : glm::vec2(uv[set][2 * v], uv[set][2 * v + 1]));
+    }
+    size_t degenerate = 0;
+    for (const glm::uvec3& t : tris) {
+      const glm::uvec3 g = glm::uvec3(static_cast<uint32_t>(first)) + (flip ? glm::uvec3(t.x, t.z, t.y) : t);
+      const glm::dvec3 c = glm::cross(glm::dvec3(m.positions[g.y] - m.positions[g.x]),
+                                      glm::dvec3(m.positions[g.z] - m.positions[g.x]));
+      if (g.x == g.y || g.y == g.z || g.x == g.z || !(glm::dot(c, c) > 0.0)) {
+        ++degenerate;
+        continue;
+      }
+      m.triangles.push_back(g);
+      m.triangle_material.push_back(material);
+    }
+    degenerate_ += degenerate;
+  }
+
+  const tinygltf::Model& model_;
+  Scene& scene_;
+  std::vector<int> texture_map_;
+  int default_material_ = -1;
+
+ public:
+  size_t degenerate_ = 0;  // zero-area triangles skipped (reported once)
+};
+
+// The JSON part of a .gltf or .glb file, or an error.
+std::string read_json_text(const std::string& path, bool* out_glb, std::string* out_json) {
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
+  if (!f) return "cannot open file";
+  const std::streamoff size = f.tellg();
+  if (size < 0) return "cannot read file";
+  std::string bytes(static_cast<size_t>(size), '\0');
+  f.seekg(0);
+  if (!f.read(bytes.data(), size)) return "cannot read file";
+  *out_glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (!*out_glb) {
+    *out_json = std::move(bytes);
+    return "";
+  }
+  // GLB: 12-byte header, then chunk 0 (length, type 'JSON', data).
+  uint32_t header[5] = {};
+  if (bytes.size() < sizeof(header)) return "truncated GLB header";
+  std::memcpy(header, bytes.data(), sizeof(header));
+  if (header[1] != 2) return "GLB version " + std::to_string(header[1]) + " is not 2";
+  if (header[4] != 0x4E4F534Au) return "GLB first chunk is not JSON";
+  if (header[3] > bytes.size() - sizeof(header)) return "GLB JSON chunk is longer than the file";
+  *out_json = bytes.substr(sizeof(header), header[3]);
+  return "";
+}
+
+// Checks tinygltf does not make (or words poorly): malformed JSON with its
+// position, unsupported required extensions (e.g. Draco) and mesh primitives
+// that are not an array.
+std::string precheck(const std::string& path, bool* out_glb) {
+  std::string text;
+  if (std::string e = read_json_text(path, out_glb, &text); !e.empty()) return e;
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    return "malformed JSON (at byte " + std::to_string(e.byte) + ")";
+  }
+  if (!j.is_object()) return "top level JSON value is not an object";
+  if (auto it = j.find("extensionsRequired"); it != j.end() && it->is_array())
+    for (const auto& ext : *it)
+      if (ext.is_string() && !kSupportedExtensions.count(ext.get<std::string>()))
+        return "unsupported required extension " + ext.get<std::string>();
+  if (auto it = j.find("meshes"); it != j.end() && it->is_array())
+    for (size_t i = 0; i < it->size(); ++i) {
+      const auto& mesh = (*it)[i];
+      if (mesh.is_object() && mesh.contains("primitives") && !mesh["primitives"].is_array())
+        return "meshes[" + std::to_string(i) + "].primitives is not an array";
+    }
+  return "";
+}
+
+std::string one_line(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  std::replace(s.begin(), s.end(), '\n', ';');
+  return s;
+}
+
+}  // namespace
+
+LoadResult load_gltf(const std::string& path) {
+  LoadResult result;
+  try {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+      result.error = path + ": no such file";
+      return result;
+    }
+    bool glb = false;
+    if (std::string bad = precheck(path, &glb); !bad.empty()) {
+      result.error = path + ": " + bad;
+      return result;
+    }
+    tinygltf::Model model;
+    tinygltf::TinyGLTF gltf;
+    std::string err, warn;
+    const bool ok = glb ? gltf.LoadBinaryFromFile(&model, &err, &warn, path)
+                                 : gltf.LoadASCIIFromFile(&model, &err, &warn, path);
+    if (!ok) {
+      result.error = path + ": " + (err.empty() ? std::string("not a valid glTF 2.0 file") : one_line(err));
+      return result;
+    }
+    Scene scene;
+    scene.source = path;
+    if (!warn.empty()) scene.warnings.push_back(one_line(warn));
+    // Fill unused uv arrays consistently: a set present in a later primitive pads earlier ones.
+    Loader loader(model, scene);
+    loader.run();
+    if (loader.degenerate_ > 0)
+      scene.warnings.push_back(std::to_string(loader.degenerate_) + " zero-area triangles skipped");
+    Mesh& m = scene.mesh;
+    if (!m.uv0.empty()) m.uv0.resize(m.positions.size(), glm::vec2(0.0f));
+    if (!m.uv1.empty()) m.uv1.resize(m.positions.size(), glm::vec2(0.0f));
+    result.scene = std::move(scene);
+  } catch (const BadInput& e) {
+    result.error = path + ": " + e.what();
+  } catch (const std::bad_alloc&) {
+    result.error = path + ": out of memory while loading";
+  } catch (const std::exception& e) {
+    result.error = path + ": " + e.what();
+  }
+  return result;
+}
+
+LoadResult load_scene(const std::string& spec) {
+  if (spec.empty() || spec == "default") {
+    LoadResult r;
+    r.scene = make_default_scene();
+    return r;
+  }
+  return load_gltf(spec);
+}
+
+}  // namespace foveart::engine

@@ -1,0 +1,201 @@
+// Whole-image rendering through the engine callback, multithreaded.
+#include <engine/render.hpp>
+
+#include <foveation/eye_rays.hpp>
+
+#include "srgb.hpp"
+
+#include <stb_image_write.h>
+
+#include <glm/trigonometric.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+namespace foveart::engine {
+namespace {
+
+// splitmix64 (Steele et al. 2014): a cheap, well-mixed hash for jitter.
+uint64_t mix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+int thread_count(int requested) {
+  if (requested > 0) return requested;
+  const unsigned hw = std::thread::hardware_concurrency();
+  return hw == 0 ? 1 : static_cast<int>(hw);
+}
+
+// Runs work(first_item, count, scratch) over [0, n) in chunks from `threads` threads.
+template <typename Work>
+void parallel_chunks(uint64_t n, uint64_t chunk, int threads, Work&& work) {
+  std::atomic<uint64_t> next{0};
+  auto run = [&] {
+    for (;;) {
+      const uint64_t first = next.fetch_add(chunk);
+      if (first >= n) return;
+      work(first, std::min(chunk, n - first));
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(run);
+  run();
+  for (std::thread& th : pool) th.join();
+}
+
+struct Batch {
+  std::vector<float> origins, directions, sample_px, rgb;
+  std::vector<uint32_t> point_index;
+  void resize(size_t n) {
+    origins.resize(3 * n);
+    directions.resize(3 * n);
+    sample_px.resize(2 * n);
+    rgb.resize(3 * n);
+    point_index.resize(n);
+  }
+};
+
+// Fills ray i of the batch for screen position p.
+void set_ray(Batch& b, size_t i, const foveation::EyeFrustum& f, const foveation::EyePose& pose, glm::vec2 p,
+             uint32_t point) {
+  const glm::vec3 d = foveation::eye_ray_direction(f, pose, p);
+  b.origins[3 * i] = pose.position_m.x;
+  b.origins[3 * i + 1] = pose.position_m.y;
+  b.origins[3 * i + 2] = pose.position_m.z;
+  b.directions[3 * i] = d.x;
+  b.directions[3 * i + 1] = d.y;
+  b.directions[3 * i + 2] = d.z;
+  b.sample_px[2 * i] = p.x;
+  b.sample_px[2 * i + 1] = p.y;
+  b.point_index[i] = point;
+}
+
+int32_t call(FoveartTraceRaysFn fn, void* user, const FoveartEyeView& view, Batch& b, uint32_t n) {
+  FoveartRayBatch batch{};
+  batch.type = FOVEART_TYPE_RAY_BATCH;
+  batch.size = sizeof(FoveartRayBatch);
+  batch.view = &view;
+  batch.ray_count = n;
+  batch.origins_m = b.origins.data();
+  batch.directions = b.directions.data();
+  batch.sample_px = b.sample_px.data();
+  batch.point_index = b.point_index.data();
+  batch.out_rgb = b.rgb.data();
+  return fn(user, &batch);
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+glm::vec2 jitter(uint64_t index, uint32_t sample, uint64_t seed) {
+  const uint64_t h = mix64(index * 0x100000001B3ull ^ mix64(sample + (seed << 32)));
+  return glm::vec2(static_cast<float>(h >> 40) * 0x1.0p-24f, static_cast<float>((h >> 16) & 0xFFFFFFu) * 0x1.0p-24f);
+}
+
+RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
+                         const RenderSettings& settings, Image* out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RenderResult result;
+  out->width = view.width_px;
+  out->height = view.height_px;
+  out->rgb.assign(static_cast<size_t>(view.width_px) * view.height_px, glm::vec3(0.0f));
+  const foveation::EyeFrustum f = foveation::eye_frustum(view);
+  const foveation::EyePose pose = foveation::eye_pose(view);
+  const uint32_t spp = static_cast<uint32_t>(std::max(settings.spp, 1));
+  const uint64_t pixels_per_batch = std::max<uint64_t>(1, settings.batch_rays / spp);
+  std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
+  parallel_chunks(out->rgb.size(), pixels_per_batch, thread_count(settings.threads),
+                  [&](uint64_t first, uint64_t count) {
+                    thread_local Batch b;
+                    b.resize(count * spp);
+                    size_t r = 0;
+                    for (uint64_t p = first; p < first + count; ++p) {
+                      const glm::vec2 px(static_cast<float>(p % view.width_px), static_cast<float>(p / view.width_px));
+                      for (uint32_t s = 0; s < spp; ++s)
+                        set_ray(b, r++, f, pose, px + jitter(p, s, settings.seed), static_cast<uint32_t>(p));
+                    }
+                    const int32_t st = call(fn, user_data, view, b, static_cast<uint32_t>(r));
+                    if (st != FOVEART_RESULT_SUCCESS) {
+                      int32_t expected = FOVEART_RESULT_SUCCESS;
+                      status.compare_exchange_strong(expected, st);
+                      return;
+                    }
+                    const float inv = 1.0f / static_cast<float>(spp);
+                    for (uint64_t p = first, k = 0; p < first + count; ++p) {
+                      glm::vec3 sum(0.0f);
+                      for (uint32_t s = 0; s < spp; ++s, ++k) sum += glm::vec3(b.rgb[3 * k], b.rgb[3 * k + 1], b.rgb[3 * k + 2]);
+                      out->rgb[p] = sum * inv;
+                    }
+                  });
+  result.status = status.load();
+  result.trace_ms = ms_since(t0);
+  return result;
+}
+
+RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
+                           const std::vector<glm::vec2>& sample_px, const std::vector<uint32_t>& point_index,
+                           const RenderSettings& settings, std::vector<glm::vec3>* out_rgb) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RenderResult result;
+  out_rgb->assign(sample_px.size(), glm::vec3(0.0f));
+  const foveation::EyeFrustum f = foveation::eye_frustum(view);
+  const foveation::EyePose pose = foveation::eye_pose(view);
+  std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
+  parallel_chunks(sample_px.size(), std::max<uint64_t>(1, settings.batch_rays), thread_count(settings.threads),
+                  [&](uint64_t first, uint64_t count) {
+                    thread_local Batch b;
+                    b.resize(count);
+                    for (uint64_t i = 0; i < count; ++i)
+                      set_ray(b, i, f, pose, sample_px[first + i],
+                              point_index.empty() ? static_cast<uint32_t>(first + i) : point_index[first + i]);
+                    const int32_t st = call(fn, user_data, view, b, static_cast<uint32_t>(count));
+                    if (st != FOVEART_RESULT_SUCCESS) {
+                      int32_t expected = FOVEART_RESULT_SUCCESS;
+                      status.compare_exchange_strong(expected, st);
+                      return;
+                    }
+                    for (uint64_t i = 0; i < count; ++i)
+                      (*out_rgb)[first + i] = glm::vec3(b.rgb[3 * i], b.rgb[3 * i + 1], b.rgb[3 * i + 2]);
+                  });
+  result.status = status.load();
+  result.trace_ms = ms_since(t0);
+  return result;
+}
+
+FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head) {
+  constexpr uint32_t kWidth = 1280, kHeight = 1440;
+  const float half_h = glm::radians(47.5f);  // 95 deg, as foveation::display_preset("fove")
+  const float half_v = std::atan(std::tan(half_h) * static_cast<float>(kHeight) / static_cast<float>(kWidth));
+  foveation::EyePose pose;
+  const float side = eye_index == 0 ? -0.032f : 0.032f;
+  pose.orientation = head.orientation;
+  pose.position_m = head.position_m + head.orientation * glm::vec3(side, 0.0f, 0.0f);
+  return foveation::make_eye_view(eye_index, kWidth, kHeight, pose, -half_h, half_h, half_v, -half_v);
+}
+
+Camera scene_head(const Scene& scene) { return scene.camera ? *scene.camera : framing_camera(scene); }
+
+bool write_png(const Image& image, const std::string& path, std::string* error) {
+  std::vector<uint8_t> px(image.rgb.size() * 3);
+  for (size_t i = 0; i < image.rgb.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float v = linear_to_srgb(std::clamp(image.rgb[i][c], 0.0f, 1.0f));
+      px[3 * i + c] = static_cast<uint8_t>(std::lround(v * 255.0f));
+    }
+  const int ok = stbi_write_png(path.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 3,
+                                px.data(), static_cast<int>(image.width * 3));
+  if (!ok && error) *error = path + ": cannot write PNG";
+  return ok != 0;
+}
+
+}  // namespace foveart::engine

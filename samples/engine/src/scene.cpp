@@ -1,0 +1,69 @@
+// Scene helpers: bounds, framing camera, effect derivation.
+#include <engine/effects.hpp>
+#include <engine/scene.hpp>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace foveart::engine {
+
+Bounds scene_bounds(const Mesh& mesh) {
+  Bounds b;
+  if (mesh.positions.empty()) return b;
+  b.min = b.max = mesh.positions.front();
+  for (const glm::vec3& p : mesh.positions) {
+    b.min = glm::min(b.min, p);
+    b.max = glm::max(b.max, p);
+  }
+  return b;
+}
+
+Camera framing_camera(const Scene& scene) {
+  const Bounds b = scene_bounds(scene.mesh);
+  const glm::vec3 centre = 0.5f * (b.min + b.max);
+  const float radius = std::max(0.5f * glm::length(b.max - b.min), 1e-3f);
+  Camera c;
+  c.yfov_rad = 1.5f;  // about the FOVE vertical field of view
+  // Far enough that the bounding sphere fits in the vertical field of view.
+  c.position_m = centre + glm::vec3(0.0f, 0.0f, radius / std::sin(0.5f * c.yfov_rad) * 1.05f);
+  c.orientation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);  // looking down -z at the centre
+  return c;
+}
+
+Effects derive_effects(const Scene& scene) {
+  std::vector<bool> used(scene.materials.size(), false);
+  for (uint32_t m : scene.mesh.triangle_material)
+    if (m < used.size()) used[m] = true;
+  Effects e;
+  e.shadows = !scene.lights.empty();
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (!used[i]) continue;
+    const Material& m = scene.materials[i];
+    e.reflection = e.reflection || m.reflective();
+    e.refraction = e.refraction || m.transmissive();
+    if (m.base_color_texture >= 0 && static_cast<size_t>(m.base_color_texture) < scene.textures.size()) {
+      const bool has_uv = m.base_color_texcoord == 0 ? !scene.mesh.uv0.empty() : !scene.mesh.uv1.empty();
+      e.textures = e.textures || has_uv;
+    }
+  }
+  return e;
+}
+
+std::string to_string(const Effects& e) {
+  std::string s;
+  auto add = [&s](bool on, const char* name) {
+    if (!on) return;
+    if (!s.empty()) s += '+';
+    s += name;
+  };
+  add(e.shadows, "shadows");
+  add(e.reflection, "reflection");
+  add(e.refraction, "refraction");
+  add(e.textures, "textures");
+  return s.empty() ? "primary-only" : s;
+}
+
+}  // namespace foveart::engine

@@ -1,0 +1,539 @@
+// Embree scene lifecycle (error callback -> device -> scene -> commit -> trace ->
+// release, as in Embree's minimal tutorial) and the packet kernels. One kernel
+// is compiled per effect combination; an absent effect has no code in it.
+#include <engine/tracer.hpp>
+
+#include <foveation/eye_rays.hpp>
+
+#include "shading.hpp"
+#include "texture_sampler.hpp"
+
+#include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
+#include <xmmintrin.h>
+
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <utility>
+
+namespace foveart::engine {
+namespace {
+
+constexpr int kLanes = 16;
+constexpr uint32_t kMxcsrFtzDaz = 0x8040;  // flush-to-zero | denormals-are-zero
+
+// Sets FTZ/DAZ on the calling (tracing) thread for the scope, as Embree asks,
+// and restores the caller's floating-point mode afterwards.
+class ScopedFlushDenormals {
+ public:
+  ScopedFlushDenormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | kMxcsrFtzDaz); }
+  ~ScopedFlushDenormals() { _mm_setcsr(saved_); }
+  ScopedFlushDenormals(const ScopedFlushDenormals&) = delete;
+  ScopedFlushDenormals& operator=(const ScopedFlushDenormals&) = delete;
+
+ private:
+  unsigned int saved_;
+};
+
+// Per-batch counters, folded into the tracer's atomics once per batch.
+struct LocalCounts {
+  uint64_t shadow = 0;
+  uint64_t reflection = 0;
+  uint64_t refraction = 0;
+};
+
+// Rays of one packet: what to trace and where its radiance goes.
+struct PacketIn {
+  alignas(64) int valid[kLanes];
+  glm::vec3 origin[kLanes];
+  glm::vec3 dir[kLanes];
+  glm::vec3 weight[kLanes];
+  uint32_t target[kLanes];
+};
+
+void embree_error(void* user, RTCError code, const char* message) {
+  (void)user;
+  std::fprintf(stderr, "foveart engine: Embree error %d: %s\n", static_cast<int>(code),
+               message ? message : "(no message)");
+}
+
+}  // namespace
+
+struct Tracer::Impl {
+  Scene scene;
+  TracerOptions options;
+  Effects scene_effects;
+  Effects effects;
+  RTCDevice device = nullptr;
+  RTCScene rtc_scene = nullptr;
+  std::array<std::vector<uint32_t>, 2> prim_to_triangle;  // per geometry id
+  std::vector<glm::vec3> face_normal;
+  float epsilon = 1e-4f;
+  std::atomic<uint64_t> n_primary{0}, n_shadow{0}, n_reflection{0}, n_refraction{0};
+  using Kernel = void (Impl::*)(PacketIn&, int, glm::vec3*, LocalCounts&) const;
+  Kernel kernel = nullptr;
+
+  ~Impl() {
+    // Release in reverse order of creation; Embree reference-counts both.
+    if (rtc_scene) rtcReleaseScene(rtc_scene);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  bool build(std::string* error);
+  void add_geometry(const std::vector<uint32_t>& tris, unsigned int id, bool masked);
+  static void alpha_filter(const RTCFilterFunctionNArguments* args);
+  bool alpha_passes(uint32_t triangle, float u, float v) const;
+
+  glm::vec2 texcoord(uint32_t tri, int set, float u, float v) const {
+    const std::vector<glm::vec2>& uvs = set == 0 ? scene.mesh.uv0 : scene.mesh.uv1;
+    if (uvs.empty()) return glm::vec2(0.0f);
+    const glm::uvec3 t = scene.mesh.triangles[tri];
+    return (1.0f - u - v) * uvs[t.x] + u * uvs[t.y] + v * uvs[t.z];
+  }
+
+  template <uint32_t kFx>
+  void trace_packet(PacketIn& in, int depth, glm::vec3* color, LocalCounts& counts) const;
+
+  int32_t trace(const FoveartRayBatch* batch) noexcept;
+};
+
+namespace {
+
+template <uint32_t... I>
+constexpr std::array<Tracer::Impl::Kernel, sizeof...(I)> make_kernels(std::integer_sequence<uint32_t, I...>) {
+  return {&Tracer::Impl::trace_packet<I>...};
+}
+
+}  // namespace
+
+bool Tracer::Impl::alpha_passes(uint32_t triangle, float u, float v) const {
+  const Material& m = scene.materials[scene.mesh.triangle_material[triangle]];
+  float alpha = m.base_color.a;
+  if (m.base_color_texture >= 0)
+    alpha *= sample_texture(scene.textures[static_cast<size_t>(m.base_color_texture)],
+                            texcoord(triangle, m.base_color_texcoord, u, v)).a;
+  return alpha >= m.alpha_cutoff;
+}
+
+// Alpha-mask test for both intersection and occlusion rays (glTF alphaMode MASK).
+void Tracer::Impl::alpha_filter(const RTCFilterFunctionNArguments* args) {
+  const auto* self = static_cast<const Impl*>(args->geometryUserPtr);
+  for (unsigned int i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+    const float u = RTCHitN_u(args->hit, args->N, i);
+    const float v = RTCHitN_v(args->hit, args->N, i);
+    if (!self->alpha_passes(self->prim_to_triangle[1][prim], u, v)) args->valid[i] = 0;
+  }
+}
+
+void Tracer::Impl::add_geometry(const std::vector<uint32_t>& tris, unsigned int id, bool masked) {
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::vector<glm::vec3>& pos = scene.mesh.positions;
+  // Embree-allocated buffers are padded as Embree needs (16-byte reads at the end).
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), pos.size()));
+  auto* ix = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                            3 * sizeof(uint32_t), tris.size()));
+  if (v && ix) {
+    for (size_t i = 0; i < pos.size(); ++i) {
+      v[3 * i] = pos[i].x;
+      v[3 * i + 1] = pos[i].y;
+      v[3 * i + 2] = pos[i].z;
+    }
+    for (size_t i = 0; i < tris.size(); ++i) {
+      const glm::uvec3 t = scene.mesh.triangles[tris[i]];
+      ix[3 * i] = t.x;
+      ix[3 * i + 1] = t.y;
+      ix[3 * i + 2] = t.z;
+    }
+  }
+  if (masked) {
+    rtcSetGeometryUserData(geom, this);
+    rtcSetGeometryIntersectFilterFunction(geom, &Impl::alpha_filter);
+    rtcSetGeometryOccludedFilterFunction(geom, &Impl::alpha_filter);
+  }
+  rtcCommitGeometry(geom);            // geometry must be committed before the scene
+  rtcAttachGeometryByID(rtc_scene, geom, id);
+  rtcReleaseGeometry(geom);           // the scene holds the reference from now on
+}
+
+bool Tracer::Impl::build(std::string* error) {
+  const Mesh& m = scene.mesh;
+  if (m.triangle_material.size() != m.triangles.size() ||
+      m.normals.size() != m.positions.size()) {
+    if (error) *error = scene.source + ": inconsistent mesh arrays";
+    return false;
+  }
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const glm::uvec3 t = m.triangles[i];
+    if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size() ||
+        m.triangle_material[i] >= scene.materials.size()) {
+      if (error) *error = scene.source + ": triangle " + std::to_string(i) + " refers past the vertex or material arrays";
+      return false;
+    }
+  }
+  for (Material& mat : scene.materials)  // a texture index that does not exist is no texture
+    if (mat.base_color_texture >= static_cast<int>(scene.textures.size())) mat.base_color_texture = -1;
+
+  scene_effects = derive_effects(scene);
+  effects = scene_effects & options.allowed;
+  static constexpr auto kKernels = make_kernels(std::make_integer_sequence<uint32_t, 16>{});
+  kernel = kKernels[options.generic_kernel ? options.allowed.bits() : effects.bits()];
+
+  face_normal.resize(m.triangles.size());
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const glm::uvec3 t = m.triangles[i];
+    face_normal[i] = glm::normalize(glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]));
+  }
+  const Bounds b = scene_bounds(m);
+  epsilon = 1e-4f * std::max(1.0f, glm::length(b.max - b.min));
+
+  device = rtcNewDevice(options.embree_config.empty() ? nullptr : options.embree_config.c_str());
+  if (!device) {
+    if (error) *error = "Embree device creation failed (error " + std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")";
+    return false;
+  }
+  rtcSetDeviceErrorFunction(device, &embree_error, nullptr);
+  rtc_scene = rtcNewScene(device);
+  rtcSetSceneBuildQuality(rtc_scene, RTC_BUILD_QUALITY_HIGH);
+
+  // Alpha-masked triangles with a texture go to their own geometry with a filter;
+  // a masked material without texture is all-or-nothing and decided here.
+  std::vector<uint32_t> opaque, masked;
+  for (uint32_t i = 0; i < m.triangles.size(); ++i) {
+    const Material& mat = scene.materials[m.triangle_material[i]];
+    if (mat.alpha_mode == AlphaMode::kMask) {
+      if (mat.base_color_texture >= 0) masked.push_back(i);
+      else if (mat.base_color.a >= mat.alpha_cutoff) opaque.push_back(i);
+    } else {
+      opaque.push_back(i);
+    }
+  }
+  if (!opaque.empty()) add_geometry(opaque, 0, false);
+  if (!masked.empty()) add_geometry(masked, 1, true);
+  prim_to_triangle[0] = std::move(opaque);
+  prim_to_triangle[1] = std::move(masked);
+  rtcCommitScene(rtc_scene);  // builds the BVH; the scene is read-only (thread-safe) from here
+  const RTCError err = rtcGetDeviceError(device);
+  if (err != RTC_ERROR_NONE) {
+    if (error) *error = "Embree scene build failed (error " + std::to_string(static_cast<int>(err)) + ")";
+    return false;
+  }
+  return true;
+}
+
+template <uint32_t kFx>
+void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, LocalCounts& counts) const {
+  constexpr bool kShadows = (kFx & 1u) != 0;
+  constexpr bool kReflection = (kFx & 2u) != 0;
+  constexpr bool kRefraction = (kFx & 4u) != 0;
+  constexpr bool kTextures = (kFx & 8u) != 0;
+
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  alignas(64) RTCRayHit16 rh;
+  for (int i = 0; i < kLanes; ++i) {
+    rh.ray.org_x[i] = in.origin[i].x;
+    rh.ray.org_y[i] = in.origin[i].y;
+    rh.ray.org_z[i] = in.origin[i].z;
+    rh.ray.dir_x[i] = in.dir[i].x;
+    rh.ray.dir_y[i] = in.dir[i].y;
+    rh.ray.dir_z[i] = in.dir[i].z;
+    rh.ray.tnear[i] = 0.0f;
+    rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
+    rh.ray.time[i] = 0.0f;
+    rh.ray.mask[i] = 0xFFFFFFFFu;
+    rh.ray.id[i] = static_cast<unsigned int>(i);
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(in.valid, rtc_scene, &ctx, &rh);
+
+  // Surface data of the lanes that hit.
+  bool hit[kLanes] = {};
+  glm::vec3 pos[kLanes], nrm[kLanes], base[kLanes];
+  const Material* mat[kLanes] = {};
+  float cos_view[kLanes] = {};
+  bool front[kLanes] = {};
+  for (int i = 0; i < kLanes; ++i) {
+    if (in.valid[i] != -1) continue;
+    if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
+      color[in.target[i]] += in.weight[i] * sky_radiance(scene, in.dir[i]);
+      continue;
+    }
+    hit[i] = true;
+    const uint32_t tri = prim_to_triangle[rh.hit.geomID[i] & 1u][rh.hit.primID[i]];
+    const float u = rh.hit.u[i];
+    const float v = rh.hit.v[i];
+    const glm::uvec3 t = scene.mesh.triangles[tri];
+    const Material& m = scene.materials[scene.mesh.triangle_material[tri]];
+    mat[i] = &m;
+    pos[i] = in.origin[i] + rh.ray.tfar[i] * in.dir[i];
+    glm::vec3 n = (1.0f - u - v) * scene.mesh.normals[t.x] + u * scene.mesh.normals[t.y] + v * scene.mesh.normals[t.z];
+    const float len2 = glm::dot(n, n);
+    n = len2 > 1e-12f ? n * (1.0f / std::sqrt(len2)) : face_normal[tri];
+    front[i] = glm::dot(in.dir[i], n) < 0.0f;  // entering the surface (for refraction)
+    if (!front[i]) n = -n;                     // shade the side the ray sees
+    nrm[i] = n;
+    cos_view[i] = -glm::dot(in.dir[i], n);
+    glm::vec3 c(m.base_color);
+    if constexpr (kTextures) {
+      if (m.base_color_texture >= 0)
+        c *= glm::vec3(sample_texture(scene.textures[static_cast<size_t>(m.base_color_texture)],
+                                      texcoord(tri, m.base_color_texcoord, u, v)));
+    }
+    base[i] = c;
+    // Ambient with a view-facing falloff: shape cues for unlit scenes, no rays needed.
+    const float ambient_shape = 0.4f + 0.6f * cos_view[i];
+    color[in.target[i]] += in.weight[i] * (m.emissive + c * (diffuse_weight(m) * ambient_shape) * scene.ambient);
+  }
+
+  if constexpr (kShadows) {
+    for (const Light& light : scene.lights) {
+      alignas(64) int valid[kLanes];
+      alignas(64) RTCRay16 sr;
+      glm::vec3 contrib[kLanes];
+      int n_valid = 0;
+      for (int i = 0; i < kLanes; ++i) {
+        valid[i] = 0;
+        if (!hit[i]) continue;
+        const float kd = diffuse_weight(*mat[i]);
+        if (kd <= 0.0f) continue;
+        glm::vec3 l;
+        float dist = 0.0f;
+        const glm::vec3 radiance = light_incident(light, pos[i], &l, &dist);
+        const float cos_l = glm::dot(nrm[i], l);
+        if (cos_l <= 0.0f || radiance == glm::vec3(0.0f)) continue;
+        contrib[i] = in.weight[i] * base[i] * (kd * kInvPi * cos_l) * radiance;
+        const glm::vec3 o = pos[i] + nrm[i] * epsilon;
+        sr.org_x[i] = o.x;
+        sr.org_y[i] = o.y;
+        sr.org_z[i] = o.z;
+        sr.dir_x[i] = l.x;
+        sr.dir_y[i] = l.y;
+        sr.dir_z[i] = l.z;
+        sr.tnear[i] = 0.0f;
+        sr.tfar[i] = std::isinf(dist) ? dist : dist - 2.0f * epsilon;
+        sr.time[i] = 0.0f;
+        sr.mask[i] = 0xFFFFFFFFu;
+        sr.id[i] = static_cast<unsigned int>(i);
+        sr.flags[i] = 0;
+        valid[i] = -1;
+        ++n_valid;
+      }
+      if (n_valid == 0) continue;
+      counts.shadow += static_cast<uint64_t>(n_valid);
+      rtcOccluded16(valid, rtc_scene, &ctx, &sr);
+      for (int i = 0; i < kLanes; ++i)  // Embree sets tfar to -inf for occluded rays
+        if (valid[i] == -1 && sr.tfar[i] >= 0.0f) color[in.target[i]] += contrib[i];
+    }
+  }
+
+  if (depth >= options.max_depth) return;
+
+  if constexpr (kReflection) {
+    PacketIn next;
+    int n_valid = 0;
+    for (int i = 0; i < kLanes; ++i) {
+      next.valid[i] = 0;
+      if (!hit[i] || !mat[i]->reflective()) continue;
+      const glm::vec3 w = in.weight[i] * reflection_weight(*mat[i], base[i], cos_view[i]);
+      if (std::max(w.x, std::max(w.y, w.z)) < 1e-3f) continue;
+      next.valid[i] = -1;
+      next.origin[i] = pos[i] + nrm[i] * epsilon;
+      next.dir[i] = glm::reflect(in.dir[i], nrm[i]);
+      next.weight[i] = w;
+      next.target[i] = in.target[i];
+      ++n_valid;
+    }
+    if (n_valid > 0) {
+      counts.reflection += static_cast<uint64_t>(n_valid);
+      trace_packet<kFx>(next, depth + 1, color, counts);
+    }
+  }
+
+  if constexpr (kRefraction) {
+    PacketIn next;
+    int n_valid = 0;
+    for (int i = 0; i < kLanes; ++i) {
+      next.valid[i] = 0;
+      if (!hit[i] || !mat[i]->transmissive()) continue;
+      const Material& m = *mat[i];
+      glm::vec3 w(0.0f);
+      glm::vec3 dir = in.dir[i];
+      glm::vec3 origin = pos[i] + in.dir[i] * epsilon;
+      if (m.transmission > 0.0f) {
+        // Snell refraction; without the reflection effect the Fresnel split is dropped.
+        const float eta = front[i] ? 1.0f / m.ior : m.ior;
+        glm::vec3 t = glm::refract(in.dir[i], nrm[i], eta);
+        if (glm::dot(t, t) == 0.0f) t = glm::reflect(in.dir[i], nrm[i]);  // total internal reflection
+        dir = glm::normalize(t);
+        origin = pos[i] + (glm::dot(dir, nrm[i]) < 0.0f ? -nrm[i] : nrm[i]) * epsilon;
+        glm::vec3 kt = base[i] * m.transmission;
+        if constexpr (kReflection) kt *= glm::vec3(1.0f) - reflection_weight(m, base[i], cos_view[i]);
+        w = in.weight[i] * kt;
+      } else {  // alpha blending: the ray continues straight through
+        w = in.weight[i] * (1.0f - m.base_color.a);
+      }
+      if (std::max(w.x, std::max(w.y, w.z)) < 1e-3f) continue;
+      next.valid[i] = -1;
+      next.origin[i] = origin;
+      next.dir[i] = dir;
+      next.weight[i] = w;
+      next.target[i] = in.target[i];
+      ++n_valid;
+    }
+    if (n_valid > 0) {
+      counts.refraction += static_cast<uint64_t>(n_valid);
+      trace_packet<kFx>(next, depth + 1, color, counts);
+    }
+  }
+}
+
+int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
+  if (!batch || batch->type != FOVEART_TYPE_RAY_BATCH ||
+      batch->size < offsetof(FoveartRayBatch, out_rgb) + sizeof(float*))
+    return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  if (batch->ray_count == 0) return FOVEART_RESULT_SUCCESS;
+  const bool explicit_rays = batch->origins_m && batch->directions;
+  const bool view_rays = batch->view && batch->sample_px && batch->view->type == FOVEART_TYPE_EYE_VIEW &&
+                         batch->view->size >= sizeof(FoveartEyeView) && batch->view->width_px > 0 &&
+                         batch->view->height_px > 0;
+  if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  try {
+    ScopedFlushDenormals ftz;
+    foveation::EyeFrustum frustum;
+    foveation::EyePose pose;
+    if (!explicit_rays) {
+      frustum = foveation::eye_frustum(*batch->view);
+      pose = foveation::eye_pose(*batch->view);
+    }
+    LocalCounts counts;
+    constexpr uint32_t kChunk = kLanes;
+    glm::vec3 color[kChunk];
+    PacketIn in;
+    for (uint32_t first = 0; first < batch->ray_count; first += kChunk) {
+      const uint32_t n = std::min(kChunk, batch->ray_count - first);
+      for (uint32_t i = 0; i < kChunk; ++i) {
+        color[i] = glm::vec3(0.0f);
+        in.valid[i] = 0;
+        if (i >= n) continue;
+        const uint32_t r = first + i;
+        glm::vec3 o, d;
+        if (explicit_rays) {
+          o = glm::vec3(batch->origins_m[3 * r], batch->origins_m[3 * r + 1], batch->origins_m[3 * r + 2]);
+          d = glm::vec3(batch->directions[3 * r], batch->directions[3 * r + 1], batch->directions[3 * r + 2]);
+        } else {
+          o = pose.position_m;
+          d = foveation::eye_ray_direction(frustum, pose, glm::vec2(batch->sample_px[2 * r], batch->sample_px[2 * r + 1]));
+        }
+        const float len2 = glm::dot(d, d);
+        if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) continue;  // black
+        in.valid[i] = -1;
+        in.origin[i] = o;
+        in.dir[i] = d * (1.0f / std::sqrt(len2));
+        in.weight[i] = glm::vec3(1.0f);
+        in.target[i] = i;
+      }
+      (this->*kernel)(in, 0, color, counts);
+      for (uint32_t i = 0; i < n; ++i) {
+        glm::vec3 c = color[i];
+        if (!std::isfinite(c.x + c.y + c.z)) c = glm::vec3(0.0f);
+        float* out = batch->out_rgb + 3 * static_cast<size_t>(first + i);
+        out[0] = std::max(c.x, 0.0f);
+        out[1] = std::max(c.y, 0.0f);
+        out[2] = std::max(c.z, 0.0f);
+      }
+    }
+    n_primary.fetch_add(batch->ray_count, std::memory_order_relaxed);
+    n_shadow.fetch_add(counts.shadow, std::memory_order_relaxed);
+    n_reflection.fetch_add(counts.reflection, std::memory_order_relaxed);
+    n_refraction.fetch_add(counts.refraction, std::memory_order_relaxed);
+    return FOVEART_RESULT_SUCCESS;
+  } catch (const std::bad_alloc&) {
+    return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
+  } catch (...) {
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+}
+
+// ---- Tracer ------------------------------------------------------------------------------
+
+Tracer::Tracer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Tracer::~Tracer() = default;
+
+std::unique_ptr<Tracer> Tracer::create(Scene scene, const TracerOptions& options, std::string* error) {
+  try {
+    auto impl = std::make_unique<Impl>();
+    impl->scene = std::move(scene);
+    impl->options = options;
+    if (!impl->build(error)) return nullptr;
+    return std::unique_ptr<Tracer>(new Tracer(std::move(impl)));
+  } catch (const std::exception& e) {
+    if (error) *error = std::string("engine: ") + e.what();
+    return nullptr;
+  }
+}
+
+int32_t Tracer::trace(const FoveartRayBatch* batch) noexcept { return impl_->trace(batch); }
+
+HitRecord Tracer::intersect(glm::vec3 origin, glm::vec3 direction) const {
+  ScopedFlushDenormals ftz;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh{};
+  rh.ray.org_x = origin.x;
+  rh.ray.org_y = origin.y;
+  rh.ray.org_z = origin.z;
+  rh.ray.dir_x = direction.x;
+  rh.ray.dir_y = direction.y;
+  rh.ray.dir_z = direction.z;
+  rh.ray.tfar = std::numeric_limits<float>::infinity();
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(impl_->rtc_scene, &ctx, &rh);
+  HitRecord out;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+  out.hit = true;
+  out.t = rh.ray.tfar;
+  out.triangle = impl_->prim_to_triangle[rh.hit.geomID & 1u][rh.hit.primID];
+  out.normal = impl_->face_normal[out.triangle];
+  out.uv = impl_->texcoord(out.triangle, 0, rh.hit.u, rh.hit.v);
+  return out;
+}
+
+const Scene& Tracer::scene() const { return impl_->scene; }
+Effects Tracer::scene_effects() const { return impl_->scene_effects; }
+Effects Tracer::effects() const { return impl_->effects; }
+
+RayCounts Tracer::counts() const {
+  RayCounts c;
+  c.primary = impl_->n_primary.load(std::memory_order_relaxed);
+  c.shadow = impl_->n_shadow.load(std::memory_order_relaxed);
+  c.reflection = impl_->n_reflection.load(std::memory_order_relaxed);
+  c.refraction = impl_->n_refraction.load(std::memory_order_relaxed);
+  return c;
+}
+
+void Tracer::reset_counts() {
+  impl_->n_primary = 0;
+  impl_->n_shadow = 0;
+  impl_->n_reflection = 0;
+  impl_->n_refraction = 0;
+}
+
+}  // namespace foveart::engine
+
+extern "C" int32_t foveart_engine_trace_rays(void* user_data, const FoveartRayBatch* batch) {
+  if (!user_data) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  return static_cast<foveart::engine::Tracer*>(user_data)->trace(batch);
+}

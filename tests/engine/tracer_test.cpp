@@ -1,0 +1,329 @@
+// The Embree tracer: hits against known geometry, effect detection and the
+// per-effect ray counters, kernel specialisation, the C callback contract and
+// thread independence of the rendered image.
+#include <engine/default_scene.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+
+#include <foveation/eye_rays.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+using namespace foveart::engine;
+
+namespace {
+
+// A square [-s,s]^2 in the plane y = h facing +y (s = 0.5 gives a unit quad).
+void add_floor(Scene& scene, float s, float h, uint32_t material) {
+  const uint32_t b = static_cast<uint32_t>(scene.mesh.positions.size());
+  for (glm::vec3 p : {glm::vec3(-s, h, s), glm::vec3(s, h, s), glm::vec3(s, h, -s), glm::vec3(-s, h, -s)}) {
+    scene.mesh.positions.push_back(p);
+    scene.mesh.normals.push_back(glm::vec3(0, 1, 0));
+  }
+  for (glm::vec2 uv : {glm::vec2(0, 1), glm::vec2(1, 1), glm::vec2(1, 0), glm::vec2(0, 0)}) scene.mesh.uv0.push_back(uv);
+  scene.mesh.triangles.emplace_back(b, b + 1, b + 2);
+  scene.mesh.triangles.emplace_back(b, b + 2, b + 3);
+  scene.mesh.triangle_material.push_back(material);
+  scene.mesh.triangle_material.push_back(material);
+}
+
+Material rough() {
+  Material m;
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  return m;
+}
+
+Texture red_green_texture() {
+  Texture t;
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1, 0, 0, 1), glm::vec4(0, 1, 0, 1)};
+  t.nearest = true;
+  return t;
+}
+
+struct SceneSpec {
+  bool light = false, mirror = false, glass = false, texture = false;
+};
+
+// A floor plus a second floor above it (so shadow rays can be blocked).
+Scene effect_scene(const SceneSpec& spec) {
+  Scene s;
+  s.source = "test";
+  Material floor = rough();
+  if (spec.mirror) floor.roughness = 0.0f;
+  if (spec.texture) {
+    s.textures.push_back(red_green_texture());
+    floor.base_color_texture = 0;
+  }
+  s.materials.push_back(floor);
+  Material top = rough();
+  if (spec.glass) {
+    top.transmission = 1.0f;
+    top.roughness = 0.6f;  // not mirror-like: refraction only
+  }
+  s.materials.push_back(top);
+  add_floor(s, 10.0f, 0.0f, 0);
+  add_floor(s, 1.0f, 1.0f, 1);
+  if (spec.light) {
+    Light l;
+    l.position = glm::vec3(3.0f, 4.0f, 0.0f);
+    l.intensity = 20.0f;
+    s.lights.push_back(l);
+  }
+  return s;
+}
+
+// Rays from above looking down at the floor, over a 16 x 16 grid.
+std::vector<glm::vec3> trace_down(Tracer& tracer) {
+  std::vector<float> o, d, rgb(3 * 256);
+  for (int i = 0; i < 256; ++i) {
+    const float x = -3.0f + 6.0f * static_cast<float>(i % 16) / 15.0f;
+    const float z = -3.0f + 6.0f * static_cast<float>(i / 16) / 15.0f;
+    o.insert(o.end(), {x, 3.0f, z});
+    const glm::vec3 dir = glm::normalize(glm::vec3(0.2f, -1.0f, 0.1f));
+    d.insert(d.end(), {dir.x, dir.y, dir.z});
+  }
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.ray_count = 256;
+  b.origins_m = o.data();
+  b.directions = d.data();
+  b.out_rgb = rgb.data();
+  EXPECT_EQ(foveart_engine_trace_rays(&tracer, &b), FOVEART_RESULT_SUCCESS);
+  std::vector<glm::vec3> out;
+  for (int i = 0; i < 256; ++i) out.emplace_back(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
+  return out;
+}
+
+std::unique_ptr<Tracer> make(Scene s, TracerOptions o = {}) {
+  o.embree_config = "threads=1";
+  std::string error;
+  auto t = Tracer::create(std::move(s), o, &error);
+  EXPECT_TRUE(t) << error;
+  return t;
+}
+
+FoveartEyeView small_view(const Scene& scene, uint32_t w, uint32_t h) {
+  FoveartEyeView v = fove_eye_view(0, scene_head(scene));
+  v.width_px = w;
+  v.height_px = h;
+  return v;
+}
+
+}  // namespace
+
+TEST(Tracer, RayHitsUnitQuadAtKnownDistanceNormalAndUv) {
+  Scene s;
+  s.materials.push_back(rough());
+  add_floor(s, 0.5f, 0.0f, 0);  // [-0.5,0.5]^2 at y = 0, uv (0,0) at (-0.5, *, -0.5)
+  auto t = make(std::move(s));
+  const HitRecord h = t->intersect({0.25f, 2.0f, 0.1f}, {0.0f, -1.0f, 0.0f});
+  ASSERT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 2.0f, 1e-5f);
+  EXPECT_NEAR(h.normal.x, 0.0f, 1e-6f);
+  EXPECT_NEAR(h.normal.y, 1.0f, 1e-6f);
+  EXPECT_NEAR(h.uv.x, 0.75f, 1e-5f);  // u = x + 0.5
+  EXPECT_NEAR(h.uv.y, 0.6f, 1e-5f);   // v = z + 0.5
+  EXPECT_FALSE(t->intersect({0.75f, 2.0f, 0.0f}, {0.0f, -1.0f, 0.0f}).hit);
+  EXPECT_FALSE(t->intersect({0.0f, 2.0f, 0.0f}, {0.0f, 1.0f, 0.0f}).hit);
+}
+
+class EffectCounters : public ::testing::TestWithParam<int> {};
+
+TEST_P(EffectCounters, PresentEffectsTraceRaysAndAbsentOnesNone) {
+  const int bits = GetParam();
+  const SceneSpec spec{(bits & 1) != 0, (bits & 2) != 0, (bits & 4) != 0, (bits & 8) != 0};
+  auto t = make(effect_scene(spec));
+  const Effects fx = t->effects();
+  EXPECT_EQ(fx.shadows, spec.light);
+  EXPECT_EQ(fx.reflection, spec.mirror);
+  EXPECT_EQ(fx.refraction, spec.glass);
+  EXPECT_EQ(fx.textures, spec.texture);
+  trace_down(*t);
+  const RayCounts c = t->counts();
+  EXPECT_EQ(c.primary, 256u);
+  EXPECT_EQ(c.shadow > 0, spec.light) << c.shadow;
+  EXPECT_EQ(c.reflection > 0, spec.mirror) << c.reflection;
+  EXPECT_EQ(c.refraction > 0, spec.glass) << c.refraction;
+  t->reset_counts();
+  EXPECT_EQ(t->counts().total(), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllCombinations, EffectCounters, ::testing::Range(0, 16));
+
+TEST(Tracer, TextureIsSampledOnlyWhenTheSceneHasOne) {
+  auto textured = make(effect_scene({false, false, false, true}));
+  auto plain = make(effect_scene({}));
+  const HitRecord h = textured->intersect({-5.0f, 1.0f, 0.0f}, {0, -1, 0});  // u = 0.25: red texel
+  ASSERT_TRUE(h.hit);
+  float o[3] = {-5.0f, 1.0f, 0.0f}, d[3] = {0.0f, -1.0f, 0.0f}, rgb_tex[3] = {}, rgb_plain[3] = {};
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.ray_count = 1;
+  b.origins_m = o;
+  b.directions = d;
+  b.out_rgb = rgb_tex;
+  ASSERT_EQ(textured->trace(&b), FOVEART_RESULT_SUCCESS);
+  b.out_rgb = rgb_plain;
+  ASSERT_EQ(plain->trace(&b), FOVEART_RESULT_SUCCESS);
+  EXPECT_GT(rgb_tex[0], 0.0f);
+  EXPECT_EQ(rgb_tex[1], 0.0f);  // red texel
+  EXPECT_GT(rgb_plain[1], 0.0f);  // white base colour
+}
+
+TEST(Tracer, SpecialisedKernelMatchesGenericKernel) {
+  for (int bits : {0, 1, 2, 4, 8, 15}) {
+    const SceneSpec spec{(bits & 1) != 0, (bits & 2) != 0, (bits & 4) != 0, (bits & 8) != 0};
+    TracerOptions generic;
+    generic.generic_kernel = true;
+    auto a = make(effect_scene(spec));
+    auto b = make(effect_scene(spec), generic);
+    const auto ia = trace_down(*a);
+    const auto ib = trace_down(*b);
+    for (size_t i = 0; i < ia.size(); ++i) {
+      EXPECT_NEAR(ia[i].x, ib[i].x, 1e-6f) << "bits " << bits << " ray " << i;
+      EXPECT_NEAR(ia[i].y, ib[i].y, 1e-6f);
+    }
+  }
+}
+
+TEST(Tracer, AllowedMaskRemovesEffectsFromTheKernel) {
+  TracerOptions primary_only;
+  primary_only.allowed = Effects::none();
+  auto t = make(make_default_scene(), primary_only);
+  EXPECT_EQ(t->scene_effects(), Effects::all());
+  EXPECT_EQ(t->effects(), Effects::none());
+  Image img;
+  RenderSettings rs;
+  rs.threads = 1;
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), small_view(t->scene(), 32, 36), rs, &img).status,
+            FOVEART_RESULT_SUCCESS);
+  EXPECT_EQ(t->counts().primary, 32u * 36u);
+  EXPECT_EQ(t->counts().shadow + t->counts().reflection + t->counts().refraction, 0u);
+}
+
+TEST(DefaultScene, HasTheHardCaseAndEveryEffect) {
+  const Scene s = make_default_scene();
+  const Effects fx = derive_effects(s);
+  EXPECT_EQ(fx, Effects::all());
+  EXPECT_GE(s.lights.size(), 2u);
+  bool dark = false, bright_emitter = false;
+  for (const Material& m : s.materials) {
+    dark = dark || (m.base_color.r < 0.05f && m.emissive == glm::vec3(0.0f));
+    bright_emitter = bright_emitter || m.emissive.r > 5.0f;
+  }
+  EXPECT_TRUE(dark);
+  EXPECT_TRUE(bright_emitter);
+  auto t = make(make_default_scene());
+  Image img;
+  RenderSettings rs;
+  rs.threads = 2;
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), small_view(t->scene(), 48, 54), rs, &img).status,
+            FOVEART_RESULT_SUCCESS);
+  const RayCounts c = t->counts();
+  EXPECT_GT(c.shadow, 0u);
+  EXPECT_GT(c.reflection, 0u);
+  EXPECT_GT(c.refraction, 0u);
+  float lo = 1e9f, hi = 0.0f;  // high contrast: dark pillars and bright lights in one image
+  for (const glm::vec3& p : img.rgb) {
+    lo = std::min(lo, p.g);
+    hi = std::max(hi, p.g);
+  }
+  EXPECT_LT(lo, 0.05f);
+  EXPECT_GT(hi, 1.0f);
+}
+
+TEST(Tracer, ManyThreadsGiveTheSameImageAsOne) {
+  auto t = make(make_default_scene());
+  const FoveartEyeView v = small_view(t->scene(), 64, 72);
+  RenderSettings one;
+  one.threads = 1;
+  one.spp = 2;
+  one.batch_rays = 96;
+  RenderSettings many = one;
+  many.threads = 4;
+  Image a, b;
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, one, &a).status, FOVEART_RESULT_SUCCESS);
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, many, &b).status, FOVEART_RESULT_SUCCESS);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "pixel " << i;
+}
+
+TEST(Tracer, RaysFromViewAndSamplePositionsEqualExplicitRays) {
+  auto t = make(make_default_scene());
+  const FoveartEyeView v = small_view(t->scene(), 64, 72);
+  std::vector<glm::vec2> px;
+  for (int i = 0; i < 100; ++i) px.emplace_back(0.64f * static_cast<float>(i), 0.72f * static_cast<float>(i) + 0.3f);
+  std::vector<glm::vec3> explicit_rgb;
+  RenderSettings rs;
+  rs.threads = 1;
+  ASSERT_EQ(trace_samples(&foveart_engine_trace_rays, t.get(), v, px, {}, rs, &explicit_rgb).status,
+            FOVEART_RESULT_SUCCESS);
+  std::vector<float> sample_px, rgb(3 * px.size());
+  for (glm::vec2 p : px) sample_px.insert(sample_px.end(), {p.x, p.y});
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.view = &v;
+  b.ray_count = static_cast<uint32_t>(px.size());
+  b.sample_px = sample_px.data();
+  b.out_rgb = rgb.data();
+  ASSERT_EQ(t->trace(&b), FOVEART_RESULT_SUCCESS);
+  for (size_t i = 0; i < px.size(); ++i) EXPECT_NEAR(rgb[3 * i + 1], explicit_rgb[i].y, 1e-4f) << i;
+}
+
+TEST(Tracer, BadBatchesAreRejectedAndBadRaysAreBlack) {
+  auto t = make(effect_scene({true, false, false, false}));
+  float o[6] = {0, 3, 0, 0, 3, 0};
+  float d[6] = {0, -1, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0};
+  float rgb[6] = {-1, -1, -1, -1, -1, -1};
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.ray_count = 2;
+  b.origins_m = o;
+  b.directions = d;
+  b.out_rgb = rgb;
+  EXPECT_EQ(foveart_engine_trace_rays(nullptr, &b), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
+  EXPECT_EQ(foveart_engine_trace_rays(t.get(), nullptr), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
+  FoveartRayBatch wrong = b;
+  wrong.type = FOVEART_TYPE_EYE_VIEW;
+  EXPECT_EQ(t->trace(&wrong), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
+  wrong = b;
+  wrong.size = 8;
+  EXPECT_EQ(t->trace(&wrong), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
+  wrong = b;
+  wrong.out_rgb = nullptr;
+  EXPECT_EQ(t->trace(&wrong), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
+  wrong = b;
+  wrong.directions = nullptr;  // and no view to fall back on
+  EXPECT_EQ(t->trace(&wrong), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
+  ASSERT_EQ(t->trace(&b), FOVEART_RESULT_SUCCESS);
+  EXPECT_GT(rgb[1], 0.0f);  // the good ray sees the lit floor
+  EXPECT_EQ(rgb[3], 0.0f);  // the NaN ray is black, not NaN
+  EXPECT_EQ(rgb[4], 0.0f);
+}
+
+TEST(Tracer, EmptySceneSeesOnlySky) {
+  Scene s;
+  s.source = "empty";
+  auto t = make(std::move(s));
+  EXPECT_FALSE(t->intersect({0, 0, 0}, {0, 0, -1}).hit);
+  float o[3] = {0, 0, 0}, d[3] = {0, 1, 0}, rgb[3] = {};
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.ray_count = 1;
+  b.origins_m = o;
+  b.directions = d;
+  b.out_rgb = rgb;
+  ASSERT_EQ(t->trace(&b), FOVEART_RESULT_SUCCESS);
+  EXPECT_NEAR(rgb[2], Scene{}.sky_zenith.z, 1e-6f);
+}

@@ -1,0 +1,257 @@
+// `fovea render` (issue 4): full-resolution and/or foveated rendering of a glTF
+// scene with the sample engine; JSON report of rays per effect and times.
+#include "cmd_render.hpp"
+
+#include "render_foveated.hpp"
+#include "render_metrics.hpp"
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <thread>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Json rays_json(const engine::RayCounts& c) {
+  return Json{{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection}, {"refraction", c.refraction}};
+}
+
+engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
+  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
+                           a.refraction - b.refraction};
+}
+
+Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+// Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
+// keeping the horizontal field of view.
+FoveartEyeView make_view(const RenderOptions& o, const PresetGeometry& g, const engine::Scene& scene) {
+  FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, engine::scene_head(scene));
+  view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
+  view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
+  const double tan_x = std::tan(g.half_fov_x_rad);
+  const double tan_y = o.size_px ? tan_x * o.size_px->y / o.size_px->x : std::tan(g.half_fov_y_rad);
+  view.angle_left_rad = static_cast<float>(-g.half_fov_x_rad);
+  view.angle_right_rad = static_cast<float>(g.half_fov_x_rad);
+  view.angle_up_rad = static_cast<float>(std::atan(tan_y));
+  view.angle_down_rad = static_cast<float>(-std::atan(tan_y));
+  return view;
+}
+
+std::string check(const RenderOptions& o) {
+  if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
+  if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
+  if (o.method != "nn" && o.method != "msm" && o.method != "rbf-mq") return "--method must be nn, msm or rbf-mq";
+  if (!preset_geometry(o.preset)) return "--preset: unknown display preset '" + o.preset + "'";
+  if (o.spp < 1 || o.spp > 1024) return "--spp must be in 1..1024";
+  if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
+  if (!(o.scale > 0.0) || o.scale > 100.0) return "--scale must be in (0, 100]";
+  if (o.threads < 0) return "--threads must be >= 0";
+  if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
+    return "--size must be between 8 and 16384 pixels per side";
+  if (o.mode != "full" && !foveated_available())
+    return "--mode " + o.mode + " needs the foveation core, which is not part of this build";
+  return "";
+}
+
+}  // namespace
+
+int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+  if (std::string bad = check(o); !bad.empty()) {
+    err << "fovea render: " << bad << "\n";
+    return 2;
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  engine::LoadResult loaded = engine::load_scene(o.scene);
+  if (!loaded.ok()) {
+    err << "fovea render: " << loaded.error << "\n";
+    return 1;
+  }
+  const double load_ms = ms_since(t0);
+  for (const std::string& w : loaded.scene->warnings) err << "fovea render: warning: " << w << "\n";
+  t0 = std::chrono::steady_clock::now();
+  std::string error;
+  std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
+  if (!tracer) {
+    err << "fovea render: " << error << "\n";
+    return 1;
+  }
+  const double build_ms = ms_since(t0);
+  const FoveartEyeView view = make_view(o, *preset_geometry(o.preset), tracer->scene());
+  const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * static_cast<float>(view.width_px),
+                                                      0.5f * static_cast<float>(view.height_px)));
+  const uint64_t pixels = static_cast<uint64_t>(view.width_px) * view.height_px;
+
+  Json report;
+  report["scene"] = tracer->scene().source;
+  report["triangles"] = tracer->scene().mesh.triangles.size();
+  report["effects"] = engine::to_string(tracer->effects());
+  report["eye"] = o.eye;
+  report["width"] = view.width_px;
+  report["height"] = view.height_px;
+  report["gaze"] = {gaze.x, gaze.y};
+  report["spp"] = o.spp;
+  report["threads"] = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  report["load_ms"] = load_ms;
+  report["build_ms"] = build_ms;
+  report["pixels"] = pixels;
+  report["points"] = pixels;  // full mode: one point per pixel; replaced by the visible points below
+
+  engine::Image full, foveated;
+  double full_total = 0.0, fov_total = 0.0;
+  if (o.mode == "full" || o.mode == "both") {
+    engine::RenderSettings s;
+    s.spp = o.spp;
+    s.threads = o.threads;
+    s.seed = o.seed;
+    const engine::RayCounts before = tracer->counts();
+    const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, tracer.get(), view, s, &full);
+    if (rr.status != FOVEART_RESULT_SUCCESS) {
+      err << "fovea render: engine callback failed with status " << rr.status << "\n";
+      return 1;
+    }
+    full_total = rr.trace_ms;
+    report["full"] = {{"rays", rays_json(minus(tracer->counts(), before))},
+                      {"trace_ms", rr.trace_ms}, {"reconstruct_ms", 0.0}, {"total_ms", rr.trace_ms}};
+  }
+  if (o.mode == "foveated" || o.mode == "both") {
+    FoveatedRequest req;
+    req.preset = o.preset;
+    req.scale = o.scale;
+    req.method = o.method;
+    req.k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
+    req.spp = o.spp;
+    req.threads = o.threads;
+    req.seed = o.seed;
+    req.cache_dir = o.cache_dir;
+    req.gaze_px = gaze;
+    const engine::RayCounts before = tracer->counts();
+    FoveatedResult fr = render_foveated(*tracer, view, req);
+    if (!fr.error.empty()) {
+      err << "fovea render: " << fr.error << "\n";
+      return 1;
+    }
+    foveated = std::move(fr.image);
+    fov_total = fr.trace_ms + fr.reconstruct_ms;
+    report["points"] = fr.points;
+    report["foveated"] = {{"rays", rays_json(minus(tracer->counts(), before))}, {"method", o.method},
+                          {"k", req.k}, {"scale", o.scale}, {"precompute_ms", fr.precompute_ms},
+                          {"trace_ms", fr.trace_ms}, {"samples_ms", fr.samples_ms}, {"reconstruct_ms", fr.reconstruct_ms}, {"total_ms", fov_total}};
+  }
+  if (o.mode == "both") {
+    report["speedup"] = fov_total > 0.0 ? full_total / fov_total : 0.0;
+    const ImageComparison cmp = compare_images(foveated, full, view, gaze, {0, 2.5, 5, 10, 20, 30, 45, 90});
+    report["psnr"] = number_or_null(cmp.psnr);
+    report["ssim"] = cmp.ssim;
+    Json rings = Json::array();
+    for (const RingMetrics& r : cmp.rings)
+      rings.push_back({{"from_deg", r.from_deg}, {"to_deg", r.to_deg}, {"psnr", number_or_null(r.psnr)},
+                       {"ssim", r.ssim}, {"pixels", r.pixels}});
+    report["rings"] = rings;
+  }
+  if (!o.out_prefix.empty()) {
+    Json files = Json::array();
+    auto save = [&](const engine::Image& img, const char* suffix) {
+      if (img.rgb.empty()) return true;
+      const std::string path = o.out_prefix + suffix;
+      std::string e;
+      if (!engine::write_png(img, path, &e)) {
+        err << "fovea render: " << e << "\n";
+        return false;
+      }
+      files.push_back(path);
+      return true;
+    };
+    if (!save(full, "_full.png") || !save(foveated, "_foveated.png")) return 1;
+    report["images"] = files;
+  }
+  if (o.json) {
+    out << report.dump(2) << "\n";
+  } else {
+    out << "scene " << report["scene"].get<std::string>() << " (" << report["triangles"] << " triangles, "
+        << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", spp " << o.spp << "\n";
+    for (const char* mode : {"full", "foveated"}) {
+      if (!report.contains(mode)) continue;
+      const Json& m = report[mode];
+      out << mode << ": " << m["total_ms"].get<double>() << " ms (trace " << m["trace_ms"].get<double>()
+          << ", reconstruct " << m["reconstruct_ms"].get<double>() << "); rays primary " << m["rays"]["primary"]
+          << ", shadow " << m["rays"]["shadow"] << ", reflection " << m["rays"]["reflection"] << ", refraction "
+          << m["rays"]["refraction"] << "\n";
+    }
+    if (report.contains("speedup"))
+      out << "speedup " << report["speedup"].get<double>() << ", PSNR " << report["psnr"] << " dB, SSIM "
+          << report["ssim"].get<double>() << "\n";
+  }
+  return 0;
+}
+
+}  // namespace foveart::tools
+
+namespace {
+
+// "X,Y" -> two numbers.
+template <typename Vec>
+std::string parse_pair(const std::string& text, Vec* out) {
+  std::istringstream in(text);
+  char comma = 0;
+  typename Vec::value_type a{}, b{};
+  if (!(in >> a >> comma >> b) || comma != ',' || !(in >> std::ws).eof()) return "expected two numbers X,Y";
+  *out = Vec(a, b);
+  return "";
+}
+
+}  // namespace
+
+void register_render(CLI::App& app) {
+  auto opts = std::make_shared<foveart::tools::RenderOptions>();
+  auto gaze = std::make_shared<std::string>();
+  auto size = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
+  cmd->add_option("--scene", opts->scene, "glTF/GLB file, or 'default' for the built-in scene")->capture_default_str();
+  cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
+  cmd->add_option("--eye", opts->eye, "left or right")->capture_default_str();
+  cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
+  cmd->add_option("--mode", opts->mode, "full, foveated or both")->capture_default_str();
+  cmd->add_option("--spp", opts->spp, "Rays per pixel (full) or per point (foveated)")->capture_default_str();
+  cmd->add_option("--method", opts->method, "Reconstruction: nn, msm or rbf-mq")->capture_default_str();
+  cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (default: 1 for nn, 5 otherwise)");
+  cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "Tracing threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
+  cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
+  cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
+  cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->add_flag("--json", opts->json, "Print the report as JSON");
+  cmd->callback([opts, gaze, size] {
+    if (!gaze->empty()) {
+      glm::vec2 g;
+      if (std::string e = parse_pair(*gaze, &g); !e.empty()) throw CLI::ValidationError("--gaze", e);
+      if (!std::isfinite(g.x) || !std::isfinite(g.y)) throw CLI::ValidationError("--gaze", "must be finite");
+      opts->gaze_px = g;
+    }
+    if (!size->empty()) {
+      glm::ivec2 s;
+      if (std::string e = parse_pair(*size, &s); !e.empty()) throw CLI::ValidationError("--size", e);
+      opts->size_px = s;
+    }
+    const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}

@@ -1,0 +1,43 @@
+// `fovea render`: renders a glTF scene (or the built-in default) with the
+// sample engine, at full resolution and/or foveated, and reports rays and times.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/ext/vector_int2.hpp>
+
+#include <cstdint>
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+void register_render(CLI::App& app);
+
+namespace foveart::tools {
+
+struct RenderOptions {
+  std::string scene = "default";
+  std::string preset = "fove";
+  std::string eye = "left";
+  std::string mode = "full";      // full | foveated | both
+  std::string method = "nn";      // nn | msm | rbf-mq
+  std::optional<glm::vec2> gaze_px;  // default: image centre
+  int spp = 1;
+  int k = 0;                      // 0: 1 for nn, 5 otherwise
+  double scale = 1.0;
+  int threads = 0;                // 0: all cores
+  std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
+  std::string out_prefix;         // empty: no images written
+  std::string cache_dir;          // point set / neighbour table cache, empty: none
+  uint64_t seed = 1;
+  bool json = false;
+};
+
+// Runs the command; prints the report (JSON or text) to `out` and problems to
+// `err`. Returns the process exit code (0 on success).
+int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace foveart::tools
