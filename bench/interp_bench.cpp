@@ -1,0 +1,165 @@
+// Thesis Table 2 on this CPU (issue 3): the k-tap gather of every method at
+// 1280 x 1440, 3 channels, k = 5/10/15/20, plus the RBF k = 20 table
+// precompute on the FOVE canvas and its cached load, and one TAA frame.
+// Tables are cached in $FOVEART_CACHE_DIR (default /tmp/foveart_interp_bench)
+// so only the first run pays for building them. Run:
+//   build/bin/interp_bench --benchmark_format=json > out/interp_bench.json
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <random>
+
+#include "foveation/gather.hpp"
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/interpolation_cache.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "foveation/taa.hpp"
+
+namespace fv = foveart::foveation;
+
+namespace {
+
+constexpr fv::InterpMethod kMethods[] = {fv::InterpMethod::nn, fv::InterpMethod::msm, fv::InterpMethod::rbf_mq,
+                                         fv::InterpMethod::rbf_gauss};
+
+std::filesystem::path cache_dir() {
+  if (const char* e = std::getenv("FOVEART_CACHE_DIR"); e && *e) return e;
+  return std::filesystem::temp_directory_path() / "foveart_interp_bench";
+}
+
+struct Scene {
+  fv::PointSetKey key;
+  fv::FoveationTables tables;
+  fv::PointColors colors;
+  fv::GazeMapping mapping;
+};
+
+Scene& scene() {
+  static Scene s = [] {
+    Scene sc;
+    sc.key = fv::PointSetKey{*fv::display_preset("fove"), 1, fv::kMaxNeighbors};
+    sc.tables = fv::load_or_build_tables(cache_dir(), sc.key);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> rgb(sc.tables.points.size() * 3);
+    for (float& v : rgb) v = u(rng);
+    sc.colors = fv::point_colors_from_all(rgb);
+    sc.mapping = fv::map_gaze(sc.key.display.width_px, sc.key.display.height_px,
+                              {float(sc.key.display.width_px) / 2.0f, float(sc.key.display.height_px) / 2.0f});
+    return sc;
+  }();
+  return s;
+}
+
+// One table in memory at a time (k = 20 tables are hundreds of MB).
+const fv::CachedTable& table_for(fv::InterpMethod m, int k, std::optional<fv::WeightPrecision> precision = {}) {
+  static std::unique_ptr<fv::CachedTable> slot;
+  static fv::InterpMethod slot_m{};
+  static int slot_k = 0;
+  static std::optional<fv::WeightPrecision> slot_p;
+  if (!slot || slot_m != m || slot_k != k || slot_p != precision) {
+    slot.reset();
+    fv::InterpOptions o;
+    o.method = m;
+    o.k = k;
+    auto& s = scene();
+    slot = std::make_unique<fv::CachedTable>(fv::load_or_build_interpolation_table(
+        cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, precision, 2));
+    slot_m = m, slot_k = k, slot_p = precision;
+  }
+  return *slot;
+}
+
+void BM_Gather(benchmark::State& state) {
+  const auto m = kMethods[state.range(0)];
+  const int k = int(state.range(1));
+  auto& s = scene();
+  const auto& t = table_for(m, k);
+  fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
+  fv::GatherOptions g;
+  g.threads = 2;
+  for (auto _ : state) {
+    fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, g);
+    benchmark::DoNotOptimize(out.rgb.data());
+  }
+  const double pixels = double(t.table.pixel_count());
+  state.counters["weights_MB"] = double(t.table.bytes()) / 1e6;
+  state.counters["indices_MB"] = pixels * double(k) * 3.0 / 1e6;
+  state.counters["f16"] = t.table.precision == fv::WeightPrecision::f16 ? 1 : 0;
+  state.counters["table_build_s"] = t.table.build_ms / 1e3;
+  state.counters["rbf_fallback_px"] = double(t.table.stats.fallback_msm);
+  state.SetLabel(std::string(fv::method_name(m)) + " k=" + std::to_string(k));
+}
+BENCHMARK(BM_Gather)
+    ->ArgsProduct({{0}, {1}})
+    ->ArgsProduct({{1, 2, 3}, {5, 10, 15, 20}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
+
+// The same gather with float weights at k = 20 (1.03 GB with indices): what half costs.
+void BM_GatherFloatWeightsK20(benchmark::State& state) {
+  const auto m = kMethods[state.range(0)];
+  auto& s = scene();
+  const auto& t = table_for(m, 20, fv::WeightPrecision::f32);
+  fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
+  fv::GatherOptions g;
+  g.threads = 2;
+  for (auto _ : state) fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, g);
+  state.counters["weights_MB"] = double(t.table.bytes()) / 1e6;
+  state.SetLabel(std::string(fv::method_name(m)) + " k=20 f32");
+}
+BENCHMARK(BM_GatherFloatWeightsK20)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+void BM_RbfTablePrecompute(benchmark::State& state) {
+  auto& s = scene();
+  fv::InterpOptions o;
+  o.method = kMethods[state.range(0)];
+  o.k = int(state.range(1));
+  fv::InterpolationTable t;
+  for (auto _ : state) t = fv::build_interpolation_table(s.tables.points, s.tables.neighbors, o, std::nullopt, 2);
+  state.counters["factorizations"] = double(t.stats.factorizations);
+  state.counters["fallback_px"] = double(t.stats.fallback_msm);
+  state.counters["merged_px"] = double(t.stats.merged);
+  state.counters["min_rcond"] = t.stats.min_rcond;
+  state.counters["max_abs_weight"] = t.stats.max_abs_weight;
+  state.counters["max_quant_err"] = t.stats.max_quantization_error;
+  state.counters["weights_MB"] = double(t.bytes()) / 1e6;
+  state.SetLabel(std::string(fv::method_name(o.method)) + " k=" + std::to_string(o.k));
+}
+BENCHMARK(BM_RbfTablePrecompute)->Args({2, 20})->Args({3, 20})->Args({1, 20})->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+void BM_TableLoadFromCache(benchmark::State& state) {
+  auto& s = scene();
+  fv::InterpOptions o;
+  o.method = fv::InterpMethod::rbf_mq;
+  o.k = 20;
+  table_for(o.method, o.k);  // make sure it is stored
+  for (auto _ : state) {
+    auto t = fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o);
+    if (!t.from_cache) state.SkipWithError("not served from the cache");
+  }
+}
+BENCHMARK(BM_TableLoadFromCache)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+
+void BM_Taa(benchmark::State& state) {
+  auto& s = scene();
+  fv::ImageRgb a(s.mapping.screen_width_px, s.mapping.screen_height_px);
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (float& v : a.rgb) v = u(rng);
+  fv::TaaOptions o;
+  o.threads = 2;
+  o.constraint = state.range(0) == 0 ? fv::TaaConstraint::minmax_clamp : fv::TaaConstraint::variance_clip;
+  fv::TemporalAccumulator taa(o);
+  taa.accumulate(a, {640, 720});
+  for (auto _ : state) benchmark::DoNotOptimize(taa.accumulate(a, {640, 720}).rgb.data());
+  state.SetLabel(state.range(0) == 0 ? "minmax clamp" : "variance clip");
+}
+BENCHMARK(BM_Taa)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,53 @@
+// Temporal anti-aliasing for one eye (thesis 2.5 and 6.1): the history image is
+// constrained to the current frame's 3x3 neighbourhood — min/max clamping
+// (Karis 2014) or variance clipping towards the mean (Salvi 2016) — and then
+// blended with the current frame. A gaze jump (saccade) or a size change resets
+// the history: the frame after a jump is the current frame alone.
+//
+// Not thread-safe: one instance per eye, called from one thread; it runs its
+// own std::threads inside accumulate().
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec2.hpp>
+
+#include "foveation/image.hpp"
+
+namespace foveart::foveation {
+
+enum class TaaConstraint : std::uint8_t { minmax_clamp = 0, variance_clip = 1 };
+
+struct TaaOptions {
+  float current_weight = 0.1f;   // alpha of the exponential blend (Karis 2014)
+  TaaConstraint constraint = TaaConstraint::variance_clip;
+  float variance_gamma = 1.0f;   // box mu +- gamma sigma (Salvi 2016)
+  float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
+  int threads = 0;               // 0 = hardware concurrency
+};
+
+class TemporalAccumulator {
+ public:
+  explicit TemporalAccumulator(const TaaOptions& options = {}) : options_(options) {}
+
+  // Blends `current` (rendered at `gaze_px`) into the history and returns the
+  // output (valid until the next call). `saccade` forces a reset (e.g. from a
+  // gaze filter's saccade detector).
+  const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, bool saccade = false);
+
+  void reset() { valid_ = false; }
+  bool last_was_reset() const { return last_reset_; }
+  std::uint64_t reset_count() const { return resets_; }
+  const TaaOptions& options() const { return options_; }
+
+ private:
+  TaaOptions options_;
+  ImageRgb history_;
+  ImageRgb scratch_;
+  glm::vec2 gaze_px_{};
+  bool valid_ = false;
+  bool last_reset_ = false;
+  std::uint64_t resets_ = 0;
+};
+
+}  // namespace foveart::foveation

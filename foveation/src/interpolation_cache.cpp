@@ -1,0 +1,205 @@
+#include "foveation/interpolation_cache.hpp"
+
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <system_error>
+
+#include <xxhash.h>
+
+namespace foveart::foveation {
+
+namespace {
+
+constexpr char kMagic[8] = {'F', 'V', 'I', 'N', 'T', 'B', 'L', '1'};
+
+std::string hexf(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%a", v);
+  return buf;
+}
+
+template <typename T>
+void put(std::string& s, const T& v) {
+  s.append(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+template <typename T>
+bool get(const std::string& s, std::size_t& at, T& v) {
+  if (at + sizeof v > s.size()) return false;
+  std::memcpy(&v, s.data() + at, sizeof v);
+  at += sizeof v;
+  return true;
+}
+
+template <typename T>
+void put_vec(std::string& s, const std::vector<T>& v) {
+  put(s, std::uint64_t(v.size()));
+  s.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+template <typename T>
+bool get_vec(const std::string& s, std::size_t& at, std::vector<T>& v) {
+  std::uint64_t n = 0;
+  if (!get(s, at, n) || n > (s.size() - at) / sizeof(T)) return false;
+  v.resize(std::size_t(n));
+  std::memcpy(v.data(), s.data() + at, std::size_t(n) * sizeof(T));
+  at += std::size_t(n) * sizeof(T);
+  return true;
+}
+
+std::string payload_of(const InterpolationTable& t) {
+  std::string p;
+  put(p, std::int32_t(t.width_px));
+  put(p, std::int32_t(t.height_px));
+  put(p, t.stats);
+  put(p, t.build_ms);
+  put_vec(p, t.weights_f32);
+  put_vec(p, t.weights_f16);
+  put_vec(p, t.weight_sum);
+  return p;
+}
+
+}  // namespace
+
+std::string interpolation_cache_params(const PointSetKey& key, const PointSet& points, const InterpOptions& o,
+                                       WeightPrecision precision) {
+  const auto& d = key.display;
+  const std::uint64_t points_hash =
+      XXH3_64bits(points.position_px.data(), points.position_px.size() * sizeof(points.position_px[0]));
+  char hash[17];
+  std::snprintf(hash, sizeof hash, "%016" PRIx64, points_hash);
+  return "interp-v" + std::to_string(kInterpCacheFormatVersion) + ";pointset-v" + std::to_string(kCacheFormatVersion) +
+         ";display=" + d.name + ";w=" + std::to_string(d.width_px) + ";h=" + std::to_string(d.height_px) +
+         ";D=" + hexf(d.view_distance_px) + ";scale=" + hexf(d.scale) + ";ct0=" + hexf(d.csf.ct0) +
+         ";alpha=" + hexf(d.csf.alpha) + ";e2=" + hexf(d.csf.e2_deg) + ";seed=" + std::to_string(key.seed) +
+         ";points=" + std::to_string(points.size()) + ";canvas=" + std::to_string(points.canvas_width_px) + "x" +
+         std::to_string(points.canvas_height_px) + ";points_xxh3=" + hash + ";method=" + std::string(method_name(o.method)) +
+         ";k=" + std::to_string(o.k) + ";shape=" + hexf(effective_shape(o)) +
+         ";constant=" + (o.constant_term ? "1" : "0") + ";rcond_min=" + hexf(o.rcond_min) +
+         ";residual_max=" + hexf(o.residual_max) + ";precision=" + (precision == WeightPrecision::f16 ? "f16" : "f32");
+}
+
+std::filesystem::path interpolation_cache_path(const std::filesystem::path& dir, const std::string& params,
+                                               const InterpOptions& o) {
+  char name[96];
+  std::snprintf(name, sizeof name, "interp_%s_k%d_%016" PRIx64 ".bin", std::string(method_name(o.method)).c_str(), o.k,
+                XXH3_64bits(params.data(), params.size()));
+  return dir / name;
+}
+
+std::string save_interpolation_table(const std::filesystem::path& file, const std::string& params,
+                                     const InterpolationTable& t) {
+  const std::string payload = payload_of(t);
+  std::string header(kMagic, sizeof kMagic);
+  put(header, kInterpCacheFormatVersion);
+  put(header, std::uint32_t(params.size()));
+  header += params;
+  put(header, std::uint64_t(payload.size()));
+  put(header, std::uint64_t(XXH3_64bits(payload.data(), payload.size())));
+  const auto tmp = std::filesystem::path(file.string() + ".tmp");
+  {
+    std::error_code ec;
+    if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return "cannot write interpolation cache " + tmp.string();
+    out.write(header.data(), std::streamsize(header.size()));
+    out.write(payload.data(), std::streamsize(payload.size()));
+    if (!out) return "short write to interpolation cache " + tmp.string();
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) return "cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message();
+  return {};
+}
+
+std::optional<InterpolationTable> load_interpolation_table(const std::filesystem::path& file, const std::string& params,
+                                                           std::string* error) {
+  auto fail = [&](const std::string& why) -> std::optional<InterpolationTable> {
+    if (error) *error = file.string() + ": " + why;
+    return std::nullopt;
+  };
+  std::error_code ec;
+  const auto file_size = std::filesystem::file_size(file, ec);
+  std::ifstream in(file, std::ios::binary);
+  if (ec || !in) return fail("missing");
+  std::string data(std::size_t(file_size), '\0');
+  in.read(data.data(), std::streamsize(data.size()));
+  if (!in) return fail("read error");
+  std::size_t at = 0;
+  if (data.size() < sizeof kMagic || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0) {
+    return fail("not an interpolation table (bad magic)");
+  }
+  at = sizeof kMagic;
+  std::uint32_t version = 0, params_len = 0;
+  if (!get(data, at, version)) return fail("truncated header");
+  if (version != kInterpCacheFormatVersion) {
+    return fail("format version " + std::to_string(version) + ", expected " + std::to_string(kInterpCacheFormatVersion));
+  }
+  if (!get(data, at, params_len) || at + params_len > data.size()) return fail("truncated header");
+  const std::string stored(data.data() + at, params_len);
+  at += params_len;
+  if (stored != params) return fail("built for other parameters: '" + stored + "', wanted '" + params + "'");
+  std::uint64_t size = 0, checksum = 0;
+  if (!get(data, at, size) || !get(data, at, checksum)) return fail("truncated header");
+  if (data.size() - at != size) {
+    return fail("payload is " + std::to_string(data.size() - at) + " bytes, header says " + std::to_string(size) +
+                " (truncated or padded)");
+  }
+  if (XXH3_64bits(data.data() + at, std::size_t(size)) != checksum) return fail("checksum mismatch (corrupt)");
+  InterpolationTable t;
+  std::int32_t w = 0, h = 0;
+  if (!get(data, at, w) || !get(data, at, h) || !get(data, at, t.stats) || !get(data, at, t.build_ms) ||
+      !get_vec(data, at, t.weights_f32) || !get_vec(data, at, t.weights_f16) || !get_vec(data, at, t.weight_sum)) {
+    return fail("payload layout does not parse");
+  }
+  t.width_px = w;
+  t.height_px = h;
+  return t;
+}
+
+CachedTable load_or_build_interpolation_table(const std::optional<std::filesystem::path>& cache_dir,
+                                              const PointSetKey& key, const PointSet& points,
+                                              const NeighborTable& neighbors, const InterpOptions& options,
+                                              std::optional<WeightPrecision> precision, int threads,
+                                              const ProgressFn& progress, const LogFn& log) {
+  const auto start = std::chrono::steady_clock::now();
+  const WeightPrecision prec = precision.value_or(auto_precision(neighbors.pixel_count(), options.k));
+  InterpOptions opts = options;
+  opts.shape = effective_shape(options);
+  const std::string params = interpolation_cache_params(key, points, opts, prec);
+  CachedTable result;
+  std::filesystem::path file;
+  if (cache_dir) {
+    file = interpolation_cache_path(*cache_dir, params, opts);
+    std::string error;
+    if (auto t = load_interpolation_table(file, params, &error)) {
+      const std::size_t expect = t->pixel_count() * std::size_t(opts.k);
+      const bool sizes_ok = t->width_px == neighbors.width_px() && t->height_px == neighbors.height_px() &&
+                            (opts.method == InterpMethod::nn ||
+                             (prec == WeightPrecision::f16 ? t->weights_f16.size() : t->weights_f32.size()) == expect);
+      if (sizes_ok) {
+        t->options = opts;
+        t->precision = prec;
+        result.table = std::move(*t);
+        result.from_cache = true;
+      } else if (log) {
+        log(file.string() + ": sizes do not match the neighbour table; rebuilding");
+      }
+    } else if (log) {
+      log("interpolation cache rejected: " + error + "; rebuilding");
+    }
+  }
+  if (!result.from_cache) {
+    result.table = build_interpolation_table(points, neighbors, opts, prec, threads, progress);
+    if (cache_dir) {
+      if (auto err = save_interpolation_table(file, params, result.table); !err.empty() && log) log(err);
+    }
+  }
+  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace foveart::foveation

@@ -1,0 +1,68 @@
+// The gaze trace format (CSV with a header line).
+//
+// Required columns, first and in this order:
+//   device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z
+// device_time_us is decimal microseconds (fractions allowed: ns survive a round trip);
+// gaze_* is the combined unit gaze direction in head space, +x right, +y up,
+// +z forward (gaze_provider/gaze_sample.h). valid is 0 or 1; an invalid row may carry
+// nan directions. Optional columns, any order, after those:
+//   host_time_us, eye_state (open|closed|not_detected), confidence,
+//   left_valid, left_origin_x/y/z, left_x/y/z, right_valid, right_origin_x/y/z, right_x/y/z,
+//   target_x, target_y, target_z   (calibration target direction, for accuracy)
+// Unknown columns are ignored.
+//
+// Errors: the reader never throws or crashes on bad input. Structural errors (no
+// header, wrong required columns, truncated rows, non-numeric fields, nan/inf in a
+// valid direction) fail with the 1-based line number. Rows whose device time does not
+// increase (duplicates, steps back) are skipped and counted: a recorder that repeats
+// a frame should not make the rest of a trace unreadable.
+#pragma once
+
+#include <cstdint>
+#include <istream>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "gaze_provider/gaze_sample.h"
+
+namespace foveart::gaze {
+
+struct TraceRow {
+  GazeSample sample{};
+  bool has_host_time = false;
+  std::optional<Vec3f> target;  // calibration target direction
+};
+
+struct Trace {
+  std::vector<TraceRow> rows;
+  bool has_eye_state = false;
+  bool has_targets = false;
+  bool has_host_time = false;
+  std::uint64_t skipped_non_monotonic = 0;
+  std::size_t first_skipped_line = 0;  // 0 when none
+};
+
+struct TraceError {
+  std::size_t line = 0;  // 1-based; 0 when the file could not be opened
+  std::string message;
+  std::string to_string() const;
+};
+
+std::optional<Trace> read_trace(std::istream& in, TraceError* out_error);
+std::optional<Trace> read_trace_file(const std::string& path, TraceError* out_error);
+
+// Writes header + rows. Floats use enough digits to read back bit-identical.
+class TraceWriter {
+ public:
+  explicit TraceWriter(std::ostream& out, bool with_targets = false);
+  void write(const GazeSample& sample, const std::optional<Vec3f>& target = std::nullopt);
+  bool ok() const { return out_.good(); }
+
+ private:
+  std::ostream& out_;
+  bool with_targets_;
+};
+
+}  // namespace foveart::gaze

@@ -1,0 +1,81 @@
+// Replay backend: a recorded trace at its original timing or as fast as possible.
+#include <chrono>
+#include <thread>
+
+#include "gaze_provider/trace_csv.h"
+#include "threaded_provider.h"
+
+namespace foveart::gaze {
+namespace {
+
+class ReplayBackend final : public detail::Backend {
+ public:
+  ReplayBackend(Trace trace, const ReplayConfig& config) : trace_(std::move(trace)), config_(config) {}
+
+  void on_start() noexcept override {
+    next_ = 0;
+    start_host_ns_ = detail::steady_now_ns();
+  }
+
+  detail::PollResult poll(GazeSample& out, std::string& reason) noexcept override {
+    if (next_ >= trace_.rows.size()) {
+      if (!config_.loop || trace_.rows.empty()) {
+        reason = "end of trace (" + std::to_string(trace_.rows.size()) + " samples)";
+        return detail::PollResult::ended;
+      }
+      on_start();
+    }
+    const GazeSample& s = trace_.rows[next_].sample;
+    if (config_.original_timing) {
+      const std::int64_t due =
+          start_host_ns_ + (s.device_time_ns - trace_.rows.front().sample.device_time_ns);
+      const std::int64_t wait_ns = due - detail::steady_now_ns();
+      if (wait_ns > 50'000'000) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        return detail::PollResult::none;
+      }
+      if (wait_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait_ns));
+    }
+    out = s;
+    // Original timing is a live playback: stamp arrival now, so consumers can predict to
+    // their own clock. As fast as possible is an analysis pass: recorded host times stay.
+    if (config_.original_timing || !trace_.rows[next_].has_host_time) out.host_time_ns = detail::steady_now_ns();
+    ++next_;
+    return detail::PollResult::sample;
+  }
+
+  GazeSourceKind kind() const noexcept override { return GazeSourceKind::replay; }
+  double nominal_rate_hz() const noexcept override {
+    const auto& r = trace_.rows;
+    if (r.size() < 2) return 0.0;
+    const double span_s = double(r.back().sample.device_time_ns - r.front().sample.device_time_ns) * 1e-9;
+    return span_s > 0 ? double(r.size() - 1) / span_s : 0.0;
+  }
+  bool lossless() const noexcept override { return !config_.original_timing; }
+
+ private:
+  Trace trace_;
+  ReplayConfig config_;
+  std::size_t next_ = 0;
+  std::int64_t start_host_ns_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<GazeProvider> create_replay_provider(const ReplayConfig& replay, const ProviderOptions& options,
+                                                     std::string* out_error) {
+  TraceError error;
+  auto trace = read_trace_file(replay.path, &error);
+  if (!trace) {
+    if (out_error) *out_error = "replay: " + error.to_string();
+    return nullptr;
+  }
+  if (trace->rows.empty()) {
+    if (out_error) *out_error = "replay: " + replay.path + ": the trace has a header but no samples";
+    return nullptr;
+  }
+  return std::make_unique<detail::ThreadedProvider>(std::make_unique<ReplayBackend>(std::move(*trace), replay),
+                                                    options);
+}
+
+}  // namespace foveart::gaze

@@ -1,0 +1,273 @@
+// Trace CSV reader and writer (format: gaze_provider/trace_csv.h).
+#include "gaze_provider/trace_csv.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <string_view>
+
+#include "gaze_provider/gaze_math.h"
+
+namespace foveart::gaze {
+
+namespace {
+
+constexpr std::array<std::string_view, 6> kRequired = {"device_time_us", "frame_id", "valid",
+                                                        "gaze_x",         "gaze_y",   "gaze_z"};
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', start);
+    out.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+// Decimal microseconds ("8333" or "8333.333") to integer nanoseconds, exactly.
+bool parse_time_us(std::string_view s, std::int64_t& out_ns) {
+  bool negative = false;
+  if (!s.empty() && s.front() == '-') {
+    negative = true;
+    s.remove_prefix(1);
+  }
+  const std::size_t dot = s.find('.');
+  const std::string_view whole = s.substr(0, dot);
+  std::string_view frac = dot == std::string_view::npos ? std::string_view{} : s.substr(dot + 1);
+  if (whole.empty()) return false;
+  std::int64_t us = 0;
+  auto [p, ec] = std::from_chars(whole.data(), whole.data() + whole.size(), us);
+  if (ec != std::errc{} || p != whole.data() + whole.size()) return false;
+  if (us > 9'000'000'000'000'000 / 1000) return false;
+  std::int64_t ns = 0;
+  int digits = 0;
+  for (char c : frac) {
+    if (c < '0' || c > '9') return false;
+    if (digits < 3) ns = ns * 10 + (c - '0');
+    ++digits;
+  }
+  if (dot != std::string_view::npos && frac.empty()) return false;
+  for (int d = digits; d < 3; ++d) ns *= 10;
+  out_ns = us * 1000 + ns;
+  if (negative) out_ns = -out_ns;
+  return true;
+}
+
+template <typename T>
+bool parse_number(std::string_view s, T& out) {
+  if (s.empty()) return false;
+  if (s.front() == '+') s.remove_prefix(1);
+  auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+  return ec == std::errc{} && p == s.data() + s.size();
+}
+
+bool parse_eye_state(std::string_view s, EyeState& out) {
+  if (s == "open" || s == "0") out = EyeState::open;
+  else if (s == "closed" || s == "1") out = EyeState::closed;
+  else if (s == "not_detected" || s == "2") out = EyeState::not_detected;
+  else return false;
+  return true;
+}
+
+bool parse_bool01(std::string_view s, bool& out) {
+  if (s == "1") out = true;
+  else if (s == "0") out = false;
+  else return false;
+  return true;
+}
+
+std::string format_time_us(std::int64_t ns) {
+  const bool negative = ns < 0;
+  const std::uint64_t a = negative ? std::uint64_t(-(ns + 1)) + 1 : std::uint64_t(ns);
+  std::string s = (negative ? "-" : "") + std::to_string(a / 1000);
+  if (const std::uint64_t frac = a % 1000) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, ".%03llu", static_cast<unsigned long long>(frac));
+    s += buf;
+  }
+  return s;
+}
+
+std::string format_float(float v) {
+  if (std::isnan(v)) return "nan";
+  char buf[32];
+  auto [p, ec] = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
+  return ec == std::errc{} ? std::string(buf, p) : std::string("nan");
+}
+
+}  // namespace
+
+std::string TraceError::to_string() const {
+  return line == 0 ? message : "line " + std::to_string(line) + ": " + message;
+}
+
+std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
+  auto fail = [&](std::size_t line, std::string message) -> std::optional<Trace> {
+    if (out_error) *out_error = TraceError{line, std::move(message)};
+    return std::nullopt;
+  };
+
+  std::string line;
+  std::size_t line_no = 0;
+  if (!std::getline(in, line)) return fail(1, "empty file: expected the header line 'device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z'");
+  ++line_no;
+  if (line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
+  std::vector<std::string> header;  // owns its names: `line` is reused for the rows
+  for (std::string_view name : split(line)) header.emplace_back(name);
+  for (std::size_t i = 0; i < kRequired.size(); ++i) {
+    if (i >= header.size() || header[i] != kRequired[i])
+      return fail(1, "header column " + std::to_string(i + 1) + " must be '" + std::string(kRequired[i]) +
+                         "' (required columns, in order: device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z)");
+  }
+  std::map<std::string, std::size_t, std::less<>> col;
+  for (std::size_t i = kRequired.size(); i < header.size(); ++i) col.emplace(std::string(header[i]), i);
+  auto column = [&](std::string_view name) -> std::optional<std::size_t> {
+    auto it = col.find(name);
+    return it == col.end() ? std::nullopt : std::optional<std::size_t>(it->second);
+  };
+
+  Trace trace;
+  const auto c_host = column("host_time_us");
+  const auto c_state = column("eye_state");
+  const auto c_conf = column("confidence");
+  const std::array<std::optional<std::size_t>, 3> c_target = {column("target_x"), column("target_y"),
+                                                              column("target_z")};
+  trace.has_host_time = c_host.has_value();
+  trace.has_eye_state = c_state.has_value();
+  trace.has_targets = c_target[0] && c_target[1] && c_target[2];
+  struct EyeCols {
+    std::optional<std::size_t> valid;
+    std::array<std::optional<std::size_t>, 3> origin, dir;
+  };
+  std::array<EyeCols, 2> eye_cols;
+  for (int e = 0; e < 2; ++e) {
+    const std::string p = e == 0 ? "left_" : "right_";
+    eye_cols[e].valid = column(p + "valid");
+    for (int k = 0; k < 3; ++k) {
+      const std::string axis(1, char('x' + k));
+      eye_cols[e].origin[k] = column(p + "origin_" + axis);
+      eye_cols[e].dir[k] = column(p + axis);
+    }
+  }
+
+  bool have_prev = false;
+  std::int64_t prev_ns = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (trim(line).empty()) continue;
+    const std::vector<std::string_view> f = split(line);
+    if (f.size() < header.size())
+      return fail(line_no, "truncated row: " + std::to_string(f.size()) + " fields, the header has " +
+                               std::to_string(header.size()));
+    if (f.size() > header.size())
+      return fail(line_no, "row has " + std::to_string(f.size()) + " fields, the header has " +
+                               std::to_string(header.size()));
+
+    TraceRow row;
+    GazeSample& s = row.sample;
+    s.source = GazeSourceKind::replay;
+    auto bad = [&](std::size_t i, const char* what) {
+      return fail(line_no, "column " + std::to_string(i + 1) + " '" + std::string(header[i]) + "': " + what +
+                               " (got '" + std::string(f[i]) + "')");
+    };
+    auto read_vec = [&](const std::array<std::optional<std::size_t>, 3>& cols, Vec3f& v) -> std::optional<std::size_t> {
+      float* c[3] = {&v.x, &v.y, &v.z};
+      for (int k = 0; k < 3; ++k)
+        if (cols[k] && !parse_number(f[*cols[k]], *c[k])) return cols[k];
+      return std::nullopt;
+    };
+
+    if (!parse_time_us(f[0], s.device_time_ns)) return bad(0, "not a decimal number of microseconds");
+    if (!parse_number(f[1], s.frame_id)) return bad(1, "not an unsigned integer");
+    if (!parse_bool01(f[2], s.valid)) return bad(2, "must be 0 or 1");
+    if (auto b = read_vec({3, 4, 5}, s.combined_direction)) return bad(*b, "not a number");
+    if (s.valid && (!is_finite(s.combined_direction) || length(s.combined_direction) < 1e-6))
+      return fail(line_no, "valid row with a non-finite or zero gaze direction");
+    if (c_host) {
+      if (!parse_time_us(f[*c_host], s.host_time_ns)) return bad(*c_host, "not a decimal number of microseconds");
+      row.has_host_time = true;
+    }
+    s.eye_state = s.valid ? EyeState::open : EyeState::not_detected;
+    if (c_state && !parse_eye_state(f[*c_state], s.eye_state))
+      return bad(*c_state, "must be open, closed or not_detected");
+    s.confidence = s.valid ? 1.0f : 0.0f;
+    if (c_conf && (!parse_number(f[*c_conf], s.confidence) || !(s.confidence >= 0.0f && s.confidence <= 1.0f)))
+      return bad(*c_conf, "must be a number in [0, 1]");
+    for (int e = 0; e < 2; ++e) {
+      EyeGaze& eye = e == 0 ? s.left : s.right;
+      const EyeCols& ec = eye_cols[e];
+      if (ec.valid && !parse_bool01(f[*ec.valid], eye.valid)) return bad(*ec.valid, "must be 0 or 1");
+      if (auto b = read_vec(ec.origin, eye.origin_m)) return bad(*b, "not a number");
+      if (auto b = read_vec(ec.dir, eye.direction)) return bad(*b, "not a number");
+      eye.state = eye.valid ? EyeState::open : s.eye_state;
+    }
+    if (trace.has_targets) {
+      Vec3f t;
+      if (auto b = read_vec(c_target, t)) return bad(*b, "not a number");
+      if (is_finite(t) && length(t) > 1e-6) row.target = t;
+    }
+
+    if (have_prev && s.device_time_ns <= prev_ns) {
+      if (trace.skipped_non_monotonic++ == 0) trace.first_skipped_line = line_no;
+      continue;
+    }
+    have_prev = true;
+    prev_ns = s.device_time_ns;
+    trace.rows.push_back(row);
+  }
+  if (in.bad()) return fail(line_no, "read error");
+  return trace;
+}
+
+std::optional<Trace> read_trace_file(const std::string& path, TraceError* out_error) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    if (out_error) *out_error = TraceError{0, path + ": cannot open for reading"};
+    return std::nullopt;
+  }
+  auto trace = read_trace(in, out_error);
+  if (!trace && out_error) out_error->message = path + ": " + out_error->message;
+  return trace;
+}
+
+TraceWriter::TraceWriter(std::ostream& out, bool with_targets) : out_(out), with_targets_(with_targets) {
+  out_ << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z,host_time_us,eye_state,confidence";
+  for (const char* eye : {"left", "right"})
+    for (const char* c : {"valid", "origin_x", "origin_y", "origin_z", "x", "y", "z"}) out_ << ',' << eye << '_' << c;
+  if (with_targets_) out_ << ",target_x,target_y,target_z";
+  out_ << '\n';
+}
+
+void TraceWriter::write(const GazeSample& s, const std::optional<Vec3f>& target) {
+  std::string line = format_time_us(s.device_time_ns) + ',' + std::to_string(s.frame_id) + ',' +
+                     (s.valid ? '1' : '0');
+  auto vec = [&line](const Vec3f& v) {
+    line += ',' + format_float(v.x) + ',' + format_float(v.y) + ',' + format_float(v.z);
+  };
+  vec(s.combined_direction);
+  line += ',' + format_time_us(s.host_time_ns) + ',' + to_string(s.eye_state) + ',' + format_float(s.confidence);
+  for (const EyeGaze* e : {&s.left, &s.right}) {
+    line += e->valid ? ",1" : ",0";
+    vec(e->origin_m);
+    vec(e->direction);
+  }
+  if (with_targets_) {
+    if (target) vec(*target);
+    else line += ",nan,nan,nan";
+  }
+  line += '\n';
+  out_ << line;
+}
+
+}  // namespace foveart::gaze

@@ -1,0 +1,141 @@
+/*
+ * XR_FOVEART_foveated_ray_tracing — foveated ray tracing for any OpenXR engine.
+ *
+ * Provided by the API layer XR_APILAYER_FOVEART_foveated_ray_tracing
+ * (libXrApiLayer_foveart.so). Enable the layer (manifest) and this extension
+ * (XrInstanceCreateInfo::enabledExtensionNames); then fetch the functions below
+ * with xrGetInstanceProcAddr. Without the extension enabled they are not
+ * returned (XR_ERROR_FUNCTION_UNSUPPORTED) and the layer is transparent.
+ *
+ * Usage:
+ *   1. xrCreateSession with XrGraphicsBindingVulkan2KHR (XR_KHR_vulkan_enable2).
+ *   2. xrCreateFoveatedRendererFOVEART(session, &info, &renderer) with the
+ *      engine's ray-trace callback (foveation/ray_trace.h) and its user data.
+ *   3. Each frame, chain an XrFoveatedRayTracingLayerFOVEART into the `next`
+ *      chain of the XrCompositionLayerProjection to be ray traced. The layer
+ *      traces both views at xrEndFrame, writes them into swapchains it owns and
+ *      replaces the views' subImage before the runtime sees the frame. The
+ *      app's own images for those views are not shown (it may submit a cheap
+ *      placeholder; it is used as the fallback, see below). Other composition
+ *      layers pass through untouched.
+ *   4. xrGetFoveatedRendererStatsFOVEART at any time; xrDestroyFoveatedRendererFOVEART
+ *      before xrDestroySession (xrDestroySession also destroys it).
+ *
+ * Threads:  the callback runs on the layer's worker threads during xrEndFrame,
+ *           several batches at once. The create/destroy/stats functions are
+ *           thread-safe.
+ * Fallback: no or invalid gaze -> fixed foveation at the lens centre. If a
+ *           frame cannot be produced (callback error, NaN/Inf colours, upload
+ *           failure) the view is forwarded with the app's own subImage; the
+ *           first failure of each kind is logged and every one is counted in
+ *           the stats. No garbage frame is ever shown.
+ * Numbers:  structure type values are in the range 1000900000+ which the
+ *           OpenXR registry has not assigned; this is a private (vendor)
+ *           extension.
+ */
+#ifndef XR_FOVEART_FOVEATED_RAY_TRACING_H
+#define XR_FOVEART_FOVEATED_RAY_TRACING_H
+
+#include <openxr/openxr.h>
+
+#include "foveation/ray_trace.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define XR_FOVEART_foveated_ray_tracing 1
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 1
+#define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
+#define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
+
+XR_DEFINE_HANDLE(XrFoveatedRendererFOVEART)
+
+#ifdef __cplusplus
+#define XR_FOVEART_STRUCTURE_TYPE(value) static_cast<XrStructureType>(value)
+#else
+#define XR_FOVEART_STRUCTURE_TYPE(value) ((XrStructureType)(value))
+#endif
+#define XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900000)
+#define XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900001)
+#define XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900002)
+
+typedef enum XrFoveatedInterpolationFOVEART {
+  XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
+  XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART = 1, /* modified Shepard (thesis 4.3) */
+  XR_FOVEATED_INTERPOLATION_RBF_FOVEART = 2,     /* radial basis functions + constant term */
+  XR_FOVEATED_INTERPOLATION_MAX_ENUM_FOVEART = 0x7FFFFFFF
+} XrFoveatedInterpolationFOVEART;
+
+typedef enum XrFoveatedGazeSourceFOVEART {
+  XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART = 0,     /* fixed foveation at the lens centre */
+  XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART = 1, /* FoveaRT gaze provider (gazeProviderSpec) */
+  XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART = 2, /* runtime's XR_EXT_eye_gaze_interaction */
+  XR_FOVEATED_GAZE_SOURCE_MAX_ENUM_FOVEART = 0x7FFFFFFF
+} XrFoveatedGazeSourceFOVEART;
+
+/* Fallback state bits (XrFoveatedRendererStatsFOVEART::fallbackFlags). */
+typedef XrFlags64 XrFoveatedFallbackFlagsFOVEART;
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART = 0x00000001;
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART = 0x00000002;
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART = 0x00000004;
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART = 0x00000008;
+/* The point set / neighbour tables are still being built or loaded. */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART = 0x00000010;
+/* The frame path is not available (no Vulkan session, build without foveation). */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART = 0x00000020;
+
+typedef struct XrFoveatedRendererCreateInfoFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  FoveartTraceRaysFn traceRays; /* required */
+  void* userData;               /* passed back to traceRays unchanged */
+  XrFoveatedInterpolationFOVEART interpolation;
+  uint32_t k;           /* neighbours per pixel (1 for nearest), 1..20; 0 = config */
+  float densityScale;   /* point density scale (thesis "scale"), (0, 16]; 0 = config */
+  uint32_t raysPerPoint; /* jittered rays per point, 1..64 (thesis: 32); 0 = config */
+  XrBool32 taaEnable;
+  XrFoveatedGazeSourceFOVEART gazeSource;
+  const char* gazeProviderSpec; /* for ..._PROVIDER: "sim", "replay:FILE", ...; NULL = config */
+} XrFoveatedRendererCreateInfoFOVEART;
+
+/* Chain into XrCompositionLayerProjection::next to have its views ray traced. */
+typedef struct XrFoveatedRayTracingLayerFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  XrFoveatedRendererFOVEART renderer;
+} XrFoveatedRayTracingLayerFOVEART;
+
+/* Index 0 = left eye, 1 = right eye; times of the last frame, in milliseconds. */
+typedef struct XrFoveatedRendererStatsFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART */
+  void* XR_MAY_ALIAS next;
+  uint64_t framesTraced;     /* frames with at least one view traced */
+  uint64_t framesFallback;   /* views forwarded with the app's own image */
+  uint32_t pointsPerEye[2];  /* visible points */
+  uint32_t raysPerEye[2];
+  float selectMs[2];
+  float traceMs[2];
+  float interpolateMs[2];
+  float taaMs[2];
+  float uploadMs[2];
+  float gazeAgeMs;           /* age of the gaze sample at composition (display time) */
+  XrFoveatedGazeSourceFOVEART gazeSource; /* source actually used last frame */
+  XrFoveatedFallbackFlagsFOVEART fallbackFlags; /* state of the last frame */
+  uint64_t callbackFailures; /* batches the callback failed (error code) */
+  uint64_t invalidColours;   /* rays returning NaN/Inf/negative colour */
+  uint64_t gazeLostFrames;   /* frames with fixed foveation for lack of gaze */
+} XrFoveatedRendererStatsFOVEART;
+
+typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
+    XrSession session, const XrFoveatedRendererCreateInfoFOVEART* createInfo,
+    XrFoveatedRendererFOVEART* renderer);
+typedef XrResult(XRAPI_PTR* PFN_xrDestroyFoveatedRendererFOVEART)(XrFoveatedRendererFOVEART renderer);
+typedef XrResult(XRAPI_PTR* PFN_xrGetFoveatedRendererStatsFOVEART)(
+    XrFoveatedRendererFOVEART renderer, XrFoveatedRendererStatsFOVEART* stats);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* XR_FOVEART_FOVEATED_RAY_TRACING_H */

@@ -1,0 +1,62 @@
+// The layer's configuration: where it is searched, what it holds, and how a
+// bad file degrades (a warning naming the key, then the default).
+//
+// Search chain (first existing file wins):
+//   1. $FOVEART_CONFIG
+//   2. $XDG_CONFIG_HOME/foveart/config.json  ($HOME/.config when unset)
+//   3. <sysconfdir>/xdg/foveart/config.json  (FOVEART_SYSTEM_CONFIG_DIR)
+// FOVEART_DISABLE=1 disables the layer whatever the file says.
+//
+// File: a JSON object with the keys of LayerConfig at top level and an
+// optional "applications" object whose members, keyed by
+// XrApplicationInfo::applicationName, override the top-level keys.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "log.hpp"
+
+namespace foveart::layer {
+
+struct LayerConfig {
+  bool enabled = true;
+  LogLevel log_level = LogLevel::Warn;
+  std::string log_file;  // empty: stderr only
+  // Renderer defaults; an app's XrFoveatedRendererCreateInfoFOVEART fields of
+  // zero/unset take these.
+  std::string interpolation = "shepard";  // "nearest" | "shepard" | "rbf"
+  uint32_t k = 5;
+  float density_scale = 1.0f;
+  uint32_t rays_per_point = 1;
+  bool taa = true;
+  std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
+  std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...
+  uint32_t worker_threads = 0;           // 0: hardware concurrency
+  std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
+  bool wait_for_tables = false;          // block the first frame until the tables are ready
+};
+
+struct ConfigResult {
+  LayerConfig config;
+  std::string path;                   // file used; empty if none
+  std::vector<std::string> warnings;  // each names the file and the key
+};
+
+using GetEnvFn = std::function<std::optional<std::string>(const char*)>;
+
+// The process environment (std::getenv).
+GetEnvFn process_env();
+
+// Finds, reads and validates the config for one application.
+ConfigResult load_config(std::string_view application_name, const GetEnvFn& env);
+
+// Parses one config text (exposed for tests). origin names it in warnings.
+void apply_config_text(std::string_view text, std::string_view origin, std::string_view application_name,
+                       ConfigResult* inout_result);
+
+}  // namespace foveart::layer

@@ -1,0 +1,197 @@
+#include "eye_swapchain.hpp"
+
+#include <algorithm>
+
+namespace foveart::layer {
+namespace {
+
+std::string xr_error(const char* what, XrResult r) { return std::string(what) + " failed (XrResult " + std::to_string(r) + ")"; }
+std::string vk_error(const char* what, VkResult r) { return std::string(what) + " failed (VkResult " + std::to_string(r) + ")"; }
+
+template <class T>
+T vk_struct(VkStructureType type) {
+  T s{};
+  s.sType = type;
+  return s;
+}
+
+template <class T>
+T xr_struct(XrStructureType type) {
+  T s{};
+  s.type = type;
+  return s;
+}
+
+// Formats we can fill from RGBA8 bytes, best first.
+int format_rank(int64_t format) {
+  switch (format) {
+    case VK_FORMAT_R8G8B8A8_SRGB: return 0;
+    case VK_FORMAT_R8G8B8A8_UNORM: return 1;
+    default: return -1;
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<EyeSwapchain> EyeSwapchain::create(const SessionState& session, uint32_t width_px,
+                                                   uint32_t height_px, std::string* out_error) {
+  std::unique_ptr<EyeSwapchain> sc(new EyeSwapchain());
+  sc->instance_ = session.instance;
+  sc->next_ = &session.instance->next;
+  sc->device_ = session.vk_device;
+  sc->width_px_ = width_px;
+  sc->height_px_ = height_px;
+  const NextDispatch& next = *sc->next_;
+
+  uint32_t count = 0;
+  XrResult r = next.EnumerateSwapchainFormats(session.handle, 0, &count, nullptr);
+  if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainFormats", r), nullptr;
+  std::vector<int64_t> formats(count);
+  r = next.EnumerateSwapchainFormats(session.handle, count, &count, formats.data());
+  if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainFormats", r), nullptr;
+  int64_t chosen = -1;
+  for (int64_t f : formats) {
+    if (format_rank(f) >= 0 && (chosen < 0 || format_rank(f) < format_rank(chosen))) chosen = f;
+  }
+  if (chosen < 0) return *out_error = "the runtime offers no RGBA8 swapchain format", nullptr;
+  sc->srgb_ = chosen == VK_FORMAT_R8G8B8A8_SRGB;
+
+  XrSwapchainCreateInfo info{};
+  info.type = XR_TYPE_SWAPCHAIN_CREATE_INFO;
+  info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+  info.format = chosen;
+  info.sampleCount = 1;
+  info.width = width_px;
+  info.height = height_px;
+  info.faceCount = 1;
+  info.arraySize = 1;
+  info.mipCount = 1;
+  r = next.CreateSwapchain(session.handle, &info, &sc->swapchain_);
+  if (XR_FAILED(r)) return *out_error = xr_error("xrCreateSwapchain", r), nullptr;
+  r = next.EnumerateSwapchainImages(sc->swapchain_, 0, &count, nullptr);
+  if (XR_FAILED(r) || count == 0) return *out_error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
+  std::vector<XrSwapchainImageVulkanKHR> images(count, xr_struct<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
+  r = next.EnumerateSwapchainImages(sc->swapchain_, count, &count,
+                                    reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data()));
+  if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
+  for (const auto& image : images) sc->images_.push_back(image.image);
+
+  // Host-visible staging buffer, persistently mapped.
+  const VkDeviceSize bytes = VkDeviceSize{width_px} * height_px * 4;
+  auto buffer_info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  buffer_info.size = bytes;
+  buffer_info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  buffer_info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkResult vr = vkCreateBuffer(sc->device_, &buffer_info, nullptr, &sc->buffer_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateBuffer", vr), nullptr;
+  VkMemoryRequirements requirements{};
+  vkGetBufferMemoryRequirements(sc->device_, sc->buffer_, &requirements);
+  VkPhysicalDeviceMemoryProperties memory{};
+  vkGetPhysicalDeviceMemoryProperties(session.vk_physical_device, &memory);
+  const VkMemoryPropertyFlags wanted = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  uint32_t type_index = UINT32_MAX;
+  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+    if ((requirements.memoryTypeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & wanted) == wanted) {
+      type_index = i;
+      break;
+    }
+  }
+  if (type_index == UINT32_MAX) return *out_error = "no host-visible coherent memory type", nullptr;
+  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = requirements.size;
+  alloc.memoryTypeIndex = type_index;
+  vr = vkAllocateMemory(sc->device_, &alloc, nullptr, &sc->memory_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkAllocateMemory", vr), nullptr;
+  vr = vkBindBufferMemory(sc->device_, sc->buffer_, sc->memory_, 0);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkBindBufferMemory", vr), nullptr;
+  vr = vkMapMemory(sc->device_, sc->memory_, 0, bytes, 0, &sc->mapped_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkMapMemory", vr), nullptr;
+
+  vkGetDeviceQueue(sc->device_, session.vk_queue_family_index, session.vk_queue_index, &sc->queue_);
+  auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = session.vk_queue_family_index;
+  vr = vkCreateCommandPool(sc->device_, &pool_info, nullptr, &sc->pool_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateCommandPool", vr), nullptr;
+  auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+  cb_info.commandPool = sc->pool_;
+  cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cb_info.commandBufferCount = 1;
+  vr = vkAllocateCommandBuffers(sc->device_, &cb_info, &sc->command_buffer_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkAllocateCommandBuffers", vr), nullptr;
+  auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+  vr = vkCreateFence(sc->device_, &fence_info, nullptr, &sc->fence_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateFence", vr), nullptr;
+  return sc;
+}
+
+EyeSwapchain::~EyeSwapchain() {
+  if (device_ != VK_NULL_HANDLE) {
+    if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
+    if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
+    if (mapped_ != nullptr) vkUnmapMemory(device_, memory_);
+    if (buffer_ != VK_NULL_HANDLE) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_ != VK_NULL_HANDLE) vkFreeMemory(device_, memory_, nullptr);
+  }
+  if (swapchain_ != XR_NULL_HANDLE && next_ != nullptr) next_->DestroySwapchain(swapchain_);
+}
+
+bool EyeSwapchain::upload(std::string* out_error) {
+  uint32_t index = 0;
+  auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
+  XrResult r = next_->AcquireSwapchainImage(swapchain_, &acquire, &index);
+  if (XR_FAILED(r) || index >= images_.size()) return *out_error = xr_error("xrAcquireSwapchainImage", r), false;
+  auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
+  auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+  wait.timeout = XR_INFINITE_DURATION;
+  r = next_->WaitSwapchainImage(swapchain_, &wait);
+  if (XR_FAILED(r)) {
+    *out_error = xr_error("xrWaitSwapchainImage", r);
+    next_->ReleaseSwapchainImage(swapchain_, &release);
+    return false;
+  }
+
+  VkResult vr = vkResetCommandBuffer(command_buffer_, 0);
+  auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  if (vr == VK_SUCCESS) vr = vkBeginCommandBuffer(command_buffer_, &begin);
+  if (vr == VK_SUCCESS) {
+    auto to_transfer = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+    to_transfer.srcAccessMask = 0;
+    to_transfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    to_transfer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // every texel is overwritten
+    to_transfer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    to_transfer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    to_transfer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    to_transfer.image = images_[index];
+    to_transfer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                         nullptr, 0, nullptr, 1, &to_transfer);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {width_px_, height_px_, 1};
+    vkCmdCopyBufferToImage(command_buffer_, buffer_, images_[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+    VkImageMemoryBarrier to_attachment = to_transfer;
+    to_attachment.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    to_attachment.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    to_attachment.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    to_attachment.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &to_attachment);
+    vr = vkEndCommandBuffer(command_buffer_);
+  }
+  if (vr == VK_SUCCESS) vr = vkResetFences(device_, 1, &fence_);
+  if (vr == VK_SUCCESS) {
+    auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &command_buffer_;
+    vr = vkQueueSubmit(queue_, 1, &submit, fence_);
+  }
+  if (vr == VK_SUCCESS) vr = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
+  r = next_->ReleaseSwapchainImage(swapchain_, &release);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("upload command", vr), false;
+  if (XR_FAILED(r)) return *out_error = xr_error("xrReleaseSwapchainImage", r), false;
+  return true;
+}
+
+}  // namespace foveart::layer

@@ -1,0 +1,61 @@
+// A swapchain the layer owns for one eye, created through the runtime on the
+// app's Vulkan device, and the CPU -> image upload into it.
+//
+// Sync: each upload acquires and waits for an image (xrAcquire/xrWait), records
+// UNDEFINED -> TRANSFER_DST, a buffer-to-image copy and TRANSFER_DST ->
+// COLOR_ATTACHMENT_OPTIMAL (the layout OpenXR requires at release), submits on
+// the app's queue with a fence, waits for the fence and releases the image, all
+// inside xrEndFrame where the app may not use the queue (OpenXR spec 10.1).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "state.hpp"
+
+namespace foveart::layer {
+
+class EyeSwapchain {
+ public:
+  // Null with *out_error set when the runtime or the device says no.
+  static std::unique_ptr<EyeSwapchain> create(const SessionState& session, uint32_t width_px, uint32_t height_px,
+                                              std::string* out_error);
+  ~EyeSwapchain();
+  EyeSwapchain(const EyeSwapchain&) = delete;
+  EyeSwapchain& operator=(const EyeSwapchain&) = delete;
+
+  uint32_t width_px() const { return width_px_; }
+  uint32_t height_px() const { return height_px_; }
+  bool srgb() const { return srgb_; }
+  XrSwapchain handle() const { return swapchain_; }
+
+  // Rows of width_px RGBA8 texels (already sRGB-encoded when srgb()).
+  uint8_t* staging() { return static_cast<uint8_t*>(mapped_); }
+
+  // Copies the staging buffer into the next swapchain image; false with a message on failure
+  // (the image is released either way when it was acquired).
+  bool upload(std::string* out_error);
+
+ private:
+  EyeSwapchain() = default;
+
+  const NextDispatch* next_ = nullptr;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  XrSwapchain swapchain_ = XR_NULL_HANDLE;
+  std::vector<VkImage> images_;
+  uint32_t width_px_ = 0;
+  uint32_t height_px_ = 0;
+  bool srgb_ = false;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  void* mapped_ = nullptr;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  std::shared_ptr<InstanceState> instance_;  // keeps next_ alive
+};
+
+}  // namespace foveart::layer

@@ -1,0 +1,207 @@
+// Instance, session and frame hooks plus the extension's functions. Each is
+// noexcept behind exception_barrier; state comes from the Registry and the
+// lock is never held while calling down the chain.
+#include "hooks.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "barrier.hpp"
+#include "log.hpp"
+#include "renderer.hpp"
+
+namespace foveart::layer {
+namespace {
+
+template <class T>
+const T* find_in_chain(const void* next, XrStructureType type) {
+  for (auto* s = static_cast<const XrBaseInStructure*>(next); s != nullptr; s = s->next) {
+    if (s->type == type) return reinterpret_cast<const T*>(s);
+  }
+  return nullptr;
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrDestroyInstance(XrInstance instance) noexcept {
+  return exception_barrier("xrDestroyInstance", [&]() -> XrResult {
+    auto state = Registry::get().instance(instance);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    // Renderers own runtime swapchains: release them while the instance lives.
+    auto renderers = Registry::get().remove_instance(instance);
+    renderers.clear();
+    return state->next.DestroyInstance(instance);
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateSession(XrInstance instance, const XrSessionCreateInfo* info,
+                                                     XrSession* out_session) noexcept {
+  return exception_barrier("xrCreateSession", [&]() -> XrResult {
+    auto state = Registry::get().instance(instance);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const XrResult result = state->next.CreateSession(instance, info, out_session);
+    if (XR_FAILED(result) || info == nullptr || out_session == nullptr) return result;
+    auto session = std::make_shared<SessionState>();
+    session->handle = *out_session;
+    session->system_id = info->systemId;
+    session->instance = state;
+    // XR_TYPE_GRAPHICS_BINDING_VULKAN2_KHR aliases XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR;
+    // both structs have the same layout.
+    if (auto* vk = find_in_chain<XrGraphicsBindingVulkanKHR>(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR)) {
+      session->has_vulkan = true;
+      session->vk_instance = vk->instance;
+      session->vk_physical_device = vk->physicalDevice;
+      session->vk_device = vk->device;
+      session->vk_queue_family_index = vk->queueFamilyIndex;
+      session->vk_queue_index = vk->queueIndex;
+    }
+    Registry::get().add_session(std::move(session));
+    return result;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrDestroySession(XrSession session) noexcept {
+  return exception_barrier("xrDestroySession", [&]() -> XrResult {
+    auto state = Registry::get().session(session);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    auto renderers = Registry::get().remove_session(session);
+    renderers.clear();  // their swapchains go before the session
+    return state->instance->next.DestroySession(session);
+  });
+}
+
+// The frame path: opted-in projection layers get their views rewritten.
+XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
+  auto state = Registry::get().session(session);
+  if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+  const PFN_xrEndFrame next_end_frame = state->instance->next.EndFrame;
+  if (info == nullptr || info->layerCount == 0 || info->layers == nullptr ||
+      !Registry::get().session_has_renderers(session)) {
+    return next_end_frame(session, info);  // nothing opted in: untouched
+  }
+
+  // Copies are made only for layers we rewrite; the rest keep the app's pointers.
+  std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
+  std::vector<XrCompositionLayerProjection> projections;
+  std::vector<std::vector<XrCompositionLayerProjectionView>> views;
+  projections.reserve(info->layerCount);
+  views.reserve(info->layerCount);
+  for (uint32_t i = 0; i < info->layerCount; ++i) {
+    const auto* base = info->layers[i];
+    if (base == nullptr || base->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION) continue;
+    const auto* projection = reinterpret_cast<const XrCompositionLayerProjection*>(base);
+    const auto* opt_in = find_in_chain<XrFoveatedRayTracingLayerFOVEART>(
+        projection->next, XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
+    if (opt_in == nullptr || projection->views == nullptr || projection->viewCount == 0) continue;
+    auto renderer = Registry::get().renderer(opt_in->renderer);
+    if (renderer == nullptr) continue;  // unknown renderer: the app's views as submitted
+
+    auto& copy = projections.emplace_back(*projection);
+    // Strip our struct when it heads the chain so layers below never see it.
+    if (copy.next == opt_in) copy.next = opt_in->next;
+    auto& view_copy = views.emplace_back(projection->views, projection->views + projection->viewCount);
+    renderer->render(info->displayTime, *projection, view_copy.data());
+    copy.views = view_copy.data();
+    layers[i] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&copy);
+  }
+  XrFrameEndInfo down = *info;
+  down.layers = layers.data();
+  return next_end_frame(session, &down);
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrEndFrame(XrSession session, const XrFrameEndInfo* info) noexcept {
+  return exception_barrier("xrEndFrame", [&] { return end_frame(session, info); });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateFoveatedRendererFOVEART(
+    XrSession session, const XrFoveatedRendererCreateInfoFOVEART* info,
+    XrFoveatedRendererFOVEART* out_renderer) noexcept {
+  return exception_barrier("xrCreateFoveatedRendererFOVEART", [&]() -> XrResult {
+    auto state = Registry::get().session(session);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    if (info == nullptr || out_renderer == nullptr || info->type != XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART) {
+      log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: createInfo missing or of the wrong type");
+      return XR_ERROR_VALIDATION_FAILURE;
+    }
+    RendererSettings settings;
+    std::string error;
+    if (!resolve_settings(*info, state->instance->config, &settings, &error)) {
+      log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: ", error);
+      return XR_ERROR_VALIDATION_FAILURE;
+    }
+    if (!state->has_vulkan) {
+      log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: the session has no Vulkan graphics binding "
+                           "(XR_KHR_vulkan_enable2 is required)");
+      return XR_ERROR_GRAPHICS_DEVICE_INVALID;
+    }
+    auto renderer = std::make_shared<FoveatedRenderer>(state, std::move(settings));
+    *out_renderer = Registry::get().add_renderer(session, std::move(renderer));
+    return XR_SUCCESS;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrDestroyFoveatedRendererFOVEART(XrFoveatedRendererFOVEART renderer) noexcept {
+  return exception_barrier("xrDestroyFoveatedRendererFOVEART", [&]() -> XrResult {
+    auto removed = Registry::get().remove_renderer(renderer);
+    return removed == nullptr ? XR_ERROR_HANDLE_INVALID : XR_SUCCESS;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrGetFoveatedRendererStatsFOVEART(XrFoveatedRendererFOVEART renderer,
+                                                                       XrFoveatedRendererStatsFOVEART* stats) noexcept {
+  return exception_barrier("xrGetFoveatedRendererStatsFOVEART", [&]() -> XrResult {
+    auto r = Registry::get().renderer(renderer);
+    if (r == nullptr) return XR_ERROR_HANDLE_INVALID;
+    if (stats == nullptr || stats->type != XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART) return XR_ERROR_VALIDATION_FAILURE;
+    r->stats(stats);
+    return XR_SUCCESS;
+  });
+}
+
+struct HookEntry {
+  std::string_view name;
+  PFN_xrVoidFunction function;
+  bool extension;
+};
+
+template <class Fn>
+PFN_xrVoidFunction as_void(Fn fn) {
+  return reinterpret_cast<PFN_xrVoidFunction>(fn);
+}
+
+const HookEntry* hooks_begin(std::size_t* out_count) {
+  static const HookEntry kHooks[] = {
+      {"xrDestroyInstance", as_void(&hook_xrDestroyInstance), false},
+      {"xrCreateSession", as_void(&hook_xrCreateSession), false},
+      {"xrDestroySession", as_void(&hook_xrDestroySession), false},
+      {"xrEndFrame", as_void(&hook_xrEndFrame), false},
+      {"xrCreateFoveatedRendererFOVEART", as_void(&hook_xrCreateFoveatedRendererFOVEART), true},
+      {"xrDestroyFoveatedRendererFOVEART", as_void(&hook_xrDestroyFoveatedRendererFOVEART), true},
+      {"xrGetFoveatedRendererStatsFOVEART", as_void(&hook_xrGetFoveatedRendererStatsFOVEART), true},
+  };
+  *out_count = std::size(kHooks);
+  return kHooks;
+}
+
+}  // namespace
+
+PFN_xrVoidFunction find_hook(std::string_view name, const InstanceState& instance) {
+  std::size_t count = 0;
+  const HookEntry* hooks = hooks_begin(&count);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (hooks[i].name != name) continue;
+    if (hooks[i].extension && !instance.extension_enabled) return nullptr;
+    return hooks[i].function;
+  }
+  return nullptr;
+}
+
+bool is_extension_function(std::string_view name) {
+  std::size_t count = 0;
+  const HookEntry* hooks = hooks_begin(&count);
+  for (std::size_t i = 0; i < count; ++i) {
+    if (hooks[i].name == name) return hooks[i].extension;
+  }
+  return false;
+}
+
+}  // namespace foveart::layer

@@ -1,0 +1,77 @@
+#include "renderer.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+#include "log.hpp"
+
+namespace foveart::layer {
+namespace {
+
+XrFoveatedInterpolationFOVEART interpolation_from_name(const std::string& name) {
+  if (name == "nearest") return XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART;
+  if (name == "rbf") return XR_FOVEATED_INTERPOLATION_RBF_FOVEART;
+  return XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+}
+
+XrFoveatedGazeSourceFOVEART gaze_source_from_name(const std::string& name) {
+  if (name == "none") return XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
+  if (name == "eye_gaze_interaction") return XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART;
+  return XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
+}
+
+}  // namespace
+
+bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
+                      RendererSettings* out, std::string* out_error) {
+  RendererSettings s;
+  s.interpolation = interpolation_from_name(config.interpolation);
+  s.k = config.k;
+  s.density_scale = config.density_scale;
+  s.rays_per_point = config.rays_per_point;
+  s.taa = config.taa;
+  s.gaze_source = gaze_source_from_name(config.gaze_source);
+  s.gaze_provider_spec = config.gaze_provider;
+  s.worker_threads = config.worker_threads;
+  s.cache_dir = config.cache_dir;
+  s.wait_for_tables = config.wait_for_tables;
+
+  if (info.traceRays == nullptr) {
+    *out_error = "traceRays must not be NULL";
+    return false;
+  }
+  s.trace_rays = info.traceRays;
+  s.user_data = info.userData;
+  if (static_cast<uint64_t>(info.interpolation) > XR_FOVEATED_INTERPOLATION_RBF_FOVEART) {
+    *out_error = "interpolation " + std::to_string(info.interpolation) + " is not an XrFoveatedInterpolationFOVEART";
+    return false;
+  }
+  s.interpolation = info.interpolation;
+  if (info.k > 20) {
+    *out_error = "k = " + std::to_string(info.k) + " is outside 1..20 (0 = config default)";
+    return false;
+  }
+  if (info.k != 0) s.k = info.k;
+  if (s.interpolation == XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART) s.k = 1;
+  if (!std::isfinite(info.densityScale) || info.densityScale < 0.0f || info.densityScale > 16.0f) {
+    *out_error = "densityScale must be in (0, 16] (0 = config default)";
+    return false;
+  }
+  if (info.densityScale != 0.0f) s.density_scale = info.densityScale;
+  if (info.raysPerPoint > 64) {
+    *out_error = "raysPerPoint = " + std::to_string(info.raysPerPoint) + " is outside 1..64 (0 = config default)";
+    return false;
+  }
+  if (info.raysPerPoint != 0) s.rays_per_point = info.raysPerPoint;
+  s.taa = info.taaEnable == XR_TRUE;
+  if (static_cast<uint64_t>(info.gazeSource) > XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART) {
+    *out_error = "gazeSource " + std::to_string(info.gazeSource) + " is not an XrFoveatedGazeSourceFOVEART";
+    return false;
+  }
+  s.gaze_source = info.gazeSource;
+  if (info.gazeProviderSpec != nullptr && info.gazeProviderSpec[0] != '\0') s.gaze_provider_spec = info.gazeProviderSpec;
+  *out = std::move(s);
+  return true;
+}
+
+}  // namespace foveart::layer

@@ -1,0 +1,63 @@
+// One foveated renderer: created for a session by xrCreateFoveatedRendererFOVEART,
+// driven at xrEndFrame for every projection layer that chains an
+// XrFoveatedRayTracingLayerFOVEART naming it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "layer/XR_FOVEART_foveated_ray_tracing.h"
+#include "state.hpp"
+
+namespace foveart::layer {
+
+struct RendererSettings {
+  FoveartTraceRaysFn trace_rays = nullptr;
+  void* user_data = nullptr;
+  XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+  uint32_t k = 5;
+  float density_scale = 1.0f;
+  uint32_t rays_per_point = 1;
+  bool taa = true;
+  XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
+  std::string gaze_provider_spec = "sim";
+  uint32_t worker_threads = 0;
+  std::string cache_dir;
+  bool wait_for_tables = false;
+};
+
+// App's create info over the config's defaults (zero fields take the config).
+// Returns false with a message naming the bad field.
+bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
+                      RendererSettings* out_settings, std::string* out_error);
+
+class FrameEngine;  // the frame path (frame_engine.hpp)
+
+class FoveatedRenderer {
+ public:
+  FoveatedRenderer(std::shared_ptr<SessionState> session, RendererSettings settings);
+  ~FoveatedRenderer();
+  FoveatedRenderer(const FoveatedRenderer&) = delete;
+  FoveatedRenderer& operator=(const FoveatedRenderer&) = delete;
+
+  const RendererSettings& settings() const { return settings_; }
+
+  // Ray traces the views of one projection layer. out_views holds a copy of the
+  // app's views; the ones produced are rewritten to the layer's swapchains.
+  // Returns how many views were rewritten (0 = everything falls back).
+  uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer,
+                  XrCompositionLayerProjectionView* out_views);
+
+  void stats(XrFoveatedRendererStatsFOVEART* out_stats) const;
+
+ private:
+  std::shared_ptr<SessionState> session_;
+  RendererSettings settings_;
+  mutable std::mutex mutex_;  // one frame at a time; stats readers
+  std::unique_ptr<FrameEngine> engine_;
+  XrFoveatedRendererStatsFOVEART stats_{};
+};
+
+}  // namespace foveart::layer

@@ -1,0 +1,110 @@
+#include "state.hpp"
+
+namespace foveart::layer {
+namespace {
+
+uint64_t key(XrFoveatedRendererFOVEART handle) { return reinterpret_cast<uintptr_t>(handle); }
+
+}  // namespace
+
+Registry& Registry::get() {
+  static Registry registry;  // emptied by xrDestroyInstance; destroyed at unload
+  return registry;
+}
+
+void Registry::add_instance(std::shared_ptr<InstanceState> state) {
+  std::lock_guard lock(mutex_);
+  instances_[state->handle] = std::move(state);
+}
+
+std::shared_ptr<InstanceState> Registry::instance(XrInstance handle) const {
+  std::lock_guard lock(mutex_);
+  auto it = instances_.find(handle);
+  return it == instances_.end() ? nullptr : it->second;
+}
+
+std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_instance(XrInstance handle) {
+  std::vector<std::shared_ptr<FoveatedRenderer>> removed;
+  std::lock_guard lock(mutex_);
+  for (auto it = sessions_.begin(); it != sessions_.end();) {
+    if (it->second->instance->handle != handle) {
+      ++it;
+      continue;
+    }
+    for (auto r = renderers_.begin(); r != renderers_.end();) {
+      if (r->second.session == it->first) {
+        removed.push_back(std::move(r->second.renderer));
+        r = renderers_.erase(r);
+      } else {
+        ++r;
+      }
+    }
+    it = sessions_.erase(it);
+  }
+  instances_.erase(handle);
+  return removed;
+}
+
+void Registry::add_session(std::shared_ptr<SessionState> state) {
+  std::lock_guard lock(mutex_);
+  sessions_[state->handle] = std::move(state);
+}
+
+std::shared_ptr<SessionState> Registry::session(XrSession handle) const {
+  std::lock_guard lock(mutex_);
+  auto it = sessions_.find(handle);
+  return it == sessions_.end() ? nullptr : it->second;
+}
+
+std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_session(XrSession handle) {
+  std::vector<std::shared_ptr<FoveatedRenderer>> removed;
+  std::lock_guard lock(mutex_);
+  for (auto r = renderers_.begin(); r != renderers_.end();) {
+    if (r->second.session == handle) {
+      removed.push_back(std::move(r->second.renderer));
+      r = renderers_.erase(r);
+    } else {
+      ++r;
+    }
+  }
+  sessions_.erase(handle);
+  return removed;
+}
+
+XrFoveatedRendererFOVEART Registry::add_renderer(XrSession session, std::shared_ptr<FoveatedRenderer> renderer) {
+  std::lock_guard lock(mutex_);
+  // Handles are opaque ids, never pointers: a stale handle finds nothing.
+  const uint64_t id = next_renderer_id_++;
+  renderers_[id] = RendererEntry{session, std::move(renderer)};
+  return reinterpret_cast<XrFoveatedRendererFOVEART>(static_cast<uintptr_t>(id));
+}
+
+std::shared_ptr<FoveatedRenderer> Registry::renderer(XrFoveatedRendererFOVEART handle) const {
+  std::lock_guard lock(mutex_);
+  auto it = renderers_.find(key(handle));
+  return it == renderers_.end() ? nullptr : it->second.renderer;
+}
+
+std::shared_ptr<FoveatedRenderer> Registry::remove_renderer(XrFoveatedRendererFOVEART handle) {
+  std::lock_guard lock(mutex_);
+  auto it = renderers_.find(key(handle));
+  if (it == renderers_.end()) return nullptr;
+  auto renderer = std::move(it->second.renderer);
+  renderers_.erase(it);
+  return renderer;
+}
+
+bool Registry::session_has_renderers(XrSession session) const {
+  std::lock_guard lock(mutex_);
+  for (const auto& [id, entry] : renderers_) {
+    if (entry.session == session) return true;
+  }
+  return false;
+}
+
+std::size_t Registry::instance_count() const {
+  std::lock_guard lock(mutex_);
+  return instances_.size();
+}
+
+}  // namespace foveart::layer

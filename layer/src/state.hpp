@@ -1,0 +1,76 @@
+// What the layer remembers, keyed by handle: instances, sessions and
+// foveated renderers. One registry behind one mutex; hooks copy out a
+// shared_ptr and release the lock before calling down the chain.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "config.hpp"
+#include "dispatch.hpp"
+#include "layer/XR_FOVEART_foveated_ray_tracing.h"
+
+namespace foveart::layer {
+
+class FoveatedRenderer;
+
+struct InstanceState {
+  XrInstance handle = XR_NULL_HANDLE;
+  NextDispatch next;
+  LayerConfig config;
+  std::string application_name;
+  bool extension_enabled = false;  // the app enabled XR_FOVEART_foveated_ray_tracing
+  bool vulkan2_enabled = false;    // ... and XR_KHR_vulkan_enable2
+  bool eye_gaze_enabled = false;   // ... and XR_EXT_eye_gaze_interaction
+};
+
+struct SessionState {
+  XrSession handle = XR_NULL_HANDLE;
+  XrSystemId system_id = XR_NULL_SYSTEM_ID;
+  std::shared_ptr<InstanceState> instance;
+  bool has_vulkan = false;  // the session was created with a Vulkan graphics binding
+  VkInstance vk_instance = VK_NULL_HANDLE;
+  VkPhysicalDevice vk_physical_device = VK_NULL_HANDLE;
+  VkDevice vk_device = VK_NULL_HANDLE;
+  uint32_t vk_queue_family_index = 0;
+  uint32_t vk_queue_index = 0;
+};
+
+class Registry {
+ public:
+  static Registry& get();
+
+  void add_instance(std::shared_ptr<InstanceState> state);
+  std::shared_ptr<InstanceState> instance(XrInstance handle) const;
+  // Removes the instance with its sessions and renderers; returns the renderers
+  // so the caller can destroy them outside the lock.
+  std::vector<std::shared_ptr<FoveatedRenderer>> remove_instance(XrInstance handle);
+
+  void add_session(std::shared_ptr<SessionState> state);
+  std::shared_ptr<SessionState> session(XrSession handle) const;
+  std::vector<std::shared_ptr<FoveatedRenderer>> remove_session(XrSession handle);
+
+  XrFoveatedRendererFOVEART add_renderer(XrSession session, std::shared_ptr<FoveatedRenderer> renderer);
+  std::shared_ptr<FoveatedRenderer> renderer(XrFoveatedRendererFOVEART handle) const;
+  std::shared_ptr<FoveatedRenderer> remove_renderer(XrFoveatedRendererFOVEART handle);
+  bool session_has_renderers(XrSession session) const;
+
+  std::size_t instance_count() const;
+
+ private:
+  struct RendererEntry {
+    XrSession session;
+    std::shared_ptr<FoveatedRenderer> renderer;
+  };
+  mutable std::mutex mutex_;
+  std::unordered_map<XrInstance, std::shared_ptr<InstanceState>> instances_;
+  std::unordered_map<XrSession, std::shared_ptr<SessionState>> sessions_;
+  std::unordered_map<uint64_t, RendererEntry> renderers_;
+  uint64_t next_renderer_id_ = 1;
+};
+
+}  // namespace foveart::layer

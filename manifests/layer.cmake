@@ -1,0 +1,33 @@
+# Manifests of the API layer XR_APILAYER_FOVEART_foveated_ray_tracing.
+#   build tree:   <build>/manifests/explicit/XR_APILAYER_FOVEART_foveated_ray_tracing.json  (XR_API_LAYER_PATH)
+#                 <build>/manifests/implicit/XR_APILAYER_FOVEART_foveated_ray_tracing.json
+#   cmake --install: <datadir>/openxr/1/api_layers/{explicit.d,implicit.d}/
+# The implicit layer is off unless FOVEART_ENABLE_IMPLICIT_LAYER is set, and off
+# whenever FOVEART_DISABLE_IMPLICIT_LAYER is set.
+if(NOT TARGET foveart_layer)
+  return()
+endif()
+include(GNUInstallDirs)
+
+set(_layer_name XR_APILAYER_FOVEART_foveated_ray_tracing)
+
+foreach(kind IN ITEMS explicit implicit)
+  if(kind STREQUAL "explicit")
+    set(_template ${CMAKE_CURRENT_LIST_DIR}/${_layer_name}.json.in)
+  else()
+    set(_template ${CMAKE_CURRENT_LIST_DIR}/${_layer_name}_implicit.json.in)
+  endif()
+  # Build tree: the library where the build put it (generator expression).
+  set(FOVEART_LAYER_LIBRARY_PATH "$<TARGET_FILE:foveart_layer>")
+  configure_file(${_template} ${CMAKE_CURRENT_BINARY_DIR}/${kind}.build.json.in @ONLY)
+  file(GENERATE OUTPUT ${FOVEART_MANIFEST_DIR}/${kind}/${_layer_name}.json
+       INPUT ${CMAKE_CURRENT_BINARY_DIR}/${kind}.build.json.in)
+  # Installed: the library in the standard OpenXR layer directory.
+  set(FOVEART_LAYER_LIBRARY_PATH
+      "${CMAKE_INSTALL_FULL_LIBDIR}/openxr/1/api_layers/$<TARGET_FILE_NAME:foveart_layer>")
+  configure_file(${_template} ${CMAKE_CURRENT_BINARY_DIR}/${kind}.install.json.in @ONLY)
+  file(GENERATE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/install/${kind}/${_layer_name}.json
+       INPUT ${CMAKE_CURRENT_BINARY_DIR}/${kind}.install.json.in)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/install/${kind}/${_layer_name}.json
+          DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/openxr/1/api_layers/${kind}.d)
+endforeach()

@@ -1,0 +1,165 @@
+// hello_foveated: the sample engine's glTF scene, ray traced by FoveaRT's
+// foveated renderer through the OpenXR layer, until the runtime ends the session.
+//   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf] [--k N]
+//                  [--scale S] [--spp N] [--no-taa] [--gaze none|provider|eye_gaze]
+//                  [--gaze-provider SPEC] [--json]
+#include <algorithm>
+#include <cmath>
+#include <vector>
+#include <cstdio>
+#include <stdexcept>
+#include <iostream>
+#include <map>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "engine/gltf_loader.hpp"
+#include "engine/tracer.hpp"
+#include "xr_app.hpp"
+
+namespace {
+
+// --fault: the engine misbehaving on purpose, to watch the layer's fallback.
+struct FaultyEngine {
+  void* tracer = nullptr;
+  std::string fault;  // "nan" | "error" | "throw"
+};
+
+int32_t faulty_trace_rays(void* user_data, const FoveartRayBatch* batch) {
+  auto* engine = static_cast<FaultyEngine*>(user_data);
+  if (engine->fault == "error") return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  if (engine->fault == "throw") throw std::runtime_error("injected engine exception");
+  const int32_t r = foveart_engine_trace_rays(engine->tracer, batch);
+  if (batch->ray_count > 0) batch->out_rgb[0] = std::nanf("");
+  return r;
+}
+
+const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
+  switch (s) {
+    case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: return "provider";
+    case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: return "eye_gaze_interaction";
+    default: return "none";
+  }
+}
+
+// Percentile by nearest rank; 0 for no samples.
+float percentile(std::vector<float> v, double p) {
+  if (v.empty()) return 0.0f;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
+  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+nlohmann::json distribution(const std::vector<float>& v) {
+  return {{"p50", percentile(v, 50)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
+}
+
+nlohmann::json stats_json(const foveart::hello::AppResult& r) {
+  const auto& s = r.stats;
+  nlohmann::json eyes = nlohmann::json::array();
+  for (int e = 0; e < 2; ++e) {
+    eyes.push_back({{"points", s.pointsPerEye[e]},
+                    {"rays", s.raysPerEye[e]},
+                    {"select_ms", s.selectMs[e]},
+                    {"trace_ms", s.traceMs[e]},
+                    {"interpolate_ms", s.interpolateMs[e]},
+                    {"taa_ms", s.taaMs[e]},
+                    {"upload_ms", s.uploadMs[e]}});
+  }
+  return {{"frames_submitted", r.frames},
+          {"frames_traced", s.framesTraced},
+          {"views_fallback", s.framesFallback},
+          {"eyes", eyes},
+          {"gaze_age_ms", s.gazeAgeMs},
+          {"gaze_source", gaze_source_name(s.gazeSource)},
+          {"fallback_flags", s.fallbackFlags},
+          {"callback_failures", s.callbackFailures},
+          {"invalid_colours", s.invalidColours},
+          {"gaze_lost_frames", s.gazeLostFrames},
+          {"per_frame",
+           {{"gaze_age_ms", distribution(r.gaze_age_ms)},
+            {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
+            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}}}}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"hello_foveated: an OpenXR app ray traced by the FoveaRT layer"};
+  std::string scene_spec = "default";
+  std::string interp = "shepard";
+  std::string gaze = "provider";
+  foveart::hello::AppOptions options;
+  bool no_taa = false;
+  bool json = false;
+  bool no_explicit_layer = false;
+  std::string fault;
+  cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
+  cli.add_option("--interp", interp, "interpolation")->check(CLI::IsMember({"nearest", "shepard", "rbf"}));
+  cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
+  cli.add_option("--scale", options.density_scale, "density scale (0 = layer config)")->check(CLI::Range(0.0, 16.0));
+  cli.add_option("--spp", options.rays_per_point, "rays per point (0 = layer config)")->check(CLI::Range(0, 64));
+  cli.add_flag("--no-taa", no_taa, "disable temporal accumulation");
+  cli.add_option("--gaze", gaze, "gaze source")->check(CLI::IsMember({"none", "provider", "eye_gaze"}));
+  cli.add_option("--gaze-provider", options.gaze_provider, "gaze provider spec: sim, replay:FILE, ...");
+  cli.add_option("--max-frames", options.max_frames, "stop after N frames (0 = until the runtime ends)");
+  cli.add_flag("--no-explicit-layer", no_explicit_layer,
+               "do not name the layer (it is enabled implicitly or by XR_ENABLE_API_LAYERS)");
+  cli.add_flag("--json", json, "print the layer's stats as JSON");
+  cli.add_option("--fault", fault, "test aid: make the engine return NaN, an error or throw")
+      ->check(CLI::IsMember({"nan", "error", "throw"}));
+  CLI11_PARSE(cli, argc, argv);
+
+  const std::map<std::string, XrFoveatedInterpolationFOVEART> interps{
+      {"nearest", XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART},
+      {"shepard", XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART},
+      {"rbf", XR_FOVEATED_INTERPOLATION_RBF_FOVEART}};
+  const std::map<std::string, XrFoveatedGazeSourceFOVEART> gazes{
+      {"none", XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART},
+      {"provider", XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART},
+      {"eye_gaze", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART}};
+  options.interpolation = interps.at(interp);
+  options.gaze_source = gazes.at(gaze);
+  options.taa = !no_taa;
+  options.enable_layer = !no_explicit_layer;
+
+  auto loaded = foveart::engine::load_scene(scene_spec);
+  if (!loaded.ok()) {
+    std::cerr << "hello_foveated: " << loaded.error << "\n";
+    return 2;
+  }
+  const auto camera = loaded.scene->camera ? *loaded.scene->camera : foveart::engine::framing_camera(*loaded.scene);
+  options.scene_from_local.position = {camera.position_m.x, camera.position_m.y, camera.position_m.z};
+  options.scene_from_local.orientation = {camera.orientation.x, camera.orientation.y, camera.orientation.z,
+                                          camera.orientation.w};
+  std::string error;
+  auto tracer = foveart::engine::Tracer::create(std::move(*loaded.scene), {}, &error);
+  if (tracer == nullptr) {
+    std::cerr << "hello_foveated: cannot build the ray tracer: " << error << "\n";
+    return 2;
+  }
+  options.trace_rays = &foveart_engine_trace_rays;
+  options.user_data = tracer.get();
+  FaultyEngine faulty{tracer.get(), fault};
+  if (!fault.empty()) {
+    options.trace_rays = &faulty_trace_rays;
+    options.user_data = &faulty;
+  }
+
+  const auto result = foveart::hello::run_app(options);
+  if (!result.ok) {
+    std::cerr << "hello_foveated: " << result.error << "\n";
+    return 1;
+  }
+  if (json) {
+    std::cout << stats_json(result).dump(2) << "\n";
+  } else {
+    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back\n",
+                static_cast<unsigned long long>(result.frames),
+                static_cast<unsigned long long>(result.stats.framesTraced),
+                static_cast<unsigned long long>(result.stats.framesFallback));
+  }
+  return 0;
+}

@@ -1,0 +1,426 @@
+#include "xr_app.hpp"
+
+#include <array>
+#include <cstring>
+#include <stdexcept>
+#include <vector>
+
+namespace foveart::hello {
+namespace {
+
+// Throws with the call and the result; run_app turns it into AppResult::error.
+void check(XrResult r, const char* what) {
+  if (XR_FAILED(r)) throw std::runtime_error(std::string(what) + " failed: XrResult " + std::to_string(r));
+}
+void check(VkResult r, const char* what) {
+  if (r != VK_SUCCESS) throw std::runtime_error(std::string(what) + " failed: VkResult " + std::to_string(r));
+}
+
+template <class T>
+T xr_struct(XrStructureType type) {
+  T s{};
+  s.type = type;
+  return s;
+}
+template <class T>
+T vk_struct(VkStructureType type) {
+  T s{};
+  s.sType = type;
+  return s;
+}
+
+template <class Fn>
+Fn proc(XrInstance instance, const char* name) {
+  PFN_xrVoidFunction fn = nullptr;
+  check(xrGetInstanceProcAddr(instance, name, &fn), name);
+  return reinterpret_cast<Fn>(fn);
+}
+
+XrQuaternionf conjugate(XrQuaternionf q) { return {-q.x, -q.y, -q.z, q.w}; }
+
+XrVector3f rotate(XrQuaternionf q, XrVector3f v) {
+  // v' = v + 2 w (u x v) + 2 u x (u x v), u = (x, y, z)
+  const XrVector3f u{q.x, q.y, q.z};
+  const XrVector3f t{2 * (u.y * v.z - u.z * v.y), 2 * (u.z * v.x - u.x * v.z), 2 * (u.x * v.y - u.y * v.x)};
+  return {v.x + q.w * t.x + (u.y * t.z - u.z * t.y), v.y + q.w * t.y + (u.z * t.x - u.x * t.z),
+          v.z + q.w * t.z + (u.x * t.y - u.y * t.x)};
+}
+
+XrPosef inverse(const XrPosef& p) {
+  const XrQuaternionf qi = conjugate(p.orientation);
+  const XrVector3f t = rotate(qi, p.position);
+  return {qi, {-t.x, -t.y, -t.z}};
+}
+
+struct EyeSwapchain {
+  XrSwapchain handle = XR_NULL_HANDLE;
+  std::vector<VkImage> images;
+  int32_t width = 0, height = 0;
+};
+
+class App {
+ public:
+  explicit App(const AppOptions& options) : options_(options) {}
+  ~App() { shutdown(); }
+
+  AppResult run() {
+    create_instance();
+    create_vulkan();
+    create_session();
+    create_swapchains();
+    create_renderer();
+    AppResult result;
+    loop(&result);
+    result.ok = true;
+    result.frames = frames_;
+    result.stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
+    check(get_stats_(renderer_, &result.stats), "xrGetFoveatedRendererStatsFOVEART");
+    return result;
+  }
+
+ private:
+  void create_instance() {
+    std::vector<const char*> layers;
+    if (options_.enable_layer) layers.push_back(XR_FOVEART_API_LAYER_NAME);
+    const std::array<const char*, 2> extensions{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
+                                                XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME};
+    auto info = xr_struct<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
+    std::strncpy(info.applicationInfo.applicationName, "hello_foveated", XR_MAX_APPLICATION_NAME_SIZE - 1);
+    std::strncpy(info.applicationInfo.engineName, "foveart_engine", XR_MAX_ENGINE_NAME_SIZE - 1);
+    info.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
+    info.enabledApiLayerCount = static_cast<uint32_t>(layers.size());
+    info.enabledApiLayerNames = layers.data();
+    info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    info.enabledExtensionNames = extensions.data();
+    check(xrCreateInstance(&info, &instance_), "xrCreateInstance (is the FoveaRT layer installed?)");
+    auto system_info = xr_struct<XrSystemGetInfo>(XR_TYPE_SYSTEM_GET_INFO);
+    system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
+    check(xrGetSystem(instance_, &system_info, &system_), "xrGetSystem");
+    create_renderer_ = proc<PFN_xrCreateFoveatedRendererFOVEART>(instance_, "xrCreateFoveatedRendererFOVEART");
+    destroy_renderer_ = proc<PFN_xrDestroyFoveatedRendererFOVEART>(instance_, "xrDestroyFoveatedRendererFOVEART");
+    get_stats_ = proc<PFN_xrGetFoveatedRendererStatsFOVEART>(instance_, "xrGetFoveatedRendererStatsFOVEART");
+  }
+
+  void create_vulkan() {
+    auto requirements = xr_struct<XrGraphicsRequirementsVulkan2KHR>(XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR);
+    check(proc<PFN_xrGetVulkanGraphicsRequirements2KHR>(instance_, "xrGetVulkanGraphicsRequirements2KHR")(
+              instance_, system_, &requirements),
+          "xrGetVulkanGraphicsRequirements2KHR");
+    auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
+    app.pApplicationName = "hello_foveated";
+    app.apiVersion = VK_API_VERSION_1_1;
+    auto vk_info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
+    vk_info.pApplicationInfo = &app;
+    auto create = xr_struct<XrVulkanInstanceCreateInfoKHR>(XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR);
+    create.systemId = system_;
+    create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
+    create.vulkanCreateInfo = &vk_info;
+    VkResult vr = VK_SUCCESS;
+    check(proc<PFN_xrCreateVulkanInstanceKHR>(instance_, "xrCreateVulkanInstanceKHR")(instance_, &create,
+                                                                                      &vk_instance_, &vr),
+          "xrCreateVulkanInstanceKHR");
+    check(vr, "vkCreateInstance");
+    auto device_get = xr_struct<XrVulkanGraphicsDeviceGetInfoKHR>(XR_TYPE_VULKAN_GRAPHICS_DEVICE_GET_INFO_KHR);
+    device_get.systemId = system_;
+    device_get.vulkanInstance = vk_instance_;
+    check(proc<PFN_xrGetVulkanGraphicsDevice2KHR>(instance_, "xrGetVulkanGraphicsDevice2KHR")(instance_, &device_get,
+                                                                                              &physical_device_),
+          "xrGetVulkanGraphicsDevice2KHR");
+    uint32_t family_count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_device_, &family_count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(family_count);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_device_, &family_count, families.data());
+    queue_family_ = UINT32_MAX;
+    for (uint32_t i = 0; i < family_count; ++i) {
+      if (families[i].queueFlags & VK_QUEUE_GRAPHICS_BIT) {
+        queue_family_ = i;
+        break;
+      }
+    }
+    if (queue_family_ == UINT32_MAX) throw std::runtime_error("no graphics queue family");
+    const float priority = 1.0f;
+    auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+    queue_info.queueFamilyIndex = queue_family_;
+    queue_info.queueCount = 1;
+    queue_info.pQueuePriorities = &priority;
+    auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+    device_info.queueCreateInfoCount = 1;
+    device_info.pQueueCreateInfos = &queue_info;
+    auto device_create = xr_struct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
+    device_create.systemId = system_;
+    device_create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
+    device_create.vulkanPhysicalDevice = physical_device_;
+    device_create.vulkanCreateInfo = &device_info;
+    check(proc<PFN_xrCreateVulkanDeviceKHR>(instance_, "xrCreateVulkanDeviceKHR")(instance_, &device_create,
+                                                                                  &device_, &vr),
+          "xrCreateVulkanDeviceKHR");
+    check(vr, "vkCreateDevice");
+    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+    auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool_info.queueFamilyIndex = queue_family_;
+    check(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool");
+    auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+    cb_info.commandPool = pool_;
+    cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cb_info.commandBufferCount = 1;
+    check(vkAllocateCommandBuffers(device_, &cb_info, &command_buffer_), "vkAllocateCommandBuffers");
+    auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+    check(vkCreateFence(device_, &fence_info, nullptr, &fence_), "vkCreateFence");
+  }
+
+  void create_session() {
+    auto binding = xr_struct<XrGraphicsBindingVulkan2KHR>(XR_TYPE_GRAPHICS_BINDING_VULKAN2_KHR);
+    binding.instance = vk_instance_;
+    binding.physicalDevice = physical_device_;
+    binding.device = device_;
+    binding.queueFamilyIndex = queue_family_;
+    binding.queueIndex = 0;
+    auto info = xr_struct<XrSessionCreateInfo>(XR_TYPE_SESSION_CREATE_INFO);
+    info.next = &binding;
+    info.systemId = system_;
+    check(xrCreateSession(instance_, &info, &session_), "xrCreateSession");
+    auto space_info = xr_struct<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
+    space_info.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
+    // poseInReferenceSpace is the app space's origin in LOCAL: the inverse of
+    // scene_from_local, so a pose located in space_ is in scene coordinates.
+    space_info.poseInReferenceSpace = inverse(options_.scene_from_local);
+    check(xrCreateReferenceSpace(session_, &space_info, &space_), "xrCreateReferenceSpace");
+  }
+
+  void create_swapchains() {
+    uint32_t count = 0;
+    check(xrEnumerateViewConfigurationViews(instance_, system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &count,
+                                            nullptr),
+          "xrEnumerateViewConfigurationViews");
+    std::vector<XrViewConfigurationView> views(count, xr_struct<XrViewConfigurationView>(XR_TYPE_VIEW_CONFIGURATION_VIEW));
+    check(xrEnumerateViewConfigurationViews(instance_, system_, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, count,
+                                            &count, views.data()),
+          "xrEnumerateViewConfigurationViews");
+    if (count != 2) throw std::runtime_error("expected a stereo view configuration");
+    for (uint32_t e = 0; e < 2; ++e) {
+      auto info = xr_struct<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
+      info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+      info.format = VK_FORMAT_R8G8B8A8_SRGB;
+      info.sampleCount = 1;
+      info.width = views[e].recommendedImageRectWidth;
+      info.height = views[e].recommendedImageRectHeight;
+      info.faceCount = 1;
+      info.arraySize = 1;
+      info.mipCount = 1;
+      check(xrCreateSwapchain(session_, &info, &eyes_[e].handle), "xrCreateSwapchain");
+      eyes_[e].width = static_cast<int32_t>(info.width);
+      eyes_[e].height = static_cast<int32_t>(info.height);
+      uint32_t n = 0;
+      check(xrEnumerateSwapchainImages(eyes_[e].handle, 0, &n, nullptr), "xrEnumerateSwapchainImages");
+      std::vector<XrSwapchainImageVulkan2KHR> images(n, xr_struct<XrSwapchainImageVulkan2KHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR));
+      check(xrEnumerateSwapchainImages(eyes_[e].handle, n, &n,
+                                       reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())),
+            "xrEnumerateSwapchainImages");
+      for (const auto& image : images) eyes_[e].images.push_back(image.image);
+    }
+  }
+
+  void create_renderer() {
+    auto info = xr_struct<XrFoveatedRendererCreateInfoFOVEART>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART);
+    info.traceRays = options_.trace_rays;
+    info.userData = options_.user_data;
+    info.interpolation = options_.interpolation;
+    info.k = options_.k;
+    info.densityScale = options_.density_scale;
+    info.raysPerPoint = options_.rays_per_point;
+    info.taaEnable = options_.taa ? XR_TRUE : XR_FALSE;
+    info.gazeSource = options_.gaze_source;
+    info.gazeProviderSpec = options_.gaze_provider.empty() ? nullptr : options_.gaze_provider.c_str();
+    check(create_renderer_(session_, &info, &renderer_), "xrCreateFoveatedRendererFOVEART");
+  }
+
+  // The placeholder: a grey clear. It is what the runtime shows if the layer
+  // falls back for a view.
+  void clear_placeholder(uint32_t e, uint32_t index) {
+    check(vkResetCommandBuffer(command_buffer_, 0), "vkResetCommandBuffer");
+    auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    check(vkBeginCommandBuffer(command_buffer_, &begin), "vkBeginCommandBuffer");
+    auto barrier = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+    barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.image = eyes_[e].images[index];
+    barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                         nullptr, 0, nullptr, 1, &barrier);
+    VkClearColorValue grey{};
+    grey.float32[0] = grey.float32[1] = grey.float32[2] = 0.2f;
+    grey.float32[3] = 1.0f;
+    vkCmdClearColorImage(command_buffer_, barrier.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1,
+                         &barrier.subresourceRange);
+    barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+    barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+    barrier.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+    check(vkEndCommandBuffer(command_buffer_), "vkEndCommandBuffer");
+    check(vkResetFences(device_, 1, &fence_), "vkResetFences");
+    auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &command_buffer_;
+    check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
+    check(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  }
+
+  bool poll_events() {
+    for (;;) {
+      auto event = xr_struct<XrEventDataBuffer>(XR_TYPE_EVENT_DATA_BUFFER);
+      const XrResult r = xrPollEvent(instance_, &event);
+      check(r, "xrPollEvent");
+      if (r == XR_EVENT_UNAVAILABLE) return true;
+      if (event.type == XR_TYPE_EVENT_DATA_INSTANCE_LOSS_PENDING) return false;
+      if (event.type != XR_TYPE_EVENT_DATA_SESSION_STATE_CHANGED) continue;
+      const auto& changed = *reinterpret_cast<const XrEventDataSessionStateChanged*>(&event);
+      state_ = changed.state;
+      if (state_ == XR_SESSION_STATE_READY) {
+        auto begin = xr_struct<XrSessionBeginInfo>(XR_TYPE_SESSION_BEGIN_INFO);
+        begin.primaryViewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+        check(xrBeginSession(session_, &begin), "xrBeginSession");
+        running_ = true;
+      } else if (state_ == XR_SESSION_STATE_STOPPING) {
+        check(xrEndSession(session_), "xrEndSession");
+        running_ = false;
+      } else if (state_ == XR_SESSION_STATE_EXITING || state_ == XR_SESSION_STATE_LOSS_PENDING) {
+        return false;
+      }
+    }
+  }
+
+  void loop(AppResult* result) {
+    while (poll_events()) {
+      if (options_.max_frames != 0 && frames_ >= options_.max_frames) break;
+      if (!running_) continue;
+      auto wait_info = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
+      auto frame_state = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
+      check(xrWaitFrame(session_, &wait_info, &frame_state), "xrWaitFrame");
+      auto begin_info = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
+      check(xrBeginFrame(session_, &begin_info), "xrBeginFrame");
+
+      std::array<XrView, 2> views{xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
+      auto locate = xr_struct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
+      locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+      locate.displayTime = frame_state.predictedDisplayTime;
+      locate.space = space_;
+      auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
+      uint32_t view_count = 0;
+      check(xrLocateViews(session_, &locate, &view_state, 2, &view_count, views.data()), "xrLocateViews");
+
+      std::array<XrCompositionLayerProjectionView, 2> projection_views{};
+      for (uint32_t e = 0; e < 2; ++e) {
+        uint32_t index = 0;
+        auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
+        check(xrAcquireSwapchainImage(eyes_[e].handle, &acquire, &index), "xrAcquireSwapchainImage");
+        auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+        wait.timeout = XR_INFINITE_DURATION;
+        check(xrWaitSwapchainImage(eyes_[e].handle, &wait), "xrWaitSwapchainImage");
+        clear_placeholder(e, index);
+        auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
+        check(xrReleaseSwapchainImage(eyes_[e].handle, &release), "xrReleaseSwapchainImage");
+        projection_views[e] = xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
+        projection_views[e].pose = views[e].pose;
+        projection_views[e].fov = views[e].fov;
+        projection_views[e].subImage.swapchain = eyes_[e].handle;
+        projection_views[e].subImage.imageRect = {{0, 0}, {eyes_[e].width, eyes_[e].height}};
+      }
+      // The opt-in: chained first into the projection layer.
+      auto foveated = xr_struct<XrFoveatedRayTracingLayerFOVEART>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
+      foveated.renderer = renderer_;
+      auto layer = xr_struct<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
+      layer.next = &foveated;
+      layer.space = space_;
+      layer.viewCount = 2;
+      layer.views = projection_views.data();
+      const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
+      auto end = xr_struct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+      end.displayTime = frame_state.predictedDisplayTime;
+      end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+      end.layerCount = frame_state.shouldRender ? 1 : 0;
+      end.layers = layers;
+      check(xrEndFrame(session_, &end), "xrEndFrame");
+      ++frames_;
+      auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
+      check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
+      if (stats.framesTraced > traced_) {
+        traced_ = stats.framesTraced;
+        if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
+        for (int e = 0; e < 2; ++e) {
+          result->overhead_ms[e].push_back(stats.selectMs[e] + stats.interpolateMs[e] + stats.taaMs[e] +
+                                           stats.uploadMs[e]);
+          result->trace_ms[e].push_back(stats.traceMs[e]);
+        }
+      }
+    }
+  }
+
+  void shutdown() noexcept {
+    if (renderer_ != XR_NULL_HANDLE && destroy_renderer_ != nullptr) destroy_renderer_(renderer_);
+    renderer_ = XR_NULL_HANDLE;
+    for (auto& eye : eyes_) {
+      if (eye.handle != XR_NULL_HANDLE) xrDestroySwapchain(eye.handle);
+      eye.handle = XR_NULL_HANDLE;
+    }
+    if (space_ != XR_NULL_HANDLE) xrDestroySpace(space_);
+    space_ = XR_NULL_HANDLE;
+    if (session_ != XR_NULL_HANDLE) xrDestroySession(session_);
+    session_ = XR_NULL_HANDLE;
+    if (device_ != VK_NULL_HANDLE) {
+      vkDeviceWaitIdle(device_);
+      if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
+      if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
+      vkDestroyDevice(device_, nullptr);
+      device_ = VK_NULL_HANDLE;
+    }
+    if (vk_instance_ != VK_NULL_HANDLE) vkDestroyInstance(vk_instance_, nullptr);
+    vk_instance_ = VK_NULL_HANDLE;
+    if (instance_ != XR_NULL_HANDLE) xrDestroyInstance(instance_);
+    instance_ = XR_NULL_HANDLE;
+  }
+
+  AppOptions options_;
+  XrInstance instance_ = XR_NULL_HANDLE;
+  XrSystemId system_ = XR_NULL_SYSTEM_ID;
+  XrSession session_ = XR_NULL_HANDLE;
+  XrSpace space_ = XR_NULL_HANDLE;
+  XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
+  bool running_ = false;
+  uint64_t frames_ = 0;
+  uint64_t traced_ = 0;
+  EyeSwapchain eyes_[2];
+  VkInstance vk_instance_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  uint32_t queue_family_ = 0;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  PFN_xrCreateFoveatedRendererFOVEART create_renderer_ = nullptr;
+  PFN_xrDestroyFoveatedRendererFOVEART destroy_renderer_ = nullptr;
+  PFN_xrGetFoveatedRendererStatsFOVEART get_stats_ = nullptr;
+  XrFoveatedRendererFOVEART renderer_ = XR_NULL_HANDLE;
+};
+
+}  // namespace
+
+AppResult run_app(const AppOptions& options) {
+  try {
+    App app(options);
+    return app.run();
+  } catch (const std::exception& e) {
+    AppResult result;
+    result.error = e.what();
+    return result;
+  }
+}
+
+}  // namespace foveart::hello

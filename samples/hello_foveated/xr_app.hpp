@@ -1,0 +1,51 @@
+// A minimal OpenXR + Vulkan2 client: instance with the FoveaRT layer and
+// extension, session on a device the runtime picks, one placeholder swapchain
+// per eye (cleared, never shaded: the layer replaces those views), the frame
+// loop, and the foveated renderer around it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#define XR_USE_GRAPHICS_API_VULKAN
+#include <vulkan/vulkan.h>
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+
+#include "layer/XR_FOVEART_foveated_ray_tracing.h"
+
+namespace foveart::hello {
+
+struct AppOptions {
+  FoveartTraceRaysFn trace_rays = nullptr;
+  void* user_data = nullptr;
+  XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+  uint32_t k = 0;
+  float density_scale = 0.0f;
+  uint32_t rays_per_point = 0;
+  bool taa = true;
+  XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
+  std::string gaze_provider;  // empty: the layer's config
+  bool enable_layer = true;   // false when the layer is enabled implicitly / by XR_ENABLE_API_LAYERS
+  uint64_t max_frames = 0;    // 0: until the runtime ends the session
+  // Where the headset's LOCAL origin sits in the scene (the scene's camera):
+  // the app's space is LOCAL offset by this pose, so rays come out in scene space.
+  XrPosef scene_from_local{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+};
+
+struct AppResult {
+  bool ok = false;
+  std::string error;
+  uint64_t frames = 0;
+  XrFoveatedRendererStatsFOVEART stats{};
+  // Per traced frame: gaze age at composition, and the layer's own time per eye
+  // excluding the callback (select + interpolate + TAA + upload).
+  std::vector<float> gaze_age_ms;
+  std::vector<float> overhead_ms[2];
+  std::vector<float> trace_ms[2];
+};
+
+AppResult run_app(const AppOptions& options);
+
+}  // namespace foveart::hello

@@ -1,0 +1,43 @@
+// Environment variables understood by the simulated FOVE 0 OpenXR runtime
+// (libfoveart_sim_runtime.so, manifest <build>/manifests/foveart_sim_runtime.json).
+//
+// The runtime reads them once, in xrCreateInstance. A malformed value makes
+// xrCreateInstance fail with XR_ERROR_INITIALIZATION_FAILED after a message on
+// stderr that names the variable and the value. docs/sim_runtime.md has the details.
+#pragma once
+
+namespace foveart::sim::env {
+
+// Frames the runtime shows before it asks the application to exit (sessions go
+// FOCUSED -> VISIBLE -> SYNCHRONIZED -> STOPPING, then IDLE -> EXITING after
+// xrEndSession). Counted in xrEndFrame calls. Unset or 0: no budget.
+inline constexpr const char* kFrames = "FOVEART_SIM_FRAMES";
+// "real" (default): xrWaitFrame sleeps to a 70 Hz grid of CLOCK_MONOTONIC.
+// "virtual": time only moves when xrWaitFrame is called, by one 70 Hz period;
+// nothing sleeps. XrTime starts at 1 s (1'000'000'000 ns) at xrCreateInstance.
+inline constexpr const char* kClock = "FOVEART_SIM_CLOCK";
+// Gaze trace in the gaze-diag CSV format; unset: the built-in saccade script.
+inline constexpr const char* kGaze = "FOVEART_SIM_GAZE";
+// "0" turns eye tracking off: supportsEyeGazeInteraction is XR_FALSE and gaze
+// actions stay inactive. Default "1".
+inline constexpr const char* kEyeTracking = "FOVEART_SIM_EYE_TRACKING";
+// "static" (default) or "sway": slow scripted head yaw of +-10 deg at 0.1 Hz.
+inline constexpr const char* kHead = "FOVEART_SIM_HEAD";
+// Folder for frame capture: frame_NNNNNN_left.png / _right.png per projection
+// layer view (layers after the first: frame_NNNNNN_layerK_left.png) and frames.csv.
+inline constexpr const char* kCaptureDir = "FOVEART_SIM_CAPTURE_DIR";
+// Capture every N-th frame's PNGs (frames.csv always has every frame). Default 1.
+inline constexpr const char* kCaptureEvery = "FOVEART_SIM_CAPTURE_EVERY";
+// 0 quiet, 1 info (default), 2 debug. Messages go to stderr prefixed "foveart-sim".
+inline constexpr const char* kLog = "FOVEART_SIM_LOG";
+
+// Numbers the runtime reports (FOVE 0).
+inline constexpr unsigned kViewWidthPx = 1280;
+inline constexpr unsigned kViewHeightPx = 1440;
+inline constexpr double kDisplayRateHz = 70.0;
+inline constexpr double kGazeRateHz = 120.0;
+inline constexpr double kIpdM = 0.063;
+// XrTime of xrCreateInstance under FOVEART_SIM_CLOCK=virtual; gaze traces start here.
+inline constexpr long long kVirtualEpochNs = 1'000'000'000;
+
+}  // namespace foveart::sim::env

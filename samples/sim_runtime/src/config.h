@@ -1,0 +1,25 @@
+// Runtime configuration read from the environment (sim_runtime/sim_env.h).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace foveart::sim {
+
+struct Config {
+  uint64_t frame_budget = 0;  // 0: no budget
+  bool virtual_clock = false;
+  std::string gaze_file;  // empty: built-in saccade script
+  bool eye_tracking = true;
+  bool head_sway = false;
+  std::string capture_dir;  // empty: no capture
+  uint32_t capture_every = 1;
+  int log_level = 1;
+};
+
+// Reads the FOVEART_SIM_* variables. On a malformed value returns nullopt and
+// fills error with a message naming the variable.
+std::optional<Config> config_from_environment(std::string& error);
+
+}  // namespace foveart::sim

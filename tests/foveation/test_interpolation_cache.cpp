@@ -1,0 +1,128 @@
+// The interpolation table cache: round trip, and every kind of bad file is
+// rejected with a message saying which, then rebuilt.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "foveation/interpolation_cache.hpp"
+#include "interpolation_fixture.hpp"
+
+namespace foveart::foveation {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct InterpolationCacheTest : ::testing::Test {
+  void SetUp() override {
+    dir = fs::temp_directory_path() / ("foveart_interp_cache_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir);
+    key.display.name = "test";
+    key.display.width_px = test::kScreenW;
+    key.display.height_px = test::kScreenH;
+    key.display.view_distance_px = 100.0;
+    key.seed = 3;
+    opts.method = InterpMethod::rbf_mq;
+    opts.k = 10;
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  CachedTable load_or_build(std::vector<std::string>* logs = nullptr) {
+    return load_or_build_interpolation_table(dir, key, points, nt, opts, WeightPrecision::f16, 2, {},
+                                             [&](const std::string& m) { if (logs) logs->push_back(m); });
+  }
+  fs::path only_file() const {
+    for (const auto& e : fs::directory_iterator(dir)) return e.path();
+    return {};
+  }
+
+  fs::path dir;
+  PointSetKey key;
+  PointSet points = test::foveated_points(2);
+  NeighborTable nt = NeighborTable::build(points, 10);
+  InterpOptions opts;
+};
+
+TEST_F(InterpolationCacheTest, RoundTripServesIdenticalWeights) {
+  const auto built = load_or_build();
+  EXPECT_FALSE(built.from_cache);
+  const auto loaded = load_or_build();
+  EXPECT_TRUE(loaded.from_cache);
+  EXPECT_EQ(loaded.table.weights_f16, built.table.weights_f16);
+  EXPECT_EQ(loaded.table.precision, WeightPrecision::f16);
+  EXPECT_EQ(loaded.table.options.method, InterpMethod::rbf_mq);
+  EXPECT_EQ(loaded.table.stats.factorizations, built.table.stats.factorizations);
+}
+
+TEST_F(InterpolationCacheTest, TruncatedFileIsRejectedAndRebuilt) {
+  load_or_build();
+  const auto file = only_file();
+  fs::resize_file(file, fs::file_size(file) - 7);
+  std::vector<std::string> logs;
+  const auto again = load_or_build(&logs);
+  EXPECT_FALSE(again.from_cache);
+  ASSERT_EQ(logs.size(), 1u);
+  EXPECT_NE(logs[0].find("truncated"), std::string::npos) << logs[0];
+  EXPECT_TRUE(load_or_build().from_cache);  // the rebuild was stored
+}
+
+TEST_F(InterpolationCacheTest, CorruptPayloadIsRejected) {
+  load_or_build();
+  const auto file = only_file();
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(-3, std::ios::end);
+    f.put('\x5a');
+  }
+  std::vector<std::string> logs;
+  EXPECT_FALSE(load_or_build(&logs).from_cache);
+  ASSERT_EQ(logs.size(), 1u);
+  EXPECT_NE(logs[0].find("checksum"), std::string::npos) << logs[0];
+}
+
+TEST_F(InterpolationCacheTest, OtherVersionAndOtherParametersAreRejected) {
+  load_or_build();
+  const auto file = only_file();
+  const auto params = interpolation_cache_params(key, points, opts, WeightPrecision::f16);
+  std::string error;
+  EXPECT_TRUE(load_interpolation_table(file, params, &error).has_value()) << error;
+  // Another shape: other parameters (same file forced).
+  auto other = opts;
+  other.shape = 0.7;
+  EXPECT_FALSE(load_interpolation_table(file, interpolation_cache_params(key, points, other, WeightPrecision::f16), &error));
+  EXPECT_NE(error.find("other parameters"), std::string::npos) << error;
+  // Moved points: other parameters, too (the point set checksum is in the key).
+  auto moved = points;
+  moved.position_px[5].x += 0.25f;
+  EXPECT_FALSE(load_interpolation_table(file, interpolation_cache_params(key, moved, opts, WeightPrecision::f16), &error));
+  EXPECT_NE(error.find("other parameters"), std::string::npos) << error;
+  // Another format version.
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(8);
+    const std::uint32_t v = kInterpCacheFormatVersion + 1;
+    f.write(reinterpret_cast<const char*>(&v), 4);
+  }
+  EXPECT_FALSE(load_interpolation_table(file, params, &error));
+  EXPECT_NE(error.find("format version"), std::string::npos) << error;
+  // Not a cache file at all.
+  { std::ofstream(file, std::ios::trunc) << "hello"; }
+  EXPECT_FALSE(load_interpolation_table(file, params, &error));
+  EXPECT_NE(error.find("magic"), std::string::npos) << error;
+  EXPECT_FALSE(load_interpolation_table(dir / "nope.bin", params, &error));
+  EXPECT_NE(error.find("missing"), std::string::npos) << error;
+}
+
+TEST(InterpolationMemory, K20FoveCanvasNeedsHalfWeights) {
+  // FOVE canvas 2560 x 2880: indices 3 B + float weights 4 B at k = 20 is
+  // 1.03 GB, over budget; half weights bring it to 737 MB.
+  const std::size_t pixels = 2560u * 2880u;
+  EXPECT_GT(table_bytes(pixels, 20, WeightPrecision::f32), kTableBudgetBytes);
+  EXPECT_LT(table_bytes(pixels, 20, WeightPrecision::f16), kTableBudgetBytes);
+  EXPECT_EQ(auto_precision(pixels, 20), WeightPrecision::f16);
+  EXPECT_EQ(auto_precision(pixels, 15), WeightPrecision::f32);
+}
+
+}  // namespace
+}  // namespace foveart::foveation

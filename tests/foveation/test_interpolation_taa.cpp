@@ -1,0 +1,159 @@
+// TAA (Karis 2014 clamp, Salvi 2016 variance clip) and the image metrics.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "foveation/image_metrics.hpp"
+#include "foveation/taa.hpp"
+
+namespace foveart::foveation {
+namespace {
+
+ImageRgb gradient(int w, int h, float offset = 0.0f) {
+  ImageRgb im(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      float* c = im.at(x, y);
+      c[0] = offset + 0.5f * float(x) / float(w);
+      c[1] = offset + 0.5f * float(y) / float(h);
+      c[2] = offset + 0.25f;
+    }
+  }
+  return im;
+}
+
+ImageRgb noisy(const ImageRgb& base, std::mt19937& rng, float sigma) {
+  std::normal_distribution<float> n(0.0f, sigma);
+  ImageRgb im = base;
+  for (float& v : im.rgb) v += n(rng);
+  return im;
+}
+
+class Taa : public ::testing::TestWithParam<TaaConstraint> {};
+
+TEST_P(Taa, StaticFrameIsAFixedPoint) {
+  TaaOptions o;
+  o.constraint = GetParam();
+  TemporalAccumulator taa(o);
+  const auto frame = gradient(64, 48);
+  for (int t = 0; t < 5; ++t) {
+    const auto& out = taa.accumulate(frame, {32, 24});
+    EXPECT_EQ(out.rgb, frame.rgb);
+  }
+  EXPECT_EQ(taa.reset_count(), 1u);
+}
+
+TEST_P(Taa, StaticNoisySceneConvergesAndFlickersLess) {
+  TaaOptions o;
+  o.constraint = GetParam();
+  o.threads = 2;
+  TemporalAccumulator taa(o);
+  const auto base = gradient(64, 48);
+  std::mt19937 rng(1);
+  const float sigma = 0.05f;
+  ImageRgb prev_in, prev_out;
+  double flicker_in = 0, flicker_out = 0;
+  double first_error = 0, last_error = 0;
+  for (int t = 0; t < 64; ++t) {
+    const auto in = noisy(base, rng, sigma);
+    const ImageRgb out = taa.accumulate(in, {32, 24});
+    const double err = mean_abs_difference(out, base);
+    if (t == 0) first_error = err;
+    last_error = err;
+    if (t > 0) {
+      flicker_in += mean_abs_difference(in, prev_in);
+      flicker_out += mean_abs_difference(out, prev_out);
+    }
+    prev_in = in;
+    prev_out = out;
+  }
+  EXPECT_LT(last_error, 0.7 * first_error);
+  EXPECT_LT(flicker_out, 0.5 * flicker_in);
+  EXPECT_EQ(taa.reset_count(), 1u);
+}
+
+TEST_P(Taa, ConvergesToANewStaticScene) {
+  TaaOptions o;
+  o.constraint = GetParam();
+  TemporalAccumulator taa(o);
+  const auto a = gradient(32, 32, 0.0f), b = gradient(32, 32, 0.3f);
+  for (int t = 0; t < 10; ++t) taa.accumulate(a, {16, 16});
+  double err = 1.0;
+  for (int t = 0; t < 64; ++t) {
+    const double e = mean_abs_difference(taa.accumulate(b, {16, 16}), b);
+    EXPECT_LE(e, err + 1e-7);
+    err = e;
+  }
+  EXPECT_LT(err, 1e-3);
+}
+
+TEST_P(Taa, GazeJumpResetsHistory) {
+  TaaOptions o;
+  o.constraint = GetParam();
+  TemporalAccumulator taa(o);
+  const auto a = gradient(64, 48, 0.0f), c = gradient(64, 48, 0.4f);
+  for (int t = 0; t < 8; ++t) taa.accumulate(a, {10, 10});
+  // A small move keeps the history: the output is not the new frame yet.
+  const ImageRgb kept = taa.accumulate(c, {15, 10});
+  EXPECT_FALSE(taa.last_was_reset());
+  EXPECT_NE(kept.rgb, c.rgb);
+  // A jump beyond reset_distance_px: the output is exactly the current frame.
+  const ImageRgb jumped = taa.accumulate(c, {60, 40});
+  EXPECT_TRUE(taa.last_was_reset());
+  EXPECT_EQ(jumped.rgb, c.rgb);
+  // A saccade flag resets even without motion.
+  taa.accumulate(a, {60, 40}, /*saccade=*/true);
+  EXPECT_TRUE(taa.last_was_reset());
+  EXPECT_EQ(taa.reset_count(), 3u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Constraints, Taa,
+                         ::testing::Values(TaaConstraint::minmax_clamp, TaaConstraint::variance_clip));
+
+TEST(ImageMetrics, PsnrOfKnownError) {
+  const auto a = gradient(16, 16);
+  auto b = a;
+  EXPECT_TRUE(std::isinf(psnr(a, b)));
+  for (float& v : b.rgb) v += 0.1f;
+  EXPECT_NEAR(psnr(a, b), 20.0, 1e-4);
+  EXPECT_NEAR(mean_abs_difference(a, b), 0.1, 1e-6);
+  EXPECT_THROW(psnr(a, gradient(8, 8)), std::invalid_argument);
+}
+
+TEST(ImageMetrics, SsimIsOneForIdenticalAndLowerForNoise) {
+  const auto a = gradient(40, 30);
+  EXPECT_NEAR(ssim(a, a), 1.0, 1e-9);
+  std::mt19937 rng(2);
+  const auto b = noisy(a, rng, 0.1f);
+  const double s = ssim(a, b);
+  EXPECT_LT(s, 0.9);
+  EXPECT_GT(s, -1.0);
+}
+
+TEST(ImageMetrics, RingsSplitByEccentricity) {
+  const int w = 400, h = 300;
+  const auto ref = gradient(w, h);
+  auto im = ref;
+  const double view_distance = 200.0;  // 5 deg at 17.5 px, 30 deg at 115 px
+  // Error only beyond 30 degrees from the gaze at the centre.
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (std::hypot(x + 0.5 - 200.0, y + 0.5 - 150.0) > 140.0) im.at(x, y)[0] += 0.2f;
+    }
+  }
+  const auto rings = ring_metrics(ref, im, {200, 150}, view_distance);
+  ASSERT_EQ(rings.size(), 5u);
+  std::size_t total = 0;
+  for (const auto& r : rings) total += r.pixels;
+  EXPECT_EQ(total, std::size_t(w * h));
+  EXPECT_EQ(rings[0].from_deg, 0.0);
+  EXPECT_EQ(rings[0].to_deg, 5.0);
+  EXPECT_TRUE(std::isinf(rings[0].psnr));
+  EXPECT_TRUE(std::isinf(rings[2].psnr));
+  EXPECT_TRUE(std::isfinite(rings[4].psnr));
+  EXPECT_LT(rings[4].ssim, 1.0);
+}
+
+}  // namespace
+}  // namespace foveart::foveation

@@ -1,0 +1,160 @@
+// hello_foveated through the real loader, the layer and the simulated FOVE
+// runtime: both eyes traced every frame, gaze lost mid-run, failing engines.
+#include <stb/stb_image.h>
+
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "process.hpp"
+#include "test_env.hpp"
+
+namespace foveart::layer::test {
+namespace {
+
+constexpr int kTimeoutS = 900;
+
+struct AppRun {
+  ProcessResult process;
+  nlohmann::json stats;
+};
+
+// Mean and spread of an 8-bit image's channels.
+struct ImageSummary {
+  bool loaded = false;
+  int width = 0, height = 0;
+  double mean = 0.0;
+  double min = 255.0, max = 0.0;
+};
+
+ImageSummary summarize(const fs::path& png) {
+  ImageSummary s;
+  int channels = 0;
+  unsigned char* data = stbi_load(png.c_str(), &s.width, &s.height, &channels, 3);
+  if (data == nullptr) return s;
+  s.loaded = true;
+  const std::size_t n = std::size_t(s.width) * std::size_t(s.height) * 3;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sum += data[i];
+    s.min = std::min<double>(s.min, data[i]);
+    s.max = std::max<double>(s.max, data[i]);
+  }
+  s.mean = sum / static_cast<double>(n);
+  stbi_image_free(data);
+  return s;
+}
+
+class HelloFoveated : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!have_runtime()) GTEST_SKIP() << "simulated runtime not built";
+    env_ = std::make_unique<IsolatedEnv>();
+    // The 1280x1440 tables take a while to build: one cache shared by the suite.
+    const auto config = env_->root() / "config.json";
+    std::ofstream(config) << R"({"wait_for_tables": true, "cache_dir": ")" << FOVEART_TEST_CACHE_DIR
+                          << R"(", "log_level": "info"})";
+    IsolatedEnv::set("FOVEART_CONFIG", config);
+    IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env_->root() / "frames");
+    IsolatedEnv::set("FOVEART_SIM_FRAMES", "3");
+  }
+
+  AppRun launch(std::vector<std::string> args) {
+    args.insert(args.begin(), {FOVEART_HELLO_FOVEATED, "--json"});
+    AppRun r;
+    r.process = run_process(args, env_->root() / "hello_foveated.log", kTimeoutS);
+    const auto brace = r.process.output.find("\n{");
+    if (brace != std::string::npos) {
+      r.stats = nlohmann::json::parse(r.process.output.substr(brace + 1), nullptr, false);
+    }
+    return r;
+  }
+
+  fs::path frame(int index, const char* eye) const {
+    char name[64];
+    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", index, eye);
+    return env_->root() / "frames" / name;
+  }
+
+  std::unique_ptr<IsolatedEnv> env_;
+};
+
+TEST_F(HelloFoveated, TracesBothEyesEveryFrame) {
+  const auto r = launch({"--gaze", "none"});
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["frames_submitted"], 3);
+  EXPECT_EQ(r.stats["frames_traced"], 3);
+  EXPECT_EQ(r.stats["views_fallback"], 0);
+  EXPECT_EQ(r.stats["callback_failures"], 0);
+  for (int e = 0; e < 2; ++e) {
+    EXPECT_GT(r.stats["eyes"][e]["points"].get<int>(), 100000) << "eye " << e;
+    EXPECT_EQ(r.stats["eyes"][e]["rays"], r.stats["eyes"][e]["points"]);
+  }
+  // No gaze requested: fixed foveation, flagged.
+  EXPECT_EQ(r.stats["fallback_flags"].get<uint64_t>() & 1u, 1u);
+  for (const char* eye : {"left", "right"}) {
+    const auto img = summarize(frame(2, eye));
+    ASSERT_TRUE(img.loaded) << frame(2, eye);
+    EXPECT_EQ(img.width, 1280);
+    EXPECT_EQ(img.height, 1440);
+    // The app only cleared its images to grey (sRGB 124): a traced scene has contrast.
+    EXPECT_GT(img.max - img.min, 150.0) << eye;
+  }
+}
+
+TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {
+  // 0.25 s of valid gaze at 120 Hz, then the tracker loses the eye for good.
+  const auto trace = env_->root() / "gaze.csv";
+  {
+    std::ofstream csv(trace);
+    csv << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n";
+    for (int i = 0; i < 2400; ++i) {
+      const bool valid = i < 30;
+      csv << i * 8333 << "," << i << "," << (valid ? 1 : 0) << ","
+          << (valid ? "0.1,0.05,0.9937" : "nan,nan,nan") << "\n";
+    }
+  }
+  IsolatedEnv::set("FOVEART_SIM_FRAMES", "6");
+  const auto r = launch({"--gaze", "provider", "--gaze-provider", "replay:" + trace.string()});
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["frames_traced"], 6);
+  EXPECT_EQ(r.stats["views_fallback"], 0);
+  EXPECT_GT(r.stats["gaze_lost_frames"].get<int>(), 0);
+}
+
+class FailingEngine : public HelloFoveated, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(FailingEngine, ViewsFallBackToTheAppsImage) {
+  const auto r = launch({"--gaze", "none", "--fault", GetParam()});
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["frames_traced"], 0);
+  EXPECT_EQ(r.stats["views_fallback"], 6);
+  const std::string fault = GetParam();
+  if (fault == "nan") {
+    EXPECT_GT(r.stats["invalid_colours"].get<int>(), 0);
+  } else {
+    EXPECT_GT(r.stats["callback_failures"].get<int>(), 0);
+  }
+  // Logged once, not per frame.
+  std::size_t lines = 0;
+  for (std::size_t at = r.process.output.find("logged once"); at != std::string::npos;
+       at = r.process.output.find("logged once", at + 1)) {
+    ++lines;
+  }
+  EXPECT_EQ(lines, 1u);
+  // What the runtime showed is the app's own grey placeholder, not garbage.
+  const auto img = summarize(frame(2, "left"));
+  ASSERT_TRUE(img.loaded);
+  EXPECT_NEAR(img.min, 124.0, 1.0);
+  EXPECT_NEAR(img.max, 124.0, 1.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Faults, FailingEngine, ::testing::Values("nan", "error", "throw"));
+
+}  // namespace
+}  // namespace foveart::layer::test

@@ -1,0 +1,78 @@
+// Isolated environment for headless OpenXR tests: private HOME and XDG
+// directories, the layer's explicit manifest, the simulated runtime, lavapipe.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace foveart::layer::test {
+
+namespace fs = std::filesystem;
+
+inline fs::path manifest_dir() { return FOVEART_MANIFEST_DIR; }
+inline fs::path runtime_manifest() { return manifest_dir() / "foveart_sim_runtime.json"; }
+inline fs::path explicit_layer_dir() { return manifest_dir() / "explicit"; }
+inline fs::path implicit_layer_manifest() {
+  return manifest_dir() / "implicit" / "XR_APILAYER_FOVEART_foveated_ray_tracing.json";
+}
+inline const char* kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+inline const char* kSystemExplicitLayers = "/usr/share/openxr/1/api_layers/explicit.d";
+
+// A fresh directory tree per test, removed at the end; sets the process
+// environment so the loader sees nothing of the machine's configuration.
+class IsolatedEnv {
+ public:
+  IsolatedEnv() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = fs::temp_directory_path() /
+            ("foveart_layer_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
+             std::to_string(::getpid()));
+    fs::remove_all(root_);
+    for (const char* d : {"home", "config", "data", "cache", "config_dirs", "data_dirs", "runtime"}) {
+      fs::create_directories(root_ / d);
+    }
+    set("HOME", root_ / "home");
+    set("XDG_CONFIG_HOME", root_ / "config");
+    set("XDG_DATA_HOME", root_ / "data");
+    set("XDG_CACHE_HOME", root_ / "cache");
+    set("XDG_CONFIG_DIRS", root_ / "config_dirs");
+    set("XDG_DATA_DIRS", root_ / "data_dirs");
+    set("XDG_RUNTIME_DIR", root_ / "runtime");
+    set("XR_API_LAYER_PATH", explicit_layer_dir());
+    set("XR_RUNTIME_JSON", runtime_manifest());
+    set("VK_ICD_FILENAMES", kLavapipeIcd);
+    set("FOVEART_SIM_CLOCK", "virtual");
+    for (const char* name : {"XR_ENABLE_API_LAYERS", "FOVEART_CONFIG", "FOVEART_DISABLE",
+                             "FOVEART_ENABLE_IMPLICIT_LAYER", "FOVEART_DISABLE_IMPLICIT_LAYER",
+                             "VK_INSTANCE_LAYERS"}) {
+      ::unsetenv(name);
+    }
+  }
+  ~IsolatedEnv() {
+    std::error_code ec;
+    fs::remove_all(root_, ec);
+  }
+  IsolatedEnv(const IsolatedEnv&) = delete;
+  IsolatedEnv& operator=(const IsolatedEnv&) = delete;
+
+  const fs::path& root() const { return root_; }
+  static void set(const char* name, const fs::path& value) { ::setenv(name, value.c_str(), 1); }
+  static void set(const char* name, const char* value) { ::setenv(name, value, 1); }
+
+ private:
+  fs::path root_;
+};
+
+inline bool have_runtime() { return fs::exists(runtime_manifest()); }
+
+#define FOVEART_REQUIRE_RUNTIME()                                                                  \
+  do {                                                                                             \
+    if (!::foveart::layer::test::have_runtime()) GTEST_SKIP() << "simulated runtime not built";   \
+  } while (0)
+
+}  // namespace foveart::layer::test

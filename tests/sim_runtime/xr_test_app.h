@@ -1,0 +1,71 @@
+// A minimal OpenXR + Vulkan application for the runtime tests: instance through
+// the real loader, Vulkan through XR_KHR_vulkan_enable2, one session.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+#define XR_USE_GRAPHICS_API_VULKAN
+#define XR_USE_TIMESPEC
+#include <openxr/openxr.h>
+#include <openxr/openxr_platform.h>
+#include <time.h>
+
+namespace foveart::sim::test {
+
+// A zeroed OpenXR struct with its type (and next) filled in.
+template <class T>
+T xr(XrStructureType type, void* next = nullptr) {
+  T value{};
+  value.type = type;
+  value.next = next;
+  return value;
+}
+
+// Sets (or, with an empty value, unsets) FOVEART_SIM_* and friends for this process.
+void set_env(const std::map<std::string, std::string>& vars);
+// Clears every FOVEART_SIM_* variable.
+void clear_sim_env();
+// A fresh, empty directory under the build tree for one test.
+std::string fresh_dir(const std::string& name);
+
+class XrTestApp {
+ public:
+  XrTestApp() = default;
+  XrTestApp(const XrTestApp&) = delete;
+  XrTestApp& operator=(const XrTestApp&) = delete;
+  ~XrTestApp();
+
+  XrResult create_instance(bool eye_gaze = true);
+  // Vulkan instance/device through the runtime, then the session.
+  XrResult create_session();
+  // Polls events until the session reaches state (or max_polls frames pass);
+  // runs empty frames while the session is running. Returns whether reached.
+  bool run_until_state(XrSessionState state, int max_frames = 200);
+  // Pops all queued events, recording session states.
+  void drain_events();
+  // One empty frame: wait, begin, end with no layers.
+  XrResult empty_frame(XrFrameState* state_out = nullptr);
+  template <class Fn>
+  Fn proc(const char* name) {
+    PFN_xrVoidFunction f = nullptr;
+    xrGetInstanceProcAddr(instance, name, &f);
+    return reinterpret_cast<Fn>(f);
+  }
+
+  XrInstance instance = XR_NULL_HANDLE;
+  XrSystemId system = XR_NULL_SYSTEM_ID;
+  XrSession session = XR_NULL_HANDLE;
+  XrSessionState state = XR_SESSION_STATE_UNKNOWN;
+  std::vector<XrSessionState> states;
+  bool interaction_profile_changed = false;
+  VkInstance vk_instance = VK_NULL_HANDLE;
+  VkPhysicalDevice vk_physical = VK_NULL_HANDLE;
+  VkDevice vk_device = VK_NULL_HANDLE;
+  uint32_t queue_family = 0;
+};
+
+}  // namespace foveart::sim::test

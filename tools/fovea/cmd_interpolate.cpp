@@ -1,0 +1,221 @@
+// fovea interpolate --method nn|msm|rbf-mq|rbf-gauss [--k K] [--shape E0]
+//                   [--no-constant] --samples FILE --queries FILE
+// Interpolates each query from its k nearest samples ((distance, row) order)
+// with the renderer's weight code; prints one value per line (%.17g).
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <nanoflann.hpp>
+
+#include "foveation/interpolation_weights.hpp"
+#include "foveation/neighbor_table.hpp"
+#include "interp_commands.hpp"
+
+namespace foveart::tools {
+
+namespace fv = foveart::foveation;
+
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+// Splits a line into exactly `fields` numbers; returns false with `why` set.
+bool parse_line(std::string_view line, int fields, double* out, std::string& why) {
+  int n = 0;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    const std::string_view field = trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
+    if (n == fields) {
+      why = "expected " + std::to_string(fields) + " fields, found more";
+      return false;
+    }
+    double v = 0.0;
+    const auto* first = field.data();
+    const auto* last = field.data() + field.size();
+    if (!field.empty() && *first == '+') ++first;
+    const auto [ptr, ec] = std::from_chars(first, last, v);
+    if (ec == std::errc::result_out_of_range) {
+      why = "field " + std::to_string(n + 1) + " '" + std::string(field) + "' is out of the double range";
+      return false;
+    }
+    if (field.empty() || ec != std::errc() || ptr != last) {
+      why = "field " + std::to_string(n + 1) + " '" + std::string(field) + "' is not a number";
+      return false;
+    }
+    out[n++] = v;
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+  if (n != fields) {
+    why = "expected " + std::to_string(fields) + " fields, found " + std::to_string(n);
+    return false;
+  }
+  return true;
+}
+
+struct Cloud {
+  const std::vector<double>* xyv;  // x, y, value per sample
+  std::size_t kdtree_get_point_count() const { return xyv->size() / 3; }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*xyv)[i * 3 + dim]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const { return false; }
+};
+using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud, double>, Cloud, 2,
+                                                 std::uint32_t>;
+
+}  // namespace
+
+std::string parse_csv_rows(std::istream& in, const std::string& name, int fields, std::vector<double>& values) {
+  std::string line;
+  int line_no = 0;
+  bool first_content = true;
+  double row[3] = {0, 0, 0};
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string_view l = trim(line);
+    if (l.empty()) continue;
+    std::string why;
+    if (!parse_line(l, fields, row, why)) {
+      if (first_content) {  // a header line
+        first_content = false;
+        continue;
+      }
+      return name + ":" + std::to_string(line_no) + ": " + why;
+    }
+    first_content = false;
+    for (int i = 0; i < fields; ++i) {
+      if (!std::isfinite(row[i])) {
+        return name + ":" + std::to_string(line_no) + ": field " + std::to_string(i + 1) + " is not finite";
+      }
+      values.push_back(row[i]);
+    }
+  }
+  if (values.empty()) return name + ": no data rows";
+  return {};
+}
+
+int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& err) {
+  auto fail = [&](const std::string& msg) {
+    err << "fovea interpolate: " << msg << "\n";
+    return 1;
+  };
+  const auto method = fv::parse_method(a.method);
+  if (!method) return fail("unknown --method '" + a.method + "' (nn, msm, rbf-mq, rbf-gauss)");
+  if (a.k < 1 || a.k > fv::kMaxNeighbors) {
+    return fail("--k " + std::to_string(a.k) + " is outside 1.." + std::to_string(fv::kMaxNeighbors));
+  }
+  if (!(a.shape >= 0.0) || !std::isfinite(a.shape)) return fail("--shape must be a finite number >= 0");
+  std::vector<double> samples, queries;
+  {
+    std::ifstream f(a.samples_file);
+    if (!f) return fail("cannot open samples file '" + a.samples_file + "'");
+    if (auto e = parse_csv_rows(f, a.samples_file, 3, samples); !e.empty()) return fail(e);
+  }
+  {
+    std::ifstream f(a.queries_file);
+    if (!f) return fail("cannot open queries file '" + a.queries_file + "'");
+    if (auto e = parse_csv_rows(f, a.queries_file, 2, queries); !e.empty()) return fail(e);
+  }
+  const std::size_t n = samples.size() / 3;
+  if (std::size_t(a.k) > n) {
+    return fail("--k " + std::to_string(a.k) + " is larger than the " + std::to_string(n) + " samples");
+  }
+  if (n >= (std::size_t(1) << 32) - 1) return fail("too many samples");
+  fv::InterpOptions o;
+  o.method = *method;
+  o.k = a.k;
+  o.shape = a.shape;
+  o.constant_term = !a.no_constant;
+
+  Cloud cloud{&samples};
+  Tree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  std::vector<std::uint32_t> idx(std::size_t(a.k));
+  std::vector<double> dist(std::size_t(a.k));
+  std::vector<std::pair<std::uint32_t, double>> hits;
+  struct Cand {
+    double d2;
+    std::uint32_t i;
+  };
+  std::vector<Cand> cand;
+  std::vector<fv::Vec2d> nb(std::size_t(a.k));
+  std::vector<std::uint32_t> ids(std::size_t(a.k));
+  std::vector<double> w(std::size_t(a.k)), f(std::size_t(a.k));
+  char buf[40];
+  for (std::size_t q = 0; q < queries.size() / 2; ++q) {
+    const double qp[2] = {queries[q * 2], queries[q * 2 + 1]};
+    const std::size_t found = tree.knnSearch(qp, std::size_t(a.k), idx.data(), dist.data());
+    // Exact order by (distance in double, row): every sample within the k-th
+    // distance (plus rounding margin) is a candidate, so ties are complete.
+    double dk = 0.0;
+    for (std::size_t i = 0; i < found; ++i) {
+      dk = std::max(dk, std::hypot(samples[idx[i] * 3] - qp[0], samples[idx[i] * 3 + 1] - qp[1]));
+    }
+    const double radius = dk * (1.0 + 1e-9) + 1e-12 * (std::abs(qp[0]) + std::abs(qp[1]) + 1.0);
+    hits.clear();
+    tree.radiusSearch(qp, radius * radius * (1.0 + 1e-9), hits, nanoflann::SearchParams(32, 0.0f, false));
+    cand.clear();
+    for (const auto& h : hits) {
+      const double dx = samples[h.first * 3] - qp[0], dy = samples[h.first * 3 + 1] - qp[1];
+      cand.push_back({dx * dx + dy * dy, h.first});
+    }
+    for (std::size_t i = 0; i < found; ++i) {  // never fewer than k candidates
+      if (std::none_of(cand.begin(), cand.end(), [&](const Cand& c) { return c.i == idx[i]; })) {
+        const double dx = samples[idx[i] * 3] - qp[0], dy = samples[idx[i] * 3 + 1] - qp[1];
+        cand.push_back({dx * dx + dy * dy, idx[i]});
+      }
+    }
+    std::partial_sort(cand.begin(), cand.begin() + a.k, cand.end(), [](const Cand& x, const Cand& y) {
+      return x.d2 != y.d2 ? x.d2 < y.d2 : x.i < y.i;
+    });
+    for (int j = 0; j < a.k; ++j) {
+      const std::uint32_t i = cand[std::size_t(j)].i;
+      ids[std::size_t(j)] = i;
+      nb[std::size_t(j)] = {samples[i * 3], samples[i * 3 + 1]};
+      f[std::size_t(j)] = samples[i * 3 + 2];
+    }
+    fv::interpolation_weights(o, nb, ids, {qp[0], qp[1]}, w);
+    double v = fv::apply_weights(w, f);
+    if (!std::isfinite(v)) return fail("query " + std::to_string(q + 1) + " gave a non-finite value (please report)");
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    out << buf << '\n';
+  }
+  out.flush();
+  return 0;
+}
+
+}  // namespace foveart::tools
+
+void register_interpolate(CLI::App& app) {
+  using namespace foveart::tools;
+  auto args = std::make_shared<InterpolateArgs>();
+  auto* sub = app.add_subcommand("interpolate", "Interpolate scattered samples at query points (CSV in, values out)");
+  sub->add_option("--method", args->method, "nn, msm, rbf-mq or rbf-gauss")->required();
+  sub->add_option("--k", args->k, "neighbours per query, 1..20")->capture_default_str();
+  sub->add_option("--shape", args->shape, "RBF shape eps0 = eps * h_local (0 = default 0.2)");
+  sub->add_flag("--no-constant", args->no_constant, "RBF without the constant term (the thesis's plain form)");
+  sub->add_option("--samples", args->samples_file, "CSV rows x,y,value (header line allowed)")->required();
+  sub->add_option("--queries", args->queries_file, "CSV rows x,y (header line allowed)")->required();
+  sub->callback([args] {
+    int rc = 1;
+    try {
+      rc = run_interpolate(*args, std::cout, std::cerr);
+    } catch (const std::exception& e) {
+      std::cerr << "fovea interpolate: " << e.what() << "\n";
+    }
+    if (rc != 0) throw CLI::RuntimeError(rc);
+  });
+}

@@ -1,0 +1,282 @@
+// fovea reconstruct --image IN.png --preset fove --gaze X,Y --method M --k K
+//                   --scale S --spp N --out OUT.png [--json] [--frames F --jitter]
+// The thesis's user-study pipeline on an image: sample the image at the visible
+// points (spp bilinear samples in each point's disc), reconstruct every pixel
+// with the k-tap gather, run TAA, and report timings and error per ring.
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include "foveation/display_model.hpp"
+#include "foveation/gather.hpp"
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/image_metrics.hpp"
+#include "foveation/interpolation_cache.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "foveation/ray_samples.hpp"
+#include "foveation/taa.hpp"
+#include "foveation/visible_points.hpp"
+#include "interp_commands.hpp"
+
+namespace foveart::tools {
+
+namespace fv = foveart::foveation;
+
+namespace {
+
+struct ReconstructArgs {
+  std::string image;
+  std::string preset = "fove";
+  std::string gaze;  // "X,Y" screen pixels; empty = centre
+  std::string method = "msm";
+  int k = 5;
+  double scale = 1.0;
+  int spp = 8;
+  std::string out;
+  bool json = false;
+  int frames = 1;
+  bool jitter = false;
+  std::uint64_t seed = 1;
+  std::string cache_dir;
+  bool no_cache = false;
+  int threads = 0;
+  double shape = 0.0;
+  bool no_constant = false;
+};
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Bilinear sample of a [0, 1] RGB image at a screen position (pixel centres at
+// +0.5, clamped to the edge).
+void bilinear(const fv::ImageRgb& im, float x, float y, float* rgb) {
+  const float fx = std::clamp(x - 0.5f, 0.0f, float(im.width_px - 1));
+  const float fy = std::clamp(y - 0.5f, 0.0f, float(im.height_px - 1));
+  const int x0 = int(fx), y0 = int(fy);
+  const int x1 = std::min(x0 + 1, im.width_px - 1), y1 = std::min(y0 + 1, im.height_px - 1);
+  const float tx = fx - float(x0), ty = fy - float(y0);
+  const float* a = im.at(x0, y0);
+  const float* b = im.at(x1, y0);
+  const float* c = im.at(x0, y1);
+  const float* d = im.at(x1, y1);
+  for (int i = 0; i < 3; ++i) {
+    rgb[i] = (a[i] * (1 - tx) + b[i] * tx) * (1 - ty) + (c[i] * (1 - tx) + d[i] * tx) * ty;
+  }
+}
+
+std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a) {
+  if (a.no_cache) return std::nullopt;
+  if (!a.cache_dir.empty()) return std::filesystem::path(a.cache_dir);
+  if (const char* e = std::getenv("FOVEART_CACHE_DIR"); e && *e) return std::filesystem::path(e);
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "foveart";
+  if (const char* h = std::getenv("HOME"); h && *h) return std::filesystem::path(h) / ".cache" / "foveart";
+  return std::nullopt;
+}
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
+  auto fail = [&](const std::string& msg) {
+    err << "fovea reconstruct: " << msg << "\n";
+    return 1;
+  };
+  const auto method = fv::parse_method(a.method);
+  if (!method) return fail("unknown --method '" + a.method + "' (nn, msm, rbf-mq, rbf-gauss)");
+  if (a.k < 1 || a.k > fv::kMaxNeighbors) return fail("--k must be in 1..20");
+  if (a.spp < 1 || a.spp > 4096) return fail("--spp must be in 1..4096");
+  if (!(a.scale > 0.0) || !std::isfinite(a.scale)) return fail("--scale must be a positive number");
+  if (a.frames < 1 || a.frames > 10000) return fail("--frames must be in 1..10000");
+  auto display = fv::display_preset(a.preset);
+  if (!display) {
+    std::string names;
+    for (const auto& n : fv::display_preset_names()) names += (names.empty() ? "" : ", ") + n;
+    return fail("unknown --preset '" + a.preset + "' (" + names + ")");
+  }
+
+  // Input image, as display values in [0, 1].
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = stbi_load(a.image.c_str(), &w, &h, &channels, 3);
+  if (!pixels) return fail("cannot read image '" + a.image + "': " + (stbi_failure_reason() ? stbi_failure_reason() : "?"));
+  fv::ImageRgb reference(w, h);
+  for (std::size_t i = 0; i < reference.rgb.size(); ++i) reference.rgb[i] = float(pixels[i]) / 255.0f;
+  stbi_image_free(pixels);
+
+  // The display takes the image's size and keeps the preset's field of view.
+  display->view_distance_px *= double(w) / double(display->width_px);
+  display->width_px = w;
+  display->height_px = h;
+  display->scale = a.scale;
+  if (auto e = display->validate(); !e.empty()) return fail("display: " + e);
+
+  glm::vec2 gaze{float(w) / 2.0f, float(h) / 2.0f};
+  if (!a.gaze.empty()) {
+    float gx = 0, gy = 0;
+    char extra = 0;
+    if (std::sscanf(a.gaze.c_str(), "%f,%f%c", &gx, &gy, &extra) != 2 || !std::isfinite(gx) || !std::isfinite(gy)) {
+      return fail("--gaze '" + a.gaze + "' is not X,Y in pixels");
+    }
+    gaze = {gx, gy};
+  }
+  const auto mapping = fv::map_gaze(w, h, gaze);
+
+  // Point set, neighbour table and weights: cached, not part of the frame time.
+  const auto t_setup = std::chrono::steady_clock::now();
+  const auto cache = cache_dir_of(a);
+  fv::PointSetKey key{*display, a.seed, a.k};
+  auto log = [&](const std::string& m) {
+    if (!a.json) err << "fovea reconstruct: " << m << "\n";
+  };
+  const auto tables = fv::load_or_build_tables(cache, key, {}, log);
+  fv::InterpOptions io;
+  io.method = *method;
+  io.k = a.k;
+  io.shape = a.shape;
+  io.constant_term = !a.no_constant;
+  const auto interp = fv::load_or_build_interpolation_table(cache, key, tables.points, tables.neighbors, io,
+                                                            std::nullopt, a.threads, {}, log);
+  const double setup_ms = ms_since(t_setup);
+
+  fv::TaaOptions taa_opts;
+  taa_opts.threads = a.threads;
+  fv::TemporalAccumulator taa(taa_opts);
+  fv::GatherOptions gopts;
+  gopts.threads = a.threads;
+  double sample_ms = 0, interpolate_ms = 0, taa_ms = 0, total_ms = 0;
+  double flicker = 0, flicker_raw = 0;
+  fv::ImageRgb frame, prev_out, prev_raw, output;
+  fv::GatherStats gstats;
+  std::size_t visible_count = 0;
+  for (int t = 0; t < a.frames; ++t) {
+    const auto t_frame = std::chrono::steady_clock::now();
+    const auto visible = fv::select_visible_points(tables.points, mapping);
+    const auto rays = fv::generate_ray_samples(tables.points, visible, a.spp, a.seed + (a.jitter ? std::uint64_t(t) : 0));
+    std::vector<float> rgb(visible.size() * 3, 0.0f);
+    for (std::size_t r = 0; r < rays.size(); ++r) {
+      float c[3];
+      bilinear(reference, rays.sample_px[r].x, rays.sample_px[r].y, c);
+      float* dst = rgb.data() + (r / std::size_t(a.spp)) * 3;
+      for (int i = 0; i < 3; ++i) dst[i] += c[i] / float(a.spp);
+    }
+    const auto colors = fv::point_colors_from_list(tables.points.size(), visible.point_index, rgb);
+    visible_count = visible.size();
+    sample_ms += ms_since(t_frame);
+    const auto t_gather = std::chrono::steady_clock::now();
+    gstats = fv::gather(tables.neighbors, interp.table, colors, mapping, frame, gopts);
+    interpolate_ms += ms_since(t_gather);
+    const auto t_taa = std::chrono::steady_clock::now();
+    output = taa.accumulate(frame, mapping.gaze_px);
+    taa_ms += ms_since(t_taa);
+    total_ms += ms_since(t_frame);
+    if (t > 0) {
+      flicker += fv::mean_abs_difference(output, prev_out);
+      flicker_raw += fv::mean_abs_difference(frame, prev_raw);
+    }
+    prev_out = output;
+    prev_raw = frame;
+  }
+  const double nf = double(a.frames);
+
+  if (!a.out.empty()) {
+    std::vector<unsigned char> bytes(output.rgb.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i) {
+      bytes[i] = static_cast<unsigned char>(std::lround(std::clamp(output.rgb[i], 0.0f, 1.0f) * 255.0f));
+    }
+    if (!stbi_write_png(a.out.c_str(), w, h, 3, bytes.data(), w * 3)) return fail("cannot write '" + a.out + "'");
+  }
+
+  const double psnr = fv::psnr(reference, output);
+  const double ssim = fv::ssim(reference, output);
+  const auto rings = fv::ring_metrics(reference, output, mapping.gaze_px, display->view_distance_px);
+  nlohmann::json j;
+  j["image"] = a.image;
+  j["preset"] = a.preset;
+  j["method"] = std::string(fv::method_name(*method));
+  j["k"] = a.k;
+  j["scale"] = a.scale;
+  j["spp"] = a.spp;
+  j["gaze"] = {mapping.gaze_px.x, mapping.gaze_px.y};
+  j["points"] = visible_count;
+  j["points_total"] = tables.points.size();
+  j["pixels"] = std::size_t(w) * std::size_t(h);
+  j["frames"] = a.frames;
+  j["sample_ms"] = sample_ms / nf;
+  j["interpolate_ms"] = interpolate_ms / nf;
+  j["taa_ms"] = taa_ms / nf;
+  j["total_ms"] = total_ms / nf;
+  j["setup_ms"] = setup_ms;
+  j["table_from_cache"] = interp.from_cache;
+  j["table_weight_bytes"] = interp.table.bytes();
+  j["table_index_bytes"] = tables.neighbors.bytes();
+  j["weights"] = interp.table.precision == fv::WeightPrecision::f16 ? "f16" : "f32";
+  j["rbf_fallback_pixels"] = interp.table.stats.fallback_msm;
+  j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
+  j["psnr"] = number_or_null(psnr);
+  j["ssim"] = ssim;
+  if (a.frames > 1) {
+    j["flicker"] = flicker / (nf - 1.0);
+    j["flicker_no_taa"] = flicker_raw / (nf - 1.0);
+  }
+  j["rings"] = nlohmann::json::array();
+  for (const auto& r : rings) {
+    j["rings"].push_back({{"from_deg", r.from_deg},
+                          {"to_deg", number_or_null(r.to_deg)},
+                          {"pixels", r.pixels},
+                          {"psnr", number_or_null(r.psnr)},
+                          {"ssim", number_or_null(r.ssim)}});
+  }
+  if (a.json) {
+    out << j.dump(2) << "\n";
+  } else {
+    out << "points " << visible_count << ", " << w << "x" << h << " px, " << fv::method_name(*method) << " k=" << a.k
+        << ": sample " << sample_ms / nf << " ms, interpolate " << interpolate_ms / nf << " ms, taa " << taa_ms / nf
+        << " ms, total " << total_ms / nf << " ms; PSNR " << psnr << " dB, SSIM " << ssim << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+}  // namespace foveart::tools
+
+void register_reconstruct(CLI::App& app) {
+  using namespace foveart::tools;
+  auto a = std::make_shared<ReconstructArgs>();
+  auto* sub = app.add_subcommand("reconstruct", "Foveate an image: sample it at the visible points and reconstruct");
+  sub->add_option("--image", a->image, "input PNG (or any format stb_image reads)")->required();
+  sub->add_option("--preset", a->preset, "display preset (fove, vive, thesis)")->capture_default_str();
+  sub->add_option("--gaze", a->gaze, "gaze X,Y in pixels (default: image centre)");
+  sub->add_option("--method", a->method, "nn, msm, rbf-mq or rbf-gauss")->capture_default_str();
+  sub->add_option("--k", a->k, "neighbours per pixel, 1..20")->capture_default_str();
+  sub->add_option("--scale", a->scale, "density scale of the point set")->capture_default_str();
+  sub->add_option("--spp", a->spp, "samples per point (bilinear, in the point's disc)")->capture_default_str();
+  sub->add_option("--out", a->out, "output PNG");
+  sub->add_flag("--json", a->json, "print a JSON report");
+  sub->add_option("--frames", a->frames, "frames to run through TAA (static gaze)")->capture_default_str();
+  sub->add_flag("--jitter", a->jitter, "new sample positions every frame (to measure flicker)");
+  sub->add_option("--seed", a->seed, "point set and sample seed")->capture_default_str();
+  sub->add_option("--cache", a->cache_dir, "cache directory (default $FOVEART_CACHE_DIR, $XDG_CACHE_HOME/foveart)");
+  sub->add_flag("--no-cache", a->no_cache, "build everything, store nothing");
+  sub->add_option("--threads", a->threads, "threads (0 = all cores)")->capture_default_str();
+  sub->add_option("--shape", a->shape, "RBF shape eps0 (0 = default)");
+  sub->add_flag("--no-constant", a->no_constant, "RBF without the constant term (thesis form)");
+  sub->callback([a] {
+    int rc = 1;
+    try {
+      rc = run_reconstruct(*a, std::cout, std::cerr);
+    } catch (const std::exception& e) {
+      std::cerr << "fovea reconstruct: " << e.what() << "\n";
+    }
+    if (rc != 0) throw CLI::RuntimeError(rc);
+  });
+}

@@ -1,0 +1,36 @@
+// `fovea interpolate` and `fovea reconstruct` (issue 3): registration with the
+// fovea tool and the testable cores behind them.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+// Registration with the fovea tool (declared for main.cpp in commands.hpp).
+void register_interpolate(CLI::App& app);
+void register_reconstruct(CLI::App& app);
+
+namespace foveart::tools {
+
+// --- fovea interpolate ---------------------------------------------------------
+struct InterpolateArgs {
+  std::string method = "msm";
+  int k = 5;
+  double shape = 0.0;  // 0 = kernel default
+  bool no_constant = false;
+  std::string samples_file;
+  std::string queries_file;
+};
+// Reads the two CSV files, writes one value per query line to `out`. Returns the
+// exit code; on error writes one "fovea interpolate: ..." line to `err`.
+int run_interpolate(const InterpolateArgs& args, std::ostream& out, std::ostream& err);
+
+// Parses CSV text of rows with `fields` numbers each (a first header line is
+// allowed). Returns an error message (with file and line), empty on success.
+std::string parse_csv_rows(std::istream& in, const std::string& name, int fields, std::vector<double>& values);
+
+}  // namespace foveart::tools
