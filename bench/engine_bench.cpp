@@ -119,12 +119,14 @@ void BM_Foveated(benchmark::State& state) {
   req.gaze_px = glm::vec2(640.0f, 720.0f);
   req.cache_dir = "/tmp/foveart_bench_cache";
   req.threads = bench_threads();
-  foveart::tools::render_foveated(*t, view, req);  // build (or load) the tables
+  foveart::tools::FoveatedRenderer renderer(view, req);  // build (or load) the tables once
+  if (!renderer.error().empty()) state.SkipWithError(renderer.error().c_str());
+  Image img;
   double trace_ms = 0.0, reconstruct_ms = 0.0, cpu_s = 0.0;
   uint64_t points = 0;
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
-    const auto r = foveart::tools::render_foveated(*t, view, req);
+    const auto r = renderer.render(*t, req.gaze_px, &img);
     cpu_s += thread_cpu_s() - c0;
     trace_ms += r.trace_ms;
     reconstruct_ms += r.reconstruct_ms;
