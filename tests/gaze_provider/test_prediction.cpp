@@ -146,3 +146,27 @@ TEST(Prediction, InterpolatesInsideHistoryAndInvalidatesWhenStale) {
   EXPECT_TRUE(out.lost);
   EXPECT_FALSE(predict_gaze({}, 0, config, out));
 }
+
+TEST(Prediction, EyesFollowTheCombinedGaze) {
+  FilterConfig config;  // default One Euro: the eyes are smoothed and predicted with it
+  FilterChain chain(config);
+  std::vector<GazeSample> w;
+  for (int i = 0; i < 60; ++i) {
+    const double yaw = 20.0 * double(i) * double(kPeriodNs) * 1e-9;  // 20 deg/s
+    GazeSample s;
+    s.device_time_ns = s.host_time_ns = i * kPeriodNs;
+    s.valid = true;
+    s.combined_direction = from_yaw_pitch_deg(yaw, 0.0);
+    s.left = {{-0.032f, 0.0f, 0.0f}, from_yaw_pitch_deg(yaw + 1.0, 0.0), true, EyeState::open};
+    s.right = {{0.032f, 0.0f, 0.0f}, from_yaw_pitch_deg(yaw - 1.0, 0.0), true, EyeState::open};
+    w.insert(w.begin(), chain.process(s));
+    if (w.size() > 16) w.pop_back();
+  }
+  GazeSample out;
+  ASSERT_TRUE(predict_gaze(w, w[0].host_time_ns + 20'000'000, config, out));
+  ASSERT_TRUE(out.extrapolated);
+  const double c = to_yaw_pitch_deg(out.combined_direction).yaw_deg;
+  EXPECT_NEAR(to_yaw_pitch_deg(out.left.direction).yaw_deg - c, 1.0, 1e-3) << "vergence kept";
+  EXPECT_NEAR(to_yaw_pitch_deg(out.right.direction).yaw_deg - c, -1.0, 1e-3);
+  EXPECT_GT(c, to_yaw_pitch_deg(w[0].combined_direction).yaw_deg + 0.2) << "moved ahead with the pursuit";
+}
