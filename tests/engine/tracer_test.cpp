@@ -327,3 +327,22 @@ TEST(Tracer, EmptySceneSeesOnlySky) {
   ASSERT_EQ(t->trace(&b), FOVEART_RESULT_SUCCESS);
   EXPECT_NEAR(rgb[2], Scene{}.sky_zenith.z, 1e-6f);
 }
+
+TEST(Tracer, AlphaMaskCutsOutTexelsBelowTheCutoff) {
+  Scene s;
+  Material m = rough();
+  m.alpha_mode = AlphaMode::kMask;
+  m.alpha_cutoff = 0.5f;
+  m.base_color_texture = 0;
+  s.materials.push_back(m);
+  Texture t;  // left half transparent, right half opaque
+  t.width = 2;
+  t.height = 1;
+  t.texels = {glm::vec4(1, 1, 1, 0), glm::vec4(1, 1, 1, 1)};
+  t.nearest = true;
+  s.textures.push_back(t);
+  add_floor(s, 1.0f, 0.0f, 0);
+  auto tr = make(std::move(s));
+  EXPECT_FALSE(tr->intersect({-0.5f, 1.0f, 0.0f}, {0, -1, 0}).hit);  // u = 0.25: alpha 0
+  EXPECT_TRUE(tr->intersect({0.5f, 1.0f, 0.0f}, {0, -1, 0}).hit);    // u = 0.75: alpha 1
+}

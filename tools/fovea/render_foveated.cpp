@@ -1,7 +1,8 @@
 // Foveated rendering through the engine callback (thesis section 4.2): only the
-// visible points of the perceptual point set are traced; every pixel then reads
-// the colour of its nearest traced point through the gaze-independent
-// neighbour table. Built only when the foveation core is part of the build.
+// visible points of the perceptual point set are traced; every pixel is then
+// reconstructed from the traced points through the gaze-independent canvas
+// tables (NN here; MSM / RBF through the interpolation module's gather).
+// Built against the foveation core when it is part of the build.
 #include "render_foveated.hpp"
 
 #include <cmath>
@@ -23,9 +24,9 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <exception>
 #include <optional>
+#include <span>
 #include <thread>
 #include <vector>
 #endif
@@ -42,9 +43,16 @@ std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
   return PresetGeometry{1280, 1440, std::atan(640.0 / d), std::atan(720.0 / d)};
 }
 
-FoveatedResult render_foveated(engine::Tracer&, const FoveartEyeView&, const FoveatedRequest&) {
+struct FoveatedRenderer::State {
+  std::string error = "foveated rendering needs the foveation core, which is not part of this build";
+};
+FoveatedRenderer::FoveatedRenderer(const FoveartEyeView&, const FoveatedRequest&) : state_(std::make_unique<State>()) {}
+FoveatedRenderer::~FoveatedRenderer() = default;
+const std::string& FoveatedRenderer::error() const { return state_->error; }
+double FoveatedRenderer::precompute_ms() const { return 0.0; }
+FoveatedResult FoveatedRenderer::render(engine::Tracer&, glm::vec2, engine::Image*) {
   FoveatedResult r;
-  r.error = "foveated rendering needs the foveation core, which is not part of this build";
+  r.error = state_->error;
   return r;
 }
 
@@ -80,13 +88,41 @@ std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
                         std::atan(0.5 * d->height_px / d->view_distance_px)};
 }
 
-FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& req) {
-  FoveatedResult r;
+struct FoveatedRenderer::State {
+  FoveartEyeView view{};
+  FoveatedRequest request;
+  int threads = 1;
+  std::string error;
+  double precompute_ms = 0.0;
+  foveation::FoveationTables tables;
+#ifdef FOVEART_HAVE_INTERPOLATION
+  std::optional<foveation::CachedTable> interp;
+  foveation::ImageRgb gathered;
+#endif
+  // Per-frame buffers, reused: colours of the traced points, and for every point
+  // of the set its colour and the frame in which it was last traced, side by
+  // side so a gather tap touches one cache line (no clearing per frame).
+  struct PointSlot {
+    glm::vec3 rgb{0.0f};
+    uint32_t frame = 0;
+  };
+  std::vector<glm::vec3> visible_rgb;
+  std::vector<PointSlot> slots;
+  uint32_t frame = 0;
+};
+
+FoveatedRenderer::FoveatedRenderer(const FoveartEyeView& view, const FoveatedRequest& req)
+    : state_(std::make_unique<State>()) {
+  State& st = *state_;
+  st.view = view;
+  st.request = req;
+  st.threads = req.threads > 0 ? req.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   try {
+    const auto t0 = std::chrono::steady_clock::now();
     std::optional<foveation::DisplayModel> preset = foveation::display_preset(req.preset);
     if (!preset) {
-      r.error = "unknown display preset '" + req.preset + "'";
-      return r;
+      st.error = "unknown display preset '" + req.preset + "'";
+      return;
     }
     foveation::DisplayModel display = *preset;
     if (static_cast<uint32_t>(display.width_px) != view.width_px ||
@@ -95,13 +131,9 @@ FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& vie
                                                   preset->horizontal_fov_deg());
     display.scale = req.scale;
     if (std::string bad = display.validate(); !bad.empty()) {
-      r.error = "display: " + bad;
-      return r;
+      st.error = "display: " + bad;
+      return;
     }
-    const int threads = req.threads > 0 ? req.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-
-    // Precomputed, gaze-independent tables (cached on disk when asked to).
-    auto t0 = std::chrono::steady_clock::now();
     foveation::PointSetKey key;
     key.display = display;
     key.seed = req.seed;
@@ -111,42 +143,66 @@ FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& vie
     key.k = std::max(req.k, 1);
     std::optional<std::filesystem::path> cache;
     if (!req.cache_dir.empty()) cache = std::filesystem::path(req.cache_dir);
-    const foveation::FoveationTables tables = foveation::load_or_build_tables(cache, key);
+    st.tables = foveation::load_or_build_tables(cache, key);
 #ifdef FOVEART_HAVE_INTERPOLATION
-    // MSM / RBF: per-canvas-pixel weights from the interpolation module (issue 3).
-    std::optional<foveation::CachedTable> interp;
-    if (req.method != "nn") {
-      foveation::InterpOptions io;
+    if (req.method != "nn") {  // MSM / RBF: per-canvas-pixel weights (issue 3)
       const std::optional<foveation::InterpMethod> method = foveation::parse_method(req.method);
       if (!method) {
-        r.error = "unknown interpolation method '" + req.method + "'";
-        return r;
+        st.error = "unknown interpolation method '" + req.method + "'";
+        return;
       }
+      foveation::InterpOptions io;
       io.method = *method;
       io.k = req.k;
-      interp = foveation::load_or_build_interpolation_table(cache, key, tables.points, tables.neighbors, io,
-                                                            std::nullopt, threads);
+      st.interp = foveation::load_or_build_interpolation_table(cache, key, st.tables.points, st.tables.neighbors, io,
+                                                               std::nullopt, st.threads);
     }
 #else
     if (req.method != "nn") {
-      r.error = "--method " + req.method + " needs the interpolation module, which is not part of this build";
-      return r;
+      st.error = "--method " + req.method + " needs the interpolation module, which is not part of this build";
+      return;
     }
 #endif
-    r.precompute_ms = ms_since(t0);
+    st.slots.assign(st.tables.points.size(), State::PointSlot{});
+    st.precompute_ms = ms_since(t0);
+  } catch (const std::exception& e) {
+    st.error = std::string("foveation: ") + e.what();
+  }
+}
 
-    // Per frame: visible points, ray samples, tracing.
-    t0 = std::chrono::steady_clock::now();
+FoveatedRenderer::~FoveatedRenderer() = default;
+const std::string& FoveatedRenderer::error() const { return state_->error; }
+double FoveatedRenderer::precompute_ms() const { return state_->precompute_ms; }
+
+FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out) {
+  State& st = *state_;
+  FoveatedResult r;
+  r.precompute_ms = st.precompute_ms;
+  if (!st.error.empty()) {
+    r.error = st.error;
+    return r;
+  }
+  try {
+    const FoveartEyeView& view = st.view;
+    const foveation::PointSet& points = st.tables.points;
+    // Per frame: visible points, then spp samples per point in its disc, traced.
+    // Sample positions are foveation::unit_disc_sample, exactly as
+    // generate_ray_samples places them, but made inside the parallel batches.
+    auto t0 = std::chrono::steady_clock::now();
     const foveation::GazeMapping mapping =
-        foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), req.gaze_px);
-    const foveation::VisiblePoints visible = foveation::select_visible_points(tables.points, mapping);
-    const foveation::RaySamples samples = foveation::generate_ray_samples(tables.points, visible, req.spp, req.seed);
+        foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), gaze_px);
+    const foveation::VisiblePoints visible = foveation::select_visible_points(points, mapping);
     r.samples_ms = ms_since(t0);
+    const uint64_t seed = st.request.seed;
+    const engine::SampleFn sample = [&](uint64_t v, uint32_t s) {
+      const uint32_t p = visible.point_index[v];
+      return visible.screen_px[v] + foveation::unit_disc_sample(seed, p, static_cast<int>(s)) * points.radius_px[p];
+    };
     engine::RenderSettings settings;
-    settings.threads = threads;
-    std::vector<glm::vec3> sample_rgb;
-    const engine::RenderResult traced = engine::trace_samples(&foveart_engine_trace_rays, &tracer, view,
-                                                              samples.sample_px, samples.point_index, settings, &sample_rgb);
+    settings.threads = st.threads;
+    settings.spp = st.request.spp;
+    const engine::RenderResult traced = engine::trace_points(&foveart_engine_trace_rays, &tracer, view, visible.size(),
+                                                             sample, visible.point_index, settings, &st.visible_rgb);
     r.trace_ms = ms_since(t0);
     r.points = visible.size();
     if (traced.status != FOVEART_RESULT_SUCCESS) {
@@ -154,64 +210,48 @@ FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& vie
       return r;
     }
 
-    // One colour per point (mean of its samples), then nearest traced point per pixel.
     t0 = std::chrono::steady_clock::now();
+    out->width = view.width_px;
+    out->height = view.height_px;
+    out->rgb.resize(static_cast<size_t>(view.width_px) * view.height_px);
 #ifdef FOVEART_HAVE_INTERPOLATION
-    if (interp) {
-      const size_t n_spp = static_cast<size_t>(samples.spp);
-      std::vector<float> rgb(3 * visible.size());
-      for (size_t v = 0; v < visible.size(); ++v) {
-        glm::vec3 sum(0.0f);
-        for (size_t s = 0; s < n_spp; ++s) sum += sample_rgb[v * n_spp + s];
-        sum /= static_cast<float>(n_spp);
-        rgb[3 * v] = sum.x;
-        rgb[3 * v + 1] = sum.y;
-        rgb[3 * v + 2] = sum.z;
-      }
-      const foveation::PointColors colors =
-          foveation::point_colors_from_list(tables.points.size(), visible.point_index, rgb);
-      foveation::ImageRgb img;
+    if (st.interp) {
+      const foveation::PointColors colors = foveation::point_colors_from_list(
+          points.size(), visible.point_index,
+          std::span<const float>(&st.visible_rgb.data()->x, 3 * st.visible_rgb.size()));
       foveation::GatherOptions go;
-      go.threads = threads;
-      foveation::gather(tables.neighbors, interp->table, colors, mapping, img, go);
-      r.image.width = view.width_px;
-      r.image.height = view.height_px;
-      r.image.rgb.resize(img.pixel_count());
-      for (size_t i = 0; i < img.pixel_count(); ++i)
-        r.image.rgb[i] = glm::vec3(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
+      go.threads = st.threads;
+      foveation::gather(st.tables.neighbors, st.interp->table, colors, mapping, st.gathered, go);
+      for (size_t i = 0; i < out->rgb.size(); ++i)
+        out->rgb[i] = glm::vec3(st.gathered.rgb[3 * i], st.gathered.rgb[3 * i + 1], st.gathered.rgb[3 * i + 2]);
       r.reconstruct_ms = ms_since(t0);
       return r;
     }
 #endif
-    const size_t spp = static_cast<size_t>(samples.spp);
-    std::vector<glm::vec3> point_rgb(tables.points.size(), glm::vec3(0.0f));
-    std::vector<uint8_t> traced_point(tables.points.size(), 0);
-    const float inv = 1.0f / static_cast<float>(spp);
+    // NN: every pixel takes the colour of its nearest traced point.
+    const uint32_t frame = ++st.frame;
     for (size_t v = 0; v < visible.size(); ++v) {
-      glm::vec3 sum(0.0f);
-      for (size_t s = 0; s < spp; ++s) sum += sample_rgb[v * spp + s];
       const uint32_t p = visible.point_index[v];
-      point_rgb[p] = sum * inv;
-      traced_point[p] = 1;
+      st.slots[p] = State::PointSlot{st.visible_rgb[v], frame};
     }
-    r.image.width = view.width_px;
-    r.image.height = view.height_px;
-    r.image.rgb.assign(static_cast<size_t>(view.width_px) * view.height_px, glm::vec3(0.0f));
-    const foveation::NeighborTable& nt = tables.neighbors;
+    const foveation::NeighborTable& nt = st.tables.neighbors;
     const int k = nt.k();
-    parallel_rows(view.height_px, threads, [&](uint32_t y0, uint32_t y1) {
+    parallel_rows(view.height_px, st.threads, [&](uint32_t y0, uint32_t y1) {
       for (uint32_t y = y0; y < y1; ++y) {
         const size_t row = static_cast<size_t>(static_cast<int>(y) + mapping.canvas_from_screen_y_px) *
                            static_cast<size_t>(nt.width_px());
+        glm::vec3* dst = out->rgb.data() + static_cast<size_t>(y) * view.width_px;
         for (uint32_t x = 0; x < view.width_px; ++x) {
           const size_t pixel = row + static_cast<size_t>(static_cast<int>(x) + mapping.canvas_from_screen_x_px);
+          glm::vec3 c(0.0f);
           for (int j = 0; j < k; ++j) {
-            const uint32_t p = nt.neighbor(pixel, j);
-            if (traced_point[p]) {
-              r.image.rgb[static_cast<size_t>(y) * view.width_px + x] = point_rgb[p];
+            const State::PointSlot& slot = st.slots[nt.neighbor(pixel, j)];
+            if (slot.frame == frame) {
+              c = slot.rgb;
               break;
             }
           }
+          dst[x] = c;
         }
       }
     });
@@ -223,5 +263,13 @@ FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& vie
 }
 
 #endif
+
+FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& req) {
+  FoveatedRenderer renderer(view, req);
+  engine::Image image;
+  FoveatedResult r = renderer.render(tracer, req.gaze_px, &image);
+  r.image = std::move(image);
+  return r;
+}
 
 }  // namespace foveart::tools

@@ -8,6 +8,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -30,7 +31,7 @@ struct FoveatedResult {
   uint64_t points = 0;        // visible points traced
   double precompute_ms = 0.0; // point set + neighbour table (load or build), not in total
   double trace_ms = 0.0;      // visible points + ray samples + tracing
-  double samples_ms = 0.0;    // of which: visible points + ray samples (bookkeeping)
+  double samples_ms = 0.0;    // of which: visible-point selection (samples are made while tracing)
   double reconstruct_ms = 0.0;
   std::string error;          // non-empty on failure
 };
@@ -48,6 +49,28 @@ struct PresetGeometry {
 };
 std::optional<PresetGeometry> preset_geometry(const std::string& preset);
 
+// Frame after frame for one view: the tables are loaded or built once, the
+// per-frame buffers are reused (nothing of the size of the point set or the
+// image is allocated per frame).
+class FoveatedRenderer {
+ public:
+  FoveatedRenderer(const FoveartEyeView& view, const FoveatedRequest& request);
+  ~FoveatedRenderer();
+  FoveatedRenderer(const FoveatedRenderer&) = delete;
+  FoveatedRenderer& operator=(const FoveatedRenderer&) = delete;
+
+  const std::string& error() const;  // non-empty when the tables could not be made
+  double precompute_ms() const;
+
+  // One frame at `gaze_px` into *out_image (resized once); result.image stays empty.
+  FoveatedResult render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out_image);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
+
+// One-shot: build a renderer and render one frame at request.gaze_px.
 FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& request);
 
 }  // namespace foveart::tools

@@ -11,6 +11,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,14 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
 RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
                            const std::vector<glm::vec2>& sample_px, const std::vector<uint32_t>& point_index,
                            const RenderSettings& settings, std::vector<glm::vec3>* out_rgb);
+
+// spp rays per point, sample s of point i at sample_px(i, s) (e.g. inside the
+// point's disc); out_point_rgb[i] is the mean colour of point i's samples.
+// Samples are generated inside the parallel batches: no per-sample arrays.
+using SampleFn = std::function<glm::vec2(uint64_t point, uint32_t sample)>;
+RenderResult trace_points(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint64_t point_count,
+                          const SampleFn& sample_px, const std::vector<uint32_t>& point_index,
+                          const RenderSettings& settings, std::vector<glm::vec3>* out_point_rgb);
 
 // The FOVE 0 headset per eye: 1280x1440 px, 95 deg horizontal field of view,
 // square pixels; eye 0 (left) / 1 (right) 32 mm either side of the head pose.
