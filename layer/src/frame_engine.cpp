@@ -78,7 +78,7 @@ class FoveatedFrameEngine final : public FrameEngine {
     // away (virtual runtime clock) is replaced by now for gaze prediction.
     const int64_t now_ns = steady_now_ns();
     const int64_t display_ns = std::llabs(display_time - now_ns) < 1'000'000'000 ? display_time : now_ns;
-    const FrameGaze gaze = gaze_->at(display_ns);
+    const FrameGaze gaze = gaze_->at(display_ns, now_ns);
     stats->gazeSource = gaze.valid ? gaze.source : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
     stats->gazeAgeMs = gaze.valid ? gaze.age_ms : 0.0f;
     stats->fallbackFlags = gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
