@@ -37,7 +37,7 @@ bool get(const std::string& s, std::size_t& at, T& v) {
 template <typename T>
 void put_vec(std::string& s, const std::vector<T>& v) {
   put(s, std::uint64_t(v.size()));
-  s.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  if (!v.empty()) s.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 template <typename T>
@@ -45,7 +45,7 @@ bool get_vec(const std::string& s, std::size_t& at, std::vector<T>& v) {
   std::uint64_t n = 0;
   if (!get(s, at, n) || n > (s.size() - at) / sizeof(T)) return false;
   v.resize(std::size_t(n));
-  std::memcpy(v.data(), s.data() + at, std::size_t(n) * sizeof(T));
+  if (n > 0) std::memcpy(v.data(), s.data() + at, std::size_t(n) * sizeof(T));
   at += std::size_t(n) * sizeof(T);
   return true;
 }

@@ -189,10 +189,10 @@ WeightInfo weights_cached(const InterpOptions& o, std::span<const Vec2d> nb,
 
 namespace detail {
 
-double RbfSystem::kernel(double r) const {
-  const double er = eps_ * r;
+double RbfSystem::kernel(double r2) const {
+  const double e2r2 = eps_ * eps_ * r2;
   // Thesis eq. 10 as sqrt(1 + (eps r)^2) (= sqrt(r^2 + c^2) / c, c = 1/eps) and eq. 9.
-  return gaussian_ ? std::exp(-er * er) : std::sqrt(1.0 + er * er);
+  return gaussian_ ? std::exp(-e2r2) : std::sqrt(1.0 + e2r2);
 }
 
 void RbfSystem::factor(const InterpOptions& o, std::span<const Vec2d> pts) {
@@ -219,7 +219,8 @@ void RbfSystem::factor(const InterpOptions& o, std::span<const Vec2d> pts) {
     const Vec2d u{(pts[std::size_t(i)].x - c.x) * inv_h_, (pts[std::size_t(i)].y - c.y) * inv_h_};
     bool duplicate = false;
     for (int j = 0; j < m_ && !duplicate; ++j) {
-      duplicate = std::hypot(u.x - u_[std::size_t(j)].x, u.y - u_[std::size_t(j)].y) < kDuplicateTolerance;
+      const double dx = u.x - u_[std::size_t(j)].x, dy = u.y - u_[std::size_t(j)].y;
+      duplicate = dx * dx + dy * dy < kDuplicateTolerance * kDuplicateTolerance;
     }
     if (duplicate) continue;
     active_[std::size_t(m_)] = i;
@@ -242,7 +243,8 @@ void RbfSystem::factor(const InterpOptions& o, std::span<const Vec2d> pts) {
     for (int j = i; j < m_; ++j) {
       const auto& a = u_[std::size_t(i)];
       const auto& b = u_[std::size_t(j)];
-      const double v = kernel(std::hypot(a.x - b.x, a.y - b.y));
+      const double dx = a.x - b.x, dy = a.y - b.y;
+      const double v = kernel(dx * dx + dy * dy);
       system_(i, j) = v;
       system_(j, i) = v;
     }
@@ -273,7 +275,8 @@ double RbfSystem::solve(Vec2d q, std::span<double> out) const {
   SysVector b(size);
   for (int i = 0; i < m_; ++i) {
     const auto& u = u_[std::size_t(i)];
-    b(i) = kernel(std::hypot(uq.x - u.x, uq.y - u.y));
+    const double dx = uq.x - u.x, dy = uq.y - u.y;
+    b(i) = kernel(dx * dx + dy * dy);
   }
   if (constant_) b(m_) = 1.0;
   SysVector x(size);

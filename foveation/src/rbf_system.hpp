@@ -34,7 +34,7 @@ class RbfSystem {
   double solve(Vec2d query, std::span<double> out) const;
 
  private:
-  double kernel(double r) const;
+  double kernel(double r2) const;  // of the squared scaled distance
 
   bool gaussian_ = false;
   bool constant_ = true;

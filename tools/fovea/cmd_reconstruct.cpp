@@ -34,25 +34,6 @@ namespace fv = foveart::foveation;
 
 namespace {
 
-struct ReconstructArgs {
-  std::string image;
-  std::string preset = "fove";
-  std::string gaze;  // "X,Y" screen pixels; empty = centre
-  std::string method = "msm";
-  int k = 5;
-  double scale = 1.0;
-  int spp = 8;
-  std::string out;
-  bool json = false;
-  int frames = 1;
-  bool jitter = false;
-  std::uint64_t seed = 1;
-  std::string cache_dir;
-  bool no_cache = false;
-  int threads = 0;
-  double shape = 0.0;
-  bool no_constant = false;
-};
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -85,6 +66,8 @@ std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a) {
 }
 
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+}  // namespace
 
 int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
   auto fail = [&](const std::string& msg) {
@@ -245,7 +228,6 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   return 0;
 }
 
-}  // namespace
 
 }  // namespace foveart::tools
 

@@ -2,6 +2,7 @@
 // fovea tool and the testable cores behind them.
 #pragma once
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -32,5 +33,29 @@ int run_interpolate(const InterpolateArgs& args, std::ostream& out, std::ostream
 // Parses CSV text of rows with `fields` numbers each (a first header line is
 // allowed). Returns an error message (with file and line), empty on success.
 std::string parse_csv_rows(std::istream& in, const std::string& name, int fields, std::vector<double>& values);
+
+// --- fovea reconstruct ---------------------------------------------------------
+struct ReconstructArgs {
+  std::string image;
+  std::string preset = "fove";
+  std::string gaze;  // "X,Y" screen pixels; empty = centre
+  std::string method = "msm";
+  int k = 5;
+  double scale = 1.0;
+  int spp = 8;
+  std::string out;
+  bool json = false;
+  int frames = 1;
+  bool jitter = false;
+  std::uint64_t seed = 1;
+  std::string cache_dir;
+  bool no_cache = false;
+  int threads = 0;
+  double shape = 0.0;
+  bool no_constant = false;
+};
+
+// Runs the whole pipeline; returns the exit code (errors as one line on `err`).
+int run_reconstruct(const ReconstructArgs& args, std::ostream& out, std::ostream& err);
 
 }  // namespace foveart::tools

@@ -1,0 +1,214 @@
+// The contracts of `fovea interpolate` and `fovea reconstruct` (issue 3):
+// values in query order, clear errors with a non-zero exit, finite output for
+// every finite valid input, and the JSON keys of reconstruct.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <stb_image_write.h>
+#include <unistd.h>
+
+#include "interp_commands.hpp"
+
+namespace foveart::tools {
+namespace {
+
+namespace fs = std::filesystem;
+
+class InterpCommands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("foveart_interp_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string file(const std::string& name, const std::string& text) {
+    const auto p = dir_ / name;
+    std::ofstream(p) << text;
+    return p.string();
+  }
+
+  // Runs interpolate; returns exit code, fills values / error text.
+  int run(const std::string& method, int k, const std::string& samples, const std::string& queries,
+          std::vector<double>* values = nullptr, std::string* error = nullptr, bool no_constant = false) {
+    InterpolateArgs a;
+    a.method = method;
+    a.k = k;
+    a.samples_file = file("s.csv", samples);
+    a.queries_file = file("q.csv", queries);
+    a.no_constant = no_constant;
+    std::ostringstream out, err;
+    const int rc = run_interpolate(a, out, err);
+    if (values) {
+      std::istringstream in(out.str());
+      for (double v; in >> v;) values->push_back(v);
+    }
+    if (error) *error = err.str();
+    return rc;
+  }
+
+  fs::path dir_;
+};
+
+const char* kSquare = "x,y,value\n0,0,1\n1,0,2\n0,1,3\n1,1,4\n";
+
+TEST_F(InterpCommands, ValuesInQueryOrderForEveryMethod) {
+  for (const char* m : {"nn", "msm", "rbf-mq", "rbf-gauss"}) {
+    std::vector<double> v;
+    ASSERT_EQ(run(m, 4, kSquare, "x,y\n0,0\n1,1\n0.5,0.5\n", &v), 0) << m;
+    ASSERT_EQ(v.size(), 3u);
+    EXPECT_EQ(v[0], 1.0) << m;  // on a sample
+    EXPECT_EQ(v[1], 4.0) << m;
+    if (std::string(m) == "nn") {
+      EXPECT_EQ(v[2], 1.0);  // four-way tie: lowest row
+    } else {
+      EXPECT_NEAR(v[2], 2.5, 1e-12) << m;  // symmetric: the mean
+    }
+  }
+}
+
+TEST_F(InterpCommands, ThesisFormDoesNotReproduceConstants) {
+  std::vector<double> a, b;
+  const char* flat = "0,0,1\n1,0,1\n0,1,1\n1,1,1\n2,0.5,1\n";
+  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &a), 0);
+  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &b, nullptr, /*no_constant=*/true), 0);
+  EXPECT_NEAR(a[0], 1.0, 1e-12);
+  EXPECT_GT(std::abs(b[0] - 1.0), 1e-3);
+}
+
+TEST_F(InterpCommands, ErrorsAreClearAndNonZero) {
+  struct Case {
+    std::string method;
+    int k;
+    std::string samples, queries, expect;
+  };
+  const std::vector<Case> cases = {
+      {"msm", 2, "", "0,0\n", "no data rows"},
+      {"msm", 2, "x,y,value\n", "0,0\n", "no data rows"},
+      {"msm", 2, kSquare, "", "no data rows"},
+      {"msm", 2, "0,0,1\n1,abc,2\n", "0,0\n", ":2: field 2 'abc' is not a number"},
+      {"msm", 2, "0,0,1\n1,0\n", "0,0\n", "expected 3 fields"},
+      {"msm", 1, "0,0,1\nnan,0,2\n", "0,0\n", "not finite"},
+      {"msm", 1, "0,0,1\n", "inf,0\n", "not finite"},
+      {"msm", 1, "0,0,1\n1e999,0,2\n", "0,0\n", "out of the double range"},
+      {"msm", 5, kSquare, "0,0\n", "larger than the 4 samples"},
+      {"msm", 0, kSquare, "0,0\n", "outside 1..20"},
+      {"msm", 21, kSquare, "0,0\n", "outside 1..20"},
+      {"cubic", 2, kSquare, "0,0\n", "unknown --method"},
+  };
+  for (const auto& c : cases) {
+    std::string err;
+    EXPECT_NE(run(c.method, c.k, c.samples, c.queries, nullptr, &err), 0) << c.expect;
+    EXPECT_NE(err.find(c.expect), std::string::npos) << "wanted '" << c.expect << "' in: " << err;
+    EXPECT_EQ(err.rfind("fovea interpolate: ", 0), 0u) << err;
+  }
+  InterpolateArgs a;
+  a.samples_file = (dir_ / "missing.csv").string();
+  a.queries_file = a.samples_file;
+  std::ostringstream out, err;
+  EXPECT_NE(run_interpolate(a, out, err), 0);
+  EXPECT_NE(err.str().find("cannot open"), std::string::npos);
+}
+
+TEST_F(InterpCommands, HardInputsGiveFiniteOutput) {
+  std::ostringstream dup, near, line, lattice, big;
+  for (int i = 0; i < 25; ++i) {
+    dup << "3,4," << i % 3 << "\n";
+    near << 1e-7 * i << "," << -1e-7 * i << "," << i << "\n";
+    line << i << "," << 2 * i << "," << i * 0.5 << "\n";
+    lattice << i % 5 << "," << i / 5 << "," << (i * 7) % 11 << "\n";
+    big << 1e6 + 0.37 * i << "," << 1e6 - 0.11 * (i * i % 7) << "," << std::sin(i) << "\n";
+  }
+  const std::string queries = "3,4\n0,0\n2.5,2.5\n1e6,1e6\n1000000.5,999999.9\n-50,20\n";
+  for (const auto& s : {dup.str(), near.str(), line.str(), lattice.str(), big.str()}) {
+    for (const char* m : {"nn", "msm", "rbf-mq", "rbf-gauss"}) {
+      for (int k : {1, 2, 5, 20}) {
+        for (bool nc : {false, true}) {
+          std::vector<double> v;
+          std::string err;
+          ASSERT_EQ(run(m, k, s, queries, &v, &err, nc), 0) << err;
+          ASSERT_EQ(v.size(), 6u);
+          for (double x : v) ASSERT_TRUE(std::isfinite(x)) << m << " k=" << k;
+        }
+      }
+    }
+  }
+}
+
+TEST_F(InterpCommands, ReconstructReportsEveryKey) {
+  // A small image: the display takes its size, so the point set is small.
+  const int w = 96, h = 80;
+  std::vector<unsigned char> px(std::size_t(w * h * 3));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      unsigned char* p = &px[std::size_t((y * w + x) * 3)];
+      p[0] = static_cast<unsigned char>(x * 255 / w);
+      p[1] = static_cast<unsigned char>(((x / 8 + y / 8) % 2) * 200);
+      p[2] = static_cast<unsigned char>(y * 255 / h);
+    }
+  }
+  const auto in = (dir_ / "in.png").string();
+  ASSERT_NE(stbi_write_png(in.c_str(), w, h, 3, px.data(), w * 3), 0);
+  ReconstructArgs a;
+  a.image = in;
+  a.preset = "fove";
+  a.gaze = "40,30";
+  a.method = "rbf-mq";
+  a.k = 10;
+  a.spp = 4;
+  a.out = (dir_ / "out.png").string();
+  a.json = true;
+  a.frames = 3;
+  a.jitter = true;
+  a.cache_dir = (dir_ / "cache").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(run_reconstruct(a, out, err), 0) << err.str();
+  const auto j = nlohmann::json::parse(out.str());
+  for (const char* key : {"points", "pixels", "sample_ms", "interpolate_ms", "taa_ms", "total_ms", "psnr", "ssim",
+                          "rings", "flicker", "flicker_no_taa"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["pixels"].get<int>(), w * h);
+  EXPECT_GT(j["points"].get<int>(), 0);
+  EXPECT_GT(j["psnr"].get<double>(), 10.0);
+  ASSERT_EQ(j["rings"].size(), 5u);
+  EXPECT_EQ(j["rings"][0]["from_deg"].get<double>(), 0.0);
+  EXPECT_EQ(j["rings"][4]["from_deg"].get<double>(), 30.0);
+  EXPECT_TRUE(j["rings"][4]["to_deg"].is_null());
+  EXPECT_TRUE(fs::exists(a.out));
+  // Second run: the tables come from the cache.
+  std::ostringstream out2, err2;
+  ASSERT_EQ(run_reconstruct(a, out2, err2), 0) << err2.str();
+  EXPECT_TRUE(nlohmann::json::parse(out2.str())["table_from_cache"].get<bool>());
+}
+
+TEST_F(InterpCommands, ReconstructErrors) {
+  ReconstructArgs a;
+  a.image = (dir_ / "missing.png").string();
+  a.no_cache = true;
+  std::ostringstream out, err;
+  EXPECT_NE(run_reconstruct(a, out, err), 0);
+  EXPECT_NE(err.str().find("cannot read image"), std::string::npos) << err.str();
+  const std::string bad_png = file("bad.png", "not a png");
+  for (auto mutate : std::vector<std::function<void(ReconstructArgs&)>>{
+           [](ReconstructArgs& r) { r.method = "bicubic"; }, [](ReconstructArgs& r) { r.k = 0; },
+           [](ReconstructArgs& r) { r.spp = 0; }, [](ReconstructArgs& r) { r.scale = -1; },
+           [](ReconstructArgs& r) { r.preset = "oculus"; }, [&](ReconstructArgs& r) { r.image = bad_png; }}) {
+    ReconstructArgs b;
+    b.image = bad_png;
+    b.no_cache = true;
+    mutate(b);
+    std::ostringstream o, e;
+    EXPECT_NE(run_reconstruct(b, o, e), 0);
+    EXPECT_EQ(e.str().rfind("fovea reconstruct: ", 0), 0u) << e.str();
+  }
+}
+
+}  // namespace
+}  // namespace foveart::tools
