@@ -55,9 +55,9 @@ void BM_EyeFramePath(benchmark::State& state) {
     ++request.frame_index;
     const auto out = pipeline.render(request, s, pool, rgba.data(), true);
     if (!out.ok) state.SkipWithError(out.message.c_str());
-    select += out.select_ms;
-    interp += out.interpolate_ms;
-    taa += out.taa_ms;
+    select += double{out.select_ms};
+    interp += double{out.interpolate_ms};
+    taa += double{out.taa_ms};
     state.counters["points"] = out.points;
   }
   const double n = static_cast<double>(state.iterations());
