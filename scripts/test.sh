@@ -33,7 +33,7 @@ CTEST_ARGS="" run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR
 echo "=== release suite done in ${SECONDS}s"
 [ $quick = 1 ] && exit 0
 
-CTEST_ARGS="" run_suite build-asan -DCMAKE_BUILD_TYPE=Debug -DFOVEART_BUILD_BENCH=OFF \
+CTEST_ARGS="" run_suite build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_BUILD_BENCH=OFF \
   "-DFOVEART_SANITIZE=address;undefined"
 echo "=== asan/ubsan suite done in ${SECONDS}s"
 

@@ -28,7 +28,7 @@ using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
 // and half-diagonal h has its k nearest points within d_k(c) + 2h of c (they lie
 // within d_k(q) <= d_k(c) + h of q), so one radius search per tile yields a
 // candidate set that provably contains each pixel's k nearest, ties included.
-constexpr int kTilePx = 4;
+constexpr int kTilePx = 8;
 
 struct Candidate {
   double d2;
@@ -59,6 +59,17 @@ class TileQuery {
       const glm::vec2 p = pts_[idx_[i]];
       dk = std::max(dk, std::hypot(double(p.x) - cx, double(p.y) - cy));
     }
+    // Where points are dense the tile's own size dominates the candidate radius:
+    // split it, so each pixel sorts ~3x fewer candidates.
+    if (dk < 2.0 * h && x1 - x0 > 1 && y1 - y0 > 1) {
+      const int xm = (x0 + x1) / 2;
+      const int ym = (y0 + y1) / 2;
+      run(x0, y0, xm, ym, width_px, packed);
+      run(xm, y0, x1, ym, width_px, packed);
+      run(x0, ym, xm, y1, width_px, packed);
+      run(xm, ym, x1, y1, width_px, packed);
+      return;
+    }
     // Margin covers the float rounding of the tree's own distance test.
     const double radius = dk + 2.0 * h + 1e-3;
     hits_.clear();
@@ -67,12 +78,22 @@ class TileQuery {
       for (int x = x0; x < x1; ++x) {
         const double qx = double(x) + 0.5;
         const double qy = double(y) + 0.5;
-        cand_.resize(hits_.size());
-        for (std::size_t i = 0; i < hits_.size(); ++i) {
-          const glm::vec2 p = pts_[hits_[i].first];
-          const double dx = double(p.x) - qx;
-          const double dy = double(p.y) - qy;
-          cand_[i] = {dx * dx + dy * dy, hits_[i].first};
+        // q's k nearest lie within d_k(c) + |q - c| of q: a float pre-filter with
+        // that bound (plus rounding slack) leaves ~k candidates for the exact sort.
+        const double bound = dk + std::hypot(qx - cx, qy - cy) + 1e-3;
+        const float bound2 = float(bound * bound) * (1.0f + 1e-5f);
+        const float fqx = float(qx);
+        const float fqy = float(qy);
+        cand_.clear();
+        for (const auto& hit : hits_) {
+          const glm::vec2 p = pts_[hit.first];
+          const float fx = p.x - fqx;
+          const float fy = p.y - fqy;
+          if (fx * fx + fy * fy <= bound2) {
+            const double dx = double(p.x) - qx;
+            const double dy = double(p.y) - qy;
+            cand_.push_back({dx * dx + dy * dy, hit.first});
+          }
         }
         const auto kth = cand_.begin() + k_;
         std::partial_sort(cand_.begin(), kth, cand_.end());

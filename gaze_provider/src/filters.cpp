@@ -115,6 +115,7 @@ GazeSample FilterChain::process(const GazeSample& raw) noexcept {
       const YawPitchDeg yp = to_yaw_pitch_deg(unit);
       out.combined_direction = from_yaw_pitch_deg(yaw_.filter(yp.yaw_deg, out.device_time_ns),
                                                   pitch_.filter(yp.pitch_deg, out.device_time_ns));
+      follow_combined(out.left, out.right, unit, out.combined_direction);
     }
   } else {
     saccade_.reset();  // velocity across a gap means nothing

@@ -45,7 +45,9 @@ bool predict_gaze(std::span<const GazeSample> s, std::int64_t target_host_ns, co
         const std::int64_t span = newer.host_time_ns - older.host_time_ns;
         const double t = span > 0 ? double(target_host_ns - older.host_time_ns) / double(span) : 1.0;
         out = t < 0.5 ? older : newer;
+        const Vec3f picked = out.combined_direction;
         out.combined_direction = lerp_direction(older.combined_direction, newer.combined_direction, t);
+        follow_combined(out.left, out.right, picked, out.combined_direction);
         return true;
       }
     }
@@ -87,6 +89,7 @@ bool predict_gaze(std::span<const GazeSample> s, std::int64_t target_host_ns, co
 
   const double horizon_s = double(std::min(age_ns, p.max_horizon_ns)) * 1e-9;
   out.combined_direction = from_yaw_pitch_deg(a_yaw + b_yaw * horizon_s, a_pitch + b_pitch * horizon_s);
+  follow_combined(out.left, out.right, newest.combined_direction, out.combined_direction);
   out.extrapolated = true;
   return true;
 }

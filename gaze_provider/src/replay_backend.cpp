@@ -37,8 +37,9 @@ class ReplayBackend final : public detail::Backend {
       if (wait_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait_ns));
     }
     out = s;
-    // Recorded host times are kept (the trace is a record); otherwise stamp now.
-    if (!trace_.rows[next_].has_host_time) out.host_time_ns = detail::steady_now_ns();
+    // Original timing is a live playback: stamp arrival now, so consumers can predict to
+    // their own clock. As fast as possible is an analysis pass: recorded host times stay.
+    if (config_.original_timing || !trace_.rows[next_].has_host_time) out.host_time_ns = detail::steady_now_ns();
     ++next_;
     return detail::PollResult::sample;
   }

@@ -131,7 +131,9 @@ void ThreadedProvider::run() noexcept {
       break;
     } else {  // none
       const std::int64_t hold_ns = filters_.hold.max_hold_ns;
-      if (producer_status_.state == ProviderState::streaming && now - last_sample_host_ns > hold_ns) {
+      const bool waiting = producer_status_.state == ProviderState::streaming ||
+                           producer_status_.state == ProviderState::starting;
+      if (waiting && now - last_sample_host_ns > hold_ns) {
         char msg[96];
         std::snprintf(msg, sizeof msg, "no samples from the device for %lld ms",
                       static_cast<long long>((now - last_sample_host_ns) / 1'000'000));

@@ -123,7 +123,8 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
   if (!std::getline(in, line)) return fail(1, "empty file: expected the header line 'device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z'");
   ++line_no;
   if (line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
-  const std::vector<std::string_view> header = split(line);
+  std::vector<std::string> header;  // owns its names: `line` is reused for the rows
+  for (std::string_view name : split(line)) header.emplace_back(name);
   for (std::size_t i = 0; i < kRequired.size(); ++i) {
     if (i >= header.size() || header[i] != kRequired[i])
       return fail(1, "header column " + std::to_string(i + 1) + " must be '" + std::string(kRequired[i]) +

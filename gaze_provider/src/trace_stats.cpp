@@ -59,6 +59,20 @@ TraceStats compute_stats(std::span<const GazeSample> s, std::span<const std::opt
     st.interval_p99_ms = percentile(intervals_ms, 0.99);
     st.jitter_ms = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
   }
+  if (host_time_known && s.size() > 1) {
+    std::vector<double> host_ms;
+    double hs = 0, hs2 = 0;
+    for (std::size_t i = 1; i < s.size(); ++i) {
+      const double dt = double(s[i].host_time_ns - s[i - 1].host_time_ns) * 1e-6;
+      host_ms.push_back(dt);
+      hs += dt;
+      hs2 += dt * dt;
+    }
+    const double n = double(host_ms.size());
+    st.host_interval_p50_ms = percentile(host_ms, 0.5);
+    st.host_interval_p99_ms = percentile(host_ms, 0.99);
+    st.host_jitter_ms = std::sqrt(std::max(0.0, hs2 / n - (hs / n) * (hs / n)));
+  }
   // Latency only when host and device share a clock (plausible 0..1 s offsets).
   if (!latency_ms.empty()) {
     const double p50 = percentile(latency_ms, 0.5);
@@ -155,6 +169,9 @@ std::string stats_to_json(const TraceStats& st, const std::string& source) {
   field("blinks", std::to_string(st.blinks));
   field("skipped_non_monotonic", std::to_string(st.skipped_non_monotonic));
   if (st.latency_p50_ms) field("latency_p50_ms", num(*st.latency_p50_ms));
+  if (st.host_interval_p50_ms) field("host_interval_p50_ms", num(*st.host_interval_p50_ms));
+  if (st.host_interval_p99_ms) field("host_interval_p99_ms", num(*st.host_interval_p99_ms));
+  if (st.host_jitter_ms) field("host_jitter_ms", num(*st.host_jitter_ms));
   if (st.accuracy_deg) field("accuracy_deg", num(*st.accuracy_deg));
   if (st.precision_deg) field("precision_deg", num(*st.precision_deg));
   j.resize(j.size() - 2);  // drop the last ",\n"
@@ -183,6 +200,9 @@ std::string stats_to_text(const TraceStats& st, const std::string& source) {
   if (st.skipped_non_monotonic) s += "skipped rows    " + std::to_string(st.skipped_non_monotonic) + " (non-monotonic time)\n";
   if (st.latency_p50_ms) s += "latency         p50 " + num(*st.latency_p50_ms, 3) + " ms (device -> host)\n";
   else s += "latency         unknown (device clock differs from host clock)\n";
+  if (st.host_interval_p50_ms)
+    s += "host arrival    p50 " + num(*st.host_interval_p50_ms, 3) + " ms, p99 " + num(*st.host_interval_p99_ms, 3) +
+         " ms, jitter (sd) " + num(*st.host_jitter_ms, 3) + " ms\n";
   if (st.accuracy_deg) s += "accuracy        " + num(*st.accuracy_deg, 3) + " deg (mean offset to target)\n";
   if (st.precision_deg) s += "precision       " + num(*st.precision_deg, 3) + " deg (RMS sample-to-sample)\n";
   return s;

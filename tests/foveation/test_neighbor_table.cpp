@@ -64,7 +64,7 @@ TEST(NeighborTable, EqualsBruteForceOnRandomPixels) {
     EXPECT_EQ(table.height_px(), 480);
     EXPECT_EQ(table.bytes(), 400u * 480u * std::size_t(k) * 3u + 1u);
     std::mt19937 rng(k);
-    for (int n = 0; n < 1500; ++n) {
+    for (int n = 0; n < 800; ++n) {
       const int x = int(rng() % 400);
       const int y = int(rng() % 480);
       const auto want = brute_force(ps, x, y, k);

@@ -1,12 +1,13 @@
 // The runtime's gaze source: the gaze-diag CSV reader and the built-in script.
-#include <cmath>
-#include <fstream>
+#include "gaze_source.h"
 
-#include <glm/geometric.hpp>
-#include <glm/trigonometric.hpp>
 #include <gtest/gtest.h>
 
-#include "gaze_source.h"
+#include <cmath>
+#include <fstream>
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
 #include "xr_test_app.h"
 
 namespace foveart::sim {
@@ -20,12 +21,13 @@ std::string write_file(const std::string& dir, const std::string& text) {
 
 TEST(GazeSource, ReadsTraceAndHoldsEachSampleUntilTheNext) {
   const std::string dir = test::fresh_dir("trace");
-  const std::string path = write_file(dir,
-                                      "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z,pupil_mm\n"
-                                      "# comment\n"
-                                      "5000,1,1,0,0,-1,3.1\n"
-                                      "13333,2,1,0,0.6,-0.8,3.2\n"
-                                      "21667,3,0,0,0,0,0\n");
+  const std::string path =
+      write_file(dir,
+                 "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z,pupil_mm\n"
+                 "# comment\n"
+                 "5000,1,1,0,0,-1,3.1\n"
+                 "13333,2,1,0,0.6,-0.8,3.2\n"
+                 "21667,3,0,0,0,0,0\n");
   std::string error;
   auto source = GazeSource::from_csv_file(path, error);
   ASSERT_TRUE(source) << error;
@@ -43,7 +45,8 @@ TEST(GazeSource, ReadsTraceAndHoldsEachSampleUntilTheNext) {
 
 TEST(GazeSource, TraceLoopsAfterItsLastSample) {
   const std::string dir = test::fresh_dir("trace");
-  const std::string path = write_file(dir, "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,0,-1\n10000,2,1,1,0,0\n");
+  const std::string path = write_file(
+      dir, "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,0,-1\n10000,2,1,1,0,0\n");
   std::string error;
   auto source = GazeSource::from_csv_file(path, error);
   ASSERT_TRUE(source) << error;
@@ -61,10 +64,13 @@ TEST(GazeSource, MalformedTracesAreRejectedWithFileAndLine) {
   };
   const Case cases[] = {
       {"time,frame,valid,x,y,z\n0,1,1,0,0,-1\n", "trace.csv:1: header"},
-      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,zero,-1\n", "trace.csv:2: column gaze_y"},
-      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,2,0,0,-1\n", "trace.csv:2: column valid"},
+      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,zero,-1\n",
+       "trace.csv:2: column gaze_y"},
+      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,2,0,0,-1\n",
+       "trace.csv:2: column valid"},
       {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,0,0\n", "zero gaze direction"},
-      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n10,1,1,0,0,-1\n5,2,1,0,0,-1\n", "goes backwards"},
+      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n10,1,1,0,0,-1\n5,2,1,0,0,-1\n",
+       "goes backwards"},
       {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n", "no samples"},
       {"", "no header"},
   };
@@ -91,11 +97,12 @@ TEST(GazeSource, BuiltInScriptIsUnitGazeAt120HzWithSaccadesAndABlink) {
       ++invalid;
       continue;
     }
-    const float step = glm::degrees(std::acos(std::clamp(glm::dot(previous, s.direction), -1.0F, 1.0F)));
+    const float step =
+        glm::degrees(std::acos(std::clamp(glm::dot(previous, s.direction), -1.0F, 1.0F)));
     max_step_deg = std::max(max_step_deg, step);
     previous = s.direction;
   }
-  EXPECT_GE(invalid, 20);       // ~200 ms blink per 2.4 s cycle
+  EXPECT_GE(invalid, 20);         // ~200 ms blink per 2.4 s cycle
   EXPECT_GT(max_step_deg, 2.0F);  // saccades move several degrees per sample
 }
 

@@ -1,11 +1,13 @@
 // An OpenXR application against the simulated FOVE 0 through the real loader
 // (libopenxr_loader): views, pacing, swapchain misuse, eye gaze, frame budget.
+#include <gtest/gtest.h>
+#include <stb_image.h>
+
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "sim_runtime/sim_env.h"
 #include "xr_test_app.h"
@@ -33,19 +35,23 @@ TEST_F(SimRuntime, ReportsTwoFoveViewsOf1280x1440With63mmIpd) {
   XrTestApp app;
   ASSERT_EQ(app.create_instance(), XR_SUCCESS);
   uint32_t n = 0;
-  ASSERT_EQ(xrEnumerateViewConfigurationViews(app.instance, app.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
-                                              &n, nullptr),
-            XR_SUCCESS);
+  ASSERT_EQ(
+      xrEnumerateViewConfigurationViews(app.instance, app.system,
+                                        XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0, &n, nullptr),
+      XR_SUCCESS);
   ASSERT_EQ(n, 2U);
-  std::vector<XrViewConfigurationView> views(n, xr<XrViewConfigurationView>(XR_TYPE_VIEW_CONFIGURATION_VIEW));
-  ASSERT_EQ(xrEnumerateViewConfigurationViews(app.instance, app.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
-                                              &n, views.data()),
-            XR_SUCCESS);
+  std::vector<XrViewConfigurationView> views(
+      n, xr<XrViewConfigurationView>(XR_TYPE_VIEW_CONFIGURATION_VIEW));
+  ASSERT_EQ(
+      xrEnumerateViewConfigurationViews(
+          app.instance, app.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n, &n, views.data()),
+      XR_SUCCESS);
   for (const auto& v : views) {
     EXPECT_EQ(v.recommendedImageRectWidth, 1280U);
     EXPECT_EQ(v.recommendedImageRectHeight, 1440U);
   }
-  auto eye = xr<XrSystemEyeGazeInteractionPropertiesEXT>(XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
+  auto eye = xr<XrSystemEyeGazeInteractionPropertiesEXT>(
+      XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
   auto props = xr<XrSystemProperties>(XR_TYPE_SYSTEM_PROPERTIES, &eye);
   ASSERT_EQ(xrGetSystemProperties(app.instance, app.system, &props), XR_SUCCESS);
   EXPECT_EQ(eye.supportsEyeGazeInteraction, XR_TRUE);
@@ -61,7 +67,8 @@ TEST_F(SimRuntime, ReportsTwoFoveViewsOf1280x1440With63mmIpd) {
   auto state = xr<XrViewState>(XR_TYPE_VIEW_STATE);
   std::vector<XrView> xr_views(2, xr<XrView>(XR_TYPE_VIEW));
   uint32_t count = 0;
-  EXPECT_EQ(xrLocateViews(app.session, &locate, &state, 1, &count, xr_views.data()), XR_ERROR_SIZE_INSUFFICIENT);
+  EXPECT_EQ(xrLocateViews(app.session, &locate, &state, 1, &count, xr_views.data()),
+            XR_ERROR_SIZE_INSUFFICIENT);
   ASSERT_EQ(xrLocateViews(app.session, &locate, &state, 2, &count, xr_views.data()), XR_SUCCESS);
   EXPECT_EQ(count, 2U);
   EXPECT_NE(state.viewStateFlags & XR_VIEW_STATE_POSITION_VALID_BIT, 0U);
@@ -94,8 +101,11 @@ TEST_F(SimRuntime, WaitFramePacesAt70HzOnTheRealClock) {
     predicted.push_back(frame.predictedDisplayTime);
     EXPECT_EQ(frame.predictedDisplayPeriod, 14'285'714);
   }
-  const double mean_ms = static_cast<double>(wake_ns.back() - wake_ns.front()) / (kFrames - 1) * 1e-6;
-  EXPECT_NEAR(mean_ms, 1000.0 / 70.0, 1000.0 / 70.0 * 0.15) << "mean xrWaitFrame interval " << mean_ms << " ms";
+  const double mean_ms =
+      static_cast<double>(wake_ns.back() - wake_ns.front()) / (kFrames - 1) * 1e-6;
+  RecordProperty("mean_wait_interval_us", static_cast<int>(mean_ms * 1000.0));
+  EXPECT_NEAR(mean_ms, 1000.0 / 70.0, 1000.0 / 70.0 * 0.15)
+      << "mean xrWaitFrame interval " << mean_ms << " ms";
   for (size_t i = 1; i < predicted.size(); ++i) {
     const int64_t step = predicted[i] - predicted[i - 1];
     EXPECT_EQ(step % 14'285'714, 0) << "display times stay on the 70 Hz grid";
@@ -111,7 +121,8 @@ TEST_F(SimRuntime, WaitFramePacesAt70HzOnTheRealClock) {
   EXPECT_LT(std::llabs(xr_now - predicted.back()), 200'000'000LL);
 }
 
-XrSwapchain make_swapchain(XrSession session, int64_t format, uint32_t w, uint32_t h, XrResult* result) {
+XrSwapchain make_swapchain(XrSession session, int64_t format, uint32_t w, uint32_t h,
+                           XrResult* result) {
   auto info = xr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
   info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_SAMPLED_BIT;
   info.format = format;
@@ -140,8 +151,10 @@ TEST_F(SimRuntime, SwapchainMisuseReturnsTheSpecErrorCodes) {
   uint32_t n = 0;
   ASSERT_EQ(xrEnumerateSwapchainImages(sc, 0, &n, nullptr), XR_SUCCESS);
   ASSERT_GE(n, 2U);
-  std::vector<XrSwapchainImageVulkan2KHR> images(n, xr<XrSwapchainImageVulkan2KHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR));
-  ASSERT_EQ(xrEnumerateSwapchainImages(sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())),
+  std::vector<XrSwapchainImageVulkan2KHR> images(
+      n, xr<XrSwapchainImageVulkan2KHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR));
+  ASSERT_EQ(xrEnumerateSwapchainImages(
+                sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())),
             XR_SUCCESS);
   for (const auto& img : images) EXPECT_NE(img.image, VK_NULL_HANDLE);
 
@@ -149,8 +162,9 @@ TEST_F(SimRuntime, SwapchainMisuseReturnsTheSpecErrorCodes) {
   wait.timeout = XR_INFINITE_DURATION;
   auto release = xr<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
   auto acquire = xr<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
-  EXPECT_EQ(xrReleaseSwapchainImage(sc, &release), XR_ERROR_CALL_ORDER_INVALID);  // nothing acquired
-  EXPECT_EQ(xrWaitSwapchainImage(sc, &wait), XR_ERROR_CALL_ORDER_INVALID);        // nothing acquired
+  EXPECT_EQ(xrReleaseSwapchainImage(sc, &release),
+            XR_ERROR_CALL_ORDER_INVALID);                                   // nothing acquired
+  EXPECT_EQ(xrWaitSwapchainImage(sc, &wait), XR_ERROR_CALL_ORDER_INVALID);  // nothing acquired
   uint32_t index = 99;
   ASSERT_EQ(xrAcquireSwapchainImage(sc, &acquire, &index), XR_SUCCESS);
   EXPECT_LT(index, n);
@@ -159,7 +173,8 @@ TEST_F(SimRuntime, SwapchainMisuseReturnsTheSpecErrorCodes) {
   EXPECT_EQ(xrWaitSwapchainImage(sc, &wait), XR_ERROR_CALL_ORDER_INVALID);  // waited twice
   ASSERT_EQ(xrReleaseSwapchainImage(sc, &release), XR_SUCCESS);
   // Acquiring every image is fine; one more is a call-order error.
-  for (uint32_t i = 0; i < n; ++i) ASSERT_EQ(xrAcquireSwapchainImage(sc, &acquire, &index), XR_SUCCESS);
+  for (uint32_t i = 0; i < n; ++i)
+    ASSERT_EQ(xrAcquireSwapchainImage(sc, &acquire, &index), XR_SUCCESS);
   EXPECT_EQ(xrAcquireSwapchainImage(sc, &acquire, &index), XR_ERROR_CALL_ORDER_INVALID);
 
   // Frame loop misuse.
@@ -179,7 +194,8 @@ TEST_F(SimRuntime, SwapchainMisuseReturnsTheSpecErrorCodes) {
   XrSwapchain fresh = make_swapchain(app.session, VK_FORMAT_R8G8B8A8_SRGB, 256, 128, &r);
   ASSERT_EQ(r, XR_SUCCESS);
   XrSpace local = make_reference_space(app.session, XR_REFERENCE_SPACE_TYPE_LOCAL);
-  std::vector<XrCompositionLayerProjectionView> views(2, xr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW));
+  std::vector<XrCompositionLayerProjectionView> views(
+      2, xr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW));
   for (auto& v : views) {
     v.pose.orientation.w = 1.0F;
     v.subImage.swapchain = fresh;
@@ -189,7 +205,8 @@ TEST_F(SimRuntime, SwapchainMisuseReturnsTheSpecErrorCodes) {
   layer.space = local;
   layer.viewCount = 2;
   layer.views = views.data();
-  const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<XrCompositionLayerBaseHeader*>(&layer)};
+  const XrCompositionLayerBaseHeader* layers[] = {
+      reinterpret_cast<XrCompositionLayerBaseHeader*>(&layer)};
   end.displayTime = frame.predictedDisplayTime;
   end.layerCount = 1;
   end.layers = layers;
@@ -227,14 +244,19 @@ GazeActions make_gaze_actions(XrTestApp& app) {
   auto action_info = xr<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
   action_info.actionType = XR_ACTION_TYPE_POSE_INPUT;
   std::snprintf(action_info.actionName, sizeof action_info.actionName, "gaze_pose");
-  std::snprintf(action_info.localizedActionName, sizeof action_info.localizedActionName, "Gaze pose");
+  std::snprintf(action_info.localizedActionName, sizeof action_info.localizedActionName,
+                "Gaze pose");
   EXPECT_EQ(xrCreateAction(g.set, &action_info, &g.gaze), XR_SUCCESS);
   XrPath profile = XR_NULL_PATH;
   XrPath binding = XR_NULL_PATH;
-  EXPECT_EQ(xrStringToPath(app.instance, "/interaction_profiles/ext/eye_gaze_interaction", &profile), XR_SUCCESS);
-  EXPECT_EQ(xrStringToPath(app.instance, "/user/eyes_ext/input/gaze_ext/pose", &binding), XR_SUCCESS);
+  EXPECT_EQ(
+      xrStringToPath(app.instance, "/interaction_profiles/ext/eye_gaze_interaction", &profile),
+      XR_SUCCESS);
+  EXPECT_EQ(xrStringToPath(app.instance, "/user/eyes_ext/input/gaze_ext/pose", &binding),
+            XR_SUCCESS);
   XrActionSuggestedBinding suggested{g.gaze, binding};
-  auto suggest = xr<XrInteractionProfileSuggestedBinding>(XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
+  auto suggest =
+      xr<XrInteractionProfileSuggestedBinding>(XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
   suggest.interactionProfile = profile;
   suggest.countSuggestedBindings = 1;
   suggest.suggestedBindings = &suggested;
@@ -323,7 +345,8 @@ TEST_F(SimRuntime, EyeTrackingSwitchedOffLeavesGazeInactive) {
   set_env({{"FOVEART_SIM_CLOCK", "virtual"}, {"FOVEART_SIM_EYE_TRACKING", "0"}});
   XrTestApp app;
   ASSERT_EQ(app.create_instance(), XR_SUCCESS);
-  auto eye = xr<XrSystemEyeGazeInteractionPropertiesEXT>(XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
+  auto eye = xr<XrSystemEyeGazeInteractionPropertiesEXT>(
+      XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
   auto props = xr<XrSystemProperties>(XR_TYPE_SYSTEM_PROPERTIES, &eye);
   ASSERT_EQ(xrGetSystemProperties(app.instance, app.system, &props), XR_SUCCESS);
   EXPECT_EQ(eye.supportsEyeGazeInteraction, XR_FALSE);
@@ -338,7 +361,8 @@ TEST_F(SimRuntime, EyeTrackingSwitchedOffLeavesGazeInactive) {
   ASSERT_EQ(xrGetActionStatePose(app.session, &get, &pose_state), XR_SUCCESS);
   EXPECT_EQ(pose_state.isActive, XR_FALSE);
   auto location = xr<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION);
-  ASSERT_EQ(xrLocateSpace(g.gaze_space, view, env::kVirtualEpochNs + 50'000'000, &location), XR_SUCCESS);
+  ASSERT_EQ(xrLocateSpace(g.gaze_space, view, env::kVirtualEpochNs + 50'000'000, &location),
+            XR_SUCCESS);
   EXPECT_EQ(location.locationFlags, 0U);
 }
 
@@ -359,8 +383,8 @@ TEST_F(SimRuntime, SessionAsksToExitAfterTheFrameBudget) {
   ASSERT_EQ(app.state, XR_SESSION_STATE_EXITING);
   EXPECT_EQ(frames, 5);
   const std::vector<XrSessionState> expected{
-      XR_SESSION_STATE_IDLE,     XR_SESSION_STATE_READY,        XR_SESSION_STATE_SYNCHRONIZED,
-      XR_SESSION_STATE_VISIBLE,  XR_SESSION_STATE_FOCUSED,      XR_SESSION_STATE_VISIBLE,
+      XR_SESSION_STATE_IDLE,         XR_SESSION_STATE_READY,    XR_SESSION_STATE_SYNCHRONIZED,
+      XR_SESSION_STATE_VISIBLE,      XR_SESSION_STATE_FOCUSED,  XR_SESSION_STATE_VISIBLE,
       XR_SESSION_STATE_SYNCHRONIZED, XR_SESSION_STATE_STOPPING, XR_SESSION_STATE_IDLE,
       XR_SESSION_STATE_EXITING};
   EXPECT_EQ(app.states, expected);
@@ -370,18 +394,228 @@ TEST_F(SimRuntime, SessionAsksToExitAfterTheFrameBudget) {
 
 TEST_F(SimRuntime, BadConfigurationFailsInstanceCreation) {
   const std::string dir = fresh_dir("bad");
-  {
-    std::ofstream(dir + "/bad.csv") << "time,x,y\n1,2,3\n";
-  }
-  for (const auto& vars : std::vector<std::map<std::string, std::string>>{
-           {{"FOVEART_SIM_GAZE", dir + "/bad.csv"}},
-           {{"FOVEART_SIM_FRAMES", "-3"}},
-           {{"FOVEART_SIM_CLOCK", "fast"}}}) {
+  { std::ofstream(dir + "/bad.csv") << "time,x,y\n1,2,3\n"; }
+  for (const auto& vars :
+       std::vector<std::map<std::string, std::string>>{{{"FOVEART_SIM_GAZE", dir + "/bad.csv"}},
+                                                       {{"FOVEART_SIM_FRAMES", "-3"}},
+                                                       {{"FOVEART_SIM_CLOCK", "fast"}}}) {
     clear_sim_env();
     set_env(vars);
     XrTestApp app;
     EXPECT_EQ(app.create_instance(), XR_ERROR_INITIALIZATION_FAILED) << vars.begin()->first;
   }
+}
+
+}  // namespace
+}  // namespace foveart::sim::test
+
+namespace foveart::sim::test {
+namespace {
+
+// Fills the acquired image with one colour on the app's queue, as an app would render.
+void clear_image(XrTestApp& app, VkImage image, const VkClearColorValue& colour) {
+  VkQueue queue = VK_NULL_HANDLE;
+  vkGetDeviceQueue(app.vk_device, app.queue_family, 0, &queue);
+  VkCommandPoolCreateInfo pool_info{};
+  pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  pool_info.queueFamilyIndex = app.queue_family;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateCommandPool(app.vk_device, &pool_info, nullptr, &pool), VK_SUCCESS);
+  VkCommandBufferAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  alloc.commandPool = pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateCommandBuffers(app.vk_device, &alloc, &cmd), VK_SUCCESS);
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  vkBeginCommandBuffer(cmd, &begin);
+  const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  VkImageMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
+  barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // as the runtime hands it out
+  barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  barrier.srcQueueFamilyIndex = barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.image = image;
+  barrier.subresourceRange = range;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
+  vkCmdClearColorImage(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &colour, 1, &range);
+  barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  barrier.newLayout =
+      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;  // the layout the spec wants at release
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1,
+                       &barrier);
+  vkEndCommandBuffer(cmd);
+  VkSubmitInfo submit{};
+  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  ASSERT_EQ(vkQueueSubmit(queue, 1, &submit, VK_NULL_HANDLE), VK_SUCCESS);
+  // No wait here: the runtime's readback is ordered after this on the same queue.
+  vkQueueWaitIdle(queue);  // only so the pool can be destroyed now
+  vkDestroyCommandPool(app.vk_device, pool, nullptr);
+}
+
+TEST_F(SimRuntime, CaptureWritesEveryProjectionLayerViewInItsColours) {
+  const std::string capture = fresh_dir("capture");
+  set_env({{"FOVEART_SIM_CLOCK", "virtual"}, {"FOVEART_SIM_CAPTURE_DIR", capture}});
+  XrTestApp app;
+  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
+  ASSERT_EQ(app.create_session(), XR_SUCCESS);
+  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));  // frame 0 is an empty frame
+  XrSpace local = make_reference_space(app.session, XR_REFERENCE_SPACE_TYPE_LOCAL);
+
+  // Layer 0 in RGBA, layer 1 in BGRA (checks the channel swizzle).
+  const int64_t formats[] = {VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM};
+  const VkClearColorValue colours[] = {{{1.0F, 0.0F, 0.0F, 1.0F}}, {{0.0F, 0.0F, 1.0F, 1.0F}}};
+  XrSwapchain swapchains[2]{};
+  for (int l = 0; l < 2; ++l) {
+    auto info = xr<XrSwapchainCreateInfo>(XR_TYPE_SWAPCHAIN_CREATE_INFO);
+    info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
+    info.format = formats[l];
+    info.sampleCount = info.faceCount = info.arraySize = info.mipCount = 1;
+    info.width = 64;
+    info.height = 32;
+    ASSERT_EQ(xrCreateSwapchain(app.session, &info, &swapchains[l]), XR_SUCCESS);
+  }
+  XrFrameState frame = xr<XrFrameState>(XR_TYPE_FRAME_STATE);
+  ASSERT_EQ(xrWaitFrame(app.session, nullptr, &frame), XR_SUCCESS);
+  ASSERT_EQ(xrBeginFrame(app.session, nullptr), XR_SUCCESS);
+  for (int l = 0; l < 2; ++l) {
+    uint32_t n = 0;
+    ASSERT_EQ(xrEnumerateSwapchainImages(swapchains[l], 0, &n, nullptr), XR_SUCCESS);
+    std::vector<XrSwapchainImageVulkan2KHR> images(
+        n, xr<XrSwapchainImageVulkan2KHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN2_KHR));
+    ASSERT_EQ(
+        xrEnumerateSwapchainImages(swapchains[l], n, &n,
+                                   reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())),
+        XR_SUCCESS);
+    uint32_t index = 0;
+    ASSERT_EQ(xrAcquireSwapchainImage(swapchains[l], nullptr, &index), XR_SUCCESS);
+    auto wait = xr<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+    wait.timeout = XR_INFINITE_DURATION;
+    ASSERT_EQ(xrWaitSwapchainImage(swapchains[l], &wait), XR_SUCCESS);
+    clear_image(app, images[index].image, colours[l]);
+    ASSERT_EQ(xrReleaseSwapchainImage(swapchains[l], nullptr), XR_SUCCESS);
+  }
+  std::vector<XrCompositionLayerProjectionView> views[2];
+  XrCompositionLayerProjection layers[2];
+  const XrCompositionLayerBaseHeader* headers[2];
+  for (int l = 0; l < 2; ++l) {
+    views[l].assign(
+        2, xr<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW));
+    for (auto& v : views[l]) {
+      v.pose.orientation.w = 1.0F;
+      v.subImage.swapchain = swapchains[l];
+      v.subImage.imageRect = {{0, 0}, {64, 32}};
+    }
+    layers[l] = xr<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
+    layers[l].space = local;
+    layers[l].viewCount = 2;
+    layers[l].views = views[l].data();
+    headers[l] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layers[l]);
+  }
+  auto end = xr<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+  end.displayTime = frame.predictedDisplayTime;
+  end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+  end.layerCount = 2;
+  end.layers = headers;
+  ASSERT_EQ(xrEndFrame(app.session, &end), XR_SUCCESS);
+
+  const std::string frame_name = "frame_000001";
+  const std::pair<std::string, std::array<int, 3>> expected[] = {
+      {frame_name + "_left.png", {255, 0, 0}},
+      {frame_name + "_right.png", {255, 0, 0}},
+      {frame_name + "_layer1_left.png", {0, 0, 255}},
+      {frame_name + "_layer1_right.png", {0, 0, 255}}};
+  for (const auto& [name, rgb] : expected) {
+    int w = 0, h = 0, comp = 0;
+    unsigned char* data = stbi_load((capture + "/" + name).c_str(), &w, &h, &comp, 3);
+    ASSERT_NE(data, nullptr) << name;
+    EXPECT_EQ(w, 64);
+    EXPECT_EQ(h, 32);
+    const size_t mid =
+        (static_cast<size_t>(h / 2) * static_cast<size_t>(w) + static_cast<size_t>(w / 2)) * 3;
+    EXPECT_EQ(data[mid + 0], rgb[0]) << name;
+    EXPECT_EQ(data[mid + 1], rgb[1]) << name;
+    EXPECT_EQ(data[mid + 2], rgb[2]) << name;
+    stbi_image_free(data);
+  }
+  for (XrSwapchain sc : swapchains) EXPECT_EQ(xrDestroySwapchain(sc), XR_SUCCESS);
+}
+
+}  // namespace
+}  // namespace foveart::sim::test
+
+namespace foveart::sim::test {
+namespace {
+
+TEST_F(SimRuntime, OlderVulkanEnableWorksAndUnenabledExtensionsAreUnsupported) {
+  const char* ext[] = {XR_KHR_VULKAN_ENABLE_EXTENSION_NAME};
+  auto info = xr<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
+  std::snprintf(info.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "v1");
+  info.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
+  info.enabledExtensionCount = 1;
+  info.enabledExtensionNames = ext;
+  XrInstance instance = XR_NULL_HANDLE;
+  ASSERT_EQ(xrCreateInstance(&info, &instance), XR_SUCCESS);
+  auto sys = xr<XrSystemGetInfo>(XR_TYPE_SYSTEM_GET_INFO);
+  sys.formFactor = XR_FORM_FACTOR_HANDHELD_DISPLAY;
+  XrSystemId system = XR_NULL_SYSTEM_ID;
+  EXPECT_EQ(xrGetSystem(instance, &sys, &system), XR_ERROR_FORM_FACTOR_UNSUPPORTED);
+  sys.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
+  ASSERT_EQ(xrGetSystem(instance, &sys, &system), XR_SUCCESS);
+
+  PFN_xrVoidFunction fn = nullptr;
+  ASSERT_EQ(xrGetInstanceProcAddr(instance, "xrGetVulkanInstanceExtensionsKHR", &fn), XR_SUCCESS);
+  auto get_ext = reinterpret_cast<PFN_xrGetVulkanInstanceExtensionsKHR>(fn);
+  uint32_t n = 0;
+  ASSERT_EQ(get_ext(instance, system, 0, &n, nullptr), XR_SUCCESS);
+  EXPECT_EQ(n, 1U);  // the empty string: the runtime needs no Vulkan extensions
+  ASSERT_EQ(xrGetInstanceProcAddr(instance, "xrGetVulkanGraphicsRequirementsKHR", &fn), XR_SUCCESS);
+  auto req = xr<XrGraphicsRequirementsVulkanKHR>(XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN_KHR);
+  ASSERT_EQ(reinterpret_cast<PFN_xrGetVulkanGraphicsRequirementsKHR>(fn)(instance, system, &req),
+            XR_SUCCESS);
+  EXPECT_LE(req.minApiVersionSupported, XR_MAKE_VERSION(1, 0, 0));
+
+  // Not enabled: XR_KHR_vulkan_enable2, XR_KHR_convert_timespec_time.
+  EXPECT_EQ(xrGetInstanceProcAddr(instance, "xrCreateVulkanInstanceKHR", &fn),
+            XR_ERROR_FUNCTION_UNSUPPORTED);
+  EXPECT_EQ(fn, nullptr);
+  EXPECT_EQ(xrGetInstanceProcAddr(instance, "xrConvertTimespecTimeToTimeKHR", &fn),
+            XR_ERROR_FUNCTION_UNSUPPORTED);
+  EXPECT_EQ(xrDestroyInstance(instance), XR_SUCCESS);
+}
+
+}  // namespace
+}  // namespace foveart::sim::test
+
+namespace foveart::sim::test {
+namespace {
+
+TEST_F(SimRuntime, RequestExitSessionWalksDownToExiting) {
+  set_env({{"FOVEART_SIM_CLOCK", "virtual"}});
+  XrTestApp app;
+  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
+  ASSERT_EQ(app.create_session(), XR_SUCCESS);
+  EXPECT_EQ(xrRequestExitSession(app.session), XR_ERROR_SESSION_NOT_RUNNING);
+  EXPECT_EQ(xrEndSession(app.session), XR_ERROR_SESSION_NOT_RUNNING);
+  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
+  EXPECT_EQ(xrEndSession(app.session), XR_ERROR_SESSION_NOT_STOPPING);
+  ASSERT_EQ(xrRequestExitSession(app.session), XR_SUCCESS);
+  app.states.clear();
+  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_EXITING, 5));
+  const std::vector<XrSessionState> expected{
+      XR_SESSION_STATE_VISIBLE, XR_SESSION_STATE_SYNCHRONIZED, XR_SESSION_STATE_STOPPING,
+      XR_SESSION_STATE_IDLE, XR_SESSION_STATE_EXITING};
+  EXPECT_EQ(app.states, expected);
 }
 
 }  // namespace

@@ -1,23 +1,26 @@
 #include "xr_test_app.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 namespace foveart::sim::test {
 
 void set_env(const std::map<std::string, std::string>& vars) {
   for (const auto& [k, v] : vars) {
-    if (v.empty()) unsetenv(k.c_str());
-    else setenv(k.c_str(), v.c_str(), 1);
+    if (v.empty())
+      unsetenv(k.c_str());
+    else
+      setenv(k.c_str(), v.c_str(), 1);
   }
 }
 
 void clear_sim_env() {
-  for (const char* k : {"FOVEART_SIM_FRAMES", "FOVEART_SIM_CLOCK", "FOVEART_SIM_GAZE", "FOVEART_SIM_EYE_TRACKING",
-                        "FOVEART_SIM_HEAD", "FOVEART_SIM_CAPTURE_DIR", "FOVEART_SIM_CAPTURE_EVERY", "FOVEART_SIM_LOG",
-                        "XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS"}) {
+  for (const char* k :
+       {"FOVEART_SIM_FRAMES", "FOVEART_SIM_CLOCK", "FOVEART_SIM_GAZE", "FOVEART_SIM_EYE_TRACKING",
+        "FOVEART_SIM_HEAD", "FOVEART_SIM_CAPTURE_DIR", "FOVEART_SIM_CAPTURE_EVERY",
+        "FOVEART_SIM_LOG", "XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS"}) {
     unsetenv(k);
   }
   setenv("XR_RUNTIME_JSON", FOVEART_SIM_RUNTIME_JSON, 1);
@@ -41,11 +44,13 @@ XrTestApp::~XrTestApp() {
 }
 
 XrResult XrTestApp::create_instance(bool eye_gaze) {
-  std::vector<const char*> ext{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME};
+  std::vector<const char*> ext{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
+                               XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME};
   if (eye_gaze) ext.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
   XrInstanceCreateInfo info{};
   info.type = XR_TYPE_INSTANCE_CREATE_INFO;
-  std::snprintf(info.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "sim_runtime_tests");
+  std::snprintf(info.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE,
+                "sim_runtime_tests");
   info.applicationInfo.apiVersion = XR_CURRENT_API_VERSION;
   info.enabledExtensionCount = static_cast<uint32_t>(ext.size());
   info.enabledExtensionNames = ext.data();
@@ -58,11 +63,13 @@ XrResult XrTestApp::create_instance(bool eye_gaze) {
 }
 
 XrResult XrTestApp::create_session() {
-  auto get_req = proc<PFN_xrGetVulkanGraphicsRequirements2KHR>("xrGetVulkanGraphicsRequirements2KHR");
+  auto get_req =
+      proc<PFN_xrGetVulkanGraphicsRequirements2KHR>("xrGetVulkanGraphicsRequirements2KHR");
   auto create_vk_instance = proc<PFN_xrCreateVulkanInstanceKHR>("xrCreateVulkanInstanceKHR");
   auto get_device = proc<PFN_xrGetVulkanGraphicsDevice2KHR>("xrGetVulkanGraphicsDevice2KHR");
   auto create_vk_device = proc<PFN_xrCreateVulkanDeviceKHR>("xrCreateVulkanDeviceKHR");
-  if (!get_req || !create_vk_instance || !get_device || !create_vk_device) return XR_ERROR_FUNCTION_UNSUPPORTED;
+  if (!get_req || !create_vk_instance || !get_device || !create_vk_device)
+    return XR_ERROR_FUNCTION_UNSUPPORTED;
   XrGraphicsRequirementsVulkan2KHR req{};
   req.type = XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR;
   if (XrResult r = get_req(instance, system, &req); XR_FAILED(r)) return r;
@@ -80,7 +87,8 @@ XrResult XrTestApp::create_session() {
   xr_vk.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
   xr_vk.vulkanCreateInfo = &vk_info;
   VkResult vr = VK_SUCCESS;
-  if (XrResult r = create_vk_instance(instance, &xr_vk, &vk_instance, &vr); XR_FAILED(r) || vr != VK_SUCCESS) {
+  if (XrResult r = create_vk_instance(instance, &xr_vk, &vk_instance, &vr);
+      XR_FAILED(r) || vr != VK_SUCCESS) {
     return XR_FAILED(r) ? r : XR_ERROR_RUNTIME_FAILURE;
   }
   XrVulkanGraphicsDeviceGetInfoKHR dev_info{};
@@ -115,7 +123,8 @@ XrResult XrTestApp::create_session() {
   xr_dev.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
   xr_dev.vulkanPhysicalDevice = vk_physical;
   xr_dev.vulkanCreateInfo = &device_info;
-  if (XrResult r = create_vk_device(instance, &xr_dev, &vk_device, &vr); XR_FAILED(r) || vr != VK_SUCCESS) {
+  if (XrResult r = create_vk_device(instance, &xr_dev, &vk_device, &vr);
+      XR_FAILED(r) || vr != VK_SUCCESS) {
     return XR_FAILED(r) ? r : XR_ERROR_RUNTIME_FAILURE;
   }
 
@@ -178,7 +187,8 @@ bool XrTestApp::run_until_state(XrSessionState target, int max_frames) {
     drain_events();
     if (state == target) return true;
     if (state == XR_SESSION_STATE_EXITING) return false;
-    const bool running = state == XR_SESSION_STATE_READY || state == XR_SESSION_STATE_SYNCHRONIZED ||
+    const bool running = state == XR_SESSION_STATE_READY ||
+                         state == XR_SESSION_STATE_SYNCHRONIZED ||
                          state == XR_SESSION_STATE_VISIBLE || state == XR_SESSION_STATE_FOCUSED ||
                          state == XR_SESSION_STATE_STOPPING;
     if (running && XR_FAILED(empty_frame())) return false;

@@ -2,17 +2,17 @@
 // the real loader, Vulkan through XR_KHR_vulkan_enable2, one session.
 #pragma once
 
+#include <vulkan/vulkan.h>
+
 #include <map>
 #include <string>
 #include <vector>
 
-#include <vulkan/vulkan.h>
-
 #define XR_USE_GRAPHICS_API_VULKAN
 #define XR_USE_TIMESPEC
-#include <time.h>
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
+#include <time.h>
 
 namespace foveart::sim::test {
 

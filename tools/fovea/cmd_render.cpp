@@ -40,17 +40,18 @@ engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) 
 
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
-// Per-eye view of the preset: FOVE 0 (1280x1440, 90 deg horizontal) unless resized.
-FoveartEyeView make_view(const RenderOptions& o, const engine::Scene& scene) {
+// Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
+// keeping the horizontal field of view.
+FoveartEyeView make_view(const RenderOptions& o, const PresetGeometry& g, const engine::Scene& scene) {
   FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, engine::scene_head(scene));
-  if (o.size_px) {  // same horizontal FOV, square pixels
-    const float tan_h = std::tan(view.angle_right_rad);
-    view.width_px = static_cast<uint32_t>(o.size_px->x);
-    view.height_px = static_cast<uint32_t>(o.size_px->y);
-    const float half_v = std::atan(tan_h * static_cast<float>(view.height_px) / static_cast<float>(view.width_px));
-    view.angle_up_rad = half_v;
-    view.angle_down_rad = -half_v;
-  }
+  view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
+  view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
+  const double tan_x = std::tan(g.half_fov_x_rad);
+  const double tan_y = o.size_px ? tan_x * o.size_px->y / o.size_px->x : std::tan(g.half_fov_y_rad);
+  view.angle_left_rad = static_cast<float>(-g.half_fov_x_rad);
+  view.angle_right_rad = static_cast<float>(g.half_fov_x_rad);
+  view.angle_up_rad = static_cast<float>(std::atan(tan_y));
+  view.angle_down_rad = static_cast<float>(-std::atan(tan_y));
   return view;
 }
 
@@ -58,7 +59,7 @@ std::string check(const RenderOptions& o) {
   if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
   if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
   if (o.method != "nn" && o.method != "msm" && o.method != "rbf-mq") return "--method must be nn, msm or rbf-mq";
-  if (o.preset != "fove") return "--preset: only 'fove' is supported by render";
+  if (!preset_geometry(o.preset)) return "--preset: unknown display preset '" + o.preset + "'";
   if (o.spp < 1 || o.spp > 1024) return "--spp must be in 1..1024";
   if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
   if (!(o.scale > 0.0) || o.scale > 100.0) return "--scale must be in (0, 100]";
@@ -67,8 +68,6 @@ std::string check(const RenderOptions& o) {
     return "--size must be between 8 and 16384 pixels per side";
   if (o.mode != "full" && !foveated_available())
     return "--mode " + o.mode + " needs the foveation core, which is not part of this build";
-  if (o.mode != "full" && o.method != "nn")
-    return "--method " + o.method + " is not available yet in render (use nn)";
   return "";
 }
 
@@ -95,7 +94,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     return 1;
   }
   const double build_ms = ms_since(t0);
-  const FoveartEyeView view = make_view(o, tracer->scene());
+  const FoveartEyeView view = make_view(o, *preset_geometry(o.preset), tracer->scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * static_cast<float>(view.width_px),
                                                       0.5f * static_cast<float>(view.height_px)));
   const uint64_t pixels = static_cast<uint64_t>(view.width_px) * view.height_px;
@@ -154,7 +153,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     report["points"] = fr.points;
     report["foveated"] = {{"rays", rays_json(minus(tracer->counts(), before))}, {"method", o.method},
                           {"k", req.k}, {"scale", o.scale}, {"precompute_ms", fr.precompute_ms},
-                          {"trace_ms", fr.trace_ms}, {"reconstruct_ms", fr.reconstruct_ms}, {"total_ms", fov_total}};
+                          {"trace_ms", fr.trace_ms}, {"samples_ms", fr.samples_ms}, {"reconstruct_ms", fr.reconstruct_ms}, {"total_ms", fov_total}};
   }
   if (o.mode == "both") {
     report["speedup"] = fov_total > 0.0 ? full_total / fov_total : 0.0;

@@ -8,6 +8,7 @@
 
 #include <glm/vec2.hpp>
 
+#include <optional>
 #include <string>
 
 namespace foveart::tools {
@@ -29,12 +30,23 @@ struct FoveatedResult {
   uint64_t points = 0;        // visible points traced
   double precompute_ms = 0.0; // point set + neighbour table (load or build), not in total
   double trace_ms = 0.0;      // visible points + ray samples + tracing
+  double samples_ms = 0.0;    // of which: visible points + ray samples (bookkeeping)
   double reconstruct_ms = 0.0;
   std::string error;          // non-empty on failure
 };
 
 // True when this build has the foveation core (foveated and both modes).
 bool foveated_available();
+
+// Per-eye size and symmetric frustum of a display preset (foveation's
+// display_preset; without the core only "fove" is known). nullopt if unknown.
+struct PresetGeometry {
+  int width_px = 0;
+  int height_px = 0;
+  double half_fov_x_rad = 0.0;
+  double half_fov_y_rad = 0.0;
+};
+std::optional<PresetGeometry> preset_geometry(const std::string& preset);
 
 FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& request);
 

@@ -18,7 +18,9 @@ namespace foveart::gaze {
 
 struct ReplayConfig {
   std::string path;
-  bool original_timing = true;  // false: as fast as possible (waits for the reader, lossless)
+  // true: paced by the trace's device time, host time stamped on arrival (live playback);
+  // false: as fast as possible, waits for the raw reader (lossless), recorded host times kept.
+  bool original_timing = true;
   bool loop = false;            // start over at the end instead of reporting `ended`
 };
 

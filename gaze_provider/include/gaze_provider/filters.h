@@ -20,7 +20,7 @@ namespace foveart::gaze {
 struct OneEuroConfig {
   bool enabled = true;
   double min_cutoff_hz = 1.0;  // smoothing at rest (lower: smoother, more lag)
-  double beta = 0.02;          // cutoff increase per deg/s of speed (higher: less lag in saccades)
+  double beta = 0.2;           // cutoff increase per deg/s of speed (higher: less lag, more jitter)
   double d_cutoff_hz = 1.0;    // cutoff of the speed estimate
   std::int64_t reset_gap_ns = 100'000'000;  // restart after a gap (blink) this long
 };

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
 
 #include "gaze_provider/gaze_sample.h"
@@ -51,6 +52,18 @@ inline Vec3f from_yaw_pitch_deg(double yaw_deg, double pitch_deg) noexcept {
   const double pitch = pitch_deg / kDegPerRad;
   return {float(std::cos(pitch) * std::sin(yaw)), float(std::sin(pitch)),
           float(std::cos(pitch) * std::cos(yaw))};
+}
+
+// Moves both eyes' valid directions by the yaw/pitch change that took the combined
+// direction from `from` to `to`: smoothing and prediction act on the combined gaze, and
+// the eyes follow it, keeping their vergence.
+inline void follow_combined(EyeGaze& left, EyeGaze& right, const Vec3f& from, const Vec3f& to) noexcept {
+  const YawPitchDeg a = to_yaw_pitch_deg(from), b = to_yaw_pitch_deg(to);
+  for (EyeGaze* e : {&left, &right}) {
+    if (!e->valid) continue;
+    const YawPitchDeg d = to_yaw_pitch_deg(e->direction);
+    e->direction = from_yaw_pitch_deg(d.yaw_deg + (b.yaw_deg - a.yaw_deg), d.pitch_deg + (b.pitch_deg - a.pitch_deg));
+  }
 }
 
 }  // namespace foveart::gaze

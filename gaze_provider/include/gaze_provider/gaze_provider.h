@@ -48,6 +48,8 @@ enum class ProviderState : std::uint8_t {
 
 const char* to_string(ProviderState state) noexcept;
 
+// Published by the sampling thread on every state change and at least every 16
+// samples (so `samples` may lag by up to 15 while streaming).
 struct ProviderStatus {
   ProviderState state = ProviderState::stopped;
   std::array<char, 160> reason{};     // human-readable, NUL-terminated; empty when streaming

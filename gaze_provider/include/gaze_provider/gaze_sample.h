@@ -28,6 +28,9 @@ const char* to_string(EyeState state) noexcept;
 const char* to_string(GazeSourceKind kind) noexcept;
 
 // One eye. `origin_m` is the eye position in head space (metres), zero when unknown.
+// In filtered/predicted samples a valid eye's direction is moved with the combined
+// direction (same yaw/pitch change), so per-eye gaze is smoothed and predicted too;
+// held samples (blinks) carry invalid eyes: use combined_direction then.
 struct EyeGaze {
   Vec3f origin_m{};
   Vec3f direction{0.0f, 0.0f, 1.0f};

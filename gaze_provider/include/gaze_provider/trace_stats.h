@@ -24,6 +24,9 @@ struct TraceStats {
   std::uint64_t saccades = 0;        // onsets found by the filter chain
   std::uint64_t blinks = 0;          // runs of closed eyes (or of 50-500 ms invalid gaze)
   std::optional<double> latency_p50_ms;  // host - device time, when both share a clock
+  std::optional<double> host_interval_p50_ms;  // host arrival intervals, when host times exist
+  std::optional<double> host_interval_p99_ms;
+  std::optional<double> host_jitter_ms;
   std::optional<double> accuracy_deg;    // mean angle gaze-target (valid samples with target)
   std::optional<double> precision_deg;   // RMS of successive-sample angles (valid pairs)
   std::uint64_t skipped_non_monotonic = 0;

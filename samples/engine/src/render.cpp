@@ -174,7 +174,7 @@ RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const Foveart
 
 FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head) {
   constexpr uint32_t kWidth = 1280, kHeight = 1440;
-  const float half_h = glm::radians(45.0f);
+  const float half_h = glm::radians(47.5f);  // 95 deg, as foveation::display_preset("fove")
   const float half_v = std::atan(std::tan(half_h) * static_cast<float>(kHeight) / static_cast<float>(kWidth));
   foveation::EyePose pose;
   const float side = eye_index == 0 ? -0.032f : 0.032f;

@@ -15,10 +15,14 @@ constexpr const char* kEyesUser = "/user/eyes_ext";
 
 bool is_controller_profile(const std::string& p) {
   static const char* kProfiles[] = {
-      "/interaction_profiles/khr/simple_controller",      "/interaction_profiles/google/daydream_controller",
-      "/interaction_profiles/htc/vive_controller",        "/interaction_profiles/htc/vive_pro",
-      "/interaction_profiles/microsoft/motion_controller", "/interaction_profiles/microsoft/xbox_controller",
-      "/interaction_profiles/oculus/go_controller",       "/interaction_profiles/oculus/touch_controller",
+      "/interaction_profiles/khr/simple_controller",
+      "/interaction_profiles/google/daydream_controller",
+      "/interaction_profiles/htc/vive_controller",
+      "/interaction_profiles/htc/vive_pro",
+      "/interaction_profiles/microsoft/motion_controller",
+      "/interaction_profiles/microsoft/xbox_controller",
+      "/interaction_profiles/oculus/go_controller",
+      "/interaction_profiles/oculus/touch_controller",
       "/interaction_profiles/valve/index_controller",
   };
   for (const char* k : kProfiles) {
@@ -27,22 +31,27 @@ bool is_controller_profile(const std::string& p) {
   return false;
 }
 
-bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
+bool starts_with(const std::string& s, const char* prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
 
-XRAPI_ATTR XrResult XRAPI_CALL create_action_set(XrInstance instance, const XrActionSetCreateInfo* info,
+XRAPI_ATTR XrResult XRAPI_CALL create_action_set(XrInstance instance,
+                                                 const XrActionSetCreateInfo* info,
                                                  XrActionSet* out) {
   return guarded("xrCreateActionSet", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_SET_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    if (!is_well_formed_name(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE)) return XR_ERROR_PATH_FORMAT_INVALID;
+    if (!is_well_formed_name(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE))
+      return XR_ERROR_PATH_FORMAT_INVALID;
     if (strnlen(info->localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE) == 0) {
       return XR_ERROR_LOCALIZED_NAME_INVALID;
     }
     for (auto& [id, set] : rt.action_sets) {
       if (set->name == info->actionSetName) return XR_ERROR_NAME_DUPLICATED;
-      if (set->localized_name == info->localizedActionSetName) return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
+      if (set->localized_name == info->localizedActionSetName)
+        return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
     auto set = std::make_unique<ActionSet>();
     set->id = rt.next_id++;
@@ -67,7 +76,8 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_action_set(XrActionSet handle) {
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set_handle, const XrActionCreateInfo* info, XrAction* out) {
+XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set_handle, const XrActionCreateInfo* info,
+                                             XrAction* out) {
   return guarded("xrCreateAction", [&]() -> XrResult {
     Runtime& rt = runtime();
     std::lock_guard<std::mutex> lock(rt.mutex);
@@ -76,7 +86,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set_handle, const XrAct
     FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     if (set->attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
-    if (!is_well_formed_name(info->actionName, XR_MAX_ACTION_NAME_SIZE)) return XR_ERROR_PATH_FORMAT_INVALID;
+    if (!is_well_formed_name(info->actionName, XR_MAX_ACTION_NAME_SIZE))
+      return XR_ERROR_PATH_FORMAT_INVALID;
     if (strnlen(info->localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE) == 0) {
       return XR_ERROR_LOCALIZED_NAME_INVALID;
     }
@@ -93,13 +104,15 @@ XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set_handle, const XrAct
     for (XrAction a : set->actions) {
       const Action* other = find(rt.actions, a);
       if (other->name == info->actionName) return XR_ERROR_NAME_DUPLICATED;
-      if (other->localized_name == info->localizedActionName) return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
+      if (other->localized_name == info->localizedActionName)
+        return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
     auto action = std::make_unique<Action>();
     for (uint32_t i = 0; i < info->countSubactionPaths; ++i) {
       const std::string* p = path_string(*rt.instance, info->subactionPaths[i]);
       if (p == nullptr) return XR_ERROR_PATH_INVALID;
-      if (!(starts_with(*p, "/user/hand/") || *p == "/user/head" || *p == "/user/gamepad" || *p == kEyesUser)) {
+      if (!(starts_with(*p, "/user/hand/") || *p == "/user/head" || *p == "/user/gamepad" ||
+            *p == kEyesUser)) {
         return XR_ERROR_PATH_UNSUPPORTED;
       }
       action->subaction_paths.push_back(info->subactionPaths[i]);
@@ -130,11 +143,13 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_action(XrAction handle) {
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL suggest_bindings(XrInstance instance, const XrInteractionProfileSuggestedBinding* info) {
+XRAPI_ATTR XrResult XRAPI_CALL suggest_bindings(XrInstance instance,
+                                                const XrInteractionProfileSuggestedBinding* info) {
   return guarded("xrSuggestInteractionProfileBindings", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     FOVEART_CHECK_STRUCT(info, XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
-    if (info->countSuggestedBindings == 0 || info->suggestedBindings == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+    if (info->countSuggestedBindings == 0 || info->suggestedBindings == nullptr)
+      return XR_ERROR_VALIDATION_FAILURE;
     const std::string* profile = path_string(*inst, info->interactionProfile);
     if (profile == nullptr) return XR_ERROR_PATH_INVALID;
     const bool eye_profile = *profile == kEyeGazeProfile;
@@ -150,23 +165,28 @@ XRAPI_ATTR XrResult XRAPI_CALL suggest_bindings(XrInstance instance, const XrInt
       const std::string* path = path_string(*inst, b.binding);
       if (path == nullptr) return XR_ERROR_PATH_INVALID;
       if (eye_profile) {
-        if (*path != kEyeGazePose || action->type != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_PATH_UNSUPPORTED;
-      } else if (!starts_with(*path, "/user/hand/left/") && !starts_with(*path, "/user/hand/right/") &&
+        if (*path != kEyeGazePose || action->type != XR_ACTION_TYPE_POSE_INPUT)
+          return XR_ERROR_PATH_UNSUPPORTED;
+      } else if (!starts_with(*path, "/user/hand/left/") &&
+                 !starts_with(*path, "/user/hand/right/") &&
                  !starts_with(*path, "/user/gamepad/")) {
         return XR_ERROR_PATH_UNSUPPORTED;
       }
       bindings.emplace_back(b.action, b.binding);
     }
-    inst->suggested[info->interactionProfile] = std::move(bindings);  // replaces earlier suggestions
+    inst->suggested[info->interactionProfile] =
+        std::move(bindings);  // replaces earlier suggestions
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL attach_action_sets(XrSession handle, const XrSessionActionSetsAttachInfo* info) {
+XRAPI_ATTR XrResult XRAPI_CALL attach_action_sets(XrSession handle,
+                                                  const XrSessionActionSetsAttachInfo* info) {
   return guarded("xrAttachSessionActionSets", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     FOVEART_CHECK_STRUCT(info, XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
-    if (info->countActionSets == 0 || info->actionSets == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+    if (info->countActionSets == 0 || info->actionSets == nullptr)
+      return XR_ERROR_VALIDATION_FAILURE;
     if (!session->attached_sets.empty()) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
     for (uint32_t i = 0; i < info->countActionSets; ++i) {
       if (find(rt.action_sets, info->actionSets[i]) == nullptr) return XR_ERROR_HANDLE_INVALID;
@@ -219,7 +239,8 @@ XRAPI_ATTR XrResult XRAPI_CALL sync_actions(XrSession handle, const XrActionsSyn
   return guarded("xrSyncActions", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTIONS_SYNC_INFO);
-    if (info->countActiveActionSets > 0 && info->activeActionSets == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+    if (info->countActiveActionSets > 0 && info->activeActionSets == nullptr)
+      return XR_ERROR_VALIDATION_FAILURE;
     for (uint32_t i = 0; i < info->countActiveActionSets; ++i) {
       ActionSet* set = find(rt.action_sets, info->activeActionSets[i].actionSet);
       if (set == nullptr) return XR_ERROR_HANDLE_INVALID;
@@ -233,10 +254,12 @@ XRAPI_ATTR XrResult XRAPI_CALL sync_actions(XrSession handle, const XrActionsSyn
       ActionSet* set = find(rt.action_sets, s);
       if (set == nullptr) continue;
       bool active_set = false;
-      for (uint32_t i = 0; i < info->countActiveActionSets; ++i) active_set |= info->activeActionSets[i].actionSet == s;
+      for (uint32_t i = 0; i < info->countActiveActionSets; ++i)
+        active_set |= info->activeActionSets[i].actionSet == s;
       for (XrAction a : set->actions) {
         Action* action = find(rt.actions, a);
-        action->active = focused && active_set && action->bound_to_eye_gaze && inst->config.eye_tracking;
+        action->active =
+            focused && active_set && action->bound_to_eye_gaze && inst->config.eye_tracking;
       }
     }
     return focused ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
@@ -244,19 +267,20 @@ XRAPI_ATTR XrResult XRAPI_CALL sync_actions(XrSession handle, const XrActionsSyn
 }
 
 // Common checks of the xrGetActionState* functions.
-XrResult lookup_action(Runtime& rt, Session& session, const XrActionStateGetInfo* info, XrActionType type,
-                       Action** out) {
+XrResult lookup_action(Runtime& rt, Session& session, const XrActionStateGetInfo* info,
+                       XrActionType type, Action** out) {
   FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_STATE_GET_INFO);
   Action* action = find(rt.actions, info->action);
   if (action == nullptr) return XR_ERROR_HANDLE_INVALID;
-  if (std::find(session.attached_sets.begin(), session.attached_sets.end(), action->set) == session.attached_sets.end()) {
+  if (std::find(session.attached_sets.begin(), session.attached_sets.end(), action->set) ==
+      session.attached_sets.end()) {
     return XR_ERROR_ACTIONSET_NOT_ATTACHED;
   }
   if (action->type != type) return XR_ERROR_ACTION_TYPE_MISMATCH;
   if (info->subactionPath != XR_NULL_PATH) {
     if (path_string(*rt.instance, info->subactionPath) == nullptr) return XR_ERROR_PATH_INVALID;
-    if (std::find(action->subaction_paths.begin(), action->subaction_paths.end(), info->subactionPath) ==
-        action->subaction_paths.end()) {
+    if (std::find(action->subaction_paths.begin(), action->subaction_paths.end(),
+                  info->subactionPath) == action->subaction_paths.end()) {
       return XR_ERROR_PATH_UNSUPPORTED;
     }
   }
@@ -271,7 +295,9 @@ XRAPI_ATTR XrResult XRAPI_CALL get_state_boolean(XrSession handle, const XrActio
     (void)inst;
     FOVEART_CHECK_STRUCT(state, XR_TYPE_ACTION_STATE_BOOLEAN);
     Action* action = nullptr;
-    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_BOOLEAN_INPUT, &action); r != XR_SUCCESS) return r;
+    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_BOOLEAN_INPUT, &action);
+        r != XR_SUCCESS)
+      return r;
     state->currentState = XR_FALSE;
     state->changedSinceLastSync = XR_FALSE;
     state->lastChangeTime = 0;
@@ -287,7 +313,9 @@ XRAPI_ATTR XrResult XRAPI_CALL get_state_float(XrSession handle, const XrActionS
     (void)inst;
     FOVEART_CHECK_STRUCT(state, XR_TYPE_ACTION_STATE_FLOAT);
     Action* action = nullptr;
-    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_FLOAT_INPUT, &action); r != XR_SUCCESS) return r;
+    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_FLOAT_INPUT, &action);
+        r != XR_SUCCESS)
+      return r;
     state->currentState = 0.0F;
     state->changedSinceLastSync = XR_FALSE;
     state->lastChangeTime = 0;
@@ -296,14 +324,17 @@ XRAPI_ATTR XrResult XRAPI_CALL get_state_float(XrSession handle, const XrActionS
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_state_vector2f(XrSession handle, const XrActionStateGetInfo* info,
+XRAPI_ATTR XrResult XRAPI_CALL get_state_vector2f(XrSession handle,
+                                                  const XrActionStateGetInfo* info,
                                                   XrActionStateVector2f* state) {
   return guarded("xrGetActionStateVector2f", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)inst;
     FOVEART_CHECK_STRUCT(state, XR_TYPE_ACTION_STATE_VECTOR2F);
     Action* action = nullptr;
-    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_VECTOR2F_INPUT, &action); r != XR_SUCCESS) return r;
+    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_VECTOR2F_INPUT, &action);
+        r != XR_SUCCESS)
+      return r;
     state->currentState = {0.0F, 0.0F};
     state->changedSinceLastSync = XR_FALSE;
     state->lastChangeTime = 0;
@@ -318,16 +349,20 @@ XRAPI_ATTR XrResult XRAPI_CALL get_state_pose(XrSession handle, const XrActionSt
     FOVEART_LOCK_SESSION(handle);
     FOVEART_CHECK_STRUCT(state, XR_TYPE_ACTION_STATE_POSE);
     Action* action = nullptr;
-    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_POSE_INPUT, &action); r != XR_SUCCESS) return r;
+    if (XrResult r = lookup_action(rt, *session, info, XR_ACTION_TYPE_POSE_INPUT, &action);
+        r != XR_SUCCESS)
+      return r;
     bool active = action->active;
-    if (info->subactionPath != XR_NULL_PATH) active = active && *path_string(*inst, info->subactionPath) == kEyesUser;
+    if (info->subactionPath != XR_NULL_PATH)
+      active = active && *path_string(*inst, info->subactionPath) == kEyesUser;
     state->isActive = active ? XR_TRUE : XR_FALSE;
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_bound_sources(XrSession handle, const XrBoundSourcesForActionEnumerateInfo* info,
-                                                       uint32_t capacity, uint32_t* count, XrPath* sources) {
+XRAPI_ATTR XrResult XRAPI_CALL
+enumerate_bound_sources(XrSession handle, const XrBoundSourcesForActionEnumerateInfo* info,
+                        uint32_t capacity, uint32_t* count, XrPath* sources) {
   return guarded("xrEnumerateBoundSourcesForAction", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     FOVEART_CHECK_STRUCT(info, XR_TYPE_BOUND_SOURCES_FOR_ACTION_ENUMERATE_INFO);
@@ -335,14 +370,15 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_bound_sources(XrSession handle, const X
     if (action == nullptr) return XR_ERROR_HANDLE_INVALID;
     if (session->attached_sets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
     std::vector<XrPath> out;
-    if (action->bound_to_eye_gaze && inst->config.eye_tracking) out.push_back(intern_path(*inst, kEyeGazePose));
+    if (action->bound_to_eye_gaze && inst->config.eye_tracking)
+      out.push_back(intern_path(*inst, kEyeGazePose));
     return two_call(capacity, count, sources, out);
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_input_source_localized_name(XrSession handle,
-                                                               const XrInputSourceLocalizedNameGetInfo* info,
-                                                               uint32_t capacity, uint32_t* count, char* buffer) {
+XRAPI_ATTR XrResult XRAPI_CALL
+get_input_source_localized_name(XrSession handle, const XrInputSourceLocalizedNameGetInfo* info,
+                                uint32_t capacity, uint32_t* count, char* buffer) {
   return guarded("xrGetInputSourceLocalizedName", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)session;
@@ -357,13 +393,14 @@ XrResult check_haptic(Runtime& rt, Session& session, const XrHapticActionInfo* i
   FOVEART_CHECK_STRUCT(info, XR_TYPE_HAPTIC_ACTION_INFO);
   Action* action = find(rt.actions, info->action);
   if (action == nullptr) return XR_ERROR_HANDLE_INVALID;
-  if (std::find(session.attached_sets.begin(), session.attached_sets.end(), action->set) == session.attached_sets.end()) {
+  if (std::find(session.attached_sets.begin(), session.attached_sets.end(), action->set) ==
+      session.attached_sets.end()) {
     return XR_ERROR_ACTIONSET_NOT_ATTACHED;
   }
   if (action->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
   if (info->subactionPath != XR_NULL_PATH &&
-      std::find(action->subaction_paths.begin(), action->subaction_paths.end(), info->subactionPath) ==
-          action->subaction_paths.end()) {
+      std::find(action->subaction_paths.begin(), action->subaction_paths.end(),
+                info->subactionPath) == action->subaction_paths.end()) {
     return XR_ERROR_PATH_UNSUPPORTED;
   }
   return XR_SUCCESS;

@@ -47,16 +47,16 @@ XrResult guarded(const char* name, Body&& body) noexcept {
 }
 
 // Locks the runtime and resolves the instance; for entry points taking XrInstance.
-#define FOVEART_LOCK_INSTANCE(handle)                        \
-  Runtime& rt = runtime();                                   \
-  std::unique_lock<std::mutex> lock(rt.mutex);               \
-  Instance* inst = find_instance(handle);                    \
+#define FOVEART_LOCK_INSTANCE(handle)          \
+  Runtime& rt = runtime();                     \
+  std::unique_lock<std::mutex> lock(rt.mutex); \
+  Instance* inst = find_instance(handle);      \
   if (inst == nullptr) return XR_ERROR_HANDLE_INVALID;
 
-#define FOVEART_LOCK_SESSION(handle)                         \
-  Runtime& rt = runtime();                                   \
-  std::unique_lock<std::mutex> lock(rt.mutex);               \
-  Session* session = find(rt.sessions, handle);              \
+#define FOVEART_LOCK_SESSION(handle)                                      \
+  Runtime& rt = runtime();                                                \
+  std::unique_lock<std::mutex> lock(rt.mutex);                            \
+  Session* session = find(rt.sessions, handle);                           \
   if (session == nullptr || !rt.instance) return XR_ERROR_HANDLE_INVALID; \
   Instance* inst = rt.instance.get();
 

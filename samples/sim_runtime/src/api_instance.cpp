@@ -1,7 +1,7 @@
 // Instance, system, view configuration, paths, events and time conversion.
-#include <cstring>
-
 #include <openxr/openxr_reflection.h>
+
+#include <cstring>
 
 #include "api_common.h"
 #include "sim_runtime/sim_env.h"
@@ -20,8 +20,8 @@ constexpr ExtensionInfo kExtensions[] = {
     {XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME, XR_KHR_convert_timespec_time_SPEC_VERSION},
 };
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_instance_extension_properties(const char* layerName, uint32_t capacity,
-                                                                       uint32_t* count, XrExtensionProperties* props) {
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_instance_extension_properties(
+    const char* layerName, uint32_t capacity, uint32_t* count, XrExtensionProperties* props) {
   return guarded("xrEnumerateInstanceExtensionProperties", [&]() -> XrResult {
     if (layerName != nullptr && layerName[0] != '\0') return XR_ERROR_API_LAYER_NOT_PRESENT;
     if (count == nullptr) return XR_ERROR_VALIDATION_FAILURE;
@@ -40,7 +40,8 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_instance_extension_properties(const cha
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_api_layer_properties(uint32_t, uint32_t* count, XrApiLayerProperties*) {
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_api_layer_properties(uint32_t, uint32_t* count,
+                                                              XrApiLayerProperties*) {
   if (count == nullptr) return XR_ERROR_VALIDATION_FAILURE;
   *count = 0;
   return XR_SUCCESS;
@@ -50,7 +51,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
   return guarded("xrCreateInstance", [&]() -> XrResult {
     FOVEART_CHECK_STRUCT(info, XR_TYPE_INSTANCE_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    if (XR_VERSION_MAJOR(info->applicationInfo.apiVersion) != 1) return XR_ERROR_API_VERSION_UNSUPPORTED;
+    if (XR_VERSION_MAJOR(info->applicationInfo.apiVersion) != 1)
+      return XR_ERROR_API_VERSION_UNSUPPORTED;
     if (info->applicationInfo.applicationName[0] == '\0') return XR_ERROR_NAME_INVALID;
     if (info->enabledApiLayerCount > 0) return XR_ERROR_API_LAYER_NOT_PRESENT;
     Runtime& rt = runtime();
@@ -60,11 +62,16 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     for (uint32_t i = 0; i < info->enabledExtensionCount; ++i) {
       const char* e = info->enabledExtensionNames[i];
       if (e == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-      if (std::strcmp(e, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME) == 0) inst->ext_vulkan2 = true;
-      else if (std::strcmp(e, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME) == 0) inst->ext_vulkan = true;
-      else if (std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0) inst->ext_eye_gaze = true;
-      else if (std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0) inst->ext_timespec = true;
-      else return XR_ERROR_EXTENSION_NOT_PRESENT;
+      if (std::strcmp(e, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME) == 0)
+        inst->ext_vulkan2 = true;
+      else if (std::strcmp(e, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME) == 0)
+        inst->ext_vulkan = true;
+      else if (std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0)
+        inst->ext_eye_gaze = true;
+      else if (std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0)
+        inst->ext_timespec = true;
+      else
+        return XR_ERROR_EXTENSION_NOT_PRESENT;
     }
     std::string error;
     auto config = config_from_environment(error);
@@ -89,12 +96,14 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     inst->application_name = info->applicationInfo.applicationName;
     inst->id = rt.next_id++;
     *out = to_handle<XrInstance>(inst->id);
-    log(LogLevel::Info, "instance for '" + inst->application_name + "': clock " +
-                            (config->virtual_clock ? "virtual" : "real") + ", frame budget " +
-                            (config->frame_budget ? std::to_string(config->frame_budget) : std::string("none")) +
-                            ", gaze " + (config->gaze_file.empty() ? "built-in saccade script" : config->gaze_file) +
-                            (config->eye_tracking ? "" : " (eye tracking off)") +
-                            (config->capture_dir.empty() ? "" : ", capture to " + config->capture_dir));
+    log(LogLevel::Info,
+        "instance for '" + inst->application_name + "': clock " +
+            (config->virtual_clock ? "virtual" : "real") + ", frame budget " +
+            (config->frame_budget ? std::to_string(config->frame_budget) : std::string("none")) +
+            ", gaze " +
+            (config->gaze_file.empty() ? "built-in saccade script" : config->gaze_file) +
+            (config->eye_tracking ? "" : " (eye tracking off)") +
+            (config->capture_dir.empty() ? "" : ", capture to " + config->capture_dir));
     rt.instance = std::move(inst);
     return XR_SUCCESS;
   });
@@ -115,7 +124,8 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_instance(XrInstance instance) {
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_instance_properties(XrInstance instance, XrInstanceProperties* props) {
+XRAPI_ATTR XrResult XRAPI_CALL get_instance_properties(XrInstance instance,
+                                                       XrInstanceProperties* props) {
   return guarded("xrGetInstanceProperties", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
@@ -137,7 +147,8 @@ XRAPI_ATTR XrResult XRAPI_CALL poll_event(XrInstance instance, XrEventDataBuffer
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL result_to_string(XrInstance instance, XrResult value, char buffer[XR_MAX_RESULT_STRING_SIZE]) {
+XRAPI_ATTR XrResult XRAPI_CALL result_to_string(XrInstance instance, XrResult value,
+                                                char buffer[XR_MAX_RESULT_STRING_SIZE]) {
   return guarded("xrResultToString", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
@@ -150,12 +161,16 @@ XRAPI_ATTR XrResult XRAPI_CALL result_to_string(XrInstance instance, XrResult va
     break;
       XR_LIST_ENUM_XrResult(FOVEART_RESULT_CASE)
 #undef FOVEART_RESULT_CASE
-      default:
-        break;
+          default : break;
     }
-    if (name != nullptr) std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "%s", name);
-    else if (value >= 0) std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_SUCCESS_%d", static_cast<int>(value));
-    else std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_FAILURE_%d", -static_cast<int>(value));
+    if (name != nullptr)
+      std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "%s", name);
+    else if (value >= 0)
+      std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_SUCCESS_%d",
+                    static_cast<int>(value));
+    else
+      std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_FAILURE_%d",
+                    -static_cast<int>(value));
     return XR_SUCCESS;
   });
 }
@@ -174,29 +189,34 @@ XRAPI_ATTR XrResult XRAPI_CALL structure_type_to_string(XrInstance instance, XrS
     break;
       XR_LIST_ENUM_XrStructureType(FOVEART_TYPE_CASE)
 #undef FOVEART_TYPE_CASE
-      default:
-        break;
+          default : break;
     }
-    if (name != nullptr) std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "%s", name);
-    else std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "XR_UNKNOWN_STRUCTURE_TYPE_%d", static_cast<int>(value));
+    if (name != nullptr)
+      std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "%s", name);
+    else
+      std::snprintf(buffer, XR_MAX_STRUCTURE_NAME_SIZE, "XR_UNKNOWN_STRUCTURE_TYPE_%d",
+                    static_cast<int>(value));
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_system(XrInstance instance, const XrSystemGetInfo* info, XrSystemId* out) {
+XRAPI_ATTR XrResult XRAPI_CALL get_system(XrInstance instance, const XrSystemGetInfo* info,
+                                          XrSystemId* out) {
   return guarded("xrGetSystem", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_SYSTEM_GET_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    if (info->formFactor == XR_FORM_FACTOR_HANDHELD_DISPLAY) return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
+    if (info->formFactor == XR_FORM_FACTOR_HANDHELD_DISPLAY)
+      return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
     if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY) return XR_ERROR_VALIDATION_FAILURE;
     *out = kSystemId;
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_system_properties(XrInstance instance, XrSystemId system, XrSystemProperties* props) {
+XRAPI_ATTR XrResult XRAPI_CALL get_system_properties(XrInstance instance, XrSystemId system,
+                                                     XrSystemProperties* props) {
   return guarded("xrGetSystemProperties", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     if (system != kSystemId) return XR_ERROR_SYSTEM_INVALID;
@@ -211,43 +231,51 @@ XRAPI_ATTR XrResult XRAPI_CALL get_system_properties(XrInstance instance, XrSyst
     props->trackingProperties.positionTracking = XR_TRUE;
     if (auto* eye = find_in_chain<XrSystemEyeGazeInteractionPropertiesEXT>(
             props->next, XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT)) {
-      eye->supportsEyeGazeInteraction = (inst->ext_eye_gaze && inst->config.eye_tracking) ? XR_TRUE : XR_FALSE;
+      eye->supportsEyeGazeInteraction =
+          (inst->ext_eye_gaze && inst->config.eye_tracking) ? XR_TRUE : XR_FALSE;
     }
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_environment_blend_modes(XrInstance instance, XrSystemId system,
-                                                                 XrViewConfigurationType type, uint32_t capacity,
-                                                                 uint32_t* count, XrEnvironmentBlendMode* modes) {
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_environment_blend_modes(XrInstance instance,
+                                                                 XrSystemId system,
+                                                                 XrViewConfigurationType type,
+                                                                 uint32_t capacity, uint32_t* count,
+                                                                 XrEnvironmentBlendMode* modes) {
   return guarded("xrEnumerateEnvironmentBlendModes", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     if (system != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
-    return two_call(capacity, count, modes, std::vector<XrEnvironmentBlendMode>{XR_ENVIRONMENT_BLEND_MODE_OPAQUE});
+    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+      return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    return two_call(capacity, count, modes,
+                    std::vector<XrEnvironmentBlendMode>{XR_ENVIRONMENT_BLEND_MODE_OPAQUE});
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_view_configurations(XrInstance instance, XrSystemId system, uint32_t capacity,
-                                                             uint32_t* count, XrViewConfigurationType* types) {
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_view_configurations(XrInstance instance, XrSystemId system,
+                                                             uint32_t capacity, uint32_t* count,
+                                                             XrViewConfigurationType* types) {
   return guarded("xrEnumerateViewConfigurations", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     if (system != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    return two_call(capacity, count, types,
-                    std::vector<XrViewConfigurationType>{XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO});
+    return two_call(
+        capacity, count, types,
+        std::vector<XrViewConfigurationType>{XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO});
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_view_configuration_properties(XrInstance instance, XrSystemId system,
-                                                                 XrViewConfigurationType type,
-                                                                 XrViewConfigurationProperties* props) {
+XRAPI_ATTR XrResult XRAPI_CALL get_view_configuration_properties(
+    XrInstance instance, XrSystemId system, XrViewConfigurationType type,
+    XrViewConfigurationProperties* props) {
   return guarded("xrGetViewConfigurationProperties", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     if (system != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+      return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
     FOVEART_CHECK_STRUCT(props, XR_TYPE_VIEW_CONFIGURATION_PROPERTIES);
     props->viewConfigurationType = type;
     props->fovMutable = XR_FALSE;
@@ -255,14 +283,15 @@ XRAPI_ATTR XrResult XRAPI_CALL get_view_configuration_properties(XrInstance inst
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_view_configuration_views(XrInstance instance, XrSystemId system,
-                                                                  XrViewConfigurationType type, uint32_t capacity,
-                                                                  uint32_t* count, XrViewConfigurationView* views) {
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_view_configuration_views(
+    XrInstance instance, XrSystemId system, XrViewConfigurationType type, uint32_t capacity,
+    uint32_t* count, XrViewConfigurationView* views) {
   return guarded("xrEnumerateViewConfigurationViews", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     if (system != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+    if (type != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+      return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
     if (count == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     *count = 2;
     if (capacity == 0) return XR_SUCCESS;
@@ -286,7 +315,8 @@ bool is_well_formed_path(const char* s) {
   if (n == 0 || n == XR_MAX_PATH_LENGTH || s[0] != '/' || s[n - 1] == '/') return false;
   for (size_t i = 0; i < n; ++i) {
     const char c = s[i];
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.' || c == '/';
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
+                    c == '.' || c == '/';
     if (!ok) return false;
     if (c == '/' && i + 1 < n && s[i + 1] == '/') return false;
   }
@@ -303,8 +333,8 @@ XRAPI_ATTR XrResult XRAPI_CALL string_to_path(XrInstance instance, const char* s
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL path_to_string(XrInstance instance, XrPath path, uint32_t capacity, uint32_t* count,
-                                              char* buffer) {
+XRAPI_ATTR XrResult XRAPI_CALL path_to_string(XrInstance instance, XrPath path, uint32_t capacity,
+                                              uint32_t* count, char* buffer) {
   return guarded("xrPathToString", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     const std::string* s = path_string(*inst, path);
@@ -313,17 +343,20 @@ XRAPI_ATTR XrResult XRAPI_CALL path_to_string(XrInstance instance, XrPath path, 
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL convert_timespec_to_time(XrInstance instance, const struct timespec* ts, XrTime* out) {
+XRAPI_ATTR XrResult XRAPI_CALL convert_timespec_to_time(XrInstance instance,
+                                                        const struct timespec* ts, XrTime* out) {
   return guarded("xrConvertTimespecTimeToTimeKHR", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;
     if (ts == nullptr || out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    *out = static_cast<XrTime>(ts->tv_sec) * 1'000'000'000 + ts->tv_nsec;  // XrTime is CLOCK_MONOTONIC ns
+    *out = static_cast<XrTime>(ts->tv_sec) * 1'000'000'000 +
+           ts->tv_nsec;  // XrTime is CLOCK_MONOTONIC ns
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL convert_time_to_timespec(XrInstance instance, XrTime time, struct timespec* ts) {
+XRAPI_ATTR XrResult XRAPI_CALL convert_time_to_timespec(XrInstance instance, XrTime time,
+                                                        struct timespec* ts) {
   return guarded("xrConvertTimeToTimespecTimeKHR", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;

@@ -23,7 +23,8 @@ void set_session_state(Instance& inst, Session& s, XrSessionState state) {
   e->state = state;
   e->time = inst.clock.now_ns();
   push_event(inst, buffer);
-  static const char* kNames[] = {"UNKNOWN", "IDLE", "READY", "SYNCHRONIZED", "VISIBLE", "FOCUSED", "STOPPING", "LOSS_PENDING", "EXITING"};
+  static const char* kNames[] = {"UNKNOWN", "IDLE",     "READY",        "SYNCHRONIZED", "VISIBLE",
+                                 "FOCUSED", "STOPPING", "LOSS_PENDING", "EXITING"};
   if (state >= 0 && state <= XR_SESSION_STATE_EXITING) {
     log(LogLevel::Debug, std::string("session state ") + kNames[state]);
   }
@@ -54,31 +55,35 @@ namespace {
 void begin_exit(Instance& inst, Session& s) {
   s.exit_requested = true;
   if (s.state == XR_SESSION_STATE_FOCUSED) set_session_state(inst, s, XR_SESSION_STATE_VISIBLE);
-  if (s.state == XR_SESSION_STATE_VISIBLE) set_session_state(inst, s, XR_SESSION_STATE_SYNCHRONIZED);
+  if (s.state == XR_SESSION_STATE_VISIBLE)
+    set_session_state(inst, s, XR_SESSION_STATE_SYNCHRONIZED);
   if (s.state == XR_SESSION_STATE_SYNCHRONIZED || s.state == XR_SESSION_STATE_READY) {
     set_session_state(inst, s, XR_SESSION_STATE_STOPPING);
   }
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessionCreateInfo* info, XrSession* out) {
+XRAPI_ATTR XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessionCreateInfo* info,
+                                              XrSession* out) {
   return guarded("xrCreateSession", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     FOVEART_CHECK_STRUCT(info, XR_TYPE_SESSION_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     if (info->systemId != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    if (!inst->ext_vulkan && !inst->ext_vulkan2) return XR_ERROR_GRAPHICS_DEVICE_INVALID;  // headless sessions unsupported
+    if (!inst->ext_vulkan && !inst->ext_vulkan2)
+      return XR_ERROR_GRAPHICS_DEVICE_INVALID;  // headless sessions unsupported
     if (!inst->graphics_requirements_queried) return XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING;
     // XrGraphicsBindingVulkan2KHR is the same struct and type value as the v1 binding.
-    const auto* binding = find_in_chain<XrGraphicsBindingVulkanKHR>(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
-    if (binding == nullptr || binding->instance == VK_NULL_HANDLE || binding->physicalDevice == VK_NULL_HANDLE ||
-        binding->device == VK_NULL_HANDLE) {
+    const auto* binding =
+        find_in_chain<XrGraphicsBindingVulkanKHR>(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR);
+    if (binding == nullptr || binding->instance == VK_NULL_HANDLE ||
+        binding->physicalDevice == VK_NULL_HANDLE || binding->device == VK_NULL_HANDLE) {
       return XR_ERROR_GRAPHICS_DEVICE_INVALID;
     }
     if (!rt.sessions.empty()) return XR_ERROR_LIMIT_REACHED;
     auto s = std::make_unique<Session>();
     std::string error;
-    if (!s->vk.init(binding->instance, binding->physicalDevice, binding->device, binding->queueFamilyIndex,
-                    binding->queueIndex, error)) {
+    if (!s->vk.init(binding->instance, binding->physicalDevice, binding->device,
+                    binding->queueFamilyIndex, binding->queueIndex, error)) {
       log(LogLevel::Error, "xrCreateSession: " + error);
       return XR_ERROR_GRAPHICS_DEVICE_INVALID;
     }
@@ -153,10 +158,12 @@ XRAPI_ATTR XrResult XRAPI_CALL request_exit_session(XrSession handle) {
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL wait_frame(XrSession handle, const XrFrameWaitInfo* info, XrFrameState* state) {
+XRAPI_ATTR XrResult XRAPI_CALL wait_frame(XrSession handle, const XrFrameWaitInfo* info,
+                                          XrFrameState* state) {
   return guarded("xrWaitFrame", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
-    if (info != nullptr && info->type != XR_TYPE_FRAME_WAIT_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info != nullptr && info->type != XR_TYPE_FRAME_WAIT_INFO)
+      return XR_ERROR_VALIDATION_FAILURE;
     FOVEART_CHECK_STRUCT(state, XR_TYPE_FRAME_STATE);
     if (!session->running) return XR_ERROR_SESSION_NOT_RUNNING;
     // Vsync grid t_k = origin + k * period; wake at the next unused slot, never
@@ -195,7 +202,9 @@ XRAPI_ATTR XrResult XRAPI_CALL wait_frame(XrSession handle, const XrFrameWaitInf
     state->predictedDisplayTime = session->predicted_display_ns;
     state->predictedDisplayPeriod = kFramePeriodNs;
     state->shouldRender =
-        (session->state == XR_SESSION_STATE_VISIBLE || session->state == XR_SESSION_STATE_FOCUSED) ? XR_TRUE : XR_FALSE;
+        (session->state == XR_SESSION_STATE_VISIBLE || session->state == XR_SESSION_STATE_FOCUSED)
+            ? XR_TRUE
+            : XR_FALSE;
     return XR_SUCCESS;
   });
 }
@@ -203,7 +212,8 @@ XRAPI_ATTR XrResult XRAPI_CALL wait_frame(XrSession handle, const XrFrameWaitInf
 XRAPI_ATTR XrResult XRAPI_CALL begin_frame(XrSession handle, const XrFrameBeginInfo* info) {
   return guarded("xrBeginFrame", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
-    if (info != nullptr && info->type != XR_TYPE_FRAME_BEGIN_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info != nullptr && info->type != XR_TYPE_FRAME_BEGIN_INFO)
+      return XR_ERROR_VALIDATION_FAILURE;
     if (!session->running) return XR_ERROR_SESSION_NOT_RUNNING;
     if (!session->frame_waited) return XR_ERROR_CALL_ORDER_INVALID;
     session->frame_waited = false;
@@ -214,7 +224,8 @@ XRAPI_ATTR XrResult XRAPI_CALL begin_frame(XrSession handle, const XrFrameBeginI
   });
 }
 
-XrResult check_swapchain_image(Runtime& rt, const Session& s, const XrSwapchainSubImage& sub, Swapchain** out) {
+XrResult check_swapchain_image(Runtime& rt, const Session& s, const XrSwapchainSubImage& sub,
+                               Swapchain** out) {
   Swapchain* sc = find(rt.swapchains, sub.swapchain);
   if (sc == nullptr || handle_id(sc->session) != s.id) return XR_ERROR_HANDLE_INVALID;
   if (sc->last_released < 0) return XR_ERROR_LAYER_INVALID;  // nothing released yet
@@ -234,7 +245,8 @@ XrResult check_space(Runtime& rt, const Session& s, XrSpace space) {
   return (sp == nullptr || handle_id(sp->session) != s.id) ? XR_ERROR_HANDLE_INVALID : XR_SUCCESS;
 }
 
-XrResult validate_layers(Runtime& rt, const Session& s, const XrFrameEndInfo& info, uint32_t& projection_views) {
+XrResult validate_layers(Runtime& rt, const Session& s, const XrFrameEndInfo& info,
+                         uint32_t& projection_views) {
   projection_views = 0;
   if (info.layerCount > kMaxLayers) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
   if (info.layerCount > 0 && info.layers == nullptr) return XR_ERROR_VALIDATION_FAILURE;
@@ -247,10 +259,12 @@ XrResult validate_layers(Runtime& rt, const Session& s, const XrFrameEndInfo& in
       if (p->viewCount != 2 || p->views == nullptr) return XR_ERROR_VALIDATION_FAILURE;
       for (uint32_t v = 0; v < p->viewCount; ++v) {
         const XrCompositionLayerProjectionView& view = p->views[v];
-        if (view.type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
+        if (view.type != XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW)
+          return XR_ERROR_VALIDATION_FAILURE;
         if (!is_unit_quaternion(view.pose.orientation)) return XR_ERROR_POSE_INVALID;
         Swapchain* sc = nullptr;
-        if (XrResult r = check_swapchain_image(rt, s, view.subImage, &sc); r != XR_SUCCESS) return r;
+        if (XrResult r = check_swapchain_image(rt, s, view.subImage, &sc); r != XR_SUCCESS)
+          return r;
         if (sc->is_depth) return XR_ERROR_LAYER_INVALID;
         ++projection_views;
       }
@@ -279,14 +293,16 @@ uint32_t capture_frame(Runtime& rt, Session& s, const XrFrameEndInfo& info, uint
       Swapchain* sc = find(rt.swapchains, sub.swapchain);
       bool bgra = false;
       if (sc == nullptr || !is_capturable_format(static_cast<VkFormat>(sc->info.format), bgra)) {
-        log(LogLevel::Info, "capture: skipping a view whose swapchain format is not 8-bit RGBA/BGRA");
+        log(LogLevel::Info,
+            "capture: skipping a view whose swapchain format is not 8-bit RGBA/BGRA");
         continue;
       }
       const SwapchainImage& img = sc->images[static_cast<size_t>(sc->last_released)];
       const auto& r = sub.imageRect;
       const auto w = static_cast<uint32_t>(r.extent.width);
       const auto h = static_cast<uint32_t>(r.extent.height);
-      if (!img.initialized || !s.vk.read_back(img, sub.imageArrayIndex, r.offset.x, r.offset.y, w, h, texels)) {
+      if (!img.initialized ||
+          !s.vk.read_back(img, sub.imageArrayIndex, r.offset.x, r.offset.y, w, h, texels)) {
         log(LogLevel::Error, "capture: read back failed");
         continue;
       }
@@ -326,7 +342,8 @@ XRAPI_ATTR XrResult XRAPI_CALL end_frame(XrSession handle, const XrFrameEndInfo*
     t.layers = info->layerCount;
     t.projection_views = projection_views;
     if (session->capture) {
-      if (session->capture->wants_images(frame)) t.views_captured = capture_frame(rt, *session, *info, frame);
+      if (session->capture->wants_images(frame))
+        t.views_captured = capture_frame(rt, *session, *info, frame);
       const GazeSample g = inst->gaze.sample_at(info->displayTime - inst->origin_ns);
       t.gaze_valid = g.valid && inst->config.eye_tracking;
       t.gaze_x = g.direction.x;
@@ -336,7 +353,8 @@ XRAPI_ATTR XrResult XRAPI_CALL end_frame(XrSession handle, const XrFrameEndInfo*
     }
     const uint64_t budget = inst->config.frame_budget;
     if (budget != 0 && session->frames_ended >= budget && !session->exit_requested) {
-      log(LogLevel::Info, "frame budget of " + std::to_string(budget) + " frames reached: requesting exit");
+      log(LogLevel::Info,
+          "frame budget of " + std::to_string(budget) + " frames reached: requesting exit");
       begin_exit(*inst, *session);
     }
     return XR_SUCCESS;

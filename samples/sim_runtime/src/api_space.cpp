@@ -8,7 +8,7 @@
 namespace foveart::sim {
 namespace {
 
-constexpr float kEyeHeightM = 1.6F;  // STAGE origin is on the floor below LOCAL
+constexpr float kEyeHeightM = 1.6F;           // STAGE origin is on the floor below LOCAL
 constexpr float kHalfVerticalFovDeg = 47.5F;  // FOVE 0: ~95 deg
 
 XrSpaceLocationFlags all_valid_tracked() {
@@ -21,7 +21,8 @@ XrSpaceLocationFlags all_valid_tracked() {
 XrFovf view_fov() {
   // Square pixels: tan(half horizontal) = tan(half vertical) * 1280 / 1440.
   const float up = glm::radians(kHalfVerticalFovDeg);
-  const float right = std::atan(std::tan(up) * static_cast<float>(env::kViewWidthPx) / static_cast<float>(env::kViewHeightPx));
+  const float right = std::atan(std::tan(up) * static_cast<float>(env::kViewWidthPx) /
+                                static_cast<float>(env::kViewHeightPx));
   return XrFovf{-right, right, up, -up};
 }
 
@@ -42,14 +43,20 @@ Pose eye_gaze_pose_in_local(const Instance& inst, int64_t time_ns, GazeSample& s
   return head_pose_in_local(inst, time_ns) * look_along(sample.direction);
 }
 
-bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out, int64_t* gaze_sample_ns) {
+bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out,
+                         int64_t* gaze_sample_ns) {
   const Instance& inst = *rt.instance;
   if (space.kind == SpaceKind::Reference) {
     Pose base;
     switch (space.reference_type) {
-      case XR_REFERENCE_SPACE_TYPE_VIEW: base = head_pose_in_local(inst, time_ns); break;
-      case XR_REFERENCE_SPACE_TYPE_STAGE: base.position = glm::vec3(0.0F, -kEyeHeightM, 0.0F); break;
-      default: break;
+      case XR_REFERENCE_SPACE_TYPE_VIEW:
+        base = head_pose_in_local(inst, time_ns);
+        break;
+      case XR_REFERENCE_SPACE_TYPE_STAGE:
+        base.position = glm::vec3(0.0F, -kEyeHeightM, 0.0F);
+        break;
+      default:
+        break;
     }
     out = base * space.offset;
     return true;
@@ -71,22 +78,26 @@ bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose&
 namespace {
 
 bool is_supported_reference_space(XrReferenceSpaceType t) {
-  return t == XR_REFERENCE_SPACE_TYPE_VIEW || t == XR_REFERENCE_SPACE_TYPE_LOCAL || t == XR_REFERENCE_SPACE_TYPE_STAGE;
+  return t == XR_REFERENCE_SPACE_TYPE_VIEW || t == XR_REFERENCE_SPACE_TYPE_LOCAL ||
+         t == XR_REFERENCE_SPACE_TYPE_STAGE;
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_reference_spaces(XrSession handle, uint32_t capacity, uint32_t* count,
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_reference_spaces(XrSession handle, uint32_t capacity,
+                                                          uint32_t* count,
                                                           XrReferenceSpaceType* out) {
   return guarded("xrEnumerateReferenceSpaces", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)inst;
     (void)session;
     return two_call(capacity, count, out,
-                    std::vector<XrReferenceSpaceType>{XR_REFERENCE_SPACE_TYPE_VIEW, XR_REFERENCE_SPACE_TYPE_LOCAL,
+                    std::vector<XrReferenceSpaceType>{XR_REFERENCE_SPACE_TYPE_VIEW,
+                                                      XR_REFERENCE_SPACE_TYPE_LOCAL,
                                                       XR_REFERENCE_SPACE_TYPE_STAGE});
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_reference_space(XrSession handle, const XrReferenceSpaceCreateInfo* info,
+XRAPI_ATTR XrResult XRAPI_CALL create_reference_space(XrSession handle,
+                                                      const XrReferenceSpaceCreateInfo* info,
                                                       XrSpace* out) {
   return guarded("xrCreateReferenceSpace", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
@@ -94,7 +105,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_reference_space(XrSession handle, const Xr
     (void)session;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_REFERENCE_SPACE_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    if (!is_supported_reference_space(info->referenceSpaceType)) return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
+    if (!is_supported_reference_space(info->referenceSpaceType))
+      return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
     if (!is_unit_quaternion(info->poseInReferenceSpace.orientation)) return XR_ERROR_POSE_INVALID;
     auto space = std::make_unique<Space>();
     space->id = rt.next_id++;
@@ -108,7 +120,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_reference_space(XrSession handle, const Xr
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_reference_space_bounds_rect(XrSession handle, XrReferenceSpaceType type,
+XRAPI_ATTR XrResult XRAPI_CALL get_reference_space_bounds_rect(XrSession handle,
+                                                               XrReferenceSpaceType type,
                                                                XrExtent2Df* bounds) {
   return guarded("xrGetReferenceSpaceBoundsRect", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
@@ -125,7 +138,9 @@ XRAPI_ATTR XrResult XRAPI_CALL get_reference_space_bounds_rect(XrSession handle,
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_action_space(XrSession handle, const XrActionSpaceCreateInfo* info, XrSpace* out) {
+XRAPI_ATTR XrResult XRAPI_CALL create_action_space(XrSession handle,
+                                                   const XrActionSpaceCreateInfo* info,
+                                                   XrSpace* out) {
   return guarded("xrCreateActionSpace", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)session;
@@ -180,7 +195,8 @@ XRAPI_ATTR XrResult XRAPI_CALL locate_space(XrSpace space_handle, XrSpace base_h
     int64_t sample_ns = 0;
     const bool located = space_pose_in_local(rt, *space, time, space_pose, &sample_ns) &&
                          space_pose_in_local(rt, *base, time, base_pose, nullptr);
-    auto* sample_time = find_in_chain<XrEyeGazeSampleTimeEXT>(location->next, XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT);
+    auto* sample_time =
+        find_in_chain<XrEyeGazeSampleTimeEXT>(location->next, XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT);
     if (!located) {
       location->locationFlags = 0;
       location->pose = to_xr(Pose{});
@@ -197,8 +213,9 @@ XRAPI_ATTR XrResult XRAPI_CALL locate_space(XrSpace space_handle, XrSpace base_h
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL locate_views(XrSession handle, const XrViewLocateInfo* info, XrViewState* view_state,
-                                            uint32_t capacity, uint32_t* count, XrView* views) {
+XRAPI_ATTR XrResult XRAPI_CALL locate_views(XrSession handle, const XrViewLocateInfo* info,
+                                            XrViewState* view_state, uint32_t capacity,
+                                            uint32_t* count, XrView* views) {
   return guarded("xrLocateViews", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)session;
@@ -231,8 +248,9 @@ XRAPI_ATTR XrResult XRAPI_CALL locate_views(XrSession handle, const XrViewLocate
       views[i].pose = to_xr(inverse(base_pose) * head * eye);
       views[i].fov = view_fov();
     }
-    view_state->viewStateFlags = XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
-                                 XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT;
+    view_state->viewStateFlags =
+        XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+        XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT;
     return XR_SUCCESS;
   });
 }

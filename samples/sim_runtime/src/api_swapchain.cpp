@@ -9,13 +9,14 @@ constexpr uint32_t kImageCount = 3;
 
 // Preferred first (hello_xr and most engines take the first they know).
 const std::vector<int64_t>& swapchain_formats() {
-  static const std::vector<int64_t> formats{VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_B8G8R8A8_SRGB, VK_FORMAT_R8G8B8A8_UNORM,
-                                            VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_D32_SFLOAT,     VK_FORMAT_D16_UNORM};
+  static const std::vector<int64_t> formats{VK_FORMAT_R8G8B8A8_SRGB,  VK_FORMAT_B8G8R8A8_SRGB,
+                                            VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM,
+                                            VK_FORMAT_D32_SFLOAT,     VK_FORMAT_D16_UNORM};
   return formats;
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_formats(XrSession handle, uint32_t capacity, uint32_t* count,
-                                                           int64_t* formats) {
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_formats(XrSession handle, uint32_t capacity,
+                                                           uint32_t* count, int64_t* formats) {
   return guarded("xrEnumerateSwapchainFormats", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)inst;
@@ -27,7 +28,8 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_formats(XrSession handle, uin
 VkImageUsageFlags vk_usage(XrSwapchainUsageFlags u, bool depth) {
   VkImageUsageFlags v = 0;
   if (u & XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT) v |= VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
-  if (u & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT) v |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+  if (u & XR_SWAPCHAIN_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT)
+    v |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
   if (u & XR_SWAPCHAIN_USAGE_UNORDERED_ACCESS_BIT) v |= VK_IMAGE_USAGE_STORAGE_BIT;
   if (u & XR_SWAPCHAIN_USAGE_TRANSFER_SRC_BIT) v |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
   if (u & XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT) v |= VK_IMAGE_USAGE_TRANSFER_DST_BIT;
@@ -38,7 +40,8 @@ VkImageUsageFlags vk_usage(XrSwapchainUsageFlags u, bool depth) {
   return v;
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_swapchain(XrSession handle, const XrSwapchainCreateInfo* info, XrSwapchain* out) {
+XRAPI_ATTR XrResult XRAPI_CALL create_swapchain(XrSession handle, const XrSwapchainCreateInfo* info,
+                                                XrSwapchain* out) {
   return guarded("xrCreateSwapchain", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
     (void)inst;
@@ -48,20 +51,24 @@ XRAPI_ATTR XrResult XRAPI_CALL create_swapchain(XrSession handle, const XrSwapch
     if (std::find(formats.begin(), formats.end(), info->format) == formats.end()) {
       return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
     }
-    if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT) return XR_ERROR_FEATURE_UNSUPPORTED;
+    if (info->createFlags & XR_SWAPCHAIN_CREATE_PROTECTED_CONTENT_BIT)
+      return XR_ERROR_FEATURE_UNSUPPORTED;
     if (info->width == 0 || info->height == 0 || info->arraySize == 0 || info->mipCount == 0 ||
         info->sampleCount == 0 || (info->faceCount != 1 && info->faceCount != 6)) {
       return XR_ERROR_VALIDATION_FAILURE;
     }
-    if (info->faceCount != 1 || info->sampleCount != 1 || info->width > 4096 || info->height > 4096) {
+    if (info->faceCount != 1 || info->sampleCount != 1 || info->width > 4096 ||
+        info->height > 4096) {
       return XR_ERROR_FEATURE_UNSUPPORTED;
     }
     const auto format = static_cast<VkFormat>(info->format);
     const bool depth = is_depth_format(format);
     const VkImageUsageFlags usage = vk_usage(info->usageFlags, depth);
-    const VkImageCreateFlags flags =
-        (info->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT) ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT : 0;
-    if (!session->vk.supports(format, usage, flags, info->arraySize)) return XR_ERROR_FEATURE_UNSUPPORTED;
+    const VkImageCreateFlags flags = (info->usageFlags & XR_SWAPCHAIN_USAGE_MUTABLE_FORMAT_BIT)
+                                         ? VK_IMAGE_CREATE_MUTABLE_FORMAT_BIT
+                                         : 0;
+    if (!session->vk.supports(format, usage, flags, info->arraySize))
+      return XR_ERROR_FEATURE_UNSUPPORTED;
     auto sc = std::make_unique<Swapchain>();
     sc->session = handle;
     sc->info = *info;
@@ -71,8 +78,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_swapchain(XrSession handle, const XrSwapch
     sc->images.resize(n);
     for (auto& img : sc->images) {
       std::string error;
-      if (!session->vk.create_image(format, info->width, info->height, info->arraySize, info->mipCount, usage, flags,
-                                    img, error)) {
+      if (!session->vk.create_image(format, info->width, info->height, info->arraySize,
+                                    info->mipCount, usage, flags, img, error)) {
         log(LogLevel::Error, "xrCreateSwapchain: " + error);
         for (auto& i : sc->images) session->vk.destroy_image(i);
         return XR_ERROR_OUT_OF_MEMORY;
@@ -99,7 +106,8 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_swapchain(XrSwapchain handle) {
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_images(XrSwapchain handle, uint32_t capacity, uint32_t* count,
+XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_images(XrSwapchain handle, uint32_t capacity,
+                                                          uint32_t* count,
                                                           XrSwapchainImageBaseHeader* images) {
   return guarded("xrEnumerateSwapchainImages", [&]() -> XrResult {
     Runtime& rt = runtime();
@@ -114,21 +122,24 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_images(XrSwapchain handle, ui
     if (images == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     auto* vk_images = reinterpret_cast<XrSwapchainImageVulkanKHR*>(images);
     for (uint32_t i = 0; i < n; ++i) {
-      if (vk_images[i].type != XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR) return XR_ERROR_VALIDATION_FAILURE;
+      if (vk_images[i].type != XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR)
+        return XR_ERROR_VALIDATION_FAILURE;
       vk_images[i].image = sc->images[i].image;
     }
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL acquire_swapchain_image(XrSwapchain handle, const XrSwapchainImageAcquireInfo* info,
+XRAPI_ATTR XrResult XRAPI_CALL acquire_swapchain_image(XrSwapchain handle,
+                                                       const XrSwapchainImageAcquireInfo* info,
                                                        uint32_t* index) {
   return guarded("xrAcquireSwapchainImage", [&]() -> XrResult {
     Runtime& rt = runtime();
     std::lock_guard<std::mutex> lock(rt.mutex);
     Swapchain* sc = find(rt.swapchains, handle);
     if (sc == nullptr) return XR_ERROR_HANDLE_INVALID;
-    if (info != nullptr && info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info != nullptr && info->type != XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO)
+      return XR_ERROR_VALIDATION_FAILURE;
     if (index == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     Session* session = find(rt.sessions, sc->session);
     if (session == nullptr) return XR_ERROR_HANDLE_INVALID;
@@ -137,7 +148,8 @@ XRAPI_ATTR XrResult XRAPI_CALL acquire_swapchain_image(XrSwapchain handle, const
     if (sc->acquired.size() >= sc->images.size()) return XR_ERROR_CALL_ORDER_INVALID;
     const uint32_t i = sc->next_index;
     SwapchainImage& img = sc->images[i];
-    if (!img.initialized && !session->vk.initialize_layout(img, sc->is_depth, sc->info.arraySize, sc->info.mipCount)) {
+    if (!img.initialized &&
+        !session->vk.initialize_layout(img, sc->is_depth, sc->info.arraySize, sc->info.mipCount)) {
       return XR_ERROR_RUNTIME_FAILURE;
     }
     sc->next_index = (i + 1) % static_cast<uint32_t>(sc->images.size());
@@ -148,7 +160,8 @@ XRAPI_ATTR XrResult XRAPI_CALL acquire_swapchain_image(XrSwapchain handle, const
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL wait_swapchain_image(XrSwapchain handle, const XrSwapchainImageWaitInfo* info) {
+XRAPI_ATTR XrResult XRAPI_CALL wait_swapchain_image(XrSwapchain handle,
+                                                    const XrSwapchainImageWaitInfo* info) {
   return guarded("xrWaitSwapchainImage", [&]() -> XrResult {
     Runtime& rt = runtime();
     std::lock_guard<std::mutex> lock(rt.mutex);
@@ -162,13 +175,15 @@ XRAPI_ATTR XrResult XRAPI_CALL wait_swapchain_image(XrSwapchain handle, const Xr
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL release_swapchain_image(XrSwapchain handle, const XrSwapchainImageReleaseInfo* info) {
+XRAPI_ATTR XrResult XRAPI_CALL release_swapchain_image(XrSwapchain handle,
+                                                       const XrSwapchainImageReleaseInfo* info) {
   return guarded("xrReleaseSwapchainImage", [&]() -> XrResult {
     Runtime& rt = runtime();
     std::lock_guard<std::mutex> lock(rt.mutex);
     Swapchain* sc = find(rt.swapchains, handle);
     if (sc == nullptr) return XR_ERROR_HANDLE_INVALID;
-    if (info != nullptr && info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO) return XR_ERROR_VALIDATION_FAILURE;
+    if (info != nullptr && info->type != XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO)
+      return XR_ERROR_VALIDATION_FAILURE;
     if (sc->acquired.empty() || !sc->front_waited) return XR_ERROR_CALL_ORDER_INVALID;
     sc->last_released = sc->acquired.front();
     sc->acquired.pop_front();

@@ -10,7 +10,8 @@ namespace {
 constexpr XrVersion kMinVulkan = XR_MAKE_VERSION(1, 0, 0);
 constexpr XrVersion kMaxVulkan = XR_MAKE_VERSION(1, 3, 0);
 
-XrResult fill_requirements(Instance& inst, XrSystemId system, XrGraphicsRequirementsVulkanKHR* req) {
+XrResult fill_requirements(Instance& inst, XrSystemId system,
+                           XrGraphicsRequirementsVulkanKHR* req) {
   if (system != kSystemId) return XR_ERROR_SYSTEM_INVALID;
   FOVEART_CHECK_STRUCT(req, XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN_KHR);
   req->minApiVersionSupported = kMinVulkan;
@@ -53,8 +54,10 @@ XRAPI_ATTR XrResult XRAPI_CALL get_requirements(XrInstance instance, XrSystemId 
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_instance(XrInstance instance, const XrVulkanInstanceCreateInfoKHR* info,
-                                                      VkInstance* vk_instance, VkResult* vk_result) {
+XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_instance(XrInstance instance,
+                                                      const XrVulkanInstanceCreateInfoKHR* info,
+                                                      VkInstance* vk_instance,
+                                                      VkResult* vk_result) {
   return guarded("xrCreateVulkanInstanceKHR", [&]() -> XrResult {
     {
       FOVEART_LOCK_INSTANCE(instance);
@@ -62,11 +65,12 @@ XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_instance(XrInstance instance, const
     }
     FOVEART_CHECK_STRUCT(info, XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR);
     if (info->systemId != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    if (info->createFlags != 0 || info->pfnGetInstanceProcAddr == nullptr || info->vulkanCreateInfo == nullptr ||
-        vk_instance == nullptr || vk_result == nullptr) {
+    if (info->createFlags != 0 || info->pfnGetInstanceProcAddr == nullptr ||
+        info->vulkanCreateInfo == nullptr || vk_instance == nullptr || vk_result == nullptr) {
       return XR_ERROR_VALIDATION_FAILURE;
     }
-    auto create = reinterpret_cast<PFN_vkCreateInstance>(info->pfnGetInstanceProcAddr(VK_NULL_HANDLE, "vkCreateInstance"));
+    auto create = reinterpret_cast<PFN_vkCreateInstance>(
+        info->pfnGetInstanceProcAddr(VK_NULL_HANDLE, "vkCreateInstance"));
     if (create == nullptr) return XR_ERROR_RUNTIME_FAILURE;
     // The runtime needs no instance extensions of its own.
     *vk_result = create(info->vulkanCreateInfo, info->vulkanAllocator, vk_instance);
@@ -78,7 +82,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_instance(XrInstance instance, const
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_device(XrInstance instance, const XrVulkanDeviceCreateInfoKHR* info,
+XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_device(XrInstance instance,
+                                                    const XrVulkanDeviceCreateInfoKHR* info,
                                                     VkDevice* device, VkResult* vk_result) {
   return guarded("xrCreateVulkanDeviceKHR", [&]() -> XrResult {
     {
@@ -87,8 +92,9 @@ XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_device(XrInstance instance, const X
     }
     FOVEART_CHECK_STRUCT(info, XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
     if (info->systemId != kSystemId) return XR_ERROR_SYSTEM_INVALID;
-    if (info->createFlags != 0 || info->pfnGetInstanceProcAddr == nullptr || info->vulkanCreateInfo == nullptr ||
-        info->vulkanPhysicalDevice == VK_NULL_HANDLE || device == nullptr || vk_result == nullptr) {
+    if (info->createFlags != 0 || info->pfnGetInstanceProcAddr == nullptr ||
+        info->vulkanCreateInfo == nullptr || info->vulkanPhysicalDevice == VK_NULL_HANDLE ||
+        device == nullptr || vk_result == nullptr) {
       return XR_ERROR_VALIDATION_FAILURE;
     }
     // Use the VkInstance made by xrCreateVulkanInstanceKHR through the app's
@@ -100,15 +106,18 @@ XRAPI_ATTR XrResult XRAPI_CALL create_vulkan_device(XrInstance instance, const X
     }
     PFN_vkCreateDevice create = nullptr;
     if (vk_instance != VK_NULL_HANDLE) {
-      create = reinterpret_cast<PFN_vkCreateDevice>(info->pfnGetInstanceProcAddr(vk_instance, "vkCreateDevice"));
+      create = reinterpret_cast<PFN_vkCreateDevice>(
+          info->pfnGetInstanceProcAddr(vk_instance, "vkCreateDevice"));
     }
     if (create == nullptr) create = &vkCreateDevice;
-    *vk_result = create(info->vulkanPhysicalDevice, info->vulkanCreateInfo, info->vulkanAllocator, device);
+    *vk_result =
+        create(info->vulkanPhysicalDevice, info->vulkanCreateInfo, info->vulkanAllocator, device);
     return XR_SUCCESS;
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_graphics_device2(XrInstance instance, const XrVulkanGraphicsDeviceGetInfoKHR* info,
+XRAPI_ATTR XrResult XRAPI_CALL get_graphics_device2(XrInstance instance,
+                                                    const XrVulkanGraphicsDeviceGetInfoKHR* info,
                                                     VkPhysicalDevice* out) {
   return guarded("xrGetVulkanGraphicsDevice2KHR", [&]() -> XrResult {
     {
@@ -121,8 +130,8 @@ XRAPI_ATTR XrResult XRAPI_CALL get_graphics_device2(XrInstance instance, const X
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_graphics_device(XrInstance instance, XrSystemId system, VkInstance vk_instance,
-                                                   VkPhysicalDevice* out) {
+XRAPI_ATTR XrResult XRAPI_CALL get_graphics_device(XrInstance instance, XrSystemId system,
+                                                   VkInstance vk_instance, VkPhysicalDevice* out) {
   return guarded("xrGetVulkanGraphicsDeviceKHR", [&]() -> XrResult {
     {
       FOVEART_LOCK_INSTANCE(instance);
@@ -133,8 +142,8 @@ XRAPI_ATTR XrResult XRAPI_CALL get_graphics_device(XrInstance instance, XrSystem
   });
 }
 
-XRAPI_ATTR XrResult XRAPI_CALL get_extensions(XrInstance instance, XrSystemId system, uint32_t capacity,
-                                              uint32_t* count, char* buffer) {
+XRAPI_ATTR XrResult XRAPI_CALL get_extensions(XrInstance instance, XrSystemId system,
+                                              uint32_t capacity, uint32_t* count, char* buffer) {
   return guarded("xrGetVulkan*ExtensionsKHR", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
     (void)inst;

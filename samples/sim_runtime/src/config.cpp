@@ -36,30 +36,39 @@ std::optional<Config> config_from_environment(std::string& error) {
   }
   if (const char* v = get(env::kClock)) {
     const std::string s = v;
-    if (s == "virtual") c.virtual_clock = true;
-    else if (s != "real") return bad(env::kClock, v, "'real' or 'virtual'");
+    if (s == "virtual")
+      c.virtual_clock = true;
+    else if (s != "real")
+      return bad(env::kClock, v, "'real' or 'virtual'");
   }
   if (const char* v = get(env::kGaze)) c.gaze_file = v;
   if (const char* v = get(env::kEyeTracking)) {
     const std::string s = v;
-    if (s == "0") c.eye_tracking = false;
-    else if (s != "1") return bad(env::kEyeTracking, v, "'0' or '1'");
+    if (s == "0")
+      c.eye_tracking = false;
+    else if (s != "1")
+      return bad(env::kEyeTracking, v, "'0' or '1'");
   }
   if (const char* v = get(env::kHead)) {
     const std::string s = v;
-    if (s == "sway") c.head_sway = true;
-    else if (s != "static") return bad(env::kHead, v, "'static' or 'sway'");
+    if (s == "sway")
+      c.head_sway = true;
+    else if (s != "static")
+      return bad(env::kHead, v, "'static' or 'sway'");
   }
   if (const char* v = get(env::kCaptureDir)) c.capture_dir = v;
   if (const char* v = get(env::kCaptureEvery)) {
     uint64_t n = 0;
-    if (!parse_u64(v, n) || n == 0 || n > 1000000) return bad(env::kCaptureEvery, v, "an integer >= 1");
+    if (!parse_u64(v, n) || n == 0 || n > 1000000)
+      return bad(env::kCaptureEvery, v, "an integer >= 1");
     c.capture_every = static_cast<uint32_t>(n);
   }
   if (const char* v = get(env::kLog)) {
     const std::string s = v;
-    if (s == "0" || s == "1" || s == "2") c.log_level = s[0] - '0';
-    else return bad(env::kLog, v, "0, 1 or 2");
+    if (s == "0" || s == "1" || s == "2")
+      c.log_level = s[0] - '0';
+    else
+      return bad(env::kLog, v, "0, 1 or 2");
   }
   return c;
 }

@@ -10,10 +10,10 @@ namespace foveart::sim {
 struct Config {
   uint64_t frame_budget = 0;  // 0: no budget
   bool virtual_clock = false;
-  std::string gaze_file;      // empty: built-in saccade script
+  std::string gaze_file;  // empty: built-in saccade script
   bool eye_tracking = true;
   bool head_sway = false;
-  std::string capture_dir;    // empty: no capture
+  std::string capture_dir;  // empty: no capture
   uint32_t capture_every = 1;
   int log_level = 1;
 };

@@ -32,7 +32,8 @@ bool is_well_formed_name(const char* name, size_t max_size) {
   if (n == 0 || n == max_size) return false;
   for (size_t i = 0; i < n; ++i) {
     const char c = name[i];
-    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.')) return false;
+    if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.'))
+      return false;
   }
   return true;
 }
@@ -55,11 +56,16 @@ const FunctionTable& function_table() {
 
 bool extension_enabled(const Instance& inst, Extension ext) {
   switch (ext) {
-    case Extension::None: return true;
-    case Extension::Vulkan: return inst.ext_vulkan;
-    case Extension::Vulkan2: return inst.ext_vulkan2;
-    case Extension::EyeGaze: return inst.ext_eye_gaze;
-    case Extension::Timespec: return inst.ext_timespec;
+    case Extension::None:
+      return true;
+    case Extension::Vulkan:
+      return inst.ext_vulkan;
+    case Extension::Vulkan2:
+      return inst.ext_vulkan2;
+    case Extension::EyeGaze:
+      return inst.ext_eye_gaze;
+    case Extension::Timespec:
+      return inst.ext_timespec;
   }
   return false;
 }
@@ -77,8 +83,8 @@ XRAPI_ATTR XrResult XRAPI_CALL get_instance_proc_addr(XrInstance instance, const
     auto it = table.find(name);
     if (instance == XR_NULL_HANDLE) {
       // Only these may be fetched without an instance (spec 3.2).
-      static const char* kGlobal[] = {"xrEnumerateInstanceExtensionProperties", "xrEnumerateApiLayerProperties",
-                                      "xrCreateInstance"};
+      static const char* kGlobal[] = {"xrEnumerateInstanceExtensionProperties",
+                                      "xrEnumerateApiLayerProperties", "xrCreateInstance"};
       for (const char* g : kGlobal) {
         if (std::strcmp(name, g) == 0 && it != table.end()) {
           *function = it->second.fn;
@@ -91,7 +97,8 @@ XRAPI_ATTR XrResult XRAPI_CALL get_instance_proc_addr(XrInstance instance, const
     std::lock_guard<std::mutex> lock(rt.mutex);
     Instance* inst = find_instance(instance);
     if (inst == nullptr) return XR_ERROR_HANDLE_INVALID;
-    if (it == table.end() || !extension_enabled(*inst, it->second.extension)) return XR_ERROR_FUNCTION_UNSUPPORTED;
+    if (it == table.end() || !extension_enabled(*inst, it->second.extension))
+      return XR_ERROR_FUNCTION_UNSUPPORTED;
     *function = it->second.fn;
     return XR_SUCCESS;
   });
@@ -118,7 +125,8 @@ const std::string* path_string(const Instance& inst, XrPath p) {
 }  // namespace foveart::sim
 
 extern "C" __attribute__((visibility("default"))) XRAPI_ATTR XrResult XRAPI_CALL
-xrNegotiateLoaderRuntimeInterface(const XrNegotiateLoaderInfo* loaderInfo, XrNegotiateRuntimeRequest* runtimeRequest) {
+xrNegotiateLoaderRuntimeInterface(const XrNegotiateLoaderInfo* loaderInfo,
+                                  XrNegotiateRuntimeRequest* runtimeRequest) {
   using namespace foveart::sim;
   return guarded("xrNegotiateLoaderRuntimeInterface", [&]() -> XrResult {
     // Check type, version and size before trusting anything.
@@ -134,7 +142,8 @@ xrNegotiateLoaderRuntimeInterface(const XrNegotiateLoaderInfo* loaderInfo, XrNeg
     }
     if (loaderInfo->minInterfaceVersion > FOVEART_XR_CURRENT_LOADER_RUNTIME_VERSION ||
         loaderInfo->maxInterfaceVersion < FOVEART_XR_CURRENT_LOADER_RUNTIME_VERSION ||
-        XR_VERSION_MAJOR(loaderInfo->minApiVersion) > 1 || XR_VERSION_MAJOR(loaderInfo->maxApiVersion) < 1) {
+        XR_VERSION_MAJOR(loaderInfo->minApiVersion) > 1 ||
+        XR_VERSION_MAJOR(loaderInfo->maxApiVersion) < 1) {
       log(LogLevel::Error, "loader negotiation: no common interface/API version");
       return XR_ERROR_INITIALIZATION_FAILED;
     }

@@ -36,7 +36,8 @@ class FrameCapture {
   // frame_000012_left.png; layer_index > 0 adds "_layerK"; views beyond 2 are "_viewN".
   std::string image_path(uint64_t frame, uint32_t layer_index, uint32_t view_index) const;
   // texels: w*h*4 bytes, RGBA or BGRA order; alpha is dropped.
-  bool write_png(const std::string& path, const std::vector<uint8_t>& texels, uint32_t w, uint32_t h, bool bgra) const;
+  bool write_png(const std::string& path, const std::vector<uint8_t>& texels, uint32_t w,
+                 uint32_t h, bool bgra) const;
   void write_row(const FrameTiming& t);
 
  private:

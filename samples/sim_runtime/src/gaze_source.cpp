@@ -6,10 +6,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
-
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
+#include <sstream>
 
 #include "sim_runtime/sim_env.h"
 
@@ -25,8 +24,10 @@ struct Target {
   float azimuth_deg;
   float elevation_deg;
 };
-constexpr std::array<Target, 5> kTargets{{{0.0F, 0.0F}, {12.0F, 6.0F}, {-15.0F, -5.0F}, {6.0F, -12.0F}, {-8.0F, 10.0F}}};
-constexpr int64_t kCycleNs = static_cast<int64_t>(kTargets.size()) * (kFixationNs + kSaccadeNs) + kBlinkNs;
+constexpr std::array<Target, 5> kTargets{
+    {{0.0F, 0.0F}, {12.0F, 6.0F}, {-15.0F, -5.0F}, {6.0F, -12.0F}, {-8.0F, 10.0F}}};
+constexpr int64_t kCycleNs =
+    static_cast<int64_t>(kTargets.size()) * (kFixationNs + kSaccadeNs) + kBlinkNs;
 
 glm::vec3 direction_from_angles(float azimuth_deg, float elevation_deg) {
   const float az = glm::radians(azimuth_deg);
@@ -83,7 +84,9 @@ GazeSample saccade_script_sample(int64_t offset_ns) {
   return s;
 }
 
-GazeSource GazeSource::saccade_script() { return GazeSource{}; }
+GazeSource GazeSource::saccade_script() {
+  return GazeSource{};
+}
 
 std::optional<GazeSource> GazeSource::from_csv_file(const std::string& path, std::string& error) {
   std::ifstream in(path);
@@ -107,8 +110,11 @@ std::optional<GazeSource> GazeSource::from_csv_file(const std::string& path, std
     if (!have_header) {
       for (size_t i = 0; i < kColumns.size(); ++i) {
         if (i >= cells.size() || cells[i] != kColumns[i]) {
-          error = where + "header must start with device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z (column " +
-                  std::to_string(i + 1) + " is '" + (i < cells.size() ? cells[i] : std::string()) + "')";
+          error =
+              where +
+              "header must start with device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z (column " +
+              std::to_string(i + 1) + " is '" + (i < cells.size() ? cells[i] : std::string()) +
+              "')";
           return std::nullopt;
         }
       }
@@ -168,8 +174,9 @@ GazeSample GazeSource::sample_at(int64_t offset_ns) const {
   const int64_t t = std::max<int64_t>(offset_ns, 0);
   const int64_t loop = t / trace_period_ns_;
   const int64_t in_loop = t % trace_period_ns_;
-  auto it = std::upper_bound(trace_.begin(), trace_.end(), in_loop,
-                             [](int64_t value, const GazeSample& s) { return value < s.offset_ns; });
+  auto it =
+      std::upper_bound(trace_.begin(), trace_.end(), in_loop,
+                       [](int64_t value, const GazeSample& s) { return value < s.offset_ns; });
   GazeSample s = (it == trace_.begin()) ? trace_.front() : *std::prev(it);
   s.offset_ns += loop * trace_period_ns_;
   return s;

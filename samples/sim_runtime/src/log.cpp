@@ -7,8 +7,12 @@ namespace {
 std::atomic<int> g_level{1};
 }
 
-void set_log_level(int level) { g_level.store(level); }
-bool log_enabled(LogLevel level) { return static_cast<int>(level) <= g_level.load(); }
+void set_log_level(int level) {
+  g_level.store(level);
+}
+bool log_enabled(LogLevel level) {
+  return static_cast<int>(level) <= g_level.load();
+}
 
 void log(LogLevel level, const std::string& message) {
   if (!log_enabled(level)) return;

@@ -23,8 +23,9 @@ inline Pose inverse(const Pose& p) {
 }
 
 inline Pose from_xr(const XrPosef& p) {
-  return {glm::normalize(glm::quat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)),
-          glm::vec3(p.position.x, p.position.y, p.position.z)};
+  return {
+      glm::normalize(glm::quat(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z)),
+      glm::vec3(p.position.x, p.position.y, p.position.z)};
 }
 
 inline XrPosef to_xr(const Pose& p) {

@@ -15,7 +15,9 @@ int64_t monotonic_now_ns() {
 
 SimClock::SimClock(bool is_virtual) : virtual_(is_virtual), virtual_now_ns_(env::kVirtualEpochNs) {}
 
-int64_t SimClock::now_ns() const { return virtual_ ? virtual_now_ns_ : monotonic_now_ns(); }
+int64_t SimClock::now_ns() const {
+  return virtual_ ? virtual_now_ns_ : monotonic_now_ns();
+}
 
 void SimClock::sleep_until_ns(int64_t t_ns) {
   if (virtual_) {

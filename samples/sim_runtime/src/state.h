@@ -38,8 +38,8 @@ struct Swapchain {
   std::deque<uint32_t> acquired;  // acquired, not yet released (front is the oldest)
   bool front_waited = false;
   uint32_t next_index = 0;
-  uint32_t acquire_count = 0;      // total acquires (static swapchains allow one)
-  int64_t last_released = -1;      // index of the newest released image, -1: none yet
+  uint32_t acquire_count = 0;  // total acquires (static swapchains allow one)
+  int64_t last_released = -1;  // index of the newest released image, -1: none yet
 };
 
 enum class SpaceKind { Reference, Action };
@@ -77,15 +77,15 @@ struct Action {
 struct Session {
   uint64_t id = 0;
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;
-  bool running = false;          // between xrBeginSession and xrEndSession
-  bool exit_requested = false;   // by the app or by the frame budget
+  bool running = false;         // between xrBeginSession and xrEndSession
+  bool exit_requested = false;  // by the app or by the frame budget
   bool synchronized_sent = false;
   VulkanDevice vk;
   // Frame loop.
   int64_t vsync_origin_ns = 0;
   int64_t last_vsync_index = -1;
-  bool frame_waited = false;     // xrWaitFrame returned, xrBeginFrame not yet called
-  bool frame_begun = false;      // xrBeginFrame called, xrEndFrame not yet
+  bool frame_waited = false;  // xrWaitFrame returned, xrBeginFrame not yet called
+  bool frame_begun = false;   // xrBeginFrame called, xrEndFrame not yet
   int64_t predicted_display_ns = 0;
   uint64_t frames_ended = 0;
   FrameTiming current;
@@ -158,7 +158,8 @@ void set_session_state(Instance& inst, Session& s, XrSessionState state);
 Pose head_pose_in_local(const Instance& inst, int64_t time_ns);
 Pose eye_gaze_pose_in_local(const Instance& inst, int64_t time_ns, GazeSample& sample);
 // Space pose in LOCAL at a time; false when it cannot be located (inactive action).
-bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out, int64_t* gaze_sample_ns);
+bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out,
+                         int64_t* gaze_sample_ns);
 
 // Views (FOVE 0: 2 x 1280x1440, ~95 deg vertical FOV, 63 mm IPD).
 XrFovf view_fov();

@@ -10,7 +10,9 @@ void load_instance(VkInstance instance, const char* name, Fn& out) {
   out = reinterpret_cast<Fn>(vkGetInstanceProcAddr(instance, name));
 }
 
-VkImageAspectFlags aspect_of(bool depth) { return depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT; }
+VkImageAspectFlags aspect_of(bool depth) {
+  return depth ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
+}
 
 }  // namespace
 
@@ -41,16 +43,19 @@ bool is_capturable_format(VkFormat format, bool& out_bgra) {
   }
 }
 
-bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice device, uint32_t queue_family,
-                        uint32_t queue_index, std::string& error) {
+bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice device,
+                        uint32_t queue_family, uint32_t queue_index, std::string& error) {
   instance_ = instance;
   physical_ = physical;
   queue_family_ = queue_family;
-  auto get_device_proc = reinterpret_cast<PFN_vkGetDeviceProcAddr>(vkGetInstanceProcAddr(instance, "vkGetDeviceProcAddr"));
+  auto get_device_proc = reinterpret_cast<PFN_vkGetDeviceProcAddr>(
+      vkGetInstanceProcAddr(instance, "vkGetDeviceProcAddr"));
   PFN_vkGetPhysicalDeviceMemoryProperties get_memory_props = nullptr;
   load_instance(instance, "vkGetPhysicalDeviceMemoryProperties", get_memory_props);
-  load_instance(instance, "vkGetPhysicalDeviceImageFormatProperties", GetPhysicalDeviceImageFormatProperties);
-  if (get_device_proc == nullptr || get_memory_props == nullptr || GetPhysicalDeviceImageFormatProperties == nullptr) {
+  load_instance(instance, "vkGetPhysicalDeviceImageFormatProperties",
+                GetPhysicalDeviceImageFormatProperties);
+  if (get_device_proc == nullptr || get_memory_props == nullptr ||
+      GetPhysicalDeviceImageFormatProperties == nullptr) {
     error = "vkGetInstanceProcAddr failed for the application's VkInstance";
     return false;
   }
@@ -59,22 +64,26 @@ bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice
     fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(get_device_proc(device, name));
     return fn != nullptr;
   };
-  const bool ok = dev("vkGetDeviceQueue", GetDeviceQueue) && dev("vkCreateImage", CreateImage) &&
-                  dev("vkDestroyImage", DestroyImage) && dev("vkGetImageMemoryRequirements", GetImageMemoryRequirements) &&
-                  dev("vkAllocateMemory", AllocateMemory) && dev("vkFreeMemory", FreeMemory) &&
-                  dev("vkBindImageMemory", BindImageMemory) && dev("vkCreateBuffer", CreateBuffer) &&
-                  dev("vkDestroyBuffer", DestroyBuffer) &&
-                  dev("vkGetBufferMemoryRequirements", GetBufferMemoryRequirements) &&
-                  dev("vkBindBufferMemory", BindBufferMemory) && dev("vkMapMemory", MapMemory) &&
-                  dev("vkUnmapMemory", UnmapMemory) && dev("vkCreateCommandPool", CreateCommandPool) &&
-                  dev("vkDestroyCommandPool", DestroyCommandPool) &&
-                  dev("vkAllocateCommandBuffers", AllocateCommandBuffers) &&
-                  dev("vkResetCommandBuffer", ResetCommandBuffer) && dev("vkBeginCommandBuffer", BeginCommandBuffer) &&
-                  dev("vkEndCommandBuffer", EndCommandBuffer) && dev("vkCmdPipelineBarrier", CmdPipelineBarrier) &&
-                  dev("vkCmdCopyImageToBuffer", CmdCopyImageToBuffer) && dev("vkQueueSubmit", QueueSubmit) &&
-                  dev("vkCreateFence", CreateFence) && dev("vkDestroyFence", DestroyFence) &&
-                  dev("vkWaitForFences", WaitForFences) && dev("vkResetFences", ResetFences) &&
-                  dev("vkInvalidateMappedMemoryRanges", InvalidateMappedMemoryRanges);
+  const bool ok =
+      dev("vkGetDeviceQueue", GetDeviceQueue) && dev("vkCreateImage", CreateImage) &&
+      dev("vkDestroyImage", DestroyImage) &&
+      dev("vkGetImageMemoryRequirements", GetImageMemoryRequirements) &&
+      dev("vkAllocateMemory", AllocateMemory) && dev("vkFreeMemory", FreeMemory) &&
+      dev("vkBindImageMemory", BindImageMemory) && dev("vkCreateBuffer", CreateBuffer) &&
+      dev("vkDestroyBuffer", DestroyBuffer) &&
+      dev("vkGetBufferMemoryRequirements", GetBufferMemoryRequirements) &&
+      dev("vkBindBufferMemory", BindBufferMemory) && dev("vkMapMemory", MapMemory) &&
+      dev("vkUnmapMemory", UnmapMemory) && dev("vkCreateCommandPool", CreateCommandPool) &&
+      dev("vkDestroyCommandPool", DestroyCommandPool) &&
+      dev("vkAllocateCommandBuffers", AllocateCommandBuffers) &&
+      dev("vkResetCommandBuffer", ResetCommandBuffer) &&
+      dev("vkBeginCommandBuffer", BeginCommandBuffer) &&
+      dev("vkEndCommandBuffer", EndCommandBuffer) &&
+      dev("vkCmdPipelineBarrier", CmdPipelineBarrier) &&
+      dev("vkCmdCopyImageToBuffer", CmdCopyImageToBuffer) && dev("vkQueueSubmit", QueueSubmit) &&
+      dev("vkCreateFence", CreateFence) && dev("vkDestroyFence", DestroyFence) &&
+      dev("vkWaitForFences", WaitForFences) && dev("vkResetFences", ResetFences) &&
+      dev("vkInvalidateMappedMemoryRanges", InvalidateMappedMemoryRanges);
   if (!ok) {
     error = "vkGetDeviceProcAddr failed for the application's VkDevice";
     return false;
@@ -137,16 +146,17 @@ int32_t VulkanDevice::memory_type(uint32_t bits, VkMemoryPropertyFlags props) co
 bool VulkanDevice::supports(VkFormat format, VkImageUsageFlags usage, VkImageCreateFlags flags,
                             uint32_t array_size) const {
   VkImageFormatProperties props{};
-  if (GetPhysicalDeviceImageFormatProperties(physical_, format, VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_OPTIMAL, usage, flags,
+  if (GetPhysicalDeviceImageFormatProperties(physical_, format, VK_IMAGE_TYPE_2D,
+                                             VK_IMAGE_TILING_OPTIMAL, usage, flags,
                                              &props) != VK_SUCCESS) {
     return false;
   }
   return props.maxArrayLayers >= array_size;
 }
 
-bool VulkanDevice::create_image(VkFormat format, uint32_t width, uint32_t height, uint32_t array_size,
-                                uint32_t mip_count, VkImageUsageFlags usage, VkImageCreateFlags flags,
-                                SwapchainImage& out, std::string& error) {
+bool VulkanDevice::create_image(VkFormat format, uint32_t width, uint32_t height,
+                                uint32_t array_size, uint32_t mip_count, VkImageUsageFlags usage,
+                                VkImageCreateFlags flags, SwapchainImage& out, std::string& error) {
   VkImageCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
   info.flags = flags;
@@ -170,7 +180,8 @@ bool VulkanDevice::create_image(VkFormat format, uint32_t width, uint32_t height
   VkMemoryAllocateInfo alloc{};
   alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = static_cast<uint32_t>(type < 0 ? memory_type(req.memoryTypeBits, 0) : type);
+  alloc.memoryTypeIndex =
+      static_cast<uint32_t>(type < 0 ? memory_type(req.memoryTypeBits, 0) : type);
   if (AllocateMemory(device_, &alloc, nullptr, &out.memory) != VK_SUCCESS ||
       BindImageMemory(device_, out.image, out.memory, 0) != VK_SUCCESS) {
     error = "vkAllocateMemory/vkBindImageMemory failed";
@@ -197,7 +208,8 @@ bool VulkanDevice::submit_and_wait(VkCommandBuffer cmd) {
   return WaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX) == VK_SUCCESS;
 }
 
-bool VulkanDevice::initialize_layout(SwapchainImage& img, bool depth, uint32_t array_size, uint32_t mip_count) {
+bool VulkanDevice::initialize_layout(SwapchainImage& img, bool depth, uint32_t array_size,
+                                     uint32_t mip_count) {
   ResetCommandBuffer(cmd_, 0);
   VkCommandBufferBeginInfo begin{};
   begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
@@ -206,16 +218,19 @@ bool VulkanDevice::initialize_layout(SwapchainImage& img, bool depth, uint32_t a
   VkImageMemoryBarrier barrier{};
   barrier.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
   barrier.srcAccessMask = 0;
-  barrier.dstAccessMask = depth ? (VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT)
-                                : (VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
+  barrier.dstAccessMask =
+      depth ? (VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
+               VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT)
+            : (VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT);
   barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  barrier.newLayout = depth ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  barrier.newLayout = depth ? VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL
+                            : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
   barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   barrier.image = img.image;
   barrier.subresourceRange = {aspect_of(depth), 0, mip_count, 0, array_size};
-  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
-                     nullptr, 1, &barrier);
+  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0,
+                     0, nullptr, 0, nullptr, 1, &barrier);
   EndCommandBuffer(cmd_);
   if (!submit_and_wait(cmd_)) return false;
   img.initialized = true;
@@ -254,8 +269,8 @@ bool VulkanDevice::ensure_readback(VkDeviceSize size) {
   return readback_.mapped != nullptr;
 }
 
-bool VulkanDevice::read_back(const SwapchainImage& img, uint32_t layer, int32_t x, int32_t y, uint32_t w, uint32_t h,
-                             std::vector<uint8_t>& out_texels) {
+bool VulkanDevice::read_back(const SwapchainImage& img, uint32_t layer, int32_t x, int32_t y,
+                             uint32_t w, uint32_t h, std::vector<uint8_t>& out_texels) {
   const VkDeviceSize size = static_cast<VkDeviceSize>(w) * h * 4;
   if (!ensure_readback(size)) return false;
   ResetCommandBuffer(cmd_, 0);
@@ -267,7 +282,8 @@ bool VulkanDevice::read_back(const SwapchainImage& img, uint32_t layer, int32_t 
   // rendering to this queue; the barrier orders our copy after those writes.
   VkImageMemoryBarrier to_src{};
   to_src.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
-  to_src.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_src.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                         VK_ACCESS_TRANSFER_WRITE_BIT;
   to_src.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
   to_src.oldLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
   to_src.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
@@ -275,14 +291,15 @@ bool VulkanDevice::read_back(const SwapchainImage& img, uint32_t layer, int32_t 
   to_src.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   to_src.image = img.image;
   to_src.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, layer, 1};
-  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                     nullptr, 1, &to_src);
+  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                     nullptr, 0, nullptr, 1, &to_src);
   VkBufferImageCopy region{};
   region.bufferOffset = 0;
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, layer, 1};
   region.imageOffset = {x, y, 0};
   region.imageExtent = {w, h, 1};
-  CmdCopyImageToBuffer(cmd_, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1, &region);
+  CmdCopyImageToBuffer(cmd_, img.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1,
+                       &region);
   VkImageMemoryBarrier back = to_src;
   back.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
   back.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
@@ -297,10 +314,11 @@ bool VulkanDevice::read_back(const SwapchainImage& img, uint32_t layer, int32_t 
   host.buffer = readback_.buffer;
   host.offset = 0;
   host.size = size;
-  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &host, 0,
-                     nullptr);
-  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
-                     nullptr, 0, nullptr, 1, &back);
+  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0,
+                     nullptr, 1, &host, 0, nullptr);
+  CmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1,
+                     &back);
   EndCommandBuffer(cmd_);
   if (!submit_and_wait(cmd_)) return false;
   VkMappedMemoryRange range{};

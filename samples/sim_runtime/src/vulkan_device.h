@@ -32,15 +32,17 @@ class VulkanDevice {
   void destroy();
   bool valid() const { return device_ != VK_NULL_HANDLE; }
 
-  bool supports(VkFormat format, VkImageUsageFlags usage, VkImageCreateFlags flags, uint32_t array_size) const;
-  bool create_image(VkFormat format, uint32_t width, uint32_t height, uint32_t array_size, uint32_t mip_count,
-                    VkImageUsageFlags usage, VkImageCreateFlags flags, SwapchainImage& out, std::string& error);
+  bool supports(VkFormat format, VkImageUsageFlags usage, VkImageCreateFlags flags,
+                uint32_t array_size) const;
+  bool create_image(VkFormat format, uint32_t width, uint32_t height, uint32_t array_size,
+                    uint32_t mip_count, VkImageUsageFlags usage, VkImageCreateFlags flags,
+                    SwapchainImage& out, std::string& error);
   void destroy_image(SwapchainImage& img);
   // UNDEFINED -> attachment layout, on the app's queue, waited.
   bool initialize_layout(SwapchainImage& img, bool depth, uint32_t array_size, uint32_t mip_count);
   // Copies rect of (image, layer) into host memory as tightly packed 4-byte texels.
-  bool read_back(const SwapchainImage& img, uint32_t layer, int32_t x, int32_t y, uint32_t w, uint32_t h,
-                 std::vector<uint8_t>& out_texels);
+  bool read_back(const SwapchainImage& img, uint32_t layer, int32_t x, int32_t y, uint32_t w,
+                 uint32_t h, std::vector<uint8_t>& out_texels);
 
  private:
   bool submit_and_wait(VkCommandBuffer cmd);

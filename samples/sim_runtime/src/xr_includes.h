@@ -6,9 +6,9 @@
 #define XR_NO_PROTOTYPES
 #define XR_USE_GRAPHICS_API_VULKAN
 #define XR_USE_TIMESPEC
-#include <time.h>
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
+#include <time.h>
 
 // The 1.0.20 headers lack the loader <-> runtime negotiation structs
 // (OpenXR-SDK src/common/loader_interfaces.h); they are declared here.

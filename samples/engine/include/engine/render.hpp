@@ -45,7 +45,7 @@ RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const Foveart
                            const std::vector<glm::vec2>& sample_px, const std::vector<uint32_t>& point_index,
                            const RenderSettings& settings, std::vector<glm::vec3>* out_rgb);
 
-// The FOVE 0 headset per eye: 1280x1440 px, 90 deg horizontal field of view,
+// The FOVE 0 headset per eye: 1280x1440 px, 95 deg horizontal field of view,
 // square pixels; eye 0 (left) / 1 (right) 32 mm either side of the head pose.
 FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head);
 

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Runs every benchmark program in build/bin (*_bench) and writes Google
+# Benchmark JSON to out/bench/<name>.json, with the machine named in each
+# file's context. Benchmarks are never part of the test suite.
+# Usage: scripts/bench.sh [filter-regex]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFOVEART_BUILD_BENCH=ON >/dev/null
+cmake --build build -j "$(nproc)"
+mkdir -p out/bench
+cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
+echo "machine: $(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB"
+for b in build/bin/*_bench; do
+  name=$(basename "$b")
+  echo "=== $name"
+  "$b" --benchmark_filter="${1:-.}" --benchmark_out="out/bench/$name.json" --benchmark_out_format=json \
+       --benchmark_context=machine="$(nproc) cores, ${cpu:-unknown CPU}"
+done
