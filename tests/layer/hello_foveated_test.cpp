@@ -128,6 +128,33 @@ TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {
   EXPECT_GT(r.stats["gaze_lost_frames"].get<int>(), 0);
 }
 
+// The frame path itself (layer swapchains, upload, sync) under both validation
+// layers. Core validation must sit below FoveaRT: above it, it would reject the
+// extension's opt-in struct it does not know.
+TEST_F(HelloFoveated, FramePathUnderValidationLayersHasNoErrors) {
+  IsolatedEnv::set("XR_API_LAYER_PATH", (explicit_layer_dir().string() + ":" + kSystemExplicitLayers).c_str());
+  IsolatedEnv::set("XR_ENABLE_API_LAYERS", "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
+  IsolatedEnv::set("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation");
+  IsolatedEnv::set("VK_LAYER_PATH", "/usr/share/vulkan/explicit_layer.d");
+  IsolatedEnv::set("XR_LOADER_DEBUG", "info");
+  IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
+  const auto r = launch({"--gaze", "none", "--no-explicit-layer"});
+  for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "XR_LOADER_DEBUG",
+                           "VK_LOADER_DEBUG"}) {
+    ::unsetenv(name);
+  }
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  for (const char* loaded : {"succeeded loading layer XR_APILAYER_LUNARG_core_validation",
+                             "Insert instance layer \"VK_LAYER_KHRONOS_validation\""}) {
+    EXPECT_NE(r.process.output.find(loaded), std::string::npos) << "missing: " << loaded;
+  }
+  for (const char* marker : {"Validation Error", "VUID-", "VALID_ERROR"}) {
+    EXPECT_EQ(r.process.output.find(marker), std::string::npos) << marker << " in:\n" << r.process.output;
+  }
+  ASSERT_TRUE(r.stats.is_object());
+  EXPECT_EQ(r.stats["frames_traced"], 3);
+}
+
 class FailingEngine : public HelloFoveated, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(FailingEngine, ViewsFallBackToTheAppsImage) {
