@@ -22,9 +22,12 @@ foreach(kind IN ITEMS explicit implicit)
   configure_file(${_template} ${CMAKE_CURRENT_BINARY_DIR}/${kind}.build.json.in @ONLY)
   file(GENERATE OUTPUT ${FOVEART_MANIFEST_DIR}/${kind}/${_layer_name}.json
        INPUT ${CMAKE_CURRENT_BINARY_DIR}/${kind}.build.json.in)
-  # Installed: the library in the standard OpenXR layer directory.
-  set(FOVEART_LAYER_LIBRARY_PATH
-      "${CMAKE_INSTALL_FULL_LIBDIR}/openxr/1/api_layers/$<TARGET_FILE_NAME:foveart_layer>")
+  # Installed: the library in the standard OpenXR layer directory, named
+  # relative to the manifest (the loader resolves it from the manifest's folder),
+  # so `cmake --install --prefix` anywhere works.
+  file(RELATIVE_PATH _relative /prefix/${CMAKE_INSTALL_DATAROOTDIR}/openxr/1/api_layers/${kind}.d
+       /prefix/${CMAKE_INSTALL_LIBDIR}/openxr/1/api_layers)
+  set(FOVEART_LAYER_LIBRARY_PATH "${_relative}/$<TARGET_FILE_NAME:foveart_layer>")
   configure_file(${_template} ${CMAKE_CURRENT_BINARY_DIR}/${kind}.install.json.in @ONLY)
   file(GENERATE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/install/${kind}/${_layer_name}.json
        INPUT ${CMAKE_CURRENT_BINARY_DIR}/${kind}.install.json.in)

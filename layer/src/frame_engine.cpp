@@ -78,7 +78,7 @@ class FoveatedFrameEngine final : public FrameEngine {
     // away (virtual runtime clock) is replaced by now for gaze prediction.
     const int64_t now_ns = steady_now_ns();
     const int64_t display_ns = std::llabs(display_time - now_ns) < 1'000'000'000 ? display_time : now_ns;
-    const FrameGaze gaze = gaze_->at(display_ns);
+    const FrameGaze gaze = gaze_->at(display_ns, now_ns);
     stats->gazeSource = gaze.valid ? gaze.source : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
     stats->gazeAgeMs = gaze.valid ? gaze.age_ms : 0.0f;
     stats->fallbackFlags = gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
@@ -111,20 +111,14 @@ class FoveatedFrameEngine final : public FrameEngine {
       psk.display = foveation::DisplayModel::from_fov(static_cast<int>(w), static_cast<int>(h), fov_rad * 180.0 / 3.14159265358979323846);
       psk.display.scale = static_cast<double>(settings_.density_scale);
       psk.seed = 1;
-      psk.k = static_cast<int>(settings_.interpolation == XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART ? 1 : settings_.k);
+      psk.k = neighbor_count(settings_);
       const auto dir = cache_dir(settings_);
       log(LogLevel::Info, "foveated renderer: preparing tables for ", w, "x", h, " (cache ", dir.string(), ")");
-      auto future = std::async(std::launch::async, [psk, dir]() -> std::shared_ptr<const ViewTables> {
+      auto future = std::async(std::launch::async, [psk, dir, settings = settings_]() -> std::shared_ptr<const ViewTables> {
         try {
           std::error_code ec;
           std::filesystem::create_directories(dir, ec);
-          auto t = foveation::load_or_build_tables(dir, psk, {}, [](const std::string& m) {
-            log(LogLevel::Info, "foveated renderer: ", m);
-          });
-          auto out = std::make_shared<ViewTables>();
-          out->points = std::move(t.points);
-          out->neighbors = std::move(t.neighbors);
-          return out;
+          return load_view_tables(psk, settings, dir);
         } catch (const std::exception& e) {
           log(LogLevel::Error, "foveated renderer: cannot build the foveation tables: ", e.what());
           return nullptr;
@@ -186,8 +180,14 @@ class FoveatedFrameEngine final : public FrameEngine {
     }
     request.gaze_px = glm::round(request.gaze_px);
 
-    const ViewOutcome outcome = eye.pipeline->render(request, settings_, pool_, eye.swapchain->staging(),
-                                                     eye.swapchain->srgb());
+    ViewOutcome outcome;
+    try {
+      outcome = eye.pipeline->render(request, settings_, pool_, eye.swapchain->staging(), eye.swapchain->srgb());
+    } catch (const std::exception& error) {  // a table/gaze inconsistency: this view falls back
+      outcome.ok = false;
+      outcome.failure = XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+      outcome.message = std::string("frame path error: ") + error.what();
+    }
     stats->pointsPerEye[e] = outcome.points;
     stats->raysPerEye[e] = outcome.rays;
     stats->selectMs[e] = outcome.select_ms;
@@ -198,7 +198,9 @@ class FoveatedFrameEngine final : public FrameEngine {
     stats->invalidColours += outcome.invalid_colours;
     if (!outcome.ok) {
       stats->fallbackFlags |= outcome.failure;
-      LogOnce& once = (outcome.failure & XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART) ? callback_once_ : colour_once_;
+      LogOnce& once = (outcome.failure & XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART) ? callback_once_
+                      : (outcome.failure & XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART) ? colour_once_
+                                                                                            : internal_once_;
       if (once.first()) {
         log(LogLevel::Error, "foveated renderer: eye ", e, ": ", outcome.message,
             "; showing the app's own image for this view (logged once, counted in stats)");
@@ -227,7 +229,7 @@ class FoveatedFrameEngine final : public FrameEngine {
   std::map<TableKey, TableSlot> tables_;
   Eye eyes_[2];
   uint64_t frame_index_ = 0;
-  LogOnce callback_once_, colour_once_, upload_once_;
+  LogOnce callback_once_, colour_once_, upload_once_, internal_once_;
 };
 
 }  // namespace

@@ -14,7 +14,7 @@ namespace {
 
 class NoGaze final : public GazeSource {
  public:
-  FrameGaze at(int64_t) override { return {}; }
+  FrameGaze at(int64_t, int64_t) override { return {}; }
 };
 
 #ifdef FOVEART_LAYER_HAS_GAZE
@@ -30,7 +30,7 @@ class ProviderGaze final : public GazeSource {
   explicit ProviderGaze(std::unique_ptr<gaze::GazeProvider> provider) : provider_(std::move(provider)) {}
   ~ProviderGaze() override { provider_->stop(); }
 
-  FrameGaze at(int64_t display_time_ns) override {
+  FrameGaze at(int64_t display_time_ns, int64_t now_ns) override {
     FrameGaze out;
     out.source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
     const auto sample = provider_->sample_at(display_time_ns);
@@ -42,7 +42,7 @@ class ProviderGaze final : public GazeSource {
       out.direction_view[e] = to_view(d);
     }
     const auto newest = provider_->latest();
-    out.age_ms = newest ? static_cast<float>(static_cast<double>(display_time_ns - newest->host_time_ns) * 1e-6) : 0.0f;
+    out.age_ms = newest ? static_cast<float>(static_cast<double>(now_ns - newest->host_time_ns) * 1e-6) : 0.0f;
     out.valid = true;
     return out;
   }

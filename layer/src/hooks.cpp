@@ -99,7 +99,14 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
     // Strip our struct when it heads the chain so layers below never see it.
     if (copy.next == opt_in) copy.next = opt_in->next;
     auto& view_copy = views.emplace_back(projection->views, projection->views + projection->viewCount);
-    renderer->render(info->displayTime, *projection, view_copy.data());
+    try {
+      renderer->render(info->displayTime, *projection, view_copy.data());
+    } catch (const std::exception& e) {
+      // The frame still goes out, with the app's own views for this layer.
+      static LogOnce once;
+      if (once.first()) log(LogLevel::Error, "xrEndFrame: foveated renderer failed: ", e.what(), " (logged once)");
+      view_copy.assign(projection->views, projection->views + projection->viewCount);
+    }
     copy.views = view_copy.data();
     layers[i] = reinterpret_cast<const XrCompositionLayerBaseHeader*>(&copy);
   }

@@ -16,16 +16,17 @@ namespace foveart::layer {
 namespace {
 
 constexpr std::size_t kRaysPerBatch = 8192;
-constexpr uint32_t kMaxHistoryFrames = 16;
-constexpr uint64_t kSampleSeed = 0x5eed0f0e;
+// The point set's seed too, so a static gaze without TAA gives what
+// `fovea render --mode foveated` gives for the same view.
+constexpr uint64_t kSampleSeed = 1;
 
 using Clock = std::chrono::steady_clock;
 float ms_since(Clock::time_point t0) {
   return std::chrono::duration<float, std::milli>(Clock::now() - t0).count();
 }
 
-bool same_view(const ViewRequest& a, const ViewRequest& b) {
-  return a.width_px == b.width_px && a.height_px == b.height_px && a.gaze_px == b.gaze_px &&
+bool same_view(const ViewRequest& a, const ViewRequest& b, bool with_gaze) {
+  return a.width_px == b.width_px && a.height_px == b.height_px && (!with_gaze || a.gaze_px == b.gaze_px) &&
          std::memcmp(&a.pose, &b.pose, sizeof(XrPosef)) == 0 && std::memcmp(&a.fov, &b.fov, sizeof(XrFovf)) == 0;
 }
 
@@ -50,27 +51,48 @@ uint8_t encode_srgb8(float linear) {
   return srgb_table()[static_cast<std::size_t>(c * 4095.0f + 0.5f)];
 }
 
-ViewPipeline::ViewPipeline(std::shared_ptr<const ViewTables> tables) : tables_(std::move(tables)) {
-  visible_of_point_.assign(tables_->points.size(), -1);
+foveation::InterpOptions interp_options(const RendererSettings& settings) {
+  foveation::InterpOptions o;
+  switch (settings.interpolation) {
+    case XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART: o.method = foveation::InterpMethod::nn; break;
+    case XR_FOVEATED_INTERPOLATION_RBF_FOVEART: o.method = foveation::InterpMethod::rbf_mq; break;
+    default: o.method = foveation::InterpMethod::msm; break;
+  }
+  o.k = o.method == foveation::InterpMethod::nn ? 1 : static_cast<int>(settings.k);
+  return o;
 }
+
+int neighbor_count(const RendererSettings& settings) {
+  const auto o = interp_options(settings);
+  return o.method == foveation::InterpMethod::nn ? 4 : o.k;
+}
+
+std::shared_ptr<const ViewTables> load_view_tables(const foveation::PointSetKey& key, const RendererSettings& settings,
+                                                   const std::optional<std::filesystem::path>& cache_dir) {
+  auto out = std::make_shared<ViewTables>();
+  auto tables = foveation::load_or_build_tables(cache_dir, key);
+  out->points = std::move(tables.points);
+  out->neighbors = std::move(tables.neighbors);
+  auto interp = foveation::load_or_build_interpolation_table(cache_dir, key, out->points, out->neighbors,
+                                                             interp_options(settings));
+  out->interpolation = std::move(interp.table);
+  return out;
+}
+
+ViewPipeline::ViewPipeline(std::shared_ptr<const ViewTables> tables) : tables_(std::move(tables)) {}
 
 bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool,
                          ViewOutcome* outcome) {
   const auto& points = tables_->points;
   auto t0 = Clock::now();
-  const auto mapping = foveation::map_gaze(static_cast<int>(request.width_px), static_cast<int>(request.height_px),
-                                           request.gaze_px);
-  canvas_offset_x_ = mapping.canvas_from_screen_x_px;
-  canvas_offset_y_ = mapping.canvas_from_screen_y_px;
-  const auto visible = foveation::select_visible_points(points, mapping);
-  const bool static_view = has_last_ && same_view(request, last_);
-  const uint64_t seed = settings.taa && static_view ? kSampleSeed + history_frames_ : kSampleSeed;
+  mapping_ = foveation::map_gaze(static_cast<int>(request.width_px), static_cast<int>(request.height_px),
+                                 request.gaze_px);
+  const auto visible = foveation::select_visible_points(points, mapping_);
+  // With TAA, new jitter every frame so the history converges; without, fixed samples.
+  const uint64_t seed = settings.taa ? kSampleSeed + request.frame_index : kSampleSeed;
   const auto samples =
       foveation::generate_ray_samples(points, visible, static_cast<int>(settings.rays_per_point), seed);
-
-  for (uint32_t p : touched_points_) visible_of_point_[p] = -1;
-  touched_points_.assign(visible.point_index.begin(), visible.point_index.end());
-  for (std::size_t v = 0; v < visible.size(); ++v) visible_of_point_[visible.point_index[v]] = static_cast<int32_t>(v);
+  visible_index_.assign(visible.point_index.begin(), visible.point_index.end());
 
   const std::size_t n = samples.size();
   origins_.resize(n * 3);
@@ -162,7 +184,7 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
 
   // One colour per point: the mean of its samples (thesis 4.2).
   const uint32_t spp = settings.rays_per_point;
-  point_rgb_.resize(visible.size());
+  point_rgb_.resize(visible.size() * 3);
   const float inv_spp = 1.0f / static_cast<float>(spp);
   for (std::size_t v = 0; v < visible.size(); ++v) {
     glm::vec3 sum(0.0f);
@@ -170,93 +192,37 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
       const float* c = &ray_rgb_[(v * spp + s) * 3];
       sum += glm::vec3(c[0], c[1], c[2]);
     }
-    point_rgb_[v] = sum * inv_spp;
+    const glm::vec3 mean = sum * inv_spp;
+    point_rgb_[v * 3 + 0] = mean.r;
+    point_rgb_[v * 3 + 1] = mean.g;
+    point_rgb_[v * 3 + 2] = mean.b;
   }
   return true;
-}
-
-void ViewPipeline::interpolate(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool) {
-  const auto& points = tables_->points;
-  const auto& table = tables_->neighbors;
-  const uint32_t w = request.width_px;
-  const uint32_t h = request.height_px;
-  const int k = std::min(static_cast<int>(settings.k), table.k());
-  const bool nearest = settings.interpolation == XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART || k == 1;
-  image_.resize(std::size_t{w} * h);
-  pool.parallel_for(h, [&](std::size_t y) {
-    const int cy = static_cast<int>(y) + canvas_offset_y_;
-    for (uint32_t x = 0; x < w; ++x) {
-      const int cx = static_cast<int>(x) + canvas_offset_x_;
-      const std::size_t pixel = std::size_t(cy) * std::size_t(table.width_px()) + std::size_t(cx);
-      const glm::vec2 centre(static_cast<float>(cx) + 0.5f, static_cast<float>(cy) + 0.5f);
-      std::array<float, foveation::kMaxNeighbors> dist{};
-      std::array<int32_t, foveation::kMaxNeighbors> vis{};
-      int used = 0;
-      for (int j = 0; j < k; ++j) {
-        const uint32_t p = table.neighbor(pixel, j);
-        const int32_t v = visible_of_point_[p];
-        if (v < 0) continue;
-        vis[used] = v;
-        dist[used] = glm::length(points.position_px[p] - centre);
-        ++used;
-        if (nearest) break;
-      }
-      glm::vec3 colour(0.0f);
-      if (used == 1 || (used > 0 && dist[0] < 1e-4f)) {
-        colour = point_rgb_[vis[0]];
-      } else if (used > 1) {
-        // Modified Shepard (Franke & Little; thesis 4.3): w_i = ((R - d_i)+ / (R d_i))^2,
-        // R = distance of the farthest of the k neighbours.
-        const float radius = dist[used - 1] * 1.0001f;
-        float sum_w = 0.0f;
-        for (int j = 0; j < used; ++j) {
-          const float t = std::max(radius - dist[j], 0.0f) / (radius * dist[j]);
-          const float wj = t * t;
-          colour += wj * point_rgb_[vis[j]];
-          sum_w += wj;
-        }
-        colour = sum_w > 0.0f ? colour / sum_w : point_rgb_[vis[0]];
-      }
-      image_[y * w + x] = colour;
-    }
-  });
-}
-
-void ViewPipeline::accumulate(bool static_view, WorkerPool& pool, uint32_t pixel_count) {
-  // Temporal accumulation of jittered samples while view and gaze stay put; a
-  // change restarts it (no reprojection: the history is dropped).
-  history_frames_ = static_view ? std::min(history_frames_ + 1, kMaxHistoryFrames) : 1;
-  if (history_frames_ == 1 || history_.size() != pixel_count) {
-    history_ = image_;
-    history_frames_ = 1;
-    return;
-  }
-  const float alpha = 1.0f / static_cast<float>(history_frames_);
-  const std::size_t rows = 64;
-  const std::size_t chunk = (pixel_count + rows - 1) / rows;
-  pool.parallel_for(rows, [&](std::size_t r) {
-    for (std::size_t i = r * chunk; i < std::min<std::size_t>(pixel_count, (r + 1) * chunk); ++i) {
-      history_[i] += (image_[i] - history_[i]) * alpha;
-      image_[i] = history_[i];
-    }
-  });
 }
 
 ViewOutcome ViewPipeline::render(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool,
                                  uint8_t* out_rgba, bool srgb) {
   ViewOutcome outcome;
-  const bool static_view = has_last_ && same_view(request, last_);
+  const bool same_pose = has_last_ && same_view(request, last_, false);
   if (!trace(request, settings, pool, &outcome)) {
     has_last_ = false;
-    history_frames_ = 0;
+    taa_.reset();
     return outcome;
   }
+  // Thesis 4.3: every pixel a k-tap gather over the precomputed canvas weights.
   auto t0 = Clock::now();
-  interpolate(request, settings, pool);
+  const auto colours = foveation::point_colors_from_list(tables_->points.size(), visible_index_, point_rgb_);
+  foveation::GatherOptions gather_options;
+  gather_options.threads = static_cast<int>(pool.size());
+  foveation::gather(tables_->neighbors, tables_->interpolation, colours, mapping_, image_, gather_options);
   outcome.interpolate_ms = ms_since(t0);
-  const uint32_t pixels = request.width_px * request.height_px;
   t0 = Clock::now();
-  if (settings.taa) accumulate(static_view, pool, pixels);
+  const foveation::ImageRgb* shown = &image_;
+  if (settings.taa) {
+    // No reprojection: a head move restarts the history (a gaze jump does inside).
+    if (!same_pose) taa_.reset();
+    shown = &taa_.accumulate(image_, mapping_.gaze_px);
+  }
   outcome.taa_ms = ms_since(t0);
   last_ = request;
   has_last_ = true;
@@ -265,7 +231,8 @@ ViewOutcome ViewPipeline::render(const ViewRequest& request, const RendererSetti
   pool.parallel_for(rows, [&](std::size_t y) {
     for (std::size_t x = 0; x < request.width_px; ++x) {
       const std::size_t i = y * request.width_px + x;
-      const glm::vec3 c = image_[i];
+      const float* p = shown->rgb.data() + i * 3;
+      const glm::vec3 c(p[0], p[1], p[2]);
       uint8_t* o = out_rgba + i * 4;
       if (srgb) {
         o[0] = encode_srgb8(c.r);

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,8 +14,13 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "foveation/gather.hpp"
+#include "foveation/interpolation_cache.hpp"
+#include "foveation/interpolation_table.hpp"
 #include "foveation/neighbor_table.hpp"
 #include "foveation/point_set.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "foveation/taa.hpp"
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "renderer.hpp"
 #include "worker_pool.hpp"
@@ -23,7 +30,17 @@ namespace foveart::layer {
 struct ViewTables {
   foveation::PointSet points;
   foveation::NeighborTable neighbors;
+  foveation::InterpolationTable interpolation;  // per-canvas-pixel weights of the method
 };
+
+// The interpolation options for a renderer's settings (method, k).
+foveation::InterpOptions interp_options(const RendererSettings& settings);
+// Neighbours per canvas pixel the tables need: k, and at least 4 for NN so a
+// pixel whose nearest point was not traced finds another (as fovea render does).
+int neighbor_count(const RendererSettings& settings);
+// Builds (or loads from cache_dir) every table for one eye's display.
+std::shared_ptr<const ViewTables> load_view_tables(const foveation::PointSetKey& key, const RendererSettings& settings,
+                                                   const std::optional<std::filesystem::path>& cache_dir);
 
 struct ViewRequest {
   uint32_t eye_index = 0;
@@ -57,20 +74,17 @@ class ViewPipeline {
 
  private:
   bool trace(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool, ViewOutcome* outcome);
-  void interpolate(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool);
-  void accumulate(bool static_view, WorkerPool& pool, uint32_t pixel_count);
 
   std::shared_ptr<const ViewTables> tables_;
-  std::vector<int32_t> visible_of_point_;  // point index -> visible index, -1 if not visible
-  std::vector<uint32_t> touched_points_;
   std::vector<float> origins_, directions_, sample_px_, ray_rgb_;
   std::vector<uint32_t> point_index_;
-  std::vector<glm::vec3> point_rgb_;
-  std::vector<glm::vec3> image_, history_;
-  uint32_t history_frames_ = 0;
+  std::vector<uint32_t> visible_index_;  // the visible points, in order
+  std::vector<float> point_rgb_;         // 3 floats per visible point
+  foveation::GazeMapping mapping_;
+  foveation::ImageRgb image_;
+  foveation::TemporalAccumulator taa_;
   ViewRequest last_{};
   bool has_last_ = false;
-  int canvas_offset_x_ = 0, canvas_offset_y_ = 0;
 };
 
 // Linear [0,1] -> sRGB 8 bit (IEC 61966-2-1).

@@ -105,6 +105,9 @@ int main(int argc, char** argv) {
   cli.add_option("--gaze", gaze, "gaze source")->check(CLI::IsMember({"none", "provider", "eye_gaze"}));
   cli.add_option("--gaze-provider", options.gaze_provider, "gaze provider spec: sim, replay:FILE, ...");
   cli.add_option("--max-frames", options.max_frames, "stop after N frames (0 = until the runtime ends)");
+  std::vector<uint32_t> eye_size;
+  cli.add_option("--eye-size", eye_size, "per-eye image W H (default: the runtime's recommended size)")
+      ->expected(2);
   cli.add_flag("--no-explicit-layer", no_explicit_layer,
                "do not name the layer (it is enabled implicitly or by XR_ENABLE_API_LAYERS)");
   cli.add_flag("--json", json, "print the layer's stats as JSON");
@@ -124,6 +127,14 @@ int main(int argc, char** argv) {
   options.gaze_source = gazes.at(gaze);
   options.taa = !no_taa;
   options.enable_layer = !no_explicit_layer;
+  if (eye_size.size() == 2) {
+    if (eye_size[0] == 0 || eye_size[1] == 0) {
+      std::cerr << "hello_foveated: --eye-size needs two positive numbers\n";
+      return 2;
+    }
+    options.eye_width_px = eye_size[0];
+    options.eye_height_px = eye_size[1];
+  }
 
   auto loaded = foveart::engine::load_scene(scene_spec);
   if (!loaded.ok()) {

@@ -203,8 +203,12 @@ class App {
       info.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
       info.format = VK_FORMAT_R8G8B8A8_SRGB;
       info.sampleCount = 1;
-      info.width = views[e].recommendedImageRectWidth;
-      info.height = views[e].recommendedImageRectHeight;
+      info.width = options_.eye_width_px != 0 ? options_.eye_width_px : views[e].recommendedImageRectWidth;
+      info.height = options_.eye_height_px != 0 ? options_.eye_height_px : views[e].recommendedImageRectHeight;
+      if (info.width > views[e].maxImageRectWidth || info.height > views[e].maxImageRectHeight) {
+        throw std::runtime_error("eye size " + std::to_string(info.width) + "x" + std::to_string(info.height) +
+                                 " exceeds the runtime's maximum");
+      }
       info.faceCount = 1;
       info.arraySize = 1;
       info.mipCount = 1;

@@ -29,6 +29,8 @@ struct AppOptions {
   std::string gaze_provider;  // empty: the layer's config
   bool enable_layer = true;   // false when the layer is enabled implicitly / by XR_ENABLE_API_LAYERS
   uint64_t max_frames = 0;    // 0: until the runtime ends the session
+  uint32_t eye_width_px = 0;  // 0: the runtime's recommended size
+  uint32_t eye_height_px = 0;
   // Where the headset's LOCAL origin sits in the scene (the scene's camera):
   // the app's space is LOCAL offset by this pose, so rays come out in scene space.
   XrPosef scene_from_local{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};

@@ -28,11 +28,13 @@ std::shared_ptr<const ViewTables> small_tables(int k) {
   std::lock_guard lock(mutex);
   auto& slot = cache[k];
   if (!slot) {
-    auto display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
-    auto t = std::make_shared<ViewTables>();
-    t->points = foveation::generate_point_set(display, 1);
-    t->neighbors = foveation::NeighborTable::build(t->points, k);
-    slot = t;
+    foveation::PointSetKey key;
+    key.display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
+    key.seed = 1;
+    key.k = k;
+    RendererSettings settings;  // Shepard; the NN test reads tap 0 of the same table
+    settings.k = static_cast<uint32_t>(k);
+    slot = load_view_tables(key, settings, std::nullopt);
   }
   return slot;
 }
@@ -125,7 +127,13 @@ class ConstantColour : public ::testing::TestWithParam<std::tuple<XrFoveatedInte
 TEST_P(ConstantColour, IsReproducedAtEveryPixel) {
   const auto [method, taa] = GetParam();
   WorkerPool pool(2);
-  ViewPipeline pipeline(small_tables(5));
+  RendererSettings table_settings;
+  table_settings.interpolation = method;
+  foveation::PointSetKey key;
+  key.display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
+  key.seed = 1;
+  key.k = neighbor_count(table_settings);
+  ViewPipeline pipeline(load_view_tables(key, table_settings, std::nullopt));
   Recorder rec;
   std::vector<uint8_t> rgba(kW * kH * 4, 0);
   for (int frame = 0; frame < 3; ++frame) {  // TAA accumulates over a static view

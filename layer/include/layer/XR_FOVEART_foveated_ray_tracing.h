@@ -119,7 +119,7 @@ typedef struct XrFoveatedRendererStatsFOVEART {
   float interpolateMs[2];
   float taaMs[2];
   float uploadMs[2];
-  float gazeAgeMs;           /* age of the gaze sample at composition (display time) */
+  float gazeAgeMs;           /* age of the newest gaze sample at composition (xrEndFrame), before prediction */
   XrFoveatedGazeSourceFOVEART gazeSource; /* source actually used last frame */
   XrFoveatedFallbackFlagsFOVEART fallbackFlags; /* state of the last frame */
   uint64_t callbackFailures; /* batches the callback failed (error code) */
