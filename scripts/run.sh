@@ -27,6 +27,12 @@ python3 -c 'import json; j=json.load(open("out/render.json")); print("speedup %.
 
 echo "=== 3/3 hello_foveated on the simulated FOVE -> out/hello_foveated.json, out/frames/"
 rm -f out/frames/*.png
+# Layer config: wait for the tables on the first frame (instead of showing the
+# app's fallback image while they build) and cache them under out/cache.
+cat > out/foveart_config.json <<JSON
+{ "wait_for_tables": true, "cache_dir": "$root/out/cache/foveart", "log_level": "info" }
+JSON
+FOVEART_CONFIG="$root/out/foveart_config.json" \
 XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
 XR_API_LAYER_PATH="$root/build/manifests/explicit" \
 VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
