@@ -10,7 +10,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 bash scripts/setup.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Same tree and flags as scripts/test.sh, so running both builds once.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON >/dev/null
 cmake --build build -j "$(nproc)"
 mkdir -p out/cache out/frames
 export XDG_CACHE_HOME="$root/out/cache"   # the layer's table cache
