@@ -200,12 +200,14 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
 
 std::string save_neighbor_table(const std::filesystem::path& file, const PointSetKey& key,
                                 const NeighborTable& table) {
+  // Packed entries first, dimensions last: loading then adopts the payload
+  // buffer as the table without copying 442 MB.
   std::vector<std::uint8_t> payload;
   payload.reserve(table.bytes() + 12);
+  append(payload, table.packed().data(), table.packed().size());
   const std::uint32_t dims[3] = {std::uint32_t(table.width_px()), std::uint32_t(table.height_px()),
                                  std::uint32_t(table.k())};
   append(payload, dims, 3);
-  append(payload, table.packed().data(), table.packed().size());
   PointSetKey k = key;
   k.k = table.k();
   return save_file(file, make_header(Kind::kNeighborTable, k), payload);
@@ -220,16 +222,35 @@ std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& fi
     if (error) *error = "cache " + file.string() + ": payload too short";
     return std::nullopt;
   }
-  std::memcpy(dims, payload->data(), sizeof dims);
-  std::vector<std::uint8_t> packed(payload->begin() + sizeof dims, payload->end());
-  payload.reset();
+  std::memcpy(dims, payload->data() + payload->size() - sizeof dims, sizeof dims);
+  payload->resize(payload->size() - sizeof dims);
   try {
-    return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(packed));
+    return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(*payload));
   } catch (const std::invalid_argument& e) {
     if (error) *error = "cache " + file.string() + ": " + e.what();
     return std::nullopt;
   }
 }
+
+namespace {
+
+// True when every 24-bit entry addresses one of `count` points. Looks at the
+// high byte of each entry first; only entries that could be too large are decoded.
+bool all_indices_below(const NeighborTable& t, std::size_t count) {
+  const std::uint8_t* p = t.packed().data();
+  const std::size_t entries = t.pixel_count() * std::size_t(t.k());
+  const std::uint32_t high_ok = std::uint32_t(count >> 16);
+  for (std::size_t e = 0; e < entries; ++e) {
+    if (p[3 * e + 2] >= high_ok) {
+      const std::uint32_t v = std::uint32_t(p[3 * e]) | (std::uint32_t(p[3 * e + 1]) << 8) |
+                              (std::uint32_t(p[3 * e + 2]) << 16);
+      if (v >= count) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
 
 FoveationTables load_or_build_tables(const std::optional<std::filesystem::path>& cache_dir,
                                      const PointSetKey& key, const ProgressFn& progress, const LogFn& log) {
@@ -264,11 +285,9 @@ FoveationTables load_or_build_tables(const std::optional<std::filesystem::path>&
   if (cache_dir) {
     if (auto t = load_neighbor_table(neighbor_table_cache_path(*cache_dir, key), key, &err)) {
       // Only trust a table whose indices all address this point set.
-      bool valid = t->width_px() == out.points.canvas_width_px && t->height_px() == out.points.canvas_height_px;
-      for (std::size_t p = 0; valid && p < t->pixel_count(); ++p) {
-        for (int j = 0; j < t->k(); ++j) valid = valid && t->neighbor(p, j) < out.points.size();
-      }
-      if (valid && !out.points_from_cache) valid = false;  // table of a replaced point set
+      bool valid = out.points_from_cache &&  // never pair a table with a rebuilt point set
+                   t->width_px() == out.points.canvas_width_px && t->height_px() == out.points.canvas_height_px &&
+                   all_indices_below(*t, out.points.size());
       if (valid) {
         out.neighbors = std::move(*t);
         have_table = true;
