@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds, and runs every test
-#   1. RelWithDebInfo build  -> ctest
-#   2. AddressSanitizer + UBSan build -> ctest
-#   3. ThreadSanitizer build of the threaded suites (label "threaded") -> ctest
-# Usage: scripts/test.sh [--quick]   (--quick: step 1 only, for local iteration)
+#   1. AddressSanitizer + UBSan build (-O2, warnings as errors) -> the whole ctest suite
+#   2. ThreadSanitizer build of the threaded suites (label "threaded") -> ctest
+# Usage: scripts/test.sh [--plain | --quick]
+#   --plain  also run the whole suite on a plain build first (build/, as scripts/run.sh)
+#   --quick  only the plain build's suite, for local iteration
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 jobs=$(nproc)
-quick=0; [ "${1:-}" = "--quick" ] && quick=1
+mode=${1:-}
+case "$mode" in ""|--plain|--quick) ;; *) echo "usage: scripts/test.sh [--plain | --quick]" >&2; exit 2;; esac
 
 bash scripts/setup.sh
 
@@ -29,11 +31,13 @@ run_suite() {  # dir, cmake args..., then ctest label filter in CTEST_ARGS
 }
 
 SECONDS=0
-CTEST_ARGS="" run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON
-echo "=== release suite done in ${SECONDS}s"
-[ $quick = 1 ] && exit 0
+if [ -n "$mode" ]; then
+  CTEST_ARGS="" run_suite build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON
+  echo "=== plain suite done in ${SECONDS}s"
+  [ "$mode" = "--quick" ] && exit 0
+fi
 
-CTEST_ARGS="" run_suite build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_BUILD_BENCH=OFF \
+CTEST_ARGS="" run_suite build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_BUILD_BENCH=OFF -DFOVEART_WERROR=ON \
   "-DFOVEART_SANITIZE=address;undefined"
 echo "=== asan/ubsan suite done in ${SECONDS}s"
 
