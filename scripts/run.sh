@@ -10,11 +10,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 bash scripts/setup.sh
-# Same tree and flags as scripts/test.sh, so running both builds once.
+# Same tree and flags as `scripts/test.sh --plain`.
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON >/dev/null
 cmake --build build -j "$(nproc)"
 mkdir -p out/cache out/frames
-export XDG_CACHE_HOME="$root/out/cache"   # the layer's table cache
+export XDG_CACHE_HOME="$root/out/cache"   # the layer caches its tables in $XDG_CACHE_HOME/foveart
 
 echo "=== 1/3 FOVE point set -> out/pointset.json, out/pointset_centred.png, out/curves/"
 build/bin/fovea pointset --preset fove --cache out/cache --png out/pointset_centred.png \
@@ -28,10 +28,10 @@ python3 -c 'import json; j=json.load(open("out/render.json")); print("speedup %.
 
 echo "=== 3/3 hello_foveated on the simulated FOVE -> out/hello_foveated.json, out/frames/"
 rm -f out/frames/*.png
-# Layer config: wait for the tables on the first frame (instead of showing the
-# app's fallback image while they build) and cache them under out/cache.
+# Layer config: wait for the tables on the first frame instead of showing the
+# app's fallback image while they build.
 cat > out/foveart_config.json <<JSON
-{ "wait_for_tables": true, "cache_dir": "$root/out/cache/foveart", "log_level": "info" }
+{ "wait_for_tables": true, "log_level": "info" }
 JSON
 FOVEART_CONFIG="$root/out/foveart_config.json" \
 XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
