@@ -130,7 +130,13 @@ NeighborTable NeighborTable::build(const PointSet& points, int k, const Progress
   t.k_ = k;
   t.width_px_ = points.canvas_width_px;
   t.height_px_ = points.canvas_height_px;
-  t.packed_.assign(t.pixel_count() * std::size_t(k) * 3 + 1, 0);
+  // Uninitialised: every entry is written below (no 442 MB zero-fill).
+  t.size_ = t.pixel_count() * std::size_t(k) * 3 + 1;
+  std::shared_ptr<std::uint8_t[]> storage(new std::uint8_t[t.size_]);
+  std::uint8_t* out = storage.get();
+  out[t.size_ - 1] = 0;  // pad byte read by the last entry's 4-byte load
+  t.data_ = out;
+  t.owner_ = std::move(storage);
 
   PointCloud cloud{&points.position_px};
   KdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
@@ -145,7 +151,7 @@ NeighborTable NeighborTable::build(const PointSet& points, int k, const Progress
       const int y0 = ty * kTilePx;
       const int y1 = std::min(y0 + kTilePx, t.height_px_);
       for (int x0 = 0; x0 < t.width_px_; x0 += kTilePx) {
-        query.run(x0, y0, std::min(x0 + kTilePx, t.width_px_), y1, t.width_px_, t.packed_.data());
+        query.run(x0, y0, std::min(x0 + kTilePx, t.width_px_), y1, t.width_px_, out);
       }
       const int done = rows_done.fetch_add(1) + 1;
       if (reports && progress && (done & 15) == 0) progress(double(done) / double(tile_rows));
@@ -161,15 +167,23 @@ NeighborTable NeighborTable::build(const PointSet& points, int k, const Progress
 }
 
 NeighborTable NeighborTable::from_packed(int width_px, int height_px, int k, std::vector<std::uint8_t> packed) {
-  if (k < 1 || k > kMaxNeighbors || width_px <= 0 || height_px <= 0 ||
-      packed.size() != std::size_t(width_px) * std::size_t(height_px) * std::size_t(k) * 3 + 1) {
+  auto owner = std::make_shared<const std::vector<std::uint8_t>>(std::move(packed));
+  return from_packed(width_px, height_px, k, owner, owner->data(), owner->size());
+}
+
+NeighborTable NeighborTable::from_packed(int width_px, int height_px, int k, std::shared_ptr<const void> owner,
+                                         const std::uint8_t* data, std::size_t size) {
+  if (k < 1 || k > kMaxNeighbors || width_px <= 0 || height_px <= 0 || data == nullptr ||
+      size != std::size_t(width_px) * std::size_t(height_px) * std::size_t(k) * 3 + 1) {
     throw std::invalid_argument("neighbour table: packed size does not match its dimensions");
   }
   NeighborTable t;
   t.k_ = k;
   t.width_px_ = width_px;
   t.height_px_ = height_px;
-  t.packed_ = std::move(packed);
+  t.owner_ = std::move(owner);
+  t.data_ = data;
+  t.size_ = size;
   return t;
 }
 

@@ -5,10 +5,16 @@
 // and the header each carry an XXH3-64 checksum.
 #include "foveation/point_set_cache.hpp"
 
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <fstream>
 #include <sstream>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <xxhash.h>
 
@@ -89,18 +95,57 @@ std::string save_file(const std::filesystem::path& file, Header h, const std::ve
   return {};
 }
 
-// Reads and checks the whole file; nullopt with *error on any mismatch.
-std::optional<std::vector<std::uint8_t>> load_file(const std::filesystem::path& file, Kind kind,
-                                                   const PointSetKey& key, std::string* error) {
+// A read-only private mapping of a whole file; unmapped with its last owner.
+struct Mapping {
+  std::shared_ptr<const void> owner;
+  const std::uint8_t* bytes = nullptr;
+  std::size_t size = 0;
+};
+
+std::optional<Mapping> map_file(const std::filesystem::path& file, std::string* why) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    *why = (errno == ENOENT) ? "not found" : std::string("cannot open: ") + std::strerror(errno);
+    return std::nullopt;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    *why = "not a regular file";
+    return std::nullopt;
+  }
+  Mapping m;
+  m.size = std::size_t(st.st_size);
+  if (m.size == 0) {
+    ::close(fd);
+    return m;  // nothing to map; the header check rejects it
+  }
+  // MAP_POPULATE: fault the (page-cached) file in at once instead of per page.
+  void* p = ::mmap(nullptr, m.size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  ::close(fd);
+  if (p == MAP_FAILED) {
+    *why = std::string("cannot map: ") + std::strerror(errno);
+    return std::nullopt;
+  }
+  const std::size_t size = m.size;
+  m.owner = std::shared_ptr<const void>(p, [size](const void* q) { ::munmap(const_cast<void*>(q), size); });
+  m.bytes = static_cast<const std::uint8_t*>(p);
+  return m;
+}
+
+// Maps and checks the whole file; the payload view on success, nullopt with *error on any mismatch.
+std::optional<Mapping> load_file(const std::filesystem::path& file, Kind kind, const PointSetKey& key,
+                                 std::string* error) {
   auto fail = [&](const std::string& why) {
     if (error) *error = "cache " + file.string() + ": " + why;
     return std::nullopt;
   };
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return fail("not found");
+  std::string why;
+  auto m = map_file(file, &why);
+  if (!m) return fail(why);
   Header h{};
-  in.read(reinterpret_cast<char*>(&h), sizeof h);
-  if (in.gcount() != std::streamsize(sizeof h)) return fail("truncated header");
+  if (m->size < sizeof h) return fail("truncated header");
+  std::memcpy(&h, m->bytes, sizeof h);
   if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return fail("not a FoveaRT cache file");
   if (h.version != kCacheFormatVersion) {
     return fail("format version " + std::to_string(h.version) + ", expected " +
@@ -115,18 +160,13 @@ std::optional<std::vector<std::uint8_t>> load_file(const std::filesystem::path& 
         << h.view_distance_px << " px, scale " << h.scale << ", seed " << h.seed << ", k " << h.k << ")";
     return fail(msg.str());
   }
-  const auto start = in.tellg();
-  in.seekg(0, std::ios::end);
-  const auto remaining = std::uint64_t(in.tellg() - start);
+  const std::uint64_t remaining = m->size - sizeof h;
   if (remaining != h.payload_bytes) {
     return fail("payload is " + std::to_string(remaining) + " bytes, header says " +
                 std::to_string(h.payload_bytes) + " (truncated or padded)");
   }
-  in.seekg(start);
-  std::vector<std::uint8_t> payload(h.payload_bytes);
-  in.read(reinterpret_cast<char*>(payload.data()), std::streamsize(payload.size()));
-  if (!in) return fail("read error");
-  if (XXH3_64bits(payload.data(), payload.size()) != h.payload_xxh3) return fail("payload checksum mismatch (corrupt)");
+  Mapping payload{m->owner, m->bytes + sizeof h, std::size_t(remaining)};
+  if (XXH3_64bits(payload.bytes, payload.size) != h.payload_xxh3) return fail("payload checksum mismatch (corrupt)");
   return payload;
 }
 
@@ -171,10 +211,10 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
   };
   std::uint32_t dims[2];
   std::uint64_t n = 0;
-  if (payload->size() < sizeof dims + sizeof n) return fail("payload too short");
-  std::memcpy(dims, payload->data(), sizeof dims);
-  std::memcpy(&n, payload->data() + sizeof dims, sizeof n);
-  if (payload->size() != sizeof dims + sizeof n + n * (sizeof(glm::vec2) + sizeof(float))) {
+  if (payload->size < sizeof dims + sizeof n) return fail("payload too short");
+  std::memcpy(dims, payload->bytes, sizeof dims);
+  std::memcpy(&n, payload->bytes + sizeof dims, sizeof n);
+  if (payload->size != sizeof dims + sizeof n + n * (sizeof(glm::vec2) + sizeof(float))) {
     return fail("point count does not match payload size");
   }
   if (int(dims[0]) != key.display.canvas_width_px() || int(dims[1]) != key.display.canvas_height_px()) {
@@ -185,7 +225,7 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
   ps.canvas_height_px = int(dims[1]);
   ps.position_px.resize(n);
   ps.radius_px.resize(n);
-  const std::uint8_t* p = payload->data() + sizeof dims + sizeof n;
+  const std::uint8_t* p = payload->bytes + sizeof dims + sizeof n;
   std::memcpy(ps.position_px.data(), p, n * sizeof(glm::vec2));
   std::memcpy(ps.radius_px.data(), p + n * sizeof(glm::vec2), n * sizeof(float));
   for (std::size_t i = 0; i < n; ++i) {
@@ -200,8 +240,8 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
 
 std::string save_neighbor_table(const std::filesystem::path& file, const PointSetKey& key,
                                 const NeighborTable& table) {
-  // Packed entries first, dimensions last: loading then adopts the payload
-  // buffer as the table without copying 442 MB.
+  // Packed entries first, dimensions last: loading then views the mapped
+  // payload as the table without copying 442 MB.
   std::vector<std::uint8_t> payload;
   payload.reserve(table.bytes() + 12);
   append(payload, table.packed().data(), table.packed().size());
@@ -218,14 +258,15 @@ std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& fi
   auto payload = load_file(file, Kind::kNeighborTable, key, error);
   if (!payload) return std::nullopt;
   std::uint32_t dims[3];
-  if (payload->size() < sizeof dims) {
+  if (payload->size < sizeof dims) {
     if (error) *error = "cache " + file.string() + ": payload too short";
     return std::nullopt;
   }
-  std::memcpy(dims, payload->data() + payload->size() - sizeof dims, sizeof dims);
-  payload->resize(payload->size() - sizeof dims);
+  std::memcpy(dims, payload->bytes + payload->size - sizeof dims, sizeof dims);
+  // The table views the mapped file (no copy); the dims after it are its readable tail.
   try {
-    return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(*payload));
+    return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(payload->owner),
+                                      payload->bytes, payload->size - sizeof dims);
   } catch (const std::invalid_argument& e) {
     if (error) *error = "cache " + file.string() + ": " + e.what();
     return std::nullopt;
@@ -234,18 +275,38 @@ std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& fi
 
 namespace {
 
-// True when every 24-bit entry addresses one of `count` points. Looks at the
-// high byte of each entry first; only entries that could be too large are decoded.
+// True when every 24-bit entry addresses one of `count` points. Tests the high
+// bytes of 8 entries (24 bytes, 3 words) at once; only blocks where one could be
+// too large are decoded entry by entry.
 bool all_indices_below(const NeighborTable& t, std::size_t count) {
   const std::uint8_t* p = t.packed().data();
   const std::size_t entries = t.pixel_count() * std::size_t(t.k());
-  const std::uint32_t high_ok = std::uint32_t(count >> 16);
-  for (std::size_t e = 0; e < entries; ++e) {
-    if (p[3 * e + 2] >= high_ok) {
-      const std::uint32_t v = std::uint32_t(p[3 * e]) | (std::uint32_t(p[3 * e + 1]) << 8) |
-                              (std::uint32_t(p[3 * e + 2]) << 16);
-      if (v >= count) return false;
+  auto decode_ok = [&](std::size_t e) {
+    const std::uint32_t v = std::uint32_t(p[3 * e]) | (std::uint32_t(p[3 * e + 1]) << 8) |
+                            (std::uint32_t(p[3 * e + 2]) << 16);
+    return v < count;
+  };
+  std::size_t e = 0;
+  const std::uint64_t high_ok = count >> 16;  // a high byte below this is always valid
+  if (high_ok >= 1 && high_ok <= 128) {
+    // Bytewise "any byte > n" (Anderson, Bit Twiddling Hacks, hasmore), n <= 127;
+    // false positives are harmless (exact check), there are no false negatives.
+    constexpr std::uint64_t kOnes = ~std::uint64_t{0} / 255;
+    const std::uint64_t add = kOnes * (127 - (high_ok - 1));
+    auto any_above = [&](std::uint64_t x) { return ((x + add) | x) & (kOnes * 128); };
+    constexpr std::uint64_t kMask[3] = {0x0000FF0000FF0000ull, 0x00FF0000FF0000FFull, 0xFF0000FF0000FF00ull};
+    for (; e + 8 <= entries; e += 8) {
+      std::uint64_t w[3];
+      std::memcpy(w, p + 3 * e, sizeof w);
+      if (any_above(w[0] & kMask[0]) | any_above(w[1] & kMask[1]) | any_above(w[2] & kMask[2])) {
+        for (std::size_t i = e; i < e + 8; ++i) {
+          if (!decode_ok(i)) return false;
+        }
+      }
     }
+  }
+  for (; e < entries; ++e) {
+    if (!decode_ok(e)) return false;
   }
   return true;
 }

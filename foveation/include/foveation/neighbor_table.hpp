@@ -8,6 +8,8 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
+#include <span>
 #include <vector>
 
 #include "foveation/point_set.hpp"
@@ -16,6 +18,14 @@
 namespace foveart::foveation {
 
 inline constexpr int kMaxNeighbors = 20;
+
+// Read-only view of a table's packed bytes; compares by content.
+struct PackedBytes : std::span<const std::uint8_t> {
+  using std::span<const std::uint8_t>::span;
+  friend bool operator==(PackedBytes a, PackedBytes b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size()) == 0);
+  }
+};
 
 class NeighborTable {
  public:
@@ -33,21 +43,27 @@ class NeighborTable {
   // j-th nearest point (0 = nearest) of canvas pixel `pixel` (= y * width + x).
   std::uint32_t neighbor(std::size_t pixel, int j) const {
     std::uint32_t v = 0;
-    std::memcpy(&v, packed_.data() + (pixel * std::size_t(k_) + std::size_t(j)) * 3, 4);
+    std::memcpy(&v, data_ + (pixel * std::size_t(k_) + std::size_t(j)) * 3, 4);
     return v & 0xFFFFFFu;
   }
 
-  std::size_t bytes() const { return packed_.size(); }
-  const std::vector<std::uint8_t>& packed() const { return packed_; }
+  std::size_t bytes() const { return size_; }
+  PackedBytes packed() const { return {data_, size_}; }
 
-  // For the cache: adopt packed storage (validated by the caller).
+  // For the cache: adopt packed storage (validated by the caller). The second
+  // form views `size` bytes at `data`, kept alive by `owner` (e.g. a file mapping).
   static NeighborTable from_packed(int width_px, int height_px, int k, std::vector<std::uint8_t> packed);
+  static NeighborTable from_packed(int width_px, int height_px, int k, std::shared_ptr<const void> owner,
+                                   const std::uint8_t* data, std::size_t size);
 
  private:
   int k_ = 0;
   int width_px_ = 0;
   int height_px_ = 0;
-  std::vector<std::uint8_t> packed_;  // pixel_count * k * 3 bytes + 1 pad byte
+  // pixel_count * k * 3 bytes + 1 pad byte, immutable once built; copies share it.
+  std::shared_ptr<const void> owner_;
+  const std::uint8_t* data_ = nullptr;
+  std::size_t size_ = 0;
 };
 
 }  // namespace foveart::foveation
