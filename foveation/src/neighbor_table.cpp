@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <atomic>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -30,11 +31,16 @@ using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
 // candidate set that provably contains each pixel's k nearest, ties included.
 constexpr int kTilePx = 8;
 
-struct Candidate {
-  double d2;
-  std::uint32_t index;
-  bool operator<(const Candidate& o) const { return d2 != o.d2 ? d2 < o.d2 : index < o.index; }
-};
+// A hit's sort key: exact squared distance (a non-negative double, whose bit
+// pattern orders like its value) above the hit's rank in index order, so one
+// integer comparison orders by (distance, index).
+__extension__ typedef unsigned __int128 Key;
+
+Key make_key(double d2, std::uint32_t local) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &d2, sizeof bits);
+  return (Key(bits) << 64) | Key(local);
+}
 
 void put24(std::uint8_t* dst, std::uint32_t v) {
   dst[0] = std::uint8_t(v & 0xFF);
@@ -53,9 +59,9 @@ class TileQuery {
     const double cy = 0.5 * (y0 + y1);
     const double h = 0.5 * std::hypot(double(x1 - x0), double(y1 - y0));
     const float c[2] = {float(cx), float(cy)};
-    const std::size_t n = tree_.knnSearch(c, std::size_t(k_), idx_.data(), dist_.data());
+    const std::size_t found = tree_.knnSearch(c, std::size_t(k_), idx_.data(), dist_.data());
     double dk = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < found; ++i) {
       const glm::vec2 p = pts_[idx_[i]];
       dk = std::max(dk, std::hypot(double(p.x) - cx, double(p.y) - cy));
     }
@@ -74,31 +80,40 @@ class TileQuery {
     const double radius = dk + 2.0 * h + 1e-3;
     hits_.clear();
     tree_.radiusSearch(c, radius * radius, hits_, nanoflann::SearchParams(32, 0.0f, false));
+    // Hits in index order, so a hit's local rank breaks ties like its index.
+    std::sort(hits_.begin(), hits_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::size_t n = hits_.size();
+    hx_.resize(n);
+    hy_.resize(n);
+    keys_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::vec2 p = pts_[hits_[i].first];
+      hx_[i] = double(p.x);
+      hy_[i] = double(p.y);
+      keys_[i] = Key(i);
+    }
+    // Serpentine walk: neighbouring pixels order their hits almost alike, so
+    // re-sorting the previous pixel's order by insertion costs ~n + swaps.
     for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) {
+      const bool forward = ((y - y0) & 1) == 0;
+      for (int i = 0; i < x1 - x0; ++i) {
+        const int x = forward ? x0 + i : x1 - 1 - i;
         const double qx = double(x) + 0.5;
         const double qy = double(y) + 0.5;
-        // q's k nearest lie within d_k(c) + |q - c| of q: a float pre-filter with
-        // that bound (plus rounding slack) leaves ~k candidates for the exact sort.
-        const double bound = dk + std::hypot(qx - cx, qy - cy) + 1e-3;
-        const float bound2 = float(bound * bound) * (1.0f + 1e-5f);
-        const float fqx = float(qx);
-        const float fqy = float(qy);
-        cand_.clear();
-        for (const auto& hit : hits_) {
-          const glm::vec2 p = pts_[hit.first];
-          const float fx = p.x - fqx;
-          const float fy = p.y - fqy;
-          if (fx * fx + fy * fy <= bound2) {
-            const double dx = double(p.x) - qx;
-            const double dy = double(p.y) - qy;
-            cand_.push_back({dx * dx + dy * dy, hit.first});
-          }
+        for (std::size_t j = 0; j < n; ++j) {
+          const std::uint32_t local = std::uint32_t(keys_[j]);
+          const double dx = hx_[local] - qx;
+          const double dy = hy_[local] - qy;
+          keys_[j] = make_key(dx * dx + dy * dy, local);
         }
-        const auto kth = cand_.begin() + k_;
-        std::partial_sort(cand_.begin(), kth, cand_.end());
+        for (std::size_t j = 1; j < n; ++j) {
+          const Key v = keys_[j];
+          std::size_t m = j;
+          for (; m > 0 && keys_[m - 1] > v; --m) keys_[m] = keys_[m - 1];
+          keys_[m] = v;
+        }
         std::uint8_t* dst = packed + (std::size_t(y) * std::size_t(width_px) + std::size_t(x)) * std::size_t(k_) * 3;
-        for (int j = 0; j < k_; ++j) put24(dst + 3 * j, cand_[std::size_t(j)].index);
+        for (int j = 0; j < k_; ++j) put24(dst + 3 * j, hits_[std::uint32_t(keys_[std::size_t(j)])].first);
       }
     }
   }
@@ -110,7 +125,8 @@ class TileQuery {
   std::vector<std::uint32_t> idx_;
   std::vector<double> dist_;
   std::vector<std::pair<std::uint32_t, double>> hits_;
-  std::vector<Candidate> cand_;
+  std::vector<double> hx_, hy_;
+  std::vector<Key> keys_;
 };
 
 }  // namespace
