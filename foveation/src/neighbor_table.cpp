@@ -5,6 +5,7 @@
 #include <cmath>
 #include <atomic>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -31,15 +32,22 @@ using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
 // candidate set that provably contains each pixel's k nearest, ties included.
 constexpr int kTilePx = 8;
 
-// A hit's sort key: exact squared distance (a non-negative double, whose bit
-// pattern orders like its value) above the hit's rank in index order, so one
-// integer comparison orders by (distance, index).
+// A candidate's sort key: exact squared distance (a non-negative double, whose
+// bit pattern orders like its value) above its index, so one integer
+// comparison orders by (distance, index).
 __extension__ typedef unsigned __int128 Key;
 
-Key make_key(double d2, std::uint32_t local) {
+Key make_key(double d2, std::uint32_t index) {
   std::uint64_t bits = 0;
   std::memcpy(&bits, &d2, sizeof bits);
-  return (Key(bits) << 64) | Key(local);
+  return (Key(bits) << 64) | Key(index);
+}
+
+double key_distance2(Key key) {
+  const auto bits = std::uint64_t(key >> 64);
+  double d2 = 0.0;
+  std::memcpy(&d2, &bits, sizeof d2);
+  return d2;
 }
 
 void put24(std::uint8_t* dst, std::uint32_t v) {
@@ -80,53 +88,72 @@ class TileQuery {
     const double radius = dk + 2.0 * h + 1e-3;
     hits_.clear();
     tree_.radiusSearch(c, radius * radius, hits_, nanoflann::SearchParams(32, 0.0f, false));
-    // Hits in index order, so a hit's local rank breaks ties like its index.
-    std::sort(hits_.begin(), hits_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    const std::size_t n = hits_.size();
-    hx_.resize(n);
-    hy_.resize(n);
-    keys_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const glm::vec2 p = pts_[hits_[i].first];
-      hx_[i] = double(p.x);
-      hy_[i] = double(p.y);
-      keys_[i] = Key(i);
-    }
-    // Serpentine walk: neighbouring pixels order their hits almost alike, so
-    // re-sorting the previous pixel's order by insertion costs ~n + swaps.
+    ord_.resize(hits_.size());
+    for (std::size_t i = 0; i < hits_.size(); ++i) ord_[i] = hits_[i].first;
+    // Serpentine walk: a pixel's k nearest lie within d_k(previous pixel) + 1 px,
+    // and taken in the previous pixel's order those few candidates are nearly
+    // sorted, so insertion sort costs ~their count. Far hits keep their order.
+    bool first = true;
+    double prev_dk = 0.0;
     for (int y = y0; y < y1; ++y) {
       const bool forward = ((y - y0) & 1) == 0;
       for (int i = 0; i < x1 - x0; ++i) {
         const int x = forward ? x0 + i : x1 - 1 - i;
         const double qx = double(x) + 0.5;
         const double qy = double(y) + 0.5;
-        for (std::size_t j = 0; j < n; ++j) {
-          const std::uint32_t local = std::uint32_t(keys_[j]);
-          const double dx = hx_[local] - qx;
-          const double dy = hy_[local] - qy;
-          keys_[j] = make_key(dx * dx + dy * dy, local);
-        }
-        for (std::size_t j = 1; j < n; ++j) {
-          const Key v = keys_[j];
-          std::size_t m = j;
-          for (; m > 0 && keys_[m - 1] > v; --m) keys_[m] = keys_[m - 1];
-          keys_[m] = v;
-        }
+        // Rounding slack: the bound is compared with rounded squared distances.
+        const double bound = first ? dk + std::hypot(qx - cx, qy - cy) : prev_dk + 1.0;
+        select(qx, qy, (bound * bound) * (1.0 + 1e-9) + 1e-9);
+        first = false;
         std::uint8_t* dst = packed + (std::size_t(y) * std::size_t(width_px) + std::size_t(x)) * std::size_t(k_) * 3;
-        for (int j = 0; j < k_; ++j) put24(dst + 3 * j, hits_[std::uint32_t(keys_[std::size_t(j)])].first);
+        for (int j = 0; j < k_; ++j) put24(dst + 3 * j, std::uint32_t(cand_[std::size_t(j)]));
+        const double dk2 = key_distance2(cand_[std::size_t(k_ - 1)]);
+        prev_dk = std::sqrt(dk2);
       }
     }
   }
 
  private:
+  // Sorts the hits within squared distance `bound2` of q into cand_ by
+  // (distance, index); reorders ord_ as cand_ followed by the other hits.
+  void select(double qx, double qy, double bound2) {
+    cand_.clear();
+    rest_.clear();
+    for (const std::uint32_t index : ord_) {
+      const glm::vec2 p = pts_[index];
+      const double dx = double(p.x) - qx;
+      const double dy = double(p.y) - qy;
+      const double d2 = dx * dx + dy * dy;
+      if (d2 <= bound2) {
+        cand_.push_back(make_key(d2, index));
+      } else {
+        rest_.push_back(index);
+      }
+    }
+    if (cand_.size() < std::size_t(k_)) {
+      // Cannot happen (the bound holds); stay exact regardless.
+      select(qx, qy, std::numeric_limits<double>::infinity());
+      return;
+    }
+    for (std::size_t j = 1; j < cand_.size(); ++j) {
+      const Key v = cand_[j];
+      std::size_t m = j;
+      for (; m > 0 && cand_[m - 1] > v; --m) cand_[m] = cand_[m - 1];
+      cand_[m] = v;
+    }
+    std::size_t o = 0;
+    for (const Key key : cand_) ord_[o++] = std::uint32_t(key);
+    for (const std::uint32_t index : rest_) ord_[o++] = index;
+  }
+
   const KdTree& tree_;
   const std::vector<glm::vec2>& pts_;
   int k_;
   std::vector<std::uint32_t> idx_;
   std::vector<double> dist_;
   std::vector<std::pair<std::uint32_t, double>> hits_;
-  std::vector<double> hx_, hy_;
-  std::vector<Key> keys_;
+  std::vector<std::uint32_t> ord_, rest_;
+  std::vector<Key> cand_;
 };
 
 }  // namespace
