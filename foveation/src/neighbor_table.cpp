@@ -74,8 +74,8 @@ class TileQuery {
       dk = std::max(dk, std::hypot(double(p.x) - cx, double(p.y) - cy));
     }
     // Where points are dense the tile's own size dominates the candidate radius:
-    // split it, so each pixel sorts ~3x fewer candidates.
-    if (dk < 2.0 * h && x1 - x0 > 1 && y1 - y0 > 1) {
+    // split it, so each pixel scans fewer hits (the threshold is measured).
+    if (dk < 0.5 * h && x1 - x0 > 1 && y1 - y0 > 1) {
       const int xm = (x0 + x1) / 2;
       const int ym = (y0 + y1) / 2;
       run(x0, y0, xm, ym, width_px, packed);
