@@ -1,6 +1,7 @@
 // Cache round trip, and every kind of bad cache rejected (never served).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <numeric>
@@ -72,6 +73,14 @@ TEST_F(CacheTest, RoundTrip) {
   ASSERT_TRUE(t.has_value()) << err;
   EXPECT_EQ(t->packed(), table_.packed());
   EXPECT_EQ(t->k(), 6);
+  // The loaded table views a mapping of the file: it (and its copies) stay
+  // valid after the file is replaced or removed.
+  const fv::NeighborTable copy = *t;
+  ASSERT_EQ(fv::save_neighbor_table(tf, key_, fv::NeighborTable::build(points_, 5)), "");
+  fs::remove(tf);
+  EXPECT_EQ(t->packed(), table_.packed());
+  EXPECT_EQ(copy.packed(), table_.packed());
+  EXPECT_EQ(copy.neighbor(copy.pixel_count() - 1, 5), table_.neighbor(table_.pixel_count() - 1, 5));
 }
 
 TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
@@ -166,4 +175,38 @@ TEST_F(CacheTest, LoadOrBuildRebuildsABadCacheAndSaysSo) {
   EXPECT_NE(log[0].find("checksum"), std::string::npos) << log[0];
   EXPECT_EQ(third.neighbors.packed(), first.neighbors.packed());
   EXPECT_TRUE(fv::load_or_build_tables(dir_, key_).neighbors_from_cache);
+}
+
+// A checksummed table whose indices overrun the cached point set (> 65,536
+// points, so the index check's 8-entries-at-a-time path runs) is rebuilt.
+TEST(CacheIndexCheck, TableIndexingBeyondThePointSetIsRebuilt) {
+  const fs::path dir = fs::temp_directory_path() / ("foveart_cache_index_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fv::PointSetKey key;
+  key.display = fv::DisplayModel::from_thesis(96, 96, 0.3);
+  key.seed = 2;
+  key.k = 3;
+  const auto first = fv::load_or_build_tables(dir, key);
+  ASSERT_GT(first.points.size(), 70000u);
+  fv::PointSet fewer = first.points;
+  fewer.position_px.resize(fewer.size() - 500);
+  fewer.radius_px.resize(fewer.position_px.size());
+  ASSERT_EQ(fv::save_point_set(fv::point_set_cache_path(dir, key), key, fewer), "");
+  std::vector<std::string> log;
+  const auto second = fv::load_or_build_tables(dir, key, {}, [&](const std::string& s) { log.push_back(s); });
+  EXPECT_TRUE(second.points_from_cache);
+  EXPECT_FALSE(second.neighbors_from_cache);
+  ASSERT_EQ(log.size(), 1u);
+  EXPECT_NE(log[0].find("does not match the point set"), std::string::npos) << log[0];
+  // The rebuilt table fits the smaller set and is served from then on.
+  const auto third = fv::load_or_build_tables(dir, key);
+  EXPECT_TRUE(third.neighbors_from_cache);
+  EXPECT_EQ(third.neighbors.packed(), second.neighbors.packed());
+  std::uint32_t max_index = 0;
+  for (std::size_t p = 0; p < third.neighbors.pixel_count(); ++p) {
+    for (int j = 0; j < key.k; ++j) max_index = std::max(max_index, third.neighbors.neighbor(p, j));
+  }
+  EXPECT_LT(max_index, fewer.size());
+  EXPECT_GE(max_index, 65536u);
+  fs::remove_all(dir);
 }
