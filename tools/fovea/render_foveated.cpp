@@ -50,7 +50,10 @@ FoveatedRenderer::FoveatedRenderer(const FoveartEyeView&, const FoveatedRequest&
 FoveatedRenderer::~FoveatedRenderer() = default;
 const std::string& FoveatedRenderer::error() const { return state_->error; }
 double FoveatedRenderer::precompute_ms() const { return 0.0; }
-FoveatedResult FoveatedRenderer::render(engine::Tracer&, glm::vec2, engine::Image*) {
+FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out) {
+  return render(&foveart_engine_trace_rays, &tracer, gaze_px, out);
+}
+FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn, void*, glm::vec2, engine::Image*) {
   FoveatedResult r;
   r.error = state_->error;
   return r;
@@ -206,6 +209,11 @@ const std::string& FoveatedRenderer::error() const { return state_->error; }
 double FoveatedRenderer::precompute_ms() const { return state_->precompute_ms; }
 
 FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out) {
+  return render(&foveart_engine_trace_rays, &tracer, gaze_px, out);
+}
+
+FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, glm::vec2 gaze_px,
+                                        engine::Image* out) {
   State& st = *state_;
   FoveatedResult r;
   r.precompute_ms = st.precompute_ms;
@@ -262,7 +270,7 @@ FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_p
       uint32_t n = 0;
       uint64_t done = 0;
       auto flush = [&] {
-        const int32_t result = batch.trace(&foveart_engine_trace_rays, &tracer, view, n * spp);
+        const int32_t result = batch.trace(fn, user_data, view, n * spp);
         if (result != FOVEART_RESULT_SUCCESS) {
           int32_t expected = FOVEART_RESULT_SUCCESS;
           status.compare_exchange_strong(expected, result);

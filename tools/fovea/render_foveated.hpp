@@ -64,6 +64,8 @@ class FoveatedRenderer {
 
   // One frame at `gaze_px` into *out_image (resized once); result.image stays empty.
   FoveatedResult render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out_image);
+  // The same through any engine callback (e.g. a no-op one, to time the bookkeeping alone).
+  FoveatedResult render(FoveartTraceRaysFn fn, void* user_data, glm::vec2 gaze_px, engine::Image* out_image);
 
  private:
   struct State;
