@@ -93,6 +93,7 @@ void render_loop(benchmark::State& state, Tracer& tracer, int spp = 1) {
   state.counters["shadow/primary"] = static_cast<double>(c.shadow) / static_cast<double>(c.primary);
   state.counters["reflection/primary"] = static_cast<double>(c.reflection) / static_cast<double>(c.primary);
   state.counters["refraction/primary"] = static_cast<double>(c.refraction) / static_cast<double>(c.primary);
+  state.counters["lanes/packet"] = static_cast<double>(c.total()) / static_cast<double>(c.packets);
   state.counters["ns/primary"] = elapsed_s * 1e9 / static_cast<double>(c.primary);
   state.counters["cpu_ns/primary"] = cpu_s * 1e9 / static_cast<double>(c.primary);
   state.counters["cpu_ms"] = cpu_s * 1e3 / static_cast<double>(state.iterations());
@@ -182,6 +183,7 @@ void BM_Foveated(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(points);
   state.counters["pixels/points"] = 1280.0 * 1440.0 / static_cast<double>(points);
   state.counters["rays/point"] = static_cast<double>(c.total()) / static_cast<double>(c.primary);
+  state.counters["lanes/packet"] = static_cast<double>(c.total()) / static_cast<double>(c.packets);
   state.counters["frame_ms"] = (trace_ms + reconstruct_ms) / n;
   state.counters["trace_ms"] = trace_ms / n;
   state.counters["reconstruct_ms"] = reconstruct_ms / n;

@@ -30,8 +30,9 @@ struct FoveatedResult {
   engine::Image image;
   uint64_t points = 0;        // visible points traced
   double precompute_ms = 0.0; // point set + neighbour table (load or build), not in total
-  double trace_ms = 0.0;      // visible points + ray samples + tracing
-  double samples_ms = 0.0;    // of which: visible-point selection (samples are made while tracing)
+  double trace_ms = 0.0;      // visible points + ray samples + tracing + colour slots
+  double samples_ms = 0.0;    // of which: work before the trace batches (visible-point selection
+                              // and disc samples are made inside the parallel batches: ~0)
   double reconstruct_ms = 0.0;
   std::string error;          // non-empty on failure
 };
