@@ -78,9 +78,10 @@ TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
 // SSIM >= 0.75 and PSNR >= 15 dB. The gaze rests on the lit, textured mirror
 // floor (measured: SSIM 0.98 / 0.98, PSNR 31.6 / 32.1 dB). Scene layout note:
 // since the default scene was recomposed, its view centre holds the colonnade,
-// whose 0.4 m pillars are 2 px wide at this test's 120 px width, below the point
-// spacing of the 2.5-5 deg ring (SSIM 0.80, PSNR 10.5 dB there: aliasing, not
-// the method), and the glass sphere is 8 px wide (SSIM 0.76, PSNR 16.7 dB).
+// whose 0.4 m pillars are 3 px wide at this test's 120 px width, below the point
+// spacing outside the fovea (centre: SSIM 0.71 / 0.79, PSNR 7.7 / 11.7 dB:
+// aliasing of 3 px features, not the method), and the glass sphere is 8 px wide
+// (SSIM 0.72 / 0.75, PSNR 19.4 / 16.9 dB).
 TEST(RenderCommand, BothModeFoveatedMatchesFullAtTheFovea) {
   RenderOptions o = small("both");
   o.size_px = glm::ivec2(120, 135);

@@ -113,7 +113,7 @@ Texture brick_texture() {
   return t;
 }
 
-constexpr float kColonnadeZ = -10.0f;
+constexpr float kColonnadeZ = -6.0f;
 constexpr float kGlassRadius = 0.7f;
 
 }  // namespace
