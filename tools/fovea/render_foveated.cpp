@@ -84,7 +84,7 @@ struct PointSlots {
 // Rays per engine callback call, and set points per parallel work item (a few
 // batches, so a thread's chunk is contiguous in Morton order).
 constexpr uint32_t kBatchRays = 4096;
-constexpr uint64_t kChunkPoints = 16384;
+constexpr uint64_t kChunkPoints = 8192;
 // Sample offsets are precomputed up to this many (64 MB); beyond, made per frame.
 constexpr size_t kMaxPrecomputedSamples = size_t{8} << 20;
 
