@@ -2,6 +2,10 @@
 #include "gltf_fixtures.hpp"
 
 #include <cmd_render.hpp>
+#include <engine/default_scene.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+#include <render_foveated.hpp>
 
 #include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
@@ -103,5 +107,59 @@ TEST(RenderCommand, BothModeFoveatedMatchesFullAtTheFovea) {
       EXPECT_GE(ring["psnr"].get<double>(), 15.0);
     }
   }
+}
+
+namespace {
+
+// An engine that answers every ray with the same grey: what is left is the caller's work.
+extern "C" int32_t grey_engine(void*, const FoveartRayBatch* batch) {
+  for (uint32_t i = 0; i < 3 * batch->ray_count; ++i) batch->out_rgb[i] = 0.5f;
+  return FOVEART_RESULT_SUCCESS;
+}
+
+}  // namespace
+
+// The foveated pass writes each point's colour into a slot stamped with the
+// frame: a frame's image must not depend on the frame before it (another gaze)
+// nor on the thread count, and (with the 10 px visible margin) every pixel's
+// nearest point is traced, so no pixel falls back to black.
+TEST(FoveatedRenderer, FramesAreIndependentOfEarlierFramesAndOfThreads) {
+  std::string error;
+  auto tracer = foveart::engine::Tracer::create(foveart::engine::make_default_scene(), {}, &error);
+  ASSERT_TRUE(tracer) << error;
+  FoveartEyeView view = foveart::engine::fove_eye_view(0, foveart::engine::scene_head(tracer->scene()));
+  view.width_px = 96;
+  view.height_px = 108;
+  engine_test::TempDir cache;  // the second renderer loads the first one's tables
+  foveart::tools::FoveatedRequest req;
+  req.spp = 2;
+  req.threads = 1;
+  req.cache_dir = cache.path.string();
+  foveart::tools::FoveatedRenderer one(view, req);
+  ASSERT_TRUE(one.error().empty()) << one.error();
+  req.threads = 3;
+  foveart::tools::FoveatedRenderer three(view, req);
+  ASSERT_TRUE(three.error().empty()) << three.error();
+
+  const glm::vec2 gaze_a(10.0f, 15.0f), gaze_b(70.0f, 80.0f);
+  foveart::engine::Image a, b_after_a, b_fresh, grey;
+  const auto ra = one.render(*tracer, gaze_a, &a);
+  ASSERT_TRUE(ra.error.empty()) << ra.error;
+  const auto rb = one.render(*tracer, gaze_b, &b_after_a);
+  ASSERT_TRUE(rb.error.empty()) << rb.error;
+  ASSERT_TRUE(three.render(*tracer, gaze_b, &b_fresh).error.empty());
+  EXPECT_GT(ra.points, 0u);
+  EXPECT_NE(ra.points, rb.points);  // the gaze moved the visible set
+  ASSERT_EQ(b_after_a.rgb.size(), b_fresh.rgb.size());
+  size_t differ_from_a = 0;
+  for (size_t i = 0; i < b_fresh.rgb.size(); ++i) {
+    ASSERT_EQ(b_after_a.rgb[i], b_fresh.rgb[i]) << "pixel " << i;
+    differ_from_a += a.rgb[i] != b_fresh.rgb[i] ? 1 : 0;
+  }
+  EXPECT_GT(differ_from_a, b_fresh.rgb.size() / 10);
+
+  const auto rg = three.render(&grey_engine, nullptr, gaze_a, &grey);
+  ASSERT_TRUE(rg.error.empty()) << rg.error;
+  for (size_t i = 0; i < grey.rgb.size(); ++i) ASSERT_EQ(grey.rgb[i], glm::vec3(0.5f)) << "pixel " << i;
 }
 #endif
