@@ -81,8 +81,9 @@ struct PointSlots {
 };
 #endif
 
-// Rays per engine callback call, and set points per parallel work item (a few
-// batches, so a thread's chunk is contiguous in Morton order).
+// Rays per engine callback call, and set points per parallel work item (one or
+// two batches at the fovea: contiguous in Morton order, small enough that the
+// last item of a frame leaves the other thread idle only briefly).
 constexpr uint32_t kBatchRays = 4096;
 constexpr uint64_t kChunkPoints = 8192;
 // Sample offsets are precomputed up to this many (64 MB); beyond, made per frame.
