@@ -22,61 +22,75 @@ struct TileGeom {
   int x0, y0, tw, th;
 };
 
-// Distinct point indices of the block's taps (ascending) and each tap's slot;
-// false when the block references more than 256 points.
-bool block_palette(const NeighborTable& nt, int k, const TileGeom& g, int bx0, int by0, int bx1, int by1,
-                   std::vector<std::uint32_t>& scratch, std::vector<std::uint32_t>& out) {
-  scratch.clear();
+// Per-thread scratch: which points the current block already holds (a stamp
+// per point instead of sorting every tap) and their slots.
+struct Dedup {
+  std::vector<std::uint32_t> stamp;
+  std::vector<std::uint8_t> pos;
+  std::uint32_t gen = 0;
+};
+
+// Palette of one block (distinct point indices of its taps, ascending) appended
+// to `out`, and every tap's slot written; false when more than 256 points.
+bool build_block(const NeighborTable& nt, int k, const TileGeom& g, int bx0, int by0, int bx1, int by1, Dedup& d,
+                 GatherLayout& l, std::vector<std::uint32_t>& out) {
+  if (++d.gen == 0) {  // stamps wrapped: forget them all
+    std::fill(d.stamp.begin(), d.stamp.end(), 0u);
+    d.gen = 1;
+  }
+  const std::size_t start = out.size();
   for (int ly = by0; ly < by1; ++ly) {
     for (int lx = bx0; lx < bx1; ++lx) {
       const std::size_t p = std::size_t(g.y0 + ly) * std::size_t(nt.width_px()) + std::size_t(g.x0 + lx);
-      for (int j = 0; j < k; ++j) scratch.push_back(nt.neighbor(p, j));
+      for (int j = 0; j < k; ++j) {
+        const std::uint32_t id = nt.neighbor(p, j);
+        if (id >= d.stamp.size()) {
+          d.stamp.resize(std::max<std::size_t>(id + 1, d.stamp.size() * 2), 0u);
+          d.pos.resize(d.stamp.size(), 0);
+        }
+        if (d.stamp[id] == d.gen) continue;
+        if (out.size() - start == 256) {
+          out.resize(start);
+          return false;
+        }
+        d.stamp[id] = d.gen;
+        out.push_back(id);
+      }
     }
   }
-  std::sort(scratch.begin(), scratch.end());
-  scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
-  if (scratch.size() > 256) return false;
-  out.insert(out.end(), scratch.begin(), scratch.end());
+  std::sort(out.begin() + std::ptrdiff_t(start), out.end());
+  for (std::size_t i = start; i < out.size(); ++i) d.pos[out[i]] = std::uint8_t(i - start);
+  for (int ly = by0; ly < by1; ++ly) {
+    for (int lx = bx0; lx < bx1; ++lx) {
+      const std::size_t p = std::size_t(g.y0 + ly) * std::size_t(nt.width_px()) + std::size_t(g.x0 + lx);
+      std::uint8_t* slot = l.slot.data() + tile_ordinal(l.width_px, l.height_px, g.x0 + lx, g.y0 + ly) * std::size_t(k);
+      for (int j = 0; j < k; ++j) slot[j] = d.pos[nt.neighbor(p, j)];
+    }
+  }
   return true;
 }
 
-void build_tile_row(const NeighborTable& nt, int k, int ty, GatherLayout& l, RowLayout& row) {
-  std::vector<std::uint32_t> scratch;
+void build_tile_row(const NeighborTable& nt, int k, int ty, GatherLayout& l, Dedup& d, RowLayout& row) {
   const int y0 = ty * kGatherTilePx;
   const int th = std::min(kGatherTilePx, l.height_px - y0);
+  std::vector<std::uint32_t> sizes;
   for (int tx = 0; tx < l.tiles_x(); ++tx) {
     const TileGeom g{tx * kGatherTilePx, y0, std::min(kGatherTilePx, l.width_px - tx * kGatherTilePx), th};
-    for (int level = 0;; ++level) {  // level 3 (1x1 blocks) always fits: k <= kMaxNeighbors
+    for (int level = 0; level < 4; ++level) {  // level 3 (1x1 blocks) always fits: k <= kMaxNeighbors
       const int bs = kGatherTilePx >> level;
       const std::size_t palette_mark = row.palette.size();
-      std::vector<std::uint32_t> sizes;
+      sizes.clear();
       bool fits = true;
       for (int by = 0; by < g.th && fits; by += bs) {
         for (int bx = 0; bx < g.tw && fits; bx += bs) {
           const std::size_t before = row.palette.size();
-          fits = block_palette(nt, k, g, bx, by, std::min(g.tw, bx + bs), std::min(g.th, by + bs), scratch, row.palette);
+          fits = build_block(nt, k, g, bx, by, std::min(g.tw, bx + bs), std::min(g.th, by + bs), d, l, row.palette);
           sizes.push_back(std::uint32_t(row.palette.size() - before));
         }
       }
       if (!fits) {
         row.palette.resize(palette_mark);
         continue;
-      }
-      // Slots: each tap's position in its block's ascending palette.
-      const std::uint32_t* pal = row.palette.data() + palette_mark;
-      std::size_t b = 0;
-      for (int by = 0; by < g.th; by += bs) {
-        for (int bx = 0; bx < g.tw; bx += bs, ++b) {
-          const std::uint32_t* end = pal + sizes[b];
-          for (int ly = by; ly < std::min(g.th, by + bs); ++ly) {
-            for (int lx = bx; lx < std::min(g.tw, bx + bs); ++lx) {
-              const std::size_t p = std::size_t(g.y0 + ly) * std::size_t(l.width_px) + std::size_t(g.x0 + lx);
-              std::uint8_t* s = l.slot.data() + tile_ordinal(l.width_px, l.height_px, g.x0 + lx, g.y0 + ly) * std::size_t(k);
-              for (int j = 0; j < k; ++j) s[j] = std::uint8_t(std::lower_bound(pal, end, nt.neighbor(p, j)) - pal);
-            }
-          }
-          pal = end;
-        }
       }
       row.level.push_back(std::uint8_t(level));
       row.blocks.push_back(std::uint32_t(sizes.size()));
@@ -103,7 +117,8 @@ GatherLayout build_gather_layout(const NeighborTable& nt, int k, int threads) {
   nthreads = std::max(1, std::min(nthreads, rows));
   std::vector<std::thread> pool;
   auto work = [&](int tid) {
-    for (int ty = tid; ty < rows; ty += nthreads) build_tile_row(nt, k, ty, l, row[std::size_t(ty)]);
+    Dedup d;
+    for (int ty = tid; ty < rows; ty += nthreads) build_tile_row(nt, k, ty, l, d, row[std::size_t(ty)]);
   };
   for (int i = 1; i < nthreads; ++i) pool.emplace_back(work, i);
   work(0);
