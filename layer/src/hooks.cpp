@@ -9,6 +9,7 @@
 
 #include "barrier.hpp"
 #include "log.hpp"
+#include "next_chain.hpp"
 #include "renderer.hpp"
 
 namespace foveart::layer {
@@ -83,6 +84,7 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
   std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
   std::vector<XrCompositionLayerProjection> projections;
   std::vector<std::vector<XrCompositionLayerProjectionView>> views;
+  ChainCopies chain_copies;  // the app's next chains minus our struct
   projections.reserve(info->layerCount);
   views.reserve(info->layerCount);
   for (uint32_t i = 0; i < info->layerCount; ++i) {
@@ -96,8 +98,15 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
     if (renderer == nullptr) continue;  // unknown renderer: the app's views as submitted
 
     auto& copy = projections.emplace_back(*projection);
-    // Strip our struct when it heads the chain so layers below never see it.
-    if (copy.next == opt_in) copy.next = opt_in->next;
+    // Strip our struct wherever it sits, so layers below never see it; the
+    // app's structs stay as submitted (the nodes before it are copied).
+    if (!chain_copies.without(projection->next, opt_in, &copy.next)) {
+      static LogOnce once;
+      if (once.first()) {
+        log(LogLevel::Warn, "xrEndFrame: a struct of unknown type precedes XrFoveatedRayTracingLayerFOVEART in the "
+                            "projection layer's next chain; it is forwarded as is (logged once)");
+      }
+    }
     auto& view_copy = views.emplace_back(projection->views, projection->views + projection->viewCount);
     try {
       renderer->render(info->displayTime, *projection, view_copy.data());
