@@ -11,50 +11,117 @@ namespace foveart::foveation {
 
 namespace {
 
+// One thread's rows of the current frame, deinterleaved into planes with the
+// edge pixel repeated on both sides (x = -1 and x = w read like x = 0 and
+// x = w - 1: the clamp-to-edge of the 3x3 neighbourhood without branches).
+// Rows live in slot row % 3, so the three rows around y never collide.
+struct RowPlanes {
+  int width = 0;
+  int loaded[3] = {-1, -1, -1};
+  std::vector<float> data;  // [slot][channel][width + 2]
+
+  explicit RowPlanes(int w) : width(w), data(std::size_t(9) * std::size_t(w + 2)) {}
+  float* plane(int slot, int channel) { return data.data() + std::size_t(slot * 3 + channel) * std::size_t(width + 2); }
+  const float* row(const ImageRgb& img, int y, int channel) {
+    const int slot = y % 3;
+    if (loaded[slot] != y) {
+      const float* src = img.at(0, y);
+      for (int i = 0; i < 3; ++i) {
+        float* dst = plane(slot, i);
+        for (int x = 0; x < width; ++x) dst[x + 1] = src[std::size_t(x) * 3 + std::size_t(i)];
+        dst[0] = dst[1];
+        dst[width + 1] = dst[width];
+      }
+      loaded[slot] = y;
+    }
+    return plane(slot, channel);
+  }
+};
+
+// One row, planar in and out. Each lane is one pixel and does exactly the
+// operations of the scalar definition in the same order (taps row by row,
+// left to right; no FMA on x86-64), so the result is bit-identical to it.
+template <TaaConstraint kConstraint>
+void taa_row(const float* const (&r0)[3], const float* const (&r1)[3], const float* const (&r2)[3],
+             const float* const (&hist)[3], float* const (&out)[3], int w, float alpha, float gamma) {
+  const float* __restrict a0 = r0[0]; const float* __restrict a1 = r0[1]; const float* __restrict a2 = r0[2];
+  const float* __restrict b0 = r1[0]; const float* __restrict b1 = r1[1]; const float* __restrict b2 = r1[2];
+  const float* __restrict c0 = r2[0]; const float* __restrict c1 = r2[1]; const float* __restrict c2 = r2[2];
+  const float* __restrict h0 = hist[0]; const float* __restrict h1 = hist[1]; const float* __restrict h2 = hist[2];
+  float* __restrict o0 = out[0]; float* __restrict o1 = out[1]; float* __restrict o2 = out[2];
+  const float* const rows[3][3] = {{a0, a1, a2}, {b0, b1, b2}, {c0, c1, c2}};
+  const float* const hs[3] = {h0, h1, h2};
+  float* const os[3] = {o0, o1, o2};
+  constexpr float kTaps = 9.0f;
+#pragma GCC ivdep
+  for (int x = 0; x < w; ++x) {
+    float hv[3], cur[3];
+    if constexpr (kConstraint == TaaConstraint::minmax_clamp) {
+      for (int i = 0; i < 3; ++i) {
+        float lo = INFINITY, hi = -INFINITY;
+        for (int dy = 0; dy < 3; ++dy) {
+          for (int dx = 0; dx < 3; ++dx) {
+            const float c = rows[dy][i][x + dx];
+            lo = std::min(lo, c);
+            hi = std::max(hi, c);
+          }
+        }
+        cur[i] = rows[1][i][x + 1];
+        hv[i] = std::clamp(hs[i][x], lo, hi);  // Karis 2014
+      }
+    } else {
+      // Salvi 2016: clip the history towards the mean onto the box mu +- gamma sigma.
+      float mu[3], ext[3];
+      for (int i = 0; i < 3; ++i) {
+        float m1 = 0.0f, m2 = 0.0f;
+        for (int dy = 0; dy < 3; ++dy) {
+          for (int dx = 0; dx < 3; ++dx) {
+            const float c = rows[dy][i][x + dx];
+            m1 += c;
+            m2 += c * c;
+          }
+        }
+        mu[i] = m1 / kTaps;
+        const float var = std::max(0.0f, m2 / kTaps - mu[i] * mu[i]);
+        ext[i] = gamma * std::sqrt(var) + 1e-6f;
+        cur[i] = rows[1][i][x + 1];
+        hv[i] = hs[i][x];
+      }
+      float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
+      for (int i = 0; i < 3; ++i) {
+        const float d = std::abs(hv[i] - mu[i]);
+        t = d > ext[i] ? std::min(t, ext[i] / d) : t;
+      }
+      for (int i = 0; i < 3; ++i) hv[i] = mu[i] + (hv[i] - mu[i]) * t;
+    }
+    for (int i = 0; i < 3; ++i) os[i][x] = hv[i] + alpha * (cur[i] - hv[i]);
+  }
+}
+
 // Rows [y0, y1): out = lerp(constrain(history), current, alpha).
 void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TaaOptions& o, int y0, int y1) {
   const int w = cur.width_px, h = cur.height_px;
-  const float alpha = o.current_weight;
+  RowPlanes planes(w);
+  std::vector<float> hist_row(std::size_t(w) * 3), out_row(std::size_t(w) * 3);
+  const float* const hist_planes[3] = {hist_row.data(), hist_row.data() + w, hist_row.data() + 2 * w};
+  float* const out_planes[3] = {out_row.data(), out_row.data() + w, out_row.data() + 2 * w};
   for (int y = y0; y < y1; ++y) {
+    const int ya = std::max(y - 1, 0), yb = std::min(y + 1, h - 1);
+    const float* const r0[3] = {planes.row(cur, ya, 0), planes.row(cur, ya, 1), planes.row(cur, ya, 2)};
+    const float* const r1[3] = {planes.row(cur, y, 0), planes.row(cur, y, 1), planes.row(cur, y, 2)};
+    const float* const r2[3] = {planes.row(cur, yb, 0), planes.row(cur, yb, 1), planes.row(cur, yb, 2)};
+    const float* src = hist.at(0, y);
     for (int x = 0; x < w; ++x) {
-      float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-      float m1[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-      int n = 0;
-      for (int dy = -1; dy <= 1; ++dy) {
-        const int yy = std::clamp(y + dy, 0, h - 1);
-        for (int dx = -1; dx <= 1; ++dx) {
-          const float* c = cur.at(std::clamp(x + dx, 0, w - 1), yy);
-          for (int i = 0; i < 3; ++i) {
-            lo[i] = std::min(lo[i], c[i]);
-            hi[i] = std::max(hi[i], c[i]);
-            m1[i] += c[i];
-            m2[i] += c[i] * c[i];
-          }
-          ++n;
-        }
-      }
-      const float* c = cur.at(x, y);
-      const float* hp = hist.at(x, y);
-      float* dst = out.at(x, y);
-      float hv[3] = {hp[0], hp[1], hp[2]};
-      if (o.constraint == TaaConstraint::minmax_clamp) {
-        for (int i = 0; i < 3; ++i) hv[i] = std::clamp(hv[i], lo[i], hi[i]);  // Karis 2014
-      } else {
-        // Salvi 2016: clip the history towards the mean onto the box mu +- gamma sigma.
-        float mu[3], ext[3];
-        for (int i = 0; i < 3; ++i) {
-          mu[i] = m1[i] / float(n);
-          const float var = std::max(0.0f, m2[i] / float(n) - mu[i] * mu[i]);
-          ext[i] = o.variance_gamma * std::sqrt(var) + 1e-6f;
-        }
-        float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
-        for (int i = 0; i < 3; ++i) {
-          const float d = std::abs(hv[i] - mu[i]);
-          if (d > ext[i]) t = std::min(t, ext[i] / d);
-        }
-        for (int i = 0; i < 3; ++i) hv[i] = mu[i] + (hv[i] - mu[i]) * t;
-      }
-      for (int i = 0; i < 3; ++i) dst[i] = hv[i] + alpha * (c[i] - hv[i]);
+      for (int i = 0; i < 3; ++i) hist_row[std::size_t(i) * std::size_t(w) + std::size_t(x)] = src[std::size_t(x) * 3 + std::size_t(i)];
+    }
+    if (o.constraint == TaaConstraint::minmax_clamp) {
+      taa_row<TaaConstraint::minmax_clamp>(r0, r1, r2, hist_planes, out_planes, w, o.current_weight, o.variance_gamma);
+    } else {
+      taa_row<TaaConstraint::variance_clip>(r0, r1, r2, hist_planes, out_planes, w, o.current_weight, o.variance_gamma);
+    }
+    float* dst = out.at(0, y);
+    for (int x = 0; x < w; ++x) {
+      for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_row[std::size_t(i) * std::size_t(w) + std::size_t(x)];
     }
   }
 }
