@@ -17,8 +17,6 @@ namespace foveart::layer {
 namespace {
 
 constexpr std::size_t kRaysPerBatch = 8192;
-// Points of the point set scanned per selection task (~50 tasks for the FOVE set).
-constexpr std::size_t kPointsPerChunk = 32768;
 // The point set's seed too, so a static gaze without TAA gives what
 // `fovea render --mode foveated` gives for the same view.
 constexpr uint64_t kSampleSeed = 1;
@@ -82,7 +80,8 @@ std::shared_ptr<const ViewTables> load_view_tables(const foveation::PointSetKey&
   return out;
 }
 
-ViewPipeline::ViewPipeline(std::shared_ptr<const ViewTables> tables) : tables_(std::move(tables)) {}
+ViewPipeline::ViewPipeline(std::shared_ptr<const ViewTables> tables, std::size_t points_per_chunk)
+    : tables_(std::move(tables)), points_per_chunk_(std::max<std::size_t>(1, points_per_chunk)) {}
 
 bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool,
                          ViewOutcome* outcome) {
@@ -103,15 +102,15 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
   // set: scan each chunk for visible points, then, at each chunk's offset in
   // the concatenation, its ray samples and rays. Same order and values as
   // select_visible_points + generate_ray_samples on one thread.
-  const std::size_t chunk_count = std::max<std::size_t>(1, (points.size() + kPointsPerChunk - 1) / kPointsPerChunk);
+  const std::size_t chunk_count = std::max<std::size_t>(1, (points.size() + points_per_chunk_ - 1) / points_per_chunk_);
   chunks_.resize(chunk_count);
   chunk_samples_.resize(chunk_count);
   pool.parallel_for(chunk_count, [&](std::size_t c) {
     auto& chunk = chunks_[c];
     chunk.point_index.clear();
     chunk.screen_px.clear();
-    foveation::select_visible_points_in(points, mapping_, foveation::kVisibleMarginPx, c * kPointsPerChunk,
-                                        (c + 1) * kPointsPerChunk, &chunk);
+    foveation::select_visible_points_in(points, mapping_, foveation::kVisibleMarginPx, c * points_per_chunk_,
+                                        (c + 1) * points_per_chunk_, &chunk);
   });
   chunk_offset_.resize(chunk_count + 1);
   chunk_offset_[0] = 0;

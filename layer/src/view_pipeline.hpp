@@ -66,7 +66,8 @@ struct ViewOutcome {
 
 class ViewPipeline {
  public:
-  explicit ViewPipeline(std::shared_ptr<const ViewTables> tables);
+  // points_per_chunk: points of the point set per selection task on the pool.
+  explicit ViewPipeline(std::shared_ptr<const ViewTables> tables, std::size_t points_per_chunk = 32768);
 
   // Fills out_rgba (width*height RGBA8, sRGB-encoded when srgb) or returns !ok
   // and leaves out_rgba untouched.
@@ -77,6 +78,7 @@ class ViewPipeline {
   bool trace(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool, ViewOutcome* outcome);
 
   std::shared_ptr<const ViewTables> tables_;
+  std::size_t points_per_chunk_;
   std::vector<float> origins_, directions_, sample_px_, ray_rgb_;
   std::vector<uint32_t> point_index_;
   std::vector<uint32_t> visible_index_;  // the visible points, in order

@@ -2,7 +2,7 @@
 // foveated renderer through the OpenXR layer, until the runtime ends the session.
 //   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf] [--k N]
 //                  [--scale S] [--spp N] [--no-taa] [--gaze none|provider|eye_gaze]
-//                  [--gaze-provider SPEC] [--json]
+//                  [--gaze-provider SPEC] [--json] [--app-actions]
 #include <algorithm>
 #include <cmath>
 #include <vector>
