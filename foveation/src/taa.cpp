@@ -41,6 +41,39 @@ struct RowPlanes {
 // One row, planar in and out. Each lane is one pixel and does exactly the
 // operations of the scalar definition in the same order (taps row by row,
 // left to right; no FMA on x86-64), so the result is bit-identical to it.
+// Written without inner loops or branches so GCC vectorises it across x.
+struct Moments {
+  float m1, m2;
+};
+inline Moments moments(const float* __restrict a, const float* __restrict b, const float* __restrict c, int x) {
+  float m1 = 0.0f, m2 = 0.0f;
+  m1 += a[x]; m2 += a[x] * a[x];
+  m1 += a[x + 1]; m2 += a[x + 1] * a[x + 1];
+  m1 += a[x + 2]; m2 += a[x + 2] * a[x + 2];
+  m1 += b[x]; m2 += b[x] * b[x];
+  m1 += b[x + 1]; m2 += b[x + 1] * b[x + 1];
+  m1 += b[x + 2]; m2 += b[x + 2] * b[x + 2];
+  m1 += c[x]; m2 += c[x] * c[x];
+  m1 += c[x + 1]; m2 += c[x + 1] * c[x + 1];
+  m1 += c[x + 2]; m2 += c[x + 2] * c[x + 2];
+  return {m1, m2};
+}
+// Karis 2014: clamp to the 3x3 min/max box.
+inline float clamp_to_box(float h, const float* __restrict a, const float* __restrict b, const float* __restrict c,
+                          int x) {
+  float lo = INFINITY, hi = -INFINITY;
+  lo = std::min(lo, a[x]); hi = std::max(hi, a[x]);
+  lo = std::min(lo, a[x + 1]); hi = std::max(hi, a[x + 1]);
+  lo = std::min(lo, a[x + 2]); hi = std::max(hi, a[x + 2]);
+  lo = std::min(lo, b[x]); hi = std::max(hi, b[x]);
+  lo = std::min(lo, b[x + 1]); hi = std::max(hi, b[x + 1]);
+  lo = std::min(lo, b[x + 2]); hi = std::max(hi, b[x + 2]);
+  lo = std::min(lo, c[x]); hi = std::max(hi, c[x]);
+  lo = std::min(lo, c[x + 1]); hi = std::max(hi, c[x + 1]);
+  lo = std::min(lo, c[x + 2]); hi = std::max(hi, c[x + 2]);
+  return std::clamp(h, lo, hi);
+}
+
 template <TaaConstraint kConstraint>
 void taa_row(const float* const (&r0)[3], const float* const (&r1)[3], const float* const (&r2)[3],
              const float* const (&hist)[3], float* const (&out)[3], int w, float alpha, float gamma) {
@@ -49,52 +82,33 @@ void taa_row(const float* const (&r0)[3], const float* const (&r1)[3], const flo
   const float* __restrict c0 = r2[0]; const float* __restrict c1 = r2[1]; const float* __restrict c2 = r2[2];
   const float* __restrict h0 = hist[0]; const float* __restrict h1 = hist[1]; const float* __restrict h2 = hist[2];
   float* __restrict o0 = out[0]; float* __restrict o1 = out[1]; float* __restrict o2 = out[2];
-  const float* const rows[3][3] = {{a0, a1, a2}, {b0, b1, b2}, {c0, c1, c2}};
-  const float* const hs[3] = {h0, h1, h2};
-  float* const os[3] = {o0, o1, o2};
   constexpr float kTaps = 9.0f;
-#pragma GCC ivdep
   for (int x = 0; x < w; ++x) {
-    float hv[3], cur[3];
+    float v0 = h0[x], v1 = h1[x], v2 = h2[x];
     if constexpr (kConstraint == TaaConstraint::minmax_clamp) {
-      for (int i = 0; i < 3; ++i) {
-        float lo = INFINITY, hi = -INFINITY;
-        for (int dy = 0; dy < 3; ++dy) {
-          for (int dx = 0; dx < 3; ++dx) {
-            const float c = rows[dy][i][x + dx];
-            lo = std::min(lo, c);
-            hi = std::max(hi, c);
-          }
-        }
-        cur[i] = rows[1][i][x + 1];
-        hv[i] = std::clamp(hs[i][x], lo, hi);  // Karis 2014
-      }
+      v0 = clamp_to_box(v0, a0, b0, c0, x);
+      v1 = clamp_to_box(v1, a1, b1, c1, x);
+      v2 = clamp_to_box(v2, a2, b2, c2, x);
     } else {
       // Salvi 2016: clip the history towards the mean onto the box mu +- gamma sigma.
-      float mu[3], ext[3];
-      for (int i = 0; i < 3; ++i) {
-        float m1 = 0.0f, m2 = 0.0f;
-        for (int dy = 0; dy < 3; ++dy) {
-          for (int dx = 0; dx < 3; ++dx) {
-            const float c = rows[dy][i][x + dx];
-            m1 += c;
-            m2 += c * c;
-          }
-        }
-        mu[i] = m1 / kTaps;
-        const float var = std::max(0.0f, m2 / kTaps - mu[i] * mu[i]);
-        ext[i] = gamma * std::sqrt(var) + 1e-6f;
-        cur[i] = rows[1][i][x + 1];
-        hv[i] = hs[i][x];
-      }
+      const Moments s0 = moments(a0, b0, c0, x), s1 = moments(a1, b1, c1, x), s2 = moments(a2, b2, c2, x);
+      const float mu0 = s0.m1 / kTaps, mu1 = s1.m1 / kTaps, mu2 = s2.m1 / kTaps;
+      const float e0 = gamma * std::sqrt(std::max(0.0f, s0.m2 / kTaps - mu0 * mu0)) + 1e-6f;
+      const float e1 = gamma * std::sqrt(std::max(0.0f, s1.m2 / kTaps - mu1 * mu1)) + 1e-6f;
+      const float e2 = gamma * std::sqrt(std::max(0.0f, s2.m2 / kTaps - mu2 * mu2)) + 1e-6f;
+      const float d0 = std::abs(v0 - mu0), d1 = std::abs(v1 - mu1), d2 = std::abs(v2 - mu2);
       float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
-      for (int i = 0; i < 3; ++i) {
-        const float d = std::abs(hv[i] - mu[i]);
-        t = d > ext[i] ? std::min(t, ext[i] / d) : t;
-      }
-      for (int i = 0; i < 3; ++i) hv[i] = mu[i] + (hv[i] - mu[i]) * t;
+      const float q0 = e0 / d0, q1 = e1 / d1, q2 = e2 / d2;
+      t = d0 > e0 ? std::min(t, q0) : t;
+      t = d1 > e1 ? std::min(t, q1) : t;
+      t = d2 > e2 ? std::min(t, q2) : t;
+      v0 = mu0 + (v0 - mu0) * t;
+      v1 = mu1 + (v1 - mu1) * t;
+      v2 = mu2 + (v2 - mu2) * t;
     }
-    for (int i = 0; i < 3; ++i) os[i][x] = hv[i] + alpha * (cur[i] - hv[i]);
+    o0[x] = v0 + alpha * (b0[x + 1] - v0);
+    o1[x] = v1 + alpha * (b1[x + 1] - v1);
+    o2[x] = v2 + alpha * (b2[x + 1] - v2);
   }
 }
 
