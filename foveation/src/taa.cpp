@@ -71,17 +71,17 @@ inline float clamp_to_box(float h, const float* __restrict a, const float* __res
   lo = std::min(lo, c[x]); hi = std::max(hi, c[x]);
   lo = std::min(lo, c[x + 1]); hi = std::max(hi, c[x + 1]);
   lo = std::min(lo, c[x + 2]); hi = std::max(hi, c[x + 2]);
-  return std::clamp(h, lo, hi);
+  return std::min(std::max(h, lo), hi);  // = std::clamp(h, lo, hi) for lo <= hi, NaN included
 }
 
+// Rows above (a), at (b) and below (c) per channel; restrict parameters so
+// GCC needs no runtime alias checks.
 template <TaaConstraint kConstraint>
-void taa_row(const float* const (&r0)[3], const float* const (&r1)[3], const float* const (&r2)[3],
-             const float* const (&hist)[3], float* const (&out)[3], int w, float alpha, float gamma) {
-  const float* __restrict a0 = r0[0]; const float* __restrict a1 = r0[1]; const float* __restrict a2 = r0[2];
-  const float* __restrict b0 = r1[0]; const float* __restrict b1 = r1[1]; const float* __restrict b2 = r1[2];
-  const float* __restrict c0 = r2[0]; const float* __restrict c1 = r2[1]; const float* __restrict c2 = r2[2];
-  const float* __restrict h0 = hist[0]; const float* __restrict h1 = hist[1]; const float* __restrict h2 = hist[2];
-  float* __restrict o0 = out[0]; float* __restrict o1 = out[1]; float* __restrict o2 = out[2];
+void taa_row(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
+             const float* __restrict b0, const float* __restrict b1, const float* __restrict b2,
+             const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
+             const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
+             float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha, float gamma) {
   constexpr float kTaps = 9.0f;
   for (int x = 0; x < w; ++x) {
     float v0 = h0[x], v1 = h1[x], v2 = h2[x];
@@ -99,9 +99,10 @@ void taa_row(const float* const (&r0)[3], const float* const (&r1)[3], const flo
       const float d0 = std::abs(v0 - mu0), d1 = std::abs(v1 - mu1), d2 = std::abs(v2 - mu2);
       float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
       const float q0 = e0 / d0, q1 = e1 / d1, q2 = e2 / d2;
-      t = d0 > e0 ? std::min(t, q0) : t;
-      t = d1 > e1 ? std::min(t, q1) : t;
-      t = d2 > e2 ? std::min(t, q2) : t;
+      // min(t, 1) = t as t <= 1: the same as "if (d > e) t = min(t, e / d)".
+      t = std::min(t, d0 > e0 ? q0 : 1.0f);
+      t = std::min(t, d1 > e1 ? q1 : 1.0f);
+      t = std::min(t, d2 > e2 ? q2 : 1.0f);
       v0 = mu0 + (v0 - mu0) * t;
       v1 = mu1 + (v1 - mu1) * t;
       v2 = mu2 + (v2 - mu2) * t;
@@ -128,11 +129,10 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
     for (int x = 0; x < w; ++x) {
       for (int i = 0; i < 3; ++i) hist_row[std::size_t(i) * std::size_t(w) + std::size_t(x)] = src[std::size_t(x) * 3 + std::size_t(i)];
     }
-    if (o.constraint == TaaConstraint::minmax_clamp) {
-      taa_row<TaaConstraint::minmax_clamp>(r0, r1, r2, hist_planes, out_planes, w, o.current_weight, o.variance_gamma);
-    } else {
-      taa_row<TaaConstraint::variance_clip>(r0, r1, r2, hist_planes, out_planes, w, o.current_weight, o.variance_gamma);
-    }
+    auto* row = o.constraint == TaaConstraint::minmax_clamp ? &taa_row<TaaConstraint::minmax_clamp>
+                                                            : &taa_row<TaaConstraint::variance_clip>;
+    row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
+        hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma);
     float* dst = out.at(0, y);
     for (int x = 0; x < w; ++x) {
       for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_row[std::size_t(i) * std::size_t(w) + std::size_t(x)];
