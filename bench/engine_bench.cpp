@@ -9,11 +9,14 @@
 #include <render_foveated.hpp>
 
 #include <benchmark/benchmark.h>
+#include <foveation/eye_rays.hpp>
+#include <glm/common.hpp>
 
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <memory>
+#include <string>
 
 using namespace foveart::engine;
 
@@ -31,6 +34,20 @@ double thread_cpu_s() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+// CPU time of all threads of the process: the work of a multithreaded frame,
+// steadier than wall time on a shared machine.
+double process_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+}
+
+// An engine that traces nothing: what is left of a frame is the caller's bookkeeping.
+extern "C" int32_t null_engine(void*, const FoveartRayBatch* batch) {
+  for (uint32_t i = 0; i < 3 * batch->ray_count; ++i) batch->out_rgb[i] = 0.5f;
+  return FOVEART_RESULT_SUCCESS;
 }
 
 std::unique_ptr<Tracer> make_tracer(Scene scene, TracerOptions options = {}) {
@@ -60,19 +77,23 @@ void render_loop(benchmark::State& state, Tracer& tracer, int spp = 1) {
   rs.threads = bench_threads();
   Image img;
   tracer.reset_counts();
-  double elapsed_s = 0.0, cpu_s = 0.0;
+  double elapsed_s = 0.0, cpu_s = 0.0, proc_cpu_s = 0.0;
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
+    const double p0 = process_cpu_s();
     elapsed_s += render_full(&foveart_engine_trace_rays, &tracer, view, rs, &img).trace_ms * 1e-3;
     cpu_s += thread_cpu_s() - c0;
+    proc_cpu_s += process_cpu_s() - p0;
     benchmark::DoNotOptimize(img.rgb.data());
   }
+  state.counters["proc_cpu_ms"] = proc_cpu_s * 1e3 / static_cast<double>(state.iterations());
   const RayCounts c = tracer.counts();
   state.SetItemsProcessed(static_cast<int64_t>(c.primary));  // items/s = primary rays/s
   state.counters["Mrays_total/s"] = benchmark::Counter(static_cast<double>(c.total()) / 1e6, benchmark::Counter::kIsRate);
   state.counters["shadow/primary"] = static_cast<double>(c.shadow) / static_cast<double>(c.primary);
   state.counters["reflection/primary"] = static_cast<double>(c.reflection) / static_cast<double>(c.primary);
   state.counters["refraction/primary"] = static_cast<double>(c.refraction) / static_cast<double>(c.primary);
+  state.counters["lanes/packet"] = static_cast<double>(c.total()) / static_cast<double>(c.packets);
   state.counters["ns/primary"] = elapsed_s * 1e9 / static_cast<double>(c.primary);
   state.counters["cpu_ns/primary"] = cpu_s * 1e9 / static_cast<double>(c.primary);
   state.counters["cpu_ms"] = cpu_s * 1e3 / static_cast<double>(state.iterations());
@@ -110,43 +131,114 @@ void BM_SceneWithoutEffects(benchmark::State& state) {
 BENCHMARK(BM_SceneWithoutEffects)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 #ifdef FOVEART_HAVE_FOVEATION
+// The gazes measured: 0 the screen centre (the scene's hard case: dark pillars
+// against the glowing wall under the ceiling lights), 1 the glass sphere,
+// 2 the polished floor. Landmarks projected into the left eye's view.
+glm::vec2 bench_gaze(const FoveartEyeView& view, int which) {
+  if (which == 0) return glm::vec2(0.5f * static_cast<float>(view.width_px), 0.5f * static_cast<float>(view.height_px));
+  const DefaultSceneLandmarks m = default_scene_landmarks();
+  const foveart::foveation::EyePose pose = foveart::foveation::eye_pose(view);
+  const glm::vec3 target = which == 1 ? m.glass_centre : m.floor_point;
+  glm::vec2 px(0.0f);
+  foveart::foveation::project_direction(foveart::foveation::eye_frustum(view), pose, target - pose.position_m, &px);
+  return glm::round(px);
+}
+
+const char* gaze_name(int which) { return which == 0 ? "centre" : (which == 1 ? "glass" : "floor"); }
+
 // Foveated (NN, scale 1, 1 ray per point) against full (1 ray per pixel), same
 // scene and view; the tables are precomputed once outside the timed loop.
+// Args: gaze (see bench_gaze), effects allowed (15 = the scene's kernel, 0 =
+// primary rays only: isolates packet coherence from the ray mix).
 void BM_Foveated(benchmark::State& state) {
-  auto t = make_tracer(make_default_scene());
+  TracerOptions o;
+  o.allowed = Effects::from_bits(static_cast<uint32_t>(state.range(1)));
+  auto t = make_tracer(make_default_scene(), o);
   const FoveartEyeView view = fove_eye_view(0, scene_head(t->scene()));
   foveart::tools::FoveatedRequest req;
-  req.gaze_px = glm::vec2(640.0f, 720.0f);
+  req.gaze_px = bench_gaze(view, static_cast<int>(state.range(0)));
   req.cache_dir = "/tmp/foveart_bench_cache";
   req.threads = bench_threads();
+  state.SetLabel(std::string(gaze_name(static_cast<int>(state.range(0)))) + " " + std::to_string(static_cast<int>(req.gaze_px.x)) +
+                 "," + std::to_string(static_cast<int>(req.gaze_px.y)) + " " + to_string(o.allowed));
   foveart::tools::FoveatedRenderer renderer(view, req);  // build (or load) the tables once
   if (!renderer.error().empty()) state.SkipWithError(renderer.error().c_str());
   Image img;
-  double trace_ms = 0.0, reconstruct_ms = 0.0, cpu_s = 0.0;
+  double trace_ms = 0.0, reconstruct_ms = 0.0, cpu_s = 0.0, proc_cpu_s = 0.0;
   uint64_t points = 0;
+  t->reset_counts();
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
+    const double p0 = process_cpu_s();
     const auto r = renderer.render(*t, req.gaze_px, &img);
     cpu_s += thread_cpu_s() - c0;
+    proc_cpu_s += process_cpu_s() - p0;
     trace_ms += r.trace_ms;
     reconstruct_ms += r.reconstruct_ms;
     points = r.points;
   }
   const double n = static_cast<double>(state.iterations());
+  const RayCounts c = t->counts();
+  state.SetItemsProcessed(static_cast<int64_t>(c.primary));  // items/s = primary rays/s
   state.counters["points"] = static_cast<double>(points);
   state.counters["pixels/points"] = 1280.0 * 1440.0 / static_cast<double>(points);
+  state.counters["rays/point"] = static_cast<double>(c.total()) / static_cast<double>(c.primary);
+  state.counters["lanes/packet"] = static_cast<double>(c.total()) / static_cast<double>(c.packets);
   state.counters["frame_ms"] = (trace_ms + reconstruct_ms) / n;
   state.counters["trace_ms"] = trace_ms / n;
   state.counters["reconstruct_ms"] = reconstruct_ms / n;
   state.counters["cpu_ms"] = cpu_s * 1e3 / n;
+  state.counters["proc_cpu_ms"] = proc_cpu_s * 1e3 / n;
 }
-BENCHMARK(BM_Foveated)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Foveated)
+    ->Args({0, 15})->Args({1, 15})->Args({2, 15})->Args({0, 0})->Args({1, 0})->Args({2, 0})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// Arg: effects allowed (15 = the scene's kernel, 0 = primary only).
 void BM_Full(benchmark::State& state) {
-  auto t = make_tracer(make_default_scene());
+  TracerOptions o;
+  o.allowed = Effects::from_bits(static_cast<uint32_t>(state.range(0)));
+  state.SetLabel(to_string(o.allowed));
+  auto t = make_tracer(make_default_scene(), o);
   render_loop(state, *t);
+  const RayCounts c = t->counts();
+  state.counters["rays/pixel"] = static_cast<double>(c.total()) / static_cast<double>(c.primary);
 }
-BENCHMARK(BM_Full)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Full)->Arg(15)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The bookkeeping alone, through an engine that traces nothing: 0 = full
+// (ray generation, averaging), 1 = foveated at the centred gaze (visible points,
+// disc samples, ray generation, colour slots, NN reconstruction).
+void BM_Bookkeeping(benchmark::State& state) {
+  auto t = make_tracer(make_default_scene());
+  const FoveartEyeView view = fove_eye_view(0, scene_head(t->scene()));
+  const bool foveated = state.range(0) == 1;
+  state.SetLabel(foveated ? "foveated" : "full");
+  std::unique_ptr<foveart::tools::FoveatedRenderer> renderer;
+  foveart::tools::FoveatedRequest req;
+  req.gaze_px = bench_gaze(view, 0);
+  req.cache_dir = "/tmp/foveart_bench_cache";
+  req.threads = bench_threads();
+  if (foveated) renderer = std::make_unique<foveart::tools::FoveatedRenderer>(view, req);
+  RenderSettings rs;
+  rs.threads = bench_threads();
+  Image img;
+  double cpu_s = 0.0, proc_cpu_s = 0.0, reconstruct_ms = 0.0;
+  for (auto _ : state) {
+    const double c0 = thread_cpu_s();
+    const double p0 = process_cpu_s();
+    if (foveated) reconstruct_ms += renderer->render(&null_engine, nullptr, req.gaze_px, &img).reconstruct_ms;
+    else render_full(&null_engine, nullptr, view, rs, &img);
+    cpu_s += thread_cpu_s() - c0;
+    proc_cpu_s += process_cpu_s() - p0;
+    benchmark::DoNotOptimize(img.rgb.data());
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["cpu_ms"] = cpu_s * 1e3 / n;
+  state.counters["proc_cpu_ms"] = proc_cpu_s * 1e3 / n;
+  state.counters["reconstruct_ms"] = reconstruct_ms / n;
+}
+BENCHMARK(BM_Bookkeeping)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 #endif
 
 }  // namespace

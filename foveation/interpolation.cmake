@@ -5,6 +5,7 @@ target_sources(foveart_foveation PRIVATE
   ${CMAKE_CURRENT_LIST_DIR}/src/interpolation_weights.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/interpolation_table.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/gather.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/src/gather_layout.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/interpolation_cache.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/taa.cpp
   ${CMAKE_CURRENT_LIST_DIR}/src/image_metrics.cpp

@@ -82,19 +82,6 @@ inline std::uint32_t load24(const std::uint8_t* p) {
 inline float weight_of(const float* w, int j) { return w[j]; }
 inline float weight_of(const std::uint16_t* w, int j) { return half_to_float(w[j]); }
 
-#if defined(__x86_64__) && defined(__GNUC__)
-// Half weights through the F16C instruction when the CPU has it (runtime check).
-struct F16c {
-  const std::uint16_t* p;
-};
-struct HalfF16c {  // half weights read with F16C (same layout as std::uint16_t)
-  std::uint16_t bits;
-};
-static_assert(sizeof(HalfF16c) == 2);
-inline float weight_of(const HalfF16c* w, int j) { return half_to_float(reinterpret_cast<const std::uint16_t*>(w)[j]); }
-__attribute__((target("f16c"))) inline float weight_of(F16c w, int j) { return _cvtsh_ss(w.p[j]); }
-#endif
-
 struct Frame {
   const NeighborTable* nt;
   const InterpolationTable* table;
@@ -105,6 +92,7 @@ struct Frame {
 };
 
 // Pixel with at least one invalid tap: the documented rule, with branches.
+// cp: row-major canvas pixel; w: its k stored weights (tile order).
 template <typename W>
 void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherStats& stats) {
   const auto& t = *f.table;
@@ -153,54 +141,6 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
   ++stats.fallback;
 }
 
-template <typename W>
-inline const W* weight_view(const W* w) { return w; }
-#if defined(__x86_64__) && defined(__GNUC__)
-inline F16c weight_view(const HalfF16c* w) { return F16c{reinterpret_cast<const std::uint16_t*>(w)}; }
-#endif
-
-// Rows [y0, y1) of the screen. kClamp: RBF clamp to the taps' range; kTaps:
-// the tap count when known at compile time (unrolled), 0 = t.k().
-template <typename W, bool kClamp, int kTaps>
-#if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("f16c")))
-#endif
-void gather_rows(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
-  const auto& t = *f.table;
-  const int k = kTaps > 0 ? kTaps : t.k();
-  const std::size_t stride = std::size_t(f.nt->k()) * 3;
-  const std::uint8_t* packed = f.nt->packed().data();
-  const int w_px = f.out->width_px;
-  const int ox = f.mapping->canvas_from_screen_x_px, oy = f.mapping->canvas_from_screen_y_px;
-  const bool normalized = t.normalized();
-  for (int y = y0; y < y1; ++y) {
-    float* dst = f.out->at(0, y);
-    const std::size_t row = std::size_t(y + oy) * std::size_t(t.width_px) + std::size_t(ox);
-    for (int x = 0; x < w_px; ++x, dst += 3) {
-      const std::size_t cp = row + std::size_t(x);
-      const std::uint8_t* nb = packed + cp * stride;
-      const W* w = weights + cp * std::size_t(k);
-      const auto wv = weight_view(w);
-      v4 acc = {0, 0, 0, 0};
-      v4 lo = {INFINITY, INFINITY, INFINITY, INFINITY};
-      v4 hi = -lo;
-      for (int j = 0; j < k; ++j) {
-        const v4 c = load(f.colors[load24(nb + 3 * j)]);
-        acc += weight_of(wv, j) * c;
-        lo = lo < c ? lo : c;
-        if constexpr (kClamp) hi = hi > c ? hi : c;
-      }
-      if (lo[3] == 0.0f) {  // an invalid tap: the documented slow path
-        slow_pixel(f, cp, w, dst, stats);
-        continue;
-      }
-      if (normalized) acc *= 1.0f / acc[3];  // sum of stored weights (half rounding)
-      if constexpr (kClamp) acc = acc < lo ? lo : (acc > hi ? hi : acc);
-      dst[0] = acc[0], dst[1] = acc[1], dst[2] = acc[2];
-    }
-  }
-}
-
 void gather_rows_nn(const Frame& f, int y0, int y1, GatherStats& stats) {
   const auto& t = *f.table;
   const std::size_t stride = std::size_t(f.nt->k()) * 3;
@@ -222,35 +162,206 @@ void gather_rows_nn(const Frame& f, int y0, int y1, GatherStats& stats) {
   }
 }
 
-template <typename W, bool kClamp>
-void gather_rows_k(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
-  switch (f.table->k()) {  // the thesis's k values unrolled
-    case 5: return gather_rows<W, kClamp, 5>(f, weights, y0, y1, stats);
-    case 10: return gather_rows<W, kClamp, 10>(f, weights, y0, y1, stats);
-    case 15: return gather_rows<W, kClamp, 15>(f, weights, y0, y1, stats);
-    case 20: return gather_rows<W, kClamp, 20>(f, weights, y0, y1, stats);
-    default: return gather_rows<W, kClamp, 0>(f, weights, y0, y1, stats);
+// ---- Weighted methods through the tile-local layout (gather_layout.hpp) ----------
+
+// One pixel whose taps are all valid, portable: Σ w_j c_j over the block's
+// palette colours `pal`, renormalised by Σ w_j (the 4th lane, validity 1),
+// RBF optionally clamped to the taps' range.
+template <typename W, bool kClamp, int kTaps>
+inline v4 pixel_portable(const Rgba* pal, const std::uint8_t* s, const W* w, int k, bool normalized) {
+  const int n = kTaps > 0 ? kTaps : k;
+  v4 acc0 = {0, 0, 0, 0}, acc1 = acc0;
+  v4 lo = {INFINITY, INFINITY, INFINITY, INFINITY};
+  v4 hi = -lo;
+  int j = 0;
+  for (; j + 1 < n; j += 2) {  // two chains: the adds do not wait on each other
+    const v4 c0 = load(pal[s[j]]), c1 = load(pal[s[j + 1]]);
+    acc0 += weight_of(w, j) * c0;
+    acc1 += weight_of(w, j + 1) * c1;
+    if constexpr (kClamp) {
+      lo = lo < c0 ? lo : c0, hi = hi > c0 ? hi : c0;
+      lo = lo < c1 ? lo : c1, hi = hi > c1 ? hi : c1;
+    }
+  }
+  if (j < n) {
+    const v4 c = load(pal[s[j]]);
+    acc0 += weight_of(w, j) * c;
+    if constexpr (kClamp) lo = lo < c ? lo : c, hi = hi > c ? hi : c;
+  }
+  v4 acc = acc0 + acc1;
+  if (normalized) acc *= 1.0f / acc[3];  // sum of stored weights (half rounding)
+  if constexpr (kClamp) acc = acc < lo ? lo : (acc > hi ? hi : acc);
+  return acc;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define FOVEART_GATHER_AVX2 1
+#define FOVEART_AVX2 __attribute__((target("avx2,fma,f16c")))
+
+// Eight weights starting at w as floats (F16C for half weights). Reads 8
+// entries: the caller guarantees they exist (see gather_tiles).
+FOVEART_AVX2 inline __m256 load8(const std::uint16_t* w) {
+  return _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(w)));
+}
+FOVEART_AVX2 inline __m256 load8(const float* w) { return _mm256_loadu_ps(w); }
+
+// The same pixel with AVX2: two taps per 256-bit FMA (one colour in each
+// 128-bit half), weights kept in registers and spread with vpermps, two
+// accumulators, halves summed at the end. kTaps > 0 only (fully unrolled).
+template <typename W, bool kClamp, int kTaps>
+FOVEART_AVX2 inline v4 pixel_avx2(const Rgba* pal, const std::uint8_t* s, const W* w, bool normalized) {
+  constexpr int kGroups = (kTaps + 7) / 8;
+  __m256 wg[kGroups];
+#pragma GCC unroll 4
+  for (int g = 0; g < kGroups; ++g) wg[g] = load8(w + 8 * g);
+  const char* base = reinterpret_cast<const char*>(pal);
+  __m256 acc[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+  __m256 lo = _mm256_set1_ps(INFINITY), hi = _mm256_set1_ps(-INFINITY);
+#pragma GCC unroll 16
+  for (int j = 0; j + 1 < kTaps; j += 2) {
+    const __m256 c = _mm256_loadu2_m128(reinterpret_cast<const float*>(base + std::size_t(s[j + 1]) * 16),
+                                        reinterpret_cast<const float*>(base + std::size_t(s[j]) * 16));
+    const int l = j % 8;
+    const __m256 wv = _mm256_permutevar8x32_ps(wg[j / 8], _mm256_setr_epi32(l, l, l, l, l + 1, l + 1, l + 1, l + 1));
+    acc[l / 2] = _mm256_fmadd_ps(wv, c, acc[l / 2]);  // four independent chains
+    if constexpr (kClamp) lo = _mm256_min_ps(lo, c), hi = _mm256_max_ps(hi, c);
+  }
+  const __m256 acc8 = _mm256_add_ps(_mm256_add_ps(acc[0], acc[1]), _mm256_add_ps(acc[2], acc[3]));
+  __m128 sum = _mm_add_ps(_mm256_castps256_ps128(acc8), _mm256_extractf128_ps(acc8, 1));
+  __m128 lo4 = _mm_min_ps(_mm256_castps256_ps128(lo), _mm256_extractf128_ps(lo, 1));
+  __m128 hi4 = _mm_max_ps(_mm256_castps256_ps128(hi), _mm256_extractf128_ps(hi, 1));
+  if constexpr (kTaps % 2 == 1) {
+    constexpr int j = kTaps - 1;
+    const __m128 c = _mm_load_ps(reinterpret_cast<const float*>(base + std::size_t(s[j]) * 16));
+    const __m128 wj = _mm256_castps256_ps128(_mm256_permutevar8x32_ps(wg[j / 8], _mm256_set1_epi32(j % 8)));
+    sum = _mm_fmadd_ps(wj, c, sum);
+    if constexpr (kClamp) lo4 = _mm_min_ps(lo4, c), hi4 = _mm_max_ps(hi4, c);
+  }
+  if (normalized) sum = _mm_div_ps(sum, _mm_shuffle_ps(sum, sum, 0xFF));  // sum of stored weights
+  if constexpr (kClamp) sum = _mm_min_ps(_mm_max_ps(sum, lo4), hi4);
+  v4 r;
+  std::memcpy(&r, &sum, 16);
+  return r;
+}
+#endif
+
+// Screen rows [y0, y1) of one band, tile by tile. kAvx2: the AVX2 kernel.
+template <typename W, bool kClamp, int kTaps, bool kAvx2>
+#if defined(FOVEART_GATHER_AVX2)
+FOVEART_AVX2
+#endif
+void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
+  const auto& t = *f.table;
+  const auto& l = t.layout;
+  const int k = kTaps > 0 ? kTaps : t.k();
+  const bool normalized = t.normalized();
+  const int ox = f.mapping->canvas_from_screen_x_px, oy = f.mapping->canvas_from_screen_y_px;
+  const int cx0 = ox, cx1 = ox + f.out->width_px;  // screen rectangle on the canvas
+  const int cy0 = oy + y0, cy1 = oy + y1;
+  alignas(32) Rgba pal[256];
+  // The AVX2 kernel reads weights in groups of 8: pixels whose last group would
+  // pass the end of the table take the portable kernel.
+  const std::size_t weight_count = t.pixel_count() * std::size_t(k);
+  const std::size_t padded = std::size_t((k + 7) / 8 * 8);
+  for (int ty = cy0 / kGatherTilePx; ty * kGatherTilePx < cy1; ++ty) {
+    const int ty0 = ty * kGatherTilePx;
+    const int th = std::min(kGatherTilePx, t.height_px - ty0);
+    const int ry0 = std::max(cy0, ty0) - ty0, ry1 = std::min(cy1, ty0 + th) - ty0;  // rows of the tile drawn
+    for (int tx = cx0 / kGatherTilePx; tx * kGatherTilePx < cx1; ++tx) {
+      const int tx0 = tx * kGatherTilePx;
+      const int tw = std::min(kGatherTilePx, t.width_px - tx0);
+      const int rx0 = std::max(cx0, tx0) - tx0, rx1 = std::min(cx1, tx0 + tw) - tx0;
+      const std::size_t tile = std::size_t(ty) * std::size_t(l.tiles_x()) + std::size_t(tx);
+      const int bs = kGatherTilePx >> l.tile_level[tile];
+      const int nbx = (tw + bs - 1) / bs;
+      // First pixel of the tile in tile order: rows of tiles above, tiles to the left.
+      const std::size_t tile_base = std::size_t(ty0) * std::size_t(t.width_px) + std::size_t(tx0) * std::size_t(th);
+      for (int by = ry0 / bs * bs; by < ry1; by += bs) {
+        for (int bx = rx0 / bs * bs; bx < rx1; bx += bs) {
+          const std::size_t b = l.tile_first_block[tile] + std::size_t((by / bs) * nbx + bx / bs);
+          const std::uint32_t* ids = l.palette.data() + l.block_palette[b];
+          const int size = int(l.block_palette[b + 1] - l.block_palette[b]);
+          int invalid = 0;  // an integer count: no floating-point dependency chain
+          for (int i = 0; i < size; ++i) {
+            pal[i] = f.colors[ids[i]];
+            invalid += pal[i].a == 0.0f;
+          }
+          for (int ly = std::max(by, ry0); ly < std::min(by + bs, ry1); ++ly) {
+            float* dst = f.out->at(tx0 + std::max(bx, rx0) - ox, ty0 + ly - oy);
+            for (int lx = std::max(bx, rx0); lx < std::min(bx + bs, rx1); ++lx, dst += 3) {
+              const std::size_t ord = tile_base + std::size_t(ly * tw + lx);
+              const std::uint8_t* s = l.slot.data() + ord * std::size_t(k);
+              const W* w = weights + ord * std::size_t(k);
+              if (invalid != 0) {  // an invalid point in the block: does this pixel use one?
+                bool any_invalid = false;
+                for (int j = 0; j < k; ++j) any_invalid |= pal[s[j]].a == 0.0f;
+                if (any_invalid) {
+                  const std::size_t cp = std::size_t(ty0 + ly) * std::size_t(t.width_px) + std::size_t(tx0 + lx);
+                  slow_pixel(f, cp, w, dst, stats);
+                  continue;
+                }
+              }
+              v4 c;
+#if defined(FOVEART_GATHER_AVX2)
+              if constexpr (kAvx2 && kTaps > 0) {
+                c = ord * std::size_t(k) + padded <= weight_count
+                        ? pixel_avx2<W, kClamp, kTaps>(pal, s, w, normalized)
+                        : pixel_portable<W, kClamp, kTaps>(pal, s, w, k, normalized);
+              } else
+#endif
+              {
+                c = pixel_portable<W, kClamp, kTaps>(pal, s, w, k, normalized);
+              }
+              dst[0] = c[0], dst[1] = c[1], dst[2] = c[2];
+            }
+          }
+        }
+      }
+    }
   }
 }
 
+template <typename W, bool kClamp, bool kAvx2>
+void gather_tiles_k(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
+  switch (f.table->k()) {  // the thesis's k values unrolled
+    case 5: return gather_tiles<W, kClamp, 5, kAvx2>(f, weights, y0, y1, stats);
+    case 10: return gather_tiles<W, kClamp, 10, kAvx2>(f, weights, y0, y1, stats);
+    case 15: return gather_tiles<W, kClamp, 15, kAvx2>(f, weights, y0, y1, stats);
+    case 20: return gather_tiles<W, kClamp, 20, kAvx2>(f, weights, y0, y1, stats);
+    default: return gather_tiles<W, kClamp, 0, kAvx2>(f, weights, y0, y1, stats);
+  }
+}
+
+template <typename W, bool kAvx2>
+void gather_tiles_w(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
+  const bool clamp = f.table->is_rbf() && f.options->clamp_rbf;
+  clamp ? gather_tiles_k<W, true, kAvx2>(f, weights, y0, y1, stats)
+        : gather_tiles_k<W, false, kAvx2>(f, weights, y0, y1, stats);
+}
+
+bool use_avx2(const GatherOptions& o) {
+#if defined(FOVEART_GATHER_AVX2)
+  static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                          __builtin_cpu_supports("f16c");
+  return o.simd && cpu;
+#else
+  (void)o;
+  return false;
+#endif
+}
+
+// Screen rows [y0, y1) (NN), or the tile rows starting in them (weighted methods).
 void gather_band(const Frame& f, int y0, int y1, GatherStats& stats) {
   const auto& t = *f.table;
-  const bool clamp = t.is_rbf() && f.options->clamp_rbf;
-  if (!t.has_weights()) {
-    gather_rows_nn(f, y0, y1, stats);
-  } else if (t.precision == WeightPrecision::f16) {
-#if defined(__x86_64__) && defined(__GNUC__)
-    if (__builtin_cpu_supports("f16c")) {
-      const auto* h = reinterpret_cast<const HalfF16c*>(t.weights_f16.data());
-      clamp ? gather_rows_k<HalfF16c, true>(f, h, y0, y1, stats) : gather_rows_k<HalfF16c, false>(f, h, y0, y1, stats);
-      return;
-    }
-#endif
-    clamp ? gather_rows_k<std::uint16_t, true>(f, t.weights_f16.data(), y0, y1, stats)
-          : gather_rows_k<std::uint16_t, false>(f, t.weights_f16.data(), y0, y1, stats);
+  if (!t.has_weights()) return gather_rows_nn(f, y0, y1, stats);
+  const bool avx2 = use_avx2(*f.options);
+  if (t.precision == WeightPrecision::f16) {
+    const auto* w = t.weights_f16.data();
+    avx2 ? gather_tiles_w<std::uint16_t, true>(f, w, y0, y1, stats)
+         : gather_tiles_w<std::uint16_t, false>(f, w, y0, y1, stats);
   } else {
-    clamp ? gather_rows_k<float, true>(f, t.weights_f32.data(), y0, y1, stats)
-          : gather_rows_k<float, false>(f, t.weights_f32.data(), y0, y1, stats);
+    const auto* w = t.weights_f32.data();
+    avx2 ? gather_tiles_w<float, true>(f, w, y0, y1, stats) : gather_tiles_w<float, false>(f, w, y0, y1, stats);
   }
 }
 
@@ -271,9 +382,12 @@ GatherStats gather(const NeighborTable& nt, const InterpolationTable& table, con
                                 std::to_string(ox) + ", " + std::to_string(oy) + ") leaves the canvas " +
                                 std::to_string(table.width_px) + "x" + std::to_string(table.height_px));
   }
-  if (table.has_weights() && (table.precision == WeightPrecision::f16 ? table.weights_f16.size() : table.weights_f32.size()) !=
-                                 table.pixel_count() * std::size_t(table.k())) {
-    throw std::invalid_argument("gather: interpolation table has no weights for its size");
+  if (table.has_weights() && ((table.precision == WeightPrecision::f16 ? table.weights_f16.size()
+                                                                        : table.weights_f32.size()) !=
+                                   table.pixel_count() * std::size_t(table.k()) ||
+                               table.layout.width_px != table.width_px || table.layout.height_px != table.height_px ||
+                               table.layout.k != table.k() || table.layout.slot.size() != table.pixel_count() * std::size_t(table.k()))) {
+    throw std::invalid_argument("gather: interpolation table has no weights or gather layout for its size");
   }
   if (colors.rgba.empty()) throw std::invalid_argument("gather: no point colours");
   if (out.width_px != w || out.height_px != h || out.rgb.size() != std::size_t(w) * std::size_t(h) * 3) {
@@ -284,7 +398,13 @@ GatherStats gather(const NeighborTable& nt, const InterpolationTable& table, con
   threads = std::min(threads, h);
   auto stats = std::vector<GatherStats>(std::size_t(threads));
   std::vector<std::thread> pool;
-  auto band = [&](int i) { gather_band(f, h * i / threads, h * (i + 1) / threads, stats[std::size_t(i)]); };
+  // Weighted methods split the screen at tile rows (a band draws whole tiles).
+  auto split = [&](int i) {
+    if (i == 0 || i == threads || !table.has_weights()) return h * i / threads;
+    const int rows = (oy + h - 1) / kGatherTilePx - oy / kGatherTilePx + 1;  // tile rows on the screen
+    return std::clamp((oy / kGatherTilePx + rows * i / threads) * kGatherTilePx - oy, 0, h);
+  };
+  auto band = [&](int i) { gather_band(f, split(i), split(i + 1), stats[std::size_t(i)]); };
   for (int i = 1; i < threads; ++i) pool.emplace_back(band, i);
   band(0);
   for (auto& th : pool) th.join();

@@ -59,6 +59,15 @@ std::string payload_of(const InterpolationTable& t) {
   put_vec(p, t.weights_f32);
   put_vec(p, t.weights_f16);
   put_vec(p, t.weight_sum);
+  const auto& l = t.layout;
+  put(p, std::int32_t(l.width_px));
+  put(p, std::int32_t(l.height_px));
+  put(p, std::int32_t(l.k));
+  put_vec(p, l.tile_level);
+  put_vec(p, l.tile_first_block);
+  put_vec(p, l.block_palette);
+  put_vec(p, l.palette);
+  put_vec(p, l.slot);
   return p;
 }
 
@@ -155,6 +164,14 @@ std::optional<InterpolationTable> load_interpolation_table(const std::filesystem
       !get_vec(data, at, t.weights_f32) || !get_vec(data, at, t.weights_f16) || !get_vec(data, at, t.weight_sum)) {
     return fail("payload layout does not parse");
   }
+  auto& l = t.layout;
+  std::int32_t lw = 0, lh = 0, lk = 0;
+  if (!get(data, at, lw) || !get(data, at, lh) || !get(data, at, lk) || !get_vec(data, at, l.tile_level) ||
+      !get_vec(data, at, l.tile_first_block) || !get_vec(data, at, l.block_palette) || !get_vec(data, at, l.palette) ||
+      !get_vec(data, at, l.slot) || at != data.size()) {
+    return fail("gather layout does not parse");
+  }
+  l.width_px = lw, l.height_px = lh, l.k = lk;
   t.width_px = w;
   t.height_px = h;
   return t;
@@ -180,13 +197,18 @@ CachedTable load_or_build_interpolation_table(const std::optional<std::filesyste
       const bool sizes_ok = t->width_px == neighbors.width_px() && t->height_px == neighbors.height_px() &&
                             (opts.method == InterpMethod::nn ||
                              (prec == WeightPrecision::f16 ? t->weights_f16.size() : t->weights_f32.size()) == expect);
-      if (sizes_ok) {
+      // Every slot inside its palette, every palette entry a point: the gather never reads out of bounds.
+      const std::string layout_error =
+          !sizes_ok || opts.method == InterpMethod::nn
+              ? std::string()
+              : gather_layout_error(t->layout, neighbors.width_px(), neighbors.height_px(), opts.k, points.size());
+      if (sizes_ok && layout_error.empty()) {
         t->options = opts;
         t->precision = prec;
         result.table = std::move(*t);
         result.from_cache = true;
       } else if (log) {
-        log(file.string() + ": sizes do not match the neighbour table; rebuilding");
+        log(file.string() + ": " + (sizes_ok ? layout_error : "sizes do not match the neighbour table") + "; rebuilding");
       }
     } else if (log) {
       log("interpolation cache rejected: " + error + "; rebuilding");

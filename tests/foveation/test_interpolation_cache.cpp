@@ -114,14 +114,14 @@ TEST_F(InterpolationCacheTest, OtherVersionAndOtherParametersAreRejected) {
   EXPECT_NE(error.find("missing"), std::string::npos) << error;
 }
 
-TEST(InterpolationMemory, K20FoveCanvasNeedsHalfWeights) {
-  // FOVE canvas 2560 x 2880: indices 3 B + float weights 4 B at k = 20 is
-  // 1.03 GB, over budget; half weights bring it to 737 MB.
+TEST(InterpolationMemory, K20FoveCanvasFitsTheBudget) {
+  // FOVE canvas 2560 x 2880 at k = 20: 1-byte taps + half weights are 442 MB,
+  // + float weights 737 MB (the old 3-byte indices + float: 1.03 GB).
   const std::size_t pixels = 2560u * 2880u;
-  EXPECT_GT(table_bytes(pixels, 20, WeightPrecision::f32), kTableBudgetBytes);
-  EXPECT_LT(table_bytes(pixels, 20, WeightPrecision::f16), kTableBudgetBytes);
+  EXPECT_EQ(table_bytes(pixels, 20, WeightPrecision::f16), pixels * 20 * 3);
+  EXPECT_LT(table_bytes(pixels, 20, WeightPrecision::f32), kTableBudgetBytes);
   EXPECT_EQ(auto_precision(pixels, 20), WeightPrecision::f16);
-  EXPECT_EQ(auto_precision(pixels, 15), WeightPrecision::f32);
+  EXPECT_EQ(auto_precision(pixels, 5), WeightPrecision::f16);
 }
 
 }  // namespace

@@ -126,8 +126,11 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   io.k = a.k;
   io.shape = a.shape;
   io.constant_term = !a.no_constant;
+  std::optional<fv::WeightPrecision> precision;
+  if (a.weights == "f16") precision = fv::WeightPrecision::f16;
+  if (a.weights == "f32") precision = fv::WeightPrecision::f32;
   const auto interp = fv::load_or_build_interpolation_table(cache, key, tables.points, tables.neighbors, io,
-                                                            std::nullopt, a.threads, {}, log);
+                                                            precision, a.threads, {}, log);
   const double setup_ms = ms_since(t_setup);
 
   fv::TaaOptions taa_opts;
@@ -252,6 +255,8 @@ void register_reconstruct(CLI::App& app) {
   sub->add_option("--threads", a->threads, "threads (0 = all cores)")->capture_default_str();
   sub->add_option("--shape", a->shape, "RBF shape eps0 (0 = default)");
   sub->add_flag("--no-constant", a->no_constant, "RBF without the constant term (thesis form)");
+  sub->add_option("--weights", a->weights, "weight storage f16 or f32 (default f16)")
+      ->check(CLI::IsMember({"f16", "f32"}));
   sub->callback([a] {
     int rc = 1;
     try {

@@ -35,7 +35,12 @@ Json rays_json(const engine::RayCounts& c) {
 
 engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
   return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
-                           a.refraction - b.refraction};
+                           a.refraction - b.refraction, a.packets - b.packets};
+}
+
+// Mean active lanes per 16-wide Embree call: how full (coherent) the packets were.
+double lanes_per_packet(const engine::RayCounts& c) {
+  return c.packets > 0 ? static_cast<double>(c.total()) / static_cast<double>(c.packets) : 0.0;
 }
 
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
@@ -128,7 +133,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       return 1;
     }
     full_total = rr.trace_ms;
-    report["full"] = {{"rays", rays_json(minus(tracer->counts(), before))},
+    const engine::RayCounts rays = minus(tracer->counts(), before);
+    report["full"] = {{"rays", rays_json(rays)}, {"lanes_per_packet", lanes_per_packet(rays)},
                       {"trace_ms", rr.trace_ms}, {"reconstruct_ms", 0.0}, {"total_ms", rr.trace_ms}};
   }
   if (o.mode == "foveated" || o.mode == "both") {
@@ -151,7 +157,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     foveated = std::move(fr.image);
     fov_total = fr.trace_ms + fr.reconstruct_ms;
     report["points"] = fr.points;
-    report["foveated"] = {{"rays", rays_json(minus(tracer->counts(), before))}, {"method", o.method},
+    const engine::RayCounts rays = minus(tracer->counts(), before);
+    report["foveated"] = {{"rays", rays_json(rays)}, {"lanes_per_packet", lanes_per_packet(rays)}, {"method", o.method},
                           {"k", req.k}, {"scale", o.scale}, {"precompute_ms", fr.precompute_ms},
                           {"trace_ms", fr.trace_ms}, {"samples_ms", fr.samples_ms}, {"reconstruct_ms", fr.reconstruct_ms}, {"total_ms", fov_total}};
   }

@@ -53,6 +53,7 @@ struct ReconstructArgs {
   int threads = 0;
   double shape = 0.0;
   bool no_constant = false;
+  std::string weights;  // f16 | f32 | empty (the library's choice)
 };
 
 // Runs the whole pipeline; returns the exit code (errors as one line on `err`).

@@ -50,7 +50,10 @@ FoveatedRenderer::FoveatedRenderer(const FoveartEyeView&, const FoveatedRequest&
 FoveatedRenderer::~FoveatedRenderer() = default;
 const std::string& FoveatedRenderer::error() const { return state_->error; }
 double FoveatedRenderer::precompute_ms() const { return 0.0; }
-FoveatedResult FoveatedRenderer::render(engine::Tracer&, glm::vec2, engine::Image*) {
+FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out) {
+  return render(&foveart_engine_trace_rays, &tracer, gaze_px, out);
+}
+FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn, void*, glm::vec2, engine::Image*) {
   FoveatedResult r;
   r.error = state_->error;
   return r;
@@ -63,6 +66,28 @@ namespace {
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// A point's colour and, in `a`, its validity stamp; all points of the set.
+#ifdef FOVEART_HAVE_INTERPOLATION
+using Rgba = foveation::Rgba;
+using PointSlots = foveation::PointColors;  // what gather reads
+#else
+struct alignas(16) Rgba {
+  float r = 0.0f, g = 0.0f, b = 0.0f, a = 0.0f;
+};
+struct PointSlots {
+  std::vector<Rgba> rgba;
+  size_t size() const { return rgba.size(); }
+};
+#endif
+
+// Rays per engine callback call, and set points per parallel work item (one or
+// two batches at the fovea: contiguous in Morton order, small enough that the
+// last item of a frame leaves the other thread idle only briefly).
+constexpr uint32_t kBatchRays = 4096;
+constexpr uint64_t kChunkPoints = 8192;
+// Sample offsets are precomputed up to this many (64 MB); beyond, made per frame.
+constexpr size_t kMaxPrecomputedSamples = size_t{8} << 20;
 
 template <typename Rows>
 void parallel_rows(uint32_t height, int threads, Rows&& rows) {
@@ -99,15 +124,14 @@ struct FoveatedRenderer::State {
   std::optional<foveation::CachedTable> interp;
   foveation::ImageRgb gathered;
 #endif
-  // Per-frame buffers, reused: colours of the traced points, and for every point
-  // of the set its colour and the frame in which it was last traced, side by
-  // side so a gather tap touches one cache line (no clearing per frame).
-  struct PointSlot {
-    glm::vec3 rgb{0.0f};
-    uint32_t frame = 0;
-  };
-  std::vector<glm::vec3> visible_rgb;
-  std::vector<PointSlot> slots;
+  // Gaze-independent ray sample offsets, sample s of point i at [i * spp + s]:
+  // unit_disc_sample * radius, made once (empty when too large: made per frame).
+  std::vector<glm::vec2> sample_offset_px;
+  // One slot per point of the set, written by the trace batches straight at the
+  // point's index: its colour and, in `a`, the stamp of the frame that traced it
+  // (NN: the frame number, so nothing is cleared per frame; MSM/RBF: 1 after a
+  // clear, gather's validity flag).
+  PointSlots slots;
   uint32_t frame = 0;
 };
 
@@ -163,7 +187,18 @@ FoveatedRenderer::FoveatedRenderer(const FoveartEyeView& view, const FoveatedReq
       return;
     }
 #endif
-    st.slots.assign(st.tables.points.size(), State::PointSlot{});
+    st.slots.rgba.assign(st.tables.points.size(), Rgba{});
+    const size_t spp = static_cast<size_t>(std::max(req.spp, 1));
+    if (st.tables.points.size() * spp <= kMaxPrecomputedSamples) {
+      const foveation::PointSet& points = st.tables.points;
+      st.sample_offset_px.resize(points.size() * spp);
+      engine::parallel_chunks(points.size(), 16384, st.threads, [&](uint64_t first, uint64_t count) {
+        for (uint64_t i = first; i < first + count; ++i)
+          for (size_t s = 0; s < spp; ++s)
+            st.sample_offset_px[i * spp + s] =
+                foveation::unit_disc_sample(req.seed, static_cast<uint32_t>(i), static_cast<int>(s)) * points.radius_px[i];
+      });
+    }
     st.precompute_ms = ms_since(t0);
   } catch (const std::exception& e) {
     st.error = std::string("foveation: ") + e.what();
@@ -175,6 +210,11 @@ const std::string& FoveatedRenderer::error() const { return state_->error; }
 double FoveatedRenderer::precompute_ms() const { return state_->precompute_ms; }
 
 FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out) {
+  return render(&foveart_engine_trace_rays, &tracer, gaze_px, out);
+}
+
+FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, glm::vec2 gaze_px,
+                                        engine::Image* out) {
   State& st = *state_;
   FoveatedResult r;
   r.precompute_ms = st.precompute_ms;
@@ -185,28 +225,87 @@ FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_p
   try {
     const FoveartEyeView& view = st.view;
     const foveation::PointSet& points = st.tables.points;
-    // Per frame: visible points, then spp samples per point in its disc, traced.
-    // Sample positions are foveation::unit_disc_sample, exactly as
-    // generate_ray_samples places them, but made inside the parallel batches.
+    // Per frame, in one parallel pass over the point set (Morton order, so the
+    // rays of a packet are neighbours on the screen): each chunk of points keeps
+    // the visible ones (foveation::select_visible_points' test, thesis 4.2),
+    // casts spp rays per point through its disc (foveation::unit_disc_sample,
+    // exactly as generate_ray_samples places them) and writes the mean colour
+    // straight into the point's slot. No per-frame arrays, no serial pass.
     auto t0 = std::chrono::steady_clock::now();
     const foveation::GazeMapping mapping =
         foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), gaze_px);
-    const foveation::VisiblePoints visible = foveation::select_visible_points(points, mapping);
+#ifdef FOVEART_HAVE_INTERPOLATION
+    const bool nn = !st.interp;
+#else
+    const bool nn = true;
+#endif
+    if (!nn) {  // gather's validity flag is 1 / 0: clear the slots
+      engine::parallel_chunks(st.slots.size(), 65536, st.threads, [&](uint64_t first, uint64_t count) {
+        std::fill_n(st.slots.rgba.begin() + static_cast<std::ptrdiff_t>(first), count, Rgba{});
+      });
+    } else if (++st.frame >= (1u << 24)) {  // the stamp is a float: restart before it gets inexact
+      std::fill(st.slots.rgba.begin(), st.slots.rgba.end(), Rgba{});
+      st.frame = 1;
+    }
+    const float stamp = nn ? static_cast<float>(st.frame) : 1.0f;
     r.samples_ms = ms_since(t0);
+
+    const foveation::EyeFrustum frustum = foveation::eye_frustum(view);
+    const foveation::EyePose pose = foveation::eye_pose(view);
+    const float margin = foveation::kVisibleMarginPx;
+    const float x0 = -margin, y0 = -margin;
+    const float x1 = static_cast<float>(mapping.screen_width_px) + margin;
+    const float y1 = static_cast<float>(mapping.screen_height_px) + margin;
+    const glm::vec2 canvas_offset(static_cast<float>(mapping.canvas_from_screen_x_px),
+                                  static_cast<float>(mapping.canvas_from_screen_y_px));
+    const uint32_t spp = static_cast<uint32_t>(std::max(st.request.spp, 1));
+    const uint32_t batch_points = std::max<uint32_t>(1, kBatchRays / spp);
     const uint64_t seed = st.request.seed;
-    const engine::SampleFn sample = [&](uint64_t v, uint32_t s) {
-      const uint32_t p = visible.point_index[v];
-      return visible.screen_px[v] + foveation::unit_disc_sample(seed, p, static_cast<int>(s)) * points.radius_px[p];
-    };
-    engine::RenderSettings settings;
-    settings.threads = st.threads;
-    settings.spp = st.request.spp;
-    const engine::RenderResult traced = engine::trace_points(&foveart_engine_trace_rays, &tracer, view, visible.size(),
-                                                             sample, visible.point_index, settings, &st.visible_rgb);
+    std::atomic<uint64_t> traced_points{0};
+    std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
+    engine::parallel_chunks(points.size(), kChunkPoints, st.threads, [&](uint64_t first, uint64_t count) {
+      thread_local engine::RayBatch batch;
+      thread_local std::vector<uint32_t> ids;
+      batch.resize(static_cast<size_t>(batch_points) * spp);
+      ids.resize(batch_points);
+      uint32_t n = 0;
+      uint64_t done = 0;
+      auto flush = [&] {
+        const int32_t result = batch.trace(fn, user_data, view, n * spp);
+        if (result != FOVEART_RESULT_SUCCESS) {
+          int32_t expected = FOVEART_RESULT_SUCCESS;
+          status.compare_exchange_strong(expected, result);
+        }
+        const float inv = 1.0f / static_cast<float>(spp);
+        for (uint32_t j = 0, k = 0; j < n; ++j) {
+          glm::vec3 sum(0.0f);
+          for (uint32_t s = 0; s < spp; ++s, ++k) sum += batch.rgb(k);
+          sum *= inv;
+          st.slots.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, stamp};
+        }
+        done += n;
+        n = 0;
+      };
+      for (uint64_t i = first; i < first + count; ++i) {
+        const glm::vec2 screen = points.position_px[i] - canvas_offset;
+        if (!(screen.x >= x0 && screen.x < x1 && screen.y >= y0 && screen.y < y1)) continue;
+        const uint32_t id = static_cast<uint32_t>(i);
+        for (uint32_t s = 0; s < spp; ++s) {
+          const glm::vec2 offset = st.sample_offset_px.empty()
+                                       ? foveation::unit_disc_sample(seed, id, static_cast<int>(s)) * points.radius_px[i]
+                                       : st.sample_offset_px[i * spp + s];
+          batch.set_ray(n * spp + s, frustum, pose, screen + offset, id);
+        }
+        ids[n] = id;
+        if (++n == batch_points) flush();
+      }
+      if (n > 0) flush();
+      traced_points.fetch_add(done, std::memory_order_relaxed);
+    });
     r.trace_ms = ms_since(t0);
-    r.points = visible.size();
-    if (traced.status != FOVEART_RESULT_SUCCESS) {
-      r.error = "engine callback failed with status " + std::to_string(traced.status);
+    r.points = traced_points.load();
+    if (status.load() != FOVEART_RESULT_SUCCESS) {
+      r.error = "engine callback failed with status " + std::to_string(status.load());
       return r;
     }
 
@@ -216,28 +315,23 @@ FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_p
     out->rgb.resize(static_cast<size_t>(view.width_px) * view.height_px);
 #ifdef FOVEART_HAVE_INTERPOLATION
     if (st.interp) {
-      const foveation::PointColors colors = foveation::point_colors_from_list(
-          points.size(), visible.point_index,
-          std::span<const float>(&st.visible_rgb.data()->x, 3 * st.visible_rgb.size()));
       foveation::GatherOptions go;
       go.threads = st.threads;
-      foveation::gather(st.tables.neighbors, st.interp->table, colors, mapping, st.gathered, go);
-      for (size_t i = 0; i < out->rgb.size(); ++i)
-        out->rgb[i] = glm::vec3(st.gathered.rgb[3 * i], st.gathered.rgb[3 * i + 1], st.gathered.rgb[3 * i + 2]);
+      foveation::gather(st.tables.neighbors, st.interp->table, st.slots, mapping, st.gathered, go);
+      parallel_rows(view.height_px, st.threads, [&](uint32_t y0r, uint32_t y1r) {
+        for (size_t i = static_cast<size_t>(y0r) * view.width_px; i < static_cast<size_t>(y1r) * view.width_px; ++i)
+          out->rgb[i] = glm::vec3(st.gathered.rgb[3 * i], st.gathered.rgb[3 * i + 1], st.gathered.rgb[3 * i + 2]);
+      });
       r.reconstruct_ms = ms_since(t0);
       return r;
     }
 #endif
-    // NN: every pixel takes the colour of its nearest traced point.
-    const uint32_t frame = ++st.frame;
-    for (size_t v = 0; v < visible.size(); ++v) {
-      const uint32_t p = visible.point_index[v];
-      st.slots[p] = State::PointSlot{st.visible_rgb[v], frame};
-    }
+    // NN: every pixel takes the colour of its nearest point traced this frame.
     const foveation::NeighborTable& nt = st.tables.neighbors;
     const int k = nt.k();
-    parallel_rows(view.height_px, st.threads, [&](uint32_t y0, uint32_t y1) {
-      for (uint32_t y = y0; y < y1; ++y) {
+    const Rgba* slots = st.slots.rgba.data();
+    parallel_rows(view.height_px, st.threads, [&](uint32_t y0r, uint32_t y1r) {
+      for (uint32_t y = y0r; y < y1r; ++y) {
         const size_t row = static_cast<size_t>(static_cast<int>(y) + mapping.canvas_from_screen_y_px) *
                            static_cast<size_t>(nt.width_px());
         glm::vec3* dst = out->rgb.data() + static_cast<size_t>(y) * view.width_px;
@@ -245,9 +339,9 @@ FoveatedResult FoveatedRenderer::render(engine::Tracer& tracer, glm::vec2 gaze_p
           const size_t pixel = row + static_cast<size_t>(static_cast<int>(x) + mapping.canvas_from_screen_x_px);
           glm::vec3 c(0.0f);
           for (int j = 0; j < k; ++j) {
-            const State::PointSlot& slot = st.slots[nt.neighbor(pixel, j)];
-            if (slot.frame == frame) {
-              c = slot.rgb;
+            const Rgba& slot = slots[nt.neighbor(pixel, j)];
+            if (slot.a == stamp) {
+              c = glm::vec3(slot.r, slot.g, slot.b);
               break;
             }
           }

@@ -30,8 +30,9 @@ struct FoveatedResult {
   engine::Image image;
   uint64_t points = 0;        // visible points traced
   double precompute_ms = 0.0; // point set + neighbour table (load or build), not in total
-  double trace_ms = 0.0;      // visible points + ray samples + tracing
-  double samples_ms = 0.0;    // of which: visible-point selection (samples are made while tracing)
+  double trace_ms = 0.0;      // visible points + ray samples + tracing + colour slots
+  double samples_ms = 0.0;    // of which: work before the trace batches (visible-point selection
+                              // and disc samples are made inside the parallel batches: ~0)
   double reconstruct_ms = 0.0;
   std::string error;          // non-empty on failure
 };
@@ -64,6 +65,8 @@ class FoveatedRenderer {
 
   // One frame at `gaze_px` into *out_image (resized once); result.image stays empty.
   FoveatedResult render(engine::Tracer& tracer, glm::vec2 gaze_px, engine::Image* out_image);
+  // The same through any engine callback (e.g. a no-op one, to time the bookkeeping alone).
+  FoveatedResult render(FoveartTraceRaysFn fn, void* user_data, glm::vec2 gaze_px, engine::Image* out_image);
 
  private:
   struct State;

@@ -52,6 +52,7 @@ struct GatherOptions {
   int threads = 0;                     // std::threads for this frame, 0 = hardware concurrency
   bool clamp_rbf = true;               // clamp RBF output to the valid taps' range
   std::array<float, 3> fallback_rgb{};  // no valid point in reach
+  bool simd = true;                    // AVX2/FMA/F16C kernel when the CPU has them (false: portable code)
 };
 
 // Counts of pixels that took the invalid-point paths (0 when every tap was valid).

@@ -3,7 +3,7 @@
 // A file holds a header (magic, format version, the full parameter string the
 // weights depend on — display, seed, point set checksum, method, k, shape,
 // constant term, thresholds, precision — payload size, XXH3 of the payload)
-// followed by the weights. A file that is missing, truncated, corrupt, of
+// followed by the weights and the gather layout (palettes, 1-byte taps). A file that is missing, truncated, corrupt, of
 // another format version or for other parameters is rejected with a message
 // saying which, and load_or_build rebuilds it. Never serves wrong weights.
 #pragma once
@@ -18,7 +18,7 @@
 
 namespace foveart::foveation {
 
-inline constexpr std::uint32_t kInterpCacheFormatVersion = 1;
+inline constexpr std::uint32_t kInterpCacheFormatVersion = 2;  // 2: tile-order weights + gather layout
 
 // Every parameter the table depends on, as one exact string (hex floats).
 std::string interpolation_cache_params(const PointSetKey& key, const PointSet& points, const InterpOptions& options,

@@ -2,10 +2,12 @@
 // 2W x 2H canvas the weights of its k nearest points (NeighborTable order),
 // computed once from geometry so a frame of any method is a k-tap gather.
 //
-// Storage: k weights per pixel as float or IEEE half (half_float.hpp); indices
-// stay in the NeighborTable (3 bytes each). NN stores no weights (one tap,
-// weight 1). The plain RBF form (no constant term) also stores each pixel's
-// weight sum, the gain the gather must keep when it renormalises.
+// Storage: k weights per pixel as float or IEEE half (half_float.hpp), in
+// tile order, with the tile-local gather layout (gather_layout.hpp: per 8x8
+// tile a palette of point indices, 1 byte per tap). NN stores neither (one
+// tap, weight 1, read from the NeighborTable). The plain RBF form (no constant
+// term) also stores each pixel's weight sum (row-major), the gain the gather
+// must keep when it renormalises.
 #pragma once
 
 #include <cstddef>
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "foveation/gather_layout.hpp"
 #include "foveation/half_float.hpp"
 #include "foveation/interpolation_weights.hpp"
 #include "foveation/neighbor_table.hpp"
@@ -24,7 +27,7 @@ namespace foveart::foveation {
 
 enum class WeightPrecision : std::uint8_t { f32 = 0, f16 = 1 };
 
-// Indices + float weights above this use half weights (issue 3: 1 GB).
+// Memory budget of one table (issue 3: 1 GB); every layout stays below it.
 inline constexpr std::size_t kTableBudgetBytes = 1'000'000'000;
 
 // What building the table met (counts of canvas pixels).
@@ -46,9 +49,10 @@ struct InterpolationTable {
   WeightPrecision precision = WeightPrecision::f32;
   int width_px = 0;
   int height_px = 0;
-  std::vector<float> weights_f32;          // pixel-major, k per pixel (f32)
-  std::vector<std::uint16_t> weights_f16;  // pixel-major, k per pixel (f16)
-  std::vector<float> weight_sum;           // plain RBF only: sum of stored weights per pixel
+  std::vector<float> weights_f32;          // tile order (tile_ordinal), k per pixel (f32)
+  std::vector<std::uint16_t> weights_f16;  // tile order (tile_ordinal), k per pixel (f16)
+  std::vector<float> weight_sum;           // plain RBF only: sum of stored weights per pixel (row-major)
+  GatherLayout layout;                     // palettes and 1-byte taps (empty for NN)
   TableStats stats;
   double build_ms = 0.0;
 
@@ -59,21 +63,27 @@ struct InterpolationTable {
   bool normalized() const { return !(is_rbf() && !options.constant_term); }
   bool is_rbf() const { return options.method == InterpMethod::rbf_mq || options.method == InterpMethod::rbf_gauss; }
   std::size_t pixel_count() const { return std::size_t(width_px) * std::size_t(height_px); }
-  // Weight storage only (the indices live in the NeighborTable).
+  // Weights plus the gather layout (palettes, 1-byte taps); the NeighborTable is extra.
   std::size_t bytes() const {
-    return weights_f32.size() * 4 + weights_f16.size() * 2 + weight_sum.size() * 4;
+    return weights_f32.size() * 4 + weights_f16.size() * 2 + weight_sum.size() * 4 + layout.bytes();
   }
-  // Stored weight of tap j (NN: 1 for the nearest, no storage).
+  // Position of row-major canvas pixel `pixel` in the weight arrays (/ k).
+  std::size_t ordinal(std::size_t pixel) const {
+    const std::size_t w = std::size_t(width_px);
+    return tile_ordinal(width_px, height_px, int(pixel % w), int(pixel / w));
+  }
+  // Stored weight of tap j of row-major canvas pixel `pixel` (NN: 1 for the nearest, no storage).
   float weight(std::size_t pixel, int j) const {
     if (!has_weights()) return j == 0 ? 1.0f : 0.0f;
-    const std::size_t i = pixel * std::size_t(options.k) + std::size_t(j);
+    const std::size_t i = ordinal(pixel) * std::size_t(options.k) + std::size_t(j);
     return precision == WeightPrecision::f16 ? half_to_float(weights_f16[i]) : weights_f32[i];
   }
 };
 
-// Bytes of indices (3 per tap) plus weights at a precision, for a canvas and k.
+// Bytes of taps (1 per tap) plus weights at a precision, for a canvas and k
+// (palettes add about 4 bytes per point per tile that references it).
 std::size_t table_bytes(std::size_t canvas_pixels, int k, WeightPrecision precision);
-// f32 unless indices + f32 weights exceed kTableBudgetBytes.
+// f16: the faster gather at every k (3 instead of 5 bytes per tap), error < 2e-4.
 WeightPrecision auto_precision(std::size_t canvas_pixels, int k);
 
 // Builds the table on `threads` std::threads (0 = hardware concurrency). Throws

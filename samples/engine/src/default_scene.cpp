@@ -113,7 +113,18 @@ Texture brick_texture() {
   return t;
 }
 
+constexpr float kColonnadeZ = -6.0f;
+constexpr float kGlassRadius = 0.7f;
+
 }  // namespace
+
+DefaultSceneLandmarks default_scene_landmarks() {
+  DefaultSceneLandmarks m;
+  m.pillar_edge = glm::vec3(-0.2f, 1.6f, kColonnadeZ + 0.2f);
+  m.glass_centre = glm::vec3(-1.6f, kGlassRadius, -3.0f);
+  m.floor_point = glm::vec3(0.0f, 0.0f, 1.4f);
+  return m;
+}
 
 Scene make_default_scene() {
   Scene s;
@@ -193,6 +204,10 @@ Scene make_default_scene() {
     b.box({-2.6f, 0.0f, z - 0.2f}, {-2.2f, h, z + 0.2f}, m_pillar);
     b.box({2.2f, 0.0f, z - 0.2f}, {2.6f, h, z + 0.2f}, m_pillar);
   }
+  // The cross colonnade the view centre looks through: two dark pillars either
+  // side of the centre line, 0.4 m apart, seen against the glowing far wall.
+  b.box({-0.6f, 0.0f, kColonnadeZ - 0.2f}, {-0.2f, h, kColonnadeZ + 0.2f}, m_pillar);
+  b.box({0.2f, 0.0f, kColonnadeZ - 0.2f}, {0.6f, h, kColonnadeZ + 0.2f}, m_pillar);
   for (int i = 0; i < 4; ++i) {  // bright ceiling light panels, each with a point light below
     const float z = -1.0f - 4.0f * static_cast<float>(i);
     b.quad({-0.8f, h - 0.01f, z - 0.4f}, {0.8f, h - 0.01f, z - 0.4f}, {0.8f, h - 0.01f, z + 0.4f},
@@ -204,7 +219,8 @@ Scene make_default_scene() {
     l.intensity = 14.0f;
     s.lights.push_back(l);
   }
-  b.sphere({0.0f, 0.9f, -5.0f}, 0.9f, m_glass);
+  const DefaultSceneLandmarks marks = default_scene_landmarks();
+  b.sphere(marks.glass_centre, kGlassRadius, m_glass);  // lower left of the view
   b.box({0.9f, 0.0f, -2.2f}, {1.7f, 0.8f, -1.4f}, m_crate, 2.0f);
 
   Camera cam;

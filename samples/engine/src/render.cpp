@@ -33,9 +33,35 @@ int thread_count(int requested) {
   return hw == 0 ? 1 : static_cast<int>(hw);
 }
 
-// Runs work(first_item, count, scratch) over [0, n) in chunks from `threads` threads.
-template <typename Work>
-void parallel_chunks(uint64_t n, uint64_t chunk, int threads, Work&& work) {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+void RayBatch::resize(size_t n) {
+  origins_.resize(3 * n);
+  directions_.resize(3 * n);
+  sample_px_.resize(2 * n);
+  rgb_.resize(3 * n);
+  point_index_.resize(n);
+}
+
+int32_t RayBatch::trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint32_t n) {
+  FoveartRayBatch batch{};
+  batch.type = FOVEART_TYPE_RAY_BATCH;
+  batch.size = sizeof(FoveartRayBatch);
+  batch.view = &view;
+  batch.ray_count = n;
+  batch.origins_m = origins_.data();
+  batch.directions = directions_.data();
+  batch.sample_px = sample_px_.data();
+  batch.point_index = point_index_.data();
+  batch.out_rgb = rgb_.data();
+  return fn(user_data, &batch);
+}
+
+void parallel_chunks(uint64_t n, uint64_t chunk, int threads, const std::function<void(uint64_t, uint64_t)>& work) {
   std::atomic<uint64_t> next{0};
   auto run = [&] {
     for (;;) {
@@ -45,57 +71,10 @@ void parallel_chunks(uint64_t n, uint64_t chunk, int threads, Work&& work) {
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(run);
+  for (int t = 1; t < thread_count(threads); ++t) pool.emplace_back(run);
   run();
   for (std::thread& th : pool) th.join();
 }
-
-struct Batch {
-  std::vector<float> origins, directions, sample_px, rgb;
-  std::vector<uint32_t> point_index;
-  void resize(size_t n) {
-    origins.resize(3 * n);
-    directions.resize(3 * n);
-    sample_px.resize(2 * n);
-    rgb.resize(3 * n);
-    point_index.resize(n);
-  }
-};
-
-// Fills ray i of the batch for screen position p.
-void set_ray(Batch& b, size_t i, const foveation::EyeFrustum& f, const foveation::EyePose& pose, glm::vec2 p,
-             uint32_t point) {
-  const glm::vec3 d = foveation::eye_ray_direction(f, pose, p);
-  b.origins[3 * i] = pose.position_m.x;
-  b.origins[3 * i + 1] = pose.position_m.y;
-  b.origins[3 * i + 2] = pose.position_m.z;
-  b.directions[3 * i] = d.x;
-  b.directions[3 * i + 1] = d.y;
-  b.directions[3 * i + 2] = d.z;
-  b.sample_px[2 * i] = p.x;
-  b.sample_px[2 * i + 1] = p.y;
-  b.point_index[i] = point;
-}
-
-int32_t call(FoveartTraceRaysFn fn, void* user, const FoveartEyeView& view, Batch& b, uint32_t n) {
-  FoveartRayBatch batch{};
-  batch.type = FOVEART_TYPE_RAY_BATCH;
-  batch.size = sizeof(FoveartRayBatch);
-  batch.view = &view;
-  batch.ray_count = n;
-  batch.origins_m = b.origins.data();
-  batch.directions = b.directions.data();
-  batch.sample_px = b.sample_px.data();
-  batch.point_index = b.point_index.data();
-  batch.out_rgb = b.rgb.data();
-  return fn(user, &batch);
-}
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 glm::vec2 jitter(uint64_t index, uint32_t sample, uint64_t seed) {
   const uint64_t h = mix64(index * 0x100000001B3ull ^ mix64(sample + (seed << 32)));
@@ -116,15 +95,15 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
   std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
   parallel_chunks(out->rgb.size(), pixels_per_batch, thread_count(settings.threads),
                   [&](uint64_t first, uint64_t count) {
-                    thread_local Batch b;
+                    thread_local RayBatch b;
                     b.resize(count * spp);
                     size_t r = 0;
                     for (uint64_t p = first; p < first + count; ++p) {
                       const glm::vec2 px(static_cast<float>(p % view.width_px), static_cast<float>(p / view.width_px));
                       for (uint32_t s = 0; s < spp; ++s)
-                        set_ray(b, r++, f, pose, px + jitter(p, s, settings.seed), static_cast<uint32_t>(p));
+                        b.set_ray(r++, f, pose, px + jitter(p, s, settings.seed), static_cast<uint32_t>(p));
                     }
-                    const int32_t st = call(fn, user_data, view, b, static_cast<uint32_t>(r));
+                    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(r));
                     if (st != FOVEART_RESULT_SUCCESS) {
                       int32_t expected = FOVEART_RESULT_SUCCESS;
                       status.compare_exchange_strong(expected, st);
@@ -133,7 +112,7 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
                     const float inv = 1.0f / static_cast<float>(spp);
                     for (uint64_t p = first, k = 0; p < first + count; ++p) {
                       glm::vec3 sum(0.0f);
-                      for (uint32_t s = 0; s < spp; ++s, ++k) sum += glm::vec3(b.rgb[3 * k], b.rgb[3 * k + 1], b.rgb[3 * k + 2]);
+                      for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
                       out->rgb[p] = sum * inv;
                     }
                   });
@@ -153,19 +132,19 @@ RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const Foveart
   std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
   parallel_chunks(sample_px.size(), std::max<uint64_t>(1, settings.batch_rays), thread_count(settings.threads),
                   [&](uint64_t first, uint64_t count) {
-                    thread_local Batch b;
+                    thread_local RayBatch b;
                     b.resize(count);
                     for (uint64_t i = 0; i < count; ++i)
-                      set_ray(b, i, f, pose, sample_px[first + i],
+                      b.set_ray(i, f, pose, sample_px[first + i],
                               point_index.empty() ? static_cast<uint32_t>(first + i) : point_index[first + i]);
-                    const int32_t st = call(fn, user_data, view, b, static_cast<uint32_t>(count));
+                    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(count));
                     if (st != FOVEART_RESULT_SUCCESS) {
                       int32_t expected = FOVEART_RESULT_SUCCESS;
                       status.compare_exchange_strong(expected, st);
                       return;
                     }
                     for (uint64_t i = 0; i < count; ++i)
-                      (*out_rgb)[first + i] = glm::vec3(b.rgb[3 * i], b.rgb[3 * i + 1], b.rgb[3 * i + 2]);
+                      (*out_rgb)[first + i] = b.rgb(i);
                   });
   result.status = status.load();
   result.trace_ms = ms_since(t0);
@@ -184,14 +163,14 @@ RenderResult trace_points(FoveartTraceRaysFn fn, void* user_data, const FoveartE
   const uint64_t points_per_batch = std::max<uint64_t>(1, settings.batch_rays / spp);
   std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
   parallel_chunks(point_count, points_per_batch, thread_count(settings.threads), [&](uint64_t first, uint64_t count) {
-    thread_local Batch b;
+    thread_local RayBatch b;
     b.resize(count * spp);
     size_t r = 0;
     for (uint64_t p = first; p < first + count; ++p) {
       const uint32_t id = point_index.empty() ? static_cast<uint32_t>(p) : point_index[p];
-      for (uint32_t s = 0; s < spp; ++s) set_ray(b, r++, f, pose, sample_px(p, s), id);
+      for (uint32_t s = 0; s < spp; ++s) b.set_ray(r++, f, pose, sample_px(p, s), id);
     }
-    const int32_t st = call(fn, user_data, view, b, static_cast<uint32_t>(r));
+    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(r));
     if (st != FOVEART_RESULT_SUCCESS) {
       int32_t expected = FOVEART_RESULT_SUCCESS;
       status.compare_exchange_strong(expected, st);
@@ -200,7 +179,7 @@ RenderResult trace_points(FoveartTraceRaysFn fn, void* user_data, const FoveartE
     const float inv = 1.0f / static_cast<float>(spp);
     for (uint64_t p = first, k = 0; p < first + count; ++p) {
       glm::vec3 sum(0.0f);
-      for (uint32_t s = 0; s < spp; ++s, ++k) sum += glm::vec3(b.rgb[3 * k], b.rgb[3 * k + 1], b.rgb[3 * k + 2]);
+      for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
       (*out_point_rgb)[p] = sum * inv;
     }
   });

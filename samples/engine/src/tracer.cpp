@@ -46,6 +46,7 @@ struct LocalCounts {
   uint64_t shadow = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
+  uint64_t packets = 0;
 };
 
 // Rays of one packet: what to trace and where its radiance goes.
@@ -75,7 +76,7 @@ struct Tracer::Impl {
   std::array<std::vector<uint32_t>, 2> prim_to_triangle;  // per geometry id
   std::vector<glm::vec3> face_normal;
   float epsilon = 1e-4f;
-  std::atomic<uint64_t> n_primary{0}, n_shadow{0}, n_reflection{0}, n_refraction{0};
+  std::atomic<uint64_t> n_primary{0}, n_shadow{0}, n_reflection{0}, n_refraction{0}, n_packets{0};
   using Kernel = void (Impl::*)(PacketIn&, int, glm::vec3*, LocalCounts&) const;
   Kernel kernel = nullptr;
 
@@ -256,6 +257,7 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
   rtcIntersect16(in.valid, rtc_scene, &ctx, &rh);
+  ++counts.packets;
 
   // Surface data of the lanes that hit.
   bool hit[kLanes] = {};
@@ -332,6 +334,7 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
       if (n_valid == 0) continue;
       counts.shadow += static_cast<uint64_t>(n_valid);
       rtcOccluded16(valid, rtc_scene, &ctx, &sr);
+      ++counts.packets;
       for (int i = 0; i < kLanes; ++i)  // Embree sets tfar to -inf for occluded rays
         if (valid[i] == -1 && sr.tfar[i] >= 0.0f) color[in.target[i]] += contrib[i];
     }
@@ -457,6 +460,7 @@ int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
     n_shadow.fetch_add(counts.shadow, std::memory_order_relaxed);
     n_reflection.fetch_add(counts.reflection, std::memory_order_relaxed);
     n_refraction.fetch_add(counts.refraction, std::memory_order_relaxed);
+    n_packets.fetch_add(counts.packets, std::memory_order_relaxed);
     return FOVEART_RESULT_SUCCESS;
   } catch (const std::bad_alloc&) {
     return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
@@ -521,6 +525,7 @@ RayCounts Tracer::counts() const {
   c.shadow = impl_->n_shadow.load(std::memory_order_relaxed);
   c.reflection = impl_->n_reflection.load(std::memory_order_relaxed);
   c.refraction = impl_->n_refraction.load(std::memory_order_relaxed);
+  c.packets = impl_->n_packets.load(std::memory_order_relaxed);
   return c;
 }
 
@@ -529,6 +534,7 @@ void Tracer::reset_counts() {
   impl_->n_shadow = 0;
   impl_->n_reflection = 0;
   impl_->n_refraction = 0;
+  impl_->n_packets = 0;
 }
 
 }  // namespace foveart::engine

@@ -38,6 +38,8 @@ TEST(ThreadedInterpolation, TableGatherAndTaaAgreeAcrossThreadCounts) {
   EXPECT_EQ(last, 1.0);
   EXPECT_EQ(a.weights_f16, t1.weights_f16);
   EXPECT_EQ(b.weights_f16, t1.weights_f16);
+  EXPECT_EQ(a.layout.slot, t1.layout.slot);  // the gather layout is built on the same workers
+  EXPECT_EQ(b.layout.palette, t1.layout.palette);
 
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
@@ -51,6 +53,9 @@ TEST(ThreadedInterpolation, TableGatherAndTaaAgreeAcrossThreadCounts) {
   g1.threads = 1;
   g2.threads = 2;
   fv::gather(nt, t1, colors, map, one, g1);
+  fv::gather(nt, t1, colors, map, two, g2);
+  EXPECT_EQ(one.rgb, two.rgb);
+  g2.threads = 3;  // bands of whole tile rows: same bits for any split
   fv::gather(nt, t1, colors, map, two, g2);
   EXPECT_EQ(one.rgb, two.rgb);
 

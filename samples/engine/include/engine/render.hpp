@@ -5,6 +5,7 @@
 
 #include <engine/scene.hpp>
 
+#include <foveation/eye_rays.hpp>
 #include <foveation/ray_trace.h>
 
 #include <glm/vec2.hpp>
@@ -53,6 +54,43 @@ using SampleFn = std::function<glm::vec2(uint64_t point, uint32_t sample)>;
 RenderResult trace_points(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint64_t point_count,
                           const SampleFn& sample_px, const std::vector<uint32_t>& point_index,
                           const RenderSettings& settings, std::vector<glm::vec3>* out_point_rgb);
+
+// The building blocks of the drivers above, for callers that make their own
+// rays (e.g. the foveated renderer): a reusable batch for one callback call and
+// a chunked parallel loop.
+
+// Rays of one callback call, kept from call to call (one per thread) so that
+// nothing is allocated per batch once it has grown to the batch size.
+class RayBatch {
+ public:
+  void resize(size_t n);
+  // Ray i through screen position p of the view (origin at the eye), for point `point`.
+  void set_ray(size_t i, const foveation::EyeFrustum& f, const foveation::EyePose& pose, glm::vec2 p, uint32_t point) {
+    const glm::vec3 d = foveation::eye_ray_direction(f, pose, p);
+    float* o = origins_.data() + 3 * i;
+    float* dir = directions_.data() + 3 * i;
+    o[0] = pose.position_m.x;
+    o[1] = pose.position_m.y;
+    o[2] = pose.position_m.z;
+    dir[0] = d.x;
+    dir[1] = d.y;
+    dir[2] = d.z;
+    sample_px_[2 * i] = p.x;
+    sample_px_[2 * i + 1] = p.y;
+    point_index_[i] = point;
+  }
+  // Calls fn for rays [0, n); returns its status.
+  int32_t trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint32_t n);
+  glm::vec3 rgb(size_t i) const { return glm::vec3(rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]); }
+
+ private:
+  std::vector<float> origins_, directions_, sample_px_, rgb_;
+  std::vector<uint32_t> point_index_;
+};
+
+// Runs work(first, count) over [0, n) in chunks of `chunk` items from `threads`
+// threads (0 = all hardware threads; the calling thread is one of them).
+void parallel_chunks(uint64_t n, uint64_t chunk, int threads, const std::function<void(uint64_t, uint64_t)>& work);
 
 // The FOVE 0 headset per eye: 1280x1440 px, 95 deg horizontal field of view,
 // square pixels; eye 0 (left) / 1 (right) 32 mm either side of the head pose.

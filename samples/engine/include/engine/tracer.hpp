@@ -38,6 +38,9 @@ struct RayCounts {
   uint64_t shadow = 0;
   uint64_t reflection = 0;
   uint64_t refraction = 0;
+  // Embree calls (rtcIntersect16 + rtcOccluded16): total() / packets is the mean
+  // number of active lanes of 16, a load-independent measure of packet coherence.
+  uint64_t packets = 0;
   uint64_t total() const { return primary + shadow + reflection + refraction; }
 };
 
