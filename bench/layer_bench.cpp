@@ -1,5 +1,6 @@
 // Layer overhead per eye excluding the engine: one 1280x1440 FOVE eye, a
 // constant-colour callback, NN / MSM k=5 / RBF k=5, TAA on and off.
+// Time = wall, CPU = all threads of the process (the worker pool's too).
 // Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).
 #include <cstdlib>
 #include <map>
@@ -70,6 +71,8 @@ BENCHMARK(BM_EyeFramePath)
                     XR_FOVEATED_INTERPOLATION_RBF_FOVEART},
                    {0, 1}})
     ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()  // CPU of all threads: comparable on a loaded machine
+    ->UseRealTime()
     ->Iterations(5);
 
 }  // namespace

@@ -7,54 +7,204 @@
 
 #include <glm/geometric.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace foveart::foveation {
 
 namespace {
 
+// One thread's rows of the current frame, deinterleaved into planes with the
+// edge pixel repeated on both sides (x = -1 and x = w read like x = 0 and
+// x = w - 1: the clamp-to-edge of the 3x3 neighbourhood without branches).
+// Rows live in slot row % 3, so the three rows around y never collide.
+struct RowPlanes {
+  int width = 0;
+  int loaded[3] = {-1, -1, -1};
+  std::vector<float> data;  // [slot][channel][width + 2]
+
+  explicit RowPlanes(int w) : width(w), data(std::size_t(9) * std::size_t(w + 2)) {}
+  float* plane(int slot, int channel) { return data.data() + std::size_t(slot * 3 + channel) * std::size_t(width + 2); }
+  const float* row(const ImageRgb& img, int y, int channel) {
+    const int slot = y % 3;
+    if (loaded[slot] != y) {
+      const float* src = img.at(0, y);
+      for (int i = 0; i < 3; ++i) {
+        float* dst = plane(slot, i);
+        for (int x = 0; x < width; ++x) dst[x + 1] = src[std::size_t(x) * 3 + std::size_t(i)];
+        dst[0] = dst[1];
+        dst[width + 1] = dst[width];
+      }
+      loaded[slot] = y;
+    }
+    return plane(slot, channel);
+  }
+};
+
+// One row, planar in and out. Each lane is one pixel and does exactly the
+// operations of the scalar definition in the same order (taps row by row,
+// left to right; no FMA on x86-64), so the result is bit-identical to it.
+// Written without inner loops or branches so GCC vectorises it across x.
+struct Moments {
+  float m1, m2;
+};
+inline Moments moments(const float* __restrict a, const float* __restrict b, const float* __restrict c, int x) {
+  float m1 = 0.0f, m2 = 0.0f;
+  m1 += a[x]; m2 += a[x] * a[x];
+  m1 += a[x + 1]; m2 += a[x + 1] * a[x + 1];
+  m1 += a[x + 2]; m2 += a[x + 2] * a[x + 2];
+  m1 += b[x]; m2 += b[x] * b[x];
+  m1 += b[x + 1]; m2 += b[x + 1] * b[x + 1];
+  m1 += b[x + 2]; m2 += b[x + 2] * b[x + 2];
+  m1 += c[x]; m2 += c[x] * c[x];
+  m1 += c[x + 1]; m2 += c[x + 1] * c[x + 1];
+  m1 += c[x + 2]; m2 += c[x + 2] * c[x + 2];
+  return {m1, m2};
+}
+// Karis 2014: clamp to the 3x3 min/max box.
+inline float clamp_to_box(float h, const float* __restrict a, const float* __restrict b, const float* __restrict c,
+                          int x) {
+  float lo = INFINITY, hi = -INFINITY;
+  lo = std::min(lo, a[x]); hi = std::max(hi, a[x]);
+  lo = std::min(lo, a[x + 1]); hi = std::max(hi, a[x + 1]);
+  lo = std::min(lo, a[x + 2]); hi = std::max(hi, a[x + 2]);
+  lo = std::min(lo, b[x]); hi = std::max(hi, b[x]);
+  lo = std::min(lo, b[x + 1]); hi = std::max(hi, b[x + 1]);
+  lo = std::min(lo, b[x + 2]); hi = std::max(hi, b[x + 2]);
+  lo = std::min(lo, c[x]); hi = std::max(hi, c[x]);
+  lo = std::min(lo, c[x + 1]); hi = std::max(hi, c[x + 1]);
+  lo = std::min(lo, c[x + 2]); hi = std::max(hi, c[x + 2]);
+  return std::min(std::max(h, lo), hi);  // = std::clamp(h, lo, hi) for lo <= hi, NaN included
+}
+
+// Rows above (a), at (b) and below (c) per channel; restrict parameters so
+// GCC needs no runtime alias checks.
+template <TaaConstraint kConstraint>
+void taa_row(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
+             const float* __restrict b0, const float* __restrict b1, const float* __restrict b2,
+             const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
+             const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
+             float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha, float gamma) {
+  constexpr float kTaps = 9.0f;
+  for (int x = 0; x < w; ++x) {
+    float v0 = h0[x], v1 = h1[x], v2 = h2[x];
+    if constexpr (kConstraint == TaaConstraint::minmax_clamp) {
+      v0 = clamp_to_box(v0, a0, b0, c0, x);
+      v1 = clamp_to_box(v1, a1, b1, c1, x);
+      v2 = clamp_to_box(v2, a2, b2, c2, x);
+    } else {
+      // Salvi 2016: clip the history towards the mean onto the box mu +- gamma sigma.
+      const Moments s0 = moments(a0, b0, c0, x), s1 = moments(a1, b1, c1, x), s2 = moments(a2, b2, c2, x);
+      const float mu0 = s0.m1 / kTaps, mu1 = s1.m1 / kTaps, mu2 = s2.m1 / kTaps;
+      const float e0 = gamma * std::sqrt(std::max(0.0f, s0.m2 / kTaps - mu0 * mu0)) + 1e-6f;
+      const float e1 = gamma * std::sqrt(std::max(0.0f, s1.m2 / kTaps - mu1 * mu1)) + 1e-6f;
+      const float e2 = gamma * std::sqrt(std::max(0.0f, s2.m2 / kTaps - mu2 * mu2)) + 1e-6f;
+      const float d0 = std::abs(v0 - mu0), d1 = std::abs(v1 - mu1), d2 = std::abs(v2 - mu2);
+      float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
+      const float q0 = e0 / d0, q1 = e1 / d1, q2 = e2 / d2;
+      // min(t, 1) = t as t <= 1: the same as "if (d > e) t = min(t, e / d)".
+      t = std::min(t, d0 > e0 ? q0 : 1.0f);
+      t = std::min(t, d1 > e1 ? q1 : 1.0f);
+      t = std::min(t, d2 > e2 ? q2 : 1.0f);
+      v0 = mu0 + (v0 - mu0) * t;
+      v1 = mu1 + (v1 - mu1) * t;
+      v2 = mu2 + (v2 - mu2) * t;
+    }
+    o0[x] = v0 + alpha * (b0[x + 1] - v0);
+    o1[x] = v1 + alpha * (b1[x + 1] - v1);
+    o2[x] = v2 + alpha * (b2[x + 1] - v2);
+  }
+}
+
+#if defined(__SSE2__)
+// The variance-clip row with SSE2, four pixels per step: the same IEEE
+// operations per lane as taa_row<variance_clip> (min/max operands ordered as
+// std::min/std::max, so NaN behaves the same), hence bit-identical.
+void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
+                          const float* __restrict b0, const float* __restrict b1, const float* __restrict b2,
+                          const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
+                          const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
+                          float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha,
+                          float gamma) {
+  const __m128 taps = _mm_set1_ps(9.0f), zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
+  const __m128 eps = _mm_set1_ps(1e-6f), va = _mm_set1_ps(alpha), vg = _mm_set1_ps(gamma);
+  const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
+  struct Stat {
+    __m128 mu, e;
+  };
+  auto stat = [&](const float* a, const float* b, const float* c, int x) {
+    __m128 m1 = zero, m2 = zero;
+    const float* rows[3] = {a, b, c};
+    for (const float* r : rows) {
+      for (int dx = 0; dx < 3; ++dx) {
+        const __m128 v = _mm_loadu_ps(r + x + dx);
+        m1 = _mm_add_ps(m1, v);
+        m2 = _mm_add_ps(m2, _mm_mul_ps(v, v));
+      }
+    }
+    const __m128 mu = _mm_div_ps(m1, taps);
+    const __m128 var = _mm_max_ps(_mm_sub_ps(_mm_div_ps(m2, taps), _mm_mul_ps(mu, mu)), zero);  // std::max(0, v)
+    return Stat{mu, _mm_add_ps(_mm_mul_ps(vg, _mm_sqrt_ps(var)), eps)};
+  };
+  auto scale = [&](__m128 t, __m128 v, const Stat& s) {
+    const __m128 d = _mm_and_ps(_mm_sub_ps(v, s.mu), abs_mask);
+    const __m128 q = _mm_div_ps(s.e, d);
+    const __m128 over = _mm_cmpgt_ps(d, s.e);
+    const __m128 c = _mm_or_ps(_mm_and_ps(over, q), _mm_andnot_ps(over, one));
+    return _mm_min_ps(c, t);  // std::min(t, c)
+  };
+  auto blend = [&](__m128 v, const Stat& s, __m128 t, const float* cur, float* out, int x) {
+    const __m128 hv = _mm_add_ps(s.mu, _mm_mul_ps(_mm_sub_ps(v, s.mu), t));
+    _mm_storeu_ps(out + x, _mm_add_ps(hv, _mm_mul_ps(va, _mm_sub_ps(_mm_loadu_ps(cur + x + 1), hv))));
+  };
+  int x = 0;
+  for (; x + 4 <= w; x += 4) {
+    const Stat s0 = stat(a0, b0, c0, x), s1 = stat(a1, b1, c1, x), s2 = stat(a2, b2, c2, x);
+    const __m128 v0 = _mm_loadu_ps(h0 + x), v1 = _mm_loadu_ps(h1 + x), v2 = _mm_loadu_ps(h2 + x);
+    __m128 t = one;
+    t = scale(t, v0, s0);
+    t = scale(t, v1, s1);
+    t = scale(t, v2, s2);
+    blend(v0, s0, t, b0, o0, x);
+    blend(v1, s1, t, b1, o1, x);
+    blend(v2, s2, t, b2, o2, x);
+  }
+  if (x < w) {  // the last 1..3 pixels
+    taa_row<TaaConstraint::variance_clip>(a0 + x, a1 + x, a2 + x, b0 + x, b1 + x, b2 + x, c0 + x, c1 + x, c2 + x, h0 + x,
+                                          h1 + x, h2 + x, o0 + x, o1 + x, o2 + x, w - x, alpha, gamma);
+  }
+}
+#endif
+
 // Rows [y0, y1): out = lerp(constrain(history), current, alpha).
 void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TaaOptions& o, int y0, int y1) {
   const int w = cur.width_px, h = cur.height_px;
-  const float alpha = o.current_weight;
+  RowPlanes planes(w);
+  std::vector<float> hist_row(std::size_t(w) * 3), out_row(std::size_t(w) * 3);
+  const float* const hist_planes[3] = {hist_row.data(), hist_row.data() + w, hist_row.data() + 2 * w};
+  float* const out_planes[3] = {out_row.data(), out_row.data() + w, out_row.data() + 2 * w};
   for (int y = y0; y < y1; ++y) {
+    const int ya = std::max(y - 1, 0), yb = std::min(y + 1, h - 1);
+    const float* const r0[3] = {planes.row(cur, ya, 0), planes.row(cur, ya, 1), planes.row(cur, ya, 2)};
+    const float* const r1[3] = {planes.row(cur, y, 0), planes.row(cur, y, 1), planes.row(cur, y, 2)};
+    const float* const r2[3] = {planes.row(cur, yb, 0), planes.row(cur, yb, 1), planes.row(cur, yb, 2)};
+    const float* src = hist.at(0, y);
     for (int x = 0; x < w; ++x) {
-      float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-      float m1[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
-      int n = 0;
-      for (int dy = -1; dy <= 1; ++dy) {
-        const int yy = std::clamp(y + dy, 0, h - 1);
-        for (int dx = -1; dx <= 1; ++dx) {
-          const float* c = cur.at(std::clamp(x + dx, 0, w - 1), yy);
-          for (int i = 0; i < 3; ++i) {
-            lo[i] = std::min(lo[i], c[i]);
-            hi[i] = std::max(hi[i], c[i]);
-            m1[i] += c[i];
-            m2[i] += c[i] * c[i];
-          }
-          ++n;
-        }
-      }
-      const float* c = cur.at(x, y);
-      const float* hp = hist.at(x, y);
-      float* dst = out.at(x, y);
-      float hv[3] = {hp[0], hp[1], hp[2]};
-      if (o.constraint == TaaConstraint::minmax_clamp) {
-        for (int i = 0; i < 3; ++i) hv[i] = std::clamp(hv[i], lo[i], hi[i]);  // Karis 2014
-      } else {
-        // Salvi 2016: clip the history towards the mean onto the box mu +- gamma sigma.
-        float mu[3], ext[3];
-        for (int i = 0; i < 3; ++i) {
-          mu[i] = m1[i] / float(n);
-          const float var = std::max(0.0f, m2[i] / float(n) - mu[i] * mu[i]);
-          ext[i] = o.variance_gamma * std::sqrt(var) + 1e-6f;
-        }
-        float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
-        for (int i = 0; i < 3; ++i) {
-          const float d = std::abs(hv[i] - mu[i]);
-          if (d > ext[i]) t = std::min(t, ext[i] / d);
-        }
-        for (int i = 0; i < 3; ++i) hv[i] = mu[i] + (hv[i] - mu[i]) * t;
-      }
-      for (int i = 0; i < 3; ++i) dst[i] = hv[i] + alpha * (c[i] - hv[i]);
+      for (int i = 0; i < 3; ++i) hist_row[std::size_t(i) * std::size_t(w) + std::size_t(x)] = src[std::size_t(x) * 3 + std::size_t(i)];
+    }
+#if defined(__SSE2__)
+    auto* row = o.constraint == TaaConstraint::minmax_clamp ? &taa_row<TaaConstraint::minmax_clamp>
+                                                            : &taa_row_variance_sse;
+#else
+    auto* row = o.constraint == TaaConstraint::minmax_clamp ? &taa_row<TaaConstraint::minmax_clamp>
+                                                            : &taa_row<TaaConstraint::variance_clip>;
+#endif
+    row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
+        hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma);
+    float* dst = out.at(0, y);
+    for (int x = 0; x < w; ++x) {
+      for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_row[std::size_t(i) * std::size_t(w) + std::size_t(x)];
     }
   }
 }

@@ -30,6 +30,10 @@ bool load_next_dispatch(XrInstance instance, PFN_xrGetInstanceProcAddr next_gipa
   ok = load(instance, next_gipa, "xrReleaseSwapchainImage", &d.ReleaseSwapchainImage) && ok;
   ok = load(instance, next_gipa, "xrLocateSpace", &d.LocateSpace) && ok;
   ok = load(instance, next_gipa, "xrGetSystemProperties", &d.GetSystemProperties) && ok;
+  ok = load(instance, next_gipa, "xrSuggestInteractionProfileBindings", &d.SuggestInteractionProfileBindings) && ok;
+  ok = load(instance, next_gipa, "xrAttachSessionActionSets", &d.AttachSessionActionSets) && ok;
+  ok = load(instance, next_gipa, "xrSyncActions", &d.SyncActions) && ok;
+  ok = load(instance, next_gipa, "xrGetCurrentInteractionProfile", &d.GetCurrentInteractionProfile) && ok;
   *out = d;
   return ok;
 }

@@ -25,6 +25,11 @@ struct NextDispatch {
   PFN_xrReleaseSwapchainImage ReleaseSwapchainImage = nullptr;
   PFN_xrLocateSpace LocateSpace = nullptr;
   PFN_xrGetSystemProperties GetSystemProperties = nullptr;
+  // The action system (the eye gaze source rides along the app's calls).
+  PFN_xrSuggestInteractionProfileBindings SuggestInteractionProfileBindings = nullptr;
+  PFN_xrAttachSessionActionSets AttachSessionActionSets = nullptr;
+  PFN_xrSyncActions SyncActions = nullptr;
+  PFN_xrGetCurrentInteractionProfile GetCurrentInteractionProfile = nullptr;
 };
 
 // Loads every entry above from next_gipa; false if a core function is missing.

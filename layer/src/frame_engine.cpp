@@ -61,7 +61,7 @@ class FoveatedFrameEngine final : public FrameEngine {
   FoveatedFrameEngine(std::shared_ptr<SessionState> session, const RendererSettings& settings)
       : session_(std::move(session)), settings_(settings), pool_(settings.worker_threads) {
     std::string warning;
-    gaze_ = create_gaze_source(settings_, &warning);
+    gaze_ = create_gaze_source(settings_, *session_, &warning);
     if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
   }
 
@@ -77,8 +77,16 @@ class FoveatedFrameEngine final : public FrameEngine {
     // XrTime on Linux runtimes is CLOCK_MONOTONIC (= steady_clock); a clock far
     // away (virtual runtime clock) is replaced by now for gaze prediction.
     const int64_t now_ns = steady_now_ns();
-    const int64_t display_ns = std::llabs(display_time - now_ns) < 1'000'000'000 ? display_time : now_ns;
-    const FrameGaze gaze = gaze_->at(display_ns, now_ns);
+    const bool steady = std::llabs(display_time - now_ns) < 1'000'000'000;
+    GazeQuery query;
+    query.display_time_ns = steady ? display_time : now_ns;
+    query.now_ns = now_ns;
+    query.display_time = display_time;
+    query.runtime_clock_is_steady = steady;
+    query.space = layer.space;
+    query.views = out_views;
+    query.view_count = layer.viewCount;
+    const FrameGaze gaze = gaze_->at(query);
     stats->gazeSource = gaze.valid ? gaze.source : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
     stats->gazeAgeMs = gaze.valid ? gaze.age_ms : 0.0f;
     stats->fallbackFlags = gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
@@ -179,6 +187,7 @@ class FoveatedFrameEngine final : public FrameEngine {
       request.gaze_px = frustum.pixel_of(gaze.direction_view[e]);
     }
     request.gaze_px = glm::round(request.gaze_px);
+    stats->gazePixel[e] = XrVector2f{request.gaze_px.x, request.gaze_px.y};
 
     ViewOutcome outcome;
     try {

@@ -5,6 +5,10 @@
 
 #include <glm/geometric.hpp>
 
+#include "eye_math.hpp"
+#include "log.hpp"
+#include "state.hpp"
+
 #ifdef FOVEART_LAYER_HAS_GAZE
 #include "gaze_provider/gaze_provider.h"
 #endif
@@ -14,7 +18,45 @@ namespace {
 
 class NoGaze final : public GazeSource {
  public:
-  FrameGaze at(int64_t, int64_t) override { return {}; }
+  FrameGaze at(const GazeQuery&) override { return {}; }
+};
+
+// XR_EXT_eye_gaze_interaction: the gaze pose located in the projection layer's
+// space at display time; its -z axis, seen from each eye's view pose, is that
+// eye's gaze direction (fixation at infinity, as the provider path assumes).
+class EyeGazeInteraction final : public GazeSource {
+ public:
+  explicit EyeGazeInteraction(std::shared_ptr<SessionEyeGaze> session) : session_(std::move(session)) {}
+
+  FrameGaze at(const GazeQuery& q) override {
+    FrameGaze out;
+    out.source = XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART;
+    const auto gaze = session_->locate(q.space, q.display_time);
+    if (!gaze.valid) {
+      if (gaze.problem != last_problem_) {  // once per change, not per frame
+        log(LogLevel::Info, "XR_EXT_eye_gaze_interaction: ", gaze.problem, "; fixed foveation at the lens centre");
+        last_problem_ = gaze.problem;
+      }
+      return out;
+    }
+    last_problem_.clear();
+    const glm::vec3 forward = to_glm(gaze.pose_in_space.orientation) * glm::vec3(0.0f, 0.0f, -1.0f);
+    for (uint32_t e = 0; e < 2 && e < q.view_count; ++e) {
+      const glm::quat eye = glm::normalize(to_glm(q.views[e].pose.orientation));
+      out.direction_view[e] = glm::normalize(glm::conjugate(eye) * forward);
+    }
+    if (gaze.sample_time != 0) {
+      // Age at composition; under a virtual runtime clock, at display time.
+      const int64_t now = q.runtime_clock_is_steady ? q.now_ns : q.display_time;
+      out.age_ms = static_cast<float>(static_cast<double>(now - gaze.sample_time) * 1e-6);
+    }
+    out.valid = q.view_count > 0;
+    return out;
+  }
+
+ private:
+  std::shared_ptr<SessionEyeGaze> session_;
+  std::string last_problem_;
 };
 
 #ifdef FOVEART_LAYER_HAS_GAZE
@@ -30,10 +72,11 @@ class ProviderGaze final : public GazeSource {
   explicit ProviderGaze(std::unique_ptr<gaze::GazeProvider> provider) : provider_(std::move(provider)) {}
   ~ProviderGaze() override { provider_->stop(); }
 
-  FrameGaze at(int64_t display_time_ns, int64_t now_ns) override {
+  FrameGaze at(const GazeQuery& q) override {
     FrameGaze out;
     out.source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
-    const auto sample = provider_->sample_at(display_time_ns);
+    const int64_t now_ns = q.now_ns;
+    const auto sample = provider_->sample_at(q.display_time_ns);
     if (!sample || !sample->valid || sample->lost || !usable(sample->combined_direction)) return out;
     const gaze::EyeGaze* eyes[2] = {&sample->left, &sample->right};
     for (int e = 0; e < 2; ++e) {
@@ -54,7 +97,8 @@ class ProviderGaze final : public GazeSource {
 
 }  // namespace
 
-std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, std::string* out_warning) {
+std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, const SessionState& session,
+                                               std::string* out_warning) {
   switch (settings.gaze_source) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: {
 #ifdef FOVEART_LAYER_HAS_GAZE
@@ -76,10 +120,25 @@ std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings,
       return std::make_unique<NoGaze>();
 #endif
     }
-    case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART:
-      *out_warning = "gaze source XR_EXT_eye_gaze_interaction is not implemented yet; fixed foveation at the "
-                     "lens centre";
-      return std::make_unique<NoGaze>();
+    case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: {
+      const auto& actions = session.instance->eye_gaze;
+      if (!actions.ready() || session.eye_gaze == nullptr) {
+        *out_warning = "gaze source XR_EXT_eye_gaze_interaction unavailable: " +
+                       (actions.unavailable_reason.empty() ? std::string("the layer's gaze action could not be set up")
+                                                           : actions.unavailable_reason) +
+                       "; fixed foveation at the lens centre";
+        return std::make_unique<NoGaze>();
+      }
+      XrSystemEyeGazeInteractionPropertiesEXT eye{XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT, nullptr, XR_FALSE};
+      XrSystemProperties props{XR_TYPE_SYSTEM_PROPERTIES, &eye, XR_NULL_SYSTEM_ID, 0, {}, {}, {}};
+      const XrResult r = session.instance->next.GetSystemProperties(session.instance->handle, session.system_id, &props);
+      if (XR_FAILED(r) || eye.supportsEyeGazeInteraction != XR_TRUE) {
+        *out_warning = "gaze source XR_EXT_eye_gaze_interaction: the system reports no eye tracking "
+                       "(supportsEyeGazeInteraction = XR_FALSE); fixed foveation at the lens centre";
+        return std::make_unique<NoGaze>();
+      }
+      return std::make_unique<EyeGazeInteraction>(session.eye_gaze);
+    }
     default:
       return std::make_unique<NoGaze>();
   }

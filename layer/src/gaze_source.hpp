@@ -1,5 +1,6 @@
 // Where the layer's gaze comes from: the FoveaRT gaze provider (predicted to
-// the frame's display time) or nothing (fixed foveation at the lens centre).
+// the frame's display time), the runtime's XR_EXT_eye_gaze_interaction (located
+// at display time) or nothing (fixed foveation at the lens centre).
 #pragma once
 
 #include <memory>
@@ -18,16 +19,28 @@ struct FrameGaze {
   XrFoveatedGazeSourceFOVEART source = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
 };
 
+// One frame's question: when, and for which views.
+struct GazeQuery {
+  int64_t display_time_ns = 0;  // steady clock: the frame's display time (or now, see frame_engine)
+  int64_t now_ns = 0;           // steady clock: composition (xrEndFrame)
+  XrTime display_time = 0;      // the frame's display time on the runtime's clock
+  bool runtime_clock_is_steady = true;  // XrTime is CLOCK_MONOTONIC (false: a virtual runtime clock)
+  XrSpace space = XR_NULL_HANDLE;       // the projection layer's space, where the views' poses live
+  const XrCompositionLayerProjectionView* views = nullptr;
+  uint32_t view_count = 0;
+};
+
 class GazeSource {
  public:
   virtual ~GazeSource() = default;
-  // Gaze predicted for the frame displayed at display_time_ns; its age is taken
-  // at now_ns (composition). Both steady clock.
-  virtual FrameGaze at(int64_t display_time_ns, int64_t now_ns) = 0;
+  // Gaze for the frame displayed at query.display_time (the provider predicts
+  // to it); its age is taken at composition.
+  virtual FrameGaze at(const GazeQuery& query) = 0;
 };
 
 // Never null: when the requested source cannot be opened, a source that always
 // reports "no gaze" is returned and the reason is written to *out_warning.
-std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, std::string* out_warning);
+std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, const SessionState& session,
+                                               std::string* out_warning);
 
 }  // namespace foveart::layer

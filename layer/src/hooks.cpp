@@ -9,6 +9,7 @@
 
 #include "barrier.hpp"
 #include "log.hpp"
+#include "next_chain.hpp"
 #include "renderer.hpp"
 
 namespace foveart::layer {
@@ -54,6 +55,10 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateSession(XrInstance instance, const X
       session->vk_queue_family_index = vk->queueFamilyIndex;
       session->vk_queue_index = vk->queueIndex;
     }
+    if (state->eye_gaze.ready()) {
+      session->eye_gaze = std::make_shared<SessionEyeGaze>(*out_session, state->eye_gaze,
+                                                           state->next.GetInstanceProcAddr, instance);
+    }
     Registry::get().add_session(std::move(session));
     return result;
   });
@@ -66,6 +71,82 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrDestroySession(XrSession session) noexcept
     auto renderers = Registry::get().remove_session(session);
     renderers.clear();  // their swapchains go before the session
     return state->instance->next.DestroySession(session);
+  });
+}
+
+// The action system: the layer's gaze action rides along the app's calls.
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrSuggestInteractionProfileBindings(
+    XrInstance instance, const XrInteractionProfileSuggestedBinding* info) noexcept {
+  return exception_barrier("xrSuggestInteractionProfileBindings", [&]() -> XrResult {
+    auto state = Registry::get().instance(instance);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const auto& gaze = state->eye_gaze;
+    if (info == nullptr || !gaze.ready() || info->interactionProfile != gaze.profile) {
+      return state->next.SuggestInteractionProfileBindings(instance, info);
+    }
+    // The app did not enable XR_EXT_eye_gaze_interaction: to it the profile does not exist.
+    if (gaze.hidden_from_app) return XR_ERROR_PATH_UNSUPPORTED;
+    // Suggestions replace earlier ones per profile: keep the layer's binding in.
+    std::vector<XrActionSuggestedBinding> bindings;
+    if (info->suggestedBindings != nullptr) {
+      bindings.assign(info->suggestedBindings, info->suggestedBindings + info->countSuggestedBindings);
+    }
+    bindings.push_back(XrActionSuggestedBinding{gaze.pose_action, gaze.gaze_pose});
+    XrInteractionProfileSuggestedBinding merged = *info;
+    merged.countSuggestedBindings = static_cast<uint32_t>(bindings.size());
+    merged.suggestedBindings = bindings.data();
+    return state->next.SuggestInteractionProfileBindings(instance, &merged);
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrAttachSessionActionSets(XrSession session,
+                                                               const XrSessionActionSetsAttachInfo* info) noexcept {
+  return exception_barrier("xrAttachSessionActionSets", [&]() -> XrResult {
+    auto state = Registry::get().session(session);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const auto next = state->instance->next.AttachSessionActionSets;
+    if (info == nullptr || state->eye_gaze == nullptr) return next(session, info);
+    bool already = false;
+    const auto sets = state->eye_gaze->sets_to_attach(*info, &already);
+    if (already) {
+      log(LogLevel::Warn, "xrAttachSessionActionSets: the layer already attached its gaze action set (the app "
+                          "attached nothing before its first foveated frame); the runtime decides");
+      return next(session, info);
+    }
+    XrSessionActionSetsAttachInfo down = *info;
+    down.countActionSets = static_cast<uint32_t>(sets.size());
+    down.actionSets = sets.data();
+    const XrResult result = next(session, &down);
+    state->eye_gaze->app_attached(result);
+    return result;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrSyncActions(XrSession session, const XrActionsSyncInfo* info) noexcept {
+  return exception_barrier("xrSyncActions", [&]() -> XrResult {
+    auto state = Registry::get().session(session);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const auto next = state->instance->next.SyncActions;
+    if (info == nullptr || state->eye_gaze == nullptr) return next(session, info);
+    const auto sets = state->eye_gaze->sets_to_sync(*info);
+    XrActionsSyncInfo down = *info;
+    down.countActiveActionSets = static_cast<uint32_t>(sets.size());
+    down.activeActionSets = sets.empty() ? nullptr : sets.data();
+    const XrResult result = next(session, &down);
+    state->eye_gaze->app_synced(result);
+    return result;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrGetCurrentInteractionProfile(XrSession session, XrPath top_level_user_path,
+                                                                    XrInteractionProfileState* profile) noexcept {
+  return exception_barrier("xrGetCurrentInteractionProfile", [&]() -> XrResult {
+    auto state = Registry::get().session(session);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const auto& gaze = state->instance->eye_gaze;
+    // /user/eyes_ext does not exist for an app that did not enable the extension.
+    if (gaze.ready() && gaze.hidden_from_app && top_level_user_path == gaze.eyes_user) return XR_ERROR_PATH_UNSUPPORTED;
+    return state->instance->next.GetCurrentInteractionProfile(session, top_level_user_path, profile);
   });
 }
 
@@ -83,6 +164,7 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
   std::vector<const XrCompositionLayerBaseHeader*> layers(info->layers, info->layers + info->layerCount);
   std::vector<XrCompositionLayerProjection> projections;
   std::vector<std::vector<XrCompositionLayerProjectionView>> views;
+  ChainCopies chain_copies;  // the app's next chains minus our struct
   projections.reserve(info->layerCount);
   views.reserve(info->layerCount);
   for (uint32_t i = 0; i < info->layerCount; ++i) {
@@ -96,8 +178,15 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
     if (renderer == nullptr) continue;  // unknown renderer: the app's views as submitted
 
     auto& copy = projections.emplace_back(*projection);
-    // Strip our struct when it heads the chain so layers below never see it.
-    if (copy.next == opt_in) copy.next = opt_in->next;
+    // Strip our struct wherever it sits, so layers below never see it; the
+    // app's structs stay as submitted (the nodes before it are copied).
+    if (!chain_copies.without(projection->next, opt_in, &copy.next)) {
+      static LogOnce once;
+      if (once.first()) {
+        log(LogLevel::Warn, "xrEndFrame: a struct of unknown type precedes XrFoveatedRayTracingLayerFOVEART in the "
+                            "projection layer's next chain; it is forwarded as is (logged once)");
+      }
+    }
     auto& view_copy = views.emplace_back(projection->views, projection->views + projection->viewCount);
     try {
       renderer->render(info->displayTime, *projection, view_copy.data());
@@ -181,6 +270,10 @@ const HookEntry* hooks_begin(std::size_t* out_count) {
       {"xrCreateSession", as_void(&hook_xrCreateSession), false},
       {"xrDestroySession", as_void(&hook_xrDestroySession), false},
       {"xrEndFrame", as_void(&hook_xrEndFrame), false},
+      {"xrSuggestInteractionProfileBindings", as_void(&hook_xrSuggestInteractionProfileBindings), false},
+      {"xrAttachSessionActionSets", as_void(&hook_xrAttachSessionActionSets), false},
+      {"xrSyncActions", as_void(&hook_xrSyncActions), false},
+      {"xrGetCurrentInteractionProfile", as_void(&hook_xrGetCurrentInteractionProfile), false},
       {"xrCreateFoveatedRendererFOVEART", as_void(&hook_xrCreateFoveatedRendererFOVEART), true},
       {"xrDestroyFoveatedRendererFOVEART", as_void(&hook_xrDestroyFoveatedRendererFOVEART), true},
       {"xrGetFoveatedRendererStatsFOVEART", as_void(&hook_xrGetFoveatedRendererStatsFOVEART), true},

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "barrier.hpp"
+#include "eye_gaze.hpp"
 #include "hooks.hpp"
 #include "loader_interfaces.h"
 #include "log.hpp"
@@ -78,6 +79,26 @@ XrResult create_api_layer_instance(const XrInstanceCreateInfo* info, const XrApi
     if (name != nullptr && kLayerName == name) continue;
     layers.push_back(name);
   }
+  // XR_EXT_eye_gaze_interaction for the layer's gaze source: enabled below us
+  // when the app enabled our extension and the next link offers it, even if the
+  // app did not ask for it (then it is hidden from the app).
+  bool added_eye_gaze = false;
+  bool eye_gaze_unanswered = false;
+  if (state->extension_enabled && state->config.enabled && !state->eye_gaze_enabled) {
+    bool answered = false;
+    const bool offered = next_offers_extension(next_info->nextGetInstanceProcAddr,
+                                               XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME, &answered);
+    eye_gaze_unanswered = !answered;
+    if (offered || !answered) {  // unanswered: try, and retry without it if refused
+      extensions.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+      added_eye_gaze = true;
+    } else {
+      state->eye_gaze.unavailable_reason = "the runtime (or the next layer) does not offer it";
+      log(LogLevel::Info, "XR_EXT_eye_gaze_interaction: not offered by the runtime (or the next layer); "
+                          "gaze source eye_gaze_interaction will use fixed foveation");
+    }
+  }
+
   XrInstanceCreateInfo down_info = *info;
   down_info.enabledApiLayerCount = static_cast<uint32_t>(layers.size());
   down_info.enabledApiLayerNames = layers.empty() ? nullptr : layers.data();
@@ -86,7 +107,18 @@ XrResult create_api_layer_instance(const XrInstanceCreateInfo* info, const XrApi
 
   XrApiLayerCreateInfo down_layer_info = *layer_info;
   down_layer_info.nextInfo = next_info->next;
-  const XrResult result = next_info->nextCreateApiLayerInstance(&down_info, &down_layer_info, out_instance);
+  XrResult result = next_info->nextCreateApiLayerInstance(&down_info, &down_layer_info, out_instance);
+  if (result == XR_ERROR_EXTENSION_NOT_PRESENT && added_eye_gaze) {
+    extensions.pop_back();
+    added_eye_gaze = false;
+    down_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    down_info.enabledExtensionNames = extensions.empty() ? nullptr : extensions.data();
+    state->eye_gaze.unavailable_reason = "the runtime (or the next layer) refused it";
+    log(LogLevel::Info, "XR_EXT_eye_gaze_interaction: refused below the layer",
+        eye_gaze_unanswered ? " (the extension list could not be enumerated)" : "",
+        "; gaze source eye_gaze_interaction will use fixed foveation");
+    result = next_info->nextCreateApiLayerInstance(&down_info, &down_layer_info, out_instance);
+  }
   if (XR_FAILED(result)) return result;
 
   state->handle = *out_instance;
@@ -95,6 +127,11 @@ XrResult create_api_layer_instance(const XrInstanceCreateInfo* info, const XrApi
     if (state->next.DestroyInstance != nullptr) state->next.DestroyInstance(state->handle);
     *out_instance = XR_NULL_HANDLE;
     return XR_ERROR_INITIALIZATION_FAILED;
+  }
+  state->eye_gaze.extension_enabled = state->eye_gaze_enabled || added_eye_gaze;
+  state->eye_gaze.hidden_from_app = added_eye_gaze;
+  if (state->extension_enabled && state->config.enabled && state->eye_gaze.extension_enabled) {
+    create_eye_gaze_actions(state->handle, next_info->nextGetInstanceProcAddr, &state->eye_gaze);
   }
   Registry::get().add_instance(std::move(state));
   return result;

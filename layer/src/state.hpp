@@ -12,6 +12,7 @@
 
 #include "config.hpp"
 #include "dispatch.hpp"
+#include "eye_gaze.hpp"
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 
 namespace foveart::layer {
@@ -26,6 +27,7 @@ struct InstanceState {
   bool extension_enabled = false;  // the app enabled XR_FOVEART_foveated_ray_tracing
   bool vulkan2_enabled = false;    // ... and XR_KHR_vulkan_enable2
   bool eye_gaze_enabled = false;   // ... and XR_EXT_eye_gaze_interaction
+  EyeGazeActions eye_gaze;         // the layer's own gaze action (ready() when usable)
 };
 
 struct SessionState {
@@ -38,6 +40,7 @@ struct SessionState {
   VkDevice vk_device = VK_NULL_HANDLE;
   uint32_t vk_queue_family_index = 0;
   uint32_t vk_queue_index = 0;
+  std::shared_ptr<SessionEyeGaze> eye_gaze;  // null unless the instance's eye_gaze is ready()
 };
 
 class Registry {

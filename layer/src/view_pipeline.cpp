@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 
 #include "eye_math.hpp"
 #include "foveation/gaze_mapping.hpp"
@@ -79,7 +80,8 @@ std::shared_ptr<const ViewTables> load_view_tables(const foveation::PointSetKey&
   return out;
 }
 
-ViewPipeline::ViewPipeline(std::shared_ptr<const ViewTables> tables) : tables_(std::move(tables)) {}
+ViewPipeline::ViewPipeline(std::shared_ptr<const ViewTables> tables, std::size_t points_per_chunk)
+    : tables_(std::move(tables)), points_per_chunk_(std::max<std::size_t>(1, points_per_chunk)) {}
 
 bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool,
                          ViewOutcome* outcome) {
@@ -87,27 +89,52 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
   auto t0 = Clock::now();
   mapping_ = foveation::map_gaze(static_cast<int>(request.width_px), static_cast<int>(request.height_px),
                                  request.gaze_px);
-  const auto visible = foveation::select_visible_points(points, mapping_);
+  if (settings.rays_per_point < 1) throw std::invalid_argument("rays per point must be >= 1");
+  const std::size_t spp = settings.rays_per_point;
   // With TAA, new jitter every frame so the history converges; without, fixed samples.
   const uint64_t seed = settings.taa ? kSampleSeed + request.frame_index : kSampleSeed;
-  const auto samples =
-      foveation::generate_ray_samples(points, visible, static_cast<int>(settings.rays_per_point), seed);
-  visible_index_.assign(visible.point_index.begin(), visible.point_index.end());
-
-  const std::size_t n = samples.size();
-  origins_.resize(n * 3);
-  directions_.resize(n * 3);
-  sample_px_.resize(n * 2);
-  ray_rgb_.assign(n * 3, 0.0f);
-  point_index_.assign(samples.point_index.begin(), samples.point_index.end());
   const EyeFrustum frustum = EyeFrustum::from(request.fov, static_cast<float>(request.width_px),
                                               static_cast<float>(request.height_px));
   const glm::quat orientation = to_glm(request.pose.orientation);
   const glm::vec3 position = to_glm(request.pose.position);
-  const std::size_t batches = (n + kRaysPerBatch - 1) / kRaysPerBatch;
-  pool.parallel_for(batches, [&](std::size_t b) {
-    for (std::size_t i = b * kRaysPerBatch; i < std::min(n, (b + 1) * kRaysPerBatch); ++i) {
-      const glm::vec2 s = samples.sample_px[i];  // screen pixels
+
+  // Selection on the pool (thesis 4.2), in two passes over chunks of the point
+  // set: scan each chunk for visible points, then, at each chunk's offset in
+  // the concatenation, its ray samples and rays. Same order and values as
+  // select_visible_points + generate_ray_samples on one thread.
+  const std::size_t chunk_count = std::max<std::size_t>(1, (points.size() + points_per_chunk_ - 1) / points_per_chunk_);
+  chunks_.resize(chunk_count);
+  chunk_samples_.resize(chunk_count);
+  pool.parallel_for(chunk_count, [&](std::size_t c) {
+    auto& chunk = chunks_[c];
+    chunk.point_index.clear();
+    chunk.screen_px.clear();
+    foveation::select_visible_points_in(points, mapping_, foveation::kVisibleMarginPx, c * points_per_chunk_,
+                                        (c + 1) * points_per_chunk_, &chunk);
+  });
+  chunk_offset_.resize(chunk_count + 1);
+  chunk_offset_[0] = 0;
+  for (std::size_t c = 0; c < chunk_count; ++c) chunk_offset_[c + 1] = chunk_offset_[c] + chunks_[c].size();
+  const std::size_t visible_count = chunk_offset_[chunk_count];
+  const std::size_t n = visible_count * spp;
+  visible_index_.resize(visible_count);
+  origins_.resize(n * 3);
+  directions_.resize(n * 3);
+  sample_px_.resize(n * 2);
+  ray_rgb_.assign(n * 3, 0.0f);
+  point_index_.resize(n);
+  pool.parallel_for(chunk_count, [&](std::size_t c) {
+    const auto& chunk = chunks_[c];
+    const std::size_t first_visible = chunk_offset_[c];
+    std::copy(chunk.point_index.begin(), chunk.point_index.end(), visible_index_.begin() + static_cast<std::ptrdiff_t>(first_visible));
+    auto& samples = chunk_samples_[c];
+    samples.resize(chunk.size() * spp);
+    const std::size_t first = first_visible * spp;
+    foveation::write_ray_samples(points, chunk, static_cast<int>(spp), seed, 0, chunk.size(), samples.data(),
+                                 &point_index_[first]);
+    for (std::size_t j = 0; j < samples.size(); ++j) {
+      const std::size_t i = first + j;
+      const glm::vec2 s = samples[j];  // screen pixels
       const glm::vec3 d = orientation * frustum.direction_view(s);
       std::memcpy(&origins_[i * 3], &position, sizeof(float) * 3);
       directions_[i * 3 + 0] = d.x;
@@ -117,7 +144,8 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
       sample_px_[i * 2 + 1] = s.y;
     }
   });
-  outcome->points = static_cast<uint32_t>(visible.size());
+  const std::size_t batches = (n + kRaysPerBatch - 1) / kRaysPerBatch;
+  outcome->points = static_cast<uint32_t>(visible_count);
   outcome->rays = static_cast<uint32_t>(n);
   outcome->select_ms = ms_since(t0);
 
@@ -183,20 +211,21 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
   }
 
   // One colour per point: the mean of its samples (thesis 4.2).
-  const uint32_t spp = settings.rays_per_point;
-  point_rgb_.resize(visible.size() * 3);
+  point_rgb_.resize(visible_count * 3);
   const float inv_spp = 1.0f / static_cast<float>(spp);
-  for (std::size_t v = 0; v < visible.size(); ++v) {
-    glm::vec3 sum(0.0f);
-    for (uint32_t s = 0; s < spp; ++s) {
-      const float* c = &ray_rgb_[(v * spp + s) * 3];
-      sum += glm::vec3(c[0], c[1], c[2]);
+  pool.parallel_for((visible_count + kRaysPerBatch - 1) / kRaysPerBatch, [&](std::size_t b) {
+    for (std::size_t v = b * kRaysPerBatch; v < std::min(visible_count, (b + 1) * kRaysPerBatch); ++v) {
+      glm::vec3 sum(0.0f);
+      for (std::size_t s = 0; s < spp; ++s) {
+        const float* c = &ray_rgb_[(v * spp + s) * 3];
+        sum += glm::vec3(c[0], c[1], c[2]);
+      }
+      const glm::vec3 mean = sum * inv_spp;
+      point_rgb_[v * 3 + 0] = mean.r;
+      point_rgb_[v * 3 + 1] = mean.g;
+      point_rgb_[v * 3 + 2] = mean.b;
     }
-    const glm::vec3 mean = sum * inv_spp;
-    point_rgb_[v * 3 + 0] = mean.r;
-    point_rgb_[v * 3 + 1] = mean.g;
-    point_rgb_[v * 3 + 2] = mean.b;
-  }
+  });
   return true;
 }
 

@@ -21,6 +21,7 @@
 #include "foveation/point_set.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "foveation/taa.hpp"
+#include "foveation/visible_points.hpp"
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "renderer.hpp"
 #include "worker_pool.hpp"
@@ -65,7 +66,8 @@ struct ViewOutcome {
 
 class ViewPipeline {
  public:
-  explicit ViewPipeline(std::shared_ptr<const ViewTables> tables);
+  // points_per_chunk: points of the point set per selection task on the pool.
+  explicit ViewPipeline(std::shared_ptr<const ViewTables> tables, std::size_t points_per_chunk = 32768);
 
   // Fills out_rgba (width*height RGBA8, sRGB-encoded when srgb) or returns !ok
   // and leaves out_rgba untouched.
@@ -76,9 +78,13 @@ class ViewPipeline {
   bool trace(const ViewRequest& request, const RendererSettings& settings, WorkerPool& pool, ViewOutcome* outcome);
 
   std::shared_ptr<const ViewTables> tables_;
+  std::size_t points_per_chunk_;
   std::vector<float> origins_, directions_, sample_px_, ray_rgb_;
   std::vector<uint32_t> point_index_;
   std::vector<uint32_t> visible_index_;  // the visible points, in order
+  std::vector<foveation::VisiblePoints> chunks_;       // selection per chunk of the point set
+  std::vector<std::vector<glm::vec2>> chunk_samples_;  // their ray samples
+  std::vector<std::size_t> chunk_offset_;             // first visible point of each chunk
   std::vector<float> point_rgb_;         // 3 floats per visible point
   foveation::GazeMapping mapping_;
   foveation::ImageRgb image_;

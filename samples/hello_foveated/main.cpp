@@ -2,7 +2,7 @@
 // foveated renderer through the OpenXR layer, until the runtime ends the session.
 //   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf] [--k N]
 //                  [--scale S] [--spp N] [--no-taa] [--gaze none|provider|eye_gaze]
-//                  [--gaze-provider SPEC] [--json]
+//                  [--gaze-provider SPEC] [--json] [--app-actions]
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -78,6 +78,8 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"callback_failures", s.callbackFailures},
           {"invalid_colours", s.invalidColours},
           {"gaze_lost_frames", s.gazeLostFrames},
+          {"gaze_px_per_frame", r.gaze_px},
+          {"app_gaze_located_frames", r.app_gaze_located_frames},
           {"per_frame",
            {{"gaze_age_ms", distribution(r.gaze_age_ms)},
             {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
@@ -111,6 +113,8 @@ int main(int argc, char** argv) {
   cli.add_flag("--no-explicit-layer", no_explicit_layer,
                "do not name the layer (it is enabled implicitly or by XR_ENABLE_API_LAYERS)");
   cli.add_flag("--json", json, "print the layer's stats as JSON");
+  cli.add_flag("--app-actions", options.app_actions,
+               "test aid: the app enables XR_EXT_eye_gaze_interaction and uses its own gaze action too");
   cli.add_option("--fault", fault, "test aid: make the engine return NaN, an error or throw")
       ->check(CLI::IsMember({"nan", "error", "throw"}));
   CLI11_PARSE(cli, argc, argv);

@@ -67,6 +67,7 @@ class App {
     create_instance();
     create_vulkan();
     create_session();
+    if (options_.app_actions) create_app_actions();
     create_swapchains();
     create_renderer();
     AppResult result;
@@ -82,8 +83,9 @@ class App {
   void create_instance() {
     std::vector<const char*> layers;
     if (options_.enable_layer) layers.push_back(XR_FOVEART_API_LAYER_NAME);
-    const std::array<const char*, 2> extensions{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
-                                                XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME};
+    std::vector<const char*> extensions{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
+                                        XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME};
+    if (options_.app_actions) extensions.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
     auto info = xr_struct<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
     std::strncpy(info.applicationInfo.applicationName, "hello_foveated", XR_MAX_APPLICATION_NAME_SIZE - 1);
     std::strncpy(info.applicationInfo.engineName, "foveart_engine", XR_MAX_ENGINE_NAME_SIZE - 1);
@@ -186,6 +188,47 @@ class App {
     // scene_from_local, so a pose located in space_ is in scene coordinates.
     space_info.poseInReferenceSpace = inverse(options_.scene_from_local);
     check(xrCreateReferenceSpace(session_, &space_info, &space_), "xrCreateReferenceSpace");
+  }
+
+  // The app's own eye gaze action, as an eye-tracked app would have it.
+  void create_app_actions() {
+    auto set_info = xr_struct<XrActionSetCreateInfo>(XR_TYPE_ACTION_SET_CREATE_INFO);
+    std::strncpy(set_info.actionSetName, "hello_gaze", XR_MAX_ACTION_SET_NAME_SIZE - 1);
+    std::strncpy(set_info.localizedActionSetName, "hello gaze", XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE - 1);
+    check(xrCreateActionSet(instance_, &set_info, &app_set_), "xrCreateActionSet");
+    auto action_info = xr_struct<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
+    action_info.actionType = XR_ACTION_TYPE_POSE_INPUT;
+    std::strncpy(action_info.actionName, "gaze", XR_MAX_ACTION_NAME_SIZE - 1);
+    std::strncpy(action_info.localizedActionName, "gaze", XR_MAX_LOCALIZED_ACTION_NAME_SIZE - 1);
+    check(xrCreateAction(app_set_, &action_info, &app_action_), "xrCreateAction");
+    XrPath profile = XR_NULL_PATH, pose = XR_NULL_PATH;
+    check(xrStringToPath(instance_, "/interaction_profiles/ext/eye_gaze_interaction", &profile), "xrStringToPath");
+    check(xrStringToPath(instance_, "/user/eyes_ext/input/gaze_ext/pose", &pose), "xrStringToPath");
+    const XrActionSuggestedBinding binding{app_action_, pose};
+    auto suggested = xr_struct<XrInteractionProfileSuggestedBinding>(XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
+    suggested.interactionProfile = profile;
+    suggested.countSuggestedBindings = 1;
+    suggested.suggestedBindings = &binding;
+    check(xrSuggestInteractionProfileBindings(instance_, &suggested), "xrSuggestInteractionProfileBindings");
+    auto attach = xr_struct<XrSessionActionSetsAttachInfo>(XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
+    attach.countActionSets = 1;
+    attach.actionSets = &app_set_;
+    check(xrAttachSessionActionSets(session_, &attach), "xrAttachSessionActionSets");
+    auto space_info = xr_struct<XrActionSpaceCreateInfo>(XR_TYPE_ACTION_SPACE_CREATE_INFO);
+    space_info.action = app_action_;
+    space_info.poseInActionSpace.orientation.w = 1.0f;
+    check(xrCreateActionSpace(session_, &space_info, &app_gaze_space_), "xrCreateActionSpace");
+  }
+
+  void locate_app_gaze(XrTime time, AppResult* result) {
+    const XrActiveActionSet active{app_set_, XR_NULL_PATH};
+    auto sync = xr_struct<XrActionsSyncInfo>(XR_TYPE_ACTIONS_SYNC_INFO);
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    check(xrSyncActions(session_, &sync), "xrSyncActions");
+    auto location = xr_struct<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION);
+    check(xrLocateSpace(app_gaze_space_, space_, time, &location), "xrLocateSpace");
+    if (location.locationFlags & XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT) ++result->app_gaze_located_frames;
   }
 
   void create_swapchains() {
@@ -309,6 +352,7 @@ class App {
       check(xrWaitFrame(session_, &wait_info, &frame_state), "xrWaitFrame");
       auto begin_info = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
       check(xrBeginFrame(session_, &begin_info), "xrBeginFrame");
+      if (options_.app_actions) locate_app_gaze(frame_state.predictedDisplayTime, result);
 
       std::array<XrView, 2> views{xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
       auto locate = xr_struct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
@@ -351,11 +395,14 @@ class App {
       end.layerCount = frame_state.shouldRender ? 1 : 0;
       end.layers = layers;
       check(xrEndFrame(session_, &end), "xrEndFrame");
+      const auto frame_index = static_cast<float>(frames_);
       ++frames_;
       auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
       check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
       if (stats.framesTraced > traced_) {
         traced_ = stats.framesTraced;
+        result->gaze_px.push_back({frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x,
+                                   stats.gazePixel[1].y});
         if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
         for (int e = 0; e < 2; ++e) {
           result->overhead_ms[e].push_back(stats.selectMs[e] + stats.interpolateMs[e] + stats.taaMs[e] +
@@ -373,6 +420,8 @@ class App {
       if (eye.handle != XR_NULL_HANDLE) xrDestroySwapchain(eye.handle);
       eye.handle = XR_NULL_HANDLE;
     }
+    if (app_gaze_space_ != XR_NULL_HANDLE) xrDestroySpace(app_gaze_space_);
+    app_gaze_space_ = XR_NULL_HANDLE;
     if (space_ != XR_NULL_HANDLE) xrDestroySpace(space_);
     space_ = XR_NULL_HANDLE;
     if (session_ != XR_NULL_HANDLE) xrDestroySession(session_);
@@ -395,6 +444,9 @@ class App {
   XrSystemId system_ = XR_NULL_SYSTEM_ID;
   XrSession session_ = XR_NULL_HANDLE;
   XrSpace space_ = XR_NULL_HANDLE;
+  XrActionSet app_set_ = XR_NULL_HANDLE;
+  XrAction app_action_ = XR_NULL_HANDLE;
+  XrSpace app_gaze_space_ = XR_NULL_HANDLE;
   XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
   bool running_ = false;
   uint64_t frames_ = 0;

@@ -4,6 +4,7 @@
 // loop, and the foveated renderer around it.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ struct AppOptions {
   uint64_t max_frames = 0;    // 0: until the runtime ends the session
   uint32_t eye_width_px = 0;  // 0: the runtime's recommended size
   uint32_t eye_height_px = 0;
+  // Test aid: the app enables XR_EXT_eye_gaze_interaction itself and uses its
+  // own gaze action (suggest, attach, sync, locate) next to the layer's.
+  bool app_actions = false;
   // Where the headset's LOCAL origin sits in the scene (the scene's camera):
   // the app's space is LOCAL offset by this pose, so rays come out in scene space.
   XrPosef scene_from_local{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
@@ -46,6 +50,9 @@ struct AppResult {
   std::vector<float> gaze_age_ms;
   std::vector<float> overhead_ms[2];
   std::vector<float> trace_ms[2];
+  // Per traced frame: frame index, then the layer's gaze pixel of each eye (x, y).
+  std::vector<std::array<float, 5>> gaze_px;
+  uint64_t app_gaze_located_frames = 0;  // app_actions: frames its own gaze action located
 };
 
 AppResult run_app(const AppOptions& options);

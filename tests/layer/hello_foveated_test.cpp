@@ -2,7 +2,10 @@
 // runtime: both eyes traced every frame, gaze lost mid-run, failing engines.
 #include <stb/stb_image.h>
 
+#include <cmath>
 #include <fstream>
+#include <set>
+#include <utility>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -59,6 +62,9 @@ class HelloFoveated : public ::testing::Test {
     IsolatedEnv::set("FOVEART_CONFIG", config);
     IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env_->root() / "frames");
     IsolatedEnv::set("FOVEART_SIM_FRAMES", "3");
+    for (const char* name : {"FOVEART_SIM_CAPTURE_EVERY", "FOVEART_SIM_EYE_TRACKING", "FOVEART_SIM_GAZE"}) {
+      ::unsetenv(name);
+    }
   }
 
   AppRun launch(std::vector<std::string> args) {
@@ -153,6 +159,110 @@ TEST_F(HelloFoveated, FramePathUnderValidationLayersHasNoErrors) {
   }
   ASSERT_TRUE(r.stats.is_object());
   EXPECT_EQ(r.stats["frames_traced"], 3);
+}
+
+// XR_EXT_eye_gaze_interaction as the gaze source. The simulated runtime plays
+// a trace of three fixations and a blink, 50 ms each; frames.csv has its gaze
+// sample at each frame's display time (head static, so the eyes look along the
+// head's -z and the gaze pixel follows from the symmetric FOV).
+struct CsvGaze {
+  bool valid = false;
+  double x = 0, y = 0, z = -1;
+};
+
+std::vector<CsvGaze> read_frames_csv(const fs::path& path) {
+  std::vector<CsvGaze> rows;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header; the gaze is the last four columns
+  while (std::getline(in, line)) {
+    std::vector<std::string> cols;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1) {
+      cols.push_back(line.substr(start, comma - start));
+    }
+    cols.push_back(line.substr(start));
+    if (cols.size() < 4) continue;
+    const std::size_t n = cols.size();
+    rows.push_back({cols[n - 4] == "1", std::stod(cols[n - 3]), std::stod(cols[n - 2]), std::stod(cols[n - 1])});
+  }
+  return rows;
+}
+
+// Pixel of a head-space direction in a 320x360 eye of the simulated FOVE
+// (symmetric, 95 degrees vertical, square pixels).
+std::pair<double, double> expected_pixel(const CsvGaze& g) {
+  const double tan_v = std::tan(47.5 * 3.14159265358979323846 / 180.0);
+  const double tan_h = tan_v * 320.0 / 360.0;
+  return {std::round(160.0 * (g.x / -g.z / tan_h + 1.0)), std::round(180.0 * (1.0 - g.y / -g.z / tan_v))};
+}
+
+TEST_F(HelloFoveated, EyeGazeInteractionFollowsTheRuntimesScriptedGaze) {
+  const auto trace = env_->root() / "gaze.csv";
+  {
+    std::ofstream csv(trace);
+    csv << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n";
+    const char* segments[] = {"1,0.1,-0.05,-0.9937", "1,0.2,0.1,-0.9747", "0,0,0,-1", "1,-0.25,-0.08,-0.9649"};
+    for (int i = 0; i < 24; ++i) csv << i * 8333 << "," << i << "," << segments[i / 6] << "\n";
+  }
+  IsolatedEnv::set("FOVEART_SIM_GAZE", trace);
+  IsolatedEnv::set("FOVEART_SIM_FRAMES", "14");
+  IsolatedEnv::set("FOVEART_SIM_CAPTURE_EVERY", "1000");
+  const auto r = launch({"--gaze", "eye_gaze", "--no-taa"});
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  // The app did not enable the extension: the layer did, and says so.
+  EXPECT_NE(r.process.output.find("hidden from the app"), std::string::npos) << r.process.output;
+  const auto csv = read_frames_csv(env_->root() / "frames" / "frames.csv");
+  ASSERT_EQ(csv.size(), 14u);
+  const auto& per_frame = r.stats["gaze_px_per_frame"];
+  ASSERT_EQ(per_frame.size(), 14u);
+  int blinks = 0;
+  for (const auto& row : csv) blinks += row.valid ? 0 : 1;
+  EXPECT_GT(blinks, 0);
+  EXPECT_EQ(r.stats["gaze_lost_frames"], blinks);  // blink: fixed foveation, counted
+  std::set<std::pair<double, double>> fixations;
+  for (const auto& row : per_frame) {
+    const auto f = static_cast<std::size_t>(row[0].get<double>());
+    ASSERT_LT(f, csv.size());
+    const auto expected = csv[f].valid ? expected_pixel(csv[f]) : std::pair{160.0, 180.0};
+    fixations.insert(expected);
+    for (int e = 0; e < 2; ++e) {
+      EXPECT_NEAR(row[1 + 2 * e].get<double>(), expected.first, 1.0) << "frame " << f << " eye " << e;
+      EXPECT_NEAR(row[2 + 2 * e].get<double>(), expected.second, 1.0) << "frame " << f << " eye " << e;
+    }
+  }
+  EXPECT_EQ(fixations.size(), 4u) << "three fixations and the lens centre during the blink";
+}
+
+TEST_F(HelloFoveated, AppUsingItsOwnGazeActionKeepsItAndTheLayerStillGetsGaze) {
+  IsolatedEnv::set("FOVEART_SIM_FRAMES", "4");
+  const auto r = launch({"--gaze", "eye_gaze", "--app-actions"});
+  // Every action call of the app succeeded (hello_foveated exits 1 otherwise).
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["app_gaze_located_frames"], 4);
+  EXPECT_EQ(r.stats["frames_traced"], 4);
+  EXPECT_EQ(r.stats["gaze_source"], "eye_gaze_interaction");
+  EXPECT_EQ(r.stats["gaze_lost_frames"], 0);
+  // Rode along the app's attach and sync: nothing attached on its own, nothing hidden.
+  EXPECT_EQ(r.process.output.find("attached its own"), std::string::npos) << r.process.output;
+  EXPECT_EQ(r.process.output.find("hidden from the app"), std::string::npos) << r.process.output;
+}
+
+TEST_F(HelloFoveated, RuntimeWithoutEyeTrackingGivesFixedFoveation) {
+  IsolatedEnv::set("FOVEART_SIM_EYE_TRACKING", "0");
+  const auto r = launch({"--gaze", "eye_gaze"});
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_NE(r.process.output.find("supportsEyeGazeInteraction = XR_FALSE"), std::string::npos) << r.process.output;
+  EXPECT_EQ(r.stats["frames_traced"], 3);
+  EXPECT_EQ(r.stats["gaze_lost_frames"], 3);
+  EXPECT_EQ(r.stats["fallback_flags"].get<uint64_t>() & 1u, 1u);
+  for (const auto& row : r.stats["gaze_px_per_frame"]) {
+    EXPECT_EQ(row[1].get<double>(), 160.0);
+    EXPECT_EQ(row[2].get<double>(), 180.0);
+  }
 }
 
 class FailingEngine : public HelloFoveated, public ::testing::WithParamInterface<const char*> {};

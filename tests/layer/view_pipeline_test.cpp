@@ -5,6 +5,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -14,6 +15,9 @@
 
 #include "eye_math.hpp"
 #include "foveation/display_model.hpp"
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/ray_samples.hpp"
+#include "foveation/visible_points.hpp"
 #include "view_pipeline.hpp"
 
 namespace foveart::layer {
@@ -119,6 +123,51 @@ TEST(ViewPipeline, CallbackSeesEveryVisiblePointsRaysOnce) {
     if (i + 2 < rec.points.size()) {
       EXPECT_NE(rec.points[i + 1], rec.points[i + 2]);
     }
+  }
+}
+
+struct RayLog {
+  std::mutex mutex;
+  struct Ray {
+    const uint32_t* slot;  // where the ray sits in the layer's flat arrays: gives the order
+    uint32_t point;
+    float sx, sy;
+  };
+  std::vector<Ray> rays;
+};
+
+int32_t log_rays(void* user, const FoveartRayBatch* batch) {
+  auto* log = static_cast<RayLog*>(user);
+  std::lock_guard lock(log->mutex);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    log->rays.push_back({batch->point_index + i, batch->point_index[i], batch->sample_px[i * 2], batch->sample_px[i * 2 + 1]});
+    for (int c = 0; c < 3; ++c) batch->out_rgb[i * 3 + c] = 0.5f;
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+// Selection split over the pool in many small chunks gives the rays of the
+// core's single-threaded select_visible_points + generate_ray_samples, in order.
+TEST(ViewPipeline, ChunkedSelectionEqualsTheCoreFunctionsInOrder) {
+  WorkerPool pool(3);
+  const auto tables = small_tables(5);
+  ViewPipeline pipeline(tables, 257);
+  RayLog log;
+  std::vector<uint8_t> rgba(kW * kH * 4, 0);
+  const auto out = pipeline.render(request_at({48, 40}), settings_with(&log_rays, &log,
+                                   XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART, false), pool, rgba.data(), true);
+  ASSERT_TRUE(out.ok) << out.message;
+  ASSERT_GT(tables->points.size(), 4u * 257u) << "the test needs several chunks";
+  std::sort(log.rays.begin(), log.rays.end(),
+            [](const RayLog::Ray& a, const RayLog::Ray& b) { return std::less<const uint32_t*>()(a.slot, b.slot); });
+  const auto mapping = foveation::map_gaze(kW, kH, glm::vec2(48, 40));
+  const auto visible = foveation::select_visible_points(tables->points, mapping);
+  const auto samples = foveation::generate_ray_samples(tables->points, visible, 2, 1);
+  ASSERT_EQ(log.rays.size(), samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    ASSERT_EQ(log.rays[i].point, samples.point_index[i]) << "ray " << i;
+    ASSERT_EQ(log.rays[i].sx, samples.sample_px[i].x) << "ray " << i;
+    ASSERT_EQ(log.rays[i].sy, samples.sample_px[i].y) << "ray " << i;
   }
 }
 

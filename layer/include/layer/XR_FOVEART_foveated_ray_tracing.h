@@ -45,7 +45,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 1
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 2
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -125,6 +125,7 @@ typedef struct XrFoveatedRendererStatsFOVEART {
   uint64_t callbackFailures; /* batches the callback failed (error code) */
   uint64_t invalidColours;   /* rays returning NaN/Inf/negative colour */
   uint64_t gazeLostFrames;   /* frames with fixed foveation for lack of gaze */
+  XrVector2f gazePixel[2];   /* (spec version 2) foveation centre per eye last frame, pixels of the view's imageRect */
 } XrFoveatedRendererStatsFOVEART;
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
