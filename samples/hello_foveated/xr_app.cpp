@@ -351,6 +351,9 @@ class App {
       end.layerCount = frame_state.shouldRender ? 1 : 0;
       end.layers = layers;
       check(xrEndFrame(session_, &end), "xrEndFrame");
+      for (uint32_t e = 0; e < 2; ++e) {
+        result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
+      }
       ++frames_;
       auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
       check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
