@@ -9,7 +9,6 @@
 
 #include <array>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 
 using foveart::tools::RenderOptions;
@@ -118,7 +117,9 @@ TEST(RenderCommand, FovAndPoseDefineTheView) {
     std::ostringstream out, err;
     EXPECT_EQ(run_render(r, out, err), 0) << err.str();
     std::ifstream in(r.out_prefix + "_full.png", std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return bytes.str();
   };
   const std::string forward = render_png(*o.pose, "forward");
   const std::string again = render_png(*o.pose, "again");
