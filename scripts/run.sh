@@ -19,12 +19,12 @@ export XDG_CACHE_HOME="$root/out/cache"   # the layer caches its tables in $XDG_
 echo "=== 1/3 FOVE point set -> out/pointset.json, out/pointset_centred.png, out/curves/"
 build/bin/fovea pointset --preset fove --cache out/cache --png out/pointset_centred.png \
   --curves out/curves --json > out/pointset.json
-python3 -c 'import json,sys; j=json.load(open("out/pointset.json")); print("points %d total, %d on screen at centred gaze (%.1f%% of %d px); table %.0f MB" % (j["total"], j["on_screen_centred"], 100*j["fraction_centred"], j["pixels"], j["table_bytes"]/1e6))' 2>/dev/null || true
+jq -r '"points \(.total) total, \(.on_screen_centred) on screen at centred gaze (\(100*.fraction_centred*10|round/10)% of \(.pixels) px); table \(.table_bytes/1e6|round) MB"' out/pointset.json
 
 echo "=== 2/3 default scene, full vs foveated -> out/render.json, out/render_*.png"
 build/bin/fovea render --scene default --preset fove --mode both --method msm --k 5 \
   --cache out/cache --out out/render --json > out/render.json
-python3 -c 'import json; j=json.load(open("out/render.json")); print("speedup %.2fx, PSNR %.1f dB, SSIM %.3f" % (j["speedup"], j["psnr"], j["ssim"]))' 2>/dev/null || true
+jq -r '"speedup \(.speedup*100|round/100)x, PSNR \(.psnr*10|round/10) dB, SSIM \(.ssim*1000|round/1000)"' out/render.json
 
 echo "=== 3/3 hello_foveated on the simulated FOVE -> out/hello_foveated.json, out/frames/"
 rm -f out/frames/*.png
@@ -41,3 +41,4 @@ FOVEART_SIM_FRAMES=${FOVEART_SIM_FRAMES:-24} FOVEART_SIM_CAPTURE_DIR="$root/out/
 FOVEART_SIM_CAPTURE_EVERY=8 \
   build/bin/hello_foveated --scene default --interp shepard --k 5 --json > out/hello_foveated.json
 echo "frames: $(ls out/frames/*.png 2>/dev/null | wc -l) PNGs in out/frames; stats in out/hello_foveated.json"
+jq -r '"frames traced \(.frames_traced)/\(.frames_submitted), fallbacks \(.views_fallback); layer overhead p50 \(.per_frame.layer_overhead_ms[0].p50|round) ms/eye; gaze age p50 \(.per_frame.gaze_age_ms.p50*10|round/10) ms, p99 \(.per_frame.gaze_age_ms.p99*10|round/10) ms"' out/hello_foveated.json

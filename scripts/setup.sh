@@ -19,8 +19,8 @@ PACKAGES=(
   glslang-tools glslang-dev spirv-tools
   # OpenXR SDK 1.0.20: loader, headers, hello_xr, core validation layer
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; jq prints the main job's summary lines
+  libgtest-dev libgmock-dev libbenchmark-dev jq
 )
 
 missing=()
