@@ -138,8 +138,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   report["width"] = view.width_px;
   report["height"] = view.height_px;
   report["gaze"] = {gaze.x, gaze.y};
-  report["fov_deg"] = {view.angle_left_rad * 180.0 / kPi, view.angle_right_rad * 180.0 / kPi,
-                       view.angle_up_rad * 180.0 / kPi, view.angle_down_rad * 180.0 / kPi};
+  auto deg = [](float rad) { return static_cast<double>(rad) * 180.0 / kPi; };
+  report["fov_deg"] = {deg(view.angle_left_rad), deg(view.angle_right_rad), deg(view.angle_up_rad),
+                       deg(view.angle_down_rad)};
   report["pose"] = {view.position_m[0],        view.position_m[1],        view.position_m[2],
                     view.orientation_xyzw[0], view.orientation_xyzw[1], view.orientation_xyzw[2],
                     view.orientation_xyzw[3]};
