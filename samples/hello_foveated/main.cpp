@@ -68,7 +68,16 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
                     {"taa_ms", s.taaMs[e]},
                     {"upload_ms", s.uploadMs[e]}});
   }
+  nlohmann::json views = nlohmann::json::array();
+  for (const auto& v : r.views) {
+    views.push_back({{"position_m", {v.pose.position.x, v.pose.position.y, v.pose.position.z}},
+                     {"orientation_xyzw",
+                      {v.pose.orientation.x, v.pose.orientation.y, v.pose.orientation.z, v.pose.orientation.w}},
+                     {"fov_rad", {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown}},
+                     {"size_px", {v.width_px, v.height_px}}});
+  }
   return {{"frames_submitted", r.frames},
+          {"views", views},
           {"frames_traced", s.framesTraced},
           {"views_fallback", s.framesFallback},
           {"eyes", eyes},

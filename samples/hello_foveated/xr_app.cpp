@@ -396,6 +396,9 @@ class App {
       end.layers = layers;
       check(xrEndFrame(session_, &end), "xrEndFrame");
       const auto frame_index = static_cast<float>(frames_);
+      for (uint32_t e = 0; e < 2; ++e) {
+        result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
+      }
       ++frames_;
       auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
       check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");

@@ -45,6 +45,14 @@ struct AppResult {
   std::string error;
   uint64_t frames = 0;
   XrFoveatedRendererStatsFOVEART stats{};
+  // The last frame's submitted projection views (pose in the app's space, which
+  // is the scene's; FOV; image size): what the layer traced them from.
+  struct SubmittedView {
+    XrPosef pose{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+    XrFovf fov{};
+    int32_t width_px = 0, height_px = 0;
+  };
+  SubmittedView views[2];
   // Per traced frame: gaze age at composition, and the layer's own time per eye
   // excluding the callback (select + interpolate + TAA + upload).
   std::vector<float> gaze_age_ms;

@@ -11,11 +11,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "process.hpp"
+#include "child_process.hpp"
 #include "test_env.hpp"
 
 namespace foveart::layer::test {
 namespace {
+
+using foveart::test::ProcessResult;
+using foveart::test::run_process;
 
 constexpr int kTimeoutS = 900;
 

@@ -10,11 +10,14 @@
 #include <gtest/gtest.h>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
-#include "process.hpp"
+#include "child_process.hpp"
 #include "test_env.hpp"
 
 namespace foveart::layer::test {
 namespace {
+
+using foveart::test::ProcessResult;
+using foveart::test::run_process;
 
 constexpr int kFrames = 12;
 constexpr int kTimeoutS = 240;

@@ -2,45 +2,28 @@
 // simulated runtime: runs to exit 0 on the frame budget, its captured frames are
 // not blank, and the OpenXR core validation and Vulkan validation layers report
 // no errors.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <spawn.h>
 #include <stb_image.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
-#include <thread>
+#include <map>
+#include <string>
 
+#include "child_process.hpp"
 #include "xr_test_app.h"
-
-extern char** environ;
 
 namespace foveart::sim::test {
 namespace {
 
+using foveart::test::ProcessResult;
+
 constexpr int kFrames = 12;
 
-struct RunResult {
-  int exit_code = -1;
-  bool timed_out = false;
-  std::string output;
-};
-
 // Runs hello_xr with stdin an open pipe (EOF makes it quit), output to a file.
-RunResult run_hello_xr(const std::map<std::string, std::string>& extra_env,
-                       const std::string& dir) {
+ProcessResult run_hello_xr(const std::map<std::string, std::string>& extra_env, const std::string& dir) {
   std::map<std::string, std::string> env;
-  for (char** e = environ; *e != nullptr; ++e) {
-    const std::string kv = *e;
-    const auto eq = kv.find('=');
-    if (eq != std::string::npos) env[kv.substr(0, eq)] = kv.substr(eq + 1);
-  }
   for (const char* d : {"home", "config", "data", "cache", "runtime"})
     std::filesystem::create_directories(dir + "/" + d);
   env["HOME"] = dir + "/home";
@@ -57,52 +40,9 @@ RunResult run_hello_xr(const std::map<std::string, std::string>& extra_env,
         "detect_leaks=0:verify_asan_link_order=0";  // hello_xr's own leaks are not ours
   }
   for (const auto& [k, v] : extra_env) env[k] = v;
-  std::vector<std::string> env_strings;
-  for (const auto& [k, v] : env) env_strings.push_back(k + "=" + v);
-  std::vector<char*> envp;
-  for (auto& s : env_strings) envp.push_back(s.data());
-  envp.push_back(nullptr);
-
-  int stdin_pipe[2];
-  EXPECT_EQ(pipe(stdin_pipe), 0);
-  const std::string log_path = dir + "/hello_xr.log";
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, stdin_pipe[0], 0);
-  posix_spawn_file_actions_addclose(&actions, stdin_pipe[1]);
-  posix_spawn_file_actions_addopen(&actions, 1, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                   0644);
-  posix_spawn_file_actions_adddup2(&actions, 1, 2);
-  std::string program = FOVEART_HELLO_XR;
-  std::string g = "-g", api = "Vulkan2";
-  char* argv[] = {program.data(), g.data(), api.data(), nullptr};
-  pid_t pid = 0;
-  RunResult result;
-  const int rc = posix_spawn(&pid, program.c_str(), &actions, nullptr, argv, envp.data());
-  posix_spawn_file_actions_destroy(&actions);
-  close(stdin_pipe[0]);
-  EXPECT_EQ(rc, 0) << "posix_spawn " << program;
-  if (rc == 0) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
-    int status = 0;
-    while (true) {
-      const pid_t w = waitpid(pid, &status, WNOHANG);
-      if (w == pid) break;
-      if (std::chrono::steady_clock::now() > deadline) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        result.timed_out = true;
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  }
-  close(stdin_pipe[1]);  // stdin stayed open for the child's whole life
-  std::ifstream log(log_path);
-  std::stringstream ss;
-  ss << log.rdbuf();
-  result.output = ss.str();
+  const std::vector<std::string> envp = foveart::test::environment_with(env);
+  const auto result = foveart::test::run_process({FOVEART_HELLO_XR, "-g", "Vulkan2"}, dir + "/hello_xr.log", 240, &envp);
+  EXPECT_FALSE(result.exit_code == -1 && !result.timed_out) << "cannot start " << FOVEART_HELLO_XR;
   return result;
 }
 
@@ -157,7 +97,7 @@ void expect_capture(const std::string& capture) {
 TEST_F(HelloXr, RunsToCompletionWithinTheFrameBudgetAndShowsFrames) {
   const std::string dir = fresh_dir("run");
   const std::string capture = dir + "/capture";
-  const RunResult r = run_hello_xr({{"FOVEART_SIM_FRAMES", std::to_string(kFrames)},
+  const ProcessResult r = run_hello_xr({{"FOVEART_SIM_FRAMES", std::to_string(kFrames)},
                                     {"FOVEART_SIM_CLOCK", "virtual"},
                                     {"FOVEART_SIM_CAPTURE_DIR", capture},
                                     {"FOVEART_SIM_CAPTURE_EVERY", "6"}},
@@ -172,7 +112,7 @@ TEST_F(HelloXr, RunsToCompletionWithinTheFrameBudgetAndShowsFrames) {
 TEST_F(HelloXr, CoreValidationAndVulkanValidationReportNoErrors) {
   const std::string dir = fresh_dir("run");
   const std::string capture = dir + "/capture";
-  const RunResult r =
+  const ProcessResult r =
       run_hello_xr({{"FOVEART_SIM_FRAMES", std::to_string(kFrames)},
                     {"FOVEART_SIM_CLOCK", "virtual"},
                     {"FOVEART_SIM_CAPTURE_DIR", capture},

@@ -45,8 +45,11 @@ double lanes_per_packet(const engine::RayCounts& c) {
 
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
+constexpr double kPi = 3.14159265358979323846;
+
 // Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
-// keeping the horizontal field of view.
+// keeping the horizontal field of view; or, with --fov / --pose, exactly the
+// given OpenXR view.
 FoveartEyeView make_view(const RenderOptions& o, const PresetGeometry& g, const engine::Scene& scene) {
   FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, engine::scene_head(scene));
   view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
@@ -57,7 +60,34 @@ FoveartEyeView make_view(const RenderOptions& o, const PresetGeometry& g, const 
   view.angle_right_rad = static_cast<float>(g.half_fov_x_rad);
   view.angle_up_rad = static_cast<float>(std::atan(tan_y));
   view.angle_down_rad = static_cast<float>(-std::atan(tan_y));
+  if (o.fov_deg) {
+    float* angles[4] = {&view.angle_left_rad, &view.angle_right_rad, &view.angle_up_rad, &view.angle_down_rad};
+    for (int i = 0; i < 4; ++i) *angles[i] = static_cast<float>((*o.fov_deg)[i] * kPi / 180.0);
+  }
+  if (o.pose) {
+    for (int i = 0; i < 3; ++i) view.position_m[i] = static_cast<float>((*o.pose)[i]);
+    for (int i = 0; i < 4; ++i) view.orientation_xyzw[i] = static_cast<float>((*o.pose)[3 + i]);
+  }
   return view;
+}
+
+std::string check_view(const RenderOptions& o) {
+  if (o.fov_deg) {
+    const auto& f = *o.fov_deg;
+    for (double a : f)
+      if (!std::isfinite(a) || a <= -90.0 || a >= 90.0) return "--fov angles must be finite and inside (-90, 90) degrees";
+    if (!(f[0] < f[1])) return "--fov: left must be less than right";
+    if (!(f[3] < f[2])) return "--fov: down must be less than up";
+  }
+  if (o.pose) {
+    double norm2 = 0.0;
+    for (int i = 0; i < 7; ++i) {
+      if (!std::isfinite((*o.pose)[i])) return "--pose values must be finite";
+      if (i >= 3) norm2 += (*o.pose)[i] * (*o.pose)[i];
+    }
+    if (std::abs(norm2 - 1.0) > 1e-3) return "--pose: the quaternion qx,qy,qz,qw must have unit length";
+  }
+  return "";
 }
 
 std::string check(const RenderOptions& o) {
@@ -71,6 +101,7 @@ std::string check(const RenderOptions& o) {
   if (o.threads < 0) return "--threads must be >= 0";
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
     return "--size must be between 8 and 16384 pixels per side";
+  if (std::string bad = check_view(o); !bad.empty()) return bad;
   if (o.mode != "full" && !foveated_available())
     return "--mode " + o.mode + " needs the foveation core, which is not part of this build";
   return "";
@@ -112,6 +143,12 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   report["width"] = view.width_px;
   report["height"] = view.height_px;
   report["gaze"] = {gaze.x, gaze.y};
+  auto deg = [](float rad) { return static_cast<double>(rad) * 180.0 / kPi; };
+  report["fov_deg"] = {deg(view.angle_left_rad), deg(view.angle_right_rad), deg(view.angle_up_rad),
+                       deg(view.angle_down_rad)};
+  report["pose"] = {view.position_m[0],        view.position_m[1],        view.position_m[2],
+                    view.orientation_xyzw[0], view.orientation_xyzw[1], view.orientation_xyzw[2],
+                    view.orientation_xyzw[3]};
   report["spp"] = o.spp;
   report["threads"] = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   report["load_ms"] = load_ms;
@@ -148,6 +185,11 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     req.seed = o.seed;
     req.cache_dir = o.cache_dir;
     req.gaze_px = gaze;
+    // An explicit view: the display of its horizontal span, computed from the
+    // float angles exactly as the layer does for a submitted XrView.
+    if (o.fov_deg)
+      req.horizontal_fov_deg = (static_cast<double>(view.angle_right_rad) - static_cast<double>(view.angle_left_rad)) *
+                               180.0 / kPi;
     const engine::RayCounts before = tracer->counts();
     FoveatedResult fr = render_foveated(*tracer, view, req);
     if (!fr.error.empty()) {
@@ -224,12 +266,28 @@ std::string parse_pair(const std::string& text, Vec* out) {
   return "";
 }
 
+// "A,B,C,..." -> exactly N finite numbers.
+template <std::size_t N>
+std::string parse_list(const std::string& text, std::array<double, N>* out) {
+  std::istringstream in(text);
+  for (std::size_t i = 0; i < N; ++i) {
+    char comma = ',';
+    if ((i > 0 && !(in >> comma)) || comma != ',' || !(in >> (*out)[i]))
+      return "expected " + std::to_string(N) + " comma-separated numbers";
+    if (!std::isfinite((*out)[i])) return "values must be finite";
+  }
+  if (!(in >> std::ws).eof()) return "expected " + std::to_string(N) + " comma-separated numbers";
+  return "";
+}
+
 }  // namespace
 
 void register_render(CLI::App& app) {
   auto opts = std::make_shared<foveart::tools::RenderOptions>();
   auto gaze = std::make_shared<std::string>();
   auto size = std::make_shared<std::string>();
+  auto fov = std::make_shared<std::string>();
+  auto pose = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
   cmd->add_option("--scene", opts->scene, "glTF/GLB file, or 'default' for the built-in scene")->capture_default_str();
   cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
@@ -242,11 +300,13 @@ void register_render(CLI::App& app) {
   cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
   cmd->add_option("--threads", opts->threads, "Tracing threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
+  cmd->add_option("--fov", *fov, "Exact view frustum L,R,U,D: XrFovf angles in degrees (point set from the R-L span)");
+  cmd->add_option("--pose", *pose, "Exact eye pose in scene space px,py,pz,qx,qy,qz,qw (metres, unit quaternion)");
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
   cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
-  cmd->callback([opts, gaze, size] {
+  cmd->callback([opts, gaze, size, fov, pose] {
     if (!gaze->empty()) {
       glm::vec2 g;
       if (std::string e = parse_pair(*gaze, &g); !e.empty()) throw CLI::ValidationError("--gaze", e);
@@ -257,6 +317,16 @@ void register_render(CLI::App& app) {
       glm::ivec2 s;
       if (std::string e = parse_pair(*size, &s); !e.empty()) throw CLI::ValidationError("--size", e);
       opts->size_px = s;
+    }
+    if (!fov->empty()) {
+      std::array<double, 4> f{};
+      if (std::string e = parse_list(*fov, &f); !e.empty()) throw CLI::ValidationError("--fov", e);
+      opts->fov_deg = f;
+    }
+    if (!pose->empty()) {
+      std::array<double, 7> p{};
+      if (std::string e = parse_list(*pose, &p); !e.empty()) throw CLI::ValidationError("--pose", e);
+      opts->pose = p;
     }
     const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);

@@ -5,6 +5,7 @@
 #include <glm/vec2.hpp>
 #include <glm/ext/vector_int2.hpp>
 
+#include <array>
 #include <cstdint>
 #include <iosfwd>
 #include <optional>
@@ -30,6 +31,12 @@ struct RenderOptions {
   double scale = 1.0;
   int threads = 0;                // 0: all cores
   std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
+  // An exact OpenXR view instead of the preset's: XrFovf angles in degrees
+  // (left, right, up, down; the point set follows the horizontal span, as the
+  // layer's DisplayModel::from_fov does) and the eye pose in scene space
+  // (px, py, pz, qx, qy, qz, qw).
+  std::optional<std::array<double, 4>> fov_deg;
+  std::optional<std::array<double, 7>> pose;
   std::string out_prefix;         // empty: no images written
   std::string cache_dir;          // point set / neighbour table cache, empty: none
   uint64_t seed = 1;

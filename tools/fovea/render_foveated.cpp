@@ -149,8 +149,11 @@ FoveatedRenderer::FoveatedRenderer(const FoveartEyeView& view, const FoveatedReq
       return;
     }
     foveation::DisplayModel display = *preset;
-    if (static_cast<uint32_t>(display.width_px) != view.width_px ||
-        static_cast<uint32_t>(display.height_px) != view.height_px)
+    if (req.horizontal_fov_deg)
+      display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px),
+                                                  *req.horizontal_fov_deg);
+    else if (static_cast<uint32_t>(display.width_px) != view.width_px ||
+             static_cast<uint32_t>(display.height_px) != view.height_px)
       display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px),
                                                   preset->horizontal_fov_deg());
     display.scale = req.scale;

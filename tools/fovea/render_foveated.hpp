@@ -24,6 +24,9 @@ struct FoveatedRequest {
   uint64_t seed = 1;
   std::string cache_dir;
   glm::vec2 gaze_px{0.0f};
+  // Set: the display is DisplayModel::from_fov(view size, this) whatever the
+  // preset (what the layer builds for a submitted XrView); unset: the preset's.
+  std::optional<double> horizontal_fov_deg;
 };
 
 struct FoveatedResult {
