@@ -31,26 +31,7 @@ bool same_view(const ViewRequest& a, const ViewRequest& b, bool with_gaze) {
          std::memcmp(&a.pose, &b.pose, sizeof(XrPosef)) == 0 && std::memcmp(&a.fov, &b.fov, sizeof(XrFovf)) == 0;
 }
 
-const std::array<uint8_t, 4096>& srgb_table() {
-  static const std::array<uint8_t, 4096> table = [] {
-    std::array<uint8_t, 4096> t{};
-    for (std::size_t i = 0; i < t.size(); ++i) {
-      const double c = static_cast<double>(i) / static_cast<double>(t.size() - 1);
-      // IEC 61966-2-1 sRGB transfer function.
-      const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-      t[i] = static_cast<uint8_t>(std::lround(std::clamp(s, 0.0, 1.0) * 255.0));
-    }
-    return t;
-  }();
-  return table;
-}
-
 }  // namespace
-
-uint8_t encode_srgb8(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  return srgb_table()[static_cast<std::size_t>(c * 4095.0f + 0.5f)];
-}
 
 foveation::InterpOptions interp_options(const RendererSettings& settings) {
   foveation::InterpOptions o;

@@ -20,6 +20,7 @@
 #include "foveation/neighbor_table.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "foveation/srgb.hpp"
 #include "foveation/taa.hpp"
 #include "foveation/visible_points.hpp"
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
@@ -93,7 +94,7 @@ class ViewPipeline {
   bool has_last_ = false;
 };
 
-// Linear [0,1] -> sRGB 8 bit (IEC 61966-2-1).
-uint8_t encode_srgb8(float linear);
+// Linear [0,1] -> sRGB 8 bit (IEC 61966-2-1), exactly as `fovea` writes PNGs.
+using foveation::encode_srgb8;
 
 }  // namespace foveart::layer

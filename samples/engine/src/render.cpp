@@ -205,8 +205,7 @@ bool write_png(const Image& image, const std::string& path, std::string* error) 
   std::vector<uint8_t> px(image.rgb.size() * 3);
   for (size_t i = 0; i < image.rgb.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      const float v = linear_to_srgb(std::clamp(image.rgb[i][c], 0.0f, 1.0f));
-      px[3 * i + c] = static_cast<uint8_t>(std::lround(v * 255.0f));
+      px[3 * i + c] = encode_srgb8(image.rgb[i][c]);
     }
   const int ok = stbi_write_png(path.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 3,
                                 px.data(), static_cast<int>(image.width * 3));

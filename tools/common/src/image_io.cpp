@@ -8,16 +8,10 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "foveation/srgb.hpp"
+
 namespace foveart::toolkit {
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-float linear_to_srgb(float c) {
-  c = std::clamp(std::isfinite(c) ? c : 0.0f, 0.0f, 1.0f);
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
 
 std::string write_png_u8(const std::string& path, int width, int height, int channels,
                          const std::vector<std::uint8_t>& pixels) {
@@ -35,7 +29,7 @@ std::string write_png_u8(const std::string& path, int width, int height, int cha
 std::string write_png_linear(const std::string& path, const ImageRgb& image) {
   std::vector<std::uint8_t> px(image.rgb.size());
   for (std::size_t i = 0; i < px.size(); ++i) {
-    px[i] = std::uint8_t(std::lround(linear_to_srgb(image.rgb[i]) * 255.0f));
+    px[i] = foveation::encode_srgb8(image.rgb[i]);
   }
   return write_png_u8(path, image.width, image.height, 3, px);
 }
@@ -50,7 +44,7 @@ std::string read_image_linear(const std::string& path, ImageRgb* out) {
   out->width = w;
   out->height = h;
   out->rgb.resize(std::size_t(w) * std::size_t(h) * 3);
-  for (std::size_t i = 0; i < out->rgb.size(); ++i) out->rgb[i] = srgb_to_linear(float(data[i]) / 255.0f);
+  for (std::size_t i = 0; i < out->rgb.size(); ++i) out->rgb[i] = foveation::srgb_to_linear(float(data[i]) / 255.0f);
   stbi_image_free(data);
   return {};
 }

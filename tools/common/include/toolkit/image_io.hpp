@@ -23,8 +23,4 @@ std::string write_png_u8(const std::string& path, int width, int height, int cha
 // Reads a PNG (or any stb-readable image) to linear RGB. Empty string on success.
 std::string read_image_linear(const std::string& path, ImageRgb* out);
 
-// sRGB transfer functions (IEC 61966-2-1).
-float srgb_to_linear(float c);
-float linear_to_srgb(float c);
-
 }  // namespace foveart::toolkit

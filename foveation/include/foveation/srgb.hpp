@@ -1,0 +1,73 @@
+// sRGB transfer function (IEC 61966-2-1) and its 8-bit encoding: one
+// definition for every image FoveaRT writes (layer swapchains, `fovea` PNGs,
+// engine textures), so frames from different paths compare bit for bit.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+namespace foveart::foveation {
+
+// IEC 61966-2-1: encoded [0,1] -> linear [0,1].
+inline float srgb_to_linear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// IEC 61966-2-1: linear [0,1] -> encoded [0,1].
+inline float linear_to_srgb(float c) {
+  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+// The reference 8-bit encoding: round(linear_to_srgb(clamp(c, 0, 1)) * 255);
+// NaN encodes as 0. Costs a pow per call: for images use encode_srgb8.
+inline std::uint8_t encode_srgb8_reference(float c) {
+  if (!(c > 0.0f)) return 0;
+  if (c >= 1.0f) return 255;
+  return static_cast<std::uint8_t>(std::lround(linear_to_srgb(c) * 255.0f));
+}
+
+// encode_srgb8_reference, bit-exact for every float, from a table: the
+// smallest float that encodes to each byte (found by bisection over float bit
+// patterns, so the boundaries are the reference's own), and per 1/4096 bucket
+// of [0,1) the byte at its start. A lookup steps over at most a few bytes.
+class Srgb8Encoder {
+ public:
+  Srgb8Encoder() {
+    threshold_[0] = 0.0f;
+    for (int byte = 1; byte < 256; ++byte) {
+      std::uint32_t lo = 0, hi = std::bit_cast<std::uint32_t>(1.0f);  // reference(hi) = 255 >= byte
+      while (lo < hi) {
+        const std::uint32_t mid = lo + (hi - lo) / 2;
+        if (encode_srgb8_reference(std::bit_cast<float>(mid)) >= byte) hi = mid; else lo = mid + 1;
+      }
+      threshold_[byte] = std::bit_cast<float>(lo);
+    }
+    for (std::size_t i = 0; i < kBuckets; ++i) {
+      bucket_start_[i] = encode_srgb8_reference(static_cast<float>(i) / static_cast<float>(kBuckets));
+    }
+  }
+
+  std::uint8_t operator()(float c) const {
+    if (!(c > 0.0f)) return 0;
+    if (c >= 1.0f) return 255;
+    // c * 4096 scales by a power of two: exact, so the bucket's start is <= c.
+    unsigned byte = bucket_start_[static_cast<std::size_t>(c * static_cast<float>(kBuckets))];
+    while (byte < 255 && c >= threshold_[byte + 1]) ++byte;
+    return static_cast<std::uint8_t>(byte);
+  }
+
+ private:
+  static constexpr std::size_t kBuckets = 4096;
+  std::array<float, 256> threshold_{};
+  std::array<std::uint8_t, kBuckets> bucket_start_{};
+};
+
+// Linear -> sRGB byte, equal to encode_srgb8_reference for every float.
+inline std::uint8_t encode_srgb8(float linear) {
+  static const Srgb8Encoder encoder;
+  return encoder(linear);
+}
+
+}  // namespace foveart::foveation
