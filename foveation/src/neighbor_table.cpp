@@ -6,11 +6,13 @@
 #include <atomic>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <thread>
 
 #include <nanoflann.hpp>
+#include <sys/mman.h>
 
 namespace foveart::foveation {
 namespace {
@@ -173,9 +175,16 @@ NeighborTable NeighborTable::build(const PointSet& points, int k, const Progress
   t.k_ = k;
   t.width_px_ = points.canvas_width_px;
   t.height_px_ = points.canvas_height_px;
-  // Uninitialised: every entry is written below (no 442 MB zero-fill).
+  // Every entry is written below. Anonymous memory asked for transparent huge
+  // pages: faulting in 442 MB as 2 MB pages instead of 4 KB ones saves ~0.5 s
+  // of kernel time on the build threads (the 4 KB fallback still works).
   t.size_ = t.pixel_count() * std::size_t(k) * 3 + 1;
-  std::shared_ptr<std::uint8_t[]> storage(new std::uint8_t[t.size_]);
+  void* mem = mmap(nullptr, t.size_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (mem == MAP_FAILED) throw std::bad_alloc();
+  madvise(mem, t.size_, MADV_HUGEPAGE);  // advice only: failure leaves 4 KB pages
+  const std::size_t mapped_bytes = t.size_;
+  std::shared_ptr<std::uint8_t> storage(static_cast<std::uint8_t*>(mem),
+                                        [mapped_bytes](std::uint8_t* p) { munmap(p, mapped_bytes); });
   std::uint8_t* out = storage.get();
   out[t.size_ - 1] = 0;  // pad byte read by the last entry's 4-byte load
   t.data_ = out;
