@@ -19,6 +19,7 @@
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "loader_interfaces.h"
+#include "loader_structs.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -132,17 +133,8 @@ class EyeGazeChain : public ::testing::Test {
     auto negotiate = reinterpret_cast<PFN_xrNegotiateLoaderApiLayerInterface>(
         dlsym(handle_, "xrNegotiateLoaderApiLayerInterface"));
     ASSERT_NE(negotiate, nullptr);
-    XrNegotiateLoaderInfo loader{};
-    loader.structType = XR_LOADER_INTERFACE_STRUCT_LOADER_INFO;
-    loader.structVersion = FOVEART_LOADER_INFO_STRUCT_VERSION;
-    loader.structSize = sizeof(loader);
-    loader.minInterfaceVersion = 1;
-    loader.maxInterfaceVersion = 1;
-    loader.minApiVersion = XR_MAKE_VERSION(1, 0, 0);
-    loader.maxApiVersion = XR_MAKE_VERSION(1, 0x3ff, 0xfff);
-    request_.structType = XR_LOADER_INTERFACE_STRUCT_API_LAYER_REQUEST;
-    request_.structVersion = FOVEART_API_LAYER_INFO_STRUCT_VERSION;
-    request_.structSize = sizeof(request_);
+    const XrNegotiateLoaderInfo loader = test::conforming_loader_info();
+    request_ = test::empty_api_layer_request();
     ASSERT_EQ(negotiate(&loader, XR_FOVEART_API_LAYER_NAME, &request_), XR_SUCCESS);
   }
   void TearDown() override {

@@ -121,12 +121,7 @@ class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
   void SetUp() override {
     if (!have_runtime()) GTEST_SKIP() << "simulated runtime not built";
     env_ = std::make_unique<IsolatedEnv>();
-    const auto config = env_->root() / "config.json";
-    std::ofstream(config) << R"({"wait_for_tables": true, "cache_dir": ")" << FOVEART_TEST_CACHE_DIR
-                          << R"(", "log_level": "info"})";
-    IsolatedEnv::set("FOVEART_CONFIG", config);
-    IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env_->root() / "frames");
-    IsolatedEnv::set("FOVEART_SIM_FRAMES", "2");
+    configure_hello_foveated(*env_, 2);
     IsolatedEnv::set("FOVEART_SIM_HEAD", "static");
   }
   std::unique_ptr<IsolatedEnv> env_;

@@ -58,13 +58,7 @@ class HelloFoveated : public ::testing::Test {
   void SetUp() override {
     if (!have_runtime()) GTEST_SKIP() << "simulated runtime not built";
     env_ = std::make_unique<IsolatedEnv>();
-    // One table cache shared by the suite.
-    const auto config = env_->root() / "config.json";
-    std::ofstream(config) << R"({"wait_for_tables": true, "cache_dir": ")" << FOVEART_TEST_CACHE_DIR
-                          << R"(", "log_level": "info"})";
-    IsolatedEnv::set("FOVEART_CONFIG", config);
-    IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env_->root() / "frames");
-    IsolatedEnv::set("FOVEART_SIM_FRAMES", "3");
+    configure_hello_foveated(*env_, 3);  // one table cache shared by the suite
     for (const char* name : {"FOVEART_SIM_CAPTURE_EVERY", "FOVEART_SIM_EYE_TRACKING", "FOVEART_SIM_GAZE"}) {
       ::unsetenv(name);
     }

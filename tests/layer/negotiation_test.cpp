@@ -9,6 +9,7 @@
 #include "barrier.hpp"
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "loader_interfaces.h"
+#include "loader_structs.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -21,16 +22,8 @@ class Negotiation : public ::testing::Test {
     negotiate_ = reinterpret_cast<PFN_xrNegotiateLoaderApiLayerInterface>(
         dlsym(handle_, "xrNegotiateLoaderApiLayerInterface"));
     ASSERT_NE(negotiate_, nullptr);
-    loader_info_.structType = XR_LOADER_INTERFACE_STRUCT_LOADER_INFO;
-    loader_info_.structVersion = FOVEART_LOADER_INFO_STRUCT_VERSION;
-    loader_info_.structSize = sizeof(loader_info_);
-    loader_info_.minInterfaceVersion = 1;
-    loader_info_.maxInterfaceVersion = 1;
-    loader_info_.minApiVersion = XR_MAKE_VERSION(1, 0, 0);
-    loader_info_.maxApiVersion = XR_MAKE_VERSION(1, 0x3ff, 0xfff);
-    request_.structType = XR_LOADER_INTERFACE_STRUCT_API_LAYER_REQUEST;
-    request_.structVersion = FOVEART_API_LAYER_INFO_STRUCT_VERSION;
-    request_.structSize = sizeof(request_);
+    loader_info_ = test::conforming_loader_info();
+    request_ = test::empty_api_layer_request();
   }
   void TearDown() override {
     if (handle_ != nullptr) dlclose(handle_);

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -69,6 +70,19 @@ class IsolatedEnv {
 };
 
 inline bool have_runtime() { return fs::exists(runtime_manifest()); }
+
+#ifdef FOVEART_TEST_CACHE_DIR
+// hello_foveated runs: a layer config that waits for the tables (cached once
+// for the whole suite), captures into <root>/frames and runs `frames` frames.
+inline void configure_hello_foveated(const IsolatedEnv& env, int frames) {
+  const auto config = env.root() / "config.json";
+  std::ofstream(config) << R"({"wait_for_tables": true, "cache_dir": ")" << FOVEART_TEST_CACHE_DIR
+                        << R"(", "log_level": "info"})";
+  IsolatedEnv::set("FOVEART_CONFIG", config);
+  IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env.root() / "frames");
+  IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(frames).c_str());
+}
+#endif
 
 #define FOVEART_REQUIRE_RUNTIME()                                                                  \
   do {                                                                                             \
