@@ -79,7 +79,6 @@ class FoveatedFrameEngine final : public FrameEngine {
     const int64_t now_ns = steady_now_ns();
     const bool steady = std::llabs(display_time - now_ns) < 1'000'000'000;
     GazeQuery query;
-    query.display_time_ns = steady ? display_time : now_ns;
     query.now_ns = now_ns;
     query.display_time = display_time;
     query.runtime_clock_is_steady = steady;

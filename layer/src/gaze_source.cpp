@@ -76,7 +76,7 @@ class ProviderGaze final : public GazeSource {
     FrameGaze out;
     out.source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
     const int64_t now_ns = q.now_ns;
-    const auto sample = provider_->sample_at(q.display_time_ns);
+    const auto sample = provider_->sample_at(q.steady_display_time_ns());
     if (!sample || !sample->valid || sample->lost || !usable(sample->combined_direction)) return out;
     const gaze::EyeGaze* eyes[2] = {&sample->left, &sample->right};
     for (int e = 0; e < 2; ++e) {

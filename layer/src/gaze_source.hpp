@@ -21,13 +21,16 @@ struct FrameGaze {
 
 // One frame's question: when, and for which views.
 struct GazeQuery {
-  int64_t display_time_ns = 0;  // steady clock: the frame's display time (or now, see frame_engine)
   int64_t now_ns = 0;           // steady clock: composition (xrEndFrame)
   XrTime display_time = 0;      // the frame's display time on the runtime's clock
   bool runtime_clock_is_steady = true;  // XrTime is CLOCK_MONOTONIC (false: a virtual runtime clock)
   XrSpace space = XR_NULL_HANDLE;       // the projection layer's space, where the views' poses live
   const XrCompositionLayerProjectionView* views = nullptr;
   uint32_t view_count = 0;
+
+  // Display time on the steady clock, for gaze prediction; under a virtual
+  // runtime clock, now (frame_engine).
+  int64_t steady_display_time_ns() const { return runtime_clock_is_steady ? display_time : now_ns; }
 };
 
 class GazeSource {
