@@ -111,8 +111,8 @@ bool ViewPipeline::trace(const ViewRequest& request, const RendererSettings& set
     auto& samples = chunk_samples_[c];
     samples.resize(chunk.size() * spp);
     const std::size_t first = first_visible * spp;
-    foveation::write_ray_samples(points, chunk, static_cast<int>(spp), seed, 0, chunk.size(), samples.data(),
-                                 &point_index_[first]);
+    foveation::write_ray_samples(points, chunk, static_cast<int>(spp), seed, samples.data(),
+                                 point_index_.data() + first);
     for (std::size_t j = 0; j < samples.size(); ++j) {
       const std::size_t i = first + j;
       const glm::vec2 s = samples[j];  // screen pixels

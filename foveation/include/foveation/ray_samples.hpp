@@ -27,12 +27,11 @@ struct RaySamples {
 RaySamples generate_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp,
                                 std::uint64_t seed);
 
-// Samples of the visible points [first, last) written to out_sample_px /
-// out_point_index at [(v - first) * spp + s]: generate_ray_samples split into
-// ranges for threads (bit-identical). spp >= 1 (not checked here).
+// generate_ray_samples into caller-owned arrays of visible.size() * spp
+// entries (sample s of visible point v at [v * spp + s]), so threads can each
+// fill their part of one frame's arrays. spp >= 1 (not checked here).
 void write_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp, std::uint64_t seed,
-                       std::size_t first, std::size_t last, glm::vec2* out_sample_px,
-                       std::uint32_t* out_point_index);
+                       glm::vec2* out_sample_px, std::uint32_t* out_point_index);
 
 // The offsets alone: sample s of point `point_index` inside a unit disc, pure function.
 glm::vec2 unit_disc_sample(std::uint64_t seed, std::uint32_t point_index, int s);
