@@ -9,6 +9,8 @@
 
 #include <xxhash.h>
 
+#include "cache_file.hpp"
+
 namespace foveart::foveation {
 
 namespace {
@@ -108,20 +110,8 @@ std::string save_interpolation_table(const std::filesystem::path& file, const st
   header += params;
   put(header, std::uint64_t(payload.size()));
   put(header, std::uint64_t(XXH3_64bits(payload.data(), payload.size())));
-  const auto tmp = std::filesystem::path(file.string() + ".tmp");
-  {
-    std::error_code ec;
-    if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return "cannot write interpolation cache " + tmp.string();
-    out.write(header.data(), std::streamsize(header.size()));
-    out.write(payload.data(), std::streamsize(payload.size()));
-    if (!out) return "short write to interpolation cache " + tmp.string();
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) return "cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message();
-  return {};
+  const detail::ByteSpan pieces[] = {{header.data(), header.size()}, {payload.data(), payload.size()}};
+  return detail::write_file_atomically(file, pieces);
 }
 
 std::optional<InterpolationTable> load_interpolation_table(const std::filesystem::path& file, const std::string& params,

@@ -9,7 +9,6 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
-#include <fstream>
 #include <initializer_list>
 #include <sstream>
 
@@ -19,6 +18,8 @@
 #include <unistd.h>
 
 #include <xxhash.h>
+
+#include "cache_file.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -77,62 +78,16 @@ std::string key_hex(Kind kind, const PointSetKey& key) {
   return buf;
 }
 
-// A payload is written as consecutive byte ranges, so large arrays (the 442 MB
-// table) go from their own storage to the file without being copied.
-struct Bytes {
-  const void* data;
-  std::size_t size;
-};
-
-template <class T>
-Bytes bytes_of(const T* data, std::size_t count) {
-  return {data, sizeof(T) * count};
-}
-
-std::string save_file(const std::filesystem::path& file, Header h, std::initializer_list<Bytes> payload) {
-  XXH3_state_t* state = XXH3_createState();
-  if (state == nullptr) return "cannot write cache file " + file.string() + ": out of memory";
-  XXH3_64bits_reset(state);
+// Header + payload pieces, written from their owners' memory (the 442 MB
+// table is never copied).
+std::string save_file(const std::filesystem::path& file, Header h, std::initializer_list<detail::ByteSpan> payload) {
   h.payload_bytes = 0;
-  for (const Bytes& b : payload) {
-    XXH3_64bits_update(state, b.data, b.size);
-    h.payload_bytes += b.size;
-  }
-  h.payload_xxh3 = XXH3_64bits_digest(state);
-  XXH3_freeState(state);
+  for (const detail::ByteSpan& b : payload) h.payload_bytes += b.size;
+  h.payload_xxh3 = detail::xxh3_of(std::span(payload.begin(), payload.size()));
   h.header_xxh3 = header_checksum(h);
-  std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  if (ec) return "cannot create cache directory " + file.parent_path().string() + ": " + ec.message();
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) return "cannot write cache file " + tmp.string() + ": " + std::strerror(errno);
-    // 1 MB writes: the kernel's copy into the page cache stays in cache (one
-    // 442 MB write measured 5-10x slower here).
-    auto write_all = [fd](const void* data, std::size_t size) {
-      const char* p = static_cast<const char*>(data);
-      while (size > 0) {
-        const ssize_t n = ::write(fd, p, std::min<std::size_t>(size, std::size_t{1} << 20));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        p += n;
-        size -= std::size_t(n);
-      }
-      return true;
-    };
-    bool ok = write_all(&h, sizeof h);
-    for (const Bytes& b : payload) ok = ok && write_all(b.data, b.size);
-    const int saved_errno = errno;
-    if (::close(fd) != 0) ok = false;
-    if (!ok) {
-      std::filesystem::remove(tmp, ec);
-      return "write failed for cache file " + tmp.string() + ": " + std::strerror(saved_errno);
-    }
-  }
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) return "cannot move cache file into place " + file.string() + ": " + ec.message();
-  return {};
+  std::vector<detail::ByteSpan> pieces{{&h, sizeof h}};
+  pieces.insert(pieces.end(), payload.begin(), payload.end());
+  return write_file_atomically(file, pieces);
 }
 
 // A read-only private mapping of a whole file; unmapped with its last owner.
@@ -228,8 +183,8 @@ std::string save_point_set(const std::filesystem::path& file, const PointSetKey&
   const std::uint32_t dims[2] = {std::uint32_t(points.canvas_width_px), std::uint32_t(points.canvas_height_px)};
   const std::uint64_t n = points.size();
   return save_file(file, make_header(Kind::kPointSet, key),
-                   {bytes_of(dims, 2), bytes_of(&n, 1), bytes_of(points.position_px.data(), points.size()),
-                    bytes_of(points.radius_px.data(), points.size())});
+                   {detail::bytes_of(dims, 2), detail::bytes_of(&n, 1), detail::bytes_of(points.position_px.data(), points.size()),
+                    detail::bytes_of(points.radius_px.data(), points.size())});
 }
 
 std::optional<PointSet> load_point_set(const std::filesystem::path& file, const PointSetKey& key,
@@ -278,7 +233,7 @@ std::string save_neighbor_table(const std::filesystem::path& file, const PointSe
   PointSetKey k = key;
   k.k = table.k();
   return save_file(file, make_header(Kind::kNeighborTable, k),
-                   {bytes_of(table.packed().data(), table.packed().size()), bytes_of(dims, 3)});
+                   {detail::bytes_of(table.packed().data(), table.packed().size()), detail::bytes_of(dims, 3)});
 }
 
 std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& file, const PointSetKey& key,
