@@ -9,11 +9,14 @@
 //   build/bin/interp_bench --benchmark_format=json > out/interp_bench.json
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <ctime>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
@@ -126,6 +129,59 @@ BENCHMARK(BM_Gather)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);
+
+// RBF(k) / MSM(k), the "RBF(k) <= 1.2 x MSM(k)": both tables in memory,
+// the two gathers alternating frame by frame (order swapped every pair), each
+// pair's ratio taken from frames a few milliseconds apart, so a slow spell of
+// this shared VM falls on both. Counters: median msm_ms, rbf_ms and ratio.
+// range(2): the RBF de-ringing (fv::RbfClamp: 0 off, 1 taps, 2 block).
+void BM_RbfOverMsm(benchmark::State& state) {
+  const int k = int(state.range(0));
+  auto& s = scene();
+  fv::InterpOptions o;
+  o.k = k;
+  o.method = fv::InterpMethod::msm;
+  const fv::CachedTable msm =
+      fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, {}, 2);
+  o.method = fv::InterpMethod::rbf_mq;
+  const fv::CachedTable rbf =
+      fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, {}, 2);
+  fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
+  fv::GatherOptions g;
+  g.threads = int(state.range(1));
+  g.rbf_clamp = fv::RbfClamp(state.range(2));
+  auto time_ms = [&](const fv::CachedTable& t) {
+    const auto t0 = std::chrono::steady_clock::now();
+    fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, g);
+    benchmark::DoNotOptimize(out.rgb.data());
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  time_ms(msm), time_ms(rbf);  // first touch of both tables
+  std::vector<double> msm_ms, rbf_ms, ratio;
+  bool rbf_first = false;
+  for (auto _ : state) {
+    double a, b;
+    if (rbf_first) b = time_ms(rbf), a = time_ms(msm);
+    else a = time_ms(msm), b = time_ms(rbf);
+    rbf_first = !rbf_first;
+    msm_ms.push_back(a), rbf_ms.push_back(b), ratio.push_back(b / a);
+    state.SetIterationTime((a + b) / 1e3);
+  }
+  auto median = [](std::vector<double> v) {
+    std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
+  state.counters["msm_ms"] = median(msm_ms);
+  state.counters["rbf_ms"] = median(rbf_ms);
+  state.counters["ratio"] = median(ratio);
+  constexpr const char* kClampNames[] = {"no clamp", "taps clamp", "block clamp"};
+  state.SetLabel("rbf-mq/msm k=" + std::to_string(k) + " " + kClampNames[state.range(2)]);
+}
+BENCHMARK(BM_RbfOverMsm)
+    ->ArgsProduct({{5, 10, 15, 20}, {1, 2}, {2, 1, 0}})  // default block clamp, the per-tap clamp, none
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->MinTime(2.0);
 
 // The portable kernel (GatherOptions::simd = false): what the AVX2 kernel buys.
 void BM_GatherPortable(benchmark::State& state) {

@@ -73,6 +73,22 @@ inline v4 load(const Rgba& c) {
   return v;
 }
 
+// Lane-wise min / max (minps / maxps on x86).
+inline v4 min4(v4 a, v4 b) {
+#if defined(__SSE__)
+  return _mm_min_ps(a, b);
+#else
+  return a < b ? a : b;
+#endif
+}
+inline v4 max4(v4 a, v4 b) {
+#if defined(__SSE__)
+  return _mm_max_ps(a, b);
+#else
+  return a > b ? a : b;
+#endif
+}
+
 inline std::uint32_t load24(const std::uint8_t* p) {
   std::uint32_t v = 0;
   std::memcpy(&v, p, 4);  // the table keeps one pad byte at its end
@@ -121,7 +137,7 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
       const double gain = t.normalized() ? 1.0 / a : s / a;
       for (int i = 0; i < 3; ++i) {
         float v = float(acc[i] * gain);
-        if (t.is_rbf() && f.options->clamp_rbf) v = std::clamp(v, lo[i], hi[i]);
+        if (t.is_rbf() && f.options->rbf_clamp != RbfClamp::off) v = std::clamp(v, lo[i], hi[i]);
         dst[i] = v;
       }
       ++stats.renormalized;
@@ -246,7 +262,10 @@ FOVEART_AVX2 inline v4 pixel_avx2(const Rgba* pal, const std::uint8_t* s, const 
 #endif
 
 // Screen rows [y0, y1) of one band, tile by tile. kAvx2: the AVX2 kernel.
-template <typename W, bool kClamp, int kTaps, bool kAvx2>
+// kClamp: RbfClamp::taps clamps each pixel in its kernel; RbfClamp::block takes
+// the range of the block's valid palette colours while copying them and clamps
+// each pixel of the block to it (O(1) per pixel instead of O(k)).
+template <typename W, RbfClamp kClamp, int kTaps, bool kAvx2>
 #if defined(FOVEART_GATHER_AVX2)
 FOVEART_AVX2
 #endif
@@ -282,9 +301,19 @@ void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats&
           const std::uint32_t* ids = l.palette.data() + l.block_palette[b];
           const int size = int(l.block_palette[b + 1] - l.block_palette[b]);
           int invalid = 0;  // an integer count: no floating-point dependency chain
+          v4 block_lo = {INFINITY, INFINITY, INFINITY, INFINITY}, block_hi = -block_lo;
           for (int i = 0; i < size; ++i) {
             pal[i] = f.colors[ids[i]];
             invalid += pal[i].a == 0.0f;
+            if constexpr (kClamp == RbfClamp::block) {
+              const v4 c = load(pal[i]);
+              block_lo = min4(block_lo, c), block_hi = max4(block_hi, c);
+            }
+          }
+          if (kClamp == RbfClamp::block && invalid != 0) {  // rare: the range of the valid colours only
+            block_lo = v4{INFINITY, INFINITY, INFINITY, INFINITY}, block_hi = -block_lo;
+            for (int i = 0; i < size; ++i)
+              if (pal[i].a != 0.0f) block_lo = min4(block_lo, load(pal[i])), block_hi = max4(block_hi, load(pal[i]));
           }
           for (int ly = std::max(by, ry0); ly < std::min(by + bs, ry1); ++ly) {
             float* dst = f.out->at(tx0 + std::max(bx, rx0) - ox, ty0 + ly - oy);
@@ -301,17 +330,19 @@ void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats&
                   continue;
                 }
               }
+              constexpr bool kTapsClamp = kClamp == RbfClamp::taps;
               v4 c;
 #if defined(FOVEART_GATHER_AVX2)
               if constexpr (kAvx2 && kTaps > 0) {
                 c = ord * std::size_t(k) + padded <= weight_count
-                        ? pixel_avx2<W, kClamp, kTaps>(pal, s, w, normalized)
-                        : pixel_portable<W, kClamp, kTaps>(pal, s, w, k, normalized);
+                        ? pixel_avx2<W, kTapsClamp, kTaps>(pal, s, w, normalized)
+                        : pixel_portable<W, kTapsClamp, kTaps>(pal, s, w, k, normalized);
               } else
 #endif
               {
-                c = pixel_portable<W, kClamp, kTaps>(pal, s, w, k, normalized);
+                c = pixel_portable<W, kTapsClamp, kTaps>(pal, s, w, k, normalized);
               }
+              if constexpr (kClamp == RbfClamp::block) c = min4(max4(c, block_lo), block_hi);
               dst[0] = c[0], dst[1] = c[1], dst[2] = c[2];
             }
           }
@@ -321,7 +352,7 @@ void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats&
   }
 }
 
-template <typename W, bool kClamp, bool kAvx2>
+template <typename W, RbfClamp kClamp, bool kAvx2>
 void gather_tiles_k(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
   switch (f.table->k()) {  // the thesis's k values unrolled
     case 5: return gather_tiles<W, kClamp, 5, kAvx2>(f, weights, y0, y1, stats);
@@ -334,9 +365,11 @@ void gather_tiles_k(const Frame& f, const W* weights, int y0, int y1, GatherStat
 
 template <typename W, bool kAvx2>
 void gather_tiles_w(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
-  const bool clamp = f.table->is_rbf() && f.options->clamp_rbf;
-  clamp ? gather_tiles_k<W, true, kAvx2>(f, weights, y0, y1, stats)
-        : gather_tiles_k<W, false, kAvx2>(f, weights, y0, y1, stats);
+  switch (f.table->is_rbf() ? f.options->rbf_clamp : RbfClamp::off) {
+    case RbfClamp::off: return gather_tiles_k<W, RbfClamp::off, kAvx2>(f, weights, y0, y1, stats);
+    case RbfClamp::taps: return gather_tiles_k<W, RbfClamp::taps, kAvx2>(f, weights, y0, y1, stats);
+    case RbfClamp::block: return gather_tiles_k<W, RbfClamp::block, kAvx2>(f, weights, y0, y1, stats);
+  }
 }
 
 bool use_avx2(const GatherOptions& o) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "foveation/gather.hpp"
 #include "foveation/gather_layout.hpp"
@@ -127,21 +128,50 @@ TEST(GatherLayout, InconsistentLayoutsAreReported) {
   EXPECT_THROW(build_gather_layout(nt, 11, 1), std::invalid_argument);
 }
 
-// Reference gather in double: Σ w c / Σ w (normalised tables), RBF clamped to the taps' range.
+// Range of the colours of taps of canvas pixels [x0, x1) x [y0, y1).
+void tap_range(const NeighborTable& nt, const InterpolationTable& t, const PointColors& c, int x0, int x1, int y0,
+               int y1, double lo[3], double hi[3]) {
+  for (int y = y0; y < y1; ++y) {
+    for (int x = x0; x < x1; ++x) {
+      const std::size_t cp = std::size_t(y) * std::size_t(t.width_px) + std::size_t(x);
+      for (int j = 0; j < t.taps(); ++j) {
+        const Rgba& p = c.rgba[nt.neighbor(cp, j)];
+        const double ch[3] = {p.r, p.g, p.b};
+        for (int i = 0; i < 3; ++i) lo[i] = std::min(lo[i], ch[i]), hi[i] = std::max(hi[i], ch[i]);
+      }
+    }
+  }
+}
+
+// Reference gather in double: Σ w c / Σ w (normalised tables); RBF clamped to
+// the taps' range, or to the range of every tap of the pixel's gather block
+// (the tile's 8 >> level square holding the pixel, cut at the canvas edge).
+// *abs_sum: Σ|w|, the scale of the float accumulation error (colours in [0, 1]).
 std::array<double, 3> reference_pixel(const NeighborTable& nt, const InterpolationTable& t, const PointColors& c,
-                                      std::size_t cp) {
+                                      std::size_t cp, RbfClamp clamp, double* abs_sum) {
   double acc[3] = {0, 0, 0}, s = 0, lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30};
+  *abs_sum = 0;
   for (int j = 0; j < t.taps(); ++j) {
     const double w = t.weight(cp, j);
     const Rgba& p = c.rgba[nt.neighbor(cp, j)];
     const double ch[3] = {p.r, p.g, p.b};
     s += w;
-    for (int i = 0; i < 3; ++i) acc[i] += w * ch[i], lo[i] = std::min(lo[i], ch[i]), hi[i] = std::max(hi[i], ch[i]);
+    *abs_sum += std::abs(w);
+    for (int i = 0; i < 3; ++i) acc[i] += w * ch[i];
+  }
+  const int x = int(cp % std::size_t(t.width_px)), y = int(cp / std::size_t(t.width_px));
+  if (clamp == RbfClamp::taps) tap_range(nt, t, c, x, x + 1, y, y + 1, lo, hi);
+  if (clamp == RbfClamp::block) {
+    const int tx = x / kGatherTilePx, ty = y / kGatherTilePx;
+    const int bs = kGatherTilePx >> t.layout.tile_level[std::size_t(ty) * std::size_t(t.layout.tiles_x()) + std::size_t(tx)];
+    const int bx = tx * kGatherTilePx + (x - tx * kGatherTilePx) / bs * bs;
+    const int by = ty * kGatherTilePx + (y - ty * kGatherTilePx) / bs * bs;
+    tap_range(nt, t, c, bx, std::min(bx + bs, t.width_px), by, std::min(by + bs, t.height_px), lo, hi);
   }
   std::array<double, 3> r{};
   for (int i = 0; i < 3; ++i) {
     r[std::size_t(i)] = t.normalized() ? acc[i] / s : acc[i];
-    if (t.is_rbf()) r[std::size_t(i)] = std::clamp(r[std::size_t(i)], lo[i], hi[i]);
+    if (t.is_rbf() && clamp != RbfClamp::off) r[std::size_t(i)] = std::clamp(r[std::size_t(i)], lo[i], hi[i]);
   }
   return r;
 }
@@ -161,8 +191,11 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
   GazeMapping map;
   map.screen_width_px = 29, map.screen_height_px = 21;
   map.canvas_from_screen_x_px = 13, map.canvas_from_screen_y_px = 11;
-  for (auto m : {InterpMethod::msm, InterpMethod::rbf_mq}) {
-    // float accumulation: MSM is convex; RBF weights are signed (Σ|w| up to ~5).
+  for (auto [m, clamp] : {std::pair{InterpMethod::msm, RbfClamp::block}, std::pair{InterpMethod::rbf_mq, RbfClamp::block},
+                          std::pair{InterpMethod::rbf_mq, RbfClamp::taps}, std::pair{InterpMethod::rbf_mq, RbfClamp::off}}) {
+    // float accumulation: MSM is convex; RBF weights are signed. Clamped results
+    // stay in [0, 1]; unclamped ones reach ~30 here, so their error is taken
+    // per unit of Σ|w| (the scale of the accumulation error).
     const double tol = m == InterpMethod::msm ? 2e-6 : 1e-5;
     for (int k : {5, 7, 10, 15, 20}) {
       for (auto prec : {WeightPrecision::f16, WeightPrecision::f32}) {
@@ -170,6 +203,7 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
         for (int threads : {1, 2, 3}) {
           GatherOptions simd, portable;
           simd.threads = portable.threads = threads;
+          simd.rbf_clamp = portable.rbf_clamp = clamp;
           portable.simd = false;
           ImageRgb a, b;
           const auto sa = gather(nt, t, all_valid, map, a, simd);
@@ -179,23 +213,32 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
           for (int y = 0; y < 21; ++y) {
             for (int x = 0; x < 29; ++x) {
               const std::size_t cp = std::size_t(y + 11) * 61 + std::size_t(x + 13);
-              const auto r = reference_pixel(nt, t, all_valid, cp);
+              double abs_sum = 0;
+              const auto r = reference_pixel(nt, t, all_valid, cp, clamp, &abs_sum);
               for (int i = 0; i < 3; ++i) {
-                worst = std::max(worst, std::abs(double(a.at(x, y)[i]) - r[std::size_t(i)]));
-                worst = std::max(worst, std::abs(double(b.at(x, y)[i]) - r[std::size_t(i)]));
+                const double scale = clamp == RbfClamp::off ? abs_sum : 1.0;
+                worst = std::max(worst, std::abs(double(a.at(x, y)[i]) - r[std::size_t(i)]) / scale);
+                worst = std::max(worst, std::abs(double(b.at(x, y)[i]) - r[std::size_t(i)]) / scale);
               }
             }
           }
-          EXPECT_LT(worst, tol) << method_name(m) << " k " << k << " threads " << threads;
+          EXPECT_LT(worst, tol) << method_name(m) << " k " << k << " threads " << threads << " clamp " << int(clamp);
           // Invalid points: both kernels take the same documented slow path.
           const auto ia = gather(nt, t, some_invalid, map, a, simd);
           const auto ib = gather(nt, t, some_invalid, map, b, portable);
           EXPECT_GT(ia.renormalized, 0u);
           EXPECT_EQ(ia.renormalized, ib.renormalized);
           EXPECT_EQ(ia.nearest_valid, ib.nearest_valid);
-          for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-            ASSERT_TRUE(std::isfinite(a.rgb[i]));
-            ASSERT_NEAR(a.rgb[i], b.rgb[i], tol) << method_name(m) << " k " << k;
+          for (int y = 0; y < 21; ++y) {
+            for (int x = 0; x < 29; ++x) {
+              double abs_sum = 0;
+              reference_pixel(nt, t, all_valid, std::size_t(y + 11) * 61 + std::size_t(x + 13), clamp, &abs_sum);
+              for (int i = 0; i < 3; ++i) {
+                ASSERT_TRUE(std::isfinite(a.at(x, y)[i]));
+                ASSERT_NEAR(a.at(x, y)[i], b.at(x, y)[i], tol * (clamp == RbfClamp::off ? abs_sum : 1.0))
+                    << method_name(m) << " k " << k;
+              }
+            }
           }
         }
       }

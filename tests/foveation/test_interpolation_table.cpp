@@ -124,7 +124,7 @@ TEST_F(InterpolationTableTest, ThesisPlainRbfDarkensConstants) {
   o.constant_term = false;
   const auto t = build_interpolation_table(*points_, *neighbors_, o, WeightPrecision::f32, 2);
   GatherOptions g;
-  g.clamp_rbf = false;
+  g.rbf_clamp = RbfClamp::off;
   gather(*neighbors_, t, colors, test::centre_mapping(), out, g);
   double worst = 0;
   for (float v : out.rgb) worst = std::max(worst, std::abs(double(v) - 1.0));
@@ -163,7 +163,7 @@ TEST_F(InterpolationTableTest, RbfClampRemovesOvershootOnAStep) {
   ImageRgb clamped, raw;
   gather(*neighbors_, t, colors, test::centre_mapping(), clamped);
   GatherOptions g;
-  g.clamp_rbf = false;
+  g.rbf_clamp = RbfClamp::off;
   gather(*neighbors_, t, colors, test::centre_mapping(), raw, g);
   float lo = 0, hi = 1, rlo = 0, rhi = 1;
   for (float v : clamped.rgb) lo = std::min(lo, v), hi = std::max(hi, v);

@@ -199,7 +199,8 @@ TEST_F(InterpCommands, ReconstructErrors) {
   for (auto mutate : std::vector<std::function<void(ReconstructArgs&)>>{
            [](ReconstructArgs& r) { r.method = "bicubic"; }, [](ReconstructArgs& r) { r.k = 0; },
            [](ReconstructArgs& r) { r.spp = 0; }, [](ReconstructArgs& r) { r.scale = -1; },
-           [](ReconstructArgs& r) { r.preset = "oculus"; }, [&](ReconstructArgs& r) { r.image = bad_png; }}) {
+           [](ReconstructArgs& r) { r.preset = "oculus"; }, [](ReconstructArgs& r) { r.rbf_clamp = "sometimes"; },
+           [&](ReconstructArgs& r) { r.image = bad_png; }}) {
     ReconstructArgs b;
     b.image = bad_png;
     b.no_cache = true;

@@ -54,6 +54,7 @@ struct ReconstructArgs {
   double shape = 0.0;
   bool no_constant = false;
   std::string weights;  // f16 | f32 | empty (the library's choice)
+  std::string rbf_clamp = "block";  // off | taps | block (foveation::RbfClamp)
 };
 
 // Runs the whole pipeline; returns the exit code (errors as one line on `err`).

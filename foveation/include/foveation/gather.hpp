@@ -9,8 +9,10 @@
 //      (NN/MSM: any positive weight; RBF: at least half of the weight sum),
 //   2. otherwise takes the nearest valid point among all NeighborTable entries,
 //   3. otherwise (no valid point at all) GatherOptions::fallback_rgb.
-// RBF results are clamped to the valid taps' min/max by default (no ringing
-// beyond the data; the weights alone overshoot a step by up to ~0.6).
+// RBF results are clamped by default to the range of the valid point colours
+// their gather block reads (RbfClamp::block: no ringing beyond the local data;
+// the weights alone overshoot a step by up to ~0.6). A pixel with an invalid
+// tap is clamped to its own valid taps' range (a subset of the block's).
 #pragma once
 
 #include <array>
@@ -48,9 +50,17 @@ PointColors point_colors_from_list(std::size_t point_count, std::span<const std:
 // (0 = invalid). Throws std::invalid_argument when sizes disagree.
 PointColors point_colors_from_all(std::span<const float> rgb, std::span<const std::uint8_t> valid = {});
 
+// De-ringing of RBF results (MSM and NN never leave their taps' range).
+enum class RbfClamp : std::uint8_t {
+  off,    // the thesis's plain RBF: overshoots a 0/1 step by up to ~0.6
+  taps,   // each pixel within its own valid taps' min/max (O(k) per pixel)
+  block,  // each pixel within the min/max of the valid points its gather block
+          // reads (<= 8x8 pixels, the union of their taps; O(1) per pixel)
+};
+
 struct GatherOptions {
   int threads = 0;                     // std::threads for this frame, 0 = hardware concurrency
-  bool clamp_rbf = true;               // clamp RBF output to the valid taps' range
+  RbfClamp rbf_clamp = RbfClamp::block;
   std::array<float, 3> fallback_rgb{};  // no valid point in reach
   bool simd = true;                    // AVX2/FMA/F16C kernel when the CPU has them (false: portable code)
 };
