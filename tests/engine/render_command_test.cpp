@@ -13,6 +13,7 @@
 
 #include <array>
 #include <fstream>
+#include <numeric>
 #include <sstream>
 
 using foveart::tools::RenderOptions;
@@ -67,6 +68,10 @@ TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
   o = small("sideways");
   EXPECT_EQ(run_render(o, out, err), 2);
   EXPECT_NE(err.str().find("--mode"), std::string::npos);
+  o = small("full");
+  o.frames = 0;
+  EXPECT_EQ(run_render(o, out, err), 2);
+  EXPECT_NE(err.str().find("--frames"), std::string::npos);
 }
 
 TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
@@ -155,6 +160,11 @@ TEST(RenderCommand, BothModeFoveatedMatchesFullAtTheFovea) {
   EXPECT_GT(j["points"].get<uint64_t>(), 0u);
   EXPECT_EQ(j["foveated"]["rays"]["primary"].get<uint64_t>(), 4 * j["points"].get<uint64_t>());
   EXPECT_GT(j["speedup"].get<double>(), 0.0);
+  EXPECT_EQ(j["frames"], 3);  // the default: three interleaved frames per mode, median reported
+  EXPECT_EQ(j["full"]["frames_total_ms"].size(), 3u);
+  EXPECT_EQ(j["foveated"]["frames_total_ms"].size(), 3u);
+  EXPECT_GT(j["content_speedup"].get<double>(), 0.0);
+  EXPECT_TRUE(j["overhead_fraction"].is_number());
   ASSERT_GE(j["rings"].size(), 2u);
   for (int r = 0; r < 2; ++r) {
     const auto& ring = j["rings"][r];
@@ -208,6 +218,11 @@ TEST(FoveatedRenderer, FramesAreIndependentOfEarlierFramesAndOfThreads) {
   ASSERT_TRUE(three.render(*tracer, gaze_b, &b_fresh).error.empty());
   EXPECT_GT(ra.points, 0u);
   EXPECT_NE(ra.points, rb.points);  // the gaze moved the visible set
+  // Every traced point falls in one screen tile (margin points in the nearest).
+  const std::vector<uint32_t> per_tile = one.points_per_tile(gaze_a, 16, 16, 6, 7);
+  ASSERT_EQ(per_tile.size(), 42u);
+  EXPECT_EQ(std::accumulate(per_tile.begin(), per_tile.end(), uint64_t{0}), ra.points);
+  EXPECT_GT(per_tile[0], per_tile[41]);  // gaze (10, 15): dense top-left, sparse bottom-right
   ASSERT_EQ(b_after_a.rgb.size(), b_fresh.rgb.size());
   size_t differ_from_a = 0;
   for (size_t i = 0; i < b_fresh.rgb.size(); ++i) {

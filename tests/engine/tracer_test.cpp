@@ -256,6 +256,33 @@ TEST(Tracer, ManyThreadsGiveTheSameImageAsOne) {
   for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "pixel " << i;
 }
 
+// The full frame is traced tile by tile; the tile shape follows the batch size
+// and changes which rays share a packet, never a pixel's colour.
+TEST(Tracer, FullRenderTilesCoverTheImageAndDoNotChangeIt) {
+  auto t = make(make_default_scene());
+  const FoveartEyeView v = small_view(t->scene(), 100, 72);
+  RenderSettings big;
+  big.threads = 2;
+  RenderSettings tiny = big;
+  tiny.batch_rays = 40;
+  Image a, b;
+  const RenderResult ra = render_full(&foveart_engine_trace_rays, t.get(), v, big, &a);
+  const RenderResult rb = render_full(&foveart_engine_trace_rays, t.get(), v, tiny, &b);
+  ASSERT_EQ(ra.status, FOVEART_RESULT_SUCCESS);
+  ASSERT_EQ(rb.status, FOVEART_RESULT_SUCCESS);
+  EXPECT_EQ(ra.tile_width_px, 64u);  // 4096 rays: 64 x 64 tiles
+  EXPECT_EQ(ra.tile_height_px, 64u);
+  EXPECT_EQ(ra.tiles_x, 2u);
+  EXPECT_EQ(ra.tile_ms.size(), 4u);
+  EXPECT_EQ(rb.tile_width_px, 40u);  // 40 rays: 40 x 1
+  EXPECT_EQ(rb.tile_height_px, 1u);
+  EXPECT_EQ(rb.tiles_x, 3u);
+  EXPECT_EQ(rb.tile_ms.size(), 3u * 72u);
+  for (double ms : rb.tile_ms) EXPECT_GT(ms, 0.0);
+  ASSERT_EQ(a.rgb.size(), b.rgb.size());
+  for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "pixel " << i;
+}
+
 TEST(Tracer, RaysFromViewAndSamplePositionsEqualExplicitRays) {
   auto t = make(make_default_scene());
   const FoveartEyeView v = small_view(t->scene(), 64, 72);

@@ -30,6 +30,7 @@ struct RenderOptions {
   int k = 0;                      // 0: 1 for nn, 5 otherwise
   double scale = 1.0;
   int threads = 0;                // 0: all cores
+  int frames = 3;                 // per mode, interleaved; the report gives the median frame
   std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
   // An exact OpenXR view instead of the preset's: XrFovf angles in degrees
   // (left, right, up, down; the point set follows the horizontal span, as the

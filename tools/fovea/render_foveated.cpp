@@ -58,6 +58,9 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn, void*, glm::vec2, en
   r.error = state_->error;
   return r;
 }
+std::vector<uint32_t> FoveatedRenderer::points_per_tile(glm::vec2, uint32_t, uint32_t, uint32_t, uint32_t) const {
+  return {};
+}
 
 #else
 
@@ -359,14 +362,28 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, 
   return r;
 }
 
-#endif
-
-FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& req) {
-  FoveatedRenderer renderer(view, req);
-  engine::Image image;
-  FoveatedResult r = renderer.render(tracer, req.gaze_px, &image);
-  r.image = std::move(image);
-  return r;
+std::vector<uint32_t> FoveatedRenderer::points_per_tile(glm::vec2 gaze_px, uint32_t tile_w, uint32_t tile_h,
+                                                       uint32_t tiles_x, uint32_t tiles_y) const {
+  const State& st = *state_;
+  if (!st.error.empty() || tile_w == 0 || tile_h == 0) return {};
+  const FoveartEyeView& view = st.view;
+  const foveation::GazeMapping mapping =
+      foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), gaze_px);
+  const glm::vec2 canvas_offset(static_cast<float>(mapping.canvas_from_screen_x_px),
+                                static_cast<float>(mapping.canvas_from_screen_y_px));
+  const float margin = foveation::kVisibleMarginPx;
+  const float w = static_cast<float>(mapping.screen_width_px), h = static_cast<float>(mapping.screen_height_px);
+  std::vector<uint32_t> count(static_cast<size_t>(tiles_x) * tiles_y, 0);
+  for (const glm::vec2& p : st.tables.points.position_px) {
+    const glm::vec2 screen = p - canvas_offset;  // the visibility test of render()
+    if (!(screen.x >= -margin && screen.x < w + margin && screen.y >= -margin && screen.y < h + margin)) continue;
+    const uint32_t tx = std::min(tiles_x - 1, static_cast<uint32_t>(std::clamp(screen.x, 0.0f, w - 1.0f)) / tile_w);
+    const uint32_t ty = std::min(tiles_y - 1, static_cast<uint32_t>(std::clamp(screen.y, 0.0f, h - 1.0f)) / tile_h);
+    ++count[static_cast<size_t>(ty) * tiles_x + tx];
+  }
+  return count;
 }
+
+#endif
 
 }  // namespace foveart::tools

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace foveart::tools {
 
@@ -71,12 +72,15 @@ class FoveatedRenderer {
   // The same through any engine callback (e.g. a no-op one, to time the bookkeeping alone).
   FoveatedResult render(FoveartTraceRaysFn fn, void* user_data, glm::vec2 gaze_px, engine::Image* out_image);
 
+  // How many of the points a frame at `gaze_px` traces fall in each tile of a
+  // tiles_x-wide grid of tile_w x tile_h screen tiles (row-major; points in the
+  // margin beyond the screen count in the nearest tile). Empty on error.
+  std::vector<uint32_t> points_per_tile(glm::vec2 gaze_px, uint32_t tile_w, uint32_t tile_h, uint32_t tiles_x,
+                                        uint32_t tiles_y) const;
+
  private:
   struct State;
   std::unique_ptr<State> state_;
 };
-
-// One-shot: build a renderer and render one frame at request.gaze_px.
-FoveatedResult render_foveated(engine::Tracer& tracer, const FoveartEyeView& view, const FoveatedRequest& request);
 
 }  // namespace foveart::tools

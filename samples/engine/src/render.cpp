@@ -87,35 +87,56 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
   RenderResult result;
   out->width = view.width_px;
   out->height = view.height_px;
-  out->rgb.assign(static_cast<size_t>(view.width_px) * view.height_px, glm::vec3(0.0f));
+  out->rgb.resize(static_cast<size_t>(view.width_px) * view.height_px);  // every pixel is written below
   const foveation::EyeFrustum f = foveation::eye_frustum(view);
   const foveation::EyePose pose = foveation::eye_pose(view);
   const uint32_t spp = static_cast<uint32_t>(std::max(settings.spp, 1));
-  const uint64_t pixels_per_batch = std::max<uint64_t>(1, settings.batch_rays / spp);
+  constexpr uint32_t kTileWidth = 64;
+  const uint32_t batch_pixels = std::max<uint32_t>(1, settings.batch_rays / spp);
+  const uint32_t tile_w = std::min({kTileWidth, view.width_px, batch_pixels});
+  const uint32_t tile_h = std::max<uint32_t>(1, batch_pixels / tile_w);
+  const uint32_t tiles_x = (view.width_px + tile_w - 1) / tile_w;
+  const uint32_t tiles_y = (view.height_px + tile_h - 1) / tile_h;
+  result.tile_width_px = tile_w;
+  result.tile_height_px = tile_h;
+  result.tiles_x = tiles_x;
+  result.tile_ms.assign(static_cast<size_t>(tiles_x) * tiles_y, 0.0);
   std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
-  parallel_chunks(out->rgb.size(), pixels_per_batch, thread_count(settings.threads),
-                  [&](uint64_t first, uint64_t count) {
-                    thread_local RayBatch b;
-                    b.resize(count * spp);
-                    size_t r = 0;
-                    for (uint64_t p = first; p < first + count; ++p) {
-                      const glm::vec2 px(static_cast<float>(p % view.width_px), static_cast<float>(p / view.width_px));
-                      for (uint32_t s = 0; s < spp; ++s)
-                        b.set_ray(r++, f, pose, px + jitter(p, s, settings.seed), static_cast<uint32_t>(p));
-                    }
-                    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(r));
-                    if (st != FOVEART_RESULT_SUCCESS) {
-                      int32_t expected = FOVEART_RESULT_SUCCESS;
-                      status.compare_exchange_strong(expected, st);
-                      return;
-                    }
-                    const float inv = 1.0f / static_cast<float>(spp);
-                    for (uint64_t p = first, k = 0; p < first + count; ++p) {
-                      glm::vec3 sum(0.0f);
-                      for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
-                      out->rgb[p] = sum * inv;
-                    }
-                  });
+  parallel_chunks(result.tile_ms.size(), 1, thread_count(settings.threads), [&](uint64_t tile, uint64_t) {
+    const auto tile_t0 = std::chrono::steady_clock::now();
+    const uint32_t x0 = static_cast<uint32_t>(tile % tiles_x) * tile_w;
+    const uint32_t y0 = static_cast<uint32_t>(tile / tiles_x) * tile_h;
+    const uint32_t x1 = std::min(view.width_px, x0 + tile_w);
+    const uint32_t y1 = std::min(view.height_px, y0 + tile_h);
+    thread_local RayBatch b;
+    b.resize(static_cast<size_t>(x1 - x0) * (y1 - y0) * spp);
+    size_t r = 0;
+    for (uint32_t y = y0; y < y1; ++y)
+      for (uint32_t x = x0; x < x1; ++x) {
+        const uint64_t p = static_cast<uint64_t>(y) * view.width_px + x;
+        for (uint32_t s = 0; s < spp; ++s)
+          b.set_ray(r++, f, pose, glm::vec2(static_cast<float>(x), static_cast<float>(y)) + jitter(p, s, settings.seed),
+                    static_cast<uint32_t>(p));
+      }
+    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(r));
+    if (st != FOVEART_RESULT_SUCCESS) {
+      int32_t expected = FOVEART_RESULT_SUCCESS;
+      status.compare_exchange_strong(expected, st);
+      for (uint32_t y = y0; y < y1; ++y)  // black, not last frame's pixels
+        std::fill_n(out->rgb.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(y) * view.width_px + x0), x1 - x0,
+                    glm::vec3(0.0f));
+      return;
+    }
+    const float inv = 1.0f / static_cast<float>(spp);
+    size_t k = 0;
+    for (uint32_t y = y0; y < y1; ++y)
+      for (uint32_t x = x0; x < x1; ++x) {
+        glm::vec3 sum(0.0f);
+        for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
+        out->rgb[static_cast<size_t>(y) * view.width_px + x] = sum * inv;
+      }
+    result.tile_ms[tile] = ms_since(tile_t0);
+  });
   result.status = status.load();
   result.trace_ms = ms_since(t0);
   return result;

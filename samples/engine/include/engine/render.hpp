@@ -34,9 +34,17 @@ struct RenderSettings {
 struct RenderResult {
   int32_t status = FOVEART_RESULT_SUCCESS;  // first failing callback status, if any
   double trace_ms = 0.0;                   // wall time of ray generation + tracing
+  // render_full only: the image is traced tile by tile (one callback call per
+  // tile); tile_ms[ty * tiles_x + tx] is the time its thread spent on tile
+  // (tx, ty) — a map of what the scene costs where.
+  uint32_t tile_width_px = 0;
+  uint32_t tile_height_px = 0;
+  uint32_t tiles_x = 0;
+  std::vector<double> tile_ms;
 };
 
-// spp jittered rays in every pixel, averaged.
+// spp jittered rays in every pixel, averaged; traced in tiles of (up to) 64 px
+// width and batch_rays / (64 spp) rows (packets of 16 neighbours along a row).
 RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
                          const RenderSettings& settings, Image* out_image);
 
