@@ -4,8 +4,10 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <fstream>
 #include <system_error>
+#include <vector>
 
 #include <xxhash.h>
 
@@ -37,12 +39,6 @@ bool get(const std::string& s, std::size_t& at, T& v) {
 }
 
 template <typename T>
-void put_vec(std::string& s, const std::vector<T>& v) {
-  put(s, std::uint64_t(v.size()));
-  if (!v.empty()) s.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-template <typename T>
 bool get_vec(const std::string& s, std::size_t& at, std::vector<T>& v) {
   std::uint64_t n = 0;
   if (!get(s, at, n) || n > (s.size() - at) / sizeof(T)) return false;
@@ -52,26 +48,51 @@ bool get_vec(const std::string& s, std::size_t& at, std::vector<T>& v) {
   return true;
 }
 
-std::string payload_of(const InterpolationTable& t) {
-  std::string p;
-  put(p, std::int32_t(t.width_px));
-  put(p, std::int32_t(t.height_px));
-  put(p, t.stats);
-  put(p, t.build_ms);
-  put_vec(p, t.weights_f32);
-  put_vec(p, t.weights_f16);
-  put_vec(p, t.weight_sum);
-  const auto& l = t.layout;
-  put(p, std::int32_t(l.width_px));
-  put(p, std::int32_t(l.height_px));
-  put(p, std::int32_t(l.k));
-  put_vec(p, l.tile_level);
-  put_vec(p, l.tile_first_block);
-  put_vec(p, l.block_palette);
-  put_vec(p, l.palette);
-  put_vec(p, l.slot);
-  return p;
-}
+// The payload as pieces, in file order: scalars and array lengths in small
+// buffers of its own, the arrays straight from the table's memory (a k = 20
+// RBF table is ~465 MB: no copy of it is made to write it).
+class PayloadPieces {
+ public:
+  explicit PayloadPieces(const InterpolationTable& t) {
+    scalar(std::int32_t(t.width_px));
+    scalar(std::int32_t(t.height_px));
+    scalar(t.stats);
+    scalar(t.build_ms);
+    array(t.weights_f32);
+    array(t.weights_f16);
+    array(t.weight_sum);
+    const auto& l = t.layout;
+    scalar(std::int32_t(l.width_px));
+    scalar(std::int32_t(l.height_px));
+    scalar(std::int32_t(l.k));
+    array(l.tile_level);
+    array(l.tile_first_block);
+    array(l.block_palette);
+    array(l.palette);
+    array(l.slot);
+  }
+  const std::vector<detail::ByteSpan>& pieces() const { return pieces_; }
+  std::size_t size() const {
+    std::size_t n = 0;
+    for (const auto& p : pieces_) n += p.size;
+    return n;
+  }
+
+ private:
+  template <typename T>
+  void scalar(const T& v) {
+    std::string& s = small_.emplace_back();  // a deque: earlier buffers stay where they are
+    put(s, v);
+    pieces_.push_back({s.data(), s.size()});
+  }
+  template <typename T>
+  void array(const std::vector<T>& v) {
+    scalar(std::uint64_t(v.size()));
+    if (!v.empty()) pieces_.push_back(detail::bytes_of(v.data(), v.size()));
+  }
+  std::deque<std::string> small_;
+  std::vector<detail::ByteSpan> pieces_;
+};
 
 }  // namespace
 
@@ -103,14 +124,15 @@ std::filesystem::path interpolation_cache_path(const std::filesystem::path& dir,
 
 std::string save_interpolation_table(const std::filesystem::path& file, const std::string& params,
                                      const InterpolationTable& t) {
-  const std::string payload = payload_of(t);
+  const PayloadPieces payload(t);
   std::string header(kMagic, sizeof kMagic);
   put(header, kInterpCacheFormatVersion);
   put(header, std::uint32_t(params.size()));
   header += params;
   put(header, std::uint64_t(payload.size()));
-  put(header, std::uint64_t(XXH3_64bits(payload.data(), payload.size())));
-  const detail::ByteSpan pieces[] = {{header.data(), header.size()}, {payload.data(), payload.size()}};
+  put(header, detail::xxh3_of(payload.pieces()));
+  std::vector<detail::ByteSpan> pieces{{header.data(), header.size()}};
+  pieces.insert(pieces.end(), payload.pieces().begin(), payload.pieces().end());
   return detail::write_file_atomically(file, pieces);
 }
 
