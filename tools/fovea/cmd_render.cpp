@@ -2,6 +2,7 @@
 // scene with the sample engine; JSON report of rays per effect and times.
 #include "cmd_render.hpp"
 
+#include "content_speedup.hpp"
 #include "render_foveated.hpp"
 #include "render_metrics.hpp"
 
@@ -49,10 +50,11 @@ double lanes_per_packet(const engine::RayCounts& c) {
 // Per-frame times of one mode; the report gives the medians (the frame whose
 // total is the median, so trace + reconstruct add up to total).
 struct FrameTimes {
-  std::vector<double> total_ms, trace_ms, reconstruct_ms;
-  void add(double trace, double reconstruct) {
+  std::vector<double> total_ms, trace_ms, reconstruct_ms, samples_ms;
+  void add(double trace, double reconstruct, double samples = 0.0) {
     trace_ms.push_back(trace);
     reconstruct_ms.push_back(reconstruct);
+    samples_ms.push_back(samples);
     total_ms.push_back(trace + reconstruct);
   }
   size_t median_frame() const {
@@ -64,6 +66,7 @@ struct FrameTimes {
   double median_total_ms() const { return total_ms[median_frame()]; }
   double median_trace_ms() const { return trace_ms[median_frame()]; }
   double median_reconstruct_ms() const { return reconstruct_ms[median_frame()]; }
+  double median_samples_ms() const { return samples_ms[median_frame()]; }
 };
 
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
@@ -243,7 +246,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         err << "fovea render: " << fr.error << "\n";
         return 1;
       }
-      fov_times.add(fr.trace_ms, fr.reconstruct_ms);
+      fov_times.add(fr.trace_ms, fr.reconstruct_ms, fr.samples_ms);
       if (frame == 0) {
         fov_rays = minus(tracer->counts(), before);
         fov_points = fr.points;
@@ -260,6 +263,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     report["foveated"] = {{"rays", rays_json(fov_rays)}, {"lanes_per_packet", lanes_per_packet(fov_rays)},
                           {"method", o.method}, {"k", req.k}, {"scale", o.scale},
                           {"precompute_ms", renderer->precompute_ms()}, {"trace_ms", fov_times.median_trace_ms()},
+                          {"samples_ms", fov_times.median_samples_ms()},
                           {"reconstruct_ms", fov_times.median_reconstruct_ms()},
                           {"total_ms", fov_times.median_total_ms()}, {"frames_total_ms", fov_times.total_ms}};
   }
@@ -267,25 +271,14 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   const double fov_total = run_foveated ? fov_times.median_total_ms() : 0.0;
   if (o.mode == "both") {
     report["speedup"] = fov_total > 0.0 ? full_total / fov_total : 0.0;
-    // What the scene alone allows: full mode's measured cost of each tile per
-    // pixel, times the points traced in that tile. The speedup of a foveated
-    // frame with no bookkeeping and no reconstruction; pixels / points only
-    // when every ray costs the same wherever it goes.
+    // What the scene alone allows (content_speedup.hpp), and the rest: the
+    // foveation's own cost relative to the rays it traces.
+    const TileGrid grid{view.width_px, view.height_px, tiles.tile_width_px, tiles.tile_height_px, tiles.tiles_x};
     const uint32_t tiles_y = tiles.tiles_x ? static_cast<uint32_t>(tile_ms.size() / tiles.tiles_x) : 0;
-    const std::vector<uint32_t> points_in =
-        renderer->points_per_tile(gaze, tiles.tile_width_px, tiles.tile_height_px, tiles.tiles_x, tiles_y);
-    double cost_all = 0.0, cost_points = 0.0;
-    for (size_t t = 0; t < points_in.size(); ++t) {
-      const uint32_t x0 = static_cast<uint32_t>(t % tiles.tiles_x) * tiles.tile_width_px;
-      const uint32_t y0 = static_cast<uint32_t>(t / tiles.tiles_x) * tiles.tile_height_px;
-      const double tile_pixels = static_cast<double>(std::min(tiles.tile_width_px, view.width_px - x0)) *
-                                 static_cast<double>(std::min(tiles.tile_height_px, view.height_px - y0));
-      cost_all += tile_ms[t];
-      cost_points += tile_ms[t] * static_cast<double>(points_in[t]) / tile_pixels;
-    }
-    const double content_speedup = cost_points > 0.0 ? cost_all / cost_points : 0.0;
-    report["content_speedup"] = content_speedup;
-    report["overhead_fraction"] = full_total > 0.0 ? fov_total * content_speedup / full_total - 1.0 : 0.0;
+    const double content_bound = content_speedup(
+        grid, tile_ms, renderer->points_per_tile(gaze, grid.tile_w_px, grid.tile_h_px, grid.tiles_x, tiles_y));
+    report["content_speedup"] = content_bound;
+    report["overhead_fraction"] = full_total > 0.0 ? fov_total * content_bound / full_total - 1.0 : 0.0;
     const ImageComparison cmp = compare_images(foveated, full, view, gaze, {0, 2.5, 5, 10, 20, 30, 45, 90});
     report["psnr"] = number_or_null(cmp.psnr);
     report["ssim"] = cmp.ssim;
