@@ -223,6 +223,8 @@ TEST(FoveatedRenderer, FramesAreIndependentOfEarlierFramesAndOfThreads) {
   ASSERT_EQ(per_tile.size(), 42u);
   EXPECT_EQ(std::accumulate(per_tile.begin(), per_tile.end(), uint64_t{0}), ra.points);
   EXPECT_GT(per_tile[0], per_tile[41]);  // gaze (10, 15): dense top-left, sparse bottom-right
+  EXPECT_TRUE(one.points_per_tile(gaze_a, 16, 16, 0, 7).empty());  // no grid, no counts
+  EXPECT_TRUE(one.points_per_tile(gaze_a, 0, 16, 6, 7).empty());
   ASSERT_EQ(b_after_a.rgb.size(), b_fresh.rgb.size());
   size_t differ_from_a = 0;
   for (size_t i = 0; i < b_fresh.rgb.size(); ++i) {

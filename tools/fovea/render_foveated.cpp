@@ -92,6 +92,22 @@ constexpr uint64_t kChunkPoints = 8192;
 // Sample offsets are precomputed up to this many (64 MB); beyond, made per frame.
 constexpr size_t kMaxPrecomputedSamples = size_t{8} << 20;
 
+// Where a point is traced: the screen plus the thesis's 10 px margin
+// (foveation::select_visible_points' test), in screen pixels.
+struct VisibleRect {
+  float x0, y0, x1, y1;
+  explicit VisibleRect(const foveation::GazeMapping& m)
+      : x0(-foveation::kVisibleMarginPx),
+        y0(-foveation::kVisibleMarginPx),
+        x1(static_cast<float>(m.screen_width_px) + foveation::kVisibleMarginPx),
+        y1(static_cast<float>(m.screen_height_px) + foveation::kVisibleMarginPx) {}
+  bool contains(glm::vec2 p) const { return p.x >= x0 && p.x < x1 && p.y >= y0 && p.y < y1; }
+};
+
+glm::vec2 canvas_offset_of(const foveation::GazeMapping& m) {
+  return glm::vec2(static_cast<float>(m.canvas_from_screen_x_px), static_cast<float>(m.canvas_from_screen_y_px));
+}
+
 template <typename Rows>
 void parallel_rows(uint32_t height, int threads, Rows&& rows) {
   std::atomic<uint32_t> next{0};
@@ -258,12 +274,8 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, 
 
     const foveation::EyeFrustum frustum = foveation::eye_frustum(view);
     const foveation::EyePose pose = foveation::eye_pose(view);
-    const float margin = foveation::kVisibleMarginPx;
-    const float x0 = -margin, y0 = -margin;
-    const float x1 = static_cast<float>(mapping.screen_width_px) + margin;
-    const float y1 = static_cast<float>(mapping.screen_height_px) + margin;
-    const glm::vec2 canvas_offset(static_cast<float>(mapping.canvas_from_screen_x_px),
-                                  static_cast<float>(mapping.canvas_from_screen_y_px));
+    const VisibleRect visible(mapping);
+    const glm::vec2 canvas_offset = canvas_offset_of(mapping);
     const uint32_t spp = static_cast<uint32_t>(std::max(st.request.spp, 1));
     const uint32_t batch_points = std::max<uint32_t>(1, kBatchRays / spp);
     const uint64_t seed = st.request.seed;
@@ -294,7 +306,7 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, 
       };
       for (uint64_t i = first; i < first + count; ++i) {
         const glm::vec2 screen = points.position_px[i] - canvas_offset;
-        if (!(screen.x >= x0 && screen.x < x1 && screen.y >= y0 && screen.y < y1)) continue;
+        if (!visible.contains(screen)) continue;
         const uint32_t id = static_cast<uint32_t>(i);
         for (uint32_t s = 0; s < spp; ++s) {
           const glm::vec2 offset = st.sample_offset_px.empty()
@@ -365,18 +377,17 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, 
 std::vector<uint32_t> FoveatedRenderer::points_per_tile(glm::vec2 gaze_px, uint32_t tile_w, uint32_t tile_h,
                                                        uint32_t tiles_x, uint32_t tiles_y) const {
   const State& st = *state_;
-  if (!st.error.empty() || tile_w == 0 || tile_h == 0) return {};
+  if (!st.error.empty() || tile_w == 0 || tile_h == 0 || tiles_x == 0 || tiles_y == 0) return {};
   const FoveartEyeView& view = st.view;
   const foveation::GazeMapping mapping =
       foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), gaze_px);
-  const glm::vec2 canvas_offset(static_cast<float>(mapping.canvas_from_screen_x_px),
-                                static_cast<float>(mapping.canvas_from_screen_y_px));
-  const float margin = foveation::kVisibleMarginPx;
+  const VisibleRect visible(mapping);
+  const glm::vec2 canvas_offset = canvas_offset_of(mapping);
   const float w = static_cast<float>(mapping.screen_width_px), h = static_cast<float>(mapping.screen_height_px);
   std::vector<uint32_t> count(static_cast<size_t>(tiles_x) * tiles_y, 0);
   for (const glm::vec2& p : st.tables.points.position_px) {
-    const glm::vec2 screen = p - canvas_offset;  // the visibility test of render()
-    if (!(screen.x >= -margin && screen.x < w + margin && screen.y >= -margin && screen.y < h + margin)) continue;
+    const glm::vec2 screen = p - canvas_offset;
+    if (!visible.contains(screen)) continue;
     const uint32_t tx = std::min(tiles_x - 1, static_cast<uint32_t>(std::clamp(screen.x, 0.0f, w - 1.0f)) / tile_w);
     const uint32_t ty = std::min(tiles_y - 1, static_cast<uint32_t>(std::clamp(screen.y, 0.0f, h - 1.0f)) / tile_h);
     ++count[static_cast<size_t>(ty) * tiles_x + tx];
