@@ -61,6 +61,21 @@ PointColors point_colors_from_all(std::span<const float> rgb, std::span<const st
   return pc;
 }
 
+std::string_view rbf_clamp_name(RbfClamp clamp) {
+  switch (clamp) {
+    case RbfClamp::off: return "off";
+    case RbfClamp::taps: return "taps";
+    case RbfClamp::block: return "block";
+  }
+  return "?";
+}
+
+std::optional<RbfClamp> parse_rbf_clamp(std::string_view name) {
+  for (RbfClamp c : {RbfClamp::off, RbfClamp::taps, RbfClamp::block})
+    if (name == rbf_clamp_name(c)) return c;
+  return std::nullopt;
+}
+
 // ---- Gather -------------------------------------------------------------------
 
 namespace {

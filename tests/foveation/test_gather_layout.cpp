@@ -246,5 +246,12 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
   }
 }
 
+TEST(GatherOptions, RbfClampNamesRoundTrip) {
+  for (RbfClamp c : {RbfClamp::off, RbfClamp::taps, RbfClamp::block}) EXPECT_EQ(parse_rbf_clamp(rbf_clamp_name(c)), c);
+  EXPECT_EQ(parse_rbf_clamp("Block"), std::nullopt);
+  EXPECT_EQ(parse_rbf_clamp(""), std::nullopt);
+  EXPECT_EQ(GatherOptions{}.rbf_clamp, RbfClamp::block);  // the documented default
+}
+
 }  // namespace
 }  // namespace foveart::foveation

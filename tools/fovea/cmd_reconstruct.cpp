@@ -80,8 +80,8 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   if (a.spp < 1 || a.spp > 4096) return fail("--spp must be in 1..4096");
   if (!(a.scale > 0.0) || !std::isfinite(a.scale)) return fail("--scale must be a positive number");
   if (a.frames < 1 || a.frames > 10000) return fail("--frames must be in 1..10000");
-  if (a.rbf_clamp != "off" && a.rbf_clamp != "taps" && a.rbf_clamp != "block")
-    return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
+  const auto rbf_clamp = fv::parse_rbf_clamp(a.rbf_clamp);
+  if (!rbf_clamp) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
   auto display = fv::display_preset(a.preset);
   if (!display) {
     std::string names;
@@ -140,7 +140,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   fv::TemporalAccumulator taa(taa_opts);
   fv::GatherOptions gopts;
   gopts.threads = a.threads;
-  gopts.rbf_clamp = a.rbf_clamp == "off" ? fv::RbfClamp::off : a.rbf_clamp == "taps" ? fv::RbfClamp::taps : fv::RbfClamp::block;
+  gopts.rbf_clamp = *rbf_clamp;
   double sample_ms = 0, interpolate_ms = 0, taa_ms = 0, total_ms = 0;
   double flicker = 0, flicker_raw = 0;
   fv::ImageRgb frame, prev_out, prev_raw, output;
@@ -208,7 +208,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   j["table_weight_bytes"] = interp.table.bytes();
   j["table_index_bytes"] = tables.neighbors.bytes();
   j["weights"] = interp.table.precision == fv::WeightPrecision::f16 ? "f16" : "f32";
-  j["rbf_clamp"] = a.rbf_clamp;
+  j["rbf_clamp"] = fv::rbf_clamp_name(*rbf_clamp);
   j["rbf_fallback_pixels"] = interp.table.stats.fallback_msm;
   j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
   j["psnr"] = number_or_null(psnr);

@@ -17,7 +17,9 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "foveation/gaze_mapping.hpp"
@@ -57,6 +59,10 @@ enum class RbfClamp : std::uint8_t {
   block,  // each pixel within the min/max of the valid points its gather block
           // reads (<= 8x8 pixels, the union of their taps; O(1) per pixel)
 };
+
+// "off" | "taps" | "block", as fovea reconstruct --rbf-clamp spells them.
+std::string_view rbf_clamp_name(RbfClamp clamp);
+std::optional<RbfClamp> parse_rbf_clamp(std::string_view name);
 
 struct GatherOptions {
   int threads = 0;                     // std::threads for this frame, 0 = hardware concurrency
