@@ -6,6 +6,8 @@
 #include <new>
 
 #include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <xxhash.h>
@@ -51,6 +53,37 @@ std::string write_file_atomically(const std::filesystem::path& file, std::span<c
   std::filesystem::rename(tmp, file, ec);
   if (ec) return "cannot move cache file into place " + file.string() + ": " + ec.message();
   return {};
+}
+
+std::optional<MappedFile> map_file(const std::filesystem::path& file, std::string* why) {
+  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    *why = (errno == ENOENT) ? "not found: the file is missing" : std::string("cannot open: ") + std::strerror(errno);
+    return std::nullopt;
+  }
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    *why = "not a regular file";
+    return std::nullopt;
+  }
+  MappedFile m;
+  m.size = std::size_t(st.st_size);
+  if (m.size == 0) {
+    ::close(fd);
+    return m;  // nothing to map; the header check rejects it
+  }
+  // MAP_POPULATE: fault the (page-cached) file in at once instead of per page.
+  void* p = ::mmap(nullptr, m.size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  ::close(fd);
+  if (p == MAP_FAILED) {
+    *why = std::string("cannot map: ") + std::strerror(errno);
+    return std::nullopt;
+  }
+  const std::size_t size = m.size;
+  m.owner = std::shared_ptr<const void>(p, [size](const void* q) { ::munmap(const_cast<void*>(q), size); });
+  m.bytes = static_cast<const std::uint8_t*>(p);
+  return m;
 }
 
 }  // namespace foveart::foveation::detail

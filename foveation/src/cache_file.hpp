@@ -1,10 +1,13 @@
-// Writing FoveaRT's cache files (point set, neighbour table, interpolation
-// table): pieces of bytes in order, checksummed, replaced atomically.
+// FoveaRT's cache files (point set, neighbour table, interpolation table):
+// written as pieces of bytes in order, checksummed, replaced atomically; read
+// through a read-only mapping of the whole file.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -29,5 +32,17 @@ std::uint64_t xxh3_of(std::span<const ByteSpan> pieces);
 // write measured 5-10x slower here). Returns an error naming the file, empty
 // on success; the temp file is removed on failure.
 std::string write_file_atomically(const std::filesystem::path& file, std::span<const ByteSpan> pieces);
+
+// A read-only private mapping of a whole file (bytes == nullptr when it is
+// empty); unmapped with its last owner, so views into it can share `owner`.
+struct MappedFile {
+  std::shared_ptr<const void> owner;
+  const std::uint8_t* bytes = nullptr;
+  std::size_t size = 0;
+};
+
+// Maps `file`; nullopt with *why ("not found: the file is missing", cannot
+// open / map, not a regular file) when it cannot.
+std::optional<MappedFile> map_file(const std::filesystem::path& file, std::string* why);
 
 }  // namespace foveart::foveation::detail

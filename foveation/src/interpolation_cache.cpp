@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <cstring>
 #include <deque>
-#include <fstream>
-#include <system_error>
 #include <vector>
 
 #include <xxhash.h>
@@ -30,23 +28,29 @@ void put(std::string& s, const T& v) {
   s.append(reinterpret_cast<const char*>(&v), sizeof v);
 }
 
-template <typename T>
-bool get(const std::string& s, std::size_t& at, T& v) {
-  if (at + sizeof v > s.size()) return false;
-  std::memcpy(&v, s.data() + at, sizeof v);
-  at += sizeof v;
-  return true;
-}
+// Fields of a mapped file in order; each get fails (false) past its end.
+struct Reader {
+  const std::uint8_t* data;
+  std::size_t size;
+  std::size_t at = 0;
 
-template <typename T>
-bool get_vec(const std::string& s, std::size_t& at, std::vector<T>& v) {
-  std::uint64_t n = 0;
-  if (!get(s, at, n) || n > (s.size() - at) / sizeof(T)) return false;
-  v.resize(std::size_t(n));
-  if (n > 0) std::memcpy(v.data(), s.data() + at, std::size_t(n) * sizeof(T));
-  at += std::size_t(n) * sizeof(T);
-  return true;
-}
+  template <typename T>
+  bool get(T& v) {
+    if (sizeof v > size - at) return false;
+    std::memcpy(&v, data + at, sizeof v);
+    at += sizeof v;
+    return true;
+  }
+  template <typename T>
+  bool get_vec(std::vector<T>& v) {
+    std::uint64_t n = 0;
+    if (!get(n) || n > (size - at) / sizeof(T)) return false;
+    v.resize(std::size_t(n));
+    if (n > 0) std::memcpy(v.data(), data + at, std::size_t(n) * sizeof(T));
+    at += std::size_t(n) * sizeof(T);
+    return true;
+  }
+};
 
 // The payload as pieces, in file order: scalars and array lengths in small
 // buffers of its own, the arrays straight from the table's memory (a k = 20
@@ -142,45 +146,41 @@ std::optional<InterpolationTable> load_interpolation_table(const std::filesystem
     if (error) *error = file.string() + ": " + why;
     return std::nullopt;
   };
-  std::error_code ec;
-  const auto file_size = std::filesystem::file_size(file, ec);
-  std::ifstream in(file, std::ios::binary);
-  if (ec || !in) return fail("missing");
-  std::string data(std::size_t(file_size), '\0');
-  in.read(data.data(), std::streamsize(data.size()));
-  if (!in) return fail("read error");
-  std::size_t at = 0;
-  if (data.size() < sizeof kMagic || std::memcmp(data.data(), kMagic, sizeof kMagic) != 0) {
+  std::string why;
+  const auto mapped = detail::map_file(file, &why);
+  if (!mapped) return fail(why);
+  // Straight from the mapping into the table's arrays: one copy of the payload.
+  Reader in{mapped->bytes, mapped->size};
+  if (in.size < sizeof kMagic || std::memcmp(in.data, kMagic, sizeof kMagic) != 0) {
     return fail("not an interpolation table (bad magic)");
   }
-  at = sizeof kMagic;
+  in.at = sizeof kMagic;
   std::uint32_t version = 0, params_len = 0;
-  if (!get(data, at, version)) return fail("truncated header");
+  if (!in.get(version)) return fail("truncated header");
   if (version != kInterpCacheFormatVersion) {
     return fail("format version " + std::to_string(version) + ", expected " + std::to_string(kInterpCacheFormatVersion));
   }
-  if (!get(data, at, params_len) || at + params_len > data.size()) return fail("truncated header");
-  const std::string stored(data.data() + at, params_len);
-  at += params_len;
+  if (!in.get(params_len) || params_len > in.size - in.at) return fail("truncated header");
+  const std::string stored(reinterpret_cast<const char*>(in.data + in.at), params_len);
+  in.at += params_len;
   if (stored != params) return fail("built for other parameters: '" + stored + "', wanted '" + params + "'");
   std::uint64_t size = 0, checksum = 0;
-  if (!get(data, at, size) || !get(data, at, checksum)) return fail("truncated header");
-  if (data.size() - at != size) {
-    return fail("payload is " + std::to_string(data.size() - at) + " bytes, header says " + std::to_string(size) +
+  if (!in.get(size) || !in.get(checksum)) return fail("truncated header");
+  if (in.size - in.at != size) {
+    return fail("payload is " + std::to_string(in.size - in.at) + " bytes, header says " + std::to_string(size) +
                 " (truncated or padded)");
   }
-  if (XXH3_64bits(data.data() + at, std::size_t(size)) != checksum) return fail("checksum mismatch (corrupt)");
+  if (XXH3_64bits(in.data + in.at, std::size_t(size)) != checksum) return fail("checksum mismatch (corrupt)");
   InterpolationTable t;
   std::int32_t w = 0, h = 0;
-  if (!get(data, at, w) || !get(data, at, h) || !get(data, at, t.stats) || !get(data, at, t.build_ms) ||
-      !get_vec(data, at, t.weights_f32) || !get_vec(data, at, t.weights_f16) || !get_vec(data, at, t.weight_sum)) {
+  if (!in.get(w) || !in.get(h) || !in.get(t.stats) || !in.get(t.build_ms) || !in.get_vec(t.weights_f32) ||
+      !in.get_vec(t.weights_f16) || !in.get_vec(t.weight_sum)) {
     return fail("payload layout does not parse");
   }
   auto& l = t.layout;
   std::int32_t lw = 0, lh = 0, lk = 0;
-  if (!get(data, at, lw) || !get(data, at, lh) || !get(data, at, lk) || !get_vec(data, at, l.tile_level) ||
-      !get_vec(data, at, l.tile_first_block) || !get_vec(data, at, l.block_palette) || !get_vec(data, at, l.palette) ||
-      !get_vec(data, at, l.slot) || at != data.size()) {
+  if (!in.get(lw) || !in.get(lh) || !in.get(lk) || !in.get_vec(l.tile_level) || !in.get_vec(l.tile_first_block) ||
+      !in.get_vec(l.block_palette) || !in.get_vec(l.palette) || !in.get_vec(l.slot) || in.at != in.size) {
     return fail("gather layout does not parse");
   }
   l.width_px = lw, l.height_px = lh, l.k = lk;

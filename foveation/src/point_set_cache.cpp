@@ -12,10 +12,6 @@
 #include <initializer_list>
 #include <sstream>
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <xxhash.h>
 
@@ -90,53 +86,15 @@ std::string save_file(const std::filesystem::path& file, Header h, std::initiali
   return write_file_atomically(file, pieces);
 }
 
-// A read-only private mapping of a whole file; unmapped with its last owner.
-struct Mapping {
-  std::shared_ptr<const void> owner;
-  const std::uint8_t* bytes = nullptr;
-  std::size_t size = 0;
-};
-
-std::optional<Mapping> map_file(const std::filesystem::path& file, std::string* why) {
-  const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    *why = (errno == ENOENT) ? "not found" : std::string("cannot open: ") + std::strerror(errno);
-    return std::nullopt;
-  }
-  struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    *why = "not a regular file";
-    return std::nullopt;
-  }
-  Mapping m;
-  m.size = std::size_t(st.st_size);
-  if (m.size == 0) {
-    ::close(fd);
-    return m;  // nothing to map; the header check rejects it
-  }
-  // MAP_POPULATE: fault the (page-cached) file in at once instead of per page.
-  void* p = ::mmap(nullptr, m.size, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
-  ::close(fd);
-  if (p == MAP_FAILED) {
-    *why = std::string("cannot map: ") + std::strerror(errno);
-    return std::nullopt;
-  }
-  const std::size_t size = m.size;
-  m.owner = std::shared_ptr<const void>(p, [size](const void* q) { ::munmap(const_cast<void*>(q), size); });
-  m.bytes = static_cast<const std::uint8_t*>(p);
-  return m;
-}
-
 // Maps and checks the whole file; the payload view on success, nullopt with *error on any mismatch.
-std::optional<Mapping> load_file(const std::filesystem::path& file, Kind kind, const PointSetKey& key,
+std::optional<detail::MappedFile> load_file(const std::filesystem::path& file, Kind kind, const PointSetKey& key,
                                  std::string* error) {
   auto fail = [&](const std::string& why) {
     if (error) *error = "cache " + file.string() + ": " + why;
     return std::nullopt;
   };
   std::string why;
-  auto m = map_file(file, &why);
+  auto m = detail::map_file(file, &why);
   if (!m) return fail(why);
   Header h{};
   if (m->size < sizeof h) return fail("truncated header");
@@ -160,7 +118,7 @@ std::optional<Mapping> load_file(const std::filesystem::path& file, Kind kind, c
     return fail("payload is " + std::to_string(remaining) + " bytes, header says " +
                 std::to_string(h.payload_bytes) + " (truncated or padded)");
   }
-  Mapping payload{m->owner, m->bytes + sizeof h, std::size_t(remaining)};
+  detail::MappedFile payload{m->owner, m->bytes + sizeof h, std::size_t(remaining)};
   if (XXH3_64bits(payload.bytes, payload.size) != h.payload_xxh3) return fail("payload checksum mismatch (corrupt)");
   return payload;
 }
