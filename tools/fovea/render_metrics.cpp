@@ -3,6 +3,7 @@
 #include "render_metrics.hpp"
 
 #include <foveation/eye_rays.hpp>
+#include <foveation/srgb.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +12,8 @@
 namespace foveart::tools {
 namespace {
 
-float encode(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
+// Display value of a linear colour, the PSNR/SSIM domain (clamped to [0, 1]).
+float encode(float linear) { return foveation::linear_to_srgb(std::clamp(linear, 0.0f, 1.0f)); }
 
 double psnr_from_mse(double mse) {
   return mse <= 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(1.0 / mse);
