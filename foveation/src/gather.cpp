@@ -210,18 +210,18 @@ inline v4 pixel_portable(const Rgba* pal, const std::uint8_t* s, const W* w, int
     acc0 += weight_of(w, j) * c0;
     acc1 += weight_of(w, j + 1) * c1;
     if constexpr (kClamp) {
-      lo = lo < c0 ? lo : c0, hi = hi > c0 ? hi : c0;
-      lo = lo < c1 ? lo : c1, hi = hi > c1 ? hi : c1;
+      lo = min4(lo, c0), hi = max4(hi, c0);
+      lo = min4(lo, c1), hi = max4(hi, c1);
     }
   }
   if (j < n) {
     const v4 c = load(pal[s[j]]);
     acc0 += weight_of(w, j) * c;
-    if constexpr (kClamp) lo = lo < c ? lo : c, hi = hi > c ? hi : c;
+    if constexpr (kClamp) lo = min4(lo, c), hi = max4(hi, c);
   }
   v4 acc = acc0 + acc1;
   if (normalized) acc *= 1.0f / acc[3];  // sum of stored weights (half rounding)
-  if constexpr (kClamp) acc = acc < lo ? lo : (acc > hi ? hi : acc);
+  if constexpr (kClamp) acc = min4(max4(acc, lo), hi);  // as the AVX2 kernel
   return acc;
 }
 
