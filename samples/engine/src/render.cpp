@@ -172,43 +172,6 @@ RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const Foveart
   return result;
 }
 
-RenderResult trace_points(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint64_t point_count,
-                          const SampleFn& sample_px, const std::vector<uint32_t>& point_index,
-                          const RenderSettings& settings, std::vector<glm::vec3>* out_point_rgb) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RenderResult result;
-  out_point_rgb->resize(point_count);
-  const foveation::EyeFrustum f = foveation::eye_frustum(view);
-  const foveation::EyePose pose = foveation::eye_pose(view);
-  const uint32_t spp = static_cast<uint32_t>(std::max(settings.spp, 1));
-  const uint64_t points_per_batch = std::max<uint64_t>(1, settings.batch_rays / spp);
-  std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
-  parallel_chunks(point_count, points_per_batch, thread_count(settings.threads), [&](uint64_t first, uint64_t count) {
-    thread_local RayBatch b;
-    b.resize(count * spp);
-    size_t r = 0;
-    for (uint64_t p = first; p < first + count; ++p) {
-      const uint32_t id = point_index.empty() ? static_cast<uint32_t>(p) : point_index[p];
-      for (uint32_t s = 0; s < spp; ++s) b.set_ray(r++, f, pose, sample_px(p, s), id);
-    }
-    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(r));
-    if (st != FOVEART_RESULT_SUCCESS) {
-      int32_t expected = FOVEART_RESULT_SUCCESS;
-      status.compare_exchange_strong(expected, st);
-      return;
-    }
-    const float inv = 1.0f / static_cast<float>(spp);
-    for (uint64_t p = first, k = 0; p < first + count; ++p) {
-      glm::vec3 sum(0.0f);
-      for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
-      (*out_point_rgb)[p] = sum * inv;
-    }
-  });
-  result.status = status.load();
-  result.trace_ms = ms_since(t0);
-  return result;
-}
-
 FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head) {
   constexpr uint32_t kWidth = 1280, kHeight = 1440;
   const float half_h = glm::radians(47.5f);  // 95 deg, as foveation::display_preset("fove")

@@ -55,14 +55,6 @@ RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const Foveart
                            const std::vector<glm::vec2>& sample_px, const std::vector<uint32_t>& point_index,
                            const RenderSettings& settings, std::vector<glm::vec3>* out_rgb);
 
-// spp rays per point, sample s of point i at sample_px(i, s) (e.g. inside the
-// point's disc); out_point_rgb[i] is the mean colour of point i's samples.
-// Samples are generated inside the parallel batches: no per-sample arrays.
-using SampleFn = std::function<glm::vec2(uint64_t point, uint32_t sample)>;
-RenderResult trace_points(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint64_t point_count,
-                          const SampleFn& sample_px, const std::vector<uint32_t>& point_index,
-                          const RenderSettings& settings, std::vector<glm::vec3>* out_point_rgb);
-
 // The building blocks of the drivers above, for callers that make their own
 // rays (e.g. the foveated renderer): a reusable batch for one callback call and
 // a chunked parallel loop.
