@@ -15,18 +15,13 @@ VisiblePoints select_visible_points(const PointSet& points, const GazeMapping& m
 
 void select_visible_points_in(const PointSet& points, const GazeMapping& mapping, float margin_px,
                               std::size_t first, std::size_t last, VisiblePoints* out) {
-  const float x0 = -margin_px;
-  const float y0 = -margin_px;
-  const float x1 = float(mapping.screen_width_px) + margin_px;
-  const float y1 = float(mapping.screen_height_px) + margin_px;
-  const float dx = float(mapping.canvas_from_screen_x_px);
-  const float dy = float(mapping.canvas_from_screen_y_px);
+  const VisibleRegion region(mapping, margin_px);
   // A linear scan keeps the Morton order (stable, cache-friendly for the callback)
   // and costs ~1 ms for the FOVE set.
   last = std::min(last, points.size());
   for (std::size_t i = first; i < last; ++i) {
-    const glm::vec2 s{points.position_px[i].x - dx, points.position_px[i].y - dy};
-    if (s.x >= x0 && s.x < x1 && s.y >= y0 && s.y < y1) {
+    const glm::vec2 s = region.to_screen(points.position_px[i]);
+    if (region.contains(s)) {
       out->point_index.push_back(std::uint32_t(i));
       out->screen_px.push_back(s);
     }

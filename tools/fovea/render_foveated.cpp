@@ -92,22 +92,6 @@ constexpr uint64_t kChunkPoints = 8192;
 // Sample offsets are precomputed up to this many (64 MB); beyond, made per frame.
 constexpr size_t kMaxPrecomputedSamples = size_t{8} << 20;
 
-// Where a point is traced: the screen plus the thesis's 10 px margin
-// (foveation::select_visible_points' test), in screen pixels.
-struct VisibleRect {
-  float x0, y0, x1, y1;
-  explicit VisibleRect(const foveation::GazeMapping& m)
-      : x0(-foveation::kVisibleMarginPx),
-        y0(-foveation::kVisibleMarginPx),
-        x1(static_cast<float>(m.screen_width_px) + foveation::kVisibleMarginPx),
-        y1(static_cast<float>(m.screen_height_px) + foveation::kVisibleMarginPx) {}
-  bool contains(glm::vec2 p) const { return p.x >= x0 && p.x < x1 && p.y >= y0 && p.y < y1; }
-};
-
-glm::vec2 canvas_offset_of(const foveation::GazeMapping& m) {
-  return glm::vec2(static_cast<float>(m.canvas_from_screen_x_px), static_cast<float>(m.canvas_from_screen_y_px));
-}
-
 template <typename Rows>
 void parallel_rows(uint32_t height, int threads, Rows&& rows) {
   std::atomic<uint32_t> next{0};
@@ -274,8 +258,7 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, 
 
     const foveation::EyeFrustum frustum = foveation::eye_frustum(view);
     const foveation::EyePose pose = foveation::eye_pose(view);
-    const VisibleRect visible(mapping);
-    const glm::vec2 canvas_offset = canvas_offset_of(mapping);
+    const foveation::VisibleRegion visible(mapping);
     const uint32_t spp = static_cast<uint32_t>(std::max(st.request.spp, 1));
     const uint32_t batch_points = std::max<uint32_t>(1, kBatchRays / spp);
     const uint64_t seed = st.request.seed;
@@ -305,7 +288,7 @@ FoveatedResult FoveatedRenderer::render(FoveartTraceRaysFn fn, void* user_data, 
         n = 0;
       };
       for (uint64_t i = first; i < first + count; ++i) {
-        const glm::vec2 screen = points.position_px[i] - canvas_offset;
+        const glm::vec2 screen = visible.to_screen(points.position_px[i]);
         if (!visible.contains(screen)) continue;
         const uint32_t id = static_cast<uint32_t>(i);
         for (uint32_t s = 0; s < spp; ++s) {
@@ -381,12 +364,11 @@ std::vector<uint32_t> FoveatedRenderer::points_per_tile(glm::vec2 gaze_px, uint3
   const FoveartEyeView& view = st.view;
   const foveation::GazeMapping mapping =
       foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), gaze_px);
-  const VisibleRect visible(mapping);
-  const glm::vec2 canvas_offset = canvas_offset_of(mapping);
+  const foveation::VisibleRegion visible(mapping);  // render()'s test
   const float w = static_cast<float>(mapping.screen_width_px), h = static_cast<float>(mapping.screen_height_px);
   std::vector<uint32_t> count(static_cast<size_t>(tiles_x) * tiles_y, 0);
   for (const glm::vec2& p : st.tables.points.position_px) {
-    const glm::vec2 screen = p - canvas_offset;
+    const glm::vec2 screen = visible.to_screen(p);
     if (!visible.contains(screen)) continue;
     const uint32_t tx = std::min(tiles_x - 1, static_cast<uint32_t>(std::clamp(screen.x, 0.0f, w - 1.0f)) / tile_w);
     const uint32_t ty = std::min(tiles_y - 1, static_cast<uint32_t>(std::clamp(screen.y, 0.0f, h - 1.0f)) / tile_h);

@@ -14,6 +14,25 @@ namespace foveart::foveation {
 // Thesis 4.2: points up to 10 px outside the screen are sampled too.
 inline constexpr float kVisibleMarginPx = 10.0f;
 
+// The visibility test on its own, for callers that fuse it into their own
+// loop: a canvas point is visible when to_screen(p) lies in
+// [-margin, W + margin) x [-margin, H + margin).
+struct VisibleRegion {
+  explicit VisibleRegion(const GazeMapping& mapping, float margin_px = kVisibleMarginPx)
+      : offset_px(float(mapping.canvas_from_screen_x_px), float(mapping.canvas_from_screen_y_px)),
+        x0(-margin_px),
+        y0(-margin_px),
+        x1(float(mapping.screen_width_px) + margin_px),
+        y1(float(mapping.screen_height_px) + margin_px) {}
+  glm::vec2 to_screen(glm::vec2 canvas_px) const { return canvas_px - offset_px; }
+  bool contains(glm::vec2 screen_px) const {
+    return screen_px.x >= x0 && screen_px.x < x1 && screen_px.y >= y0 && screen_px.y < y1;
+  }
+
+  glm::vec2 offset_px;  // canvas minus screen position
+  float x0, y0, x1, y1;
+};
+
 struct VisiblePoints {
   std::vector<std::uint32_t> point_index;  // ascending (the point set's Morton order)
   std::vector<glm::vec2> screen_px;        // position of each on the screen
