@@ -220,7 +220,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   }
   FrameTimes full_times, fov_times;
   std::vector<double> tile_ms;  // full mode: per-tile time summed over frames
-  engine::RenderResult tiles;   // the tile grid
+  TileGrid grid;                // full mode's tiles
   engine::RayCounts full_rays, fov_rays;
   uint64_t fov_points = 0;
   for (int frame = 0; frame < o.frames; ++frame) {
@@ -234,7 +234,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       full_times.add(rr.trace_ms, 0.0);
       if (frame == 0) {
         full_rays = minus(tracer->counts(), before);
-        tiles = rr;
+        grid = {view.width_px, view.height_px, rr.tile_width_px, rr.tile_height_px, rr.tiles_x};
         tile_ms.assign(rr.tile_ms.size(), 0.0);
       }
       for (size_t t = 0; t < tile_ms.size(); ++t) tile_ms[t] += rr.tile_ms[t];
@@ -273,8 +273,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     report["speedup"] = fov_total > 0.0 ? full_total / fov_total : 0.0;
     // What the scene alone allows (content_speedup.hpp), and the rest: the
     // foveation's own cost relative to the rays it traces.
-    const TileGrid grid{view.width_px, view.height_px, tiles.tile_width_px, tiles.tile_height_px, tiles.tiles_x};
-    const uint32_t tiles_y = tiles.tiles_x ? static_cast<uint32_t>(tile_ms.size() / tiles.tiles_x) : 0;
+    const uint32_t tiles_y = grid.tiles_x ? static_cast<uint32_t>(tile_ms.size() / grid.tiles_x) : 0;
     const double content_bound = content_speedup(
         grid, tile_ms, renderer->points_per_tile(gaze, grid.tile_w_px, grid.tile_h_px, grid.tiles_x, tiles_y));
     report["content_speedup"] = content_bound;
