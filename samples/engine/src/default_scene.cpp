@@ -121,7 +121,7 @@ constexpr float kGlassRadius = 0.7f;
 DefaultSceneLandmarks default_scene_landmarks() {
   DefaultSceneLandmarks m;
   m.pillar_edge = glm::vec3(-0.2f, 1.6f, kColonnadeZ + 0.2f);
-  m.glass_centre = glm::vec3(-1.6f, kGlassRadius, -3.0f);
+  m.glass_centre = glm::vec3(-3.0f, kGlassRadius, -1.0f);
   m.floor_point = glm::vec3(0.0f, 0.0f, 1.4f);
   return m;
 }
@@ -220,7 +220,7 @@ Scene make_default_scene() {
     s.lights.push_back(l);
   }
   const DefaultSceneLandmarks marks = default_scene_landmarks();
-  b.sphere(marks.glass_centre, kGlassRadius, m_glass);  // lower left of the view
+  b.sphere(marks.glass_centre, kGlassRadius, m_glass);  // far left of the view, in front of the left pillars
   b.box({0.9f, 0.0f, -2.2f}, {1.7f, 0.8f, -1.4f}, m_crate, 2.0f);
 
   Camera cam;

@@ -5,8 +5,9 @@
 //
 // Composition: the view centre (where a centred gaze rests, and where the thesis
 // places its hard case) looks between two dark pillars of a cross colonnade at
-// the glowing far wall, under the ceiling lights; the glass sphere stands lower
-// left, the crate lower right, the mirror floor fills the lower part of the view.
+// the glowing far wall, under the ceiling lights; the glass sphere stands far
+// left (~38 deg from the centre, between the left pillars and the wall), the
+// crate lower right, the mirror floor fills the lower part of the view.
 #pragma once
 
 #include <engine/scene.hpp>
