@@ -195,7 +195,7 @@ CachedTable load_or_build_interpolation_table(const std::optional<std::filesyste
                                               std::optional<WeightPrecision> precision, int threads,
                                               const ProgressFn& progress, const LogFn& log) {
   const auto start = std::chrono::steady_clock::now();
-  const WeightPrecision prec = precision.value_or(auto_precision(neighbors.pixel_count(), options.k));
+  const WeightPrecision prec = precision.value_or(kDefaultWeightPrecision);
   InterpOptions opts = options;
   opts.shape = effective_shape(options);
   const std::string params = interpolation_cache_params(key, points, opts, prec);

@@ -17,15 +17,6 @@ std::size_t table_bytes(std::size_t canvas_pixels, int k, WeightPrecision precis
   return canvas_pixels * std::size_t(k) * per_tap;
 }
 
-WeightPrecision auto_precision(std::size_t canvas_pixels, int k) {
-  // Half weights always: the gather streams 3 instead of 5 bytes per tap and
-  // runs faster (docs/interpolation.md, MSM k = 20: 25.5 vs 29.9 ms of CPU on
-  // one thread), at a weight error below 2e-4 that the renormalising gather
-  // keeps off constants. f32 stays available on request.
-  (void)canvas_pixels, (void)k;
-  return WeightPrecision::f16;
-}
-
 namespace {
 
 int thread_count(int requested) {
@@ -121,7 +112,7 @@ InterpolationTable build_interpolation_table(const PointSet& points, const Neigh
   t.options.shape = effective_shape(options);
   t.width_px = neighbors.width_px();
   t.height_px = neighbors.height_px();
-  t.precision = precision.value_or(auto_precision(t.pixel_count(), options.k));
+  t.precision = precision.value_or(kDefaultWeightPrecision);
   if (t.has_weights()) {
     const std::size_t n = t.pixel_count() * std::size_t(options.k);
     if (t.precision == WeightPrecision::f16) {

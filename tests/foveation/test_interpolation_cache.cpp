@@ -120,8 +120,7 @@ TEST(InterpolationMemory, K20FoveCanvasFitsTheBudget) {
   const std::size_t pixels = 2560u * 2880u;
   EXPECT_EQ(table_bytes(pixels, 20, WeightPrecision::f16), pixels * 20 * 3);
   EXPECT_LT(table_bytes(pixels, 20, WeightPrecision::f32), kTableBudgetBytes);
-  EXPECT_EQ(auto_precision(pixels, 20), WeightPrecision::f16);
-  EXPECT_EQ(auto_precision(pixels, 5), WeightPrecision::f16);
+  EXPECT_LT(table_bytes(pixels, 20, kDefaultWeightPrecision), kTableBudgetBytes);  // what a build without a choice gets
 }
 
 }  // namespace
