@@ -10,10 +10,11 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFOVEART_BUILD_BENCH=ON
 cmake --build build -j "$(nproc)"
 mkdir -p out/bench
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
-echo "machine: $(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB"
+cpu=${cpu:-unknown CPU}
+echo "machine: $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB"
 for b in build/bin/*_bench; do
   name=$(basename "$b")
   echo "=== $name"
   "$b" --benchmark_filter="${1:-.}" --benchmark_out="out/bench/$name.json" --benchmark_out_format=json \
-       --benchmark_context=machine="$(nproc) cores, ${cpu:-unknown CPU}"
+       --benchmark_context=cores="$(nproc)",cpu="${cpu//,/}"  # key=value pairs split at commas
 done
