@@ -220,7 +220,7 @@ Scene make_default_scene() {
     s.lights.push_back(l);
   }
   const DefaultSceneLandmarks marks = default_scene_landmarks();
-  b.sphere(marks.glass_centre, kGlassRadius, m_glass);  // far left of the view, in front of the left pillars
+  b.sphere(marks.glass_centre, kGlassRadius, m_glass);  // far left of the view, between the left pillars and the wall
   b.box({0.9f, 0.0f, -2.2f}, {1.7f, 0.8f, -1.4f}, m_crate, 2.0f);
 
   Camera cam;
