@@ -6,7 +6,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DFOVEART_BUILD_BENCH=ON >/dev/null
+# The same tree and flags as scripts/run.sh and `scripts/test.sh --plain`: the
+# numbers in docs/ come from these binaries, and switching the build type
+# back and forth would rebuild everything each time.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON -DFOVEART_BUILD_BENCH=ON >/dev/null
 cmake --build build -j "$(nproc)"
 mkdir -p out/bench
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
