@@ -6,12 +6,10 @@
 #include "foveation/point_set_cache.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <initializer_list>
 #include <sstream>
-
 
 #include <xxhash.h>
 
@@ -88,7 +86,7 @@ std::string save_file(const std::filesystem::path& file, Header h, std::initiali
 
 // Maps and checks the whole file; the payload view on success, nullopt with *error on any mismatch.
 std::optional<detail::MappedFile> load_file(const std::filesystem::path& file, Kind kind, const PointSetKey& key,
-                                 std::string* error) {
+                                            std::string* error) {
   auto fail = [&](const std::string& why) {
     if (error) *error = "cache " + file.string() + ": " + why;
     return std::nullopt;
