@@ -5,7 +5,6 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -416,7 +415,7 @@ void gather_band(const Frame& f, int y0, int y1, GatherStats& stats) {
 }  // namespace
 
 GatherStats gather(const NeighborTable& nt, const InterpolationTable& table, const PointColors& colors,
-                   const GazeMapping& mapping, ImageRgb& out, const GatherOptions& options) {
+                   const GazeMapping& mapping, ImageRgb& out, Executor& executor, const GatherOptions& options) {
   if (nt.width_px() != table.width_px || nt.height_px() != table.height_px || table.k() > nt.k()) {
     throw std::invalid_argument("gather: interpolation table (" + std::to_string(table.width_px) + "x" +
                                 std::to_string(table.height_px) + ", k " + std::to_string(table.k()) +
@@ -442,20 +441,18 @@ GatherStats gather(const NeighborTable& nt, const InterpolationTable& table, con
     out = ImageRgb(w, h);
   }
   const Frame f{&nt, &table, colors.rgba.data(), &mapping, &options, &out};
-  int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::min(threads, h);
-  auto stats = std::vector<GatherStats>(std::size_t(threads));
-  std::vector<std::thread> pool;
-  // Weighted methods split the screen at tile rows (a band draws whole tiles).
+  // Bands of whole tile rows (a band draws whole tiles), a few per thread so
+  // the dense fovea does not hold one thread alone; same bits for any split.
+  const int bands = std::min(h, 4 * int(executor.thread_count()));
   auto split = [&](int i) {
-    if (i == 0 || i == threads || !table.has_weights()) return h * i / threads;
+    if (i == 0 || i == bands || !table.has_weights()) return h * i / bands;
     const int rows = (oy + h - 1) / kGatherTilePx - oy / kGatherTilePx + 1;  // tile rows on the screen
-    return std::clamp((oy / kGatherTilePx + rows * i / threads) * kGatherTilePx - oy, 0, h);
+    return std::clamp((oy / kGatherTilePx + rows * i / bands) * kGatherTilePx - oy, 0, h);
   };
-  auto band = [&](int i) { gather_band(f, split(i), split(i + 1), stats[std::size_t(i)]); };
-  for (int i = 1; i < threads; ++i) pool.emplace_back(band, i);
-  band(0);
-  for (auto& th : pool) th.join();
+  auto stats = std::vector<GatherStats>(executor.thread_count());  // per worker slot
+  executor.parallel_for(std::size_t(bands), [&](std::size_t i, unsigned worker) {
+    gather_band(f, split(int(i)), split(int(i) + 1), stats[worker]);
+  });
   GatherStats total;
   for (const auto& s : stats) {
     total.renormalized += s.renormalized;

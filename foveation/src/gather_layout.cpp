@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <stdexcept>
-#include <thread>
 
 namespace foveart::foveation {
 
@@ -102,7 +101,7 @@ void build_tile_row(const NeighborTable& nt, int k, int ty, GatherLayout& l, Ded
 
 }  // namespace
 
-GatherLayout build_gather_layout(const NeighborTable& nt, int k, int threads) {
+GatherLayout build_gather_layout(const NeighborTable& nt, int k, Executor& executor) {
   if (k < 1 || k > nt.k()) {
     throw std::invalid_argument("gather layout: k = " + std::to_string(k) + " outside 1.." + std::to_string(nt.k()));
   }
@@ -113,16 +112,10 @@ GatherLayout build_gather_layout(const NeighborTable& nt, int k, int threads) {
   l.slot.assign(std::size_t(l.width_px) * std::size_t(l.height_px) * std::size_t(k), 0);
   const int rows = l.tiles_y();
   auto row = std::vector<RowLayout>(std::size_t(rows));
-  int nthreads = threads > 0 ? threads : std::max(1, int(std::thread::hardware_concurrency()));
-  nthreads = std::max(1, std::min(nthreads, rows));
-  std::vector<std::thread> pool;
-  auto work = [&](int tid) {
-    Dedup d;
-    for (int ty = tid; ty < rows; ty += nthreads) build_tile_row(nt, k, ty, l, d, row[std::size_t(ty)]);
-  };
-  for (int i = 1; i < nthreads; ++i) pool.emplace_back(work, i);
-  work(0);
-  for (auto& t : pool) t.join();
+  std::vector<Dedup> dedup(executor.thread_count());  // per worker slot
+  executor.parallel_for(std::size_t(rows), [&](std::size_t ty, unsigned worker) {
+    build_tile_row(nt, k, int(ty), l, dedup[worker], row[ty]);
+  });
   l.tile_first_block.push_back(0);
   l.block_palette.push_back(0);
   for (const auto& r : row) {

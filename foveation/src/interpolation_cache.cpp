@@ -192,7 +192,7 @@ std::optional<InterpolationTable> load_interpolation_table(const std::filesystem
 CachedTable load_or_build_interpolation_table(const std::optional<std::filesystem::path>& cache_dir,
                                               const PointSetKey& key, const PointSet& points,
                                               const NeighborTable& neighbors, const InterpOptions& options,
-                                              std::optional<WeightPrecision> precision, int threads,
+                                              Executor& executor, std::optional<WeightPrecision> precision,
                                               const ProgressFn& progress, const LogFn& log) {
   const auto start = std::chrono::steady_clock::now();
   const WeightPrecision prec = precision.value_or(kDefaultWeightPrecision);
@@ -227,7 +227,7 @@ CachedTable load_or_build_interpolation_table(const std::optional<std::filesyste
     }
   }
   if (!result.from_cache) {
-    result.table = build_interpolation_table(points, neighbors, opts, prec, threads, progress);
+    result.table = build_interpolation_table(points, neighbors, opts, executor, prec, progress);
     if (cache_dir) {
       if (auto err = save_interpolation_table(file, params, result.table); !err.empty() && log) log(err);
     }

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "rbf_system.hpp"
 
@@ -18,11 +17,6 @@ std::size_t table_bytes(std::size_t canvas_pixels, int k, WeightPrecision precis
 }
 
 namespace {
-
-int thread_count(int requested) {
-  if (requested > 0) return requested;
-  return std::max(1, int(std::thread::hardware_concurrency()));
-}
 
 void merge_stats(TableStats& into, const TableStats& s) {
   into.exact += s.exact;
@@ -93,9 +87,8 @@ void build_rows(const PointSet& points, const NeighborTable& nt, InterpolationTa
 }  // namespace
 
 InterpolationTable build_interpolation_table(const PointSet& points, const NeighborTable& neighbors,
-                                             const InterpOptions& options,
-                                             std::optional<WeightPrecision> precision, int threads,
-                                             const ProgressFn& progress) {
+                                             const InterpOptions& options, Executor& executor,
+                                             std::optional<WeightPrecision> precision, const ProgressFn& progress) {
   if (options.k < 1 || options.k > neighbors.k()) {
     throw std::invalid_argument("interpolation table: k = " + std::to_string(options.k) +
                                 " outside 1.." + std::to_string(neighbors.k()) + " (the neighbour table's k)");
@@ -121,25 +114,19 @@ InterpolationTable build_interpolation_table(const PointSet& points, const Neigh
       t.weights_f32.resize(n);
     }
     if (!t.normalized()) t.weight_sum.resize(t.pixel_count());
-    const int nthreads = std::min(thread_count(threads), std::max(1, t.height_px));
-    auto stats = std::vector<TableStats>(std::size_t(nthreads));
+    auto stats = std::vector<TableStats>(executor.thread_count());  // per worker slot
     std::atomic<int> rows_done{0};
-    std::vector<std::thread> pool;
-    // Interleaved bands of 16 rows balance the dense fovea across threads.
+    // Bands of 16 rows handed out in order balance the dense fovea across threads.
     constexpr int kBand = 16;
-    auto work = [&](int tid) {
-      for (int y0 = tid * kBand; y0 < t.height_px; y0 += nthreads * kBand) {
-        const int y1 = std::min(t.height_px, y0 + kBand);
-        build_rows(points, neighbors, t, y0, y1, stats[std::size_t(tid)]);
-        const int done = rows_done.fetch_add(y1 - y0) + (y1 - y0);
-        if (tid == 0 && progress) progress(double(done) / double(t.height_px));
-      }
-    };
-    for (int i = 1; i < nthreads; ++i) pool.emplace_back(work, i);
-    work(0);
-    for (auto& th : pool) th.join();
+    executor.parallel_for(std::size_t((t.height_px + kBand - 1) / kBand), [&](std::size_t band, unsigned worker) {
+      const int y0 = int(band) * kBand;
+      const int y1 = std::min(t.height_px, y0 + kBand);
+      build_rows(points, neighbors, t, y0, y1, stats[worker]);
+      const int done = rows_done.fetch_add(y1 - y0) + (y1 - y0);
+      if (worker == 0 && progress) progress(double(done) / double(t.height_px));  // the caller's thread
+    });
     for (const auto& s : stats) merge_stats(t.stats, s);
-    t.layout = build_gather_layout(neighbors, options.k, threads);
+    t.layout = build_gather_layout(neighbors, options.k, executor);
   }
   if (progress) progress(1.0);
   t.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -4,12 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <atomic>
+#include <optional>
 #include <cstring>
 #include <limits>
 #include <new>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include <nanoflann.hpp>
 #include <sys/mman.h>
@@ -160,7 +160,7 @@ class TileQuery {
 
 }  // namespace
 
-NeighborTable NeighborTable::build(const PointSet& points, int k, const ProgressFn& progress) {
+NeighborTable NeighborTable::build(const PointSet& points, int k, Executor& executor, const ProgressFn& progress) {
   if (k < 1 || k > kMaxNeighbors) {
     throw std::invalid_argument("k must be in 1.." + std::to_string(kMaxNeighbors) + " (got " +
                                 std::to_string(k) + ")");
@@ -195,25 +195,19 @@ NeighborTable NeighborTable::build(const PointSet& points, int k, const Progress
   tree.buildIndex();
 
   const int tile_rows = (t.height_px_ + kTilePx - 1) / kTilePx;
-  std::atomic<int> next_row{0};
   std::atomic<int> rows_done{0};
-  auto worker = [&](bool reports) {
-    TileQuery query(tree, points.position_px, k);
-    for (int ty = next_row.fetch_add(1); ty < tile_rows; ty = next_row.fetch_add(1)) {
-      const int y0 = ty * kTilePx;
-      const int y1 = std::min(y0 + kTilePx, t.height_px_);
-      for (int x0 = 0; x0 < t.width_px_; x0 += kTilePx) {
-        query.run(x0, y0, std::min(x0 + kTilePx, t.width_px_), y1, t.width_px_, out);
-      }
-      const int done = rows_done.fetch_add(1) + 1;
-      if (reports && progress && (done & 15) == 0) progress(double(done) / double(tile_rows));
+  std::vector<std::optional<TileQuery>> queries(executor.thread_count());  // per worker slot
+  executor.parallel_for(std::size_t(tile_rows), [&](std::size_t ty, unsigned worker) {
+    auto& query = queries[worker];
+    if (!query) query.emplace(tree, points.position_px, k);
+    const int y0 = int(ty) * kTilePx;
+    const int y1 = std::min(y0 + kTilePx, t.height_px_);
+    for (int x0 = 0; x0 < t.width_px_; x0 += kTilePx) {
+      query->run(x0, y0, std::min(x0 + kTilePx, t.width_px_), y1, t.width_px_, out);
     }
-  };
-  const unsigned n_threads = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < n_threads; ++i) pool.emplace_back(worker, false);
-  worker(true);
-  for (auto& th : pool) th.join();
+    const int done = rows_done.fetch_add(1) + 1;
+    if (worker == 0 && progress && (done & 15) == 0) progress(double(done) / double(tile_rows));  // the caller's thread
+  });
   if (progress) progress(1.0);
   return t;
 }

@@ -253,7 +253,8 @@ bool all_indices_below(const NeighborTable& t, std::size_t count) {
 }  // namespace
 
 FoveationTables load_or_build_tables(const std::optional<std::filesystem::path>& cache_dir,
-                                     const PointSetKey& key, const ProgressFn& progress, const LogFn& log) {
+                                     const PointSetKey& key, Executor& executor, const ProgressFn& progress,
+                                     const LogFn& log) {
   FoveationTables out;
   auto say = [&](const std::string& s) { if (log) log(s); };
   // The point set is ~10% of the work, the table ~90%.
@@ -301,7 +302,7 @@ FoveationTables load_or_build_tables(const std::optional<std::filesystem::path>&
     }
   }
   if (!have_table) {
-    out.neighbors = NeighborTable::build(out.points, key.k, sub(0.1, 1.0));
+    out.neighbors = NeighborTable::build(out.points, key.k, executor, sub(0.1, 1.0));
     if (cache_dir) {
       if (auto e = save_neighbor_table(neighbor_table_cache_path(*cache_dir, key), key, out.neighbors); !e.empty()) {
         say(e);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -211,7 +210,8 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
 
 }  // namespace
 
-const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, bool saccade) {
+const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor,
+                                                bool saccade) {
   const bool size_changed = history_.width_px != current.width_px || history_.height_px != current.height_px;
   const bool jumped = valid_ && glm::distance(gaze_px, gaze_px_) > options_.reset_distance_px;
   gaze_px_ = gaze_px;
@@ -225,15 +225,12 @@ const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::ve
   scratch_.width_px = current.width_px;
   scratch_.height_px = current.height_px;
   scratch_.rgb.resize(current.rgb.size());
-  int threads = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::max(1, std::min(threads, current.height_px));
-  std::vector<std::thread> pool;
+  // A few bands per thread (each band sets up its own row planes once).
   const int h = current.height_px;
-  for (int i = 1; i < threads; ++i) {
-    pool.emplace_back([&, i] { taa_rows(current, history_, scratch_, options_, h * i / threads, h * (i + 1) / threads); });
-  }
-  taa_rows(current, history_, scratch_, options_, 0, h / threads);
-  for (auto& t : pool) t.join();
+  const int bands = std::max(1, std::min(h, 4 * int(executor.thread_count())));
+  executor.parallel_for(std::size_t(bands), [&](std::size_t band) {
+    taa_rows(current, history_, scratch_, options_, h * int(band) / bands, h * (int(band) + 1) / bands);
+  });
   std::swap(history_, scratch_);
   return history_;
 }

@@ -13,6 +13,7 @@
 #include "foveation/gather_layout.hpp"
 #include "foveation/interpolation_table.hpp"
 #include "interpolation_fixture.hpp"
+#include "test_executor.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -69,9 +70,9 @@ TEST(GatherLayout, TileOrdinalIsAPermutation) {
 TEST(GatherLayout, EveryTapNamesTheNeighbourTablesPoint) {
   // 61 x 45: partial tiles at the right and bottom; 0.3 points per pixel.
   const auto ps = random_points(61, 45, 0.3, 3);
-  const auto nt = NeighborTable::build(ps, 20);
+  const auto nt = NeighborTable::build(ps, 20, test::executor());
   for (int k : {1, 7, 20}) {
-    const auto l = build_gather_layout(nt, k, 2);
+    const auto l = build_gather_layout(nt, k, test::executor());
     EXPECT_EQ(gather_layout_error(l, 61, 45, k, ps.size()), "");
     for (int y = 0; y < 45; ++y) {
       for (int x = 0; x < 61; ++x) {
@@ -89,9 +90,10 @@ TEST(GatherLayout, EveryTapNamesTheNeighbourTablesPoint) {
 TEST(GatherLayout, DenseTilesSplitIntoSmallerBlocks) {
   // 8 points per pixel: an 8 x 8 tile alone holds ~512 points (> 256).
   const auto ps = random_points(20, 18, 8.0, 4);
-  const auto nt = NeighborTable::build(ps, 20);
-  const auto a = build_gather_layout(nt, 20, 1);
-  const auto b = build_gather_layout(nt, 20, 3);
+  const auto nt = NeighborTable::build(ps, 20, test::executor());
+  Executor one_thread(1), three_threads(3);
+  const auto a = build_gather_layout(nt, 20, one_thread);
+  const auto b = build_gather_layout(nt, 20, three_threads);
   EXPECT_EQ(gather_layout_error(a, 20, 18, 20, ps.size()), "");
   EXPECT_TRUE(std::any_of(a.tile_level.begin(), a.tile_level.end(), [](std::uint8_t v) { return v > 0; }));
   for (std::size_t i = 0; i + 1 < a.block_palette.size(); ++i) EXPECT_LE(a.block_palette[i + 1] - a.block_palette[i], 256u);
@@ -108,8 +110,8 @@ TEST(GatherLayout, DenseTilesSplitIntoSmallerBlocks) {
 
 TEST(GatherLayout, InconsistentLayoutsAreReported) {
   const auto ps = random_points(24, 16, 0.5, 5);
-  const auto nt = NeighborTable::build(ps, 10);
-  const auto good = build_gather_layout(nt, 10, 1);
+  const auto nt = NeighborTable::build(ps, 10, test::executor());
+  const auto good = build_gather_layout(nt, 10, test::executor());
   ASSERT_EQ(gather_layout_error(good, 24, 16, 10, ps.size()), "");
   EXPECT_NE(gather_layout_error(good, 24, 16, 9, ps.size()), "");   // other k
   EXPECT_NE(gather_layout_error(good, 16, 24, 10, ps.size()), "");  // other canvas
@@ -125,7 +127,7 @@ TEST(GatherLayout, InconsistentLayoutsAreReported) {
   auto short_slots = good;
   short_slots.slot.pop_back();
   EXPECT_NE(gather_layout_error(short_slots, 24, 16, 10, ps.size()), "");
-  EXPECT_THROW(build_gather_layout(nt, 11, 1), std::invalid_argument);
+  EXPECT_THROW(build_gather_layout(nt, 11, test::executor()), std::invalid_argument);
 }
 
 // Range of the colours of taps of canvas pixels [x0, x1) x [y0, y1).
@@ -178,7 +180,7 @@ std::array<double, 3> reference_pixel(const NeighborTable& nt, const Interpolati
 
 TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
   const auto ps = random_points(61, 45, 0.4, 6);
-  const auto nt = NeighborTable::build(ps, 20);
+  const auto nt = NeighborTable::build(ps, 20, test::executor());
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> rgb(ps.size() * 3);
@@ -199,15 +201,15 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
     const double tol = m == InterpMethod::msm ? 2e-6 : 1e-5;
     for (int k : {5, 7, 10, 15, 20}) {
       for (auto prec : {WeightPrecision::f16, WeightPrecision::f32}) {
-        const auto t = build_interpolation_table(ps, nt, opts(m, k), prec, 2);
-        for (int threads : {1, 2, 3}) {
+        const auto t = build_interpolation_table(ps, nt, opts(m, k), test::executor(), prec);
+        for (unsigned threads : {1u, 2u, 3u}) {
+          Executor executor(threads);
           GatherOptions simd, portable;
-          simd.threads = portable.threads = threads;
           simd.rbf_clamp = portable.rbf_clamp = clamp;
           portable.simd = false;
           ImageRgb a, b;
-          const auto sa = gather(nt, t, all_valid, map, a, simd);
-          gather(nt, t, all_valid, map, b, portable);
+          const auto sa = gather(nt, t, all_valid, map, a, executor, simd);
+          gather(nt, t, all_valid, map, b, executor, portable);
           EXPECT_EQ(sa.renormalized + sa.nearest_valid + sa.fallback, 0u);
           double worst = 0;
           for (int y = 0; y < 21; ++y) {
@@ -224,8 +226,8 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
           }
           EXPECT_LT(worst, tol) << method_name(m) << " k " << k << " threads " << threads << " clamp " << int(clamp);
           // Invalid points: both kernels take the same documented slow path.
-          const auto ia = gather(nt, t, some_invalid, map, a, simd);
-          const auto ib = gather(nt, t, some_invalid, map, b, portable);
+          const auto ia = gather(nt, t, some_invalid, map, a, executor, simd);
+          const auto ib = gather(nt, t, some_invalid, map, b, executor, portable);
           EXPECT_GT(ia.renormalized, 0u);
           EXPECT_EQ(ia.renormalized, ib.renormalized);
           EXPECT_EQ(ia.nearest_valid, ib.nearest_valid);

@@ -7,6 +7,7 @@
 
 #include "foveation/interpolation_cache.hpp"
 #include "interpolation_fixture.hpp"
+#include "test_executor.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -29,7 +30,7 @@ struct InterpolationCacheTest : ::testing::Test {
   void TearDown() override { fs::remove_all(dir); }
 
   CachedTable load_or_build(std::vector<std::string>* logs = nullptr) {
-    return load_or_build_interpolation_table(dir, key, points, nt, opts, WeightPrecision::f16, 2, {},
+    return load_or_build_interpolation_table(dir, key, points, nt, opts, test::executor(), WeightPrecision::f16, {},
                                              [&](const std::string& m) { if (logs) logs->push_back(m); });
   }
   fs::path only_file() const {
@@ -40,7 +41,7 @@ struct InterpolationCacheTest : ::testing::Test {
   fs::path dir;
   PointSetKey key;
   PointSet points = test::foveated_points(2);
-  NeighborTable nt = NeighborTable::build(points, 10);
+  NeighborTable nt = NeighborTable::build(points, 10, test::executor());
   InterpOptions opts;
 };
 

@@ -9,6 +9,7 @@
 #include "foveation/interpolation_table.hpp"
 #include "interpolation_fixture.hpp"
 #include "interpolation_test_util.hpp"
+#include "test_executor.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -22,7 +23,7 @@ InterpOptions opts(InterpMethod m, int k) {
 
 struct Setup {
   PointSet points = test::foveated_points(5);
-  NeighborTable nt = NeighborTable::build(points, 20);
+  NeighborTable nt = NeighborTable::build(points, 20, test::executor());
   GazeMapping map = test::centre_mapping();
 };
 
@@ -67,9 +68,9 @@ TEST(InterpolationInvalid, NaNPointNeverSpreads) {
   for (auto m : test::kAllMethods) {
     for (int k : {5, 20}) {
       if (m == InterpMethod::nn && k == 20) continue;  // NN has one tap whatever k is
-      const auto t = build_interpolation_table(s.points, s.nt, opts(m, k), WeightPrecision::f16, 2);
+      const auto t = build_interpolation_table(s.points, s.nt, opts(m, k), test::executor(), WeightPrecision::f16);
       ImageRgb out;
-      const auto stats = gather(s.nt, t, colors, s.map, out);
+      const auto stats = gather(s.nt, t, colors, s.map, out, test::executor());
       for (float v : out.rgb) ASSERT_NEAR(v, 0.5f, 1e-6f) << method_name(m) << " k=" << k;  // valid points are all 0.5
       EXPECT_GT(stats.renormalized + stats.nearest_valid, 0u);
       EXPECT_EQ(stats.fallback, 0u);
@@ -92,9 +93,9 @@ TEST(InterpolationInvalid, UnsampledPointsUseNearestValidOrFallback) {
   GatherOptions g;
   g.fallback_rgb = {-1.0f, -1.0f, -1.0f};
   for (auto m : test::kAllMethods) {
-    const auto t = build_interpolation_table(s.points, s.nt, opts(m, 10), WeightPrecision::f32, 2);
+    const auto t = build_interpolation_table(s.points, s.nt, opts(m, 10), test::executor(), WeightPrecision::f32);
     ImageRgb out;
-    const auto stats = gather(s.nt, t, colors, s.map, out, g);
+    const auto stats = gather(s.nt, t, colors, s.map, out, test::executor(), g);
     EXPECT_GT(stats.fallback, 0u);  // right edge: no sampled point within 20 neighbours
     for (int y = 0; y < out.height_px; ++y) {
       for (int x = 0; x < out.width_px; ++x) {
@@ -113,9 +114,9 @@ TEST(InterpolationInvalid, AllInvalidGivesTheFallbackColour) {
   const auto colors = point_colors_from_list(s.points.size(), {}, {});
   GatherOptions g;
   g.fallback_rgb = {0.0f, 1.0f, 0.0f};
-  const auto t = build_interpolation_table(s.points, s.nt, opts(InterpMethod::rbf_mq, 5), std::nullopt, 2);
+  const auto t = build_interpolation_table(s.points, s.nt, opts(InterpMethod::rbf_mq, 5), test::executor(), std::nullopt);
   ImageRgb out;
-  const auto stats = gather(s.nt, t, colors, s.map, out, g);
+  const auto stats = gather(s.nt, t, colors, s.map, out, test::executor(), g);
   EXPECT_EQ(stats.fallback, out.pixel_count());
   for (std::size_t i = 0; i < out.pixel_count(); ++i) ASSERT_EQ(out.rgb[i * 3 + 1], 1.0f);
 }
@@ -123,13 +124,13 @@ TEST(InterpolationInvalid, AllInvalidGivesTheFallbackColour) {
 TEST(InterpolationInvalid, GatherRejectsMismatchedInputs) {
   const auto& s = setup();
   const auto colors = point_colors_from_list(s.points.size(), {}, {});
-  const auto t = build_interpolation_table(s.points, s.nt, opts(InterpMethod::msm, 5), std::nullopt, 2);
+  const auto t = build_interpolation_table(s.points, s.nt, opts(InterpMethod::msm, 5), test::executor(), std::nullopt);
   ImageRgb out;
   GazeMapping bad = s.map;
   bad.canvas_from_screen_x_px = s.nt.width_px();  // screen leaves the canvas
-  EXPECT_THROW(gather(s.nt, t, colors, bad, out), std::invalid_argument);
-  EXPECT_THROW(gather(s.nt, t, PointColors{}, s.map, out), std::invalid_argument);
-  EXPECT_THROW(build_interpolation_table(s.points, s.nt, opts(InterpMethod::msm, 21)), std::invalid_argument);
+  EXPECT_THROW(gather(s.nt, t, colors, bad, out, test::executor()), std::invalid_argument);
+  EXPECT_THROW(gather(s.nt, t, PointColors{}, s.map, out, test::executor()), std::invalid_argument);
+  EXPECT_THROW(build_interpolation_table(s.points, s.nt, opts(InterpMethod::msm, 21), test::executor()), std::invalid_argument);
 }
 
 }  // namespace

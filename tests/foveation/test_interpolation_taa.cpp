@@ -9,6 +9,7 @@
 
 #include "foveation/image_metrics.hpp"
 #include "foveation/taa.hpp"
+#include "test_executor.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -90,15 +91,14 @@ TEST_P(Taa, MatchesTheScalarDefinitionBitForBit) {
   for (const auto& [w, h] : {std::pair{37, 23}, std::pair{1, 5}, std::pair{6, 1}, std::pair{2, 2}}) {
     TaaOptions o;
     o.constraint = GetParam();
-    o.threads = 3;
     TemporalAccumulator taa(o);
     const ImageRgb base = gradient(w, h);
     ImageRgb history = noisy(base, rng, 0.2f);
-    taa.accumulate(history, {0, 0});  // reset: history = this frame
+    taa.accumulate(history, {0, 0}, test::executor());  // reset: history = this frame
     for (int t = 0; t < 4; ++t) {
       const ImageRgb frame = noisy(base, rng, 0.2f);
       const ImageRgb expected = taa_reference(frame, history, o);
-      const ImageRgb& out = taa.accumulate(frame, {0, 0});
+      const ImageRgb& out = taa.accumulate(frame, {0, 0}, test::executor());
       ASSERT_FALSE(taa.last_was_reset());
       ASSERT_EQ(std::memcmp(out.rgb.data(), expected.rgb.data(), out.rgb.size() * sizeof(float)), 0)
           << w << "x" << h << " frame " << t;
@@ -113,7 +113,7 @@ TEST_P(Taa, StaticFrameIsAFixedPoint) {
   TemporalAccumulator taa(o);
   const auto frame = gradient(64, 48);
   for (int t = 0; t < 5; ++t) {
-    const auto& out = taa.accumulate(frame, {32, 24});
+    const auto& out = taa.accumulate(frame, {32, 24}, test::executor());
     EXPECT_EQ(out.rgb, frame.rgb);
   }
   EXPECT_EQ(taa.reset_count(), 1u);
@@ -122,7 +122,6 @@ TEST_P(Taa, StaticFrameIsAFixedPoint) {
 TEST_P(Taa, StaticNoisySceneConvergesAndFlickersLess) {
   TaaOptions o;
   o.constraint = GetParam();
-  o.threads = 2;
   TemporalAccumulator taa(o);
   const auto base = gradient(64, 48);
   std::mt19937 rng(1);
@@ -132,7 +131,7 @@ TEST_P(Taa, StaticNoisySceneConvergesAndFlickersLess) {
   double first_error = 0, last_error = 0;
   for (int t = 0; t < 64; ++t) {
     const auto in = noisy(base, rng, sigma);
-    const ImageRgb out = taa.accumulate(in, {32, 24});
+    const ImageRgb out = taa.accumulate(in, {32, 24}, test::executor());
     const double err = mean_abs_difference(out, base);
     if (t == 0) first_error = err;
     last_error = err;
@@ -153,10 +152,10 @@ TEST_P(Taa, ConvergesToANewStaticScene) {
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const auto a = gradient(32, 32, 0.0f), b = gradient(32, 32, 0.3f);
-  for (int t = 0; t < 10; ++t) taa.accumulate(a, {16, 16});
+  for (int t = 0; t < 10; ++t) taa.accumulate(a, {16, 16}, test::executor());
   double err = 1.0;
   for (int t = 0; t < 64; ++t) {
-    const double e = mean_abs_difference(taa.accumulate(b, {16, 16}), b);
+    const double e = mean_abs_difference(taa.accumulate(b, {16, 16}, test::executor()), b);
     EXPECT_LE(e, err + 1e-7);
     err = e;
   }
@@ -168,17 +167,17 @@ TEST_P(Taa, GazeJumpResetsHistory) {
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const auto a = gradient(64, 48, 0.0f), c = gradient(64, 48, 0.4f);
-  for (int t = 0; t < 8; ++t) taa.accumulate(a, {10, 10});
+  for (int t = 0; t < 8; ++t) taa.accumulate(a, {10, 10}, test::executor());
   // A small move keeps the history: the output is not the new frame yet.
-  const ImageRgb kept = taa.accumulate(c, {15, 10});
+  const ImageRgb kept = taa.accumulate(c, {15, 10}, test::executor());
   EXPECT_FALSE(taa.last_was_reset());
   EXPECT_NE(kept.rgb, c.rgb);
   // A jump beyond reset_distance_px: the output is exactly the current frame.
-  const ImageRgb jumped = taa.accumulate(c, {60, 40});
+  const ImageRgb jumped = taa.accumulate(c, {60, 40}, test::executor());
   EXPECT_TRUE(taa.last_was_reset());
   EXPECT_EQ(jumped.rgb, c.rgb);
   // A saccade flag resets even without motion.
-  taa.accumulate(a, {60, 40}, /*saccade=*/true);
+  taa.accumulate(a, {60, 40}, test::executor(), /*saccade=*/true);
   EXPECT_TRUE(taa.last_was_reset());
   EXPECT_EQ(taa.reset_count(), 3u);
 }

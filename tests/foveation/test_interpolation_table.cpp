@@ -9,6 +9,7 @@
 #include "foveation/interpolation_table.hpp"
 #include "interpolation_fixture.hpp"
 #include "interpolation_test_util.hpp"
+#include "test_executor.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -38,7 +39,7 @@ class InterpolationTableTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     points_ = new PointSet(test::foveated_points());
-    neighbors_ = new NeighborTable(NeighborTable::build(*points_, 20));
+    neighbors_ = new NeighborTable(NeighborTable::build(*points_, 20, test::executor()));
   }
   static void TearDownTestSuite() {
     delete points_;
@@ -59,7 +60,7 @@ TEST_F(InterpolationTableTest, AllIndicesValid) {
 TEST_F(InterpolationTableTest, WeightsEqualTheOneQueryCode) {
   for (auto m : test::kAllMethods) {
     for (int k : {5, 20}) {
-      const auto t = build_interpolation_table(*points_, *neighbors_, opts(m, k), WeightPrecision::f32, 2);
+      const auto t = build_interpolation_table(*points_, *neighbors_, opts(m, k), test::executor(), WeightPrecision::f32);
       for (std::size_t p = 0; p < t.pixel_count(); p += 37) {
         std::vector<Vec2d> nb;
         std::vector<std::uint32_t> ids;
@@ -77,10 +78,11 @@ TEST_F(InterpolationTableTest, WeightsEqualTheOneQueryCode) {
 }
 
 TEST_F(InterpolationTableTest, IdenticalAcrossRunsAndThreadCounts) {
+  Executor one_thread(1), three_threads(3);
   for (auto m : {InterpMethod::msm, InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
-    const auto a = build_interpolation_table(*points_, *neighbors_, opts(m, 10), WeightPrecision::f32, 1);
-    const auto b = build_interpolation_table(*points_, *neighbors_, opts(m, 10), WeightPrecision::f32, 2);
-    const auto c = build_interpolation_table(*points_, *neighbors_, opts(m, 10), WeightPrecision::f32, 3);
+    const auto a = build_interpolation_table(*points_, *neighbors_, opts(m, 10), one_thread, WeightPrecision::f32);
+    const auto b = build_interpolation_table(*points_, *neighbors_, opts(m, 10), test::executor(), WeightPrecision::f32);
+    const auto c = build_interpolation_table(*points_, *neighbors_, opts(m, 10), three_threads, WeightPrecision::f32);
     EXPECT_EQ(a.weights_f32, b.weights_f32) << method_name(m);
     EXPECT_EQ(a.weights_f32, c.weights_f32) << method_name(m);
     EXPECT_EQ(a.stats.fallback_msm, b.stats.fallback_msm);
@@ -88,7 +90,7 @@ TEST_F(InterpolationTableTest, IdenticalAcrossRunsAndThreadCounts) {
 }
 
 TEST_F(InterpolationTableTest, MsmWeightsNonNegativeAndNormalisedInFloat) {
-  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::msm, 20), WeightPrecision::f32, 2);
+  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::msm, 20), test::executor(), WeightPrecision::f32);
   for (std::size_t p = 0; p < t.pixel_count(); ++p) {
     float sum = 0;
     for (int j = 0; j < 20; ++j) {
@@ -106,8 +108,8 @@ TEST_F(InterpolationTableTest, GatherReproducesConstantsForEveryMethod) {
     for (int k : {5, 20}) {
       {
         const auto prec = k == 20 ? WeightPrecision::f16 : WeightPrecision::f32;
-        const auto t = build_interpolation_table(*points_, *neighbors_, opts(m, k), prec, 2);
-        gather(*neighbors_, t, colors, test::centre_mapping(), out);
+        const auto t = build_interpolation_table(*points_, *neighbors_, opts(m, k), test::executor(), prec);
+        gather(*neighbors_, t, colors, test::centre_mapping(), out, test::executor());
         for (std::size_t i = 0; i < out.pixel_count(); ++i) {
           ASSERT_NEAR(out.rgb[i * 3 + 0], 0.25f, 1e-6f) << method_name(m) << " k=" << k;
           ASSERT_NEAR(out.rgb[i * 3 + 2], 0.75f, 1e-6f) << method_name(m) << " k=" << k;
@@ -122,10 +124,10 @@ TEST_F(InterpolationTableTest, ThesisPlainRbfDarkensConstants) {
   ImageRgb out;
   auto o = opts(InterpMethod::rbf_mq, 5);
   o.constant_term = false;
-  const auto t = build_interpolation_table(*points_, *neighbors_, o, WeightPrecision::f32, 2);
+  const auto t = build_interpolation_table(*points_, *neighbors_, o, test::executor(), WeightPrecision::f32);
   GatherOptions g;
   g.rbf_clamp = RbfClamp::off;
-  gather(*neighbors_, t, colors, test::centre_mapping(), out, g);
+  gather(*neighbors_, t, colors, test::centre_mapping(), out, test::executor(), g);
   double worst = 0;
   for (float v : out.rgb) worst = std::max(worst, std::abs(double(v) - 1.0));
   EXPECT_GT(worst, 1e-3);
@@ -133,10 +135,10 @@ TEST_F(InterpolationTableTest, ThesisPlainRbfDarkensConstants) {
 
 TEST_F(InterpolationTableTest, MsmGatherStaysWithinTapRange) {
   const auto colors = random_colors(points_->size(), 3);
-  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::msm, 10), WeightPrecision::f16, 2);
+  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::msm, 10), test::executor(), WeightPrecision::f16);
   const auto map = test::centre_mapping();
   ImageRgb out;
-  gather(*neighbors_, t, colors, map, out);
+  gather(*neighbors_, t, colors, map, out, test::executor());
   for (int y = 0; y < out.height_px; ++y) {
     for (int x = 0; x < out.width_px; ++x) {
       const std::size_t cp = std::size_t(y + map.canvas_from_screen_y_px) * std::size_t(t.width_px) +
@@ -159,12 +161,12 @@ TEST_F(InterpolationTableTest, RbfClampRemovesOvershootOnAStep) {
     rgb.insert(rgb.end(), {v, v, v});
   }
   const auto colors = point_colors_from_all(rgb);
-  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::rbf_mq, 20), WeightPrecision::f32, 2);
+  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::rbf_mq, 20), test::executor(), WeightPrecision::f32);
   ImageRgb clamped, raw;
-  gather(*neighbors_, t, colors, test::centre_mapping(), clamped);
+  gather(*neighbors_, t, colors, test::centre_mapping(), clamped, test::executor());
   GatherOptions g;
   g.rbf_clamp = RbfClamp::off;
-  gather(*neighbors_, t, colors, test::centre_mapping(), raw, g);
+  gather(*neighbors_, t, colors, test::centre_mapping(), raw, test::executor(), g);
   float lo = 0, hi = 1, rlo = 0, rhi = 1;
   for (float v : clamped.rgb) lo = std::min(lo, v), hi = std::max(hi, v);
   for (float v : raw.rgb) rlo = std::min(rlo, v), rhi = std::max(rhi, v);
@@ -182,14 +184,14 @@ TEST_F(InterpolationTableTest, HalfWeightsCostLittleAccuracy) {
   }
   const auto colors = point_colors_from_all(rgb);
   for (auto m : {InterpMethod::msm, InterpMethod::rbf_mq}) {
-    const auto t32 = build_interpolation_table(*points_, *neighbors_, opts(m, 20), WeightPrecision::f32, 2);
-    const auto t16 = build_interpolation_table(*points_, *neighbors_, opts(m, 20), WeightPrecision::f16, 2);
+    const auto t32 = build_interpolation_table(*points_, *neighbors_, opts(m, 20), test::executor(), WeightPrecision::f32);
+    const auto t16 = build_interpolation_table(*points_, *neighbors_, opts(m, 20), test::executor(), WeightPrecision::f16);
     EXPECT_EQ(t16.weights_f16.size(), t32.weights_f32.size());
     EXPECT_EQ(t16.bytes() + t16.weights_f16.size() * 2, t32.bytes());  // same layout, half the weight bytes
     EXPECT_LT(t16.stats.max_quantization_error, 0.01);
     ImageRgb a, b;
-    gather(*neighbors_, t32, colors, test::centre_mapping(), a);
-    gather(*neighbors_, t16, colors, test::centre_mapping(), b);
+    gather(*neighbors_, t32, colors, test::centre_mapping(), a, test::executor());
+    gather(*neighbors_, t16, colors, test::centre_mapping(), b, test::executor());
     double worst = 0;
     for (std::size_t i = 0; i < a.rgb.size(); ++i) worst = std::max(worst, std::abs(double(a.rgb[i]) - double(b.rgb[i])));
     EXPECT_LT(worst, 4e-3) << method_name(m);
@@ -199,14 +201,14 @@ TEST_F(InterpolationTableTest, HalfWeightsCostLittleAccuracy) {
 
 TEST(InterpolationTableLattice, NearestNeighbourTiesGoToLowestIndex) {
   const auto points = test::lattice_points();
-  const auto nt = NeighborTable::build(points, 4);
+  const auto nt = NeighborTable::build(points, 4, test::executor());
   std::vector<float> rgb;
   for (std::size_t i = 0; i < points.size(); ++i) rgb.insert(rgb.end(), {float(i), 0.0f, 0.0f});
   const auto colors = point_colors_from_all(rgb);
-  const auto t = build_interpolation_table(points, nt, opts(InterpMethod::nn, 1), std::nullopt, 2);
+  const auto t = build_interpolation_table(points, nt, opts(InterpMethod::nn, 1), test::executor(), std::nullopt);
   const auto map = test::centre_mapping();
   ImageRgb out;
-  gather(nt, t, colors, map, out);
+  gather(nt, t, colors, map, out, test::executor());
   for (int y = 0; y < out.height_px; ++y) {
     for (int x = 0; x < out.width_px; ++x) {
       const float cx = float(x + map.canvas_from_screen_x_px) + 0.5f, cy = float(y + map.canvas_from_screen_y_px) + 0.5f;
@@ -220,7 +222,7 @@ TEST(InterpolationTableLattice, NearestNeighbourTiesGoToLowestIndex) {
     }
   }
   // MSM on the same lattice: every pixel is the equidistant case, the mean of 4.
-  const auto msm = build_interpolation_table(points, nt, opts(InterpMethod::msm, 4), WeightPrecision::f32, 2);
+  const auto msm = build_interpolation_table(points, nt, opts(InterpMethod::msm, 4), test::executor(), WeightPrecision::f32);
   EXPECT_EQ(msm.stats.equidistant, msm.pixel_count());
 }
 

@@ -13,6 +13,7 @@
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/neighbor_table.hpp"
 #include "foveation/point_set.hpp"
+#include "test_executor.hpp"
 
 namespace fv = foveart::foveation;
 
@@ -59,7 +60,7 @@ TEST(NeighborTable, EqualsBruteForceOnRandomPixels) {
   d.scale = 3.0;
   const auto ps = fv::generate_point_set(d, 1);
   for (int k : {1, 5, 20}) {
-    const auto table = fv::NeighborTable::build(ps, k);
+    const auto table = fv::NeighborTable::build(ps, k, fv::test::executor());
     EXPECT_EQ(table.width_px(), 400);
     EXPECT_EQ(table.height_px(), 480);
     EXPECT_EQ(table.bytes(), 400u * 480u * std::size_t(k) * 3u + 1u);
@@ -78,7 +79,7 @@ TEST(NeighborTable, EqualsBruteForceOnRandomPixels) {
 
 TEST(NeighborTable, ExactTiesGoToTheLowerIndex) {
   const auto ps = lattice(64, 48, 3);  // pixel centres at .5: many exact ties
-  const auto table = fv::NeighborTable::build(ps, 12);
+  const auto table = fv::NeighborTable::build(ps, 12, fv::test::executor());
   for (int y = 0; y < 48; ++y) {
     for (int x = 0; x < 64; ++x) {
       const auto want = brute_force(ps, x, y, 12);
@@ -94,7 +95,7 @@ TEST(NeighborTable, IndicesValidAndGazeNeverReadsOutsideTheCanvas) {
   auto d = fv::DisplayModel::from_thesis(120, 100, 0.85);
   d.scale = 3.0;
   const auto ps = fv::generate_point_set(d, 2);
-  const auto table = fv::NeighborTable::build(ps, 8);
+  const auto table = fv::NeighborTable::build(ps, 8, fv::test::executor());
   for (std::size_t p = 0; p < table.pixel_count(); ++p) {
     for (int j = 0; j < 8; ++j) ASSERT_LT(table.neighbor(p, j), ps.size());
   }
@@ -118,7 +119,7 @@ TEST(NeighborTable, IndicesValidAndGazeNeverReadsOutsideTheCanvas) {
 
 TEST(NeighborTable, RejectsBadK) {
   const auto ps = lattice(16, 16, 4);
-  EXPECT_THROW(fv::NeighborTable::build(ps, 0), std::invalid_argument);
-  EXPECT_THROW(fv::NeighborTable::build(ps, 21), std::invalid_argument);
-  EXPECT_THROW(fv::NeighborTable::build(lattice(4, 4, 2), 5), std::invalid_argument);  // 4 points < k
+  EXPECT_THROW(fv::NeighborTable::build(ps, 0, fv::test::executor()), std::invalid_argument);
+  EXPECT_THROW(fv::NeighborTable::build(ps, 21, fv::test::executor()), std::invalid_argument);
+  EXPECT_THROW(fv::NeighborTable::build(lattice(4, 4, 2), 5, fv::test::executor()), std::invalid_argument);  // 4 points < k
 }

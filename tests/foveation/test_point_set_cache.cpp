@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "foveation/point_set_cache.hpp"
+#include "test_executor.hpp"
 
 namespace fv = foveart::foveation;
 namespace fs = std::filesystem;
@@ -30,7 +31,7 @@ class CacheTest : public ::testing::Test {
     key_.seed = 3;
     key_.k = 6;
     points_ = fv::generate_point_set(key_.display, key_.seed);
-    table_ = fv::NeighborTable::build(points_, key_.k);
+    table_ = fv::NeighborTable::build(points_, key_.k, fv::test::executor());
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -76,7 +77,7 @@ TEST_F(CacheTest, RoundTrip) {
   // The loaded table views a mapping of the file: it (and its copies) stay
   // valid after the file is replaced or removed.
   const fv::NeighborTable copy = *t;
-  ASSERT_EQ(fv::save_neighbor_table(tf, key_, fv::NeighborTable::build(points_, 5)), "");
+  ASSERT_EQ(fv::save_neighbor_table(tf, key_, fv::NeighborTable::build(points_, 5, fv::test::executor())), "");
   fs::remove(tf);
   EXPECT_EQ(t->packed(), table_.packed());
   EXPECT_EQ(copy.packed(), table_.packed());
@@ -155,10 +156,10 @@ TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
 
 TEST_F(CacheTest, LoadOrBuildRebuildsABadCacheAndSaysSo) {
   std::vector<std::string> log;
-  auto first = fv::load_or_build_tables(dir_, key_, {}, [&](const std::string& s) { log.push_back(s); });
+  auto first = fv::load_or_build_tables(dir_, key_, fv::test::executor(), {}, [&](const std::string& s) { log.push_back(s); });
   EXPECT_FALSE(first.points_from_cache);
   EXPECT_FALSE(first.neighbors_from_cache);
-  auto second = fv::load_or_build_tables(dir_, key_);
+  auto second = fv::load_or_build_tables(dir_, key_, fv::test::executor());
   EXPECT_TRUE(second.points_from_cache);
   EXPECT_TRUE(second.neighbors_from_cache);
   EXPECT_EQ(second.neighbors.packed(), first.neighbors.packed());
@@ -169,12 +170,12 @@ TEST_F(CacheTest, LoadOrBuildRebuildsABadCacheAndSaysSo) {
   bytes[bytes.size() / 2] ^= 0x7F;
   write(tf, bytes);
   log.clear();
-  auto third = fv::load_or_build_tables(dir_, key_, {}, [&](const std::string& s) { log.push_back(s); });
+  auto third = fv::load_or_build_tables(dir_, key_, fv::test::executor(), {}, [&](const std::string& s) { log.push_back(s); });
   EXPECT_FALSE(third.neighbors_from_cache);
   ASSERT_EQ(log.size(), 1u);
   EXPECT_NE(log[0].find("checksum"), std::string::npos) << log[0];
   EXPECT_EQ(third.neighbors.packed(), first.neighbors.packed());
-  EXPECT_TRUE(fv::load_or_build_tables(dir_, key_).neighbors_from_cache);
+  EXPECT_TRUE(fv::load_or_build_tables(dir_, key_, fv::test::executor()).neighbors_from_cache);
 }
 
 // A checksummed table whose indices overrun the cached point set (> 65,536
@@ -186,20 +187,20 @@ TEST(CacheIndexCheck, TableIndexingBeyondThePointSetIsRebuilt) {
   key.display = fv::DisplayModel::from_thesis(96, 96, 0.3);
   key.seed = 2;
   key.k = 3;
-  const auto first = fv::load_or_build_tables(dir, key);
+  const auto first = fv::load_or_build_tables(dir, key, fv::test::executor());
   ASSERT_GT(first.points.size(), 70000u);
   fv::PointSet fewer = first.points;
   fewer.position_px.resize(fewer.size() - 500);
   fewer.radius_px.resize(fewer.position_px.size());
   ASSERT_EQ(fv::save_point_set(fv::point_set_cache_path(dir, key), key, fewer), "");
   std::vector<std::string> log;
-  const auto second = fv::load_or_build_tables(dir, key, {}, [&](const std::string& s) { log.push_back(s); });
+  const auto second = fv::load_or_build_tables(dir, key, fv::test::executor(), {}, [&](const std::string& s) { log.push_back(s); });
   EXPECT_TRUE(second.points_from_cache);
   EXPECT_FALSE(second.neighbors_from_cache);
   ASSERT_EQ(log.size(), 1u);
   EXPECT_NE(log[0].find("does not match the point set"), std::string::npos) << log[0];
   // The rebuilt table fits the smaller set and is served from then on.
-  const auto third = fv::load_or_build_tables(dir, key);
+  const auto third = fv::load_or_build_tables(dir, key, fv::test::executor());
   EXPECT_TRUE(third.neighbors_from_cache);
   EXPECT_EQ(third.neighbors.packed(), second.neighbors.packed());
   std::uint32_t max_index = 0;

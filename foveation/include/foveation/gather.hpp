@@ -22,6 +22,7 @@
 #include <string_view>
 #include <vector>
 
+#include "foveation/executor.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/image.hpp"
 #include "foveation/interpolation_table.hpp"
@@ -65,7 +66,6 @@ std::string_view rbf_clamp_name(RbfClamp clamp);
 std::optional<RbfClamp> parse_rbf_clamp(std::string_view name);
 
 struct GatherOptions {
-  int threads = 0;                     // std::threads for this frame, 0 = hardware concurrency
   RbfClamp rbf_clamp = RbfClamp::block;
   std::array<float, 3> fallback_rgb{};  // no valid point in reach
   bool simd = true;                    // AVX2/FMA/F16C kernel when the CPU has them (false: portable code)
@@ -82,6 +82,6 @@ struct GatherStats {
 // std::invalid_argument when the tables disagree or the screen does not fit the
 // canvas at the mapping's offset. colors.size() must cover every point index.
 GatherStats gather(const NeighborTable& neighbors, const InterpolationTable& table, const PointColors& colors,
-                   const GazeMapping& mapping, ImageRgb& out, const GatherOptions& options = {});
+                   const GazeMapping& mapping, ImageRgb& out, Executor& executor, const GatherOptions& options = {});
 
 }  // namespace foveart::foveation

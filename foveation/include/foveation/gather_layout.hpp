@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "foveation/executor.hpp"
 #include "foveation/neighbor_table.hpp"
 
 namespace foveart::foveation {
@@ -53,10 +54,9 @@ struct GatherLayout {
   }
 };
 
-// The layout of the first k neighbours of every pixel of `neighbors`, on
-// `threads` std::threads (0 = hardware concurrency). Throws
-// std::invalid_argument for k outside 1..neighbors.k().
-GatherLayout build_gather_layout(const NeighborTable& neighbors, int k, int threads = 0);
+// The layout of the first k neighbours of every pixel of `neighbors`, built on
+// the executor's threads. Throws std::invalid_argument for k outside 1..neighbors.k().
+GatherLayout build_gather_layout(const NeighborTable& neighbors, int k, Executor& executor);
 
 // Empty when `layout` is consistent for a width x height canvas with k taps and
 // point_count points (sizes, offsets, palette sizes, every slot inside its

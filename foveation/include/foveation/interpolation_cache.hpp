@@ -43,8 +43,8 @@ struct CachedTable {
 CachedTable load_or_build_interpolation_table(const std::optional<std::filesystem::path>& cache_dir,
                                               const PointSetKey& key, const PointSet& points,
                                               const NeighborTable& neighbors, const InterpOptions& options,
+                                              Executor& executor,
                                               std::optional<WeightPrecision> precision = std::nullopt,
-                                              int threads = 0, const ProgressFn& progress = {},
-                                              const LogFn& log = {});
+                                              const ProgressFn& progress = {}, const LogFn& log = {});
 
 }  // namespace foveart::foveation

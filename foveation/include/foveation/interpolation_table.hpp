@@ -89,12 +89,12 @@ std::size_t table_bytes(std::size_t canvas_pixels, int k, WeightPrecision precis
 // 2e-4 that the renormalising gather keeps off constants.
 inline constexpr WeightPrecision kDefaultWeightPrecision = WeightPrecision::f16;
 
-// Builds the table on `threads` std::threads (0 = hardware concurrency). Throws
-// std::invalid_argument when options.k is outside 1..neighbors.k() or the
-// neighbour table does not belong to `points` (canvas size).
+// Builds the table on the executor's threads. Throws std::invalid_argument
+// when options.k is outside 1..neighbors.k() or the neighbour table does not
+// belong to `points` (canvas size).
 InterpolationTable build_interpolation_table(const PointSet& points, const NeighborTable& neighbors,
-                                             const InterpOptions& options,
+                                             const InterpOptions& options, Executor& executor,
                                              std::optional<WeightPrecision> precision = std::nullopt,
-                                             int threads = 0, const ProgressFn& progress = {});
+                                             const ProgressFn& progress = {});
 
 }  // namespace foveart::foveation

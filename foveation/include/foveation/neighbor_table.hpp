@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "foveation/executor.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/progress.hpp"
 
@@ -31,9 +32,9 @@ class NeighborTable {
  public:
   NeighborTable() = default;
 
-  // Builds with nanoflann on all hardware threads. Throws std::invalid_argument
+  // Builds with nanoflann on the executor's threads. Throws std::invalid_argument
   // for k outside 1..kMaxNeighbors or a point set with fewer than k points.
-  static NeighborTable build(const PointSet& points, int k, const ProgressFn& progress = {});
+  static NeighborTable build(const PointSet& points, int k, Executor& executor, const ProgressFn& progress = {});
 
   int k() const { return k_; }
   int width_px() const { return width_px_; }

@@ -52,7 +52,7 @@ struct FoveationTables {
 };
 using LogFn = std::function<void(const std::string&)>;
 FoveationTables load_or_build_tables(const std::optional<std::filesystem::path>& cache_dir,
-                                     const PointSetKey& key, const ProgressFn& progress = {},
+                                     const PointSetKey& key, Executor& executor, const ProgressFn& progress = {},
                                      const LogFn& log = {});
 
 }  // namespace foveart::foveation

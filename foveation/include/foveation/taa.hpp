@@ -4,14 +4,15 @@
 // blended with the current frame. A gaze jump (saccade) or a size change resets
 // the history: the frame after a jump is the current frame alone.
 //
-// Not thread-safe: one instance per eye, called from one thread; it runs its
-// own std::threads inside accumulate().
+// Not thread-safe: one instance per eye, called from one thread; accumulate()
+// spreads its rows over the executor it is given.
 #pragma once
 
 #include <cstdint>
 
 #include <glm/vec2.hpp>
 
+#include "foveation/executor.hpp"
 #include "foveation/image.hpp"
 
 namespace foveart::foveation {
@@ -23,7 +24,6 @@ struct TaaOptions {
   TaaConstraint constraint = TaaConstraint::variance_clip;
   float variance_gamma = 1.0f;   // box mu +- gamma sigma (Salvi 2016)
   float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
-  int threads = 0;               // 0 = hardware concurrency
 };
 
 class TemporalAccumulator {
@@ -33,7 +33,7 @@ class TemporalAccumulator {
   // Blends `current` (rendered at `gaze_px`) into the history and returns the
   // output (valid until the next call). `saccade` forces a reset (e.g. from a
   // gaze filter's saccade detector).
-  const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, bool saccade = false);
+  const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor, bool saccade = false);
 
   void reset() { valid_ = false; }
   bool last_was_reset() const { return last_reset_; }

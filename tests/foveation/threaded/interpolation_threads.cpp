@@ -1,5 +1,5 @@
-// The interpolation's own std::threads (table build, per-frame gather, TAA)
-// give the same bits for any thread count and are data-race free (this suite
+// The interpolation on the executor (table build, per-frame gather, TAA)
+// gives the same bits for any thread count and is data-race free (this suite
 // runs under ThreadSanitizer in CI).
 #include <gtest/gtest.h>
 
@@ -7,6 +7,7 @@
 #include <random>
 #include <thread>
 
+#include "foveation/executor.hpp"
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/interpolation_table.hpp"
@@ -19,17 +20,18 @@ TEST(ThreadedInterpolation, TableGatherAndTaaAgreeAcrossThreadCounts) {
   auto d = fv::DisplayModel::from_thesis(96, 80, 0.85);
   d.scale = 3.0;
   const auto ps = fv::generate_point_set(d, 5);
-  const auto nt = fv::NeighborTable::build(ps, 10);
+  fv::Executor one_thread(1), two_threads(2), three_threads(3);
+  const auto nt = fv::NeighborTable::build(ps, 10, two_threads);
   fv::InterpOptions o;
   o.method = fv::InterpMethod::rbf_mq;
   o.k = 10;
-  const auto t1 = fv::build_interpolation_table(ps, nt, o, fv::WeightPrecision::f16, 1);
-  // Two builds at once, each with its own workers, and one progress callback on the caller.
+  const auto t1 = fv::build_interpolation_table(ps, nt, o, one_thread, fv::WeightPrecision::f16);
+  // Two builds at once sharing one executor's workers, and one progress callback on the caller.
   fv::InterpolationTable a, b;
   const auto caller = std::this_thread::get_id();
-  std::thread ta([&] { a = fv::build_interpolation_table(ps, nt, o, fv::WeightPrecision::f16, 2); });
+  std::thread ta([&] { a = fv::build_interpolation_table(ps, nt, o, three_threads, fv::WeightPrecision::f16); });
   double last = -1.0;
-  b = fv::build_interpolation_table(ps, nt, o, fv::WeightPrecision::f16, 3, [&](double f) {
+  b = fv::build_interpolation_table(ps, nt, o, three_threads, fv::WeightPrecision::f16, [&](double f) {
     EXPECT_EQ(std::this_thread::get_id(), caller);
     EXPECT_GE(f, last);
     last = f;
@@ -49,22 +51,15 @@ TEST(ThreadedInterpolation, TableGatherAndTaaAgreeAcrossThreadCounts) {
   const auto colors = fv::point_colors_from_all(rgb);
   const auto map = fv::map_gaze(96, 80, {30.0f, 50.0f});
   fv::ImageRgb one, two;
-  fv::GatherOptions g1, g2;
-  g1.threads = 1;
-  g2.threads = 2;
-  fv::gather(nt, t1, colors, map, one, g1);
-  fv::gather(nt, t1, colors, map, two, g2);
+  fv::gather(nt, t1, colors, map, one, one_thread);
+  fv::gather(nt, t1, colors, map, two, two_threads);
   EXPECT_EQ(one.rgb, two.rgb);
-  g2.threads = 3;  // bands of whole tile rows: same bits for any split
-  fv::gather(nt, t1, colors, map, two, g2);
+  fv::gather(nt, t1, colors, map, two, three_threads);  // bands of whole tile rows: same bits for any split
   EXPECT_EQ(one.rgb, two.rgb);
 
-  fv::TaaOptions o1, o2;
-  o1.threads = 1;
-  o2.threads = 2;
-  fv::TemporalAccumulator taa1(o1), taa2(o2);
+  fv::TemporalAccumulator taa1, taa2;
   for (int f = 0; f < 3; ++f) {
     for (float& v : one.rgb) v = 0.9f * v + 0.1f * u(rng);
-    EXPECT_EQ(taa1.accumulate(one, map.gaze_px).rgb, taa2.accumulate(one, map.gaze_px).rgb);
+    EXPECT_EQ(taa1.accumulate(one, map.gaze_px, one_thread).rgb, taa2.accumulate(one, map.gaze_px, two_threads).rgb);
   }
 }

@@ -4,6 +4,7 @@
 
 #include <thread>
 
+#include "foveation/executor.hpp"
 #include "foveation/neighbor_table.hpp"
 #include "foveation/point_set.hpp"
 
@@ -13,11 +14,12 @@ TEST(ThreadedNeighborTable, WorkersAgreeWithEachOtherAndWithItself) {
   auto d = fv::DisplayModel::from_thesis(96, 80, 0.85);
   d.scale = 3.0;
   const auto ps = fv::generate_point_set(d, 5);
-  const auto reference = fv::NeighborTable::build(ps, 8);
-  // Two builds at once (each with its own worker pool) share the read-only set.
+  fv::Executor one_thread(1), shared(3);
+  const auto reference = fv::NeighborTable::build(ps, 8, one_thread);
+  // Two builds at once share one executor's workers and the read-only set.
   fv::NeighborTable a, b;
-  std::thread ta([&] { a = fv::NeighborTable::build(ps, 8); });
-  std::thread tb([&] { b = fv::NeighborTable::build(ps, 8); });
+  std::thread ta([&] { a = fv::NeighborTable::build(ps, 8, shared); });
+  std::thread tb([&] { b = fv::NeighborTable::build(ps, 8, shared); });
   ta.join();
   tb.join();
   EXPECT_EQ(a.packed(), reference.packed());
@@ -25,7 +27,7 @@ TEST(ThreadedNeighborTable, WorkersAgreeWithEachOtherAndWithItself) {
   // The progress callback runs on the calling thread only and ends at 1.
   double last = -1.0;
   const auto caller = std::this_thread::get_id();
-  fv::NeighborTable::build(ps, 4, [&](double f) {
+  fv::NeighborTable::build(ps, 4, shared, [&](double f) {
     EXPECT_EQ(std::this_thread::get_id(), caller);
     EXPECT_GE(f, last);
     last = f;

@@ -1,0 +1,138 @@
+// The one foveated frame (thesis 4.2-4.3; ARCHITECTURE.md "One frame, end to
+// end"), used by the OpenXR layer, `fovea render` and `fovea reconstruct`
+// alike: the visible points of the point set at the gaze -> jittered rays in
+// each point's disc -> the engine callback, in batches on the executor ->
+// one colour per point (colour checks) -> every pixel a k-tap gather over the
+// canvas tables (NN, MSM and RBF alike) -> temporal accumulation.
+//
+// Lifetime and threads: a FoveatedView belongs to one view (one eye of one
+// display); render() is called from one thread at a time and spreads its work
+// over the executor it is given. The tables are shared and immutable.
+// Errors: render() never throws for anything the engine does (a failed batch or
+// a NaN colour is reported in FrameResult); it throws std::invalid_argument
+// when a request does not fit the tables (a programming error of the caller).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "foveation/executor.hpp"
+#include "foveation/gather.hpp"
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/interpolation_table.hpp"
+#include "foveation/interpolation_weights.hpp"
+#include "foveation/neighbor_table.hpp"
+#include "foveation/point_set.hpp"
+#include "foveation/point_set_cache.hpp"
+#include "foveation/ray_batch.hpp"
+#include "foveation/ray_trace.h"
+#include "foveation/taa.hpp"
+
+namespace foveart::foveation {
+
+// Everything a view's frames read that depends only on the display: the point
+// set, the k nearest points of every canvas pixel and the method's weights.
+struct ViewTables {
+  PointSetKey key;
+  PointSet points;
+  NeighborTable neighbors;
+  InterpolationTable interpolation;
+  bool from_cache = false;  // all three loaded from the cache directory
+  double load_ms = 0.0;     // load or build, all three
+};
+
+// Neighbours per canvas pixel the tables keep for a method: k, and at least 4
+// for NN, so that a pixel whose nearest point was not traced (beyond the
+// visible margin) falls back to the next nearest traced one.
+int neighbor_count(const InterpOptions& interpolation);
+
+// Loads the tables of `key.display` from `cache_dir` (nullopt: no cache) or
+// builds and stores them. key.k is set from the method. Rejected cache files go
+// to `log`; build errors throw.
+std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::filesystem::path>& cache_dir,
+                                                   PointSetKey key, const InterpOptions& interpolation,
+                                                   Executor& executor,
+                                                   std::optional<WeightPrecision> precision = std::nullopt,
+                                                   const ProgressFn& progress = {}, const LogFn& log = {});
+
+struct ViewSettings {
+  int rays_per_point = 1;            // jittered rays in each point's disc, averaged (thesis 4.2)
+  std::uint64_t sample_seed = 1;     // where in its disc each ray goes
+  bool new_jitter_each_frame = false;  // sample_seed + frame_index: TAA then converges over frames
+  bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
+  TaaOptions taa_options;
+  RbfClamp rbf_clamp = RbfClamp::block;
+};
+
+struct FrameRequest {
+  FoveartEyeView view{};       // pose, frustum and size; the size must be the tables' display
+  glm::vec2 gaze_px{};         // foveation centre in this view's pixels (rounded to whole pixels)
+  std::uint64_t frame_index = 0;
+  bool saccade = false;        // the gaze provider saw a saccade: the TAA history restarts
+};
+
+enum class FrameFailure : std::uint8_t {
+  none = 0,
+  callback_failed,  // the engine returned an error for a batch (or threw)
+  invalid_colour,   // a colour component was NaN, infinite or negative
+};
+
+struct FrameResult {
+  FrameFailure failure = FrameFailure::none;
+  std::string message;              // the failure, for a log line
+  std::uint32_t points = 0;         // visible points traced
+  std::uint64_t rays = 0;           // primary rays handed to the engine
+  std::uint64_t failed_batches = 0;
+  std::uint64_t invalid_colours = 0;  // colour components
+  double select_ms = 0.0;           // forget last frame's points (selection itself runs inside the trace pass)
+  double trace_ms = 0.0;            // visible-point test, rays, engine callback, colour per point
+  double reconstruct_ms = 0.0;      // gather
+  double taa_ms = 0.0;
+  bool taa_reset = false;           // the history restarted this frame
+  GatherStats gather;
+
+  bool ok() const { return failure == FrameFailure::none; }
+};
+
+class FoveatedView {
+ public:
+  FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings);
+
+  // One frame. On success image() holds it; on failure image() keeps the last
+  // good frame and the TAA history restarts.
+  FrameResult render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                     Executor& executor);
+
+  // Linear RGB of the last successful frame (after TAA when it is on).
+  const ImageRgb& image() const { return taa_output_ != nullptr ? *taa_output_ : gathered_; }
+  const ViewTables& tables() const { return *tables_; }
+  const ViewSettings& settings() const { return settings_; }
+
+ private:
+  std::shared_ptr<const ViewTables> tables_;
+  ViewSettings settings_;
+  PointColors colors_;                    // one slot per point of the set; a = 1 traced this frame
+  std::vector<std::vector<std::uint32_t>> traced_;  // per chunk of the point set: its points traced last frame
+  std::vector<RayBatch> batches_;         // per worker slot
+  std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
+  std::vector<glm::vec2> sample_offset_px_;  // precomputed disc offsets for a fixed seed (empty: made per frame)
+  std::uint64_t sample_offset_seed_ = 0;
+  ImageRgb gathered_;
+  TemporalAccumulator taa_;
+  const ImageRgb* taa_output_ = nullptr;
+  std::optional<FoveartEyeView> last_view_;  // TAA history's view (no reprojection: a new view restarts it)
+};
+
+// Points a frame at `mapping` traces per tile of a tiles_x x tiles_y grid of
+// tile_w x tile_h screen tiles (row-major; points in the margin beyond the
+// screen count in the nearest tile). Empty for an empty grid.
+std::vector<std::uint32_t> points_per_tile(const PointSet& points, const GazeMapping& mapping, std::uint32_t tile_w_px,
+                                           std::uint32_t tile_h_px, std::uint32_t tiles_x, std::uint32_t tiles_y);
+
+}  // namespace foveart::foveation

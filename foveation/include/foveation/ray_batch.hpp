@@ -1,0 +1,54 @@
+// The one builder of engine callback batches (ray_trace.h): rays through
+// screen positions of an eye view, kept from call to call so that nothing is
+// allocated per batch once it has grown to the batch size. The foveated frame
+// and the full render both fill these.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "foveation/eye_rays.hpp"
+#include "foveation/ray_trace.h"
+
+namespace foveart::foveation {
+
+class RayBatch {
+ public:
+  void resize(std::size_t ray_count);
+  std::size_t capacity() const { return point_index_.size(); }
+
+  // Ray i from the eye through screen position sample_px, for point `point`.
+  void set_ray(std::size_t i, const EyeFrustum& frustum, const EyePose& pose, glm::vec2 sample_px, std::uint32_t point) {
+    const glm::vec3 d = eye_ray_direction(frustum, pose, sample_px);
+    float* o = origins_m_.data() + 3 * i;
+    float* dir = directions_.data() + 3 * i;
+    o[0] = pose.position_m.x;
+    o[1] = pose.position_m.y;
+    o[2] = pose.position_m.z;
+    dir[0] = d.x;
+    dir[1] = d.y;
+    dir[2] = d.z;
+    sample_px_[2 * i] = sample_px.x;
+    sample_px_[2 * i + 1] = sample_px.y;
+    point_index_[i] = point;
+  }
+
+  // Calls fn for rays [0, ray_count) and returns its status; a C++ exception
+  // from an engine without its own barrier becomes ENGINE_FAILURE.
+  std::int32_t trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, std::uint64_t frame_index,
+                     std::uint32_t ray_count);
+
+  glm::vec3 rgb(std::size_t i) const { return glm::vec3(rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]); }
+  // Colour components of rays [0, ray_count) that are NaN, infinite or negative.
+  std::uint64_t invalid_components(std::uint32_t ray_count) const;
+
+ private:
+  std::vector<float> origins_m_, directions_, sample_px_, rgb_;
+  std::vector<std::uint32_t> point_index_;
+};
+
+}  // namespace foveart::foveation

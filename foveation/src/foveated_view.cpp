@@ -1,0 +1,214 @@
+#include "foveation/foveated_view.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+#include "foveation/interpolation_cache.hpp"
+#include "foveation/ray_samples.hpp"
+#include "foveation/visible_points.hpp"
+
+namespace foveart::foveation {
+namespace {
+
+// Rays per engine callback call, and points of the set per parallel task: a
+// task is a contiguous run of the Morton order (the rays of a packet are
+// neighbours on the screen), small enough that the last task of a frame keeps
+// the other threads idle only briefly.
+constexpr std::uint32_t kBatchRays = 4096;
+constexpr std::size_t kChunkPoints = 8192;
+// Disc offsets are precomputed up to this many samples (64 MB); beyond, made per frame.
+constexpr std::size_t kMaxPrecomputedSamples = std::size_t{8} << 20;
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+bool same_view(const FoveartEyeView& a, const FoveartEyeView& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+}  // namespace
+
+int neighbor_count(const InterpOptions& interpolation) {
+  return interpolation.method == InterpMethod::nn ? std::max(4, interpolation.k) : interpolation.k;
+}
+
+std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::filesystem::path>& cache_dir,
+                                                   PointSetKey key, const InterpOptions& interpolation,
+                                                   Executor& executor, std::optional<WeightPrecision> precision,
+                                                   const ProgressFn& progress, const LogFn& log) {
+  const auto t0 = Clock::now();
+  // The point set and neighbour table are ~90% of a first build, the weights the rest.
+  auto part = [&](double lo, double hi) -> ProgressFn {
+    if (!progress) return {};
+    return [=, &progress](double f) { progress(lo + (hi - lo) * f); };
+  };
+  key.k = neighbor_count(interpolation);
+  auto out = std::make_shared<ViewTables>();
+  out->key = key;
+  FoveationTables tables = load_or_build_tables(cache_dir, key, executor, part(0.0, 0.9), log);
+  out->points = std::move(tables.points);
+  out->neighbors = std::move(tables.neighbors);
+  CachedTable interp = load_or_build_interpolation_table(cache_dir, key, out->points, out->neighbors, interpolation,
+                                                         executor, precision, part(0.9, 1.0), log);
+  out->interpolation = std::move(interp.table);
+  out->from_cache = tables.points_from_cache && tables.neighbors_from_cache && interp.from_cache;
+  out->load_ms = ms_since(t0);
+  return out;
+}
+
+FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings)
+    : tables_(std::move(tables)), settings_(settings), taa_(settings.taa_options) {
+  if (tables_ == nullptr) throw std::invalid_argument("foveated view: no tables");
+  if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
+  colors_.rgba.assign(tables_->points.size(), Rgba{});
+  colors_.invalid = colors_.rgba.size();
+  traced_.resize((tables_->points.size() + kChunkPoints - 1) / kChunkPoints);
+}
+
+FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                                 Executor& executor) {
+  const PointSet& points = tables_->points;
+  const DisplayModel& display = tables_->key.display;
+  const FoveartEyeView& view = request.view;
+  if (view.width_px != std::uint32_t(display.width_px) || view.height_px != std::uint32_t(display.height_px)) {
+    throw std::invalid_argument("foveated view: a " + std::to_string(view.width_px) + "x" +
+                                std::to_string(view.height_px) + " view for tables of a " +
+                                std::to_string(display.width_px) + "x" + std::to_string(display.height_px) + " display");
+  }
+  if (trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
+  FrameResult result;
+  const auto t_frame = Clock::now();
+  const GazeMapping mapping = map_gaze(int(view.width_px), int(view.height_px), request.gaze_px);
+  const std::uint32_t spp = std::uint32_t(settings_.rays_per_point);
+  const std::uint64_t seed = settings_.sample_seed + (settings_.new_jitter_each_frame ? request.frame_index : 0);
+
+  // Disc offsets of a fixed seed are the same every frame: made once.
+  const bool precomputed = !settings_.new_jitter_each_frame && points.size() * spp <= kMaxPrecomputedSamples;
+  if (precomputed && (sample_offset_px_.empty() || sample_offset_seed_ != seed)) {
+    sample_offset_px_.resize(points.size() * spp);
+    executor.parallel_chunks(points.size(), 16384, [&](std::size_t first, std::size_t last, unsigned) {
+      for (std::size_t i = first; i < last; ++i)
+        for (std::uint32_t s = 0; s < spp; ++s)
+          sample_offset_px_[i * spp + s] = unit_disc_sample(seed, std::uint32_t(i), int(s)) * points.radius_px[i];
+    });
+    sample_offset_seed_ = seed;
+  }
+  const unsigned workers = executor.thread_count();
+  const std::uint32_t batch_points = std::max<std::uint32_t>(1, kBatchRays / spp);
+  if (batches_.size() < workers) {
+    batches_.resize(workers);
+    batch_points_.resize(workers);
+  }
+  result.select_ms = ms_since(t_frame);
+
+  // Thesis 4.2, in one pass over chunks of the point set: each task forgets
+  // the points it traced last frame, keeps the visible ones, casts spp rays
+  // through each one's disc, hands them to the engine in batches and writes
+  // each point's mean colour into its slot.
+  const auto t_trace = Clock::now();
+  const EyeFrustum frustum = eye_frustum(view);
+  const EyePose pose = eye_pose(view);
+  const VisibleRegion visible(mapping);
+  std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
+  const float inv_spp = 1.0f / float(spp);
+  executor.parallel_for(traced_.size(), [&](std::size_t chunk, unsigned worker) {
+    std::vector<std::uint32_t>& traced = traced_[chunk];
+    for (std::uint32_t id : traced) colors_.rgba[id] = Rgba{};
+    traced.clear();
+    RayBatch& batch = batches_[worker];
+    std::vector<std::uint32_t>& ids = batch_points_[worker];
+    batch.resize(std::size_t(batch_points) * spp);
+    ids.resize(batch_points);
+    std::uint32_t n = 0;
+    auto flush = [&] {
+      const std::uint32_t rays = n * spp;
+      if (batch.trace(trace_rays, user_data, view, request.frame_index, rays) != FOVEART_RESULT_SUCCESS) {
+        failed_batches.fetch_add(1, std::memory_order_relaxed);
+      } else if (const std::uint64_t bad = batch.invalid_components(rays); bad != 0) {
+        invalid_colours.fetch_add(bad, std::memory_order_relaxed);
+      } else {
+        for (std::uint32_t j = 0, r = 0; j < n; ++j) {
+          glm::vec3 sum(0.0f);
+          for (std::uint32_t s = 0; s < spp; ++s, ++r) sum += batch.rgb(r);
+          sum *= inv_spp;
+          colors_.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
+          traced.push_back(ids[j]);
+        }
+      }
+      n = 0;
+    };
+    const std::size_t last = std::min(points.size(), (chunk + 1) * kChunkPoints);
+    std::uint64_t chunk_points = 0;
+    for (std::size_t i = chunk * kChunkPoints; i < last; ++i) {
+      const glm::vec2 screen = visible.to_screen(points.position_px[i]);
+      if (!visible.contains(screen)) continue;
+      const std::uint32_t id = std::uint32_t(i);
+      for (std::uint32_t s = 0; s < spp; ++s) {
+        const glm::vec2 offset = precomputed ? sample_offset_px_[i * spp + s]
+                                             : unit_disc_sample(seed, id, int(s)) * points.radius_px[i];
+        batch.set_ray(std::size_t(n) * spp + s, frustum, pose, screen + offset, id);
+      }
+      ids[n] = id;
+      ++chunk_points;
+      if (++n == batch_points) flush();
+    }
+    if (n > 0) flush();
+    traced_points.fetch_add(chunk_points, std::memory_order_relaxed);
+  });
+  result.trace_ms = ms_since(t_trace);
+  result.points = std::uint32_t(traced_points.load());
+  result.rays = traced_points.load() * spp;
+  result.failed_batches = failed_batches.load();
+  result.invalid_colours = invalid_colours.load();
+  if (result.failed_batches != 0 || result.invalid_colours != 0) {
+    result.failure = result.failed_batches != 0 ? FrameFailure::callback_failed : FrameFailure::invalid_colour;
+    result.message = result.failed_batches != 0
+                         ? "the ray-trace callback failed " + std::to_string(result.failed_batches) + " batch(es)"
+                         : "the ray-trace callback returned " + std::to_string(result.invalid_colours) +
+                               " NaN/Inf/negative colour components";
+    taa_.reset();
+    last_view_.reset();
+    return result;
+  }
+  colors_.invalid = points.size() - result.points;
+
+  // Thesis 4.3: every pixel a k-tap gather over the precomputed canvas weights.
+  const auto t_gather = Clock::now();
+  GatherOptions gather_options;
+  gather_options.rbf_clamp = settings_.rbf_clamp;
+  result.gather = gather(tables_->neighbors, tables_->interpolation, colors_, mapping, gathered_, executor,
+                         gather_options);
+  result.reconstruct_ms = ms_since(t_gather);
+
+  const auto t_taa = Clock::now();
+  taa_output_ = nullptr;
+  if (settings_.taa) {
+    // No reprojection yet: a new pose, frustum or size restarts the history
+    // (a gaze jump or a saccade does inside the accumulator).
+    if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
+    taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, request.saccade);
+    result.taa_reset = taa_.last_was_reset();
+    last_view_ = view;
+  }
+  result.taa_ms = ms_since(t_taa);
+  return result;
+}
+
+std::vector<std::uint32_t> points_per_tile(const PointSet& points, const GazeMapping& mapping, std::uint32_t tile_w_px,
+                                           std::uint32_t tile_h_px, std::uint32_t tiles_x, std::uint32_t tiles_y) {
+  if (tile_w_px == 0 || tile_h_px == 0 || tiles_x == 0 || tiles_y == 0) return {};
+  const VisibleRegion visible(mapping);  // the frame's own test
+  const float w = float(mapping.screen_width_px), h = float(mapping.screen_height_px);
+  std::vector<std::uint32_t> count(std::size_t(tiles_x) * tiles_y, 0);
+  for (const glm::vec2& p : points.position_px) {
+    const glm::vec2 screen = visible.to_screen(p);
+    if (!visible.contains(screen)) continue;
+    const std::uint32_t tx = std::min(tiles_x - 1, std::uint32_t(std::clamp(screen.x, 0.0f, w - 1.0f)) / tile_w_px);
+    const std::uint32_t ty = std::min(tiles_y - 1, std::uint32_t(std::clamp(screen.y, 0.0f, h - 1.0f)) / tile_h_px);
+    ++count[std::size_t(ty) * tiles_x + tx];
+  }
+  return count;
+}
+
+}  // namespace foveart::foveation

@@ -1,0 +1,41 @@
+#include "foveation/ray_batch.hpp"
+
+#include <cmath>
+
+namespace foveart::foveation {
+
+void RayBatch::resize(std::size_t ray_count) {
+  origins_m_.resize(3 * ray_count);
+  directions_.resize(3 * ray_count);
+  sample_px_.resize(2 * ray_count);
+  rgb_.resize(3 * ray_count);
+  point_index_.resize(ray_count);
+}
+
+std::int32_t RayBatch::trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
+                             std::uint64_t frame_index, std::uint32_t ray_count) {
+  FoveartRayBatch batch{};
+  batch.type = FOVEART_TYPE_RAY_BATCH;
+  batch.size = sizeof(FoveartRayBatch);
+  batch.frame_index = frame_index;
+  batch.view = &view;
+  batch.ray_count = ray_count;
+  batch.origins_m = origins_m_.data();
+  batch.directions = directions_.data();
+  batch.sample_px = sample_px_.data();
+  batch.point_index = point_index_.data();
+  batch.out_rgb = rgb_.data();
+  try {
+    return fn(user_data, &batch);
+  } catch (...) {  // ray_trace.h forbids it; an engine that lets one through fails this batch only
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+}
+
+std::uint64_t RayBatch::invalid_components(std::uint32_t ray_count) const {
+  std::uint64_t bad = 0;
+  for (std::size_t i = 0; i < std::size_t(ray_count) * 3; ++i) bad += !(std::isfinite(rgb_[i]) && rgb_[i] >= 0.0f);
+  return bad;
+}
+
+}  // namespace foveart::foveation
