@@ -2,6 +2,8 @@
 // from ARCHITECTURE.md "Numbers to keep at hand").
 #include "foveation/display_model.hpp"
 
+#include "foveation/device.hpp"
+
 #include <array>
 #include <sstream>
 
@@ -67,7 +69,10 @@ std::string DisplayModel::validate() const {
 std::optional<DisplayModel> display_preset(std::string_view name) {
   DisplayModel d;
   if (name == "fove") {
-    d = DisplayModel::from_fov(1280, 1440, 95.0);  // FOVE 0: 2560x1440, ~95 deg
+    // The headset the simulated runtime reports (foveation/device.hpp): same pixels,
+    // same horizontal FOV, and square pixels make the vertical FOV agree as well.
+    const HeadsetDescription fove = fove0();
+    d = DisplayModel::from_fov(fove.eye_width_px, fove.eye_height_px, fove.horizontal_fov_rad() * kDegPerRad);
   } else if (name == "vive") {
     d = DisplayModel::from_fov(1080, 1200, 110.0);  // HTC Vive: 2160x1200, ~110 deg
   } else if (name == "thesis") {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "child_process.hpp"
+#include "foveation/device.hpp"
 #include "test_env.hpp"
 
 namespace foveart::layer::test {
@@ -160,11 +161,11 @@ TEST_F(HelloFoveated, FramePathUnderValidationLayersHasNoErrors) {
 
 // XR_EXT_eye_gaze_interaction as the gaze source. The simulated runtime plays
 // a trace of three fixations and a blink, 50 ms each; frames.csv has its gaze
-// sample at each frame's display time (head static, so the eyes look along the
-// head's -z and the gaze pixel follows from the symmetric FOV).
+// sample at each frame's display time in the trace's head space (+z forward; head
+// static, so the gaze pixel follows from the symmetric FOV).
 struct CsvGaze {
   bool valid = false;
-  double x = 0, y = 0, z = -1;
+  double x = 0, y = 0, z = 1;
 };
 
 std::vector<CsvGaze> read_frames_csv(const fs::path& path) {
@@ -186,12 +187,12 @@ std::vector<CsvGaze> read_frames_csv(const fs::path& path) {
   return rows;
 }
 
-// Pixel of a head-space direction in a 320x360 eye of the simulated FOVE
-// (symmetric, 95 degrees vertical, square pixels).
+// Pixel of a head-space direction in a 320x360 eye of the simulated FOVE 0
+// (foveation/device.hpp: symmetric, square pixels).
 std::pair<double, double> expected_pixel(const CsvGaze& g) {
-  const double tan_v = std::tan(47.5 * 3.14159265358979323846 / 180.0);
-  const double tan_h = tan_v * 320.0 / 360.0;
-  return {std::round(160.0 * (g.x / -g.z / tan_h + 1.0)), std::round(180.0 * (1.0 - g.y / -g.z / tan_v))};
+  const double tan_h = std::tan(foveation::fove0().eye_fov_rad.right);
+  const double tan_v = std::tan(foveation::fove0().eye_fov_rad.up);
+  return {std::round(160.0 * (g.x / g.z / tan_h + 1.0)), std::round(180.0 * (1.0 - g.y / g.z / tan_v))};
 }
 
 TEST_F(HelloFoveated, EyeGazeInteractionFollowsTheRuntimesScriptedGaze) {
@@ -199,7 +200,7 @@ TEST_F(HelloFoveated, EyeGazeInteractionFollowsTheRuntimesScriptedGaze) {
   {
     std::ofstream csv(trace);
     csv << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n";
-    const char* segments[] = {"1,0.1,-0.05,-0.9937", "1,0.2,0.1,-0.9747", "0,0,0,-1", "1,-0.25,-0.08,-0.9649"};
+    const char* segments[] = {"1,0.1,-0.05,0.9937", "1,0.2,0.1,0.9747", "0,0,0,1", "1,-0.25,-0.08,0.9649"};
     for (int i = 0; i < 24; ++i) csv << i * 8333 << "," << i << "," << segments[i / 6] << "\n";
   }
   IsolatedEnv::set("FOVEART_SIM_GAZE", trace);

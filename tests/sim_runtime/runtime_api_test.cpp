@@ -9,6 +9,10 @@
 #include <cmath>
 #include <fstream>
 
+#include "foveation/device.hpp"
+#include "foveation/display_model.hpp"
+#include "gaze_provider/gaze_math.h"
+#include "gaze_provider/trace_csv.h"
 #include "sim_runtime/sim_env.h"
 #include "xr_test_app.h"
 
@@ -30,7 +34,10 @@ XrSpace make_reference_space(XrSession session, XrReferenceSpaceType type) {
   return space;
 }
 
-TEST_F(SimRuntime, ReportsTwoFoveViewsOf1280x1440With63mmIpd) {
+// The views are the one FOVE 0 description (foveation/device.hpp), the headset the
+// foveation tables are built for: size, FOV angles, eye separation, frame period.
+TEST_F(SimRuntime, ReportsTheFove0DescriptionsViewsFovAndIpd) {
+  const foveation::HeadsetDescription fove = foveation::fove0();
   set_env({{"FOVEART_SIM_CLOCK", "virtual"}});
   XrTestApp app;
   ASSERT_EQ(app.create_instance(), XR_SUCCESS);
@@ -47,8 +54,8 @@ TEST_F(SimRuntime, ReportsTwoFoveViewsOf1280x1440With63mmIpd) {
           app.instance, app.system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n, &n, views.data()),
       XR_SUCCESS);
   for (const auto& v : views) {
-    EXPECT_EQ(v.recommendedImageRectWidth, 1280U);
-    EXPECT_EQ(v.recommendedImageRectHeight, 1440U);
+    EXPECT_EQ(v.recommendedImageRectWidth, static_cast<uint32_t>(fove.eye_width_px));
+    EXPECT_EQ(v.recommendedImageRectHeight, static_cast<uint32_t>(fove.eye_height_px));
   }
   auto eye = xr<XrSystemEyeGazeInteractionPropertiesEXT>(
       XR_TYPE_SYSTEM_EYE_GAZE_INTERACTION_PROPERTIES_EXT);
@@ -72,13 +79,48 @@ TEST_F(SimRuntime, ReportsTwoFoveViewsOf1280x1440With63mmIpd) {
   ASSERT_EQ(xrLocateViews(app.session, &locate, &state, 2, &count, xr_views.data()), XR_SUCCESS);
   EXPECT_EQ(count, 2U);
   EXPECT_NE(state.viewStateFlags & XR_VIEW_STATE_POSITION_VALID_BIT, 0U);
-  const float ipd = xr_views[1].pose.position.x - xr_views[0].pose.position.x;
-  EXPECT_NEAR(ipd, 0.063F, 1e-5F);
-  const XrFovf& fov = xr_views[0].fov;
-  const float vertical_deg = (fov.angleUp - fov.angleDown) * 180.0F / static_cast<float>(M_PI);
-  EXPECT_NEAR(vertical_deg, 95.0F, 0.5F);
-  // Square pixels: tan ratio equals the 1280:1440 aspect ratio.
-  EXPECT_NEAR(std::tan(fov.angleRight) / std::tan(fov.angleUp), 1280.0F / 1440.0F, 1e-4F);
+  const float ipd_m = xr_views[1].pose.position.x - xr_views[0].pose.position.x;
+  EXPECT_NEAR(ipd_m, fove.ipd_m, 1e-6);
+  EXPECT_NEAR(xr_views[0].pose.position.x, fove.eye_offset_x_m(0), 1e-6);
+  for (const XrView& v : xr_views) {
+    EXPECT_NEAR(v.fov.angleLeft, fove.eye_fov_rad.left, 1e-6);
+    EXPECT_NEAR(v.fov.angleRight, fove.eye_fov_rad.right, 1e-6);
+    EXPECT_NEAR(v.fov.angleUp, fove.eye_fov_rad.up, 1e-6);
+    EXPECT_NEAR(v.fov.angleDown, fove.eye_fov_rad.down, 1e-6);
+  }
+  auto frame = xr<XrFrameState>(XR_TYPE_FRAME_STATE);
+  ASSERT_EQ(app.empty_frame(&frame), XR_SUCCESS);
+  EXPECT_EQ(frame.predictedDisplayPeriod, fove.frame_period_ns());
+}
+
+// The description itself: ARCHITECTURE.md's FOVE 0 (1280x1440 per eye, 70 Hz, 95 deg,
+// 120 Hz tracking) with the foveation preset's 64 mm; square pixels give the vertical FOV.
+TEST(Fove0, DescriptionHasTheArchitecturesNumbersAndSquarePixels) {
+  const foveation::HeadsetDescription fove = foveation::fove0();
+  constexpr double kDegPerRad = 180.0 / M_PI;
+  EXPECT_EQ(fove.eye_width_px, 1280);
+  EXPECT_EQ(fove.eye_height_px, 1440);
+  EXPECT_NEAR(fove.horizontal_fov_rad() * kDegPerRad, 95.0, 1e-9);
+  EXPECT_NEAR(fove.eye_fov_rad.left, -fove.eye_fov_rad.right, 1e-12);
+  EXPECT_NEAR(fove.eye_fov_rad.down, -fove.eye_fov_rad.up, 1e-12);
+  EXPECT_NEAR(std::tan(fove.eye_fov_rad.up) / std::tan(fove.eye_fov_rad.right), 1440.0 / 1280.0, 1e-12);
+  EXPECT_NEAR(fove.vertical_fov_rad() * kDegPerRad, 101.7, 0.05);
+  EXPECT_DOUBLE_EQ(fove.ipd_m, 0.064);
+  EXPECT_EQ(fove.frame_period_ns(), 14'285'714);
+  EXPECT_EQ(fove.gaze_period_ns(), 8'333'333);
+}
+
+// display_preset("fove") (the foveation tables' display) is the same headset: the same
+// pixels, and one viewing distance that spans both the horizontal and vertical FOV.
+TEST(Fove0, FoveationPresetHasTheDescribedGeometry) {
+  const foveation::HeadsetDescription fove = foveation::fove0();
+  const auto preset = foveation::display_preset("fove");
+  ASSERT_TRUE(preset.has_value());
+  EXPECT_EQ(preset->width_px, fove.eye_width_px);
+  EXPECT_EQ(preset->height_px, fove.eye_height_px);
+  EXPECT_NEAR(preset->horizontal_fov_deg(), fove.horizontal_fov_rad() * 180.0 / M_PI, 1e-9);
+  EXPECT_NEAR(0.5 * preset->width_px / preset->view_distance_px, std::tan(fove.eye_fov_rad.right), 1e-12);
+  EXPECT_NEAR(0.5 * preset->height_px / preset->view_distance_px, std::tan(fove.eye_fov_rad.up), 1e-12);
 }
 
 // Functional pacing check on the real clock. Tolerance is deliberately loose
@@ -284,14 +326,21 @@ TEST_F(SimRuntime, EyeGazeActionReturnsTheRecordedGazeWithItsSampleTime) {
   const std::string dir = fresh_dir("gaze");
   const std::string trace = dir + "/trace.csv";
   {
+    // The gaze provider's writer (gaze-diag's recorder), head space +z forward: 120 Hz
+    // samples that turn 20 deg right and 10 deg up at 100 ms.
     std::ofstream out(trace);
-    out << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z,confidence\n";
-    // 120 Hz samples; the gaze turns 20 deg to the right at 100 ms.
+    gaze::TraceWriter writer(out);
     for (int i = 0; i < 240; ++i) {
-      const long long t_us = 7000 + i * 8333LL;
-      const double az = (i * 8333 >= 100000) ? 20.0 * M_PI / 180.0 : 0.0;
-      out << t_us << "," << i << ",1," << std::sin(az) << ",0," << -std::cos(az) << ",0.9\n";
+      gaze::GazeSample s;
+      s.device_time_ns = (7000 + i * 8333LL) * 1000;
+      s.frame_id = static_cast<uint64_t>(i);
+      s.valid = true;
+      s.eye_state = gaze::EyeState::open;
+      s.confidence = 0.9F;
+      s.combined_direction = (i * 8333 >= 100000) ? gaze::from_yaw_pitch_deg(20.0, 10.0) : gaze::Vec3f{0, 0, 1};
+      writer.write(s);
     }
+    ASSERT_TRUE(writer.ok());
   }
   set_env({{"FOVEART_SIM_CLOCK", "virtual"}, {"FOVEART_SIM_GAZE", trace}});
   XrTestApp app;
@@ -321,23 +370,28 @@ TEST_F(SimRuntime, EyeGazeActionReturnsTheRecordedGazeWithItsSampleTime) {
   struct Probe {
     XrTime at;
     XrTime sample;
-    float azimuth_deg;
+    float azimuth_deg;    // right of straight ahead
+    float elevation_deg;  // above
   };
   // Sample k sits at epoch + k * 8.333 ms (trace times minus the first row's).
-  const Probe probes[] = {{epoch + 50'000'000, epoch + 6 * 8'333'000LL, 0.0F},
-                          {epoch + 120'000'000, epoch + 14 * 8'333'000LL, 20.0F}};
+  const Probe probes[] = {{epoch + 50'000'000, epoch + 6 * 8'333'000LL, 0.0F, 0.0F},
+                          {epoch + 120'000'000, epoch + 14 * 8'333'000LL, 20.0F, 10.0F}};
   for (const Probe& p : probes) {
     auto sample_time = xr<XrEyeGazeSampleTimeEXT>(XR_TYPE_EYE_GAZE_SAMPLE_TIME_EXT);
     auto location = xr<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION, &sample_time);
     ASSERT_EQ(xrLocateSpace(g.gaze_space, view, p.at, &location), XR_SUCCESS);
     ASSERT_NE(location.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT, 0U);
     EXPECT_EQ(sample_time.time, p.sample);
-    // -Z of the gaze pose, in VIEW space.
+    // -Z of the gaze pose, in VIEW space (OpenXR: -z forward, +x right, +y up).
     const XrQuaternionf q = location.pose.orientation;
     const float fx = -2.0F * (q.x * q.z + q.w * q.y);
+    const float fy = -2.0F * (q.y * q.z - q.w * q.x);
     const float fz = -(1.0F - 2.0F * (q.x * q.x + q.y * q.y));
+    EXPECT_LT(fz, 0.0F) << "the gaze looks forward, not backwards";
     const float azimuth = std::atan2(fx, -fz) * 180.0F / static_cast<float>(M_PI);
+    const float elevation = std::atan2(fy, std::hypot(fx, fz)) * 180.0F / static_cast<float>(M_PI);
     EXPECT_NEAR(azimuth, p.azimuth_deg, 0.01F);
+    EXPECT_NEAR(elevation, p.elevation_deg, 0.01F);
   }
 }
 

@@ -4,7 +4,11 @@
 //   device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z
 // device_time_us is decimal microseconds (fractions allowed: ns survive a round trip);
 // gaze_* is the combined unit gaze direction in head space, +x right, +y up,
-// +z forward (gaze_provider/gaze_sample.h). valid is 0 or 1; an invalid row may carry
+// +z forward (the FOVE convention of gaze_provider/gaze_sample.h: straight ahead is
+// 0,0,1, 15 deg left and 10 deg up is about -0.255,0.174,0.951). Every trace uses this
+// convention and is read by read_trace: replay, `gaze-diag report`, and the simulated
+// OpenXR runtime (FOVEART_SIM_GAZE), which turns it into OpenXR VIEW space (-z forward)
+// itself where it hands gaze out. valid is 0 or 1; an invalid row may carry
 // nan directions. Optional columns, any order, after those:
 //   host_time_us, eye_state (open|closed|not_detected), confidence,
 //   left_valid, left_origin_x/y/z, left_x/y/z, right_valid, right_origin_x/y/z, right_x/y/z,

@@ -1,6 +1,7 @@
 // Whole-image rendering through the engine callback, multithreaded.
 #include <engine/render.hpp>
 
+#include <foveation/device.hpp>
 #include <foveation/eye_rays.hpp>
 
 #include "srgb.hpp"
@@ -173,14 +174,17 @@ RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const Foveart
 }
 
 FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head) {
-  constexpr uint32_t kWidth = 1280, kHeight = 1440;
-  const float half_h = glm::radians(47.5f);  // 95 deg, as foveation::display_preset("fove")
-  const float half_v = std::atan(std::tan(half_h) * static_cast<float>(kHeight) / static_cast<float>(kWidth));
+  // The one FOVE 0 description, as the simulated runtime and display_preset("fove") read it.
+  const foveation::HeadsetDescription fove = foveation::fove0();
+  const foveation::EyeFovRad& fov = fove.eye_fov_rad;
   foveation::EyePose pose;
-  const float side = eye_index == 0 ? -0.032f : 0.032f;
+  const float side_m = static_cast<float>(fove.eye_offset_x_m(eye_index));
   pose.orientation = head.orientation;
-  pose.position_m = head.position_m + head.orientation * glm::vec3(side, 0.0f, 0.0f);
-  return foveation::make_eye_view(eye_index, kWidth, kHeight, pose, -half_h, half_h, half_v, -half_v);
+  pose.position_m = head.position_m + head.orientation * glm::vec3(side_m, 0.0f, 0.0f);
+  return foveation::make_eye_view(eye_index, static_cast<uint32_t>(fove.eye_width_px),
+                                  static_cast<uint32_t>(fove.eye_height_px), pose, static_cast<float>(fov.left),
+                                  static_cast<float>(fov.right), static_cast<float>(fov.up),
+                                  static_cast<float>(fov.down));
 }
 
 Camera scene_head(const Scene& scene) { return scene.camera ? *scene.camera : framing_camera(scene); }

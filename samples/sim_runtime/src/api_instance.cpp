@@ -84,10 +84,14 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     inst->clock = SimClock(config->virtual_clock);
     inst->origin_ns = inst->clock.now_ns();
     if (!config->gaze_file.empty()) {
-      auto gaze = GazeSource::from_csv_file(config->gaze_file, error);
+      auto gaze = GazeSource::from_trace_file(config->gaze_file, error);
       if (!gaze) {
         log(LogLevel::Error, std::string(env::kGaze) + ": " + error);
         return XR_ERROR_INITIALIZATION_FAILED;
+      }
+      if (gaze->skipped_rows() > 0) {
+        log(LogLevel::Info, std::string(env::kGaze) + ": skipped " + std::to_string(gaze->skipped_rows()) +
+                                " rows whose device time does not increase");
       }
       inst->gaze = std::move(*gaze);
     } else {
@@ -299,8 +303,8 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_view_configuration_views(
     if (views == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     for (uint32_t i = 0; i < 2; ++i) {
       if (views[i].type != XR_TYPE_VIEW_CONFIGURATION_VIEW) return XR_ERROR_VALIDATION_FAILURE;
-      views[i].recommendedImageRectWidth = env::kViewWidthPx;
-      views[i].recommendedImageRectHeight = env::kViewHeightPx;
+      views[i].recommendedImageRectWidth = static_cast<uint32_t>(headset().eye_width_px);
+      views[i].recommendedImageRectHeight = static_cast<uint32_t>(headset().eye_height_px);
       views[i].maxImageRectWidth = 4096;
       views[i].maxImageRectHeight = 4096;
       views[i].recommendedSwapchainSampleCount = 1;

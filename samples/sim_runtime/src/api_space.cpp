@@ -3,13 +3,11 @@
 #include <cmath>
 
 #include "api_common.h"
-#include "sim_runtime/sim_env.h"
 
 namespace foveart::sim {
 namespace {
 
-constexpr float kEyeHeightM = 1.6F;           // STAGE origin is on the floor below LOCAL
-constexpr float kHalfVerticalFovDeg = 47.5F;  // FOVE 0: ~95 deg
+constexpr float kEyeHeightM = 1.6F;  // STAGE origin is on the floor below LOCAL
 
 XrSpaceLocationFlags all_valid_tracked() {
   return XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
@@ -19,11 +17,9 @@ XrSpaceLocationFlags all_valid_tracked() {
 }  // namespace
 
 XrFovf view_fov() {
-  // Square pixels: tan(half horizontal) = tan(half vertical) * 1280 / 1440.
-  const float up = glm::radians(kHalfVerticalFovDeg);
-  const float right = std::atan(std::tan(up) * static_cast<float>(env::kViewWidthPx) /
-                                static_cast<float>(env::kViewHeightPx));
-  return XrFovf{-right, right, up, -up};
+  const foveation::EyeFovRad& fov = headset().eye_fov_rad;
+  return XrFovf{static_cast<float>(fov.left), static_cast<float>(fov.right),
+                static_cast<float>(fov.up), static_cast<float>(fov.down)};
 }
 
 Pose head_pose_in_local(const Instance& inst, int64_t time_ns) {
@@ -40,7 +36,9 @@ Pose head_pose_in_local(const Instance& inst, int64_t time_ns) {
 
 Pose eye_gaze_pose_in_local(const Instance& inst, int64_t time_ns, GazeSample& sample) {
   sample = inst.gaze.sample_at(time_ns - inst.origin_ns);
-  return head_pose_in_local(inst, time_ns) * look_along(sample.direction);
+  // The one place gaze leaves the runtime (xrLocateSpace of the eye gaze pose): the
+  // trace's head space (+z forward) becomes OpenXR VIEW space (-z forward) here.
+  return head_pose_in_local(inst, time_ns) * look_along(openxr_view_direction(sample.direction));
 }
 
 bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out,
@@ -241,10 +239,9 @@ XRAPI_ATTR XrResult XRAPI_CALL locate_views(XrSession handle, const XrViewLocate
       return XR_SUCCESS;
     }
     const Pose head = head_pose_in_local(*inst, info->displayTime);
-    const float half_ipd = static_cast<float>(env::kIpdM) * 0.5F;
     for (uint32_t i = 0; i < 2; ++i) {
       Pose eye;
-      eye.position = glm::vec3(i == 0 ? -half_ipd : half_ipd, 0.0F, 0.0F);
+      eye.position = glm::vec3(static_cast<float>(headset().eye_offset_x_m(i)), 0.0F, 0.0F);
       views[i].pose = to_xr(inverse(base_pose) * head * eye);
       views[i].fov = view_fov();
     }

@@ -20,7 +20,9 @@ struct FrameTiming {
   uint32_t projection_views = 0;
   uint32_t views_captured = 0;
   bool gaze_valid = false;
-  float gaze_x = 0.0F, gaze_y = 0.0F, gaze_z = 0.0F;
+  // The gaze sample at the submitted display time, in the trace's head space
+  // (+z forward, gaze_provider/trace_csv.h), so frames.csv compares with the trace.
+  float gaze_x = 0.0F, gaze_y = 0.0F, gaze_z = 1.0F;
 };
 
 class FrameCapture {

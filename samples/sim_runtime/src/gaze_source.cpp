@@ -2,20 +2,18 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
-#include <sstream>
 
-#include "sim_runtime/sim_env.h"
+#include "gaze_provider/trace_csv.h"
+#include "headset.h"
 
 namespace foveart::sim {
 namespace {
 
-constexpr int64_t kGazePeriodNs = static_cast<int64_t>(1e9 / env::kGazeRateHz);
+int64_t gaze_period_ns() { return headset().gaze_period_ns(); }  // 8'333'333 (120 Hz)
+
 constexpr int64_t kFixationNs = 400'000'000;
 constexpr int64_t kSaccadeNs = 40'000'000;
 constexpr int64_t kBlinkNs = 200'000'000;
@@ -29,36 +27,18 @@ constexpr std::array<Target, 5> kTargets{
 constexpr int64_t kCycleNs =
     static_cast<int64_t>(kTargets.size()) * (kFixationNs + kSaccadeNs) + kBlinkNs;
 
+// Head space, +z forward: azimuth positive to the right, elevation positive up
+// (yaw = atan2(x, z), pitch = atan2(y, hypot(x, z)), gaze_provider/gaze_sample.h).
 glm::vec3 direction_from_angles(float azimuth_deg, float elevation_deg) {
   const float az = glm::radians(azimuth_deg);
   const float el = glm::radians(elevation_deg);
-  return {std::sin(az) * std::cos(el), std::sin(el), -std::cos(az) * std::cos(el)};
-}
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) {
-    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-    while (!cell.empty() && cell.front() == ' ') cell.erase(cell.begin());
-    out.push_back(cell);
-  }
-  return out;
-}
-
-bool parse_double(const std::string& s, double& out) {
-  if (s.empty()) return false;
-  errno = 0;
-  char* end = nullptr;
-  out = std::strtod(s.c_str(), &end);
-  return errno == 0 && end == s.c_str() + s.size() && std::isfinite(out);
+  return {std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el)};
 }
 
 }  // namespace
 
 GazeSample saccade_script_sample(int64_t offset_ns) {
-  const int64_t sample_ns = (std::max<int64_t>(offset_ns, 0) / kGazePeriodNs) * kGazePeriodNs;
+  const int64_t sample_ns = (std::max<int64_t>(offset_ns, 0) / gaze_period_ns()) * gaze_period_ns();
   const int64_t in_cycle = sample_ns % kCycleNs;
   GazeSample s;
   s.offset_ns = sample_ns;
@@ -88,84 +68,33 @@ GazeSource GazeSource::saccade_script() {
   return GazeSource{};
 }
 
-std::optional<GazeSource> GazeSource::from_csv_file(const std::string& path, std::string& error) {
-  std::ifstream in(path);
-  if (!in) {
-    error = path + ": cannot open gaze trace";
+std::optional<GazeSource> GazeSource::from_trace_file(const std::string& path, std::string& error) {
+  gaze::TraceError trace_error;
+  const std::optional<gaze::Trace> trace = gaze::read_trace_file(path, &trace_error);
+  if (!trace) {
+    error = trace_error.to_string();
     return std::nullopt;
   }
-  static const std::array<const char*, 6> kColumns{"device_time_us", "frame_id", "valid",
-                                                   "gaze_x",         "gaze_y",   "gaze_z"};
+  if (trace->rows.empty()) {
+    error = path + ": the trace has a header but no samples";
+    return std::nullopt;
+  }
   GazeSource source;
-  std::string line;
-  size_t line_no = 0;
-  bool have_header = false;
-  double first_us = 0.0;
-  double last_us = 0.0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string where = path + ":" + std::to_string(line_no) + ": ";
-    if (line.empty() || line == "\r" || line[0] == '#') continue;
-    const auto cells = split_csv(line);
-    if (!have_header) {
-      for (size_t i = 0; i < kColumns.size(); ++i) {
-        if (i >= cells.size() || cells[i] != kColumns[i]) {
-          error =
-              where +
-              "header must start with device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z (column " +
-              std::to_string(i + 1) + " is '" + (i < cells.size() ? cells[i] : std::string()) +
-              "')";
-          return std::nullopt;
-        }
-      }
-      have_header = true;
-      continue;
-    }
-    if (cells.size() < kColumns.size()) {
-      error = where + "expected at least 6 columns, found " + std::to_string(cells.size());
-      return std::nullopt;
-    }
-    std::array<double, 6> v{};
-    for (size_t i = 0; i < kColumns.size(); ++i) {
-      if (!parse_double(cells[i], v[i])) {
-        error = where + "column " + kColumns[i] + " is not a number: '" + cells[i] + "'";
-        return std::nullopt;
-      }
-    }
-    if (v[2] != 0.0 && v[2] != 1.0) {
-      error = where + "column valid must be 0 or 1, found '" + cells[2] + "'";
-      return std::nullopt;
-    }
-    if (source.trace_.empty()) first_us = v[0];
-    if (v[0] < last_us && !source.trace_.empty()) {
-      error = where + "device_time_us goes backwards (" + cells[0] + ")";
-      return std::nullopt;
-    }
-    last_us = v[0];
+  source.skipped_rows_ = trace->skipped_non_monotonic;
+  const int64_t first_ns = trace->rows.front().sample.device_time_ns;
+  for (const gaze::TraceRow& row : trace->rows) {
+    const gaze::GazeSample& in = row.sample;
     GazeSample s;
-    s.offset_ns = static_cast<int64_t>(std::llround((v[0] - first_us) * 1000.0));
-    s.valid = v[2] == 1.0;
-    const glm::vec3 d(static_cast<float>(v[3]), static_cast<float>(v[4]), static_cast<float>(v[5]));
-    const float len = glm::length(d);
+    s.offset_ns = in.device_time_ns - first_ns;
+    s.valid = in.valid;  // the reader guarantees a finite, non-zero direction when valid
     if (s.valid) {
-      if (!(len > 1e-6F)) {
-        error = where + "valid sample with a zero gaze direction";
-        return std::nullopt;
-      }
-      s.direction = d / len;
+      s.direction = glm::normalize(
+          glm::vec3(in.combined_direction.x, in.combined_direction.y, in.combined_direction.z));
     }
     source.trace_.push_back(s);
   }
-  if (!have_header) {
-    error = path + ": empty gaze trace (no header)";
-    return std::nullopt;
-  }
-  if (source.trace_.empty()) {
-    error = path + ": gaze trace has a header but no samples";
-    return std::nullopt;
-  }
   // Loop length: last sample time plus one nominal sample period.
-  source.trace_period_ns_ = source.trace_.back().offset_ns + kGazePeriodNs;
+  source.trace_period_ns_ = source.trace_.back().offset_ns + gaze_period_ns();
   return source;
 }
 

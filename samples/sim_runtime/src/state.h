@@ -15,6 +15,7 @@
 #include "config.h"
 #include "frame_capture.h"
 #include "gaze_source.h"
+#include "headset.h"
 #include "pose_math.h"
 #include "sim_clock.h"
 #include "vulkan_device.h"
@@ -23,7 +24,7 @@
 namespace foveart::sim {
 
 inline constexpr XrSystemId kSystemId = 1;
-inline constexpr int64_t kFramePeriodNs = 14'285'714;  // 70 Hz (FOVE 0)
+inline const int64_t kFramePeriodNs = headset().frame_period_ns();  // 14'285'714 (70 Hz)
 inline constexpr uint32_t kMaxLayers = 16;
 
 struct Instance;
@@ -161,7 +162,8 @@ Pose eye_gaze_pose_in_local(const Instance& inst, int64_t time_ns, GazeSample& s
 bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out,
                          int64_t* gaze_sample_ns);
 
-// Views (FOVE 0: 2 x 1280x1440, ~95 deg vertical FOV, 63 mm IPD).
+// Each view's FOV: headset().eye_fov_rad (FOVE 0: 1280x1440 per eye, 95 deg
+// horizontal, square pixels; eyes at -+IPD/2 = 32 mm).
 XrFovf view_fov();
 
 // Destroys everything a session owns (swapchains, spaces, Vulkan helpers).

@@ -16,7 +16,8 @@ inline constexpr const char* kFrames = "FOVEART_SIM_FRAMES";
 // "virtual": time only moves when xrWaitFrame is called, by one 70 Hz period;
 // nothing sleeps. XrTime starts at 1 s (1'000'000'000 ns) at xrCreateInstance.
 inline constexpr const char* kClock = "FOVEART_SIM_CLOCK";
-// Gaze trace in the gaze-diag CSV format; unset: the built-in saccade script.
+// Gaze trace in the gaze provider's CSV format (gaze_provider/trace_csv.h, as
+// `gaze-diag stream --record` writes it: +z forward); unset: the built-in saccade script.
 inline constexpr const char* kGaze = "FOVEART_SIM_GAZE";
 // "0" turns eye tracking off: supportsEyeGazeInteraction is XR_FALSE and gaze
 // actions stay inactive. Default "1".
@@ -31,12 +32,8 @@ inline constexpr const char* kCaptureEvery = "FOVEART_SIM_CAPTURE_EVERY";
 // 0 quiet, 1 info (default), 2 debug. Messages go to stderr prefixed "foveart-sim".
 inline constexpr const char* kLog = "FOVEART_SIM_LOG";
 
-// Numbers the runtime reports (FOVE 0).
-inline constexpr unsigned kViewWidthPx = 1280;
-inline constexpr unsigned kViewHeightPx = 1440;
-inline constexpr double kDisplayRateHz = 70.0;
-inline constexpr double kGazeRateHz = 120.0;
-inline constexpr double kIpdM = 0.063;
+// The headset's numbers (views, IPD, rates) are foveart::foveation::fove0()
+// (foveation/device.hpp), the description the foveation tables are built for.
 // XrTime of xrCreateInstance under FOVEART_SIM_CLOCK=virtual; gaze traces start here.
 inline constexpr long long kVirtualEpochNs = 1'000'000'000;
 
