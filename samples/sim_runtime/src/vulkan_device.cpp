@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "icd_pin.h"
+
 namespace foveart::sim {
 namespace {
 
@@ -45,6 +47,7 @@ bool is_capturable_format(VkFormat format, bool& out_bgra) {
 
 bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice device,
                         uint32_t queue_family, uint32_t queue_index, std::string& error) {
+  pin_loaded_vulkan_icds();  // LeakSanitizer must still see the driver at exit (icd_pin.h)
   instance_ = instance;
   physical_ = physical;
   queue_family_ = queue_family;

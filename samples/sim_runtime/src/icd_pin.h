@@ -1,0 +1,50 @@
+// Keeps every Vulkan driver (ICD) loaded in this process mapped until exit.
+//
+// The Vulkan loader dlcloses its ICDs at vkDestroyInstance. Mesa's lavapipe makes a
+// one-time, process-lifetime allocation inside vkEnumeratePhysicalDevices; once the
+// driver is unmapped, LeakSanitizer reports it at exit with bare addresses in an
+// "<unknown module>", which no suppression by library (tests/sanitizers/lsan.supp)
+// can match. A pinned driver keeps its name in those frames, so `leak:libvulkan_lvp.so`
+// applies and our own leaks are still reported. The runtime pins whatever drivers are
+// loaded once it is handed the app's Vulkan objects; a driver is recognised by the
+// export that the loader-ICD interface requires of every ICD (vk_icdGetInstanceProcAddr),
+// never by file name, path or anything inside Mesa.
+#pragma once
+
+#include <dlfcn.h>
+#include <link.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace foveart::sim {
+
+inline void pin_loaded_vulkan_icds() {
+  std::vector<std::string> paths;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* out) {
+        if (info->dlpi_name != nullptr && info->dlpi_name[0] != '\0') {
+          static_cast<std::vector<std::string>*>(out)->emplace_back(info->dlpi_name);
+        }
+        return 0;
+      },
+      &paths);
+  for (const std::string& path : paths) {
+    void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD);
+    if (handle == nullptr) continue;
+    // dlsym also searches the object's dependencies: the entry point must be its own.
+    void* entry = dlsym(handle, "vk_icdGetInstanceProcAddr");
+    Dl_info owner{};
+    if (entry != nullptr && dladdr(entry, &owner) != 0 && owner.dli_fname != nullptr &&
+        path == owner.dli_fname) {
+      // RTLD_NOLOAD | RTLD_NODELETE marks the already loaded object as never unloaded.
+      if (void* pinned = dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE)) {
+        dlclose(pinned);
+      }
+    }
+    dlclose(handle);
+  }
+}
+
+}  // namespace foveart::sim
