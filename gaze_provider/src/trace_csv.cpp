@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <string_view>
 
@@ -35,8 +36,11 @@ std::vector<std::string_view> split(std::string_view line) {
   return out;
 }
 
-// Decimal microseconds ("8333" or "8333.333") to integer nanoseconds, exactly.
+// Decimal microseconds ("8333" or "8333.333") to integer nanoseconds, exactly. Any time
+// whose nanoseconds fit int64 (+-292 years) reads: device clocks count from their own
+// epoch (FOVE's microsecond timestamps, a monotonic clock after months of uptime).
 bool parse_time_us(std::string_view s, std::int64_t& out_ns) {
+  constexpr std::int64_t kMaxNs = std::numeric_limits<std::int64_t>::max();
   bool negative = false;
   if (!s.empty() && s.front() == '-') {
     negative = true;
@@ -48,8 +52,8 @@ bool parse_time_us(std::string_view s, std::int64_t& out_ns) {
   if (whole.empty()) return false;
   std::int64_t us = 0;
   auto [p, ec] = std::from_chars(whole.data(), whole.data() + whole.size(), us);
-  if (ec != std::errc{} || p != whole.data() + whole.size()) return false;
-  if (us > 9'000'000'000'000'000 / 1000) return false;
+  if (ec != std::errc{} || p != whole.data() + whole.size() || us < 0) return false;
+  if (us > kMaxNs / 1000) return false;
   std::int64_t ns = 0;
   int digits = 0;
   for (char c : frac) {
@@ -59,6 +63,7 @@ bool parse_time_us(std::string_view s, std::int64_t& out_ns) {
   }
   if (dot != std::string_view::npos && frac.empty()) return false;
   for (int d = digits; d < 3; ++d) ns *= 10;
+  if (us * 1000 > kMaxNs - ns) return false;
   out_ns = us * 1000 + ns;
   if (negative) out_ns = -out_ns;
   return true;

@@ -1,6 +1,9 @@
 // Trace CSV: round trip, optional/unknown columns, and every kind of bad trace.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <iterator>
+#include <limits>
 #include <sstream>
 
 #include "gaze_provider/simulator.h"
@@ -52,6 +55,38 @@ TEST(TraceCsv, RoundTripIsBitIdentical) {
     ASSERT_EQ(a.right.direction.y, b.right.direction.y);
     ASSERT_EQ(a.left.valid, b.left.valid);
   }
+}
+
+// Device clocks count from their own epoch: FOVE's microsecond timestamps, a Unix-epoch
+// time, a monotonic clock after 105 days of uptime (9.07e15 ns, which the reader used to
+// refuse as "not a decimal number of microseconds"). Whatever the writer writes reads
+// back; only times whose nanoseconds overflow int64 are errors.
+TEST(TraceCsv, FarEpochDeviceTimesRoundTrip) {
+  const std::int64_t times_ns[] = {9'072'000'000'000'123, 1'700'000'000'000'000'456,
+                                   std::numeric_limits<std::int64_t>::max()};
+  std::ostringstream out;
+  TraceWriter w(out);
+  for (const std::int64_t t : times_ns) {
+    GazeSample s;
+    s.device_time_ns = t;
+    s.host_time_ns = t;
+    s.valid = true;
+    s.eye_state = EyeState::open;
+    s.confidence = 1.0f;
+    w.write(s);
+  }
+  std::istringstream in(out.str());
+  TraceError e;
+  auto trace = read_trace(in, &e);
+  ASSERT_TRUE(trace) << e.to_string();
+  ASSERT_EQ(trace->rows.size(), std::size(times_ns));
+  for (std::size_t i = 0; i < std::size(times_ns); ++i) {
+    EXPECT_EQ(trace->rows[i].sample.device_time_ns, times_ns[i]) << i;
+    EXPECT_EQ(trace->rows[i].sample.host_time_ns, times_ns[i]) << i;
+  }
+  EXPECT_EQ(read_error(std::string(kHeader) + "9223372036854775.808,0,1,0,0,1\n").line, 2u) << "int64 overflow";
+  EXPECT_EQ(read_error(std::string(kHeader) + "9223372036854776,0,1,0,0,1\n").line, 2u) << "int64 overflow";
+  EXPECT_EQ(read_error(std::string(kHeader) + "--5,0,1,0,0,1\n").line, 2u);
 }
 
 TEST(TraceCsv, MinimalTraceWithUnknownColumnsAndTargets) {

@@ -2,7 +2,8 @@
 //
 // Required columns, first and in this order:
 //   device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z
-// device_time_us is decimal microseconds (fractions allowed: ns survive a round trip);
+// device_time_us is decimal microseconds (fractions allowed: ns survive a round trip;
+// any epoch, as long as the nanoseconds fit int64);
 // gaze_* is the combined unit gaze direction in head space, +x right, +y up,
 // +z forward (the FOVE convention of gaze_provider/gaze_sample.h: straight ahead is
 // 0,0,1, 15 deg left and 10 deg up is about -0.255,0.174,0.951). Every trace uses this
