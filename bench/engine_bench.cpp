@@ -1,4 +1,4 @@
-// Sample engine benchmarks (issue 4): primary-ray throughput, the cost of each
+// Sample engine benchmarks: primary-ray throughput, the cost of each
 // effect, proof that an absent effect costs nothing, and foveated-vs-full
 // speedup. Run: <build>/bin/engine_bench [--benchmark_filter=...]
 // Default scene, FOVE per-eye 1280x1440, centred gaze, all cores.
@@ -130,7 +130,6 @@ void BM_SceneWithoutEffects(benchmark::State& state) {
 }
 BENCHMARK(BM_SceneWithoutEffects)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-#ifdef FOVEART_HAVE_FOVEATION
 // The gazes measured: 0 the screen centre (the scene's hard case: dark pillars
 // against the glowing wall under the ceiling lights), 1 the glass sphere,
 // 2 the polished floor. Landmarks projected into the left eye's view.
@@ -239,7 +238,6 @@ void BM_Bookkeeping(benchmark::State& state) {
   state.counters["reconstruct_ms"] = reconstruct_ms / n;
 }
 BENCHMARK(BM_Bookkeeping)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-#endif
 
 }  // namespace
 

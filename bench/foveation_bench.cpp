@@ -1,4 +1,4 @@
-// Foveation core costs on the FOVE preset (issue: point set + table <= 10 s built,
+// Foveation core costs on the FOVE preset (targets: point set + table <= 10 s built,
 // <= 0.5 s from cache; table memory). Run: build/bin/foveation_bench
 //   --benchmark_format=json > out/foveation_bench.json
 #include <benchmark/benchmark.h>

@@ -1,4 +1,4 @@
-// Thesis Table 2 on this CPU (issue 3): the k-tap gather of every method at
+// Thesis Table 2 on this CPU: the k-tap gather of every method at
 // 1280 x 1440, 3 channels, k = 5/10/15/20, plus the RBF k = 20 table
 // precompute on the FOVE canvas and its cached load, and one TAA frame.
 // Weighted methods gather through the table's tile-local layout (1-byte taps
@@ -130,7 +130,7 @@ BENCHMARK(BM_Gather)
     ->UseRealTime()
     ->MinTime(1.0);
 
-// RBF(k) / MSM(k), the issue's "RBF(k) <= 1.2 x MSM(k)": both tables in memory,
+// RBF(k) / MSM(k), against the target "RBF(k) <= 1.2 x MSM(k)": both tables in memory,
 // the two gathers alternating frame by frame (order swapped every pair), each
 // pair's ratio taken from frames a few milliseconds apart, so a slow spell of
 // this shared VM falls on both. Counters: median msm_ms, rbf_ms and ratio.

@@ -1,8 +1,6 @@
 # The layer's CPU frame path per eye at FOVE resolution (select + trace with a
 # constant engine + interpolate + TAA), excluding Vulkan upload (measured by
 # hello_foveated --json per frame instead).
-if(TARGET foveart_layer_impl AND TARGET foveart_foveation)
-  add_executable(layer_bench ${CMAKE_CURRENT_SOURCE_DIR}/layer_bench.cpp)
-  target_link_libraries(layer_bench PRIVATE foveart::layer_impl benchmark::benchmark)
-  foveart_target_defaults(layer_bench)
-endif()
+add_executable(layer_bench ${CMAKE_CURRENT_SOURCE_DIR}/layer_bench.cpp)
+target_link_libraries(layer_bench PRIVATE foveart::layer_impl benchmark::benchmark)
+foveart_target_defaults(layer_bench)
