@@ -1,4 +1,4 @@
-// Per-canvas-pixel tables and the k-tap gather (issue 3): same weights as the
+// Per-canvas-pixel tables and the k-tap gather: same weights as the
 // one-query code, deterministic, valid indices, constants, ties, range, fp16.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Hard cases of the one-query weights (issue 3): constants, exactness, ties,
+// Hard cases of the one-query weights: constants, exactness, ties,
 // equidistant lattices, float safety, scale invariance, RBF conditioning.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Issue 7's acceptance test: hello_foveated with a scripted gaze, through the
+// The layer against the fovea tool: hello_foveated with a scripted gaze, through the
 // real loader, the layer and the simulated FOVE runtime; both eyes' captured
 // frames equal `fovea render --mode foveated` for the same scene, eye pose, FOV
 // and gaze pixel (TAA off, fixed seeds, same method and k).

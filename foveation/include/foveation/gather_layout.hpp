@@ -1,4 +1,4 @@
-// Tile-local gather layout of an interpolation table (issue 3, performance).
+// Tile-local gather layout of an interpolation table, for a cache-friendly gather.
 //
 // The canvas is cut into 8x8 pixel tiles (smaller at the right and bottom
 // edges). Each tile keeps a palette of the distinct point indices its pixels'

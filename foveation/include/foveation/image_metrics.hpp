@@ -33,7 +33,7 @@ struct RingMetrics {
 std::vector<RingMetrics> ring_metrics(const ImageRgb& reference, const ImageRgb& image, glm::vec2 gaze_px,
                                       double view_distance_px, double peak = 1.0);
 
-// Flicker: mean |I(t) - I(t-1)| over pixels and channels (issue 3).
+// Flicker: mean |I(t) - I(t-1)| over pixels and channels (TAA's temporal stability).
 double mean_abs_difference(const ImageRgb& a, const ImageRgb& b);
 
 }  // namespace foveart::foveation

@@ -1,4 +1,4 @@
-// Per-canvas-pixel interpolation weights (issue 3): for every pixel of the
+// Per-canvas-pixel interpolation weights: for every pixel of the
 // 2W x 2H canvas the weights of its k nearest points (NeighborTable order),
 // computed once from geometry so a frame of any method is a k-tap gather.
 //
@@ -27,7 +27,7 @@ namespace foveart::foveation {
 
 enum class WeightPrecision : std::uint8_t { f32 = 0, f16 = 1 };
 
-// Memory budget of one table (issue 3: 1 GB); every layout stays below it.
+// Memory budget of one table (1 GB); every layout stays below it.
 inline constexpr std::size_t kTableBudgetBytes = 1'000'000'000;
 
 // What building the table met (counts of canvas pixels).
