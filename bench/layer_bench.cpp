@@ -1,8 +1,11 @@
-// Layer overhead per eye excluding the engine: one 1280x1440 FOVE eye, a
-// constant-colour callback, NN / MSM k=5 / RBF k=5, TAA on and off.
-// Time = wall, CPU = all threads of the process (the worker pool's too).
+// Layer overhead per eye excluding the engine: one 1280x1440 FOVE eye through
+// the frame the layer runs (foveation::FoveatedView) with a constant-colour
+// callback, then the RGBA8 encode for the swapchain; NN / MSM k=5 / RBF k=5,
+// TAA on and off. Time = wall, CPU = all threads of the process.
 // Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).
+#include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <vector>
@@ -10,66 +13,74 @@
 #include <benchmark/benchmark.h>
 
 #include "foveation/display_model.hpp"
-#include "view_pipeline.hpp"
+#include "foveation/executor.hpp"
+#include "foveation/foveated_view.hpp"
+#include "foveation/rgba8.hpp"
 
 namespace {
 
-using foveart::layer::RendererSettings;
+namespace fv = foveart::foveation;
 
 int32_t constant_engine(void*, const FoveartRayBatch* batch) {
   for (uint32_t i = 0; i < batch->ray_count * 3; ++i) batch->out_rgb[i] = 0.5f;
   return FOVEART_RESULT_SUCCESS;
 }
 
-std::shared_ptr<const foveart::layer::ViewTables> tables_for(const RendererSettings& s) {
-  static std::map<int, std::shared_ptr<const foveart::layer::ViewTables>> cache;
-  auto& slot = cache[static_cast<int>(s.interpolation)];
+fv::Executor& executor() {
+  static fv::Executor all_cores;  // as the layer: one per renderer, worker_threads = 0
+  return all_cores;
+}
+
+std::shared_ptr<const fv::ViewTables> tables_for(fv::InterpMethod method) {
+  static std::map<fv::InterpMethod, std::shared_ptr<const fv::ViewTables>> cache;
+  auto& slot = cache[method];
   if (!slot) {
-    foveart::foveation::PointSetKey key;
-    key.display = *foveart::foveation::display_preset("fove");
-    key.seed = 1;
-    key.k = foveart::layer::neighbor_count(s);
+    fv::PointSetKey key;
+    key.display = *fv::display_preset("fove");
+    fv::InterpOptions o;
+    o.method = method;
+    o.k = method == fv::InterpMethod::nn ? 1 : 5;
     const char* dir = std::getenv("FOVEART_BENCH_CACHE");
-    slot = foveart::layer::load_view_tables(key, s, std::filesystem::path(dir ? dir : "/tmp/foveart_bench_cache"));
+    slot = fv::load_view_tables(std::filesystem::path(dir ? dir : "/tmp/foveart_bench_cache"), key, o, executor());
   }
   return slot;
 }
 
+// Args: method (0 NN, 1 MSM, 2 RBF-MQ), TAA (0/1).
 void BM_EyeFramePath(benchmark::State& state) {
-  RendererSettings s;
-  s.trace_rays = &constant_engine;
-  s.interpolation = static_cast<XrFoveatedInterpolationFOVEART>(state.range(0));
-  s.k = 5;
-  s.rays_per_point = 1;
-  s.taa = state.range(1) != 0;
-  foveart::layer::WorkerPool pool(0);
-  foveart::layer::ViewPipeline pipeline(tables_for(s));
-  foveart::layer::ViewRequest request;
-  request.pose.orientation.w = 1.0f;
-  request.fov = {-0.83f, 0.83f, 0.87f, -0.87f};
-  request.width_px = 1280;
-  request.height_px = 1440;
+  const fv::InterpMethod methods[] = {fv::InterpMethod::nn, fv::InterpMethod::msm, fv::InterpMethod::rbf_mq};
+  const bool taa = state.range(1) != 0;
+  fv::ViewSettings settings;  // as the layer sets them
+  settings.taa = taa;
+  settings.new_jitter_each_frame = taa;
+  fv::FoveatedView view(tables_for(methods[state.range(0)]), settings);
+  fv::FrameRequest request;
+  request.view = fv::make_eye_view(0, 1280, 1440, fv::EyePose{}, -0.83f, 0.83f, 0.87f, -0.87f);
   request.gaze_px = {640, 720};
   std::vector<uint8_t> rgba(1280u * 1440u * 4u);
-  double select = 0, interp = 0, taa = 0;
+  double select = 0, trace = 0, interp = 0, taa_ms = 0, encode = 0;
   for (auto _ : state) {
     ++request.frame_index;
-    const auto out = pipeline.render(request, s, pool, rgba.data(), true);
-    if (!out.ok) state.SkipWithError(out.message.c_str());
-    select += double{out.select_ms};
-    interp += double{out.interpolate_ms};
-    taa += double{out.taa_ms};
+    const auto out = view.render(request, &constant_engine, nullptr, executor());
+    if (!out.ok()) state.SkipWithError(out.message.c_str());
+    const auto t0 = std::chrono::steady_clock::now();
+    fv::encode_rgba8(view.image(), true, rgba.data(), executor());
+    encode += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    select += out.select_ms;
+    trace += out.trace_ms;
+    interp += out.reconstruct_ms;
+    taa_ms += out.taa_ms;
     state.counters["points"] = out.points;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["select_ms"] = select / n;
+  state.counters["trace_ms"] = trace / n;
   state.counters["interpolate_ms"] = interp / n;
-  state.counters["taa_ms"] = taa / n;
+  state.counters["taa_ms"] = taa_ms / n;
+  state.counters["encode_ms"] = encode / n;
 }
 BENCHMARK(BM_EyeFramePath)
-    ->ArgsProduct({{XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART, XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART,
-                    XR_FOVEATED_INTERPOLATION_RBF_FOVEART},
-                   {0, 1}})
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->MeasureProcessCPUTime()  // CPU of all threads: comparable on a loaded machine
     ->UseRealTime()

@@ -1,13 +1,282 @@
-#include "frame_engine.hpp"
+// The layer's side of a foveated frame: OpenXR views in, the one foveated
+// frame of foveation/ (foveation::FoveatedView) per eye, RGBA8 into the
+// layer's swapchain, the rewritten subImage out. Gaze comes from the
+// renderer's gaze source; tables are built in the background per view size.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <future>
+#include <map>
+#include <tuple>
+
+#include "eye_swapchain.hpp"
+#include "foveation/foveated_view.hpp"
+#include "foveation/rgba8.hpp"
+#include "gaze_source.hpp"
+#include "log.hpp"
 #include "renderer.hpp"
+#include "xr_glm.hpp"
 
 namespace foveart::layer {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+float ms_since(Clock::time_point t0) { return std::chrono::duration<float, std::milli>(Clock::now() - t0).count(); }
+
+// The point set's seed, and the ray jitter's seed of a frame without TAA: a
+// static gaze then gives what `fovea render --mode foveated` gives for the view.
+constexpr std::uint64_t kSeed = 1;
+
+std::filesystem::path cache_dir(const RendererSettings& settings) {
+  if (!settings.cache_dir.empty()) return settings.cache_dir;
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x != nullptr && x[0] != '\0') {
+    return std::filesystem::path(x) / "foveart";
+  }
+  if (const char* h = std::getenv("HOME"); h != nullptr && h[0] != '\0') {
+    return std::filesystem::path(h) / ".cache" / "foveart";
+  }
+  return std::filesystem::temp_directory_path() / "foveart";
+}
+
+int64_t steady_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+foveation::InterpOptions interp_options(const RendererSettings& settings) {
+  foveation::InterpOptions o;
+  switch (settings.interpolation) {
+    case XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART: o.method = foveation::InterpMethod::nn; break;
+    case XR_FOVEATED_INTERPOLATION_RBF_FOVEART: o.method = foveation::InterpMethod::rbf_mq; break;
+    default: o.method = foveation::InterpMethod::msm; break;
+  }
+  o.k = o.method == foveation::InterpMethod::nn ? 1 : static_cast<int>(settings.k);
+  return o;
+}
+
+foveation::ViewSettings view_settings(const RendererSettings& settings) {
+  foveation::ViewSettings v;
+  v.rays_per_point = static_cast<int>(settings.rays_per_point);
+  v.sample_seed = kSeed;
+  v.taa = settings.taa;
+  v.new_jitter_each_frame = settings.taa;  // the history converges over new samples
+  return v;
+}
+
+XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
+  switch (failure) {
+    case foveation::FrameFailure::callback_failed: return XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
+    case foveation::FrameFailure::invalid_colour: return XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART;
+    case foveation::FrameFailure::none: break;
+  }
+  return 0;
+}
+
+}  // namespace
+
+struct FoveatedRenderer::Frames {
+  using TableKey = std::tuple<uint32_t, uint32_t, int64_t>;  // w, h, horizontal FOV in micro-radians
+  struct TableSlot {
+    std::future<std::shared_ptr<const foveation::ViewTables>> pending;  // valid while building
+    std::shared_ptr<const foveation::ViewTables> ready;
+  };
+  struct Eye {
+    std::unique_ptr<EyeSwapchain> swapchain;
+    std::unique_ptr<foveation::FoveatedView> view;
+    bool failed = false;  // swapchain creation failed: this eye falls back for good
+  };
+
+  Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in)
+      : session(std::move(session_in)), settings(settings_in), executor(settings_in.worker_threads) {
+    std::string warning;
+    gaze = create_gaze_source(settings, *session, &warning);
+    if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
+  }
+
+  ~Frames() {
+    for (auto& [key, slot] : tables) {
+      if (slot.pending.valid()) slot.pending.wait();
+    }
+  }
+
+  uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
+                  XrFoveatedRendererStatsFOVEART* stats);
+  std::shared_ptr<const foveation::ViewTables> tables_for(uint32_t w, uint32_t h, const XrFovf& fov);
+  bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
+                  XrFoveatedRendererStatsFOVEART* stats);
+
+  std::shared_ptr<SessionState> session;
+  RendererSettings settings;
+  foveation::Executor executor;  // before the tables: their builds run on it
+  std::unique_ptr<GazeSource> gaze;
+  std::map<TableKey, TableSlot> tables;
+  Eye eyes[2];
+  uint64_t frame_index = 0;
+  LogOnce callback_once, colour_once, upload_once, internal_once;
+};
+
+uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
+                                          XrCompositionLayerProjectionView* views,
+                                          XrFoveatedRendererStatsFOVEART* stats) {
+  ++frame_index;
+  // XrTime on Linux runtimes is CLOCK_MONOTONIC (= steady_clock); a clock far
+  // away (virtual runtime clock) is replaced by now for gaze prediction.
+  const int64_t now_ns = steady_now_ns();
+  GazeQuery query;
+  query.now_ns = now_ns;
+  query.display_time = display_time;
+  query.runtime_clock_is_steady = std::llabs(display_time - now_ns) < 1'000'000'000;
+  query.space = layer.space;
+  query.views = views;
+  query.view_count = layer.viewCount;
+  const FrameGaze frame_gaze = gaze->at(query);
+  stats->gazeSource = frame_gaze.valid ? frame_gaze.source : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
+  stats->gazeAgeMs = frame_gaze.valid ? frame_gaze.age_ms : 0.0f;
+  stats->fallbackFlags = frame_gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
+  if (!frame_gaze.valid) ++stats->gazeLostFrames;
+
+  uint32_t rewritten = 0;
+  const uint32_t eye_count = std::min<uint32_t>(layer.viewCount, 2);
+  for (uint32_t e = 0; e < eye_count; ++e) {
+    if (render_eye(e, frame_gaze, views[e], stats)) ++rewritten;
+    else ++stats->framesFallback;
+  }
+  stats->framesFallback += layer.viewCount - eye_count;  // views beyond two stay the app's
+  if (rewritten > 0) ++stats->framesTraced;
+  return rewritten;
+}
+
+std::shared_ptr<const foveation::ViewTables> FoveatedRenderer::Frames::tables_for(uint32_t w, uint32_t h,
+                                                                                  const XrFovf& fov) {
+  const double fov_rad = static_cast<double>(fov.angleRight) - static_cast<double>(fov.angleLeft);
+  const TableKey key{w, h, std::llround(fov_rad * 1e6)};
+  auto it = tables.find(key);
+  if (it == tables.end()) {
+    foveation::PointSetKey psk;
+    psk.display = foveation::DisplayModel::from_fov(static_cast<int>(w), static_cast<int>(h),
+                                                    fov_rad * 180.0 / 3.14159265358979323846);
+    psk.display.scale = static_cast<double>(settings.density_scale);
+    psk.seed = kSeed;
+    const auto dir = cache_dir(settings);
+    log(LogLevel::Info, "foveated renderer: preparing tables for ", w, "x", h, " (cache ", dir.string(), ")");
+    // A build takes seconds: a thread of its own (once per view size), which
+    // spreads the work over the renderer's executor beside the frames.
+    auto future = std::async(std::launch::async, [this, psk, dir]() -> std::shared_ptr<const foveation::ViewTables> {
+      try {
+        std::error_code ec;
+        std::filesystem::create_directories(dir, ec);
+        return foveation::load_view_tables(dir, psk, interp_options(settings), executor);
+      } catch (const std::exception& e) {
+        log(LogLevel::Error, "foveated renderer: cannot build the foveation tables: ", e.what());
+        return nullptr;
+      }
+    });
+    it = tables.emplace(key, TableSlot{std::move(future), nullptr}).first;
+  }
+  TableSlot& slot = it->second;
+  if (slot.pending.valid()) {
+    if (!settings.wait_for_tables && slot.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+      return nullptr;  // warming up
+    }
+    slot.ready = slot.pending.get();  // null when the build failed: fallback for good
+  }
+  return slot.ready;
+}
+
+bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
+                                          XrCompositionLayerProjectionView& view, XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  if (eye.failed) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+    return false;
+  }
+  const auto extent = view.subImage.imageRect.extent;
+  if (extent.width <= 0 || extent.height <= 0) return false;
+  const auto w = static_cast<uint32_t>(extent.width);
+  const auto h = static_cast<uint32_t>(extent.height);
+  auto view_tables = tables_for(w, h, view.fov);
+  if (view_tables == nullptr) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
+    return false;
+  }
+  if (eye.swapchain == nullptr || eye.swapchain->width_px() != w || eye.swapchain->height_px() != h) {
+    std::string error;
+    eye.swapchain = EyeSwapchain::create(*session, w, h, &error);
+    if (eye.swapchain == nullptr) {
+      log(LogLevel::Error, "foveated renderer: eye ", e, ": cannot create the layer's swapchain: ", error,
+          "; this eye shows the app's image from now on");
+      eye.failed = true;
+      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+      return false;
+    }
+  }
+  if (eye.view == nullptr || &eye.view->tables() != view_tables.get()) {
+    eye.view = std::make_unique<foveation::FoveatedView>(view_tables, view_settings(settings));
+  }
+
+  foveation::FrameRequest request;
+  request.view = eye_view_of(e, view.pose, view.fov, w, h);
+  request.frame_index = frame_index;
+  request.saccade = frame_gaze.valid && frame_gaze.saccade;
+  const foveation::EyeFrustum frustum = foveation::eye_frustum(request.view);
+  glm::vec2 gaze_px{};
+  foveation::project_direction(frustum, foveation::EyePose{}, glm::vec3(0.0f, 0.0f, -1.0f), &gaze_px);  // lens centre
+  if (frame_gaze.valid && frame_gaze.direction_view[e].z < -0.05f) {
+    foveation::project_direction(frustum, foveation::EyePose{}, frame_gaze.direction_view[e], &gaze_px);
+  }
+  request.gaze_px = glm::round(gaze_px);
+  stats->gazePixel[e] = XrVector2f{request.gaze_px.x, request.gaze_px.y};
+
+  foveation::FrameResult result;
+  try {
+    result = eye.view->render(request, settings.trace_rays, settings.user_data, executor);
+  } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
+    if (internal_once.first()) {
+      log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
+          "; showing the app's own image for this view (logged once, counted in stats)");
+    }
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+    return false;
+  }
+  stats->pointsPerEye[e] = result.points;
+  stats->raysPerEye[e] = static_cast<uint32_t>(std::min<uint64_t>(result.rays, UINT32_MAX));
+  stats->selectMs[e] = static_cast<float>(result.select_ms);
+  stats->traceMs[e] = static_cast<float>(result.trace_ms);
+  stats->interpolateMs[e] = static_cast<float>(result.reconstruct_ms);
+  stats->taaMs[e] = static_cast<float>(result.taa_ms);
+  stats->callbackFailures += result.failed_batches;
+  stats->invalidColours += result.invalid_colours;
+  if (!result.ok()) {
+    stats->fallbackFlags |= fallback_flag(result.failure);
+    LogOnce& once = result.failure == foveation::FrameFailure::callback_failed ? callback_once : colour_once;
+    if (once.first()) {
+      log(LogLevel::Error, "foveated renderer: eye ", e, ": ", result.message,
+          "; showing the app's own image for this view (logged once, counted in stats)");
+    }
+    return false;
+  }
+  const auto t0 = Clock::now();
+  foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), eye.swapchain->staging(), executor);
+  std::string error;
+  const bool uploaded = eye.swapchain->upload(&error);
+  stats->uploadMs[e] = ms_since(t0);
+  if (!uploaded) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+    if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
+    return false;
+  }
+  view.subImage.swapchain = eye.swapchain->handle();
+  view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
+  view.subImage.imageArrayIndex = 0;
+  return true;
+}
 
 FoveatedRenderer::FoveatedRenderer(std::shared_ptr<SessionState> session, RendererSettings settings)
     : session_(std::move(session)), settings_(std::move(settings)) {
   stats_.type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
   stats_.gazeSource = settings_.gaze_source;
-  engine_ = FrameEngine::create(session_, settings_);
+  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_);
 }
 
 FoveatedRenderer::~FoveatedRenderer() = default;
@@ -15,11 +284,11 @@ FoveatedRenderer::~FoveatedRenderer() = default;
 uint32_t FoveatedRenderer::render(XrTime display_time, const XrCompositionLayerProjection& layer,
                                   XrCompositionLayerProjectionView* out_views) {
   std::lock_guard lock(mutex_);
-  if (engine_ == nullptr) {
+  if (frames_ == nullptr) {
     stats_.framesFallback += layer.viewCount;
     return 0;
   }
-  return engine_->render(display_time, layer, out_views, &stats_);
+  return frames_->render(display_time, layer, out_views, &stats_);
 }
 
 void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {

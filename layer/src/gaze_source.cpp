@@ -5,13 +5,11 @@
 
 #include <glm/geometric.hpp>
 
-#include "eye_math.hpp"
+#include "xr_glm.hpp"
 #include "log.hpp"
 #include "state.hpp"
 
-#ifdef FOVEART_LAYER_HAS_GAZE
 #include "gaze_provider/gaze_provider.h"
-#endif
 
 namespace foveart::layer {
 namespace {
@@ -59,7 +57,6 @@ class EyeGazeInteraction final : public GazeSource {
   std::string last_problem_;
 };
 
-#ifdef FOVEART_LAYER_HAS_GAZE
 // FOVE head space (+z forward, +y up, +x right) -> OpenXR view space (-z forward).
 glm::vec3 to_view(const gaze::Vec3f& d) { return glm::normalize(glm::vec3(d.x, d.y, -d.z)); }
 
@@ -86,6 +83,7 @@ class ProviderGaze final : public GazeSource {
     }
     const auto newest = provider_->latest();
     out.age_ms = newest ? static_cast<float>(static_cast<double>(now_ns - newest->host_time_ns) * 1e-6) : 0.0f;
+    out.saccade = sample->in_saccade;
     out.valid = true;
     return out;
   }
@@ -93,7 +91,6 @@ class ProviderGaze final : public GazeSource {
  private:
   std::unique_ptr<gaze::GazeProvider> provider_;
 };
-#endif
 
 }  // namespace
 
@@ -101,7 +98,6 @@ std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings,
                                                std::string* out_warning) {
   switch (settings.gaze_source) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: {
-#ifdef FOVEART_LAYER_HAS_GAZE
       auto created = gaze::create_gaze_provider(settings.gaze_provider_spec);
       if (!created) {
         *out_warning = "gaze provider '" + settings.gaze_provider_spec + "': " + created.error +
@@ -115,10 +111,6 @@ std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings,
         return std::make_unique<NoGaze>();
       }
       return std::make_unique<ProviderGaze>(std::move(created.provider));
-#else
-      *out_warning = "this build has no gaze provider; fixed foveation at the lens centre";
-      return std::make_unique<NoGaze>();
-#endif
     }
     case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: {
       const auto& actions = session.instance->eye_gaze;

@@ -16,6 +16,7 @@ struct FrameGaze {
   bool valid = false;
   glm::vec3 direction_view[2]{};  // per eye, OpenXR view space (-z forward), unit
   float age_ms = 0.0f;            // at composition (now) minus the newest measurement's host time
+  bool saccade = false;           // the provider's saccade detector fired: TAA restarts its history
   XrFoveatedGazeSourceFOVEART source = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
 };
 
@@ -29,7 +30,7 @@ struct GazeQuery {
   uint32_t view_count = 0;
 
   // Display time on the steady clock, for gaze prediction; under a virtual
-  // runtime clock, now (frame_engine).
+  // runtime clock, now (foveated_renderer.cpp).
   int64_t steady_display_time_ns() const { return runtime_clock_is_steady ? display_time : now_ns; }
 };
 

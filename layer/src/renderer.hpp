@@ -28,13 +28,16 @@ struct RendererSettings {
   bool wait_for_tables = false;
 };
 
-// App's create info over the config's defaults (zero fields take the config).
+// App's create info over the config's defaults: a field that says "use the
+// config" (0, NULL, ..._USE_CONFIG_FOVEART: the extension header's "Defaults") takes it.
 // Returns false with a message naming the bad field.
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out_settings, std::string* out_error);
 
-class FrameEngine;  // the frame path (frame_engine.hpp)
-
+// One foveated renderer of a session: its executor (worker_threads threads,
+// started here, never per frame), its gaze source, the foveation tables per
+// (view size, FOV), and per eye the layer's swapchain and the one foveated
+// frame (foveation::FoveatedView). Frames and stats readers are serialised.
 class FoveatedRenderer {
  public:
   FoveatedRenderer(std::shared_ptr<SessionState> session, RendererSettings settings);
@@ -53,10 +56,12 @@ class FoveatedRenderer {
   void stats(XrFoveatedRendererStatsFOVEART* out_stats) const;
 
  private:
+  struct Frames;  // the frame path's state (foveated_renderer.cpp)
+
   std::shared_ptr<SessionState> session_;
   RendererSettings settings_;
   mutable std::mutex mutex_;  // one frame at a time; stats readers
-  std::unique_ptr<FrameEngine> engine_;
+  std::unique_ptr<Frames> frames_;  // null when the session has no Vulkan: views pass through
   XrFoveatedRendererStatsFOVEART stats_{};
 };
 

@@ -109,8 +109,11 @@ class FoveatedView {
   FrameResult render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
                      Executor& executor);
 
-  // Linear RGB of the last successful frame (after TAA when it is on).
+  // The last successful frame (after TAA when it is on), in the callback's
+  // colour space (linear RGB from an engine).
   const ImageRgb& image() const { return taa_output_ != nullptr ? *taa_output_ : gathered_; }
+  // The same frame before TAA: the reconstruction alone.
+  const ImageRgb& reconstructed() const { return gathered_; }
   const ViewTables& tables() const { return *tables_; }
   const ViewSettings& settings() const { return settings_; }
 
