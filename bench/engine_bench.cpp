@@ -6,19 +6,22 @@
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 
-#include <render_foveated.hpp>
 
 #include <benchmark/benchmark.h>
+#include <foveation/executor.hpp>
 #include <foveation/eye_rays.hpp>
+#include <foveation/foveated_view.hpp>
 #include <glm/common.hpp>
 
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
+#include <filesystem>
 #include <memory>
 #include <string>
 
 using namespace foveart::engine;
+namespace fv = foveart::foveation;
 
 namespace {
 
@@ -28,6 +31,32 @@ namespace {
 int bench_threads() {
   const char* v = std::getenv("FOVEART_BENCH_THREADS");
   return v ? std::atoi(v) : 0;
+}
+
+// The one executor of this process (FOVEART_BENCH_THREADS threads, 0 = all).
+fv::Executor& bench_executor() {
+  static fv::Executor executor(static_cast<unsigned>(bench_threads()));
+  return executor;
+}
+
+// The foveated frame of `fovea render --method nn`: FOVE preset, scale 1, one
+// ray per point; tables from /tmp/foveart_bench_cache.
+std::unique_ptr<fv::FoveatedView> nn_view() {
+  fv::PointSetKey key;
+  key.display = *fv::display_preset("fove");
+  fv::InterpOptions nn;
+  nn.method = fv::InterpMethod::nn;
+  nn.k = 1;
+  return std::make_unique<fv::FoveatedView>(
+      fv::load_view_tables(std::filesystem::path("/tmp/foveart_bench_cache"), key, nn, bench_executor()),
+      fv::ViewSettings{});
+}
+
+fv::FrameRequest request_at(const FoveartEyeView& view, glm::vec2 gaze_px) {
+  fv::FrameRequest r;
+  r.view = view;
+  r.gaze_px = gaze_px;
+  return r;
 }
 
 double thread_cpu_s() {
@@ -74,14 +103,13 @@ void render_loop(benchmark::State& state, Tracer& tracer, int spp = 1) {
   const FoveartEyeView view = fove_eye_view(0, scene_head(tracer.scene()));
   RenderSettings rs;
   rs.spp = spp;
-  rs.threads = bench_threads();
-  Image img;
+  fv::ImageRgb img;
   tracer.reset_counts();
   double elapsed_s = 0.0, cpu_s = 0.0, proc_cpu_s = 0.0;
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
     const double p0 = process_cpu_s();
-    elapsed_s += render_full(&foveart_engine_trace_rays, &tracer, view, rs, &img).trace_ms * 1e-3;
+    elapsed_s += render_full(&foveart_engine_trace_rays, &tracer, view, rs, &img, bench_executor()).trace_ms * 1e-3;
     cpu_s += thread_cpu_s() - c0;
     proc_cpu_s += process_cpu_s() - p0;
     benchmark::DoNotOptimize(img.rgb.data());
@@ -154,25 +182,21 @@ void BM_Foveated(benchmark::State& state) {
   o.allowed = Effects::from_bits(static_cast<uint32_t>(state.range(1)));
   auto t = make_tracer(make_default_scene(), o);
   const FoveartEyeView view = fove_eye_view(0, scene_head(t->scene()));
-  foveart::tools::FoveatedRequest req;
-  req.gaze_px = bench_gaze(view, static_cast<int>(state.range(0)));
-  req.cache_dir = "/tmp/foveart_bench_cache";
-  req.threads = bench_threads();
-  state.SetLabel(std::string(gaze_name(static_cast<int>(state.range(0)))) + " " + std::to_string(static_cast<int>(req.gaze_px.x)) +
-                 "," + std::to_string(static_cast<int>(req.gaze_px.y)) + " " + to_string(o.allowed));
-  foveart::tools::FoveatedRenderer renderer(view, req);  // build (or load) the tables once
-  if (!renderer.error().empty()) state.SkipWithError(renderer.error().c_str());
-  Image img;
+  const glm::vec2 gaze = bench_gaze(view, static_cast<int>(state.range(0)));
+  state.SetLabel(std::string(gaze_name(static_cast<int>(state.range(0)))) + " " + std::to_string(static_cast<int>(gaze.x)) +
+                 "," + std::to_string(static_cast<int>(gaze.y)) + " " + to_string(o.allowed));
+  const auto foveated = nn_view();  // build (or load) the tables once
   double trace_ms = 0.0, reconstruct_ms = 0.0, cpu_s = 0.0, proc_cpu_s = 0.0;
   uint64_t points = 0;
   t->reset_counts();
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
     const double p0 = process_cpu_s();
-    const auto r = renderer.render(*t, req.gaze_px, &img);
+    const auto r = foveated->render(request_at(view, gaze), &foveart_engine_trace_rays, t.get(), bench_executor());
     cpu_s += thread_cpu_s() - c0;
     proc_cpu_s += process_cpu_s() - p0;
-    trace_ms += r.trace_ms;
+    if (!r.ok()) state.SkipWithError(r.message.c_str());
+    trace_ms += r.select_ms + r.trace_ms;
     reconstruct_ms += r.reconstruct_ms;
     points = r.points;
   }
@@ -213,21 +237,18 @@ void BM_Bookkeeping(benchmark::State& state) {
   const FoveartEyeView view = fove_eye_view(0, scene_head(t->scene()));
   const bool foveated = state.range(0) == 1;
   state.SetLabel(foveated ? "foveated" : "full");
-  std::unique_ptr<foveart::tools::FoveatedRenderer> renderer;
-  foveart::tools::FoveatedRequest req;
-  req.gaze_px = bench_gaze(view, 0);
-  req.cache_dir = "/tmp/foveart_bench_cache";
-  req.threads = bench_threads();
-  if (foveated) renderer = std::make_unique<foveart::tools::FoveatedRenderer>(view, req);
+  const glm::vec2 gaze = bench_gaze(view, 0);
+  const auto foveated_view = foveated ? nn_view() : nullptr;
   RenderSettings rs;
-  rs.threads = bench_threads();
-  Image img;
+  fv::ImageRgb img;
   double cpu_s = 0.0, proc_cpu_s = 0.0, reconstruct_ms = 0.0;
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
     const double p0 = process_cpu_s();
-    if (foveated) reconstruct_ms += renderer->render(&null_engine, nullptr, req.gaze_px, &img).reconstruct_ms;
-    else render_full(&null_engine, nullptr, view, rs, &img);
+    if (foveated)
+      reconstruct_ms += foveated_view->render(request_at(view, gaze), &null_engine, nullptr, bench_executor()).reconstruct_ms;
+    else
+      render_full(&null_engine, nullptr, view, rs, &img, bench_executor());
     cpu_s += thread_cpu_s() - c0;
     proc_cpu_s += process_cpu_s() - p0;
     benchmark::DoNotOptimize(img.rgb.data());

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "foveation/executor.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "foveation/ray_samples.hpp"
@@ -13,6 +14,8 @@
 namespace fv = foveart::foveation;
 
 namespace {
+
+fv::Executor executor;  // all cores, started once
 
 const fv::DisplayModel& fove() {
   static const fv::DisplayModel d = *fv::display_preset("fove");
@@ -34,7 +37,7 @@ BENCHMARK(BM_GeneratePointSet)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->I
 void BM_BuildNeighborTable(benchmark::State& state) {
   const auto& ps = fove_points();
   std::size_t bytes = 0;
-  for (auto _ : state) bytes = fv::NeighborTable::build(ps, int(state.range(0))).bytes();
+  for (auto _ : state) bytes = fv::NeighborTable::build(ps, int(state.range(0)), executor).bytes();
   state.counters["table_MB"] = double(bytes) / 1e6;
 }
 BENCHMARK(BM_BuildNeighborTable)->Arg(20)->Arg(5)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
@@ -42,9 +45,9 @@ BENCHMARK(BM_BuildNeighborTable)->Arg(20)->Arg(5)->Unit(benchmark::kMillisecond)
 void BM_LoadFromCache(benchmark::State& state) {
   const auto dir = std::filesystem::temp_directory_path() / "foveart_bench_cache";
   fv::PointSetKey key{fove(), 1, 20};
-  fv::load_or_build_tables(dir, key);  // warm: build and store once
+  fv::load_or_build_tables(dir, key, executor);  // warm: build and store once
   for (auto _ : state) {
-    auto t = fv::load_or_build_tables(dir, key);
+    auto t = fv::load_or_build_tables(dir, key, executor);
     if (!t.neighbors_from_cache) state.SkipWithError("table was not served from the cache");
   }
   std::filesystem::remove_all(dir);

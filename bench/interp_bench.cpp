@@ -14,10 +14,12 @@
 #include <ctime>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <random>
 #include <vector>
 
+#include "foveation/executor.hpp"
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/interpolation_cache.hpp"
@@ -43,11 +45,20 @@ struct Scene {
   fv::GazeMapping mapping;
 };
 
+// One executor per thread count, started once per benchmark process (as the
+// layer starts one per renderer): frames never start threads.
+fv::Executor& executor(int threads) {
+  static std::map<int, std::unique_ptr<fv::Executor>> executors;
+  auto& slot = executors[threads];
+  if (!slot) slot = std::make_unique<fv::Executor>(static_cast<unsigned>(threads));
+  return *slot;
+}
+
 Scene& scene() {
   static Scene s = [] {
     Scene sc;
     sc.key = fv::PointSetKey{*fv::display_preset("fove"), 1, fv::kMaxNeighbors};
-    sc.tables = fv::load_or_build_tables(cache_dir(), sc.key);
+    sc.tables = fv::load_or_build_tables(cache_dir(), sc.key, executor(2));
     std::mt19937 rng(1);
     std::uniform_real_distribution<float> u(0.0f, 1.0f);
     std::vector<float> rgb(sc.tables.points.size() * 3);
@@ -69,7 +80,7 @@ const fv::NeighborTable& neighbors_for(int big_k) {
     slot.reset();
     fv::PointSetKey key = s.key;
     key.k = big_k;
-    slot = std::make_unique<fv::NeighborTable>(fv::load_or_build_tables(cache_dir(), key).neighbors);
+    slot = std::make_unique<fv::NeighborTable>(fv::load_or_build_tables(cache_dir(), key, executor(2)).neighbors);
   }
   return *slot;
 }
@@ -88,7 +99,7 @@ const fv::CachedTable& table_for(fv::InterpMethod m, int k, std::optional<fv::We
     o.k = k;
     auto& s = scene();
     slot = std::make_unique<fv::CachedTable>(fv::load_or_build_interpolation_table(
-        cache_dir(), s.key, s.tables.points, neighbors_for(big_k), o, precision, 2));
+        cache_dir(), s.key, s.tables.points, neighbors_for(big_k), o, executor(2), precision));
     slot_m = m, slot_k = k, slot_p = precision;
   }
   return *slot;
@@ -106,10 +117,10 @@ void BM_Gather(benchmark::State& state) {
   const auto& t = table_for(m, k, {}, own_k(m, k));
   fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
   fv::GatherOptions g;
-  g.threads = int(state.range(2));
+  fv::Executor& ex = executor(int(state.range(2)));
   const std::clock_t c0 = std::clock();
   for (auto _ : state) {
-    fv::gather(nt, t.table, s.colors, s.mapping, out, g);
+    fv::gather(nt, t.table, s.colors, s.mapping, out, ex, g);
     benchmark::DoNotOptimize(out.rgb.data());
   }
   // CPU time of all threads per frame: the work, whatever else runs on the VM.
@@ -142,17 +153,17 @@ void BM_RbfOverMsm(benchmark::State& state) {
   o.k = k;
   o.method = fv::InterpMethod::msm;
   const fv::CachedTable msm =
-      fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, {}, 2);
+      fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, executor(2));
   o.method = fv::InterpMethod::rbf_mq;
   const fv::CachedTable rbf =
-      fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, {}, 2);
+      fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, executor(2));
   fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
   fv::GatherOptions g;
-  g.threads = int(state.range(1));
+  fv::Executor& ex = executor(int(state.range(1)));
   g.rbf_clamp = fv::RbfClamp(state.range(2));
   auto time_ms = [&](const fv::CachedTable& t) {
     const auto t0 = std::chrono::steady_clock::now();
-    fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, g);
+    fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, ex, g);
     benchmark::DoNotOptimize(out.rgb.data());
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   };
@@ -193,10 +204,10 @@ void BM_GatherPortable(benchmark::State& state) {
   const auto& t = table_for(m, k, {}, own_k(m, k));
   fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
   fv::GatherOptions g;
-  g.threads = 1;
+  fv::Executor& ex = executor(1);
   g.simd = false;
   const std::clock_t c0 = std::clock();
-  for (auto _ : state) fv::gather(neighbors_for(own_k(m, k)), t.table, s.colors, s.mapping, out, g);
+  for (auto _ : state) fv::gather(neighbors_for(own_k(m, k)), t.table, s.colors, s.mapping, out, ex, g);
   state.counters["cpu_ms"] = 1e3 * double(std::clock() - c0) / CLOCKS_PER_SEC / double(state.iterations());
   state.SetLabel(std::string(fv::method_name(m)) + " k=" + std::to_string(k) + " portable");
 }
@@ -211,8 +222,8 @@ void BM_GatherSharedK20(benchmark::State& state) {
   const auto& t = table_for(m, k);
   fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
   fv::GatherOptions g;
-  g.threads = 2;
-  for (auto _ : state) fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, g);
+  fv::Executor& ex = executor(2);
+  for (auto _ : state) fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, ex, g);
   state.SetLabel(std::string(fv::method_name(m)) + " k=" + std::to_string(k) + " from K=20");
 }
 BENCHMARK(BM_GatherSharedK20)->Args({0, 1})->Args({1, 5})->Args({2, 5})->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -224,9 +235,9 @@ void BM_GatherFloatWeightsK20(benchmark::State& state) {
   const auto& t = table_for(m, 20, fv::WeightPrecision::f32);
   fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
   fv::GatherOptions g;
-  g.threads = 2;
+  fv::Executor& ex = executor(2);
   const std::clock_t c0 = std::clock();
-  for (auto _ : state) fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, g);
+  for (auto _ : state) fv::gather(s.tables.neighbors, t.table, s.colors, s.mapping, out, ex, g);
   state.counters["cpu_ms"] = 1e3 * double(std::clock() - c0) / CLOCKS_PER_SEC / double(state.iterations());
   state.counters["table_MB"] = double(t.table.bytes()) / 1e6;
   state.SetLabel(std::string(fv::method_name(m)) + " k=20 f32");
@@ -240,7 +251,7 @@ void BM_RbfTablePrecompute(benchmark::State& state) {
   o.k = int(state.range(1));
   fv::InterpolationTable t;
   const std::clock_t c0 = std::clock();
-  for (auto _ : state) t = fv::build_interpolation_table(s.tables.points, s.tables.neighbors, o, std::nullopt, 2);
+  for (auto _ : state) t = fv::build_interpolation_table(s.tables.points, s.tables.neighbors, o, executor(2));
   state.counters["cpu_s"] = double(std::clock() - c0) / CLOCKS_PER_SEC / double(state.iterations());
   state.counters["factorizations"] = double(t.stats.factorizations);
   state.counters["fallback_px"] = double(t.stats.fallback_msm);
@@ -260,7 +271,7 @@ void BM_TableLoadFromCache(benchmark::State& state) {
   o.k = 20;
   table_for(o.method, o.k);  // make sure it is stored
   for (auto _ : state) {
-    auto t = fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o);
+    auto t = fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, executor(2));
     if (!t.from_cache) state.SkipWithError("not served from the cache");
   }
 }
@@ -273,11 +284,10 @@ void BM_Taa(benchmark::State& state) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (float& v : a.rgb) v = u(rng);
   fv::TaaOptions o;
-  o.threads = 2;
   o.constraint = state.range(0) == 0 ? fv::TaaConstraint::minmax_clamp : fv::TaaConstraint::variance_clip;
   fv::TemporalAccumulator taa(o);
-  taa.accumulate(a, {640, 720});
-  for (auto _ : state) benchmark::DoNotOptimize(taa.accumulate(a, {640, 720}).rgb.data());
+  taa.accumulate(a, {640, 720}, executor(2));
+  for (auto _ : state) benchmark::DoNotOptimize(taa.accumulate(a, {640, 720}, executor(2)).rgb.data());
   state.SetLabel(state.range(0) == 0 ? "minmax clamp" : "variance clip");
 }
 BENCHMARK(BM_Taa)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();

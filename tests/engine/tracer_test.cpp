@@ -3,6 +3,7 @@
 // thread independence of the rendered image.
 #include <engine/default_scene.hpp>
 #include <engine/render.hpp>
+#include <foveation/ray_batch.hpp>
 #include <engine/tracer.hpp>
 
 #include <foveation/eye_rays.hpp>
@@ -15,6 +16,11 @@
 using namespace foveart::engine;
 
 namespace {
+
+foveart::foveation::Executor& executor() {
+  static foveart::foveation::Executor two_threads(2);
+  return two_threads;
+}
 
 // A square [-s,s]^2 in the plane y = h facing +y (s = 0.5 gives a unit quad).
 void add_floor(Scene& scene, float s, float h, uint32_t material) {
@@ -200,10 +206,9 @@ TEST(Tracer, AllowedMaskRemovesEffectsFromTheKernel) {
   auto t = make(make_default_scene(), primary_only);
   EXPECT_EQ(t->scene_effects(), Effects::all());
   EXPECT_EQ(t->effects(), Effects::none());
-  Image img;
+  foveart::foveation::ImageRgb img;
   RenderSettings rs;
-  rs.threads = 1;
-  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), small_view(t->scene(), 32, 36), rs, &img).status,
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), small_view(t->scene(), 32, 36), rs, &img, executor()).status,
             FOVEART_RESULT_SUCCESS);
   EXPECT_EQ(t->counts().primary, 32u * 36u);
   EXPECT_EQ(t->counts().shadow + t->counts().reflection + t->counts().refraction, 0u);
@@ -222,19 +227,18 @@ TEST(DefaultScene, HasTheHardCaseAndEveryEffect) {
   EXPECT_TRUE(dark);
   EXPECT_TRUE(bright_emitter);
   auto t = make(make_default_scene());
-  Image img;
+  foveart::foveation::ImageRgb img;
   RenderSettings rs;
-  rs.threads = 2;
-  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), small_view(t->scene(), 48, 54), rs, &img).status,
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), small_view(t->scene(), 48, 54), rs, &img, executor()).status,
             FOVEART_RESULT_SUCCESS);
   const RayCounts c = t->counts();
   EXPECT_GT(c.shadow, 0u);
   EXPECT_GT(c.reflection, 0u);
   EXPECT_GT(c.refraction, 0u);
   float lo = 1e9f, hi = 0.0f;  // high contrast: dark pillars and bright lights in one image
-  for (const glm::vec3& p : img.rgb) {
-    lo = std::min(lo, p.g);
-    hi = std::max(hi, p.g);
+  for (std::size_t i = 1; i < img.rgb.size(); i += 3) {  // green
+    lo = std::min(lo, img.rgb[i]);
+    hi = std::max(hi, img.rgb[i]);
   }
   EXPECT_LT(lo, 0.05f);
   EXPECT_GT(hi, 1.0f);
@@ -243,15 +247,13 @@ TEST(DefaultScene, HasTheHardCaseAndEveryEffect) {
 TEST(Tracer, ManyThreadsGiveTheSameImageAsOne) {
   auto t = make(make_default_scene());
   const FoveartEyeView v = small_view(t->scene(), 64, 72);
-  RenderSettings one;
-  one.threads = 1;
-  one.spp = 2;
-  one.batch_rays = 96;
-  RenderSettings many = one;
-  many.threads = 4;
-  Image a, b;
-  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, one, &a).status, FOVEART_RESULT_SUCCESS);
-  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, many, &b).status, FOVEART_RESULT_SUCCESS);
+  RenderSettings rs;
+  rs.spp = 2;
+  rs.batch_rays = 96;
+  foveart::foveation::Executor one(1), many(4);
+  foveart::foveation::ImageRgb a, b;
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, rs, &a, one).status, FOVEART_RESULT_SUCCESS);
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, rs, &b, many).status, FOVEART_RESULT_SUCCESS);
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
   for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "pixel " << i;
 }
@@ -262,12 +264,11 @@ TEST(Tracer, FullRenderTilesCoverTheImageAndDoNotChangeIt) {
   auto t = make(make_default_scene());
   const FoveartEyeView v = small_view(t->scene(), 100, 72);
   RenderSettings big;
-  big.threads = 2;
   RenderSettings tiny = big;
   tiny.batch_rays = 40;
-  Image a, b;
-  const RenderResult ra = render_full(&foveart_engine_trace_rays, t.get(), v, big, &a);
-  const RenderResult rb = render_full(&foveart_engine_trace_rays, t.get(), v, tiny, &b);
+  foveart::foveation::ImageRgb a, b;
+  const RenderResult ra = render_full(&foveart_engine_trace_rays, t.get(), v, big, &a, executor());
+  const RenderResult rb = render_full(&foveart_engine_trace_rays, t.get(), v, tiny, &b, executor());
   ASSERT_EQ(ra.status, FOVEART_RESULT_SUCCESS);
   ASSERT_EQ(rb.status, FOVEART_RESULT_SUCCESS);
   EXPECT_EQ(ra.tile_width_px, 64u);  // 4096 rays: 64 x 64 tiles
@@ -288,12 +289,16 @@ TEST(Tracer, RaysFromViewAndSamplePositionsEqualExplicitRays) {
   const FoveartEyeView v = small_view(t->scene(), 64, 72);
   std::vector<glm::vec2> px;
   for (int i = 0; i < 100; ++i) px.emplace_back(0.64f * static_cast<float>(i), 0.72f * static_cast<float>(i) + 0.3f);
-  std::vector<glm::vec3> explicit_rgb;
-  RenderSettings rs;
-  rs.threads = 1;
-  ASSERT_EQ(trace_samples(&foveart_engine_trace_rays, t.get(), v, px, {}, rs, &explicit_rgb).status,
+  // Explicit rays from the one batch builder (foveation::RayBatch)...
+  foveart::foveation::RayBatch explicit_rays;
+  explicit_rays.resize(px.size());
+  for (size_t i = 0; i < px.size(); ++i)
+    explicit_rays.set_ray(i, foveart::foveation::eye_frustum(v), foveart::foveation::eye_pose(v), px[i],
+                          static_cast<uint32_t>(i));
+  ASSERT_EQ(explicit_rays.trace(&foveart_engine_trace_rays, t.get(), v, 0, static_cast<uint32_t>(px.size())),
             FOVEART_RESULT_SUCCESS);
-  std::vector<float> sample_px, rgb(3 * px.size());
+  // ... and the engine's own rays from the view and the sample positions alone.
+  std::vector<float> sample_px, rgb(3 * px.size(), 0.0f);
   for (glm::vec2 p : px) sample_px.insert(sample_px.end(), {p.x, p.y});
   FoveartRayBatch b{};
   b.type = FOVEART_TYPE_RAY_BATCH;
@@ -303,7 +308,7 @@ TEST(Tracer, RaysFromViewAndSamplePositionsEqualExplicitRays) {
   b.sample_px = sample_px.data();
   b.out_rgb = rgb.data();
   ASSERT_EQ(t->trace(&b), FOVEART_RESULT_SUCCESS);
-  for (size_t i = 0; i < px.size(); ++i) EXPECT_NEAR(rgb[3 * i + 1], explicit_rgb[i].y, 1e-4f) << i;
+  for (size_t i = 0; i < px.size(); ++i) EXPECT_NEAR(rgb[3 * i + 1], explicit_rays.rgb(i).y, 1e-4f) << i;
 }
 
 TEST(Tracer, BadBatchesAreRejectedAndBadRaysAreBlack) {

@@ -1,8 +1,9 @@
 // fovea reconstruct --image IN.png --preset fove --gaze X,Y --method M --k K
 //                   --scale S --spp N --out OUT.png [--json] [--frames F --jitter]
-// The thesis's user-study pipeline on an image: sample the image at the visible
-// points (spp bilinear samples in each point's disc), reconstruct every pixel
-// with the k-tap gather, run TAA, and report timings and error per ring.
+// The thesis's user-study pipeline on an image, through the one foveated frame
+// (foveation::FoveatedView) whose "engine" samples the image: spp bilinear
+// samples in each visible point's disc, every pixel reconstructed with the k-tap
+// gather, TAA, and timings and error per ring.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -14,26 +15,19 @@
 #include <optional>
 
 #include <nlohmann/json.hpp>
-#include <stb_image.h>
-#include <stb_image_write.h>
 
 #include "foveation/display_model.hpp"
-#include "foveation/gather.hpp"
-#include "foveation/gaze_mapping.hpp"
+#include "foveation/executor.hpp"
+#include "foveation/foveated_view.hpp"
 #include "foveation/image_metrics.hpp"
-#include "foveation/interpolation_cache.hpp"
-#include "foveation/point_set_cache.hpp"
-#include "foveation/ray_samples.hpp"
-#include "foveation/taa.hpp"
-#include "foveation/visible_points.hpp"
 #include "interp_commands.hpp"
+#include "toolkit/image_io.hpp"
 
 namespace foveart::tools {
 
 namespace fv = foveart::foveation;
 
 namespace {
-
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -54,6 +48,15 @@ void bilinear(const fv::ImageRgb& im, float x, float y, float* rgb) {
   for (int i = 0; i < 3; ++i) {
     rgb[i] = (a[i] * (1 - tx) + b[i] * tx) * (1 - ty) + (c[i] * (1 - tx) + d[i] * tx) * ty;
   }
+}
+
+// The "engine" of an image: each ray's colour is the image at its sample position.
+int32_t sample_image(void* user_data, const FoveartRayBatch* batch) {
+  const auto* image = static_cast<const fv::ImageRgb*>(user_data);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    bilinear(*image, batch->sample_px[2 * i], batch->sample_px[2 * i + 1], batch->out_rgb + 3 * i);
+  }
+  return FOVEART_RESULT_SUCCESS;
 }
 
 std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a) {
@@ -90,12 +93,9 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   }
 
   // Input image, as display values in [0, 1].
-  int w = 0, h = 0, channels = 0;
-  unsigned char* pixels = stbi_load(a.image.c_str(), &w, &h, &channels, 3);
-  if (!pixels) return fail("cannot read image '" + a.image + "': " + (stbi_failure_reason() ? stbi_failure_reason() : "?"));
-  fv::ImageRgb reference(w, h);
-  for (std::size_t i = 0; i < reference.rgb.size(); ++i) reference.rgb[i] = float(pixels[i]) / 255.0f;
-  stbi_image_free(pixels);
+  fv::ImageRgb reference;
+  if (std::string e = toolkit::read_image(a.image, toolkit::PngValues::display, &reference); !e.empty()) return fail(e);
+  const int w = reference.width_px, h = reference.height_px;
 
   // The display takes the image's size and keeps the preset's field of view.
   display->view_distance_px *= double(w) / double(display->width_px);
@@ -116,13 +116,13 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   const auto mapping = fv::map_gaze(w, h, gaze);
 
   // Point set, neighbour table and weights: cached, not part of the frame time.
+  fv::Executor executor(static_cast<unsigned>(std::max(0, a.threads)));
   const auto t_setup = std::chrono::steady_clock::now();
   const auto cache = cache_dir_of(a);
   fv::PointSetKey key{*display, a.seed, a.k};
   auto log = [&](const std::string& m) {
     if (!a.json) err << "fovea reconstruct: " << m << "\n";
   };
-  const auto tables = fv::load_or_build_tables(cache, key, {}, log);
   fv::InterpOptions io;
   io.method = *method;
   io.k = a.k;
@@ -131,57 +131,47 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   std::optional<fv::WeightPrecision> precision;
   if (a.weights == "f16") precision = fv::WeightPrecision::f16;
   if (a.weights == "f32") precision = fv::WeightPrecision::f32;
-  const auto interp = fv::load_or_build_interpolation_table(cache, key, tables.points, tables.neighbors, io,
-                                                            precision, a.threads, {}, log);
+  const auto tables = fv::load_view_tables(cache, key, io, executor, precision, {}, log);
   const double setup_ms = ms_since(t_setup);
 
-  fv::TaaOptions taa_opts;
-  taa_opts.threads = a.threads;
-  fv::TemporalAccumulator taa(taa_opts);
-  fv::GatherOptions gopts;
-  gopts.threads = a.threads;
-  gopts.rbf_clamp = *rbf_clamp;
+  fv::ViewSettings settings;
+  settings.rays_per_point = a.spp;
+  settings.sample_seed = a.seed;
+  settings.new_jitter_each_frame = a.jitter;
+  settings.taa = true;
+  settings.rbf_clamp = *rbf_clamp;
+  fv::FoveatedView view(tables, settings);
+  fv::FrameRequest request;  // the image's own view: a pinhole D pixels from the eye
+  const float half_x = float(std::atan(0.5 * w / display->view_distance_px));
+  const float half_y = float(std::atan(0.5 * h / display->view_distance_px));
+  request.view = fv::make_eye_view(0, std::uint32_t(w), std::uint32_t(h), fv::EyePose{}, -half_x, half_x, half_y, -half_y);
+  request.gaze_px = gaze;
   double sample_ms = 0, interpolate_ms = 0, taa_ms = 0, total_ms = 0;
   double flicker = 0, flicker_raw = 0;
-  fv::ImageRgb frame, prev_out, prev_raw, output;
-  fv::GatherStats gstats;
-  std::size_t visible_count = 0;
+  fv::ImageRgb prev_out, prev_raw;
+  fv::FrameResult frame;
   for (int t = 0; t < a.frames; ++t) {
-    const auto t_frame = std::chrono::steady_clock::now();
-    const auto visible = fv::select_visible_points(tables.points, mapping);
-    const auto rays = fv::generate_ray_samples(tables.points, visible, a.spp, a.seed + (a.jitter ? std::uint64_t(t) : 0));
-    std::vector<float> rgb(visible.size() * 3, 0.0f);
-    for (std::size_t r = 0; r < rays.size(); ++r) {
-      float c[3];
-      bilinear(reference, rays.sample_px[r].x, rays.sample_px[r].y, c);
-      float* dst = rgb.data() + (r / std::size_t(a.spp)) * 3;
-      for (int i = 0; i < 3; ++i) dst[i] += c[i] / float(a.spp);
-    }
-    const auto colors = fv::point_colors_from_list(tables.points.size(), visible.point_index, rgb);
-    visible_count = visible.size();
-    sample_ms += ms_since(t_frame);
-    const auto t_gather = std::chrono::steady_clock::now();
-    gstats = fv::gather(tables.neighbors, interp.table, colors, mapping, frame, gopts);
-    interpolate_ms += ms_since(t_gather);
-    const auto t_taa = std::chrono::steady_clock::now();
-    output = taa.accumulate(frame, mapping.gaze_px);
-    taa_ms += ms_since(t_taa);
-    total_ms += ms_since(t_frame);
+    request.frame_index = std::uint64_t(t);
+    frame = view.render(request, &sample_image, &reference, executor);
+    if (!frame.ok()) return fail(frame.message);
+    sample_ms += frame.select_ms + frame.trace_ms;
+    interpolate_ms += frame.reconstruct_ms;
+    taa_ms += frame.taa_ms;
+    total_ms += frame.select_ms + frame.trace_ms + frame.reconstruct_ms + frame.taa_ms;
     if (t > 0) {
-      flicker += fv::mean_abs_difference(output, prev_out);
-      flicker_raw += fv::mean_abs_difference(frame, prev_raw);
+      flicker += fv::mean_abs_difference(view.image(), prev_out);
+      flicker_raw += fv::mean_abs_difference(view.reconstructed(), prev_raw);
     }
-    prev_out = output;
-    prev_raw = frame;
+    prev_out = view.image();
+    prev_raw = view.reconstructed();
   }
+  const fv::ImageRgb& output = view.image();
+  const fv::GatherStats gstats = frame.gather;
+  const std::size_t visible_count = frame.points;
   const double nf = double(a.frames);
 
   if (!a.out.empty()) {
-    std::vector<unsigned char> bytes(output.rgb.size());
-    for (std::size_t i = 0; i < bytes.size(); ++i) {
-      bytes[i] = static_cast<unsigned char>(std::lround(std::clamp(output.rgb[i], 0.0f, 1.0f) * 255.0f));
-    }
-    if (!stbi_write_png(a.out.c_str(), w, h, 3, bytes.data(), w * 3)) return fail("cannot write '" + a.out + "'");
+    if (std::string e = toolkit::write_png(a.out, output, toolkit::PngValues::display); !e.empty()) return fail(e);
   }
 
   const double psnr = fv::psnr(reference, output);
@@ -196,7 +186,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   j["spp"] = a.spp;
   j["gaze"] = {mapping.gaze_px.x, mapping.gaze_px.y};
   j["points"] = visible_count;
-  j["points_total"] = tables.points.size();
+  j["points_total"] = tables->points.size();
   j["pixels"] = std::size_t(w) * std::size_t(h);
   j["frames"] = a.frames;
   j["sample_ms"] = sample_ms / nf;
@@ -204,12 +194,12 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   j["taa_ms"] = taa_ms / nf;
   j["total_ms"] = total_ms / nf;
   j["setup_ms"] = setup_ms;
-  j["table_from_cache"] = interp.from_cache;
-  j["table_weight_bytes"] = interp.table.bytes();
-  j["table_index_bytes"] = tables.neighbors.bytes();
-  j["weights"] = interp.table.precision == fv::WeightPrecision::f16 ? "f16" : "f32";
+  j["table_from_cache"] = tables->from_cache;
+  j["table_weight_bytes"] = tables->interpolation.bytes();
+  j["table_index_bytes"] = tables->neighbors.bytes();
+  j["weights"] = tables->interpolation.precision == fv::WeightPrecision::f16 ? "f16" : "f32";
   j["rbf_clamp"] = fv::rbf_clamp_name(*rbf_clamp);
-  j["rbf_fallback_pixels"] = interp.table.stats.fallback_msm;
+  j["rbf_fallback_pixels"] = tables->interpolation.stats.fallback_msm;
   j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
   j["psnr"] = number_or_null(psnr);
   j["ssim"] = ssim;

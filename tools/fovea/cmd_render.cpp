@@ -1,14 +1,20 @@
-// `fovea render` (issue 4): full-resolution and/or foveated rendering of a glTF
-// scene with the sample engine; JSON report of rays per effect and times.
+// `fovea render`: full-resolution and/or foveated rendering of a glTF scene with
+// the sample engine; JSON report of rays per effect and times. The foveated
+// frame is foveation::FoveatedView, the one the OpenXR layer runs.
 #include "cmd_render.hpp"
 
 #include "content_speedup.hpp"
-#include "render_foveated.hpp"
 #include "render_metrics.hpp"
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
+
+#include <foveation/display_model.hpp>
+#include <foveation/executor.hpp>
+#include <foveation/foveated_view.hpp>
+
+#include <toolkit/image_io.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -18,7 +24,8 @@
 #include <cmath>
 #include <memory>
 #include <numeric>
-#include <thread>
+#include <filesystem>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -72,6 +79,49 @@ struct FrameTimes {
 Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 constexpr double kPi = 3.14159265358979323846;
+
+// Per-eye size and symmetric frustum of a display preset.
+struct PresetGeometry {
+  int width_px = 0;
+  int height_px = 0;
+  double half_fov_x_rad = 0.0;
+  double half_fov_y_rad = 0.0;
+};
+
+std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
+  const std::optional<foveation::DisplayModel> d = foveation::display_preset(preset);
+  if (!d || !d->validate().empty()) return std::nullopt;
+  // Pinhole: D pixels from the eye, the image spans +-W/2 and +-H/2.
+  return PresetGeometry{d->width_px, d->height_px, std::atan(0.5 * d->width_px / d->view_distance_px),
+                        std::atan(0.5 * d->height_px / d->view_distance_px)};
+}
+
+// The display the foveated view's tables are built for: the preset's, or for
+// another size or an explicit view the display of its horizontal span, computed
+// from the float angles exactly as the layer does for a submitted XrView.
+std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, const FoveartEyeView& view,
+                                                        std::string* error) {
+  std::optional<foveation::DisplayModel> display = foveation::display_preset(o.preset);
+  if (!display) {
+    *error = "unknown display preset '" + o.preset + "'";
+    return std::nullopt;
+  }
+  if (o.fov_deg) {
+    const double fov_deg =
+        (static_cast<double>(view.angle_right_rad) - static_cast<double>(view.angle_left_rad)) * 180.0 / kPi;
+    display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px), fov_deg);
+  } else if (static_cast<uint32_t>(display->width_px) != view.width_px ||
+             static_cast<uint32_t>(display->height_px) != view.height_px) {
+    display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px),
+                                                display->horizontal_fov_deg());
+  }
+  display->scale = o.scale;
+  if (std::string bad = display->validate(); !bad.empty()) {
+    *error = "display: " + bad;
+    return std::nullopt;
+  }
+  return display;
+}
 
 // Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
 // keeping the horizontal field of view; or, with --fov / --pose, exactly the
@@ -129,8 +179,6 @@ std::string check(const RenderOptions& o) {
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
     return "--size must be between 8 and 16384 pixels per side";
   if (std::string bad = check_view(o); !bad.empty()) return bad;
-  if (o.mode != "full" && !foveated_available())
-    return "--mode " + o.mode + " needs the foveation core, which is not part of this build";
   return "";
 }
 
@@ -177,7 +225,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                     view.orientation_xyzw[0], view.orientation_xyzw[1], view.orientation_xyzw[2],
                     view.orientation_xyzw[3]};
   report["spp"] = o.spp;
-  report["threads"] = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  foveation::Executor executor(static_cast<unsigned>(o.threads));  // every parallel stage of this run
+  report["threads"] = executor.thread_count();
   report["load_ms"] = load_ms;
   report["build_ms"] = build_ms;
   report["pixels"] = pixels;
@@ -190,31 +239,39 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   // stays in frames_total_ms.
   const bool run_full = o.mode == "full" || o.mode == "both";
   const bool run_foveated = o.mode == "foveated" || o.mode == "both";
-  engine::Image full, foveated;
+  foveation::ImageRgb full;
   engine::RenderSettings full_settings;
   full_settings.spp = o.spp;
-  full_settings.threads = o.threads;
   full_settings.seed = o.seed;
-  FoveatedRequest req;
-  req.preset = o.preset;
-  req.scale = o.scale;
-  req.method = o.method;
-  req.k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
-  req.spp = o.spp;
-  req.threads = o.threads;
-  req.seed = o.seed;
-  req.cache_dir = o.cache_dir;
-  req.gaze_px = gaze;
-  // An explicit view: the display of its horizontal span, computed from the
-  // float angles exactly as the layer does for a submitted XrView.
-  if (o.fov_deg)
-    req.horizontal_fov_deg = (static_cast<double>(view.angle_right_rad) - static_cast<double>(view.angle_left_rad)) *
-                             180.0 / kPi;
-  std::unique_ptr<FoveatedRenderer> renderer;
+  const int k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
+  std::unique_ptr<foveation::FoveatedView> foveated;
+  double precompute_ms = 0.0;
   if (run_foveated) {
-    renderer = std::make_unique<FoveatedRenderer>(view, req);
-    if (!renderer->error().empty()) {
-      err << "fovea render: " << renderer->error() << "\n";
+    std::string bad;
+    const std::optional<foveation::DisplayModel> display = foveated_display(o, view, &bad);
+    if (!display) {
+      err << "fovea render: " << bad << "\n";
+      return 1;
+    }
+    foveation::PointSetKey key;
+    key.display = *display;
+    key.seed = o.seed;
+    foveation::InterpOptions interp;
+    interp.method = *foveation::parse_method(o.method);
+    interp.k = interp.method == foveation::InterpMethod::nn ? 1 : k;
+    std::optional<std::filesystem::path> cache;
+    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
+    try {
+      const auto t_tables = std::chrono::steady_clock::now();
+      auto tables = foveation::load_view_tables(cache, key, interp, executor, std::nullopt, {},
+                                                [&](const std::string& m) { err << "fovea render: " << m << "\n"; });
+      precompute_ms = ms_since(t_tables);
+      foveation::ViewSettings settings;
+      settings.rays_per_point = o.spp;
+      settings.sample_seed = o.seed;
+      foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), settings);
+    } catch (const std::exception& e) {
+      err << "fovea render: foveation: " << e.what() << "\n";
       return 1;
     }
   }
@@ -226,7 +283,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   for (int frame = 0; frame < o.frames; ++frame) {
     if (run_full) {
       const engine::RayCounts before = tracer->counts();
-      const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, tracer.get(), view, full_settings, &full);
+      const engine::RenderResult rr =
+          engine::render_full(&foveart_engine_trace_rays, tracer.get(), view, full_settings, &full, executor);
       if (rr.status != FOVEART_RESULT_SUCCESS) {
         err << "fovea render: engine callback failed with status " << rr.status << "\n";
         return 1;
@@ -241,12 +299,16 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
     if (run_foveated) {
       const engine::RayCounts before = tracer->counts();
-      const FoveatedResult fr = renderer->render(*tracer, gaze, &foveated);
-      if (!fr.error.empty()) {
-        err << "fovea render: " << fr.error << "\n";
+      foveation::FrameRequest request;
+      request.view = view;
+      request.gaze_px = gaze;
+      request.frame_index = static_cast<uint64_t>(frame);
+      const foveation::FrameResult fr = foveated->render(request, &foveart_engine_trace_rays, tracer.get(), executor);
+      if (!fr.ok()) {
+        err << "fovea render: " << fr.message << "\n";
         return 1;
       }
-      fov_times.add(fr.trace_ms, fr.reconstruct_ms, fr.samples_ms);
+      fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms, fr.select_ms);
       if (frame == 0) {
         fov_rays = minus(tracer->counts(), before);
         fov_points = fr.points;
@@ -261,8 +323,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   if (run_foveated) {
     report["points"] = fov_points;
     report["foveated"] = {{"rays", rays_json(fov_rays)}, {"lanes_per_packet", lanes_per_packet(fov_rays)},
-                          {"method", o.method}, {"k", req.k}, {"scale", o.scale},
-                          {"precompute_ms", renderer->precompute_ms()}, {"trace_ms", fov_times.median_trace_ms()},
+                          {"method", o.method}, {"k", k}, {"scale", o.scale},
+                          {"precompute_ms", precompute_ms}, {"trace_ms", fov_times.median_trace_ms()},
                           {"samples_ms", fov_times.median_samples_ms()},
                           {"reconstruct_ms", fov_times.median_reconstruct_ms()},
                           {"total_ms", fov_times.median_total_ms()}, {"frames_total_ms", fov_times.total_ms}};
@@ -274,11 +336,15 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     // What the scene alone allows (content_speedup.hpp), and the rest: the
     // foveation's own cost relative to the rays it traces.
     const uint32_t tiles_y = grid.tiles_x ? static_cast<uint32_t>(tile_ms.size() / grid.tiles_x) : 0;
+    const foveation::GazeMapping mapping =
+        foveation::map_gaze(static_cast<int>(view.width_px), static_cast<int>(view.height_px), gaze);
     const double content_bound = content_speedup(
-        grid, tile_ms, renderer->points_per_tile(gaze, grid.tile_w_px, grid.tile_h_px, grid.tiles_x, tiles_y));
+        grid, tile_ms,
+        foveation::points_per_tile(foveated->tables().points, mapping, grid.tile_w_px, grid.tile_h_px, grid.tiles_x,
+                                   tiles_y));
     report["content_speedup"] = content_bound;
     report["overhead_fraction"] = full_total > 0.0 ? fov_total * content_bound / full_total - 1.0 : 0.0;
-    const ImageComparison cmp = compare_images(foveated, full, view, gaze, {0, 2.5, 5, 10, 20, 30, 45, 90});
+    const ImageComparison cmp = compare_images(foveated->image(), full, view, gaze, {0, 2.5, 5, 10, 20, 30, 45, 90});
     report["psnr"] = number_or_null(cmp.psnr);
     report["ssim"] = cmp.ssim;
     Json rings = Json::array();
@@ -289,18 +355,17 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   }
   if (!o.out_prefix.empty()) {
     Json files = Json::array();
-    auto save = [&](const engine::Image& img, const char* suffix) {
-      if (img.rgb.empty()) return true;
+    auto save = [&](const foveation::ImageRgb* img, const char* suffix) {
+      if (img == nullptr || img->rgb.empty()) return true;
       const std::string path = o.out_prefix + suffix;
-      std::string e;
-      if (!engine::write_png(img, path, &e)) {
+      if (std::string e = toolkit::write_png(path, *img, toolkit::PngValues::linear); !e.empty()) {
         err << "fovea render: " << e << "\n";
         return false;
       }
       files.push_back(path);
       return true;
     };
-    if (!save(full, "_full.png") || !save(foveated, "_foveated.png")) return 1;
+    if (!save(&full, "_full.png") || !save(foveated ? &foveated->image() : nullptr, "_foveated.png")) return 1;
     report["images"] = files;
   }
   if (o.json) {

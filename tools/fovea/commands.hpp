@@ -11,7 +11,6 @@ void register_pointset(CLI::App& app);
 
 }  // namespace foveart::fovea
 
-// Registered when their modules are built (see CMakeLists.txt).
 void register_interpolate(CLI::App& app);
 void register_reconstruct(CLI::App& app);
 void register_render(CLI::App& app);

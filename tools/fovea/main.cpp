@@ -8,13 +8,9 @@ int main(int argc, char** argv) {
   CLI::App app{"fovea - FoveaRT foveation tool: point sets, interpolation, reconstruction, rendering"};
   app.require_subcommand(1);
   foveart::fovea::register_pointset(app);
-#ifdef FOVEA_HAS_INTERPOLATE
   register_interpolate(app);
   register_reconstruct(app);
-#endif
-#ifdef FOVEA_HAS_RENDER
   register_render(app);
-#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

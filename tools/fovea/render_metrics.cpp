@@ -23,21 +23,23 @@ constexpr int kWindow = 8;
 
 }  // namespace
 
-ImageComparison compare_images(const engine::Image& test, const engine::Image& ref,
+ImageComparison compare_images(const foveation::ImageRgb& test, const foveation::ImageRgb& ref,
                                const FoveartEyeView& view, glm::vec2 gaze_px,
                                const std::vector<double>& edges) {
   ImageComparison out;
-  const uint32_t w = ref.width, h = ref.height;
-  if (test.width != w || test.height != h || ref.rgb.size() != static_cast<size_t>(w) * h) return out;
-  const size_t n = ref.rgb.size();
+  const uint32_t w = static_cast<uint32_t>(ref.width_px), h = static_cast<uint32_t>(ref.height_px);
+  if (test.width_px != ref.width_px || test.height_px != ref.height_px || ref.rgb.size() != ref.pixel_count() * 3 ||
+      test.rgb.size() != ref.rgb.size())
+    return out;
+  const size_t n = ref.pixel_count();
   std::vector<double> la(n), lb(n);
   std::vector<double> sq(n);
   for (size_t i = 0; i < n; ++i) {
     double s = 0.0;
     float ya = 0.0f, yb = 0.0f;
     for (int c = 0; c < 3; ++c) {
-      const float a = encode(test.rgb[i][c]);
-      const float b = encode(ref.rgb[i][c]);
+      const float a = encode(test.rgb[3 * i + static_cast<size_t>(c)]);
+      const float b = encode(ref.rgb[3 * i + static_cast<size_t>(c)]);
       s += static_cast<double>(a - b) * static_cast<double>(a - b);
       const float wgt = c == 0 ? 0.2126f : (c == 1 ? 0.7152f : 0.0722f);
       ya += wgt * a;

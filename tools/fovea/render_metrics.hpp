@@ -2,7 +2,7 @@
 // foveated image against the full one, overall and per eccentricity ring.
 #pragma once
 
-#include <engine/render.hpp>
+#include <foveation/image.hpp>
 
 #include <foveation/ray_trace.h>
 
@@ -27,7 +27,7 @@ struct ImageComparison {
 };
 
 // Rings are bounded by the angle between a pixel's ray and the gaze ray.
-ImageComparison compare_images(const engine::Image& test, const engine::Image& reference,
+ImageComparison compare_images(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
                                const FoveartEyeView& view, glm::vec2 gaze_px,
                                const std::vector<double>& ring_edges_deg);
 

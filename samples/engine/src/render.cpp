@@ -3,10 +3,7 @@
 
 #include <foveation/device.hpp>
 #include <foveation/eye_rays.hpp>
-
-#include "srgb.hpp"
-
-#include <stb_image_write.h>
+#include <foveation/ray_batch.hpp>
 
 #include <glm/trigonometric.hpp>
 
@@ -14,8 +11,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <mutex>
-#include <thread>
 
 namespace foveart::engine {
 namespace {
@@ -28,54 +23,11 @@ uint64_t mix64(uint64_t x) {
   return x ^ (x >> 31);
 }
 
-int thread_count(int requested) {
-  if (requested > 0) return requested;
-  const unsigned hw = std::thread::hardware_concurrency();
-  return hw == 0 ? 1 : static_cast<int>(hw);
-}
-
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
-
-void RayBatch::resize(size_t n) {
-  origins_.resize(3 * n);
-  directions_.resize(3 * n);
-  sample_px_.resize(2 * n);
-  rgb_.resize(3 * n);
-  point_index_.resize(n);
-}
-
-int32_t RayBatch::trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, uint32_t n) {
-  FoveartRayBatch batch{};
-  batch.type = FOVEART_TYPE_RAY_BATCH;
-  batch.size = sizeof(FoveartRayBatch);
-  batch.view = &view;
-  batch.ray_count = n;
-  batch.origins_m = origins_.data();
-  batch.directions = directions_.data();
-  batch.sample_px = sample_px_.data();
-  batch.point_index = point_index_.data();
-  batch.out_rgb = rgb_.data();
-  return fn(user_data, &batch);
-}
-
-void parallel_chunks(uint64_t n, uint64_t chunk, int threads, const std::function<void(uint64_t, uint64_t)>& work) {
-  std::atomic<uint64_t> next{0};
-  auto run = [&] {
-    for (;;) {
-      const uint64_t first = next.fetch_add(chunk);
-      if (first >= n) return;
-      work(first, std::min(chunk, n - first));
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < thread_count(threads); ++t) pool.emplace_back(run);
-  run();
-  for (std::thread& th : pool) th.join();
-}
 
 glm::vec2 jitter(uint64_t index, uint32_t sample, uint64_t seed) {
   const uint64_t h = mix64(index * 0x100000001B3ull ^ mix64(sample + (seed << 32)));
@@ -83,12 +35,12 @@ glm::vec2 jitter(uint64_t index, uint32_t sample, uint64_t seed) {
 }
 
 RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
-                         const RenderSettings& settings, Image* out) {
+                         const RenderSettings& settings, foveation::ImageRgb* out, foveation::Executor& executor) {
   const auto t0 = std::chrono::steady_clock::now();
   RenderResult result;
-  out->width = view.width_px;
-  out->height = view.height_px;
-  out->rgb.resize(static_cast<size_t>(view.width_px) * view.height_px);  // every pixel is written below
+  if (out->width_px != static_cast<int>(view.width_px) || out->height_px != static_cast<int>(view.height_px)) {
+    *out = foveation::ImageRgb(static_cast<int>(view.width_px), static_cast<int>(view.height_px));  // every pixel is written below
+  }
   const foveation::EyeFrustum f = foveation::eye_frustum(view);
   const foveation::EyePose pose = foveation::eye_pose(view);
   const uint32_t spp = static_cast<uint32_t>(std::max(settings.spp, 1));
@@ -103,13 +55,14 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
   result.tiles_x = tiles_x;
   result.tile_ms.assign(static_cast<size_t>(tiles_x) * tiles_y, 0.0);
   std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
-  parallel_chunks(result.tile_ms.size(), 1, thread_count(settings.threads), [&](uint64_t tile, uint64_t) {
+  std::vector<foveation::RayBatch> batches(executor.thread_count());  // per worker slot
+  executor.parallel_for(result.tile_ms.size(), [&](size_t tile, unsigned worker) {
     const auto tile_t0 = std::chrono::steady_clock::now();
     const uint32_t x0 = static_cast<uint32_t>(tile % tiles_x) * tile_w;
     const uint32_t y0 = static_cast<uint32_t>(tile / tiles_x) * tile_h;
     const uint32_t x1 = std::min(view.width_px, x0 + tile_w);
     const uint32_t y1 = std::min(view.height_px, y0 + tile_h);
-    thread_local RayBatch b;
+    foveation::RayBatch& b = batches[worker];
     b.resize(static_cast<size_t>(x1 - x0) * (y1 - y0) * spp);
     size_t r = 0;
     for (uint32_t y = y0; y < y1; ++y)
@@ -119,13 +72,12 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
           b.set_ray(r++, f, pose, glm::vec2(static_cast<float>(x), static_cast<float>(y)) + jitter(p, s, settings.seed),
                     static_cast<uint32_t>(p));
       }
-    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(r));
+    const int32_t st = b.trace(fn, user_data, view, 0, static_cast<uint32_t>(r));
     if (st != FOVEART_RESULT_SUCCESS) {
       int32_t expected = FOVEART_RESULT_SUCCESS;
       status.compare_exchange_strong(expected, st);
       for (uint32_t y = y0; y < y1; ++y)  // black, not last frame's pixels
-        std::fill_n(out->rgb.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(y) * view.width_px + x0), x1 - x0,
-                    glm::vec3(0.0f));
+        std::fill_n(out->at(static_cast<int>(x0), static_cast<int>(y)), 3 * (x1 - x0), 0.0f);
       return;
     }
     const float inv = 1.0f / static_cast<float>(spp);
@@ -134,40 +86,13 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
       for (uint32_t x = x0; x < x1; ++x) {
         glm::vec3 sum(0.0f);
         for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
-        out->rgb[static_cast<size_t>(y) * view.width_px + x] = sum * inv;
+        float* px = out->at(static_cast<int>(x), static_cast<int>(y));
+        px[0] = sum.r * inv;
+        px[1] = sum.g * inv;
+        px[2] = sum.b * inv;
       }
     result.tile_ms[tile] = ms_since(tile_t0);
   });
-  result.status = status.load();
-  result.trace_ms = ms_since(t0);
-  return result;
-}
-
-RenderResult trace_samples(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
-                           const std::vector<glm::vec2>& sample_px, const std::vector<uint32_t>& point_index,
-                           const RenderSettings& settings, std::vector<glm::vec3>* out_rgb) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RenderResult result;
-  out_rgb->assign(sample_px.size(), glm::vec3(0.0f));
-  const foveation::EyeFrustum f = foveation::eye_frustum(view);
-  const foveation::EyePose pose = foveation::eye_pose(view);
-  std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
-  parallel_chunks(sample_px.size(), std::max<uint64_t>(1, settings.batch_rays), thread_count(settings.threads),
-                  [&](uint64_t first, uint64_t count) {
-                    thread_local RayBatch b;
-                    b.resize(count);
-                    for (uint64_t i = 0; i < count; ++i)
-                      b.set_ray(i, f, pose, sample_px[first + i],
-                              point_index.empty() ? static_cast<uint32_t>(first + i) : point_index[first + i]);
-                    const int32_t st = b.trace(fn, user_data, view, static_cast<uint32_t>(count));
-                    if (st != FOVEART_RESULT_SUCCESS) {
-                      int32_t expected = FOVEART_RESULT_SUCCESS;
-                      status.compare_exchange_strong(expected, st);
-                      return;
-                    }
-                    for (uint64_t i = 0; i < count; ++i)
-                      (*out_rgb)[first + i] = b.rgb(i);
-                  });
   result.status = status.load();
   result.trace_ms = ms_since(t0);
   return result;
@@ -188,17 +113,5 @@ FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head) {
 }
 
 Camera scene_head(const Scene& scene) { return scene.camera ? *scene.camera : framing_camera(scene); }
-
-bool write_png(const Image& image, const std::string& path, std::string* error) {
-  std::vector<uint8_t> px(image.rgb.size() * 3);
-  for (size_t i = 0; i < image.rgb.size(); ++i)
-    for (int c = 0; c < 3; ++c) {
-      px[3 * i + c] = encode_srgb8(image.rgb[i][c]);
-    }
-  const int ok = stbi_write_png(path.c_str(), static_cast<int>(image.width), static_cast<int>(image.height), 3,
-                                px.data(), static_cast<int>(image.width * 3));
-  if (!ok && error) *error = path + ": cannot write PNG";
-  return ok != 0;
-}
 
 }  // namespace foveart::engine

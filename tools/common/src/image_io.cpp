@@ -12,7 +12,6 @@
 
 namespace foveart::toolkit {
 
-
 std::string write_png_u8(const std::string& path, int width, int height, int channels,
                          const std::vector<std::uint8_t>& pixels) {
   if (width <= 0 || height <= 0 || (channels != 1 && channels != 3 && channels != 4) ||
@@ -26,25 +25,29 @@ std::string write_png_u8(const std::string& path, int width, int height, int cha
   return {};
 }
 
-std::string write_png_linear(const std::string& path, const ImageRgb& image) {
+std::string write_png(const std::string& path, const foveation::ImageRgb& image, PngValues values) {
+  if (image.rgb.size() != image.pixel_count() * 3) return "cannot write " + path + ": image size does not match its pixels";
   std::vector<std::uint8_t> px(image.rgb.size());
   for (std::size_t i = 0; i < px.size(); ++i) {
-    px[i] = foveation::encode_srgb8(image.rgb[i]);
+    px[i] = values == PngValues::linear
+                ? foveation::encode_srgb8(image.rgb[i])
+                : static_cast<std::uint8_t>(std::lround(std::clamp(image.rgb[i], 0.0f, 1.0f) * 255.0f));
   }
-  return write_png_u8(path, image.width, image.height, 3, px);
+  return write_png_u8(path, image.width_px, image.height_px, 3, px);
 }
 
-std::string read_image_linear(const std::string& path, ImageRgb* out) {
+std::string read_image(const std::string& path, PngValues values, foveation::ImageRgb* out) {
   int w = 0, h = 0, n = 0;
   stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
   if (data == nullptr) {
     const char* why = stbi_failure_reason();
     return "cannot read image " + path + ": " + (why ? why : "unknown error");
   }
-  out->width = w;
-  out->height = h;
-  out->rgb.resize(std::size_t(w) * std::size_t(h) * 3);
-  for (std::size_t i = 0; i < out->rgb.size(); ++i) out->rgb[i] = foveation::srgb_to_linear(float(data[i]) / 255.0f);
+  *out = foveation::ImageRgb(w, h);
+  for (std::size_t i = 0; i < out->rgb.size(); ++i) {
+    const float v = float(data[i]) / 255.0f;
+    out->rgb[i] = values == PngValues::linear ? foveation::srgb_to_linear(v) : v;
+  }
   stbi_image_free(data);
   return {};
 }

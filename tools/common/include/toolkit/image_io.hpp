@@ -1,26 +1,28 @@
-// PNG images for the tools (stb_image / stb_image_write). Errors are returned
-// as messages naming the file; nothing throws.
+// PNG images for the tools (stb_image / stb_image_write), over the one image
+// type of FoveaRT (foveation::ImageRgb). Errors are returned as messages naming
+// the file; nothing throws.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "foveation/image.hpp"
+
 namespace foveart::toolkit {
 
-// Linear RGB float image, row-major, 3 floats per pixel.
-struct ImageRgb {
-  int width = 0;
-  int height = 0;
-  std::vector<float> rgb;
+// What the float values of an image are.
+enum class PngValues : std::uint8_t {
+  linear,   // linear RGB: sRGB-encoded (IEC 61966-2-1) on write, decoded on read
+  display,  // display values in [0, 1], stored as they are (x 255)
 };
 
-// Writes 8-bit sRGB-encoded PNG from linear RGB (clamped to [0, 1]).
-std::string write_png_linear(const std::string& path, const ImageRgb& image);
-// Writes 8-bit grey or RGB PNG as given (channels 1 or 3).
+// 8-bit RGB PNG of `image` (values clamped to [0, 1]).
+std::string write_png(const std::string& path, const foveation::ImageRgb& image, PngValues values);
+// Any stb-readable image as RGB floats. Empty string on success.
+std::string read_image(const std::string& path, PngValues values, foveation::ImageRgb* out);
+// 8-bit grey, RGB or RGBA PNG as given (channels 1, 3 or 4).
 std::string write_png_u8(const std::string& path, int width, int height, int channels,
                          const std::vector<std::uint8_t>& pixels);
-// Reads a PNG (or any stb-readable image) to linear RGB. Empty string on success.
-std::string read_image_linear(const std::string& path, ImageRgb* out);
 
 }  // namespace foveart::toolkit

@@ -5,7 +5,9 @@
 #include <engine/default_scene.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
-#include <render_foveated.hpp>
+#include <foveation/display_model.hpp>
+#include <foveation/executor.hpp>
+#include <foveation/foveated_view.hpp>
 
 #include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
@@ -138,7 +140,6 @@ TEST(RenderCommand, FovAndPoseDefineTheView) {
   EXPECT_NE(forward, back);
 }
 
-#ifdef FOVEART_HAVE_FOVEATION
 // Foveated NN output at the fovea is close to the full render. Both images are
 // 4-sample estimates of the same pixels; what differs is sampling noise and
 // NN's nearest-point choice. Stated tolerance, rings 0-2.5 and 2.5-5 deg:
@@ -188,54 +189,62 @@ extern "C" int32_t grey_engine(void*, const FoveartRayBatch* batch) {
 
 }  // namespace
 
-// The foveated pass writes each point's colour into a slot stamped with the
-// frame: a frame's image must not depend on the frame before it (another gaze)
-// nor on the thread count, and (with the 10 px visible margin) every pixel's
-// nearest point is traced, so no pixel falls back to black.
-TEST(FoveatedRenderer, FramesAreIndependentOfEarlierFramesAndOfThreads) {
+// The one foveated frame as `fovea render` drives it: a frame's image must not
+// depend on the frame before it (another gaze) nor on the thread count, and
+// (with the 10 px visible margin) every pixel's nearest point is traced, so no
+// pixel falls back to black.
+TEST(FoveatedRender, FramesAreIndependentOfEarlierFramesAndOfThreads) {
+  namespace fv = foveart::foveation;
   std::string error;
   auto tracer = foveart::engine::Tracer::create(foveart::engine::make_default_scene(), {}, &error);
   ASSERT_TRUE(tracer) << error;
   FoveartEyeView view = foveart::engine::fove_eye_view(0, foveart::engine::scene_head(tracer->scene()));
   view.width_px = 96;
   view.height_px = 108;
-  engine_test::TempDir cache;  // the second renderer loads the first one's tables
-  foveart::tools::FoveatedRequest req;
-  req.spp = 2;
-  req.threads = 1;
-  req.cache_dir = cache.path.string();
-  foveart::tools::FoveatedRenderer one(view, req);
-  ASSERT_TRUE(one.error().empty()) << one.error();
-  req.threads = 3;
-  foveart::tools::FoveatedRenderer three(view, req);
-  ASSERT_TRUE(three.error().empty()) << three.error();
+  engine_test::TempDir cache;  // the second view loads the first one's tables
+  fv::PointSetKey key;
+  key.display = fv::DisplayModel::from_fov(96, 108, 95.0);
+  fv::InterpOptions nn;
+  nn.method = fv::InterpMethod::nn;
+  nn.k = 1;
+  fv::Executor one_thread(1), three_threads(3);
+  fv::ViewSettings settings;
+  settings.rays_per_point = 2;
+  fv::FoveatedView one(fv::load_view_tables(cache.path, key, nn, one_thread), settings);
+  fv::FoveatedView three(fv::load_view_tables(cache.path, key, nn, three_threads), settings);
+  EXPECT_TRUE(three.tables().from_cache);
 
+  auto frame = [&](fv::FoveatedView& v, glm::vec2 gaze, FoveartTraceRaysFn fn, void* user, fv::Executor& ex) {
+    fv::FrameRequest request;
+    request.view = view;
+    request.gaze_px = gaze;
+    const fv::FrameResult r = v.render(request, fn, user, ex);
+    EXPECT_TRUE(r.ok()) << r.message;
+    return std::make_pair(r, v.image());
+  };
   const glm::vec2 gaze_a(10.0f, 15.0f), gaze_b(70.0f, 80.0f);
-  foveart::engine::Image a, b_after_a, b_fresh, grey;
-  const auto ra = one.render(*tracer, gaze_a, &a);
-  ASSERT_TRUE(ra.error.empty()) << ra.error;
-  const auto rb = one.render(*tracer, gaze_b, &b_after_a);
-  ASSERT_TRUE(rb.error.empty()) << rb.error;
-  ASSERT_TRUE(three.render(*tracer, gaze_b, &b_fresh).error.empty());
+  const auto [ra, a] = frame(one, gaze_a, &foveart_engine_trace_rays, tracer.get(), one_thread);
+  const auto [rb, b_after_a] = frame(one, gaze_b, &foveart_engine_trace_rays, tracer.get(), one_thread);
+  const auto [rf, b_fresh] = frame(three, gaze_b, &foveart_engine_trace_rays, tracer.get(), three_threads);
   EXPECT_GT(ra.points, 0u);
   EXPECT_NE(ra.points, rb.points);  // the gaze moved the visible set
+  EXPECT_EQ(ra.gather.fallback, 0u);  // no pixel without a traced point in reach
   // Every traced point falls in one screen tile (margin points in the nearest).
-  const std::vector<uint32_t> per_tile = one.points_per_tile(gaze_a, 16, 16, 6, 7);
+  const auto mapping = fv::map_gaze(96, 108, gaze_a);
+  const std::vector<uint32_t> per_tile = fv::points_per_tile(one.tables().points, mapping, 16, 16, 6, 7);
   ASSERT_EQ(per_tile.size(), 42u);
   EXPECT_EQ(std::accumulate(per_tile.begin(), per_tile.end(), uint64_t{0}), ra.points);
   EXPECT_GT(per_tile[0], per_tile[41]);  // gaze (10, 15): dense top-left, sparse bottom-right
-  EXPECT_TRUE(one.points_per_tile(gaze_a, 16, 16, 0, 7).empty());  // no grid, no counts
-  EXPECT_TRUE(one.points_per_tile(gaze_a, 0, 16, 6, 7).empty());
+  EXPECT_TRUE(fv::points_per_tile(one.tables().points, mapping, 16, 16, 0, 7).empty());  // no grid, no counts
+  EXPECT_TRUE(fv::points_per_tile(one.tables().points, mapping, 0, 16, 6, 7).empty());
   ASSERT_EQ(b_after_a.rgb.size(), b_fresh.rgb.size());
   size_t differ_from_a = 0;
   for (size_t i = 0; i < b_fresh.rgb.size(); ++i) {
-    ASSERT_EQ(b_after_a.rgb[i], b_fresh.rgb[i]) << "pixel " << i;
+    ASSERT_EQ(b_after_a.rgb[i], b_fresh.rgb[i]) << "value " << i;
     differ_from_a += a.rgb[i] != b_fresh.rgb[i] ? 1 : 0;
   }
   EXPECT_GT(differ_from_a, b_fresh.rgb.size() / 10);
 
-  const auto rg = three.render(&grey_engine, nullptr, gaze_a, &grey);
-  ASSERT_TRUE(rg.error.empty()) << rg.error;
-  for (size_t i = 0; i < grey.rgb.size(); ++i) ASSERT_EQ(grey.rgb[i], glm::vec3(0.5f)) << "pixel " << i;
+  const auto [rg, grey] = frame(three, gaze_a, &grey_engine, nullptr, three_threads);
+  for (size_t i = 0; i < grey.rgb.size(); ++i) ASSERT_EQ(grey.rgb[i], 0.5f) << "value " << i;
 }
-#endif
