@@ -7,7 +7,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <future>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
 #include <map>
 #include <tuple>
 
@@ -78,8 +81,8 @@ XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
 struct FoveatedRenderer::Frames {
   using TableKey = std::tuple<uint32_t, uint32_t, int64_t>;  // w, h, horizontal FOV in micro-radians
   struct TableSlot {
-    std::future<std::shared_ptr<const foveation::ViewTables>> pending;  // valid while building
-    std::shared_ptr<const foveation::ViewTables> ready;
+    bool built = false;  // the builder is done with it
+    std::shared_ptr<const foveation::ViewTables> ready;  // null when the build failed: fallback for good
   };
   struct Eye {
     std::unique_ptr<EyeSwapchain> swapchain;
@@ -92,25 +95,37 @@ struct FoveatedRenderer::Frames {
     std::string warning;
     gaze = create_gaze_source(settings, *session, &warning);
     if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
+    builder = std::thread([this] { build_tables(); });
   }
 
   ~Frames() {
-    for (auto& [key, slot] : tables) {
-      if (slot.pending.valid()) slot.pending.wait();
+    {
+      std::lock_guard lock(build_mutex);
+      stop_building = true;
     }
+    build_wake.notify_all();
+    builder.join();  // a build in progress finishes first
   }
 
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
                   XrFoveatedRendererStatsFOVEART* stats);
   std::shared_ptr<const foveation::ViewTables> tables_for(uint32_t w, uint32_t h, const XrFovf& fov);
+  void build_tables();
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
 
   std::shared_ptr<SessionState> session;
   RendererSettings settings;
-  foveation::Executor executor;  // before the tables: their builds run on it
+  foveation::Executor executor;  // frames and table builds share its workers
   std::unique_ptr<GazeSource> gaze;
+  // Tables per view size, built one after another on the builder thread
+  // (seconds each): frames never wait for them unless wait_for_tables.
+  std::mutex build_mutex;
+  std::condition_variable build_wake, build_done;
+  std::deque<std::pair<TableKey, foveation::PointSetKey>> build_queue;
   std::map<TableKey, TableSlot> tables;
+  bool stop_building = false;
+  std::thread builder;  // started once with the renderer
   Eye eyes[2];
   uint64_t frame_index = 0;
   LogOnce callback_once, colour_once, upload_once, internal_once;
@@ -151,6 +166,7 @@ std::shared_ptr<const foveation::ViewTables> FoveatedRenderer::Frames::tables_fo
                                                                                   const XrFovf& fov) {
   const double fov_rad = static_cast<double>(fov.angleRight) - static_cast<double>(fov.angleLeft);
   const TableKey key{w, h, std::llround(fov_rad * 1e6)};
+  std::unique_lock lock(build_mutex);
   auto it = tables.find(key);
   if (it == tables.end()) {
     foveation::PointSetKey psk;
@@ -158,30 +174,43 @@ std::shared_ptr<const foveation::ViewTables> FoveatedRenderer::Frames::tables_fo
                                                     fov_rad * 180.0 / 3.14159265358979323846);
     psk.display.scale = static_cast<double>(settings.density_scale);
     psk.seed = kSeed;
-    const auto dir = cache_dir(settings);
-    log(LogLevel::Info, "foveated renderer: preparing tables for ", w, "x", h, " (cache ", dir.string(), ")");
-    // A build takes seconds: a thread of its own (once per view size), which
-    // spreads the work over the renderer's executor beside the frames.
-    auto future = std::async(std::launch::async, [this, psk, dir]() -> std::shared_ptr<const foveation::ViewTables> {
-      try {
-        std::error_code ec;
-        std::filesystem::create_directories(dir, ec);
-        return foveation::load_view_tables(dir, psk, interp_options(settings), executor);
-      } catch (const std::exception& e) {
-        log(LogLevel::Error, "foveated renderer: cannot build the foveation tables: ", e.what());
-        return nullptr;
-      }
-    });
-    it = tables.emplace(key, TableSlot{std::move(future), nullptr}).first;
+    log(LogLevel::Info, "foveated renderer: preparing tables for ", w, "x", h, " (cache ", cache_dir(settings).string(),
+        ")");
+    it = tables.emplace(key, TableSlot{}).first;
+    build_queue.emplace_back(key, psk);
+    build_wake.notify_one();
   }
   TableSlot& slot = it->second;
-  if (slot.pending.valid()) {
-    if (!settings.wait_for_tables && slot.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
-      return nullptr;  // warming up
-    }
-    slot.ready = slot.pending.get();  // null when the build failed: fallback for good
+  if (!slot.built) {
+    if (!settings.wait_for_tables) return nullptr;  // warming up
+    build_done.wait(lock, [&] { return slot.built; });
   }
   return slot.ready;
+}
+
+void FoveatedRenderer::Frames::build_tables() {
+  std::unique_lock lock(build_mutex);
+  for (;;) {
+    build_wake.wait(lock, [&] { return stop_building || !build_queue.empty(); });
+    if (stop_building) return;
+    const auto [key, psk] = build_queue.front();
+    build_queue.pop_front();
+    lock.unlock();
+    std::shared_ptr<const foveation::ViewTables> built;
+    try {
+      const auto dir = cache_dir(settings);
+      std::error_code ec;
+      std::filesystem::create_directories(dir, ec);
+      built = foveation::load_view_tables(dir, psk, interp_options(settings), executor);
+    } catch (const std::exception& e) {
+      log(LogLevel::Error, "foveated renderer: cannot build the foveation tables: ", e.what());
+    }
+    lock.lock();
+    TableSlot& slot = tables[key];
+    slot.ready = std::move(built);
+    slot.built = true;
+    build_done.notify_all();
+  }
 }
 
 bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
