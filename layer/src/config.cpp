@@ -80,12 +80,9 @@ struct Reader {
   }
 
   void apply(const json& obj, LayerConfig* c, bool top_level) const {
-    static constexpr std::string_view kKeys[] = {
-        "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-        "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables", "applications"};
     for (const auto& item : obj.items()) {
       bool known = false;
-      for (std::string_view k : kKeys) known = known || item.key() == k;
+      for (std::string_view k : kConfigKeys) known = known || item.key() == k;
       if (!known || (!top_level && item.key() == "applications")) {
         warnings->push_back("config " + std::string(origin) + ": unknown key '" + item.key() + "' ignored");
       }

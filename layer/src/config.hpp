@@ -23,12 +23,18 @@
 
 namespace foveart::layer {
 
+// Every key the file may hold (top level; "applications" only there).
+inline constexpr std::string_view kConfigKeys[] = {
+    "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
+    "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables", "applications"};
+
 struct LayerConfig {
   bool enabled = true;
   LogLevel log_level = LogLevel::Warn;
   std::string log_file;  // empty: stderr only
-  // Renderer defaults; an app's XrFoveatedRendererCreateInfoFOVEART fields of
-  // zero/unset take these.
+  // Renderer defaults: an XrFoveatedRendererCreateInfoFOVEART field that says
+  // "use the config" (0, NULL or a ..._USE_CONFIG_FOVEART value; the extension
+  // header's "Defaults") takes these.
   std::string interpolation = "shepard";  // "nearest" | "shepard" | "rbf"
   uint32_t k = 5;
   float density_scale = 1.0f;

@@ -42,11 +42,14 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   }
   s.trace_rays = info.traceRays;
   s.user_data = info.userData;
-  if (static_cast<uint64_t>(info.interpolation) > XR_FOVEATED_INTERPOLATION_RBF_FOVEART) {
-    *out_error = "interpolation " + std::to_string(info.interpolation) + " is not an XrFoveatedInterpolationFOVEART";
-    return false;
+  if (info.interpolation != XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART) {
+    if (static_cast<uint64_t>(info.interpolation) > XR_FOVEATED_INTERPOLATION_RBF_FOVEART) {
+      *out_error = "interpolation " + std::to_string(info.interpolation) +
+                   " is not an XrFoveatedInterpolationFOVEART (or XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART)";
+      return false;
+    }
+    s.interpolation = info.interpolation;
   }
-  s.interpolation = info.interpolation;
   if (info.k > 20) {
     *out_error = "k = " + std::to_string(info.k) + " is outside 1..20 (0 = config default)";
     return false;
@@ -63,12 +66,16 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
     return false;
   }
   if (info.raysPerPoint != 0) s.rays_per_point = info.raysPerPoint;
-  s.taa = info.taaEnable == XR_TRUE;
-  if (static_cast<uint64_t>(info.gazeSource) > XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART) {
-    *out_error = "gazeSource " + std::to_string(info.gazeSource) + " is not an XrFoveatedGazeSourceFOVEART";
-    return false;
+  // Any value but XR_TRUE reads as XR_FALSE, as in spec versions 1 and 2.
+  if (info.taaEnable != XR_FOVEATED_TAA_USE_CONFIG_FOVEART) s.taa = info.taaEnable == XR_TRUE;
+  if (info.gazeSource != XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART) {
+    if (static_cast<uint64_t>(info.gazeSource) > XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART) {
+      *out_error = "gazeSource " + std::to_string(info.gazeSource) +
+                   " is not an XrFoveatedGazeSourceFOVEART (or XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART)";
+      return false;
+    }
+    s.gaze_source = info.gazeSource;
   }
-  s.gaze_source = info.gazeSource;
   if (info.gazeProviderSpec != nullptr && info.gazeProviderSpec[0] != '\0') s.gaze_provider_spec = info.gazeProviderSpec;
   *out = std::move(s);
   return true;

@@ -1,8 +1,14 @@
-// xrCreateFoveatedRendererFOVEART's create info over the config defaults.
+// xrCreateFoveatedRendererFOVEART's create info over the layer config: every
+// config key reaches the settings when the app says "use the config", every
+// create-info field overrides its key, and apps built against spec version 1
+// or 2 (zero-initialised structs) get what they got before.
 #include <cmath>
+#include <string>
+#include <string_view>
 
 #include <gtest/gtest.h>
 
+#include "config.hpp"
 #include "renderer.hpp"
 
 namespace foveart::layer {
@@ -10,56 +16,184 @@ namespace {
 
 int32_t trace_nothing(void*, const FoveartRayBatch*) { return FOVEART_RESULT_SUCCESS; }
 
-XrFoveatedRendererCreateInfoFOVEART valid_info() {
+// A spec version 3 app that leaves every setting to the config.
+XrFoveatedRendererCreateInfoFOVEART use_config_info() {
   XrFoveatedRendererCreateInfoFOVEART info{};
   info.type = XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART;
   info.traceRays = &trace_nothing;
-  info.interpolation = XR_FOVEATED_INTERPOLATION_RBF_FOVEART;
-  info.gazeSource = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
+  info.interpolation = XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART;
+  info.k = 0;
+  info.densityScale = 0.0f;
+  info.raysPerPoint = 0;
+  info.taaEnable = XR_FOVEATED_TAA_USE_CONFIG_FOVEART;
+  info.gazeSource = XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART;
+  info.gazeProviderSpec = nullptr;
   return info;
 }
 
-TEST(ResolveSettings, ZeroFieldsTakeTheConfig) {
-  LayerConfig config;
-  config.k = 9;
-  config.rays_per_point = 3;
-  config.density_scale = 1.5f;
-  config.gaze_provider = "replay:/tmp/g.csv";
-  RendererSettings s;
-  std::string error;
-  ASSERT_TRUE(resolve_settings(valid_info(), config, &s, &error)) << error;
-  EXPECT_EQ(s.k, 9u);
-  EXPECT_EQ(s.rays_per_point, 3u);
-  EXPECT_EQ(s.density_scale, 1.5f);
-  EXPECT_EQ(s.gaze_provider_spec, "replay:/tmp/g.csv");
-  EXPECT_EQ(s.interpolation, XR_FOVEATED_INTERPOLATION_RBF_FOVEART);
+// An app built against spec version 1 or 2: zero-initialised, only the
+// required fields set.
+XrFoveatedRendererCreateInfoFOVEART old_app_info() {
+  XrFoveatedRendererCreateInfoFOVEART info{};
+  info.type = XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART;
+  info.traceRays = &trace_nothing;
+  return info;
 }
 
-TEST(ResolveSettings, AppFieldsWin) {
-  auto info = valid_info();
-  info.k = 12;
-  info.raysPerPoint = 8;
-  info.densityScale = 2.0f;
-  info.taaEnable = XR_TRUE;
-  info.gazeProviderSpec = "sim";
+LayerConfig config_from(const std::string& json) {
+  ConfigResult r;
+  apply_config_text(json, "test.json", "app", &r);
+  EXPECT_TRUE(r.warnings.empty()) << json << ": " << r.warnings.front();
+  return r.config;
+}
+
+RendererSettings resolve(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config) {
   RendererSettings s;
   std::string error;
-  ASSERT_TRUE(resolve_settings(info, LayerConfig{}, &s, &error)) << error;
-  EXPECT_EQ(s.k, 12u);
-  EXPECT_EQ(s.rays_per_point, 8u);
-  EXPECT_EQ(s.density_scale, 2.0f);
-  EXPECT_TRUE(s.taa);
-  EXPECT_EQ(s.gaze_provider_spec, "sim");
+  EXPECT_TRUE(resolve_settings(info, config, &s, &error)) << error;
+  return s;
+}
+
+std::string interpolation_name(XrFoveatedInterpolationFOVEART i) {
+  switch (i) {
+    case XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART: return "nearest";
+    case XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART: return "shepard";
+    case XR_FOVEATED_INTERPOLATION_RBF_FOVEART: return "rbf";
+    default: return "bad " + std::to_string(i);
+  }
+}
+
+std::string gaze_source_name(XrFoveatedGazeSourceFOVEART g) {
+  switch (g) {
+    case XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART: return "none";
+    case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: return "provider";
+    case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: return "eye_gaze_interaction";
+    default: return "bad " + std::to_string(g);
+  }
+}
+
+// The setting a config key ends up in, spelled as the config spells it.
+std::string setting_of(const RendererSettings& s, std::string_view key) {
+  if (key == "interpolation") return interpolation_name(s.interpolation);
+  if (key == "k") return std::to_string(s.k);
+  if (key == "density_scale") return std::to_string(s.density_scale);
+  if (key == "rays_per_point") return std::to_string(s.rays_per_point);
+  if (key == "taa") return s.taa ? "true" : "false";
+  if (key == "gaze_source") return gaze_source_name(s.gaze_source);
+  if (key == "gaze_provider") return s.gaze_provider_spec;
+  if (key == "worker_threads") return std::to_string(s.worker_threads);
+  if (key == "cache_dir") return s.cache_dir;
+  if (key == "wait_for_tables") return s.wait_for_tables ? "true" : "false";
+  ADD_FAILURE() << "no renderer setting for key '" << key << "'";
+  return {};
+}
+
+struct KeyCase {
+  const char* key;
+  const char* json_value;    // differs from LayerConfig's default
+  std::string from_config;   // the setting it gives (as setting_of spells it)
+  void (*app_sets)(XrFoveatedRendererCreateInfoFOVEART*);  // nullptr: config only
+  std::string from_app;      // the setting the app's value gives
+};
+
+const KeyCase kRendererKeys[] = {
+    {"interpolation", R"("rbf")", "rbf",
+     [](auto* i) { i->interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART; }, "shepard"},
+    {"k", "9", "9", [](auto* i) { i->k = 12; }, "12"},
+    {"density_scale", "1.5", std::to_string(1.5f), [](auto* i) { i->densityScale = 2.0f; }, std::to_string(2.0f)},
+    {"rays_per_point", "3", "3", [](auto* i) { i->raysPerPoint = 8; }, "8"},
+    {"taa", "false", "false", [](auto* i) { i->taaEnable = XR_TRUE; }, "true"},
+    {"gaze_source", R"("eye_gaze_interaction")", "eye_gaze_interaction",
+     [](auto* i) { i->gazeSource = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART; }, "none"},
+    {"gaze_provider", R"("replay:/tmp/g.csv")", "replay:/tmp/g.csv", [](auto* i) { i->gazeProviderSpec = "sim2"; },
+     "sim2"},
+    {"worker_threads", "3", "3", nullptr, {}},
+    {"cache_dir", R"("/tmp/foveart-cache")", "/tmp/foveart-cache", nullptr, {}},
+    {"wait_for_tables", "true", "true", nullptr, {}},
+};
+
+// Keys of the whole layer, not of a renderer (config_test.cpp reads them).
+constexpr std::string_view kLayerKeys[] = {"enabled", "log_level", "log_file", "applications"};
+
+TEST(ResolveSettings, EveryConfigKeyIsCovered) {
+  for (std::string_view key : kConfigKeys) {
+    bool covered = false;
+    for (const auto& c : kRendererKeys) covered = covered || key == c.key;
+    for (std::string_view k : kLayerKeys) covered = covered || key == k;
+    EXPECT_TRUE(covered) << "config key '" << key << "' has no case here";
+  }
+}
+
+TEST(ResolveSettings, UseConfigTakesEveryKeyFromTheConfig) {
+  const RendererSettings defaults = resolve(use_config_info(), LayerConfig{});
+  for (const auto& c : kRendererKeys) {
+    SCOPED_TRACE(c.key);
+    ASSERT_NE(setting_of(defaults, c.key), c.from_config) << "the case must differ from the default";
+    const LayerConfig config = config_from("{\"" + std::string(c.key) + "\": " + c.json_value + "}");
+    EXPECT_EQ(setting_of(resolve(use_config_info(), config), c.key), c.from_config);
+  }
+}
+
+TEST(ResolveSettings, AppFieldOverridesItsKey) {
+  for (const auto& c : kRendererKeys) {
+    if (c.app_sets == nullptr) continue;
+    SCOPED_TRACE(c.key);
+    const LayerConfig config = config_from("{\"" + std::string(c.key) + "\": " + c.json_value + "}");
+    auto info = use_config_info();
+    c.app_sets(&info);
+    ASSERT_NE(c.from_app, c.from_config);
+    EXPECT_EQ(setting_of(resolve(info, config), c.key), c.from_app);
+  }
+}
+
+TEST(ResolveSettings, EmptyProviderSpecTakesTheConfig) {
+  auto info = use_config_info();
+  info.gazeProviderSpec = "";
+  EXPECT_EQ(resolve(info, config_from(R"({"gaze_provider": "replay:/tmp/g.csv"})")).gaze_provider_spec,
+            "replay:/tmp/g.csv");
+}
+
+// The config opposite to what a zero-initialised struct asks for, in every key.
+const char* kConfigAgainstZero = R"({"interpolation": "rbf", "k": 9, "density_scale": 1.5, "rays_per_point": 3,
+    "taa": true, "gaze_source": "eye_gaze_interaction", "gaze_provider": "replay:/tmp/g.csv"})";
+
+TEST(ResolveSettings, OldAppZeroFieldsKeepTheirMeaning) {
+  const RendererSettings s = resolve(old_app_info(), config_from(kConfigAgainstZero));
+  EXPECT_EQ(s.interpolation, XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART);
+  EXPECT_EQ(s.k, 1u);  // nearest neighbour: one tap
+  EXPECT_FALSE(s.taa);
+  EXPECT_EQ(s.gaze_source, XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART);
+  // Fields whose zero meant "config" before still do.
+  EXPECT_EQ(s.density_scale, 1.5f);
+  EXPECT_EQ(s.rays_per_point, 3u);
+  EXPECT_EQ(s.gaze_provider_spec, "replay:/tmp/g.csv");
+}
+
+TEST(ResolveSettings, OldAppSetFieldsKeepTheirMeaning) {
+  auto info = old_app_info();
+  info.interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+  info.taaEnable = XR_FALSE;
+  info.gazeSource = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
+  const LayerConfig config = config_from(kConfigAgainstZero);
+  RendererSettings s = resolve(info, config);
+  EXPECT_EQ(s.interpolation, XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART);
+  EXPECT_EQ(s.k, 9u);  // k = 0: the config's
+  EXPECT_FALSE(s.taa);
+  EXPECT_EQ(s.gaze_source, XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART);
+  info.taaEnable = XR_TRUE;
+  EXPECT_TRUE(resolve(info, config).taa);
+  info.taaEnable = 2;  // never a valid XrBool32; read as XR_FALSE before spec version 3, and still
+  EXPECT_FALSE(resolve(info, config).taa);
 }
 
 TEST(ResolveSettings, NearestNeighbourUsesOneTap) {
-  auto info = valid_info();
+  auto info = use_config_info();
   info.interpolation = XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART;
   info.k = 10;
-  RendererSettings s;
-  std::string error;
-  ASSERT_TRUE(resolve_settings(info, LayerConfig{}, &s, &error));
-  EXPECT_EQ(s.k, 1u);
+  EXPECT_EQ(resolve(info, LayerConfig{}).k, 1u);
+  // Nearest from the config, k from the app: still one tap.
+  info.interpolation = XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART;
+  EXPECT_EQ(resolve(info, config_from(R"({"interpolation": "nearest"})")).k, 1u);
 }
 
 TEST(ResolveSettings, BadFieldsAreNamed) {
@@ -74,10 +208,12 @@ TEST(ResolveSettings, BadFieldsAreNamed) {
       {[](auto* i) { i->densityScale = -1.0f; }, "densityScale"},
       {[](auto* i) { i->raysPerPoint = 65; }, "raysPerPoint"},
       {[](auto* i) { i->interpolation = static_cast<XrFoveatedInterpolationFOVEART>(7); }, "interpolation"},
+      {[](auto* i) { i->interpolation = static_cast<XrFoveatedInterpolationFOVEART>(0x7FFFFFFD); }, "interpolation"},
       {[](auto* i) { i->gazeSource = static_cast<XrFoveatedGazeSourceFOVEART>(9); }, "gazeSource"},
+      {[](auto* i) { i->gazeSource = static_cast<XrFoveatedGazeSourceFOVEART>(0x7FFFFFFD); }, "gazeSource"},
   };
   for (const auto& c : cases) {
-    auto info = valid_info();
+    auto info = use_config_info();
     c.edit(&info);
     RendererSettings s;
     std::string error;

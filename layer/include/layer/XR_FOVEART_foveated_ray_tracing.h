@@ -11,6 +11,8 @@
  *   1. xrCreateSession with XrGraphicsBindingVulkan2KHR (XR_KHR_vulkan_enable2).
  *   2. xrCreateFoveatedRendererFOVEART(session, &info, &renderer) with the
  *      engine's ray-trace callback (foveation/ray_trace.h) and its user data.
+ *      Each other field either names a value or leaves it to the layer's
+ *      config file (see "Defaults" below).
  *   3. Each frame, chain an XrFoveatedRayTracingLayerFOVEART into the `next`
  *      chain of the XrCompositionLayerProjection to be ray traced. The layer
  *      traces both views at xrEndFrame, writes them into swapchains it owns and
@@ -29,6 +31,28 @@
  *           failure) the view is forwarded with the app's own subImage; the
  *           first failure of each kind is logged and every one is counted in
  *           the stats. No garbage frame is ever shown.
+ * Defaults: every field of XrFoveatedRendererCreateInfoFOVEART other than
+ *           traceRays/userData can take the layer config's value instead of
+ *           the app's ("k", "density_scale", ... in the config; docs/layer.md):
+ *             k, densityScale, raysPerPoint   0
+ *             gazeProviderSpec                NULL or ""
+ *             interpolation                   XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART
+ *             taaEnable                       XR_FOVEATED_TAA_USE_CONFIG_FOVEART
+ *             gazeSource                      XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART
+ *           The three USE_CONFIG values are new in spec version 3. The layer
+ *           cannot tell which header an app was built against, so every value
+ *           that an app built against spec version 1 or 2 could validly pass
+ *           keeps its meaning: zero is a real choice for those three fields
+ *           (a zero-initialised struct still asks for nearest neighbour, no
+ *           TAA and fixed foveation), and a taaEnable other than XR_TRUE and
+ *           the sentinel still reads as XR_FALSE. The sentinels are values no
+ *           earlier version accepted (interpolation, gazeSource) or that no
+ *           valid XrBool32 holds (taaEnable). To leave everything to the
+ *           config, set all six fields as in the table. Layers before spec
+ *           version 3 reject the interpolation/gazeSource sentinels
+ *           (XR_ERROR_VALIDATION_FAILURE) and read the TAA sentinel as
+ *           XR_FALSE: check the extensionVersion that
+ *           xrEnumerateInstanceExtensionProperties reports before using them.
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
@@ -45,7 +69,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 2
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 3
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -64,6 +88,8 @@ typedef enum XrFoveatedInterpolationFOVEART {
   XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
   XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART = 1, /* modified Shepard (thesis 4.3) */
   XR_FOVEATED_INTERPOLATION_RBF_FOVEART = 2,     /* radial basis functions + constant term */
+  /* (spec version 3) the config's "interpolation" */
+  XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART = 0x7FFFFFFE,
   XR_FOVEATED_INTERPOLATION_MAX_ENUM_FOVEART = 0x7FFFFFFF
 } XrFoveatedInterpolationFOVEART;
 
@@ -71,8 +97,14 @@ typedef enum XrFoveatedGazeSourceFOVEART {
   XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART = 0,     /* fixed foveation at the lens centre */
   XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART = 1, /* FoveaRT gaze provider (gazeProviderSpec) */
   XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART = 2, /* runtime's XR_EXT_eye_gaze_interaction */
+  /* (spec version 3) the config's "gaze_source"; create info only, never in the stats */
+  XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART = 0x7FFFFFFE,
   XR_FOVEATED_GAZE_SOURCE_MAX_ENUM_FOVEART = 0x7FFFFFFF
 } XrFoveatedGazeSourceFOVEART;
+
+/* (spec version 3) XrFoveatedRendererCreateInfoFOVEART::taaEnable: the config's
+ * "taa". A third value of that XrBool32 besides XR_FALSE and XR_TRUE. */
+static const XrBool32 XR_FOVEATED_TAA_USE_CONFIG_FOVEART = 0x7FFFFFFE;
 
 /* Fallback state bits (XrFoveatedRendererStatsFOVEART::fallbackFlags). */
 typedef XrFlags64 XrFoveatedFallbackFlagsFOVEART;
@@ -90,13 +122,13 @@ typedef struct XrFoveatedRendererCreateInfoFOVEART {
   const void* XR_MAY_ALIAS next;
   FoveartTraceRaysFn traceRays; /* required */
   void* userData;               /* passed back to traceRays unchanged */
-  XrFoveatedInterpolationFOVEART interpolation;
+  XrFoveatedInterpolationFOVEART interpolation; /* ..._USE_CONFIG_FOVEART = config (0 is NEAREST) */
   uint32_t k;           /* neighbours per pixel (1 for nearest), 1..20; 0 = config */
   float densityScale;   /* point density scale (thesis "scale"), (0, 16]; 0 = config */
   uint32_t raysPerPoint; /* jittered rays per point, 1..64 (thesis: 32); 0 = config */
-  XrBool32 taaEnable;
-  XrFoveatedGazeSourceFOVEART gazeSource;
-  const char* gazeProviderSpec; /* for ..._PROVIDER: "sim", "replay:FILE", ...; NULL = config */
+  XrBool32 taaEnable;   /* XR_TRUE, XR_FALSE or XR_FOVEATED_TAA_USE_CONFIG_FOVEART = config */
+  XrFoveatedGazeSourceFOVEART gazeSource; /* ..._USE_CONFIG_FOVEART = config (0 is NONE) */
+  const char* gazeProviderSpec; /* for ..._PROVIDER: "sim", "replay:FILE", ...; NULL or "" = config */
 } XrFoveatedRendererCreateInfoFOVEART;
 
 /* Chain into XrCompositionLayerProjection::next to have its views ray traced. */
