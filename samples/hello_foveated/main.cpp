@@ -1,8 +1,11 @@
 // hello_foveated: the sample engine's glTF scene, ray traced by FoveaRT's
 // foveated renderer through the OpenXR layer, until the runtime ends the session.
-//   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf] [--k N]
-//                  [--scale S] [--spp N] [--no-taa] [--gaze none|provider|eye_gaze]
-//                  [--gaze-provider SPEC] [--json] [--app-actions]
+//   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf|config] [--k N]
+//                  [--scale S] [--spp N] [--taa on|off|config] [--no-taa]
+//                  [--gaze none|provider|eye_gaze|config] [--gaze-provider SPEC]
+//                  [--json] [--app-actions]
+// Every renderer setting not given here is left to the layer's config file
+// ("config", 0 or no value: the extension header's "Defaults").
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -100,20 +103,28 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
 int main(int argc, char** argv) {
   CLI::App cli{"hello_foveated: an OpenXR app ray traced by the FoveaRT layer"};
   std::string scene_spec = "default";
-  std::string interp = "shepard";
-  std::string gaze = "provider";
+  std::string interp = "config";
+  std::string gaze = "config";
+  std::string taa = "config";
   foveart::hello::AppOptions options;
   bool no_taa = false;
   bool json = false;
   bool no_explicit_layer = false;
   std::string fault;
   cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
-  cli.add_option("--interp", interp, "interpolation")->check(CLI::IsMember({"nearest", "shepard", "rbf"}));
+  cli.add_option("--interp", interp, "interpolation (config = the layer config's)")
+      ->check(CLI::IsMember({"nearest", "shepard", "rbf", "config"}))
+      ->capture_default_str();
   cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
   cli.add_option("--scale", options.density_scale, "density scale (0 = layer config)")->check(CLI::Range(0.0, 16.0));
   cli.add_option("--spp", options.rays_per_point, "rays per point (0 = layer config)")->check(CLI::Range(0, 64));
-  cli.add_flag("--no-taa", no_taa, "disable temporal accumulation");
-  cli.add_option("--gaze", gaze, "gaze source")->check(CLI::IsMember({"none", "provider", "eye_gaze"}));
+  auto* taa_option = cli.add_option("--taa", taa, "temporal accumulation (config = the layer config's)")
+                        ->check(CLI::IsMember({"on", "off", "config"}))
+                        ->capture_default_str();
+  cli.add_flag("--no-taa", no_taa, "same as --taa off")->excludes(taa_option);
+  cli.add_option("--gaze", gaze, "gaze source (config = the layer config's)")
+      ->check(CLI::IsMember({"none", "provider", "eye_gaze", "config"}))
+      ->capture_default_str();
   cli.add_option("--gaze-provider", options.gaze_provider, "gaze provider spec: sim, replay:FILE, ...");
   cli.add_option("--max-frames", options.max_frames, "stop after N frames (0 = until the runtime ends)");
   std::vector<uint32_t> eye_size;
@@ -131,14 +142,18 @@ int main(int argc, char** argv) {
   const std::map<std::string, XrFoveatedInterpolationFOVEART> interps{
       {"nearest", XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART},
       {"shepard", XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART},
-      {"rbf", XR_FOVEATED_INTERPOLATION_RBF_FOVEART}};
+      {"rbf", XR_FOVEATED_INTERPOLATION_RBF_FOVEART},
+      {"config", XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART}};
   const std::map<std::string, XrFoveatedGazeSourceFOVEART> gazes{
       {"none", XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART},
       {"provider", XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART},
-      {"eye_gaze", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART}};
+      {"eye_gaze", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART},
+      {"config", XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART}};
+  const std::map<std::string, XrBool32> taas{
+      {"on", XR_TRUE}, {"off", XR_FALSE}, {"config", XR_FOVEATED_TAA_USE_CONFIG_FOVEART}};
   options.interpolation = interps.at(interp);
   options.gaze_source = gazes.at(gaze);
-  options.taa = !no_taa;
+  options.taa = no_taa ? XR_FALSE : taas.at(taa);
   options.enable_layer = !no_explicit_layer;
   if (eye_size.size() == 2) {
     if (eye_size[0] == 0 || eye_size[1] == 0) {

@@ -21,13 +21,15 @@ namespace foveart::hello {
 struct AppOptions {
   FoveartTraceRaysFn trace_rays = nullptr;
   void* user_data = nullptr;
-  XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+  // The renderer's settings; each default leaves the setting to the layer's
+  // config (the extension header's "Defaults").
+  XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART;
   uint32_t k = 0;
   float density_scale = 0.0f;
   uint32_t rays_per_point = 0;
-  bool taa = true;
-  XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
-  std::string gaze_provider;  // empty: the layer's config
+  XrBool32 taa = XR_FOVEATED_TAA_USE_CONFIG_FOVEART;  // or XR_TRUE / XR_FALSE
+  XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART;
+  std::string gaze_provider;
   bool enable_layer = true;   // false when the layer is enabled implicitly / by XR_ENABLE_API_LAYERS
   uint64_t max_frames = 0;    // 0: until the runtime ends the session
   uint32_t eye_width_px = 0;  // 0: the runtime's recommended size
