@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -11,13 +12,15 @@
 
 namespace foveart::fovea {
 
+// An unset option takes the preset's value; a given one must be valid (a
+// zero or negative size is an error, never "unset").
 struct DisplayOptions {
   std::string preset = "fove";
-  int width_px = 0;   // 0: from the preset
-  int height_px = 0;
-  double fov_deg = 0.0;
-  double pixels_per_degree = 0.0;
-  double scale = 1.0;
+  std::optional<int> width_px;   // > 0
+  std::optional<int> height_px;  // > 0
+  std::optional<double> fov_deg;            // horizontal, in (0, 180)
+  std::optional<double> pixels_per_degree;  // > 0, finite
+  double scale = 1.0;                       // > 0, finite
   std::string disc_rule = "min-distance";
   std::uint64_t seed = 1;
 };
@@ -25,7 +28,8 @@ struct DisplayOptions {
 // Adds --preset --width --height --fov-deg --pixels-per-degree --scale --disc-rule --seed.
 void add_display_options(CLI::App* cmd, DisplayOptions& opts);
 
-// The display the options describe; throws CLI::ValidationError with a clear message.
+// The display the options describe; throws CLI::ValidationError naming the
+// option and the bad value.
 foveation::DisplayModel resolve_display(const DisplayOptions& opts);
 
 }  // namespace foveart::fovea
