@@ -1,8 +1,10 @@
-// The contracts of `fovea interpolate` and `fovea reconstruct` (issue 3):
-// values in query order, clear errors with a non-zero exit, finite output for
-// every finite valid input, and the JSON keys of reconstruct.
+// The contracts of `fovea interpolate` and `fovea reconstruct`: values in
+// query order, the renderer's RBF de-ringing clamp by default, clear errors
+// with a non-zero exit, finite output for every finite valid input, and the
+// JSON keys of reconstruct.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -36,13 +38,15 @@ class InterpCommands : public ::testing::Test {
 
   // Runs interpolate; returns exit code, fills values / error text.
   int run(const std::string& method, int k, const std::string& samples, const std::string& queries,
-          std::vector<double>* values = nullptr, std::string* error = nullptr, bool no_constant = false) {
+          std::vector<double>* values = nullptr, std::string* error = nullptr, bool no_constant = false,
+          const std::string& rbf_clamp = InterpolateArgs{}.rbf_clamp) {
     InterpolateArgs a;
     a.method = method;
     a.k = k;
     a.samples_file = file("s.csv", samples);
     a.queries_file = file("q.csv", queries);
     a.no_constant = no_constant;
+    a.rbf_clamp = rbf_clamp;
     std::ostringstream out, err;
     const int rc = run_interpolate(a, out, err);
     if (values) {
@@ -74,12 +78,51 @@ TEST_F(InterpCommands, ValuesInQueryOrderForEveryMethod) {
 }
 
 TEST_F(InterpCommands, ThesisFormDoesNotReproduceConstants) {
-  std::vector<double> a, b;
+  std::vector<double> a, b, c;
   const char* flat = "0,0,1\n1,0,1\n0,1,1\n1,1,1\n2,0.5,1\n";
-  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &a), 0);
-  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &b, nullptr, /*no_constant=*/true), 0);
+  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &a, nullptr, false, "off"), 0);
+  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &b, nullptr, /*no_constant=*/true, "off"), 0);
   EXPECT_NEAR(a[0], 1.0, 1e-12);
   EXPECT_GT(std::abs(b[0] - 1.0), 1e-3);
+  // The default de-ringing clamp holds the plain form to the data's range too.
+  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &c, nullptr, /*no_constant=*/true), 0);
+  EXPECT_EQ(c[0], 1.0);
+}
+
+// An under-sampled field: values 0.4 / 0.6 alternating faster than the
+// samples resolve, on a jittered grid; queries between the samples. The RBF
+// weights alone ring far outside [0.4, 0.6]; the renderer's default clamp
+// (RbfClamp::block; for scattered queries the taps' range) keeps every value
+// inside, and --rbf-clamp off shows the ringing.
+TEST_F(InterpCommands, RbfClampKeepsAnUnderSampledFieldInItsRange) {
+  std::ostringstream samples, queries;
+  for (int y = 0; y < 12; ++y) {
+    for (int x = 0; x < 12; ++x) {
+      const double jx = 0.3 * std::sin(1.7 * x + 2.3 * y), jy = 0.3 * std::cos(2.9 * x - 1.3 * y);
+      samples << x + jx << "," << y + jy << "," << (((x + y) % 2 == 0) != (x % 3 == 0) ? 0.6 : 0.4) << "\n";
+    }
+  }
+  for (double y = 3.0; y < 9.0; y += 0.37) {
+    for (double x = 3.0; x < 9.0; x += 0.41) queries << x << "," << y << "\n";
+  }
+  for (const char* m : {"rbf-mq", "rbf-gauss"}) {
+    for (int k : {10, 20}) {
+      SCOPED_TRACE(std::string(m) + " k=" + std::to_string(k));
+      std::vector<double> clamped, taps, off;
+      std::string err;
+      ASSERT_EQ(run(m, k, samples.str(), queries.str(), &clamped, &err), 0) << err;
+      ASSERT_EQ(run(m, k, samples.str(), queries.str(), &taps, &err, false, "taps"), 0) << err;
+      ASSERT_EQ(run(m, k, samples.str(), queries.str(), &off, &err, false, "off"), 0) << err;
+      ASSERT_EQ(clamped.size(), off.size());
+      ASSERT_FALSE(clamped.empty());
+      EXPECT_EQ(clamped, taps);  // block is the taps clamp for scattered queries
+      EXPECT_GE(*std::min_element(clamped.begin(), clamped.end()), 0.4);
+      EXPECT_LE(*std::max_element(clamped.begin(), clamped.end()), 0.6);
+      const double off_min = *std::min_element(off.begin(), off.end());
+      const double off_max = *std::max_element(off.begin(), off.end());
+      EXPECT_TRUE(off_min < 0.39 || off_max > 0.61) << "no ringing to clamp: " << off_min << ".." << off_max;
+    }
+  }
 }
 
 TEST_F(InterpCommands, ErrorsAreClearAndNonZero) {
@@ -108,6 +151,9 @@ TEST_F(InterpCommands, ErrorsAreClearAndNonZero) {
     EXPECT_NE(err.find(c.expect), std::string::npos) << "wanted '" << c.expect << "' in: " << err;
     EXPECT_EQ(err.rfind("fovea interpolate: ", 0), 0u) << err;
   }
+  std::string clamp_err;
+  EXPECT_NE(run("rbf-mq", 2, kSquare, "0,0\n", nullptr, &clamp_err, false, "sometimes"), 0);
+  EXPECT_EQ(clamp_err.rfind("fovea interpolate: unknown --rbf-clamp 'sometimes'", 0), 0u) << clamp_err;
   InterpolateArgs a;
   a.samples_file = (dir_ / "missing.csv").string();
   a.queries_file = a.samples_file;

@@ -1,7 +1,9 @@
 // fovea interpolate --method nn|msm|rbf-mq|rbf-gauss [--k K] [--shape E0]
-//                   [--no-constant] --samples FILE --queries FILE
+//                   [--no-constant] [--rbf-clamp off|taps|block]
+//                   --samples FILE --queries FILE
 // Interpolates each query from its k nearest samples ((distance, row) order)
-// with the renderer's weight code; prints one value per line (%.17g).
+// with the renderer's weight code and, for RBF, its de-ringing clamp
+// (foveation/rbf_clamp.hpp); prints one value per line (%.17g).
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -15,8 +17,10 @@
 
 #include <nanoflann.hpp>
 
+#include "foveation/gather.hpp"
 #include "foveation/interpolation_weights.hpp"
 #include "foveation/neighbor_table.hpp"
+#include "foveation/rbf_clamp.hpp"
 #include "interp_commands.hpp"
 
 namespace foveart::tools {
@@ -118,6 +122,12 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
     return fail("--k " + std::to_string(a.k) + " is outside 1.." + std::to_string(fv::kMaxNeighbors));
   }
   if (!(a.shape >= 0.0) || !std::isfinite(a.shape)) return fail("--shape must be a finite number >= 0");
+  const auto rbf_clamp = fv::parse_rbf_clamp(a.rbf_clamp);
+  if (!rbf_clamp) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
+  // A scattered query has no gather block: block clamps to its own taps, the
+  // range that the renderer's block range always contains.
+  const bool clamp_rbf = *rbf_clamp != fv::RbfClamp::off &&
+                     (*method == fv::InterpMethod::rbf_mq || *method == fv::InterpMethod::rbf_gauss);
   std::vector<double> samples, queries;
   {
     std::ifstream f(a.samples_file);
@@ -189,6 +199,7 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
     }
     fv::interpolation_weights(o, nb, ids, {qp[0], qp[1]}, w);
     double v = fv::apply_weights(w, f);
+    if (clamp_rbf) v = fv::rbf_clamp_to_taps<double>(v, f);
     if (!std::isfinite(v)) return fail("query " + std::to_string(q + 1) + " gave a non-finite value (please report)");
     std::snprintf(buf, sizeof buf, "%.17g", v);
     out << buf << '\n';
@@ -207,6 +218,11 @@ void register_interpolate(CLI::App& app) {
   sub->add_option("--k", args->k, "neighbours per query, 1..20")->capture_default_str();
   sub->add_option("--shape", args->shape, "RBF shape eps0 = eps * h_local (0 = default 0.2)");
   sub->add_flag("--no-constant", args->no_constant, "RBF without the constant term (the thesis's plain form)");
+  sub->add_option("--rbf-clamp", args->rbf_clamp,
+                  "RBF de-ringing as in the renderer: off (the thesis's plain RBF), taps (within the range of "
+                  "the query's k samples) or block (the renderer's default; a scattered query has no gather "
+                  "block, so the same as taps, whose range the renderer's block range contains)")
+      ->capture_default_str();
   sub->add_option("--samples", args->samples_file, "CSV rows x,y,value (header line allowed)")->required();
   sub->add_option("--queries", args->queries_file, "CSV rows x,y (header line allowed)")->required();
   sub->callback([args] {

@@ -23,6 +23,7 @@ struct InterpolateArgs {
   int k = 5;
   double shape = 0.0;  // 0 = kernel default
   bool no_constant = false;
+  std::string rbf_clamp = "block";  // off | taps | block (foveation::RbfClamp; block = taps here)
   std::string samples_file;
   std::string queries_file;
 };
