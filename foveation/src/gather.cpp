@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "foveation/rbf_clamp.hpp"
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #endif
@@ -131,7 +133,7 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
   if (t.has_weights()) {
     double a = 0, s = 0;
     double acc[3] = {0, 0, 0};
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    RbfClampRange<float> range[3];  // of the valid taps, per channel
     for (int j = 0; j < taps; ++j) {
       const float wj = weight_of(w, j);
       s += double(wj);
@@ -141,8 +143,7 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
       const float ch[3] = {c.r, c.g, c.b};
       for (int i = 0; i < 3; ++i) {
         acc[i] += double(wj) * double(ch[i]);
-        lo[i] = std::min(lo[i], ch[i]);
-        hi[i] = std::max(hi[i], ch[i]);
+        range[i].include(ch[i]);
       }
     }
     if (!t.normalized()) s = double(t.weight_sum[cp]);
@@ -151,7 +152,7 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
       const double gain = t.normalized() ? 1.0 / a : s / a;
       for (int i = 0; i < 3; ++i) {
         float v = float(acc[i] * gain);
-        if (t.is_rbf() && f.options->rbf_clamp != RbfClamp::off) v = std::clamp(v, lo[i], hi[i]);
+        if (t.is_rbf() && f.options->rbf_clamp != RbfClamp::off) v = range[i].clamp(v);
         dst[i] = v;
       }
       ++stats.renormalized;

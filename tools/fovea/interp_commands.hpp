@@ -1,4 +1,4 @@
-// `fovea interpolate` and `fovea reconstruct` (issue 3): registration with the
+// `fovea interpolate` and `fovea reconstruct`: registration with the
 // fovea tool and the testable cores behind them.
 #pragma once
 
