@@ -4,9 +4,6 @@
 #   cmake --install: <datadir>/openxr/1/api_layers/{explicit.d,implicit.d}/
 # The implicit layer is off unless FOVEART_ENABLE_IMPLICIT_LAYER is set, and off
 # whenever FOVEART_DISABLE_IMPLICIT_LAYER is set.
-if(NOT TARGET foveart_layer)
-  return()
-endif()
 include(GNUInstallDirs)
 
 set(_layer_name XR_APILAYER_FOVEART_foveated_ray_tracing)
