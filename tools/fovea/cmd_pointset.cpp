@@ -153,7 +153,8 @@ void run_pointset(const PointsetOptions& o) {
   fv::FoveationTables tables;
   {
     toolkit::Progress progress("fovea pointset: building point set and neighbour table");
-    tables = fv::load_or_build_tables(cache, key, [&](double f) { progress.update(f); },
+    fv::Executor executor;  // all cores
+    tables = fv::load_or_build_tables(cache, key, executor, [&](double f) { progress.update(f); },
                                       [](const std::string& msg) { std::cerr << "fovea pointset: " << msg << "\n"; });
   }
   const int w = display.width_px, h = display.height_px;
