@@ -222,7 +222,7 @@ CachedTable load_or_build_interpolation_table(const std::optional<std::filesyste
       } else if (log) {
         log(file.string() + ": " + (sizes_ok ? layout_error : "sizes do not match the neighbour table") + "; rebuilding");
       }
-    } else if (log) {
+    } else if (log && std::filesystem::exists(file)) {  // a missing file is a first build, not a rejection
       log("interpolation cache rejected: " + error + "; rebuilding");
     }
   }
