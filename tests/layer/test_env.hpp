@@ -86,7 +86,7 @@ inline void configure_hello_foveated(const IsolatedEnv& env, int frames) {
 
 #define FOVEART_REQUIRE_RUNTIME()                                                                  \
   do {                                                                                             \
-    if (!::foveart::layer::test::have_runtime()) GTEST_SKIP() << "simulated runtime not built";   \
+    ASSERT_TRUE(::foveart::layer::test::have_runtime()) << "the simulated runtime's manifest is missing"; \
   } while (0)
 
 }  // namespace foveart::layer::test

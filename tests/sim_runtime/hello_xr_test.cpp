@@ -73,8 +73,8 @@ size_t count_lines(const std::string& path) {
 class HelloXr : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (std::string(FOVEART_HELLO_XR).empty())
-      GTEST_SKIP() << "hello_xr not installed (libopenxr-utils)";
+    ASSERT_FALSE(std::string(FOVEART_HELLO_XR).empty())
+        << "hello_xr (libopenxr-utils, installed by scripts/setup.sh) is missing";
   }
 };
 
