@@ -22,6 +22,11 @@ bool parse_field(std::string_view v, std::string_view& type, std::size_t& offset
   return parse_size(v.substr(at + 1), offset);
 }
 
+// offset + width <= size, written so that an offset near 2^64 cannot wrap the sum past the check.
+constexpr bool field_fits(std::size_t offset, std::size_t width_bytes, std::size_t size) noexcept {
+  return width_bytes <= size && offset <= size - width_bytes;
+}
+
 template <typename T>
 T read_le(const std::uint8_t* p) noexcept {
   T v;
@@ -76,10 +81,21 @@ std::optional<HidReportLayout> HidReportLayout::parse(std::string_view spec, std
       return fail("unknown key '" + std::string(key) + "'");
     }
   }
-  const std::size_t gaze_end = l.gaze_offset + 3 * (l.gaze_is_i16 ? 2 : 4);
-  if (l.time_offset + (l.time_is_u64 ? 8 : 4) > l.size || l.frame_offset + 4 > l.size || l.flags_offset + 1 > l.size ||
-      (l.confidence_offset && *l.confidence_offset + 1 > l.size) || gaze_end > l.size)
-    return fail("a field lies beyond size=" + std::to_string(l.size));
+  struct Field {
+    const char* name;
+    std::optional<std::size_t> offset;
+    std::size_t width_bytes;
+  };
+  const Field fields[] = {{"time", l.time_offset, std::size_t(l.time_is_u64 ? 8 : 4)},
+                          {"frame", l.frame_offset, 4},
+                          {"flags", l.flags_offset, 1},
+                          {"conf", l.confidence_offset, 1},
+                          {"gaze", l.gaze_offset, std::size_t(3 * (l.gaze_is_i16 ? 2 : 4))}};
+  for (const Field& f : fields) {
+    if (f.offset && !field_fits(*f.offset, f.width_bytes, l.size))
+      return fail(std::string(f.name) + " (" + std::to_string(f.width_bytes) + " bytes at offset " +
+                  std::to_string(*f.offset) + ") lies beyond size=" + std::to_string(l.size));
+  }
   return l;
 }
 

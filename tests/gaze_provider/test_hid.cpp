@@ -131,6 +131,28 @@ TEST(HidLayout, DefaultSpecRoundTripsAndBadSpecsFail) {
   EXPECT_FALSE(HidReportLayout::parse("size=8", &error)) << "default fields do not fit in 8 bytes";
 }
 
+TEST(HidLayout, OffsetsNearTwoToTheSixtyFourAreRejectedNotWrapped) {
+  // Before the fix, offset + width wrapped to a small number, the layout passed, and decoding read 2^64 bytes away.
+  std::string error;
+  auto l = HidReportLayout::parse("size=24,gaze=f32@18446744073709551615", &error);
+  EXPECT_FALSE(l) << "gaze offset 2^64-1 accepted";
+  EXPECT_NE(error.find("gaze"), std::string::npos) << error;
+  EXPECT_NE(error.find("18446744073709551615"), std::string::npos) << error;
+  EXPECT_NE(error.find("beyond"), std::string::npos) << error;
+  // 2^64 - 4 + 4 (u32 frame) wraps to exactly 0 <= size.
+  error.clear();
+  l = HidReportLayout::parse("size=24,frame=u32@18446744073709551612", &error);
+  EXPECT_FALSE(l) << "frame offset + width wraps to 0";
+  EXPECT_NE(error.find("frame"), std::string::npos) << error;
+  // 2^64 - 1 + 1 (u8 conf) wraps to 0 as well, on the optional field.
+  error.clear();
+  l = HidReportLayout::parse("size=24,conf=u8@18446744073709551615", &error);
+  EXPECT_FALSE(l) << "conf offset + width wraps to 0";
+  EXPECT_NE(error.find("conf"), std::string::npos) << error;
+  // A field that ends exactly at size still fits.
+  EXPECT_TRUE(HidReportLayout::parse("size=24,gaze=f32@12", &error)) << error;
+}
+
 TEST(HidLayout, DecodesReports) {
   const Expected e = expected_report(3);
   const std::vector<std::uint8_t> r = encode(e);
