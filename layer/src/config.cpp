@@ -1,8 +1,11 @@
 #include "config.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -16,6 +19,16 @@ namespace {
 
 using nlohmann::json;
 
+// A value as the file wrote it, for warnings (strings escaped, long values cut).
+std::string shown(const json& v) {
+  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
+  if (s.size() > 40) s = s.substr(0, 37) + "...";
+  return s;
+}
+
+// Reads each key on its own: whatever a value is (wrong type, out of range,
+// anything nlohmann throws on it), the warning names the key and the value
+// and the key keeps its default.
 struct Reader {
   std::string_view origin;
   std::vector<std::string>* warnings;
@@ -26,57 +39,85 @@ struct Reader {
     warnings->push_back(s.str());
   }
 
+  // Calls read(value) when `key` is present; read returns an empty string or
+  // what is wrong with the value.
+  template <class ReadFn>
+  void read(const json& obj, const char* key, ReadFn&& read) const {
+    const auto it = obj.find(key);
+    if (it == obj.end()) return;
+    std::string wrong;
+    try {
+      wrong = read(*it);
+    } catch (const json::exception& e) {
+      wrong = std::string("cannot be read (") + e.what() + ")";
+    }
+    if (!wrong.empty()) warn(key, wrong + " (got " + shown(*it) + ")");
+  }
+
   void read_bool(const json& obj, const char* key, bool* out) const {
-    if (!obj.contains(key)) return;
-    const json& v = obj.at(key);
-    if (v.is_boolean()) *out = v.get<bool>();
-    else warn(key, "must be true or false");
+    read(obj, key, [&](const json& v) -> std::string {
+      if (!v.is_boolean()) return "must be true or false";
+      *out = v.get<bool>();
+      return {};
+    });
   }
 
+  // Integers only (1.0 is not one); checked in 64 bits before narrowing.
   void read_uint(const json& obj, const char* key, uint32_t lo, uint32_t hi, uint32_t* out) const {
-    if (!obj.contains(key)) return;
-    const json& v = obj.at(key);
-    if (v.is_number_integer() && v.get<int64_t>() >= lo && v.get<int64_t>() <= hi) {
-      *out = static_cast<uint32_t>(v.get<int64_t>());
-    } else {
-      warn(key, "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
-    }
+    read(obj, key, [&](const json& v) -> std::string {
+      const std::string wrong = "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi);
+      // Non-negative integers are stored unsigned, negative ones signed.
+      if (v.is_number_unsigned()) {
+        const auto u = v.get<uint64_t>();
+        if (u < lo || u > hi) return wrong;
+        *out = static_cast<uint32_t>(u);
+        return {};
+      }
+      if (v.is_number_integer()) {
+        const auto i = v.get<int64_t>();
+        if (i < int64_t{lo} || i > int64_t{hi}) return wrong;
+        *out = static_cast<uint32_t>(i);
+        return {};
+      }
+      return wrong;
+    });
   }
 
+  // Checked after the conversion to float: a double that rounds to 0 or
+  // overflows a float is out of range, as is NaN.
   void read_float(const json& obj, const char* key, float lo, float hi, float* out) const {
-    if (!obj.contains(key)) return;
-    const json& v = obj.at(key);
-    if (v.is_number() && v.get<double>() > double{lo} && v.get<double>() <= double{hi}) {
-      *out = v.get<float>();
-    } else {
-      std::ostringstream range;
-      range << "must be a number in (" << lo << ", " << hi << "]";
-      warn(key, range.str());
-    }
+    read(obj, key, [&](const json& v) -> std::string {
+      std::ostringstream wrong;
+      wrong << "must be a number in (" << lo << ", " << hi << "]";
+      if (!v.is_number()) return wrong.str();
+      const double d = v.get<double>();
+      if (!(std::abs(d) <= double{std::numeric_limits<float>::max()})) return wrong.str();  // NaN too
+      const float f = static_cast<float>(d);
+      if (!(std::isfinite(f) && f > lo && f <= hi)) return wrong.str();
+      *out = f;
+      return {};
+    });
   }
 
   void read_string(const json& obj, const char* key, std::initializer_list<std::string_view> allowed,
                    std::string* out) const {
-    if (!obj.contains(key)) return;
-    const json& v = obj.at(key);
-    if (!v.is_string()) {
-      warn(key, "must be a string");
-      return;
-    }
-    const auto s = v.get<std::string>();
-    if (allowed.size() == 0) {
-      *out = s;
-      return;
-    }
-    for (std::string_view a : allowed) {
-      if (s == a) {
+    read(obj, key, [&](const json& v) -> std::string {
+      if (!v.is_string()) return "must be a string";
+      const auto& s = v.get_ref<const std::string&>();
+      if (allowed.size() == 0) {
         *out = s;
-        return;
+        return {};
       }
-    }
-    std::string list;
-    for (std::string_view a : allowed) list += (list.empty() ? "" : "|") + std::string(a);
-    warn(key, "must be one of " + list + " (got '" + s + "')");
+      for (std::string_view a : allowed) {
+        if (s == a) {
+          *out = s;
+          return {};
+        }
+      }
+      std::string list;
+      for (std::string_view a : allowed) list += (list.empty() ? "" : "|") + std::string(a);
+      return "must be one of " + list;
+    });
   }
 
   void apply(const json& obj, LayerConfig* c, bool top_level) const {
@@ -88,12 +129,12 @@ struct Reader {
       }
     }
     read_bool(obj, "enabled", &c->enabled);
-    if (obj.contains("log_level")) {
-      const json& v = obj.at("log_level");
+    read(obj, "log_level", [&](const json& v) -> std::string {
       if (!v.is_string() || !parse_log_level(v.get<std::string>(), &c->log_level)) {
-        warn("log_level", "must be one of error|warn|info|debug");
+        return "must be one of error|warn|info|debug";
       }
-    }
+      return {};
+    });
     read_string(obj, "log_file", {}, &c->log_file);
     read_string(obj, "interpolation", {"nearest", "shepard", "rbf"}, &c->interpolation);
     read_uint(obj, "k", 1, 20, &c->k);
@@ -107,6 +148,119 @@ struct Reader {
     read_bool(obj, "wait_for_tables", &c->wait_for_tables);
   }
 };
+
+// nlohmann's parser stops at a number that does not fit a double (1e400):
+// json::out_of_range 406, for the whole file. This SAX pass finds where
+// parsing stops, on which token and under which keys, so that such a number
+// can be dropped from its key alone and every other error located.
+class ErrorLocator final : public json::json_sax_t {
+ public:
+  struct Level {
+    bool array = false;
+    std::string key;          // object: the key being read
+    std::size_t index = 0;    // array: values read so far
+  };
+  std::vector<Level> path;    // at the error: the containers it lies in
+  std::size_t end_byte = 0;   // at the error: one past the offending token
+  std::string token;
+  std::string what;
+  int id = 0;
+
+  bool null() override { return value(); }
+  bool boolean(bool) override { return value(); }
+  bool number_integer(number_integer_t) override { return value(); }
+  bool number_unsigned(number_unsigned_t) override { return value(); }
+  bool number_float(number_float_t, const string_t&) override { return value(); }
+  bool string(string_t&) override { return value(); }
+  bool binary(binary_t&) override { return value(); }
+  bool start_object(std::size_t) override {
+    path.emplace_back();
+    return true;
+  }
+  bool key(string_t& k) override {
+    path.back().key = k;
+    return true;
+  }
+  bool end_object() override {
+    path.pop_back();
+    return value();
+  }
+  bool start_array(std::size_t) override {
+    path.push_back({true, {}, 0});
+    return true;
+  }
+  bool end_array() override {
+    path.pop_back();
+    return value();
+  }
+  bool parse_error(std::size_t byte, const std::string& last_token, const json::exception& e) override {
+    end_byte = byte;
+    token = last_token;
+    what = e.what();
+    id = e.id;
+    return false;
+  }
+
+  // "applications.hello_xr.k"; arrays as "[2]".
+  std::string dotted() const {
+    std::string s;
+    for (const Level& l : path) {
+      if (l.array) s += "[" + std::to_string(l.index) + "]";
+      else s += (s.empty() ? "" : ".") + l.key;
+    }
+    return s;
+  }
+
+ private:
+  bool value() {
+    if (!path.empty() && path.back().array) ++path.back().index;
+    return true;
+  }
+};
+
+// Parses `text` into *out_root. A number too large for a double is replaced
+// by a warning naming its key and the default (the key is removed); any other
+// error rejects the file with a warning naming it and the position.
+bool parse_config(std::string text, std::string_view origin, json* out_root, std::vector<std::string>* warnings) {
+  const std::string where = "config " + std::string(origin) + ": ";
+  std::vector<json::json_pointer> dropped;
+  constexpr int kMaxDroppedNumbers = 64;  // each costs one more parse of a small file
+  for (int round = 0;; ++round) {
+    ErrorLocator loc;
+    try {
+      if (json::sax_parse(text, &loc)) break;
+    } catch (const json::exception& e) {  // sax_parse reports through parse_error; this is a backstop
+      loc.what = e.what();
+      loc.id = 0;
+    }
+    const std::size_t begin = loc.end_byte - std::min(loc.end_byte, loc.token.size());
+    const bool number_overflow = loc.id == 406 && !loc.path.empty() && !loc.path.back().array &&
+                                 round < kMaxDroppedNumbers && loc.end_byte <= text.size() &&
+                                 text.compare(begin, loc.token.size(), loc.token) == 0;
+    if (!number_overflow) {
+      warnings->push_back(where + "not valid JSON at byte " + std::to_string(loc.end_byte) + " (" + loc.what +
+                          "); using defaults");
+      return false;
+    }
+    warnings->push_back(where + "key '" + loc.dotted() + "' is out of range for a number (got " + loc.token +
+                        "); using the default");
+    json::json_pointer key_pointer;
+    for (const auto& level : loc.path) {
+      if (level.array) key_pointer /= level.index;
+      else key_pointer /= level.key;
+    }
+    dropped.push_back(key_pointer);
+    text.replace(begin, loc.token.size(), "null");
+  }
+  try {
+    *out_root = json::parse(text);
+    for (const auto& key_pointer : dropped) out_root->at(key_pointer.parent_pointer()).erase(key_pointer.back());
+  } catch (const json::exception& e) {
+    warnings->push_back(where + "not valid JSON (" + e.what() + "); using defaults");
+    return false;
+  }
+  return true;
+}
 
 std::optional<std::string> read_file(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -130,13 +284,7 @@ void apply_config_text(std::string_view text, std::string_view origin, std::stri
                        ConfigResult* inout_result) {
   const Reader reader{origin, &inout_result->warnings};
   json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::parse_error& e) {
-    inout_result->warnings.push_back("config " + std::string(origin) + ": not valid JSON (" + e.what() +
-                                     "); using defaults");
-    return;
-  }
+  if (!parse_config(std::string(text), origin, &root, &inout_result->warnings)) return;
   if (!root.is_object()) {
     inout_result->warnings.push_back("config " + std::string(origin) +
                                      ": top level must be a JSON object; using defaults");

@@ -121,6 +121,81 @@ TEST_F(ConfigTest, InvalidJsonWarnsAndUsesDefaults) {
   EXPECT_TRUE(any_warning_contains(r, "not valid JSON"));
 }
 
+// Numbers that do not fit: each key warns with its value and keeps its
+// default; the other keys of the file still apply.
+TEST_F(ConfigTest, OutOfRangeNumbersWarnNamingKeyAndValueAndKeepOtherKeys) {
+  const LayerConfig defaults;
+  struct Case {
+    const char* key;
+    const char* value;
+    const char* shown;  // the value in the warning
+  };
+  for (const Case& c : {Case{"density_scale", "1e400", "1e400"}, Case{"density_scale", "-1e400", "-1e400"},
+                        Case{"density_scale", "1e-50", "1e-50"}, Case{"density_scale", "1e39", "1e+39"},
+                        Case{"density_scale", "\"dense\"", "\"dense\""},
+                        Case{"k", "18446744073709551615", "18446744073709551615"},
+                        Case{"k", "4294967301", "4294967301"}, Case{"k", "1e400", "1e400"},
+                        Case{"rays_per_point", "9223372036854775808", "9223372036854775808"},
+                        Case{"rays_per_point", "\"4\"", "\"4\""},
+                        Case{"worker_threads", "18446744073709551616", "1.8446744073709552e+19"},
+                        Case{"worker_threads", "-9223372036854775808", "-9223372036854775808"},
+                        Case{"worker_threads", "\"8\"", "\"8\""}}) {
+    SCOPED_TRACE(std::string(c.key) + ": " + c.value);
+    // The other keys are valid non-defaults on both sides of the bad one.
+    env_["FOVEART_CONFIG"] = write("c.json", std::string(R"({"taa": false, ")") + c.key + "\": " + c.value +
+                                                 R"(, "interpolation": "rbf"})")
+                                 .string();
+    ConfigResult r;
+    EXPECT_NO_THROW(r = load_config("app", env()));
+    EXPECT_EQ(r.config.density_scale, defaults.density_scale);
+    EXPECT_EQ(r.config.k, defaults.k);
+    EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
+    EXPECT_EQ(r.config.worker_threads, defaults.worker_threads);
+    EXPECT_FALSE(r.config.taa);
+    EXPECT_EQ(r.config.interpolation, "rbf");
+    EXPECT_EQ(r.warnings.size(), 1u);
+    if (r.warnings.empty()) continue;
+    EXPECT_NE(r.warnings[0].find(std::string("'") + c.key + "'"), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find(std::string("got ") + c.shown + ")"), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find("c.json"), std::string::npos) << r.warnings[0];
+  }
+}
+
+// The same inside an application section: the section's other keys apply.
+TEST_F(ConfigTest, OutOfRangeNumberInApplicationSectionKeepsTheSection) {
+  env_["FOVEART_CONFIG"] =
+      write("c.json", R"({"k": 3, "applications": {"hello_xr": {"density_scale": 1e400, "k": 12}}})").string();
+  const auto r = load_config("hello_xr", env());
+  EXPECT_EQ(r.config.k, 12u);
+  EXPECT_EQ(r.config.density_scale, LayerConfig{}.density_scale);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find("'applications.hello_xr.density_scale'"), std::string::npos) << r.warnings[0];
+}
+
+// Valid edge values are still read exactly.
+TEST_F(ConfigTest, InRangeEdgeValuesAreRead) {
+  env_["FOVEART_CONFIG"] =
+      write("c.json", R"({"density_scale": 16, "k": 20, "rays_per_point": 64, "worker_threads": 256})").string();
+  const auto r = load_config("app", env());
+  EXPECT_TRUE(r.warnings.empty());
+  EXPECT_EQ(r.config.density_scale, 16.0f);
+  EXPECT_EQ(r.config.k, 20u);
+  EXPECT_EQ(r.config.rays_per_point, 64u);
+  EXPECT_EQ(r.config.worker_threads, 256u);
+}
+
+// A syntax error still rejects the whole file, naming it and the position.
+TEST_F(ConfigTest, SyntaxErrorNamesFileAndPosition) {
+  const auto path = write("c.json", R"({"k": 3, "taa": tru})");
+  env_["FOVEART_CONFIG"] = path.string();
+  const auto r = load_config("app", env());
+  EXPECT_TRUE(r.config.taa);
+  EXPECT_EQ(r.config.k, LayerConfig{}.k);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].find(path.string()), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("byte 20"), std::string::npos) << r.warnings[0];
+}
+
 TEST_F(ConfigTest, FoveartDisableWinsOverFile) {
   env_["FOVEART_CONFIG"] = write("c.json", R"({"enabled": true})").string();
   env_["FOVEART_DISABLE"] = "1";
