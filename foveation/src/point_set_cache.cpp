@@ -121,6 +121,12 @@ std::optional<detail::MappedFile> load_file(const std::filesystem::path& file, K
   return payload;
 }
 
+// True when `count` elements of `element_bytes` each fill exactly `bytes`:
+// checked by division, so a count from a crafted header cannot wrap the product.
+bool count_fills_exactly(std::uint64_t count, std::uint64_t element_bytes, std::uint64_t bytes) {
+  return element_bytes != 0 && bytes % element_bytes == 0 && count == bytes / element_bytes;
+}
+
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -156,8 +162,11 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
   if (payload->size < sizeof dims + sizeof n) return fail("payload too short");
   std::memcpy(dims, payload->bytes, sizeof dims);
   std::memcpy(&n, payload->bytes + sizeof dims, sizeof n);
-  if (payload->size != sizeof dims + sizeof n + n * (sizeof(glm::vec2) + sizeof(float))) {
-    return fail("point count does not match payload size");
+  // Before any allocation: the count comes from the file.
+  const std::uint64_t point_bytes = payload->size - sizeof dims - sizeof n;
+  if (!count_fills_exactly(n, sizeof(glm::vec2) + sizeof(float), point_bytes)) {
+    return fail("point count " + std::to_string(n) + " does not match the payload size (" +
+                std::to_string(point_bytes) + " bytes of points)");
   }
   if (int(dims[0]) != key.display.canvas_width_px() || int(dims[1]) != key.display.canvas_height_px()) {
     return fail("canvas size does not match the display");
@@ -196,19 +205,30 @@ std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& fi
                                                  std::string* error) {
   auto payload = load_file(file, Kind::kNeighborTable, key, error);
   if (!payload) return std::nullopt;
-  std::uint32_t dims[3];
-  if (payload->size < sizeof dims) {
-    if (error) *error = "cache " + file.string() + ": payload too short";
+  auto fail = [&](const std::string& why) {
+    if (error) *error = "cache " + file.string() + ": " + why;
     return std::nullopt;
-  }
+  };
+  std::uint32_t dims[3];
+  if (payload->size < sizeof dims + 1) return fail("payload too short");
   std::memcpy(dims, payload->bytes + payload->size - sizeof dims, sizeof dims);
+  // width x height x k entries of 3 bytes and one byte of tail padding; checked
+  // without a product that a crafted header could wrap.
+  const std::uint64_t entry_bytes = payload->size - sizeof dims - 1;
+  const std::uint64_t pixels = std::uint64_t(dims[0]) * dims[1];  // < 2^64: both below 2^32
+  if (dims[2] < 1 || dims[2] > std::uint32_t(kMaxNeighbors) ||
+      !count_fills_exactly(pixels, 3 * std::uint64_t(dims[2]), entry_bytes)) {
+    return fail("table dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + ", k " +
+                std::to_string(dims[2]) + " do not match the payload size (" + std::to_string(entry_bytes) +
+                " bytes of entries)");
+  }
+  if (int(dims[2]) != key.k) return fail("table k " + std::to_string(dims[2]) + " differs from its header's");
   // The table views the mapped file (no copy); the dims after it are its readable tail.
   try {
     return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(payload->owner),
                                       payload->bytes, payload->size - sizeof dims);
   } catch (const std::invalid_argument& e) {
-    if (error) *error = "cache " + file.string() + ": " + e.what();
-    return std::nullopt;
+    return fail(e.what());
   }
 }
 

@@ -10,6 +10,8 @@
 
 #include <fstream>
 
+#include <xxhash.h>
+
 #include "foveation/point_set_cache.hpp"
 #include "test_executor.hpp"
 
@@ -49,6 +51,20 @@ class CacheTest : public ::testing::Test {
     EXPECT_FALSE(fv::load_point_set(f, key_, &err).has_value());
     EXPECT_NE(err.find(why), std::string::npos) << err;
     EXPECT_NE(err.find(f.string()), std::string::npos) << "message names the file: " << err;
+  }
+
+  // The cache format (foveation/src/point_set_cache.cpp): a 136-byte header
+  // with payload_bytes at 80, payload_xxh3 at 88 and header_xxh3 (over bytes
+  // 0..127) at 128, then the payload. Recomputes the checksums so that a
+  // crafted payload passes every check but the one under test.
+  static constexpr std::size_t kHeaderBytes = 136;
+  static void reseal(std::vector<char>* bytes) {
+    const std::uint64_t payload_bytes = bytes->size() - kHeaderBytes;
+    const std::uint64_t payload_xxh3 = XXH3_64bits(bytes->data() + kHeaderBytes, payload_bytes);
+    std::memcpy(bytes->data() + 80, &payload_bytes, 8);
+    std::memcpy(bytes->data() + 88, &payload_xxh3, 8);
+    const std::uint64_t header_xxh3 = XXH3_64bits(bytes->data(), 128);
+    std::memcpy(bytes->data() + 128, &header_xxh3, 8);
   }
 
   fs::path dir_;
@@ -152,6 +168,73 @@ TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
   fv::PointSetKey k7 = key_;
   k7.k = 7;
   EXPECT_FALSE(fv::load_neighbor_table(tf, k7, &err).has_value());
+}
+
+// A checksummed point set whose count wraps count x 12 bytes to the real
+// payload size: rejected before any allocation, naming the file and the
+// field, and rebuilt by load_or_build_tables.
+TEST_F(CacheTest, PointCountThatWrapsThePayloadSizeIsRejected) {
+  const auto pf = fv::point_set_cache_path(dir_, key_);
+  ASSERT_EQ(fv::save_point_set(pf, key_, points_), "");
+  auto bytes = read(pf);
+  auto resealed = bytes;
+  reseal(&resealed);
+  ASSERT_EQ(resealed, bytes) << "the test's view of the format is out of date";
+  // Payload: canvas width and height (2 x u32), then the u64 point count.
+  constexpr std::size_t kCountOffset = kHeaderBytes + 8;
+  std::uint64_t n = 0;
+  std::memcpy(&n, bytes.data() + kCountOffset, sizeof n);
+  ASSERT_EQ(n, points_.size());
+  n += std::uint64_t{1} << 62;  // 12 * 2^62 = 3 * 2^64: the same size modulo 2^64
+  ASSERT_EQ(n * 12, points_.size() * 12);
+  std::memcpy(bytes.data() + kCountOffset, &n, sizeof n);
+  reseal(&bytes);
+  write(pf, bytes);
+
+  std::string err;
+  std::optional<fv::PointSet> loaded;
+  EXPECT_NO_THROW(loaded = fv::load_point_set(pf, key_, &err));
+  EXPECT_FALSE(loaded.has_value());
+  EXPECT_NE(err.find(pf.string()), std::string::npos) << err;
+  EXPECT_NE(err.find("point count " + std::to_string(n)), std::string::npos) << err;
+
+  std::vector<std::string> log;
+  fv::FoveationTables tables;
+  EXPECT_NO_THROW(tables = fv::load_or_build_tables(dir_, key_, fv::test::executor(), {},
+                                                    [&](const std::string& s) { log.push_back(s); }));
+  EXPECT_FALSE(tables.points_from_cache);
+  EXPECT_EQ(tables.points.size(), points_.size());
+  ASSERT_FALSE(log.empty());
+  EXPECT_NE(log[0].find(pf.string()), std::string::npos) << log[0];
+  EXPECT_NE(log[0].find("point count"), std::string::npos) << log[0];
+  EXPECT_NE(log[0].find("rebuilding"), std::string::npos) << log[0];
+  EXPECT_TRUE(fv::load_point_set(pf, key_, &err).has_value()) << "the cache is repaired: " << err;
+}
+
+// A checksummed neighbour table whose width x height x k x 3 wraps to its
+// one-byte payload (2^30 x 2^30 x 16 x 3 = 3 x 2^64) is rejected, naming the
+// file, instead of served as a table of 2^60 pixels over one byte.
+TEST_F(CacheTest, TableDimensionsThatWrapThePayloadSizeAreRejected) {
+  const auto tf = fv::neighbor_table_cache_path(dir_, key_);
+  ASSERT_EQ(fv::save_neighbor_table(tf, key_, table_), "");
+  auto bytes = read(tf);
+  auto resealed = bytes;
+  reseal(&resealed);
+  ASSERT_EQ(resealed, bytes) << "the test's view of the format is out of date";
+  // Payload: packed entries plus one byte of padding, then width, height, k (3 x u32).
+  const std::uint32_t dims[3] = {1u << 30, 1u << 30, 16};
+  bytes.resize(kHeaderBytes + 1 + sizeof dims);
+  bytes[kHeaderBytes] = 0;
+  std::memcpy(bytes.data() + kHeaderBytes + 1, dims, sizeof dims);
+  reseal(&bytes);
+  write(tf, bytes);
+
+  std::string err;
+  std::optional<fv::NeighborTable> loaded;
+  EXPECT_NO_THROW(loaded = fv::load_neighbor_table(tf, key_, &err));
+  EXPECT_FALSE(loaded.has_value()) << "served a table of " << loaded->pixel_count() << " pixels";
+  EXPECT_NE(err.find(tf.string()), std::string::npos) << err;
+  EXPECT_NE(err.find("table dimensions 1073741824x1073741824, k 16"), std::string::npos) << err;
 }
 
 TEST_F(CacheTest, LoadOrBuildRebuildsABadCacheAndSaysSo) {
