@@ -179,6 +179,52 @@ TEST(GltfLoaderErrors, AccessorPastEndOfBufferView) {
   EXPECT_NE(r.error.find(p.string()), std::string::npos) << r.error;
 }
 
+// Accessor counts whose element or byte arithmetic wraps size_t. Before checked arithmetic these
+// passed the bounds check (the wrapped byte length was small) and then wrote count elements into a
+// vector sized by the wrapped product: heap corruption and SIGSEGV in `fovea render`.
+namespace {
+void expect_accessor_overflow_rejected(const std::string& name, GltfDoc doc, const std::string& accessor_phrase) {
+  TempDir dir;
+  const auto p = write_embedded(dir.path, name, std::move(doc));
+  const LoadResult r = foveart::engine::load_scene(p.string());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find(p.string()), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find(accessor_phrase), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("overflow"), std::string::npos) << r.error;
+}
+}  // namespace
+
+TEST(GltfLoaderErrors, PositionCountTimesComponentsWraps) {
+  GltfDoc doc = unit_quad(false);
+  doc.json["accessors"][0]["count"] = 0x5555555555555556ull;  // x 3 components = 2^64 + 2; x 12 bytes wraps too
+  expect_accessor_overflow_rejected("pos_wrap", doc, "POSITION: accessor 0");
+}
+
+TEST(GltfLoaderErrors, PositionHugeCountByteLengthWraps) {
+  GltfDoc doc = unit_quad(false);
+  doc.json["accessors"][0]["count"] = 0x4000000000000001ull;  // (count - 1) x 12 bytes = 3 x 2^64 -> 0
+  expect_accessor_overflow_rejected("pos_huge", doc, "POSITION: accessor 0");
+}
+
+TEST(GltfLoaderErrors, TexcoordCountTimesComponentsWraps) {
+  GltfDoc doc = unit_quad(false);
+  doc.json["accessors"][2]["count"] = 0x8000000000000001ull;  // x 2 components = 2^64 + 2
+  expect_accessor_overflow_rejected("uv_wrap", doc, "TEXCOORD_0: accessor 2");
+}
+
+TEST(GltfLoaderErrors, StrideTimesCountWraps) {
+  GltfDoc doc = unit_quad(false);
+  doc.json["bufferViews"][0]["byteStride"] = 16;
+  doc.json["accessors"][0]["count"] = 0x1000000000000001ull;  // (count - 1) x 16-byte stride = 2^64 -> 0
+  expect_accessor_overflow_rejected("stride_wrap", doc, "POSITION: accessor 0");
+}
+
+TEST(GltfLoaderErrors, IndexCountTimesBytesWraps) {
+  GltfDoc doc = unit_quad(false);
+  doc.json["accessors"][3]["count"] = 0x8000000000000001ull;  // (count - 1) x 2 bytes = 2^64 -> 0
+  expect_accessor_overflow_rejected("idx_wrap", doc, "indices: accessor 3");
+}
+
 TEST(GltfLoaderErrors, UnsupportedRequiredExtension) {
   TempDir dir;
   GltfDoc doc = unit_quad(false);

@@ -34,6 +34,22 @@ struct BadInput : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// Size arithmetic on counts, offsets and strides read from the file: a result that
+// does not fit in size_t is a BadInput naming `where`, never a silently wrapped size.
+size_t checked_mul(size_t a, size_t b, const std::string& where) {
+  size_t r = 0;
+  if (__builtin_mul_overflow(a, b, &r))
+    throw BadInput(where + ": " + std::to_string(a) + " x " + std::to_string(b) + " overflows size_t");
+  return r;
+}
+
+size_t checked_add(size_t a, size_t b, const std::string& where) {
+  size_t r = 0;
+  if (__builtin_add_overflow(a, b, &r))
+    throw BadInput(where + ": " + std::to_string(a) + " + " + std::to_string(b) + " overflows size_t");
+  return r;
+}
+
 // Extensions the engine understands; any other *required* one is an error.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_lights_punctual", "KHR_materials_transmission", "KHR_materials_ior",
@@ -83,31 +99,36 @@ class Loader {
   std::vector<float> read_accessor(int index, const std::string& what, int* out_components) const {
     if (index < 0 || static_cast<size_t>(index) >= model_.accessors.size())
       throw BadInput(what + ": accessor " + std::to_string(index) + " does not exist");
+    const std::string where = what + ": accessor " + std::to_string(index);
     const tinygltf::Accessor& a = model_.accessors[index];
     const int ncomp = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
     const int csize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
-    if (ncomp <= 0 || csize <= 0 || ncomp > 16)
-      throw BadInput(what + ": accessor " + std::to_string(index) + " has an invalid type");
+    if (ncomp <= 0 || csize <= 0 || ncomp > 16) throw BadInput(where + " has an invalid type");
     *out_components = ncomp;
-    std::vector<float> out(a.count * static_cast<size_t>(ncomp), 0.0f);
-    if (a.bufferView >= 0) {
-      const uint8_t* base = nullptr;
-      size_t stride = 0;
-      view_range(a, a.bufferView, a.byteOffset, a.count, static_cast<size_t>(ncomp * csize), what,
-                 &base, &stride);
+    // The float count and its byte size must fit before anything is allocated or read.
+    const size_t nvalues = checked_mul(a.count, static_cast<size_t>(ncomp), where + " count x components");
+    checked_mul(nvalues, sizeof(float), where + " count x components x 4 bytes");
+    const uint8_t* base = nullptr;
+    size_t stride = 0;
+    if (a.bufferView >= 0)
+      view_range(a, a.bufferView, a.byteOffset, a.count, static_cast<size_t>(ncomp * csize), where, &base,
+                 &stride);
+    std::vector<float> out(nvalues, 0.0f);
+    if (base) {
       for (size_t i = 0; i < a.count; ++i)
         for (int c = 0; c < ncomp; ++c)
           out[i * ncomp + c] = component(base + i * stride + static_cast<size_t>(c * csize),
                                          a.componentType, a.normalized);
     }
-    if (a.sparse.isSparse) apply_sparse(a, ncomp, csize, what, out);
+    if (a.sparse.isSparse) apply_sparse(a, ncomp, csize, where, out);
     for (float v : out)
-      if (!std::isfinite(v)) throw BadInput(what + ": accessor " + std::to_string(index) +
-                                            " holds a non-finite value");
+      if (!std::isfinite(v)) throw BadInput(where + " holds a non-finite value");
     return out;
   }
 
-  // Checks that `count` elements of `elem_bytes` fit in the buffer view.
+  // Checks, with overflow-checked arithmetic, that `count` elements of `elem_bytes` at
+  // `offset` + i x stride lie inside the buffer view and the view inside its buffer.
+  // `what` names the accessor in every error.
   void view_range(const tinygltf::Accessor& a, int view_index, size_t offset, size_t count,
                   size_t elem_bytes, const std::string& what, const uint8_t** out_base,
                   size_t* out_stride) const {
@@ -124,11 +145,16 @@ class Loader {
     const size_t stride = s > 0 ? static_cast<size_t>(s) : elem_bytes;
     if (stride < elem_bytes && v.byteStride != 0)
       throw BadInput(what + ": byteStride smaller than an element");
+    if (offset > v.byteLength)
+      throw BadInput(what + ": byteOffset " + std::to_string(offset) + " lies past the end of bufferView " +
+                     std::to_string(view_index) + " (" + std::to_string(v.byteLength) + " bytes)");
     if (count > 0) {
-      const size_t need = offset + (count - 1) * stride + elem_bytes;
-      if (need > v.byteLength || offset > v.byteLength)
-        throw BadInput(what + ": accessor reads past the end of bufferView " +
-                       std::to_string(view_index));
+      const size_t last_at = checked_mul(count - 1, stride, what + " (count - 1) x byte stride");
+      const size_t end = checked_add(checked_add(offset, last_at, what + " byteOffset + (count - 1) x byte stride"),
+                                     elem_bytes, what + " byte range end");
+      if (end > v.byteLength)
+        throw BadInput(what + " reads past the end of bufferView " + std::to_string(view_index) + " (" +
+                       std::to_string(end) + " > " + std::to_string(v.byteLength) + " bytes)");
     }
     *out_base = b.data.data() + v.byteOffset + offset;
     *out_stride = stride;
@@ -214,13 +240,15 @@ class Loader {
       std::vector<float> f = read_accessor(index, what, &ncomp);
       return std::vector<uint32_t>(f.begin(), f.end());
     }
+    const std::string where = what + ": accessor " + std::to_string(index);
     const size_t isize = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(t)));
-    std::vector<uint32_t> out(a.count);
-    if (a.bufferView < 0) return out;
+    checked_mul(a.count, sizeof(uint32_t), where + " count x 4 bytes");
     const uint8_t* base = nullptr;
     size_t stride = 0;
-    view_range(a, a.bufferView, a.byteOffset, a.count, isize, what, &base, &stride);
-    for (size_t i = 0; i < a.count; ++i) out[i] = read_index(base + i * stride, t);
+    if (a.bufferView >= 0) view_range(a, a.bufferView, a.byteOffset, a.count, isize, where, &base, &stride);
+    std::vector<uint32_t> out(a.count);
+    if (base)
+      for (size_t i = 0; i < a.count; ++i) out[i] = read_index(base + i * stride, t);
     return out;
   }
 
@@ -240,10 +268,12 @@ class Loader {
       const tinygltf::Image& img = model_.images[source];
       const int comp = img.component;
       const int bytes = img.bits == 16 ? 2 : 1;
+      const std::string where = "image " + std::to_string(source) + " (" + img.uri + ")";
       if (img.width <= 0 || img.height <= 0 || comp < 1 || comp > 4 || (img.bits != 8 && img.bits != 16) ||
-          img.image.size() < static_cast<size_t>(img.width) * img.height * comp * bytes) {
-        scene_.warnings.push_back("image " + std::to_string(source) + " (" + img.uri +
-                                  ") could not be decoded; texture ignored");
+          img.image.size() < checked_mul(checked_mul(static_cast<size_t>(img.width), static_cast<size_t>(img.height),
+                                                     where + " width x height"),
+                                         static_cast<size_t>(comp * bytes), where + " texels x bytes")) {
+        scene_.warnings.push_back(where + " could not be decoded; texture ignored");
         continue;
       }
       Texture tex;
