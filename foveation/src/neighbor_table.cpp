@@ -219,8 +219,12 @@ NeighborTable NeighborTable::from_packed(int width_px, int height_px, int k, std
 
 NeighborTable NeighborTable::from_packed(int width_px, int height_px, int k, std::shared_ptr<const void> owner,
                                          const std::uint8_t* data, std::size_t size) {
-  if (k < 1 || k > kMaxNeighbors || width_px <= 0 || height_px <= 0 || data == nullptr ||
-      size != std::size_t(width_px) * std::size_t(height_px) * std::size_t(k) * 3 + 1) {
+  // Divide instead of multiplying: dimensions from a file must not wrap into a matching size.
+  const std::size_t entry_bytes = std::size_t(k) * 3;
+  const bool size_matches = k >= 1 && k <= kMaxNeighbors && width_px > 0 && height_px > 0 && size >= 1 &&
+                            (size - 1) % entry_bytes == 0 && (size - 1) / entry_bytes % std::size_t(width_px) == 0 &&
+                            (size - 1) / entry_bytes / std::size_t(width_px) == std::size_t(height_px);
+  if (data == nullptr || !size_matches) {
     throw std::invalid_argument("neighbour table: packed size does not match its dimensions");
   }
   NeighborTable t;

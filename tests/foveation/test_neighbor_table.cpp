@@ -123,3 +123,16 @@ TEST(NeighborTable, RejectsBadK) {
   EXPECT_THROW(fv::NeighborTable::build(ps, 21, fv::test::executor()), std::invalid_argument);
   EXPECT_THROW(fv::NeighborTable::build(lattice(4, 4, 2), 5, fv::test::executor()), std::invalid_argument);  // 4 points < k
 }
+
+namespace {
+
+// Dimensions whose product wraps size_t: 2^30 x 2^30 pixels x 16 neighbours x
+// 3 bytes is 3 x 2^64, which wrapped to 0, so a 1-byte buffer used to match.
+TEST(NeighborTable, PackedDimensionsThatWrapTheSizeAreRejected) {
+  EXPECT_THROW(fv::NeighborTable::from_packed(1 << 30, 1 << 30, 16, std::vector<std::uint8_t>(1)),
+               std::invalid_argument);
+  EXPECT_THROW(fv::NeighborTable::from_packed(4, 4, 0, std::vector<std::uint8_t>(1)), std::invalid_argument);
+  EXPECT_NO_THROW(fv::NeighborTable::from_packed(4, 2, 3, std::vector<std::uint8_t>(4 * 2 * 3 * 3 + 1)));
+}
+
+}  // namespace
