@@ -130,7 +130,9 @@ TEST_P(LayerMatchesFoveaRender, BothEyesEqualFoveaRenderBitForBit) {
   ASSERT_EQ(stats["views_fallback"], 0);
   ASSERT_EQ(stats["fallback_flags"], 0) << "the scripted gaze must be used, not fixed foveation";
 
-  // The pixel the layer foveated at, per eye, from its stats (the same every frame).
+  // The pixel the layer foveated the captured (last) frame at, per eye, from its
+  // stats. The first frame may come before the replay's first sample (lens
+  // centre); the last one used the gaze (fallback_flags above is the last frame's).
   const auto gaze_frames = stats["gaze_px_per_frame"];
   ASSERT_GE(gaze_frames.size(), 1u) << app.output;
   const char* eyes[2] = {"left", "right"};
@@ -146,10 +148,6 @@ TEST_P(LayerMatchesFoveaRender, BothEyesEqualFoveaRenderBitForBit) {
     for (double q : view["orientation_xyzw"].get<std::vector<double>>()) pose.push_back(q);
     const auto last = gaze_frames.back().get<std::vector<float>>();  // frame, x0, y0, x1, y1
     const glm::vec2 gaze_px(last[1 + 2 * e], last[2 + 2 * e]);
-    for (const auto& f : gaze_frames) {
-      ASSERT_EQ(f[1 + 2 * e].get<float>(), gaze_px.x) << "the scripted gaze is constant";
-      ASSERT_EQ(f[2 + 2 * e].get<float>(), gaze_px.y) << "the scripted gaze is constant";
-    }
     ASSERT_NE(gaze_px, glm::round(glm::vec2(kWidth, kHeight) * 0.5f)) << "the gaze must be off the lens centre";
 
     const auto prefix = env_->root() / (std::string("fovea_") + eyes[e]);
