@@ -225,7 +225,9 @@ NeighborTable NeighborTable::from_packed(int width_px, int height_px, int k, std
                             (size - 1) % entry_bytes == 0 && (size - 1) / entry_bytes % std::size_t(width_px) == 0 &&
                             (size - 1) / entry_bytes / std::size_t(width_px) == std::size_t(height_px);
   if (data == nullptr || !size_matches) {
-    throw std::invalid_argument("neighbour table: packed size does not match its dimensions");
+    throw std::invalid_argument("table dimensions " + std::to_string(width_px) + "x" + std::to_string(height_px) +
+                                ", k " + std::to_string(k) + " do not match the packed size (" + std::to_string(size) +
+                                " bytes)");
   }
   NeighborTable t;
   t.k_ = k;

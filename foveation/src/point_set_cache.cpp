@@ -212,24 +212,18 @@ std::optional<NeighborTable> load_neighbor_table(const std::filesystem::path& fi
   std::uint32_t dims[3];
   if (payload->size < sizeof dims + 1) return fail("payload too short");
   std::memcpy(dims, payload->bytes + payload->size - sizeof dims, sizeof dims);
-  // width x height x k entries of 3 bytes and one byte of tail padding; checked
-  // without a product that a crafted header could wrap.
-  const std::uint64_t entry_bytes = payload->size - sizeof dims - 1;
-  const std::uint64_t pixels = std::uint64_t(dims[0]) * dims[1];  // < 2^64: both below 2^32
-  if (dims[2] < 1 || dims[2] > std::uint32_t(kMaxNeighbors) ||
-      !count_fills_exactly(pixels, 3 * std::uint64_t(dims[2]), entry_bytes)) {
-    return fail("table dimensions " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + ", k " +
-                std::to_string(dims[2]) + " do not match the payload size (" + std::to_string(entry_bytes) +
-                " bytes of entries)");
-  }
-  if (int(dims[2]) != key.k) return fail("table k " + std::to_string(dims[2]) + " differs from its header's");
   // The table views the mapped file (no copy); the dims after it are its readable tail.
+  // from_packed checks the dimensions against the size without a product a
+  // crafted header could wrap, before anything reads the entries.
+  std::optional<NeighborTable> table;
   try {
-    return NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(payload->owner),
-                                      payload->bytes, payload->size - sizeof dims);
+    table = NeighborTable::from_packed(int(dims[0]), int(dims[1]), int(dims[2]), std::move(payload->owner),
+                                       payload->bytes, payload->size - sizeof dims);
   } catch (const std::invalid_argument& e) {
     return fail(e.what());
   }
+  if (table->k() != key.k) return fail("table k " + std::to_string(table->k()) + " differs from its header's");
+  return table;
 }
 
 namespace {
