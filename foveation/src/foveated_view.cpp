@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <numbers>
 #include <stdexcept>
 
 #include "foveation/interpolation_cache.hpp"
@@ -28,6 +29,11 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 bool same_view(const FoveartEyeView& a, const FoveartEyeView& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 }  // namespace
+
+DisplayModel display_of_view(const FoveartEyeView& view) {
+  const double span_rad = double(view.angle_right_rad) - double(view.angle_left_rad);
+  return DisplayModel::from_fov(int(view.width_px), int(view.height_px), span_rad * 180.0 / std::numbers::pi);
+}
 
 int neighbor_count(const InterpOptions& interpolation) {
   return interpolation.method == InterpMethod::nn ? std::max(4, interpolation.k) : interpolation.k;

@@ -109,7 +109,7 @@ struct FoveatedRenderer::Frames {
 
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
                   XrFoveatedRendererStatsFOVEART* stats);
-  std::shared_ptr<const foveation::ViewTables> tables_for(uint32_t w, uint32_t h, const XrFovf& fov);
+  std::shared_ptr<const foveation::ViewTables> tables_for(const FoveartEyeView& view);
   void build_tables();
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
@@ -162,19 +162,17 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
   return rewritten;
 }
 
-std::shared_ptr<const foveation::ViewTables> FoveatedRenderer::Frames::tables_for(uint32_t w, uint32_t h,
-                                                                                  const XrFovf& fov) {
-  const double fov_rad = static_cast<double>(fov.angleRight) - static_cast<double>(fov.angleLeft);
-  const TableKey key{w, h, std::llround(fov_rad * 1e6)};
+std::shared_ptr<const foveation::ViewTables> FoveatedRenderer::Frames::tables_for(const FoveartEyeView& view) {
+  const double span_rad = static_cast<double>(view.angle_right_rad) - static_cast<double>(view.angle_left_rad);
+  const TableKey key{view.width_px, view.height_px, std::llround(span_rad * 1e6)};
   std::unique_lock lock(build_mutex);
   auto it = tables.find(key);
   if (it == tables.end()) {
     foveation::PointSetKey psk;
-    psk.display = foveation::DisplayModel::from_fov(static_cast<int>(w), static_cast<int>(h),
-                                                    fov_rad * 180.0 / 3.14159265358979323846);
+    psk.display = foveation::display_of_view(view);
     psk.display.scale = static_cast<double>(settings.density_scale);
     psk.seed = kSeed;
-    log(LogLevel::Info, "foveated renderer: preparing tables for ", w, "x", h, " (cache ", cache_dir(settings).string(),
+    log(LogLevel::Info, "foveated renderer: preparing tables for ", view.width_px, "x", view.height_px, " (cache ", cache_dir(settings).string(),
         ")");
     it = tables.emplace(key, TableSlot{}).first;
     build_queue.emplace_back(key, psk);
@@ -224,7 +222,9 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   if (extent.width <= 0 || extent.height <= 0) return false;
   const auto w = static_cast<uint32_t>(extent.width);
   const auto h = static_cast<uint32_t>(extent.height);
-  auto view_tables = tables_for(w, h, view.fov);
+  foveation::FrameRequest request;
+  request.view = eye_view_of(e, view.pose, view.fov, w, h);
+  auto view_tables = tables_for(request.view);
   if (view_tables == nullptr) {
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
     return false;
@@ -244,8 +244,6 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     eye.view = std::make_unique<foveation::FoveatedView>(view_tables, view_settings(settings));
   }
 
-  foveation::FrameRequest request;
-  request.view = eye_view_of(e, view.pose, view.fov, w, h);
   request.frame_index = frame_index;
   request.saccade = frame_gaze.valid && frame_gaze.saccade;
   const foveation::EyeFrustum frustum = foveation::eye_frustum(request.view);

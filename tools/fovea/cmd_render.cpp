@@ -96,9 +96,9 @@ std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
                         std::atan(0.5 * d->height_px / d->view_distance_px)};
 }
 
-// The display the foveated view's tables are built for: the preset's, or for
-// another size or an explicit view the display of its horizontal span, computed
-// from the float angles exactly as the layer does for a submitted XrView.
+// The display the foveated view's tables are built for: the preset's; for
+// another size, the preset's horizontal FOV at that size; for an explicit view
+// (--fov), the display the layer builds for that view (display_of_view).
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, const FoveartEyeView& view,
                                                         std::string* error) {
   std::optional<foveation::DisplayModel> display = foveation::display_preset(o.preset);
@@ -107,9 +107,7 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
     return std::nullopt;
   }
   if (o.fov_deg) {
-    const double fov_deg =
-        (static_cast<double>(view.angle_right_rad) - static_cast<double>(view.angle_left_rad)) * 180.0 / kPi;
-    display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px), fov_deg);
+    display = foveation::display_of_view(view);
   } else if (static_cast<uint32_t>(display->width_px) != view.width_px ||
              static_cast<uint32_t>(display->height_px) != view.height_px) {
     display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px),

@@ -47,6 +47,11 @@ struct ViewTables {
   double load_ms = 0.0;     // load or build, all three
 };
 
+// The display whose tables fit a submitted view: its size and its horizontal
+// span (DisplayModel::from_fov), from the view's float angles. The layer and
+// `fovea render --fov` both call this, so they build the same point set.
+DisplayModel display_of_view(const FoveartEyeView& view);
+
 // Neighbours per canvas pixel the tables keep for a method: k, and at least 4
 // for NN, so that a pixel whose nearest point was not traced (beyond the
 // visible margin) falls back to the next nearest traced one.
