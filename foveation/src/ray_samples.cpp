@@ -27,21 +27,16 @@ RaySamples generate_ray_samples(const PointSet& points, const VisiblePoints& vis
   out.spp = spp;
   out.sample_px.resize(visible.size() * std::size_t(spp));
   out.point_index.resize(visible.size() * std::size_t(spp));
-  write_ray_samples(points, visible, spp, seed, out.sample_px.data(), out.point_index.data());
-  return out;
-}
-
-void write_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp, std::uint64_t seed,
-                       glm::vec2* out_sample_px, std::uint32_t* out_point_index) {
   for (std::size_t v = 0; v < visible.size(); ++v) {
     const std::uint32_t p = visible.point_index[v];
     const float radius = points.radius_px[p];
     for (int s = 0; s < spp; ++s) {
       const std::size_t o = v * std::size_t(spp) + std::size_t(s);
-      out_sample_px[o] = visible.screen_px[v] + unit_disc_sample(seed, p, s) * radius;
-      out_point_index[o] = p;
+      out.sample_px[o] = visible.screen_px[v] + unit_disc_sample(seed, p, s) * radius;
+      out.point_index[o] = p;
     }
   }
+  return out;
 }
 
 }  // namespace foveart::foveation

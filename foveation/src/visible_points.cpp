@@ -1,31 +1,23 @@
 // Visible-point selection at a gaze (thesis 4.2: screen plus a 10 px margin).
 #include "foveation/visible_points.hpp"
 
-#include <algorithm>
-
 namespace foveart::foveation {
 
 VisiblePoints select_visible_points(const PointSet& points, const GazeMapping& mapping, float margin_px) {
   VisiblePoints out;
   out.point_index.reserve(points.size() / 2);
   out.screen_px.reserve(points.size() / 2);
-  select_visible_points_in(points, mapping, margin_px, 0, points.size(), &out);
-  return out;
-}
-
-void select_visible_points_in(const PointSet& points, const GazeMapping& mapping, float margin_px,
-                              std::size_t first, std::size_t last, VisiblePoints* out) {
   const VisibleRegion region(mapping, margin_px);
   // A linear scan keeps the Morton order (stable, cache-friendly for the callback)
   // and costs ~1 ms for the FOVE set.
-  last = std::min(last, points.size());
-  for (std::size_t i = first; i < last; ++i) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
     const glm::vec2 s = region.to_screen(points.position_px[i]);
     if (region.contains(s)) {
-      out->point_index.push_back(std::uint32_t(i));
-      out->screen_px.push_back(s);
+      out.point_index.push_back(std::uint32_t(i));
+      out.screen_px.push_back(s);
     }
   }
+  return out;
 }
 
 }  // namespace foveart::foveation

@@ -27,12 +27,6 @@ struct RaySamples {
 RaySamples generate_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp,
                                 std::uint64_t seed);
 
-// generate_ray_samples into caller-owned arrays of visible.size() * spp
-// entries (sample s of visible point v at [v * spp + s]), so threads can each
-// fill their part of one frame's arrays. spp >= 1 (not checked here).
-void write_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp, std::uint64_t seed,
-                       glm::vec2* out_sample_px, std::uint32_t* out_point_index);
-
 // The offsets alone: sample s of point `point_index` inside a unit disc, pure function.
 glm::vec2 unit_disc_sample(std::uint64_t seed, std::uint32_t point_index, int s);
 

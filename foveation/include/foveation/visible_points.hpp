@@ -44,10 +44,4 @@ struct VisiblePoints {
 VisiblePoints select_visible_points(const PointSet& points, const GazeMapping& mapping,
                                     float margin_px = kVisibleMarginPx);
 
-// The same over the points [first, last) only, appended to *out (still
-// ascending): concatenating consecutive ranges gives select_visible_points,
-// so callers can split the scan over threads.
-void select_visible_points_in(const PointSet& points, const GazeMapping& mapping, float margin_px,
-                              std::size_t first, std::size_t last, VisiblePoints* out);
-
 }  // namespace foveart::foveation
