@@ -5,6 +5,7 @@
 #include "foveation/device.hpp"
 
 #include <array>
+#include <limits>
 #include <sstream>
 
 namespace foveart::foveation {
@@ -49,6 +50,26 @@ double DisplayModel::horizontal_fov_deg() const {
   return 2.0 * std::atan(0.5 * width_px / view_distance_px) * kDegPerRad;
 }
 
+double DisplayModel::pixel_grid_radius_px() const {
+  if (fovea_pattern != FoveaPattern::kPixelGrid) return 0.0;
+  const double ecc_deg = pixel_grid_ecc_deg(display_cpd(), csf);
+  if (!(ecc_deg > 0.0)) return 0.0;
+  // Invert eq. 1 with its scale: e = atan(d / D) * scale.
+  const double angle_rad = ecc_deg / scale / kDegPerRad;
+  if (angle_rad >= 0.5 * std::numbers::pi) return std::numeric_limits<double>::infinity();
+  return view_distance_px * std::tan(angle_rad);
+}
+
+std::string_view fovea_pattern_name(FoveaPattern pattern) {
+  return pattern == FoveaPattern::kThesisPoisson ? "thesis" : "pixel-grid";
+}
+
+std::optional<FoveaPattern> parse_fovea_pattern(std::string_view name) {
+  if (name == "pixel-grid") return FoveaPattern::kPixelGrid;
+  if (name == "thesis") return FoveaPattern::kThesisPoisson;
+  return std::nullopt;
+}
+
 std::string DisplayModel::validate() const {
   std::ostringstream err;
   if (width_px <= 0 || height_px <= 0) {
@@ -77,6 +98,7 @@ std::optional<DisplayModel> display_preset(std::string_view name) {
     d = DisplayModel::from_fov(1080, 1200, 110.0);  // HTC Vive: 2160x1200, ~110 deg
   } else if (name == "thesis") {
     d = DisplayModel::from_thesis(1280, 1440, kThesisViewDistanceWidths);
+    d.fovea_pattern = FoveaPattern::kThesisPoisson;
   } else {
     return std::nullopt;
   }

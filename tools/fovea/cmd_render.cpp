@@ -114,6 +114,9 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
                                                 display->horizontal_fov_deg());
   }
   display->scale = o.scale;
+  // The preset's pattern unless one is asked for (from_fov and display_of_view give the default).
+  display->fovea_pattern = foveation::display_preset(o.preset)->fovea_pattern;
+  if (!o.pattern.empty()) display->fovea_pattern = *foveation::parse_fovea_pattern(o.pattern);
   if (std::string bad = display->validate(); !bad.empty()) {
     *error = "display: " + bad;
     return std::nullopt;
@@ -172,6 +175,8 @@ std::string check(const RenderOptions& o) {
   if (o.spp < 1 || o.spp > 1024) return "--spp must be in 1..1024";
   if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
   if (!(o.scale > 0.0) || o.scale > 100.0) return "--scale must be in (0, 100]";
+  if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
+    return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";
   if (o.frames < 1 || o.frames > 1000) return "--frames must be in 1..1000";
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
@@ -244,6 +249,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   const int k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
   std::unique_ptr<foveation::FoveatedView> foveated;
   double precompute_ms = 0.0;
+  foveation::FoveaPattern fov_display_pattern = foveation::FoveaPattern::kPixelGrid;
   if (run_foveated) {
     std::string bad;
     const std::optional<foveation::DisplayModel> display = foveated_display(o, view, &bad);
@@ -251,6 +257,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       err << "fovea render: " << bad << "\n";
       return 1;
     }
+    fov_display_pattern = display->fovea_pattern;
     foveation::PointSetKey key;
     key.display = *display;
     key.seed = o.seed;
@@ -322,6 +329,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     report["points"] = fov_points;
     report["foveated"] = {{"rays", rays_json(fov_rays)}, {"lanes_per_packet", lanes_per_packet(fov_rays)},
                           {"method", o.method}, {"k", k}, {"scale", o.scale},
+                          {"pattern", foveation::fovea_pattern_name(fov_display_pattern)},
                           {"precompute_ms", precompute_ms}, {"trace_ms", fov_times.median_trace_ms()},
                           {"samples_ms", fov_times.median_samples_ms()},
                           {"reconstruct_ms", fov_times.median_reconstruct_ms()},
@@ -433,6 +441,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--method", opts->method, "Reconstruction: nn, msm or rbf-mq")->capture_default_str();
   cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (default: 1 for nn, 5 otherwise)");
   cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
+  cmd->add_option("--pattern", opts->pattern,
+                  "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,
                   "Frames per mode, modes interleaved; times are each mode's median frame")
       ->capture_default_str();

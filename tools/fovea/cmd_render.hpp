@@ -29,6 +29,7 @@ struct RenderOptions {
   int spp = 1;
   int k = 0;                      // 0: 1 for nn, 5 otherwise
   double scale = 1.0;
+  std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
   std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)

@@ -33,13 +33,28 @@ void add_display_options(CLI::App* cmd, DisplayOptions& o) {
   cmd->add_option("--scale", o.scale, "density scale (multiplies eccentricity), > 0")->capture_default_str();
   cmd->add_option("--disc-rule", o.disc_rule, "min-distance (thesis Table 1) or non-overlapping")
       ->capture_default_str();
+  add_pattern_option(cmd, o.pattern);
   cmd->add_option("--seed", o.seed, "point set seed")->capture_default_str();
+}
+
+void add_pattern_option(CLI::App* cmd, std::optional<std::string>& pattern) {
+  cmd->add_option("--pattern", pattern,
+                  "fovea sampling: pixel-grid (one point per pixel where the eye resolves pixels; default) or "
+                  "thesis (Poisson everywhere, thesis Table 1; the thesis preset's)");
+}
+
+std::optional<foveation::FoveaPattern> resolve_pattern(const std::optional<std::string>& pattern) {
+  if (!pattern) return std::nullopt;
+  const auto parsed = foveation::parse_fovea_pattern(*pattern);
+  if (!parsed) throw CLI::ValidationError("--pattern", "expected pixel-grid or thesis, got '" + *pattern + "'");
+  return parsed;
 }
 
 foveation::DisplayModel resolve_display(const DisplayOptions& o) {
   auto preset = foveation::display_preset(o.preset);
   if (!preset) throw CLI::ValidationError("--preset", "unknown preset '" + o.preset + "'");
   foveation::DisplayModel d = *preset;
+  const foveation::FoveaPattern preset_pattern = d.fovea_pattern;
   const int w = size_px(o.width_px, d.width_px, "--width");
   const int h = size_px(o.height_px, d.height_px, "--height");
   if (o.fov_deg) {
@@ -70,6 +85,7 @@ foveation::DisplayModel resolve_display(const DisplayOptions& o) {
   } else {
     throw CLI::ValidationError("--disc-rule", "expected min-distance or non-overlapping, got '" + o.disc_rule + "'");
   }
+  d.fovea_pattern = resolve_pattern(o.pattern).value_or(preset_pattern);
   if (auto err = d.validate(); !err.empty()) throw CLI::ValidationError("display", err);
   return d;
 }

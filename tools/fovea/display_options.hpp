@@ -22,11 +22,17 @@ struct DisplayOptions {
   std::optional<double> pixels_per_degree;  // > 0, finite
   double scale = 1.0;                       // > 0, finite
   std::string disc_rule = "min-distance";
+  std::optional<std::string> pattern;       // pixel-grid | thesis; unset: the preset's
   std::uint64_t seed = 1;
 };
 
-// Adds --preset --width --height --fov-deg --pixels-per-degree --scale --disc-rule --seed.
+// Adds --preset --width --height --fov-deg --pixels-per-degree --scale --disc-rule --pattern --seed.
 void add_display_options(CLI::App* cmd, DisplayOptions& opts);
+
+// --pattern alone, for commands with their own display options (fovea render).
+void add_pattern_option(CLI::App* cmd, std::optional<std::string>& pattern);
+// The pattern given, or nullopt when unset; throws CLI::ValidationError for a bad name.
+std::optional<foveation::FoveaPattern> resolve_pattern(const std::optional<std::string>& pattern);
 
 // The display the options describe; throws CLI::ValidationError naming the
 // option and the bad value.

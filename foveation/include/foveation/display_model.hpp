@@ -64,6 +64,28 @@ inline float min_point_distance_px(DiscRule rule, float ri, float rj) {
   return rule == DiscRule::kNonOverlapping ? ri + rj : std::fmax(ri, rj);
 }
 
+// What samples the fovea (docs/foveation.md, "The pixel-exact fovea").
+enum class FoveaPattern : int {
+  // Where the eye resolves every pixel (f_c >= f_d, eqs. 2-4) one point at each
+  // pixel centre, sampled over the pixel's own square; beyond it the perceptual
+  // Poisson set, at most one point per pixel. The default.
+  kPixelGrid = 0,
+  // The thesis's reading: the Poisson set everywhere with p as its minimum
+  // distance (reproduces thesis Table 1; about two points per pixel at the fovea).
+  kThesisPoisson = 1,
+};
+
+// "pixel-grid" | "thesis", as the command-line tools spell them.
+std::string_view fovea_pattern_name(FoveaPattern pattern);
+std::optional<FoveaPattern> parse_fovea_pattern(std::string_view name);
+
+// Largest eccentricity (degrees, scaled like eccentricity_deg) at which the
+// CSF cut-off still reaches the display's Nyquist frequency: f_c(e) = f_d
+// solved for e (eqs. 2-3). Negative when even the fovea does not resolve a pixel.
+inline double pixel_grid_ecc_deg(double display_cpd, const CsfParams& csf = {}) {
+  return csf.e2_deg * std::log(1.0 / csf.ct0) / (csf.alpha * display_cpd) - csf.e2_deg;
+}
+
 // One eye's display as the foveation sees it.
 struct DisplayModel {
   std::string name = "custom";
@@ -72,6 +94,7 @@ struct DisplayModel {
   double view_distance_px = 0.0;  // D = N v; pixels per degree at the centre = D pi / 180
   double scale = 1.0;             // density scaling factor, multiplies eccentricity
   DiscRule disc_rule = DiscRule::kMinDistance;
+  FoveaPattern fovea_pattern = FoveaPattern::kPixelGrid;
   CsfParams csf{};
 
   // Display by per-eye resolution and horizontal field of view (pinhole, symmetric).
@@ -95,12 +118,17 @@ struct DisplayModel {
     return point_radius_px(display_cpd(), cutoff_cpd(distance_px));
   }
   double horizontal_fov_deg() const;
+  // Radius (pixels from the centre of interest) of the region the pixel grid
+  // samples: where f_c >= f_d. 0 for the thesis pattern or a display whose
+  // fovea does not resolve a pixel; +inf when the eye resolves every pixel.
+  double pixel_grid_radius_px() const;
 
   // Empty string when usable, else what is wrong (sizes, FOV, scale, finite values).
   std::string validate() const;
 };
 
-// Named presets: "fove", "vive", "thesis". Empty for an unknown name.
+// Named presets: "fove", "vive", "thesis" (the thesis's display and its
+// Poisson reading, FoveaPattern::kThesisPoisson). Empty for an unknown name.
 std::optional<DisplayModel> display_preset(std::string_view name);
 std::vector<std::string> display_preset_names();
 
