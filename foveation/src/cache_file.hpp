@@ -27,10 +27,13 @@ ByteSpan bytes_of(const T* data, std::size_t count) {
 // XXH3-64 of the pieces, as if concatenated.
 std::uint64_t xxh3_of(std::span<const ByteSpan> pieces);
 
-// Writes the pieces to `file` through `file`.tmp and a rename (readers never
-// see a partial file), creating the directory, in 1 MB writes (one 442 MB
-// write measured 5-10x slower here). Returns an error naming the file, empty
-// on success; the temp file is removed on failure.
+// Writes the pieces to `file`: into a new temp file `.<name>.<random>.tmp` in
+// the same directory (O_CREAT | O_EXCL | O_NOFOLLOW: never an existing file or
+// a planted symlink), fsync, then rename over `file`. Readers and concurrent
+// writers never see a partial file under the final name; a symlink at the
+// final name is replaced, never followed. Creates the directory; writes in
+// 1 MB pieces (one 442 MB write measured 5-10x slower here). Returns an error
+// naming the file, empty on success; every failure removes the temp file.
 std::string write_file_atomically(const std::filesystem::path& file, std::span<const ByteSpan> pieces);
 
 // A read-only private mapping of a whole file (bytes == nullptr when it is
