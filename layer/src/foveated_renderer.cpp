@@ -3,6 +3,7 @@
 // layer's swapchain, the rewritten subImage out. Gaze comes from the
 // renderer's gaze source; tables are built in the background per view size.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -12,13 +13,16 @@
 #include <mutex>
 #include <thread>
 #include <map>
+#include <optional>
 #include <tuple>
 
 #include "eye_swapchain.hpp"
+#include "foveation/cache_dir.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
 #include "gaze_source.hpp"
 #include "log.hpp"
+#include "next_chain.hpp"
 #include "renderer.hpp"
 #include "xr_glm.hpp"
 
@@ -32,16 +36,21 @@ float ms_since(Clock::time_point t0) { return std::chrono::duration<float, std::
 // static gaze then gives what `fovea render --mode foveated` gives for the view.
 constexpr std::uint64_t kSeed = 1;
 
-std::filesystem::path cache_dir(const RendererSettings& settings) {
-  if (!settings.cache_dir.empty()) return settings.cache_dir;
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x != nullptr && x[0] != '\0') {
-    return std::filesystem::path(x) / "foveart";
-  }
-  if (const char* h = std::getenv("HOME"); h != nullptr && h[0] != '\0') {
-    return std::filesystem::path(h) / ".cache" / "foveart";
-  }
-  return std::filesystem::temp_directory_path() / "foveart";
+// The config's cache_dir, else foveation's default; nullopt (no cache) with *why
+// when the default directory is refused.
+std::optional<std::filesystem::path> cache_dir(const RendererSettings& settings, std::string* why) {
+  if (!settings.cache_dir.empty()) return std::filesystem::path(settings.cache_dir);
+  return foveation::default_cache_dir(why);
 }
+
+// Thrown from a table build's progress callback when nobody needs the build any
+// more (renderer destroyed, key evicted). Not a std::exception: nothing on the
+// way mistakes it for a build error.
+struct BuildCancelled {};
+
+// Table sets held at once: both eyes' current sizes and the previous ones. A
+// view size changing every frame (dynamic resolution) evicts the least recently used.
+constexpr std::size_t kMaxTableSets = 4;
 
 int64_t steady_now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
@@ -80,9 +89,15 @@ XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
 
 struct FoveatedRenderer::Frames {
   using TableKey = std::tuple<uint32_t, uint32_t, int64_t>;  // w, h, horizontal FOV in micro-radians
+  enum class SlotState { queued, building, ready, failed };
   struct TableSlot {
-    bool built = false;  // the builder is done with it
-    std::shared_ptr<const foveation::ViewTables> ready;  // null when the build failed: fallback for good
+    SlotState state = SlotState::queued;
+    std::shared_ptr<const foveation::ViewTables> ready;  // when state == ready
+    uint64_t last_used = 0;  // frame index, for LRU eviction
+  };
+  struct Tables {
+    std::shared_ptr<const foveation::ViewTables> ready;  // null: not (yet) there
+    bool failed = false;  // the build failed: this view size falls back for good
   };
   struct Eye {
     std::unique_ptr<EyeSwapchain> swapchain;
@@ -90,11 +105,17 @@ struct FoveatedRenderer::Frames {
     bool failed = false;  // swapchain creation failed: this eye falls back for good
   };
 
-  Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in)
-      : session(std::move(session_in)), settings(settings_in), executor(settings_in.worker_threads) {
+  Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in, InputCounters& input_in)
+      : session(std::move(session_in)), settings(settings_in), input(input_in), executor(settings_in.worker_threads) {
     std::string warning;
     gaze = create_gaze_source(settings, *session, &warning);
     if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
+    std::string why;
+    cache = cache_dir(settings, &why);
+    if (!cache) {
+      ++input.cache_failures;
+      log(LogLevel::Warn, "foveated renderer: ", why, "; tables are built without a cache (counted in the stats)");
+    }
     builder = std::thread([this] { build_tables(); });
   }
 
@@ -103,36 +124,44 @@ struct FoveatedRenderer::Frames {
       std::lock_guard lock(build_mutex);
       stop_building = true;
     }
+    cancel_build = true;  // the build in progress stops at its next progress report
     build_wake.notify_all();
-    builder.join();  // a build in progress finishes first
+    builder.join();
   }
 
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
-                  XrFoveatedRendererStatsFOVEART* stats);
-  std::shared_ptr<const foveation::ViewTables> tables_for(const FoveartEyeView& view);
+                  const std::vector<bool>& rect_valid, XrFoveatedRendererStatsFOVEART* stats);
+  Tables tables_for(const FoveartEyeView& view);
+  void evict_least_recently_used();  // under build_mutex
   void build_tables();
+  void cache_problem(const std::string& message);
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
 
   std::shared_ptr<SessionState> session;
   RendererSettings settings;
+  InputCounters& input;  // the renderer's; outlives this
+  std::optional<std::filesystem::path> cache;  // null: no usable cache directory
   foveation::Executor executor;  // frames and table builds share its workers
   std::unique_ptr<GazeSource> gaze;
   // Tables per view size, built one after another on the builder thread
-  // (seconds each): frames never wait for them unless wait_for_tables.
+  // (seconds each): frames never wait for them unless wait_for_tables. At most
+  // kMaxTableSets are held; the least recently used goes first.
   std::mutex build_mutex;
   std::condition_variable build_wake, build_done;
   std::deque<std::pair<TableKey, foveation::PointSetKey>> build_queue;
   std::map<TableKey, TableSlot> tables;
   bool stop_building = false;
+  std::atomic<bool> cancel_build{false};  // the build in progress is not needed any more
   std::thread builder;  // started once with the renderer
   Eye eyes[2];
   uint64_t frame_index = 0;
-  LogOnce callback_once, colour_once, upload_once, internal_once;
+  LogOnce callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
+      behind_once, rect_once, failed_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
-                                          XrCompositionLayerProjectionView* views,
+                                          XrCompositionLayerProjectionView* views, const std::vector<bool>& rect_valid,
                                           XrFoveatedRendererStatsFOVEART* stats) {
   ++frame_index;
   // XrTime on Linux runtimes is CLOCK_MONOTONIC (= steady_clock); a clock far
@@ -154,6 +183,19 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
   uint32_t rewritten = 0;
   const uint32_t eye_count = std::min<uint32_t>(layer.viewCount, 2);
   for (uint32_t e = 0; e < eye_count; ++e) {
+    if (e >= rect_valid.size() || !rect_valid[e]) {
+      // The runtime judges the app's rect; the layer neither traces nor rewrites it.
+      ++input.invalid_image_rect_views;
+      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_INVALID_IMAGE_RECT_BIT_FOVEART;
+      if (rect_once.first()) {
+        const auto& r = views[e].subImage.imageRect;
+        log(LogLevel::Warn, "foveated renderer: eye ", e, ": imageRect (", r.offset.x, ",", r.offset.y, ") ",
+            r.extent.width, "x", r.extent.height, " lies outside its swapchain image; forwarded as the app sent it, "
+            "not ray traced (logged once, counted in the stats)");
+      }
+      ++stats->framesFallback;
+      continue;
+    }
     if (render_eye(e, frame_gaze, views[e], stats)) ++rewritten;
     else ++stats->framesFallback;
   }
@@ -162,28 +204,57 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
   return rewritten;
 }
 
-std::shared_ptr<const foveation::ViewTables> FoveatedRenderer::Frames::tables_for(const FoveartEyeView& view) {
+FoveatedRenderer::Frames::Tables FoveatedRenderer::Frames::tables_for(const FoveartEyeView& view) {
   const double span_rad = static_cast<double>(view.angle_right_rad) - static_cast<double>(view.angle_left_rad);
   const TableKey key{view.width_px, view.height_px, std::llround(span_rad * 1e6)};
   std::unique_lock lock(build_mutex);
   auto it = tables.find(key);
   if (it == tables.end()) {
+    while (tables.size() >= kMaxTableSets) evict_least_recently_used();
     foveation::PointSetKey psk;
     psk.display = foveation::display_of_view(view);
     psk.display.scale = static_cast<double>(settings.density_scale);
     psk.seed = kSeed;
-    log(LogLevel::Info, "foveated renderer: preparing tables for ", view.width_px, "x", view.height_px, " (cache ", cache_dir(settings).string(),
-        ")");
+    log(LogLevel::Info, "foveated renderer: preparing tables for ", view.width_px, "x", view.height_px, " (cache ",
+        cache ? cache->string() : std::string("none"), ")");
     it = tables.emplace(key, TableSlot{}).first;
+    input.table_sets_resident = static_cast<uint32_t>(tables.size());
     build_queue.emplace_back(key, psk);
     build_wake.notify_one();
   }
   TableSlot& slot = it->second;
-  if (!slot.built) {
-    if (!settings.wait_for_tables) return nullptr;  // warming up
-    build_done.wait(lock, [&] { return slot.built; });
+  slot.last_used = frame_index;
+  if (settings.wait_for_tables) {
+    build_done.wait(lock, [&] { return slot.state == SlotState::ready || slot.state == SlotState::failed; });
   }
-  return slot.ready;
+  return Tables{slot.ready, slot.state == SlotState::failed};
+}
+
+void FoveatedRenderer::Frames::evict_least_recently_used() {
+  auto victim = std::min_element(tables.begin(), tables.end(),
+                                 [](const auto& a, const auto& b) { return a.second.last_used < b.second.last_used; });
+  if (victim->second.state == SlotState::queued) {
+    std::erase_if(build_queue, [&](const auto& entry) { return entry.first == victim->first; });
+  } else if (victim->second.state == SlotState::building) {
+    cancel_build = true;
+  }
+  tables.erase(victim);
+  ++input.table_sets_evicted;
+  input.table_sets_resident = static_cast<uint32_t>(tables.size());
+  if (evicted_once.first()) {
+    log(LogLevel::Info, "foveated renderer: the view size keeps changing; table sets beyond ", kMaxTableSets,
+        " are dropped, least recently used first (logged once, counted in the stats)");
+  }
+}
+
+void FoveatedRenderer::Frames::cache_problem(const std::string& message) {
+  // foveation's loaders end a rejection with "; rebuilding"; anything else is a cache that cannot be written.
+  const bool rejected = message.ends_with("; rebuilding");
+  ++(rejected ? input.cache_files_rejected : input.cache_failures);
+  LogOnce& once = rejected ? rejected_once : unwritable_once;
+  const LogLevel level = once.first() ? LogLevel::Warn : LogLevel::Debug;
+  log(level, "foveated renderer: ", rejected ? "cache file rejected: " : "cache not written: ", message,
+      level == LogLevel::Warn ? " (logged once, counted in the stats)" : "");
 }
 
 void FoveatedRenderer::Frames::build_tables() {
@@ -193,20 +264,38 @@ void FoveatedRenderer::Frames::build_tables() {
     if (stop_building) return;
     const auto [key, psk] = build_queue.front();
     build_queue.pop_front();
+    auto it = tables.find(key);
+    if (it == tables.end()) continue;
+    it->second.state = SlotState::building;
+    cancel_build = false;
     lock.unlock();
     std::shared_ptr<const foveation::ViewTables> built;
+    std::string error;
+    bool cancelled = false;
     try {
-      const auto dir = cache_dir(settings);
-      std::error_code ec;
-      std::filesystem::create_directories(dir, ec);
-      built = foveation::load_view_tables(dir, psk, interp_options(settings), executor);
+      built = foveation::load_view_tables(
+          cache, psk, interp_options(settings), executor, std::nullopt,
+          [this](double) {
+            if (cancel_build.load(std::memory_order_relaxed)) throw BuildCancelled{};
+          },
+          [this](const std::string& message) { cache_problem(message); });
+    } catch (const BuildCancelled&) {
+      cancelled = true;
     } catch (const std::exception& e) {
-      log(LogLevel::Error, "foveated renderer: cannot build the foveation tables: ", e.what());
+      error = e.what();
     }
     lock.lock();
-    TableSlot& slot = tables[key];
-    slot.ready = std::move(built);
-    slot.built = true;
+    it = tables.find(key);
+    if (it == tables.end() || cancelled) continue;  // evicted (or stopping): nobody waits for it
+    if (built != nullptr) {
+      it->second.state = SlotState::ready;
+      it->second.ready = std::move(built);
+    } else {
+      it->second.state = SlotState::failed;
+      ++input.table_builds_failed;
+      log(LogLevel::Error, "foveated renderer: cannot build the foveation tables for ", std::get<0>(key), "x",
+          std::get<1>(key), ": ", error, "; views of this size show the app's image (counted in the stats)");
+    }
     build_done.notify_all();
   }
 }
@@ -218,17 +307,21 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
     return false;
   }
-  const auto extent = view.subImage.imageRect.extent;
-  if (extent.width <= 0 || extent.height <= 0) return false;
+  const auto extent = view.subImage.imageRect.extent;  // positive: end_frame checked the rect
   const auto w = static_cast<uint32_t>(extent.width);
   const auto h = static_cast<uint32_t>(extent.height);
   foveation::FrameRequest request;
   request.view = eye_view_of(e, view.pose, view.fov, w, h);
-  auto view_tables = tables_for(request.view);
-  if (view_tables == nullptr) {
+  const Tables found = tables_for(request.view);
+  if (found.failed) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART;
+    return false;
+  }
+  if (found.ready == nullptr) {
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
     return false;
   }
+  const auto& view_tables = found.ready;
   if (eye.swapchain == nullptr || eye.swapchain->width_px() != w || eye.swapchain->height_px() != h) {
     std::string error;
     eye.swapchain = EyeSwapchain::create(*session, w, h, &error);
@@ -251,6 +344,16 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   foveation::project_direction(frustum, foveation::EyePose{}, glm::vec3(0.0f, 0.0f, -1.0f), &gaze_px);  // lens centre
   if (frame_gaze.valid && frame_gaze.direction_view[e].z < -0.05f) {
     foveation::project_direction(frustum, foveation::EyePose{}, frame_gaze.direction_view[e], &gaze_px);
+  } else if (frame_gaze.valid) {
+    // A valid gaze behind the eye (or 87 degrees or more off its axis) projects nowhere: lens centre, flagged.
+    ++input.gaze_behind_views;
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
+    if (behind_once.first()) {
+      const glm::vec3 d = frame_gaze.direction_view[e];
+      log(LogLevel::Warn, "foveated renderer: eye ", e, ": the gaze points backwards or 87 degrees or more off the view "
+          "axis (view-space direction ", d.x, ", ", d.y, ", ", d.z, "); foveating at the lens centre (logged once, "
+          "counted in the stats)");
+    }
   }
   request.gaze_px = glm::round(gaze_px);
   stats->gazePixel[e] = XrVector2f{request.gaze_px.x, request.gaze_px.y};
@@ -303,19 +406,27 @@ FoveatedRenderer::FoveatedRenderer(std::shared_ptr<SessionState> session, Render
     : session_(std::move(session)), settings_(std::move(settings)) {
   stats_.type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
   stats_.gazeSource = settings_.gaze_source;
-  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_);
+  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_, input_);
 }
 
 FoveatedRenderer::~FoveatedRenderer() = default;
 
 uint32_t FoveatedRenderer::render(XrTime display_time, const XrCompositionLayerProjection& layer,
-                                  XrCompositionLayerProjectionView* out_views) {
+                                  XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid) {
   std::lock_guard lock(mutex_);
   if (frames_ == nullptr) {
     stats_.framesFallback += layer.viewCount;
     return 0;
   }
-  return frames_->render(display_time, layer, out_views, &stats_);
+  return frames_->render(display_time, layer, out_views, rect_valid, &stats_);
+}
+
+void FoveatedRenderer::count_foreign_session_layer() {
+  ++input_.foreign_session_layers;
+  if (foreign_once_.first()) {
+    log(LogLevel::Warn, "xrEndFrame: a projection layer names a foveated renderer of another session; forwarded "
+                        "as the app sent it, not ray traced (logged once, counted in that renderer's stats)");
+  }
 }
 
 void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
@@ -324,6 +435,19 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
   *out_stats = stats_;
   out_stats->type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
   out_stats->next = next;
+  // (spec version 4) the input stats, wherever the app chained them; other structs are left alone.
+  if (auto* in = find_in_out_chain<XrFoveatedRendererInputStatsFOVEART>(next,
+                                                                       XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART)) {
+    in->cacheFilesRejected = input_.cache_files_rejected;
+    in->cacheFailures = input_.cache_failures;
+    in->tableBuildsFailed = input_.table_builds_failed;
+    in->tableSetsEvicted = input_.table_sets_evicted;
+    in->tableSetsResident = input_.table_sets_resident;
+    in->reserved = 0;
+    in->gazeBehindViews = input_.gaze_behind_views;
+    in->invalidImageRectViews = input_.invalid_image_rect_views;
+    in->foreignSessionLayers = input_.foreign_session_layers;
+  }
 }
 
 }  // namespace foveart::layer

@@ -60,8 +60,10 @@ class EyeGazeInteraction final : public GazeSource {
 // FOVE head space (+z forward, +y up, +x right) -> OpenXR view space (-z forward).
 glm::vec3 to_view(const gaze::Vec3f& d) { return glm::normalize(glm::vec3(d.x, d.y, -d.z)); }
 
+// A direction the frame can use: finite and not zero. One pointing backwards is
+// usable: the frame foveates it at the lens centre and flags it (not "no gaze").
 bool usable(const gaze::Vec3f& d) {
-  return std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && d.z > 0.05f;
+  return std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z) && (d.x != 0.0f || d.y != 0.0f || d.z != 0.0f);
 }
 
 class ProviderGaze final : public GazeSource {

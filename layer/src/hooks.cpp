@@ -15,14 +15,6 @@
 namespace foveart::layer {
 namespace {
 
-template <class T>
-const T* find_in_chain(const void* next, XrStructureType type) {
-  for (auto* s = static_cast<const XrBaseInStructure*>(next); s != nullptr; s = s->next) {
-    if (s->type == type) return reinterpret_cast<const T*>(s);
-  }
-  return nullptr;
-}
-
 XRAPI_ATTR XrResult XRAPI_CALL hook_xrDestroyInstance(XrInstance instance) noexcept {
   return exception_barrier("xrDestroyInstance", [&]() -> XrResult {
     auto state = Registry::get().instance(instance);
@@ -150,6 +142,43 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrGetCurrentInteractionProfile(XrSession ses
   });
 }
 
+// Swapchains: their extents, so that an imageRect can be checked against them.
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateSwapchain(XrSession session, const XrSwapchainCreateInfo* info,
+                                                       XrSwapchain* out_swapchain) noexcept {
+  return exception_barrier("xrCreateSwapchain", [&]() -> XrResult {
+    auto state = Registry::get().session(session);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const XrResult result = state->instance->next.CreateSwapchain(session, info, out_swapchain);
+    if (XR_SUCCEEDED(result) && info != nullptr && out_swapchain != nullptr) {
+      Registry::get().add_swapchain(*out_swapchain, SwapchainExtent{session, info->width, info->height, info->arraySize});
+    }
+    return result;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrDestroySwapchain(XrSwapchain swapchain) noexcept {
+  return exception_barrier("xrDestroySwapchain", [&]() -> XrResult {
+    // Any session's next link will do: the instance's dispatch is the same for all of them.
+    auto next = Registry::get().destroy_swapchain_function(swapchain);
+    if (next == nullptr) return XR_ERROR_HANDLE_INVALID;
+    const XrResult result = next(swapchain);
+    if (XR_SUCCEEDED(result)) Registry::get().remove_swapchain(swapchain);
+    return result;
+  });
+}
+
+// A view's subImage lies inside a swapchain of this session: positive extent,
+// offset + extent within the image (in 64 bits: no int32 wrap), a valid array layer.
+bool image_rect_inside(const XrSwapchainSubImage& sub, XrSession session) {
+  const auto extent = Registry::get().swapchain(sub.swapchain, session);
+  if (!extent) return false;
+  const XrRect2Di& r = sub.imageRect;
+  if (r.offset.x < 0 || r.offset.y < 0 || r.extent.width <= 0 || r.extent.height <= 0) return false;
+  return int64_t{r.offset.x} + r.extent.width <= int64_t{extent->width_px} &&
+         int64_t{r.offset.y} + r.extent.height <= int64_t{extent->height_px} &&
+         sub.imageArrayIndex < extent->array_size;
+}
+
 // The frame path: opted-in projection layers get their views rewritten.
 XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
   auto state = Registry::get().session(session);
@@ -174,8 +203,10 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
     const auto* opt_in = find_in_chain<XrFoveatedRayTracingLayerFOVEART>(
         projection->next, XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
     if (opt_in == nullptr || projection->views == nullptr || projection->viewCount == 0) continue;
-    auto renderer = Registry::get().renderer(opt_in->renderer);
-    if (renderer == nullptr) continue;  // unknown renderer: the app's views as submitted
+    std::shared_ptr<FoveatedRenderer> other;
+    auto renderer = Registry::get().renderer_of_session(opt_in->renderer, session, &other);
+    if (other != nullptr) other->count_foreign_session_layer();
+    if (renderer == nullptr) continue;  // unknown or another session's renderer: the layer as submitted
 
     auto& copy = projections.emplace_back(*projection);
     // Strip our struct wherever it sits, so layers below never see it; the
@@ -188,8 +219,12 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
       }
     }
     auto& view_copy = views.emplace_back(projection->views, projection->views + projection->viewCount);
+    std::vector<bool> rect_valid(projection->viewCount);
+    for (uint32_t v = 0; v < projection->viewCount; ++v) {
+      rect_valid[v] = image_rect_inside(projection->views[v].subImage, session);
+    }
     try {
-      renderer->render(info->displayTime, *projection, view_copy.data());
+      renderer->render(info->displayTime, *projection, view_copy.data(), rect_valid);
     } catch (const std::exception& e) {
       // The frame still goes out, with the app's own views for this layer.
       static LogOnce once;
@@ -270,6 +305,8 @@ const HookEntry* hooks_begin(std::size_t* out_count) {
       {"xrCreateSession", as_void(&hook_xrCreateSession), false},
       {"xrDestroySession", as_void(&hook_xrDestroySession), false},
       {"xrEndFrame", as_void(&hook_xrEndFrame), false},
+      {"xrCreateSwapchain", as_void(&hook_xrCreateSwapchain), false},
+      {"xrDestroySwapchain", as_void(&hook_xrDestroySwapchain), false},
       {"xrSuggestInteractionProfileBindings", as_void(&hook_xrSuggestInteractionProfileBindings), false},
       {"xrAttachSessionActionSets", as_void(&hook_xrAttachSessionActionSets), false},
       {"xrSyncActions", as_void(&hook_xrSyncActions), false},

@@ -28,6 +28,7 @@ bool ChainCopies::without(const void* head, const void* remove, const void** out
   std::vector<XrBaseInStructure*> copies;
   auto* s = static_cast<const XrBaseInStructure*>(head);
   for (; s != nullptr && s != remove; s = s->next) {
+    if (copies.size() >= kMaxChainNodes) return false;
     const std::size_t size = structure_size(s->type);
     if (size < sizeof(XrBaseInStructure)) return false;
     auto& storage = nodes_.emplace_back(

@@ -12,6 +12,32 @@
 
 namespace foveart::layer {
 
+// Nodes walked in an app's chain at most: a chain that loops (invalid usage)
+// ends the walk instead of hanging the app's thread.
+inline constexpr std::size_t kMaxChainNodes = 1024;
+
+// The first node of `type` in the chain from `next`; null when absent.
+template <class T>
+const T* find_in_chain(const void* next, XrStructureType type) {
+  std::size_t walked = 0;
+  for (auto* s = static_cast<const XrBaseInStructure*>(next); s != nullptr && walked < kMaxChainNodes;
+       s = s->next, ++walked) {
+    if (s->type == type) return reinterpret_cast<const T*>(s);
+  }
+  return nullptr;
+}
+
+// The same for output chains (the app's structs the layer fills in).
+template <class T>
+T* find_in_out_chain(void* next, XrStructureType type) {
+  std::size_t walked = 0;
+  for (auto* s = static_cast<XrBaseOutStructure*>(next); s != nullptr && walked < kMaxChainNodes;
+       s = s->next, ++walked) {
+    if (s->type == type) return reinterpret_cast<T*>(s);
+  }
+  return nullptr;
+}
+
 // sizeof the struct of this type in the OpenXR 1.0.20 headers; 0 when unknown.
 std::size_t structure_size(XrStructureType type);
 
@@ -21,7 +47,8 @@ class ChainCopies {
   // be in it). Nodes before `remove` are copies owned by this object (valid
   // while it lives); the app's nodes are never written. Returns false and
   // leaves *out_head = head when a node before `remove` has a type whose size
-  // the layer does not know (it cannot be copied).
+  // the layer does not know (it cannot be copied), or `remove` lies beyond
+  // kMaxChainNodes nodes.
   bool without(const void* head, const void* remove, const void** out_head);
 
  private:

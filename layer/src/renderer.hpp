@@ -3,12 +3,15 @@
 // XrFoveatedRayTracingLayerFOVEART naming it.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
+#include "log.hpp"
 #include "state.hpp"
 
 namespace foveart::layer {
@@ -34,6 +37,19 @@ struct RendererSettings {
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out_settings, std::string* out_error);
 
+// What a renderer refused or worked around, for XrFoveatedRendererInputStatsFOVEART.
+// Atomics: the table builder thread counts too.
+struct InputCounters {
+  std::atomic<uint64_t> cache_files_rejected{0};
+  std::atomic<uint64_t> cache_failures{0};
+  std::atomic<uint64_t> table_builds_failed{0};
+  std::atomic<uint64_t> table_sets_evicted{0};
+  std::atomic<uint32_t> table_sets_resident{0};
+  std::atomic<uint64_t> gaze_behind_views{0};
+  std::atomic<uint64_t> invalid_image_rect_views{0};
+  std::atomic<uint64_t> foreign_session_layers{0};
+};
+
 // One foveated renderer of a session: its executor (worker_threads threads,
 // started here, never per frame), its gaze source, the foveation tables per
 // (view size, FOV), and per eye the layer's swapchain and the one foveated
@@ -49,9 +65,14 @@ class FoveatedRenderer {
 
   // Ray traces the views of one projection layer. out_views holds a copy of the
   // app's views; the ones produced are rewritten to the layer's swapchains.
-  // Returns how many views were rewritten (0 = everything falls back).
+  // rect_valid[v] is false for a view whose imageRect lies outside its
+  // swapchain: it is left as the app sent it. Returns how many views were
+  // rewritten (0 = everything falls back).
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer,
-                  XrCompositionLayerProjectionView* out_views);
+                  XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid);
+
+  // A projection layer of another session named this renderer: counted, logged once.
+  void count_foreign_session_layer();
 
   void stats(XrFoveatedRendererStatsFOVEART* out_stats) const;
 
@@ -61,6 +82,8 @@ class FoveatedRenderer {
   std::shared_ptr<SessionState> session_;
   RendererSettings settings_;
   mutable std::mutex mutex_;  // one frame at a time; stats readers
+  InputCounters input_;       // before frames_: its builder thread counts until frames_ is gone
+  LogOnce foreign_once_;
   std::unique_ptr<Frames> frames_;  // null when the session has no Vulkan: views pass through
   XrFoveatedRendererStatsFOVEART stats_{};
 };

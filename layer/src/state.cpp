@@ -5,6 +5,10 @@ namespace {
 
 uint64_t key(XrFoveatedRendererFOVEART handle) { return reinterpret_cast<uintptr_t>(handle); }
 
+void erase_swapchains_of(XrSession session, std::unordered_map<XrSwapchain, SwapchainExtent>* swapchains) {
+  std::erase_if(*swapchains, [&](const auto& entry) { return entry.second.session == session; });
+}
+
 }  // namespace
 
 Registry& Registry::get() {
@@ -39,6 +43,7 @@ std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_instance(XrInsta
         ++r;
       }
     }
+    erase_swapchains_of(it->first, &swapchains_);
     it = sessions_.erase(it);
   }
   instances_.erase(handle);
@@ -67,6 +72,7 @@ std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_session(XrSessio
       ++r;
     }
   }
+  erase_swapchains_of(handle, &swapchains_);
   sessions_.erase(handle);
   return removed;
 }
@@ -85,6 +91,19 @@ std::shared_ptr<FoveatedRenderer> Registry::renderer(XrFoveatedRendererFOVEART h
   return it == renderers_.end() ? nullptr : it->second.renderer;
 }
 
+std::shared_ptr<FoveatedRenderer> Registry::renderer_of_session(XrFoveatedRendererFOVEART handle, XrSession session,
+                                                                std::shared_ptr<FoveatedRenderer>* out_other) const {
+  std::lock_guard lock(mutex_);
+  out_other->reset();
+  auto it = renderers_.find(key(handle));
+  if (it == renderers_.end()) return nullptr;
+  if (it->second.session != session) {
+    *out_other = it->second.renderer;
+    return nullptr;
+  }
+  return it->second.renderer;
+}
+
 std::shared_ptr<FoveatedRenderer> Registry::remove_renderer(XrFoveatedRendererFOVEART handle) {
   std::lock_guard lock(mutex_);
   auto it = renderers_.find(key(handle));
@@ -100,6 +119,31 @@ bool Registry::session_has_renderers(XrSession session) const {
     if (entry.session == session) return true;
   }
   return false;
+}
+
+void Registry::add_swapchain(XrSwapchain handle, const SwapchainExtent& extent) {
+  std::lock_guard lock(mutex_);
+  swapchains_[handle] = extent;
+}
+
+void Registry::remove_swapchain(XrSwapchain handle) {
+  std::lock_guard lock(mutex_);
+  swapchains_.erase(handle);
+}
+
+PFN_xrDestroySwapchain Registry::destroy_swapchain_function(XrSwapchain handle) const {
+  std::lock_guard lock(mutex_);
+  auto it = swapchains_.find(handle);
+  if (it == swapchains_.end()) return nullptr;
+  auto session = sessions_.find(it->second.session);
+  return session == sessions_.end() ? nullptr : session->second->instance->next.DestroySwapchain;
+}
+
+std::optional<SwapchainExtent> Registry::swapchain(XrSwapchain handle, XrSession session) const {
+  std::lock_guard lock(mutex_);
+  auto it = swapchains_.find(handle);
+  if (it == swapchains_.end() || it->second.session != session) return std::nullopt;
+  return it->second;
 }
 
 std::size_t Registry::instance_count() const {

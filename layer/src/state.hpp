@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <unordered_map>
@@ -43,6 +44,15 @@ struct SessionState {
   std::shared_ptr<SessionEyeGaze> eye_gaze;  // null unless the instance's eye_gaze is ready()
 };
 
+// The size of an app swapchain, recorded at xrCreateSwapchain: what an
+// imageRect is checked against.
+struct SwapchainExtent {
+  XrSession session = XR_NULL_HANDLE;
+  uint32_t width_px = 0;
+  uint32_t height_px = 0;
+  uint32_t array_size = 0;
+};
+
 class Registry {
  public:
   static Registry& get();
@@ -59,8 +69,19 @@ class Registry {
 
   XrFoveatedRendererFOVEART add_renderer(XrSession session, std::shared_ptr<FoveatedRenderer> renderer);
   std::shared_ptr<FoveatedRenderer> renderer(XrFoveatedRendererFOVEART handle) const;
+  // The renderer if it belongs to `session`; null otherwise, with *out_foreign
+  // set (and the renderer in *out_other) when it exists but belongs to another session.
+  std::shared_ptr<FoveatedRenderer> renderer_of_session(XrFoveatedRendererFOVEART handle, XrSession session,
+                                                        std::shared_ptr<FoveatedRenderer>* out_other) const;
   std::shared_ptr<FoveatedRenderer> remove_renderer(XrFoveatedRendererFOVEART handle);
   bool session_has_renderers(XrSession session) const;
+
+  void add_swapchain(XrSwapchain handle, const SwapchainExtent& extent);
+  void remove_swapchain(XrSwapchain handle);
+  // The next link's xrDestroySwapchain for an app swapchain; null when unknown.
+  PFN_xrDestroySwapchain destroy_swapchain_function(XrSwapchain handle) const;
+  // The app swapchain's extent if it was created in `session`.
+  std::optional<SwapchainExtent> swapchain(XrSwapchain handle, XrSession session) const;
 
   std::size_t instance_count() const;
 
@@ -73,6 +94,7 @@ class Registry {
   std::unordered_map<XrInstance, std::shared_ptr<InstanceState>> instances_;
   std::unordered_map<XrSession, std::shared_ptr<SessionState>> sessions_;
   std::unordered_map<uint64_t, RendererEntry> renderers_;
+  std::unordered_map<XrSwapchain, SwapchainExtent> swapchains_;
   uint64_t next_renderer_id_ = 1;
 };
 

@@ -43,10 +43,11 @@ XrTestApp::~XrTestApp() {
   if (instance != XR_NULL_HANDLE) xrDestroyInstance(instance);
 }
 
-XrResult XrTestApp::create_instance(bool eye_gaze) {
+XrResult XrTestApp::create_instance(bool eye_gaze, const std::vector<const char*>& extra) {
   std::vector<const char*> ext{XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME,
                                XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME};
   if (eye_gaze) ext.push_back(XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME);
+  ext.insert(ext.end(), extra.begin(), extra.end());
   XrInstanceCreateInfo info{};
   info.type = XR_TYPE_INSTANCE_CREATE_INFO;
   std::snprintf(info.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE,

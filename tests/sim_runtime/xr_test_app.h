@@ -39,7 +39,8 @@ class XrTestApp {
   XrTestApp& operator=(const XrTestApp&) = delete;
   ~XrTestApp();
 
-  XrResult create_instance(bool eye_gaze = true);
+  // extra: further extensions to enable (a layer's, for instance).
+  XrResult create_instance(bool eye_gaze = true, const std::vector<const char*>& extra = {});
   // Vulkan instance/device through the runtime, then the session.
   XrResult create_session();
   // Polls events until the session reaches state (or max_polls frames pass);

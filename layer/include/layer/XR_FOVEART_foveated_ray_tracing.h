@@ -69,7 +69,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 3
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 4
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -83,6 +83,8 @@ XR_DEFINE_HANDLE(XrFoveatedRendererFOVEART)
 #define XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900000)
 #define XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900001)
 #define XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900002)
+/* (spec version 4) */
+#define XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900003)
 
 typedef enum XrFoveatedInterpolationFOVEART {
   XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
@@ -116,6 +118,11 @@ static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UPLOAD_FAILED_B
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART = 0x00000010;
 /* The frame path is not available (no Vulkan session, build without foveation). */
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART = 0x00000020;
+/* (spec version 4) Building the tables for this view size failed (logged): it falls back for good. */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART = 0x00000040;
+/* (spec version 4) The view's imageRect lies outside its swapchain image: forwarded as the app sent
+ * it, for the runtime to judge, and not ray traced. */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_IMAGE_RECT_BIT_FOVEART = 0x00000080;
 
 typedef struct XrFoveatedRendererCreateInfoFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART */
@@ -159,6 +166,22 @@ typedef struct XrFoveatedRendererStatsFOVEART {
   uint64_t gazeLostFrames;   /* frames with fixed foveation for lack of gaze */
   XrVector2f gazePixel[2];   /* (spec version 2) foveation centre per eye last frame, pixels of the view's imageRect */
 } XrFoveatedRendererStatsFOVEART;
+
+/* (spec version 4) Chain into XrFoveatedRendererStatsFOVEART::next to also get what the layer
+ * refused or worked around since the renderer was created. Each is logged once with its reason. */
+typedef struct XrFoveatedRendererInputStatsFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART */
+  void* XR_MAY_ALIAS next;
+  uint64_t cacheFilesRejected;    /* table cache files rejected (corrupt, other version or parameters): rebuilt */
+  uint64_t cacheFailures;         /* cache files not written, or the cache directory refused (tables then not cached) */
+  uint64_t tableBuildsFailed;     /* view sizes whose tables could not be built: those views fall back */
+  uint64_t tableSetsEvicted;      /* table sets dropped, least recently used first, to bound memory */
+  uint32_t tableSetsResident;     /* table sets held now (built or building) */
+  uint32_t reserved;
+  uint64_t gazeBehindViews;       /* eye-frames whose valid gaze pointed backwards: foveated at the lens centre */
+  uint64_t invalidImageRectViews; /* views whose imageRect lies outside the swapchain: forwarded, not traced */
+  uint64_t foreignSessionLayers;  /* projection layers naming this renderer in another session's xrEndFrame: forwarded */
+} XrFoveatedRendererInputStatsFOVEART;
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
     XrSession session, const XrFoveatedRendererCreateInfoFOVEART* createInfo,

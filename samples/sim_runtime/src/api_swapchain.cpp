@@ -8,20 +8,21 @@ namespace {
 constexpr uint32_t kImageCount = 3;
 
 // Preferred first (hello_xr and most engines take the first they know).
-const std::vector<int64_t>& swapchain_formats() {
+const std::vector<int64_t>& swapchain_formats(const Config& config) {
   static const std::vector<int64_t> formats{VK_FORMAT_R8G8B8A8_SRGB,  VK_FORMAT_B8G8R8A8_SRGB,
                                             VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_UNORM,
                                             VK_FORMAT_D32_SFLOAT,     VK_FORMAT_D16_UNORM};
-  return formats;
+  static const std::vector<int64_t> float_formats{VK_FORMAT_R16G16B16A16_SFLOAT, VK_FORMAT_D32_SFLOAT,
+                                                  VK_FORMAT_D16_UNORM};
+  return config.float_formats_only ? float_formats : formats;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL enumerate_swapchain_formats(XrSession handle, uint32_t capacity,
                                                            uint32_t* count, int64_t* formats) {
   return guarded("xrEnumerateSwapchainFormats", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
-    (void)inst;
     (void)session;
-    return two_call(capacity, count, formats, swapchain_formats());
+    return two_call(capacity, count, formats, swapchain_formats(inst->config));
   });
 }
 
@@ -44,10 +45,9 @@ XRAPI_ATTR XrResult XRAPI_CALL create_swapchain(XrSession handle, const XrSwapch
                                                 XrSwapchain* out) {
   return guarded("xrCreateSwapchain", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
-    (void)inst;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_SWAPCHAIN_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    const auto& formats = swapchain_formats();
+    const auto& formats = swapchain_formats(inst->config);
     if (std::find(formats.begin(), formats.end(), info->format) == formats.end()) {
       return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
     }

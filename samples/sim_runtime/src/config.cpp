@@ -63,6 +63,13 @@ std::optional<Config> config_from_environment(std::string& error) {
       return bad(env::kCaptureEvery, v, "an integer >= 1");
     c.capture_every = static_cast<uint32_t>(n);
   }
+  if (const char* v = get(env::kFormats)) {
+    const std::string s = v;
+    if (s == "8bit" || s == "float")
+      c.float_formats_only = s == "float";
+    else
+      return bad(env::kFormats, v, "'8bit' or 'float'");
+  }
   if (const char* v = get(env::kLog)) {
     const std::string s = v;
     if (s == "0" || s == "1" || s == "2")

@@ -16,6 +16,7 @@ struct Config {
   std::string capture_dir;  // empty: no capture
   uint32_t capture_every = 1;
   int log_level = 1;
+  bool float_formats_only = false;  // FOVEART_SIM_FORMATS=float
 };
 
 // Reads the FOVEART_SIM_* variables. On a malformed value returns nullopt and

@@ -29,6 +29,10 @@ inline constexpr const char* kHead = "FOVEART_SIM_HEAD";
 inline constexpr const char* kCaptureDir = "FOVEART_SIM_CAPTURE_DIR";
 // Capture every N-th frame's PNGs (frames.csv always has every frame). Default 1.
 inline constexpr const char* kCaptureEvery = "FOVEART_SIM_CAPTURE_EVERY";
+// Colour swapchain formats offered: "8bit" (default: R8G8B8A8/B8G8R8A8, sRGB and
+// UNORM) or "float" (R16G16B16A16_SFLOAT only, no 8-bit RGBA: for tests of apps
+// and layers that need one). Depth formats are offered either way.
+inline constexpr const char* kFormats = "FOVEART_SIM_FORMATS";
 // 0 quiet, 1 info (default), 2 debug. Messages go to stderr prefixed "foveart-sim".
 inline constexpr const char* kLog = "FOVEART_SIM_LOG";
 
