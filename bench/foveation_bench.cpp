@@ -66,7 +66,7 @@ BENCHMARK(BM_SelectVisiblePoints)->Unit(benchmark::kMillisecond);
 void BM_RaySamples(benchmark::State& state) {
   const auto& ps = fove_points();
   const auto vis = fv::select_visible_points(ps, fv::map_gaze(1280, 1440, {640.0f, 720.0f}));
-  for (auto _ : state) benchmark::DoNotOptimize(fv::generate_ray_samples(ps, vis, int(state.range(0)), 7).size());
+  for (auto _ : state) benchmark::DoNotOptimize(fv::generate_ray_samples(ps, vis, int(state.range(0)), 7, 1280).size());
   state.counters["rays"] = double(vis.size()) * double(state.range(0));
 }
 BENCHMARK(BM_RaySamples)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);

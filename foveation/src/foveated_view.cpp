@@ -89,13 +89,14 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   const std::uint32_t spp = std::uint32_t(settings_.rays_per_point);
   const std::uint64_t seed = settings_.sample_seed + (settings_.new_jitter_each_frame ? request.frame_index : 0);
 
-  // Disc offsets of a fixed seed are the same every frame: made once.
+  // Disc offsets of a fixed seed are the same every frame: made once (a
+  // pixel-grid point's jitter follows its screen pixel, so it is made per frame).
   const bool precomputed = !settings_.new_jitter_each_frame && points.size() * spp <= kMaxPrecomputedSamples;
   if (precomputed && (sample_offset_px_.empty() || sample_offset_seed_ != seed)) {
     sample_offset_px_.resize(points.size() * spp);
     executor.parallel_chunks(points.size(), 16384, [&](std::size_t first, std::size_t last, unsigned) {
       for (std::size_t i = first; i < last; ++i)
-        for (std::uint32_t s = 0; s < spp; ++s)
+        for (std::uint32_t s = 0; s < spp && !points.on_pixel_grid(i); ++s)
           sample_offset_px_[i * spp + s] = unit_disc_sample(seed, std::uint32_t(i), int(s)) * points.radius_px[i];
     });
     sample_offset_seed_ = seed;
@@ -115,7 +116,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   const auto t_trace = Clock::now();
   const EyeFrustum frustum = eye_frustum(view);
   const EyePose pose = eye_pose(view);
-  const VisibleRegion visible(mapping);
+  const VisibleRegion visible(mapping, points.visible_margin_px);
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
   const float inv_spp = 1.0f / float(spp);
   executor.parallel_for(traced_.size(), [&](std::size_t chunk, unsigned worker) {
@@ -150,10 +151,16 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       const glm::vec2 screen = visible.to_screen(points.position_px[i]);
       if (!visible.contains(screen)) continue;
       const std::uint32_t id = std::uint32_t(i);
-      for (std::uint32_t s = 0; s < spp; ++s) {
-        const glm::vec2 offset = precomputed ? sample_offset_px_[i * spp + s]
-                                             : unit_disc_sample(seed, id, int(s)) * points.radius_px[i];
-        batch.set_ray(std::size_t(n) * spp + s, frustum, pose, screen + offset, id);
+      if (points.on_pixel_grid(i)) {  // over its own pixel, as the full render samples it
+        for (std::uint32_t s = 0; s < spp; ++s)
+          batch.set_ray(std::size_t(n) * spp + s, frustum, pose,
+                        pixel_sample_px(screen, int(s), seed, int(view.width_px)), id);
+      } else {
+        for (std::uint32_t s = 0; s < spp; ++s) {
+          const glm::vec2 offset = precomputed ? sample_offset_px_[i * spp + s]
+                                               : unit_disc_sample(seed, id, int(s)) * points.radius_px[i];
+          batch.set_ray(std::size_t(n) * spp + s, frustum, pose, screen + offset, id);
+        }
       }
       ids[n] = id;
       ++chunk_points;
@@ -204,7 +211,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
 std::vector<std::uint32_t> points_per_tile(const PointSet& points, const GazeMapping& mapping, std::uint32_t tile_w_px,
                                            std::uint32_t tile_h_px, std::uint32_t tiles_x, std::uint32_t tiles_y) {
   if (tile_w_px == 0 || tile_h_px == 0 || tiles_x == 0 || tiles_y == 0) return {};
-  const VisibleRegion visible(mapping);  // the frame's own test
+  const VisibleRegion visible(mapping, points.visible_margin_px);  // the frame's own test
   const float w = float(mapping.screen_width_px), h = float(mapping.screen_height_px);
   std::vector<std::uint32_t> count(std::size_t(tiles_x) * tiles_y, 0);
   for (const glm::vec2& p : points.position_px) {

@@ -108,7 +108,7 @@ std::string interpolation_cache_params(const PointSetKey& key, const PointSet& p
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016" PRIx64, points_hash);
   return "interp-v" + std::to_string(kInterpCacheFormatVersion) + ";pointset-v" + std::to_string(kCacheFormatVersion) +
-         ";display=" + d.name + ";w=" + std::to_string(d.width_px) + ";h=" + std::to_string(d.height_px) +
+         ";display=" + d.name + ";pattern=" + std::string(fovea_pattern_name(d.fovea_pattern)) + ";w=" + std::to_string(d.width_px) + ";h=" + std::to_string(d.height_px) +
          ";D=" + hexf(d.view_distance_px) + ";scale=" + hexf(d.scale) + ";ct0=" + hexf(d.csf.ct0) +
          ";alpha=" + hexf(d.csf.alpha) + ";e2=" + hexf(d.csf.e2_deg) + ";seed=" + std::to_string(key.seed) +
          ";points=" + std::to_string(points.size()) + ";canvas=" + std::to_string(points.canvas_width_px) + "x" +

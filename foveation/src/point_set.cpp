@@ -1,5 +1,6 @@
-// Adaptive Poisson-disc point set (thesis 4.1) by variable-radius Bridson
-// sampling (Bridson 2007) with non-overlapping discs |x_i - x_j| >= r_i + r_j.
+// The perceptual point set (thesis 4.1): the pixel grid where the eye resolves
+// every pixel, then adaptive Poisson-disc points by variable-radius Bridson
+// sampling (Bridson 2007) under the display's DiscRule.
 #include "foveation/point_set.hpp"
 
 #include <algorithm>
@@ -108,35 +109,69 @@ std::uint32_t morton_code(std::uint32_t x, std::uint32_t y) {
 PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed, const ProgressFn& progress) {
   if (const std::string err = display.validate(); !err.empty()) throw std::invalid_argument(err);
 
-  const float width = float(display.canvas_width_px());
-  const float height = float(display.canvas_height_px());
+  const int canvas_w = display.canvas_width_px();
+  const int canvas_h = display.canvas_height_px();
+  const float width = float(canvas_w);
+  const float height = float(canvas_h);
   const glm::vec2 centre{float(display.width_px), float(display.height_px)};
   const RadiusProfile radius(display, std::hypot(double(width), double(height)));
   // Any conflicting point lies within min_distance(r, r_local) <= r + r_max;
   // r grows by far less than 1 px per px, so 2 r_max + 1 further out bounds it.
   const float reach_px = 2.0f * radius.max() + 1.0f;
+  const bool pixel_grid = display.fovea_pattern == FoveaPattern::kPixelGrid;
 
   std::vector<glm::vec2> pos;
   std::vector<float> rad;
-  PointGrid grid{int(width), int(height)};
+  std::vector<PointFootprint> foot;
+  PointGrid grid{canvas_w, canvas_h};
+  // Pixel-grid pattern: canvas pixels holding a point; a Poisson point never
+  // shares one, so no region holds more points than pixels.
+  std::vector<std::uint8_t> occupied(pixel_grid ? std::size_t(canvas_w) * std::size_t(canvas_h) : 0, 0);
+  auto cell = [&](glm::vec2 p) { return std::size_t(p.y) * std::size_t(canvas_w) + std::size_t(p.x); };
   std::mt19937_64 rng(detail::mix64(seed));
   auto uniform = [&rng] { return float(detail::unit_double(rng())); };
 
+  auto add = [&](glm::vec2 p, float r, PointFootprint f) {
+    grid.insert(int(pos.size()), p);
+    pos.push_back(p);
+    rad.push_back(r);
+    foot.push_back(f);
+    if (pixel_grid) occupied[cell(p)] = 1;
+  };
   auto try_add = [&](glm::vec2 p) {
     if (p.x < 0.0f || p.y < 0.0f || p.x >= width || p.y >= height) return false;
+    if (pixel_grid && occupied[cell(p)] != 0) return false;
     const float d = glm::length(p - centre);
     const float r = radius.at(d);
     const float search = min_point_distance_px(display.disc_rule, r, radius.at(d + reach_px));
     if (!grid.is_free(p, r, search, display.disc_rule, pos, rad)) return false;
-    grid.insert(int(pos.size()), p);
-    pos.push_back(p);
-    rad.push_back(r);
+    add(p, r, PointFootprint::kDisc);
     return true;
   };
 
-  // Expected count for progress only: integral of density ~0.5 / (pi r^2).
-  try_add(centre);
-  std::vector<int> active{0};
+  // The pixel grid: every canvas pixel whose centre lies within the radius
+  // where f_c >= f_d (eqs. 2-4); its rim seeds the Poisson set beyond it.
+  std::vector<int> active;
+  if (const double grid_radius_px = display.pixel_grid_radius_px(); grid_radius_px > 0.0) {
+    constexpr double kRimPx = 1.5;  // grid points this close to the edge seed Bridson
+    const double r = std::min(grid_radius_px, std::hypot(double(width), double(height)));
+    const int y0 = std::max(0, int(std::floor(centre.y - r))), y1 = std::min(canvas_h, int(std::ceil(centre.y + r)) + 1);
+    const int x0 = std::max(0, int(std::floor(centre.x - r))), x1 = std::min(canvas_w, int(std::ceil(centre.x + r)) + 1);
+    for (int y = y0; y < y1; ++y) {
+      for (int x = x0; x < x1; ++x) {
+        const double dx = double(x) + 0.5 - double(centre.x), dy = double(y) + 0.5 - double(centre.y);
+        const double d = std::sqrt(dx * dx + dy * dy);
+        if (d > grid_radius_px) continue;
+        if (d > grid_radius_px - kRimPx) active.push_back(int(pos.size()));
+        add({float(x) + 0.5f, float(y) + 0.5f}, float(kPixelDiscRadiusPx), PointFootprint::kPixel);
+      }
+    }
+  }
+  if (pos.empty()) {
+    try_add(centre);
+    active.push_back(0);
+  }
+
   std::size_t retired = 0;
   while (!active.empty()) {
     const std::size_t slot = std::size_t(rng() % active.size());
@@ -179,13 +214,16 @@ PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed, con
   });
 
   PointSet out;
-  out.canvas_width_px = display.canvas_width_px();
-  out.canvas_height_px = display.canvas_height_px();
+  out.canvas_width_px = canvas_w;
+  out.canvas_height_px = canvas_h;
+  out.visible_margin_px = pixel_grid ? 0.0f : kVisibleMarginPx;
   out.position_px.resize(pos.size());
   out.radius_px.resize(pos.size());
+  if (pixel_grid) out.footprint.resize(pos.size());
   for (std::size_t i = 0; i < order.size(); ++i) {
     out.position_px[i] = pos[order[i]];
     out.radius_px[i] = rad[order[i]];
+    if (pixel_grid) out.footprint[i] = foot[order[i]];
   }
   if (progress) progress(1.0);
   return out;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <initializer_list>
 #include <sstream>
@@ -36,10 +37,12 @@ struct Header {
   std::uint64_t seed;
   std::int32_t k;
   std::int32_t disc_rule;
+  std::int32_t fovea_pattern;
+  std::int32_t reserved_key;  // 0
   // Payload description.
   std::uint64_t payload_bytes;
   std::uint64_t payload_xxh3;
-  std::uint8_t reserved[32];
+  std::uint8_t reserved[24];
   std::uint64_t header_xxh3;  // over every byte above
 };
 static_assert(sizeof(Header) == 136, "cache header layout changed: bump kCacheFormatVersion");
@@ -59,6 +62,7 @@ Header make_header(Kind kind, const PointSetKey& key) {
   h.seed = key.seed;
   h.k = (kind == Kind::kPointSet) ? 0 : key.k;
   h.disc_rule = int(key.display.disc_rule);
+  h.fovea_pattern = int(key.display.fovea_pattern);
   return h;
 }
 
@@ -108,7 +112,8 @@ std::optional<detail::MappedFile> load_file(const std::filesystem::path& file, K
   if (std::memcmp(&h.width_px, &want.width_px, offsetof(Header, payload_bytes) - offsetof(Header, width_px)) != 0) {
     std::ostringstream msg;
     msg << "built for other parameters (" << h.width_px << "x" << h.height_px << ", view distance "
-        << h.view_distance_px << " px, scale " << h.scale << ", seed " << h.seed << ", k " << h.k << ")";
+        << h.view_distance_px << " px, scale " << h.scale << ", seed " << h.seed << ", k " << h.k << ", pattern "
+        << h.fovea_pattern << ")";
     return fail(msg.str());
   }
   const std::uint64_t remaining = m->size - sizeof h;
@@ -144,9 +149,14 @@ std::filesystem::path neighbor_table_cache_path(const std::filesystem::path& dir
 std::string save_point_set(const std::filesystem::path& file, const PointSetKey& key, const PointSet& points) {
   const std::uint32_t dims[2] = {std::uint32_t(points.canvas_width_px), std::uint32_t(points.canvas_height_px)};
   const std::uint64_t n = points.size();
+  // Footprints always stored (a disc each when the set has none), so the payload size follows from n.
+  std::vector<PointFootprint> discs;
+  if (points.footprint.size() != points.size()) discs.assign(points.size(), PointFootprint::kDisc);
+  const std::vector<PointFootprint>& footprint = discs.empty() ? points.footprint : discs;
   return save_file(file, make_header(Kind::kPointSet, key),
                    {detail::bytes_of(dims, 2), detail::bytes_of(&n, 1), detail::bytes_of(points.position_px.data(), points.size()),
-                    detail::bytes_of(points.radius_px.data(), points.size())});
+                    detail::bytes_of(points.radius_px.data(), points.size()),
+                    detail::bytes_of(footprint.data(), footprint.size())});
 }
 
 std::optional<PointSet> load_point_set(const std::filesystem::path& file, const PointSetKey& key,
@@ -164,7 +174,7 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
   std::memcpy(&n, payload->bytes + sizeof dims, sizeof n);
   // Before any allocation: the count comes from the file.
   const std::uint64_t point_bytes = payload->size - sizeof dims - sizeof n;
-  if (!count_fills_exactly(n, sizeof(glm::vec2) + sizeof(float), point_bytes)) {
+  if (!count_fills_exactly(n, sizeof(glm::vec2) + sizeof(float) + sizeof(PointFootprint), point_bytes)) {
     return fail("point count " + std::to_string(n) + " does not match the payload size (" +
                 std::to_string(point_bytes) + " bytes of points)");
   }
@@ -179,11 +189,24 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
   const std::uint8_t* p = payload->bytes + sizeof dims + sizeof n;
   std::memcpy(ps.position_px.data(), p, n * sizeof(glm::vec2));
   std::memcpy(ps.radius_px.data(), p + n * sizeof(glm::vec2), n * sizeof(float));
+  const bool pixel_grid = key.display.fovea_pattern == FoveaPattern::kPixelGrid;
+  ps.visible_margin_px = pixel_grid ? 0.0f : kVisibleMarginPx;
+  if (pixel_grid) {
+    ps.footprint.resize(n);
+    std::memcpy(ps.footprint.data(), p + n * (sizeof(glm::vec2) + sizeof(float)), n * sizeof(PointFootprint));
+  }
+  const std::uint8_t* footprint_bytes = p + n * (sizeof(glm::vec2) + sizeof(float));
   for (std::size_t i = 0; i < n; ++i) {
     const glm::vec2 q = ps.position_px[i];
     if (!(q.x >= 0.0f && q.y >= 0.0f && q.x < float(dims[0]) && q.y < float(dims[1])) ||
         !(ps.radius_px[i] > 0.0f)) {
       return fail("point " + std::to_string(i) + " is outside the canvas or has no radius");
+    }
+    const std::uint8_t f = footprint_bytes[i];
+    const bool centred = q.x - std::floor(q.x) == 0.5f && q.y - std::floor(q.y) == 0.5f;
+    if (f > std::uint8_t(PointFootprint::kPixel) || (f == std::uint8_t(PointFootprint::kPixel) && (!pixel_grid || !centred))) {
+      return fail("point " + std::to_string(i) + " has footprint " + std::to_string(f) +
+                  " (a pixel footprint needs the pixel-grid pattern and a pixel centre)");
     }
   }
   return ps;

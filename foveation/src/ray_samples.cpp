@@ -20,8 +20,15 @@ glm::vec2 unit_disc_sample(std::uint64_t seed, std::uint32_t point_index, int s)
   return {float(r * std::cos(theta)), float(r * std::sin(theta))};
 }
 
+glm::vec2 pixel_jitter(std::uint64_t pixel_index, std::uint32_t sample, std::uint64_t seed) {
+  const std::uint64_t h =
+      detail::mix64(pixel_index * 0x100000001B3ull ^ detail::mix64(std::uint64_t(sample) + (seed << 32)));
+  // 24 bits per axis: exactly representable, strictly below 1.
+  return {float(h >> 40) * 0x1.0p-24f, float((h >> 16) & 0xFFFFFFu) * 0x1.0p-24f};
+}
+
 RaySamples generate_ray_samples(const PointSet& points, const VisiblePoints& visible, int spp,
-                                std::uint64_t seed) {
+                                std::uint64_t seed, int screen_width_px) {
   if (spp < 1) throw std::invalid_argument("rays per point must be >= 1");
   RaySamples out;
   out.spp = spp;
@@ -32,7 +39,8 @@ RaySamples generate_ray_samples(const PointSet& points, const VisiblePoints& vis
     const float radius = points.radius_px[p];
     for (int s = 0; s < spp; ++s) {
       const std::size_t o = v * std::size_t(spp) + std::size_t(s);
-      out.sample_px[o] = visible.screen_px[v] + unit_disc_sample(seed, p, s) * radius;
+      out.sample_px[o] = points.on_pixel_grid(p) ? pixel_sample_px(visible.screen_px[v], s, seed, screen_width_px)
+                                                 : visible.screen_px[v] + unit_disc_sample(seed, p, s) * radius;
       out.point_index[o] = p;
     }
   }

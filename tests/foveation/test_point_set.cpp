@@ -17,11 +17,15 @@ namespace fv = foveart::foveation;
 namespace {
 
 // A small display with the thesis's shape (v = 0.85) keeps the tests fast.
-fv::DisplayModel small_display(fv::DiscRule rule = fv::DiscRule::kMinDistance) {
+// The Poisson sampler's own properties are tested on the thesis pattern
+// (Poisson everywhere); test_pixel_grid.cpp covers the pixel grid.
+fv::DisplayModel small_display(fv::DiscRule rule = fv::DiscRule::kMinDistance,
+                               fv::FoveaPattern pattern = fv::FoveaPattern::kThesisPoisson) {
   // Scale 4 thins the set (the fovea cap shrinks to ~40 px) while keeping every regime.
   auto d = fv::DisplayModel::from_thesis(320, 360, 0.85);
   d.scale = 4.0;
   d.disc_rule = rule;
+  d.fovea_pattern = pattern;
   return d;
 }
 
@@ -56,6 +60,7 @@ void expect_poisson_rule(const fv::PointSet& ps, fv::DiscRule rule) {
   std::size_t pairs = 0;
   std::size_t violations = 0;
   for_each_close_pair(ps, 2.0f * r_max + 1.0f, [&](std::uint32_t i, std::uint32_t j) {
+    if (ps.on_pixel_grid(i) && ps.on_pixel_grid(j)) return;  // pixel neighbours: 1 px apart by design
     ++pairs;
     const double d = std::hypot(double(ps.position_px[i].x) - double(ps.position_px[j].x),
                                 double(ps.position_px[i].y) - double(ps.position_px[j].y));
@@ -70,8 +75,12 @@ void expect_poisson_rule(const fv::PointSet& ps, fv::DiscRule rule) {
 }  // namespace
 
 TEST(PointSet, PoissonRuleHoldsForEveryNeighbouringPair) {
-  for (auto rule : {fv::DiscRule::kMinDistance, fv::DiscRule::kNonOverlapping}) {
-    const auto d = small_display(rule);
+  for (auto [rule, pattern] : {std::pair{fv::DiscRule::kMinDistance, fv::FoveaPattern::kThesisPoisson},
+                               std::pair{fv::DiscRule::kNonOverlapping, fv::FoveaPattern::kThesisPoisson},
+                               std::pair{fv::DiscRule::kMinDistance, fv::FoveaPattern::kPixelGrid},
+                               std::pair{fv::DiscRule::kNonOverlapping, fv::FoveaPattern::kPixelGrid}}) {
+    SCOPED_TRACE(std::string(fv::fovea_pattern_name(pattern)));
+    const auto d = small_display(rule, pattern);
     const auto ps = fv::generate_point_set(d, 7);
     ASSERT_GT(ps.size(), 1000u);
     expect_poisson_rule(ps, rule);

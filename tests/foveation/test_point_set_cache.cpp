@@ -54,15 +54,15 @@ class CacheTest : public ::testing::Test {
   }
 
   // The cache format (foveation/src/point_set_cache.cpp): a 136-byte header
-  // with payload_bytes at 80, payload_xxh3 at 88 and header_xxh3 (over bytes
+  // with payload_bytes at 88, payload_xxh3 at 96 and header_xxh3 (over bytes
   // 0..127) at 128, then the payload. Recomputes the checksums so that a
   // crafted payload passes every check but the one under test.
   static constexpr std::size_t kHeaderBytes = 136;
   static void reseal(std::vector<char>* bytes) {
     const std::uint64_t payload_bytes = bytes->size() - kHeaderBytes;
     const std::uint64_t payload_xxh3 = XXH3_64bits(bytes->data() + kHeaderBytes, payload_bytes);
-    std::memcpy(bytes->data() + 80, &payload_bytes, 8);
-    std::memcpy(bytes->data() + 88, &payload_xxh3, 8);
+    std::memcpy(bytes->data() + 88, &payload_bytes, 8);
+    std::memcpy(bytes->data() + 96, &payload_xxh3, 8);
     const std::uint64_t header_xxh3 = XXH3_64bits(bytes->data(), 128);
     std::memcpy(bytes->data() + 128, &header_xxh3, 8);
   }
@@ -86,6 +86,9 @@ TEST_F(CacheTest, RoundTrip) {
   ASSERT_EQ(ps->size(), points_.size());
   EXPECT_EQ(0, std::memcmp(ps->position_px.data(), points_.position_px.data(), points_.size() * sizeof(glm::vec2)));
   EXPECT_EQ(ps->radius_px, points_.radius_px);
+  EXPECT_EQ(ps->footprint, points_.footprint);
+  EXPECT_EQ(ps->visible_margin_px, points_.visible_margin_px);
+  EXPECT_GT(std::count(ps->footprint.begin(), ps->footprint.end(), fv::PointFootprint::kPixel), 100);
   const auto t = fv::load_neighbor_table(tf, key_, &err);
   ASSERT_TRUE(t.has_value()) << err;
   EXPECT_EQ(t->packed(), table_.packed());
@@ -118,7 +121,7 @@ TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
   expect_rejected(pf, "truncated header");
 
   bytes = good;
-  bytes[bytes.size() - 3] ^= 0x10;  // one bit in the radii
+  bytes[bytes.size() - 3] ^= 0x10;  // one bit in the footprints
   write(pf, bytes);
   expect_rejected(pf, "payload checksum");
 
@@ -151,7 +154,8 @@ TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
            [](fv::PointSetKey& k) { k.seed = 4; },
            [](fv::PointSetKey& k) { k.display.scale = 1.5; },
            [](fv::PointSetKey& k) { k.display.view_distance_px += 1e-9; },
-           [](fv::PointSetKey& k) { k.display.disc_rule = fv::DiscRule::kNonOverlapping; }}) {
+           [](fv::PointSetKey& k) { k.display.disc_rule = fv::DiscRule::kNonOverlapping; },
+           [](fv::PointSetKey& k) { k.display.fovea_pattern = fv::FoveaPattern::kThesisPoisson; }}) {
     fv::PointSetKey other = key_;
     mutate(other);
     std::string err;
@@ -170,9 +174,28 @@ TEST_F(CacheTest, TruncatedCorruptForeignAndOtherVersionAreRejected) {
   EXPECT_FALSE(fv::load_neighbor_table(tf, k7, &err).has_value());
 }
 
-// A checksummed point set whose count wraps count x 12 bytes to the real
-// payload size: rejected before any allocation, naming the file and the
-// field, and rebuilt by load_or_build_tables.
+// A checksummed file that calls a point off a pixel centre a pixel-grid point
+// (or has a footprint that does not exist) is rejected: its rays would
+// sample the wrong pixel.
+TEST_F(CacheTest, PixelFootprintOffAPixelCentreIsRejected) {
+  const auto pf = fv::point_set_cache_path(dir_, key_);
+  ASSERT_EQ(fv::save_point_set(pf, key_, points_), "");
+  const auto good = read(pf);
+  const std::size_t footprints = good.size() - points_.size();
+  std::size_t disc = 0;
+  while (points_.on_pixel_grid(disc)) ++disc;
+  for (char bad : {char(fv::PointFootprint::kPixel), char(7)}) {
+    auto bytes = good;
+    bytes[footprints + disc] = bad;
+    reseal(&bytes);
+    write(pf, bytes);
+    expect_rejected(pf, "point " + std::to_string(disc) + " has footprint " + std::to_string(int(bad)));
+  }
+}
+
+// A checksummed point set whose count is 2^62 more than its payload holds
+// (13 bytes a point): rejected before any allocation, naming the file and
+// the field, and rebuilt by load_or_build_tables.
 TEST_F(CacheTest, PointCountThatWrapsThePayloadSizeIsRejected) {
   const auto pf = fv::point_set_cache_path(dir_, key_);
   ASSERT_EQ(fv::save_point_set(pf, key_, points_), "");
@@ -185,8 +208,7 @@ TEST_F(CacheTest, PointCountThatWrapsThePayloadSizeIsRejected) {
   std::uint64_t n = 0;
   std::memcpy(&n, bytes.data() + kCountOffset, sizeof n);
   ASSERT_EQ(n, points_.size());
-  n += std::uint64_t{1} << 62;  // 12 * 2^62 = 3 * 2^64: the same size modulo 2^64
-  ASSERT_EQ(n * 12, points_.size() * 12);
+  n += std::uint64_t{1} << 62;  // resize(n) would throw or exhaust memory
   std::memcpy(bytes.data() + kCountOffset, &n, sizeof n);
   reseal(&bytes);
   write(pf, bytes);
@@ -268,6 +290,7 @@ TEST(CacheIndexCheck, TableIndexingBeyondThePointSetIsRebuilt) {
   fs::remove_all(dir);
   fv::PointSetKey key;
   key.display = fv::DisplayModel::from_thesis(96, 96, 0.3);
+  key.display.fovea_pattern = fv::FoveaPattern::kThesisPoisson;  // ~2 points per pixel: > 65,536
   key.seed = 2;
   key.k = 3;
   const auto first = fv::load_or_build_tables(dir, key, fv::test::executor());

@@ -22,6 +22,7 @@ const fv::PointSet& small_set() {
   static const fv::PointSet ps = [] {
     auto d = fv::DisplayModel::from_thesis(200, 160, 0.85);
     d.scale = 3.0;
+    d.fovea_pattern = fv::FoveaPattern::kThesisPoisson;  // discs everywhere, the thesis's 10 px margin
     return fv::generate_point_set(d, 4);
   }();
   return ps;
@@ -79,7 +80,7 @@ TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {
   const auto& ps = small_set();
   const auto vis = fv::select_visible_points(ps, fv::map_gaze(200, 160, {100, 80}));
   const int spp = 8;
-  const auto a = fv::generate_ray_samples(ps, vis, spp, 1234);
+  const auto a = fv::generate_ray_samples(ps, vis, spp, 1234, 200);
   ASSERT_EQ(a.size(), vis.size() * spp);
   double sum_r2 = 0.0;
   for (std::size_t v = 0; v < vis.size(); ++v) {
@@ -94,10 +95,45 @@ TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {
   }
   // Uniform by area in a unit disc: E[r^2] = 1/2.
   EXPECT_NEAR(sum_r2 / double(a.size()), 0.5, 0.01);
-  const auto b = fv::generate_ray_samples(ps, vis, spp, 1234);
+  const auto b = fv::generate_ray_samples(ps, vis, spp, 1234, 200);
   EXPECT_EQ(0, std::memcmp(a.sample_px.data(), b.sample_px.data(), a.size() * sizeof(glm::vec2)));
   // A point's samples do not depend on which other points are visible.
   EXPECT_EQ(fv::unit_disc_sample(1234, 77, 3), fv::unit_disc_sample(1234, 77, 3));
   EXPECT_NE(fv::unit_disc_sample(1234, 77, 3), fv::unit_disc_sample(1235, 77, 3));
-  EXPECT_THROW(fv::generate_ray_samples(ps, vis, 0, 1), std::invalid_argument);
+  EXPECT_THROW(fv::generate_ray_samples(ps, vis, 0, 1, 200), std::invalid_argument);
+}
+
+// A pixel-grid point's rays cover its own screen pixel uniformly, exactly
+// where the full render puts that pixel's (the same pixel_jitter), whatever
+// point index it has and wherever the gaze put the canvas.
+TEST(RaySamples, PixelGridPointsSampleTheirOwnPixelAsTheFullRenderDoes) {
+  auto d = fv::DisplayModel::from_fov(200, 160, 90.0);
+  d.scale = 4.0;  // the grid edge inside the screen
+  const fv::PointSet ps = fv::generate_point_set(d, 4);
+  const auto vis = fv::select_visible_points(ps, fv::map_gaze(200, 160, {90.6f, 70.2f}));
+  const int spp = 4;
+  const auto samples = fv::generate_ray_samples(ps, vis, spp, 99, 200);
+  std::size_t grid = 0, disc = 0;
+  double sum_x = 0.0, sum_y = 0.0;
+  for (std::size_t v = 0; v < vis.size(); ++v) {
+    const bool on_grid = ps.on_pixel_grid(vis.point_index[v]);
+    grid += on_grid;
+    disc += !on_grid;
+    if (!on_grid) continue;
+    const int x = int(vis.screen_px[v].x), y = int(vis.screen_px[v].y);
+    for (int s = 0; s < spp; ++s) {
+      const glm::vec2 p = samples.sample_px[v * spp + std::size_t(s)];
+      ASSERT_EQ(p, glm::vec2(float(x), float(y)) + fv::pixel_jitter(std::uint64_t(y) * 200 + std::uint64_t(x), std::uint32_t(s), 99));
+      ASSERT_GE(p.x, float(x));
+      ASSERT_LT(p.x, float(x + 1));
+      ASSERT_GE(p.y, float(y));
+      ASSERT_LT(p.y, float(y + 1));
+      sum_x += double(p.x) - x;
+      sum_y += double(p.y) - y;
+    }
+  }
+  ASSERT_GT(grid, 1000u);
+  ASSERT_GT(disc, 1000u);
+  EXPECT_NEAR(sum_x / double(grid * spp), 0.5, 0.01);  // uniform over the pixel
+  EXPECT_NEAR(sum_y / double(grid * spp), 0.5, 0.01);
 }

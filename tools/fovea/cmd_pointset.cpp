@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "display_options.hpp"
 #include "foveation/gaze_mapping.hpp"
+#include "foveation/point_density.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "foveation/visible_points.hpp"
 #include "toolkit/image_io.hpp"
@@ -88,9 +89,61 @@ void write_or_throw(const std::string& err) {
   if (!err.empty()) throw std::runtime_error(err);
 }
 
+// Points per pixel in rings around the centre of interest, against the ring's
+// eccentricity (deg, scaled), out to the screen's corner.
+struct DensityCurve {
+  std::vector<double> ecc_deg, points_per_px, spacing_px;
+};
+DensityCurve density_curve(const fv::DisplayModel& display, const fv::PointSet& points) {
+  const double max_d = std::hypot(double(display.width_px), double(display.height_px));
+  const fv::PointDensity density = fv::measure_point_density(points, 2.0, max_d);
+  DensityCurve c;
+  for (const fv::DensityRing& r : density.rings) {
+    if (r.area_px < 1.0 || r.points == 0) continue;
+    c.ecc_deg.push_back(display.ecc_deg(0.5 * (r.from_px + r.to_px)));
+    c.points_per_px.push_back(r.points_per_px());
+    c.spacing_px.push_back(1.0 / std::sqrt(r.points_per_px()));  // side of the square each point owns
+  }
+  return c;
+}
+
+// The measured spacing curve of the set, and of the thesis's Poisson reading
+// for the same display: where the pixel grid ends the density must not jump.
+void write_density_curve(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points) {
+  const DensityCurve mine = density_curve(display, points);
+  fv::DisplayModel other = display;
+  other.fovea_pattern = display.fovea_pattern == fv::FoveaPattern::kPixelGrid ? fv::FoveaPattern::kThesisPoisson
+                                                                              : fv::FoveaPattern::kPixelGrid;
+  const DensityCurve theirs = density_curve(other, fv::generate_point_set(other, 1));
+  std::ofstream csv(fs::path(dir) / "density_vs_eccentricity.csv");
+  csv << "pattern,ecc_deg,points_per_px,spacing_px\n";
+  auto rows = [&](const fv::DisplayModel& d, const DensityCurve& c) {
+    for (std::size_t i = 0; i < c.ecc_deg.size(); ++i)
+      csv << fv::fovea_pattern_name(d.fovea_pattern) << ',' << c.ecc_deg[i] << ',' << c.points_per_px[i] << ','
+          << c.spacing_px[i] << '\n';
+  };
+  rows(display, mine);
+  rows(other, theirs);
+  if (!csv) throw std::runtime_error("cannot write " + (fs::path(dir) / "density_vs_eccentricity.csv").string());
+  const std::string a(fv::fovea_pattern_name(display.fovea_pattern)), b(fv::fovea_pattern_name(other.fovea_pattern));
+  // Reference lines first, the measured curves on top.
+  std::vector<toolkit::PlotSeries> series{
+      {"one point per pixel", {0.0, mine.ecc_deg.empty() ? 1.0 : mine.ecc_deg.back()}, {1.0, 1.0}}};
+  if (const double ecc = fv::pixel_grid_ecc_deg(display.display_cpd(), display.csf); ecc > 0.0) {
+    series.push_back({"f_c = f_d (eq. 2-3)", {ecc, ecc}, {0.0, 2.5}});
+  }
+  series.push_back({b, theirs.ecc_deg, theirs.points_per_px});
+  series.push_back({a, mine.ecc_deg, mine.points_per_px});
+  write_or_throw(toolkit::write_plot_png((fs::path(dir) / "density_vs_eccentricity.png").string(),
+                                         {"Measured point density: " + a + " against " + b,
+                                          "eccentricity (deg, scaled)", "points per pixel (2 px rings)"},
+                                         series));
+}
+
 // Thesis Fig. 11 (cut-off and display frequency, spacing against eccentricity)
 // and Fig. 14 (point count against scale 1.0-3.0).
-nlohmann::json write_curves(const std::string& dir, const fv::DisplayModel& display, std::size_t count_at_scale) {
+nlohmann::json write_curves(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points) {
+  const std::size_t count_at_scale = points.size();
   const double max_d = std::hypot(double(display.width_px), double(display.height_px));
   std::vector<double> ecc, fc, fd, radius;
   std::ofstream csv(fs::path(dir) / "spacing_vs_eccentricity.csv");
@@ -113,6 +166,8 @@ nlohmann::json write_curves(const std::string& dir, const fv::DisplayModel& disp
   write_or_throw(toolkit::write_plot_png((fs::path(dir) / "spacing_vs_eccentricity.png").string(),
                                          {"Point radius p (eq. 4)", "eccentricity (deg, scaled)", "radius (px)"},
                                          {{"p (eq. 4)", ecc, radius}}));
+
+  write_density_curve(dir, display, points);
 
   std::vector<double> scales, counts;
   std::ofstream csv14(fs::path(dir) / "points_vs_scale.csv");
@@ -180,6 +235,7 @@ void run_pointset(const PointsetOptions& o) {
   j["pixels_per_degree"] = display.view_distance_px * 3.141592653589793 / 180.0;
   j["scale"] = display.scale;
   j["disc_rule"] = o.display.disc_rule;
+  j["pattern"] = fv::fovea_pattern_name(display.fovea_pattern);
   j["seed"] = o.display.seed;
   j["csf"] = {{"ct0", display.csf.ct0}, {"alpha", display.csf.alpha}, {"e2_deg", display.csf.e2_deg}};
   j["k"] = o.k;
@@ -192,6 +248,26 @@ void run_pointset(const PointsetOptions& o) {
   j["gaze"] = {at_gaze.gaze_px.x, at_gaze.gaze_px.y};
   j["gaze_clamped"] = at_gaze.clamped;
   j["visible_at_gaze"] = vis_gaze.size();
+  j["visible_margin_px"] = tables.points.visible_margin_px;
+  // Where the pixel grid samples the fovea, and how dense the set is anywhere.
+  const fv::PointDensity density = fv::measure_point_density(tables.points, 8.0, 8.0);
+  auto grid_on_screen = [&](const fv::GazeMapping& m) {
+    const auto vis = fv::select_visible_points(tables.points, m);
+    std::size_t n = 0;
+    for (std::uint32_t i : vis.point_index) n += tables.points.on_pixel_grid(i);
+    return n;
+  };
+  const double grid_radius_px = display.pixel_grid_radius_px();
+  j["pixel_grid"] = {
+      {"radius_px", std::isfinite(grid_radius_px) ? nlohmann::json(grid_radius_px) : nlohmann::json("all")},
+      {"radius_deg", std::isfinite(grid_radius_px) ? std::atan(grid_radius_px / display.view_distance_px) * 180.0 / 3.141592653589793
+                                                   : 90.0},
+      {"radius_ecc_deg_scaled", std::max(0.0, fv::pixel_grid_ecc_deg(display.display_cpd(), display.csf))},
+      {"points", density.pixel_grid_points},
+      {"on_screen_centred", grid_on_screen(centred)},
+      {"on_screen_at_gaze", grid_on_screen(at_gaze)}};
+  j["max_points_in_a_pixel"] = density.max_points_in_a_pixel;
+  j["max_points_per_px"] = density.max_points_per_px;  // densest 8x8 block of the canvas
   j["generation_ms"] = tables.generation_ms;
   j["table_ms"] = tables.table_ms;
   j["table_bytes"] = tables.neighbors.bytes();
@@ -199,7 +275,7 @@ void run_pointset(const PointsetOptions& o) {
   j["table_from_cache"] = tables.neighbors_from_cache;
 
   if (!o.png.empty()) write_points_png(o.png, vis_gaze, w, h);
-  if (!o.curves_dir.empty()) j["points_vs_scale"] = write_curves(o.curves_dir, display, tables.points.size());
+  if (!o.curves_dir.empty()) j["points_vs_scale"] = write_curves(o.curves_dir, display, tables.points);
 
   if (o.json) {
     std::cout << j.dump(2) << "\n";
@@ -207,6 +283,10 @@ void run_pointset(const PointsetOptions& o) {
     std::cout << "points: " << j["total"] << " total, " << n_centred << " on screen at centred gaze ("
               << 100.0 * double(n_centred) / pixels << "% of " << w << "x" << h << "), " << n_corner
               << " at corner gaze\n"
+              << "pattern: " << fv::fovea_pattern_name(display.fovea_pattern) << ", pixel grid "
+              << density.pixel_grid_points << " points within " << j["pixel_grid"]["radius_px"] << " px ("
+              << j["pixel_grid"]["radius_deg"] << " deg); at most " << density.max_points_in_a_pixel
+              << " point(s) in a pixel, " << density.max_points_per_px << " per pixel in the densest 8x8 block\n"
               << "neighbour table: k=" << o.k << ", " << double(tables.neighbors.bytes()) / 1e6 << " MB\n"
               << "time: point set " << tables.generation_ms << " ms, table " << tables.table_ms << " ms\n";
   }

@@ -17,7 +17,7 @@
 
 namespace foveart::foveation {
 
-inline constexpr std::uint32_t kCacheFormatVersion = 2;
+inline constexpr std::uint32_t kCacheFormatVersion = 3;
 
 // Everything a cached point set / table depends on.
 struct PointSetKey {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -11,14 +12,11 @@
 
 namespace foveart::foveation {
 
-// Thesis 4.2: points up to 10 px outside the screen are sampled too.
-inline constexpr float kVisibleMarginPx = 10.0f;
-
 // The visibility test on its own, for callers that fuse it into their own
 // loop: a canvas point is visible when to_screen(p) lies in
 // [-margin, W + margin) x [-margin, H + margin).
 struct VisibleRegion {
-  explicit VisibleRegion(const GazeMapping& mapping, float margin_px = kVisibleMarginPx)
+  VisibleRegion(const GazeMapping& mapping, float margin_px)
       : offset_px(float(mapping.canvas_from_screen_x_px), float(mapping.canvas_from_screen_y_px)),
         x0(-margin_px),
         y0(-margin_px),
@@ -40,8 +38,9 @@ struct VisiblePoints {
   std::size_t size() const { return point_index.size(); }
 };
 
-// Points whose screen position lies in [-margin, W + margin) x [-margin, H + margin).
+// Points whose screen position lies in [-margin, W + margin) x [-margin, H + margin),
+// with the point set's own margin (PointSet::visible_margin_px) unless one is given.
 VisiblePoints select_visible_points(const PointSet& points, const GazeMapping& mapping,
-                                    float margin_px = kVisibleMarginPx);
+                                    std::optional<float> margin_px = std::nullopt);
 
 }  // namespace foveart::foveation

@@ -4,6 +4,7 @@
 #include <foveation/device.hpp>
 #include <foveation/eye_rays.hpp>
 #include <foveation/ray_batch.hpp>
+#include <foveation/ray_samples.hpp>
 
 #include <glm/trigonometric.hpp>
 
@@ -15,24 +16,11 @@
 namespace foveart::engine {
 namespace {
 
-// splitmix64 (Steele et al. 2014): a cheap, well-mixed hash for jitter.
-uint64_t mix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
-
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
-
-glm::vec2 jitter(uint64_t index, uint32_t sample, uint64_t seed) {
-  const uint64_t h = mix64(index * 0x100000001B3ull ^ mix64(sample + (seed << 32)));
-  return glm::vec2(static_cast<float>(h >> 40) * 0x1.0p-24f, static_cast<float>((h >> 16) & 0xFFFFFFu) * 0x1.0p-24f);
-}
 
 RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
                          const RenderSettings& settings, foveation::ImageRgb* out, foveation::Executor& executor) {
@@ -69,7 +57,8 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
       for (uint32_t x = x0; x < x1; ++x) {
         const uint64_t p = static_cast<uint64_t>(y) * view.width_px + x;
         for (uint32_t s = 0; s < spp; ++s)
-          b.set_ray(r++, f, pose, glm::vec2(static_cast<float>(x), static_cast<float>(y)) + jitter(p, s, settings.seed),
+          b.set_ray(r++, f, pose, glm::vec2(static_cast<float>(x), static_cast<float>(y)) +
+                                        foveation::pixel_jitter(p, s, settings.seed),
                     static_cast<uint32_t>(p));
       }
     const int32_t st = b.trace(fn, user_data, view, 0, static_cast<uint32_t>(r));

@@ -25,14 +25,19 @@ namespace {
 constexpr uint32_t kW = 96;
 constexpr uint32_t kH = 80;
 
-std::shared_ptr<const ViewTables> small_tables(InterpMethod method, int k) {
+// Scale 6 puts the edge of the pixel grid (~31 px from the gaze) inside the
+// view, so frames hold grid and Poisson points alike.
+std::shared_ptr<const ViewTables> small_tables(InterpMethod method, int k,
+                                               FoveaPattern pattern = FoveaPattern::kPixelGrid) {
   static std::mutex mutex;
-  static std::map<std::pair<InterpMethod, int>, std::shared_ptr<const ViewTables>> cache;
+  static std::map<std::tuple<InterpMethod, int, FoveaPattern>, std::shared_ptr<const ViewTables>> cache;
   std::lock_guard lock(mutex);
-  auto& slot = cache[{method, k}];
+  auto& slot = cache[{method, k, pattern}];
   if (!slot) {
     PointSetKey key;
     key.display = DisplayModel::from_fov(kW, kH, 60.0);
+    key.display.scale = 6.0;
+    key.display.fovea_pattern = pattern;
     key.seed = 1;
     InterpOptions o;
     o.method = method;
@@ -148,22 +153,103 @@ int32_t log_rays(void* user, const FoveartRayBatch* batch) {
 // The fused pass traces exactly the rays of the core's select_visible_points +
 // generate_ray_samples: the same points, the same sample positions.
 TEST(FoveatedView, TracesTheRaysOfTheCoreSelectionAndSamples) {
-  Executor executor(3);
+  for (FoveaPattern pattern : {FoveaPattern::kPixelGrid, FoveaPattern::kThesisPoisson}) {
+    SCOPED_TRACE(std::string(fovea_pattern_name(pattern)));
+    Executor executor(3);
+    const auto tables = small_tables(InterpMethod::msm, 5, pattern);
+    FoveatedView view(tables, settings(2, false));
+    RayLog log;
+    const auto out = view.render(request_at({48, 40}), &log_rays, &log, executor);
+    ASSERT_TRUE(out.ok()) << out.message;
+    const auto mapping = map_gaze(kW, kH, glm::vec2(48, 40));
+    const auto visible = select_visible_points(tables->points, mapping);
+    const auto samples = generate_ray_samples(tables->points, visible, 2, 1, int(kW));
+    ASSERT_EQ(log.rays.size(), samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const auto it = log.rays.find({samples.point_index[i], int(i % 2)});
+      ASSERT_NE(it, log.rays.end()) << "ray " << i;
+      ASSERT_EQ(it->second.x, samples.sample_px[i].x) << "ray " << i;
+      ASSERT_EQ(it->second.y, samples.sample_px[i].y) << "ray " << i;
+    }
+  }
+}
+
+// In the pixel grid a pixel is its own point, traced over its own square with
+// the full render's jitter (pixel_jitter): the same value a full render gives,
+// for every method.
+TEST(FoveatedView, PixelGridPixelsAreExactlyTheFullRendersPixels) {
+  for (InterpMethod method : {InterpMethod::nn, InterpMethod::msm, InterpMethod::rbf_mq}) {
+    SCOPED_TRACE(std::string(method_name(method)));
+    Executor executor(2);
+    const auto tables = small_tables(method, method == InterpMethod::nn ? 1 : 5);
+    constexpr int kSpp = 3;
+    FoveatedView view(tables, settings(kSpp, false));
+    const glm::vec2 gaze(40.0f, 44.0f);
+    ASSERT_TRUE(view.render(request_at(gaze), &gradient, nullptr, executor).ok());
+    const auto visible = select_visible_points(tables->points, map_gaze(kW, kH, gaze));
+    std::size_t grid_pixels = 0;
+    for (std::size_t v = 0; v < visible.size(); ++v) {
+      if (!tables->points.on_pixel_grid(visible.point_index[v])) continue;
+      const glm::vec2 centre = visible.screen_px[v];
+      // What the full render computes for this pixel: the mean of the callback over its samples.
+      glm::vec3 sum(0.0f);
+      for (int s = 0; s < kSpp; ++s) {
+        const glm::vec2 p = pixel_sample_px(centre, s, 1, int(kW));
+        FoveartRayBatch one{};
+        float rgb[3];
+        one.ray_count = 1;
+        one.sample_px = &p.x;
+        one.out_rgb = rgb;
+        gradient(nullptr, &one);
+        sum += glm::vec3(rgb[0], rgb[1], rgb[2]);
+      }
+      sum *= 1.0f / float(kSpp);
+      const float* px = view.image().at(int(centre.x), int(centre.y));
+      ASSERT_EQ(px[0], sum.x) << "pixel " << centre.x << "," << centre.y;
+      ASSERT_EQ(px[1], sum.y) << "pixel " << centre.x << "," << centre.y;
+      ASSERT_EQ(px[2], sum.z) << "pixel " << centre.x << "," << centre.y;
+      ++grid_pixels;
+    }
+    EXPECT_GT(grid_pixels, std::size_t(kW * kH / 4));     // the grid covers much of the view
+    EXPECT_LT(grid_pixels, visible.size());               // and Poisson points the rest
+  }
+}
+
+// The gaze is rounded to whole pixels and a grid pixel's rays follow the
+// screen pixel, so a foveation centre drifting by fractions of a pixel (or
+// whole pixels) leaves every pixel that stays inside the grid unchanged.
+TEST(FoveatedView, FractionalGazeMovesDoNotShiftTheFovea) {
+  Executor executor(2);
   const auto tables = small_tables(InterpMethod::msm, 5);
   FoveatedView view(tables, settings(2, false));
-  RayLog log;
-  const auto out = view.render(request_at({48, 40}), &log_rays, &log, executor);
-  ASSERT_TRUE(out.ok()) << out.message;
-  const auto mapping = map_gaze(kW, kH, glm::vec2(48, 40));
-  const auto visible = select_visible_points(tables->points, mapping);
-  const auto samples = generate_ray_samples(tables->points, visible, 2, 1);
-  ASSERT_EQ(log.rays.size(), samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const auto it = log.rays.find({samples.point_index[i], int(i % 2)});
-    ASSERT_NE(it, log.rays.end()) << "ray " << i;
-    ASSERT_EQ(it->second.x, samples.sample_px[i].x) << "ray " << i;
-    ASSERT_EQ(it->second.y, samples.sample_px[i].y) << "ray " << i;
+  const std::vector<glm::vec2> gazes{{48.0f, 40.0f}, {48.3f, 39.8f}, {48.7f, 40.45f}, {49.2f, 40.6f}, {50.6f, 41.4f}};
+  const double grid_radius_px = tables->key.display.pixel_grid_radius_px();
+  ASSERT_GT(grid_radius_px, 10.0);
+  std::vector<std::vector<float>> frames;
+  for (const glm::vec2 g : gazes) {
+    ASSERT_TRUE(view.render(request_at(g), &gradient, nullptr, executor).ok());
+    frames.push_back(view.image().rgb);
   }
+  std::size_t compared = 0;
+  for (uint32_t y = 0; y < kH; ++y) {
+    for (uint32_t x = 0; x < kW; ++x) {
+      // Inside the grid at every gaze (a pixel of margin for the rounding).
+      bool inside = true;
+      for (const glm::vec2 g : gazes) {
+        inside = inside && std::hypot(double(x) + 0.5 - double(g.x), double(y) + 0.5 - double(g.y)) < grid_radius_px - 1.5;
+      }
+      if (!inside) continue;
+      const std::size_t i = (std::size_t(y) * kW + x) * 3;
+      for (std::size_t f = 1; f < frames.size(); ++f) {
+        ASSERT_EQ(frames[f][i], frames[0][i]) << "pixel " << x << "," << y << " frame " << f;
+        ASSERT_EQ(frames[f][i + 2], frames[0][i + 2]) << "pixel " << x << "," << y << " frame " << f;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, std::size_t(kW * kH / 8));
+  // Outside the grid the Poisson points move with the gaze: those pixels do change.
+  EXPECT_NE(frames.front(), frames.back());
 }
 
 class ConstantColour : public ::testing::TestWithParam<std::tuple<InterpMethod, bool>> {};

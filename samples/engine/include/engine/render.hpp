@@ -37,7 +37,7 @@ struct RenderResult {
   std::vector<double> tile_ms;
 };
 
-// The full render: spp jittered rays in every pixel, averaged, into *out_image
+// The full render: spp jittered rays in every pixel (foveation::pixel_jitter), averaged, into *out_image
 // (linear RGB); traced in tiles of (up to) 64 px width and batch_rays / (64 spp)
 // rows (packets of 16 neighbours along a row), spread over the executor.
 RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view,
@@ -49,8 +49,5 @@ FoveartEyeView fove_eye_view(uint32_t eye_index, const Camera& head);
 
 // The head pose to render a scene from: its camera, or one that frames it.
 Camera scene_head(const Scene& scene);
-
-// Deterministic jitter in [0,1)^2 for (index, sample, seed).
-glm::vec2 jitter(uint64_t index, uint32_t sample, uint64_t seed);
 
 }  // namespace foveart::engine
