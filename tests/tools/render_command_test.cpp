@@ -204,6 +204,9 @@ TEST(FoveatedRender, FramesAreIndependentOfEarlierFramesAndOfThreads) {
   engine_test::TempDir cache;  // the second view loads the first one's tables
   fv::PointSetKey key;
   key.display = fv::DisplayModel::from_fov(96, 108, 95.0);
+  // At 96 px for 95 degrees the eye resolves every pixel: the whole view would
+  // be the pixel grid, the same at any gaze. Scale 8 shrinks the grid to ~24 px.
+  key.display.scale = 8.0;
   fv::InterpOptions nn;
   nn.method = fv::InterpMethod::nn;
   nn.k = 1;
