@@ -21,6 +21,8 @@ PACKAGES=(
   libopenxr-dev libopenxr-loader1 libopenxr-utils openxr-layer-corevalidation
   # tests and benchmarks; jq prints the main job's summary lines
   libgtest-dev libgmock-dev libbenchmark-dev jq
+  # fuzzing (scripts/fuzz.sh): clang and its libFuzzer / sanitizer runtimes
+  clang libclang-rt-14-dev
 )
 
 missing=()

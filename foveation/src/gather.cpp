@@ -226,6 +226,7 @@ inline v4 pixel_portable(const Rgba* pal, const std::uint8_t* s, const W* w, int
 }
 
 #if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
 #define FOVEART_GATHER_AVX2 1
 #define FOVEART_AVX2 __attribute__((target("avx2,fma,f16c")))
 
@@ -389,8 +390,11 @@ void gather_tiles_w(const Frame& f, const W* weights, int y0, int y1, GatherStat
 
 bool use_avx2(const GatherOptions& o) {
 #if defined(FOVEART_GATHER_AVX2)
-  static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
-                          __builtin_cpu_supports("f16c");
+  // F16C through cpuid: clang 14's __builtin_cpu_supports does not know "f16c" (the fuzz build is clang).
+  static const bool cpu = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && [] {
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    return __get_cpuid(1, &eax, &ebx, &ecx, &edx) != 0 && (ecx & bit_F16C) != 0;
+  }();
   return o.simd && cpu;
 #else
   (void)o;

@@ -198,7 +198,7 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
   views.reserve(info->layerCount);
   for (uint32_t i = 0; i < info->layerCount; ++i) {
     const auto* base = info->layers[i];
-    if (base == nullptr || base->type != XR_TYPE_COMPOSITION_LAYER_PROJECTION) continue;
+    if (base == nullptr || type_of(base) != static_cast<std::int32_t>(XR_TYPE_COMPOSITION_LAYER_PROJECTION)) continue;
     const auto* projection = reinterpret_cast<const XrCompositionLayerProjection*>(base);
     const auto* opt_in = find_in_chain<XrFoveatedRayTracingLayerFOVEART>(
         projection->next, XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
@@ -249,7 +249,7 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateFoveatedRendererFOVEART(
   return exception_barrier("xrCreateFoveatedRendererFOVEART", [&]() -> XrResult {
     auto state = Registry::get().session(session);
     if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
-    if (info == nullptr || out_renderer == nullptr || info->type != XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART) {
+    if (info == nullptr || out_renderer == nullptr || type_of(info) != static_cast<std::int32_t>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART)) {
       log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: createInfo missing or of the wrong type");
       return XR_ERROR_VALIDATION_FAILURE;
     }
@@ -282,7 +282,7 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrGetFoveatedRendererStatsFOVEART(XrFoveated
   return exception_barrier("xrGetFoveatedRendererStatsFOVEART", [&]() -> XrResult {
     auto r = Registry::get().renderer(renderer);
     if (r == nullptr) return XR_ERROR_HANDLE_INVALID;
-    if (stats == nullptr || stats->type != XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART) return XR_ERROR_VALIDATION_FAILURE;
+    if (stats == nullptr || type_of(stats) != static_cast<std::int32_t>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART)) return XR_ERROR_VALIDATION_FAILURE;
     r->stats(stats);
     return XR_SUCCESS;
   });

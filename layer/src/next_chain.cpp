@@ -6,10 +6,10 @@
 
 namespace foveart::layer {
 
-std::size_t structure_size(XrStructureType type) {
+std::size_t structure_size(std::int32_t type) {
   switch (type) {
 #define FOVEART_STRUCT_SIZE(name, type_enum) \
-  case type_enum:                            \
+  case static_cast<std::int32_t>(type_enum): \
     return sizeof(name);
     XR_LIST_STRUCTURE_TYPES_CORE(FOVEART_STRUCT_SIZE)
 #undef FOVEART_STRUCT_SIZE
@@ -29,7 +29,7 @@ bool ChainCopies::without(const void* head, const void* remove, const void** out
   auto* s = static_cast<const XrBaseInStructure*>(head);
   for (; s != nullptr && s != remove; s = s->next) {
     if (copies.size() >= kMaxChainNodes) return false;
-    const std::size_t size = structure_size(s->type);
+    const std::size_t size = structure_size(type_of(s));
     if (size < sizeof(XrBaseInStructure)) return false;
     auto& storage = nodes_.emplace_back(
         std::make_unique<std::max_align_t[]>((size + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t)));

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -16,13 +18,22 @@ namespace foveart::layer {
 // ends the walk instead of hanging the app's thread.
 inline constexpr std::size_t kMaxChainNodes = 1024;
 
+// A node's type as the app wrote it. Read as an integer: an app may store any
+// 32-bit value there, and loading one outside XrStructureType's range as the
+// enum is undefined behaviour (found by tests/fuzz/fuzz_next_chain).
+inline std::int32_t type_of(const void* node) {
+  std::int32_t type = 0;
+  std::memcpy(&type, static_cast<const std::uint8_t*>(node) + offsetof(XrBaseInStructure, type), sizeof type);
+  return type;
+}
+
 // The first node of `type` in the chain from `next`; null when absent.
 template <class T>
 const T* find_in_chain(const void* next, XrStructureType type) {
   std::size_t walked = 0;
   for (auto* s = static_cast<const XrBaseInStructure*>(next); s != nullptr && walked < kMaxChainNodes;
        s = s->next, ++walked) {
-    if (s->type == type) return reinterpret_cast<const T*>(s);
+    if (type_of(s) == static_cast<std::int32_t>(type)) return reinterpret_cast<const T*>(s);
   }
   return nullptr;
 }
@@ -33,13 +44,13 @@ T* find_in_out_chain(void* next, XrStructureType type) {
   std::size_t walked = 0;
   for (auto* s = static_cast<XrBaseOutStructure*>(next); s != nullptr && walked < kMaxChainNodes;
        s = s->next, ++walked) {
-    if (s->type == type) return reinterpret_cast<T*>(s);
+    if (type_of(s) == static_cast<std::int32_t>(type)) return reinterpret_cast<T*>(s);
   }
   return nullptr;
 }
 
 // sizeof the struct of this type in the OpenXR 1.0.20 headers; 0 when unknown.
-std::size_t structure_size(XrStructureType type);
+std::size_t structure_size(std::int32_t type);
 
 class ChainCopies {
  public:

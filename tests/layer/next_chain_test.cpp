@@ -97,3 +97,41 @@ TEST(NextChain, SizesComeFromTheRegistry) {
 
 }  // namespace
 }  // namespace foveart::layer
+
+namespace foveart::layer {
+namespace {
+
+// Found by tests/fuzz/fuzz_next_chain: a node whose type is a negative 32-bit
+// value (any garbage an app leaves there) was loaded as an XrStructureType, which
+// is undefined behaviour outside the enum's range (UBSan: "not a valid value for
+// type 'XrStructureType'"). The walk reads types as integers.
+TEST(NextChain, TypeOutsideTheEnumRangeIsReadAsAnInteger) {
+  XrBaseInStructure garbage{};
+  const std::int32_t raw = static_cast<std::int32_t>(0x9B3BF110u);
+  std::memcpy(&garbage.type, &raw, sizeof raw);
+  XrFoveatedRayTracingLayerFOVEART opt_in{XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART, nullptr, XR_NULL_HANDLE};
+  garbage.next = reinterpret_cast<const XrBaseInStructure*>(&opt_in);
+  EXPECT_EQ(type_of(&garbage), raw);
+  EXPECT_EQ(structure_size(raw), 0u);
+  EXPECT_EQ(find_in_chain<XrFoveatedRayTracingLayerFOVEART>(&garbage, XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART),
+            &opt_in);
+  ChainCopies copies;
+  const void* head = nullptr;
+  EXPECT_FALSE(copies.without(&garbage, &opt_in, &head)) << "a node of unknown size cannot be copied";
+  EXPECT_EQ(head, &garbage);
+}
+
+// A chain that loops (invalid usage) ends the walk instead of hanging the app's thread.
+TEST(NextChain, LoopingChainEndsTheWalk) {
+  XrBaseInStructure a{XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR, nullptr};
+  XrBaseInStructure b{XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR, &a};
+  a.next = &b;
+  EXPECT_EQ(find_in_chain<XrBaseInStructure>(&a, XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART), nullptr);
+  XrFoveatedRayTracingLayerFOVEART never_reached{XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART, nullptr, XR_NULL_HANDLE};
+  ChainCopies copies;
+  const void* head = nullptr;
+  EXPECT_FALSE(copies.without(&a, &never_reached, &head));
+}
+
+}  // namespace
+}  // namespace foveart::layer
