@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 #include <limits>
+#include <sstream>
 
 #include "gaze_provider/gaze_math.h"
 #include "gaze_provider/trace_csv.h"
@@ -62,6 +63,33 @@ TEST(GazeSource, ReadsTheTraceInHeadSpaceAndHoldsEachSampleUntilTheNext) {
   EXPECT_NEAR(s.direction.z, 0.8F, 1e-6F);
   s = source->sample_at(16'700'000);  // row 3 is a blink
   EXPECT_FALSE(s.valid);
+}
+
+// Issue 14: the runtime reads the dialect of gaze-diag, because it is the same
+// reader: a BOM, NaN in an invalid row, and device times on a
+// Unix-epoch microsecond clock (1.7e15 us, once refused above 9e12 us).
+TEST(GazeSource, ReadsUnixEpochTimesBomAndNanRowsAsGazeDiagDoes) {
+  const std::string dir = test::fresh_dir("trace");
+  const std::string text =
+      "\xEF\xBB\xBF" "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n"
+      "1700000000000000,1,1,0,0,1\n"
+      "1700000000008333,2,0,nan,nan,nan\n"
+      "1700000000016667,3,1,0,0.6,0.8\n";
+  const std::string path = write_file(dir, text);
+  std::string error;
+  auto source = GazeSource::from_trace_file(path, error);
+  ASSERT_TRUE(source) << error;
+  gaze::TraceError diag_error;
+  std::istringstream in(text);
+  const auto diag = gaze::read_trace(in, &diag_error);
+  ASSERT_TRUE(diag) << diag_error.to_string();
+  ASSERT_EQ(source->trace_size(), diag->rows.size());
+  EXPECT_EQ(source->trace_size(), 3U);
+  EXPECT_TRUE(source->sample_at(0).valid);
+  EXPECT_FALSE(source->sample_at(8'333'000).valid) << "the NaN row is a blink";
+  const GazeSample s = source->sample_at(16'667'000);
+  EXPECT_EQ(s.offset_ns, 16'667'000) << "offsets from the first row, whatever the epoch";
+  EXPECT_NEAR(s.direction.y, 0.6F, 1e-6F);
 }
 
 TEST(GazeSource, OpenXrViewDirectionKeepsRightAndUpAndTurnsForwardToMinusZ) {
