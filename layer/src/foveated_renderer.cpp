@@ -286,6 +286,10 @@ void FoveatedRenderer::Frames::build_tables() {
     }
     lock.lock();
     it = tables.find(key);
+    if (cancelled) {
+      log(LogLevel::Debug, "foveated renderer: table build for ", std::get<0>(key), "x", std::get<1>(key),
+          " cancelled: nobody needs it any more");
+    }
     if (it == tables.end() || cancelled) continue;  // evicted (or stopping): nobody waits for it
     if (built != nullptr) {
       it->second.state = SlotState::ready;

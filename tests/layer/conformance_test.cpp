@@ -77,7 +77,7 @@ class LayerApp {
     sc.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT | XR_SWAPCHAIN_USAGE_TRANSFER_DST_BIT;
     sc.format = formats.front();
     sc.sampleCount = sc.faceCount = sc.arraySize = sc.mipCount = 1;
-    sc.width = sc.height = kSwapchainPx;
+    sc.width = sc.height = swapchain_px;
     ASSERT_EQ(xrCreateSwapchain(app.session, &sc, &swapchain), XR_SUCCESS);
     uint32_t index = 0;
     auto acquire = xr<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
@@ -164,6 +164,7 @@ class LayerApp {
   std::string log() const { return read_text(env_.root() / "layer.log"); }
 
   static constexpr uint32_t kSwapchainPx = 256;
+  uint32_t swapchain_px = kSwapchainPx;
   const IsolatedEnv& env_;
   XrTestApp app;
   XrSpace space = XR_NULL_HANDLE;
@@ -299,11 +300,14 @@ TEST(LayerConformance, DestroyingARendererCancelsItsTableBuild) {
   FOVEART_REQUIRE_RUNTIME();
   IsolatedEnv env;
   LayerApp a(env, config(env));
+  a.swapchain_px = 1280;
   a.start();
   const auto renderer = a.make_renderer();
-  // A full FOVE-sized eye (seconds of table build); the frame only queues it.
-  EXPECT_EQ(a.frame(renderer, {{0, 0}, {256, 256}}, 2, 0.83f), XR_SUCCESS);
+  // A FOVE-sized eye (seconds of table build); the frame only queues it.
+  EXPECT_EQ(a.frame(renderer, {{0, 0}, {1280, 1280}}, 2, 0.83f), XR_SUCCESS);
   EXPECT_NE(a.stats(renderer).main.fallbackFlags & XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART, 0u);
+  // Let the builder get into the build (it may not have; either way nothing may be finished).
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_EQ(a.destroy(renderer), XR_SUCCESS);
   // Cancelled, not finished: the interpolation table (the build's last file) was never written.
   std::size_t interpolation_files = 0;
