@@ -418,8 +418,9 @@ FoveatedRenderer::~FoveatedRenderer() = default;
 uint32_t FoveatedRenderer::render(XrTime display_time, const XrCompositionLayerProjection& layer,
                                   XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid) {
   std::lock_guard lock(mutex_);
-  if (frames_ == nullptr) {
+  if (frames_ == nullptr) {  // a session without Vulkan: every view is the app's
     stats_.framesFallback += layer.viewCount;
+    stats_.fallbackFlags = XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
     return 0;
   }
   return frames_->render(display_time, layer, out_views, rect_valid, &stats_);

@@ -2,6 +2,8 @@
 // swapchains: what xrEndFrame checks an app's frame against.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "renderer.hpp"
 #include "state.hpp"
 
@@ -63,6 +65,28 @@ TEST(Registry, SwapchainExtentsBelongToTheirSession) {
   registry.remove_session(a);  // a session's swapchains go with it
   EXPECT_FALSE(registry.swapchain(sc, a).has_value());
   registry.remove_session(b);
+}
+
+// A session without a Vulkan binding (xrCreateFoveatedRendererFOVEART refuses
+// one; a renderer that has none anyway) forwards every view untouched.
+TEST(Registry, RendererOfASessionWithoutVulkanForwardsEveryView) {
+  auto renderer = std::make_shared<FoveatedRenderer>(session_state(session_handle(0xc0)), RendererSettings{});
+  XrCompositionLayerProjectionView views[2]{};
+  views[0].subImage.imageRect.extent = {64, 48};
+  views[1] = views[0];
+  XrCompositionLayerProjection layer{};
+  layer.type = XR_TYPE_COMPOSITION_LAYER_PROJECTION;
+  layer.viewCount = 2;
+  layer.views = views;
+  XrCompositionLayerProjectionView out[2] = {views[0], views[1]};
+  EXPECT_EQ(renderer->render(1, layer, out, {true, true}), 0u);
+  EXPECT_EQ(std::memcmp(out, views, sizeof views), 0) << "views forwarded as sent";
+  auto stats = XrFoveatedRendererStatsFOVEART{};
+  stats.type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
+  renderer->stats(&stats);
+  EXPECT_EQ(stats.framesFallback, 2u);
+  EXPECT_EQ(stats.framesTraced, 0u);
+  EXPECT_EQ(stats.fallbackFlags, XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART);
 }
 
 }  // namespace
