@@ -1,4 +1,14 @@
+// PSNR, SSIM (Wang, Bovik, Sheikh, Simoncelli 2004, "Image quality assessment:
+// from error visibility to structural similarity") and their pooling per
+// eccentricity ring.
 #include "foveation/image_metrics.hpp"
+
+#include "foveation/csf_error.hpp"
+#include "foveation/eye_rays.hpp"
+#include "foveation/srgb.hpp"
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -96,40 +106,125 @@ double ssim(const ImageRgb& ref, const ImageRgb& im, double peak) {
   return map.empty() ? 1.0 : s / double(map.size());
 }
 
-std::vector<RingMetrics> ring_metrics(const ImageRgb& ref, const ImageRgb& im, glm::vec2 gaze_px,
-                                      double view_distance_px, double peak) {
-  check_sizes(ref, im, "ring metrics");
-  if (!(view_distance_px > 0.0) || !std::isfinite(view_distance_px)) {
-    throw std::invalid_argument("ring metrics: view distance must be positive and finite");
-  }
-  std::vector<RingMetrics> rings = {{0, 5}, {5, 10}, {10, 20}, {20, 30}, {30, std::numeric_limits<double>::infinity()}};
-  const auto map = ssim_map(ref, im, peak);
-  std::vector<double> se(rings.size(), 0.0), ss(rings.size(), 0.0);
-  for (int y = 0; y < ref.height_px; ++y) {
-    for (int x = 0; x < ref.width_px; ++x) {
-      const double dx = x + 0.5 - double(gaze_px.x), dy = y + 0.5 - double(gaze_px.y);
-      const double ecc = std::atan(std::hypot(dx, dy) / view_distance_px) * 180.0 / std::numbers::pi;
+double psnr_of_mse(double mse, double peak) { return psnr_of(mse, peak); }
+
+ImageRgb display_encode(const ImageRgb& linear) {
+  ImageRgb out = linear;
+  for (float& v : out.rgb) v = linear_to_srgb(std::clamp(std::isnan(v) ? 0.0f : v, 0.0f, 1.0f));
+  return out;
+}
+
+EccentricityMap eccentricity_map(const FoveartEyeView& view, glm::vec2 gaze_px) {
+  EccentricityMap m;
+  m.width_px = int(view.width_px);
+  m.height_px = int(view.height_px);
+  m.gaze_px = gaze_px;
+  const std::size_t n = std::size_t(m.width_px) * std::size_t(m.height_px);
+  m.eccentricity_deg.resize(n);
+  m.pixels_per_deg.resize(n);
+  m.ring.resize(n);
+  const EyeFrustum f = eye_frustum(view);
+  const glm::dvec3 g = glm::normalize(glm::dvec3(view_direction_unnormalised(f, gaze_px)));
+  const auto dir = [&f](double x, double y) {
+    return glm::normalize(glm::dvec3(view_direction_unnormalised(f, glm::vec2(float(x), float(y)))));
+  };
+  const auto angle_deg = [](glm::dvec3 a, glm::dvec3 b) {
+    // atan2(|a x b|, a.b): accurate for small angles, where acos is not.
+    return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)) * 180.0 / std::numbers::pi;
+  };
+  for (int y = 0; y < m.height_px; ++y) {
+    for (int x = 0; x < m.width_px; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(m.width_px) + std::size_t(x);
+      const glm::dvec3 d = dir(x + 0.5, y + 0.5);
+      const double e = angle_deg(d, g);
+      m.eccentricity_deg[i] = float(e);
+      m.pixels_per_deg[i] = float(1.0 / std::max(1e-9, angle_deg(dir(x, y + 0.5), dir(x + 1.0, y + 0.5))));
       std::size_t r = 0;
-      while (r + 1 < rings.size() && ecc >= rings[r].to_deg) ++r;
-      const std::size_t i = std::size_t(y) * std::size_t(ref.width_px) + std::size_t(x);
-      for (int c = 0; c < 3; ++c) {
-        const double d = double(ref.rgb[i * 3 + std::size_t(c)]) - double(im.rgb[i * 3 + std::size_t(c)]);
-        se[r] += d * d;
-      }
-      ss[r] += double(map[i]);
-      ++rings[r].pixels;
+      while (r + 1 < kRingCount && e >= kRingEdgesDeg[r + 1]) ++r;
+      m.ring[i] = std::uint8_t(r);
+      ++m.ring_pixels[r];
     }
   }
-  for (std::size_t r = 0; r < rings.size(); ++r) {
-    if (rings[r].pixels == 0) {
-      rings[r].psnr = std::numeric_limits<double>::quiet_NaN();
-      rings[r].ssim = std::numeric_limits<double>::quiet_NaN();
-      continue;
-    }
-    rings[r].psnr = psnr_of(se[r] / double(rings[r].pixels * 3), peak);
-    rings[r].ssim = ss[r] / double(rings[r].pixels);
+  return m;
+}
+
+namespace {
+
+void check_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map, const char* what) {
+  check_sizes(ref, im, what);
+  if (ref.width_px != map.width_px || ref.height_px != map.height_px) {
+    throw std::invalid_argument(std::string(what) + ": image " + std::to_string(ref.width_px) + "x" +
+                                std::to_string(ref.height_px) + " does not match the eccentricity map " +
+                                std::to_string(map.width_px) + "x" + std::to_string(map.height_px));
   }
-  return rings;
+}
+
+}  // namespace
+
+std::array<double, kRingCount> ring_mse(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
+  check_map(ref, im, map, "ring_mse");
+  std::array<double, kRingCount> se{};
+  for (std::size_t i = 0; i < map.ring.size(); ++i) {
+    double s = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double d = double(ref.rgb[i * 3 + c]) - double(im.rgb[i * 3 + c]);
+      s += d * d;
+    }
+    se[map.ring[i]] += s;
+  }
+  for (std::size_t r = 0; r < kRingCount; ++r)
+    se[r] = map.ring_pixels[r] ? se[r] / double(map.ring_pixels[r] * 3) : std::numeric_limits<double>::quiet_NaN();
+  return se;
+}
+
+ImageComparison compare_images(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
+  check_map(ref, im, map, "compare_images");
+  ImageComparison out;
+  const auto mse = ring_mse(ref, im, map);
+  const auto ssim_px = ssim_map(ref, im);
+  const auto csf_px = csf_error_map(ref, im, map);
+  std::array<double, kRingCount> ss{}, cs{};
+  double ss_all = 0.0, cs_all = 0.0, se_all = 0.0;
+  for (std::size_t i = 0; i < map.ring.size(); ++i) {
+    ss[map.ring[i]] += double(ssim_px[i]);
+    cs[map.ring[i]] += double(csf_px[i]) * double(csf_px[i]);
+  }
+  const double n = double(map.ring.size());
+  for (std::size_t r = 0; r < kRingCount; ++r) {
+    RingMetrics rm;
+    rm.from_deg = kRingEdgesDeg[r];
+    rm.to_deg = kRingEdgesDeg[r + 1];
+    rm.pixels = map.ring_pixels[r];
+    ss_all += ss[r];
+    cs_all += cs[r];
+    if (rm.pixels == 0) {
+      rm.mse = rm.psnr = rm.ssim = rm.csf_rmse = rm.csf_psnr = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      se_all += mse[r] * double(rm.pixels);
+      rm.mse = mse[r];
+      rm.psnr = psnr_of(mse[r], 1.0);
+      rm.ssim = ss[r] / double(rm.pixels);
+      const double cms = cs[r] / double(rm.pixels);
+      rm.csf_rmse = std::sqrt(cms);
+      rm.csf_psnr = psnr_of(cms, 1.0);
+    }
+    out.rings.push_back(rm);
+  }
+  out.psnr = n > 0 ? psnr_of(se_all / n, 1.0) : std::numeric_limits<double>::quiet_NaN();
+  out.ssim = n > 0 ? ss_all / n : 1.0;
+  out.csf_rmse = n > 0 ? std::sqrt(cs_all / n) : 0.0;
+  return out;
+}
+
+std::array<double, kRingCount> ring_flicker(const std::vector<ImageRgb>& frames, const EccentricityMap& map) {
+  std::array<double, kRingCount> out{};
+  if (frames.size() < 2) return out;
+  for (std::size_t t = 1; t < frames.size(); ++t) {
+    const auto m = ring_mse(frames[t - 1], frames[t], map);
+    for (std::size_t r = 0; r < kRingCount; ++r) out[r] += std::isnan(m[r]) ? 0.0 : m[r];
+  }
+  for (double& v : out) v = std::sqrt(v / double(frames.size() - 1));
+  return out;
 }
 
 double mean_abs_difference(const ImageRgb& a, const ImageRgb& b) {

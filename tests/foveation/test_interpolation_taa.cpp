@@ -185,49 +185,5 @@ TEST_P(Taa, GazeJumpResetsHistory) {
 INSTANTIATE_TEST_SUITE_P(Constraints, Taa,
                          ::testing::Values(TaaConstraint::minmax_clamp, TaaConstraint::variance_clip));
 
-TEST(ImageMetrics, PsnrOfKnownError) {
-  const auto a = gradient(16, 16);
-  auto b = a;
-  EXPECT_TRUE(std::isinf(psnr(a, b)));
-  for (float& v : b.rgb) v += 0.1f;
-  EXPECT_NEAR(psnr(a, b), 20.0, 1e-4);
-  EXPECT_NEAR(mean_abs_difference(a, b), 0.1, 1e-6);
-  EXPECT_THROW(psnr(a, gradient(8, 8)), std::invalid_argument);
-}
-
-TEST(ImageMetrics, SsimIsOneForIdenticalAndLowerForNoise) {
-  const auto a = gradient(40, 30);
-  EXPECT_NEAR(ssim(a, a), 1.0, 1e-9);
-  std::mt19937 rng(2);
-  const auto b = noisy(a, rng, 0.1f);
-  const double s = ssim(a, b);
-  EXPECT_LT(s, 0.9);
-  EXPECT_GT(s, -1.0);
-}
-
-TEST(ImageMetrics, RingsSplitByEccentricity) {
-  const int w = 400, h = 300;
-  const auto ref = gradient(w, h);
-  auto im = ref;
-  const double view_distance = 200.0;  // 5 deg at 17.5 px, 30 deg at 115 px
-  // Error only beyond 30 degrees from the gaze at the centre.
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      if (std::hypot(x + 0.5 - 200.0, y + 0.5 - 150.0) > 140.0) im.at(x, y)[0] += 0.2f;
-    }
-  }
-  const auto rings = ring_metrics(ref, im, {200, 150}, view_distance);
-  ASSERT_EQ(rings.size(), 5u);
-  std::size_t total = 0;
-  for (const auto& r : rings) total += r.pixels;
-  EXPECT_EQ(total, std::size_t(w * h));
-  EXPECT_EQ(rings[0].from_deg, 0.0);
-  EXPECT_EQ(rings[0].to_deg, 5.0);
-  EXPECT_TRUE(std::isinf(rings[0].psnr));
-  EXPECT_TRUE(std::isinf(rings[2].psnr));
-  EXPECT_TRUE(std::isfinite(rings[4].psnr));
-  EXPECT_LT(rings[4].ssim, 1.0);
-}
-
 }  // namespace
 }  // namespace foveart::foveation

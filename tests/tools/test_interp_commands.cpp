@@ -223,10 +223,12 @@ TEST_F(InterpCommands, ReconstructReportsEveryKey) {
   EXPECT_EQ(j["pixels"].get<int>(), w * h);
   EXPECT_GT(j["points"].get<int>(), 0);
   EXPECT_GT(j["psnr"].get<double>(), 10.0);
-  ASSERT_EQ(j["rings"].size(), 5u);
+  ASSERT_EQ(j["rings"].size(), 7u);  // foveation::kRingEdgesDeg: 0, 2.5, 5, 10, 20, 30, 45, open
   EXPECT_EQ(j["rings"][0]["from_deg"].get<double>(), 0.0);
-  EXPECT_EQ(j["rings"][4]["from_deg"].get<double>(), 30.0);
-  EXPECT_TRUE(j["rings"][4]["to_deg"].is_null());
+  EXPECT_EQ(j["rings"][1]["from_deg"].get<double>(), 2.5);
+  EXPECT_EQ(j["rings"][6]["from_deg"].get<double>(), 45.0);
+  EXPECT_TRUE(j["rings"][6]["to_deg"].is_null());
+  EXPECT_TRUE(j["rings"][0]["csf_rmse"].is_number());
   EXPECT_TRUE(fs::exists(a.out));
   // Second run: the tables come from the cache.
   std::ostringstream out2, err2;

@@ -21,6 +21,7 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/image_metrics.hpp"
 #include "interp_commands.hpp"
+#include "render_metrics.hpp"
 #include "toolkit/image_io.hpp"
 
 namespace foveart::tools {
@@ -176,7 +177,8 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
 
   const double psnr = fv::psnr(reference, output);
   const double ssim = fv::ssim(reference, output);
-  const auto rings = fv::ring_metrics(reference, output, mapping.gaze_px, display->view_distance_px);
+  // Rings by the angle between a pixel's ray and the gaze ray in the image's own view.
+  const fv::ImageComparison cmp = fv::compare_images(reference, output, fv::eccentricity_map(request.view, mapping.gaze_px));
   nlohmann::json j;
   j["image"] = a.image;
   j["preset"] = a.preset;
@@ -207,14 +209,8 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
     j["flicker"] = flicker / (nf - 1.0);
     j["flicker_no_taa"] = flicker_raw / (nf - 1.0);
   }
-  j["rings"] = nlohmann::json::array();
-  for (const auto& r : rings) {
-    j["rings"].push_back({{"from_deg", r.from_deg},
-                          {"to_deg", number_or_null(r.to_deg)},
-                          {"pixels", r.pixels},
-                          {"psnr", number_or_null(r.psnr)},
-                          {"ssim", number_or_null(r.ssim)}});
-  }
+  j["csf_rmse"] = number_or_null(cmp.csf_rmse);
+  j["rings"] = comparison_json(cmp)["rings"];
   if (a.json) {
     out << j.dump(2) << "\n";
   } else {

@@ -4,6 +4,8 @@
 #include "cmd_render.hpp"
 
 #include "content_speedup.hpp"
+#include "pfm.hpp"
+#include "reference.hpp"
 #include "render_metrics.hpp"
 
 #include <engine/gltf_loader.hpp>
@@ -27,6 +29,7 @@
 #include <filesystem>
 #include <optional>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 #include <vector>
@@ -96,6 +99,8 @@ std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
                         std::atan(0.5 * d->height_px / d->view_distance_px)};
 }
 
+}  // namespace
+
 // The display the foveated view's tables are built for: the preset's; for
 // another size, the preset's horizontal FOV at that size; for an explicit view
 // (--fov), the display the layer builds for that view (display_of_view).
@@ -127,7 +132,8 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
 // Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
 // keeping the horizontal field of view; or, with --fov / --pose, exactly the
 // given OpenXR view.
-FoveartEyeView make_view(const RenderOptions& o, const PresetGeometry& g, const engine::Scene& scene) {
+FoveartEyeView render_view(const RenderOptions& o, const engine::Scene& scene) {
+  const PresetGeometry g = *preset_geometry(o.preset);
   FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, engine::scene_head(scene));
   view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
   view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
@@ -148,6 +154,8 @@ FoveartEyeView make_view(const RenderOptions& o, const PresetGeometry& g, const 
   return view;
 }
 
+namespace {
+
 std::string check_view(const RenderOptions& o) {
   if (o.fov_deg) {
     const auto& f = *o.fov_deg;
@@ -167,7 +175,9 @@ std::string check_view(const RenderOptions& o) {
   return "";
 }
 
-std::string check(const RenderOptions& o) {
+}  // namespace
+
+std::string check_render_options(const RenderOptions& o) {
   if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
   if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
   if (o.method != "nn" && o.method != "msm" && o.method != "rbf-mq") return "--method must be nn, msm or rbf-mq";
@@ -182,13 +192,19 @@ std::string check(const RenderOptions& o) {
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
     return "--size must be between 8 and 16384 pixels per side";
   if (std::string bad = check_view(o); !bad.empty()) return bad;
+  if (!o.reference_spp.empty() && o.reference_spp != "auto") {
+    char* end = nullptr;
+    const long n = std::strtol(o.reference_spp.c_str(), &end, 10);
+    if (end == o.reference_spp.c_str() || *end != '\0' || n < 2 || n > 65536 || n % 2 != 0 || (n > 16 && n % 16 != 0))
+      return "--reference-spp must be auto or rays per pixel 2, 4, ..., 16 or a multiple of 16 up to 65536, got '" +
+             o.reference_spp + "'";
+  }
+  if (!o.reference_spp.empty() && !o.reference_file.empty()) return "give --reference-spp or --reference, not both";
   return "";
 }
 
-}  // namespace
-
 int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
-  if (std::string bad = check(o); !bad.empty()) {
+  if (std::string bad = check_render_options(o); !bad.empty()) {
     err << "fovea render: " << bad << "\n";
     return 2;
   }
@@ -208,7 +224,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     return 1;
   }
   const double build_ms = ms_since(t0);
-  const FoveartEyeView view = make_view(o, *preset_geometry(o.preset), tracer->scene());
+  const FoveartEyeView view = render_view(o, tracer->scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * static_cast<float>(view.width_px),
                                                       0.5f * static_cast<float>(view.height_px)));
   const uint64_t pixels = static_cast<uint64_t>(view.width_px) * view.height_px;
@@ -335,6 +351,56 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                           {"reconstruct_ms", fov_times.median_reconstruct_ms()},
                           {"total_ms", fov_times.median_total_ms()}, {"frames_total_ms", fov_times.total_ms}};
   }
+  std::optional<foveation::EccentricityMap> ecc;
+  const auto ecc_map = [&]() -> const foveation::EccentricityMap& {
+    if (!ecc) ecc = foveation::eccentricity_map(view, gaze);
+    return *ecc;
+  };
+  if (!o.reference_spp.empty() || !o.reference_file.empty()) {
+    foveation::ImageRgb reference;
+    Json ref_json;
+    if (!o.reference_file.empty()) {
+      if (std::string e = read_pfm(o.reference_file, &reference); !e.empty()) {
+        err << "fovea render: --reference: " << e << "\n";
+        return 1;
+      }
+      if (reference.width_px != int(view.width_px) || reference.height_px != int(view.height_px)) {
+        err << "fovea render: --reference: " << o.reference_file << " is " << reference.width_px << "x"
+            << reference.height_px << ", the view is " << view.width_px << "x" << view.height_px << "\n";
+        return 1;
+      }
+      ref_json = {{"source", "file"}, {"file", o.reference_file}};
+    } else {
+      ReferenceOptions ro;
+      if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
+      ro.seed = o.seed;
+      ro.cache_dir = !o.reference_cache.empty() ? o.reference_cache
+                     : !o.cache_dir.empty()      ? (std::filesystem::path(o.cache_dir) / "reference").string()
+                                                 : std::string();
+      std::string bad;
+      std::optional<Reference> ref = converged_reference(
+          &foveart_engine_trace_rays, tracer.get(), scene_content_hash(tracer->scene()), view, gaze, ro, executor,
+          [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &bad);
+      if (!ref) {
+        err << "fovea render: " << bad << "\n";
+        return 1;
+      }
+      Json residual = Json::array();
+      for (double mse : ref->residual_mse(ecc_map())) residual.push_back(number_or_null(foveation::psnr_of_mse(mse)));
+      ref_json = {{"source", "converged full render"}, {"spp", ref->spp}, {"spp_tried", ref->tried_spp},
+                  {"from_cache", ref->from_cache}, {"cache_file", ref->cache_file}, {"render_ms", ref->render_ms},
+                  {"residual_psnr", residual}};
+      reference = std::move(ref->image);
+    }
+    const foveation::ImageRgb reference_display = foveation::display_encode(reference);
+    Json against = {{"reference", ref_json}};
+    if (run_full)
+      against["full"] = comparison_json(foveation::compare_images(reference_display, foveation::display_encode(full), ecc_map()));
+    if (run_foveated)
+      against["foveated"] = comparison_json(
+          foveation::compare_images(reference_display, foveation::display_encode(foveated->image()), ecc_map()));
+    report["errors_against_reference"] = against;
+  }
   const double full_total = run_full ? full_times.median_total_ms() : 0.0;
   const double fov_total = run_foveated ? fov_times.median_total_ms() : 0.0;
   if (o.mode == "both") {
@@ -350,14 +416,15 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                                    tiles_y));
     report["content_speedup"] = content_bound;
     report["overhead_fraction"] = full_total > 0.0 ? fov_total * content_bound / full_total - 1.0 : 0.0;
-    const ImageComparison cmp = compare_images(foveated->image(), full, view, gaze, {0, 2.5, 5, 10, 20, 30, 45, 90});
-    report["psnr"] = number_or_null(cmp.psnr);
-    report["ssim"] = cmp.ssim;
-    Json rings = Json::array();
-    for (const RingMetrics& r : cmp.rings)
-      rings.push_back({{"from_deg", r.from_deg}, {"to_deg", r.to_deg}, {"psnr", number_or_null(r.psnr)},
-                       {"ssim", r.ssim}, {"pixels", r.pixels}});
-    report["rings"] = rings;
+    // Agreement of the two images (both carry their own noise), not accuracy: see errors_against_reference.
+    const foveation::ImageComparison cmp = foveation::compare_images(
+        foveation::display_encode(full), foveation::display_encode(foveated->image()), ecc_map());
+    const Json c = comparison_json(cmp);
+    report["rings_compared_against"] = "full render at the same rays per pixel";
+    report["psnr"] = c["psnr"];
+    report["ssim"] = c["ssim"];
+    report["csf_rmse"] = c["csf_rmse"];
+    report["rings"] = c["rings"];
   }
   if (!o.out_prefix.empty()) {
     Json files = Json::array();
@@ -453,6 +520,10 @@ void register_render(CLI::App& app) {
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
   cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->add_option("--reference-spp", opts->reference_spp,
+                  "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
+  cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
+  cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
   cmd->callback([opts, gaze, size, fov, pose] {
     if (!gaze->empty()) {

@@ -5,6 +5,11 @@
 #include <glm/vec2.hpp>
 #include <glm/ext/vector_int2.hpp>
 
+#include <engine/scene.hpp>
+
+#include <foveation/display_model.hpp>
+#include <foveation/ray_trace.h>
+
 #include <array>
 #include <cstdint>
 #include <iosfwd>
@@ -42,8 +47,24 @@ struct RenderOptions {
   std::string out_prefix;         // empty: no images written
   std::string cache_dir;          // point set / neighbour table cache, empty: none
   uint64_t seed = 1;
+  // Errors against a converged reference (reference.hpp): "" none, "auto" (the
+  // convergence check picks the count) or an even count of rays per pixel;
+  // or a linear-RGB PFM of the view's size (--reference FILE).
+  std::string reference_spp;
+  std::string reference_file;
+  std::string reference_cache;    // reference cache directory; empty: <cache>/reference, or none
   bool json = false;
 };
+
+// The checks `fovea render` applies to its options: empty, or what is wrong.
+std::string check_render_options(const RenderOptions& options);
+// The eye view `fovea render` renders for these options (preset, eye, size,
+// --fov, --pose) of a scene. The options must have passed check_render_options.
+FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& scene);
+// The display the foveated view's tables are built for (preset, size, scale,
+// pattern); nullopt with *error when it is not valid.
+std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
+                                                        std::string* error);
 
 // Runs the command; prints the report (JSON or text) to `out` and problems to
 // `err`. Returns the process exit code (0 on success).

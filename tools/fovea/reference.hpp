@@ -1,0 +1,81 @@
+// The converged reference a rendered image is measured against: a full render
+// with many jittered rays per pixel, its residual error estimated per
+// eccentricity ring, cached on disk.
+//
+// Estimate (docs/pricelist.md "The reference"): the reference is the mean of
+// two halves A and B, each spp/2 rays per pixel with independent jitter. Both
+// are unbiased estimates of the pixel's true colour with the same variance s2,
+// so E[(A - B)^2] = 2 s2 and the mean (A + B)/2 has variance s2 / 2 =
+// E[(A - B)^2] / 4: the reference's own mean squared error against the truth is
+// MSE(A, B) / 4, per ring (in display values, to first order in the noise).
+// An image measured against it reads MSE(image, truth) + that residual.
+//
+// Cache: one file per (scene content, view, spp, seed, chunk size) in a
+// directory, checksummed (XXH3-64); a corrupt or mismatched file is reported
+// through `log` and rendered again. Errors (a failing engine, an unwritable
+// cache) come back as messages; nothing throws.
+#pragma once
+
+#include <engine/scene.hpp>
+
+#include <foveation/executor.hpp>
+#include <foveation/image.hpp>
+#include <foveation/image_metrics.hpp>
+#include <foveation/ray_trace.h>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace foveart::tools {
+
+struct ReferenceOptions {
+  int spp = 0;                 // rays per pixel in all (even); 0: chosen by the convergence check
+  int min_spp = 32;            // the convergence check starts here and doubles
+  int max_spp = 1024;          // ... up to here
+  double target_residual_db = 65.0;  // ... until every ring's residual PSNR reaches this
+  std::uint64_t seed = 1;
+  std::string cache_dir;       // empty: no cache
+};
+
+struct Reference {
+  foveation::ImageRgb image;            // linear RGB, (A + B) / 2
+  std::vector<float> half_difference2;  // per pixel: mean over channels of (enc(A) - enc(B))^2, display values
+  int spp = 0;
+  bool from_cache = false;
+  double render_ms = 0.0;               // this run's rendering (0 when loaded)
+  std::string cache_file;               // empty without a cache
+  std::vector<int> tried_spp;           // the convergence check's steps
+
+  // Residual MSE per ring against the truth, MSE(A, B) / 4, and its PSNR.
+  std::array<double, foveation::kRingCount> residual_mse(const foveation::EccentricityMap& map) const;
+};
+
+using ReferenceLog = std::function<void(const std::string&)>;
+
+// XXH3-64 of everything in a scene that changes a pixel (mesh, materials,
+// textures, lights, sky, ambient).
+std::uint64_t scene_content_hash(const engine::Scene& scene);
+
+// Loads (or renders and stores) the reference of `view`. `gaze_px` picks the
+// rings the convergence check looks at. nullopt with *error when the engine
+// fails or the cache cannot be written.
+std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_data, std::uint64_t scene_hash,
+                                             const FoveartEyeView& view, glm::vec2 gaze_px,
+                                             const ReferenceOptions& options, foveation::Executor& executor,
+                                             const ReferenceLog& log, std::string* error);
+
+// The cache file of one reference (exposed for tests).
+std::filesystem::path reference_cache_path(const std::string& cache_dir, std::uint64_t scene_hash,
+                                           const FoveartEyeView& view, int spp, std::uint64_t seed);
+// Reads a cache file written by converged_reference; nullopt with *why (naming
+// the file and what is wrong) when it is missing, truncated, corrupt or of another key.
+std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* why);
+std::string write_reference(const std::filesystem::path& file, std::uint64_t key, const Reference& reference);
+std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed);
+
+}  // namespace foveart::tools
