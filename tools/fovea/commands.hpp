@@ -14,3 +14,4 @@ void register_pointset(CLI::App& app);
 void register_interpolate(CLI::App& app);
 void register_reconstruct(CLI::App& app);
 void register_render(CLI::App& app);
+void register_pricelist(CLI::App& app);

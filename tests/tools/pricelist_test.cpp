@@ -1,0 +1,148 @@
+// `fovea pricelist`: the Pareto front, a tiny sweep whose CSV agrees with its
+// JSON and whose written images reproduce its per-ring PSNR, resume, bad grids.
+#include "gltf_fixtures.hpp"
+
+#include <cmd_pricelist.hpp>
+#include <cmd_render.hpp>
+#include <pfm.hpp>
+#include <pricelist_report.hpp>
+#include <reference.hpp>
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+#include <foveation/executor.hpp>
+#include <foveation/image_metrics.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace foveart;
+
+namespace {
+
+std::size_t count_lines(const fs::path& file) {
+  std::ifstream in(file);
+  std::size_t n = 0;
+  std::string line;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST(Pricelist, ParetoFrontKeepsTheUndominated) {
+  //                 cost:  1    2    3    4    5   NaN
+  const std::vector<double> cost = {1, 2, 3, 4, 5, NAN};
+  const std::vector<double> acc = {10, 9, 20, 20, 30, 99};
+  EXPECT_EQ(tools::pareto_front(cost, acc), (std::vector<std::size_t>{0, 2, 4}));
+}
+
+TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
+  engine_test::TempDir dir;
+  tools::PricelistOptions o;
+  o.size_px = glm::ivec2(48, 54);
+  o.out_dir = (dir.path / "pl").string();
+  o.reference_spp = "32";
+  o.frames = 1;
+  o.taa_frames = 3;
+  o.threads = 2;
+  o.images = true;
+  o.grid.full_spp = {1, 4};
+  o.grid.methods = {"nn:1"};
+  o.grid.scales = {1.0};
+  o.grid.rays = {1};
+  o.grid.patterns = {"thesis"};
+  o.grid.taa_rays = {1};
+  std::ostringstream out, err;
+  ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("At the thesis's default"), std::string::npos) << out.str();
+  const fs::path pl = o.out_dir;
+  std::ifstream jf(pl / "pricelist.json");
+  const auto doc = nlohmann::json::parse(jf);
+  const auto& settings = doc["settings"];
+  ASSERT_EQ(settings.size(), 4u);  // full 1, 4; nn r1; nn r1 + TAA
+  EXPECT_EQ(count_lines(pl / "pricelist.csv"), settings.size() + 1);
+  for (const char* f : {"pricelist.png", "pareto_ring0.png", "report.md", "heatmap.png", "images/reference.pfm"})
+    EXPECT_TRUE(fs::exists(pl / f)) << f;
+  EXPECT_EQ(doc["reference"]["spp"], 32);
+  EXPECT_TRUE(doc["sanity"].contains("full_error_falls_with_spp"));
+
+  // CSV and JSON agree: the ring-0 PSNR column of each row.
+  {
+    std::ifstream cf(pl / "pricelist.csv");
+    std::string header, line;
+    std::getline(cf, header);
+    std::vector<std::string> cols;
+    std::stringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) cols.push_back(c);
+    const auto col = std::find(cols.begin(), cols.end(), "psnr_0-2.5") - cols.begin();
+    ASSERT_LT(std::size_t(col), cols.size());
+    for (const auto& s : settings) {
+      ASSERT_TRUE(std::getline(cf, line));
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      EXPECT_EQ(cells[0], s["id"].get<std::string>());
+      if (s["rings"][0]["psnr"].is_number()) {
+        EXPECT_NEAR(std::stod(cells[std::size_t(col)]), s["rings"][0]["psnr"].get<double>(), 1e-9);
+      }
+    }
+  }
+
+  // A person's own recomputation from the written images: PSNR per ring over
+  // the display values in the PFMs and the ring index in eccentricity.pfm.
+  foveation::ImageRgb ref, ecc;
+  ASSERT_EQ(tools::read_pfm((pl / "images/reference.pfm").string(), &ref), "");
+  ASSERT_EQ(tools::read_pfm((pl / "images/eccentricity.pfm").string(), &ecc), "");
+  for (const auto& s : settings) {
+    foveation::ImageRgb im;
+    ASSERT_EQ(tools::read_pfm((pl / s["image"].get<std::string>()).string(), &im), "") << s["id"];
+    std::vector<double> se(foveation::kRingCount, 0.0), n(foveation::kRingCount, 0.0);
+    for (std::size_t i = 0; i < im.pixel_count(); ++i) {
+      const auto r = std::size_t(ecc.rgb[i * 3 + 1]);
+      for (int c = 0; c < 3; ++c) se[r] += std::pow(double(im.rgb[i * 3 + c]) - double(ref.rgb[i * 3 + c]), 2.0);
+      n[r] += 3;
+    }
+    for (std::size_t r = 0; r < foveation::kRingCount; ++r) {
+      const auto& json_psnr = s["rings"][r]["psnr"];
+      if (n[r] == 0 || !json_psnr.is_number()) continue;
+      EXPECT_NEAR(10.0 * std::log10(n[r] / se[r]), json_psnr.get<double>(), 0.05) << s["id"] << " ring " << r;
+    }
+  }
+  const auto taa = std::find_if(settings.begin(), settings.end(), [](const auto& s) { return s["id"] == "nn_k1_s1_thesis_r1_taa"; });
+  ASSERT_NE(taa, settings.end());
+  EXPECT_EQ((*taa)["flicker_frames"], 3);
+  EXPECT_GT((*taa)["rings"][0]["flicker"].get<double>(), 0.0);  // new jitter each frame: the image moves
+
+  // Resume: nothing measured again, the same headline.
+  const std::size_t lines = count_lines(pl / "results.jsonl");
+  std::ostringstream out2, err2;
+  ASSERT_EQ(tools::run_pricelist(o, out2, err2), 0) << err2.str();
+  EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
+  EXPECT_EQ(out2.str(), out.str());
+  // Another gaze into the same directory is refused.
+  o.gaze_px = glm::vec2(10, 10);
+  std::ostringstream out3, err3;
+  EXPECT_EQ(tools::run_pricelist(o, out3, err3), 1);
+  EXPECT_NE(err3.str().find("describes another run"), std::string::npos) << err3.str();
+}
+
+TEST(Pricelist, BadGridIsAnErrorNamingTheEntry) {
+  engine_test::TempDir dir;
+  tools::PricelistOptions o;
+  o.out_dir = dir.path.string();
+  o.grid.methods = {"nn:1", "foo:3"};
+  std::ostringstream out, err;
+  EXPECT_EQ(tools::run_pricelist(o, out, err), 2);
+  EXPECT_NE(err.str().find("method 'foo:3'"), std::string::npos) << err.str();
+  o.grid.methods = {"msm:0"};
+  std::ostringstream out2, err2;
+  EXPECT_EQ(tools::run_pricelist(o, out2, err2), 2);
+  EXPECT_NE(err2.str().find("k must be"), std::string::npos) << err2.str();
+}

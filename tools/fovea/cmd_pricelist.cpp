@@ -1,0 +1,577 @@
+// `fovea pricelist`: measures every setting of the grid against a converged
+// reference, in groups that share tables, frames interleaved with a full
+// 1-ray-per-pixel anchor frame so that a slow spell of the machine falls on
+// both; appends each setting's result to OUT/results.jsonl as it lands (a
+// re-run with the same OUT skips those), then writes the price list
+// (pricelist_report.hpp).
+#include "cmd_pricelist.hpp"
+
+#include "cmd_render.hpp"
+#include "pfm.hpp"
+#include "pricelist_report.hpp"
+#include "reference.hpp"
+#include "render_metrics.hpp"
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+
+#include <foveation/csf_error.hpp>
+#include <foveation/executor.hpp>
+#include <foveation/foveated_view.hpp>
+#include <foveation/image_metrics.hpp>
+
+#include <toolkit/image_io.hpp>
+#include <toolkit/progress.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+Json rays_json(const engine::RayCounts& c) {
+  return Json{{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection},
+              {"refraction", c.refraction}, {"total", c.total()}};
+}
+
+engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
+  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
+                           a.refraction - b.refraction, a.packets - b.packets};
+}
+
+// One setting being measured: its view (foveated) or render settings (full),
+// per-frame stage times, rays of its first frame, flicker so far.
+struct Measure {
+  PriceSetting setting;
+  std::unique_ptr<foveation::FoveatedView> view;
+  foveation::ImageRgb full_image;
+  std::vector<double> select_ms, trace_ms, reconstruct_ms, taa_ms, total_ms;
+  engine::RayCounts rays;
+  std::uint32_t points = 0;
+  foveation::ImageRgb previous_display;
+  std::array<double, foveation::kRingCount> flicker_sum{};
+  int flicker_pairs = 0;
+  int frames_wanted = 0;
+  int frames_done = 0;
+};
+
+struct Context {
+  const PricelistOptions& o;
+  engine::Tracer& tracer;
+  FoveartEyeView view;
+  glm::vec2 gaze;
+  foveation::Executor& executor;
+  const foveation::EccentricityMap& map;
+  const foveation::ImageRgb& reference_display;
+  std::ostream& err;
+};
+
+RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
+  RenderOptions r;
+  r.scene = o.scene;
+  r.preset = o.preset;
+  r.eye = o.eye;
+  r.size_px = o.size_px;
+  r.gaze_px = o.gaze_px;
+  r.seed = o.seed;
+  if (s != nullptr && !s->full) {
+    r.mode = "foveated";
+    r.method = s->method;
+    r.k = s->k;
+    r.scale = s->scale;
+    r.pattern = s->pattern;
+    r.spp = s->spp;
+  }
+  return r;
+}
+
+// One frame of a setting; false with a message on failure.
+bool render_frame(Context& c, Measure& m, int round, std::string* error) {
+  const engine::RayCounts before = c.tracer.counts();
+  const foveation::ImageRgb* image = nullptr;
+  if (m.setting.full) {
+    engine::RenderSettings rs;
+    rs.spp = m.setting.spp;
+    rs.seed = c.o.seed + std::uint64_t(round);  // new jitter each frame: the flicker of a full render
+    const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &c.tracer, c.view, rs, &m.full_image, c.executor);
+    if (rr.status != FOVEART_RESULT_SUCCESS) {
+      *error = m.setting.id() + ": engine callback failed with status " + std::to_string(rr.status);
+      return false;
+    }
+    m.select_ms.push_back(0.0);
+    m.trace_ms.push_back(rr.trace_ms);
+    m.reconstruct_ms.push_back(0.0);
+    m.taa_ms.push_back(0.0);
+    m.total_ms.push_back(rr.trace_ms);
+    m.points = c.view.width_px * c.view.height_px;
+    image = &m.full_image;
+  } else {
+    foveation::FrameRequest request;
+    request.view = c.view;
+    request.gaze_px = c.gaze;
+    request.frame_index = std::uint64_t(round);
+    const foveation::FrameResult fr = m.view->render(request, &foveart_engine_trace_rays, &c.tracer, c.executor);
+    if (!fr.ok()) {
+      *error = m.setting.id() + ": " + fr.message;
+      return false;
+    }
+    m.select_ms.push_back(fr.select_ms);
+    m.trace_ms.push_back(fr.trace_ms);
+    m.reconstruct_ms.push_back(fr.reconstruct_ms);
+    m.taa_ms.push_back(fr.taa_ms);
+    m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
+    m.points = fr.points;
+    image = &m.view->image();
+  }
+  if (m.frames_done == 0) m.rays = minus(c.tracer.counts(), before);
+  foveation::ImageRgb display = foveation::display_encode(*image);
+  if (m.frames_done > 0) {
+    const auto mse = foveation::ring_mse(m.previous_display, display, c.map);
+    for (std::size_t r = 0; r < mse.size(); ++r) m.flicker_sum[r] += std::isnan(mse[r]) ? 0.0 : mse[r];
+    ++m.flicker_pairs;
+  }
+  m.previous_display = std::move(display);
+  ++m.frames_done;
+  return true;
+}
+
+// The error heat map of a setting: the CSF-weighted error of every pixel as a
+// full-size PNG, black (0) through red and yellow to white (the 99th
+// percentile, returned in *scale_out, and above).
+std::string write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out) {
+  const std::vector<float> e = foveation::csf_error_map(c.reference_display, display, c.map);
+  std::vector<float> sorted = e;
+  const std::size_t p99 = sorted.size() * 99 / 100;
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(p99), sorted.end());
+  const double scale = std::max(1e-6, double(sorted[p99]));
+  *scale_out = scale;
+  std::vector<std::uint8_t> rgb(e.size() * 3);
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    const double t = std::clamp(double(e[i]) / scale, 0.0, 1.0) * 3.0;  // 0-1 red, 1-2 yellow, 2-3 white
+    rgb[i * 3] = std::uint8_t(std::lround(255.0 * std::min(1.0, t)));
+    rgb[i * 3 + 1] = std::uint8_t(std::lround(255.0 * std::clamp(t - 1.0, 0.0, 1.0)));
+    rgb[i * 3 + 2] = std::uint8_t(std::lround(255.0 * std::clamp(t - 2.0, 0.0, 1.0)));
+  }
+  return toolkit::write_png_u8(file.string(), c.map.width_px, c.map.height_px, 3, rgb);
+}
+
+Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path& out_dir, bool write_image,
+                 bool heatmap, std::string* error) {
+  const PriceSetting& s = m.setting;
+  const foveation::ImageRgb& last = m.previous_display;  // display values of the last frame
+  const foveation::ImageComparison cmp = foveation::compare_images(c.reference_display, last, c.map);
+  Json j = {{"id", s.id()}, {"kind", s.full ? "full" : "foveated"}, {"spp", s.spp}};
+  if (!s.full) {
+    j["method"] = s.method;
+    j["k"] = s.k;
+    j["scale"] = s.scale;
+    j["pattern"] = s.pattern;
+    j["taa"] = s.taa;
+  }
+  j["points"] = m.points;
+  j["rays"] = rays_json(m.rays);
+  // The frame whose total is the median, so that the stages add up to the total.
+  std::vector<std::size_t> order(m.total_ms.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return m.total_ms[a] < m.total_ms[b]; });
+  const std::size_t med = order[order.size() / 2];
+  j["ms"] = {{"select", m.select_ms[med]}, {"trace", m.trace_ms[med]}, {"reconstruct", m.reconstruct_ms[med]},
+             {"taa", m.taa_ms[med]}, {"total", m.total_ms[med]}};
+  j["frames_total_ms"] = m.total_ms;
+  j["anchor_full_ms"] = anchor_ms;
+  j["time_fraction"] = anchor_ms > 0.0 ? m.total_ms[med] / anchor_ms : 0.0;
+  const Json cj = comparison_json(cmp);
+  j["psnr"] = cj["psnr"];
+  j["ssim"] = cj["ssim"];
+  j["csf_rmse"] = cj["csf_rmse"];
+  j["rings"] = cj["rings"];
+  for (std::size_t r = 0; r < foveation::kRingCount; ++r)
+    j["rings"][r]["flicker"] = m.flicker_pairs > 0 ? std::sqrt(m.flicker_sum[r] / m.flicker_pairs) : 0.0;
+  j["flicker_frames"] = m.frames_done;
+  if (write_image) {
+    const fs::path file = out_dir / "images" / (s.id() + ".pfm");
+    if (std::string e = write_pfm(file.string(), last); !e.empty()) {
+      *error = e;
+      return {};
+    }
+    toolkit::write_png((out_dir / "images" / (s.id() + ".png")).string(), last, toolkit::PngValues::display);
+    j["image"] = fs::relative(file, out_dir).string();
+  }
+  if (heatmap) {
+    double scale = 0.0;
+    if (std::string e = write_heatmap(c, last, out_dir / "heatmap.png", &scale); !e.empty()) {
+      *error = e;
+      return {};
+    }
+    j["heatmap"] = {{"file", "heatmap.png"}, {"white_at_csf_error", scale}};
+  }
+  return j;
+}
+
+// Measures one group of settings (all full renders, or all settings on one
+// set of tables) and appends each result to results.jsonl.
+bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& out_dir, std::ofstream& results,
+               const std::string& heatmap_id, toolkit::Progress& progress, double* done, double total,
+               std::map<std::string, Json>* all) {
+  std::string error;
+  std::vector<Measure> ms(settings.size());
+  std::shared_ptr<const foveation::ViewTables> tables;
+  for (std::size_t i = 0; i < settings.size(); ++i) {
+    Measure& m = ms[i];
+    m.setting = settings[i];
+    m.frames_wanted = m.setting.taa ? std::max(c.o.taa_frames, 2) : c.o.frames;
+    if (m.setting.full) continue;
+    if (!tables) {
+      const RenderOptions ro = render_options_of(c.o, &m.setting);
+      const std::optional<foveation::DisplayModel> display = foveated_display(ro, c.view, &error);
+      if (!display) {
+        c.err << "fovea pricelist: " << m.setting.id() << ": " << error << "\n";
+        return false;
+      }
+      foveation::PointSetKey key;
+      key.display = *display;
+      key.seed = c.o.seed;
+      foveation::InterpOptions interp;
+      interp.method = *foveation::parse_method(m.setting.method);
+      interp.k = m.setting.k;
+      try {
+        tables = foveation::load_view_tables(fs::path(c.o.cache_dir), key, interp, c.executor, std::nullopt, {},
+                                             [&](const std::string& msg) { c.err << "fovea pricelist: " << msg << "\n"; });
+      } catch (const std::exception& e) {
+        c.err << "fovea pricelist: " << m.setting.id() << ": tables: " << e.what() << "\n";
+        return false;
+      }
+    }
+    foveation::ViewSettings vs;
+    vs.rays_per_point = m.setting.spp;
+    vs.sample_seed = c.o.seed;
+    vs.taa = m.setting.taa;
+    vs.new_jitter_each_frame = m.setting.taa;  // TAA converges over frames of new jitter
+    m.view = std::make_unique<foveation::FoveatedView>(tables, vs);
+  }
+  // The anchor: a full frame at 1 ray per pixel in every round (the full group's own 1-spp setting).
+  const bool full_group = settings.front().full;
+  Measure anchor_frames;
+  anchor_frames.setting.full = true;
+  std::vector<double> anchor_ms;
+  int rounds = 0;
+  for (const Measure& m : ms) rounds = std::max(rounds, m.frames_wanted);
+  for (int round = 0; round < rounds; ++round) {
+    if (!full_group && round < c.o.frames) {
+      if (!render_frame(c, anchor_frames, round, &error)) break;
+      anchor_ms.push_back(anchor_frames.total_ms.back());
+    }
+    for (Measure& m : ms) {
+      if (round >= m.frames_wanted) continue;
+      if (!render_frame(c, m, round, &error)) break;
+      if (full_group && m.setting.spp == 1) anchor_ms.push_back(m.total_ms.back());
+      *done += 1.0;
+      progress.update(*done / total);
+    }
+    if (!error.empty()) break;
+  }
+  if (!error.empty()) {
+    c.err << "fovea pricelist: " << error << "\n";
+    return false;
+  }
+  const double anchor = median(anchor_ms);
+  for (Measure& m : ms) {
+    const std::string id = m.setting.id();
+    const bool image = c.o.images || id == heatmap_id || id == "full_spp1";
+    Json j = result_json(c, m, anchor, out_dir, image, id == heatmap_id, &error);
+    if (!error.empty()) {
+      c.err << "fovea pricelist: " << error << "\n";
+      return false;
+    }
+    results << j.dump() << "\n";
+    results.flush();
+    (*all)[id] = std::move(j);  // id is a copy taken above
+  }
+  return true;
+}
+
+std::string machine_name() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+}  // namespace
+
+int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream& err) {
+  PricelistOptions o = o_in;
+  if (o.quick) o.grid = quick_grid();
+  if (o.out_dir.empty()) {
+    err << "fovea pricelist: --out DIR is required\n";
+    return 2;
+  }
+  if (o.frames < 1 || o.frames > 100) {
+    err << "fovea pricelist: --frames must be in 1..100\n";
+    return 2;
+  }
+  if (o.taa_frames < 2 || o.taa_frames > 100) {
+    err << "fovea pricelist: --taa-frames must be in 2..100\n";
+    return 2;
+  }
+  std::vector<PriceSetting> settings;
+  if (std::string bad = expand_grid(o.grid, &settings); !bad.empty()) {
+    err << "fovea pricelist: bad grid: " << bad << "\n";
+    return 2;
+  }
+  RenderOptions base = render_options_of(o, nullptr);
+  base.reference_spp = o.reference_spp;
+  if (std::string bad = check_render_options(base); !bad.empty()) {
+    err << "fovea pricelist: " << bad << "\n";
+    return 2;
+  }
+  if (std::none_of(settings.begin(), settings.end(), [](const PriceSetting& s) { return s.full && s.spp == 1; })) {
+    err << "fovea pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
+    return 2;
+  }
+  const fs::path out_dir(o.out_dir);
+  if (o.cache_dir.empty()) o.cache_dir = (out_dir / "cache").string();
+  std::error_code ec;
+  fs::create_directories(out_dir / "images", ec);
+  if (ec) {
+    err << "fovea pricelist: cannot create " << (out_dir / "images").string() << ": " << ec.message() << "\n";
+    return 1;
+  }
+  const auto t_start = std::chrono::steady_clock::now();
+  engine::LoadResult loaded = engine::load_scene(o.scene);
+  if (!loaded.ok()) {
+    err << "fovea pricelist: " << loaded.error << "\n";
+    return 1;
+  }
+  const std::uint64_t scene_hash = scene_content_hash(*loaded.scene);
+  std::string error;
+  std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
+  if (!tracer) {
+    err << "fovea pricelist: " << error << "\n";
+    return 1;
+  }
+  const FoveartEyeView view = render_view(base, tracer->scene());
+  const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * float(view.width_px), 0.5f * float(view.height_px)));
+  foveation::Executor executor(static_cast<unsigned>(std::max(0, o.threads)));
+
+  // What this output directory measures; a different run must not resume into it.
+  Json run = {{"scene", tracer->scene().source}, {"scene_hash", scene_hash}, {"width", view.width_px},
+              {"height", view.height_px}, {"eye", o.eye}, {"preset", o.preset}, {"gaze", {gaze.x, gaze.y}},
+              {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed}};
+  const fs::path run_file = out_dir / "run.json";
+  if (fs::exists(run_file)) {
+    std::ifstream in(run_file);
+    Json old = Json::parse(in, nullptr, false);
+    if (old.is_discarded() || old != run) {
+      err << "fovea pricelist: " << run_file.string()
+          << " describes another run (scene, view, gaze, reference or frames differ, or it is unreadable); "
+             "use another --out or delete it\n";
+      return 1;
+    }
+  } else {
+    std::ofstream(run_file) << run.dump(2) << "\n";
+  }
+
+  const foveation::EccentricityMap map = foveation::eccentricity_map(view, gaze);
+  ReferenceOptions ro;
+  if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
+  ro.seed = o.seed;
+  ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
+  err << "fovea pricelist: reference (" << o.reference_spp << " rays per pixel) of " << view.width_px << "x"
+      << view.height_px << "...\n";
+  std::optional<Reference> reference = converged_reference(
+      &foveart_engine_trace_rays, tracer.get(), scene_hash, view, gaze, ro, executor,
+      [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; }, &error);
+  if (!reference) {
+    err << "fovea pricelist: " << error << "\n";
+    return 1;
+  }
+  const foveation::ImageRgb reference_display = foveation::display_encode(reference->image);
+  if (!fs::exists(out_dir / "images" / "reference.pfm")) {
+    write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display);
+    toolkit::write_png((out_dir / "images" / "reference.png").string(), reference_display, toolkit::PngValues::display);
+    foveation::ImageRgb ecc(map.width_px, map.height_px);  // eccentricity (deg), ring index, pixels per degree
+    for (std::size_t i = 0; i < map.ring.size(); ++i) {
+      ecc.rgb[i * 3] = map.eccentricity_deg[i];
+      ecc.rgb[i * 3 + 1] = float(map.ring[i]);
+      ecc.rgb[i * 3 + 2] = map.pixels_per_deg[i];
+    }
+    write_pfm((out_dir / "images" / "eccentricity.pfm").string(), ecc);
+  }
+
+  // Resume: the settings already in results.jsonl are done.
+  std::map<std::string, Json> done_results;
+  const fs::path results_file = out_dir / "results.jsonl";
+  {
+    std::ifstream in(results_file);
+    std::string line;
+    int line_no = 0;
+    while (std::getline(in, line)) {
+      ++line_no;
+      Json j = Json::parse(line, nullptr, false);
+      if (j.is_discarded() || !j.contains("id") || !j["id"].is_string()) {
+        err << "fovea pricelist: " << results_file.string() << " line " << line_no << " is not a result; measuring again\n";
+        continue;
+      }
+      const std::string id = j["id"].get<std::string>();  // before the move: `=` evaluates its right side first
+      done_results[id] = std::move(j);
+    }
+  }
+  std::ofstream results(results_file, std::ios::app);
+  if (!results) {
+    err << "fovea pricelist: cannot write " << results_file.string() << "\n";
+    return 1;
+  }
+  const std::string thesis_default = "nn_k1_s1_thesis_r1";
+  const std::string heatmap_id = o.heatmap.empty() ? thesis_default : o.heatmap;
+
+  // Groups in grid order: the full renders, then one per set of tables.
+  std::vector<std::string> group_order;
+  std::map<std::string, std::vector<PriceSetting>> groups;
+  double total_frames = 0.0;
+  for (const PriceSetting& s : settings) {
+    if (done_results.count(s.id())) continue;
+    if (!groups.count(s.table_id())) group_order.push_back(s.table_id());
+    groups[s.table_id()].push_back(s);
+    total_frames += s.taa ? o.taa_frames : o.frames;
+  }
+  err << "fovea pricelist: " << settings.size() << " settings in the grid, " << done_results.size()
+      << " already measured in " << results_file.string() << "\n";
+  Context c{o, *tracer, view, gaze, executor, map, reference_display, err};
+  {
+    toolkit::Progress progress("pricelist");
+    double done = 0.0;
+    for (const std::string& g : group_order)
+      if (!run_group(c, groups[g], out_dir, results, heatmap_id, progress, &done, total_frames, &done_results))
+        return 1;
+  }
+  std::vector<Json> ordered;
+  for (const PriceSetting& s : settings)
+    if (done_results.count(s.id())) ordered.push_back(done_results[s.id()]);
+  Json ref_json = {{"spp", reference->spp}, {"spp_tried", reference->tried_spp}, {"from_cache", reference->from_cache},
+                   {"cache_file", reference->cache_file}, {"render_ms", reference->render_ms},
+                   {"image", "images/reference.pfm"}};
+  Json residual = Json::array();
+  for (double mse : reference->residual_mse(map)) residual.push_back(number_or_null_json(foveation::psnr_of_mse(mse)));
+  ref_json["residual_psnr"] = residual;
+  PricelistContext pc;
+  pc.run = run;
+  pc.run["machine"] = machine_name();
+  pc.run["threads"] = executor.thread_count();
+  pc.run["quick"] = o.quick;
+  pc.run["run_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  pc.reference = ref_json;
+  pc.thesis_default = thesis_default;
+  pc.heatmap = heatmap_id;
+  std::string headline;
+  if (std::string e = write_pricelist(out_dir, pc, ordered, &headline); !e.empty()) {
+    err << "fovea pricelist: " << e << "\n";
+    return 1;
+  }
+  out << headline << "\n";
+  return 0;
+}
+
+}  // namespace foveart::tools
+
+namespace {
+
+template <class T>
+std::string parse_numbers(const std::string& text, std::vector<T>* out) {
+  std::vector<std::string> items;
+  if (!foveart::tools::split_list(text, &items)) return "expected a comma-separated list";
+  out->clear();
+  for (const std::string& i : items) {
+    std::istringstream in(i);
+    T v{};
+    if (!(in >> v) || !(in >> std::ws).eof()) return "'" + i + "' is not a number";
+    out->push_back(v);
+  }
+  return "";
+}
+
+}  // namespace
+
+void register_pricelist(CLI::App& app) {
+  auto o = std::make_shared<foveart::tools::PricelistOptions>();
+  auto gaze = std::make_shared<std::string>();
+  auto size = std::make_shared<std::string>();
+  auto lists = std::make_shared<std::array<std::string, 6>>();  // full spp, methods, scales, rays, patterns, taa rays
+  CLI::App* cmd = app.add_subcommand(
+      "pricelist", "What each setting costs in time and rays and buys in accuracy per eccentricity ring");
+  cmd->add_option("--scene", o->scene, "glTF/GLB file, or 'default'")->capture_default_str();
+  cmd->add_option("--preset", o->preset, "Display preset")->capture_default_str();
+  cmd->add_option("--eye", o->eye, "left or right")->capture_default_str();
+  cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels (default: centre)");
+  cmd->add_option("--size", *size, "Per-eye size W,H (same horizontal FOV)");
+  cmd->add_option("--out", o->out_dir, "Output directory; re-running with it resumes")->required();
+  cmd->add_option("--cache", o->cache_dir, "Tables and reference cache (default OUT/cache)");
+  cmd->add_option("--reference-spp", o->reference_spp, "Reference rays per pixel, or auto")->capture_default_str();
+  cmd->add_option("--frames", o->frames, "Interleaved frames per setting (median reported)")->capture_default_str();
+  cmd->add_option("--taa-frames", o->taa_frames, "Sequence length with TAA")->capture_default_str();
+  cmd->add_option("--jobs", o->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("--quick", o->quick, "The small grid (about 5 minutes at FOVE size on 2 cores)");
+  cmd->add_option("--full-spp", (*lists)[0], "Full-render baseline rays per pixel, e.g. 1,2,4,8,16");
+  cmd->add_option("--methods", (*lists)[1], "method:k list, e.g. nn:1,msm:5,rbf-mq:10");
+  cmd->add_option("--scales", (*lists)[2], "Density scales, e.g. 1,1.5,2");
+  cmd->add_option("--rays", (*lists)[3], "Rays per point, e.g. 1,2,4,8");
+  cmd->add_option("--patterns", (*lists)[4], "pixel-grid,thesis");
+  cmd->add_option("--taa-rays", (*lists)[5], "Rays per point measured with TAA too (empty list: none)");
+  cmd->add_option("--heatmap", o->heatmap, "Setting id for the error heat map (default: the thesis default)");
+  cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
+  cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->callback([o, gaze, size, lists] {
+    const auto pair = [](const std::string& text, const char* name, auto* out) {
+      std::vector<double> v;
+      if (!parse_numbers(text, &v).empty() || v.size() != 2) throw CLI::ValidationError(name, "expected X,Y");
+      *out = {v[0], v[1]};
+    };
+    if (!gaze->empty()) {
+      glm::vec2 g;
+      pair(*gaze, "--gaze", &g);
+      o->gaze_px = g;
+    }
+    if (!size->empty()) {
+      glm::ivec2 s;
+      pair(*size, "--size", &s);
+      o->size_px = s;
+    }
+    const char* names[] = {"--full-spp", "--methods", "--scales", "--rays", "--patterns", "--taa-rays"};
+    for (std::size_t i = 0; i < lists->size(); ++i) {
+      const std::string& t = (*lists)[i];
+      if (t.empty()) continue;
+      if (o->quick) throw CLI::ValidationError(names[i], "give --quick or a grid list, not both");
+      std::string bad;
+      if (i == 0) bad = parse_numbers(t, &o->grid.full_spp);
+      if (i == 1 && !foveart::tools::split_list(t, &o->grid.methods)) bad = "expected a comma-separated list";
+      if (i == 2) bad = parse_numbers(t, &o->grid.scales);
+      if (i == 3) bad = parse_numbers(t, &o->grid.rays);
+      if (i == 4 && !foveart::tools::split_list(t, &o->grid.patterns)) bad = "expected a comma-separated list";
+      if (i == 5) bad = t == "none" ? (o->grid.taa_rays.clear(), std::string()) : parse_numbers(t, &o->grid.taa_rays);
+      if (!bad.empty()) throw CLI::ValidationError(names[i], bad);
+    }
+    const int code = foveart::tools::run_pricelist(*o, std::cout, std::cerr);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}

@@ -1,0 +1,44 @@
+// `fovea pricelist`: what every setting costs in time and rays and buys in
+// accuracy against a converged reference, per eccentricity ring (issue #16;
+// docs/pricelist.md).
+#pragma once
+
+#include "pricelist_grid.hpp"
+
+#include <glm/ext/vector_int2.hpp>
+#include <glm/vec2.hpp>
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+void register_pricelist(CLI::App& app);
+
+namespace foveart::tools {
+
+struct PricelistOptions {
+  std::string scene = "default";
+  std::string preset = "fove";
+  std::string eye = "left";
+  std::optional<glm::vec2> gaze_px;     // default: image centre
+  std::optional<glm::ivec2> size_px;    // default: the preset's
+  std::string out_dir;                  // required; re-running with it resumes
+  std::string cache_dir;                // tables and reference; default OUT/cache
+  std::string reference_spp = "auto";   // "auto" or an even count
+  int frames = 3;                       // interleaved frames per setting; the median is reported
+  int taa_frames = 8;                   // sequence length of a TAA setting
+  int threads = 0;                      // --jobs: executor threads, 0 = all cores
+  bool quick = false;
+  PriceGrid grid;                       // replaced by quick_grid() when quick
+  std::string heatmap;                  // setting id for the error heat map; default the thesis default
+  bool images = false;                  // write every setting's image as PFM (display values)
+  std::uint64_t seed = 1;
+};
+
+int run_pricelist(const PricelistOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace foveart::tools

@@ -1,0 +1,45 @@
+// The settings `fovea pricelist` sweeps: the full render at 1..16 rays per
+// pixel (the baseline) and foveated frames over method x k x density scale x
+// rays per point x fovea pattern, with and without TAA.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace foveart::tools {
+
+struct PriceSetting {
+  bool full = false;          // the full render (spp rays per pixel) instead of a foveated frame
+  int spp = 1;                // full: rays per pixel; foveated: rays per point
+  std::string method = "nn";  // nn | msm | rbf-mq
+  int k = 1;
+  double scale = 1.0;
+  std::string pattern = "pixel-grid";  // pixel-grid | thesis
+  bool taa = false;           // temporal accumulation over a sequence, new jitter each frame
+
+  // Stable name, e.g. "full_spp4", "nn_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_taa".
+  std::string id() const;
+  // The settings that share one set of tables (point set, neighbours, weights).
+  std::string table_id() const;
+};
+
+struct PriceGrid {
+  std::vector<int> full_spp = {1, 2, 4, 8, 16};
+  std::vector<std::string> methods = {"nn:1", "msm:5", "msm:10", "rbf-mq:5", "rbf-mq:10"};  // method:k
+  std::vector<double> scales = {1.0, 1.5, 2.0};
+  std::vector<int> rays = {1, 2, 4, 8};
+  std::vector<std::string> patterns = {"pixel-grid", "thesis"};
+  std::vector<int> taa_rays = {1};  // rays per point at which TAA is also measured
+};
+
+// The small grid of --quick: NN at scale 1 and 2, MSM k=5, both patterns, 1 and 4 rays, TAA at 1.
+PriceGrid quick_grid();
+
+// Every setting of a grid, the full-render baseline first; "" or a message
+// naming the bad entry ("method 'foo'", "k 0").
+std::string expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out);
+
+// "a,b,c" -> items; false when an item is empty.
+bool split_list(const std::string& text, std::vector<std::string>* out);
+
+}  // namespace foveart::tools

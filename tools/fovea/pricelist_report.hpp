@@ -1,0 +1,31 @@
+// The price list's outputs from its measured settings: pricelist.json and
+// .csv (one row per setting), the Pareto front per ring (time against PSNR),
+// plots, report.md and the one-line headline.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace foveart::tools {
+
+struct PricelistContext {
+  nlohmann::ordered_json run;        // scene, view, gaze, machine, run time
+  nlohmann::ordered_json reference;  // spp, residual_psnr per ring, ...
+  std::string thesis_default;        // the setting id the headline calls the thesis's default
+  std::string heatmap;               // the setting id of heatmap.png
+};
+
+// Indices of the settings on the Pareto front of (cost, accuracy): no other
+// setting costs less or the same and is at least as accurate, one of them strictly.
+// NaN entries are never on the front.
+std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std::vector<double>& accuracy);
+
+// Writes pricelist.json, pricelist.csv, pareto_ring<R>.png, pricelist.png and
+// report.md into `dir`; *headline gets the summary sentence. Error message or "".
+std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& context,
+                            std::vector<nlohmann::ordered_json> settings, std::string* headline);
+
+}  // namespace foveart::tools
