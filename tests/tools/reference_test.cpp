@@ -116,19 +116,30 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
     EXPECT_LT(b[r], a[r] / 4.0) << r;
     EXPECT_GT(b[r], a[r] / 64.0) << r;
   }
-  // Auto: doubles from min_spp until the worst ring reaches the target, or max_spp.
+  // Auto: doubles from min_spp while below baseline_spp * 10^(margin/10), up to max_spp.
   o.spp = 0;
   o.min_spp = 16;
   o.max_spp = 64;
-  o.target_residual_db = 1000.0;  // never reached: stops at max_spp
+  o.baseline_spp = 1000;  // needs 10,000 rays per pixel: stops at max_spp, not converged
   auto autoref = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(autoref) << error;
   EXPECT_EQ(autoref->tried_spp, (std::vector<int>{16, 32, 64}));
+  EXPECT_FALSE(autoref->converged);
   EXPECT_EQ(autoref->image.rgb, r64->image.rgb);  // doubling reuses chunks: the same image as asking for 64
-  o.target_residual_db = 0.0;  // reached at once
+  ASSERT_EQ(autoref->last_doubling_db.size(), foveation::kRingCount);
+  // Needs 10 rays per pixel: 16 is enough, but the 1/N law is only seen after one doubling.
+  o.baseline_spp = 1;
   autoref = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(autoref);
-  EXPECT_EQ(autoref->tried_spp, (std::vector<int>{16}));
+  ASSERT_GE(autoref->tried_spp.size(), 2u);
+  EXPECT_EQ(autoref->tried_spp[0], 16);
+  if (autoref->converged) {
+    for (std::size_t r = 0; r < foveation::kRingCount; ++r)
+      if (map.ring_pixels[r] > 0 && std::isfinite(autoref->last_doubling_db[r])) {
+        EXPECT_GE(autoref->last_doubling_db[r], 2.0) << r;
+        EXPECT_LE(autoref->last_doubling_db[r], 4.0) << r;
+      }
+  }
 }
 
 TEST(Reference, SceneHashFollowsContent) {

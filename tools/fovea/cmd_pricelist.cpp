@@ -396,6 +396,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   const foveation::EccentricityMap map = foveation::eccentricity_map(view, gaze);
   ReferenceOptions ro;
   if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
+  ro.baseline_spp = *std::max_element(o.grid.full_spp.begin(), o.grid.full_spp.end());  // the best full render measured
   ro.seed = o.seed;
   ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
   err << "fovea pricelist: reference (" << o.reference_spp << " rays per pixel) of " << view.width_px << "x"
@@ -469,7 +470,8 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   std::vector<Json> ordered;
   for (const PriceSetting& s : settings)
     if (done_results.count(s.id())) ordered.push_back(done_results[s.id()]);
-  Json ref_json = {{"spp", reference->spp}, {"spp_tried", reference->tried_spp}, {"from_cache", reference->from_cache},
+  Json ref_json = {{"spp", reference->spp}, {"spp_tried", reference->tried_spp}, {"converged", reference->converged},
+                   {"last_doubling_db", reference->last_doubling_db}, {"from_cache", reference->from_cache},
                    {"cache_file", reference->cache_file}, {"render_ms", reference->render_ms},
                    {"image", "images/reference.pfm"}};
   Json residual = Json::array();

@@ -373,6 +373,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     } else {
       ReferenceOptions ro;
       if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
+      ro.baseline_spp = std::max(16, o.spp);  // far below this render and the price list's best full render
       ro.seed = o.seed;
       ro.cache_dir = !o.reference_cache.empty() ? o.reference_cache
                      : !o.cache_dir.empty()      ? (std::filesystem::path(o.cache_dir) / "reference").string()
@@ -388,6 +389,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       Json residual = Json::array();
       for (double mse : ref->residual_mse(ecc_map())) residual.push_back(number_or_null(foveation::psnr_of_mse(mse)));
       ref_json = {{"source", "converged full render"}, {"spp", ref->spp}, {"spp_tried", ref->tried_spp},
+                  {"converged", ref->converged}, {"last_doubling_db", ref->last_doubling_db},
                   {"from_cache", ref->from_cache}, {"cache_file", ref->cache_file}, {"render_ms", ref->render_ms},
                   {"residual_psnr", residual}};
       reference = std::move(ref->image);

@@ -27,6 +27,7 @@ std::string PriceSetting::table_id() const {
 
 PriceGrid quick_grid() {
   PriceGrid g;
+  g.full_spp = {1, 2, 4, 8};  // the reference then needs 10 x 8 rays per pixel (128), not 10 x 16 (256)
   g.methods = {"nn:1", "msm:5"};
   g.scales = {1.0, 2.0};
   g.rays = {1, 4};

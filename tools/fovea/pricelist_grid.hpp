@@ -32,7 +32,8 @@ struct PriceGrid {
   std::vector<int> taa_rays = {1};  // rays per point at which TAA is also measured
 };
 
-// The small grid of --quick: NN at scale 1 and 2, MSM k=5, both patterns, 1 and 4 rays, TAA at 1.
+// The small grid of --quick: full render at 1-8 rays per pixel; NN and MSM k=5 at
+// scale 1 and 2, both patterns, 1 and 4 rays, TAA at 1.
 PriceGrid quick_grid();
 
 // Every setting of a grid, the full-render baseline first; "" or a message

@@ -280,13 +280,14 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
     }
     return ref;
   };
-  const auto worst_residual_db = [&](const Reference& ref) {
-    double worst = std::numeric_limits<double>::infinity();
-    for (double mse : ref.residual_mse(map))
-      if (!std::isnan(mse)) worst = std::min(worst, foveation::psnr_of_mse(mse));
-    return worst;
+  const auto residual_db = [&](const Reference& ref) {
+    std::vector<double> db;
+    for (double mse : ref.residual_mse(map)) db.push_back(foveation::psnr_of_mse(mse));
+    return db;
   };
+  const double needed_spp = double(o.baseline_spp) * std::pow(10.0, o.margin_db / 10.0);
   std::vector<int> tried;
+  std::vector<double> previous_db;
   int spp = o.spp != 0 ? o.spp : std::max(2, o.min_spp);
   for (;;) {
     tried.push_back(spp);
@@ -310,12 +311,22 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
         ref->cache_file = file.string();
       }
     }
-    const bool converged = o.spp != 0 || worst_residual_db(*ref) >= o.target_residual_db || spp * 2 > o.max_spp;
-    if (converged) {
+    const std::vector<double> db = residual_db(*ref);
+    bool law_holds = !previous_db.empty();
+    ref->last_doubling_db.clear();
+    for (std::size_t r = 0; r < db.size() && !previous_db.empty(); ++r) {
+      const double drop = db[r] - previous_db[r];
+      ref->last_doubling_db.push_back(drop);
+      if (std::isfinite(drop) && (drop < 2.0 || drop > 4.0) && map.ring_pixels[r] > 0) law_holds = false;
+    }
+    const bool goal = double(spp) >= needed_spp && law_holds;
+    if (o.spp != 0 || goal || spp * 2 > o.max_spp) {
       ref->render_ms = render_ms;
       ref->tried_spp = tried;
+      ref->converged = o.spp != 0 || goal;
       return ref;
     }
+    previous_db = db;
     spp *= 2;
   }
 }

@@ -33,11 +33,18 @@
 
 namespace foveart::tools {
 
+// The convergence check (spp = 0): a full render at s rays per pixel has MSE
+// sigma^2 / s against the truth, the reference at N has sigma^2 / N, so the
+// reference is margin_db below the best full render measured (baseline_spp)
+// once N >= baseline_spp * 10^(margin_db / 10). The check doubles N from
+// min_spp until then and until one doubling lowered the estimated residual
+// by 3 +- 1 dB in every ring (the 1/N law the estimate rests on); max_spp caps it.
 struct ReferenceOptions {
   int spp = 0;                 // rays per pixel in all (even); 0: chosen by the convergence check
   int min_spp = 32;            // the convergence check starts here and doubles
   int max_spp = 1024;          // ... up to here
-  double target_residual_db = 65.0;  // ... until every ring's residual PSNR reaches this
+  int baseline_spp = 16;       // the most rays per pixel of a full render it must be far below
+  double margin_db = 10.0;
   std::uint64_t seed = 1;
   std::string cache_dir;       // empty: no cache
 };
@@ -50,6 +57,9 @@ struct Reference {
   double render_ms = 0.0;               // this run's rendering (0 when loaded)
   std::string cache_file;               // empty without a cache
   std::vector<int> tried_spp;           // the convergence check's steps
+  // Per ring: how much the last doubling of the check lowered the residual (dB; ~3 when the 1/N law holds).
+  std::vector<double> last_doubling_db;
+  bool converged = true;                // false: the check stopped at max_spp short of its goal
 
   // Residual MSE per ring against the truth, MSE(A, B) / 4, and its PSNR.
   std::array<double, foveation::kRingCount> residual_mse(const foveation::EccentricityMap& map) const;
