@@ -112,7 +112,10 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
   if (m.setting.full) {
     engine::RenderSettings rs;
     rs.spp = m.setting.spp;
-    rs.seed = c.o.seed + std::uint64_t(round);  // new jitter each frame: the flicker of a full render
+    // The same jitter every frame, as the foveated frames without TAA and as the
+    // pixel-grid fovea (foveation::pixel_jitter with the same seed): inside the
+    // fovea a full frame and a pixel-grid frame trace the same rays.
+    rs.seed = c.o.seed;
     const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &c.tracer, c.view, rs, &m.full_image, c.executor);
     if (rr.status != FOVEART_RESULT_SUCCESS) {
       *error = m.setting.id() + ": engine callback failed with status " + std::to_string(rr.status);
@@ -463,9 +466,14 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   {
     toolkit::Progress progress("pricelist");
     double done = 0.0;
-    for (const std::string& g : group_order)
-      if (!run_group(c, groups[g], out_dir, results, heatmap_id, progress, &done, total_frames, &done_results))
+    for (std::size_t g = 0; g < group_order.size(); ++g) {
+      if (!run_group(c, groups[group_order[g]], out_dir, results, heatmap_id, progress, &done, total_frames,
+                     &done_results))
         return 1;
+      err << "fovea pricelist: [" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
+          << groups[group_order[g]].size() << " settings, "
+          << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
+    }
   }
   std::vector<Json> ordered;
   for (const PriceSetting& s : settings)

@@ -181,23 +181,24 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
     toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
     toolkit::PlotSeries front{"Pareto front", {}, {}, false};
+    const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
     for (const Json* s : full) {
-      full_curve.x.push_back(time_pct(*s));
+      full_curve.x.push_back(x_of(time_pct(*s)));
       full_curve.y.push_back(ring_psnr(*s, r));
     }
     for (const Json& s : all) {
       if (s["kind"] != "foveated") continue;
       toolkit::PlotSeries& to = s["taa"].get<bool>() ? taa : (s["pattern"] == "thesis" ? thesis : grid);
-      to.x.push_back(time_pct(s));
+      to.x.push_back(x_of(time_pct(s)));
       to.y.push_back(ring_psnr(s, r));
     }
     for (std::size_t i : fronts[r]) {
-      front.x.push_back(cost[i]);
+      front.x.push_back(x_of(cost[i]));
       front.y.push_back(ring_psnr(all[i], r));
     }
     toolkit::PlotSpec spec;
     spec.title = title;
-    spec.x_label = "time, % of a full frame at 1 ray per pixel";
+    spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
     spec.y_label = "PSNR against the reference (dB)";
     return toolkit::write_plot_png((dir / file).string(), spec, {full_curve, front, grid, thesis, taa});
   };
@@ -234,6 +235,14 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
      << (sanity["reference_10db_below_best"].get<bool>() ? "yes" : "**no**") << " (margins";
   for (std::size_t r = 0; r < kRings; ++r) md << " " << fmt(num(sanity["reference_margin_db"][r])) ;
   md << " dB).\n\n![fovea](pricelist.png)\n\n";
+  // ms at the pace of the full group's frames: time fraction x full_spp1's ms (the groups ran
+  // minutes apart on a shared machine; the fraction is what each measured against its anchor).
+  const double full1_ms = full1 ? num((*full1)["ms"]["total"]) : std::numeric_limits<double>::quiet_NaN();
+  const auto ms_of = [&](const Json& s) { return num(s["time_fraction"]) * full1_ms; };
+  md << "Columns: time % of a full frame at 1 ray per pixel (measured against the anchor frames interleaved "
+     << "with it); ms = that fraction x the full render's " << fmt(full1_ms) << " ms; rays traced in all "
+     << "(primary + shadow + reflection + refraction); PSNR, SSIM and the CSF-weighted error (as dB) in the ring "
+     << "against the reference; ms per dB and rays per dB from the previous setting on the front.\n\n";
   for (std::size_t r = 0; r < kRings; ++r) {
     md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
        << "| on the front | time % | ms | rays (total) | PSNR dB | SSIM | CSF dB | ms per dB | rays per dB |\n"
@@ -245,11 +254,11 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
       if (prev) {
         const double ddb = ring_psnr(s, r) - ring_psnr(*prev, r);
         if (ddb > 0) {
-          ms_db = fmt((num(s["ms"]["total"]) - num((*prev)["ms"]["total"])) / ddb, 2);
+          ms_db = fmt((ms_of(s) - ms_of(*prev)) / ddb, 2);
           rays_db = fmt((num(s["rays"]["total"]) - num((*prev)["rays"]["total"])) / ddb, 0);
         }
       }
-      md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(num(s["ms"]["total"]))
+      md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ms_of(s))
          << " | " << s["rays"]["total"] << " | " << fmt(ring_psnr(s, r), 2) << " | "
          << fmt(num(s["rings"][r]["ssim"]), 3) << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db
          << " | " << rays_db << " |\n";
