@@ -2,7 +2,8 @@
 # The README's main job: installs what is missing, builds, and runs the most
 # complete FoveaRT pipeline on built-in defaults. Everything lands in out/.
 #   1. the FOVE point set: Table 1 counts, picture, curves
-#   2. the sample engine: full versus foveated ray tracing of the default scene
+#   2. the sample engine: full versus foveated ray tracing of the default scene,
+#      and the quick price list (what each setting costs and buys per ring)
 #   3. hello_foveated through the FoveaRT layer on the simulated FOVE headset
 #      (real OpenXR loader, Vulkan on lavapipe, 120 Hz simulated gaze), with
 #      both eyes' composed frames captured
@@ -25,6 +26,12 @@ echo "=== 2/3 default scene, full vs foveated -> out/render.json, out/render_*.p
 build/bin/fovea render --scene default --preset fove --mode both --method msm --k 5 \
   --cache out/cache --out out/render --json > out/render.json
 jq -r '"speedup \(.speedup*100|round/100)x (scene content allows \(.content_speedup*100|round/100)x: overhead \(.overhead_fraction*1000|round/10)%), PSNR \(.psnr*10|round/10) dB, SSIM \(.ssim*1000|round/1000)"' out/render.json
+
+echo "=== 2b/3 quick price list of the default scene -> out/pricelist/ (report.md, pricelist.png)"
+rm -rf out/pricelist && mkdir -p out/pricelist  # measured afresh; the reference stays cached in out/cache/reference
+build/bin/fovea pricelist --scene default --preset fove --quick --cache out/cache --out out/pricelist \
+  > out/pricelist/headline.txt
+cat out/pricelist/headline.txt
 
 echo "=== 3/3 hello_foveated on the simulated FOVE -> out/hello_foveated.json, out/frames/"
 rm -f out/frames/*.png

@@ -57,7 +57,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.grid.methods = {"nn:1"};
   o.grid.scales = {1.0};
   o.grid.rays = {1};
-  o.grid.patterns = {"thesis"};
+  o.grid.patterns = {"thesis", "pixel-grid"};
   o.grid.taa_rays = {1};
   std::ostringstream out, err;
   ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
@@ -66,7 +66,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   std::ifstream jf(pl / "pricelist.json");
   const auto doc = nlohmann::json::parse(jf);
   const auto& settings = doc["settings"];
-  ASSERT_EQ(settings.size(), 4u);  // full 1, 4; nn r1; nn r1 + TAA
+  ASSERT_EQ(settings.size(), 6u);  // full 1, 4; per pattern nn r1 and nn r1 + TAA
   EXPECT_EQ(count_lines(pl / "pricelist.csv"), settings.size() + 1);
   for (const char* f : {"pricelist.png", "pareto_ring0.png", "report.md", "heatmap.png", "images/reference.pfm"})
     EXPECT_TRUE(fs::exists(pl / f)) << f;
@@ -115,6 +115,16 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
       EXPECT_NEAR(10.0 * std::log10(n[r] / se[r]), json_psnr.get<double>(), 0.05) << s["id"] << " ring " << r;
     }
   }
+  // Inside the fovea the pixel-grid pattern traces the full render's rays (same
+  // pixel jitter, same seed): the same error there, to the bit.
+  const auto by_id = [&](const std::string& id) {
+    const auto it = std::find_if(settings.begin(), settings.end(), [&](const auto& s) { return s["id"] == id; });
+    EXPECT_NE(it, settings.end()) << id;
+    return *it;
+  };
+  const auto full1 = by_id("full_spp1"), grid1 = by_id("nn_k1_s1_pixel-grid_r1");
+  ASSERT_GT(full1["rings"][0]["pixels"].get<int>(), 0);
+  EXPECT_EQ(grid1["rings"][0]["psnr"], full1["rings"][0]["psnr"]);
   const auto taa = std::find_if(settings.begin(), settings.end(), [](const auto& s) { return s["id"] == "nn_k1_s1_thesis_r1_taa"; });
   ASSERT_NE(taa, settings.end());
   EXPECT_EQ((*taa)["flicker_frames"], 3);
