@@ -123,9 +123,12 @@ TEST(NextChain, TypeOutsideTheEnumRangeIsReadAsAnInteger) {
 
 // A chain that loops (invalid usage) ends the walk instead of hanging the app's thread.
 TEST(NextChain, LoopingChainEndsTheWalk) {
-  XrBaseInStructure a{XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR, nullptr};
-  XrBaseInStructure b{XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR, &a};
+  // Real structs of the type they claim: the walk copies the registry's size of each.
+  XrCompositionLayerDepthInfoKHR a{};
+  XrCompositionLayerDepthInfoKHR b{};
+  a.type = b.type = XR_TYPE_COMPOSITION_LAYER_DEPTH_INFO_KHR;
   a.next = &b;
+  b.next = &a;
   EXPECT_EQ(find_in_chain<XrBaseInStructure>(&a, XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART), nullptr);
   XrFoveatedRayTracingLayerFOVEART never_reached{XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART, nullptr, XR_NULL_HANDLE};
   ChainCopies copies;
