@@ -155,11 +155,12 @@ PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed, con
   if (const double grid_radius_px = display.pixel_grid_radius_px(); grid_radius_px > 0.0) {
     constexpr double kRimPx = 1.5;  // grid points this close to the edge seed Bridson
     const double r = std::min(grid_radius_px, std::hypot(double(width), double(height)));
-    const int y0 = std::max(0, int(std::floor(centre.y - r))), y1 = std::min(canvas_h, int(std::ceil(centre.y + r)) + 1);
-    const int x0 = std::max(0, int(std::floor(centre.x - r))), x1 = std::min(canvas_w, int(std::ceil(centre.x + r)) + 1);
+    const double cx = double(centre.x), cy = double(centre.y);
+    const int y0 = std::max(0, int(std::floor(cy - r))), y1 = std::min(canvas_h, int(std::ceil(cy + r)) + 1);
+    const int x0 = std::max(0, int(std::floor(cx - r))), x1 = std::min(canvas_w, int(std::ceil(cx + r)) + 1);
     for (int y = y0; y < y1; ++y) {
       for (int x = x0; x < x1; ++x) {
-        const double dx = double(x) + 0.5 - double(centre.x), dy = double(y) + 0.5 - double(centre.y);
+        const double dx = double(x) + 0.5 - cx, dy = double(y) + 0.5 - cy;
         const double d = std::sqrt(dx * dx + dy * dy);
         if (d > grid_radius_px) continue;
         if (d > grid_radius_px - kRimPx) active.push_back(int(pos.size()));

@@ -114,8 +114,8 @@ TEST_P(PixelGrid, NeverMorePointsThanPixelsForAnyScaleOrGaze) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Displays, PixelGrid, ::testing::ValuesIn(displays()),
-                         [](const ::testing::TestParamInfo<NamedDisplay>& info) {
+                         [](const ::testing::TestParamInfo<NamedDisplay>& param) {
                            std::string name;
-                           for (char c : info.param.name) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           for (char c : param.param.name) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
                            return name;
                          });
