@@ -126,7 +126,7 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   EXPECT_EQ(autoref->tried_spp, (std::vector<int>{16, 32, 64}));
   EXPECT_FALSE(autoref->converged);
   EXPECT_EQ(autoref->image.rgb, r64->image.rgb);  // doubling reuses chunks: the same image as asking for 64
-  ASSERT_EQ(autoref->last_doubling_db.size(), foveation::kRingCount);
+  ASSERT_EQ(autoref->db_per_doubling.size(), foveation::kRingCount);
   // Needs 10 rays per pixel: 16 is enough, but the 1/N law is only seen after one doubling.
   o.baseline_spp = 1;
   autoref = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
@@ -135,9 +135,9 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   EXPECT_EQ(autoref->tried_spp[0], 16);
   if (autoref->converged) {
     for (std::size_t r = 0; r < foveation::kRingCount; ++r)
-      if (map.ring_pixels[r] > 0 && std::isfinite(autoref->last_doubling_db[r])) {
-        EXPECT_GE(autoref->last_doubling_db[r], 2.0) << r;
-        EXPECT_LE(autoref->last_doubling_db[r], 4.0) << r;
+      if (map.ring_pixels[r] > 0 && std::isfinite(autoref->db_per_doubling[r])) {
+        EXPECT_GE(autoref->db_per_doubling[r], 2.0) << r;
+        EXPECT_LE(autoref->db_per_doubling[r], 4.0) << r;
       }
   }
 }

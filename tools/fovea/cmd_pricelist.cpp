@@ -479,7 +479,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   for (const PriceSetting& s : settings)
     if (done_results.count(s.id())) ordered.push_back(done_results[s.id()]);
   Json ref_json = {{"spp", reference->spp}, {"spp_tried", reference->tried_spp}, {"converged", reference->converged},
-                   {"last_doubling_db", reference->last_doubling_db}, {"from_cache", reference->from_cache},
+                   {"db_per_doubling", reference->db_per_doubling}, {"from_cache", reference->from_cache},
                    {"cache_file", reference->cache_file}, {"render_ms", reference->render_ms},
                    {"image", "images/reference.pfm"}};
   Json residual = Json::array();

@@ -389,7 +389,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       Json residual = Json::array();
       for (double mse : ref->residual_mse(ecc_map())) residual.push_back(number_or_null(foveation::psnr_of_mse(mse)));
       ref_json = {{"source", "converged full render"}, {"spp", ref->spp}, {"spp_tried", ref->tried_spp},
-                  {"converged", ref->converged}, {"last_doubling_db", ref->last_doubling_db},
+                  {"converged", ref->converged}, {"db_per_doubling", ref->db_per_doubling},
                   {"from_cache", ref->from_cache}, {"cache_file", ref->cache_file}, {"render_ms", ref->render_ms},
                   {"residual_psnr", residual}};
       reference = std::move(ref->image);

@@ -224,10 +224,10 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
      << "independent halves):";
   for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << ": " << fmt(num(ctx.reference["residual_psnr"][r])) << " dB;";
   md << " convergence check " << (ctx.reference.value("converged", true) ? "met" : "**not met** (stopped at its cap)")
-     << ", counts tried " << ctx.reference["spp_tried"].dump() << ", the last doubling lowered the residual by";
-  if (ctx.reference.contains("last_doubling_db"))
-    for (const Json& d : ctx.reference["last_doubling_db"]) md << " " << fmt(num(d));
-  md << " dB per ring (3 dB when the 1/N law holds).";
+     << ", counts tried " << ctx.reference["spp_tried"].dump() << ", each doubling lowered the residual by";
+  if (ctx.reference.contains("db_per_doubling"))
+    for (const Json& d : ctx.reference["db_per_doubling"]) md << " " << fmt(num(d));
+  md << " dB per ring on average (3 dB when the 1/N law holds).";
   md << "\n\nSanity: full-render error falls with rays per pixel in every ring: "
      << (sanity["full_error_falls_with_spp"].get<bool>() ? "yes" : "**no**");
   for (const Json& f : sanity["full_error_failures"]) md << "; " << f.get<std::string>();

@@ -287,7 +287,8 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
   };
   const double needed_spp = double(o.baseline_spp) * std::pow(10.0, o.margin_db / 10.0);
   std::vector<int> tried;
-  std::vector<double> previous_db;
+  std::vector<double> first_db;  // the residual at min_spp
+  int doublings = 0;
   int spp = o.spp != 0 ? o.spp : std::max(2, o.min_spp);
   for (;;) {
     tried.push_back(spp);
@@ -312,11 +313,12 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
       }
     }
     const std::vector<double> db = residual_db(*ref);
-    bool law_holds = !previous_db.empty();
-    ref->last_doubling_db.clear();
-    for (std::size_t r = 0; r < db.size() && !previous_db.empty(); ++r) {
-      const double drop = db[r] - previous_db[r];
-      ref->last_doubling_db.push_back(drop);
+    if (first_db.empty()) first_db = db;
+    bool law_holds = doublings > 0;
+    ref->db_per_doubling.clear();
+    for (std::size_t r = 0; r < db.size() && doublings > 0; ++r) {
+      const double drop = (db[r] - first_db[r]) / doublings;
+      ref->db_per_doubling.push_back(drop);
       if (std::isfinite(drop) && (drop < 2.0 || drop > 4.0) && map.ring_pixels[r] > 0) law_holds = false;
     }
     const bool goal = double(spp) >= needed_spp && law_holds;
@@ -326,7 +328,7 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
       ref->converged = o.spp != 0 || goal;
       return ref;
     }
-    previous_db = db;
+    ++doublings;
     spp *= 2;
   }
 }
