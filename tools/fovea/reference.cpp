@@ -319,7 +319,7 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
     for (std::size_t r = 0; r < db.size() && doublings > 0; ++r) {
       const double drop = (db[r] - first_db[r]) / doublings;
       ref->db_per_doubling.push_back(drop);
-      if (std::isfinite(drop) && (drop < 2.0 || drop > 4.0) && map.ring_pixels[r] > 0) law_holds = false;
+      if (std::isfinite(drop) && drop < 2.0 && map.ring_pixels[r] > 0) law_holds = false;
     }
     const bool goal = double(spp) >= needed_spp && law_holds;
     if (o.spp != 0 || goal || spp * 2 > o.max_spp) {

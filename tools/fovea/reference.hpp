@@ -37,10 +37,12 @@ namespace foveart::tools {
 // sigma^2 / s against the truth, the reference at N has sigma^2 / N, so the
 // reference is margin_db below the best full render measured (baseline_spp)
 // once N >= baseline_spp * 10^(margin_db / 10). The check doubles N from
-// min_spp until then and until the estimated residual has fallen by 3 +- 1 dB
-// per doubling in every ring, on average since min_spp (the 1/N law the
-// estimate rests on; one doubling alone is too noisy where a few pixels hold
-// most of the variance); max_spp caps it.
+// min_spp until then and until the estimated residual has fallen by at least
+// 2 dB per doubling in every ring, on average since min_spp (the 1/N law gives
+// 3; a slower fall would mean the halves are not independent or the renderer
+// is biased, and the estimate could not be trusted; a faster one, seen at low
+// counts where a few pixels' rare hits dominate, does not make the estimate at
+// N wrong); max_spp caps it.
 struct ReferenceOptions {
   int spp = 0;                 // rays per pixel in all (even); 0: chosen by the convergence check
   int min_spp = 32;            // the convergence check starts here and doubles
@@ -60,7 +62,7 @@ struct Reference {
   std::string cache_file;               // empty without a cache
   std::vector<int> tried_spp;           // the convergence check's steps
   // Per ring: how much each doubling of the check lowered the residual on
-  // average since min_spp (dB; ~3 when the 1/N law holds). Empty without a check.
+  // average since min_spp (dB; 3 under the 1/N law). Empty without a check.
   std::vector<double> db_per_doubling;
   bool converged = true;                // false: the check stopped at max_spp short of its goal
 
