@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "foveation/cache_dir.hpp"
 #include "foveation/display_model.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
@@ -60,13 +61,13 @@ int32_t sample_image(void* user_data, const FoveartRayBatch* batch) {
   return FOVEART_RESULT_SUCCESS;
 }
 
-std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a) {
+// --cache, else $FOVEART_CACHE_DIR, else the one default rule the layer uses
+// (foveation::default_cache_dir); *why says why there is none.
+std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a, std::string* why) {
   if (a.no_cache) return std::nullopt;
   if (!a.cache_dir.empty()) return std::filesystem::path(a.cache_dir);
   if (const char* e = std::getenv("FOVEART_CACHE_DIR"); e && *e) return std::filesystem::path(e);
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return std::filesystem::path(x) / "foveart";
-  if (const char* h = std::getenv("HOME"); h && *h) return std::filesystem::path(h) / ".cache" / "foveart";
-  return std::nullopt;
+  return fv::default_cache_dir(why);
 }
 
 nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
@@ -119,11 +120,13 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   // Point set, neighbour table and weights: cached, not part of the frame time.
   fv::Executor executor(static_cast<unsigned>(std::max(0, a.threads)));
   const auto t_setup = std::chrono::steady_clock::now();
-  const auto cache = cache_dir_of(a);
   fv::PointSetKey key{*display, a.seed, a.k};
   auto log = [&](const std::string& m) {
     if (!a.json) err << "fovea reconstruct: " << m << "\n";
   };
+  std::string no_cache_why;
+  const auto cache = cache_dir_of(a, &no_cache_why);
+  if (!cache && !no_cache_why.empty()) log("no table cache: " + no_cache_why);
   fv::InterpOptions io;
   io.method = *method;
   io.k = a.k;
