@@ -26,9 +26,4 @@ struct PlotSpec {
 std::string write_plot_png(const std::string& path, const PlotSpec& spec,
                            const std::vector<PlotSeries>& series);
 
-// Writes a heatmap PNG of a row-major grid (rows = y) with a colour bar.
-std::string write_heatmap_png(const std::string& path, const PlotSpec& spec, int cols, int rows,
-                              const std::vector<double>& values, double x_min, double x_max,
-                              double y_min, double y_max);
-
 }  // namespace foveart::toolkit
