@@ -95,9 +95,11 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   if (precomputed && (sample_offset_px_.empty() || sample_offset_seed_ != seed)) {
     sample_offset_px_.resize(points.size() * spp);
     executor.parallel_chunks(points.size(), 16384, [&](std::size_t first, std::size_t last, unsigned) {
-      for (std::size_t i = first; i < last; ++i)
-        for (std::uint32_t s = 0; s < spp && !points.on_pixel_grid(i); ++s)
+      for (std::size_t i = first; i < last; ++i) {
+        if (points.on_pixel_grid(i)) continue;
+        for (std::uint32_t s = 0; s < spp; ++s)
           sample_offset_px_[i * spp + s] = unit_disc_sample(seed, std::uint32_t(i), int(s)) * points.radius_px[i];
+      }
     });
     sample_offset_seed_ = seed;
   }

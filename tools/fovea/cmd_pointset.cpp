@@ -220,7 +220,8 @@ void run_pointset(const PointsetOptions& o) {
     std::cerr << "fovea pointset: gaze (" << gaze_req.x << ", " << gaze_req.y << ") is off-screen; clamped to ("
               << at_gaze.gaze_px.x << ", " << at_gaze.gaze_px.y << ")\n";
   }
-  const std::size_t n_centred = fv::select_visible_points(tables.points, centred, 0.0f).size();
+  const auto vis_centred = fv::select_visible_points(tables.points, centred, 0.0f);
+  const std::size_t n_centred = vis_centred.size();
   const std::size_t n_corner = fv::select_visible_points(tables.points, corner, 0.0f).size();
   const std::size_t n_corner_margin = fv::select_visible_points(tables.points, corner).size();
   const auto vis_gaze = fv::select_visible_points(tables.points, at_gaze);
@@ -251,8 +252,8 @@ void run_pointset(const PointsetOptions& o) {
   j["visible_margin_px"] = tables.points.visible_margin_px;
   // Where the pixel grid samples the fovea, and how dense the set is anywhere.
   const fv::PointDensity density = fv::measure_point_density(tables.points, 8.0, 8.0);
-  auto grid_on_screen = [&](const fv::GazeMapping& m) {
-    const auto vis = fv::select_visible_points(tables.points, m);
+  // Grid points are traced only on the screen, so the margin does not change these counts.
+  auto grid_points_of = [&](const fv::VisiblePoints& vis) {
     std::size_t n = 0;
     for (std::uint32_t i : vis.point_index) n += tables.points.on_pixel_grid(i);
     return n;
@@ -264,8 +265,8 @@ void run_pointset(const PointsetOptions& o) {
                                                    : 90.0},
       {"radius_ecc_deg_scaled", std::max(0.0, fv::pixel_grid_ecc_deg(display.display_cpd(), display.csf))},
       {"points", density.pixel_grid_points},
-      {"on_screen_centred", grid_on_screen(centred)},
-      {"on_screen_at_gaze", grid_on_screen(at_gaze)}};
+      {"on_screen_centred", grid_points_of(vis_centred)},
+      {"on_screen_at_gaze", grid_points_of(vis_gaze)}};
   j["max_points_in_a_pixel"] = density.max_points_in_a_pixel;
   j["max_points_per_px"] = density.max_points_per_px;  // densest 8x8 block of the canvas
   j["generation_ms"] = tables.generation_ms;

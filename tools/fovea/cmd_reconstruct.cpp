@@ -70,8 +70,6 @@ std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a, std:
   return fv::default_cache_dir(why);
 }
 
-nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-
 }  // namespace
 
 int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
@@ -206,13 +204,13 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   j["rbf_clamp"] = fv::rbf_clamp_name(*rbf_clamp);
   j["rbf_fallback_pixels"] = tables->interpolation.stats.fallback_msm;
   j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
-  j["psnr"] = number_or_null(psnr);
+  j["psnr"] = tools::number_or_null_json(psnr);
   j["ssim"] = ssim;
   if (a.frames > 1) {
     j["flicker"] = flicker / (nf - 1.0);
     j["flicker_no_taa"] = flicker_raw / (nf - 1.0);
   }
-  j["csf_rmse"] = number_or_null(cmp.csf_rmse);
+  j["csf_rmse"] = tools::number_or_null_json(cmp.csf_rmse);
   j["rings"] = comparison_json(cmp)["rings"];
   if (a.json) {
     out << j.dump(2) << "\n";

@@ -79,8 +79,6 @@ struct FrameTimes {
   double median_samples_ms() const { return samples_ms[median_frame()]; }
 };
 
-Json number_or_null(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
-
 constexpr double kPi = 3.14159265358979323846;
 
 // Per-eye size and symmetric frustum of a display preset.
@@ -387,7 +385,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         return 1;
       }
       Json residual = Json::array();
-      for (double mse : ref->residual_mse(ecc_map())) residual.push_back(number_or_null(foveation::psnr_of_mse(mse)));
+      for (double mse : ref->residual_mse(ecc_map())) residual.push_back(number_or_null_json(foveation::psnr_of_mse(mse)));
       ref_json = {{"source", "converged full render"}, {"spp", ref->spp}, {"spp_tried", ref->tried_spp},
                   {"converged", ref->converged}, {"db_per_doubling", ref->db_per_doubling},
                   {"from_cache", ref->from_cache}, {"cache_file", ref->cache_file}, {"render_ms", ref->render_ms},
