@@ -29,10 +29,6 @@ void check_sizes(const ImageRgb& a, const ImageRgb& b, const char* what) {
   }
 }
 
-double psnr_of(double mse, double peak) {
-  return mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
-}
-
 // Rec. 601 luma.
 std::vector<double> luma(const ImageRgb& im) {
   std::vector<double> y(im.pixel_count());
@@ -70,7 +66,7 @@ double psnr(const ImageRgb& ref, const ImageRgb& im, double peak) {
     const double d = double(ref.rgb[i]) - double(im.rgb[i]);
     se += d * d;
   }
-  return psnr_of(ref.rgb.empty() ? 0.0 : se / double(ref.rgb.size()), peak);
+  return psnr_of_mse(ref.rgb.empty() ? 0.0 : se / double(ref.rgb.size()), peak);
 }
 
 std::vector<float> ssim_map(const ImageRgb& ref, const ImageRgb& im, double peak) {
@@ -106,7 +102,9 @@ double ssim(const ImageRgb& ref, const ImageRgb& im, double peak) {
   return map.empty() ? 1.0 : s / double(map.size());
 }
 
-double psnr_of_mse(double mse, double peak) { return psnr_of(mse, peak); }
+double psnr_of_mse(double mse, double peak) {
+  return mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
+}
 
 ImageRgb display_encode(const ImageRgb& linear) {
   ImageRgb out = linear;
@@ -202,15 +200,15 @@ ImageComparison compare_images(const ImageRgb& ref, const ImageRgb& im, const Ec
     } else {
       se_all += mse[r] * double(rm.pixels);
       rm.mse = mse[r];
-      rm.psnr = psnr_of(mse[r], 1.0);
+      rm.psnr = psnr_of_mse(mse[r], 1.0);
       rm.ssim = ss[r] / double(rm.pixels);
       const double cms = cs[r] / double(rm.pixels);
       rm.csf_rmse = std::sqrt(cms);
-      rm.csf_psnr = psnr_of(cms, 1.0);
+      rm.csf_psnr = psnr_of_mse(cms, 1.0);
     }
     out.rings.push_back(rm);
   }
-  out.psnr = n > 0 ? psnr_of(se_all / n, 1.0) : std::numeric_limits<double>::quiet_NaN();
+  out.psnr = n > 0 ? psnr_of_mse(se_all / n, 1.0) : std::numeric_limits<double>::quiet_NaN();
   out.ssim = n > 0 ? ss_all / n : 1.0;
   out.csf_rmse = n > 0 ? std::sqrt(cs_all / n) : 0.0;
   return out;
