@@ -187,6 +187,15 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     return result;
   }
   colors_.invalid = points.size() - result.points;
+  if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the TAA rule runs here
+    if (settings_.taa) {
+      if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
+      result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px,
+                                          request.saccade);
+      last_view_ = view;
+    }
+    return result;
+  }
 
   // Thesis 4.3: every pixel a k-tap gather over the precomputed canvas weights.
   const auto t_gather = Clock::now();

@@ -45,21 +45,24 @@ struct RowPlanes {
 // operations of the scalar definition in the same order (taps row by row,
 // left to right; no FMA on x86-64), so the result is bit-identical to it.
 // Written without inner loops or branches so GCC vectorises it across x.
+// Mean and variance of the 3x3 box, the variance in two passes (squared
+// deviations from the mean): E[c^2] - mu^2 cancels catastrophically in a flat
+// box and would make the clip hinge on rounding.
 struct Moments {
-  float m1, m2;
+  float mu, var;
 };
 inline Moments moments(const float* __restrict a, const float* __restrict b, const float* __restrict c, int x) {
-  float m1 = 0.0f, m2 = 0.0f;
-  m1 += a[x]; m2 += a[x] * a[x];
-  m1 += a[x + 1]; m2 += a[x + 1] * a[x + 1];
-  m1 += a[x + 2]; m2 += a[x + 2] * a[x + 2];
-  m1 += b[x]; m2 += b[x] * b[x];
-  m1 += b[x + 1]; m2 += b[x + 1] * b[x + 1];
-  m1 += b[x + 2]; m2 += b[x + 2] * b[x + 2];
-  m1 += c[x]; m2 += c[x] * c[x];
-  m1 += c[x + 1]; m2 += c[x + 1] * c[x + 1];
-  m1 += c[x + 2]; m2 += c[x + 2] * c[x + 2];
-  return {m1, m2};
+  constexpr float kTaps = 9.0f;
+  float m1 = 0.0f;
+  m1 += a[x]; m1 += a[x + 1]; m1 += a[x + 2];
+  m1 += b[x]; m1 += b[x + 1]; m1 += b[x + 2];
+  m1 += c[x]; m1 += c[x + 1]; m1 += c[x + 2];
+  const float mu = m1 / kTaps;
+  float s = 0.0f, d = 0.0f;
+  d = a[x] - mu; s += d * d; d = a[x + 1] - mu; s += d * d; d = a[x + 2] - mu; s += d * d;
+  d = b[x] - mu; s += d * d; d = b[x + 1] - mu; s += d * d; d = b[x + 2] - mu; s += d * d;
+  d = c[x] - mu; s += d * d; d = c[x + 1] - mu; s += d * d; d = c[x + 2] - mu; s += d * d;
+  return {mu, s / kTaps};
 }
 // Karis 2014: clamp to the 3x3 min/max box.
 inline float clamp_to_box(float h, const float* __restrict a, const float* __restrict b, const float* __restrict c,
@@ -84,8 +87,7 @@ void taa_row(const float* __restrict a0, const float* __restrict a1, const float
              const float* __restrict b0, const float* __restrict b1, const float* __restrict b2,
              const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
              const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
-             float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha, float gamma) {
-  constexpr float kTaps = 9.0f;
+             float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha, float gamma, float floor) {
   for (int x = 0; x < w; ++x) {
     float v0 = h0[x], v1 = h1[x], v2 = h2[x];
     if constexpr (kConstraint == TaaConstraint::minmax_clamp) {
@@ -95,10 +97,10 @@ void taa_row(const float* __restrict a0, const float* __restrict a1, const float
     } else {
       // Salvi 2016: clip the history towards the mean onto the box mu +- gamma sigma.
       const Moments s0 = moments(a0, b0, c0, x), s1 = moments(a1, b1, c1, x), s2 = moments(a2, b2, c2, x);
-      const float mu0 = s0.m1 / kTaps, mu1 = s1.m1 / kTaps, mu2 = s2.m1 / kTaps;
-      const float e0 = gamma * std::sqrt(std::max(0.0f, s0.m2 / kTaps - mu0 * mu0)) + 1e-6f;
-      const float e1 = gamma * std::sqrt(std::max(0.0f, s1.m2 / kTaps - mu1 * mu1)) + 1e-6f;
-      const float e2 = gamma * std::sqrt(std::max(0.0f, s2.m2 / kTaps - mu2 * mu2)) + 1e-6f;
+      const float mu0 = s0.mu, mu1 = s1.mu, mu2 = s2.mu;
+      const float e0 = gamma * std::sqrt(s0.var) + floor;
+      const float e1 = gamma * std::sqrt(s1.var) + floor;
+      const float e2 = gamma * std::sqrt(s2.var) + floor;
       const float d0 = std::abs(v0 - mu0), d1 = std::abs(v1 - mu1), d2 = std::abs(v2 - mu2);
       float t = 1.0f;  // largest scale of (h - mu) that stays inside the box
       const float q0 = e0 / d0, q1 = e1 / d1, q2 = e2 / d2;
@@ -125,26 +127,26 @@ void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1
                           const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
                           const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
                           float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha,
-                          float gamma) {
+                          float gamma, float floor) {
   const __m128 taps = _mm_set1_ps(9.0f), zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f);
-  const __m128 eps = _mm_set1_ps(1e-6f), va = _mm_set1_ps(alpha), vg = _mm_set1_ps(gamma);
+  const __m128 eps = _mm_set1_ps(floor), va = _mm_set1_ps(alpha), vg = _mm_set1_ps(gamma);
   const __m128 abs_mask = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff));
   struct Stat {
     __m128 mu, e;
   };
   auto stat = [&](const float* a, const float* b, const float* c, int x) {
-    __m128 m1 = zero, m2 = zero;
+    __m128 m1 = zero, s = zero;
     const float* rows[3] = {a, b, c};
+    for (const float* r : rows)
+      for (int dx = 0; dx < 3; ++dx) m1 = _mm_add_ps(m1, _mm_loadu_ps(r + x + dx));
+    const __m128 mu = _mm_div_ps(m1, taps);
     for (const float* r : rows) {
       for (int dx = 0; dx < 3; ++dx) {
-        const __m128 v = _mm_loadu_ps(r + x + dx);
-        m1 = _mm_add_ps(m1, v);
-        m2 = _mm_add_ps(m2, _mm_mul_ps(v, v));
+        const __m128 d = _mm_sub_ps(_mm_loadu_ps(r + x + dx), mu);
+        s = _mm_add_ps(s, _mm_mul_ps(d, d));
       }
     }
-    const __m128 mu = _mm_div_ps(m1, taps);
-    const __m128 var = _mm_max_ps(_mm_sub_ps(_mm_div_ps(m2, taps), _mm_mul_ps(mu, mu)), zero);  // std::max(0, v)
-    return Stat{mu, _mm_add_ps(_mm_mul_ps(vg, _mm_sqrt_ps(var)), eps)};
+    return Stat{mu, _mm_add_ps(_mm_mul_ps(vg, _mm_sqrt_ps(_mm_div_ps(s, taps))), eps)};
   };
   auto scale = [&](__m128 t, __m128 v, const Stat& s) {
     const __m128 d = _mm_and_ps(_mm_sub_ps(v, s.mu), abs_mask);
@@ -171,7 +173,7 @@ void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1
   }
   if (x < w) {  // the last 1..3 pixels
     taa_row<TaaConstraint::variance_clip>(a0 + x, a1 + x, a2 + x, b0 + x, b1 + x, b2 + x, c0 + x, c1 + x, c2 + x, h0 + x,
-                                          h1 + x, h2 + x, o0 + x, o1 + x, o2 + x, w - x, alpha, gamma);
+                                          h1 + x, h2 + x, o0 + x, o1 + x, o2 + x, w - x, alpha, gamma, floor);
   }
 }
 #endif
@@ -200,7 +202,8 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
                                                             : &taa_row<TaaConstraint::variance_clip>;
 #endif
     row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
-        hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma);
+        hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma,
+        o.clip_floor);
     float* dst = out.at(0, y);
     for (int x = 0; x < w; ++x) {
       for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_row[std::size_t(i) * std::size_t(w) + std::size_t(x)];
@@ -210,16 +213,22 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
 
 }  // namespace
 
-const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor,
-                                                bool saccade) {
-  const bool size_changed = history_.width_px != current.width_px || history_.height_px != current.height_px;
+bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaze_px, bool saccade) {
+  const bool size_changed = width_px_ != width_px || height_px_ != height_px;
   const bool jumped = valid_ && glm::distance(gaze_px, gaze_px_) > options_.reset_distance_px;
   gaze_px_ = gaze_px;
+  width_px_ = width_px;
+  height_px_ = height_px;
   last_reset_ = !valid_ || size_changed || jumped || saccade;
-  if (last_reset_) {
+  valid_ = true;
+  if (last_reset_) ++resets_;
+  return last_reset_;
+}
+
+const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor,
+                                                bool saccade) {
+  if (begin_frame(current.width_px, current.height_px, gaze_px, saccade)) {
     history_ = current;
-    valid_ = true;
-    ++resets_;
     return history_;
   }
   scratch_.width_px = current.width_px;

@@ -146,6 +146,7 @@ struct Reader {
     read_uint(obj, "worker_threads", 0, 256, &c->worker_threads);
     read_string(obj, "cache_dir", {}, &c->cache_dir);
     read_bool(obj, "wait_for_tables", &c->wait_for_tables);
+    read_string(obj, "reconstruction", {"auto", "gpu", "cpu"}, &c->reconstruction);
   }
 };
 

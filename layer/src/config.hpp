@@ -26,7 +26,8 @@ namespace foveart::layer {
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
     "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-    "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables", "applications"};
+    "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables", "reconstruction",
+    "applications"};
 
 struct LayerConfig {
   bool enabled = true;
@@ -45,6 +46,10 @@ struct LayerConfig {
   uint32_t worker_threads = 0;           // 0: hardware concurrency
   std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
   bool wait_for_tables = false;          // block the first frame until the tables are ready
+  // Where reconstruction, TAA and encode run: "auto" (the GPU when the app's
+  // device can run the shaders, else the CPU), "gpu" (the GPU; the CPU, with an
+  // error in the log, when it cannot) or "cpu".
+  std::string reconstruction = "auto";
 };
 
 struct ConfigResult {

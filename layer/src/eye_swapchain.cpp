@@ -76,37 +76,8 @@ std::unique_ptr<EyeSwapchain> EyeSwapchain::create(const SessionState& session, 
   if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
   for (const auto& image : images) sc->images_.push_back(image.image);
 
-  // Host-visible staging buffer, persistently mapped.
-  const VkDeviceSize bytes = VkDeviceSize{width_px} * height_px * 4;
-  auto buffer_info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-  buffer_info.size = bytes;
-  buffer_info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-  buffer_info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VkResult vr = vkCreateBuffer(sc->device_, &buffer_info, nullptr, &sc->buffer_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateBuffer", vr), nullptr;
-  VkMemoryRequirements requirements{};
-  vkGetBufferMemoryRequirements(sc->device_, sc->buffer_, &requirements);
-  VkPhysicalDeviceMemoryProperties memory{};
-  vkGetPhysicalDeviceMemoryProperties(session.vk_physical_device, &memory);
-  const VkMemoryPropertyFlags wanted = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  uint32_t type_index = UINT32_MAX;
-  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
-    if ((requirements.memoryTypeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & wanted) == wanted) {
-      type_index = i;
-      break;
-    }
-  }
-  if (type_index == UINT32_MAX) return *out_error = "no host-visible coherent memory type", nullptr;
-  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = requirements.size;
-  alloc.memoryTypeIndex = type_index;
-  vr = vkAllocateMemory(sc->device_, &alloc, nullptr, &sc->memory_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkAllocateMemory", vr), nullptr;
-  vr = vkBindBufferMemory(sc->device_, sc->buffer_, sc->memory_, 0);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkBindBufferMemory", vr), nullptr;
-  vr = vkMapMemory(sc->device_, sc->memory_, 0, bytes, 0, &sc->mapped_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkMapMemory", vr), nullptr;
-
+  sc->physical_device_ = session.vk_physical_device;
+  VkResult vr = VK_SUCCESS;
   vkGetDeviceQueue(sc->device_, session.vk_queue_family_index, session.vk_queue_index, &sc->queue_);
   auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -136,7 +107,82 @@ EyeSwapchain::~EyeSwapchain() {
   if (swapchain_ != XR_NULL_HANDLE && next_ != nullptr) next_->DestroySwapchain(swapchain_);
 }
 
+bool EyeSwapchain::create_staging(std::string* out_error) {
+  // Host-visible staging buffer, persistently mapped.
+  const VkDeviceSize bytes = VkDeviceSize{width_px_} * height_px_ * 4;
+  auto buffer_info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  buffer_info.size = bytes;
+  buffer_info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  buffer_info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkResult vr = vkCreateBuffer(device_, &buffer_info, nullptr, &buffer_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateBuffer", vr), false;
+  VkMemoryRequirements requirements{};
+  vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
+  VkPhysicalDeviceMemoryProperties memory{};
+  vkGetPhysicalDeviceMemoryProperties(physical_device_, &memory);
+  const VkMemoryPropertyFlags wanted = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  uint32_t type_index = UINT32_MAX;
+  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+    if ((requirements.memoryTypeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & wanted) == wanted) {
+      type_index = i;
+      break;
+    }
+  }
+  if (type_index == UINT32_MAX) return *out_error = "no host-visible coherent memory type", false;
+  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = requirements.size;
+  alloc.memoryTypeIndex = type_index;
+  vr = vkAllocateMemory(device_, &alloc, nullptr, &memory_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkAllocateMemory", vr), false;
+  vr = vkBindBufferMemory(device_, buffer_, memory_, 0);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkBindBufferMemory", vr), false;
+  vr = vkMapMemory(device_, memory_, 0, bytes, 0, &mapped_);
+  if (vr != VK_SUCCESS) return *out_error = vk_error("vkMapMemory", vr), false;
+  return true;
+}
+
+uint8_t* EyeSwapchain::staging(std::string* out_error) {
+  if (mapped_ == nullptr && !create_staging(out_error)) return nullptr;
+  return static_cast<uint8_t*>(mapped_);
+}
+
+void record_copy_to_swapchain_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px,
+                                    uint32_t height_px) {
+  auto to_transfer = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+  to_transfer.srcAccessMask = 0;
+  to_transfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_transfer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // every texel is overwritten
+  to_transfer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  to_transfer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_transfer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_transfer.image = image;
+  to_transfer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                       nullptr, 1, &to_transfer);
+  VkBufferImageCopy copy{};
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageExtent = {width_px, height_px, 1};
+  vkCmdCopyBufferToImage(cb, buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+  VkImageMemoryBarrier to_attachment = to_transfer;
+  to_attachment.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_attachment.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  to_attachment.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  to_attachment.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &to_attachment);
+}
+
 bool EyeSwapchain::upload(std::string* out_error) {
+  if (mapped_ == nullptr) return *out_error = "upload before the staging buffer was written", false;
+  return present(
+      [this](VkCommandBuffer cb, VkImage image, std::string*) {
+        record_copy_to_swapchain_image(cb, buffer_, image, width_px_, height_px_);
+        return true;
+      },
+      out_error);
+}
+
+bool EyeSwapchain::present(const RecordFn& record, std::string* out_error) {
   uint32_t index = 0;
   auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
   XrResult r = next_->AcquireSwapchainImage(swapchain_, &acquire, &index);
@@ -155,30 +201,14 @@ bool EyeSwapchain::upload(std::string* out_error) {
   auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   if (vr == VK_SUCCESS) vr = vkBeginCommandBuffer(command_buffer_, &begin);
+  bool recorded = false;
   if (vr == VK_SUCCESS) {
-    auto to_transfer = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
-    to_transfer.srcAccessMask = 0;
-    to_transfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    to_transfer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // every texel is overwritten
-    to_transfer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    to_transfer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    to_transfer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    to_transfer.image = images_[index];
-    to_transfer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
-                         nullptr, 0, nullptr, 1, &to_transfer);
-    VkBufferImageCopy copy{};
-    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    copy.imageExtent = {width_px_, height_px_, 1};
-    vkCmdCopyBufferToImage(command_buffer_, buffer_, images_[index], VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-    VkImageMemoryBarrier to_attachment = to_transfer;
-    to_attachment.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    to_attachment.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-    to_attachment.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-    to_attachment.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &to_attachment);
+    recorded = record(command_buffer_, images_[index], out_error);
     vr = vkEndCommandBuffer(command_buffer_);
+  }
+  if (!recorded && vr == VK_SUCCESS) {  // nothing submitted: the image goes back as it was
+    next_->ReleaseSwapchainImage(swapchain_, &release);
+    return false;
   }
   if (vr == VK_SUCCESS) vr = vkResetFences(device_, 1, &fence_);
   if (vr == VK_SUCCESS) {
@@ -189,7 +219,7 @@ bool EyeSwapchain::upload(std::string* out_error) {
   }
   if (vr == VK_SUCCESS) vr = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
   r = next_->ReleaseSwapchainImage(swapchain_, &release);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("upload command", vr), false;
+  if (vr != VK_SUCCESS) return *out_error = vk_error("frame commands", vr), false;
   if (XR_FAILED(r)) return *out_error = xr_error("xrReleaseSwapchainImage", r), false;
   return true;
 }

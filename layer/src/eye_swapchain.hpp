@@ -1,14 +1,18 @@
 // A swapchain the layer owns for one eye, created through the runtime on the
-// app's Vulkan device, and the CPU -> image upload into it.
+// app's Vulkan device, and the two ways a frame gets into it: the CPU path's
+// upload from a host-visible staging buffer, or the GPU path's commands
+// (gpu_reconstruction.hpp) recorded into the swapchain's command buffer.
 //
-// Sync: each upload acquires and waits for an image (xrAcquire/xrWait), records
-// UNDEFINED -> TRANSFER_DST, a buffer-to-image copy and TRANSFER_DST ->
-// COLOR_ATTACHMENT_OPTIMAL (the layout OpenXR requires at release), submits on
-// the app's queue with a fence, waits for the fence and releases the image, all
-// inside xrEndFrame where the app may not use the queue (OpenXR spec 10.1).
+// Sync: each frame acquires and waits for an image (xrAcquire/xrWait), records
+// its commands (ending with UNDEFINED -> TRANSFER_DST, a buffer-to-image copy
+// and TRANSFER_DST -> COLOR_ATTACHMENT_OPTIMAL, the layout OpenXR requires at
+// release), submits on the app's queue with a fence, waits for the fence and
+// releases the image, all inside xrEndFrame where the app may not use the
+// queue (OpenXR spec 10.1).
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -17,9 +21,16 @@
 
 namespace foveart::layer {
 
+// Records the copy of `buffer` (width_px x height_px RGBA8 texels, written by
+// an earlier command or the host) into `image`, whose old contents are dropped,
+// and leaves `image` in COLOR_ATTACHMENT_OPTIMAL.
+void record_copy_to_swapchain_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px,
+                                    uint32_t height_px);
+
 class EyeSwapchain {
  public:
-  // Null with *out_error set when the runtime or the device says no.
+  // Null with *out_error set when the runtime or the device says no. The
+  // staging buffer (CPU path) is made on first use.
   static std::unique_ptr<EyeSwapchain> create(const SessionState& session, uint32_t width_px, uint32_t height_px,
                                               std::string* out_error);
   ~EyeSwapchain();
@@ -31,15 +42,22 @@ class EyeSwapchain {
   bool srgb() const { return srgb_; }
   XrSwapchain handle() const { return swapchain_; }
 
-  // Rows of width_px RGBA8 texels (already sRGB-encoded when srgb()).
-  uint8_t* staging() { return static_cast<uint8_t*>(mapped_); }
+  // Rows of width_px RGBA8 texels (already sRGB-encoded when srgb()); null
+  // with *out_error when the buffer cannot be made.
+  uint8_t* staging(std::string* out_error);
 
   // Copies the staging buffer into the next swapchain image; false with a message on failure
   // (the image is released either way when it was acquired).
   bool upload(std::string* out_error);
 
+  // Acquires the next image, records `record(cb, image)` (which must leave the
+  // image in COLOR_ATTACHMENT_OPTIMAL), submits, waits and releases.
+  using RecordFn = std::function<bool(VkCommandBuffer cb, VkImage image, std::string* out_error)>;
+  bool present(const RecordFn& record, std::string* out_error);
+
  private:
   EyeSwapchain() = default;
+  bool create_staging(std::string* out_error);
 
   const NextDispatch* next_ = nullptr;
   VkDevice device_ = VK_NULL_HANDLE;
@@ -49,6 +67,7 @@ class EyeSwapchain {
   uint32_t width_px_ = 0;
   uint32_t height_px_ = 0;
   bool srgb_ = false;
+  VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   void* mapped_ = nullptr;

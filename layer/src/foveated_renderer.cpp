@@ -21,6 +21,7 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
 #include "gaze_source.hpp"
+#include "gpu_reconstruction.hpp"
 #include "log.hpp"
 #include "next_chain.hpp"
 #include "renderer.hpp"
@@ -102,11 +103,19 @@ struct FoveatedRenderer::Frames {
   struct Eye {
     std::unique_ptr<EyeSwapchain> swapchain;
     std::unique_ptr<foveation::FoveatedView> view;
+    std::shared_ptr<GpuTables> gpu_tables;  // GPU path: the view's tables on the device
+    std::unique_ptr<GpuEye> gpu;            // GPU path: this eye's buffers
+    bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
     bool failed = false;  // swapchain creation failed: this eye falls back for good
   };
 
-  Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in, InputCounters& input_in)
-      : session(std::move(session_in)), settings(settings_in), input(input_in), executor(settings_in.worker_threads) {
+  Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in, InputCounters& input_in,
+         ReconstructionStats& reconstruction_in)
+      : session(std::move(session_in)),
+        settings(settings_in),
+        input(input_in),
+        reconstruction(reconstruction_in),
+        executor(settings_in.worker_threads) {
     std::string warning;
     gaze = create_gaze_source(settings, *session, &warning);
     if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
@@ -116,6 +125,7 @@ struct FoveatedRenderer::Frames {
       ++input.cache_failures;
       log(LogLevel::Warn, "foveated renderer: ", why, "; tables are built without a cache (counted in the stats)");
     }
+    choose_reconstruction();
     builder = std::thread([this] { build_tables(); });
   }
 
@@ -135,12 +145,19 @@ struct FoveatedRenderer::Frames {
   void evict_least_recently_used();  // under build_mutex
   void build_tables();
   void cache_problem(const std::string& message);
+  void choose_reconstruction();
+  std::shared_ptr<GpuTables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                            std::string* error);
+  bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                      const foveation::FrameRequest& request, const foveation::FrameResult& result,
+                      XrFoveatedRendererStatsFOVEART* stats, std::string* error);
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
 
   std::shared_ptr<SessionState> session;
   RendererSettings settings;
   InputCounters& input;  // the renderer's; outlives this
+  ReconstructionStats& reconstruction;  // the renderer's; written under its frame lock
   std::optional<std::filesystem::path> cache;  // null: no usable cache directory
   foveation::Executor executor;  // frames and table builds share its workers
   std::unique_ptr<GazeSource> gaze;
@@ -154,10 +171,12 @@ struct FoveatedRenderer::Frames {
   bool stop_building = false;
   std::atomic<bool> cancel_build{false};  // the build in progress is not needed any more
   std::thread builder;  // started once with the renderer
-  Eye eyes[2];
+  std::unique_ptr<GpuReconstructor> gpu;  // null: the CPU reconstructs
+  std::vector<std::shared_ptr<GpuTables>> gpu_tables;  // uploaded table sets, shared by the eyes
+  Eye eyes[2];  // after gpu: destroyed before it
   uint64_t frame_index = 0;
   LogOnce callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
-      behind_once, rect_once, failed_once;
+      behind_once, rect_once, failed_once, gpu_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
@@ -304,6 +323,89 @@ void FoveatedRenderer::Frames::build_tables() {
   }
 }
 
+void FoveatedRenderer::Frames::choose_reconstruction() {
+  if (settings.reconstruction == "cpu") {
+    log(LogLevel::Info, "foveated renderer: reconstruction on the CPU (config \"reconstruction\": \"cpu\")");
+    return;
+  }
+  std::string why;
+  gpu = GpuReconstructor::create(
+      GpuDevice{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
+                session->vk_queue_index},
+      &why);
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(session->vk_physical_device, &properties);
+  if (gpu != nullptr) {
+    log(LogLevel::Info, "foveated renderer: reconstruction on the GPU (", properties.deviceName, ", config \"",
+        settings.reconstruction, "\")");
+  } else if (settings.reconstruction == "gpu") {
+    log(LogLevel::Error, "foveated renderer: config \"reconstruction\": \"gpu\", but ", properties.deviceName,
+        " cannot run the shaders: ", why, "; reconstructing on the CPU");
+  } else {
+    log(LogLevel::Info, "foveated renderer: reconstruction on the CPU: ", properties.deviceName,
+        " cannot run the shaders: ", why);
+  }
+}
+
+std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
+    const std::shared_ptr<const foveation::ViewTables>& view_tables, std::string* error) {
+  // Sets no eye holds any more go first (a view size that is gone).
+  std::erase_if(gpu_tables, [](const std::shared_ptr<GpuTables>& t) { return t.use_count() == 1; });
+  for (const auto& t : gpu_tables)
+    if (&t->view_tables() == view_tables.get()) return t;
+  auto uploaded = gpu->upload_tables(view_tables, error);
+  if (uploaded != nullptr) {
+    gpu_tables.push_back(uploaded);
+    log(LogLevel::Info, "foveated renderer: ", uploaded->bytes() >> 20, " MiB of tables on the GPU in ",
+        uploaded->layout().chunks.size(), " buffer(s)");
+  }
+  return uploaded;
+}
+
+bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
+                                              const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                              const foveation::FrameRequest& request,
+                                              const foveation::FrameResult& result,
+                                              XrFoveatedRendererStatsFOVEART* stats, std::string* error) {
+  Eye& eye = eyes[e];
+  const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
+  if (eye.gpu_tables == nullptr || &eye.gpu_tables->view_tables() != view_tables.get()) {
+    eye.gpu_tables = nullptr;
+    eye.gpu_tables = gpu_tables_for(view_tables, error);
+    if (eye.gpu_tables == nullptr) return false;
+  }
+  if (eye.gpu == nullptr || eye.gpu->width_px() != w || eye.gpu->height_px() != h) {
+    eye.gpu = nullptr;
+    eye.gpu = gpu->create_eye(w, h, error);
+    if (eye.gpu == nullptr) return false;
+  }
+  GpuFrame frame;
+  frame.tables = eye.gpu_tables.get();
+  frame.colors = &eye.view->colors();
+  frame.traced = eye.view->traced();
+  frame.mapping = foveation::map_gaze(int(w), int(h), request.gaze_px);
+  frame.rbf_clamp = eye.view->settings().rbf_clamp;
+  frame.taa_reset = !eye.view->settings().taa || result.taa_reset;
+  frame.taa = eye.view->settings().taa_options;
+  frame.srgb = eye.swapchain->srgb();
+  const bool ok = eye.swapchain->present(
+      [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
+        return eye.gpu->record(cb, frame, image, executor, record_error);
+      },
+      error);
+  if (!ok) return false;
+  GpuStageTimes times;
+  if (eye.gpu->stage_times(&times)) {
+    reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
+    reconstruction.gpu_gather_ms[e] = times.gather_ms;
+    reconstruction.gpu_taa_ms[e] = times.taa_ms;
+    reconstruction.gpu_encode_ms[e] = times.encode_ms;
+    stats->interpolateMs[e] = times.scatter_ms + times.gather_ms;
+    stats->taaMs[e] = times.taa_ms;
+  }
+  return true;
+}
+
 bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
                                           XrCompositionLayerProjectionView& view, XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
@@ -337,8 +439,12 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
       return false;
     }
   }
-  if (eye.view == nullptr || &eye.view->tables() != view_tables.get()) {
-    eye.view = std::make_unique<foveation::FoveatedView>(view_tables, view_settings(settings));
+  const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
+  if (eye.view == nullptr || &eye.view->tables() != view_tables.get() ||
+      eye.view->settings().reconstruct_on_cpu == on_gpu) {
+    foveation::ViewSettings vs = view_settings(settings);
+    vs.reconstruct_on_cpu = !on_gpu;
+    eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
   }
 
   request.frame_index = frame_index;
@@ -391,14 +497,38 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     return false;
   }
   const auto t0 = Clock::now();
-  foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), eye.swapchain->staging(), executor);
   std::string error;
-  const bool uploaded = eye.swapchain->upload(&error);
-  stats->uploadMs[e] = ms_since(t0);
-  if (!uploaded) {
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-    if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
-    return false;
+  if (on_gpu) {
+    const bool presented = present_on_gpu(e, view_tables, request, result, stats, &error);
+    stats->uploadMs[e] = ms_since(t0);
+    if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
+      eye.gpu_failed = true;
+      eye.gpu = nullptr;
+      eye.gpu_tables = nullptr;
+      ++reconstruction.gpu_fallbacks;
+      if (gpu_once.first()) {
+        log(LogLevel::Error, "foveated renderer: eye ", e, ": GPU reconstruction failed: ", error,
+            "; this eye reconstructs on the CPU from the next frame (logged once, counted in the stats)");
+      }
+      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+      return false;
+    }
+    reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART;
+  } else {
+    uint8_t* staging = eye.swapchain->staging(&error);
+    if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), staging, executor);
+    const bool uploaded = staging != nullptr && eye.swapchain->upload(&error);
+    stats->uploadMs[e] = ms_since(t0);
+    if (!uploaded) {
+      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+      if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
+      return false;
+    }
+    reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
+    for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_taa_ms,
+                     reconstruction.gpu_encode_ms}) {
+      t[e] = 0.0f;
+    }
   }
   view.subImage.swapchain = eye.swapchain->handle();
   view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
@@ -410,7 +540,7 @@ FoveatedRenderer::FoveatedRenderer(std::shared_ptr<SessionState> session, Render
     : session_(std::move(session)), settings_(std::move(settings)) {
   stats_.type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
   stats_.gazeSource = settings_.gaze_source;
-  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_, input_);
+  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_, input_, reconstruction_);
 }
 
 FoveatedRenderer::~FoveatedRenderer() = default;
@@ -452,6 +582,18 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     in->gazeBehindViews = input_.gaze_behind_views;
     in->invalidImageRectViews = input_.invalid_image_rect_views;
     in->foreignSessionLayers = input_.foreign_session_layers;
+  }
+  // (spec version 5) the reconstruction path and GPU stage times.
+  if (auto* rec = find_in_out_chain<XrFoveatedRendererReconstructionStatsFOVEART>(
+          next, XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART)) {
+    rec->path = reconstruction_.path;
+    rec->gpuFallbacks = reconstruction_.gpu_fallbacks;
+    for (int e = 0; e < 2; ++e) {
+      rec->gpuScatterMs[e] = reconstruction_.gpu_scatter_ms[e];
+      rec->gpuGatherMs[e] = reconstruction_.gpu_gather_ms[e];
+      rec->gpuTaaMs[e] = reconstruction_.gpu_taa_ms[e];
+      rec->gpuEncodeMs[e] = reconstruction_.gpu_encode_ms[e];
+    }
   }
 }
 

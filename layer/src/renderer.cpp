@@ -35,6 +35,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.worker_threads = config.worker_threads;
   s.cache_dir = config.cache_dir;
   s.wait_for_tables = config.wait_for_tables;
+  s.reconstruction = config.reconstruction;
 
   if (info.traceRays == nullptr) {
     *out_error = "traceRays must not be NULL";

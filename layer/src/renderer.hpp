@@ -29,6 +29,7 @@ struct RendererSettings {
   uint32_t worker_threads = 0;
   std::string cache_dir;
   bool wait_for_tables = false;
+  std::string reconstruction = "auto";  // "auto" | "gpu" | "cpu" (LayerConfig::reconstruction)
 };
 
 // App's create info over the config's defaults: a field that says "use the
@@ -48,6 +49,17 @@ struct InputCounters {
   std::atomic<uint64_t> gaze_behind_views{0};
   std::atomic<uint64_t> invalid_image_rect_views{0};
   std::atomic<uint64_t> foreign_session_layers{0};
+};
+
+// Where the last frame was reconstructed, for XrFoveatedRendererReconstructionStatsFOVEART.
+// Written and read under the renderer's frame lock.
+struct ReconstructionStats {
+  XrFoveatedReconstructionPathFOVEART path = XR_FOVEATED_RECONSTRUCTION_PATH_NONE_FOVEART;
+  uint32_t gpu_fallbacks = 0;
+  float gpu_scatter_ms[2] = {0, 0};
+  float gpu_gather_ms[2] = {0, 0};
+  float gpu_taa_ms[2] = {0, 0};
+  float gpu_encode_ms[2] = {0, 0};
 };
 
 // One foveated renderer of a session: its executor (worker_threads threads,
@@ -83,6 +95,7 @@ class FoveatedRenderer {
   RendererSettings settings_;
   mutable std::mutex mutex_;  // one frame at a time; stats readers
   InputCounters input_;       // before frames_: its builder thread counts until frames_ is gone
+  ReconstructionStats reconstruction_;
   LogOnce foreign_once_;
   std::unique_ptr<Frames> frames_;  // null when the session has no Vulkan: views pass through
   XrFoveatedRendererStatsFOVEART stats_{};

@@ -45,7 +45,7 @@ ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptio
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-      float m1[3] = {0, 0, 0}, m2[3] = {0, 0, 0};
+      float m1[3] = {0, 0, 0};
       int n = 0;
       for (int dy = -1; dy <= 1; ++dy) {
         const int yy = std::clamp(y + dy, 0, h - 1);
@@ -55,7 +55,6 @@ ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptio
             lo[i] = std::min(lo[i], c[i]);
             hi[i] = std::max(hi[i], c[i]);
             m1[i] += c[i];
-            m2[i] += c[i] * c[i];
           }
           ++n;
         }
@@ -69,8 +68,14 @@ ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptio
         float mu[3], ext[3];
         for (int i = 0; i < 3; ++i) {
           mu[i] = m1[i] / float(n);
-          const float var = std::max(0.0f, m2[i] / float(n) - mu[i] * mu[i]);
-          ext[i] = o.variance_gamma * std::sqrt(var) + 1e-6f;
+          float s = 0.0f;  // squared deviations, taps in the same order
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const float d = cur.at(std::clamp(x + dx, 0, w - 1), std::clamp(y + dy, 0, h - 1))[i] - mu[i];
+              s += d * d;
+            }
+          }
+          ext[i] = o.variance_gamma * std::sqrt(s / float(n)) + o.clip_floor;
         }
         float t = 1.0f;
         for (int i = 0; i < 3; ++i) {

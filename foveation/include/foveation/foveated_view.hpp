@@ -73,6 +73,9 @@ struct ViewSettings {
   bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
   TaaOptions taa_options;
   RbfClamp rbf_clamp = RbfClamp::block;
+  // false: render() stops after the colours and the TAA reset decision; the
+  // caller reconstructs from colors() and traced() (the layer's GPU path).
+  bool reconstruct_on_cpu = true;
 };
 
 struct FrameRequest {
@@ -119,6 +122,10 @@ class FoveatedView {
   const ImageRgb& image() const { return taa_output_ != nullptr ? *taa_output_ : gathered_; }
   // The same frame before TAA: the reconstruction alone.
   const ImageRgb& reconstructed() const { return gathered_; }
+  // The last frame's colour per point of the set (a = 1: traced) and the
+  // points it traced, in runs: what a reconstruction elsewhere needs.
+  const PointColors& colors() const { return colors_; }
+  const std::vector<std::vector<std::uint32_t>>& traced() const { return traced_; }
   const ViewTables& tables() const { return *tables_; }
   const ViewSettings& settings() const { return settings_; }
 

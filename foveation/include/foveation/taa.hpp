@@ -23,6 +23,11 @@ struct TaaOptions {
   float current_weight = 0.1f;   // alpha of the exponential blend (Karis 2014)
   TaaConstraint constraint = TaaConstraint::variance_clip;
   float variance_gamma = 1.0f;   // box mu +- gamma sigma (Salvi 2016)
+  // The box is at least mu +- clip_floor wide: history closer than that to a
+  // flat box is kept. 1/4096 is below one 8-bit sRGB step anywhere (3.0e-4 at
+  // black) and far above float rounding (1.2e-7 at 1), so the clip never
+  // hinges on rounding: the CPU and GPU paths stay within one 8-bit step.
+  float clip_floor = 1.0f / 4096.0f;
   float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
 };
 
@@ -35,6 +40,11 @@ class TemporalAccumulator {
   // gaze filter's saccade detector).
   const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor, bool saccade = false);
 
+  // The reset rule of accumulate() alone, for a caller that blends elsewhere
+  // (the layer's GPU path): records a width x height frame at gaze_px and
+  // returns whether its history restarts. Keeps no image.
+  bool begin_frame(int width_px, int height_px, glm::vec2 gaze_px, bool saccade = false);
+
   void reset() { valid_ = false; }
   bool last_was_reset() const { return last_reset_; }
   std::uint64_t reset_count() const { return resets_; }
@@ -45,6 +55,8 @@ class TemporalAccumulator {
   ImageRgb history_;
   ImageRgb scratch_;
   glm::vec2 gaze_px_{};
+  int width_px_ = 0;
+  int height_px_ = 0;
   bool valid_ = false;
   bool last_reset_ = false;
   std::uint64_t resets_ = 0;

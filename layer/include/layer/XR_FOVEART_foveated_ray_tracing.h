@@ -69,7 +69,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 4
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 5
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -85,6 +85,8 @@ XR_DEFINE_HANDLE(XrFoveatedRendererFOVEART)
 #define XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900002)
 /* (spec version 4) */
 #define XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900003)
+/* (spec version 5) */
+#define XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900004)
 
 typedef enum XrFoveatedInterpolationFOVEART {
   XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
@@ -182,6 +184,28 @@ typedef struct XrFoveatedRendererInputStatsFOVEART {
   uint64_t invalidImageRectViews; /* views whose imageRect lies outside the swapchain: forwarded, not traced */
   uint64_t foreignSessionLayers;  /* projection layers naming this renderer in another session's xrEndFrame: forwarded */
 } XrFoveatedRendererInputStatsFOVEART;
+
+/* (spec version 5) Where a renderer reconstructed its last frame (the config's "reconstruction"). */
+typedef enum XrFoveatedReconstructionPathFOVEART {
+  XR_FOVEATED_RECONSTRUCTION_PATH_NONE_FOVEART = 0, /* no frame reconstructed yet */
+  XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART = 1,  /* foveation's CPU gather, TAA and encode, then an upload */
+  XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART = 2,  /* Vulkan compute on the app's device (shaders/) */
+  XR_FOVEATED_RECONSTRUCTION_PATH_MAX_ENUM_FOVEART = 0x7FFFFFFF
+} XrFoveatedReconstructionPathFOVEART;
+
+/* (spec version 5) Chain into XrFoveatedRendererStatsFOVEART::next to also get the reconstruction path
+ * of the last frame and, on the GPU path, each stage's GPU time per eye from timestamps (0 on the CPU
+ * path): scatter of the traced colours, gather, TAA, and sRGB encode with the copy into the image. */
+typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART */
+  void* XR_MAY_ALIAS next;
+  XrFoveatedReconstructionPathFOVEART path;
+  uint32_t gpuFallbacks; /* views the GPU path could not do (logged once): reconstructed on the CPU instead */
+  float gpuScatterMs[2];
+  float gpuGatherMs[2];
+  float gpuTaaMs[2];
+  float gpuEncodeMs[2];
+} XrFoveatedRendererReconstructionStatsFOVEART;
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
     XrSession session, const XrFoveatedRendererCreateInfoFOVEART* createInfo,

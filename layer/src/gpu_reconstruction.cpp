@@ -1,0 +1,548 @@
+#include "gpu_reconstruction.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "eye_swapchain.hpp"
+#include "shaders/encode.spv.h"
+#include "shaders/gather.spv.h"
+#include "shaders/scatter.spv.h"
+#include "shaders/taa.spv.h"
+
+namespace foveart::layer {
+namespace {
+
+std::string vk_error(const char* what, VkResult r) { return std::string(what) + " failed (VkResult " + std::to_string(r) + ")"; }
+
+template <class T>
+T vk_struct(VkStructureType type) {
+  T s{};
+  s.sType = type;
+  return s;
+}
+
+// Push constants, laid out as the shaders declare them (std430).
+struct GatherPush {
+  int32_t screen_px[2];
+  int32_t canvas_offset_px[2];
+  int32_t canvas_px[2];
+  int32_t first_tile[2];
+  int32_t k;
+  int32_t neighbor_k;
+  uint32_t flags;
+  uint32_t chunk_count;
+  float fallback_rgb[4];
+  uint32_t chunk_first_row[kMaxGpuChunks];
+};
+static_assert(sizeof(GatherPush) == 128, "shaders/gather.comp push constants");
+struct TaaPush {
+  int32_t size_px[2];
+  float current_weight;
+  float variance_gamma;
+  uint32_t constraint;
+  uint32_t reset;
+  float clip_floor;
+};
+struct EncodePush {
+  int32_t size_px[2];
+  uint32_t srgb;
+};
+struct ScatterPush {
+  uint32_t count;
+  uint32_t point_count;
+};
+enum GatherFlags : uint32_t { kWeighted = 1, kF16 = 2, kClampTaps = 4, kClampBlock = 8, kRbf = 16 };
+
+enum Binding : uint32_t { kChunks = 0, kColors, kCurrent, kHistoryIn, kHistoryOut, kUpload, kEncoded, kBindings };
+constexpr uint32_t kQueries = 5;  // timestamps: start, scattered, gathered, accumulated, encoded
+
+// One global barrier between compute / transfer stages: the frame's passes are
+// whole-buffer producers and consumers, so a memory barrier says all there is.
+void barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
+             VkAccessFlags dst_access) {
+  auto b = vk_struct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  vkCmdPipelineBarrier(cb, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+
+uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
+
+}  // namespace
+
+std::string gpu_unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_family_index) {
+  uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, families.data());
+  if (queue_family_index >= count) return "the session's queue family does not exist";
+  if ((families[queue_family_index].queueFlags & VK_QUEUE_COMPUTE_BIT) == 0) {
+    return "the session's queue family has no compute";
+  }
+  VkPhysicalDeviceFeatures features{};
+  vkGetPhysicalDeviceFeatures(physical_device, &features);
+  if (!features.shaderStorageBufferArrayDynamicIndexing) {
+    return "the device lacks shaderStorageBufferArrayDynamicIndexing (table chunks)";
+  }
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(physical_device, &properties);
+  if (VK_API_VERSION_MINOR(properties.apiVersion) < 1 && VK_API_VERSION_MAJOR(properties.apiVersion) == 1) {
+    return "the device is Vulkan 1.0; the shaders are SPIR-V 1.3 (Vulkan 1.1)";
+  }
+  if (properties.limits.maxPerStageDescriptorStorageBuffers < kMaxGpuChunks + kBindings - 1) {
+    return "the device binds fewer than " + std::to_string(kMaxGpuChunks + kBindings - 1) + " storage buffers per stage";
+  }
+  return {};
+}
+
+// ---- GpuReconstructor ---------------------------------------------------------
+
+std::unique_ptr<GpuReconstructor> GpuReconstructor::create(const GpuDevice& device, std::string* error) {
+  if (std::string why = gpu_unsupported_reason(device.physical_device, device.queue_family_index); !why.empty()) {
+    return *error = why, nullptr;
+  }
+  std::unique_ptr<GpuReconstructor> g(new GpuReconstructor());
+  g->device_ = device;
+  VkDevice dev = device.device;
+  vkGetDeviceQueue(dev, device.queue_family_index, device.queue_index, &g->queue_);
+  vkGetPhysicalDeviceMemoryProperties(device.physical_device, &g->memory_properties_);
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(device.physical_device, &properties);
+  g->max_chunk_bytes_ = properties.limits.maxStorageBufferRange;
+  g->storage_alignment_ = std::max<VkDeviceSize>(4, properties.limits.minStorageBufferOffsetAlignment);
+  g->timestamp_period_ns_ = properties.limits.timestampPeriod;
+  uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(device.physical_device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(device.physical_device, &count, families.data());
+  g->timestamps_ = families[device.queue_family_index].timestampValidBits > 0;
+
+  VkDescriptorSetLayoutBinding bindings[kBindings]{};
+  for (uint32_t b = 0; b < kBindings; ++b) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = b == kChunks ? uint32_t(kMaxGpuChunks) : 1;
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  set_info.bindingCount = kBindings;
+  set_info.pBindings = bindings;
+  VkResult r = vkCreateDescriptorSetLayout(dev, &set_info, nullptr, &g->set_layout_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorSetLayout", r), nullptr;
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(GatherPush)};
+  auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &g->set_layout_;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  r = vkCreatePipelineLayout(dev, &layout_info, nullptr, &g->pipeline_layout_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreatePipelineLayout", r), nullptr;
+
+  struct Stage {
+    const uint32_t* code;
+    size_t bytes;
+    VkPipeline* pipeline;
+  };
+  const Stage stages[] = {{foveart_scatter_spv, sizeof foveart_scatter_spv, &g->scatter_},
+                          {foveart_gather_spv, sizeof foveart_gather_spv, &g->gather_},
+                          {foveart_taa_spv, sizeof foveart_taa_spv, &g->taa_},
+                          {foveart_encode_spv, sizeof foveart_encode_spv, &g->encode_}};
+  for (const Stage& s : stages) {
+    auto module_info = vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
+    module_info.codeSize = s.bytes;
+    module_info.pCode = s.code;
+    VkShaderModule module = VK_NULL_HANDLE;
+    r = vkCreateShaderModule(dev, &module_info, nullptr, &module);
+    if (r != VK_SUCCESS) return *error = vk_error("vkCreateShaderModule", r), nullptr;
+    auto info = vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
+    info.stage = vk_struct<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module;
+    info.stage.pName = "main";
+    info.layout = g->pipeline_layout_;
+    r = vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, s.pipeline);
+    vkDestroyShaderModule(dev, module, nullptr);
+    if (r != VK_SUCCESS) return *error = vk_error("vkCreateComputePipelines", r), nullptr;
+  }
+
+  auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = device.queue_family_index;
+  r = vkCreateCommandPool(dev, &pool_info, nullptr, &g->command_pool_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateCommandPool", r), nullptr;
+  auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+  cb_info.commandPool = g->command_pool_;
+  cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cb_info.commandBufferCount = 1;
+  r = vkAllocateCommandBuffers(dev, &cb_info, &g->command_buffer_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateCommandBuffers", r), nullptr;
+  auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+  r = vkCreateFence(dev, &fence_info, nullptr, &g->fence_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateFence", r), nullptr;
+  return g;
+}
+
+GpuReconstructor::~GpuReconstructor() {
+  VkDevice dev = device_.device;
+  if (dev == VK_NULL_HANDLE) return;
+  if (fence_ != VK_NULL_HANDLE) vkDestroyFence(dev, fence_, nullptr);
+  if (command_pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(dev, command_pool_, nullptr);
+  for (VkPipeline p : {scatter_, gather_, taa_, encode_})
+    if (p != VK_NULL_HANDLE) vkDestroyPipeline(dev, p, nullptr);
+  if (pipeline_layout_ != VK_NULL_HANDLE) vkDestroyPipelineLayout(dev, pipeline_layout_, nullptr);
+  if (set_layout_ != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
+}
+
+bool GpuReconstructor::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
+                                     VkDeviceMemory* memory, void** mapped, std::string* error) {
+  VkDevice dev = device_.device;
+  auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
+  info.size = std::max<VkDeviceSize>(size, 16);
+  info.usage = usage;
+  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  VkResult r = vkCreateBuffer(dev, &info, nullptr, buffer);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateBuffer", r), false;
+  VkMemoryRequirements req{};
+  vkGetBufferMemoryRequirements(dev, *buffer, &req);
+  const VkMemoryPropertyFlags wanted = host_visible
+                                           ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  uint32_t type = UINT32_MAX;
+  for (uint32_t i = 0; i < memory_properties_.memoryTypeCount && type == UINT32_MAX; ++i) {
+    if ((req.memoryTypeBits & (1u << i)) && (memory_properties_.memoryTypes[i].propertyFlags & wanted) == wanted) type = i;
+  }
+  if (type == UINT32_MAX) {
+    return *error = std::string("no ") + (host_visible ? "host-visible coherent" : "device-local") + " memory type", false;
+  }
+  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = type;
+  r = vkAllocateMemory(dev, &alloc, nullptr, memory);
+  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateMemory", r), false;
+  r = vkBindBufferMemory(dev, *buffer, *memory, 0);
+  if (r != VK_SUCCESS) return *error = vk_error("vkBindBufferMemory", r), false;
+  if (mapped != nullptr) {
+    r = vkMapMemory(dev, *memory, 0, VK_WHOLE_SIZE, 0, mapped);
+    if (r != VK_SUCCESS) return *error = vk_error("vkMapMemory", r), false;
+  }
+  return true;
+}
+
+bool GpuReconstructor::submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error) {
+  VkDevice dev = device_.device;
+  VkResult r = vkResetCommandBuffer(command_buffer_, 0);
+  auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  if (r == VK_SUCCESS) r = vkBeginCommandBuffer(command_buffer_, &begin);
+  if (r != VK_SUCCESS) return *error = vk_error("vkBeginCommandBuffer", r), false;
+  const bool recorded = record(command_buffer_);
+  r = vkEndCommandBuffer(command_buffer_);
+  if (!recorded) return false;
+  if (r == VK_SUCCESS) r = vkResetFences(dev, 1, &fence_);
+  auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &command_buffer_;
+  if (r == VK_SUCCESS) r = vkQueueSubmit(queue_, 1, &submit, fence_);
+  if (r == VK_SUCCESS) r = vkWaitForFences(dev, 1, &fence_, VK_TRUE, UINT64_MAX);
+  if (r != VK_SUCCESS) return *error = vk_error("GPU submission", r), false;
+  return true;
+}
+
+std::shared_ptr<GpuTables> GpuReconstructor::upload_tables(std::shared_ptr<const foveation::ViewTables> tables,
+                                                          std::string* error, std::size_t max_chunk_bytes) {
+  std::shared_ptr<GpuTables> g(new GpuTables());
+  g->device_ = device_.device;
+  g->tables_ = std::move(tables);
+  const std::size_t limit = std::size_t(max_chunk_bytes_);
+  if (!pack_gpu_tables(*g->tables_, max_chunk_bytes > 0 ? std::min(max_chunk_bytes, limit) : limit, &g->pack_, error)) {
+    return nullptr;
+  }
+  for (GpuTableChunk& chunk : g->pack_.chunks) {
+    const VkDeviceSize bytes = chunk.words.size() * 4;
+    VkBuffer buffer = VK_NULL_HANDLE, staging = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE, staging_memory = VK_NULL_HANDLE;
+    void* mapped = nullptr;
+    bool ok = create_buffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
+                            &buffer, &memory, nullptr, error);
+    g->buffers_.push_back(buffer);
+    g->memory_.push_back(memory);
+    // Through a staging buffer: device-local memory need not be host-visible (discrete GPUs).
+    ok = ok && create_buffer(bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, &staging, &staging_memory, &mapped, error);
+    if (ok) {
+      std::memcpy(mapped, chunk.words.data(), bytes);
+      ok = submit_and_wait(
+          [&](VkCommandBuffer cb) {
+            const VkBufferCopy copy{0, 0, bytes};
+            vkCmdCopyBuffer(cb, staging, buffer, 1, &copy);
+            barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, VK_ACCESS_SHADER_READ_BIT);
+            return true;
+          },
+          error);
+    }
+    if (staging != VK_NULL_HANDLE) vkDestroyBuffer(device_.device, staging, nullptr);
+    if (staging_memory != VK_NULL_HANDLE) vkFreeMemory(device_.device, staging_memory, nullptr);
+    if (!ok) return nullptr;
+    g->bytes_ += bytes;
+    chunk.words = {};  // on the device now
+  }
+  return g;
+}
+
+GpuTables::~GpuTables() {
+  for (VkBuffer b : buffers_)
+    if (b != VK_NULL_HANDLE) vkDestroyBuffer(device_, b, nullptr);
+  for (VkDeviceMemory m : memory_)
+    if (m != VK_NULL_HANDLE) vkFreeMemory(device_, m, nullptr);
+}
+
+std::unique_ptr<GpuEye> GpuReconstructor::create_eye(uint32_t width_px, uint32_t height_px, std::string* error) {
+  std::unique_ptr<GpuEye> e(new GpuEye());
+  e->owner_ = this;
+  e->device_ = device_.device;
+  e->width_px_ = width_px;
+  e->height_px_ = height_px;
+  const VkDeviceSize pixels = VkDeviceSize{width_px} * height_px;
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  auto make = [&](GpuEye::Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage) {
+    b.size = size;
+    return create_buffer(size, usage, false, &b.buffer, &b.memory, nullptr, error);
+  };
+  if (!make(e->current_, pixels * 16, storage) || !make(e->history_[0], pixels * 16, storage) ||
+      !make(e->history_[1], pixels * 16, storage) ||
+      !make(e->encoded_, pixels * 4, storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT)) {
+    return nullptr;
+  }
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * (uint32_t(kMaxGpuChunks) + kBindings - 1)};
+  auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = 2;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &size;
+  VkResult r = vkCreateDescriptorPool(device_.device, &pool_info, nullptr, &e->pool_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool", r), nullptr;
+  const VkDescriptorSetLayout layouts[2] = {set_layout_, set_layout_};
+  auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = e->pool_;
+  alloc.descriptorSetCount = 2;
+  alloc.pSetLayouts = layouts;
+  r = vkAllocateDescriptorSets(device_.device, &alloc, e->sets_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets", r), nullptr;
+  if (timestamps_) {
+    auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+    query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    query_info.queryCount = kQueries;
+    r = vkCreateQueryPool(device_.device, &query_info, nullptr, &e->queries_);
+    if (r != VK_SUCCESS) return *error = vk_error("vkCreateQueryPool", r), nullptr;
+  }
+  return e;
+}
+
+// ---- GpuEye -------------------------------------------------------------------
+
+void GpuEye::destroy(Buffer& b) {
+  if (b.mapped != nullptr) vkUnmapMemory(device_, b.memory);
+  if (b.buffer != VK_NULL_HANDLE) vkDestroyBuffer(device_, b.buffer, nullptr);
+  if (b.memory != VK_NULL_HANDLE) vkFreeMemory(device_, b.memory, nullptr);
+  b = Buffer{};
+}
+
+GpuEye::~GpuEye() {
+  if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
+  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
+  for (Buffer* b : {&upload_, &colors_, &current_, &history_[0], &history_[1], &encoded_, &readback_}) destroy(*b);
+}
+
+bool GpuEye::ensure_points(std::size_t point_count, std::string* error) {
+  if (point_count <= point_capacity_) return true;
+  destroy(upload_);
+  destroy(colors_);
+  point_capacity_ = 0;
+  const VkDeviceSize bytes = VkDeviceSize{point_count} * 16;
+  upload_.size = colors_.size = bytes;
+  if (!owner_->create_buffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, &upload_.buffer, &upload_.memory,
+                             &upload_.mapped, error) ||
+      !owner_->create_buffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
+                             &colors_.buffer, &colors_.memory, nullptr, error)) {
+    return false;
+  }
+  point_capacity_ = point_count;
+  bound_tables_ = nullptr;  // descriptors name the old buffers
+  return true;
+}
+
+void GpuEye::update_descriptors() {
+  const auto& buffers = bound_tables_->buffers_;
+  VkDescriptorBufferInfo chunks[kMaxGpuChunks];
+  for (std::size_t i = 0; i < kMaxGpuChunks; ++i) {
+    // Unused slots repeat the last chunk: every descriptor of the array is valid.
+    chunks[i] = {buffers[std::min(i, buffers.size() - 1)], 0, VK_WHOLE_SIZE};
+  }
+  for (int s = 0; s < 2; ++s) {
+    const VkDescriptorBufferInfo info[kBindings - 1] = {
+        {colors_.buffer, 0, VK_WHOLE_SIZE},        {current_.buffer, 0, VK_WHOLE_SIZE},
+        {history_[s].buffer, 0, VK_WHOLE_SIZE},    {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
+        {upload_.buffer, 0, VK_WHOLE_SIZE},        {encoded_.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet writes[kBindings];
+    for (uint32_t b = 0; b < kBindings; ++b) {
+      writes[b] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+      writes[b].dstSet = sets_[s];
+      writes[b].dstBinding = b;
+      writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[b].descriptorCount = b == kChunks ? uint32_t(kMaxGpuChunks) : 1;
+      writes[b].pBufferInfo = b == kChunks ? chunks : &info[b - 1];
+    }
+    vkUpdateDescriptorSets(device_, kBindings, writes, 0, nullptr);
+  }
+}
+
+bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
+                    std::string* error) {
+  recorded_ = false;
+  const GpuTables& tables = *frame.tables;
+  const GpuTablePack& pack = tables.pack_;
+  const auto& m = frame.mapping;
+  if (uint32_t(m.screen_width_px) != width_px_ || uint32_t(m.screen_height_px) != height_px_) {
+    return *error = "GPU eye is " + std::to_string(width_px_) + "x" + std::to_string(height_px_) + ", the frame " +
+                    std::to_string(m.screen_width_px) + "x" + std::to_string(m.screen_height_px),
+           false;
+  }
+  const std::size_t point_count = tables.view_tables().points.size();
+  if (frame.colors == nullptr || frame.colors->size() != point_count) {
+    return *error = "GPU frame: point colours do not match the tables", false;
+  }
+  if (!ensure_points(point_count, error)) return false;
+  if (bound_tables_ != &tables) {
+    bound_tables_ = &tables;
+    update_descriptors();
+  }
+
+  // The traced points' colours, run by run into the upload buffer.
+  std::vector<std::size_t> first(frame.traced.size() + 1, 0);
+  for (std::size_t i = 0; i < frame.traced.size(); ++i) first[i + 1] = first[i] + frame.traced[i].size();
+  const std::size_t uploaded = first.back();
+  if (uploaded > point_count) return *error = "GPU frame: more traced points than points", false;
+  auto* entries = static_cast<uint32_t*>(upload_.mapped);
+  const foveation::Rgba* colors = frame.colors->rgba.data();
+  executor.parallel_for(frame.traced.size(), [&](std::size_t run) {
+    uint32_t* e = entries + first[run] * 4;
+    for (uint32_t id : frame.traced[run]) {
+      e[0] = id;
+      std::memcpy(e + 1, &colors[id], 12);
+      e += 4;
+    }
+  });
+
+  const VkDescriptorSet set = sets_[parity_];
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->pipeline_layout_, 0, 1, &set, 0, nullptr);
+  if (queries_ != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, queries_, 0, kQueries);
+  auto stamp = [&](uint32_t q) {
+    if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q);
+  };
+  // Last frame's passes read and wrote these buffers (an earlier submission).
+  barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+          kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+          kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+  stamp(0);
+  vkCmdFillBuffer(cb, colors_.buffer, 0, VK_WHOLE_SIZE, 0u);  // every point "not traced" (a = 0)
+  barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
+  if (uploaded > 0) {
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->scatter_);
+    const ScatterPush push{uint32_t(uploaded), uint32_t(point_count)};
+    vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdDispatch(cb, groups(uint32_t(uploaded), 64), 1, 1);
+  }
+  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  stamp(1);
+
+  GatherPush g{};
+  g.screen_px[0] = m.screen_width_px;
+  g.screen_px[1] = m.screen_height_px;
+  g.canvas_offset_px[0] = m.canvas_from_screen_x_px;
+  g.canvas_offset_px[1] = m.canvas_from_screen_y_px;
+  g.canvas_px[0] = pack.canvas_width_px;
+  g.canvas_px[1] = pack.canvas_height_px;
+  const int tile = foveation::kGatherTilePx;
+  g.first_tile[0] = m.canvas_from_screen_x_px / tile;
+  g.first_tile[1] = m.canvas_from_screen_y_px / tile;
+  const int last_tile_x = (m.canvas_from_screen_x_px + m.screen_width_px - 1) / tile;
+  const int last_tile_y = (m.canvas_from_screen_y_px + m.screen_height_px - 1) / tile;
+  g.k = pack.k;
+  g.neighbor_k = pack.neighbor_k;
+  g.flags = (pack.weighted ? kWeighted : 0u) | (pack.f16 ? kF16 : 0u) | (pack.rbf ? kRbf : 0u);
+  if (pack.rbf && frame.rbf_clamp == foveation::RbfClamp::taps) g.flags |= kClampTaps;
+  if (pack.rbf && frame.rbf_clamp == foveation::RbfClamp::block) g.flags |= kClampBlock;
+  g.chunk_count = uint32_t(pack.chunks.size());
+  for (int c = 0; c < 3; ++c) g.fallback_rgb[c] = frame.fallback_rgb[std::size_t(c)];
+  for (std::size_t c = 0; c < pack.chunks.size(); ++c) g.chunk_first_row[c] = pack.chunks[c].first_row;
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->gather_);
+  vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof g, &g);
+  vkCmdDispatch(cb, uint32_t(last_tile_x - g.first_tile[0] + 1), uint32_t(last_tile_y - g.first_tile[1] + 1), 1);
+  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  stamp(2);
+
+  const TaaPush t{{int32_t(width_px_), int32_t(height_px_)},
+                  frame.taa.current_weight,
+                  frame.taa.variance_gamma,
+                  frame.taa.constraint == foveation::TaaConstraint::variance_clip ? 1u : 0u,
+                  frame.taa_reset ? 1u : 0u,
+                  frame.taa.clip_floor};
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->taa_);
+  vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof t, &t);
+  vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
+  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  stamp(3);
+
+  const EncodePush e{{int32_t(width_px_), int32_t(height_px_)}, frame.srgb ? 1u : 0u};
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->encode_);
+  vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof e, &e);
+  vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
+  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  if (image != VK_NULL_HANDLE) record_copy_to_swapchain_image(cb, encoded_.buffer, image, width_px_, height_px_);
+  stamp(4);
+  parity_ ^= 1;  // this frame's output is the next frame's history
+  recorded_ = true;
+  return true;
+}
+
+bool GpuEye::stage_times(GpuStageTimes* out) const {
+  if (!recorded_ || queries_ == VK_NULL_HANDLE) return false;
+  uint64_t t[kQueries] = {};
+  if (vkGetQueryPoolResults(device_, queries_, 0, kQueries, sizeof t, t, sizeof(uint64_t), VK_QUERY_RESULT_64_BIT) !=
+      VK_SUCCESS) {
+    return false;
+  }
+  const double ms = double(owner_->timestamp_period_ns_) * 1e-6;
+  auto span = [&](int a) { return float(double(t[a + 1] - t[a]) * ms); };
+  *out = GpuStageTimes{span(0), span(1), span(2), span(3)};
+  return true;
+}
+
+bool GpuEye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
+  const VkDeviceSize bytes = VkDeviceSize{width_px_} * height_px_ * 4;
+  if (readback_.buffer == VK_NULL_HANDLE) {
+    readback_.size = bytes;
+    if (!owner_->create_buffer(bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, &readback_.buffer, &readback_.memory,
+                               &readback_.mapped, error)) {
+      return false;
+    }
+  }
+  const bool ok = owner_->submit_and_wait(
+      [&](VkCommandBuffer cb) {
+        barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        const VkBufferCopy copy{0, 0, bytes};
+        vkCmdCopyBuffer(cb, encoded_.buffer, readback_.buffer, 1, &copy);
+        barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                VK_ACCESS_HOST_READ_BIT);
+        return true;
+      },
+      error);
+  if (!ok) return false;
+  out->resize(std::size_t(bytes));
+  std::memcpy(out->data(), readback_.mapped, std::size_t(bytes));
+  return true;
+}
+
+}  // namespace foveart::layer

@@ -1,0 +1,173 @@
+// Reconstruction, TAA and sRGB encode of one eye on the app's Vulkan device
+// (shaders/, docs/gpu.md): the GPU path of the layer's frame. The CPU path
+// (foveation::gather, TemporalAccumulator, encode_rgba8) is its reference;
+// outputs agree within one 8-bit step (tests/layer/gpu_reconstruction_test.cpp).
+//
+// Per frame only the traced points' colours (16 bytes each) go to the device;
+// tables are uploaded once per ViewTables into device-local chunks
+// (gpu_tables.hpp). Recording happens on the caller's command buffer; the
+// caller submits it on the app's queue inside xrEndFrame and waits for it.
+//
+// Threads: one GpuReconstructor per device, used from one thread at a time
+// (the renderer's frame lock). Nothing here throws; failures return false
+// with a message.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "foveation/executor.hpp"
+#include "foveation/foveated_view.hpp"
+#include "gpu_tables.hpp"
+
+namespace foveart::layer {
+
+struct GpuDevice {
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t queue_family_index = 0;
+  uint32_t queue_index = 0;
+};
+
+// Why the shaders cannot run on this device's queue family; empty when they can.
+std::string gpu_unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_family_index);
+
+class GpuReconstructor;
+
+// One view's tables on the device, shared by both eyes.
+class GpuTables {
+ public:
+  ~GpuTables();
+  GpuTables(const GpuTables&) = delete;
+  GpuTables& operator=(const GpuTables&) = delete;
+  const GpuTablePack& layout() const { return pack_; }  // chunk words are dropped after upload
+  const foveation::ViewTables& view_tables() const { return *tables_; }
+  std::size_t bytes() const { return bytes_; }
+
+ private:
+  friend class GpuReconstructor;
+  friend class GpuEye;
+  GpuTables() = default;
+  VkDevice device_ = VK_NULL_HANDLE;
+  std::shared_ptr<const foveation::ViewTables> tables_;
+  GpuTablePack pack_;
+  std::vector<VkBuffer> buffers_;
+  std::vector<VkDeviceMemory> memory_;
+  std::size_t bytes_ = 0;
+};
+
+// What one eye's frame reconstructs.
+struct GpuFrame {
+  const GpuTables* tables = nullptr;
+  const foveation::PointColors* colors = nullptr;  // the view's colours this frame (a = 1 traced)
+  std::span<const std::vector<std::uint32_t>> traced;  // the points traced this frame, in runs
+  foveation::GazeMapping mapping;
+  foveation::RbfClamp rbf_clamp = foveation::RbfClamp::block;
+  std::array<float, 3> fallback_rgb{};
+  bool taa_reset = true;  // the TAA history restarts: the output is this frame alone (always without TAA)
+  foveation::TaaOptions taa;
+  bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
+};
+
+// GPU time of each stage of the last frame (timestamps), milliseconds.
+struct GpuStageTimes {
+  float scatter_ms = 0, gather_ms = 0, taa_ms = 0, encode_ms = 0;  // encode includes the copy into the image
+  float total_ms() const { return scatter_ms + gather_ms + taa_ms + encode_ms; }
+};
+
+// One eye's buffers (colours, reconstruction, TAA history, RGBA8) and descriptor sets.
+class GpuEye {
+ public:
+  ~GpuEye();
+  GpuEye(const GpuEye&) = delete;
+  GpuEye& operator=(const GpuEye&) = delete;
+
+  // Writes the traced colours into the upload buffer and records the frame
+  // into `cb`: scatter, gather, TAA, encode, and (image != null) the copy
+  // into `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
+  bool record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
+              std::string* error);
+  // After the submission finished: the stage times it measured.
+  bool stage_times(GpuStageTimes* out) const;
+  // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
+  bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
+
+  uint32_t width_px() const { return width_px_; }
+  uint32_t height_px() const { return height_px_; }
+
+ private:
+  friend class GpuReconstructor;
+  GpuEye() = default;
+  struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    void* mapped = nullptr;
+    VkDeviceSize size = 0;
+  };
+  bool ensure_points(std::size_t point_count, std::string* error);
+  void update_descriptors();
+  void destroy(Buffer& b);
+
+  GpuReconstructor* owner_ = nullptr;
+  VkDevice device_ = VK_NULL_HANDLE;
+  uint32_t width_px_ = 0, height_px_ = 0;
+  Buffer upload_, colors_, current_, history_[2], encoded_, readback_;
+  std::size_t point_capacity_ = 0;
+  const GpuTables* bound_tables_ = nullptr;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet sets_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // history 0 -> 1, 1 -> 0
+  int parity_ = 0;                                              // which set the last frame used
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  bool recorded_ = false;
+};
+
+class GpuReconstructor {
+ public:
+  // Null with *error when the device cannot run the shaders (gpu_unsupported_reason) or a Vulkan call fails.
+  static std::unique_ptr<GpuReconstructor> create(const GpuDevice& device, std::string* error);
+  ~GpuReconstructor();
+  GpuReconstructor(const GpuReconstructor&) = delete;
+  GpuReconstructor& operator=(const GpuReconstructor&) = delete;
+
+  // Packs and uploads `tables` (submits and waits on the device's queue) in
+  // buffers of at most max_chunk_bytes (0: the device's maxStorageBufferRange).
+  std::shared_ptr<GpuTables> upload_tables(std::shared_ptr<const foveation::ViewTables> tables, std::string* error,
+                                           std::size_t max_chunk_bytes = 0);
+  std::unique_ptr<GpuEye> create_eye(uint32_t width_px, uint32_t height_px, std::string* error);
+
+  // Records with `record` into a one-time command buffer, submits it on the
+  // queue and waits (table uploads, tests, benchmarks; the layer uses its swapchain's).
+  bool submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error);
+
+  VkDeviceSize max_chunk_bytes() const { return max_chunk_bytes_; }
+  const GpuDevice& device() const { return device_; }
+
+ private:
+  friend class GpuEye;
+  GpuReconstructor() = default;
+  bool create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
+                     VkDeviceMemory* memory, void** mapped, std::string* error);
+
+  GpuDevice device_;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceMemoryProperties memory_properties_{};
+  VkDeviceSize max_chunk_bytes_ = 0;
+  VkDeviceSize storage_alignment_ = 4;
+  float timestamp_period_ns_ = 1.0f;
+  bool timestamps_ = false;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
+  VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, taa_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+};
+
+}  // namespace foveart::layer

@@ -1,0 +1,69 @@
+// A view's foveation tables cut into GPU buffers (docs/gpu.md): the layout
+// shaders/gather.comp reads, in 32-bit words. Pure C++: no Vulkan here.
+//
+// The canvas is cut at 8x8 tile rows into chunks of at most max_chunk_bytes
+// (a device's maxStorageBufferRange), so a workgroup (one tile) reads one
+// chunk. Each chunk starts with a 16-word header (ChunkHeader) followed by
+// its sections, all offsets rebased to the chunk:
+//   weighted methods: per tile (first block | level << 30), per block + 1 the
+//     palette offset, the palette, the 1-byte taps and the f16/f32 weights
+//     (foveation/gather_layout.hpp, interpolation_table.hpp);
+//   NN: the neighbour table's 24-bit indices of the chunk's canvas rows.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "foveation/foveated_view.hpp"
+
+namespace foveart::layer {
+
+// Word offsets in a chunk's header; shaders/common.glsl names them H_*.
+enum ChunkHeader : std::uint32_t {
+  kFirstRow = 0,      // first canvas tile row
+  kEndRow = 1,        // one past the last
+  kTileInfo = 2,      // section offsets, in words
+  kBlockPalette = 3,
+  kPalette = 4,
+  kSlots = 5,
+  kWeights = 6,
+  kNeighbors = 7,
+  kBlockBase = 8,     // global index of the chunk's first block
+  kPaletteBase = 9,   // global palette offset of its first entry
+  kOrdinalBase = 10,  // tile-order ordinal of its first pixel
+  kPixelBase = 11,    // row-major index of its first canvas pixel
+  kHeaderWords = 16,
+};
+
+inline constexpr std::size_t kMaxGpuChunks = 16;  // shaders/common.glsl MAX_CHUNKS
+
+struct GpuTableChunk {
+  std::uint32_t first_row = 0;  // canvas tile rows [first_row, end_row)
+  std::uint32_t end_row = 0;
+  std::vector<std::uint32_t> words;
+};
+
+struct GpuTablePack {
+  bool weighted = false;  // MSM / RBF through the gather layout; false: NN
+  bool f16 = false;       // weights as IEEE half
+  bool rbf = false;
+  int k = 1;              // taps
+  int neighbor_k = 1;     // neighbour-table entries per pixel (NN)
+  int canvas_width_px = 0;
+  int canvas_height_px = 0;
+  std::vector<GpuTableChunk> chunks;
+  std::size_t bytes() const;
+};
+
+// Why the shaders cannot reconstruct with these tables; empty when they can
+// (plain RBF without a constant term, whose gain needs per-pixel sums, stays on the CPU).
+std::string gpu_tables_unsupported(const foveation::ViewTables& tables);
+
+// The chunks of `tables`; false with *error when they are unsupported or a
+// tile row does not fit max_chunk_bytes, or more than kMaxGpuChunks are needed.
+bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, GpuTablePack* out,
+                     std::string* error);
+
+}  // namespace foveart::layer

@@ -1,0 +1,37 @@
+// Bindings and constants shared by the reconstruction shaders (docs/gpu.md).
+// One descriptor set for every pipeline; the host side is layer/src/gpu_*.
+#ifndef FOVEART_COMMON_GLSL
+#define FOVEART_COMMON_GLSL
+
+// Table chunks: canvas tile rows [first_row, end_row) of the interpolation
+// table (or the neighbour table for NN), each <= maxStorageBufferRange bytes.
+// A workgroup reads one chunk only (one 8x8 canvas tile), so the index is
+// dynamically uniform (shaderStorageBufferArrayDynamicIndexing).
+#define MAX_CHUNKS 16
+layout(set = 0, binding = 0, std430) readonly buffer Chunk { uint words[]; } chunks[MAX_CHUNKS];
+
+// Words 0..15 of every chunk (gpu_tables.hpp, ChunkHeader).
+#define H_FIRST_ROW 0
+#define H_END_ROW 1
+#define H_TILE_INFO 2      // word offset: per tile, first block (rebased) | level << 30
+#define H_BLOCK_PALETTE 3  // word offset: per block + 1, palette offset (rebased)
+#define H_PALETTE 4        // word offset: point indices
+#define H_SLOTS 5          // word offset: 1-byte taps, tile order (rebased ordinal * k)
+#define H_WEIGHTS 6        // word offset: f16 pairs or f32, tile order
+#define H_NEIGHBORS 7      // word offset: 24-bit point indices, row-major canvas pixels (NN)
+#define H_ORDINAL_BASE 10  // tile-order ordinal of the chunk's first pixel
+#define H_PIXEL_BASE 11    // row-major index of the chunk's first canvas pixel
+
+// Colour of every point this frame; a = 1 traced, 0 not (never spread).
+layout(set = 0, binding = 1, std430) buffer Colors { vec4 colors[]; };
+// The reconstruction, one vec4 per screen pixel, row-major.
+layout(set = 0, binding = 2, std430) buffer Current { vec4 current[]; };
+// TAA history in (last frame's output) and out (this frame's output).
+layout(set = 0, binding = 3, std430) readonly buffer HistoryIn { vec4 history_in[]; };
+layout(set = 0, binding = 4, std430) buffer HistoryOut { vec4 history_out[]; };
+// The frame's traced points: (point index, r, g, b as float bits).
+layout(set = 0, binding = 5, std430) readonly buffer Upload { uvec4 uploaded[]; };
+// RGBA8 texels (R in the low byte), row-major: copied into the swapchain image.
+layout(set = 0, binding = 6, std430) writeonly buffer Encoded { uint encoded[]; };
+
+#endif

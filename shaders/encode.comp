@@ -1,0 +1,28 @@
+#version 450
+// Linear RGB -> RGBA8 texels for the swapchain: sRGB-encoded (IEC 61966-2-1)
+// for an sRGB format, else [0,1] -> [0,255]; alpha 255. NaN encodes as 0.
+// The GPU twin of foveation::encode_rgba8 (within one 8-bit step: pow).
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(push_constant) uniform Push {
+  ivec2 size_px;
+  uint srgb;
+};
+
+uint encode_channel(float c) {
+  if (!(c > 0.0)) return 0u;
+  if (c >= 1.0) return 255u;
+  if (srgb == 0u) return uint(floor(c * 255.0 + 0.5));
+  const float e = c <= 0.0031308 ? c * 12.92 : 1.055 * pow(c, 1.0 / 2.4) - 0.055;  // IEC 61966-2-1
+  return uint(floor(e * 255.0 + 0.5));
+}
+
+void main() {
+  const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+  if (p.x >= size_px.x || p.y >= size_px.y) return;
+  const uint i = uint(p.y * size_px.x + p.x);
+  const vec3 c = history_out[i].rgb;
+  encoded[i] = encode_channel(c.r) | (encode_channel(c.g) << 8) | (encode_channel(c.b) << 16) | (255u << 24);
+}

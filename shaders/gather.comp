@@ -1,0 +1,134 @@
+#version 450
+// Reconstruction of one eye (thesis 4.3): every screen pixel a k-tap weighted
+// gather of point colours through the canvas tables, the GPU twin of
+// foveation::gather. One workgroup is one 8x8 canvas tile; taps are read
+// through the tile-local layout of foveation/gather_layout.hpp (per-block
+// palettes of point indices, 1-byte taps, f16 or f32 weights) in 32-bit words,
+// so no 8/16-bit storage feature is needed. NN reads the neighbour table.
+//
+// Invalid points never spread (docs/interpolation.md): a pixel with an
+// untraced tap renormalises over its valid taps when their weight suffices
+// (NN/MSM: any; RBF: half the weight sum), else takes the nearest valid
+// neighbour, else the fallback colour. RBF results are clamped to the valid
+// colours of the block (RbfClamp::block) or of the pixel's taps (::taps).
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+#define WEIGHTED 1u     // MSM / RBF through the gather layout (else NN)
+#define F16 2u          // weights stored as IEEE half
+#define CLAMP_TAPS 4u   // RBF: clamp to the pixel's taps
+#define CLAMP_BLOCK 8u  // RBF: clamp to the block's valid palette colours
+#define RBF 16u         // renormalise only with half the weight sum valid
+
+layout(push_constant) uniform Push {
+  ivec2 screen_px;
+  ivec2 canvas_offset_px;  // canvas pixel of screen pixel (0, 0)
+  ivec2 canvas_px;
+  ivec2 first_tile;        // canvas tile of workgroup (0, 0)
+  int k;                   // taps (weighted methods)
+  int neighbor_k;          // neighbour-table entries per pixel (NN)
+  uint flags;
+  uint chunk_count;
+  vec4 fallback_rgb;
+  uvec4 chunk_first_row[MAX_CHUNKS / 4];
+};
+
+uint word(uint c, uint i) { return chunks[c].words[i]; }
+
+uint byte_at(uint c, uint base, uint i) { return (word(c, base + (i >> 2)) >> ((i & 3u) * 8u)) & 0xFFu; }
+
+float weight_at(uint c, uint base, uint i) {
+  if ((flags & F16) == 0u) return uintBitsToFloat(word(c, base + i));
+  const vec2 pair = unpackHalf2x16(word(c, base + (i >> 1)));
+  return (i & 1u) == 0u ? pair.x : pair.y;
+}
+
+// 24-bit point index at byte offset b (the host pads one word at the end).
+uint point_at(uint c, uint base, uint b) {
+  const uint shift = (b & 3u) * 8u;
+  uint v = word(c, base + (b >> 2)) >> shift;
+  if (shift > 8u) v |= word(c, base + (b >> 2) + 1u) << (32u - shift);
+  return v & 0xFFFFFFu;
+}
+
+// NN: the nearest traced neighbour, else the fallback.
+vec3 nearest(uint c, ivec2 cp) {
+  const uint pixel = uint(cp.y * canvas_px.x + cp.x) - word(c, H_PIXEL_BASE);
+  const uint base = word(c, H_NEIGHBORS);
+  for (int j = 0; j < neighbor_k; ++j) {
+    const vec4 col = colors[point_at(c, base, (pixel * uint(neighbor_k) + uint(j)) * 3u)];
+    if (col.a != 0.0) return col.rgb;
+  }
+  return fallback_rgb.rgb;
+}
+
+vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
+  const int tiles_x = (canvas_px.x + 7) / 8;
+  const uint info = word(c, word(c, H_TILE_INFO) + uint((tile.y - int(word(c, H_FIRST_ROW))) * tiles_x + tile.x));
+  const int bs = 8 >> (info >> 30);
+  const int tw = min(8, canvas_px.x - tile.x * 8), th = min(8, canvas_px.y - tile.y * 8);
+  const ivec2 l = cp - tile * 8;
+  const uint block = (info & 0x3FFFFFFFu) + uint((l.y / bs) * ((tw + bs - 1) / bs) + l.x / bs);
+  const uint palette = word(c, H_PALETTE);
+  const uint pal0 = word(c, word(c, H_BLOCK_PALETTE) + block);
+  const uint ord = uint(tile.y * 8 * canvas_px.x + tile.x * 8 * th + l.y * tw + l.x) - word(c, H_ORDINAL_BASE);
+  const uint slots = word(c, H_SLOTS), weights = word(c, H_WEIGHTS);
+
+  vec3 acc = vec3(0.0), valid_acc = vec3(0.0);
+  vec3 lo = vec3(1.0 / 0.0), hi = vec3(-1.0 / 0.0);
+  float weight_sum = 0.0, valid_weight = 0.0;
+  vec3 first_valid = fallback_rgb.rgb;
+  bool any_valid = false, any_invalid = false;
+  for (int j = 0; j < k; ++j) {
+    const uint tap = ord * uint(k) + uint(j);
+    const vec4 col = colors[word(c, palette + pal0 + byte_at(c, slots, tap))];
+    const float w = weight_at(c, weights, tap);
+    weight_sum += w;
+    acc += w * col.rgb;
+    if (col.a == 0.0) {
+      any_invalid = true;
+      continue;
+    }
+    valid_weight += w;
+    valid_acc += w * col.rgb;
+    lo = min(lo, col.rgb);
+    hi = max(hi, col.rgb);
+    if (!any_valid) first_valid = col.rgb;  // taps are in neighbour order: the nearest valid
+    any_valid = true;
+  }
+  const bool clamp_taps = (flags & (CLAMP_TAPS | CLAMP_BLOCK)) != 0u;
+  if (any_invalid) {
+    const float min_fraction = (flags & RBF) != 0u ? 0.5 : 0.0;
+    if (valid_weight > 0.0 && valid_weight >= min_fraction * weight_sum) {
+      const vec3 v = valid_acc / valid_weight;
+      return clamp_taps ? min(max(v, lo), hi) : v;
+    }
+    return first_valid;  // the fallback when no tap is valid
+  }
+  vec3 v = acc / weight_sum;  // the weights reproduce constants: renormalise by their stored sum
+  if ((flags & CLAMP_TAPS) != 0u) v = min(max(v, lo), hi);
+  if ((flags & CLAMP_BLOCK) != 0u) {
+    vec3 block_lo = vec3(1.0 / 0.0), block_hi = vec3(-1.0 / 0.0);
+    const uint pal1 = word(c, word(c, H_BLOCK_PALETTE) + block + 1u);
+    for (uint i = pal0; i < pal1; ++i) {
+      const vec4 col = colors[word(c, palette + i)];
+      if (col.a != 0.0) block_lo = min(block_lo, col.rgb), block_hi = max(block_hi, col.rgb);
+    }
+    v = min(max(v, block_lo), block_hi);
+  }
+  return v;
+}
+
+void main() {
+  const ivec2 tile = first_tile + ivec2(gl_WorkGroupID.xy);
+  const ivec2 cp = tile * 8 + ivec2(gl_LocalInvocationID.xy);
+  const ivec2 sp = cp - canvas_offset_px;
+  if (any(lessThan(sp, ivec2(0))) || any(greaterThanEqual(sp, screen_px))) return;
+  uint c = 0u;  // the chunk holding this tile row: the same for the whole workgroup
+  for (uint i = 1u; i < chunk_count; ++i)
+    if (uint(tile.y) >= chunk_first_row[i / 4u][i % 4u]) c = i;
+  const vec3 rgb = (flags & WEIGHTED) != 0u ? weighted(c, tile, cp) : nearest(c, cp);
+  current[sp.y * screen_px.x + sp.x] = vec4(rgb, 1.0);
+}

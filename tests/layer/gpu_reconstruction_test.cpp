@@ -1,0 +1,380 @@
+// The GPU reconstruction (shaders/, layer/src/gpu_*) against its CPU
+// reference on lavapipe: the same frames of foveation::FoveatedView, once
+// reconstructed, accumulated and encoded by foveation (CPU) and once by the
+// compute shaders, agree within one 8-bit step per channel for NN, MSM and RBF
+// at k = 1/5/20, centred and corner gaze, both eyes, and TAA over 16 frames
+// with a gaze jump. Runs under VK_LAYER_KHRONOS_validation with
+// synchronization validation; any message of error severity fails the test.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <vulkan/vulkan.h>
+
+#include "foveation/display_model.hpp"
+#include "foveation/foveated_view.hpp"
+#include "foveation/rgba8.hpp"
+#include "gpu_reconstruction.hpp"
+#include "gpu_tables.hpp"
+
+namespace foveart::layer {
+namespace {
+
+using foveation::InterpMethod;
+
+constexpr uint32_t kW = 96;
+constexpr uint32_t kH = 80;
+
+// ---- A Vulkan device on lavapipe, validated ---------------------------------------
+
+struct Validation {
+  std::mutex mutex;
+  std::vector<std::string> errors;
+};
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                          VkDebugUtilsMessageTypeFlagsEXT,
+                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    auto* v = static_cast<Validation*>(user);
+    std::lock_guard lock(v->mutex);
+    v->errors.emplace_back(data->pMessage != nullptr ? data->pMessage : "?");
+  }
+  return VK_FALSE;
+}
+
+bool has_layer(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+class Vulkan {
+ public:
+  Vulkan() {
+    validated_ = has_layer("VK_LAYER_KHRONOS_validation");
+    VkApplicationInfo app{};
+    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+    app.pApplicationName = "gpu_reconstruction_test";
+    app.apiVersion = VK_API_VERSION_1_1;
+    const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
+    const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+    VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+    VkValidationFeaturesEXT features{};
+    features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = enables;
+    VkDebugUtilsMessengerCreateInfoEXT messenger{};
+    messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+    messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+    messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+    messenger.pfnUserCallback = on_message;
+    messenger.pUserData = &validation_;
+    features.pNext = &messenger;
+    VkInstanceCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+    info.pApplicationInfo = &app;
+    if (validated_) {
+      info.pNext = &features;
+      info.enabledLayerCount = 1;
+      info.ppEnabledLayerNames = layers;
+      info.enabledExtensionCount = 1;
+      info.ppEnabledExtensionNames = extensions;
+    }
+    if (vkCreateInstance(&info, nullptr, &instance_) != VK_SUCCESS) return;
+    uint32_t count = 0;
+    vkEnumeratePhysicalDevices(instance_, &count, nullptr);
+    std::vector<VkPhysicalDevice> devices(count);
+    vkEnumeratePhysicalDevices(instance_, &count, devices.data());
+    for (VkPhysicalDevice d : devices) {  // lavapipe: the CPU device every CI machine has
+      VkPhysicalDeviceProperties p{};
+      vkGetPhysicalDeviceProperties(d, &p);
+      if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) physical_ = d, name_ = p.deviceName;
+    }
+    if (physical_ == VK_NULL_HANDLE) return;
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
+    for (uint32_t i = 0; i < count && family_ == UINT32_MAX; ++i)
+      if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) family_ = i;
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue{};
+    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+    queue.queueFamilyIndex = family_;
+    queue.queueCount = 1;
+    queue.pQueuePriorities = &priority;
+    VkPhysicalDeviceFeatures enabled{};
+    enabled.shaderStorageBufferArrayDynamicIndexing = VK_TRUE;
+    VkDeviceCreateInfo device_info{};
+    device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    device_info.queueCreateInfoCount = 1;
+    device_info.pQueueCreateInfos = &queue;
+    device_info.pEnabledFeatures = &enabled;
+    if (vkCreateDevice(physical_, &device_info, nullptr, &device_) != VK_SUCCESS) device_ = VK_NULL_HANDLE;
+  }
+  ~Vulkan() {
+    if (device_ != VK_NULL_HANDLE) vkDestroyDevice(device_, nullptr);
+    if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
+  }
+  bool ok() const { return device_ != VK_NULL_HANDLE; }
+  bool validated() const { return validated_; }
+  GpuDevice device() const { return {physical_, device_, family_, 0}; }
+  const std::string& name() const { return name_; }
+  std::vector<std::string> errors() {
+    std::lock_guard lock(validation_.mutex);
+    return validation_.errors;
+  }
+
+ private:
+  Validation validation_;
+  bool validated_ = false;
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  uint32_t family_ = UINT32_MAX;
+  std::string name_;
+};
+
+// ---- Frames ------------------------------------------------------------------
+
+// Scale 6 puts the edge of the pixel grid (~31 px from the gaze) inside the
+// 96x80 view: frames hold grid and Poisson points, and pixels at the screen
+// edge reach untraced points (the invalid-tap paths).
+std::shared_ptr<const foveation::ViewTables> small_tables(InterpMethod method, int k) {
+  static std::map<std::pair<InterpMethod, int>, std::shared_ptr<const foveation::ViewTables>> cache;
+  auto& slot = cache[{method, k}];
+  if (!slot) {
+    foveation::PointSetKey key;
+    key.display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
+    key.display.scale = 6.0;
+    key.seed = 1;
+    foveation::InterpOptions o;
+    o.method = method;
+    o.k = k;
+    foveation::Executor executor(2);
+    slot = foveation::load_view_tables(std::nullopt, key, o, executor);
+  }
+  return slot;
+}
+
+// Colour by screen position and eye, with sharp edges (an RBF overshoots them
+// without its clamp) and values above 1 (the encode's clamp).
+int32_t scene(void*, const FoveartRayBatch* batch) {
+  const float eye = float(batch->view->eye_index);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    const float x = batch->sample_px[i * 2], y = batch->sample_px[i * 2 + 1];
+    const bool check = (int(std::floor(x / 7.0f)) + int(std::floor(y / 5.0f))) % 2 == 0;
+    batch->out_rgb[i * 3 + 0] = check ? 1.2f : 0.05f;
+    batch->out_rgb[i * 3 + 1] = std::clamp(y / float(kH), 0.0f, 1.0f) * (0.5f + 0.5f * eye);
+    batch->out_rgb[i * 3 + 2] = 0.5f + 0.5f * std::sin(x * 0.4f + eye);
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+foveation::FrameRequest request(uint32_t eye, glm::vec2 gaze_px, uint64_t frame_index) {
+  foveation::FrameRequest r;
+  foveation::EyePose pose;
+  pose.position_m = {eye == 0 ? -0.032f : 0.032f, 1.6f, 0.0f};
+  r.view = foveation::make_eye_view(eye, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
+  r.frame_index = frame_index;
+  r.gaze_px = gaze_px;
+  return r;
+}
+
+struct Difference {
+  int max_step = 0;
+  std::size_t bytes_differing = 0;
+};
+
+Difference compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  Difference d;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+    const int step = std::abs(int(a[i]) - int(b[i]));
+    d.max_step = std::max(d.max_step, step);
+    d.bytes_differing += step != 0;
+  }
+  return d;
+}
+
+class GpuReconstruction : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { vulkan_ = std::make_unique<Vulkan>(); }
+  static void TearDownTestSuite() { vulkan_.reset(); }
+  void SetUp() override {
+    ASSERT_TRUE(vulkan_->ok()) << "no lavapipe device (mesa-vulkan-drivers)";
+    ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
+    std::string error;
+    gpu_ = GpuReconstructor::create(vulkan_->device(), &error);
+    ASSERT_NE(gpu_, nullptr) << error;
+  }
+  void TearDown() override {
+    gpu_.reset();
+    if (vulkan_->ok()) {
+      const auto errors = vulkan_->errors();
+      EXPECT_TRUE(errors.empty()) << errors.size() << " validation error(s), the first: " << errors.front();
+    }
+  }
+
+  // Renders `frames` frames of one eye with both paths; returns the largest
+  // difference over all frames. gaze(i) is frame i's gaze.
+  template <class GazeFn>
+  Difference run(InterpMethod method, int k, uint32_t eye, bool taa, int frames, GazeFn gaze,
+                 std::size_t max_chunk_bytes = 0, std::vector<std::vector<uint8_t>>* gpu_frames = nullptr,
+                 uint64_t* invalid_paths = nullptr) {
+    const auto tables = small_tables(method, k);
+    foveation::ViewSettings settings;
+    settings.taa = taa;
+    settings.new_jitter_each_frame = taa;
+    foveation::FoveatedView cpu_view(tables, settings);
+    settings.reconstruct_on_cpu = false;
+    foveation::FoveatedView gpu_view(tables, settings);
+    std::string error;
+    const auto gpu_tables = gpu_->upload_tables(tables, &error, max_chunk_bytes);
+    EXPECT_NE(gpu_tables, nullptr) << error;
+    auto gpu_eye = gpu_->create_eye(kW, kH, &error);
+    EXPECT_NE(gpu_eye, nullptr) << error;
+    if (gpu_tables == nullptr || gpu_eye == nullptr) return {255, 0};
+    foveation::Executor executor(2);
+    Difference worst;
+    for (int i = 0; i < frames; ++i) {
+      const auto req = request(eye, gaze(i), uint64_t(i + 1));
+      const auto cpu = cpu_view.render(req, scene, nullptr, executor);
+      const auto gpu = gpu_view.render(req, scene, nullptr, executor);
+      EXPECT_TRUE(cpu.ok() && gpu.ok());
+      EXPECT_EQ(cpu.taa_reset, gpu.taa_reset) << "frame " << i;
+      if (invalid_paths != nullptr) *invalid_paths += cpu.gather.renormalized + cpu.gather.nearest_valid + cpu.gather.fallback;
+      std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
+      foveation::encode_rgba8(cpu_view.image(), true, expected.data(), executor);
+
+      GpuFrame frame;
+      frame.tables = gpu_tables.get();
+      frame.colors = &gpu_view.colors();
+      frame.traced = gpu_view.traced();
+      frame.mapping = foveation::map_gaze(int(kW), int(kH), req.gaze_px);
+      frame.rbf_clamp = settings.rbf_clamp;
+      frame.taa_reset = !taa || gpu.taa_reset;
+      frame.taa = settings.taa_options;
+      frame.srgb = true;
+      EXPECT_TRUE(gpu_->submit_and_wait(
+          [&](VkCommandBuffer cb) { return gpu_eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error))
+          << error;
+      GpuStageTimes times;
+      EXPECT_TRUE(gpu_eye->stage_times(&times));  // lavapipe has timestamps
+      std::vector<uint8_t> actual;
+      EXPECT_TRUE(gpu_eye->read_rgba8(&actual, &error)) << error;
+      EXPECT_EQ(actual.size(), expected.size());
+      const Difference d = compare(expected, actual);
+      worst.max_step = std::max(worst.max_step, d.max_step);
+      worst.bytes_differing = std::max(worst.bytes_differing, d.bytes_differing);
+      if (gpu_frames != nullptr) gpu_frames->push_back(std::move(actual));
+    }
+    return worst;
+  }
+
+  static std::unique_ptr<Vulkan> vulkan_;
+  std::unique_ptr<GpuReconstructor> gpu_;
+};
+std::unique_ptr<Vulkan> GpuReconstruction::vulkan_;
+
+struct Case {
+  InterpMethod method;
+  int k;
+};
+
+class GpuMatchesCpu : public GpuReconstruction, public ::testing::WithParamInterface<Case> {};
+
+TEST_P(GpuMatchesCpu, WithinOneStepCentredAndCornerGazeBothEyes) {
+  const Case c = GetParam();
+  uint64_t invalid_paths = 0;
+  for (uint32_t eye : {0u, 1u}) {
+    for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(2, 3), glm::vec2(93, 77)}) {
+      const Difference d = run(c.method, c.k, eye, false, 1, [&](int) { return gaze; }, 0, nullptr, &invalid_paths);
+      EXPECT_LE(d.max_step, 1) << "eye " << eye << " gaze " << gaze.x << "," << gaze.y << ": " << d.bytes_differing
+                               << " bytes differ";
+    }
+  }
+  // The screen edges reached untraced points: the GPU's invalid-tap paths ran too.
+  EXPECT_GT(invalid_paths, 0u);
+}
+
+TEST_P(GpuMatchesCpu, TaaOver16FramesWithAGazeJump) {
+  const Case c = GetParam();
+  for (uint32_t eye : {0u, 1u}) {
+    // Drift at the centre, a jump to the corner at frame 8 (TAA restarts), drift there.
+    const Difference d = run(c.method, c.k, eye, true, 16, [](int i) {
+      return i < 8 ? glm::vec2(48.0f + float(i % 3), 40.0f) : glm::vec2(10.0f + float(i % 2), 8.0f);
+    });
+    EXPECT_LE(d.max_step, 1) << "eye " << eye << ": " << d.bytes_differing << " bytes differ";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, GpuMatchesCpu,
+                         ::testing::Values(Case{InterpMethod::nn, 1}, Case{InterpMethod::msm, 1},
+                                           Case{InterpMethod::msm, 5}, Case{InterpMethod::msm, 20},
+                                           Case{InterpMethod::rbf_mq, 1}, Case{InterpMethod::rbf_mq, 5},
+                                           Case{InterpMethod::rbf_mq, 20}),
+                         [](const auto& param_info) {
+                           const char* m = param_info.param.method == InterpMethod::nn    ? "nn"
+                                           : param_info.param.method == InterpMethod::msm ? "msm"
+                                                                                    : "rbf";
+                           return std::string(m) + "_k" + std::to_string(param_info.param.k);
+                         });
+
+// Tables cut into many small buffers give the same bits as one buffer.
+TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
+  for (Case c : {Case{InterpMethod::nn, 1}, Case{InterpMethod::rbf_mq, 20}}) {
+    GpuTablePack whole;
+    std::string error;
+    ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), 1u << 30, &whole, &error)) << error;
+    ASSERT_EQ(whole.chunks.size(), 1u);
+    const std::size_t small = whole.bytes() / 6;
+    std::vector<std::vector<uint8_t>> one, many;
+    auto gaze = [](int) { return glm::vec2(30, 50); };
+    run(c.method, c.k, 0, false, 1, gaze, 0, &one);
+    run(c.method, c.k, 0, false, 1, gaze, small, &many);
+    GpuTablePack cut;
+    ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), small, &cut, &error)) << error;
+    EXPECT_GE(cut.chunks.size(), 6u);
+    for (std::size_t i = 1; i < cut.chunks.size(); ++i) EXPECT_EQ(cut.chunks[i].first_row, cut.chunks[i - 1].end_row);
+    ASSERT_EQ(one.size(), 1u);
+    ASSERT_EQ(many.size(), 1u);
+    EXPECT_EQ(one[0], many[0]);
+  }
+}
+
+TEST(GpuTables, RefusesWhatTheShadersCannotRead) {
+  GpuTablePack pack;
+  std::string error;
+  // A tile row larger than the buffer limit.
+  EXPECT_FALSE(pack_gpu_tables(*small_tables(InterpMethod::msm, 5), 1024, &pack, &error));
+  EXPECT_NE(error.find("one row of 8x8 canvas tiles"), std::string::npos) << error;
+  // More than kMaxGpuChunks buffers.
+  GpuTablePack whole;
+  ASSERT_TRUE(pack_gpu_tables(*small_tables(InterpMethod::msm, 5), 1u << 30, &whole, &error));
+  EXPECT_FALSE(pack_gpu_tables(*small_tables(InterpMethod::msm, 5), whole.bytes() / 18, &pack, &error));
+  EXPECT_NE(error.find("more than 16 buffers"), std::string::npos) << error;
+  // Plain RBF keeps a per-pixel gain.
+  foveation::PointSetKey key;
+  key.display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
+  key.display.scale = 6.0;
+  foveation::InterpOptions plain;
+  plain.method = InterpMethod::rbf_mq;
+  plain.k = 5;
+  plain.constant_term = false;
+  foveation::Executor executor(2);
+  const auto tables = foveation::load_view_tables(std::nullopt, key, plain, executor);
+  EXPECT_FALSE(pack_gpu_tables(*tables, 1u << 30, &pack, &error));
+  EXPECT_NE(error.find("plain RBF"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace foveart::layer
