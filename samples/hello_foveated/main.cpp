@@ -71,6 +71,17 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
                     {"taa_ms", s.taaMs[e]},
                     {"upload_ms", s.uploadMs[e]}});
   }
+  const auto& rec = r.reconstruction;
+  nlohmann::json gpu_ms = nlohmann::json::array();
+  for (int e = 0; e < 2; ++e) {
+    gpu_ms.push_back({{"scatter", rec.gpuScatterMs[e]},
+                      {"gather", rec.gpuGatherMs[e]},
+                      {"taa", rec.gpuTaaMs[e]},
+                      {"encode", rec.gpuEncodeMs[e]}});
+  }
+  const char* path = rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART   ? "gpu"
+                     : rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART ? "cpu"
+                                                                               : "none";
   nlohmann::json views = nlohmann::json::array();
   for (const auto& v : r.views) {
     views.push_back({{"position_m", {v.pose.position.x, v.pose.position.y, v.pose.position.z}},
@@ -84,6 +95,9 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"frames_traced", s.framesTraced},
           {"views_fallback", s.framesFallback},
           {"eyes", eyes},
+          {"reconstruction", path},
+          {"gpu_stage_ms", gpu_ms},
+          {"gpu_fallbacks", rec.gpuFallbacks},
           {"gaze_age_ms", s.gazeAgeMs},
           {"gaze_source", gaze_source_name(s.gazeSource)},
           {"fallback_flags", s.fallbackFlags},
@@ -195,10 +209,11 @@ int main(int argc, char** argv) {
   if (json) {
     std::cout << stats_json(result).dump(2) << "\n";
   } else {
-    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back\n",
+    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; reconstruction on the %s\n",
                 static_cast<unsigned long long>(result.frames),
                 static_cast<unsigned long long>(result.stats.framesTraced),
-                static_cast<unsigned long long>(result.stats.framesFallback));
+                static_cast<unsigned long long>(result.stats.framesFallback),
+                stats_json(result)["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU");
   }
   return 0;
 }

@@ -75,7 +75,11 @@ class App {
     result.ok = true;
     result.frames = frames_;
     result.stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
+    result.reconstruction = xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(
+        XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
+    result.stats.next = &result.reconstruction;
     check(get_stats_(renderer_, &result.stats), "xrGetFoveatedRendererStatsFOVEART");
+    result.stats.next = nullptr;
     return result;
   }
 

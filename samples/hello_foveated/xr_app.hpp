@@ -47,6 +47,7 @@ struct AppResult {
   std::string error;
   uint64_t frames = 0;
   XrFoveatedRendererStatsFOVEART stats{};
+  XrFoveatedRendererReconstructionStatsFOVEART reconstruction{};  // chained into stats at the end
   // The last frame's submitted projection views (pose in the app's space, which
   // is the scene's; FOV; image size): what the layer traced them from.
   struct SubmittedView {

@@ -153,10 +153,13 @@ class LayerApp {
     XrFoveatedRendererStatsFOVEART main = xr<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
     XrFoveatedRendererInputStatsFOVEART input =
         xr<XrFoveatedRendererInputStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART);
+    XrFoveatedRendererReconstructionStatsFOVEART reconstruction =
+        xr<XrFoveatedRendererReconstructionStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
   };
   Stats stats(XrFoveatedRendererFOVEART renderer) {
     Stats s;
     s.main.next = &s.input;
+    s.input.next = &s.reconstruction;
     EXPECT_EQ(get_stats(renderer, &s.main), XR_SUCCESS);
     return s;
   }
@@ -335,6 +338,47 @@ TEST(LayerConformance, ViewSizeChangingEveryFrameKeepsTableMemoryBounded) {
   EXPECT_LE(s.input.tableSetsResident, 4u);
   EXPECT_EQ(s.input.tableSetsEvicted + s.input.tableSetsResident, std::uint64_t{kFrames});
   EXPECT_EQ(count_of(a.log(), "least recently used first"), 1u);
+}
+
+// The GPU path (lavapipe) through the lifetime events a session sees: a view
+// size change (new layer swapchain, GPU eye buffers and uploaded tables), the
+// renderer destroyed and created again, and a config that forbids the GPU.
+TEST(LayerConformance, GpuPathSurvivesResizeAndRendererRecreation) {
+  FOVEART_REQUIRE_RUNTIME();
+  IsolatedEnv env;
+  LayerApp a(env, config(env, R"(, "wait_for_tables": true, "reconstruction": "gpu")"));
+  a.start();
+  auto renderer = a.make_renderer();
+  for (const XrRect2Di rect : {kSmall, XrRect2Di{{0, 0}, {64, 48}}, kSmall}) {
+    ASSERT_EQ(a.frame(renderer, rect), XR_SUCCESS);
+    const auto s = a.stats(renderer);
+    EXPECT_EQ(s.reconstruction.path, XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART);
+    EXPECT_EQ(s.main.fallbackFlags & ~XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART, 0u);  // no gaze here
+  }
+  EXPECT_EQ(a.stats(renderer).main.framesFallback, 0u);
+  EXPECT_EQ(a.stats(renderer).main.framesTraced, 3u);
+  EXPECT_EQ(a.destroy(renderer), XR_SUCCESS);
+  renderer = a.make_renderer();
+  ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  const auto s = a.stats(renderer);
+  EXPECT_EQ(s.main.framesTraced, 1u);
+  EXPECT_EQ(s.reconstruction.path, XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART);
+  EXPECT_EQ(s.reconstruction.gpuFallbacks, 0u);
+  EXPECT_NE(a.log().find("reconstruction on the GPU"), std::string::npos) << a.log();
+}
+
+TEST(LayerConformance, ConfigCpuKeepsReconstructionOnTheCpu) {
+  FOVEART_REQUIRE_RUNTIME();
+  IsolatedEnv env;
+  LayerApp a(env, config(env, R"(, "wait_for_tables": true, "reconstruction": "cpu")"));
+  a.start();
+  const auto renderer = a.make_renderer();
+  ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  const auto s = a.stats(renderer);
+  EXPECT_EQ(s.main.framesTraced, 1u);
+  EXPECT_EQ(s.reconstruction.path, XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART);
+  EXPECT_EQ(s.reconstruction.gpuGatherMs[0], 0.0f);
+  EXPECT_NE(a.log().find("reconstruction on the CPU"), std::string::npos) << a.log();
 }
 
 TEST(LayerInputs, UnwritableCacheIsLoggedOnceAndCounted) {

@@ -1,7 +1,8 @@
 // The layer against the fovea tool: hello_foveated with a scripted gaze, through the
 // real loader, the layer and the simulated FOVE runtime; both eyes' captured
 // frames equal `fovea render --mode foveated` for the same scene, eye pose, FOV
-// and gaze pixel (TAA off, fixed seeds, same method and k).
+// and gaze pixel (TAA off, fixed seeds, same method and k): bit for bit when the
+// layer reconstructs on the CPU, within one 8-bit step on the GPU (lavapipe).
 #include <stb/stb_image.h>
 
 #include <algorithm>
@@ -93,6 +94,7 @@ struct Method {
   const char* layer;  // hello_foveated --interp
   const char* fovea;  // fovea render --method
   int k;              // the layer's neighbour count for it (NN: 4, as fovea render --k 4)
+  const char* reconstruction;  // the layer config's: "cpu" is bit-exact, "gpu" within one 8-bit step
 };
 
 class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
@@ -100,13 +102,13 @@ class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
   void SetUp() override {
     ASSERT_TRUE(have_runtime()) << "the simulated runtime is part of every build: its manifest is missing";
     env_ = std::make_unique<IsolatedEnv>();
-    configure_hello_foveated(*env_, 2);
+    configure_hello_foveated(*env_, 2, GetParam().reconstruction);
     IsolatedEnv::set("FOVEART_SIM_HEAD", "static");
   }
   std::unique_ptr<IsolatedEnv> env_;
 };
 
-TEST_P(LayerMatchesFoveaRender, BothEyesEqualFoveaRenderBitForBit) {
+TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
   const Method m = GetParam();
   // A constant scripted gaze, 3 min at 120 Hz (longer than a cold table build
   // under sanitizers on a busy machine): every frame foveates the same pixel.
@@ -129,6 +131,8 @@ TEST_P(LayerMatchesFoveaRender, BothEyesEqualFoveaRenderBitForBit) {
   ASSERT_EQ(stats["frames_traced"], 2) << app.output;
   ASSERT_EQ(stats["views_fallback"], 0);
   ASSERT_EQ(stats["fallback_flags"], 0) << "the scripted gaze must be used, not fixed foveation";
+  ASSERT_EQ(stats["reconstruction"], m.reconstruction) << app.output;
+  const bool on_gpu = std::string(m.reconstruction) == "gpu";
 
   // The pixel the layer foveated the captured (last) frame at, per eye, from its
   // stats. The first frame may come before the replay's first sample (lens
@@ -172,17 +176,24 @@ TEST_P(LayerMatchesFoveaRender, BothEyesEqualFoveaRenderBitForBit) {
     ASSERT_EQ(fovea_img.height, kHeight);
     const Diff d = compare(layer_img, fovea_img);
     RecordProperty(std::string(eyes[e]) + "_psnr_db", std::to_string(d.psnr_db));
-    std::printf("%s eye, %s: gaze (%g, %g) px, PSNR %.2f dB, max |diff| %d, %zu of %d pixels differ\n", eyes[e],
-                m.fovea, double(gaze_px.x), double(gaze_px.y), d.psnr_db, d.max_abs, d.pixels_differing,
-                kWidth * kHeight);
-    EXPECT_EQ(d.pixels_differing, 0u);
-    EXPECT_EQ(d.max_abs, 0);
+    std::printf("%s eye, %s on the %s: gaze (%g, %g) px, PSNR %.2f dB, max |diff| %d, %zu of %d pixels differ\n",
+                eyes[e], m.fovea, m.reconstruction, double(gaze_px.x), double(gaze_px.y), d.psnr_db, d.max_abs,
+                d.pixels_differing, kWidth * kHeight);
+    if (on_gpu) {
+      EXPECT_LE(d.max_abs, 1);  // the GPU's own float order and pow: one 8-bit step at most
+    } else {
+      EXPECT_EQ(d.pixels_differing, 0u);
+      EXPECT_EQ(d.max_abs, 0);
+    }
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, LayerMatchesFoveaRender,
-                         ::testing::Values(Method{"shepard", "msm", 5}, Method{"nearest", "nn", 4}),
-                         [](const ::testing::TestParamInfo<Method>& p) { return std::string(p.param.fovea); });
+                         ::testing::Values(Method{"shepard", "msm", 5, "cpu"}, Method{"nearest", "nn", 4, "cpu"},
+                                           Method{"shepard", "msm", 5, "gpu"}, Method{"nearest", "nn", 4, "gpu"}),
+                         [](const ::testing::TestParamInfo<Method>& p) {
+                           return std::string(p.param.fovea) + "_" + p.param.reconstruction;
+                         });
 
 }  // namespace
 }  // namespace foveart::layer::test

@@ -132,22 +132,29 @@ TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {
   EXPECT_GT(r.stats["gaze_lost_frames"].get<int>(), 0);
 }
 
-// The frame path itself (layer swapchains, upload, sync) under both validation
-// layers. Core validation must sit below FoveaRT: above it, it would reject the
-// extension's opt-in struct it does not know.
-TEST_F(HelloFoveated, FramePathUnderValidationLayersHasNoErrors) {
+// The frame path itself (layer swapchains, upload or GPU reconstruction, sync)
+// under both validation layers, Vulkan's with synchronization validation, on
+// the CPU and the GPU path. Core validation must sit below FoveaRT: above it,
+// it would reject the extension's opt-in struct it does not know.
+class HelloFoveatedValidated : public HelloFoveated, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(HelloFoveatedValidated, FramePathUnderValidationLayersHasNoErrors) {
+  configure_hello_foveated(*env_, 3, GetParam());
   IsolatedEnv::set("XR_API_LAYER_PATH", (explicit_layer_dir().string() + ":" + kSystemExplicitLayers).c_str());
   IsolatedEnv::set("XR_ENABLE_API_LAYERS", "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
   IsolatedEnv::set("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation");
   IsolatedEnv::set("VK_LAYER_PATH", "/usr/share/vulkan/explicit_layer.d");
+  IsolatedEnv::set("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT");
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   const auto r = launch({"--gaze", "none", "--no-explicit-layer"});
-  for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "XR_LOADER_DEBUG",
-                           "VK_LOADER_DEBUG"}) {
+  for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
+                           "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["reconstruction"], GetParam());
   for (const char* loaded : {"succeeded loading layer XR_APILAYER_LUNARG_core_validation",
                              "Insert instance layer \"VK_LAYER_KHRONOS_validation\""}) {
     EXPECT_NE(r.process.output.find(loaded), std::string::npos) << "missing: " << loaded;
@@ -155,9 +162,10 @@ TEST_F(HelloFoveated, FramePathUnderValidationLayersHasNoErrors) {
   for (const char* marker : {"Validation Error", "VUID-", "VALID_ERROR"}) {
     EXPECT_EQ(r.process.output.find(marker), std::string::npos) << marker << " in:\n" << r.process.output;
   }
-  ASSERT_TRUE(r.stats.is_object());
   EXPECT_EQ(r.stats["frames_traced"], 3);
 }
+
+INSTANTIATE_TEST_SUITE_P(Paths, HelloFoveatedValidated, ::testing::Values("cpu", "gpu"));
 
 // XR_EXT_eye_gaze_interaction as the gaze source. The simulated runtime plays
 // a trace of three fixations and a blink, 50 ms each; frames.csv has its gaze
