@@ -4,3 +4,10 @@
 add_executable(layer_bench ${CMAKE_CURRENT_SOURCE_DIR}/layer_bench.cpp)
 target_link_libraries(layer_bench PRIVATE foveart::foveation benchmark::benchmark)
 foveart_target_defaults(layer_bench)
+
+# Reconstruction + TAA per eye on the CPU and the GPU path in one run
+# (scripts/bench_gpu.sh; lavapipe when the machine has no GPU).
+# Not a Google Benchmark program: its own table of both paths (hence not *_bench).
+add_executable(reconstruction_paths ${CMAKE_CURRENT_SOURCE_DIR}/reconstruction_paths.cpp)
+target_link_libraries(reconstruction_paths PRIVATE foveart::layer_impl)
+foveart_target_defaults(reconstruction_paths)

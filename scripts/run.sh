@@ -36,16 +36,22 @@ cat out/pricelist/headline.txt
 echo "=== 3/3 hello_foveated on the simulated FOVE -> out/hello_foveated.json, out/frames/"
 rm -f out/frames/*.png
 # Layer config: wait for the tables on the first frame instead of showing the
-# app's fallback image while they build.
-cat > out/foveart_config.json <<JSON
-{ "wait_for_tables": true, "log_level": "info" }
-JSON
-FOVEART_CONFIG="$root/out/foveart_config.json" \
-XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
-XR_API_LAYER_PATH="$root/build/manifests/explicit" \
-VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
-FOVEART_SIM_FRAMES=${FOVEART_SIM_FRAMES:-24} FOVEART_SIM_CAPTURE_DIR="$root/out/frames" \
-FOVEART_SIM_CAPTURE_EVERY=8 \
-  build/bin/hello_foveated --scene default --interp shepard --k 5 --json > out/hello_foveated.json
+# app's fallback image while they build; reconstruct where "auto" decides (the
+# GPU when the app's Vulkan device is one; on lavapipe, a CPU device, the CPU).
+hello() {  # $1: the config's "reconstruction", $2: stats file, rest: hello_foveated arguments
+  local reconstruction=$1 stats=$2
+  shift 2
+  printf '{ "wait_for_tables": true, "log_level": "info", "reconstruction": "%s" }\n' "$reconstruction" \
+    > out/foveart_config.json
+  FOVEART_CONFIG="$root/out/foveart_config.json" \
+  XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
+  XR_API_LAYER_PATH="$root/build/manifests/explicit" \
+  VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
+    build/bin/hello_foveated --scene default --interp shepard --k 5 --json "$@" > "$stats"
+  jq -r '"reconstruction \"'"$reconstruction"'\" ran on the \(.reconstruction|ascii_upcase): frames traced \(.frames_traced)/\(.frames_submitted), fallbacks \(.views_fallback); layer overhead p50 \(.per_frame.layer_overhead_ms[0].p50|round) ms/eye; gaze age p50 \(.per_frame.gaze_age_ms.p50*10|round/10) ms, p99 \(.per_frame.gaze_age_ms.p99*10|round/10) ms" + (if .reconstruction == "gpu" then "; GPU per eye: gather \(.gpu_stage_ms[0].gather*100|round/100) ms, TAA \(.gpu_stage_ms[0].taa*100|round/100) ms, encode+copy \(.gpu_stage_ms[0].encode*100|round/100) ms" else "" end)' "$stats"
+}
+FOVEART_SIM_FRAMES=${FOVEART_SIM_FRAMES:-24} FOVEART_SIM_CAPTURE_DIR="$root/out/frames" FOVEART_SIM_CAPTURE_EVERY=8 \
+  hello auto out/hello_foveated.json
 echo "frames: $(ls out/frames/*.png 2>/dev/null | wc -l) PNGs in out/frames; stats in out/hello_foveated.json"
-jq -r '"frames traced \(.frames_traced)/\(.frames_submitted), fallbacks \(.views_fallback); layer overhead p50 \(.per_frame.layer_overhead_ms[0].p50|round) ms/eye; gaze age p50 \(.per_frame.gaze_age_ms.p50*10|round/10) ms, p99 \(.per_frame.gaze_age_ms.p99*10|round/10) ms"' out/hello_foveated.json
+# The GPU path (shaders/) on the same device, forced: what a headset's GPU runs.
+FOVEART_SIM_FRAMES=8 hello gpu out/hello_foveated_gpu.json

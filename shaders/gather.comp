@@ -64,15 +64,54 @@ vec3 nearest(uint c, ivec2 cp) {
   return fallback_rgb.rgb;
 }
 
-vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
+// Which block of its tile canvas pixel cp lies in (foveation/gather_layout.hpp),
+// and the block's first palette entry.
+struct Block {
+  uint index;  // within the chunk
+  uint local;  // within the tile (row-major blocks)
+};
+
+Block block_of(uint c, ivec2 tile, ivec2 cp) {
+  const int tiles_x = (canvas_px.x + 7) / 8;
+  const uint info = word(c, word(c, H_TILE_INFO) + uint((tile.y - int(word(c, H_FIRST_ROW))) * tiles_x + tile.x));
+  const int bs = 8 >> (info >> 30);
+  const int tw = min(8, canvas_px.x - tile.x * 8);
+  const ivec2 l = cp - tile * 8;
+  const uint local = uint((l.y / bs) * ((tw + bs - 1) / bs) + l.x / bs);
+  return Block((info & 0x3FFFFFFFu) + local, local);
+}
+
+// RbfClamp::block: per block of the tile, the range of its valid palette
+// colours, computed once per block by one invocation.
+shared vec3 block_lo[64];
+shared vec3 block_hi[64];
+
+void block_ranges(uint c, ivec2 tile) {
   const int tiles_x = (canvas_px.x + 7) / 8;
   const uint info = word(c, word(c, H_TILE_INFO) + uint((tile.y - int(word(c, H_FIRST_ROW))) * tiles_x + tile.x));
   const int bs = 8 >> (info >> 30);
   const int tw = min(8, canvas_px.x - tile.x * 8), th = min(8, canvas_px.y - tile.y * 8);
+  const uint blocks = uint(((tw + bs - 1) / bs) * ((th + bs - 1) / bs));
+  const uint local = gl_LocalInvocationIndex;
+  if (local < blocks) {
+    const uint b = (info & 0x3FFFFFFFu) + local;
+    const uint palette = word(c, H_PALETTE), bp = word(c, H_BLOCK_PALETTE);
+    vec3 lo = vec3(1.0 / 0.0), hi = vec3(-1.0 / 0.0);
+    for (uint i = word(c, bp + b); i < word(c, bp + b + 1u); ++i) {
+      const vec4 col = colors[word(c, palette + i)];
+      if (col.a != 0.0) lo = min(lo, col.rgb), hi = max(hi, col.rgb);
+    }
+    block_lo[local] = lo;
+    block_hi[local] = hi;
+  }
+}
+
+vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
+  const int tw = min(8, canvas_px.x - tile.x * 8), th = min(8, canvas_px.y - tile.y * 8);
   const ivec2 l = cp - tile * 8;
-  const uint block = (info & 0x3FFFFFFFu) + uint((l.y / bs) * ((tw + bs - 1) / bs) + l.x / bs);
+  const Block block = block_of(c, tile, cp);
   const uint palette = word(c, H_PALETTE);
-  const uint pal0 = word(c, word(c, H_BLOCK_PALETTE) + block);
+  const uint pal0 = word(c, word(c, H_BLOCK_PALETTE) + block.index);
   const uint ord = uint(tile.y * 8 * canvas_px.x + tile.x * 8 * th + l.y * tw + l.x) - word(c, H_ORDINAL_BASE);
   const uint slots = word(c, H_SLOTS), weights = word(c, H_WEIGHTS);
 
@@ -109,15 +148,7 @@ vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
   }
   vec3 v = acc / weight_sum;  // the weights reproduce constants: renormalise by their stored sum
   if ((flags & CLAMP_TAPS) != 0u) v = min(max(v, lo), hi);
-  if ((flags & CLAMP_BLOCK) != 0u) {
-    vec3 block_lo = vec3(1.0 / 0.0), block_hi = vec3(-1.0 / 0.0);
-    const uint pal1 = word(c, word(c, H_BLOCK_PALETTE) + block + 1u);
-    for (uint i = pal0; i < pal1; ++i) {
-      const vec4 col = colors[word(c, palette + i)];
-      if (col.a != 0.0) block_lo = min(block_lo, col.rgb), block_hi = max(block_hi, col.rgb);
-    }
-    v = min(max(v, block_lo), block_hi);
-  }
+  if ((flags & CLAMP_BLOCK) != 0u) v = min(max(v, block_lo[block.local]), block_hi[block.local]);
   return v;
 }
 
@@ -125,10 +156,14 @@ void main() {
   const ivec2 tile = first_tile + ivec2(gl_WorkGroupID.xy);
   const ivec2 cp = tile * 8 + ivec2(gl_LocalInvocationID.xy);
   const ivec2 sp = cp - canvas_offset_px;
-  if (any(lessThan(sp, ivec2(0))) || any(greaterThanEqual(sp, screen_px))) return;
   uint c = 0u;  // the chunk holding this tile row: the same for the whole workgroup
   for (uint i = 1u; i < chunk_count; ++i)
     if (uint(tile.y) >= chunk_first_row[i / 4u][i % 4u]) c = i;
+  if ((flags & CLAMP_BLOCK) != 0u) {  // workgroup-uniform: every invocation reaches the barrier
+    block_ranges(c, tile);
+    barrier();
+  }
+  if (any(lessThan(sp, ivec2(0))) || any(greaterThanEqual(sp, screen_px))) return;
   const vec3 rgb = (flags & WEIGHTED) != 0u ? weighted(c, tile, cp) : nearest(c, cp);
   current[sp.y * screen_px.x + sp.x] = vec4(rgb, 1.0);
 }

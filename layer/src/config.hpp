@@ -47,8 +47,9 @@ struct LayerConfig {
   std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
   bool wait_for_tables = false;          // block the first frame until the tables are ready
   // Where reconstruction, TAA and encode run: "auto" (the GPU when the app's
-  // device can run the shaders, else the CPU), "gpu" (the GPU; the CPU, with an
-  // error in the log, when it cannot) or "cpu".
+  // device can run the shaders and is not a CPU implementation such as
+  // lavapipe, else the CPU), "gpu" (the app's device whatever it is; the CPU,
+  // with an error in the log, when it cannot run the shaders) or "cpu".
   std::string reconstruction = "auto";
 };
 

@@ -328,13 +328,21 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
     log(LogLevel::Info, "foveated renderer: reconstruction on the CPU (config \"reconstruction\": \"cpu\")");
     return;
   }
+  VkPhysicalDeviceProperties device{};
+  vkGetPhysicalDeviceProperties(session->vk_physical_device, &device);
+  if (settings.reconstruction == "auto" && device.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+    // A CPU Vulkan device (lavapipe) runs the shaders on the cores the CPU path
+    // uses, 3-20x slower than its SIMD gather (docs/gpu.md): auto keeps the CPU.
+    log(LogLevel::Info, "foveated renderer: reconstruction on the CPU: ", device.deviceName,
+        " is a CPU device (config \"reconstruction\": \"gpu\" uses it anyway)");
+    return;
+  }
   std::string why;
   gpu = GpuReconstructor::create(
       GpuDevice{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
                 session->vk_queue_index},
       &why);
-  VkPhysicalDeviceProperties properties{};
-  vkGetPhysicalDeviceProperties(session->vk_physical_device, &properties);
+  const auto& properties = device;
   if (gpu != nullptr) {
     log(LogLevel::Info, "foveated renderer: reconstruction on the GPU (", properties.deviceName, ", config \"",
         settings.reconstruction, "\")");

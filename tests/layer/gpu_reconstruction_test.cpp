@@ -23,6 +23,7 @@
 #include "foveation/rgba8.hpp"
 #include "gpu_reconstruction.hpp"
 #include "gpu_tables.hpp"
+#include "headless_vulkan.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -31,118 +32,6 @@ using foveation::InterpMethod;
 
 constexpr uint32_t kW = 96;
 constexpr uint32_t kH = 80;
-
-// ---- A Vulkan device on lavapipe, validated ---------------------------------------
-
-struct Validation {
-  std::mutex mutex;
-  std::vector<std::string> errors;
-};
-
-VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                          VkDebugUtilsMessageTypeFlagsEXT,
-                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
-  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
-    auto* v = static_cast<Validation*>(user);
-    std::lock_guard lock(v->mutex);
-    v->errors.emplace_back(data->pMessage != nullptr ? data->pMessage : "?");
-  }
-  return VK_FALSE;
-}
-
-bool has_layer(const char* name) {
-  uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
-  std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
-  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
-}
-
-class Vulkan {
- public:
-  Vulkan() {
-    validated_ = has_layer("VK_LAYER_KHRONOS_validation");
-    VkApplicationInfo app{};
-    app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
-    app.pApplicationName = "gpu_reconstruction_test";
-    app.apiVersion = VK_API_VERSION_1_1;
-    const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
-    const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
-    VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
-    VkValidationFeaturesEXT features{};
-    features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
-    features.enabledValidationFeatureCount = 1;
-    features.pEnabledValidationFeatures = enables;
-    VkDebugUtilsMessengerCreateInfoEXT messenger{};
-    messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-    messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-    messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
-    messenger.pfnUserCallback = on_message;
-    messenger.pUserData = &validation_;
-    features.pNext = &messenger;
-    VkInstanceCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
-    info.pApplicationInfo = &app;
-    if (validated_) {
-      info.pNext = &features;
-      info.enabledLayerCount = 1;
-      info.ppEnabledLayerNames = layers;
-      info.enabledExtensionCount = 1;
-      info.ppEnabledExtensionNames = extensions;
-    }
-    if (vkCreateInstance(&info, nullptr, &instance_) != VK_SUCCESS) return;
-    uint32_t count = 0;
-    vkEnumeratePhysicalDevices(instance_, &count, nullptr);
-    std::vector<VkPhysicalDevice> devices(count);
-    vkEnumeratePhysicalDevices(instance_, &count, devices.data());
-    for (VkPhysicalDevice d : devices) {  // lavapipe: the CPU device every CI machine has
-      VkPhysicalDeviceProperties p{};
-      vkGetPhysicalDeviceProperties(d, &p);
-      if (p.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) physical_ = d, name_ = p.deviceName;
-    }
-    if (physical_ == VK_NULL_HANDLE) return;
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
-    std::vector<VkQueueFamilyProperties> families(count);
-    vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, families.data());
-    for (uint32_t i = 0; i < count && family_ == UINT32_MAX; ++i)
-      if (families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) family_ = i;
-    const float priority = 1.0f;
-    VkDeviceQueueCreateInfo queue{};
-    queue.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
-    queue.queueFamilyIndex = family_;
-    queue.queueCount = 1;
-    queue.pQueuePriorities = &priority;
-    VkPhysicalDeviceFeatures enabled{};
-    enabled.shaderStorageBufferArrayDynamicIndexing = VK_TRUE;
-    VkDeviceCreateInfo device_info{};
-    device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-    device_info.queueCreateInfoCount = 1;
-    device_info.pQueueCreateInfos = &queue;
-    device_info.pEnabledFeatures = &enabled;
-    if (vkCreateDevice(physical_, &device_info, nullptr, &device_) != VK_SUCCESS) device_ = VK_NULL_HANDLE;
-  }
-  ~Vulkan() {
-    if (device_ != VK_NULL_HANDLE) vkDestroyDevice(device_, nullptr);
-    if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
-  }
-  bool ok() const { return device_ != VK_NULL_HANDLE; }
-  bool validated() const { return validated_; }
-  GpuDevice device() const { return {physical_, device_, family_, 0}; }
-  const std::string& name() const { return name_; }
-  std::vector<std::string> errors() {
-    std::lock_guard lock(validation_.mutex);
-    return validation_.errors;
-  }
-
- private:
-  Validation validation_;
-  bool validated_ = false;
-  VkInstance instance_ = VK_NULL_HANDLE;
-  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
-  VkDevice device_ = VK_NULL_HANDLE;
-  uint32_t family_ = UINT32_MAX;
-  std::string name_;
-};
 
 // ---- Frames ------------------------------------------------------------------
 
@@ -207,7 +96,7 @@ Difference compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b)
 
 class GpuReconstruction : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { vulkan_ = std::make_unique<Vulkan>(); }
+  static void SetUpTestSuite() { vulkan_ = std::make_unique<HeadlessVulkan>(VK_PHYSICAL_DEVICE_TYPE_CPU, true); }
   static void TearDownTestSuite() { vulkan_.reset(); }
   void SetUp() override {
     ASSERT_TRUE(vulkan_->ok()) << "no lavapipe device (mesa-vulkan-drivers)";
@@ -280,10 +169,10 @@ class GpuReconstruction : public ::testing::Test {
     return worst;
   }
 
-  static std::unique_ptr<Vulkan> vulkan_;
+  static std::unique_ptr<HeadlessVulkan> vulkan_;
   std::unique_ptr<GpuReconstructor> gpu_;
 };
-std::unique_ptr<Vulkan> GpuReconstruction::vulkan_;
+std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkan_;
 
 struct Case {
   InterpMethod method;

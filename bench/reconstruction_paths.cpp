@@ -1,0 +1,196 @@
+// Per-eye reconstruction + TAA on both paths in one run (docs/gpu.md): the
+// same frames of foveation::FoveatedView, reconstructed and accumulated by
+// foveation on the CPU (all cores, the layer's executor) and by the compute
+// shaders (layer/src/gpu_reconstruction) on a Vulkan device: a discrete or
+// integrated GPU when there is one, else lavapipe (a CPU: there the ratio is
+// what matters, not the absolute time). Median over --frames frames after one
+// warm-up; GPU time from timestamps, CPU time from the wall clock.
+//   reconstruction_paths [--size W H] [--k 5 20] [--frames N] [--methods nn,msm,rbf] [--scale S]
+// Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+
+#include "foveation/display_model.hpp"
+#include "foveation/foveated_view.hpp"
+#include "foveation/rgba8.hpp"
+#include "gpu_reconstruction.hpp"
+#include "headless_vulkan.hpp"
+
+namespace {
+
+namespace fv = foveart::foveation;
+using foveart::layer::GpuFrame;
+using foveart::layer::GpuStageTimes;
+
+int32_t gradient_engine(void*, const FoveartRayBatch* batch) {
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    batch->out_rgb[i * 3 + 0] = 0.5f + 0.4f * std::sin(batch->sample_px[i * 2] * 0.05f);
+    batch->out_rgb[i * 3 + 1] = 0.5f + 0.4f * std::cos(batch->sample_px[i * 2 + 1] * 0.07f);
+    batch->out_rgb[i * 3 + 2] = 0.3f;
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<int> size{1280, 1440};
+  std::vector<int> ks{5, 20};
+  std::string method_list = "nn,msm,rbf";
+  int frames = 20;
+  double scale = 1.0;
+  // --size W H | --k K... | --frames N | --methods LIST | --scale S
+  auto usage = [] {
+    std::fprintf(stderr, "usage: reconstruction_paths [--size W H] [--k K...] [--frames N] [--methods nn,msm,rbf] "
+                         "[--scale S]\n");
+    return 2;
+  };
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto number = [&](double lo, double hi, double* out) {
+      char* end = nullptr;
+      const double v = i + 1 < argc ? std::strtod(argv[i + 1], &end) : 0.0;
+      if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || !(v >= lo && v <= hi)) return false;
+      *out = v;
+      ++i;
+      return true;
+    };
+    double v = 0;
+    if (arg == "--size") {
+      size.clear();
+      for (int n = 0; n < 2; ++n) {
+        if (!number(8, 8192, &v)) return usage();
+        size.push_back(int(v));
+      }
+    } else if (arg == "--k") {
+      ks.clear();
+      while (i + 1 < argc && argv[i + 1][0] != '-') {
+        if (!number(1, 20, &v)) return usage();
+        ks.push_back(int(v));
+      }
+      if (ks.empty()) return usage();
+    } else if (arg == "--frames") {
+      if (!number(1, 10000, &v)) return usage();
+      frames = int(v);
+    } else if (arg == "--scale") {
+      if (!number(0.25, 16.0, &scale)) return usage();
+    } else if (arg == "--methods" && i + 1 < argc) {
+      method_list = argv[++i];
+    } else {
+      return usage();
+    }
+  }
+  std::vector<fv::InterpMethod> methods;
+  for (std::size_t start = 0; start <= method_list.size();) {
+    const std::size_t comma = std::min(method_list.find(',', start), method_list.size());
+    const std::string name = method_list.substr(start, comma - start);
+    if (name == "nn" || name == "msm" || name == "rbf") {
+      methods.push_back(name == "nn" ? fv::InterpMethod::nn : name == "msm" ? fv::InterpMethod::msm : fv::InterpMethod::rbf_mq);
+    } else {
+      std::fprintf(stderr, "reconstruction_paths: --methods: '%s' is not nn, msm or rbf\n", name.c_str());
+      return 2;
+    }
+    start = comma + 1;
+  }
+
+  foveart::layer::HeadlessVulkan vulkan(VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, false);
+  if (!vulkan.ok()) {
+    std::fprintf(stderr, "reconstruction_paths: no Vulkan device with a compute queue\n");
+    return 1;
+  }
+  std::string error;
+  auto gpu = foveart::layer::GpuReconstructor::create(vulkan.device(), &error);
+  if (gpu == nullptr) {
+    std::fprintf(stderr, "reconstruction_paths: %s cannot run the shaders: %s\n", vulkan.name().c_str(), error.c_str());
+    return 1;
+  }
+  const char* env_cache = std::getenv("FOVEART_BENCH_CACHE");
+  const std::filesystem::path cache = env_cache != nullptr ? env_cache : "/tmp/foveart_bench_cache";
+  fv::Executor executor;
+  std::printf("reconstruction_paths: %dx%d per eye, scale %g, TAA on, %d frames; GPU: %s; CPU: %u threads\n", size[0], size[1],
+              scale, frames, vulkan.name().c_str(), executor.thread_count());
+  std::printf("%-6s %3s | %12s %12s | %12s %12s %12s | %8s | gpu stages: scatter gather taa encode (ms)\n",
+              "method", "k", "cpu recon ms", "cpu +enc ms", "gpu recon ms", "gpu +enc ms", "gpu wall ms", "cpu/gpu");
+  for (const fv::InterpMethod method : methods) {
+    const char* m = method == fv::InterpMethod::nn ? "nn" : method == fv::InterpMethod::msm ? "msm" : "rbf";
+    for (int k : (method == fv::InterpMethod::nn ? std::vector<int>{1} : ks)) {
+      fv::PointSetKey key;
+      key.display = fv::DisplayModel::from_fov(size[0], size[1], 90.0);
+      key.display.scale = scale;
+      fv::InterpOptions o;
+      o.method = method;
+      o.k = k;
+      std::fprintf(stderr, "reconstruction_paths: tables for %s k %d (cached in %s) ...\n", m, k, cache.c_str());
+      const auto tables = fv::load_view_tables(cache, key, o, executor);
+      fv::ViewSettings settings;
+      settings.taa = true;
+      settings.new_jitter_each_frame = true;
+      fv::FoveatedView cpu_view(tables, settings);
+      settings.reconstruct_on_cpu = false;
+      fv::FoveatedView gpu_view(tables, settings);
+      const auto gpu_tables = gpu->upload_tables(tables, &error);
+      auto eye = gpu_tables ? gpu->create_eye(uint32_t(size[0]), uint32_t(size[1]), &error) : nullptr;
+      if (eye == nullptr) {
+        std::fprintf(stderr, "reconstruction_paths: %s k %d: %s\n", m, k, error.c_str());
+        return 1;
+      }
+      std::vector<uint8_t> rgba(static_cast<std::size_t>(size[0]) * static_cast<std::size_t>(size[1]) * 4);
+      std::vector<double> cpu_ms, cpu_enc_ms, gpu_ms, gpu_enc_ms, gpu_wall_ms, stage[4];
+      for (int i = 0; i <= frames; ++i) {  // frame 0 warms up (and resets TAA)
+        fv::FrameRequest r;
+        r.view = fv::make_eye_view(0, uint32_t(size[0]), uint32_t(size[1]), fv::EyePose{}, -0.785f, 0.785f, 0.8f,
+                                   -0.8f);
+        r.gaze_px = {float(size[0] / 2 + i % 3), float(size[1] / 2)};
+        r.frame_index = uint64_t(i + 1);
+        const auto c = cpu_view.render(r, gradient_engine, nullptr, executor);
+        const auto t0 = std::chrono::steady_clock::now();
+        fv::encode_rgba8(cpu_view.image(), true, rgba.data(), executor);
+        const double enc = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const auto g = gpu_view.render(r, gradient_engine, nullptr, executor);
+        GpuFrame f;
+        f.tables = gpu_tables.get();
+        f.colors = &gpu_view.colors();
+        f.traced = gpu_view.traced();
+        f.mapping = fv::map_gaze(size[0], size[1], r.gaze_px);
+        f.taa_reset = g.taa_reset;
+        const auto t1 = std::chrono::steady_clock::now();
+        const bool ok = gpu->submit_and_wait(
+            [&](VkCommandBuffer cb) { return eye->record(cb, f, VK_NULL_HANDLE, executor, &error); }, &error);
+        const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+        GpuStageTimes times;
+        if (!ok || !c.ok() || !g.ok() || !eye->stage_times(&times)) {
+          std::fprintf(stderr, "reconstruction_paths: frame %d failed: %s\n", i, error.c_str());
+          return 1;
+        }
+        if (i == 0) continue;
+        cpu_ms.push_back(c.reconstruct_ms + c.taa_ms);
+        cpu_enc_ms.push_back(c.reconstruct_ms + c.taa_ms + enc);
+        gpu_ms.push_back(double(times.scatter_ms + times.gather_ms + times.taa_ms));
+        gpu_enc_ms.push_back(double(times.total_ms()));
+        gpu_wall_ms.push_back(wall);
+        stage[0].push_back(double(times.scatter_ms));
+        stage[1].push_back(double(times.gather_ms));
+        stage[2].push_back(double(times.taa_ms));
+        stage[3].push_back(double(times.encode_ms));
+      }
+      std::printf("%-6s %3d | %12.2f %12.2f | %12.2f %12.2f %12.2f | %7.2fx | %.2f %.2f %.2f %.2f\n", m, k,
+                  median(cpu_ms), median(cpu_enc_ms), median(gpu_ms), median(gpu_enc_ms), median(gpu_wall_ms),
+                  median(cpu_enc_ms) / median(gpu_enc_ms), median(stage[0]), median(stage[1]), median(stage[2]),
+                  median(stage[3]));
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
