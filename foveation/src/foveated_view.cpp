@@ -191,7 +191,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     if (settings_.taa) {
       if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
       result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px,
-                                          request.saccade);
+                                          request.saccade || request.blink);
       last_view_ = view;
     }
     return result;
@@ -211,7 +211,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     // No reprojection yet: a new pose, frustum or size restarts the history
     // (a gaze jump or a saccade does inside the accumulator).
     if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
-    taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, request.saccade);
+    taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, request.saccade || request.blink);
     result.taa_reset = taa_.last_was_reset();
     last_view_ = view;
   }

@@ -1,6 +1,8 @@
 #include "foveation/ray_batch.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace foveart::foveation {
 
@@ -9,6 +11,7 @@ void RayBatch::resize(std::size_t ray_count) {
   directions_.resize(3 * ray_count);
   sample_px_.resize(2 * ray_count);
   rgb_.resize(3 * ray_count);
+  depth_m_.resize(ray_count);
   point_index_.resize(ray_count);
 }
 
@@ -25,6 +28,8 @@ std::int32_t RayBatch::trace(FoveartTraceRaysFn fn, void* user_data, const Fovea
   batch.sample_px = sample_px_.data();
   batch.point_index = point_index_.data();
   batch.out_rgb = rgb_.data();
+  batch.out_depth_m = depth_m_.data();
+  std::fill_n(depth_m_.begin(), ray_count, std::numeric_limits<float>::quiet_NaN());  // "not filled"
   try {
     return fn(user_data, &batch);
   } catch (...) {  // ray_trace.h forbids it; an engine that lets one through fails this batch only

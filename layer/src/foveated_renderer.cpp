@@ -457,6 +457,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
 
   request.frame_index = frame_index;
   request.saccade = frame_gaze.valid && frame_gaze.saccade;
+  request.blink = frame_gaze.valid && frame_gaze.blink;
   const foveation::EyeFrustum frustum = foveation::eye_frustum(request.view);
   glm::vec2 gaze_px{};
   foveation::project_direction(frustum, foveation::EyePose{}, glm::vec3(0.0f, 0.0f, -1.0f), &gaze_px);  // lens centre
@@ -494,6 +495,8 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   stats->interpolateMs[e] = static_cast<float>(result.reconstruct_ms);
   stats->taaMs[e] = static_cast<float>(result.taa_ms);
   stats->callbackFailures += result.failed_batches;
+  reconstruction.taa_reset_last_frame[e] = result.taa_reset;
+  reconstruction.taa_resets += result.taa_reset ? 1 : 0;
   stats->invalidColours += result.invalid_colours;
   if (!result.ok()) {
     stats->fallbackFlags |= fallback_flag(result.failure);
@@ -601,7 +604,9 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
       rec->gpuGatherMs[e] = reconstruction_.gpu_gather_ms[e];
       rec->gpuTaaMs[e] = reconstruction_.gpu_taa_ms[e];
       rec->gpuEncodeMs[e] = reconstruction_.gpu_encode_ms[e];
+      rec->taaResetLastFrame[e] = reconstruction_.taa_reset_last_frame[e] ? XR_TRUE : XR_FALSE;
     }
+    rec->taaResets = reconstruction_.taa_resets;
   }
 }
 

@@ -86,6 +86,7 @@ class ProviderGaze final : public GazeSource {
     const auto newest = provider_->latest();
     out.age_ms = newest ? static_cast<float>(static_cast<double>(now_ns - newest->host_time_ns) * 1e-6) : 0.0f;
     out.saccade = sample->in_saccade;
+    out.blink = sample->held;
     out.valid = true;
     return out;
   }

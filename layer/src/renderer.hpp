@@ -60,6 +60,8 @@ struct ReconstructionStats {
   float gpu_gather_ms[2] = {0, 0};
   float gpu_taa_ms[2] = {0, 0};
   float gpu_encode_ms[2] = {0, 0};
+  bool taa_reset_last_frame[2] = {false, false};
+  uint64_t taa_resets = 0;
 };
 
 // One foveated renderer of a session: its executor (worker_threads threads,

@@ -66,12 +66,19 @@ std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::file
                                                    std::optional<WeightPrecision> precision = std::nullopt,
                                                    const ProgressFn& progress = {}, const LogFn& log = {});
 
+// What the TAA history does when the view moves (thesis 6.1 had a static view).
+enum class TaaHistory : std::uint8_t {
+  restart_on_view_change,  // any new pose or frustum restarts the history (FoveaRT before reprojection)
+  reproject,               // the history follows the head: rotation, and parallax from the engine's depth
+};
+
 struct ViewSettings {
   int rays_per_point = 1;            // jittered rays in each point's disc, averaged (thesis 4.2)
   std::uint64_t sample_seed = 1;     // where in its disc each ray goes
   bool new_jitter_each_frame = false;  // sample_seed + frame_index: TAA then converges over frames
   bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
   TaaOptions taa_options;
+  TaaHistory taa_history = TaaHistory::reproject;
   RbfClamp rbf_clamp = RbfClamp::block;
   // false: render() stops after the colours and the TAA reset decision; the
   // caller reconstructs from colors() and traced() (the layer's GPU path).
@@ -83,6 +90,7 @@ struct FrameRequest {
   glm::vec2 gaze_px{};         // foveation centre in this view's pixels (rounded to whole pixels)
   std::uint64_t frame_index = 0;
   bool saccade = false;        // the gaze provider saw a saccade: the TAA history restarts
+  bool blink = false;          // the eye is closed (the provider holds its last gaze): the history restarts
 };
 
 enum class FrameFailure : std::uint8_t {

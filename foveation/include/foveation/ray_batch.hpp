@@ -43,11 +43,13 @@ class RayBatch {
                      std::uint32_t ray_count);
 
   glm::vec3 rgb(std::size_t i) const { return glm::vec3(rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]); }
+  // Distance to the hit along ray i (+inf: a miss); NaN when the engine returns no depth.
+  float depth_m(std::size_t i) const { return depth_m_[i]; }
   // Colour components of rays [0, ray_count) that are NaN, infinite or negative.
   std::uint64_t invalid_components(std::uint32_t ray_count) const;
 
  private:
-  std::vector<float> origins_m_, directions_, sample_px_, rgb_;
+  std::vector<float> origins_m_, directions_, sample_px_, rgb_, depth_m_;
   std::vector<std::uint32_t> point_index_;
 };
 

@@ -23,6 +23,7 @@
 #ifndef FOVEATION_RAY_TRACE_H
 #define FOVEATION_RAY_TRACE_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -72,7 +73,16 @@ typedef struct FoveartRayBatch {
   const float* sample_px;    /* xy per ray, screen position of the ray in the eye image */
   const uint32_t* point_index; /* per ray: the point (of the point set) it belongs to */
   float* out_rgb;            /* rgb per ray, written by the engine */
+  /* Optional, when size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH: distance in metres
+   * along each ray to what it hit (+INFINITY for a miss). FoveaRT fills it with
+   * NaN before the call; an engine that leaves it so gets rotation-only TAA
+   * reprojection, one that fills it gets parallax-correct reprojection. */
+  float* out_depth_m;
 } FoveartRayBatch;
+
+/* The size of a batch that carries out_depth_m (engines built against an older
+ * header see a larger size and simply never write it). */
+#define FOVEART_RAY_BATCH_SIZE_WITH_DEPTH (offsetof(FoveartRayBatch, out_depth_m) + sizeof(float*))
 
 /* The engine callback. user_data is what the engine registered with it. */
 typedef int32_t (*FoveartTraceRaysFn)(void* user_data, const FoveartRayBatch* batch);

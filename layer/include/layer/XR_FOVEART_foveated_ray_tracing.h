@@ -205,6 +205,8 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   float gpuGatherMs[2];
   float gpuTaaMs[2];
   float gpuEncodeMs[2];
+  XrBool32 taaResetLastFrame[2]; /* the TAA history restarted in the last frame (saccade, blink, new size) */
+  uint64_t taaResets;            /* history restarts since the renderer was created, both eyes */
 } XrFoveatedRendererReconstructionStatsFOVEART;
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
