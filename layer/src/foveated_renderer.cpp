@@ -198,6 +198,8 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
   stats->gazeAgeMs = frame_gaze.valid ? frame_gaze.age_ms : 0.0f;
   stats->fallbackFlags = frame_gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
   if (!frame_gaze.valid) ++stats->gazeLostFrames;
+  reconstruction.gaze_saccade_last_frame = frame_gaze.valid && frame_gaze.saccade;
+  reconstruction.gaze_blink_last_frame = frame_gaze.valid && frame_gaze.blink;
 
   uint32_t rewritten = 0;
   const uint32_t eye_count = std::min<uint32_t>(layer.viewCount, 2);
@@ -607,6 +609,8 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
       rec->taaResetLastFrame[e] = reconstruction_.taa_reset_last_frame[e] ? XR_TRUE : XR_FALSE;
     }
     rec->taaResets = reconstruction_.taa_resets;
+    rec->gazeSaccadeLastFrame = reconstruction_.gaze_saccade_last_frame ? XR_TRUE : XR_FALSE;
+    rec->gazeBlinkLastFrame = reconstruction_.gaze_blink_last_frame ? XR_TRUE : XR_FALSE;
   }
 }
 

@@ -62,6 +62,8 @@ struct ReconstructionStats {
   float gpu_encode_ms[2] = {0, 0};
   bool taa_reset_last_frame[2] = {false, false};
   uint64_t taa_resets = 0;
+  bool gaze_saccade_last_frame = false;
+  bool gaze_blink_last_frame = false;
 };
 
 // One foveated renderer of a session: its executor (worker_threads threads,

@@ -207,6 +207,8 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   float gpuEncodeMs[2];
   XrBool32 taaResetLastFrame[2]; /* the TAA history restarted in the last frame (saccade, blink, new size) */
   uint64_t taaResets;            /* history restarts since the renderer was created, both eyes */
+  XrBool32 gazeSaccadeLastFrame; /* the gaze provider flagged a saccade for the last frame */
+  XrBool32 gazeBlinkLastFrame;   /* ... or a blink (held gaze) */
 } XrFoveatedRendererReconstructionStatsFOVEART;
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
