@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
 
 #include "foveation/interpolation_cache.hpp"
 #include "foveation/ray_samples.hpp"
+#include "foveation/taa_reprojection.hpp"
 #include "foveation/visible_points.hpp"
 
 namespace foveart::foveation {
@@ -68,6 +70,7 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
   if (tables_ == nullptr) throw std::invalid_argument("foveated view: no tables");
   if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
   colors_.rgba.assign(tables_->points.size(), Rgba{});
+  point_depth_m_.assign(tables_->points.size(), NAN);
   colors_.invalid = colors_.rgba.size();
   traced_.resize((tables_->points.size() + kChunkPoints - 1) / kChunkPoints);
 }
@@ -120,10 +123,11 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   const EyePose pose = eye_pose(view);
   const VisibleRegion visible(mapping, points.visible_margin_px);
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
+  std::atomic<bool> any_depth{false};
   const float inv_spp = 1.0f / float(spp);
   executor.parallel_for(traced_.size(), [&](std::size_t chunk, unsigned worker) {
     std::vector<std::uint32_t>& traced = traced_[chunk];
-    for (std::uint32_t id : traced) colors_.rgba[id] = Rgba{};
+    for (std::uint32_t id : traced) colors_.rgba[id] = Rgba{}, point_depth_m_[id] = NAN;
     traced.clear();
     RayBatch& batch = batches_[worker];
     std::vector<std::uint32_t>& ids = batch_points_[worker];
@@ -139,9 +143,16 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       } else {
         for (std::uint32_t j = 0, r = 0; j < n; ++j) {
           glm::vec3 sum(0.0f);
-          for (std::uint32_t s = 0; s < spp; ++s, ++r) sum += batch.rgb(r);
+          float nearest_m = NAN;  // the point's depth: its nearest hit (NaN: the engine gave none)
+          for (std::uint32_t s = 0; s < spp; ++s, ++r) {
+            sum += batch.rgb(r);
+            const float d = batch.depth_m(r);
+            if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
+          }
           sum *= inv_spp;
           colors_.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
+          point_depth_m_[ids[j]] = nearest_m;
+          if (!std::isnan(nearest_m)) any_depth.store(true, std::memory_order_relaxed);
           traced.push_back(ids[j]);
         }
       }
@@ -207,16 +218,60 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
 
   const auto t_taa = Clock::now();
   taa_output_ = nullptr;
-  if (settings_.taa) {
-    // No reprojection yet: a new pose, frustum or size restarts the history
-    // (a gaze jump or a saccade does inside the accumulator).
+  const bool restart = request.saccade || request.blink;
+  if (settings_.taa && settings_.taa_history == TaaHistory::restart_on_view_change) {
+    // A new pose, frustum or size restarts the history (a gaze jump or a saccade does inside the accumulator).
     if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
-    taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, request.saccade || request.blink);
+    taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, restart);
+  } else if (settings_.taa) {
+    // The history follows the head: reprojected into this view, by depth where the engine gave one.
+    if (any_depth.load()) {
+      pixel_depths(mapping, executor);
+    } else {
+      depth_px_m_.clear();
+    }
+    if (last_view_ && !same_view(*last_view_, view) && taa_.history().width_px > 0) {
+      const ReprojectionStats r = reproject_history(taa_.history(), history_depth_px_m_, *last_view_, view,
+                                                    depth_px_m_, warped_, warped_valid_, executor);
+      result.history_off_screen = r.off_screen;
+      result.history_disoccluded = r.disoccluded;
+      result.history_with_depth = r.with_depth;
+      taa_output_ = &taa_.accumulate_reprojected(gathered_, warped_, warped_valid_, mapping.gaze_px, executor, restart);
+    } else {
+      taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, restart);
+    }
+    std::swap(history_depth_px_m_, depth_px_m_);
+  }
+  if (settings_.taa) {
     result.taa_reset = taa_.last_was_reset();
     last_view_ = view;
   }
   result.taa_ms = ms_since(t_taa);
   return result;
+}
+
+void FoveatedView::pixel_depths(const GazeMapping& mapping, Executor& executor) {
+  // A pixel's depth is its nearest traced point's (neighbour order); NaN when none is in reach.
+  const NeighborTable& nt = tables_->neighbors;
+  const int w = mapping.screen_width_px, h = mapping.screen_height_px;
+  depth_px_m_.resize(std::size_t(w) * std::size_t(h));
+  executor.parallel_chunks(std::size_t(h), 16, [&](std::size_t y0, std::size_t y1, unsigned) {
+    for (std::size_t y = y0; y < y1; ++y) {
+      const std::size_t row = (y + std::size_t(mapping.canvas_from_screen_y_px)) * std::size_t(nt.width_px()) +
+                              std::size_t(mapping.canvas_from_screen_x_px);
+      for (std::size_t x = 0; x < std::size_t(w); ++x) {
+        float depth = NAN;
+        for (int j = 0; j < nt.k(); ++j) {
+          const std::uint32_t p = nt.neighbor(row + x, j);
+          if (colors_.rgba[p].a != 0.0f) {
+            depth = point_depth_m_[p];
+            break;
+          }
+        }
+        depth_px_m_[y * std::size_t(w) + x] = depth;
+      }
+    }
+  });
 }
 
 std::vector<std::uint32_t> points_per_tile(const PointSet& points, const GazeMapping& mapping, std::uint32_t tile_w_px,

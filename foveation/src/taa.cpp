@@ -231,17 +231,41 @@ const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::ve
     history_ = current;
     return history_;
   }
+  blend(current, history_, nullptr, executor);
+  return history_;
+}
+
+const ImageRgb& TemporalAccumulator::accumulate_reprojected(const ImageRgb& current, const ImageRgb& warped_history,
+                                                            const std::vector<std::uint8_t>& valid, glm::vec2 gaze_px,
+                                                            Executor& executor, bool saccade) {
+  const bool reset = begin_frame(current.width_px, current.height_px, gaze_px, saccade);
+  if (reset || warped_history.width_px != current.width_px || warped_history.height_px != current.height_px ||
+      valid.size() != current.pixel_count()) {
+    if (!reset) last_reset_ = true, ++resets_;  // nothing to blend with
+    history_ = current;
+    return history_;
+  }
+  blend(current, warped_history, valid.data(), executor);
+  return history_;
+}
+
+void TemporalAccumulator::blend(const ImageRgb& current, const ImageRgb& history, const std::uint8_t* valid,
+                                Executor& executor) {
   scratch_.width_px = current.width_px;
   scratch_.height_px = current.height_px;
   scratch_.rgb.resize(current.rgb.size());
   // A few bands per thread (each band sets up its own row planes once).
-  const int h = current.height_px;
+  const int h = current.height_px, w = current.width_px;
   const int bands = std::max(1, std::min(h, 4 * int(executor.thread_count())));
   executor.parallel_for(std::size_t(bands), [&](std::size_t band) {
-    taa_rows(current, history_, scratch_, options_, h * int(band) / bands, h * (int(band) + 1) / bands);
+    const int y0 = h * int(band) / bands, y1 = h * (int(band) + 1) / bands;
+    taa_rows(current, history, scratch_, options_, y0, y1);
+    if (valid == nullptr) return;
+    for (std::size_t p = std::size_t(y0) * std::size_t(w); p < std::size_t(y1) * std::size_t(w); ++p) {
+      if (valid[p] == 0) std::copy_n(current.rgb.data() + p * 3, 3, scratch_.rgb.data() + p * 3);  // no history here
+    }
   });
   std::swap(history_, scratch_);
-  return history_;
 }
 
 }  // namespace foveart::foveation

@@ -6,6 +6,11 @@
 //                  [--json] [--app-actions]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
+// --json adds, per traced frame and in the same order: gaze_px_per_frame [frame, left x,
+// left y, right x, right y], taa_reset_per_frame [left, right] (the eye's TAA history
+// restarted), gaze_saccade_per_frame / gaze_blink_per_frame (the gaze provider flagged
+// a saccade / a blink for it) and display_time_s_per_frame (predicted display time
+// after the first traced frame's); taa_resets counts restarts of both eyes.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -105,6 +110,11 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"invalid_colours", s.invalidColours},
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
+          {"taa_resets", rec.taaResets},
+          {"taa_reset_per_frame", r.taa_reset},
+          {"gaze_saccade_per_frame", r.gaze_saccade},
+          {"gaze_blink_per_frame", r.gaze_blink},
+          {"display_time_s_per_frame", r.display_time_s},
           {"app_gaze_located_frames", r.app_gaze_located_frames},
           {"per_frame",
            {{"gaze_age_ms", distribution(r.gaze_age_ms)},

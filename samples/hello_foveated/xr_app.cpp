@@ -404,12 +404,22 @@ class App {
         result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
       }
       ++frames_;
+      auto reconstruction = xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(
+          XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
       auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
+      stats.next = &reconstruction;
       check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
       if (stats.framesTraced > traced_) {
         traced_ = stats.framesTraced;
         result->gaze_px.push_back({frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x,
                                    stats.gazePixel[1].y});
+        result->taa_reset.push_back(
+            {reconstruction.taaResetLastFrame[0] == XR_TRUE, reconstruction.taaResetLastFrame[1] == XR_TRUE});
+        result->gaze_saccade.push_back(reconstruction.gazeSaccadeLastFrame == XR_TRUE);
+        result->gaze_blink.push_back(reconstruction.gazeBlinkLastFrame == XR_TRUE);
+        if (first_traced_display_time_ == 0) first_traced_display_time_ = frame_state.predictedDisplayTime;
+        result->display_time_s.push_back(
+            static_cast<double>(frame_state.predictedDisplayTime - first_traced_display_time_) * 1e-9);
         if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
         for (int e = 0; e < 2; ++e) {
           result->overhead_ms[e].push_back(stats.selectMs[e] + stats.interpolateMs[e] + stats.taaMs[e] +
@@ -458,6 +468,7 @@ class App {
   bool running_ = false;
   uint64_t frames_ = 0;
   uint64_t traced_ = 0;
+  XrTime first_traced_display_time_ = 0;
   EyeSwapchain eyes_[2];
   VkInstance vk_instance_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;

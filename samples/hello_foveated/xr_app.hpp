@@ -64,6 +64,14 @@ struct AppResult {
   // Per traced frame: frame index, then the layer's gaze pixel of each eye (x, y).
   std::vector<std::array<float, 5>> gaze_px;
   uint64_t app_gaze_located_frames = 0;  // app_actions: frames its own gaze action located
+  // Per traced frame, in the order of gaze_px (XrFoveatedRendererReconstructionStatsFOVEART,
+  // chained every frame): whether each eye's TAA history restarted, and whether the gaze
+  // provider flagged a saccade or a blink for that frame; and the frame's predicted display
+  // time in seconds after the first traced frame's.
+  std::vector<std::array<bool, 2>> taa_reset;
+  std::vector<bool> gaze_saccade;
+  std::vector<bool> gaze_blink;
+  std::vector<double> display_time_s;
 };
 
 AppResult run_app(const AppOptions& options);

@@ -84,6 +84,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "worker_threads") return std::to_string(s.worker_threads);
   if (key == "cache_dir") return s.cache_dir;
   if (key == "wait_for_tables") return s.wait_for_tables ? "true" : "false";
+  if (key == "reconstruction") return s.reconstruction;
   ADD_FAILURE() << "no renderer setting for key '" << key << "'";
   return {};
 }
@@ -110,6 +111,7 @@ const KeyCase kRendererKeys[] = {
     {"worker_threads", "3", "3", nullptr, {}},
     {"cache_dir", R"("/tmp/foveart-cache")", "/tmp/foveart-cache", nullptr, {}},
     {"wait_for_tables", "true", "true", nullptr, {}},
+    {"reconstruction", R"("cpu")", "cpu", nullptr, {}},
 };
 
 // Keys of the whole layer, not of a renderer (config_test.cpp reads them).

@@ -271,57 +271,6 @@ TEST_F(SimRuntime, SwapchainMisuseReturnsTheSpecErrorCodes) {
 
 // Eye gaze: the pose action bound to /user/eyes_ext/input/gaze_ext/pose returns
 // the recorded trace's direction, stamped with the sample's time.
-struct GazeActions {
-  XrActionSet set = XR_NULL_HANDLE;
-  XrAction gaze = XR_NULL_HANDLE;
-  XrSpace gaze_space = XR_NULL_HANDLE;
-};
-
-GazeActions make_gaze_actions(XrTestApp& app) {
-  GazeActions g;
-  auto set_info = xr<XrActionSetCreateInfo>(XR_TYPE_ACTION_SET_CREATE_INFO);
-  std::snprintf(set_info.actionSetName, sizeof set_info.actionSetName, "gaze");
-  std::snprintf(set_info.localizedActionSetName, sizeof set_info.localizedActionSetName, "Gaze");
-  EXPECT_EQ(xrCreateActionSet(app.instance, &set_info, &g.set), XR_SUCCESS);
-  auto action_info = xr<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
-  action_info.actionType = XR_ACTION_TYPE_POSE_INPUT;
-  std::snprintf(action_info.actionName, sizeof action_info.actionName, "gaze_pose");
-  std::snprintf(action_info.localizedActionName, sizeof action_info.localizedActionName,
-                "Gaze pose");
-  EXPECT_EQ(xrCreateAction(g.set, &action_info, &g.gaze), XR_SUCCESS);
-  XrPath profile = XR_NULL_PATH;
-  XrPath binding = XR_NULL_PATH;
-  EXPECT_EQ(
-      xrStringToPath(app.instance, "/interaction_profiles/ext/eye_gaze_interaction", &profile),
-      XR_SUCCESS);
-  EXPECT_EQ(xrStringToPath(app.instance, "/user/eyes_ext/input/gaze_ext/pose", &binding),
-            XR_SUCCESS);
-  XrActionSuggestedBinding suggested{g.gaze, binding};
-  auto suggest =
-      xr<XrInteractionProfileSuggestedBinding>(XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
-  suggest.interactionProfile = profile;
-  suggest.countSuggestedBindings = 1;
-  suggest.suggestedBindings = &suggested;
-  EXPECT_EQ(xrSuggestInteractionProfileBindings(app.instance, &suggest), XR_SUCCESS);
-  auto attach = xr<XrSessionActionSetsAttachInfo>(XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
-  attach.countActionSets = 1;
-  attach.actionSets = &g.set;
-  EXPECT_EQ(xrAttachSessionActionSets(app.session, &attach), XR_SUCCESS);
-  auto space_info = xr<XrActionSpaceCreateInfo>(XR_TYPE_ACTION_SPACE_CREATE_INFO);
-  space_info.action = g.gaze;
-  space_info.poseInActionSpace.orientation.w = 1.0F;
-  EXPECT_EQ(xrCreateActionSpace(app.session, &space_info, &g.gaze_space), XR_SUCCESS);
-  return g;
-}
-
-XrResult sync(XrTestApp& app, XrActionSet set) {
-  XrActiveActionSet active{set, XR_NULL_PATH};
-  auto info = xr<XrActionsSyncInfo>(XR_TYPE_ACTIONS_SYNC_INFO);
-  info.countActiveActionSets = 1;
-  info.activeActionSets = &active;
-  return xrSyncActions(app.session, &info);
-}
-
 TEST_F(SimRuntime, EyeGazeActionReturnsTheRecordedGazeWithItsSampleTime) {
   const std::string dir = fresh_dir("gaze");
   const std::string trace = dir + "/trace.csv";

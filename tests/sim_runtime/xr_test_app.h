@@ -69,4 +69,15 @@ class XrTestApp {
   uint32_t queue_family = 0;
 };
 
+// The app's eye gaze: one pose action bound to /user/eyes_ext/input/gaze_ext/pose,
+// attached, with an action space (EXPECTs every call).
+struct GazeActions {
+  XrActionSet set = XR_NULL_HANDLE;
+  XrAction gaze = XR_NULL_HANDLE;
+  XrSpace gaze_space = XR_NULL_HANDLE;
+};
+GazeActions make_gaze_actions(XrTestApp& app);
+// xrSyncActions of that one set.
+XrResult sync(XrTestApp& app, XrActionSet set);
+
 }  // namespace foveart::sim::test

@@ -111,6 +111,9 @@ struct FrameResult {
   double reconstruct_ms = 0.0;      // gather
   double taa_ms = 0.0;
   bool taa_reset = false;           // the history restarted this frame
+  std::uint64_t history_off_screen = 0;   // TaaHistory::reproject: pixels whose surface was off the last view
+  std::uint64_t history_disoccluded = 0;  // ... whose last depth disagreed (a surface uncovered)
+  std::uint64_t history_with_depth = 0;   // ... reprojected through the engine's depth (the rest: rotation only)
   GatherStats gather;
 
   bool ok() const { return failure == FrameFailure::none; }
@@ -138,9 +141,15 @@ class FoveatedView {
   const ViewSettings& settings() const { return settings_; }
 
  private:
+  void pixel_depths(const GazeMapping& mapping, Executor& executor);  // depth_px_m_ from point_depth_m_
+
   std::shared_ptr<const ViewTables> tables_;
   ViewSettings settings_;
   PointColors colors_;                    // one slot per point of the set; a = 1 traced this frame
+  std::vector<float> point_depth_m_;      // per point: nearest hit of its rays (NaN: none returned)
+  std::vector<float> depth_px_m_, history_depth_px_m_;  // per screen pixel, this and the last frame (empty: none)
+  ImageRgb warped_;                       // the history reprojected into this frame's view
+  std::vector<std::uint8_t> warped_valid_;
   std::vector<std::vector<std::uint32_t>> traced_;  // per chunk of the point set: its points traced last frame
   std::vector<RayBatch> batches_;         // per worker slot
   std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
@@ -149,7 +158,7 @@ class FoveatedView {
   ImageRgb gathered_;
   TemporalAccumulator taa_;
   const ImageRgb* taa_output_ = nullptr;
-  std::optional<FoveartEyeView> last_view_;  // TAA history's view (no reprojection: a new view restarts it)
+  std::optional<FoveartEyeView> last_view_;  // the TAA history's view
 };
 
 // Points a frame at `mapping` traces per tile of a tiles_x x tiles_y grid of

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -40,6 +41,15 @@ class TemporalAccumulator {
   // gaze filter's saccade detector).
   const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor, bool saccade = false);
 
+  // The same with `warped_history` (the previous output reprojected into this
+  // view: taa_reprojection.hpp) as the history; pixels with valid[p] == 0 take
+  // the current frame alone. Same reset rule.
+  const ImageRgb& accumulate_reprojected(const ImageRgb& current, const ImageRgb& warped_history,
+                                         const std::vector<std::uint8_t>& valid, glm::vec2 gaze_px,
+                                         Executor& executor, bool saccade = false);
+  // The last output (the history the next frame blends with).
+  const ImageRgb& history() const { return history_; }
+
   // The reset rule of accumulate() alone, for a caller that blends elsewhere
   // (the layer's GPU path): records a width x height frame at gaze_px and
   // returns whether its history restarts. Keeps no image.
@@ -51,6 +61,8 @@ class TemporalAccumulator {
   const TaaOptions& options() const { return options_; }
 
  private:
+  void blend(const ImageRgb& current, const ImageRgb& history, const std::uint8_t* valid, Executor& executor);
+
   TaaOptions options_;
   ImageRgb history_;
   ImageRgb scratch_;

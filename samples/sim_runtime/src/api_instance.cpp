@@ -83,7 +83,22 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     inst->config = *config;
     inst->clock = SimClock(config->virtual_clock);
     inst->origin_ns = inst->clock.now_ns();
-    if (!config->gaze_file.empty()) {
+    if (!config->motion.empty()) {
+      // The motion drives head and gaze: FOVEART_SIM_HEAD and FOVEART_SIM_GAZE step aside.
+      auto motion = MotionSource::from_spec(config->motion, config->motion_seed, error);
+      if (!motion) {
+        log(LogLevel::Error, std::string(env::kMotion) + ": " + error);
+        return XR_ERROR_RUNTIME_FAILURE;
+      }
+      if (!config->gaze_file.empty()) {
+        log(LogLevel::Info, std::string(env::kMotion) + " drives the gaze: " + env::kGaze + " ignored");
+      }
+      if (config->head_sway) {
+        log(LogLevel::Info, std::string(env::kMotion) + " drives the head: " + env::kHead + " ignored");
+      }
+      inst->motion = std::move(*motion);
+      inst->gaze = GazeSource::saccade_script();
+    } else if (!config->gaze_file.empty()) {
       auto gaze = GazeSource::from_trace_file(config->gaze_file, error);
       if (!gaze) {
         log(LogLevel::Error, std::string(env::kGaze) + ": " + error);
@@ -104,8 +119,9 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
         "instance for '" + inst->application_name + "': clock " +
             (config->virtual_clock ? "virtual" : "real") + ", frame budget " +
             (config->frame_budget ? std::to_string(config->frame_budget) : std::string("none")) +
-            ", gaze " +
-            (config->gaze_file.empty() ? "built-in saccade script" : config->gaze_file) +
+            (inst->motion ? ", head and gaze from the motion " + inst->motion->name()
+                          : std::string(", head ") + (config->head_sway ? "sway" : "static") + ", gaze " +
+                                (config->gaze_file.empty() ? "built-in saccade script" : config->gaze_file)) +
             (config->eye_tracking ? "" : " (eye tracking off)") +
             (config->capture_dir.empty() ? "" : ", capture to " + config->capture_dir));
     rt.instance = std::move(inst);

@@ -96,6 +96,7 @@ XRAPI_ATTR XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessi
       }
     }
     s->id = rt.next_id++;
+    s->motion_origin_ns = inst->clock.now_ns();
     Session& ref = *s;
     rt.sessions.emplace(s->id, std::move(s));
     *out = to_handle<XrSession>(ref.id);
@@ -119,7 +120,6 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_session(XrSession handle) {
 XRAPI_ATTR XrResult XRAPI_CALL begin_session(XrSession handle, const XrSessionBeginInfo* info) {
   return guarded("xrBeginSession", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
-    (void)inst;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_SESSION_BEGIN_INFO);
     if (info->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO) {
       return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
@@ -127,6 +127,7 @@ XRAPI_ATTR XrResult XRAPI_CALL begin_session(XrSession handle, const XrSessionBe
     if (session->running) return XR_ERROR_SESSION_RUNNING;
     if (session->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
     session->running = true;
+    session->motion_origin_ns = inst->clock.now_ns();  // the scripted motion starts here
     session->synchronized_sent = false;
     session->frame_waited = false;
     session->frame_begun = false;
@@ -344,7 +345,8 @@ XRAPI_ATTR XrResult XRAPI_CALL end_frame(XrSession handle, const XrFrameEndInfo*
     if (session->capture) {
       if (session->capture->wants_images(frame))
         t.views_captured = capture_frame(rt, *session, *info, frame);
-      const GazeSample g = inst->gaze.sample_at(info->displayTime - inst->origin_ns);
+      int64_t sample_time_ns = 0;
+      const GazeSample g = eye_tracker_sample(*inst, session, info->displayTime, sample_time_ns);
       t.gaze_valid = g.valid && inst->config.eye_tracking;
       t.gaze_x = g.direction.x;
       t.gaze_y = g.direction.y;

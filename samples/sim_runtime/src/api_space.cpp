@@ -1,5 +1,5 @@
-// Reference spaces (VIEW, LOCAL, STAGE), action spaces (eye gaze pose), the
-// scripted head, and xrLocateViews for the FOVE 0's two views.
+// Reference spaces (VIEW, LOCAL, STAGE), action spaces (eye gaze pose), the head
+// (static, sway or the scripted motion), and xrLocateViews for the FOVE 0's two views.
 #include <cmath>
 
 #include "api_common.h"
@@ -7,11 +7,15 @@
 namespace foveart::sim {
 namespace {
 
-constexpr float kEyeHeightM = 1.6F;  // STAGE origin is on the floor below LOCAL
-
 XrSpaceLocationFlags all_valid_tracked() {
   return XR_SPACE_LOCATION_ORIENTATION_VALID_BIT | XR_SPACE_LOCATION_POSITION_VALID_BIT |
          XR_SPACE_LOCATION_ORIENTATION_TRACKED_BIT | XR_SPACE_LOCATION_POSITION_TRACKED_BIT;
+}
+
+// The scripted motion starts at the session's xrBeginSession (without a session: at
+// xrCreateInstance, like gaze traces).
+int64_t motion_origin_ns(const Instance& inst, const Session* session) {
+  return session != nullptr ? session->motion_origin_ns : inst.origin_ns;
 }
 
 }  // namespace
@@ -22,7 +26,8 @@ XrFovf view_fov() {
                 static_cast<float>(fov.up), static_cast<float>(fov.down)};
 }
 
-Pose head_pose_in_local(const Instance& inst, int64_t time_ns) {
+Pose head_pose_in_local(const Instance& inst, const Session* session, int64_t time_ns) {
+  if (inst.motion) return inst.motion->head_in_local(time_ns - motion_origin_ns(inst, session));
   Pose p;
   if (inst.config.head_sway) {
     const double t_s = static_cast<double>(time_ns - inst.origin_ns) * 1e-9;
@@ -34,11 +39,13 @@ Pose head_pose_in_local(const Instance& inst, int64_t time_ns) {
   return p;
 }
 
-Pose eye_gaze_pose_in_local(const Instance& inst, int64_t time_ns, GazeSample& sample) {
-  sample = inst.gaze.sample_at(time_ns - inst.origin_ns);
-  // The one place gaze leaves the runtime (xrLocateSpace of the eye gaze pose): the
-  // trace's head space (+z forward) becomes OpenXR VIEW space (-z forward) here.
-  return head_pose_in_local(inst, time_ns) * look_along(openxr_view_direction(sample.direction));
+GazeSample eye_tracker_sample(const Instance& inst, const Session* session, int64_t time_ns,
+                              int64_t& sample_time_ns) {
+  const int64_t origin_ns = inst.motion ? motion_origin_ns(inst, session) : inst.origin_ns;
+  const GazeSample sample = inst.motion ? inst.motion->gaze_at(time_ns - origin_ns)
+                                        : inst.gaze.sample_at(time_ns - origin_ns);
+  sample_time_ns = origin_ns + sample.offset_ns;
+  return sample;
 }
 
 bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out,
@@ -48,10 +55,10 @@ bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose&
     Pose base;
     switch (space.reference_type) {
       case XR_REFERENCE_SPACE_TYPE_VIEW:
-        base = head_pose_in_local(inst, time_ns);
+        base = head_pose_in_local(inst, find(rt.sessions, space.session), time_ns);
         break;
       case XR_REFERENCE_SPACE_TYPE_STAGE:
-        base.position = glm::vec3(0.0F, -kEyeHeightM, 0.0F);
+        base.position = glm::vec3(0.0F, -kLocalAboveStageM, 0.0F);  // STAGE: the floor below LOCAL
         break;
       default:
         break;
@@ -60,16 +67,20 @@ bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose&
     return true;
   }
   Action* action = find(rt.actions, space.action);
-  Session* session = find(rt.sessions, space.session);
+  const Session* session = find(rt.sessions, space.session);
   if (action == nullptr || session == nullptr || !action->bound_to_eye_gaze || !action->active ||
       !inst.config.eye_tracking || session->state != XR_SESSION_STATE_FOCUSED) {
     return false;
   }
-  GazeSample sample;
-  const Pose gaze = eye_gaze_pose_in_local(inst, time_ns, sample);
+  int64_t sample_time_ns = 0;
+  const GazeSample sample = eye_tracker_sample(inst, session, time_ns, sample_time_ns);
   if (!sample.valid) return false;
+  // The one place gaze leaves the runtime (xrLocateSpace of the eye gaze pose): the
+  // traces' head space (+z forward) becomes OpenXR VIEW space (-z forward) here.
+  const Pose gaze = head_pose_in_local(inst, session, time_ns) *
+                    look_along(openxr_view_direction(sample.direction));
   out = gaze * space.offset;
-  if (gaze_sample_ns != nullptr) *gaze_sample_ns = inst.origin_ns + sample.offset_ns;
+  if (gaze_sample_ns != nullptr) *gaze_sample_ns = sample_time_ns;
   return true;
 }
 
@@ -238,7 +249,7 @@ XRAPI_ATTR XrResult XRAPI_CALL locate_views(XrSession handle, const XrViewLocate
       view_state->viewStateFlags = 0;
       return XR_SUCCESS;
     }
-    const Pose head = head_pose_in_local(*inst, info->displayTime);
+    const Pose head = head_pose_in_local(*inst, session, info->displayTime);
     for (uint32_t i = 0; i < 2; ++i) {
       Pose eye;
       eye.position = glm::vec3(static_cast<float>(headset().eye_offset_x_m(i)), 0.0F, 0.0F);

@@ -56,6 +56,10 @@ std::optional<Config> config_from_environment(std::string& error) {
     else if (s != "static")
       return bad(env::kHead, v, "'static' or 'sway'");
   }
+  if (const char* v = get(env::kMotion)) c.motion = v;
+  if (const char* v = get(env::kMotionSeed)) {
+    if (!parse_u64(v, c.motion_seed)) return bad(env::kMotionSeed, v, "an integer seed >= 0");
+  }
   if (const char* v = get(env::kCaptureDir)) c.capture_dir = v;
   if (const char* v = get(env::kCaptureEvery)) {
     uint64_t n = 0;

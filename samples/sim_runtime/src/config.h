@@ -13,6 +13,10 @@ struct Config {
   std::string gaze_file;  // empty: built-in saccade script
   bool eye_tracking = true;
   bool head_sway = false;
+  // FOVEART_SIM_MOTION: "builtin" or a motion CSV path; empty: none. When set it
+  // drives the head and the gaze, over head_sway and gaze_file.
+  std::string motion;
+  uint64_t motion_seed = 1;  // FOVEART_SIM_MOTION_SEED, for "builtin"
   std::string capture_dir;  // empty: no capture
   uint32_t capture_every = 1;
   int log_level = 1;

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "frame_capture.h"
 #include "gaze_source.h"
 #include "headset.h"
+#include "motion_source.h"
 #include "pose_math.h"
 #include "sim_clock.h"
 #include "vulkan_device.h"
@@ -93,6 +95,7 @@ struct Session {
   std::vector<XrActionSet> attached_sets;
   bool eye_gaze_bound = false;
   std::unique_ptr<FrameCapture> capture;
+  int64_t motion_origin_ns = 0;  // XrTime the scripted motion starts from (xrBeginSession)
 };
 
 struct Instance {
@@ -101,6 +104,7 @@ struct Instance {
   SimClock clock{false};
   int64_t origin_ns = 0;  // XrTime at xrCreateInstance; gaze source origin
   GazeSource gaze;
+  std::optional<MotionSource> motion;  // FOVEART_SIM_MOTION: drives head and gaze when set
   std::string application_name;
   bool ext_vulkan = false;
   bool ext_vulkan2 = false;
@@ -155,9 +159,13 @@ const std::string* path_string(const Instance& inst, XrPath p);
 void push_event(Instance& inst, const XrEventDataBuffer& event);
 void set_session_state(Instance& inst, Session& s, XrSessionState state);
 
-// Head pose and spaces (spaces.cpp).
-Pose head_pose_in_local(const Instance& inst, int64_t time_ns);
-Pose eye_gaze_pose_in_local(const Instance& inst, int64_t time_ns, GazeSample& sample);
+// Head pose and spaces (api_space.cpp). `session` gives the scripted motion its
+// origin (null: the instance's).
+Pose head_pose_in_local(const Instance& inst, const Session* session, int64_t time_ns);
+// The eye tracker's sample at a time (the motion's, else the gaze source's), in the
+// traces' head space (+z forward); sample_time_ns is the sample's XrTime.
+GazeSample eye_tracker_sample(const Instance& inst, const Session* session, int64_t time_ns,
+                              int64_t& sample_time_ns);
 // Space pose in LOCAL at a time; false when it cannot be located (inactive action).
 bool space_pose_in_local(Runtime& rt, const Space& space, int64_t time_ns, Pose& out,
                          int64_t* gaze_sample_ns);

@@ -24,6 +24,15 @@ inline constexpr const char* kGaze = "FOVEART_SIM_GAZE";
 inline constexpr const char* kEyeTracking = "FOVEART_SIM_EYE_TRACKING";
 // "static" (default) or "sway": slow scripted head yaw of +-10 deg at 0.1 Hz.
 inline constexpr const char* kHead = "FOVEART_SIM_HEAD";
+// Scripted head and gaze motion (foveation/scripted_motion.hpp): "builtin" (4 s:
+// head turning 10-30 deg/s, fixations, a 12 deg saccade at 1.5 s, a 150 ms blink at
+// 3.0 s) or the path of a motion CSV (time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade]).
+// Drives the head pose (VIEW, xrLocateViews) and the eye gaze pose from the session's
+// xrBeginSession on, looping; overrides FOVEART_SIM_HEAD and FOVEART_SIM_GAZE. A motion
+// file that cannot be read fails xrCreateInstance with XR_ERROR_RUNTIME_FAILURE.
+inline constexpr const char* kMotion = "FOVEART_SIM_MOTION";
+// Seed of the built-in motion (default 1); ignored for a motion file.
+inline constexpr const char* kMotionSeed = "FOVEART_SIM_MOTION_SEED";
 // Folder for frame capture: frame_NNNNNN_left.png / _right.png per projection
 // layer view (layers after the first: frame_NNNNNN_layerK_left.png) and frames.csv.
 inline constexpr const char* kCaptureDir = "FOVEART_SIM_CAPTURE_DIR";

@@ -1,0 +1,40 @@
+// TAA history that survives head motion (Karis 2014; Yang, Liu & Salvi 2020,
+// "A Survey of Temporal Antialiasing Techniques", section 3): each pixel of
+// the current view finds where its surface was in the previous view and
+// takes the previous output there (bilinear). Without depth the surface is
+// taken at infinity (rotation only: needs nothing from the engine); with the
+// engine's depth it is the 3-D point P = eye + direction * depth, so parallax
+// is followed too. History is rejected off-screen and where the previous
+// depth at the reprojected pixel disagrees with P's distance (disocclusion).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "foveation/executor.hpp"
+#include "foveation/image.hpp"
+#include "foveation/ray_trace.h"
+
+namespace foveart::foveation {
+
+// Relative depth disagreement beyond which history is a different surface.
+inline constexpr float kDisocclusionTolerance = 0.1f;
+
+// Per-pixel depth in metres along the pixel's ray: NaN = unknown (rotation
+// only), +inf = nothing hit (sky).
+struct ReprojectionStats {
+  std::uint64_t off_screen = 0;   // pixels whose surface was outside the previous view
+  std::uint64_t disoccluded = 0;  // pixels whose previous depth disagreed
+  std::uint64_t with_depth = 0;   // pixels reprojected through a finite depth
+};
+
+// Warps `history` (the previous output, seen from `history_view`, with its
+// per-pixel depth `history_depth_m`, empty = unknown) into `view` (per-pixel
+// depth `depth_m`, empty = unknown). `warped` gets the view's size; valid[p]
+// is 1 where the history holds, 0 where it is rejected.
+ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<float>& history_depth_m,
+                                    const FoveartEyeView& history_view, const FoveartEyeView& view,
+                                    const std::vector<float>& depth_m, ImageRgb& warped,
+                                    std::vector<std::uint8_t>& valid, Executor& executor);
+
+}  // namespace foveart::foveation

@@ -1,0 +1,86 @@
+#include "foveation/taa_reprojection.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "foveation/eye_rays.hpp"
+
+namespace foveart::foveation {
+
+ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<float>& history_depth_m,
+                                    const FoveartEyeView& history_view, const FoveartEyeView& view,
+                                    const std::vector<float>& depth_m, ImageRgb& warped,
+                                    std::vector<std::uint8_t>& valid, Executor& executor) {
+  const int w = int(view.width_px), h = int(view.height_px);
+  const int hw = history.width_px, hh = history.height_px;
+  if (warped.width_px != w || warped.height_px != h) warped = ImageRgb(w, h);
+  valid.assign(std::size_t(w) * std::size_t(h), 0);
+  const EyeFrustum frustum = eye_frustum(view), history_frustum = eye_frustum(history_view);
+  const EyePose pose = eye_pose(view), history_pose = eye_pose(history_view);
+  const bool has_depth = depth_m.size() == valid.size();
+  const bool has_history_depth = history_depth_m.size() == std::size_t(hw) * std::size_t(hh);
+  std::atomic<std::uint64_t> off_screen{0}, disoccluded{0}, with_depth{0};
+  executor.parallel_chunks(std::size_t(h), 16, [&](std::size_t y0, std::size_t y1, unsigned) {
+    std::uint64_t off = 0, occluded = 0, deep = 0;
+    for (int y = int(y0); y < int(y1); ++y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+        const glm::vec3 d = eye_ray_direction(frustum, pose, {float(x) + 0.5f, float(y) + 0.5f});
+        const float depth = has_depth ? depth_m[p] : NAN;
+        const bool finite = std::isfinite(depth);
+        glm::vec3 seen = d;  // direction from the previous eye
+        float expected = INFINITY;  // distance of the surface from the previous eye
+        if (finite) {
+          const glm::vec3 point = pose.position_m + d * depth;
+          seen = point - history_pose.position_m;
+          expected = glm::length(seen);
+          seen /= expected;
+          ++deep;
+        }
+        glm::vec2 s;
+        if (!project_direction(history_frustum, history_pose, seen, &s) || !(s.x >= 0.0f && s.x < float(hw)) ||
+            !(s.y >= 0.0f && s.y < float(hh))) {
+          ++off;
+          continue;
+        }
+        const int nx = std::min(int(s.x), hw - 1), ny = std::min(int(s.y), hh - 1);
+        if (has_history_depth && !std::isnan(depth)) {
+          const float before = history_depth_m[std::size_t(ny) * std::size_t(hw) + std::size_t(nx)];
+          // Both at infinity agree; a finite and an infinite one do not.
+          const bool agree = std::isnan(before) || (std::isinf(before) && std::isinf(expected)) ||
+                             std::abs(before - expected) <= kDisocclusionTolerance * std::min(before, expected);
+          if (!agree) {
+            ++occluded;
+            continue;
+          }
+        }
+        // Bilinear between the four pixel centres around s (clamped at the edges).
+        const float fx = s.x - 0.5f, fy = s.y - 0.5f;
+        const int x0 = int(std::floor(fx)), y0i = int(std::floor(fy));
+        const float ax = fx - float(x0), ay = fy - float(y0i);
+        const int xa = std::clamp(x0, 0, hw - 1), xb = std::clamp(x0 + 1, 0, hw - 1);
+        const int ya = std::clamp(y0i, 0, hh - 1), yb = std::clamp(y0i + 1, 0, hh - 1);
+        const float* c00 = history.at(xa, ya);
+        const float* c10 = history.at(xb, ya);
+        const float* c01 = history.at(xa, yb);
+        const float* c11 = history.at(xb, yb);
+        float* out = warped.at(x, y);
+        for (int c = 0; c < 3; ++c) {
+          const float top = c00[c] + ax * (c10[c] - c00[c]);
+          const float bottom = c01[c] + ax * (c11[c] - c01[c]);
+          out[c] = top + ay * (bottom - top);
+        }
+        valid[p] = 1;
+      }
+    }
+    off_screen += off;
+    disoccluded += occluded;
+    with_depth += deep;
+  });
+  return {off_screen.load(), disoccluded.load(), with_depth.load()};
+}
+
+}  // namespace foveart::foveation
