@@ -140,6 +140,34 @@ TEST(Tracer, RayHitsUnitQuadAtKnownDistanceNormalAndUv) {
   EXPECT_FALSE(t->intersect({0.0f, 2.0f, 0.0f}, {0.0f, 1.0f, 0.0f}).hit);
 }
 
+// The depth per ray (ray_trace.h, TAA reprojection): the hit distance, +inf
+// for the sky; a batch of the older, smaller size gets nothing written there.
+TEST(Tracer, BatchDepthIsTheHitDistanceAndInfinityForTheSky) {
+  Scene s;
+  s.materials.push_back(rough());
+  add_floor(s, 0.5f, 0.0f, 0);
+  auto t = make(std::move(s));
+  const float o[6] = {0.25f, 2.0f, 0.1f, 0.25f, 2.0f, 0.1f};
+  const float d[6] = {0.0f, -1.0f, 0.0f, 0.0f, 1.0f, 0.0f};  // down onto the quad, up into the sky
+  float rgb[6] = {}, depth[2] = {-1.0f, -1.0f};
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.ray_count = 2;
+  b.origins_m = o;
+  b.directions = d;
+  b.out_rgb = rgb;
+  b.out_depth_m = depth;
+  ASSERT_EQ(foveart_engine_trace_rays(t.get(), &b), FOVEART_RESULT_SUCCESS);
+  EXPECT_NEAR(depth[0], 2.0f, 1e-5f);
+  EXPECT_TRUE(std::isinf(depth[1]) && depth[1] > 0.0f);
+  depth[0] = depth[1] = -1.0f;
+  b.size = FOVEART_RAY_BATCH_SIZE_WITH_DEPTH - 1;  // a producer built against the header before depth
+  ASSERT_EQ(foveart_engine_trace_rays(t.get(), &b), FOVEART_RESULT_SUCCESS);
+  EXPECT_EQ(depth[0], -1.0f);
+  EXPECT_EQ(depth[1], -1.0f);
+}
+
 class EffectCounters : public ::testing::TestWithParam<int> {};
 
 TEST_P(EffectCounters, PresentEffectsTraceRaysAndAbsentOnesNone) {

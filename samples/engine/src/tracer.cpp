@@ -56,6 +56,7 @@ struct PacketIn {
   glm::vec3 dir[kLanes];
   glm::vec3 weight[kLanes];
   uint32_t target[kLanes];
+  float* primary_depth_m = nullptr;  // primary packets: per target, the hit distance (+inf: sky)
 };
 
 void embree_error(void* user, RTCError code, const char* message) {
@@ -267,6 +268,10 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
   bool front[kLanes] = {};
   for (int i = 0; i < kLanes; ++i) {
     if (in.valid[i] != -1) continue;
+    if (in.primary_depth_m != nullptr) {
+      in.primary_depth_m[in.target[i]] =
+          rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity() : rh.ray.tfar[i];
+    }
     if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) {
       color[in.target[i]] += in.weight[i] * sky_radiance(scene, in.dir[i]);
       continue;
@@ -422,11 +427,16 @@ int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
     LocalCounts counts;
     constexpr uint32_t kChunk = kLanes;
     glm::vec3 color[kChunk];
+    float depth_m[kChunk];
+    // The depth per ray (TAA reprojection) when the batch has room for it.
+    float* out_depth = batch->size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH ? batch->out_depth_m : nullptr;
     PacketIn in;
+    in.primary_depth_m = out_depth != nullptr ? depth_m : nullptr;
     for (uint32_t first = 0; first < batch->ray_count; first += kChunk) {
       const uint32_t n = std::min(kChunk, batch->ray_count - first);
       for (uint32_t i = 0; i < kChunk; ++i) {
         color[i] = glm::vec3(0.0f);
+        depth_m[i] = std::numeric_limits<float>::quiet_NaN();  // a ray not traced gives no depth
         in.valid[i] = 0;
         if (i >= n) continue;
         const uint32_t r = first + i;
@@ -454,6 +464,7 @@ int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
         out[0] = std::max(c.x, 0.0f);
         out[1] = std::max(c.y, 0.0f);
         out[2] = std::max(c.z, 0.0f);
+        if (out_depth != nullptr) out_depth[first + i] = depth_m[i];
       }
     }
     n_primary.fetch_add(batch->ray_count, std::memory_order_relaxed);
