@@ -53,13 +53,18 @@ uint point_at(uint c, uint base, uint b) {
   return v & 0xFFFFFFu;
 }
 
-// NN: the nearest traced neighbour, else the fallback.
-vec3 nearest(uint c, ivec2 cp) {
+// NN: the nearest traced neighbour, else the fallback; depth: that point's.
+vec3 nearest(uint c, ivec2 cp, out float depth) {
   const uint pixel = uint(cp.y * canvas_px.x + cp.x) - word(c, H_PIXEL_BASE);
   const uint base = word(c, H_NEIGHBORS);
+  depth = DEPTH_UNKNOWN;
   for (int j = 0; j < neighbor_k; ++j) {
-    const vec4 col = colors[point_at(c, base, (pixel * uint(neighbor_k) + uint(j)) * 3u)];
-    if (col.a != 0.0) return col.rgb;
+    const uint point = point_at(c, base, (pixel * uint(neighbor_k) + uint(j)) * 3u);
+    const vec4 col = colors[point];
+    if (col.a != 0.0) {
+      depth = point_depth[point];
+      return col.rgb;
+    }
   }
   return fallback_rgb.rgb;
 }
@@ -106,7 +111,7 @@ void block_ranges(uint c, ivec2 tile) {
   }
 }
 
-vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
+vec3 weighted(uint c, ivec2 tile, ivec2 cp, out float depth) {
   const int tw = min(8, canvas_px.x - tile.x * 8), th = min(8, canvas_px.y - tile.y * 8);
   const ivec2 l = cp - tile * 8;
   const Block block = block_of(c, tile, cp);
@@ -119,10 +124,12 @@ vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
   vec3 lo = vec3(1.0 / 0.0), hi = vec3(-1.0 / 0.0);
   float weight_sum = 0.0, valid_weight = 0.0;
   vec3 first_valid = fallback_rgb.rgb;
+  depth = DEPTH_UNKNOWN;  // the nearest valid tap's point (taps are in neighbour order)
   bool any_valid = false, any_invalid = false;
   for (int j = 0; j < k; ++j) {
     const uint tap = ord * uint(k) + uint(j);
-    const vec4 col = colors[word(c, palette + pal0 + byte_at(c, slots, tap))];
+    const uint point = word(c, palette + pal0 + byte_at(c, slots, tap));
+    const vec4 col = colors[point];
     const float w = weight_at(c, weights, tap);
     weight_sum += w;
     acc += w * col.rgb;
@@ -134,7 +141,10 @@ vec3 weighted(uint c, ivec2 tile, ivec2 cp) {
     valid_acc += w * col.rgb;
     lo = min(lo, col.rgb);
     hi = max(hi, col.rgb);
-    if (!any_valid) first_valid = col.rgb;  // taps are in neighbour order: the nearest valid
+    if (!any_valid) {  // the nearest valid
+      first_valid = col.rgb;
+      depth = point_depth[point];
+    }
     any_valid = true;
   }
   const bool clamp_taps = (flags & (CLAMP_TAPS | CLAMP_BLOCK)) != 0u;
@@ -164,6 +174,7 @@ void main() {
     barrier();
   }
   if (any(lessThan(sp, ivec2(0))) || any(greaterThanEqual(sp, screen_px))) return;
-  const vec3 rgb = (flags & WEIGHTED) != 0u ? weighted(c, tile, cp) : nearest(c, cp);
-  current[sp.y * screen_px.x + sp.x] = vec4(rgb, 1.0);
+  float depth;
+  const vec3 rgb = (flags & WEIGHTED) != 0u ? weighted(c, tile, cp, depth) : nearest(c, cp, depth);
+  current[sp.y * screen_px.x + sp.x] = vec4(rgb, depth);
 }

@@ -14,5 +14,7 @@ void main() {
   const uint i = gl_GlobalInvocationID.x;
   if (i >= count) return;
   const uvec4 e = uploaded[i];
-  if (e.x < point_count) colors[e.x] = vec4(uintBitsToFloat(e.yzw), 1.0);
+  if (e.x >= point_count) return;
+  colors[e.x] = vec4(uintBitsToFloat(e.yzw), 1.0);
+  point_depth[e.x] = uintBitsToFloat(uploaded[count + i / 4u][i % 4u]);
 }

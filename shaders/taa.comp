@@ -1,10 +1,13 @@
 #version 450
 // Temporal accumulation of one eye (thesis 2.5, 6.1), the GPU twin of
-// foveation::TemporalAccumulator: the history is constrained to the current
-// frame's 3x3 neighbourhood (clamp to edge) by min/max clamping (Karis 2014)
-// or variance clipping towards the mean (Salvi 2016), then blended with the
-// current frame. A reset (decided on the CPU, one rule for both paths) copies
-// the current frame.
+// foveation::TemporalAccumulator and foveation::reproject_history: when the
+// view moved, each pixel finds its surface in the last view (by rotation, or
+// through its depth for parallax) and takes the last output there
+// (bilinear), unless that is off-screen or the last depth there disagrees
+// (disocclusion); the history is then constrained to the current frame's 3x3
+// neighbourhood (clamp to edge) by min/max clamping (Karis 2014) or variance
+// clipping towards the mean (Salvi 2016) and blended with the current frame.
+// A reset (decided on the CPU, one rule for both paths) copies the current frame.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -16,23 +19,70 @@ layout(push_constant) uniform Push {
   uint constraint;       // 0 min/max clamp, 1 variance clip
   uint reset;            // 1: output = current
   float clip_floor;      // the box's least half-width (TaaOptions::clip_floor)
+  uint reproject;        // 1: the view moved: reproject the history
+  vec4 last_from_view_q;  // rotation (x, y, z, w): this view's space -> the last view's
+  vec4 last_from_view_t;  // xyz: this eye's position in the last view's space, metres
+  vec4 tan_view;          // this view's tan(left, right, up, down)
+  vec4 tan_last;          // the last view's
 };
+
+#define DISOCCLUSION_TOLERANCE 0.1  // foveation::kDisocclusionTolerance
 
 vec3 at(ivec2 p) {
   p = clamp(p, ivec2(0), size_px - 1);
   return current[p.y * size_px.x + p.x].rgb;
 }
 
+vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
+
+// The last output where this pixel's surface was; false when rejected.
+bool reprojected_history(ivec2 p, float depth, out vec3 history) {
+  history = vec3(0.0);
+  const vec2 uv = (vec2(p) + 0.5) / vec2(size_px);
+  const vec3 v = normalize(vec3(tan_view.x + uv.x * (tan_view.y - tan_view.x),
+                                tan_view.z + uv.y * (tan_view.w - tan_view.z), -1.0));
+  const bool known = depth >= 0.0, finite = known && depth < DEPTH_FAR;
+  vec3 seen = rotate(last_from_view_q, v);
+  float expected = DEPTH_FAR;
+  if (finite) {
+    seen = rotate(last_from_view_q, v * depth) + last_from_view_t.xyz;
+    expected = length(seen);
+    seen /= expected;
+  }
+  if (!(seen.z < 0.0)) return false;
+  const vec2 t = seen.xy / -seen.z;
+  const vec2 s = vec2((t.x - tan_last.x) / (tan_last.y - tan_last.x), (t.y - tan_last.z) / (tan_last.w - tan_last.z)) *
+                 vec2(size_px);
+  if (!(s.x >= 0.0 && s.x < float(size_px.x) && s.y >= 0.0 && s.y < float(size_px.y))) return false;
+  const ivec2 n = min(ivec2(s), size_px - 1);
+  if (known) {
+    const float before = history_in[n.y * size_px.x + n.x].a;
+    const bool agree = before < 0.0 || (before >= DEPTH_FAR && expected >= DEPTH_FAR) ||
+                       (before < DEPTH_FAR && expected < DEPTH_FAR &&
+                        abs(before - expected) <= DISOCCLUSION_TOLERANCE * min(before, expected));
+    if (!agree) return false;
+  }
+  const vec2 f = s - 0.5;
+  const ivec2 i0 = ivec2(floor(f));
+  const vec2 a = f - vec2(i0);
+  const ivec2 lo = clamp(i0, ivec2(0), size_px - 1), hi = clamp(i0 + 1, ivec2(0), size_px - 1);
+  const vec3 c00 = history_in[lo.y * size_px.x + lo.x].rgb, c10 = history_in[lo.y * size_px.x + hi.x].rgb;
+  const vec3 c01 = history_in[hi.y * size_px.x + lo.x].rgb, c11 = history_in[hi.y * size_px.x + hi.x].rgb;
+  const vec3 top = c00 + a.x * (c10 - c00), bottom = c01 + a.x * (c11 - c01);
+  history = top + a.y * (bottom - top);
+  return true;
+}
+
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (p.x >= size_px.x || p.y >= size_px.y) return;
   const uint i = uint(p.y * size_px.x + p.x);
-  const vec3 cur = current[i].rgb;
-  if (reset != 0u) {
-    history_out[i] = vec4(cur, 1.0);
+  const vec4 cur = current[i];
+  vec3 v = history_in[i].rgb;
+  if (reset != 0u || (reproject != 0u && !reprojected_history(p, cur.a, v))) {
+    history_out[i] = cur;  // no history: this frame alone
     return;
   }
-  vec3 v = history_in[i].rgb;
   if (constraint == 0u) {
     vec3 lo = vec3(1.0 / 0.0), hi = vec3(-1.0 / 0.0);
     for (int dy = -1; dy <= 1; ++dy)
@@ -62,5 +112,5 @@ void main() {
       if (d[c] > e[c]) t = min(t, e[c] / d[c]);
     v = mu + (v - mu) * t;
   }
-  history_out[i] = vec4(v + current_weight * (cur - v), 1.0);
+  history_out[i] = vec4(v + current_weight * (cur.rgb - v), cur.a);
 }

@@ -200,9 +200,11 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   colors_.invalid = points.size() - result.points;
   if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the TAA rule runs here
     if (settings_.taa) {
-      if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
+      const bool moved = !last_view_ || !same_view(*last_view_, view);
+      if (moved && settings_.taa_history == TaaHistory::restart_on_view_change) taa_.reset();
       result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px,
                                           request.saccade || request.blink);
+      if (!result.taa_reset && moved) result.history_view = last_view_;  // the caller reprojects from there
       last_view_ = view;
     }
     return result;

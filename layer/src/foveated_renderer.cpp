@@ -392,7 +392,10 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
   GpuFrame frame;
   frame.tables = eye.gpu_tables.get();
   frame.colors = &eye.view->colors();
+  frame.point_depth_m = &eye.view->point_depths();
   frame.traced = eye.view->traced();
+  frame.view = request.view;
+  frame.history_view = result.history_view;
   frame.mapping = foveation::map_gaze(int(w), int(h), request.gaze_px);
   frame.rbf_clamp = eye.view->settings().rbf_clamp;
   frame.taa_reset = !eye.view->settings().taa || result.taa_reset;

@@ -1,7 +1,12 @@
 #include "gpu_reconstruction.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "foveation/eye_rays.hpp"
 
 #include "eye_swapchain.hpp"
 #include "shaders/encode.spv.h"
@@ -42,7 +47,21 @@ struct TaaPush {
   uint32_t constraint;
   uint32_t reset;
   float clip_floor;
+  uint32_t reproject;
+  float last_from_view_q[4];  // xyzw
+  float last_from_view_t[4];
+  float tan_view[4];  // left, right, up, down
+  float tan_last[4];
 };
+static_assert(sizeof(TaaPush) == 96, "shaders/taa.comp push constants");
+
+// Depth as the shaders carry it (shaders/common.glsl): no NaN or infinity.
+constexpr float kDepthUnknown = -1.0f;
+constexpr float kDepthFar = 3.0e38f;  // >= DEPTH_FAR (1e30): the sky
+float shader_depth(float depth_m) {
+  if (std::isnan(depth_m) || depth_m < 0.0f) return kDepthUnknown;
+  return std::isinf(depth_m) ? kDepthFar : std::min(depth_m, kDepthFar);
+}
 struct EncodePush {
   int32_t size_px[2];
   uint32_t srgb;
@@ -53,7 +72,9 @@ struct ScatterPush {
 };
 enum GatherFlags : uint32_t { kWeighted = 1, kF16 = 2, kClampTaps = 4, kClampBlock = 8, kRbf = 16 };
 
-enum Binding : uint32_t { kChunks = 0, kColors, kCurrent, kHistoryIn, kHistoryOut, kUpload, kEncoded, kBindings };
+enum Binding : uint32_t {
+  kChunks = 0, kColors, kCurrent, kHistoryIn, kHistoryOut, kUpload, kEncoded, kPointDepth, kBindings
+};
 constexpr uint32_t kQueries = 5;  // timestamps: start, scattered, gathered, accumulated, encoded
 
 // One global barrier between compute / transfer stages: the frame's passes are
@@ -351,20 +372,27 @@ void GpuEye::destroy(Buffer& b) {
 GpuEye::~GpuEye() {
   if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
   if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
-  for (Buffer* b : {&upload_, &colors_, &current_, &history_[0], &history_[1], &encoded_, &readback_}) destroy(*b);
+  for (Buffer* b : {&upload_, &colors_, &point_depth_, &current_, &history_[0], &history_[1], &encoded_, &readback_}) {
+    destroy(*b);
+  }
 }
 
 bool GpuEye::ensure_points(std::size_t point_count, std::string* error) {
   if (point_count <= point_capacity_) return true;
   destroy(upload_);
   destroy(colors_);
+  destroy(point_depth_);
   point_capacity_ = 0;
   const VkDeviceSize bytes = VkDeviceSize{point_count} * 16;
-  upload_.size = colors_.size = bytes;
-  if (!owner_->create_buffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, &upload_.buffer, &upload_.memory,
+  upload_.size = bytes + VkDeviceSize{point_count} * 4 + 16;  // entries, then a depth each
+  colors_.size = bytes;
+  point_depth_.size = VkDeviceSize{point_count} * 4;
+  if (!owner_->create_buffer(upload_.size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, &upload_.buffer, &upload_.memory,
                              &upload_.mapped, error) ||
       !owner_->create_buffer(bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false,
-                             &colors_.buffer, &colors_.memory, nullptr, error)) {
+                             &colors_.buffer, &colors_.memory, nullptr, error) ||
+      !owner_->create_buffer(point_depth_.size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             false, &point_depth_.buffer, &point_depth_.memory, nullptr, error)) {
     return false;
   }
   point_capacity_ = point_count;
@@ -383,7 +411,8 @@ void GpuEye::update_descriptors() {
     const VkDescriptorBufferInfo info[kBindings - 1] = {
         {colors_.buffer, 0, VK_WHOLE_SIZE},        {current_.buffer, 0, VK_WHOLE_SIZE},
         {history_[s].buffer, 0, VK_WHOLE_SIZE},    {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
-        {upload_.buffer, 0, VK_WHOLE_SIZE},        {encoded_.buffer, 0, VK_WHOLE_SIZE}};
+        {upload_.buffer, 0, VK_WHOLE_SIZE},        {encoded_.buffer, 0, VK_WHOLE_SIZE},
+        {point_depth_.buffer, 0, VK_WHOLE_SIZE}};
     VkWriteDescriptorSet writes[kBindings];
     for (uint32_t b = 0; b < kBindings; ++b) {
       writes[b] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
@@ -424,12 +453,16 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   const std::size_t uploaded = first.back();
   if (uploaded > point_count) return *error = "GPU frame: more traced points than points", false;
   auto* entries = static_cast<uint32_t*>(upload_.mapped);
+  auto* depths = reinterpret_cast<float*>(entries + uploaded * 4);  // shaders/common.glsl Upload
   const foveation::Rgba* colors = frame.colors->rgba.data();
+  const bool has_depth = frame.point_depth_m != nullptr && frame.point_depth_m->size() == point_count;
   executor.parallel_for(frame.traced.size(), [&](std::size_t run) {
     uint32_t* e = entries + first[run] * 4;
+    float* d = depths + first[run];
     for (uint32_t id : frame.traced[run]) {
       e[0] = id;
       std::memcpy(e + 1, &colors[id], 12);
+      *d++ = has_depth ? shader_depth((*frame.point_depth_m)[id]) : kDepthUnknown;
       e += 4;
     }
   });
@@ -446,6 +479,9 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
           kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   stamp(0);
   vkCmdFillBuffer(cb, colors_.buffer, 0, VK_WHOLE_SIZE, 0u);  // every point "not traced" (a = 0)
+  uint32_t unknown_bits = 0;
+  std::memcpy(&unknown_bits, &kDepthUnknown, 4);
+  vkCmdFillBuffer(cb, point_depth_.buffer, 0, VK_WHOLE_SIZE, unknown_bits);
   barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   if (uploaded > 0) {
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->scatter_);
@@ -482,12 +518,30 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(2);
 
-  const TaaPush t{{int32_t(width_px_), int32_t(height_px_)},
-                  frame.taa.current_weight,
-                  frame.taa.variance_gamma,
-                  frame.taa.constraint == foveation::TaaConstraint::variance_clip ? 1u : 0u,
-                  frame.taa_reset ? 1u : 0u,
-                  frame.taa.clip_floor};
+  TaaPush t{};
+  t.size_px[0] = int32_t(width_px_);
+  t.size_px[1] = int32_t(height_px_);
+  t.current_weight = frame.taa.current_weight;
+  t.variance_gamma = frame.taa.variance_gamma;
+  t.constraint = frame.taa.constraint == foveation::TaaConstraint::variance_clip ? 1u : 0u;
+  t.reset = frame.taa_reset ? 1u : 0u;
+  t.clip_floor = frame.taa.clip_floor;
+  if (frame.history_view && !frame.taa_reset) {
+    // foveation::reproject_history's world-space step, folded into one rigid
+    // transform from this view's space to the last view's.
+    const foveation::EyePose now = foveation::eye_pose(frame.view), last = foveation::eye_pose(*frame.history_view);
+    const glm::quat q = glm::conjugate(last.orientation) * now.orientation;
+    const glm::vec3 translation = glm::conjugate(last.orientation) * (now.position_m - last.position_m);
+    const foveation::EyeFrustum fv = foveation::eye_frustum(frame.view), fl = foveation::eye_frustum(*frame.history_view);
+    t.reproject = 1u;
+    const float qv[4] = {q.x, q.y, q.z, q.w}, tv[4] = {translation.x, translation.y, translation.z, 0.0f};
+    const float tan_view[4] = {fv.tan_left, fv.tan_right, fv.tan_up, fv.tan_down};
+    const float tan_last[4] = {fl.tan_left, fl.tan_right, fl.tan_up, fl.tan_down};
+    std::memcpy(t.last_from_view_q, qv, sizeof qv);
+    std::memcpy(t.last_from_view_t, tv, sizeof tv);
+    std::memcpy(t.tan_view, tan_view, sizeof tan_view);
+    std::memcpy(t.tan_last, tan_last, sizeof tan_last);
+  }
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->taa_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof t, &t);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);

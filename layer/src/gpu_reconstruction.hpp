@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -67,11 +68,14 @@ class GpuTables {
 struct GpuFrame {
   const GpuTables* tables = nullptr;
   const foveation::PointColors* colors = nullptr;  // the view's colours this frame (a = 1 traced)
+  const std::vector<float>* point_depth_m = nullptr;  // per point (NaN: none; +inf: sky); null: no depth
   std::span<const std::vector<std::uint32_t>> traced;  // the points traced this frame, in runs
   foveation::GazeMapping mapping;
   foveation::RbfClamp rbf_clamp = foveation::RbfClamp::block;
   std::array<float, 3> fallback_rgb{};
   bool taa_reset = true;  // the TAA history restarts: the output is this frame alone (always without TAA)
+  FoveartEyeView view{};  // this frame's view
+  std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (FrameResult::history_view)
   foveation::TaaOptions taa;
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
 };
@@ -118,7 +122,7 @@ class GpuEye {
   GpuReconstructor* owner_ = nullptr;
   VkDevice device_ = VK_NULL_HANDLE;
   uint32_t width_px_ = 0, height_px_ = 0;
-  Buffer upload_, colors_, current_, history_[2], encoded_, readback_;
+  Buffer upload_, colors_, point_depth_, current_, history_[2], encoded_, readback_;
   std::size_t point_capacity_ = 0;
   const GpuTables* bound_tables_ = nullptr;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;

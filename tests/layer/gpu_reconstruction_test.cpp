@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 #include <vulkan/vulkan.h>
 
@@ -24,6 +25,7 @@
 #include "gpu_reconstruction.hpp"
 #include "gpu_tables.hpp"
 #include "headless_vulkan.hpp"
+#include "analytic_scene.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -113,12 +115,13 @@ class GpuReconstruction : public ::testing::Test {
     }
   }
 
-  // Renders `frames` frames of one eye with both paths; returns the largest
-  // difference over all frames. gaze(i) is frame i's gaze.
-  template <class GazeFn>
-  Difference run(InterpMethod method, int k, uint32_t eye, bool taa, int frames, GazeFn gaze,
+  // Renders `frames` frames with both paths; returns the largest difference
+  // over all frames. request_of(i) is frame i's request, traced by `trace`.
+  template <class RequestFn>
+  Difference run(InterpMethod method, int k, bool taa, int frames, RequestFn request_of,
                  std::size_t max_chunk_bytes = 0, std::vector<std::vector<uint8_t>>* gpu_frames = nullptr,
-                 uint64_t* invalid_paths = nullptr) {
+                 uint64_t* invalid_paths = nullptr, FoveartTraceRaysFn trace = scene, void* user = nullptr,
+                 uint64_t* reprojected_frames = nullptr) {
     const auto tables = small_tables(method, k);
     foveation::ViewSettings settings;
     settings.taa = taa;
@@ -135,9 +138,10 @@ class GpuReconstruction : public ::testing::Test {
     foveation::Executor executor(2);
     Difference worst;
     for (int i = 0; i < frames; ++i) {
-      const auto req = request(eye, gaze(i), uint64_t(i + 1));
-      const auto cpu = cpu_view.render(req, scene, nullptr, executor);
-      const auto gpu = gpu_view.render(req, scene, nullptr, executor);
+      const foveation::FrameRequest req = request_of(i);
+      const auto cpu = cpu_view.render(req, trace, user, executor);
+      const auto gpu = gpu_view.render(req, trace, user, executor);
+      if (reprojected_frames != nullptr) *reprojected_frames += gpu.history_view.has_value() ? 1 : 0;
       EXPECT_TRUE(cpu.ok() && gpu.ok());
       EXPECT_EQ(cpu.taa_reset, gpu.taa_reset) << "frame " << i;
       if (invalid_paths != nullptr) *invalid_paths += cpu.gather.renormalized + cpu.gather.nearest_valid + cpu.gather.fallback;
@@ -147,7 +151,10 @@ class GpuReconstruction : public ::testing::Test {
       GpuFrame frame;
       frame.tables = gpu_tables.get();
       frame.colors = &gpu_view.colors();
+      frame.point_depth_m = &gpu_view.point_depths();
       frame.traced = gpu_view.traced();
+      frame.view = req.view;
+      frame.history_view = gpu.history_view;
       frame.mapping = foveation::map_gaze(int(kW), int(kH), req.gaze_px);
       frame.rbf_clamp = settings.rbf_clamp;
       frame.taa_reset = !taa || gpu.taa_reset;
@@ -186,7 +193,9 @@ TEST_P(GpuMatchesCpu, WithinOneStepCentredAndCornerGazeBothEyes) {
   uint64_t invalid_paths = 0;
   for (uint32_t eye : {0u, 1u}) {
     for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(2, 3), glm::vec2(93, 77)}) {
-      const Difference d = run(c.method, c.k, eye, false, 1, [&](int) { return gaze; }, 0, nullptr, &invalid_paths);
+      const Difference d =
+          run(c.method, c.k, false, 1, [&](int i) { return request(eye, gaze, uint64_t(i + 1)); }, 0, nullptr,
+              &invalid_paths);
       EXPECT_LE(d.max_step, 1) << "eye " << eye << " gaze " << gaze.x << "," << gaze.y << ": " << d.bytes_differing
                                << " bytes differ";
     }
@@ -199,9 +208,49 @@ TEST_P(GpuMatchesCpu, TaaOver16FramesWithAGazeJump) {
   const Case c = GetParam();
   for (uint32_t eye : {0u, 1u}) {
     // Drift at the centre, a jump to the corner at frame 8 (TAA restarts), drift there.
-    const Difference d = run(c.method, c.k, eye, true, 16, [](int i) {
-      return i < 8 ? glm::vec2(48.0f + float(i % 3), 40.0f) : glm::vec2(10.0f + float(i % 2), 8.0f);
+    const Difference d = run(c.method, c.k, true, 16, [&](int i) {
+      const glm::vec2 gaze = i < 8 ? glm::vec2(48.0f + float(i % 3), 40.0f) : glm::vec2(10.0f + float(i % 2), 8.0f);
+      return request(eye, gaze, uint64_t(i + 1));
     });
+    EXPECT_LE(d.max_step, 1) << "eye " << eye << ": " << d.bytes_differing << " bytes differ";
+  }
+}
+
+// The head turns and steps sideways every frame in front of a near bar and a
+// far wall, the engine returning depth: the GPU reprojects the history as the
+// CPU does (rotation + parallax, disocclusion), within one 8-bit step.
+int32_t analytic(void* user, const FoveartRayBatch* batch) {
+  const auto* scene_of = static_cast<const foveation::test::AnalyticScene*>(user);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    const float* o = batch->origins_m + 3 * i;
+    const float* d = batch->directions + 3 * i;
+    float depth = 0.0f;
+    const glm::vec3 c = scene_of->shade({o[0], o[1], o[2]}, {d[0], d[1], d[2]}, &depth);
+    for (int j = 0; j < 3; ++j) batch->out_rgb[3 * i + j] = c[j];
+    batch->out_depth_m[i] = depth;
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+TEST_P(GpuMatchesCpu, TaaReprojectsAMovingHeadLikeTheCpu) {
+  const Case c = GetParam();
+  foveation::test::AnalyticScene bar_and_wall;
+  for (uint32_t eye : {0u, 1u}) {
+    uint64_t reprojected = 0;
+    const Difference d = run(
+        c.method, c.k, true, 16,
+        [&](int i) {
+          foveation::EyePose pose;
+          pose.position_m = {(eye == 0 ? -0.032f : 0.032f) + 0.01f * float(i), 1.6f, 0.0f};
+          pose.orientation = glm::angleAxis(glm::radians(-0.4f * float(i)), glm::vec3(0, 1, 0));
+          foveation::FrameRequest r;
+          r.view = foveation::make_eye_view(eye, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
+          r.frame_index = uint64_t(i + 1);
+          r.gaze_px = {48, 40};
+          return r;
+        },
+        0, nullptr, nullptr, analytic, &bar_and_wall, &reprojected);
+    EXPECT_EQ(reprojected, 15u) << "every frame after the first reprojects";
     EXPECT_LE(d.max_step, 1) << "eye " << eye << ": " << d.bytes_differing << " bytes differ";
   }
 }
@@ -227,9 +276,9 @@ TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
     ASSERT_EQ(whole.chunks.size(), 1u);
     const std::size_t small = whole.bytes() / 6;
     std::vector<std::vector<uint8_t>> one, many;
-    auto gaze = [](int) { return glm::vec2(30, 50); };
-    run(c.method, c.k, 0, false, 1, gaze, 0, &one);
-    run(c.method, c.k, 0, false, 1, gaze, small, &many);
+    auto at = [](int) { return request(0, glm::vec2(30, 50), 1); };
+    run(c.method, c.k, false, 1, at, 0, &one);
+    run(c.method, c.k, false, 1, at, small, &many);
     GpuTablePack cut;
     ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), small, &cut, &error)) << error;
     EXPECT_GE(cut.chunks.size(), 6u);

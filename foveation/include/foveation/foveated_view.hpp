@@ -114,6 +114,9 @@ struct FrameResult {
   std::uint64_t history_off_screen = 0;   // TaaHistory::reproject: pixels whose surface was off the last view
   std::uint64_t history_disoccluded = 0;  // ... whose last depth disagreed (a surface uncovered)
   std::uint64_t history_with_depth = 0;   // ... reprojected through the engine's depth (the rest: rotation only)
+  // reconstruct_on_cpu = false: the view the history was rendered from when
+  // this frame must reproject it (TaaHistory::reproject, the view moved, no reset).
+  std::optional<FoveartEyeView> history_view;
   GatherStats gather;
 
   bool ok() const { return failure == FrameFailure::none; }
@@ -137,6 +140,8 @@ class FoveatedView {
   // points it traced, in runs: what a reconstruction elsewhere needs.
   const PointColors& colors() const { return colors_; }
   const std::vector<std::vector<std::uint32_t>>& traced() const { return traced_; }
+  // The last frame's depth per point (nearest hit of its rays; NaN: none returned).
+  const std::vector<float>& point_depths() const { return point_depth_m_; }
   const ViewTables& tables() const { return *tables_; }
   const ViewSettings& settings() const { return settings_; }
 
