@@ -14,6 +14,8 @@
 #include <openxr/openxr_platform.h>
 #include <time.h>
 
+#include "sim_test_env.h"
+
 namespace foveart::sim::test {
 
 // A zeroed OpenXR struct with its type (and next) filled in.
@@ -24,13 +26,6 @@ T xr(XrStructureType type, void* next = nullptr) {
   value.next = next;
   return value;
 }
-
-// Sets (or, with an empty value, unsets) FOVEART_SIM_* and friends for this process.
-void set_env(const std::map<std::string, std::string>& vars);
-// Clears every FOVEART_SIM_* variable.
-void clear_sim_env();
-// A fresh, empty directory under the build tree for one test.
-std::string fresh_dir(const std::string& name);
 
 class XrTestApp {
  public:
