@@ -4,6 +4,7 @@
 #include "cmd_render.hpp"
 
 #include "content_speedup.hpp"
+#include "motion_sequence.hpp"
 #include "pfm.hpp"
 #include "reference.hpp"
 #include "render_metrics.hpp"
@@ -198,6 +199,18 @@ std::string check_render_options(const RenderOptions& o) {
              o.reference_spp + "'";
   }
   if (!o.reference_spp.empty() && !o.reference_file.empty()) return "give --reference-spp or --reference, not both";
+  std::vector<std::string> taa;
+  if (std::string bad = parse_taa_modes(o.taa, &taa); !bad.empty()) return bad;
+  if (o.mode == "full" && taa != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
+  if (o.motion.empty()) {
+    if (taa.size() > 1) return "--taa: a list of modes needs --motion (one still view has one TAA)";
+    if (o.start_s) return "--start-s needs --motion";
+    if (o.fps) return "--fps needs --motion";
+  } else {
+    if (o.pose) return "--pose and --motion exclude each other: the motion gives the head pose";
+    if (o.gaze_px) return "--gaze and --motion exclude each other: the motion gives the gaze";
+    if (!o.reference_file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
+  }
   return "";
 }
 
@@ -206,6 +219,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     err << "fovea render: " << bad << "\n";
     return 2;
   }
+  if (!o.motion.empty()) return run_render_motion(o, out, err);
   auto t0 = std::chrono::steady_clock::now();
   engine::LoadResult loaded = engine::load_scene(o.scene);
   if (!loaded.ok()) {
@@ -285,9 +299,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       auto tables = foveation::load_view_tables(cache, key, interp, executor, std::nullopt, {},
                                                 [&](const std::string& m) { err << "fovea render: " << m << "\n"; });
       precompute_ms = ms_since(t_tables);
-      foveation::ViewSettings settings;
-      settings.rays_per_point = o.spp;
-      settings.sample_seed = o.seed;
+      const foveation::ViewSettings settings = taa_view_settings(o.taa, o.spp, o.seed);
       foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), settings);
     } catch (const std::exception& e) {
       err << "fovea render: foveation: " << e.what() << "\n";
@@ -342,7 +354,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   if (run_foveated) {
     report["points"] = fov_points;
     report["foveated"] = {{"rays", rays_json(fov_rays)}, {"lanes_per_packet", lanes_per_packet(fov_rays)},
-                          {"method", o.method}, {"k", k}, {"scale", o.scale},
+                          {"method", o.method}, {"k", k}, {"scale", o.scale}, {"taa", o.taa},
                           {"pattern", foveation::fovea_pattern_name(fov_display_pattern)},
                           {"precompute_ms", precompute_ms}, {"trace_ms", fov_times.median_trace_ms()},
                           {"samples_ms", fov_times.median_samples_ms()},
@@ -511,7 +523,8 @@ void register_render(CLI::App& app) {
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,
-                  "Frames per mode, modes interleaved; times are each mode's median frame")
+                  "Frames per mode, modes interleaved; times are each mode's median frame (with --motion: the "
+                  "sequence's frames)")
       ->capture_default_str();
   cmd->add_option("--threads", opts->threads, "Tracing threads (0 = all cores)")->capture_default_str();
   cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
@@ -524,8 +537,21 @@ void register_render(CLI::App& app) {
                   "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
   cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
+  cmd->add_option("--taa", opts->taa,
+                  "TAA of the foveated frames: off, restart (on every pose change), reproject (follows the head); "
+                  "with --motion a list, e.g. off,restart,reproject")
+      ->capture_default_str();
+  cmd->add_option("--motion", opts->motion,
+                  "Render --frames frames of a head and gaze motion: 'builtin' or a CSV file "
+                  "(time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade])");
+  auto start_s = std::make_shared<double>(0.0);
+  auto fps = std::make_shared<double>(70.0);
+  CLI::Option* start_opt = cmd->add_option("--start-s", *start_s, "With --motion: time of the first frame (s), default 0");
+  CLI::Option* fps_opt = cmd->add_option("--fps", *fps, "With --motion: frames per second, default 70");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
-  cmd->callback([opts, gaze, size, fov, pose] {
+  cmd->callback([opts, gaze, size, fov, pose, start_s, fps, start_opt, fps_opt] {
+    if (start_opt->count() > 0) opts->start_s = *start_s;
+    if (fps_opt->count() > 0) opts->fps = *fps;
     if (!gaze->empty()) {
       glm::vec2 g;
       if (std::string e = parse_pair(*gaze, &g); !e.empty()) throw CLI::ValidationError("--gaze", e);

@@ -53,6 +53,16 @@ struct RenderOptions {
   std::string reference_spp;
   std::string reference_file;
   std::string reference_cache;    // reference cache directory; empty: <cache>/reference, or none
+  // TAA of the foveated frames: off, restart (the history restarts on every
+  // pose change) or reproject (it follows the head); with --motion a list
+  // (off,restart,reproject), each rendered as its own view at equal rays.
+  std::string taa = "off";
+  // A scripted head and gaze motion ("builtin" or a CSV file): --frames frames
+  // at start_s + i / fps, measured per ring against the reference sequence
+  // (cmd_render_motion.cpp). start_s and fps are only valid with it.
+  std::string motion;
+  std::optional<double> start_s;  // default 0
+  std::optional<double> fps;      // default 70
   bool json = false;
 };
 
@@ -65,6 +75,10 @@ FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& sc
 // pattern); nullopt with *error when it is not valid.
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
                                                         std::string* error);
+
+// `fovea render --motion` (cmd_render_motion.cpp): called by run_render when
+// options.motion is set, after check_render_options.
+int run_render_motion(const RenderOptions& options, std::ostream& out, std::ostream& err);
 
 // Runs the command; prints the report (JSON or text) to `out` and problems to
 // `err`. Returns the process exit code (0 on success).

@@ -1,0 +1,171 @@
+// `fovea render --motion`: bad motion files and options are errors naming what
+// is wrong with a non-zero exit; a tiny sequence reports per-ring flicker and
+// error against the reference sequence for every TAA mode at equal rays.
+#include "gltf_fixtures.hpp"
+
+#include <cmd_render.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using foveart::tools::RenderOptions;
+using foveart::tools::run_render;
+namespace fs = std::filesystem;
+
+namespace {
+
+RenderOptions tiny_motion() {
+  RenderOptions o;
+  o.mode = "both";
+  o.motion = "builtin";
+  o.size_px = glm::ivec2(64, 72);  // 1.5 deg per pixel: every ring has pixels
+  o.frames = 3;
+  o.start_s = 0.5;  // a fixation: no saccade, no blink
+  o.threads = 2;
+  o.json = true;
+  return o;
+}
+
+int run(const RenderOptions& o, std::string* err_text) {
+  std::ostringstream out, err;
+  const int code = run_render(o, out, err);
+  *err_text = err.str();
+  return code;
+}
+
+}  // namespace
+
+TEST(RenderMotion, BadMotionFileIsAnErrorNamingTheFileAndLine) {
+  engine_test::TempDir dir;
+  const fs::path file = dir.path / "motion.csv";
+  std::ofstream(file) << "time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid\n0,0,0,0,1,0,1.6,0,0,0,-1,1\n"
+                         "0.5,0,0,0,1,0,1.6,0,0,0,-1\n";  // 11 columns
+  RenderOptions o = tiny_motion();
+  o.motion = file.string();
+  std::string err;
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("motion.csv:3: 11 columns"), std::string::npos) << err;
+  o.motion = (dir.path / "absent.csv").string();
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("absent.csv: cannot open"), std::string::npos) << err;
+
+  // The binary: the same message and a non-zero exit status.
+  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
+  ASSERT_TRUE(fs::exists(fovea)) << fovea;
+  const std::string cmd = "'" + fovea.string() + "' render --size 64,72 --motion '" + file.string() + "' 2>'" +
+                          (dir.path / "err").string() + "' >/dev/null";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  std::ifstream in(dir.path / "err");
+  std::ostringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("11 columns"), std::string::npos) << text.str();
+}
+
+TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
+  std::string err;
+  RenderOptions o = tiny_motion();
+  o.frames = 1;
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--frames must be at least 2"), std::string::npos) << err;
+  o = tiny_motion();
+  o.frames = 300;  // 300 frames at 70 fps from 0.5 s end after the 4 s motion
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("past the motion's end"), std::string::npos) << err;
+  o = tiny_motion();
+  o.frames = 0;
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--frames"), std::string::npos) << err;
+  o = tiny_motion();
+  o.taa = "off,sometimes";
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("'sometimes' is not off, restart or reproject"), std::string::npos) << err;
+  o.taa = "off,off";
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("given twice"), std::string::npos) << err;
+  o.taa = "reproject,";
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--taa"), std::string::npos) << err;
+  o = tiny_motion();
+  o.mode = "full";
+  o.taa = "reproject";
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--taa needs --mode foveated or both"), std::string::npos) << err;
+  o = tiny_motion();
+  o.motion.clear();
+  o.taa = "off,reproject";
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("needs --motion"), std::string::npos) << err;
+  o.taa = "off";
+  EXPECT_EQ(run(o, &err), 2);  // --start-s without --motion
+  EXPECT_NE(err.find("--start-s needs --motion"), std::string::npos) << err;
+  o = tiny_motion();
+  o.fps = 0.0;
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--fps"), std::string::npos) << err;
+  o = tiny_motion();
+  o.start_s = 4.5;
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--start-s must be inside the motion"), std::string::npos) << err;
+  o = tiny_motion();
+  o.gaze_px = glm::vec2(3, 3);
+  EXPECT_EQ(run(o, &err), 2);
+  EXPECT_NE(err.find("--gaze and --motion"), std::string::npos) << err;
+}
+
+TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
+  engine_test::TempDir dir;
+  RenderOptions o = tiny_motion();
+  o.taa = "off,restart,reproject";
+  o.reference_spp = "8";
+  o.cache_dir = (dir.path / "cache").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto j = nlohmann::json::parse(out.str());
+  ASSERT_EQ(j["frames"].size(), 3u);
+  EXPECT_NEAR(j["frames"][1]["time_s"].get<double>(), 0.5 + 1.0 / 70.0, 1e-12);
+  // The head turns: every frame has its own pose.
+  EXPECT_NE(j["frames"][0]["pose"], j["frames"][1]["pose"]);
+  EXPECT_EQ(j["reference"]["spp"], 8);
+  EXPECT_EQ(j["reference"]["rings"].size(), 7u);
+  ASSERT_EQ(j["tracks"].size(), 4u);
+  const std::vector<std::string> ids = {"full_spp1", "nn_k1_s1_pixel-grid_r1_taa-off",
+                                        "nn_k1_s1_pixel-grid_r1_taa-restart", "nn_k1_s1_pixel-grid_r1_taa-reproject"};
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const auto& t = j["tracks"][i];
+    EXPECT_EQ(t["id"], ids[i]);
+    EXPECT_EQ(t["frames"], 3);
+    ASSERT_EQ(t["rings"].size(), 7u);
+    // Every ring, the fovea included, has pixels at 64x72.
+    for (const auto& r : t["rings"]) {
+      ASSERT_TRUE(r["flicker"].is_number()) << t["id"] << " " << r.dump();
+      ASSERT_TRUE(r["psnr"].is_number()) << t["id"] << " " << r.dump();
+      EXPECT_GT(r["flicker"].get<double>(), 0.0);
+      EXPECT_GT(r["psnr"].get<double>(), 5.0);
+      EXPECT_LT(r["psnr"].get<double>(), 80.0);
+    }
+  }
+  // At 64x72 px the pixel-exact point set is one point per pixel with the full
+  // render's own jitter: TAA off is the full render at 1 ray, frame by frame.
+  EXPECT_EQ(j["tracks"][1]["rings"], j["tracks"][0]["rings"]);
+  // Restarting TAA restarts on every frame of a moving head; reprojecting only on the first.
+  EXPECT_EQ(j["tracks"][2]["taa_resets"], 3);
+  EXPECT_EQ(j["tracks"][3]["taa_resets"], 1);
+  // Equal rays: the foveated tracks trace the same points.
+  EXPECT_EQ(j["tracks"][1]["rays"]["primary"], j["tracks"][3]["rays"]["primary"]);
+  // The reference sequence is cached: a second run renders none of it.
+  std::ostringstream out2, err2;
+  ASSERT_EQ(run_render(o, out2, err2), 0) << err2.str();
+  const auto j2 = nlohmann::json::parse(out2.str());
+  EXPECT_EQ(j2["reference"]["frames_from_cache"], 3);
+  EXPECT_EQ(j2["tracks"][3]["rings"], j["tracks"][3]["rings"]);
+}

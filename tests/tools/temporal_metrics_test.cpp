@@ -1,0 +1,145 @@
+// The temporal measure (tools/fovea/temporal_metrics.hpp) on synthetic
+// sequences whose flicker and error are known in closed form.
+#include <temporal_metrics.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+using foveart::foveation::EccentricityMap;
+using foveart::foveation::ImageRgb;
+using foveart::tools::ReferenceFloor;
+using foveart::tools::TemporalError;
+using foveart::tools::TemporalRings;
+
+namespace {
+
+constexpr int kW = 4, kH = 2;
+
+// Rings by hand: the left half in ring 0, the right half in `right_ring`.
+EccentricityMap map_with(std::uint8_t right_ring) {
+  EccentricityMap m;
+  m.width_px = kW;
+  m.height_px = kH;
+  m.ring.resize(kW * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) m.ring[std::size_t(y * kW + x)] = x < kW / 2 ? 0 : right_ring;
+  for (std::uint8_t r : m.ring) ++m.ring_pixels[r];
+  return m;
+}
+
+// The reference of frame t: a ramp that moves (the truth changes by 0.01 per frame and pixel index).
+ImageRgb truth(int t) {
+  ImageRgb im(kW, kH);
+  for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = 0.2f + 0.01f * float(t) * float(i % 7) + 0.02f * float(i % 3);
+  return im;
+}
+
+ImageRgb plus(const ImageRgb& a, float v) {
+  ImageRgb out = a;
+  for (float& x : out.rgb) x += v;
+  return out;
+}
+
+}  // namespace
+
+TEST(TemporalMetrics, FollowingTheTruthExactlyHasNoFlickerAndNoError) {
+  TemporalError e;
+  const EccentricityMap m = map_with(4);
+  for (int t = 0; t < 5; ++t) e.add_frame(truth(t), truth(t), m);
+  const TemporalRings r = e.rings();
+  EXPECT_EQ(e.frames(), 5);
+  // The truth itself changes from frame to frame; none of that counts as flicker.
+  EXPECT_DOUBLE_EQ(r[0].flicker_rms, 0.0);
+  EXPECT_DOUBLE_EQ(r[4].flicker_rms, 0.0);
+  EXPECT_DOUBLE_EQ(r[0].error_mse, 0.0);
+  EXPECT_EQ(r[0].frame_values, 5u * 4u * 3u);
+  EXPECT_EQ(r[0].pair_values, 4u * 4u * 3u);
+  EXPECT_TRUE(std::isnan(r[2].flicker_rms));  // an empty ring
+  EXPECT_TRUE(std::isnan(r[2].error_mse));
+}
+
+TEST(TemporalMetrics, ConstantOffsetIsErrorWithoutFlicker) {
+  TemporalError e;
+  const EccentricityMap m = map_with(5);
+  for (int t = 0; t < 4; ++t) e.add_frame(plus(truth(t), 0.1f), truth(t), m);
+  const TemporalRings r = e.rings();
+  EXPECT_NEAR(r[0].flicker_rms, 0.0, 1e-7);
+  EXPECT_NEAR(std::sqrt(r[0].error_mse), 0.1, 1e-6);
+  EXPECT_NEAR(r[5].psnr_db(), 20.0, 1e-4);  // 10 log10(1 / 0.01)
+}
+
+TEST(TemporalMetrics, AlternatingNoiseFlickersTwiceItsAmplitude) {
+  // I_t = R_t +- a, the sign alternating every frame: every pair differs by 2a beyond the truth.
+  TemporalError e;
+  const EccentricityMap m = map_with(6);
+  const float a = 0.05f;
+  for (int t = 0; t < 6; ++t) e.add_frame(plus(truth(t), t % 2 ? a : -a), truth(t), m);
+  const TemporalRings r = e.rings();
+  EXPECT_NEAR(r[0].flicker_rms, 2.0 * double(a), 1e-6);
+  EXPECT_NEAR(r[6].flicker_rms, 2.0 * double(a), 1e-6);
+  EXPECT_NEAR(std::sqrt(r[0].error_mse), double(a), 1e-6);
+}
+
+TEST(TemporalMetrics, GhostingOfAUniformMotionIsErrorNotFlicker) {
+  // I_t = R_{t-1} (one frame late): the error is the truth's change, but a
+  // uniformly moving truth changes by the same amount each frame, so the
+  // frame-to-frame change matches the truth's and there is no flicker after
+  // the first pair (I_0 = R_0).
+  TemporalError e;
+  const EccentricityMap m = map_with(3);
+  for (int t = 0; t < 5; ++t) e.add_frame(truth(t == 0 ? 0 : t - 1), truth(t), m);
+  const TemporalRings r = e.rings();
+  // Pair (0, 1): I changes by 0, R by d; pairs (1,2)...(3,4): both by d. Frame 0 has no error.
+  const ImageRgb d0 = truth(0), d1 = truth(1);
+  double d2_left = 0.0, d2_right = 0.0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t k = std::size_t((y * kW + x) * 3 + c);
+        const double d = double(d1.rgb[k]) - double(d0.rgb[k]);
+        (x < kW / 2 ? d2_left : d2_right) += d * d;
+      }
+  // Flicker: only pair (0, 1) contributes, sum d^2 over 4 pairs' values. Error: frames 1-4 each d^2.
+  EXPECT_NEAR(r[0].flicker_rms, std::sqrt(d2_left / (4.0 * 12.0)), 1e-6);
+  EXPECT_NEAR(r[0].error_mse, 4.0 * d2_left / (5.0 * 12.0), 1e-7);
+  EXPECT_NEAR(r[3].error_mse, 4.0 * d2_right / (5.0 * 12.0), 1e-7);
+  EXPECT_GT(r[0].error_mse, 0.0);
+}
+
+TEST(TemporalMetrics, EachFramesOwnRingsCount) {
+  // The gaze moves: frame 1's right half is ring 2, frame 0's ring 1. Frame 1's
+  // pair goes to frame 1's rings.
+  TemporalError e;
+  e.add_frame(plus(truth(0), 0.1f), truth(0), map_with(1));
+  e.add_frame(plus(truth(1), -0.1f), truth(1), map_with(2));
+  const TemporalRings r = e.rings();
+  EXPECT_EQ(r[1].frame_values, 12u);
+  EXPECT_EQ(r[1].pair_values, 0u);
+  EXPECT_TRUE(std::isnan(r[1].flicker_rms));
+  EXPECT_EQ(r[2].pair_values, 12u);
+  EXPECT_NEAR(r[2].flicker_rms, 0.2, 1e-6);
+}
+
+TEST(TemporalMetrics, MismatchedSizesThrow) {
+  TemporalError e;
+  EXPECT_THROW(e.add_frame(ImageRgb(3, 2), ImageRgb(3, 2), map_with(1)), std::invalid_argument);
+  EXPECT_THROW(e.add_frame(truth(0), ImageRgb(3, 2), map_with(1)), std::invalid_argument);
+  ReferenceFloor f;
+  EXPECT_THROW(f.add_frame(std::vector<float>(3), map_with(1)), std::invalid_argument);
+}
+
+TEST(TemporalMetrics, ReferenceFloorAddsTheVariancesOfConsecutiveFrames) {
+  ReferenceFloor f;
+  const EccentricityMap m = map_with(4);
+  f.add_frame(std::vector<float>(kW * kH, 0.01f), m);
+  f.add_frame(std::vector<float>(kW * kH, 0.03f), m);
+  f.add_frame(std::vector<float>(kW * kH, 0.01f), m);
+  const TemporalRings r = f.rings();
+  // Pairs: 0.01 + 0.03 and 0.03 + 0.01 -> mean 0.04; error: mean of 0.01, 0.03, 0.01.
+  EXPECT_NEAR(r[0].flicker_rms, std::sqrt(0.04), 1e-7);
+  EXPECT_NEAR(r[4].error_mse, 0.05 / 3.0, 1e-8);
+  EXPECT_EQ(r[4].frame_values, 3u * 4u * 3u);
+}

@@ -1,0 +1,215 @@
+// `fovea render --motion`: a sequence of frames following a scripted head and
+// gaze motion (motion_views.hpp), for the full render and/or the foveated view
+// with each TAA mode asked for at equal rays, measured per ring against the
+// converged reference sequence (motion_sequence.hpp): flicker beyond the
+// truth's own change and the error over all frames.
+#include "cmd_render.hpp"
+
+#include "motion_sequence.hpp"
+#include "pricelist_grid.hpp"
+#include "render_metrics.hpp"
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+
+#include <foveation/foveated_view.hpp>
+
+#include <toolkit/image_io.hpp>
+#include <toolkit/progress.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::string fixed(const Json& j, int decimals) {
+  if (!j.is_number() || !std::isfinite(j.get<double>())) return "-";
+  const double v = j.get<double>();
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+void print_text(const Json& report, std::ostream& out) {
+  out << "motion " << report["motion"]["spec"].get<std::string>() << ": " << report["window"]["frames"]
+      << " frames at " << report["window"]["fps"] << " fps from " << report["window"]["start_s"] << " s, "
+      << report["width"] << "x" << report["height"] << "\n";
+  if (!report.contains("reference")) {
+    out << "no --reference-spp: no temporal error (accuracy is measured against the reference sequence only)\n";
+    for (const Json& t : report["tracks"]) out << t["id"].get<std::string>() << ": " << fixed(t["ms"], 1) << " ms\n";
+    return;
+  }
+  out << "reference " << report["reference"]["spp"] << " rays per pixel per frame\n"
+      << "flicker RMS (frame-to-frame change beyond the reference's) / PSNR dB against the reference, per ring:\n";
+  out << "track";
+  for (const Json& r : report["reference"]["rings"])
+    out << " | " << r["from_deg"].get<double>() << "-" << (r["to_deg"].is_null() ? std::string("") : r["to_deg"].dump());
+  out << "\n";
+  for (const Json& t : report["tracks"]) {
+    out << t["id"].get<std::string>();
+    for (const Json& r : t["rings"])
+      out << " | " << fixed(r["flicker"], 4) << " / " << fixed(r["psnr"], 1);
+    out << "\n";
+  }
+}
+
+}  // namespace
+
+int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+  std::string error;
+  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  if (!motion) {
+    err << "fovea render: " << error << "\n";
+    return 2;
+  }
+  MotionWindow window;
+  window.start_s = o.start_s.value_or(0.0);
+  window.fps = o.fps.value_or(70.0);
+  window.frames = o.frames;
+  if (std::string bad = check_motion_window(*motion, window); !bad.empty()) {
+    err << "fovea render: " << bad << "\n";
+    return 2;
+  }
+  std::vector<std::string> taa_modes;
+  parse_taa_modes(o.taa, &taa_modes);  // checked by check_render_options
+
+  engine::LoadResult loaded = engine::load_scene(o.scene);
+  if (!loaded.ok()) {
+    err << "fovea render: " << loaded.error << "\n";
+    return 1;
+  }
+  for (const std::string& w : loaded.scene->warnings) err << "fovea render: warning: " << w << "\n";
+  const std::uint64_t scene_hash = scene_content_hash(*loaded.scene);
+  std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
+  if (!tracer) {
+    err << "fovea render: " << error << "\n";
+    return 1;
+  }
+  const FoveartEyeView eye_at_rest = render_view(o, tracer->scene());
+  const engine::Camera head = engine::scene_head(tracer->scene());
+  const std::vector<MotionFrame> frames =
+      motion_frames(*motion, window, eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
+  foveation::Executor executor(static_cast<unsigned>(o.threads));
+
+  std::vector<SequenceTrack> tracks;
+  if (o.mode != "foveated") {
+    SequenceTrack t;
+    t.full = true;
+    t.spp = o.spp;
+    t.id = "full_spp" + std::to_string(o.spp);
+    tracks.push_back(std::move(t));
+  }
+  if (o.mode != "full") {
+    const std::optional<foveation::DisplayModel> display = foveated_display(o, eye_at_rest, &error);
+    if (!display) {
+      err << "fovea render: " << error << "\n";
+      return 1;
+    }
+    PriceSetting setting;
+    setting.method = o.method;
+    setting.k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
+    setting.scale = o.scale;
+    setting.pattern = foveation::fovea_pattern_name(display->fovea_pattern);
+    setting.spp = o.spp;
+    foveation::PointSetKey key;
+    key.display = *display;
+    key.seed = o.seed;
+    foveation::InterpOptions interp;
+    interp.method = *foveation::parse_method(o.method);
+    interp.k = setting.k;
+    std::optional<std::filesystem::path> cache;
+    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
+    std::shared_ptr<const foveation::ViewTables> tables;
+    try {
+      tables = foveation::load_view_tables(cache, key, interp, executor, std::nullopt, {},
+                                           [&](const std::string& m) { err << "fovea render: " << m << "\n"; });
+    } catch (const std::exception& e) {
+      err << "fovea render: foveation: " << e.what() << "\n";
+      return 1;
+    }
+    for (const std::string& mode : taa_modes) {
+      SequenceTrack t;
+      t.taa = mode;
+      t.spp = o.spp;
+      t.id = setting.id() + "_taa-" + mode;
+      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed));
+      tracks.push_back(std::move(t));
+    }
+  }
+
+  SequenceReferenceOptions ref;
+  ref.spp = o.reference_spp;  // empty: no reference, no temporal error
+  ref.baseline_spp = std::max(16, o.spp);
+  ref.seed = o.seed;
+  ref.cache_dir = !o.reference_cache.empty() ? o.reference_cache
+                  : !o.cache_dir.empty()     ? (std::filesystem::path(o.cache_dir) / "reference").string()
+                                             : std::string();
+  SequenceHooks hooks;
+  hooks.log = [&](const std::string& m) { err << "fovea render: " << m << "\n"; };
+  toolkit::Progress progress("render --motion");
+  hooks.frame_done = [&](int done, int total) {
+    progress.update(double(done) / double(total));
+    if (done % 10 == 0 || done == total) err << "fovea render: frame " << done << "/" << total << "\n";
+  };
+  Json files = Json::array();
+  if (!o.out_prefix.empty()) {
+    hooks.image = [&](const SequenceTrack& t, const MotionFrame& f, const foveation::ImageRgb& display) {
+      char suffix[32];
+      std::snprintf(suffix, sizeof suffix, "_f%03d.png", f.index);
+      const std::string path = o.out_prefix + "_" + t.id + suffix;
+      if (std::string e = toolkit::write_png(path, display, toolkit::PngValues::display); !e.empty()) return e;
+      files.push_back(path);
+      return std::string();
+    };
+  }
+  SequenceRun run;
+  if (!run_sequence(*tracer, scene_hash, frames, ref, tracks, executor, hooks, &run, &error)) {
+    err << "fovea render: " << error << "\n";
+    return 1;
+  }
+
+  Json report;
+  report["scene"] = tracer->scene().source;
+  report["eye"] = o.eye;
+  report["width"] = eye_at_rest.width_px;
+  report["height"] = eye_at_rest.height_px;
+  report["threads"] = executor.thread_count();
+  report["motion"] = {{"spec", o.motion}, {"duration_s", motion->duration_s()}};
+  report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
+  Json frame_list = Json::array();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const MotionFrame& f = frames[i];
+    frame_list.push_back({{"index", f.index}, {"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}},
+                          {"saccade", f.saccade}, {"blink", f.blink}, {"gaze_off_view", f.gaze_off_view},
+                          {"taa_reset", run.taa_reset_any[i] != 0},
+                          {"pose", {f.view.position_m[0], f.view.position_m[1], f.view.position_m[2],
+                                    f.view.orientation_xyzw[0], f.view.orientation_xyzw[1],
+                                    f.view.orientation_xyzw[2], f.view.orientation_xyzw[3]}}});
+  }
+  report["frames"] = frame_list;
+  if (!ref.spp.empty()) report["reference"] = sequence_reference_json(run);
+  const double anchor_ms = tracks.front().full ? median_ms(tracks.front().total_ms) : 0.0;
+  Json track_list = Json::array();
+  for (const SequenceTrack& t : tracks) {
+    Json j = sequence_track_json(t, anchor_ms);
+    if (ref.spp.empty()) j.erase("rings");
+    track_list.push_back(j);
+  }
+  report["tracks"] = track_list;
+  if (!o.out_prefix.empty()) report["images"] = files;
+  if (o.json)
+    out << report.dump(2) << "\n";
+  else
+    print_text(report, out);
+  return 0;
+}
+
+}  // namespace foveart::tools

@@ -1,0 +1,200 @@
+// A motion's frames for several tracks against the reference sequence (motion_sequence.hpp).
+#include "motion_sequence.hpp"
+
+#include "render_metrics.hpp"
+
+#include <engine/render.hpp>
+
+#include <foveation/image_metrics.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
+  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
+                           a.refraction - b.refraction, a.packets - b.packets};
+}
+
+Json ring_bounds(std::size_t r) {
+  return {{"from_deg", foveation::kRingEdgesDeg[r]},
+          {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[r + 1])}};
+}
+
+// One frame of a track, its display values into *display; "" or what failed.
+std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, SequenceTrack& t,
+                               foveation::Executor& executor, std::uint64_t seed, foveation::ImageRgb* linear_full,
+                               foveation::ImageRgb* display) {
+  const engine::RayCounts before = tracer.counts();
+  const foveation::ImageRgb* image = nullptr;
+  if (t.full) {
+    engine::RenderSettings rs;
+    rs.spp = t.spp;
+    rs.seed = seed;  // one jitter for every frame, as the full render of the price list
+    const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &tracer, f.view, rs, linear_full,
+                                                        executor);
+    if (rr.status != FOVEART_RESULT_SUCCESS)
+      return t.id + ": engine callback failed with status " + std::to_string(rr.status);
+    t.total_ms.push_back(rr.trace_ms);
+    if (f.index == 0) t.points = f.view.width_px * f.view.height_px;
+    image = linear_full;
+  } else {
+    foveation::FrameRequest request;
+    request.view = f.view;
+    request.gaze_px = f.gaze_px;
+    request.frame_index = std::uint64_t(f.index);
+    request.saccade = f.saccade;
+    request.blink = f.blink;
+    const foveation::FrameResult fr = t.view->render(request, &foveart_engine_trace_rays, &tracer, executor);
+    if (!fr.ok()) return t.id + ": frame " + std::to_string(f.index) + ": " + fr.message;
+    t.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
+    if (fr.taa_reset) ++t.taa_resets;
+    t.history_off_screen += fr.history_off_screen;
+    t.history_disoccluded += fr.history_disoccluded;
+    if (f.index == 0) t.points = fr.points;
+    image = &t.view->image();
+  }
+  if (f.index == 0) t.rays = minus(tracer.counts(), before);
+  *display = foveation::display_encode(*image);
+  return "";
+}
+
+// The reference of one frame (the convergence check on the first with "auto"), its residual into the floor.
+bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
+                     const SequenceReferenceOptions& ref_options, const foveation::EccentricityMap& map,
+                     foveation::Executor& executor, const ReferenceLog& log, SequenceRun* run,
+                     foveation::ImageRgb* reference_display, std::string* error) {
+  ReferenceOptions ro;
+  const bool check = f.index == 0 && ref_options.spp == "auto";
+  ro.spp = check ? 0 : (f.index == 0 ? std::stoi(ref_options.spp) : run->reference_spp);
+  ro.baseline_spp = ref_options.baseline_spp;
+  ro.seed = ref_options.seed + std::uint64_t(f.index);
+  ro.cache_dir = ref_options.cache_dir;
+  std::optional<Reference> ref = converged_reference(&foveart_engine_trace_rays, &tracer, scene_hash, f.view,
+                                                     f.gaze_px, ro, executor, log, error);
+  if (!ref) {
+    *error = "reference of frame " + std::to_string(f.index) + ": " + *error;
+    return false;
+  }
+  if (f.index == 0) {
+    run->reference_spp = ref->spp;
+    run->tried_spp = ref->tried_spp;
+    run->converged = ref->converged;
+  }
+  if (ref->from_cache) ++run->reference_frames_cached;
+  run->reference_ms += ref->render_ms;
+  std::vector<float> residual(ref->half_difference2.size());
+  for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = ref->half_difference2[i] / 4.0f;
+  run->floor.add_frame(residual, map);
+  *reference_display = foveation::display_encode(ref->image);
+  return true;
+}
+
+}  // namespace
+
+bool is_taa_mode(const std::string& name) { return name == "off" || name == "restart" || name == "reproject"; }
+
+std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out) {
+  out->clear();
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!is_taa_mode(item)) return "--taa: '" + item + "' is not off, restart or reproject";
+    if (std::find(out->begin(), out->end(), item) != out->end()) return "--taa: '" + item + "' given twice";
+    out->push_back(item);
+  }
+  if (out->empty() || text.back() == ',') return "--taa: expected off, restart, reproject or a list of them";
+  return "";
+}
+
+foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed) {
+  foveation::ViewSettings vs;
+  vs.rays_per_point = rays_per_point;
+  vs.sample_seed = seed;
+  vs.taa = mode != "off";
+  vs.new_jitter_each_frame = vs.taa;
+  vs.taa_history = mode == "restart" ? foveation::TaaHistory::restart_on_view_change : foveation::TaaHistory::reproject;
+  return vs;
+}
+
+double median_ms(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
+                  const SequenceReferenceOptions& ref_options, std::vector<SequenceTrack>& tracks,
+                  foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error) {
+  run->frames = frames;
+  run->taa_reset_any.assign(frames.size(), 0);
+  foveation::ImageRgb full_linear, display, reference_display;
+  const bool with_reference = !ref_options.spp.empty();
+  for (const MotionFrame& f : frames) {
+    const foveation::EccentricityMap map = foveation::eccentricity_map(f.view, f.gaze_px);
+    if (with_reference && !reference_frame(tracer, scene_hash, f, ref_options, map, executor, hooks.log, run,
+                                           &reference_display, error))
+      return false;
+    for (SequenceTrack& t : tracks) {
+      const std::uint64_t resets_before = t.taa_resets;
+      if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, &full_linear, &display);
+          !e.empty()) {
+        *error = e;
+        return false;
+      }
+      if (t.taa_resets != resets_before) run->taa_reset_any[std::size_t(f.index)] = 1;
+      if (with_reference) t.error.add_frame(display, reference_display, map);
+      if (hooks.image) {
+        if (std::string e = hooks.image(t, f, display); !e.empty()) {
+          *error = e;
+          return false;
+        }
+      }
+    }
+    if (hooks.frame_done) hooks.frame_done(f.index + 1, int(frames.size()));
+  }
+  return true;
+}
+
+Json sequence_reference_json(const SequenceRun& run) {
+  Json rings = Json::array();
+  const TemporalRings floor = run.floor.rings();
+  for (std::size_t r = 0; r < floor.size(); ++r) {
+    Json j = ring_bounds(r);
+    j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
+    j["psnr_floor"] = number_or_null_json(floor[r].psnr_db());
+    rings.push_back(j);
+  }
+  return {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},
+          {"frames_from_cache", run.reference_frames_cached}, {"render_ms", run.reference_ms},
+          {"seeds", "seed + frame index"}, {"rings", rings}};
+}
+
+Json sequence_track_json(const SequenceTrack& t, double anchor_ms) {
+  const double ms = median_ms(t.total_ms);
+  Json rays = {{"primary", t.rays.primary}, {"shadow", t.rays.shadow}, {"reflection", t.rays.reflection},
+               {"refraction", t.rays.refraction}, {"total", t.rays.total()}};
+  Json j = {{"id", t.id}, {"kind", t.full ? "full" : "foveated"}, {"taa", t.full ? Json(nullptr) : Json(t.taa)},
+            {"spp", t.spp}, {"frames", t.error.frames()}, {"ms", ms}, {"frames_total_ms", t.total_ms},
+            {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)}, {"points", t.points},
+            {"rays", rays}, {"taa_resets", t.taa_resets}, {"history_off_screen", t.history_off_screen},
+            {"history_disoccluded", t.history_disoccluded}};
+  Json rings = Json::array();
+  const TemporalRings m = t.error.rings();
+  for (std::size_t r = 0; r < m.size(); ++r) {
+    Json ring = ring_bounds(r);
+    ring["flicker"] = number_or_null_json(m[r].flicker_rms);
+    ring["psnr"] = number_or_null_json(m[r].psnr_db());
+    ring["rmse"] = number_or_null_json(std::sqrt(m[r].error_mse));
+    rings.push_back(ring);
+  }
+  j["rings"] = rings;
+  return j;
+}
+
+}  // namespace foveart::tools

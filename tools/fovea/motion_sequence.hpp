@@ -1,0 +1,96 @@
+// Renders a scripted motion's frames (motion_views.hpp) for several tracks —
+// the full render and foveated views with TAA off, restarting on every pose
+// change, or reprojecting its history — and measures each against the
+// converged reference sequence: a full render of every frame at the reference
+// count, cached like the still reference (reference.hpp), frame i with seed +
+// i so that the reference's errors are independent between frames. One
+// implementation for `fovea render --motion` and the price list's temporal
+// columns. Frames are streamed: the reference of frame i, then every track's
+// frame i, so nothing but the last frame is held.
+#pragma once
+
+#include "motion_views.hpp"
+#include "reference.hpp"
+#include "temporal_metrics.hpp"
+
+#include <engine/tracer.hpp>
+
+#include <foveation/executor.hpp>
+#include <foveation/foveated_view.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace foveart::tools {
+
+// "off", "restart" (TaaHistory::restart_on_view_change, the TAA before
+// reprojection) or "reproject" (TaaHistory::reproject).
+bool is_taa_mode(const std::string& name);
+// "off,restart,reproject" -> the modes; "" or a message naming the bad entry.
+std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out);
+// The view settings of a foveated frame with this TAA mode at equal rays: TAA
+// off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
+// frame, which it accumulates.
+foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed);
+
+struct SequenceTrack {
+  std::string id;
+  std::string taa;  // the foveated view's TAA mode; empty for the full render
+  bool full = false;
+  int spp = 1;      // full render: rays per pixel, one jitter seed for every frame
+  std::unique_ptr<foveation::FoveatedView> view;  // foveated
+  // Measured:
+  TemporalError error;
+  std::vector<double> total_ms;  // per frame: select + trace + reconstruct + TAA, or the full render's trace
+  engine::RayCounts rays;        // the first frame's
+  std::uint32_t points = 0;      // the first frame's traced points (pixels for the full render)
+  std::uint64_t taa_resets = 0;
+  std::uint64_t history_off_screen = 0, history_disoccluded = 0;  // pixels over the sequence (reproject)
+};
+
+struct SequenceReferenceOptions {
+  std::string spp = "auto";  // "auto": the convergence check on the first frame picks the count for all
+  int baseline_spp = 16;     // for the check (ReferenceOptions::baseline_spp)
+  std::uint64_t seed = 1;    // frame i: seed + i
+  std::string cache_dir;     // empty: no cache
+};
+
+struct SequenceRun {
+  int reference_spp = 0;
+  std::vector<int> tried_spp;      // the first frame's convergence check
+  bool converged = true;
+  int reference_frames_cached = 0;  // frames whose reference came from the cache
+  double reference_ms = 0.0;        // this run's reference rendering
+  ReferenceFloor floor;
+  std::vector<MotionFrame> frames;
+  std::vector<std::uint8_t> taa_reset_any;  // per frame: some track's TAA restarted
+};
+
+struct SequenceHooks {
+  ReferenceLog log;                                          // reference cache messages
+  std::function<void(int frame, int frames)> frame_done;     // progress
+  // Every track's frame in display values, e.g. to write it out; an error message stops the run.
+  std::function<std::string(const SequenceTrack&, const MotionFrame&, const foveation::ImageRgb&)> image;
+};
+
+// Renders frames for every track against the reference sequence. false with
+// *error when the engine fails, a frame fails or the cache cannot be written.
+bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
+                  const SequenceReferenceOptions& reference, std::vector<SequenceTrack>& tracks,
+                  foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error);
+
+// {"spp", "spp_tried", "converged", "frames_from_cache", "render_ms", "rings": [{from_deg, to_deg,
+// flicker_floor, psnr_floor}]}: the reference sequence and its own contribution per ring.
+nlohmann::ordered_json sequence_reference_json(const SequenceRun& run);
+// {"id", "taa", "spp", "frames", "ms" (median frame), "time_fraction" (of anchor_ms; null without),
+// "points", "rays", "taa_resets", "history_off_screen", "history_disoccluded",
+// "rings": [{from_deg, to_deg, flicker, psnr, rmse}]}.
+nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, double anchor_ms);
+double median_ms(std::vector<double> v);
+
+}  // namespace foveart::tools

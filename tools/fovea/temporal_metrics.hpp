@@ -1,0 +1,72 @@
+// The temporal measure of a rendered sequence against a converged reference
+// sequence, per eccentricity ring (docs/pricelist.md "Temporal columns").
+// Pure arithmetic on display values; frames are added one at a time so that a
+// sequence never has to be held in memory.
+//
+// With I_t the image and R_t the reference of frame t (display values) and the
+// rings of frame t (the gaze moves, so the rings move with it):
+//
+//   flicker_rms = sqrt( sum over pairs t >= 1, pixels of the ring, channels of
+//                       ((I_t - I_{t-1}) - (R_t - R_{t-1}))^2  /  count )
+//     the frame-to-frame change beyond the truth's own change (motion changes
+//     R too; an image that follows the truth exactly has 0);
+//   error_mse   = sum over frames, pixels of the ring, channels of (I_t - R_t)^2 / count
+//     (ghosting, lag and noise alike), and its PSNR 10 log10(1 / error_mse).
+//
+// The reference's own noise adds to both (ReferenceFloor): with e_t its error
+// against the truth, independent between frames, E[flicker^2] = true^2 +
+// E[(e_t - e_{t-1})^2] and E[error_mse] = true + E[e_t^2].
+#pragma once
+
+#include <foveation/image.hpp>
+#include <foveation/image_metrics.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace foveart::tools {
+
+struct TemporalRing {
+  std::uint64_t frame_values = 0;  // pixel-channel values summed into error_mse
+  std::uint64_t pair_values = 0;   // pixel-channel values summed into flicker_rms
+  double flicker_rms = 0.0;        // NaN without a pair (fewer than 2 frames, or an empty ring)
+  double error_mse = 0.0;          // NaN for an empty ring
+  double psnr_db() const { return foveation::psnr_of_mse(error_mse); }
+};
+
+using TemporalRings = std::array<TemporalRing, foveation::kRingCount>;
+
+class TemporalError {
+ public:
+  // Frame t: image and reference in display values, both of map's size; map
+  // holds frame t's rings. Throws std::invalid_argument on mismatched sizes.
+  void add_frame(const foveation::ImageRgb& image, const foveation::ImageRgb& reference,
+                 const foveation::EccentricityMap& map);
+  TemporalRings rings() const;
+  int frames() const { return frames_; }
+
+ private:
+  foveation::ImageRgb previous_image_, previous_reference_;
+  std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{};
+  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{};
+  int frames_ = 0;
+};
+
+// The reference sequence's own contribution: per pixel of frame t, the
+// reference's estimated squared error against the truth (Reference's
+// half_difference2 / 4, the mean over channels). flicker_rms is the RMS of
+// e_t - e_{t-1} (variances add: r_t + r_{t-1}), error_mse the mean of r_t.
+class ReferenceFloor {
+ public:
+  // Throws std::invalid_argument when residual_mse and map differ in size.
+  void add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map);
+  TemporalRings rings() const;
+
+ private:
+  std::vector<float> previous_;
+  std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{};
+  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{};
+};
+
+}  // namespace foveart::tools
