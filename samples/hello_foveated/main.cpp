@@ -19,6 +19,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -87,6 +88,15 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   const char* path = rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART   ? "gpu"
                      : rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART ? "cpu"
                                                                                : "none";
+  // [left, right] per frame, built element by element: the std::array<bool, 2>
+  // conversion trips GCC 12's false -Wnull-dereference inside nlohmann.
+  nlohmann::json taa_reset = nlohmann::json::array();
+  for (const auto& frame : r.taa_reset) {
+    nlohmann::json pair = nlohmann::json::array();
+    pair.push_back(frame[0]);
+    pair.push_back(frame[1]);
+    taa_reset.push_back(std::move(pair));
+  }
   nlohmann::json views = nlohmann::json::array();
   for (const auto& v : r.views) {
     views.push_back({{"position_m", {v.pose.position.x, v.pose.position.y, v.pose.position.z}},
@@ -111,7 +121,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
           {"taa_resets", rec.taaResets},
-          {"taa_reset_per_frame", r.taa_reset},
+          {"taa_reset_per_frame", taa_reset},
           {"gaze_saccade_per_frame", r.gaze_saccade},
           {"gaze_blink_per_frame", r.gaze_blink},
           {"display_time_s_per_frame", r.display_time_s},
