@@ -1,0 +1,142 @@
+// The scripted head and gaze motion played through the real loader, the layer and
+// the simulated FOVE runtime on lavapipe: the runtime turns the head every frame
+// (FOVEART_SIM_MOTION=builtin) while the gaze provider replays the same motion's gaze
+// (sim-motion-trace's export) through its own saccade detector and blink hold. The
+// TAA history must restart in exactly the frames the provider flagged, on the CPU
+// and on the GPU reconstruction path alike.
+//
+// Clock: the runtime's real clock. The provider replays its trace in real time, so
+// the head (from xrBeginSession) and the gaze (from the renderer's creation, just
+// before) stay on one time base, and N frames span at least N periods of 70 Hz.
+// The eyes are small (80x90) so that even a sanitizer build keeps up with most
+// 70 Hz slots: the provider's saccade flag lasts about 40 ms (5 samples at 120 Hz).
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "child_process.hpp"
+#include "motion_source.h"
+#include "motion_trace.h"
+#include "test_env.hpp"
+
+namespace foveart::layer::test {
+namespace {
+
+using foveart::test::ProcessResult;
+using foveart::test::run_process;
+
+constexpr int kTimeoutS = 900;
+// 240 frames span at least 3.43 s at 70 Hz: the script's saccade at 1.5 s and its
+// 150 ms blink at 3.0 s.
+constexpr int kFrames = 240;
+// The built-in script is 4 s long and loops: its last frames jump the head back.
+// History continuity is checked inside the first loop (display times before this).
+constexpr double kFirstLoopS = 3.9;
+
+struct AppRun {
+  ProcessResult process;
+  nlohmann::json stats;
+};
+
+class LayerMotion : public ::testing::TestWithParam<const char*> {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(have_runtime()) << "the simulated runtime's manifest is missing";
+    env_ = std::make_unique<IsolatedEnv>();
+    for (const char* name : {"FOVEART_SIM_CAPTURE_DIR", "FOVEART_SIM_CAPTURE_EVERY", "FOVEART_SIM_EYE_TRACKING",
+                             "FOVEART_SIM_GAZE", "FOVEART_SIM_HEAD", "FOVEART_SIM_MOTION",
+                             "FOVEART_SIM_MOTION_SEED"}) {
+      ::unsetenv(name);
+    }
+  }
+
+  AppRun launch(std::vector<std::string> args, const char* log_name) {
+    args.insert(args.begin(), {FOVEART_HELLO_FOVEATED, "--json", "--eye-size", "80", "90"});
+    AppRun r;
+    r.process = run_process(args, env_->root() / log_name, kTimeoutS);
+    const auto brace = r.process.output.find("\n{");
+    if (brace != std::string::npos) {
+      r.stats = nlohmann::json::parse(r.process.output.substr(brace + 1), nullptr, false);
+    }
+    return r;
+  }
+
+  std::unique_ptr<IsolatedEnv> env_;
+};
+
+TEST_P(LayerMotion, TaaHistoryRestartsExactlyInTheFramesWithASaccadeOrBlink) {
+  const std::string reconstruction = GetParam();
+  // The tables for 80x90 first, into the suite's cache: a first frame that builds them
+  // would block while the replay runs on, past the saccade.
+  configure_hello_foveated(*env_, 2, reconstruction.c_str());
+  ::unsetenv("FOVEART_SIM_CAPTURE_DIR");
+  const AppRun warm = launch({"--gaze", "none"}, "warm.log");
+  ASSERT_EQ(warm.process.exit_code, 0) << warm.process.output;
+
+  // The motion's gaze as the provider's trace, long enough never to end during the run.
+  std::string error;
+  const auto motion = sim::MotionSource::from_spec("builtin", 1, error);
+  ASSERT_TRUE(motion.has_value()) << error;
+  const auto trace = env_->root() / "motion_gaze.csv";
+  ASSERT_TRUE(sim::write_motion_gaze_trace_file(*motion, 120.0, trace.string(), error)) << error;
+  IsolatedEnv::set("FOVEART_SIM_MOTION", "builtin");
+  IsolatedEnv::set("FOVEART_SIM_MOTION_SEED", "1");
+  IsolatedEnv::set("FOVEART_SIM_CLOCK", "real");
+  IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(kFrames).c_str());
+  const AppRun r = launch({"--gaze", "provider", "--gaze-provider", "replay:" + trace.string(), "--taa", "on"},
+                          "motion.log");
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["reconstruction"], reconstruction);
+  EXPECT_EQ(r.stats["gaze_source"], "provider");
+  EXPECT_EQ(r.stats["views_fallback"], 0);
+  EXPECT_EQ(r.stats["gaze_lost_frames"], 0);
+  ASSERT_EQ(r.stats["frames_traced"], kFrames);
+
+  const auto& reset = r.stats["taa_reset_per_frame"];
+  const auto& saccade = r.stats["gaze_saccade_per_frame"];
+  const auto& blink = r.stats["gaze_blink_per_frame"];
+  const auto& time_s = r.stats["display_time_s_per_frame"];
+  ASSERT_EQ(reset.size(), static_cast<std::size_t>(kFrames));
+  ASSERT_EQ(saccade.size(), reset.size());
+  ASSERT_EQ(blink.size(), reset.size());
+  ASSERT_EQ(time_s.size(), reset.size());
+
+  // The first frame has no history yet.
+  EXPECT_TRUE(reset[0][0].get<bool>() && reset[0][1].get<bool>());
+  int saccade_frames = 0, blink_frames = 0, continuous_frames = 0;
+  uint64_t restarts = 0;
+  for (std::size_t f = 0; f < reset.size(); ++f) {
+    const bool left = reset[f][0].get<bool>(), right = reset[f][1].get<bool>();
+    restarts += (left ? 1u : 0u) + (right ? 1u : 0u);
+    const bool flagged = saccade[f].get<bool>() || blink[f].get<bool>();
+    saccade_frames += saccade[f].get<bool>() ? 1 : 0;
+    blink_frames += blink[f].get<bool>() ? 1 : 0;
+    const double t_s = time_s[f].get<double>();
+    if (flagged) {
+      // (a) The frame after detection: both eyes start over in the flagged frame itself.
+      EXPECT_TRUE(left && right) << "frame " << f << " at " << t_s << " s: the provider flagged a "
+                                 << (saccade[f].get<bool>() ? "saccade" : "blink")
+                                 << " but the history did not restart (left " << left << ", right " << right << ")";
+    } else if (f > 0 && t_s < kFirstLoopS) {
+      // (c) The head turns every frame (10-30 deg/s plus tremor): the history follows it.
+      EXPECT_FALSE(left || right) << "frame " << f << " at " << t_s
+                                  << " s: history restarted without a saccade or blink (left " << left
+                                  << ", right " << right << ")";
+      ++continuous_frames;
+    }
+  }
+  // (b) The provider saw the motion's saccade and blink.
+  EXPECT_GT(saccade_frames, 0);
+  EXPECT_GT(blink_frames, 0);
+  EXPECT_GE(continuous_frames, 50) << "too few frames inside the script's first loop to judge continuity";
+  EXPECT_EQ(r.stats["taa_resets"].get<uint64_t>(), restarts) << "the per-frame flags add up to the renderer's count";
+}
+
+INSTANTIATE_TEST_SUITE_P(Paths, LayerMotion, ::testing::Values("cpu", "gpu"));
+
+}  // namespace
+}  // namespace foveart::layer::test
