@@ -3,7 +3,8 @@
 //
 // The runtime reads them once, in xrCreateInstance. A malformed value makes
 // xrCreateInstance fail with XR_ERROR_INITIALIZATION_FAILED after a message on
-// stderr that names the variable and the value. docs/sim_runtime.md has the details.
+// stderr that names the variable and the value (a motion file that cannot be read:
+// XR_ERROR_RUNTIME_FAILURE, naming file, line and column). docs/sim_runtime.md has the details.
 #pragma once
 
 namespace foveart::sim::env {
@@ -18,11 +19,13 @@ inline constexpr const char* kFrames = "FOVEART_SIM_FRAMES";
 inline constexpr const char* kClock = "FOVEART_SIM_CLOCK";
 // Gaze trace in the gaze provider's CSV format (gaze_provider/trace_csv.h, as
 // `gaze-diag stream --record` writes it: +z forward); unset: the built-in saccade script.
+// Ignored under kMotion.
 inline constexpr const char* kGaze = "FOVEART_SIM_GAZE";
 // "0" turns eye tracking off: supportsEyeGazeInteraction is XR_FALSE and gaze
 // actions stay inactive. Default "1".
 inline constexpr const char* kEyeTracking = "FOVEART_SIM_EYE_TRACKING";
 // "static" (default) or "sway": slow scripted head yaw of +-10 deg at 0.1 Hz.
+// Ignored under kMotion.
 inline constexpr const char* kHead = "FOVEART_SIM_HEAD";
 // Scripted head and gaze motion (foveation/scripted_motion.hpp): "builtin" (4 s:
 // head turning 10-30 deg/s, fixations, a 12 deg saccade at 1.5 s, a 150 ms blink at
