@@ -163,7 +163,7 @@ int main(int argc, char** argv) {
         f.tables = gpu_tables.get();
         f.colors = &gpu_view.colors();
         f.traced = gpu_view.traced();
-        f.mapping = fv::map_gaze(size[0], size[1], r.gaze_px);
+        f.mapping = fv::map_gaze(size[0], size[1], g.centre_px);
         f.taa_reset = g.taa_reset;
         const auto t1 = std::chrono::steady_clock::now();
         const bool ok = gpu->submit_and_wait(

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+
 #include <numbers>
 #include <stdexcept>
 
@@ -66,7 +67,12 @@ std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::file
 }
 
 FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings)
-    : tables_(std::move(tables)), settings_(settings), taa_(settings.taa_options) {
+    : tables_(std::move(tables)),
+      settings_(settings),
+      taa_(settings.taa_options),
+      centre_(tables_ != nullptr ? settings.centre_deadband_deg * tables_->key.display.view_distance_px *
+                                       std::numbers::pi / 180.0
+                                 : 0.0) {
   if (tables_ == nullptr) throw std::invalid_argument("foveated view: no tables");
   if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
   colors_.rgba.assign(tables_->points.size(), Rgba{});
@@ -88,7 +94,9 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   if (trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
   FrameResult result;
   const auto t_frame = Clock::now();
-  const GazeMapping mapping = map_gaze(int(view.width_px), int(view.height_px), request.gaze_px);
+  const glm::vec2 centre = centre_.update(request.gaze_px, request.saccade || request.blink);
+  const GazeMapping mapping = map_gaze(int(view.width_px), int(view.height_px), centre);
+  result.centre_px = mapping.gaze_px;
   const std::uint32_t spp = std::uint32_t(settings_.rays_per_point);
   const std::uint64_t seed = settings_.sample_seed + (settings_.new_jitter_each_frame ? request.frame_index : 0);
 

@@ -396,7 +396,7 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
   frame.traced = eye.view->traced();
   frame.view = request.view;
   frame.history_view = result.history_view;
-  frame.mapping = foveation::map_gaze(int(w), int(h), request.gaze_px);
+  frame.mapping = foveation::map_gaze(int(w), int(h), result.centre_px);
   frame.rbf_clamp = eye.view->settings().rbf_clamp;
   frame.taa_reset = !eye.view->settings().taa || result.taa_reset;
   frame.taa = eye.view->settings().taa_options;
@@ -480,7 +480,6 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     }
   }
   request.gaze_px = glm::round(gaze_px);
-  stats->gazePixel[e] = XrVector2f{request.gaze_px.x, request.gaze_px.y};
 
   foveation::FrameResult result;
   try {
@@ -493,6 +492,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
     return false;
   }
+  stats->gazePixel[e] = XrVector2f{result.centre_px.x, result.centre_px.y};  // the foveation centre used
   stats->pointsPerEye[e] = result.points;
   stats->raysPerEye[e] = static_cast<uint32_t>(std::min<uint64_t>(result.rays, UINT32_MAX));
   stats->selectMs[e] = static_cast<float>(result.select_ms);

@@ -155,7 +155,7 @@ class GpuReconstruction : public ::testing::Test {
       frame.traced = gpu_view.traced();
       frame.view = req.view;
       frame.history_view = gpu.history_view;
-      frame.mapping = foveation::map_gaze(int(kW), int(kH), req.gaze_px);
+      frame.mapping = foveation::map_gaze(int(kW), int(kH), gpu.centre_px);
       frame.rbf_clamp = settings.rbf_clamp;
       frame.taa_reset = !taa || gpu.taa_reset;
       frame.taa = settings.taa_options;

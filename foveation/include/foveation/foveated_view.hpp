@@ -23,6 +23,7 @@
 #include <glm/vec2.hpp>
 
 #include "foveation/executor.hpp"
+#include "foveation/foveation_centre.hpp"
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/interpolation_table.hpp"
@@ -80,6 +81,12 @@ struct ViewSettings {
   TaaOptions taa_options;
   TaaHistory taa_history = TaaHistory::reproject;
   RbfClamp rbf_clamp = RbfClamp::block;
+  // The foveation centre stays put while the gaze stays within this many
+  // degrees of it (fixation: microsaccades, drift, tracker noise), and jumps
+  // to the gaze at once beyond it or on a saccade or blink: a steady fixation
+  // keeps a steady point pattern, a real gaze shift adds no latency (docs/foveation.md).
+  // 0: the centre follows every whole-pixel gaze change.
+  double centre_deadband_deg = 1.0;
   // false: render() stops after the colours and the TAA reset decision; the
   // caller reconstructs from colors() and traced() (the layer's GPU path).
   bool reconstruct_on_cpu = true;
@@ -87,7 +94,7 @@ struct ViewSettings {
 
 struct FrameRequest {
   FoveartEyeView view{};       // pose, frustum and size; the size must be the tables' display
-  glm::vec2 gaze_px{};         // foveation centre in this view's pixels (rounded to whole pixels)
+  glm::vec2 gaze_px{};         // the gaze in this view's pixels (rounded to whole pixels); the centre follows it
   std::uint64_t frame_index = 0;
   bool saccade = false;        // the gaze provider saw a saccade: the TAA history restarts
   bool blink = false;          // the eye is closed (the provider holds its last gaze): the history restarts
@@ -110,6 +117,7 @@ struct FrameResult {
   double trace_ms = 0.0;            // visible-point test, rays, engine callback, colour per point
   double reconstruct_ms = 0.0;      // gather
   double taa_ms = 0.0;
+  glm::vec2 centre_px{};            // the foveation centre this frame used (ViewSettings::centre_deadband_deg)
   bool taa_reset = false;           // the history restarted this frame
   std::uint64_t history_off_screen = 0;   // TaaHistory::reproject: pixels whose surface was off the last view
   std::uint64_t history_disoccluded = 0;  // ... whose last depth disagreed (a surface uncovered)
@@ -164,6 +172,7 @@ class FoveatedView {
   TemporalAccumulator taa_;
   const ImageRgb* taa_output_ = nullptr;
   std::optional<FoveartEyeView> last_view_;  // the TAA history's view
+  FoveationCentre centre_;                   // held through fixations (ViewSettings::centre_deadband_deg)
 };
 
 // Points a frame at `mapping` traces per tile of a tiles_x x tiles_y grid of
