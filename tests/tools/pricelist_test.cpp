@@ -59,9 +59,11 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.grid.rays = {1};
   o.grid.patterns = {"thesis", "pixel-grid"};
   o.grid.taa_rays = {1};
+  o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
   std::ostringstream out, err;
   ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("At the thesis's default"), std::string::npos) << out.str();
+  EXPECT_FALSE(fs::exists(fs::path(o.out_dir) / "temporal.csv"));
   const fs::path pl = o.out_dir;
   std::ifstream jf(pl / "pricelist.json");
   const auto doc = nlohmann::json::parse(jf);

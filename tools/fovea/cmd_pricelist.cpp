@@ -349,6 +349,10 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: " << bad << "\n";
     return 2;
   }
+  if (std::string bad = check_temporal_options(o.temporal); !bad.empty()) {
+    err << "fovea pricelist: " << bad << "\n";
+    return 2;
+  }
   if (std::none_of(settings.begin(), settings.end(), [](const PriceSetting& s) { return s.full && s.spp == 1; })) {
     err << "fovea pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
     return 2;
@@ -381,7 +385,8 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   // What this output directory measures; a different run must not resume into it.
   Json run = {{"scene", tracer->scene().source}, {"scene_hash", scene_hash}, {"width", view.width_px},
               {"height", view.height_px}, {"eye", o.eye}, {"preset", o.preset}, {"gaze", {gaze.x, gaze.y}},
-              {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed}};
+              {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed},
+              {"temporal", temporal_run_json(o.temporal, o.quick)}};
   const fs::path run_file = out_dir / "run.json";
   if (fs::exists(run_file)) {
     std::ifstream in(run_file);
@@ -475,6 +480,13 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
           << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
     }
   }
+  Json temporal;
+  if (o.temporal.motion != "none") {
+    TemporalContext tc{o.temporal, o.quick, o.scene, o.preset, o.eye, o.seed, o.cache_dir, out_dir};
+    std::optional<Json> t = run_pricelist_temporal(tc, settings, *tracer, scene_hash, executor, err);
+    if (!t) return 1;
+    temporal = std::move(*t);
+  }
   std::vector<Json> ordered;
   for (const PriceSetting& s : settings)
     if (done_results.count(s.id())) ordered.push_back(done_results[s.id()]);
@@ -494,6 +506,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   pc.reference = ref_json;
   pc.thesis_default = thesis_default;
   pc.heatmap = heatmap_id;
+  pc.temporal = temporal;
   std::string headline;
   if (std::string e = write_pricelist(out_dir, pc, ordered, &headline); !e.empty()) {
     err << "fovea pricelist: " << e << "\n";
@@ -541,7 +554,7 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--frames", o->frames, "Interleaved frames per setting (median reported)")->capture_default_str();
   cmd->add_option("--taa-frames", o->taa_frames, "Sequence length with TAA")->capture_default_str();
   cmd->add_option("--jobs", o->threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->add_flag("--quick", o->quick, "The small grid (about 5 minutes at FOVE size on 2 cores)");
+  cmd->add_flag("--quick", o->quick, "The small grid and a 320x360 motion (docs/pricelist.md)");
   cmd->add_option("--full-spp", (*lists)[0], "Full-render baseline rays per pixel, e.g. 1,2,4,8,16");
   cmd->add_option("--methods", (*lists)[1], "method:k list, e.g. nn:1,msm:5,rbf-mq:10");
   cmd->add_option("--scales", (*lists)[2], "Density scales, e.g. 1,1.5,2");
@@ -551,7 +564,18 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--heatmap", o->heatmap, "Setting id for the error heat map (default: the thesis default)");
   cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
   cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
-  cmd->callback([o, gaze, size, lists] {
+  auto temporal_size = std::make_shared<std::string>();
+  cmd->add_option("--motion", o->temporal.motion,
+                  "Temporal columns over this head and gaze motion: builtin, a CSV file, or none")
+      ->capture_default_str();
+  cmd->add_option("--temporal-size", *temporal_size, "Eye size W,H of the motion (default 320,360 with --quick, else 640,720)");
+  cmd->add_option("--temporal-frames", o->temporal.frames, "Frames of the motion")->capture_default_str();
+  cmd->add_option("--temporal-start-s", o->temporal.start_s, "Time of the motion's first frame (s)")->capture_default_str();
+  cmd->add_option("--temporal-fps", o->temporal.fps, "Frames per second of the motion")->capture_default_str();
+  cmd->add_option("--temporal-reference-spp", o->temporal.reference_spp,
+                  "Rays per pixel of every reference frame of the motion")
+      ->capture_default_str();
+  cmd->callback([o, gaze, size, lists, temporal_size] {
     const auto pair = [](const std::string& text, const char* name, auto* out) {
       std::vector<double> v;
       if (!parse_numbers(text, &v).empty() || v.size() != 2) throw CLI::ValidationError(name, "expected X,Y");
@@ -566,6 +590,11 @@ void register_pricelist(CLI::App& app) {
       glm::ivec2 s;
       pair(*size, "--size", &s);
       o->size_px = s;
+    }
+    if (!temporal_size->empty()) {
+      glm::ivec2 s;
+      pair(*temporal_size, "--temporal-size", &s);
+      o->temporal.size_px = s;
     }
     const char* names[] = {"--full-spp", "--methods", "--scales", "--rays", "--patterns", "--taa-rays"};
     for (std::size_t i = 0; i < lists->size(); ++i) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "pricelist_grid.hpp"
+#include "pricelist_temporal.hpp"
 
 #include <glm/ext/vector_int2.hpp>
 #include <glm/vec2.hpp>
@@ -37,6 +38,7 @@ struct PricelistOptions {
   std::string heatmap;                  // setting id for the error heat map; default the thesis default
   bool images = false;                  // write every setting's image as PFM (display values)
   std::uint64_t seed = 1;
+  TemporalOptions temporal;             // the temporal columns (motion "none": without them)
 };
 
 int run_pricelist(const PricelistOptions& options, std::ostream& out, std::ostream& err);

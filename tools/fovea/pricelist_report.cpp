@@ -1,6 +1,8 @@
 // pricelist.json / .csv / plots / report.md from the measured settings.
 #include "pricelist_report.hpp"
 
+#include "pricelist_temporal_report.hpp"
+
 #include <foveation/image_metrics.hpp>
 
 #include <toolkit/plot.hpp>
@@ -22,15 +24,6 @@ double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeri
 double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
 double time_pct(const Json& s) { return 100.0 * num(s["time_fraction"]); }
 
-std::string ring_name(std::size_t r) {
-  char buf[32];
-  if (std::isinf(foveation::kRingEdgesDeg[r + 1]))
-    std::snprintf(buf, sizeof buf, ">%g", foveation::kRingEdgesDeg[r]);
-  else
-    std::snprintf(buf, sizeof buf, "%g-%g", foveation::kRingEdgesDeg[r], foveation::kRingEdgesDeg[r + 1]);
-  return buf;
-}
-
 std::string fmt(double v, int decimals = 1) {
   if (!std::isfinite(v)) return "-";
   char buf[64];
@@ -45,6 +38,15 @@ const Json* find(const std::vector<Json>& all, const std::string& id) {
 }
 
 }  // namespace
+
+std::string ring_name(std::size_t r) {
+  char buf[32];
+  if (std::isinf(foveation::kRingEdgesDeg[r + 1]))
+    std::snprintf(buf, sizeof buf, ">%g", foveation::kRingEdgesDeg[r]);
+  else
+    std::snprintf(buf, sizeof buf, "%g-%g", foveation::kRingEdgesDeg[r], foveation::kRingEdgesDeg[r + 1]);
+  return buf;
+}
 
 std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std::vector<double>& acc) {
   std::vector<std::size_t> front;
@@ -128,10 +130,33 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
   } else {
     h << "(the headline needs full_spp1 and " << ctx.thesis_default << " in the grid)";
   }
+  // The temporal columns: the acceptance at the layer's defaults (else the first TAA setting measured).
+  Json temporal = ctx.temporal;
+  Json acceptance, temporal_checks;
+  if (temporal.is_object()) {
+    std::string setting = kTemporalHeadlineSetting;
+    bool measured = false;
+    for (const Json& t : temporal["tracks"]) measured = measured || t["id"] == setting + "_taa-off";
+    if (!measured)
+      for (const Json& t : temporal["tracks"])
+        if (t["taa"] == "off") {
+          const std::string id = t["id"].get<std::string>();
+          setting = id.substr(0, id.size() - std::string("_taa-off").size());
+          break;
+        }
+    acceptance = temporal_acceptance(temporal, setting);
+    temporal_checks = temporal_sanity(temporal);
+    temporal["acceptance"] = acceptance;
+    temporal["sanity"] = temporal_checks;
+    if (const std::string t = temporal_headline(temporal, acceptance); !t.empty()) h << " " << t;
+  }
   *headline = h.str();
 
   Json doc = {{"run", ctx.run}, {"reference", ctx.reference}, {"sanity", sanity}, {"headline", *headline},
-              {"rings_deg", Json::array()}, {"settings", all}};
+              {"rings_deg", Json::array()}, {"settings", all}, {"temporal", temporal}};
+  if (temporal.is_object()) {
+    if (std::string e = write_temporal_csv(dir / "temporal.csv", temporal); !e.empty()) return e;
+  }
   for (std::size_t r = 0; r < kRings; ++r) doc["rings_deg"].push_back(ring_name(r));
   {
     std::ofstream f(dir / "pricelist.json");
@@ -266,6 +291,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     }
     md << "\n";
   }
+  if (temporal.is_object()) write_temporal_markdown(md, temporal, acceptance, temporal_checks);
   md << "## Every setting\n\nSee `pricelist.csv` (one row per setting) and `pricelist.json`. Error heat map of "
      << ctx.heatmap << ": ![heat map](heatmap.png)\n";
   if (!md) return "cannot write " + (dir / "report.md").string();

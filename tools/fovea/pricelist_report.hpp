@@ -16,15 +16,19 @@ struct PricelistContext {
   nlohmann::ordered_json reference;  // spp, residual_psnr per ring, ...
   std::string thesis_default;        // the setting id the headline calls the thesis's default
   std::string heatmap;               // the setting id of heatmap.png
+  nlohmann::ordered_json temporal;   // run_pricelist_temporal's result; null: no temporal columns
 };
+
+// "0-2.5", "2.5-5", ..., ">45": ring r's name in degrees.
+std::string ring_name(std::size_t r);
 
 // Indices of the settings on the Pareto front of (cost, accuracy): no other
 // setting costs less or the same and is at least as accurate, one of them strictly.
 // NaN entries are never on the front.
 std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std::vector<double>& accuracy);
 
-// Writes pricelist.json, pricelist.csv, pareto_ring<R>.png, pricelist.png and
-// report.md into `dir`; *headline gets the summary sentence. Error message or "".
+// Writes pricelist.json, pricelist.csv, pareto_ring<R>.png, pricelist.png,
+// report.md and, with temporal columns, temporal.csv into `dir`; *headline gets the summary sentence. Error message or "".
 std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& context,
                             std::vector<nlohmann::ordered_json> settings, std::string* headline);
 

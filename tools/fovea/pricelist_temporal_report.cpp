@@ -1,0 +1,173 @@
+// The temporal columns in the price list's outputs (pricelist_temporal_report.hpp).
+#include "pricelist_temporal_report.hpp"
+
+#include "pricelist_report.hpp"
+#include "render_metrics.hpp"
+
+#include <foveation/image_metrics.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+constexpr std::size_t kRings = foveation::kRingCount;
+constexpr std::size_t kPeripheralRings[] = {4, 5, 6};  // 20-30, 30-45, > 45 deg
+constexpr std::size_t kCentralRings[] = {0, 1};        // 0-2.5, 2.5-5 deg
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double num(const Json& j) { return j.is_number() ? j.get<double>() : kNaN; }
+
+std::string fmt(double v, int decimals) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+const Json* track(const Json& temporal, const std::string& id) {
+  if (!temporal.contains("tracks")) return nullptr;
+  for (const Json& t : temporal["tracks"])
+    if (t["id"] == id) return &t;
+  return nullptr;
+}
+
+double ring_value(const Json& t, std::size_t r, const char* key) { return num(t["rings"][r][key]); }
+
+}  // namespace
+
+Json temporal_acceptance(const Json& temporal, const std::string& setting) {
+  const Json* off = track(temporal, setting + "_taa-off");
+  const Json* restart = track(temporal, setting + "_taa-restart");
+  const Json* reproject = track(temporal, setting + "_taa-reproject");
+  if (!off || !restart || !reproject) return nullptr;
+  Json a = {{"setting", setting}};
+  Json ratio = Json::array(), ratio_restart = Json::array(), gain = Json::array();
+  for (std::size_t r = 0; r < kRings; ++r) {
+    ratio.push_back(number_or_null_json(ring_value(*off, r, "flicker") / ring_value(*reproject, r, "flicker")));
+    ratio_restart.push_back(number_or_null_json(ring_value(*off, r, "flicker") / ring_value(*restart, r, "flicker")));
+    gain.push_back(number_or_null_json(ring_value(*reproject, r, "psnr") - ring_value(*off, r, "psnr")));
+  }
+  bool peripheral = true, central = true;
+  for (std::size_t r : kPeripheralRings) peripheral = peripheral && ratio[r].is_number() && ratio[r].get<double>() >= 5.0;
+  for (std::size_t r : kCentralRings) central = central && gain[r].is_number() && gain[r].get<double>() >= 0.0;
+  a["flicker_ratio_off_over_reproject"] = ratio;
+  a["flicker_ratio_off_over_restart"] = ratio_restart;
+  a["psnr_reproject_minus_off_db"] = gain;
+  a["peripheral_flicker_5x_lower"] = peripheral;
+  a["central_error_no_worse"] = central;
+  return a;
+}
+
+Json temporal_sanity(const Json& temporal) {
+  Json flicker_margin = Json::array(), error_margin = Json::array();
+  const bool have_reference = temporal.contains("reference") && temporal["reference"].is_object();
+  bool ok = have_reference;
+  for (std::size_t r = 0; r < kRings && have_reference; ++r) {
+    double min_flicker = std::numeric_limits<double>::infinity(), max_psnr = -std::numeric_limits<double>::infinity();
+    for (const Json& t : temporal["tracks"]) {
+      if (std::isfinite(ring_value(t, r, "flicker"))) min_flicker = std::min(min_flicker, ring_value(t, r, "flicker"));
+      if (std::isfinite(ring_value(t, r, "psnr"))) max_psnr = std::max(max_psnr, ring_value(t, r, "psnr"));
+    }
+    const Json& floor = temporal["reference"]["rings"][r];
+    const double fm = 20.0 * std::log10(min_flicker / num(floor["flicker_floor"]));
+    const double em = num(floor["psnr_floor"]) - max_psnr;
+    flicker_margin.push_back(number_or_null_json(fm));
+    error_margin.push_back(number_or_null_json(em));
+    if ((std::isfinite(fm) && fm < 10.0) || (std::isfinite(em) && em < 10.0)) ok = false;
+  }
+  return {{"flicker_margin_db", flicker_margin}, {"error_margin_db", error_margin}, {"floor_10db_below", ok}};
+}
+
+std::string temporal_headline(const Json& temporal, const Json& a) {
+  if (a.is_null()) return "";
+  const Json& run = temporal["run"];
+  std::ostringstream h;
+  h << "Over the " << run["motion"].get<std::string>() << " motion (" << run["frames"] << " frames from "
+    << fmt(num(run["start_s"]), 2) << " s at " << fmt(num(run["fps"]), 0) << " fps, " << run["width"] << "x"
+    << run["height"] << ") at equal rays (" << a["setting"].get<std::string>()
+    << "), reprojected TAA flickers ";
+  for (std::size_t i = 0; i < 3; ++i)
+    h << (i ? " / " : "") << fmt(num(a["flicker_ratio_off_over_reproject"][kPeripheralRings[i]]), 1) << "x";
+  h << " less than no TAA at 20-30 / 30-45 / >45 deg (goal 5x: "
+    << (a["peripheral_flicker_5x_lower"].get<bool>() ? "met" : "not met") << "; TAA restarting on every pose change: ";
+  for (std::size_t i = 0; i < 3; ++i)
+    h << (i ? " / " : "") << fmt(num(a["flicker_ratio_off_over_restart"][kPeripheralRings[i]]), 1) << "x";
+  h << "); its error at 0-2.5 / 2.5-5 deg is ";
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double g = num(a["psnr_reproject_minus_off_db"][kCentralRings[i]]);
+    h << (i ? " / " : "") << (g >= 0 ? "+" : "") << fmt(g, 1);
+  }
+  h << " dB against no TAA (goal: no worse: " << (a["central_error_no_worse"].get<bool>() ? "met" : "not met") << ").";
+  return h.str();
+}
+
+std::string write_temporal_csv(const std::filesystem::path& file, const Json& temporal) {
+  std::ofstream f(file);
+  f << "id,setting,kind,method,k,scale,pattern,taa,spp,ms,time_fraction,taa_resets";
+  for (const char* m : {"flicker", "psnr"})
+    for (std::size_t r = 0; r < kRings; ++r) f << "," << m << "_" << ring_name(r);
+  f << "\n";
+  const auto cell = [](const Json& j) -> std::string {
+    if (j.is_null()) return "";
+    if (j.is_string()) return j.get<std::string>();
+    if (j.is_number_float()) {
+      char buf[40];
+      std::snprintf(buf, sizeof buf, "%.17g", j.get<double>());
+      return buf;
+    }
+    return j.dump();
+  };
+  for (const Json& t : temporal["tracks"]) {
+    f << cell(t["id"]) << "," << cell(t["setting"]) << "," << cell(t["kind"]) << "," << cell(t.value("method", Json()))
+      << "," << cell(t.value("k", Json())) << "," << cell(t.value("scale", Json())) << ","
+      << cell(t.value("pattern", Json())) << "," << cell(t["taa"]) << "," << cell(t["spp"]) << "," << cell(t["ms"])
+      << "," << cell(t["time_fraction"]) << "," << cell(t["taa_resets"]);
+    for (const char* m : {"flicker", "psnr"})
+      for (std::size_t r = 0; r < kRings; ++r) f << "," << cell(t["rings"][r][m]);
+    f << "\n";
+  }
+  if (!f) return "cannot write " + file.string();
+  return "";
+}
+
+void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json& a, const Json& sanity) {
+  const Json& run = temporal["run"];
+  md << "## Temporal columns: the " << run["motion"].get<std::string>() << " motion\n\n"
+     << run["frames"] << " frames at " << fmt(num(run["fps"]), 0) << " fps from " << fmt(num(run["start_s"]), 2)
+     << " s at " << run["width"] << "x" << run["height"] << " (" << run["eye"].get<std::string>()
+     << " eye), each against a full render of the same frame at " << run["reference_spp"]
+     << " rays per pixel. flicker: RMS over consecutive frames, pixels and channels of (I_t - I_t-1) - "
+        "(R_t - R_t-1), the change beyond the reference's own; PSNR: the error against the reference over all "
+        "frames. The same rays per point with TAA off (one jitter), restarting on every pose change, and "
+        "reprojecting its history (new jitter each frame).\n\n";
+  if (!a.is_null()) md << temporal_headline(temporal, a) << "\n\n";
+  md << "Reference floor (its own flicker and error, from its two halves) below the smallest flicker / the best "
+        "PSNR of any track per ring:";
+  for (std::size_t r = 0; r < kRings; ++r)
+    md << " " << ring_name(r) << ": " << fmt(num(sanity["flicker_margin_db"][r]), 1) << " / "
+       << fmt(num(sanity["error_margin_db"][r]), 1) << " dB;";
+  md << " at least 10 dB in every ring: " << (sanity["floor_10db_below"].get<bool>() ? "yes" : "**no**") << ".\n\n";
+  md << "| track | time % of full_spp1 | TAA resets |";
+  for (std::size_t r = 0; r < kRings; ++r) md << " flicker " << ring_name(r) << " |";
+  for (std::size_t r = 0; r < kRings; ++r) md << " PSNR " << ring_name(r) << " |";
+  md << "\n|---|---|---|";
+  for (std::size_t r = 0; r < 2 * kRings; ++r) md << "---|";
+  md << "\n";
+  for (const Json& t : temporal["tracks"]) {
+    md << "| " << t["id"].get<std::string>() << " | " << fmt(100.0 * num(t["time_fraction"]), 0) << " | "
+       << t["taa_resets"] << " |";
+    for (std::size_t r = 0; r < kRings; ++r) md << " " << fmt(ring_value(t, r, "flicker"), 4) << " |";
+    for (std::size_t r = 0; r < kRings; ++r) md << " " << fmt(ring_value(t, r, "psnr"), 1) << " |";
+    md << "\n";
+  }
+  md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
+}
+
+}  // namespace foveart::tools

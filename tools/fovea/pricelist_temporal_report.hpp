@@ -1,0 +1,39 @@
+// The temporal columns in the price list's outputs: the acceptance of issue
+// #18 (peripheral flicker with reprojected TAA at least 5x below no TAA at
+// equal rays, the 0-5 deg error no worse), the reference floor's margins,
+// temporal.csv and report.md's section. Input: run_pricelist_temporal's JSON.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+namespace foveart::tools {
+
+// The setting the headline reads: the layer's defaults (MSM k = 5, scale 1,
+// pixel-grid fovea, 1 ray per point) when measured, else the first TAA setting.
+inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1";
+
+// {"setting", "flicker_ratio_off_over_reproject"[ring], "flicker_ratio_off_over_restart"[ring],
+//  "psnr_reproject_minus_off_db"[ring], "peripheral_flicker_5x_lower", "central_error_no_worse"}
+// for one setting's three tracks (null entries where a ring is empty); null when they are missing.
+nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
+
+// Per ring, how far the reference sequence's own contribution lies below the
+// smallest flicker and the smallest error of any track (dB), and whether every
+// ring is at least 10 dB below: {"flicker_margin_db", "error_margin_db", "floor_10db_below"}.
+nlohmann::ordered_json temporal_sanity(const nlohmann::ordered_json& temporal);
+
+// The headline's sentence on the acceptance ("" when it cannot be read).
+std::string temporal_headline(const nlohmann::ordered_json& temporal, const nlohmann::ordered_json& acceptance);
+
+// temporal.csv: one row per track. Error message or "".
+std::string write_temporal_csv(const std::filesystem::path& file, const nlohmann::ordered_json& temporal);
+
+// report.md's "Temporal columns" section.
+void write_temporal_markdown(std::ostream& md, const nlohmann::ordered_json& temporal,
+                             const nlohmann::ordered_json& acceptance, const nlohmann::ordered_json& sanity);
+
+}  // namespace foveart::tools
