@@ -159,12 +159,7 @@ int main(int argc, char** argv) {
         fv::encode_rgba8(cpu_view.image(), true, rgba.data(), executor);
         const double enc = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         const auto g = gpu_view.render(r, gradient_engine, nullptr, executor);
-        GpuFrame f;
-        f.tables = gpu_tables.get();
-        f.colors = &gpu_view.colors();
-        f.traced = gpu_view.traced();
-        f.mapping = fv::map_gaze(size[0], size[1], g.centre_px);
-        f.taa_reset = g.taa_reset;
+        const GpuFrame f = GpuFrame::of(*gpu_tables, gpu_view, r, g, true);
         const auto t1 = std::chrono::steady_clock::now();
         const bool ok = gpu->submit_and_wait(
             [&](VkCommandBuffer cb) { return eye->record(cb, f, VK_NULL_HANDLE, executor, &error); }, &error);

@@ -2,19 +2,12 @@
 
 #include <algorithm>
 
+#include "vk_util.hpp"
+
 namespace foveart::layer {
 namespace {
 
 std::string xr_error(const char* what, XrResult r) { return std::string(what) + " failed (XrResult " + std::to_string(r) + ")"; }
-std::string vk_error(const char* what, VkResult r) { return std::string(what) + " failed (VkResult " + std::to_string(r) + ")"; }
-
-template <class T>
-T vk_struct(VkStructureType type) {
-  T s{};
-  s.sType = type;
-  return s;
-}
-
 template <class T>
 T xr_struct(XrStructureType type) {
   T s{};

@@ -389,18 +389,7 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     eye.gpu = gpu->create_eye(w, h, error);
     if (eye.gpu == nullptr) return false;
   }
-  GpuFrame frame;
-  frame.tables = eye.gpu_tables.get();
-  frame.colors = &eye.view->colors();
-  frame.point_depth_m = &eye.view->point_depths();
-  frame.traced = eye.view->traced();
-  frame.view = request.view;
-  frame.history_view = result.history_view;
-  frame.mapping = foveation::map_gaze(int(w), int(h), result.centre_px);
-  frame.rbf_clamp = eye.view->settings().rbf_clamp;
-  frame.taa_reset = !eye.view->settings().taa || result.taa_reset;
-  frame.taa = eye.view->settings().taa_options;
-  frame.srgb = eye.swapchain->srgb();
+  const GpuFrame frame = GpuFrame::of(*eye.gpu_tables, *eye.view, request, result, eye.swapchain->srgb());
   const bool ok = eye.swapchain->present(
       [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
         return eye.gpu->record(cb, frame, image, executor, record_error);

@@ -13,18 +13,10 @@
 #include "shaders/gather.spv.h"
 #include "shaders/scatter.spv.h"
 #include "shaders/taa.spv.h"
+#include "vk_util.hpp"
 
 namespace foveart::layer {
 namespace {
-
-std::string vk_error(const char* what, VkResult r) { return std::string(what) + " failed (VkResult " + std::to_string(r) + ")"; }
-
-template <class T>
-T vk_struct(VkStructureType type) {
-  T s{};
-  s.sType = type;
-  return s;
-}
 
 // Push constants, laid out as the shaders declare them (std430).
 struct GatherPush {
@@ -117,6 +109,23 @@ std::string gpu_unsupported_reason(VkPhysicalDevice physical_device, uint32_t qu
     return "the device binds fewer than " + std::to_string(kMaxGpuChunks + kBindings - 1) + " storage buffers per stage";
   }
   return {};
+}
+
+GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& view,
+                      const foveation::FrameRequest& request, const foveation::FrameResult& result, bool srgb) {
+  GpuFrame f;
+  f.tables = &tables;
+  f.colors = &view.colors();
+  f.point_depth_m = &view.point_depths();
+  f.traced = view.traced();
+  f.mapping = foveation::map_gaze(int(request.view.width_px), int(request.view.height_px), result.centre_px);
+  f.rbf_clamp = view.settings().rbf_clamp;
+  f.taa_reset = !view.settings().taa || result.taa_reset;
+  f.taa = view.settings().taa_options;
+  f.view = request.view;
+  f.history_view = result.history_view;
+  f.srgb = srgb;
+  return f;
 }
 
 // ---- GpuReconstructor ---------------------------------------------------------

@@ -78,6 +78,12 @@ struct GpuFrame {
   std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (FrameResult::history_view)
   foveation::TaaOptions taa;
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
+
+  // The frame `view` just traced for `request` (render() with
+  // reconstruct_on_cpu = false returned `result`), on `tables`: colours,
+  // depths, the centre's mapping, TAA decisions and settings.
+  static GpuFrame of(const GpuTables& tables, const foveation::FoveatedView& view,
+                     const foveation::FrameRequest& request, const foveation::FrameResult& result, bool srgb);
 };
 
 // GPU time of each stage of the last frame (timestamps), milliseconds.

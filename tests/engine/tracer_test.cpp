@@ -84,6 +84,18 @@ Scene effect_scene(const SceneSpec& spec) {
   return s;
 }
 
+// A batch of ray_count explicit rays (origins, directions: xyz each) writing to rgb.
+FoveartRayBatch explicit_batch(const float* origins_m, const float* directions, float* rgb, uint32_t ray_count) {
+  FoveartRayBatch b{};
+  b.type = FOVEART_TYPE_RAY_BATCH;
+  b.size = sizeof(b);
+  b.ray_count = ray_count;
+  b.origins_m = origins_m;
+  b.directions = directions;
+  b.out_rgb = rgb;
+  return b;
+}
+
 // Rays from above looking down at the floor, over a 16 x 16 grid.
 std::vector<glm::vec3> trace_down(Tracer& tracer) {
   std::vector<float> o, d, rgb(3 * 256);
@@ -94,13 +106,7 @@ std::vector<glm::vec3> trace_down(Tracer& tracer) {
     const glm::vec3 dir = glm::normalize(glm::vec3(0.2f, -1.0f, 0.1f));
     d.insert(d.end(), {dir.x, dir.y, dir.z});
   }
-  FoveartRayBatch b{};
-  b.type = FOVEART_TYPE_RAY_BATCH;
-  b.size = sizeof(b);
-  b.ray_count = 256;
-  b.origins_m = o.data();
-  b.directions = d.data();
-  b.out_rgb = rgb.data();
+  FoveartRayBatch b = explicit_batch(o.data(), d.data(), rgb.data(), 256);
   EXPECT_EQ(foveart_engine_trace_rays(&tracer, &b), FOVEART_RESULT_SUCCESS);
   std::vector<glm::vec3> out;
   for (int i = 0; i < 256; ++i) out.emplace_back(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
@@ -150,13 +156,7 @@ TEST(Tracer, BatchDepthIsTheHitDistanceAndInfinityForTheSky) {
   const float o[6] = {0.25f, 2.0f, 0.1f, 0.25f, 2.0f, 0.1f};
   const float d[6] = {0.0f, -1.0f, 0.0f, 0.0f, 1.0f, 0.0f};  // down onto the quad, up into the sky
   float rgb[6] = {}, depth[2] = {-1.0f, -1.0f};
-  FoveartRayBatch b{};
-  b.type = FOVEART_TYPE_RAY_BATCH;
-  b.size = sizeof(b);
-  b.ray_count = 2;
-  b.origins_m = o;
-  b.directions = d;
-  b.out_rgb = rgb;
+  FoveartRayBatch b = explicit_batch(o, d, rgb, 2);
   b.out_depth_m = depth;
   ASSERT_EQ(foveart_engine_trace_rays(t.get(), &b), FOVEART_RESULT_SUCCESS);
   EXPECT_NEAR(depth[0], 2.0f, 1e-5f);
@@ -197,13 +197,7 @@ TEST(Tracer, TextureIsSampledOnlyWhenTheSceneHasOne) {
   const HitRecord h = textured->intersect({-5.0f, 1.0f, 0.0f}, {0, -1, 0});  // u = 0.25: red texel
   ASSERT_TRUE(h.hit);
   float o[3] = {-5.0f, 1.0f, 0.0f}, d[3] = {0.0f, -1.0f, 0.0f}, rgb_tex[3] = {}, rgb_plain[3] = {};
-  FoveartRayBatch b{};
-  b.type = FOVEART_TYPE_RAY_BATCH;
-  b.size = sizeof(b);
-  b.ray_count = 1;
-  b.origins_m = o;
-  b.directions = d;
-  b.out_rgb = rgb_tex;
+  FoveartRayBatch b = explicit_batch(o, d, rgb_tex, 1);
   ASSERT_EQ(textured->trace(&b), FOVEART_RESULT_SUCCESS);
   b.out_rgb = rgb_plain;
   ASSERT_EQ(plain->trace(&b), FOVEART_RESULT_SUCCESS);
@@ -344,13 +338,7 @@ TEST(Tracer, BadBatchesAreRejectedAndBadRaysAreBlack) {
   float o[6] = {0, 3, 0, 0, 3, 0};
   float d[6] = {0, -1, 0, std::numeric_limits<float>::quiet_NaN(), 0, 0};
   float rgb[6] = {-1, -1, -1, -1, -1, -1};
-  FoveartRayBatch b{};
-  b.type = FOVEART_TYPE_RAY_BATCH;
-  b.size = sizeof(b);
-  b.ray_count = 2;
-  b.origins_m = o;
-  b.directions = d;
-  b.out_rgb = rgb;
+  FoveartRayBatch b = explicit_batch(o, d, rgb, 2);
   EXPECT_EQ(foveart_engine_trace_rays(nullptr, &b), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
   EXPECT_EQ(foveart_engine_trace_rays(t.get(), nullptr), FOVEART_RESULT_ERROR_INVALID_ARGUMENT);
   FoveartRayBatch wrong = b;
@@ -377,13 +365,7 @@ TEST(Tracer, EmptySceneSeesOnlySky) {
   auto t = make(std::move(s));
   EXPECT_FALSE(t->intersect({0, 0, 0}, {0, 0, -1}).hit);
   float o[3] = {0, 0, 0}, d[3] = {0, 1, 0}, rgb[3] = {};
-  FoveartRayBatch b{};
-  b.type = FOVEART_TYPE_RAY_BATCH;
-  b.size = sizeof(b);
-  b.ray_count = 1;
-  b.origins_m = o;
-  b.directions = d;
-  b.out_rgb = rgb;
+  FoveartRayBatch b = explicit_batch(o, d, rgb, 1);
   ASSERT_EQ(t->trace(&b), FOVEART_RESULT_SUCCESS);
   EXPECT_NEAR(rgb[2], Scene{}.sky_zenith.z, 1e-6f);
 }

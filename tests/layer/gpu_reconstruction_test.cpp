@@ -148,18 +148,7 @@ class GpuReconstruction : public ::testing::Test {
       std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
       foveation::encode_rgba8(cpu_view.image(), true, expected.data(), executor);
 
-      GpuFrame frame;
-      frame.tables = gpu_tables.get();
-      frame.colors = &gpu_view.colors();
-      frame.point_depth_m = &gpu_view.point_depths();
-      frame.traced = gpu_view.traced();
-      frame.view = req.view;
-      frame.history_view = gpu.history_view;
-      frame.mapping = foveation::map_gaze(int(kW), int(kH), gpu.centre_px);
-      frame.rbf_clamp = settings.rbf_clamp;
-      frame.taa_reset = !taa || gpu.taa_reset;
-      frame.taa = settings.taa_options;
-      frame.srgb = true;
+      const GpuFrame frame = GpuFrame::of(*gpu_tables, gpu_view, req, gpu, true);
       EXPECT_TRUE(gpu_->submit_and_wait(
           [&](VkCommandBuffer cb) { return gpu_eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error))
           << error;
