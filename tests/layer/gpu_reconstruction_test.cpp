@@ -25,6 +25,7 @@
 #include "gpu_reconstruction.hpp"
 #include "gpu_tables.hpp"
 #include "headless_vulkan.hpp"
+#include "icd_pin.h"
 #include "analytic_scene.hpp"
 
 namespace foveart::layer {
@@ -98,7 +99,10 @@ Difference compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b)
 
 class GpuReconstruction : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() { vulkan_ = std::make_unique<HeadlessVulkan>(VK_PHYSICAL_DEVICE_TYPE_CPU, true); }
+  static void SetUpTestSuite() {
+    vulkan_ = std::make_unique<HeadlessVulkan>(VK_PHYSICAL_DEVICE_TYPE_CPU, true);
+    sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
+  }
   static void TearDownTestSuite() { vulkan_.reset(); }
   void SetUp() override {
     ASSERT_TRUE(vulkan_->ok()) << "no lavapipe device (mesa-vulkan-drivers)";

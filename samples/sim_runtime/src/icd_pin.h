@@ -1,14 +1,17 @@
-// Keeps every Vulkan driver (ICD) loaded in this process mapped until exit.
+// Keeps every Vulkan driver (ICD) and layer loaded in this process mapped until exit.
 //
 // The Vulkan loader dlcloses its ICDs at vkDestroyInstance. Mesa's lavapipe makes a
 // one-time, process-lifetime allocation inside vkEnumeratePhysicalDevices; once the
 // driver is unmapped, LeakSanitizer reports it at exit with bare addresses in an
 // "<unknown module>", which no suppression by library (tests/sanitizers/lsan.supp)
 // can match. A pinned driver keeps its name in those frames, so `leak:libvulkan_lvp.so`
-// applies and our own leaks are still reported. The runtime pins whatever drivers are
-// loaded once it is handed the app's Vulkan objects; a driver is recognised by the
-// export that the loader-ICD interface requires of every ICD (vk_icdGetInstanceProcAddr),
-// never by file name, path or anything inside Mesa.
+// applies and our own leaks are still reported. The same holds for layers: the
+// Khronos validation layer with synchronization validation on keeps allocations
+// past vkDestroyInstance. The runtime pins whatever drivers and layers are loaded once
+// it is handed the app's Vulkan objects (tests with their own instance do the same);
+// a driver is recognised by the export that the loader-ICD interface requires of
+// every ICD (vk_icdGetInstanceProcAddr), a layer by the loader-layer interface's
+// (vkNegotiateLoaderLayerInterfaceVersion), never by file name or path.
 #pragma once
 
 #include <dlfcn.h>
@@ -20,7 +23,7 @@
 
 namespace foveart::sim {
 
-inline void pin_loaded_vulkan_icds() {
+inline void pin_loaded_vulkan_icds_and_layers() {
   std::vector<std::string> paths;
   dl_iterate_phdr(
       [](dl_phdr_info* info, std::size_t, void* out) {
@@ -34,10 +37,12 @@ inline void pin_loaded_vulkan_icds() {
     void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD);
     if (handle == nullptr) continue;
     // dlsym also searches the object's dependencies: the entry point must be its own.
-    void* entry = dlsym(handle, "vk_icdGetInstanceProcAddr");
-    Dl_info owner{};
-    if (entry != nullptr && dladdr(entry, &owner) != 0 && owner.dli_fname != nullptr &&
-        path == owner.dli_fname) {
+    auto exports = [&](const char* symbol) {
+      void* entry = dlsym(handle, symbol);
+      Dl_info owner{};
+      return entry != nullptr && dladdr(entry, &owner) != 0 && owner.dli_fname != nullptr && path == owner.dli_fname;
+    };
+    if (exports("vk_icdGetInstanceProcAddr") || exports("vkNegotiateLoaderLayerInterfaceVersion")) {
       // RTLD_NOLOAD | RTLD_NODELETE marks the already loaded object as never unloaded.
       if (void* pinned = dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE)) {
         dlclose(pinned);

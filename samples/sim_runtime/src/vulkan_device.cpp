@@ -47,7 +47,7 @@ bool is_capturable_format(VkFormat format, bool& out_bgra) {
 
 bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice device,
                         uint32_t queue_family, uint32_t queue_index, std::string& error) {
-  pin_loaded_vulkan_icds();  // LeakSanitizer must still see the driver at exit (icd_pin.h)
+  pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer must still see them at exit (icd_pin.h)
   instance_ = instance;
   physical_ = physical;
   queue_family_ = queue_family;
