@@ -55,11 +55,23 @@ bool reprojected_history(ivec2 p, float depth, out vec3 history) {
                  vec2(size_px);
   if (!(s.x >= 0.0 && s.x < float(size_px.x) && s.y >= 0.0 && s.y < float(size_px.y))) return false;
   const ivec2 n = min(ivec2(s), size_px - 1);
-  if (known) {
-    const float before = history_in[n.y * size_px.x + n.x].a;
-    const bool agree = before < 0.0 || (before >= DEPTH_FAR && expected >= DEPTH_FAR) ||
-                       (before < DEPTH_FAR && expected < DEPTH_FAR &&
-                        abs(before - expected) <= DISOCCLUSION_TOLERANCE * min(before, expected));
+  if (known) {  // P's distance within the last depths of the 3x3 pixels around (a jittered ray's each)
+    float lo = 3.4e38, hi = -1.0;
+    bool unknown = false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const ivec2 q = clamp(n + ivec2(dx, dy), ivec2(0), size_px - 1);
+        const float before = history_in[q.y * size_px.x + q.x].a;
+        if (before < 0.0) {
+          unknown = true;
+        } else {
+          lo = min(lo, before);
+          hi = max(hi, before);
+        }
+      }
+    const bool agree = unknown || (expected >= DEPTH_FAR ? hi >= DEPTH_FAR
+                                                          : expected >= lo * (1.0 - DISOCCLUSION_TOLERANCE) &&
+                                                                expected <= hi * (1.0 + DISOCCLUSION_TOLERANCE));
     if (!agree) return false;
   }
   const vec2 f = s - 0.5;

@@ -48,10 +48,22 @@ ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<f
         }
         const int nx = std::min(int(s.x), hw - 1), ny = std::min(int(s.y), hh - 1);
         if (has_history_depth && !std::isnan(depth)) {
-          const float before = history_depth_m[std::size_t(ny) * std::size_t(hw) + std::size_t(nx)];
-          // Both at infinity agree; a finite and an infinite one do not.
-          const bool agree = std::isnan(before) || (std::isinf(before) && std::isinf(expected)) ||
-                             std::abs(before - expected) <= kDisocclusionTolerance * std::min(before, expected);
+          // The surface was there if its distance lies within the last depths of the
+          // 3x3 pixels around (a pixel's depth is one jittered ray's: at an edge it
+          // flips between the near and the far side from frame to frame).
+          float lo = INFINITY, hi = -INFINITY;
+          bool unknown = false;
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int qx = std::clamp(nx + dx, 0, hw - 1), qy = std::clamp(ny + dy, 0, hh - 1);
+              const float before = history_depth_m[std::size_t(qy) * std::size_t(hw) + std::size_t(qx)];
+              if (std::isnan(before)) unknown = true;
+              else lo = std::min(lo, before), hi = std::max(hi, before);
+            }
+          }
+          const bool agree = unknown || (std::isinf(expected) ? std::isinf(hi)
+                                                                : expected >= lo * (1.0f - kDisocclusionTolerance) &&
+                                                                      expected <= hi * (1.0f + kDisocclusionTolerance));
           if (!agree) {
             ++occluded;
             continue;

@@ -4,8 +4,10 @@
 // takes the previous output there (bilinear). Without depth the surface is
 // taken at infinity (rotation only: needs nothing from the engine); with the
 // engine's depth it is the 3-D point P = eye + direction * depth, so parallax
-// is followed too. History is rejected off-screen and where the previous
-// depth at the reprojected pixel disagrees with P's distance (disocclusion).
+// is followed too. History is rejected off-screen and where P's distance lies
+// outside the previous depths of the 3x3 pixels around the reprojected one,
+// widened by kDisocclusionTolerance (disocclusion; one pixel's depth is one
+// jittered ray's, which at an edge flips between near and far).
 #pragma once
 
 #include <cstdint>
