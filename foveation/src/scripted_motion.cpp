@@ -97,7 +97,7 @@ ScriptedMotion builtin_motion(std::uint64_t seed) {
     const double tremor_pitch = 0.10 * std::sin(2.0 * std::numbers::pi * 11.0 * ts + 1.0);
     s.head_orientation = glm::angleAxis(float(-(head_yaw_deg + tremor_yaw) * kDeg), glm::vec3(0, 1, 0)) *
                          glm::angleAxis(float(tremor_pitch * kDeg), glm::vec3(1, 0, 0));
-    s.head_position_m = {float(0.0005 * std::sin(2.0 * std::numbers::pi * 7.0 * ts)), 1.6f, 0.0f};
+    s.head_position_m = {float(0.0005 * std::sin(2.0 * std::numbers::pi * 7.0 * ts)), kStandingEyeHeightM, 0.0f};
     // Gaze: the current fixation, moving there over 25 ms (microsaccade) or 45 ms (the saccade).
     std::size_t f = 0;
     while (f + 1 < fixations.size() && fixations[f + 1].time_s <= ts) ++f;

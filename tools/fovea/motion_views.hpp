@@ -25,7 +25,7 @@
 
 namespace foveart::tools {
 
-inline constexpr float kLocalAboveStageM = 1.6f;  // as the simulated runtime's LOCAL space
+inline constexpr float kLocalAboveStageM = foveation::kStandingEyeHeightM;  // as the simulated runtime's LOCAL space
 
 struct MotionWindow {
   double start_s = 0.0;

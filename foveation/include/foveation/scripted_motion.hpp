@@ -17,10 +17,15 @@
 
 namespace foveart::foveation {
 
+// A script's world is the floor frame (the OpenXR STAGE space); a standing
+// head is this high. Players of a script (the simulated runtime's LOCAL space,
+// `fovea render --motion`) put their origin here so a head at rest sits at 0.
+inline constexpr float kStandingEyeHeightM = 1.6f;
+
 struct MotionSample {
   double time_s = 0.0;
   glm::quat head_orientation{1.0f, 0.0f, 0.0f, 0.0f};  // head space -> world
-  glm::vec3 head_position_m{0.0f, 1.6f, 0.0f};
+  glm::vec3 head_position_m{0.0f, kStandingEyeHeightM, 0.0f};
   glm::vec3 gaze_head{0.0f, 0.0f, -1.0f};  // unit, head space
   bool gaze_valid = true;                  // false during a blink
   bool saccade = false;                    // ground truth: this sample lies inside a saccade

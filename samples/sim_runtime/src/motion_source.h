@@ -27,7 +27,7 @@
 namespace foveart::sim {
 
 // LOCAL sits this far above the STAGE floor (the motion's world frame).
-inline constexpr float kLocalAboveStageM = 1.6F;
+inline constexpr float kLocalAboveStageM = foveation::kStandingEyeHeightM;
 
 class MotionSource {
  public:
