@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "api_common.h"
+#include "icd_pin.h"
 #include "sim_runtime/sim_env.h"
 
 namespace foveart::sim {
@@ -140,6 +141,7 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_instance(XrInstance instance) {
     rt.actions.clear();
     rt.action_sets.clear();
     rt.instance.reset();
+    pin_loaded_vulkan_icds_and_layers();  // the loaders unload layers next (icd_pin.h)
     return XR_SUCCESS;
   });
 }

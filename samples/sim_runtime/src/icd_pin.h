@@ -12,6 +12,10 @@
 // a driver is recognised by the export that the loader-ICD interface requires of
 // every ICD (vk_icdGetInstanceProcAddr), a layer by the loader-layer interface's
 // (vkNegotiateLoaderLayerInterfaceVersion), never by file name or path.
+// Libraries with thread-local storage stay mapped too (pinned again at
+// xrDestroyInstance, when the loaders are about to dlclose layers): LeakSanitizer
+// walks every thread's dynamic TLS at exit, and an entry of an unloaded library
+// points at unmapped memory and crashes its tracer.
 #pragma once
 
 #include <dlfcn.h>
@@ -24,15 +28,27 @@
 namespace foveart::sim {
 
 inline void pin_loaded_vulkan_icds_and_layers() {
-  std::vector<std::string> paths;
+  struct Loaded {
+    std::vector<std::string> paths;
+    std::vector<bool> has_tls;
+  } loaded;
   dl_iterate_phdr(
       [](dl_phdr_info* info, std::size_t, void* out) {
         if (info->dlpi_name != nullptr && info->dlpi_name[0] != '\0') {
-          static_cast<std::vector<std::string>*>(out)->emplace_back(info->dlpi_name);
+          auto* l = static_cast<Loaded*>(out);
+          bool tls = false;
+          for (int i = 0; i < info->dlpi_phnum; ++i) tls = tls || (info->dlpi_phdr[i].p_type == PT_TLS && info->dlpi_phdr[i].p_memsz > 0);
+          l->paths.emplace_back(info->dlpi_name);
+          l->has_tls.push_back(tls);
         }
         return 0;
       },
-      &paths);
+      &loaded);
+  for (std::size_t i = 0; i < loaded.paths.size(); ++i) {
+    if (!loaded.has_tls[i]) continue;
+    if (void* pinned = dlopen(loaded.paths[i].c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE)) dlclose(pinned);
+  }
+  const std::vector<std::string>& paths = loaded.paths;
   for (const std::string& path : paths) {
     void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD);
     if (handle == nullptr) continue;
