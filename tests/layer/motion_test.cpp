@@ -133,7 +133,9 @@ TEST_P(LayerMotion, TaaHistoryRestartsExactlyInTheFramesWithASaccadeOrBlink) {
   // (b) The provider saw the motion's saccade and blink.
   EXPECT_GT(saccade_frames, 0);
   EXPECT_GT(blink_frames, 0);
-  EXPECT_GE(continuous_frames, 50) << "too few frames inside the script's first loop to judge continuity";
+  // 30 of the ~270 frames a 70 Hz loop would give: a sanitizer build on a loaded
+  // 2-core machine renders 10-15 per second (ctest runs this test alone).
+  EXPECT_GE(continuous_frames, 30) << "too few frames inside the script's first loop to judge continuity";
   EXPECT_EQ(r.stats["taa_resets"].get<uint64_t>(), restarts) << "the per-frame flags add up to the renderer's count";
 }
 
