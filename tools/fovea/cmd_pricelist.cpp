@@ -11,6 +11,7 @@
 #include "pricelist_report.hpp"
 #include "reference.hpp"
 #include "render_metrics.hpp"
+#include "results_jsonl.hpp"
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
@@ -430,23 +431,8 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   }
 
   // Resume: the settings already in results.jsonl are done.
-  std::map<std::string, Json> done_results;
   const fs::path results_file = out_dir / "results.jsonl";
-  {
-    std::ifstream in(results_file);
-    std::string line;
-    int line_no = 0;
-    while (std::getline(in, line)) {
-      ++line_no;
-      Json j = Json::parse(line, nullptr, false);
-      if (j.is_discarded() || !j.contains("id") || !j["id"].is_string()) {
-        err << "fovea pricelist: " << results_file.string() << " line " << line_no << " is not a result; measuring again\n";
-        continue;
-      }
-      const std::string id = j["id"].get<std::string>();  // before the move: `=` evaluates its right side first
-      done_results[id] = std::move(j);
-    }
-  }
+  std::map<std::string, Json> done_results = read_results_jsonl(results_file, err);
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
     err << "fovea pricelist: cannot write " << results_file.string() << "\n";

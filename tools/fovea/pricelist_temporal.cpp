@@ -2,6 +2,7 @@
 #include "pricelist_temporal.hpp"
 
 #include "cmd_render.hpp"
+#include "results_jsonl.hpp"
 #include "motion_sequence.hpp"
 #include "motion_views.hpp"
 
@@ -44,23 +45,6 @@ std::vector<TemporalGroup> temporal_groups(const std::vector<PriceSetting>& sett
   return groups;
 }
 
-std::map<std::string, Json> read_done(const fs::path& file, std::ostream& err) {
-  std::map<std::string, Json> done;
-  std::ifstream in(file);
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    Json j = Json::parse(line, nullptr, false);
-    if (j.is_discarded() || !j.contains("id") || !j["id"].is_string()) {
-      err << "fovea pricelist: " << file.string() << " line " << line_no << " is not a result; measuring again\n";
-      continue;
-    }
-    const std::string id = j["id"].get<std::string>();
-    done[id] = std::move(j);
-  }
-  return done;
-}
 
 }  // namespace
 
@@ -127,7 +111,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       motion_frames(*motion, window, eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
 
   const fs::path results_file = c.out_dir / "temporal.jsonl";
-  std::map<std::string, Json> done = read_done(results_file, err);
+  std::map<std::string, Json> done = read_results_jsonl(results_file, err);
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
     err << "fovea pricelist: cannot write " << results_file.string() << "\n";
