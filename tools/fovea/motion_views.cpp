@@ -43,10 +43,10 @@ std::string check_motion_window(const foveation::ScriptedMotion& motion, const M
 }
 
 foveation::EyePose head_in_scene(const foveation::EyePose& scene_head, const foveation::MotionSample& sample) {
-  const glm::vec3 in_local = sample.head_position_m - glm::vec3(0.0f, kLocalAboveStageM, 0.0f);
+  const foveation::EyePose in_local = foveation::head_pose_above_standing_eye(sample);
   foveation::EyePose head;
-  head.orientation = glm::normalize(scene_head.orientation * sample.head_orientation);
-  head.position_m = scene_head.position_m + scene_head.orientation * in_local;
+  head.orientation = glm::normalize(scene_head.orientation * in_local.orientation);
+  head.position_m = scene_head.position_m + scene_head.orientation * in_local.position_m;
   return head;
 }
 
@@ -56,9 +56,8 @@ std::vector<MotionFrame> motion_frames(const foveation::ScriptedMotion& motion, 
   const foveation::EyePose rest = foveation::eye_pose(eye_at_rest);
   const glm::vec3 eye_offset_head = glm::conjugate(scene_head.orientation) * (rest.position_m - scene_head.position_m);
   const foveation::EyeFrustum frustum = foveation::eye_frustum(eye_at_rest);
-  glm::vec2 lens_centre{};
-  foveation::project_direction(frustum, foveation::EyePose{}, glm::vec3(0.0f, 0.0f, -1.0f), &lens_centre);
-  glm::vec2 last_valid = glm::round(lens_centre);
+  const glm::vec2 lens_centre = foveation::lens_centre_px(frustum);
+  glm::vec2 last_valid = lens_centre;
   std::vector<MotionFrame> frames;
   frames.reserve(std::size_t(w.frames));
   for (int i = 0; i < w.frames; ++i) {
@@ -82,12 +81,8 @@ std::vector<MotionFrame> motion_frames(const foveation::ScriptedMotion& motion, 
       f.gaze_px = last_valid;
     } else {
       // The eye looks along the head's axes (no vergence): the gaze in eye view space is the head-space gaze.
-      glm::vec2 g = lens_centre;
-      if (s.gaze_head.z < -0.05f)
-        foveation::project_direction(frustum, foveation::EyePose{}, s.gaze_head, &g);
-      else
-        f.gaze_off_view = true;
-      f.gaze_px = glm::round(g);
+      f.gaze_off_view = !foveation::gaze_pixel(frustum, s.gaze_head, &f.gaze_px);
+      if (f.gaze_off_view) f.gaze_px = lens_centre;
       last_valid = f.gaze_px;
     }
     frames.push_back(f);

@@ -7,8 +7,8 @@
 //
 // Where the motion sits in the scene: as hello_foveated on the simulated
 // runtime places it. The motion's world is the stage (the built-in head is
-// 1.6 m above its floor); the runtime's LOCAL space is kLocalAboveStageM above
-// it (samples/sim_runtime/src/motion_source.h); the app puts LOCAL at the
+// 1.6 m above its floor); the runtime's LOCAL space is a standing head above
+// it (foveation::head_pose_above_standing_eye); the app puts LOCAL at the
 // scene's head pose (its camera, or one that frames it). So the head in the
 // scene is scene_head * (q(t), p(t) - (0, 1.6, 0)).
 #pragma once
@@ -24,8 +24,6 @@
 #include <vector>
 
 namespace foveart::tools {
-
-inline constexpr float kLocalAboveStageM = foveation::kStandingEyeHeightM;  // as the simulated runtime's LOCAL space
 
 struct MotionWindow {
   double start_s = 0.0;

@@ -15,6 +15,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
+#include "foveation/eye_rays.hpp"
+
 namespace foveart::foveation {
 
 // A script's world is the floor frame (the OpenXR STAGE space); a standing
@@ -30,6 +32,13 @@ struct MotionSample {
   bool gaze_valid = true;                  // false during a blink
   bool saccade = false;                    // ground truth: this sample lies inside a saccade
 };
+
+// A sample's head pose with its origin moved up to a standing head: the pose
+// in a player's space whose origin is kStandingEyeHeightM above the script's
+// floor (the simulated runtime's LOCAL space, `fovea render --motion`'s scene head).
+inline EyePose head_pose_above_standing_eye(const MotionSample& s) {
+  return EyePose{s.head_position_m - glm::vec3(0.0f, kStandingEyeHeightM, 0.0f), glm::normalize(s.head_orientation)};
+}
 
 class ScriptedMotion {
  public:

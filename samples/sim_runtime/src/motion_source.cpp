@@ -59,9 +59,10 @@ Pose MotionSource::head_in_local(int64_t offset_ns) const {
   int64_t in_loop_ns = 0;
   split(offset_ns, loop_start_ns, in_loop_ns);
   const foveation::MotionSample s = motion_->at(script_time_s(in_loop_ns));
+  const foveation::EyePose local = foveation::head_pose_above_standing_eye(s);
   Pose p;
-  p.orientation = glm::normalize(s.head_orientation);
-  p.position = s.head_position_m - glm::vec3(0.0F, kLocalAboveStageM, 0.0F);
+  p.orientation = local.orientation;
+  p.position = local.position_m;
   return p;
 }
 
