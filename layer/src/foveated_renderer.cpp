@@ -453,11 +453,8 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   request.saccade = frame_gaze.valid && frame_gaze.saccade;
   request.blink = frame_gaze.valid && frame_gaze.blink;
   const foveation::EyeFrustum frustum = foveation::eye_frustum(request.view);
-  glm::vec2 gaze_px{};
-  foveation::project_direction(frustum, foveation::EyePose{}, glm::vec3(0.0f, 0.0f, -1.0f), &gaze_px);  // lens centre
-  if (frame_gaze.valid && frame_gaze.direction_view[e].z < -0.05f) {
-    foveation::project_direction(frustum, foveation::EyePose{}, frame_gaze.direction_view[e], &gaze_px);
-  } else if (frame_gaze.valid) {
+  request.gaze_px = foveation::lens_centre_px(frustum);
+  if (frame_gaze.valid && !foveation::gaze_pixel(frustum, frame_gaze.direction_view[e], &request.gaze_px)) {
     // A valid gaze behind the eye (or 87 degrees or more off its axis) projects nowhere: lens centre, flagged.
     ++input.gaze_behind_views;
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
@@ -468,7 +465,6 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
           "counted in the stats)");
     }
   }
-  request.gaze_px = glm::round(gaze_px);
 
   foveation::FrameResult result;
   try {

@@ -5,6 +5,7 @@
 
 #include <foveation/ray_trace.h>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec2.hpp>
@@ -66,6 +67,25 @@ inline bool project_direction(const EyeFrustum& f, const EyePose& pose, glm::vec
   const float y = d.y / -d.z;
   out_sample_px->x = (x - f.tan_left) / (f.tan_right - f.tan_left) * f.width_px;
   out_sample_px->y = (y - f.tan_up) / (f.tan_down - f.tan_up) * f.height_px;
+  return true;
+}
+
+// The pixel a view's -z axis hits (the lens centre; not the image centre for an
+// asymmetric frustum), rounded to whole pixels: where a frame without gaze foveates.
+inline glm::vec2 lens_centre_px(const EyeFrustum& f) {
+  glm::vec2 px{};
+  project_direction(f, EyePose{}, glm::vec3(0.0f, 0.0f, -1.0f), &px);
+  return glm::round(px);
+}
+
+// The foveation pixel of a view-space gaze direction, rounded to whole pixels
+// (the layer and `fovea render --motion` alike); false for a gaze that points
+// backwards or 87 degrees or more off the view axis (it projects nowhere useful).
+inline bool gaze_pixel(const EyeFrustum& f, glm::vec3 direction_view, glm::vec2* out_px) {
+  if (!(direction_view.z < -0.05f)) return false;
+  glm::vec2 px{};
+  project_direction(f, EyePose{}, direction_view, &px);
+  *out_px = glm::round(px);
   return true;
 }
 
