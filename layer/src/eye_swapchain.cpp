@@ -102,36 +102,11 @@ EyeSwapchain::~EyeSwapchain() {
 
 bool EyeSwapchain::create_staging(std::string* out_error) {
   // Host-visible staging buffer, persistently mapped.
-  const VkDeviceSize bytes = VkDeviceSize{width_px_} * height_px_ * 4;
-  auto buffer_info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-  buffer_info.size = bytes;
-  buffer_info.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
-  buffer_info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VkResult vr = vkCreateBuffer(device_, &buffer_info, nullptr, &buffer_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateBuffer", vr), false;
-  VkMemoryRequirements requirements{};
-  vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(physical_device_, &memory);
-  const VkMemoryPropertyFlags wanted = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  uint32_t type_index = UINT32_MAX;
-  for (uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
-    if ((requirements.memoryTypeBits & (1u << i)) && (memory.memoryTypes[i].propertyFlags & wanted) == wanted) {
-      type_index = i;
-      break;
-    }
-  }
-  if (type_index == UINT32_MAX) return *out_error = "no host-visible coherent memory type", false;
-  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = requirements.size;
-  alloc.memoryTypeIndex = type_index;
-  vr = vkAllocateMemory(device_, &alloc, nullptr, &memory_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkAllocateMemory", vr), false;
-  vr = vkBindBufferMemory(device_, buffer_, memory_, 0);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkBindBufferMemory", vr), false;
-  vr = vkMapMemory(device_, memory_, 0, bytes, 0, &mapped_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkMapMemory", vr), false;
-  return true;
+  return create_bound_buffer(device_, memory, VkDeviceSize{width_px_} * height_px_ * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                             VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, &buffer_,
+                             &memory_, &mapped_, out_error);
 }
 
 uint8_t* EyeSwapchain::staging(std::string* out_error) {

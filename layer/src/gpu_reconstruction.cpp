@@ -228,37 +228,11 @@ GpuReconstructor::~GpuReconstructor() {
 
 bool GpuReconstructor::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
                                      VkDeviceMemory* memory, void** mapped, std::string* error) {
-  VkDevice dev = device_.device;
-  auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
-  info.size = std::max<VkDeviceSize>(size, 16);
-  info.usage = usage;
-  info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VkResult r = vkCreateBuffer(dev, &info, nullptr, buffer);
-  if (r != VK_SUCCESS) return *error = vk_error("vkCreateBuffer", r), false;
-  VkMemoryRequirements req{};
-  vkGetBufferMemoryRequirements(dev, *buffer, &req);
   const VkMemoryPropertyFlags wanted = host_visible
                                            ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                            : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  uint32_t type = UINT32_MAX;
-  for (uint32_t i = 0; i < memory_properties_.memoryTypeCount && type == UINT32_MAX; ++i) {
-    if ((req.memoryTypeBits & (1u << i)) && (memory_properties_.memoryTypes[i].propertyFlags & wanted) == wanted) type = i;
-  }
-  if (type == UINT32_MAX) {
-    return *error = std::string("no ") + (host_visible ? "host-visible coherent" : "device-local") + " memory type", false;
-  }
-  auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = type;
-  r = vkAllocateMemory(dev, &alloc, nullptr, memory);
-  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateMemory", r), false;
-  r = vkBindBufferMemory(dev, *buffer, *memory, 0);
-  if (r != VK_SUCCESS) return *error = vk_error("vkBindBufferMemory", r), false;
-  if (mapped != nullptr) {
-    r = vkMapMemory(dev, *memory, 0, VK_WHOLE_SIZE, 0, mapped);
-    if (r != VK_SUCCESS) return *error = vk_error("vkMapMemory", r), false;
-  }
-  return true;
+  return create_bound_buffer(device_.device, memory_properties_, std::max<VkDeviceSize>(size, 16), usage, wanted,
+                             buffer, memory, mapped, error);
 }
 
 bool GpuReconstructor::submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error) {

@@ -19,4 +19,11 @@ inline std::string vk_error(const char* what, VkResult r) {
   return std::string(what) + " failed (VkResult " + std::to_string(r) + ")";
 }
 
+// A buffer of `size` bytes bound to new memory of the first type with all of
+// `wanted` (and mapped into *mapped when mapped is not null); false with
+// *error naming what failed. The caller destroys what was created either way.
+bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
+                         VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted, VkBuffer* buffer,
+                         VkDeviceMemory* memory, void** mapped, std::string* error);
+
 }  // namespace foveart::layer
