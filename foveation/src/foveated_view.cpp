@@ -206,12 +206,14 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     return result;
   }
   colors_.invalid = points.size() - result.points;
+  // TAA: a new pose, frustum or size either restarts the history (TaaHistory::restart_on_view_change)
+  // or has it reprojected; a gaze jump, a saccade or a blink restarts it inside the accumulator.
+  const bool moved = !last_view_ || !same_view(*last_view_, view);
+  const bool restart = request.saccade || request.blink;
+  if (settings_.taa && moved && settings_.taa_history == TaaHistory::restart_on_view_change) taa_.reset();
   if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the TAA rule runs here
     if (settings_.taa) {
-      const bool moved = !last_view_ || !same_view(*last_view_, view);
-      if (moved && settings_.taa_history == TaaHistory::restart_on_view_change) taa_.reset();
-      result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px,
-                                          request.saccade || request.blink);
+      result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px, restart);
       if (!result.taa_reset && moved) result.history_view = last_view_;  // the caller reprojects from there
       last_view_ = view;
     }
@@ -228,10 +230,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
 
   const auto t_taa = Clock::now();
   taa_output_ = nullptr;
-  const bool restart = request.saccade || request.blink;
   if (settings_.taa && settings_.taa_history == TaaHistory::restart_on_view_change) {
-    // A new pose, frustum or size restarts the history (a gaze jump or a saccade does inside the accumulator).
-    if (!last_view_ || !same_view(*last_view_, view)) taa_.reset();
     taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, restart);
   } else if (settings_.taa) {
     // The history follows the head: reprojected into this view, by depth where the engine gave one.
@@ -240,7 +239,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     } else {
       depth_px_m_.clear();
     }
-    if (last_view_ && !same_view(*last_view_, view) && taa_.history().width_px > 0) {
+    if (last_view_ && moved && taa_.history().width_px > 0) {
       const ReprojectionStats r = reproject_history(taa_.history(), history_depth_px_m_, *last_view_, view,
                                                     depth_px_m_, warped_, warped_valid_, executor);
       result.history_off_screen = r.off_screen;
