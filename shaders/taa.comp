@@ -3,7 +3,7 @@
 // foveation::TemporalAccumulator and foveation::reproject_history: when the
 // view moved, each pixel finds its surface in the last view (by rotation, or
 // through its depth for parallax) and takes the last output there
-// (bilinear), unless that is off-screen or the last depth there disagrees
+// (bilinear, or Catmull-Rom clamped to the 2x2 around), unless that is off-screen or the last depth there disagrees
 // (disocclusion); the history is then constrained to the current frame's 3x3
 // neighbourhood (clamp to edge) by min/max clamping (Karis 2014) or variance
 // clipping towards the mean (Salvi 2016) and blended with the current frame.
@@ -19,7 +19,7 @@ layout(push_constant) uniform Push {
   uint constraint;       // 0 min/max clamp, 1 variance clip
   uint reset;            // 1: output = current
   float clip_floor;      // the box's least half-width (TaaOptions::clip_floor)
-  uint reproject;        // 1: the view moved: reproject the history
+  uint reproject;        // the view moved: reproject the history, 1 bilinear, 2 Catmull-Rom (0: it did not)
   vec4 last_from_view_q;  // rotation (x, y, z, w): this view's space -> the last view's
   vec4 last_from_view_t;  // xyz: this eye's position in the last view's space, metres
   vec4 tan_view;          // this view's tan(left, right, up, down)
@@ -31,6 +31,17 @@ layout(push_constant) uniform Push {
 vec3 at(ivec2 p) {
   p = clamp(p, ivec2(0), size_px - 1);
   return current[p.y * size_px.x + p.x].rgb;
+}
+
+vec3 last_at(ivec2 p) {
+  p = clamp(p, ivec2(0), size_px - 1);
+  return history_in[p.y * size_px.x + p.x].rgb;
+}
+
+// foveation::HistorySampling::catmull_rom's weights of the 4 taps around fraction t.
+vec4 catmull_rom_weights(float t) {
+  const float t2 = t * t, t3 = t2 * t;
+  return 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t, t3 - t2);
 }
 
 vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
@@ -77,11 +88,18 @@ bool reprojected_history(ivec2 p, float depth, out vec3 history) {
   const vec2 f = s - 0.5;
   const ivec2 i0 = ivec2(floor(f));
   const vec2 a = f - vec2(i0);
-  const ivec2 lo = clamp(i0, ivec2(0), size_px - 1), hi = clamp(i0 + 1, ivec2(0), size_px - 1);
-  const vec3 c00 = history_in[lo.y * size_px.x + lo.x].rgb, c10 = history_in[lo.y * size_px.x + hi.x].rgb;
-  const vec3 c01 = history_in[hi.y * size_px.x + lo.x].rgb, c11 = history_in[hi.y * size_px.x + hi.x].rgb;
-  const vec3 top = c00 + a.x * (c10 - c00), bottom = c01 + a.x * (c11 - c01);
-  history = top + a.y * (bottom - top);
+  const vec3 c00 = last_at(i0), c10 = last_at(i0 + ivec2(1, 0));
+  const vec3 c01 = last_at(i0 + ivec2(0, 1)), c11 = last_at(i0 + ivec2(1, 1));
+  if (reproject == 1u) {
+    const vec3 top = c00 + a.x * (c10 - c00), bottom = c01 + a.x * (c11 - c01);
+    history = top + a.y * (bottom - top);
+    return true;
+  }
+  const vec4 wx = catmull_rom_weights(a.x), wy = catmull_rom_weights(a.y);
+  vec3 sum = vec3(0.0);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) sum += (wx[i] * wy[j]) * last_at(i0 + ivec2(i - 1, j - 1));
+  history = min(max(sum, min(min(c00, c10), min(c01, c11))), max(max(c00, c10), max(c01, c11)));
   return true;
 }
 

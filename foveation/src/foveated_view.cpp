@@ -241,7 +241,8 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     }
     if (last_view_ && moved && taa_.history().width_px > 0) {
       const ReprojectionStats r = reproject_history(taa_.history(), history_depth_px_m_, *last_view_, view,
-                                                    depth_px_m_, warped_, warped_valid_, executor);
+                                                    depth_px_m_, warped_, warped_valid_, executor,
+                                                    settings_.taa_options.history_sampling);
       result.history_off_screen = r.off_screen;
       result.history_disoccluded = r.disoccluded;
       result.history_with_depth = r.with_depth;

@@ -216,10 +216,12 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
 bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaze_px, bool saccade) {
   const bool size_changed = width_px_ != width_px || height_px_ != height_px;
   const bool jumped = valid_ && glm::distance(gaze_px, gaze_px_) > options_.reset_distance_px;
+  const bool onset = saccade && !flagged_;  // the first flagged frame of a saccade or blink
+  flagged_ = saccade;
   gaze_px_ = gaze_px;
   width_px_ = width_px;
   height_px_ = height_px;
-  last_reset_ = !valid_ || size_changed || jumped || saccade;
+  last_reset_ = !valid_ || size_changed || jumped || onset;
   valid_ = true;
   if (last_reset_) ++resets_;
   return last_reset_;

@@ -10,10 +10,61 @@
 
 namespace foveart::foveation {
 
+namespace {
+
+// Catmull-Rom weights of the 4 taps around a sample at fraction t in [0, 1) past the second.
+void catmull_rom_weights(float t, float w[4]) {
+  const float t2 = t * t, t3 = t2 * t;
+  w[0] = 0.5f * (-t3 + 2.0f * t2 - t);
+  w[1] = 0.5f * (3.0f * t3 - 5.0f * t2 + 2.0f);
+  w[2] = 0.5f * (-3.0f * t3 + 4.0f * t2 + t);
+  w[3] = 0.5f * (t3 - t2);
+}
+
+// The history at pixel position s (pixel centres at +0.5), clamped at the edges.
+void sample_history(const ImageRgb& history, glm::vec2 s, HistorySampling sampling, float* out) {
+  const int hw = history.width_px, hh = history.height_px;
+  const float fx = s.x - 0.5f, fy = s.y - 0.5f;
+  const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+  const float ax = fx - float(x0), ay = fy - float(y0);
+  auto px = [&](int x, int y) { return history.at(std::clamp(x, 0, hw - 1), std::clamp(y, 0, hh - 1)); };
+  const float* c00 = px(x0, y0);
+  const float* c10 = px(x0 + 1, y0);
+  const float* c01 = px(x0, y0 + 1);
+  const float* c11 = px(x0 + 1, y0 + 1);
+  if (sampling == HistorySampling::bilinear) {
+    for (int c = 0; c < 3; ++c) {
+      const float top = c00[c] + ax * (c10[c] - c00[c]);
+      const float bottom = c01[c] + ax * (c11[c] - c01[c]);
+      out[c] = top + ay * (bottom - top);
+    }
+    return;
+  }
+  float wx[4], wy[4];
+  catmull_rom_weights(ax, wx);
+  catmull_rom_weights(ay, wy);
+  float sum[3] = {0.0f, 0.0f, 0.0f};
+  for (int j = 0; j < 4; ++j) {
+    for (int i = 0; i < 4; ++i) {
+      const float* c = px(x0 - 1 + i, y0 - 1 + j);
+      const float w = wx[i] * wy[j];
+      for (int k = 0; k < 3; ++k) sum[k] += w * c[k];
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    const float lo = std::min(std::min(c00[k], c10[k]), std::min(c01[k], c11[k]));
+    const float hi = std::max(std::max(c00[k], c10[k]), std::max(c01[k], c11[k]));
+    out[k] = std::min(std::max(sum[k], lo), hi);
+  }
+}
+
+}  // namespace
+
 ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<float>& history_depth_m,
                                     const FoveartEyeView& history_view, const FoveartEyeView& view,
                                     const std::vector<float>& depth_m, ImageRgb& warped,
-                                    std::vector<std::uint8_t>& valid, Executor& executor) {
+                                    std::vector<std::uint8_t>& valid, Executor& executor,
+                                    HistorySampling sampling) {
   const int w = int(view.width_px), h = int(view.height_px);
   const int hw = history.width_px, hh = history.height_px;
   if (warped.width_px != w || warped.height_px != h) warped = ImageRgb(w, h);
@@ -69,22 +120,7 @@ ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<f
             continue;
           }
         }
-        // Bilinear between the four pixel centres around s (clamped at the edges).
-        const float fx = s.x - 0.5f, fy = s.y - 0.5f;
-        const int x0 = int(std::floor(fx)), y0i = int(std::floor(fy));
-        const float ax = fx - float(x0), ay = fy - float(y0i);
-        const int xa = std::clamp(x0, 0, hw - 1), xb = std::clamp(x0 + 1, 0, hw - 1);
-        const int ya = std::clamp(y0i, 0, hh - 1), yb = std::clamp(y0i + 1, 0, hh - 1);
-        const float* c00 = history.at(xa, ya);
-        const float* c10 = history.at(xb, ya);
-        const float* c01 = history.at(xa, yb);
-        const float* c11 = history.at(xb, yb);
-        float* out = warped.at(x, y);
-        for (int c = 0; c < 3; ++c) {
-          const float top = c00[c] + ax * (c10[c] - c00[c]);
-          const float bottom = c01[c] + ax * (c11[c] - c01[c]);
-          out[c] = top + ay * (bottom - top);
-        }
+        sample_history(history, s, sampling, warped.at(x, y));
         valid[p] = 1;
       }
     }

@@ -39,7 +39,7 @@ struct TaaPush {
   uint32_t constraint;
   uint32_t reset;
   float clip_floor;
-  uint32_t reproject;
+  uint32_t reproject;  // 0 no, 1 bilinear, 2 Catmull-Rom (foveation::HistorySampling)
   float last_from_view_q[4];  // xyzw
   float last_from_view_t[4];
   float tan_view[4];  // left, right, up, down
@@ -516,7 +516,7 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
     const glm::quat q = glm::conjugate(last.orientation) * now.orientation;
     const glm::vec3 translation = glm::conjugate(last.orientation) * (now.position_m - last.position_m);
     const foveation::EyeFrustum fv = foveation::eye_frustum(frame.view), fl = foveation::eye_frustum(*frame.history_view);
-    t.reproject = 1u;
+    t.reproject = frame.taa.history_sampling == foveation::HistorySampling::catmull_rom ? 2u : 1u;
     const float qv[4] = {q.x, q.y, q.z, q.w}, tv[4] = {translation.x, translation.y, translation.z, 0.0f};
     const float tan_view[4] = {fv.tan_left, fv.tan_right, fv.tan_up, fv.tan_down};
     const float tan_last[4] = {fl.tan_left, fl.tan_right, fl.tan_up, fl.tan_down};

@@ -184,7 +184,15 @@ TEST_P(Taa, GazeJumpResetsHistory) {
   // A saccade flag resets even without motion.
   taa.accumulate(a, {60, 40}, test::executor(), /*saccade=*/true);
   EXPECT_TRUE(taa.last_was_reset());
-  EXPECT_EQ(taa.reset_count(), 3u);
+  // Only its first frame: while the flag stays set, the history accumulates again.
+  const ImageRgb during = taa.accumulate(c, {60, 40}, test::executor(), /*saccade=*/true);
+  EXPECT_FALSE(taa.last_was_reset());
+  EXPECT_NE(during.rgb, c.rgb);
+  taa.accumulate(c, {60, 40}, test::executor());
+  EXPECT_FALSE(taa.last_was_reset());
+  taa.accumulate(c, {60, 40}, test::executor(), /*saccade=*/true);  // the next saccade's onset
+  EXPECT_TRUE(taa.last_was_reset());
+  EXPECT_EQ(taa.reset_count(), 4u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Constraints, Taa,

@@ -1,8 +1,10 @@
 // Temporal anti-aliasing for one eye (thesis 2.5 and 6.1): the history image is
 // constrained to the current frame's 3x3 neighbourhood — min/max clamping
 // (Karis 2014) or variance clipping towards the mean (Salvi 2016) — and then
-// blended with the current frame. A gaze jump (saccade) or a size change resets
-// the history: the frame after a jump is the current frame alone.
+// blended with the current frame. A gaze jump, a size change or the onset of a
+// saccade or blink resets the history: that frame is the current frame alone.
+// A saccade's later frames accumulate again (the eye is blind during it, and a
+// restart in each of them would show the raw frame's noise every frame).
 //
 // Not thread-safe: one instance per eye, called from one thread; accumulate()
 // spreads its rows over the executor it is given.
@@ -15,6 +17,7 @@
 
 #include "foveation/executor.hpp"
 #include "foveation/image.hpp"
+#include "foveation/taa_reprojection.hpp"
 
 namespace foveart::foveation {
 
@@ -30,6 +33,7 @@ struct TaaOptions {
   // hinges on rounding: the CPU and GPU paths stay within one 8-bit step.
   float clip_floor = 1.0f / 4096.0f;
   float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
+  HistorySampling history_sampling = HistorySampling::catmull_rom;  // reading a reprojected history
 };
 
 class TemporalAccumulator {
@@ -37,8 +41,9 @@ class TemporalAccumulator {
   explicit TemporalAccumulator(const TaaOptions& options = {}) : options_(options) {}
 
   // Blends `current` (rendered at `gaze_px`) into the history and returns the
-  // output (valid until the next call). `saccade` forces a reset (e.g. from a
-  // gaze filter's saccade detector).
+  // output (valid until the next call). `saccade` is the gaze provider's
+  // saccade-or-blink flag for this frame: its first frame (the frame after
+  // detection) resets; while it stays set, the jump rule alone decides.
   const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor, bool saccade = false);
 
   // The same with `warped_history` (the previous output reprojected into this
@@ -71,6 +76,7 @@ class TemporalAccumulator {
   int height_px_ = 0;
   bool valid_ = false;
   bool last_reset_ = false;
+  bool flagged_ = false;  // the last frame's saccade-or-blink flag
   std::uint64_t resets_ = 0;
 };
 

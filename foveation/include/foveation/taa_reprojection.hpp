@@ -22,6 +22,14 @@ namespace foveart::foveation {
 // Relative depth disagreement beyond which history is a different surface.
 inline constexpr float kDisocclusionTolerance = 0.1f;
 
+// How the previous output is read between pixel centres.
+enum class HistorySampling : std::uint8_t {
+  bilinear,     // the 2x2 pixels around, linearly: exact for linear content, blurs the rest
+  catmull_rom,  // the 4x4 around, Catmull-Rom weights, clamped to the 2x2's min/max
+                // (Karis 2014): keeps detail that bilinear resampling every frame would
+                // blur away under motion, without overshoot
+};
+
 // Per-pixel depth in metres along the pixel's ray: NaN = unknown (rotation
 // only), +inf = nothing hit (sky).
 struct ReprojectionStats {
@@ -37,6 +45,7 @@ struct ReprojectionStats {
 ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<float>& history_depth_m,
                                     const FoveartEyeView& history_view, const FoveartEyeView& view,
                                     const std::vector<float>& depth_m, ImageRgb& warped,
-                                    std::vector<std::uint8_t>& valid, Executor& executor);
+                                    std::vector<std::uint8_t>& valid, Executor& executor,
+                                    HistorySampling sampling = HistorySampling::bilinear);
 
 }  // namespace foveart::foveation

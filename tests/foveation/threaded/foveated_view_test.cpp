@@ -352,9 +352,14 @@ TEST(FoveatedView, SaccadeRestartsTheHistory) {
   request.frame_index = 9;
   request.saccade = true;  // same gaze pixel, but the provider saw a saccade
   EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).taa_reset);
-  request.frame_index = 10;
+  request.frame_index = 10;  // still flagged: the history restarted at the onset and accumulates again
+  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).taa_reset);
+  request.frame_index = 11;
   request.saccade = false;
   EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).taa_reset);
+  request.frame_index = 12;
+  request.blink = true;  // a new flagged run: its first frame restarts
+  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).taa_reset);
 }
 
 struct FaultCase {
