@@ -306,6 +306,45 @@ TEST(Tracer, FullRenderTilesCoverTheImageAndDoNotChangeIt) {
   for (size_t i = 0; i < a.rgb.size(); ++i) ASSERT_EQ(a.rgb[i], b.rgb[i]) << "pixel " << i;
 }
 
+// Without jitter every ray goes through its pixel's centre (any seed), and the
+// depth per pixel is that ray's hit distance: the price list's motion tracking.
+TEST(Tracer, FullRenderThroughPixelCentresReturnsTheirDepth) {
+  auto t = make(make_default_scene());
+  const FoveartEyeView v = small_view(t->scene(), 48, 40);
+  RenderSettings centres;
+  centres.jitter = false;
+  std::vector<float> depth_a, depth_b;
+  centres.out_depth_m = &depth_a;
+  foveart::foveation::ImageRgb a, b;
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, centres, &a, executor()).status,
+            FOVEART_RESULT_SUCCESS);
+  centres.seed = 99;
+  centres.out_depth_m = &depth_b;
+  ASSERT_EQ(render_full(&foveart_engine_trace_rays, t.get(), v, centres, &b, executor()).status,
+            FOVEART_RESULT_SUCCESS);
+  EXPECT_EQ(a.rgb, b.rgb) << "the seed moves jittered rays only";
+  EXPECT_EQ(depth_a, depth_b);
+  ASSERT_EQ(depth_a.size(), std::size_t(48 * 40));
+  // Each pixel's depth is the hit distance of the ray through its centre.
+  const foveart::foveation::EyeFrustum f = foveart::foveation::eye_frustum(v);
+  const foveart::foveation::EyePose pose = foveart::foveation::eye_pose(v);
+  int hits = 0;
+  for (int y = 0; y < 40; y += 7) {
+    for (int x = 0; x < 48; x += 5) {
+      const glm::vec3 d = foveart::foveation::eye_ray_direction(f, pose, {float(x) + 0.5f, float(y) + 0.5f});
+      const HitRecord h = t->intersect(pose.position_m, d);
+      const float depth = depth_a[std::size_t(y) * 48 + std::size_t(x)];
+      if (h.hit) {
+        EXPECT_NEAR(depth, h.t, 1e-4f * h.t) << x << "," << y;
+        ++hits;
+      } else {
+        EXPECT_TRUE(std::isinf(depth)) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(hits, 0);
+}
+
 TEST(Tracer, RaysFromViewAndSamplePositionsEqualExplicitRays) {
   auto t = make(make_default_scene());
   const FoveartEyeView v = small_view(t->scene(), 64, 72);

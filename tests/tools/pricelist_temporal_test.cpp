@@ -97,8 +97,14 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
     ASSERT_EQ(tr["rings"].size(), 7u);
     for (const Json& r : tr["rings"]) {
       EXPECT_TRUE(r["flicker"].is_number()) << ids[i] << " " << r.dump();
+      EXPECT_TRUE(r["flicker_tracked"].is_number()) << ids[i] << " " << r.dump();
       EXPECT_TRUE(r["psnr"].is_number()) << ids[i] << " " << r.dump();
     }
+  }
+  for (const Json& r : t["reference"]["rings"]) {  // the stable-blur control, measured like a track
+    EXPECT_GT(r["stable_blur_flicker"].get<double>(), 0.0) << r.dump();
+    EXPECT_GT(r["stable_blur_flicker_tracked"].get<double>(), 0.0) << r.dump();
+    EXPECT_TRUE(r["stable_blur_psnr"].is_number()) << r.dump();
   }
   // The track names the still setting it belongs to: TAA off is the setting without TAA.
   EXPECT_EQ(t["tracks"][1]["setting"], "nn_k1_s1_pixel-grid_r1");
@@ -110,6 +116,16 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_NEAR(ratio,
               t["tracks"][4]["rings"][4]["flicker"].get<double>() / t["tracks"][6]["rings"][4]["flicker"].get<double>(),
               1e-12);
+  const double tracked_ratio = t["acceptance"]["flicker_tracked_ratio_off_over_reproject"][4].get<double>();
+  EXPECT_NEAR(tracked_ratio,
+              t["tracks"][4]["rings"][4]["flicker_tracked"].get<double>() /
+                  t["tracks"][6]["rings"][4]["flicker_tracked"].get<double>(),
+              1e-12);
+  EXPECT_NEAR(t["acceptance"]["flicker_ratio_off_over_stable_blur"][4].get<double>(),
+              t["tracks"][4]["rings"][4]["flicker"].get<double>() /
+                  t["reference"]["rings"][4]["stable_blur_flicker"].get<double>(),
+              1e-12);
+  EXPECT_TRUE(t["acceptance"]["peripheral_tracked_flicker_5x_lower"].is_boolean());
   EXPECT_EQ(t["sanity"]["flicker_margin_db"].size(), 7u);
 
   // temporal.csv: one row per track, the same numbers as the JSON.

@@ -148,8 +148,10 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
     // Every ring, the fovea included, has pixels at 64x72.
     for (const auto& r : t["rings"]) {
       ASSERT_TRUE(r["flicker"].is_number()) << t["id"] << " " << r.dump();
+      ASSERT_TRUE(r["flicker_tracked"].is_number()) << t["id"] << " " << r.dump();
       ASSERT_TRUE(r["psnr"].is_number()) << t["id"] << " " << r.dump();
       EXPECT_GT(r["flicker"].get<double>(), 0.0);
+      EXPECT_GT(r["flicker_tracked"].get<double>(), 0.0);
       EXPECT_GT(r["psnr"].get<double>(), 5.0);
       EXPECT_LT(r["psnr"].get<double>(), 80.0);
     }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -13,6 +14,7 @@ using foveart::foveation::ImageRgb;
 using foveart::tools::ReferenceFloor;
 using foveart::tools::TemporalError;
 using foveart::tools::TemporalRings;
+using foveart::tools::TrackedPrevious;
 
 namespace {
 
@@ -140,6 +142,112 @@ TEST(TemporalMetrics, ReferenceFloorAddsTheVariancesOfConsecutiveFrames) {
   const TemporalRings r = f.rings();
   // Pairs: 0.01 + 0.03 and 0.03 + 0.01 -> mean 0.04; error: mean of 0.01, 0.03, 0.01.
   EXPECT_NEAR(r[0].flicker_rms, std::sqrt(0.04), 1e-7);
+  EXPECT_EQ(r[0].flicker_tracked_rms, r[0].flicker_rms) << "the bound for the flicker along the motion";
   EXPECT_NEAR(r[4].error_mse, 0.05 / 3.0, 1e-8);
   EXPECT_EQ(r[4].frame_values, 3u * 4u * 3u);
+}
+
+namespace {
+
+// A row pattern that moves one pixel right per frame: the truth at frame t, pixel x.
+float content(int x, int t) { return 0.5f + 0.3f * std::sin(1.7f * float(x - t)); }
+// An error pattern as a function of position.
+float blemish(int x) { return 0.05f * float((x * 5) % 3) - 0.05f; }
+
+// Frame t of a kW x kH sequence; image = truth + the error at screen x (fixed) or
+// at content position x - t (carried along by the motion).
+ImageRgb moving(int t, bool with_error, bool error_moves) {
+  ImageRgb im(kW, kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x)
+      for (int c = 0; c < 3; ++c)
+        im.at(x, y)[c] = content(x, t) + (with_error ? blemish(error_moves ? x - t + 8 : x) : 0.0f);
+  return im;
+}
+
+// The previous error warped one pixel right (the exact motion): pixel x came from x - 1;
+// the first column was off-screen.
+void warp_right(const ImageRgb& previous_error, ImageRgb* warped, std::vector<std::uint8_t>* valid) {
+  *warped = ImageRgb(kW, kH);
+  valid->assign(std::size_t(kW * kH), 0);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 1; x < kW; ++x) {
+      std::copy_n(previous_error.at(x - 1, y), 3, warped->at(x, y));
+      (*valid)[std::size_t(y * kW + x)] = 1;
+    }
+}
+
+TemporalRings run_moving(bool error_moves) {
+  TemporalError e;
+  const EccentricityMap m = map_with(5);
+  ImageRgb warped;
+  std::vector<std::uint8_t> valid;
+  for (int t = 0; t < 4; ++t) {
+    TrackedPrevious tracked;
+    if (t > 0) {
+      warp_right(e.previous_error(), &warped, &valid);
+      tracked = {&warped, &valid};
+    }
+    e.add_frame(moving(t, true, error_moves), moving(t, false, false), m, &tracked);
+  }
+  return e.rings();
+}
+
+}  // namespace
+
+TEST(TemporalMetrics, AnErrorCarriedByTheMotionIsNoTrackedFlicker) {
+  // A blemish that moves with the content (a soft edge, a constant offset of a
+  // surface): it changes at every fixed pixel, not along the motion.
+  const TemporalRings r = run_moving(/*error_moves=*/true);
+  EXPECT_GT(r[0].flicker_rms, 0.03);
+  EXPECT_NEAR(r[0].flicker_tracked_rms, 0.0, 1e-7);
+  EXPECT_EQ(r[0].tracked_pair_values, 3u * 2u * 3u) << "3 pairs x 2 rows x the one left-half column that was in view x 3 channels";
+}
+
+TEST(TemporalMetrics, AnErrorFixedOnTheScreenIsTrackedFlickerWhileTheContentMoves) {
+  // A blemish fixed on the screen while the content slides under it (sparse or
+  // fixed samples): no change at a fixed pixel, a change along the motion of
+  // blemish(x) - blemish(x - 1).
+  const TemporalRings r = run_moving(/*error_moves=*/false);
+  EXPECT_NEAR(r[0].flicker_rms, 0.0, 1e-7);
+  double sum = 0.0;
+  int n = 0;
+  for (int x = 1; x < kW / 2; ++x, ++n) sum += std::pow(double(blemish(x)) - double(blemish(x - 1)), 2.0);
+  EXPECT_NEAR(r[0].flicker_tracked_rms, std::sqrt(sum / double(n)), 1e-6);
+  EXPECT_GT(r[0].flicker_tracked_rms, 0.03);
+}
+
+TEST(TemporalMetrics, TrackedPreviousOfAnotherSizeThrows) {
+  TemporalError e;
+  const EccentricityMap m = map_with(1);
+  e.add_frame(truth(0), truth(0), m);
+  const ImageRgb small(3, 2);
+  std::vector<std::uint8_t> valid(kW * kH, 1);
+  const TrackedPrevious bad_image{&small, &valid};
+  EXPECT_THROW(e.add_frame(truth(1), truth(1), m, &bad_image), std::invalid_argument);
+  const ImageRgb right(kW, kH);
+  std::vector<std::uint8_t> short_valid(3, 1);
+  const TrackedPrevious bad_valid{&right, &short_valid};
+  EXPECT_THROW(e.add_frame(truth(1), truth(1), m, &bad_valid), std::invalid_argument);
+}
+
+TEST(TemporalMetrics, BinomialBlurKeepsFlatImagesAndSpreadsAnImpulse) {
+  ImageRgb flat(5, 5);
+  for (float& v : flat.rgb) v = 0.25f;
+  ImageRgb out;
+  foveart::tools::binomial_blur_3x3(flat, &out);
+  for (float v : out.rgb) EXPECT_FLOAT_EQ(v, 0.25f);
+  ImageRgb impulse(5, 5);
+  impulse.at(2, 2)[1] = 16.0f;
+  foveart::tools::binomial_blur_3x3(impulse, &out);
+  const float kernel[3][3] = {{1, 2, 1}, {2, 4, 2}, {1, 2, 1}};
+  double total = 0.0;
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) {
+      const bool inside = std::abs(x - 2) <= 1 && std::abs(y - 2) <= 1;
+      EXPECT_FLOAT_EQ(out.at(x, y)[1], inside ? kernel[y - 1][x - 1] : 0.0f) << x << "," << y;
+      EXPECT_FLOAT_EQ(out.at(x, y)[0], 0.0f);
+      total += double(out.at(x, y)[1]);
+    }
+  EXPECT_DOUBLE_EQ(total, 16.0);
 }

@@ -6,6 +6,7 @@
 #include <engine/render.hpp>
 
 #include <foveation/image_metrics.hpp>
+#include <foveation/taa_reprojection.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -62,6 +63,31 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
   if (f.index == 0) t.rays = minus(tracer.counts(), before);
   *display = foveation::display_encode(*image);
   return "";
+}
+
+// What the flicker along the motion needs (temporal_metrics.hpp): the scene's
+// depth through every pixel centre of this frame and the one before.
+struct Tracking {
+  const MotionFrame* current = nullptr;
+  const MotionFrame* previous = nullptr;  // null on the first frame
+  std::vector<float> depth_m, previous_depth_m;
+  foveation::ImageRgb warped_error;  // scratch
+  std::vector<std::uint8_t> valid;   // scratch
+};
+
+// Adds a frame to `error` with its previous error warped along the motion
+// (each pixel's surface where it was a frame before: taa_reprojection.hpp).
+void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
+                       const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
+                       Tracking& tracking, foveation::Executor& executor) {
+  TrackedPrevious tracked;
+  if (tracking.previous != nullptr) {
+    foveation::reproject_history(error.previous_error(), tracking.previous_depth_m, tracking.previous->view,
+                                 tracking.current->view, tracking.depth_m, tracking.warped_error, tracking.valid,
+                                 executor);
+    tracked = {&tracking.warped_error, &tracking.valid};
+  }
+  error.add_frame(display, reference_display, map, &tracked);
 }
 
 // The reference of one frame (the convergence check on the first with "auto"), its residual into the floor.
@@ -133,13 +159,34 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error) {
   run->frames = frames;
   run->taa_reset_any.assign(frames.size(), 0);
-  foveation::ImageRgb full_linear, display, reference_display;
+  foveation::ImageRgb full_linear, display, reference_display, centre_image, blurred;
+  Tracking tracking;
   const bool with_reference = !ref_options.spp.empty();
   for (const MotionFrame& f : frames) {
     const foveation::EccentricityMap map = foveation::eccentricity_map(f.view, f.gaze_px);
     if (with_reference && !reference_frame(tracer, scene_hash, f, ref_options, map, executor, hooks.log, run,
                                            &reference_display, error))
       return false;
+    tracking.current = &f;
+    if (with_reference) {
+      // The scene's depth through every pixel centre: where each pixel's surface was a frame
+      // before, for the flicker along the motion (temporal_metrics.hpp).
+      std::swap(tracking.previous_depth_m, tracking.depth_m);
+      engine::RenderSettings rs;
+      rs.jitter = false;
+      rs.out_depth_m = &tracking.depth_m;
+      if (const engine::RenderResult rr =
+              engine::render_full(&foveart_engine_trace_rays, &tracer, f.view, rs, &centre_image, executor);
+          rr.status != FOVEART_RESULT_SUCCESS) {
+        *error = "depth of frame " + std::to_string(f.index) + ": engine callback failed with status " +
+                 std::to_string(rr.status);
+        return false;
+      }
+    }
+    if (with_reference) {
+      binomial_blur_3x3(reference_display, &blurred);
+      add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
+    }
     for (SequenceTrack& t : tracks) {
       const std::uint64_t resets_before = t.taa_resets;
       if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, &full_linear, &display);
@@ -148,7 +195,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
         return false;
       }
       if (t.taa_resets != resets_before) run->taa_reset_any[std::size_t(f.index)] = 1;
-      if (with_reference) t.error.add_frame(display, reference_display, map);
+      if (with_reference) add_tracked_frame(t.error, display, reference_display, map, tracking, executor);
       if (hooks.image) {
         if (std::string e = hooks.image(t, f, display); !e.empty()) {
           *error = e;
@@ -157,6 +204,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
       }
     }
     if (hooks.frame_done) hooks.frame_done(f.index + 1, int(frames.size()));
+    tracking.previous = &f;
   }
   return true;
 }
@@ -164,10 +212,15 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
 Json sequence_reference_json(const SequenceRun& run) {
   Json rings = Json::array();
   const TemporalRings floor = run.floor.rings();
+  const TemporalRings blur = run.stable_blur.rings();
   for (std::size_t r = 0; r < floor.size(); ++r) {
     Json j = ring_bounds(r);
     j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
+    j["flicker_tracked_floor"] = number_or_null_json(floor[r].flicker_tracked_rms);
     j["psnr_floor"] = number_or_null_json(floor[r].psnr_db());
+    j["stable_blur_flicker"] = number_or_null_json(blur[r].flicker_rms);
+    j["stable_blur_flicker_tracked"] = number_or_null_json(blur[r].flicker_tracked_rms);
+    j["stable_blur_psnr"] = number_or_null_json(blur[r].psnr_db());
     rings.push_back(j);
   }
   return {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},
@@ -189,6 +242,7 @@ Json sequence_track_json(const SequenceTrack& t, double anchor_ms) {
   for (std::size_t r = 0; r < m.size(); ++r) {
     Json ring = ring_bounds(r);
     ring["flicker"] = number_or_null_json(m[r].flicker_rms);
+    ring["flicker_tracked"] = number_or_null_json(m[r].flicker_tracked_rms);
     ring["psnr"] = number_or_null_json(m[r].psnr_db());
     ring["rmse"] = number_or_null_json(std::sqrt(m[r].error_mse));
     rings.push_back(ring);

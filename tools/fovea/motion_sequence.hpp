@@ -67,6 +67,10 @@ struct SequenceRun {
   int reference_frames_cached = 0;  // frames whose reference came from the cache
   double reference_ms = 0.0;        // this run's reference rendering
   ReferenceFloor floor;
+  // The control: every reference frame through binomial_blur_3x3, a soft image
+  // that is stable in the world by construction, measured like a track. What a
+  // flicker measure charges it is what that measure charges softness alone.
+  TemporalError stable_blur;
   std::vector<MotionFrame> frames;
   std::vector<std::uint8_t> taa_reset_any;  // per frame: some track's TAA restarted
 };
@@ -85,11 +89,12 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error);
 
 // {"spp", "spp_tried", "converged", "frames_from_cache", "render_ms", "rings": [{from_deg, to_deg,
-// flicker_floor, psnr_floor}]}: the reference sequence and its own contribution per ring.
+// flicker_floor, flicker_tracked_floor, psnr_floor, stable_blur_flicker, stable_blur_flicker_tracked,
+// stable_blur_psnr}]}: the reference sequence, its own contribution and the stable-blur control per ring.
 nlohmann::ordered_json sequence_reference_json(const SequenceRun& run);
 // {"id", "taa", "spp", "frames", "ms" (median frame), "time_fraction" (of anchor_ms; null without),
 // "points", "rays", "taa_resets", "history_off_screen", "history_disoccluded",
-// "rings": [{from_deg, to_deg, flicker, psnr, rmse}]}.
+// "rings": [{from_deg, to_deg, flicker, flicker_tracked, psnr, rmse}]}.
 nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, double anchor_ms);
 double median_ms(std::vector<double> v);
 

@@ -16,13 +16,15 @@ namespace foveart::tools {
 // pixel-grid fovea, 1 ray per point) when measured, else the first TAA setting.
 inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1";
 
-// {"setting", "flicker_ratio_off_over_reproject"[ring], "flicker_ratio_off_over_restart"[ring],
-//  "psnr_reproject_minus_off_db"[ring], "peripheral_flicker_5x_lower", "central_error_no_worse"}
+// {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
+//  "<m>_ratio_off_over_stable_blur"[ring] for m = flicker (at fixed pixels) and flicker_tracked
+//  (along the motion), "peripheral_flicker_5x_lower" (fixed pixels, the measure),
+//  "peripheral_tracked_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse"}
 // for one setting's three tracks (null entries where a ring is empty); null when they are missing.
 nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
 
 // Per ring, how far the reference sequence's own contribution lies below the
-// smallest flicker and the smallest error of any track (dB), and whether every
+// smallest flicker (either measure) and the smallest error of any track (dB), and whether every
 // ring is at least 10 dB below: {"flicker_margin_db", "error_margin_db", "floor_10db_below"}.
 nlohmann::ordered_json temporal_sanity(const nlohmann::ordered_json& temporal);
 

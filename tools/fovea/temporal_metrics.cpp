@@ -1,6 +1,7 @@
 // The temporal measure's sums (temporal_metrics.hpp).
 #include "temporal_metrics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -37,24 +38,41 @@ TemporalRings finish(const std::array<double, foveation::kRingCount>& flicker_su
 }  // namespace
 
 void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation::ImageRgb& reference,
-                              const foveation::EccentricityMap& map) {
+                              const foveation::EccentricityMap& map, const TrackedPrevious* tracked) {
   check_size(image, map, "image");
   check_size(reference, map, "reference");
   const bool pair = frames_ > 0;
-  if (pair && (previous_image_.width_px != image.width_px || previous_image_.height_px != image.height_px))
+  if (pair && (previous_error_.width_px != image.width_px || previous_error_.height_px != image.height_px))
     throw std::invalid_argument("TemporalError::add_frame: frame " + std::to_string(frames_) +
                                 " differs in size from the frame before");
+  const bool track = pair && tracked != nullptr && tracked->warped_error != nullptr && tracked->valid != nullptr;
+  if (track) {
+    check_size(*tracked->warped_error, map, "warped previous error");
+    if (tracked->valid->size() != map.ring.size())
+      throw std::invalid_argument("TemporalError::add_frame: the tracked validity has " +
+                                  std::to_string(tracked->valid->size()) + " entries for a map of " +
+                                  std::to_string(map.ring.size()) + " pixels");
+  }
+  error_.width_px = image.width_px;
+  error_.height_px = image.height_px;
+  error_.rgb.resize(image.rgb.size());
   for (std::size_t i = 0; i < map.ring.size(); ++i) {
     const std::size_t r = map.ring[i];
-    double e2 = 0.0, f2 = 0.0;
+    const bool tracked_here = track && (*tracked->valid)[i] != 0;
+    double e2 = 0.0, f2 = 0.0, g2 = 0.0;
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t k = i * 3 + c;
       const double e = double(image.rgb[k]) - double(reference.rgb[k]);
+      error_.rgb[k] = float(e);
       e2 += e * e;
       if (pair) {
-        const double f = (double(image.rgb[k]) - double(previous_image_.rgb[k])) -
-                         (double(reference.rgb[k]) - double(previous_reference_.rgb[k]));
+        // (I_t - I_{t-1}) - (R_t - R_{t-1}) = e_t - e_{t-1}
+        const double f = e - double(previous_error_.rgb[k]);
         f2 += f * f;
+      }
+      if (tracked_here) {
+        const double g = e - double(tracked->warped_error->rgb[k]);
+        g2 += g * g;
       }
     }
     error_sum_[r] += e2;
@@ -63,13 +81,23 @@ void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation:
       flicker_sum_[r] += f2;
       flicker_n_[r] += 3;
     }
+    if (tracked_here) {
+      tracked_sum_[r] += g2;
+      tracked_n_[r] += 3;
+    }
   }
-  previous_image_ = image;
-  previous_reference_ = reference;
+  std::swap(previous_error_, error_);
   ++frames_;
 }
 
-TemporalRings TemporalError::rings() const { return finish(flicker_sum_, flicker_n_, error_sum_, error_n_); }
+TemporalRings TemporalError::rings() const {
+  TemporalRings out = finish(flicker_sum_, flicker_n_, error_sum_, error_n_);
+  for (std::size_t r = 0; r < out.size(); ++r) {
+    out[r].tracked_pair_values = tracked_n_[r];
+    out[r].flicker_tracked_rms = tracked_n_[r] ? std::sqrt(tracked_sum_[r] / double(tracked_n_[r])) : kNaN;
+  }
+  return out;
+}
 
 void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map) {
   if (residual_mse.size() != map.ring.size())
@@ -91,6 +119,34 @@ void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const fov
   previous_ = residual_mse;
 }
 
-TemporalRings ReferenceFloor::rings() const { return finish(flicker_sum_, flicker_n_, error_sum_, error_n_); }
+TemporalRings ReferenceFloor::rings() const {
+  TemporalRings out = finish(flicker_sum_, flicker_n_, error_sum_, error_n_);
+  // Along the motion e_{t-1} is a bilinear mix of neighbouring residuals (weights w with sum w^2 <= 1):
+  // its variance is at most theirs, so the fixed-pixel floor bounds the tracked one.
+  for (TemporalRing& r : out) r.flicker_tracked_rms = r.flicker_rms, r.tracked_pair_values = r.pair_values;
+  return out;
+}
+
+void binomial_blur_3x3(const foveation::ImageRgb& image, foveation::ImageRgb* out) {
+  const int w = image.width_px, h = image.height_px;
+  foveation::ImageRgb rows(w, h);
+  *out = foveation::ImageRgb(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float* l = image.at(std::max(x - 1, 0), y);
+      const float* m = image.at(x, y);
+      const float* r = image.at(std::min(x + 1, w - 1), y);
+      for (int c = 0; c < 3; ++c) rows.at(x, y)[c] = 0.25f * l[c] + 0.5f * m[c] + 0.25f * r[c];
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float* u = rows.at(x, std::max(y - 1, 0));
+      const float* m = rows.at(x, y);
+      const float* d = rows.at(x, std::min(y + 1, h - 1));
+      for (int c = 0; c < 3; ++c) out->at(x, y)[c] = 0.25f * u[c] + 0.5f * m[c] + 0.25f * d[c];
+    }
+  }
+}
 
 }  // namespace foveart::tools

@@ -11,7 +11,15 @@
 //     the frame-to-frame change beyond the truth's own change (motion changes
 //     R too; an image that follows the truth exactly has 0);
 //   error_mse   = sum over frames, pixels of the ring, channels of (I_t - R_t)^2 / count
-//     (ghosting, lag and noise alike), and its PSNR 10 log10(1 / error_mse).
+//     (ghosting, lag and noise alike), and its PSNR 10 log10(1 / error_mse);
+//   flicker_tracked_rms: the same change of the error e_t = I_t - R_t along the
+//     motion, e_t - W(e_{t-1}), with W(e_{t-1}) the previous error warped into
+//     frame t (each pixel's surface where it was a frame before), over the
+//     pixels whose surface was in view: what an eye that holds the world still
+//     on its retina (the vestibulo-ocular reflex while the head turns) sees
+//     change. An error that moves with the content (a blurred edge, a constant
+//     offset) is not tracked flicker; one fixed on the screen while the content
+//     moves under it (sparse samples, a fixed jitter) is.
 //
 // The reference's own noise adds to both (ReferenceFloor): with e_t its error
 // against the truth, independent between frames, E[flicker^2] = true^2 +
@@ -30,33 +38,48 @@ namespace foveart::tools {
 struct TemporalRing {
   std::uint64_t frame_values = 0;  // pixel-channel values summed into error_mse
   std::uint64_t pair_values = 0;   // pixel-channel values summed into flicker_rms
+  std::uint64_t tracked_pair_values = 0;  // ... into flicker_tracked_rms
   double flicker_rms = 0.0;        // NaN without a pair (fewer than 2 frames, or an empty ring)
+  double flicker_tracked_rms = 0.0;  // NaN without a tracked pair
   double error_mse = 0.0;          // NaN for an empty ring
   double psnr_db() const { return foveation::psnr_of_mse(error_mse); }
 };
 
 using TemporalRings = std::array<TemporalRing, foveation::kRingCount>;
 
+// The previous frame's error warped into this frame (taa_reprojection.hpp's
+// reproject_history of previous_error()): valid[p] == 0 where the surface was
+// not in the previous view.
+struct TrackedPrevious {
+  const foveation::ImageRgb* warped_error = nullptr;
+  const std::vector<std::uint8_t>* valid = nullptr;
+};
+
 class TemporalError {
  public:
   // Frame t: image and reference in display values, both of map's size; map
-  // holds frame t's rings. Throws std::invalid_argument on mismatched sizes.
+  // holds frame t's rings; `tracked` (optional, from frame 1 on) the previous
+  // error along the motion. Throws std::invalid_argument on mismatched sizes.
   void add_frame(const foveation::ImageRgb& image, const foveation::ImageRgb& reference,
-                 const foveation::EccentricityMap& map);
+                 const foveation::EccentricityMap& map, const TrackedPrevious* tracked = nullptr);
   TemporalRings rings() const;
   int frames() const { return frames_; }
+  // e_{t-1} = I_{t-1} - R_{t-1} of the last frame added (empty before the first).
+  const foveation::ImageRgb& previous_error() const { return previous_error_; }
 
  private:
-  foveation::ImageRgb previous_image_, previous_reference_;
-  std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{};
-  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{};
+  foveation::ImageRgb previous_error_, error_;
+  std::array<double, foveation::kRingCount> flicker_sum_{}, tracked_sum_{}, error_sum_{};
+  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, tracked_n_{}, error_n_{};
   int frames_ = 0;
 };
 
 // The reference sequence's own contribution: per pixel of frame t, the
 // reference's estimated squared error against the truth (Reference's
 // half_difference2 / 4, the mean over channels). flicker_rms is the RMS of
-// e_t - e_{t-1} (variances add: r_t + r_{t-1}), error_mse the mean of r_t.
+// e_t - e_{t-1} (variances add: r_t + r_{t-1}), error_mse the mean of r_t;
+// flicker_tracked_rms is given the same value, a bound: warped, e_{t-1} is a
+// bilinear mix of neighbouring pixels' errors, of at most their variance.
 class ReferenceFloor {
  public:
   // Throws std::invalid_argument when residual_mse and map differ in size.
@@ -68,5 +91,10 @@ class ReferenceFloor {
   std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{};
   std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{};
 };
+
+// *out = image blurred by the binomial kernel [1 2 1]/4 along rows, then
+// columns (edge pixels repeated): a fixed spatial filter, so a sequence of
+// blurred truths is soft but stable in the world.
+void binomial_blur_3x3(const foveation::ImageRgb& image, foveation::ImageRgb* out);
 
 }  // namespace foveart::tools

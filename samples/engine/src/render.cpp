@@ -44,6 +44,7 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
   result.tile_ms.assign(static_cast<size_t>(tiles_x) * tiles_y, 0.0);
   std::atomic<int32_t> status{FOVEART_RESULT_SUCCESS};
   std::vector<foveation::RayBatch> batches(executor.thread_count());  // per worker slot
+  if (settings.out_depth_m != nullptr) settings.out_depth_m->assign(std::size_t(view.width_px) * view.height_px, NAN);
   executor.parallel_for(result.tile_ms.size(), [&](size_t tile, unsigned worker) {
     const auto tile_t0 = std::chrono::steady_clock::now();
     const uint32_t x0 = static_cast<uint32_t>(tile % tiles_x) * tile_w;
@@ -58,7 +59,8 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
         const uint64_t p = static_cast<uint64_t>(y) * view.width_px + x;
         for (uint32_t s = 0; s < spp; ++s)
           b.set_ray(r++, f, pose, glm::vec2(static_cast<float>(x), static_cast<float>(y)) +
-                                        foveation::pixel_jitter(p, s, settings.seed),
+                                        (settings.jitter ? foveation::pixel_jitter(p, s, settings.seed)
+                                                         : glm::vec2(0.5f)),
                     static_cast<uint32_t>(p));
       }
     const int32_t st = b.trace(fn, user_data, view, 0, static_cast<uint32_t>(r));
@@ -75,6 +77,8 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
       for (uint32_t x = x0; x < x1; ++x) {
         glm::vec3 sum(0.0f);
         for (uint32_t s = 0; s < spp; ++s, ++k) sum += b.rgb(k);
+        if (settings.out_depth_m != nullptr)
+          (*settings.out_depth_m)[static_cast<size_t>(y) * view.width_px + x] = b.depth_m(k - spp);
         float* px = out->at(static_cast<int>(x), static_cast<int>(y));
         px[0] = sum.r * inv;
         px[1] = sum.g * inv;

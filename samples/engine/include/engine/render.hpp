@@ -23,6 +23,10 @@ struct RenderSettings {
   int spp = 1;                   // jittered rays per pixel
   uint32_t batch_rays = 4096;    // rays per callback call
   uint64_t seed = 0;             // jitter seed; same seed, same image for any thread count
+  bool jitter = true;            // false: every ray through its pixel's centre
+  // Optional: per pixel the distance (m) along its first ray to the hit (+inf:
+  // a miss), as the engine returns it in the batch (NaN if it returns none).
+  std::vector<float>* out_depth_m = nullptr;
 };
 
 struct RenderResult {
