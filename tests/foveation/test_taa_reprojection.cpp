@@ -25,6 +25,14 @@ FoveartEyeView view_at(glm::vec3 position_m, float yaw_deg) {
   return make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
 }
 
+// The striped wall at infinity alone: a yaw needs no depth.
+test::AnalyticScene sky_only() {
+  test::AnalyticScene sky;
+  sky.wall_at_infinity = true;
+  sky.near_bar = false;
+  return sky;
+}
+
 // RMS over the valid pixels (all when `valid` is empty) and the count.
 double rms(const ImageRgb& a, const ImageRgb& b, const std::vector<std::uint8_t>& valid, std::size_t* n = nullptr) {
   double sq = 0.0;
@@ -39,9 +47,7 @@ double rms(const ImageRgb& a, const ImageRgb& b, const std::vector<std::uint8_t>
 }
 
 TEST(TaaReprojection, YawNeedsNoDepth) {
-  test::AnalyticScene sky;
-  sky.wall_at_infinity = true;
-  sky.near_bar = false;
+  const test::AnalyticScene sky = sky_only();
   const auto before = view_at({0, 1.6f, 0}, 0.0f), after = view_at({0, 1.6f, 0}, 3.0f);
   const ImageRgb history = sky.render(before, 1), truth = sky.render(after, 1);
   ImageRgb warped;
@@ -62,9 +68,7 @@ TEST(TaaReprojection, YawNeedsNoDepth) {
 }
 
 TEST(TaaReprojection, CatmullRomKeepsTheDetailBilinearBlursWithoutOvershoot) {
-  test::AnalyticScene sky;
-  sky.wall_at_infinity = true;
-  sky.near_bar = false;
+  const test::AnalyticScene sky = sky_only();
   const auto before = view_at({0, 1.6f, 0}, 0.0f), after = view_at({0, 1.6f, 0}, 1.3f);
   const ImageRgb history = sky.render(before, 1), truth = sky.render(after, 1);
   ImageRgb bilinear, catmull_rom;

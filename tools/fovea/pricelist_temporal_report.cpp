@@ -117,7 +117,8 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
     << " along the motion (goal 5x: " << (a["peripheral_flicker_5x_lower"].get<bool>() ? "met" : "not met") << " / "
     << (a.value("peripheral_tracked_flicker_5x_lower", false) ? "met" : "not met")
     << "; the reference blurred [1 2 1]^2, soft but stable, reaches " << three("flicker_ratio_off_over_stable_blur")
-    << " / " << three("flicker_tracked_ratio_off_over_stable_blur") << "; TAA restarting on every pose change: "
+    << " at fixed pixels and " << three("flicker_tracked_ratio_off_over_stable_blur")
+    << " along the motion; TAA restarting on every pose change: "
     << three("flicker_ratio_off_over_restart") << "); its error at 0-2.5 / 2.5-5 deg is ";
   for (std::size_t i = 0; i < 2; ++i) {
     const double g = num(a["psnr_reproject_minus_off_db"][kCentralRings[i]]);
