@@ -38,7 +38,19 @@ const Json* track(const Json& temporal, const std::string& id) {
   return nullptr;
 }
 
-double ring_value(const Json& t, std::size_t r, const char* key) { return num(t["rings"][r][key]); }
+// obj[key] as a number; NaN when obj is no object or lacks the key (a const
+// operator[] on a missing key is undefined behaviour in nlohmann::json).
+double field(const Json& obj, const std::string& key) {
+  if (!obj.is_object()) return kNaN;
+  const auto it = obj.find(key);
+  return it == obj.end() ? kNaN : num(*it);
+}
+
+double ring_value(const Json& t, std::size_t r, const char* key) {
+  const auto rings = t.find("rings");
+  if (rings == t.end() || !rings->is_array() || r >= rings->size()) return kNaN;
+  return field((*rings)[r], key);
+}
 
 }  // namespace
 
@@ -47,8 +59,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   const Json* restart = track(temporal, setting + "_taa-restart");
   const Json* reproject = track(temporal, setting + "_taa-reproject");
   if (!off || !restart || !reproject) return nullptr;
-  const bool have_control = temporal.contains("reference") && temporal["reference"].is_object() &&
-                            temporal["reference"].contains("rings");
+  const bool have_control = temporal.contains("reference") && temporal["reference"].is_object();
   Json a = {{"setting", setting}};
   // Per measure (at fixed pixels, along the motion): off over reproject, off over restart, and off over
   // the stable-blur control (what an image that is soft but does not flicker at all reaches).
@@ -60,7 +71,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
       ratio.push_back(number_or_null_json(o / ring_value(*reproject, r, measure)));
       ratio_restart.push_back(number_or_null_json(o / ring_value(*restart, r, measure)));
       ratio_control.push_back(
-          number_or_null_json(have_control ? o / num(temporal["reference"]["rings"][r][control_key]) : kNaN));
+          number_or_null_json(have_control ? o / ring_value(temporal["reference"], r, control_key.c_str()) : kNaN));
     }
     bool peripheral = true;
     for (std::size_t r : kPeripheralRings) peripheral = peripheral && ratio[r].is_number() && ratio[r].get<double>() >= 5.0;
@@ -90,9 +101,9 @@ Json temporal_sanity(const Json& temporal) {
         if (std::isfinite(ring_value(t, r, measure))) min_flicker = std::min(min_flicker, ring_value(t, r, measure));
       if (std::isfinite(ring_value(t, r, "psnr"))) max_psnr = std::max(max_psnr, ring_value(t, r, "psnr"));
     }
-    const Json& floor = temporal["reference"]["rings"][r];
-    const double fm = 20.0 * std::log10(min_flicker / num(floor["flicker_floor"]));
-    const double em = num(floor["psnr_floor"]) - max_psnr;
+    const Json& reference = temporal["reference"];
+    const double fm = 20.0 * std::log10(min_flicker / ring_value(reference, r, "flicker_floor"));
+    const double em = ring_value(reference, r, "psnr_floor") - max_psnr;
     flicker_margin.push_back(number_or_null_json(fm));
     error_margin.push_back(number_or_null_json(em));
     if ((std::isfinite(fm) && fm < 10.0) || (std::isfinite(em) && em < 10.0)) ok = false;
