@@ -205,7 +205,7 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   float gpuGatherMs[2];
   float gpuTaaMs[2];
   float gpuEncodeMs[2];
-  XrBool32 taaResetLastFrame[2]; /* the TAA history restarted in the last frame (saccade, blink, new size) */
+  XrBool32 taaResetLastFrame[2]; /* the TAA history restarted in the last frame (a saccade's or blink's onset, a gaze jump, new size) */
   uint64_t taaResets;            /* history restarts since the renderer was created, both eyes */
   XrBool32 gazeSaccadeLastFrame; /* the gaze provider flagged a saccade for the last frame */
   XrBool32 gazeBlinkLastFrame;   /* ... or a blink (held gaze) */
