@@ -247,22 +247,11 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     if (m.setting.full) continue;
     if (!tables) {
       const RenderOptions ro = render_options_of(c.o, &m.setting);
-      const std::optional<foveation::DisplayModel> display = foveated_display(ro, c.view, &error);
-      if (!display) {
+      tables = load_foveated_tables(ro, c.view, fs::path(c.o.cache_dir), c.executor,
+                                    [&](const std::string& msg) { c.err << "fovea pricelist: " << msg << "\n"; },
+                                    &error);
+      if (!tables) {
         c.err << "fovea pricelist: " << m.setting.id() << ": " << error << "\n";
-        return false;
-      }
-      foveation::PointSetKey key;
-      key.display = *display;
-      key.seed = c.o.seed;
-      foveation::InterpOptions interp;
-      interp.method = *foveation::parse_method(m.setting.method);
-      interp.k = m.setting.k;
-      try {
-        tables = foveation::load_view_tables(fs::path(c.o.cache_dir), key, interp, c.executor, std::nullopt, {},
-                                             [&](const std::string& msg) { c.err << "fovea pricelist: " << msg << "\n"; });
-      } catch (const std::exception& e) {
-        c.err << "fovea pricelist: " << m.setting.id() << ": tables: " << e.what() << "\n";
         return false;
       }
     }

@@ -128,6 +128,26 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
   return display;
 }
 
+std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOptions& o, const FoveartEyeView& view,
+                                                                  const std::optional<std::filesystem::path>& cache_dir,
+                                                                  foveation::Executor& executor,
+                                                                  const foveation::LogFn& log, std::string* error) {
+  const std::optional<foveation::DisplayModel> display = foveated_display(o, view, error);
+  if (!display) return nullptr;
+  foveation::PointSetKey key;
+  key.display = *display;
+  key.seed = o.seed;
+  foveation::InterpOptions interp;
+  interp.method = *foveation::parse_method(o.method);
+  interp.k = interp.method == foveation::InterpMethod::nn ? 1 : (o.k > 0 ? o.k : 5);
+  try {
+    return foveation::load_view_tables(cache_dir, key, interp, executor, std::nullopt, {}, log);
+  } catch (const std::exception& e) {
+    *error = std::string("tables: ") + e.what();
+    return nullptr;
+  }
+}
+
 // Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
 // keeping the horizontal field of view; or, with --fov / --pose, exactly the
 // given OpenXR view.
@@ -280,31 +300,18 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   foveation::FoveaPattern fov_display_pattern = foveation::FoveaPattern::kPixelGrid;
   if (run_foveated) {
     std::string bad;
-    const std::optional<foveation::DisplayModel> display = foveated_display(o, view, &bad);
-    if (!display) {
+    std::optional<std::filesystem::path> cache;
+    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
+    const auto t_tables = std::chrono::steady_clock::now();
+    auto tables = load_foveated_tables(o, view, cache, executor,
+                                       [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &bad);
+    if (!tables) {
       err << "fovea render: " << bad << "\n";
       return 1;
     }
-    fov_display_pattern = display->fovea_pattern;
-    foveation::PointSetKey key;
-    key.display = *display;
-    key.seed = o.seed;
-    foveation::InterpOptions interp;
-    interp.method = *foveation::parse_method(o.method);
-    interp.k = interp.method == foveation::InterpMethod::nn ? 1 : k;
-    std::optional<std::filesystem::path> cache;
-    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
-    try {
-      const auto t_tables = std::chrono::steady_clock::now();
-      auto tables = foveation::load_view_tables(cache, key, interp, executor, std::nullopt, {},
-                                                [&](const std::string& m) { err << "fovea render: " << m << "\n"; });
-      precompute_ms = ms_since(t_tables);
-      const foveation::ViewSettings settings = taa_view_settings(o.taa, o.spp, o.seed);
-      foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), settings);
-    } catch (const std::exception& e) {
-      err << "fovea render: foveation: " << e.what() << "\n";
-      return 1;
-    }
+    precompute_ms = ms_since(t_tables);
+    fov_display_pattern = tables->key.display.fovea_pattern;
+    foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), taa_view_settings(o.taa, o.spp, o.seed));
   }
   FrameTimes full_times, fov_times;
   std::vector<double> tile_ms;  // full mode: per-tile time summed over frames

@@ -8,11 +8,15 @@
 #include <engine/scene.hpp>
 
 #include <foveation/display_model.hpp>
+#include <foveation/executor.hpp>
+#include <foveation/foveated_view.hpp>
 #include <foveation/ray_trace.h>
 
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -75,6 +79,15 @@ FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& sc
 // pattern); nullopt with *error when it is not valid.
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
                                                         std::string* error);
+
+// The foveated view's tables for these options: the display of
+// foveated_display, options.seed, options.method with k neighbours (1 for nn;
+// else options.k, default 5), read from or built into cache_dir (nullopt: built
+// and not kept); `log` gets the cache's messages. nullptr with *error when the
+// display is not valid or the tables cannot be built ("tables: ...").
+std::shared_ptr<const foveation::ViewTables> load_foveated_tables(
+    const RenderOptions& options, const FoveartEyeView& view, const std::optional<std::filesystem::path>& cache_dir,
+    foveation::Executor& executor, const foveation::LogFn& log, std::string* error);
 
 // `fovea render --motion` (cmd_render_motion.cpp): called by run_render when
 // options.motion is set, after check_render_options.

@@ -54,21 +54,18 @@ void print_text(const Json& report, std::ostream& out) {
   for (const Json& r : report["reference"]["rings"])
     out << " | " << r["from_deg"].get<double>() << "-" << (r["to_deg"].is_null() ? std::string("") : r["to_deg"].dump());
   out << "\n";
-  for (const Json& t : report["tracks"]) {
-    out << t["id"].get<std::string>();
-    for (const Json& r : t["rings"])
-      out << " | " << fixed(r["flicker_tracked"], 4) << " / " << fixed(r["flicker"], 4) << " / " << fixed(r["psnr"], 1);
+  // One line: per ring flicker along the motion / at fixed pixels / PSNR under these keys.
+  const auto line = [&](const std::string& name, const Json& rings, const char* tracked, const char* fixed_pixels,
+                        const char* psnr) {
+    out << name;
+    for (const Json& r : rings) out << " | " << fixed(r[tracked], 4) << " / " << fixed(r[fixed_pixels], 4) << " / " << fixed(r[psnr], 1);
     out << "\n";
-  }
-  out << "control: the reference blurred [1 2 1]^2, stable by construction";
-  for (const Json& r : report["reference"]["rings"])
-    out << " | " << fixed(r["stable_blur_flicker_tracked"], 4) << " / " << fixed(r["stable_blur_flicker"], 4) << " / "
-        << fixed(r["stable_blur_psnr"], 1);
-  out << "\nreference floor (its own noise)";
-  for (const Json& r : report["reference"]["rings"])
-    out << " | " << fixed(r["flicker_tracked_floor"], 4) << " / " << fixed(r["flicker_floor"], 4) << " / "
-        << fixed(r["psnr_floor"], 1);
-  out << "\n";
+  };
+  for (const Json& t : report["tracks"]) line(t["id"].get<std::string>(), t["rings"], "flicker_tracked", "flicker", "psnr");
+  const Json& reference_rings = report["reference"]["rings"];
+  line("control: the reference blurred [1 2 1]^2, stable by construction", reference_rings,
+       "stable_blur_flicker_tracked", "stable_blur_flicker", "stable_blur_psnr");
+  line("reference floor (its own noise)", reference_rings, "flicker_tracked_floor", "flicker_floor", "psnr_floor");
 }
 
 }  // namespace
@@ -118,8 +115,11 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
     tracks.push_back(std::move(t));
   }
   if (o.mode != "full") {
-    const std::optional<foveation::DisplayModel> display = foveated_display(o, eye_at_rest, &error);
-    if (!display) {
+    std::optional<std::filesystem::path> cache;
+    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
+    const std::shared_ptr<const foveation::ViewTables> tables = load_foveated_tables(
+        o, eye_at_rest, cache, executor, [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &error);
+    if (!tables) {
       err << "fovea render: " << error << "\n";
       return 1;
     }
@@ -127,24 +127,8 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
     setting.method = o.method;
     setting.k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
     setting.scale = o.scale;
-    setting.pattern = foveation::fovea_pattern_name(display->fovea_pattern);
+    setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
     setting.spp = o.spp;
-    foveation::PointSetKey key;
-    key.display = *display;
-    key.seed = o.seed;
-    foveation::InterpOptions interp;
-    interp.method = *foveation::parse_method(o.method);
-    interp.k = setting.k;
-    std::optional<std::filesystem::path> cache;
-    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
-    std::shared_ptr<const foveation::ViewTables> tables;
-    try {
-      tables = foveation::load_view_tables(cache, key, interp, executor, std::nullopt, {},
-                                           [&](const std::string& m) { err << "fovea render: " << m << "\n"; });
-    } catch (const std::exception& e) {
-      err << "fovea render: foveation: " << e.what() << "\n";
-      return 1;
-    }
     for (const std::string& mode : taa_modes) {
       SequenceTrack t;
       t.taa = mode;

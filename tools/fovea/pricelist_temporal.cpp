@@ -154,23 +154,11 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
     ro.scale = s.scale;
     ro.pattern = s.pattern;
     ro.spp = s.spp;
-    const std::optional<foveation::DisplayModel> display = foveated_display(ro, eye_at_rest, &error);
-    if (!display) {
+    const std::shared_ptr<const foveation::ViewTables> tables = load_foveated_tables(
+        ro, eye_at_rest, fs::path(c.cache_dir), executor,
+        [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; }, &error);
+    if (!tables) {
       err << "fovea pricelist: " << s.id() << ": " << error << "\n";
-      return std::nullopt;
-    }
-    foveation::PointSetKey key;
-    key.display = *display;
-    key.seed = c.seed;
-    foveation::InterpOptions interp;
-    interp.method = *foveation::parse_method(s.method);
-    interp.k = s.k;
-    std::shared_ptr<const foveation::ViewTables> tables;
-    try {
-      tables = foveation::load_view_tables(fs::path(c.cache_dir), key, interp, executor, std::nullopt, {},
-                                           [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; });
-    } catch (const std::exception& e) {
-      err << "fovea pricelist: " << s.id() << ": tables: " << e.what() << "\n";
       return std::nullopt;
     }
     for (const char* mode : kTaaModes) {
