@@ -33,10 +33,12 @@ vec3 at(ivec2 p) {
   return current[p.y * size_px.x + p.x].rgb;
 }
 
-vec3 last_at(ivec2 p) {
+// The last output (rgb) and its depth (a) at pixel p, clamped to the edge.
+vec4 last_texel(ivec2 p) {
   p = clamp(p, ivec2(0), size_px - 1);
-  return history_in[p.y * size_px.x + p.x].rgb;
+  return history_in[p.y * size_px.x + p.x];
 }
+vec3 last_at(ivec2 p) { return last_texel(p).rgb; }
 
 // foveation::HistorySampling::catmull_rom's weights of the 4 taps around fraction t.
 vec4 catmull_rom_weights(float t) {
@@ -71,8 +73,7 @@ bool reprojected_history(ivec2 p, float depth, out vec3 history) {
     bool unknown = false;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
-        const ivec2 q = clamp(n + ivec2(dx, dy), ivec2(0), size_px - 1);
-        const float before = history_in[q.y * size_px.x + q.x].a;
+        const float before = last_texel(n + ivec2(dx, dy)).a;
         if (before < 0.0) {
           unknown = true;
         } else {

@@ -182,8 +182,6 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                  std::to_string(rr.status);
         return false;
       }
-    }
-    if (with_reference) {
       binomial_blur_3x3(reference_display, &blurred);
       add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
     }

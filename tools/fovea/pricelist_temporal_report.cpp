@@ -192,22 +192,23 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
   md << "\n|---|---|---|";
   for (std::size_t r = 0; r < kRings; ++r) md << "---|";
   md << "\n";
-  const auto cells = [&](const Json& rings, const char* tracked, const char* fixed, const char* psnr) {
+  // Per ring of `owner` (a track or the reference): along the motion / at fixed pixels / PSNR.
+  const auto cells = [&](const Json& owner, const char* tracked, const char* fixed, const char* psnr) {
     for (std::size_t r = 0; r < kRings; ++r)
-      md << " " << fmt(num(rings[r].value(tracked, Json())), 4) << " / " << fmt(num(rings[r].value(fixed, Json())), 4)
-         << " / " << fmt(num(rings[r].value(psnr, Json())), 1) << " |";
+      md << " " << fmt(ring_value(owner, r, tracked), 4) << " / " << fmt(ring_value(owner, r, fixed), 4) << " / "
+         << fmt(ring_value(owner, r, psnr), 1) << " |";
     md << "\n";
   };
   for (const Json& t : temporal["tracks"]) {
     md << "| " << t["id"].get<std::string>() << " | " << fmt(100.0 * num(t["time_fraction"]), 0) << " | "
        << t["taa_resets"] << " |";
-    cells(t["rings"], "flicker_tracked", "flicker", "psnr");
+    cells(t, "flicker_tracked", "flicker", "psnr");
   }
-  if (temporal.contains("reference") && temporal["reference"].is_object() && temporal["reference"].contains("rings")) {
+  if (temporal.contains("reference") && temporal["reference"].is_object()) {
     md << "| control: reference blurred [1 2 1]^2 | - | - |";
-    cells(temporal["reference"]["rings"], "stable_blur_flicker_tracked", "stable_blur_flicker", "stable_blur_psnr");
+    cells(temporal["reference"], "stable_blur_flicker_tracked", "stable_blur_flicker", "stable_blur_psnr");
     md << "| reference floor | - | - |";
-    cells(temporal["reference"]["rings"], "flicker_tracked_floor", "flicker_floor", "psnr_floor");
+    cells(temporal["reference"], "flicker_tracked_floor", "flicker_floor", "psnr_floor");
   }
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }
