@@ -101,10 +101,16 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
       EXPECT_TRUE(r["psnr"].is_number()) << ids[i] << " " << r.dump();
     }
   }
-  for (const Json& r : t["reference"]["rings"]) {  // the stable-blur control, measured like a track
-    EXPECT_GT(r["stable_blur_flicker"].get<double>(), 0.0) << r.dump();
-    EXPECT_GT(r["stable_blur_flicker_tracked"].get<double>(), 0.0) << r.dump();
-    EXPECT_TRUE(r["stable_blur_psnr"].is_number()) << r.dump();
+  for (std::size_t r = 0; r < 7; ++r) {  // the two controls, measured like a track
+    const Json& ring = t["reference"]["rings"][r];
+    EXPECT_GT(ring["stable_blur_flicker"].get<double>(), 0.0) << ring.dump();
+    EXPECT_GT(ring["stable_blur_flicker_tracked"].get<double>(), 0.0) << ring.dump();
+    EXPECT_TRUE(ring["stable_blur_psnr"].is_number()) << ring.dump();
+    EXPECT_GT(ring["taa_on_reference_flicker"].get<double>(), 0.0) << ring.dump();
+    EXPECT_GT(ring["taa_on_reference_flicker_tracked"].get<double>(), 0.0) << ring.dump();
+    // Fed the reference instead of 1-ray frames, the same TAA errs less than the reprojecting track.
+    EXPECT_GT(ring["taa_on_reference_psnr"].get<double>(), t["tracks"][6]["rings"][r]["psnr"].get<double>())
+        << ring.dump();
   }
   // The track names the still setting it belongs to: TAA off is the setting without TAA.
   EXPECT_EQ(t["tracks"][1]["setting"], "nn_k1_s1_pixel-grid_r1");
@@ -124,6 +130,10 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_NEAR(t["acceptance"]["flicker_ratio_off_over_stable_blur"][4].get<double>(),
               t["tracks"][4]["rings"][4]["flicker"].get<double>() /
                   t["reference"]["rings"][4]["stable_blur_flicker"].get<double>(),
+              1e-12);
+  EXPECT_NEAR(t["acceptance"]["flicker_tracked_ratio_off_over_taa_on_reference"][4].get<double>(),
+              t["tracks"][4]["rings"][4]["flicker_tracked"].get<double>() /
+                  t["reference"]["rings"][4]["taa_on_reference_flicker_tracked"].get<double>(),
               1e-12);
   EXPECT_TRUE(t["acceptance"]["peripheral_tracked_flicker_5x_lower"].is_boolean());
   EXPECT_EQ(t["sanity"]["flicker_margin_db"].size(), 7u);

@@ -65,6 +65,8 @@ void print_text(const Json& report, std::ostream& out) {
   const Json& reference_rings = report["reference"]["rings"];
   line("control: the reference blurred [1 2 1]^2, stable by construction", reference_rings,
        "stable_blur_flicker_tracked", "stable_blur_flicker", "stable_blur_psnr");
+  line("control: the layer's TAA fed the reference (no noise: what its reprojection costs)", reference_rings,
+       "taa_on_reference_flicker_tracked", "taa_on_reference_flicker", "taa_on_reference_psnr");
   line("reference floor (its own noise)", reference_rings, "flicker_tracked_floor", "flicker_floor", "psnr_floor");
 }
 

@@ -6,11 +6,13 @@
 #include <engine/render.hpp>
 
 #include <foveation/image_metrics.hpp>
+#include <foveation/taa.hpp>
 #include <foveation/taa_reprojection.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 namespace foveart::tools {
 namespace {
@@ -94,7 +96,8 @@ void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
 bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
                      const SequenceReferenceOptions& ref_options, const foveation::EccentricityMap& map,
                      foveation::Executor& executor, const ReferenceLog& log, SequenceRun* run,
-                     foveation::ImageRgb* reference_display, std::string* error) {
+                     foveation::ImageRgb* reference_linear, foveation::ImageRgb* reference_display,
+                     std::string* error) {
   ReferenceOptions ro;
   const bool check = f.index == 0 && ref_options.spp == "auto";
   ro.spp = check ? 0 : (f.index == 0 ? std::stoi(ref_options.spp) : run->reference_spp);
@@ -118,7 +121,27 @@ bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const Mot
   for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = ref->half_difference2[i] / 4.0f;
   run->floor.add_frame(residual, map);
   *reference_display = foveation::display_encode(ref->image);
+  *reference_linear = std::move(ref->image);
   return true;
+}
+
+// The TAA ceiling (SequenceRun::taa_on_reference): the layer's TAA, its history
+// reprojected through the pixel-centre depth, fed the converged reference in
+// place of a noisy frame; restarts at the same saccade and blink onsets.
+struct TaaOnReference {
+  foveation::TemporalAccumulator taa;  // default TaaOptions: the layer's
+  foveation::ImageRgb warped;          // scratch
+  std::vector<std::uint8_t> valid;     // scratch
+};
+
+const foveation::ImageRgb& accumulate_reference(TaaOnReference& c, const foveation::ImageRgb& reference_linear,
+                                                const MotionFrame& f, const Tracking& tracking,
+                                                foveation::Executor& executor) {
+  const bool restart = f.saccade || f.blink;
+  if (tracking.previous == nullptr) return c.taa.accumulate(reference_linear, f.gaze_px, executor, restart);
+  foveation::reproject_history(c.taa.history(), tracking.previous_depth_m, tracking.previous->view, f.view,
+                               tracking.depth_m, c.warped, c.valid, executor, c.taa.options().history_sampling);
+  return c.taa.accumulate_reprojected(reference_linear, c.warped, c.valid, f.gaze_px, executor, restart);
 }
 
 }  // namespace
@@ -159,13 +182,14 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error) {
   run->frames = frames;
   run->taa_reset_any.assign(frames.size(), 0);
-  foveation::ImageRgb full_linear, display, reference_display, centre_image, blurred;
+  foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
   Tracking tracking;
+  TaaOnReference taa_on_reference;
   const bool with_reference = !ref_options.spp.empty();
   for (const MotionFrame& f : frames) {
     const foveation::EccentricityMap map = foveation::eccentricity_map(f.view, f.gaze_px);
     if (with_reference && !reference_frame(tracer, scene_hash, f, ref_options, map, executor, hooks.log, run,
-                                           &reference_display, error))
+                                           &reference_linear, &reference_display, error))
       return false;
     tracking.current = &f;
     if (with_reference) {
@@ -184,6 +208,10 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
       }
       binomial_blur_3x3(reference_display, &blurred);
       add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
+      add_tracked_frame(run->taa_on_reference,
+                        foveation::display_encode(
+                            accumulate_reference(taa_on_reference, reference_linear, f, tracking, executor)),
+                        reference_display, map, tracking, executor);
     }
     for (SequenceTrack& t : tracks) {
       const std::uint64_t resets_before = t.taa_resets;
@@ -211,6 +239,7 @@ Json sequence_reference_json(const SequenceRun& run) {
   Json rings = Json::array();
   const TemporalRings floor = run.floor.rings();
   const TemporalRings blur = run.stable_blur.rings();
+  const TemporalRings ceiling = run.taa_on_reference.rings();
   for (std::size_t r = 0; r < floor.size(); ++r) {
     Json j = ring_bounds(r);
     j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
@@ -219,6 +248,9 @@ Json sequence_reference_json(const SequenceRun& run) {
     j["stable_blur_flicker"] = number_or_null_json(blur[r].flicker_rms);
     j["stable_blur_flicker_tracked"] = number_or_null_json(blur[r].flicker_tracked_rms);
     j["stable_blur_psnr"] = number_or_null_json(blur[r].psnr_db());
+    j["taa_on_reference_flicker"] = number_or_null_json(ceiling[r].flicker_rms);
+    j["taa_on_reference_flicker_tracked"] = number_or_null_json(ceiling[r].flicker_tracked_rms);
+    j["taa_on_reference_psnr"] = number_or_null_json(ceiling[r].psnr_db());
     rings.push_back(j);
   }
   return {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},

@@ -71,6 +71,11 @@ struct SequenceRun {
   // that is stable in the world by construction, measured like a track. What a
   // flicker measure charges it is what that measure charges softness alone.
   TemporalError stable_blur;
+  // The TAA ceiling: the layer's reprojected TAA fed the converged reference
+  // itself (no noise, history warped through the pixel-centre depth). What
+  // it keeps of flicker and error is what the history's reprojection and
+  // clip cost without any noise: the part that more averaging cannot remove.
+  TemporalError taa_on_reference;
   std::vector<MotionFrame> frames;
   std::vector<std::uint8_t> taa_reset_any;  // per frame: some track's TAA restarted
 };
@@ -89,8 +94,9 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error);
 
 // {"spp", "spp_tried", "converged", "frames_from_cache", "render_ms", "rings": [{from_deg, to_deg,
-// flicker_floor, flicker_tracked_floor, psnr_floor, stable_blur_flicker, stable_blur_flicker_tracked,
-// stable_blur_psnr}]}: the reference sequence, its own contribution and the stable-blur control per ring.
+// flicker_floor, flicker_tracked_floor, psnr_floor, <c>_flicker, <c>_flicker_tracked, <c>_psnr for the
+// controls c = stable_blur, taa_on_reference}]}: the reference sequence, its own contribution and the
+// controls per ring.
 nlohmann::ordered_json sequence_reference_json(const SequenceRun& run);
 // {"id", "taa", "spp", "frames", "ms" (median frame), "time_fraction" (of anchor_ms; null without),
 // "points", "rays", "taa_resets", "history_off_screen", "history_disoccluded",

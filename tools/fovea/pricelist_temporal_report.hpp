@@ -17,7 +17,8 @@ namespace foveart::tools {
 inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1";
 
 // {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
-//  "<m>_ratio_off_over_stable_blur"[ring] for m = flicker (at fixed pixels) and flicker_tracked
+//  "<m>_ratio_off_over_stable_blur"[ring], "<m>_ratio_off_over_taa_on_reference"[ring] (the two
+//  controls: motion_sequence.hpp) for m = flicker (at fixed pixels) and flicker_tracked
 //  (along the motion), "peripheral_flicker_5x_lower" (fixed pixels, the measure),
 //  "peripheral_tracked_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse"}
 // for one setting's three tracks (null entries where a ring is empty); null when they are missing.
