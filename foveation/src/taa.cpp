@@ -26,6 +26,34 @@ void taa_tonemap_inverse(const float* rgb, float* out) {
 
 namespace {
 
+// taa_tonemap (inverse = false) or taa_tonemap_inverse over n pixels of three
+// planes, in place: the same IEEE operations per pixel in the same order
+// (std::max(a, b) is _mm_max_ps(b, a), NaN included), hence bit-identical.
+template <bool kInverse>
+void tonemap_planes(float* __restrict r, float* __restrict g, float* __restrict b, int n) {
+  int x = 0;
+#if defined(__SSE2__)
+  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), least = _mm_set1_ps(1.0f / 65536.0f);
+  for (; x + 4 <= n; x += 4) {
+    const __m128 vr = _mm_loadu_ps(r + x), vg = _mm_loadu_ps(g + x), vb = _mm_loadu_ps(b + x);
+    const __m128 m = _mm_max_ps(_mm_max_ps(_mm_max_ps(vb, vg), vr), zero);
+    const __m128 d = kInverse ? _mm_max_ps(least, _mm_sub_ps(one, m)) : _mm_add_ps(one, m);
+    _mm_storeu_ps(r + x, _mm_div_ps(vr, d));
+    _mm_storeu_ps(g + x, _mm_div_ps(vg, d));
+    _mm_storeu_ps(b + x, _mm_div_ps(vb, d));
+  }
+#endif
+  for (; x < n; ++x) {
+    float c[3] = {r[x], g[x], b[x]};
+    if constexpr (kInverse) {
+      taa_tonemap_inverse(c, c);
+    } else {
+      taa_tonemap(c, c);
+    }
+    r[x] = c[0], g[x] = c[1], b[x] = c[2];
+  }
+}
+
 // One thread's rows of the current frame, deinterleaved into planes with the
 // edge pixel repeated on both sides (x = -1 and x = w read like x = 0 and
 // x = w - 1: the clamp-to-edge of the 3x3 neighbourhood without branches).
@@ -44,11 +72,10 @@ struct RowPlanes {
     if (loaded[slot] != y) {
       const float* src = img.at(0, y);
       float* dst[3] = {plane(slot, 0), plane(slot, 1), plane(slot, 2)};
-      for (int x = 0; x < width; ++x) {
-        float c[3] = {src[std::size_t(x) * 3], src[std::size_t(x) * 3 + 1], src[std::size_t(x) * 3 + 2]};
-        if (tonemapped) taa_tonemap(c, c);
-        for (int i = 0; i < 3; ++i) dst[i][x + 1] = c[i];
+      for (int i = 0; i < 3; ++i) {
+        for (int x = 0; x < width; ++x) dst[i][x + 1] = src[std::size_t(x) * 3 + std::size_t(i)];
       }
+      if (tonemapped) tonemap_planes<false>(dst[0] + 1, dst[1] + 1, dst[2] + 1, width);
       for (float* d : dst) {
         d[0] = d[1];
         d[width + 1] = d[width];
@@ -225,19 +252,29 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, const std::uint8_t* val
     row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
         hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma,
         o.clip_floor);
-    const float* cur_row = cur.at(0, y);
     const std::uint8_t* valid_row = valid != nullptr ? valid + std::size_t(y) * std::size_t(w) : nullptr;
-    float* dst = out.at(0, y);
-    float* dst_linear = o.tonemapped ? linear.at(0, y) : nullptr;
-    for (int x = 0; x < w; ++x) {
-      const std::size_t px = std::size_t(x) * 3;
-      if (valid_row != nullptr && valid_row[x] == 0) {  // no history here: this frame alone
-        for (int i = 0; i < 3; ++i) dst[px + std::size_t(i)] = r1[i][x + 1];
-        if (dst_linear != nullptr) std::copy_n(cur_row + px, 3, dst_linear + px);
-        continue;
+    if (valid_row != nullptr) {  // no history here: this frame alone
+      for (int x = 0; x < w; ++x) {
+        if (valid_row[x] == 0)
+          for (int i = 0; i < 3; ++i) out_planes[i][x] = r1[i][x + 1];
       }
-      for (int i = 0; i < 3; ++i) dst[px + std::size_t(i)] = out_row[std::size_t(i) * std::size_t(w) + std::size_t(x)];
-      if (dst_linear != nullptr) taa_tonemap_inverse(dst + px, dst_linear + px);
+    }
+    float* dst = out.at(0, y);
+    for (int x = 0; x < w; ++x) {
+      for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_planes[i][x];
+    }
+    if (!o.tonemapped) continue;
+    // The output: the working space mapped back; this frame exactly where it stands alone.
+    tonemap_planes<true>(out_planes[0], out_planes[1], out_planes[2], w);
+    float* dst_linear = linear.at(0, y);
+    const float* cur_row = cur.at(0, y);
+    for (int x = 0; x < w; ++x) {
+      for (int i = 0; i < 3; ++i) dst_linear[std::size_t(x) * 3 + std::size_t(i)] = out_planes[i][x];
+    }
+    if (valid_row != nullptr) {
+      for (int x = 0; x < w; ++x) {
+        if (valid_row[x] == 0) std::copy_n(cur_row + std::size_t(x) * 3, 3, dst_linear + std::size_t(x) * 3);
+      }
     }
   }
 }

@@ -7,6 +7,7 @@
 #include <limits>
 #include <utility>
 #include <random>
+#include <vector>
 
 #include "foveation/image_metrics.hpp"
 #include "foveation/taa.hpp"
@@ -151,6 +152,32 @@ TEST_P(Taa, StaticFrameIsAFixedPoint) {
       }
     }
     EXPECT_EQ(taa.reset_count(), 1u);
+  }
+}
+
+// accumulate_reprojected: a pixel whose history was rejected (valid 0) is this
+// frame exactly, in the output and (tonemapped) in the history; the others blend.
+TEST_P(Taa, RejectedHistoryPixelsAreTheCurrentFrameExactly) {
+  for (const bool tonemap : {false, true}) {
+    TaaOptions o;
+    o.constraint = GetParam();
+    o.tonemapped = tonemap;
+    TemporalAccumulator taa(o);
+    const ImageRgb a = gradient(13, 7, 0.9f), b = gradient(13, 7, 0.95f);
+    taa.accumulate(a, {6, 3}, test::executor());
+    std::vector<std::uint8_t> valid(a.pixel_count(), 1);
+    for (std::size_t p = 0; p < valid.size(); p += 3) valid[p] = 0;
+    const ImageRgb warped = taa.history();
+    const ImageRgb& out = taa.accumulate_reprojected(b, warped, valid, {6, 3}, test::executor());
+    ASSERT_FALSE(taa.last_was_reset());
+    const ImageRgb working = tonemap ? tonemapped(b) : b;
+    for (std::size_t p = 0; p < valid.size(); ++p) {
+      const bool same = std::memcmp(out.rgb.data() + 3 * p, b.rgb.data() + 3 * p, 3 * sizeof(float)) == 0;
+      EXPECT_EQ(same, valid[p] == 0) << "pixel " << p << " tonemapped " << tonemap;
+      if (valid[p] == 0) {
+        EXPECT_EQ(std::memcmp(taa.history().rgb.data() + 3 * p, working.rgb.data() + 3 * p, 3 * sizeof(float)), 0);
+      }
+    }
   }
 }
 

@@ -136,7 +136,8 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
     << "; the reference blurred [1 2 1]^2, soft but stable, reaches " << three("flicker_ratio_off_over_stable_blur")
     << " at fixed pixels and " << three("flicker_tracked_ratio_off_over_stable_blur")
     << " along the motion; the same TAA fed the reference itself, without noise, "
-    << three("flicker_ratio_off_over_taa_on_reference") << " / " << three("flicker_tracked_ratio_off_over_taa_on_reference")
+    << three("flicker_ratio_off_over_taa_on_reference") << " at fixed pixels and "
+    << three("flicker_tracked_ratio_off_over_taa_on_reference") << " along the motion"
     << "; TAA restarting on every pose change: "
     << three("flicker_ratio_off_over_restart") << "); its error at 0-2.5 / 2.5-5 deg is ";
   for (std::size_t i = 0; i < 2; ++i) {
