@@ -46,9 +46,4 @@ layout(set = 0, binding = 6, std430) writeonly buffer Encoded { uint encoded[]; 
 // Depth of every point this frame (DEPTH_UNKNOWN when not traced or none returned).
 layout(set = 0, binding = 7, std430) buffer PointDepth { float point_depth[]; };
 
-// foveation::taa_tonemap and its inverse (Karis 2014): the TAA's working space
-// when TaaOptions::tonemapped; the history buffers hold it, encode maps back.
-vec3 taa_tonemap(vec3 c) { return c / (1.0 + max(0.0, max(c.r, max(c.g, c.b)))); }
-vec3 taa_tonemap_inverse(vec3 t) { return t / max(1.0 - max(0.0, max(t.r, max(t.g, t.b))), 1.0 / 65536.0); }
-
 #endif

@@ -8,8 +8,6 @@
 // neighbourhood (clamp to edge) by min/max clamping (Karis 2014) or variance
 // clipping towards the mean (Salvi 2016) and blended with the current frame.
 // A reset (decided on the CPU, one rule for both paths) copies the current frame.
-// With `tonemapped` all of it works on taa_tonemap(colour) and the history
-// buffers hold that; encode.comp maps the output back.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 
@@ -22,7 +20,6 @@ layout(push_constant) uniform Push {
   uint reset;            // 1: output = current
   float clip_floor;      // the box's least half-width (TaaOptions::clip_floor)
   uint reproject;        // the view moved: reproject the history, 1 bilinear, 2 Catmull-Rom (0: it did not)
-  uint tonemapped;       // 1: the working space is taa_tonemap (the vec4s below start at offset 48)
   vec4 last_from_view_q;  // rotation (x, y, z, w): this view's space -> the last view's
   vec4 last_from_view_t;  // xyz: this eye's position in the last view's space, metres
   vec4 tan_view;          // this view's tan(left, right, up, down)
@@ -31,11 +28,9 @@ layout(push_constant) uniform Push {
 
 #define DISOCCLUSION_TOLERANCE 0.1  // foveation::kDisocclusionTolerance
 
-// The current frame in the working space.
-vec3 working(vec3 c) { return tonemapped != 0u ? taa_tonemap(c) : c; }
 vec3 at(ivec2 p) {
   p = clamp(p, ivec2(0), size_px - 1);
-  return working(current[p.y * size_px.x + p.x].rgb);
+  return current[p.y * size_px.x + p.x].rgb;
 }
 
 // The last output (rgb) and its depth (a) at pixel p, clamped to the edge.
@@ -113,7 +108,7 @@ void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (p.x >= size_px.x || p.y >= size_px.y) return;
   const uint i = uint(p.y * size_px.x + p.x);
-  const vec4 cur = vec4(working(current[i].rgb), current[i].a);
+  const vec4 cur = current[i];
   vec3 v = history_in[i].rgb;
   if (reset != 0u || (reproject != 0u && !reprojected_history(p, cur.a, v))) {
     history_out[i] = cur;  // no history: this frame alone

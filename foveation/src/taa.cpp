@@ -12,73 +12,28 @@
 
 namespace foveart::foveation {
 
-// Karis 2014, "High Quality Temporal Supersampling": accumulate c / (1 + max(c)).
-void taa_tonemap(const float* rgb, float* out) {
-  const float m = std::max(0.0f, std::max(rgb[0], std::max(rgb[1], rgb[2])));
-  for (int i = 0; i < 3; ++i) out[i] = rgb[i] / (1.0f + m);
-}
-
-void taa_tonemap_inverse(const float* rgb, float* out) {
-  const float m = std::max(0.0f, std::max(rgb[0], std::max(rgb[1], rgb[2])));
-  const float d = std::max(1.0f - m, 1.0f / 65536.0f);
-  for (int i = 0; i < 3; ++i) out[i] = rgb[i] / d;
-}
-
 namespace {
-
-// taa_tonemap (inverse = false) or taa_tonemap_inverse over n pixels of three
-// planes, in place: the same IEEE operations per pixel in the same order
-// (std::max(a, b) is _mm_max_ps(b, a), NaN included), hence bit-identical.
-template <bool kInverse>
-void tonemap_planes(float* __restrict r, float* __restrict g, float* __restrict b, int n) {
-  int x = 0;
-#if defined(__SSE2__)
-  const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.0f), least = _mm_set1_ps(1.0f / 65536.0f);
-  for (; x + 4 <= n; x += 4) {
-    const __m128 vr = _mm_loadu_ps(r + x), vg = _mm_loadu_ps(g + x), vb = _mm_loadu_ps(b + x);
-    const __m128 m = _mm_max_ps(_mm_max_ps(_mm_max_ps(vb, vg), vr), zero);
-    const __m128 d = kInverse ? _mm_max_ps(least, _mm_sub_ps(one, m)) : _mm_add_ps(one, m);
-    _mm_storeu_ps(r + x, _mm_div_ps(vr, d));
-    _mm_storeu_ps(g + x, _mm_div_ps(vg, d));
-    _mm_storeu_ps(b + x, _mm_div_ps(vb, d));
-  }
-#endif
-  for (; x < n; ++x) {
-    float c[3] = {r[x], g[x], b[x]};
-    if constexpr (kInverse) {
-      taa_tonemap_inverse(c, c);
-    } else {
-      taa_tonemap(c, c);
-    }
-    r[x] = c[0], g[x] = c[1], b[x] = c[2];
-  }
-}
 
 // One thread's rows of the current frame, deinterleaved into planes with the
 // edge pixel repeated on both sides (x = -1 and x = w read like x = 0 and
 // x = w - 1: the clamp-to-edge of the 3x3 neighbourhood without branches).
 // Rows live in slot row % 3, so the three rows around y never collide.
-// Tonemapped (taa_tonemap) when the accumulator works in that space.
 struct RowPlanes {
   int width = 0;
-  bool tonemapped = false;
   int loaded[3] = {-1, -1, -1};
   std::vector<float> data;  // [slot][channel][width + 2]
 
-  RowPlanes(int w, bool tm) : width(w), tonemapped(tm), data(std::size_t(9) * std::size_t(w + 2)) {}
+  explicit RowPlanes(int w) : width(w), data(std::size_t(9) * std::size_t(w + 2)) {}
   float* plane(int slot, int channel) { return data.data() + std::size_t(slot * 3 + channel) * std::size_t(width + 2); }
   const float* row(const ImageRgb& img, int y, int channel) {
     const int slot = y % 3;
     if (loaded[slot] != y) {
       const float* src = img.at(0, y);
-      float* dst[3] = {plane(slot, 0), plane(slot, 1), plane(slot, 2)};
       for (int i = 0; i < 3; ++i) {
-        for (int x = 0; x < width; ++x) dst[i][x + 1] = src[std::size_t(x) * 3 + std::size_t(i)];
-      }
-      if (tonemapped) tonemap_planes<false>(dst[0] + 1, dst[1] + 1, dst[2] + 1, width);
-      for (float* d : dst) {
-        d[0] = d[1];
-        d[width + 1] = d[width];
+        float* dst = plane(slot, i);
+        for (int x = 0; x < width; ++x) dst[x + 1] = src[std::size_t(x) * 3 + std::size_t(i)];
+        dst[0] = dst[1];
+        dst[width + 1] = dst[width];
       }
       loaded[slot] = y;
     }
@@ -223,13 +178,10 @@ void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1
 }
 #endif
 
-// Rows [y0, y1) in the working space: out = lerp(constrain(history), current,
-// alpha), or the current frame alone where valid (when given) is 0; `linear`
-// gets out mapped back when the working space is tonemapped.
-void taa_rows(const ImageRgb& cur, const ImageRgb& hist, const std::uint8_t* valid, ImageRgb& out, ImageRgb& linear,
-              const TaaOptions& o, int y0, int y1) {
+// Rows [y0, y1): out = lerp(constrain(history), current, alpha).
+void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TaaOptions& o, int y0, int y1) {
   const int w = cur.width_px, h = cur.height_px;
-  RowPlanes planes(w, o.tonemapped);
+  RowPlanes planes(w);
   std::vector<float> hist_row(std::size_t(w) * 3), out_row(std::size_t(w) * 3);
   const float* const hist_planes[3] = {hist_row.data(), hist_row.data() + w, hist_row.data() + 2 * w};
   float* const out_planes[3] = {out_row.data(), out_row.data() + w, out_row.data() + 2 * w};
@@ -252,29 +204,9 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, const std::uint8_t* val
     row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
         hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma,
         o.clip_floor);
-    const std::uint8_t* valid_row = valid != nullptr ? valid + std::size_t(y) * std::size_t(w) : nullptr;
-    if (valid_row != nullptr) {  // no history here: this frame alone
-      for (int x = 0; x < w; ++x) {
-        if (valid_row[x] == 0)
-          for (int i = 0; i < 3; ++i) out_planes[i][x] = r1[i][x + 1];
-      }
-    }
     float* dst = out.at(0, y);
     for (int x = 0; x < w; ++x) {
-      for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_planes[i][x];
-    }
-    if (!o.tonemapped) continue;
-    // The output: the working space mapped back; this frame exactly where it stands alone.
-    tonemap_planes<true>(out_planes[0], out_planes[1], out_planes[2], w);
-    float* dst_linear = linear.at(0, y);
-    const float* cur_row = cur.at(0, y);
-    for (int x = 0; x < w; ++x) {
-      for (int i = 0; i < 3; ++i) dst_linear[std::size_t(x) * 3 + std::size_t(i)] = out_planes[i][x];
-    }
-    if (valid_row != nullptr) {
-      for (int x = 0; x < w; ++x) {
-        if (valid_row[x] == 0) std::copy_n(cur_row + std::size_t(x) * 3, 3, dst_linear + std::size_t(x) * 3);
-      }
+      for (int i = 0; i < 3; ++i) dst[std::size_t(x) * 3 + std::size_t(i)] = out_row[std::size_t(i) * std::size_t(w) + std::size_t(x)];
     }
   }
 }
@@ -295,19 +227,14 @@ bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaz
   return last_reset_;
 }
 
-const ImageRgb& TemporalAccumulator::restart(const ImageRgb& current) {
-  history_ = current;
-  if (!options_.tonemapped) return history_;
-  for (std::size_t p = 0; p < history_.pixel_count(); ++p) taa_tonemap(history_.rgb.data() + p * 3, history_.rgb.data() + p * 3);
-  output_ = current;  // exactly the frame, not its round trip through the tonemap
-  return output_;
-}
-
 const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor,
                                                 bool saccade) {
-  if (begin_frame(current.width_px, current.height_px, gaze_px, saccade)) return restart(current);
+  if (begin_frame(current.width_px, current.height_px, gaze_px, saccade)) {
+    history_ = current;
+    return history_;
+  }
   blend(current, history_, nullptr, executor);
-  return output();
+  return history_;
 }
 
 const ImageRgb& TemporalAccumulator::accumulate_reprojected(const ImageRgb& current, const ImageRgb& warped_history,
@@ -317,26 +244,28 @@ const ImageRgb& TemporalAccumulator::accumulate_reprojected(const ImageRgb& curr
   if (reset || warped_history.width_px != current.width_px || warped_history.height_px != current.height_px ||
       valid.size() != current.pixel_count()) {
     if (!reset) last_reset_ = true, ++resets_;  // nothing to blend with
-    return restart(current);
+    history_ = current;
+    return history_;
   }
   blend(current, warped_history, valid.data(), executor);
-  return output();
+  return history_;
 }
 
 void TemporalAccumulator::blend(const ImageRgb& current, const ImageRgb& history, const std::uint8_t* valid,
                                 Executor& executor) {
-  for (ImageRgb* image : {&scratch_, &output_}) {
-    if (image == &output_ && !options_.tonemapped) continue;
-    image->width_px = current.width_px;
-    image->height_px = current.height_px;
-    image->rgb.resize(current.rgb.size());
-  }
+  scratch_.width_px = current.width_px;
+  scratch_.height_px = current.height_px;
+  scratch_.rgb.resize(current.rgb.size());
   // A few bands per thread (each band sets up its own row planes once).
-  const int h = current.height_px;
+  const int h = current.height_px, w = current.width_px;
   const int bands = std::max(1, std::min(h, 4 * int(executor.thread_count())));
   executor.parallel_for(std::size_t(bands), [&](std::size_t band) {
     const int y0 = h * int(band) / bands, y1 = h * (int(band) + 1) / bands;
-    taa_rows(current, history, valid, scratch_, output_, options_, y0, y1);
+    taa_rows(current, history, scratch_, options_, y0, y1);
+    if (valid == nullptr) return;
+    for (std::size_t p = std::size_t(y0) * std::size_t(w); p < std::size_t(y1) * std::size_t(w); ++p) {
+      if (valid[p] == 0) std::copy_n(current.rgb.data() + p * 3, 3, scratch_.rgb.data() + p * 3);  // no history here
+    }
   });
   std::swap(history_, scratch_);
 }

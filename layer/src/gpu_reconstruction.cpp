@@ -40,14 +40,12 @@ struct TaaPush {
   uint32_t reset;
   float clip_floor;
   uint32_t reproject;  // 0 no, 1 bilinear, 2 Catmull-Rom (foveation::HistorySampling)
-  uint32_t tonemapped;  // the working space is taa_tonemap (TaaOptions::tonemapped)
-  uint32_t pad[3];      // std430: the vec4s start at 48
   float last_from_view_q[4];  // xyzw
   float last_from_view_t[4];
   float tan_view[4];  // left, right, up, down
   float tan_last[4];
 };
-static_assert(sizeof(TaaPush) == 112, "shaders/taa.comp push constants");
+static_assert(sizeof(TaaPush) == 96, "shaders/taa.comp push constants");
 
 // Depth as the shaders carry it (shaders/common.glsl): no NaN or infinity.
 constexpr float kDepthUnknown = -1.0f;
@@ -59,7 +57,6 @@ float shader_depth(float depth_m) {
 struct EncodePush {
   int32_t size_px[2];
   uint32_t srgb;
-  uint32_t tonemapped;  // TaaPush::tonemapped
 };
 struct ScatterPush {
   uint32_t count;
@@ -125,7 +122,6 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
   f.rbf_clamp = view.settings().rbf_clamp;
   f.taa_reset = !view.settings().taa || result.taa_reset;
   f.taa = view.settings().taa_options;
-  f.taa.tonemapped = f.taa.tonemapped && view.settings().taa;  // without TAA the frame passes as it is
   f.view = request.view;
   f.history_view = result.history_view;
   f.srgb = srgb;
@@ -513,7 +509,6 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   t.constraint = frame.taa.constraint == foveation::TaaConstraint::variance_clip ? 1u : 0u;
   t.reset = frame.taa_reset ? 1u : 0u;
   t.clip_floor = frame.taa.clip_floor;
-  t.tonemapped = frame.taa.tonemapped ? 1u : 0u;
   if (frame.history_view && !frame.taa_reset) {
     // foveation::reproject_history's world-space step, folded into one rigid
     // transform from this view's space to the last view's.
@@ -536,7 +531,7 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(3);
 
-  const EncodePush e{{int32_t(width_px_), int32_t(height_px_)}, frame.srgb ? 1u : 0u, t.tonemapped};
+  const EncodePush e{{int32_t(width_px_), int32_t(height_px_)}, frame.srgb ? 1u : 0u};
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->encode_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof e, &e);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);

@@ -1,10 +1,7 @@
 // Temporal anti-aliasing for one eye (thesis 2.5 and 6.1): the history image is
 // constrained to the current frame's 3x3 neighbourhood — min/max clamping
 // (Karis 2014) or variance clipping towards the mean (Salvi 2016) — and then
-// blended with the current frame. By default all of it (and the history's
-// reprojection) works on tonemapped colour c / (1 + max(c)) (Karis 2014), and
-// the output is mapped back: a bright sample cannot dominate a blend, a
-// resample or a clip box. A gaze jump, a size change or the onset of a
+// blended with the current frame. A gaze jump, a size change or the onset of a
 // saccade or blink resets the history: that frame is the current frame alone.
 // A saccade's later frames accumulate again (the eye is blind during it, and a
 // restart in each of them would show the raw frame's noise every frame).
@@ -37,35 +34,26 @@ struct TaaOptions {
   float clip_floor = 1.0f / 4096.0f;
   float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
   HistorySampling history_sampling = HistorySampling::catmull_rom;  // reading a reprojected history
-  bool tonemapped = true;  // work on taa_tonemap(c), output taa_tonemap_inverse (Karis 2014)
 };
-
-// Karis 2014's reversible tonemap of one linear RGB colour: c / (1 + max(0, max(c))).
-void taa_tonemap(const float* rgb, float* out);
-// Its inverse: t / (1 - max(0, max(t))), the denominator at least 2^-16 (t from a huge c).
-void taa_tonemap_inverse(const float* rgb, float* out);
 
 class TemporalAccumulator {
  public:
   explicit TemporalAccumulator(const TaaOptions& options = {}) : options_(options) {}
 
-  // Blends `current` (rendered at `gaze_px`, linear) into the history and
-  // returns the output (linear, valid until the next call). `saccade` is the gaze provider's
+  // Blends `current` (rendered at `gaze_px`) into the history and returns the
+  // output (valid until the next call). `saccade` is the gaze provider's
   // saccade-or-blink flag for this frame: its first frame (the frame after
   // detection) resets; while it stays set, the jump rule alone decides.
   const ImageRgb& accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor, bool saccade = false);
 
-  // The same with `warped_history` (history() reprojected into this view:
-  // taa_reprojection.hpp) as the history; pixels with valid[p] == 0 take the
-  // current frame alone. Same reset rule.
+  // The same with `warped_history` (the previous output reprojected into this
+  // view: taa_reprojection.hpp) as the history; pixels with valid[p] == 0 take
+  // the current frame alone. Same reset rule.
   const ImageRgb& accumulate_reprojected(const ImageRgb& current, const ImageRgb& warped_history,
                                          const std::vector<std::uint8_t>& valid, glm::vec2 gaze_px,
                                          Executor& executor, bool saccade = false);
-  // The history the next frame blends with: the last output in the working
-  // space (tonemapped when options().tonemapped), to be reprojected as it is.
+  // The last output (the history the next frame blends with).
   const ImageRgb& history() const { return history_; }
-  // The last output (linear).
-  const ImageRgb& output() const { return options_.tonemapped ? output_ : history_; }
 
   // The reset rule of accumulate() alone, for a caller that blends elsewhere
   // (the layer's GPU path): records a width x height frame at gaze_px and
@@ -79,12 +67,10 @@ class TemporalAccumulator {
 
  private:
   void blend(const ImageRgb& current, const ImageRgb& history, const std::uint8_t* valid, Executor& executor);
-  const ImageRgb& restart(const ImageRgb& current);
 
   TaaOptions options_;
-  ImageRgb history_;  // working space
-  ImageRgb scratch_;  // the next history_
-  ImageRgb output_;   // linear, when tonemapped
+  ImageRgb history_;
+  ImageRgb scratch_;
   glm::vec2 gaze_px_{};
   int width_px_ = 0;
   int height_px_ = 0;
