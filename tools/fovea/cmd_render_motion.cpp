@@ -63,10 +63,11 @@ void print_text(const Json& report, std::ostream& out) {
   };
   for (const Json& t : report["tracks"]) line(t["id"].get<std::string>(), t["rings"], "flicker_tracked", "flicker", "psnr");
   const Json& reference_rings = report["reference"]["rings"];
-  line("control: the reference blurred [1 2 1]^2, stable by construction", reference_rings,
-       "stable_blur_flicker_tracked", "stable_blur_flicker", "stable_blur_psnr");
-  line("control: the layer's TAA fed the reference (no noise: what its reprojection costs)", reference_rings,
-       "taa_on_reference_flicker_tracked", "taa_on_reference_flicker", "taa_on_reference_psnr");
+  for (const SequenceControl& c : kSequenceControls) {
+    const std::string key = c.key;
+    line(c.label, reference_rings, (key + "_flicker_tracked").c_str(), (key + "_flicker").c_str(),
+         (key + "_psnr").c_str());
+  }
   line("reference floor (its own noise)", reference_rings, "flicker_tracked_floor", "flicker_floor", "psnr_floor");
 }
 

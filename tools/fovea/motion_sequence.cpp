@@ -238,19 +238,19 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
 Json sequence_reference_json(const SequenceRun& run) {
   Json rings = Json::array();
   const TemporalRings floor = run.floor.rings();
-  const TemporalRings blur = run.stable_blur.rings();
-  const TemporalRings ceiling = run.taa_on_reference.rings();
+  std::vector<TemporalRings> controls;
+  for (const SequenceControl& c : kSequenceControls) controls.push_back((run.*c.error).rings());
   for (std::size_t r = 0; r < floor.size(); ++r) {
     Json j = ring_bounds(r);
     j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
     j["flicker_tracked_floor"] = number_or_null_json(floor[r].flicker_tracked_rms);
     j["psnr_floor"] = number_or_null_json(floor[r].psnr_db());
-    j["stable_blur_flicker"] = number_or_null_json(blur[r].flicker_rms);
-    j["stable_blur_flicker_tracked"] = number_or_null_json(blur[r].flicker_tracked_rms);
-    j["stable_blur_psnr"] = number_or_null_json(blur[r].psnr_db());
-    j["taa_on_reference_flicker"] = number_or_null_json(ceiling[r].flicker_rms);
-    j["taa_on_reference_flicker_tracked"] = number_or_null_json(ceiling[r].flicker_tracked_rms);
-    j["taa_on_reference_psnr"] = number_or_null_json(ceiling[r].psnr_db());
+    for (std::size_t c = 0; c < controls.size(); ++c) {
+      const std::string key = kSequenceControls[c].key;
+      j[key + "_flicker"] = number_or_null_json(controls[c][r].flicker_rms);
+      j[key + "_flicker_tracked"] = number_or_null_json(controls[c][r].flicker_tracked_rms);
+      j[key + "_psnr"] = number_or_null_json(controls[c][r].psnr_db());
+    }
     rings.push_back(j);
   }
   return {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},

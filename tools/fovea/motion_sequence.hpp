@@ -80,6 +80,21 @@ struct SequenceRun {
   std::vector<std::uint8_t> taa_reset_any;  // per frame: some track's TAA restarted
 };
 
+// The controls measured beside the tracks (SequenceRun), each under its JSON
+// key prefix (<key>_flicker, <key>_flicker_tracked, <key>_psnr in the
+// reference's rings) and its label in reports: one list for the JSON, the
+// price list's acceptance and report, and `fovea render --motion`'s text.
+struct SequenceControl {
+  const char* key;
+  const char* label;
+  TemporalError SequenceRun::*error;
+};
+inline constexpr SequenceControl kSequenceControls[] = {
+    {"stable_blur", "control: the reference blurred [1 2 1]^2, stable by construction", &SequenceRun::stable_blur},
+    {"taa_on_reference", "control: the layer's TAA fed the reference (no noise: what its reprojection costs)",
+     &SequenceRun::taa_on_reference},
+};
+
 struct SequenceHooks {
   ReferenceLog log;                                          // reference cache messages
   std::function<void(int frame, int frames)> frame_done;     // progress

@@ -1,6 +1,7 @@
 // The temporal columns in the price list's outputs (pricelist_temporal_report.hpp).
 #include "pricelist_temporal_report.hpp"
 
+#include "motion_sequence.hpp"
 #include "pricelist_report.hpp"
 #include "render_metrics.hpp"
 
@@ -72,13 +73,13 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
       ratio.push_back(number_or_null_json(o / ring_value(*reproject, r, measure)));
       ratio_restart.push_back(number_or_null_json(o / ring_value(*restart, r, measure)));
     }
-    for (const char* control : {"stable_blur", "taa_on_reference"}) {
-      const std::string key = std::string(control) + "_" + m;
+    for (const SequenceControl& control : kSequenceControls) {
+      const std::string key = std::string(control.key) + "_" + m;
       Json ratio_control = Json::array();
       for (std::size_t r = 0; r < kRings; ++r)
         ratio_control.push_back(number_or_null_json(
             have_control ? ring_value(*off, r, measure) / ring_value(temporal["reference"], r, key.c_str()) : kNaN));
-      a[m + "_ratio_off_over_" + control] = ratio_control;
+      a[m + "_ratio_off_over_" + control.key] = ratio_control;
     }
     bool peripheral = true;
     for (std::size_t r : kPeripheralRings) peripheral = peripheral && ratio[r].is_number() && ratio[r].get<double>() >= 5.0;
@@ -216,11 +217,12 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
     cells(t, "flicker_tracked", "flicker", "psnr");
   }
   if (temporal.contains("reference") && temporal["reference"].is_object()) {
-    md << "| control: reference blurred [1 2 1]^2 | - | - |";
-    cells(temporal["reference"], "stable_blur_flicker_tracked", "stable_blur_flicker", "stable_blur_psnr");
-    md << "| control: TAA fed the reference | - | - |";
-    cells(temporal["reference"], "taa_on_reference_flicker_tracked", "taa_on_reference_flicker",
-          "taa_on_reference_psnr");
+    for (const SequenceControl& control : kSequenceControls) {
+      const std::string key = control.key;
+      md << "| " << control.label << " | - | - |";
+      cells(temporal["reference"], (key + "_flicker_tracked").c_str(), (key + "_flicker").c_str(),
+            (key + "_psnr").c_str());
+    }
     md << "| reference floor | - | - |";
     cells(temporal["reference"], "flicker_tracked_floor", "flicker_floor", "psnr_floor");
   }
