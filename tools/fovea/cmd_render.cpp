@@ -128,6 +128,8 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
   return display;
 }
 
+int reconstruction_k(const RenderOptions& o) { return o.method == "nn" ? 1 : (o.k > 0 ? o.k : 5); }
+
 std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOptions& o, const FoveartEyeView& view,
                                                                   const std::optional<std::filesystem::path>& cache_dir,
                                                                   foveation::Executor& executor,
@@ -139,7 +141,7 @@ std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOp
   key.seed = o.seed;
   foveation::InterpOptions interp;
   interp.method = *foveation::parse_method(o.method);
-  interp.k = interp.method == foveation::InterpMethod::nn ? 1 : (o.k > 0 ? o.k : 5);
+  interp.k = reconstruction_k(o);
   try {
     return foveation::load_view_tables(cache_dir, key, interp, executor, std::nullopt, {}, log);
   } catch (const std::exception& e) {
@@ -294,7 +296,6 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   engine::RenderSettings full_settings;
   full_settings.spp = o.spp;
   full_settings.seed = o.seed;
-  const int k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
   std::unique_ptr<foveation::FoveatedView> foveated;
   double precompute_ms = 0.0;
   foveation::FoveaPattern fov_display_pattern = foveation::FoveaPattern::kPixelGrid;
@@ -361,7 +362,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   if (run_foveated) {
     report["points"] = fov_points;
     report["foveated"] = {{"rays", rays_json(fov_rays)}, {"lanes_per_packet", lanes_per_packet(fov_rays)},
-                          {"method", o.method}, {"k", k}, {"scale", o.scale}, {"taa", o.taa},
+                          {"method", o.method}, {"k", reconstruction_k(o)}, {"scale", o.scale}, {"taa", o.taa},
                           {"pattern", foveation::fovea_pattern_name(fov_display_pattern)},
                           {"precompute_ms", precompute_ms}, {"trace_ms", fov_times.median_trace_ms()},
                           {"samples_ms", fov_times.median_samples_ms()},
@@ -525,7 +526,7 @@ void register_render(CLI::App& app) {
   cmd->add_option("--mode", opts->mode, "full, foveated or both")->capture_default_str();
   cmd->add_option("--spp", opts->spp, "Rays per pixel (full) or per point (foveated)")->capture_default_str();
   cmd->add_option("--method", opts->method, "Reconstruction: nn, msm or rbf-mq")->capture_default_str();
-  cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (default: 1 for nn, 5 otherwise)");
+  cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (msm, rbf-mq; default 5; nn uses 1)");
   cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");

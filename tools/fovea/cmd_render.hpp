@@ -36,7 +36,7 @@ struct RenderOptions {
   std::string method = "nn";      // nn | msm | rbf-mq
   std::optional<glm::vec2> gaze_px;  // default: image centre
   int spp = 1;
-  int k = 0;                      // 0: 1 for nn, 5 otherwise
+  int k = 0;                      // 0: the default (reconstruction_k)
   double scale = 1.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
@@ -80,9 +80,12 @@ FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& sc
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
                                                         std::string* error);
 
+// Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
+int reconstruction_k(const RenderOptions& options);
+
 // The foveated view's tables for these options: the display of
-// foveated_display, options.seed, options.method with k neighbours (1 for nn;
-// else options.k, default 5), read from or built into cache_dir (nullopt: built
+// foveated_display, options.seed, options.method with reconstruction_k
+// neighbours, read from or built into cache_dir (nullopt: built
 // and not kept); `log` gets the cache's messages. nullptr with *error when the
 // display is not valid or the tables cannot be built ("tables: ...").
 std::shared_ptr<const foveation::ViewTables> load_foveated_tables(

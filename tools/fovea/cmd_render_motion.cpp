@@ -128,7 +128,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
     }
     PriceSetting setting;
     setting.method = o.method;
-    setting.k = o.k > 0 ? o.k : (o.method == "nn" ? 1 : 5);
+    setting.k = reconstruction_k(o);
     setting.scale = o.scale;
     setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
     setting.spp = o.spp;
