@@ -175,7 +175,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       if (points.on_pixel_grid(i)) {  // over its own pixel, as the full render samples it
         for (std::uint32_t s = 0; s < spp; ++s)
           batch.set_ray(std::size_t(n) * spp + s, frustum, pose,
-                        pixel_sample_px(screen, int(s), seed, int(view.width_px)), id);
+                        pixel_sample_px(screen, int(s), seed, int(view.width_px), settings_.pixel_filter), id);
       } else {
         for (std::uint32_t s = 0; s < spp; ++s) {
           const glm::vec2 offset = precomputed ? sample_offset_px_[i * spp + s]

@@ -140,6 +140,7 @@ struct Reader {
     read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
+    read_string(obj, "pixel_filter", {"box", "bspline2"}, &c->pixel_filter);
     read_bool(obj, "taa", &c->taa);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);

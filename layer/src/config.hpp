@@ -26,8 +26,8 @@ namespace foveart::layer {
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
     "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-    "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables", "reconstruction",
-    "applications"};
+    "pixel_filter", "taa", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables",
+    "reconstruction", "applications"};
 
 struct LayerConfig {
   bool enabled = true;
@@ -40,6 +40,8 @@ struct LayerConfig {
   uint32_t k = 5;
   float density_scale = 1.0f;
   uint32_t rays_per_point = 1;
+  // What a pixel's rays follow (foveation/ray_samples.hpp): "box" | "bspline2".
+  std::string pixel_filter = "box";
   bool taa = true;
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...

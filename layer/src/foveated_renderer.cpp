@@ -72,6 +72,7 @@ foveation::ViewSettings view_settings(const RendererSettings& settings) {
   foveation::ViewSettings v;
   v.rays_per_point = static_cast<int>(settings.rays_per_point);
   v.sample_seed = kSeed;
+  v.pixel_filter = settings.pixel_filter;
   v.taa = settings.taa;
   v.new_jitter_each_frame = settings.taa;  // the history converges over new samples
   return v;

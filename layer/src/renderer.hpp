@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <foveation/ray_samples.hpp>
+
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "log.hpp"
 #include "state.hpp"
@@ -23,6 +25,7 @@ struct RendererSettings {
   uint32_t k = 5;
   float density_scale = 1.0f;
   uint32_t rays_per_point = 1;
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;  // LayerConfig::pixel_filter
   bool taa = true;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";

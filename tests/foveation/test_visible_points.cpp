@@ -103,6 +103,51 @@ TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {
   EXPECT_THROW(fv::generate_ray_samples(ps, vis, 0, 1, 200), std::invalid_argument);
 }
 
+// The pixel filter's offsets follow the filter (ray_samples.hpp): box uniform
+// over the pixel; bspline2 the quadratic B-spline around the pixel's centre —
+// on (-1, 2), mean 1/2, variance 3/12, P(< 0) = P(> 1) = 1/6 per axis, the two
+// axes independent — and box's offsets are the default's.
+TEST(RaySamples, PixelJitterFollowsThePixelFilter) {
+  constexpr int kN = 40000;
+  double mean[2] = {}, var[2] = {}, below0[2] = {}, above1[2] = {}, cov = 0.0;
+  for (int i = 0; i < kN; ++i) {
+    const std::uint64_t pixel = std::uint64_t(i / 8), sample = std::uint32_t(i % 8);
+    const glm::vec2 b = fv::pixel_jitter(pixel, std::uint32_t(sample), 7, fv::PixelFilter::box);
+    ASSERT_EQ(b, fv::pixel_jitter(pixel, std::uint32_t(sample), 7));
+    ASSERT_GE(b.x, 0.0f);
+    ASSERT_LT(b.x, 1.0f);
+    ASSERT_GE(b.y, 0.0f);
+    ASSERT_LT(b.y, 1.0f);
+    const glm::vec2 q = fv::pixel_jitter(pixel, std::uint32_t(sample), 7, fv::PixelFilter::bspline2);
+    for (int a = 0; a < 2; ++a) {
+      const double v = double(q[a]);
+      ASSERT_GT(v, -1.0);
+      ASSERT_LT(v, 2.0);
+      mean[a] += v;
+      var[a] += (v - 0.5) * (v - 0.5);
+      below0[a] += v < 0.0;
+      above1[a] += v > 1.0;
+    }
+    cov += (double(q.x) - 0.5) * (double(q.y) - 0.5);
+  }
+  // Tolerances: about 5 standard errors of each estimate at kN samples.
+  for (int a = 0; a < 2; ++a) {
+    EXPECT_NEAR(mean[a] / kN, 0.5, 0.013) << a;
+    EXPECT_NEAR(var[a] / kN, 0.25, 0.006) << a;
+    EXPECT_NEAR(below0[a] / kN, 1.0 / 6.0, 0.01) << a;
+    EXPECT_NEAR(above1[a] / kN, 1.0 / 6.0, 0.01) << a;
+  }
+  EXPECT_NEAR(cov / kN, 0.0, 0.007);
+  fv::PixelFilter f = fv::PixelFilter::box;
+  EXPECT_TRUE(fv::parse_pixel_filter("bspline2", &f));
+  EXPECT_EQ(f, fv::PixelFilter::bspline2);
+  EXPECT_STREQ(fv::pixel_filter_name(f), "bspline2");
+  EXPECT_TRUE(fv::parse_pixel_filter("box", &f));
+  EXPECT_EQ(f, fv::PixelFilter::box);
+  EXPECT_FALSE(fv::parse_pixel_filter("gaussian", &f));
+  EXPECT_EQ(f, fv::PixelFilter::box);  // untouched
+}
+
 // A pixel-grid point's rays cover its own screen pixel uniformly, exactly
 // where the full render puts that pixel's (the same pixel_jitter), whatever
 // point index it has and wherever the gaze put the canvas.

@@ -95,7 +95,7 @@ TEST_F(ConfigTest, ApplicationSectionOverridesTopLevel) {
 
 TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   env_["FOVEART_CONFIG"] = write("c.json", R"({"k": "many", "density_scale": -1, "interpolation": "cubic",
-      "log_level": "loud", "rays_per_point": 1000})").string();
+      "log_level": "loud", "rays_per_point": 1000, "pixel_filter": "gaussian"})").string();
   const auto r = load_config("app", env());
   const LayerConfig defaults;
   EXPECT_EQ(r.config.k, defaults.k);
@@ -103,7 +103,9 @@ TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   EXPECT_EQ(r.config.interpolation, defaults.interpolation);
   EXPECT_EQ(r.config.log_level, defaults.log_level);
   EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
-  for (const char* key : {"'k'", "'density_scale'", "'interpolation'", "'log_level'", "'rays_per_point'"}) {
+  EXPECT_EQ(r.config.pixel_filter, defaults.pixel_filter);
+  for (const char* key :
+       {"'k'", "'density_scale'", "'interpolation'", "'log_level'", "'rays_per_point'", "'pixel_filter'"}) {
     EXPECT_TRUE(any_warning_contains(r, key)) << key;
   }
 }

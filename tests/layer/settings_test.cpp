@@ -78,6 +78,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "k") return std::to_string(s.k);
   if (key == "density_scale") return std::to_string(s.density_scale);
   if (key == "rays_per_point") return std::to_string(s.rays_per_point);
+  if (key == "pixel_filter") return foveation::pixel_filter_name(s.pixel_filter);
   if (key == "taa") return s.taa ? "true" : "false";
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
@@ -103,6 +104,7 @@ const KeyCase kRendererKeys[] = {
     {"k", "9", "9", [](auto* i) { i->k = 12; }, "12"},
     {"density_scale", "1.5", std::to_string(1.5f), [](auto* i) { i->densityScale = 2.0f; }, std::to_string(2.0f)},
     {"rays_per_point", "3", "3", [](auto* i) { i->raysPerPoint = 8; }, "8"},
+    {"pixel_filter", R"("bspline2")", "bspline2", nullptr, {}},
     {"taa", "false", "false", [](auto* i) { i->taaEnable = XR_TRUE; }, "true"},
     {"gaze_source", R"("eye_gaze_interaction")", "eye_gaze_interaction",
      [](auto* i) { i->gazeSource = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART; }, "none"},

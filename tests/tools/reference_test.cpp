@@ -75,7 +75,7 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
     f.write(&c, 1);
   }
   std::string why;
-  const std::uint64_t key = tools::reference_key(s.hash, s.view, 8, o.seed);
+  const std::uint64_t key = tools::reference_key(s.hash, s.view, 8, o.seed, o.pixel_filter);
   EXPECT_FALSE(tools::read_reference(first->cache_file, key, &why));
   EXPECT_NE(why.find("checksum mismatch"), std::string::npos) << why;
   EXPECT_NE(why.find(first->cache_file), std::string::npos) << why;
@@ -94,6 +94,55 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
   ASSERT_TRUE(fourth);
   EXPECT_FALSE(tools::read_reference(first->cache_file, key + 1, &why));
   EXPECT_NE(why.find("key mismatch"), std::string::npos) << why;
+}
+
+// The reference is the expectation of the images measured against it, so it
+// follows their pixel filter: another filter is another image, another cache
+// file, and a box file is never read for a bspline2 reference.
+TEST(Reference, PixelFilterIsPartOfTheReferenceAndItsCacheKey) {
+  engine_test::TempDir dir;
+  SmallScene s(32, 36);
+  foveation::Executor executor(2);
+  tools::ReferenceOptions o;
+  o.spp = 16;
+  o.cache_dir = dir.path.string();
+  std::string error;
+  const glm::vec2 gaze(16, 18);
+  auto box = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  ASSERT_TRUE(box) << error;
+  o.pixel_filter = foveation::PixelFilter::bspline2;
+  auto bspline = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  ASSERT_TRUE(bspline) << error;
+  EXPECT_FALSE(bspline->from_cache);
+  EXPECT_NE(bspline->cache_file, box->cache_file);
+  EXPECT_NE(tools::reference_key(s.hash, s.view, 16, o.seed, foveation::PixelFilter::box),
+            tools::reference_key(s.hash, s.view, 16, o.seed, foveation::PixelFilter::bspline2));
+  EXPECT_NE(bspline->image.rgb, box->image.rgb);
+  // The reference renders with the filter: its image is the full render's with the same settings.
+  foveation::ImageRgb direct;
+  double diff2 = 0.0;
+  {
+    engine::RenderSettings rs;
+    rs.spp = 16;
+    rs.seed = 12345;
+    rs.pixel_filter = foveation::PixelFilter::bspline2;
+    ASSERT_EQ(engine::render_full(&foveart_engine_trace_rays, s.tracer.get(), s.view, rs, &direct, executor).status,
+              FOVEART_RESULT_SUCCESS);
+    for (std::size_t i = 0; i < direct.rgb.size(); ++i) {
+      const double d = double(direct.rgb[i]) - double(bspline->image.rgb[i]);
+      diff2 += d * d;
+    }
+  }
+  double box_diff2 = 0.0;
+  for (std::size_t i = 0; i < direct.rgb.size(); ++i) {
+    const double d = double(direct.rgb[i]) - double(box->image.rgb[i]);
+    box_diff2 += d * d;
+  }
+  EXPECT_LT(diff2, box_diff2);  // an independent bspline2 render lies nearer the bspline2 reference
+  auto again = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  ASSERT_TRUE(again) << error;
+  EXPECT_TRUE(again->from_cache);
+  EXPECT_EQ(again->image.rgb, bspline->image.rgb);
 }
 
 TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {

@@ -171,3 +171,43 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   EXPECT_EQ(j2["reference"]["frames_from_cache"], 3);
   EXPECT_EQ(j2["tracks"][3]["rings"], j["tracks"][3]["rings"]);
 }
+
+// --pixel-filter: the reference sequence, the full render and the foveated
+// tracks all follow it; a bspline2 sequence renders its own references (it
+// never reads the box ones from the cache) and says which filter it used. A
+// filter the tool does not know is an error naming the option.
+TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
+  engine_test::TempDir dir;
+  RenderOptions o = tiny_motion();
+  o.taa = "off,reproject";
+  o.reference_spp = "8";
+  o.cache_dir = (dir.path / "cache").string();
+  std::ostringstream box_out, box_err;
+  ASSERT_EQ(run_render(o, box_out, box_err), 0) << box_err.str();
+  const auto box = nlohmann::json::parse(box_out.str());
+  EXPECT_EQ(box["pixel_filter"], "box");
+  o.pixel_filter = foveart::foveation::PixelFilter::bspline2;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto j = nlohmann::json::parse(out.str());
+  EXPECT_EQ(j["pixel_filter"], "bspline2");
+  EXPECT_EQ(j["reference"]["frames_from_cache"], 0);
+  ASSERT_EQ(j["tracks"].size(), box["tracks"].size());
+  for (std::size_t t = 0; t < j["tracks"].size(); ++t)
+    EXPECT_NE(j["tracks"][t]["rings"], box["tracks"][t]["rings"]) << j["tracks"][t]["id"];
+  std::ostringstream again_out, again_err;
+  ASSERT_EQ(run_render(o, again_out, again_err), 0) << again_err.str();
+  EXPECT_EQ(nlohmann::json::parse(again_out.str())["reference"]["frames_from_cache"], 3);
+
+  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
+  const std::string cmd = "'" + fovea.string() + "' render --size 64,72 --pixel-filter gaussian 2>'" +
+                          (dir.path / "err").string() + "' >/dev/null";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_NE(WEXITSTATUS(status), 0);
+  std::ifstream in(dir.path / "err");
+  std::ostringstream text;
+  text << in.rdbuf();
+  EXPECT_NE(text.str().find("--pixel-filter"), std::string::npos) << text.str();
+  EXPECT_NE(text.str().find("'gaussian' is not box or bspline2"), std::string::npos) << text.str();
+}

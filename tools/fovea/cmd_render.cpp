@@ -278,6 +278,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                     view.orientation_xyzw[0], view.orientation_xyzw[1], view.orientation_xyzw[2],
                     view.orientation_xyzw[3]};
   report["spp"] = o.spp;
+  report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
   foveation::Executor executor(static_cast<unsigned>(o.threads));  // every parallel stage of this run
   report["threads"] = executor.thread_count();
   report["load_ms"] = load_ms;
@@ -296,6 +297,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   engine::RenderSettings full_settings;
   full_settings.spp = o.spp;
   full_settings.seed = o.seed;
+  full_settings.pixel_filter = o.pixel_filter;
   std::unique_ptr<foveation::FoveatedView> foveated;
   double precompute_ms = 0.0;
   foveation::FoveaPattern fov_display_pattern = foveation::FoveaPattern::kPixelGrid;
@@ -312,7 +314,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
     precompute_ms = ms_since(t_tables);
     fov_display_pattern = tables->key.display.fovea_pattern;
-    foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), taa_view_settings(o.taa, o.spp, o.seed));
+    foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), taa_view_settings(o.taa, o.spp, o.seed, o.pixel_filter));
   }
   FrameTimes full_times, fov_times;
   std::vector<double> tile_ms;  // full mode: per-tile time summed over frames
@@ -393,6 +395,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
       ro.baseline_spp = std::max(16, o.spp);  // far below this render and the price list's best full render
       ro.seed = o.seed;
+      ro.pixel_filter = o.pixel_filter;
       ro.cache_dir = !o.reference_cache.empty() ? o.reference_cache
                      : !o.cache_dir.empty()      ? (std::filesystem::path(o.cache_dir) / "reference").string()
                                                  : std::string();
@@ -518,6 +521,7 @@ void register_render(CLI::App& app) {
   auto size = std::make_shared<std::string>();
   auto fov = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
+  auto pixel_filter = std::make_shared<std::string>(foveart::foveation::pixel_filter_name(opts->pixel_filter));
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
   cmd->add_option("--scene", opts->scene, "glTF/GLB file, or 'default' for the built-in scene")->capture_default_str();
   cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
@@ -541,6 +545,10 @@ void register_render(CLI::App& app) {
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
   cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->add_option("--pixel-filter", *pixel_filter,
+                  "What a pixel's rays follow: box (uniform over the pixel) or bspline2 (quadratic B-spline, "
+                  "3 px wide, softer, steadier under motion); the reference's too")
+      ->capture_default_str();
   cmd->add_option("--reference-spp", opts->reference_spp,
                   "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
@@ -557,8 +565,10 @@ void register_render(CLI::App& app) {
   CLI::Option* start_opt = cmd->add_option("--start-s", *start_s, "With --motion: time of the first frame (s), default 0");
   CLI::Option* fps_opt = cmd->add_option("--fps", *fps, "With --motion: frames per second, default 70");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
-  cmd->callback([opts, gaze, size, fov, pose, start_s, fps, start_opt, fps_opt] {
+  cmd->callback([opts, gaze, size, fov, pose, pixel_filter, start_s, fps, start_opt, fps_opt] {
     if (start_opt->count() > 0) opts->start_s = *start_s;
+    if (!foveart::foveation::parse_pixel_filter(*pixel_filter, &opts->pixel_filter))
+      throw CLI::ValidationError("--pixel-filter", "'" + *pixel_filter + "' is not box or bspline2");
     if (fps_opt->count() > 0) opts->fps = *fps;
     if (!gaze->empty()) {
       glm::vec2 g;

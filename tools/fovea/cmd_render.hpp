@@ -10,6 +10,7 @@
 #include <foveation/display_model.hpp>
 #include <foveation/executor.hpp>
 #include <foveation/foveated_view.hpp>
+#include <foveation/ray_samples.hpp>
 #include <foveation/ray_trace.h>
 
 #include <array>
@@ -51,6 +52,9 @@ struct RenderOptions {
   std::string out_prefix;         // empty: no images written
   std::string cache_dir;          // point set / neighbour table cache, empty: none
   uint64_t seed = 1;
+  // What every ray of a pixel follows (foveation/ray_samples.hpp): the full
+  // render's, the pixel-grid fovea's and the reference's.
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   // Errors against a converged reference (reference.hpp): "" none, "auto" (the
   // convergence check picks the count) or an even count of rays per pixel;
   // or a linear-RGB PFM of the view's size (--reference FILE).

@@ -137,7 +137,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
       t.taa = mode;
       t.spp = o.spp;
       t.id = setting.id() + "_taa-" + mode;
-      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed));
+      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed, o.pixel_filter));
       tracks.push_back(std::move(t));
     }
   }
@@ -146,6 +146,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   ref.spp = o.reference_spp;  // empty: no reference, no temporal error
   ref.baseline_spp = std::max(16, o.spp);
   ref.seed = o.seed;
+  ref.pixel_filter = o.pixel_filter;
   ref.cache_dir = !o.reference_cache.empty() ? o.reference_cache
                   : !o.cache_dir.empty()     ? (std::filesystem::path(o.cache_dir) / "reference").string()
                                              : std::string();
@@ -179,6 +180,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   report["width"] = eye_at_rest.width_px;
   report["height"] = eye_at_rest.height_px;
   report["threads"] = executor.thread_count();
+  report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
   report["motion"] = {{"spec", o.motion}, {"duration_s", motion->duration_s()}};
   report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
   Json frame_list = Json::array();

@@ -31,14 +31,15 @@ Json ring_bounds(std::size_t r) {
 
 // One frame of a track, its display values into *display; "" or what failed.
 std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, SequenceTrack& t,
-                               foveation::Executor& executor, std::uint64_t seed, foveation::ImageRgb* linear_full,
-                               foveation::ImageRgb* display) {
+                               foveation::Executor& executor, std::uint64_t seed, foveation::PixelFilter pixel_filter,
+                               foveation::ImageRgb* linear_full, foveation::ImageRgb* display) {
   const engine::RayCounts before = tracer.counts();
   const foveation::ImageRgb* image = nullptr;
   if (t.full) {
     engine::RenderSettings rs;
     rs.spp = t.spp;
     rs.seed = seed;  // one jitter for every frame, as the full render of the price list
+    rs.pixel_filter = pixel_filter;
     const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &tracer, f.view, rs, linear_full,
                                                         executor);
     if (rr.status != FOVEART_RESULT_SUCCESS)
@@ -103,6 +104,7 @@ bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const Mot
   ro.spp = check ? 0 : (f.index == 0 ? std::stoi(ref_options.spp) : run->reference_spp);
   ro.baseline_spp = ref_options.baseline_spp;
   ro.seed = ref_options.seed + std::uint64_t(f.index);
+  ro.pixel_filter = ref_options.pixel_filter;
   ro.cache_dir = ref_options.cache_dir;
   std::optional<Reference> ref = converged_reference(&foveart_engine_trace_rays, &tracer, scene_hash, f.view,
                                                      f.gaze_px, ro, executor, log, error);
@@ -161,10 +163,12 @@ std::string parse_taa_modes(const std::string& text, std::vector<std::string>* o
   return "";
 }
 
-foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed) {
+foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed,
+                                          foveation::PixelFilter pixel_filter) {
   foveation::ViewSettings vs;
   vs.rays_per_point = rays_per_point;
   vs.sample_seed = seed;
+  vs.pixel_filter = pixel_filter;
   vs.taa = mode != "off";
   vs.new_jitter_each_frame = vs.taa;
   vs.taa_history = mode == "restart" ? foveation::TaaHistory::restart_on_view_change : foveation::TaaHistory::reproject;
@@ -180,6 +184,14 @@ double median_ms(std::vector<double> v) {
 bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
                   const SequenceReferenceOptions& ref_options, std::vector<SequenceTrack>& tracks,
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error) {
+  for (const SequenceTrack& t : tracks) {
+    if (t.view != nullptr && t.view->settings().pixel_filter != ref_options.pixel_filter) {
+      *error = t.id + ": pixel filter " + foveation::pixel_filter_name(t.view->settings().pixel_filter) +
+               ", the sequence's is " + foveation::pixel_filter_name(ref_options.pixel_filter) +
+               " (its reference would not be the track's expectation)";
+      return false;
+    }
+  }
   run->frames = frames;
   run->taa_reset_any.assign(frames.size(), 0);
   foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
@@ -215,7 +227,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
     }
     for (SequenceTrack& t : tracks) {
       const std::uint64_t resets_before = t.taa_resets;
-      if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, &full_linear, &display);
+      if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, ref_options.pixel_filter, &full_linear, &display);
           !e.empty()) {
         *error = e;
         return false;

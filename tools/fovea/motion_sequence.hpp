@@ -36,7 +36,8 @@ std::string parse_taa_modes(const std::string& text, std::vector<std::string>* o
 // The view settings of a foveated frame with this TAA mode at equal rays: TAA
 // off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
 // frame, which it accumulates.
-foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed);
+foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed,
+                                          foveation::PixelFilter pixel_filter = foveation::PixelFilter::box);
 
 struct SequenceTrack {
   std::string id;
@@ -57,6 +58,9 @@ struct SequenceReferenceOptions {
   std::string spp = "auto";  // "auto": the convergence check on the first frame picks the count for all
   int baseline_spp = 16;     // for the check (ReferenceOptions::baseline_spp)
   std::uint64_t seed = 1;    // frame i: seed + i
+  // The pixel filter of the whole sequence: the reference's, the full render
+  // tracks' and every foveated track's (run_sequence refuses a track with another).
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   std::string cache_dir;     // empty: no cache
 };
 

@@ -116,7 +116,8 @@ std::uint64_t scene_content_hash(const engine::Scene& scene) {
   return h;
 }
 
-std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed) {
+std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed,
+                            foveation::PixelFilter filter) {
   XXH3_state_t* s = XXH3_createState();
   XXH3_64bits_reset(s);
   hash_value(s, scene_hash);
@@ -131,6 +132,7 @@ std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view
   for (float q : view.orientation_xyzw) hash_value(s, q);
   hash_value(s, spp);
   hash_value(s, seed);
+  hash_value(s, filter);
   hash_value(s, kChunkSpp);
   const std::uint64_t h = XXH3_64bits_digest(s);
   XXH3_freeState(s);
@@ -138,10 +140,11 @@ std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view
 }
 
 std::filesystem::path reference_cache_path(const std::string& cache_dir, std::uint64_t scene_hash,
-                                           const FoveartEyeView& view, int spp, std::uint64_t seed) {
+                                           const FoveartEyeView& view, int spp, std::uint64_t seed,
+                                           foveation::PixelFilter filter) {
   char name[64];
   std::snprintf(name, sizeof name, "reference_%016llx.bin",
-                static_cast<unsigned long long>(reference_key(scene_hash, view, spp, seed)));
+                static_cast<unsigned long long>(reference_key(scene_hash, view, spp, seed, filter)));
   return std::filesystem::path(cache_dir) / name;
 }
 
@@ -197,7 +200,7 @@ std::optional<Reference> read_reference(const std::filesystem::path& file, std::
   std::memcpy(&h, bytes.data(), sizeof h);
   if (std::memcmp(h.magic, kMagic, sizeof kMagic) != 0) return fail("not a reference file (bad magic)");
   if (h.version != kVersion) return fail("version " + std::to_string(h.version) + ", expected " + std::to_string(kVersion));
-  if (h.key != key) return fail("key mismatch (another scene, view or count)");
+  if (h.key != key) return fail("key mismatch (another scene, view, count or pixel filter)");
   const std::uint64_t pixels = std::uint64_t(h.width_px) * h.height_px;
   if (h.width_px == 0 || h.height_px == 0 || h.width_px > 65536 || h.height_px > 65536)
     return fail("bad size " + std::to_string(h.width_px) + "x" + std::to_string(h.height_px));
@@ -249,6 +252,7 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
       engine::RenderSettings settings;
       settings.spp = chunk_spp;
       settings.seed = 0x5EF0000000ull + o.seed * 65536u + std::uint64_t(chunks);
+      settings.pixel_filter = o.pixel_filter;
       const auto t0 = std::chrono::steady_clock::now();
       const engine::RenderResult rr = engine::render_full(fn, user_data, view, settings, &chunk, executor);
       render_ms += ms_since(t0);
@@ -294,9 +298,9 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
     tried.push_back(spp);
     std::optional<Reference> ref;
     std::filesystem::path file;
-    const std::uint64_t key = reference_key(scene_hash, view, spp, o.seed);
+    const std::uint64_t key = reference_key(scene_hash, view, spp, o.seed, o.pixel_filter);
     if (!o.cache_dir.empty()) {
-      file = reference_cache_path(o.cache_dir, scene_hash, view, spp, o.seed);
+      file = reference_cache_path(o.cache_dir, scene_hash, view, spp, o.seed, o.pixel_filter);
       std::string why;
       ref = read_reference(file, key, &why);
       if (!ref && std::filesystem::exists(file) && log) log(why + "; rendering it again");

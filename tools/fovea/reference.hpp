@@ -10,7 +10,7 @@
 // MSE(A, B) / 4, per ring (in display values, to first order in the noise).
 // An image measured against it reads MSE(image, truth) + that residual.
 //
-// Cache: one file per (scene content, view, spp, seed, chunk size) in a
+// Cache: one file per (scene content, view, spp, seed, pixel filter, chunk size) in a
 // directory, checksummed (XXH3-64); a corrupt or mismatched file is reported
 // through `log` and rendered again. Errors (a failing engine, an unwritable
 // cache) come back as messages; nothing throws.
@@ -21,6 +21,7 @@
 #include <foveation/executor.hpp>
 #include <foveation/image.hpp>
 #include <foveation/image_metrics.hpp>
+#include <foveation/ray_samples.hpp>
 #include <foveation/ray_trace.h>
 
 #include <array>
@@ -50,6 +51,9 @@ struct ReferenceOptions {
   int baseline_spp = 16;       // the most rays per pixel of a full render it must be far below
   double margin_db = 10.0;
   std::uint64_t seed = 1;
+  // The pixel filter of the reference's rays: the one of the images measured
+  // against it, so that it is their expectation (ray_samples.hpp).
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   std::string cache_dir;       // empty: no cache
 };
 
@@ -86,11 +90,13 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
 
 // The cache file of one reference (exposed for tests).
 std::filesystem::path reference_cache_path(const std::string& cache_dir, std::uint64_t scene_hash,
-                                           const FoveartEyeView& view, int spp, std::uint64_t seed);
+                                           const FoveartEyeView& view, int spp, std::uint64_t seed,
+                                           foveation::PixelFilter filter);
 // Reads a cache file written by converged_reference; nullopt with *why (naming
 // the file and what is wrong) when it is missing, truncated, corrupt or of another key.
 std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* why);
 std::string write_reference(const std::filesystem::path& file, std::uint64_t key, const Reference& reference);
-std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed);
+std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed,
+                            foveation::PixelFilter filter);
 
 }  // namespace foveart::tools

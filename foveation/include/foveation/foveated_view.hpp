@@ -32,6 +32,7 @@
 #include "foveation/point_set.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "foveation/ray_batch.hpp"
+#include "foveation/ray_samples.hpp"
 #include "foveation/ray_trace.h"
 #include "foveation/taa.hpp"
 
@@ -76,6 +77,7 @@ enum class TaaHistory : std::uint8_t {
 struct ViewSettings {
   int rays_per_point = 1;            // jittered rays in each point's disc, averaged (thesis 4.2)
   std::uint64_t sample_seed = 1;     // where in its disc each ray goes
+  PixelFilter pixel_filter = PixelFilter::box;  // how a pixel-grid point's rays spread (ray_samples.hpp)
   bool new_jitter_each_frame = false;  // sample_seed + frame_index: TAA then converges over frames
   bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
   TaaOptions taa_options;

@@ -59,7 +59,7 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
         const uint64_t p = static_cast<uint64_t>(y) * view.width_px + x;
         for (uint32_t s = 0; s < spp; ++s)
           b.set_ray(r++, f, pose, glm::vec2(static_cast<float>(x), static_cast<float>(y)) +
-                                        (settings.jitter ? foveation::pixel_jitter(p, s, settings.seed)
+                                        (settings.jitter ? foveation::pixel_jitter(p, s, settings.seed, settings.pixel_filter)
                                                          : glm::vec2(0.5f)),
                     static_cast<uint32_t>(p));
       }

@@ -174,16 +174,19 @@ TEST(FoveatedView, TracesTheRaysOfTheCoreSelectionAndSamples) {
   }
 }
 
-// In the pixel grid a pixel is its own point, traced over its own square with
-// the full render's jitter (pixel_jitter): the same value a full render gives,
-// for every method.
+// In the pixel grid a pixel is its own point, traced with the full render's
+// jitter (pixel_jitter) for the view's pixel filter: the same value a full
+// render gives, for every method and filter.
 TEST(FoveatedView, PixelGridPixelsAreExactlyTheFullRendersPixels) {
+  for (PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2})
   for (InterpMethod method : {InterpMethod::nn, InterpMethod::msm, InterpMethod::rbf_mq}) {
-    SCOPED_TRACE(std::string(method_name(method)));
+    SCOPED_TRACE(std::string(method_name(method)) + " " + pixel_filter_name(filter));
     Executor executor(2);
     const auto tables = small_tables(method, method == InterpMethod::nn ? 1 : 5);
     constexpr int kSpp = 3;
-    FoveatedView view(tables, settings(kSpp, false));
+    ViewSettings vs = settings(kSpp, false);
+    vs.pixel_filter = filter;
+    FoveatedView view(tables, vs);
     const glm::vec2 gaze(40.0f, 44.0f);
     ASSERT_TRUE(view.render(request_at(gaze), &gradient, nullptr, executor).ok());
     const auto visible = select_visible_points(tables->points, map_gaze(kW, kH, gaze));
@@ -194,7 +197,7 @@ TEST(FoveatedView, PixelGridPixelsAreExactlyTheFullRendersPixels) {
       // What the full render computes for this pixel: the mean of the callback over its samples.
       glm::vec3 sum(0.0f);
       for (int s = 0; s < kSpp; ++s) {
-        const glm::vec2 p = pixel_sample_px(centre, s, 1, int(kW));
+        const glm::vec2 p = pixel_sample_px(centre, s, 1, int(kW), filter);
         FoveartRayBatch one{};
         float rgb[3];
         one.ray_count = 1;

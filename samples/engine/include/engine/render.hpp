@@ -8,6 +8,7 @@
 #include <foveation/executor.hpp>
 #include <foveation/eye_rays.hpp>
 #include <foveation/image.hpp>
+#include <foveation/ray_samples.hpp>
 #include <foveation/ray_trace.h>
 
 #include <glm/vec2.hpp>
@@ -24,6 +25,7 @@ struct RenderSettings {
   uint32_t batch_rays = 4096;    // rays per callback call
   uint64_t seed = 0;             // jitter seed; same seed, same image for any thread count
   bool jitter = true;            // false: every ray through its pixel's centre
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;  // what the jitter follows
   // Optional: per pixel the distance (m) along its first ray to the hit (+inf:
   // a miss), as the engine returns it in the batch (NaN if it returns none).
   std::vector<float>* out_depth_m = nullptr;
