@@ -138,7 +138,13 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   ASSERT_EQ(tools::run_pricelist(o, out2, err2), 0) << err2.str();
   EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
   EXPECT_EQ(out2.str(), out.str());
-  // Another gaze into the same directory is refused.
+  // Another pixel filter, or another gaze, into the same directory is refused:
+  // its settings and reference would be other images.
+  o.pixel_filter = foveation::PixelFilter::bspline2;
+  std::ostringstream out4, err4;
+  EXPECT_EQ(tools::run_pricelist(o, out4, err4), 1);
+  EXPECT_NE(err4.str().find("describes another run"), std::string::npos) << err4.str();
+  o.pixel_filter = foveation::PixelFilter::box;
   o.gaze_px = glm::vec2(10, 10);
   std::ostringstream out3, err3;
   EXPECT_EQ(tools::run_pricelist(o, out3, err3), 1);

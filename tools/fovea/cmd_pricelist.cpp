@@ -7,6 +7,7 @@
 #include "cmd_pricelist.hpp"
 
 #include "cmd_render.hpp"
+#include "display_options.hpp"
 #include "pfm.hpp"
 #include "pricelist_report.hpp"
 #include "reference.hpp"
@@ -95,6 +96,7 @@ RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s
   r.size_px = o.size_px;
   r.gaze_px = o.gaze_px;
   r.seed = o.seed;
+  r.pixel_filter = o.pixel_filter;
   if (s != nullptr && !s->full) {
     r.mode = "foveated";
     r.method = s->method;
@@ -117,6 +119,7 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
     // pixel-grid fovea (foveation::pixel_jitter with the same seed): inside the
     // fovea a full frame and a pixel-grid frame trace the same rays.
     rs.seed = c.o.seed;
+    rs.pixel_filter = c.o.pixel_filter;
     const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &c.tracer, c.view, rs, &m.full_image, c.executor);
     if (rr.status != FOVEART_RESULT_SUCCESS) {
       *error = m.setting.id() + ": engine callback failed with status " + std::to_string(rr.status);
@@ -258,6 +261,7 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     foveation::ViewSettings vs;
     vs.rays_per_point = m.setting.spp;
     vs.sample_seed = c.o.seed;
+    vs.pixel_filter = c.o.pixel_filter;
     vs.taa = m.setting.taa;
     vs.new_jitter_each_frame = m.setting.taa;  // TAA converges over frames of new jitter
     m.view = std::make_unique<foveation::FoveatedView>(tables, vs);
@@ -376,6 +380,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   Json run = {{"scene", tracer->scene().source}, {"scene_hash", scene_hash}, {"width", view.width_px},
               {"height", view.height_px}, {"eye", o.eye}, {"preset", o.preset}, {"gaze", {gaze.x, gaze.y}},
               {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed},
+              {"pixel_filter", foveation::pixel_filter_name(o.pixel_filter)},
               {"temporal", temporal_run_json(o.temporal, o.quick)}};
   const fs::path run_file = out_dir / "run.json";
   if (fs::exists(run_file)) {
@@ -396,6 +401,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
   ro.baseline_spp = *std::max_element(o.grid.full_spp.begin(), o.grid.full_spp.end());  // the best full render measured
   ro.seed = o.seed;
+  ro.pixel_filter = o.pixel_filter;
   ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
   err << "fovea pricelist: reference (" << o.reference_spp << " rays per pixel) of " << view.width_px << "x"
       << view.height_px << "...\n";
@@ -457,7 +463,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   }
   Json temporal;
   if (o.temporal.motion != "none") {
-    TemporalContext tc{o.temporal, o.quick, o.scene, o.preset, o.eye, o.seed, o.cache_dir, out_dir};
+    TemporalContext tc{o.temporal, o.quick, o.scene, o.preset, o.eye, o.seed, o.pixel_filter, o.cache_dir, out_dir};
     std::optional<Json> t = run_pricelist_temporal(tc, settings, *tracer, scene_hash, executor, err);
     if (!t) return 1;
     temporal = std::move(*t);
@@ -539,6 +545,7 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--heatmap", o->heatmap, "Setting id for the error heat map (default: the thesis default)");
   cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
   cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
+  foveart::fovea::add_pixel_filter_option(cmd, &o->pixel_filter);
   auto temporal_size = std::make_shared<std::string>();
   cmd->add_option("--motion", o->temporal.motion,
                   "Temporal columns over this head and gaze motion: builtin, a CSV file, or none")

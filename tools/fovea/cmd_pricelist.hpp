@@ -38,6 +38,9 @@ struct PricelistOptions {
   std::string heatmap;                  // setting id for the error heat map; default the thesis default
   bool images = false;                  // write every setting's image as PFM (display values)
   std::uint64_t seed = 1;
+  // What every ray of a pixel follows, in every setting and every reference
+  // (foveation/ray_samples.hpp).
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   TemporalOptions temporal;             // the temporal columns (motion "none": without them)
 };
 

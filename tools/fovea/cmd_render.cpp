@@ -4,6 +4,7 @@
 #include "cmd_render.hpp"
 
 #include "content_speedup.hpp"
+#include "display_options.hpp"
 #include "motion_sequence.hpp"
 #include "pfm.hpp"
 #include "reference.hpp"
@@ -521,7 +522,6 @@ void register_render(CLI::App& app) {
   auto size = std::make_shared<std::string>();
   auto fov = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
-  auto pixel_filter = std::make_shared<std::string>(foveart::foveation::pixel_filter_name(opts->pixel_filter));
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
   cmd->add_option("--scene", opts->scene, "glTF/GLB file, or 'default' for the built-in scene")->capture_default_str();
   cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
@@ -545,10 +545,7 @@ void register_render(CLI::App& app) {
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
   cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
-  cmd->add_option("--pixel-filter", *pixel_filter,
-                  "What a pixel's rays follow: box (uniform over the pixel) or bspline2 (quadratic B-spline, "
-                  "3 px wide, softer, steadier under motion); the reference's too")
-      ->capture_default_str();
+  foveart::fovea::add_pixel_filter_option(cmd, &opts->pixel_filter);
   cmd->add_option("--reference-spp", opts->reference_spp,
                   "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
@@ -565,10 +562,8 @@ void register_render(CLI::App& app) {
   CLI::Option* start_opt = cmd->add_option("--start-s", *start_s, "With --motion: time of the first frame (s), default 0");
   CLI::Option* fps_opt = cmd->add_option("--fps", *fps, "With --motion: frames per second, default 70");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
-  cmd->callback([opts, gaze, size, fov, pose, pixel_filter, start_s, fps, start_opt, fps_opt] {
+  cmd->callback([opts, gaze, size, fov, pose, start_s, fps, start_opt, fps_opt] {
     if (start_opt->count() > 0) opts->start_s = *start_s;
-    if (!foveart::foveation::parse_pixel_filter(*pixel_filter, &opts->pixel_filter))
-      throw CLI::ValidationError("--pixel-filter", "'" + *pixel_filter + "' is not box or bspline2");
     if (fps_opt->count() > 0) opts->fps = *fps;
     if (!gaze->empty()) {
       glm::vec2 g;

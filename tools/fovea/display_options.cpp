@@ -43,6 +43,21 @@ void add_pattern_option(CLI::App* cmd, std::optional<std::string>& pattern) {
                   "thesis (Poisson everywhere, thesis Table 1; the thesis preset's)");
 }
 
+void add_pixel_filter_option(CLI::App* cmd, foveation::PixelFilter* filter) {
+  cmd->add_option_function<std::string>(
+         "--pixel-filter", [filter](const std::string& name) { foveation::parse_pixel_filter(name, filter); },
+         "What a pixel's rays follow, the reference's too: box (uniform over the pixel, sharpest) or bspline2 "
+         "(quadratic B-spline, 3 px wide: softer, steadier while the head moves)")
+      ->check(CLI::Validator(
+          [](std::string& name) {
+            foveation::PixelFilter parsed{};
+            return foveation::parse_pixel_filter(name, &parsed) ? std::string()
+                                                                : "'" + name + "' is not box or bspline2";
+          },
+          "box|bspline2"))
+      ->default_str(foveation::pixel_filter_name(*filter));
+}
+
 std::optional<foveation::FoveaPattern> resolve_pattern(const std::optional<std::string>& pattern) {
   if (!pattern) return std::nullopt;
   const auto parsed = foveation::parse_fovea_pattern(*pattern);

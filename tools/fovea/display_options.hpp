@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "foveation/display_model.hpp"
+#include "foveation/ray_samples.hpp"
 
 namespace foveart::fovea {
 
@@ -33,6 +34,10 @@ void add_display_options(CLI::App* cmd, DisplayOptions& opts);
 void add_pattern_option(CLI::App* cmd, std::optional<std::string>& pattern);
 // The pattern given, or nullopt when unset; throws CLI::ValidationError for a bad name.
 std::optional<foveation::FoveaPattern> resolve_pattern(const std::optional<std::string>& pattern);
+
+// --pixel-filter box|bspline2 into *filter (foveation/ray_samples.hpp), its
+// current value the default; a bad name is a CLI::ValidationError naming it.
+void add_pixel_filter_option(CLI::App* cmd, foveation::PixelFilter* filter);
 
 // The display the options describe; throws CLI::ValidationError naming the
 // option and the bad value.

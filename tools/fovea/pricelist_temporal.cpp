@@ -137,6 +137,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
   SequenceReferenceOptions ref;
   ref.spp = std::to_string(o.reference_spp);
   ref.seed = c.seed;
+  ref.pixel_filter = c.pixel_filter;
   ref.cache_dir = (fs::path(c.cache_dir) / "reference").string();
   const auto t_start = std::chrono::steady_clock::now();
   toolkit::Progress progress("temporal");
@@ -166,7 +167,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       t.id = track_id(s, mode);
       t.taa = mode;
       t.spp = s.spp;
-      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, s.spp, c.seed));
+      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, s.spp, c.seed, c.pixel_filter));
       tracks.push_back(std::move(t));
     }
     SequenceHooks hooks;

@@ -18,6 +18,7 @@
 #include <engine/tracer.hpp>
 
 #include <foveation/executor.hpp>
+#include <foveation/ray_samples.hpp>
 
 #include <glm/ext/vector_int2.hpp>
 #include <nlohmann/json.hpp>
@@ -58,6 +59,7 @@ struct TemporalContext {
   std::string preset;
   std::string eye;
   std::uint64_t seed = 1;
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;  // the sequence's (SequenceReferenceOptions)
   std::string cache_dir;                // tables and reference/ below it
   std::filesystem::path out_dir;
 };
