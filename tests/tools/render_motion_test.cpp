@@ -34,6 +34,23 @@ RenderOptions tiny_motion() {
   return o;
 }
 
+// The fovea binary beside this test with `args`: its exit status (-1 if it
+// did not exit) and what it wrote to stderr.
+int run_fovea_binary(const std::string& args, const fs::path& dir, std::string* err_text) {
+  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
+  if (!fs::exists(fovea)) {
+    *err_text = fovea.string() + " is missing";
+    return -1;
+  }
+  const std::string cmd = "'" + fovea.string() + "' " + args + " 2>'" + (dir / "err").string() + "' >/dev/null";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(dir / "err");
+  std::ostringstream text;
+  text << in.rdbuf();
+  *err_text = text.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 int run(const RenderOptions& o, std::string* err_text) {
   std::ostringstream out, err;
   const int code = run_render(o, out, err);
@@ -58,17 +75,8 @@ TEST(RenderMotion, BadMotionFileIsAnErrorNamingTheFileAndLine) {
   EXPECT_NE(err.find("absent.csv: cannot open"), std::string::npos) << err;
 
   // The binary: the same message and a non-zero exit status.
-  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
-  ASSERT_TRUE(fs::exists(fovea)) << fovea;
-  const std::string cmd = "'" + fovea.string() + "' render --size 64,72 --motion '" + file.string() + "' 2>'" +
-                          (dir.path / "err").string() + "' >/dev/null";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 2);
-  std::ifstream in(dir.path / "err");
-  std::ostringstream text;
-  text << in.rdbuf();
-  EXPECT_NE(text.str().find("11 columns"), std::string::npos) << text.str();
+  EXPECT_EQ(run_fovea_binary("render --size 64,72 --motion '" + file.string() + "'", dir.path, &err), 2) << err;
+  EXPECT_NE(err.find("11 columns"), std::string::npos) << err;
 }
 
 TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
@@ -199,15 +207,8 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   ASSERT_EQ(run_render(o, again_out, again_err), 0) << again_err.str();
   EXPECT_EQ(nlohmann::json::parse(again_out.str())["reference"]["frames_from_cache"], 3);
 
-  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
-  const std::string cmd = "'" + fovea.string() + "' render --size 64,72 --pixel-filter gaussian 2>'" +
-                          (dir.path / "err").string() + "' >/dev/null";
-  const int status = std::system(cmd.c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_NE(WEXITSTATUS(status), 0);
-  std::ifstream in(dir.path / "err");
-  std::ostringstream text;
-  text << in.rdbuf();
-  EXPECT_NE(text.str().find("--pixel-filter"), std::string::npos) << text.str();
-  EXPECT_NE(text.str().find("'gaussian' is not box or bspline2"), std::string::npos) << text.str();
+  std::string text;
+  const int status = run_fovea_binary("render --size 64,72 --pixel-filter gaussian", dir.path, &text);
+  EXPECT_GT(status, 0) << text;
+  EXPECT_NE(text.find("--pixel-filter: 'gaussian' is not box or bspline2"), std::string::npos) << text;
 }
