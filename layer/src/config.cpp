@@ -140,7 +140,12 @@ struct Reader {
     read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
-    read_string(obj, "pixel_filter", {"box", "bspline2"}, &c->pixel_filter);
+    read(obj, "pixel_filter", [&](const json& v) -> std::string {
+      if (!v.is_string() || !foveation::parse_pixel_filter(v.get<std::string>(), &c->pixel_filter)) {
+        return "must be one of box|bspline2";
+      }
+      return {};
+    });
     read_bool(obj, "taa", &c->taa);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);

@@ -19,6 +19,8 @@
 #include <string_view>
 #include <vector>
 
+#include <foveation/ray_samples.hpp>
+
 #include "log.hpp"
 
 namespace foveart::layer {
@@ -41,7 +43,7 @@ struct LayerConfig {
   float density_scale = 1.0f;
   uint32_t rays_per_point = 1;
   // What a pixel's rays follow (foveation/ray_samples.hpp): "box" | "bspline2".
-  std::string pixel_filter = "box";
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   bool taa = true;
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...

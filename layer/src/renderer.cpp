@@ -29,10 +29,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.k = config.k;
   s.density_scale = config.density_scale;
   s.rays_per_point = config.rays_per_point;
-  if (!foveation::parse_pixel_filter(config.pixel_filter, &s.pixel_filter)) {
-    *out_error = "pixel_filter '" + config.pixel_filter + "' is not box or bspline2";
-    return false;
-  }
+  s.pixel_filter = config.pixel_filter;
   s.taa = config.taa;
   s.gaze_source = gaze_source_from_name(config.gaze_source);
   s.gaze_provider_spec = config.gaze_provider;

@@ -37,7 +37,7 @@ std::string parse_taa_modes(const std::string& text, std::vector<std::string>* o
 // off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
 // frame, which it accumulates.
 foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed,
-                                          foveation::PixelFilter pixel_filter = foveation::PixelFilter::box);
+                                          foveation::PixelFilter pixel_filter);
 
 struct SequenceTrack {
   std::string id;
