@@ -12,6 +12,9 @@
 using foveart::foveation::EccentricityMap;
 using foveart::foveation::ImageRgb;
 using foveart::tools::ReferenceFloor;
+using foveart::tools::RingBand;
+using foveart::tools::settled_frames;
+using foveart::tools::TemporalRing;
 using foveart::tools::TemporalError;
 using foveart::tools::TemporalRings;
 using foveart::tools::TrackedPrevious;
@@ -123,6 +126,61 @@ TEST(TemporalMetrics, EachFramesOwnRingsCount) {
   EXPECT_TRUE(std::isnan(r[1].flicker_rms));
   EXPECT_EQ(r[2].pair_values, 12u);
   EXPECT_NEAR(r[2].flicker_rms, 0.2, 1e-6);
+}
+
+TEST(TemporalMetrics, PooledOverRingsAndFramesWeighsEveryValueOnce) {
+  // Frames 0-3 carry an offset of 0.1, 0.3, 0.1, 0.3 on the left (ring 0) and
+  // 0.2 everywhere on the right (ring 4): pairs change by 0.2 on the left, 0 on
+  // the right.
+  TemporalError e;
+  const EccentricityMap m = map_with(4);
+  for (int t = 0; t < 4; ++t) {
+    ImageRgb image = truth(t);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x)
+        for (int c = 0; c < 3; ++c) image.at(x, y)[c] += x < kW / 2 ? (t % 2 ? 0.3f : 0.1f) : 0.2f;
+    e.add_frame(image, truth(t), m);
+  }
+  const TemporalRings rings = e.rings();
+  // Both rings pooled: half the pair values change by 0.2, half by 0 -> RMS 0.2 / sqrt(2).
+  const TemporalRing both = e.pooled(RingBand{"both", 0, 5});
+  EXPECT_EQ(both.pair_values, rings[0].pair_values + rings[4].pair_values);
+  EXPECT_EQ(both.frame_values, 4u * 8u * 3u);
+  EXPECT_NEAR(both.flicker_rms, 0.2 / std::sqrt(2.0), 1e-6);
+  // Error: left 0.01 and 0.09 alternately (mean 0.05), right 0.04 -> 0.045.
+  EXPECT_NEAR(both.error_mse, 0.045, 1e-6);
+  // A band of one ring is that ring.
+  EXPECT_DOUBLE_EQ(e.pooled(RingBand{"ring", 4, 5}).error_mse, rings[4].error_mse);
+  // Frame by frame: frame 0 has no pair; frame 1 is 0.1 and 0.3 on the left.
+  const std::vector<TemporalRing> frames = e.by_frame(RingBand{"left", 0, 1});
+  ASSERT_EQ(frames.size(), 4u);
+  EXPECT_TRUE(std::isnan(frames[0].flicker_rms));
+  EXPECT_NEAR(frames[0].error_mse, 0.01, 1e-7);
+  EXPECT_NEAR(frames[1].flicker_rms, 0.2, 1e-6);
+  EXPECT_NEAR(frames[1].error_mse, 0.09, 1e-6);
+  // A frame mask keeps only its frames: frames 1 and 3 have error 0.09, their pairs 0.2.
+  const std::vector<std::uint8_t> odd = {0, 1, 0, 1};
+  const TemporalRing masked = e.pooled(RingBand{"left", 0, 1}, &odd);
+  EXPECT_NEAR(masked.error_mse, 0.09, 1e-6);
+  EXPECT_EQ(masked.pair_values, 2u * 4u * 3u);
+  EXPECT_NEAR(masked.flicker_rms, 0.2, 1e-6);
+  // A band outside the rings or a mask of the wrong length is an error.
+  EXPECT_THROW(e.pooled(RingBand{"none", 2, 2}), std::invalid_argument);
+  EXPECT_THROW(e.pooled(RingBand{"beyond", 6, 8}), std::invalid_argument);
+  const std::vector<std::uint8_t> short_mask = {1, 1};
+  EXPECT_THROW(e.pooled(RingBand{"left", 0, 1}, &short_mask), std::invalid_argument);
+}
+
+TEST(TemporalMetrics, SettledFramesCountFromTheLastRestart) {
+  //                                 0  1  2  3  4  5  6  7  8  9
+  const std::vector<std::uint8_t> restart = {0, 0, 0, 0, 1, 1, 0, 0, 0, 0};
+  // Frame 0 restarts; 2 frames after it (2, 3) settle; frames 4-5 restart again; 7 on settle.
+  EXPECT_EQ(settled_frames(restart, 2), (std::vector<std::uint8_t>{0, 0, 1, 1, 0, 0, 0, 1, 1, 1}));
+  // Zero frames: every frame but a restarting one.
+  EXPECT_EQ(settled_frames(restart, 0), (std::vector<std::uint8_t>{0, 1, 1, 1, 0, 0, 1, 1, 1, 1}));
+  // Longer than the sequence: none.
+  EXPECT_EQ(settled_frames(restart, 10), std::vector<std::uint8_t>(10, 0));
+  EXPECT_TRUE(settled_frames({}, 3).empty());
 }
 
 TEST(TemporalMetrics, MismatchedSizesThrow) {

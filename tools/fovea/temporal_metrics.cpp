@@ -56,6 +56,7 @@ void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation:
   error_.width_px = image.width_px;
   error_.height_px = image.height_px;
   error_.rgb.resize(image.rgb.size());
+  FrameSums& sums = sums_.emplace_back();
   for (std::size_t i = 0; i < map.ring.size(); ++i) {
     const std::size_t r = map.ring[i];
     const bool tracked_here = track && (*tracked->valid)[i] != 0;
@@ -75,28 +76,72 @@ void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation:
         g2 += g * g;
       }
     }
-    error_sum_[r] += e2;
-    error_n_[r] += 3;
+    sums.error[r] += e2;
+    sums.error_n[r] += 3;
     if (pair) {
-      flicker_sum_[r] += f2;
-      flicker_n_[r] += 3;
+      sums.flicker[r] += f2;
+      sums.flicker_n[r] += 3;
     }
     if (tracked_here) {
-      tracked_sum_[r] += g2;
-      tracked_n_[r] += 3;
+      sums.tracked[r] += g2;
+      sums.tracked_n[r] += 3;
     }
   }
   std::swap(previous_error_, error_);
   ++frames_;
 }
 
+TemporalRing TemporalError::pooled(const RingBand& band, const std::vector<std::uint8_t>* frame_mask) const {
+  if (band.begin >= band.end || band.end > foveation::kRingCount)
+    throw std::invalid_argument("TemporalError::pooled: rings [" + std::to_string(band.begin) + ", " +
+                                std::to_string(band.end) + ") of " + std::to_string(foveation::kRingCount));
+  if (frame_mask != nullptr && frame_mask->size() != sums_.size())
+    throw std::invalid_argument("TemporalError::pooled: a mask of " + std::to_string(frame_mask->size()) +
+                                " frames for " + std::to_string(sums_.size()));
+  double flicker = 0.0, tracked = 0.0, error = 0.0;
+  TemporalRing out;
+  for (std::size_t t = 0; t < sums_.size(); ++t) {
+    if (frame_mask != nullptr && (*frame_mask)[t] == 0) continue;
+    for (std::size_t r = band.begin; r < band.end; ++r) {
+      flicker += sums_[t].flicker[r];
+      tracked += sums_[t].tracked[r];
+      error += sums_[t].error[r];
+      out.pair_values += sums_[t].flicker_n[r];
+      out.tracked_pair_values += sums_[t].tracked_n[r];
+      out.frame_values += sums_[t].error_n[r];
+    }
+  }
+  out.flicker_rms = out.pair_values ? std::sqrt(flicker / double(out.pair_values)) : kNaN;
+  out.flicker_tracked_rms = out.tracked_pair_values ? std::sqrt(tracked / double(out.tracked_pair_values)) : kNaN;
+  out.error_mse = out.frame_values ? error / double(out.frame_values) : kNaN;
+  return out;
+}
+
 TemporalRings TemporalError::rings() const {
-  TemporalRings out = finish(flicker_sum_, flicker_n_, error_sum_, error_n_);
-  for (std::size_t r = 0; r < out.size(); ++r) {
-    out[r].tracked_pair_values = tracked_n_[r];
-    out[r].flicker_tracked_rms = tracked_n_[r] ? std::sqrt(tracked_sum_[r] / double(tracked_n_[r])) : kNaN;
+  TemporalRings out;
+  for (std::size_t r = 0; r < out.size(); ++r) out[r] = pooled(RingBand{"ring", r, r + 1});
+  return out;
+}
+
+std::vector<TemporalRing> TemporalError::by_frame(const RingBand& band) const {
+  std::vector<TemporalRing> out;
+  std::vector<std::uint8_t> one(sums_.size(), 0);
+  for (std::size_t t = 0; t < sums_.size(); ++t) {
+    one[t] = 1;
+    out.push_back(pooled(band, &one));
+    one[t] = 0;
   }
   return out;
+}
+
+std::vector<std::uint8_t> settled_frames(const std::vector<std::uint8_t>& restart, int settle_frames) {
+  std::vector<std::uint8_t> settled(restart.size(), 0);
+  std::size_t last_restart = 0;
+  for (std::size_t t = 0; t < restart.size(); ++t) {
+    if (t == 0 || restart[t] != 0) last_restart = t;
+    settled[t] = t - last_restart >= std::size_t(std::max(settle_frames, 0)) && t != last_restart ? 1 : 0;
+  }
+  return settled;
 }
 
 void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map) {

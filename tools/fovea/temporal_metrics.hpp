@@ -21,6 +21,11 @@
 //     offset) is not tracked flicker; one fixed on the screen while the content
 //     moves under it (sparse samples, a fixed jitter) is.
 //
+// Every frame's sums are kept, so that the same measure can be pooled over any
+// rings and any frames (pooled()): frame by frame (by_frame) to show where in a
+// sequence the flicker comes from, or over the frames whose TAA history has
+// settled (settled_frames).
+//
 // The reference's own noise adds to both (ReferenceFloor): with e_t its error
 // against the truth, independent between frames, E[flicker^2] = true^2 +
 // E[(e_t - e_{t-1})^2] and E[error_mse] = true + E[e_t^2].
@@ -47,6 +52,24 @@ struct TemporalRing {
 
 using TemporalRings = std::array<TemporalRing, foveation::kRingCount>;
 
+// Rings [begin, end) of foveation::kRingEdgesDeg pooled into one region.
+struct RingBand {
+  const char* name;
+  std::size_t begin;
+  std::size_t end;
+};
+// The two regions of the temporal acceptance (issue #18): where the user looks
+// (0-5 deg: no ghosting) and the periphery (> 20 deg: flicker).
+inline constexpr RingBand kCentralBand{"centre", 0, 2};
+inline constexpr RingBand kPeripheralBand{"periphery", 4, foveation::kRingCount};
+
+// Per frame: 1 where a TAA history has run at least `settle_frames` frames since
+// it last restarted — restart[t] != 0 marks a frame that restarts it (the first,
+// a saccade's or a blink's frames) — so that pooling over them measures a
+// settled TAA, without its cold start and the frames after a saccade. Frame 0
+// always counts as a restart.
+std::vector<std::uint8_t> settled_frames(const std::vector<std::uint8_t>& restart, int settle_frames);
+
 // The previous frame's error warped into this frame (taa_reprojection.hpp's
 // reproject_history of previous_error()): valid[p] == 0 where the surface was
 // not in the previous view.
@@ -63,14 +86,24 @@ class TemporalError {
   void add_frame(const foveation::ImageRgb& image, const foveation::ImageRgb& reference,
                  const foveation::EccentricityMap& map, const TrackedPrevious* tracked = nullptr);
   TemporalRings rings() const;
+  // Rings [band.begin, band.end) pooled over the frames t with frame_mask[t] != 0
+  // (all frames when frame_mask is null): error over those frames, flicker over
+  // their pairs (t-1, t). Throws std::invalid_argument on a bad band or mask size.
+  TemporalRing pooled(const RingBand& band, const std::vector<std::uint8_t>* frame_mask = nullptr) const;
+  // pooled(band) of each frame alone (frame 0 has no flicker: NaN).
+  std::vector<TemporalRing> by_frame(const RingBand& band) const;
   int frames() const { return frames_; }
   // e_{t-1} = I_{t-1} - R_{t-1} of the last frame added (empty before the first).
   const foveation::ImageRgb& previous_error() const { return previous_error_; }
 
  private:
+  // One frame's sums per ring: its error, and its pair with the frame before.
+  struct FrameSums {
+    std::array<double, foveation::kRingCount> flicker{}, tracked{}, error{};
+    std::array<std::uint64_t, foveation::kRingCount> flicker_n{}, tracked_n{}, error_n{};
+  };
   foveation::ImageRgb previous_error_, error_;
-  std::array<double, foveation::kRingCount> flicker_sum_{}, tracked_sum_{}, error_sum_{};
-  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, tracked_n_{}, error_n_{};
+  std::vector<FrameSums> sums_;
   int frames_ = 0;
 };
 
