@@ -212,3 +212,77 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   EXPECT_GT(status, 0) << text;
   EXPECT_NE(text.find("--pixel-filter: 'gaussian' is not box or bspline2"), std::string::npos) << text;
 }
+
+// Across the saccade: every track reports its central and peripheral band frame
+// by frame (frame 0 has no pair), the reprojected TAA restarts on the first
+// frame and at the saccade's onset, and the settled frames are the frames at
+// least taa_settle_frames after the motion's last restart, their pooled
+// flicker within the range of their own frames'.
+TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
+  engine_test::TempDir dir;
+  RenderOptions o = tiny_motion();
+  o.mode = "foveated";
+  o.taa = "off,reproject";
+  o.reference_spp = "8";
+  o.frames = 24;
+  o.start_s = 1.43;  // the built-in motion's saccade starts at 1.5 s
+  o.cache_dir = (dir.path / "cache").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto j = nlohmann::json::parse(out.str());
+  ASSERT_EQ(j["frames"].size(), 24u);
+  const int settle = j["reference"]["settle_frames"].get<int>();
+  EXPECT_EQ(settle, 10);  // 1 / the layer's blend weight 0.1
+  // The settled frames, from the frames' flags.
+  std::vector<int> restarts, settled;
+  int last_restart = 0;
+  for (int t = 0; t < 24; ++t) {
+    const auto& f = j["frames"][std::size_t(t)];
+    if (t == 0 || f["saccade"].get<bool>() || f["blink"].get<bool>()) {
+      last_restart = t;
+      restarts.push_back(t);
+    } else if (t - last_restart >= settle) {
+      settled.push_back(t);
+    }
+  }
+  ASSERT_GT(restarts.size(), 1u) << "the window holds the saccade";
+  ASSERT_FALSE(settled.empty()) << "and frames after it settle";
+  EXPECT_EQ(j["reference"]["settled_frames"], settled.size());
+  // The reprojected TAA restarts on the first frame and the saccade's first.
+  EXPECT_EQ(j["tracks"][1]["taa_reset_frames"], nlohmann::json::array({0, restarts[1]}));
+  EXPECT_EQ(j["tracks"][1]["taa_resets"], 2);
+  for (const auto* owner : {&j["tracks"][0]["bands"], &j["tracks"][1]["bands"],
+                            &j["reference"]["taa_on_reference_bands"], &j["reference"]["stable_blur_bands"]}) {
+    ASSERT_EQ(owner->size(), 2u);
+    EXPECT_EQ((*owner)[0]["band"], "centre");
+    EXPECT_EQ((*owner)[0]["to_deg"], 5.0);
+    EXPECT_EQ((*owner)[1]["band"], "periphery");
+    EXPECT_EQ((*owner)[1]["from_deg"], 20.0);
+    EXPECT_TRUE((*owner)[1]["to_deg"].is_null());
+    for (const auto& band : *owner) {
+      for (const char* key : {"flicker_by_frame", "flicker_tracked_by_frame", "psnr_by_frame"})
+        ASSERT_EQ(band[key].size(), 24u) << key;
+      EXPECT_TRUE(band["flicker_by_frame"][0].is_null());
+      EXPECT_TRUE(band["psnr_by_frame"][1].is_number());
+      for (const char* measure : {"flicker", "flicker_tracked"}) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int t : settled) {
+          const double v = band[std::string(measure) + "_by_frame"][std::size_t(t)].get<double>();
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
+        }
+        const double pooled = band["settled"][measure].get<double>();
+        EXPECT_GE(pooled, lo * (1 - 1e-9)) << band["band"] << " " << measure;
+        EXPECT_LE(pooled, hi * (1 + 1e-9)) << band["band"] << " " << measure;
+      }
+    }
+  }
+  // The TAA fed the reference starts from the reference itself: no error (an infinite PSNR is null).
+  EXPECT_TRUE(j["reference"]["taa_on_reference_bands"][1]["psnr_by_frame"][0].is_null());
+  EXPECT_TRUE(j["tracks"][1]["bands"][1]["psnr_by_frame"][0].is_number());
+  // The restart shows the raw frame: the reprojected TAA's peripheral flicker
+  // jumps at the saccade's onset above its settled level.
+  const auto& reproject = j["tracks"][1]["bands"][1];
+  EXPECT_GT(reproject["flicker_tracked_by_frame"][std::size_t(restarts[1])].get<double>(),
+            reproject["settled"]["flicker_tracked"].get<double>());
+}

@@ -69,6 +69,19 @@ void print_text(const Json& report, std::ostream& out) {
          (key + "_psnr").c_str());
   }
   line("reference floor (its own noise)", reference_rings, "flicker_tracked_floor", "flicker_floor", "psnr_floor");
+  // The periphery over the frames whose TAA history has settled (motion_sequence.hpp).
+  out << "periphery (> 20 deg) over the " << report["reference"]["settled_frames"] << " frames at least "
+      << report["reference"]["settle_frames"]
+      << " frames after the motion's last restart: flicker along the motion / at fixed pixels / PSNR dB\n";
+  const auto settled = [&](const std::string& name, const Json& bands) {
+    if (!bands.is_array() || bands.size() < 2) return;
+    const Json& s = bands[1]["settled"];
+    out << name << " | " << fixed(s["flicker_tracked"], 4) << " / " << fixed(s["flicker"], 4) << " / "
+        << fixed(s["psnr"], 1) << "\n";
+  };
+  for (const Json& t : report["tracks"]) settled(t["id"].get<std::string>(), t["bands"]);
+  for (const SequenceControl& c : kSequenceControls)
+    settled(c.label, report["reference"][std::string(c.key) + "_bands"]);
 }
 
 }  // namespace
@@ -198,8 +211,11 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   const double anchor_ms = tracks.front().full ? median_ms(tracks.front().total_ms) : 0.0;
   Json track_list = Json::array();
   for (const SequenceTrack& t : tracks) {
-    Json j = sequence_track_json(t, anchor_ms);
-    if (ref.spp.empty()) j.erase("rings");
+    Json j = sequence_track_json(t, run, anchor_ms);
+    if (ref.spp.empty()) {  // nothing measured
+      j.erase("rings");
+      j.erase("bands");
+    }
     track_list.push_back(j);
   }
   report["tracks"] = track_list;

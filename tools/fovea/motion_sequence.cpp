@@ -57,7 +57,7 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     const foveation::FrameResult fr = t.view->render(request, &foveart_engine_trace_rays, &tracer, executor);
     if (!fr.ok()) return t.id + ": frame " + std::to_string(f.index) + ": " + fr.message;
     t.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
-    if (fr.taa_reset) ++t.taa_resets;
+    if (fr.taa_reset) t.taa_reset_frames.push_back(f.index);
     t.history_off_screen += fr.history_off_screen;
     t.history_disoccluded += fr.history_disoccluded;
     if (f.index == 0) t.points = fr.points;
@@ -175,6 +175,10 @@ foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_
   return vs;
 }
 
+int taa_settle_frames() {
+  return int(std::ceil(1.0 / double(foveation::TaaOptions{}.current_weight)));
+}
+
 double median_ms(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -194,6 +198,9 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
   }
   run->frames = frames;
   run->taa_reset_any.assign(frames.size(), 0);
+  std::vector<std::uint8_t> restart(frames.size(), 0);
+  for (std::size_t i = 0; i < frames.size(); ++i) restart[i] = frames[i].saccade || frames[i].blink ? 1 : 0;
+  run->settled = settled_frames(restart, taa_settle_frames());
   foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
   Tracking tracking;
   TaaOnReference taa_on_reference;
@@ -226,13 +233,13 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                         reference_display, map, tracking, executor);
     }
     for (SequenceTrack& t : tracks) {
-      const std::uint64_t resets_before = t.taa_resets;
+      const std::size_t resets_before = t.taa_reset_frames.size();
       if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, ref_options.pixel_filter, &full_linear, &display);
           !e.empty()) {
         *error = e;
         return false;
       }
-      if (t.taa_resets != resets_before) run->taa_reset_any[std::size_t(f.index)] = 1;
+      if (t.taa_reset_frames.size() != resets_before) run->taa_reset_any[std::size_t(f.index)] = 1;
       if (with_reference) add_tracked_frame(t.error, display, reference_display, map, tracking, executor);
       if (hooks.image) {
         if (std::string e = hooks.image(t, f, display); !e.empty()) {
@@ -265,19 +272,45 @@ Json sequence_reference_json(const SequenceRun& run) {
     }
     rings.push_back(j);
   }
-  return {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},
-          {"frames_from_cache", run.reference_frames_cached}, {"render_ms", run.reference_ms},
-          {"seeds", "seed + frame index"}, {"rings", rings}};
+  Json j = {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},
+            {"frames_from_cache", run.reference_frames_cached}, {"render_ms", run.reference_ms},
+            {"seeds", "seed + frame index"}, {"rings", rings}, {"settle_frames", taa_settle_frames()},
+            {"settled_frames", std::count(run.settled.begin(), run.settled.end(), std::uint8_t(1))}};
+  for (const SequenceControl& c : kSequenceControls)
+    j[std::string(c.key) + "_bands"] = sequence_band_json(run.*c.error, run);
+  return j;
 }
 
-Json sequence_track_json(const SequenceTrack& t, double anchor_ms) {
+Json sequence_band_json(const TemporalError& error, const SequenceRun& run) {
+  Json bands = Json::array();
+  if (error.frames() == 0) return bands;  // measured without a reference
+  for (const RingBand& band : {kCentralBand, kPeripheralBand}) {
+    Json flicker = Json::array(), tracked = Json::array(), psnr = Json::array();
+    for (const TemporalRing& f : error.by_frame(band)) {
+      flicker.push_back(number_or_null_json(f.flicker_rms));
+      tracked.push_back(number_or_null_json(f.flicker_tracked_rms));
+      psnr.push_back(number_or_null_json(f.psnr_db()));
+    }
+    const TemporalRing settled = error.pooled(band, &run.settled);
+    bands.push_back({{"band", band.name}, {"from_deg", foveation::kRingEdgesDeg[band.begin]},
+                     {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[band.end])},
+                     {"flicker_by_frame", flicker}, {"flicker_tracked_by_frame", tracked}, {"psnr_by_frame", psnr},
+                     {"settled", {{"flicker", number_or_null_json(settled.flicker_rms)},
+                                  {"flicker_tracked", number_or_null_json(settled.flicker_tracked_rms)},
+                                  {"psnr", number_or_null_json(settled.psnr_db())}}}});
+  }
+  return bands;
+}
+
+Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double anchor_ms) {
   const double ms = median_ms(t.total_ms);
   Json rays = {{"primary", t.rays.primary}, {"shadow", t.rays.shadow}, {"reflection", t.rays.reflection},
                {"refraction", t.rays.refraction}, {"total", t.rays.total()}};
   Json j = {{"id", t.id}, {"kind", t.full ? "full" : "foveated"}, {"taa", t.full ? Json(nullptr) : Json(t.taa)},
             {"spp", t.spp}, {"frames", t.error.frames()}, {"ms", ms}, {"frames_total_ms", t.total_ms},
             {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)}, {"points", t.points},
-            {"rays", rays}, {"taa_resets", t.taa_resets}, {"history_off_screen", t.history_off_screen},
+            {"rays", rays}, {"taa_resets", t.taa_reset_frames.size()}, {"taa_reset_frames", t.taa_reset_frames},
+            {"history_off_screen", t.history_off_screen},
             {"history_disoccluded", t.history_disoccluded}};
   Json rings = Json::array();
   const TemporalRings m = t.error.rings();
@@ -290,6 +323,7 @@ Json sequence_track_json(const SequenceTrack& t, double anchor_ms) {
     rings.push_back(ring);
   }
   j["rings"] = rings;
+  j["bands"] = sequence_band_json(t.error, run);
   return j;
 }
 

@@ -50,7 +50,7 @@ struct SequenceTrack {
   std::vector<double> total_ms;  // per frame: select + trace + reconstruct + TAA, or the full render's trace
   engine::RayCounts rays;        // the first frame's
   std::uint32_t points = 0;      // the first frame's traced points (pixels for the full render)
-  std::uint64_t taa_resets = 0;
+  std::vector<int> taa_reset_frames;  // the frames whose TAA history restarted
   std::uint64_t history_off_screen = 0, history_disoccluded = 0;  // pixels over the sequence (reproject)
 };
 
@@ -82,7 +82,14 @@ struct SequenceRun {
   TemporalError taa_on_reference;
   std::vector<MotionFrame> frames;
   std::vector<std::uint8_t> taa_reset_any;  // per frame: some track's TAA restarted
+  // Per frame: the layer's TAA history has settled (settled_frames over the
+  // motion's restarts: the first frame, a saccade's and a blink's frames).
+  std::vector<std::uint8_t> settled;
 };
+
+// Frames after a restart before the layer's TAA counts as settled: its blend's
+// time constant, 1 / TaaOptions::current_weight (10 frames, 143 ms at 70 fps).
+int taa_settle_frames();
 
 // The controls measured beside the tracks (SequenceRun), each under its JSON
 // key prefix (<key>_flicker, <key>_flicker_tracked, <key>_psnr in the
@@ -114,13 +121,20 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
 
 // {"spp", "spp_tried", "converged", "frames_from_cache", "render_ms", "rings": [{from_deg, to_deg,
 // flicker_floor, flicker_tracked_floor, psnr_floor, <c>_flicker, <c>_flicker_tracked, <c>_psnr for the
-// controls c = stable_blur, taa_on_reference}]}: the reference sequence, its own contribution and the
+// controls c = stable_blur, taa_on_reference}], "settle_frames", "settled_frames" (how many),
+// "<c>_bands": sequence_band_json of each control}: the reference sequence, its own contribution and the
 // controls per ring.
 nlohmann::ordered_json sequence_reference_json(const SequenceRun& run);
 // {"id", "taa", "spp", "frames", "ms" (median frame), "time_fraction" (of anchor_ms; null without),
-// "points", "rays", "taa_resets", "history_off_screen", "history_disoccluded",
-// "rings": [{from_deg, to_deg, flicker, flicker_tracked, psnr, rmse}]}.
-nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, double anchor_ms);
+// "points", "rays", "taa_resets", "taa_reset_frames", "history_off_screen", "history_disoccluded",
+// "rings": [{from_deg, to_deg, flicker, flicker_tracked, psnr, rmse}], "bands": sequence_band_json}.
+nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, const SequenceRun& run, double anchor_ms);
+// The central and the peripheral band (kCentralBand, kPeripheralBand) of one
+// measured sequence: [{"band", "from_deg", "to_deg", "flicker_by_frame",
+// "flicker_tracked_by_frame", "psnr_by_frame" (per frame; frame 0's flicker
+// null), "settled": {"flicker", "flicker_tracked", "psnr"} over run.settled}]; [] when nothing was
+// measured (no reference).
+nlohmann::ordered_json sequence_band_json(const TemporalError& error, const SequenceRun& run);
 double median_ms(std::vector<double> v);
 
 }  // namespace foveart::tools

@@ -194,7 +194,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
     }
     for (const SequenceTrack& t : tracks) {
       if (t.full && done.count(t.id)) continue;
-      Json j = sequence_track_json(t, anchor_ms);
+      Json j = sequence_track_json(t, run, anchor_ms);
       if (t.full) {
         j["setting"] = "full_spp1";
       } else {
