@@ -158,6 +158,16 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   std::ostringstream report;
   report << md.rdbuf();
   EXPECT_NE(report.str().find("## Temporal columns"), std::string::npos);
+  // Frame by frame: both pictures, and the settled frames (none in a 4-frame window: no ratio).
+  EXPECT_NE(report.str().find("### Frame by frame in the periphery"), std::string::npos);
+  for (const char* png : {tools::kTemporalPlotFixed, tools::kTemporalPlotTracked}) {
+    EXPECT_GT(fs::file_size(dir.path / "pl" / png), 1000u) << png;
+    EXPECT_NE(report.str().find(png), std::string::npos) << png;
+  }
+  EXPECT_EQ(t["reference"]["settled_frames"], 0);
+  EXPECT_EQ(t["acceptance"]["settled_periphery"]["frames"], 0);
+  EXPECT_TRUE(t["acceptance"]["settled_periphery"]["flicker_ratio_off_over_reproject"].is_null());
+  EXPECT_EQ(t["tracks"][6]["bands"][1]["flicker_by_frame"].size(), 4u);
 
   // Resume: nothing is measured again, the same numbers come back.
   std::ostringstream out2, err2;
@@ -225,6 +235,27 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   EXPECT_FALSE(a["peripheral_flicker_5x_lower"].get<bool>());
   EXPECT_FALSE(a["central_error_no_worse"].get<bool>());
   EXPECT_NE(tools::temporal_headline(synthetic(off, rep2, psnr_off, psnr_rep2), a).find("4.9x"), std::string::npos);
+  // Without per-frame values (a resumed older run) there is no settled comparison.
+  EXPECT_FALSE(a.contains("settled_periphery"));
+  // With them, the settled periphery's ratios read the bands' settled values.
+  Json with_bands = synthetic(off, rep, psnr_off, psnr_rep);
+  const auto periphery = [](double flicker, double tracked) {
+    return Json::array({{{"band", "centre"}, {"settled", {{"flicker", 1.0}, {"flicker_tracked", 1.0}}}},
+                        {{"band", "periphery"}, {"settled", {{"flicker", flicker}, {"flicker_tracked", tracked}}}}});
+  };
+  with_bands["tracks"][0]["bands"] = periphery(0.06, 0.05);
+  with_bands["tracks"][2]["bands"] = periphery(0.03, 0.01);
+  with_bands["reference"] = {{"settle_frames", 10}, {"settled_frames", 13}, {"rings", Json::array()},
+                             {"taa_on_reference_bands", periphery(0.02, 0.004)}};
+  a = tools::temporal_acceptance(with_bands, "s");
+  ASSERT_TRUE(a.contains("settled_periphery")) << a.dump();
+  const Json& settled = a["settled_periphery"];
+  EXPECT_EQ(settled["frames"], 13);
+  EXPECT_EQ(settled["settle_frames"], 10);
+  EXPECT_NEAR(settled["flicker_ratio_off_over_reproject"].get<double>(), 2.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_reproject"].get<double>(), 5.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_ratio_off_over_taa_on_reference"].get<double>(), 3.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_taa_on_reference"].get<double>(), 12.5, 1e-12);
   // A setting without its three tracks has no acceptance.
   EXPECT_TRUE(tools::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "other").is_null());
 }

@@ -156,6 +156,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
               {"rings_deg", Json::array()}, {"settings", all}, {"temporal", temporal}};
   if (temporal.is_object()) {
     if (std::string e = write_temporal_csv(dir / "temporal.csv", temporal); !e.empty()) return e;
+    if (std::string e = write_temporal_plots(dir, temporal, acceptance); !e.empty()) return e;
   }
   for (std::size_t r = 0; r < kRings; ++r) doc["rings_deg"].push_back(ring_name(r));
   {

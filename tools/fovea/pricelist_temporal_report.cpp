@@ -7,20 +7,23 @@
 
 #include <foveation/image_metrics.hpp>
 
+#include <toolkit/plot.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 namespace foveart::tools {
 namespace {
 
 using Json = nlohmann::ordered_json;
 constexpr std::size_t kRings = foveation::kRingCount;
-constexpr std::size_t kPeripheralRings[] = {4, 5, 6};  // 20-30, 30-45, > 45 deg
-constexpr std::size_t kCentralRings[] = {0, 1};        // 0-2.5, 2.5-5 deg
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double num(const Json& j) { return j.is_number() ? j.get<double>() : kNaN; }
@@ -45,6 +48,21 @@ double field(const Json& obj, const std::string& key) {
   if (!obj.is_object()) return kNaN;
   const auto it = obj.find(key);
   return it == obj.end() ? kNaN : num(*it);
+}
+
+// The band named `band` of a "bands" array (sequence_band_json), or null.
+const Json* band_of(const Json& owner, const std::string& bands_key, const char* band) {
+  const auto bands = owner.find(bands_key);
+  if (bands == owner.end() || !bands->is_array()) return nullptr;
+  for (const Json& b : *bands)
+    if (b.value("band", std::string()) == band) return &b;
+  return nullptr;
+}
+
+double settled_value(const Json* band, const char* key) {
+  if (band == nullptr) return kNaN;
+  const auto settled = band->find("settled");
+  return settled == band->end() ? kNaN : field(*settled, key);
 }
 
 double ring_value(const Json& t, std::size_t r, const char* key) {
@@ -82,7 +100,8 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
       a[m + "_ratio_off_over_" + control.key] = ratio_control;
     }
     bool peripheral = true;
-    for (std::size_t r : kPeripheralRings) peripheral = peripheral && ratio[r].is_number() && ratio[r].get<double>() >= 5.0;
+    for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
+      peripheral = peripheral && ratio[r].is_number() && ratio[r].get<double>() >= 5.0;
     a[m + "_ratio_off_over_reproject"] = ratio;
     a[m + "_ratio_off_over_restart"] = ratio_restart;
     a[m == "flicker" ? "peripheral_flicker_5x_lower" : "peripheral_tracked_flicker_5x_lower"] = peripheral;
@@ -91,9 +110,27 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   for (std::size_t r = 0; r < kRings; ++r)
     gain.push_back(number_or_null_json(ring_value(*reproject, r, "psnr") - ring_value(*off, r, "psnr")));
   bool central = true;
-  for (std::size_t r : kCentralRings) central = central && gain[r].is_number() && gain[r].get<double>() >= 0.0;
+  for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r)
+    central = central && gain[r].is_number() && gain[r].get<double>() >= 0.0;
   a["psnr_reproject_minus_off_db"] = gain;
   a["central_error_no_worse"] = central;
+  // Beside the goal, which pools every frame: the periphery over the frames whose TAA history has
+  // settled (motion_sequence.hpp), without the cold start and the frames after the saccade.
+  const Json* off_band = band_of(*off, "bands", kPeripheralBand.name);
+  const Json* reproject_band = band_of(*reproject, "bands", kPeripheralBand.name);
+  const Json* ceiling_band =
+      have_control ? band_of(temporal["reference"], "taa_on_reference_bands", kPeripheralBand.name) : nullptr;
+  if (off_band != nullptr && reproject_band != nullptr) {
+    Json settled = {{"frames", temporal["reference"].value("settled_frames", Json())},
+                    {"settle_frames", temporal["reference"].value("settle_frames", Json())}};
+    for (const char* measure : {"flicker", "flicker_tracked"}) {
+      const std::string m = measure;
+      const double o = settled_value(off_band, measure);
+      settled[m + "_ratio_off_over_reproject"] = number_or_null_json(o / settled_value(reproject_band, measure));
+      settled[m + "_ratio_off_over_taa_on_reference"] = number_or_null_json(o / settled_value(ceiling_band, measure));
+    }
+    a["settled_periphery"] = settled;
+  }
   return a;
 }
 
@@ -123,7 +160,8 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
   const Json& run = temporal["run"];
   const auto three = [&](const char* key) {
     std::string out;
-    for (std::size_t i = 0; i < 3; ++i) out += (i ? " / " : "") + fmt(num(a[key][kPeripheralRings[i]]), 1) + "x";
+    for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
+      out += (r > kPeripheralBand.begin ? " / " : "") + fmt(num(a[key][r]), 1) + "x";
     return out;
   };
   std::ostringstream h;
@@ -141,9 +179,9 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
     << three("flicker_tracked_ratio_off_over_taa_on_reference") << " along the motion"
     << "; TAA restarting on every pose change: "
     << three("flicker_ratio_off_over_restart") << "); its error at 0-2.5 / 2.5-5 deg is ";
-  for (std::size_t i = 0; i < 2; ++i) {
-    const double g = num(a["psnr_reproject_minus_off_db"][kCentralRings[i]]);
-    h << (i ? " / " : "") << (g >= 0 ? "+" : "") << fmt(g, 1);
+  for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r) {
+    const double g = num(a["psnr_reproject_minus_off_db"][r]);
+    h << (r > kCentralBand.begin ? " / " : "") << (g >= 0 ? "+" : "") << fmt(g, 1);
   }
   h << " dB against no TAA (goal: no worse: " << (a["central_error_no_worse"].get<bool>() ? "met" : "not met") << ").";
   return h.str();
@@ -175,6 +213,53 @@ std::string write_temporal_csv(const std::filesystem::path& file, const Json& te
     f << "\n";
   }
   if (!f) return "cannot write " + file.string();
+  return "";
+}
+
+std::string write_temporal_plots(const std::filesystem::path& dir, const Json& temporal, const Json& a) {
+  if (a.is_null()) return "";
+  const std::string setting = a["setting"].get<std::string>();
+  const Json* ceiling = temporal.contains("reference") && temporal["reference"].is_object()
+                            ? band_of(temporal["reference"], "taa_on_reference_bands", kPeripheralBand.name)
+                            : nullptr;
+  const Json* reproject = track(temporal, setting + "_taa-reproject");
+  // Frame t's value of a per-frame array (t >= 1: a pair), as a series.
+  const auto series = [](const std::string& label, const Json* band, const char* key, bool points,
+                         const std::vector<int>* only) {
+    toolkit::PlotSeries s{label, {}, {}, points};
+    if (band == nullptr || !band->contains(key)) return s;
+    const Json& values = (*band)[key];
+    for (std::size_t t = 1; t < values.size(); ++t) {
+      if (only != nullptr && std::find(only->begin(), only->end(), int(t)) == only->end()) continue;
+      s.x.push_back(double(t));
+      s.y.push_back(num(values[t]));
+    }
+    return s;
+  };
+  std::vector<int> resets;
+  if (reproject != nullptr && reproject->contains("taa_reset_frames"))
+    resets = (*reproject)["taa_reset_frames"].get<std::vector<int>>();
+  for (const auto& [key, file, title] :
+       {std::tuple{"flicker_by_frame", kTemporalPlotFixed, "at fixed pixels"},
+        std::tuple{"flicker_tracked_by_frame", kTemporalPlotTracked, "along the motion"}}) {
+    std::vector<toolkit::PlotSeries> lines;
+    for (const auto& [mode, label] : {std::pair{"off", "TAA off"}, std::pair{"restart", "TAA restarting on every pose change"},
+                                      std::pair{"reproject", "reprojected TAA"}}) {
+      const Json* t = track(temporal, setting + "_taa-" + mode);
+      lines.push_back(series(label, t ? band_of(*t, "bands", kPeripheralBand.name) : nullptr, key, false, nullptr));
+    }
+    lines.push_back(series("control: reprojected TAA fed the reference", ceiling, key, false, nullptr));
+    lines.push_back(series("history restart (reprojected TAA)",
+                           reproject ? band_of(*reproject, "bands", kPeripheralBand.name) : nullptr, key, true,
+                           &resets));
+    toolkit::PlotSpec spec;
+    spec.title = std::string("Flicker beyond 20 deg ") + title + ", frame by frame";
+    spec.legend_below = true;
+    spec.x_label = "frame t (the change from frame t-1; " + fmt(num(temporal["run"]["fps"]), 0) + " fps)";
+    spec.y_label = "flicker RMS (display values)";
+    const std::string e = toolkit::write_plot_png((dir / file).string(), spec, lines);
+    if (!e.empty() && e.find("no finite data") == std::string::npos) return e;
+  }
   return "";
 }
 
@@ -225,6 +310,19 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
     }
     md << "| reference floor | - | - |";
     cells(temporal["reference"], "flicker_tracked_floor", "flicker_floor", "psnr_floor");
+  }
+  if (!a.is_null() && a.contains("settled_periphery")) {
+    const Json& settled = a["settled_periphery"];
+    const auto ratio = [&](const char* key) { return fmt(field(settled, key), 1) + "x"; };
+    md << "\n### Frame by frame in the periphery (> 20 deg)\n\n"
+       << "![at fixed pixels](" << kTemporalPlotFixed << ")\n\n![along the motion](" << kTemporalPlotTracked
+       << ")\n\nThe goal pools every frame, the TAA's cold start and the frames after the saccade included. "
+       << "Pooled over the " << settled["frames"] << " frames whose history has settled (at least "
+       << settled["settle_frames"] << " frames, the blend's time constant, since the motion's last restart: the "
+       << "first frame, a saccade's or a blink's), reprojected TAA flickers " << ratio("flicker_ratio_off_over_reproject")
+       << " less than no TAA at fixed pixels and " << ratio("flicker_tracked_ratio_off_over_reproject")
+       << " along the motion; the TAA fed the reference " << ratio("flicker_ratio_off_over_taa_on_reference")
+       << " and " << ratio("flicker_tracked_ratio_off_over_taa_on_reference") << ".\n";
   }
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }

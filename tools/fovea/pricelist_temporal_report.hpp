@@ -20,7 +20,10 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 //  "<m>_ratio_off_over_stable_blur"[ring], "<m>_ratio_off_over_taa_on_reference"[ring] (the two
 //  controls: motion_sequence.hpp) for m = flicker (at fixed pixels) and flicker_tracked
 //  (along the motion), "peripheral_flicker_5x_lower" (fixed pixels, the issue's measure),
-//  "peripheral_tracked_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse"}
+//  "peripheral_tracked_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
+//  "settled_periphery": {"frames", "settle_frames", "<m>_ratio_off_over_reproject",
+//  "<m>_ratio_off_over_taa_on_reference"} (the periphery pooled over the settled frames, beside the goal;
+//  absent without per-frame values)}
 // for one setting's three tracks (null entries where a ring is empty); null when they are missing.
 nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
 
@@ -34,6 +37,16 @@ std::string temporal_headline(const nlohmann::ordered_json& temporal, const nloh
 
 // temporal.csv: one row per track. Error message or "".
 std::string write_temporal_csv(const std::filesystem::path& file, const nlohmann::ordered_json& temporal);
+
+// The peripheral band's flicker frame by frame (sequence_band_json) of the
+// acceptance's setting — TAA off, restarting, reprojected, the TAA fed the
+// reference, and the reprojected TAA's restarts marked — at fixed pixels and
+// along the motion, as PNGs in dir. "" or what could not be written; nothing
+// is drawn without an acceptance or per-frame values (a resumed older run).
+inline constexpr const char* kTemporalPlotFixed = "temporal_periphery_fixed.png";
+inline constexpr const char* kTemporalPlotTracked = "temporal_periphery_tracked.png";
+std::string write_temporal_plots(const std::filesystem::path& dir, const nlohmann::ordered_json& temporal,
+                                 const nlohmann::ordered_json& acceptance);
 
 // report.md's "Temporal columns" section.
 void write_temporal_markdown(std::ostream& md, const nlohmann::ordered_json& temporal,

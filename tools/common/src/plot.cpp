@@ -57,7 +57,15 @@ std::string write_plot_png(const std::string& path, const PlotSpec& spec, const 
     pls.scol0(PLINT(i + 2), kSeriesColours[i][0], kSeriesColours[i][1], kSeriesColours[i][2]);
   }
   pls.col0(1);
-  pls.env(x0, x1, y0, y1, 0, 2);  // 2: with grid
+  if (spec.legend_below) {
+    // env()'s axes in a viewport that leaves the lower third to the legend.
+    pls.adv(0);
+    pls.vpor(0.1, 0.95, 0.42, 0.9);
+    pls.wind(x0, x1, y0, y1);
+    pls.box("bcgnst", 0.0, 0, "bcgnstv", 0.0, 0);
+  } else {
+    pls.env(x0, x1, y0, y1, 0, 2);  // 2: with grid
+  }
   pls.lab(spec.x_label.c_str(), spec.y_label.c_str(), spec.title.c_str());
   std::vector<PLINT> opt, colours, styles, symbol_colours, symbol_numbers;
   std::vector<PLFLT> widths, scales;
@@ -87,8 +95,11 @@ std::string write_plot_png(const std::string& path, const PlotSpec& spec, const 
   if (!texts.empty()) {
     PLFLT lw = 0, lh = 0;
     pls.col0(1);
-    pls.legend(&lw, &lh, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, PL_POSITION_RIGHT | PL_POSITION_TOP,
-               0.02, 0.02, 0.1, 0, 0, 1, 0, 0, PLINT(texts.size()), opt.data(), 1.0, 1.0, 2.0, 1.0,
+    const PLINT position = spec.legend_below ? PL_POSITION_BOTTOM | PL_POSITION_OUTSIDE
+                                             : PL_POSITION_RIGHT | PL_POSITION_TOP;
+    pls.legend(&lw, &lh, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX, position,
+               spec.legend_below ? 0.0 : 0.02, spec.legend_below ? 0.25 : 0.02, 0.1, 0, 0, 1, 0, 0,
+               PLINT(texts.size()), opt.data(), 1.0, 1.0, 2.0, 1.0,
                colours.data(), texts.data(), nullptr, nullptr, nullptr, nullptr, colours.data(),
                styles.data(), widths.data(), symbol_colours.data(), scales.data(), symbol_numbers.data(),
                symbols.data());

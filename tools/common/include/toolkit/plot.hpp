@@ -20,6 +20,9 @@ struct PlotSpec {
   std::string y_label;
   int width_px = 900;
   int height_px = 600;
+  // The legend inside the axes' top right corner, or below the axes (for
+  // series that fill the whole plot).
+  bool legend_below = false;
 };
 
 // Writes a PNG with every series on shared axes and a legend.
