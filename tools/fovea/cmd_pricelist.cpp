@@ -8,6 +8,7 @@
 
 #include "cmd_render.hpp"
 #include "display_options.hpp"
+#include "motion_sequence.hpp"
 #include "pfm.hpp"
 #include "pricelist_report.hpp"
 #include "reference.hpp"
@@ -258,13 +259,9 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
         return false;
       }
     }
-    foveation::ViewSettings vs;
-    vs.rays_per_point = m.setting.spp;
-    vs.sample_seed = c.o.seed;
-    vs.pixel_filter = c.o.pixel_filter;
-    vs.taa = m.setting.taa;
-    vs.new_jitter_each_frame = m.setting.taa;  // TAA converges over frames of new jitter
-    m.view = std::make_unique<foveation::FoveatedView>(tables, vs);
+    // A still view: TAA (when the setting has it) converges over frames of new jitter.
+    m.view = std::make_unique<foveation::FoveatedView>(
+        tables, taa_view_settings(m.setting.taa ? "reproject" : "off", m.setting.spp, c.o.seed, c.o.pixel_filter));
   }
   // The anchor: a full frame at 1 ray per pixel in every round (the full group's own 1-spp setting).
   const bool full_group = settings.front().full;
