@@ -74,8 +74,9 @@ void print_text(const Json& report, std::ostream& out) {
       << report["reference"]["settle_frames"]
       << " frames after the motion's last restart: flicker along the motion / at fixed pixels / PSNR dB\n";
   const auto settled = [&](const std::string& name, const Json& bands) {
-    if (!bands.is_array() || bands.size() < 2) return;
-    const Json& s = bands[1]["settled"];
+    const Json* periphery = find_band(bands, kPeripheralBand);
+    if (periphery == nullptr) return;
+    const Json& s = (*periphery)["settled"];
     out << name << " | " << fixed(s["flicker_tracked"], 4) << " / " << fixed(s["flicker"], 4) << " / "
         << fixed(s["psnr"], 1) << "\n";
   };

@@ -302,6 +302,13 @@ Json sequence_band_json(const TemporalError& error, const SequenceRun& run) {
   return bands;
 }
 
+const Json* find_band(const Json& bands, const RingBand& band) {
+  if (!bands.is_array()) return nullptr;
+  for (const Json& b : bands)
+    if (b.is_object() && b.value("band", std::string()) == band.name) return &b;
+  return nullptr;
+}
+
 Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double anchor_ms) {
   const double ms = median_ms(t.total_ms);
   Json rays = {{"primary", t.rays.primary}, {"shadow", t.rays.shadow}, {"reflection", t.rays.reflection},

@@ -135,6 +135,10 @@ nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, const Seq
 // null), "settled": {"flicker", "flicker_tracked", "psnr"} over run.settled}]; [] when nothing was
 // measured (no reference).
 nlohmann::ordered_json sequence_band_json(const TemporalError& error, const SequenceRun& run);
+// The entry for `band` in such an array (matched by name), or nullptr when
+// `bands` is no array or lacks it (a run measured without a reference, or
+// read back from an older results file).
+const nlohmann::ordered_json* find_band(const nlohmann::ordered_json& bands, const RingBand& band);
 double median_ms(std::vector<double> v);
 
 }  // namespace foveart::tools

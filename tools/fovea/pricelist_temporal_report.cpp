@@ -50,13 +50,11 @@ double field(const Json& obj, const std::string& key) {
   return it == obj.end() ? kNaN : num(*it);
 }
 
-// The band named `band` of a "bands" array (sequence_band_json), or null.
-const Json* band_of(const Json& owner, const std::string& bands_key, const char* band) {
+// owner[bands_key]'s peripheral band (find_band), or null.
+const Json* periphery_of(const Json& owner, const std::string& bands_key) {
+  if (!owner.is_object()) return nullptr;
   const auto bands = owner.find(bands_key);
-  if (bands == owner.end() || !bands->is_array()) return nullptr;
-  for (const Json& b : *bands)
-    if (b.value("band", std::string()) == band) return &b;
-  return nullptr;
+  return bands == owner.end() ? nullptr : find_band(*bands, kPeripheralBand);
 }
 
 double settled_value(const Json* band, const char* key) {
@@ -116,10 +114,10 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   a["central_error_no_worse"] = central;
   // Beside the goal, which pools every frame: the periphery over the frames whose TAA history has
   // settled (motion_sequence.hpp), without the cold start and the frames after the saccade.
-  const Json* off_band = band_of(*off, "bands", kPeripheralBand.name);
-  const Json* reproject_band = band_of(*reproject, "bands", kPeripheralBand.name);
+  const Json* off_band = periphery_of(*off, "bands");
+  const Json* reproject_band = periphery_of(*reproject, "bands");
   const Json* ceiling_band =
-      have_control ? band_of(temporal["reference"], "taa_on_reference_bands", kPeripheralBand.name) : nullptr;
+      have_control ? periphery_of(temporal["reference"], "taa_on_reference_bands") : nullptr;
   if (off_band != nullptr && reproject_band != nullptr) {
     Json settled = {{"frames", temporal["reference"].value("settled_frames", Json())},
                     {"settle_frames", temporal["reference"].value("settle_frames", Json())}};
@@ -219,9 +217,8 @@ std::string write_temporal_csv(const std::filesystem::path& file, const Json& te
 std::string write_temporal_plots(const std::filesystem::path& dir, const Json& temporal, const Json& a) {
   if (a.is_null()) return "";
   const std::string setting = a["setting"].get<std::string>();
-  const Json* ceiling = temporal.contains("reference") && temporal["reference"].is_object()
-                            ? band_of(temporal["reference"], "taa_on_reference_bands", kPeripheralBand.name)
-                            : nullptr;
+  const Json* ceiling =
+      temporal.contains("reference") ? periphery_of(temporal["reference"], "taa_on_reference_bands") : nullptr;
   const Json* reproject = track(temporal, setting + "_taa-reproject");
   // Frame t's value of a per-frame array (t >= 1: a pair), as a series.
   const auto series = [](const std::string& label, const Json* band, const char* key, bool points,
@@ -246,11 +243,11 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
     for (const auto& [mode, label] : {std::pair{"off", "TAA off"}, std::pair{"restart", "TAA restarting on every pose change"},
                                       std::pair{"reproject", "reprojected TAA"}}) {
       const Json* t = track(temporal, setting + "_taa-" + mode);
-      lines.push_back(series(label, t ? band_of(*t, "bands", kPeripheralBand.name) : nullptr, key, false, nullptr));
+      lines.push_back(series(label, t ? periphery_of(*t, "bands") : nullptr, key, false, nullptr));
     }
     lines.push_back(series("control: reprojected TAA fed the reference", ceiling, key, false, nullptr));
     lines.push_back(series("history restart (reprojected TAA)",
-                           reproject ? band_of(*reproject, "bands", kPeripheralBand.name) : nullptr, key, true,
+                           reproject ? periphery_of(*reproject, "bands") : nullptr, key, true,
                            &resets));
     toolkit::PlotSpec spec;
     spec.title = std::string("Flicker beyond 20 deg ") + title + ", frame by frame";
