@@ -197,12 +197,15 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
   report["motion"] = {{"spec", o.motion}, {"duration_s", motion->duration_s()}};
   report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
+  std::vector<std::uint8_t> taa_reset(frames.size(), 0);  // per frame: some track's TAA restarted
+  for (const SequenceTrack& t : tracks)
+    for (int i : t.taa_reset_frames) taa_reset[std::size_t(i)] = 1;
   Json frame_list = Json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const MotionFrame& f = frames[i];
     frame_list.push_back({{"index", f.index}, {"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}},
                           {"saccade", f.saccade}, {"blink", f.blink}, {"gaze_off_view", f.gaze_off_view},
-                          {"taa_reset", run.taa_reset_any[i] != 0},
+                          {"taa_reset", taa_reset[i] != 0},
                           {"pose", {f.view.position_m[0], f.view.position_m[1], f.view.position_m[2],
                                     f.view.orientation_xyzw[0], f.view.orientation_xyzw[1],
                                     f.view.orientation_xyzw[2], f.view.orientation_xyzw[3]}}});

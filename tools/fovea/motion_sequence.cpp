@@ -197,7 +197,6 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
     }
   }
   run->frames = frames;
-  run->taa_reset_any.assign(frames.size(), 0);
   std::vector<std::uint8_t> restart(frames.size(), 0);
   for (std::size_t i = 0; i < frames.size(); ++i) restart[i] = frames[i].saccade || frames[i].blink ? 1 : 0;
   run->settled = settled_frames(restart, taa_settle_frames());
@@ -233,13 +232,11 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                         reference_display, map, tracking, executor);
     }
     for (SequenceTrack& t : tracks) {
-      const std::size_t resets_before = t.taa_reset_frames.size();
       if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, ref_options.pixel_filter, &full_linear, &display);
           !e.empty()) {
         *error = e;
         return false;
       }
-      if (t.taa_reset_frames.size() != resets_before) run->taa_reset_any[std::size_t(f.index)] = 1;
       if (with_reference) add_tracked_frame(t.error, display, reference_display, map, tracking, executor);
       if (hooks.image) {
         if (std::string e = hooks.image(t, f, display); !e.empty()) {

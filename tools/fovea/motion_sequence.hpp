@@ -81,7 +81,6 @@ struct SequenceRun {
   // clip cost without any noise: the part that more averaging cannot remove.
   TemporalError taa_on_reference;
   std::vector<MotionFrame> frames;
-  std::vector<std::uint8_t> taa_reset_any;  // per frame: some track's TAA restarted
   // Per frame: the layer's TAA history has settled (settled_frames over the
   // motion's restarts: the first frame, a saccade's and a blink's frames).
   std::vector<std::uint8_t> settled;
