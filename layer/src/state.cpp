@@ -5,10 +5,6 @@ namespace {
 
 uint64_t key(XrFoveatedRendererFOVEART handle) { return reinterpret_cast<uintptr_t>(handle); }
 
-void erase_swapchains_of(XrSession session, std::unordered_map<XrSwapchain, SwapchainExtent>* swapchains) {
-  std::erase_if(*swapchains, [&](const auto& entry) { return entry.second.session == session; });
-}
-
 }  // namespace
 
 Registry& Registry::get() {
@@ -35,15 +31,7 @@ std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_instance(XrInsta
       ++it;
       continue;
     }
-    for (auto r = renderers_.begin(); r != renderers_.end();) {
-      if (r->second.session == it->first) {
-        removed.push_back(std::move(r->second.renderer));
-        r = renderers_.erase(r);
-      } else {
-        ++r;
-      }
-    }
-    erase_swapchains_of(it->first, &swapchains_);
+    erase_children_of_session(it->first, &removed);
     it = sessions_.erase(it);
   }
   instances_.erase(handle);
@@ -64,17 +52,21 @@ std::shared_ptr<SessionState> Registry::session(XrSession handle) const {
 std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_session(XrSession handle) {
   std::vector<std::shared_ptr<FoveatedRenderer>> removed;
   std::lock_guard lock(mutex_);
+  erase_children_of_session(handle, &removed);
+  sessions_.erase(handle);
+  return removed;
+}
+
+void Registry::erase_children_of_session(XrSession session, std::vector<std::shared_ptr<FoveatedRenderer>>* removed) {
   for (auto r = renderers_.begin(); r != renderers_.end();) {
-    if (r->second.session == handle) {
-      removed.push_back(std::move(r->second.renderer));
+    if (r->second.session == session) {
+      removed->push_back(std::move(r->second.renderer));
       r = renderers_.erase(r);
     } else {
       ++r;
     }
   }
-  erase_swapchains_of(handle, &swapchains_);
-  sessions_.erase(handle);
-  return removed;
+  std::erase_if(swapchains_, [&](const auto& entry) { return entry.second.session == session; });
 }
 
 XrFoveatedRendererFOVEART Registry::add_renderer(XrSession session, std::shared_ptr<FoveatedRenderer> renderer) {

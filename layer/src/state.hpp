@@ -90,6 +90,10 @@ class Registry {
     XrSession session;
     std::shared_ptr<FoveatedRenderer> renderer;
   };
+  // Moves the session's renderers into *removed and forgets its swapchains;
+  // the caller holds mutex_ and erases the session itself.
+  void erase_children_of_session(XrSession session, std::vector<std::shared_ptr<FoveatedRenderer>>* removed);
+
   mutable std::mutex mutex_;
   std::unordered_map<XrInstance, std::shared_ptr<InstanceState>> instances_;
   std::unordered_map<XrSession, std::shared_ptr<SessionState>> sessions_;
