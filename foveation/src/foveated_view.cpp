@@ -69,7 +69,7 @@ std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::file
 FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings)
     : tables_(std::move(tables)),
       settings_(settings),
-      taa_(settings.taa_options),
+      taa_(taa_options_for_rays(settings.taa_options, settings.rays_per_point)),
       centre_(tables_ != nullptr ? settings.centre_deadband_deg * tables_->key.display.view_distance_px *
                                        std::numbers::pi / 180.0
                                  : 0.0) {

@@ -213,6 +213,14 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
 
 }  // namespace
 
+// Karis 2014's exponential blend with alpha per ray rather than per frame.
+TaaOptions taa_options_for_rays(TaaOptions options, int rays_per_point) {
+  if (rays_per_point <= 1) return options;
+  const double history_weight = std::pow(1.0 - double(options.current_weight), rays_per_point);
+  options.current_weight = float(1.0 - history_weight);
+  return options;
+}
+
 bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaze_px, bool saccade) {
   const bool size_changed = width_px_ != width_px || height_px_ != height_px;
   const bool jumped = valid_ && glm::distance(gaze_px, gaze_px_) > options_.reset_distance_px;

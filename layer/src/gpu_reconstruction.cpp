@@ -121,7 +121,7 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
   f.mapping = foveation::map_gaze(int(request.view.width_px), int(request.view.height_px), result.centre_px);
   f.rbf_clamp = view.settings().rbf_clamp;
   f.taa_reset = !view.settings().taa || result.taa_reset;
-  f.taa = view.settings().taa_options;
+  f.taa = view.taa_options();
   f.view = request.view;
   f.history_view = result.history_view;
   f.srgb = srgb;

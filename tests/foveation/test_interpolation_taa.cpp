@@ -168,6 +168,45 @@ TEST_P(Taa, ConvergesToANewStaticScene) {
   EXPECT_LT(err, 1e-3);
 }
 
+// A checkerboard of 0 and 1: every 3x3 neighbourhood spans both, so a history
+// between 0.3 and 0.7 blends unclipped under either constraint.
+ImageRgb checkerboard(int w, int h, float low, float high) {
+  ImageRgb im(w, h);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      for (int i = 0; i < 3; ++i) im.at(x, y)[i] = ((x + y + i) % 2 == 0) ? low : high;
+    }
+  }
+  return im;
+}
+
+TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
+  TaaOptions one_ray;
+  one_ray.constraint = GetParam();
+  const ImageRgb start = checkerboard(16, 12, 0.4f, 0.6f), target = checkerboard(16, 12, 0.0f, 1.0f);
+  for (int rays : {2, 4, 16}) {
+    const TaaOptions n_rays = taa_options_for_rays(one_ray, rays);
+    TemporalAccumulator once(n_rays), in_turn(one_ray);
+    once.accumulate(start, {8, 6}, test::executor());
+    in_turn.accumulate(start, {8, 6}, test::executor());
+    const ImageRgb& blended_once = once.accumulate(target, {8, 6}, test::executor());
+    for (int i = 0; i < rays; ++i) in_turn.accumulate(target, {8, 6}, test::executor());
+    ASSERT_EQ(blended_once.rgb.size(), in_turn.history().rgb.size());
+    double worst = 0.0;
+    for (std::size_t v = 0; v < blended_once.rgb.size(); ++v) {
+      worst = std::max(worst, std::abs(double(blended_once.rgb[v]) - double(in_turn.history().rgb[v])));
+    }
+    EXPECT_LT(worst, 1e-6) << rays << " rays";
+    // And the history did move: the blend was not clipped to the target.
+    EXPECT_GT(mean_abs_difference(blended_once, target), 0.05) << rays << " rays";
+  }
+  // One ray (and a nonsensical 0): the options as given, bit for bit.
+  for (int rays : {1, 0}) {
+    const TaaOptions same = taa_options_for_rays(one_ray, rays);
+    EXPECT_EQ(std::memcmp(&same.current_weight, &one_ray.current_weight, sizeof(float)), 0) << rays << " rays";
+  }
+}
+
 TEST_P(Taa, GazeJumpResetsHistory) {
   TaaOptions o;
   o.constraint = GetParam();

@@ -128,6 +128,7 @@ class GpuReconstruction : public ::testing::Test {
                  uint64_t* reprojected_frames = nullptr) {
     const auto tables = small_tables(method, k);
     foveation::ViewSettings settings;
+    settings.rays_per_point = rays_per_point_;
     settings.taa = taa;
     settings.new_jitter_each_frame = taa;
     foveation::FoveatedView cpu_view(tables, settings);
@@ -171,6 +172,7 @@ class GpuReconstruction : public ::testing::Test {
 
   static std::unique_ptr<HeadlessVulkan> vulkan_;
   std::unique_ptr<GpuReconstructor> gpu_;
+  int rays_per_point_ = 1;  // for run()'s views
 };
 std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkan_;
 
@@ -207,6 +209,17 @@ TEST_P(GpuMatchesCpu, TaaOver16FramesWithAGazeJump) {
     });
     EXPECT_LE(d.max_step, 1) << "eye " << eye << ": " << d.bytes_differing << " bytes differ";
   }
+}
+
+// More rays per point blend with a larger weight (taa_options_for_rays): the
+// GPU blends with the CPU's.
+TEST_P(GpuMatchesCpu, TaaAtFourRaysPerPointBlendsLikeTheCpu) {
+  const Case c = GetParam();
+  rays_per_point_ = 4;
+  const Difference d = run(c.method, c.k, true, 8, [&](int i) {
+    return request(0, glm::vec2(48.0f + float(i % 3), 40.0f), uint64_t(i + 1));
+  });
+  EXPECT_LE(d.max_step, 1) << d.bytes_differing << " bytes differ";
 }
 
 // The head turns and steps sideways every frame in front of a near bar and a

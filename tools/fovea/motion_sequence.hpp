@@ -87,7 +87,8 @@ struct SequenceRun {
 };
 
 // Frames after a restart before the layer's TAA counts as settled: its blend's
-// time constant, 1 / TaaOptions::current_weight (10 frames, 143 ms at 70 fps).
+// time constant at one ray per point, 1 / TaaOptions::current_weight (10
+// frames, 143 ms at 70 fps; frames of more rays settle sooner, taa.hpp).
 int taa_settle_frames();
 
 // The controls measured beside the tracks (SequenceRun), each under its JSON

@@ -80,7 +80,7 @@ struct ViewSettings {
   PixelFilter pixel_filter = PixelFilter::box;  // how a pixel-grid point's rays spread (ray_samples.hpp)
   bool new_jitter_each_frame = false;  // sample_seed + frame_index: TAA then converges over frames
   bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
-  TaaOptions taa_options;
+  TaaOptions taa_options;            // for 1 ray per point; more rays blend with taa_options_for_rays
   TaaHistory taa_history = TaaHistory::reproject;
   RbfClamp rbf_clamp = RbfClamp::block;
   // The foveation centre stays put while the gaze stays within this many
@@ -154,6 +154,9 @@ class FoveatedView {
   const std::vector<float>& point_depths() const { return point_depth_m_; }
   const ViewTables& tables() const { return *tables_; }
   const ViewSettings& settings() const { return settings_; }
+  // What the TAA blends with: settings().taa_options for its rays per point
+  // (taa_options_for_rays).
+  const TaaOptions& taa_options() const { return taa_.options(); }
 
  private:
   void pixel_depths(const GazeMapping& mapping, Executor& executor);  // depth_px_m_ from point_depth_m_

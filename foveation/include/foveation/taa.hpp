@@ -24,7 +24,9 @@ namespace foveart::foveation {
 enum class TaaConstraint : std::uint8_t { minmax_clamp = 0, variance_clip = 1 };
 
 struct TaaOptions {
-  float current_weight = 0.1f;   // alpha of the exponential blend (Karis 2014)
+  // alpha of the exponential blend (Karis 2014) for a frame of one ray per
+  // point; a frame of more rays blends with taa_options_for_rays' weight.
+  float current_weight = 0.1f;
   TaaConstraint constraint = TaaConstraint::variance_clip;
   float variance_gamma = 1.0f;   // box mu +- gamma sigma (Salvi 2016)
   // The box is at least mu +- clip_floor wide: history closer than that to a
@@ -35,6 +37,13 @@ struct TaaOptions {
   float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
   HistorySampling history_sampling = HistorySampling::catmull_rom;  // reading a reprojected history
 };
+
+// The options for frames of `rays_per_point` rays each: current_weight becomes
+// that of n one-ray frames blended in turn, 1 - (1 - alpha)^n. The history then
+// holds as many rays whatever a frame carries, and ages fewer frames when frames
+// carry more: its resampling blur and lag grow with its age in frames, not in
+// rays. n <= 1: the options unchanged.
+TaaOptions taa_options_for_rays(TaaOptions options, int rays_per_point);
 
 class TemporalAccumulator {
  public:

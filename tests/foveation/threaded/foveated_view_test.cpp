@@ -345,6 +345,18 @@ TEST(FoveatedView, OneThreadRunsEveryStageOnTheCallerAndStartsNoThread) {
   EXPECT_EQ(process_threads(), before);
 }
 
+// The TAA blends a frame of n rays per point as n one-ray frames (taa.hpp);
+// the GPU path reads the same options (gpu_reconstruction_test).
+TEST(FoveatedView, TaaBlendWeightFollowsTheRaysPerPoint) {
+  for (int rays : {1, 4, 16}) {
+    const FoveatedView view(small_tables(InterpMethod::msm, 5), settings(rays, true));
+    const float expected = taa_options_for_rays(TaaOptions{}, rays).current_weight;
+    EXPECT_EQ(view.taa_options().current_weight, expected) << rays << " rays";
+    EXPECT_EQ(view.settings().taa_options.current_weight, TaaOptions{}.current_weight) << "the settings stay as given";
+  }
+  EXPECT_NEAR(taa_options_for_rays(TaaOptions{}, 4).current_weight, 1.0 - std::pow(0.9, 4), 1e-6);
+}
+
 TEST(FoveatedView, SaccadeRestartsTheHistory) {
   Executor executor(2);
   FoveatedView view(small_tables(InterpMethod::msm, 5), settings(1, true));
