@@ -235,8 +235,14 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   EXPECT_FALSE(a["peripheral_flicker_5x_lower"].get<bool>());
   EXPECT_FALSE(a["central_error_no_worse"].get<bool>());
   EXPECT_NE(tools::temporal_headline(synthetic(off, rep2, psnr_off, psnr_rep2), a).find("4.9x"), std::string::npos);
-  // Without per-frame values (a resumed older run) there is no settled comparison.
+  // Without per-frame values (a resumed older run) there is no settled comparison, and no picture.
   EXPECT_FALSE(a.contains("settled_periphery"));
+  {
+    engine_test::TempDir plots;
+    EXPECT_EQ(tools::write_temporal_plots(plots.path, synthetic(off, rep2, psnr_off, psnr_rep2), a), "");
+    EXPECT_FALSE(fs::exists(plots.path / tools::kTemporalPlotFixed));
+    EXPECT_FALSE(fs::exists(plots.path / tools::kTemporalPlotTracked));
+  }
   // With them, the settled periphery's ratios read the bands' settled values.
   Json with_bands = synthetic(off, rep, psnr_off, psnr_rep);
   const auto periphery = [](double flicker, double tracked) {
@@ -256,6 +262,19 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_reproject"].get<double>(), 5.0, 1e-12);
   EXPECT_NEAR(settled["flicker_ratio_off_over_taa_on_reference"].get<double>(), 3.0, 1e-12);
   EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_taa_on_reference"].get<double>(), 12.5, 1e-12);
+  // Per-frame values draw both pictures; into a directory that cannot be written, the error names the file.
+  for (const std::size_t i : {std::size_t(0), std::size_t(2)}) {
+    with_bands["tracks"][i]["bands"][1]["flicker_by_frame"] = Json::array({nullptr, 0.05, 0.04});
+    with_bands["tracks"][i]["bands"][1]["flicker_tracked_by_frame"] = Json::array({nullptr, 0.03, 0.02});
+  }
+  {
+    engine_test::TempDir plots;
+    EXPECT_EQ(tools::write_temporal_plots(plots.path, with_bands, a), "");
+    EXPECT_GT(fs::file_size(plots.path / tools::kTemporalPlotFixed), 1000u);
+    EXPECT_GT(fs::file_size(plots.path / tools::kTemporalPlotTracked), 1000u);
+    const std::string e = tools::write_temporal_plots(plots.path / "missing" / "dir", with_bands, a);
+    EXPECT_NE(e.find(tools::kTemporalPlotFixed), std::string::npos) << e;
+  }
   // A setting without its three tracks has no acceptance.
   EXPECT_TRUE(tools::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "other").is_null());
 }

@@ -249,13 +249,13 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
     lines.push_back(series("history restart (reprojected TAA)",
                            reproject ? periphery_of(*reproject, "bands") : nullptr, key, true,
                            &resets));
+    if (!toolkit::has_finite_point(lines)) continue;  // no per-frame values (a resumed older run)
     toolkit::PlotSpec spec;
     spec.title = std::string("Flicker beyond 20 deg ") + title + ", frame by frame";
     spec.legend_below = true;
     spec.x_label = "frame t (the change from frame t-1; " + fmt(num(temporal["run"]["fps"]), 0) + " fps)";
     spec.y_label = "flicker RMS (display values)";
-    const std::string e = toolkit::write_plot_png((dir / file).string(), spec, lines);
-    if (!e.empty() && e.find("no finite data") == std::string::npos) return e;
+    if (std::string e = toolkit::write_plot_png((dir / file).string(), spec, lines); !e.empty()) return e;
   }
   return "";
 }

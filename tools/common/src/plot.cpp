@@ -32,8 +32,18 @@ const int kSeriesColours[][3] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {
 
 }  // namespace
 
+bool has_finite_point(const std::vector<PlotSeries>& series) {
+  for (const auto& s : series) {
+    for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) return true;
+    }
+  }
+  return false;
+}
+
 std::string write_plot_png(const std::string& path, const PlotSpec& spec, const std::vector<PlotSeries>& series) {
   if (auto err = check_writable(path); !err.empty()) return err;
+  if (!has_finite_point(series)) return "cannot plot " + path + ": no finite data";
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
   for (const auto& s : series) {
     for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
@@ -44,7 +54,6 @@ std::string write_plot_png(const std::string& path, const PlotSpec& spec, const 
       y1 = std::max(y1, s.y[i]);
     }
   }
-  if (!(x1 >= x0) || !(y1 >= y0)) return "cannot plot " + path + ": no finite data";
   if (x1 == x0) x1 = x0 + 1.0;
   if (y1 == y0) y1 = y0 + 1.0;
   const double pad = 0.05 * (y1 - y0);

@@ -25,6 +25,10 @@ struct PlotSpec {
   bool legend_below = false;
 };
 
+// Whether some series has a point with finite x and y: what write_plot_png
+// needs to draw anything (without one it returns an error).
+bool has_finite_point(const std::vector<PlotSeries>& series);
+
 // Writes a PNG with every series on shared axes and a legend.
 std::string write_plot_png(const std::string& path, const PlotSpec& spec,
                            const std::vector<PlotSeries>& series);
