@@ -38,7 +38,9 @@ for corpus in tests/fuzz/corpus/*/; do
     failed+=("$target")
   fi
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
-  [ -n "$execs" ] || execs=$(grep -oE '#[0-9]+' "$log" | tail -1 | tr -d '#')
+  # After a crash there is no final stat line: take libFuzzer's last progress line (it starts "#N"),
+  # not a frame number of the stack trace ("    #20 0x...").
+  [ -n "$execs" ] || execs=$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')
   printf '%-28s %12s %10s\n' "$target" "${execs:-?}" "$result"
 done
 if [ ${#failed[@]} -gt 0 ]; then

@@ -225,6 +225,33 @@ TEST(GltfLoaderErrors, IndexCountTimesBytesWraps) {
   expect_accessor_overflow_rejected("idx_wrap", doc, "indices: accessor 3");
 }
 
+// An accessor without a bufferView is zeros: legal, and loaded as such.
+TEST(GltfLoader, AccessorWithoutBufferViewIsZeros) {
+  TempDir dir;
+  GltfDoc doc = unit_quad(false);
+  doc.json["accessors"][2].erase("bufferView");  // TEXCOORD_0, 4 elements
+  const LoadResult r = load_gltf(write_embedded(dir.path, "uv_zeros", doc).string());
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.scene->mesh.uv0.size(), 4u);
+  for (const glm::vec2& uv : r.scene->mesh.uv0) EXPECT_EQ(uv, glm::vec2(0.0f));
+}
+
+// fuzz_gltf found this: a TEXCOORD accessor without a bufferView claiming 8.9e16 elements made the
+// loader allocate what the count said (ASan: allocator out of memory; without ASan bad_alloc, or at
+// a smaller claim an overcommitted zero fill). No byte of the file backs such a count: refused first.
+TEST(GltfLoaderErrors, AccessorWithoutBufferViewClaimingMoreElementsThanTheFileHolds) {
+  for (const int accessor : {0, 2}) {  // POSITION, TEXCOORD_0 (tinygltf refuses indices without a bufferView)
+    SCOPED_TRACE(accessor);
+    TempDir dir;
+    GltfDoc doc = unit_quad(false);
+    doc.json["accessors"][accessor].erase("bufferView");
+    doc.json["accessors"][accessor]["count"] = 1ull << 40;  // 4-16 TB as floats; no size_t arithmetic wraps
+    const auto p = write_embedded(dir.path, "zeros_claim", doc);
+    const LoadResult r = load_gltf(p.string());
+    expect_error(r, p, "accessor " + std::to_string(accessor) + " has no bufferView and claims 1099511627776 elements");
+  }
+}
+
 TEST(GltfLoaderErrors, UnsupportedRequiredExtension) {
   TempDir dir;
   GltfDoc doc = unit_quad(false);

@@ -70,7 +70,9 @@ const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const c
 
 class Loader {
  public:
-  Loader(const tinygltf::Model& model, Scene& scene) : model_(model), scene_(scene) {}
+  Loader(const tinygltf::Model& model, Scene& scene) : model_(model), scene_(scene) {
+    for (const tinygltf::Buffer& b : model_.buffers) buffer_bytes_ += b.data.size();
+  }
 
   void run() {
     check_required_extensions();
@@ -108,6 +110,7 @@ class Loader {
     // The float count and its byte size must fit before anything is allocated or read.
     const size_t nvalues = checked_mul(a.count, static_cast<size_t>(ncomp), where + " count x components");
     checked_mul(nvalues, sizeof(float), where + " count x components x 4 bytes");
+    check_zero_filled_count(a, where);
     const uint8_t* base = nullptr;
     size_t stride = 0;
     if (a.bufferView >= 0)
@@ -124,6 +127,16 @@ class Loader {
     for (float v : out)
       if (!std::isfinite(v)) throw BadInput(where + " holds a non-finite value");
     return out;
+  }
+
+  // An accessor without a bufferView is zeros (plus its sparse values), so its count costs
+  // memory that no byte of the file backs. A real one (a morph target, a sparse attribute)
+  // has as many elements as a stored accessor beside it, each of at least one byte; a count
+  // beyond all the file's buffer bytes is a claim to refuse before allocating.
+  void check_zero_filled_count(const tinygltf::Accessor& a, const std::string& where) const {
+    if (a.bufferView >= 0 || a.count <= buffer_bytes_) return;
+    throw BadInput(where + " has no bufferView and claims " + std::to_string(a.count) +
+                   " elements, more than the file's " + std::to_string(buffer_bytes_) + " buffer bytes could describe");
   }
 
   // Checks, with overflow-checked arithmetic, that `count` elements of `elem_bytes` at
@@ -570,6 +583,7 @@ class Loader {
 
   const tinygltf::Model& model_;
   Scene& scene_;
+  size_t buffer_bytes_ = 0;  // all buffers' bytes: the most elements a zero-filled accessor may claim
   std::vector<int> texture_map_;
   int default_material_ = -1;
 
