@@ -101,8 +101,13 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
       EXPECT_TRUE(r["psnr"].is_number()) << ids[i] << " " << r.dump();
     }
   }
-  for (std::size_t r = 0; r < 7; ++r) {  // the two controls, measured like a track
+  for (std::size_t r = 0; r < 7; ++r) {  // the controls, measured like a track
     const Json& ring = t["reference"]["rings"][r];
+    for (const char* history : {"sample_history", "sample_history_kept"}) {
+      EXPECT_GT(ring[std::string(history) + "_flicker"].get<double>(), 0.0) << history << " " << ring.dump();
+      EXPECT_GT(ring[std::string(history) + "_flicker_tracked"].get<double>(), 0.0) << history << " " << ring.dump();
+      EXPECT_TRUE(ring[std::string(history) + "_psnr"].is_number()) << history << " " << ring.dump();
+    }
     EXPECT_GT(ring["stable_blur_flicker"].get<double>(), 0.0) << ring.dump();
     EXPECT_GT(ring["stable_blur_flicker_tracked"].get<double>(), 0.0) << ring.dump();
     EXPECT_TRUE(ring["stable_blur_psnr"].is_number()) << ring.dump();
@@ -134,6 +139,10 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_NEAR(t["acceptance"]["flicker_tracked_ratio_off_over_taa_on_reference"][4].get<double>(),
               t["tracks"][4]["rings"][4]["flicker_tracked"].get<double>() /
                   t["reference"]["rings"][4]["taa_on_reference_flicker_tracked"].get<double>(),
+              1e-12);
+  EXPECT_NEAR(t["acceptance"]["flicker_ratio_off_over_sample_history"][4].get<double>(),
+              t["tracks"][4]["rings"][4]["flicker"].get<double>() /
+                  t["reference"]["rings"][4]["sample_history_flicker"].get<double>(),
               1e-12);
   EXPECT_TRUE(t["acceptance"]["peripheral_tracked_flicker_5x_lower"].is_boolean());
   EXPECT_EQ(t["sanity"]["flicker_margin_db"].size(), 7u);
@@ -252,7 +261,8 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   with_bands["tracks"][0]["bands"] = periphery(0.06, 0.05);
   with_bands["tracks"][2]["bands"] = periphery(0.03, 0.01);
   with_bands["reference"] = {{"settle_frames", 10}, {"settled_frames", 13}, {"rings", Json::array()},
-                             {"taa_on_reference_bands", periphery(0.02, 0.004)}};
+                             {"taa_on_reference_bands", periphery(0.02, 0.004)},
+                             {"sample_history_bands", periphery(0.015, 0.01)}};
   a = tools::temporal_acceptance(with_bands, "s");
   ASSERT_TRUE(a.contains("settled_periphery")) << a.dump();
   const Json& settled = a["settled_periphery"];
@@ -262,6 +272,9 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_reproject"].get<double>(), 5.0, 1e-12);
   EXPECT_NEAR(settled["flicker_ratio_off_over_taa_on_reference"].get<double>(), 3.0, 1e-12);
   EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_taa_on_reference"].get<double>(), 12.5, 1e-12);
+  EXPECT_NEAR(settled["flicker_ratio_off_over_sample_history"].get<double>(), 4.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_sample_history"].get<double>(), 5.0, 1e-12);
+  EXPECT_TRUE(settled["flicker_ratio_off_over_stable_blur"].is_null());  // that control has no bands here
   // Per-frame values draw both pictures; into a directory that cannot be written, the error names the file.
   for (const std::size_t i : {std::size_t(0), std::size_t(2)}) {
     with_bands["tracks"][i]["bands"][1]["flicker_by_frame"] = Json::array({nullptr, 0.05, 0.04});

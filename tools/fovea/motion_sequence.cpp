@@ -2,6 +2,7 @@
 #include "motion_sequence.hpp"
 
 #include "render_metrics.hpp"
+#include "sample_history.hpp"
 
 #include <engine/render.hpp>
 
@@ -146,6 +147,40 @@ const foveation::ImageRgb& accumulate_reference(TaaOnReference& c, const foveati
   return c.taa.accumulate_reprojected(reference_linear, c.warped, c.valid, f.gaze_px, executor, restart);
 }
 
+// The two sample-history controls (SequenceRun::sample_history, sample_history_kept), each with its own jitter,
+// apart from the reference's (seed + i) and the tracks'.
+struct SampleHistories {
+  SampleHistory at_restarts, kept;
+  bool flagged = false;       // the last frame's saccade-or-blink flag
+  foveation::ImageRgb image;  // scratch
+
+  SampleHistories(std::uint64_t seed, foveation::PixelFilter filter)
+      : at_restarts(seed + 0x9E3779B9ull, filter), kept(seed + 0x7F4A7C15ull, filter) {}
+};
+
+bool add_sample_histories(SampleHistories& h, engine::Tracer& tracer, const MotionFrame& f,
+                          const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
+                          Tracking& tracking, foveation::Executor& executor, SequenceRun* run, std::string* error) {
+  const std::pair<SampleHistory*, TemporalError*> controls[] = {{&h.at_restarts, &run->sample_history},
+                                                                 {&h.kept, &run->sample_history_kept}};
+  // Where the layer's TAA restarts (taa.hpp): the first frame, and the first frame of a saccade or a blink.
+  const bool flag = f.saccade || f.blink;
+  const bool onset = f.index == 0 || (flag && !h.flagged);
+  h.flagged = flag;
+  for (const auto& [history, measured] : controls) {
+    const bool restart = f.index == 0 || (history == &h.at_restarts && onset);
+    if (const std::int32_t st = history->render(&foveart_engine_trace_rays, &tracer, f.view,
+                                                std::uint64_t(f.index), restart, executor, &h.image);
+        st != FOVEART_RESULT_SUCCESS) {
+      *error = "sample history of frame " + std::to_string(f.index) + ": engine callback failed with status " +
+               std::to_string(st);
+      return false;
+    }
+    add_tracked_frame(*measured, foveation::display_encode(h.image), reference_display, map, tracking, executor);
+  }
+  return true;
+}
+
 }  // namespace
 
 bool is_taa_mode(const std::string& name) { return name == "off" || name == "restart" || name == "reproject"; }
@@ -203,6 +238,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
   foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
   Tracking tracking;
   TaaOnReference taa_on_reference;
+  SampleHistories sample_histories(ref_options.seed, ref_options.pixel_filter);
   const bool with_reference = !ref_options.spp.empty();
   for (const MotionFrame& f : frames) {
     const foveation::EccentricityMap map = foveation::eccentricity_map(f.view, f.gaze_px);
@@ -224,12 +260,16 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                  std::to_string(rr.status);
         return false;
       }
+    }
+    if (with_reference && ref_options.controls) {
       binomial_blur_3x3(reference_display, &blurred);
       add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
       add_tracked_frame(run->taa_on_reference,
                         foveation::display_encode(
                             accumulate_reference(taa_on_reference, reference_linear, f, tracking, executor)),
                         reference_display, map, tracking, executor);
+      if (!add_sample_histories(sample_histories, tracer, f, reference_display, map, tracking, executor, run, error))
+        return false;
     }
     for (SequenceTrack& t : tracks) {
       if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, ref_options.pixel_filter, &full_linear, &display);

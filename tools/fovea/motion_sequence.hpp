@@ -62,6 +62,9 @@ struct SequenceReferenceOptions {
   // tracks' and every foveated track's (run_sequence refuses a track with another).
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   std::string cache_dir;     // empty: no cache
+  // Measure the controls (SequenceRun::stable_blur, taa_on_reference, sample_history, sample_history_kept)
+  // beside the tracks; a caller that already has them from an earlier run of the same sequence skips them.
+  bool controls = true;
 };
 
 struct SequenceRun {
@@ -80,6 +83,15 @@ struct SequenceRun {
   // it keeps of flicker and error is what the history's reprojection and
   // clip cost without any noise: the part that more averaging cannot remove.
   TemporalError taa_on_reference;
+  // The limit of any history (sample_history.hpp): one new jittered ray per
+  // pixel per frame, every ray since the last restart kept and traced again
+  // from each frame's eye where it first hit, filtered with the pixel filter.
+  // What it keeps of flicker, no history of these rays can remove. Restarting
+  // as the layer's TAA does (the first frame, a saccade's, a blink's), and
+  // restarting on the first frame only: a history of traced rays is anchored
+  // in the world, not on the gaze, so it need not forget them at a saccade.
+  TemporalError sample_history;
+  TemporalError sample_history_kept;
   std::vector<MotionFrame> frames;
   // Per frame: the layer's TAA history has settled (settled_frames over the
   // motion's restarts: the first frame, a saccade's and a blink's frames).
@@ -104,6 +116,10 @@ inline constexpr SequenceControl kSequenceControls[] = {
     {"stable_blur", "control: the reference blurred [1 2 1]^2, stable by construction", &SequenceRun::stable_blur},
     {"taa_on_reference", "control: the layer's TAA fed the reference (no noise: what its reprojection costs)",
      &SequenceRun::taa_on_reference},
+    {"sample_history", "control: every ray since the TAA's last restart, kept and traced again (a history without error)",
+     &SequenceRun::sample_history},
+    {"sample_history_kept", "control: every ray since the first frame, kept through saccades and blinks",
+     &SequenceRun::sample_history_kept},
 };
 
 struct SequenceHooks {

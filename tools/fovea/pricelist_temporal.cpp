@@ -176,6 +176,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       progress.update((double(gi) + double(frame) / double(total)) / double(todo.size()));
     };
     SequenceRun run;
+    ref.controls = !done.count("reference");  // the controls go into the reference's line, written once
     if (!run_sequence(tracer, scene_hash, frames, ref, tracks, executor, hooks, &run, &error)) {
       err << "fovea pricelist: temporal " << s.id() << ": " << error << "\n";
       return std::nullopt;

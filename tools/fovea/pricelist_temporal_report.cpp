@@ -79,8 +79,9 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   const bool have_control = temporal.contains("reference") && temporal["reference"].is_object();
   Json a = {{"setting", setting}};
   // Per measure (at fixed pixels, along the motion): off over reproject, off over restart, and off over
-  // each control: the stable blur (an image that is soft but does not flicker at all) and the TAA fed the
-  // reference (what the history's reprojection costs without noise).
+  // each control (kSequenceControls): the stable blur (an image that is soft but does not flicker at all),
+  // the TAA fed the reference (what the history's reprojection costs without noise) and the sample histories
+  // (what keeping the rays themselves reaches).
   for (const char* measure : {"flicker", "flicker_tracked"}) {
     const std::string m = measure;
     Json ratio = Json::array(), ratio_restart = Json::array();
@@ -116,8 +117,6 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   // settled (motion_sequence.hpp), without the cold start and the frames after the saccade.
   const Json* off_band = periphery_of(*off, "bands");
   const Json* reproject_band = periphery_of(*reproject, "bands");
-  const Json* ceiling_band =
-      have_control ? periphery_of(temporal["reference"], "taa_on_reference_bands") : nullptr;
   if (off_band != nullptr && reproject_band != nullptr) {
     Json settled = {{"frames", temporal["reference"].value("settled_frames", Json())},
                     {"settle_frames", temporal["reference"].value("settle_frames", Json())}};
@@ -125,7 +124,11 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
       const std::string m = measure;
       const double o = settled_value(off_band, measure);
       settled[m + "_ratio_off_over_reproject"] = number_or_null_json(o / settled_value(reproject_band, measure));
-      settled[m + "_ratio_off_over_taa_on_reference"] = number_or_null_json(o / settled_value(ceiling_band, measure));
+      for (const SequenceControl& control : kSequenceControls) {
+        const std::string key = control.key;
+        const Json* band = have_control ? periphery_of(temporal["reference"], key + "_bands") : nullptr;
+        settled[m + "_ratio_off_over_" + key] = number_or_null_json(o / settled_value(band, measure));
+      }
     }
     a["settled_periphery"] = settled;
   }
@@ -175,6 +178,11 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
     << " along the motion; the same TAA fed the reference itself, without noise, "
     << three("flicker_ratio_off_over_taa_on_reference") << " at fixed pixels and "
     << three("flicker_tracked_ratio_off_over_taa_on_reference") << " along the motion"
+    << "; every ray since the TAA's last restart kept and traced again (what a history of these rays reaches "
+       "without error) " << three("flicker_ratio_off_over_sample_history") << " at fixed pixels and "
+    << three("flicker_tracked_ratio_off_over_sample_history") << " along the motion, kept through the saccade "
+    << three("flicker_ratio_off_over_sample_history_kept") << " and "
+    << three("flicker_tracked_ratio_off_over_sample_history_kept")
     << "; TAA restarting on every pose change: "
     << three("flicker_ratio_off_over_restart") << "); its error at 0-2.5 / 2.5-5 deg is ";
   for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r) {
@@ -219,6 +227,8 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
   const std::string setting = a["setting"].get<std::string>();
   const Json* ceiling =
       temporal.contains("reference") ? periphery_of(temporal["reference"], "taa_on_reference_bands") : nullptr;
+  const Json* sample_history =
+      temporal.contains("reference") ? periphery_of(temporal["reference"], "sample_history_bands") : nullptr;
   const Json* reproject = track(temporal, setting + "_taa-reproject");
   // Frame t's value of a per-frame array (t >= 1: a pair), as a series.
   const auto series = [](const std::string& label, const Json* band, const char* key, bool points,
@@ -246,6 +256,8 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
       lines.push_back(series(label, t ? periphery_of(*t, "bands") : nullptr, key, false, nullptr));
     }
     lines.push_back(series("control: reprojected TAA fed the reference", ceiling, key, false, nullptr));
+    lines.push_back(series("control: every ray since the TAA's last restart, kept", sample_history, key, false,
+                           nullptr));
     lines.push_back(series("history restart (reprojected TAA)",
                            reproject ? periphery_of(*reproject, "bands") : nullptr, key, true,
                            &resets));
@@ -270,10 +282,12 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
         "e_t - e_t-1 (e = I - R: the change beyond the reference's own) at fixed pixels, and along the motion "
         "(e_t - e_t-1 warped to where each pixel's surface was: what an eye that keeps the world still sees); "
         "PSNR: the error against the reference over all frames. The same rays per point with TAA off (one "
-        "jitter), restarting on every pose change, and reprojecting its history (new jitter each frame). Two "
-        "controls: the reference blurred [1 2 1]^2, soft but stable by construction, and the layer's reprojected "
+        "jitter), restarting on every pose change, and reprojecting its history (new jitter each frame). Four "
+        "controls: the reference blurred [1 2 1]^2, soft but stable by construction; the layer's reprojected "
         "TAA fed the reference itself in place of the noisy frames: what its reprojection and clip cost without "
-        "noise, the part more averaging cannot remove.\n\n";
+        "noise, the part more averaging cannot remove; and one new jittered ray per pixel per frame with every "
+        "ray since the TAA's last restart (or since the first frame) kept where it hit and traced again from "
+        "each frame's eye: what a history of these rays reaches when nothing it keeps is wrong.\n\n";
   if (!a.is_null()) md << temporal_headline(temporal, a) << "\n\n";
   md << "Reference floor (its own flicker and error, from its two halves) below the smallest flicker / the best "
         "PSNR of any track per ring:";
@@ -319,7 +333,9 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
        << "first frame, a saccade's or a blink's), reprojected TAA flickers " << ratio("flicker_ratio_off_over_reproject")
        << " less than no TAA at fixed pixels and " << ratio("flicker_tracked_ratio_off_over_reproject")
        << " along the motion; the TAA fed the reference " << ratio("flicker_ratio_off_over_taa_on_reference")
-       << " and " << ratio("flicker_tracked_ratio_off_over_taa_on_reference") << ".\n";
+       << " and " << ratio("flicker_tracked_ratio_off_over_taa_on_reference")
+       << "; every ray since the TAA's last restart, kept " << ratio("flicker_ratio_off_over_sample_history")
+       << " and " << ratio("flicker_tracked_ratio_off_over_sample_history") << ".\n";
   }
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }

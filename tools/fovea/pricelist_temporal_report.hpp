@@ -17,12 +17,12 @@ namespace foveart::tools {
 inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1";
 
 // {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
-//  "<m>_ratio_off_over_stable_blur"[ring], "<m>_ratio_off_over_taa_on_reference"[ring] (the two
-//  controls: motion_sequence.hpp) for m = flicker (at fixed pixels) and flicker_tracked
+//  "<m>_ratio_off_over_<c>"[ring] for each control c of kSequenceControls (stable_blur,
+//  taa_on_reference, sample_history, sample_history_kept: motion_sequence.hpp) for m = flicker (at fixed pixels) and flicker_tracked
 //  (along the motion), "peripheral_flicker_5x_lower" (fixed pixels, the measure),
 //  "peripheral_tracked_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
 //  "settled_periphery": {"frames", "settle_frames", "<m>_ratio_off_over_reproject",
-//  "<m>_ratio_off_over_taa_on_reference"} (the periphery pooled over the settled frames, beside the goal;
+//  "<m>_ratio_off_over_<c>" for each control c} (the periphery pooled over the settled frames, beside the goal;
 //  absent without per-frame values)}
 // for one setting's three tracks (null entries where a ring is empty); null when they are missing.
 nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
@@ -40,7 +40,8 @@ std::string write_temporal_csv(const std::filesystem::path& file, const nlohmann
 
 // The peripheral band's flicker frame by frame (sequence_band_json) of the
 // acceptance's setting — TAA off, restarting, reprojected, the TAA fed the
-// reference, and the reprojected TAA's restarts marked — at fixed pixels and
+// reference, every ray since the last restart kept, and the reprojected TAA's
+// restarts marked — at fixed pixels and
 // along the motion, as PNGs in dir. "" or what could not be written; nothing
 // is drawn without an acceptance or per-frame values (a resumed older run).
 inline constexpr const char* kTemporalPlotFixed = "temporal_periphery_fixed.png";

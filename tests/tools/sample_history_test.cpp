@@ -1,0 +1,195 @@
+// The sample-history control: every ray since the last restart, anchored where
+// it hit and traced again each frame, filtered into pixels with the pixel
+// filter (tools/fovea/sample_history.hpp).
+#include "sample_history.hpp"
+
+#include "analytic_scene.hpp"
+
+#include <foveation/eye_rays.hpp>
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include <cmath>
+
+namespace foveart {
+namespace {
+
+using foveation::ImageRgb;
+using foveation::PixelFilter;
+
+constexpr std::uint32_t kW = 48, kH = 40;
+
+struct Engine {
+  foveation::test::AnalyticScene scene;
+  int calls = 0;
+  int fail_from_call = -1;  // >= 0: that call and every later one fails
+};
+
+std::int32_t trace(void* user, const FoveartRayBatch* batch) {
+  auto* e = static_cast<Engine*>(user);
+  if (e->fail_from_call >= 0 && e->calls++ >= e->fail_from_call) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  for (std::uint32_t i = 0; i < batch->ray_count; ++i) {
+    const float* o = batch->origins_m + 3 * i;
+    const float* d = batch->directions + 3 * i;
+    float depth = 0.0f;
+    const glm::vec3 c = e->scene.shade({o[0], o[1], o[2]}, {d[0], d[1], d[2]}, &depth);
+    for (int k = 0; k < 3; ++k) batch->out_rgb[3 * i + k] = c[k];
+    if (batch->size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH) batch->out_depth_m[i] = depth;
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+FoveartEyeView view_at(glm::vec3 position_m, float yaw_deg) {
+  foveation::EyePose pose;
+  pose.position_m = position_m;
+  pose.orientation = glm::angleAxis(glm::radians(-yaw_deg), glm::vec3(0, 1, 0));
+  return foveation::make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
+}
+
+TEST(PixelFilterWeight, EachFilterSplitsARayIntoWeightsThatSumToOne) {
+  for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
+    for (float u = -0.5f; u < 0.5f; u += 0.0625f) {  // a ray u from a pixel centre: its weights over every pixel
+      float sum = 0.0f;
+      for (int k = -3; k <= 3; ++k) {
+        const float w = tools::pixel_filter_weight(filter, u - float(k));
+        EXPECT_GE(w, 0.0f);
+        sum += w;
+      }
+      EXPECT_NEAR(sum, 1.0f, 1e-6f) << foveation::pixel_filter_name(filter) << " u " << u;
+    }
+  }
+  // Box: the pixel floor() assigns a ray to; bspline2: 3 px wide, peak 3/4.
+  EXPECT_EQ(tools::pixel_filter_weight(PixelFilter::box, -0.5f), 1.0f);
+  EXPECT_EQ(tools::pixel_filter_weight(PixelFilter::box, 0.5f), 0.0f);
+  EXPECT_FLOAT_EQ(tools::pixel_filter_weight(PixelFilter::bspline2, 0.0f), 0.75f);
+  EXPECT_FLOAT_EQ(tools::pixel_filter_weight(PixelFilter::bspline2, 1.0f), 0.125f);
+  EXPECT_EQ(tools::pixel_filter_weight(PixelFilter::bspline2, 1.5f), 0.0f);
+}
+
+// On a still view every ray stays: frame n holds n rays per pixel, and each
+// pixel is the mean of its own (box) over every frame so far.
+TEST(SampleHistory, StillViewAveragesEveryRaySinceTheRestart) {
+  Engine engine;
+  engine.scene.near_bar = false;
+  foveation::Executor executor(2);
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
+  const foveation::EyeFrustum f = foveation::eye_frustum(view);
+  const foveation::EyePose pose = foveation::eye_pose(view);
+  constexpr std::uint64_t kSeed = 7;
+  constexpr int kFrames = 4;
+  tools::SampleHistory history(kSeed, PixelFilter::box);
+  ImageRgb out;
+  for (int frame = 0; frame < kFrames; ++frame) {
+    ASSERT_EQ(history.render(&trace, &engine, view, std::uint64_t(frame), frame == 0, executor, &out),
+              FOVEART_RESULT_SUCCESS);
+    EXPECT_EQ(history.rays(), std::size_t(frame + 1) * kW * kH);
+  }
+  // The expectation, ray by ray: the same jitter (seed + frame), traced from the eye.
+  int off_by_more = 0;
+  double abs_sum = 0.0;
+  for (std::uint32_t y = 0; y < kH; ++y)
+    for (std::uint32_t x = 0; x < kW; ++x) {
+      const std::uint64_t p = std::uint64_t(y) * kW + x;
+      glm::vec3 sum(0.0f);
+      for (int frame = 0; frame < kFrames; ++frame) {
+        const glm::vec2 q = glm::vec2(float(x), float(y)) + foveation::pixel_jitter(p, 0, kSeed + std::uint64_t(frame));
+        float depth = 0.0f;
+        sum += engine.scene.shade(pose.position_m, foveation::eye_ray_direction(f, pose, q), &depth);
+      }
+      for (int c = 0; c < 3; ++c) {
+        const double d = std::fabs(double(out.at(int(x), int(y))[c]) - double(sum[c]) / kFrames);
+        abs_sum += d;
+        off_by_more += d > 1e-4 ? 1 : 0;
+      }
+    }
+  // A ray re-projected through its hit point lands where it was to float
+  // rounding; one on a pixel's very edge may change pixel: a handful at most.
+  EXPECT_LE(off_by_more, 6);
+  EXPECT_LT(abs_sum / (3.0 * kW * kH), 1e-4);
+}
+
+TEST(SampleHistory, RestartForgetsEveryRayAndRepeatsAFreshHistory) {
+  Engine engine;
+  foveation::Executor executor(2);
+  tools::SampleHistory history(3, PixelFilter::bspline2), fresh(3, PixelFilter::bspline2);
+  ImageRgb out, fresh_out;
+  for (int frame = 0; frame < 3; ++frame)
+    ASSERT_EQ(history.render(&trace, &engine, view_at({0, 1.6f, 0}, 0.5f * float(frame)), std::uint64_t(frame),
+                             frame == 0, executor, &out),
+              FOVEART_RESULT_SUCCESS);
+  EXPECT_GT(history.rays(), 2u * kW * kH);
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 2.0f);
+  ASSERT_EQ(history.render(&trace, &engine, view, 3, true, executor, &out), FOVEART_RESULT_SUCCESS);
+  EXPECT_EQ(history.rays(), std::size_t(kW) * kH);
+  ASSERT_EQ(fresh.render(&trace, &engine, view, 3, true, executor, &fresh_out), FOVEART_RESULT_SUCCESS);
+  EXPECT_EQ(out.rgb, fresh_out.rgb);
+}
+
+// Kept rays follow the surface they hit: an eye stepping sideways in front of
+// a wall 10 m away carries its oldest rays off the image's edge (and forgets
+// them), while rays that hit nothing keep their direction and stay.
+TEST(SampleHistory, KeptRaysAreAnchoredWhereTheyHit) {
+  foveation::Executor executor(2);
+  for (const bool at_infinity : {false, true}) {
+    Engine engine;
+    engine.scene.near_bar = false;
+    engine.scene.wall_at_infinity = at_infinity;
+    tools::SampleHistory history(5, PixelFilter::box);
+    ImageRgb out;
+    constexpr int kFrames = 5;
+    for (int frame = 0; frame < kFrames; ++frame)  // 0.2 m a frame: 0.96 px at 10 m
+      ASSERT_EQ(history.render(&trace, &engine, view_at({0.2f * float(frame), 1.6f, 0}, 0.0f),
+                               std::uint64_t(frame), frame == 0, executor, &out),
+                FOVEART_RESULT_SUCCESS);
+    if (at_infinity) {
+      EXPECT_EQ(history.rays(), std::size_t(kFrames) * kW * kH);
+    } else {
+      // Frame k's rays moved 0.96 (4 - k) px: 9.6 columns of rays left the image in all.
+      EXPECT_LT(history.rays(), std::size_t(kFrames) * kW * kH - 8u * kH);
+      EXPECT_GT(history.rays(), std::size_t(kFrames) * kW * kH - 11u * kH);
+    }
+  }
+}
+
+// Under a turning head the output stays an estimate of the filtered image:
+// closer to the supersampled truth than one ray per pixel is.
+TEST(SampleHistory, TurningHeadConvergesTowardsTheTruth) {
+  Engine engine;
+  foveation::Executor executor(2);
+  tools::SampleHistory history(11, PixelFilter::box);
+  ImageRgb out;
+  FoveartEyeView view{};
+  constexpr int kFrames = 12;
+  for (int frame = 0; frame < kFrames; ++frame) {
+    view = view_at({0.01f * float(frame), 1.6f, 0}, 0.3f * float(frame));
+    ASSERT_EQ(history.render(&trace, &engine, view, std::uint64_t(frame), frame == 0, executor, &out),
+              FOVEART_RESULT_SUCCESS);
+  }
+  const ImageRgb truth = engine.scene.render(view, 8);
+  tools::SampleHistory one(11, PixelFilter::box);
+  ImageRgb one_ray;
+  ASSERT_EQ(one.render(&trace, &engine, view, kFrames - 1, true, executor, &one_ray), FOVEART_RESULT_SUCCESS);
+  const auto rms = [&](const ImageRgb& a) {
+    double sq = 0.0;
+    for (std::size_t i = 0; i < a.rgb.size(); ++i) sq += std::pow(double(a.rgb[i]) - double(truth.rgb[i]), 2.0);
+    return std::sqrt(sq / double(a.rgb.size()));
+  };
+  EXPECT_LT(rms(out), 0.5 * rms(one_ray)) << rms(out) << " against " << rms(one_ray);
+}
+
+TEST(SampleHistory, EngineFailureIsReturnedAndKeepsTheRaysItHad) {
+  Engine engine;
+  foveation::Executor executor(2);
+  tools::SampleHistory history(2, PixelFilter::box);
+  ImageRgb out;
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
+  ASSERT_EQ(history.render(&trace, &engine, view, 0, true, executor, &out), FOVEART_RESULT_SUCCESS);
+  engine.fail_from_call = 0;
+  EXPECT_EQ(history.render(&trace, &engine, view, 1, false, executor, &out), FOVEART_RESULT_ERROR_ENGINE_FAILURE);
+  EXPECT_EQ(history.rays(), std::size_t(kW) * kH);
+}
+
+}  // namespace
+}  // namespace foveart
