@@ -151,32 +151,32 @@ const foveation::ImageRgb& accumulate_reference(TaaOnReference& c, const foveati
 // apart from the reference's (seed + i) and the tracks'.
 struct SampleHistories {
   SampleHistory at_restarts, kept;
-  bool flagged = false;       // the last frame's saccade-or-blink flag
   foveation::ImageRgb image;  // scratch
 
   SampleHistories(std::uint64_t seed, foveation::PixelFilter filter)
       : at_restarts(seed + 0x9E3779B9ull, filter), kept(seed + 0x7F4A7C15ull, filter) {}
 };
 
-bool add_sample_histories(SampleHistories& h, engine::Tracer& tracer, const MotionFrame& f,
+// taa_restarts: whether the layer's TAA restarted on this frame (TemporalAccumulator::last_was_reset of the
+// TAA fed the reference, which sees the same gaze and flags): where `at_restarts` forgets its rays.
+bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
                           const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
                           Tracking& tracking, foveation::Executor& executor, SequenceRun* run, std::string* error) {
-  const std::pair<SampleHistory*, TemporalError*> controls[] = {{&h.at_restarts, &run->sample_history},
-                                                                 {&h.kept, &run->sample_history_kept}};
-  // Where the layer's TAA restarts (taa.hpp): the first frame, and the first frame of a saccade or a blink.
-  const bool flag = f.saccade || f.blink;
-  const bool onset = f.index == 0 || (flag && !h.flagged);
-  h.flagged = flag;
-  for (const auto& [history, measured] : controls) {
-    const bool restart = f.index == 0 || (history == &h.at_restarts && onset);
-    if (const std::int32_t st = history->render(&foveart_engine_trace_rays, &tracer, f.view,
-                                                std::uint64_t(f.index), restart, executor, &h.image);
+  const struct {
+    SampleHistory* history;
+    TemporalError* measured;
+    bool restart;
+  } controls[] = {{&h.at_restarts, &run->sample_history, taa_restarts},
+                  {&h.kept, &run->sample_history_kept, f.index == 0}};
+  for (const auto& c : controls) {
+    if (const std::int32_t st = c.history->render(&foveart_engine_trace_rays, &tracer, f.view,
+                                                  std::uint64_t(f.index), c.restart, executor, &h.image);
         st != FOVEART_RESULT_SUCCESS) {
       *error = "sample history of frame " + std::to_string(f.index) + ": engine callback failed with status " +
                std::to_string(st);
       return false;
     }
-    add_tracked_frame(*measured, foveation::display_encode(h.image), reference_display, map, tracking, executor);
+    add_tracked_frame(*c.measured, foveation::display_encode(h.image), reference_display, map, tracking, executor);
   }
   return true;
 }
@@ -268,7 +268,8 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                         foveation::display_encode(
                             accumulate_reference(taa_on_reference, reference_linear, f, tracking, executor)),
                         reference_display, map, tracking, executor);
-      if (!add_sample_histories(sample_histories, tracer, f, reference_display, map, tracking, executor, run, error))
+      if (!add_sample_histories(sample_histories, taa_on_reference.taa.last_was_reset(), tracer, f,
+                                reference_display, map, tracking, executor, run, error))
         return false;
     }
     for (SequenceTrack& t : tracks) {

@@ -83,13 +83,14 @@ struct SequenceRun {
   // it keeps of flicker and error is what the history's reprojection and
   // clip cost without any noise: the part that more averaging cannot remove.
   TemporalError taa_on_reference;
-  // The limit of any history (sample_history.hpp): one new jittered ray per
-  // pixel per frame, every ray since the last restart kept and traced again
-  // from each frame's eye where it first hit, filtered with the pixel filter.
-  // What it keeps of flicker, no history of these rays can remove. Restarting
-  // as the layer's TAA does (the first frame, a saccade's, a blink's), and
-  // restarting on the first frame only: a history of traced rays is anchored
-  // in the world, not on the gaze, so it need not forget them at a saccade.
+  // What a history of the rays themselves reaches when nothing it keeps is
+  // wrong (sample_history.hpp): one new jittered ray per pixel per frame,
+  // every ray since the last restart kept and traced again from each frame's
+  // eye where it first hit, filtered with the pixel filter. Restarting where
+  // the layer's TAA restarts (the first frame, a saccade's or a blink's onset,
+  // a gaze jump), and restarting on the first frame only: a history of traced
+  // rays is anchored in the world, not on the gaze, so it need not forget
+  // them at a saccade.
   TemporalError sample_history;
   TemporalError sample_history_kept;
   std::vector<MotionFrame> frames;

@@ -1,5 +1,6 @@
-// A control for temporal stability: the best any history of traced rays can
-// do at one new ray per pixel per frame. Every ray traced since the last
+// A control for temporal stability: what a history of the traced rays
+// themselves reaches at one new ray per pixel per frame when nothing it keeps
+// is wrong. Every ray traced since the last
 // restart is kept, anchored where it hit (a point on a surface, or a
 // direction for a miss), and every frame each kept ray is traced again from
 // the current eye through where its anchor now projects, then filtered into
