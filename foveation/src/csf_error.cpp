@@ -54,11 +54,14 @@ double csf_weight(double frequency_cpd, double eccentricity_deg, double pixels_p
 
 std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
   if (ref.width_px != im.width_px || ref.height_px != im.height_px || ref.rgb.size() != im.rgb.size() ||
-      ref.width_px != map.width_px || ref.height_px != map.height_px || ref.rgb.size() != ref.pixel_count() * 3) {
+      ref.width_px != map.width_px || ref.height_px != map.height_px || ref.rgb.size() != ref.pixel_count() * 3 ||
+      map.eccentricity_deg.size() != ref.pixel_count() || map.pixels_per_deg.size() != ref.pixel_count()) {
     throw std::invalid_argument("csf_error_map: image " + std::to_string(im.width_px) + "x" +
                                 std::to_string(im.height_px) + ", reference " + std::to_string(ref.width_px) + "x" +
                                 std::to_string(ref.height_px) + " and eccentricity map " +
-                                std::to_string(map.width_px) + "x" + std::to_string(map.height_px) + " differ");
+                                std::to_string(map.width_px) + "x" + std::to_string(map.height_px) + " (" +
+                                std::to_string(map.eccentricity_deg.size()) + " eccentricities, " +
+                                std::to_string(map.pixels_per_deg.size()) + " pixels per degree) differ");
   }
   const int w = ref.width_px, h = ref.height_px;
   const std::size_t n = ref.pixel_count();
@@ -66,8 +69,7 @@ std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const 
   for (std::size_t i = 0; i < n; ++i) {
     const float* a = im.rgb.data() + i * 3;
     const float* b = ref.rgb.data() + i * 3;
-    d[i] = 0.299 * (double(a[0]) - double(b[0])) + 0.587 * (double(a[1]) - double(b[1])) +
-           0.114 * (double(a[2]) - double(b[2]));
+    d[i] = rec601_luma(double(a[0]) - double(b[0]), double(a[1]) - double(b[1]), double(a[2]) - double(b[2]));
   }
   std::vector<double> sum(n, 0.0), prev = d, blurred, once;
   for (int l = 1; l <= kBands + 1; ++l) {

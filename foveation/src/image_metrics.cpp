@@ -34,7 +34,7 @@ std::vector<double> luma(const ImageRgb& im) {
   std::vector<double> y(im.pixel_count());
   for (std::size_t i = 0; i < y.size(); ++i) {
     const float* c = im.rgb.data() + i * 3;
-    y[i] = 0.299 * double(c[0]) + 0.587 * double(c[1]) + 0.114 * double(c[2]);
+    y[i] = rec601_luma(double(c[0]), double(c[1]), double(c[2]));
   }
   return y;
 }

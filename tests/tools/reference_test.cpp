@@ -62,7 +62,16 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
   EXPECT_TRUE(second->from_cache);
   EXPECT_EQ(second->image.rgb, first->image.rgb);
   EXPECT_EQ(second->half_difference2, first->half_difference2);
+  EXPECT_EQ(second->half_difference_luma, first->half_difference_luma);
   EXPECT_TRUE(log.empty());
+  // The signed luma difference is a convex mix of the channels' differences: never beyond the largest.
+  ASSERT_EQ(first->half_difference_luma.size(), first->half_difference2.size());
+  bool any_noise = false;
+  for (std::size_t i = 0; i < first->half_difference2.size(); ++i) {
+    EXPECT_LE(std::abs(first->half_difference_luma[i]), std::sqrt(3.0f * first->half_difference2[i]) + 1e-6f) << i;
+    any_noise = any_noise || first->half_difference_luma[i] != 0.0f;
+  }
+  EXPECT_TRUE(any_noise) << "8 rays per pixel in two halves differ somewhere";
 
   // One flipped byte in the payload: a clear message naming the file, then a fresh render.
   {

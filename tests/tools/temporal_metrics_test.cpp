@@ -191,6 +191,89 @@ TEST(TemporalMetrics, MismatchedSizesThrow) {
   EXPECT_THROW(f.add_frame(std::vector<float>(3), map_with(1)), std::invalid_argument);
 }
 
+namespace {
+
+// A map for the CSF-weighted measure: every pixel at `ecc_deg` in ring 0, 60 pixels per degree, so
+// that the finest band (30 cycles/degree, the display's Nyquist) is one the fovea resolves (< 39.2).
+EccentricityMap csf_map(int w, int h, float ecc_deg) {
+  EccentricityMap m;
+  m.width_px = w;
+  m.height_px = h;
+  m.ring.assign(std::size_t(w * h), 0);
+  m.eccentricity_deg.assign(std::size_t(w * h), ecc_deg);
+  m.pixels_per_deg.assign(std::size_t(w * h), 60.0f);
+  m.ring_pixels[0] = std::uint64_t(w * h);
+  return m;
+}
+
+// A grey image of value v, plus `checker` * (+1, -1, ...) in a pixel checkerboard.
+ImageRgb grey(int w, int h, float v, float checker = 0.0f) {
+  ImageRgb im(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) im.at(x, y)[c] = v + ((x + y) % 2 == 0 ? checker : -checker);
+  return im;
+}
+
+}  // namespace
+
+TEST(TemporalMetrics, CsfFlickerAtTheGazeIsTheLumaChange) {
+  // Where the eye resolves every band the weighting telescopes back to the luma change: +-a alternating is 2a.
+  TemporalError e;
+  const EccentricityMap m = csf_map(16, 16, 0.0f);
+  for (int t = 0; t < 4; ++t) e.add_frame(grey(16, 16, t % 2 == 0 ? 0.53f : 0.47f), grey(16, 16, 0.5f), m);
+  const TemporalRings r = e.rings();
+  EXPECT_NEAR(r[0].flicker_csf_rms, 0.06, 1e-6);
+  EXPECT_NEAR(r[0].flicker_csf_rms, r[0].flicker_rms, 1e-6);
+  EXPECT_EQ(r[0].csf_pair_pixels, 3u * 16u * 16u);
+}
+
+TEST(TemporalMetrics, CsfFlickerFadesFinerThanThePeripheryResolves) {
+  // At 40 degrees the eye resolves up to 2.13 cycles/degree (thesis eq. 2): a uniform change keeps the
+  // low-pass band's weight exp(-alpha f e / e2) at f = 60 / 64 cycles/degree; a pixel checkerboard
+  // flickering as strongly is almost all beyond the cut-off.
+  TemporalError uniform, checker;
+  const EccentricityMap m = csf_map(32, 32, 40.0f);
+  for (int t = 0; t < 3; ++t) {
+    const float a = t % 2 == 0 ? 0.03f : -0.03f;
+    uniform.add_frame(grey(32, 32, 0.5f + a), grey(32, 32, 0.5f), m);
+    checker.add_frame(grey(32, 32, 0.5f, a), grey(32, 32, 0.5f), m);
+  }
+  const double low_pass_weight = std::exp(-0.106 * (60.0 / 64.0) * 40.0 / 2.3);
+  EXPECT_NEAR(uniform.rings()[0].flicker_csf_rms, 0.06 * low_pass_weight, 1e-6);
+  EXPECT_NEAR(checker.rings()[0].flicker_rms, 0.06, 1e-6) << "the same change at fixed pixels";
+  EXPECT_LT(checker.rings()[0].flicker_csf_rms, 0.05 * uniform.rings()[0].flicker_csf_rms);
+}
+
+TEST(TemporalMetrics, CsfFlickerNeedsTheMapsEccentricities) {
+  TemporalError e;
+  const EccentricityMap m = map_with(4);  // rings only
+  for (int t = 0; t < 3; ++t) e.add_frame(plus(truth(t), t % 2 == 0 ? 0.1f : 0.0f), truth(t), m);
+  EXPECT_GT(e.rings()[0].flicker_rms, 0.0);
+  EXPECT_TRUE(std::isnan(e.rings()[0].flicker_csf_rms));
+  EXPECT_EQ(e.rings()[0].csf_pair_pixels, 0u);
+}
+
+TEST(TemporalMetrics, ReferenceFloorWeighsBothFramesHalfDifferencesUnderThisFramesMap) {
+  // At the gaze the weighting is the identity on luma: r_t = d_t / 2, floor^2 = (d_t / 2)^2 + (d_{t-1} / 2)^2.
+  const EccentricityMap m = csf_map(8, 8, 0.0f);
+  const std::vector<float> residual(64, 0.0f), d1(64, 0.02f), d2(64, -0.04f);
+  ReferenceFloor f;
+  f.add_frame(residual, m, &d1);
+  f.add_frame(residual, m, &d2);
+  const TemporalRings r = f.rings();
+  EXPECT_NEAR(r[0].flicker_csf_rms, std::sqrt(0.01 * 0.01 + 0.02 * 0.02), 1e-7);
+  EXPECT_EQ(r[0].csf_pair_pixels, 64u);
+  // A frame without its signed difference leaves the weighted floor unknown, not too low.
+  ReferenceFloor g;
+  g.add_frame(residual, m, &d1);
+  g.add_frame(residual, m);
+  g.add_frame(residual, m, &d2);
+  EXPECT_TRUE(std::isnan(g.rings()[0].flicker_csf_rms));
+  const std::vector<float> short_difference(3, 0.0f);
+  EXPECT_THROW(g.add_frame(residual, m, &short_difference), std::invalid_argument);
+}
+
 TEST(TemporalMetrics, ReferenceFloorAddsTheVariancesOfConsecutiveFrames) {
   ReferenceFloor f;
   const EccentricityMap m = map_with(4);

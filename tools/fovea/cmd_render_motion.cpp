@@ -69,6 +69,17 @@ void print_text(const Json& report, std::ostream& out) {
          (key + "_psnr").c_str());
   }
   line("reference floor (its own noise)", reference_rings, "flicker_tracked_floor", "flicker_floor", "psnr_floor");
+  out << "flicker weighted by what the eye resolves (flicker_csf: the change's luma, CSF-weighted by eccentricity), "
+         "per ring:\n";
+  const auto csf_line = [&](const std::string& name, const Json& rings, const char* key) {
+    out << name;
+    for (const Json& r : rings) out << " | " << fixed(r[key], 4);
+    out << "\n";
+  };
+  for (const Json& t : report["tracks"]) csf_line(t["id"].get<std::string>(), t["rings"], "flicker_csf");
+  for (const SequenceControl& c : kSequenceControls)
+    csf_line(c.label, reference_rings, (std::string(c.key) + "_flicker_csf").c_str());
+  csf_line("reference floor (its own noise)", reference_rings, "flicker_csf_floor");
   // The periphery over the frames whose TAA history has settled (motion_sequence.hpp).
   out << "periphery (> 20 deg) over the " << report["reference"]["settled_frames"] << " frames at least "
       << report["reference"]["settle_frames"]

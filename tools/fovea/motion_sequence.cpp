@@ -122,7 +122,7 @@ bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const Mot
   run->reference_ms += ref->render_ms;
   std::vector<float> residual(ref->half_difference2.size());
   for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = ref->half_difference2[i] / 4.0f;
-  run->floor.add_frame(residual, map);
+  run->floor.add_frame(residual, map, &ref->half_difference_luma);
   *reference_display = foveation::display_encode(ref->image);
   *reference_linear = std::move(ref->image);
   return true;
@@ -301,11 +301,13 @@ Json sequence_reference_json(const SequenceRun& run) {
     Json j = ring_bounds(r);
     j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
     j["flicker_tracked_floor"] = number_or_null_json(floor[r].flicker_tracked_rms);
+    j["flicker_csf_floor"] = number_or_null_json(floor[r].flicker_csf_rms);
     j["psnr_floor"] = number_or_null_json(floor[r].psnr_db());
     for (std::size_t c = 0; c < controls.size(); ++c) {
       const std::string key = kSequenceControls[c].key;
       j[key + "_flicker"] = number_or_null_json(controls[c][r].flicker_rms);
       j[key + "_flicker_tracked"] = number_or_null_json(controls[c][r].flicker_tracked_rms);
+      j[key + "_flicker_csf"] = number_or_null_json(controls[c][r].flicker_csf_rms);
       j[key + "_psnr"] = number_or_null_json(controls[c][r].psnr_db());
     }
     rings.push_back(j);
@@ -335,6 +337,7 @@ Json sequence_band_json(const TemporalError& error, const SequenceRun& run) {
                      {"flicker_by_frame", flicker}, {"flicker_tracked_by_frame", tracked}, {"psnr_by_frame", psnr},
                      {"settled", {{"flicker", number_or_null_json(settled.flicker_rms)},
                                   {"flicker_tracked", number_or_null_json(settled.flicker_tracked_rms)},
+                                  {"flicker_csf", number_or_null_json(settled.flicker_csf_rms)},
                                   {"psnr", number_or_null_json(settled.psnr_db())}}}});
   }
   return bands;
@@ -363,6 +366,7 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
     Json ring = ring_bounds(r);
     ring["flicker"] = number_or_null_json(m[r].flicker_rms);
     ring["flicker_tracked"] = number_or_null_json(m[r].flicker_tracked_rms);
+    ring["flicker_csf"] = number_or_null_json(m[r].flicker_csf_rms);
     ring["psnr"] = number_or_null_json(m[r].psnr_db());
     ring["rmse"] = number_or_null_json(std::sqrt(m[r].error_mse));
     rings.push_back(ring);

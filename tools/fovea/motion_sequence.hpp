@@ -105,7 +105,7 @@ struct SequenceRun {
 int taa_settle_frames();
 
 // The controls measured beside the tracks (SequenceRun), each under its JSON
-// key prefix (<key>_flicker, <key>_flicker_tracked, <key>_psnr in the
+// key prefix (<key>_flicker, <key>_flicker_tracked, <key>_flicker_csf, <key>_psnr in the
 // reference's rings) and its label in reports: one list for the JSON, the
 // price list's acceptance and report, and `fovea render --motion`'s text.
 struct SequenceControl {

@@ -18,9 +18,10 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 
 // {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
 //  "<m>_ratio_off_over_<c>"[ring] for each control c of kSequenceControls (stable_blur,
-//  taa_on_reference, sample_history, sample_history_kept: motion_sequence.hpp) for m = flicker (at fixed pixels) and flicker_tracked
-//  (along the motion), "peripheral_flicker_5x_lower" (fixed pixels, the issue's measure),
-//  "peripheral_tracked_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
+//  taa_on_reference, sample_history, sample_history_kept: motion_sequence.hpp) for m = flicker (at fixed pixels),
+//  flicker_tracked (along the motion) and flicker_csf (weighted by what the eye resolves),
+//  "peripheral_flicker_5x_lower" (fixed pixels, the issue's measure), "peripheral_tracked_flicker_5x_lower",
+//  "peripheral_csf_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
 //  "settled_periphery": {"frames", "settle_frames", "<m>_ratio_off_over_reproject",
 //  "<m>_ratio_off_over_<c>" for each control c} (the periphery pooled over the settled frames, beside the goal;
 //  absent without per-frame values)}
@@ -28,12 +29,16 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
 
 // Per ring, how far the reference sequence's own contribution lies below the
-// smallest flicker (either measure) and the smallest error of any track (dB), and whether every
-// ring is at least 10 dB below: {"flicker_margin_db", "error_margin_db", "floor_10db_below"}.
+// smallest flicker (at fixed pixels and along the motion) and the smallest error of any track (dB), and
+// whether every ring is at least 10 dB below: {"flicker_margin_db", "error_margin_db", "floor_10db_below"};
+// the same for the flicker weighted by what the eye resolves against its own floor, beside the goal's
+// measures and not in floor_10db_below: {"csf_flicker_margin_db", "csf_floor_10db_below"}.
 nlohmann::ordered_json temporal_sanity(const nlohmann::ordered_json& temporal);
 
 // The headline's sentence on the acceptance ("" when it cannot be read).
 std::string temporal_headline(const nlohmann::ordered_json& temporal, const nlohmann::ordered_json& acceptance);
+// report.md's sentence on the flicker weighted by what the eye resolves (flicker_csf), beside the goal.
+std::string temporal_csf_line(const nlohmann::ordered_json& acceptance);
 
 // temporal.csv: one row per track. Error message or "".
 std::string write_temporal_csv(const std::filesystem::path& file, const nlohmann::ordered_json& temporal);

@@ -21,7 +21,7 @@ namespace foveart::tools {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'V', 'R', 'T', 'R', 'E', 'F', '1'};
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: the signed luma half difference
 constexpr int kChunkSpp = 8;  // rays per pixel of one render; halves take alternate chunks
 
 struct Header {
@@ -161,6 +161,7 @@ std::string write_reference(const std::filesystem::path& file, std::uint64_t key
   XXH3_64bits_update(s, &h, sizeof h);
   XXH3_64bits_update(s, ref.image.rgb.data(), ref.image.rgb.size() * sizeof(float));
   XXH3_64bits_update(s, ref.half_difference2.data(), ref.half_difference2.size() * sizeof(float));
+  XXH3_64bits_update(s, ref.half_difference_luma.data(), ref.half_difference_luma.size() * sizeof(float));
   const std::uint64_t sum = XXH3_64bits_digest(s);
   XXH3_freeState(s);
   std::error_code ec;
@@ -173,6 +174,8 @@ std::string write_reference(const std::filesystem::path& file, std::uint64_t key
     out.write(reinterpret_cast<const char*>(ref.image.rgb.data()), std::streamsize(ref.image.rgb.size() * sizeof(float)));
     out.write(reinterpret_cast<const char*>(ref.half_difference2.data()),
               std::streamsize(ref.half_difference2.size() * sizeof(float)));
+    out.write(reinterpret_cast<const char*>(ref.half_difference_luma.data()),
+              std::streamsize(ref.half_difference_luma.size() * sizeof(float)));
     out.write(reinterpret_cast<const char*>(&sum), sizeof sum);
     if (!out) {
       std::filesystem::remove(tmp, ec);
@@ -204,7 +207,7 @@ std::optional<Reference> read_reference(const std::filesystem::path& file, std::
   const std::uint64_t pixels = std::uint64_t(h.width_px) * h.height_px;
   if (h.width_px == 0 || h.height_px == 0 || h.width_px > 65536 || h.height_px > 65536)
     return fail("bad size " + std::to_string(h.width_px) + "x" + std::to_string(h.height_px));
-  const std::uint64_t payload = pixels * 4 * sizeof(float);
+  const std::uint64_t payload = pixels * 5 * sizeof(float);  // image (3), half_difference2, half_difference_luma
   if (bytes.size() != sizeof h + payload + sizeof(std::uint64_t))
     return fail("size " + std::to_string(bytes.size()) + " bytes does not match the header");
   std::uint64_t stored = 0;
@@ -213,8 +216,11 @@ std::optional<Reference> read_reference(const std::filesystem::path& file, std::
   Reference ref;
   ref.image = foveation::ImageRgb(int(h.width_px), int(h.height_px));
   ref.half_difference2.resize(pixels);
+  ref.half_difference_luma.resize(pixels);
   std::memcpy(ref.image.rgb.data(), bytes.data() + sizeof h, pixels * 3 * sizeof(float));
   std::memcpy(ref.half_difference2.data(), bytes.data() + sizeof h + pixels * 3 * sizeof(float), pixels * sizeof(float));
+  std::memcpy(ref.half_difference_luma.data(), bytes.data() + sizeof h + pixels * 4 * sizeof(float),
+              pixels * sizeof(float));
   ref.spp = int(h.spp);
   ref.from_cache = true;
   ref.cache_file = file.string();
@@ -271,16 +277,19 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
     ref.spp = spp;
     ref.image = foveation::ImageRgb(w, h);
     ref.half_difference2.resize(n);
+    ref.half_difference_luma.resize(n);
     const double per_half = double(chunks / 2);
     for (std::size_t i = 0; i < n; ++i) {
-      double d2 = 0.0;
+      double d2 = 0.0, d_rgb[3] = {};
       for (std::size_t c = 0; c < 3; ++c) {
         const double a = sum_a[i * 3 + c] / per_half, b = sum_b[i * 3 + c] / per_half;
         ref.image.rgb[i * 3 + c] = float(0.5 * (a + b));
         const double d = double(encode(float(a))) - double(encode(float(b)));
         d2 += d * d;
+        d_rgb[c] = d;
       }
       ref.half_difference2[i] = float(d2 / 3.0);
+      ref.half_difference_luma[i] = float(foveation::rec601_luma(d_rgb[0], d_rgb[1], d_rgb[2]));
     }
     return ref;
   };

@@ -60,6 +60,7 @@ struct ReferenceOptions {
 struct Reference {
   foveation::ImageRgb image;            // linear RGB, (A + B) / 2
   std::vector<float> half_difference2;  // per pixel: mean over channels of (enc(A) - enc(B))^2, display values
+  std::vector<float> half_difference_luma;  // per pixel: Rec. 601 luma of enc(A) - enc(B), signed
   int spp = 0;
   bool from_cache = false;
   double render_ms = 0.0;               // this run's rendering (0 when loaded)

@@ -1,6 +1,8 @@
 // The temporal measure's sums (temporal_metrics.hpp).
 #include "temporal_metrics.hpp"
 
+#include <foveation/csf_error.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -33,6 +35,10 @@ TemporalRings finish(const std::array<double, foveation::kRingCount>& flicker_su
     out[r].error_mse = error_n[r] ? error_sum[r] / double(error_n[r]) : kNaN;
   }
   return out;
+}
+
+bool map_has_eccentricity(const foveation::EccentricityMap& map) {
+  return map.eccentricity_deg.size() == map.ring.size() && map.pixels_per_deg.size() == map.ring.size();
 }
 
 }  // namespace
@@ -87,6 +93,14 @@ void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation:
       sums.tracked_n[r] += 3;
     }
   }
+  if (pair && map_has_eccentricity(map)) {
+    // e_t - e_{t-1} weighted by what the eye resolves where the pixel lies (csf_error.hpp), luma only.
+    const std::vector<float> csf = foveation::csf_error_map(previous_error_, error_, map);
+    for (std::size_t i = 0; i < map.ring.size(); ++i) {
+      sums.csf[map.ring[i]] += double(csf[i]) * double(csf[i]);
+      sums.csf_n[map.ring[i]] += 1;
+    }
+  }
   std::swap(previous_error_, error_);
   ++frames_;
 }
@@ -98,7 +112,7 @@ TemporalRing TemporalError::pooled(const RingBand& band, const std::vector<std::
   if (frame_mask != nullptr && frame_mask->size() != sums_.size())
     throw std::invalid_argument("TemporalError::pooled: a mask of " + std::to_string(frame_mask->size()) +
                                 " frames for " + std::to_string(sums_.size()));
-  double flicker = 0.0, tracked = 0.0, error = 0.0;
+  double flicker = 0.0, tracked = 0.0, error = 0.0, csf = 0.0;
   TemporalRing out;
   for (std::size_t t = 0; t < sums_.size(); ++t) {
     if (frame_mask != nullptr && (*frame_mask)[t] == 0) continue;
@@ -106,6 +120,8 @@ TemporalRing TemporalError::pooled(const RingBand& band, const std::vector<std::
       flicker += sums_[t].flicker[r];
       tracked += sums_[t].tracked[r];
       error += sums_[t].error[r];
+      csf += sums_[t].csf[r];
+      out.csf_pair_pixels += sums_[t].csf_n[r];
       out.pair_values += sums_[t].flicker_n[r];
       out.tracked_pair_values += sums_[t].tracked_n[r];
       out.frame_values += sums_[t].error_n[r];
@@ -114,6 +130,7 @@ TemporalRing TemporalError::pooled(const RingBand& band, const std::vector<std::
   out.flicker_rms = out.pair_values ? std::sqrt(flicker / double(out.pair_values)) : kNaN;
   out.flicker_tracked_rms = out.tracked_pair_values ? std::sqrt(tracked / double(out.tracked_pair_values)) : kNaN;
   out.error_mse = out.frame_values ? error / double(out.frame_values) : kNaN;
+  out.flicker_csf_rms = out.csf_pair_pixels ? std::sqrt(csf / double(out.csf_pair_pixels)) : kNaN;
   return out;
 }
 
@@ -144,10 +161,14 @@ std::vector<std::uint8_t> settled_frames(const std::vector<std::uint8_t>& restar
   return settled;
 }
 
-void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map) {
+void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map,
+                               const std::vector<float>* half_difference_luma) {
   if (residual_mse.size() != map.ring.size())
     throw std::invalid_argument("ReferenceFloor::add_frame: " + std::to_string(residual_mse.size()) +
                                 " residuals for a map of " + std::to_string(map.ring.size()) + " pixels");
+  if (half_difference_luma != nullptr && half_difference_luma->size() != map.ring.size())
+    throw std::invalid_argument("ReferenceFloor::add_frame: " + std::to_string(half_difference_luma->size()) +
+                                " luma differences for a map of " + std::to_string(map.ring.size()) + " pixels");
   const bool pair = !previous_.empty();
   if (pair && previous_.size() != residual_mse.size())
     throw std::invalid_argument("ReferenceFloor::add_frame: a frame differs in size from the frame before");
@@ -161,6 +182,26 @@ void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const fov
       flicker_n_[r] += 3;
     }
   }
+  luma_every_frame_ = luma_every_frame_ && half_difference_luma != nullptr && map_has_eccentricity(map);
+  if (!luma_every_frame_) {
+    previous_luma_.clear();
+  } else {
+    if (pair) {
+      // W_t(r_t) and W_t(r_{t-1}), r = d / 2 in every channel (its luma is d / 2).
+      const auto weighted = [&](const std::vector<float>& d) {
+        foveation::ImageRgb r(map.width_px, map.height_px), zero(map.width_px, map.height_px);
+        for (std::size_t i = 0; i < d.size(); ++i)
+          for (std::size_t c = 0; c < 3; ++c) r.rgb[i * 3 + c] = 0.5f * d[i];
+        return foveation::csf_error_map(zero, r, map);
+      };
+      const std::vector<float> now = weighted(*half_difference_luma), before = weighted(previous_luma_);
+      for (std::size_t i = 0; i < map.ring.size(); ++i) {
+        csf_sum_[map.ring[i]] += double(now[i]) * double(now[i]) + double(before[i]) * double(before[i]);
+        csf_n_[map.ring[i]] += 1;
+      }
+    }
+    previous_luma_ = *half_difference_luma;
+  }
   previous_ = residual_mse;
 }
 
@@ -169,6 +210,10 @@ TemporalRings ReferenceFloor::rings() const {
   // Along the motion e_{t-1} is a bilinear mix of neighbouring residuals (weights w with sum w^2 <= 1):
   // its variance is at most theirs, so the fixed-pixel floor bounds the tracked one.
   for (TemporalRing& r : out) r.flicker_tracked_rms = r.flicker_rms, r.tracked_pair_values = r.pair_values;
+  for (std::size_t r = 0; r < out.size(); ++r) {
+    out[r].csf_pair_pixels = luma_every_frame_ ? csf_n_[r] : 0;
+    out[r].flicker_csf_rms = out[r].csf_pair_pixels ? std::sqrt(csf_sum_[r] / double(csf_n_[r])) : kNaN;
+  }
   return out;
 }
 

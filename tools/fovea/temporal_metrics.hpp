@@ -19,7 +19,14 @@
 //     on its retina (the vestibulo-ocular reflex while the head turns) sees
 //     change. An error that moves with the content (a blurred edge, a constant
 //     offset) is not tracked flicker; one fixed on the screen while the content
-//     moves under it (sparse samples, a fixed jitter) is.
+//     moves under it (sparse samples, a fixed jitter) is;
+//   flicker_csf_rms: the fixed-pixel change e_t - e_{t-1} weighted by what the
+//     eye resolves where each pixel lies (foveation/csf_error.hpp: the luma
+//     change split into octave bands, each weighted by the foveated contrast
+//     sensitivity at the pixel's eccentricity), RMS over the ring's pixels:
+//     the part of the flicker the eye can see. Where the eye resolves every
+//     band (the gaze point) it is the luma change itself; in the periphery the
+//     fine bands fade. Only with a map that has eccentricities (NaN otherwise).
 //
 // Every frame's sums are kept, so that the same measure can be pooled over any
 // rings and any frames (pooled()): frame by frame (by_frame) to show where in a
@@ -46,6 +53,8 @@ struct TemporalRing {
   std::uint64_t tracked_pair_values = 0;  // ... into flicker_tracked_rms
   double flicker_rms = 0.0;        // NaN without a pair (fewer than 2 frames, or an empty ring)
   double flicker_tracked_rms = 0.0;  // NaN without a tracked pair
+  std::uint64_t csf_pair_pixels = 0;  // pixels summed into flicker_csf_rms
+  double flicker_csf_rms = 0.0;       // NaN without a pair or without the map's eccentricities
   double error_mse = 0.0;          // NaN for an empty ring
   double psnr_db() const { return foveation::psnr_of_mse(error_mse); }
 };
@@ -99,8 +108,8 @@ class TemporalError {
  private:
   // One frame's sums per ring: its error, and its pair with the frame before.
   struct FrameSums {
-    std::array<double, foveation::kRingCount> flicker{}, tracked{}, error{};
-    std::array<std::uint64_t, foveation::kRingCount> flicker_n{}, tracked_n{}, error_n{};
+    std::array<double, foveation::kRingCount> flicker{}, tracked{}, error{}, csf{};
+    std::array<std::uint64_t, foveation::kRingCount> flicker_n{}, tracked_n{}, error_n{}, csf_n{};
   };
   foveation::ImageRgb previous_error_, error_;
   std::vector<FrameSums> sums_;
@@ -113,16 +122,24 @@ class TemporalError {
 // e_t - e_{t-1} (variances add: r_t + r_{t-1}), error_mse the mean of r_t;
 // flicker_tracked_rms is given the same value, a bound: warped, e_{t-1} is a
 // bilinear mix of neighbouring pixels' errors, of at most their variance.
+// flicker_csf_rms comes from the signed luma half difference d_t (Reference's
+// half_difference_luma; r_t is estimated by d_t / 2) when every frame gives it:
+// the CSF weighting W_t of frame t is linear, so the reference adds
+// E[W_t(r_t)^2] + E[W_t(r_{t-1})^2] to the squared weighted flicker. The plain
+// floor does not bound it: the weighting lowers a track's flicker more than
+// the reference's noise when that noise is coarser than the track's.
 class ReferenceFloor {
  public:
-  // Throws std::invalid_argument when residual_mse and map differ in size.
-  void add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map);
+  // Throws std::invalid_argument when residual_mse, half_difference_luma (optional) and map differ in size.
+  void add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map,
+                 const std::vector<float>* half_difference_luma = nullptr);
   TemporalRings rings() const;
 
  private:
-  std::vector<float> previous_;
-  std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{};
-  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{};
+  std::vector<float> previous_, previous_luma_;
+  bool luma_every_frame_ = true;
+  std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{}, csf_sum_{};
+  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{}, csf_n_{};
 };
 
 // *out = image blurred by the binomial kernel [1 2 1]/4 along rows, then

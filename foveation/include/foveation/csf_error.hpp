@@ -29,6 +29,9 @@ namespace foveart::foveation {
 double csf_weight(double frequency_cpd, double eccentricity_deg, double pixels_per_deg);
 
 // Per pixel weighted error of `image` against `reference` (display values, same size as the map).
+// With the weights uniform over an image its gain lies in [0, 1] at every frequency (the weights
+// grow towards the coarse bands, and each double box blur's gain lies in [0, 1]).
+// Throws std::invalid_argument when the sizes differ or the map lacks its eccentricities.
 std::vector<float> csf_error_map(const ImageRgb& reference, const ImageRgb& image, const EccentricityMap& map);
 
 }  // namespace foveart::foveation

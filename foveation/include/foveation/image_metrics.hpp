@@ -31,6 +31,9 @@ std::vector<float> ssim_map(const ImageRgb& reference, const ImageRgb& image, do
 // PSNR of a mean squared error: 10 log10(peak^2 / mse), +inf for 0.
 double psnr_of_mse(double mse, double peak = 1.0);
 
+// Rec. 601 luma of an RGB triple: the one luma of SSIM, the CSF-weighted error and the references.
+inline double rec601_luma(double r, double g, double b) { return 0.299 * r + 0.587 * g + 0.114 * b; }
+
 // Display values of a linear image: sRGB (IEC 61966-2-1) of each channel clamped to [0, 1].
 ImageRgb display_encode(const ImageRgb& linear);
 
