@@ -52,25 +52,17 @@ double csf_weight(double frequency_cpd, double eccentricity_deg, double pixels_p
   return std::exp(-kAlpha * frequency_cpd * e / kE2Deg);
 }
 
-std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
-  if (ref.width_px != im.width_px || ref.height_px != im.height_px || ref.rgb.size() != im.rgb.size() ||
-      ref.width_px != map.width_px || ref.height_px != map.height_px || ref.rgb.size() != ref.pixel_count() * 3 ||
-      map.eccentricity_deg.size() != ref.pixel_count() || map.pixels_per_deg.size() != ref.pixel_count()) {
-    throw std::invalid_argument("csf_error_map: image " + std::to_string(im.width_px) + "x" +
-                                std::to_string(im.height_px) + ", reference " + std::to_string(ref.width_px) + "x" +
-                                std::to_string(ref.height_px) + " and eccentricity map " +
-                                std::to_string(map.width_px) + "x" + std::to_string(map.height_px) + " (" +
-                                std::to_string(map.eccentricity_deg.size()) + " eccentricities, " +
-                                std::to_string(map.pixels_per_deg.size()) + " pixels per degree) differ");
+std::vector<float> csf_weighted_luma(const std::vector<double>& luma_difference, const EccentricityMap& map) {
+  const std::size_t n = std::size_t(std::max(map.width_px, 0)) * std::size_t(std::max(map.height_px, 0));
+  if (luma_difference.size() != n || map.eccentricity_deg.size() != n || map.pixels_per_deg.size() != n) {
+    throw std::invalid_argument("csf_weighted_luma: " + std::to_string(luma_difference.size()) +
+                                " luma differences for an eccentricity map of " + std::to_string(map.width_px) + "x" +
+                                std::to_string(map.height_px) + " (" + std::to_string(map.eccentricity_deg.size()) +
+                                " eccentricities, " + std::to_string(map.pixels_per_deg.size()) +
+                                " pixels per degree)");
   }
-  const int w = ref.width_px, h = ref.height_px;
-  const std::size_t n = ref.pixel_count();
-  std::vector<double> d(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float* a = im.rgb.data() + i * 3;
-    const float* b = ref.rgb.data() + i * 3;
-    d[i] = rec601_luma(double(a[0]) - double(b[0]), double(a[1]) - double(b[1]), double(a[2]) - double(b[2]));
-  }
+  const int w = map.width_px, h = map.height_px;
+  const std::vector<double>& d = luma_difference;
   std::vector<double> sum(n, 0.0), prev = d, blurred, once;
   for (int l = 1; l <= kBands + 1; ++l) {
     const bool low_pass = l > kBands;
@@ -90,6 +82,26 @@ std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const 
   std::vector<float> out(n);
   for (std::size_t i = 0; i < n; ++i) out[i] = float(std::abs(sum[i]));
   return out;
+}
+
+std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
+  if (ref.width_px != im.width_px || ref.height_px != im.height_px || ref.rgb.size() != im.rgb.size() ||
+      ref.width_px != map.width_px || ref.height_px != map.height_px || ref.rgb.size() != ref.pixel_count() * 3 ||
+      map.eccentricity_deg.size() != ref.pixel_count() || map.pixels_per_deg.size() != ref.pixel_count()) {
+    throw std::invalid_argument("csf_error_map: image " + std::to_string(im.width_px) + "x" +
+                                std::to_string(im.height_px) + ", reference " + std::to_string(ref.width_px) + "x" +
+                                std::to_string(ref.height_px) + " and eccentricity map " +
+                                std::to_string(map.width_px) + "x" + std::to_string(map.height_px) + " (" +
+                                std::to_string(map.eccentricity_deg.size()) + " eccentricities, " +
+                                std::to_string(map.pixels_per_deg.size()) + " pixels per degree) differ");
+  }
+  std::vector<double> d(ref.pixel_count());
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const float* a = im.rgb.data() + i * 3;
+    const float* b = ref.rgb.data() + i * 3;
+    d[i] = rec601_luma(double(a[0]) - double(b[0]), double(a[1]) - double(b[1]), double(a[2]) - double(b[2]));
+  }
+  return csf_weighted_luma(d, map);
 }
 
 }  // namespace foveart::foveation

@@ -1,4 +1,5 @@
 // Image metrics (foveation/image_metrics.hpp, csf_error.hpp): known answers.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -164,6 +165,30 @@ TEST(CsfError, AUniformShiftAtTheGazeIsThePlainLumaError) {
   const auto map = eccentricity_map(pinhole(64, 64, 2000.0), {32, 32});
   const auto err = csf_error_map(a, b, map);
   EXPECT_NEAR(err[32 * 64 + 32], 0.1, 1e-4);
+}
+
+TEST(CsfError, WeighsALumaDifferenceAsTheImagesThatDifferByIt) {
+  // csf_error_map is the weighting of the images' luma difference; a map without eccentricities is refused.
+  const auto a = gradient(48, 40);
+  auto b = a;  // a ripple of every scale, differing per channel
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 48; ++x)
+      for (int c = 0; c < 3; ++c) b.at(x, y)[c] += 0.05f * std::sin(0.3f * float(x * (c + 1)) + 0.7f * float(y));
+  const auto map = eccentricity_map(pinhole(48, 40, 60.0), {10, 30});
+  std::vector<double> d(48 * 40);
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    const float* p = b.rgb.data() + i * 3;
+    const float* q = a.rgb.data() + i * 3;
+    d[i] = rec601_luma(double(p[0]) - double(q[0]), double(p[1]) - double(q[1]), double(p[2]) - double(q[2]));
+  }
+  const std::vector<float> weighted = csf_weighted_luma(d, map);
+  EXPECT_EQ(weighted, csf_error_map(a, b, map));
+  EXPECT_GT(*std::max_element(weighted.begin(), weighted.end()), 0.0f);
+  d.pop_back();
+  EXPECT_THROW(csf_weighted_luma(d, map), std::invalid_argument);
+  auto bare = map;
+  bare.pixels_per_deg.clear();
+  EXPECT_THROW(csf_error_map(a, a, bare), std::invalid_argument);
 }
 
 TEST(CsfError, GrowsMonotonicallyWithNoiseAmplitude) {

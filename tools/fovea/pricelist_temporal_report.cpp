@@ -69,6 +69,14 @@ double ring_value(const Json& t, std::size_t r, const char* key) {
   return field((*rings)[r], key);
 }
 
+// The acceptance's per-ring ratios under `key` in the periphery's rings: "1.4x / 1.3x / 1.4x".
+std::string peripheral_ratios(const Json& a, const std::string& key) {
+  std::string out;
+  for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
+    out += (r > kPeripheralBand.begin ? " / " : "") + fmt(num(a[key][r]), 1) + "x";
+  return out;
+}
+
 }  // namespace
 
 Json temporal_acceptance(const Json& temporal, const std::string& setting) {
@@ -172,12 +180,7 @@ Json temporal_sanity(const Json& temporal) {
 std::string temporal_headline(const Json& temporal, const Json& a) {
   if (a.is_null()) return "";
   const Json& run = temporal["run"];
-  const auto three = [&](const char* key) {
-    std::string out;
-    for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
-      out += (r > kPeripheralBand.begin ? " / " : "") + fmt(num(a[key][r]), 1) + "x";
-    return out;
-  };
+  const auto three = [&](const char* key) { return peripheral_ratios(a, key); };
   std::ostringstream h;
   h << "Over the " << run["motion"].get<std::string>() << " motion (" << run["frames"] << " frames from "
     << fmt(num(run["start_s"]), 2) << " s at " << fmt(num(run["fps"]), 0) << " fps, " << run["width"] << "x"
@@ -208,12 +211,7 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
 
 std::string temporal_csf_line(const Json& a) {
   if (a.is_null() || !a.contains("flicker_csf_ratio_off_over_reproject")) return "";
-  const auto three = [&](const std::string& key) {
-    std::string out;
-    for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
-      out += (r > kPeripheralBand.begin ? " / " : "") + fmt(num(a[key][r]), 1) + "x";
-    return out;
-  };
+  const auto three = [&](const std::string& key) { return peripheral_ratios(a, key); };
   std::ostringstream line;
   line << "Weighted by what the eye resolves at each pixel's eccentricity (the change's luma in octave bands, "
           "each weighted by the foveated contrast sensitivity; `flicker_csf`), reprojected TAA flickers "
@@ -319,16 +317,14 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
         "noise, the part more averaging cannot remove; and one new jittered ray per pixel per frame with every "
         "ray since the TAA's last restart (or since the first frame) kept where it hit and traced again from "
         "each frame's eye: what a history of these rays reaches when nothing it keeps is wrong.\n\n";
+  if (!a.is_null()) md << temporal_headline(temporal, a) << "\n\n";
   const auto csf_margins = sanity.find("csf_flicker_margin_db");
   if (!a.is_null() && csf_margins != sanity.end() && csf_margins->size() == kRings) {
-    md << temporal_headline(temporal, a) << "\n\n" << temporal_csf_line(a) << " Its reference floor lies at least "
-       << "10 dB below every track's in every ring: " << (sanity.value("csf_floor_10db_below", false) ? "yes" : "**no**")
-       << " (margins";
+    md << temporal_csf_line(a) << " Its reference floor lies at least 10 dB below every track's in every ring: "
+       << (sanity.value("csf_floor_10db_below", false) ? "yes" : "**no**") << " (margins";
     for (std::size_t r = 0; r < kRings; ++r)
       md << (r ? "," : "") << " " << ring_name(r) << " " << fmt(num((*csf_margins)[r]), 1);
     md << " dB).\n\n";
-  } else if (!a.is_null()) {
-    md << temporal_headline(temporal, a) << "\n\n";
   }
   md << "Reference floor (its own flicker and error, from its two halves) below the smallest flicker / the best "
         "PSNR of any track per ring:";

@@ -187,12 +187,11 @@ void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const fov
     previous_luma_.clear();
   } else {
     if (pair) {
-      // W_t(r_t) and W_t(r_{t-1}), r = d / 2 in every channel (its luma is d / 2).
+      // W_t(r_t) and W_t(r_{t-1}), the luma of r estimated by d / 2.
       const auto weighted = [&](const std::vector<float>& d) {
-        foveation::ImageRgb r(map.width_px, map.height_px), zero(map.width_px, map.height_px);
-        for (std::size_t i = 0; i < d.size(); ++i)
-          for (std::size_t c = 0; c < 3; ++c) r.rgb[i * 3 + c] = 0.5f * d[i];
-        return foveation::csf_error_map(zero, r, map);
+        std::vector<double> r(d.size());
+        for (std::size_t i = 0; i < d.size(); ++i) r[i] = 0.5 * double(d[i]);
+        return foveation::csf_weighted_luma(r, map);
       };
       const std::vector<float> now = weighted(*half_difference_luma), before = weighted(previous_luma_);
       for (std::size_t i = 0; i < map.ring.size(); ++i) {

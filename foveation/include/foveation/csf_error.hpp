@@ -28,7 +28,13 @@ namespace foveart::foveation {
 // (Wang et al. 2001 eq. 5 with thesis eqs. 2-3): 0 beyond the cut-off.
 double csf_weight(double frequency_cpd, double eccentricity_deg, double pixels_per_deg);
 
-// Per pixel weighted error of `image` against `reference` (display values, same size as the map).
+// Per pixel |sum_l w_l B_l + w_L L| of a display-luma difference d (one value per pixel of the map):
+// the weighting itself, for a difference that is already luma.
+// Throws std::invalid_argument when the sizes differ or the map lacks its eccentricities.
+std::vector<float> csf_weighted_luma(const std::vector<double>& luma_difference, const EccentricityMap& map);
+
+// Per pixel weighted error of `image` against `reference` (display values, same size as the map):
+// csf_weighted_luma of their luma difference.
 // With the weights uniform over an image its gain lies in [0, 1] at every frequency (the weights
 // grow towards the coarse bands, and each double box blur's gain lies in [0, 1]).
 // Throws std::invalid_argument when the sizes differ or the map lacks its eccentricities.
