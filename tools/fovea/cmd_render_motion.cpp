@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <ostream>
 
 namespace foveart::tools {
@@ -54,32 +55,33 @@ void print_text(const Json& report, std::ostream& out) {
   for (const Json& r : report["reference"]["rings"])
     out << " | " << r["from_deg"].get<double>() << "-" << (r["to_deg"].is_null() ? std::string("") : r["to_deg"].dump());
   out << "\n";
-  // One line: per ring flicker along the motion / at fixed pixels / PSNR under these keys.
-  const auto line = [&](const std::string& name, const Json& rings, const char* tracked, const char* fixed_pixels,
-                        const char* psnr) {
-    out << name;
-    for (const Json& r : rings) out << " | " << fixed(r[tracked], 4) << " / " << fixed(r[fixed_pixels], 4) << " / " << fixed(r[psnr], 1);
-    out << "\n";
+  // One line per track, control and the reference floor: per ring the measures, " / " between them. A
+  // measure m sits under m in a track's rings, <control>_m and m_floor in the reference's.
+  struct Measure {
+    const char* key;
+    int decimals;
   };
-  for (const Json& t : report["tracks"]) line(t["id"].get<std::string>(), t["rings"], "flicker_tracked", "flicker", "psnr");
   const Json& reference_rings = report["reference"]["rings"];
-  for (const SequenceControl& c : kSequenceControls) {
-    const std::string key = c.key;
-    line(c.label, reference_rings, (key + "_flicker_tracked").c_str(), (key + "_flicker").c_str(),
-         (key + "_psnr").c_str());
-  }
-  line("reference floor (its own noise)", reference_rings, "flicker_tracked_floor", "flicker_floor", "psnr_floor");
+  const auto table = [&](std::initializer_list<Measure> measures) {
+    const auto line = [&](const std::string& name, const Json& rings, const std::string& prefix, const char* suffix) {
+      out << name;
+      for (const Json& r : rings) {
+        bool first = true;
+        for (const Measure& m : measures) {
+          out << (first ? " | " : " / ") << fixed(r[prefix + m.key + suffix], m.decimals);
+          first = false;
+        }
+      }
+      out << "\n";
+    };
+    for (const Json& t : report["tracks"]) line(t["id"].get<std::string>(), t["rings"], "", "");
+    for (const SequenceControl& c : kSequenceControls) line(c.label, reference_rings, std::string(c.key) + "_", "");
+    line("reference floor (its own noise)", reference_rings, "", "_floor");
+  };
+  table({{"flicker_tracked", 4}, {"flicker", 4}, {"psnr", 1}});
   out << "flicker weighted by what the eye resolves (flicker_csf: the change's luma, CSF-weighted by eccentricity), "
          "per ring:\n";
-  const auto csf_line = [&](const std::string& name, const Json& rings, const char* key) {
-    out << name;
-    for (const Json& r : rings) out << " | " << fixed(r[key], 4);
-    out << "\n";
-  };
-  for (const Json& t : report["tracks"]) csf_line(t["id"].get<std::string>(), t["rings"], "flicker_csf");
-  for (const SequenceControl& c : kSequenceControls)
-    csf_line(c.label, reference_rings, (std::string(c.key) + "_flicker_csf").c_str());
-  csf_line("reference floor (its own noise)", reference_rings, "flicker_csf_floor");
+  table({{"flicker_csf", 4}});
   // The periphery over the frames whose TAA history has settled (motion_sequence.hpp).
   out << "periphery (> 20 deg) over the " << report["reference"]["settled_frames"] << " frames at least "
       << report["reference"]["settle_frames"]
