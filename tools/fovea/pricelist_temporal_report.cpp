@@ -211,13 +211,12 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
 
 std::string temporal_csf_line(const Json& a) {
   if (a.is_null() || !a.contains("flicker_csf_ratio_off_over_reproject")) return "";
-  const auto three = [&](const std::string& key) { return peripheral_ratios(a, key); };
   std::ostringstream line;
   line << "Weighted by what the eye resolves at each pixel's eccentricity (the change's luma in octave bands, "
           "each weighted by the foveated contrast sensitivity; `flicker_csf`), reprojected TAA flickers "
-       << three("flicker_csf_ratio_off_over_reproject") << " less than no TAA at 20-30 / 30-45 / >45 deg";
+       << peripheral_ratios(a, "flicker_csf_ratio_off_over_reproject") << " less than no TAA at 20-30 / 30-45 / >45 deg";
   for (const SequenceControl& control : kSequenceControls)
-    line << "; `" << control.key << "` " << three(std::string("flicker_csf_ratio_off_over_") + control.key);
+    line << "; `" << control.key << "` " << peripheral_ratios(a, std::string("flicker_csf_ratio_off_over_") + control.key);
   line << ".";
   return line.str();
 }
