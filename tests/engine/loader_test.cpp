@@ -269,6 +269,29 @@ TEST(GltfLoaderErrors, CyclicNodeHierarchy) {
   expect_error(load_gltf(p.string()), p, "cyclic");
 }
 
+// A mesh that no node instances is still part of the file: a missing accessor or material
+// in it makes the file malformed, not an empty scene with a warning.
+TEST(GltfLoaderErrors, UninstancedMeshWithMissingReferences) {
+  const std::vector<std::pair<std::string, std::string>> breakages = {
+      {"attribute", "mesh 1 ('spare') primitive 0 POSITION: accessor 42 does not exist"},
+      {"indices", "indices accessor out of bounds"},  // tinygltf's own check
+      {"material", "mesh 1 ('spare') primitive 0: material 44 does not exist"}};
+  for (const auto& [part, phrase] : breakages) {
+    SCOPED_TRACE(part);
+    TempDir dir;
+    GltfDoc doc = unit_quad(false);
+    nlohmann::json spare = doc.json["meshes"][0];
+    spare["name"] = "spare";
+    nlohmann::json& prim = spare["primitives"][0];
+    if (part == "attribute") prim["attributes"]["POSITION"] = 42;
+    if (part == "indices") prim["indices"] = 43;
+    if (part == "material") prim["material"] = 44;
+    doc.json["meshes"].push_back(spare);
+    const auto p = write_embedded(dir.path, "spare_" + part, doc);
+    expect_error(load_gltf(p.string()), p, phrase);
+  }
+}
+
 TEST(GltfLoaderErrors, TruncatedGlb) {
   TempDir dir;
   const auto p = write_glb(dir.path, "quad", unit_quad(false));

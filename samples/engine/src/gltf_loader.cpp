@@ -76,6 +76,7 @@ class Loader {
 
   void run() {
     check_required_extensions();
+    check_mesh_references();
     load_textures();
     load_materials();
     const std::vector<int> roots = root_nodes();
@@ -92,6 +93,26 @@ class Loader {
     }
     for (const std::string& ext : model_.extensionsUsed) {
       if (!kSupportedExtensions.count(ext)) scene_.warnings.push_back("ignored extension " + ext);
+    }
+  }
+
+  // Every mesh's attribute accessors and material must exist, whether or not a node of the
+  // scene instances it: a file that names a missing object is malformed (glTF 2.0, 3.7),
+  // and it is refused rather than rendered with the broken part silently left out.
+  // (tinygltf itself refuses a primitive's missing index accessor.)
+  void check_mesh_references() const {
+    const auto exists = [](int index, size_t count) { return index >= 0 && static_cast<size_t>(index) < count; };
+    for (size_t m = 0; m < model_.meshes.size(); ++m) {
+      const tinygltf::Mesh& mesh = model_.meshes[m];
+      for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+        const tinygltf::Primitive& prim = mesh.primitives[p];
+        const std::string what = "mesh " + std::to_string(m) + " ('" + mesh.name + "') primitive " + std::to_string(p);
+        for (const auto& [semantic, accessor] : prim.attributes)
+          if (!exists(accessor, model_.accessors.size()))
+            throw BadInput(what + " " + semantic + ": accessor " + std::to_string(accessor) + " does not exist");
+        if (prim.material >= 0 && !exists(prim.material, model_.materials.size()))
+          throw BadInput(what + ": material " + std::to_string(prim.material) + " does not exist");
+      }
     }
   }
 
@@ -535,14 +556,8 @@ class Loader {
       for (size_t i = 1; i + 1 < idx.size(); ++i) tris.emplace_back(idx[0], idx[i], idx[i + 1]);
     }
 
-    uint32_t material = 0;
-    if (prim.material >= 0) {
-      if (static_cast<size_t>(prim.material) >= model_.materials.size())
-        throw BadInput(what + ": material " + std::to_string(prim.material) + " does not exist");
-      material = static_cast<uint32_t>(prim.material);
-    } else {
-      material = default_material();
-    }
+    // prim.material was checked against the materials by check_mesh_references().
+    const uint32_t material = prim.material >= 0 ? static_cast<uint32_t>(prim.material) : default_material();
 
     Mesh& m = scene_.mesh;
     const size_t first = m.positions.size();
