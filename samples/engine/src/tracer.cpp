@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <xmmintrin.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -58,6 +59,28 @@ struct PacketIn {
   uint32_t target[kLanes];
   float* primary_depth_m = nullptr;  // primary packets: per target, the hit distance (+inf: sky)
 };
+
+// An inactive lane of a 16-wide packet. On a CPU without AVX-512, Embree
+// runs rtcIntersect16/rtcOccluded16 through its ray-stream filter, which
+// ignores the valid mask and skips only rays with tnear > tfar (Embree 3 API,
+// "rtcIntersect4/8/16" and "RTCRay"); a lane left uninitialised is then
+// traced, and a NaN in it trips Embree's ray.valid() assertion. So every
+// inactive lane holds a finite ray that both conventions skip.
+template <typename RayPacket>
+void set_inactive_lane(RayPacket& ray, int i) {
+  ray.org_x[i] = 0.0f;
+  ray.org_y[i] = 0.0f;
+  ray.org_z[i] = 0.0f;
+  ray.dir_x[i] = 0.0f;
+  ray.dir_y[i] = 0.0f;
+  ray.dir_z[i] = 1.0f;
+  ray.tnear[i] = 0.0f;
+  ray.tfar[i] = -std::numeric_limits<float>::infinity();
+  ray.time[i] = 0.0f;
+  ray.mask[i] = 0xFFFFFFFFu;
+  ray.id[i] = static_cast<unsigned int>(i);
+  ray.flags[i] = 0;
+}
 
 void embree_error(void* user, RTCError code, const char* message) {
   (void)user;
@@ -242,6 +265,12 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
   rtcInitIntersectContext(&ctx);
   alignas(64) RTCRayHit16 rh;
   for (int i = 0; i < kLanes; ++i) {
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    if (in.valid[i] != -1) {
+      set_inactive_lane(rh.ray, i);
+      continue;
+    }
     rh.ray.org_x[i] = in.origin[i].x;
     rh.ray.org_y[i] = in.origin[i].y;
     rh.ray.org_z[i] = in.origin[i].z;
@@ -254,8 +283,6 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
     rh.ray.mask[i] = 0xFFFFFFFFu;
     rh.ray.id[i] = static_cast<unsigned int>(i);
     rh.ray.flags[i] = 0;
-    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
   }
   rtcIntersect16(in.valid, rtc_scene, &ctx, &rh);
   ++counts.packets;
@@ -311,6 +338,7 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
       int n_valid = 0;
       for (int i = 0; i < kLanes; ++i) {
         valid[i] = 0;
+        set_inactive_lane(sr, i);  // until the lane proves to need a shadow ray
         if (!hit[i]) continue;
         const float kd = diffuse_weight(*mat[i]);
         if (kd <= 0.0f) continue;
@@ -328,7 +356,8 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
         sr.dir_y[i] = l.y;
         sr.dir_z[i] = l.z;
         sr.tnear[i] = 0.0f;
-        sr.tfar[i] = std::isinf(dist) ? dist : dist - 2.0f * epsilon;
+        // Never below tnear: a light closer than 2 epsilon is unoccluded on every ISA (a stream would skip it).
+        sr.tfar[i] = std::isinf(dist) ? dist : std::max(dist - 2.0f * epsilon, 0.0f);
         sr.time[i] = 0.0f;
         sr.mask[i] = 0xFFFFFFFFu;
         sr.id[i] = static_cast<unsigned int>(i);
