@@ -14,7 +14,7 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push {
   ivec2 size_px;
-  float current_weight;  // alpha of the blend
+  float current_weight;  // this frame's blend weight (TemporalAccumulator::frame_weight)
   float variance_gamma;  // box mu +- gamma sigma
   uint constraint;       // 0 min/max clamp, 1 variance clip
   uint reset;            // 1: output = current

@@ -178,8 +178,9 @@ void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1
 }
 #endif
 
-// Rows [y0, y1): out = lerp(constrain(history), current, alpha).
-void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TaaOptions& o, int y0, int y1) {
+// Rows [y0, y1): out = lerp(constrain(history), current, weight).
+void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TaaOptions& o, float weight, int y0,
+              int y1) {
   const int w = cur.width_px, h = cur.height_px;
   RowPlanes planes(w);
   std::vector<float> hist_row(std::size_t(w) * 3), out_row(std::size_t(w) * 3);
@@ -202,7 +203,7 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
                                                             : &taa_row<TaaConstraint::variance_clip>;
 #endif
     row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
-        hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, o.current_weight, o.variance_gamma,
+        hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, weight, o.variance_gamma,
         o.clip_floor);
     float* dst = out.at(0, y);
     for (int x = 0; x < w; ++x) {
@@ -221,6 +222,14 @@ TaaOptions taa_options_for_rays(TaaOptions options, int rays_per_point) {
   return options;
 }
 
+// Progressive accumulation (the mean of the frames since the reset) until it
+// would weigh a frame less than the exponential blend of Karis 2014.
+float taa_frame_weight(const TaaOptions& options, std::uint32_t frames_held) {
+  if (frames_held == 0) return 1.0f;
+  if (!options.mean_while_young) return options.current_weight;
+  return std::max(options.current_weight, 1.0f / float(double(frames_held) + 1.0));
+}
+
 bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaze_px, bool saccade) {
   const bool size_changed = width_px_ != width_px || height_px_ != height_px;
   const bool jumped = valid_ && glm::distance(gaze_px, gaze_px_) > options_.reset_distance_px;
@@ -231,14 +240,25 @@ bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaz
   height_px_ = height_px;
   last_reset_ = !valid_ || size_changed || jumped || onset;
   valid_ = true;
-  if (last_reset_) ++resets_;
+  if (last_reset_) {
+    ++resets_;
+    frames_held_ = 0;
+  }
+  frame_weight_ = taa_frame_weight(options_, frames_held_);
+  frames_held_ = std::min<std::uint32_t>(frames_held_ + 1, 1u << 16);
   return last_reset_;
+}
+
+void TemporalAccumulator::restart_history(const ImageRgb& current) {
+  history_ = current;
+  frames_held_ = 1;
+  frame_weight_ = 1.0f;
 }
 
 const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor,
                                                 bool saccade) {
   if (begin_frame(current.width_px, current.height_px, gaze_px, saccade)) {
-    history_ = current;
+    restart_history(current);
     return history_;
   }
   blend(current, history_, nullptr, executor);
@@ -252,7 +272,7 @@ const ImageRgb& TemporalAccumulator::accumulate_reprojected(const ImageRgb& curr
   if (reset || warped_history.width_px != current.width_px || warped_history.height_px != current.height_px ||
       valid.size() != current.pixel_count()) {
     if (!reset) last_reset_ = true, ++resets_;  // nothing to blend with
-    history_ = current;
+    restart_history(current);
     return history_;
   }
   blend(current, warped_history, valid.data(), executor);
@@ -269,7 +289,7 @@ void TemporalAccumulator::blend(const ImageRgb& current, const ImageRgb& history
   const int bands = std::max(1, std::min(h, 4 * int(executor.thread_count())));
   executor.parallel_for(std::size_t(bands), [&](std::size_t band) {
     const int y0 = h * int(band) / bands, y1 = h * (int(band) + 1) / bands;
-    taa_rows(current, history, scratch_, options_, y0, y1);
+    taa_rows(current, history, scratch_, options_, frame_weight_, y0, y1);
     if (valid == nullptr) return;
     for (std::size_t p = std::size_t(y0) * std::size_t(w); p < std::size_t(y1) * std::size_t(w); ++p) {
       if (valid[p] == 0) std::copy_n(current.rgb.data() + p * 3, 3, scratch_.rgb.data() + p * 3);  // no history here

@@ -147,6 +147,7 @@ struct Reader {
       return {};
     });
     read_bool(obj, "taa", &c->taa);
+    read_bool(obj, "taa_mean_while_young", &c->taa_mean_while_young);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);
     read_uint(obj, "worker_threads", 0, 256, &c->worker_threads);

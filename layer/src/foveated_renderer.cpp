@@ -74,6 +74,7 @@ foveation::ViewSettings view_settings(const RendererSettings& settings) {
   v.sample_seed = kSeed;
   v.pixel_filter = settings.pixel_filter;
   v.taa = settings.taa;
+  v.taa_options.mean_while_young = settings.taa_mean_while_young;
   v.new_jitter_each_frame = settings.taa;  // the history converges over new samples
   return v;
 }

@@ -122,6 +122,7 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
   f.rbf_clamp = view.settings().rbf_clamp;
   f.taa_reset = !view.settings().taa || result.taa_reset;
   f.taa = view.taa_options();
+  f.taa.current_weight = view.taa_frame_weight();  // this frame's: the CPU's weight rule, one for both paths
   f.view = request.view;
   f.history_view = result.history_view;
   f.srgb = srgb;

@@ -76,7 +76,7 @@ struct GpuFrame {
   bool taa_reset = true;  // the TAA history restarts: the output is this frame alone (always without TAA)
   FoveartEyeView view{};  // this frame's view
   std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (FrameResult::history_view)
-  foveation::TaaOptions taa;
+  foveation::TaaOptions taa;  // current_weight: this frame's blend weight (FoveatedView::taa_frame_weight)
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
 
   // The frame `view` just traced for `request` (render() with

@@ -40,7 +40,7 @@ class Taa : public ::testing::TestWithParam<TaaConstraint> {};
 // The scalar definition TAA had before its row loop was vectorised (per pixel:
 // 3x3 taps with clamp-to-edge, constrain the history, blend): the fast path
 // must reproduce it bit for bit.
-ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptions& o) {
+ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptions& o, float weight) {
   ImageRgb out(cur.width_px, cur.height_px);
   const int w = cur.width_px, h = cur.height_px;
   for (int y = 0; y < h; ++y) {
@@ -85,7 +85,7 @@ ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptio
         }
         for (int i = 0; i < 3; ++i) hv[i] = mu[i] + (hv[i] - mu[i]) * t;
       }
-      for (int i = 0; i < 3; ++i) out.at(x, y)[i] = hv[i] + o.current_weight * (c[i] - hv[i]);
+      for (int i = 0; i < 3; ++i) out.at(x, y)[i] = hv[i] + weight * (c[i] - hv[i]);
     }
   }
   return out;
@@ -97,15 +97,19 @@ TEST_P(Taa, MatchesTheScalarDefinitionBitForBit) {
   for (const auto& [w, h] : {std::pair{37, 23}, std::pair{1, 5}, std::pair{6, 1}, std::pair{2, 2}}) {
     TaaOptions o;
     o.constraint = GetParam();
+    o.mean_while_young = true;  // both weights: the young mean's 1 / k, then current_weight
     TemporalAccumulator taa(o);
     const ImageRgb base = gradient(w, h);
     ImageRgb history = noisy(base, rng, 0.2f);
     taa.accumulate(history, {0, 0}, test::executor());  // reset: history = this frame
-    for (int t = 0; t < 4; ++t) {
+    // Frames 2..13 after the reset: the young history's 1 / k, then current_weight.
+    for (int t = 0; t < 12; ++t) {
       const ImageRgb frame = noisy(base, rng, 0.2f);
-      const ImageRgb expected = taa_reference(frame, history, o);
+      const float weight = std::max(o.current_weight, 1.0f / float(t + 2));
+      const ImageRgb expected = taa_reference(frame, history, o, weight);
       const ImageRgb& out = taa.accumulate(frame, {0, 0}, test::executor());
       ASSERT_FALSE(taa.last_was_reset());
+      ASSERT_EQ(taa.frame_weight(), weight) << "frame " << t;
       ASSERT_EQ(std::memcmp(out.rgb.data(), expected.rgb.data(), out.rgb.size() * sizeof(float)), 0)
           << w << "x" << h << " frame " << t;
       history = out;
@@ -180,9 +184,12 @@ ImageRgb checkerboard(int w, int h, float low, float high) {
   return im;
 }
 
+// The exponential blend's alpha per ray (a young history's mean needs none:
+// TaaFrameWeight below), so the young mean is off here.
 TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
   TaaOptions one_ray;
   one_ray.constraint = GetParam();
+  one_ray.mean_while_young = false;
   const ImageRgb start = checkerboard(16, 12, 0.4f, 0.6f), target = checkerboard(16, 12, 0.0f, 1.0f);
   for (int rays : {2, 4, 16}) {
     const TaaOptions n_rays = taa_options_for_rays(one_ray, rays);
@@ -190,7 +197,9 @@ TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
     once.accumulate(start, {8, 6}, test::executor());
     in_turn.accumulate(start, {8, 6}, test::executor());
     const ImageRgb& blended_once = once.accumulate(target, {8, 6}, test::executor());
+    ASSERT_EQ(once.frame_weight(), n_rays.current_weight);
     for (int i = 0; i < rays; ++i) in_turn.accumulate(target, {8, 6}, test::executor());
+    ASSERT_EQ(in_turn.frame_weight(), one_ray.current_weight);
     ASSERT_EQ(blended_once.rgb.size(), in_turn.history().rgb.size());
     double worst = 0.0;
     for (std::size_t v = 0; v < blended_once.rgb.size(); ++v) {
@@ -205,6 +214,94 @@ TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
     const TaaOptions same = taa_options_for_rays(one_ray, rays);
     EXPECT_EQ(std::memcmp(&same.current_weight, &one_ray.current_weight, sizeof(float)), 0) << rays << " rays";
   }
+}
+
+// After a reset the history is the plain mean of its frames until 1 / k falls
+// to current_weight (progressive accumulation), then the exponential blend.
+// Frames of a 0/1 checkerboard in a random phase each: every 3x3 box spans 0
+// and 1, and every mean lies between, so the min/max clamp never acts; the
+// variance clip is widened (gamma 4) to act as little.
+TEST_P(Taa, AYoungHistoryIsTheMeanOfItsFrames) {
+  TaaOptions o;
+  o.constraint = GetParam();
+  o.mean_while_young = true;
+  o.variance_gamma = 4.0f;
+  const int young = int(std::lround(1.0f / o.current_weight));  // 10 frames at alpha 0.1
+  std::mt19937 rng(3);
+  std::vector<ImageRgb> frames;
+  for (int t = 0; t < young + 2; ++t) {
+    frames.push_back(rng() % 2 == 0 ? checkerboard(17, 9, 0.0f, 1.0f) : checkerboard(17, 9, 1.0f, 0.0f));
+  }
+  TemporalAccumulator taa(o);
+  std::vector<double> sum(frames[0].rgb.size(), 0.0);
+  for (int t = 0; t < young; ++t) {
+    const ImageRgb& out = taa.accumulate(frames[std::size_t(t)], {8, 4}, test::executor());
+    EXPECT_EQ(taa.last_was_reset(), t == 0);
+    EXPECT_FLOAT_EQ(taa.frame_weight(), 1.0f / float(t + 1)) << "frame " << t;
+    EXPECT_EQ(taa.frames_held(), std::uint32_t(t + 1));
+    double worst = 0.0;
+    for (std::size_t v = 0; v < sum.size(); ++v) {
+      sum[v] += double(frames[std::size_t(t)].rgb[v]);
+      worst = std::max(worst, std::abs(double(out.rgb[v]) - sum[v] / double(t + 1)));
+    }
+    EXPECT_LT(worst, 1e-6) << "frame " << t << ": the mean of " << t + 1 << " frames";
+  }
+  // Past the young history: current_weight, no longer the mean.
+  const ImageRgb before = taa.history();
+  const ImageRgb& out = taa.accumulate(frames[std::size_t(young)], {8, 4}, test::executor());
+  EXPECT_EQ(taa.frame_weight(), o.current_weight);
+  double worst = 0.0, from_mean = 0.0;
+  for (std::size_t v = 0; v < out.rgb.size(); ++v) {
+    const double blend = double(before.rgb[v]) + double(o.current_weight) *
+                                                     (double(frames[std::size_t(young)].rgb[v]) - double(before.rgb[v]));
+    worst = std::max(worst, std::abs(double(out.rgb[v]) - blend));
+    from_mean = std::max(from_mean, std::abs(double(out.rgb[v]) - (sum[v] + double(frames[std::size_t(young)].rgb[v])) /
+                                                                        double(young + 1)));
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_GT(from_mean, 1e-4) << "the 11th frame weighs 0.1, not 1/11";
+  // A saccade's onset starts a young history again.
+  taa.accumulate(frames[0], {8, 4}, test::executor(), /*saccade=*/true);
+  EXPECT_TRUE(taa.last_was_reset());
+  EXPECT_EQ(taa.frame_weight(), 1.0f);
+  taa.accumulate(frames[1], {8, 4}, test::executor(), /*saccade=*/true);
+  EXPECT_EQ(taa.frame_weight(), 0.5f);
+}
+
+// Without the young mean (the default): the exponential blend from the second
+// frame on, so the first frame after a reset fades as (1 - alpha)^k.
+TEST_P(Taa, WithoutTheYoungMeanEveryFrameWeighsCurrentWeight) {
+  TaaOptions o;
+  o.constraint = GetParam();
+  o.mean_while_young = false;
+  TemporalAccumulator taa(o);
+  const ImageRgb a = checkerboard(9, 7, 0.45f, 0.55f), b = checkerboard(9, 7, 0.0f, 1.0f);
+  taa.accumulate(a, {4, 3}, test::executor());
+  EXPECT_EQ(taa.frame_weight(), 1.0f);
+  const ImageRgb& out = taa.accumulate(b, {4, 3}, test::executor());
+  EXPECT_EQ(taa.frame_weight(), o.current_weight);
+  for (std::size_t v = 0; v < out.rgb.size(); ++v) {
+    EXPECT_NEAR(out.rgb[v], a.rgb[v] + o.current_weight * (b.rgb[v] - a.rgb[v]), 1e-6) << v;
+  }
+}
+
+TEST(TaaFrameWeight, IsTheMeanThenCurrentWeight) {
+  EXPECT_FALSE(TaaOptions{}.mean_while_young) << "the layer's default blend";
+  TaaOptions o;
+  o.mean_while_young = true;
+  EXPECT_EQ(taa_frame_weight(o, 0), 1.0f);  // a reset: the frame alone
+  EXPECT_EQ(taa_frame_weight(o, 1), 0.5f);
+  EXPECT_FLOAT_EQ(taa_frame_weight(o, 3), 0.25f);
+  EXPECT_FLOAT_EQ(taa_frame_weight(o, 9), 0.1f);
+  EXPECT_EQ(taa_frame_weight(o, 10), o.current_weight);
+  EXPECT_EQ(taa_frame_weight(o, 1u << 16), o.current_weight);
+  // Frames of 4 rays: their own current_weight, 1 - 0.9^4 = 0.344, from the 2nd frame held on.
+  const TaaOptions four = taa_options_for_rays(o, 4);
+  EXPECT_EQ(taa_frame_weight(four, 1), 0.5f);
+  EXPECT_EQ(taa_frame_weight(four, 2), four.current_weight);
+  o.mean_while_young = false;
+  EXPECT_EQ(taa_frame_weight(o, 0), 1.0f);
+  EXPECT_EQ(taa_frame_weight(o, 1), o.current_weight);
 }
 
 TEST_P(Taa, GazeJumpResetsHistory) {

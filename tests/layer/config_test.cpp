@@ -93,9 +93,17 @@ TEST_F(ConfigTest, ApplicationSectionOverridesTopLevel) {
   EXPECT_TRUE(unnamed.config.taa);
 }
 
+TEST_F(ConfigTest, TaaMeanWhileYoungIsReadAndOffByDefault) {
+  EXPECT_FALSE(LayerConfig{}.taa_mean_while_young);
+  env_["FOVEART_CONFIG"] = write("c.json", R"({"taa_mean_while_young": true})").string();
+  const auto r = load_config("app", env());
+  EXPECT_TRUE(r.config.taa_mean_while_young);
+  EXPECT_TRUE(r.warnings.empty());
+}
+
 TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   env_["FOVEART_CONFIG"] = write("c.json", R"({"k": "many", "density_scale": -1, "interpolation": "cubic",
-      "log_level": "loud", "rays_per_point": 1000, "pixel_filter": "gaussian"})").string();
+      "log_level": "loud", "rays_per_point": 1000, "pixel_filter": "gaussian", "taa_mean_while_young": "yes"})").string();
   const auto r = load_config("app", env());
   const LayerConfig defaults;
   EXPECT_EQ(r.config.k, defaults.k);
@@ -104,8 +112,9 @@ TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   EXPECT_EQ(r.config.log_level, defaults.log_level);
   EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
   EXPECT_EQ(r.config.pixel_filter, defaults.pixel_filter);
-  for (const char* key :
-       {"'k'", "'density_scale'", "'interpolation'", "'log_level'", "'rays_per_point'", "'pixel_filter'"}) {
+  EXPECT_EQ(r.config.taa_mean_while_young, defaults.taa_mean_while_young);
+  for (const char* key : {"'k'", "'density_scale'", "'interpolation'", "'log_level'", "'rays_per_point'",
+                          "'pixel_filter'", "'taa_mean_while_young'"}) {
     EXPECT_TRUE(any_warning_contains(r, key)) << key;
   }
 }

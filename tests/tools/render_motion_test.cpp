@@ -213,6 +213,36 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   EXPECT_NE(text.find("--pixel-filter: 'gaussian' is not box or bspline2"), std::string::npos) << text;
 }
 
+// --taa-mean-while-young: the TAA tracks and the TAA-fed-the-reference control
+// blend a young history as the mean of its frames; the track without TAA and
+// the reference are untouched.
+TEST(RenderMotion, TaaMeanWhileYoungReachesTheTaaTracksAndTheirControl) {
+  engine_test::TempDir dir;
+  RenderOptions o = tiny_motion();
+  o.taa = "off,reproject";
+  o.reference_spp = "8";
+  o.cache_dir = (dir.path / "cache").string();
+  std::ostringstream exp_out, exp_err;
+  ASSERT_EQ(run_render(o, exp_out, exp_err), 0) << exp_err.str();
+  const auto exponential = nlohmann::json::parse(exp_out.str());
+  EXPECT_EQ(exponential["taa_mean_while_young"], false);
+  o.taa_mean_while_young = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto mean = nlohmann::json::parse(out.str());
+  EXPECT_EQ(mean["taa_mean_while_young"], true);
+  ASSERT_EQ(mean["tracks"].size(), exponential["tracks"].size());
+  for (std::size_t t = 0; t < mean["tracks"].size(); ++t) {
+    const auto& a = mean["tracks"][t];
+    const bool taa = a["taa"] == "reproject";
+    EXPECT_EQ(a["rings"] != exponential["tracks"][t]["rings"], taa) << a["id"];
+  }
+  const auto& ring_mean = mean["reference"]["rings"][0];
+  const auto& ring_exp = exponential["reference"]["rings"][0];
+  EXPECT_EQ(ring_mean["psnr_floor"], ring_exp["psnr_floor"]);
+  EXPECT_NE(ring_mean["taa_on_reference_psnr"], ring_exp["taa_on_reference_psnr"]);
+}
+
 // Across the saccade: every track reports its central and peripheral band frame
 // by frame (frame 0 has no pair), the reprojected TAA restarts on the first
 // frame and at the saccade's onset, and the settled frames are the frames at

@@ -261,7 +261,8 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     }
     // A still view: TAA (when the setting has it) converges over frames of new jitter.
     m.view = std::make_unique<foveation::FoveatedView>(
-        tables, taa_view_settings(m.setting.taa ? "reproject" : "off", m.setting.spp, c.o.seed, c.o.pixel_filter));
+        tables, taa_view_settings(m.setting.taa ? "reproject" : "off", m.setting.spp, c.o.seed, c.o.pixel_filter,
+                                   /*taa_mean_while_young=*/false));
   }
   // The anchor: a full frame at 1 ray per pixel in every round (the full group's own 1-spp setting).
   const bool full_group = settings.front().full;

@@ -315,7 +315,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
     precompute_ms = ms_since(t_tables);
     fov_display_pattern = tables->key.display.fovea_pattern;
-    foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), taa_view_settings(o.taa, o.spp, o.seed, o.pixel_filter));
+    foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), taa_view_settings(o.taa, o.spp, o.seed, o.pixel_filter,
+                                                                                              o.taa_mean_while_young));
   }
   FrameTimes full_times, fov_times;
   std::vector<double> tile_ms;  // full mode: per-tile time summed over frames
@@ -554,6 +555,9 @@ void register_render(CLI::App& app) {
                   "TAA of the foveated frames: off, restart (on every pose change), reproject (follows the head); "
                   "with --motion a list, e.g. off,restart,reproject")
       ->capture_default_str();
+  cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
+                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history "
+                "(the layer's \"taa_mean_while_young\"); default: alpha from the second frame on");
   cmd->add_option("--motion", opts->motion,
                   "Render --frames frames of a head and gaze motion: 'builtin' or a CSV file "
                   "(time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade])");

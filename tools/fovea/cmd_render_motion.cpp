@@ -164,7 +164,8 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
       t.taa = mode;
       t.spp = o.spp;
       t.id = setting.id() + "_taa-" + mode;
-      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed, o.pixel_filter));
+      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed, o.pixel_filter,
+                                                                                          o.taa_mean_while_young));
       tracks.push_back(std::move(t));
     }
   }
@@ -174,6 +175,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   ref.baseline_spp = std::max(16, o.spp);
   ref.seed = o.seed;
   ref.pixel_filter = o.pixel_filter;
+  ref.taa_mean_while_young = o.taa_mean_while_young;
   ref.cache_dir = !o.reference_cache.empty() ? o.reference_cache
                   : !o.cache_dir.empty()     ? (std::filesystem::path(o.cache_dir) / "reference").string()
                                              : std::string();
@@ -208,6 +210,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   report["height"] = eye_at_rest.height_px;
   report["threads"] = executor.thread_count();
   report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
+  report["taa_mean_while_young"] = o.taa_mean_while_young;
   report["motion"] = {{"spec", o.motion}, {"duration_s", motion->duration_s()}};
   report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
   std::vector<std::uint8_t> taa_reset(frames.size(), 0);  // per frame: some track's TAA restarted

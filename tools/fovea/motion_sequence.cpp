@@ -132,7 +132,7 @@ bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const Mot
 // reprojected through the pixel-centre depth, fed the converged reference in
 // place of a noisy frame; restarts at the same saccade and blink onsets.
 struct TaaOnReference {
-  foveation::TemporalAccumulator taa;  // default TaaOptions: the layer's
+  foveation::TemporalAccumulator taa;  // the layer's TaaOptions, the tracks' young-history blend
   foveation::ImageRgb warped;          // scratch
   std::vector<std::uint8_t> valid;     // scratch
 };
@@ -199,8 +199,9 @@ std::string parse_taa_modes(const std::string& text, std::vector<std::string>* o
 }
 
 foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed,
-                                          foveation::PixelFilter pixel_filter) {
+                                          foveation::PixelFilter pixel_filter, bool taa_mean_while_young) {
   foveation::ViewSettings vs;
+  vs.taa_options.mean_while_young = taa_mean_while_young;
   vs.rays_per_point = rays_per_point;
   vs.sample_seed = seed;
   vs.pixel_filter = pixel_filter;
@@ -230,6 +231,11 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                " (its reference would not be the track's expectation)";
       return false;
     }
+    if (t.view != nullptr && t.view->settings().taa &&
+        t.view->settings().taa_options.mean_while_young != ref_options.taa_mean_while_young) {
+      *error = t.id + ": its TAA's young-history blend differs from the sequence's (the control's)";
+      return false;
+    }
   }
   run->frames = frames;
   std::vector<std::uint8_t> restart(frames.size(), 0);
@@ -237,7 +243,9 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
   run->settled = settled_frames(restart, taa_settle_frames());
   foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
   Tracking tracking;
-  TaaOnReference taa_on_reference;
+  foveation::TaaOptions control_taa;
+  control_taa.mean_while_young = ref_options.taa_mean_while_young;
+  TaaOnReference taa_on_reference{foveation::TemporalAccumulator(control_taa), {}, {}};
   SampleHistories sample_histories(ref_options.seed, ref_options.pixel_filter);
   const bool with_reference = !ref_options.spp.empty();
   for (const MotionFrame& f : frames) {

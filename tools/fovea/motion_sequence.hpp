@@ -35,9 +35,9 @@ bool is_taa_mode(const std::string& name);
 std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out);
 // The view settings of a foveated frame with this TAA mode at equal rays: TAA
 // off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
-// frame, which it accumulates.
+// frame, which it accumulates; taa_mean_while_young: TaaOptions::mean_while_young.
 foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed,
-                                          foveation::PixelFilter pixel_filter);
+                                          foveation::PixelFilter pixel_filter, bool taa_mean_while_young);
 
 struct SequenceTrack {
   std::string id;
@@ -61,6 +61,9 @@ struct SequenceReferenceOptions {
   // The pixel filter of the whole sequence: the reference's, the full render
   // tracks' and every foveated track's (run_sequence refuses a track with another).
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
+  // The TAA's blend of a young history, the tracks' and the TAA-fed-the-reference control's
+  // (TaaOptions::mean_while_young; run_sequence refuses a track with another).
+  bool taa_mean_while_young = false;
   std::string cache_dir;     // empty: no cache
   // Measure the controls (SequenceRun::stable_blur, taa_on_reference, sample_history, sample_history_kept)
   // beside the tracks; a caller that already has them from an earlier run of the same sequence skips them.

@@ -167,7 +167,8 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       t.id = track_id(s, mode);
       t.taa = mode;
       t.spp = s.spp;
-      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, s.spp, c.seed, c.pixel_filter));
+      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, s.spp, c.seed, c.pixel_filter,
+                                                                             /*taa_mean_while_young=*/false));
       tracks.push_back(std::move(t));
     }
     SequenceHooks hooks;

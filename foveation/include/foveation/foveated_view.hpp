@@ -157,6 +157,9 @@ class FoveatedView {
   // What the TAA blends with: settings().taa_options for its rays per point
   // (taa_options_for_rays).
   const TaaOptions& taa_options() const { return taa_.options(); }
+  // The last frame's TAA blend weight (1 on a reset; the mean's 1 / k while
+  // the history is young): TemporalAccumulator::frame_weight().
+  float taa_frame_weight() const { return taa_.frame_weight(); }
 
  private:
   void pixel_depths(const GazeMapping& mapping, Executor& executor);  // depth_px_m_ from point_depth_m_

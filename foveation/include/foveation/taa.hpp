@@ -5,6 +5,11 @@
 // saccade or blink resets the history: that frame is the current frame alone.
 // A saccade's later frames accumulate again (the eye is blind during it, and a
 // restart in each of them would show the raw frame's noise every frame).
+// With TaaOptions::mean_while_young a young history is the plain mean of its
+// frames: after a reset the k-th frame weighs 1 / k until that falls to
+// current_weight (progressive accumulation, then the exponential blend), so a
+// saccade's restart is averaged away while the eye is blind to it instead of
+// lingering as (1 - alpha)^k of one raw frame.
 //
 // Not thread-safe: one instance per eye, called from one thread; accumulate()
 // spreads its rows over the executor it is given.
@@ -36,13 +41,24 @@ struct TaaOptions {
   float clip_floor = 1.0f / 4096.0f;
   float reset_distance_px = 40.0f;  // gaze moved further since the last frame -> reset
   HistorySampling history_sampling = HistorySampling::catmull_rom;  // reading a reprojected history
+  // true: the k-th frame since a reset weighs max(1 / k, current_weight), the
+  // mean of a young history; false (the layer's default, config key
+  // "taa_mean_while_young"): current_weight from the second frame on.
+  bool mean_while_young = false;
 };
+
+// The weight of a frame blended into a history that already holds
+// `frames_held` frames (0: a reset, weight 1): max(1 / (frames_held + 1),
+// current_weight) with options.mean_while_young, else current_weight.
+float taa_frame_weight(const TaaOptions& options, std::uint32_t frames_held);
 
 // The options for frames of `rays_per_point` rays each: current_weight becomes
 // that of n one-ray frames blended in turn, 1 - (1 - alpha)^n. The history then
 // holds as many rays whatever a frame carries, and ages fewer frames when frames
 // carry more: its resampling blur and lag grow with its age in frames, not in
-// rays. n <= 1: the options unchanged.
+// rays. A young history's mean needs no change: k frames of n rays each are
+// k n rays, and n more weigh n / (k n + n) = 1 / (k + 1). n <= 1: the options
+// unchanged.
 TaaOptions taa_options_for_rays(TaaOptions options, int rays_per_point);
 
 class TemporalAccumulator {
@@ -66,16 +82,22 @@ class TemporalAccumulator {
 
   // The reset rule of accumulate() alone, for a caller that blends elsewhere
   // (the layer's GPU path): records a width x height frame at gaze_px and
-  // returns whether its history restarts. Keeps no image.
+  // returns whether its history restarts. Keeps no image; frame_weight() is
+  // then the weight to blend this frame with.
   bool begin_frame(int width_px, int height_px, glm::vec2 gaze_px, bool saccade = false);
 
   void reset() { valid_ = false; }
   bool last_was_reset() const { return last_reset_; }
+  // The last frame's blend weight (1 on a reset): taa_frame_weight().
+  float frame_weight() const { return frame_weight_; }
+  // Frames the history holds, the last one included (capped at 2^16).
+  std::uint32_t frames_held() const { return frames_held_; }
   std::uint64_t reset_count() const { return resets_; }
   const TaaOptions& options() const { return options_; }
 
  private:
   void blend(const ImageRgb& current, const ImageRgb& history, const std::uint8_t* valid, Executor& executor);
+  void restart_history(const ImageRgb& current);
 
   TaaOptions options_;
   ImageRgb history_;
@@ -86,6 +108,8 @@ class TemporalAccumulator {
   bool valid_ = false;
   bool last_reset_ = false;
   bool flagged_ = false;  // the last frame's saccade-or-blink flag
+  std::uint32_t frames_held_ = 0;
+  float frame_weight_ = 1.0f;
   std::uint64_t resets_ = 0;
 };
 
