@@ -34,6 +34,23 @@ RenderOptions tiny_motion() {
   return o;
 }
 
+// tiny_motion() measured against an 8-ray reference sequence cached in `dir`.
+RenderOptions tiny_motion_with_reference(const fs::path& dir, const std::string& taa_modes) {
+  RenderOptions o = tiny_motion();
+  o.taa = taa_modes;
+  o.reference_spp = "8";
+  o.cache_dir = (dir / "cache").string();
+  return o;
+}
+
+// run_render's JSON report; null, and a failure with its message, when it fails.
+nlohmann::json run_json(const RenderOptions& o) {
+  std::ostringstream out, err;
+  const int code = run_render(o, out, err);
+  EXPECT_EQ(code, 0) << err.str();
+  return code == 0 ? nlohmann::json::parse(out.str()) : nlohmann::json();
+}
+
 // The fovea binary beside this test with `args`: its exit status (-1 if it
 // did not exit) and what it wrote to stderr.
 int run_fovea_binary(const std::string& args, const fs::path& dir, std::string* err_text) {
@@ -132,13 +149,9 @@ TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
 
 TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion();
-  o.taa = "off,restart,reproject";
-  o.reference_spp = "8";
-  o.cache_dir = (dir.path / "cache").string();
-  std::ostringstream out, err;
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  const auto j = nlohmann::json::parse(out.str());
+  const RenderOptions o = tiny_motion_with_reference(dir.path, "off,restart,reproject");
+  const auto j = run_json(o);
+  ASSERT_FALSE(j.is_null());
   ASSERT_EQ(j["frames"].size(), 3u);
   EXPECT_NEAR(j["frames"][1]["time_s"].get<double>(), 0.5 + 1.0 / 70.0, 1e-12);
   // The head turns: every frame has its own pose.
@@ -173,9 +186,8 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   // Equal rays: the foveated tracks trace the same points.
   EXPECT_EQ(j["tracks"][1]["rays"]["primary"], j["tracks"][3]["rays"]["primary"]);
   // The reference sequence is cached: a second run renders none of it.
-  std::ostringstream out2, err2;
-  ASSERT_EQ(run_render(o, out2, err2), 0) << err2.str();
-  const auto j2 = nlohmann::json::parse(out2.str());
+  const auto j2 = run_json(o);
+  ASSERT_FALSE(j2.is_null());
   EXPECT_EQ(j2["reference"]["frames_from_cache"], 3);
   EXPECT_EQ(j2["tracks"][3]["rings"], j["tracks"][3]["rings"]);
 }
@@ -186,26 +198,21 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
 // filter the tool does not know is an error naming the option.
 TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion();
-  o.taa = "off,reproject";
-  o.reference_spp = "8";
-  o.cache_dir = (dir.path / "cache").string();
-  std::ostringstream box_out, box_err;
-  ASSERT_EQ(run_render(o, box_out, box_err), 0) << box_err.str();
-  const auto box = nlohmann::json::parse(box_out.str());
+  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  const auto box = run_json(o);
+  ASSERT_FALSE(box.is_null());
   EXPECT_EQ(box["pixel_filter"], "box");
   o.pixel_filter = foveart::foveation::PixelFilter::bspline2;
-  std::ostringstream out, err;
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  const auto j = nlohmann::json::parse(out.str());
+  const auto j = run_json(o);
+  ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["pixel_filter"], "bspline2");
   EXPECT_EQ(j["reference"]["frames_from_cache"], 0);
   ASSERT_EQ(j["tracks"].size(), box["tracks"].size());
   for (std::size_t t = 0; t < j["tracks"].size(); ++t)
     EXPECT_NE(j["tracks"][t]["rings"], box["tracks"][t]["rings"]) << j["tracks"][t]["id"];
-  std::ostringstream again_out, again_err;
-  ASSERT_EQ(run_render(o, again_out, again_err), 0) << again_err.str();
-  EXPECT_EQ(nlohmann::json::parse(again_out.str())["reference"]["frames_from_cache"], 3);
+  const auto again = run_json(o);
+  ASSERT_FALSE(again.is_null());
+  EXPECT_EQ(again["reference"]["frames_from_cache"], 3);
 
   std::string text;
   const int status = run_fovea_binary("render --size 64,72 --pixel-filter gaussian", dir.path, &text);
@@ -218,18 +225,13 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
 // the reference are untouched.
 TEST(RenderMotion, TaaMeanWhileYoungReachesTheTaaTracksAndTheirControl) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion();
-  o.taa = "off,reproject";
-  o.reference_spp = "8";
-  o.cache_dir = (dir.path / "cache").string();
-  std::ostringstream exp_out, exp_err;
-  ASSERT_EQ(run_render(o, exp_out, exp_err), 0) << exp_err.str();
-  const auto exponential = nlohmann::json::parse(exp_out.str());
+  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  const auto exponential = run_json(o);
+  ASSERT_FALSE(exponential.is_null());
   EXPECT_EQ(exponential["taa_mean_while_young"], false);
   o.taa_mean_while_young = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  const auto mean = nlohmann::json::parse(out.str());
+  const auto mean = run_json(o);
+  ASSERT_FALSE(mean.is_null());
   EXPECT_EQ(mean["taa_mean_while_young"], true);
   ASSERT_EQ(mean["tracks"].size(), exponential["tracks"].size());
   for (std::size_t t = 0; t < mean["tracks"].size(); ++t) {
@@ -250,16 +252,12 @@ TEST(RenderMotion, TaaMeanWhileYoungReachesTheTaaTracksAndTheirControl) {
 // flicker within the range of their own frames'.
 TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion();
+  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
   o.mode = "foveated";
-  o.taa = "off,reproject";
-  o.reference_spp = "8";
   o.frames = 24;
   o.start_s = 1.43;  // the built-in motion's saccade starts at 1.5 s
-  o.cache_dir = (dir.path / "cache").string();
-  std::ostringstream out, err;
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  const auto j = nlohmann::json::parse(out.str());
+  const auto j = run_json(o);
+  ASSERT_FALSE(j.is_null());
   ASSERT_EQ(j["frames"].size(), 24u);
   const int settle = j["reference"]["settle_frames"].get<int>();
   EXPECT_EQ(settle, 10);  // 1 / the layer's blend weight 0.1
