@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -391,4 +392,70 @@ TEST(TemporalMetrics, BinomialBlurKeepsFlatImagesAndSpreadsAnImpulse) {
       total += double(out.at(x, y)[1]);
     }
   EXPECT_DOUBLE_EQ(total, 16.0);
+}
+
+// An image history that is exact but for its noise: the exponential blend with
+// weight alpha of 1-ray frames whose errors are independent per pixel and
+// frame, carried one pixel a frame by the motion (exact reprojection). At a
+// fixed pixel consecutive frames then hold different surfaces' errors, so the
+// history flickers as much as an error of its variance v = alpha / (2 - alpha)
+// drawn anew each frame, sqrt(2 v): against 1-ray frames, sqrt(2), only
+// sqrt((2 - alpha) / alpha) = sqrt(19) = 4.36x less at alpha 0.1. Along the
+// motion it changes by alpha (n_t - e_{t-1}) alone: sqrt(2 / (alpha^2 (1 + v)))
+// = 13.8x less (docs/pricelist.md, "What any image history reaches").
+TEST(TemporalMetrics, AnExactHistoryCarriedByTheMotionFlickersAtFixedPixelsAsItsErrorDrawnAnew) {
+  constexpr int kWide = 192, kTall = 96, kFrames = 40;
+  constexpr double kAlpha = 0.1, kSigma = 0.05;
+  EccentricityMap m;
+  m.width_px = kWide;
+  m.height_px = kTall;
+  m.ring.assign(std::size_t(kWide * kTall), 0);
+  m.ring_pixels[0] = std::uint64_t(kWide * kTall);
+  ImageRgb truth_image(kWide, kTall);
+  std::fill(truth_image.rgb.begin(), truth_image.rgb.end(), 0.5f);
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, kSigma);
+  const double v = kAlpha / (2.0 - kAlpha);  // the blend's variance in units of one frame's
+  // The history's error e, stationary from the start; each frame carries it one pixel right.
+  std::vector<double> e(truth_image.rgb.size());
+  for (double& x : e) x = std::sqrt(v) * noise(rng);
+  auto carried = [&](const std::vector<double>& field) {
+    std::vector<double> out(field.size());
+    for (int y = 0; y < kTall; ++y)
+      for (int x = 0; x < kWide; ++x)
+        for (int c = 0; c < 3; ++c)
+          out[std::size_t((y * kWide + x) * 3 + c)] = field[std::size_t((y * kWide + (x + kWide - 1) % kWide) * 3 + c)];
+    return out;
+  };
+  auto image_of = [&](const std::vector<double>& error) {
+    ImageRgb im = truth_image;
+    for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] += float(error[i]);
+    return im;
+  };
+  TemporalError history, one_ray;
+  const std::vector<std::uint8_t> valid(std::size_t(kWide * kTall), 1);
+  for (int t = 0; t < kFrames; ++t) {
+    std::vector<double> fresh(e.size()), alone(e.size());
+    for (double& x : fresh) x = noise(rng);
+    for (double& x : alone) x = noise(rng);
+    const std::vector<double> previous = carried(e);
+    for (std::size_t i = 0; i < e.size(); ++i) e[i] = (1.0 - kAlpha) * previous[i] + kAlpha * fresh[i];
+    // Along the motion: the last error carried as the image was (exact reprojection).
+    std::vector<double> last_error(e.size());
+    if (t > 0) {
+      for (std::size_t i = 0; i < e.size(); ++i) last_error[i] = double(history.previous_error().rgb[i]);
+    }
+    const ImageRgb warped = image_of(carried(last_error));
+    ImageRgb warped_error = warped;
+    for (float& x : warped_error.rgb) x -= 0.5f;
+    const TrackedPrevious tracked{&warped_error, &valid};
+    history.add_frame(image_of(e), truth_image, m, t > 0 ? &tracked : nullptr);
+    one_ray.add_frame(image_of(alone), truth_image, m);
+  }
+  const TemporalRing h = history.rings()[0], o = one_ray.rings()[0];
+  EXPECT_NEAR(o.flicker_rms, std::sqrt(2.0) * kSigma, 0.01 * kSigma);
+  EXPECT_NEAR(o.flicker_rms / h.flicker_rms, std::sqrt((2.0 - kAlpha) / kAlpha), 0.02 * std::sqrt(19.0));
+  const double along = std::sqrt(2.0 / (kAlpha * kAlpha * (1.0 + v)));
+  EXPECT_NEAR(o.flicker_rms / h.flicker_tracked_rms, along, 0.03 * along);
+  EXPECT_LT(o.flicker_rms / h.flicker_rms, 5.0) << "5x at fixed pixels asks alpha <= 2/26 of an exact history";
 }
