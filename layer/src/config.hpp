@@ -28,8 +28,8 @@ namespace foveart::layer {
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
     "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-    "pixel_filter", "taa", "taa_mean_while_young", "gaze_source", "gaze_provider", "worker_threads", "cache_dir", "wait_for_tables",
-    "reconstruction", "applications"};
+    "pixel_filter", "taa", "taa_mean_while_young", "gaze_source", "gaze_provider", "worker_threads", "cache_dir",
+    "wait_for_tables", "reconstruction", "applications"};
 
 struct LayerConfig {
   bool enabled = true;

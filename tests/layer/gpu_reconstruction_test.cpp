@@ -131,6 +131,7 @@ class GpuReconstruction : public ::testing::Test {
     settings.rays_per_point = rays_per_point_;
     settings.taa = taa;
     settings.new_jitter_each_frame = taa;
+    settings.taa_options.mean_while_young = mean_while_young_;
     foveation::FoveatedView cpu_view(tables, settings);
     settings.reconstruct_on_cpu = false;
     foveation::FoveatedView gpu_view(tables, settings);
@@ -173,6 +174,7 @@ class GpuReconstruction : public ::testing::Test {
   static std::unique_ptr<HeadlessVulkan> vulkan_;
   std::unique_ptr<GpuReconstructor> gpu_;
   int rays_per_point_ = 1;  // for run()'s views
+  bool mean_while_young_ = false;  // for run()'s views: TaaOptions::mean_while_young
 };
 std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkan_;
 
@@ -209,6 +211,19 @@ TEST_P(GpuMatchesCpu, TaaOver16FramesWithAGazeJump) {
     });
     EXPECT_LE(d.max_step, 1) << "eye " << eye << ": " << d.bytes_differing << " bytes differ";
   }
+}
+
+// A young history's mean (TaaOptions::mean_while_young): after each restart
+// (the first frame, the jump at frame 8) the GPU blends frame k with the CPU's
+// weight 1/k until it reaches alpha.
+TEST_P(GpuMatchesCpu, TaaYoungHistoryMeanBlendsLikeTheCpu) {
+  const Case c = GetParam();
+  mean_while_young_ = true;
+  const Difference d = run(c.method, c.k, true, 16, [&](int i) {
+    const glm::vec2 gaze = i < 8 ? glm::vec2(48.0f + float(i % 3), 40.0f) : glm::vec2(10.0f + float(i % 2), 8.0f);
+    return request(0, gaze, uint64_t(i + 1));
+  });
+  EXPECT_LE(d.max_step, 1) << d.bytes_differing << " bytes differ";
 }
 
 // More rays per point blend with a larger weight (taa_options_for_rays): the
