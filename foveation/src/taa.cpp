@@ -244,7 +244,6 @@ bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaz
     ++resets_;
     frames_held_ = 0;
   }
-  frame_weight_ = taa_frame_weight(options_, frames_held_);
   frames_held_ = std::min<std::uint32_t>(frames_held_ + 1, 1u << 16);
   return last_reset_;
 }
@@ -252,7 +251,6 @@ bool TemporalAccumulator::begin_frame(int width_px, int height_px, glm::vec2 gaz
 void TemporalAccumulator::restart_history(const ImageRgb& current) {
   history_ = current;
   frames_held_ = 1;
-  frame_weight_ = 1.0f;
 }
 
 const ImageRgb& TemporalAccumulator::accumulate(const ImageRgb& current, glm::vec2 gaze_px, Executor& executor,
@@ -287,9 +285,10 @@ void TemporalAccumulator::blend(const ImageRgb& current, const ImageRgb& history
   // A few bands per thread (each band sets up its own row planes once).
   const int h = current.height_px, w = current.width_px;
   const int bands = std::max(1, std::min(h, 4 * int(executor.thread_count())));
+  const float weight = frame_weight();
   executor.parallel_for(std::size_t(bands), [&](std::size_t band) {
     const int y0 = h * int(band) / bands, y1 = h * (int(band) + 1) / bands;
-    taa_rows(current, history, scratch_, options_, frame_weight_, y0, y1);
+    taa_rows(current, history, scratch_, options_, weight, y0, y1);
     if (valid == nullptr) return;
     for (std::size_t p = std::size_t(y0) * std::size_t(w); p < std::size_t(y1) * std::size_t(w); ++p) {
       if (valid[p] == 0) std::copy_n(current.rgb.data() + p * 3, 3, scratch_.rgb.data() + p * 3);  // no history here

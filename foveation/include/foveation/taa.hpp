@@ -88,8 +88,9 @@ class TemporalAccumulator {
 
   void reset() { valid_ = false; }
   bool last_was_reset() const { return last_reset_; }
-  // The last frame's blend weight (1 on a reset): taa_frame_weight().
-  float frame_weight() const { return frame_weight_; }
+  // The last frame's blend weight (1 on a reset): taa_frame_weight() of the
+  // frames the history held before it.
+  float frame_weight() const { return frames_held_ <= 1 ? 1.0f : taa_frame_weight(options_, frames_held_ - 1); }
   // Frames the history holds, the last one included (capped at 2^16).
   std::uint32_t frames_held() const { return frames_held_; }
   std::uint64_t reset_count() const { return resets_; }
@@ -109,7 +110,6 @@ class TemporalAccumulator {
   bool last_reset_ = false;
   bool flagged_ = false;  // the last frame's saccade-or-blink flag
   std::uint32_t frames_held_ = 0;
-  float frame_weight_ = 1.0f;
   std::uint64_t resets_ = 0;
 };
 

@@ -60,26 +60,32 @@ struct PacketIn {
   float* primary_depth_m = nullptr;  // primary packets: per target, the hit distance (+inf: sky)
 };
 
-// An inactive lane of a 16-wide packet. On a CPU without AVX-512, Embree
-// runs rtcIntersect16/rtcOccluded16 through its ray-stream filter, which
-// ignores the valid mask and skips only rays with tnear > tfar (Embree 3 API,
+// Lane i of a 16-wide packet: the ray origin + t dir, t in [0, tfar].
+template <typename RayPacket>
+void set_lane(RayPacket& ray, int i, glm::vec3 origin, glm::vec3 dir, float tfar) {
+  ray.org_x[i] = origin.x;
+  ray.org_y[i] = origin.y;
+  ray.org_z[i] = origin.z;
+  ray.dir_x[i] = dir.x;
+  ray.dir_y[i] = dir.y;
+  ray.dir_z[i] = dir.z;
+  ray.tnear[i] = 0.0f;
+  ray.tfar[i] = tfar;
+  ray.time[i] = 0.0f;
+  ray.mask[i] = 0xFFFFFFFFu;
+  ray.id[i] = static_cast<unsigned int>(i);
+  ray.flags[i] = 0;
+}
+
+// An inactive lane. On a CPU without AVX-512, Embree runs
+// rtcIntersect16/rtcOccluded16 through its ray-stream filter, which ignores
+// the valid mask and skips only rays with tnear > tfar (Embree 3 API,
 // "rtcIntersect4/8/16" and "RTCRay"); a lane left uninitialised is then
 // traced, and a NaN in it trips Embree's ray.valid() assertion. So every
 // inactive lane holds a finite ray that both conventions skip.
 template <typename RayPacket>
 void set_inactive_lane(RayPacket& ray, int i) {
-  ray.org_x[i] = 0.0f;
-  ray.org_y[i] = 0.0f;
-  ray.org_z[i] = 0.0f;
-  ray.dir_x[i] = 0.0f;
-  ray.dir_y[i] = 0.0f;
-  ray.dir_z[i] = 1.0f;
-  ray.tnear[i] = 0.0f;
-  ray.tfar[i] = -std::numeric_limits<float>::infinity();
-  ray.time[i] = 0.0f;
-  ray.mask[i] = 0xFFFFFFFFu;
-  ray.id[i] = static_cast<unsigned int>(i);
-  ray.flags[i] = 0;
+  set_lane(ray, i, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), -std::numeric_limits<float>::infinity());
 }
 
 void embree_error(void* user, RTCError code, const char* message) {
@@ -267,22 +273,11 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
   for (int i = 0; i < kLanes; ++i) {
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    if (in.valid[i] != -1) {
+    if (in.valid[i] == -1) {
+      set_lane(rh.ray, i, in.origin[i], in.dir[i], std::numeric_limits<float>::infinity());
+    } else {
       set_inactive_lane(rh.ray, i);
-      continue;
     }
-    rh.ray.org_x[i] = in.origin[i].x;
-    rh.ray.org_y[i] = in.origin[i].y;
-    rh.ray.org_z[i] = in.origin[i].z;
-    rh.ray.dir_x[i] = in.dir[i].x;
-    rh.ray.dir_y[i] = in.dir[i].y;
-    rh.ray.dir_z[i] = in.dir[i].z;
-    rh.ray.tnear[i] = 0.0f;
-    rh.ray.tfar[i] = std::numeric_limits<float>::infinity();
-    rh.ray.time[i] = 0.0f;
-    rh.ray.mask[i] = 0xFFFFFFFFu;
-    rh.ray.id[i] = static_cast<unsigned int>(i);
-    rh.ray.flags[i] = 0;
   }
   rtcIntersect16(in.valid, rtc_scene, &ctx, &rh);
   ++counts.packets;
@@ -348,20 +343,8 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
         const float cos_l = glm::dot(nrm[i], l);
         if (cos_l <= 0.0f || radiance == glm::vec3(0.0f)) continue;
         contrib[i] = in.weight[i] * base[i] * (kd * kInvPi * cos_l) * radiance;
-        const glm::vec3 o = pos[i] + nrm[i] * epsilon;
-        sr.org_x[i] = o.x;
-        sr.org_y[i] = o.y;
-        sr.org_z[i] = o.z;
-        sr.dir_x[i] = l.x;
-        sr.dir_y[i] = l.y;
-        sr.dir_z[i] = l.z;
-        sr.tnear[i] = 0.0f;
-        // Never below tnear: a light closer than 2 epsilon is unoccluded on every ISA (a stream would skip it).
-        sr.tfar[i] = std::isinf(dist) ? dist : std::max(dist - 2.0f * epsilon, 0.0f);
-        sr.time[i] = 0.0f;
-        sr.mask[i] = 0xFFFFFFFFu;
-        sr.id[i] = static_cast<unsigned int>(i);
-        sr.flags[i] = 0;
+        // tfar never below tnear: a light closer than 2 epsilon is unoccluded on every ISA (a stream would skip it).
+        set_lane(sr, i, pos[i] + nrm[i] * epsilon, l, std::isinf(dist) ? dist : std::max(dist - 2.0f * epsilon, 0.0f));
         valid[i] = -1;
         ++n_valid;
       }
