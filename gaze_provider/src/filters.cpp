@@ -74,15 +74,22 @@ void GazeHold::apply(GazeSample& sample) noexcept {
     have_valid_ = true;
     last_direction_ = sample.combined_direction;
     last_valid_ns_ = sample.device_time_ns;
+    holding_ = false;
+    sample.hold_onset_device_ns = hold_onset_ns_;
     return;
   }
   if (config_.enabled && have_valid_ && sample.device_time_ns - last_valid_ns_ <= config_.max_hold_ns) {
+    if (!holding_) hold_onset_ns_ = sample.device_time_ns;  // the run's first held sample
+    holding_ = true;
     sample.combined_direction = last_direction_;
     sample.valid = true;
     sample.held = true;
+    sample.hold_onset_device_ns = hold_onset_ns_;
     return;
   }
+  holding_ = false;
   sample.lost = true;
+  sample.hold_onset_device_ns = hold_onset_ns_;
 }
 
 FilterChain::FilterChain(const FilterConfig& config)

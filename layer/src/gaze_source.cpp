@@ -10,6 +10,7 @@
 #include "state.hpp"
 
 #include "gaze_provider/gaze_provider.h"
+#include "gaze_provider/onset_latch.h"
 
 namespace foveart::layer {
 namespace {
@@ -85,14 +86,17 @@ class ProviderGaze final : public GazeSource {
     }
     const auto newest = provider_->latest();
     out.age_ms = newest ? static_cast<float>(static_cast<double>(now_ns - newest->host_time_ns) * 1e-6) : 0.0f;
-    out.saccade = sample->in_saccade;
-    out.blink = sample->held;
+    // A saccade or blink that began and ended between two frames counts for the next.
+    const gaze::OnsetLatch::Began began = newest ? onsets_.update(*newest) : gaze::OnsetLatch::Began{};
+    out.saccade = sample->in_saccade || began.saccade;
+    out.blink = sample->held || began.hold;
     out.valid = true;
     return out;
   }
 
  private:
   std::unique_ptr<gaze::GazeProvider> provider_;
+  gaze::OnsetLatch onsets_;
 };
 
 }  // namespace

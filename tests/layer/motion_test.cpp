@@ -8,8 +8,10 @@
 // Clock: the runtime's real clock. The provider replays its trace in real time, so
 // the head (from xrBeginSession) and the gaze (from the renderer's creation, just
 // before) stay on one time base, and N frames span at least N periods of 70 Hz.
-// The eyes are small (80x90) so that even a sanitizer build keeps up with most
-// 70 Hz slots: the provider's saccade flag lasts about 40 ms (5 samples at 120 Hz).
+// The eyes are small (80x90) so that even a sanitizer build keeps up with many
+// 70 Hz slots. A frame reports a saccade or blink that began since the frame before
+// (gaze::OnsetLatch), so one that falls between two slow frames is still seen: the
+// provider's saccade flag itself lasts only about 40 ms (5 samples at 120 Hz).
 #include <cstdlib>
 #include <string>
 #include <vector>

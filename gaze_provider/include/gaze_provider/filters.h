@@ -90,18 +90,21 @@ class SaccadeDetector {
 };
 
 // Blink/dropout hold: invalid samples take the last valid direction for at most
-// max_hold_ns (device time), after which they are marked lost.
+// max_hold_ns (device time), after which they are marked lost. Every sample carries
+// the device time of the current or last hold's first sample (hold_onset_device_ns).
 class GazeHold {
  public:
   explicit GazeHold(const HoldConfig& config = {}) : config_(config) {}
   void apply(GazeSample& sample) noexcept;  // edits valid/held/lost/combined_direction
-  void reset() noexcept { have_valid_ = false; }
+  void reset() noexcept { have_valid_ = holding_ = false; }
 
  private:
   HoldConfig config_;
   bool have_valid_ = false;
+  bool holding_ = false;
   Vec3f last_direction_{};
   std::int64_t last_valid_ns_ = 0;
+  std::int64_t hold_onset_ns_ = 0;
 };
 
 // The per-sample chain run by the sampling thread.

@@ -57,6 +57,7 @@ struct GazeSample {
   bool lost = false;               // invalid for longer than the hold time
   bool extrapolated = false;       // predicted beyond the last measurement
   std::int64_t saccade_onset_device_ns = 0;  // onset of the current/last saccade, 0 if none
+  std::int64_t hold_onset_device_ns = 0;     // first sample of the current/last hold, 0 if none
 };
 
 static_assert(std::is_trivially_copyable_v<GazeSample>, "GazeSample is published lock-free");
