@@ -103,7 +103,7 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   }
   for (std::size_t r = 0; r < 7; ++r) {  // the controls, measured like a track
     const Json& ring = t["reference"]["rings"][r];
-    for (const char* history : {"sample_history", "sample_history_kept"}) {
+    for (const char* history : {"sample_history", "sample_history_kept", "ray_cache", "ray_cache_kept"}) {
       EXPECT_GT(ring[std::string(history) + "_flicker"].get<double>(), 0.0) << history << " " << ring.dump();
       EXPECT_GT(ring[std::string(history) + "_flicker_tracked"].get<double>(), 0.0) << history << " " << ring.dump();
       EXPECT_TRUE(ring[std::string(history) + "_psnr"].is_number()) << history << " " << ring.dump();

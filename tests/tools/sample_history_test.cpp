@@ -1,6 +1,6 @@
-// The sample-history control: every ray since the last restart, anchored where
-// it hit and traced again each frame, filtered into pixels with the pixel
-// filter (tools/fovea/sample_history.hpp).
+// The sample-history controls: every ray since the last restart, anchored where
+// it hit and traced again each frame (or its colour kept, a render cache),
+// filtered into pixels with the pixel filter (tools/fovea/sample_history.hpp).
 #include "sample_history.hpp"
 
 #include "analytic_scene.hpp"
@@ -11,6 +11,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include <atomic>
 #include <cmath>
 
 namespace foveart {
@@ -25,11 +26,13 @@ struct Engine {
   foveation::test::AnalyticScene scene;
   int calls = 0;
   int fail_from_call = -1;  // >= 0: that call and every later one fails
+  std::atomic<std::size_t> rays{0};  // traced, over every call (the executor's threads call at once)
 };
 
 std::int32_t trace(void* user, const FoveartRayBatch* batch) {
   auto* e = static_cast<Engine*>(user);
   if (e->fail_from_call >= 0 && e->calls++ >= e->fail_from_call) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  e->rays += batch->ray_count;
   for (std::uint32_t i = 0; i < batch->ray_count; ++i) {
     const float* o = batch->origins_m + 3 * i;
     const float* d = batch->directions + 3 * i;
@@ -189,6 +192,69 @@ TEST(SampleHistory, EngineFailureIsReturnedAndKeepsTheRaysItHad) {
   engine.fail_from_call = 0;
   EXPECT_EQ(history.render(&trace, &engine, view, 1, false, executor, &out), FOVEART_RESULT_ERROR_ENGINE_FAILURE);
   EXPECT_EQ(history.rays(), std::size_t(kW) * kH);
+}
+
+// A render cache on a still view is the history without error, tracing only
+// the frame's new rays: every kept ray's colour is what tracing it again gives.
+// (The wall alone: at a silhouette the depth test forgets a far ray whose
+// pixel's new ray hit the near surface, next test.)
+TEST(RayCache, StillViewTracesOnlyTheNewRaysAndMatchesTheRetracedHistory) {
+  foveation::Executor executor(2);
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
+  constexpr int kFrames = 4;
+  Engine retraced_engine, cached_engine;
+  retraced_engine.scene.near_bar = cached_engine.scene.near_bar = false;
+  tools::SampleHistory retraced(9, PixelFilter::bspline2, tools::RayReuse::retrace);
+  tools::SampleHistory cached(9, PixelFilter::bspline2, tools::RayReuse::keep_colour);
+  ImageRgb retraced_out, cached_out;
+  for (int frame = 0; frame < kFrames; ++frame) {
+    ASSERT_EQ(retraced.render(&trace, &retraced_engine, view, std::uint64_t(frame), frame == 0, executor, &retraced_out),
+              FOVEART_RESULT_SUCCESS);
+    ASSERT_EQ(cached.render(&trace, &cached_engine, view, std::uint64_t(frame), frame == 0, executor, &cached_out),
+              FOVEART_RESULT_SUCCESS);
+  }
+  EXPECT_EQ(cached_engine.rays.load(), std::size_t(kFrames) * kW * kH) << "one new ray per pixel a frame";
+  EXPECT_EQ(retraced_engine.rays.load(), std::size_t(kFrames) * (kFrames + 1) / 2 * kW * kH);
+  EXPECT_EQ(cached.rays(), retraced.rays());
+  // A ray traced again through its own hit point lands on it to float rounding.
+  double max_diff = 0.0;
+  for (std::size_t i = 0; i < cached_out.rgb.size(); ++i)
+    max_diff = std::max(max_diff, std::fabs(double(cached_out.rgb[i]) - double(retraced_out.rgb[i])));
+  EXPECT_LT(max_diff, 1e-3);
+}
+
+// The render cache's depth test: an eye stepping sideways carries the near bar
+// (1 m) across the far wall (10 m); the wall's kept rays that the bar now
+// covers must be forgotten, so the bar's pixels show the bar alone.
+TEST(RayCache, RaysANearerSurfaceCoversAreForgotten) {
+  foveation::Executor executor(2);
+  Engine engine;
+  tools::SampleHistory cached(4, PixelFilter::box, tools::RayReuse::keep_colour);
+  ImageRgb out;
+  FoveartEyeView view{};
+  constexpr int kFrames = 6;
+  for (int frame = 0; frame < kFrames; ++frame) {  // 4 cm a frame: the bar moves ~2 px, the wall ~0.2 px
+    view = view_at({0.04f * float(frame), 1.6f, 0}, 0.0f);
+    ASSERT_EQ(cached.render(&trace, &engine, view, std::uint64_t(frame), frame == 0, executor, &out),
+              FOVEART_RESULT_SUCCESS);
+  }
+  std::vector<float> depth_m;
+  engine.scene.render(view, 1, &depth_m);
+  const auto bar_at = [&](int x, int y) { return depth_m[std::size_t(y) * kW + std::size_t(x)] < 2.0f; };
+  int inside_bar = 0, mixed = 0;
+  for (int y = 1; y + 1 < int(kH); ++y)
+    for (int x = 1; x + 1 < int(kW); ++x) {
+      bool interior = true;  // the bar's pixels away from its edges
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) interior = interior && bar_at(x + dx, y + dy);
+      if (!interior) continue;
+      ++inside_bar;
+      const float* px = out.at(x, y);
+      if (std::fabs(px[0] - 0.9f) > 1e-3f || std::fabs(px[1] - 0.1f) > 1e-3f) ++mixed;
+    }
+  EXPECT_GT(inside_bar, 20) << "the premise: the bar covers pixels";
+  EXPECT_EQ(mixed, 0) << "of " << inside_bar << " pixels inside the bar, some still hold the wall's kept rays";
+  EXPECT_LT(cached.rays(), std::size_t(kFrames) * kW * kH) << "the covered rays are gone for good";
 }
 
 }  // namespace

@@ -147,14 +147,17 @@ const foveation::ImageRgb& accumulate_reference(TaaOnReference& c, const foveati
   return c.taa.accumulate_reprojected(reference_linear, c.warped, c.valid, f.gaze_px, executor, restart);
 }
 
-// The two sample-history controls (SequenceRun::sample_history, sample_history_kept), each with its own jitter,
-// apart from the reference's (seed + i) and the tracks'.
+// The sample-history controls (SequenceRun::sample_history, sample_history_kept, ray_cache, ray_cache_kept),
+// each with its own jitter, apart from the reference's (seed + i) and the tracks'.
 struct SampleHistories {
-  SampleHistory at_restarts, kept;
+  SampleHistory at_restarts, kept, cache_at_restarts, cache_kept;
   foveation::ImageRgb image;  // scratch
 
   SampleHistories(std::uint64_t seed, foveation::PixelFilter filter)
-      : at_restarts(seed + 0x9E3779B9ull, filter), kept(seed + 0x7F4A7C15ull, filter) {}
+      : at_restarts(seed + 0x9E3779B9ull, filter),
+        kept(seed + 0x7F4A7C15ull, filter),
+        cache_at_restarts(seed + 0x632BE59Bull, filter, RayReuse::keep_colour),
+        cache_kept(seed + 0x85157AF5ull, filter, RayReuse::keep_colour) {}
 };
 
 // taa_restarts: whether the layer's TAA restarted on this frame (TemporalAccumulator::last_was_reset of the
@@ -167,7 +170,9 @@ bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer&
     TemporalError* measured;
     bool restart;
   } controls[] = {{&h.at_restarts, &run->sample_history, taa_restarts},
-                  {&h.kept, &run->sample_history_kept, f.index == 0}};
+                  {&h.kept, &run->sample_history_kept, f.index == 0},
+                  {&h.cache_at_restarts, &run->ray_cache, taa_restarts},
+                  {&h.cache_kept, &run->ray_cache_kept, f.index == 0}};
   for (const auto& c : controls) {
     if (const std::int32_t st = c.history->render(&foveart_engine_trace_rays, &tracer, f.view,
                                                   std::uint64_t(f.index), c.restart, executor, &h.image);

@@ -65,7 +65,8 @@ struct SequenceReferenceOptions {
   // (TaaOptions::mean_while_young; run_sequence refuses a track with another).
   bool taa_mean_while_young = false;
   std::string cache_dir;     // empty: no cache
-  // Measure the controls (SequenceRun::stable_blur, taa_on_reference, sample_history, sample_history_kept)
+  // Measure the controls (SequenceRun::stable_blur, taa_on_reference, sample_history, sample_history_kept,
+  // ray_cache, ray_cache_kept)
   // beside the tracks; a caller that already has them from an earlier run of the same sequence skips them.
   bool controls = true;
 };
@@ -96,6 +97,11 @@ struct SequenceRun {
   // them at a saccade.
   TemporalError sample_history;
   TemporalError sample_history_kept;
+  // The same histories at equal rays, a render cache: each kept ray brings
+  // the colour it was traced with and is forgotten once a nearer surface
+  // covers it (RayReuse::keep_colour); only the new ray per pixel is traced.
+  TemporalError ray_cache;
+  TemporalError ray_cache_kept;
   std::vector<MotionFrame> frames;
   // Per frame: the layer's TAA history has settled (settled_frames over the
   // motion's restarts: the first frame, a saccade's and a blink's frames).
@@ -124,6 +130,9 @@ inline constexpr SequenceControl kSequenceControls[] = {
      &SequenceRun::sample_history},
     {"sample_history_kept", "control: every ray since the first frame, kept through saccades and blinks",
      &SequenceRun::sample_history_kept},
+    {"ray_cache", "control: every ray since the TAA's last restart, its colour kept (a render cache at equal rays)",
+     &SequenceRun::ray_cache},
+    {"ray_cache_kept", "control: the render cache kept through saccades and blinks", &SequenceRun::ray_cache_kept},
 };
 
 struct SequenceHooks {

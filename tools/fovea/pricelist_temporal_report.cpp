@@ -199,6 +199,10 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
     << three("flicker_tracked_ratio_off_over_sample_history") << " along the motion, kept through the saccade "
     << three("flicker_ratio_off_over_sample_history_kept") << " and "
     << three("flicker_tracked_ratio_off_over_sample_history_kept")
+    << "; a render cache of these rays at equal rays (each kept ray's colour as traced) "
+    << three("flicker_ratio_off_over_ray_cache") << " and " << three("flicker_tracked_ratio_off_over_ray_cache")
+    << ", kept through the saccade " << three("flicker_ratio_off_over_ray_cache_kept") << " and "
+    << three("flicker_tracked_ratio_off_over_ray_cache_kept")
     << "; TAA restarting on every pose change: "
     << three("flicker_ratio_off_over_restart") << "); its error at 0-2.5 / 2.5-5 deg is ";
   for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r) {
@@ -257,6 +261,8 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
       temporal.contains("reference") ? periphery_of(temporal["reference"], "taa_on_reference_bands") : nullptr;
   const Json* sample_history =
       temporal.contains("reference") ? periphery_of(temporal["reference"], "sample_history_bands") : nullptr;
+  const Json* ray_cache =
+      temporal.contains("reference") ? periphery_of(temporal["reference"], "ray_cache_bands") : nullptr;
   const Json* reproject = track(temporal, setting + "_taa-reproject");
   // Frame t's value of a per-frame array (t >= 1: a pair), as a series.
   const auto series = [](const std::string& label, const Json* band, const char* key, bool points,
@@ -286,6 +292,7 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
     lines.push_back(series("control: reprojected TAA fed the reference", ceiling, key, false, nullptr));
     lines.push_back(series("control: every ray since the TAA's last restart, kept", sample_history, key, false,
                            nullptr));
+    lines.push_back(series("control: the same rays' render cache (equal rays)", ray_cache, key, false, nullptr));
     lines.push_back(series("history restart (reprojected TAA)",
                            reproject ? periphery_of(*reproject, "bands") : nullptr, key, true,
                            &resets));
@@ -371,7 +378,9 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
        << " along the motion; the TAA fed the reference " << ratio("flicker_ratio_off_over_taa_on_reference")
        << " and " << ratio("flicker_tracked_ratio_off_over_taa_on_reference")
        << "; every ray since the TAA's last restart, kept " << ratio("flicker_ratio_off_over_sample_history")
-       << " and " << ratio("flicker_tracked_ratio_off_over_sample_history") << ".\n";
+       << " and " << ratio("flicker_tracked_ratio_off_over_sample_history") << "; the same rays' render cache "
+       << ratio("flicker_ratio_off_over_ray_cache") << " and " << ratio("flicker_tracked_ratio_off_over_ray_cache")
+       << ".\n";
   }
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }

@@ -47,7 +47,10 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
   batches_.resize(executor.thread_count());
 
   // Every ray: a kept one where its anchor projects from the current eye, a
-  // new one jittered in its pixel; traced from the current eye in batches.
+  // new one jittered in its pixel; traced from the current eye in batches
+  // (a kept one only with RayReuse::retrace).
+  const bool retrace = reuse_ == RayReuse::retrace;
+  if (!retrace) new_depth_m_.assign(pixels, INFINITY);
   std::atomic<std::int32_t> status{FOVEART_RESULT_SUCCESS};
   executor.parallel_for((rays + kBatchRays - 1) / kBatchRays, [&](std::size_t chunk, unsigned worker) {
     const std::size_t begin = chunk * kBatchRays, end = std::min(rays, begin + kBatchRays);
@@ -70,7 +73,11 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
         on_screen_[i] = 1;
       }
       sample_px_[i] = q;
-      if (on_screen_[i]) b.set_ray(traced++, frustum, pose, q, std::uint32_t(i));
+      if (i < kept && !retrace) {
+        rgb_[i] = anchors_[i].rgb;
+      } else if (on_screen_[i]) {
+        b.set_ray(traced++, frustum, pose, q, std::uint32_t(i));
+      }
     }
     const std::int32_t st = b.trace(fn, user_data, view, frame_index, traced);
     if (st != FOVEART_RESULT_SUCCESS) {
@@ -79,13 +86,15 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
       return;
     }
     std::uint32_t k = 0;
-    for (std::size_t i = begin; i < end; ++i) {
+    for (std::size_t i = std::max(begin, retrace ? begin : kept); i < end; ++i) {
       if (!on_screen_[i]) continue;
       rgb_[i] = b.rgb(k);
       if (i >= kept) {  // a new ray's anchor: where it hit, or its direction for a miss (or no depth)
         const glm::vec3 direction = foveation::eye_ray_direction(frustum, pose, sample_px_[i]);
         const float d = b.depth_m(k);
-        anchors_[i] = std::isfinite(d) ? Anchor{pose.position_m + direction * d, false} : Anchor{direction, true};
+        anchors_[i] = std::isfinite(d) ? Anchor{pose.position_m + direction * d, false, rgb_[i]}
+                                       : Anchor{direction, true, rgb_[i]};
+        if (!retrace && std::isfinite(d)) new_depth_m_[i - kept] = d;
       }
       ++k;
     }
@@ -94,6 +103,7 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
     anchors_.resize(kept);
     return status.load();
   }
+  if (!retrace) drop_covered_rays(kept, pose, width, height, executor);
 
   // The on-screen rays by pixel row (a stable counting sort: the sums below
   // run in one order whatever the thread count), rows -reach .. height - 1 + reach.
@@ -142,6 +152,28 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
     if (on_screen_[i]) anchors_[n++] = anchors_[i];
   anchors_.resize(n);
   return FOVEART_RESULT_SUCCESS;
+}
+
+// The render cache's depth test (Walter et al. 1999, sec. 4): a kept hit farther
+// than this frame's new ray in its pixel, or a kept miss where that ray hits,
+// is hidden now and forgotten. Off the image (within the filter's reach) there
+// is no new ray to compare with: the kept ray stays.
+void SampleHistory::drop_covered_rays(std::size_t kept, const foveation::EyePose& pose, int width, int height,
+                                      foveation::Executor& executor) {
+  executor.parallel_for((kept + kBatchRays - 1) / kBatchRays, [&](std::size_t chunk, unsigned) {
+    for (std::size_t i = chunk * kBatchRays, end = std::min(kept, i + kBatchRays); i < end; ++i) {
+      if (!on_screen_[i]) continue;
+      const int x = int(std::floor(sample_px_[i].x)), y = int(std::floor(sample_px_[i].y));
+      if (x < 0 || y < 0 || x >= width || y >= height) continue;
+      const float new_depth_m = new_depth_m_[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+      if (!std::isfinite(new_depth_m)) continue;
+      const Anchor& a = anchors_[i];
+      const bool covered =
+          a.at_infinity ||
+          glm::length(a.point_m_or_direction - pose.position_m) > new_depth_m * (1.0f + kKeptRayOcclusionTolerance);
+      if (covered) on_screen_[i] = 0;
+    }
+  });
 }
 
 }  // namespace foveart::tools
