@@ -154,8 +154,9 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
   return FOVEART_RESULT_SUCCESS;
 }
 
-// The render cache's depth test (Walter et al. 1999, sec. 4): a kept hit farther
-// than this frame's new ray in its pixel, or a kept miss where that ray hits,
+// The render cache's depth test (Walter et al. 1999): a kept hit farther
+// than the new ray this frame drew for its pixel (a bspline2 jitter may carry
+// that ray up to a pixel outside it), or a kept miss where that ray hits,
 // is hidden now and forgotten. Off the image (within the filter's reach) there
 // is no new ray to compare with: the kept ray stays.
 void SampleHistory::drop_covered_rays(std::size_t kept, const foveation::EyePose& pose, int width, int height,
