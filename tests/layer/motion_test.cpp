@@ -12,7 +12,9 @@
 // 70 Hz slots. A frame reports a saccade or blink that began since the frame before
 // (gaze::OnsetLatch), so one that falls between two slow frames is still seen: the
 // provider's saccade flag itself lasts only about 40 ms (5 samples at 120 Hz).
+#include <cmath>
 #include <cstdlib>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -34,9 +36,17 @@ constexpr int kTimeoutS = 900;
 // 240 frames span at least 3.43 s at 70 Hz: the script's saccade at 1.5 s and its
 // 150 ms blink at 3.0 s.
 constexpr int kFrames = 240;
-// The built-in script is 4 s long and loops: its last frames jump the head back.
-// History continuity is checked inside the first loop (display times before this).
-constexpr double kFirstLoopS = 3.9;
+// The built-in script is 4 s long and loops: at each loop's end the head jumps
+// back 80 deg and the gaze 12 deg. History continuity is judged in every loop,
+// away from its seam (display times count from the first traced frame, a frame
+// or two after the motion's origin at xrBeginSession).
+constexpr double kLoopS = 4.0;
+constexpr double kSeamMarginS = 0.1;
+
+bool near_a_loop_seam(double t_s) {
+  const double phase_s = std::fmod(t_s, kLoopS);
+  return phase_s > kLoopS - kSeamMarginS || (t_s > kLoopS - kSeamMarginS && phase_s < kSeamMarginS);
+}
 
 struct AppRun {
   ProcessResult process;
@@ -131,7 +141,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
       // ~10 px of these 80 px eyes in a 12 deg saccade: below the 40 px jump rule).
       EXPECT_FALSE(left || right) << "frame " << f << " at " << t_s
                                   << " s: the history restarted again inside one saccade or blink";
-    } else if (f > 0 && t_s < kFirstLoopS) {
+    } else if (f > 0 && !near_a_loop_seam(t_s)) {
       // (c) The head turns every frame (10-30 deg/s plus tremor): the history follows it.
       EXPECT_FALSE(left || right) << "frame " << f << " at " << t_s
                                   << " s: history restarted without a saccade or blink (left " << left
@@ -143,9 +153,11 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   EXPECT_GT(saccade_frames, 0);
   EXPECT_GT(blink_frames, 0);
   EXPECT_GE(onsets, 2) << "the saccade's and the blink's first frames";
-  // 30 of the ~270 frames a 70 Hz loop would give: a sanitizer build on a loaded
-  // 2-core machine renders 10-15 per second (ctest runs this test alone).
-  EXPECT_GE(continuous_frames, 30) << "too few frames inside the script's first loop to judge continuity";
+  std::cout << "[ measured ] " << continuous_frames << " of " << kFrames << " frames judged for continuity over "
+            << time_s.back().get<double>() << " s, " << onsets << " saccade or blink onsets\n";
+  // Flags and seams take a few frames a loop, at 70 Hz as at the 10-15 frames a
+  // second of a sanitizer build on 2 loaded cores: most frames are judged.
+  EXPECT_GE(continuous_frames, kFrames / 2) << "too few frames away from the flags and the loop seams to judge";
   EXPECT_EQ(r.stats["taa_resets"].get<uint64_t>(), restarts) << "the per-frame flags add up to the renderer's count";
 }
 
