@@ -208,8 +208,9 @@ TEST(RayCache, StillViewTracesOnlyTheNewRaysAndMatchesTheRetracedHistory) {
   tools::SampleHistory cached(9, PixelFilter::bspline2, tools::RayReuse::keep_colour);
   ImageRgb retraced_out, cached_out;
   for (int frame = 0; frame < kFrames; ++frame) {
-    ASSERT_EQ(retraced.render(&trace, &retraced_engine, view, std::uint64_t(frame), frame == 0, executor, &retraced_out),
-              FOVEART_RESULT_SUCCESS);
+    ASSERT_EQ(
+        retraced.render(&trace, &retraced_engine, view, std::uint64_t(frame), frame == 0, executor, &retraced_out),
+        FOVEART_RESULT_SUCCESS);
     ASSERT_EQ(cached.render(&trace, &cached_engine, view, std::uint64_t(frame), frame == 0, executor, &cached_out),
               FOVEART_RESULT_SUCCESS);
   }

@@ -18,7 +18,8 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 
 // {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
 //  "<m>_ratio_off_over_<c>"[ring] for each control c of kSequenceControls (stable_blur,
-//  taa_on_reference, sample_history, sample_history_kept, ray_cache, ray_cache_kept: motion_sequence.hpp) for m = flicker (at fixed pixels),
+//  taa_on_reference, sample_history, sample_history_kept, ray_cache, ray_cache_kept: motion_sequence.hpp)
+//  for m = flicker (at fixed pixels),
 //  flicker_tracked (along the motion) and flicker_csf (weighted by what the eye resolves),
 //  "peripheral_flicker_5x_lower" (fixed pixels, the issue's measure), "peripheral_tracked_flicker_5x_lower",
 //  "peripheral_csf_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",

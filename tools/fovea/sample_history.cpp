@@ -86,7 +86,7 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
       return;
     }
     std::uint32_t k = 0;
-    for (std::size_t i = std::max(begin, retrace ? begin : kept); i < end; ++i) {
+    for (std::size_t i = retrace ? begin : std::max(begin, kept); i < end; ++i) {  // the traced ones
       if (!on_screen_[i]) continue;
       rgb_[i] = b.rgb(k);
       if (i >= kept) {  // a new ray's anchor: where it hit, or its direction for a miss (or no depth)
