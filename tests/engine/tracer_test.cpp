@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <limits>
 
 using namespace foveart::engine;
@@ -234,6 +235,27 @@ TEST(Tracer, AllowedMaskRemovesEffectsFromTheKernel) {
             FOVEART_RESULT_SUCCESS);
   EXPECT_EQ(t->counts().primary, 32u * 36u);
   EXPECT_EQ(t->counts().shadow + t->counts().reflection + t->counts().refraction, 0u);
+}
+
+TEST(Effects, EveryCombinationReadsBackFromItsNameAndBadNamesAreNamed) {
+  for (uint32_t bits = 0; bits < 16; ++bits) {
+    const Effects e = Effects::from_bits(bits);
+    std::string error;
+    const std::optional<Effects> back = parse_effects(to_string(e), &error);
+    ASSERT_TRUE(back) << to_string(e) << ": " << error;
+    EXPECT_EQ(*back, e) << to_string(e);
+  }
+  std::string error;
+  const std::optional<Effects> listed = parse_effects("refraction,reflection", &error);
+  ASSERT_TRUE(listed) << error;
+  EXPECT_EQ(*listed, (Effects{false, true, true, false}));
+  EXPECT_FALSE(parse_effects("reflection,glitter", &error));
+  EXPECT_NE(error.find("'glitter'"), std::string::npos) << error;
+  for (const char* empty : {"", "reflection,", ",shadows", "shadows,,textures"}) {
+    error.clear();
+    EXPECT_FALSE(parse_effects(empty, &error)) << "'" << empty << "'";
+    EXPECT_FALSE(error.empty()) << "'" << empty << "'";
+  }
 }
 
 TEST(DefaultScene, HasTheHardCaseAndEveryEffect) {

@@ -76,6 +76,40 @@ TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
   EXPECT_NE(err.str().find("--frames"), std::string::npos);
 }
 
+TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImageAndItsReference) {
+  engine_test::TempDir dir;
+  RenderOptions o = small("full");
+  o.reference_spp = "4";
+  o.reference_cache = dir.path.string();
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto every = nlohmann::json::parse(out.str());
+  EXPECT_EQ(every["effects"], "shadows+reflection+refraction+textures");
+
+  o.without = "reflection,refraction";
+  out.str("");
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto without = nlohmann::json::parse(out.str());
+  EXPECT_EQ(without["effects"], "shadows+textures");
+  EXPECT_EQ(without["full"]["rays"]["primary"], 40 * 45);
+  EXPECT_GT(without["full"]["rays"]["shadow"].get<uint64_t>(), 0u);
+  EXPECT_EQ(without["full"]["rays"]["reflection"], 0);
+  EXPECT_EQ(without["full"]["rays"]["refraction"], 0);
+  // Its reference is rendered without them too, not read from the full scene's cache.
+  EXPECT_FALSE(without["errors_against_reference"]["reference"]["from_cache"].get<bool>());
+  EXPECT_NE(without["errors_against_reference"]["reference"]["cache_file"],
+            every["errors_against_reference"]["reference"]["cache_file"]);
+  out.str("");
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  EXPECT_TRUE(nlohmann::json::parse(out.str())["errors_against_reference"]["reference"]["from_cache"].get<bool>());
+
+  o.without = "reflection,glitter";
+  err.str("");
+  EXPECT_EQ(run_render(o, out, err), 2);
+  EXPECT_NE(err.str().find("--without"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("'glitter'"), std::string::npos) << err.str();
+}
+
 TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
   CLI::App app;
   register_render(app);

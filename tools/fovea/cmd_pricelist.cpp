@@ -363,13 +363,13 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: " << loaded.error << "\n";
     return 1;
   }
-  const std::uint64_t scene_hash = scene_content_hash(*loaded.scene);
   std::string error;
   std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
   if (!tracer) {
     err << "fovea pricelist: " << error << "\n";
     return 1;
   }
+  const std::uint64_t scene_hash = rendered_scene_hash(*tracer);
   const FoveartEyeView view = render_view(base, tracer->scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * float(view.width_px), 0.5f * float(view.height_px)));
   foveation::Executor executor(static_cast<unsigned>(std::max(0, o.threads)));

@@ -199,6 +199,15 @@ std::string check_view(const RenderOptions& o) {
 
 }  // namespace
 
+engine::TracerOptions render_tracer_options(const RenderOptions& o) {
+  engine::TracerOptions t;
+  if (!o.without.empty()) {
+    std::string unused;
+    t.allowed = engine::Effects::from_bits(engine::Effects::all().bits() & ~engine::parse_effects(o.without, &unused)->bits());
+  }
+  return t;
+}
+
 std::string check_render_options(const RenderOptions& o) {
   if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
   if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
@@ -214,6 +223,10 @@ std::string check_render_options(const RenderOptions& o) {
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
     return "--size must be between 8 and 16384 pixels per side";
   if (std::string bad = check_view(o); !bad.empty()) return bad;
+  if (!o.without.empty()) {
+    std::string bad;
+    if (!engine::parse_effects(o.without, &bad)) return "--without: " + bad;
+  }
   if (!o.reference_spp.empty() && o.reference_spp != "auto") {
     char* end = nullptr;
     const long n = std::strtol(o.reference_spp.c_str(), &end, 10);
@@ -253,7 +266,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   for (const std::string& w : loaded.scene->warnings) err << "fovea render: warning: " << w << "\n";
   t0 = std::chrono::steady_clock::now();
   std::string error;
-  std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
+  std::unique_ptr<engine::Tracer> tracer =
+      engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
   if (!tracer) {
     err << "fovea render: " << error << "\n";
     return 1;
@@ -403,7 +417,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                                                  : std::string();
       std::string bad;
       std::optional<Reference> ref = converged_reference(
-          &foveart_engine_trace_rays, tracer.get(), scene_content_hash(tracer->scene()), view, gaze, ro, executor,
+          &foveart_engine_trace_rays, tracer.get(), rendered_scene_hash(*tracer), view, gaze, ro, executor,
           [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &bad);
       if (!ref) {
         err << "fovea render: " << bad << "\n";
@@ -546,6 +560,9 @@ void register_render(CLI::App& app) {
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
   cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->add_option("--without", opts->without,
+                  "Leave these effects out of the scene, the reference too: shadows, reflection, refraction, "
+                  "textures, comma-separated (default: every effect the scene calls for)");
   foveart::fovea::add_pixel_filter_option(cmd, &opts->pixel_filter);
   cmd->add_option("--reference-spp", opts->reference_spp,
                   "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");

@@ -6,6 +6,7 @@
 #include <glm/ext/vector_int2.hpp>
 
 #include <engine/scene.hpp>
+#include <engine/tracer.hpp>
 
 #include <foveation/display_model.hpp>
 #include <foveation/executor.hpp>
@@ -52,6 +53,11 @@ struct RenderOptions {
   std::string out_prefix;         // empty: no images written
   std::string cache_dir;          // point set / neighbour table cache, empty: none
   uint64_t seed = 1;
+  // Effects the engine leaves out of the scene (engine::parse_effects names,
+  // e.g. "reflection,refraction"), for every image of the run, the
+  // reference's too: to see what an effect costs, or what it does to a
+  // measure. Empty: every effect the scene calls for.
+  std::string without;
   // What every ray of a pixel follows (foveation/ray_samples.hpp): the full
   // render's, the pixel-grid fovea's and the reference's.
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
@@ -84,6 +90,10 @@ FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& sc
 // pattern); nullopt with *error when it is not valid.
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
                                                         std::string* error);
+
+// The engine's options for these options (the effects --without leaves out).
+// The options must have passed check_render_options.
+engine::TracerOptions render_tracer_options(const RenderOptions& options);
 
 // Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
 int reconstruction_k(const RenderOptions& options);

@@ -42,7 +42,7 @@ std::string fixed(const Json& j, int decimals) {
 void print_text(const Json& report, std::ostream& out) {
   out << "motion " << report["motion"]["spec"].get<std::string>() << ": " << report["window"]["frames"]
       << " frames at " << report["window"]["fps"] << " fps from " << report["window"]["start_s"] << " s, "
-      << report["width"] << "x" << report["height"] << "\n";
+      << report["width"] << "x" << report["height"] << ", " << report["effects"].get<std::string>() << "\n";
   if (!report.contains("reference")) {
     out << "no --reference-spp: no temporal error (accuracy is measured against the reference sequence only)\n";
     for (const Json& t : report["tracks"]) out << t["id"].get<std::string>() << ": " << fixed(t["ms"], 1) << " ms\n";
@@ -124,12 +124,13 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
     return 1;
   }
   for (const std::string& w : loaded.scene->warnings) err << "fovea render: warning: " << w << "\n";
-  const std::uint64_t scene_hash = scene_content_hash(*loaded.scene);
-  std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
+  std::unique_ptr<engine::Tracer> tracer =
+      engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
   if (!tracer) {
     err << "fovea render: " << error << "\n";
     return 1;
   }
+  const std::uint64_t scene_hash = rendered_scene_hash(*tracer);
   const FoveartEyeView eye_at_rest = render_view(o, tracer->scene());
   const engine::Camera head = engine::scene_head(tracer->scene());
   const std::vector<MotionFrame> frames =
@@ -205,6 +206,7 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
 
   Json report;
   report["scene"] = tracer->scene().source;
+  report["effects"] = engine::to_string(tracer->effects());
   report["eye"] = o.eye;
   report["width"] = eye_at_rest.width_px;
   report["height"] = eye_at_rest.height_px;

@@ -116,6 +116,18 @@ std::uint64_t scene_content_hash(const engine::Scene& scene) {
   return h;
 }
 
+std::uint64_t rendered_scene_hash(const engine::Tracer& tracer) {
+  const std::uint64_t content = scene_content_hash(tracer.scene());
+  if (tracer.effects() == tracer.scene_effects()) return content;
+  XXH3_state_t* s = XXH3_createState();
+  XXH3_64bits_reset(s);
+  hash_value(s, content);
+  hash_value(s, tracer.effects().bits());
+  const std::uint64_t h = XXH3_64bits_digest(s);
+  XXH3_freeState(s);
+  return h;
+}
+
 std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed,
                             foveation::PixelFilter filter) {
   XXH3_state_t* s = XXH3_createState();

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <engine/scene.hpp>
+#include <engine/tracer.hpp>
 
 #include <foveation/executor.hpp>
 #include <foveation/image.hpp>
@@ -80,6 +81,11 @@ using ReferenceLog = std::function<void(const std::string&)>;
 // XXH3-64 of everything in a scene that changes a pixel (mesh, materials,
 // textures, lights, sky, ambient).
 std::uint64_t scene_content_hash(const engine::Scene& scene);
+// What a tracer renders of its scene: scene_content_hash, and the effects it
+// leaves out (TracerOptions::allowed) when it leaves any out. With every
+// effect the scene calls for it is scene_content_hash, so the caches of such
+// renders keep their names.
+std::uint64_t rendered_scene_hash(const engine::Tracer& tracer);
 
 // Loads (or renders and stores) the reference of `view`. `gaze_px` picks the
 // rings the convergence check looks at. nullopt with *error when the engine

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace foveart::engine {
 
@@ -64,6 +65,32 @@ std::string to_string(const Effects& e) {
   add(e.refraction, "refraction");
   add(e.textures, "textures");
   return s.empty() ? "primary-only" : s;
+}
+
+std::optional<Effects> parse_effects(const std::string& names, std::string* error) {
+  if (names == "primary-only") return Effects::none();
+  Effects e;
+  std::string list = names;
+  std::replace(list.begin(), list.end(), '+', ',');
+  std::istringstream in(list);
+  std::string name;
+  int count = 0;
+  while (std::getline(in, name, ',')) {
+    ++count;
+    if (name == "shadows") e.shadows = true;
+    else if (name == "reflection") e.reflection = true;
+    else if (name == "refraction") e.refraction = true;
+    else if (name == "textures") e.textures = true;
+    else {
+      *error = "unknown effect '" + name + "' (shadows, reflection, refraction, textures or primary-only)";
+      return std::nullopt;
+    }
+  }
+  if (count == 0 || list.back() == ',') {
+    *error = "an empty effect name in '" + names + "' (shadows, reflection, refraction, textures or primary-only)";
+    return std::nullopt;
+  }
+  return e;
 }
 
 }  // namespace foveart::engine

@@ -6,6 +6,7 @@
 #include <engine/scene.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 namespace foveart::engine {
@@ -32,6 +33,11 @@ struct Effects {
 // Looks only at materials that triangles actually use.
 Effects derive_effects(const Scene& scene);
 
-std::string to_string(const Effects& e);  // e.g. "shadows+reflection"
+std::string to_string(const Effects& e);  // e.g. "shadows+reflection"; "primary-only" for none
+
+// The effects a list names: shadows, reflection, refraction, textures,
+// separated by ',' or '+' (so to_string's output reads back), or
+// "primary-only" for none. nullopt with *error naming the first unknown name.
+std::optional<Effects> parse_effects(const std::string& names, std::string* error);
 
 }  // namespace foveart::engine
