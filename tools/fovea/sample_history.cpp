@@ -155,10 +155,14 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
 }
 
 // The render cache's depth test (Walter et al. 1999): a kept hit farther
-// than the new ray this frame drew for its pixel (a bspline2 jitter may carry
-// that ray up to a pixel outside it), or a kept miss where that ray hits,
-// is hidden now and forgotten. Off the image (within the filter's reach) there
-// is no new ray to compare with: the kept ray stays.
+// than every new ray this frame drew for the 3x3 pixels around its own, or a
+// kept miss where all of them hit, is hidden now and forgotten. One pixel's
+// new ray alone would not do: at an edge inside the pixel it lands on the
+// nearer surface in some frames, and the farther surface's kept rays there
+// are still seen (RayCache.StillViewTracesOnlyTheNewRaysAndMatchesTheRetracedHistory
+// fails that way). The price: a kept ray within a pixel of an occluder's edge
+// stays until the occluder covers its neighbours too. Off the image (within
+// the filter's reach) there is no new ray to compare with: the kept ray stays.
 void SampleHistory::drop_covered_rays(std::size_t kept, const foveation::EyePose& pose, int width, int height,
                                       foveation::Executor& executor) {
   executor.parallel_for((kept + kBatchRays - 1) / kBatchRays, [&](std::size_t chunk, unsigned) {
@@ -166,12 +170,15 @@ void SampleHistory::drop_covered_rays(std::size_t kept, const foveation::EyePose
       if (!on_screen_[i]) continue;
       const int x = int(std::floor(sample_px_[i].x)), y = int(std::floor(sample_px_[i].y));
       if (x < 0 || y < 0 || x >= width || y >= height) continue;
-      const float new_depth_m = new_depth_m_[std::size_t(y) * std::size_t(width) + std::size_t(x)];
-      if (!std::isfinite(new_depth_m)) continue;
+      float farthest_new_m = 0.0f;  // +inf once one of them missed
+      for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
+        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+          farthest_new_m = std::max(farthest_new_m, new_depth_m_[std::size_t(ny) * std::size_t(width) + std::size_t(nx)]);
+      if (!std::isfinite(farthest_new_m)) continue;
       const Anchor& a = anchors_[i];
       const bool covered =
           a.at_infinity ||
-          glm::length(a.point_m_or_direction - pose.position_m) > new_depth_m * (1.0f + kKeptRayOcclusionTolerance);
+          glm::length(a.point_m_or_direction - pose.position_m) > farthest_new_m * (1.0f + kKeptRayOcclusionTolerance);
       if (covered) on_screen_[i] = 0;
     }
   });

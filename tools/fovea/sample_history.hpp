@@ -32,12 +32,12 @@ namespace foveart::tools {
 // The colour a kept ray brings to a frame.
 enum class RayReuse : std::uint8_t {
   retrace,      // traced again from the frame's eye through where its anchor projects
-  keep_colour,  // the colour it was traced with; dropped when the new ray drawn for its pixel hits nearer
+  keep_colour,  // the colour it was traced with; dropped when every new ray around it hits nearer
 };
 
-// How much farther than the new ray drawn for its pixel a kept hit may lie
-// and still count as seen (keep_colour): the new ray crosses the pixel
-// elsewhere, so a slanted surface's depth differs a little across it.
+// How much farther than the new rays around it a kept hit may lie and still
+// count as seen (keep_colour): the new rays cross its pixels elsewhere, so a
+// slanted surface's depth differs a little across them.
 inline constexpr float kKeptRayOcclusionTolerance = 0.05f;
 
 class SampleHistory {
@@ -62,7 +62,7 @@ class SampleHistory {
     bool at_infinity = false;  // a miss (or no depth): a direction, not a point
     glm::vec3 rgb{0.0f};       // as traced (RayReuse::keep_colour)
   };
-  // keep_colour: drops the kept rays (those before `kept`) behind the new ray drawn for their pixel.
+  // keep_colour: drops the kept rays (those before `kept`) behind every new ray drawn within a pixel of theirs.
   void drop_covered_rays(std::size_t kept, const foveation::EyePose& pose, int width, int height,
                          foveation::Executor& executor);
 
