@@ -203,7 +203,8 @@ engine::TracerOptions render_tracer_options(const RenderOptions& o) {
   engine::TracerOptions t;
   if (!o.without.empty()) {
     std::string unused;
-    t.allowed = engine::Effects::from_bits(engine::Effects::all().bits() & ~engine::parse_effects(o.without, &unused)->bits());
+    const engine::Effects left_out = *engine::parse_effects(o.without, &unused);
+    t.allowed = engine::Effects::from_bits(engine::Effects::all().bits() & ~left_out.bits());
   }
   return t;
 }

@@ -173,7 +173,8 @@ void SampleHistory::drop_covered_rays(std::size_t kept, const foveation::EyePose
       float farthest_new_m = 0.0f;  // +inf once one of them missed
       for (int ny = std::max(0, y - 1); ny <= std::min(height - 1, y + 1); ++ny)
         for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
-          farthest_new_m = std::max(farthest_new_m, new_depth_m_[std::size_t(ny) * std::size_t(width) + std::size_t(nx)]);
+          farthest_new_m =
+              std::max(farthest_new_m, new_depth_m_[std::size_t(ny) * std::size_t(width) + std::size_t(nx)]);
       if (!std::isfinite(farthest_new_m)) continue;
       const Anchor& a = anchors_[i];
       const bool covered =
