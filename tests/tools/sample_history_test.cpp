@@ -196,11 +196,9 @@ TEST(SampleHistory, EngineFailureIsReturnedAndKeepsTheRaysItHad) {
 
 // A render cache on a still view is the history without error, tracing only
 // the frame's new rays: every kept ray's colour is what tracing it again gives.
-// (The wall alone: at a silhouette the depth test forgets a far ray whose
-// pixel's new ray hit the near surface, next test.)
-// A still view with the near bar's edges crossing pixels: each edge pixel's
-// new ray lands on the bar in some frames and on the wall in others, and the
-// wall's kept rays there are still seen, so the depth test must keep them.
+// The near bar's edges cross pixels: each edge pixel's new ray lands on the
+// bar in some frames and on the wall in others, and the wall's kept rays there
+// are still seen, so the depth test must keep them.
 TEST(RayCache, StillViewTracesOnlyTheNewRaysAndMatchesTheRetracedHistory) {
   foveation::Executor executor(2);
   const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
