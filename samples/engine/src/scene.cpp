@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 namespace foveart::engine {
 
@@ -68,29 +67,25 @@ std::string to_string(const Effects& e) {
 }
 
 std::optional<Effects> parse_effects(const std::string& names, std::string* error) {
+  constexpr const char* kKnown = " (shadows, reflection, refraction, textures or primary-only)";
   if (names == "primary-only") return Effects::none();
   Effects e;
-  std::string list = names;
-  std::replace(list.begin(), list.end(), '+', ',');
-  std::istringstream in(list);
-  std::string name;
-  int count = 0;
-  while (std::getline(in, name, ',')) {
-    ++count;
+  std::size_t begin = 0;
+  while (true) {  // each name up to the next ',' or '+', the last one up to the end
+    const std::size_t end = std::min(names.find_first_of(",+", begin), names.size());
+    const std::string name = names.substr(begin, end - begin);
     if (name == "shadows") e.shadows = true;
     else if (name == "reflection") e.reflection = true;
     else if (name == "refraction") e.refraction = true;
     else if (name == "textures") e.textures = true;
     else {
-      *error = "unknown effect '" + name + "' (shadows, reflection, refraction, textures or primary-only)";
+      *error = name.empty() ? "an empty effect name in '" + names + "'" + kKnown
+                            : "unknown effect '" + name + "'" + kKnown;
       return std::nullopt;
     }
+    if (end == names.size()) return e;
+    begin = end + 1;
   }
-  if (count == 0 || list.back() == ',') {
-    *error = "an empty effect name in '" + names + "' (shadows, reflection, refraction, textures or primary-only)";
-    return std::nullopt;
-  }
-  return e;
 }
 
 }  // namespace foveart::engine
