@@ -5,9 +5,13 @@
 
 #include <filesystem>
 
+#include <glm/gtc/quaternion.hpp>
+
 #include "foveation/executor.hpp"
 #include "foveation/gaze_mapping.hpp"
+#include "foveation/eye_rays.hpp"
 #include "foveation/point_set_cache.hpp"
+#include "foveation/ray_cache.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/visible_points.hpp"
 
@@ -70,6 +74,39 @@ void BM_RaySamples(benchmark::State& state) {
   state.counters["rays"] = double(vis.size()) * double(state.range(0));
 }
 BENCHMARK(BM_RaySamples)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
+
+// One frame of the render cache (TaaHistory::ray_cache) at 320x360 while the
+// head turns 0.3 deg a frame: project the kept rays, add one new ray per
+// pixel, depth-test, filter and keep. Arg 0: frames of rays kept
+// (RayCacheOptions::max_age_frames), arg 1: 0 box, 1 bspline2.
+void BM_RayCacheFrame(benchmark::State& state) {
+  constexpr std::uint32_t kW = 320, kH = 360;
+  fv::RayCacheOptions options;
+  options.max_age_frames = std::uint32_t(state.range(0));
+  options.filter = state.range(1) == 0 ? fv::PixelFilter::box : fv::PixelFilter::bspline2;
+  fv::RayCache cache(options);
+  fv::ImageRgb image;
+  std::uint64_t frame = 0;
+  auto one_frame = [&] {
+    fv::EyePose pose;
+    pose.orientation = glm::angleAxis(glm::radians(0.3f * float(frame)), glm::vec3(0, 1, 0));
+    const FoveartEyeView view = fv::make_eye_view(0, kW, kH, pose, -0.6f, 0.6f, 0.65f, -0.65f);
+    cache.begin_frame(view, executor);
+    const std::size_t first = cache.add_rays(std::size_t(kW) * kH);
+    executor.parallel_chunks(std::size_t(kW) * kH, 4096, [&](std::size_t a, std::size_t b, unsigned) {
+      for (std::size_t i = a; i < b; ++i) {
+        const glm::vec2 q = glm::vec2(float(i % kW), float(i / kW)) + fv::pixel_jitter(i, 0, frame, options.filter);
+        cache.set_ray(first + i, q, glm::vec3(0.5f), 3.0f + 0.001f * float(i % 97));
+      }
+    });
+    cache.resolve(executor, &image);
+    ++frame;
+  };
+  for (std::int64_t i = 0; i < state.range(0); ++i) one_frame();  // the cache full
+  for (auto _ : state) one_frame();
+  state.counters["rays_kept"] = double(cache.size());
+}
+BENCHMARK(BM_RayCacheFrame)->Args({8, 0})->Args({32, 0})->Args({32, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -51,26 +51,6 @@ FoveartEyeView view_at(glm::vec3 position_m, float yaw_deg) {
   return foveation::make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
 }
 
-TEST(PixelFilterWeight, EachFilterSplitsARayIntoWeightsThatSumToOne) {
-  for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
-    for (float u = -0.5f; u < 0.5f; u += 0.0625f) {  // a ray u from a pixel centre: its weights over every pixel
-      float sum = 0.0f;
-      for (int k = -3; k <= 3; ++k) {
-        const float w = tools::pixel_filter_weight(filter, u - float(k));
-        EXPECT_GE(w, 0.0f);
-        sum += w;
-      }
-      EXPECT_NEAR(sum, 1.0f, 1e-6f) << foveation::pixel_filter_name(filter) << " u " << u;
-    }
-  }
-  // Box: the pixel floor() assigns a ray to; bspline2: 3 px wide, peak 3/4.
-  EXPECT_EQ(tools::pixel_filter_weight(PixelFilter::box, -0.5f), 1.0f);
-  EXPECT_EQ(tools::pixel_filter_weight(PixelFilter::box, 0.5f), 0.0f);
-  EXPECT_FLOAT_EQ(tools::pixel_filter_weight(PixelFilter::bspline2, 0.0f), 0.75f);
-  EXPECT_FLOAT_EQ(tools::pixel_filter_weight(PixelFilter::bspline2, 1.0f), 0.125f);
-  EXPECT_EQ(tools::pixel_filter_weight(PixelFilter::bspline2, 1.5f), 0.0f);
-}
-
 // On a still view every ray stays: frame n holds n rays per pixel, and each
 // pixel is the mean of its own (box) over every frame so far.
 TEST(SampleHistory, StillViewAveragesEveryRaySinceTheRestart) {

@@ -42,6 +42,9 @@ class RayBatch {
   std::int32_t trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, std::uint64_t frame_index,
                      std::uint32_t ray_count);
 
+  // Where ray i crosses the screen, and the point it was set for (set_ray).
+  glm::vec2 sample_px(std::size_t i) const { return glm::vec2(sample_px_[2 * i], sample_px_[2 * i + 1]); }
+  std::uint32_t point(std::size_t i) const { return point_index_[i]; }
   glm::vec3 rgb(std::size_t i) const { return glm::vec3(rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]); }
   // Distance to the hit along ray i (+inf: a miss); NaN when the engine returns no depth.
   float depth_m(std::size_t i) const { return depth_m_[i]; }

@@ -1,0 +1,206 @@
+// The render cache (ray_cache.hpp).
+#include "foveation/ray_cache.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
+
+namespace foveart::foveation {
+namespace {
+
+constexpr std::size_t kChunkRays = 4096;
+
+// Pixels a ray reaches either side of its own: the filter's support is 1 px (box) or 3 px (bspline2).
+int reach_px(PixelFilter filter) { return filter == PixelFilter::box ? 0 : 1; }
+
+}  // namespace
+
+void RayCache::begin_frame(const FoveartEyeView& view, Executor& executor) {
+  width_px_ = int(view.width_px);
+  height_px_ = int(view.height_px);
+  frustum_ = eye_frustum(view);
+  pose_ = eye_pose(view);
+  kept_ = anchors_.size();
+  sample_px_.resize(kept_);
+  row_.resize(kept_);
+  const int reach = reach_px(options_.filter);
+  const float r = float(reach);
+  executor.parallel_chunks(kept_, kChunkRays, [&](std::size_t first, std::size_t last, unsigned) {
+    for (std::size_t i = first; i < last; ++i) {
+      const Anchor& a = anchors_[i];
+      const glm::vec3 direction =
+          a.at_infinity ? a.point_m_or_direction : glm::normalize(a.point_m_or_direction - pose_.position_m);
+      glm::vec2 q(0.0f);
+      const bool within = project_direction(frustum_, pose_, direction, &q) && q.x > -r &&
+                          q.x < float(width_px_) + r && q.y > -r && q.y < float(height_px_) + r;
+      sample_px_[i] = q;
+      row_[i] = within ? std::clamp(int(std::floor(q.y)), -reach, height_px_ - 1 + reach) + reach : -1;
+    }
+  });
+}
+
+std::size_t RayCache::add_rays(std::size_t n) {
+  const std::size_t first = anchors_.size();
+  anchors_.resize(first + n);
+  sample_px_.resize(first + n);
+  row_.resize(first + n);
+  return first;
+}
+
+void RayCache::set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m) {
+  const glm::vec3 direction = eye_ray_direction(frustum_, pose_, sample_px);
+  anchors_[i] = std::isfinite(depth_m) && depth_m >= 0.0f
+                    ? Anchor{pose_.position_m + direction * depth_m, rgb, 0, false}
+                    : Anchor{direction, rgb, 0, true};
+  sample_px_[i] = sample_px;
+  const int reach = reach_px(options_.filter);
+  row_[i] = std::clamp(int(std::floor(sample_px.y)), -reach, height_px_ - 1 + reach) + reach;
+}
+
+void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) {
+  const int width = width_px_, height = height_px_;
+  const int reach = reach_px(options_.filter);
+  const std::size_t rays = anchors_.size();
+  if (options_.forget_covered && kept_ > 0) forget_covered(executor);
+
+  // The within-reach rays by pixel row, rows -reach .. height - 1 + reach: a
+  // counting sort per chunk of rays, stable (chunk by chunk, each in order), so
+  // the sums below run in one order whatever the thread count.
+  const std::size_t rows = std::size_t(height + 2 * reach);
+  const std::size_t chunks = (rays + kChunkRays - 1) / kChunkRays;
+  chunk_rows_.assign(chunks * rows, 0);
+  executor.parallel_for(chunks, [&](std::size_t c) {
+    std::uint32_t* count = chunk_rows_.data() + c * rows;
+    for (std::size_t i = c * kChunkRays, end = std::min(rays, i + kChunkRays); i < end; ++i)
+      if (row_[i] >= 0) ++count[row_[i]];
+  });
+  row_begin_.assign(rows + 1, 0);
+  std::uint32_t at = 0;
+  for (std::size_t r = 0; r < rows; ++r) {
+    row_begin_[r] = at;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::uint32_t n = chunk_rows_[c * rows + r];
+      chunk_rows_[c * rows + r] = at;
+      at += n;
+    }
+  }
+  row_begin_[rows] = at;
+  by_row_.resize(at);
+  executor.parallel_for(chunks, [&](std::size_t c) {
+    std::uint32_t* next = chunk_rows_.data() + c * rows;
+    for (std::size_t i = c * kChunkRays, end = std::min(rays, i + kChunkRays); i < end; ++i)
+      if (row_[i] >= 0) {
+        const glm::vec2 q = sample_px_[i];
+        Sample& sample = by_row_[next[row_[i]]++];
+        sample.rgb = anchors_[i].rgb;
+        const glm::vec2 pixel = glm::floor(q);
+        sample.x_px = int(pixel.x);
+        sample.t_px = q - pixel - 0.5f;
+      }
+  });
+
+  // Each pixel: sum(w L) / sum(w) over the rays within the filter's reach (pbrt-v4 8.8).
+  if (out_linear->width_px != width || out_linear->height_px != height) *out_linear = ImageRgb(width, height);
+  if (out_weight != nullptr) out_weight->assign(std::size_t(width) * std::size_t(height), 0.0f);
+  executor.parallel_for(std::size_t(height), [&](std::size_t row) {
+    const int y = int(row);
+    std::vector<glm::vec4> sum(std::size_t(width), glm::vec4(0.0f));  // rgb, weight
+    // Sample rows y - reach .. y + reach (row_ is offset by reach): a ray
+    // within reach of the image lies in [-reach, size + reach), so its row is floor(y).
+    for (int r = y; r <= y + 2 * reach; ++r) {
+      const std::uint32_t begin = row_begin_[std::size_t(r)], end = row_begin_[std::size_t(r) + 1];
+      if (reach == 0) {  // box: the ray's own pixel
+        for (std::uint32_t k = begin; k < end; ++k) {
+          const int x = by_row_[k].x_px;
+          if (x >= 0 && x < width) sum[std::size_t(x)] += glm::vec4(by_row_[k].rgb, 1.0f);
+        }
+        continue;
+      }
+      // This output row is the sample row's row before (0), own (1) or after (2).
+      const int weight_index = y + reach - r + 1;
+      for (std::uint32_t k = begin; k < end; ++k) {
+        const Sample& sample = by_row_[k];
+        float wx[3], wy[3];
+        bspline2_weights(sample.t_px.x, wx);
+        bspline2_weights(sample.t_px.y, wy);
+        const float w_row = wy[weight_index];
+        for (int j = 0; j < 3; ++j) {
+          const int x = sample.x_px - 1 + j;
+          if (x < 0 || x >= width) continue;
+          const float w = w_row * wx[j];
+          sum[std::size_t(x)] += glm::vec4(w * sample.rgb, w);
+        }
+      }
+    }
+    for (int x = 0; x < width; ++x) {
+      const glm::vec4 s = sum[std::size_t(x)];
+      float* px = out_linear->at(x, y);
+      for (int c = 0; c < 3; ++c) px[c] = s.w > 0.0f ? s[c] / s.w : 0.0f;
+      if (out_weight != nullptr) (*out_weight)[std::size_t(y) * std::size_t(width) + std::size_t(x)] = s.w;
+    }
+  });
+
+  // Keep the rays still within reach and young enough to see the next frame, in order, in place.
+  const std::uint32_t max_age = options_.max_age_frames;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < rays; ++i) {
+    if (row_[i] < 0 || (max_age != 0 && anchors_[i].age_frames + 1 >= max_age)) continue;
+    anchors_[n] = anchors_[i];
+    ++anchors_[n++].age_frames;
+  }
+  anchors_.resize(n);
+  kept_ = 0;
+}
+
+// The render cache's depth test (Walter et al. 1999): a kept hit farther
+// than every new ray this frame drew for the 3x3 pixels around its own, or a
+// kept miss where all of them hit, is hidden now and forgotten. One pixel's
+// new ray alone would not do: at an edge inside the pixel it lands on the
+// nearer surface in some frames, and the farther surface's kept rays there
+// are still seen (RayCache.StillViewTracesOnlyTheNewRaysAndMatchesTheRetracedHistory
+// fails that way). The price: a kept ray within a pixel of an occluder's edge
+// stays until the occluder covers its neighbours too. A pixel without a new
+// ray (off the image, or between the sparse points of the periphery) or with
+// one that returned no depth cannot tell: the kept ray stays.
+void RayCache::forget_covered(Executor& executor) {
+  const std::size_t width = std::size_t(width_px_), height = std::size_t(height_px_);
+  new_depth_m_.assign(width * height, -1.0f);
+  for (std::size_t i = kept_; i < anchors_.size(); ++i) {
+    const glm::vec2 q = sample_px_[i];
+    if (!(q.x >= 0.0f && q.y >= 0.0f && q.x < float(width) && q.y < float(height))) continue;
+    const Anchor& a = anchors_[i];
+    const float d = a.at_infinity ? INFINITY : glm::length(a.point_m_or_direction - pose_.position_m);
+    float& farthest = new_depth_m_[std::size_t(q.y) * width + std::size_t(q.x)];
+    farthest = std::max(farthest, d);
+  }
+  // The farthest new ray over each pixel's 3x3 (+inf where one is unknown), once per pixel.
+  around_depth_m_.resize(width * height);
+  executor.parallel_for(height, [&](std::size_t y) {
+    for (std::size_t x = 0; x < width; ++x) {
+      float farthest_m = 0.0f;
+      for (std::size_t ny = y == 0 ? 0 : y - 1; ny <= std::min(height - 1, y + 1); ++ny)
+        for (std::size_t nx = x == 0 ? 0 : x - 1; nx <= std::min(width - 1, x + 1); ++nx) {
+          const float d = new_depth_m_[ny * width + nx];
+          farthest_m = std::max(farthest_m, d < 0.0f ? INFINITY : d);
+        }
+      around_depth_m_[y * width + x] = farthest_m;
+    }
+  });
+  executor.parallel_chunks(kept_, kChunkRays, [&](std::size_t first, std::size_t last, unsigned) {
+    for (std::size_t i = first; i < last; ++i) {
+      const glm::vec2 q = sample_px_[i];
+      if (row_[i] < 0 || !(q.x >= 0.0f && q.y >= 0.0f && q.x < float(width) && q.y < float(height))) continue;
+      const float farthest_new_m = around_depth_m_[std::size_t(q.y) * width + std::size_t(q.x)];
+      if (!std::isfinite(farthest_new_m)) continue;
+      const Anchor& a = anchors_[i];
+      const bool covered = a.at_infinity || glm::length(a.point_m_or_direction - pose_.position_m) >
+                                                farthest_new_m * (1.0f + kKeptRayOcclusionTolerance);
+      if (covered) row_[i] = -1;
+    }
+  });
+}
+
+}  // namespace foveart::foveation

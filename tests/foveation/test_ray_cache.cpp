@@ -1,0 +1,198 @@
+// The render cache (foveation/ray_cache.hpp): where its kept rays land in a
+// new view, how it filters them, and when it forgets them.
+#include <cmath>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include "foveation/eye_rays.hpp"
+#include "foveation/ray_cache.hpp"
+
+namespace foveart::foveation {
+namespace {
+
+constexpr std::uint32_t kW = 32, kH = 24;
+
+FoveartEyeView view_at(glm::vec3 position_m, float yaw_deg) {
+  EyePose pose;
+  pose.position_m = position_m;
+  pose.orientation = glm::angleAxis(glm::radians(-yaw_deg), glm::vec3(0, 1, 0));
+  return make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
+}
+
+// One ray through every pixel centre of `view`, colour (x, y, frame), hitting at depth_m.
+void add_pixel_centres(RayCache& cache, int frame, float depth_m) {
+  const std::size_t first = cache.add_rays(std::size_t(kW) * kH);
+  for (std::uint32_t y = 0; y < kH; ++y)
+    for (std::uint32_t x = 0; x < kW; ++x)
+      cache.set_ray(first + y * kW + x, glm::vec2(float(x) + 0.5f, float(y) + 0.5f),
+                    glm::vec3(float(x), float(y), float(frame)), depth_m);
+}
+
+TEST(PixelFilterWeight, EachFilterSplitsARayIntoWeightsThatSumToOne) {
+  for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
+    for (float u = -0.5f; u < 0.5f; u += 0.0625f) {  // a ray u from a pixel centre: its weights over every pixel
+      float sum = 0.0f;
+      for (int k = -3; k <= 3; ++k) {
+        const float w = pixel_filter_weight(filter, u - float(k));
+        EXPECT_GE(w, 0.0f);
+        sum += w;
+      }
+      EXPECT_NEAR(sum, 1.0f, 1e-6f) << pixel_filter_name(filter) << " u " << u;
+    }
+  }
+  // Box: the pixel floor() assigns a ray to; bspline2: 3 px wide, peak 3/4.
+  EXPECT_EQ(pixel_filter_weight(PixelFilter::box, -0.5f), 1.0f);
+  EXPECT_EQ(pixel_filter_weight(PixelFilter::box, 0.5f), 0.0f);
+  EXPECT_FLOAT_EQ(pixel_filter_weight(PixelFilter::bspline2, 0.0f), 0.75f);
+  EXPECT_FLOAT_EQ(pixel_filter_weight(PixelFilter::bspline2, 1.0f), 0.125f);
+  EXPECT_EQ(pixel_filter_weight(PixelFilter::bspline2, 1.5f), 0.0f);
+  // The splat's three weights of a ray are the same spline.
+  for (float t = -0.5f; t < 0.5f; t += 0.0625f) {
+    float w[3];
+    bspline2_weights(t, w);
+    for (int j = 0; j < 3; ++j)
+      EXPECT_NEAR(w[j], pixel_filter_weight(PixelFilter::bspline2, t + 1.0f - float(j)), 1e-6f) << "t " << t;
+  }
+}
+
+// A kept hit lands where its surface point now projects (parallax); a kept
+// ray without depth is a direction, which a sideways step does not move.
+TEST(RayCache, KeptRaysLandWhereTheirAnchorProjectsInTheNewView) {
+  Executor executor(2);
+  const FoveartEyeView before = view_at({0, 1.6f, 0}, 0.0f), after = view_at({0.3f, 1.6f, 0}, 5.0f);
+  const glm::vec2 sample_px(9.25f, 13.5f);
+  for (const float depth_m : {2.0f, NAN}) {
+    RayCache cache;
+    cache.begin_frame(before, executor);
+    cache.set_ray(cache.add_rays(1), sample_px, glm::vec3(1.0f), depth_m);
+    ImageRgb image;
+    cache.resolve(executor, &image);
+    ASSERT_EQ(cache.size(), 1u);
+
+    cache.begin_frame(after, executor);
+    ASSERT_EQ(cache.kept(), 1u);
+    const EyePose p0 = eye_pose(before), p1 = eye_pose(after);
+    const glm::vec3 d0 = eye_ray_direction(eye_frustum(before), p0, sample_px);
+    const glm::vec3 d1 = std::isnan(depth_m) ? d0 : glm::normalize(p0.position_m + d0 * depth_m - p1.position_m);
+    glm::vec2 expected_px(0.0f);
+    ASSERT_TRUE(project_direction(eye_frustum(after), p1, d1, &expected_px));
+    EXPECT_TRUE(cache.kept_on_screen(0));
+    EXPECT_NEAR(cache.kept_sample_px(0).x, expected_px.x, 1e-3f) << "depth " << depth_m;
+    EXPECT_NEAR(cache.kept_sample_px(0).y, expected_px.y, 1e-3f) << "depth " << depth_m;
+    // The step moves a hit 2 m away by pixels, and the step's yaw moves both.
+    EXPECT_GT(std::abs(cache.kept_sample_px(0).x - sample_px.x), 1.0f);
+  }
+}
+
+// Box filter: a pixel is the mean of the rays inside it, its weight their count.
+TEST(RayCache, BoxFilterGivesEachPixelTheMeanOfItsRays) {
+  Executor executor(2);
+  RayCache cache;
+  cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
+  const std::size_t first = cache.add_rays(3);
+  cache.set_ray(first + 0, {4.1f, 5.9f}, {1.0f, 0.0f, 0.0f}, 3.0f);
+  cache.set_ray(first + 1, {4.9f, 5.1f}, {0.0f, 1.0f, 0.0f}, 3.0f);
+  cache.set_ray(first + 2, {5.0f, 5.5f}, {0.0f, 0.0f, 1.0f}, 3.0f);  // the next pixel: [-0.5, 0.5) of 5.5
+  ImageRgb image;
+  std::vector<float> weight;
+  cache.resolve(executor, &image, &weight);
+  ASSERT_EQ(image.width_px, int(kW));
+  EXPECT_EQ(weight[5 * kW + 4], 2.0f);
+  EXPECT_EQ(weight[5 * kW + 5], 1.0f);
+  EXPECT_EQ(weight[5 * kW + 3], 0.0f);
+  EXPECT_FLOAT_EQ(image.at(4, 5)[0], 0.5f);
+  EXPECT_FLOAT_EQ(image.at(4, 5)[1], 0.5f);
+  EXPECT_FLOAT_EQ(image.at(5, 5)[2], 1.0f);
+  EXPECT_EQ(image.at(3, 5)[0], 0.0f);
+}
+
+// bspline2: one ray at a pixel centre spreads over the 3x3 pixels around it
+// with the spline's weights, 3/4 and 1/8 per axis.
+TEST(RayCache, Bspline2SpreadsARayOverThe3x3PixelsAroundIt) {
+  Executor executor(2);
+  RayCacheOptions options;
+  options.filter = PixelFilter::bspline2;
+  RayCache cache(options);
+  cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
+  cache.set_ray(cache.add_rays(1), {10.5f, 8.5f}, {0.25f, 0.5f, 1.0f}, 3.0f);
+  ImageRgb image;
+  std::vector<float> weight;
+  cache.resolve(executor, &image, &weight);
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      const float wx = std::abs(dx) == 0 ? 0.75f : std::abs(dx) == 1 ? 0.125f : 0.0f;
+      const float wy = std::abs(dy) == 0 ? 0.75f : std::abs(dy) == 1 ? 0.125f : 0.0f;
+      const std::size_t p = std::size_t(8 + dy) * kW + std::size_t(10 + dx);
+      EXPECT_FLOAT_EQ(weight[p], wx * wy) << dx << "," << dy;
+      if (wx * wy > 0.0f) {
+        EXPECT_FLOAT_EQ(image.at(10 + dx, 8 + dy)[1], 0.5f) << dx << "," << dy;
+      }
+    }
+}
+
+// On a still view a ray is filtered into max_age_frames frames, the one it
+// was traced in included, then forgotten: the weight settles at that many rays per pixel.
+TEST(RayCache, RaysOlderThanTheAgeLimitAreForgotten) {
+  Executor executor(2);
+  RayCacheOptions options;
+  options.max_age_frames = 3;
+  RayCache cache(options);
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
+  ImageRgb image;
+  std::vector<float> weight;
+  for (int frame = 0; frame < 6; ++frame) {
+    cache.begin_frame(view, executor);
+    add_pixel_centres(cache, frame, 4.0f);
+    cache.resolve(executor, &image, &weight);
+    const float rays_per_pixel = float(std::min(frame + 1, 3));
+    EXPECT_EQ(weight[7 * kW + 11], rays_per_pixel) << "frame " << frame;
+    // The frames filtered: the last three (their colour's blue is the frame index).
+    const float mean_frame = frame < 3 ? float(frame) / 2.0f : float(frame - 1);
+    EXPECT_FLOAT_EQ(image.at(11, 7)[2], mean_frame) << "frame " << frame;
+    EXPECT_EQ(cache.size(), std::size_t(kW) * kH * std::size_t(rays_per_pixel == 3.0f ? 2 : frame + 1));
+  }
+}
+
+// A frame that fails keeps the cache as it was before it.
+TEST(RayCache, AnAbandonedFrameKeepsTheKeptRaysAndDropsItsNewOnes) {
+  Executor executor(2);
+  RayCache cache;
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
+  ImageRgb image;
+  cache.begin_frame(view, executor);
+  add_pixel_centres(cache, 0, 4.0f);
+  cache.resolve(executor, &image);
+  cache.begin_frame(view, executor);
+  add_pixel_centres(cache, 1, 4.0f);
+  cache.abandon_frame();
+  EXPECT_EQ(cache.size(), std::size_t(kW) * kH);
+  cache.begin_frame(view, executor);
+  cache.resolve(executor, &image);
+  EXPECT_EQ(image.at(3, 2)[2], 0.0f);  // frame 0's colour alone
+  EXPECT_EQ(image.at(3, 2)[0], 3.0f);
+}
+
+// Off the image beyond the filter's reach a kept ray is forgotten.
+TEST(RayCache, RaysBeyondTheFiltersReachAreForgotten) {
+  Executor executor(2);
+  for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
+    RayCacheOptions options;
+    options.filter = filter;
+    RayCache cache(options);
+    ImageRgb image;
+    cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
+    add_pixel_centres(cache, 0, 4.0f);
+    cache.resolve(executor, &image);
+    cache.begin_frame(view_at({0, 1.6f, 0}, 20.0f), executor);  // the view turns 20 deg of its 57: a third leaves
+    std::size_t on_screen = 0;
+    for (std::size_t i = 0; i < cache.kept(); ++i) on_screen += cache.kept_on_screen(i) ? 1 : 0;
+    cache.resolve(executor, &image);
+    EXPECT_EQ(cache.size(), on_screen) << pixel_filter_name(filter);
+    EXPECT_LT(on_screen, std::size_t(kW) * kH) << pixel_filter_name(filter);
+  }
+}
+
+}  // namespace
+}  // namespace foveart::foveation
