@@ -70,6 +70,7 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
     : tables_(std::move(tables)),
       settings_(settings),
       taa_(taa_options_for_rays(settings.taa_options, settings.rays_per_point)),
+      ray_cache_(RayCacheOptions{settings.pixel_filter, true, settings.ray_cache_max_age_frames}),
       centre_(tables_ != nullptr ? settings.centre_deadband_deg * tables_->key.display.view_distance_px *
                                        std::numbers::pi / 180.0
                                  : 0.0) {
@@ -79,6 +80,12 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
   point_depth_m_.assign(tables_->points.size(), NAN);
   colors_.invalid = colors_.rgba.size();
   traced_.resize((tables_->points.size() + kChunkPoints - 1) / kChunkPoints);
+  if (settings_.taa && settings_.taa_history == TaaHistory::ray_cache) {
+    if (!settings_.reconstruct_on_cpu)
+      throw std::invalid_argument("foveated view: the ray cache history runs on the CPU path only");
+    chunk_rays_.resize(traced_.size());
+    chunk_grid_pixels_.resize(traced_.size());
+  }
 }
 
 FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
@@ -133,10 +140,12 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
   const float inv_spp = 1.0f / float(spp);
+  const bool keep_rays = !chunk_rays_.empty();  // TaaHistory::ray_cache
   executor.parallel_for(traced_.size(), [&](std::size_t chunk, unsigned worker) {
     std::vector<std::uint32_t>& traced = traced_[chunk];
     for (std::uint32_t id : traced) colors_.rgba[id] = Rgba{}, point_depth_m_[id] = NAN;
     traced.clear();
+    if (keep_rays) chunk_rays_[chunk].clear(), chunk_grid_pixels_[chunk].clear();
     RayBatch& batch = batches_[worker];
     std::vector<std::uint32_t>& ids = batch_points_[worker];
     batch.resize(std::size_t(batch_points) * spp);
@@ -152,10 +161,12 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
         for (std::uint32_t j = 0, r = 0; j < n; ++j) {
           glm::vec3 sum(0.0f);
           float nearest_m = NAN;  // the point's depth: its nearest hit (NaN: the engine gave none)
+          const bool keep = keep_rays && points.on_pixel_grid(ids[j]);
           for (std::uint32_t s = 0; s < spp; ++s, ++r) {
             sum += batch.rgb(r);
             const float d = batch.depth_m(r);
             if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
+            if (keep) chunk_rays_[chunk].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d});
           }
           sum *= inv_spp;
           colors_.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
@@ -173,6 +184,9 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       if (!visible.contains(screen)) continue;
       const std::uint32_t id = std::uint32_t(i);
       if (points.on_pixel_grid(i)) {  // over its own pixel, as the full render samples it
+        if (keep_rays && screen.x >= 0.0f && screen.y >= 0.0f && screen.x < float(view.width_px) &&
+            screen.y < float(view.height_px))
+          chunk_grid_pixels_[chunk].push_back(std::uint32_t(screen.y) * view.width_px + std::uint32_t(screen.x));
         for (std::uint32_t s = 0; s < spp; ++s)
           batch.set_ray(std::size_t(n) * spp + s, frustum, pose,
                         pixel_sample_px(screen, int(s), seed, int(view.width_px), settings_.pixel_filter), id);
@@ -202,6 +216,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
                          : "the ray-trace callback returned " + std::to_string(result.invalid_colours) +
                                " NaN/Inf/negative colour components";
     taa_.reset();
+    ray_cache_.clear();
     last_view_.reset();
     return result;
   }
@@ -251,6 +266,12 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, restart);
     }
     std::swap(history_depth_px_m_, depth_px_m_);
+    if (keep_rays) {
+      // It restarts with the image history (a saccade's or a blink's onset, a gaze jump), unless kept through.
+      resolve_ray_cache(view, *taa_output_, taa_.last_was_reset() && !settings_.ray_cache_keeps_through_saccades,
+                        executor);
+      taa_output_ = &ray_cache_image_;
+    }
   }
   if (settings_.taa) {
     result.taa_reset = taa_.last_was_reset();
@@ -258,6 +279,37 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   }
   result.taa_ms = ms_since(t_taa);
   return result;
+}
+
+void FoveatedView::resolve_ray_cache(const FoveartEyeView& view, const ImageRgb& taa_image, bool restart,
+                                     Executor& executor) {
+  if (restart) ray_cache_.clear();
+  ray_cache_.begin_frame(view, executor);
+  std::vector<std::size_t>& first = chunk_first_ray_;  // a chunk's rays, in chunk order
+  first.assign(chunk_rays_.size() + 1, 0);
+  for (std::size_t c = 0; c < chunk_rays_.size(); ++c) first[c + 1] = first[c] + chunk_rays_[c].size();
+  const std::size_t base = ray_cache_.add_rays(first.back());
+  executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {
+    for (std::size_t i = 0; i < chunk_rays_[c].size(); ++i) {
+      const TracedRay& r = chunk_rays_[c][i];
+      ray_cache_.set_ray(base + first[c] + i, r.sample_px, r.rgb, r.depth_m);
+    }
+  });
+  ray_cache_.resolve(executor, &ray_cache_image_, &ray_cache_weight_);
+  grid_pixel_.assign(std::size_t(view.width_px) * view.height_px, 0);
+  for (const std::vector<std::uint32_t>& pixels : chunk_grid_pixels_)
+    for (const std::uint32_t p : pixels) grid_pixel_[p] = 1;
+  // Beyond this frame's pixel grid, or where no ray reaches, the reprojected image history.
+  const int w = ray_cache_image_.width_px;
+  executor.parallel_for(std::size_t(ray_cache_image_.height_px), [&](std::size_t y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = y * std::size_t(w) + std::size_t(x);
+      if (grid_pixel_[p] != 0 && ray_cache_weight_[p] > 0.0f) continue;
+      const float* from = taa_image.at(x, int(y));
+      float* to = ray_cache_image_.at(x, int(y));
+      for (int c = 0; c < 3; ++c) to[c] = from[c];
+    }
+  });
 }
 
 void FoveatedView::pixel_depths(const GazeMapping& mapping, Executor& executor) {

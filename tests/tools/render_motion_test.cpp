@@ -113,7 +113,7 @@ TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
   o = tiny_motion();
   o.taa = "off,sometimes";
   EXPECT_EQ(run(o, &err), 2);
-  EXPECT_NE(err.find("'sometimes' is not off, restart or reproject"), std::string::npos) << err;
+  EXPECT_NE(err.find("'sometimes' is not off, restart, reproject, cache or cache-kept"), std::string::npos) << err;
   o.taa = "off,off";
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("given twice"), std::string::npos) << err;

@@ -188,18 +188,21 @@ bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer&
 
 }  // namespace
 
-bool is_taa_mode(const std::string& name) { return name == "off" || name == "restart" || name == "reproject"; }
+bool is_taa_mode(const std::string& name) {
+  return name == "off" || name == "restart" || name == "reproject" || name == "cache" || name == "cache-kept";
+}
 
 std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out) {
   out->clear();
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
-    if (!is_taa_mode(item)) return "--taa: '" + item + "' is not off, restart or reproject";
+    if (!is_taa_mode(item)) return "--taa: '" + item + "' is not off, restart, reproject, cache or cache-kept";
     if (std::find(out->begin(), out->end(), item) != out->end()) return "--taa: '" + item + "' given twice";
     out->push_back(item);
   }
-  if (out->empty() || text.back() == ',') return "--taa: expected off, restart, reproject or a list of them";
+  if (out->empty() || text.back() == ',')
+    return "--taa: expected off, restart, reproject, cache, cache-kept or a list of them";
   return "";
 }
 
@@ -212,7 +215,10 @@ foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_
   vs.pixel_filter = pixel_filter;
   vs.taa = mode != "off";
   vs.new_jitter_each_frame = vs.taa;
-  vs.taa_history = mode == "restart" ? foveation::TaaHistory::restart_on_view_change : foveation::TaaHistory::reproject;
+  vs.taa_history = mode == "restart"                       ? foveation::TaaHistory::restart_on_view_change
+                   : mode == "cache" || mode == "cache-kept" ? foveation::TaaHistory::ray_cache
+                                                             : foveation::TaaHistory::reproject;
+  vs.ray_cache_keeps_through_saccades = mode == "cache-kept";
   return vs;
 }
 

@@ -29,7 +29,9 @@
 namespace foveart::tools {
 
 // "off", "restart" (TaaHistory::restart_on_view_change, the TAA before
-// reprojection) or "reproject" (TaaHistory::reproject).
+// reprojection), "reproject" (TaaHistory::reproject), "cache"
+// (TaaHistory::ray_cache) or "cache-kept" (the same, its rays kept through a
+// saccade or a blink).
 bool is_taa_mode(const std::string& name);
 // "off,restart,reproject" -> the modes; "" or a message naming the bad entry.
 std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out);

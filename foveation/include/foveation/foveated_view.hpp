@@ -21,6 +21,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
 #include "foveation/executor.hpp"
 #include "foveation/foveation_centre.hpp"
@@ -32,6 +33,7 @@
 #include "foveation/point_set.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "foveation/ray_batch.hpp"
+#include "foveation/ray_cache.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/ray_trace.h"
 #include "foveation/taa.hpp"
@@ -72,6 +74,12 @@ std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::file
 enum class TaaHistory : std::uint8_t {
   restart_on_view_change,  // any new pose or frustum restarts the history (FoveaRT before reprojection)
   reproject,               // the history follows the head: rotation, and parallax from the engine's depth
+  // reproject, and the pixel grid's rays themselves kept in a render cache
+  // (ray_cache.hpp): each is anchored where it hit and filtered into this
+  // frame's pixels with the pixel filter. The pixels of this frame's pixel
+  // grid show the cache, the rest (the Poisson periphery of a large display)
+  // the reprojected image. CPU only.
+  ray_cache,
 };
 
 struct ViewSettings {
@@ -82,6 +90,13 @@ struct ViewSettings {
   bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
   TaaOptions taa_options;            // for 1 ray per point; more rays blend with taa_options_for_rays
   TaaHistory taa_history = TaaHistory::reproject;
+  // TaaHistory::ray_cache: a kept ray is forgotten this many frames after it
+  // was traced (bounds the rays kept on a still view; 0: never) ...
+  std::uint32_t ray_cache_max_age_frames = 32;
+  // ... and all of them when the image history restarts (the onset of a
+  // saccade or a blink, a gaze jump) unless this is set: its rays are
+  // anchored in the world, so a gaze jump leaves no ghost to clear.
+  bool ray_cache_keeps_through_saccades = false;
   RbfClamp rbf_clamp = RbfClamp::block;
   // The foveation centre stays put while the gaze stays within this many
   // degrees of it (fixation: microsaccades, drift, tracker noise), and jumps
@@ -144,6 +159,8 @@ class FoveatedView {
   // The last successful frame (after TAA when it is on), in the callback's
   // colour space (linear RGB from an engine).
   const ImageRgb& image() const { return taa_output_ != nullptr ? *taa_output_ : gathered_; }
+  // TaaHistory::ray_cache: the rays its render cache keeps after the last frame.
+  std::size_t cached_rays() const { return ray_cache_.size(); }
   // The same frame before TAA: the reconstruction alone.
   const ImageRgb& reconstructed() const { return gathered_; }
   // The last frame's colour per point of the set (a = 1: traced) and the
@@ -163,6 +180,9 @@ class FoveatedView {
 
  private:
   void pixel_depths(const GazeMapping& mapping, Executor& executor);  // depth_px_m_ from point_depth_m_
+  // TaaHistory::ray_cache: this frame's pixel-grid rays into the cache, and the
+  // cache's image over this frame's pixel-grid pixels, `taa_image` elsewhere, into ray_cache_image_.
+  void resolve_ray_cache(const FoveartEyeView& view, const ImageRgb& taa_image, bool restart, Executor& executor);
 
   std::shared_ptr<const ViewTables> tables_;
   ViewSettings settings_;
@@ -178,6 +198,19 @@ class FoveatedView {
   std::uint64_t sample_offset_seed_ = 0;
   ImageRgb gathered_;
   TemporalAccumulator taa_;
+  RayCache ray_cache_;                     // TaaHistory::ray_cache
+  // Per chunk of the point set: its pixel-grid rays traced this frame (TaaHistory::ray_cache).
+  struct TracedRay {
+    glm::vec2 sample_px;
+    glm::vec3 rgb;
+    float depth_m;
+  };
+  std::vector<std::vector<TracedRay>> chunk_rays_;
+  std::vector<std::vector<std::uint32_t>> chunk_grid_pixels_;  // per chunk: the screen pixels of its pixel-grid points
+  std::vector<std::size_t> chunk_first_ray_;   // chunk c's rays start at chunk_first_ray_[c] among the frame's
+  std::vector<std::uint8_t> grid_pixel_;       // per screen pixel: a pixel-grid point's this frame (the cache's)
+  ImageRgb ray_cache_image_;
+  std::vector<float> ray_cache_weight_;
   const ImageRgb* taa_output_ = nullptr;
   std::optional<FoveartEyeView> last_view_;  // the TAA history's view
   FoveationCentre centre_;                   // held through fixations (ViewSettings::centre_deadband_deg)

@@ -1,10 +1,13 @@
 // TAA in the one foveated frame while the head moves: an engine that returns
 // no depth still gets its history reprojected by rotation; one that returns
 // depth gets parallax-correct history (a near bar moving across a far wall as
-// the eye steps sideways). Against analytic, supersampled truth.
+// the eye steps sideways), reprojected or as a render cache of the pixel
+// grid's rays. Against analytic, supersampled truth.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -65,11 +68,31 @@ double rms(const ImageRgb& a, const ImageRgb& b) {
   return std::sqrt(sq / double(a.rgb.size()));
 }
 
+// Over the pixels within radius_px of the gaze (all: +inf).
+double rms(const ImageRgb& a, const ImageRgb& b, glm::vec2 gaze_px, float radius_px) {
+  double sq = 0.0;
+  std::size_t n = 0;
+  for (int y = 0; y < a.height_px; ++y)
+    for (int x = 0; x < a.width_px; ++x) {
+      if (glm::length(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - gaze_px) > radius_px) continue;
+      for (int c = 0; c < 3; ++c) sq += std::pow(double(a.at(x, y)[c]) - double(b.at(x, y)[c]), 2.0);
+      n += 3;
+    }
+  return std::sqrt(sq / double(n));
+}
+
+constexpr glm::vec2 kGazePx{48, 40};
+
+// The pixels the pixel grid's rays reach, a pixel inside its edge.
+float pixel_grid_inside_px() { return float(tables()->key.display.pixel_grid_radius_px()) - 1.5f; }
+
 struct MotionRun {
   int resets_after_first = 0;
   std::uint64_t with_depth = 0, disoccluded = 0;
   double final_rms = 0.0;       // TAA output against the truth, last frame
   double final_raw_rms = 0.0;   // the reconstruction alone (no TAA), last frame
+  double final_grid_rms = 0.0;      // ... final_rms over the pixel grid
+  double final_grid_raw_rms = 0.0;  // ... final_raw_rms over the pixel grid
 };
 
 // frames frames, the view of frame i from view(i); TAA with `history`, new jitter each frame.
@@ -88,7 +111,7 @@ MotionRun run(const Engine& engine, TaaHistory history, int frames, ViewFn view,
   for (int i = 0; i < frames; ++i) {
     FrameRequest req;
     req.view = view(i);
-    req.gaze_px = {48, 40};
+    req.gaze_px = kGazePx;
     req.frame_index = uint64_t(i + 1);
     const FrameResult res = fv.render(req, trace, const_cast<Engine*>(&engine), executor);
     EXPECT_TRUE(res.ok()) << res.message;
@@ -99,6 +122,8 @@ MotionRun run(const Engine& engine, TaaHistory history, int frames, ViewFn view,
       const ImageRgb truth = engine.scene.render(req.view, 4);
       r.final_rms = rms(fv.image(), truth);
       r.final_raw_rms = rms(fv.reconstructed(), truth);
+      r.final_grid_rms = rms(fv.image(), truth, kGazePx, pixel_grid_inside_px());
+      r.final_grid_raw_rms = rms(fv.reconstructed(), truth, kGazePx, pixel_grid_inside_px());
     }
   }
   return r;
@@ -157,6 +182,121 @@ TEST(TaaMotion, FramesOfManyRaysStillBeatOneFrame) {
               kRays, per_ray.final_rms, frame_alpha.final_rms, per_ray.final_raw_rms);
   EXPECT_EQ(per_ray.resets_after_first, 0);
   EXPECT_LT(per_ray.final_rms, 0.8 * per_ray.final_raw_rms) << "accumulated history must beat one frame";
+}
+
+// The render cache keeps the pixel grid's rays where they hit. While the head
+// turns, its rays average without blur: it beats one frame, and the
+// reprojected history too. While the eye steps sideways the near bar slides
+// over the wall: with the engine's depth each ray stays on its own surface,
+// without it the bar's and the wall's rays smear across each other.
+TEST(TaaMotion, RayCacheKeepsParallaxCorrectRaysOverThePixelGrid) {
+  Engine with_depth, without_depth;
+  without_depth.fill_depth = false;
+  ASSERT_GT(pixel_grid_inside_px(), 8.0f);
+  auto yaw = [](int i) { return view_at({0, 1.6f, 0}, 0.5f * float(i)); };
+  const MotionRun cache_yaw = run(with_depth, TaaHistory::ray_cache, 12, yaw);
+  const MotionRun reproject_yaw = run(with_depth, TaaHistory::reproject, 12, yaw);
+  std::printf("yaw 0.5 deg/frame, the pixel grid (%.1f px): RMS %.4f ray cache, %.4f reprojected, %.4f no TAA\n",
+              double(pixel_grid_inside_px()), cache_yaw.final_grid_rms, reproject_yaw.final_grid_rms,
+              cache_yaw.final_grid_raw_rms);
+  EXPECT_EQ(cache_yaw.resets_after_first, 0);
+  EXPECT_LT(cache_yaw.final_grid_rms, 0.5 * cache_yaw.final_grid_raw_rms) << "kept rays must beat one frame";
+  EXPECT_LT(cache_yaw.final_grid_rms, reproject_yaw.final_grid_rms) << "kept rays do not blur";
+
+  auto step = [](int i) { return view_at({0.02f * float(i) - 0.1f, 1.6f, 0}, 0.0f); };
+  const MotionRun depth = run(with_depth, TaaHistory::ray_cache, 12, step);
+  const MotionRun rotation = run(without_depth, TaaHistory::ray_cache, 12, step);
+  std::printf("step 2 cm/frame, the pixel grid: RMS %.4f ray cache with depth, %.4f without, %.4f no TAA\n",
+              depth.final_grid_rms, rotation.final_grid_rms, depth.final_grid_raw_rms);
+  EXPECT_LT(depth.final_grid_rms, depth.final_grid_raw_rms);
+  EXPECT_LT(depth.final_grid_rms, 0.5 * rotation.final_grid_rms) << "rays without depth smear the near bar";
+}
+
+// Beyond this frame's pixel grid the cache's view shows the reprojected image
+// history, pixel for pixel, though kept rays land there as the head moves;
+// within it, the cache.
+TEST(TaaMotion, BeyondThePixelGridTheRayCacheViewIsTheReprojectedHistory) {
+  Engine engine;
+  ViewSettings s;
+  s.taa = true;
+  s.new_jitter_each_frame = true;
+  s.taa_history = TaaHistory::reproject;
+  FoveatedView reproject(tables(), s);
+  s.taa_history = TaaHistory::ray_cache;
+  FoveatedView cache(tables(), s);
+  Executor executor(2);
+  const float grid_px = float(tables()->key.display.pixel_grid_radius_px());
+  for (int i = 0; i < 6; ++i) {
+    FrameRequest req;
+    req.view = view_at({0.02f * float(i), 1.6f, 0}, 0.3f * float(i));
+    req.gaze_px = kGazePx;
+    req.frame_index = uint64_t(i + 1);
+    ASSERT_TRUE(reproject.render(req, trace, &engine, executor).ok());
+    ASSERT_TRUE(cache.render(req, trace, &engine, executor).ok());
+    std::size_t beyond = 0, within_differ = 0, within = 0;
+    for (int y = 0; y < int(kH); ++y)
+      for (int x = 0; x < int(kW); ++x) {
+        const float r = glm::length(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - kGazePx);
+        const bool same = std::equal(cache.image().at(x, y), cache.image().at(x, y) + 3, reproject.image().at(x, y));
+        if (r > grid_px + 2.0f) {
+          ++beyond;
+          EXPECT_TRUE(same) << "frame " << i << " pixel " << x << "," << y;
+        } else if (r < grid_px - 1.5f) {
+          ++within;
+          within_differ += same ? 0 : 1;
+        }
+      }
+    EXPECT_GT(beyond, 0u);
+    if (i > 0) {
+      EXPECT_GT(within_differ, within / 2) << "frame " << i;
+    }
+  }
+}
+
+// A saccade's onset restarts the cache with the image history (the issue's
+// rule for every history); its later flagged frames add to it again. With
+// ViewSettings::ray_cache_keeps_through_saccades every ray of a still view
+// stays. A blink does the same.
+TEST(TaaMotion, RayCacheRestartsOnASaccadeOrBlinkUnlessKeptThroughIt) {
+  Engine engine;
+  for (const bool kept : {false, true}) {
+    for (const bool blink : {false, true}) {
+      ViewSettings s;
+      s.taa = true;
+      s.new_jitter_each_frame = true;
+      s.taa_history = TaaHistory::ray_cache;
+      s.ray_cache_keeps_through_saccades = kept;
+      FoveatedView fv(tables(), s);
+      Executor executor(2);
+      std::size_t first_frame_rays = 0;
+      for (int i = 0; i < 5; ++i) {  // flagged on frames 3 and 4
+        FrameRequest req;
+        req.view = view_at({0, 1.6f, 0}, 0.0f);
+        req.gaze_px = kGazePx;
+        req.frame_index = uint64_t(i + 1);
+        req.saccade = !blink && i >= 3;
+        req.blink = blink && i >= 3;
+        const FrameResult result = fv.render(req, trace, &engine, executor);
+        ASSERT_TRUE(result.ok());
+        if (i == 0) first_frame_rays = fv.cached_rays();
+        if (i == 3) {
+          EXPECT_EQ(fv.cached_rays(), (kept ? 4 : 1) * first_frame_rays) << "kept " << kept;
+        }
+        EXPECT_EQ(result.taa_reset, i == 0 || i == 3) << "frame " << i;
+      }
+      ASSERT_GT(first_frame_rays, 0u);
+      EXPECT_EQ(fv.cached_rays(), (kept ? 5 : 2) * first_frame_rays) << "kept " << kept << " blink " << blink;
+    }
+  }
+}
+
+// The cache runs on the CPU path: a view that leaves reconstruction to the GPU cannot have one.
+TEST(TaaMotion, RayCacheWithoutCpuReconstructionIsRefused) {
+  ViewSettings s;
+  s.taa = true;
+  s.taa_history = TaaHistory::ray_cache;
+  s.reconstruct_on_cpu = false;
+  EXPECT_THROW(FoveatedView(tables(), s), std::invalid_argument);
 }
 
 }  // namespace
