@@ -147,6 +147,7 @@ struct Reader {
       return {};
     });
     read_bool(obj, "taa", &c->taa);
+    read_string(obj, "taa_history", {"reproject", "ray_cache", "ray_cache_kept"}, &c->taa_history);
     read_bool(obj, "taa_mean_while_young", &c->taa_mean_while_young);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);

@@ -28,7 +28,7 @@ namespace foveart::layer {
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
     "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-    "pixel_filter", "taa", "taa_mean_while_young", "gaze_source", "gaze_provider", "worker_threads", "cache_dir",
+    "pixel_filter", "taa", "taa_history", "taa_mean_while_young", "gaze_source", "gaze_provider", "worker_threads", "cache_dir",
     "wait_for_tables", "reconstruction", "applications"};
 
 struct LayerConfig {
@@ -45,6 +45,11 @@ struct LayerConfig {
   // What a pixel's rays follow (foveation/ray_samples.hpp): "box" | "bspline2".
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   bool taa = true;
+  // What the TAA keeps (foveation::TaaHistory): "reproject" (an image,
+  // reprojected), "ray_cache" (the pixel grid's rays in a render cache,
+  // restarting with the image history) or "ray_cache_kept" (its rays kept
+  // through saccades and blinks). The ray cache runs on the CPU path.
+  std::string taa_history = "reproject";
   bool taa_mean_while_young = false;  // foveation::TaaOptions::mean_while_young
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...

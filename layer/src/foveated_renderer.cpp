@@ -75,6 +75,9 @@ foveation::ViewSettings view_settings(const RendererSettings& settings) {
   v.pixel_filter = settings.pixel_filter;
   v.taa = settings.taa;
   v.taa_options.mean_while_young = settings.taa_mean_while_young;
+  v.taa_history =
+      settings.taa_history == "reproject" ? foveation::TaaHistory::reproject : foveation::TaaHistory::ray_cache;
+  v.ray_cache_keeps_through_saccades = settings.taa_history == "ray_cache_kept";
   v.new_jitter_each_frame = settings.taa;  // the history converges over new samples
   return v;
 }
@@ -330,6 +333,12 @@ void FoveatedRenderer::Frames::build_tables() {
 void FoveatedRenderer::Frames::choose_reconstruction() {
   if (settings.reconstruction == "cpu") {
     log(LogLevel::Info, "foveated renderer: reconstruction on the CPU (config \"reconstruction\": \"cpu\")");
+    return;
+  }
+  if (settings.taa && settings.taa_history != "reproject") {  // the render cache has no shader yet
+    log(settings.reconstruction == "gpu" ? LogLevel::Warn : LogLevel::Info,
+        "foveated renderer: reconstruction on the CPU: config \"taa_history\": \"", settings.taa_history,
+        "\" runs on the CPU path only (config \"reconstruction\": \"", settings.reconstruction, "\")");
     return;
   }
   VkPhysicalDeviceProperties device{};

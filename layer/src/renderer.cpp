@@ -31,6 +31,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.rays_per_point = config.rays_per_point;
   s.pixel_filter = config.pixel_filter;
   s.taa = config.taa;
+  s.taa_history = config.taa_history;
   s.taa_mean_while_young = config.taa_mean_while_young;
   s.gaze_source = gaze_source_from_name(config.gaze_source);
   s.gaze_provider_spec = config.gaze_provider;

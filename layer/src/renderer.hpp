@@ -27,6 +27,7 @@ struct RendererSettings {
   uint32_t rays_per_point = 1;
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;  // LayerConfig::pixel_filter
   bool taa = true;
+  std::string taa_history = "reproject";  // LayerConfig::taa_history
   bool taa_mean_while_young = false;  // LayerConfig::taa_mean_while_young
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";

@@ -103,7 +103,8 @@ TEST_F(ConfigTest, TaaMeanWhileYoungIsReadAndOffByDefault) {
 
 TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   env_["FOVEART_CONFIG"] = write("c.json", R"({"k": "many", "density_scale": -1, "interpolation": "cubic",
-      "log_level": "loud", "rays_per_point": 1000, "pixel_filter": "gaussian", "taa_mean_while_young": "yes"})").string();
+      "log_level": "loud", "rays_per_point": 1000, "pixel_filter": "gaussian", "taa_mean_while_young": "yes",
+      "taa_history": "image"})").string();
   const auto r = load_config("app", env());
   const LayerConfig defaults;
   EXPECT_EQ(r.config.k, defaults.k);
@@ -113,8 +114,9 @@ TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
   EXPECT_EQ(r.config.pixel_filter, defaults.pixel_filter);
   EXPECT_EQ(r.config.taa_mean_while_young, defaults.taa_mean_while_young);
+  EXPECT_EQ(r.config.taa_history, defaults.taa_history);
   for (const char* key : {"'k'", "'density_scale'", "'interpolation'", "'log_level'", "'rays_per_point'",
-                          "'pixel_filter'", "'taa_mean_while_young'"}) {
+                          "'pixel_filter'", "'taa_mean_while_young'", "'taa_history'"}) {
     EXPECT_TRUE(any_warning_contains(r, key)) << key;
   }
 }

@@ -3,7 +3,9 @@
 // (FOVEART_SIM_MOTION=builtin) while the gaze provider replays the same motion's gaze
 // (sim-motion-trace's export) through its own saccade detector and blink hold. The
 // TAA history must restart in the first frame the provider flagged for each saccade
-// or blink, and only there, on the CPU and on the GPU reconstruction path alike.
+// or blink, and only there, on the CPU and on the GPU reconstruction path alike,
+// and with the render cache ("taa_history": "ray_cache"), which asked for the GPU
+// path runs on the CPU.
 //
 // Clock: the runtime's real clock. The provider replays its trace in real time, so
 // the head (from xrBeginSession) and the gaze (from the renderer's creation, just
@@ -80,10 +82,12 @@ class LayerMotion : public ::testing::TestWithParam<const char*> {
 };
 
 TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
-  const std::string reconstruction = GetParam();
+  const std::string path = GetParam();
+  const bool ray_cache = path == "ray_cache";
+  const std::string reconstruction = ray_cache ? "cpu" : path;  // where it must run
   // The tables for 80x90 first, into the suite's cache: a first frame that builds them
   // would block while the replay runs on, past the saccade.
-  configure_hello_foveated(*env_, 2, reconstruction.c_str());
+  configure_hello_foveated(*env_, 2, ray_cache ? "gpu" : path.c_str(), ray_cache ? "ray_cache" : "");
   ::unsetenv("FOVEART_SIM_CAPTURE_DIR");
   const AppRun warm = launch({"--gaze", "none"}, "warm.log");
   ASSERT_EQ(warm.process.exit_code, 0) << warm.process.output;
@@ -103,6 +107,10 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["reconstruction"], reconstruction);
+  if (ray_cache) {
+    EXPECT_NE(r.process.output.find("\"taa_history\": \"ray_cache\" runs on the CPU path only"), std::string::npos)
+        << r.process.output;
+  }
   EXPECT_EQ(r.stats["gaze_source"], "provider");
   EXPECT_EQ(r.stats["views_fallback"], 0);
   // gaze_lost_frames is not checked: on a loaded machine the provider's thread may
@@ -161,7 +169,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   EXPECT_EQ(r.stats["taa_resets"].get<uint64_t>(), restarts) << "the per-frame flags add up to the renderer's count";
 }
 
-INSTANTIATE_TEST_SUITE_P(Paths, LayerMotion, ::testing::Values("cpu", "gpu"),
+INSTANTIATE_TEST_SUITE_P(Paths, LayerMotion, ::testing::Values("cpu", "gpu", "ray_cache"),
                          [](const ::testing::TestParamInfo<const char*>& path) { return std::string(path.param); });
 
 }  // namespace

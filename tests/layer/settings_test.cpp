@@ -80,6 +80,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "rays_per_point") return std::to_string(s.rays_per_point);
   if (key == "pixel_filter") return foveation::pixel_filter_name(s.pixel_filter);
   if (key == "taa") return s.taa ? "true" : "false";
+  if (key == "taa_history") return s.taa_history;
   if (key == "taa_mean_while_young") return s.taa_mean_while_young ? "true" : "false";
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
@@ -107,6 +108,7 @@ const KeyCase kRendererKeys[] = {
     {"rays_per_point", "3", "3", [](auto* i) { i->raysPerPoint = 8; }, "8"},
     {"pixel_filter", R"("bspline2")", "bspline2", nullptr, {}},
     {"taa", "false", "false", [](auto* i) { i->taaEnable = XR_TRUE; }, "true"},
+    {"taa_history", R"("ray_cache")", "ray_cache", nullptr, {}},
     {"taa_mean_while_young", "true", "true", nullptr, {}},
     {"gaze_source", R"("eye_gaze_interaction")", "eye_gaze_interaction",
      [](auto* i) { i->gazeSource = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART; }, "none"},
