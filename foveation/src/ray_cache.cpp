@@ -26,18 +26,15 @@ void RayCache::begin_frame(const FoveartEyeView& view, Executor& executor) {
   kept_ = anchors_.size();
   sample_px_.resize(kept_);
   row_.resize(kept_);
-  const int reach = reach_px(options_.filter);
-  const float r = float(reach);
   executor.parallel_chunks(kept_, kChunkRays, [&](std::size_t first, std::size_t last, unsigned) {
     for (std::size_t i = first; i < last; ++i) {
       const Anchor& a = anchors_[i];
       const glm::vec3 direction =
           a.at_infinity ? a.point_m_or_direction : glm::normalize(a.point_m_or_direction - pose_.position_m);
       glm::vec2 q(0.0f);
-      const bool within = project_direction(frustum_, pose_, direction, &q) && q.x > -r &&
-                          q.x < float(width_px_) + r && q.y > -r && q.y < float(height_px_) + r;
+      const bool projects = project_direction(frustum_, pose_, direction, &q);
       sample_px_[i] = q;
-      row_[i] = within ? std::clamp(int(std::floor(q.y)), -reach, height_px_ - 1 + reach) + reach : -1;
+      row_[i] = projects ? row_within_reach(q) : -1;
     }
   });
 }
@@ -56,8 +53,14 @@ void RayCache::set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float 
                     ? Anchor{pose_.position_m + direction * depth_m, rgb, 0, false}
                     : Anchor{direction, rgb, 0, true};
   sample_px_[i] = sample_px;
+  row_[i] = row_within_reach(sample_px);
+}
+
+int RayCache::row_within_reach(glm::vec2 q) const {
   const int reach = reach_px(options_.filter);
-  row_[i] = std::clamp(int(std::floor(sample_px.y)), -reach, height_px_ - 1 + reach) + reach;
+  const float r = float(reach);
+  const bool within = q.x >= -r && q.x < float(width_px_) + r && q.y >= -r && q.y < float(height_px_) + r;
+  return within ? int(std::floor(q.y)) + reach : -1;
 }
 
 void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) {

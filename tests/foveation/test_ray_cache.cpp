@@ -174,7 +174,7 @@ TEST(RayCache, AnAbandonedFrameKeepsTheKeptRaysAndDropsItsNewOnes) {
   EXPECT_EQ(image.at(3, 2)[0], 3.0f);
 }
 
-// Off the image beyond the filter's reach a kept ray is forgotten.
+// Off the image beyond the filter's reach a kept ray is forgotten, and a new one never kept.
 TEST(RayCache, RaysBeyondTheFiltersReachAreForgotten) {
   Executor executor(2);
   for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
@@ -191,6 +191,17 @@ TEST(RayCache, RaysBeyondTheFiltersReachAreForgotten) {
     cache.resolve(executor, &image);
     EXPECT_EQ(cache.size(), on_screen) << pixel_filter_name(filter);
     EXPECT_LT(on_screen, std::size_t(kW) * kH) << pixel_filter_name(filter);
+
+    // A new ray beyond reach (2 px off the image's left edge) is neither filtered nor kept.
+    cache.clear();
+    cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
+    const std::size_t first = cache.add_rays(2);
+    cache.set_ray(first, {-2.0f, 5.5f}, glm::vec3(1.0f), 4.0f);
+    cache.set_ray(first + 1, {0.0f, 5.5f}, glm::vec3(0.5f), 4.0f);  // on the edge: inside
+    std::vector<float> weight;
+    cache.resolve(executor, &image, &weight);
+    EXPECT_EQ(cache.size(), 1u) << pixel_filter_name(filter);
+    EXPECT_FLOAT_EQ(image.at(0, 5)[0], 0.5f) << pixel_filter_name(filter);
   }
 }
 

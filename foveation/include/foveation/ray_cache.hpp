@@ -93,6 +93,7 @@ class RayCache {
   // several threads, each on its own indices.
   std::size_t add_rays(std::size_t n);
   // New ray i: where it crossed the screen, its colour, its hit distance (+inf: a miss; NaN: no depth).
+  // One beyond the filter's reach of the image is not filtered and not kept.
   void set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m);
 
   // Forgets the covered kept rays (RayCacheOptions::forget_covered), filters
@@ -114,6 +115,8 @@ class RayCache {
     bool at_infinity = false;      // a miss or no depth: a direction, not a point
   };
   void forget_covered(Executor& executor);
+  // A ray at q: its pixel row + the filter's reach, or -1 beyond the filter's reach of the image.
+  int row_within_reach(glm::vec2 q) const;
 
   RayCacheOptions options_;
   std::vector<Anchor> anchors_;  // the kept rays, then (during a frame) this frame's new ones
