@@ -162,11 +162,13 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
           glm::vec3 sum(0.0f);
           float nearest_m = NAN;  // the point's depth: its nearest hit (NaN: the engine gave none)
           const bool keep = keep_rays && points.on_pixel_grid(ids[j]);
+          const glm::ivec2 pixel = keep ? glm::ivec2(glm::floor(visible.to_screen(points.position_px[ids[j]])))
+                                        : glm::ivec2(0);
           for (std::uint32_t s = 0; s < spp; ++s, ++r) {
             sum += batch.rgb(r);
             const float d = batch.depth_m(r);
             if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
-            if (keep) chunk_rays_[chunk].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d});
+            if (keep) chunk_rays_[chunk].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
           }
           sum *= inv_spp;
           colors_.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
@@ -292,7 +294,7 @@ void FoveatedView::resolve_ray_cache(const FoveartEyeView& view, const ImageRgb&
   executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {
     for (std::size_t i = 0; i < chunk_rays_[c].size(); ++i) {
       const TracedRay& r = chunk_rays_[c][i];
-      ray_cache_.set_ray(base + first[c] + i, r.sample_px, r.rgb, r.depth_m);
+      ray_cache_.set_ray(base + first[c] + i, r.sample_px, r.rgb, r.depth_m, r.pixel);
     }
   });
   ray_cache_.resolve(executor, &ray_cache_image_, &ray_cache_weight_);

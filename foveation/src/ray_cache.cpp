@@ -26,6 +26,7 @@ void RayCache::begin_frame(const FoveartEyeView& view, Executor& executor) {
   kept_ = anchors_.size();
   sample_px_.resize(kept_);
   row_.resize(kept_);
+  drawn_pixel_.clear();
   executor.parallel_chunks(kept_, kChunkRays, [&](std::size_t first, std::size_t last, unsigned) {
     for (std::size_t i = first; i < last; ++i) {
       const Anchor& a = anchors_[i];
@@ -44,16 +45,20 @@ std::size_t RayCache::add_rays(std::size_t n) {
   anchors_.resize(first + n);
   sample_px_.resize(first + n);
   row_.resize(first + n);
+  drawn_pixel_.resize(first + n - kept_);
   return first;
 }
 
-void RayCache::set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m) {
+void RayCache::set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m, glm::ivec2 drawn_pixel) {
   const glm::vec3 direction = eye_ray_direction(frustum_, pose_, sample_px);
   anchors_[i] = std::isfinite(depth_m) && depth_m >= 0.0f
                     ? Anchor{pose_.position_m + direction * depth_m, rgb, 0, false}
                     : Anchor{direction, rgb, 0, true};
   sample_px_[i] = sample_px;
   row_[i] = row_within_reach(sample_px);
+  const bool on_image =
+      drawn_pixel.x >= 0 && drawn_pixel.y >= 0 && drawn_pixel.x < width_px_ && drawn_pixel.y < height_px_;
+  drawn_pixel_[i - kept_] = on_image ? drawn_pixel.y * width_px_ + drawn_pixel.x : -1;
 }
 
 int RayCache::row_within_reach(glm::vec2 q) const {
@@ -172,11 +177,11 @@ void RayCache::forget_covered(Executor& executor) {
   const std::size_t width = std::size_t(width_px_), height = std::size_t(height_px_);
   new_depth_m_.assign(width * height, -1.0f);
   for (std::size_t i = kept_; i < anchors_.size(); ++i) {
-    const glm::vec2 q = sample_px_[i];
-    if (!(q.x >= 0.0f && q.y >= 0.0f && q.x < float(width) && q.y < float(height))) continue;
+    const std::int32_t pixel = drawn_pixel_[i - kept_];
+    if (pixel < 0) continue;
     const Anchor& a = anchors_[i];
     const float d = a.at_infinity ? INFINITY : glm::length(a.point_m_or_direction - pose_.position_m);
-    float& farthest = new_depth_m_[std::size_t(q.y) * width + std::size_t(q.x)];
+    float& farthest = new_depth_m_[std::size_t(pixel)];
     farthest = std::max(farthest, d);
   }
   // The farthest new ray over each pixel's 3x3 (+inf where one is unknown), once per pixel.

@@ -57,7 +57,9 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
       if (i < kept) {
         cache_.set_kept_rgb(i, b.rgb(k));
       } else {
-        cache_.set_ray(i, b.sample_px(k), b.rgb(k), b.depth_m(k));
+        const std::size_t p = i - first_new;  // the pixel it was drawn for
+        cache_.set_ray(i, b.sample_px(k), b.rgb(k), b.depth_m(k),
+                       glm::ivec2(int(p % std::size_t(width)), int(p / std::size_t(width))));
       }
     }
   });

@@ -204,6 +204,7 @@ class FoveatedView {
     glm::vec2 sample_px;
     glm::vec3 rgb;
     float depth_m;
+    glm::ivec2 pixel;  // its point's screen pixel, which it was drawn for
   };
   std::vector<std::vector<TracedRay>> chunk_rays_;
   std::vector<std::vector<std::uint32_t>> chunk_grid_pixels_;  // per chunk: the screen pixels of its pixel-grid points

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -92,9 +93,15 @@ class RayCache {
   // returns the first one's index for set_ray; set_ray may then run from
   // several threads, each on its own indices.
   std::size_t add_rays(std::size_t n);
-  // New ray i: where it crossed the screen, its colour, its hit distance (+inf: a miss; NaN: no depth).
-  // One beyond the filter's reach of the image is not filtered and not kept.
-  void set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m);
+  // New ray i: where it crossed the screen, its colour, its hit distance
+  // (+inf: a miss; NaN: no depth) and the pixel it was drawn for, which the
+  // depth test compares kept rays with (a pixel filter's jitter may carry the
+  // ray into a neighbour; without it, the pixel it crossed). One beyond the
+  // filter's reach of the image is not filtered and not kept.
+  void set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m, glm::ivec2 drawn_pixel);
+  void set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m) {
+    set_ray(i, sample_px, rgb, depth_m, glm::ivec2(glm::floor(sample_px)));
+  }
 
   // Forgets the covered kept rays (RayCacheOptions::forget_covered), filters
   // every ray within reach into *out_linear (resized to the view) and its
@@ -127,7 +134,8 @@ class RayCache {
   // Per ray of this frame (the kept ones, then the new ones):
   std::vector<glm::vec2> sample_px_;  // where it falls now
   std::vector<std::int32_t> row_;     // its pixel row + the filter's reach; -1: beyond reach or forgotten
-  // Per pixel: the farthest of this frame's new rays in it (+inf: one missed; < 0: none in it), then
+  std::vector<std::int32_t> drawn_pixel_;  // per new ray (index - kept_): its pixel's index, -1 off the image
+  // Per pixel: the farthest of this frame's new rays drawn for it (+inf: one missed; < 0: none), then
   // the farthest over the 3x3 pixels around it (+inf: one of them unknown).
   std::vector<float> new_depth_m_, around_depth_m_;
   // The counting sort by row, per chunk of rays: chunk_rows_[c * rows + r] is
