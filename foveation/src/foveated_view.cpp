@@ -84,7 +84,6 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
     if (!settings_.reconstruct_on_cpu)
       throw std::invalid_argument("foveated view: the ray cache history runs on the CPU path only");
     chunk_rays_.resize(traced_.size());
-    chunk_grid_pixels_.resize(traced_.size());
   }
 }
 
@@ -145,7 +144,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     std::vector<std::uint32_t>& traced = traced_[chunk];
     for (std::uint32_t id : traced) colors_.rgba[id] = Rgba{}, point_depth_m_[id] = NAN;
     traced.clear();
-    if (keep_rays) chunk_rays_[chunk].clear(), chunk_grid_pixels_[chunk].clear();
+    if (keep_rays) chunk_rays_[chunk].clear();
     RayBatch& batch = batches_[worker];
     std::vector<std::uint32_t>& ids = batch_points_[worker];
     batch.resize(std::size_t(batch_points) * spp);
@@ -186,9 +185,6 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       if (!visible.contains(screen)) continue;
       const std::uint32_t id = std::uint32_t(i);
       if (points.on_pixel_grid(i)) {  // over its own pixel, as the full render samples it
-        if (keep_rays && screen.x >= 0.0f && screen.y >= 0.0f && screen.x < float(view.width_px) &&
-            screen.y < float(view.height_px))
-          chunk_grid_pixels_[chunk].push_back(std::uint32_t(screen.y) * view.width_px + std::uint32_t(screen.x));
         for (std::uint32_t s = 0; s < spp; ++s)
           batch.set_ray(std::size_t(n) * spp + s, frustum, pose,
                         pixel_sample_px(screen, int(s), seed, int(view.width_px), settings_.pixel_filter), id);
@@ -291,19 +287,19 @@ void FoveatedView::resolve_ray_cache(const FoveartEyeView& view, const ImageRgb&
   first.assign(chunk_rays_.size() + 1, 0);
   for (std::size_t c = 0; c < chunk_rays_.size(); ++c) first[c + 1] = first[c] + chunk_rays_[c].size();
   const std::size_t base = ray_cache_.add_rays(first.back());
-  executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {
+  const int w = int(view.width_px), h = int(view.height_px);
+  grid_pixel_.assign(std::size_t(w) * std::size_t(h), 0);
+  executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {  // a pixel-grid point is in one chunk only
     for (std::size_t i = 0; i < chunk_rays_[c].size(); ++i) {
       const TracedRay& r = chunk_rays_[c][i];
       ray_cache_.set_ray(base + first[c] + i, r.sample_px, r.rgb, r.depth_m, r.pixel);
+      if (r.pixel.x >= 0 && r.pixel.y >= 0 && r.pixel.x < w && r.pixel.y < h)
+        grid_pixel_[std::size_t(r.pixel.y) * std::size_t(w) + std::size_t(r.pixel.x)] = 1;
     }
   });
   ray_cache_.resolve(executor, &ray_cache_image_, &ray_cache_weight_);
-  grid_pixel_.assign(std::size_t(view.width_px) * view.height_px, 0);
-  for (const std::vector<std::uint32_t>& pixels : chunk_grid_pixels_)
-    for (const std::uint32_t p : pixels) grid_pixel_[p] = 1;
   // Beyond this frame's pixel grid, or where no ray reaches, the reprojected image history.
-  const int w = ray_cache_image_.width_px;
-  executor.parallel_for(std::size_t(ray_cache_image_.height_px), [&](std::size_t y) {
+  executor.parallel_for(std::size_t(h), [&](std::size_t y) {
     for (int x = 0; x < w; ++x) {
       const std::size_t p = y * std::size_t(w) + std::size_t(x);
       if (grid_pixel_[p] != 0 && ray_cache_weight_[p] > 0.0f) continue;

@@ -207,7 +207,6 @@ class FoveatedView {
     glm::ivec2 pixel;  // its point's screen pixel, which it was drawn for
   };
   std::vector<std::vector<TracedRay>> chunk_rays_;
-  std::vector<std::vector<std::uint32_t>> chunk_grid_pixels_;  // per chunk: the screen pixels of its pixel-grid points
   std::vector<std::size_t> chunk_first_ray_;   // chunk c's rays start at chunk_first_ray_[c] among the frame's
   std::vector<std::uint8_t> grid_pixel_;       // per screen pixel: a pixel-grid point's this frame (the cache's)
   ImageRgb ray_cache_image_;
