@@ -84,6 +84,7 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
     if (!settings_.reconstruct_on_cpu)
       throw std::invalid_argument("foveated view: the ray cache history runs on the CPU path only");
     chunk_rays_.resize(traced_.size());
+    point_farthest_m_.assign(tables_->points.size(), NAN);
   }
 }
 
@@ -160,18 +161,22 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
         for (std::uint32_t j = 0, r = 0; j < n; ++j) {
           glm::vec3 sum(0.0f);
           float nearest_m = NAN;  // the point's depth: its nearest hit (NaN: the engine gave none)
-          const bool keep = keep_rays && points.on_pixel_grid(ids[j]);
-          const glm::ivec2 pixel = keep ? glm::ivec2(glm::floor(visible.to_screen(points.position_px[ids[j]])))
-                                        : glm::ivec2(0);
+          float farthest_m = 0.0f;  // its farthest (NaN: one gave none), for the ray cache's depth test
+          // A pixel-grid ray is drawn for its point's pixel; a Poisson point's for none.
+          const glm::ivec2 pixel = keep_rays && points.on_pixel_grid(ids[j])
+                                       ? glm::ivec2(glm::floor(visible.to_screen(points.position_px[ids[j]])))
+                                       : glm::ivec2(-1);
           for (std::uint32_t s = 0; s < spp; ++s, ++r) {
             sum += batch.rgb(r);
             const float d = batch.depth_m(r);
             if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
-            if (keep) chunk_rays_[chunk].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
+            farthest_m = d >= 0.0f ? std::max(farthest_m, d) : NAN;
+            if (keep_rays) chunk_rays_[chunk].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
           }
           sum *= inv_spp;
           colors_.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
           point_depth_m_[ids[j]] = nearest_m;
+          if (keep_rays) point_farthest_m_[ids[j]] = farthest_m;
           if (!std::isnan(nearest_m)) any_depth.store(true, std::memory_order_relaxed);
           traced.push_back(ids[j]);
         }
@@ -233,6 +238,19 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
     return result;
   }
 
+  // TaaHistory::ray_cache: the frame is the cache's, every ray kept filtered
+  // into the pixels around it; the image TAA does not run, only its restart
+  // rule (a saccade's or a blink's onset, a gaze jump), which the cache
+  // follows unless kept through.
+  const bool ray_cache = settings_.taa && settings_.taa_history == TaaHistory::ray_cache;
+  if (ray_cache) {
+    const auto t_cache = Clock::now();
+    result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px, restart);
+    filter_through_ray_cache(view, mapping, result.taa_reset && !settings_.ray_cache_keeps_through_saccades,
+                             executor);
+    result.taa_ms = ms_since(t_cache);
+  }
+
   // Thesis 4.3: every pixel a k-tap gather over the precomputed canvas weights.
   const auto t_gather = Clock::now();
   GatherOptions gather_options;
@@ -243,6 +261,23 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
 
   const auto t_taa = Clock::now();
   taa_output_ = nullptr;
+  if (ray_cache) {
+    // Every pixel a ray of the cache reaches shows the cache; any other the gather.
+    const int w = int(view.width_px), h = int(view.height_px);
+    executor.parallel_for(std::size_t(h), [&](std::size_t y) {
+      for (int x = 0; x < w; ++x) {
+        const std::size_t p = y * std::size_t(w) + std::size_t(x);
+        if (ray_cache_weight_[p] > 0.0f) continue;
+        const float* from = gathered_.at(x, int(y));
+        float* to = ray_cache_image_.at(x, int(y));
+        for (int c = 0; c < 3; ++c) to[c] = from[c];
+      }
+    });
+    taa_output_ = &ray_cache_image_;
+    last_view_ = view;
+    result.taa_ms += ms_since(t_taa);
+    return result;
+  }
   if (settings_.taa && settings_.taa_history == TaaHistory::restart_on_view_change) {
     taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, restart);
   } else if (settings_.taa) {
@@ -264,12 +299,6 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
       taa_output_ = &taa_.accumulate(gathered_, mapping.gaze_px, executor, restart);
     }
     std::swap(history_depth_px_m_, depth_px_m_);
-    if (keep_rays) {
-      // It restarts with the image history (a saccade's or a blink's onset, a gaze jump), unless kept through.
-      resolve_ray_cache(view, *taa_output_, taa_.last_was_reset() && !settings_.ray_cache_keeps_through_saccades,
-                        executor);
-      taa_output_ = &ray_cache_image_;
-    }
   }
   if (settings_.taa) {
     result.taa_reset = taa_.last_was_reset();
@@ -279,8 +308,10 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   return result;
 }
 
-void FoveatedView::resolve_ray_cache(const FoveartEyeView& view, const ImageRgb& taa_image, bool restart,
-                                     Executor& executor) {
+void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const GazeMapping& mapping, bool restart,
+                                            Executor& executor) {
+  const PointSet& points = tables_->points;
+  const NeighborTable& nt = tables_->neighbors;
   if (restart) ray_cache_.clear();
   ray_cache_.begin_frame(view, executor);
   std::vector<std::size_t>& first = chunk_first_ray_;  // a chunk's rays, in chunk order
@@ -297,15 +328,64 @@ void FoveatedView::resolve_ray_cache(const FoveartEyeView& view, const ImageRgb&
         grid_pixel_[std::size_t(r.pixel.y) * std::size_t(w) + std::size_t(r.pixel.x)] = 1;
     }
   });
-  ray_cache_.resolve(executor, &ray_cache_image_, &ray_cache_weight_);
-  // Beyond this frame's pixel grid, or where no ray reaches, the reprojected image history.
-  executor.parallel_for(std::size_t(h), [&](std::size_t y) {
+
+  // The periphery's depth test, where this frame has no ray per pixel: a kept
+  // ray is covered when the new rays of every traced point among the k nearest
+  // its pixel are nearer (the counterpart of the cache's 3x3 test on the grid).
+  // A missed or depthless one among them cannot tell: the kept ray stays.
+  executor.parallel_chunks(ray_cache_.kept(), 4096, [&](std::size_t first_ray, std::size_t last_ray, unsigned) {
+    for (std::size_t i = first_ray; i < last_ray; ++i) {
+      const glm::vec2 q = ray_cache_.kept_sample_px(i);
+      if (!ray_cache_.kept_on_screen(i) || !(q.x >= 0.0f && q.y >= 0.0f && q.x < float(w) && q.y < float(h))) continue;
+      const std::size_t x = std::size_t(q.x), y = std::size_t(q.y);
+      if (grid_pixel_[y * std::size_t(w) + x] != 0) continue;
+      const std::size_t canvas = (y + std::size_t(mapping.canvas_from_screen_y_px)) * std::size_t(nt.width_px()) +
+                                 x + std::size_t(mapping.canvas_from_screen_x_px);
+      float farthest_new_m = -1.0f;
+      for (int j = 0; j < nt.k(); ++j) {
+        const std::uint32_t p = nt.neighbor(canvas, j);
+        if (colors_.rgba[p].a == 0.0f) continue;
+        const float d = point_farthest_m_[p];
+        farthest_new_m = std::isnan(d) ? INFINITY : std::max(farthest_new_m, d);
+      }
+      if (farthest_new_m < 0.0f || !std::isfinite(farthest_new_m)) continue;
+      if (ray_cache_.kept_distance_m(i) > farthest_new_m * (1.0f + kKeptRayOcclusionTolerance)) ray_cache_.forget(i);
+    }
+  });
+
+  // Beyond the pixel grid, each pixel filters the rays around it with the
+  // pixel filter widened to the disc of its nearest point, so that it spreads
+  // a ray as far as the disc spreads the point's rays (disc_footprint_px):
+  // where rays are sparse the pixels blur as much as the points' own discs
+  // do, but from every ray kept there, each where its surface now is.
+  periphery_pixels_.clear();
+  periphery_centre_px_.clear();
+  periphery_footprint_px_.clear();
+  for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const std::size_t p = y * std::size_t(w) + std::size_t(x);
-      if (grid_pixel_[p] != 0 && ray_cache_weight_[p] > 0.0f) continue;
-      const float* from = taa_image.at(x, int(y));
-      float* to = ray_cache_image_.at(x, int(y));
-      for (int c = 0; c < 3; ++c) to[c] = from[c];
+      const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+      if (grid_pixel_[p] != 0) continue;
+      const std::size_t canvas = (std::size_t(y) + std::size_t(mapping.canvas_from_screen_y_px)) *
+                                     std::size_t(nt.width_px()) +
+                                 std::size_t(x) + std::size_t(mapping.canvas_from_screen_x_px);
+      const float footprint_px = disc_footprint_px(settings_.pixel_filter, points.radius_px[nt.neighbor(canvas, 0)]);
+      if (footprint_px <= 1.0f) continue;  // rays as dense as the grid's: the pixel filter itself (resolve)
+      periphery_pixels_.push_back(std::uint32_t(p));
+      periphery_centre_px_.emplace_back(float(x) + 0.5f, float(y) + 0.5f);
+      periphery_footprint_px_.push_back(footprint_px);
+    }
+  ray_cache_.filter_at(periphery_centre_px_, periphery_footprint_px_, executor, &periphery_rgb_, &periphery_weight_);
+
+  // Every pixel with the pixel filter itself, then the wider filters' pixels over them.
+  ray_cache_.resolve(executor, &ray_cache_image_, &ray_cache_weight_);
+  executor.parallel_chunks(periphery_pixels_.size(), 4096, [&](std::size_t first_pixel, std::size_t last_pixel,
+                                                                 unsigned) {
+    for (std::size_t j = first_pixel; j < last_pixel; ++j) {
+      const std::size_t p = periphery_pixels_[j];
+      ray_cache_weight_[p] = periphery_weight_[j];
+      if (periphery_weight_[j] <= 0.0f) continue;
+      float* to = ray_cache_image_.rgb.data() + 3 * p;
+      for (int c = 0; c < 3; ++c) to[c] = periphery_rgb_[j][c];
     }
   });
 }

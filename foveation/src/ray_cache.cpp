@@ -12,6 +12,10 @@ namespace foveart::foveation {
 namespace {
 
 constexpr std::size_t kChunkRays = 4096;
+// filter_at's grid: cells of this many pixels, and at most this many chunks of
+// rays counted apart (its counts are chunks x cells).
+constexpr int kCellPx = 2;
+constexpr std::size_t kMaxCellChunks = 16;
 
 // Pixels a ray reaches either side of its own: the filter's support is 1 px (box) or 3 px (bspline2).
 int reach_px(PixelFilter filter) { return filter == PixelFilter::box ? 0 : 1; }
@@ -24,6 +28,7 @@ void RayCache::begin_frame(const FoveartEyeView& view, Executor& executor) {
   frustum_ = eye_frustum(view);
   pose_ = eye_pose(view);
   kept_ = anchors_.size();
+  covered_forgotten_ = false;
   sample_px_.resize(kept_);
   row_.resize(kept_);
   drawn_pixel_.clear();
@@ -68,11 +73,100 @@ int RayCache::row_within_reach(glm::vec2 q) const {
   return within ? int(std::floor(q.y)) + reach : -1;
 }
 
+float RayCache::kept_distance_m(std::size_t i) const {
+  const Anchor& a = anchors_[i];
+  return a.at_infinity ? INFINITY : glm::length(a.point_m_or_direction - pose_.position_m);
+}
+
+void RayCache::filter_at(const std::vector<glm::vec2>& centres_px, const std::vector<float>& footprint_px,
+                         Executor& executor, std::vector<glm::vec3>* out_rgb, std::vector<float>* out_weight) {
+  forget_covered_once(executor);
+  const std::size_t centres = centres_px.size();
+  out_rgb->resize(centres);
+  out_weight->assign(centres, 0.0f);
+  if (centres == 0) return;
+  // The filter's half-width in footprints, and the cell grid: it starts one
+  // cell before the image, so it holds every ray within reach (at most 1 px beyond).
+  const float half_width = options_.filter == PixelFilter::box ? 0.5f : 1.5f;
+  const int cells_x = (width_px_ + 2 * kCellPx - 1) / kCellPx + 1, cells_y = (height_px_ + 2 * kCellPx - 1) / kCellPx + 1;
+  auto cell_range = [&](glm::vec2 centre, float footprint, glm::ivec2* lo, glm::ivec2* hi) {
+    const glm::vec2 r(half_width * footprint);
+    *lo = glm::max(glm::ivec2(glm::floor((centre - r) / float(kCellPx))) + 1, glm::ivec2(0));
+    *hi = glm::min(glm::ivec2(glm::floor((centre + r) / float(kCellPx))) + 1, glm::ivec2(cells_x - 1, cells_y - 1));
+  };
+  // The cells some centre reaches (one pass: a centre's cells overlap its neighbours').
+  cell_needed_.assign(std::size_t(cells_x) * std::size_t(cells_y), 0);
+  for (std::size_t j = 0; j < centres; ++j) {
+    glm::ivec2 lo, hi;
+    cell_range(centres_px[j], footprint_px[j], &lo, &hi);
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx) cell_needed_[std::size_t(cy) * std::size_t(cells_x) + std::size_t(cx)] = 1;
+  }
+  // The rays in those cells, by cell: a stable counting sort per chunk of rays, as in resolve.
+  const std::size_t rays = anchors_.size(), cells = cell_needed_.size();
+  const std::size_t chunks = std::clamp<std::size_t>((rays + kChunkRays - 1) / kChunkRays, 1, kMaxCellChunks);
+  const std::size_t chunk_rays = (rays + chunks - 1) / chunks;
+  cell_.resize(rays);
+  chunk_cells_.assign(chunks * cells, 0);
+  executor.parallel_for(chunks, [&](std::size_t c) {
+    std::uint32_t* count = chunk_cells_.data() + c * cells;
+    for (std::size_t i = c * chunk_rays, end = std::min(rays, i + chunk_rays); i < end; ++i) {
+      cell_[i] = -1;
+      if (row_[i] < 0) continue;
+      const glm::ivec2 cell = glm::ivec2(glm::floor(sample_px_[i] / float(kCellPx))) + 1;
+      if (cell.x < 0 || cell.y < 0 || cell.x >= cells_x || cell.y >= cells_y) continue;
+      const std::size_t k = std::size_t(cell.y) * std::size_t(cells_x) + std::size_t(cell.x);
+      if (cell_needed_[k] == 0) continue;
+      cell_[i] = std::int32_t(k);
+      ++count[k];
+    }
+  });
+  cell_begin_.assign(cells + 1, 0);
+  std::uint32_t at = 0;
+  for (std::size_t k = 0; k < cells; ++k) {
+    cell_begin_[k] = at;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::uint32_t n = chunk_cells_[c * cells + k];
+      chunk_cells_[c * cells + k] = at;
+      at += n;
+    }
+  }
+  cell_begin_[cells] = at;
+  by_cell_.resize(at);
+  executor.parallel_for(chunks, [&](std::size_t c) {
+    std::uint32_t* next = chunk_cells_.data() + c * cells;
+    for (std::size_t i = c * chunk_rays, end = std::min(rays, i + chunk_rays); i < end; ++i)
+      if (cell_[i] >= 0) by_cell_[next[cell_[i]]++] = CellSample{sample_px_[i], anchors_[i].rgb};
+  });
+  // Each centre: sum(w L) / sum(w) over the rays within its scaled filter (pbrt-v4 8.8).
+  executor.parallel_chunks(centres, 256, [&](std::size_t first, std::size_t last, unsigned) {
+    for (std::size_t j = first; j < last; ++j) {
+      const glm::vec2 centre = centres_px[j];
+      const float inv_footprint = 1.0f / footprint_px[j];
+      glm::ivec2 lo, hi;
+      cell_range(centre, footprint_px[j], &lo, &hi);
+      glm::vec4 sum(0.0f);
+      for (int cy = lo.y; cy <= hi.y; ++cy)
+        for (int cx = lo.x; cx <= hi.x; ++cx) {
+          const std::size_t k = std::size_t(cy) * std::size_t(cells_x) + std::size_t(cx);
+          for (std::uint32_t s = cell_begin_[k]; s < cell_begin_[k + 1]; ++s) {
+            const glm::vec2 t = (by_cell_[s].sample_px - centre) * inv_footprint;
+            if (t.x < -half_width || t.x >= half_width || t.y < -half_width || t.y >= half_width) continue;
+            const float w = pixel_filter_weight(options_.filter, t.x) * pixel_filter_weight(options_.filter, t.y);
+            sum += glm::vec4(w * by_cell_[s].rgb, w);
+          }
+        }
+      (*out_weight)[j] = sum.w;
+      if (sum.w > 0.0f) (*out_rgb)[j] = glm::vec3(sum) / sum.w;
+    }
+  });
+}
+
 void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) {
   const int width = width_px_, height = height_px_;
   const int reach = reach_px(options_.filter);
   const std::size_t rays = anchors_.size();
-  if (options_.forget_covered && kept_ > 0) forget_covered(executor);
+  forget_covered_once(executor);
 
   // The within-reach rays by pixel row, rows -reach .. height - 1 + reach: a
   // counting sort per chunk of rays, stable (chunk by chunk, each in order), so

@@ -205,5 +205,123 @@ TEST(RayCache, RaysBeyondTheFiltersReachAreForgotten) {
   }
 }
 
+// Rays spread over the image and a little beyond (a fixed sequence), colour by index.
+void add_scattered_rays(RayCache& cache, int n, float depth_m) {
+  const std::size_t first = cache.add_rays(std::size_t(n));
+  std::uint32_t state = 12345;
+  auto next = [&state] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  };
+  for (int i = 0; i < n; ++i) {
+    const glm::vec2 q(next() * float(kW + 2) - 1.0f, next() * float(kH + 2) - 1.0f);
+    cache.set_ray(first + std::size_t(i), q, glm::vec3(next(), next(), float(i % 7)), depth_m);
+  }
+}
+
+// A filter at disc_footprint_px spreads a ray with the variance of a uniform
+// disc of that radius, r^2 / 4 per axis.
+TEST(RayCache, TheDiscFootprintHasTheDiscsVariance) {
+  for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
+    for (const float radius_px : {0.5f, 2.0f, 7.5f}) {
+      const float footprint = disc_footprint_px(filter, radius_px);
+      double sum_w = 0.0, sum_wx2 = 0.0;
+      const double step = double(footprint) / 4096.0;
+      for (double x = -2.0 * double(footprint); x < 2.0 * double(footprint); x += step) {
+        const double w = pixel_filter_weight(filter, float(x / double(footprint)));
+        sum_w += w;
+        sum_wx2 += w * x * x;
+      }
+      EXPECT_NEAR(sum_wx2 / sum_w, double(radius_px) * double(radius_px) / 4.0, 1e-3 * double(radius_px * radius_px))
+          << pixel_filter_name(filter) << " r " << radius_px;
+    }
+  }
+}
+
+// filter_at with a footprint of 1 at a pixel centre is that pixel's filter:
+// the same weights and colour as resolve, kept rays and new ones alike.
+TEST(RayCache, FilterAtAPixelCentreWithAFootprintOfOneIsThatPixel) {
+  Executor executor(2);
+  for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
+    RayCacheOptions options;
+    options.filter = filter;
+    RayCache cache(options);
+    cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
+    add_scattered_rays(cache, 3000, 4.0f);
+    ImageRgb image;
+    cache.resolve(executor, &image);
+    cache.begin_frame(view_at({0.05f, 1.6f, 0}, 2.0f), executor);
+    add_scattered_rays(cache, 3000, 3.0f);
+    std::vector<glm::vec2> centres;
+    std::vector<float> footprint;
+    for (std::uint32_t y = 0; y < kH; ++y)
+      for (std::uint32_t x = 0; x < kW; ++x) {
+        centres.emplace_back(float(x) + 0.5f, float(y) + 0.5f);
+        footprint.push_back(1.0f);
+      }
+    std::vector<glm::vec3> rgb;
+    std::vector<float> point_weight, weight;
+    cache.filter_at(centres, footprint, executor, &rgb, &point_weight);
+    cache.resolve(executor, &image, &weight);
+    for (std::uint32_t y = 0; y < kH; ++y)
+      for (std::uint32_t x = 0; x < kW; ++x) {
+        const std::size_t p = y * kW + x;
+        ASSERT_GT(weight[p], 0.0f);
+        EXPECT_NEAR(point_weight[p], weight[p], 1e-4f * weight[p]) << pixel_filter_name(filter) << " " << x << "," << y;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb[p][c], image.at(int(x), int(y))[c], 1e-4f) << x << "," << y;
+      }
+  }
+}
+
+// A larger footprint scales the filter: a ray d from the centre weighs as one
+// d / footprint from a pixel's centre. A centre no ray reaches keeps its colour.
+TEST(RayCache, FilterAtScalesTheFilterToTheFootprint) {
+  Executor executor(2);
+  RayCacheOptions options;
+  options.filter = PixelFilter::bspline2;
+  RayCache cache(options);
+  cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
+  const glm::vec2 centre(16.0f, 12.0f);
+  const glm::vec2 offsets[] = {{0.0f, 0.0f}, {4.0f, 0.0f}, {6.0f, 0.0f}, {2.0f, -4.0f}};
+  const float colours[] = {1.0f, 2.0f, 100.0f, 4.0f};
+  const std::size_t first = cache.add_rays(4);
+  for (std::size_t i = 0; i < 4; ++i) cache.set_ray(first + i, centre + offsets[i], glm::vec3(colours[i]), 3.0f);
+  std::vector<glm::vec3> rgb{glm::vec3(0.0f), glm::vec3(-1.0f)};
+  std::vector<float> weight;
+  cache.filter_at({centre, {2.0f, 2.0f}}, {4.0f, 1.0f}, executor, &rgb, &weight);
+  // Offsets in footprints: (0, 0), (1, 0), (1.5, 0) beyond the spline's reach, (0.5, -1).
+  const float w[] = {0.75f * 0.75f, 0.125f * 0.75f, 0.0f, 0.5f * 0.125f};
+  const float w_sum = w[0] + w[1] + w[2] + w[3];
+  EXPECT_FLOAT_EQ(weight[0], w_sum);
+  EXPECT_FLOAT_EQ(rgb[0].x, (w[0] * 1.0f + w[1] * 2.0f + w[3] * 4.0f) / w_sum);
+  EXPECT_EQ(weight[1], 0.0f);
+  EXPECT_EQ(rgb[1].x, -1.0f) << "untouched";
+}
+
+// A kept ray a caller forgets (its own depth test) is filtered nowhere and not kept.
+TEST(RayCache, AForgottenKeptRayIsNotFilteredAndNotKept) {
+  Executor executor(2);
+  RayCache cache;
+  const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
+  cache.begin_frame(view, executor);
+  std::size_t first = cache.add_rays(2);
+  cache.set_ray(first, {5.5f, 5.5f}, glm::vec3(1.0f), 3.0f);
+  cache.set_ray(first + 1, {5.25f, 5.25f}, glm::vec3(3.0f), 3.0f);
+  ImageRgb image;
+  cache.resolve(executor, &image);
+  ASSERT_EQ(cache.size(), 2u);
+  cache.begin_frame(view, executor);
+  EXPECT_FLOAT_EQ(cache.kept_distance_m(0), 3.0f);
+  cache.forget(1);
+  std::vector<glm::vec3> rgb;
+  std::vector<float> weight;
+  cache.filter_at({{5.5f, 5.5f}}, {1.0f}, executor, &rgb, &weight);
+  EXPECT_EQ(weight[0], 1.0f);
+  EXPECT_EQ(rgb[0].x, 1.0f);
+  cache.resolve(executor, &image);
+  EXPECT_EQ(image.at(5, 5)[0], 1.0f);
+  EXPECT_EQ(cache.size(), 1u);
+}
+
 }  // namespace
 }  // namespace foveart::foveation

@@ -74,11 +74,11 @@ std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::file
 enum class TaaHistory : std::uint8_t {
   restart_on_view_change,  // any new pose or frustum restarts the history (FoveaRT before reprojection)
   reproject,               // the history follows the head: rotation, and parallax from the engine's depth
-  // reproject, and the pixel grid's rays themselves kept in a render cache
-  // (ray_cache.hpp): each is anchored where it hit and filtered into this
-  // frame's pixels with the pixel filter. The pixels of this frame's pixel
-  // grid show the cache, the rest (the Poisson periphery of a large display)
-  // the reprojected image. CPU only.
+  // every traced ray kept in a render cache (ray_cache.hpp) instead of an
+  // image: each is anchored where it hit and filtered, with this frame's,
+  // into the pixels around where it now lies: with the pixel filter over
+  // this frame's pixel grid, widened to the nearest point's disc beyond it
+  // (the Poisson periphery). CPU only.
   ray_cache,
 };
 
@@ -93,8 +93,8 @@ struct ViewSettings {
   // TaaHistory::ray_cache: a kept ray is forgotten this many frames after it
   // was traced (bounds the rays kept on a still view; 0: never) ...
   std::uint32_t ray_cache_max_age_frames = 32;
-  // ... and all of them when the image history restarts (the onset of a
-  // saccade or a blink, a gaze jump) unless this is set: its rays are
+  // ... and all of them at the image TAA's restarts (the onset of a saccade
+  // or a blink, a gaze jump) unless this is set: its rays are
   // anchored in the world, so a gaze jump leaves no ghost to clear.
   bool ray_cache_keeps_through_saccades = false;
   RbfClamp rbf_clamp = RbfClamp::block;
@@ -180,9 +180,10 @@ class FoveatedView {
 
  private:
   void pixel_depths(const GazeMapping& mapping, Executor& executor);  // depth_px_m_ from point_depth_m_
-  // TaaHistory::ray_cache: this frame's pixel-grid rays into the cache, and the
-  // cache's image over this frame's pixel-grid pixels, `taa_image` elsewhere, into ray_cache_image_.
-  void resolve_ray_cache(const FoveartEyeView& view, const ImageRgb& taa_image, bool restart, Executor& executor);
+  // TaaHistory::ray_cache: this frame's rays into the cache, and the cache's
+  // pixels into ray_cache_image_ (ray_cache_weight_ 0 where no ray reaches).
+  void filter_through_ray_cache(const FoveartEyeView& view, const GazeMapping& mapping, bool restart,
+                                Executor& executor);
 
   std::shared_ptr<const ViewTables> tables_;
   ViewSettings settings_;
@@ -199,13 +200,19 @@ class FoveatedView {
   ImageRgb gathered_;
   TemporalAccumulator taa_;
   RayCache ray_cache_;                     // TaaHistory::ray_cache
-  // Per chunk of the point set: its pixel-grid rays traced this frame (TaaHistory::ray_cache).
+  // Per chunk of the point set: its rays traced this frame (TaaHistory::ray_cache).
   struct TracedRay {
     glm::vec2 sample_px;
     glm::vec3 rgb;
     float depth_m;
-    glm::ivec2 pixel;  // its point's screen pixel, which it was drawn for
+    glm::ivec2 pixel;  // a pixel-grid point's screen pixel, which it was drawn for; -1: a Poisson point's
   };
+  std::vector<float> point_farthest_m_;  // per point: farthest hit of its rays (NaN: one gave none)
+  // This frame's pixels beyond its pixel grid, their filters' scale, and the cache's filter there.
+  std::vector<std::uint32_t> periphery_pixels_;
+  std::vector<glm::vec2> periphery_centre_px_;
+  std::vector<float> periphery_footprint_px_, periphery_weight_;
+  std::vector<glm::vec3> periphery_rgb_;
   std::vector<std::vector<TracedRay>> chunk_rays_;
   std::vector<std::size_t> chunk_first_ray_;   // chunk c's rays start at chunk_first_ray_[c] among the frame's
   std::vector<std::uint8_t> grid_pixel_;       // per screen pixel: a pixel-grid point's this frame (the cache's)

@@ -13,8 +13,14 @@
 // and its rays are not lost when the gaze jumps (docs/pricelist.md, "A render
 // cache of the same rays, at equal rays").
 //
+// Beyond the pixels, filter_at filters the same rays into points of any
+// footprint: the Poisson periphery's points, each with its filter scaled to
+// its own spacing, so a sparse point's colour averages its disc's rays over
+// the frames as a pixel's does.
+//
 // A frame, on one thread at a time (its work spread over the executor):
-//   begin_frame(view)  ->  [kept_* / set_kept_rgb]  ->  add_rays / set_ray  ->  resolve(out) or abandon_frame()
+//   begin_frame(view)  ->  [kept_* / set_kept_rgb]  ->  add_rays / set_ray  ->  [forget / filter_at]
+//     ->  resolve(out) or abandon_frame()
 #pragma once
 
 #include <cstddef>
@@ -58,6 +64,13 @@ inline void bspline2_weights(float t_px, float out_weights[3]) {
   out_weights[2] = 0.5f * (0.5f + t_px) * (0.5f + t_px);
 }
 
+// The footprint (RayCache::filter_at) at which the pixel filter spreads a
+// ray as widely as a disc of radius_px spreads its point's rays (thesis 4.2):
+// the same per-axis variance, r^2 / 4 (box f^2 / 12, bspline2 f^2 / 4).
+inline float disc_footprint_px(PixelFilter filter, float radius_px) {
+  return filter == PixelFilter::box ? 1.7320508f * radius_px : radius_px;
+}
+
 struct RayCacheOptions {
   PixelFilter filter = PixelFilter::box;
   // Forget a kept ray that a nearer surface covers (the render cache's depth
@@ -88,6 +101,11 @@ class RayCache {
   glm::vec2 kept_sample_px(std::size_t i) const { return sample_px_[i]; }
   bool kept_on_screen(std::size_t i) const { return row_[i] >= 0; }
   void set_kept_rgb(std::size_t i, glm::vec3 rgb) { anchors_[i].rgb = rgb; }
+  // Kept ray i's distance from this view's eye (+inf: a miss or no depth, a direction).
+  float kept_distance_m(std::size_t i) const;
+  // Forgets kept ray i this frame: a caller's own depth test where this frame
+  // has no ray per pixel (the Poisson periphery), before filter_at and resolve.
+  void forget(std::size_t i) { row_[i] = -1; }
 
   // Makes room for n new rays of this frame (traced from this view's eye) and
   // returns the first one's index for set_ray; set_ray may then run from
@@ -102,6 +120,15 @@ class RayCache {
   void set_ray(std::size_t i, glm::vec2 sample_px, glm::vec3 rgb, float depth_m) {
     set_ray(i, sample_px, rgb, depth_m, glm::ivec2(glm::floor(sample_px)));
   }
+
+  // After the new rays: filters every ray within reach into point j at
+  // centres_px[j] (screen pixels) with the pixel filter scaled by
+  // footprint_px[j] per axis (1: a pixel's own), as resolve does for a pixel
+  // centre. Writes out_rgb[j] = sum(w L) / sum(w) and out_weight[j] = sum(w)
+  // (0: no ray reaches it, out_rgb[j] untouched); both sized to the centres.
+  // Forgets the covered kept rays first, as resolve does.
+  void filter_at(const std::vector<glm::vec2>& centres_px, const std::vector<float>& footprint_px,
+                 Executor& executor, std::vector<glm::vec3>* out_rgb, std::vector<float>* out_weight);
 
   // Forgets the covered kept rays (RayCacheOptions::forget_covered), filters
   // every ray within reach into *out_linear (resized to the view) and its
@@ -122,12 +149,17 @@ class RayCache {
     bool at_infinity = false;      // a miss or no depth: a direction, not a point
   };
   void forget_covered(Executor& executor);
+  void forget_covered_once(Executor& executor) {
+    if (options_.forget_covered && kept_ > 0 && !covered_forgotten_) forget_covered(executor);
+    covered_forgotten_ = true;
+  }
   // A ray at q: its pixel row + the filter's reach, or -1 beyond the filter's reach of the image.
   int row_within_reach(glm::vec2 q) const;
 
   RayCacheOptions options_;
   std::vector<Anchor> anchors_;  // the kept rays, then (during a frame) this frame's new ones
   std::size_t kept_ = 0;
+  bool covered_forgotten_ = false;  // this frame's depth test has run
   int width_px_ = 0, height_px_ = 0;
   EyeFrustum frustum_{};
   EyePose pose_{};
@@ -148,6 +180,16 @@ class RayCache {
   };
   std::vector<Sample> by_row_;            // within-reach rays ordered by their pixel row
   std::vector<std::uint32_t> row_begin_;  // by_row_[row_begin_[y], row_begin_[y + 1]): row y's
+  // filter_at's rays by cell of a coarse grid, as by_row_ by row: cell c's are
+  // by_cell_[cell_begin_[c], cell_begin_[c + 1]), only in cells a centre reaches.
+  struct CellSample {
+    glm::vec2 sample_px;
+    glm::vec3 rgb;
+  };
+  std::vector<std::int32_t> cell_;  // per ray: its cell, -1 none reached
+  std::vector<std::uint8_t> cell_needed_;
+  std::vector<std::uint32_t> chunk_cells_, cell_begin_;
+  std::vector<CellSample> by_cell_;
 };
 
 }  // namespace foveart::foveation
