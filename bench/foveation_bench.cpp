@@ -76,29 +76,47 @@ void BM_RaySamples(benchmark::State& state) {
 BENCHMARK(BM_RaySamples)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 
 // One frame of the render cache (TaaHistory::ray_cache) at 320x360 while the
-// head turns 0.3 deg a frame: project the kept rays, add one new ray per
-// pixel, depth-test, filter and keep. Arg 0: frames of rays kept
-// (RayCacheOptions::max_age_frames), arg 1: 0 box, 1 bspline2.
+// head turns 0.3 deg a frame: project the kept rays, add the new rays,
+// depth-test, filter and keep. Arg 0: frames of rays kept
+// (RayCacheOptions::max_age_frames), arg 1: 0 box, 1 bspline2, arg 2: 0 the
+// pixel grid (one new ray per pixel, the pixel filter), or a periphery's
+// footprint F (one new ray per F x F pixels, and every pixel filtered from
+// the rays at footprint F by filter_at, as beyond the pixel grid).
 void BM_RayCacheFrame(benchmark::State& state) {
   constexpr std::uint32_t kW = 320, kH = 360;
   fv::RayCacheOptions options;
   options.max_age_frames = std::uint32_t(state.range(0));
   options.filter = state.range(1) == 0 ? fv::PixelFilter::box : fv::PixelFilter::bspline2;
+  const std::uint32_t footprint_px = std::uint32_t(state.range(2));
+  const std::uint32_t step_px = std::max(1u, footprint_px);  // new rays: one per step x step pixels
+  const std::uint32_t rays_w = kW / step_px, rays_h = kH / step_px;
   fv::RayCache cache(options);
   fv::ImageRgb image;
+  std::vector<glm::vec2> centres;
+  std::vector<float> footprints, weights;
+  std::vector<glm::vec3> rgb;
+  if (footprint_px > 0)
+    for (std::uint32_t y = 0; y < kH; ++y)
+      for (std::uint32_t x = 0; x < kW; ++x) {
+        centres.emplace_back(float(x) + 0.5f, float(y) + 0.5f);
+        footprints.push_back(float(footprint_px));
+      }
   std::uint64_t frame = 0;
   auto one_frame = [&] {
     fv::EyePose pose;
     pose.orientation = glm::angleAxis(glm::radians(0.3f * float(frame)), glm::vec3(0, 1, 0));
     const FoveartEyeView view = fv::make_eye_view(0, kW, kH, pose, -0.6f, 0.6f, 0.65f, -0.65f);
     cache.begin_frame(view, executor);
-    const std::size_t first = cache.add_rays(std::size_t(kW) * kH);
-    executor.parallel_chunks(std::size_t(kW) * kH, 4096, [&](std::size_t a, std::size_t b, unsigned) {
+    const std::size_t first = cache.add_rays(std::size_t(rays_w) * rays_h);
+    executor.parallel_chunks(std::size_t(rays_w) * rays_h, 4096, [&](std::size_t a, std::size_t b, unsigned) {
       for (std::size_t i = a; i < b; ++i) {
-        const glm::vec2 q = glm::vec2(float(i % kW), float(i / kW)) + fv::pixel_jitter(i, 0, frame, options.filter);
+        const glm::vec2 corner = glm::vec2(float(i % rays_w), float(i / rays_w)) * float(step_px);
+        const glm::vec2 q = footprint_px == 0 ? corner + fv::pixel_jitter(i, 0, frame, options.filter)
+                                              : corner + fv::pixel_jitter(i, 0, frame, fv::PixelFilter::box) * float(step_px);
         cache.set_ray(first + i, q, glm::vec3(0.5f), 3.0f + 0.001f * float(i % 97));
       }
     });
+    if (footprint_px > 0) cache.filter_at(centres, footprints, executor, &rgb, &weights);
     cache.resolve(executor, &image);
     ++frame;
   };
@@ -106,7 +124,13 @@ void BM_RayCacheFrame(benchmark::State& state) {
   for (auto _ : state) one_frame();
   state.counters["rays_kept"] = double(cache.size());
 }
-BENCHMARK(BM_RayCacheFrame)->Args({8, 0})->Args({32, 0})->Args({32, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RayCacheFrame)
+    ->Args({8, 0, 0})
+    ->Args({32, 0, 0})
+    ->Args({32, 1, 0})
+    ->Args({32, 1, 2})
+    ->Args({32, 1, 4})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
