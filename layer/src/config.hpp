@@ -46,8 +46,8 @@ struct LayerConfig {
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   bool taa = true;
   // What the TAA keeps (foveation::TaaHistory): "reproject" (an image,
-  // reprojected), "ray_cache" (the pixel grid's rays in a render cache,
-  // restarting with the image history) or "ray_cache_kept" (its rays kept
+  // reprojected), "ray_cache" (the traced rays in a render cache, restarting
+  // where the image history would) or "ray_cache_kept" (its rays kept
   // through saccades and blinks). The ray cache runs on the CPU path.
   std::string taa_history = "reproject";
   bool taa_mean_while_young = false;  // foveation::TaaOptions::mean_while_young

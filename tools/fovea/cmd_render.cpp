@@ -571,7 +571,7 @@ void register_render(CLI::App& app) {
   cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
   cmd->add_option("--taa", opts->taa,
                   "TAA of the foveated frames: off, restart (on every pose change), reproject (follows the head), "
-                  "cache (the pixel grid's rays kept in a render cache), cache-kept (its rays kept through "
+                  "cache (the traced rays kept in a render cache), cache-kept (its rays kept through "
                   "saccades); with --motion a list, e.g. off,restart,reproject")
       ->capture_default_str();
   cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
