@@ -20,6 +20,26 @@ constexpr std::size_t kMaxCellChunks = 16;
 // Pixels a ray reaches either side of its own: the filter's support is 1 px (box) or 3 px (bspline2).
 int reach_px(PixelFilter filter) { return filter == PixelFilter::box ? 0 : 1; }
 
+// The middle of a counting sort per chunk, stable (chunk by chunk, each in
+// order, so sums over a bucket run in one order whatever the thread count):
+// chunk_counts[c * buckets + b], how many of chunk c fall in bucket b, become
+// where chunk c's first one in bucket b goes; bucket b starts at begin[b],
+// and begin[buckets] is the total.
+void counting_sort_offsets(std::vector<std::uint32_t>& chunk_counts, std::size_t chunks, std::size_t buckets,
+                           std::vector<std::uint32_t>& begin) {
+  begin.assign(buckets + 1, 0);
+  std::uint32_t at = 0;
+  for (std::size_t b = 0; b < buckets; ++b) {
+    begin[b] = at;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::uint32_t n = chunk_counts[c * buckets + b];
+      chunk_counts[c * buckets + b] = at;
+      at += n;
+    }
+  }
+  begin[buckets] = at;
+}
+
 }  // namespace
 
 void RayCache::begin_frame(const FoveartEyeView& view, Executor& executor) {
@@ -121,18 +141,8 @@ void RayCache::filter_at(const std::vector<glm::vec2>& centres_px, const std::ve
       ++count[k];
     }
   });
-  cell_begin_.assign(cells + 1, 0);
-  std::uint32_t at = 0;
-  for (std::size_t k = 0; k < cells; ++k) {
-    cell_begin_[k] = at;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::uint32_t n = chunk_cells_[c * cells + k];
-      chunk_cells_[c * cells + k] = at;
-      at += n;
-    }
-  }
-  cell_begin_[cells] = at;
-  by_cell_.resize(at);
+  counting_sort_offsets(chunk_cells_, chunks, cells, cell_begin_);
+  by_cell_.resize(cell_begin_[cells]);
   executor.parallel_for(chunks, [&](std::size_t c) {
     std::uint32_t* next = chunk_cells_.data() + c * cells;
     for (std::size_t i = c * chunk_rays, end = std::min(rays, i + chunk_rays); i < end; ++i)
@@ -179,18 +189,8 @@ void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<flo
     for (std::size_t i = c * kChunkRays, end = std::min(rays, i + kChunkRays); i < end; ++i)
       if (row_[i] >= 0) ++count[row_[i]];
   });
-  row_begin_.assign(rows + 1, 0);
-  std::uint32_t at = 0;
-  for (std::size_t r = 0; r < rows; ++r) {
-    row_begin_[r] = at;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::uint32_t n = chunk_rows_[c * rows + r];
-      chunk_rows_[c * rows + r] = at;
-      at += n;
-    }
-  }
-  row_begin_[rows] = at;
-  by_row_.resize(at);
+  counting_sort_offsets(chunk_rows_, chunks, rows, row_begin_);
+  by_row_.resize(row_begin_[rows]);
   executor.parallel_for(chunks, [&](std::size_t c) {
     std::uint32_t* next = chunk_rows_.data() + c * rows;
     for (std::size_t i = c * kChunkRays, end = std::min(rays, i + kChunkRays); i < end; ++i)

@@ -112,9 +112,7 @@ TEST(RayCache, BoxFilterGivesEachPixelTheMeanOfItsRays) {
 // with the spline's weights, 3/4 and 1/8 per axis.
 TEST(RayCache, Bspline2SpreadsARayOverThe3x3PixelsAroundIt) {
   Executor executor(2);
-  RayCacheOptions options;
-  options.filter = PixelFilter::bspline2;
-  RayCache cache(options);
+  RayCache cache(RayCacheOptions{PixelFilter::bspline2});
   cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
   cache.set_ray(cache.add_rays(1), {10.5f, 8.5f}, {0.25f, 0.5f, 1.0f}, 3.0f);
   ImageRgb image;
@@ -178,9 +176,7 @@ TEST(RayCache, AnAbandonedFrameKeepsTheKeptRaysAndDropsItsNewOnes) {
 TEST(RayCache, RaysBeyondTheFiltersReachAreForgotten) {
   Executor executor(2);
   for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
-    RayCacheOptions options;
-    options.filter = filter;
-    RayCache cache(options);
+    RayCache cache(RayCacheOptions{filter});
     ImageRgb image;
     cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
     add_pixel_centres(cache, 0, 4.0f);
@@ -243,9 +239,7 @@ TEST(RayCache, TheDiscFootprintHasTheDiscsVariance) {
 TEST(RayCache, FilterAtAPixelCentreWithAFootprintOfOneIsThatPixel) {
   Executor executor(2);
   for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
-    RayCacheOptions options;
-    options.filter = filter;
-    RayCache cache(options);
+    RayCache cache(RayCacheOptions{filter});
     cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
     add_scattered_rays(cache, 3000, 4.0f);
     ImageRgb image;
@@ -277,9 +271,7 @@ TEST(RayCache, FilterAtAPixelCentreWithAFootprintOfOneIsThatPixel) {
 // d / footprint from a pixel's centre. A centre no ray reaches keeps its colour.
 TEST(RayCache, FilterAtScalesTheFilterToTheFootprint) {
   Executor executor(2);
-  RayCacheOptions options;
-  options.filter = PixelFilter::bspline2;
-  RayCache cache(options);
+  RayCache cache(RayCacheOptions{PixelFilter::bspline2});
   cache.begin_frame(view_at({0, 1.6f, 0}, 0.0f), executor);
   const glm::vec2 centre(16.0f, 12.0f);
   const glm::vec2 offsets[] = {{0.0f, 0.0f}, {4.0f, 0.0f}, {6.0f, 0.0f}, {2.0f, -4.0f}};
