@@ -339,8 +339,7 @@ void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const Ga
       if (!ray_cache_.kept_on_screen(i) || !(q.x >= 0.0f && q.y >= 0.0f && q.x < float(w) && q.y < float(h))) continue;
       const std::size_t x = std::size_t(q.x), y = std::size_t(q.y);
       if (grid_pixel_[y * std::size_t(w) + x] != 0) continue;
-      const std::size_t canvas = (y + std::size_t(mapping.canvas_from_screen_y_px)) * std::size_t(nt.width_px()) +
-                                 x + std::size_t(mapping.canvas_from_screen_x_px);
+      const std::size_t canvas = mapping.canvas_index(x, y, std::size_t(nt.width_px()));
       float farthest_new_m = -1.0f;
       for (int j = 0; j < nt.k(); ++j) {
         const std::uint32_t p = nt.neighbor(canvas, j);
@@ -349,7 +348,7 @@ void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const Ga
         farthest_new_m = std::isnan(d) ? INFINITY : std::max(farthest_new_m, d);
       }
       if (farthest_new_m < 0.0f || !std::isfinite(farthest_new_m)) continue;
-      if (ray_cache_.kept_distance_m(i) > farthest_new_m * (1.0f + kKeptRayOcclusionTolerance)) ray_cache_.forget(i);
+      if (kept_ray_covered(ray_cache_.distance_m(i), farthest_new_m)) ray_cache_.forget(i);
     }
   });
 
@@ -365,9 +364,7 @@ void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const Ga
     for (int x = 0; x < w; ++x) {
       const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
       if (grid_pixel_[p] != 0) continue;
-      const std::size_t canvas = (std::size_t(y) + std::size_t(mapping.canvas_from_screen_y_px)) *
-                                     std::size_t(nt.width_px()) +
-                                 std::size_t(x) + std::size_t(mapping.canvas_from_screen_x_px);
+      const std::size_t canvas = mapping.canvas_index(std::size_t(x), std::size_t(y), std::size_t(nt.width_px()));
       const float footprint_px = disc_footprint_px(settings_.pixel_filter, points.radius_px[nt.neighbor(canvas, 0)]);
       if (footprint_px <= 1.0f) continue;  // rays as dense as the grid's: the pixel filter itself (resolve)
       periphery_pixels_.push_back(std::uint32_t(p));
@@ -397,8 +394,7 @@ void FoveatedView::pixel_depths(const GazeMapping& mapping, Executor& executor) 
   depth_px_m_.resize(std::size_t(w) * std::size_t(h));
   executor.parallel_chunks(std::size_t(h), 16, [&](std::size_t y0, std::size_t y1, unsigned) {
     for (std::size_t y = y0; y < y1; ++y) {
-      const std::size_t row = (y + std::size_t(mapping.canvas_from_screen_y_px)) * std::size_t(nt.width_px()) +
-                              std::size_t(mapping.canvas_from_screen_x_px);
+      const std::size_t row = mapping.canvas_index(0, y, std::size_t(nt.width_px()));
       for (std::size_t x = 0; x < std::size_t(w); ++x) {
         float depth = NAN;
         for (int j = 0; j < nt.k(); ++j) {

@@ -93,7 +93,7 @@ int RayCache::row_within_reach(glm::vec2 q) const {
   return within ? int(std::floor(q.y)) + reach : -1;
 }
 
-float RayCache::kept_distance_m(std::size_t i) const {
+float RayCache::distance_m(std::size_t i) const {
   const Anchor& a = anchors_[i];
   return a.at_infinity ? INFINITY : glm::length(a.point_m_or_direction - pose_.position_m);
 }
@@ -273,10 +273,8 @@ void RayCache::forget_covered(Executor& executor) {
   for (std::size_t i = kept_; i < anchors_.size(); ++i) {
     const std::int32_t pixel = drawn_pixel_[i - kept_];
     if (pixel < 0) continue;
-    const Anchor& a = anchors_[i];
-    const float d = a.at_infinity ? INFINITY : glm::length(a.point_m_or_direction - pose_.position_m);
     float& farthest = new_depth_m_[std::size_t(pixel)];
-    farthest = std::max(farthest, d);
+    farthest = std::max(farthest, distance_m(i));
   }
   // The farthest new ray over each pixel's 3x3 (+inf where one is unknown), once per pixel.
   around_depth_m_.resize(width * height);
@@ -297,10 +295,7 @@ void RayCache::forget_covered(Executor& executor) {
       if (row_[i] < 0 || !(q.x >= 0.0f && q.y >= 0.0f && q.x < float(width) && q.y < float(height))) continue;
       const float farthest_new_m = around_depth_m_[std::size_t(q.y) * width + std::size_t(q.x)];
       if (!std::isfinite(farthest_new_m)) continue;
-      const Anchor& a = anchors_[i];
-      const bool covered = a.at_infinity || glm::length(a.point_m_or_direction - pose_.position_m) >
-                                                farthest_new_m * (1.0f + kKeptRayOcclusionTolerance);
-      if (covered) row_[i] = -1;
+      if (kept_ray_covered(distance_m(i), farthest_new_m)) row_[i] = -1;
     }
   });
 }

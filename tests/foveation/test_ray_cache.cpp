@@ -303,7 +303,7 @@ TEST(RayCache, AForgottenKeptRayIsNotFilteredAndNotKept) {
   cache.resolve(executor, &image);
   ASSERT_EQ(cache.size(), 2u);
   cache.begin_frame(view, executor);
-  EXPECT_FLOAT_EQ(cache.kept_distance_m(0), 3.0f);
+  EXPECT_FLOAT_EQ(cache.distance_m(0), 3.0f);
   cache.forget(1);
   std::vector<glm::vec3> rgb;
   std::vector<float> weight;

@@ -5,6 +5,8 @@
 // the screen [0, W] x [0, H] so every screen pixel maps inside the canvas.
 #pragma once
 
+#include <cstddef>
+
 #include <glm/vec2.hpp>
 
 namespace foveart::foveation {
@@ -19,6 +21,10 @@ struct GazeMapping {
 
   glm::vec2 screen_from_canvas(glm::vec2 canvas_px) const {
     return {canvas_px.x - float(canvas_from_screen_x_px), canvas_px.y - float(canvas_from_screen_y_px)};
+  }
+  // Screen pixel (x, y)'s canvas pixel, as a row-major index into a table canvas_width_px wide.
+  std::size_t canvas_index(std::size_t x, std::size_t y, std::size_t canvas_width_px) const {
+    return (y + std::size_t(canvas_from_screen_y_px)) * canvas_width_px + x + std::size_t(canvas_from_screen_x_px);
   }
 };
 

@@ -13,10 +13,9 @@
 // and its rays are not lost when the gaze jumps (docs/pricelist.md, "A render
 // cache of the same rays, at equal rays").
 //
-// Beyond the pixels, filter_at filters the same rays into points of any
-// footprint: the Poisson periphery's points, each with its filter scaled to
-// its own spacing, so a sparse point's colour averages its disc's rays over
-// the frames as a pixel's does.
+// filter_at filters the same rays at any centre with the pixel filter
+// widened to a footprint: beyond the pixel grid, where rays are sparser than
+// pixels, each pixel filters them as widely as its nearest point's disc.
 //
 // A frame, on one thread at a time (its work spread over the executor):
 //   begin_frame(view)  ->  [kept_* / set_kept_rgb]  ->  add_rays / set_ray  ->  [forget / filter_at]
@@ -43,6 +42,13 @@ namespace foveart::foveation {
 // count as seen: the new rays cross its pixels elsewhere, so a slanted
 // surface's depth differs a little across them.
 inline constexpr float kKeptRayOcclusionTolerance = 0.05f;
+
+// The render cache's depth test for one kept ray, given the farthest (finite)
+// of the new rays around it: covered when it lies farther than they do, by
+// more than the tolerance; a kept miss (+inf) is covered wherever they all hit.
+inline bool kept_ray_covered(float kept_distance_m, float farthest_new_m) {
+  return kept_distance_m > farthest_new_m * (1.0f + kKeptRayOcclusionTolerance);
+}
 
 // The pixel filter's weight of a ray `offset_px` from a pixel's centre, per
 // axis: box 1 inside the pixel ([-0.5, 0.5), as floor() assigns rays to
@@ -101,8 +107,8 @@ class RayCache {
   glm::vec2 kept_sample_px(std::size_t i) const { return sample_px_[i]; }
   bool kept_on_screen(std::size_t i) const { return row_[i] >= 0; }
   void set_kept_rgb(std::size_t i, glm::vec3 rgb) { anchors_[i].rgb = rgb; }
-  // Kept ray i's distance from this view's eye (+inf: a miss or no depth, a direction).
-  float kept_distance_m(std::size_t i) const;
+  // Ray i's distance from this view's eye, kept or new (+inf: a miss or no depth, a direction).
+  float distance_m(std::size_t i) const;
   // Forgets kept ray i this frame: a caller's own depth test where this frame
   // has no ray per pixel (the Poisson periphery), before filter_at and resolve.
   void forget(std::size_t i) { row_[i] = -1; }
