@@ -81,8 +81,6 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
   colors_.invalid = colors_.rgba.size();
   traced_.resize((tables_->points.size() + kChunkPoints - 1) / kChunkPoints);
   if (settings_.taa && settings_.taa_history == TaaHistory::ray_cache) {
-    if (!settings_.reconstruct_on_cpu)
-      throw std::invalid_argument("foveated view: the ray cache history runs on the CPU path only");
     chunk_rays_.resize(traced_.size());
     point_farthest_m_.assign(tables_->points.size(), NAN);
   }
@@ -229,25 +227,31 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   const bool moved = !last_view_ || !same_view(*last_view_, view);
   const bool restart = request.saccade || request.blink;
   if (settings_.taa && moved && settings_.taa_history == TaaHistory::restart_on_view_change) taa_.reset();
-  if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the TAA rule runs here
-    if (settings_.taa) {
-      result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px, restart);
-      if (!result.taa_reset && moved) result.history_view = last_view_;  // the caller reprojects from there
-      last_view_ = view;
-    }
-    return result;
-  }
-
   // TaaHistory::ray_cache: the frame is the cache's, every ray kept filtered
   // into the pixels around it; the image TAA does not run, only its restart
   // rule (a saccade's or a blink's onset, a gaze jump), which the cache
-  // follows unless kept through.
+  // follows unless kept through. A failed frame or the first one restarts it
+  // too (the image TAA's history is then empty).
   const bool ray_cache = settings_.taa && settings_.taa_history == TaaHistory::ray_cache;
+  const auto t_cache = Clock::now();
   if (ray_cache) {
-    const auto t_cache = Clock::now();
+    const bool history_empty = !last_view_;  // the first frame, or the one after a failed frame
     result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px, restart);
-    filter_through_ray_cache(view, mapping, result.taa_reset && !settings_.ray_cache_keeps_through_saccades,
-                             executor);
+    result.ray_cache_restart = history_empty || (result.taa_reset && !settings_.ray_cache_keeps_through_saccades);
+  }
+  if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the TAA rule runs here
+    if (ray_cache) {
+      prepare_ray_cache_pixels(mapping, true, executor);  // what the caller's cache takes
+      result.taa_ms = ms_since(t_cache);
+    } else if (settings_.taa) {
+      result.taa_reset = taa_.begin_frame(mapping.screen_width_px, mapping.screen_height_px, mapping.gaze_px, restart);
+      if (!result.taa_reset && moved) result.history_view = last_view_;  // the caller reprojects from there
+    }
+    if (settings_.taa) last_view_ = view;
+    return result;
+  }
+  if (ray_cache) {
+    filter_through_ray_cache(view, mapping, result.ray_cache_restart, executor);
     result.taa_ms = ms_since(t_cache);
   }
 
@@ -310,45 +314,33 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
 
 void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const GazeMapping& mapping, bool restart,
                                             Executor& executor) {
-  const PointSet& points = tables_->points;
-  const NeighborTable& nt = tables_->neighbors;
   if (restart) ray_cache_.clear();
   ray_cache_.begin_frame(view, executor);
   std::vector<std::size_t>& first = chunk_first_ray_;  // a chunk's rays, in chunk order
   first.assign(chunk_rays_.size() + 1, 0);
   for (std::size_t c = 0; c < chunk_rays_.size(); ++c) first[c + 1] = first[c] + chunk_rays_[c].size();
   const std::size_t base = ray_cache_.add_rays(first.back());
-  const int w = int(view.width_px), h = int(view.height_px);
-  grid_pixel_.assign(std::size_t(w) * std::size_t(h), 0);
-  executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {  // a pixel-grid point is in one chunk only
+  executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {
     for (std::size_t i = 0; i < chunk_rays_[c].size(); ++i) {
       const TracedRay& r = chunk_rays_[c][i];
       ray_cache_.set_ray(base + first[c] + i, r.sample_px, r.rgb, r.depth_m, r.pixel);
-      if (r.pixel.x >= 0 && r.pixel.y >= 0 && r.pixel.x < w && r.pixel.y < h)
-        grid_pixel_[std::size_t(r.pixel.y) * std::size_t(w) + std::size_t(r.pixel.x)] = 1;
     }
   });
+  prepare_ray_cache_pixels(mapping, false, executor);
 
-  // The periphery's depth test, where this frame has no ray per pixel: a kept
-  // ray is covered when the new rays of every traced point among the k nearest
-  // its pixel are nearer (the counterpart of the cache's 3x3 test on the grid).
-  // A missed or depthless one among them cannot tell: the kept ray stays.
+  // The periphery's depth test, where this frame has no ray per pixel (the
+  // pixel grid's runs inside the cache).
+  const int w = int(view.width_px), h = int(view.height_px);
   executor.parallel_chunks(ray_cache_.kept(), 4096, [&](std::size_t first_ray, std::size_t last_ray, unsigned) {
     for (std::size_t i = first_ray; i < last_ray; ++i) {
       const glm::vec2 q = ray_cache_.kept_sample_px(i);
       if (!ray_cache_.kept_on_screen(i) || !(q.x >= 0.0f && q.y >= 0.0f && q.x < float(w) && q.y < float(h))) continue;
-      const std::size_t x = std::size_t(q.x), y = std::size_t(q.y);
-      if (grid_pixel_[y * std::size_t(w) + x] != 0) continue;
-      const std::size_t canvas = mapping.canvas_index(x, y, std::size_t(nt.width_px()));
-      float farthest_new_m = -1.0f;
-      for (int j = 0; j < nt.k(); ++j) {
-        const std::uint32_t p = nt.neighbor(canvas, j);
-        if (colors_.rgba[p].a == 0.0f) continue;
-        const float d = point_farthest_m_[p];
-        farthest_new_m = std::isnan(d) ? INFINITY : std::max(farthest_new_m, d);
-      }
-      if (farthest_new_m < 0.0f || !std::isfinite(farthest_new_m)) continue;
-      if (kept_ray_covered(ray_cache_.distance_m(i), farthest_new_m)) ray_cache_.forget(i);
+      const std::size_t p = std::size_t(q.y) * std::size_t(w) + std::size_t(q.x);
+      if (grid_pixel_[p] != 0) continue;
+      const float farthest_new_m = ray_cache_pixel_[p].y;
+      if (farthest_new_m >= 0.0f && std::isfinite(farthest_new_m) &&
+          kept_ray_covered(ray_cache_.distance_m(i), farthest_new_m))
+        ray_cache_.forget(i);
     }
   });
 
@@ -363,10 +355,8 @@ void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const Ga
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-      if (grid_pixel_[p] != 0) continue;
-      const std::size_t canvas = mapping.canvas_index(std::size_t(x), std::size_t(y), std::size_t(nt.width_px()));
-      const float footprint_px = disc_footprint_px(settings_.pixel_filter, points.radius_px[nt.neighbor(canvas, 0)]);
-      if (footprint_px <= 1.0f) continue;  // rays as dense as the grid's: the pixel filter itself (resolve)
+      const float footprint_px = ray_cache_pixel_[p].x;
+      if (footprint_px <= 1.0f) continue;  // the pixel filter itself (resolve)
       periphery_pixels_.push_back(std::uint32_t(p));
       periphery_centre_px_.emplace_back(float(x) + 0.5f, float(y) + 0.5f);
       periphery_footprint_px_.push_back(footprint_px);
@@ -383,6 +373,50 @@ void FoveatedView::filter_through_ray_cache(const FoveartEyeView& view, const Ga
       if (periphery_weight_[j] <= 0.0f) continue;
       float* to = ray_cache_image_.rgb.data() + 3 * p;
       for (int c = 0; c < 3; ++c) to[c] = periphery_rgb_[j][c];
+    }
+  });
+}
+
+void FoveatedView::prepare_ray_cache_pixels(const GazeMapping& mapping, bool grid_depth_test, Executor& executor) {
+  const PointSet& points = tables_->points;
+  const NeighborTable& nt = tables_->neighbors;
+  const int w = mapping.screen_width_px, h = mapping.screen_height_px;
+  const std::size_t pixels = std::size_t(w) * std::size_t(h);
+  grid_pixel_.assign(pixels, 0);
+  if (grid_depth_test) drawn_farthest_m_.assign(pixels, -1.0f);
+  executor.parallel_for(chunk_rays_.size(), [&](std::size_t c) {  // a pixel-grid point is in one chunk only
+    for (const TracedRay& r : chunk_rays_[c]) {
+      if (r.pixel.x < 0 || r.pixel.y < 0 || r.pixel.x >= w || r.pixel.y >= h) continue;
+      const std::size_t p = std::size_t(r.pixel.y) * std::size_t(w) + std::size_t(r.pixel.x);
+      grid_pixel_[p] = 1;
+      if (grid_depth_test) drawn_farthest_m_[p] = std::max(drawn_farthest_m_[p], traced_distance_m(r.depth_m));
+    }
+  });
+  if (grid_depth_test) farthest_around_3x3(drawn_farthest_m_, w, h, executor, &around_farthest_m_);
+
+  // A pixel-grid pixel: the pixel filter, and the 3x3 test. Beyond the grid:
+  // the nearest point's disc footprint, and the farthest new ray of the
+  // traced points among the k nearest (the 3x3 test's counterpart where this
+  // frame has no ray per pixel; a missed or depthless one among them, or
+  // none traced, cannot tell).
+  ray_cache_pixel_.resize(pixels);
+  executor.parallel_for(std::size_t(h), [&](std::size_t y) {
+    for (std::size_t x = 0; x < std::size_t(w); ++x) {
+      const std::size_t p = y * std::size_t(w) + x;
+      if (grid_pixel_[p] != 0) {
+        ray_cache_pixel_[p] = glm::vec2(1.0f, grid_depth_test ? around_farthest_m_[p] : NAN);
+        continue;
+      }
+      const std::size_t canvas = mapping.canvas_index(x, y, std::size_t(nt.width_px()));
+      const float footprint_px = disc_footprint_px(settings_.pixel_filter, points.radius_px[nt.neighbor(canvas, 0)]);
+      float farthest_new_m = -1.0f;
+      for (int j = 0; j < nt.k(); ++j) {
+        const std::uint32_t n = nt.neighbor(canvas, j);
+        if (colors_.rgba[n].a == 0.0f) continue;
+        const float d = point_farthest_m_[n];
+        farthest_new_m = std::isnan(d) ? INFINITY : std::max(farthest_new_m, d);
+      }
+      ray_cache_pixel_[p] = glm::vec2(std::max(footprint_px, 1.0f), farthest_new_m);
     }
   });
 }

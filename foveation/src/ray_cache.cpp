@@ -257,6 +257,23 @@ void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<flo
   kept_ = 0;
 }
 
+void farthest_around_3x3(const std::vector<float>& farthest_drawn_m, int width_px, int height_px, Executor& executor,
+                         std::vector<float>* out_m) {
+  const std::size_t width = std::size_t(width_px), height = std::size_t(height_px);
+  out_m->resize(width * height);
+  executor.parallel_for(height, [&](std::size_t y) {
+    for (std::size_t x = 0; x < width; ++x) {
+      float farthest_m = 0.0f;
+      for (std::size_t ny = y == 0 ? 0 : y - 1; ny <= std::min(height - 1, y + 1); ++ny)
+        for (std::size_t nx = x == 0 ? 0 : x - 1; nx <= std::min(width - 1, x + 1); ++nx) {
+          const float d = farthest_drawn_m[ny * width + nx];
+          farthest_m = std::max(farthest_m, d < 0.0f ? INFINITY : d);
+        }
+      (*out_m)[y * width + x] = farthest_m;
+    }
+  });
+}
+
 // The render cache's depth test (Walter et al. 1999): a kept hit farther
 // than every new ray this frame drew for the 3x3 pixels around its own, or a
 // kept miss where all of them hit, is hidden now and forgotten. One pixel's
@@ -276,19 +293,7 @@ void RayCache::forget_covered(Executor& executor) {
     float& farthest = new_depth_m_[std::size_t(pixel)];
     farthest = std::max(farthest, distance_m(i));
   }
-  // The farthest new ray over each pixel's 3x3 (+inf where one is unknown), once per pixel.
-  around_depth_m_.resize(width * height);
-  executor.parallel_for(height, [&](std::size_t y) {
-    for (std::size_t x = 0; x < width; ++x) {
-      float farthest_m = 0.0f;
-      for (std::size_t ny = y == 0 ? 0 : y - 1; ny <= std::min(height - 1, y + 1); ++ny)
-        for (std::size_t nx = x == 0 ? 0 : x - 1; nx <= std::min(width - 1, x + 1); ++nx) {
-          const float d = new_depth_m_[ny * width + nx];
-          farthest_m = std::max(farthest_m, d < 0.0f ? INFINITY : d);
-        }
-      around_depth_m_[y * width + x] = farthest_m;
-    }
-  });
+  farthest_around_3x3(new_depth_m_, width_px_, height_px_, executor, &around_depth_m_);
   executor.parallel_chunks(kept_, kChunkRays, [&](std::size_t first, std::size_t last, unsigned) {
     for (std::size_t i = first; i < last; ++i) {
       const glm::vec2 q = sample_px_[i];

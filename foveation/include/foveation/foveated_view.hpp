@@ -78,7 +78,8 @@ enum class TaaHistory : std::uint8_t {
   // image: each is anchored where it hit and filtered, with this frame's,
   // into the pixels around where it now lies: with the pixel filter over
   // this frame's pixel grid, widened to the nearest point's disc beyond it
-  // (the Poisson periphery). CPU only.
+  // (the Poisson periphery). On the CPU, or with reconstruct_on_cpu = false
+  // in a cache elsewhere (the layer's GPU path, shaders/cache_*.comp).
   ray_cache,
 };
 
@@ -142,6 +143,9 @@ struct FrameResult {
   // reconstruct_on_cpu = false: the view the history was rendered from when
   // this frame must reproject it (TaaHistory::reproject, the view moved, no reset).
   std::optional<FoveartEyeView> history_view;
+  // TaaHistory::ray_cache: the cache restarts this frame (a restart the cache
+  // is not kept through, a failed frame before it, or the first frame).
+  bool ray_cache_restart = false;
   GatherStats gather;
 
   bool ok() const { return failure == FrameFailure::none; }
@@ -161,6 +165,15 @@ class FoveatedView {
   const ImageRgb& image() const { return taa_output_ != nullptr ? *taa_output_ : gathered_; }
   // TaaHistory::ray_cache: the rays its render cache keeps after the last frame.
   std::size_t cached_rays() const { return ray_cache_.size(); }
+  // TaaHistory::ray_cache with reconstruct_on_cpu = false, what a render
+  // cache elsewhere (the layer's GPU path) takes from the last frame: its
+  // traced rays in runs, and per screen pixel (row-major) x, the footprint at
+  // which the cache filters there (1: the pixel filter itself; wider beyond
+  // the pixel grid, disc_footprint_px), and y, the distance beyond which a
+  // kept ray landing in the pixel is covered (kept_ray_covered; not finite
+  // or negative: this frame cannot tell).
+  const std::vector<std::vector<TracedRay>>& traced_rays() const { return chunk_rays_; }
+  const std::vector<glm::vec2>& ray_cache_pixels() const { return ray_cache_pixel_; }
   // The same frame before TAA: the reconstruction alone.
   const ImageRgb& reconstructed() const { return gathered_; }
   // The last frame's colour per point of the set (a = 1: traced) and the
@@ -184,6 +197,9 @@ class FoveatedView {
   // pixels into ray_cache_image_ (ray_cache_weight_ 0 where no ray reaches).
   void filter_through_ray_cache(const FoveartEyeView& view, const GazeMapping& mapping, bool restart,
                                 Executor& executor);
+  // TaaHistory::ray_cache: grid_pixel_ and ray_cache_pixel_ of this frame
+  // (with the pixel grid's depth test too when `grid_depth_test`: a cache elsewhere).
+  void prepare_ray_cache_pixels(const GazeMapping& mapping, bool grid_depth_test, Executor& executor);
 
   std::shared_ptr<const ViewTables> tables_;
   ViewSettings settings_;
@@ -200,22 +216,17 @@ class FoveatedView {
   ImageRgb gathered_;
   TemporalAccumulator taa_;
   RayCache ray_cache_;                     // TaaHistory::ray_cache
-  // Per chunk of the point set: its rays traced this frame (TaaHistory::ray_cache).
-  struct TracedRay {
-    glm::vec2 sample_px;
-    glm::vec3 rgb;
-    float depth_m;
-    glm::ivec2 pixel;  // a pixel-grid point's screen pixel, which it was drawn for; -1: a Poisson point's
-  };
   std::vector<float> point_farthest_m_;  // per point: farthest hit of its rays (NaN: one gave none)
   // This frame's pixels beyond its pixel grid, their filters' scale, and the cache's filter there.
   std::vector<std::uint32_t> periphery_pixels_;
   std::vector<glm::vec2> periphery_centre_px_;
   std::vector<float> periphery_footprint_px_, periphery_weight_;
   std::vector<glm::vec3> periphery_rgb_;
-  std::vector<std::vector<TracedRay>> chunk_rays_;
+  std::vector<std::vector<TracedRay>> chunk_rays_;  // per chunk of the point set: its rays traced this frame
   std::vector<std::size_t> chunk_first_ray_;   // chunk c's rays start at chunk_first_ray_[c] among the frame's
   std::vector<std::uint8_t> grid_pixel_;       // per screen pixel: a pixel-grid point's this frame (the cache's)
+  std::vector<glm::vec2> ray_cache_pixel_;     // per screen pixel: ray_cache_pixels()
+  std::vector<float> drawn_farthest_m_, around_farthest_m_;  // the pixel grid's depth test, for a cache elsewhere
   ImageRgb ray_cache_image_;
   std::vector<float> ray_cache_weight_;
   const ImageRgb* taa_output_ = nullptr;

@@ -22,6 +22,7 @@
 //     ->  resolve(out) or abandon_frame()
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -76,6 +77,24 @@ inline void bspline2_weights(float t_px, float out_weights[3]) {
 inline float disc_footprint_px(PixelFilter filter, float radius_px) {
   return filter == PixelFilter::box ? 1.7320508f * radius_px : radius_px;
 }
+
+// One ray a frame traced, as the render cache takes it (RayCache::set_ray).
+struct TracedRay {
+  glm::vec2 sample_px;
+  glm::vec3 rgb;
+  float depth_m;     // the engine's hit distance (+inf: a miss; NaN: none)
+  glm::ivec2 pixel;  // the pixel it was drawn for, which the depth test compares kept rays with; -1: none
+};
+
+// A new ray's distance from the eye for the depth test: its depth, or +inf
+// for a miss or no depth (a direction).
+inline float traced_distance_m(float depth_m) { return std::isfinite(depth_m) && depth_m >= 0.0f ? depth_m : INFINITY; }
+
+// The render cache's depth test's reach on the pixel grid (Walter et al.
+// 1999): from the farthest new ray drawn for each pixel (< 0: none), the
+// farthest over the 3x3 pixels around each (+inf: one of them has none).
+void farthest_around_3x3(const std::vector<float>& farthest_drawn_m, int width_px, int height_px, Executor& executor,
+                         std::vector<float>* out_m);
 
 struct RayCacheOptions {
   PixelFilter filter = PixelFilter::box;

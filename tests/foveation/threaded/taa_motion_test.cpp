@@ -322,12 +322,48 @@ TEST(TaaMotion, RayCacheRestartsOnASaccadeOrBlinkUnlessKeptThroughIt) {
 }
 
 // The cache runs on the CPU path: a view that leaves reconstruction to the GPU cannot have one.
-TEST(TaaMotion, RayCacheWithoutCpuReconstructionIsRefused) {
+// Without CPU reconstruction the view hands a render cache elsewhere (the
+// layer's GPU path) what the CPU's takes: every traced ray, once; per pixel
+// the footprint (1 on the pixel grid, its point's disc beyond) and the
+// covering distance of the depth test; and when to restart.
+TEST(TaaMotion, RayCacheWithoutCpuReconstructionHandsTheCacheItsRaysAndPixels) {
   ViewSettings s;
   s.taa = true;
+  s.new_jitter_each_frame = true;
   s.taa_history = TaaHistory::ray_cache;
+  s.pixel_filter = PixelFilter::bspline2;
   s.reconstruct_on_cpu = false;
-  EXPECT_THROW(FoveatedView(tables(), s), std::invalid_argument);
+  FoveatedView view(tables(), s);
+  Executor executor(2);
+  const Engine engine;
+  std::vector<bool> restarts;
+  for (int i = 0; i < 4; ++i) {
+    FrameRequest request;
+    request.view = view_at({0.01f * float(i), 1.6f, 0.0f}, 0.5f * float(i));
+    request.gaze_px = kGazePx;
+    request.frame_index = std::uint64_t(i + 1);
+    request.saccade = i == 2;
+    const FrameResult r = view.render(request, trace, const_cast<Engine*>(&engine), executor);
+    ASSERT_TRUE(r.ok()) << r.message;
+    restarts.push_back(r.ray_cache_restart);
+    std::size_t rays = 0;
+    for (const auto& run : view.traced_rays()) rays += run.size();
+    EXPECT_EQ(rays, r.rays) << "frame " << i;
+    const auto& pixels = view.ray_cache_pixels();
+    ASSERT_EQ(pixels.size(), std::size_t(kW) * kH);
+    std::size_t grid = 0, wider = 0, covering = 0;
+    for (const glm::vec2& p : pixels) {
+      grid += p.x == 1.0f;
+      wider += p.x > 1.0f;
+      covering += std::isfinite(p.y) && p.y > 0.0f;
+    }
+    EXPECT_GT(grid, 0u) << "the pixel grid filters at its pixels";
+    EXPECT_GT(wider, 0u) << "beyond it, pixels filter as widely as their points' discs";
+    EXPECT_EQ(grid + wider, pixels.size());
+    EXPECT_GT(covering, pixels.size() / 2) << "the engine's depth gives most pixels a depth test";
+    EXPECT_EQ(view.cached_rays(), 0u) << "the view keeps no rays itself";
+  }
+  EXPECT_EQ(restarts, (std::vector<bool>{true, false, true, false})) << "the first frame and the saccade restart";
 }
 
 }  // namespace
