@@ -10,6 +10,7 @@
 // A reset (decided on the CPU, one rule for both paths) copies the current frame.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "quat.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push {
@@ -45,8 +46,6 @@ vec4 catmull_rom_weights(float t) {
   const float t2 = t * t, t3 = t2 * t;
   return 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t, t3 - t2);
 }
-
-vec3 rotate(vec4 q, vec3 v) { return v + 2.0 * cross(q.xyz, cross(q.xyz, v) + q.w * v); }
 
 // The last output where this pixel's surface was; false when rejected.
 bool reprojected_history(ivec2 p, float depth, out vec3 history) {

@@ -48,7 +48,7 @@ struct LayerConfig {
   // What the TAA keeps (foveation::TaaHistory): "reproject" (an image,
   // reprojected), "ray_cache" (the traced rays in a render cache, restarting
   // where the image history would) or "ray_cache_kept" (its rays kept
-  // through saccades and blinks). The ray cache runs on the CPU path.
+  // through saccades and blinks). Both run on the CPU and the GPU path.
   std::string taa_history = "reproject";
   bool taa_mean_while_young = false;  // foveation::TaaOptions::mean_while_young
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"

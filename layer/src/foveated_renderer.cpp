@@ -335,12 +335,6 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
     log(LogLevel::Info, "foveated renderer: reconstruction on the CPU (config \"reconstruction\": \"cpu\")");
     return;
   }
-  if (settings.taa && settings.taa_history != "reproject") {  // the render cache has no shader yet
-    log(settings.reconstruction == "gpu" ? LogLevel::Warn : LogLevel::Info,
-        "foveated renderer: reconstruction on the CPU: config \"taa_history\": \"", settings.taa_history,
-        "\" runs on the CPU path only (config \"reconstruction\": \"", settings.reconstruction, "\")");
-    return;
-  }
   VkPhysicalDeviceProperties device{};
   vkGetPhysicalDeviceProperties(session->vk_physical_device, &device);
   if (settings.reconstruction == "auto" && device.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {

@@ -69,16 +69,6 @@ enum Binding : uint32_t {
 };
 constexpr uint32_t kQueries = 5;  // timestamps: start, scattered, gathered, accumulated, encoded
 
-// One global barrier between compute / transfer stages: the frame's passes are
-// whole-buffer producers and consumers, so a memory barrier says all there is.
-void barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
-             VkAccessFlags dst_access) {
-  auto b = vk_struct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);
-  b.srcAccessMask = src_access;
-  b.dstAccessMask = dst_access;
-  vkCmdPipelineBarrier(cb, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
-}
-
 constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 
@@ -126,6 +116,17 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
   f.view = request.view;
   f.history_view = result.history_view;
   f.srgb = srgb;
+  const foveation::ViewSettings& settings = view.settings();
+  if (settings.taa && settings.taa_history == foveation::TaaHistory::ray_cache) {
+    GpuRayCacheFrame c;
+    c.rays = &view.traced_rays();
+    c.pixels = &view.ray_cache_pixels();
+    c.restart = result.ray_cache_restart;
+    c.filter = settings.pixel_filter;
+    c.max_age_frames = settings.ray_cache_max_age_frames;
+    f.ray_cache = c;
+    f.history_view.reset();  // the cache reprojects its rays itself
+  }
   return f;
 }
 
@@ -182,22 +183,10 @@ std::unique_ptr<GpuReconstructor> GpuReconstructor::create(const GpuDevice& devi
                           {foveart_taa_spv, sizeof foveart_taa_spv, &g->taa_},
                           {foveart_encode_spv, sizeof foveart_encode_spv, &g->encode_}};
   for (const Stage& s : stages) {
-    auto module_info = vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
-    module_info.codeSize = s.bytes;
-    module_info.pCode = s.code;
-    VkShaderModule module = VK_NULL_HANDLE;
-    r = vkCreateShaderModule(dev, &module_info, nullptr, &module);
-    if (r != VK_SUCCESS) return *error = vk_error("vkCreateShaderModule", r), nullptr;
-    auto info = vk_struct<VkComputePipelineCreateInfo>(VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO);
-    info.stage = vk_struct<VkPipelineShaderStageCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO);
-    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-    info.stage.module = module;
-    info.stage.pName = "main";
-    info.layout = g->pipeline_layout_;
-    r = vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, s.pipeline);
-    vkDestroyShaderModule(dev, module, nullptr);
-    if (r != VK_SUCCESS) return *error = vk_error("vkCreateComputePipelines", r), nullptr;
+    if (!create_compute_pipeline(dev, g->pipeline_layout_, s.code, s.bytes, s.pipeline, error)) return nullptr;
   }
+  g->ray_cache_ = GpuRayCachePipelines::create(dev, error);
+  if (g->ray_cache_ == nullptr) return nullptr;
 
   auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -282,7 +271,7 @@ std::shared_ptr<GpuTables> GpuReconstructor::upload_tables(std::shared_ptr<const
           [&](VkCommandBuffer cb) {
             const VkBufferCopy copy{0, 0, bytes};
             vkCmdCopyBuffer(cb, staging, buffer, 1, &copy);
-            barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, VK_ACCESS_SHADER_READ_BIT);
+            memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, VK_ACCESS_SHADER_READ_BIT);
             return true;
           },
           error);
@@ -458,7 +447,7 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
     if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q);
   };
   // Last frame's passes read and wrote these buffers (an earlier submission).
-  barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
           kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
           kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   stamp(0);
@@ -466,14 +455,14 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   uint32_t unknown_bits = 0;
   std::memcpy(&unknown_bits, &kDepthUnknown, 4);
   vkCmdFillBuffer(cb, point_depth_.buffer, 0, VK_WHOLE_SIZE, unknown_bits);
-  barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
+  memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   if (uploaded > 0) {
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->scatter_);
     const ScatterPush push{uint32_t(uploaded), uint32_t(point_count)};
     vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
     vkCmdDispatch(cb, groups(uint32_t(uploaded), 64), 1, 1);
   }
-  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(1);
 
   GatherPush g{};
@@ -499,18 +488,26 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->gather_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof g, &g);
   vkCmdDispatch(cb, uint32_t(last_tile_x - g.first_tile[0] + 1), uint32_t(last_tile_y - g.first_tile[1] + 1), 1);
-  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(2);
 
+  if (frame.ray_cache) {  // the render cache writes its frame over the gather; the TAA pass then copies it
+    if (ray_cache_ == nullptr) {
+      ray_cache_ = std::make_unique<GpuRayCache>(*owner_->ray_cache_, owner_->memory_properties_, current_.buffer,
+                                                 width_px_, height_px_, owner_->max_chunk_bytes_);
+    }
+    if (!ray_cache_->record(cb, *frame.ray_cache, frame.view, executor, error)) return false;
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->pipeline_layout_, 0, 1, &set, 0, nullptr);
+  }
   TaaPush t{};
   t.size_px[0] = int32_t(width_px_);
   t.size_px[1] = int32_t(height_px_);
   t.current_weight = frame.taa.current_weight;
   t.variance_gamma = frame.taa.variance_gamma;
   t.constraint = frame.taa.constraint == foveation::TaaConstraint::variance_clip ? 1u : 0u;
-  t.reset = frame.taa_reset ? 1u : 0u;
+  t.reset = frame.taa_reset || frame.ray_cache ? 1u : 0u;
   t.clip_floor = frame.taa.clip_floor;
-  if (frame.history_view && !frame.taa_reset) {
+  if (frame.history_view && !frame.taa_reset && !frame.ray_cache) {
     // foveation::reproject_history's world-space step, folded into one rigid
     // transform from this view's space to the last view's.
     const foveation::EyePose now = foveation::eye_pose(frame.view), last = foveation::eye_pose(*frame.history_view);
@@ -529,14 +526,14 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->taa_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof t, &t);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
-  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(3);
 
   const EncodePush e{{int32_t(width_px_), int32_t(height_px_)}, frame.srgb ? 1u : 0u};
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->encode_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof e, &e);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
-  barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   if (image != VK_NULL_HANDLE) record_copy_to_swapchain_image(cb, encoded_.buffer, image, width_px_, height_px_);
   stamp(4);
   parity_ ^= 1;  // this frame's output is the next frame's history
@@ -568,11 +565,11 @@ bool GpuEye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
   }
   const bool ok = owner_->submit_and_wait(
       [&](VkCommandBuffer cb) {
-        barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+        memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
         const VkBufferCopy copy{0, 0, bytes};
         vkCmdCopyBuffer(cb, encoded_.buffer, readback_.buffer, 1, &copy);
-        barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+        memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                 VK_ACCESS_HOST_READ_BIT);
         return true;
       },

@@ -26,6 +26,7 @@
 
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
+#include "gpu_ray_cache.hpp"
 #include "gpu_tables.hpp"
 
 namespace foveart::layer {
@@ -78,6 +79,9 @@ struct GpuFrame {
   std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (FrameResult::history_view)
   foveation::TaaOptions taa;  // current_weight: this frame's blend weight (FoveatedView::taa_frame_weight)
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
+  // Set: the view's history is a render cache (TaaHistory::ray_cache), which
+  // replaces the image TAA: this frame's rays and pixels for it.
+  std::optional<GpuRayCacheFrame> ray_cache;
 
   // The frame `view` just traced for `request` (render() with
   // reconstruct_on_cpu = false returned `result`), on `tables`: colours,
@@ -88,6 +92,7 @@ struct GpuFrame {
 
 // GPU time of each stage of the last frame (timestamps), milliseconds.
 struct GpuStageTimes {
+  // taa_ms: the image TAA, or the render cache with its copy into the output.
   float scatter_ms = 0, gather_ms = 0, taa_ms = 0, encode_ms = 0;  // encode includes the copy into the image
   float total_ms() const { return scatter_ms + gather_ms + taa_ms + encode_ms; }
 };
@@ -100,7 +105,7 @@ class GpuEye {
   GpuEye& operator=(const GpuEye&) = delete;
 
   // Writes the traced colours into the upload buffer and records the frame
-  // into `cb`: scatter, gather, TAA, encode, and (image != null) the copy
+  // into `cb`: scatter, gather, TAA (or the render cache), encode, and (image != null) the copy
   // into `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
   bool record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
               std::string* error);
@@ -108,6 +113,9 @@ class GpuEye {
   bool stage_times(GpuStageTimes* out) const;
   // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
   bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
+
+  // The render cache's rays kept after the last finished submission (0: no cache).
+  std::size_t cached_rays() const { return ray_cache_ != nullptr ? ray_cache_->kept_rays() : 0; }
 
   uint32_t width_px() const { return width_px_; }
   uint32_t height_px() const { return height_px_; }
@@ -136,6 +144,7 @@ class GpuEye {
   int parity_ = 0;                                              // which set the last frame used
   VkQueryPool queries_ = VK_NULL_HANDLE;
   bool recorded_ = false;
+  std::unique_ptr<GpuRayCache> ray_cache_;  // made by the first frame with one
 };
 
 class GpuReconstructor {
@@ -175,6 +184,7 @@ class GpuReconstructor {
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
   VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, taa_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
+  std::unique_ptr<GpuRayCachePipelines> ray_cache_;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

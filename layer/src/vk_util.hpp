@@ -2,6 +2,8 @@
 // sType set, and the message for a failed call.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include <vulkan/vulkan.h>
@@ -25,5 +27,14 @@ inline std::string vk_error(const char* what, VkResult r) {
 bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
                          VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted, VkBuffer* buffer,
                          VkDeviceMemory* memory, void** mapped, std::string* error);
+
+// One global memory barrier: the GPU frame's passes are whole-buffer
+// producers and consumers, so a memory barrier says all there is.
+void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
+                    VkAccessFlags dst_access);
+
+// A compute pipeline of SPIR-V `code` (`bytes` long, entry point "main") in `layout`; false with *error.
+bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
+                             VkPipeline* pipeline, std::string* error);
 
 }  // namespace foveart::layer

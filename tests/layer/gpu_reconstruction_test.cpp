@@ -125,13 +125,17 @@ class GpuReconstruction : public ::testing::Test {
   Difference run(InterpMethod method, int k, bool taa, int frames, RequestFn request_of,
                  std::size_t max_chunk_bytes = 0, std::vector<std::vector<uint8_t>>* gpu_frames = nullptr,
                  uint64_t* invalid_paths = nullptr, FoveartTraceRaysFn trace = scene, void* user = nullptr,
-                 uint64_t* reprojected_frames = nullptr) {
+                 uint64_t* reprojected_frames = nullptr, std::vector<std::size_t>* cached_rays = nullptr,
+                 std::vector<std::size_t>* gpu_cached_rays = nullptr) {
     const auto tables = small_tables(method, k);
     foveation::ViewSettings settings;
     settings.rays_per_point = rays_per_point_;
     settings.taa = taa;
     settings.new_jitter_each_frame = taa;
     settings.taa_options.mean_while_young = mean_while_young_;
+    settings.taa_history = taa_history_;
+    settings.ray_cache_keeps_through_saccades = keeps_through_saccades_;
+    settings.pixel_filter = pixel_filter_;
     foveation::FoveatedView cpu_view(tables, settings);
     settings.reconstruct_on_cpu = false;
     foveation::FoveatedView gpu_view(tables, settings);
@@ -148,6 +152,7 @@ class GpuReconstruction : public ::testing::Test {
       const auto cpu = cpu_view.render(req, trace, user, executor);
       const auto gpu = gpu_view.render(req, trace, user, executor);
       if (reprojected_frames != nullptr) *reprojected_frames += gpu.history_view.has_value() ? 1 : 0;
+      if (cached_rays != nullptr) cached_rays->push_back(cpu_view.cached_rays());
       EXPECT_TRUE(cpu.ok() && gpu.ok());
       EXPECT_EQ(cpu.taa_reset, gpu.taa_reset) << "frame " << i;
       if (invalid_paths != nullptr) *invalid_paths += cpu.gather.renormalized + cpu.gather.nearest_valid + cpu.gather.fallback;
@@ -160,6 +165,7 @@ class GpuReconstruction : public ::testing::Test {
           << error;
       GpuStageTimes times;
       EXPECT_TRUE(gpu_eye->stage_times(&times));  // lavapipe has timestamps
+      if (gpu_cached_rays != nullptr) gpu_cached_rays->push_back(gpu_eye->cached_rays());
       std::vector<uint8_t> actual;
       EXPECT_TRUE(gpu_eye->read_rgba8(&actual, &error)) << error;
       EXPECT_EQ(actual.size(), expected.size());
@@ -175,6 +181,9 @@ class GpuReconstruction : public ::testing::Test {
   std::unique_ptr<GpuReconstructor> gpu_;
   int rays_per_point_ = 1;  // for run()'s views
   bool mean_while_young_ = false;  // for run()'s views: TaaOptions::mean_while_young
+  foveation::TaaHistory taa_history_ = foveation::TaaHistory::reproject;  // for run()'s views
+  bool keeps_through_saccades_ = false;
+  foveation::PixelFilter pixel_filter_ = foveation::PixelFilter::box;
 };
 std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkan_;
 
@@ -273,6 +282,47 @@ TEST_P(GpuMatchesCpu, TaaReprojectsAMovingHeadLikeTheCpu) {
         0, nullptr, nullptr, analytic, &bar_and_wall, &reprojected);
     EXPECT_EQ(reprojected, 15u) << "every frame after the first reprojects";
     EXPECT_LE(d.max_step, 1) << "eye " << eye << ": " << d.bytes_differing << " bytes differ";
+  }
+}
+
+// The render cache (TaaHistory::ray_cache) on the GPU against the CPU's,
+// while the head turns and steps in front of a near bar and a far wall and
+// a saccade moves the gaze (frame 9: a restart, unless kept through): the same
+// rays kept every frame, the same frames within one 8-bit step, with both
+// pixel filters, the pixel grid and the Poisson periphery beyond it.
+TEST_P(GpuMatchesCpu, RayCacheKeepsAndFiltersTheRaysLikeTheCpu) {
+  const Case c = GetParam();
+  foveation::test::AnalyticScene bar_and_wall;
+  taa_history_ = foveation::TaaHistory::ray_cache;
+  for (const auto filter : {foveation::PixelFilter::box, foveation::PixelFilter::bspline2}) {
+    for (const bool kept_through : {false, true}) {
+      pixel_filter_ = filter;
+      keeps_through_saccades_ = kept_through;
+      std::vector<std::size_t> cpu_rays, gpu_rays;
+      const Difference d = run(
+          c.method, c.k, true, 12,
+          [&](int i) {
+            foveation::EyePose pose;
+            pose.position_m = {0.01f * float(i), 1.6f, 0.0f};
+            pose.orientation = glm::angleAxis(glm::radians(-0.4f * float(i)), glm::vec3(0, 1, 0));
+            foveation::FrameRequest r;
+            r.view = foveation::make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
+            r.frame_index = uint64_t(i + 1);
+            r.gaze_px = i < 9 ? glm::vec2(48, 40) : glm::vec2(30, 50);
+            r.saccade = i == 9;
+            return r;
+          },
+          0, nullptr, nullptr, analytic, &bar_and_wall, nullptr, &cpu_rays, &gpu_rays);
+      const std::string what = std::string(filter == foveation::PixelFilter::box ? "box" : "bspline2") +
+                               (kept_through ? ", kept through the saccade" : "");
+      EXPECT_LE(d.max_step, 1) << what << ": " << d.bytes_differing << " bytes differ";
+      EXPECT_EQ(gpu_rays, cpu_rays) << what;
+      ASSERT_EQ(cpu_rays.size(), 12u);
+      EXPECT_GT(cpu_rays[7], 3 * cpu_rays[0]) << what << ": the cache grows over the frames";
+      if (!kept_through) {
+        EXPECT_LT(cpu_rays[9], cpu_rays[8]) << what << ": the saccade restarts it";
+      }
+    }
   }
 }
 

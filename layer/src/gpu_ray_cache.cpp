@@ -1,0 +1,326 @@
+#include "gpu_ray_cache.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "foveation/eye_rays.hpp"
+
+#include "shaders/cache_bin.spv.h"
+#include "shaders/cache_filter.spv.h"
+#include "shaders/cache_rays.spv.h"
+#include "shaders/cache_scan.spv.h"
+#include "vk_util.hpp"
+
+namespace foveart::layer {
+namespace {
+
+// Push constants, laid out as shaders/ray_cache.glsl declares them (std430).
+struct CachePush {
+  float orientation[4];  // x y z w
+  float position_m[4];
+  float tan_lrud[4];
+  int32_t size_px[2];
+  int32_t cells_xy[2];
+  uint32_t kept;
+  uint32_t added;
+  uint32_t filter_kind;
+  uint32_t max_age;
+  uint32_t scan_phase;
+  uint32_t cell_count;
+  uint32_t capacity;
+};
+static_assert(sizeof(CachePush) == 92, "shaders/ray_cache.glsl push constants");
+
+// Buffers as ray_cache.glsl binds them, and their element sizes.
+enum Binding : uint32_t { kCurrent = 0, kAnchorsIn, kAnchorsOut, kNewRays, kRayFrame, kCells, kByCell, kPixels, kCounter, kBindings };
+constexpr VkDeviceSize kAnchorBytes = 32, kNewRayBytes = 32, kRayFrameBytes = 16, kCellRayBytes = 24;
+constexpr uint32_t kCellPx = 2;        // ray_cache.glsl CELL_PX
+constexpr uint32_t kScanBlock = 1024;  // ray_cache.glsl SCAN_BLOCK
+constexpr uint32_t kGroupSize = 256;   // cache_rays / cache_scan / cache_bin
+constexpr uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0]; the shaders loop beyond
+
+constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+
+uint32_t groups_for(std::size_t n) {
+  return uint32_t(std::clamp<std::size_t>((n + kGroupSize - 1) / kGroupSize, 1, kMaxGroups));
+}
+
+// Depth as the shaders carry it (shaders/common.glsl): no NaN or infinity.
+float shader_depth(float depth_m) {
+  if (std::isnan(depth_m) || depth_m < 0.0f) return -1.0f;
+  return std::isinf(depth_m) ? 3.0e38f : std::min(depth_m, 3.0e38f);
+}
+
+}  // namespace
+
+// ---- GpuRayCachePipelines -----------------------------------------------------
+
+std::unique_ptr<GpuRayCachePipelines> GpuRayCachePipelines::create(VkDevice device, std::string* error) {
+  std::unique_ptr<GpuRayCachePipelines> p(new GpuRayCachePipelines());
+  p->device_ = device;
+  VkDescriptorSetLayoutBinding bindings[kBindings]{};
+  for (uint32_t b = 0; b < kBindings; ++b) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = 1;
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  set_info.bindingCount = kBindings;
+  set_info.pBindings = bindings;
+  VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, &p->set_layout_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorSetLayout (render cache)", r), nullptr;
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(CachePush)};
+  auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = &p->set_layout_;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  r = vkCreatePipelineLayout(device, &layout_info, nullptr, &p->layout_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreatePipelineLayout (render cache)", r), nullptr;
+  const bool ok =
+      create_compute_pipeline(device, p->layout_, foveart_cache_rays_spv, sizeof foveart_cache_rays_spv, &p->rays_,
+                              error) &&
+      create_compute_pipeline(device, p->layout_, foveart_cache_scan_spv, sizeof foveart_cache_scan_spv, &p->scan_,
+                              error) &&
+      create_compute_pipeline(device, p->layout_, foveart_cache_bin_spv, sizeof foveart_cache_bin_spv, &p->bin_,
+                              error) &&
+      create_compute_pipeline(device, p->layout_, foveart_cache_filter_spv, sizeof foveart_cache_filter_spv,
+                              &p->filter_, error);
+  if (!ok) return nullptr;
+  return p;
+}
+
+GpuRayCachePipelines::~GpuRayCachePipelines() {
+  for (VkPipeline p : {rays_, scan_, bin_, filter_})
+    if (p != VK_NULL_HANDLE) vkDestroyPipeline(device_, p, nullptr);
+  if (layout_ != VK_NULL_HANDLE) vkDestroyPipelineLayout(device_, layout_, nullptr);
+  if (set_layout_ != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+}
+
+// ---- GpuRayCache --------------------------------------------------------------
+
+GpuRayCache::GpuRayCache(const GpuRayCachePipelines& pipelines,
+                         const VkPhysicalDeviceMemoryProperties& memory_properties, VkBuffer current,
+                         std::uint32_t width_px, std::uint32_t height_px, VkDeviceSize max_buffer_bytes)
+    : pipelines_(pipelines),
+      memory_properties_(memory_properties),
+      max_buffer_bytes_(max_buffer_bytes),
+      current_(current),
+      width_px_(width_px),
+      height_px_(height_px),
+      // foveation RayCache::filter_at's grid: one cell before the image, so it holds every ray within reach.
+      cells_x_((width_px + 2 * kCellPx - 1) / kCellPx + 1),
+      cells_y_((height_px + 2 * kCellPx - 1) / kCellPx + 1) {}
+
+GpuRayCache::~GpuRayCache() {
+  VkDevice device = pipelines_.device_;
+  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, pool_, nullptr);
+  for (Buffer* b : {&anchors_[0], &anchors_[1], &new_rays_, &ray_frame_, &cells_, &by_cell_, &pixels_, &counter_})
+    destroy(*b);
+  for (Buffer& b : retired_) destroy(b);
+}
+
+bool GpuRayCache::make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error) {
+  b.size = std::max<VkDeviceSize>(size, 16);
+  const VkMemoryPropertyFlags wanted = host_visible
+                                           ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
+                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  const VkBufferUsageFlags usage =
+      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  return create_bound_buffer(pipelines_.device_, memory_properties_, b.size, usage, wanted, &b.buffer, &b.memory,
+                             host_visible ? &b.mapped : nullptr, error);
+}
+
+void GpuRayCache::destroy(Buffer& b) {
+  VkDevice device = pipelines_.device_;
+  if (b.mapped != nullptr) vkUnmapMemory(device, b.memory);
+  if (b.buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, b.buffer, nullptr);
+  if (b.memory != VK_NULL_HANDLE) vkFreeMemory(device, b.memory, nullptr);
+  b = Buffer{};
+}
+
+std::size_t GpuRayCache::kept_rays() const {
+  if (!recorded_ || counter_.mapped == nullptr) return 0;
+  std::uint32_t kept = 0;
+  std::memcpy(&kept, counter_.mapped, sizeof kept);
+  return std::min<std::size_t>(kept, capacity_);
+}
+
+bool GpuRayCache::update_descriptors(std::string* error) {
+  VkDevice device = pipelines_.device_;
+  if (pool_ == VK_NULL_HANDLE) {
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * kBindings};
+    auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+    pool_info.maxSets = 2;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &size;
+    VkResult r = vkCreateDescriptorPool(device, &pool_info, nullptr, &pool_);
+    if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool (render cache)", r), false;
+    const VkDescriptorSetLayout layouts[2] = {pipelines_.set_layout_, pipelines_.set_layout_};
+    auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+    alloc.descriptorPool = pool_;
+    alloc.descriptorSetCount = 2;
+    alloc.pSetLayouts = layouts;
+    r = vkAllocateDescriptorSets(device, &alloc, sets_);
+    if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets (render cache)", r), false;
+  }
+  for (int s = 0; s < 2; ++s) {
+    const VkDescriptorBufferInfo info[kBindings] = {
+        {current_, 0, VK_WHOLE_SIZE},               {anchors_[s].buffer, 0, VK_WHOLE_SIZE},
+        {anchors_[1 - s].buffer, 0, VK_WHOLE_SIZE}, {new_rays_.buffer, 0, VK_WHOLE_SIZE},
+        {ray_frame_.buffer, 0, VK_WHOLE_SIZE},      {cells_.buffer, 0, VK_WHOLE_SIZE},
+        {by_cell_.buffer, 0, VK_WHOLE_SIZE},        {pixels_.buffer, 0, VK_WHOLE_SIZE},
+        {counter_.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet writes[kBindings];
+    for (uint32_t b = 0; b < kBindings; ++b) {
+      writes[b] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+      writes[b].dstSet = sets_[s];
+      writes[b].dstBinding = b;
+      writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      writes[b].descriptorCount = 1;
+      writes[b].pBufferInfo = &info[b];
+    }
+    vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
+  }
+  return true;
+}
+
+bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error) {
+  for (Buffer& b : retired_) destroy(b);  // the last submission, which used them, has finished
+  retired_.clear();
+  bool changed = false;
+  if (cells_.buffer == VK_NULL_HANDLE) {  // per eye: sized by the image
+    const VkDeviceSize cell_count = VkDeviceSize{cells_x_} * cells_y_;
+    const VkDeviceSize blocks = (cell_count + kScanBlock - 1) / kScanBlock;
+    if (!make(cells_, (cell_count + 1 + blocks) * 4, false, error) ||
+        !make(pixels_, VkDeviceSize{width_px_} * height_px_ * 8, true, error) || !make(counter_, 4, true, error)) {
+      return false;
+    }
+    changed = true;
+  }
+  // Grown by half again when short, so that a few frames settle the size.
+  auto grown = [](std::size_t n) { return (n + n / 2 + 0xFFFF) & ~std::size_t{0xFFFF}; };
+  if (added > new_capacity_) {
+    destroy(new_rays_);
+    new_capacity_ = 0;
+    const std::size_t n = grown(added);
+    if (!make(new_rays_, VkDeviceSize{n} * kNewRayBytes, true, error)) return false;
+    new_capacity_ = n;
+    changed = true;
+  }
+  if (kept + added > capacity_) {
+    const std::size_t n = grown(kept + added);
+    if (VkDeviceSize{n} * kAnchorBytes > max_buffer_bytes_) {
+      return *error = "GPU render cache: " + std::to_string(n) + " rays need " + std::to_string(n * kAnchorBytes) +
+                      " bytes in one buffer, more than the device's maxStorageBufferRange (" +
+                      std::to_string(max_buffer_bytes_) + ")",
+             false;
+    }
+    Buffer anchors[2], ray_frame, by_cell;
+    const bool made = make(anchors[0], n * kAnchorBytes, false, error) &&
+                      make(anchors[1], n * kAnchorBytes, false, error) &&
+                      make(ray_frame, n * kRayFrameBytes, false, error) && make(by_cell, n * kCellRayBytes, false, error);
+    if (!made) {
+      for (Buffer* b : {&anchors[0], &anchors[1], &ray_frame, &by_cell}) destroy(*b);
+      return false;
+    }
+    if (kept > 0) {  // the kept rays move into the larger buffer (the fills' barrier in record orders the copy)
+      const VkBufferCopy copy{0, 0, VkDeviceSize{kept} * kAnchorBytes};
+      vkCmdCopyBuffer(cb, anchors_[parity_].buffer, anchors[parity_].buffer, 1, &copy);
+    }
+    for (Buffer* b : {&anchors_[0], &anchors_[1], &ray_frame_, &by_cell_}) {
+      if (b->buffer != VK_NULL_HANDLE) retired_.push_back(*b);
+    }
+    anchors_[0] = anchors[0];
+    anchors_[1] = anchors[1];
+    ray_frame_ = ray_frame;
+    by_cell_ = by_cell;
+    capacity_ = n;
+    changed = true;
+  }
+  return !changed || update_descriptors(error);
+}
+
+bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, const FoveartEyeView& view,
+                         foveation::Executor& executor, std::string* error) {
+  const std::size_t pixels = std::size_t(width_px_) * height_px_;
+  if (frame.rays == nullptr || frame.pixels == nullptr || frame.pixels->size() != pixels) {
+    return *error = "GPU render cache: the frame's rays or pixels do not match the eye", false;
+  }
+  std::vector<std::size_t> first(frame.rays->size() + 1, 0);
+  for (std::size_t c = 0; c < frame.rays->size(); ++c) first[c + 1] = first[c] + (*frame.rays)[c].size();
+  const std::size_t added = first.back();
+  // The kept rays: the last frame's, read back (its submission has finished), none on a restart.
+  const std::size_t kept = frame.restart ? 0 : kept_rays();
+  if (!ensure_capacity(cb, kept, added, error)) return false;
+
+  // This frame's rays and pixels into the upload buffers.
+  auto* rays = static_cast<float*>(new_rays_.mapped);
+  executor.parallel_for(frame.rays->size(), [&](std::size_t c) {
+    float* out = rays + first[c] * 8;
+    for (const foveation::TracedRay& r : (*frame.rays)[c]) {
+      const float v[8] = {r.sample_px.x, r.sample_px.y, shader_depth(r.depth_m), 0.0f, r.rgb.x, r.rgb.y, r.rgb.z, 0.0f};
+      std::memcpy(out, v, sizeof v);
+      out += 8;
+    }
+  });
+  auto* pixel_out = static_cast<float*>(pixels_.mapped);
+  executor.parallel_chunks(pixels, 16384, [&](std::size_t begin, std::size_t end, unsigned) {
+    for (std::size_t p = begin; p < end; ++p) {
+      const glm::vec2 v = (*frame.pixels)[p];
+      pixel_out[2 * p] = v.x;
+      pixel_out[2 * p + 1] = std::isfinite(v.y) && v.y >= 0.0f ? v.y : -1.0f;  // < 0: cannot tell
+    }
+  });
+
+  CachePush push{};
+  const foveation::EyePose pose = foveation::eye_pose(view);
+  const foveation::EyeFrustum frustum = foveation::eye_frustum(view);
+  const float q[4] = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w};
+  const float position[4] = {pose.position_m.x, pose.position_m.y, pose.position_m.z, 0.0f};
+  const float tan_lrud[4] = {frustum.tan_left, frustum.tan_right, frustum.tan_up, frustum.tan_down};
+  std::memcpy(push.orientation, q, sizeof q);
+  std::memcpy(push.position_m, position, sizeof position);
+  std::memcpy(push.tan_lrud, tan_lrud, sizeof tan_lrud);
+  push.size_px[0] = int32_t(width_px_);
+  push.size_px[1] = int32_t(height_px_);
+  push.cells_xy[0] = int32_t(cells_x_);
+  push.cells_xy[1] = int32_t(cells_y_);
+  push.kept = uint32_t(kept);
+  push.added = uint32_t(added);
+  push.filter_kind = frame.filter == foveation::PixelFilter::box ? 0u : 1u;
+  push.max_age = frame.max_age_frames;
+  push.cell_count = cells_x_ * cells_y_;
+  push.capacity = uint32_t(capacity_);
+  const std::size_t rays_this_frame = kept + added;
+  const uint32_t blocks = (push.cell_count + kScanBlock - 1) / kScanBlock;
+
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.layout_, 0, 1, &sets_[parity_], 0, nullptr);
+  auto dispatch = [&](VkPipeline pipeline, uint32_t phase, uint32_t x, uint32_t y) {
+    push.scan_phase = phase;
+    vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdPushConstants(cb, pipelines_.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdDispatch(cb, x, y, 1);
+    memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  };
+  // Every cell empty, nothing kept yet; the earlier frame's passes read and wrote these buffers.
+  vkCmdFillBuffer(cb, cells_.buffer, 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cb, counter_.buffer, 0, VK_WHOLE_SIZE, 0u);
+  memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
+  dispatch(pipelines_.rays_, 0, groups_for(rays_this_frame), 1);
+  dispatch(pipelines_.scan_, 0, blocks, 1);
+  dispatch(pipelines_.scan_, 1, 1, 1);
+  dispatch(pipelines_.scan_, 2, groups_for(push.cell_count), 1);
+  dispatch(pipelines_.bin_, 0, groups_for(rays_this_frame), 1);
+  dispatch(pipelines_.filter_, 0, (width_px_ + 7) / 8, (height_px_ + 7) / 8);
+  // The kept count, for the next frame's record.
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+  parity_ ^= 1;  // the kept rays are in the other buffer now
+  recorded_ = true;
+  return true;
+}
+
+}  // namespace foveart::layer

@@ -1,0 +1,118 @@
+// The render cache on the GPU (docs/gpu.md "The render cache"): the twin of
+// foveation::RayCache as FoveatedView runs it. Its own descriptor set; the
+// host side is layer/src/gpu_ray_cache.*. A frame:
+//   cache_rays   every kept ray projected into this view and depth-tested,
+//                every new ray anchored; each within reach counted into its
+//                cell of a 2-px grid (its slot there from the atomic count)
+//   cache_scan   the counts become where each cell's rays begin
+//   cache_bin    each ray into its cell's place; the ones to keep appended
+//                to the other anchor buffer, one frame older
+//   cache_filter each pixel: sum(w L) / sum(w) over the rays within its
+//                filter, widened to its footprint; the gather where none is
+// Sums run in whatever order the atomics gave: results agree with the CPU
+// within float rounding, not bit for bit.
+#ifndef FOVEART_RAY_CACHE_GLSL
+#define FOVEART_RAY_CACHE_GLSL
+
+#extension GL_GOOGLE_include_directive : require
+#include "quat.glsl"
+
+#define CELL_PX 2.0                       // foveation ray_cache.cpp kCellPx
+#define KEPT_RAY_OCCLUSION_TOLERANCE 0.05  // foveation::kKeptRayOcclusionTolerance
+#define DEPTH_FAR 1.0e30                   // shaders/common.glsl: the sky
+#define SCAN_BLOCK 1024u                   // cells per workgroup of cache_scan (256 threads x 4)
+
+// A kept ray: where it hit (w = 0) or its direction (w = 1: a miss or no
+// depth), its colour and its age in frames (w).
+struct Anchor {
+  vec4 point_m_or_direction;
+  vec4 rgb_age;
+};
+// A new ray as uploaded: where it crossed the screen, its depth (as
+// common.glsl carries depth: < 0 none, >= DEPTH_FAR the sky), its colour.
+struct NewRay {
+  vec4 sample_px_depth;
+  vec4 rgb;
+};
+// A ray this frame: where it lands, its cell (-1: beyond reach or covered) and its slot there.
+struct RayFrame {
+  vec2 sample_px;
+  int cell;
+  uint slot;
+};
+struct CellRay {
+  vec2 sample_px;
+  vec2 rg;
+  float b;
+  float unused;
+};
+
+// The gather of this frame (rgb, depth); cache_filter writes the frame into it.
+layout(set = 0, binding = 0, std430) buffer Current { vec4 current[]; };
+layout(set = 0, binding = 1, std430) buffer AnchorsIn { Anchor anchors_in[]; };  // kept, then this frame's new ones
+layout(set = 0, binding = 2, std430) writeonly buffer AnchorsOut { Anchor anchors_out[]; };
+layout(set = 0, binding = 3, std430) readonly buffer NewRays { NewRay new_rays[]; };
+layout(set = 0, binding = 4, std430) buffer Rays { RayFrame ray_frame[]; };
+// Per cell its count, then where its rays begin; [cell_count] the total;
+// from [cell_count + 1] cache_scan's block sums.
+layout(set = 0, binding = 5, std430) coherent buffer Cells { uint cells[]; };
+layout(set = 0, binding = 6, std430) buffer ByCell { CellRay by_cell[]; };
+// Per screen pixel: x its filter's footprint (1: the pixel filter), y the
+// distance beyond which a kept ray there is covered (< 0: cannot tell).
+layout(set = 0, binding = 7, std430) readonly buffer Pixels { vec2 pixels[]; };
+layout(set = 0, binding = 8, std430) buffer Counter { uint kept_out; };
+
+layout(push_constant) uniform Push {
+  vec4 orientation;  // the eye's, x y z w
+  vec4 position_m;   // the eye's, xyz
+  vec4 tan_lrud;     // tan(left, right, up, down)
+  ivec2 size_px;
+  ivec2 cells_xy;
+  uint kept;         // rays in anchors_in from earlier frames
+  uint added;        // this frame's new rays, after them
+  uint filter_kind;  // 0 box, 1 bspline2
+  uint max_age;      // frames a ray is kept (0: no limit)
+  uint scan_phase;   // cache_scan: 0 blocks, 1 the block sums, 2 add them
+  uint cell_count;
+  uint capacity;     // anchors either buffer holds
+};
+
+// foveation::eye_ray_direction: the unit tracking-space direction through a screen position.
+vec3 eye_ray_direction(vec2 sample_px) {
+  const vec2 s = sample_px / vec2(size_px);
+  const vec3 v = vec3(tan_lrud.x + s.x * (tan_lrud.y - tan_lrud.x), tan_lrud.z + s.y * (tan_lrud.w - tan_lrud.z), -1.0);
+  return normalize(rotate(orientation, v));
+}
+
+// foveation::project_direction: where a direction crosses the screen; false at or behind the eye plane.
+bool project_direction(vec3 direction, out vec2 sample_px) {
+  const vec3 d = rotate(conjugate(orientation), direction);
+  sample_px = vec2(0.0);
+  if (!(d.z < 0.0)) return false;
+  const vec2 t = d.xy / -d.z;
+  sample_px = vec2((t.x - tan_lrud.x) / (tan_lrud.y - tan_lrud.x) * float(size_px.x),
+                   (t.y - tan_lrud.z) / (tan_lrud.w - tan_lrud.z) * float(size_px.y));
+  return true;
+}
+
+// foveation::RayCache::row_within_reach: within the filter's reach of the image.
+bool within_reach(vec2 q) {
+  const float r = filter_kind == 0u ? 0.0 : 1.0;
+  return q.x >= -r && q.x < float(size_px.x) + r && q.y >= -r && q.y < float(size_px.y) + r;
+}
+
+// foveation::pixel_filter_weight, per axis.
+float pixel_filter_weight(float offset_px) {
+  if (filter_kind == 0u) return offset_px >= -0.5 && offset_px < 0.5 ? 1.0 : 0.0;
+  const float u = abs(offset_px);
+  if (u < 0.5) return 0.75 - u * u;
+  if (u < 1.5) return 0.5 * (1.5 - u) * (1.5 - u);
+  return 0.0;
+}
+
+// The per-ray and per-cell passes' workgroup size, and their grid-stride
+// loops: a dispatch of at most 65535 workgroups covers any count.
+#define GROUP_SIZE 256
+uint stride() { return gl_NumWorkGroups.x * uint(GROUP_SIZE); }
+
+#endif
