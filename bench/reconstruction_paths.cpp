@@ -4,8 +4,12 @@
 // shaders (layer/src/gpu_reconstruction) on a Vulkan device: a discrete or
 // integrated GPU when there is one, else lavapipe (a CPU: there the ratio is
 // what matters, not the absolute time). Median over --frames frames after one
-// warm-up; GPU time from timestamps, CPU time from the wall clock.
+// warm-up; GPU time from timestamps, CPU time from the wall clock. --history
+// picks the TAA's history: the reprojected image (default) or the render
+// cache (the CPU's foveation::RayCache against shaders/cache_*.comp), which
+// on a still view holds its age limit's frames of rays.
 //   reconstruction_paths [--size W H] [--k 5 20] [--frames N] [--methods nn,msm,rbf] [--scale S]
+//                        [--history reproject|cache] [--pixel-filter box|bspline2]
 // Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).
 #include <algorithm>
 #include <chrono>
@@ -51,10 +55,12 @@ int main(int argc, char** argv) {
   std::string method_list = "nn,msm,rbf";
   int frames = 20;
   double scale = 1.0;
-  // --size W H | --k K... | --frames N | --methods LIST | --scale S
+  fv::TaaHistory history = fv::TaaHistory::reproject;
+  fv::PixelFilter pixel_filter = fv::PixelFilter::box;
+  // --size W H | --k K... | --frames N | --methods LIST | --scale S | --history H | --pixel-filter F
   auto usage = [] {
     std::fprintf(stderr, "usage: reconstruction_paths [--size W H] [--k K...] [--frames N] [--methods nn,msm,rbf] "
-                         "[--scale S]\n");
+                         "[--scale S] [--history reproject|cache] [--pixel-filter box|bspline2]\n");
     return 2;
   };
   for (int i = 1; i < argc; ++i) {
@@ -88,6 +94,14 @@ int main(int argc, char** argv) {
       if (!number(0.25, 16.0, &scale)) return usage();
     } else if (arg == "--methods" && i + 1 < argc) {
       method_list = argv[++i];
+    } else if (arg == "--history" && i + 1 < argc) {
+      const std::string h = argv[++i];
+      if (h != "reproject" && h != "cache") return usage();
+      history = h == "cache" ? fv::TaaHistory::ray_cache : fv::TaaHistory::reproject;
+    } else if (arg == "--pixel-filter" && i + 1 < argc) {
+      const std::string f = argv[++i];
+      if (f != "box" && f != "bspline2") return usage();
+      pixel_filter = f == "box" ? fv::PixelFilter::box : fv::PixelFilter::bspline2;
     } else {
       return usage();
     }
@@ -119,8 +133,11 @@ int main(int argc, char** argv) {
   const char* env_cache = std::getenv("FOVEART_BENCH_CACHE");
   const std::filesystem::path cache = env_cache != nullptr ? env_cache : "/tmp/foveart_bench_cache";
   fv::Executor executor;
-  std::printf("reconstruction_paths: %dx%d per eye, scale %g, TAA on, %d frames; GPU: %s; CPU: %u threads\n", size[0], size[1],
-              scale, frames, vulkan.name().c_str(), executor.thread_count());
+  std::printf("reconstruction_paths: %dx%d per eye, scale %g, TAA on (%s, %s pixel filter), %d frames; GPU: %s; CPU: %u "
+              "threads\n",
+              size[0], size[1], scale, history == fv::TaaHistory::ray_cache ? "render cache" : "reprojected image",
+              pixel_filter == fv::PixelFilter::box ? "box" : "bspline2", frames, vulkan.name().c_str(),
+              executor.thread_count());
   std::printf("%-6s %3s | %12s %12s | %12s %12s %12s | %8s | gpu stages: scatter gather taa encode (ms)\n",
               "method", "k", "cpu recon ms", "cpu +enc ms", "gpu recon ms", "gpu +enc ms", "gpu wall ms", "cpu/gpu");
   for (const fv::InterpMethod method : methods) {
@@ -137,6 +154,8 @@ int main(int argc, char** argv) {
       fv::ViewSettings settings;
       settings.taa = true;
       settings.new_jitter_each_frame = true;
+      settings.taa_history = history;
+      settings.pixel_filter = pixel_filter;
       fv::FoveatedView cpu_view(tables, settings);
       settings.reconstruct_on_cpu = false;
       fv::FoveatedView gpu_view(tables, settings);
