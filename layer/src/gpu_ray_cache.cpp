@@ -34,6 +34,7 @@ static_assert(sizeof(CachePush) == 92, "shaders/ray_cache.glsl push constants");
 
 // Buffers as ray_cache.glsl binds them, and their element sizes.
 enum Binding : uint32_t { kCurrent = 0, kAnchorsIn, kAnchorsOut, kNewRays, kRayFrame, kCells, kByCell, kPixels, kCounter, kBindings };
+constexpr uint32_t kDescriptorCounts[kBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1};  // one buffer each
 constexpr VkDeviceSize kAnchorBytes = 32, kNewRayBytes = 32, kRayFrameBytes = 16, kCellRayBytes = 24;
 constexpr uint32_t kCellPx = 2;        // ray_cache.glsl CELL_PX
 constexpr uint32_t kScanBlock = 1024;  // ray_cache.glsl SCAN_BLOCK
@@ -60,26 +61,10 @@ float shader_depth(float depth_m) {
 std::unique_ptr<GpuRayCachePipelines> GpuRayCachePipelines::create(VkDevice device, std::string* error) {
   std::unique_ptr<GpuRayCachePipelines> p(new GpuRayCachePipelines());
   p->device_ = device;
-  VkDescriptorSetLayoutBinding bindings[kBindings]{};
-  for (uint32_t b = 0; b < kBindings; ++b) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  if (!create_storage_pipeline_layout(device, kDescriptorCounts, kBindings, sizeof(CachePush), &p->set_layout_,
+                                      &p->layout_, error)) {
+    return nullptr;
   }
-  auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  set_info.bindingCount = kBindings;
-  set_info.pBindings = bindings;
-  VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, &p->set_layout_);
-  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorSetLayout (render cache)", r), nullptr;
-  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(CachePush)};
-  auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &p->set_layout_;
-  layout_info.pushConstantRangeCount = 1;
-  layout_info.pPushConstantRanges = &push;
-  r = vkCreatePipelineLayout(device, &layout_info, nullptr, &p->layout_);
-  if (r != VK_SUCCESS) return *error = vk_error("vkCreatePipelineLayout (render cache)", r), nullptr;
   const bool ok =
       create_compute_pipeline(device, p->layout_, foveart_cache_rays_spv, sizeof foveart_cache_rays_spv, &p->rays_,
                               error) &&
@@ -174,16 +159,7 @@ bool GpuRayCache::update_descriptors(std::string* error) {
         {ray_frame_.buffer, 0, VK_WHOLE_SIZE},      {cells_.buffer, 0, VK_WHOLE_SIZE},
         {by_cell_.buffer, 0, VK_WHOLE_SIZE},        {pixels_.buffer, 0, VK_WHOLE_SIZE},
         {counter_.buffer, 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet writes[kBindings];
-    for (uint32_t b = 0; b < kBindings; ++b) {
-      writes[b] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-      writes[b].dstSet = sets_[s];
-      writes[b].dstBinding = b;
-      writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[b].descriptorCount = 1;
-      writes[b].pBufferInfo = &info[b];
-    }
-    vkUpdateDescriptorSets(device, kBindings, writes, 0, nullptr);
+    write_storage_descriptors(device, sets_[s], info, kDescriptorCounts, kBindings);
   }
   return true;
 }

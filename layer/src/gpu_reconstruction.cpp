@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 
 #include <glm/gtc/quaternion.hpp>
 
@@ -67,6 +68,8 @@ enum GatherFlags : uint32_t { kWeighted = 1, kF16 = 2, kClampTaps = 4, kClampBlo
 enum Binding : uint32_t {
   kChunks = 0, kColors, kCurrent, kHistoryIn, kHistoryOut, kUpload, kEncoded, kPointDepth, kBindings
 };
+// The table chunks' array, then one buffer per binding.
+constexpr uint32_t kDescriptorCounts[kBindings] = {uint32_t(kMaxGpuChunks), 1, 1, 1, 1, 1, 1, 1};
 constexpr uint32_t kQueries = 5;  // timestamps: start, scattered, gathered, accumulated, encoded
 
 constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -152,26 +155,10 @@ std::unique_ptr<GpuReconstructor> GpuReconstructor::create(const GpuDevice& devi
   vkGetPhysicalDeviceQueueFamilyProperties(device.physical_device, &count, families.data());
   g->timestamps_ = families[device.queue_family_index].timestampValidBits > 0;
 
-  VkDescriptorSetLayoutBinding bindings[kBindings]{};
-  for (uint32_t b = 0; b < kBindings; ++b) {
-    bindings[b].binding = b;
-    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    bindings[b].descriptorCount = b == kChunks ? uint32_t(kMaxGpuChunks) : 1;
-    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  if (!create_storage_pipeline_layout(dev, kDescriptorCounts, kBindings, sizeof(GatherPush), &g->set_layout_,
+                                      &g->pipeline_layout_, error)) {
+    return nullptr;
   }
-  auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
-  set_info.bindingCount = kBindings;
-  set_info.pBindings = bindings;
-  VkResult r = vkCreateDescriptorSetLayout(dev, &set_info, nullptr, &g->set_layout_);
-  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorSetLayout", r), nullptr;
-  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(GatherPush)};
-  auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
-  layout_info.setLayoutCount = 1;
-  layout_info.pSetLayouts = &g->set_layout_;
-  layout_info.pushConstantRangeCount = 1;
-  layout_info.pPushConstantRanges = &push;
-  r = vkCreatePipelineLayout(dev, &layout_info, nullptr, &g->pipeline_layout_);
-  if (r != VK_SUCCESS) return *error = vk_error("vkCreatePipelineLayout", r), nullptr;
 
   struct Stage {
     const uint32_t* code;
@@ -191,7 +178,7 @@ std::unique_ptr<GpuReconstructor> GpuReconstructor::create(const GpuDevice& devi
   auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool_info.queueFamilyIndex = device.queue_family_index;
-  r = vkCreateCommandPool(dev, &pool_info, nullptr, &g->command_pool_);
+  VkResult r = vkCreateCommandPool(dev, &pool_info, nullptr, &g->command_pool_);
   if (r != VK_SUCCESS) return *error = vk_error("vkCreateCommandPool", r), nullptr;
   auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
   cb_info.commandPool = g->command_pool_;
@@ -381,21 +368,15 @@ void GpuEye::update_descriptors() {
     chunks[i] = {buffers[std::min(i, buffers.size() - 1)], 0, VK_WHOLE_SIZE};
   }
   for (int s = 0; s < 2; ++s) {
-    const VkDescriptorBufferInfo info[kBindings - 1] = {
+    VkDescriptorBufferInfo info[kMaxGpuChunks + kBindings - 1] = {};
+    std::copy(std::begin(chunks), std::end(chunks), info);
+    const VkDescriptorBufferInfo rest[kBindings - 1] = {
         {colors_.buffer, 0, VK_WHOLE_SIZE},        {current_.buffer, 0, VK_WHOLE_SIZE},
         {history_[s].buffer, 0, VK_WHOLE_SIZE},    {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
         {upload_.buffer, 0, VK_WHOLE_SIZE},        {encoded_.buffer, 0, VK_WHOLE_SIZE},
         {point_depth_.buffer, 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet writes[kBindings];
-    for (uint32_t b = 0; b < kBindings; ++b) {
-      writes[b] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
-      writes[b].dstSet = sets_[s];
-      writes[b].dstBinding = b;
-      writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[b].descriptorCount = b == kChunks ? uint32_t(kMaxGpuChunks) : 1;
-      writes[b].pBufferInfo = b == kChunks ? chunks : &info[b - 1];
-    }
-    vkUpdateDescriptorSets(device_, kBindings, writes, 0, nullptr);
+    std::copy(std::begin(rest), std::end(rest), info + kMaxGpuChunks);
+    write_storage_descriptors(device_, sets_[s], info, kDescriptorCounts, kBindings);
   }
 }
 

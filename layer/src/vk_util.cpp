@@ -1,5 +1,7 @@
 #include "vk_util.hpp"
 
+#include <vector>
+
 namespace foveart::layer {
 
 bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
@@ -41,6 +43,47 @@ void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags 
   b.srcAccessMask = src_access;
   b.dstAccessMask = dst_access;
   vkCmdPipelineBarrier(cb, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
+}
+
+bool create_storage_pipeline_layout(VkDevice device, const uint32_t* descriptor_counts, uint32_t binding_count,
+                                    uint32_t push_bytes, VkDescriptorSetLayout* set_layout,
+                                    VkPipelineLayout* pipeline_layout, std::string* error) {
+  std::vector<VkDescriptorSetLayoutBinding> bindings(binding_count);
+  for (uint32_t b = 0; b < binding_count; ++b) {
+    bindings[b].binding = b;
+    bindings[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[b].descriptorCount = descriptor_counts[b];
+    bindings[b].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  auto set_info = vk_struct<VkDescriptorSetLayoutCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO);
+  set_info.bindingCount = binding_count;
+  set_info.pBindings = bindings.data();
+  VkResult r = vkCreateDescriptorSetLayout(device, &set_info, nullptr, set_layout);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorSetLayout", r), false;
+  const VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+  auto layout_info = vk_struct<VkPipelineLayoutCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO);
+  layout_info.setLayoutCount = 1;
+  layout_info.pSetLayouts = set_layout;
+  layout_info.pushConstantRangeCount = 1;
+  layout_info.pPushConstantRanges = &push;
+  r = vkCreatePipelineLayout(device, &layout_info, nullptr, pipeline_layout);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreatePipelineLayout", r), false;
+  return true;
+}
+
+void write_storage_descriptors(VkDevice device, VkDescriptorSet set, const VkDescriptorBufferInfo* buffers,
+                               const uint32_t* descriptor_counts, uint32_t binding_count) {
+  std::vector<VkWriteDescriptorSet> writes(binding_count);
+  for (uint32_t b = 0; b < binding_count; ++b) {
+    writes[b] = vk_struct<VkWriteDescriptorSet>(VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET);
+    writes[b].dstSet = set;
+    writes[b].dstBinding = b;
+    writes[b].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[b].descriptorCount = descriptor_counts[b];
+    writes[b].pBufferInfo = buffers;
+    buffers += descriptor_counts[b];
+  }
+  vkUpdateDescriptorSets(device, binding_count, writes.data(), 0, nullptr);
 }
 
 bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,

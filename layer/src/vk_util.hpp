@@ -33,6 +33,16 @@ bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties
 void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
                     VkAccessFlags dst_access);
 
+// The layout of compute pipelines that bind one set of storage buffers
+// (binding b: descriptor_counts[b] buffers) and push `push_bytes` of constants; false with *error.
+bool create_storage_pipeline_layout(VkDevice device, const uint32_t* descriptor_counts, uint32_t binding_count,
+                                    uint32_t push_bytes, VkDescriptorSetLayout* set_layout,
+                                    VkPipelineLayout* pipeline_layout, std::string* error);
+
+// Points binding b of `set` (storage buffers) at the next descriptor_counts[b] entries of `buffers`.
+void write_storage_descriptors(VkDevice device, VkDescriptorSet set, const VkDescriptorBufferInfo* buffers,
+                               const uint32_t* descriptor_counts, uint32_t binding_count);
+
 // A compute pipeline of SPIR-V `code` (`bytes` long, entry point "main") in `layout`; false with *error.
 bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
                              VkPipeline* pipeline, std::string* error);
