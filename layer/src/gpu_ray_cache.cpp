@@ -188,13 +188,15 @@ bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::siz
     changed = true;
   }
   if (kept + added > capacity_) {
-    const std::size_t n = grown(kept + added);
-    if (VkDeviceSize{n} * kAnchorBytes > max_buffer_bytes_) {
-      return *error = "GPU render cache: " + std::to_string(n) + " rays need " + std::to_string(n * kAnchorBytes) +
+    const std::size_t max_rays = std::size_t(max_buffer_bytes_ / kAnchorBytes);  // anchors are the largest
+    if (kept + added > max_rays) {
+      return *error = "GPU render cache: " + std::to_string(kept + added) + " rays need " +
+                      std::to_string((kept + added) * kAnchorBytes) +
                       " bytes in one buffer, more than the device's maxStorageBufferRange (" +
                       std::to_string(max_buffer_bytes_) + ")",
              false;
     }
+    const std::size_t n = std::min(grown(kept + added), max_rays);
     Buffer anchors[2], ray_frame, by_cell;
     const bool made = make(anchors[0], n * kAnchorBytes, false, error) &&
                       make(anchors[1], n * kAnchorBytes, false, error) &&
