@@ -165,9 +165,16 @@ bool GpuRayCache::update_descriptors(std::string* error) {
 }
 
 bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error) {
+  const std::size_t max_rays = std::size_t(max_buffer_bytes_ / kAnchorBytes);  // anchors are the largest
+  if (kept + added > max_rays) {  // before anything changes: a refused frame leaves the cache as it was
+    return *error = "GPU render cache: " + std::to_string(kept + added) + " rays need " +
+                    std::to_string((kept + added) * kAnchorBytes) +
+                    " bytes in one buffer, more than the device's maxStorageBufferRange (" +
+                    std::to_string(max_buffer_bytes_) + ")",
+           false;
+  }
   for (Buffer& b : retired_) destroy(b);  // the last submission, which used them, has finished
   retired_.clear();
-  bool changed = false;
   if (cells_.buffer == VK_NULL_HANDLE) {  // per eye: sized by the image
     const VkDeviceSize cell_count = VkDeviceSize{cells_x_} * cells_y_;
     const VkDeviceSize blocks = (cell_count + kScanBlock - 1) / kScanBlock;
@@ -175,7 +182,7 @@ bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::siz
         !make(pixels_, VkDeviceSize{width_px_} * height_px_ * 8, true, error) || !make(counter_, 4, true, error)) {
       return false;
     }
-    changed = true;
+    descriptors_stale_ = true;
   }
   // Grown by half again when short, so that a few frames settle the size.
   auto grown = [](std::size_t n) { return (n + n / 2 + 0xFFFF) & ~std::size_t{0xFFFF}; };
@@ -185,17 +192,9 @@ bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::siz
     const std::size_t n = grown(added);
     if (!make(new_rays_, VkDeviceSize{n} * kNewRayBytes, true, error)) return false;
     new_capacity_ = n;
-    changed = true;
+    descriptors_stale_ = true;
   }
   if (kept + added > capacity_) {
-    const std::size_t max_rays = std::size_t(max_buffer_bytes_ / kAnchorBytes);  // anchors are the largest
-    if (kept + added > max_rays) {
-      return *error = "GPU render cache: " + std::to_string(kept + added) + " rays need " +
-                      std::to_string((kept + added) * kAnchorBytes) +
-                      " bytes in one buffer, more than the device's maxStorageBufferRange (" +
-                      std::to_string(max_buffer_bytes_) + ")",
-             false;
-    }
     const std::size_t n = std::min(grown(kept + added), max_rays);
     Buffer anchors[2], ray_frame, by_cell;
     const bool made = make(anchors[0], n * kAnchorBytes, false, error) &&
@@ -217,9 +216,11 @@ bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::siz
     ray_frame_ = ray_frame;
     by_cell_ = by_cell;
     capacity_ = n;
-    changed = true;
+    descriptors_stale_ = true;
   }
-  return !changed || update_descriptors(error);
+  if (descriptors_stale_ && !update_descriptors(error)) return false;
+  descriptors_stale_ = false;
+  return true;
 }
 
 bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, const FoveartEyeView& view,

@@ -101,6 +101,7 @@ class GpuRayCache {
   VkDescriptorSet sets_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // anchors 0 -> 1, 1 -> 0
   int parity_ = 0;             // which anchor buffer holds the kept rays
   bool recorded_ = false;      // a frame was recorded: the counter holds its kept rays
+  bool descriptors_stale_ = false;  // a buffer was replaced since the sets were written
 };
 
 }  // namespace foveart::layer

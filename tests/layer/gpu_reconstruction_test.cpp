@@ -25,6 +25,7 @@
 #include "gpu_reconstruction.hpp"
 #include "gpu_tables.hpp"
 #include "headless_vulkan.hpp"
+#include "vk_util.hpp"
 #include "icd_pin.h"
 #include "analytic_scene.hpp"
 
@@ -337,6 +338,61 @@ INSTANTIATE_TEST_SUITE_P(Methods, GpuMatchesCpu,
                                                                                     : "rbf";
                            return std::string(m) + "_k" + std::to_string(param_info.param.k);
                          });
+
+// The render cache's buffers grow with the rays a frame holds, up to the
+// device's maxStorageBufferRange (here made small) and not past it: the frame
+// whose rays would not fit fails with a message that says so, and records nothing.
+TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
+  foveation::ViewSettings settings;
+  settings.taa = true;
+  settings.new_jitter_each_frame = true;
+  settings.taa_history = foveation::TaaHistory::ray_cache;
+  settings.reconstruct_on_cpu = false;
+  foveation::FoveatedView view(small_tables(InterpMethod::msm, 5), settings);
+  std::string error;
+  const GpuDevice device = vulkan_->device();
+  auto pipelines = GpuRayCachePipelines::create(device.device, &error);
+  ASSERT_NE(pipelines, nullptr) << error;
+  VkPhysicalDeviceMemoryProperties memory{};
+  vkGetPhysicalDeviceMemoryProperties(device.physical_device, &memory);
+  VkBuffer current = VK_NULL_HANDLE;
+  VkDeviceMemory current_memory = VK_NULL_HANDLE;
+  ASSERT_TRUE(create_bound_buffer(device.device, memory, VkDeviceSize{kW} * kH * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                  VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, &current, &current_memory, nullptr, &error))
+      << error;
+  constexpr std::size_t kLimitRays = 40000;  // 32-byte anchors: about 6 frames of this view's rays
+  {
+    GpuRayCache cache(*pipelines, memory, current, kW, kH, kLimitRays * 32);
+    foveation::Executor executor(2);
+    std::size_t frames_recorded = 0, last_kept = 0;
+    bool refused = false;
+    for (int i = 0; i < 12 && !refused; ++i) {
+      const foveation::FrameRequest req = request(0, {48, 40}, uint64_t(i + 1));
+      const auto result = view.render(req, scene, nullptr, executor);
+      ASSERT_TRUE(result.ok());
+      GpuRayCacheFrame frame;
+      frame.rays = &view.traced_rays();
+      frame.pixels = &view.ray_cache_pixels();
+      frame.restart = result.ray_cache_restart;
+      std::string record_error;
+      const bool ok = gpu_->submit_and_wait(
+          [&](VkCommandBuffer cb) { return cache.record(cb, frame, req.view, executor, &record_error); }, &error);
+      if (!ok) {
+        refused = true;
+        EXPECT_NE(record_error.find("maxStorageBufferRange (1280000)"), std::string::npos) << record_error;
+        EXPECT_EQ(cache.kept_rays(), last_kept) << "the refused frame changed nothing";
+        break;
+      }
+      ++frames_recorded;
+      last_kept = cache.kept_rays();
+      EXPECT_LE(last_kept, kLimitRays);
+    }
+    EXPECT_TRUE(refused) << "the cache outgrew the limit without a word";
+    EXPECT_GE(frames_recorded, 4u) << "frames that fit were refused";
+  }
+  vkDestroyBuffer(device.device, current, nullptr);
+  vkFreeMemory(device.device, current_memory, nullptr);
+}
 
 // Tables cut into many small buffers give the same bits as one buffer.
 TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
