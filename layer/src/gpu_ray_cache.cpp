@@ -6,6 +6,7 @@
 
 #include "foveation/eye_rays.hpp"
 
+#include "shader_depth.hpp"
 #include "shaders/cache_bin.spv.h"
 #include "shaders/cache_filter.spv.h"
 #include "shaders/cache_rays.spv.h"
@@ -48,11 +49,6 @@ uint32_t groups_for(std::size_t n) {
   return uint32_t(std::clamp<std::size_t>((n + kGroupSize - 1) / kGroupSize, 1, kMaxGroups));
 }
 
-// Depth as the shaders carry it (shaders/common.glsl): no NaN or infinity.
-float shader_depth(float depth_m) {
-  if (std::isnan(depth_m) || depth_m < 0.0f) return -1.0f;
-  return std::isinf(depth_m) ? 3.0e38f : std::min(depth_m, 3.0e38f);
-}
 
 }  // namespace
 
@@ -119,13 +115,7 @@ bool GpuRayCache::make(Buffer& b, VkDeviceSize size, bool host_visible, std::str
                              host_visible ? &b.mapped : nullptr, error);
 }
 
-void GpuRayCache::destroy(Buffer& b) {
-  VkDevice device = pipelines_.device_;
-  if (b.mapped != nullptr) vkUnmapMemory(device, b.memory);
-  if (b.buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, b.buffer, nullptr);
-  if (b.memory != VK_NULL_HANDLE) vkFreeMemory(device, b.memory, nullptr);
-  b = Buffer{};
-}
+void GpuRayCache::destroy(Buffer& b) { destroy_buffer(pipelines_.device_, &b); }
 
 std::size_t GpuRayCache::kept_rays() const {
   if (!recorded_ || counter_.mapped == nullptr) return 0;

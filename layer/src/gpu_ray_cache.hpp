@@ -27,6 +27,7 @@
 #include "foveation/executor.hpp"
 #include "foveation/ray_cache.hpp"
 #include "foveation/ray_trace.h"
+#include "vk_util.hpp"
 
 namespace foveart::layer {
 
@@ -76,12 +77,7 @@ class GpuRayCache {
   std::size_t kept_rays() const;
 
  private:
-  struct Buffer {
-    VkBuffer buffer = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    void* mapped = nullptr;
-    VkDeviceSize size = 0;
-  };
+  using Buffer = BoundBuffer;
   // Room for `kept` + `added` rays and `added` new ones; a larger buffer gets
   // the kept rays copied in `cb`, the old ones are destroyed at the next record.
   bool ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error);

@@ -10,6 +10,7 @@
 #include "foveation/eye_rays.hpp"
 
 #include "eye_swapchain.hpp"
+#include "shader_depth.hpp"
 #include "shaders/encode.spv.h"
 #include "shaders/gather.spv.h"
 #include "shaders/scatter.spv.h"
@@ -48,13 +49,6 @@ struct TaaPush {
 };
 static_assert(sizeof(TaaPush) == 96, "shaders/taa.comp push constants");
 
-// Depth as the shaders carry it (shaders/common.glsl): no NaN or infinity.
-constexpr float kDepthUnknown = -1.0f;
-constexpr float kDepthFar = 3.0e38f;  // >= DEPTH_FAR (1e30): the sky
-float shader_depth(float depth_m) {
-  if (std::isnan(depth_m) || depth_m < 0.0f) return kDepthUnknown;
-  return std::isinf(depth_m) ? kDepthFar : std::min(depth_m, kDepthFar);
-}
 struct EncodePush {
   int32_t size_px[2];
   uint32_t srgb;
@@ -119,7 +113,7 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
   f.view = request.view;
   f.history_view = result.history_view;
   f.srgb = srgb;
-  const foveation::ViewSettings& settings = view.settings();
+  const foveation::ViewSettings& settings = view.settings();  // a render cache: never a history_view
   if (settings.taa && settings.taa_history == foveation::TaaHistory::ray_cache) {
     GpuRayCacheFrame c;
     c.rays = &view.traced_rays();
@@ -128,7 +122,6 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
     c.filter = settings.pixel_filter;
     c.max_age_frames = settings.ray_cache_max_age_frames;
     f.ray_cache = c;
-    f.history_view.reset();  // the cache reprojects its rays itself
   }
   return f;
 }
@@ -322,12 +315,7 @@ std::unique_ptr<GpuEye> GpuReconstructor::create_eye(uint32_t width_px, uint32_t
 
 // ---- GpuEye -------------------------------------------------------------------
 
-void GpuEye::destroy(Buffer& b) {
-  if (b.mapped != nullptr) vkUnmapMemory(device_, b.memory);
-  if (b.buffer != VK_NULL_HANDLE) vkDestroyBuffer(device_, b.buffer, nullptr);
-  if (b.memory != VK_NULL_HANDLE) vkFreeMemory(device_, b.memory, nullptr);
-  b = Buffer{};
-}
+void GpuEye::destroy(Buffer& b) { destroy_buffer(device_, &b); }
 
 GpuEye::~GpuEye() {
   if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
@@ -429,8 +417,8 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   };
   // Last frame's passes read and wrote these buffers (an earlier submission).
   memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-          kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
-          kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+                 kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   stamp(0);
   vkCmdFillBuffer(cb, colors_.buffer, 0, VK_WHOLE_SIZE, 0u);  // every point "not traced" (a = 0)
   uint32_t unknown_bits = 0;
@@ -547,11 +535,11 @@ bool GpuEye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
   const bool ok = owner_->submit_and_wait(
       [&](VkCommandBuffer cb) {
         memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
         const VkBufferCopy copy{0, 0, bytes};
         vkCmdCopyBuffer(cb, encoded_.buffer, readback_.buffer, 1, &copy);
         memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                VK_ACCESS_HOST_READ_BIT);
+                       VK_ACCESS_HOST_READ_BIT);
         return true;
       },
       error);

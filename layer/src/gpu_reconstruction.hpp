@@ -123,12 +123,7 @@ class GpuEye {
  private:
   friend class GpuReconstructor;
   GpuEye() = default;
-  struct Buffer {
-    VkBuffer buffer = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    void* mapped = nullptr;
-    VkDeviceSize size = 0;
-  };
+  using Buffer = BoundBuffer;
   bool ensure_points(std::size_t point_count, std::string* error);
   void update_descriptors();
   void destroy(Buffer& b);

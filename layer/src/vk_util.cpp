@@ -37,6 +37,13 @@ bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties
   return true;
 }
 
+void destroy_buffer(VkDevice device, BoundBuffer* b) {
+  if (b->mapped != nullptr) vkUnmapMemory(device, b->memory);
+  if (b->buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, b->buffer, nullptr);
+  if (b->memory != VK_NULL_HANDLE) vkFreeMemory(device, b->memory, nullptr);
+  *b = BoundBuffer{};
+}
+
 void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
                     VkAccessFlags dst_access) {
   auto b = vk_struct<VkMemoryBarrier>(VK_STRUCTURE_TYPE_MEMORY_BARRIER);

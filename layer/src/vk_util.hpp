@@ -21,6 +21,16 @@ inline std::string vk_error(const char* what, VkResult r) {
   return std::string(what) + " failed (VkResult " + std::to_string(r) + ")";
 }
 
+// A buffer with its own memory, mapped when host-visible.
+struct BoundBuffer {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  void* mapped = nullptr;
+  VkDeviceSize size = 0;
+};
+// Unmaps, destroys and frees what of *b exists, and empties it.
+void destroy_buffer(VkDevice device, BoundBuffer* b);
+
 // A buffer of `size` bytes bound to new memory of the first type with all of
 // `wanted` (and mapped into *mapped when mapped is not null); false with
 // *error naming what failed. The caller destroys what was created either way.
