@@ -5,7 +5,6 @@
 #include <cstring>
 
 #include "foveation/eye_rays.hpp"
-
 #include "shader_depth.hpp"
 #include "shaders/cache_bin.spv.h"
 #include "shaders/cache_filter.spv.h"
@@ -34,12 +33,23 @@ struct CachePush {
 static_assert(sizeof(CachePush) == 92, "shaders/ray_cache.glsl push constants");
 
 // Buffers as ray_cache.glsl binds them, and their element sizes.
-enum Binding : uint32_t { kCurrent = 0, kAnchorsIn, kAnchorsOut, kNewRays, kRayFrame, kCells, kByCell, kPixels, kCounter, kBindings };
+enum Binding : uint32_t {
+  kCurrent = 0,
+  kAnchorsIn,
+  kAnchorsOut,
+  kNewRays,
+  kRayFrame,
+  kCells,
+  kByCell,
+  kPixels,
+  kCounter,
+  kBindings
+};
 constexpr uint32_t kDescriptorCounts[kBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1};  // one buffer each
 constexpr VkDeviceSize kAnchorBytes = 32, kNewRayBytes = 32, kRayFrameBytes = 16, kCellRayBytes = 24;
-constexpr uint32_t kCellPx = 2;        // ray_cache.glsl CELL_PX
-constexpr uint32_t kScanBlock = 1024;  // ray_cache.glsl SCAN_BLOCK
-constexpr uint32_t kGroupSize = 256;   // cache_rays / cache_scan / cache_bin
+constexpr uint32_t kCellPx = 2;         // ray_cache.glsl CELL_PX
+constexpr uint32_t kScanBlock = 1024;   // ray_cache.glsl SCAN_BLOCK
+constexpr uint32_t kGroupSize = 256;    // cache_rays / cache_scan / cache_bin
 constexpr uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0]; the shaders loop beyond
 
 constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
@@ -48,7 +58,6 @@ constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 uint32_t groups_for(std::size_t n) {
   return uint32_t(std::clamp<std::size_t>((n + kGroupSize - 1) / kGroupSize, 1, kMaxGroups));
 }
-
 
 }  // namespace
 
@@ -61,15 +70,14 @@ std::unique_ptr<GpuRayCachePipelines> GpuRayCachePipelines::create(VkDevice devi
                                       &p->layout_, error)) {
     return nullptr;
   }
-  const bool ok =
-      create_compute_pipeline(device, p->layout_, foveart_cache_rays_spv, sizeof foveart_cache_rays_spv, &p->rays_,
-                              error) &&
-      create_compute_pipeline(device, p->layout_, foveart_cache_scan_spv, sizeof foveart_cache_scan_spv, &p->scan_,
-                              error) &&
-      create_compute_pipeline(device, p->layout_, foveart_cache_bin_spv, sizeof foveart_cache_bin_spv, &p->bin_,
-                              error) &&
-      create_compute_pipeline(device, p->layout_, foveart_cache_filter_spv, sizeof foveart_cache_filter_spv,
-                              &p->filter_, error);
+  const bool ok = create_compute_pipeline(device, p->layout_, foveart_cache_rays_spv, sizeof foveart_cache_rays_spv,
+                                          &p->rays_, error) &&
+                  create_compute_pipeline(device, p->layout_, foveart_cache_scan_spv, sizeof foveart_cache_scan_spv,
+                                          &p->scan_, error) &&
+                  create_compute_pipeline(device, p->layout_, foveart_cache_bin_spv, sizeof foveart_cache_bin_spv,
+                                          &p->bin_, error) &&
+                  create_compute_pipeline(device, p->layout_, foveart_cache_filter_spv, sizeof foveart_cache_filter_spv,
+                                          &p->filter_, error);
   if (!ok) return nullptr;
   return p;
 }
@@ -106,16 +114,15 @@ GpuRayCache::~GpuRayCache() {
 
 bool GpuRayCache::make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error) {
   b.size = std::max<VkDeviceSize>(size, 16);
-  const VkMemoryPropertyFlags wanted = host_visible
-                                           ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
   const VkBufferUsageFlags usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  return create_bound_buffer(pipelines_.device_, memory_properties_, b.size, usage, wanted, &b.buffer, &b.memory,
-                             host_visible ? &b.mapped : nullptr, error);
+  return create_bound_buffer(pipelines_.device_, memory_properties_, b.size, usage, buffer_memory_flags(host_visible),
+                             &b.buffer, &b.memory, host_visible ? &b.mapped : nullptr, error);
 }
 
-void GpuRayCache::destroy(Buffer& b) { destroy_buffer(pipelines_.device_, &b); }
+void GpuRayCache::destroy(Buffer& b) {
+  destroy_buffer(pipelines_.device_, &b);
+}
 
 std::size_t GpuRayCache::kept_rays() const {
   if (!recorded_ || counter_.mapped == nullptr) return 0;
@@ -143,12 +150,15 @@ bool GpuRayCache::update_descriptors(std::string* error) {
     if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets (render cache)", r), false;
   }
   for (int s = 0; s < 2; ++s) {
-    const VkDescriptorBufferInfo info[kBindings] = {
-        {current_, 0, VK_WHOLE_SIZE},               {anchors_[s].buffer, 0, VK_WHOLE_SIZE},
-        {anchors_[1 - s].buffer, 0, VK_WHOLE_SIZE}, {new_rays_.buffer, 0, VK_WHOLE_SIZE},
-        {ray_frame_.buffer, 0, VK_WHOLE_SIZE},      {cells_.buffer, 0, VK_WHOLE_SIZE},
-        {by_cell_.buffer, 0, VK_WHOLE_SIZE},        {pixels_.buffer, 0, VK_WHOLE_SIZE},
-        {counter_.buffer, 0, VK_WHOLE_SIZE}};
+    const VkDescriptorBufferInfo info[kBindings] = {{current_, 0, VK_WHOLE_SIZE},
+                                                    {anchors_[s].buffer, 0, VK_WHOLE_SIZE},
+                                                    {anchors_[1 - s].buffer, 0, VK_WHOLE_SIZE},
+                                                    {new_rays_.buffer, 0, VK_WHOLE_SIZE},
+                                                    {ray_frame_.buffer, 0, VK_WHOLE_SIZE},
+                                                    {cells_.buffer, 0, VK_WHOLE_SIZE},
+                                                    {by_cell_.buffer, 0, VK_WHOLE_SIZE},
+                                                    {pixels_.buffer, 0, VK_WHOLE_SIZE},
+                                                    {counter_.buffer, 0, VK_WHOLE_SIZE}};
     write_storage_descriptors(device, sets_[s], info, kDescriptorCounts, kBindings);
   }
   return true;
@@ -187,9 +197,9 @@ bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::siz
   if (kept + added > capacity_) {
     const std::size_t n = std::min(grown(kept + added), max_rays);
     Buffer anchors[2], ray_frame, by_cell;
-    const bool made = make(anchors[0], n * kAnchorBytes, false, error) &&
-                      make(anchors[1], n * kAnchorBytes, false, error) &&
-                      make(ray_frame, n * kRayFrameBytes, false, error) && make(by_cell, n * kCellRayBytes, false, error);
+    const bool made =
+        make(anchors[0], n * kAnchorBytes, false, error) && make(anchors[1], n * kAnchorBytes, false, error) &&
+        make(ray_frame, n * kRayFrameBytes, false, error) && make(by_cell, n * kCellRayBytes, false, error);
     if (!made) {
       for (Buffer* b : {&anchors[0], &anchors[1], &ray_frame, &by_cell}) destroy(*b);
       return false;

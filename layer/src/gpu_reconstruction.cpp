@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <glm/gtc/quaternion.hpp>
 #include <iterator>
 
-#include <glm/gtc/quaternion.hpp>
-
-#include "foveation/eye_rays.hpp"
-
 #include "eye_swapchain.hpp"
+#include "foveation/eye_rays.hpp"
 #include "shader_depth.hpp"
 #include "shaders/encode.spv.h"
 #include "shaders/gather.spv.h"
@@ -41,7 +39,7 @@ struct TaaPush {
   uint32_t constraint;
   uint32_t reset;
   float clip_floor;
-  uint32_t reproject;  // 0 no, 1 bilinear, 2 Catmull-Rom (foveation::HistorySampling)
+  uint32_t reproject;         // 0 no, 1 bilinear, 2 Catmull-Rom (foveation::HistorySampling)
   float last_from_view_q[4];  // xyzw
   float last_from_view_t[4];
   float tan_view[4];  // left, right, up, down
@@ -60,7 +58,15 @@ struct ScatterPush {
 enum GatherFlags : uint32_t { kWeighted = 1, kF16 = 2, kClampTaps = 4, kClampBlock = 8, kRbf = 16 };
 
 enum Binding : uint32_t {
-  kChunks = 0, kColors, kCurrent, kHistoryIn, kHistoryOut, kUpload, kEncoded, kPointDepth, kBindings
+  kChunks = 0,
+  kColors,
+  kCurrent,
+  kHistoryIn,
+  kHistoryOut,
+  kUpload,
+  kEncoded,
+  kPointDepth,
+  kBindings
 };
 // The table chunks' array, then one buffer per binding.
 constexpr uint32_t kDescriptorCounts[kBindings] = {uint32_t(kMaxGpuChunks), 1, 1, 1, 1, 1, 1, 1};
@@ -69,7 +75,9 @@ constexpr uint32_t kQueries = 5;  // timestamps: start, scattered, gathered, acc
 constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 
-uint32_t groups(uint32_t n, uint32_t size) { return (n + size - 1) / size; }
+uint32_t groups(uint32_t n, uint32_t size) {
+  return (n + size - 1) / size;
+}
 
 }  // namespace
 
@@ -93,7 +101,8 @@ std::string gpu_unsupported_reason(VkPhysicalDevice physical_device, uint32_t qu
     return "the device is Vulkan 1.0; the shaders are SPIR-V 1.3 (Vulkan 1.1)";
   }
   if (properties.limits.maxPerStageDescriptorStorageBuffers < kMaxGpuChunks + kBindings - 1) {
-    return "the device binds fewer than " + std::to_string(kMaxGpuChunks + kBindings - 1) + " storage buffers per stage";
+    return "the device binds fewer than " + std::to_string(kMaxGpuChunks + kBindings - 1) +
+           " storage buffers per stage";
   }
   return {};
 }
@@ -198,11 +207,8 @@ GpuReconstructor::~GpuReconstructor() {
 
 bool GpuReconstructor::create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
                                      VkDeviceMemory* memory, void** mapped, std::string* error) {
-  const VkMemoryPropertyFlags wanted = host_visible
-                                           ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
-                                           : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  return create_bound_buffer(device_.device, memory_properties_, std::max<VkDeviceSize>(size, 16), usage, wanted,
-                             buffer, memory, mapped, error);
+  return create_bound_buffer(device_.device, memory_properties_, std::max<VkDeviceSize>(size, 16), usage,
+                             buffer_memory_flags(host_visible), buffer, memory, mapped, error);
 }
 
 bool GpuReconstructor::submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error) {
@@ -226,7 +232,7 @@ bool GpuReconstructor::submit_and_wait(const std::function<bool(VkCommandBuffer)
 }
 
 std::shared_ptr<GpuTables> GpuReconstructor::upload_tables(std::shared_ptr<const foveation::ViewTables> tables,
-                                                          std::string* error, std::size_t max_chunk_bytes) {
+                                                           std::string* error, std::size_t max_chunk_bytes) {
   std::shared_ptr<GpuTables> g(new GpuTables());
   g->device_ = device_.device;
   g->tables_ = std::move(tables);
@@ -251,7 +257,8 @@ std::shared_ptr<GpuTables> GpuReconstructor::upload_tables(std::shared_ptr<const
           [&](VkCommandBuffer cb) {
             const VkBufferCopy copy{0, 0, bytes};
             vkCmdCopyBuffer(cb, staging, buffer, 1, &copy);
-            memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, VK_ACCESS_SHADER_READ_BIT);
+            memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute,
+                           VK_ACCESS_SHADER_READ_BIT);
             return true;
           },
           error);
@@ -315,7 +322,9 @@ std::unique_ptr<GpuEye> GpuReconstructor::create_eye(uint32_t width_px, uint32_t
 
 // ---- GpuEye -------------------------------------------------------------------
 
-void GpuEye::destroy(Buffer& b) { destroy_buffer(device_, &b); }
+void GpuEye::destroy(Buffer& b) {
+  destroy_buffer(device_, &b);
+}
 
 GpuEye::~GpuEye() {
   if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
@@ -359,9 +368,9 @@ void GpuEye::update_descriptors() {
     VkDescriptorBufferInfo info[kMaxGpuChunks + kBindings - 1] = {};
     std::copy(std::begin(chunks), std::end(chunks), info);
     const VkDescriptorBufferInfo rest[kBindings - 1] = {
-        {colors_.buffer, 0, VK_WHOLE_SIZE},        {current_.buffer, 0, VK_WHOLE_SIZE},
-        {history_[s].buffer, 0, VK_WHOLE_SIZE},    {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
-        {upload_.buffer, 0, VK_WHOLE_SIZE},        {encoded_.buffer, 0, VK_WHOLE_SIZE},
+        {colors_.buffer, 0, VK_WHOLE_SIZE},     {current_.buffer, 0, VK_WHOLE_SIZE},
+        {history_[s].buffer, 0, VK_WHOLE_SIZE}, {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
+        {upload_.buffer, 0, VK_WHOLE_SIZE},     {encoded_.buffer, 0, VK_WHOLE_SIZE},
         {point_depth_.buffer, 0, VK_WHOLE_SIZE}};
     std::copy(std::begin(rest), std::end(rest), info + kMaxGpuChunks);
     write_storage_descriptors(device_, sets_[s], info, kDescriptorCounts, kBindings);
@@ -416,8 +425,8 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
     if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q);
   };
   // Last frame's passes read and wrote these buffers (an earlier submission).
-  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
-                 kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   stamp(0);
   vkCmdFillBuffer(cb, colors_.buffer, 0, VK_WHOLE_SIZE, 0u);  // every point "not traced" (a = 0)
@@ -482,7 +491,8 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
     const foveation::EyePose now = foveation::eye_pose(frame.view), last = foveation::eye_pose(*frame.history_view);
     const glm::quat q = glm::conjugate(last.orientation) * now.orientation;
     const glm::vec3 translation = glm::conjugate(last.orientation) * (now.position_m - last.position_m);
-    const foveation::EyeFrustum fv = foveation::eye_frustum(frame.view), fl = foveation::eye_frustum(*frame.history_view);
+    const foveation::EyeFrustum fv = foveation::eye_frustum(frame.view),
+                                fl = foveation::eye_frustum(*frame.history_view);
     t.reproject = frame.taa.history_sampling == foveation::HistorySampling::catmull_rom ? 2u : 1u;
     const float qv[4] = {q.x, q.y, q.z, q.w}, tv[4] = {translation.x, translation.y, translation.z, 0.0f};
     const float tan_view[4] = {fv.tan_left, fv.tan_right, fv.tan_up, fv.tan_down};

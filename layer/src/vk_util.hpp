@@ -2,11 +2,11 @@
 // sType set, and the message for a failed call.
 #pragma once
 
+#include <vulkan/vulkan.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
-
-#include <vulkan/vulkan.h>
 
 namespace foveart::layer {
 
@@ -30,6 +30,14 @@ struct BoundBuffer {
 };
 // Unmaps, destroys and frees what of *b exists, and empties it.
 void destroy_buffer(VkDevice device, BoundBuffer* b);
+
+// The memory a GPU-path buffer asks for: host-visible and coherent when the
+// host writes or reads it every frame (it stays mapped), device-local otherwise.
+inline VkMemoryPropertyFlags buffer_memory_flags(bool host_visible) {
+  return host_visible
+             ? VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)
+             : VkMemoryPropertyFlags(VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+}
 
 // A buffer of `size` bytes bound to new memory of the first type with all of
 // `wanted` (and mapped into *mapped when mapped is not null); false with
