@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -183,9 +184,16 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   SequenceHooks hooks;
   hooks.log = [&](const std::string& m) { err << "fovea render: " << m << "\n"; };
   toolkit::Progress progress("render --motion");
+  // A line every 10 frames, or sooner when frames are slow (a reference sequence of many rays per pixel being
+  // rendered): at least every 30 s, so a log shows the run is alive.
+  auto last_line = std::chrono::steady_clock::now();
   hooks.frame_done = [&](int done, int total) {
     progress.update(double(done) / double(total));
-    if (done % 10 == 0 || done == total) err << "fovea render: frame " << done << "/" << total << "\n";
+    const auto now = std::chrono::steady_clock::now();
+    if (done % 10 == 0 || done == total || now - last_line >= std::chrono::seconds(30)) {
+      err << "fovea render: frame " << done << "/" << total << "\n";
+      last_line = now;
+    }
   };
   Json files = Json::array();
   if (!o.out_prefix.empty()) {
