@@ -1,5 +1,5 @@
 // The price list's temporal columns: a tiny sweep over the built-in motion
-// reports per-ring flicker and error for TAA off / restart / reproject of every
+// reports per-ring flicker and error for TAA off / restart / reproject / cache of every
 // TAA setting, agrees between JSON and CSV, resumes without measuring again;
 // bad temporal options are errors naming the option; the acceptance reads the
 // ratios it reports.
@@ -83,14 +83,18 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_EQ(t["run"]["frames"], 4);
   EXPECT_EQ(t["run"]["width"], 64);
   EXPECT_EQ(t["reference"]["spp"], 8);
-  ASSERT_EQ(t["tracks"].size(), 7u);  // full_spp1 + 2 settings x off/restart/reproject
+  ASSERT_EQ(t["tracks"].size(), 9u);  // full_spp1 + 2 settings x off/restart/reproject/cache
   const std::vector<std::string> ids = {"full_spp1",
                                         "nn_k1_s1_pixel-grid_r1_taa-off",
                                         "nn_k1_s1_pixel-grid_r1_taa-restart",
                                         "nn_k1_s1_pixel-grid_r1_taa-reproject",
+                                        "nn_k1_s1_pixel-grid_r1_taa-cache",
                                         "msm_k5_s1_pixel-grid_r1_taa-off",
                                         "msm_k5_s1_pixel-grid_r1_taa-restart",
-                                        "msm_k5_s1_pixel-grid_r1_taa-reproject"};
+                                        "msm_k5_s1_pixel-grid_r1_taa-reproject",
+                                        "msm_k5_s1_pixel-grid_r1_taa-cache"};
+  // Where each of the acceptance's setting's tracks sits.
+  constexpr std::size_t kOff = 5, kReproject = 7, kCache = 8;
   for (std::size_t i = 0; i < ids.size(); ++i) {
     const Json& tr = t["tracks"][i];
     EXPECT_EQ(tr["id"], ids[i]);
@@ -114,37 +118,52 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
     EXPECT_GT(ring["taa_on_reference_flicker"].get<double>(), 0.0) << ring.dump();
     EXPECT_GT(ring["taa_on_reference_flicker_tracked"].get<double>(), 0.0) << ring.dump();
     // Fed the reference instead of 1-ray frames, the same TAA errs less than the reprojecting track.
-    EXPECT_GT(ring["taa_on_reference_psnr"].get<double>(), t["tracks"][6]["rings"][r]["psnr"].get<double>())
+    EXPECT_GT(ring["taa_on_reference_psnr"].get<double>(), t["tracks"][kReproject]["rings"][r]["psnr"].get<double>())
         << ring.dump();
   }
   // The track names the still setting it belongs to: TAA off is the setting without TAA.
   EXPECT_EQ(t["tracks"][1]["setting"], "nn_k1_s1_pixel-grid_r1");
   EXPECT_EQ(t["tracks"][3]["setting"], "nn_k1_s1_pixel-grid_r1_taa");
+  EXPECT_EQ(t["tracks"][4]["setting"], "nn_k1_s1_pixel-grid_r1_taa");
+  EXPECT_EQ(t["tracks"][kCache]["taa"], "cache");
+  EXPECT_EQ(t["tracks"][kCache]["taa_reset_frames"], t["tracks"][kReproject]["taa_reset_frames"]);
   // The acceptance is read at the layer's defaults (MSM k = 5, scale 1, pixel grid, 1 ray).
   EXPECT_EQ(t["acceptance"]["setting"], "msm_k5_s1_pixel-grid_r1");
   ASSERT_EQ(t["acceptance"]["flicker_ratio_off_over_reproject"].size(), 7u);
   const double ratio = t["acceptance"]["flicker_ratio_off_over_reproject"][4].get<double>();
   EXPECT_NEAR(ratio,
-              t["tracks"][4]["rings"][4]["flicker"].get<double>() / t["tracks"][6]["rings"][4]["flicker"].get<double>(),
+              t["tracks"][kOff]["rings"][4]["flicker"].get<double>() /
+                  t["tracks"][kReproject]["rings"][4]["flicker"].get<double>(),
               1e-12);
   const double tracked_ratio = t["acceptance"]["flicker_tracked_ratio_off_over_reproject"][4].get<double>();
   EXPECT_NEAR(tracked_ratio,
-              t["tracks"][4]["rings"][4]["flicker_tracked"].get<double>() /
-                  t["tracks"][6]["rings"][4]["flicker_tracked"].get<double>(),
+              t["tracks"][kOff]["rings"][4]["flicker_tracked"].get<double>() /
+                  t["tracks"][kReproject]["rings"][4]["flicker_tracked"].get<double>(),
               1e-12);
   EXPECT_NEAR(t["acceptance"]["flicker_ratio_off_over_stable_blur"][4].get<double>(),
-              t["tracks"][4]["rings"][4]["flicker"].get<double>() /
+              t["tracks"][kOff]["rings"][4]["flicker"].get<double>() /
                   t["reference"]["rings"][4]["stable_blur_flicker"].get<double>(),
               1e-12);
   EXPECT_NEAR(t["acceptance"]["flicker_tracked_ratio_off_over_taa_on_reference"][4].get<double>(),
-              t["tracks"][4]["rings"][4]["flicker_tracked"].get<double>() /
+              t["tracks"][kOff]["rings"][4]["flicker_tracked"].get<double>() /
                   t["reference"]["rings"][4]["taa_on_reference_flicker_tracked"].get<double>(),
               1e-12);
   EXPECT_NEAR(t["acceptance"]["flicker_ratio_off_over_sample_history"][4].get<double>(),
-              t["tracks"][4]["rings"][4]["flicker"].get<double>() /
+              t["tracks"][kOff]["rings"][4]["flicker"].get<double>() /
                   t["reference"]["rings"][4]["sample_history_flicker"].get<double>(),
               1e-12);
   EXPECT_TRUE(t["acceptance"]["peripheral_tracked_flicker_5x_lower"].is_boolean());
+  // The render cache's goal reads its own track against the same TAA off.
+  const Json& cache_goal = t["acceptance"]["render_cache"];
+  EXPECT_NEAR(cache_goal["flicker_tracked_ratio"][4].get<double>(),
+              t["tracks"][kOff]["rings"][4]["flicker_tracked"].get<double>() /
+                  t["tracks"][kCache]["rings"][4]["flicker_tracked"].get<double>(),
+              1e-12);
+  EXPECT_NEAR(cache_goal["psnr_minus_off_db"][0].get<double>(),
+              t["tracks"][kCache]["rings"][0]["psnr"].get<double>() - t["tracks"][kOff]["rings"][0]["psnr"].get<double>(),
+              1e-12);
+  EXPECT_TRUE(cache_goal["peripheral_flicker_5x_lower"].is_boolean());
+  EXPECT_NE(out.str().find("The render cache"), std::string::npos) << out.str();
   EXPECT_EQ(t["sanity"]["flicker_margin_db"].size(), 7u);
 
   // temporal.csv: one row per track, the same numbers as the JSON.
@@ -176,7 +195,9 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_EQ(t["reference"]["settled_frames"], 0);
   EXPECT_EQ(t["acceptance"]["settled_periphery"]["frames"], 0);
   EXPECT_TRUE(t["acceptance"]["settled_periphery"]["flicker_ratio_off_over_reproject"].is_null());
-  EXPECT_EQ(t["tracks"][6]["bands"][1]["flicker_by_frame"].size(), 4u);
+  EXPECT_EQ(t["tracks"][kReproject]["bands"][1]["flicker_by_frame"].size(), 4u);
+  EXPECT_EQ(t["tracks"][kCache]["bands"][1]["flicker_by_frame"].size(), 4u);
+  EXPECT_NE(report.str().find("The render cache"), std::string::npos);
 
   // Resume: nothing is measured again, the same numbers come back.
   std::ostringstream out2, err2;
@@ -288,6 +309,34 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
     const std::string e = tools::write_temporal_plots(plots.path / "missing" / "dir", with_bands, a);
     EXPECT_NE(e.find(tools::kTemporalPlotFixed), std::string::npos) << e;
   }
+  // The setting's render-cache track gets the same goal, read from its own rings: 6x along the motion in every
+  // peripheral ring but 4x at fixed pixels in one; 1 dB better at 0-2.5 deg but 0.2 dB worse at 2.5-5 deg.
+  Json with_cache = synthetic(off, rep, psnr_off, psnr_rep);
+  EXPECT_FALSE(tools::temporal_acceptance(with_cache, "s").contains("render_cache"));
+  EXPECT_EQ(tools::temporal_render_cache_line(tools::temporal_acceptance(with_cache, "s")), "");
+  for (Json& ring : with_cache["tracks"][0]["rings"]) ring["flicker_tracked"] = ring["flicker"];
+  Json cache_rings = Json::array();
+  for (std::size_t r = 0; r < 7; ++r)
+    cache_rings.push_back({{"flicker", r == 5 ? 0.025 : 0.015},
+                           {"flicker_tracked", 0.1 / 6.0},
+                           {"psnr", r == 0 ? 31.0 : r == 1 ? 29.8 : 35.0}});
+  with_cache["tracks"].push_back({{"id", "s_taa-cache"}, {"taa", "cache"}, {"rings", cache_rings}});
+  a = tools::temporal_acceptance(with_cache, "s");
+  ASSERT_TRUE(a.contains("render_cache")) << a.dump();
+  const Json& cache_goal = a["render_cache"];
+  EXPECT_NEAR(cache_goal["flicker_ratio"][5].get<double>(), 4.0, 1e-12);
+  EXPECT_NEAR(cache_goal["flicker_tracked_ratio"][6].get<double>(), 6.0, 1e-12);
+  EXPECT_FALSE(cache_goal["peripheral_flicker_5x_lower"].get<bool>());
+  EXPECT_TRUE(cache_goal["peripheral_tracked_flicker_5x_lower"].get<bool>());
+  EXPECT_NEAR(cache_goal["psnr_minus_off_db"][0].get<double>(), 1.0, 1e-12);
+  EXPECT_NEAR(cache_goal["psnr_minus_off_db"][1].get<double>(), -0.2, 1e-9);
+  EXPECT_FALSE(cache_goal["central_error_no_worse"].get<bool>());
+  EXPECT_TRUE(a["peripheral_flicker_5x_lower"].get<bool>());  // the reprojected TAA's goal is its own
+  const std::string cache_line = tools::temporal_render_cache_line(a);
+  EXPECT_NE(cache_line.find("6.7x / 4.0x / 6.7x"), std::string::npos) << cache_line;
+  EXPECT_NE(cache_line.find("6.0x / 6.0x / 6.0x"), std::string::npos) << cache_line;
+  EXPECT_NE(cache_line.find("goal 5x: not met / met"), std::string::npos) << cache_line;
+  EXPECT_NE(cache_line.find("+1.0 / -0.2 dB"), std::string::npos) << cache_line;
   // A setting without its three tracks has no acceptance.
   EXPECT_TRUE(tools::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "other").is_null());
 }

@@ -149,6 +149,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     temporal["acceptance"] = acceptance;
     temporal["sanity"] = temporal_checks;
     if (const std::string t = temporal_headline(temporal, acceptance); !t.empty()) h << " " << t;
+    if (const std::string t = temporal_render_cache_line(acceptance); !t.empty()) h << " " << t;
   }
   *headline = h.str();
 

@@ -24,7 +24,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
-constexpr const char* kTaaModes[] = {"off", "restart", "reproject"};
+constexpr const char* kTaaModes[] = {"off", "restart", "reproject", "cache"};
 
 // One group of the temporal pass: a TAA setting of the grid without its TAA.
 struct TemporalGroup {
@@ -129,7 +129,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
   if (groups.empty()) {
     err << "fovea pricelist: no TAA setting in the grid (--taa-rays): no temporal columns\n";
   } else {
-    err << "fovea pricelist: temporal columns: " << groups.size() << " TAA setting(s) x off/restart/reproject over "
+    err << "fovea pricelist: temporal columns: " << groups.size() << " TAA setting(s) x off/restart/reproject/cache over "
         << o.frames << " frames of the " << o.motion << " motion at " << eye_at_rest.width_px << "x"
         << eye_at_rest.height_px << ", " << groups.size() - todo.size() << " already measured in "
         << results_file.string() << "\n";

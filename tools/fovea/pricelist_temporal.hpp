@@ -1,8 +1,9 @@
 // The price list's temporal columns (docs/pricelist.md "Temporal columns"):
 // every TAA setting of the grid (method, k, scale, pattern at the TAA rays)
-// rendered over a scripted head and gaze motion three times at equal rays —
-// TAA off, restarting on every pose change (the TAA before reprojection), and
-// reprojecting its history — plus the full render at 1 ray per pixel, each
+// rendered over a scripted head and gaze motion four times at equal rays —
+// TAA off, restarting on every pose change (the TAA before reprojection),
+// reprojecting its history, and keeping the traced rays in a render cache
+// (TaaHistory::ray_cache) — plus the full render at 1 ray per pixel, each
 // measured per ring against the reference sequence (motion_sequence.hpp).
 //
 // The motion renders at its own eye size (a sequence costs frames x the

@@ -1,6 +1,6 @@
 // The temporal columns in the price list's outputs: the acceptance of issue
-// #18 (peripheral flicker with reprojected TAA at least 5x below no TAA at
-// equal rays, the 0-5 deg error no worse), the reference floor's margins,
+// #18 (peripheral flicker with TAA at least 5x below no TAA at equal rays, the
+// 0-5 deg error no worse) for the reprojected TAA and the render cache, the reference floor's margins,
 // temporal.csv and report.md's section. Input: run_pricelist_temporal's JSON.
 #pragma once
 
@@ -25,8 +25,10 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 //  "peripheral_csf_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
 //  "settled_periphery": {"frames", "settle_frames", "<m>_ratio_off_over_reproject",
 //  "<m>_ratio_off_over_<c>" for each control c} (the periphery pooled over the settled frames, beside the goal;
-//  absent without per-frame values)}
-// for one setting's three tracks (null entries where a ring is empty); null when they are missing.
+//  absent without per-frame values), "render_cache": {"<m>_ratio"[ring], "peripheral_flicker_5x_lower",
+//  "peripheral_tracked_flicker_5x_lower", "peripheral_csf_flicker_5x_lower", "psnr_minus_off_db"[ring],
+//  "central_error_no_worse"} (the same goal for the setting's render-cache track; absent without it)}
+// for one setting's tracks (null entries where a ring is empty); null when off, restart or reproject is missing.
 nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
 
 // Per ring, how far the reference sequence's own contribution lies below the
@@ -38,6 +40,8 @@ nlohmann::ordered_json temporal_sanity(const nlohmann::ordered_json& temporal);
 
 // The headline's sentence on the acceptance ("" when it cannot be read).
 std::string temporal_headline(const nlohmann::ordered_json& temporal, const nlohmann::ordered_json& acceptance);
+// The headline's sentence on the render cache's goal (acceptance["render_cache"]; "" without it).
+std::string temporal_render_cache_line(const nlohmann::ordered_json& acceptance);
 // report.md's sentence on the flicker weighted by what the eye resolves (flicker_csf), beside the goal.
 std::string temporal_csf_line(const nlohmann::ordered_json& acceptance);
 
