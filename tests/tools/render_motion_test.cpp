@@ -1,6 +1,7 @@
 // `fovea render --motion`: bad motion files and options are errors naming what
 // is wrong with a non-zero exit; a tiny sequence reports per-ring flicker and
-// error against the reference sequence for every TAA mode at equal rays.
+// error against the reference sequence for every TAA mode at equal rays, and
+// says when the reference's own noise lies too close to a track's.
 #include "gltf_fixtures.hpp"
 
 #include <cmd_render.hpp>
@@ -10,6 +11,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -190,6 +192,40 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   ASSERT_FALSE(j2.is_null());
   EXPECT_EQ(j2["reference"]["frames_from_cache"], 3);
   EXPECT_EQ(j2["tracks"][3]["rings"], j["tracks"][3]["rings"]);
+}
+
+// The reference sequence's own noise against every track's flicker and error, as the price list checks it: an
+// 8-ray reference lies too close to a reprojecting TAA, and the run says so; a 256-ray one lies 10 dB below
+// 1-ray frames without TAA.
+TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
+  engine_test::TempDir dir;
+  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  auto j = nlohmann::json::parse(out.str());
+  ASSERT_TRUE(j.contains("sanity")) << j.dump();
+  EXPECT_FALSE(j["sanity"]["floor_10db_below"].get<bool>());
+  ASSERT_EQ(j["sanity"]["flicker_margin_db"].size(), 7u);
+  double least = 1e9;
+  for (const auto& m : j["sanity"]["flicker_margin_db"]) least = std::min(least, m.get<double>());
+  EXPECT_LT(least, 10.0);
+  EXPECT_NE(err.str().find("the reference's own noise lies only"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("--reference-spp"), std::string::npos) << err.str();
+
+  o.taa = "off";
+  o.reference_spp = "256";
+  std::ostringstream out2, err2;
+  ASSERT_EQ(run_render(o, out2, err2), 0) << err2.str();
+  j = nlohmann::json::parse(out2.str());
+  EXPECT_TRUE(j["sanity"]["floor_10db_below"].get<bool>()) << j["sanity"].dump();
+  EXPECT_EQ(err2.str().find("the reference's own noise"), std::string::npos) << err2.str();
+  // The text report says it too.
+  o.json = false;
+  std::ostringstream out3, err3;
+  ASSERT_EQ(run_render(o, out3, err3), 0) << err3.str();
+  EXPECT_NE(out3.str().find("reference floor at least 10 dB below every track's flicker and error in every ring: yes"),
+            std::string::npos)
+      << out3.str();
 }
 
 // --pixel-filter: the reference sequence, the full render and the foveated

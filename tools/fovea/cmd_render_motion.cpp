@@ -6,6 +6,8 @@
 #include "cmd_render.hpp"
 
 #include "motion_sequence.hpp"
+#include "pricelist_report.hpp"
+#include "pricelist_temporal_report.hpp"
 #include "pricelist_grid.hpp"
 #include "render_metrics.hpp"
 
@@ -25,6 +27,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <ostream>
 
 namespace foveart::tools {
@@ -37,6 +40,34 @@ std::string fixed(const Json& j, int decimals) {
   const double v = j.get<double>();
   char buf[48];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// "" when the reference sequence's own flicker and error lie at least 10 dB below every track's in every
+// ring (temporal_sanity); else what is too close and what to do. Closer, the reference's noise is a visible
+// share of the steadiest tracks' flicker, and their ratios to TAA off come out lower than they are.
+bool floor_10db_below(const Json& sanity) {
+  const auto it = sanity.find("floor_10db_below");
+  return it != sanity.end() && *it == Json(true);
+}
+
+std::string floor_warning(const Json& sanity) {
+  if (floor_10db_below(sanity)) return "";
+  double least = std::numeric_limits<double>::infinity();
+  std::size_t ring = 0;
+  for (const char* key : {"flicker_margin_db", "error_margin_db"})
+    for (std::size_t r = 0; r < sanity[key].size(); ++r)
+      if (sanity[key][r].is_number() && sanity[key][r].get<double>() < least) {
+        least = sanity[key][r].get<double>();
+        ring = r;
+      }
+  if (!std::isfinite(least)) return "";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the reference's own noise lies only %.1f dB below a track's flicker or error (ring %s; 10 dB "
+                "wanted): the steadiest tracks' numbers include it, so their ratios to TAA off read low. Four times "
+                "the --reference-spp lowers it by 6 dB",
+                least, ring_name(ring).c_str());
   return buf;
 }
 
@@ -79,6 +110,11 @@ void print_text(const Json& report, std::ostream& out) {
     for (const SequenceControl& c : kSequenceControls) line(c.label, reference_rings, std::string(c.key) + "_", "");
     line("reference floor (its own noise)", reference_rings, "", "_floor");
   };
+  if (report.contains("sanity")) {
+    const Json& sanity = report["sanity"];
+    out << "reference floor at least 10 dB below every track's flicker and error in every ring: "
+        << (floor_10db_below(sanity) ? "yes" : "no") << "\n";
+  }
   table({{"flicker_tracked", 4}, {"flicker", 4}, {"psnr", 1}});
   out << "flicker weighted by what the eye resolves (flicker_csf: the change's luma, CSF-weighted by eccentricity), "
          "per ring:\n";
@@ -249,6 +285,11 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
     track_list.push_back(j);
   }
   report["tracks"] = track_list;
+  if (report.contains("reference")) {
+    // The reference's own flicker and error against every track's, as the price list checks them.
+    report["sanity"] = temporal_sanity(report);
+    if (const std::string w = floor_warning(report["sanity"]); !w.empty()) err << "fovea render: " << w << "\n";
+  }
   if (!o.out_prefix.empty()) report["images"] = files;
   if (o.json)
     out << report.dump(2) << "\n";
