@@ -39,8 +39,8 @@ struct TemporalOptions {
   double start_s = 1.3;                 // with 36 frames at 70 fps: 1.30-1.80 s, the 12 deg saccade at 1.5 s
   double fps = 70.0;
   // Rays per pixel of every reference frame: with the box filter 256 keeps its own flicker (its floor)
-  // 10 dB below every track's; with bspline2 the render cache flickers less, and its 10 dB take 1024
-  // (sanity.floor_10db_below says which; docs/pricelist.md, "The reference's own share").
+  // 10 dB below every track's. With bspline2 the render cache flickers less: 256 lies 3-6 dB below it,
+  // 1024 8-12 dB at 320x360 (sanity.floor_10db_below says; docs/pricelist.md, "The reference's own share").
   int reference_spp = 256;
 };
 
