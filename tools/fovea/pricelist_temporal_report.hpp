@@ -21,7 +21,7 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 //  taa_on_reference, sample_history, sample_history_kept, ray_cache, ray_cache_kept: motion_sequence.hpp)
 //  for m = flicker (at fixed pixels),
 //  flicker_tracked (along the motion) and flicker_csf (weighted by what the eye resolves),
-//  "peripheral_flicker_5x_lower" (fixed pixels, the issue's measure), "peripheral_tracked_flicker_5x_lower",
+//  "peripheral_flicker_5x_lower" (fixed pixels, beside the goal), "peripheral_tracked_flicker_5x_lower" (the goal),
 //  "peripheral_csf_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
 //  "settled_periphery": {"frames", "settle_frames", "<m>_ratio_off_over_reproject",
 //  "<m>_ratio_off_over_<c>" for each control c} (the periphery pooled over the settled frames, beside the goal;
