@@ -187,6 +187,25 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   EXPECT_EQ(j["tracks"][3]["taa_resets"], 1);
   // Equal rays: the foveated tracks trace the same points.
   EXPECT_EQ(j["tracks"][1]["rays"]["primary"], j["tracks"][3]["rays"]["primary"]);
+  // Each TAA track carries the goal against TAA off, read from the two tracks' rings.
+  EXPECT_FALSE(j["tracks"][0].contains("goal"));
+  EXPECT_FALSE(j["tracks"][1].contains("goal"));
+  for (const std::size_t i : {std::size_t(2), std::size_t(3)}) {
+    const auto& goal = j["tracks"][i]["goal"];
+    ASSERT_EQ(goal["flicker_tracked_ratio"].size(), 7u) << j["tracks"][i].dump();
+    for (std::size_t r = 0; r < 7; ++r) {
+      EXPECT_NEAR(goal["flicker_tracked_ratio"][r].get<double>(),
+                  j["tracks"][1]["rings"][r]["flicker_tracked"].get<double>() /
+                      j["tracks"][i]["rings"][r]["flicker_tracked"].get<double>(),
+                  1e-12);
+      EXPECT_NEAR(goal["psnr_minus_off_db"][r].get<double>(),
+                  j["tracks"][i]["rings"][r]["psnr"].get<double>() - j["tracks"][1]["rings"][r]["psnr"].get<double>(),
+                  1e-12);
+    }
+    EXPECT_TRUE(goal["peripheral_tracked_flicker_5x_lower"].is_boolean());
+  }
+  // Three frames of 1-ray TAA are nowhere near 5x.
+  EXPECT_FALSE(j["tracks"][3]["goal"]["peripheral_tracked_flicker_5x_lower"].get<bool>());
   // The reference sequence is cached: a second run renders none of it.
   const auto j2 = run_json(o);
   ASSERT_FALSE(j2.is_null());
@@ -226,6 +245,13 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   EXPECT_NE(out3.str().find("reference floor at least 10 dB below every track's flicker and error in every ring: yes"),
             std::string::npos)
       << out3.str();
+  // Without a TAA track there is no goal to read.
+  EXPECT_EQ(out3.str().find("TAA off over each TAA track"), std::string::npos) << out3.str();
+  o.taa = "off,reproject";
+  std::ostringstream out4, err4;
+  ASSERT_EQ(run_render(o, out4, err4), 0) << err4.str();
+  EXPECT_NE(out4.str().find("TAA off over each TAA track"), std::string::npos) << out4.str();
+  EXPECT_NE(out4.str().find("nn_k1_s1_pixel-grid_r1_taa-reproject: "), std::string::npos) << out4.str();
 }
 
 // --pixel-filter: the reference sequence, the full render and the foveated

@@ -22,6 +22,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -110,11 +111,6 @@ void print_text(const Json& report, std::ostream& out) {
     for (const SequenceControl& c : kSequenceControls) line(c.label, reference_rings, std::string(c.key) + "_", "");
     line("reference floor (its own noise)", reference_rings, "", "_floor");
   };
-  if (report.contains("sanity")) {
-    const Json& sanity = report["sanity"];
-    out << "reference floor at least 10 dB below every track's flicker and error in every ring: "
-        << (floor_10db_below(sanity) ? "yes" : "no") << "\n";
-  }
   table({{"flicker_tracked", 4}, {"flicker", 4}, {"psnr", 1}});
   out << "flicker weighted by what the eye resolves (flicker_csf: the change's luma, CSF-weighted by eccentricity), "
          "per ring:\n";
@@ -133,6 +129,40 @@ void print_text(const Json& report, std::ostream& out) {
   for (const Json& t : report["tracks"]) settled(t["id"].get<std::string>(), t["bands"]);
   for (const SequenceControl& c : kSequenceControls)
     settled(c.label, report["reference"][std::string(c.key) + "_bands"]);
+  // TAA off over each TAA track in the periphery, and each one's error gain where the user looks (the goal).
+  bool goal_header = false;
+  for (const Json& t : report["tracks"]) {
+    const auto goal = t.find("goal");
+    if (goal == t.end()) continue;
+    if (!goal_header) {
+      out << "TAA off over each TAA track at 20-30 / 30-45 / >45 deg, along the motion | at fixed pixels (goal: 5x "
+             "along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
+      goal_header = true;
+    }
+    const auto three = [&](const char* key) {
+      std::string text;
+      for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
+        text += (r > kPeripheralBand.begin ? " / " : "") + fixed((*goal)[key][r], 2) + "x";
+      return text;
+    };
+    const auto met = [&](const char* key) {
+      const auto flag = goal->find(key);
+      return flag != goal->end() && *flag == Json(true) ? "met" : "not met";
+    };
+    out << t["id"].get<std::string>() << ": " << three("flicker_tracked_ratio") << " ("
+        << met("peripheral_tracked_flicker_5x_lower") << ") | " << three("flicker_ratio") << " | ";
+    for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r) {
+      const Json& gain = (*goal)["psnr_minus_off_db"][r];
+      out << (r > kCentralBand.begin ? " / " : "") << (gain.is_number() && gain.get<double>() >= 0 ? "+" : "")
+          << fixed(gain, 1);
+    }
+    out << " dB (" << met("central_error_no_worse") << ")\n";
+  }
+  if (report.contains("sanity")) {
+    const Json& sanity = report["sanity"];
+    out << "reference floor at least 10 dB below every track's flicker and error in every ring: "
+        << (floor_10db_below(sanity) ? "yes" : "no") << "\n";
+  }
 }
 
 }  // namespace
@@ -283,6 +313,20 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
       j.erase("bands");
     }
     track_list.push_back(j);
+  }
+  if (!ref.spp.empty()) {
+    // Issue #18's goal for each TAA track against the TAA-off track at equal rays, when both were measured.
+    const auto is_taa = [](const Json& t, bool off) {
+      const auto taa = t.find("taa");
+      if (taa == t.end() || !taa->is_string() || taa->get<std::string>().empty()) return false;
+      return (taa->get<std::string>() == "off") == off;
+    };
+    const auto off = std::find_if(track_list.begin(), track_list.end(), [&](const Json& t) { return is_taa(t, true); });
+    if (off != track_list.end()) {
+      const Json off_track = *off;
+      for (Json& t : track_list)
+        if (is_taa(t, false)) t["goal"] = temporal_goal(off_track, t);
+    }
   }
   report["tracks"] = track_list;
   if (report.contains("reference")) {

@@ -77,10 +77,9 @@ std::string peripheral_ratios(const Json& a, const std::string& key) {
   return out;
 }
 
-// The goal for one TAA history against TAA off at equal rays, per measure (at fixed pixels, along the motion,
-// weighted by what the eye resolves): off over the history per ring, and whether every peripheral ring reaches
-// 5x; and the history's PSNR gain per ring, no loss in the central rings.
-Json history_goal(const Json& off, const Json& history) {
+}  // namespace
+
+Json temporal_goal(const Json& off, const Json& history) {
   Json g = Json::object();
   for (const char* measure : {"flicker", "flicker_tracked", "flicker_csf"}) {
     const std::string m = measure;
@@ -106,8 +105,6 @@ Json history_goal(const Json& off, const Json& history) {
   return g;
 }
 
-}  // namespace
-
 Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   const Json* off = track(temporal, setting + "_taa-off");
   const Json* restart = track(temporal, setting + "_taa-restart");
@@ -120,7 +117,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   // all), the TAA fed the reference (what the history's reprojection costs without noise) and the sample
   // histories (what keeping the rays themselves reaches). The third measure, weighted by what the eye resolves
   // (temporal_metrics.hpp flicker_csf_rms), stands beside the goal, which the issue sets on the plain change.
-  const Json goal = history_goal(*off, *reproject);
+  const Json goal = temporal_goal(*off, *reproject);
   for (const char* measure : {"flicker", "flicker_tracked", "flicker_csf"}) {
     const std::string m = measure;
     Json ratio_restart = Json::array();
@@ -144,7 +141,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   a["central_error_no_worse"] = goal["central_error_no_worse"];
   // The render cache (TaaHistory::ray_cache, restarting where the reprojected TAA restarts) against the same
   // TAA off; absent from runs measured before the price list had it.
-  if (const Json* cache = track(temporal, setting + "_taa-cache")) a["render_cache"] = history_goal(*off, *cache);
+  if (const Json* cache = track(temporal, setting + "_taa-cache")) a["render_cache"] = temporal_goal(*off, *cache);
   // Beside the goal, which pools every frame: the periphery over the frames whose TAA history has
   // settled (motion_sequence.hpp), without the cold start and the frames after the saccade.
   const Json* off_band = periphery_of(*off, "bands");

@@ -16,6 +16,14 @@ namespace foveart::tools {
 // pixel-grid fovea, 1 ray per point) when measured, else the first TAA setting.
 inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1";
 
+// The goal of issue #18 for one TAA track against the TAA-off track at equal rays (tracks as
+// sequence_track_json writes them): {"<m>_ratio"[ring] (off over the track) for m = flicker (at fixed
+// pixels), flicker_tracked (along the motion) and flicker_csf (weighted by what the eye resolves),
+// "peripheral_flicker_5x_lower", "peripheral_tracked_flicker_5x_lower", "peripheral_csf_flicker_5x_lower"
+// (every ring beyond 20 deg at 5x or more), "psnr_minus_off_db"[ring], "central_error_no_worse" (no loss at
+// 0-5 deg)}; null entries where a ring is empty.
+nlohmann::ordered_json temporal_goal(const nlohmann::ordered_json& off, const nlohmann::ordered_json& history);
+
 // {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
 //  "<m>_ratio_off_over_<c>"[ring] for each control c of kSequenceControls (stable_blur,
 //  taa_on_reference, sample_history, sample_history_kept, ray_cache, ray_cache_kept: motion_sequence.hpp)
@@ -25,9 +33,8 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 //  "peripheral_csf_flicker_5x_lower", "psnr_reproject_minus_off_db"[ring], "central_error_no_worse",
 //  "settled_periphery": {"frames", "settle_frames", "<m>_ratio_off_over_reproject",
 //  "<m>_ratio_off_over_<c>" for each control c} (the periphery pooled over the settled frames, beside the goal;
-//  absent without per-frame values), "render_cache": {"<m>_ratio"[ring], "peripheral_flicker_5x_lower",
-//  "peripheral_tracked_flicker_5x_lower", "peripheral_csf_flicker_5x_lower", "psnr_minus_off_db"[ring],
-//  "central_error_no_worse"} (the same goal for the setting's render-cache track; absent without it)}
+//  absent without per-frame values), "render_cache": temporal_goal of the setting's render-cache track
+//  (absent without it)}
 // for one setting's tracks (null entries where a ring is empty); null when off, restart or reproject is missing.
 nlohmann::ordered_json temporal_acceptance(const nlohmann::ordered_json& temporal, const std::string& setting);
 
