@@ -6,9 +6,9 @@
 #include "cmd_render.hpp"
 
 #include "motion_sequence.hpp"
+#include "pricelist_grid.hpp"
 #include "pricelist_report.hpp"
 #include "pricelist_temporal_report.hpp"
-#include "pricelist_grid.hpp"
 #include "render_metrics.hpp"
 
 #include <engine/gltf_loader.hpp>
@@ -44,14 +44,15 @@ std::string fixed(const Json& j, int decimals) {
   return buf;
 }
 
-// "" when the reference sequence's own flicker and error lie at least 10 dB below every track's in every
-// ring (temporal_sanity); else what is too close and what to do. Closer, the reference's noise is a visible
-// share of the steadiest tracks' flicker, and their ratios to TAA off come out lower than they are.
+// temporal_sanity's verdict: the reference sequence's own flicker and error lie at least 10 dB below every
+// track's in every ring.
 bool floor_10db_below(const Json& sanity) {
   const auto it = sanity.find("floor_10db_below");
   return it != sanity.end() && *it == Json(true);
 }
 
+// "" when floor_10db_below; else what is too close and what to do. Closer, the reference's noise is a visible
+// share of the steadiest tracks' flicker, and their ratios to TAA off come out lower than they are.
 std::string floor_warning(const Json& sanity) {
   if (floor_10db_below(sanity)) return "";
   double least = std::numeric_limits<double>::infinity();
