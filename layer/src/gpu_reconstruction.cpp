@@ -122,7 +122,8 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& vi
   f.view = request.view;
   f.history_view = result.history_view;
   f.srgb = srgb;
-  const foveation::ViewSettings& settings = view.settings();  // a render cache: never a history_view
+  const foveation::ViewSettings& settings = view.settings();
+  // A render cache reprojects its rays itself; its frame has no history_view.
   if (settings.taa && settings.taa_history == foveation::TaaHistory::ray_cache) {
     GpuRayCacheFrame c;
     c.rays = &view.traced_rays();

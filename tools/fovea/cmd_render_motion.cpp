@@ -140,24 +140,13 @@ void print_text(const Json& report, std::ostream& out) {
              "along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
       goal_header = true;
     }
-    const auto three = [&](const char* key) {
-      std::string text;
-      for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
-        text += (r > kPeripheralBand.begin ? " / " : "") + fixed((*goal)[key][r], 2) + "x";
-      return text;
-    };
     const auto met = [&](const char* key) {
       const auto flag = goal->find(key);
       return flag != goal->end() && *flag == Json(true) ? "met" : "not met";
     };
-    out << t["id"].get<std::string>() << ": " << three("flicker_tracked_ratio") << " ("
-        << met("peripheral_tracked_flicker_5x_lower") << ") | " << three("flicker_ratio") << " | ";
-    for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r) {
-      const Json& gain = (*goal)["psnr_minus_off_db"][r];
-      out << (r > kCentralBand.begin ? " / " : "") << (gain.is_number() && gain.get<double>() >= 0 ? "+" : "")
-          << fixed(gain, 1);
-    }
-    out << " dB (" << met("central_error_no_worse") << ")\n";
+    out << t["id"].get<std::string>() << ": " << peripheral_ratios(*goal, "flicker_tracked_ratio", 2) << " ("
+        << met("peripheral_tracked_flicker_5x_lower") << ") | " << peripheral_ratios(*goal, "flicker_ratio", 2) << " | "
+        << central_gains_db((*goal)["psnr_minus_off_db"]) << " dB (" << met("central_error_no_worse") << ")\n";
   }
   if (report.contains("sanity")) {
     const Json& sanity = report["sanity"];
@@ -317,16 +306,12 @@ int run_render_motion(const RenderOptions& o, std::ostream& out, std::ostream& e
   }
   if (!ref.spp.empty()) {
     // Issue #18's goal for each TAA track against the TAA-off track at equal rays, when both were measured.
-    const auto is_taa = [](const Json& t, bool off) {
-      const auto taa = t.find("taa");
-      if (taa == t.end() || !taa->is_string() || taa->get<std::string>().empty()) return false;
-      return (taa->get<std::string>() == "off") == off;
-    };
-    const auto off = std::find_if(track_list.begin(), track_list.end(), [&](const Json& t) { return is_taa(t, true); });
+    // The full render's "taa" is null; a foveated track's is its TAA mode.
+    const auto off = std::find_if(track_list.begin(), track_list.end(), [](const Json& t) { return t["taa"] == "off"; });
     if (off != track_list.end()) {
       const Json off_track = *off;
       for (Json& t : track_list)
-        if (is_taa(t, false)) t["goal"] = temporal_goal(off_track, t);
+        if (t["taa"].is_string() && t["taa"] != "off") t["goal"] = temporal_goal(off_track, t);
     }
   }
   report["tracks"] = track_list;

@@ -24,6 +24,11 @@ inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1
 // 0-5 deg)}; null entries where a ring is empty.
 nlohmann::ordered_json temporal_goal(const nlohmann::ordered_json& off, const nlohmann::ordered_json& history);
 
+// values[key]'s ratios in the rings beyond 20 deg: "5.6x / 6.1x / 9.1x" ("-" for an empty ring).
+std::string peripheral_ratios(const nlohmann::ordered_json& values, const std::string& key, int decimals = 1);
+// PSNR gains in the rings within 5 deg (dB): "+12.6 / +11.8" ("-" for an empty ring).
+std::string central_gains_db(const nlohmann::ordered_json& gains);
+
 // {"setting", "<m>_ratio_off_over_reproject"[ring], "<m>_ratio_off_over_restart"[ring],
 //  "<m>_ratio_off_over_<c>"[ring] for each control c of kSequenceControls (stable_blur,
 //  taa_on_reference, sample_history, sample_history_kept, ray_cache, ray_cache_kept: motion_sequence.hpp)
