@@ -1,10 +1,11 @@
 // The action system, as far as an eye tracker needs it: action sets and actions,
-// suggested bindings (eye gaze profile live; controller profiles accepted and
-// inactive, since the FOVE 0 has no controllers), attach, sync, state queries,
-// haptics accepted and ignored.
+// suggested bindings checked against the spec's profiles (interaction_profiles.h; the eye
+// gaze profile live, controller profiles accepted and inactive, since the FOVE 0 has no
+// controllers), attach, sync, state queries, haptics accepted and ignored.
 #include <cstring>
 
 #include "api_common.h"
+#include "interaction_profiles.h"
 
 namespace foveart::sim {
 namespace {
@@ -13,26 +14,21 @@ constexpr const char* kEyeGazeProfile = "/interaction_profiles/ext/eye_gaze_inte
 constexpr const char* kEyeGazePose = "/user/eyes_ext/input/gaze_ext/pose";
 constexpr const char* kEyesUser = "/user/eyes_ext";
 
-bool is_controller_profile(const std::string& p) {
-  static const char* kProfiles[] = {
-      "/interaction_profiles/khr/simple_controller",
-      "/interaction_profiles/google/daydream_controller",
-      "/interaction_profiles/htc/vive_controller",
-      "/interaction_profiles/htc/vive_pro",
-      "/interaction_profiles/microsoft/motion_controller",
-      "/interaction_profiles/microsoft/xbox_controller",
-      "/interaction_profiles/oculus/go_controller",
-      "/interaction_profiles/oculus/touch_controller",
-      "/interaction_profiles/valve/index_controller",
-  };
-  for (const char* k : kProfiles) {
+// OpenXR 1.0, section 6.3.1 "Reserved Paths": the top-level /user paths, and /user/eyes_ext
+// where XR_EXT_eye_gaze_interaction is enabled.
+bool is_top_level_user_path(const Instance& inst, const std::string& p) {
+  static const char* kPaths[] = {"/user/hand/left", "/user/hand/right", "/user/head", "/user/gamepad",
+                                 "/user/treadmill"};
+  for (const char* k : kPaths) {
     if (p == k) return true;
   }
-  return false;
+  return inst.ext_eye_gaze && p == kEyesUser;
 }
 
-bool starts_with(const std::string& s, const char* prefix) {
-  return s.rfind(prefix, 0) == 0;
+// Whether the app enabled the extension a profile needs ("" for core profiles).
+bool profile_enabled(const Instance& inst, const InteractionProfile& profile) {
+  if (profile.extension.empty()) return true;
+  return profile.extension == XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME && inst.ext_eye_gaze;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL create_action_set(XrInstance instance,
@@ -43,6 +39,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_action_set(XrInstance instance,
     (void)inst;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_SET_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+    // OpenXR 1.0, xrCreateActionSet: an empty name is NAME_INVALID, a malformed one PATH_FORMAT_INVALID.
+    if (info->actionSetName[0] == '\0') return XR_ERROR_NAME_INVALID;
     if (!is_well_formed_name(info->actionSetName, XR_MAX_ACTION_SET_NAME_SIZE))
       return XR_ERROR_PATH_FORMAT_INVALID;
     if (strnlen(info->localizedActionSetName, XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE) == 0) {
@@ -86,6 +84,8 @@ XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set_handle, const XrAct
     FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_CREATE_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     if (set->attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
+    // OpenXR 1.0, xrCreateAction: an empty name is NAME_INVALID, a malformed one PATH_FORMAT_INVALID.
+    if (info->actionName[0] == '\0') return XR_ERROR_NAME_INVALID;
     if (!is_well_formed_name(info->actionName, XR_MAX_ACTION_NAME_SIZE))
       return XR_ERROR_PATH_FORMAT_INVALID;
     if (strnlen(info->localizedActionName, XR_MAX_LOCALIZED_ACTION_NAME_SIZE) == 0) {
@@ -107,12 +107,15 @@ XRAPI_ATTR XrResult XRAPI_CALL create_action(XrActionSet set_handle, const XrAct
       if (other->localized_name == info->localizedActionName)
         return XR_ERROR_LOCALIZED_NAME_DUPLICATED;
     }
+    if (info->countSubactionPaths > 0 && info->subactionPaths == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     auto action = std::make_unique<Action>();
     for (uint32_t i = 0; i < info->countSubactionPaths; ++i) {
       const std::string* p = path_string(*rt.instance, info->subactionPaths[i]);
       if (p == nullptr) return XR_ERROR_PATH_INVALID;
-      if (!(starts_with(*p, "/user/hand/") || *p == "/user/head" || *p == "/user/gamepad" ||
-            *p == kEyesUser)) {
+      if (!is_top_level_user_path(*rt.instance, *p)) return XR_ERROR_PATH_UNSUPPORTED;
+      // OpenXR 1.0, xrCreateAction: a subaction path listed twice is PATH_UNSUPPORTED.
+      if (std::find(action->subaction_paths.begin(), action->subaction_paths.end(), info->subactionPaths[i]) !=
+          action->subaction_paths.end()) {
         return XR_ERROR_PATH_UNSUPPORTED;
       }
       action->subaction_paths.push_back(info->subactionPaths[i]);
@@ -150,11 +153,12 @@ XRAPI_ATTR XrResult XRAPI_CALL suggest_bindings(XrInstance instance,
     FOVEART_CHECK_STRUCT(info, XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
     if (info->countSuggestedBindings == 0 || info->suggestedBindings == nullptr)
       return XR_ERROR_VALIDATION_FAILURE;
-    const std::string* profile = path_string(*inst, info->interactionProfile);
-    if (profile == nullptr) return XR_ERROR_PATH_INVALID;
-    const bool eye_profile = *profile == kEyeGazeProfile;
-    if (eye_profile && !inst->ext_eye_gaze) return XR_ERROR_PATH_UNSUPPORTED;
-    if (!eye_profile && !is_controller_profile(*profile)) return XR_ERROR_PATH_UNSUPPORTED;
+    const std::string* profile_name = path_string(*inst, info->interactionProfile);
+    if (profile_name == nullptr) return XR_ERROR_PATH_INVALID;
+    // OpenXR 1.0, xrSuggestInteractionProfileBindings: a profile the runtime does not offer, or a
+    // binding path the profile does not list (section 6.4), is PATH_UNSUPPORTED.
+    const InteractionProfile* profile = find_interaction_profile(*profile_name);
+    if (profile == nullptr || !profile_enabled(*inst, *profile)) return XR_ERROR_PATH_UNSUPPORTED;
     std::vector<std::pair<XrAction, XrPath>> bindings;
     for (uint32_t i = 0; i < info->countSuggestedBindings; ++i) {
       const XrActionSuggestedBinding& b = info->suggestedBindings[i];
@@ -164,14 +168,7 @@ XRAPI_ATTR XrResult XRAPI_CALL suggest_bindings(XrInstance instance,
       if (set != nullptr && set->attached) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
       const std::string* path = path_string(*inst, b.binding);
       if (path == nullptr) return XR_ERROR_PATH_INVALID;
-      if (eye_profile) {
-        if (*path != kEyeGazePose || action->type != XR_ACTION_TYPE_POSE_INPUT)
-          return XR_ERROR_PATH_UNSUPPORTED;
-      } else if (!starts_with(*path, "/user/hand/left/") &&
-                 !starts_with(*path, "/user/hand/right/") &&
-                 !starts_with(*path, "/user/gamepad/")) {
-        return XR_ERROR_PATH_UNSUPPORTED;
-      }
+      if (!is_supported_binding(*profile, *path)) return XR_ERROR_PATH_UNSUPPORTED;
       bindings.emplace_back(b.action, b.binding);
     }
     inst->suggested[info->interactionProfile] =
@@ -200,8 +197,9 @@ XRAPI_ATTR XrResult XRAPI_CALL attach_action_sets(XrSession handle,
         Action* action = find(rt.actions, a);
         auto it = inst->suggested.find(eye_profile);
         if (it == inst->suggested.end()) continue;
+        // Only a pose action takes the gaze pose; a binding of another type is suggested but unbound.
         for (auto& [bound, path] : it->second) {
-          if (bound == a) action->bound_to_eye_gaze = true;
+          if (bound == a && action->type == XR_ACTION_TYPE_POSE_INPUT) action->bound_to_eye_gaze = true;
         }
         session->eye_gaze_bound |= action->bound_to_eye_gaze;
       }
@@ -381,8 +379,10 @@ get_input_source_localized_name(XrSession handle, const XrInputSourceLocalizedNa
                                 uint32_t capacity, uint32_t* count, char* buffer) {
   return guarded("xrGetInputSourceLocalizedName", [&]() -> XrResult {
     FOVEART_LOCK_SESSION(handle);
-    (void)session;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_INPUT_SOURCE_LOCALIZED_NAME_GET_INFO);
+    // OpenXR 1.0, xrGetInputSourceLocalizedName: before xrAttachSessionActionSets there
+    // are no input sources to name.
+    if (session->attached_sets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
     if (path_string(*inst, info->sourcePath) == nullptr) return XR_ERROR_PATH_INVALID;
     if (info->whichComponents == 0) return XR_ERROR_VALIDATION_FAILURE;
     return two_call_string(capacity, count, buffer, "FOVE 0 eye tracker");
@@ -398,6 +398,10 @@ XrResult check_haptic(Runtime& rt, Session& session, const XrHapticActionInfo* i
     return XR_ERROR_ACTIONSET_NOT_ATTACHED;
   }
   if (action->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
+  // OpenXR 1.0, xrApplyHapticFeedback: a subaction path that is no path at all is
+  // PATH_INVALID; a path the action was not created with is PATH_UNSUPPORTED.
+  if (info->subactionPath != XR_NULL_PATH && path_string(*rt.instance, info->subactionPath) == nullptr)
+    return XR_ERROR_PATH_INVALID;
   if (info->subactionPath != XR_NULL_PATH &&
       std::find(action->subaction_paths.begin(), action->subaction_paths.end(),
                 info->subactionPath) == action->subaction_paths.end()) {

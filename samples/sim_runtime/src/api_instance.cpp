@@ -141,6 +141,7 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_instance(XrInstance instance) {
     rt.actions.clear();
     rt.action_sets.clear();
     rt.instance.reset();
+    rt.frame_order_changed.notify_all();  // a blocked xrWaitFrame returns HANDLE_INVALID
     pin_loaded_vulkan_icds_and_layers();  // the loaders unload layers next (icd_pin.h)
     return XR_SUCCESS;
   });
@@ -185,14 +186,13 @@ XRAPI_ATTR XrResult XRAPI_CALL result_to_string(XrInstance instance, XrResult va
 #undef FOVEART_RESULT_CASE
           default : break;
     }
+    // OpenXR 1.0, xrResultToString: unknown codes read XR_UNKNOWN_SUCCESS_<value> or
+    // XR_UNKNOWN_FAILURE_<value>, the value as a signed decimal (a failure keeps its '-').
     if (name != nullptr)
       std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "%s", name);
-    else if (value >= 0)
-      std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_SUCCESS_%d",
-                    static_cast<int>(value));
     else
-      std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_FAILURE_%d",
-                    -static_cast<int>(value));
+      std::snprintf(buffer, XR_MAX_RESULT_STRING_SIZE, "XR_UNKNOWN_%s_%d", value >= 0 ? "SUCCESS" : "FAILURE",
+                    static_cast<int>(value));
     return XR_SUCCESS;
   });
 }
@@ -229,9 +229,9 @@ XRAPI_ATTR XrResult XRAPI_CALL get_system(XrInstance instance, const XrSystemGet
     (void)inst;
     FOVEART_CHECK_STRUCT(info, XR_TYPE_SYSTEM_GET_INFO);
     if (out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    if (info->formFactor == XR_FORM_FACTOR_HANDHELD_DISPLAY)
-      return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
-    if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY) return XR_ERROR_VALIDATION_FAILURE;
+    // OpenXR 1.0, xrGetSystem: a form factor the runtime does not offer -- a handheld display,
+    // or any value outside the enum -- is XR_ERROR_FORM_FACTOR_UNSUPPORTED.
+    if (info->formFactor != XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY) return XR_ERROR_FORM_FACTOR_UNSUPPORTED;
     *out = kSystemId;
     return XR_SUCCESS;
   });
@@ -332,17 +332,27 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_view_configuration_views(
   });
 }
 
+// OpenXR 1.0, section 6.1 "Well-Formed Path Strings": starts with '/', only [a-z0-9-_./],
+// no empty component ('//'), no trailing '/', and no component made of periods alone
+// ('.', '..', ...).
 bool is_well_formed_path(const char* s) {
   const size_t n = strnlen(s, XR_MAX_PATH_LENGTH);
   if (n == 0 || n == XR_MAX_PATH_LENGTH || s[0] != '/' || s[n - 1] == '/') return false;
+  bool component_all_periods = false;  // the component since the last '/' so far
   for (size_t i = 0; i < n; ++i) {
     const char c = s[i];
     const bool ok = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' ||
                     c == '.' || c == '/';
     if (!ok) return false;
-    if (c == '/' && i + 1 < n && s[i + 1] == '/') return false;
+    if (c == '/') {
+      if (i > 0 && component_all_periods) return false;
+      if (i + 1 < n && s[i + 1] == '/') return false;
+      component_all_periods = true;  // until a non-period shows up
+    } else if (c != '.') {
+      component_all_periods = false;
+    }
   }
-  return true;
+  return !component_all_periods;
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL string_to_path(XrInstance instance, const char* s, XrPath* out) {
@@ -369,10 +379,11 @@ XRAPI_ATTR XrResult XRAPI_CALL convert_timespec_to_time(XrInstance instance,
                                                         const struct timespec* ts, XrTime* out) {
   return guarded("xrConvertTimespecTimeToTimeKHR", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
-    (void)inst;
     if (ts == nullptr || out == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-    *out = static_cast<XrTime>(ts->tv_sec) * 1'000'000'000 +
-           ts->tv_nsec;  // XrTime is CLOCK_MONOTONIC ns
+    const int64_t monotonic_ns = static_cast<int64_t>(ts->tv_sec) * 1'000'000'000 + ts->tv_nsec;
+    const int64_t time_ns = inst->clock.from_monotonic_ns(monotonic_ns);
+    if (time_ns <= 0) return XR_ERROR_TIME_INVALID;
+    *out = time_ns;
     return XR_SUCCESS;
   });
 }
@@ -381,11 +392,12 @@ XRAPI_ATTR XrResult XRAPI_CALL convert_time_to_timespec(XrInstance instance, XrT
                                                         struct timespec* ts) {
   return guarded("xrConvertTimeToTimespecTimeKHR", [&]() -> XrResult {
     FOVEART_LOCK_INSTANCE(instance);
-    (void)inst;
     if (ts == nullptr) return XR_ERROR_VALIDATION_FAILURE;
     if (time <= 0) return XR_ERROR_TIME_INVALID;
-    ts->tv_sec = static_cast<time_t>(time / 1'000'000'000);
-    ts->tv_nsec = static_cast<long>(time % 1'000'000'000);
+    const int64_t monotonic_ns = inst->clock.to_monotonic_ns(time);
+    if (monotonic_ns < 0) return XR_ERROR_TIME_INVALID;
+    ts->tv_sec = static_cast<time_t>(monotonic_ns / 1'000'000'000);
+    ts->tv_nsec = static_cast<long>(monotonic_ns % 1'000'000'000);
     return XR_SUCCESS;
   });
 }

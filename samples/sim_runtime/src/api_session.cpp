@@ -1,6 +1,8 @@
 // Sessions: the state machine (IDLE -> READY -> SYNCHRONIZED -> VISIBLE ->
 // FOCUSED, and back through STOPPING -> IDLE -> EXITING), the frame budget,
-// and the frame loop (xrWaitFrame pacing at 70 Hz, xrBeginFrame, xrEndFrame).
+// and the frame loop (xrWaitFrame pacing at 70 Hz, blocking while the previous frame is
+// not yet begun, so an app may wait on one thread and begin/end on another; xrBeginFrame,
+// xrEndFrame).
 #include "api_common.h"
 #include "sim_runtime/sim_env.h"
 
@@ -113,6 +115,7 @@ XRAPI_ATTR XrResult XRAPI_CALL destroy_session(XrSession handle) {
     (void)session;
     destroy_session_children(rt, handle_id(handle));
     rt.sessions.erase(handle_id(handle));
+    rt.frame_order_changed.notify_all();  // a blocked xrWaitFrame returns HANDLE_INVALID
     return XR_SUCCESS;
   });
 }
@@ -132,6 +135,7 @@ XRAPI_ATTR XrResult XRAPI_CALL begin_session(XrSession handle, const XrSessionBe
     session->frame_waited = false;
     session->frame_begun = false;
     session->last_vsync_index = -1;
+    rt.frame_order_changed.notify_all();
     return XR_SUCCESS;
   });
 }
@@ -144,6 +148,7 @@ XRAPI_ATTR XrResult XRAPI_CALL end_session(XrSession handle) {
     session->running = false;
     session->frame_waited = false;
     session->frame_begun = false;
+    rt.frame_order_changed.notify_all();  // a blocked xrWaitFrame returns SESSION_NOT_RUNNING
     set_session_state(*inst, *session, XR_SESSION_STATE_IDLE);
     if (session->exit_requested) set_session_state(*inst, *session, XR_SESSION_STATE_EXITING);
     return XR_SUCCESS;
@@ -167,6 +172,18 @@ XRAPI_ATTR XrResult XRAPI_CALL wait_frame(XrSession handle, const XrFrameWaitInf
       return XR_ERROR_VALIDATION_FAILURE;
     FOVEART_CHECK_STRUCT(state, XR_TYPE_FRAME_STATE);
     if (!session->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    // OpenXR 1.0, xrWaitFrame: "A subsequent xrWaitFrame call must block until the previous
+    // frame has been begun with xrBeginFrame" -- a pipelining app waits on one thread and
+    // begins on another. Both clocks block here; the virtual one does not move meanwhile.
+    if (session->frame_waited) {
+      rt.frame_order_changed.wait(lock, [&] {
+        session = find(rt.sessions, handle);
+        return session == nullptr || !rt.instance || !session->running || !session->frame_waited;
+      });
+      if (session == nullptr || !rt.instance) return XR_ERROR_HANDLE_INVALID;
+      inst = rt.instance.get();
+      if (!session->running) return XR_ERROR_SESSION_NOT_RUNNING;
+    }
     // Vsync grid t_k = origin + k * period; wake at the next unused slot, never
     // earlier than now (a late app skips slots instead of bursting).
     const int64_t now = inst->clock.now_ns();
@@ -197,9 +214,9 @@ XRAPI_ATTR XrResult XRAPI_CALL wait_frame(XrSession handle, const XrFrameWaitInf
     }
     session->frame_waited = true;
     session->predicted_display_ns = wake_ns + kFramePeriodNs;
-    session->current = FrameTiming{};
-    session->current.wait_return_ns = inst->clock.now_ns();
-    session->current.predicted_display_ns = session->predicted_display_ns;
+    session->waited = FrameTiming{};
+    session->waited.wait_return_ns = inst->clock.now_ns();
+    session->waited.predicted_display_ns = session->predicted_display_ns;
     state->predictedDisplayTime = session->predicted_display_ns;
     state->predictedDisplayPeriod = kFramePeriodNs;
     state->shouldRender =
@@ -220,7 +237,9 @@ XRAPI_ATTR XrResult XRAPI_CALL begin_frame(XrSession handle, const XrFrameBeginI
     session->frame_waited = false;
     const bool discarded = session->frame_begun;
     session->frame_begun = true;
+    session->current = session->waited;
     session->current.begin_ns = inst->clock.now_ns();
+    rt.frame_order_changed.notify_all();  // a blocked xrWaitFrame may go on
     return discarded ? XR_FRAME_DISCARDED : XR_SUCCESS;
   });
 }

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <condition_variable>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -91,6 +92,9 @@ struct Session {
   bool frame_begun = false;   // xrBeginFrame called, xrEndFrame not yet
   int64_t predicted_display_ns = 0;
   uint64_t frames_ended = 0;
+  // A pipelining app's next xrWaitFrame may return before this frame's xrEndFrame:
+  // the waited frame's timing moves to `current` at xrBeginFrame.
+  FrameTiming waited;
   FrameTiming current;
   std::vector<XrActionSet> attached_sets;
   bool eye_gaze_bound = false;
@@ -121,9 +125,12 @@ struct Instance {
 };
 
 // The single process-wide state. Every entry point locks `mutex` (xrWaitFrame
-// drops it while it sleeps).
+// drops it while it sleeps or waits for the previous frame's xrBeginFrame).
 struct Runtime {
   std::mutex mutex;
+  // Signalled whenever a session's frame order changes (xrBeginFrame, xrBeginSession,
+  // xrEndSession, destruction): an xrWaitFrame blocked on an unbegun frame re-checks.
+  std::condition_variable frame_order_changed;
   uint64_t next_id = 1;
   std::unique_ptr<Instance> instance;
   std::map<uint64_t, std::unique_ptr<Session>> sessions;
