@@ -120,10 +120,36 @@ struct Reader {
     });
   }
 
+  // Keys an earlier config held (kRemovedConfigKeys): a warning each, and the old TAA
+  // switch and history read into "temporal" when this object does not name it.
+  void read_removed_keys(const json& obj, LayerConfig* c) const {
+    for (const RemovedConfigKey& removed : kRemovedConfigKeys) {
+      if (obj.contains(removed.key)) {
+        warnings->push_back("config " + std::string(origin) + ": key '" + std::string(removed.key) +
+                            "' was removed; replaced by " + std::string(removed.replaced_by));
+      }
+    }
+    if (obj.contains("temporal") || !(obj.contains("taa") || obj.contains("taa_history"))) return;
+    const auto taa = obj.find("taa");
+    const auto history = obj.find("taa_history");
+    if (taa != obj.end() && taa->is_boolean() && !taa->get<bool>()) {
+      c->temporal = "off";
+    } else if (history != obj.end() && history->is_string()) {
+      c->temporal = history->get_ref<const std::string&>().rfind("ray_cache", 0) == 0 ? "rays" : "image";
+    } else if (taa != obj.end() && taa->is_boolean()) {
+      c->temporal = "image";
+    } else {
+      return;
+    }
+    warnings->push_back("config " + std::string(origin) + ": read the removed TAA keys as \"temporal\": \"" +
+                        c->temporal + "\"");
+  }
+
   void apply(const json& obj, LayerConfig* c, bool top_level) const {
     for (const auto& item : obj.items()) {
       bool known = false;
       for (std::string_view k : kConfigKeys) known = known || item.key() == k;
+      for (const RemovedConfigKey& removed : kRemovedConfigKeys) known = known || item.key() == removed.key;
       if (!known || (!top_level && item.key() == "applications")) {
         warnings->push_back("config " + std::string(origin) + ": unknown key '" + item.key() + "' ignored");
       }
@@ -136,19 +162,12 @@ struct Reader {
       return {};
     });
     read_string(obj, "log_file", {}, &c->log_file);
-    read_string(obj, "interpolation", {"nearest", "shepard", "rbf"}, &c->interpolation);
+    read_string(obj, "interpolation", {"nearest", "msm", "rbf"}, &c->interpolation);
     read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
-    read(obj, "pixel_filter", [&](const json& v) -> std::string {
-      if (!v.is_string() || !foveation::parse_pixel_filter(v.get<std::string>(), &c->pixel_filter)) {
-        return "must be one of box|bspline2";
-      }
-      return {};
-    });
-    read_bool(obj, "taa", &c->taa);
-    read_string(obj, "taa_history", {"reproject", "ray_cache", "ray_cache_kept"}, &c->taa_history);
-    read_bool(obj, "taa_mean_while_young", &c->taa_mean_while_young);
+    read_removed_keys(obj, c);
+    read_string(obj, "temporal", {"auto", "off", "image", "rays"}, &c->temporal);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);
     read_uint(obj, "worker_threads", 0, 256, &c->worker_threads);

@@ -19,17 +19,29 @@
 #include <string_view>
 #include <vector>
 
-#include <foveation/ray_samples.hpp>
-
 #include "log.hpp"
 
 namespace foveart::layer {
 
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
-    "enabled", "log_level", "log_file", "interpolation", "k", "density_scale", "rays_per_point",
-    "pixel_filter", "taa", "taa_history", "taa_mean_while_young", "gaze_source", "gaze_provider", "worker_threads", "cache_dir",
-    "wait_for_tables", "reconstruction", "applications"};
+    "enabled",      "log_level",     "log_file",       "interpolation",   "k",
+    "density_scale", "rays_per_point", "temporal",      "gaze_source",     "gaze_provider",
+    "worker_threads", "cache_dir",    "wait_for_tables", "reconstruction", "applications"};
+
+// Keys earlier configs held: a file that names one still loads, with a warning that says
+// what replaced it. "taa" and "taa_history" are read into "temporal" when the same object
+// does not name it (taa false: "off"; a ray_cache history: "rays"; else "image").
+struct RemovedConfigKey {
+  std::string_view key;
+  std::string_view replaced_by;
+};
+inline constexpr RemovedConfigKey kRemovedConfigKeys[] = {
+    {"taa", "\"temporal\": \"off\" | \"image\" | \"rays\""},
+    {"taa_history", "\"temporal\": \"image\" (reproject) or \"rays\" (ray_cache)"},
+    {"pixel_filter", "the pixel filter that \"temporal\" implies (box; bspline2 for \"rays\")"},
+    {"taa_mean_while_young", "nothing: the TAA's own weights (it was an experiment)"},
+};
 
 struct LayerConfig {
   bool enabled = true;
@@ -38,19 +50,15 @@ struct LayerConfig {
   // Renderer defaults: an XrFoveatedRendererCreateInfoFOVEART field that says
   // "use the config" (0, NULL or a ..._USE_CONFIG_FOVEART value; the extension
   // header's "Defaults") takes these.
-  std::string interpolation = "shepard";  // "nearest" | "shepard" | "rbf"
+  std::string interpolation = "msm";  // "nearest" | "msm" | "rbf"
   uint32_t k = 5;
   float density_scale = 1.0f;
   uint32_t rays_per_point = 1;
-  // What a pixel's rays follow (foveation/ray_samples.hpp): "box" | "bspline2".
-  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
-  bool taa = true;
-  // What the TAA keeps (foveation::TaaHistory): "reproject" (an image,
-  // reprojected), "ray_cache" (the traced rays in a render cache, restarting
-  // where the image history would) or "ray_cache_kept" (its rays kept
-  // through saccades and blinks). Both run on the CPU and the GPU path.
-  std::string taa_history = "reproject";
-  bool taa_mean_while_young = false;  // foveation::TaaOptions::mean_while_young
+  // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
+  // (TAA on a reprojected image) or "rays" (TAA on a render cache of the traced rays).
+  // "auto": "rays" where reconstruction runs on the GPU, "image" on the CPU path, where
+  // the render cache costs more than twice the image history (docs/layer.md).
+  std::string temporal = "auto";
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...
   uint32_t worker_threads = 0;           // 0: hardware concurrency

@@ -68,20 +68,6 @@ foveation::InterpOptions interp_options(const RendererSettings& settings) {
   return o;
 }
 
-foveation::ViewSettings view_settings(const RendererSettings& settings) {
-  foveation::ViewSettings v;
-  v.rays_per_point = static_cast<int>(settings.rays_per_point);
-  v.sample_seed = kSeed;
-  v.pixel_filter = settings.pixel_filter;
-  v.taa = settings.taa;
-  v.taa_options.mean_while_young = settings.taa_mean_while_young;
-  v.taa_history =
-      settings.taa_history == "reproject" ? foveation::TaaHistory::reproject : foveation::TaaHistory::ray_cache;
-  v.ray_cache_keeps_through_saccades = settings.taa_history == "ray_cache_kept";
-  v.new_jitter_each_frame = settings.taa;  // the history converges over new samples
-  return v;
-}
-
 XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
   switch (failure) {
     case foveation::FrameFailure::callback_failed: return XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
@@ -112,6 +98,7 @@ struct FoveatedRenderer::Frames {
     std::unique_ptr<GpuEye> gpu;            // GPU path: this eye's buffers
     bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
     bool failed = false;  // swapchain creation failed: this eye falls back for good
+    foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of `view`
   };
 
   Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in, InputCounters& input_in,
@@ -449,7 +436,9 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
   if (eye.view == nullptr || &eye.view->tables() != view_tables.get() ||
       eye.view->settings().reconstruct_on_cpu == on_gpu) {
-    foveation::ViewSettings vs = view_settings(settings);
+    eye.temporal = temporal_for_path(settings, on_gpu);
+    foveation::ViewSettings vs =
+        foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSeed);
     vs.reconstruct_on_cpu = !on_gpu;
     eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
   }
@@ -520,6 +509,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
       return false;
     }
     reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART;
+    reconstruction.temporal = eye.temporal;
   } else {
     uint8_t* staging = eye.swapchain->staging(&error);
     if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), staging, executor);
@@ -531,6 +521,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
       return false;
     }
     reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
+    reconstruction.temporal = eye.temporal;
     for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_taa_ms,
                      reconstruction.gpu_encode_ms}) {
       t[e] = 0.0f;
@@ -576,7 +567,7 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
   *out_stats = stats_;
   out_stats->type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
   out_stats->next = next;
-  // (spec version 4) the input stats, wherever the app chained them; other structs are left alone.
+  // The input stats, wherever the app chained them; other structs are left alone.
   if (auto* in = find_in_out_chain<XrFoveatedRendererInputStatsFOVEART>(next,
                                                                        XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART)) {
     in->cacheFilesRejected = input_.cache_files_rejected;
@@ -589,10 +580,15 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     in->invalidImageRectViews = input_.invalid_image_rect_views;
     in->foreignSessionLayers = input_.foreign_session_layers;
   }
-  // (spec version 5) the reconstruction path and GPU stage times.
+  // The reconstruction path, temporal mode and GPU stage times.
   if (auto* rec = find_in_out_chain<XrFoveatedRendererReconstructionStatsFOVEART>(
           next, XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART)) {
     rec->path = reconstruction_.path;
+    switch (reconstruction_.temporal) {
+      case foveation::TemporalMode::off: rec->temporal = XR_FOVEATED_TEMPORAL_OFF_FOVEART; break;
+      case foveation::TemporalMode::image: rec->temporal = XR_FOVEATED_TEMPORAL_IMAGE_FOVEART; break;
+      case foveation::TemporalMode::rays: rec->temporal = XR_FOVEATED_TEMPORAL_RAYS_FOVEART; break;
+    }
     rec->gpuFallbacks = reconstruction_.gpu_fallbacks;
     for (int e = 0; e < 2; ++e) {
       rec->gpuScatterMs[e] = reconstruction_.gpu_scatter_ms[e];

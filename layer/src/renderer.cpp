@@ -11,7 +11,7 @@ namespace {
 XrFoveatedInterpolationFOVEART interpolation_from_name(const std::string& name) {
   if (name == "nearest") return XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART;
   if (name == "rbf") return XR_FOVEATED_INTERPOLATION_RBF_FOVEART;
-  return XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+  return XR_FOVEATED_INTERPOLATION_MSM_FOVEART;
 }
 
 XrFoveatedGazeSourceFOVEART gaze_source_from_name(const std::string& name) {
@@ -29,10 +29,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.k = config.k;
   s.density_scale = config.density_scale;
   s.rays_per_point = config.rays_per_point;
-  s.pixel_filter = config.pixel_filter;
-  s.taa = config.taa;
-  s.taa_history = config.taa_history;
-  s.taa_mean_while_young = config.taa_mean_while_young;
+  if (foveation::TemporalMode mode{}; foveation::parse_temporal_mode(config.temporal, &mode)) s.temporal = mode;
   s.gaze_source = gaze_source_from_name(config.gaze_source);
   s.gaze_provider_spec = config.gaze_provider;
   s.worker_threads = config.worker_threads;
@@ -70,8 +67,17 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
     return false;
   }
   if (info.raysPerPoint != 0) s.rays_per_point = info.raysPerPoint;
-  // Any value but XR_TRUE reads as XR_FALSE, as in spec versions 1 and 2.
-  if (info.taaEnable != XR_FOVEATED_TAA_USE_CONFIG_FOVEART) s.taa = info.taaEnable == XR_TRUE;
+  if (info.temporal != XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART) {
+    switch (info.temporal) {
+      case XR_FOVEATED_TEMPORAL_OFF_FOVEART: s.temporal = foveation::TemporalMode::off; break;
+      case XR_FOVEATED_TEMPORAL_IMAGE_FOVEART: s.temporal = foveation::TemporalMode::image; break;
+      case XR_FOVEATED_TEMPORAL_RAYS_FOVEART: s.temporal = foveation::TemporalMode::rays; break;
+      default:
+        *out_error = "temporal " + std::to_string(info.temporal) +
+                     " is not an XrFoveatedTemporalFOVEART (or XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART)";
+        return false;
+    }
+  }
   if (info.gazeSource != XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART) {
     if (static_cast<uint64_t>(info.gazeSource) > XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART) {
       *out_error = "gazeSource " + std::to_string(info.gazeSource) +
@@ -83,6 +89,10 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   if (info.gazeProviderSpec != nullptr && info.gazeProviderSpec[0] != '\0') s.gaze_provider_spec = info.gazeProviderSpec;
   *out = std::move(s);
   return true;
+}
+
+foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu) {
+  return settings.temporal.value_or(reconstruct_on_gpu ? foveation::TemporalMode::rays : foveation::TemporalMode::image);
 }
 
 }  // namespace foveart::layer

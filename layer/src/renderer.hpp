@@ -7,10 +7,11 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include <foveation/ray_samples.hpp>
+#include <foveation/temporal_mode.hpp>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "log.hpp"
@@ -21,14 +22,12 @@ namespace foveart::layer {
 struct RendererSettings {
   FoveartTraceRaysFn trace_rays = nullptr;
   void* user_data = nullptr;
-  XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
+  XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_MSM_FOVEART;
   uint32_t k = 5;
   float density_scale = 1.0f;
   uint32_t rays_per_point = 1;
-  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;  // LayerConfig::pixel_filter
-  bool taa = true;
-  std::string taa_history = "reproject";  // LayerConfig::taa_history
-  bool taa_mean_while_young = false;  // LayerConfig::taa_mean_while_young
+  // LayerConfig::temporal; empty ("auto"): temporal_for_path() picks it by the reconstruction path.
+  std::optional<foveation::TemporalMode> temporal;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";
   uint32_t worker_threads = 0;
@@ -42,6 +41,11 @@ struct RendererSettings {
 // Returns false with a message naming the bad field.
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out_settings, std::string* out_error);
+
+// The temporal mode a view runs: the settings' own, else the path's default ("rays" on the
+// GPU path, where it meets the flicker goal; "image" on the CPU path, where the render
+// cache costs more than twice the image history).
+foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu);
 
 // What a renderer refused or worked around, for XrFoveatedRendererInputStatsFOVEART.
 // Atomics: the table builder thread counts too.
@@ -60,6 +64,7 @@ struct InputCounters {
 // Written and read under the renderer's frame lock.
 struct ReconstructionStats {
   XrFoveatedReconstructionPathFOVEART path = XR_FOVEATED_RECONSTRUCTION_PATH_NONE_FOVEART;
+  foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of the last frame reconstructed
   uint32_t gpu_fallbacks = 0;
   float gpu_scatter_ms[2] = {0, 0};
   float gpu_gather_ms[2] = {0, 0};

@@ -1,7 +1,7 @@
 // hello_foveated: the sample engine's glTF scene, ray traced by FoveaRT's
 // foveated renderer through the OpenXR layer, until the runtime ends the session.
-//   hello_foveated [--scene FILE.gltf] [--interp nearest|shepard|rbf|config] [--k N]
-//                  [--scale S] [--spp N] [--taa on|off|config] [--no-taa]
+//   hello_foveated [--scene FILE.gltf] [--interp nearest|msm|rbf|config] [--k N]
+//                  [--scale S] [--spp N] [--temporal off|image|rays|config]
 //                  [--gaze none|provider|eye_gaze|config] [--gaze-provider SPEC]
 //                  [--json] [--app-actions]
 // Every renderer setting not given here is left to the layer's config file
@@ -88,6 +88,9 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   const char* path = rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART   ? "gpu"
                      : rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART ? "cpu"
                                                                                : "none";
+  const char* temporal = rec.temporal == XR_FOVEATED_TEMPORAL_RAYS_FOVEART    ? "rays"
+                         : rec.temporal == XR_FOVEATED_TEMPORAL_IMAGE_FOVEART ? "image"
+                                                                              : "off";
   // [left, right] per frame, built element by element: the std::array<bool, 2>
   // conversion trips GCC 12's false -Wnull-dereference inside nlohmann.
   nlohmann::json taa_reset = nlohmann::json::array();
@@ -111,6 +114,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"views_fallback", s.framesFallback},
           {"eyes", eyes},
           {"reconstruction", path},
+          {"temporal", temporal},
           {"gpu_stage_ms", gpu_ms},
           {"gpu_fallbacks", rec.gpuFallbacks},
           {"gaze_age_ms", s.gazeAgeMs},
@@ -139,23 +143,21 @@ int main(int argc, char** argv) {
   std::string scene_spec = "default";
   std::string interp = "config";
   std::string gaze = "config";
-  std::string taa = "config";
+  std::string temporal = "config";
   foveart::hello::AppOptions options;
-  bool no_taa = false;
   bool json = false;
   bool no_explicit_layer = false;
   std::string fault;
   cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
   cli.add_option("--interp", interp, "interpolation (config = the layer config's)")
-      ->check(CLI::IsMember({"nearest", "shepard", "rbf", "config"}))
+      ->check(CLI::IsMember({"nearest", "msm", "rbf", "config"}))
       ->capture_default_str();
   cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
   cli.add_option("--scale", options.density_scale, "density scale (0 = layer config)")->check(CLI::Range(0.0, 16.0));
   cli.add_option("--spp", options.rays_per_point, "rays per point (0 = layer config)")->check(CLI::Range(0, 64));
-  auto* taa_option = cli.add_option("--taa", taa, "temporal accumulation (config = the layer config's)")
-                        ->check(CLI::IsMember({"on", "off", "config"}))
-                        ->capture_default_str();
-  cli.add_flag("--no-taa", no_taa, "same as --taa off")->excludes(taa_option);
+  cli.add_option("--temporal", temporal, "what a frame keeps from earlier frames (config = the layer config's)")
+      ->check(CLI::IsMember({"off", "image", "rays", "config"}))
+      ->capture_default_str();
   cli.add_option("--gaze", gaze, "gaze source (config = the layer config's)")
       ->check(CLI::IsMember({"none", "provider", "eye_gaze", "config"}))
       ->capture_default_str();
@@ -175,7 +177,7 @@ int main(int argc, char** argv) {
 
   const std::map<std::string, XrFoveatedInterpolationFOVEART> interps{
       {"nearest", XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART},
-      {"shepard", XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART},
+      {"msm", XR_FOVEATED_INTERPOLATION_MSM_FOVEART},
       {"rbf", XR_FOVEATED_INTERPOLATION_RBF_FOVEART},
       {"config", XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART}};
   const std::map<std::string, XrFoveatedGazeSourceFOVEART> gazes{
@@ -183,11 +185,14 @@ int main(int argc, char** argv) {
       {"provider", XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART},
       {"eye_gaze", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART},
       {"config", XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART}};
-  const std::map<std::string, XrBool32> taas{
-      {"on", XR_TRUE}, {"off", XR_FALSE}, {"config", XR_FOVEATED_TAA_USE_CONFIG_FOVEART}};
+  const std::map<std::string, XrFoveatedTemporalFOVEART> temporals{
+      {"off", XR_FOVEATED_TEMPORAL_OFF_FOVEART},
+      {"image", XR_FOVEATED_TEMPORAL_IMAGE_FOVEART},
+      {"rays", XR_FOVEATED_TEMPORAL_RAYS_FOVEART},
+      {"config", XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART}};
   options.interpolation = interps.at(interp);
   options.gaze_source = gazes.at(gaze);
-  options.taa = no_taa ? XR_FALSE : taas.at(taa);
+  options.temporal = temporals.at(temporal);
   options.enable_layer = !no_explicit_layer;
   if (eye_size.size() == 2) {
     if (eye_size[0] == 0 || eye_size[1] == 0) {
@@ -229,11 +234,14 @@ int main(int argc, char** argv) {
   if (json) {
     std::cout << stats_json(result).dump(2) << "\n";
   } else {
-    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; reconstruction on the %s\n",
+    const nlohmann::json stats = stats_json(result);
+    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; reconstruction on the %s, "
+                "temporal \"%s\"\n",
                 static_cast<unsigned long long>(result.frames),
                 static_cast<unsigned long long>(result.stats.framesTraced),
                 static_cast<unsigned long long>(result.stats.framesFallback),
-                stats_json(result)["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU");
+                stats["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU",
+                stats["temporal"].get<std::string>().c_str());
   }
   return 0;
 }

@@ -280,7 +280,7 @@ class App {
     info.k = options_.k;
     info.densityScale = options_.density_scale;
     info.raysPerPoint = options_.rays_per_point;
-    info.taaEnable = options_.taa;
+    info.temporal = options_.temporal;
     info.gazeSource = options_.gaze_source;
     info.gazeProviderSpec = options_.gaze_provider.empty() ? nullptr : options_.gaze_provider.c_str();
     check(create_renderer_(session_, &info, &renderer_), "xrCreateFoveatedRendererFOVEART");

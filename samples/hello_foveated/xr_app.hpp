@@ -27,7 +27,7 @@ struct AppOptions {
   uint32_t k = 0;
   float density_scale = 0.0f;
   uint32_t rays_per_point = 0;
-  XrBool32 taa = XR_FOVEATED_TAA_USE_CONFIG_FOVEART;  // or XR_TRUE / XR_FALSE
+  XrFoveatedTemporalFOVEART temporal = XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART;
   std::string gaze_provider;
   bool enable_layer = true;   // false when the layer is enabled implicitly / by XR_ENABLE_API_LAYERS

@@ -83,28 +83,58 @@ TEST_F(ConfigTest, HomeDotConfigWhenXdgUnset) {
 }
 
 TEST_F(ConfigTest, ApplicationSectionOverridesTopLevel) {
-  env_["FOVEART_CONFIG"] = write("c.json", R"({"k": 3, "taa": true,
-      "applications": {"hello_xr": {"k": 12, "taa": false}, "other": {"k": 1}}})").string();
+  env_["FOVEART_CONFIG"] = write("c.json", R"({"k": 3, "temporal": "image",
+      "applications": {"hello_xr": {"k": 12, "temporal": "off"}, "other": {"k": 1}}})").string();
   const auto hello = load_config("hello_xr", env());
   EXPECT_EQ(hello.config.k, 12u);
-  EXPECT_FALSE(hello.config.taa);
+  EXPECT_EQ(hello.config.temporal, "off");
   const auto unnamed = load_config("someone_else", env());
   EXPECT_EQ(unnamed.config.k, 3u);
-  EXPECT_TRUE(unnamed.config.taa);
+  EXPECT_EQ(unnamed.config.temporal, "image");
 }
 
-TEST_F(ConfigTest, TaaMeanWhileYoungIsReadAndOffByDefault) {
-  EXPECT_FALSE(LayerConfig{}.taa_mean_while_young);
-  env_["FOVEART_CONFIG"] = write("c.json", R"({"taa_mean_while_young": true})").string();
-  const auto r = load_config("app", env());
-  EXPECT_TRUE(r.config.taa_mean_while_young);
-  EXPECT_TRUE(r.warnings.empty());
+TEST_F(ConfigTest, TemporalIsOneKeyAutoByDefault) {
+  EXPECT_EQ(LayerConfig{}.temporal, "auto");
+  for (const char* mode : {"off", "image", "rays", "auto"}) {
+    env_["FOVEART_CONFIG"] = write("c.json", std::string(R"({"temporal": ")") + mode + R"("})").string();
+    const auto r = load_config("app", env());
+    EXPECT_EQ(r.config.temporal, mode);
+    EXPECT_TRUE(r.warnings.empty()) << mode;
+  }
+}
+
+// An old config that names a removed key still loads; each removed key is named with what replaced it,
+// and the old TAA switch and history are read into "temporal" unless the file names it.
+TEST_F(ConfigTest, RemovedKeysWarnWithTheirReplacementAndStillLoad) {
+  struct Case {
+    const char* text;
+    const char* temporal;
+  };
+  for (const Case& c : {Case{R"({"taa": false, "k": 7})", "off"}, Case{R"({"taa": true, "k": 7})", "image"},
+                        Case{R"({"taa": true, "taa_history": "ray_cache", "k": 7})", "rays"},
+                        Case{R"({"taa_history": "ray_cache_kept", "k": 7})", "rays"},
+                        Case{R"({"taa_history": "reproject", "k": 7})", "image"},
+                        Case{R"({"taa": false, "temporal": "rays", "k": 7})", "rays"},
+                        Case{R"({"pixel_filter": "bspline2", "taa_mean_while_young": true, "k": 7})", "auto"}}) {
+    SCOPED_TRACE(c.text);
+    env_["FOVEART_CONFIG"] = write("c.json", c.text).string();
+    const auto r = load_config("app", env());
+    EXPECT_EQ(r.config.k, 7u) << "the rest of the file still applies";
+    EXPECT_EQ(r.config.temporal, c.temporal);
+    EXPECT_FALSE(r.warnings.empty());
+    for (const RemovedConfigKey& removed : kRemovedConfigKeys) {
+      if (std::string(c.text).find("\"" + std::string(removed.key) + "\"") == std::string::npos) continue;
+      EXPECT_TRUE(any_warning_contains(r, "'" + std::string(removed.key) + "' was removed; replaced by " +
+                                              std::string(removed.replaced_by)))
+          << removed.key;
+    }
+    EXPECT_FALSE(any_warning_contains(r, "unknown key")) << "a removed key is not an unknown one";
+  }
 }
 
 TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   env_["FOVEART_CONFIG"] = write("c.json", R"({"k": "many", "density_scale": -1, "interpolation": "cubic",
-      "log_level": "loud", "rays_per_point": 1000, "pixel_filter": "gaussian", "taa_mean_while_young": "yes",
-      "taa_history": "image"})").string();
+      "log_level": "loud", "rays_per_point": 1000, "temporal": "yes"})").string();
   const auto r = load_config("app", env());
   const LayerConfig defaults;
   EXPECT_EQ(r.config.k, defaults.k);
@@ -112,11 +142,9 @@ TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   EXPECT_EQ(r.config.interpolation, defaults.interpolation);
   EXPECT_EQ(r.config.log_level, defaults.log_level);
   EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
-  EXPECT_EQ(r.config.pixel_filter, defaults.pixel_filter);
-  EXPECT_EQ(r.config.taa_mean_while_young, defaults.taa_mean_while_young);
-  EXPECT_EQ(r.config.taa_history, defaults.taa_history);
+  EXPECT_EQ(r.config.temporal, defaults.temporal);
   for (const char* key : {"'k'", "'density_scale'", "'interpolation'", "'log_level'", "'rays_per_point'",
-                          "'pixel_filter'", "'taa_mean_while_young'", "'taa_history'"}) {
+                          "'temporal'"}) {
     EXPECT_TRUE(any_warning_contains(r, key)) << key;
   }
 }
@@ -155,7 +183,7 @@ TEST_F(ConfigTest, OutOfRangeNumbersWarnNamingKeyAndValueAndKeepOtherKeys) {
                         Case{"worker_threads", "\"8\"", "\"8\""}}) {
     SCOPED_TRACE(std::string(c.key) + ": " + c.value);
     // The other keys are valid non-defaults on both sides of the bad one.
-    env_["FOVEART_CONFIG"] = write("c.json", std::string(R"({"taa": false, ")") + c.key + "\": " + c.value +
+    env_["FOVEART_CONFIG"] = write("c.json", std::string(R"({"temporal": "off", ")") + c.key + "\": " + c.value +
                                                  R"(, "interpolation": "rbf"})")
                                  .string();
     ConfigResult r;
@@ -164,7 +192,7 @@ TEST_F(ConfigTest, OutOfRangeNumbersWarnNamingKeyAndValueAndKeepOtherKeys) {
     EXPECT_EQ(r.config.k, defaults.k);
     EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
     EXPECT_EQ(r.config.worker_threads, defaults.worker_threads);
-    EXPECT_FALSE(r.config.taa);
+    EXPECT_EQ(r.config.temporal, "off");
     EXPECT_EQ(r.config.interpolation, "rbf");
     EXPECT_EQ(r.warnings.size(), 1u);
     if (r.warnings.empty()) continue;
@@ -199,14 +227,14 @@ TEST_F(ConfigTest, InRangeEdgeValuesAreRead) {
 
 // A syntax error still rejects the whole file, naming it and the position.
 TEST_F(ConfigTest, SyntaxErrorNamesFileAndPosition) {
-  const auto path = write("c.json", R"({"k": 3, "taa": tru})");
+  const auto path = write("c.json", R"({"k": 3, "temporal": tru})");
   env_["FOVEART_CONFIG"] = path.string();
   const auto r = load_config("app", env());
-  EXPECT_TRUE(r.config.taa);
+  EXPECT_EQ(r.config.temporal, "auto");
   EXPECT_EQ(r.config.k, LayerConfig{}.k);
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_NE(r.warnings[0].find(path.string()), std::string::npos) << r.warnings[0];
-  EXPECT_NE(r.warnings[0].find("byte 20"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("byte 25"), std::string::npos) << r.warnings[0];
 }
 
 TEST_F(ConfigTest, FoveartDisableWinsOverFile) {

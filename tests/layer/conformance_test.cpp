@@ -107,7 +107,7 @@ class LayerApp {
     info.k = 1;
     info.densityScale = 1.0f;
     info.raysPerPoint = 1;
-    info.taaEnable = XR_FALSE;
+    info.temporal = XR_FOVEATED_TEMPORAL_OFF_FOVEART;
     info.gazeSource = gaze_spec ? XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
     info.gazeProviderSpec = gaze_spec;
     if (eye_gaze_interaction) info.gazeSource = XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART;

@@ -120,7 +120,7 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
   }
   const auto app = run_process({FOVEART_HELLO_FOVEATED, "--json", "--eye-size", std::to_string(kWidth),
                                 std::to_string(kHeight), "--interp", m.layer, "--k", std::to_string(m.k), "--scale", "1",
-                                "--spp", "1", "--no-taa", "--gaze", "provider", "--gaze-provider",
+                                "--spp", "1", "--temporal", "off", "--gaze", "provider", "--gaze-provider",
                                 "replay:" + trace.string()},
                                env_->root() / "hello_foveated.log", kTimeoutS);
   ASSERT_EQ(app.exit_code, 0) << app.output;
@@ -189,8 +189,8 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, LayerMatchesFoveaRender,
-                         ::testing::Values(Method{"shepard", "msm", 5, "cpu"}, Method{"nearest", "nn", 4, "cpu"},
-                                           Method{"shepard", "msm", 5, "gpu"}, Method{"nearest", "nn", 4, "gpu"}),
+                         ::testing::Values(Method{"msm", "msm", 5, "cpu"}, Method{"nearest", "nn", 4, "cpu"},
+                                           Method{"msm", "msm", 5, "gpu"}, Method{"nearest", "nn", 4, "gpu"}),
                          [](const ::testing::TestParamInfo<Method>& p) {
                            return std::string(p.param.fovea) + "_" + p.param.reconstruction;
                          });

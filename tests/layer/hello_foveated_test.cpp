@@ -214,7 +214,7 @@ TEST_F(HelloFoveated, EyeGazeInteractionFollowsTheRuntimesScriptedGaze) {
   IsolatedEnv::set("FOVEART_SIM_GAZE", trace);
   IsolatedEnv::set("FOVEART_SIM_FRAMES", "14");
   IsolatedEnv::set("FOVEART_SIM_CAPTURE_EVERY", "1000");
-  const auto r = launch({"--gaze", "eye_gaze", "--no-taa"});
+  const auto r = launch({"--gaze", "eye_gaze", "--temporal", "off"});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   // The app did not enable the extension: the layer did, and says so.

@@ -4,7 +4,7 @@
 // (sim-motion-trace's export) through its own saccade detector and blink hold. The
 // TAA history must restart in the first frame the provider flagged for each saccade
 // or blink, and only there, on the CPU and on the GPU reconstruction path alike,
-// and with the render cache ("taa_history": "ray_cache") on either path.
+// with the image history ("temporal": "image") and the render cache ("rays") on either path.
 //
 // Clock: the runtime's real clock. The provider replays its trace in real time, so
 // the head (from xrBeginSession) and the gaze (from the renderer's creation, just
@@ -86,7 +86,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   const std::string reconstruction = ray_cache ? path.substr(10) : path;  // "ray_cache_gpu": on the GPU
   // The tables for 80x90 first, into the suite's cache: a first frame that builds them
   // would block while the replay runs on, past the saccade.
-  configure_hello_foveated(*env_, 2, reconstruction.c_str(), ray_cache ? "ray_cache" : "");
+  configure_hello_foveated(*env_, 2, reconstruction.c_str(), ray_cache ? "rays" : "image");
   ::unsetenv("FOVEART_SIM_CAPTURE_DIR");
   const AppRun warm = launch({"--gaze", "none"}, "warm.log");
   ASSERT_EQ(warm.process.exit_code, 0) << warm.process.output;
@@ -101,11 +101,12 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   IsolatedEnv::set("FOVEART_SIM_MOTION_SEED", "1");
   IsolatedEnv::set("FOVEART_SIM_CLOCK", "real");
   IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(kFrames).c_str());
-  const AppRun r = launch({"--gaze", "provider", "--gaze-provider", "replay:" + trace.string(), "--taa", "on"},
+  const AppRun r = launch({"--gaze", "provider", "--gaze-provider", "replay:" + trace.string()},
                           "motion.log");
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["reconstruction"], reconstruction);
+  EXPECT_EQ(r.stats["temporal"], ray_cache ? "rays" : "image");
   EXPECT_EQ(r.stats["gaze_source"], "provider");
   EXPECT_EQ(r.stats["views_fallback"], 0);
   // gaze_lost_frames is not checked: on a loaded machine the provider's thread may

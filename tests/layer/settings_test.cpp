@@ -1,7 +1,7 @@
 // xrCreateFoveatedRendererFOVEART's create info over the layer config: every
 // config key reaches the settings when the app says "use the config", every
-// create-info field overrides its key, and apps built against spec version 1
-// or 2 (zero-initialised structs) get what they got before.
+// create-info field overrides its key, and a zero-initialised struct's enums are
+// real choices (nearest neighbour, no temporal history, fixed foveation).
 #include <cmath>
 #include <string>
 #include <string_view>
@@ -16,7 +16,7 @@ namespace {
 
 int32_t trace_nothing(void*, const FoveartRayBatch*) { return FOVEART_RESULT_SUCCESS; }
 
-// A spec version 3 app that leaves every setting to the config.
+// An app that leaves every setting to the config.
 XrFoveatedRendererCreateInfoFOVEART use_config_info() {
   XrFoveatedRendererCreateInfoFOVEART info{};
   info.type = XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART;
@@ -25,14 +25,13 @@ XrFoveatedRendererCreateInfoFOVEART use_config_info() {
   info.k = 0;
   info.densityScale = 0.0f;
   info.raysPerPoint = 0;
-  info.taaEnable = XR_FOVEATED_TAA_USE_CONFIG_FOVEART;
+  info.temporal = XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART;
   info.gazeSource = XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART;
   info.gazeProviderSpec = nullptr;
   return info;
 }
 
-// An app built against spec version 1 or 2: zero-initialised, only the
-// required fields set.
+// An app that zero-initialises the struct and sets only the required fields.
 XrFoveatedRendererCreateInfoFOVEART old_app_info() {
   XrFoveatedRendererCreateInfoFOVEART info{};
   info.type = XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART;
@@ -57,7 +56,7 @@ RendererSettings resolve(const XrFoveatedRendererCreateInfoFOVEART& info, const 
 std::string interpolation_name(XrFoveatedInterpolationFOVEART i) {
   switch (i) {
     case XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART: return "nearest";
-    case XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART: return "shepard";
+    case XR_FOVEATED_INTERPOLATION_MSM_FOVEART: return "msm";
     case XR_FOVEATED_INTERPOLATION_RBF_FOVEART: return "rbf";
     default: return "bad " + std::to_string(i);
   }
@@ -78,10 +77,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "k") return std::to_string(s.k);
   if (key == "density_scale") return std::to_string(s.density_scale);
   if (key == "rays_per_point") return std::to_string(s.rays_per_point);
-  if (key == "pixel_filter") return foveation::pixel_filter_name(s.pixel_filter);
-  if (key == "taa") return s.taa ? "true" : "false";
-  if (key == "taa_history") return s.taa_history;
-  if (key == "taa_mean_while_young") return s.taa_mean_while_young ? "true" : "false";
+  if (key == "temporal") return s.temporal ? foveation::temporal_mode_name(*s.temporal) : "auto";
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
   if (key == "worker_threads") return std::to_string(s.worker_threads);
@@ -102,14 +98,11 @@ struct KeyCase {
 
 const KeyCase kRendererKeys[] = {
     {"interpolation", R"("rbf")", "rbf",
-     [](auto* i) { i->interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART; }, "shepard"},
+     [](auto* i) { i->interpolation = XR_FOVEATED_INTERPOLATION_MSM_FOVEART; }, "msm"},
     {"k", "9", "9", [](auto* i) { i->k = 12; }, "12"},
     {"density_scale", "1.5", std::to_string(1.5f), [](auto* i) { i->densityScale = 2.0f; }, std::to_string(2.0f)},
     {"rays_per_point", "3", "3", [](auto* i) { i->raysPerPoint = 8; }, "8"},
-    {"pixel_filter", R"("bspline2")", "bspline2", nullptr, {}},
-    {"taa", "false", "false", [](auto* i) { i->taaEnable = XR_TRUE; }, "true"},
-    {"taa_history", R"("ray_cache")", "ray_cache", nullptr, {}},
-    {"taa_mean_while_young", "true", "true", nullptr, {}},
+    {"temporal", R"("rays")", "rays", [](auto* i) { i->temporal = XR_FOVEATED_TEMPORAL_IMAGE_FOVEART; }, "image"},
     {"gaze_source", R"("eye_gaze_interaction")", "eye_gaze_interaction",
      [](auto* i) { i->gazeSource = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART; }, "none"},
     {"gaze_provider", R"("replay:/tmp/g.csv")", "replay:/tmp/g.csv", [](auto* i) { i->gazeProviderSpec = "sim2"; },
@@ -163,35 +156,50 @@ TEST(ResolveSettings, EmptyProviderSpecTakesTheConfig) {
 
 // The config opposite to what a zero-initialised struct asks for, in every key.
 const char* kConfigAgainstZero = R"({"interpolation": "rbf", "k": 9, "density_scale": 1.5, "rays_per_point": 3,
-    "taa": true, "gaze_source": "eye_gaze_interaction", "gaze_provider": "replay:/tmp/g.csv"})";
+    "temporal": "rays", "gaze_source": "eye_gaze_interaction", "gaze_provider": "replay:/tmp/g.csv"})";
 
-TEST(ResolveSettings, OldAppZeroFieldsKeepTheirMeaning) {
+TEST(ResolveSettings, ZeroEnumsAreRealChoices) {
   const RendererSettings s = resolve(old_app_info(), config_from(kConfigAgainstZero));
   EXPECT_EQ(s.interpolation, XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART);
   EXPECT_EQ(s.k, 1u);  // nearest neighbour: one tap
-  EXPECT_FALSE(s.taa);
+  EXPECT_EQ(s.temporal, foveation::TemporalMode::off);
   EXPECT_EQ(s.gaze_source, XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART);
-  // Fields whose zero meant "config" before still do.
+  // Numbers and strings: zero or empty is the config's.
   EXPECT_EQ(s.density_scale, 1.5f);
   EXPECT_EQ(s.rays_per_point, 3u);
   EXPECT_EQ(s.gaze_provider_spec, "replay:/tmp/g.csv");
 }
 
-TEST(ResolveSettings, OldAppSetFieldsKeepTheirMeaning) {
+TEST(ResolveSettings, AppEnumsOverrideTheConfig) {
   auto info = old_app_info();
-  info.interpolation = XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART;
-  info.taaEnable = XR_FALSE;
+  info.interpolation = XR_FOVEATED_INTERPOLATION_MSM_FOVEART;
+  info.temporal = XR_FOVEATED_TEMPORAL_IMAGE_FOVEART;
   info.gazeSource = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   const LayerConfig config = config_from(kConfigAgainstZero);
   RendererSettings s = resolve(info, config);
-  EXPECT_EQ(s.interpolation, XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART);
+  EXPECT_EQ(s.interpolation, XR_FOVEATED_INTERPOLATION_MSM_FOVEART);
   EXPECT_EQ(s.k, 9u);  // k = 0: the config's
-  EXPECT_FALSE(s.taa);
+  EXPECT_EQ(s.temporal, foveation::TemporalMode::image);
   EXPECT_EQ(s.gaze_source, XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART);
-  info.taaEnable = XR_TRUE;
-  EXPECT_TRUE(resolve(info, config).taa);
-  info.taaEnable = 2;  // never a valid XrBool32; read as XR_FALSE before spec version 3, and still
-  EXPECT_FALSE(resolve(info, config).taa);
+  info.temporal = XR_FOVEATED_TEMPORAL_RAYS_FOVEART;
+  EXPECT_EQ(resolve(info, config).temporal, foveation::TemporalMode::rays);
+  info.temporal = static_cast<XrFoveatedTemporalFOVEART>(3);  // no such mode: refused, named
+  RendererSettings refused;
+  std::string error;
+  EXPECT_FALSE(resolve_settings(info, config, &refused, &error));
+  EXPECT_NE(error.find("temporal 3"), std::string::npos) << error;
+}
+
+// "auto" (the default) is the path's own: the render cache where the GPU reconstructs, the image
+// history on the CPU path; a mode the config or the app names holds on both paths.
+TEST(ResolveSettings, AutoTemporalFollowsTheReconstructionPath) {
+  const RendererSettings automatic = resolve(use_config_info(), LayerConfig{});
+  EXPECT_FALSE(automatic.temporal.has_value());
+  EXPECT_EQ(temporal_for_path(automatic, /*reconstruct_on_gpu=*/true), foveation::TemporalMode::rays);
+  EXPECT_EQ(temporal_for_path(automatic, /*reconstruct_on_gpu=*/false), foveation::TemporalMode::image);
+  const RendererSettings off = resolve(use_config_info(), config_from(R"({"temporal": "off"})"));
+  EXPECT_EQ(temporal_for_path(off, true), foveation::TemporalMode::off);
+  EXPECT_EQ(temporal_for_path(off, false), foveation::TemporalMode::off);
 }
 
 TEST(ResolveSettings, NearestNeighbourUsesOneTap) {

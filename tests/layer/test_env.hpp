@@ -75,13 +75,13 @@ inline bool have_runtime() { return fs::exists(runtime_manifest()); }
 // hello_foveated runs: a layer config that waits for the tables (cached once
 // for the whole suite), reconstructs where `reconstruction` says (auto | gpu |
 // cpu), captures into <root>/frames and runs `frames` frames.
-// taa_history: the config's "taa_history" (empty: its default).
+// temporal: the config's "temporal" (empty: its default).
 inline void configure_hello_foveated(const IsolatedEnv& env, int frames, const char* reconstruction = "auto",
-                                     const std::string& taa_history = {}) {
+                                     const std::string& temporal = {}) {
   const auto config = env.root() / "config.json";
   std::ofstream(config) << R"({"wait_for_tables": true, "cache_dir": ")" << FOVEART_TEST_CACHE_DIR
                         << R"(", "log_level": "info", "reconstruction": ")" << reconstruction << '"'
-                        << (taa_history.empty() ? "" : R"(, "taa_history": ")" + taa_history + '"') << "}";
+                        << (temporal.empty() ? "" : R"(, "temporal": ")" + temporal + '"') << "}";
   IsolatedEnv::set("FOVEART_CONFIG", config);
   IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env.root() / "frames");
   IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(frames).c_str());

@@ -9,6 +9,7 @@
 #include <foveation/image_metrics.hpp>
 #include <foveation/taa.hpp>
 #include <foveation/taa_reprojection.hpp>
+#include <foveation/temporal_mode.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -208,16 +209,14 @@ std::string parse_taa_modes(const std::string& text, std::vector<std::string>* o
 
 foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed,
                                           foveation::PixelFilter pixel_filter, bool taa_mean_while_young) {
-  foveation::ViewSettings vs;
+  // The product's mode (the layer's "temporal") first, then the lab's own variations of it.
+  const foveation::TemporalMode product = mode == "off"                           ? foveation::TemporalMode::off
+                                          : mode == "cache" || mode == "cache-kept" ? foveation::TemporalMode::rays
+                                                                                    : foveation::TemporalMode::image;
+  foveation::ViewSettings vs = foveation::temporal_view_settings(product, rays_per_point, seed);
+  vs.pixel_filter = pixel_filter;  // the lab measures every filter under every mode
   vs.taa_options.mean_while_young = taa_mean_while_young;
-  vs.rays_per_point = rays_per_point;
-  vs.sample_seed = seed;
-  vs.pixel_filter = pixel_filter;
-  vs.taa = mode != "off";
-  vs.new_jitter_each_frame = vs.taa;
-  vs.taa_history = mode == "restart"                       ? foveation::TaaHistory::restart_on_view_change
-                   : mode == "cache" || mode == "cache-kept" ? foveation::TaaHistory::ray_cache
-                                                             : foveation::TaaHistory::reproject;
+  if (mode == "restart") vs.taa_history = foveation::TaaHistory::restart_on_view_change;
   vs.ray_cache_keeps_through_saccades = mode == "cache-kept";
   return vs;
 }

@@ -37,22 +37,11 @@
  *             k, densityScale, raysPerPoint   0
  *             gazeProviderSpec                NULL or ""
  *             interpolation                   XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART
- *             taaEnable                       XR_FOVEATED_TAA_USE_CONFIG_FOVEART
+ *             temporal                        XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART
  *             gazeSource                      XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART
- *           The three USE_CONFIG values are new in spec version 3. The layer
- *           cannot tell which header an app was built against, so every value
- *           that an app built against spec version 1 or 2 could validly pass
- *           keeps its meaning: zero is a real choice for those three fields
- *           (a zero-initialised struct still asks for nearest neighbour, no
- *           TAA and fixed foveation), and a taaEnable other than XR_TRUE and
- *           the sentinel still reads as XR_FALSE. The sentinels are values no
- *           earlier version accepted (interpolation, gazeSource) or that no
- *           valid XrBool32 holds (taaEnable). To leave everything to the
- *           config, set all six fields as in the table. Layers before spec
- *           version 3 reject the interpolation/gazeSource sentinels
- *           (XR_ERROR_VALIDATION_FAILURE) and read the TAA sentinel as
- *           XR_FALSE: check the extensionVersion that
- *           xrEnumerateInstanceExtensionProperties reports before using them.
+ *           Zero is a real choice for the three enums (nearest neighbour, no
+ *           temporal history, fixed foveation): to leave everything to the
+ *           config, set all six fields as in the table.
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
@@ -69,7 +58,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 5
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 1
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -83,16 +72,14 @@ XR_DEFINE_HANDLE(XrFoveatedRendererFOVEART)
 #define XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900000)
 #define XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900001)
 #define XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900002)
-/* (spec version 4) */
 #define XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900003)
-/* (spec version 5) */
 #define XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900004)
 
 typedef enum XrFoveatedInterpolationFOVEART {
   XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
-  XR_FOVEATED_INTERPOLATION_SHEPARD_FOVEART = 1, /* modified Shepard (thesis 4.3) */
+  XR_FOVEATED_INTERPOLATION_MSM_FOVEART = 1,     /* modified Shepard method, MSM (thesis 4.3) */
   XR_FOVEATED_INTERPOLATION_RBF_FOVEART = 2,     /* radial basis functions + constant term */
-  /* (spec version 3) the config's "interpolation" */
+  /* the config's "interpolation" */
   XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART = 0x7FFFFFFE,
   XR_FOVEATED_INTERPOLATION_MAX_ENUM_FOVEART = 0x7FFFFFFF
 } XrFoveatedInterpolationFOVEART;
@@ -101,14 +88,20 @@ typedef enum XrFoveatedGazeSourceFOVEART {
   XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART = 0,     /* fixed foveation at the lens centre */
   XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART = 1, /* FoveaRT gaze provider (gazeProviderSpec) */
   XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART = 2, /* runtime's XR_EXT_eye_gaze_interaction */
-  /* (spec version 3) the config's "gaze_source"; create info only, never in the stats */
+  /* the config's "gaze_source"; create info only, never in the stats */
   XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART = 0x7FFFFFFE,
   XR_FOVEATED_GAZE_SOURCE_MAX_ENUM_FOVEART = 0x7FFFFFFF
 } XrFoveatedGazeSourceFOVEART;
 
-/* (spec version 3) XrFoveatedRendererCreateInfoFOVEART::taaEnable: the config's
- * "taa". A third value of that XrBool32 besides XR_FALSE and XR_TRUE. */
-static const XrBool32 XR_FOVEATED_TAA_USE_CONFIG_FOVEART = 0x7FFFFFFE;
+/* What a frame keeps from earlier frames (the config's "temporal"; docs/layer.md). */
+typedef enum XrFoveatedTemporalFOVEART {
+  XR_FOVEATED_TEMPORAL_OFF_FOVEART = 0,   /* each frame from its own rays */
+  XR_FOVEATED_TEMPORAL_IMAGE_FOVEART = 1, /* TAA on an image history, reprojected with the head */
+  XR_FOVEATED_TEMPORAL_RAYS_FOVEART = 2,  /* TAA on a render cache of the traced rays */
+  /* the config's "temporal"; create info only, never in the stats */
+  XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART = 0x7FFFFFFE,
+  XR_FOVEATED_TEMPORAL_MAX_ENUM_FOVEART = 0x7FFFFFFF
+} XrFoveatedTemporalFOVEART;
 
 /* Fallback state bits (XrFoveatedRendererStatsFOVEART::fallbackFlags). */
 typedef XrFlags64 XrFoveatedFallbackFlagsFOVEART;
@@ -120,9 +113,9 @@ static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UPLOAD_FAILED_B
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART = 0x00000010;
 /* The frame path is not available (no Vulkan session, build without foveation). */
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART = 0x00000020;
-/* (spec version 4) Building the tables for this view size failed (logged): it falls back for good. */
+/* Building the tables for this view size failed (logged): it falls back for good. */
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART = 0x00000040;
-/* (spec version 4) The view's imageRect lies outside its swapchain image: forwarded as the app sent
+/* The view's imageRect lies outside its swapchain image: forwarded as the app sent
  * it, for the runtime to judge, and not ray traced. */
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_IMAGE_RECT_BIT_FOVEART = 0x00000080;
 
@@ -135,7 +128,7 @@ typedef struct XrFoveatedRendererCreateInfoFOVEART {
   uint32_t k;           /* neighbours per pixel (1 for nearest), 1..20; 0 = config */
   float densityScale;   /* point density scale (thesis "scale"), (0, 16]; 0 = config */
   uint32_t raysPerPoint; /* jittered rays per point, 1..64 (thesis: 32); 0 = config */
-  XrBool32 taaEnable;   /* XR_TRUE, XR_FALSE or XR_FOVEATED_TAA_USE_CONFIG_FOVEART = config */
+  XrFoveatedTemporalFOVEART temporal; /* ..._USE_CONFIG_FOVEART = config (0 is OFF) */
   XrFoveatedGazeSourceFOVEART gazeSource; /* ..._USE_CONFIG_FOVEART = config (0 is NONE) */
   const char* gazeProviderSpec; /* for ..._PROVIDER: "sim", "replay:FILE", ...; NULL or "" = config */
 } XrFoveatedRendererCreateInfoFOVEART;
@@ -166,10 +159,10 @@ typedef struct XrFoveatedRendererStatsFOVEART {
   uint64_t callbackFailures; /* batches the callback failed (error code) */
   uint64_t invalidColours;   /* rays returning NaN/Inf/negative colour */
   uint64_t gazeLostFrames;   /* frames with fixed foveation for lack of gaze */
-  XrVector2f gazePixel[2];   /* (spec version 2) foveation centre per eye last frame, pixels of the view's imageRect */
+  XrVector2f gazePixel[2];   /* foveation centre per eye last frame, pixels of the view's imageRect */
 } XrFoveatedRendererStatsFOVEART;
 
-/* (spec version 4) Chain into XrFoveatedRendererStatsFOVEART::next to also get what the layer
+/* Chain into XrFoveatedRendererStatsFOVEART::next to also get what the layer
  * refused or worked around since the renderer was created. Each is logged once with its reason. */
 typedef struct XrFoveatedRendererInputStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART */
@@ -185,7 +178,7 @@ typedef struct XrFoveatedRendererInputStatsFOVEART {
   uint64_t foreignSessionLayers;  /* projection layers naming this renderer in another session's xrEndFrame: forwarded */
 } XrFoveatedRendererInputStatsFOVEART;
 
-/* (spec version 5) Where a renderer reconstructed its last frame (the config's "reconstruction"). */
+/* Where a renderer reconstructed its last frame (the config's "reconstruction"). */
 typedef enum XrFoveatedReconstructionPathFOVEART {
   XR_FOVEATED_RECONSTRUCTION_PATH_NONE_FOVEART = 0, /* no frame reconstructed yet */
   XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART = 1,  /* foveation's CPU gather, TAA and encode, then an upload */
@@ -193,13 +186,14 @@ typedef enum XrFoveatedReconstructionPathFOVEART {
   XR_FOVEATED_RECONSTRUCTION_PATH_MAX_ENUM_FOVEART = 0x7FFFFFFF
 } XrFoveatedReconstructionPathFOVEART;
 
-/* (spec version 5) Chain into XrFoveatedRendererStatsFOVEART::next to also get the reconstruction path
+/* Chain into XrFoveatedRendererStatsFOVEART::next to also get the reconstruction path
  * of the last frame and, on the GPU path, each stage's GPU time per eye from timestamps (0 on the CPU
  * path): scatter of the traced colours, gather, TAA, and sRGB encode with the copy into the image. */
 typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART */
   void* XR_MAY_ALIAS next;
   XrFoveatedReconstructionPathFOVEART path;
+  XrFoveatedTemporalFOVEART temporal; /* the temporal mode of the last frame (the path's default when the config leaves it) */
   uint32_t gpuFallbacks; /* views the GPU path could not do (logged once): reconstructed on the CPU instead */
   float gpuScatterMs[2];
   float gpuGatherMs[2];
