@@ -1,57 +1,106 @@
 #!/usr/bin/env bash
-# The README's main job: installs what is missing, builds, and runs the most
-# complete FoveaRT pipeline on built-in defaults. Everything lands in out/.
-#   1. the FOVE point set: Table 1 counts, picture, curves
-#   2. the sample engine: full versus foveated ray tracing of the default scene,
-#      and the quick price list (what each setting costs and buys per ring)
-#   3. hello_foveated through the FoveaRT layer on the simulated FOVE headset
-#      (real OpenXR loader, Vulkan on lavapipe, 120 Hz simulated gaze), with
-#      both eyes' composed frames captured
+# The README's main job: installs what is missing, builds what it runs, runs FoveaRT
+# end to end on built-in defaults and prints a short summary. Everything lands in out/,
+# each step's log in out/logs/.
+#   1. the FOVE point set: thesis Table 1 counts, picture, curves
+#   2. the sample engine's default scene: full versus foveated ray tracing at equal rays
+#   3. hello_foveated through the layer on the simulated FOVE headset (real OpenXR loader,
+#      Vulkan on lavapipe, 120 Hz simulated gaze): the CPU reconstruction path, then the
+#      GPU path (shaders/) on the same device, both eyes' frames captured
+# Usage: scripts/run.sh [--pricelist]
+#   --pricelist  also write the quick price list of the default scene to out/pricelist/
+#                (about 7 more minutes on 2 cores; docs/pricelist.md has the last one)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
+pricelist=0
+case "${1:-}" in
+  "") ;;
+  --pricelist) pricelist=1 ;;
+  *) echo "usage: scripts/run.sh [--pricelist]" >&2; exit 2 ;;
+esac
+SECONDS=0
 bash scripts/setup.sh
-# Same tree and flags as `scripts/test.sh --plain`.
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON >/dev/null
-cmake --build build -j "$(nproc)"
-mkdir -p out/cache out/frames
-export XDG_CACHE_HOME="$root/out/cache"   # the layer caches its tables in $XDG_CACHE_HOME/foveart
+mkdir -p out/cache out/frames out/logs
+export XDG_CACHE_HOME="$root/out/cache"  # the layer caches its tables in $XDG_CACHE_HOME/foveart
 
-echo "=== 1/3 FOVE point set -> out/pointset.json, out/pointset_centred.png, out/curves/"
-build/bin/fovea pointset --preset fove --cache out/cache --png out/pointset_centred.png \
-  --curves out/curves --json > out/pointset.json
-jq -r '"points \(.total) total, \(.on_screen_centred) on screen at centred gaze (\(100*.fraction_centred*10|round/10)% of \(.pixels) px); table \(.table_bytes/1e6|round) MB"' out/pointset.json
+step() {  # $1: what, $2: log name, rest: the command; its stdout goes to the log too
+  local what=$1 log=out/logs/$2.log
+  shift 2
+  printf '=== %-58s' "$what"
+  local t0=$SECONDS
+  if "$@" >"$log" 2>&1; then
+    echo " $((SECONDS - t0)) s"
+  else
+    echo " FAILED"
+    tail -20 "$log" >&2
+    echo "run.sh: $what failed; the whole log is $log" >&2
+    exit 1
+  fi
+}
 
-echo "=== 2/3 default scene, full vs foveated -> out/render.json, out/render_*.png"
-build/bin/fovea render --scene default --preset fove --mode both --method msm --k 5 \
-  --cache out/cache --out out/render --json > out/render.json
-jq -r '"speedup \(.speedup*100|round/100)x (scene content allows \(.content_speedup*100|round/100)x: overhead \(.overhead_fraction*1000|round/10)%), agreement with the full frame (two noisy images, not accuracy: see the price list) PSNR \(.psnr*10|round/10) dB, SSIM \(.ssim*1000|round/1000)"' out/render.json
+# The same tree and flags as `scripts/test.sh --plain`; only the targets this job runs.
+step "build (fovea, hello_foveated, layer, simulated runtime)" build bash -c \
+  'cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON &&
+   cmake --build build -j "$(nproc)" --target fovea hello_foveated foveart_layer foveart_sim_runtime'
 
-echo "=== 2b/3 quick price list of the default scene -> out/pricelist/ (report.md, pricelist.png)"
-rm -rf out/pricelist && mkdir -p out/pricelist  # measured afresh; the reference stays cached in out/cache/reference
-build/bin/fovea pricelist --scene default --preset fove --quick --cache out/cache --out out/pricelist \
-  > out/pricelist/headline.txt
-cat out/pricelist/headline.txt
+json_to() {  # $1: file for the command's stdout (JSON), rest: the command
+  local file=$1
+  shift
+  "$@" >"$file"
+}
 
-echo "=== 3/3 hello_foveated on the simulated FOVE -> out/hello_foveated.json, out/frames/"
-rm -f out/frames/*.png
-# Layer config: wait for the tables on the first frame instead of showing the
-# app's fallback image while they build; reconstruct where "auto" decides (the
-# GPU when the app's Vulkan device is one; on lavapipe, a CPU device, the CPU).
-hello() {  # $1: the config's "reconstruction", $2: stats file, rest: hello_foveated arguments
+step "1/3 FOVE point set -> out/pointset.json" pointset json_to out/pointset.json \
+  build/bin/fovea pointset --preset fove --cache out/cache --png out/pointset_centred.png --curves out/curves --json
+step "2/3 default scene, full vs foveated -> out/render*" render json_to out/render.json \
+  build/bin/fovea render --scene default --preset fove --mode both --method msm --k 5 --cache out/cache \
+  --out out/render --json
+
+hello() {  # $1: reconstruction, $2: stats file, rest: hello_foveated arguments
   local reconstruction=$1 stats=$2
   shift 2
   printf '{ "wait_for_tables": true, "log_level": "info", "reconstruction": "%s" }\n' "$reconstruction" \
-    > out/foveart_config.json
-  FOVEART_CONFIG="$root/out/foveart_config.json" \
+    >"out/foveart_config_$reconstruction.json"
+  FOVEART_CONFIG="$root/out/foveart_config_$reconstruction.json" \
   XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
   XR_API_LAYER_PATH="$root/build/manifests/explicit" \
   VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
-    build/bin/hello_foveated --scene default --interp shepard --k 5 --json "$@" > "$stats"
-  jq -r '"reconstruction \"'"$reconstruction"'\" ran on the \(.reconstruction|ascii_upcase): frames traced \(.frames_traced)/\(.frames_submitted), fallbacks \(.views_fallback); layer overhead p50 \(.per_frame.layer_overhead_ms[0].p50|round) ms/eye; gaze age p50 \(.per_frame.gaze_age_ms.p50*10|round/10) ms, p99 \(.per_frame.gaze_age_ms.p99*10|round/10) ms" + (if .reconstruction == "gpu" then "; GPU per eye: gather \(.gpu_stage_ms[0].gather*100|round/100) ms, TAA \(.gpu_stage_ms[0].taa*100|round/100) ms, encode+copy \(.gpu_stage_ms[0].encode*100|round/100) ms" else "" end)' "$stats"
+    json_to "$stats" build/bin/hello_foveated --scene default --interp msm --k 5 --json "$@"
 }
-FOVEART_SIM_FRAMES=${FOVEART_SIM_FRAMES:-24} FOVEART_SIM_CAPTURE_DIR="$root/out/frames" FOVEART_SIM_CAPTURE_EVERY=8 \
-  hello auto out/hello_foveated.json
-echo "frames: $(ls out/frames/*.png 2>/dev/null | wc -l) PNGs in out/frames; stats in out/hello_foveated.json"
-# The GPU path (shaders/) on the same device, forced: what a headset's GPU runs.
-FOVEART_SIM_FRAMES=8 hello gpu out/hello_foveated_gpu.json
+rm -f out/frames/*.png
+FOVEART_SIM_FRAMES=16 FOVEART_SIM_CAPTURE_DIR="$root/out/frames" FOVEART_SIM_CAPTURE_EVERY=8 \
+  step "3/3 hello_foveated, CPU path -> out/hello_foveated.json" hello_cpu hello cpu out/hello_foveated.json
+FOVEART_SIM_FRAMES=4 \
+  step "    hello_foveated, GPU path -> out/hello_foveated_gpu.json" hello_gpu hello gpu out/hello_foveated_gpu.json
+if [ "$pricelist" = 1 ]; then
+  rm -rf out/pricelist && mkdir -p out/pricelist
+  step "    quick price list -> out/pricelist/" pricelist \
+    build/bin/fovea pricelist --scene default --preset fove --quick --cache out/cache --out out/pricelist
+fi
+
+# The summary: one plain table, read from the JSON the steps wrote.
+cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
+echo
+echo "FoveaRT main job: $((SECONDS / 60)) min $((SECONDS % 60)) s on $(nproc) cores (${cpu:-unknown CPU}), Vulkan on lavapipe"
+jq -rn --slurpfile p out/pointset.json --slurpfile r out/render.json \
+  --slurpfile c out/hello_foveated.json --slurpfile g out/hello_foveated_gpu.json --arg pricelist "$pricelist" '
+  def r1: . * 10 | round / 10;
+  def r2: . * 100 | round / 100;
+  def group: tostring | until(test("^[0-9]{1,3}(,|$)"); sub("(?<a>[0-9])(?<b>[0-9]{3})(?<c>,|$)"; "\(.a),\(.b)\(.c)"));
+  def row(a; b): "| \(a) | \(b) |";
+  ($r[0].rings | map(select(.from_deg == 0))[0]) as $fovea
+  | row("what"; "value"), "|---|---|",
+    row("points per eye, FOVE \($p[0].width)x\($p[0].height), centred gaze";
+        "\($p[0].on_screen_centred | group) of \($p[0].pixels | group) pixels (\($p[0].fraction_centred * 100 | r1) %)"),
+    row("speedup at equal rays, default scene, MSM k = 5";
+        "\($r[0].speedup | r2)x (its content allows \($r[0].content_speedup | r2)x)"),
+    row("fovea (0-2.5 deg): foveated against the full render at equal rays";
+        if $fovea.psnr == null then "identical: the pixel-exact fovea traces the full render'"'"'s own rays"
+        else "PSNR \($fovea.psnr | r1) dB" end),
+    row("layer time per eye, CPU path (p50, callback excluded)";
+        "\($c[0].per_frame.layer_overhead_ms[0].p50 | r1) ms, temporal \"\($c[0].temporal)\""),
+    row("layer time per eye, GPU path on lavapipe, a CPU device (p50)";
+        "\($g[0].per_frame.layer_overhead_ms[0].p50 | r1) ms, temporal \"\($g[0].temporal)\""),
+    row("pictures"; "out/render_full.png, out/render_foveated.png, out/frames/, out/pointset_centred.png"),
+    row("price list (accuracy per ring against a converged reference)";
+        if $pricelist == "1" then "out/pricelist/report.md" else "docs/pricelist.md (scripts/run.sh --pricelist: out/pricelist/)" end)'

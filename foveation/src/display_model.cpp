@@ -1,5 +1,5 @@
 // Display construction, validation and presets (thesis 4.1; FOVE/Vive numbers
-// from ARCHITECTURE.md "Numbers to keep at hand").
+// from docs/design.md "Numbers to keep at hand").
 #include "foveation/display_model.hpp"
 
 #include "foveation/device.hpp"

@@ -1,5 +1,5 @@
 // Leveled logging of the layer: stderr plus an optional log file, with
-// "once" and rate-limited helpers for per-frame paths (STYLE.md, rule 5).
+// "once" and rate-limited helpers for per-frame paths (a frame loop never floods the log).
 #pragma once
 
 #include <atomic>

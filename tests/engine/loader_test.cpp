@@ -1,5 +1,5 @@
 // glTF loading: hand-made minimal files in all three container forms, every
-// feature the issue lists, broken files with clear errors, Debian's test models.
+// feature the engine reads, broken files with clear errors, Debian's test models.
 #include "gltf_fixtures.hpp"
 
 #include <engine/effects.hpp>

@@ -1,5 +1,5 @@
 // The cache writer (temp file + fsync + rename) and the default cache
-// directory, against the defects of issue 14: a symlink planted at the temp or
+// directory, against its known hazards: a symlink planted at the temp or
 // final name, concurrent writers, failures that leave files behind, and the
 // shared /tmp fallback.
 #include <gtest/gtest.h>

@@ -93,7 +93,7 @@ TEST_F(SimRuntime, ReportsTheFove0DescriptionsViewsFovAndIpd) {
   EXPECT_EQ(frame.predictedDisplayPeriod, fove.frame_period_ns());
 }
 
-// The description itself: ARCHITECTURE.md's FOVE 0 (1280x1440 per eye, 70 Hz, 95 deg,
+// The description itself: docs/design.md's FOVE 0 (1280x1440 per eye, 70 Hz, 95 deg,
 // 120 Hz tracking) with the foveation preset's 64 mm; square pixels give the vertical FOV.
 TEST(Fove0, DescriptionHasTheArchitecturesNumbersAndSquarePixels) {
   const foveation::HeadsetDescription fove = foveation::fove0();

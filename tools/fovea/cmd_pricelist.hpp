@@ -1,6 +1,6 @@
 // `fovea pricelist`: what every setting costs in time and rays and buys in
-// accuracy against a converged reference, per eccentricity ring (issue #16;
-// docs/pricelist.md).
+// accuracy against a converged reference, per eccentricity ring
+// (docs/pricelist.md).
 #pragma once
 
 #include "pricelist_grid.hpp"

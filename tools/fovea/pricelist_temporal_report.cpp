@@ -125,7 +125,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
   // off over each control (kSequenceControls): the stable blur (an image that is soft but does not flicker at
   // all), the TAA fed the reference (what the history's reprojection costs without noise) and the sample
   // histories (what keeping the rays themselves reaches). The third measure, weighted by what the eye resolves
-  // (temporal_metrics.hpp flicker_csf_rms), stands beside the goal, which the issue sets on the plain change.
+  // (temporal_metrics.hpp flicker_csf_rms), stands beside the goal, which is set on the plain change.
   const Json goal = temporal_goal(*off, *reproject), restart_goal = temporal_goal(*off, *restart);
   for (const char* measure : {"flicker", "flicker_tracked", "flicker_csf"}) {
     const std::string m = measure;

@@ -16,7 +16,7 @@ namespace foveart::tools {
 // pixel-grid fovea, 1 ray per point) when measured, else the first TAA setting.
 inline constexpr const char* kTemporalHeadlineSetting = "msm_k5_s1_pixel-grid_r1";
 
-// The goal of issue #18 for one TAA track against the TAA-off track at equal rays (tracks as
+// The temporal goal (peripheral flicker at least 5x lower, 0-5 deg no worse) for one TAA track against the TAA-off track at equal rays (tracks as
 // sequence_track_json writes them): {"<m>_ratio"[ring] (off over the track) for m = flicker (at fixed
 // pixels), flicker_tracked (along the motion) and flicker_csf (weighted by what the eye resolves),
 // "peripheral_flicker_5x_lower", "peripheral_tracked_flicker_5x_lower", "peripheral_csf_flicker_5x_lower"

@@ -67,7 +67,7 @@ struct RingBand {
   std::size_t begin;
   std::size_t end;
 };
-// The two regions of the temporal acceptance (issue #18): where the user looks
+// The two regions of the temporal goal: where the user looks
 // (0-5 deg: no ghosting) and the periphery (> 20 deg: flicker).
 inline constexpr RingBand kCentralBand{"centre", 0, 2};
 inline constexpr RingBand kPeripheralBand{"periphery", 4, foveation::kRingCount};

@@ -6,7 +6,7 @@
 // the foveation tables (display_preset("fove")). A second copy of these numbers is a
 // bug: the tables would be built for one display while the runtime shows another.
 //
-// Header-only and allocation-free; no OpenXR or Vulkan types (ARCHITECTURE.md).
+// Header-only and allocation-free; no OpenXR or Vulkan types (docs/design.md).
 #pragma once
 
 #include <cmath>
@@ -50,7 +50,7 @@ struct HeadsetDescription {
   std::int64_t gaze_period_ns() const { return std::llround(1e9 / eye_tracker_hz); }
 };
 
-// FOVE 0 (ARCHITECTURE.md "Numbers to keep at hand"): 2560x1440 OLED, i.e. 1280x1440
+// FOVE 0 (docs/design.md "Numbers to keep at hand"): 2560x1440 OLED, i.e. 1280x1440
 // per eye, 70 Hz, ~95 deg field of view taken as each eye's horizontal FOV (as the
 // foveation preset always had it), 120 Hz eye tracking, 64 mm IPD. The vertical FOV
 // follows from square pixels: 2 atan(tan 47.5 deg * 1440 / 1280) = 101.7 deg.

@@ -1,4 +1,4 @@
-// The one foveated frame (thesis 4.2-4.3; ARCHITECTURE.md "One frame, end to
+// The one foveated frame (thesis 4.2-4.3; docs/design.md "One frame, end to
 // end"), used by the OpenXR layer, `fovea render` and `fovea reconstruct`
 // alike: the visible points of the point set at the gaze -> jittered rays in
 // each point's disc -> the engine callback, in batches on the executor ->

@@ -268,8 +268,8 @@ TEST(TaaMotion, BeyondThePixelGridTheRayCacheFiltersIntoEachPixelAsWideAsItsPoin
   }
 }
 
-// A saccade's onset restarts the cache with the image history (the issue's
-// rule for every history); its later flagged frames add to it again. With
+// A saccade's onset restarts the cache with the image history (the rule
+// for every history); its later flagged frames add to it again. With
 // ViewSettings::ray_cache_keeps_through_saccades every ray of a still view
 // stays. A blink does the same. (A Poisson point's jittered rays that land
 // beyond the filter's reach of the image are not kept: a frame keeps at most

@@ -1,4 +1,4 @@
-// Which effects a scene calls for, derived once at load time (ARCHITECTURE.md:
+// Which effects a scene calls for, derived once at load time (docs/design.md:
 // "simulate only what the scene calls for"). The tracer compiles one kernel
 // per combination; an absent effect is not in the hot path at all.
 #pragma once
