@@ -2,25 +2,27 @@
 // One descriptor set for every pipeline; the host side is layer/src/gpu_*.
 #ifndef FOVEART_COMMON_GLSL
 #define FOVEART_COMMON_GLSL
+#extension GL_GOOGLE_include_directive : require
+#include "foveation/shader_constants.h"
 
 // Table chunks: canvas tile rows [first_row, end_row) of the interpolation
 // table (or the neighbour table for NN), each <= maxStorageBufferRange bytes.
 // A workgroup reads one chunk only (one 8x8 canvas tile), so the index is
 // dynamically uniform (shaderStorageBufferArrayDynamicIndexing).
-#define MAX_CHUNKS 16
+#define MAX_CHUNKS FOVEART_MAX_TABLE_CHUNKS
 layout(set = 0, binding = 0, std430) readonly buffer Chunk { uint words[]; } chunks[MAX_CHUNKS];
 
-// Words 0..15 of every chunk (gpu_tables.hpp, ChunkHeader).
-#define H_FIRST_ROW 0
-#define H_END_ROW 1
-#define H_TILE_INFO 2      // word offset: per tile, first block (rebased) | level << 30
-#define H_BLOCK_PALETTE 3  // word offset: per block + 1, palette offset (rebased)
-#define H_PALETTE 4        // word offset: point indices
-#define H_SLOTS 5          // word offset: 1-byte taps, tile order (rebased ordinal * k)
-#define H_WEIGHTS 6        // word offset: f16 pairs or f32, tile order
-#define H_NEIGHBORS 7      // word offset: 24-bit point indices, row-major canvas pixels (NN)
-#define H_ORDINAL_BASE 10  // tile-order ordinal of the chunk's first pixel
-#define H_PIXEL_BASE 11    // row-major index of the chunk's first canvas pixel
+// Words of every chunk's header (foveation/shader_constants.h).
+#define H_FIRST_ROW FOVEART_CHUNK_FIRST_ROW
+#define H_END_ROW FOVEART_CHUNK_END_ROW
+#define H_TILE_INFO FOVEART_CHUNK_TILE_INFO
+#define H_BLOCK_PALETTE FOVEART_CHUNK_BLOCK_PALETTE
+#define H_PALETTE FOVEART_CHUNK_PALETTE
+#define H_SLOTS FOVEART_CHUNK_SLOTS
+#define H_WEIGHTS FOVEART_CHUNK_WEIGHTS
+#define H_NEIGHBORS FOVEART_CHUNK_NEIGHBORS
+#define H_ORDINAL_BASE FOVEART_CHUNK_ORDINAL_BASE
+#define H_PIXEL_BASE FOVEART_CHUNK_PIXEL_BASE
 
 // Colour of every point this frame; a = 1 traced, 0 not (never spread).
 layout(set = 0, binding = 1, std430) buffer Colors { vec4 colors[]; };
@@ -28,8 +30,8 @@ layout(set = 0, binding = 1, std430) buffer Colors { vec4 colors[]; };
 // metres along the ray; no depth is DEPTH_UNKNOWN and a miss (the sky) is
 // DEPTH_FAR and above: no NaN or infinity reaches a shader (drivers may
 // compile isnan/isinf away).
-#define DEPTH_UNKNOWN -1.0
-#define DEPTH_FAR 1.0e30
+#define DEPTH_UNKNOWN FOVEART_DEPTH_UNKNOWN
+#define DEPTH_FAR FOVEART_DEPTH_FAR
 
 // The reconstruction, one vec4 per screen pixel, row-major: rgb and the
 // pixel's depth (its nearest traced point's).

@@ -16,11 +16,11 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-#define WEIGHTED 1u     // MSM / RBF through the gather layout (else NN)
-#define F16 2u          // weights stored as IEEE half
-#define CLAMP_TAPS 4u   // RBF: clamp to the pixel's taps
-#define CLAMP_BLOCK 8u  // RBF: clamp to the block's valid palette colours
-#define RBF 16u         // renormalise only with half the weight sum valid
+#define WEIGHTED FOVEART_GATHER_WEIGHTED
+#define F16 FOVEART_GATHER_F16
+#define CLAMP_TAPS FOVEART_GATHER_CLAMP_TAPS
+#define CLAMP_BLOCK FOVEART_GATHER_CLAMP_BLOCK
+#define RBF FOVEART_GATHER_RBF
 
 layout(push_constant) uniform Push {
   ivec2 screen_px;

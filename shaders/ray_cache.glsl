@@ -17,10 +17,11 @@
 #extension GL_GOOGLE_include_directive : require
 #include "quat.glsl"
 
-#define CELL_PX 2.0                       // foveation ray_cache.cpp kCellPx
-#define KEPT_RAY_OCCLUSION_TOLERANCE 0.05  // foveation::kKeptRayOcclusionTolerance
-#define DEPTH_FAR 1.0e30                   // shaders/common.glsl: the sky
-#define SCAN_BLOCK 1024u                   // cells per workgroup of cache_scan (256 threads x 4)
+#include "foveation/shader_constants.h"
+#define CELL_PX float(FOVEART_RAY_CACHE_CELL_PX)
+#define KEPT_RAY_OCCLUSION_TOLERANCE FOVEART_KEPT_RAY_OCCLUSION_TOLERANCE
+#define DEPTH_FAR FOVEART_DEPTH_FAR
+#define SCAN_BLOCK FOVEART_RAY_CACHE_SCAN_BLOCK  // cells per workgroup of cache_scan (256 threads x 4)
 
 // A kept ray: where it hit (w = 0) or its direction (w = 1: a miss or no
 // depth), its colour and its age in frames (w).

@@ -27,7 +27,7 @@ layout(push_constant) uniform Push {
   vec4 tan_last;          // the last view's
 };
 
-#define DISOCCLUSION_TOLERANCE 0.1  // foveation::kDisocclusionTolerance
+#define DISOCCLUSION_TOLERANCE FOVEART_DISOCCLUSION_TOLERANCE
 
 vec3 at(ivec2 p) {
   p = clamp(p, ivec2(0), size_px - 1);

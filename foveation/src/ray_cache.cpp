@@ -14,7 +14,7 @@ namespace {
 constexpr std::size_t kChunkRays = 4096;
 // filter_at's grid: cells of this many pixels, and at most this many chunks of
 // rays counted apart (its counts are chunks x cells).
-constexpr int kCellPx = 2;
+constexpr int kCellPx = FOVEART_RAY_CACHE_CELL_PX;
 constexpr std::size_t kMaxCellChunks = 16;
 
 // Pixels a ray reaches either side of its own: the filter's support is 1 px (box) or 3 px (bspline2).

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "foveation/eye_rays.hpp"
+#include "foveation/shader_constants.h"
 #include "shader_depth.hpp"
 #include "shaders/cache_bin.spv.h"
 #include "shaders/cache_filter.spv.h"
@@ -47,8 +48,8 @@ enum Binding : uint32_t {
 };
 constexpr uint32_t kDescriptorCounts[kBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1};  // one buffer each
 constexpr VkDeviceSize kAnchorBytes = 32, kNewRayBytes = 32, kRayFrameBytes = 16, kCellRayBytes = 24;
-constexpr uint32_t kCellPx = 2;         // ray_cache.glsl CELL_PX
-constexpr uint32_t kScanBlock = 1024;   // ray_cache.glsl SCAN_BLOCK
+constexpr uint32_t kCellPx = FOVEART_RAY_CACHE_CELL_PX;
+constexpr uint32_t kScanBlock = FOVEART_RAY_CACHE_SCAN_BLOCK;
 constexpr uint32_t kGroupSize = 256;    // cache_rays / cache_scan / cache_bin
 constexpr uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0]; the shaders loop beyond
 

@@ -8,6 +8,7 @@
 
 #include "eye_swapchain.hpp"
 #include "foveation/eye_rays.hpp"
+#include "foveation/shader_constants.h"
 #include "shader_depth.hpp"
 #include "shaders/encode.spv.h"
 #include "shaders/gather.spv.h"
@@ -55,7 +56,13 @@ struct ScatterPush {
   uint32_t count;
   uint32_t point_count;
 };
-enum GatherFlags : uint32_t { kWeighted = 1, kF16 = 2, kClampTaps = 4, kClampBlock = 8, kRbf = 16 };
+enum GatherFlags : uint32_t {
+  kWeighted = FOVEART_GATHER_WEIGHTED,
+  kF16 = FOVEART_GATHER_F16,
+  kClampTaps = FOVEART_GATHER_CLAMP_TAPS,
+  kClampBlock = FOVEART_GATHER_CLAMP_BLOCK,
+  kRbf = FOVEART_GATHER_RBF,
+};
 
 enum Binding : uint32_t {
   kChunks = 0,

@@ -17,27 +17,28 @@
 #include <vector>
 
 #include "foveation/foveated_view.hpp"
+#include "foveation/shader_constants.h"
 
 namespace foveart::layer {
 
-// Word offsets in a chunk's header; shaders/common.glsl names them H_*.
+// Word offsets in a chunk's header (foveation/shader_constants.h; shaders/common.glsl names them H_*).
 enum ChunkHeader : std::uint32_t {
-  kFirstRow = 0,      // first canvas tile row
-  kEndRow = 1,        // one past the last
-  kTileInfo = 2,      // section offsets, in words
-  kBlockPalette = 3,
-  kPalette = 4,
-  kSlots = 5,
-  kWeights = 6,
-  kNeighbors = 7,
-  kBlockBase = 8,     // global index of the chunk's first block
-  kPaletteBase = 9,   // global palette offset of its first entry
-  kOrdinalBase = 10,  // tile-order ordinal of its first pixel
-  kPixelBase = 11,    // row-major index of its first canvas pixel
-  kHeaderWords = 16,
+  kFirstRow = FOVEART_CHUNK_FIRST_ROW,
+  kEndRow = FOVEART_CHUNK_END_ROW,
+  kTileInfo = FOVEART_CHUNK_TILE_INFO,  // section offsets, in words
+  kBlockPalette = FOVEART_CHUNK_BLOCK_PALETTE,
+  kPalette = FOVEART_CHUNK_PALETTE,
+  kSlots = FOVEART_CHUNK_SLOTS,
+  kWeights = FOVEART_CHUNK_WEIGHTS,
+  kNeighbors = FOVEART_CHUNK_NEIGHBORS,
+  kBlockBase = FOVEART_CHUNK_BLOCK_BASE,
+  kPaletteBase = FOVEART_CHUNK_PALETTE_BASE,
+  kOrdinalBase = FOVEART_CHUNK_ORDINAL_BASE,
+  kPixelBase = FOVEART_CHUNK_PIXEL_BASE,
+  kHeaderWords = FOVEART_CHUNK_HEADER_WORDS,
 };
 
-inline constexpr std::size_t kMaxGpuChunks = 16;  // shaders/common.glsl MAX_CHUNKS
+inline constexpr std::size_t kMaxGpuChunks = FOVEART_MAX_TABLE_CHUNKS;
 
 struct GpuTableChunk {
   std::uint32_t first_row = 0;  // canvas tile rows [first_row, end_row)

@@ -35,6 +35,7 @@
 #include "foveation/eye_rays.hpp"
 #include "foveation/image.hpp"
 #include "foveation/ray_samples.hpp"
+#include "foveation/shader_constants.h"
 #include "foveation/ray_trace.h"
 
 namespace foveart::foveation {
@@ -42,7 +43,7 @@ namespace foveart::foveation {
 // How much farther than the new rays around it a kept hit may lie and still
 // count as seen: the new rays cross its pixels elsewhere, so a slanted
 // surface's depth differs a little across them.
-inline constexpr float kKeptRayOcclusionTolerance = 0.05f;
+inline constexpr float kKeptRayOcclusionTolerance = static_cast<float>(FOVEART_KEPT_RAY_OCCLUSION_TOLERANCE);
 
 // The render cache's depth test for one kept ray, given the farthest (finite)
 // of the new rays around it: covered when it lies farther than they do, by

@@ -14,13 +14,14 @@
 #include <vector>
 
 #include "foveation/executor.hpp"
+#include "foveation/shader_constants.h"
 #include "foveation/image.hpp"
 #include "foveation/ray_trace.h"
 
 namespace foveart::foveation {
 
 // Relative depth disagreement beyond which history is a different surface.
-inline constexpr float kDisocclusionTolerance = 0.1f;
+inline constexpr float kDisocclusionTolerance = static_cast<float>(FOVEART_DISOCCLUSION_TOLERANCE);
 
 // How the previous output is read between pixel centres.
 enum class HistorySampling : std::uint8_t {
