@@ -119,7 +119,7 @@ int main(int argc, char** argv) {
     start = comma + 1;
   }
 
-  foveart::layer::HeadlessVulkan vulkan(VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, false);
+  foveart::layer::HeadlessVulkan vulkan(foveart::layer::DevicePreference::hardware_gpu, false);
   if (!vulkan.ok()) {
     std::fprintf(stderr, "reconstruction_paths: no Vulkan device with a compute queue\n");
     return 1;

@@ -1,7 +1,7 @@
 // A Vulkan instance and device of its own, without OpenXR, for the GPU
-// reconstruction's tests and benchmark: one compute queue, the features the
-// shaders need, and (optionally) VK_LAYER_KHRONOS_validation with
-// synchronization validation, whose error messages it collects.
+// reconstruction's tests and benchmark (test code, not the layer's): one compute
+// queue, the features the shaders need, and (optionally) VK_LAYER_KHRONOS_validation
+// with synchronization validation, whose error messages it collects.
 #pragma once
 
 #include <algorithm>
@@ -41,13 +41,30 @@ inline bool has_layer(const char* name) {
   return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
 }
 
+// Lower is preferred.
+inline int device_rank(VkPhysicalDeviceType type, bool prefer_cpu) {
+  if (prefer_cpu) return type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0 : 1;
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    default: return 3;
+  }
+}
+
 }  // namespace headless_detail
+
+// Which device a HeadlessVulkan takes when a machine has several.
+enum class DevicePreference {
+  hardware_gpu,  // a discrete GPU, else an integrated one, else a virtual one, else whatever there is
+  cpu,           // a CPU implementation (lavapipe), else whatever there is
+};
 
 class HeadlessVulkan {
  public:
-  // A device of `preferred` type if there is one, else the first; validated
-  // (when the layer is installed) with synchronization validation on.
-  HeadlessVulkan(VkPhysicalDeviceType preferred, bool validate) {
+  // The device `preference` ranks first; validated (when the layer is installed)
+  // with synchronization validation on.
+  HeadlessVulkan(DevicePreference preference, bool validate) {
     validated_ = validate && headless_detail::has_layer("VK_LAYER_KHRONOS_validation");
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -82,11 +99,16 @@ class HeadlessVulkan {
     vkEnumeratePhysicalDevices(instance_, &count, nullptr);
     std::vector<VkPhysicalDevice> devices(count);
     vkEnumeratePhysicalDevices(instance_, &count, devices.data());
+    const bool prefer_cpu = preference == DevicePreference::cpu;
     for (VkPhysicalDevice d : devices) {
       VkPhysicalDeviceProperties p{};
       vkGetPhysicalDeviceProperties(d, &p);
-      if (physical_ == VK_NULL_HANDLE || p.deviceType == preferred) physical_ = d, name_ = p.deviceName;
-      if (p.deviceType == preferred) break;
+      if (physical_ == VK_NULL_HANDLE ||
+          headless_detail::device_rank(p.deviceType, prefer_cpu) < headless_detail::device_rank(type_, prefer_cpu)) {
+        physical_ = d;
+        name_ = p.deviceName;
+        type_ = p.deviceType;
+      }
     }
     if (physical_ == VK_NULL_HANDLE) return;
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &count, nullptr);
@@ -118,6 +140,7 @@ class HeadlessVulkan {
   bool validated() const { return validated_; }
   GpuDevice device() const { return {physical_, device_, family_, 0}; }
   const std::string& name() const { return name_; }
+  bool is_cpu() const { return type_ == VK_PHYSICAL_DEVICE_TYPE_CPU; }
   std::vector<std::string> errors() {
     std::lock_guard lock(validation_.mutex);
     return validation_.errors;
@@ -130,6 +153,7 @@ class HeadlessVulkan {
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   uint32_t family_ = UINT32_MAX;
+  VkPhysicalDeviceType type_ = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   HeadlessVulkan(const HeadlessVulkan&) = delete;
   HeadlessVulkan& operator=(const HeadlessVulkan&) = delete;
   std::string name_;

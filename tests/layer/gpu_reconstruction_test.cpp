@@ -1,5 +1,6 @@
 // The GPU reconstruction (shaders/, layer/src/gpu_*) against its CPU
-// reference on lavapipe: the same frames of foveation::FoveatedView, once
+// reference, on a hardware GPU where the machine has one (GpuMatchesCpu's
+// hardware_gpu cases; skipped without one) and on lavapipe: the same frames of foveation::FoveatedView, once
 // reconstructed, accumulated and encoded by foveation (CPU) and once by the
 // compute shaders, agree within one 8-bit step per channel for NN, MSM and RBF
 // at k = 1/5/20, centred and corner gaze, both eyes, and TAA over 16 frames
@@ -100,13 +101,26 @@ Difference compare(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b)
 
 class GpuReconstruction : public ::testing::Test {
  protected:
-  static void SetUpTestSuite() {
-    vulkan_ = std::make_unique<HeadlessVulkan>(VK_PHYSICAL_DEVICE_TYPE_CPU, true);
-    sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
+  static void TearDownTestSuite() {
+    for (auto& v : vulkans_) v.reset();
   }
-  static void TearDownTestSuite() { vulkan_.reset(); }
+  // The device a test runs on: lavapipe, unless a parameterised suite says otherwise.
+  virtual DevicePreference preference() const { return DevicePreference::cpu; }
   void SetUp() override {
-    ASSERT_TRUE(vulkan_->ok()) << "no lavapipe device (mesa-vulkan-drivers)";
+    const DevicePreference preference_now = preference();
+    std::unique_ptr<HeadlessVulkan>& slot = vulkans_[preference_now == DevicePreference::cpu ? 1 : 0];
+    if (slot == nullptr) {
+      slot = std::make_unique<HeadlessVulkan>(preference_now, true);
+      sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
+    }
+    vulkan_ = slot.get();
+    ASSERT_TRUE(vulkan_->ok()) << "no Vulkan device (mesa-vulkan-drivers brings lavapipe)";
+    if (preference_now == DevicePreference::hardware_gpu && vulkan_->is_cpu()) {
+      GTEST_SKIP() << "no hardware GPU on this machine (only " << vulkan_->name() << "): the lavapipe cases check this";
+    }
+    if (preference_now == DevicePreference::cpu) {
+      ASSERT_TRUE(vulkan_->is_cpu()) << "no lavapipe device (mesa-vulkan-drivers); found " << vulkan_->name();
+    }
     ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
     std::string error;
     gpu_ = GpuReconstructor::create(vulkan_->device(), &error);
@@ -114,7 +128,7 @@ class GpuReconstruction : public ::testing::Test {
   }
   void TearDown() override {
     gpu_.reset();
-    if (vulkan_->ok()) {
+    if (vulkan_ != nullptr && vulkan_->ok()) {
       const auto errors = vulkan_->errors();
       EXPECT_TRUE(errors.empty()) << errors.size() << " validation error(s), the first: " << errors.front();
     }
@@ -178,7 +192,8 @@ class GpuReconstruction : public ::testing::Test {
     return worst;
   }
 
-  static std::unique_ptr<HeadlessVulkan> vulkan_;
+  static std::unique_ptr<HeadlessVulkan> vulkans_[2];  // [0] hardware GPU, [1] lavapipe; made on first use
+  HeadlessVulkan* vulkan_ = nullptr;                   // this test's
   std::unique_ptr<GpuReconstructor> gpu_;
   int rays_per_point_ = 1;  // for run()'s views
   bool mean_while_young_ = false;  // for run()'s views: TaaOptions::mean_while_young
@@ -186,14 +201,31 @@ class GpuReconstruction : public ::testing::Test {
   bool keeps_through_saccades_ = false;
   foveation::PixelFilter pixel_filter_ = foveation::PixelFilter::box;
 };
-std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkan_;
+std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkans_[2];
 
 struct Case {
   InterpMethod method;
   int k;
+  DevicePreference device;
 };
 
-class GpuMatchesCpu : public GpuReconstruction, public ::testing::WithParamInterface<Case> {};
+class GpuMatchesCpu : public GpuReconstruction, public ::testing::WithParamInterface<Case> {
+ protected:
+  DevicePreference preference() const override { return GetParam().device; }
+};
+
+// Every method and k on a hardware GPU (where there is one) and on lavapipe (CI).
+std::vector<Case> gpu_matches_cpu_cases() {
+  std::vector<Case> cases;
+  for (DevicePreference device : {DevicePreference::hardware_gpu, DevicePreference::cpu}) {
+    for (auto [method, k] : {std::pair{InterpMethod::nn, 1}, std::pair{InterpMethod::msm, 1}, std::pair{InterpMethod::msm, 5},
+                             std::pair{InterpMethod::msm, 20}, std::pair{InterpMethod::rbf_mq, 1},
+                             std::pair{InterpMethod::rbf_mq, 5}, std::pair{InterpMethod::rbf_mq, 20}}) {
+      cases.push_back({method, k, device});
+    }
+  }
+  return cases;
+}
 
 TEST_P(GpuMatchesCpu, WithinOneStepCentredAndCornerGazeBothEyes) {
   const Case c = GetParam();
@@ -327,16 +359,14 @@ TEST_P(GpuMatchesCpu, RayCacheKeepsAndFiltersTheRaysLikeTheCpu) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, GpuMatchesCpu,
-                         ::testing::Values(Case{InterpMethod::nn, 1}, Case{InterpMethod::msm, 1},
-                                           Case{InterpMethod::msm, 5}, Case{InterpMethod::msm, 20},
-                                           Case{InterpMethod::rbf_mq, 1}, Case{InterpMethod::rbf_mq, 5},
-                                           Case{InterpMethod::rbf_mq, 20}),
+INSTANTIATE_TEST_SUITE_P(Methods, GpuMatchesCpu, ::testing::ValuesIn(gpu_matches_cpu_cases()),
                          [](const auto& param_info) {
                            const char* m = param_info.param.method == InterpMethod::nn    ? "nn"
                                            : param_info.param.method == InterpMethod::msm ? "msm"
                                                                                     : "rbf";
-                           return std::string(m) + "_k" + std::to_string(param_info.param.k);
+                           const char* device =
+                               param_info.param.device == DevicePreference::hardware_gpu ? "hardware_gpu" : "lavapipe";
+                           return std::string(device) + "_" + m + "_k" + std::to_string(param_info.param.k);
                          });
 
 // The render cache's buffers grow with the rays a frame holds, up to the
@@ -396,7 +426,7 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
 
 // Tables cut into many small buffers give the same bits as one buffer.
 TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
-  for (Case c : {Case{InterpMethod::nn, 1}, Case{InterpMethod::rbf_mq, 20}}) {
+  for (Case c : {Case{InterpMethod::nn, 1, DevicePreference::cpu}, Case{InterpMethod::rbf_mq, 20, DevicePreference::cpu}}) {
     GpuTablePack whole;
     std::string error;
     ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), 1u << 30, &whole, &error)) << error;

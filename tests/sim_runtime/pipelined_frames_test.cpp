@@ -114,22 +114,23 @@ void expect_every_frame_ran(const PipelineResult& r, int frames) {
 class PipelinedFrames : public ::testing::Test {
  protected:
   void SetUp() override { clear_sim_env(); }
+  // A session on `clock` ("real" or "virtual"), run to FOCUSED.
+  void start(const char* clock) {
+    set_env({{"FOVEART_SIM_CLOCK", clock}});
+    ASSERT_EQ(app.create_instance(), XR_SUCCESS);
+    ASSERT_EQ(app.create_session(), XR_SUCCESS);
+    ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
+  }
+  XrTestApp app;
 };
 
 TEST_F(PipelinedFrames, ThreeHundredFramesOnTheVirtualClock) {
-  set_env({{"FOVEART_SIM_CLOCK", "virtual"}});
-  XrTestApp app;
-  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
-  ASSERT_EQ(app.create_session(), XR_SUCCESS);
-  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
+  ASSERT_NO_FATAL_FAILURE(start("virtual"));
   expect_every_frame_ran(run_pipelined(app, 300, 10, std::chrono::milliseconds(2)), 300);
 }
 
 TEST_F(PipelinedFrames, ThreeHundredFramesOnTheRealClock) {
-  XrTestApp app;
-  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
-  ASSERT_EQ(app.create_session(), XR_SUCCESS);
-  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
+  ASSERT_NO_FATAL_FAILURE(start("real"));
   // Every 25th frame takes two and a half frame periods to render.
   expect_every_frame_ran(run_pipelined(app, 300, 25, std::chrono::milliseconds(36)), 300);
 }
@@ -137,11 +138,7 @@ TEST_F(PipelinedFrames, ThreeHundredFramesOnTheRealClock) {
 // The rule itself, on one frame: a second xrWaitFrame does not return before the first
 // frame's xrBeginFrame, and returns after it without waiting for its xrEndFrame.
 TEST_F(PipelinedFrames, SecondWaitBlocksUntilThePreviousFrameIsBegun) {
-  set_env({{"FOVEART_SIM_CLOCK", "virtual"}});
-  XrTestApp app;
-  ASSERT_EQ(app.create_instance(), XR_SUCCESS);
-  ASSERT_EQ(app.create_session(), XR_SUCCESS);
-  ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
+  ASSERT_NO_FATAL_FAILURE(start("virtual"));
   auto first = xr<XrFrameState>(XR_TYPE_FRAME_STATE);
   ASSERT_EQ(xrWaitFrame(app.session, nullptr, &first), XR_SUCCESS);
 
