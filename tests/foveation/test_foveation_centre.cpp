@@ -12,7 +12,7 @@
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/foveation_centre.hpp"
-#include "foveation/scripted_motion.hpp"
+#include <eval/scripted_motion.hpp>
 
 namespace foveart::foveation {
 namespace {

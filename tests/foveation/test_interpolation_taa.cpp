@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "foveation/image_metrics.hpp"
+#include <eval/image_metrics.hpp>
 #include "foveation/taa.hpp"
 #include "test_executor.hpp"
 

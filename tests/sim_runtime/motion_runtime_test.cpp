@@ -10,7 +10,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "foveation/device.hpp"
-#include "foveation/scripted_motion.hpp"
+#include <eval/scripted_motion.hpp>
 #include "gaze_provider/gaze_math.h"
 #include "gaze_provider/trace_csv.h"
 #include "sim_runtime/sim_env.h"

@@ -5,14 +5,14 @@
 #include <cmd_pricelist.hpp>
 #include <cmd_render.hpp>
 #include <pfm.hpp>
-#include <pricelist_report.hpp>
-#include <reference.hpp>
+#include <eval/pricelist_report.hpp>
+#include <eval/reference.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 #include <foveation/executor.hpp>
-#include <foveation/image_metrics.hpp>
+#include <eval/image_metrics.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -7,22 +7,22 @@
 #include "cmd_pricelist.hpp"
 
 #include "cmd_render.hpp"
+#include "taa_modes.hpp"
 #include "display_options.hpp"
-#include "motion_sequence.hpp"
 #include "pfm.hpp"
-#include "pricelist_report.hpp"
-#include "reference.hpp"
-#include "render_metrics.hpp"
-#include "results_jsonl.hpp"
+#include <eval/pricelist_report.hpp>
+#include <eval/reference.hpp>
+#include <eval/render_metrics.hpp>
+#include <eval/results_jsonl.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 
-#include <foveation/csf_error.hpp>
+#include <eval/csf_error.hpp>
 #include <foveation/executor.hpp>
 #include <foveation/foveated_view.hpp>
-#include <foveation/image_metrics.hpp>
+#include <eval/image_metrics.hpp>
 
 #include <toolkit/image_io.hpp>
 #include <toolkit/progress.hpp>

@@ -3,8 +3,8 @@
 // (docs/pricelist.md).
 #pragma once
 
-#include "pricelist_grid.hpp"
-#include "pricelist_temporal.hpp"
+#include <eval/pricelist_grid.hpp>
+#include <eval/pricelist_temporal.hpp>
 
 #include <glm/ext/vector_int2.hpp>
 #include <glm/vec2.hpp>

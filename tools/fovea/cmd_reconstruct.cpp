@@ -20,9 +20,9 @@
 #include "foveation/display_model.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
-#include "foveation/image_metrics.hpp"
+#include <eval/image_metrics.hpp>
 #include "interp_commands.hpp"
-#include "render_metrics.hpp"
+#include <eval/render_metrics.hpp>
 #include "toolkit/image_io.hpp"
 
 namespace foveart::tools {

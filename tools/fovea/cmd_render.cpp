@@ -2,13 +2,13 @@
 // the sample engine; JSON report of rays per effect and times. The foveated
 // frame is foveation::FoveatedView, the one the OpenXR layer runs.
 #include "cmd_render.hpp"
+#include "taa_modes.hpp"
 
 #include "content_speedup.hpp"
-#include "display_options.hpp"
-#include "motion_sequence.hpp"
+#include "render_cli.hpp"
 #include "pfm.hpp"
-#include "reference.hpp"
-#include "render_metrics.hpp"
+#include <eval/reference.hpp>
+#include <eval/render_metrics.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -83,180 +84,17 @@ struct FrameTimes {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Per-eye size and symmetric frustum of a display preset.
-struct PresetGeometry {
-  int width_px = 0;
-  int height_px = 0;
-  double half_fov_x_rad = 0.0;
-  double half_fov_y_rad = 0.0;
-};
-
-std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
-  const std::optional<foveation::DisplayModel> d = foveation::display_preset(preset);
-  if (!d || !d->validate().empty()) return std::nullopt;
-  // Pinhole: D pixels from the eye, the image spans +-W/2 and +-H/2.
-  return PresetGeometry{d->width_px, d->height_px, std::atan(0.5 * d->width_px / d->view_distance_px),
-                        std::atan(0.5 * d->height_px / d->view_distance_px)};
-}
-
 }  // namespace
-
-// The display the foveated view's tables are built for: the preset's; for
-// another size, the preset's horizontal FOV at that size; for an explicit view
-// (--fov), the display the layer builds for that view (display_of_view).
-std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, const FoveartEyeView& view,
-                                                        std::string* error) {
-  std::optional<foveation::DisplayModel> display = foveation::display_preset(o.preset);
-  if (!display) {
-    *error = "unknown display preset '" + o.preset + "'";
-    return std::nullopt;
-  }
-  if (o.fov_deg) {
-    display = foveation::display_of_view(view);
-  } else if (static_cast<uint32_t>(display->width_px) != view.width_px ||
-             static_cast<uint32_t>(display->height_px) != view.height_px) {
-    display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px),
-                                                display->horizontal_fov_deg());
-  }
-  display->scale = o.scale;
-  // The preset's pattern unless one is asked for (from_fov and display_of_view give the default).
-  display->fovea_pattern = foveation::display_preset(o.preset)->fovea_pattern;
-  if (!o.pattern.empty()) display->fovea_pattern = *foveation::parse_fovea_pattern(o.pattern);
-  if (std::string bad = display->validate(); !bad.empty()) {
-    *error = "display: " + bad;
-    return std::nullopt;
-  }
-  return display;
-}
-
-int reconstruction_k(const RenderOptions& o) { return o.method == "nn" ? 1 : (o.k > 0 ? o.k : 5); }
-
-std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOptions& o, const FoveartEyeView& view,
-                                                                  const std::optional<std::filesystem::path>& cache_dir,
-                                                                  foveation::Executor& executor,
-                                                                  const foveation::LogFn& log, std::string* error) {
-  const std::optional<foveation::DisplayModel> display = foveated_display(o, view, error);
-  if (!display) return nullptr;
-  foveation::PointSetKey key;
-  key.display = *display;
-  key.seed = o.seed;
-  foveation::InterpOptions interp;
-  interp.method = *foveation::parse_method(o.method);
-  interp.k = reconstruction_k(o);
-  try {
-    return foveation::load_view_tables(cache_dir, key, interp, executor, std::nullopt, {}, log);
-  } catch (const std::exception& e) {
-    *error = std::string("tables: ") + e.what();
-    return nullptr;
-  }
-}
-
-// Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
-// keeping the horizontal field of view; or, with --fov / --pose, exactly the
-// given OpenXR view.
-FoveartEyeView render_view(const RenderOptions& o, const engine::Scene& scene) {
-  const PresetGeometry g = *preset_geometry(o.preset);
-  FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, engine::scene_head(scene));
-  view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
-  view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
-  const double tan_x = std::tan(g.half_fov_x_rad);
-  const double tan_y = o.size_px ? tan_x * o.size_px->y / o.size_px->x : std::tan(g.half_fov_y_rad);
-  view.angle_left_rad = static_cast<float>(-g.half_fov_x_rad);
-  view.angle_right_rad = static_cast<float>(g.half_fov_x_rad);
-  view.angle_up_rad = static_cast<float>(std::atan(tan_y));
-  view.angle_down_rad = static_cast<float>(-std::atan(tan_y));
-  if (o.fov_deg) {
-    float* angles[4] = {&view.angle_left_rad, &view.angle_right_rad, &view.angle_up_rad, &view.angle_down_rad};
-    for (int i = 0; i < 4; ++i) *angles[i] = static_cast<float>((*o.fov_deg)[i] * kPi / 180.0);
-  }
-  if (o.pose) {
-    for (int i = 0; i < 3; ++i) view.position_m[i] = static_cast<float>((*o.pose)[i]);
-    for (int i = 0; i < 4; ++i) view.orientation_xyzw[i] = static_cast<float>((*o.pose)[3 + i]);
-  }
-  return view;
-}
-
-namespace {
-
-std::string check_view(const RenderOptions& o) {
-  if (o.fov_deg) {
-    const auto& f = *o.fov_deg;
-    for (double a : f)
-      if (!std::isfinite(a) || a <= -90.0 || a >= 90.0) return "--fov angles must be finite and inside (-90, 90) degrees";
-    if (!(f[0] < f[1])) return "--fov: left must be less than right";
-    if (!(f[3] < f[2])) return "--fov: down must be less than up";
-  }
-  if (o.pose) {
-    double norm2 = 0.0;
-    for (int i = 0; i < 7; ++i) {
-      if (!std::isfinite((*o.pose)[i])) return "--pose values must be finite";
-      if (i >= 3) norm2 += (*o.pose)[i] * (*o.pose)[i];
-    }
-    if (std::abs(norm2 - 1.0) > 1e-3) return "--pose: the quaternion qx,qy,qz,qw must have unit length";
-  }
-  return "";
-}
-
-}  // namespace
-
-engine::TracerOptions render_tracer_options(const RenderOptions& o) {
-  engine::TracerOptions t;
-  if (!o.without.empty()) {
-    std::string unused;
-    const engine::Effects left_out = *engine::parse_effects(o.without, &unused);
-    t.allowed = engine::Effects::from_bits(engine::Effects::all().bits() & ~left_out.bits());
-  }
-  return t;
-}
-
-std::string check_render_options(const RenderOptions& o) {
-  if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
-  if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
-  if (o.method != "nn" && o.method != "msm" && o.method != "rbf-mq") return "--method must be nn, msm or rbf-mq";
-  if (!preset_geometry(o.preset)) return "--preset: unknown display preset '" + o.preset + "'";
-  if (o.spp < 1 || o.spp > 1024) return "--spp must be in 1..1024";
-  if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
-  if (!(o.scale > 0.0) || o.scale > 100.0) return "--scale must be in (0, 100]";
-  if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
-    return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
-  if (o.threads < 0) return "--threads must be >= 0";
-  if (o.frames < 1 || o.frames > 1000) return "--frames must be in 1..1000";
-  if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
-    return "--size must be between 8 and 16384 pixels per side";
-  if (std::string bad = check_view(o); !bad.empty()) return bad;
-  if (!o.without.empty()) {
-    std::string bad;
-    if (!engine::parse_effects(o.without, &bad)) return "--without: " + bad;
-  }
-  if (!o.reference_spp.empty() && o.reference_spp != "auto") {
-    char* end = nullptr;
-    const long n = std::strtol(o.reference_spp.c_str(), &end, 10);
-    if (end == o.reference_spp.c_str() || *end != '\0' || n < 2 || n > 65536 || n % 2 != 0 || (n > 16 && n % 16 != 0))
-      return "--reference-spp must be auto or rays per pixel 2, 4, ..., 16 or a multiple of 16 up to 65536, got '" +
-             o.reference_spp + "'";
-  }
-  if (!o.reference_spp.empty() && !o.reference_file.empty()) return "give --reference-spp or --reference, not both";
-  std::vector<std::string> taa;
-  if (std::string bad = parse_taa_modes(o.taa, &taa); !bad.empty()) return bad;
-  if (o.mode == "full" && taa != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
-  if (o.motion.empty()) {
-    if (taa.size() > 1) return "--taa: a list of modes needs --motion (one still view has one TAA)";
-    if (o.start_s) return "--start-s needs --motion";
-    if (o.fps) return "--fps needs --motion";
-  } else {
-    if (o.pose) return "--pose and --motion exclude each other: the motion gives the head pose";
-    if (o.gaze_px) return "--gaze and --motion exclude each other: the motion gives the gaze";
-    if (!o.reference_file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
-  }
-  return "";
-}
 
 int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+  if (!o.motion.empty()) {
+    err << "fovea render: one still view; a sequence over a motion is `fovea-eval motion`\n";
+    return 2;
+  }
   if (std::string bad = check_render_options(o); !bad.empty()) {
     err << "fovea render: " << bad << "\n";
     return 2;
   }
-  if (!o.motion.empty()) return run_render_motion(o, out, err);
   auto t0 = std::chrono::steady_clock::now();
   engine::LoadResult loaded = engine::load_scene(o.scene);
   if (!loaded.ok()) {
@@ -503,112 +341,19 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
 
 }  // namespace foveart::tools
 
-namespace {
-
-// "X,Y" -> two numbers.
-template <typename Vec>
-std::string parse_pair(const std::string& text, Vec* out) {
-  std::istringstream in(text);
-  char comma = 0;
-  typename Vec::value_type a{}, b{};
-  if (!(in >> a >> comma >> b) || comma != ',' || !(in >> std::ws).eof()) return "expected two numbers X,Y";
-  *out = Vec(a, b);
-  return "";
-}
-
-// "A,B,C,..." -> exactly N finite numbers.
-template <std::size_t N>
-std::string parse_list(const std::string& text, std::array<double, N>* out) {
-  std::istringstream in(text);
-  for (std::size_t i = 0; i < N; ++i) {
-    char comma = ',';
-    if ((i > 0 && !(in >> comma)) || comma != ',' || !(in >> (*out)[i]))
-      return "expected " + std::to_string(N) + " comma-separated numbers";
-    if (!std::isfinite((*out)[i])) return "values must be finite";
-  }
-  if (!(in >> std::ws).eof()) return "expected " + std::to_string(N) + " comma-separated numbers";
-  return "";
-}
-
-}  // namespace
-
 void register_render(CLI::App& app) {
   auto opts = std::make_shared<foveart::tools::RenderOptions>();
   auto gaze = std::make_shared<std::string>();
-  auto size = std::make_shared<std::string>();
-  auto fov = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
-  cmd->add_option("--scene", opts->scene, "glTF/GLB file, or 'default' for the built-in scene")->capture_default_str();
-  cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
-  cmd->add_option("--eye", opts->eye, "left or right")->capture_default_str();
+  const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
-  cmd->add_option("--mode", opts->mode, "full, foveated or both")->capture_default_str();
-  cmd->add_option("--spp", opts->spp, "Rays per pixel (full) or per point (foveated)")->capture_default_str();
-  cmd->add_option("--method", opts->method, "Reconstruction: nn, msm or rbf-mq")->capture_default_str();
-  cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (msm, rbf-mq; default 5; nn uses 1)");
-  cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
-  cmd->add_option("--pattern", opts->pattern,
-                  "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
-  cmd->add_option("--frames", opts->frames,
-                  "Frames per mode, modes interleaved; times are each mode's median frame (with --motion: the "
-                  "sequence's frames)")
-      ->capture_default_str();
-  cmd->add_option("--threads", opts->threads, "Tracing threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
-  cmd->add_option("--fov", *fov, "Exact view frustum L,R,U,D: XrFovf angles in degrees (point set from the R-L span)");
   cmd->add_option("--pose", *pose, "Exact eye pose in scene space px,py,pz,qx,qy,qz,qw (metres, unit quaternion)");
-  cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
-  cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
-  cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
-  cmd->add_option("--without", opts->without,
-                  "Leave these effects out of the scene, the reference too: shadows, reflection, refraction, "
-                  "textures, comma-separated (default: every effect the scene calls for)");
-  foveart::fovea::add_pixel_filter_option(cmd, &opts->pixel_filter);
-  cmd->add_option("--reference-spp", opts->reference_spp,
-                  "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
-  cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
-  cmd->add_option("--taa", opts->taa,
-                  "TAA of the foveated frames: off, restart (on every pose change), reproject (follows the head), "
-                  "cache (the traced rays kept in a render cache), cache-kept (its rays kept through "
-                  "saccades); with --motion a list, e.g. off,restart,reproject")
-      ->capture_default_str();
-  cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
-                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history "
-                "(the layer's \"taa_mean_while_young\"); default: alpha from the second frame on");
-  cmd->add_option("--motion", opts->motion,
-                  "Render --frames frames of a head and gaze motion: 'builtin' or a CSV file "
-                  "(time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade])");
-  auto start_s = std::make_shared<double>(0.0);
-  auto fps = std::make_shared<double>(70.0);
-  CLI::Option* start_opt = cmd->add_option("--start-s", *start_s, "With --motion: time of the first frame (s), default 0");
-  CLI::Option* fps_opt = cmd->add_option("--fps", *fps, "With --motion: frames per second, default 70");
-  cmd->add_flag("--json", opts->json, "Print the report as JSON");
-  cmd->callback([opts, gaze, size, fov, pose, start_s, fps, start_opt, fps_opt] {
-    if (start_opt->count() > 0) opts->start_s = *start_s;
-    if (fps_opt->count() > 0) opts->fps = *fps;
-    if (!gaze->empty()) {
-      glm::vec2 g;
-      if (std::string e = parse_pair(*gaze, &g); !e.empty()) throw CLI::ValidationError("--gaze", e);
-      if (!std::isfinite(g.x) || !std::isfinite(g.y)) throw CLI::ValidationError("--gaze", "must be finite");
-      opts->gaze_px = g;
-    }
-    if (!size->empty()) {
-      glm::ivec2 s;
-      if (std::string e = parse_pair(*size, &s); !e.empty()) throw CLI::ValidationError("--size", e);
-      opts->size_px = s;
-    }
-    if (!fov->empty()) {
-      std::array<double, 4> f{};
-      if (std::string e = parse_list(*fov, &f); !e.empty()) throw CLI::ValidationError("--fov", e);
-      opts->fov_deg = f;
-    }
-    if (!pose->empty()) {
-      std::array<double, 7> p{};
-      if (std::string e = parse_list(*pose, &p); !e.empty()) throw CLI::ValidationError("--pose", e);
-      opts->pose = p;
-    }
+  cmd->callback([opts, gaze, pose, parse_common] {
+    parse_common();
+    if (!gaze->empty()) opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
+    if (!pose->empty()) opts->pose = foveart::tools::parse_pose_option("--pose", *pose);
     const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);
   });

@@ -79,7 +79,7 @@ inline glm::vec2 lens_centre_px(const EyeFrustum& f) {
 }
 
 // The foveation pixel of a view-space gaze direction, rounded to whole pixels
-// (the layer and `fovea render --motion` alike); false for a gaze that points
+// (the layer and `fovea-eval motion` alike); false for a gaze that points
 // backwards or 87 degrees or more off the view axis (it projects nowhere useful).
 inline bool gaze_pixel(const EyeFrustum& f, glm::vec3 direction_view, glm::vec2* out_px) {
   if (!(direction_view.z < -0.05f)) return false;

@@ -1,4 +1,4 @@
-// The scripted head and gaze motion (foveation/scripted_motion.hpp) as the simulated
+// The scripted head and gaze motion (eval/scripted_motion.hpp) as the simulated
 // headset plays it (FOVEART_SIM_MOTION): the head pose of VIEW in LOCAL and the eye
 // tracker's samples, both from one script on one time base, looping.
 //
@@ -19,7 +19,7 @@
 #include <optional>
 #include <string>
 
-#include <foveation/scripted_motion.hpp>
+#include <eval/scripted_motion.hpp>
 
 #include "gaze_source.h"
 #include "pose_math.h"

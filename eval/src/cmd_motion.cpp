@@ -1,0 +1,372 @@
+// `fovea-eval motion`: a sequence of frames following a scripted head and
+// gaze motion (motion_views.hpp), for the full render and/or the foveated view
+// with each TAA mode asked for at equal rays, measured per ring against the
+// converged reference sequence (motion_sequence.hpp): flicker beyond the
+// truth's own change and the error over all frames.
+#include <eval/cmd_motion.hpp>
+
+#include "render_cli.hpp"
+#include "taa_modes.hpp"
+
+#include <eval/motion_sequence.hpp>
+#include <eval/pricelist_grid.hpp>
+#include <eval/pricelist_report.hpp>
+#include <eval/pricelist_temporal_report.hpp>
+#include <eval/render_metrics.hpp>
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+
+#include <foveation/foveated_view.hpp>
+
+#include <toolkit/image_io.hpp>
+#include <toolkit/progress.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <memory>
+#include <initializer_list>
+#include <limits>
+#include <ostream>
+
+namespace foveart::eval {
+using namespace foveart::tools;
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+std::string fixed(const Json& j, int decimals) {
+  if (!j.is_number() || !std::isfinite(j.get<double>())) return "-";
+  const double v = j.get<double>();
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+// temporal_sanity's verdict: the reference sequence's own flicker and error lie at least 10 dB below every
+// track's in every ring.
+bool floor_10db_below(const Json& sanity) {
+  const auto it = sanity.find("floor_10db_below");
+  return it != sanity.end() && *it == Json(true);
+}
+
+// "" when floor_10db_below; else what is too close and what to do. Closer, the reference's noise is a visible
+// share of the steadiest tracks' flicker, and their ratios to TAA off come out lower than they are.
+std::string floor_warning(const Json& sanity) {
+  if (floor_10db_below(sanity)) return "";
+  double least = std::numeric_limits<double>::infinity();
+  std::size_t ring = 0;
+  for (const char* key : {"flicker_margin_db", "error_margin_db"})
+    for (std::size_t r = 0; r < sanity[key].size(); ++r)
+      if (sanity[key][r].is_number() && sanity[key][r].get<double>() < least) {
+        least = sanity[key][r].get<double>();
+        ring = r;
+      }
+  if (!std::isfinite(least)) return "";
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the reference's own noise lies only %.1f dB below a track's flicker or error (ring %s; 10 dB "
+                "wanted): the steadiest tracks' numbers include it, so their ratios to TAA off read low. Four times "
+                "the --reference-spp lowers it by 6 dB",
+                least, ring_name(ring).c_str());
+  return buf;
+}
+
+void print_text(const Json& report, std::ostream& out) {
+  out << "motion " << report["motion"]["spec"].get<std::string>() << ": " << report["window"]["frames"]
+      << " frames at " << report["window"]["fps"] << " fps from " << report["window"]["start_s"] << " s, "
+      << report["width"] << "x" << report["height"] << ", " << report["effects"].get<std::string>() << "\n";
+  if (!report.contains("reference")) {
+    out << "no --reference-spp: no temporal error (accuracy is measured against the reference sequence only)\n";
+    for (const Json& t : report["tracks"]) out << t["id"].get<std::string>() << ": " << fixed(t["ms"], 1) << " ms\n";
+    return;
+  }
+  out << "reference " << report["reference"]["spp"] << " rays per pixel per frame\n"
+      << "flicker RMS along the motion / at fixed pixels (the error's frame-to-frame change) / PSNR dB against "
+         "the reference, per ring:\n";
+  out << "track";
+  for (const Json& r : report["reference"]["rings"])
+    out << " | " << r["from_deg"].get<double>() << "-" << (r["to_deg"].is_null() ? std::string("") : r["to_deg"].dump());
+  out << "\n";
+  // One line per track, control and the reference floor: per ring the measures, " / " between them. A
+  // measure m sits under m in a track's rings, <control>_m and m_floor in the reference's.
+  struct Measure {
+    const char* key;
+    int decimals;
+  };
+  const Json& reference_rings = report["reference"]["rings"];
+  const auto table = [&](std::initializer_list<Measure> measures) {
+    const auto line = [&](const std::string& name, const Json& rings, const std::string& prefix, const char* suffix) {
+      out << name;
+      for (const Json& r : rings) {
+        bool first = true;
+        for (const Measure& m : measures) {
+          out << (first ? " | " : " / ") << fixed(r[prefix + m.key + suffix], m.decimals);
+          first = false;
+        }
+      }
+      out << "\n";
+    };
+    for (const Json& t : report["tracks"]) line(t["id"].get<std::string>(), t["rings"], "", "");
+    for (const SequenceControl& c : kSequenceControls) line(c.label, reference_rings, std::string(c.key) + "_", "");
+    line("reference floor (its own noise)", reference_rings, "", "_floor");
+  };
+  table({{"flicker_tracked", 4}, {"flicker", 4}, {"psnr", 1}});
+  out << "flicker weighted by what the eye resolves (flicker_csf: the change's luma, CSF-weighted by eccentricity), "
+         "per ring:\n";
+  table({{"flicker_csf", 4}});
+  // The periphery over the frames whose TAA history has settled (motion_sequence.hpp).
+  out << "periphery (> 20 deg) over the " << report["reference"]["settled_frames"] << " frames at least "
+      << report["reference"]["settle_frames"]
+      << " frames after the motion's last restart: flicker along the motion / at fixed pixels / PSNR dB\n";
+  const auto settled = [&](const std::string& name, const Json& bands) {
+    const Json* periphery = find_band(bands, kPeripheralBand);
+    if (periphery == nullptr) return;
+    const Json& s = (*periphery)["settled"];
+    out << name << " | " << fixed(s["flicker_tracked"], 4) << " / " << fixed(s["flicker"], 4) << " / "
+        << fixed(s["psnr"], 1) << "\n";
+  };
+  for (const Json& t : report["tracks"]) settled(t["id"].get<std::string>(), t["bands"]);
+  for (const SequenceControl& c : kSequenceControls)
+    settled(c.label, report["reference"][std::string(c.key) + "_bands"]);
+  // TAA off over each TAA track in the periphery, and each one's error gain where the user looks (the goal).
+  bool goal_header = false;
+  for (const Json& t : report["tracks"]) {
+    const auto goal = t.find("goal");
+    if (goal == t.end()) continue;
+    if (!goal_header) {
+      out << "TAA off over each TAA track at 20-30 / 30-45 / >45 deg, along the motion | at fixed pixels (goal: 5x "
+             "along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
+      goal_header = true;
+    }
+    const auto met = [&](const char* key) {
+      const auto flag = goal->find(key);
+      return flag != goal->end() && *flag == Json(true) ? "met" : "not met";
+    };
+    out << t["id"].get<std::string>() << ": " << peripheral_ratios(*goal, "flicker_tracked_ratio", 2) << " ("
+        << met("peripheral_tracked_flicker_5x_lower") << ") | " << peripheral_ratios(*goal, "flicker_ratio", 2) << " | "
+        << central_gains_db((*goal)["psnr_minus_off_db"]) << " dB (" << met("central_error_no_worse") << ")\n";
+  }
+  if (report.contains("sanity")) {
+    const Json& sanity = report["sanity"];
+    out << "reference floor at least 10 dB below every track's flicker and error in every ring: "
+        << (floor_10db_below(sanity) ? "yes" : "no") << "\n";
+  }
+}
+
+}  // namespace
+
+int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+  if (std::string bad = check_render_options(o); !bad.empty()) {
+    err << "fovea-eval motion: " << bad << "\n";
+    return 2;
+  }
+  if (o.motion.empty()) {
+    err << "fovea-eval motion: --motion is required ('builtin' or a CSV file)\n";
+    return 2;
+  }
+  std::string error;
+  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  if (!motion) {
+    err << "fovea-eval motion: " << error << "\n";
+    return 2;
+  }
+  MotionWindow window;
+  window.start_s = o.start_s.value_or(0.0);
+  window.fps = o.fps.value_or(70.0);
+  window.frames = o.frames;
+  if (std::string bad = check_motion_window(*motion, window); !bad.empty()) {
+    err << "fovea-eval motion: " << bad << "\n";
+    return 2;
+  }
+  std::vector<std::string> taa_modes;
+  parse_taa_modes(o.taa, &taa_modes);  // checked by check_render_options
+
+  engine::LoadResult loaded = engine::load_scene(o.scene);
+  if (!loaded.ok()) {
+    err << "fovea-eval motion: " << loaded.error << "\n";
+    return 1;
+  }
+  for (const std::string& w : loaded.scene->warnings) err << "fovea-eval motion: warning: " << w << "\n";
+  std::unique_ptr<engine::Tracer> tracer =
+      engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
+  if (!tracer) {
+    err << "fovea-eval motion: " << error << "\n";
+    return 1;
+  }
+  const std::uint64_t scene_hash = rendered_scene_hash(*tracer);
+  const FoveartEyeView eye_at_rest = render_view(o, tracer->scene());
+  const engine::Camera head = engine::scene_head(tracer->scene());
+  const std::vector<MotionFrame> frames =
+      motion_frames(*motion, window, eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
+  foveation::Executor executor(static_cast<unsigned>(o.threads));
+
+  std::vector<SequenceTrack> tracks;
+  if (o.mode != "foveated") {
+    SequenceTrack t;
+    t.full = true;
+    t.spp = o.spp;
+    t.id = "full_spp" + std::to_string(o.spp);
+    tracks.push_back(std::move(t));
+  }
+  if (o.mode != "full") {
+    std::optional<std::filesystem::path> cache;
+    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
+    const std::shared_ptr<const foveation::ViewTables> tables = load_foveated_tables(
+        o, eye_at_rest, cache, executor, [&](const std::string& m) { err << "fovea-eval motion: " << m << "\n"; }, &error);
+    if (!tables) {
+      err << "fovea-eval motion: " << error << "\n";
+      return 1;
+    }
+    PriceSetting setting;
+    setting.method = o.method;
+    setting.k = reconstruction_k(o);
+    setting.scale = o.scale;
+    setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
+    setting.spp = o.spp;
+    for (const std::string& mode : taa_modes) {
+      SequenceTrack t;
+      t.taa = mode;
+      t.spp = o.spp;
+      t.id = setting.id() + "_taa-" + mode;
+      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed, o.pixel_filter,
+                                                                                          o.taa_mean_while_young));
+      tracks.push_back(std::move(t));
+    }
+  }
+
+  SequenceReferenceOptions ref;
+  ref.spp = o.reference_spp;  // empty: no reference, no temporal error
+  ref.baseline_spp = std::max(16, o.spp);
+  ref.seed = o.seed;
+  ref.pixel_filter = o.pixel_filter;
+  ref.taa_mean_while_young = o.taa_mean_while_young;
+  ref.cache_dir = !o.reference_cache.empty() ? o.reference_cache
+                  : !o.cache_dir.empty()     ? (std::filesystem::path(o.cache_dir) / "reference").string()
+                                             : std::string();
+  SequenceHooks hooks;
+  hooks.log = [&](const std::string& m) { err << "fovea-eval motion: " << m << "\n"; };
+  toolkit::Progress progress("motion");
+  // A line every 10 frames, or sooner when frames are slow (a reference sequence of many rays per pixel being
+  // rendered): at least every 30 s, so a log shows the run is alive.
+  auto last_line = std::chrono::steady_clock::now();
+  hooks.frame_done = [&](int done, int total) {
+    progress.update(double(done) / double(total));
+    const auto now = std::chrono::steady_clock::now();
+    if (done % 10 == 0 || done == total || now - last_line >= std::chrono::seconds(30)) {
+      err << "fovea-eval motion: frame " << done << "/" << total << "\n";
+      last_line = now;
+    }
+  };
+  Json files = Json::array();
+  if (!o.out_prefix.empty()) {
+    hooks.image = [&](const SequenceTrack& t, const MotionFrame& f, const foveation::ImageRgb& display) {
+      char suffix[32];
+      std::snprintf(suffix, sizeof suffix, "_f%03d.png", f.index);
+      const std::string path = o.out_prefix + "_" + t.id + suffix;
+      if (std::string e = toolkit::write_png(path, display, toolkit::PngValues::display); !e.empty()) return e;
+      files.push_back(path);
+      return std::string();
+    };
+  }
+  SequenceRun run;
+  if (!run_sequence(*tracer, scene_hash, frames, ref, tracks, executor, hooks, &run, &error)) {
+    err << "fovea-eval motion: " << error << "\n";
+    return 1;
+  }
+
+  Json report;
+  report["scene"] = tracer->scene().source;
+  report["effects"] = engine::to_string(tracer->effects());
+  report["eye"] = o.eye;
+  report["width"] = eye_at_rest.width_px;
+  report["height"] = eye_at_rest.height_px;
+  report["threads"] = executor.thread_count();
+  report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
+  report["taa_mean_while_young"] = o.taa_mean_while_young;
+  report["motion"] = {{"spec", o.motion}, {"duration_s", motion->duration_s()}};
+  report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
+  std::vector<std::uint8_t> taa_reset(frames.size(), 0);  // per frame: some track's TAA restarted
+  for (const SequenceTrack& t : tracks)
+    for (int i : t.taa_reset_frames) taa_reset[std::size_t(i)] = 1;
+  Json frame_list = Json::array();
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const MotionFrame& f = frames[i];
+    frame_list.push_back({{"index", f.index}, {"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}},
+                          {"saccade", f.saccade}, {"blink", f.blink}, {"gaze_off_view", f.gaze_off_view},
+                          {"taa_reset", taa_reset[i] != 0},
+                          {"pose", {f.view.position_m[0], f.view.position_m[1], f.view.position_m[2],
+                                    f.view.orientation_xyzw[0], f.view.orientation_xyzw[1],
+                                    f.view.orientation_xyzw[2], f.view.orientation_xyzw[3]}}});
+  }
+  report["frames"] = frame_list;
+  if (!ref.spp.empty()) report["reference"] = sequence_reference_json(run);
+  const double anchor_ms = tracks.front().full ? median_ms(tracks.front().total_ms) : 0.0;
+  Json track_list = Json::array();
+  for (const SequenceTrack& t : tracks) {
+    Json j = sequence_track_json(t, run, anchor_ms);
+    if (ref.spp.empty()) {  // nothing measured
+      j.erase("rings");
+      j.erase("bands");
+    }
+    track_list.push_back(j);
+  }
+  if (!ref.spp.empty()) {
+    // Issue #18's goal for each TAA track against the TAA-off track at equal rays, when both were measured.
+    // The full render's "taa" is null; a foveated track's is its TAA mode.
+    const auto off = std::find_if(track_list.begin(), track_list.end(), [](const Json& t) { return t["taa"] == "off"; });
+    if (off != track_list.end()) {
+      const Json off_track = *off;
+      for (Json& t : track_list)
+        if (t["taa"].is_string() && t["taa"] != "off") t["goal"] = temporal_goal(off_track, t);
+    }
+  }
+  report["tracks"] = track_list;
+  if (report.contains("reference")) {
+    // The reference's own flicker and error against every track's, as the price list checks them.
+    report["sanity"] = temporal_sanity(report);
+    if (const std::string w = floor_warning(report["sanity"]); !w.empty()) err << "fovea-eval motion: " << w << "\n";
+  }
+  if (!o.out_prefix.empty()) report["images"] = files;
+  if (o.json)
+    out << report.dump(2) << "\n";
+  else
+    print_text(report, out);
+  return 0;
+}
+
+void register_motion(CLI::App& app) {
+  auto opts = std::make_shared<RenderOptions>();
+  opts->motion = "builtin";
+  CLI::App* cmd = app.add_subcommand(
+      "motion", "Render a sequence over a scripted head and gaze motion, per TAA mode, against the reference sequence");
+  const std::function<void()> parse_common = add_render_options(cmd, opts);
+  cmd->add_option("--motion", opts->motion,
+                  "The head and gaze motion: 'builtin' or a CSV file "
+                  "(time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade])")
+      ->capture_default_str();
+  auto start_s = std::make_shared<double>(0.0);
+  auto fps = std::make_shared<double>(70.0);
+  CLI::Option* start_opt = cmd->add_option("--start-s", *start_s, "Time of the first frame (s), default 0");
+  CLI::Option* fps_opt = cmd->add_option("--fps", *fps, "Frames per second, default 70");
+  cmd->callback([opts, parse_common, start_s, fps, start_opt, fps_opt] {
+    parse_common();
+    if (start_opt->count() > 0) opts->start_s = *start_s;
+    if (fps_opt->count() > 0) opts->fps = *fps;
+    const int code = run_motion(*opts, std::cout, std::cerr);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}
+
+}  // namespace foveart::eval

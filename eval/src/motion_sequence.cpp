@@ -1,0 +1,365 @@
+// A motion's frames for several tracks against the reference sequence (motion_sequence.hpp).
+#include <eval/motion_sequence.hpp>
+
+#include <eval/render_metrics.hpp>
+#include <eval/sample_history.hpp>
+
+#include <engine/render.hpp>
+
+#include <eval/image_metrics.hpp>
+#include <foveation/taa.hpp>
+#include <foveation/taa_reprojection.hpp>
+#include <foveation/temporal_mode.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
+  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
+                           a.refraction - b.refraction, a.packets - b.packets};
+}
+
+Json ring_bounds(std::size_t r) {
+  return {{"from_deg", foveation::kRingEdgesDeg[r]},
+          {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[r + 1])}};
+}
+
+// One frame of a track, its display values into *display; "" or what failed.
+std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, SequenceTrack& t,
+                               foveation::Executor& executor, std::uint64_t seed, foveation::PixelFilter pixel_filter,
+                               foveation::ImageRgb* linear_full, foveation::ImageRgb* display) {
+  const engine::RayCounts before = tracer.counts();
+  const foveation::ImageRgb* image = nullptr;
+  if (t.full) {
+    engine::RenderSettings rs;
+    rs.spp = t.spp;
+    rs.seed = seed;  // one jitter for every frame, as the full render of the price list
+    rs.pixel_filter = pixel_filter;
+    const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &tracer, f.view, rs, linear_full,
+                                                        executor);
+    if (rr.status != FOVEART_RESULT_SUCCESS)
+      return t.id + ": engine callback failed with status " + std::to_string(rr.status);
+    t.total_ms.push_back(rr.trace_ms);
+    if (f.index == 0) t.points = f.view.width_px * f.view.height_px;
+    image = linear_full;
+  } else {
+    foveation::FrameRequest request;
+    request.view = f.view;
+    request.gaze_px = f.gaze_px;
+    request.frame_index = std::uint64_t(f.index);
+    request.saccade = f.saccade;
+    request.blink = f.blink;
+    const foveation::FrameResult fr = t.view->render(request, &foveart_engine_trace_rays, &tracer, executor);
+    if (!fr.ok()) return t.id + ": frame " + std::to_string(f.index) + ": " + fr.message;
+    t.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
+    if (fr.taa_reset) t.taa_reset_frames.push_back(f.index);
+    t.history_off_screen += fr.history_off_screen;
+    t.history_disoccluded += fr.history_disoccluded;
+    if (f.index == 0) t.points = fr.points;
+    image = &t.view->image();
+  }
+  if (f.index == 0) t.rays = minus(tracer.counts(), before);
+  *display = foveation::display_encode(*image);
+  return "";
+}
+
+// What the flicker along the motion needs (temporal_metrics.hpp): the scene's
+// depth through every pixel centre of this frame and the one before.
+struct Tracking {
+  const MotionFrame* current = nullptr;
+  const MotionFrame* previous = nullptr;  // null on the first frame
+  std::vector<float> depth_m, previous_depth_m;
+  foveation::ImageRgb warped_error;  // scratch
+  std::vector<std::uint8_t> valid;   // scratch
+};
+
+// Adds a frame to `error` with its previous error warped along the motion
+// (each pixel's surface where it was a frame before: taa_reprojection.hpp).
+void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
+                       const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
+                       Tracking& tracking, foveation::Executor& executor) {
+  TrackedPrevious tracked;
+  if (tracking.previous != nullptr) {
+    foveation::reproject_history(error.previous_error(), tracking.previous_depth_m, tracking.previous->view,
+                                 tracking.current->view, tracking.depth_m, tracking.warped_error, tracking.valid,
+                                 executor);
+    tracked = {&tracking.warped_error, &tracking.valid};
+  }
+  error.add_frame(display, reference_display, map, &tracked);
+}
+
+// The reference of one frame (the convergence check on the first with "auto"), its residual into the floor.
+bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
+                     const SequenceReferenceOptions& ref_options, const foveation::EccentricityMap& map,
+                     foveation::Executor& executor, const ReferenceLog& log, SequenceRun* run,
+                     foveation::ImageRgb* reference_linear, foveation::ImageRgb* reference_display,
+                     std::string* error) {
+  ReferenceOptions ro;
+  const bool check = f.index == 0 && ref_options.spp == "auto";
+  ro.spp = check ? 0 : (f.index == 0 ? std::stoi(ref_options.spp) : run->reference_spp);
+  ro.baseline_spp = ref_options.baseline_spp;
+  ro.seed = ref_options.seed + std::uint64_t(f.index);
+  ro.pixel_filter = ref_options.pixel_filter;
+  ro.cache_dir = ref_options.cache_dir;
+  std::optional<Reference> ref = converged_reference(&foveart_engine_trace_rays, &tracer, scene_hash, f.view,
+                                                     f.gaze_px, ro, executor, log, error);
+  if (!ref) {
+    *error = "reference of frame " + std::to_string(f.index) + ": " + *error;
+    return false;
+  }
+  if (f.index == 0) {
+    run->reference_spp = ref->spp;
+    run->tried_spp = ref->tried_spp;
+    run->converged = ref->converged;
+  }
+  if (ref->from_cache) ++run->reference_frames_cached;
+  run->reference_ms += ref->render_ms;
+  std::vector<float> residual(ref->half_difference2.size());
+  for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = ref->half_difference2[i] / 4.0f;
+  run->floor.add_frame(residual, map, &ref->half_difference_luma);
+  *reference_display = foveation::display_encode(ref->image);
+  *reference_linear = std::move(ref->image);
+  return true;
+}
+
+// The TAA ceiling (SequenceRun::taa_on_reference): the layer's TAA, its history
+// reprojected through the pixel-centre depth, fed the converged reference in
+// place of a noisy frame; restarts at the same saccade and blink onsets.
+struct TaaOnReference {
+  foveation::TemporalAccumulator taa;  // the layer's TaaOptions, the tracks' young-history blend
+  foveation::ImageRgb warped;          // scratch
+  std::vector<std::uint8_t> valid;     // scratch
+};
+
+const foveation::ImageRgb& accumulate_reference(TaaOnReference& c, const foveation::ImageRgb& reference_linear,
+                                                const MotionFrame& f, const Tracking& tracking,
+                                                foveation::Executor& executor) {
+  const bool restart = f.saccade || f.blink;
+  if (tracking.previous == nullptr) return c.taa.accumulate(reference_linear, f.gaze_px, executor, restart);
+  foveation::reproject_history(c.taa.history(), tracking.previous_depth_m, tracking.previous->view, f.view,
+                               tracking.depth_m, c.warped, c.valid, executor, c.taa.options().history_sampling);
+  return c.taa.accumulate_reprojected(reference_linear, c.warped, c.valid, f.gaze_px, executor, restart);
+}
+
+// The sample-history controls (SequenceRun::sample_history, sample_history_kept, ray_cache, ray_cache_kept),
+// each with its own jitter, apart from the reference's (seed + i) and the tracks'.
+struct SampleHistories {
+  SampleHistory at_restarts, kept, cache_at_restarts, cache_kept;
+  foveation::ImageRgb image;  // scratch
+
+  SampleHistories(std::uint64_t seed, foveation::PixelFilter filter)
+      : at_restarts(seed + 0x9E3779B9ull, filter),
+        kept(seed + 0x7F4A7C15ull, filter),
+        cache_at_restarts(seed + 0x632BE59Bull, filter, RayReuse::keep_colour),
+        cache_kept(seed + 0x85157AF5ull, filter, RayReuse::keep_colour) {}
+};
+
+// taa_restarts: whether the layer's TAA restarted on this frame (TemporalAccumulator::last_was_reset of the
+// TAA fed the reference, which sees the same gaze and flags): where `at_restarts` forgets its rays.
+bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
+                          const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
+                          Tracking& tracking, foveation::Executor& executor, SequenceRun* run, std::string* error) {
+  const struct {
+    SampleHistory* history;
+    TemporalError* measured;
+    bool restart;
+  } controls[] = {{&h.at_restarts, &run->sample_history, taa_restarts},
+                  {&h.kept, &run->sample_history_kept, f.index == 0},
+                  {&h.cache_at_restarts, &run->ray_cache, taa_restarts},
+                  {&h.cache_kept, &run->ray_cache_kept, f.index == 0}};
+  for (const auto& c : controls) {
+    if (const std::int32_t st = c.history->render(&foveart_engine_trace_rays, &tracer, f.view,
+                                                  std::uint64_t(f.index), c.restart, executor, &h.image);
+        st != FOVEART_RESULT_SUCCESS) {
+      *error = "sample history of frame " + std::to_string(f.index) + ": engine callback failed with status " +
+               std::to_string(st);
+      return false;
+    }
+    add_tracked_frame(*c.measured, foveation::display_encode(h.image), reference_display, map, tracking, executor);
+  }
+  return true;
+}
+
+}  // namespace
+
+int taa_settle_frames() {
+  return int(std::ceil(1.0 / double(foveation::TaaOptions{}.current_weight)));
+}
+
+double median_ms(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
+                  const SequenceReferenceOptions& ref_options, std::vector<SequenceTrack>& tracks,
+                  foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error) {
+  for (const SequenceTrack& t : tracks) {
+    if (t.view != nullptr && t.view->settings().pixel_filter != ref_options.pixel_filter) {
+      *error = t.id + ": pixel filter " + foveation::pixel_filter_name(t.view->settings().pixel_filter) +
+               ", the sequence's is " + foveation::pixel_filter_name(ref_options.pixel_filter) +
+               " (its reference would not be the track's expectation)";
+      return false;
+    }
+    if (t.view != nullptr && t.view->settings().taa &&
+        t.view->settings().taa_options.mean_while_young != ref_options.taa_mean_while_young) {
+      *error = t.id + ": its TAA's young-history blend differs from the sequence's (the control's)";
+      return false;
+    }
+  }
+  run->frames = frames;
+  std::vector<std::uint8_t> restart(frames.size(), 0);
+  for (std::size_t i = 0; i < frames.size(); ++i) restart[i] = frames[i].saccade || frames[i].blink ? 1 : 0;
+  run->settled = settled_frames(restart, taa_settle_frames());
+  foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
+  Tracking tracking;
+  foveation::TaaOptions control_taa;
+  control_taa.mean_while_young = ref_options.taa_mean_while_young;
+  TaaOnReference taa_on_reference{foveation::TemporalAccumulator(control_taa), {}, {}};
+  SampleHistories sample_histories(ref_options.seed, ref_options.pixel_filter);
+  const bool with_reference = !ref_options.spp.empty();
+  for (const MotionFrame& f : frames) {
+    const foveation::EccentricityMap map = foveation::eccentricity_map(f.view, f.gaze_px);
+    if (with_reference && !reference_frame(tracer, scene_hash, f, ref_options, map, executor, hooks.log, run,
+                                           &reference_linear, &reference_display, error))
+      return false;
+    tracking.current = &f;
+    if (with_reference) {
+      // The scene's depth through every pixel centre: where each pixel's surface was a frame
+      // before, for the flicker along the motion (temporal_metrics.hpp).
+      std::swap(tracking.previous_depth_m, tracking.depth_m);
+      engine::RenderSettings rs;
+      rs.jitter = false;
+      rs.out_depth_m = &tracking.depth_m;
+      if (const engine::RenderResult rr =
+              engine::render_full(&foveart_engine_trace_rays, &tracer, f.view, rs, &centre_image, executor);
+          rr.status != FOVEART_RESULT_SUCCESS) {
+        *error = "depth of frame " + std::to_string(f.index) + ": engine callback failed with status " +
+                 std::to_string(rr.status);
+        return false;
+      }
+    }
+    if (with_reference && ref_options.controls) {
+      binomial_blur_3x3(reference_display, &blurred);
+      add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
+      add_tracked_frame(run->taa_on_reference,
+                        foveation::display_encode(
+                            accumulate_reference(taa_on_reference, reference_linear, f, tracking, executor)),
+                        reference_display, map, tracking, executor);
+      if (!add_sample_histories(sample_histories, taa_on_reference.taa.last_was_reset(), tracer, f,
+                                reference_display, map, tracking, executor, run, error))
+        return false;
+    }
+    for (SequenceTrack& t : tracks) {
+      if (std::string e = render_track_frame(tracer, f, t, executor, ref_options.seed, ref_options.pixel_filter, &full_linear, &display);
+          !e.empty()) {
+        *error = e;
+        return false;
+      }
+      if (with_reference) add_tracked_frame(t.error, display, reference_display, map, tracking, executor);
+      if (hooks.image) {
+        if (std::string e = hooks.image(t, f, display); !e.empty()) {
+          *error = e;
+          return false;
+        }
+      }
+    }
+    if (hooks.frame_done) hooks.frame_done(f.index + 1, int(frames.size()));
+    tracking.previous = &f;
+  }
+  return true;
+}
+
+Json sequence_reference_json(const SequenceRun& run) {
+  Json rings = Json::array();
+  const TemporalRings floor = run.floor.rings();
+  std::vector<TemporalRings> controls;
+  for (const SequenceControl& c : kSequenceControls) controls.push_back((run.*c.error).rings());
+  for (std::size_t r = 0; r < floor.size(); ++r) {
+    Json j = ring_bounds(r);
+    j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
+    j["flicker_tracked_floor"] = number_or_null_json(floor[r].flicker_tracked_rms);
+    j["flicker_csf_floor"] = number_or_null_json(floor[r].flicker_csf_rms);
+    j["psnr_floor"] = number_or_null_json(floor[r].psnr_db());
+    for (std::size_t c = 0; c < controls.size(); ++c) {
+      const std::string key = kSequenceControls[c].key;
+      j[key + "_flicker"] = number_or_null_json(controls[c][r].flicker_rms);
+      j[key + "_flicker_tracked"] = number_or_null_json(controls[c][r].flicker_tracked_rms);
+      j[key + "_flicker_csf"] = number_or_null_json(controls[c][r].flicker_csf_rms);
+      j[key + "_psnr"] = number_or_null_json(controls[c][r].psnr_db());
+    }
+    rings.push_back(j);
+  }
+  Json j = {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},
+            {"frames_from_cache", run.reference_frames_cached}, {"render_ms", run.reference_ms},
+            {"seeds", "seed + frame index"}, {"rings", rings}, {"settle_frames", taa_settle_frames()},
+            {"settled_frames", std::count(run.settled.begin(), run.settled.end(), std::uint8_t(1))}};
+  for (const SequenceControl& c : kSequenceControls)
+    j[std::string(c.key) + "_bands"] = sequence_band_json(run.*c.error, run);
+  return j;
+}
+
+Json sequence_band_json(const TemporalError& error, const SequenceRun& run) {
+  Json bands = Json::array();
+  if (error.frames() == 0) return bands;  // measured without a reference
+  for (const RingBand& band : {kCentralBand, kPeripheralBand}) {
+    Json flicker = Json::array(), tracked = Json::array(), psnr = Json::array();
+    for (const TemporalRing& f : error.by_frame(band)) {
+      flicker.push_back(number_or_null_json(f.flicker_rms));
+      tracked.push_back(number_or_null_json(f.flicker_tracked_rms));
+      psnr.push_back(number_or_null_json(f.psnr_db()));
+    }
+    const TemporalRing settled = error.pooled(band, &run.settled);
+    bands.push_back({{"band", band.name}, {"from_deg", foveation::kRingEdgesDeg[band.begin]},
+                     {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[band.end])},
+                     {"flicker_by_frame", flicker}, {"flicker_tracked_by_frame", tracked}, {"psnr_by_frame", psnr},
+                     {"settled", {{"flicker", number_or_null_json(settled.flicker_rms)},
+                                  {"flicker_tracked", number_or_null_json(settled.flicker_tracked_rms)},
+                                  {"flicker_csf", number_or_null_json(settled.flicker_csf_rms)},
+                                  {"psnr", number_or_null_json(settled.psnr_db())}}}});
+  }
+  return bands;
+}
+
+const Json* find_band(const Json& bands, const RingBand& band) {
+  if (!bands.is_array()) return nullptr;
+  for (const Json& b : bands)
+    if (b.is_object() && b.value("band", std::string()) == band.name) return &b;
+  return nullptr;
+}
+
+Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double anchor_ms) {
+  const double ms = median_ms(t.total_ms);
+  Json rays = {{"primary", t.rays.primary}, {"shadow", t.rays.shadow}, {"reflection", t.rays.reflection},
+               {"refraction", t.rays.refraction}, {"total", t.rays.total()}};
+  Json j = {{"id", t.id}, {"kind", t.full ? "full" : "foveated"}, {"taa", t.full ? Json(nullptr) : Json(t.taa)},
+            {"spp", t.spp}, {"frames", t.error.frames()}, {"ms", ms}, {"frames_total_ms", t.total_ms},
+            {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)}, {"points", t.points},
+            {"rays", rays}, {"taa_resets", t.taa_reset_frames.size()}, {"taa_reset_frames", t.taa_reset_frames},
+            {"history_off_screen", t.history_off_screen},
+            {"history_disoccluded", t.history_disoccluded}};
+  Json rings = Json::array();
+  const TemporalRings m = t.error.rings();
+  for (std::size_t r = 0; r < m.size(); ++r) {
+    Json ring = ring_bounds(r);
+    ring["flicker"] = number_or_null_json(m[r].flicker_rms);
+    ring["flicker_tracked"] = number_or_null_json(m[r].flicker_tracked_rms);
+    ring["flicker_csf"] = number_or_null_json(m[r].flicker_csf_rms);
+    ring["psnr"] = number_or_null_json(m[r].psnr_db());
+    ring["rmse"] = number_or_null_json(std::sqrt(m[r].error_mse));
+    rings.push_back(ring);
+  }
+  j["rings"] = rings;
+  j["bands"] = sequence_band_json(t.error, run);
+  return j;
+}
+
+}  // namespace foveart::tools

@@ -1,0 +1,102 @@
+// The price list's settings and their names.
+#include <eval/pricelist_grid.hpp>
+
+#include <cstdio>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string PriceSetting::id() const {
+  if (full) return "full_spp" + std::to_string(spp);
+  return table_id() + "_r" + std::to_string(spp) + (taa ? "_taa" : "");  // e.g. nn_k1_s1_thesis_r1
+}
+
+std::string PriceSetting::table_id() const {
+  if (full) return "full";
+  return method + "_k" + std::to_string(k) + "_s" + number(scale) + "_" + pattern;
+}
+
+PriceGrid quick_grid() {
+  PriceGrid g;
+  g.full_spp = {1, 2, 4, 8};  // the reference then needs 10 x 8 rays per pixel (128), not 10 x 16 (256)
+  g.methods = {"nn:1", "msm:5"};
+  g.scales = {1.0, 2.0};
+  g.rays = {1, 4};
+  g.patterns = {"pixel-grid", "thesis"};
+  g.taa_rays = {1};
+  return g;
+}
+
+bool split_list(const std::string& text, std::vector<std::string>* out) {
+  out->clear();
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item.empty()) return false;
+    out->push_back(item);
+  }
+  return !out->empty();
+}
+
+std::string expand_grid(const PriceGrid& g, std::vector<PriceSetting>* out) {
+  out->clear();
+  for (int spp : g.full_spp) {
+    if (spp < 1 || spp > 1024) return "full-render rays per pixel " + std::to_string(spp) + " (1..1024)";
+    PriceSetting s;
+    s.full = true;
+    s.spp = spp;
+    out->push_back(s);
+  }
+  for (const std::string& pattern : g.patterns)
+    if (pattern != "pixel-grid" && pattern != "thesis") return "pattern '" + pattern + "' (pixel-grid or thesis)";
+  for (const std::string& mk : g.methods) {
+    const auto colon = mk.find(':');
+    const std::string method = mk.substr(0, colon);
+    if (method != "nn" && method != "msm" && method != "rbf-mq") return "method '" + mk + "' (nn, msm or rbf-mq)";
+    int k = method == "nn" ? 1 : 5;
+    if (colon != std::string::npos) {
+      try {
+        std::size_t used = 0;
+        k = std::stoi(mk.substr(colon + 1), &used);
+        if (used != mk.size() - colon - 1) throw std::invalid_argument(mk);
+      } catch (const std::exception&) {
+        return "method '" + mk + "': k is not a number";
+      }
+    }
+    if (k < 1 || k > 20 || (method == "nn" && k != 1)) return "method '" + mk + "': k must be 1 for nn, 1..20 otherwise";
+    for (double scale : g.scales) {
+      if (!(scale > 0.0) || scale > 100.0) return "scale " + number(scale) + " (0, 100]";
+      for (const std::string& pattern : g.patterns) {
+        PriceSetting s;
+        s.method = method;
+        s.k = k;
+        s.scale = scale;
+        s.pattern = pattern;
+        for (int r : g.rays) {
+          if (r < 1 || r > 1024) return "rays per point " + std::to_string(r) + " (1..1024)";
+          s.spp = r;
+          s.taa = false;
+          out->push_back(s);
+        }
+        for (int r : g.taa_rays) {
+          if (r < 1 || r > 1024) return "TAA rays per point " + std::to_string(r) + " (1..1024)";
+          s.spp = r;
+          s.taa = true;
+          out->push_back(s);
+        }
+      }
+    }
+  }
+  return "";
+}
+
+}  // namespace foveart::tools

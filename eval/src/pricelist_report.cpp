@@ -1,0 +1,305 @@
+// pricelist.json / .csv / plots / report.md from the measured settings.
+#include <eval/pricelist_report.hpp>
+
+#include <eval/pricelist_temporal_report.hpp>
+
+#include <eval/image_metrics.hpp>
+
+#include <toolkit/plot.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+using Json = nlohmann::ordered_json;
+constexpr std::size_t kRings = foveation::kRingCount;
+
+double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
+double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
+double time_pct(const Json& s) { return 100.0 * num(s["time_fraction"]); }
+
+std::string fmt(double v, int decimals = 1) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+const Json* find(const std::vector<Json>& all, const std::string& id) {
+  for (const Json& s : all)
+    if (s["id"] == id) return &s;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string ring_name(std::size_t r) {
+  char buf[32];
+  if (std::isinf(foveation::kRingEdgesDeg[r + 1]))
+    std::snprintf(buf, sizeof buf, ">%g", foveation::kRingEdgesDeg[r]);
+  else
+    std::snprintf(buf, sizeof buf, "%g-%g", foveation::kRingEdgesDeg[r], foveation::kRingEdgesDeg[r + 1]);
+  return buf;
+}
+
+std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std::vector<double>& acc) {
+  std::vector<std::size_t> front;
+  for (std::size_t i = 0; i < cost.size(); ++i) {
+    if (std::isnan(cost[i]) || std::isnan(acc[i])) continue;
+    bool dominated = false;
+    for (std::size_t j = 0; j < cost.size() && !dominated; ++j) {
+      if (j == i || std::isnan(cost[j]) || std::isnan(acc[j])) continue;
+      dominated = cost[j] <= cost[i] && acc[j] >= acc[i] && (cost[j] < cost[i] || acc[j] > acc[i]);
+    }
+    if (!dominated) front.push_back(i);
+  }
+  std::sort(front.begin(), front.end(), [&](std::size_t a, std::size_t b) { return cost[a] < cost[b]; });
+  return front;
+}
+
+std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& ctx, std::vector<Json> all,
+                            std::string* headline) {
+  // Fronts per ring over every setting (full renders included: a user may pick either).
+  std::vector<double> cost(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    cost[i] = time_pct(all[i]);
+    all[i]["front_rings"] = Json::array();
+  }
+  std::vector<std::vector<std::size_t>> fronts(kRings);
+  for (std::size_t r = 0; r < kRings; ++r) {
+    std::vector<double> acc(all.size());
+    for (std::size_t i = 0; i < all.size(); ++i) acc[i] = ring_psnr(all[i], r);
+    fronts[r] = pareto_front(cost, acc);
+    for (std::size_t i : fronts[r]) all[i]["front_rings"].push_back(r);
+  }
+
+  // Sanity: the full render's error falls with rays per pixel in every ring;
+  // the reference's residual is >= 10 dB below the best setting in every ring.
+  std::vector<const Json*> full;
+  for (const Json& s : all)
+    if (s["kind"] == "full") full.push_back(&s);
+  std::sort(full.begin(), full.end(), [](const Json* a, const Json* b) { return (*a)["spp"] < (*b)["spp"]; });
+  Json sanity = {{"full_error_falls_with_spp", true}, {"full_error_failures", Json::array()},
+                 {"reference_10db_below_best", true}, {"reference_margin_db", Json::array()}};
+  for (std::size_t r = 0; r < kRings; ++r) {
+    for (std::size_t i = 1; i < full.size(); ++i) {
+      const double a = ring_psnr(*full[i - 1], r), b = ring_psnr(*full[i], r);
+      if (!std::isnan(a) && !std::isnan(b) && !(b > a)) {
+        sanity["full_error_falls_with_spp"] = false;
+        sanity["full_error_failures"].push_back("ring " + ring_name(r) + ": " + fmt(a, 2) + " dB at " +
+                                                std::to_string((*full[i - 1])["spp"].get<int>()) + " spp, " + fmt(b, 2) +
+                                                " dB at " + std::to_string((*full[i])["spp"].get<int>()));
+      }
+    }
+    double best = -std::numeric_limits<double>::infinity();
+    for (const Json& s : all)
+      if (!std::isnan(ring_psnr(s, r))) best = std::max(best, ring_psnr(s, r));
+    const double residual = num(ctx.reference["residual_psnr"][r]);
+    const double margin = residual - best;
+    sanity["reference_margin_db"].push_back(std::isfinite(margin) ? Json(margin) : Json(nullptr));
+    if (std::isfinite(margin) && margin < 10.0) sanity["reference_10db_below_best"] = false;
+  }
+
+  // Headline.
+  std::ostringstream h;
+  const Json* full1 = find(all, "full_spp1");
+  const Json* def = find(all, ctx.thesis_default);
+  if (full1 && def) {
+    h << "At the thesis's default (" << ctx.thesis_default << ") the fovea (0-2.5 deg) is "
+      << fmt(ring_psnr(*full1, 0) - ring_psnr(*def, 0)) << " dB below a full render at 1 ray per pixel ("
+      << fmt(ring_psnr(*def, 0)) << " vs " << fmt(ring_psnr(*full1, 0)) << " dB) and costs " << fmt(time_pct(*def), 0)
+      << "% of its time; ";
+    const Json* cheapest = nullptr;
+    for (const Json& s : all) {
+      if (s["kind"] != "foveated") continue;
+      bool ok = true;
+      for (std::size_t r = 0; r < 3; ++r) ok = ok && ring_psnr(s, r) >= ring_psnr(*full1, r) - 0.5;
+      if (ok && (!cheapest || time_pct(s) < time_pct(*cheapest))) cheapest = &s;
+    }
+    if (cheapest)
+      h << "the cheapest setting within 0.5 dB of it in every ring inside 10 deg (" << (*cheapest)["id"].get<std::string>()
+        << ") costs " << fmt(time_pct(*cheapest), 0) << "%.";
+    else
+      h << "no foveated setting measured comes within 0.5 dB of it in every ring inside 10 deg.";
+  } else {
+    h << "(the headline needs full_spp1 and " << ctx.thesis_default << " in the grid)";
+  }
+  // The temporal columns: the acceptance at the layer's defaults (else the first TAA setting measured).
+  Json temporal = ctx.temporal;
+  Json acceptance, temporal_checks;
+  if (temporal.is_object()) {
+    std::string setting = kTemporalHeadlineSetting;
+    bool measured = false;
+    for (const Json& t : temporal["tracks"]) measured = measured || t["id"] == setting + "_taa-off";
+    if (!measured)
+      for (const Json& t : temporal["tracks"])
+        if (t["taa"] == "off") {
+          const std::string id = t["id"].get<std::string>();
+          setting = id.substr(0, id.size() - std::string("_taa-off").size());
+          break;
+        }
+    acceptance = temporal_acceptance(temporal, setting);
+    temporal_checks = temporal_sanity(temporal);
+    temporal["acceptance"] = acceptance;
+    temporal["sanity"] = temporal_checks;
+    if (const std::string t = temporal_headline(temporal, acceptance); !t.empty()) h << " " << t;
+    if (const std::string t = temporal_render_cache_line(acceptance); !t.empty()) h << " " << t;
+  }
+  *headline = h.str();
+
+  Json doc = {{"run", ctx.run}, {"reference", ctx.reference}, {"sanity", sanity}, {"headline", *headline},
+              {"rings_deg", Json::array()}, {"settings", all}, {"temporal", temporal}};
+  if (temporal.is_object()) {
+    if (std::string e = write_temporal_csv(dir / "temporal.csv", temporal); !e.empty()) return e;
+    if (std::string e = write_temporal_plots(dir, temporal, acceptance); !e.empty()) return e;
+  }
+  for (std::size_t r = 0; r < kRings; ++r) doc["rings_deg"].push_back(ring_name(r));
+  {
+    std::ofstream f(dir / "pricelist.json");
+    f << doc.dump(2) << "\n";
+    if (!f) return "cannot write " + (dir / "pricelist.json").string();
+  }
+
+  // CSV: one row per setting.
+  {
+    std::ofstream f(dir / "pricelist.csv");
+    f << "id,kind,method,k,scale,pattern,taa,spp,points,rays_primary,rays_shadow,rays_reflection,rays_refraction,"
+         "rays_total,ms_select,ms_trace,ms_reconstruct,ms_taa,ms_total,anchor_full_ms,time_fraction,psnr,ssim,csf_rmse";
+    for (std::size_t r = 0; r < kRings; ++r)
+      for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
+    f << "\n";
+    const auto cell = [](const Json& j) -> std::string {
+      if (j.is_null()) return "";
+      if (j.is_string()) return j.get<std::string>();
+      if (j.is_boolean()) return j.get<bool>() ? "1" : "0";
+      if (j.is_number_float()) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.17g", j.get<double>());
+        return buf;
+      }
+      return j.dump();
+    };
+    for (const Json& s : all) {
+      const bool fov = s["kind"] == "foveated";
+      f << cell(s["id"]) << "," << cell(s["kind"]) << "," << (fov ? cell(s["method"]) : "") << ","
+        << (fov ? cell(s["k"]) : "") << "," << (fov ? cell(s["scale"]) : "") << "," << (fov ? cell(s["pattern"]) : "")
+        << "," << (fov ? cell(s["taa"]) : "") << "," << cell(s["spp"]) << "," << cell(s["points"]);
+      for (const char* k : {"primary", "shadow", "reflection", "refraction", "total"}) f << "," << cell(s["rays"][k]);
+      for (const char* k : {"select", "trace", "reconstruct", "taa", "total"}) f << "," << cell(s["ms"][k]);
+      f << "," << cell(s["anchor_full_ms"]) << "," << cell(s["time_fraction"]) << "," << cell(s["psnr"]) << ","
+        << cell(s["ssim"]) << "," << cell(s["csf_rmse"]);
+      for (std::size_t r = 0; r < kRings; ++r)
+        for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << cell(s["rings"][r][m]);
+      f << "\n";
+    }
+    if (!f) return "cannot write " + (dir / "pricelist.csv").string();
+  }
+
+  // Pareto plots: time (% of a full frame at 1 ray per pixel) against PSNR per ring.
+  const auto plot_ring = [&](std::size_t r, const std::string& file, const std::string& title) {
+    toolkit::PlotSeries full_curve{"full render 1-16 spp", {}, {}, false};
+    toolkit::PlotSeries grid{"foveated, pixel-grid fovea", {}, {}, true};
+    toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
+    toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
+    toolkit::PlotSeries front{"Pareto front", {}, {}, false};
+    const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
+    for (const Json* s : full) {
+      full_curve.x.push_back(x_of(time_pct(*s)));
+      full_curve.y.push_back(ring_psnr(*s, r));
+    }
+    for (const Json& s : all) {
+      if (s["kind"] != "foveated") continue;
+      toolkit::PlotSeries& to = s["taa"].get<bool>() ? taa : (s["pattern"] == "thesis" ? thesis : grid);
+      to.x.push_back(x_of(time_pct(s)));
+      to.y.push_back(ring_psnr(s, r));
+    }
+    for (std::size_t i : fronts[r]) {
+      front.x.push_back(x_of(cost[i]));
+      front.y.push_back(ring_psnr(all[i], r));
+    }
+    toolkit::PlotSpec spec;
+    spec.title = title;
+    spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
+    spec.y_label = "PSNR against the reference (dB)";
+    const std::vector<toolkit::PlotSeries> series = {full_curve, front, grid, thesis, taa};
+    // A ring without a finite PSNR (empty at this size) gets no plot.
+    return toolkit::has_finite_point(series) ? toolkit::write_plot_png((dir / file).string(), spec, series)
+                                             : std::string();
+  };
+  for (std::size_t r = 0; r < kRings; ++r) {
+    const std::string e = plot_ring(r, "pareto_ring" + std::to_string(r) + ".png",
+                                    "Price list, ring " + ring_name(r) + " deg: time against accuracy");
+    if (!e.empty()) return e;
+  }
+  if (std::string e = plot_ring(0, "pricelist.png", "What accuracy costs in the fovea (0-2.5 deg)"); !e.empty())
+    return e;
+
+  // report.md
+  std::ofstream md(dir / "report.md");
+  md << "# Price list: " << ctx.run["scene"].get<std::string>() << ", " << ctx.run["width"] << "x"
+     << ctx.run["height"] << ", gaze (" << fmt(num(ctx.run["gaze"][0]), 0) << ", " << fmt(num(ctx.run["gaze"][1]), 0)
+     << ")\n\n"
+     << *headline << "\n\n"
+     << "Machine: " << ctx.run.value("machine", std::string("?")) << ", " << ctx.run.value("threads", 0)
+     << " threads; run " << fmt(ctx.run.value("run_s", 0.0), 0) << " s. Times are each setting's median frame "
+     << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it.\n\n"
+     << "Reference: " << ctx.reference["spp"] << " rays per pixel; residual PSNR per ring (MSE(A,B)/4 of two "
+     << "independent halves):";
+  for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << ": " << fmt(num(ctx.reference["residual_psnr"][r])) << " dB;";
+  md << " convergence check " << (ctx.reference.value("converged", true) ? "met" : "**not met** (stopped at its cap)")
+     << ", counts tried " << ctx.reference["spp_tried"].dump() << ", each doubling lowered the residual by";
+  if (ctx.reference.contains("db_per_doubling"))
+    for (const Json& d : ctx.reference["db_per_doubling"]) md << " " << fmt(num(d));
+  md << " dB per ring on average (3 dB when the 1/N law holds).";
+  md << "\n\nSanity: full-render error falls with rays per pixel in every ring: "
+     << (sanity["full_error_falls_with_spp"].get<bool>() ? "yes" : "**no**");
+  for (const Json& f : sanity["full_error_failures"]) md << "; " << f.get<std::string>();
+  md << ". Reference residual >= 10 dB below the best setting in every ring: "
+     << (sanity["reference_10db_below_best"].get<bool>() ? "yes" : "**no**") << " (margins";
+  for (std::size_t r = 0; r < kRings; ++r) md << " " << fmt(num(sanity["reference_margin_db"][r])) ;
+  md << " dB).\n\n![fovea](pricelist.png)\n\n";
+  // ms at the pace of the full group's frames: time fraction x full_spp1's ms (the groups ran
+  // minutes apart on a shared machine; the fraction is what each measured against its anchor).
+  const double full1_ms = full1 ? num((*full1)["ms"]["total"]) : std::numeric_limits<double>::quiet_NaN();
+  const auto ms_of = [&](const Json& s) { return num(s["time_fraction"]) * full1_ms; };
+  md << "Columns: time % of a full frame at 1 ray per pixel (measured against the anchor frames interleaved "
+     << "with it); ms = that fraction x the full render's " << fmt(full1_ms) << " ms; rays traced in all "
+     << "(primary + shadow + reflection + refraction); PSNR, SSIM and the CSF-weighted error (as dB) in the ring "
+     << "against the reference; ms per dB and rays per dB from the previous setting on the front.\n\n";
+  for (std::size_t r = 0; r < kRings; ++r) {
+    md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
+       << "| on the front | time % | ms | rays (total) | PSNR dB | SSIM | CSF dB | ms per dB | rays per dB |\n"
+       << "|---|---|---|---|---|---|---|---|---|\n";
+    const Json* prev = nullptr;
+    for (std::size_t i : fronts[r]) {
+      const Json& s = all[i];
+      std::string ms_db = "-", rays_db = "-";
+      if (prev) {
+        const double ddb = ring_psnr(s, r) - ring_psnr(*prev, r);
+        if (ddb > 0) {
+          ms_db = fmt((ms_of(s) - ms_of(*prev)) / ddb, 2);
+          rays_db = fmt((num(s["rays"]["total"]) - num((*prev)["rays"]["total"])) / ddb, 0);
+        }
+      }
+      md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ms_of(s))
+         << " | " << s["rays"]["total"] << " | " << fmt(ring_psnr(s, r), 2) << " | "
+         << fmt(num(s["rings"][r]["ssim"]), 3) << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db
+         << " | " << rays_db << " |\n";
+      prev = &s;
+    }
+    md << "\n";
+  }
+  if (temporal.is_object()) write_temporal_markdown(md, temporal, acceptance, temporal_checks);
+  md << "## Every setting\n\nSee `pricelist.csv` (one row per setting) and `pricelist.json`. Error heat map of "
+     << ctx.heatmap << ": ![heat map](heatmap.png)\n";
+  if (!md) return "cannot write " + (dir / "report.md").string();
+  return "";
+}
+
+}  // namespace foveart::tools

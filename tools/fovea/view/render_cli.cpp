@@ -1,0 +1,106 @@
+#include "render_cli.hpp"
+
+#include "display_options.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace foveart::tools {
+namespace {
+
+// "X,Y" -> two numbers.
+template <typename Vec>
+std::string parse_pair(const std::string& text, Vec* out) {
+  std::istringstream in(text);
+  char comma = 0;
+  typename Vec::value_type a{}, b{};
+  if (!(in >> a >> comma >> b) || comma != ',' || !(in >> std::ws).eof()) return "expected two numbers X,Y";
+  *out = Vec(a, b);
+  return "";
+}
+
+// "A,B,C,..." -> exactly N finite numbers.
+template <std::size_t N>
+std::string parse_list(const std::string& text, std::array<double, N>* out) {
+  std::istringstream in(text);
+  for (std::size_t i = 0; i < N; ++i) {
+    char comma = ',';
+    if ((i > 0 && !(in >> comma)) || comma != ',' || !(in >> (*out)[i]))
+      return "expected " + std::to_string(N) + " comma-separated numbers";
+    if (!std::isfinite((*out)[i])) return "values must be finite";
+  }
+  if (!(in >> std::ws).eof()) return "expected " + std::to_string(N) + " comma-separated numbers";
+  return "";
+}
+
+}  // namespace
+
+glm::vec2 parse_gaze_option(const std::string& option, const std::string& text) {
+  glm::vec2 g;
+  if (std::string e = parse_pair(text, &g); !e.empty()) throw CLI::ValidationError(option, e);
+  if (!std::isfinite(g.x) || !std::isfinite(g.y)) throw CLI::ValidationError(option, "must be finite");
+  return g;
+}
+
+std::array<double, 7> parse_pose_option(const std::string& option, const std::string& text) {
+  std::array<double, 7> p{};
+  if (std::string e = parse_list(text, &p); !e.empty()) throw CLI::ValidationError(option, e);
+  return p;
+}
+
+std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts) {
+  auto size = std::make_shared<std::string>();
+  auto fov = std::make_shared<std::string>();
+  cmd->add_option("--scene", opts->scene, "glTF/GLB file, or 'default' for the built-in scene")->capture_default_str();
+  cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
+  cmd->add_option("--eye", opts->eye, "left or right")->capture_default_str();
+  cmd->add_option("--mode", opts->mode, "full, foveated or both")->capture_default_str();
+  cmd->add_option("--spp", opts->spp, "Rays per pixel (full) or per point (foveated)")->capture_default_str();
+  cmd->add_option("--method", opts->method, "Reconstruction: nn, msm or rbf-mq")->capture_default_str();
+  cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (msm, rbf-mq; default 5; nn uses 1)");
+  cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
+  cmd->add_option("--pattern", opts->pattern,
+                  "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
+  cmd->add_option("--frames", opts->frames,
+                  "Frames per mode, modes interleaved; times are each mode's median frame (fovea-eval motion: the "
+                  "sequence's frames)")
+      ->capture_default_str();
+  cmd->add_option("--threads", opts->threads, "Tracing threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
+  cmd->add_option("--fov", *fov, "Exact view frustum L,R,U,D: XrFovf angles in degrees (point set from the R-L span)");
+  cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
+  cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
+  cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->add_option("--without", opts->without,
+                  "Leave these effects out of the scene, the reference too: shadows, reflection, refraction, "
+                  "textures, comma-separated (default: every effect the scene calls for)");
+  foveart::fovea::add_pixel_filter_option(cmd, &opts->pixel_filter);
+  cmd->add_option("--reference-spp", opts->reference_spp,
+                  "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
+  cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
+  cmd->add_option("--taa", opts->taa,
+                  "TAA of the foveated frames: off, restart (on every pose change), reproject (follows the head), "
+                  "cache (the traced rays kept in a render cache), cache-kept (its rays kept through "
+                  "saccades); fovea-eval motion takes a list, e.g. off,restart,reproject")
+      ->capture_default_str();
+  cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
+                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history "
+                "(the layer's \"taa_mean_while_young\"); default: alpha from the second frame on");
+  cmd->add_flag("--json", opts->json, "Print the report as JSON");
+  return [opts, size, fov] {
+    if (!size->empty()) {
+      glm::ivec2 s;
+      if (std::string e = parse_pair(*size, &s); !e.empty()) throw CLI::ValidationError("--size", e);
+      opts->size_px = s;
+    }
+    if (!fov->empty()) {
+      std::array<double, 4> f{};
+      if (std::string e = parse_list(*fov, &f); !e.empty()) throw CLI::ValidationError("--fov", e);
+      opts->fov_deg = f;
+    }
+  };
+}
+
+}  // namespace foveart::tools

@@ -1,0 +1,30 @@
+// The command-line options of a render, one set for `fovea render` (one still
+// view) and `fovea-eval motion` (a sequence over a scripted motion).
+#pragma once
+
+#include "render_options.hpp"
+
+#include <functional>
+#include <memory>
+
+namespace CLI {
+class App;
+}
+
+namespace foveart::tools {
+
+// Adds the options both commands share to `cmd`, into *opts: the scene and
+// view (--scene --preset --eye --size --fov), the render (--mode --spp
+// --method --k --scale --pattern --frames --threads --seed --without
+// --pixel-filter --taa --taa-mean-while-young), the reference (--reference-spp
+// --reference-cache) and the outputs (--out --cache --json). Returns what the
+// command's callback calls first: it parses the options given as text (--size,
+// --fov) into *opts and throws CLI::ValidationError naming a bad one.
+std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
+
+// "X,Y" -> gaze in pixels; throws CLI::ValidationError naming `option`.
+glm::vec2 parse_gaze_option(const std::string& option, const std::string& text);
+// "px,py,pz,qx,qy,qz,qw" -> a pose; throws CLI::ValidationError naming `option`.
+std::array<double, 7> parse_pose_option(const std::string& option, const std::string& text);
+
+}  // namespace foveart::tools

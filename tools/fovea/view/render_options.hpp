@@ -1,0 +1,106 @@
+// The options of a render and the view they describe, shared by `fovea render`
+// (one still view) and the lab's sequences (`fovea-eval motion`): the preset,
+// eye, size or exact view, the foveated display and its tables.
+#pragma once
+
+
+#include <glm/vec2.hpp>
+#include <glm/ext/vector_int2.hpp>
+
+#include <engine/scene.hpp>
+#include <engine/tracer.hpp>
+
+#include <foveation/display_model.hpp>
+#include <foveation/executor.hpp>
+#include <foveation/foveated_view.hpp>
+#include <foveation/ray_samples.hpp>
+#include <foveation/ray_trace.h>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace foveart::tools {
+
+struct RenderOptions {
+  std::string scene = "default";
+  std::string preset = "fove";
+  std::string eye = "left";
+  std::string mode = "full";      // full | foveated | both
+  std::string method = "nn";      // nn | msm | rbf-mq
+  std::optional<glm::vec2> gaze_px;  // default: image centre
+  int spp = 1;
+  int k = 0;                      // 0: the default (reconstruction_k)
+  double scale = 1.0;
+  std::string pattern;            // pixel-grid | thesis; empty: the preset's
+  int threads = 0;                // 0: all cores
+  int frames = 3;                 // per mode, interleaved; the report gives the median frame
+  std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
+  // An exact OpenXR view instead of the preset's: XrFovf angles in degrees
+  // (left, right, up, down; the point set follows the horizontal span, as the
+  // layer's DisplayModel::from_fov does) and the eye pose in scene space
+  // (px, py, pz, qx, qy, qz, qw).
+  std::optional<std::array<double, 4>> fov_deg;
+  std::optional<std::array<double, 7>> pose;
+  std::string out_prefix;         // empty: no images written
+  std::string cache_dir;          // point set / neighbour table cache, empty: none
+  uint64_t seed = 1;
+  // Effects the engine leaves out of the scene (engine::parse_effects names,
+  // e.g. "reflection,refraction"), for every image of the run, the
+  // reference's too: to see what an effect costs, or what it does to a
+  // measure. Empty: every effect the scene calls for.
+  std::string without;
+  // What every ray of a pixel follows (foveation/ray_samples.hpp): the full
+  // render's, the pixel-grid fovea's and the reference's.
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
+  // Errors against a converged reference (eval/reference.hpp): "" none, "auto" (the
+  // convergence check picks the count) or an even count of rays per pixel;
+  // or a linear-RGB PFM of the view's size (--reference FILE).
+  std::string reference_spp;
+  std::string reference_file;
+  std::string reference_cache;    // reference cache directory; empty: <cache>/reference, or none
+  // TAA of the foveated frames: off, restart (the history restarts on every
+  // pose change) or reproject (it follows the head); with --motion a list
+  // (off,restart,reproject), each rendered as its own view at equal rays.
+  std::string taa = "off";
+  bool taa_mean_while_young = false;  // TaaOptions::mean_while_young (--taa-mean-while-young)
+  // A scripted head and gaze motion ("builtin" or a CSV file): --frames frames
+  // at start_s + i / fps, measured per ring against the reference sequence
+  // (`fovea-eval motion`, eval/src/cmd_motion.cpp); `fovea render` refuses them.
+  std::string motion;
+  std::optional<double> start_s;  // default 0
+  std::optional<double> fps;      // default 70
+  bool json = false;
+};
+
+// The checks `fovea render` applies to its options: empty, or what is wrong.
+std::string check_render_options(const RenderOptions& options);
+// The eye view `fovea render` renders for these options (preset, eye, size,
+// --fov, --pose) of a scene. The options must have passed check_render_options.
+FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& scene);
+// The display the foveated view's tables are built for (preset, size, scale,
+// pattern); nullopt with *error when it is not valid.
+std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
+                                                        std::string* error);
+
+// The engine's options for these options (the effects --without leaves out).
+// The options must have passed check_render_options.
+engine::TracerOptions render_tracer_options(const RenderOptions& options);
+
+// Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
+int reconstruction_k(const RenderOptions& options);
+
+// The foveated view's tables for these options: the display of
+// foveated_display, options.seed, options.method with reconstruction_k
+// neighbours, read from or built into cache_dir (nullopt: built
+// and not kept); `log` gets the cache's messages. nullptr with *error when the
+// display is not valid or the tables cannot be built ("tables: ...").
+std::shared_ptr<const foveation::ViewTables> load_foveated_tables(
+    const RenderOptions& options, const FoveartEyeView& view, const std::optional<std::filesystem::path>& cache_dir,
+    foveation::Executor& executor, const foveation::LogFn& log, std::string* error);
+
+}  // namespace foveart::tools

@@ -1,0 +1,42 @@
+#include "taa_modes.hpp"
+
+#include <foveation/temporal_mode.hpp>
+
+#include <algorithm>
+#include <sstream>
+
+namespace foveart::tools {
+
+bool is_taa_mode(const std::string& name) {
+  return name == "off" || name == "restart" || name == "reproject" || name == "cache" || name == "cache-kept";
+}
+
+std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out) {
+  out->clear();
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!is_taa_mode(item)) return "--taa: '" + item + "' is not off, restart, reproject, cache or cache-kept";
+    if (std::find(out->begin(), out->end(), item) != out->end()) return "--taa: '" + item + "' given twice";
+    out->push_back(item);
+  }
+  if (out->empty() || text.back() == ',')
+    return "--taa: expected off, restart, reproject, cache, cache-kept or a list of them";
+  return "";
+}
+
+foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed,
+                                          foveation::PixelFilter pixel_filter, bool taa_mean_while_young) {
+  // The product's mode (the layer's "temporal") first, then the lab's own variations of it.
+  const foveation::TemporalMode product = mode == "off"                           ? foveation::TemporalMode::off
+                                          : mode == "cache" || mode == "cache-kept" ? foveation::TemporalMode::rays
+                                                                                    : foveation::TemporalMode::image;
+  foveation::ViewSettings vs = foveation::temporal_view_settings(product, rays_per_point, seed);
+  vs.pixel_filter = pixel_filter;  // the lab measures every filter under every mode
+  vs.taa_options.mean_while_young = taa_mean_while_young;
+  if (mode == "restart") vs.taa_history = foveation::TaaHistory::restart_on_view_change;
+  vs.ray_cache_keeps_through_saccades = mode == "cache-kept";
+  return vs;
+}
+
+}  // namespace foveart::tools

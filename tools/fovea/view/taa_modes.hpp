@@ -1,0 +1,29 @@
+// The TAA modes the fovea commands name (--taa): the layer's temporal modes
+// and the lab's variations of them, and the view settings of each. Shared by
+// `fovea render` (one still view) and the lab's sequences (fovea-eval).
+#pragma once
+
+#include <foveation/foveated_view.hpp>
+#include <foveation/ray_samples.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace foveart::tools {
+
+// "off", "restart" (TaaHistory::restart_on_view_change, the TAA before
+// reprojection), "reproject" (TaaHistory::reproject), "cache"
+// (TaaHistory::ray_cache) or "cache-kept" (the same, its rays kept through a
+// saccade or a blink).
+bool is_taa_mode(const std::string& name);
+// "off,restart,reproject" -> the modes; "" or a message naming the bad entry.
+std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out);
+// The view settings of a foveated frame with this TAA mode at equal rays: TAA
+// off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
+// frame, which it accumulates; taa_mean_while_young: TaaOptions::mean_while_young.
+foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed,
+                                          foveation::PixelFilter pixel_filter, bool taa_mean_while_young);
+
+
+}  // namespace foveart::tools
