@@ -1,6 +1,5 @@
 // fovea: thin front end over the FoveaRT libraries.
-#include <cstdio>
-#include <exception>
+#include <toolkit/run_cli.hpp>
 
 #include "commands.hpp"
 
@@ -12,14 +11,5 @@ int main(int argc, char** argv) {
   register_reconstruct(app);
   register_render(app);
   register_pricelist(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const std::exception& e) {
-    const auto subs = app.get_subcommands();
-    std::fprintf(stderr, "fovea %s: error: %s\n", subs.empty() ? "" : subs.front()->get_name().c_str(), e.what());
-    return 1;
-  }
-  return 0;
+  return foveart::toolkit::run_cli(app, argc, argv, "fovea");
 }
