@@ -238,7 +238,7 @@ std::string temporal_render_cache_line(const Json& a) {
   const Json& g = a["render_cache"];
   const auto met = [&](const char* key) { return g.value(key, false) ? "met" : "not met"; };
   std::ostringstream line;
-  line << "The render cache (the layer's \"taa_history\": \"ray_cache\": the traced rays kept where they hit, "
+  line << "The render cache (the layer's \"temporal\": \"rays\": the traced rays kept where they hit, "
           "restarting where the reprojected TAA restarts) flickers "
        << peripheral_ratios(g, "flicker_ratio") << " less than no TAA at 20-30 / 30-45 / >45 deg at fixed pixels and "
        << peripheral_ratios(g, "flicker_tracked_ratio") << " along the motion (goal 5x: "
