@@ -352,6 +352,7 @@ void register_motion(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "motion", "Render a sequence over a scripted head and gaze motion, per TAA mode, against the reference sequence");
   const std::function<void()> parse_common = add_render_options(cmd, opts);
+  add_taa_lab_options(cmd, opts);
   cmd->add_option("--motion", opts->motion,
                   "The head and gaze motion: 'builtin' or a CSV file "
                   "(time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade])")

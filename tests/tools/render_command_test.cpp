@@ -2,6 +2,7 @@
 #include "gltf_fixtures.hpp"
 
 #include <cmd_render.hpp>
+#include <render_cli.hpp>
 #include <engine/default_scene.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
@@ -116,6 +117,39 @@ TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
   EXPECT_NO_THROW(app.get_subcommand("render"));
   const char* argv[] = {"fovea", "render", "--gaze", "abc", "--size", "16,16"};
   EXPECT_THROW(app.parse(6, argv), CLI::ValidationError);
+}
+
+// --temporal is the layer's one temporal choice: it picks the TAA mode through the one
+// mapping, "rays" brings the B-spline unless --pixel-filter says otherwise, and the lab's
+// --taa lists and experiments are not the product's options.
+TEST(RenderCommand, TemporalIsTheLayersChoice) {
+  struct Case {
+    std::vector<const char*> args;
+    const char* taa;
+    foveart::foveation::PixelFilter filter;
+  };
+  for (const Case& c : {Case{{}, "off", foveart::foveation::PixelFilter::box},
+                        Case{{"--temporal", "image"}, "reproject", foveart::foveation::PixelFilter::box},
+                        Case{{"--temporal", "rays"}, "cache", foveart::foveation::PixelFilter::bspline2},
+                        Case{{"--temporal", "rays", "--pixel-filter", "box"}, "cache", foveart::foveation::PixelFilter::box}}) {
+    CLI::App app;
+    CLI::App* cmd = app.add_subcommand("render");
+    auto opts = std::make_shared<RenderOptions>();
+    foveart::tools::add_render_options(cmd, opts);
+    foveart::tools::add_temporal_option(cmd, opts);
+    std::vector<const char*> argv{"fovea", "render"};
+    argv.insert(argv.end(), c.args.begin(), c.args.end());
+    ASSERT_NO_THROW(app.parse(static_cast<int>(argv.size()), argv.data()));
+    EXPECT_EQ(opts->taa, c.taa);
+    EXPECT_EQ(opts->pixel_filter, c.filter);
+  }
+  for (std::vector<const char*> bad : {std::vector<const char*>{"fovea", "render", "--temporal", "on"},
+                                       std::vector<const char*>{"fovea", "render", "--taa", "reproject"},
+                                       std::vector<const char*>{"fovea", "render", "--taa-mean-while-young"}}) {
+    CLI::App app;
+    register_render(app);
+    EXPECT_ANY_THROW(app.parse(static_cast<int>(bad.size()), bad.data())) << bad[2];
+  }
 }
 
 TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {

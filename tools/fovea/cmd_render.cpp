@@ -347,6 +347,7 @@ void register_render(CLI::App& app) {
   auto pose = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
   const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
+  foveart::tools::add_temporal_option(cmd, opts);
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
   cmd->add_option("--pose", *pose, "Exact eye pose in scene space px,py,pz,qx,qy,qz,qw (metres, unit quaternion)");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");

@@ -1,5 +1,7 @@
 #include "render_cli.hpp"
 
+#include "taa_modes.hpp"
+
 #include "display_options.hpp"
 
 #include <CLI/CLI.hpp>
@@ -80,14 +82,6 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--reference-spp", opts->reference_spp,
                   "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
   cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
-  cmd->add_option("--taa", opts->taa,
-                  "TAA of the foveated frames: off, restart (on every pose change), reproject (follows the head), "
-                  "cache (the traced rays kept in a render cache), cache-kept (its rays kept through "
-                  "saccades); fovea-eval motion takes a list, e.g. off,restart,reproject")
-      ->capture_default_str();
-  cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
-                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history "
-                "(the layer's \"taa_mean_while_young\"); default: alpha from the second frame on");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
   return [opts, size, fov] {
     if (!size->empty()) {
@@ -101,6 +95,36 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
       opts->fov_deg = f;
     }
   };
+}
+
+void add_temporal_option(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts) {
+  auto temporal = std::make_shared<std::string>("off");
+  CLI::Option* option =
+      cmd->add_option("--temporal", *temporal,
+                      "What the foveated frames keep from earlier ones, as the layer's \"temporal\": off, image (TAA "
+                      "on a reprojected image) or rays (TAA on a render cache of the traced rays; implies "
+                      "--pixel-filter bspline2 unless given)")
+          ->check(CLI::IsMember({"off", "image", "rays"}))
+          ->capture_default_str();
+  cmd->parse_complete_callback([opts, temporal, option, cmd] {
+    if (option->count() == 0) return;
+    foveation::TemporalMode mode{};
+    foveation::parse_temporal_mode(*temporal, &mode);
+    opts->taa = taa_mode_of(mode);
+    if (mode == foveation::TemporalMode::rays && cmd->get_option("--pixel-filter")->count() == 0)
+      opts->pixel_filter = foveation::PixelFilter::bspline2;
+  });
+}
+
+void add_taa_lab_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts) {
+  cmd->add_option("--taa", opts->taa,
+                  "TAA modes of the foveated tracks, a list: off, restart (on every pose change), reproject (follows "
+                  "the head; the layer's \"temporal\": \"image\"), cache (the traced rays kept in a render cache; "
+                  "\"rays\"), cache-kept (its rays kept through saccades), e.g. off,restart,reproject")
+      ->capture_default_str();
+  cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
+                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history; "
+                "default: alpha from the second frame on");
 }
 
 }  // namespace foveart::tools

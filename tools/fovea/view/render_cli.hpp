@@ -1,5 +1,5 @@
 // The command-line options of a render, one set for `fovea render` (one still
-// view) and `fovea-eval motion` (a sequence over a scripted motion).
+// view) and `fovea-eval motion` (a sequence over a scripted motion), and each one's own.
 #pragma once
 
 #include "render_options.hpp"
@@ -16,11 +16,19 @@ namespace foveart::tools {
 // Adds the options both commands share to `cmd`, into *opts: the scene and
 // view (--scene --preset --eye --size --fov), the render (--mode --spp
 // --method --k --scale --pattern --frames --threads --seed --without
-// --pixel-filter --taa --taa-mean-while-young), the reference (--reference-spp
+// --pixel-filter), the reference (--reference-spp
 // --reference-cache) and the outputs (--out --cache --json). Returns what the
 // command's callback calls first: it parses the options given as text (--size,
 // --fov) into *opts and throws CLI::ValidationError naming a bad one.
 std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
+
+// `fovea render`: --temporal off|image|rays, the product's one temporal choice (the layer's
+// "temporal"), into opts->taa; "rays" brings the B-spline pixel filter unless --pixel-filter is given.
+void add_temporal_option(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
+
+// `fovea-eval motion`: the lab's TAA modes (--taa, a list, with its variations restart and
+// cache-kept) and --taa-mean-while-young.
+void add_taa_lab_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
 
 // "X,Y" -> gaze in pixels; throws CLI::ValidationError naming `option`.
 glm::vec2 parse_gaze_option(const std::string& option, const std::string& text);

@@ -25,6 +25,15 @@ std::string parse_taa_modes(const std::string& text, std::vector<std::string>* o
   return "";
 }
 
+const char* taa_mode_of(foveation::TemporalMode mode) {
+  switch (mode) {
+    case foveation::TemporalMode::off: return "off";
+    case foveation::TemporalMode::image: return "reproject";
+    case foveation::TemporalMode::rays: return "cache";
+  }
+  return "off";
+}
+
 foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_point, std::uint64_t seed,
                                           foveation::PixelFilter pixel_filter, bool taa_mean_while_young) {
   // The product's mode (the layer's "temporal") first, then the lab's own variations of it.

@@ -5,6 +5,7 @@
 
 #include <foveation/foveated_view.hpp>
 #include <foveation/ray_samples.hpp>
+#include <foveation/temporal_mode.hpp>
 
 #include <cstdint>
 #include <string>
@@ -17,6 +18,8 @@ namespace foveart::tools {
 // (TaaHistory::ray_cache) or "cache-kept" (the same, its rays kept through a
 // saccade or a blink).
 bool is_taa_mode(const std::string& name);
+// The TAA mode of the product's temporal mode: "off", "reproject" (image) or "cache" (rays).
+const char* taa_mode_of(foveation::TemporalMode mode);
 // "off,restart,reproject" -> the modes; "" or a message naming the bad entry.
 std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out);
 // The view settings of a foveated frame with this TAA mode at equal rays: TAA
