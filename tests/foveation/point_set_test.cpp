@@ -18,7 +18,7 @@ namespace {
 
 // A small display with the thesis's shape (v = 0.85) keeps the tests fast.
 // The Poisson sampler's own properties are tested on the thesis pattern
-// (Poisson everywhere); test_pixel_grid.cpp covers the pixel grid.
+// (Poisson everywhere); pixel_grid_test.cpp covers the pixel grid.
 fv::DisplayModel small_display(fv::DiscRule rule = fv::DiscRule::kMinDistance,
                                fv::FoveaPattern pattern = fv::FoveaPattern::kThesisPoisson) {
   // Scale 4 thins the set (the fovea cap shrinks to ~40 px) while keeping every regime.
