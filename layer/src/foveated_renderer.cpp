@@ -584,11 +584,7 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
   if (auto* rec = find_in_out_chain<XrFoveatedRendererReconstructionStatsFOVEART>(
           next, XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART)) {
     rec->path = reconstruction_.path;
-    switch (reconstruction_.temporal) {
-      case foveation::TemporalMode::off: rec->temporal = XR_FOVEATED_TEMPORAL_OFF_FOVEART; break;
-      case foveation::TemporalMode::image: rec->temporal = XR_FOVEATED_TEMPORAL_IMAGE_FOVEART; break;
-      case foveation::TemporalMode::rays: rec->temporal = XR_FOVEATED_TEMPORAL_RAYS_FOVEART; break;
-    }
+    rec->temporal = xr_temporal(reconstruction_.temporal);
     rec->gpuFallbacks = reconstruction_.gpu_fallbacks;
     for (int e = 0; e < 2; ++e) {
       rec->gpuScatterMs[e] = reconstruction_.gpu_scatter_ms[e];

@@ -68,15 +68,13 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   }
   if (info.raysPerPoint != 0) s.rays_per_point = info.raysPerPoint;
   if (info.temporal != XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART) {
-    switch (info.temporal) {
-      case XR_FOVEATED_TEMPORAL_OFF_FOVEART: s.temporal = foveation::TemporalMode::off; break;
-      case XR_FOVEATED_TEMPORAL_IMAGE_FOVEART: s.temporal = foveation::TemporalMode::image; break;
-      case XR_FOVEATED_TEMPORAL_RAYS_FOVEART: s.temporal = foveation::TemporalMode::rays; break;
-      default:
-        *out_error = "temporal " + std::to_string(info.temporal) +
-                     " is not an XrFoveatedTemporalFOVEART (or XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART)";
-        return false;
+    foveation::TemporalMode mode{};
+    if (!temporal_mode_of(info.temporal, &mode)) {
+      *out_error = "temporal " + std::to_string(info.temporal) +
+                   " is not an XrFoveatedTemporalFOVEART (or XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART)";
+      return false;
     }
+    s.temporal = mode;
   }
   if (info.gazeSource != XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART) {
     if (static_cast<uint64_t>(info.gazeSource) > XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART) {
@@ -89,6 +87,26 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   if (info.gazeProviderSpec != nullptr && info.gazeProviderSpec[0] != '\0') s.gaze_provider_spec = info.gazeProviderSpec;
   *out = std::move(s);
   return true;
+}
+
+bool temporal_mode_of(XrFoveatedTemporalFOVEART value, foveation::TemporalMode* out) {
+  for (foveation::TemporalMode m :
+       {foveation::TemporalMode::off, foveation::TemporalMode::image, foveation::TemporalMode::rays}) {
+    if (xr_temporal(m) == value) {
+      *out = m;
+      return true;
+    }
+  }
+  return false;
+}
+
+XrFoveatedTemporalFOVEART xr_temporal(foveation::TemporalMode mode) {
+  switch (mode) {
+    case foveation::TemporalMode::off: return XR_FOVEATED_TEMPORAL_OFF_FOVEART;
+    case foveation::TemporalMode::image: return XR_FOVEATED_TEMPORAL_IMAGE_FOVEART;
+    case foveation::TemporalMode::rays: return XR_FOVEATED_TEMPORAL_RAYS_FOVEART;
+  }
+  return XR_FOVEATED_TEMPORAL_OFF_FOVEART;
 }
 
 foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu) {

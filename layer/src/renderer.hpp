@@ -47,6 +47,11 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
 // cache costs more than twice the image history).
 foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu);
 
+// The extension's temporal enum and foveation's mode, both ways: false for a value that is
+// no mode (USE_CONFIG included).
+bool temporal_mode_of(XrFoveatedTemporalFOVEART value, foveation::TemporalMode* out);
+XrFoveatedTemporalFOVEART xr_temporal(foveation::TemporalMode mode);
+
 // What a renderer refused or worked around, for XrFoveatedRendererInputStatsFOVEART.
 // Atomics: the table builder thread counts too.
 struct InputCounters {

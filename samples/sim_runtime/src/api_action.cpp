@@ -264,26 +264,34 @@ XRAPI_ATTR XrResult XRAPI_CALL sync_actions(XrSession handle, const XrActionsSyn
   });
 }
 
-// Common checks of the xrGetActionState* functions.
-XrResult lookup_action(Runtime& rt, Session& session, const XrActionStateGetInfo* info,
-                       XrActionType type, Action** out) {
-  FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_STATE_GET_INFO);
-  Action* action = find(rt.actions, info->action);
+// An action of an attached set, of `type`, and a subaction path it was created with
+// (OpenXR 1.0: a subaction path that is no path at all is PATH_INVALID, one the action
+// lacks PATH_UNSUPPORTED). For the state queries and the haptics alike.
+XrResult find_attached_action(Runtime& rt, const Session& session, XrAction handle, XrActionType type,
+                              XrPath subaction_path, Action** out) {
+  Action* action = find(rt.actions, handle);
   if (action == nullptr) return XR_ERROR_HANDLE_INVALID;
   if (std::find(session.attached_sets.begin(), session.attached_sets.end(), action->set) ==
       session.attached_sets.end()) {
     return XR_ERROR_ACTIONSET_NOT_ATTACHED;
   }
   if (action->type != type) return XR_ERROR_ACTION_TYPE_MISMATCH;
-  if (info->subactionPath != XR_NULL_PATH) {
-    if (path_string(*rt.instance, info->subactionPath) == nullptr) return XR_ERROR_PATH_INVALID;
-    if (std::find(action->subaction_paths.begin(), action->subaction_paths.end(),
-                  info->subactionPath) == action->subaction_paths.end()) {
+  if (subaction_path != XR_NULL_PATH) {
+    if (path_string(*rt.instance, subaction_path) == nullptr) return XR_ERROR_PATH_INVALID;
+    if (std::find(action->subaction_paths.begin(), action->subaction_paths.end(), subaction_path) ==
+        action->subaction_paths.end()) {
       return XR_ERROR_PATH_UNSUPPORTED;
     }
   }
   *out = action;
   return XR_SUCCESS;
+}
+
+// Common checks of the xrGetActionState* functions.
+XrResult lookup_action(Runtime& rt, Session& session, const XrActionStateGetInfo* info,
+                       XrActionType type, Action** out) {
+  FOVEART_CHECK_STRUCT(info, XR_TYPE_ACTION_STATE_GET_INFO);
+  return find_attached_action(rt, session, info->action, type, info->subactionPath, out);
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL get_state_boolean(XrSession handle, const XrActionStateGetInfo* info,
@@ -391,23 +399,9 @@ get_input_source_localized_name(XrSession handle, const XrInputSourceLocalizedNa
 
 XrResult check_haptic(Runtime& rt, Session& session, const XrHapticActionInfo* info) {
   FOVEART_CHECK_STRUCT(info, XR_TYPE_HAPTIC_ACTION_INFO);
-  Action* action = find(rt.actions, info->action);
-  if (action == nullptr) return XR_ERROR_HANDLE_INVALID;
-  if (std::find(session.attached_sets.begin(), session.attached_sets.end(), action->set) ==
-      session.attached_sets.end()) {
-    return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-  }
-  if (action->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-  // OpenXR 1.0, xrApplyHapticFeedback: a subaction path that is no path at all is
-  // PATH_INVALID; a path the action was not created with is PATH_UNSUPPORTED.
-  if (info->subactionPath != XR_NULL_PATH && path_string(*rt.instance, info->subactionPath) == nullptr)
-    return XR_ERROR_PATH_INVALID;
-  if (info->subactionPath != XR_NULL_PATH &&
-      std::find(action->subaction_paths.begin(), action->subaction_paths.end(),
-                info->subactionPath) == action->subaction_paths.end()) {
-    return XR_ERROR_PATH_UNSUPPORTED;
-  }
-  return XR_SUCCESS;
+  Action* action = nullptr;
+  return find_attached_action(rt, session, info->action, XR_ACTION_TYPE_VIBRATION_OUTPUT, info->subactionPath,
+                              &action);
 }
 
 XRAPI_ATTR XrResult XRAPI_CALL apply_haptic(XrSession handle, const XrHapticActionInfo* info,
