@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
         fv::encode_rgba8(cpu_view.image(), true, rgba.data(), executor);
         const double enc = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         const auto g = gpu_view.render(r, gradient_engine, nullptr, executor);
-        const GpuFrame f = GpuFrame::of(*gpu_tables, gpu_view, r, g, true);
+        const GpuFrame f = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);
         const auto t1 = std::chrono::steady_clock::now();
         const bool ok = gpu->submit_and_wait(
             [&](VkCommandBuffer cb) { return eye->record(cb, f, VK_NULL_HANDLE, executor, &error); }, &error);

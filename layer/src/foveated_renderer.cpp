@@ -141,7 +141,6 @@ struct FoveatedRenderer::Frames {
   std::shared_ptr<GpuTables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
   bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                      const foveation::FrameRequest& request, const foveation::FrameResult& result,
                       XrFoveatedRendererStatsFOVEART* stats, std::string* error);
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
@@ -366,8 +365,6 @@ std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
 
 bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
                                               const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              const foveation::FrameRequest& request,
-                                              const foveation::FrameResult& result,
                                               XrFoveatedRendererStatsFOVEART* stats, std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
@@ -381,7 +378,7 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     eye.gpu = gpu->create_eye(w, h, error);
     if (eye.gpu == nullptr) return false;
   }
-  const GpuFrame frame = GpuFrame::of(*eye.gpu_tables, *eye.view, request, result, eye.swapchain->srgb());
+  const GpuFrame frame = GpuFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
   const bool ok = eye.swapchain->present(
       [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
         return eye.gpu->record(cb, frame, image, executor, record_error);
@@ -494,7 +491,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   const auto t0 = Clock::now();
   std::string error;
   if (on_gpu) {
-    const bool presented = present_on_gpu(e, view_tables, request, result, stats, &error);
+    const bool presented = present_on_gpu(e, view_tables, stats, &error);
     stats->uploadMs[e] = ms_since(t0);
     if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
       eye.gpu_failed = true;

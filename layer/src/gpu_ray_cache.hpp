@@ -1,10 +1,10 @@
 // The render cache on the GPU (shaders/cache_*.comp, shaders/ray_cache.glsl;
 // docs/gpu.md "The render cache"): the twin of foveation::RayCache as
-// foveation::FoveatedView runs it with TaaHistory::ray_cache. Its kept rays
+// foveation::RayHistory runs it on the CPU. Its kept rays
 // live on the device only; per frame the host uploads the frame's new rays
 // (32 bytes each) and 8 bytes per pixel: the footprint each pixel filters
 // at and the distance beyond which a kept ray there is covered, both as
-// FoveatedView::ray_cache_pixels computes them for either path.
+// foveation::RayHistory decides them for either path (TemporalFrame::ray_pixels).
 //
 // Memory: 104 bytes per ray the frame holds (its kept and its new rays), in
 // buffers grown by half again whenever a frame needs more, the kept rays
@@ -31,8 +31,8 @@
 
 namespace foveart::layer {
 
-// What one eye's frame gives the cache (FoveatedView::traced_rays,
-// ray_cache_pixels and FrameResult::ray_cache_restart).
+// What one eye's frame gives the cache (foveation::FrameHandOff: the traced
+// rays, and the ray history's pixels and restart).
 struct GpuRayCacheFrame {
   const std::vector<std::vector<foveation::TracedRay>>* rays = nullptr;
   const std::vector<glm::vec2>* pixels = nullptr;  // per screen pixel: footprint, covering distance

@@ -114,30 +114,29 @@ std::string gpu_unsupported_reason(VkPhysicalDevice physical_device, uint32_t qu
   return {};
 }
 
-GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FoveatedView& view,
-                      const foveation::FrameRequest& request, const foveation::FrameResult& result, bool srgb) {
+GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FrameHandOff& frame, bool srgb) {
+  const foveation::TracedPoints& traced = *frame.traced;
+  const foveation::TemporalFrame& temporal = frame.temporal;
   GpuFrame f;
   f.tables = &tables;
-  f.colors = &view.colors();
-  f.point_depth_m = &view.point_depths();
-  f.traced = view.traced();
-  f.mapping = foveation::map_gaze(int(request.view.width_px), int(request.view.height_px), result.centre_px);
-  f.rbf_clamp = view.settings().rbf_clamp;
-  f.taa_reset = !view.settings().taa || result.taa_reset;
-  f.taa = view.taa_options();
-  f.taa.current_weight = view.taa_frame_weight();  // this frame's: the CPU's weight rule, one for both paths
-  f.view = request.view;
-  f.history_view = result.history_view;
+  f.colors = &traced.colors;
+  f.point_depth_m = &traced.depth_m;
+  f.traced = traced.runs;
+  f.mapping = frame.mapping;
+  f.rbf_clamp = frame.rbf_clamp;
+  f.taa_reset = temporal.reset;
+  f.taa = temporal.blend;  // current_weight: this frame's, the CPU's weight rule for both paths
+  f.view = frame.view;
+  f.history_view = temporal.history_view;
   f.srgb = srgb;
-  const foveation::ViewSettings& settings = view.settings();
   // A render cache reprojects its rays itself; its frame has no history_view.
-  if (settings.taa && settings.taa_history == foveation::TaaHistory::ray_cache) {
+  if (temporal.rays) {
     GpuRayCacheFrame c;
-    c.rays = &view.traced_rays();
-    c.pixels = &view.ray_cache_pixels();
-    c.restart = result.ray_cache_restart;
-    c.filter = settings.pixel_filter;
-    c.max_age_frames = settings.ray_cache_max_age_frames;
+    c.rays = &traced.rays;
+    c.pixels = temporal.ray_pixels;
+    c.restart = temporal.ray_restart;
+    c.filter = temporal.ray_filter;
+    c.max_age_frames = temporal.ray_max_age_frames;
     f.ray_cache = c;
   }
   return f;
@@ -389,7 +388,6 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
                     std::string* error) {
   recorded_ = false;
   const GpuTables& tables = *frame.tables;
-  const GpuTablePack& pack = tables.pack_;
   const auto& m = frame.mapping;
   if (uint32_t(m.screen_width_px) != width_px_ || uint32_t(m.screen_height_px) != height_px_) {
     return *error = "GPU eye is " + std::to_string(width_px_) + "x" + std::to_string(height_px_) + ", the frame " +
@@ -400,17 +398,45 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   if (frame.colors == nullptr || frame.colors->size() != point_count) {
     return *error = "GPU frame: point colours do not match the tables", false;
   }
+  std::size_t traced_points = 0;
+  for (const auto& run : frame.traced) traced_points += run.size();
+  if (traced_points > point_count) return *error = "GPU frame: more traced points than points", false;
   if (!ensure_points(point_count, error)) return false;
   if (bound_tables_ != &tables) {
     bound_tables_ = &tables;
     update_descriptors();
   }
 
+  const VkDescriptorSet set = sets_[parity_];
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->pipeline_layout_, 0, 1, &set, 0, nullptr);
+  if (queries_ != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, queries_, 0, kQueries);
+  // Last frame's passes read and wrote these buffers (an earlier submission).
+  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+  record_reconstruct(cb, frame, executor);                               // stage 4
+  if (!record_temporal(cb, frame, set, executor, error)) return false;  // stage 5
+  record_encode(cb, frame, image);                                       // stage 6
+  parity_ ^= 1;  // this frame's output is the next frame's history
+  recorded_ = true;
+  return true;
+}
+
+void GpuEye::stamp(VkCommandBuffer cb, uint32_t query) const {
+  if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query);
+}
+
+// Stage 4: the traced points' colours and depths up, scattered into their
+// slots, and every pixel gathered from them.
+void GpuEye::record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor) {
+  const GpuTables& tables = *frame.tables;
+  const GpuTablePack& pack = tables.pack_;
+  const auto& m = frame.mapping;
+  const std::size_t point_count = tables.view_tables().points.size();
   // The traced points' colours, run by run into the upload buffer.
   std::vector<std::size_t> first(frame.traced.size() + 1, 0);
   for (std::size_t i = 0; i < frame.traced.size(); ++i) first[i + 1] = first[i] + frame.traced[i].size();
-  const std::size_t uploaded = first.back();
-  if (uploaded > point_count) return *error = "GPU frame: more traced points than points", false;
+  const std::size_t uploaded = first.back();  // at most point_count (record)
   auto* entries = static_cast<uint32_t*>(upload_.mapped);
   auto* depths = reinterpret_cast<float*>(entries + uploaded * 4);  // shaders/common.glsl Upload
   const foveation::Rgba* colors = frame.colors->rgba.data();
@@ -426,17 +452,7 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
     }
   });
 
-  const VkDescriptorSet set = sets_[parity_];
-  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->pipeline_layout_, 0, 1, &set, 0, nullptr);
-  if (queries_ != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, queries_, 0, kQueries);
-  auto stamp = [&](uint32_t q) {
-    if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, q);
-  };
-  // Last frame's passes read and wrote these buffers (an earlier submission).
-  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
-  stamp(0);
+  stamp(cb, 0);
   vkCmdFillBuffer(cb, colors_.buffer, 0, VK_WHOLE_SIZE, 0u);  // every point "not traced" (a = 0)
   uint32_t unknown_bits = 0;
   std::memcpy(&unknown_bits, &kDepthUnknown, 4);
@@ -449,7 +465,7 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
     vkCmdDispatch(cb, groups(uint32_t(uploaded), 64), 1, 1);
   }
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
-  stamp(1);
+  stamp(cb, 1);
 
   GatherPush g{};
   g.screen_px[0] = m.screen_width_px;
@@ -475,8 +491,13 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof g, &g);
   vkCmdDispatch(cb, uint32_t(last_tile_x - g.first_tile[0] + 1), uint32_t(last_tile_y - g.first_tile[1] + 1), 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
-  stamp(2);
+  stamp(cb, 2);
+}
 
+// Stage 5: the image history (blend, reprojected from history_view), or the
+// render cache writing its frame over the gather (the TAA pass then copies it).
+bool GpuEye::record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set,
+                             foveation::Executor& executor, std::string* error) {
   if (frame.ray_cache) {  // the render cache writes its frame over the gather; the TAA pass then copies it
     if (ray_cache_ == nullptr) {
       ray_cache_ = std::make_unique<GpuRayCache>(*owner_->ray_cache_, owner_->memory_properties_, current_.buffer,
@@ -514,18 +535,19 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof t, &t);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
-  stamp(3);
+  stamp(cb, 3);
+  return true;
+}
 
+// Stage 6: 8-bit (sRGB) encode, and the copy into the swapchain image.
+void GpuEye::record_encode(VkCommandBuffer cb, const GpuFrame& frame, VkImage image) {
   const EncodePush e{{int32_t(width_px_), int32_t(height_px_)}, frame.srgb ? 1u : 0u};
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->encode_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof e, &e);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
   if (image != VK_NULL_HANDLE) record_copy_to_swapchain_image(cb, encoded_.buffer, image, width_px_, height_px_);
-  stamp(4);
-  parity_ ^= 1;  // this frame's output is the next frame's history
-  recorded_ = true;
-  return true;
+  stamp(cb, 4);
 }
 
 bool GpuEye::stage_times(GpuStageTimes* out) const {

@@ -76,18 +76,17 @@ struct GpuFrame {
   std::array<float, 3> fallback_rgb{};
   bool taa_reset = true;  // the TAA history restarts: the output is this frame alone (always without TAA)
   FoveartEyeView view{};  // this frame's view
-  std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (FrameResult::history_view)
-  foveation::TaaOptions taa;  // current_weight: this frame's blend weight (FoveatedView::taa_frame_weight)
+  std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (TemporalFrame)
+  foveation::TaaOptions taa;  // current_weight: this frame's blend weight (TemporalFrame::blend)
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
   // Set: the view's history is a render cache (TaaHistory::ray_cache), which
   // replaces the image TAA: this frame's rays and pixels for it.
   std::optional<GpuRayCacheFrame> ray_cache;
 
-  // The frame `view` just traced for `request` (render() with
-  // reconstruct_on_cpu = false returned `result`), on `tables`: colours,
-  // depths, the centre's mapping, TAA decisions and settings.
-  static GpuFrame of(const GpuTables& tables, const foveation::FoveatedView& view,
-                     const foveation::FrameRequest& request, const foveation::FrameResult& result, bool srgb);
+  // A frame's hand-off (FoveatedView::hand_off after render() with
+  // reconstruct_on_cpu = false), on `tables`: the traced points and the
+  // temporal history's decision.
+  static GpuFrame of(const GpuTables& tables, const foveation::FrameHandOff& frame, bool srgb);
 };
 
 // GPU time of each stage of the last frame (timestamps), milliseconds.
@@ -125,6 +124,12 @@ class GpuEye {
   GpuEye() = default;
   using Buffer = BoundBuffer;
   bool ensure_points(std::size_t point_count, std::string* error);
+  // The frame's stages 4-6 (foveation/frame_stages.hpp), recorded in turn by record().
+  void record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor);
+  bool record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set, foveation::Executor& executor,
+                       std::string* error);
+  void record_encode(VkCommandBuffer cb, const GpuFrame& frame, VkImage image);
+  void stamp(VkCommandBuffer cb, uint32_t query) const;  // a timestamp, when the queue has them
   void update_descriptors();
   void destroy(Buffer& b);
 

@@ -166,7 +166,7 @@ class GpuReconstruction : public ::testing::Test {
       const foveation::FrameRequest req = request_of(i);
       const auto cpu = cpu_view.render(req, trace, user, executor);
       const auto gpu = gpu_view.render(req, trace, user, executor);
-      if (reprojected_frames != nullptr) *reprojected_frames += gpu.history_view.has_value() ? 1 : 0;
+      if (reprojected_frames != nullptr) *reprojected_frames += gpu_view.hand_off().temporal.history_view ? 1 : 0;
       if (cached_rays != nullptr) cached_rays->push_back(cpu_view.cached_rays());
       EXPECT_TRUE(cpu.ok() && gpu.ok());
       EXPECT_EQ(cpu.taa_reset, gpu.taa_reset) << "frame " << i;
@@ -174,7 +174,7 @@ class GpuReconstruction : public ::testing::Test {
       std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
       foveation::encode_rgba8(cpu_view.image(), true, expected.data(), executor);
 
-      const GpuFrame frame = GpuFrame::of(*gpu_tables, gpu_view, req, gpu, true);
+      const GpuFrame frame = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);
       EXPECT_TRUE(gpu_->submit_and_wait(
           [&](VkCommandBuffer cb) { return gpu_eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error))
           << error;
@@ -401,8 +401,8 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
       const auto result = view.render(req, scene, nullptr, executor);
       ASSERT_TRUE(result.ok());
       GpuRayCacheFrame frame;
-      frame.rays = &view.traced_rays();
-      frame.pixels = &view.ray_cache_pixels();
+      frame.rays = &view.hand_off().traced->rays;
+      frame.pixels = view.hand_off().temporal.ray_pixels;
       frame.restart = result.ray_cache_restart;
       std::string record_error;
       const bool ok = gpu_->submit_and_wait(

@@ -43,4 +43,10 @@ struct VisiblePoints {
 VisiblePoints select_visible_points(const PointSet& points, const GazeMapping& mapping,
                                     std::optional<float> margin_px = std::nullopt);
 
+// Points a frame at `mapping` traces per tile of a tiles_x x tiles_y grid of
+// tile_w x tile_h screen tiles (row-major; points in the margin beyond the
+// screen count in the nearest tile). Empty for an empty grid.
+std::vector<std::uint32_t> points_per_tile(const PointSet& points, const GazeMapping& mapping, std::uint32_t tile_w_px,
+                                           std::uint32_t tile_h_px, std::uint32_t tiles_x, std::uint32_t tiles_y);
+
 }  // namespace foveart::foveation

@@ -347,9 +347,10 @@ TEST(TaaMotion, RayCacheWithoutCpuReconstructionHandsTheCacheItsRaysAndPixels) {
     ASSERT_TRUE(r.ok()) << r.message;
     restarts.push_back(r.ray_cache_restart);
     std::size_t rays = 0;
-    for (const auto& run : view.traced_rays()) rays += run.size();
+    for (const auto& run : view.hand_off().traced->rays) rays += run.size();
     EXPECT_EQ(rays, r.rays) << "frame " << i;
-    const auto& pixels = view.ray_cache_pixels();
+    ASSERT_NE(view.hand_off().temporal.ray_pixels, nullptr);
+    const auto& pixels = *view.hand_off().temporal.ray_pixels;
     ASSERT_EQ(pixels.size(), std::size_t(kW) * kH);
     std::size_t grid = 0, wider = 0, covering = 0;
     for (const glm::vec2& p : pixels) {

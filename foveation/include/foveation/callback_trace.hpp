@@ -1,0 +1,39 @@
+// Stages 1-3 of the frame on the CPU, through the engine's ray-trace callback
+// (ray_trace.h; thesis 4.2): in one pass over runs of the point set, each task
+// forgets the points it traced last frame, keeps the visible ones (stage 1),
+// casts their rays (stage 2), hands them to the engine in batches (stage 3)
+// and writes each point's mean colour into its slot.
+//
+// Errors: a failed batch or a bad colour is counted in TraceStats, never thrown.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "foveation/frame_stages.hpp"
+#include "foveation/point_rays.hpp"
+#include "foveation/point_set.hpp"
+#include "foveation/ray_batch.hpp"
+
+namespace foveart::foveation {
+
+class CallbackTrace final : public TraceStage {
+ public:
+  // `points` must outlive this. keep_rays: also hand on every ray (a history
+  // that keeps rays, TemporalHistory::keeps_rays).
+  CallbackTrace(const PointSet& points, int rays_per_point, PixelFilter pixel_filter, bool jitter_each_frame,
+                bool keep_rays);
+
+  TraceStats trace(const FrameContext& frame, Executor& executor) override;
+  const TracedPoints& traced() const override { return traced_; }
+
+ private:
+  const PointSet& points_;
+  PointRays rays_;
+  bool keep_rays_;
+  TracedPoints traced_;
+  std::vector<RayBatch> batches_;                         // per worker slot
+  std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
+};
+
+}  // namespace foveart::foveation

@@ -1,0 +1,131 @@
+// The foveated frame in six stages (docs/design.md, "One frame in stages").
+// Each stage reads what the stages before it hand on (the structs below),
+// never their internals; FoveatedView composes them, and the layer's GPU path
+// takes over after stage 3 from the same hand-off.
+//
+//   stage                     CPU                          GPU (layer/src)
+//   1. select visible points  VisibleRegion                -
+//   2. make rays              PointRays                    -
+//   3. trace                  CallbackTrace (TraceStage)   -
+//   4. reconstruct            GatherReconstruction         GpuEye: scatter + gather
+//   5. temporal history       TemporalHistory: NoHistory,  GpuEye: taa, or the
+//                             ImageHistory, RayHistory     render cache (GpuRayCache)
+//   6. encode                 encode_rgba8                 GpuEye: encode
+//
+// Stages 1-3 run fused per run of the point set on the CPU (a run's rays go
+// to the engine while they are hot); stage 5 decides its restarts on the CPU
+// for either path (decide()) and applies the history where the frame is
+// reconstructed.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "foveation/executor.hpp"
+#include "foveation/gather.hpp"
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/image.hpp"
+#include "foveation/ray_cache.hpp"
+#include "foveation/ray_trace.h"
+#include "foveation/taa.hpp"
+
+namespace foveart::foveation {
+
+// What every stage of one frame knows.
+struct FrameContext {
+  FoveartEyeView view{};
+  GazeMapping mapping;             // the canvas at this frame's foveation centre
+  std::uint64_t frame_index = 0;
+  std::uint64_t sample_seed = 0;   // this frame's jitter seed
+  bool restart = false;            // a saccade's or blink's frame: the history restarts at its onset
+  FoveartTraceRaysFn trace_rays = nullptr;  // the engine (CallbackTrace)
+  void* user_data = nullptr;
+};
+
+// Stages 1-3 hand on: one colour per point, and what the history may need.
+struct TracedPoints {
+  PointColors colors;                            // a slot per point of the set; a = 1: traced this frame
+  std::vector<float> depth_m;                    // per point: nearest hit of its rays (NaN: none returned)
+  std::vector<std::vector<std::uint32_t>> runs;  // the points traced, per run of the set
+  bool any_depth = false;                        // the engine returned a depth for some point
+  // Only for a history that keeps rays (TemporalHistory::keeps_rays):
+  std::vector<std::vector<TracedRay>> rays;      // per run: its rays
+  std::vector<float> farthest_m;                 // per point: farthest hit of its rays (NaN: one gave none)
+};
+
+struct TraceStats {
+  std::uint32_t points = 0;          // visible points traced
+  std::uint64_t rays = 0;            // primary rays handed to the engine
+  std::uint64_t failed_batches = 0;  // the engine returned an error (or threw)
+  std::uint64_t invalid_colours = 0; // NaN, infinite or negative colour components
+  double select_ms = 0.0;            // per-frame set-up before the fused pass
+  double trace_ms = 0.0;             // selection, rays, engine, colour per point
+  bool ok() const { return failed_batches == 0 && invalid_colours == 0; }
+};
+
+// Stages 1-3: the visible points' rays through the engine, one colour each.
+class TraceStage {
+ public:
+  virtual ~TraceStage() = default;
+  virtual TraceStats trace(const FrameContext& frame, Executor& executor) = 0;
+  virtual const TracedPoints& traced() const = 0;
+};
+
+// Stage 4: every screen pixel from the traced points.
+class ReconstructStage {
+ public:
+  virtual ~ReconstructStage() = default;
+  virtual GatherStats reconstruct(const FrameContext& frame, const TracedPoints& traced, ImageRgb& out,
+                                  Executor& executor) = 0;
+};
+
+// Stage 5's decision for one frame, and what applying it counted.
+struct TemporalFrame {
+  bool kept = false;   // a history is kept at all (not NoHistory)
+  bool reset = true;   // the output is this frame alone
+  std::optional<FoveartEyeView> history_view;  // an image history to reproject from this view
+  TaaOptions blend;    // current_weight: this frame's blend weight
+  // RayHistory: the cache forgets every kept ray first, and per screen pixel
+  // (row-major) x, the footprint it filters with (1: the pixel filter; wider
+  // beyond the pixel grid) and y, the distance beyond which a kept ray landing
+  // there is covered (not finite or negative: this frame cannot tell).
+  bool rays = false;
+  bool ray_restart = false;
+  PixelFilter ray_filter = PixelFilter::box;
+  std::uint32_t ray_max_age_frames = 0;
+  const std::vector<glm::vec2>* ray_pixels = nullptr;
+  // Applied here (accumulate): pixels of an image history that were off the
+  // last view, uncovered, or reprojected through the engine's depth.
+  std::uint64_t history_off_screen = 0, history_disoccluded = 0, history_with_depth = 0;
+};
+
+// Stage 5: what a frame keeps from earlier frames.
+class TemporalHistory {
+ public:
+  virtual ~TemporalHistory() = default;
+  // The trace must keep this frame's rays (TracedPoints::rays, farthest_m).
+  virtual bool keeps_rays() const { return false; }
+  // After a failed frame: the next one starts a new history.
+  virtual void forget() = 0;
+  // This frame's decision for a history applied elsewhere (the GPU path); keeps no image.
+  virtual TemporalFrame decide(const FrameContext& frame, const TracedPoints& traced, Executor& executor) = 0;
+  // Decides and applies the history to this frame's reconstruction; the
+  // output stays valid until the next call.
+  virtual const ImageRgb& accumulate(const FrameContext& frame, const TracedPoints& traced,
+                                     const ImageRgb& reconstructed, Executor& executor, TemporalFrame* decision) = 0;
+  // RayHistory: the rays kept after the last frame.
+  virtual std::size_t kept_rays() const { return 0; }
+};
+
+// What a reconstruction elsewhere takes from a frame: stage 3's points and
+// stage 5's decision, at the frame's canvas mapping.
+struct FrameHandOff {
+  const TracedPoints* traced = nullptr;
+  TemporalFrame temporal;
+  GazeMapping mapping;
+  FoveartEyeView view{};
+  RbfClamp rbf_clamp = RbfClamp::block;
+};
+
+}  // namespace foveart::foveation

@@ -1,0 +1,130 @@
+#include "foveation/callback_trace.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "foveation/visible_points.hpp"
+
+namespace foveart::foveation {
+namespace {
+
+// Rays per engine callback call, and points of the set per parallel task: a
+// task is a contiguous run of the Morton order (the rays of a packet are
+// neighbours on the screen), small enough that the last task of a frame keeps
+// the other threads idle only briefly.
+constexpr std::uint32_t kBatchRays = 4096;
+constexpr std::size_t kRunPoints = 8192;
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+CallbackTrace::CallbackTrace(const PointSet& points, int rays_per_point, PixelFilter pixel_filter,
+                             bool jitter_each_frame, bool keep_rays)
+    : points_(points), rays_(points, rays_per_point, pixel_filter, jitter_each_frame), keep_rays_(keep_rays) {
+  traced_.colors.rgba.assign(points.size(), Rgba{});
+  traced_.colors.invalid = points.size();
+  traced_.depth_m.assign(points.size(), NAN);
+  traced_.runs.resize((points.size() + kRunPoints - 1) / kRunPoints);
+  if (keep_rays_) {
+    traced_.rays.resize(traced_.runs.size());
+    traced_.farthest_m.assign(points.size(), NAN);
+  }
+}
+
+TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
+  if (frame.trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
+  TraceStats stats;
+  const auto t_setup = Clock::now();
+  const PointSet& points = points_;
+  const FoveartEyeView& view = frame.view;
+  const std::uint32_t spp = rays_.rays_per_point();
+  rays_.prepare(frame.sample_seed, executor);
+  const unsigned workers = executor.thread_count();
+  const std::uint32_t batch_points = std::max<std::uint32_t>(1, kBatchRays / spp);
+  if (batches_.size() < workers) {
+    batches_.resize(workers);
+    batch_points_.resize(workers);
+  }
+  stats.select_ms = ms_since(t_setup);
+
+  const auto t_trace = Clock::now();
+  const EyeFrustum frustum = eye_frustum(view);
+  const EyePose pose = eye_pose(view);
+  const VisibleRegion visible(frame.mapping, points.visible_margin_px);
+  std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
+  std::atomic<bool> any_depth{false};
+  const float inv_spp = 1.0f / float(spp);
+  PointColors& colors = traced_.colors;
+  executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) {
+    std::vector<std::uint32_t>& traced = traced_.runs[run];
+    for (std::uint32_t id : traced) colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
+    traced.clear();
+    if (keep_rays_) traced_.rays[run].clear();
+    RayBatch& batch = batches_[worker];
+    std::vector<std::uint32_t>& ids = batch_points_[worker];
+    batch.resize(std::size_t(batch_points) * spp);
+    ids.resize(batch_points);
+    std::uint32_t n = 0;
+    auto flush = [&] {
+      const std::uint32_t rays = n * spp;
+      if (batch.trace(frame.trace_rays, frame.user_data, view, frame.frame_index, rays) != FOVEART_RESULT_SUCCESS) {
+        failed_batches.fetch_add(1, std::memory_order_relaxed);
+      } else if (const std::uint64_t bad = batch.invalid_components(rays); bad != 0) {
+        invalid_colours.fetch_add(bad, std::memory_order_relaxed);
+      } else {
+        for (std::uint32_t j = 0, r = 0; j < n; ++j) {
+          glm::vec3 sum(0.0f);
+          float nearest_m = NAN;    // the point's depth: its nearest hit (NaN: the engine gave none)
+          float farthest_m = 0.0f;  // its farthest (NaN: one gave none), for the ray cache's depth test
+          // A pixel-grid ray is drawn for its point's pixel; a Poisson point's for none.
+          const glm::ivec2 pixel = keep_rays_ && points.on_pixel_grid(ids[j])
+                                       ? glm::ivec2(glm::floor(visible.to_screen(points.position_px[ids[j]])))
+                                       : glm::ivec2(-1);
+          for (std::uint32_t s = 0; s < spp; ++s, ++r) {
+            sum += batch.rgb(r);
+            const float d = batch.depth_m(r);
+            if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
+            farthest_m = d >= 0.0f ? std::max(farthest_m, d) : NAN;
+            if (keep_rays_) traced_.rays[run].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
+          }
+          sum *= inv_spp;
+          colors.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
+          traced_.depth_m[ids[j]] = nearest_m;
+          if (keep_rays_) traced_.farthest_m[ids[j]] = farthest_m;
+          if (!std::isnan(nearest_m)) any_depth.store(true, std::memory_order_relaxed);
+          traced.push_back(ids[j]);
+        }
+      }
+      n = 0;
+    };
+    const std::size_t last = std::min(points.size(), (run + 1) * kRunPoints);
+    std::uint64_t run_points = 0;
+    for (std::size_t i = run * kRunPoints; i < last; ++i) {
+      const glm::vec2 screen = visible.to_screen(points.position_px[i]);
+      if (!visible.contains(screen)) continue;  // stage 1
+      const std::uint32_t id = std::uint32_t(i);
+      rays_.set_rays(batch, std::size_t(n) * spp, id, screen, frustum, pose, int(view.width_px));  // stage 2
+      ids[n] = id;
+      ++run_points;
+      if (++n == batch_points) flush();  // stage 3
+    }
+    if (n > 0) flush();
+    traced_points.fetch_add(run_points, std::memory_order_relaxed);
+  });
+  stats.trace_ms = ms_since(t_trace);
+  stats.points = std::uint32_t(traced_points.load());
+  stats.rays = traced_points.load() * spp;
+  stats.failed_batches = failed_batches.load();
+  stats.invalid_colours = invalid_colours.load();
+  traced_.any_depth = any_depth.load();
+  if (stats.ok()) colors.invalid = points.size() - stats.points;
+  return stats;
+}
+
+}  // namespace foveart::foveation

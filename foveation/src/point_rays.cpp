@@ -1,0 +1,38 @@
+#include "foveation/point_rays.hpp"
+
+#include <stdexcept>
+
+namespace foveart::foveation {
+namespace {
+
+// Disc offsets are precomputed up to this many samples (64 MB); beyond, made per frame.
+constexpr std::size_t kMaxPrecomputedSamples = std::size_t{8} << 20;
+
+}  // namespace
+
+PointRays::PointRays(const PointSet& points, int rays_per_point, PixelFilter pixel_filter, bool jitter_each_frame)
+    : points_(points),
+      rays_per_point_(std::uint32_t(rays_per_point)),
+      pixel_filter_(pixel_filter),
+      jitter_each_frame_(jitter_each_frame) {
+  if (rays_per_point < 1) throw std::invalid_argument("point rays: rays per point must be >= 1");
+}
+
+void PointRays::prepare(std::uint64_t seed, Executor& executor) {
+  const std::uint32_t spp = rays_per_point_;
+  precomputed_ = !jitter_each_frame_ && points_.size() * spp <= kMaxPrecomputedSamples;
+  if (precomputed_ && (!offsets_made_ || seed_ != seed)) {
+    offset_px_.resize(points_.size() * spp);
+    executor.parallel_chunks(points_.size(), 16384, [&](std::size_t first, std::size_t last, unsigned) {
+      for (std::size_t i = first; i < last; ++i) {
+        if (points_.on_pixel_grid(i)) continue;
+        for (std::uint32_t s = 0; s < spp; ++s)
+          offset_px_[i * spp + s] = unit_disc_sample(seed, std::uint32_t(i), int(s)) * points_.radius_px[i];
+      }
+    });
+    offsets_made_ = true;
+  }
+  seed_ = seed;
+}
+
+}  // namespace foveart::foveation
