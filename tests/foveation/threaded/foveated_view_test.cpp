@@ -1,7 +1,8 @@
 // The one foveated frame with fake engines: what the callback receives,
 // constants reproduced through every method and TAA, the same frame for any
 // thread count, no thread started on one thread, the defined failure for
-// failing, throwing and NaN-returning callbacks, and a saccade restarting TAA.
+// failing, throwing and NaN-returning callbacks, a saccade restarting TAA, and
+// the frame's stages (frame_stages.hpp) composed by hand and decided elsewhere.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -15,7 +16,10 @@
 #include <gtest/gtest.h>
 
 #include "foveation/display_model.hpp"
+#include "foveation/callback_trace.hpp"
 #include "foveation/foveated_view.hpp"
+#include "foveation/gather_reconstruction.hpp"
+#include "foveation/image_history.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/visible_points.hpp"
 
@@ -422,6 +426,77 @@ TEST(FoveatedView, RejectsAViewThatDoesNotFitItsTables) {
   request.view.width_px = kW + 1;
   EXPECT_THROW(view.render(request, &gradient, nullptr, executor), std::invalid_argument);
   EXPECT_THROW(view.render(request_at({48, 40}), nullptr, nullptr, executor), std::invalid_argument);
+}
+
+// The stages composed by hand (frame_stages.hpp) are the view's frame, bit
+// for bit: the view adds nothing between them.
+TEST(FrameStages, ComposedByHandTheyAreTheViewsFrame) {
+  Executor executor(2);
+  const auto tables = small_tables(InterpMethod::msm, 5);
+  ViewSettings s = settings(2, true);
+  s.taa_history = TaaHistory::reproject;
+  s.centre_deadband_deg = 0.0;  // the centre is the gaze: no FoveationCentre needed below
+  FoveatedView view(tables, s);
+  CallbackTrace trace(tables->points, s.rays_per_point, s.pixel_filter, s.new_jitter_each_frame, false);
+  GatherReconstruction reconstruct(*tables, s.rbf_clamp);
+  ImageHistory history(tables->neighbors, taa_options_for_rays(s.taa_options, s.rays_per_point), true);
+  ImageRgb reconstructed;
+  for (int f = 0; f < 4; ++f) {
+    FrameRequest request = request_at({40.0f + 3.0f * float(f), 38});
+    request.frame_index = uint64_t(f + 1);
+    request.view.position_m[0] += 0.002f * float(f);  // the history is reprojected
+    ASSERT_TRUE(view.render(request, &gradient, nullptr, executor).ok());
+    FrameContext frame;
+    frame.view = request.view;
+    frame.mapping = map_gaze(int(kW), int(kH), request.gaze_px);
+    frame.frame_index = request.frame_index;
+    frame.sample_seed = s.sample_seed + request.frame_index;
+    frame.trace_rays = &gradient;
+    ASSERT_TRUE(trace.trace(frame, executor).ok());
+    reconstruct.reconstruct(frame, trace.traced(), reconstructed, executor);
+    TemporalFrame decision;
+    const ImageRgb& out = history.accumulate(frame, trace.traced(), reconstructed, executor, &decision);
+    EXPECT_EQ(reconstructed.rgb, view.reconstructed().rgb) << "frame " << f;
+    EXPECT_EQ(out.rgb, view.image().rgb) << "frame " << f;
+    EXPECT_EQ(decision.reset, f == 0) << "frame " << f;
+  }
+}
+
+// A history's decision for a frame reconstructed elsewhere (the GPU path)
+// is the one it applies here: the same restarts, blend weights and ray-cache
+// restarts over moves, a saccade and a gaze jump, for every history.
+TEST(FrameStages, DecideAgreesWithAccumulateForEveryHistory) {
+  for (const TaaHistory kind : {TaaHistory::restart_on_view_change, TaaHistory::reproject, TaaHistory::ray_cache}) {
+    SCOPED_TRACE(int(kind));
+    Executor executor(2);
+    ViewSettings s = settings(1, true);
+    s.taa_history = kind;
+    FoveatedView here(small_tables(InterpMethod::msm, 5), s);
+    s.reconstruct_on_cpu = false;
+    FoveatedView elsewhere(small_tables(InterpMethod::msm, 5), s);
+    std::vector<bool> resets;
+    for (int f = 0; f < 8; ++f) {
+      FrameRequest request = request_at(f == 6 ? glm::vec2(8, 8) : glm::vec2(48, 40));  // frame 6 jumps 51 px
+      request.frame_index = uint64_t(f + 1);
+      request.saccade = f == 3;
+      if (f >= 4) request.view.position_m[0] += 0.001f * float(f);  // the head moves from frame 4 on
+      const FrameResult a = here.render(request, &gradient, nullptr, executor);
+      const FrameResult b = elsewhere.render(request, &gradient, nullptr, executor);
+      ASSERT_TRUE(a.ok() && b.ok());
+      const TemporalFrame& x = here.hand_off().temporal;
+      const TemporalFrame& y = elsewhere.hand_off().temporal;
+      EXPECT_EQ(x.reset, y.reset) << "frame " << f;
+      EXPECT_EQ(x.blend.current_weight, y.blend.current_weight) << "frame " << f;
+      EXPECT_EQ(x.ray_restart, y.ray_restart) << "frame " << f;
+      EXPECT_EQ(a.taa_reset, b.taa_reset) << "frame " << f;
+      resets.push_back(x.reset);
+    }
+    EXPECT_TRUE(resets[0]) << "the first frame starts the history";
+    EXPECT_TRUE(resets[3]) << "the saccade's onset restarts it";
+    EXPECT_TRUE(resets[6]) << "the gaze jump restarts it";
+    EXPECT_FALSE(resets[1]);
+    EXPECT_EQ(resets[5], kind == TaaHistory::restart_on_view_change) << "a moved head restarts only that history";
+  }
 }
 
 }  // namespace
