@@ -53,12 +53,12 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.taa_frames = 3;
   o.threads = 2;
   o.images = true;
-  o.grid.full_spp = {1, 4};
-  o.grid.methods = {"nn:1"};
-  o.grid.scales = {1.0};
-  o.grid.rays = {1};
-  o.grid.patterns = {"thesis", "pixel-grid"};
-  o.grid.taa_rays = {1};
+  o.grid.full_rays_per_point = {1, 4};
+  o.grid.interpolation = {"nearest:1"};
+  o.grid.density_scale = {1.0};
+  o.grid.rays_per_point = {1};
+  o.grid.pattern = {"thesis", "pixel-grid"};
+  o.grid.taa_rays_per_point = {1};
   o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
   std::ostringstream out, err;
   ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
@@ -124,10 +124,11 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     EXPECT_NE(it, settings.end()) << id;
     return *it;
   };
-  const auto full1 = by_id("full_spp1"), grid1 = by_id("nn_k1_s1_pixel-grid_r1");
+  const auto full1 = by_id("full_spp1"), grid1 = by_id("nearest_k1_s1_pixel-grid_r1");
   ASSERT_GT(full1["rings"][0]["pixels"].get<int>(), 0);
   EXPECT_EQ(grid1["rings"][0]["psnr"], full1["rings"][0]["psnr"]);
-  const auto taa = std::find_if(settings.begin(), settings.end(), [](const auto& s) { return s["id"] == "nn_k1_s1_thesis_r1_taa"; });
+  const auto taa = std::find_if(settings.begin(), settings.end(),
+                                [](const auto& s) { return s["id"] == "nearest_k1_s1_thesis_r1_taa"; });
   ASSERT_NE(taa, settings.end());
   EXPECT_EQ((*taa)["flicker_frames"], 3);
   EXPECT_GT((*taa)["rings"][0]["flicker"].get<double>(), 0.0);  // new jitter each frame: the image moves
@@ -155,12 +156,13 @@ TEST(Pricelist, BadGridIsAnErrorNamingTheEntry) {
   engine_test::TempDir dir;
   tools::PricelistOptions o;
   o.out_dir = dir.path.string();
-  o.grid.methods = {"nn:1", "foo:3"};
+  o.grid.interpolation = {"nearest:1", "foo:3"};
   std::ostringstream out, err;
   EXPECT_EQ(tools::run_pricelist(o, out, err), 2);
-  EXPECT_NE(err.str().find("method 'foo:3'"), std::string::npos) << err.str();
-  o.grid.methods = {"msm:0"};
+  EXPECT_NE(err.str().find("interpolation 'foo:3'"), std::string::npos) << err.str();
+  o.grid.interpolation = {"msm:0"};
   std::ostringstream out2, err2;
   EXPECT_EQ(tools::run_pricelist(o, out2, err2), 2);
   EXPECT_NE(err2.str().find("k must be"), std::string::npos) << err2.str();
 }
+
