@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -166,3 +167,39 @@ TEST(Pricelist, BadGridIsAnErrorNamingTheEntry) {
   EXPECT_NE(err2.str().find("k must be"), std::string::npos) << err2.str();
 }
 
+// `fovea pricelist --md FILE`, run as a person runs it: the file is headed by the
+// command line as given and the machine, holds the report's tables, and its image
+// links reach into --out from where the file is.
+TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
+  engine_test::TempDir dir;
+  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
+  ASSERT_TRUE(fs::exists(fovea)) << fovea << " is missing: build the fovea target";
+  const fs::path md = dir.path / "results" / "pricelist.md";
+  const std::string args =
+      "pricelist --size 48,54 --reference-spp 32 --frames 1 --threads 2 --motion none "
+      "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
+      "--rays-per-point 1 --pattern pixel-grid --taa-rays-per-point none --out " +
+      (dir.path / "pl").string() + " --md " + md.string();
+  const std::string cmd = "'" + fovea.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir.path / "err").rdbuf();
+  std::ifstream in(md);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  EXPECT_NE(s.find("Written by `fovea " + args + "` on "), std::string::npos) << s;
+  std::string cpu;
+  {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    for (std::string line; std::getline(cpuinfo, line) && cpu.empty();) {
+      if (line.rfind("model name", 0) == 0) cpu = line.substr(line.find(':') + 2);
+    }
+  }
+  if (!cpu.empty()) {
+    EXPECT_NE(s.find(cpu), std::string::npos) << "the CPU model, from /proc/cpuinfo";
+  }
+  EXPECT_NE(s.find(" cores; "), std::string::npos) << s;
+  EXPECT_NE(s.find("| on the front | time % |"), std::string::npos) << "the ring tables";
+  EXPECT_NE(s.find("|---|---|---|---|---|---|---|---|---|\n| "), std::string::npos) << "a table with a row";
+  EXPECT_NE(s.find("](../pl/pricelist.png)"), std::string::npos) << "links into --out from the file's folder";
+  EXPECT_TRUE(fs::exists(md.parent_path() / "../pl/pricelist.png"));
+}

@@ -25,6 +25,7 @@
 #include <eval/image_metrics.hpp>
 
 #include <toolkit/image_io.hpp>
+#include <toolkit/machine.hpp>
 #include <toolkit/progress.hpp>
 
 #include <CLI/CLI.hpp>
@@ -306,12 +307,33 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
   return true;
 }
 
-std::string machine_name() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
+// report.md copied to `file`, its relative links (images) pointing into out_dir from there.
+std::string write_md_copy(const fs::path& out_dir, const fs::path& file) {
+  std::ifstream in(out_dir / "report.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) return "cannot read " + (out_dir / "report.md").string();
+  const fs::path parent = fs::absolute(file).parent_path();
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  std::string prefix = fs::relative(fs::absolute(out_dir), parent, ec).generic_string();
+  if (ec || prefix.empty()) prefix = fs::absolute(out_dir).generic_string();
+  const std::string src = text.str();
+  std::string md;
+  for (std::size_t i = 0; i < src.size();) {
+    const std::size_t at = src.find("](", i);
+    if (at == std::string::npos) {
+      md += src.substr(i);
+      break;
+    }
+    md += src.substr(i, at + 2 - i);
+    i = at + 2;
+    if (src.compare(i, 4, "http") != 0 && src.compare(i, 1, "#") != 0) md += prefix + "/";
+  }
+  std::ofstream out(file);
+  out << md;
+  if (!out) return "cannot write " + file.string();
+  return "";
 }
 
 }  // namespace
@@ -481,7 +503,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   ref_json["residual_psnr"] = residual;
   PricelistContext pc;
   pc.run = run;
-  pc.run["machine"] = machine_name();
+  pc.run["machine"] = toolkit::machine_description();
   pc.run["threads"] = executor.thread_count();
   pc.run["quick"] = o.quick;
   pc.run["run_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -489,10 +511,19 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   pc.thesis_default = thesis_default;
   pc.heatmap = heatmap_id;
   pc.temporal = temporal;
+  pc.command = !o.command.empty()                 ? o.command
+               : !toolkit::command_line().empty() ? toolkit::command_line()
+                                                  : "fovea pricelist";
   std::string headline;
   if (std::string e = write_pricelist(out_dir, pc, ordered, &headline); !e.empty()) {
     err << "fovea pricelist: " << e << "\n";
     return 1;
+  }
+  if (!o.md_file.empty()) {
+    if (std::string e = write_md_copy(out_dir, o.md_file); !e.empty()) {
+      err << "fovea pricelist: --md: " << e << "\n";
+      return 1;
+    }
   }
   out << headline << "\n";
   return 0;
@@ -544,6 +575,7 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--pattern", (*lists)[4], "Fovea patterns, e.g. pixel-grid,thesis");
   cmd->add_option("--taa-rays-per-point", (*lists)[5], "Rays per point measured with TAA too, or none");
   cmd->add_option("--heatmap", o->heatmap, "Setting id for the error heat map (default: the thesis default)");
+  cmd->add_option("--md", o->md_file, "Also write the report (command, machine, tables) to this markdown file");
   cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
   cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
   foveart::fovea::add_pixel_filter_option(cmd, &o->pixel_filter);

@@ -42,6 +42,8 @@ struct PricelistOptions {
   // (foveation/ray_samples.hpp).
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   TemporalOptions temporal;             // the temporal columns (motion "none": without them)
+  std::string md_file;                  // also write report.md here, its links pointing into out_dir
+  std::string command;                  // the command line report.md names; default the recorded one
 };
 
 int run_pricelist(const PricelistOptions& options, std::ostream& out, std::ostream& err);
