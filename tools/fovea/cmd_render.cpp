@@ -329,7 +329,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     out << report.dump(2) << "\n";
   } else {
     out << "scene " << report["scene"].get<std::string>() << " (" << report["triangles"] << " triangles, "
-        << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", spp "
+        << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", rays per point "
         << o.rays_per_point << "\n";
     for (const char* mode : {"full", "foveated"}) {
       if (!report.contains(mode)) continue;
