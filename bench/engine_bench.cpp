@@ -39,7 +39,7 @@ fv::Executor& bench_executor() {
   return executor;
 }
 
-// The foveated frame of `fovea render --method nn`: FOVE preset, scale 1, one
+// The foveated frame of `fovea render --interpolation nearest`: FOVE preset, scale 1, one
 // ray per point; tables from /tmp/foveart_bench_cache.
 std::unique_ptr<fv::FoveatedView> nn_view() {
   fv::PointSetKey key;

@@ -51,9 +51,9 @@ json_to() {  # $1: file for the command's stdout (JSON), rest: the command
 }
 
 step "1/3 FOVE point set -> out/pointset.json" pointset json_to out/pointset.json \
-  build/bin/fovea pointset --preset fove --cache out/cache --png out/pointset_centred.png --curves out/curves --json
+  build/bin/fovea pointset --preset fove --cache-dir out/cache --png out/pointset_centred.png --curves out/curves --json
 step "2/3 default scene, full vs foveated -> out/render*" render json_to out/render.json \
-  build/bin/fovea render --scene default --preset fove --mode both --method msm --k 5 --cache out/cache \
+  build/bin/fovea render --scene default --preset fove --mode both --interpolation msm --k 5 --cache-dir out/cache \
   --out out/render --json
 
 hello() {  # $1: reconstruction, $2: stats file, rest: hello_foveated arguments
@@ -65,7 +65,7 @@ hello() {  # $1: reconstruction, $2: stats file, rest: hello_foveated arguments
   XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
   XR_API_LAYER_PATH="$root/build/manifests/explicit" \
   VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
-    json_to "$stats" build/bin/hello_foveated --scene default --interp msm --k 5 --json "$@"
+    json_to "$stats" build/bin/hello_foveated --scene default --interpolation msm --k 5 --json "$@"
 }
 rm -f out/frames/*.png
 FOVEART_SIM_FRAMES=16 FOVEART_SIM_CAPTURE_DIR="$root/out/frames" FOVEART_SIM_CAPTURE_EVERY=8 \
@@ -75,7 +75,7 @@ FOVEART_SIM_FRAMES=4 \
 if [ "$pricelist" = 1 ]; then
   rm -rf out/pricelist && mkdir -p out/pricelist
   step "    quick price list -> out/pricelist/" pricelist \
-    build/bin/fovea pricelist --scene default --preset fove --quick --cache out/cache --out out/pricelist
+    build/bin/fovea pricelist --scene default --preset fove --quick --cache-dir out/cache --out out/pricelist
 fi
 
 # The summary: one plain table, read from the JSON the steps wrote.

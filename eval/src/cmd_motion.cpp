@@ -216,8 +216,8 @@ int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   if (o.mode != "foveated") {
     SequenceTrack t;
     t.full = true;
-    t.spp = o.spp;
-    t.id = "full_spp" + std::to_string(o.spp);
+    t.spp = o.rays_per_point;
+    t.id = "full_spp" + std::to_string(o.rays_per_point);
     tracks.push_back(std::move(t));
   }
   if (o.mode != "full") {
@@ -230,25 +230,25 @@ int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       return 1;
     }
     PriceSetting setting;
-    setting.method = o.method;
+    setting.interpolation = o.interpolation;
     setting.k = reconstruction_k(o);
-    setting.scale = o.scale;
+    setting.density_scale = o.density_scale;
     setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
-    setting.spp = o.spp;
+    setting.rays_per_point = o.rays_per_point;
     for (const std::string& mode : taa_modes) {
       SequenceTrack t;
       t.taa = mode;
-      t.spp = o.spp;
+      t.spp = o.rays_per_point;
       t.id = setting.id() + "_taa-" + mode;
-      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, o.spp, o.seed, o.pixel_filter,
-                                                                                          o.taa_mean_while_young));
+      t.view = std::make_unique<foveation::FoveatedView>(
+          tables, taa_view_settings(mode, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young));
       tracks.push_back(std::move(t));
     }
   }
 
   SequenceReferenceOptions ref;
   ref.spp = o.reference_spp;  // empty: no reference, no temporal error
-  ref.baseline_spp = std::max(16, o.spp);
+  ref.baseline_spp = std::max(16, o.rays_per_point);
   ref.seed = o.seed;
   ref.pixel_filter = o.pixel_filter;
   ref.taa_mean_while_young = o.taa_mean_while_young;

@@ -16,23 +16,23 @@ std::string number(double v) {
 }  // namespace
 
 std::string PriceSetting::id() const {
-  if (full) return "full_spp" + std::to_string(spp);
-  return table_id() + "_r" + std::to_string(spp) + (taa ? "_taa" : "");  // e.g. nn_k1_s1_thesis_r1
+  if (full) return "full_spp" + std::to_string(rays_per_point);
+  return table_id() + "_r" + std::to_string(rays_per_point) + (taa ? "_taa" : "");  // e.g. nearest_k1_s1_thesis_r1
 }
 
 std::string PriceSetting::table_id() const {
   if (full) return "full";
-  return method + "_k" + std::to_string(k) + "_s" + number(scale) + "_" + pattern;
+  return interpolation + "_k" + std::to_string(k) + "_s" + number(density_scale) + "_" + pattern;
 }
 
 PriceGrid quick_grid() {
   PriceGrid g;
-  g.full_spp = {1, 2, 4, 8};  // the reference then needs 10 x 8 rays per pixel (128), not 10 x 16 (256)
-  g.methods = {"nn:1", "msm:5"};
-  g.scales = {1.0, 2.0};
-  g.rays = {1, 4};
-  g.patterns = {"pixel-grid", "thesis"};
-  g.taa_rays = {1};
+  g.full_rays_per_point = {1, 2, 4, 8};  // the reference then needs 10 x 8 rays per pixel (128), not 10 x 16 (256)
+  g.interpolation = {"nearest:1", "msm:5"};
+  g.density_scale = {1.0, 2.0};
+  g.rays_per_point = {1, 4};
+  g.pattern = {"pixel-grid", "thesis"};
+  g.taa_rays_per_point = {1};
   return g;
 }
 
@@ -49,47 +49,50 @@ bool split_list(const std::string& text, std::vector<std::string>* out) {
 
 std::string expand_grid(const PriceGrid& g, std::vector<PriceSetting>* out) {
   out->clear();
-  for (int spp : g.full_spp) {
+  for (int spp : g.full_rays_per_point) {
     if (spp < 1 || spp > 1024) return "full-render rays per pixel " + std::to_string(spp) + " (1..1024)";
     PriceSetting s;
     s.full = true;
-    s.spp = spp;
+    s.rays_per_point = spp;
     out->push_back(s);
   }
-  for (const std::string& pattern : g.patterns)
+  for (const std::string& pattern : g.pattern)
     if (pattern != "pixel-grid" && pattern != "thesis") return "pattern '" + pattern + "' (pixel-grid or thesis)";
-  for (const std::string& mk : g.methods) {
+  for (const std::string& mk : g.interpolation) {
     const auto colon = mk.find(':');
     const std::string method = mk.substr(0, colon);
-    if (method != "nn" && method != "msm" && method != "rbf-mq") return "method '" + mk + "' (nn, msm or rbf-mq)";
-    int k = method == "nn" ? 1 : 5;
+    if (method != "nearest" && method != "msm" && method != "rbf")
+      return "interpolation '" + mk + "' (nearest, msm or rbf)";
+    int k = method == "nearest" ? 1 : 5;
     if (colon != std::string::npos) {
       try {
         std::size_t used = 0;
         k = std::stoi(mk.substr(colon + 1), &used);
         if (used != mk.size() - colon - 1) throw std::invalid_argument(mk);
       } catch (const std::exception&) {
-        return "method '" + mk + "': k is not a number";
+        return "interpolation '" + mk + "': k is not a number";
       }
     }
-    if (k < 1 || k > 20 || (method == "nn" && k != 1)) return "method '" + mk + "': k must be 1 for nn, 1..20 otherwise";
-    for (double scale : g.scales) {
-      if (!(scale > 0.0) || scale > 100.0) return "scale " + number(scale) + " (0, 100]";
-      for (const std::string& pattern : g.patterns) {
+    if (k < 1 || k > 20 || (method == "nearest" && k != 1)) {
+      return "interpolation '" + mk + "': k must be 1 for nearest, 1..20 otherwise";
+    }
+    for (double scale : g.density_scale) {
+      if (!(scale > 0.0) || scale > 100.0) return "density scale " + number(scale) + " (0, 100]";
+      for (const std::string& pattern : g.pattern) {
         PriceSetting s;
-        s.method = method;
+        s.interpolation = method;
         s.k = k;
-        s.scale = scale;
+        s.density_scale = scale;
         s.pattern = pattern;
-        for (int r : g.rays) {
+        for (int r : g.rays_per_point) {
           if (r < 1 || r > 1024) return "rays per point " + std::to_string(r) + " (1..1024)";
-          s.spp = r;
+          s.rays_per_point = r;
           s.taa = false;
           out->push_back(s);
         }
-        for (int r : g.taa_rays) {
+        for (int r : g.taa_rays_per_point) {
           if (r < 1 || r > 1024) return "TAA rays per point " + std::to_string(r) + " (1..1024)";
-          s.spp = r;
+          s.rays_per_point = r;
           s.taa = true;
           out->push_back(s);
         }

@@ -242,12 +242,13 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
 
   // report.md
   std::ofstream md(dir / "report.md");
-  md << "# Price list: " << ctx.run["scene"].get<std::string>() << ", " << ctx.run["width"] << "x"
-     << ctx.run["height"] << ", gaze (" << fmt(num(ctx.run["gaze"][0]), 0) << ", " << fmt(num(ctx.run["gaze"][1]), 0)
-     << ")\n\n"
+  md << "# Price list: " << ctx.run["scene"].get<std::string>() << ", " << ctx.run["width"] << "x" << ctx.run["height"]
+     << ", gaze (" << fmt(num(ctx.run["gaze"][0]), 0) << ", " << fmt(num(ctx.run["gaze"][1]), 0) << ")\n\n"
+     << "Written by `" << ctx.command << "` on " << ctx.run.value("machine", std::string("?")) << ", "
+     << ctx.run.value("threads", 0) << " threads, in " << fmt(ctx.run.value("run_s", 0.0), 0)
+     << " s. The numbers below are that run's own output; rerun the command to update them.\n\n"
      << *headline << "\n\n"
-     << "Machine: " << ctx.run.value("machine", std::string("?")) << ", " << ctx.run.value("threads", 0)
-     << " threads; run " << fmt(ctx.run.value("run_s", 0.0), 0) << " s. Times are each setting's median frame "
+     << "Times are each setting's median frame "
      << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it.\n\n"
      << "Reference: " << ctx.reference["spp"] << " rays per pixel; residual PSNR per ring (MSE(A,B)/4 of two "
      << "independent halves):";

@@ -151,11 +151,11 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
     tracks.push_back(std::move(full));
     RenderOptions ro = view_options;
     ro.mode = "foveated";
-    ro.method = s.method;
+    ro.interpolation = s.interpolation;
     ro.k = s.k;
-    ro.scale = s.scale;
+    ro.density_scale = s.density_scale;
     ro.pattern = s.pattern;
-    ro.spp = s.spp;
+    ro.rays_per_point = s.rays_per_point;
     const std::shared_ptr<const foveation::ViewTables> tables = load_foveated_tables(
         ro, eye_at_rest, fs::path(c.cache_dir), executor,
         [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; }, &error);
@@ -167,9 +167,10 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       SequenceTrack t;
       t.id = track_id(s, mode);
       t.taa = mode;
-      t.spp = s.spp;
-      t.view = std::make_unique<foveation::FoveatedView>(tables, taa_view_settings(mode, s.spp, c.seed, c.pixel_filter,
-                                                                             /*taa_mean_while_young=*/false));
+      t.spp = s.rays_per_point;
+      t.view = std::make_unique<foveation::FoveatedView>(
+          tables, taa_view_settings(mode, s.rays_per_point, c.seed, c.pixel_filter,
+                                    /*taa_mean_while_young=*/false));
       tracks.push_back(std::move(t));
     }
     SequenceHooks hooks;
@@ -204,9 +205,9 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
         PriceSetting still = s;
         still.taa = t.taa != "off";
         j["setting"] = still.id();
-        j["method"] = s.method;
+        j["method"] = s.interpolation;
         j["k"] = s.k;
-        j["scale"] = s.scale;
+        j["scale"] = s.density_scale;
         j["pattern"] = s.pattern;
       }
       lines.push_back(j);

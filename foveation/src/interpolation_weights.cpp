@@ -18,9 +18,11 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string_view method_name(InterpMethod method) {
   switch (method) {
-    case InterpMethod::nn: return "nn";
+    case InterpMethod::nn:
+      return "nearest";
     case InterpMethod::msm: return "msm";
-    case InterpMethod::rbf_mq: return "rbf-mq";
+    case InterpMethod::rbf_mq:
+      return "rbf";
     case InterpMethod::rbf_gauss: return "rbf-gauss";
   }
   return "?";

@@ -120,8 +120,9 @@ struct Reader {
     });
   }
 
-  // Keys an earlier config held (kRemovedConfigKeys): a warning each, and the old TAA
-  // switch and history read into "temporal" when this object does not name it.
+  // Keys an earlier config held (kRemovedConfigKeys): a warning each, "worker_threads" read
+  // into "threads" and the old TAA switch and history into "temporal" when this object
+  // does not name the new key.
   void read_removed_keys(const json& obj, LayerConfig* c) const {
     for (const RemovedConfigKey& removed : kRemovedConfigKeys) {
       if (obj.contains(removed.key)) {
@@ -129,6 +130,7 @@ struct Reader {
                             "' was removed; replaced by " + std::string(removed.replaced_by));
       }
     }
+    if (!obj.contains("threads")) read_uint(obj, "worker_threads", 0, 256, &c->threads);
     if (obj.contains("temporal") || !(obj.contains("taa") || obj.contains("taa_history"))) return;
     const auto taa = obj.find("taa");
     const auto history = obj.find("taa_history");
@@ -170,7 +172,7 @@ struct Reader {
     read_string(obj, "temporal", {"auto", "off", "image", "rays"}, &c->temporal);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);
-    read_uint(obj, "worker_threads", 0, 256, &c->worker_threads);
+    read_uint(obj, "threads", 0, 256, &c->threads);
     read_string(obj, "cache_dir", {}, &c->cache_dir);
     read_bool(obj, "wait_for_tables", &c->wait_for_tables);
     read_string(obj, "reconstruction", {"auto", "gpu", "cpu"}, &c->reconstruction);

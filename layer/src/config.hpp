@@ -25,13 +25,14 @@ namespace foveart::layer {
 
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
-    "enabled",      "log_level",     "log_file",       "interpolation",   "k",
-    "density_scale", "rays_per_point", "temporal",      "gaze_source",     "gaze_provider",
-    "worker_threads", "cache_dir",    "wait_for_tables", "reconstruction", "applications"};
+    "enabled",       "log_level",      "log_file",        "interpolation",  "k",
+    "density_scale", "rays_per_point", "temporal",        "gaze_source",    "gaze_provider",
+    "threads",       "cache_dir",      "wait_for_tables", "reconstruction", "applications"};
 
 // Keys earlier configs held: a file that names one still loads, with a warning that says
 // what replaced it. "taa" and "taa_history" are read into "temporal" when the same object
-// does not name it (taa false: "off"; a ray_cache history: "rays"; else "image").
+// does not name it (taa false: "off"; a ray_cache history: "rays"; else "image"), and
+// "worker_threads" into "threads" likewise.
 struct RemovedConfigKey {
   std::string_view key;
   std::string_view replaced_by;
@@ -41,6 +42,7 @@ inline constexpr RemovedConfigKey kRemovedConfigKeys[] = {
     {"taa_history", "\"temporal\": \"image\" (reproject) or \"rays\" (ray_cache)"},
     {"pixel_filter", "the pixel filter that \"temporal\" implies (box; bspline2 for \"rays\")"},
     {"taa_mean_while_young", "nothing: the TAA's own weights (it was an experiment)"},
+    {"worker_threads", "\"threads\" (the same count; the tools' --threads)"},
 };
 
 struct LayerConfig {
@@ -61,7 +63,7 @@ struct LayerConfig {
   std::string temporal = "auto";
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...
-  uint32_t worker_threads = 0;           // 0: hardware concurrency
+  uint32_t threads = 0;                  // the renderer's executor threads; 0: hardware concurrency
   std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
   bool wait_for_tables = false;          // block the first frame until the tables are ready
   // Where reconstruction, TAA and encode run: "auto" (the GPU when the app's

@@ -30,7 +30,7 @@ struct RendererSettings {
   std::optional<foveation::TemporalMode> temporal;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";
-  uint32_t worker_threads = 0;
+  uint32_t worker_threads = 0;  // the config's "threads"
   std::string cache_dir;
   bool wait_for_tables = false;
   std::string reconstruction = "auto";  // "auto" | "gpu" | "cpu" (LayerConfig::reconstruction)

@@ -141,25 +141,27 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
 int main(int argc, char** argv) {
   CLI::App cli{"hello_foveated: an OpenXR app ray traced by the FoveaRT layer"};
   std::string scene_spec = "default";
-  std::string interp = "config";
-  std::string gaze = "config";
+  std::string interpolation = "config";
+  std::string gaze_source = "config";
   std::string temporal = "config";
   foveart::hello::AppOptions options;
   bool json = false;
   bool no_explicit_layer = false;
   std::string fault;
   cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
-  cli.add_option("--interp", interp, "interpolation (config = the layer config's)")
+  cli.add_option("--interpolation", interpolation, "nearest, msm or rbf (config = the layer config's)")
       ->check(CLI::IsMember({"nearest", "msm", "rbf", "config"}))
       ->capture_default_str();
   cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
-  cli.add_option("--scale", options.density_scale, "density scale (0 = layer config)")->check(CLI::Range(0.0, 16.0));
-  cli.add_option("--spp", options.rays_per_point, "rays per point (0 = layer config)")->check(CLI::Range(0, 64));
+  cli.add_option("--density-scale", options.density_scale, "density scale (0 = layer config)")
+      ->check(CLI::Range(0.0, 16.0));
+  cli.add_option("--rays-per-point", options.rays_per_point, "rays per point (0 = layer config)")
+      ->check(CLI::Range(0, 64));
   cli.add_option("--temporal", temporal, "what a frame keeps from earlier frames (config = the layer config's)")
       ->check(CLI::IsMember({"off", "image", "rays", "config"}))
       ->capture_default_str();
-  cli.add_option("--gaze", gaze, "gaze source (config = the layer config's)")
-      ->check(CLI::IsMember({"none", "provider", "eye_gaze", "config"}))
+  cli.add_option("--gaze-source", gaze_source, "where gaze comes from (config = the layer config's)")
+      ->check(CLI::IsMember({"none", "provider", "eye_gaze_interaction", "config"}))
       ->capture_default_str();
   cli.add_option("--gaze-provider", options.gaze_provider, "gaze provider spec: sim, replay:FILE, ...");
   cli.add_option("--max-frames", options.max_frames, "stop after N frames (0 = until the runtime ends)");
@@ -183,15 +185,15 @@ int main(int argc, char** argv) {
   const std::map<std::string, XrFoveatedGazeSourceFOVEART> gazes{
       {"none", XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART},
       {"provider", XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART},
-      {"eye_gaze", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART},
+      {"eye_gaze_interaction", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART},
       {"config", XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART}};
   const std::map<std::string, XrFoveatedTemporalFOVEART> temporals{
       {"off", XR_FOVEATED_TEMPORAL_OFF_FOVEART},
       {"image", XR_FOVEATED_TEMPORAL_IMAGE_FOVEART},
       {"rays", XR_FOVEATED_TEMPORAL_RAYS_FOVEART},
       {"config", XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART}};
-  options.interpolation = interps.at(interp);
-  options.gaze_source = gazes.at(gaze);
+  options.interpolation = interps.at(interpolation);
+  options.gaze_source = gazes.at(gaze_source);
   options.temporal = temporals.at(temporal);
   options.enable_layer = !no_explicit_layer;
   if (eye_size.size() == 2) {

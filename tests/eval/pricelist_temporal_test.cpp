@@ -29,12 +29,12 @@ tools::PricelistOptions tiny(const fs::path& out) {
   o.frames = 1;
   o.taa_frames = 2;
   o.threads = 2;
-  o.grid.full_spp = {1};
-  o.grid.methods = {"nn:1", "msm:5"};
-  o.grid.scales = {1.0};
-  o.grid.rays = {1};
-  o.grid.patterns = {"pixel-grid"};
-  o.grid.taa_rays = {1};
+  o.grid.full_rays_per_point = {1};
+  o.grid.interpolation = {"nearest:1", "msm:5"};
+  o.grid.density_scale = {1.0};
+  o.grid.rays_per_point = {1};
+  o.grid.pattern = {"pixel-grid"};
+  o.grid.taa_rays_per_point = {1};
   o.temporal.size_px = glm::ivec2(64, 72);
   o.temporal.frames = 4;
   o.temporal.start_s = 0.5;
@@ -85,10 +85,10 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_EQ(t["reference"]["spp"], 8);
   ASSERT_EQ(t["tracks"].size(), 9u);  // full_spp1 + 2 settings x off/restart/reproject/cache
   const std::vector<std::string> ids = {"full_spp1",
-                                        "nn_k1_s1_pixel-grid_r1_taa-off",
-                                        "nn_k1_s1_pixel-grid_r1_taa-restart",
-                                        "nn_k1_s1_pixel-grid_r1_taa-reproject",
-                                        "nn_k1_s1_pixel-grid_r1_taa-cache",
+                                        "nearest_k1_s1_pixel-grid_r1_taa-off",
+                                        "nearest_k1_s1_pixel-grid_r1_taa-restart",
+                                        "nearest_k1_s1_pixel-grid_r1_taa-reproject",
+                                        "nearest_k1_s1_pixel-grid_r1_taa-cache",
                                         "msm_k5_s1_pixel-grid_r1_taa-off",
                                         "msm_k5_s1_pixel-grid_r1_taa-restart",
                                         "msm_k5_s1_pixel-grid_r1_taa-reproject",
@@ -122,9 +122,9 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
         << ring.dump();
   }
   // The track names the still setting it belongs to: TAA off is the setting without TAA.
-  EXPECT_EQ(t["tracks"][1]["setting"], "nn_k1_s1_pixel-grid_r1");
-  EXPECT_EQ(t["tracks"][3]["setting"], "nn_k1_s1_pixel-grid_r1_taa");
-  EXPECT_EQ(t["tracks"][4]["setting"], "nn_k1_s1_pixel-grid_r1_taa");
+  EXPECT_EQ(t["tracks"][1]["setting"], "nearest_k1_s1_pixel-grid_r1");
+  EXPECT_EQ(t["tracks"][3]["setting"], "nearest_k1_s1_pixel-grid_r1_taa");
+  EXPECT_EQ(t["tracks"][4]["setting"], "nearest_k1_s1_pixel-grid_r1_taa");
   EXPECT_EQ(t["tracks"][kCache]["taa"], "cache");
   EXPECT_EQ(t["tracks"][kCache]["taa_reset_frames"], t["tracks"][kReproject]["taa_reset_frames"]);
   // The acceptance is read at the layer's defaults (MSM k = 5, scale 1, pixel grid, 1 ray).

@@ -161,8 +161,9 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   EXPECT_EQ(j["reference"]["spp"], 8);
   EXPECT_EQ(j["reference"]["rings"].size(), 7u);
   ASSERT_EQ(j["tracks"].size(), 4u);
-  const std::vector<std::string> ids = {"full_spp1", "nn_k1_s1_pixel-grid_r1_taa-off",
-                                        "nn_k1_s1_pixel-grid_r1_taa-restart", "nn_k1_s1_pixel-grid_r1_taa-reproject"};
+  const std::vector<std::string> ids = {"full_spp1", "nearest_k1_s1_pixel-grid_r1_taa-off",
+                                        "nearest_k1_s1_pixel-grid_r1_taa-restart",
+                                        "nearest_k1_s1_pixel-grid_r1_taa-reproject"};
   for (std::size_t i = 0; i < ids.size(); ++i) {
     const auto& t = j["tracks"][i];
     EXPECT_EQ(t["id"], ids[i]);
@@ -251,7 +252,7 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   std::ostringstream out4, err4;
   ASSERT_EQ(run_motion(o, out4, err4), 0) << err4.str();
   EXPECT_NE(out4.str().find("TAA off over each TAA track"), std::string::npos) << out4.str();
-  EXPECT_NE(out4.str().find("nn_k1_s1_pixel-grid_r1_taa-reproject: "), std::string::npos) << out4.str();
+  EXPECT_NE(out4.str().find("nearest_k1_s1_pixel-grid_r1_taa-reproject: "), std::string::npos) << out4.str();
 }
 
 // --pixel-filter: the reference sequence, the full render and the foveated

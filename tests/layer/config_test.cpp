@@ -132,6 +132,18 @@ TEST_F(ConfigTest, RemovedKeysWarnWithTheirReplacementAndStillLoad) {
   }
 }
 
+// "worker_threads" became "threads": an old file keeps its count, with the warning; a file
+// that names both keeps "threads".
+TEST_F(ConfigTest, RemovedWorkerThreadsIsReadAsThreads) {
+  env_["FOVEART_CONFIG"] = write("c.json", R"({"worker_threads": 3})").string();
+  auto r = load_config("app", env());
+  EXPECT_EQ(r.config.threads, 3u);
+  EXPECT_TRUE(any_warning_contains(r, "'worker_threads' was removed; replaced by \"threads\"")) << r.warnings.size();
+  env_["FOVEART_CONFIG"] = write("c.json", R"({"worker_threads": 3, "threads": 5})").string();
+  r = load_config("app", env());
+  EXPECT_EQ(r.config.threads, 5u);
+}
+
 TEST_F(ConfigTest, BadValueWarnsNamingKeyAndKeepsDefault) {
   env_["FOVEART_CONFIG"] = write("c.json", R"({"k": "many", "density_scale": -1, "interpolation": "cubic",
       "log_level": "loud", "rays_per_point": 1000, "temporal": "yes"})").string();
@@ -178,9 +190,9 @@ TEST_F(ConfigTest, OutOfRangeNumbersWarnNamingKeyAndValueAndKeepOtherKeys) {
                         Case{"k", "4294967301", "4294967301"}, Case{"k", "1e400", "1e400"},
                         Case{"rays_per_point", "9223372036854775808", "9223372036854775808"},
                         Case{"rays_per_point", "\"4\"", "\"4\""},
-                        Case{"worker_threads", "18446744073709551616", "1.8446744073709552e+19"},
-                        Case{"worker_threads", "-9223372036854775808", "-9223372036854775808"},
-                        Case{"worker_threads", "\"8\"", "\"8\""}}) {
+                        Case{"threads", "18446744073709551616", "1.8446744073709552e+19"},
+                        Case{"threads", "-9223372036854775808", "-9223372036854775808"},
+                        Case{"threads", "\"8\"", "\"8\""}}) {
     SCOPED_TRACE(std::string(c.key) + ": " + c.value);
     // The other keys are valid non-defaults on both sides of the bad one.
     env_["FOVEART_CONFIG"] = write("c.json", std::string(R"({"temporal": "off", ")") + c.key + "\": " + c.value +
@@ -191,7 +203,7 @@ TEST_F(ConfigTest, OutOfRangeNumbersWarnNamingKeyAndValueAndKeepOtherKeys) {
     EXPECT_EQ(r.config.density_scale, defaults.density_scale);
     EXPECT_EQ(r.config.k, defaults.k);
     EXPECT_EQ(r.config.rays_per_point, defaults.rays_per_point);
-    EXPECT_EQ(r.config.worker_threads, defaults.worker_threads);
+    EXPECT_EQ(r.config.threads, defaults.threads);
     EXPECT_EQ(r.config.temporal, "off");
     EXPECT_EQ(r.config.interpolation, "rbf");
     EXPECT_EQ(r.warnings.size(), 1u);
@@ -216,13 +228,13 @@ TEST_F(ConfigTest, OutOfRangeNumberInApplicationSectionKeepsTheSection) {
 // Valid edge values are still read exactly.
 TEST_F(ConfigTest, InRangeEdgeValuesAreRead) {
   env_["FOVEART_CONFIG"] =
-      write("c.json", R"({"density_scale": 16, "k": 20, "rays_per_point": 64, "worker_threads": 256})").string();
+      write("c.json", R"({"density_scale": 16, "k": 20, "rays_per_point": 64, "threads": 256})").string();
   const auto r = load_config("app", env());
   EXPECT_TRUE(r.warnings.empty());
   EXPECT_EQ(r.config.density_scale, 16.0f);
   EXPECT_EQ(r.config.k, 20u);
   EXPECT_EQ(r.config.rays_per_point, 64u);
-  EXPECT_EQ(r.config.worker_threads, 256u);
+  EXPECT_EQ(r.config.threads, 256u);
 }
 
 // A syntax error still rejects the whole file, naming it and the position.

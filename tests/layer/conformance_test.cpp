@@ -181,7 +181,7 @@ class LayerApp {
 constexpr XrRect2Di kSmall{{0, 0}, {48, 40}};
 
 std::string config(const IsolatedEnv& env, const std::string& extra = "") {
-  return R"({"log_level": "debug", "worker_threads": 2, "log_file": ")" + (env.root() / "layer.log").string() +
+  return R"({"log_level": "debug", "threads": 2, "log_file": ")" + (env.root() / "layer.log").string() +
          R"(", "cache_dir": ")" + (env.root() / "tables").string() + "\"" + extra + "}";
 }
 

@@ -66,7 +66,7 @@ TEST(GazeRoundTrip, RecordedGazeFoveatesWhereTheRecordingLooked) {
   IsolatedEnv::set("FOVEART_SIM_GAZE", trace);
 
   const auto run = foveart::test::run_process({FOVEART_HELLO_FOVEATED, "--json", "--eye-size", "320", "360",
-                                               "--gaze", "eye_gaze", "--temporal", "off"},
+                                               "--gaze-source", "eye_gaze_interaction", "--temporal", "off"},
                                               env.root() / "hello_foveated.log", kTimeoutS);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto brace = run.output.find("\n{");

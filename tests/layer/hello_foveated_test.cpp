@@ -88,7 +88,7 @@ class HelloFoveated : public ::testing::Test {
 };
 
 TEST_F(HelloFoveated, TracesBothEyesEveryFrame) {
-  const auto r = launch({"--gaze", "none"});
+  const auto r = launch({"--gaze-source", "none"});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["frames_submitted"], 3);
@@ -124,7 +124,7 @@ TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {
     }
   }
   IsolatedEnv::set("FOVEART_SIM_FRAMES", "6");
-  const auto r = launch({"--gaze", "provider", "--gaze-provider", "replay:" + trace.string()});
+  const auto r = launch({"--gaze-source", "provider", "--gaze-provider", "replay:" + trace.string()});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["frames_traced"], 6);
@@ -147,7 +147,7 @@ TEST_P(HelloFoveatedValidated, FramePathUnderValidationLayersHasNoErrors) {
   IsolatedEnv::set("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT");
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
-  const auto r = launch({"--gaze", "none", "--no-explicit-layer"});
+  const auto r = launch({"--gaze-source", "none", "--no-explicit-layer"});
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
@@ -214,7 +214,7 @@ TEST_F(HelloFoveated, EyeGazeInteractionFollowsTheRuntimesScriptedGaze) {
   IsolatedEnv::set("FOVEART_SIM_GAZE", trace);
   IsolatedEnv::set("FOVEART_SIM_FRAMES", "14");
   IsolatedEnv::set("FOVEART_SIM_CAPTURE_EVERY", "1000");
-  const auto r = launch({"--gaze", "eye_gaze", "--temporal", "off"});
+  const auto r = launch({"--gaze-source", "eye_gaze_interaction", "--temporal", "off"});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   // The app did not enable the extension: the layer did, and says so.
@@ -243,7 +243,7 @@ TEST_F(HelloFoveated, EyeGazeInteractionFollowsTheRuntimesScriptedGaze) {
 
 TEST_F(HelloFoveated, AppUsingItsOwnGazeActionKeepsItAndTheLayerStillGetsGaze) {
   IsolatedEnv::set("FOVEART_SIM_FRAMES", "4");
-  const auto r = launch({"--gaze", "eye_gaze", "--app-actions"});
+  const auto r = launch({"--gaze-source", "eye_gaze_interaction", "--app-actions"});
   // Every action call of the app succeeded (hello_foveated exits 1 otherwise).
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
@@ -258,7 +258,7 @@ TEST_F(HelloFoveated, AppUsingItsOwnGazeActionKeepsItAndTheLayerStillGetsGaze) {
 
 TEST_F(HelloFoveated, RuntimeWithoutEyeTrackingGivesFixedFoveation) {
   IsolatedEnv::set("FOVEART_SIM_EYE_TRACKING", "0");
-  const auto r = launch({"--gaze", "eye_gaze"});
+  const auto r = launch({"--gaze-source", "eye_gaze_interaction"});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_NE(r.process.output.find("supportsEyeGazeInteraction = XR_FALSE"), std::string::npos) << r.process.output;
@@ -274,7 +274,7 @@ TEST_F(HelloFoveated, RuntimeWithoutEyeTrackingGivesFixedFoveation) {
 class FailingEngine : public HelloFoveated, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(FailingEngine, ViewsFallBackToTheAppsImage) {
-  const auto r = launch({"--gaze", "none", "--fault", GetParam()});
+  const auto r = launch({"--gaze-source", "none", "--fault", GetParam()});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["frames_traced"], 0);

@@ -88,7 +88,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   // would block while the replay runs on, past the saccade.
   configure_hello_foveated(*env_, 2, reconstruction.c_str(), ray_cache ? "rays" : "image");
   ::unsetenv("FOVEART_SIM_CAPTURE_DIR");
-  const AppRun warm = launch({"--gaze", "none"}, "warm.log");
+  const AppRun warm = launch({"--gaze-source", "none"}, "warm.log");
   ASSERT_EQ(warm.process.exit_code, 0) << warm.process.output;
 
   // The motion's gaze as the provider's trace, long enough never to end during the run.
@@ -101,8 +101,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   IsolatedEnv::set("FOVEART_SIM_MOTION_SEED", "1");
   IsolatedEnv::set("FOVEART_SIM_CLOCK", "real");
   IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(kFrames).c_str());
-  const AppRun r = launch({"--gaze", "provider", "--gaze-provider", "replay:" + trace.string()},
-                          "motion.log");
+  const AppRun r = launch({"--gaze-source", "provider", "--gaze-provider", "replay:" + trace.string()}, "motion.log");
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["reconstruction"], reconstruction);

@@ -41,7 +41,7 @@ class InterpCommands : public ::testing::Test {
           std::vector<double>* values = nullptr, std::string* error = nullptr, bool no_constant = false,
           const std::string& rbf_clamp = InterpolateArgs{}.rbf_clamp) {
     InterpolateArgs a;
-    a.method = method;
+    a.interpolation = method;
     a.k = k;
     a.samples_file = file("s.csv", samples);
     a.queries_file = file("q.csv", queries);
@@ -63,13 +63,13 @@ class InterpCommands : public ::testing::Test {
 const char* kSquare = "x,y,value\n0,0,1\n1,0,2\n0,1,3\n1,1,4\n";
 
 TEST_F(InterpCommands, ValuesInQueryOrderForEveryMethod) {
-  for (const char* m : {"nn", "msm", "rbf-mq", "rbf-gauss"}) {
+  for (const char* m : {"nearest", "msm", "rbf", "rbf-gauss"}) {
     std::vector<double> v;
     ASSERT_EQ(run(m, 4, kSquare, "x,y\n0,0\n1,1\n0.5,0.5\n", &v), 0) << m;
     ASSERT_EQ(v.size(), 3u);
     EXPECT_EQ(v[0], 1.0) << m;  // on a sample
     EXPECT_EQ(v[1], 4.0) << m;
-    if (std::string(m) == "nn") {
+    if (std::string(m) == "nearest") {
       EXPECT_EQ(v[2], 1.0);  // four-way tie: lowest row
     } else {
       EXPECT_NEAR(v[2], 2.5, 1e-12) << m;  // symmetric: the mean
@@ -80,12 +80,12 @@ TEST_F(InterpCommands, ValuesInQueryOrderForEveryMethod) {
 TEST_F(InterpCommands, ThesisFormDoesNotReproduceConstants) {
   std::vector<double> a, b, c;
   const char* flat = "0,0,1\n1,0,1\n0,1,1\n1,1,1\n2,0.5,1\n";
-  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &a, nullptr, false, "off"), 0);
-  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &b, nullptr, /*no_constant=*/true, "off"), 0);
+  ASSERT_EQ(run("rbf", 5, flat, "0.3,0.6\n", &a, nullptr, false, "off"), 0);
+  ASSERT_EQ(run("rbf", 5, flat, "0.3,0.6\n", &b, nullptr, /*no_constant=*/true, "off"), 0);
   EXPECT_NEAR(a[0], 1.0, 1e-12);
   EXPECT_GT(std::abs(b[0] - 1.0), 1e-3);
   // The default de-ringing clamp holds the plain form to the data's range too.
-  ASSERT_EQ(run("rbf-mq", 5, flat, "0.3,0.6\n", &c, nullptr, /*no_constant=*/true), 0);
+  ASSERT_EQ(run("rbf", 5, flat, "0.3,0.6\n", &c, nullptr, /*no_constant=*/true), 0);
   EXPECT_EQ(c[0], 1.0);
 }
 
@@ -105,7 +105,7 @@ TEST_F(InterpCommands, RbfClampKeepsAnUnderSampledFieldInItsRange) {
   for (double y = 3.0; y < 9.0; y += 0.37) {
     for (double x = 3.0; x < 9.0; x += 0.41) queries << x << "," << y << "\n";
   }
-  for (const char* m : {"rbf-mq", "rbf-gauss"}) {
+  for (const char* m : {"rbf", "rbf-gauss"}) {
     for (int k : {10, 20}) {
       SCOPED_TRACE(std::string(m) + " k=" + std::to_string(k));
       std::vector<double> clamped, taps, off;
@@ -143,7 +143,7 @@ TEST_F(InterpCommands, ErrorsAreClearAndNonZero) {
       {"msm", 5, kSquare, "0,0\n", "larger than the 4 samples"},
       {"msm", 0, kSquare, "0,0\n", "outside 1..20"},
       {"msm", 21, kSquare, "0,0\n", "outside 1..20"},
-      {"cubic", 2, kSquare, "0,0\n", "unknown --method"},
+      {"cubic", 2, kSquare, "0,0\n", "unknown --interpolation"},
   };
   for (const auto& c : cases) {
     std::string err;
@@ -152,7 +152,7 @@ TEST_F(InterpCommands, ErrorsAreClearAndNonZero) {
     EXPECT_EQ(err.rfind("fovea interpolate: ", 0), 0u) << err;
   }
   std::string clamp_err;
-  EXPECT_NE(run("rbf-mq", 2, kSquare, "0,0\n", nullptr, &clamp_err, false, "sometimes"), 0);
+  EXPECT_NE(run("rbf", 2, kSquare, "0,0\n", nullptr, &clamp_err, false, "sometimes"), 0);
   EXPECT_EQ(clamp_err.rfind("fovea interpolate: unknown --rbf-clamp 'sometimes'", 0), 0u) << clamp_err;
   InterpolateArgs a;
   a.samples_file = (dir_ / "missing.csv").string();
@@ -173,7 +173,7 @@ TEST_F(InterpCommands, HardInputsGiveFiniteOutput) {
   }
   const std::string queries = "3,4\n0,0\n2.5,2.5\n1e6,1e6\n1000000.5,999999.9\n-50,20\n";
   for (const auto& s : {dup.str(), near.str(), line.str(), lattice.str(), big.str()}) {
-    for (const char* m : {"nn", "msm", "rbf-mq", "rbf-gauss"}) {
+    for (const char* m : {"nearest", "msm", "rbf", "rbf-gauss"}) {
       for (int k : {1, 2, 5, 20}) {
         for (bool nc : {false, true}) {
           std::vector<double> v;
@@ -205,9 +205,9 @@ TEST_F(InterpCommands, ReconstructReportsEveryKey) {
   a.image = in;
   a.preset = "fove";
   a.gaze = "40,30";
-  a.method = "rbf-mq";
+  a.interpolation = "rbf";
   a.k = 10;
-  a.spp = 4;
+  a.rays_per_point = 4;
   a.out = (dir_ / "out.png").string();
   a.json = true;
   a.frames = 3;
@@ -245,8 +245,8 @@ TEST_F(InterpCommands, ReconstructErrors) {
   EXPECT_NE(err.str().find("cannot read image"), std::string::npos) << err.str();
   const std::string bad_png = file("bad.png", "not a png");
   for (auto mutate : std::vector<std::function<void(ReconstructArgs&)>>{
-           [](ReconstructArgs& r) { r.method = "bicubic"; }, [](ReconstructArgs& r) { r.k = 0; },
-           [](ReconstructArgs& r) { r.spp = 0; }, [](ReconstructArgs& r) { r.scale = -1; },
+           [](ReconstructArgs& r) { r.interpolation = "bicubic"; }, [](ReconstructArgs& r) { r.k = 0; },
+           [](ReconstructArgs& r) { r.rays_per_point = 0; }, [](ReconstructArgs& r) { r.density_scale = -1; },
            [](ReconstructArgs& r) { r.preset = "oculus"; }, [](ReconstructArgs& r) { r.rbf_clamp = "sometimes"; },
            [&](ReconstructArgs& r) { r.image = bad_png; }}) {
     ReconstructArgs b;

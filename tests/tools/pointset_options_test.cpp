@@ -53,7 +53,7 @@ class PointsetOptions : public ::testing::Test {
     std::string cmd = "'" + fovea_.string() + "' pointset --k 1 --json";
     cmd += " --png '" + (outputs() / "points.png").string() + "'";
     cmd += " --curves '" + (outputs() / "curves").string() + "'";
-    cmd += " --cache '" + (outputs() / "cache").string() + "'";
+    cmd += " --cache-dir '" + (outputs() / "cache").string() + "'";
     for (const auto& a : args) cmd += " '" + a + "'";
     cmd += " >'" + (dir_ / "io" / "out").string() + "' 2>'" + (dir_ / "io" / "err").string() + "'";
     const int status = std::system(cmd.c_str());
@@ -93,9 +93,9 @@ TEST_F(PointsetOptions, BadValueIsAnErrorNamingOptionAndValue) {
       {"--pixels-per-degree", "0", size},
       {"--pixels-per-degree", "-2", size},
       {"--pixels-per-degree", "inf", size},
-      {"--scale", "0", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
-      {"--scale", "-1", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
-      {"--scale", "nan", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
+      {"--density-scale", "0", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
+      {"--density-scale", "-1", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
+      {"--density-scale", "nan", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(std::string(c.option) + " " + c.value);

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -53,12 +54,12 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.taa_frames = 3;
   o.threads = 2;
   o.images = true;
-  o.grid.full_spp = {1, 4};
-  o.grid.methods = {"nn:1"};
-  o.grid.scales = {1.0};
-  o.grid.rays = {1};
-  o.grid.patterns = {"thesis", "pixel-grid"};
-  o.grid.taa_rays = {1};
+  o.grid.full_rays_per_point = {1, 4};
+  o.grid.interpolation = {"nearest:1"};
+  o.grid.density_scale = {1.0};
+  o.grid.rays_per_point = {1};
+  o.grid.pattern = {"thesis", "pixel-grid"};
+  o.grid.taa_rays_per_point = {1};
   o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
   std::ostringstream out, err;
   ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
@@ -124,10 +125,11 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     EXPECT_NE(it, settings.end()) << id;
     return *it;
   };
-  const auto full1 = by_id("full_spp1"), grid1 = by_id("nn_k1_s1_pixel-grid_r1");
+  const auto full1 = by_id("full_spp1"), grid1 = by_id("nearest_k1_s1_pixel-grid_r1");
   ASSERT_GT(full1["rings"][0]["pixels"].get<int>(), 0);
   EXPECT_EQ(grid1["rings"][0]["psnr"], full1["rings"][0]["psnr"]);
-  const auto taa = std::find_if(settings.begin(), settings.end(), [](const auto& s) { return s["id"] == "nn_k1_s1_thesis_r1_taa"; });
+  const auto taa = std::find_if(settings.begin(), settings.end(),
+                                [](const auto& s) { return s["id"] == "nearest_k1_s1_thesis_r1_taa"; });
   ASSERT_NE(taa, settings.end());
   EXPECT_EQ((*taa)["flicker_frames"], 3);
   EXPECT_GT((*taa)["rings"][0]["flicker"].get<double>(), 0.0);  // new jitter each frame: the image moves
@@ -155,12 +157,49 @@ TEST(Pricelist, BadGridIsAnErrorNamingTheEntry) {
   engine_test::TempDir dir;
   tools::PricelistOptions o;
   o.out_dir = dir.path.string();
-  o.grid.methods = {"nn:1", "foo:3"};
+  o.grid.interpolation = {"nearest:1", "foo:3"};
   std::ostringstream out, err;
   EXPECT_EQ(tools::run_pricelist(o, out, err), 2);
-  EXPECT_NE(err.str().find("method 'foo:3'"), std::string::npos) << err.str();
-  o.grid.methods = {"msm:0"};
+  EXPECT_NE(err.str().find("interpolation 'foo:3'"), std::string::npos) << err.str();
+  o.grid.interpolation = {"msm:0"};
   std::ostringstream out2, err2;
   EXPECT_EQ(tools::run_pricelist(o, out2, err2), 2);
   EXPECT_NE(err2.str().find("k must be"), std::string::npos) << err2.str();
+}
+
+// `fovea pricelist --md FILE`, run as a person runs it: the file is headed by the
+// command line as given and the machine, holds the report's tables, and its image
+// links reach into --out from where the file is.
+TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
+  engine_test::TempDir dir;
+  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
+  ASSERT_TRUE(fs::exists(fovea)) << fovea << " is missing: build the fovea target";
+  const fs::path md = dir.path / "results" / "pricelist.md";
+  const std::string args =
+      "pricelist --size 48,54 --reference-spp 32 --frames 1 --threads 2 --motion none "
+      "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
+      "--rays-per-point 1 --pattern pixel-grid --taa-rays-per-point none --out " +
+      (dir.path / "pl").string() + " --md " + md.string();
+  const std::string cmd = "'" + fovea.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir.path / "err").rdbuf();
+  std::ifstream in(md);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  EXPECT_NE(s.find("Written by `fovea " + args + "` on "), std::string::npos) << s;
+  std::string cpu;
+  {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    for (std::string line; std::getline(cpuinfo, line) && cpu.empty();) {
+      if (line.rfind("model name", 0) == 0) cpu = line.substr(line.find(':') + 2);
+    }
+  }
+  if (!cpu.empty()) {
+    EXPECT_NE(s.find(cpu), std::string::npos) << "the CPU model, from /proc/cpuinfo";
+  }
+  EXPECT_NE(s.find(" cores; "), std::string::npos) << s;
+  EXPECT_NE(s.find("| on the front | time % |"), std::string::npos) << "the ring tables";
+  EXPECT_NE(s.find("|---|---|---|---|---|---|---|---|---|\n| "), std::string::npos) << "a table with a row";
+  EXPECT_NE(s.find("](../pl/pricelist.png)"), std::string::npos) << "links into --out from the file's folder";
+  EXPECT_TRUE(fs::exists(md.parent_path() / "../pl/pricelist.png"));
 }

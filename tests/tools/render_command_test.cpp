@@ -54,7 +54,7 @@ TEST(RenderCommand, FullModeJsonReportsRaysPerEffectAndTimes) {
 TEST(RenderCommand, WritesPngWithPrefix) {
   engine_test::TempDir dir;
   RenderOptions o = small("full");
-  o.spp = 2;
+  o.rays_per_point = 2;
   o.out_prefix = (dir.path / "img").string();
   std::ostringstream out, err;
   ASSERT_EQ(run_render(o, out, err), 0) << err.str();
@@ -223,7 +223,7 @@ TEST(RenderCommand, BothModeFoveatedMatchesFullAtTheFovea) {
   RenderOptions o = small("both");
   o.size_px = glm::ivec2(120, 135);
   o.gaze_px = glm::vec2(61.0f, 122.0f);  // the floor: (652, 1306) of the 1280x1440 view, scaled
-  o.spp = 4;
+  o.rays_per_point = 4;
   std::ostringstream out, err;
   ASSERT_EQ(run_render(o, out, err), 0) << err.str();
   const auto j = nlohmann::json::parse(out.str());

@@ -1,4 +1,4 @@
-// fovea interpolate --method nn|msm|rbf-mq|rbf-gauss [--k K] [--shape E0]
+// fovea interpolate --interpolation nearest|msm|rbf|rbf-gauss [--k K] [--shape E0]
 //                   [--no-constant] [--rbf-clamp off|taps|block]
 //                   --samples FILE --queries FILE
 // Interpolates each query from its k nearest samples ((distance, row) order)
@@ -116,8 +116,8 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
     err << "fovea interpolate: " << msg << "\n";
     return 1;
   };
-  const auto method = fv::parse_method(a.method);
-  if (!method) return fail("unknown --method '" + a.method + "' (nn, msm, rbf-mq, rbf-gauss)");
+  const auto method = fv::parse_method(a.interpolation);
+  if (!method) return fail("unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)");
   if (a.k < 1 || a.k > fv::kMaxNeighbors) {
     return fail("--k " + std::to_string(a.k) + " is outside 1.." + std::to_string(fv::kMaxNeighbors));
   }
@@ -214,7 +214,7 @@ void register_interpolate(CLI::App& app) {
   using namespace foveart::tools;
   auto args = std::make_shared<InterpolateArgs>();
   auto* sub = app.add_subcommand("interpolate", "Interpolate scattered samples at query points (CSV in, values out)");
-  sub->add_option("--method", args->method, "nn, msm, rbf-mq or rbf-gauss")->required();
+  sub->add_option("--interpolation", args->interpolation, "nearest, msm, rbf or rbf-gauss")->required();
   sub->add_option("--k", args->k, "neighbours per query, 1..20")->capture_default_str();
   sub->add_option("--shape", args->shape, "RBF shape eps0 = eps * h_local (0 = default 0.2)");
   sub->add_flag("--no-constant", args->no_constant, "RBF without the constant term (the thesis's plain form)");

@@ -200,7 +200,7 @@ void run_pointset(const PointsetOptions& o) {
   const glm::vec2 gaze_req = parse_gaze(o.gaze, display.width_px, display.height_px);
   check_output_file(o.png, "--png");
   check_output_dir(o.curves_dir, "--curves");
-  check_output_dir(o.cache_dir, "--cache");
+  check_output_dir(o.cache_dir, "--cache-dir");
 
   fv::PointSetKey key{display, o.display.seed, o.k};
   std::optional<fs::path> cache;
@@ -234,7 +234,7 @@ void run_pointset(const PointsetOptions& o) {
   j["fov_deg"] = display.horizontal_fov_deg();
   j["view_distance_px"] = display.view_distance_px;
   j["pixels_per_degree"] = display.view_distance_px * 3.141592653589793 / 180.0;
-  j["scale"] = display.scale;
+  j["density_scale"] = display.scale;
   j["disc_rule"] = o.display.disc_rule;
   j["pattern"] = fv::fovea_pattern_name(display.fovea_pattern);
   j["seed"] = o.display.seed;
@@ -301,7 +301,7 @@ void register_pointset(CLI::App& app) {
   add_display_options(cmd, opts->display);
   cmd->add_option("--k", opts->k, "neighbours per canvas pixel (1-20)")->capture_default_str();
   cmd->add_option("--gaze", opts->gaze, "gaze X,Y in pixels for --png (default: centre)");
-  cmd->add_option("--cache", opts->cache_dir, "cache directory (load if valid, else build and store)");
+  cmd->add_option("--cache-dir", opts->cache_dir, "cache directory (load if valid, else build and store)");
   cmd->add_flag("--json", opts->json, "print one JSON object");
   cmd->add_option("--png", opts->png, "draw the on-screen points at the gaze (thesis Fig. 12)");
   cmd->add_option("--curves", opts->curves_dir, "write CSV + PNG curves (thesis Figs. 11, 14) into this folder");

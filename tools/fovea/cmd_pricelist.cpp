@@ -25,6 +25,7 @@
 #include <eval/image_metrics.hpp>
 
 #include <toolkit/image_io.hpp>
+#include <toolkit/machine.hpp>
 #include <toolkit/progress.hpp>
 
 #include <CLI/CLI.hpp>
@@ -100,11 +101,11 @@ RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s
   r.pixel_filter = o.pixel_filter;
   if (s != nullptr && !s->full) {
     r.mode = "foveated";
-    r.method = s->method;
+    r.interpolation = s->interpolation;
     r.k = s->k;
-    r.scale = s->scale;
+    r.density_scale = s->density_scale;
     r.pattern = s->pattern;
-    r.spp = s->spp;
+    r.rays_per_point = s->rays_per_point;
   }
   return r;
 }
@@ -115,7 +116,7 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
   const foveation::ImageRgb* image = nullptr;
   if (m.setting.full) {
     engine::RenderSettings rs;
-    rs.spp = m.setting.spp;
+    rs.spp = m.setting.rays_per_point;
     // The same jitter every frame, as the foveated frames without TAA and as the
     // pixel-grid fovea (foveation::pixel_jitter with the same seed): inside the
     // fovea a full frame and a pixel-grid frame trace the same rays.
@@ -188,11 +189,11 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   const PriceSetting& s = m.setting;
   const foveation::ImageRgb& last = m.previous_display;  // display values of the last frame
   const foveation::ImageComparison cmp = foveation::compare_images(c.reference_display, last, c.map);
-  Json j = {{"id", s.id()}, {"kind", s.full ? "full" : "foveated"}, {"spp", s.spp}};
+  Json j = {{"id", s.id()}, {"kind", s.full ? "full" : "foveated"}, {"spp", s.rays_per_point}};
   if (!s.full) {
-    j["method"] = s.method;
+    j["method"] = s.interpolation;
     j["k"] = s.k;
-    j["scale"] = s.scale;
+    j["scale"] = s.density_scale;
     j["pattern"] = s.pattern;
     j["taa"] = s.taa;
   }
@@ -261,8 +262,9 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     }
     // A still view: TAA (when the setting has it) converges over frames of new jitter.
     m.view = std::make_unique<foveation::FoveatedView>(
-        tables, taa_view_settings(m.setting.taa ? "reproject" : "off", m.setting.spp, c.o.seed, c.o.pixel_filter,
-                                   /*taa_mean_while_young=*/false));
+        tables,
+        taa_view_settings(m.setting.taa ? "reproject" : "off", m.setting.rays_per_point, c.o.seed, c.o.pixel_filter,
+                          /*taa_mean_while_young=*/false));
   }
   // The anchor: a full frame at 1 ray per pixel in every round (the full group's own 1-spp setting).
   const bool full_group = settings.front().full;
@@ -279,7 +281,7 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     for (Measure& m : ms) {
       if (round >= m.frames_wanted) continue;
       if (!render_frame(c, m, round, &error)) break;
-      if (full_group && m.setting.spp == 1) anchor_ms.push_back(m.total_ms.back());
+      if (full_group && m.setting.rays_per_point == 1) anchor_ms.push_back(m.total_ms.back());
       *done += 1.0;
       progress.update(*done / total);
     }
@@ -305,12 +307,33 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
   return true;
 }
 
-std::string machine_name() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
+// report.md copied to `file`, its relative links (images) pointing into out_dir from there.
+std::string write_md_copy(const fs::path& out_dir, const fs::path& file) {
+  std::ifstream in(out_dir / "report.md");
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) return "cannot read " + (out_dir / "report.md").string();
+  const fs::path parent = fs::absolute(file).parent_path();
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  std::string prefix = fs::relative(fs::absolute(out_dir), parent, ec).generic_string();
+  if (ec || prefix.empty()) prefix = fs::absolute(out_dir).generic_string();
+  const std::string src = text.str();
+  std::string md;
+  for (std::size_t i = 0; i < src.size();) {
+    const std::size_t at = src.find("](", i);
+    if (at == std::string::npos) {
+      md += src.substr(i);
+      break;
+    }
+    md += src.substr(i, at + 2 - i);
+    i = at + 2;
+    if (src.compare(i, 4, "http") != 0 && src.compare(i, 1, "#") != 0) md += prefix + "/";
+  }
+  std::ofstream out(file);
+  out << md;
+  if (!out) return "cannot write " + file.string();
+  return "";
 }
 
 }  // namespace
@@ -345,7 +368,8 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: " << bad << "\n";
     return 2;
   }
-  if (std::none_of(settings.begin(), settings.end(), [](const PriceSetting& s) { return s.full && s.spp == 1; })) {
+  if (std::none_of(settings.begin(), settings.end(),
+                   [](const PriceSetting& s) { return s.full && s.rays_per_point == 1; })) {
     err << "fovea pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
     return 2;
   }
@@ -397,7 +421,8 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   const foveation::EccentricityMap map = foveation::eccentricity_map(view, gaze);
   ReferenceOptions ro;
   if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
-  ro.baseline_spp = *std::max_element(o.grid.full_spp.begin(), o.grid.full_spp.end());  // the best full render measured
+  ro.baseline_spp = *std::max_element(o.grid.full_rays_per_point.begin(),
+                                      o.grid.full_rays_per_point.end());  // the best full render measured
   ro.seed = o.seed;
   ro.pixel_filter = o.pixel_filter;
   ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
@@ -431,7 +456,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: cannot write " << results_file.string() << "\n";
     return 1;
   }
-  const std::string thesis_default = "nn_k1_s1_thesis_r1";
+  const std::string thesis_default = "nearest_k1_s1_thesis_r1";
   const std::string heatmap_id = o.heatmap.empty() ? thesis_default : o.heatmap;
 
   // Groups in grid order: the full renders, then one per set of tables.
@@ -478,7 +503,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   ref_json["residual_psnr"] = residual;
   PricelistContext pc;
   pc.run = run;
-  pc.run["machine"] = machine_name();
+  pc.run["machine"] = toolkit::machine_description();
   pc.run["threads"] = executor.thread_count();
   pc.run["quick"] = o.quick;
   pc.run["run_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
@@ -486,10 +511,19 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   pc.thesis_default = thesis_default;
   pc.heatmap = heatmap_id;
   pc.temporal = temporal;
+  pc.command = !o.command.empty()                 ? o.command
+               : !toolkit::command_line().empty() ? toolkit::command_line()
+                                                  : "fovea pricelist";
   std::string headline;
   if (std::string e = write_pricelist(out_dir, pc, ordered, &headline); !e.empty()) {
     err << "fovea pricelist: " << e << "\n";
     return 1;
+  }
+  if (!o.md_file.empty()) {
+    if (std::string e = write_md_copy(out_dir, o.md_file); !e.empty()) {
+      err << "fovea pricelist: --md: " << e << "\n";
+      return 1;
+    }
   }
   out << headline << "\n";
   return 0;
@@ -519,7 +553,7 @@ void register_pricelist(CLI::App& app) {
   auto o = std::make_shared<foveart::tools::PricelistOptions>();
   auto gaze = std::make_shared<std::string>();
   auto size = std::make_shared<std::string>();
-  auto lists = std::make_shared<std::array<std::string, 6>>();  // full spp, methods, scales, rays, patterns, taa rays
+  auto lists = std::make_shared<std::array<std::string, 6>>();  // the grid lists, as `names` below
   CLI::App* cmd = app.add_subcommand(
       "pricelist", "What each setting costs in time and rays and buys in accuracy per eccentricity ring");
   cmd->add_option("--scene", o->scene, "glTF/GLB file, or 'default'")->capture_default_str();
@@ -528,19 +562,20 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels (default: centre)");
   cmd->add_option("--size", *size, "Per-eye size W,H (same horizontal FOV)");
   cmd->add_option("--out", o->out_dir, "Output directory; re-running with it resumes")->required();
-  cmd->add_option("--cache", o->cache_dir, "Tables and reference cache (default OUT/cache)");
+  cmd->add_option("--cache-dir", o->cache_dir, "Tables and reference cache (default OUT/cache)");
   cmd->add_option("--reference-spp", o->reference_spp, "Reference rays per pixel, or auto")->capture_default_str();
   cmd->add_option("--frames", o->frames, "Interleaved frames per setting (median reported)")->capture_default_str();
   cmd->add_option("--taa-frames", o->taa_frames, "Sequence length with TAA")->capture_default_str();
-  cmd->add_option("--jobs", o->threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--threads", o->threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--quick", o->quick, "The small grid and a 320x360 motion (docs/pricelist.md)");
-  cmd->add_option("--full-spp", (*lists)[0], "Full-render baseline rays per pixel, e.g. 1,2,4,8,16");
-  cmd->add_option("--methods", (*lists)[1], "method:k list, e.g. nn:1,msm:5,rbf-mq:10");
-  cmd->add_option("--scales", (*lists)[2], "Density scales, e.g. 1,1.5,2");
-  cmd->add_option("--rays", (*lists)[3], "Rays per point, e.g. 1,2,4,8");
-  cmd->add_option("--patterns", (*lists)[4], "pixel-grid,thesis");
-  cmd->add_option("--taa-rays", (*lists)[5], "Rays per point measured with TAA too (empty list: none)");
+  cmd->add_option("--full-rays-per-point", (*lists)[0], "Full-render baseline rays per pixel, e.g. 1,2,4,8,16");
+  cmd->add_option("--interpolation", (*lists)[1], "interpolation:k list, e.g. nearest:1,msm:5,rbf:10");
+  cmd->add_option("--density-scale", (*lists)[2], "Density scales, e.g. 1,1.5,2");
+  cmd->add_option("--rays-per-point", (*lists)[3], "Rays per point, e.g. 1,2,4,8");
+  cmd->add_option("--pattern", (*lists)[4], "Fovea patterns, e.g. pixel-grid,thesis");
+  cmd->add_option("--taa-rays-per-point", (*lists)[5], "Rays per point measured with TAA too, or none");
   cmd->add_option("--heatmap", o->heatmap, "Setting id for the error heat map (default: the thesis default)");
+  cmd->add_option("--md", o->md_file, "Also write the report (command, machine, tables) to this markdown file");
   cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
   cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
   foveart::fovea::add_pixel_filter_option(cmd, &o->pixel_filter);
@@ -576,18 +611,21 @@ void register_pricelist(CLI::App& app) {
       pair(*temporal_size, "--temporal-size", &s);
       o->temporal.size_px = s;
     }
-    const char* names[] = {"--full-spp", "--methods", "--scales", "--rays", "--patterns", "--taa-rays"};
+    const char* names[] = {"--full-rays-per-point", "--interpolation", "--density-scale",
+                           "--rays-per-point",      "--pattern",       "--taa-rays-per-point"};
     for (std::size_t i = 0; i < lists->size(); ++i) {
       const std::string& t = (*lists)[i];
       if (t.empty()) continue;
       if (o->quick) throw CLI::ValidationError(names[i], "give --quick or a grid list, not both");
       std::string bad;
-      if (i == 0) bad = parse_numbers(t, &o->grid.full_spp);
-      if (i == 1 && !foveart::tools::split_list(t, &o->grid.methods)) bad = "expected a comma-separated list";
-      if (i == 2) bad = parse_numbers(t, &o->grid.scales);
-      if (i == 3) bad = parse_numbers(t, &o->grid.rays);
-      if (i == 4 && !foveart::tools::split_list(t, &o->grid.patterns)) bad = "expected a comma-separated list";
-      if (i == 5) bad = t == "none" ? (o->grid.taa_rays.clear(), std::string()) : parse_numbers(t, &o->grid.taa_rays);
+      if (i == 0) bad = parse_numbers(t, &o->grid.full_rays_per_point);
+      if (i == 1 && !foveart::tools::split_list(t, &o->grid.interpolation)) bad = "expected a comma-separated list";
+      if (i == 2) bad = parse_numbers(t, &o->grid.density_scale);
+      if (i == 3) bad = parse_numbers(t, &o->grid.rays_per_point);
+      if (i == 4 && !foveart::tools::split_list(t, &o->grid.pattern)) bad = "expected a comma-separated list";
+      if (i == 5)
+        bad = t == "none" ? (o->grid.taa_rays_per_point.clear(), std::string())
+                          : parse_numbers(t, &o->grid.taa_rays_per_point);
       if (!bad.empty()) throw CLI::ValidationError(names[i], bad);
     }
     const int code = foveart::tools::run_pricelist(*o, std::cout, std::cerr);

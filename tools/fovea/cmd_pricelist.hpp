@@ -32,7 +32,7 @@ struct PricelistOptions {
   std::string reference_spp = "auto";   // "auto" or an even count
   int frames = 3;                       // interleaved frames per setting; the median is reported
   int taa_frames = 8;                   // sequence length of a TAA setting
-  int threads = 0;                      // --jobs: executor threads, 0 = all cores
+  int threads = 0;                      // executor threads, 0 = all cores
   bool quick = false;
   PriceGrid grid;                       // replaced by quick_grid() when quick
   std::string heatmap;                  // setting id for the error heat map; default the thesis default
@@ -42,6 +42,8 @@ struct PricelistOptions {
   // (foveation/ray_samples.hpp).
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   TemporalOptions temporal;             // the temporal columns (motion "none": without them)
+  std::string md_file;                  // also write report.md here, its links pointing into out_dir
+  std::string command;                  // the command line report.md names; default the recorded one
 };
 
 int run_pricelist(const PricelistOptions& options, std::ostream& out, std::ostream& err);

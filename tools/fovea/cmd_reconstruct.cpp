@@ -1,5 +1,5 @@
-// fovea reconstruct --image IN.png --preset fove --gaze X,Y --method M --k K
-//                   --scale S --spp N --out OUT.png [--json] [--frames F --jitter]
+// fovea reconstruct --image IN.png --preset fove --gaze X,Y --interpolation M --k K
+//                   --density-scale S --rays-per-point N --out OUT.png [--json] [--frames F --jitter]
 // The thesis's user-study pipeline on an image, through the one foveated frame
 // (foveation::FoveatedView) whose "engine" samples the image: spp bilinear
 // samples in each visible point's disc, every pixel reconstructed with the k-tap
@@ -61,7 +61,7 @@ int32_t sample_image(void* user_data, const FoveartRayBatch* batch) {
   return FOVEART_RESULT_SUCCESS;
 }
 
-// --cache, else $FOVEART_CACHE_DIR, else the one default rule the layer uses
+// --cache-dir, else $FOVEART_CACHE_DIR, else the one default rule the layer uses
 // (foveation::default_cache_dir); *why says why there is none.
 std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a, std::string* why) {
   if (a.no_cache) return std::nullopt;
@@ -77,11 +77,12 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
     err << "fovea reconstruct: " << msg << "\n";
     return 1;
   };
-  const auto method = fv::parse_method(a.method);
-  if (!method) return fail("unknown --method '" + a.method + "' (nn, msm, rbf-mq, rbf-gauss)");
+  const auto method = fv::parse_method(a.interpolation);
+  if (!method) return fail("unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)");
   if (a.k < 1 || a.k > fv::kMaxNeighbors) return fail("--k must be in 1..20");
-  if (a.spp < 1 || a.spp > 4096) return fail("--spp must be in 1..4096");
-  if (!(a.scale > 0.0) || !std::isfinite(a.scale)) return fail("--scale must be a positive number");
+  if (a.rays_per_point < 1 || a.rays_per_point > 4096) return fail("--rays-per-point must be in 1..4096");
+  if (!(a.density_scale > 0.0) || !std::isfinite(a.density_scale))
+    return fail("--density-scale must be a positive number");
   if (a.frames < 1 || a.frames > 10000) return fail("--frames must be in 1..10000");
   const auto rbf_clamp = fv::parse_rbf_clamp(a.rbf_clamp);
   if (!rbf_clamp) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
@@ -101,7 +102,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   display->view_distance_px *= double(w) / double(display->width_px);
   display->width_px = w;
   display->height_px = h;
-  display->scale = a.scale;
+  display->scale = a.density_scale;
   if (auto e = display->validate(); !e.empty()) return fail("display: " + e);
 
   glm::vec2 gaze{float(w) / 2.0f, float(h) / 2.0f};
@@ -137,7 +138,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   const double setup_ms = ms_since(t_setup);
 
   fv::ViewSettings settings;
-  settings.rays_per_point = a.spp;
+  settings.rays_per_point = a.rays_per_point;
   settings.sample_seed = a.seed;
   settings.new_jitter_each_frame = a.jitter;
   settings.taa = true;
@@ -183,10 +184,10 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   nlohmann::json j;
   j["image"] = a.image;
   j["preset"] = a.preset;
-  j["method"] = std::string(fv::method_name(*method));
+  j["interpolation"] = std::string(fv::method_name(*method));
   j["k"] = a.k;
-  j["scale"] = a.scale;
-  j["spp"] = a.spp;
+  j["density_scale"] = a.density_scale;
+  j["rays_per_point"] = a.rays_per_point;
   j["gaze"] = {mapping.gaze_px.x, mapping.gaze_px.y};
   j["points"] = visible_count;
   j["points_total"] = tables->points.size();
@@ -232,16 +233,17 @@ void register_reconstruct(CLI::App& app) {
   sub->add_option("--image", a->image, "input PNG (or any format stb_image reads)")->required();
   sub->add_option("--preset", a->preset, "display preset (fove, vive, thesis)")->capture_default_str();
   sub->add_option("--gaze", a->gaze, "gaze X,Y in pixels (default: image centre)");
-  sub->add_option("--method", a->method, "nn, msm, rbf-mq or rbf-gauss")->capture_default_str();
+  sub->add_option("--interpolation", a->interpolation, "nearest, msm, rbf or rbf-gauss")->capture_default_str();
   sub->add_option("--k", a->k, "neighbours per pixel, 1..20")->capture_default_str();
-  sub->add_option("--scale", a->scale, "density scale of the point set")->capture_default_str();
-  sub->add_option("--spp", a->spp, "samples per point (bilinear, in the point's disc)")->capture_default_str();
+  sub->add_option("--density-scale", a->density_scale, "density scale of the point set")->capture_default_str();
+  sub->add_option("--rays-per-point", a->rays_per_point, "samples per point (bilinear, in the point's disc)")
+      ->capture_default_str();
   sub->add_option("--out", a->out, "output PNG");
   sub->add_flag("--json", a->json, "print a JSON report");
   sub->add_option("--frames", a->frames, "frames to run through TAA (static gaze)")->capture_default_str();
   sub->add_flag("--jitter", a->jitter, "new sample positions every frame (to measure flicker)");
   sub->add_option("--seed", a->seed, "point set and sample seed")->capture_default_str();
-  sub->add_option("--cache", a->cache_dir, "cache directory (default $FOVEART_CACHE_DIR, $XDG_CACHE_HOME/foveart)");
+  sub->add_option("--cache-dir", a->cache_dir, "cache directory (default $FOVEART_CACHE_DIR, $XDG_CACHE_HOME/foveart)");
   sub->add_flag("--no-cache", a->no_cache, "build everything, store nothing");
   sub->add_option("--threads", a->threads, "threads (0 = all cores)")->capture_default_str();
   sub->add_option("--shape", a->shape, "RBF shape eps0 (0 = default)");

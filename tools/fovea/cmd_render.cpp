@@ -131,7 +131,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   report["pose"] = {view.position_m[0],        view.position_m[1],        view.position_m[2],
                     view.orientation_xyzw[0], view.orientation_xyzw[1], view.orientation_xyzw[2],
                     view.orientation_xyzw[3]};
-  report["spp"] = o.spp;
+  report["rays_per_point"] = o.rays_per_point;
   report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
   foveation::Executor executor(static_cast<unsigned>(o.threads));  // every parallel stage of this run
   report["threads"] = executor.thread_count();
@@ -149,7 +149,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   const bool run_foveated = o.mode == "foveated" || o.mode == "both";
   foveation::ImageRgb full;
   engine::RenderSettings full_settings;
-  full_settings.spp = o.spp;
+  full_settings.spp = o.rays_per_point;
   full_settings.seed = o.seed;
   full_settings.pixel_filter = o.pixel_filter;
   std::unique_ptr<foveation::FoveatedView> foveated;
@@ -168,8 +168,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
     precompute_ms = ms_since(t_tables);
     fov_display_pattern = tables->key.display.fovea_pattern;
-    foveated = std::make_unique<foveation::FoveatedView>(std::move(tables), taa_view_settings(o.taa, o.spp, o.seed, o.pixel_filter,
-                                                                                              o.taa_mean_while_young));
+    foveated = std::make_unique<foveation::FoveatedView>(
+        std::move(tables), taa_view_settings(o.taa, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young));
   }
   FrameTimes full_times, fov_times;
   std::vector<double> tile_ms;  // full mode: per-tile time summed over frames
@@ -218,13 +218,19 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                       {"total_ms", full_times.median_total_ms()}, {"frames_total_ms", full_times.total_ms}};
   if (run_foveated) {
     report["points"] = fov_points;
-    report["foveated"] = {{"rays", rays_json(fov_rays)}, {"lanes_per_packet", lanes_per_packet(fov_rays)},
-                          {"method", o.method}, {"k", reconstruction_k(o)}, {"scale", o.scale}, {"taa", o.taa},
+    report["foveated"] = {{"rays", rays_json(fov_rays)},
+                          {"lanes_per_packet", lanes_per_packet(fov_rays)},
+                          {"interpolation", o.interpolation},
+                          {"k", reconstruction_k(o)},
+                          {"density_scale", o.density_scale},
+                          {"taa", o.taa},
                           {"pattern", foveation::fovea_pattern_name(fov_display_pattern)},
-                          {"precompute_ms", precompute_ms}, {"trace_ms", fov_times.median_trace_ms()},
+                          {"precompute_ms", precompute_ms},
+                          {"trace_ms", fov_times.median_trace_ms()},
                           {"samples_ms", fov_times.median_samples_ms()},
                           {"reconstruct_ms", fov_times.median_reconstruct_ms()},
-                          {"total_ms", fov_times.median_total_ms()}, {"frames_total_ms", fov_times.total_ms}};
+                          {"total_ms", fov_times.median_total_ms()},
+                          {"frames_total_ms", fov_times.total_ms}};
   }
   std::optional<foveation::EccentricityMap> ecc;
   const auto ecc_map = [&]() -> const foveation::EccentricityMap& {
@@ -248,7 +254,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     } else {
       ReferenceOptions ro;
       if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
-      ro.baseline_spp = std::max(16, o.spp);  // far below this render and the price list's best full render
+      ro.baseline_spp = std::max(16, o.rays_per_point);  // far below this render and the price list's best full render
       ro.seed = o.seed;
       ro.pixel_filter = o.pixel_filter;
       ro.cache_dir = !o.reference_cache.empty() ? o.reference_cache
@@ -323,7 +329,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     out << report.dump(2) << "\n";
   } else {
     out << "scene " << report["scene"].get<std::string>() << " (" << report["triangles"] << " triangles, "
-        << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", spp " << o.spp << "\n";
+        << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", rays per point "
+        << o.rays_per_point << "\n";
     for (const char* mode : {"full", "foveated"}) {
       if (!report.contains(mode)) continue;
       const Json& m = report[mode];

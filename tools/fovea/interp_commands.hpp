@@ -19,7 +19,7 @@ namespace foveart::tools {
 
 // --- fovea interpolate ---------------------------------------------------------
 struct InterpolateArgs {
-  std::string method = "msm";
+  std::string interpolation = "msm";  // nearest | msm | rbf | rbf-gauss
   int k = 5;
   double shape = 0.0;  // 0 = kernel default
   bool no_constant = false;
@@ -40,10 +40,10 @@ struct ReconstructArgs {
   std::string image;
   std::string preset = "fove";
   std::string gaze;  // "X,Y" screen pixels; empty = centre
-  std::string method = "msm";
+  std::string interpolation = "msm";  // nearest | msm | rbf | rbf-gauss
   int k = 5;
-  double scale = 1.0;
-  int spp = 8;
+  double density_scale = 1.0;
+  int rays_per_point = 8;
   std::string out;
   bool json = false;
   int frames = 1;

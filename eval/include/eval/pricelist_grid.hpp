@@ -1,5 +1,5 @@
 // The settings `fovea pricelist` sweeps: the full render at 1..16 rays per
-// pixel (the baseline) and foveated frames over method x k x density scale x
+// pixel (the baseline) and foveated frames over interpolation x k x density scale x
 // rays per point x fovea pattern, with and without TAA.
 #pragma once
 
@@ -9,35 +9,36 @@
 namespace foveart::tools {
 
 struct PriceSetting {
-  bool full = false;          // the full render (spp rays per pixel) instead of a foveated frame
-  int spp = 1;                // full: rays per pixel; foveated: rays per point
-  std::string method = "nn";  // nn | msm | rbf-mq
+  bool full = false;                      // the full render instead of a foveated frame
+  int rays_per_point = 1;                 // a full render's points are its pixels
+  std::string interpolation = "nearest";  // nearest | msm | rbf
   int k = 1;
-  double scale = 1.0;
+  double density_scale = 1.0;
   std::string pattern = "pixel-grid";  // pixel-grid | thesis
   bool taa = false;           // temporal accumulation over a sequence, new jitter each frame
 
-  // Stable name, e.g. "full_spp4", "nn_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_taa".
+  // Stable name, e.g. "full_spp4", "nearest_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_taa".
   std::string id() const;
   // The settings that share one set of tables (point set, neighbours, weights).
   std::string table_id() const;
 };
 
+// Each list is the `fovea pricelist` option of the same name (kebab-case).
 struct PriceGrid {
-  std::vector<int> full_spp = {1, 2, 4, 8, 16};
-  std::vector<std::string> methods = {"nn:1", "msm:5", "msm:10", "rbf-mq:5", "rbf-mq:10"};  // method:k
-  std::vector<double> scales = {1.0, 1.5, 2.0};
-  std::vector<int> rays = {1, 2, 4, 8};
-  std::vector<std::string> patterns = {"pixel-grid", "thesis"};
-  std::vector<int> taa_rays = {1};  // rays per point at which TAA is also measured
+  std::vector<int> full_rays_per_point = {1, 2, 4, 8, 16};
+  std::vector<std::string> interpolation = {"nearest:1", "msm:5", "msm:10", "rbf:5", "rbf:10"};  // method:k
+  std::vector<double> density_scale = {1.0, 1.5, 2.0};
+  std::vector<int> rays_per_point = {1, 2, 4, 8};
+  std::vector<std::string> pattern = {"pixel-grid", "thesis"};
+  std::vector<int> taa_rays_per_point = {1};  // rays per point at which TAA is also measured
 };
 
-// The small grid of --quick: full render at 1-8 rays per pixel; NN and MSM k=5 at
+// The small grid of --quick: full render at 1-8 rays per pixel; nearest and MSM k=5 at
 // scale 1 and 2, both patterns, 1 and 4 rays, TAA at 1.
 PriceGrid quick_grid();
 
 // Every setting of a grid, the full-render baseline first; "" or a message
-// naming the bad entry ("method 'foo'", "k 0").
+// naming the bad entry ("interpolation 'foo'", "k 0").
 std::string expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out);
 
 // "a,b,c" -> items; false when an item is empty.

@@ -17,6 +17,7 @@ struct PricelistContext {
   std::string thesis_default;        // the setting id the headline calls the thesis's default
   std::string heatmap;               // the setting id of heatmap.png
   nlohmann::ordered_json temporal;   // run_pricelist_temporal's result; null: no temporal columns
+  std::string command;               // the command line that measured it, for report.md's head
 };
 
 // "0-2.5", "2.5-5", ..., ">45": ring r's name in degrees.

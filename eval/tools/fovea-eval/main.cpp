@@ -1,10 +1,14 @@
 // fovea-eval: the evaluation lab's front end, apart from the product's `fovea`.
+#include <eval/bench_markdown.hpp>
 #include <eval/cmd_motion.hpp>
 #include <toolkit/run_cli.hpp>
 
 int main(int argc, char** argv) {
-  CLI::App app{"fovea-eval - FoveaRT evaluation lab: sequences over a scripted motion against a converged reference"};
+  CLI::App app{
+      "fovea-eval - FoveaRT evaluation lab: sequences over a scripted motion against a converged reference, "
+      "benchmark results as markdown"};
   app.require_subcommand(1);
   foveart::eval::register_motion(app);
+  foveart::eval::register_bench_md(app);
   return foveart::toolkit::run_cli(app, argc, argv, "fovea-eval");
 }

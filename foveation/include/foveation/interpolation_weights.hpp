@@ -33,7 +33,8 @@ namespace foveart::foveation {
 
 enum class InterpMethod : std::uint8_t { nn = 0, msm = 1, rbf_mq = 2, rbf_gauss = 3 };
 
-// "nn", "msm", "rbf-mq", "rbf-gauss".
+// "nearest", "msm", "rbf" (multiquadric), "rbf-gauss": the layer config's
+// "interpolation" values, and the tools' --interpolation (rbf-gauss: tools only).
 std::string_view method_name(InterpMethod method);
 std::optional<InterpMethod> parse_method(std::string_view name);
 

@@ -30,7 +30,8 @@ void add_display_options(CLI::App* cmd, DisplayOptions& o) {
   cmd->add_option("--height", o.height_px, "per-eye height in pixels, > 0 (overrides the preset)");
   auto* fov = cmd->add_option("--fov-deg", o.fov_deg, "horizontal field of view in degrees, in (0, 180)");
   cmd->add_option("--pixels-per-degree", o.pixels_per_degree, "pixels per degree at the centre, > 0")->excludes(fov);
-  cmd->add_option("--scale", o.scale, "density scale (multiplies eccentricity), > 0")->capture_default_str();
+  cmd->add_option("--density-scale", o.density_scale, "density scale (multiplies eccentricity), > 0")
+      ->capture_default_str();
   cmd->add_option("--disc-rule", o.disc_rule, "min-distance (thesis Table 1) or non-overlapping")
       ->capture_default_str();
   add_pattern_option(cmd, o.pattern);
@@ -89,10 +90,10 @@ foveation::DisplayModel resolve_display(const DisplayOptions& o) {
     d = foveation::DisplayModel::from_pixels_per_degree(w, h, ppd);
   }
   d.name = (o.fov_deg || o.pixels_per_degree || o.width_px || o.height_px) ? "custom" : o.preset;
-  if (!(o.scale > 0.0) || !std::isfinite(o.scale)) {
-    throw CLI::ValidationError("--scale", "density scale must be a finite number > 0, got " + text_of(o.scale));
+  if (!(o.density_scale > 0.0) || !std::isfinite(o.density_scale)) {
+    throw CLI::ValidationError("--density-scale", "must be a finite number > 0, got " + text_of(o.density_scale));
   }
-  d.scale = o.scale;
+  d.scale = o.density_scale;
   if (o.disc_rule == "min-distance") {
     d.disc_rule = foveation::DiscRule::kMinDistance;
   } else if (o.disc_rule == "non-overlapping") {

@@ -21,13 +21,13 @@ struct DisplayOptions {
   std::optional<int> height_px;  // > 0
   std::optional<double> fov_deg;            // horizontal, in (0, 180)
   std::optional<double> pixels_per_degree;  // > 0, finite
-  double scale = 1.0;                       // > 0, finite
+  double density_scale = 1.0;               // > 0, finite
   std::string disc_rule = "min-distance";
   std::optional<std::string> pattern;       // pixel-grid | thesis; unset: the preset's
   std::uint64_t seed = 1;
 };
 
-// Adds --preset --width --height --fov-deg --pixels-per-degree --scale --disc-rule --pattern --seed.
+// Adds --preset --width --height --fov-deg --pixels-per-degree --density-scale --disc-rule --pattern --seed.
 void add_display_options(CLI::App* cmd, DisplayOptions& opts);
 
 // --pattern alone, for commands with their own display options (fovea render).

@@ -59,10 +59,11 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--preset", opts->preset, "Display preset")->capture_default_str();
   cmd->add_option("--eye", opts->eye, "left or right")->capture_default_str();
   cmd->add_option("--mode", opts->mode, "full, foveated or both")->capture_default_str();
-  cmd->add_option("--spp", opts->spp, "Rays per pixel (full) or per point (foveated)")->capture_default_str();
-  cmd->add_option("--method", opts->method, "Reconstruction: nn, msm or rbf-mq")->capture_default_str();
-  cmd->add_option("--k", opts->k, "Neighbours for the reconstruction (msm, rbf-mq; default 5; nn uses 1)");
-  cmd->add_option("--scale", opts->scale, "Point density scale (thesis 4.1)")->capture_default_str();
+  cmd->add_option("--rays-per-point", opts->rays_per_point, "Rays per point (a full render's points are its pixels)")
+      ->capture_default_str();
+  cmd->add_option("--interpolation", opts->interpolation, "nearest, msm or rbf")->capture_default_str();
+  cmd->add_option("--k", opts->k, "Neighbours per pixel (msm, rbf; default 5; nearest uses 1)");
+  cmd->add_option("--density-scale", opts->density_scale, "Point density scale (thesis 4.1)")->capture_default_str();
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,
@@ -73,7 +74,7 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
   cmd->add_option("--fov", *fov, "Exact view frustum L,R,U,D: XrFovf angles in degrees (point set from the R-L span)");
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
-  cmd->add_option("--cache", opts->cache_dir, "Directory for cached point sets and neighbour tables");
+  cmd->add_option("--cache-dir", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
   cmd->add_option("--without", opts->without,
                   "Leave these effects out of the scene, the reference too: shadows, reflection, refraction, "
@@ -81,7 +82,8 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   foveart::fovea::add_pixel_filter_option(cmd, &opts->pixel_filter);
   cmd->add_option("--reference-spp", opts->reference_spp,
                   "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
-  cmd->add_option("--reference-cache", opts->reference_cache, "Reference cache directory (default: CACHE/reference)");
+  cmd->add_option("--reference-cache", opts->reference_cache,
+                  "Reference cache directory (default: CACHE_DIR/reference)");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
   return [opts, size, fov] {
     if (!size->empty()) {

@@ -14,10 +14,10 @@ class App;
 namespace foveart::tools {
 
 // Adds the options both commands share to `cmd`, into *opts: the scene and
-// view (--scene --preset --eye --size --fov), the render (--mode --spp
-// --method --k --scale --pattern --frames --threads --seed --without
-// --pixel-filter), the reference (--reference-spp
-// --reference-cache) and the outputs (--out --cache --json). Returns what the
+// view (--scene --preset --eye --size --fov), the render (--mode
+// --rays-per-point --interpolation --k --density-scale --pattern --frames
+// --threads --seed --without --pixel-filter), the reference (--reference-spp
+// --reference-cache) and the outputs (--out --cache-dir --json). Returns what the
 // command's callback calls first: it parses the options given as text (--size,
 // --fov) into *opts and throws CLI::ValidationError naming a bad one.
 std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);

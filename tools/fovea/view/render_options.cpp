@@ -51,7 +51,7 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
     display = foveation::DisplayModel::from_fov(static_cast<int>(view.width_px), static_cast<int>(view.height_px),
                                                 display->horizontal_fov_deg());
   }
-  display->scale = o.scale;
+  display->scale = o.density_scale;
   // The preset's pattern unless one is asked for (from_fov and display_of_view give the default).
   display->fovea_pattern = foveation::display_preset(o.preset)->fovea_pattern;
   if (!o.pattern.empty()) display->fovea_pattern = *foveation::parse_fovea_pattern(o.pattern);
@@ -62,7 +62,9 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
   return display;
 }
 
-int reconstruction_k(const RenderOptions& o) { return o.method == "nn" ? 1 : (o.k > 0 ? o.k : 5); }
+int reconstruction_k(const RenderOptions& o) {
+  return o.interpolation == "nearest" ? 1 : (o.k > 0 ? o.k : 5);
+}
 
 std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOptions& o, const FoveartEyeView& view,
                                                                   const std::optional<std::filesystem::path>& cache_dir,
@@ -74,7 +76,7 @@ std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOp
   key.display = *display;
   key.seed = o.seed;
   foveation::InterpOptions interp;
-  interp.method = *foveation::parse_method(o.method);
+  interp.method = *foveation::parse_method(o.interpolation);
   interp.k = reconstruction_k(o);
   try {
     return foveation::load_view_tables(cache_dir, key, interp, executor, std::nullopt, {}, log);
@@ -145,11 +147,13 @@ engine::TracerOptions render_tracer_options(const RenderOptions& o) {
 std::string check_render_options(const RenderOptions& o) {
   if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
   if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
-  if (o.method != "nn" && o.method != "msm" && o.method != "rbf-mq") return "--method must be nn, msm or rbf-mq";
+  if (o.interpolation != "nearest" && o.interpolation != "msm" && o.interpolation != "rbf") {
+    return "--interpolation must be nearest, msm or rbf, got '" + o.interpolation + "'";
+  }
   if (!preset_geometry(o.preset)) return "--preset: unknown display preset '" + o.preset + "'";
-  if (o.spp < 1 || o.spp > 1024) return "--spp must be in 1..1024";
+  if (o.rays_per_point < 1 || o.rays_per_point > 1024) return "--rays-per-point must be in 1..1024";
   if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
-  if (!(o.scale > 0.0) || o.scale > 100.0) return "--scale must be in (0, 100]";
+  if (!(o.density_scale > 0.0) || o.density_scale > 100.0) return "--density-scale must be in (0, 100]";
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";

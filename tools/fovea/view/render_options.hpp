@@ -31,11 +31,11 @@ struct RenderOptions {
   std::string preset = "fove";
   std::string eye = "left";
   std::string mode = "full";      // full | foveated | both
-  std::string method = "nn";      // nn | msm | rbf-mq
+  std::string interpolation = "nearest";  // nearest | msm | rbf
   std::optional<glm::vec2> gaze_px;  // default: image centre
-  int spp = 1;
+  int rays_per_point = 1;            // a full render's points are its pixels
   int k = 0;                      // 0: the default (reconstruction_k)
-  double scale = 1.0;
+  double density_scale = 1.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame

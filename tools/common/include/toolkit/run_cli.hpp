@@ -1,6 +1,7 @@
 // The one way a FoveaRT command-line tool runs its CLI11 app: parse errors print
 // CLI11's message and exit code; any other error escaping a subcommand prints
-// "<tool> <subcommand>: error: <what>" and returns 1. Nothing escapes main.
+// "<tool> <subcommand>: error: <what>" and returns 1. Nothing escapes main. It records
+// the command line for the result files a subcommand writes (toolkit/machine.hpp).
 #pragma once
 
 #include <cstdio>
@@ -8,9 +9,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <toolkit/machine.hpp>
+
 namespace foveart::toolkit {
 
 inline int run_cli(CLI::App& app, int argc, char** argv, const char* tool) {
+  set_command_line(argc, argv);  // for the result files a command writes
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
