@@ -9,6 +9,6 @@ foveart_target_defaults(layer_bench)
 # (scripts/bench_gpu.sh; lavapipe when the machine has no GPU).
 # Not a Google Benchmark program: its own table of both paths (hence not *_bench).
 add_executable(reconstruction_paths ${CMAKE_CURRENT_SOURCE_DIR}/reconstruction_paths.cpp)
-target_link_libraries(reconstruction_paths PRIVATE foveart::layer_impl)
+target_link_libraries(reconstruction_paths PRIVATE foveart::layer_impl CLI11::CLI11)
 target_include_directories(reconstruction_paths PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)  # headless_vulkan.hpp
 foveart_target_defaults(reconstruction_paths)

@@ -4,12 +4,12 @@
 // shaders (layer/src/gpu_reconstruction) on a Vulkan device: a discrete or
 // integrated GPU when there is one, else lavapipe (a CPU: there the ratio is
 // what matters, not the absolute time). Median over --frames frames after one
-// warm-up; GPU time from timestamps, CPU time from the wall clock. --history
-// picks the TAA's history: the reprojected image (default) or the render
-// cache (the CPU's foveation::RayCache against shaders/cache_*.comp), which
-// on a still view holds its age limit's frames of rays.
-//   reconstruction_paths [--size W H] [--k 5 20] [--frames N] [--methods nn,msm,rbf] [--scale S]
-//                        [--history reproject|cache] [--pixel-filter box|bspline2]
+// warm-up; GPU time from timestamps, CPU time from the wall clock. --temporal
+// picks the history: "rays" (the GPU path's default: the render cache, the
+// CPU's foveation::RayHistory against shaders/cache_*.comp, which on a still
+// view holds its age limit's frames of rays) or "image" (reprojected).
+//   reconstruction_paths [--size W H] [--k 5 20] [--frames N] [--interpolation nearest,msm,rbf]
+//                        [--density-scale S] [--temporal image|rays]
 // Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).
 #include <algorithm>
 #include <chrono>
@@ -20,10 +20,12 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
+#include "foveation/temporal_mode.hpp"
 #include "gpu_reconstruction.hpp"
 #include "headless_vulkan.hpp"
 
@@ -50,74 +52,32 @@ double median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App cli{"Per-eye reconstruction + temporal history on the CPU and the GPU path, in one run"};
   std::vector<int> size{1280, 1440};
   std::vector<int> ks{5, 20};
-  std::string method_list = "nn,msm,rbf";
+  std::vector<std::string> interpolation{"nearest", "msm", "rbf"};
   int frames = 20;
-  double scale = 1.0;
-  fv::TaaHistory history = fv::TaaHistory::reproject;
-  fv::PixelFilter pixel_filter = fv::PixelFilter::box;
-  // --size W H | --k K... | --frames N | --methods LIST | --scale S | --history H | --pixel-filter F
-  auto usage = [] {
-    std::fprintf(stderr, "usage: reconstruction_paths [--size W H] [--k K...] [--frames N] [--methods nn,msm,rbf] "
-                         "[--scale S] [--history reproject|cache] [--pixel-filter box|bspline2]\n");
-    return 2;
-  };
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto number = [&](double lo, double hi, double* out) {
-      char* end = nullptr;
-      const double v = i + 1 < argc ? std::strtod(argv[i + 1], &end) : 0.0;
-      if (i + 1 >= argc || end == argv[i + 1] || *end != '\0' || !(v >= lo && v <= hi)) return false;
-      *out = v;
-      ++i;
-      return true;
-    };
-    double v = 0;
-    if (arg == "--size") {
-      size.clear();
-      for (int n = 0; n < 2; ++n) {
-        if (!number(8, 8192, &v)) return usage();
-        size.push_back(int(v));
-      }
-    } else if (arg == "--k") {
-      ks.clear();
-      while (i + 1 < argc && argv[i + 1][0] != '-') {
-        if (!number(1, 20, &v)) return usage();
-        ks.push_back(int(v));
-      }
-      if (ks.empty()) return usage();
-    } else if (arg == "--frames") {
-      if (!number(1, 10000, &v)) return usage();
-      frames = int(v);
-    } else if (arg == "--scale") {
-      if (!number(0.25, 16.0, &scale)) return usage();
-    } else if (arg == "--methods" && i + 1 < argc) {
-      method_list = argv[++i];
-    } else if (arg == "--history" && i + 1 < argc) {
-      const std::string h = argv[++i];
-      if (h != "reproject" && h != "cache") return usage();
-      history = h == "cache" ? fv::TaaHistory::ray_cache : fv::TaaHistory::reproject;
-    } else if (arg == "--pixel-filter" && i + 1 < argc) {
-      const std::string f = argv[++i];
-      if (f != "box" && f != "bspline2") return usage();
-      pixel_filter = f == "box" ? fv::PixelFilter::box : fv::PixelFilter::bspline2;
-    } else {
-      return usage();
-    }
-  }
+  double density_scale = 1.0;
+  std::string temporal = "rays";
+  cli.add_option("--size", size, "eye size W H")->expected(2)->check(CLI::Range(8, 8192))->capture_default_str();
+  cli.add_option("--k", ks, "neighbours per pixel (MSM, RBF); nearest uses 1")->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  cli.add_option("--interpolation", interpolation, "nearest, msm, rbf (comma-separated)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"nearest", "msm", "rbf"}))
+      ->capture_default_str();
+  cli.add_option("--frames", frames, "frames timed after one warm-up")->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  cli.add_option("--density-scale", density_scale, "point set density scale")->check(CLI::Range(0.25, 16.0))
+      ->capture_default_str();
+  cli.add_option("--temporal", temporal, "image | rays: the history both paths keep (rays: the GPU path's default)")
+      ->check(CLI::IsMember({"image", "rays"}))
+      ->capture_default_str();
+  CLI11_PARSE(cli, argc, argv);
+  fv::TemporalMode mode = fv::TemporalMode::rays;
+  fv::parse_temporal_mode(temporal, &mode);
   std::vector<fv::InterpMethod> methods;
-  for (std::size_t start = 0; start <= method_list.size();) {
-    const std::size_t comma = std::min(method_list.find(',', start), method_list.size());
-    const std::string name = method_list.substr(start, comma - start);
-    if (name == "nn" || name == "msm" || name == "rbf") {
-      methods.push_back(name == "nn" ? fv::InterpMethod::nn : name == "msm" ? fv::InterpMethod::msm : fv::InterpMethod::rbf_mq);
-    } else {
-      std::fprintf(stderr, "reconstruction_paths: --methods: '%s' is not nn, msm or rbf\n", name.c_str());
-      return 2;
-    }
-    start = comma + 1;
-  }
+  for (const std::string& name : interpolation) methods.push_back(*fv::parse_method(name));
 
   foveart::layer::HeadlessVulkan vulkan(foveart::layer::DevicePreference::hardware_gpu, false);
   if (!vulkan.ok()) {
@@ -133,36 +93,30 @@ int main(int argc, char** argv) {
   const char* env_cache = std::getenv("FOVEART_BENCH_CACHE");
   const std::filesystem::path cache = env_cache != nullptr ? env_cache : "/tmp/foveart_bench_cache";
   fv::Executor executor;
-  std::printf("reconstruction_paths: %dx%d per eye, scale %g, TAA on (%s, %s pixel filter), %d frames; GPU: %s; CPU: %u "
+  std::printf("reconstruction_paths: %dx%d per eye, density scale %g, temporal \"%s\", %d frames; GPU: %s; CPU: %u "
               "threads\n",
-              size[0], size[1], scale, history == fv::TaaHistory::ray_cache ? "render cache" : "reprojected image",
-              pixel_filter == fv::PixelFilter::box ? "box" : "bspline2", frames, vulkan.name().c_str(),
-              executor.thread_count());
-  std::printf("%-6s %3s | %12s %12s | %12s %12s %12s | %8s | gpu stages: scatter gather taa encode (ms)\n",
+              size[0], size[1], density_scale, temporal.c_str(), frames, vulkan.name().c_str(), executor.thread_count());
+  std::printf("%-7s %3s | %12s %12s | %12s %12s %12s | %8s | gpu stages: scatter gather taa encode (ms)\n",
               "method", "k", "cpu recon ms", "cpu +enc ms", "gpu recon ms", "gpu +enc ms", "gpu wall ms", "cpu/gpu");
   for (const fv::InterpMethod method : methods) {
-    const char* m = method == fv::InterpMethod::nn ? "nn" : method == fv::InterpMethod::msm ? "msm" : "rbf";
+    const std::string m(fv::method_name(method));
     for (int k : (method == fv::InterpMethod::nn ? std::vector<int>{1} : ks)) {
       fv::PointSetKey key;
       key.display = fv::DisplayModel::from_fov(size[0], size[1], 90.0);
-      key.display.scale = scale;
+      key.display.scale = density_scale;
       fv::InterpOptions o;
       o.method = method;
       o.k = k;
-      std::fprintf(stderr, "reconstruction_paths: tables for %s k %d (cached in %s) ...\n", m, k, cache.c_str());
+      std::fprintf(stderr, "reconstruction_paths: tables for %s k %d (cached in %s) ...\n", m.c_str(), k, cache.c_str());
       const auto tables = fv::load_view_tables(cache, key, o, executor);
-      fv::ViewSettings settings;
-      settings.taa = true;
-      settings.new_jitter_each_frame = true;
-      settings.taa_history = history;
-      settings.pixel_filter = pixel_filter;
+      fv::ViewSettings settings = fv::temporal_view_settings(mode, 1, 1);
       fv::FoveatedView cpu_view(tables, settings);
       settings.reconstruct_on_cpu = false;
       fv::FoveatedView gpu_view(tables, settings);
       const auto gpu_tables = gpu->upload_tables(tables, &error);
       auto eye = gpu_tables ? gpu->create_eye(uint32_t(size[0]), uint32_t(size[1]), &error) : nullptr;
       if (eye == nullptr) {
-        std::fprintf(stderr, "reconstruction_paths: %s k %d: %s\n", m, k, error.c_str());
+        std::fprintf(stderr, "reconstruction_paths: %s k %d: %s\n", m.c_str(), k, error.c_str());
         return 1;
       }
       std::vector<uint8_t> rgba(static_cast<std::size_t>(size[0]) * static_cast<std::size_t>(size[1]) * 4);
@@ -199,7 +153,7 @@ int main(int argc, char** argv) {
         stage[2].push_back(double(times.taa_ms));
         stage[3].push_back(double(times.encode_ms));
       }
-      std::printf("%-6s %3d | %12.2f %12.2f | %12.2f %12.2f %12.2f | %7.2fx | %.2f %.2f %.2f %.2f\n", m, k,
+      std::printf("%-7s %3d | %12.2f %12.2f | %12.2f %12.2f %12.2f | %7.2fx | %.2f %.2f %.2f %.2f\n", m.c_str(), k,
                   median(cpu_ms), median(cpu_enc_ms), median(gpu_ms), median(gpu_enc_ms), median(gpu_wall_ms),
                   median(cpu_enc_ms) / median(gpu_enc_ms), median(stage[0]), median(stage[1]), median(stage[2]),
                   median(stage[3]));

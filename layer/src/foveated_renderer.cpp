@@ -107,7 +107,7 @@ struct FoveatedRenderer::Frames {
         settings(settings_in),
         input(input_in),
         reconstruction(reconstruction_in),
-        executor(settings_in.worker_threads) {
+        executor(settings_in.threads) {
     std::string warning;
     gaze = create_gaze_source(settings, *session, &warning);
     if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);

@@ -30,7 +30,7 @@ struct RendererSettings {
   std::optional<foveation::TemporalMode> temporal;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";
-  uint32_t worker_threads = 0;  // the config's "threads"
+  uint32_t threads = 0;  // the config's "threads" (0: all cores)
   std::string cache_dir;
   bool wait_for_tables = false;
   std::string reconstruction = "auto";  // "auto" | "gpu" | "cpu" (LayerConfig::reconstruction)
@@ -81,7 +81,7 @@ struct ReconstructionStats {
   bool gaze_blink_last_frame = false;
 };
 
-// One foveated renderer of a session: its executor (worker_threads threads,
+// One foveated renderer of a session: its executor ("threads" threads,
 // started here, never per frame), its gaze source, the foveation tables per
 // (view size, FOV), and per eye the layer's swapchain and the one foveated
 // frame (foveation::FoveatedView). Frames and stats readers are serialised.

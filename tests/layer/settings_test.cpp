@@ -80,7 +80,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "temporal") return s.temporal ? foveation::temporal_mode_name(*s.temporal) : "auto";
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
-  if (key == "threads") return std::to_string(s.worker_threads);
+  if (key == "threads") return std::to_string(s.threads);
   if (key == "cache_dir") return s.cache_dir;
   if (key == "wait_for_tables") return s.wait_for_tables ? "true" : "false";
   if (key == "reconstruction") return s.reconstruction;

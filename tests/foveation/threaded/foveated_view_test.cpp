@@ -330,7 +330,7 @@ int32_t probe_threads(void* user, const FoveartRayBatch* batch) {
   return FOVEART_RESULT_SUCCESS;
 }
 
-// worker_threads = 1: every stage (callback, gather, TAA) on the caller, and no
+// threads = 1: every stage (callback, gather, TAA) on the caller, and no
 // thread started anywhere in the frame.
 TEST(FoveatedView, OneThreadRunsEveryStageOnTheCallerAndStartsNoThread) {
   const auto tables = small_tables(InterpMethod::msm, 5);
