@@ -198,7 +198,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       foveation::FrameRequest request;
       request.view = view;
       request.gaze_px = gaze;
-      request.frame_index = static_cast<uint64_t>(frame);
+      request.frame_index = o.first_frame + static_cast<uint64_t>(frame);
       const foveation::FrameResult fr = foveated->render(request, &foveart_engine_trace_rays, tracer.get(), executor);
       if (!fr.ok()) {
         err << "fovea render: " << fr.message << "\n";
@@ -212,6 +212,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
   }
   report["frames"] = o.frames;
+  if (run_foveated) report["first_frame"] = o.first_frame;
   if (run_full)
     report["full"] = {{"rays", rays_json(full_rays)}, {"lanes_per_packet", lanes_per_packet(full_rays)},
                       {"trace_ms", full_times.median_trace_ms()}, {"reconstruct_ms", 0.0},
@@ -349,6 +350,10 @@ void register_render(CLI::App& app) {
   const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
   foveart::tools::add_temporal_option(cmd, opts);
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
+  cmd->add_option("--first-frame", opts->first_frame,
+                  "Index of the first foveated frame; with --temporal image or rays each frame's jitter seed is "
+                  "--seed plus its index (default 1: the layer's first frame)")
+      ->capture_default_str();
   cmd->add_option("--pose", *pose, "Exact eye pose in scene space px,py,pz,qx,qy,qz,qw (metres, unit quaternion)");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
   cmd->callback([opts, gaze, pose, parse_common] {

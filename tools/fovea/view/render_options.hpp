@@ -39,6 +39,10 @@ struct RenderOptions {
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
+  // The index of the first foveated frame, the next ones counting up: with TAA
+  // each frame's jitter seed is seed + its index. 1: as the layer numbers its
+  // frames, so that frame i of `--temporal image|rays` is the layer's frame i.
+  uint64_t first_frame = 1;
   std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
   // An exact OpenXR view instead of the preset's: XrFovf angles in degrees
   // (left, right, up, down; the point set follows the horizontal span, as the
