@@ -1,8 +1,15 @@
 // The layer against the fovea tool: hello_foveated with a scripted gaze, through the
 // real loader, the layer and the simulated FOVE runtime; both eyes' captured
 // frames equal `fovea render --mode foveated` for the same scene, eye pose, FOV
-// and gaze pixel (TAA off, fixed seeds, same method and k): bit for bit when the
-// layer reconstructs on the CPU, within one 8-bit step on the GPU (lavapipe).
+// and gaze pixel (fixed seeds, same method and k): bit for bit when the layer
+// reconstructs on the CPU, within one 8-bit step on the GPU (lavapipe).
+// With temporal history ("temporal": "image" or "rays") the captured (last)
+// frame is the history since the eye's last TAA restart: the first traced
+// frame, or the gaze jump when the first frame came before the gaze replay's
+// first sample (lens centre). `fovea render` renders the same frames from the
+// same restart: as many frames, on the same gaze pixel, numbered as the layer
+// numbers its frames (from 1, so `--first-frame` is the restart's app frame + 1):
+// each frame's jitter is the seed plus its index.
 #include <stb/stb_image.h>
 
 #include <algorithm>
@@ -95,6 +102,10 @@ struct Method {
   const char* fovea;  // fovea render --method
   int k;              // the layer's neighbour count for it (NN: 4, as fovea render --k 4)
   const char* reconstruction;  // the layer config's: "cpu" is bit-exact, "gpu" within one 8-bit step
+  const char* temporal = "off";  // hello_foveated and fovea render --temporal
+  // Frames hello_foveated runs; with history, enough that the captured one
+  // blends two or more even when the first came before the gaze.
+  int frames = 2;
 };
 
 class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
@@ -102,7 +113,7 @@ class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
   void SetUp() override {
     ASSERT_TRUE(have_runtime()) << "the simulated runtime is part of every build: its manifest is missing";
     env_ = std::make_unique<IsolatedEnv>();
-    configure_hello_foveated(*env_, 2, GetParam().reconstruction);
+    configure_hello_foveated(*env_, GetParam().frames, GetParam().reconstruction);
     IsolatedEnv::set("FOVEART_SIM_HEAD", "static");
   }
   std::unique_ptr<IsolatedEnv> env_;
@@ -120,7 +131,7 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
   }
   const auto app = run_process({FOVEART_HELLO_FOVEATED, "--json", "--eye-size", std::to_string(kWidth),
                                 std::to_string(kHeight), "--interp", m.layer, "--k", std::to_string(m.k), "--scale", "1",
-                                "--spp", "1", "--temporal", "off", "--gaze", "provider", "--gaze-provider",
+                                "--spp", "1", "--temporal", m.temporal, "--gaze", "provider", "--gaze-provider",
                                 "replay:" + trace.string()},
                                env_->root() / "hello_foveated.log", kTimeoutS);
   ASSERT_EQ(app.exit_code, 0) << app.output;
@@ -128,17 +139,23 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
   ASSERT_NE(brace, std::string::npos) << app.output;
   const auto stats = nlohmann::json::parse(app.output.substr(brace + 1), nullptr, false);
   ASSERT_TRUE(stats.is_object()) << app.output;
-  ASSERT_EQ(stats["frames_traced"], 2) << app.output;
+  ASSERT_EQ(stats["frames_traced"], m.frames) << app.output;
   ASSERT_EQ(stats["views_fallback"], 0);
   ASSERT_EQ(stats["fallback_flags"], 0) << "the scripted gaze must be used, not fixed foveation";
   ASSERT_EQ(stats["reconstruction"], m.reconstruction) << app.output;
+  ASSERT_EQ(stats["temporal"], m.temporal) << app.output;
   const bool on_gpu = std::string(m.reconstruction) == "gpu";
+  const bool history = std::string(m.temporal) != "off";
 
-  // The pixel the layer foveated the captured (last) frame at, per eye, from its
-  // stats. The first frame may come before the replay's first sample (lens
-  // centre); the last one used the gaze (fallback_flags above is the last frame's).
+  // The pixel the layer foveated each frame at, per eye, from its stats, and
+  // where each eye's TAA history restarted. The first frame may come before the
+  // replay's first sample (lens centre); the last one used the gaze
+  // (fallback_flags above is the last frame's).
   const auto gaze_frames = stats["gaze_px_per_frame"];
-  ASSERT_GE(gaze_frames.size(), 1u) << app.output;
+  const auto resets = stats["taa_reset_per_frame"];
+  ASSERT_EQ(gaze_frames.size(), std::size_t(m.frames)) << app.output;
+  ASSERT_EQ(resets.size(), std::size_t(m.frames)) << app.output;
+  for (int i = 0; i < m.frames; ++i) ASSERT_EQ(gaze_frames[i][0], i) << "one traced frame per app frame";
   const char* eyes[2] = {"left", "right"};
   for (int e = 0; e < 2; ++e) {
     SCOPED_TRACE(eyes[e]);
@@ -153,6 +170,17 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
     const auto last = gaze_frames.back().get<std::vector<float>>();  // frame, x0, y0, x1, y1
     const glm::vec2 gaze_px(last[1 + 2 * e], last[2 + 2 * e]);
     ASSERT_NE(gaze_px, glm::round(glm::vec2(kWidth, kHeight) * 0.5f)) << "the gaze must be off the lens centre";
+    // The frames the captured one is made of: the last since its history's restart.
+    int restart = m.frames - 1;
+    if (history) {
+      while (restart > 0 && !resets[restart][e].get<bool>()) --restart;
+      ASSERT_TRUE(resets[restart][e].get<bool>()) << "the first traced frame starts the history";
+      ASSERT_LE(restart, m.frames - 2) << "the captured frame must blend two frames or more: " << app.output;
+      for (int i = restart; i < m.frames; ++i) {
+        const auto frame = gaze_frames[i].get<std::vector<float>>();
+        ASSERT_EQ(glm::vec2(frame[1 + 2 * e], frame[2 + 2 * e]), gaze_px) << "frame " << i << " of the history";
+      }
+    }
 
     const auto prefix = env_->root() / (std::string("fovea_") + eyes[e]);
     std::ostringstream gaze_arg;
@@ -161,13 +189,14 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
         {FOVEART_FOVEA, "render", "--scene", "default", "--mode", "foveated", "--method", m.fovea, "--k",
          std::to_string(m.k), "--spp", "1", "--scale", "1", "--seed", "1", "--size",
          std::to_string(kWidth) + "," + std::to_string(kHeight), "--fov", join(fov_deg), "--pose", join(pose),
-         "--gaze", gaze_arg.str(), "--cache", FOVEART_TEST_CACHE_DIR, "--threads", "2", "--out", prefix.string(),
-         "--json"},
+         "--gaze", gaze_arg.str(), "--temporal", m.temporal, "--frames", std::to_string(m.frames - restart),
+         "--first-frame", std::to_string(restart + 1), "--cache", FOVEART_TEST_CACHE_DIR, "--threads", "2", "--out",
+         prefix.string(), "--json"},
         env_->root() / (std::string("fovea_") + eyes[e] + ".log"), kTimeoutS);
     ASSERT_EQ(render.exit_code, 0) << render.output;
 
     char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", 1, eyes[e]);
+    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", m.frames - 1, eyes[e]);
     const Rgb8 layer_img = load_rgb(env_->root() / "frames" / name);
     const Rgb8 fovea_img = load_rgb(prefix.string() + "_foveated.png");
     ASSERT_EQ(layer_img.width, kWidth) << name;
@@ -176,9 +205,10 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
     ASSERT_EQ(fovea_img.height, kHeight);
     const Diff d = compare(layer_img, fovea_img);
     RecordProperty(std::string(eyes[e]) + "_psnr_db", std::to_string(d.psnr_db));
-    std::printf("%s eye, %s on the %s: gaze (%g, %g) px, PSNR %.2f dB, max |diff| %d, %zu of %d pixels differ\n",
-                eyes[e], m.fovea, m.reconstruction, double(gaze_px.x), double(gaze_px.y), d.psnr_db, d.max_abs,
-                d.pixels_differing, kWidth * kHeight);
+    std::printf("%s eye, %s on the %s, temporal %s (%d frame(s) since the restart): gaze (%g, %g) px, PSNR %.2f dB, "
+                "max |diff| %d, %zu of %d pixels differ\n",
+                eyes[e], m.fovea, m.reconstruction, m.temporal, m.frames - restart, double(gaze_px.x),
+                double(gaze_px.y), d.psnr_db, d.max_abs, d.pixels_differing, kWidth * kHeight);
     if (on_gpu) {
       EXPECT_LE(d.max_abs, 1);  // the GPU's own float order and pow: one 8-bit step at most
     } else {
@@ -190,9 +220,15 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, LayerMatchesFoveaRender,
                          ::testing::Values(Method{"msm", "msm", 5, "cpu"}, Method{"nearest", "nn", 4, "cpu"},
-                                           Method{"msm", "msm", 5, "gpu"}, Method{"nearest", "nn", 4, "gpu"}),
+                                           Method{"msm", "msm", 5, "gpu"}, Method{"nearest", "nn", 4, "gpu"},
+                                           Method{"msm", "msm", 5, "cpu", "image", 3},
+                                           Method{"msm", "msm", 5, "cpu", "rays", 3},
+                                           Method{"msm", "msm", 5, "gpu", "image", 3},
+                                           Method{"msm", "msm", 5, "gpu", "rays", 3}),
                          [](const ::testing::TestParamInfo<Method>& p) {
-                           return std::string(p.param.fovea) + "_" + p.param.reconstruction;
+                           const std::string temporal = p.param.temporal;
+                           return std::string(p.param.fovea) + "_" + p.param.reconstruction +
+                                  (temporal == "off" ? "" : "_" + temporal);
                          });
 
 }  // namespace
