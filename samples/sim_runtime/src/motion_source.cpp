@@ -23,7 +23,7 @@ MotionSource::MotionSource(foveation::ScriptedMotion motion, std::string name)
 }
 
 std::optional<MotionSource> MotionSource::from_spec(const std::string& spec, uint64_t seed,
-                                                    std::string& error) {
+                                                    std::string* error) {
   // The foveation reader reports bad input by exception; none leaves this function.
   try {
     if (spec == "builtin") {
@@ -32,9 +32,9 @@ std::optional<MotionSource> MotionSource::from_spec(const std::string& spec, uin
     }
     return MotionSource(foveation::load_motion_csv(spec), spec);
   } catch (const std::exception& e) {
-    error = e.what();
+    *error = e.what();
   } catch (...) {
-    error = spec + ": unknown error while reading the motion script";
+    *error = spec + ": unknown error while reading the motion script";
   }
   return std::nullopt;
 }
