@@ -5,7 +5,6 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
-#include <exception>
 #include <sstream>
 
 namespace foveart::tools {
@@ -16,12 +15,9 @@ std::optional<foveation::ScriptedMotion> load_motion(const std::string& spec, st
     *error = "--motion: expected 'builtin' or a CSV file";
     return std::nullopt;
   }
-  try {
-    return foveation::load_motion_csv(spec);
-  } catch (const std::exception& e) {
-    *error = std::string("--motion: ") + e.what();
-    return std::nullopt;
-  }
+  std::optional<foveation::ScriptedMotion> motion = foveation::load_motion_csv(spec, error);
+  if (!motion) *error = "--motion: " + *error;
+  return motion;
 }
 
 std::string check_motion_window(const foveation::ScriptedMotion& motion, const MotionWindow& w) {

@@ -107,8 +107,8 @@ TEST(MotionSource, BadMotionFilesAreErrorsNamingFileLineAndColumn) {
 
 TEST(MotionSource, ReadsTheMotionCsvThatTheScriptWrites) {
   const std::string path = test::fresh_dir("motion") + "/builtin.csv";
-  foveation::save_motion_csv(foveation::builtin_motion(3), path);
   std::string error;
+  ASSERT_TRUE(foveation::save_motion_csv(foveation::builtin_motion(3), path, &error)) << error;
   const auto from_file = MotionSource::from_spec(path, 1, &error);
   ASSERT_TRUE(from_file.has_value()) << error;
   EXPECT_EQ(from_file->name(), path);
