@@ -91,7 +91,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     err << "fovea render: one still view; a sequence over a motion is `fovea-eval motion`\n";
     return 2;
   }
-  if (std::string bad = check_render_options(o); !bad.empty()) {
+  if (std::string bad; !check_render_options(o, &bad)) {
     err << "fovea render: " << bad << "\n";
     return 2;
   }
@@ -236,7 +236,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     foveation::ImageRgb reference;
     Json ref_json;
     if (!o.reference_file.empty()) {
-      if (std::string e = read_pfm(o.reference_file, &reference); !e.empty()) {
+      if (std::string e; !read_pfm(o.reference_file, &reference, &e)) {
         err << "fovea render: --reference: " << e << "\n";
         return 1;
       }
@@ -310,7 +310,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     auto save = [&](const foveation::ImageRgb* img, const char* suffix) {
       if (img == nullptr || img->rgb.empty()) return true;
       const std::string path = o.out_prefix + suffix;
-      if (std::string e = toolkit::write_png(path, *img, toolkit::PngValues::linear); !e.empty()) {
+      if (std::string e; !toolkit::write_png(path, *img, toolkit::PngValues::linear, &e)) {
         err << "fovea render: " << e << "\n";
         return false;
       }

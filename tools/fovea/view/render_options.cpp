@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <exception>
 #include <vector>
+#include <utility>
 
 namespace foveart::tools {
 namespace {
@@ -142,7 +143,9 @@ engine::TracerOptions render_tracer_options(const RenderOptions& o) {
   return t;
 }
 
-std::string check_render_options(const RenderOptions& o) {
+namespace {
+
+std::string render_options_problem(const RenderOptions& o) {
   if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
   if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
   if (o.method != "nn" && o.method != "msm" && o.method != "rbf-mq") return "--method must be nn, msm or rbf-mq";
@@ -170,7 +173,7 @@ std::string check_render_options(const RenderOptions& o) {
   }
   if (!o.reference_spp.empty() && !o.reference_file.empty()) return "give --reference-spp or --reference, not both";
   std::vector<std::string> taa;
-  if (std::string bad = parse_taa_modes(o.taa, &taa); !bad.empty()) return bad;
+  if (std::string bad; !parse_taa_modes(o.taa, &taa, &bad)) return bad;
   if (o.mode == "full" && taa != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
   if (o.motion.empty()) {
     if (taa.size() > 1) return "--taa: a list of modes needs --motion (one still view has one TAA)";
@@ -182,6 +185,15 @@ std::string check_render_options(const RenderOptions& o) {
     if (!o.reference_file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
   }
   return "";
+}
+
+}  // namespace
+
+bool check_render_options(const RenderOptions& o, std::string* error) {
+  std::string problem = render_options_problem(o);
+  if (problem.empty()) return true;
+  *error = std::move(problem);
+  return false;
 }
 
 }  // namespace foveart::tools

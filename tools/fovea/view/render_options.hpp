@@ -81,8 +81,8 @@ struct RenderOptions {
   bool json = false;
 };
 
-// The checks `fovea render` applies to its options: empty, or what is wrong.
-std::string check_render_options(const RenderOptions& options);
+// The checks `fovea render` applies to its options: false and *error saying what is wrong.
+[[nodiscard]] bool check_render_options(const RenderOptions& options, std::string* error);
 // The eye view `fovea render` renders for these options (preset, eye, size,
 // --fov, --pose) of a scene. The options must have passed check_render_options.
 FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& scene);
