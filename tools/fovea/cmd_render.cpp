@@ -197,7 +197,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       const engine::RayCounts before = tracer->counts();
       foveation::FrameRequest request;
       request.view = view;
-      request.gaze_px = gaze;
+      request.gaze_px = o.gaze_px_per_frame.empty()
+                            ? gaze
+                            : o.gaze_px_per_frame[std::min<std::size_t>(std::size_t(frame), o.gaze_px_per_frame.size() - 1)];
       request.frame_index = o.first_frame + static_cast<uint64_t>(frame);
       const foveation::FrameResult fr = foveated->render(request, &foveart_engine_trace_rays, tracer.get(), executor);
       if (!fr.ok()) {
@@ -349,7 +351,9 @@ void register_render(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
   const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
   foveart::tools::add_temporal_option(cmd, opts);
-  cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
+  cmd->add_option("--gaze", *gaze,
+                  "Gaze X,Y in pixels of the eye image (default: centre); X,Y;X,Y;...: the foveated frames' gazes in "
+                  "turn, the last for the frames after");
   cmd->add_option("--first-frame", opts->first_frame,
                   "Index of the first foveated frame; with --temporal image or rays each frame's jitter seed is "
                   "--seed plus its index (default 1: the layer's first frame)")
@@ -358,7 +362,14 @@ void register_render(CLI::App& app) {
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
   cmd->callback([opts, gaze, pose, parse_common] {
     parse_common();
-    if (!gaze->empty()) opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
+    if (gaze->find(';') != std::string::npos) {
+      std::stringstream list(*gaze);
+      for (std::string item; std::getline(list, item, ';');)
+        opts->gaze_px_per_frame.push_back(foveart::tools::parse_gaze_option("--gaze", item));
+      opts->gaze_px = opts->gaze_px_per_frame.back();
+    } else if (!gaze->empty()) {
+      opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
+    }
     if (!pose->empty()) opts->pose = foveart::tools::parse_pose_option("--pose", *pose);
     const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);

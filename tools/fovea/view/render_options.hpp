@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace foveart::tools {
 
@@ -33,6 +34,9 @@ struct RenderOptions {
   std::string mode = "full";      // full | foveated | both
   std::string method = "nn";      // nn | msm | rbf-mq
   std::optional<glm::vec2> gaze_px;  // default: image centre
+  // `fovea render --gaze A;B;C`: the foveated frames' gazes in turn, the last
+  // (gaze_px) for every frame after them. Empty: gaze_px for every frame.
+  std::vector<glm::vec2> gaze_px_per_frame;
   int spp = 1;
   int k = 0;                      // 0: the default (reconstruction_k)
   double scale = 1.0;
