@@ -158,8 +158,8 @@ std::string render_options_problem(const RenderOptions& o) {
   if (o.threads < 0) return "--threads must be >= 0";
   if (o.frames < 1 || o.frames > 1000) return "--frames must be in 1..1000";
   if (o.gaze_px_per_frame.size() > std::size_t(o.frames))
-    return "--gaze lists " + std::to_string(o.gaze_px_per_frame.size()) + " gazes for " + std::to_string(o.frames) +
-           " frames";
+    return "--gaze lists " + std::to_string(o.gaze_px_per_frame.size()) + " gazes, more than --frames " +
+           std::to_string(o.frames);
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
     return "--size must be between 8 and 16384 pixels per side";
   if (std::string bad = check_view(o); !bad.empty()) return bad;
