@@ -168,7 +168,7 @@ void print_text(const Json& report, std::ostream& out) {
 }  // namespace
 
 int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
-  if (std::string bad = check_render_options(o); !bad.empty()) {
+  if (std::string bad; !check_render_options(o, &bad)) {
     err << "fovea-eval motion: " << bad << "\n";
     return 2;
   }
@@ -186,12 +186,15 @@ int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   window.start_s = o.start_s.value_or(0.0);
   window.fps = o.fps.value_or(70.0);
   window.frames = o.frames;
-  if (std::string bad = check_motion_window(*motion, window); !bad.empty()) {
+  if (std::string bad; !check_motion_window(*motion, window, &bad)) {
     err << "fovea-eval motion: " << bad << "\n";
     return 2;
   }
   std::vector<std::string> taa_modes;
-  parse_taa_modes(o.taa, &taa_modes);  // checked by check_render_options
+  if (!parse_taa_modes(o.taa, &taa_modes, &error)) {  // checked by check_render_options
+    err << "fovea-eval motion: " << error << "\n";
+    return 2;
+  }
 
   engine::LoadResult loaded = engine::load_scene(o.scene);
   if (!loaded.ok()) {
@@ -275,7 +278,7 @@ int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       char suffix[32];
       std::snprintf(suffix, sizeof suffix, "_f%03d.png", f.index);
       const std::string path = o.out_prefix + "_" + t.id + suffix;
-      if (std::string e = toolkit::write_png(path, display, toolkit::PngValues::display); !e.empty()) return e;
+      if (std::string e; !toolkit::write_png(path, display, toolkit::PngValues::display, &e)) return e;
       files.push_back(path);
       return std::string();
     };

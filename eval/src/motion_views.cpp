@@ -5,8 +5,8 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
-#include <exception>
 #include <sstream>
+#include <utility>
 
 namespace foveart::tools {
 
@@ -16,15 +16,14 @@ std::optional<foveation::ScriptedMotion> load_motion(const std::string& spec, st
     *error = "--motion: expected 'builtin' or a CSV file";
     return std::nullopt;
   }
-  try {
-    return foveation::load_motion_csv(spec);
-  } catch (const std::exception& e) {
-    *error = std::string("--motion: ") + e.what();
-    return std::nullopt;
-  }
+  std::optional<foveation::ScriptedMotion> motion = foveation::load_motion_csv(spec, error);
+  if (!motion) *error = "--motion: " + *error;
+  return motion;
 }
 
-std::string check_motion_window(const foveation::ScriptedMotion& motion, const MotionWindow& w) {
+namespace {
+
+std::string motion_window_problem(const foveation::ScriptedMotion& motion, const MotionWindow& w) {
   std::ostringstream s;
   if (!std::isfinite(w.fps) || w.fps < 1.0 || w.fps > 1000.0) return "--fps must be in 1..1000";
   if (w.frames < 2) return "--frames must be at least 2 with --motion (flicker needs pairs of frames)";
@@ -40,6 +39,15 @@ std::string check_motion_window(const foveation::ScriptedMotion& motion, const M
     return s.str();
   }
   return "";
+}
+
+}  // namespace
+
+bool check_motion_window(const foveation::ScriptedMotion& motion, const MotionWindow& w, std::string* error) {
+  std::string problem = motion_window_problem(motion, w);
+  if (problem.empty()) return true;
+  *error = std::move(problem);
+  return false;
 }
 
 foveation::EyePose head_in_scene(const foveation::EyePose& scene_head, const foveation::MotionSample& sample) {

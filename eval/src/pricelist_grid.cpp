@@ -3,6 +3,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
 namespace foveart::tools {
 namespace {
@@ -47,7 +48,9 @@ bool split_list(const std::string& text, std::vector<std::string>* out) {
   return !out->empty();
 }
 
-std::string expand_grid(const PriceGrid& g, std::vector<PriceSetting>* out) {
+namespace {
+
+std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
   out->clear();
   for (int spp : g.full_rays_per_point) {
     if (spp < 1 || spp > 1024) return "full-render rays per pixel " + std::to_string(spp) + " (1..1024)";
@@ -100,6 +103,15 @@ std::string expand_grid(const PriceGrid& g, std::vector<PriceSetting>* out) {
     }
   }
   return "";
+}
+
+}  // namespace
+
+bool expand_grid(const PriceGrid& g, std::vector<PriceSetting>* out, std::string* error) {
+  std::string problem = grid_problem(g, out);
+  if (problem.empty()) return true;
+  *error = std::move(problem);
+  return false;
 }
 
 }  // namespace foveart::tools

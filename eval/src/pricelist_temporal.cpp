@@ -18,6 +18,7 @@
 #include <map>
 #include <ostream>
 #include <set>
+#include <utility>
 
 namespace foveart::tools {
 namespace {
@@ -53,7 +54,9 @@ glm::ivec2 temporal_size(const TemporalOptions& o, bool quick) {
   return o.size_px.value_or(quick ? glm::ivec2(320, 360) : glm::ivec2(640, 720));
 }
 
-std::string check_temporal_options(const TemporalOptions& o) {
+namespace {
+
+std::string temporal_options_problem(const TemporalOptions& o) {
   if (o.motion == "none") return "";
   std::string error;
   const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
@@ -62,7 +65,7 @@ std::string check_temporal_options(const TemporalOptions& o) {
   w.start_s = o.start_s;
   w.fps = o.fps;
   w.frames = o.frames;
-  if (std::string bad = check_motion_window(*motion, w); !bad.empty()) {
+  if (std::string bad; !check_motion_window(*motion, w, &bad)) {
     // The window's options are --temporal-* here.
     for (const char* name : {"--frames", "--start-s", "--fps"}) {
       const std::size_t at = bad.find(name);
@@ -77,6 +80,15 @@ std::string check_temporal_options(const TemporalOptions& o) {
   if (n < 2 || n > 65536 || n % 2 != 0 || (n > 16 && n % 16 != 0))
     return "--temporal-reference-spp must be 2, 4, ..., 16 or a multiple of 16 up to 65536, got " + std::to_string(n);
   return "";
+}
+
+}  // namespace
+
+bool check_temporal_options(const TemporalOptions& o, std::string* error) {
+  std::string problem = temporal_options_problem(o);
+  if (problem.empty()) return true;
+  *error = std::move(problem);
+  return false;
 }
 
 Json temporal_run_json(const TemporalOptions& o, bool quick) {

@@ -121,13 +121,17 @@ ScriptedMotion builtin_motion(std::uint64_t seed) {
   return ScriptedMotion(std::move(samples));
 }
 
-ScriptedMotion load_motion_csv(const std::filesystem::path& path) {
+std::optional<ScriptedMotion> load_motion_csv(const std::filesystem::path& path, std::string* error) {
+  const auto fail = [&](std::string message) -> std::optional<ScriptedMotion> {
+    *error = std::move(message);
+    return std::nullopt;
+  };
   std::ifstream in(path);
-  if (!in) throw std::runtime_error(path.string() + ": cannot open the motion script");
+  if (!in) return fail(path.string() + ": cannot open the motion script");
   std::string line;
   std::getline(in, line);
   if (line.rfind("time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid", 0) != 0) {
-    throw std::runtime_error(path.string() + ":1: expected the header time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade]");
+    return fail(path.string() + ":1: expected the header time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade]");
   }
   std::vector<MotionSample> samples;
   for (int line_no = 2; std::getline(in, line); ++line_no) {
@@ -139,13 +143,13 @@ ScriptedMotion load_motion_csv(const std::filesystem::path& path) {
       char* end = nullptr;
       const double x = std::strtod(cell.c_str(), &end);
       if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(x)) {
-        throw std::runtime_error(path.string() + ":" + std::to_string(line_no) + ": column " + std::to_string(col) +
+        return fail(path.string() + ":" + std::to_string(line_no) + ": column " + std::to_string(col) +
                                  " ('" + cell + "') is not a finite number");
       }
       v.push_back(x);
     }
     if (v.size() != 12 && v.size() != 13) {
-      throw std::runtime_error(path.string() + ":" + std::to_string(line_no) + ": " + std::to_string(v.size()) +
+      return fail(path.string() + ":" + std::to_string(line_no) + ": " + std::to_string(v.size()) +
                                " columns, expected 12 or 13");
     }
     MotionSample s;
@@ -154,7 +158,7 @@ ScriptedMotion load_motion_csv(const std::filesystem::path& path) {
                       static_cast<float>(v[3]));
     const glm::vec3 g(static_cast<float>(v[8]), static_cast<float>(v[9]), static_cast<float>(v[10]));
     if (std::abs(glm::length(q) - 1.0f) > 1e-3f || std::abs(glm::length(g) - 1.0f) > 1e-3f) {
-      throw std::runtime_error(path.string() + ":" + std::to_string(line_no) +
+      return fail(path.string() + ":" + std::to_string(line_no) +
                                ": the orientation and the gaze must be unit length");
     }
     s.head_orientation = q;
@@ -163,15 +167,15 @@ ScriptedMotion load_motion_csv(const std::filesystem::path& path) {
     s.gaze_valid = v[11] != 0.0;
     s.saccade = v.size() == 13 && v[12] != 0.0;
     if (!samples.empty() && !(s.time_s > samples.back().time_s)) {
-      throw std::runtime_error(path.string() + ":" + std::to_string(line_no) + ": time does not increase");
+      return fail(path.string() + ":" + std::to_string(line_no) + ": time does not increase");
     }
     samples.push_back(s);
   }
-  if (samples.empty()) throw std::runtime_error(path.string() + ": no samples");
+  if (samples.empty()) return fail(path.string() + ": no samples");
   return ScriptedMotion(std::move(samples));
 }
 
-void save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& path) {
+bool save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& path, std::string* error) {
   std::ofstream out(path);
   out.precision(9);
   out << "time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid,saccade\n";
@@ -181,7 +185,11 @@ void save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& 
         << s.head_position_m.y << ',' << s.head_position_m.z << ',' << s.gaze_head.x << ',' << s.gaze_head.y << ','
         << s.gaze_head.z << ',' << (s.gaze_valid ? 1 : 0) << ',' << (s.saccade ? 1 : 0) << '\n';
   }
-  if (!out) throw std::runtime_error(path.string() + ": cannot write the motion script");
+  if (!out) {
+    *error = path.string() + ": cannot write the motion script";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace foveart::foveation

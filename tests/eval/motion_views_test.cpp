@@ -60,7 +60,8 @@ TEST(MotionViews, FramesFollowTheHeadKeepTheEyeOffsetAndProjectTheGaze) {
   w.start_s = 0.0;
   w.fps = 1.0;
   w.frames = 4;
-  ASSERT_EQ(tools::check_motion_window(motion, w), "");
+  std::string error;
+  ASSERT_TRUE(tools::check_motion_window(motion, w, &error)) << error;
   const auto frames = tools::motion_frames(motion, w, eye_at_rest(head), head);
   ASSERT_EQ(frames.size(), 4u);
   EXPECT_DOUBLE_EQ(frames[1].time_s, 1.0);
@@ -99,17 +100,23 @@ TEST(MotionViews, WindowOutsideTheMotionIsNamed) {
   const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}), sample(1.0, 0.0f, {0, 0, -1})});
   tools::MotionWindow w;
   w.frames = 71;  // 70 fps from 0: the 71st frame is at 1 s, the last sample
-  EXPECT_EQ(tools::check_motion_window(motion, w), "");
+  std::string error;
+  EXPECT_TRUE(tools::check_motion_window(motion, w, &error)) << error;
+  // The message of the window's first problem (empty when it has none).
+  const auto problem = [&] {
+    std::string e;
+    return tools::check_motion_window(motion, w, &e) ? std::string() : e;
+  };
   w.frames = 72;
-  EXPECT_NE(tools::check_motion_window(motion, w).find("past the motion's end"), std::string::npos);
+  EXPECT_NE(problem().find("past the motion's end"), std::string::npos);
   w.frames = 1;
-  EXPECT_NE(tools::check_motion_window(motion, w).find("--frames"), std::string::npos);
+  EXPECT_NE(problem().find("--frames"), std::string::npos);
   w.frames = 2;
   w.start_s = -0.5;
-  EXPECT_NE(tools::check_motion_window(motion, w).find("--start-s"), std::string::npos);
+  EXPECT_NE(problem().find("--start-s"), std::string::npos);
   w.start_s = 0.0;
   w.fps = 0.0;
-  EXPECT_NE(tools::check_motion_window(motion, w).find("--fps"), std::string::npos);
+  EXPECT_NE(problem().find("--fps"), std::string::npos);
 }
 
 TEST(MotionViews, LoadsTheBuiltinAndNamesABadFile) {

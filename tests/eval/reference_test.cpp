@@ -232,7 +232,8 @@ TEST(RenderCommand, ReportsErrorsAgainstAReferenceAndSaysWhichOne) {
 
   // A PFM reference of another size, a bad count: clear errors.
   foveation::ImageRgb tiny(4, 4);
-  ASSERT_EQ(tools::write_pfm((dir.path / "tiny.pfm").string(), tiny), "");
+  std::string error;
+  ASSERT_TRUE(tools::write_pfm((dir.path / "tiny.pfm").string(), tiny, &error)) << error;
   o.reference_spp.clear();
   o.reference_file = (dir.path / "tiny.pfm").string();
   std::ostringstream out2, err2;
@@ -250,13 +251,14 @@ TEST(Pfm, RoundTripIsBitExactAndBadFilesAreNamed) {
   foveation::ImageRgb im(3, 2);
   for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = float(i) * 0.37f - 1.0f;
   const std::string file = (dir.path / "a.pfm").string();
-  ASSERT_EQ(tools::write_pfm(file, im), "");
+  std::string e;
+  ASSERT_TRUE(tools::write_pfm(file, im, &e)) << e;
   foveation::ImageRgb back;
-  ASSERT_EQ(tools::read_pfm(file, &back), "");
+  ASSERT_TRUE(tools::read_pfm(file, &back, &e)) << e;
   EXPECT_EQ(back.width_px, 3);
   EXPECT_EQ(back.rgb, im.rgb);
   fs::resize_file(file, 20);
-  const std::string e = tools::read_pfm(file, &back);
+  EXPECT_FALSE(tools::read_pfm(file, &back, &e));
   EXPECT_NE(e.find("truncated"), std::string::npos) << e;
   EXPECT_NE(e.find(file), std::string::npos) << e;
 }

@@ -1,8 +1,18 @@
 // The layer against the fovea tool: hello_foveated with a scripted gaze, through the
 // real loader, the layer and the simulated FOVE runtime; both eyes' captured
 // frames equal `fovea render --mode foveated` for the same scene, eye pose, FOV
-// and gaze pixel (TAA off, fixed seeds, same method and k): bit for bit when the
-// layer reconstructs on the CPU, within one 8-bit step on the GPU (lavapipe).
+// and gaze pixel (fixed seeds, same method and k): bit for bit when the layer
+// reconstructs on the CPU, within one 8-bit step on the GPU (lavapipe).
+// With temporal history ("temporal": "image" or "rays") the captured (last)
+// frame blends the frames since the eye's last TAA restart (the layer's
+// taa_reset_per_frame): the first traced frame, or a gaze jump beyond the TAA's
+// reset distance. The first frame may come before the gaze replay's first
+// sample and foveate the lens centre; at these small eyes the gaze is nearer
+// than the reset distance, so that frame can stay in the history. `fovea
+// render` renders the same frames: one per layer frame since the restart, each
+// at the pixel the layer foveated it at (--gaze X,Y;X,Y;...), numbered as the
+// layer numbers its frames (from 1: --first-frame is the restart's app frame
+// + 1), since each frame's jitter is the seed plus its index.
 #include <stb/stb_image.h>
 
 #include <algorithm>
@@ -91,10 +101,14 @@ std::string join(const std::vector<double>& v) {
 }
 
 struct Method {
-  const char* layer;  // hello_foveated --interp
-  const char* fovea;  // fovea render --method
+  const char* layer;  // hello_foveated --interpolation
+  const char* fovea;  // fovea render --interpolation
   int k;              // the layer's neighbour count for it (NN: 4, as fovea render --k 4)
   const char* reconstruction;  // the layer config's: "cpu" is bit-exact, "gpu" within one 8-bit step
+  const char* temporal = "off";  // hello_foveated and fovea render --temporal
+  // Frames hello_foveated runs; with history, enough that the captured one
+  // blends two or more even when the first came before the gaze.
+  int frames = 2;
 };
 
 class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
@@ -102,7 +116,7 @@ class LayerMatchesFoveaRender : public ::testing::TestWithParam<Method> {
   void SetUp() override {
     ASSERT_TRUE(have_runtime()) << "the simulated runtime is part of every build: its manifest is missing";
     env_ = std::make_unique<IsolatedEnv>();
-    configure_hello_foveated(*env_, 2, GetParam().reconstruction);
+    configure_hello_foveated(*env_, GetParam().frames, GetParam().reconstruction);
     IsolatedEnv::set("FOVEART_SIM_HEAD", "static");
   }
   std::unique_ptr<IsolatedEnv> env_;
@@ -119,8 +133,9 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
     for (int i = 0; i < 21600; ++i) csv << i * 8333 << "," << i << ",1," << kGaze[0] << "," << kGaze[1] << "," << kGaze[2] << "\n";
   }
   const auto app = run_process({FOVEART_HELLO_FOVEATED, "--json", "--eye-size", std::to_string(kWidth),
-                                std::to_string(kHeight), "--interp", m.layer, "--k", std::to_string(m.k), "--scale", "1",
-                                "--spp", "1", "--temporal", "off", "--gaze", "provider", "--gaze-provider",
+                                std::to_string(kHeight), "--interpolation", m.layer, "--k", std::to_string(m.k),
+                                "--density-scale", "1", "--rays-per-point", "1", "--temporal", m.temporal,
+                                "--gaze-source", "provider", "--gaze-provider",
                                 "replay:" + trace.string()},
                                env_->root() / "hello_foveated.log", kTimeoutS);
   ASSERT_EQ(app.exit_code, 0) << app.output;
@@ -128,17 +143,23 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
   ASSERT_NE(brace, std::string::npos) << app.output;
   const auto stats = nlohmann::json::parse(app.output.substr(brace + 1), nullptr, false);
   ASSERT_TRUE(stats.is_object()) << app.output;
-  ASSERT_EQ(stats["frames_traced"], 2) << app.output;
+  ASSERT_EQ(stats["frames_traced"], m.frames) << app.output;
   ASSERT_EQ(stats["views_fallback"], 0);
   ASSERT_EQ(stats["fallback_flags"], 0) << "the scripted gaze must be used, not fixed foveation";
   ASSERT_EQ(stats["reconstruction"], m.reconstruction) << app.output;
+  ASSERT_EQ(stats["temporal"], m.temporal) << app.output;
   const bool on_gpu = std::string(m.reconstruction) == "gpu";
+  const bool history = std::string(m.temporal) != "off";
 
-  // The pixel the layer foveated the captured (last) frame at, per eye, from its
-  // stats. The first frame may come before the replay's first sample (lens
-  // centre); the last one used the gaze (fallback_flags above is the last frame's).
+  // The pixel the layer foveated each frame at, per eye, from its stats, and
+  // where each eye's TAA history restarted. The first frame may come before the
+  // replay's first sample (lens centre); the last one used the gaze
+  // (fallback_flags above is the last frame's).
   const auto gaze_frames = stats["gaze_px_per_frame"];
-  ASSERT_GE(gaze_frames.size(), 1u) << app.output;
+  const auto resets = stats["taa_reset_per_frame"];
+  ASSERT_EQ(gaze_frames.size(), std::size_t(m.frames)) << app.output;
+  ASSERT_EQ(resets.size(), std::size_t(m.frames)) << app.output;
+  for (int i = 0; i < m.frames; ++i) ASSERT_EQ(gaze_frames[i][0], i) << "one traced frame per app frame";
   const char* eyes[2] = {"left", "right"};
   for (int e = 0; e < 2; ++e) {
     SCOPED_TRACE(eyes[e]);
@@ -153,21 +174,37 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
     const auto last = gaze_frames.back().get<std::vector<float>>();  // frame, x0, y0, x1, y1
     const glm::vec2 gaze_px(last[1 + 2 * e], last[2 + 2 * e]);
     ASSERT_NE(gaze_px, glm::round(glm::vec2(kWidth, kHeight) * 0.5f)) << "the gaze must be off the lens centre";
+    // The frames the captured one is made of: the last since its history's
+    // restart, each foveated where the layer's stats say (a first frame at the
+    // lens centre stays in the history when the gaze is nearer than the TAA's
+    // reset distance). fovea render cannot be told of a saccade or a blink.
+    int restart = m.frames - 1;
+    if (history) {
+      while (restart > 0 && !resets[restart][e].get<bool>()) --restart;
+      ASSERT_TRUE(resets[restart][e].get<bool>()) << "the first traced frame starts the history";
+      ASSERT_LE(restart, m.frames - 2) << "the captured frame must blend two frames or more: " << app.output;
+    }
+    std::ostringstream gaze_arg;
+    for (int i = restart; i < m.frames; ++i) {
+      ASSERT_FALSE(stats["gaze_saccade_per_frame"][i].get<bool>()) << "frame " << i;
+      ASSERT_FALSE(stats["gaze_blink_per_frame"][i].get<bool>()) << "frame " << i;
+      const auto frame = gaze_frames[i].get<std::vector<float>>();
+      gaze_arg << (i > restart ? ";" : "") << frame[1 + 2 * e] << "," << frame[2 + 2 * e];
+    }
 
     const auto prefix = env_->root() / (std::string("fovea_") + eyes[e]);
-    std::ostringstream gaze_arg;
-    gaze_arg << gaze_px.x << "," << gaze_px.y;
     const auto render = run_process(
-        {FOVEART_FOVEA, "render", "--scene", "default", "--mode", "foveated", "--method", m.fovea, "--k",
-         std::to_string(m.k), "--spp", "1", "--scale", "1", "--seed", "1", "--size",
+        {FOVEART_FOVEA, "render", "--scene", "default", "--mode", "foveated", "--interpolation", m.fovea, "--k",
+         std::to_string(m.k), "--rays-per-point", "1", "--density-scale", "1", "--seed", "1", "--size",
          std::to_string(kWidth) + "," + std::to_string(kHeight), "--fov", join(fov_deg), "--pose", join(pose),
-         "--gaze", gaze_arg.str(), "--cache", FOVEART_TEST_CACHE_DIR, "--threads", "2", "--out", prefix.string(),
-         "--json"},
+         "--gaze", gaze_arg.str(), "--temporal", m.temporal, "--frames", std::to_string(m.frames - restart),
+         "--first-frame", std::to_string(restart + 1), "--cache-dir", FOVEART_TEST_CACHE_DIR, "--threads", "2", "--out",
+         prefix.string(), "--json"},
         env_->root() / (std::string("fovea_") + eyes[e] + ".log"), kTimeoutS);
     ASSERT_EQ(render.exit_code, 0) << render.output;
 
     char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", 1, eyes[e]);
+    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", m.frames - 1, eyes[e]);
     const Rgb8 layer_img = load_rgb(env_->root() / "frames" / name);
     const Rgb8 fovea_img = load_rgb(prefix.string() + "_foveated.png");
     ASSERT_EQ(layer_img.width, kWidth) << name;
@@ -176,8 +213,9 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
     ASSERT_EQ(fovea_img.height, kHeight);
     const Diff d = compare(layer_img, fovea_img);
     RecordProperty(std::string(eyes[e]) + "_psnr_db", std::to_string(d.psnr_db));
-    std::printf("%s eye, %s on the %s: gaze (%g, %g) px, PSNR %.2f dB, max |diff| %d, %zu of %d pixels differ\n",
-                eyes[e], m.fovea, m.reconstruction, double(gaze_px.x), double(gaze_px.y), d.psnr_db, d.max_abs,
+    std::printf("%s eye, %s on the %s, temporal %s, frames since the restart at gaze %s px: PSNR %.2f dB, "
+                "max |diff| %d, %zu of %d pixels differ\n",
+                eyes[e], m.fovea, m.reconstruction, m.temporal, gaze_arg.str().c_str(), d.psnr_db, d.max_abs,
                 d.pixels_differing, kWidth * kHeight);
     if (on_gpu) {
       EXPECT_LE(d.max_abs, 1);  // the GPU's own float order and pow: one 8-bit step at most
@@ -189,10 +227,16 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, LayerMatchesFoveaRender,
-                         ::testing::Values(Method{"msm", "msm", 5, "cpu"}, Method{"nearest", "nn", 4, "cpu"},
-                                           Method{"msm", "msm", 5, "gpu"}, Method{"nearest", "nn", 4, "gpu"}),
+                         ::testing::Values(Method{"msm", "msm", 5, "cpu"}, Method{"nearest", "nearest", 4, "cpu"},
+                                           Method{"msm", "msm", 5, "gpu"}, Method{"nearest", "nearest", 4, "gpu"},
+                                           Method{"msm", "msm", 5, "cpu", "image", 3},
+                                           Method{"msm", "msm", 5, "cpu", "rays", 3},
+                                           Method{"msm", "msm", 5, "gpu", "image", 3},
+                                           Method{"msm", "msm", 5, "gpu", "rays", 3}),
                          [](const ::testing::TestParamInfo<Method>& p) {
-                           return std::string(p.param.fovea) + "_" + p.param.reconstruction;
+                           const std::string temporal = p.param.temporal;
+                           return std::string(p.param.fovea) + "_" + p.param.reconstruction +
+                                  (temporal == "off" ? "" : "_" + temporal);
                          });
 
 }  // namespace

@@ -93,10 +93,10 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
 
   // The motion's gaze as the provider's trace, long enough never to end during the run.
   std::string error;
-  const auto motion = sim::MotionSource::from_spec("builtin", 1, error);
+  const auto motion = sim::MotionSource::from_spec("builtin", 1, &error);
   ASSERT_TRUE(motion.has_value()) << error;
   const auto trace = env_->root() / "motion_gaze.csv";
-  ASSERT_TRUE(sim::write_motion_gaze_trace_file(*motion, 120.0, trace.string(), error)) << error;
+  ASSERT_TRUE(sim::write_motion_gaze_trace_file(*motion, 120.0, trace.string(), &error)) << error;
   IsolatedEnv::set("FOVEART_SIM_MOTION", "builtin");
   IsolatedEnv::set("FOVEART_SIM_MOTION_SEED", "1");
   IsolatedEnv::set("FOVEART_SIM_CLOCK", "real");

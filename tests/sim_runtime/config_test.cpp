@@ -11,7 +11,7 @@ namespace {
 TEST(SimConfig, MotionIsOffByDefaultWithSeedOne) {
   test::clear_sim_env();
   std::string error;
-  const auto c = config_from_environment(error);
+  const auto c = config_from_environment(&error);
   ASSERT_TRUE(c.has_value()) << error;
   EXPECT_TRUE(c->motion.empty());
   EXPECT_EQ(c->motion_seed, 1u);
@@ -24,7 +24,7 @@ TEST(SimConfig, ReadsTheMotionAndItsSeedNextToHeadAndGaze) {
                  {"FOVEART_SIM_HEAD", "sway"},
                  {"FOVEART_SIM_GAZE", "/tmp/trace.csv"}});
   std::string error;
-  const auto c = config_from_environment(error);
+  const auto c = config_from_environment(&error);
   ASSERT_TRUE(c.has_value()) << error;
   EXPECT_EQ(c->motion, "builtin");
   EXPECT_EQ(c->motion_seed, 7u);
@@ -32,7 +32,7 @@ TEST(SimConfig, ReadsTheMotionAndItsSeedNextToHeadAndGaze) {
   EXPECT_TRUE(c->head_sway);
   EXPECT_EQ(c->gaze_file, "/tmp/trace.csv");
   test::set_env({{"FOVEART_SIM_MOTION", "/data/walk.csv"}});
-  EXPECT_EQ(config_from_environment(error)->motion, "/data/walk.csv");
+  EXPECT_EQ(config_from_environment(&error)->motion, "/data/walk.csv");
 }
 
 TEST(SimConfig, MalformedSeedIsAnErrorNamingTheVariable) {
@@ -40,7 +40,7 @@ TEST(SimConfig, MalformedSeedIsAnErrorNamingTheVariable) {
     test::clear_sim_env();
     test::set_env({{"FOVEART_SIM_MOTION", "builtin"}, {"FOVEART_SIM_MOTION_SEED", seed}});
     std::string error;
-    EXPECT_FALSE(config_from_environment(error).has_value()) << seed;
+    EXPECT_FALSE(config_from_environment(&error).has_value()) << seed;
     EXPECT_EQ(error, std::string("FOVEART_SIM_MOTION_SEED='") + seed + "' is not valid: expected an integer seed >= 0");
   }
   test::clear_sim_env();

@@ -50,7 +50,7 @@ TEST(GazeSource, ReadsTheTraceInHeadSpaceAndHoldsEachSampleUntilTheNext) {
                                       "13333,2,1,0,0.6,0.8,3.2\n"
                                       "21667,3,0,0,0,0,0\n");
   std::string error;
-  auto source = GazeSource::from_trace_file(path, error);
+  auto source = GazeSource::from_trace_file(path, &error);
   ASSERT_TRUE(source) << error;
   EXPECT_EQ(source->trace_size(), 3U);
   GazeSample s = source->sample_at(8'000'000);  // 8 ms after the first row: still row 1
@@ -77,7 +77,7 @@ TEST(GazeSource, ReadsUnixEpochTimesBomAndNanRowsAsGazeDiagDoes) {
       "1700000000016667,3,1,0,0.6,0.8\n";
   const std::string path = write_file(dir, text);
   std::string error;
-  auto source = GazeSource::from_trace_file(path, error);
+  auto source = GazeSource::from_trace_file(path, &error);
   ASSERT_TRUE(source) << error;
   gaze::TraceError diag_error;
   std::istringstream in(text);
@@ -104,7 +104,7 @@ TEST(GazeSource, TraceLoopsAfterItsLastSample) {
   const std::string path =
       write_file(dir, "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,0,1\n10000,2,1,1,0,0\n");
   std::string error;
-  auto source = GazeSource::from_trace_file(path, error);
+  auto source = GazeSource::from_trace_file(path, &error);
   ASSERT_TRUE(source) << error;
   // Period = last time (10 ms) + one 120 Hz sample (8.333 ms).
   const GazeSample s = source->sample_at(18'333'333 + 1'000'000);
@@ -130,7 +130,7 @@ TEST(GazeSource, ReadsWhatTheProvidersWriterWritesBlinksAndRepeatsIncluded) {
     ASSERT_TRUE(writer.ok());
   }
   std::string error;
-  auto source = GazeSource::from_trace_file(path, error);
+  auto source = GazeSource::from_trace_file(path, &error);
   ASSERT_TRUE(source) << error;
   EXPECT_EQ(source->trace_size(), 3U);
   EXPECT_EQ(source->skipped_rows(), 1U);
@@ -159,12 +159,12 @@ TEST(GazeSource, MalformedTracesAreRejectedWithFileAndLine) {
   };
   for (const Case& c : cases) {
     std::string error;
-    EXPECT_FALSE(GazeSource::from_trace_file(write_file(dir, c.text), error)) << c.text;
+    EXPECT_FALSE(GazeSource::from_trace_file(write_file(dir, c.text), &error)) << c.text;
     EXPECT_NE(error.find(c.expect), std::string::npos) << error;
     EXPECT_NE(error.find("trace.csv"), std::string::npos) << error;
   }
   std::string error;
-  EXPECT_FALSE(GazeSource::from_trace_file(dir + "/missing.csv", error));
+  EXPECT_FALSE(GazeSource::from_trace_file(dir + "/missing.csv", &error));
   EXPECT_NE(error.find("cannot open"), std::string::npos);
 }
 
@@ -188,7 +188,7 @@ TEST(GazeSource, ReadsAGazeDiagRecording) {
                               "/diag.log 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
   std::string error;
-  auto source = GazeSource::from_trace_file(dir + "/recorded.csv", error);
+  auto source = GazeSource::from_trace_file(dir + "/recorded.csv", &error);
   ASSERT_TRUE(source) << error;
   ASSERT_EQ(source->trace_size(), 24U);
   EXPECT_EQ(source->skipped_rows(), 0U);

@@ -29,7 +29,7 @@ double angle_deg(const glm::vec3& a, const glm::vec3& b) {
 std::string builtin_trace(const MotionSource& motion, double seconds) {
   const std::string path = test::fresh_dir("trace") + "/motion_gaze.csv";
   std::string error;
-  EXPECT_TRUE(write_motion_gaze_trace_file(motion, seconds, path, error)) << error;
+  EXPECT_TRUE(write_motion_gaze_trace_file(motion, seconds, path, &error)) << error;
   return path;
 }
 
@@ -62,7 +62,7 @@ TEST(MotionTrace, RuntimeReplayingTheTraceShowsTheMotionsGaze) {
   // within the first loop (the trace then loops a sample period later than the motion).
   const MotionSource motion(foveation::builtin_motion(1), "builtin");
   std::string error;
-  const auto replay = GazeSource::from_trace_file(builtin_trace(motion, 4.0), error);
+  const auto replay = GazeSource::from_trace_file(builtin_trace(motion, 4.0), &error);
   ASSERT_TRUE(replay.has_value()) << error;
   for (int64_t t = 0; t < ns(4.0); t += 5'000'000) {
     const GazeSample a = replay->sample_at(t);

@@ -101,11 +101,12 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   // A person's own recomputation from the written images: PSNR per ring over
   // the display values in the PFMs and the ring index in eccentricity.pfm.
   foveation::ImageRgb ref, ecc;
-  ASSERT_EQ(tools::read_pfm((pl / "images/reference.pfm").string(), &ref), "");
-  ASSERT_EQ(tools::read_pfm((pl / "images/eccentricity.pfm").string(), &ecc), "");
+  std::string error;
+  ASSERT_TRUE(tools::read_pfm((pl / "images/reference.pfm").string(), &ref, &error)) << error;
+  ASSERT_TRUE(tools::read_pfm((pl / "images/eccentricity.pfm").string(), &ecc, &error)) << error;
   for (const auto& s : settings) {
     foveation::ImageRgb im;
-    ASSERT_EQ(tools::read_pfm((pl / s["image"].get<std::string>()).string(), &im), "") << s["id"];
+    ASSERT_TRUE(tools::read_pfm((pl / s["image"].get<std::string>()).string(), &im, &error)) << s["id"] << error;
     std::vector<double> se(foveation::kRingCount, 0.0), n(foveation::kRingCount, 0.0);
     for (std::size_t i = 0; i < im.pixel_count(); ++i) {
       const auto r = std::size_t(ecc.rgb[i * 3 + 1]);

@@ -75,6 +75,12 @@ TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
   o.frames = 0;
   EXPECT_EQ(run_render(o, out, err), 2);
   EXPECT_NE(err.str().find("--frames"), std::string::npos);
+  o = small("foveated");
+  o.frames = 1;
+  o.gaze_px_per_frame = {glm::vec2(4, 4), glm::vec2(8, 8)};
+  err.str("");
+  EXPECT_EQ(run_render(o, out, err), 2);
+  EXPECT_NE(err.str().find("--gaze lists 2 gazes, more than --frames 1"), std::string::npos) << err.str();
 }
 
 TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImageAndItsReference) {
@@ -117,6 +123,9 @@ TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
   EXPECT_NO_THROW(app.get_subcommand("render"));
   const char* argv[] = {"fovea", "render", "--gaze", "abc", "--size", "16,16"};
   EXPECT_THROW(app.parse(6, argv), CLI::ValidationError);
+  // A per-frame list is checked item by item.
+  const char* list[] = {"fovea", "render", "--gaze", "8,8;abc", "--size", "16,16"};
+  EXPECT_THROW(app.parse(6, list), CLI::ValidationError);
 }
 
 // --temporal is the layer's one temporal choice: it picks the TAA mode through the one

@@ -82,7 +82,7 @@ void write_points_png(const std::string& path, const fv::VisiblePoints& vis, int
     const int y = int(std::floor(s.y));
     if (x >= 0 && y >= 0 && x < w && y < h) px[std::size_t(y) * std::size_t(w) + std::size_t(x)] = 0;
   }
-  if (auto err = toolkit::write_png_u8(path, w, h, 1, px); !err.empty()) throw std::runtime_error(err);
+  if (std::string err; !toolkit::write_png_u8(path, w, h, 1, px, &err)) throw std::runtime_error(err);
 }
 
 void write_or_throw(const std::string& err) {

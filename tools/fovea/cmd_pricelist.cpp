@@ -166,8 +166,9 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
 
 // The error heat map of a setting: the CSF-weighted error of every pixel as a
 // full-size PNG, black (0) through red and yellow to white (the 99th
-// percentile, returned in *scale_out, and above).
-std::string write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out) {
+// percentile, returned in *scale_out, and above). False and *error when it cannot be written.
+bool write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out,
+                   std::string* error) {
   const std::vector<float> e = foveation::csf_error_map(c.reference_display, display, c.map);
   std::vector<float> sorted = e;
   const std::size_t p99 = sorted.size() * 99 / 100;
@@ -181,7 +182,7 @@ std::string write_heatmap(const Context& c, const foveation::ImageRgb& display, 
     rgb[i * 3 + 1] = std::uint8_t(std::lround(255.0 * std::clamp(t - 1.0, 0.0, 1.0)));
     rgb[i * 3 + 2] = std::uint8_t(std::lround(255.0 * std::clamp(t - 2.0, 0.0, 1.0)));
   }
-  return toolkit::write_png_u8(file.string(), c.map.width_px, c.map.height_px, 3, rgb);
+  return toolkit::write_png_u8(file.string(), c.map.width_px, c.map.height_px, 3, rgb, error);
 }
 
 Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path& out_dir, bool write_image,
@@ -219,19 +220,14 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   j["flicker_frames"] = m.frames_done;
   if (write_image) {
     const fs::path file = out_dir / "images" / (s.id() + ".pfm");
-    if (std::string e = write_pfm(file.string(), last); !e.empty()) {
-      *error = e;
+    if (!write_pfm(file.string(), last, error)) return {};
+    if (!toolkit::write_png((out_dir / "images" / (s.id() + ".png")).string(), last, toolkit::PngValues::display, error))
       return {};
-    }
-    toolkit::write_png((out_dir / "images" / (s.id() + ".png")).string(), last, toolkit::PngValues::display);
     j["image"] = fs::relative(file, out_dir).string();
   }
   if (heatmap) {
     double scale = 0.0;
-    if (std::string e = write_heatmap(c, last, out_dir / "heatmap.png", &scale); !e.empty()) {
-      *error = e;
-      return {};
-    }
+    if (!write_heatmap(c, last, out_dir / "heatmap.png", &scale, error)) return {};
     j["heatmap"] = {{"file", "heatmap.png"}, {"white_at_csf_error", scale}};
   }
   return j;
@@ -354,17 +350,17 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     return 2;
   }
   std::vector<PriceSetting> settings;
-  if (std::string bad = expand_grid(o.grid, &settings); !bad.empty()) {
+  if (std::string bad; !expand_grid(o.grid, &settings, &bad)) {
     err << "fovea pricelist: bad grid: " << bad << "\n";
     return 2;
   }
   RenderOptions base = render_options_of(o, nullptr);
   base.reference_spp = o.reference_spp;
-  if (std::string bad = check_render_options(base); !bad.empty()) {
+  if (std::string bad; !check_render_options(base, &bad)) {
     err << "fovea pricelist: " << bad << "\n";
     return 2;
   }
-  if (std::string bad = check_temporal_options(o.temporal); !bad.empty()) {
+  if (std::string bad; !check_temporal_options(o.temporal, &bad)) {
     err << "fovea pricelist: " << bad << "\n";
     return 2;
   }
@@ -437,15 +433,25 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   }
   const foveation::ImageRgb reference_display = foveation::display_encode(reference->image);
   if (!fs::exists(out_dir / "images" / "reference.pfm")) {
-    write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display);
-    toolkit::write_png((out_dir / "images" / "reference.png").string(), reference_display, toolkit::PngValues::display);
+    if (!write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display, &error)) {
+      err << "fovea pricelist: " << error << "\n";
+      return 1;
+    }
+    if (!toolkit::write_png((out_dir / "images" / "reference.png").string(), reference_display,
+                            toolkit::PngValues::display, &error)) {
+      err << "fovea pricelist: " << error << "\n";
+      return 1;
+    }
     foveation::ImageRgb ecc(map.width_px, map.height_px);  // eccentricity (deg), ring index, pixels per degree
     for (std::size_t i = 0; i < map.ring.size(); ++i) {
       ecc.rgb[i * 3] = map.eccentricity_deg[i];
       ecc.rgb[i * 3 + 1] = float(map.ring[i]);
       ecc.rgb[i * 3 + 2] = map.pixels_per_deg[i];
     }
-    write_pfm((out_dir / "images" / "eccentricity.pfm").string(), ecc);
+    if (!write_pfm((out_dir / "images" / "eccentricity.pfm").string(), ecc, &error)) {
+      err << "fovea pricelist: " << error << "\n";
+      return 1;
+    }
   }
 
   // Resume: the settings already in results.jsonl are done.

@@ -95,7 +95,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
 
   // Input image, as display values in [0, 1].
   fv::ImageRgb reference;
-  if (std::string e = toolkit::read_image(a.image, toolkit::PngValues::display, &reference); !e.empty()) return fail(e);
+  if (std::string e; !toolkit::read_image(a.image, toolkit::PngValues::display, &reference, &e)) return fail(e);
   const int w = reference.width_px, h = reference.height_px;
 
   // The display takes the image's size and keeps the preset's field of view.
@@ -174,7 +174,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   const double nf = double(a.frames);
 
   if (!a.out.empty()) {
-    if (std::string e = toolkit::write_png(a.out, output, toolkit::PngValues::display); !e.empty()) return fail(e);
+    if (std::string e; !toolkit::write_png(a.out, output, toolkit::PngValues::display, &e)) return fail(e);
   }
 
   const double psnr = fv::psnr(reference, output);

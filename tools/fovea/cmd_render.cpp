@@ -91,7 +91,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     err << "fovea render: one still view; a sequence over a motion is `fovea-eval motion`\n";
     return 2;
   }
-  if (std::string bad = check_render_options(o); !bad.empty()) {
+  if (std::string bad; !check_render_options(o, &bad)) {
     err << "fovea render: " << bad << "\n";
     return 2;
   }
@@ -197,8 +197,10 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       const engine::RayCounts before = tracer->counts();
       foveation::FrameRequest request;
       request.view = view;
-      request.gaze_px = gaze;
-      request.frame_index = static_cast<uint64_t>(frame);
+      request.gaze_px = o.gaze_px_per_frame.empty()
+                            ? gaze
+                            : o.gaze_px_per_frame[std::min<std::size_t>(std::size_t(frame), o.gaze_px_per_frame.size() - 1)];
+      request.frame_index = o.first_frame + static_cast<uint64_t>(frame);
       const foveation::FrameResult fr = foveated->render(request, &foveart_engine_trace_rays, tracer.get(), executor);
       if (!fr.ok()) {
         err << "fovea render: " << fr.message << "\n";
@@ -212,6 +214,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
   }
   report["frames"] = o.frames;
+  if (run_foveated) report["first_frame"] = o.first_frame;
   if (run_full)
     report["full"] = {{"rays", rays_json(full_rays)}, {"lanes_per_packet", lanes_per_packet(full_rays)},
                       {"trace_ms", full_times.median_trace_ms()}, {"reconstruct_ms", 0.0},
@@ -241,7 +244,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     foveation::ImageRgb reference;
     Json ref_json;
     if (!o.reference_file.empty()) {
-      if (std::string e = read_pfm(o.reference_file, &reference); !e.empty()) {
+      if (std::string e; !read_pfm(o.reference_file, &reference, &e)) {
         err << "fovea render: --reference: " << e << "\n";
         return 1;
       }
@@ -315,7 +318,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     auto save = [&](const foveation::ImageRgb* img, const char* suffix) {
       if (img == nullptr || img->rgb.empty()) return true;
       const std::string path = o.out_prefix + suffix;
-      if (std::string e = toolkit::write_png(path, *img, toolkit::PngValues::linear); !e.empty()) {
+      if (std::string e; !toolkit::write_png(path, *img, toolkit::PngValues::linear, &e)) {
         err << "fovea render: " << e << "\n";
         return false;
       }
@@ -355,12 +358,25 @@ void register_render(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
   const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
   foveart::tools::add_temporal_option(cmd, opts);
-  cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
+  cmd->add_option("--gaze", *gaze,
+                  "Gaze X,Y in pixels of the eye image (default: centre); X,Y;X,Y;...: the foveated frames' gazes in "
+                  "turn, the last for the frames after");
+  cmd->add_option("--first-frame", opts->first_frame,
+                  "Index of the first foveated frame; with --temporal image or rays each frame's jitter seed is "
+                  "--seed plus its index (default 1: the layer's first frame)")
+      ->capture_default_str();
   cmd->add_option("--pose", *pose, "Exact eye pose in scene space px,py,pz,qx,qy,qz,qw (metres, unit quaternion)");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
   cmd->callback([opts, gaze, pose, parse_common] {
     parse_common();
-    if (!gaze->empty()) opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
+    if (gaze->find(';') != std::string::npos) {
+      std::stringstream list(*gaze);
+      for (std::string item; std::getline(list, item, ';');)
+        opts->gaze_px_per_frame.push_back(foveart::tools::parse_gaze_option("--gaze", item));
+      opts->gaze_px = opts->gaze_px_per_frame.back();
+    } else if (!gaze->empty()) {
+      opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
+    }
     if (!pose->empty()) opts->pose = foveart::tools::parse_pose_option("--pose", *pose);
     const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);

@@ -45,9 +45,10 @@ struct MotionFrame {
 // nullopt with *error naming the file, line and column on bad input.
 std::optional<foveation::ScriptedMotion> load_motion(const std::string& spec, std::string* error);
 
-// What is wrong with the window for this motion (start beyond it, frames
-// running past its end, a bad rate), or "". Needs at least 2 frames.
-std::string check_motion_window(const foveation::ScriptedMotion& motion, const MotionWindow& window);
+// False and *error saying what is wrong with the window for this motion (start
+// beyond it, frames running past its end, a bad rate). Needs at least 2 frames.
+[[nodiscard]] bool check_motion_window(const foveation::ScriptedMotion& motion, const MotionWindow& window,
+                                       std::string* error);
 
 // The head pose in the scene at one sample of the motion.
 foveation::EyePose head_in_scene(const foveation::EyePose& scene_head, const foveation::MotionSample& sample);

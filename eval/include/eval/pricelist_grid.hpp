@@ -37,9 +37,9 @@ struct PriceGrid {
 // scale 1 and 2, both patterns, 1 and 4 rays, TAA at 1.
 PriceGrid quick_grid();
 
-// Every setting of a grid, the full-render baseline first; "" or a message
+// Every setting of a grid, the full-render baseline first; false and *error
 // naming the bad entry ("interpolation 'foo'", "k 0").
-std::string expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out);
+[[nodiscard]] bool expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out, std::string* error);
 
 // "a,b,c" -> items; false when an item is empty.
 bool split_list(const std::string& text, std::vector<std::string>* out);

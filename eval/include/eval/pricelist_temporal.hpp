@@ -47,9 +47,9 @@ struct TemporalOptions {
 // The eye size the temporal pass renders at.
 glm::ivec2 temporal_size(const TemporalOptions& options, bool quick);
 
-// What is wrong with the options (the motion file, its window, the size, the
-// reference count), or "". Loads the motion to check it.
-std::string check_temporal_options(const TemporalOptions& options);
+// False and *error saying what is wrong with the options (the motion file, its
+// window, the size, the reference count). Loads the motion to check it.
+[[nodiscard]] bool check_temporal_options(const TemporalOptions& options, std::string* error);
 
 // What the temporal pass measures, for run.json: a different one must not resume into the same OUT.
 nlohmann::ordered_json temporal_run_json(const TemporalOptions& options, bool quick);

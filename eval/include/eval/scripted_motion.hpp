@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -66,8 +67,9 @@ class ScriptedMotion {
 ScriptedMotion builtin_motion(std::uint64_t seed = 1);
 
 // CSV with header "time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade]";
-// throws std::runtime_error naming the file, line and column on bad input.
-ScriptedMotion load_motion_csv(const std::filesystem::path& path);
-void save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& path);
+// nullopt and *error naming the file, line and column on bad input.
+std::optional<ScriptedMotion> load_motion_csv(const std::filesystem::path& path, std::string* error);
+// False and *error naming the file when it cannot be written.
+[[nodiscard]] bool save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& path, std::string* error);
 
 }  // namespace foveart::foveation

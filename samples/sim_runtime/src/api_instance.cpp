@@ -75,7 +75,7 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
         return XR_ERROR_EXTENSION_NOT_PRESENT;
     }
     std::string error;
-    auto config = config_from_environment(error);
+    auto config = config_from_environment(&error);
     if (!config) {
       log(LogLevel::Error, error);
       return XR_ERROR_INITIALIZATION_FAILED;
@@ -86,7 +86,7 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     inst->origin_ns = inst->clock.now_ns();
     if (!config->motion.empty()) {
       // The motion drives head and gaze: FOVEART_SIM_HEAD and FOVEART_SIM_GAZE step aside.
-      auto motion = MotionSource::from_spec(config->motion, config->motion_seed, error);
+      auto motion = MotionSource::from_spec(config->motion, config->motion_seed, &error);
       if (!motion) {
         log(LogLevel::Error, std::string(env::kMotion) + ": " + error);
         return XR_ERROR_RUNTIME_FAILURE;
@@ -100,7 +100,7 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
       inst->motion = std::move(*motion);
       inst->gaze = GazeSource::saccade_script();
     } else if (!config->gaze_file.empty()) {
-      auto gaze = GazeSource::from_trace_file(config->gaze_file, error);
+      auto gaze = GazeSource::from_trace_file(config->gaze_file, &error);
       if (!gaze) {
         log(LogLevel::Error, std::string(env::kGaze) + ": " + error);
         return XR_ERROR_INITIALIZATION_FAILED;

@@ -85,13 +85,13 @@ XRAPI_ATTR XrResult XRAPI_CALL create_session(XrInstance instance, const XrSessi
     auto s = std::make_unique<Session>();
     std::string error;
     if (!s->vk.init(binding->instance, binding->physicalDevice, binding->device,
-                    binding->queueFamilyIndex, binding->queueIndex, error)) {
+                    binding->queueFamilyIndex, binding->queueIndex, &error)) {
       log(LogLevel::Error, "xrCreateSession: " + error);
       return XR_ERROR_GRAPHICS_DEVICE_INVALID;
     }
     if (!inst->config.capture_dir.empty()) {
       s->capture = std::make_unique<FrameCapture>();
-      if (!s->capture->open(inst->config.capture_dir, inst->config.capture_every, error)) {
+      if (!s->capture->open(inst->config.capture_dir, inst->config.capture_every, &error)) {
         log(LogLevel::Error, std::string(env::kCaptureDir) + ": " + error);
         s->vk.destroy();
         return XR_ERROR_RUNTIME_FAILURE;

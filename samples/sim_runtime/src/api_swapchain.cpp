@@ -79,7 +79,7 @@ XRAPI_ATTR XrResult XRAPI_CALL create_swapchain(XrSession handle, const XrSwapch
     for (auto& img : sc->images) {
       std::string error;
       if (!session->vk.create_image(format, info->width, info->height, info->arraySize,
-                                    info->mipCount, usage, flags, img, error)) {
+                                    info->mipCount, usage, flags, img, &error)) {
         log(LogLevel::Error, "xrCreateSwapchain: " + error);
         for (auto& i : sc->images) session->vk.destroy_image(i);
         return XR_ERROR_OUT_OF_MEMORY;

@@ -25,10 +25,10 @@ bool parse_u64(const char* text, uint64_t& out) {
 
 }  // namespace
 
-std::optional<Config> config_from_environment(std::string& error) {
+std::optional<Config> config_from_environment(std::string* error) {
   Config c;
   auto bad = [&](const char* name, const char* value, const char* expected) {
-    error = std::string(name) + "='" + value + "' is not valid: expected " + expected;
+    *error = std::string(name) + "='" + value + "' is not valid: expected " + expected;
     return std::nullopt;
   };
   if (const char* v = get(env::kFrames)) {

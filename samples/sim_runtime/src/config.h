@@ -25,6 +25,6 @@ struct Config {
 
 // Reads the FOVEART_SIM_* variables. On a malformed value returns nullopt and
 // fills error with a message naming the variable.
-std::optional<Config> config_from_environment(std::string& error);
+std::optional<Config> config_from_environment(std::string* error);
 
 }  // namespace foveart::sim

@@ -12,11 +12,11 @@ FrameCapture::~FrameCapture() {
   if (csv_ != nullptr) std::fclose(csv_);
 }
 
-bool FrameCapture::open(const std::string& dir, uint32_t every, std::string& error) {
+bool FrameCapture::open(const std::string& dir, uint32_t every, std::string* error) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) {
-    error = "capture dir '" + dir + "': " + ec.message();
+    *error = "capture dir '" + dir + "': " + ec.message();
     return false;
   }
   dir_ = dir;
@@ -24,7 +24,7 @@ bool FrameCapture::open(const std::string& dir, uint32_t every, std::string& err
   const std::string csv_path = (std::filesystem::path(dir) / "frames.csv").string();
   csv_ = std::fopen(csv_path.c_str(), "w");
   if (csv_ == nullptr) {
-    error = "cannot write '" + csv_path + "'";
+    *error = "cannot write '" + csv_path + "'";
     return false;
   }
   std::fprintf(

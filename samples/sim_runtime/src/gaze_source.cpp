@@ -68,15 +68,15 @@ GazeSource GazeSource::saccade_script() {
   return GazeSource{};
 }
 
-std::optional<GazeSource> GazeSource::from_trace_file(const std::string& path, std::string& error) {
+std::optional<GazeSource> GazeSource::from_trace_file(const std::string& path, std::string* error) {
   gaze::TraceError trace_error;
   const std::optional<gaze::Trace> trace = gaze::read_trace_file(path, &trace_error);
   if (!trace) {
-    error = trace_error.to_string();
+    *error = trace_error.to_string();
     return std::nullopt;
   }
   if (trace->rows.empty()) {
-    error = path + ": the trace has a header but no samples";
+    *error = path + ": the trace has a header but no samples";
     return std::nullopt;
   }
   GazeSource source;

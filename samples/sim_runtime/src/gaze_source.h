@@ -32,7 +32,7 @@ class GazeSource {
   // the first row's; the trace loops. Rows whose device time does not increase are
   // skipped (skipped_rows()), as the provider's reader does. Returns nullopt and the
   // reader's message (file and line) on malformed input or a trace without rows.
-  static std::optional<GazeSource> from_trace_file(const std::string& path, std::string& error);
+  static std::optional<GazeSource> from_trace_file(const std::string& path, std::string* error);
 
   // The newest sample whose time is <= offset_ns (offset_ns >= 0).
   GazeSample sample_at(int64_t offset_ns) const;

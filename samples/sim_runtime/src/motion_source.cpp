@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <glm/geometric.hpp>
 #include <utility>
 
@@ -23,20 +22,11 @@ MotionSource::MotionSource(foveation::ScriptedMotion motion, std::string name)
 }
 
 std::optional<MotionSource> MotionSource::from_spec(const std::string& spec, uint64_t seed,
-                                                    std::string& error) {
-  // The foveation reader reports bad input by exception; none leaves this function.
-  try {
-    if (spec == "builtin") {
-      return MotionSource(foveation::builtin_motion(seed),
-                          "builtin (seed " + std::to_string(seed) + ")");
-    }
-    return MotionSource(foveation::load_motion_csv(spec), spec);
-  } catch (const std::exception& e) {
-    error = e.what();
-  } catch (...) {
-    error = spec + ": unknown error while reading the motion script";
-  }
-  return std::nullopt;
+                                                    std::string* error) {
+  if (spec == "builtin") return MotionSource(foveation::builtin_motion(seed), "builtin (seed " + std::to_string(seed) + ")");
+  std::optional<foveation::ScriptedMotion> motion = foveation::load_motion_csv(spec, error);
+  if (!motion) return std::nullopt;
+  return MotionSource(std::move(*motion), spec);
 }
 
 void MotionSource::split(int64_t offset_ns, int64_t& loop_start_ns, int64_t& in_loop_ns) const {

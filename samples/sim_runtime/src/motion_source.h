@@ -37,7 +37,7 @@ class MotionSource {
   // (foveation::load_motion_csv; the seed is unused). nullopt and a message naming
   // the file, line and column on bad input.
   static std::optional<MotionSource> from_spec(const std::string& spec, uint64_t seed,
-                                               std::string& error);
+                                               std::string* error);
 
   // Head (VIEW) pose in LOCAL at offset_ns (< 0 counts as 0).
   Pose head_in_local(int64_t offset_ns) const;

@@ -47,16 +47,16 @@ std::size_t write_motion_gaze_trace(const MotionSource& motion, double duration_
 }
 
 bool write_motion_gaze_trace_file(const MotionSource& motion, double duration_s, const std::string& path,
-                                  std::string& error) {
+                                  std::string* error) {
   std::ofstream out(path);
   if (!out) {
-    error = path + ": cannot open for writing";
+    *error = path + ": cannot open for writing";
     return false;
   }
   write_motion_gaze_trace(motion, duration_s, out);
   out.flush();
   if (!out) {
-    error = path + ": write failed";
+    *error = path + ": write failed";
     return false;
   }
   return true;

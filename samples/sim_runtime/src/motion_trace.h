@@ -20,6 +20,6 @@ namespace foveart::sim {
 std::size_t write_motion_gaze_trace(const MotionSource& motion, double duration_s, std::ostream& out);
 // To a file; false and a message naming the file when it cannot be written.
 bool write_motion_gaze_trace_file(const MotionSource& motion, double duration_s, const std::string& path,
-                                  std::string& error);
+                                  std::string* error);
 
 }  // namespace foveart::sim

@@ -46,7 +46,7 @@ bool is_capturable_format(VkFormat format, bool& out_bgra) {
 }
 
 bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice device,
-                        uint32_t queue_family, uint32_t queue_index, std::string& error) {
+                        uint32_t queue_family, uint32_t queue_index, std::string* error) {
   pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer must still see them at exit (icd_pin.h)
   instance_ = instance;
   physical_ = physical;
@@ -59,7 +59,7 @@ bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice
                 GetPhysicalDeviceImageFormatProperties);
   if (get_device_proc == nullptr || get_memory_props == nullptr ||
       GetPhysicalDeviceImageFormatProperties == nullptr) {
-    error = "vkGetInstanceProcAddr failed for the application's VkInstance";
+    *error = "vkGetInstanceProcAddr failed for the application's VkInstance";
     return false;
   }
   get_memory_props(physical, &memory_props_);
@@ -88,12 +88,12 @@ bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice
       dev("vkWaitForFences", WaitForFences) && dev("vkResetFences", ResetFences) &&
       dev("vkInvalidateMappedMemoryRanges", InvalidateMappedMemoryRanges);
   if (!ok) {
-    error = "vkGetDeviceProcAddr failed for the application's VkDevice";
+    *error = "vkGetDeviceProcAddr failed for the application's VkDevice";
     return false;
   }
   GetDeviceQueue(device, queue_family, queue_index, &queue_);
   if (queue_ == VK_NULL_HANDLE) {
-    error = "no VkQueue at the binding's queueFamilyIndex/queueIndex";
+    *error = "no VkQueue at the binding's queueFamilyIndex/queueIndex";
     return false;
   }
   VkCommandPoolCreateInfo pool_info{};
@@ -101,7 +101,7 @@ bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool_info.queueFamilyIndex = queue_family;
   if (CreateCommandPool(device, &pool_info, nullptr, &pool_) != VK_SUCCESS) {
-    error = "vkCreateCommandPool failed";
+    *error = "vkCreateCommandPool failed";
     return false;
   }
   device_ = device;
@@ -114,7 +114,7 @@ bool VulkanDevice::init(VkInstance instance, VkPhysicalDevice physical, VkDevice
   fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
   if (AllocateCommandBuffers(device, &alloc, &cmd_) != VK_SUCCESS ||
       CreateFence(device, &fence_info, nullptr, &fence_) != VK_SUCCESS) {
-    error = "vkAllocateCommandBuffers/vkCreateFence failed";
+    *error = "vkAllocateCommandBuffers/vkCreateFence failed";
     destroy();
     return false;
   }
@@ -159,7 +159,7 @@ bool VulkanDevice::supports(VkFormat format, VkImageUsageFlags usage, VkImageCre
 
 bool VulkanDevice::create_image(VkFormat format, uint32_t width, uint32_t height,
                                 uint32_t array_size, uint32_t mip_count, VkImageUsageFlags usage,
-                                VkImageCreateFlags flags, SwapchainImage& out, std::string& error) {
+                                VkImageCreateFlags flags, SwapchainImage& out, std::string* error) {
   VkImageCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
   info.flags = flags;
@@ -174,7 +174,7 @@ bool VulkanDevice::create_image(VkFormat format, uint32_t width, uint32_t height
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
   if (CreateImage(device_, &info, nullptr, &out.image) != VK_SUCCESS) {
-    error = "vkCreateImage failed";
+    *error = "vkCreateImage failed";
     return false;
   }
   VkMemoryRequirements req{};
@@ -187,7 +187,7 @@ bool VulkanDevice::create_image(VkFormat format, uint32_t width, uint32_t height
       static_cast<uint32_t>(type < 0 ? memory_type(req.memoryTypeBits, 0) : type);
   if (AllocateMemory(device_, &alloc, nullptr, &out.memory) != VK_SUCCESS ||
       BindImageMemory(device_, out.image, out.memory, 0) != VK_SUCCESS) {
-    error = "vkAllocateMemory/vkBindImageMemory failed";
+    *error = "vkAllocateMemory/vkBindImageMemory failed";
     destroy_image(out);
     return false;
   }

@@ -28,7 +28,7 @@ class VulkanDevice {
  public:
   // Fails (returns false, error filled) when the binding's handles are unusable.
   bool init(VkInstance instance, VkPhysicalDevice physical, VkDevice device, uint32_t queue_family,
-            uint32_t queue_index, std::string& error);
+            uint32_t queue_index, std::string* error);
   void destroy();
   bool valid() const { return device_ != VK_NULL_HANDLE; }
 
@@ -36,7 +36,7 @@ class VulkanDevice {
                 uint32_t array_size) const;
   bool create_image(VkFormat format, uint32_t width, uint32_t height, uint32_t array_size,
                     uint32_t mip_count, VkImageUsageFlags usage, VkImageCreateFlags flags,
-                    SwapchainImage& out, std::string& error);
+                    SwapchainImage& out, std::string* error);
   void destroy_image(SwapchainImage& img);
   // UNDEFINED -> attachment layout, on the app's queue, waited.
   bool initialize_layout(SwapchainImage& img, bool depth, uint32_t array_size, uint32_t mip_count);

@@ -27,14 +27,14 @@ int main(int argc, char** argv) {
   CLI11_PARSE(cli, argc, argv);
 
   std::string error;
-  const auto motion = foveart::sim::MotionSource::from_spec(motion_spec, seed, error);
+  const auto motion = foveart::sim::MotionSource::from_spec(motion_spec, seed, &error);
   if (!motion) {
     std::fprintf(stderr, "sim-motion-trace: %s\n", error.c_str());
     return 2;
   }
   const double duration_s =
       seconds > 0.0 ? seconds : static_cast<double>(motion->loop_period_ns()) * 1e-9;
-  if (!foveart::sim::write_motion_gaze_trace_file(*motion, duration_s, out_path, error)) {
+  if (!foveart::sim::write_motion_gaze_trace_file(*motion, duration_s, out_path, &error)) {
     std::fprintf(stderr, "sim-motion-trace: %s\n", error.c_str());
     return 1;
   }

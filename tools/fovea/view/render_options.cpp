@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <exception>
 #include <vector>
+#include <utility>
 
 namespace foveart::tools {
 namespace {
@@ -144,7 +145,9 @@ engine::TracerOptions render_tracer_options(const RenderOptions& o) {
   return t;
 }
 
-std::string check_render_options(const RenderOptions& o) {
+namespace {
+
+std::string render_options_problem(const RenderOptions& o) {
   if (o.mode != "full" && o.mode != "foveated" && o.mode != "both") return "--mode must be full, foveated or both";
   if (o.eye != "left" && o.eye != "right") return "--eye must be left or right";
   if (o.interpolation != "nearest" && o.interpolation != "msm" && o.interpolation != "rbf") {
@@ -158,6 +161,9 @@ std::string check_render_options(const RenderOptions& o) {
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";
   if (o.frames < 1 || o.frames > 1000) return "--frames must be in 1..1000";
+  if (o.gaze_px_per_frame.size() > std::size_t(o.frames))
+    return "--gaze lists " + std::to_string(o.gaze_px_per_frame.size()) + " gazes, more than --frames " +
+           std::to_string(o.frames);
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
     return "--size must be between 8 and 16384 pixels per side";
   if (std::string bad = check_view(o); !bad.empty()) return bad;
@@ -174,7 +180,7 @@ std::string check_render_options(const RenderOptions& o) {
   }
   if (!o.reference_spp.empty() && !o.reference_file.empty()) return "give --reference-spp or --reference, not both";
   std::vector<std::string> taa;
-  if (std::string bad = parse_taa_modes(o.taa, &taa); !bad.empty()) return bad;
+  if (std::string bad; !parse_taa_modes(o.taa, &taa, &bad)) return bad;
   if (o.mode == "full" && taa != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
   if (o.motion.empty()) {
     if (taa.size() > 1) return "--taa: a list of modes needs --motion (one still view has one TAA)";
@@ -186,6 +192,15 @@ std::string check_render_options(const RenderOptions& o) {
     if (!o.reference_file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
   }
   return "";
+}
+
+}  // namespace
+
+bool check_render_options(const RenderOptions& o, std::string* error) {
+  std::string problem = render_options_problem(o);
+  if (problem.empty()) return true;
+  *error = std::move(problem);
+  return false;
 }
 
 }  // namespace foveart::tools

@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace foveart::tools {
 
@@ -33,12 +34,19 @@ struct RenderOptions {
   std::string mode = "full";      // full | foveated | both
   std::string interpolation = "nearest";  // nearest | msm | rbf
   std::optional<glm::vec2> gaze_px;  // default: image centre
+  // `fovea render --gaze A;B;C`: the foveated frames' gazes in turn, the last
+  // (gaze_px) for every frame after them. Empty: gaze_px for every frame.
+  std::vector<glm::vec2> gaze_px_per_frame;
   int rays_per_point = 1;            // a full render's points are its pixels
   int k = 0;                      // 0: the default (reconstruction_k)
   double density_scale = 1.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
+  // The index of the first foveated frame, the next ones counting up: with TAA
+  // each frame's jitter seed is seed + its index. 1: as the layer numbers its
+  // frames, so that frame i of `--temporal image|rays` is the layer's frame i.
+  uint64_t first_frame = 1;
   std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
   // An exact OpenXR view instead of the preset's: XrFovf angles in degrees
   // (left, right, up, down; the point set follows the horizontal span, as the
@@ -77,8 +85,8 @@ struct RenderOptions {
   bool json = false;
 };
 
-// The checks `fovea render` applies to its options: empty, or what is wrong.
-std::string check_render_options(const RenderOptions& options);
+// The checks `fovea render` applies to its options: false and *error saying what is wrong.
+[[nodiscard]] bool check_render_options(const RenderOptions& options, std::string* error);
 // The eye view `fovea render` renders for these options (preset, eye, size,
 // --fov, --pose) of a scene. The options must have passed check_render_options.
 FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& scene);

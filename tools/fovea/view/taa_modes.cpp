@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <utility>
 
 namespace foveart::tools {
 
@@ -11,18 +12,22 @@ bool is_taa_mode(const std::string& name) {
   return name == "off" || name == "restart" || name == "reproject" || name == "cache" || name == "cache-kept";
 }
 
-std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out) {
+bool parse_taa_modes(const std::string& text, std::vector<std::string>* out, std::string* error) {
+  const auto fail = [&](std::string message) {
+    *error = std::move(message);
+    return false;
+  };
   out->clear();
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
-    if (!is_taa_mode(item)) return "--taa: '" + item + "' is not off, restart, reproject, cache or cache-kept";
-    if (std::find(out->begin(), out->end(), item) != out->end()) return "--taa: '" + item + "' given twice";
+    if (!is_taa_mode(item)) return fail("--taa: '" + item + "' is not off, restart, reproject, cache or cache-kept");
+    if (std::find(out->begin(), out->end(), item) != out->end()) return fail("--taa: '" + item + "' given twice");
     out->push_back(item);
   }
   if (out->empty() || text.back() == ',')
-    return "--taa: expected off, restart, reproject, cache, cache-kept or a list of them";
-  return "";
+    return fail("--taa: expected off, restart, reproject, cache, cache-kept or a list of them");
+  return true;
 }
 
 const char* taa_mode_of(foveation::TemporalMode mode) {

@@ -20,8 +20,8 @@ namespace foveart::tools {
 bool is_taa_mode(const std::string& name);
 // The TAA mode of the product's temporal mode: "off", "reproject" (image) or "cache" (rays).
 const char* taa_mode_of(foveation::TemporalMode mode);
-// "off,restart,reproject" -> the modes; "" or a message naming the bad entry.
-std::string parse_taa_modes(const std::string& text, std::vector<std::string>* out);
+// "off,restart,reproject" -> the modes; false and *error naming the bad entry.
+[[nodiscard]] bool parse_taa_modes(const std::string& text, std::vector<std::string>* out, std::string* error);
 // The view settings of a foveated frame with this TAA mode at equal rays: TAA
 // off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
 // frame, which it accumulates; taa_mean_while_young: TaaOptions::mean_while_young.

@@ -1,6 +1,6 @@
 // PNG images for the tools (stb_image / stb_image_write), over the one image
-// type of FoveaRT (foveation::ImageRgb). Errors are returned as messages naming
-// the file; nothing throws.
+// type of FoveaRT (foveation::ImageRgb). Each returns false and *error naming
+// the file on failure; nothing throws.
 #pragma once
 
 #include <cstdint>
@@ -18,11 +18,12 @@ enum class PngValues : std::uint8_t {
 };
 
 // 8-bit RGB PNG of `image` (values clamped to [0, 1]).
-std::string write_png(const std::string& path, const foveation::ImageRgb& image, PngValues values);
-// Any stb-readable image as RGB floats. Empty string on success.
-std::string read_image(const std::string& path, PngValues values, foveation::ImageRgb* out);
+[[nodiscard]] bool write_png(const std::string& path, const foveation::ImageRgb& image, PngValues values,
+                             std::string* error);
+// Any stb-readable image as RGB floats.
+[[nodiscard]] bool read_image(const std::string& path, PngValues values, foveation::ImageRgb* out, std::string* error);
 // 8-bit grey, RGB or RGBA PNG as given (channels 1, 3 or 4).
-std::string write_png_u8(const std::string& path, int width, int height, int channels,
-                         const std::vector<std::uint8_t>& pixels);
+[[nodiscard]] bool write_png_u8(const std::string& path, int width, int height, int channels,
+                                const std::vector<std::uint8_t>& pixels, std::string* error);
 
 }  // namespace foveart::toolkit
