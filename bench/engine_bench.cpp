@@ -45,7 +45,7 @@ std::unique_ptr<fv::FoveatedView> nn_view() {
   fv::PointSetKey key;
   key.display = *fv::display_preset("fove");
   fv::InterpOptions nn;
-  nn.method = fv::InterpMethod::nn;
+  nn.method = fv::InterpMethod::nearest;
   nn.k = 1;
   return std::make_unique<fv::FoveatedView>(
       fv::load_view_tables(std::filesystem::path("/tmp/foveart_bench_cache"), key, nn, bench_executor()),

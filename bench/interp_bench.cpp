@@ -30,7 +30,7 @@ namespace fv = foveart::foveation;
 
 namespace {
 
-constexpr fv::InterpMethod kMethods[] = {fv::InterpMethod::nn, fv::InterpMethod::msm, fv::InterpMethod::rbf_mq,
+constexpr fv::InterpMethod kMethods[] = {fv::InterpMethod::nearest, fv::InterpMethod::msm, fv::InterpMethod::rbf,
                                          fv::InterpMethod::rbf_gauss};
 
 std::filesystem::path cache_dir() {
@@ -105,7 +105,7 @@ const fv::CachedTable& table_for(fv::InterpMethod m, int k, std::optional<fv::We
   return *slot;
 }
 
-int own_k(fv::InterpMethod m, int k) { return m == fv::InterpMethod::nn ? 1 : k; }
+int own_k(fv::InterpMethod m, int k) { return m == fv::InterpMethod::nearest ? 1 : k; }
 
 // range(2): threads. With 1 thread the CPU time is the single core's work, the
 // number least disturbed by other processes on this shared VM.
@@ -154,7 +154,7 @@ void BM_RbfOverMsm(benchmark::State& state) {
   o.method = fv::InterpMethod::msm;
   const fv::CachedTable msm =
       fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, executor(2));
-  o.method = fv::InterpMethod::rbf_mq;
+  o.method = fv::InterpMethod::rbf;
   const fv::CachedTable rbf =
       fv::load_or_build_interpolation_table(cache_dir(), s.key, s.tables.points, s.tables.neighbors, o, executor(2));
   fv::ImageRgb out(s.mapping.screen_width_px, s.mapping.screen_height_px);
@@ -267,7 +267,7 @@ BENCHMARK(BM_RbfTablePrecompute)->Args({2, 20})->Args({3, 20})->Args({1, 20})->U
 void BM_TableLoadFromCache(benchmark::State& state) {
   auto& s = scene();
   fv::InterpOptions o;
-  o.method = fv::InterpMethod::rbf_mq;
+  o.method = fv::InterpMethod::rbf;
   o.k = 20;
   table_for(o.method, o.k);  // make sure it is stored
   for (auto _ : state) {

@@ -39,7 +39,7 @@ std::shared_ptr<const fv::ViewTables> tables_for(fv::InterpMethod method) {
     key.display = *fv::display_preset("fove");
     fv::InterpOptions o;
     o.method = method;
-    o.k = method == fv::InterpMethod::nn ? 1 : 5;
+    o.k = method == fv::InterpMethod::nearest ? 1 : 5;
     const char* dir = std::getenv("FOVEART_BENCH_CACHE");
     slot = fv::load_view_tables(std::filesystem::path(dir ? dir : "/tmp/foveart_bench_cache"), key, o, executor());
   }
@@ -48,7 +48,7 @@ std::shared_ptr<const fv::ViewTables> tables_for(fv::InterpMethod method) {
 
 // Args: method (0 NN, 1 MSM, 2 RBF-MQ), TAA (0/1).
 void BM_EyeFramePath(benchmark::State& state) {
-  const fv::InterpMethod methods[] = {fv::InterpMethod::nn, fv::InterpMethod::msm, fv::InterpMethod::rbf_mq};
+  const fv::InterpMethod methods[] = {fv::InterpMethod::nearest, fv::InterpMethod::msm, fv::InterpMethod::rbf};
   const bool taa = state.range(1) != 0;
   fv::ViewSettings settings;  // as the layer sets them
   settings.taa = taa;

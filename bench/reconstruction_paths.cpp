@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
               "method", "k", "cpu recon ms", "cpu +enc ms", "gpu recon ms", "gpu +enc ms", "gpu wall ms", "cpu/gpu");
   for (const fv::InterpMethod method : methods) {
     const std::string m(fv::method_name(method));
-    for (int k : (method == fv::InterpMethod::nn ? std::vector<int>{1} : ks)) {
+    for (int k : (method == fv::InterpMethod::nearest ? std::vector<int>{1} : ks)) {
       fv::PointSetKey key;
       key.display = fv::DisplayModel::from_fov(size[0], size[1], 90.0);
       key.display.scale = density_scale;

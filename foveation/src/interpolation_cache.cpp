@@ -207,11 +207,11 @@ CachedTable load_or_build_interpolation_table(const std::optional<std::filesyste
     if (auto t = load_interpolation_table(file, params, &error)) {
       const std::size_t expect = t->pixel_count() * std::size_t(opts.k);
       const bool sizes_ok = t->width_px == neighbors.width_px() && t->height_px == neighbors.height_px() &&
-                            (opts.method == InterpMethod::nn ||
+                            (opts.method == InterpMethod::nearest ||
                              (prec == WeightPrecision::f16 ? t->weights_f16.size() : t->weights_f32.size()) == expect);
       // Every slot inside its palette, every palette entry a point: the gather never reads out of bounds.
       const std::string layout_error =
-          !sizes_ok || opts.method == InterpMethod::nn
+          !sizes_ok || opts.method == InterpMethod::nearest
               ? std::string()
               : gather_layout_error(t->layout, neighbors.width_px(), neighbors.height_px(), opts.k, points.size());
       if (sizes_ok && layout_error.empty()) {

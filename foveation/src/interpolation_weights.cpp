@@ -18,10 +18,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string_view method_name(InterpMethod method) {
   switch (method) {
-    case InterpMethod::nn:
+    case InterpMethod::nearest:
       return "nearest";
     case InterpMethod::msm: return "msm";
-    case InterpMethod::rbf_mq:
+    case InterpMethod::rbf:
       return "rbf";
     case InterpMethod::rbf_gauss: return "rbf-gauss";
   }
@@ -29,7 +29,7 @@ std::string_view method_name(InterpMethod method) {
 }
 
 std::optional<InterpMethod> parse_method(std::string_view name) {
-  for (auto m : {InterpMethod::nn, InterpMethod::msm, InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::nearest, InterpMethod::msm, InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     if (method_name(m) == name) return m;
   }
   return std::nullopt;
@@ -125,7 +125,7 @@ WeightInfo weights_cached(const InterpOptions& o, std::span<const Vec2d> nb,
     }
   }
   WeightInfo info;
-  if (o.method == InterpMethod::nn) {
+  if (o.method == InterpMethod::nearest) {
     // First minimal squared distance in list order: ties go to the lowest index.
     int best = 0;
     double best_d2 = kInf;

@@ -14,7 +14,7 @@ DisplayModel display_of_view(const FoveartEyeView& view) {
 }
 
 int neighbor_count(const InterpOptions& interpolation) {
-  return interpolation.method == InterpMethod::nn ? std::max(4, interpolation.k) : interpolation.k;
+  return interpolation.method == InterpMethod::nearest ? std::max(4, interpolation.k) : interpolation.k;
 }
 
 std::shared_ptr<const ViewTables> load_view_tables(const std::optional<std::filesystem::path>& cache_dir,

@@ -60,11 +60,11 @@ int64_t steady_now_ns() {
 foveation::InterpOptions interp_options(const RendererSettings& settings) {
   foveation::InterpOptions o;
   switch (settings.interpolation) {
-    case XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART: o.method = foveation::InterpMethod::nn; break;
-    case XR_FOVEATED_INTERPOLATION_RBF_FOVEART: o.method = foveation::InterpMethod::rbf_mq; break;
+    case XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART: o.method = foveation::InterpMethod::nearest; break;
+    case XR_FOVEATED_INTERPOLATION_RBF_FOVEART: o.method = foveation::InterpMethod::rbf; break;
     default: o.method = foveation::InterpMethod::msm; break;
   }
-  o.k = o.method == foveation::InterpMethod::nn ? 1 : static_cast<int>(settings.k);
+  o.k = o.method == foveation::InterpMethod::nearest ? 1 : static_cast<int>(settings.k);
   return o;
 }
 

@@ -193,8 +193,8 @@ TEST(GatherLayout, SimdAndPortableGathersMatchTheReference) {
   GazeMapping map;
   map.screen_width_px = 29, map.screen_height_px = 21;
   map.canvas_from_screen_x_px = 13, map.canvas_from_screen_y_px = 11;
-  for (auto [m, clamp] : {std::pair{InterpMethod::msm, RbfClamp::block}, std::pair{InterpMethod::rbf_mq, RbfClamp::block},
-                          std::pair{InterpMethod::rbf_mq, RbfClamp::taps}, std::pair{InterpMethod::rbf_mq, RbfClamp::off}}) {
+  for (auto [m, clamp] : {std::pair{InterpMethod::msm, RbfClamp::block}, std::pair{InterpMethod::rbf, RbfClamp::block},
+                          std::pair{InterpMethod::rbf, RbfClamp::taps}, std::pair{InterpMethod::rbf, RbfClamp::off}}) {
     // float accumulation: MSM is convex; RBF weights are signed. Clamped results
     // stay in [0, 1]; unclamped ones reach ~30 here, so their error is taken
     // per unit of Σ|w| (the scale of the accumulation error).

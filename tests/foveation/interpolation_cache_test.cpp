@@ -26,7 +26,7 @@ struct InterpolationCacheTest : ::testing::Test {
     key.display.height_px = test::kScreenH;
     key.display.view_distance_px = 100.0;
     key.seed = 3;
-    opts.method = InterpMethod::rbf_mq;
+    opts.method = InterpMethod::rbf;
     opts.k = 10;
   }
   void TearDown() override { fs::remove_all(dir); }
@@ -54,7 +54,7 @@ TEST_F(InterpolationCacheTest, RoundTripServesIdenticalWeights) {
   EXPECT_TRUE(loaded.from_cache);
   EXPECT_EQ(loaded.table.weights_f16, built.table.weights_f16);
   EXPECT_EQ(loaded.table.precision, WeightPrecision::f16);
-  EXPECT_EQ(loaded.table.options.method, InterpMethod::rbf_mq);
+  EXPECT_EQ(loaded.table.options.method, InterpMethod::rbf);
   EXPECT_EQ(loaded.table.stats.factorizations, built.table.stats.factorizations);
 }
 

@@ -67,7 +67,7 @@ TEST(InterpolationInvalid, NaNPointNeverSpreads) {
   const auto colors = point_colors_from_all(rgb);
   for (auto m : test::kAllMethods) {
     for (int k : {5, 20}) {
-      if (m == InterpMethod::nn && k == 20) continue;  // NN has one tap whatever k is
+      if (m == InterpMethod::nearest && k == 20) continue;  // NN has one tap whatever k is
       const auto t = build_interpolation_table(s.points, s.nt, opts(m, k), test::executor(), WeightPrecision::f16);
       ImageRgb out;
       const auto stats = gather(s.nt, t, colors, s.map, out, test::executor());
@@ -114,7 +114,7 @@ TEST(InterpolationInvalid, AllInvalidGivesTheFallbackColour) {
   const auto colors = point_colors_from_list(s.points.size(), {}, {});
   GatherOptions g;
   g.fallback_rgb = {0.0f, 1.0f, 0.0f};
-  const auto t = build_interpolation_table(s.points, s.nt, opts(InterpMethod::rbf_mq, 5), test::executor(), std::nullopt);
+  const auto t = build_interpolation_table(s.points, s.nt, opts(InterpMethod::rbf, 5), test::executor(), std::nullopt);
   ImageRgb out;
   const auto stats = gather(s.nt, t, colors, s.map, out, test::executor(), g);
   EXPECT_EQ(stats.fallback, out.pixel_count());

@@ -79,7 +79,7 @@ TEST_F(InterpolationTableTest, WeightsEqualTheOneQueryCode) {
 
 TEST_F(InterpolationTableTest, IdenticalAcrossRunsAndThreadCounts) {
   Executor one_thread(1), three_threads(3);
-  for (auto m : {InterpMethod::msm, InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::msm, InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     const auto a = build_interpolation_table(*points_, *neighbors_, opts(m, 10), one_thread, WeightPrecision::f32);
     const auto b = build_interpolation_table(*points_, *neighbors_, opts(m, 10), test::executor(), WeightPrecision::f32);
     const auto c = build_interpolation_table(*points_, *neighbors_, opts(m, 10), three_threads, WeightPrecision::f32);
@@ -122,7 +122,7 @@ TEST_F(InterpolationTableTest, GatherReproducesConstantsForEveryMethod) {
 TEST_F(InterpolationTableTest, ThesisPlainRbfDarkensConstants) {
   const auto colors = uniform_colors(points_->size(), 1.0f, 1.0f, 1.0f);
   ImageRgb out;
-  auto o = opts(InterpMethod::rbf_mq, 5);
+  auto o = opts(InterpMethod::rbf, 5);
   o.constant_term = false;
   const auto t = build_interpolation_table(*points_, *neighbors_, o, test::executor(), WeightPrecision::f32);
   GatherOptions g;
@@ -161,7 +161,7 @@ TEST_F(InterpolationTableTest, RbfClampRemovesOvershootOnAStep) {
     rgb.insert(rgb.end(), {v, v, v});
   }
   const auto colors = point_colors_from_all(rgb);
-  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::rbf_mq, 20), test::executor(), WeightPrecision::f32);
+  const auto t = build_interpolation_table(*points_, *neighbors_, opts(InterpMethod::rbf, 20), test::executor(), WeightPrecision::f32);
   ImageRgb clamped, raw;
   gather(*neighbors_, t, colors, test::centre_mapping(), clamped, test::executor());
   GatherOptions g;
@@ -183,7 +183,7 @@ TEST_F(InterpolationTableTest, HalfWeightsCostLittleAccuracy) {
     rgb.insert(rgb.end(), {0.5f + 0.5f * std::sin(p.x * 0.2f), 0.5f + 0.5f * std::cos(p.y * 0.15f), 0.3f});
   }
   const auto colors = point_colors_from_all(rgb);
-  for (auto m : {InterpMethod::msm, InterpMethod::rbf_mq}) {
+  for (auto m : {InterpMethod::msm, InterpMethod::rbf}) {
     const auto t32 = build_interpolation_table(*points_, *neighbors_, opts(m, 20), test::executor(), WeightPrecision::f32);
     const auto t16 = build_interpolation_table(*points_, *neighbors_, opts(m, 20), test::executor(), WeightPrecision::f16);
     EXPECT_EQ(t16.weights_f16.size(), t32.weights_f32.size());
@@ -205,7 +205,7 @@ TEST(InterpolationTableLattice, NearestNeighbourTiesGoToLowestIndex) {
   std::vector<float> rgb;
   for (std::size_t i = 0; i < points.size(); ++i) rgb.insert(rgb.end(), {float(i), 0.0f, 0.0f});
   const auto colors = point_colors_from_all(rgb);
-  const auto t = build_interpolation_table(points, nt, opts(InterpMethod::nn, 1), test::executor(), std::nullopt);
+  const auto t = build_interpolation_table(points, nt, opts(InterpMethod::nearest, 1), test::executor(), std::nullopt);
   const auto map = test::centre_mapping();
   ImageRgb out;
   gather(nt, t, colors, map, out, test::executor());

@@ -75,7 +75,7 @@ inline double franke(double x, double y) {
          0.2 * std::exp(-(9 * x - 4) * (9 * x - 4) - (9 * y - 7) * (9 * y - 7));
 }
 
-inline const InterpMethod kAllMethods[] = {InterpMethod::nn, InterpMethod::msm, InterpMethod::rbf_mq,
+inline const InterpMethod kAllMethods[] = {InterpMethod::nearest, InterpMethod::msm, InterpMethod::rbf,
                                            InterpMethod::rbf_gauss};
 
 }  // namespace foveart::foveation::test

@@ -46,7 +46,7 @@ TEST(InterpolationWeights, EveryMethodReproducesConstants) {
 TEST(InterpolationWeights, ThesisPlainRbfDoesNotReproduceConstants) {
   // Thesis section 6.4: plain multiquadric RBF darkened the periphery at k = 5.
   const auto s = test::jittered_grid(12, constant_one, 7);
-  for (auto m : {InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     auto o = opts(m, 5);
     o.constant_term = false;
     double worst = 0.0;
@@ -75,12 +75,12 @@ TEST(InterpolationWeights, NearestNeighbourTiesGoToLowestIndex) {
   // Four samples at the corners of a unit square, listed in scrambled index order.
   std::vector<Sample> s = {{{1, 1}, 3.0}, {{0, 0}, 0.0}, {{1, 0}, 1.0}, {{0, 1}, 2.0}};
   for (int k : {1, 2, 4}) {
-    const auto r = test::interpolate(opts(InterpMethod::nn, k), s, {0.5, 0.5});
+    const auto r = test::interpolate(opts(InterpMethod::nearest, k), s, {0.5, 0.5});
     EXPECT_EQ(r.value, 3.0);  // index 0 is the lowest index, all four tie
     EXPECT_EQ(r.ids[0], 0u);
   }
   // Tie between indices 1 and 2 only.
-  const auto r = test::interpolate(opts(InterpMethod::nn, 4), s, {0.5, -0.25});
+  const auto r = test::interpolate(opts(InterpMethod::nearest, 4), s, {0.5, -0.25});
   EXPECT_EQ(r.value, 0.0);
 }
 
@@ -167,7 +167,7 @@ TEST(InterpolationWeights, RbfShapeSweepResiduals) {
   const auto s = test::jittered_grid(16, test::franke, 21);
   std::mt19937 rng(4);
   std::uniform_real_distribution<double> u(0.15, 0.85);
-  for (auto m : {InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     for (int k : {5, 10, 20}) {
       for (double shape : {0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0}) {
         auto o = opts(m, k);
@@ -197,7 +197,7 @@ TEST(InterpolationWeights, RbfShapeSweepResiduals) {
 TEST(InterpolationWeights, RbfNearDuplicatesAreMerged) {
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> u(0.0, 10.0);
-  for (auto m : {InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     std::vector<Vec2d> nb(10);
     for (auto& p : nb) p = {u(rng), u(rng)};
     nb[3] = {nb[1].x + 3e-7, nb[1].y - 2e-7};  // < 1e-6 px apart
@@ -220,7 +220,7 @@ TEST(InterpolationWeights, RbfNearDuplicatesAreMerged) {
 TEST(InterpolationWeights, RbfCollinearNeighbourhood) {
   std::vector<Sample> s;
   for (int i = 0; i < 20; ++i) s.push_back({{i * 1.0, 2.0 * i}, ramp(i * 1.0, 2.0 * i)});
-  for (auto m : {InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     for (const Vec2d q : {Vec2d{4.5, 9.0}, Vec2d{4.5, 11.0}, Vec2d{30.0, 0.0}}) {
       const auto r = test::interpolate(opts(m, 10), s, q);
       EXPECT_TRUE(r.info.collinear);
@@ -241,7 +241,7 @@ TEST(InterpolationWeights, RbfReproducesRampWell) {
   const auto s = test::jittered_grid(16, ramp, 31);
   std::mt19937 rng(6);
   std::uniform_real_distribution<double> u(0.2, 0.8);
-  for (auto m : {InterpMethod::rbf_mq, InterpMethod::rbf_gauss}) {
+  for (auto m : {InterpMethod::rbf, InterpMethod::rbf_gauss}) {
     double worst = 0, worst_msm = 0;
     for (int i = 0; i < 200; ++i) {
       const Vec2d q{u(rng), u(rng)};
@@ -267,7 +267,7 @@ TEST(InterpolationWeights, StepEdgeOvershootIsBounded) {
         }
       }
       const double overshoot = std::max(-lo, hi - 1.0);
-      if (m == InterpMethod::nn || m == InterpMethod::msm) {
+      if (m == InterpMethod::nearest || m == InterpMethod::msm) {
         EXPECT_LE(overshoot, 1e-12);  // convex weights: rounding only
       } else {
         // Measured 0.35-0.65 (docs/interpolation.md); the gather clamps to the taps' range.
@@ -298,8 +298,8 @@ TEST(InterpolationWeights, FrankeConvergenceSlope) {
   // reproduce constants only: first order. RBF with a constant term on local
   // stencils converges faster (>= second order before saturating).
   struct Expect { InterpMethod m; int k; double min_slope; };
-  for (const auto& e : {Expect{InterpMethod::nn, 1, 0.8}, Expect{InterpMethod::msm, 10, 0.9},
-                        Expect{InterpMethod::rbf_mq, 20, 1.8}, Expect{InterpMethod::rbf_gauss, 20, 1.8}}) {
+  for (const auto& e : {Expect{InterpMethod::nearest, 1, 0.8}, Expect{InterpMethod::msm, 10, 0.9},
+                        Expect{InterpMethod::rbf, 20, 1.8}, Expect{InterpMethod::rbf_gauss, 20, 1.8}}) {
     const double e1 = rms_error(e.m, e.k, 16), e2 = rms_error(e.m, e.k, 32), e3 = rms_error(e.m, e.k, 64);
     const double slope = std::log(e1 / e3) / std::log(4.0);
     RecordProperty(std::string(method_name(e.m)) + "_slope", std::to_string(slope));

@@ -218,9 +218,9 @@ class GpuMatchesCpu : public GpuReconstruction, public ::testing::WithParamInter
 std::vector<Case> gpu_matches_cpu_cases() {
   std::vector<Case> cases;
   for (DevicePreference device : {DevicePreference::hardware_gpu, DevicePreference::cpu}) {
-    for (auto [method, k] : {std::pair{InterpMethod::nn, 1}, std::pair{InterpMethod::msm, 1}, std::pair{InterpMethod::msm, 5},
-                             std::pair{InterpMethod::msm, 20}, std::pair{InterpMethod::rbf_mq, 1},
-                             std::pair{InterpMethod::rbf_mq, 5}, std::pair{InterpMethod::rbf_mq, 20}}) {
+    for (auto [method, k] : {std::pair{InterpMethod::nearest, 1}, std::pair{InterpMethod::msm, 1}, std::pair{InterpMethod::msm, 5},
+                             std::pair{InterpMethod::msm, 20}, std::pair{InterpMethod::rbf, 1},
+                             std::pair{InterpMethod::rbf, 5}, std::pair{InterpMethod::rbf, 20}}) {
       cases.push_back({method, k, device});
     }
   }
@@ -361,7 +361,7 @@ TEST_P(GpuMatchesCpu, RayCacheKeepsAndFiltersTheRaysLikeTheCpu) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, GpuMatchesCpu, ::testing::ValuesIn(gpu_matches_cpu_cases()),
                          [](const auto& param_info) {
-                           const char* m = param_info.param.method == InterpMethod::nn    ? "nn"
+                           const char* m = param_info.param.method == InterpMethod::nearest    ? "nn"
                                            : param_info.param.method == InterpMethod::msm ? "msm"
                                                                                     : "rbf";
                            const char* device =
@@ -426,7 +426,7 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
 
 // Tables cut into many small buffers give the same bits as one buffer.
 TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
-  for (Case c : {Case{InterpMethod::nn, 1, DevicePreference::cpu}, Case{InterpMethod::rbf_mq, 20, DevicePreference::cpu}}) {
+  for (Case c : {Case{InterpMethod::nearest, 1, DevicePreference::cpu}, Case{InterpMethod::rbf, 20, DevicePreference::cpu}}) {
     GpuTablePack whole;
     std::string error;
     ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), 1u << 30, &whole, &error)) << error;
@@ -462,7 +462,7 @@ TEST(GpuTables, RefusesWhatTheShadersCannotRead) {
   key.display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
   key.display.scale = 6.0;
   foveation::InterpOptions plain;
-  plain.method = InterpMethod::rbf_mq;
+  plain.method = InterpMethod::rbf;
   plain.k = 5;
   plain.constant_term = false;
   foveation::Executor executor(2);

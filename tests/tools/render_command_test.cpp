@@ -287,7 +287,7 @@ TEST(FoveatedRender, FramesAreIndependentOfEarlierFramesAndOfThreads) {
   // be the pixel grid, the same at any gaze. Scale 8 shrinks the grid to ~24 px.
   key.display.scale = 8.0;
   fv::InterpOptions nn;
-  nn.method = fv::InterpMethod::nn;
+  nn.method = fv::InterpMethod::nearest;
   nn.k = 1;
   fv::Executor one_thread(1), three_threads(3);
   fv::ViewSettings settings;

@@ -127,7 +127,7 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
   // A scattered query has no gather block: block clamps to its own taps, the
   // range that the renderer's block range always contains.
   const bool clamp_rbf = *rbf_clamp != fv::RbfClamp::off &&
-                     (*method == fv::InterpMethod::rbf_mq || *method == fv::InterpMethod::rbf_gauss);
+                     (*method == fv::InterpMethod::rbf || *method == fv::InterpMethod::rbf_gauss);
   std::vector<double> samples, queries;
   {
     std::ifstream f(a.samples_file);

@@ -57,11 +57,11 @@ struct InterpolationTable {
   double build_ms = 0.0;
 
   int k() const { return options.k; }
-  int taps() const { return options.method == InterpMethod::nn ? 1 : options.k; }
-  bool has_weights() const { return options.method != InterpMethod::nn; }
+  int taps() const { return options.method == InterpMethod::nearest ? 1 : options.k; }
+  bool has_weights() const { return options.method != InterpMethod::nearest; }
   // The weights reproduce constants, so the gather may renormalise by their sum.
   bool normalized() const { return !(is_rbf() && !options.constant_term); }
-  bool is_rbf() const { return options.method == InterpMethod::rbf_mq || options.method == InterpMethod::rbf_gauss; }
+  bool is_rbf() const { return options.method == InterpMethod::rbf || options.method == InterpMethod::rbf_gauss; }
   std::size_t pixel_count() const { return std::size_t(width_px) * std::size_t(height_px); }
   // Weights plus the gather layout (palettes, 1-byte taps); the NeighborTable is extra.
   std::size_t bytes() const {

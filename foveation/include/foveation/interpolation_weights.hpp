@@ -31,7 +31,7 @@
 
 namespace foveart::foveation {
 
-enum class InterpMethod : std::uint8_t { nn = 0, msm = 1, rbf_mq = 2, rbf_gauss = 3 };
+enum class InterpMethod : std::uint8_t { nearest = 0, msm = 1, rbf = 2, rbf_gauss = 3 };
 
 // "nearest", "msm", "rbf" (multiquadric), "rbf-gauss": the layer config's
 // "interpolation" values, and the tools' --interpolation (rbf-gauss: tools only).

@@ -183,10 +183,10 @@ TEST(FoveatedView, TracesTheRaysOfTheCoreSelectionAndSamples) {
 // render gives, for every method and filter.
 TEST(FoveatedView, PixelGridPixelsAreExactlyTheFullRendersPixels) {
   for (PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2})
-  for (InterpMethod method : {InterpMethod::nn, InterpMethod::msm, InterpMethod::rbf_mq}) {
+  for (InterpMethod method : {InterpMethod::nearest, InterpMethod::msm, InterpMethod::rbf}) {
     SCOPED_TRACE(std::string(method_name(method)) + " " + pixel_filter_name(filter));
     Executor executor(2);
-    const auto tables = small_tables(method, method == InterpMethod::nn ? 1 : 5);
+    const auto tables = small_tables(method, method == InterpMethod::nearest ? 1 : 5);
     constexpr int kSpp = 3;
     ViewSettings vs = settings(kSpp, false);
     vs.pixel_filter = filter;
@@ -264,7 +264,7 @@ class ConstantColour : public ::testing::TestWithParam<std::tuple<InterpMethod, 
 TEST_P(ConstantColour, IsReproducedAtEveryPixel) {
   const auto [method, taa] = GetParam();
   Executor executor(2);
-  FoveatedView view(small_tables(method, method == InterpMethod::nn ? 1 : 5), settings(2, taa));
+  FoveatedView view(small_tables(method, method == InterpMethod::nearest ? 1 : 5), settings(2, taa));
   Recorder rec;
   rec.r = 0.2f;
   for (int frame = 0; frame < 3; ++frame) {  // TAA accumulates over a static view
@@ -283,7 +283,7 @@ TEST_P(ConstantColour, IsReproducedAtEveryPixel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, ConstantColour,
-                         ::testing::Combine(::testing::Values(InterpMethod::nn, InterpMethod::msm, InterpMethod::rbf_mq),
+                         ::testing::Combine(::testing::Values(InterpMethod::nearest, InterpMethod::msm, InterpMethod::rbf),
                                             ::testing::Bool()));
 
 // Bit for bit the same frame (with TAA over a gaze move) on 1, 2 and 3 threads.
@@ -291,7 +291,7 @@ TEST(FoveatedView, SameFramesForAnyThreadCount) {
   std::vector<std::vector<float>> frames;
   for (unsigned threads : {1u, 2u, 3u}) {
     Executor executor(threads);
-    FoveatedView view(small_tables(InterpMethod::rbf_mq, 5), settings(3, true));
+    FoveatedView view(small_tables(InterpMethod::rbf, 5), settings(3, true));
     std::vector<float> all;
     for (int f = 0; f < 3; ++f) {
       auto request = request_at({40.0f + 4.0f * float(f), 38});
@@ -414,7 +414,7 @@ INSTANTIATE_TEST_SUITE_P(Faults, Failure,
 
 TEST(FoveatedView, FailedBatchesAndInvalidColoursAreCounted) {
   Executor executor(2);
-  FoveatedView view(small_tables(InterpMethod::nn, 1), settings(1, false));
+  FoveatedView view(small_tables(InterpMethod::nearest, 1), settings(1, false));
   EXPECT_GE(view.render(request_at({48, 40}), &always_fails, nullptr, executor).failed_batches, 1u);
   EXPECT_GE(view.render(request_at({48, 40}), &one_nan, nullptr, executor).invalid_colours, 1u);
 }

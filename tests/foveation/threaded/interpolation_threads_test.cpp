@@ -23,7 +23,7 @@ TEST(ThreadedInterpolation, TableGatherAndTaaAgreeAcrossThreadCounts) {
   fv::Executor one_thread(1), two_threads(2), three_threads(3);
   const auto nt = fv::NeighborTable::build(ps, 10, two_threads);
   fv::InterpOptions o;
-  o.method = fv::InterpMethod::rbf_mq;
+  o.method = fv::InterpMethod::rbf;
   o.k = 10;
   const auto t1 = fv::build_interpolation_table(ps, nt, o, one_thread, fv::WeightPrecision::f16);
   // Two builds at once sharing one executor's workers, and one progress callback on the caller.
