@@ -42,7 +42,6 @@ std::unique_ptr<TemporalHistory> make_temporal_history(const ViewTables& tables,
 FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings)
     : tables_(std::move(tables)),
       settings_(settings),
-      blend_(taa_options_for_rays(settings.taa_options, settings.rays_per_point)),
       centre_(settings.centre_deadband_deg * checked(tables_).key.display.view_distance_px * std::numbers::pi / 180.0) {
   if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
   history_ = make_temporal_history(*tables_, settings_);

@@ -21,7 +21,7 @@ PointRays::PointRays(const PointSet& points, int rays_per_point, PixelFilter pix
 void PointRays::prepare(std::uint64_t seed, Executor& executor) {
   const std::uint32_t spp = rays_per_point_;
   precomputed_ = !jitter_each_frame_ && points_.size() * spp <= kMaxPrecomputedSamples;
-  if (precomputed_ && (!offsets_made_ || seed_ != seed)) {
+  if (precomputed_ && (offset_px_.empty() || seed_ != seed)) {
     offset_px_.resize(points_.size() * spp);
     executor.parallel_chunks(points_.size(), 16384, [&](std::size_t first, std::size_t last, unsigned) {
       for (std::size_t i = first; i < last; ++i) {
@@ -30,7 +30,6 @@ void PointRays::prepare(std::uint64_t seed, Executor& executor) {
           offset_px_[i * spp + s] = unit_disc_sample(seed, std::uint32_t(i), int(s)) * points_.radius_px[i];
       }
     });
-    offsets_made_ = true;
   }
   seed_ = seed;
 }

@@ -13,6 +13,7 @@
 #include "foveation/gather_layout.hpp"
 #include "foveation/interpolation_table.hpp"
 #include "interpolation_fixture.hpp"
+#include "interpolation_test_util.hpp"
 #include "test_executor.hpp"
 
 namespace foveart::foveation {
@@ -33,12 +34,7 @@ PointSet random_points(int w, int h, double per_px, std::uint32_t seed) {
   return ps;
 }
 
-InterpOptions opts(InterpMethod m, int k) {
-  InterpOptions o;
-  o.method = m;
-  o.k = k;
-  return o;
-}
+using test::opts;
 
 // Point named by tap j of canvas pixel (x, y) through the layout.
 std::uint32_t layout_point(const GatherLayout& l, int x, int y, int j) {

@@ -14,12 +14,7 @@
 namespace foveart::foveation {
 namespace {
 
-InterpOptions opts(InterpMethod m, int k) {
-  InterpOptions o;
-  o.method = m;
-  o.k = k;
-  return o;
-}
+using test::opts;
 
 struct Setup {
   PointSet points = test::foveated_points(5);

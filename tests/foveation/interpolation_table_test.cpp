@@ -14,12 +14,7 @@
 namespace foveart::foveation {
 namespace {
 
-InterpOptions opts(InterpMethod m, int k) {
-  InterpOptions o;
-  o.method = m;
-  o.k = k;
-  return o;
-}
+using test::opts;
 
 PointColors uniform_colors(std::size_t n, float r, float g, float b) {
   std::vector<float> rgb;

@@ -13,6 +13,14 @@
 
 namespace foveart::foveation::test {
 
+// The interpolation options of a method at k neighbours.
+inline InterpOptions opts(InterpMethod m, int k) {
+  InterpOptions o;
+  o.method = m;
+  o.k = k;
+  return o;
+}
+
 struct Sample {
   Vec2d p;
   double f = 0.0;

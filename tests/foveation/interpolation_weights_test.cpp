@@ -17,12 +17,7 @@ using test::Sample;
 double constant_one(double, double) { return 1.0; }
 double ramp(double x, double y) { return 0.3 * x + 0.7 * y; }
 
-InterpOptions opts(InterpMethod m, int k) {
-  InterpOptions o;
-  o.method = m;
-  o.k = k;
-  return o;
-}
+using test::opts;
 
 TEST(InterpolationWeights, ParsesMethodNames) {
   for (auto m : test::kAllMethods) EXPECT_EQ(parse_method(method_name(m)), m);

@@ -86,12 +86,11 @@ class FoveatedView {
   const ViewSettings& settings() const { return settings_; }
   // What the history blends with: settings().taa_options for its rays per
   // point (taa_options_for_rays).
-  const TaaOptions& taa_options() const { return blend_; }
+  TaaOptions taa_options() const { return taa_options_for_rays(settings_.taa_options, settings_.rays_per_point); }
 
  private:
   std::shared_ptr<const ViewTables> tables_;
   ViewSettings settings_;
-  TaaOptions blend_;
   FoveationCentre centre_;  // held through fixations (ViewSettings::centre_deadband_deg)
   std::unique_ptr<TemporalHistory> history_;   // stage 5
   std::unique_ptr<TraceStage> trace_;          // stages 1-3

@@ -54,8 +54,7 @@ class PointRays {
   bool jitter_each_frame_;
   std::uint64_t seed_ = 0;
   bool precomputed_ = false;
-  std::vector<glm::vec2> offset_px_;  // per point and ray: its disc offset (empty: made per frame)
-  bool offsets_made_ = false;
+  std::vector<glm::vec2> offset_px_;  // per point and ray: its disc offset for seed_ (empty: none made yet)
 };
 
 }  // namespace foveart::foveation
