@@ -56,17 +56,18 @@ std::string cell(std::string s) {
 
 }  // namespace
 
-std::string bench_markdown(const Json& doc, const std::string& title, const std::string& command, std::string* error) {
+std::optional<std::string> bench_markdown(const Json& doc, const std::string& title, const std::string& command,
+                                          std::string* error) {
   if (!doc.is_object() || !doc.contains("benchmarks") || !doc["benchmarks"].is_array()) {
     *error = "not Google Benchmark JSON (no \"benchmarks\" array)";
-    return "";
+    return std::nullopt;
   }
   const Json& runs = doc["benchmarks"];
   std::vector<std::string> counters;
   for (const Json& r : runs) {
     if (!r.is_object() || !r.contains("name") || !r["name"].is_string()) {
       *error = "a run without a name in \"benchmarks\"";
-      return "";
+      return std::nullopt;
     }
     for (const auto& [key, value] : r.items())
       if (is_counter(key, value) && std::find(counters.begin(), counters.end(), key) == counters.end())
@@ -117,12 +118,13 @@ void register_bench_md(CLI::App& app) {
   cmd->callback([a] {
     std::ifstream in(a->json);
     const Json doc = Json::parse(in, nullptr, false);
-    std::string error = doc.is_discarded() ? "not JSON" : "";
+    std::string error = "not JSON";
     const std::string title = a->title.empty() ? std::filesystem::path(a->json).stem().string() : a->title;
-    const std::string md = error.empty() ? bench_markdown(doc, title, a->command, &error) : "";
-    if (!error.empty()) throw CLI::ValidationError("--json", a->json + ": " + error);
+    const std::optional<std::string> md =
+        doc.is_discarded() ? std::nullopt : bench_markdown(doc, title, a->command, &error);
+    if (!md) throw CLI::ValidationError("--json", a->json + ": " + error);
     std::ofstream out(a->out);
-    out << md;
+    out << *md;
     if (!out) throw CLI::ValidationError("--out", "cannot write " + a->out);
   });
 }

@@ -25,7 +25,8 @@ const char* kJson = R"({
 TEST(BenchMarkdown, HeadNamesCommandAndMachineAndEveryRunIsARow) {
   std::string error;
   const std::string md = foveart::eval::bench_markdown(nlohmann::json::parse(kJson), "interp_bench",
-                                                       "build/bin/interp_bench --benchmark_filter=.", &error);
+                                                       "build/bin/interp_bench --benchmark_filter=.", &error)
+                             .value_or("");
   EXPECT_EQ(error, "");
   EXPECT_EQ(md.rfind("# interp_bench\n\nWritten by `build/bin/interp_bench --benchmark_filter=.` on ", 0), 0u) << md;
   EXPECT_NE(md.find(foveart::toolkit::machine_description()), std::string::npos) << md;
@@ -40,12 +41,12 @@ TEST(BenchMarkdown, HeadNamesCommandAndMachineAndEveryRunIsARow) {
 
 TEST(BenchMarkdown, NotBenchmarkJsonIsAnError) {
   std::string error;
-  EXPECT_EQ(foveart::eval::bench_markdown(nlohmann::json::parse(R"({"runs": []})"), "t", "c", &error), "");
+  EXPECT_EQ(foveart::eval::bench_markdown(nlohmann::json::parse(R"({"runs": []})"), "t", "c", &error), std::nullopt);
   EXPECT_NE(error.find("\"benchmarks\""), std::string::npos) << error;
   error.clear();
   EXPECT_EQ(
       foveart::eval::bench_markdown(nlohmann::json::parse(R"({"benchmarks": [{"iterations": 1}]})"), "t", "c", &error),
-      "");
+      std::nullopt);
   EXPECT_NE(error.find("without a name"), std::string::npos) << error;
 }
 

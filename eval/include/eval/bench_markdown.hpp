@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 namespace CLI {
@@ -16,9 +17,9 @@ namespace foveart::eval {
 // The markdown of one benchmark program's JSON `doc`: "# title", the result header
 // (toolkit::result_header(command)), the benchmark library's own context, and a table
 // with a row per run (name, time, CPU time, iterations, then every counter it reports).
-// "" and *error set when `doc` is not Google Benchmark JSON.
-std::string bench_markdown(const nlohmann::json& doc, const std::string& title, const std::string& command,
-                           std::string* error);
+// Nullopt and *error set when `doc` is not Google Benchmark JSON.
+std::optional<std::string> bench_markdown(const nlohmann::json& doc, const std::string& title,
+                                          const std::string& command, std::string* error);
 
 // `fovea-eval bench-md --json FILE --command CMD --out FILE.md [--title T]`.
 void register_bench_md(CLI::App& app);
