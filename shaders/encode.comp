@@ -1,14 +1,18 @@
 #version 450
-// Linear RGB -> RGBA8 texels for the swapchain: sRGB-encoded (IEC 61966-2-1)
-// for an sRGB format, else [0,1] -> [0,255]; alpha 255. NaN encodes as 0.
+// Linear radiance -> display values (tone_map.glsl) -> RGBA8 texels for the
+// swapchain: sRGB-encoded (IEC 61966-2-1) for an sRGB format, else
+// [0,1] -> [0,255]; alpha 255. NaN encodes as 0.
 // The GPU twin of foveation::encode_rgba8 (within one 8-bit step: pow).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "tone_map.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(push_constant) uniform Push {
   ivec2 size_px;
   uint srgb;
+  float exposure;
+  uint tone_map;
 };
 
 uint encode_channel(float c) {
@@ -23,6 +27,6 @@ void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (p.x >= size_px.x || p.y >= size_px.y) return;
   const uint i = uint(p.y * size_px.x + p.x);
-  const vec3 c = history_out[i].rgb;
+  const vec3 c = display_transform(history_out[i].rgb, exposure, tone_map);
   encoded[i] = encode_channel(c.r) | (encode_channel(c.g) << 8) | (encode_channel(c.b) << 16) | (255u << 24);
 }

@@ -1,21 +1,20 @@
 #include "foveation/rgba8.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "foveation/srgb.hpp"
 
 namespace foveart::foveation {
 
-void encode_rgba8(const ImageRgb& image, bool srgb, std::uint8_t* out, Executor& executor) {
+void encode_rgba8(const ImageRgb& image, bool srgb, const DisplayTransform& display, std::uint8_t* out,
+                  Executor& executor) {
   const std::size_t width = std::size_t(image.width_px);
   executor.parallel_chunks(std::size_t(image.height_px), 64, [&](std::size_t y0, std::size_t y1, unsigned) {
     for (std::size_t i = y0 * width; i < y1 * width; ++i) {
       const float* p = image.rgb.data() + i * 3;
+      const glm::vec3 c = display.apply(glm::vec3(p[0], p[1], p[2]));
       std::uint8_t* o = out + i * 4;
-      for (int c = 0; c < 3; ++c) {
-        o[c] = srgb ? encode_srgb8(p[c]) : std::uint8_t(std::lround(std::clamp(p[c], 0.0f, 1.0f) * 255.0f));
-      }
+      for (int k = 0; k < 3; ++k) o[k] = srgb ? encode_srgb8(c[k]) : std::uint8_t(std::lround(c[k] * 255.0f));
       o[3] = 255;
     }
   });

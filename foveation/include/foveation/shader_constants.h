@@ -38,6 +38,11 @@
 #define FOVEART_CHUNK_PIXEL_BASE 11    // row-major index of its first canvas pixel
 #define FOVEART_CHUNK_HEADER_WORDS 16
 
+// Tone-mapping curves of the encode stage (foveation/display_transform.hpp).
+#define FOVEART_TONE_MAP_NONE 0u
+#define FOVEART_TONE_MAP_PBR_NEUTRAL 1u
+#define FOVEART_TONE_MAP_ACES 2u
+
 // The gather's flags (push constant).
 #define FOVEART_GATHER_WEIGHTED 1u     // MSM / RBF through the gather layout (else NN)
 #define FOVEART_GATHER_F16 2u          // weights stored as IEEE half

@@ -1,0 +1,51 @@
+// What turns linear radiance into display values, after reconstruction and
+// temporal history, identically for the full and the foveated image and on the
+// CPU and the GPU path: an exposure scale, then a tone-mapping curve, then the
+// sRGB encoding (srgb.hpp). Accuracy is measured before it, on radiance.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "foveation/image.hpp"
+
+namespace foveart::foveation {
+
+enum class ToneMap : std::uint8_t {
+  none,         // clamp to [0, 1]
+  pbr_neutral,  // Khronos PBR Neutral: identity below 0.76, hue-preserving highlight roll-off
+  aces,         // ACES filmic, Narkowicz's fit of the RRT + ODT (2015)
+};
+
+struct DisplayTransform {
+  float exposure = 1.0f;  // linear scale of radiance before the curve, > 0
+  ToneMap tone_map = ToneMap::pbr_neutral;
+
+  bool operator==(const DisplayTransform&) const = default;
+  // Radiance -> display-referred linear colour in [0, 1].
+  glm::vec3 apply(glm::vec3 radiance) const;
+};
+
+// The identity up to the clamp: display values are the radiance itself.
+inline constexpr DisplayTransform kClampOnly{1.0f, ToneMap::none};
+
+// The share of pixels of a radiance image that show as pure white (all three
+// channels at 255 after the transform and the sRGB encoding): burnt out.
+double white_clipped_fraction(const ImageRgb& radiance, const DisplayTransform& display);
+
+// Khronos PBR Neutral tone mapping (Khronos 3D Formats WG, 2024).
+glm::vec3 tone_map_pbr_neutral(glm::vec3 c);
+// ACES filmic approximation (K. Narkowicz, "ACES Filmic Tone Mapping Curve", 2015).
+glm::vec3 tone_map_aces(glm::vec3 c);
+
+// "none" | "pbr-neutral" | "aces" (the config key's and the CLI's names).
+std::optional<ToneMap> parse_tone_map(std::string_view name);
+const char* tone_map_name(ToneMap t);
+
+// The value of shader_constants.h's FOVEART_TONE_MAP_* for each curve.
+std::uint32_t tone_map_shader_id(ToneMap t);
+
+}  // namespace foveart::foveation

@@ -1,0 +1,99 @@
+// The display transform: exposure, the two tone-mapping curves and the clamp,
+// the share of burnt-out pixels, and the encode stage that applies it.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "foveation/display_transform.hpp"
+#include "foveation/rgba8.hpp"
+#include "foveation/shader_constants.h"
+#include "test_executor.hpp"
+
+namespace foveart::foveation {
+namespace {
+
+TEST(ToneMap, PbrNeutralIsTheIdentityBelowItsRollOffAfterItsSmallToe) {
+  // min channel >= 0.08: the toe subtracts exactly 0.04 and the peak stays under 0.76.
+  const glm::vec3 c(0.5f, 0.3f, 0.1f);
+  const glm::vec3 t = tone_map_pbr_neutral(c);
+  for (int i = 0; i < 3; ++i) EXPECT_FLOAT_EQ(t[i], c[i] - 0.04f) << i;
+  // Dark colours: x - 6.25 x^2 off each channel, black stays black.
+  EXPECT_EQ(tone_map_pbr_neutral(glm::vec3(0.0f)), glm::vec3(0.0f));
+  EXPECT_FLOAT_EQ(tone_map_pbr_neutral(glm::vec3(0.04f)).g, 0.04f - (0.04f - 6.25f * 0.04f * 0.04f));
+}
+
+TEST(ToneMap, EveryCurveRisesAndStaysFiniteInsideZeroOne) {
+  for (ToneMap curve : {ToneMap::none, ToneMap::pbr_neutral, ToneMap::aces}) {
+    const DisplayTransform d{1.0f, curve};
+    float last = -1.0f;
+    for (float x = 0.0f; x < 1000.0f; x = x * 1.25f + 0.01f) {
+      const float y = d.apply(glm::vec3(x)).g;
+      ASSERT_TRUE(y >= 0.0f && y <= 1.0f) << tone_map_name(curve) << " at " << x;
+      ASSERT_GE(y, last) << tone_map_name(curve) << " at " << x;
+      last = y;
+    }
+    // Bad radiance becomes black or white, never NaN.
+    const glm::vec3 bad = d.apply(glm::vec3(std::numeric_limits<float>::quiet_NaN(), -1.0f, 0.2f));
+    EXPECT_EQ(bad.r, 0.0f) << tone_map_name(curve);
+    EXPECT_EQ(bad.g, 0.0f) << tone_map_name(curve);
+    const glm::vec3 inf = d.apply(glm::vec3(std::numeric_limits<float>::infinity()));
+    EXPECT_TRUE(std::isfinite(inf.b) && inf.b > 0.99f) << tone_map_name(curve);
+  }
+  // The curves roll highlights off where the clamp cuts them.
+  EXPECT_EQ(DisplayTransform({1.0f, ToneMap::none}).apply(glm::vec3(3.0f)).r, 1.0f);
+  EXPECT_LT(DisplayTransform({1.0f, ToneMap::pbr_neutral}).apply(glm::vec3(3.0f)).r, 0.99f);
+  EXPECT_LT(DisplayTransform({1.0f, ToneMap::aces}).apply(glm::vec3(3.0f)).r, 0.99f);
+}
+
+TEST(ToneMap, ExposureScalesRadianceBeforeTheCurve) {
+  const DisplayTransform half{0.5f, ToneMap::pbr_neutral};
+  const DisplayTransform one{1.0f, ToneMap::pbr_neutral};
+  const glm::vec3 c(0.9f, 0.6f, 0.3f);
+  EXPECT_EQ(half.apply(c), one.apply(c * 0.5f));
+}
+
+TEST(ToneMap, NamesAndShaderIdsRoundTrip) {
+  for (ToneMap curve : {ToneMap::none, ToneMap::pbr_neutral, ToneMap::aces})
+    EXPECT_EQ(parse_tone_map(tone_map_name(curve)), curve);
+  EXPECT_FALSE(parse_tone_map("reinhard"));
+  EXPECT_EQ(tone_map_shader_id(ToneMap::none), FOVEART_TONE_MAP_NONE);
+  EXPECT_EQ(tone_map_shader_id(ToneMap::pbr_neutral), FOVEART_TONE_MAP_PBR_NEUTRAL);
+  EXPECT_EQ(tone_map_shader_id(ToneMap::aces), FOVEART_TONE_MAP_ACES);
+}
+
+ImageRgb image_with_bright_share(int bright_of_100, float bright, float rest) {
+  ImageRgb im(10, 10);
+  for (int i = 0; i < 100; ++i)
+    for (int c = 0; c < 3; ++c) im.rgb[std::size_t(i) * 3 + std::size_t(c)] = i < bright_of_100 ? bright : rest;
+  return im;
+}
+
+TEST(ToneMap, WhiteClippedFractionCountsPixelsBurntToWhite) {
+  const ImageRgb im = image_with_bright_share(10, 100.0f, 0.5f);
+  EXPECT_DOUBLE_EQ(white_clipped_fraction(im, kClampOnly), 0.10);
+  EXPECT_DOUBLE_EQ(white_clipped_fraction(im, {1.0f, ToneMap::pbr_neutral}), 0.10);  // 100 is far past the knee
+  EXPECT_DOUBLE_EQ(white_clipped_fraction(im, {0.01f, ToneMap::pbr_neutral}), 0.0);
+  EXPECT_DOUBLE_EQ(white_clipped_fraction(image_with_bright_share(30, 1.5f, 0.5f), kClampOnly), 0.30);
+  EXPECT_DOUBLE_EQ(white_clipped_fraction(image_with_bright_share(30, 1.5f, 0.5f), {1.0f, ToneMap::aces}), 0.0);
+}
+
+TEST(Rgba8, EncodeAppliesTheDisplayTransform) {
+  const ImageRgb im = image_with_bright_share(50, 2.0f, 0.25f);
+  Executor& executor = test::executor();
+  std::vector<std::uint8_t> clamped(400), toned(400);
+  encode_rgba8(im, true, kClampOnly, clamped.data(), executor);
+  encode_rgba8(im, true, DisplayTransform{}, toned.data(), executor);
+  EXPECT_EQ(clamped[0], 255);
+  EXPECT_LT(toned[0], 255);
+  EXPECT_GT(toned[0], 200);
+  EXPECT_EQ(clamped[3], 255);  // alpha
+  // Below the knee PBR Neutral only removes its small toe.
+  EXPECT_LT(toned[50 * 4], clamped[50 * 4]);
+  EXPECT_GT(toned[50 * 4], clamped[50 * 4] - 30);
+}
+
+}  // namespace
+}  // namespace foveart::foveation
