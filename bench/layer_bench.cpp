@@ -64,7 +64,7 @@ void BM_EyeFramePath(benchmark::State& state) {
     const auto out = view.render(request, &constant_engine, nullptr, executor());
     if (!out.ok()) state.SkipWithError(out.message.c_str());
     const auto t0 = std::chrono::steady_clock::now();
-    fv::encode_rgba8(view.image(), true, rgba.data(), executor());
+    fv::encode_rgba8(view.image(), true, fv::DisplayTransform{}, rgba.data(), executor());
     encode += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     select += out.select_ms;
     trace += out.trace_ms;

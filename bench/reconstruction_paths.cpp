@@ -129,7 +129,7 @@ int main(int argc, char** argv) {
         r.frame_index = uint64_t(i + 1);
         const auto c = cpu_view.render(r, gradient_engine, nullptr, executor);
         const auto t0 = std::chrono::steady_clock::now();
-        fv::encode_rgba8(cpu_view.image(), true, rgba.data(), executor);
+        fv::encode_rgba8(cpu_view.image(), true, fv::DisplayTransform{}, rgba.data(), executor);
         const double enc = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         const auto g = gpu_view.render(r, gradient_engine, nullptr, executor);
         const GpuFrame f = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);

@@ -27,7 +27,8 @@ namespace foveart::layer {
 inline constexpr std::string_view kConfigKeys[] = {
     "enabled",       "log_level",      "log_file",        "interpolation",  "k",
     "density_scale", "rays_per_point", "temporal",        "gaze_source",    "gaze_provider",
-    "threads",       "cache_dir",      "wait_for_tables", "reconstruction", "applications"};
+    "threads",       "cache_dir",      "wait_for_tables", "reconstruction", "exposure",
+    "tone_map",      "applications"};
 
 // Keys earlier configs held: a file that names one still loads, with a warning that says
 // what replaced it. "taa" and "taa_history" are read into "temporal" when the same object
@@ -71,6 +72,11 @@ struct LayerConfig {
   // lavapipe, else the CPU), "gpu" (the app's device whatever it is; the CPU,
   // with an error in the log, when it cannot run the shaders) or "cpu".
   std::string reconstruction = "auto";
+  // How radiance becomes display values (foveation/display_transform.hpp), unless the
+  // app chains XrFoveatedDisplayTransformFOVEART into a frame: a linear exposure scale
+  // and the curve after it ("none" | "pbr-neutral" | "aces").
+  float exposure = 1.0f;
+  std::string tone_map = "pbr-neutral";
 };
 
 struct ConfigResult {

@@ -132,7 +132,8 @@ struct FoveatedRenderer::Frames {
   }
 
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
-                  const std::vector<bool>& rect_valid, XrFoveatedRendererStatsFOVEART* stats);
+                  const std::vector<bool>& rect_valid, const XrFoveatedDisplayTransformFOVEART* chained_display,
+                  XrFoveatedRendererStatsFOVEART* stats);
   Tables tables_for(const FoveartEyeView& view);
   void evict_least_recently_used();  // under build_mutex
   void build_tables();
@@ -166,14 +167,20 @@ struct FoveatedRenderer::Frames {
   std::vector<std::shared_ptr<GpuTables>> gpu_tables;  // uploaded table sets, shared by the eyes
   Eye eyes[2];  // after gpu: destroyed before it
   uint64_t frame_index = 0;
-  LogOnce callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
+  foveation::DisplayTransform display;  // this frame's (resolve_display)
+  LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
       behind_once, rect_once, failed_once, gpu_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
                                           XrCompositionLayerProjectionView* views, const std::vector<bool>& rect_valid,
+                                          const XrFoveatedDisplayTransformFOVEART* chained_display,
                                           XrFoveatedRendererStatsFOVEART* stats) {
   ++frame_index;
+  std::string display_error;
+  display = resolve_display(chained_display, settings.display, &display_error);
+  if (!display_error.empty() && display_once.first())
+    log(LogLevel::Warn, "xrEndFrame: ", display_error, "; the config's value is used (logged once)");
   // XrTime on Linux runtimes is CLOCK_MONOTONIC (= steady_clock); a clock far
   // away (virtual runtime clock) is replaced by now for gaze prediction.
   const int64_t now_ns = steady_now_ns();
@@ -378,7 +385,8 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     eye.gpu = gpu->create_eye(w, h, error);
     if (eye.gpu == nullptr) return false;
   }
-  const GpuFrame frame = GpuFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
+  GpuFrame frame = GpuFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
+  frame.display = display;
   const bool ok = eye.swapchain->present(
       [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
         return eye.gpu->record(cb, frame, image, executor, record_error);
@@ -509,7 +517,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     reconstruction.temporal = eye.temporal;
   } else {
     uint8_t* staging = eye.swapchain->staging(&error);
-    if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), staging, executor);
+    if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), display, staging, executor);
     const bool uploaded = staging != nullptr && eye.swapchain->upload(&error);
     stats->uploadMs[e] = ms_since(t0);
     if (!uploaded) {
@@ -540,14 +548,15 @@ FoveatedRenderer::FoveatedRenderer(std::shared_ptr<SessionState> session, Render
 FoveatedRenderer::~FoveatedRenderer() = default;
 
 uint32_t FoveatedRenderer::render(XrTime display_time, const XrCompositionLayerProjection& layer,
-                                  XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid) {
+                                  XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid,
+                                  const XrFoveatedDisplayTransformFOVEART* display) {
   std::lock_guard lock(mutex_);
   if (frames_ == nullptr) {  // a session without Vulkan: every view is the app's
     stats_.framesFallback += layer.viewCount;
     stats_.fallbackFlags = XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
     return 0;
   }
-  return frames_->render(display_time, layer, out_views, rect_valid, &stats_);
+  return frames_->render(display_time, layer, out_views, rect_valid, display, &stats_);
 }
 
 void FoveatedRenderer::count_foreign_session_layer() {

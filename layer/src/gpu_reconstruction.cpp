@@ -51,6 +51,8 @@ static_assert(sizeof(TaaPush) == 96, "shaders/taa.comp push constants");
 struct EncodePush {
   int32_t size_px[2];
   uint32_t srgb;
+  float exposure;
+  uint32_t tone_map;  // FOVEART_TONE_MAP_*
 };
 struct ScatterPush {
   uint32_t count;
@@ -539,9 +541,12 @@ bool GpuEye::record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescri
   return true;
 }
 
-// Stage 6: 8-bit (sRGB) encode, and the copy into the swapchain image.
+// Stage 6: the display transform and 8-bit (sRGB) encode, and the copy into the swapchain image.
 void GpuEye::record_encode(VkCommandBuffer cb, const GpuFrame& frame, VkImage image) {
-  const EncodePush e{{int32_t(width_px_), int32_t(height_px_)}, frame.srgb ? 1u : 0u};
+  const EncodePush e{{int32_t(width_px_), int32_t(height_px_)},
+                     frame.srgb ? 1u : 0u,
+                     frame.display.exposure,
+                     foveation::tone_map_shader_id(frame.display.tone_map)};
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->encode_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof e, &e);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);

@@ -24,6 +24,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "foveation/display_transform.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
 #include "gpu_ray_cache.hpp"
@@ -79,6 +80,7 @@ struct GpuFrame {
   std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (TemporalFrame)
   foveation::TaaOptions taa;  // current_weight: this frame's blend weight (TemporalFrame::blend)
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
+  foveation::DisplayTransform display;  // exposure and tone-mapping curve before the encode
   // Set: the view's history is a render cache (TaaHistory::ray_cache), which
   // replaces the image TAA: this frame's rays and pixels for it.
   std::optional<GpuRayCacheFrame> ray_cache;

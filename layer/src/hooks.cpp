@@ -208,13 +208,19 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
     if (other != nullptr) other->count_foreign_session_layer();
     if (renderer == nullptr) continue;  // unknown or another session's renderer: the layer as submitted
 
+    const auto* display = find_in_chain<XrFoveatedDisplayTransformFOVEART>(
+        projection->next, XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART);
     auto& copy = projections.emplace_back(*projection);
-    // Strip our struct wherever it sits, so layers below never see it; the
-    // app's structs stay as submitted (the nodes before it are copied).
-    if (!chain_copies.without(projection->next, opt_in, &copy.next)) {
+    // Strip our structs wherever they sit, so layers below never see them; the
+    // app's structs stay as submitted (the nodes before them are copied).
+    const void* without_opt_in = nullptr;
+    const bool stripped = chain_copies.without(projection->next, opt_in, &without_opt_in) &&
+                          (display == nullptr || chain_copies.without(without_opt_in, display, &copy.next));
+    if (display == nullptr) copy.next = without_opt_in;
+    if (!stripped) {
       static LogOnce once;
       if (once.first()) {
-        log(LogLevel::Warn, "xrEndFrame: a struct of unknown type precedes XrFoveatedRayTracingLayerFOVEART in the "
+        log(LogLevel::Warn, "xrEndFrame: a struct of unknown type precedes the FoveaRT structs in the "
                             "projection layer's next chain; it is forwarded as is (logged once)");
       }
     }
@@ -224,7 +230,7 @@ XrResult end_frame(XrSession session, const XrFrameEndInfo* info) {
       rect_valid[v] = image_rect_inside(projection->views[v].subImage, session);
     }
     try {
-      renderer->render(info->displayTime, *projection, view_copy.data(), rect_valid);
+      renderer->render(info->displayTime, *projection, view_copy.data(), rect_valid, display);
     } catch (const std::exception& e) {
       // The frame still goes out, with the app's own views for this layer.
       static LogOnce once;

@@ -4,6 +4,8 @@
 
 #include <openxr/openxr_reflection.h>
 
+#include "layer/XR_FOVEART_foveated_ray_tracing.h"
+
 namespace foveart::layer {
 
 std::size_t structure_size(std::int32_t type) {
@@ -13,6 +15,11 @@ std::size_t structure_size(std::int32_t type) {
     return sizeof(name);
     XR_LIST_STRUCTURE_TYPES_CORE(FOVEART_STRUCT_SIZE)
 #undef FOVEART_STRUCT_SIZE
+    // The extension's own frame structs, which the layer strips from projection layers.
+    case static_cast<std::int32_t>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART):
+      return sizeof(XrFoveatedRayTracingLayerFOVEART);
+    case static_cast<std::int32_t>(XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART):
+      return sizeof(XrFoveatedDisplayTransformFOVEART);
     default:
       return 0;
   }

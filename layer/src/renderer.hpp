@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include <foveation/display_transform.hpp>
 #include <foveation/temporal_mode.hpp>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
@@ -34,6 +35,8 @@ struct RendererSettings {
   std::string cache_dir;
   bool wait_for_tables = false;
   std::string reconstruction = "auto";  // "auto" | "gpu" | "cpu" (LayerConfig::reconstruction)
+  // LayerConfig::exposure and ::tone_map: a frame's display transform unless it chains its own.
+  foveation::DisplayTransform display;
 };
 
 // App's create info over the config's defaults: a field that says "use the
@@ -41,6 +44,12 @@ struct RendererSettings {
 // Returns false with a message naming the bad field.
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out_settings, std::string* out_error);
+
+// A frame's display transform: the app's chained struct (null: none) over the
+// settings' (the config's). A field that says "use the config" takes the settings'
+// value; so does an invalid one, and *out_error (else left alone) says what was wrong.
+foveation::DisplayTransform resolve_display(const XrFoveatedDisplayTransformFOVEART* chained,
+                                            const foveation::DisplayTransform& configured, std::string* out_error);
 
 // The temporal mode a view runs: the settings' own, else the path's default ("rays" on the
 // GPU path, where it meets the flicker goal; "image" on the CPU path, where the render
@@ -98,9 +107,11 @@ class FoveatedRenderer {
   // app's views; the ones produced are rewritten to the layer's swapchains.
   // rect_valid[v] is false for a view whose imageRect lies outside its
   // swapchain: it is left as the app sent it. Returns how many views were
-  // rewritten (0 = everything falls back).
+  // rewritten (0 = everything falls back). display: the XrFoveatedDisplayTransformFOVEART
+  // chained to the layer's opt-in struct, or null.
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer,
-                  XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid);
+                  XrCompositionLayerProjectionView* out_views, const std::vector<bool>& rect_valid,
+                  const XrFoveatedDisplayTransformFOVEART* display);
 
   // A projection layer of another session named this renderer: counted, logged once.
   void count_foreign_session_layer();

@@ -172,9 +172,10 @@ class GpuReconstruction : public ::testing::Test {
       EXPECT_EQ(cpu.taa_reset, gpu.taa_reset) << "frame " << i;
       if (invalid_paths != nullptr) *invalid_paths += cpu.gather.renormalized + cpu.gather.nearest_valid + cpu.gather.fallback;
       std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
-      foveation::encode_rgba8(cpu_view.image(), true, expected.data(), executor);
+      foveation::encode_rgba8(cpu_view.image(), true, display_, expected.data(), executor);
 
-      const GpuFrame frame = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);
+      GpuFrame frame = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);
+      frame.display = display_;
       EXPECT_TRUE(gpu_->submit_and_wait(
           [&](VkCommandBuffer cb) { return gpu_eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error))
           << error;
@@ -200,8 +201,29 @@ class GpuReconstruction : public ::testing::Test {
   foveation::TaaHistory taa_history_ = foveation::TaaHistory::reproject;  // for run()'s views
   bool keeps_through_saccades_ = false;
   foveation::PixelFilter pixel_filter_ = foveation::PixelFilter::box;
+  foveation::DisplayTransform display_;  // both paths' exposure and curve
 };
 std::unique_ptr<HeadlessVulkan> GpuReconstruction::vulkans_[2];
+
+// The display transform runs in the encode shader as on the CPU, for every
+// curve, and with an exposure that pushes most of the image into the roll-off.
+TEST_F(GpuReconstruction, DisplayTransformMatchesTheCpuForEveryCurve) {
+  std::vector<std::vector<uint8_t>> frames;
+  for (const foveation::DisplayTransform& d :
+       {foveation::DisplayTransform{1.0f, foveation::ToneMap::none},
+        foveation::DisplayTransform{4.0f, foveation::ToneMap::pbr_neutral},
+        foveation::DisplayTransform{4.0f, foveation::ToneMap::aces}}) {
+    display_ = d;
+    const Difference diff =
+        run(InterpMethod::msm, 5, false, 1, [](int) { return request(0, glm::vec2(48, 40), 1); }, 0, &frames);
+    EXPECT_LE(diff.max_step, 1) << foveation::tone_map_name(d.tone_map) << ": " << diff.bytes_differing
+                                << " bytes differ";
+  }
+  ASSERT_EQ(frames.size(), 3u);
+  // Each curve changed the image: the transform is not skipped.
+  EXPECT_GT(compare(frames[0], frames[1]).bytes_differing, frames[0].size() / 4);
+  EXPECT_GT(compare(frames[1], frames[2]).bytes_differing, frames[0].size() / 4);
+}
 
 struct Case {
   InterpMethod method;

@@ -79,7 +79,7 @@ TEST(Registry, RendererOfASessionWithoutVulkanForwardsEveryView) {
   layer.viewCount = 2;
   layer.views = views;
   XrCompositionLayerProjectionView out[2] = {views[0], views[1]};
-  EXPECT_EQ(renderer->render(1, layer, out, {true, true}), 0u);
+  EXPECT_EQ(renderer->render(1, layer, out, {true, true}, nullptr), 0u);
   EXPECT_EQ(std::memcmp(out, views, sizeof views), 0) << "views forwarded as sent";
   auto stats = XrFoveatedRendererStatsFOVEART{};
   stats.type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;

@@ -3,6 +3,7 @@
 // create-info field overrides its key, and a zero-initialised struct's enums are
 // real choices (nearest neighbour, no temporal history, fixed foveation).
 #include <cmath>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -84,6 +85,8 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "cache_dir") return s.cache_dir;
   if (key == "wait_for_tables") return s.wait_for_tables ? "true" : "false";
   if (key == "reconstruction") return s.reconstruction;
+  if (key == "exposure") return std::to_string(s.display.exposure);
+  if (key == "tone_map") return foveation::tone_map_name(s.display.tone_map);
   ADD_FAILURE() << "no renderer setting for key '" << key << "'";
   return {};
 }
@@ -111,6 +114,9 @@ const KeyCase kRendererKeys[] = {
     {"cache_dir", R"("/tmp/foveart-cache")", "/tmp/foveart-cache", nullptr, {}},
     {"wait_for_tables", "true", "true", nullptr, {}},
     {"reconstruction", R"("cpu")", "cpu", nullptr, {}},
+    // The app sets these per frame (XrFoveatedDisplayTransformFOVEART, resolve_display below).
+    {"exposure", "0.25", std::to_string(0.25f), nullptr, {}},
+    {"tone_map", R"("aces")", "aces", nullptr, {}},
 };
 
 // Keys of the whole layer, not of a renderer (config_test.cpp reads them).
@@ -236,6 +242,46 @@ TEST(ResolveSettings, BadFieldsAreNamed) {
     EXPECT_FALSE(resolve_settings(info, LayerConfig{}, &s, &error)) << c.field;
     EXPECT_NE(error.find(c.field), std::string::npos) << error;
   }
+}
+
+// A frame's XrFoveatedDisplayTransformFOVEART over the config's transform: each
+// field overrides unless it says "use the config"; a bad field keeps the config's
+// value and says what was wrong.
+TEST(ResolveDisplay, TheFramesStructOverridesTheConfigFieldByField) {
+  const foveation::DisplayTransform configured{0.5f, foveation::ToneMap::pbr_neutral};
+  std::string error;
+  EXPECT_EQ(resolve_display(nullptr, configured, &error), configured);
+  XrFoveatedDisplayTransformFOVEART chained{};
+  chained.type = XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART;
+  chained.exposure = 0.0f;
+  chained.toneMap = XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART;
+  EXPECT_EQ(resolve_display(&chained, configured, &error), configured);
+  chained.exposure = 2.0f;
+  EXPECT_EQ(resolve_display(&chained, configured, &error),
+            (foveation::DisplayTransform{2.0f, foveation::ToneMap::pbr_neutral}));
+  chained.toneMap = XR_FOVEATED_TONE_MAP_NONE_FOVEART;  // zero is a real choice, as for the create info's enums
+  EXPECT_EQ(resolve_display(&chained, configured, &error), (foveation::DisplayTransform{2.0f, foveation::ToneMap::none}));
+  chained.toneMap = XR_FOVEATED_TONE_MAP_ACES_FOVEART;
+  EXPECT_EQ(resolve_display(&chained, configured, &error).tone_map, foveation::ToneMap::aces);
+  EXPECT_TRUE(error.empty()) << error;
+}
+
+TEST(ResolveDisplay, BadFieldsKeepTheConfigsValueAndSaySo) {
+  const foveation::DisplayTransform configured{0.5f, foveation::ToneMap::aces};
+  XrFoveatedDisplayTransformFOVEART chained{};
+  chained.type = XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART;
+  chained.toneMap = XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART;
+  for (float bad : {-1.0f, std::nanf(""), std::numeric_limits<float>::infinity()}) {
+    chained.exposure = bad;
+    std::string error;
+    EXPECT_EQ(resolve_display(&chained, configured, &error), configured) << bad;
+    EXPECT_NE(error.find("exposure"), std::string::npos) << bad;
+  }
+  chained.exposure = 0.0f;
+  chained.toneMap = static_cast<XrFoveatedToneMapFOVEART>(7);
+  std::string error;
+  EXPECT_EQ(resolve_display(&chained, configured, &error), configured);
+  EXPECT_NE(error.find("toneMap 7"), std::string::npos) << error;
 }
 
 }  // namespace

@@ -74,6 +74,7 @@ XR_DEFINE_HANDLE(XrFoveatedRendererFOVEART)
 #define XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900002)
 #define XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900003)
 #define XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900004)
+#define XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900005)
 
 typedef enum XrFoveatedInterpolationFOVEART {
   XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
@@ -132,6 +133,30 @@ typedef struct XrFoveatedRendererCreateInfoFOVEART {
   XrFoveatedGazeSourceFOVEART gazeSource; /* ..._USE_CONFIG_FOVEART = config (0 is NONE) */
   const char* gazeProviderSpec; /* for ..._PROVIDER: "sim", "replay:FILE", ...; NULL or "" = config */
 } XrFoveatedRendererCreateInfoFOVEART;
+
+/* The curve that maps radiance to display values after the exposure (the config's "tone_map"). */
+typedef enum XrFoveatedToneMapFOVEART {
+  XR_FOVEATED_TONE_MAP_NONE_FOVEART = 0,        /* clamp to [0, 1] */
+  XR_FOVEATED_TONE_MAP_PBR_NEUTRAL_FOVEART = 1, /* Khronos PBR Neutral */
+  XR_FOVEATED_TONE_MAP_ACES_FOVEART = 2,        /* ACES filmic (Narkowicz's fit) */
+  XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART = 0x7FFFFFFE,
+  XR_FOVEATED_TONE_MAP_MAX_ENUM_FOVEART = 0x7FFFFFFF
+} XrFoveatedToneMapFOVEART;
+
+/* Optional, per frame: chain into XrFoveatedRayTracingLayerFOVEART::next to set
+ * how this frame's radiance becomes display values (an engine's auto exposure
+ * changes it from frame to frame). Without it, or for a field that says "use
+ * the config", the config's "exposure" and "tone_map" apply. The transform runs
+ * after reconstruction and temporal history, before the sRGB encode, on
+ * either path; the callback's colours and the history stay radiance.
+ * An invalid value (exposure not finite or <= 0, an unknown curve) is logged
+ * once and the config's value used instead. */
+typedef struct XrFoveatedDisplayTransformFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  float exposure;       /* linear scale of radiance before the curve, > 0; 0 = config */
+  XrFoveatedToneMapFOVEART toneMap; /* ..._USE_CONFIG_FOVEART = config (0 is NONE) */
+} XrFoveatedDisplayTransformFOVEART;
 
 /* Chain into XrCompositionLayerProjection::next to have its views ray traced. */
 typedef struct XrFoveatedRayTracingLayerFOVEART {
