@@ -3,6 +3,7 @@
 #include <engine/gltf_loader.hpp>
 
 #include <engine/default_scene.hpp>
+#include <engine/procedural_scenes.hpp>
 
 #include "gltf_accessors.hpp"
 #include "srgb.hpp"
@@ -524,6 +525,11 @@ LoadResult load_scene(const std::string& spec) {
   if (spec.empty() || spec == "default") {
     LoadResult r;
     r.scene = make_default_scene();
+    return r;
+  }
+  if (std::optional<Scene> procedural = make_procedural_scene(spec)) {
+    LoadResult r;
+    r.scene = std::move(*procedural);
     return r;
   }
   return load_gltf(spec);

@@ -4,6 +4,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -30,6 +31,18 @@ Camera framing_camera(const Scene& scene) {
   // Far enough that the bounding sphere fits in the vertical field of view.
   c.position_m = centre + glm::vec3(0.0f, 0.0f, radius / std::sin(0.5f * c.yfov_rad) * 1.05f);
   c.orientation = glm::quat(1.0f, 0.0f, 0.0f, 0.0f);  // looking down -z at the centre
+  return c;
+}
+
+Camera standing_viewer(const Camera& base, std::optional<glm::vec3> position_m, std::optional<glm::vec3> look_at_m) {
+  Camera c = base;
+  if (position_m) c.position_m = *position_m;
+  if (look_at_m && glm::length(*look_at_m - c.position_m) > 1e-6f) {
+    const glm::vec3 f = glm::normalize(*look_at_m - c.position_m);  // forward; the camera looks down -z
+    const float yaw = std::atan2(-f.x, -f.z);
+    const float pitch = std::asin(std::clamp(f.y, -1.0f, 1.0f));
+    c.orientation = glm::angleAxis(yaw, glm::vec3(0.0f, 1.0f, 0.0f)) * glm::angleAxis(pitch, glm::vec3(1.0f, 0.0f, 0.0f));
+  }
   return c;
 }
 

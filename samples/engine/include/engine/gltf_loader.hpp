@@ -21,7 +21,8 @@ struct LoadResult {
 
 LoadResult load_gltf(const std::string& path);
 
-// "default" (or empty) gives the built-in scene, anything else is a glTF file.
+// "default" (or empty) gives the built-in scene, "room", "hall" and "dense" the
+// procedural interiors (procedural_scenes.hpp), anything else is a glTF file.
 LoadResult load_scene(const std::string& spec);
 
 }  // namespace foveart::engine

@@ -102,7 +102,13 @@ struct Bounds {
 };
 Bounds scene_bounds(const Mesh& mesh);
 
-// A camera looking at the whole scene from +z when the scene has none.
+// A camera looking at the whole scene from +z when the scene has none: a view
+// from outside. A VR user stands inside a scene: standing_viewer places them.
 Camera framing_camera(const Scene& scene);
+
+// A standing viewer: `base` moved to position_m (when given) and, when look_at_m
+// is given, turned upright (yaw, then pitch, no roll) to face that point (a
+// point at the position itself leaves the orientation as it is).
+Camera standing_viewer(const Camera& base, std::optional<glm::vec3> position_m, std::optional<glm::vec3> look_at_m);
 
 }  // namespace foveart::engine
