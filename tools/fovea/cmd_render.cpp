@@ -135,6 +135,15 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
   foveation::Executor executor(static_cast<unsigned>(o.threads));  // every parallel stage of this run
   report["threads"] = executor.thread_count();
+  std::string display_error;
+  const std::optional<foveation::DisplayTransform> display = render_display(o, *tracer, view, executor, &display_error);
+  if (!display) {
+    err << "fovea render: " << display_error << "\n";
+    return 1;
+  }
+  report["display"] = {{"exposure", display->exposure},
+                       {"exposure_from", o.exposure == "auto" ? "auto (pre-pass of the view)" : "--exposure"},
+                       {"tone_map", foveation::tone_map_name(display->tone_map)}};
   report["load_ms"] = load_ms;
   report["build_ms"] = build_ms;
   report["pixels"] = pixels;
@@ -206,7 +215,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         err << "fovea render: " << fr.message << "\n";
         return 1;
       }
-      fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms, fr.select_ms);
+      // The fixed part: reconstruction and the temporal history.
+      fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.taa_ms, fr.select_ms);
       if (frame == 0) {
         fov_rays = minus(tracer->counts(), before);
         fov_points = fr.points;
@@ -218,7 +228,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   if (run_full)
     report["full"] = {{"rays", rays_json(full_rays)}, {"lanes_per_packet", lanes_per_packet(full_rays)},
                       {"trace_ms", full_times.median_trace_ms()}, {"reconstruct_ms", 0.0},
-                      {"total_ms", full_times.median_total_ms()}, {"frames_total_ms", full_times.total_ms}};
+                      {"total_ms", full_times.median_total_ms()}, {"frames_total_ms", full_times.total_ms},
+                      {"white_clipped_fraction", foveation::white_clipped_fraction(full, *display)}};
   if (run_foveated) {
     report["points"] = fov_points;
     report["foveated"] = {{"rays", rays_json(fov_rays)},
@@ -233,7 +244,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                           {"samples_ms", fov_times.median_samples_ms()},
                           {"reconstruct_ms", fov_times.median_reconstruct_ms()},
                           {"total_ms", fov_times.median_total_ms()},
-                          {"frames_total_ms", fov_times.total_ms}};
+                          {"frames_total_ms", fov_times.total_ms},
+                          {"white_clipped_fraction", foveation::white_clipped_fraction(foveated->image(), *display)}};
   }
   std::optional<foveation::EccentricityMap> ecc;
   const auto ecc_map = [&]() -> const foveation::EccentricityMap& {
@@ -303,6 +315,19 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                                    tiles_y));
     report["content_speedup"] = content_bound;
     report["overhead_fraction"] = full_total > 0.0 ? fov_total * content_bound / full_total - 1.0 : 0.0;
+    // The speedup in its two parts: the sparse trace (selection + rays + trace),
+    // which scales with the scene's cost, and the fixed per-frame cost of
+    // reconstruction and history, which does not. Foveation pays while the full
+    // frame costs more than fixed * s / (s - 1), s the trace's own speedup.
+    const double fov_trace = fov_times.median_trace_ms();
+    const double fixed = fov_times.median_reconstruct_ms();
+    const double trace_speedup = fov_trace > 0.0 ? full_total / fov_trace : 0.0;
+    report["speedup_parts"] = {
+        {"trace_speedup", trace_speedup},
+        {"trace_of_content_speedup", content_bound > 0.0 ? trace_speedup / content_bound : 0.0},
+        {"fixed_ms", fixed},
+        {"fixed_share_of_foveated", fov_total > 0.0 ? fixed / fov_total : 0.0},
+        {"breakeven_full_ms", trace_speedup > 1.0 ? Json(fixed * trace_speedup / (trace_speedup - 1.0)) : Json(nullptr)}};
     // Agreement of the two images (both carry their own noise), not accuracy: see errors_against_reference.
     const foveation::ImageComparison cmp = foveation::compare_images(
         foveation::display_encode(full), foveation::display_encode(foveated->image()), ecc_map());
@@ -318,7 +343,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     auto save = [&](const foveation::ImageRgb* img, const char* suffix) {
       if (img == nullptr || img->rgb.empty()) return true;
       const std::string path = o.out_prefix + suffix;
-      if (std::string e; !toolkit::write_png(path, *img, toolkit::PngValues::linear, &e)) {
+      if (std::string e; !toolkit::write_png(path, *img, *display, &e)) {
         err << "fovea render: " << e << "\n";
         return false;
       }
@@ -342,9 +367,15 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
           << ", shadow " << m["rays"]["shadow"] << ", reflection " << m["rays"]["reflection"] << ", refraction "
           << m["rays"]["refraction"] << "\n";
     }
-    if (report.contains("speedup"))
-      out << "speedup " << report["speedup"].get<double>() << ", PSNR " << report["psnr"] << " dB, SSIM "
-          << report["ssim"].get<double>() << "\n";
+    if (report.contains("speedup")) {
+      const Json& parts = report["speedup_parts"];
+      out << "speedup " << report["speedup"].get<double>() << " (its content allows "
+          << report["content_speedup"].get<double>() << "): the trace alone " << parts["trace_speedup"].get<double>()
+          << ", plus a fixed " << parts["fixed_ms"].get<double>() << " ms of reconstruction and history; PSNR "
+          << report["psnr"] << " dB, SSIM " << report["ssim"].get<double>() << "\n";
+    }
+    out << "display: exposure " << display->exposure << " (" << report["display"]["exposure_from"].get<std::string>()
+        << "), tone map " << foveation::tone_map_name(display->tone_map) << "\n";
   }
   return 0;
 }
@@ -365,7 +396,9 @@ void register_render(CLI::App& app) {
                   "Index of the first foveated frame; with --temporal image or rays each frame's jitter seed is "
                   "--seed plus its index (default 1: the layer's first frame)")
       ->capture_default_str();
-  cmd->add_option("--pose", *pose, "Exact eye pose in scene space px,py,pz,qx,qy,qz,qw (metres, unit quaternion)");
+  cmd->add_option("--pose", *pose,
+                  "Where the viewer stands, X,Y,Z (the head; the eye 32 mm aside), or an exact eye pose "
+                  "px,py,pz,qx,qy,qz,qw (metres, unit quaternion; scene space)");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
   cmd->callback([opts, gaze, pose, parse_common] {
     parse_common();
@@ -377,7 +410,7 @@ void register_render(CLI::App& app) {
     } else if (!gaze->empty()) {
       opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
     }
-    if (!pose->empty()) opts->pose = foveart::tools::parse_pose_option("--pose", *pose);
+    if (!pose->empty()) foveart::tools::parse_pose_option("--pose", *pose, opts.get());
     const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);
   });

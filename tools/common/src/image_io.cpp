@@ -38,11 +38,22 @@ bool write_png_u8(const std::string& path, int width, int height, int channels,
 bool write_png(const std::string& path, const foveation::ImageRgb& image, PngValues values, std::string* error) {
   if (image.rgb.size() != image.pixel_count() * 3)
     return fail(error, "cannot write " + path + ": image size does not match its pixels");
+  if (values == PngValues::linear) return write_png(path, image, foveation::kClampOnly, error);
   std::vector<std::uint8_t> px(image.rgb.size());
-  for (std::size_t i = 0; i < px.size(); ++i) {
-    px[i] = values == PngValues::linear
-                ? foveation::encode_srgb8(image.rgb[i])
-                : static_cast<std::uint8_t>(std::lround(std::clamp(image.rgb[i], 0.0f, 1.0f) * 255.0f));
+  for (std::size_t i = 0; i < px.size(); ++i)
+    px[i] = static_cast<std::uint8_t>(std::lround(std::clamp(image.rgb[i], 0.0f, 1.0f) * 255.0f));
+  return write_png_u8(path, image.width_px, image.height_px, 3, px, error);
+}
+
+bool write_png(const std::string& path, const foveation::ImageRgb& image, const foveation::DisplayTransform& display,
+               std::string* error) {
+  if (image.rgb.size() != image.pixel_count() * 3)
+    return fail(error, "cannot write " + path + ": image size does not match its pixels");
+  std::vector<std::uint8_t> px(image.rgb.size());
+  for (std::size_t i = 0; i < image.pixel_count(); ++i) {
+    const float* p = &image.rgb[i * 3];
+    const glm::vec3 c = display.apply(glm::vec3(p[0], p[1], p[2]));
+    for (int k = 0; k < 3; ++k) px[i * 3 + std::size_t(k)] = foveation::encode_srgb8(c[k]);
   }
   return write_png_u8(path, image.width_px, image.height_px, 3, px, error);
 }

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -46,10 +47,17 @@ glm::vec2 parse_gaze_option(const std::string& option, const std::string& text) 
   return g;
 }
 
-std::array<double, 7> parse_pose_option(const std::string& option, const std::string& text) {
+void parse_pose_option(const std::string& option, const std::string& text, RenderOptions* out) {
+  if (std::count(text.begin(), text.end(), ',') == 2) {
+    std::array<double, 3> p{};
+    if (std::string e = parse_list(text, &p); !e.empty()) throw CLI::ValidationError(option, e);
+    out->viewer_m = p;
+    return;
+  }
   std::array<double, 7> p{};
-  if (std::string e = parse_list(text, &p); !e.empty()) throw CLI::ValidationError(option, e);
-  return p;
+  if (std::string e = parse_list(text, &p); !e.empty())
+    throw CLI::ValidationError(option, "expected X,Y,Z (a standing viewer) or px,py,pz,qx,qy,qz,qw (an eye pose)");
+  out->pose = p;
 }
 
 std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts) {
@@ -85,7 +93,19 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--reference-cache", opts->reference_cache,
                   "Reference cache directory (default: CACHE_DIR/reference)");
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
-  return [opts, size, fov] {
+  cmd->add_option("--exposure", opts->exposure,
+                  "Linear exposure of the images written, or auto (a low-resolution pre-pass of the view)")
+      ->capture_default_str();
+  cmd->add_option("--tone-map", opts->tone_map, "Tone-mapping curve of the images written: none, pbr-neutral or aces")
+      ->capture_default_str();
+  auto look_at = std::make_shared<std::string>();
+  cmd->add_option("--look-at", *look_at, "Turn the viewer to face this point X,Y,Z (metres, scene space)");
+  return [opts, size, fov, look_at] {
+    if (!look_at->empty()) {
+      std::array<double, 3> p{};
+      if (std::string e = parse_list(*look_at, &p); !e.empty()) throw CLI::ValidationError("--look-at", e);
+      opts->look_at_m = p;
+    }
     if (!size->empty()) {
       glm::ivec2 s;
       if (std::string e = parse_pair(*size, &s); !e.empty()) throw CLI::ValidationError("--size", e);

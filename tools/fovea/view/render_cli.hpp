@@ -16,7 +16,8 @@ namespace foveart::tools {
 // Adds the options both commands share to `cmd`, into *opts: the scene and
 // view (--scene --preset --eye --size --fov), the render (--mode
 // --rays-per-point --interpolation --k --density-scale --pattern --frames
-// --threads --seed --without --pixel-filter), the reference (--reference-spp
+// --threads --seed --without --pixel-filter), the viewer (--look-at), the
+// display (--exposure --tone-map), the reference (--reference-spp
 // --reference-cache) and the outputs (--out --cache-dir --json). Returns what the
 // command's callback calls first: it parses the options given as text (--size,
 // --fov) into *opts and throws CLI::ValidationError naming a bad one.
@@ -32,7 +33,8 @@ void add_taa_lab_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& op
 
 // "X,Y" -> gaze in pixels; throws CLI::ValidationError naming `option`.
 glm::vec2 parse_gaze_option(const std::string& option, const std::string& text);
-// "px,py,pz,qx,qy,qz,qw" -> a pose; throws CLI::ValidationError naming `option`.
-std::array<double, 7> parse_pose_option(const std::string& option, const std::string& text);
+// "X,Y,Z" -> a standing viewer (out->viewer_m), "px,py,pz,qx,qy,qz,qw" -> an exact
+// eye pose (out->pose); throws CLI::ValidationError naming `option`.
+void parse_pose_option(const std::string& option, const std::string& text, RenderOptions* out);
 
 }  // namespace foveart::tools

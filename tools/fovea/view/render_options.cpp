@@ -4,6 +4,7 @@
 
 #include "taa_modes.hpp"
 
+#include <engine/exposure.hpp>
 #include <engine/render.hpp>
 
 #include <cmath>
@@ -92,7 +93,12 @@ std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOp
 // given OpenXR view.
 FoveartEyeView render_view(const RenderOptions& o, const engine::Scene& scene) {
   const PresetGeometry g = *preset_geometry(o.preset);
-  FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, engine::scene_head(scene));
+  const auto vec3_of = [](const std::optional<std::array<double, 3>>& a) -> std::optional<glm::vec3> {
+    if (!a) return std::nullopt;
+    return glm::vec3(float((*a)[0]), float((*a)[1]), float((*a)[2]));
+  };
+  const engine::Camera head = engine::standing_viewer(engine::scene_head(scene), vec3_of(o.viewer_m), vec3_of(o.look_at_m));
+  FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, head);
   view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
   view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
   const double tan_x = std::tan(g.half_fov_x_rad);
@@ -129,11 +135,29 @@ std::string check_view(const RenderOptions& o) {
       if (i >= 3) norm2 += (*o.pose)[i] * (*o.pose)[i];
     }
     if (std::abs(norm2 - 1.0) > 1e-3) return "--pose: the quaternion qx,qy,qz,qw must have unit length";
+    if (o.look_at_m) return "--look-at turns a standing viewer (--pose X,Y,Z), not an exact eye pose";
   }
+  if (o.viewer_m && o.look_at_m && *o.viewer_m == *o.look_at_m) return "--look-at must differ from --pose X,Y,Z";
   return "";
 }
 
 }  // namespace
+
+std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o, engine::Tracer& tracer,
+                                                          const FoveartEyeView& view, foveation::Executor& executor,
+                                                          std::string* error) {
+  foveation::DisplayTransform d;
+  d.tone_map = *foveation::parse_tone_map(o.tone_map);
+  if (o.exposure != "auto") {
+    d.exposure = std::strtof(o.exposure.c_str(), nullptr);
+    return d;
+  }
+  const std::optional<engine::AutoExposure> a =
+      engine::auto_exposure(&foveart_engine_trace_rays, &tracer, view, executor, error);
+  if (!a) return std::nullopt;
+  d.exposure = a->exposure;
+  return d;
+}
 
 engine::TracerOptions render_tracer_options(const RenderOptions& o) {
   engine::TracerOptions t;
@@ -171,6 +195,14 @@ std::string render_options_problem(const RenderOptions& o) {
     std::string bad;
     if (!engine::parse_effects(o.without, &bad)) return "--without: " + bad;
   }
+  if (o.exposure != "auto") {
+    char* end = nullptr;
+    const double e = std::strtod(o.exposure.c_str(), &end);
+    if (end == o.exposure.c_str() || *end != '\0' || !std::isfinite(e) || !(e > 0.0) || e > 1e6)
+      return "--exposure must be auto or a number in (0, 1e6], got '" + o.exposure + "'";
+  }
+  if (!foveation::parse_tone_map(o.tone_map))
+    return "--tone-map must be none, pbr-neutral or aces, got '" + o.tone_map + "'";
   if (!o.reference_spp.empty() && o.reference_spp != "auto") {
     char* end = nullptr;
     const long n = std::strtol(o.reference_spp.c_str(), &end, 10);
@@ -187,7 +219,8 @@ std::string render_options_problem(const RenderOptions& o) {
     if (o.start_s) return "--start-s needs --motion";
     if (o.fps) return "--fps needs --motion";
   } else {
-    if (o.pose) return "--pose and --motion exclude each other: the motion gives the head pose";
+    if (o.pose || o.viewer_m || o.look_at_m)
+      return "--pose and --look-at exclude --motion: the motion gives the head pose";
     if (o.gaze_px) return "--gaze and --motion exclude each other: the motion gives the gaze";
     if (!o.reference_file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
   }

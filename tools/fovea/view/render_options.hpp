@@ -11,6 +11,7 @@
 #include <engine/tracer.hpp>
 
 #include <foveation/display_model.hpp>
+#include <foveation/display_transform.hpp>
 #include <foveation/executor.hpp>
 #include <foveation/foveated_view.hpp>
 #include <foveation/ray_samples.hpp>
@@ -54,6 +55,15 @@ struct RenderOptions {
   // (px, py, pz, qx, qy, qz, qw).
   std::optional<std::array<double, 4>> fov_deg;
   std::optional<std::array<double, 7>> pose;
+  // A standing viewer instead (engine::standing_viewer): the head at viewer_m
+  // (--pose X,Y,Z; default the scene's camera, or one framing the scene) facing
+  // look_at_m (--look-at X,Y,Z; default the camera's direction). Metres, scene space.
+  std::optional<std::array<double, 3>> viewer_m;
+  std::optional<std::array<double, 3>> look_at_m;
+  // How radiance becomes the PNGs' display values (foveation/display_transform.hpp):
+  // "auto" (engine::auto_exposure on the view) or a linear scale > 0, and the curve.
+  std::string exposure = "auto";
+  std::string tone_map = "pbr-neutral";
   std::string out_prefix;         // empty: no images written
   std::string cache_dir;          // point set / neighbour table cache, empty: none
   uint64_t seed = 1;
@@ -98,6 +108,13 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& opt
 // The engine's options for these options (the effects --without leaves out).
 // The options must have passed check_render_options.
 engine::TracerOptions render_tracer_options(const RenderOptions& options);
+
+// The display transform of --exposure and --tone-map for this view; "auto" meters
+// the view through the tracer (engine::auto_exposure). nullopt with *error when the
+// pre-pass fails. The options must have passed check_render_options.
+std::optional<foveation::DisplayTransform> render_display(const RenderOptions& options, engine::Tracer& tracer,
+                                                          const FoveartEyeView& view, foveation::Executor& executor,
+                                                          std::string* error);
 
 // Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
 int reconstruction_k(const RenderOptions& options);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "foveation/display_transform.hpp"
 #include "foveation/image.hpp"
 
 namespace foveart::toolkit {
@@ -20,6 +21,10 @@ enum class PngValues : std::uint8_t {
 // 8-bit RGB PNG of `image` (values clamped to [0, 1]).
 [[nodiscard]] bool write_png(const std::string& path, const foveation::ImageRgb& image, PngValues values,
                              std::string* error);
+// 8-bit sRGB PNG of linear radiance through a display transform (exposure,
+// tone-mapping curve): what the layer would show of it.
+[[nodiscard]] bool write_png(const std::string& path, const foveation::ImageRgb& image,
+                             const foveation::DisplayTransform& display, std::string* error);
 // Any stb-readable image as RGB floats.
 [[nodiscard]] bool read_image(const std::string& path, PngValues values, foveation::ImageRgb* out, std::string* error);
 // 8-bit grey, RGB or RGBA PNG as given (channels 1, 3 or 4).
