@@ -15,6 +15,8 @@
 #include <cmath>
 #include <vector>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <stdexcept>
 #include <iostream>
 #include <map>
@@ -24,7 +26,9 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "engine/exposure.hpp"
 #include "engine/gltf_loader.hpp"
+#include "engine/render.hpp"
 #include "engine/tracer.hpp"
 #include "xr_app.hpp"
 
@@ -173,6 +177,15 @@ int main(int argc, char** argv) {
   cli.add_flag("--json", json, "print the layer's stats as JSON");
   cli.add_flag("--app-actions", options.app_actions,
                "test aid: the app enables XR_EXT_eye_gaze_interaction and uses its own gaze action too");
+  std::string exposure = "auto";
+  std::string tone_map = "config";
+  cli.add_option("--exposure", exposure,
+                 "linear exposure the app chains into each frame: auto (a low-resolution pre-pass of the start "
+                 "view), config (the layer config's) or a number > 0")
+      ->capture_default_str();
+  cli.add_option("--tone-map", tone_map, "tone-mapping curve (config = the layer config's)")
+      ->check(CLI::IsMember({"none", "pbr-neutral", "aces", "config"}))
+      ->capture_default_str();
   cli.add_option("--fault", fault, "test aid: make the engine return NaN, an error or throw")
       ->check(CLI::IsMember({"nan", "error", "throw"}));
   CLI11_PARSE(cli, argc, argv);
@@ -210,7 +223,7 @@ int main(int argc, char** argv) {
     std::cerr << "hello_foveated: " << loaded.error << "\n";
     return 2;
   }
-  const auto camera = loaded.scene->camera ? *loaded.scene->camera : foveart::engine::framing_camera(*loaded.scene);
+  const foveart::engine::Camera camera = foveart::engine::scene_head(*loaded.scene);
   options.scene_from_local.position = {camera.position_m.x, camera.position_m.y, camera.position_m.z};
   options.scene_from_local.orientation = {camera.orientation.x, camera.orientation.y, camera.orientation.z,
                                           camera.orientation.w};
@@ -222,6 +235,29 @@ int main(int argc, char** argv) {
   }
   options.trace_rays = &foveart_engine_trace_rays;
   options.user_data = tracer.get();
+  const std::map<std::string, XrFoveatedToneMapFOVEART> curves{
+      {"none", XR_FOVEATED_TONE_MAP_NONE_FOVEART},
+      {"pbr-neutral", XR_FOVEATED_TONE_MAP_PBR_NEUTRAL_FOVEART},
+      {"aces", XR_FOVEATED_TONE_MAP_ACES_FOVEART},
+      {"config", XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART}};
+  options.tone_map = curves.at(tone_map);
+  if (exposure == "auto") {
+    foveart::foveation::Executor executor;
+    const std::optional<foveart::engine::AutoExposure> metered = foveart::engine::auto_exposure(
+        &foveart_engine_trace_rays, tracer.get(), foveart::engine::fove_eye_view(0, camera), executor, &error);
+    if (!metered) {
+      std::cerr << "hello_foveated: " << error << "\n";
+      return 2;
+    }
+    options.exposure = metered->exposure;
+  } else if (exposure != "config") {
+    char* end = nullptr;
+    options.exposure = std::strtof(exposure.c_str(), &end);
+    if (end == exposure.c_str() || *end != '\0' || !std::isfinite(options.exposure) || !(options.exposure > 0.0f)) {
+      std::cerr << "hello_foveated: --exposure must be auto, config or a number > 0, got '" << exposure << "'\n";
+      return 2;
+    }
+  }
   FaultyEngine faulty{tracer.get(), fault};
   if (!fault.empty()) {
     options.trace_rays = &faulty_trace_rays;

@@ -387,6 +387,12 @@ class App {
       // The opt-in: chained first into the projection layer.
       auto foveated = xr_struct<XrFoveatedRayTracingLayerFOVEART>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
       foveated.renderer = renderer_;
+      // The engine's exposure and curve for this frame, after the opt-in.
+      auto display = xr_struct<XrFoveatedDisplayTransformFOVEART>(XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART);
+      display.exposure = options_.exposure;
+      display.toneMap = options_.tone_map;
+      if (options_.exposure != 0.0f || options_.tone_map != XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART)
+        foveated.next = &display;
       auto layer = xr_struct<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
       layer.next = &foveated;
       layer.space = space_;

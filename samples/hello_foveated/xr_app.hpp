@@ -30,6 +30,10 @@ struct AppOptions {
   XrFoveatedTemporalFOVEART temporal = XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART;
   std::string gaze_provider;
+  // Chained into every frame as XrFoveatedDisplayTransformFOVEART unless both say
+  // "use the config": the exposure (linear, > 0; 0 = config) and the curve.
+  float exposure = 0.0f;
+  XrFoveatedToneMapFOVEART tone_map = XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART;
   bool enable_layer = true;   // false when the layer is enabled implicitly / by XR_ENABLE_API_LAYERS
   uint64_t max_frames = 0;    // 0: until the runtime ends the session
   uint32_t eye_width_px = 0;  // 0: the runtime's recommended size
