@@ -106,9 +106,9 @@ double psnr_of_mse(double mse, double peak) {
   return mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
 }
 
-ImageRgb display_encode(const ImageRgb& linear) {
+ImageRgb display_encode(const ImageRgb& linear, float exposure) {
   ImageRgb out = linear;
-  for (float& v : out.rgb) v = linear_to_srgb(std::clamp(std::isnan(v) ? 0.0f : v, 0.0f, 1.0f));
+  for (float& v : out.rgb) v = linear_to_srgb(std::clamp(std::isnan(v) ? 0.0f : v * exposure, 0.0f, 1.0f));
   return out;
 }
 

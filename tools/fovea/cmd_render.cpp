@@ -291,13 +291,13 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                   {"residual_psnr", residual}};
       reference = std::move(ref->image);
     }
-    const foveation::ImageRgb reference_display = foveation::display_encode(reference);
+    const foveation::ImageRgb reference_display = foveation::display_encode(reference, display->exposure);
     Json against = {{"reference", ref_json}};
     if (run_full)
-      against["full"] = comparison_json(foveation::compare_images(reference_display, foveation::display_encode(full), ecc_map()));
+      against["full"] = comparison_json(foveation::compare_images(reference_display, foveation::display_encode(full, display->exposure), ecc_map()));
     if (run_foveated)
       against["foveated"] = comparison_json(
-          foveation::compare_images(reference_display, foveation::display_encode(foveated->image()), ecc_map()));
+          foveation::compare_images(reference_display, foveation::display_encode(foveated->image(), display->exposure), ecc_map()));
     report["errors_against_reference"] = against;
   }
   const double full_total = run_full ? full_times.median_total_ms() : 0.0;
@@ -330,7 +330,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         {"breakeven_full_ms", trace_speedup > 1.0 ? Json(fixed * trace_speedup / (trace_speedup - 1.0)) : Json(nullptr)}};
     // Agreement of the two images (both carry their own noise), not accuracy: see errors_against_reference.
     const foveation::ImageComparison cmp = foveation::compare_images(
-        foveation::display_encode(full), foveation::display_encode(foveated->image()), ecc_map());
+        foveation::display_encode(full, display->exposure), foveation::display_encode(foveated->image(), display->exposure), ecc_map());
     const Json c = comparison_json(cmp);
     report["rings_compared_against"] = "full render at the same rays per pixel";
     report["psnr"] = c["psnr"];

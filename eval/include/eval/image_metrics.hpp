@@ -5,8 +5,9 @@
 // tool calls (`fovea render`, `fovea reconstruct`, `fovea pricelist`).
 //
 // Domain: the metrics compare the values they are given. Tools compare display
-// values (display_encode: sRGB of the linear colour clamped to [0, 1]), so that
-// PSNR and SSIM mean what they mean for an 8-bit image, without its rounding.
+// values (display_encode: sRGB of the exposed linear colour clamped to [0, 1],
+// no tone-mapping curve), so that PSNR and SSIM mean what they mean for an
+// 8-bit image, without its rounding, and stay linear in radiance up to white.
 // Errors: mismatched sizes throw std::invalid_argument naming the function.
 #pragma once
 
@@ -34,8 +35,9 @@ double psnr_of_mse(double mse, double peak = 1.0);
 // Rec. 601 luma of an RGB triple: the one luma of SSIM, the CSF-weighted error and the references.
 inline double rec601_luma(double r, double g, double b) { return 0.299 * r + 0.587 * g + 0.114 * b; }
 
-// Display values of a linear image: sRGB (IEC 61966-2-1) of each channel clamped to [0, 1].
-ImageRgb display_encode(const ImageRgb& linear);
+// Display values of a linear image: sRGB (IEC 61966-2-1) of exposure x each
+// channel clamped to [0, 1] (the exposure of the run's display transform).
+ImageRgb display_encode(const ImageRgb& linear, float exposure = 1.0f);
 
 // Eccentricity ring edges in degrees: 0-2.5, 2.5-5, 5-10, 10-20, 20-30, 30-45, > 45.
 inline constexpr std::array<double, 8> kRingEdgesDeg = {0.0, 2.5, 5.0, 10.0, 20.0, 30.0, 45.0,
