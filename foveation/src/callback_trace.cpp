@@ -31,6 +31,12 @@ CallbackTrace::CallbackTrace(const PointSet& points, int rays_per_point, PixelFi
   traced_.colors.invalid = points.size();
   traced_.depth_m.assign(points.size(), NAN);
   traced_.runs.resize((points.size() + kRunPoints - 1) / kRunPoints);
+  run_boxes_.resize(traced_.runs.size(), RunBox{glm::vec2(INFINITY), glm::vec2(-INFINITY)});
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    RunBox& box = run_boxes_[i / kRunPoints];
+    box.min_px = glm::min(box.min_px, points.position_px[i]);
+    box.max_px = glm::max(box.max_px, points.position_px[i]);
+  }
   if (keep_rays_) {
     traced_.rays.resize(traced_.runs.size());
     traced_.farthest_m.assign(points.size(), NAN);
@@ -66,6 +72,10 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     for (std::uint32_t id : traced) colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
     traced.clear();
     if (keep_rays_) traced_.rays[run].clear();
+    const RunBox& box = run_boxes_[run];
+    const glm::vec2 box_min = visible.to_screen(box.min_px), box_max = visible.to_screen(box.max_px);
+    if (box_max.x < visible.x0 || box_min.x >= visible.x1 || box_max.y < visible.y0 || box_min.y >= visible.y1)
+      return;  // no point of this run is on the screen
     RayBatch& batch = batches_[worker];
     std::vector<std::uint32_t>& ids = batch_points_[worker];
     batch.resize(std::size_t(batch_points) * spp);

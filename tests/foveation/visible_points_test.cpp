@@ -10,6 +10,8 @@
 #include <cmath>
 #include <limits>
 
+#include "foveation/callback_trace.hpp"
+#include "foveation/eye_rays.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/ray_samples.hpp"
@@ -74,6 +76,36 @@ TEST(VisiblePoints, ScreenPlusMarginInStableOrder) {
   // Centred gaze sees the dense middle of the canvas: more points than at a corner.
   EXPECT_GT(fv::select_visible_points(ps, fv::map_gaze(200, 160, {100, 80})).size(),
             fv::select_visible_points(ps, fv::map_gaze(200, 160, {0, 0})).size());
+}
+
+namespace {
+int32_t grey_engine(void*, const FoveartRayBatch* batch) {
+  for (uint32_t i = 0; i < batch->ray_count * 3; ++i) batch->out_rgb[i] = 0.5f;
+  return FOVEART_RESULT_SUCCESS;
+}
+}  // namespace
+
+// The trace pass (stages 1-3) traces exactly the selection, whatever runs of the
+// set it skips as wholly off the screen: a set of many runs, gazes from the
+// centre to the corners.
+TEST(VisiblePoints, TheTracePassTracesExactlyTheVisiblePoints) {
+  const fv::PointSet ps = fv::generate_point_set(fv::DisplayModel::from_fov(480, 540, 95.0), 3);
+  ASSERT_GT(ps.size(), 4u * 8192u);  // several runs of the trace pass
+  fv::Executor executor(2);
+  fv::CallbackTrace trace(ps, 1, fv::PixelFilter::box, false, false);
+  for (const glm::vec2 g : {glm::vec2(240, 270), glm::vec2(0, 0), glm::vec2(480, 540), glm::vec2(450, 20)}) {
+    fv::FrameContext frame;
+    frame.view = fv::make_eye_view(0, 480, 540, fv::EyePose{}, -0.8f, 0.8f, 0.85f, -0.85f);
+    frame.mapping = fv::map_gaze(480, 540, g);
+    frame.trace_rays = &grey_engine;
+    const fv::TraceStats stats = trace.trace(frame, executor);
+    std::vector<std::uint32_t> traced;
+    for (const auto& run : trace.traced().runs) traced.insert(traced.end(), run.begin(), run.end());
+    const fv::VisiblePoints visible = fv::select_visible_points(ps, frame.mapping);
+    EXPECT_EQ(traced, visible.point_index) << g.x << "," << g.y;
+    EXPECT_EQ(stats.points, visible.size());
+    EXPECT_LT(visible.size(), ps.size());
+  }
 }
 
 TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "foveation/frame_stages.hpp"
 #include "foveation/point_rays.hpp"
 #include "foveation/point_set.hpp"
@@ -34,6 +36,12 @@ class CallbackTrace final : public TraceStage {
   TracedPoints traced_;
   std::vector<RayBatch> batches_;                         // per worker slot
   std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
+  // Per run of the point set, the canvas box its points lie in: a run wholly
+  // off the screen is skipped without testing its points one by one.
+  struct RunBox {
+    glm::vec2 min_px, max_px;
+  };
+  std::vector<RunBox> run_boxes_;
 };
 
 }  // namespace foveart::foveation
