@@ -23,6 +23,8 @@ constexpr std::size_t kRings = foveation::kRingCount;
 double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
 double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
 double time_pct(const Json& s) { return 100.0 * num(s["time_fraction"]); }
+// Results written before full renders had a TAA flag have none: false.
+bool has_taa(const Json& s) { return s.value("taa", false); }
 
 std::string fmt(double v, int decimals = 1) {
   if (!std::isfinite(v)) return "-";
@@ -79,11 +81,11 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     for (std::size_t i : fronts[r]) all[i]["front_rings"].push_back(r);
   }
 
-  // Sanity: the full render's error falls with rays per pixel in every ring;
+  // Sanity: the full render's error (without TAA) falls with rays per pixel in every ring;
   // the reference's residual is >= 10 dB below the best setting in every ring.
-  std::vector<const Json*> full;
+  std::vector<const Json*> full, full_taa;
   for (const Json& s : all)
-    if (s["kind"] == "full") full.push_back(&s);
+    if (s["kind"] == "full") (has_taa(s) ? full_taa : full).push_back(&s);
   std::sort(full.begin(), full.end(), [](const Json* a, const Json* b) { return (*a)["spp"] < (*b)["spp"]; });
   Json sanity = {{"full_error_falls_with_spp", true}, {"full_error_failures", Json::array()},
                  {"reference_10db_below_best", true}, {"reference_margin_db", Json::array()}};
@@ -189,7 +191,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
       const bool fov = s["kind"] == "foveated";
       f << cell(s["id"]) << "," << cell(s["kind"]) << "," << (fov ? cell(s["method"]) : "") << ","
         << (fov ? cell(s["k"]) : "") << "," << (fov ? cell(s["scale"]) : "") << "," << (fov ? cell(s["pattern"]) : "")
-        << "," << (fov ? cell(s["taa"]) : "") << "," << cell(s["spp"]) << "," << cell(s["points"]);
+        << "," << cell(Json(has_taa(s))) << "," << cell(s["spp"]) << "," << cell(s["points"]);
       for (const char* k : {"primary", "shadow", "reflection", "refraction", "total"}) f << "," << cell(s["rays"][k]);
       for (const char* k : {"select", "trace", "reconstruct", "taa", "total"}) f << "," << cell(s["ms"][k]);
       f << "," << cell(s["anchor_full_ms"]) << "," << cell(s["time_fraction"]) << "," << cell(s["psnr"]) << ","
@@ -207,11 +209,16 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     toolkit::PlotSeries grid{"foveated, pixel-grid fovea", {}, {}, true};
     toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
     toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
+    toolkit::PlotSeries history_curve{"full render + TAA", {}, {}, true};
     toolkit::PlotSeries front{"Pareto front", {}, {}, false};
     const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
     for (const Json* s : full) {
       full_curve.x.push_back(x_of(time_pct(*s)));
       full_curve.y.push_back(ring_psnr(*s, r));
+    }
+    for (const Json* s : full_taa) {
+      history_curve.x.push_back(x_of(time_pct(*s)));
+      history_curve.y.push_back(ring_psnr(*s, r));
     }
     for (const Json& s : all) {
       if (s["kind"] != "foveated") continue;
@@ -227,7 +234,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     spec.title = title;
     spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
     spec.y_label = "PSNR against the reference (dB)";
-    const std::vector<toolkit::PlotSeries> series = {full_curve, front, grid, thesis, taa};
+    const std::vector<toolkit::PlotSeries> series = {full_curve, front, grid, thesis, taa, history_curve};
     // A ring without a finite PSNR (empty at this size) gets no plot.
     return toolkit::has_finite_point(series) ? toolkit::write_plot_png((dir / file).string(), spec, series)
                                              : std::string();
@@ -249,7 +256,9 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
      << " s. The numbers below are that run's own output; rerun the command to update them.\n\n"
      << *headline << "\n\n"
      << "Times are each setting's median frame "
-     << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it.\n\n"
+     << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it. "
+     << "`full_sppN_taa` is the full render with the foveated + TAA settings' history: the same "
+     << ctx.run.value("taa_frames", 0) << " frames of new jitter, the same blend; its time is trace + blend.\n\n"
      << "Reference: " << ctx.reference["spp"] << " rays per pixel; residual PSNR per ring (MSE(A,B)/4 of two "
      << "independent halves):";
   for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << ": " << fmt(num(ctx.reference["residual_psnr"][r])) << " dB;";
