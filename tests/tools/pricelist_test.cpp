@@ -1,6 +1,6 @@
 // `fovea pricelist`: the grid with its full renders with TAA, the Pareto front,
-// a tiny sweep whose CSV agrees with its JSON and whose written images
-// reproduce its per-ring PSNR, resume, bad grids.
+// the full render at equal time, a tiny sweep whose CSV agrees with its JSON
+// and whose written images reproduce its per-ring PSNR, resume, bad grids.
 #include "gltf_fixtures.hpp"
 
 #include <cmd_pricelist.hpp>
@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -35,6 +36,14 @@ std::size_t count_lines(const fs::path& file) {
   std::string line;
   while (std::getline(in, line)) ++n;
   return n;
+}
+
+// Ring 0 PSNR and time fraction as given; kind from the id.
+nlohmann::ordered_json result(const std::string& id, double time_fraction, double psnr0) {
+  nlohmann::ordered_json rings = nlohmann::ordered_json::array();
+  rings.push_back({{"psnr", std::isnan(psnr0) ? nlohmann::ordered_json() : nlohmann::ordered_json(psnr0)}});
+  return {{"id", id}, {"kind", id.rfind("full", 0) == 0 ? "full" : "foveated"}, {"time_fraction", time_fraction},
+          {"rings", rings}};
 }
 
 }  // namespace
@@ -74,6 +83,24 @@ TEST(Pricelist, ExpandGridAddsTheFullRenderWithTaaAtEveryTaaRayCount) {
   ASSERT_TRUE(tools::expand_grid(tools::quick_grid(), &settings, &error)) << error;
   EXPECT_EQ(std::count_if(settings.begin(), settings.end(), [](const auto& s) { return s.id() == "full_spp1_taa"; }),
             1);
+}
+
+TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
+  const std::vector<nlohmann::ordered_json> all = {
+      result("full_spp1", 1.0, 30.0),      result("full_spp2", 2.0, 33.0),  result("full_spp4", 4.0, 36.0),
+      result("full_spp1_taa", 1.1, 36.0),  result("full_spp8", 0.2, NAN),   // no PSNR in the ring: never picked
+      result("fov_cheap", 0.5, 31.0),      result("fov_a", 1.05, 32.0),     result("fov_b", 1.5, 34.0),
+      result("fov_c", 5.0, 40.0),          result("fov_fast_good", 0.9, 50.0)};
+  const auto pick = [&](std::size_t of) {
+    const std::optional<std::size_t> f = tools::equal_time_full(all, of, 0);
+    return f ? all[*f]["id"].get<std::string>() : std::string("none that cheap");
+  };
+  EXPECT_EQ(pick(5), "none that cheap");  // every full render with a PSNR takes longer
+  EXPECT_EQ(pick(6), "full_spp1");
+  EXPECT_EQ(pick(7), "full_spp1_taa");   // the history beats more rays per pixel at this time
+  EXPECT_EQ(pick(8), "full_spp1_taa");   // a tie with full_spp4 at 36 dB: the cheaper
+  EXPECT_EQ(pick(9), "none that cheap");  // a foveated setting is never the baseline
+  EXPECT_EQ(pick(0), "full_spp1");        // a full render's own: itself at most
 }
 
 TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
@@ -118,6 +145,8 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     for (std::string c; std::getline(hs, c, ',');) cols.push_back(c);
     const auto col = std::find(cols.begin(), cols.end(), "psnr_0-2.5") - cols.begin();
     ASSERT_LT(std::size_t(col), cols.size());
+    const auto eq_col = std::find(cols.begin(), cols.end(), "equal_time_full_0-2.5") - cols.begin();
+    ASSERT_LT(std::size_t(eq_col), cols.size());
     for (const auto& s : settings) {
       ASSERT_TRUE(std::getline(cf, line));
       std::vector<std::string> cells;
@@ -126,6 +155,11 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
       EXPECT_EQ(cells[0], s["id"].get<std::string>());
       if (s["rings"][0]["psnr"].is_number()) {
         EXPECT_NEAR(std::stod(cells[std::size_t(col)]), s["rings"][0]["psnr"].get<double>(), 1e-9);
+      }
+      ASSERT_LT(std::size_t(eq_col), cells.size()) << line;
+      if (s["kind"] == "foveated") {
+        const auto& e = s["equal_time_full"][0];
+        EXPECT_EQ(cells[std::size_t(eq_col)], e.is_null() ? "none" : e["id"].get<std::string>()) << s["id"];
       }
     }
   }
@@ -175,6 +209,21 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   EXPECT_GT(full_taa["rings"][0]["flicker"].get<double>(), 0.0);
   EXPECT_EQ(grid_taa["rings"][0]["psnr"], full_taa["rings"][0]["psnr"]);
   EXPECT_GT(full_taa["rings"][0]["psnr"].get<double>(), full1["rings"][0]["psnr"].get<double>());
+  // Every foveated setting has its equal-time baseline per ring, and report.md shows it.
+  for (const auto& s : settings) {
+    if (s["kind"] == "foveated") {
+      EXPECT_EQ(s["equal_time_full"].size(), foveation::kRingCount) << s["id"];
+    }
+  }
+  {
+    std::ifstream rf(pl / "report.md");
+    std::stringstream text;
+    text << rf.rdbuf();
+    const std::string md = text.str();
+    EXPECT_NE(md.find("| foveated on the front | time % | PSNR dB | full render no slower |"), std::string::npos);
+    EXPECT_NE(md.find("With the same history (TAA over 3 frames"), std::string::npos) << md.substr(0, 2000);
+    EXPECT_NE(md.find("At equal time "), std::string::npos) << md.substr(0, 2000);
+  }
 
   // Resume: nothing measured again, the same headline.
   const std::size_t lines = count_lines(pl / "results.jsonl");
