@@ -17,7 +17,7 @@ std::string number(double v) {
 }  // namespace
 
 std::string PriceSetting::id() const {
-  if (full) return "full_spp" + std::to_string(rays_per_point);
+  if (full) return "full_spp" + std::to_string(rays_per_point) + (taa ? "_taa" : "");
   return table_id() + "_r" + std::to_string(rays_per_point) + (taa ? "_taa" : "");  // e.g. nearest_k1_s1_thesis_r1
 }
 
@@ -59,6 +59,14 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
     s.rays_per_point = spp;
     out->push_back(s);
   }
+  for (int r : g.taa_rays_per_point) {  // the full render with the foveated TAA rows' history
+    if (r < 1 || r > 1024) return "TAA rays per point " + std::to_string(r) + " (1..1024)";
+    PriceSetting s;
+    s.full = true;
+    s.rays_per_point = r;
+    s.taa = true;
+    out->push_back(s);
+  }
   for (const std::string& pattern : g.pattern)
     if (pattern != "pixel-grid" && pattern != "thesis") return "pattern '" + pattern + "' (pixel-grid or thesis)";
   for (const std::string& mk : g.interpolation) {
@@ -94,7 +102,6 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
           out->push_back(s);
         }
         for (int r : g.taa_rays_per_point) {
-          if (r < 1 || r > 1024) return "TAA rays per point " + std::to_string(r) + " (1..1024)";
           s.rays_per_point = r;
           s.taa = true;
           out->push_back(s);

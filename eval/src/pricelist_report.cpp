@@ -23,6 +23,8 @@ constexpr std::size_t kRings = foveation::kRingCount;
 double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
 double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
 double time_pct(const Json& s) { return 100.0 * num(s["time_fraction"]); }
+// Results written before full renders had a TAA flag have none: false.
+bool has_taa(const Json& s) { return s.value("taa", false); }
 
 std::string fmt(double v, int decimals = 1) {
   if (!std::isfinite(v)) return "-";
@@ -35,6 +37,71 @@ const Json* find(const std::vector<Json>& all, const std::string& id) {
   for (const Json& s : all)
     if (s["id"] == id) return &s;
   return nullptr;
+}
+
+// "2.3 dB above" / "1.1 dB below"; "not comparable with" when either PSNR is not finite ("-").
+std::string db_above_below(double db) {
+  if (!std::isfinite(db)) return "not comparable with";
+  return fmt(std::abs(db)) + " dB " + (db >= 0.0 ? "above" : "below");
+}
+
+// Every foveated setting's "equal_time_full": per ring its equal-time baseline (equal_time_full) as
+// {id, time_fraction, psnr, gain_db}, or null when no full render is that cheap.
+void add_equal_time(std::vector<Json>& all) {
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (all[i]["kind"] != "foveated") continue;
+    Json rings = Json::array();
+    for (std::size_t r = 0; r < kRings; ++r) {
+      const std::optional<std::size_t> f = equal_time_full(all, i, r);
+      if (!f) {
+        rings.push_back(nullptr);
+        continue;
+      }
+      const Json& full = all[*f];
+      const double gain = ring_psnr(all[i], r) - ring_psnr(full, r);
+      rings.push_back({{"id", full["id"]}, {"time_fraction", full["time_fraction"]}, {"psnr", ring_psnr(full, r)},
+                       {"gain_db", std::isfinite(gain) ? Json(gain) : Json(nullptr)}});
+    }
+    all[i]["equal_time_full"] = std::move(rings);
+  }
+}
+
+// The headline's fair comparisons in the fovea (ring 0): a foveated + TAA setting (the thesis's
+// default with TAA, else the first measured) against the full render with the same history at the
+// same rays; the thesis's default and that setting against the full render at equal time.
+std::string fair_headline(const std::vector<Json>& all, const PricelistContext& ctx, const Json* def) {
+  std::ostringstream h;
+  const Json* fov = find(all, ctx.thesis_default + "_taa");
+  for (const Json& s : all)
+    if (!fov && s["kind"] == "foveated" && has_taa(s)) fov = &s;
+  const int rays = fov ? (*fov)["spp"].get<int>() : 0;
+  const Json* full = fov ? find(all, "full_spp" + std::to_string(rays) + "_taa") : nullptr;
+  if (full) {
+    h << "With the same history (TAA over " << ctx.run.value("taa_frames", 0) << " frames of new jitter, " << rays
+      << (rays == 1 ? " ray" : " rays") << " per point or pixel) the fovea of " << (*fov)["id"].get<std::string>()
+      << " is " << db_above_below(ring_psnr(*fov, 0) - ring_psnr(*full, 0)) << " " << (*full)["id"].get<std::string>()
+      << " (" << fmt(ring_psnr(*fov, 0)) << " vs " << fmt(ring_psnr(*full, 0)) << " dB) at " << fmt(time_pct(*fov), 0)
+      << "% vs " << fmt(time_pct(*full), 0) << "% of the time. ";
+  }
+  std::vector<std::string> clauses;
+  for (const Json* s : {def, fov}) {
+    if (!s) continue;
+    const Json& e = (*s)["equal_time_full"][0];  // ring 0
+    const std::string id = (*s)["id"].get<std::string>() + " (" + fmt(time_pct(*s), 0) + "%";
+    if (e.is_null()) {
+      clauses.push_back("no full render is as cheap as " + id + ")");
+      continue;
+    }
+    clauses.push_back("the fovea of " + id + ", " + fmt(ring_psnr(*s, 0)) + " dB) is " +
+                      db_above_below(num(e["gain_db"])) + " the best full render no slower, " +
+                      e["id"].get<std::string>() + " (" + fmt(100.0 * num(e["time_fraction"]), 0) + "%, " +
+                      fmt(num(e["psnr"])) + " dB)");
+  }
+  for (std::size_t i = 0; i < clauses.size(); ++i) h << (i == 0 ? "At equal time " : "; ") << clauses[i];
+  if (!clauses.empty()) h << ".";
+  std::string text = h.str();
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
 }
 
 }  // namespace
@@ -63,6 +130,23 @@ std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std
   return front;
 }
 
+std::optional<std::size_t> equal_time_full(const std::vector<Json>& all, std::size_t of, std::size_t ring) {
+  const double budget = num(all[of]["time_fraction"]);
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const Json& s = all[i];
+    const double psnr = ring_psnr(s, ring), t = num(s["time_fraction"]);
+    if (s["kind"] != "full" || std::isnan(psnr) || !(t <= budget)) continue;
+    if (!best) {
+      best = i;
+      continue;
+    }
+    const double best_psnr = ring_psnr(all[*best], ring), best_t = num(all[*best]["time_fraction"]);
+    if (psnr > best_psnr || (psnr == best_psnr && t < best_t)) best = i;
+  }
+  return best;
+}
+
 std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& ctx, std::vector<Json> all,
                             std::string* headline) {
   // Fronts per ring over every setting (full renders included: a user may pick either).
@@ -78,12 +162,13 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     fronts[r] = pareto_front(cost, acc);
     for (std::size_t i : fronts[r]) all[i]["front_rings"].push_back(r);
   }
+  add_equal_time(all);
 
-  // Sanity: the full render's error falls with rays per pixel in every ring;
+  // Sanity: the full render's error (without TAA) falls with rays per pixel in every ring;
   // the reference's residual is >= 10 dB below the best setting in every ring.
-  std::vector<const Json*> full;
+  std::vector<const Json*> full, full_taa;
   for (const Json& s : all)
-    if (s["kind"] == "full") full.push_back(&s);
+    if (s["kind"] == "full") (has_taa(s) ? full_taa : full).push_back(&s);
   std::sort(full.begin(), full.end(), [](const Json* a, const Json* b) { return (*a)["spp"] < (*b)["spp"]; });
   Json sanity = {{"full_error_falls_with_spp", true}, {"full_error_failures", Json::array()},
                  {"reference_10db_below_best", true}, {"reference_margin_db", Json::array()}};
@@ -130,6 +215,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
   } else {
     h << "(the headline needs full_spp1 and " << ctx.thesis_default << " in the grid)";
   }
+  if (const std::string fair = fair_headline(all, ctx, def); !fair.empty()) h << " " << fair;
   // The temporal columns: the acceptance at the layer's defaults (else the first TAA setting measured).
   Json temporal = ctx.temporal;
   Json acceptance, temporal_checks;
@@ -173,6 +259,8 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
          "rays_total,ms_select,ms_trace,ms_reconstruct,ms_taa,ms_total,anchor_full_ms,time_fraction,psnr,ssim,csf_rmse";
     for (std::size_t r = 0; r < kRings; ++r)
       for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
+    for (std::size_t r = 0; r < kRings; ++r)
+      f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
     f << "\n";
     const auto cell = [](const Json& j) -> std::string {
       if (j.is_null()) return "";
@@ -189,13 +277,18 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
       const bool fov = s["kind"] == "foveated";
       f << cell(s["id"]) << "," << cell(s["kind"]) << "," << (fov ? cell(s["method"]) : "") << ","
         << (fov ? cell(s["k"]) : "") << "," << (fov ? cell(s["scale"]) : "") << "," << (fov ? cell(s["pattern"]) : "")
-        << "," << (fov ? cell(s["taa"]) : "") << "," << cell(s["spp"]) << "," << cell(s["points"]);
+        << "," << cell(Json(has_taa(s))) << "," << cell(s["spp"]) << "," << cell(s["points"]);
       for (const char* k : {"primary", "shadow", "reflection", "refraction", "total"}) f << "," << cell(s["rays"][k]);
       for (const char* k : {"select", "trace", "reconstruct", "taa", "total"}) f << "," << cell(s["ms"][k]);
       f << "," << cell(s["anchor_full_ms"]) << "," << cell(s["time_fraction"]) << "," << cell(s["psnr"]) << ","
         << cell(s["ssim"]) << "," << cell(s["csf_rmse"]);
       for (std::size_t r = 0; r < kRings; ++r)
         for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << cell(s["rings"][r][m]);
+      for (std::size_t r = 0; r < kRings; ++r) {  // full renders: empty; "none": no full render that cheap
+        const Json e = fov ? s["equal_time_full"][r] : Json();
+        f << "," << (!fov ? "" : e.is_null() ? "none" : cell(e["id"]));
+        f << "," << (e.is_null() ? "" : cell(e["gain_db"]));
+      }
       f << "\n";
     }
     if (!f) return "cannot write " + (dir / "pricelist.csv").string();
@@ -207,11 +300,16 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     toolkit::PlotSeries grid{"foveated, pixel-grid fovea", {}, {}, true};
     toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
     toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
+    toolkit::PlotSeries history_curve{"full render + TAA", {}, {}, true};
     toolkit::PlotSeries front{"Pareto front", {}, {}, false};
     const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
     for (const Json* s : full) {
       full_curve.x.push_back(x_of(time_pct(*s)));
       full_curve.y.push_back(ring_psnr(*s, r));
+    }
+    for (const Json* s : full_taa) {
+      history_curve.x.push_back(x_of(time_pct(*s)));
+      history_curve.y.push_back(ring_psnr(*s, r));
     }
     for (const Json& s : all) {
       if (s["kind"] != "foveated") continue;
@@ -227,7 +325,7 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     spec.title = title;
     spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
     spec.y_label = "PSNR against the reference (dB)";
-    const std::vector<toolkit::PlotSeries> series = {full_curve, front, grid, thesis, taa};
+    const std::vector<toolkit::PlotSeries> series = {full_curve, front, grid, thesis, taa, history_curve};
     // A ring without a finite PSNR (empty at this size) gets no plot.
     return toolkit::has_finite_point(series) ? toolkit::write_plot_png((dir / file).string(), spec, series)
                                              : std::string();
@@ -249,7 +347,9 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
      << " s. The numbers below are that run's own output; rerun the command to update them.\n\n"
      << *headline << "\n\n"
      << "Times are each setting's median frame "
-     << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it.\n\n"
+     << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it. "
+     << "`full_sppN_taa` is the full render with the foveated + TAA settings' history: the same "
+     << ctx.run.value("taa_frames", 0) << " frames of new jitter, the same blend; its time is trace + blend.\n\n"
      << "Reference: " << ctx.reference["spp"] << " rays per pixel; residual PSNR per ring (MSE(A,B)/4 of two "
      << "independent halves):";
   for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << ": " << fmt(num(ctx.reference["residual_psnr"][r])) << " dB;";
@@ -272,7 +372,9 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
   md << "Columns: time % of a full frame at 1 ray per pixel (measured against the anchor frames interleaved "
      << "with it); ms = that fraction x the full render's " << fmt(full1_ms) << " ms; rays traced in all "
      << "(primary + shadow + reflection + refraction); PSNR, SSIM and the CSF-weighted error (as dB) in the ring "
-     << "against the reference; ms per dB and rays per dB from the previous setting on the front.\n\n";
+     << "against the reference; ms per dB and rays per dB from the previous setting on the front. "
+     << "At equal time: each foveated setting on the front against the most accurate full render (with or "
+     << "without TAA) that takes no more time, and how many dB it gains on it in the ring.\n\n";
   for (std::size_t r = 0; r < kRings; ++r) {
     md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
        << "| on the front | time % | ms | rays (total) | PSNR dB | SSIM | CSF dB | ms per dB | rays per dB |\n"
@@ -293,6 +395,23 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
          << fmt(num(s["rings"][r]["ssim"]), 3) << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db
          << " | " << rays_db << " |\n";
       prev = &s;
+    }
+    const bool any_foveated =
+        std::any_of(fronts[r].begin(), fronts[r].end(), [&](std::size_t i) { return all[i]["kind"] == "foveated"; });
+    md << "\nAt equal time, ring " << ring_name(r) << " deg:"
+       << (any_foveated ? "\n\n| foveated on the front | time % | PSNR dB | full render no slower | its time % | "
+                          "its PSNR dB | gain dB |\n|---|---|---|---|---|---|---|\n"
+                        : " no foveated setting is on this ring's front.\n");
+    for (std::size_t i : fronts[r]) {
+      const Json& s = all[i];
+      if (s["kind"] != "foveated") continue;
+      const Json& e = s["equal_time_full"][r];
+      md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ring_psnr(s, r), 2);
+      if (e.is_null())
+        md << " | none that cheap | - | - | - |\n";
+      else
+        md << " | " << e["id"].get<std::string>() << " | " << fmt(100.0 * num(e["time_fraction"]), 1) << " | "
+           << fmt(num(e["psnr"]), 2) << " | " << fmt(num(e["gain_db"]), 2) << " |\n";
     }
     md << "\n";
   }

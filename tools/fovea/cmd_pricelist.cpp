@@ -10,6 +10,7 @@
 #include "taa_modes.hpp"
 #include "display_options.hpp"
 #include "pfm.hpp"
+#include <eval/full_taa.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/reference.hpp>
 #include <eval/render_metrics.hpp>
@@ -63,11 +64,12 @@ engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) 
                            a.refraction - b.refraction, a.packets - b.packets};
 }
 
-// One setting being measured: its view (foveated) or render settings (full),
-// per-frame stage times, rays of its first frame, flicker so far.
+// One setting being measured: its view (foveated), its history (full with TAA) or
+// render settings (full), per-frame stage times, rays of its first frame, flicker so far.
 struct Measure {
   PriceSetting setting;
   std::unique_ptr<foveation::FoveatedView> view;
+  std::unique_ptr<FullTaaRender> full_taa;
   foveation::ImageRgb full_image;
   std::vector<double> select_ms, trace_ms, reconstruct_ms, taa_ms, total_ms;
   engine::RayCounts rays;
@@ -110,11 +112,35 @@ RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s
   return r;
 }
 
+// The time anchor: the full render at 1 ray per pixel without TAA.
+bool is_anchor(const PriceSetting& s) { return s.full && !s.taa && s.rays_per_point == 1; }
+
+// A setting's view settings at a still view: TAA (when it has it) converges over frames of
+// new jitter; the full render with TAA takes the same (FullTaaRender).
+foveation::ViewSettings still_view_settings(const PricelistOptions& o, const PriceSetting& s) {
+  return taa_view_settings(s.taa ? "reproject" : "off", s.rays_per_point, o.seed, o.pixel_filter,
+                           /*taa_mean_while_young=*/false);
+}
+
 // One frame of a setting; false with a message on failure.
 bool render_frame(Context& c, Measure& m, int round, std::string* error) {
   const engine::RayCounts before = c.tracer.counts();
   const foveation::ImageRgb* image = nullptr;
-  if (m.setting.full) {
+  if (m.full_taa) {
+    const FullTaaFrame f = m.full_taa->render(&foveart_engine_trace_rays, &c.tracer, c.view, c.gaze,
+                                              std::uint64_t(round), c.executor);
+    if (f.status != FOVEART_RESULT_SUCCESS) {
+      *error = m.setting.id() + ": engine callback failed with status " + std::to_string(f.status);
+      return false;
+    }
+    m.select_ms.push_back(0.0);
+    m.trace_ms.push_back(f.trace_ms);
+    m.reconstruct_ms.push_back(0.0);
+    m.taa_ms.push_back(f.taa_ms);
+    m.total_ms.push_back(f.trace_ms + f.taa_ms);
+    m.points = c.view.width_px * c.view.height_px;
+    image = &m.full_taa->image();
+  } else if (m.setting.full) {
     engine::RenderSettings rs;
     rs.spp = m.setting.rays_per_point;
     // The same jitter every frame, as the foveated frames without TAA and as the
@@ -196,8 +222,8 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     j["k"] = s.k;
     j["scale"] = s.density_scale;
     j["pattern"] = s.pattern;
-    j["taa"] = s.taa;
   }
+  j["taa"] = s.taa;
   j["points"] = m.points;
   j["rays"] = rays_json(m.rays);
   // The frame whose total is the median, so that the stages add up to the total.
@@ -245,7 +271,10 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     Measure& m = ms[i];
     m.setting = settings[i];
     m.frames_wanted = m.setting.taa ? std::max(c.o.taa_frames, 2) : c.o.frames;
-    if (m.setting.full) continue;
+    if (m.setting.full) {
+      if (m.setting.taa) m.full_taa = std::make_unique<FullTaaRender>(still_view_settings(c.o, m.setting));
+      continue;
+    }
     if (!tables) {
       const RenderOptions ro = render_options_of(c.o, &m.setting);
       tables = load_foveated_tables(ro, c.view, fs::path(c.o.cache_dir), c.executor,
@@ -256,28 +285,25 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
         return false;
       }
     }
-    // A still view: TAA (when the setting has it) converges over frames of new jitter.
-    m.view = std::make_unique<foveation::FoveatedView>(
-        tables,
-        taa_view_settings(m.setting.taa ? "reproject" : "off", m.setting.rays_per_point, c.o.seed, c.o.pixel_filter,
-                          /*taa_mean_while_young=*/false));
+    m.view = std::make_unique<foveation::FoveatedView>(tables, still_view_settings(c.o, m.setting));
   }
-  // The anchor: a full frame at 1 ray per pixel in every round (the full group's own 1-spp setting).
-  const bool full_group = settings.front().full;
+  // The anchor: a full frame at 1 ray per pixel in every round (the group's own full_spp1 when it has it:
+  // a resumed full group may hold only full renders with TAA).
+  const bool anchor_in_group = std::any_of(settings.begin(), settings.end(), is_anchor);
   Measure anchor_frames;
   anchor_frames.setting.full = true;
   std::vector<double> anchor_ms;
   int rounds = 0;
   for (const Measure& m : ms) rounds = std::max(rounds, m.frames_wanted);
   for (int round = 0; round < rounds; ++round) {
-    if (!full_group && round < c.o.frames) {
+    if (!anchor_in_group && round < c.o.frames) {
       if (!render_frame(c, anchor_frames, round, &error)) break;
       anchor_ms.push_back(anchor_frames.total_ms.back());
     }
     for (Measure& m : ms) {
       if (round >= m.frames_wanted) continue;
       if (!render_frame(c, m, round, &error)) break;
-      if (full_group && m.setting.rays_per_point == 1) anchor_ms.push_back(m.total_ms.back());
+      if (is_anchor(m.setting)) anchor_ms.push_back(m.total_ms.back());
       *done += 1.0;
       progress.update(*done / total);
     }
@@ -364,8 +390,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: " << bad << "\n";
     return 2;
   }
-  if (std::none_of(settings.begin(), settings.end(),
-                   [](const PriceSetting& s) { return s.full && s.rays_per_point == 1; })) {
+  if (std::none_of(settings.begin(), settings.end(), is_anchor)) {
     err << "fovea pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
     return 2;
   }

@@ -1,11 +1,13 @@
 // The price list's outputs from its measured settings: pricelist.json and
 // .csv (one row per setting), the Pareto front per ring (time against PSNR),
-// plots, report.md and the one-line headline.
+// the full render at equal time for each foveated setting, plots, report.md
+// and the headline.
 #pragma once
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +29,12 @@ std::string ring_name(std::size_t r);
 // setting costs less or the same and is at least as accurate, one of them strictly.
 // NaN entries are never on the front.
 std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std::vector<double>& accuracy);
+
+// The equal-time baseline of setting `of` in ring `ring`: among the full renders (with and
+// without TAA) whose time fraction is no more than its own, the one with the highest PSNR
+// in the ring (the cheaper on a tie). nullopt: no full render measured is that cheap.
+std::optional<std::size_t> equal_time_full(const std::vector<nlohmann::ordered_json>& settings, std::size_t of,
+                                           std::size_t ring);
 
 // Writes pricelist.json, pricelist.csv, pareto_ring<R>.png, pricelist.png,
 // report.md and, with temporal columns, temporal.csv into `dir`; *headline gets the summary sentence. Error message or "".

@@ -1,0 +1,42 @@
+// The full render with a foveated view's temporal history (full_taa.hpp).
+#include <eval/full_taa.hpp>
+
+#include <engine/render.hpp>
+
+#include <chrono>
+#include <stdexcept>
+
+namespace foveart::tools {
+
+// The blend options of make_temporal_history (foveated_view.cpp): per ray, for frames of rays_per_point rays.
+FullTaaRender::FullTaaRender(const foveation::ViewSettings& settings)
+    : settings_(settings), taa_(foveation::taa_options_for_rays(settings.taa_options, settings.rays_per_point)) {
+  // An image history only: a render cache keeps rays, not images, and TAA off keeps nothing.
+  if (!settings.taa || settings.taa_history == foveation::TaaHistory::ray_cache)
+    throw std::invalid_argument("full render with TAA: the settings must have an image history");
+  if (settings.rays_per_point < 1) throw std::invalid_argument("full render with TAA: rays per pixel must be >= 1");
+}
+
+// FoveatedView::render's frame seed: sample_seed + frame_index when the jitter is new each frame.
+std::uint64_t FullTaaRender::frame_seed(std::uint64_t frame_index) const {
+  return settings_.sample_seed + (settings_.new_jitter_each_frame ? frame_index : 0);
+}
+
+FullTaaFrame FullTaaRender::render(FoveartTraceRaysFn trace_rays, void* user_data, const FoveartEyeView& view,
+                                   glm::vec2 gaze_px, std::uint64_t frame_index, foveation::Executor& executor) {
+  engine::RenderSettings rs;
+  rs.spp = settings_.rays_per_point;
+  rs.seed = frame_seed(frame_index);
+  rs.pixel_filter = settings_.pixel_filter;
+  const engine::RenderResult rr = engine::render_full(trace_rays, user_data, view, rs, &frame_, executor);
+  FullTaaFrame f;
+  f.status = rr.status;
+  f.trace_ms = rr.trace_ms;
+  if (rr.status != FOVEART_RESULT_SUCCESS) return f;
+  const auto t0 = std::chrono::steady_clock::now();
+  taa_.accumulate(frame_, gaze_px, executor);
+  f.taa_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return f;
+}
+
+}  // namespace foveart::tools
