@@ -10,16 +10,15 @@ namespace foveart::tools {
 
 // The blend options of make_temporal_history (foveated_view.cpp): per ray, for frames of rays_per_point rays.
 FullTaaRender::FullTaaRender(const foveation::ViewSettings& settings)
-    : settings_(settings), taa_(foveation::taa_options_for_rays(settings.taa_options, settings.rays_per_point)) {
+    : settings_(settings), taa_(settings.blend_options()) {
   // An image history only: a render cache keeps rays, not images, and TAA off keeps nothing.
   if (!settings.taa || settings.taa_history == foveation::TaaHistory::ray_cache)
     throw std::invalid_argument("full render with TAA: the settings must have an image history");
   if (settings.rays_per_point < 1) throw std::invalid_argument("full render with TAA: rays per pixel must be >= 1");
 }
 
-// FoveatedView::render's frame seed: sample_seed + frame_index when the jitter is new each frame.
 std::uint64_t FullTaaRender::frame_seed(std::uint64_t frame_index) const {
-  return settings_.sample_seed + (settings_.new_jitter_each_frame ? frame_index : 0);
+  return settings_.frame_sample_seed(frame_index);
 }
 
 FullTaaFrame FullTaaRender::render(FoveartTraceRaysFn trace_rays, void* user_data, const FoveartEyeView& view,

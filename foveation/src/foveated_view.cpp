@@ -23,7 +23,7 @@ const ViewTables& checked(const std::shared_ptr<const ViewTables>& tables) {
 }  // namespace
 
 std::unique_ptr<TemporalHistory> make_temporal_history(const ViewTables& tables, const ViewSettings& settings) {
-  const TaaOptions blend = taa_options_for_rays(settings.taa_options, settings.rays_per_point);
+  const TaaOptions blend = settings.blend_options();
   if (!settings.taa) return std::make_unique<NoHistory>(blend);
   switch (settings.taa_history) {
     case TaaHistory::restart_on_view_change:
@@ -69,7 +69,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   frame.mapping = map_gaze(int(view.width_px), int(view.height_px),
                            centre_.update(request.gaze_px, request.saccade || request.blink));
   frame.frame_index = request.frame_index;
-  frame.sample_seed = settings_.sample_seed + (settings_.new_jitter_each_frame ? request.frame_index : 0);
+  frame.sample_seed = settings_.frame_sample_seed(request.frame_index);
   frame.restart = request.saccade || request.blink;
   frame.trace_rays = trace_rays;
   frame.user_data = user_data;

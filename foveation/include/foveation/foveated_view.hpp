@@ -86,7 +86,7 @@ class FoveatedView {
   const ViewSettings& settings() const { return settings_; }
   // What the history blends with: settings().taa_options for its rays per
   // point (taa_options_for_rays).
-  TaaOptions taa_options() const { return taa_options_for_rays(settings_.taa_options, settings_.rays_per_point); }
+  TaaOptions taa_options() const { return settings_.blend_options(); }
 
  private:
   std::shared_ptr<const ViewTables> tables_;

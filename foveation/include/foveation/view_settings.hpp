@@ -48,6 +48,13 @@ struct ViewSettings {
   // false: render() stops after the trace and the history's decision; the
   // caller reconstructs from hand_off() (the layer's GPU path).
   bool reconstruct_on_cpu = true;
+
+  // The jitter seed of frame `frame_index`.
+  std::uint64_t frame_sample_seed(std::uint64_t frame_index) const {
+    return sample_seed + (new_jitter_each_frame ? frame_index : 0);
+  }
+  // The history's blend for frames of rays_per_point rays (taa_options_for_rays).
+  TaaOptions blend_options() const { return taa_options_for_rays(taa_options, rays_per_point); }
 };
 
 struct FrameRequest {
