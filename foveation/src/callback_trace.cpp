@@ -17,7 +17,7 @@ namespace {
 // neighbours on the screen), small enough that the last task of a frame keeps
 // the other threads idle only briefly.
 constexpr std::uint32_t kBatchRays = 4096;
-constexpr std::size_t kRunPoints = 8192;
+constexpr std::size_t kRunPoints = 2048;
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
@@ -81,6 +81,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     batch.resize(std::size_t(batch_points) * spp);
     ids.resize(batch_points);
     std::uint32_t n = 0;
+    bool run_has_depth = false;  // written once per run: a shared flag stored per point bounces between cores
     auto flush = [&] {
       const std::uint32_t rays = n * spp;
       if (batch.trace(frame.trace_rays, frame.user_data, view, frame.frame_index, rays) != FOVEART_RESULT_SUCCESS) {
@@ -107,7 +108,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
           colors.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
           traced_.depth_m[ids[j]] = nearest_m;
           if (keep_rays_) traced_.farthest_m[ids[j]] = farthest_m;
-          if (!std::isnan(nearest_m)) any_depth.store(true, std::memory_order_relaxed);
+          run_has_depth = run_has_depth || !std::isnan(nearest_m);
           traced.push_back(ids[j]);
         }
       }
@@ -126,6 +127,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     }
     if (n > 0) flush();
     traced_points.fetch_add(run_points, std::memory_order_relaxed);
+    if (run_has_depth) any_depth.store(true, std::memory_order_relaxed);
   });
   stats.trace_ms = ms_since(t_trace);
   stats.points = std::uint32_t(traced_points.load());
