@@ -93,7 +93,7 @@ jq -rn --slurpfile p out/pointset.json --slurpfile r out/render.json \
     row("points per eye, FOVE \($p[0].width)x\($p[0].height), centred gaze";
         "\($p[0].on_screen_centred | group) of \($p[0].pixels | group) pixels (\($p[0].fraction_centred * 100 | r1) %)"),
     row("speedup at equal rays, default scene, MSM k = 5";
-        "\($r[0].speedup | r2)x (its content allows \($r[0].content_speedup | r2)x)"),
+        "\($r[0].speedup | r2)x (its content allows \($r[0].content_speedup | r2)x; the trace alone \($r[0].speedup_parts.trace_speedup | r2)x, plus \($r[0].speedup_parts.fixed_ms | r1) ms of reconstruction)"),
     row("fovea (0-2.5 deg): foveated against the full render at equal rays";
         if $fovea.psnr == null then "identical: the pixel-exact fovea traces the full render'"'"'s own rays"
         else "PSNR \($fovea.psnr | r1) dB" end),
