@@ -34,9 +34,10 @@ common=(--preset fove --mode both --interpolation msm --k 5 --frames "$frames" -
   echo "Full and foveated frames interleaved in one run; times are medians of $frames frames."
   echo "Trace = selection + rays + engine callback; fixed = reconstruction + temporal history."
   echo "ns per ray = trace time x threads / rays traced (primary + shadow + reflection + refraction)."
+  echo "Pays above: the full-frame time below which the foveated frame is slower (fixed x s / (s - 1), s the trace speedup)."
   echo
-  echo "| scene | triangles | effects | viewer | full ms | foveated ms | speedup | content allows | trace speedup | trace / content | fixed ms | ns per ray, full | ns per ray, foveated |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| scene | triangles | effects | viewer | full ms | foveated ms | speedup | content allows | trace speedup | trace / content | fixed ms | pays above, full ms | ns per ray, full | ns per ray, foveated |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$dir/scenes.md"
 for entry in "${scenes[@]}"; do
   IFS='|' read -r name scene viewer <<< "$entry"
@@ -51,7 +52,7 @@ for entry in "${scenes[@]}"; do
     . as $j | ($j.threads) as $t
     | ($j.full + {threads_: $t, rays_total: ($j.full.rays | add)}) as $f
     | ($j.foveated + {threads_: $t, rays_total: ($j.foveated.rays | add)}) as $v
-    | "| \($name) | \($j.triangles) | \($j.effects) | \($viewer) | \($f.total_ms | r(1)) | \($v.total_ms | r(1)) | \($j.speedup | r(2))x | \($j.content_speedup | r(2))x | \($j.speedup_parts.trace_speedup | r(2))x | \($j.speedup_parts.trace_of_content_speedup | r(2)) | \($j.speedup_parts.fixed_ms | r(1)) | \(ns($f)) | \(ns($v)) |"
+    | "| \($name) | \($j.triangles) | \($j.effects) | \($viewer) | \($f.total_ms | r(1)) | \($v.total_ms | r(1)) | \($j.speedup | r(2))x | \($j.content_speedup | r(2))x | \($j.speedup_parts.trace_speedup | r(2))x | \($j.speedup_parts.trace_of_content_speedup | r(2)) | \($j.speedup_parts.fixed_ms | r(1)) | \($j.speedup_parts.breakeven_full_ms // 0 | r(1)) | \(ns($f)) | \(ns($v)) |"
   ' "$dir/json/$name.json" >> "$dir/scenes.md"
   echo "bench/scenes.sh: $name done" >&2
 done

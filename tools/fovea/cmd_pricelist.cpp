@@ -90,6 +90,7 @@ struct Context {
   const foveation::EccentricityMap& map;
   const foveation::ImageRgb& reference_display;
   std::ostream& err;
+  float exposure = 1.0f;  // what the display values scale radiance by (render_display)
 };
 
 RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
@@ -99,6 +100,9 @@ RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s
   r.eye = o.eye;
   r.size_px = o.size_px;
   r.gaze_px = o.gaze_px;
+  r.viewer_m = o.viewer_m;
+  r.look_at_m = o.look_at_m;
+  r.exposure = o.exposure;
   r.seed = o.seed;
   r.pixel_filter = o.pixel_filter;
   if (s != nullptr && !s->full) {
@@ -179,7 +183,7 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
     image = &m.view->image();
   }
   if (m.frames_done == 0) m.rays = minus(c.tracer.counts(), before);
-  foveation::ImageRgb display = foveation::display_encode(*image);
+  foveation::ImageRgb display = foveation::display_encode(*image, c.exposure);
   if (m.frames_done > 0) {
     const auto mse = foveation::ring_mse(m.previous_display, display, c.map);
     for (std::size_t r = 0; r < mse.size(); ++r) m.flicker_sum[r] += std::isnan(mse[r]) ? 0.0 : mse[r];
@@ -418,6 +422,11 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   const FoveartEyeView view = render_view(base, tracer->scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * float(view.width_px), 0.5f * float(view.height_px)));
   foveation::Executor executor(static_cast<unsigned>(std::max(0, o.threads)));
+  const std::optional<foveation::DisplayTransform> display = render_display(base, *tracer, view, executor, &error);
+  if (!display) {
+    err << "fovea pricelist: " << error << "\n";
+    return 1;
+  }
 
   // What this output directory measures; a different run must not resume into it.
   Json run = {{"scene", tracer->scene().source}, {"scene_hash", scene_hash}, {"width", view.width_px},
@@ -425,6 +434,10 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
               {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed},
               {"pixel_filter", foveation::pixel_filter_name(o.pixel_filter)},
               {"temporal", temporal_run_json(o.temporal, o.quick)}};
+  if (o.viewer_m || o.look_at_m)
+    run["viewer_pose"] = {view.position_m[0], view.position_m[1], view.position_m[2], view.orientation_xyzw[0],
+                          view.orientation_xyzw[1], view.orientation_xyzw[2], view.orientation_xyzw[3]};
+  if (display->exposure != 1.0f) run["exposure"] = display->exposure;
   const fs::path run_file = out_dir / "run.json";
   if (fs::exists(run_file)) {
     std::ifstream in(run_file);
@@ -456,7 +469,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: " << error << "\n";
     return 1;
   }
-  const foveation::ImageRgb reference_display = foveation::display_encode(reference->image);
+  const foveation::ImageRgb reference_display = foveation::display_encode(reference->image, display->exposure);
   if (!fs::exists(out_dir / "images" / "reference.pfm")) {
     if (!write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display, &error)) {
       err << "fovea pricelist: " << error << "\n";
@@ -502,7 +515,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   }
   err << "fovea pricelist: " << settings.size() << " settings in the grid, " << done_results.size()
       << " already measured in " << results_file.string() << "\n";
-  Context c{o, *tracer, view, gaze, executor, map, reference_display, err};
+  Context c{o, *tracer, view, gaze, executor, map, reference_display, err, display->exposure};
   {
     toolkit::Progress progress("pricelist");
     double done = 0.0;
@@ -591,6 +604,13 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--preset", o->preset, "Display preset")->capture_default_str();
   cmd->add_option("--eye", o->eye, "left or right")->capture_default_str();
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels (default: centre)");
+  auto viewer = std::make_shared<std::string>();
+  auto look_at = std::make_shared<std::string>();
+  cmd->add_option("--pose", *viewer, "Where the viewer stands, X,Y,Z (metres, scene space; default the scene's camera)");
+  cmd->add_option("--look-at", *look_at, "Turn the viewer to face this point X,Y,Z");
+  cmd->add_option("--exposure", o->exposure,
+                  "Linear exposure of the display values the metrics compare, or auto (a pre-pass of the view)")
+      ->capture_default_str();
   cmd->add_option("--size", *size, "Per-eye size W,H (same horizontal FOV)");
   cmd->add_option("--out", o->out_dir, "Output directory; re-running with it resumes")->required();
   cmd->add_option("--cache-dir", o->cache_dir, "Tables and reference cache (default OUT/cache)");
@@ -621,7 +641,14 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--temporal-reference-spp", o->temporal.reference_spp,
                   "Rays per pixel of every reference frame of the motion")
       ->capture_default_str();
-  cmd->callback([o, gaze, size, lists, temporal_size] {
+  cmd->callback([o, gaze, size, lists, temporal_size, viewer, look_at] {
+    const auto triple = [](const std::string& text, const char* name) {
+      std::vector<double> v;
+      if (!parse_numbers(text, &v).empty() || v.size() != 3) throw CLI::ValidationError(name, "expected X,Y,Z");
+      return std::array<double, 3>{v[0], v[1], v[2]};
+    };
+    if (!viewer->empty()) o->viewer_m = triple(*viewer, "--pose");
+    if (!look_at->empty()) o->look_at_m = triple(*look_at, "--look-at");
     const auto pair = [](const std::string& text, const char* name, auto* out) {
       std::vector<double> v;
       if (!parse_numbers(text, &v).empty() || v.size() != 2) throw CLI::ValidationError(name, "expected X,Y");

@@ -3,6 +3,8 @@
 // (docs/pricelist.md).
 #pragma once
 
+#include <array>
+
 #include <eval/pricelist_grid.hpp>
 #include <eval/pricelist_temporal.hpp>
 
@@ -27,6 +29,11 @@ struct PricelistOptions {
   std::string eye = "left";
   std::optional<glm::vec2> gaze_px;     // default: image centre
   std::optional<glm::ivec2> size_px;    // default: the preset's
+  // A standing viewer (RenderOptions::viewer_m, look_at_m): --pose X,Y,Z, --look-at X,Y,Z.
+  std::optional<std::array<double, 3>> viewer_m;
+  std::optional<std::array<double, 3>> look_at_m;
+  // The exposure the metrics see (RenderOptions::exposure): "auto" or a linear scale.
+  std::string exposure = "auto";
   std::string out_dir;                  // required; re-running with it resumes
   std::string cache_dir;                // tables and reference; default OUT/cache
   std::string reference_spp = "auto";   // "auto" or an even count
