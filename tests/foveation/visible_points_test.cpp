@@ -104,6 +104,10 @@ TEST(VisiblePoints, TheTracePassTracesExactlyTheVisiblePoints) {
     const fv::VisiblePoints visible = fv::select_visible_points(ps, frame.mapping);
     EXPECT_EQ(traced, visible.point_index) << g.x << "," << g.y;
     EXPECT_EQ(stats.points, visible.size());
+    // Exactly the points traced this frame hold a colour: last frame's others are forgotten.
+    std::size_t coloured = 0;
+    for (std::size_t i = 0; i < ps.size(); ++i) coloured += trace.traced().colors.rgba[i].a == 1.0f;
+    EXPECT_EQ(coloured, visible.size()) << g.x << "," << g.y;
     EXPECT_LT(visible.size(), ps.size());
   }
 }
