@@ -31,7 +31,7 @@ common=(--preset fove --mode both --interpolation msm --k 5 --frames "$frames" -
   echo
   echo "Machine: $(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB; $(date -u +%Y-%m-%d)."
   echo "Command per scene: \`$fovea render --scene SCENE VIEWER ${common[*]}\` (bench/scenes.sh)."
-  echo "Full and foveated frames interleaved in one run; times are medians of $frames frames."
+  echo "Full and foveated frames interleaved in one run; times are medians of $frames frames, speedups medians of the frame pairs' ratios."
   echo "Trace = selection + rays + engine callback; fixed = reconstruction + temporal history."
   echo "ns per ray = trace time x threads / rays traced (primary + shadow + reflection + refraction)."
   echo "Pays above: the full-frame time below which the foveated frame is slower (fixed x s / (s - 1), s the trace speedup)."
