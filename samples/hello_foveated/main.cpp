@@ -242,7 +242,7 @@ int main(int argc, char** argv) {
       {"config", XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART}};
   options.tone_map = curves.at(tone_map);
   if (exposure == "auto") {
-    foveart::foveation::Executor executor;
+    foveart::foveation::Executor executor(1);  // a one-off pre-pass: no threads started for it
     const std::optional<foveart::engine::AutoExposure> metered = foveart::engine::auto_exposure(
         &foveart_engine_trace_rays, tracer.get(), foveart::engine::fove_eye_view(0, camera), executor, &error);
     if (!metered) {
