@@ -1,0 +1,90 @@
+// The sample engine's Whitted tracer on the GPU (Vulkan 1.1 compute): the same
+// scene, shading model, effects and ray counts as engine::Tracer, traced by a
+// compute shader over a BVH built on the CPU with Embree's rtcBuildBVH.
+//
+// Lifetime:  create() builds the BVH, uploads the scene once and creates the
+//            pipelines; the GpuTracer must outlive every submission of a
+//            command buffer it recorded into. The VkDevice must outlive it.
+// Threads:   one thread at a time (record_trace, record_full, counts, reset_counts).
+// Sync:      record_* record only bind + descriptor set + push + dispatch; the
+//            caller orders them against its own work (the layer's device trace
+//            inserts its barriers around the call). Descriptor sets are cached
+//            per (buffer, offset, size): before the next record_* call every
+//            earlier submission of this tracer must have finished (the layer
+//            guarantees it for record_trace).
+// Counters:  32-bit on the device (no shaderInt64): read after the submissions
+//            finished; they wrap after 2^32 rays of one kind between resets.
+// Errors:    nothing throws; failures return null/false with *error set.
+#pragma once
+
+#ifndef XR_USE_GRAPHICS_API_VULKAN
+#define XR_USE_GRAPHICS_API_VULKAN
+#endif
+#include <vulkan/vulkan.h>
+#include <openxr/openxr.h>
+
+#include "layer/XR_FOVEART_foveated_ray_tracing.h"
+
+#include <engine/effects.hpp>
+#include <engine/scene.hpp>
+#include <engine/tracer.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace foveart::gpu_engine {
+
+struct GpuContext {
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t queue_family_index = 0;
+  VkQueue queue = VK_NULL_HANDLE;
+};
+
+struct GpuTracerOptions {
+  int max_depth = 4;                                // secondary bounces per path, 0..kMaxDepth
+  engine::Effects allowed = engine::Effects::all();  // effects to simulate at most
+  static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
+};
+
+class GpuTracer {
+ public:
+  // Null and *error on failure; never throws.
+  static std::unique_ptr<GpuTracer> create(const GpuContext& context, engine::Scene scene,
+                                           const GpuTracerOptions& options = {}, std::string* error = nullptr);
+  ~GpuTracer();
+  GpuTracer(const GpuTracer&) = delete;
+  GpuTracer& operator=(const GpuTracer&) = delete;
+
+  // The layer's device trace: records into batch.commandBuffer a dispatch
+  // indirect from batch.rayCount. false + *error: nothing usable was recorded.
+  bool record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error);
+
+  // A full render of `view` like engine::render_full (box-filter jitter
+  // pixel_jitter(y * W + x, s, seed), spp rays per pixel, averaged) into `out`
+  // at `offset`: W * H vec4 (rgb, w = the first ray's hit distance, +inf a miss).
+  bool record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed, VkBuffer out,
+                   VkDeviceSize offset, std::string* error);
+
+  const engine::Scene& scene() const;
+  engine::Effects scene_effects() const;  // what the scene calls for
+  engine::Effects effects() const;        // what the kernel simulates (scene & allowed)
+  engine::RayCounts counts() const;       // device counters (packets stays 0)
+  void reset_counts();
+
+  struct Impl;
+
+ private:
+  explicit GpuTracer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace foveart::gpu_engine
+
+extern "C" {
+// The PFN_xrFoveatedTraceRaysDeviceFOVEART of the GPU sample engine; user_data is a
+// foveart::gpu_engine::GpuTracer*. XR_ERROR_VALIDATION_FAILURE on bad input,
+// XR_ERROR_RUNTIME_FAILURE when recording fails; never throws.
+XrResult foveart_gpu_engine_trace_rays_device(void* user_data, const XrFoveatedDeviceRayBatchFOVEART* batch);
+}

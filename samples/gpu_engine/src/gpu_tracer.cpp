@@ -1,0 +1,474 @@
+// GpuTracer: the scene uploaded once, two compute pipelines (trace.comp for the
+// layer's device rays, full.comp for whole images) and their recording.
+#include <gpu_engine/gpu_tracer.hpp>
+
+#include "scene_data.hpp"
+#include "vk_buffer.hpp"
+
+#include <foveation/eye_rays.hpp>
+
+#include <gpu_engine_shaders/full.spv.h>
+#include <gpu_engine_shaders/trace.spv.h>
+
+#include <array>
+#include <cstring>
+#include <exception>
+#include <map>
+#include <utility>
+
+namespace foveart::gpu_engine {
+namespace {
+
+constexpr uint32_t kSceneBindings = 10;   // trace_core.glsl, set 0
+constexpr uint32_t kTraceBindings = 3;    // trace.comp, set 1: rayCount, rays, colors
+constexpr uint32_t kFullBindings = 1;     // full.comp, set 1: pixels
+constexpr uint32_t kCachedSets = 32;      // per-call descriptor sets kept before the pool is reset
+constexpr uint32_t kTraceGroup = 64;      // trace.comp local_size_x
+constexpr uint32_t kFullGroup = 8;        // full.comp local_size_x and _y
+
+struct FullPush {  // full.comp's push constants
+  float tans[4];
+  float position[4];
+  float orientation[4];
+  uint32_t size_spp_seed[4];
+  uint32_t seed_hi[4];
+};
+static_assert(sizeof(FullPush) == 80);
+
+bool fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+std::string vk_error(const char* what, VkResult r) {
+  return std::string("gpu_engine: ") + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
+}
+
+uint64_t handle_bits(VkBuffer b) {
+  uint64_t v = 0;
+  std::memcpy(&v, &b, sizeof(b));
+  return v;
+}
+
+}  // namespace
+
+struct GpuTracer::Impl {
+  GpuContext ctx;
+  GpuTracerOptions options;
+  engine::Scene scene;
+  engine::Effects scene_effects;
+  engine::Effects effects;
+  VkPhysicalDeviceLimits limits{};
+
+  std::array<MappedBuffer, kSceneBindings> buffers;  // binding order of trace_core.glsl; [9] = counters
+  VkDescriptorSetLayout scene_layout = VK_NULL_HANDLE;
+  VkDescriptorSetLayout trace_layout = VK_NULL_HANDLE;
+  VkDescriptorSetLayout full_layout = VK_NULL_HANDLE;
+  VkPipelineLayout trace_pipeline_layout = VK_NULL_HANDLE;
+  VkPipelineLayout full_pipeline_layout = VK_NULL_HANDLE;
+  VkPipeline trace_pipeline = VK_NULL_HANDLE;
+  VkPipeline full_pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool scene_pool = VK_NULL_HANDLE;
+  VkDescriptorPool call_pool = VK_NULL_HANDLE;
+  VkDescriptorSet scene_set = VK_NULL_HANDLE;
+  // (kind, buffer, offset, size per binding) -> set; see record_* for why reuse is safe.
+  std::map<std::array<uint64_t, 10>, VkDescriptorSet> call_sets;
+
+  ~Impl();
+  bool create(std::string* error);
+  bool create_layouts(std::string* error);
+  bool create_pipeline(const uint32_t* code, size_t bytes, VkPipelineLayout layout, VkPipeline* out,
+                       std::string* error);
+  VkDescriptorSet call_set(uint64_t kind, VkDescriptorSetLayout layout, const VkDescriptorBufferInfo* infos,
+                           uint32_t count, std::string* error);
+  bool check_range(const char* what, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize size, VkDeviceSize min_size,
+                   std::string* error) const;
+  void barrier_counters(VkCommandBuffer cb) const;
+  bool record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error);
+  bool record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed, VkBuffer out,
+                   VkDeviceSize offset, std::string* error);
+};
+
+GpuTracer::Impl::~Impl() {
+  VkDevice d = ctx.device;
+  if (d == VK_NULL_HANDLE) return;
+  if (trace_pipeline) vkDestroyPipeline(d, trace_pipeline, nullptr);
+  if (full_pipeline) vkDestroyPipeline(d, full_pipeline, nullptr);
+  if (trace_pipeline_layout) vkDestroyPipelineLayout(d, trace_pipeline_layout, nullptr);
+  if (full_pipeline_layout) vkDestroyPipelineLayout(d, full_pipeline_layout, nullptr);
+  if (scene_pool) vkDestroyDescriptorPool(d, scene_pool, nullptr);  // frees its sets
+  if (call_pool) vkDestroyDescriptorPool(d, call_pool, nullptr);
+  if (scene_layout) vkDestroyDescriptorSetLayout(d, scene_layout, nullptr);
+  if (trace_layout) vkDestroyDescriptorSetLayout(d, trace_layout, nullptr);
+  if (full_layout) vkDestroyDescriptorSetLayout(d, full_layout, nullptr);
+  for (MappedBuffer& b : buffers) b.destroy();
+}
+
+// Descriptor set layouts, pipeline layouts and pools.
+bool GpuTracer::Impl::create_layouts(std::string* error) {
+  auto make_layout = [&](uint32_t n, VkDescriptorSetLayout* out) {
+    std::array<VkDescriptorSetLayoutBinding, kSceneBindings> b{};
+    for (uint32_t i = 0; i < n; ++i) {
+      b[i].binding = i;
+      b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      b[i].descriptorCount = 1;
+      b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
+    info.bindingCount = n;
+    info.pBindings = b.data();
+    return vkCreateDescriptorSetLayout(ctx.device, &info, nullptr, out);
+  };
+  VkResult r = make_layout(kSceneBindings, &scene_layout);
+  if (r == VK_SUCCESS) r = make_layout(kTraceBindings, &trace_layout);
+  if (r == VK_SUCCESS) r = make_layout(kFullBindings, &full_layout);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateDescriptorSetLayout", r));
+
+  auto make_pipeline_layout = [&](VkDescriptorSetLayout call_layout, uint32_t push_bytes, VkPipelineLayout* out) {
+    const VkDescriptorSetLayout sets[2] = {scene_layout, call_layout};
+    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+    VkPipelineLayoutCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
+    info.setLayoutCount = 2;
+    info.pSetLayouts = sets;
+    info.pushConstantRangeCount = push_bytes > 0 ? 1 : 0;
+    info.pPushConstantRanges = push_bytes > 0 ? &push : nullptr;
+    return vkCreatePipelineLayout(ctx.device, &info, nullptr, out);
+  };
+  r = make_pipeline_layout(trace_layout, 0, &trace_pipeline_layout);
+  if (r == VK_SUCCESS) r = make_pipeline_layout(full_layout, sizeof(FullPush), &full_pipeline_layout);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkCreatePipelineLayout", r));
+
+  auto make_pool = [&](uint32_t sets, uint32_t descriptors, VkDescriptorPool* out) {
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors};
+    VkDescriptorPoolCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+    info.maxSets = sets;
+    info.poolSizeCount = 1;
+    info.pPoolSizes = &size;
+    return vkCreateDescriptorPool(ctx.device, &info, nullptr, out);
+  };
+  r = make_pool(1, kSceneBindings, &scene_pool);
+  if (r == VK_SUCCESS) r = make_pool(kCachedSets, kCachedSets * kTraceBindings, &call_pool);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateDescriptorPool", r));
+  return true;
+}
+
+// A compute pipeline specialised for the tracer's effects and max_depth.
+bool GpuTracer::Impl::create_pipeline(const uint32_t* code, size_t bytes, VkPipelineLayout layout, VkPipeline* out,
+                                      std::string* error) {
+  VkShaderModuleCreateInfo module_info{};
+  module_info.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
+  module_info.codeSize = bytes;
+  module_info.pCode = code;
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkResult r = vkCreateShaderModule(ctx.device, &module_info, nullptr, &module);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateShaderModule", r));
+  const std::array<uint32_t, 2> values = {effects.bits(), static_cast<uint32_t>(options.max_depth)};
+  const std::array<VkSpecializationMapEntry, 2> entries = {
+      VkSpecializationMapEntry{0, 0, sizeof(uint32_t)}, VkSpecializationMapEntry{1, sizeof(uint32_t), sizeof(uint32_t)}};
+  VkSpecializationInfo spec{};
+  spec.mapEntryCount = static_cast<uint32_t>(entries.size());
+  spec.pMapEntries = entries.data();
+  spec.dataSize = sizeof(values);
+  spec.pData = values.data();
+  VkComputePipelineCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO;
+  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module;
+  info.stage.pName = "main";
+  info.stage.pSpecializationInfo = &spec;
+  info.layout = layout;
+  r = vkCreateComputePipelines(ctx.device, VK_NULL_HANDLE, 1, &info, nullptr, out);
+  vkDestroyShaderModule(ctx.device, module, nullptr);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateComputePipelines", r));
+  return true;
+}
+
+// Flatten + BVH, upload, scene descriptor set, pipelines.
+bool GpuTracer::Impl::create(std::string* error) {
+  if (ctx.physical_device == VK_NULL_HANDLE || ctx.device == VK_NULL_HANDLE)
+    return fail(error, "gpu_engine: no Vulkan device");
+  if (options.max_depth < 0 || options.max_depth > GpuTracerOptions::kMaxDepth)
+    return fail(error, "gpu_engine: max_depth " + std::to_string(options.max_depth) + " outside [0, " +
+                           std::to_string(GpuTracerOptions::kMaxDepth) + "]");
+  uint32_t family_count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx.physical_device, &family_count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(family_count);
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx.physical_device, &family_count, families.data());
+  if (ctx.queue_family_index >= family_count ||
+      (families[ctx.queue_family_index].queueFlags & VK_QUEUE_COMPUTE_BIT) == 0)
+    return fail(error, "gpu_engine: queue family " + std::to_string(ctx.queue_family_index) + " has no compute");
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(ctx.physical_device, &props);
+  limits = props.limits;
+
+  SceneData data;
+  if (!flatten_scene(scene, &data, error)) return false;
+  scene_effects = data.scene_effects;
+  effects = scene_effects & options.allowed;
+
+  struct Upload {
+    const void* data;
+    size_t bytes;
+  };
+  const std::array<Upload, kSceneBindings> uploads = {
+      Upload{data.bvh.nodes.data(), data.bvh.nodes.size() * sizeof(GpuNode)},
+      Upload{data.bvh.prims.data(), data.bvh.prims.size() * sizeof(uint32_t)},
+      Upload{data.triangles.data(), data.triangles.size() * sizeof(GpuTriangle)},
+      Upload{data.shading.data(), data.shading.size() * sizeof(GpuShading)},
+      Upload{data.materials.data(), data.materials.size() * sizeof(GpuMaterial)},
+      Upload{data.lights.data(), data.lights.size() * sizeof(GpuLight)},
+      Upload{data.textures.data(), data.textures.size() * sizeof(GpuTexture)},
+      Upload{data.texels.data(), data.texels.size() * sizeof(float)},
+      Upload{&data.globals, sizeof(GpuGlobals)},
+      Upload{nullptr, 4 * sizeof(uint32_t)}};  // counters, zeroed
+  for (size_t i = 0; i < kSceneBindings; ++i) {
+    if (uploads[i].bytes > limits.maxStorageBufferRange)
+      return fail(error, "gpu_engine: scene buffer " + std::to_string(i) + " (" + std::to_string(uploads[i].bytes) +
+                             " bytes) exceeds maxStorageBufferRange");
+    if (!buffers[i].create(ctx.physical_device, ctx.device, uploads[i].bytes, uploads[i].data, error)) return false;
+  }
+  if (!create_layouts(error)) return false;
+
+  VkDescriptorSetAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+  alloc.descriptorPool = scene_pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &scene_layout;
+  VkResult r = vkAllocateDescriptorSets(ctx.device, &alloc, &scene_set);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateDescriptorSets", r));
+  std::array<VkDescriptorBufferInfo, kSceneBindings> infos{};
+  std::array<VkWriteDescriptorSet, kSceneBindings> writes{};
+  for (uint32_t i = 0; i < kSceneBindings; ++i) {
+    infos[i] = VkDescriptorBufferInfo{buffers[i].buffer(), 0, VK_WHOLE_SIZE};
+    writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    writes[i].dstSet = scene_set;
+    writes[i].dstBinding = i;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &infos[i];
+  }
+  vkUpdateDescriptorSets(ctx.device, kSceneBindings, writes.data(), 0, nullptr);
+
+  return create_pipeline(foveart_gpu_trace_spv, sizeof(foveart_gpu_trace_spv), trace_pipeline_layout,
+                         &trace_pipeline, error) &&
+         create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline,
+                         error);
+}
+
+// The cached set for these buffer ranges, or a new one. The pool is reset when
+// full: every earlier submission has finished by the contract of record_*.
+VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout layout,
+                                          const VkDescriptorBufferInfo* infos, uint32_t count, std::string* error) {
+  std::array<uint64_t, 10> key{};
+  key[0] = kind;
+  for (uint32_t i = 0; i < count; ++i) {
+    key[1 + 3 * i] = handle_bits(infos[i].buffer);
+    key[2 + 3 * i] = infos[i].offset;
+    key[3 + 3 * i] = infos[i].range;
+  }
+  if (auto it = call_sets.find(key); it != call_sets.end()) return it->second;
+  if (call_sets.size() >= kCachedSets) {
+    vkResetDescriptorPool(ctx.device, call_pool, 0);
+    call_sets.clear();
+  }
+  VkDescriptorSetAllocateInfo alloc{};
+  alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+  alloc.descriptorPool = call_pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  const VkResult r = vkAllocateDescriptorSets(ctx.device, &alloc, &set);
+  if (r != VK_SUCCESS) {
+    fail(error, vk_error("vkAllocateDescriptorSets", r));
+    return VK_NULL_HANDLE;
+  }
+  std::array<VkWriteDescriptorSet, kTraceBindings> writes{};
+  for (uint32_t i = 0; i < count; ++i) {
+    writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+    writes[i].dstSet = set;
+    writes[i].dstBinding = i;
+    writes[i].descriptorCount = 1;
+    writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    writes[i].pBufferInfo = &infos[i];
+  }
+  vkUpdateDescriptorSets(ctx.device, count, writes.data(), 0, nullptr);
+  call_sets.emplace(key, set);
+  return set;
+}
+
+// A storage-buffer range the device can bind: a buffer, an aligned offset, a size it allows.
+bool GpuTracer::Impl::check_range(const char* what, VkBuffer buffer, VkDeviceSize offset, VkDeviceSize size,
+                                  VkDeviceSize min_size, std::string* error) const {
+  if (buffer == VK_NULL_HANDLE) return fail(error, std::string("gpu_engine: ") + what + ": no buffer");
+  if (size < min_size)
+    return fail(error, std::string("gpu_engine: ") + what + ": " + std::to_string(size) + " bytes, at least " +
+                           std::to_string(min_size) + " needed");
+  if (size > limits.maxStorageBufferRange)
+    return fail(error, std::string("gpu_engine: ") + what + ": exceeds maxStorageBufferRange");
+  const VkDeviceSize align = std::max<VkDeviceSize>(limits.minStorageBufferOffsetAlignment, 1);
+  if (offset % align != 0)
+    return fail(error, std::string("gpu_engine: ") + what + ": offset " + std::to_string(offset) +
+                           " not a multiple of minStorageBufferOffsetAlignment");
+  return true;
+}
+
+// The ray counters are this tracer's own: order its dispatches' atomics one after another.
+void GpuTracer::Impl::barrier_counters(VkCommandBuffer cb) const {
+  VkBufferMemoryBarrier b{};
+  b.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
+  b.srcAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+  b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.buffer = buffers[kSceneBindings - 1].buffer();
+  b.offset = 0;
+  b.size = VK_WHOLE_SIZE;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
+                       1, &b, 0, nullptr);
+}
+
+// XrFoveatedDeviceRayBatchFOVEART -> bind, sets, dispatch indirect (64 rays per group).
+bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error) {
+  if (batch.type != XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART)
+    return fail(error, "gpu_engine: batch type is not XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART");
+  if (batch.commandBuffer == VK_NULL_HANDLE) return fail(error, "gpu_engine: batch has no command buffer");
+  if (!check_range("rayCount", batch.rayCount.buffer, batch.rayCount.offset, batch.rayCount.size,
+                   sizeof(uint32_t) * 4, error) ||
+      !check_range("rays", batch.rays.buffer, batch.rays.offset, batch.rays.size, 32, error) ||
+      !check_range("colors", batch.colors.buffer, batch.colors.offset, batch.colors.size, 16, error))
+    return false;
+  const std::array<VkDescriptorBufferInfo, kTraceBindings> infos = {
+      VkDescriptorBufferInfo{batch.rayCount.buffer, batch.rayCount.offset, batch.rayCount.size},
+      VkDescriptorBufferInfo{batch.rays.buffer, batch.rays.offset, batch.rays.size},
+      VkDescriptorBufferInfo{batch.colors.buffer, batch.colors.offset, batch.colors.size}};
+  const VkDescriptorSet set = call_set(0, trace_layout, infos.data(), kTraceBindings, error);
+  if (set == VK_NULL_HANDLE) return false;
+  VkCommandBuffer cb = batch.commandBuffer;
+  barrier_counters(cb);
+  const VkDescriptorSet sets[2] = {scene_set, set};
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
+  // FoveartDeviceRayCount::dispatch64 follows the count.
+  vkCmdDispatchIndirect(cb, batch.rayCount.buffer, batch.rayCount.offset + offsetof(FoveartDeviceRayCount, dispatch64));
+  return true;
+}
+
+// engine::render_full on the device: one invocation per pixel, 8 x 8 per group.
+bool GpuTracer::Impl::record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed,
+                                  VkBuffer out, VkDeviceSize offset, std::string* error) {
+  if (cb == VK_NULL_HANDLE) return fail(error, "gpu_engine: no command buffer");
+  if (view.type != FOVEART_TYPE_EYE_VIEW || view.size < sizeof(FoveartEyeView) || view.width_px == 0 ||
+      view.height_px == 0)
+    return fail(error, "gpu_engine: invalid eye view");
+  const uint32_t groups_x = (view.width_px + kFullGroup - 1) / kFullGroup;
+  const uint32_t groups_y = (view.height_px + kFullGroup - 1) / kFullGroup;
+  if (groups_x > limits.maxComputeWorkGroupCount[0] || groups_y > limits.maxComputeWorkGroupCount[1])
+    return fail(error, "gpu_engine: view too large for one dispatch");
+  const VkDeviceSize bytes = VkDeviceSize{view.width_px} * view.height_px * 16;
+  if (!check_range("full render output", out, offset, bytes, 16, error)) return false;
+  const VkDescriptorBufferInfo info{out, offset, bytes};
+  const VkDescriptorSet set = call_set(1, full_layout, &info, kFullBindings, error);
+  if (set == VK_NULL_HANDLE) return false;
+
+  const foveation::EyeFrustum f = foveation::eye_frustum(view);
+  const foveation::EyePose pose = foveation::eye_pose(view);
+  FullPush push{};
+  push.tans[0] = f.tan_left;
+  push.tans[1] = f.tan_right;
+  push.tans[2] = f.tan_up;
+  push.tans[3] = f.tan_down;
+  push.position[0] = pose.position_m.x;
+  push.position[1] = pose.position_m.y;
+  push.position[2] = pose.position_m.z;
+  push.orientation[0] = pose.orientation.x;
+  push.orientation[1] = pose.orientation.y;
+  push.orientation[2] = pose.orientation.z;
+  push.orientation[3] = pose.orientation.w;
+  push.size_spp_seed[0] = view.width_px;
+  push.size_spp_seed[1] = view.height_px;
+  push.size_spp_seed[2] = std::max<uint32_t>(spp, 1);  // as render_full: at least one ray
+  push.size_spp_seed[3] = static_cast<uint32_t>(seed);
+  push.seed_hi[0] = static_cast<uint32_t>(seed >> 32);
+
+  barrier_counters(cb);
+  const VkDescriptorSet sets[2] = {scene_set, set};
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, full_pipeline);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, full_pipeline_layout, 0, 2, sets, 0, nullptr);
+  vkCmdPushConstants(cb, full_pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+  vkCmdDispatch(cb, groups_x, groups_y, 1);
+  return true;
+}
+
+// ---- GpuTracer ---------------------------------------------------------------------
+
+GpuTracer::GpuTracer(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+GpuTracer::~GpuTracer() = default;
+
+std::unique_ptr<GpuTracer> GpuTracer::create(const GpuContext& context, engine::Scene scene,
+                                             const GpuTracerOptions& options, std::string* error) {
+  try {
+    auto impl = std::make_unique<Impl>();
+    impl->ctx = context;
+    impl->options = options;
+    impl->scene = std::move(scene);
+    if (!impl->create(error)) return nullptr;
+    return std::unique_ptr<GpuTracer>(new GpuTracer(std::move(impl)));
+  } catch (const std::exception& e) {
+    if (error) *error = std::string("gpu_engine: ") + e.what();
+    return nullptr;
+  } catch (...) {
+    if (error) *error = "gpu_engine: unknown failure";
+    return nullptr;
+  }
+}
+
+bool GpuTracer::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error) {
+  try {
+    return impl_->record_trace(batch, error);
+  } catch (const std::exception& e) {
+    return fail(error, std::string("gpu_engine: ") + e.what());
+  }
+}
+
+bool GpuTracer::record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed, VkBuffer out,
+                            VkDeviceSize offset, std::string* error) {
+  try {
+    return impl_->record_full(cb, view, spp, seed, out, offset, error);
+  } catch (const std::exception& e) {
+    return fail(error, std::string("gpu_engine: ") + e.what());
+  }
+}
+
+const engine::Scene& GpuTracer::scene() const { return impl_->scene; }
+engine::Effects GpuTracer::scene_effects() const { return impl_->scene_effects; }
+engine::Effects GpuTracer::effects() const { return impl_->effects; }
+
+engine::RayCounts GpuTracer::counts() const {
+  uint32_t c[4];
+  std::memcpy(c, impl_->buffers[kSceneBindings - 1].mapped(), sizeof(c));
+  engine::RayCounts out;
+  out.primary = c[0];
+  out.shadow = c[1];
+  out.reflection = c[2];
+  out.refraction = c[3];
+  return out;
+}
+
+void GpuTracer::reset_counts() { std::memset(impl_->buffers[kSceneBindings - 1].mapped(), 0, 4 * sizeof(uint32_t)); }
+
+}  // namespace foveart::gpu_engine
+
+extern "C" XrResult foveart_gpu_engine_trace_rays_device(void* user_data, const XrFoveatedDeviceRayBatchFOVEART* batch) {
+  if (user_data == nullptr || batch == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+  auto* tracer = static_cast<foveart::gpu_engine::GpuTracer*>(user_data);
+  std::string error;
+  if (batch->type != XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART || batch->commandBuffer == VK_NULL_HANDLE ||
+      batch->rayCount.buffer == VK_NULL_HANDLE || batch->rays.buffer == VK_NULL_HANDLE ||
+      batch->colors.buffer == VK_NULL_HANDLE)
+    return XR_ERROR_VALIDATION_FAILURE;
+  return tracer->record_trace(*batch, &error) ? XR_SUCCESS : XR_ERROR_RUNTIME_FAILURE;
+}

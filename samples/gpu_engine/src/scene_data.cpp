@@ -1,0 +1,135 @@
+// Scene -> std430 arrays: the data engine::Tracer reads per hit (tracer.cpp,
+// shading.hpp, texture_sampler.hpp), laid out for trace_core.glsl.
+#include "scene_data.hpp"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace foveart::gpu_engine {
+namespace {
+
+void put3(float (&dst)[3], glm::vec3 v) {
+  dst[0] = v.x;
+  dst[1] = v.y;
+  dst[2] = v.z;
+}
+
+bool fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+}  // namespace
+
+bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
+  const engine::Mesh& m = scene.mesh;
+  const size_t nv = m.positions.size();
+  if (m.triangle_material.size() != m.triangles.size() || m.normals.size() != nv ||
+      (!m.uv0.empty() && m.uv0.size() != nv) || (!m.uv1.empty() && m.uv1.size() != nv))
+    return fail(error, scene.source + ": inconsistent mesh arrays");
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const glm::uvec3 t = m.triangles[i];
+    if (t.x >= nv || t.y >= nv || t.z >= nv || m.triangle_material[i] >= scene.materials.size())
+      return fail(error, scene.source + ": triangle " + std::to_string(i) + " refers past the vertex or material arrays");
+  }
+  for (engine::Material& mat : scene.materials)  // as engine::Tracer: a missing texture is no texture
+    if (mat.base_color_texture >= static_cast<int>(scene.textures.size())) mat.base_color_texture = -1;
+  for (size_t i = 0; i < scene.textures.size(); ++i) {
+    const engine::Texture& t = scene.textures[i];
+    if (t.width == 0 || t.height == 0 || t.texels.size() != static_cast<size_t>(t.width) * t.height)
+      return fail(error, scene.source + ": texture " + std::to_string(i) + " has no or the wrong number of texels");
+  }
+  out->scene_effects = engine::derive_effects(scene);
+
+  // Triangles, and which go into the BVH: as engine::Tracer::build, a MASK
+  // material without texture is decided here, one with a texture per hit.
+  out->triangles.resize(m.triangles.size());
+  out->shading.resize(m.triangles.size());
+  std::vector<uint32_t> traced;
+  traced.reserve(m.triangles.size());
+  auto uv_at = [](const std::vector<glm::vec2>& uvs, uint32_t v) { return uvs.empty() ? glm::vec2(0.0f) : uvs[v]; };
+  for (uint32_t i = 0; i < m.triangles.size(); ++i) {
+    const glm::uvec3 t = m.triangles[i];
+    const engine::Material& mat = scene.materials[m.triangle_material[i]];
+    GpuTriangle& g = out->triangles[i];
+    put3(g.p0, m.positions[t.x]);
+    put3(g.p1, m.positions[t.y]);
+    put3(g.p2, m.positions[t.z]);
+    g.material = m.triangle_material[i];
+    g.masked = mat.alpha_mode == engine::AlphaMode::kMask && mat.base_color_texture >= 0 ? 1u : 0u;
+    g.pad = 0;
+    if (mat.alpha_mode != engine::AlphaMode::kMask || mat.base_color_texture >= 0 ||
+        mat.base_color.a >= mat.alpha_cutoff)
+      traced.push_back(i);
+    GpuShading& s = out->shading[i];
+    const glm::vec3 face =
+        glm::normalize(glm::cross(m.positions[t.y] - m.positions[t.x], m.positions[t.z] - m.positions[t.x]));
+    put3(s.n0, m.normals[t.x]);
+    put3(s.n1, m.normals[t.y]);
+    put3(s.n2, m.normals[t.z]);
+    s.face_x = face.x;
+    s.face_y = face.y;
+    s.face_z = face.z;
+    const glm::vec2 uvs[6] = {uv_at(m.uv0, t.x), uv_at(m.uv0, t.y), uv_at(m.uv0, t.z),
+                              uv_at(m.uv1, t.x), uv_at(m.uv1, t.y), uv_at(m.uv1, t.z)};
+    for (int k = 0; k < 6; ++k) {
+      s.uv[2 * k] = uvs[k].x;
+      s.uv[2 * k + 1] = uvs[k].y;
+    }
+  }
+  if (!build_bvh(m, traced, &out->bvh, error)) return false;
+
+  out->materials.clear();
+  for (const engine::Material& mat : scene.materials) {
+    GpuMaterial g{};
+    for (int k = 0; k < 4; ++k) g.base_color[k] = mat.base_color[k];
+    put3(g.emissive, mat.emissive);
+    g.metallic = mat.metallic;
+    g.roughness = mat.roughness;
+    g.alpha_cutoff = mat.alpha_cutoff;
+    g.transmission = mat.transmission;
+    g.ior = mat.ior;
+    g.texture = mat.base_color_texture;
+    g.texcoord = mat.base_color_texcoord;
+    g.alpha_mode = static_cast<int32_t>(mat.alpha_mode);
+    out->materials.push_back(g);
+  }
+  out->lights.clear();
+  for (const engine::Light& l : scene.lights) {
+    GpuLight g{};
+    put3(g.position, l.position);
+    g.type = static_cast<uint32_t>(l.type);
+    put3(g.direction, l.direction);
+    g.range = l.range;
+    put3(g.color, l.color);
+    g.intensity = l.intensity;
+    g.cos_inner = std::cos(l.inner_cone_rad);
+    g.cos_outer = std::cos(l.outer_cone_rad);
+    out->lights.push_back(g);
+  }
+  out->textures.clear();
+  out->texels.clear();
+  for (const engine::Texture& t : scene.textures) {
+    if (out->texels.size() / 4 + t.texels.size() > 0xFFFFFFFFull)
+      return fail(error, scene.source + ": textures too large for 32-bit texel offsets");
+    GpuTexture g{};
+    g.offset = static_cast<uint32_t>(out->texels.size() / 4);
+    g.width = t.width;
+    g.height = t.height;
+    g.flags = static_cast<uint32_t>(t.wrap_s) | static_cast<uint32_t>(t.wrap_t) << 2 | (t.nearest ? 16u : 0u);
+    for (const glm::vec4& c : t.texels) out->texels.insert(out->texels.end(), {c.r, c.g, c.b, c.a});
+    out->textures.push_back(g);
+  }
+  const engine::Bounds b = engine::scene_bounds(m);
+  GpuGlobals& g = out->globals;
+  put3(g.sky_zenith, scene.sky_zenith);
+  put3(g.sky_horizon, scene.sky_horizon);
+  put3(g.ambient, scene.ambient);
+  g.epsilon = 1e-4f * std::max(1.0f, glm::length(b.max - b.min));  // engine::Tracer's epsilon
+  g.light_count = static_cast<uint32_t>(scene.lights.size());
+  return true;
+}
+
+}  // namespace foveart::gpu_engine

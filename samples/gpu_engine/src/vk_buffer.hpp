@@ -1,0 +1,36 @@
+// A storage buffer in host-visible, coherent memory (device-local too where the
+// device offers such a type), mapped for its whole life.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <string>
+
+namespace foveart::gpu_engine {
+
+class MappedBuffer {
+ public:
+  MappedBuffer() = default;
+  ~MappedBuffer() { destroy(); }
+  MappedBuffer(const MappedBuffer&) = delete;
+  MappedBuffer& operator=(const MappedBuffer&) = delete;
+
+  // A buffer of max(bytes, 16) bytes; `data` (bytes long, may be null) copied in.
+  bool create(VkPhysicalDevice physical_device, VkDevice device, VkDeviceSize bytes, const void* data,
+              std::string* error);
+  void destroy();
+
+  VkBuffer buffer() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  void* mapped() const { return mapped_; }
+
+ private:
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+}  // namespace foveart::gpu_engine
