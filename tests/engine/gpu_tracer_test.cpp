@@ -478,6 +478,42 @@ TEST(GpuTracer, EffectsNotAllowedCastNoRaysAndMatchTheCpuKernel) {
   expect_no_validation_errors();
 }
 
+TEST(GpuTracer, TracesOnlyTheCountedRaysAndFollowsNewBuffers) {
+  REQUIRE_GPU();
+  const Scene scene = foveart::engine::make_lit_room();
+  auto g = make_gpu(scene);
+  auto c = make_cpu(scene);
+  ASSERT_TRUE(g && c);
+  const FoveartEyeView view = foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene));
+  const Rays a = view_rays(view, 300);
+  // The dispatch covers all 300 rays (5 groups) but the count says 200: the
+  // shader's bounds check leaves the rest as the layer filled them (NaN).
+  DeviceBatch b(a);
+  static_cast<FoveartDeviceRayCount*>(b.count.data)->count = 200;
+  ASSERT_TRUE(gpu().run([&](VkCommandBuffer cb) {
+    barrier(cb, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
+            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+    b.batch.commandBuffer = cb;
+    const bool ok = foveart_gpu_engine_trace_rays_device(g.get(), &b.batch) == XR_SUCCESS;
+    barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+            VK_ACCESS_HOST_READ_BIT);
+    return ok;
+  }));
+  const auto out = b.result();
+  const auto ref = trace_cpu(*c, a);
+  for (size_t i = 0; i < 200; ++i) EXPECT_NEAR(out[i].g, ref[i].g, 1e-3f * (ref[i].g + 1e-3f)) << i;
+  for (size_t i = 200; i < 300; ++i) EXPECT_TRUE(std::isnan(out[i].r)) << i;
+  EXPECT_EQ(g->counts().primary, 200u);
+  // New buffers for every call (the layer's after a view size change), cached sets or not.
+  for (size_t n : {size_t{100}, size_t{300}, size_t{100}}) {
+    const Rays r = view_rays(view, n);
+    expect_agreement(compare(trace_gpu(*g, r), trace_cpu(*c, r)), "room, buffers renewed");
+  }
+  EXPECT_EQ(g->counts().primary, 700u);
+  expect_no_validation_errors();
+}
+
 // ---- the full render -----------------------------------------------------------------
 
 TEST(GpuTracer, FullRenderMatchesRenderFullPerPixel) {

@@ -259,8 +259,8 @@ bool GpuTracer::Impl::create(std::string* error) {
                          error);
 }
 
-// The cached set for these buffer ranges, or a new one. The pool is reset when
-// full: every earlier submission has finished by the contract of record_*.
+// The cached set for these buffer ranges, or a new one. Updating and resetting
+// are safe because every earlier submission has finished (the contract of record_*).
 VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout layout,
                                           const VkDescriptorBufferInfo* infos, uint32_t count, std::string* error) {
   std::array<uint64_t, 10> key{};
@@ -270,22 +270,28 @@ VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout l
     key[2 + 3 * i] = infos[i].offset;
     key[3 + 3 * i] = infos[i].range;
   }
-  if (auto it = call_sets.find(key); it != call_sets.end()) return it->second;
-  if (call_sets.size() >= kCachedSets) {
-    vkResetDescriptorPool(ctx.device, call_pool, 0);
-    call_sets.clear();
-  }
-  VkDescriptorSetAllocateInfo alloc{};
-  alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
-  alloc.descriptorPool = call_pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &layout;
   VkDescriptorSet set = VK_NULL_HANDLE;
-  const VkResult r = vkAllocateDescriptorSets(ctx.device, &alloc, &set);
-  if (r != VK_SUCCESS) {
-    fail(error, vk_error("vkAllocateDescriptorSets", r));
-    return VK_NULL_HANDLE;
+  if (auto it = call_sets.find(key); it != call_sets.end()) {
+    set = it->second;
+  } else {
+    if (call_sets.size() >= kCachedSets) {
+      vkResetDescriptorPool(ctx.device, call_pool, 0);
+      call_sets.clear();
+    }
+    VkDescriptorSetAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
+    alloc.descriptorPool = call_pool;
+    alloc.descriptorSetCount = 1;
+    alloc.pSetLayouts = &layout;
+    const VkResult r = vkAllocateDescriptorSets(ctx.device, &alloc, &set);
+    if (r != VK_SUCCESS) {
+      fail(error, vk_error("vkAllocateDescriptorSets", r));
+      return VK_NULL_HANDLE;
+    }
+    call_sets.emplace(key, set);
   }
+  // Written on every call, found or new: a handle the caller destroyed and
+  // created again (same value, same range) must not leave a stale descriptor.
   std::array<VkWriteDescriptorSet, kTraceBindings> writes{};
   for (uint32_t i = 0; i < count; ++i) {
     writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -296,7 +302,6 @@ VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout l
     writes[i].pBufferInfo = &infos[i];
   }
   vkUpdateDescriptorSets(ctx.device, count, writes.data(), 0, nullptr);
-  call_sets.emplace(key, set);
   return set;
 }
 

@@ -6,12 +6,14 @@
 //            pipelines; the GpuTracer must outlive every submission of a
 //            command buffer it recorded into. The VkDevice must outlive it.
 // Threads:   one thread at a time (record_trace, record_full, counts, reset_counts).
-// Sync:      record_* record only bind + descriptor set + push + dispatch; the
+// Sync:      record_* record bind + descriptor set + push + dispatch (and a barrier
+//            on the tracer's own ray counters between its dispatches); the
 //            caller orders them against its own work (the layer's device trace
 //            inserts its barriers around the call). Descriptor sets are cached
-//            per (buffer, offset, size): before the next record_* call every
-//            earlier submission of this tracer must have finished (the layer
-//            guarantees it for record_trace).
+//            per (buffer, offset, size) and rewritten on every call: a range
+//            recorded again needs the earlier submission that used it finished
+//            (the layer guarantees it for record_trace); several record_* calls
+//            in one command buffer must use distinct ranges.
 // Counters:  32-bit on the device (no shaderInt64): read after the submissions
 //            finished; they wrap after 2^32 rays of one kind between resets.
 // Errors:    nothing throws; failures return null/false with *error set.
