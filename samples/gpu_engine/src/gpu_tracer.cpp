@@ -14,6 +14,7 @@
 #include <cstring>
 #include <exception>
 #include <map>
+#include <type_traits>
 #include <utility>
 
 namespace foveart::gpu_engine {
@@ -466,6 +467,9 @@ engine::RayCounts GpuTracer::counts() const {
 void GpuTracer::reset_counts() { std::memset(impl_->buffers[kSceneBindings - 1].mapped(), 0, 4 * sizeof(uint32_t)); }
 
 }  // namespace foveart::gpu_engine
+
+static_assert(std::is_same_v<decltype(&foveart_gpu_engine_trace_rays_device), PFN_xrFoveatedTraceRaysDeviceFOVEART>,
+              "the C entry point is the layer's device trace callback");
 
 extern "C" XrResult foveart_gpu_engine_trace_rays_device(void* user_data, const XrFoveatedDeviceRayBatchFOVEART* batch) {
   if (user_data == nullptr || batch == nullptr) return XR_ERROR_VALIDATION_FAILURE;
