@@ -13,6 +13,7 @@
 #include <foveation/eye_rays.hpp>
 
 #include "headless_vulkan.hpp"
+#include "icd_pin.h"
 
 #include <gtest/gtest.h>
 
@@ -45,6 +46,7 @@ struct Gpu {
   VkCommandPool pool = VK_NULL_HANDLE;
 
   Gpu() {
+    foveart::sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
     if (!vk.ok()) return;
     std::printf("[ device ] %s, validation %s\n", vk.name().c_str(), vk.validated() ? "on (synchronization)" : "off");
     vkGetDeviceQueue(vk.device().device, vk.device().queue_family_index, 0, &queue);
