@@ -52,8 +52,7 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
   hand_off_.rbf_clamp = settings_.rbf_clamp;
 }
 
-FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
-                                 Executor& executor) {
+FrameContext FoveatedView::begin_frame(const FrameRequest& request, FrameResult* result) {
   const DisplayModel& display = tables_->key.display;
   const FoveartEyeView& view = request.view;
   if (view.width_px != std::uint32_t(display.width_px) || view.height_px != std::uint32_t(display.height_px)) {
@@ -61,9 +60,6 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
                                 std::to_string(view.height_px) + " view for tables of a " +
                                 std::to_string(display.width_px) + "x" + std::to_string(display.height_px) + " display");
   }
-  if (trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
-  FrameResult result;
-  const auto t_frame = Clock::now();
   FrameContext frame;
   frame.view = view;
   frame.mapping = map_gaze(int(view.width_px), int(view.height_px),
@@ -71,12 +67,37 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   frame.frame_index = request.frame_index;
   frame.sample_seed = settings_.frame_sample_seed(request.frame_index);
   frame.restart = request.saccade || request.blink;
-  frame.trace_rays = trace_rays;
-  frame.user_data = user_data;
-  result.centre_px = frame.mapping.gaze_px;
+  result->centre_px = frame.mapping.gaze_px;
   hand_off_.mapping = frame.mapping;
   hand_off_.view = view;
+  hand_off_.sample_seed = frame.sample_seed;
   hand_off_.temporal = TemporalFrame{};
+  return frame;
+}
+
+FrameResult FoveatedView::plan(const FrameRequest& request, Executor& executor) {
+  if (settings_.reconstruct_on_cpu || history_->keeps_rays())
+    throw std::invalid_argument("foveated view: a frame traced on the device needs the GPU reconstruction and a "
+                                "history that keeps no rays");
+  FrameResult result;
+  const auto t_decide = Clock::now();
+  const FrameContext frame = begin_frame(request, &result);
+  hand_off_.traced = &nothing_traced_;
+  hand_off_.temporal = history_->decide(frame, nothing_traced_, executor);
+  result.taa_ms = ms_since(t_decide);
+  result.taa_reset = hand_off_.temporal.kept && hand_off_.temporal.reset;
+  return result;
+}
+
+FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                                 Executor& executor) {
+  if (trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
+  FrameResult result;
+  const auto t_frame = Clock::now();
+  FrameContext frame = begin_frame(request, &result);
+  frame.trace_rays = trace_rays;
+  frame.user_data = user_data;
+  hand_off_.traced = &trace_->traced();
   const double setup_ms = ms_since(t_frame);
 
   // Stages 1-3.

@@ -72,6 +72,14 @@ class FoveatedView {
   FrameResult render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
                      Executor& executor);
 
+  // A frame traced elsewhere (the layer's device trace runs stages 1-3 on the
+  // GPU): the frame's canvas mapping, jitter seed and the history's decision,
+  // in hand_off(), with no traced points. Needs reconstruct_on_cpu = false
+  // and a history that keeps no rays (throws std::invalid_argument otherwise).
+  FrameResult plan(const FrameRequest& request, Executor& executor);
+  // A planned frame failed where it was traced: the next frame restarts the history.
+  void forget_history() { history_->forget(); }
+
   // The last successful frame (after the temporal history), in the callback's
   // colour space (linear RGB from an engine).
   const ImageRgb& image() const { return output_ != nullptr ? *output_ : reconstructed_; }
@@ -95,8 +103,12 @@ class FoveatedView {
   std::unique_ptr<TemporalHistory> history_;   // stage 5
   std::unique_ptr<TraceStage> trace_;          // stages 1-3
   std::unique_ptr<ReconstructStage> reconstruct_;  // stage 4
+  // The frame's context: the request checked against the tables, the centre moved.
+  FrameContext begin_frame(const FrameRequest& request, FrameResult* result);
+
   ImageRgb reconstructed_;
   const ImageRgb* output_ = nullptr;
+  TracedPoints nothing_traced_;  // plan()'s hand-off
   FrameHandOff hand_off_;
 };
 

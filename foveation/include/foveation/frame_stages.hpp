@@ -4,9 +4,9 @@
 // takes over after stage 3 from the same hand-off.
 //
 //   stage                     CPU                          GPU (layer/src)
-//   1. select visible points  VisibleRegion                -
-//   2. make rays              PointRays                    -
-//   3. trace                  CallbackTrace (TraceStage)   -
+//   1. select visible points  VisibleRegion                GpuEye: device rays
+//   2. make rays              PointRays                    GpuEye: device rays
+//   3. trace                  CallbackTrace (TraceStage)   the engine's device trace, resolve
 //   4. reconstruct            GatherReconstruction         GpuEye: scatter + gather
 //   5. temporal history       TemporalHistory: NoHistory,  GpuEye: taa, or the
 //                             ImageHistory, RayHistory     render cache (GpuRayCache)
@@ -15,7 +15,8 @@
 // Stages 1-3 run fused per run of the point set on the CPU (a run's rays go
 // to the engine while they are hot); stage 5 decides its restarts on the CPU
 // for either path (decide()) and applies the history where the frame is
-// reconstructed.
+// reconstructed. A device trace (FoveatedView::plan) runs stages 1-3 on the
+// GPU as well: the CPU then only decides the history.
 #pragma once
 
 #include <cstdint>
@@ -121,7 +122,8 @@ class TemporalHistory {
 // What a reconstruction elsewhere takes from a frame: stage 3's points and
 // stage 5's decision, at the frame's canvas mapping.
 struct FrameHandOff {
-  const TracedPoints* traced = nullptr;
+  const TracedPoints* traced = nullptr;  // no points after FoveatedView::plan (traced on the device)
+  std::uint64_t sample_seed = 0;         // the frame's jitter seed (FrameContext::sample_seed)
   TemporalFrame temporal;
   GazeMapping mapping;
   FoveartEyeView view{};
