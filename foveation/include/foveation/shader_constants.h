@@ -50,4 +50,14 @@
 #define FOVEART_GATHER_CLAMP_BLOCK 8u  // RBF: clamp to the block's valid palette colours
 #define FOVEART_GATHER_RBF 16u         // renormalise only with half the weight sum valid
 
+// A device-traced frame's control words (shaders/device_rays.comp): the
+// engine's FoveartDeviceRayCount (words 0-7), the resolve's indirect
+// dispatch, the visible points; and the status the host reads back after it.
+#define FOVEART_DEVICE_RESOLVE_DISPATCH 8u
+#define FOVEART_DEVICE_VISIBLE_POINTS 11u
+#define FOVEART_DEVICE_CONTROL_WORDS 12u
+#define FOVEART_DEVICE_STATUS_INVALID_COMPONENTS 0u
+#define FOVEART_DEVICE_STATUS_VISIBLE_POINTS 1u
+#define FOVEART_DEVICE_STATUS_WORDS 2u
+
 #endif  // FOVEART_SHADER_CONSTANTS_H
