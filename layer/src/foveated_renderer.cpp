@@ -142,7 +142,10 @@ struct FoveatedRenderer::Frames {
   std::shared_ptr<GpuTables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
   bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                      XrFoveatedRendererStatsFOVEART* stats, std::string* error);
+                      const DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats, std::string* error);
+  // After a device-traced frame was presented or refused: what the engine and
+  // the resolve said; false (counted, logged once) when the view falls back.
+  bool device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats);
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
 
@@ -169,7 +172,7 @@ struct FoveatedRenderer::Frames {
   uint64_t frame_index = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
-      behind_once, rect_once, failed_once, gpu_once;
+      behind_once, rect_once, failed_once, gpu_once, device_once, device_rays_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
@@ -330,11 +333,12 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
   }
   VkPhysicalDeviceProperties device{};
   vkGetPhysicalDeviceProperties(session->vk_physical_device, &device);
-  if (settings.reconstruction == "auto" && device.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+  if (settings.reconstruction == "auto" && device.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
+      settings.trace_rays_device == nullptr) {
     // A CPU Vulkan device (lavapipe) runs the shaders on the cores the CPU path
     // uses, 3-20x slower than its SIMD gather (docs/gpu.md): auto keeps the CPU.
     log(LogLevel::Info, "foveated renderer: reconstruction on the CPU: ", device.deviceName,
-        " is a CPU device (config \"reconstruction\": \"gpu\" uses it anyway)");
+        " is a CPU device (config \"reconstruction\": \"gpu\" uses it anyway; so does a device trace)");
     return;
   }
   std::string why;
@@ -372,7 +376,8 @@ std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
 
 bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
                                               const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              XrFoveatedRendererStatsFOVEART* stats, std::string* error) {
+                                              const DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats,
+                                              std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
   if (eye.gpu_tables == nullptr || &eye.gpu_tables->view_tables() != view_tables.get()) {
@@ -387,6 +392,7 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
   }
   GpuFrame frame = GpuFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
   frame.display = display;
+  frame.device = device;
   const bool ok = eye.swapchain->present(
       [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
         return eye.gpu->record(cb, frame, image, executor, record_error);
@@ -403,6 +409,35 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     stats->taaMs[e] = times.taa_ms;
   }
   return true;
+}
+
+bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  if (!presented) {
+    const XrResult engine = eye.gpu->device_trace_result();
+    if (XR_SUCCEEDED(engine)) return true;  // not the engine's failure: the GPU path's
+    ++stats->callbackFailures;
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
+    if (callback_once.first()) {
+      log(LogLevel::Error, "foveated renderer: eye ", e, ": the device trace returned ", engine,
+          "; showing the app's own image for this view (logged once, counted in stats)");
+    }
+    eye.view->forget_history();
+    return false;
+  }
+  const DeviceTraceStatus status = eye.gpu->device_trace_status();
+  stats->pointsPerEye[e] = status.visible_points;
+  stats->raysPerEye[e] = status.visible_points * settings.rays_per_point;
+  if (status.invalid_components == 0) return true;
+  stats->invalidColours += status.invalid_components;
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART;
+  if (colour_once.first()) {
+    log(LogLevel::Error, "foveated renderer: eye ", e, ": the device trace wrote ", status.invalid_components,
+        " NaN/Inf/negative colour components (or left rays unwritten); showing the app's own image for this view "
+        "(logged once, counted in stats)");
+  }
+  eye.view->forget_history();
+  return false;
 }
 
 bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
@@ -439,9 +474,23 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     }
   }
   const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
+  // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
+  const bool on_device = on_gpu && settings.trace_rays_device != nullptr;
+  if (!on_device && settings.trace_rays == nullptr) {  // a device trace alone, and no GPU path
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+    return false;
+  }
   if (eye.view == nullptr || &eye.view->tables() != view_tables.get() ||
       eye.view->settings().reconstruct_on_cpu == on_gpu) {
     eye.temporal = temporal_for_path(settings, on_gpu);
+    if (on_device && eye.temporal == foveation::TemporalMode::rays) {
+      // The render cache keeps the frame's rays on the host; a device trace never brings them there.
+      eye.temporal = foveation::TemporalMode::image;
+      if (device_rays_once.first()) {
+        log(LogLevel::Info, "foveated renderer: a device trace keeps its rays on the GPU: temporal \"rays\" runs as "
+                            "\"image\" (logged once)");
+      }
+    }
     foveation::ViewSettings vs =
         foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSeed);
     vs.reconstruct_on_cpu = !on_gpu;
@@ -467,7 +516,8 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
 
   foveation::FrameResult result;
   try {
-    result = eye.view->render(request, settings.trace_rays, settings.user_data, executor);
+    result = on_device ? eye.view->plan(request, executor)
+                       : eye.view->render(request, settings.trace_rays, settings.user_data, executor);
   } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
     if (internal_once.first()) {
       log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
@@ -499,8 +549,21 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   const auto t0 = Clock::now();
   std::string error;
   if (on_gpu) {
-    const bool presented = present_on_gpu(e, view_tables, stats, &error);
+    DeviceTraceFrame device;
+    if (on_device) {
+      const foveation::FrameHandOff& hand_off = eye.view->hand_off();
+      device.engine = DeviceTraceFn{settings.trace_rays_device, settings.device_user_data};
+      device.points = &view_tables->points;
+      device.view = request.view;
+      device.mapping = hand_off.mapping;
+      device.frame_index = frame_index;
+      device.sample_seed = hand_off.sample_seed;
+      device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
+      device.pixel_filter = eye.view->settings().pixel_filter;
+    }
+    const bool presented = present_on_gpu(e, view_tables, on_device ? &device : nullptr, stats, &error);
     stats->uploadMs[e] = ms_since(t0);
+    if (on_device && !device_trace_ok(e, presented, stats)) return false;
     if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
       eye.gpu_failed = true;
       eye.gpu = nullptr;

@@ -185,6 +185,8 @@ std::unique_ptr<GpuReconstructor> GpuReconstructor::create(const GpuDevice& devi
   }
   g->ray_cache_ = GpuRayCachePipelines::create(dev, error);
   if (g->ray_cache_ == nullptr) return nullptr;
+  g->device_trace_ = GpuDeviceTracePipelines::create(dev, error);
+  if (g->device_trace_ == nullptr) return nullptr;
 
   auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -397,9 +399,11 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
            false;
   }
   const std::size_t point_count = tables.view_tables().points.size();
-  if (frame.colors == nullptr || frame.colors->size() != point_count) {
+  if (frame.device == nullptr && (frame.colors == nullptr || frame.colors->size() != point_count)) {
     return *error = "GPU frame: point colours do not match the tables", false;
   }
+  host_written_ = 0;
+  host_read_ = 0;
   std::size_t traced_points = 0;
   for (const auto& run : frame.traced) traced_points += run.size();
   if (traced_points > point_count) return *error = "GPU frame: more traced points than points", false;
@@ -416,7 +420,7 @@ bool GpuEye::record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, fo
   memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
-  record_reconstruct(cb, frame, executor);                               // stage 4
+  if (!record_reconstruct(cb, frame, executor, error)) return false;  // stages (1-3 on the device and) 4
   if (!record_temporal(cb, frame, set, executor, error)) return false;  // stage 5
   record_encode(cb, frame, image);                                       // stage 6
   parity_ ^= 1;  // this frame's output is the next frame's history
@@ -430,29 +434,34 @@ void GpuEye::stamp(VkCommandBuffer cb, uint32_t query) const {
 
 // Stage 4: the traced points' colours and depths up, scattered into their
 // slots, and every pixel gathered from them.
-void GpuEye::record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor) {
+bool GpuEye::record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor,
+                                std::string* error) {
   const GpuTables& tables = *frame.tables;
   const GpuTablePack& pack = tables.pack_;
   const auto& m = frame.mapping;
   const std::size_t point_count = tables.view_tables().points.size();
-  // The traced points' colours, run by run into the upload buffer.
+  // The traced points' colours, run by run into the upload buffer (none for a device trace).
   std::vector<std::size_t> first(frame.traced.size() + 1, 0);
-  for (std::size_t i = 0; i < frame.traced.size(); ++i) first[i + 1] = first[i] + frame.traced[i].size();
+  if (frame.device == nullptr)
+    for (std::size_t i = 0; i < frame.traced.size(); ++i) first[i + 1] = first[i] + frame.traced[i].size();
   const std::size_t uploaded = first.back();  // at most point_count (record)
   auto* entries = static_cast<uint32_t*>(upload_.mapped);
   auto* depths = reinterpret_cast<float*>(entries + uploaded * 4);  // shaders/common.glsl Upload
-  const foveation::Rgba* colors = frame.colors->rgba.data();
-  const bool has_depth = frame.point_depth_m != nullptr && frame.point_depth_m->size() == point_count;
-  executor.parallel_for(frame.traced.size(), [&](std::size_t run) {
-    uint32_t* e = entries + first[run] * 4;
-    float* d = depths + first[run];
-    for (uint32_t id : frame.traced[run]) {
-      e[0] = id;
-      std::memcpy(e + 1, &colors[id], 12);
-      *d++ = has_depth ? shader_depth((*frame.point_depth_m)[id]) : kDepthUnknown;
-      e += 4;
-    }
-  });
+  if (uploaded > 0) {
+    const foveation::Rgba* colors = frame.colors->rgba.data();
+    const bool has_depth = frame.point_depth_m != nullptr && frame.point_depth_m->size() == point_count;
+    executor.parallel_for(frame.traced.size(), [&](std::size_t run) {
+      uint32_t* e = entries + first[run] * 4;
+      float* d = depths + first[run];
+      for (uint32_t id : frame.traced[run]) {
+        e[0] = id;
+        std::memcpy(e + 1, &colors[id], 12);
+        *d++ = has_depth ? shader_depth((*frame.point_depth_m)[id]) : kDepthUnknown;
+        e += 4;
+      }
+    });
+    host_written_ += uploaded * 20;
+  }
 
   stamp(cb, 0);
   vkCmdFillBuffer(cb, colors_.buffer, 0, VK_WHOLE_SIZE, 0u);  // every point "not traced" (a = 0)
@@ -460,7 +469,13 @@ void GpuEye::record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, fovea
   std::memcpy(&unknown_bits, &kDepthUnknown, 4);
   vkCmdFillBuffer(cb, point_depth_.buffer, 0, VK_WHOLE_SIZE, unknown_bits);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
-  if (uploaded > 0) {
+  if (frame.device != nullptr) {  // stages 1-3 on the device, resolved into the slots
+    if (device_trace_ == nullptr) device_trace_ = std::make_unique<GpuDeviceTrace>(*owner_);
+    if (!device_trace_->record(cb, *frame.device, colors_.buffer, point_depth_.buffer, error)) return false;
+    host_written_ += device_trace_->host_bytes_written();
+    const VkDescriptorSet set = sets_[parity_];
+    vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->pipeline_layout_, 0, 1, &set, 0, nullptr);
+  } else if (uploaded > 0) {
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->scatter_);
     const ScatterPush push{uint32_t(uploaded), uint32_t(point_count)};
     vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
@@ -494,6 +509,7 @@ void GpuEye::record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, fovea
   vkCmdDispatch(cb, uint32_t(last_tile_x - g.first_tile[0] + 1), uint32_t(last_tile_y - g.first_tile[1] + 1), 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(cb, 2);
+  return true;
 }
 
 // Stage 5: the image history (blend, reprojected from history_view), or the
@@ -562,11 +578,25 @@ bool GpuEye::stage_times(GpuStageTimes* out) const {
       VK_SUCCESS) {
     return false;
   }
+  host_read_ += sizeof t;
   const double ms = double(owner_->timestamp_period_ns_) * 1e-6;
   auto span = [&](int a) { return float(double(t[a + 1] - t[a]) * ms); };
   *out = GpuStageTimes{span(0), span(1), span(2), span(3)};
   return true;
 }
+
+DeviceTraceStatus GpuEye::device_trace_status() const {
+  if (device_trace_ == nullptr) return {};
+  host_read_ += FOVEART_DEVICE_STATUS_WORDS * 4;
+  return device_trace_->status();
+}
+
+XrResult GpuEye::device_trace_result() const {
+  return device_trace_ != nullptr ? device_trace_->engine_result() : XR_SUCCESS;
+}
+
+std::uint64_t GpuEye::host_bytes_written() const { return host_written_; }
+std::uint64_t GpuEye::host_bytes_read() const { return host_read_; }
 
 bool GpuEye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
   const VkDeviceSize bytes = VkDeviceSize{width_px_} * height_px_ * 4;

@@ -27,6 +27,7 @@
 #include "foveation/display_transform.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
+#include "gpu_device_trace.hpp"
 #include "gpu_ray_cache.hpp"
 #include "gpu_tables.hpp"
 
@@ -84,6 +85,9 @@ struct GpuFrame {
   // Set: the view's history is a render cache (TaaHistory::ray_cache), which
   // replaces the image TAA: this frame's rays and pixels for it.
   std::optional<GpuRayCacheFrame> ray_cache;
+  // Set: stages 1-3 run on the device (the engine's device trace); colors,
+  // point_depth_m and traced are then not read.
+  const DeviceTraceFrame* device = nullptr;
 
   // A frame's hand-off (FoveatedView::hand_off after render() with
   // reconstruct_on_cpu = false), on `tables`: the traced points and the
@@ -94,6 +98,7 @@ struct GpuFrame {
 // GPU time of each stage of the last frame (timestamps), milliseconds.
 struct GpuStageTimes {
   // taa_ms: the image TAA, or the render cache with its copy into the output.
+  // scatter_ms: on a device-traced frame, the rays, the engine's trace and the resolve.
   float scatter_ms = 0, gather_ms = 0, taa_ms = 0, encode_ms = 0;  // encode includes the copy into the image
   float total_ms() const { return scatter_ms + gather_ms + taa_ms + encode_ms; }
 };
@@ -115,6 +120,15 @@ class GpuEye {
   // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
   bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
 
+  // After a device-traced submission finished: what its resolve found; the
+  // engine's answer to its last call (XR_SUCCESS when it was not called).
+  DeviceTraceStatus device_trace_status() const;
+  XrResult device_trace_result() const;
+  // Bytes the host wrote into, and read from, mapped memory for the last
+  // frame (uploads, status and timestamp read-backs; push constants aside).
+  std::uint64_t host_bytes_written() const;
+  std::uint64_t host_bytes_read() const;
+
   // The render cache's rays kept after the last finished submission (0: no cache).
   std::size_t cached_rays() const { return ray_cache_ != nullptr ? ray_cache_->kept_rays() : 0; }
 
@@ -127,7 +141,8 @@ class GpuEye {
   using Buffer = BoundBuffer;
   bool ensure_points(std::size_t point_count, std::string* error);
   // The frame's stages 4-6 (foveation/frame_stages.hpp), recorded in turn by record().
-  void record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor);
+  bool record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor,
+                          std::string* error);
   bool record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set, foveation::Executor& executor,
                        std::string* error);
   void record_encode(VkCommandBuffer cb, const GpuFrame& frame, VkImage image);
@@ -147,6 +162,9 @@ class GpuEye {
   VkQueryPool queries_ = VK_NULL_HANDLE;
   bool recorded_ = false;
   std::unique_ptr<GpuRayCache> ray_cache_;  // made by the first frame with one
+  std::unique_ptr<GpuDeviceTrace> device_trace_;  // made by the first device-traced frame
+  std::uint64_t host_written_ = 0;
+  mutable std::uint64_t host_read_ = 0;
 };
 
 class GpuReconstructor {
@@ -172,6 +190,7 @@ class GpuReconstructor {
 
  private:
   friend class GpuEye;
+  friend class GpuDeviceTrace;
   GpuReconstructor() = default;
   bool create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
                      VkDeviceMemory* memory, void** mapped, std::string* error);
@@ -187,6 +206,7 @@ class GpuReconstructor {
   VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
   VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, taa_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
   std::unique_ptr<GpuRayCachePipelines> ray_cache_;
+  std::unique_ptr<GpuDeviceTracePipelines> device_trace_;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

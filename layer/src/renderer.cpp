@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "log.hpp"
+#include "next_chain.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -59,8 +60,17 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.display.exposure = config.exposure;
   s.display.tone_map = foveation::parse_tone_map(config.tone_map).value_or(foveation::ToneMap::pbr_neutral);
 
-  if (info.traceRays == nullptr) {
-    *out_error = "traceRays must not be NULL";
+  if (const auto* device = find_in_chain<XrFoveatedDeviceTraceInfoFOVEART>(info.next,
+                                                                          XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART)) {
+    if (device->traceRaysDevice == nullptr) {
+      *out_error = "XrFoveatedDeviceTraceInfoFOVEART::traceRaysDevice must not be NULL";
+      return false;
+    }
+    s.trace_rays_device = device->traceRaysDevice;
+    s.device_user_data = device->userData;
+  }
+  if (info.traceRays == nullptr && s.trace_rays_device == nullptr) {
+    *out_error = "traceRays must not be NULL (unless an XrFoveatedDeviceTraceInfoFOVEART is chained)";
     return false;
   }
   s.trace_rays = info.traceRays;

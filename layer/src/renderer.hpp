@@ -14,6 +14,11 @@
 #include <foveation/display_transform.hpp>
 #include <foveation/temporal_mode.hpp>
 
+#ifndef XR_USE_GRAPHICS_API_VULKAN
+#define XR_USE_GRAPHICS_API_VULKAN
+#endif
+#include <vulkan/vulkan.h>
+
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 #include "log.hpp"
 #include "state.hpp"
@@ -21,8 +26,11 @@
 namespace foveart::layer {
 
 struct RendererSettings {
-  FoveartTraceRaysFn trace_rays = nullptr;
+  FoveartTraceRaysFn trace_rays = nullptr;  // null with a device trace alone
   void* user_data = nullptr;
+  // The engine's device trace (XrFoveatedDeviceTraceInfoFOVEART), when chained.
+  PFN_xrFoveatedTraceRaysDeviceFOVEART trace_rays_device = nullptr;
+  void* device_user_data = nullptr;
   XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_MSM_FOVEART;
   uint32_t k = 5;
   float density_scale = 1.0f;

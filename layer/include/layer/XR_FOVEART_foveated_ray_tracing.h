@@ -123,7 +123,7 @@ static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_IMAGE_R
 typedef struct XrFoveatedRendererCreateInfoFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART */
   const void* XR_MAY_ALIAS next;
-  FoveartTraceRaysFn traceRays; /* required */
+  FoveartTraceRaysFn traceRays; /* required unless a device trace is chained (XrFoveatedDeviceTraceInfoFOVEART) */
   void* userData;               /* passed back to traceRays unchanged */
   XrFoveatedInterpolationFOVEART interpolation; /* ..._USE_CONFIG_FOVEART = config (0 is NEAREST) */
   uint32_t k;           /* neighbours per pixel (1 for nearest), 1..20; 0 = config */
@@ -229,6 +229,104 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   XrBool32 gazeSaccadeLastFrame; /* the gaze provider flagged a saccade for the last frame */
   XrBool32 gazeBlinkLastFrame;   /* ... or a blink (held gaze) */
 } XrFoveatedRendererReconstructionStatsFOVEART;
+
+#ifdef XR_USE_GRAPHICS_API_VULKAN
+/*
+ * The device trace: for an engine that traces on the GPU. Chain an
+ * XrFoveatedDeviceTraceInfoFOVEART into XrFoveatedRendererCreateInfoFOVEART::next;
+ * traceRays may then be NULL. With it, no ray, colour or image crosses to the
+ * host in a frame: the layer selects the visible points and makes their rays
+ * on the device (from the gaze and the view, pushed as constants), hands the
+ * engine device buffers and a command buffer to record its trace into, and
+ * reconstructs from the colours the engine writes.
+ *
+ * Threads:  traceRaysDevice runs on the thread that called xrEndFrame, once
+ *           per traced view, one view after the other. It records; it must
+ *           not submit, end or reset the command buffer, nor wait on the queue.
+ * Queue:    the command buffer belongs to the queue family and queue of the
+ *           session's XrGraphicsBindingVulkan2KHR and is submitted there
+ *           inside xrEndFrame. Every buffer below is the layer's, created with
+ *           VK_SHARING_MODE_EXCLUSIVE on that family (no ownership transfer)
+ *           and usage STORAGE_BUFFER | TRANSFER_SRC, plus INDIRECT_BUFFER for
+ *           rayCount and TRANSFER_DST for colors.
+ * Barriers: the layer's writes of rays and counts are made visible to shader
+ *           reads and indirect-command reads at every stage before the call;
+ *           everything the engine records is made visible to the layer's
+ *           compute reads after it (a full memory barrier). Between its own
+ *           commands the engine synchronises as it would anywhere.
+ * State:    the command buffer is outside any render pass; the engine may
+ *           bind pipelines, descriptor sets and push constants of its own
+ *           (the layer rebinds what it needs afterwards).
+ * Lifetime: the handles are valid until the submission finishes, and each
+ *           call's submission has finished before the next call. They may
+ *           change from one call to the next (a view size changes): update
+ *           descriptors from every batch, or cache them by handle.
+ * Rays:     rays[0, count) of the frame are valid, count in the rayCount
+ *           buffer (FoveartDeviceRayCount) written on the device: dispatch
+ *           indirectly from it. Each ray is 32 bytes (std430
+ *           `vec4 origin_sample_x; vec4 direction_sample_y;`): origin in
+ *           metres, unit direction, tracking space; the screen position in
+ *           pixels, as in FoveartRayBatch. pointIndex holds the point of each
+ *           ray; rays of one point are consecutive, raysPerPoint of them.
+ * Colours:  per ray a vec4: linear radiance in rgb (finite, >= 0) and in w the
+ *           distance in metres to the nearest hit (+inf: a miss; NaN: none
+ *           given, rotation-only reprojection). The layer fills the buffer
+ *           with NaN before the call: a ray left unwritten is an invalid colour.
+ * Errors:   return XR_SUCCESS, or an error code: the layer then submits
+ *           nothing and the view shows the app's own image. NaN, infinite or
+ *           negative colours (found on the device) also make the view fall
+ *           back; both are counted in the stats (callbackFailures,
+ *           invalidColours) as for traceRays. Never throw across this call.
+ * Both:     with traceRays and traceRaysDevice the device trace is used where
+ *           the layer reconstructs on the GPU, traceRays elsewhere (CPU
+ *           reconstruction, a device the shaders cannot run on).
+ * Growth:   both structs follow OpenXR: (type, next), fields appended only
+ *           with a new structure type or a larger size the layer checks.
+ */
+#define XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900006)
+#define XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900007)
+
+/* The rayCount buffer's contents, written on the device before the call. */
+typedef struct FoveartDeviceRayCount {
+  uint32_t count;            /* valid rays */
+  uint32_t dispatch64[3];    /* VkDispatchIndirectCommand for 64 rays per workgroup */
+  uint32_t traceRays[3];     /* VkTraceRaysIndirectCommandKHR: count x 1 x 1 */
+  uint32_t reserved;
+} FoveartDeviceRayCount;
+
+/* A range of one of the layer's buffers. */
+typedef struct XrFoveatedDeviceBufferFOVEART {
+  VkBuffer buffer;
+  VkDeviceSize offset; /* a multiple of minStorageBufferOffsetAlignment */
+  VkDeviceSize size;   /* bytes */
+} XrFoveatedDeviceBufferFOVEART;
+
+/* One view's trace on the device. */
+typedef struct XrFoveatedDeviceRayBatchFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  uint64_t frameIndex;
+  const FoveartEyeView* view;  /* as in FoveartRayBatch */
+  uint32_t rayCapacity;        /* rays the buffers hold; count <= rayCapacity */
+  uint32_t raysPerPoint;
+  XrFoveatedDeviceBufferFOVEART rayCount;   /* FoveartDeviceRayCount; read (and indirect) only */
+  XrFoveatedDeviceBufferFOVEART rays;       /* rayCapacity x 32 bytes; read only */
+  XrFoveatedDeviceBufferFOVEART pointIndex; /* rayCapacity x uint32_t; read only */
+  XrFoveatedDeviceBufferFOVEART colors;     /* rayCapacity x vec4 (rgb, depth_m); written by the engine */
+  VkCommandBuffer commandBuffer;            /* record the trace here */
+} XrFoveatedDeviceRayBatchFOVEART;
+
+typedef XrResult(XRAPI_PTR* PFN_xrFoveatedTraceRaysDeviceFOVEART)(void* userData,
+                                                                 const XrFoveatedDeviceRayBatchFOVEART* batch);
+
+/* Chain into XrFoveatedRendererCreateInfoFOVEART::next to register a device trace. */
+typedef struct XrFoveatedDeviceTraceInfoFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  PFN_xrFoveatedTraceRaysDeviceFOVEART traceRaysDevice; /* required */
+  void* userData;                                       /* passed back unchanged */
+} XrFoveatedDeviceTraceInfoFOVEART;
+#endif /* XR_USE_GRAPHICS_API_VULKAN */
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
     XrSession session, const XrFoveatedRendererCreateInfoFOVEART* createInfo,
