@@ -16,3 +16,14 @@ foveart_target_defaults(reconstruction_paths)
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
   set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/reconstruction_paths.cpp PROPERTIES COMPILE_OPTIONS "-Wno-null-dereference")
 endif()
+
+# One eye's full and foveated frame on the GPU sample engine, per stage, in one
+# run (scripts/bench_gpu.sh): the device trace end to end.
+add_executable(gpu_frame ${CMAKE_CURRENT_SOURCE_DIR}/gpu_frame.cpp)
+target_link_libraries(gpu_frame PRIVATE foveart::layer_impl foveart::gpu_engine foveart::engine CLI11::CLI11
+                                        nlohmann_json::nlohmann_json)
+target_include_directories(gpu_frame PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)  # headless_vulkan.hpp
+foveart_target_defaults(gpu_frame)
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/gpu_frame.cpp PROPERTIES COMPILE_OPTIONS "-Wno-null-dereference")
+endif()

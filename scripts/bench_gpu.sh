@@ -1,22 +1,95 @@
 #!/usr/bin/env bash
-# Per-eye reconstruction + temporal history on the CPU and the GPU path in one
-# run (bench/reconstruction_paths.cpp): a FOVE eye, 1280x1440, nearest and MSM
-# k = 5, with each temporal mode ("rays" is the GPU path's default). On a
-# machine with a GPU the GPU path runs there (a discrete GPU first); without one
-# it runs on lavapipe, a CPU, where only the ratio means anything. Writes
-# out/bench/reconstruction_paths.txt with the machine named.
-# Usage: scripts/bench_gpu.sh [reconstruction_paths arguments, e.g. --size 640 720 --frames 10]
+# The GPU benchmark, in one run on one Vulkan device (a discrete or integrated
+# GPU first, else lavapipe, a CPU, where only the ratios mean anything):
+#  1. bench/gpu_frame.cpp: one FOVE eye (1280x1440) of the default scene on
+#     the GPU sample engine: the full render (the fair baseline) and the
+#     foveated frame through the layer's device path, per stage (trace,
+#     reconstruction, temporal history, encode), with the speedup;
+#  2. bench/reconstruction_paths.cpp: reconstruction + history per eye on the
+#     CPU and the GPU path.
+# Writes out/bench/gpu_frame.json and docs/results/gpu_frame_<device>.md,
+# headed by the command and the machine.
+#
+# Usage:
+#   scripts/bench_gpu.sh [--frames N]            set up, build and run here
+#   scripts/bench_gpu.sh --bundle FILE.tar.xz    build here, pack the programs and the
+#                                                libraries they need (not glibc, not the
+#                                                Vulkan loader) for a machine without them
+#   scripts/bench_gpu.sh --from-bundle FILE.tar.xz [--frames N]
+#                                                run a bundle: no set-up, no build (a fresh
+#                                                GPU machine with only a driver and a loader)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON -DFOVEART_BUILD_BENCH=ON >/dev/null
-cmake --build build -j "$(nproc)" --target reconstruction_paths
-mkdir -p out/bench
+mode=run bundle="" frames=""
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --bundle) mode=bundle bundle=$2; shift 2 ;;
+    --from-bundle) mode=from-bundle bundle=$2; shift 2 ;;
+    --frames) frames=$2; shift 2 ;;
+    *) echo "bench_gpu.sh: unknown argument '$1' (see the usage at the top of the script)" >&2; exit 2 ;;
+  esac
+done
+
+bin=build/bin
+if [[ $mode != from-bundle ]]; then
+  bash scripts/setup.sh
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON -DFOVEART_BUILD_BENCH=ON >/dev/null
+  cmake --build build -j "$(nproc)" --target gpu_frame reconstruction_paths
+fi
+if [[ $mode == bundle ]]; then
+  stage=$(mktemp -d)
+  mkdir -p "$stage/bin" "$stage/lib"
+  cp "$bin/gpu_frame" "$bin/reconstruction_paths" "$stage/bin/"
+  # Every library the programs load, except the C and C++ runtimes and the Vulkan loader
+  # (the machine's own: a newer libstdc++ serves these programs, and its GPU driver needs it).
+  ldd "$bin/gpu_frame" "$bin/reconstruction_paths" | awk '/=> \//{print $3}' | sort -u |
+    grep -Ev '/(libc|libm|libpthread|libdl|librt|ld-linux[^/]*|libvulkan|libstdc\+\+|libgcc_s)\.so' |
+    while read -r lib; do cp -L "$lib" "$stage/lib/"; done
+  tar -C "$stage" -cJf "$bundle" bin lib
+  rm -rf "$stage"
+  echo "bench_gpu.sh: wrote $bundle ($(du -h "$bundle" | cut -f1)); run it with scripts/bench_gpu.sh --from-bundle $bundle"
+  exit 0
+fi
+if [[ $mode == from-bundle ]]; then
+  unpacked=$(mktemp -d)
+  tar -C "$unpacked" -xJf "$bundle"
+  bin=$unpacked/bin
+  export LD_LIBRARY_PATH="$unpacked/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+fi
+
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
-gpus=$(vulkaninfo --summary 2>/dev/null | sed -n 's/^[[:space:]]*deviceName *= *//p' | paste -sd ';' - || true)
+machine="$(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB"
+mkdir -p out/bench docs/results
+json=out/bench/gpu_frame.json
+# lavapipe traces a FOVE eye in tens of seconds: fewer frames there.
+args=(--json "$json")
+[[ -n $frames ]] && args+=(--frames "$frames")
+run_frame() { "$bin/gpu_frame" "${args[@]}" "$@"; }
+echo "machine: $machine"
+out=$(run_frame | tee /dev/stderr)
+if [[ -z $frames ]] && grep -q '"device_is_cpu": true' "$json"; then
+  echo "bench_gpu.sh: a CPU device: the table above is from the default frame count; pass --frames N to change it" >&2
+fi
+device=$(sed -n 's/.*"device": "\(.*\)",*/\1/p' "$json" | head -1)
+slug=$(echo "$device" | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/_/g; s/^_//; s/_$//' | cut -c1-40)
+result=docs/results/gpu_frame_${slug:-device}.md
 {
-  echo "machine: $(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB; Vulkan devices: ${gpus:-?}"
-  for temporal in rays image; do
-    build/bin/reconstruction_paths --interpolation nearest,msm --k 5 --temporal "$temporal" "$@"
-  done
-} | tee out/bench/reconstruction_paths.txt
+  echo "# One FOVE eye, full and foveated, on the GPU sample engine"
+  echo
+  echo "Written by \`scripts/bench_gpu.sh${frames:+ --frames $frames}\` (bench/gpu_frame.cpp) on $(date -u +%F)."
+  echo "Machine: $machine; Vulkan device: $device."
+  echo "Times are GPU timestamps, medians over the timed frames; the full frame's history and encode are the"
+  echo "foveated frame's passes on the same pixels. Speedup: full / foveated per frame pair, median."
+  echo
+  echo '```'
+  echo "$out"
+  echo '```'
+} > "$result"
+echo "wrote $result and $json"
+
+# Reconstruction + history on the CPU and the GPU path (the previous table of this script).
+recon_args=(--interpolation nearest,msm --k 5)
+grep -q '"device_is_cpu": true' "$json" && recon_args+=(--frames 3)
+for temporal in rays image; do
+  "$bin/reconstruction_paths" "${recon_args[@]}" --temporal "$temporal"
+done | tee out/bench/reconstruction_paths.txt
