@@ -405,7 +405,12 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     reconstruction.gpu_gather_ms[e] = times.gather_ms;
     reconstruction.gpu_taa_ms[e] = times.taa_ms;
     reconstruction.gpu_encode_ms[e] = times.encode_ms;
-    stats->interpolateMs[e] = times.scatter_ms + times.gather_ms;
+    if (device != nullptr) {  // the trace ran on the device: its GPU time is the frame's trace
+      stats->traceMs[e] = times.scatter_ms;
+      stats->interpolateMs[e] = times.gather_ms;
+    } else {
+      stats->interpolateMs[e] = times.scatter_ms + times.gather_ms;
+    }
     stats->taaMs[e] = times.taa_ms;
   }
   return true;
