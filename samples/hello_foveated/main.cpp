@@ -1,11 +1,27 @@
 // hello_foveated: the sample engine's glTF scene, ray traced by FoveaRT's
 // foveated renderer through the OpenXR layer, until the runtime ends the session.
-//   hello_foveated [--scene FILE.gltf] [--interp nearest|msm|rbf|config] [--k N]
-//                  [--scale S] [--spp N] [--temporal off|image|rays|config]
-//                  [--gaze none|provider|eye_gaze|config] [--gaze-provider SPEC]
-//                  [--json] [--app-actions]
+//   hello_foveated [--scene FILE.gltf] [--engine cpu|gpu] [--interpolation nearest|msm|rbf|config] [--k N]
+//                  [--density-scale S] [--rays-per-point N] [--temporal off|image|rays|config]
+//                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
+//                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
+//                  [--fault nan|error|throw|nothing] [--json] [--app-actions] [--no-explicit-layer]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
+// --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
+// Vulkan device and queue traces through the layer's device trace
+// (XrFoveatedDeviceTraceInfoFOVEART) wherever the layer reconstructs on the GPU;
+// the CPU engine stays registered as traceRays for where it reconstructs on the
+// CPU (the header's "Both" rule). The auto exposure pre-pass runs on the CPU
+// engine either way.
+// --fault: test aid, the engine misbehaving on purpose to watch the layer fall
+// back. cpu: nan (one NaN colour per batch), error, throw. gpu: nan (the real
+// trace, then NaN over the first ray's colour), error (XR_ERROR_RUNTIME_FAILURE),
+// nothing (records no commands: every colour stays unwritten). "throw" is
+// CPU-only: a device trace must never throw across its C call.
+// --json prints, besides the layer's stats: "engine" (cpu | gpu) and "engine_rays"
+// {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
+// rays each engine traced for the layer during the session (the CPU engine's
+// counts exclude the exposure pre-pass; the GPU engine's are its device counters).
 // --json adds, per traced frame and in the same order: gaze_px_per_frame [frame, left x,
 // left y, right x, right y], taa_reset_per_frame [left, right] (the eye's TAA history
 // restarted), gaze_saccade_per_frame / gaze_blink_per_frame (the gaze provider flagged
@@ -20,6 +36,7 @@
 #include <stdexcept>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -30,6 +47,7 @@
 #include "engine/gltf_loader.hpp"
 #include "engine/render.hpp"
 #include "engine/tracer.hpp"
+#include "gpu_engine/gpu_tracer.hpp"
 #include "xr_app.hpp"
 
 namespace {
@@ -47,6 +65,41 @@ int32_t faulty_trace_rays(void* user_data, const FoveartRayBatch* batch) {
   const int32_t r = foveart_engine_trace_rays(engine->tracer, batch);
   if (batch->ray_count > 0) batch->out_rgb[0] = std::nanf("");
   return r;
+}
+
+// --fault with --engine gpu: the device trace misbehaving on purpose. Never throws.
+struct FaultyDeviceEngine {
+  foveart::gpu_engine::GpuTracer* tracer = nullptr;
+  std::string fault;  // "nan" | "error" | "nothing"
+};
+
+XrResult faulty_trace_rays_device(void* user_data, const XrFoveatedDeviceRayBatchFOVEART* batch) noexcept {
+  auto* engine = static_cast<FaultyDeviceEngine*>(user_data);
+  if (engine == nullptr || batch == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+  if (engine->fault == "error") return XR_ERROR_RUNTIME_FAILURE;
+  if (engine->fault == "nothing") return XR_SUCCESS;  // the layer's NaN fill stays: every ray unwritten
+  const XrResult r = foveart_gpu_engine_trace_rays_device(engine->tracer, batch);
+  if (XR_FAILED(r)) return r;
+  // "nan": after the engine's compute writes, NaN bits over the first ray's colour (16 bytes).
+  const VkDeviceSize bytes = 16;
+  if (batch->colors.size < bytes) return r;
+  VkBufferMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
+  barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  barrier.buffer = batch->colors.buffer;
+  barrier.offset = batch->colors.offset;
+  barrier.size = bytes;
+  vkCmdPipelineBarrier(batch->commandBuffer, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                       0, nullptr, 1, &barrier, 0, nullptr);
+  vkCmdFillBuffer(batch->commandBuffer, batch->colors.buffer, batch->colors.offset, bytes, 0x7FC00000u);
+  return r;
+}
+
+nlohmann::json ray_counts_json(const foveart::engine::RayCounts& c) {
+  return {{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection}, {"refraction", c.refraction}};
 }
 
 const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
@@ -152,7 +205,14 @@ int main(int argc, char** argv) {
   bool json = false;
   bool no_explicit_layer = false;
   std::string fault;
+  std::string engine_name = "cpu";
   cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
+  cli.add_option("--engine", engine_name,
+                 "who traces: cpu (the Embree sample engine, a host callback) or gpu (the GPU sample engine on the "
+                 "session's Vulkan device, through the layer's device trace; the CPU engine stays the callback for "
+                 "CPU reconstruction)")
+      ->check(CLI::IsMember({"cpu", "gpu"}))
+      ->capture_default_str();
   cli.add_option("--interpolation", interpolation, "nearest, msm or rbf (config = the layer config's)")
       ->check(CLI::IsMember({"nearest", "msm", "rbf", "config"}))
       ->capture_default_str();
@@ -186,9 +246,20 @@ int main(int argc, char** argv) {
   cli.add_option("--tone-map", tone_map, "tone-mapping curve (config = the layer config's)")
       ->check(CLI::IsMember({"none", "pbr-neutral", "aces", "config"}))
       ->capture_default_str();
-  cli.add_option("--fault", fault, "test aid: make the engine return NaN, an error or throw")
-      ->check(CLI::IsMember({"nan", "error", "throw"}));
+  cli.add_option("--fault", fault,
+                 "test aid: make the engine misbehave. nan: a NaN colour; error: an error result; throw: an "
+                 "exception (--engine cpu only); nothing: the device trace records nothing (--engine gpu only)")
+      ->check(CLI::IsMember({"nan", "error", "throw", "nothing"}));
   CLI11_PARSE(cli, argc, argv);
+  const bool gpu_engine = engine_name == "gpu";
+  if (fault == "throw" && gpu_engine) {
+    std::cerr << "hello_foveated: --fault throw is for --engine cpu only (a device trace must never throw)\n";
+    return 2;
+  }
+  if (fault == "nothing" && !gpu_engine) {
+    std::cerr << "hello_foveated: --fault nothing is for --engine gpu only\n";
+    return 2;
+  }
 
   const std::map<std::string, XrFoveatedInterpolationFOVEART> interps{
       {"nearest", XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART},
@@ -228,6 +299,9 @@ int main(int argc, char** argv) {
   options.scene_from_local.orientation = {camera.orientation.x, camera.orientation.y, camera.orientation.z,
                                           camera.orientation.w};
   std::string error;
+  // The GPU engine traces the same scene: a copy for it, made before the CPU tracer takes the original.
+  std::optional<foveart::engine::Scene> gpu_scene;
+  if (gpu_engine) gpu_scene = *loaded.scene;
   auto tracer = foveart::engine::Tracer::create(std::move(*loaded.scene), {}, &error);
   if (tracer == nullptr) {
     std::cerr << "hello_foveated: cannot build the ray tracer: " << error << "\n";
@@ -258,10 +332,36 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  tracer->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
   FaultyEngine faulty{tracer.get(), fault};
-  if (!fault.empty()) {
+  if (!fault.empty() && !gpu_engine) {
     options.trace_rays = &faulty_trace_rays;
     options.user_data = &faulty;
+  }
+
+  // --engine gpu: a GpuTracer on the session's device, made once it exists and
+  // destroyed before it; its device counters are read then (all work finished).
+  std::unique_ptr<foveart::gpu_engine::GpuTracer> gpu_tracer;
+  std::optional<foveart::engine::RayCounts> gpu_counts;
+  FaultyDeviceEngine faulty_device{nullptr, fault};
+  if (gpu_engine) {
+    options.make_device_trace = [&](const foveart::hello::VulkanDevice& device) {
+      std::string gpu_error;
+      gpu_tracer = foveart::gpu_engine::GpuTracer::create(
+          foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
+                                          device.queue},
+          std::move(*gpu_scene), {}, &gpu_error);
+      if (gpu_tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
+      gpu_tracer->reset_counts();
+      faulty_device.tracer = gpu_tracer.get();
+      if (!fault.empty()) return foveart::hello::DeviceTrace{&faulty_trace_rays_device, &faulty_device};
+      return foveart::hello::DeviceTrace{&foveart_gpu_engine_trace_rays_device, gpu_tracer.get()};
+    };
+    options.release_device_trace = [&]() noexcept {
+      if (gpu_tracer == nullptr) return;
+      gpu_counts = gpu_tracer->counts();
+      gpu_tracer.reset();
+    };
   }
 
   const auto result = foveart::hello::run_app(options);
@@ -269,15 +369,18 @@ int main(int argc, char** argv) {
     std::cerr << "hello_foveated: " << result.error << "\n";
     return 1;
   }
+  nlohmann::json stats = stats_json(result);
+  stats["engine"] = engine_name;
+  stats["engine_rays"] = {{"cpu", ray_counts_json(tracer->counts())},
+                          {"gpu", gpu_counts ? ray_counts_json(*gpu_counts) : nlohmann::json(nullptr)}};
   if (json) {
-    std::cout << stats_json(result).dump(2) << "\n";
+    std::cout << stats.dump(2) << "\n";
   } else {
-    const nlohmann::json stats = stats_json(result);
-    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; reconstruction on the %s, "
-                "temporal \"%s\"\n",
+    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; %s engine, reconstruction "
+                "on the %s, temporal \"%s\"\n",
                 static_cast<unsigned long long>(result.frames),
                 static_cast<unsigned long long>(result.stats.framesTraced),
-                static_cast<unsigned long long>(result.stats.framesFallback),
+                static_cast<unsigned long long>(result.stats.framesFallback), gpu_engine ? "GPU" : "CPU",
                 stats["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU",
                 stats["temporal"].get<std::string>().c_str());
   }

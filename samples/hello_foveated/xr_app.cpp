@@ -69,6 +69,7 @@ class App {
     create_session();
     if (options_.app_actions) create_app_actions();
     create_swapchains();
+    create_device_trace();
     create_renderer();
     AppResult result;
     loop(&result);
@@ -272,8 +273,21 @@ class App {
     }
   }
 
+  // The engine's device trace on the session's device and queue, if it has one.
+  void create_device_trace() {
+    if (!options_.make_device_trace) return;
+    device_trace_made_ = true;  // released at shutdown even if making it threw half-way
+    device_trace_ = options_.make_device_trace(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+  }
+
   void create_renderer() {
     auto info = xr_struct<XrFoveatedRendererCreateInfoFOVEART>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART);
+    auto device_trace = xr_struct<XrFoveatedDeviceTraceInfoFOVEART>(XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART);
+    if (device_trace_.trace_rays_device != nullptr) {
+      device_trace.traceRaysDevice = device_trace_.trace_rays_device;
+      device_trace.userData = device_trace_.user_data;
+      info.next = &device_trace;
+    }
     info.traceRays = options_.trace_rays;
     info.userData = options_.user_data;
     info.interpolation = options_.interpolation;
@@ -451,6 +465,9 @@ class App {
     session_ = XR_NULL_HANDLE;
     if (device_ != VK_NULL_HANDLE) {
       vkDeviceWaitIdle(device_);
+      // The engine's objects on the device go before it (nothing of theirs is in flight now).
+      if (device_trace_made_ && options_.release_device_trace) options_.release_device_trace();
+      device_trace_made_ = false;
       if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
       if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
       vkDestroyDevice(device_, nullptr);
@@ -488,6 +505,8 @@ class App {
   PFN_xrDestroyFoveatedRendererFOVEART destroy_renderer_ = nullptr;
   PFN_xrGetFoveatedRendererStatsFOVEART get_stats_ = nullptr;
   XrFoveatedRendererFOVEART renderer_ = XR_NULL_HANDLE;
+  DeviceTrace device_trace_;
+  bool device_trace_made_ = false;
 };
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,32 @@
 
 namespace foveart::hello {
 
-struct AppOptions {
-  FoveartTraceRaysFn trace_rays = nullptr;
+// The session's Vulkan device, for an engine that traces on it.
+struct VulkanDevice {
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t queue_family_index = 0;
+  VkQueue queue = VK_NULL_HANDLE;  // the session's queue: the layer submits there too
+};
+
+// A device trace to chain into the renderer (XrFoveatedDeviceTraceInfoFOVEART).
+struct DeviceTrace {
+  PFN_xrFoveatedTraceRaysDeviceFOVEART trace_rays_device = nullptr;  // null: no device trace
   void* user_data = nullptr;
+};
+
+struct AppOptions {
+  FoveartTraceRaysFn trace_rays = nullptr;  // may be null with a device trace
+  void* user_data = nullptr;
+  // Optional, for an engine on the GPU: called once the session's device
+  // exists, before the renderer is created, on the app's thread; returns the
+  // device trace to chain (a null function: none). Throwing (std::exception)
+  // fails the run with its message.
+  std::function<DeviceTrace(const VulkanDevice&)> make_device_trace;
+  // Called once make_device_trace was called (even if it threw), at shutdown: after the renderer is
+  // destroyed and the device is idle, before the device is destroyed; release
+  // what make_device_trace made on it. Must not throw.
+  std::function<void()> release_device_trace;
   // The renderer's settings; each default leaves the setting to the layer's
   // config (the extension header's "Defaults").
   XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART;
