@@ -1,0 +1,512 @@
+// CallbackAdapter: a headless Vulkan device of its own, a GpuTracer on it, and
+// per batch: pack rays -> submit record_trace -> wait -> copy colours out.
+#include <gpu_engine/callback_adapter.hpp>
+
+#include <foveation/eye_rays.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <new>
+#include <utility>
+
+namespace foveart::gpu_engine {
+namespace {
+
+constexpr uint32_t kGroupSize = 64;              // the trace shader's local_size_x
+constexpr uint32_t kMaxRaysPerSubmit = 1u << 18;  // larger batches go in several submissions
+constexpr uint64_t kFenceTimeoutNs = 120ull * 1000 * 1000 * 1000;
+
+std::string vk_failure(const char* call, VkResult r) {
+  return std::string("gpu_engine: ") + call + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
+}
+
+bool set_error(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+struct Validation {
+  std::mutex mutex;
+  std::vector<std::string> errors;
+};
+
+VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                          VkDebugUtilsMessageTypeFlagsEXT,
+                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+    auto* v = static_cast<Validation*>(user);
+    std::lock_guard lock(v->mutex);
+    v->errors.emplace_back(data->pMessage != nullptr ? data->pMessage : "?");
+  }
+  return VK_FALSE;
+}
+
+bool has_layer(const char* name) {
+  uint32_t count = 0;
+  if (vkEnumerateInstanceLayerProperties(&count, nullptr) != VK_SUCCESS) return false;
+  std::vector<VkLayerProperties> layers(count);
+  if (vkEnumerateInstanceLayerProperties(&count, layers.data()) != VK_SUCCESS) return false;
+  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
+}
+
+// Lower is preferred.
+int device_rank(VkPhysicalDeviceType type, bool prefer_cpu) {
+  if (prefer_cpu) return type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0 : 1;
+  switch (type) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+    default: return 4;
+  }
+}
+
+uint32_t compute_family(VkPhysicalDevice d) {
+  uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(d, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(d, &count, families.data());
+  for (uint32_t i = 0; i < count; ++i)
+    if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) != 0 && families[i].queueCount > 0) return i;
+  return UINT32_MAX;
+}
+
+// A host-visible, coherent buffer mapped for its life (device-local too where offered).
+struct HostBuffer {
+  VkDevice device = VK_NULL_HANDLE;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkDeviceSize size = 0;
+  void* mapped = nullptr;
+
+  HostBuffer() = default;
+  HostBuffer(const HostBuffer&) = delete;
+  HostBuffer& operator=(const HostBuffer&) = delete;
+  ~HostBuffer() { destroy(); }
+
+  void destroy() {
+    if (device == VK_NULL_HANDLE) return;
+    if (buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, buffer, nullptr);
+    if (memory != VK_NULL_HANDLE) vkFreeMemory(device, memory, nullptr);
+    buffer = VK_NULL_HANDLE;
+    memory = VK_NULL_HANDLE;
+    mapped = nullptr;
+    size = 0;
+  }
+
+  bool create(VkPhysicalDevice physical, VkDevice dev, VkDeviceSize bytes, VkBufferUsageFlags usage,
+              std::string* error) {
+    destroy();
+    device = dev;
+    VkBufferCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    info.size = bytes;
+    info.usage = usage;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VkResult r = vkCreateBuffer(device, &info, nullptr, &buffer);
+    if (r != VK_SUCCESS) return set_error(error, vk_failure("vkCreateBuffer", r));
+    VkMemoryRequirements req{};
+    vkGetBufferMemoryRequirements(device, buffer, &req);
+    VkPhysicalDeviceMemoryProperties props{};
+    vkGetPhysicalDeviceMemoryProperties(physical, &props);
+    constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    // Device-local host-visible first (small heaps may refuse), then any host-visible coherent type.
+    for (VkMemoryPropertyFlags want : {kHost | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, kHost}) {
+      for (uint32_t i = 0; i < props.memoryTypeCount && r != VK_SUCCESS; ++i) {
+        if ((req.memoryTypeBits & (1u << i)) == 0 || (props.memoryTypes[i].propertyFlags & want) != want) continue;
+        VkMemoryAllocateInfo alloc{};
+        alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
+        alloc.allocationSize = req.size;
+        alloc.memoryTypeIndex = i;
+        r = vkAllocateMemory(device, &alloc, nullptr, &memory);
+      }
+      if (r == VK_SUCCESS) break;
+    }
+    if (r == VK_SUCCESS) r = vkBindBufferMemory(device, buffer, memory, 0);
+    if (r == VK_SUCCESS) r = vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &mapped);
+    if (r != VK_SUCCESS) {
+      destroy();
+      return set_error(error, "gpu_engine: allocating a " + std::to_string(bytes) +
+                                  "-byte host-visible buffer failed (VkResult " + std::to_string(static_cast<int>(r)) +
+                                  ")");
+    }
+    size = bytes;
+    return true;
+  }
+};
+
+struct PackedRay {
+  float origin_sample_x[4];
+  float direction_sample_y[4];
+};
+static_assert(sizeof(PackedRay) == 32, "the trace shader's DeviceRay is 32 bytes");
+
+}  // namespace
+
+struct CallbackAdapter::Impl {
+  // Vulkan objects, destroyed in reverse order by the destructor.
+  Validation validation;
+  bool validated = false;
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  uint32_t family = UINT32_MAX;
+  VkQueue queue = VK_NULL_HANDLE;
+  std::string name;
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  VkCommandBuffer cb = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  std::unique_ptr<GpuTracer> tracer;
+
+  // Guarded by `mutex`: the staging buffers and the one submission in flight.
+  mutable std::mutex mutex;
+  HostBuffer count_buffer;  // FoveartDeviceRayCount
+  HostBuffer rays;          // capacity x 32 bytes
+  HostBuffer colors;        // capacity x vec4
+  uint32_t capacity = 0;
+  std::vector<uint32_t> slot;  // per ray of the current chunk: its packed index, or UINT32_MAX (black)
+  uint64_t skipped_primary = 0;  // rays given black on the host: primary rays as engine::Tracer counts them
+
+  ~Impl() {
+    if (device != VK_NULL_HANDLE) vkDeviceWaitIdle(device);
+    tracer.reset();
+    count_buffer.destroy();
+    rays.destroy();
+    colors.destroy();
+    if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
+    if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, pool, nullptr);  // frees cb
+    if (device != VK_NULL_HANDLE) vkDestroyDevice(device, nullptr);
+    if (instance != VK_NULL_HANDLE) vkDestroyInstance(instance, nullptr);
+  }
+
+  bool create_device(const CallbackAdapterOptions& options, std::string* error);
+  bool ensure_capacity(uint32_t rays_needed, std::string* error);
+  int32_t trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
+                      const foveation::EyeFrustum& frustum, const foveation::EyePose& pose, float* out_depth);
+};
+
+bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options, std::string* error) {
+  validated = options.validate && has_layer("VK_LAYER_KHRONOS_validation");
+  VkApplicationInfo app{};
+  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+  app.pApplicationName = "foveart_gpu_engine_callback_adapter";
+  app.apiVersion = VK_API_VERSION_1_1;
+  const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
+  const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+  VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT features{};
+  features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = enables;
+  VkDebugUtilsMessengerCreateInfoEXT messenger{};
+  messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+  messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+  messenger.pfnUserCallback = on_message;
+  messenger.pUserData = &validation;
+  features.pNext = &messenger;
+  VkInstanceCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+  info.pApplicationInfo = &app;
+  if (validated) {
+    info.pNext = &features;
+    info.enabledLayerCount = 1;
+    info.ppEnabledLayerNames = layers;
+    info.enabledExtensionCount = 1;
+    info.ppEnabledExtensionNames = extensions;
+  }
+  VkResult r = vkCreateInstance(&info, nullptr, &instance);
+  if (r != VK_SUCCESS) {
+    instance = VK_NULL_HANDLE;
+    return set_error(error, vk_failure("vkCreateInstance (is a Vulkan driver installed?)", r));
+  }
+  uint32_t count = 0;
+  r = vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  if (r == VK_SUCCESS && count > 0) r = vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  if (r != VK_SUCCESS && r != VK_INCOMPLETE) return set_error(error, vk_failure("vkEnumeratePhysicalDevices", r));
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(d, &p);
+    if (p.apiVersion < VK_API_VERSION_1_1 || compute_family(d) == UINT32_MAX) continue;
+    if (physical == VK_NULL_HANDLE ||
+        device_rank(p.deviceType, options.prefer_cpu) < device_rank(type, options.prefer_cpu)) {
+      physical = d;
+      name = p.deviceName;
+      type = p.deviceType;
+    }
+  }
+  if (physical == VK_NULL_HANDLE)
+    return set_error(error, "gpu_engine: no Vulkan 1.1 device with a compute queue (" + std::to_string(count) +
+                                " device(s) found)");
+  family = compute_family(physical);
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{};
+  queue_info.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
+  queue_info.queueFamilyIndex = family;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+  VkPhysicalDeviceFeatures supported{};
+  vkGetPhysicalDeviceFeatures(physical, &supported);
+  VkPhysicalDeviceFeatures enabled{};
+  enabled.shaderStorageBufferArrayDynamicIndexing = supported.shaderStorageBufferArrayDynamicIndexing;
+  VkDeviceCreateInfo device_info{};
+  device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+  device_info.queueCreateInfoCount = 1;
+  device_info.pQueueCreateInfos = &queue_info;
+  device_info.pEnabledFeatures = &enabled;
+  r = vkCreateDevice(physical, &device_info, nullptr, &device);
+  if (r != VK_SUCCESS) {
+    device = VK_NULL_HANDLE;
+    return set_error(error, vk_failure("vkCreateDevice", r) + " on " + name);
+  }
+  vkGetDeviceQueue(device, family, 0, &queue);
+
+  VkCommandPoolCreateInfo pool_info{};
+  pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = family;
+  r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
+  if (r != VK_SUCCESS) {
+    pool = VK_NULL_HANDLE;
+    return set_error(error, vk_failure("vkCreateCommandPool", r));
+  }
+  VkCommandBufferAllocateInfo cb_info{};
+  cb_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  cb_info.commandPool = pool;
+  cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cb_info.commandBufferCount = 1;
+  r = vkAllocateCommandBuffers(device, &cb_info, &cb);
+  if (r != VK_SUCCESS) return set_error(error, vk_failure("vkAllocateCommandBuffers", r));
+  VkFenceCreateInfo fence_info{};
+  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+  r = vkCreateFence(device, &fence_info, nullptr, &fence);
+  if (r != VK_SUCCESS) {
+    fence = VK_NULL_HANDLE;
+    return set_error(error, vk_failure("vkCreateFence", r));
+  }
+  return count_buffer.create(physical, device, sizeof(FoveartDeviceRayCount),
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, error);
+}
+
+// Rays and colours for at least `rays_needed` rays, grown by doubling.
+bool CallbackAdapter::Impl::ensure_capacity(uint32_t rays_needed, std::string* error) {
+  if (rays_needed <= capacity) return true;
+  uint32_t grown = std::max<uint32_t>(capacity, 4096);
+  while (grown < rays_needed) grown *= 2;
+  capacity = 0;
+  if (!rays.create(physical, device, VkDeviceSize{grown} * sizeof(PackedRay), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                   error) ||
+      !colors.create(physical, device, VkDeviceSize{grown} * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, error))
+    return false;
+  capacity = grown;
+  return true;
+}
+
+int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n,
+                                           bool explicit_rays, const foveation::EyeFrustum& frustum,
+                                           const foveation::EyePose& pose, float* out_depth) {
+  std::string error;
+  if (!ensure_capacity(n, &error)) return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
+  // Pack the valid rays; the others are black with no depth, as engine::Tracer leaves them.
+  auto* packed = static_cast<PackedRay*>(rays.mapped);
+  slot.assign(n, UINT32_MAX);
+  uint32_t valid = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t r = first + i;
+    glm::vec3 o, d;
+    if (explicit_rays) {
+      o = glm::vec3(batch.origins_m[3 * r], batch.origins_m[3 * r + 1], batch.origins_m[3 * r + 2]);
+      d = glm::vec3(batch.directions[3 * r], batch.directions[3 * r + 1], batch.directions[3 * r + 2]);
+    } else {
+      o = pose.position_m;
+      d = foveation::eye_ray_direction(frustum, pose, glm::vec2(batch.sample_px[2 * r], batch.sample_px[2 * r + 1]));
+    }
+    const float len2 = d.x * d.x + d.y * d.y + d.z * d.z;
+    if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) continue;
+    d *= 1.0f / std::sqrt(len2);
+    const float sx = batch.sample_px != nullptr ? batch.sample_px[2 * r] : 0.0f;
+    const float sy = batch.sample_px != nullptr ? batch.sample_px[2 * r + 1] : 0.0f;
+    packed[valid] = PackedRay{{o.x, o.y, o.z, sx}, {d.x, d.y, d.z, sy}};
+    slot[i] = valid++;
+  }
+  skipped_primary += n - valid;
+  if (valid > 0) {
+    FoveartDeviceRayCount header{};
+    header.count = valid;
+    header.dispatch64[0] = (valid + kGroupSize - 1) / kGroupSize;
+    header.dispatch64[1] = 1;
+    header.dispatch64[2] = 1;
+    header.traceRays[0] = valid;
+    header.traceRays[1] = 1;
+    header.traceRays[2] = 1;
+    std::memcpy(count_buffer.mapped, &header, sizeof(header));
+
+    VkResult r = vkResetCommandBuffer(cb, 0);
+    VkCommandBufferBeginInfo begin{};
+    begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    if (r == VK_SUCCESS) r = vkBeginCommandBuffer(cb, &begin);
+    if (r != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    // Host writes of rays and count -> the shader's reads and the indirect dispatch's.
+    VkMemoryBarrier before{};
+    before.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    before.srcAccessMask = VK_ACCESS_HOST_WRITE_BIT;
+    before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_HOST_BIT,
+                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &before, 0,
+                         nullptr, 0, nullptr);
+    XrFoveatedDeviceRayBatchFOVEART device_batch{};
+    device_batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
+    device_batch.frameIndex = batch.frame_index;
+    device_batch.view = batch.view;
+    device_batch.rayCapacity = capacity;
+    device_batch.raysPerPoint = 1;
+    device_batch.rayCount = {count_buffer.buffer, 0, count_buffer.size};
+    device_batch.rays = {rays.buffer, 0, rays.size};
+    device_batch.pointIndex = {VK_NULL_HANDLE, 0, 0};  // the trace does not read it
+    device_batch.colors = {colors.buffer, 0, colors.size};
+    device_batch.commandBuffer = cb;
+    if (!tracer->record_trace(device_batch, &error)) {
+      vkEndCommandBuffer(cb);
+      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    }
+    // The shader's writes (colours, the tracer's counters) -> host reads.
+    VkMemoryBarrier after{};
+    after.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr,
+                         0, nullptr);
+    r = vkEndCommandBuffer(cb);
+    VkSubmitInfo submit{};
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cb;
+    if (r == VK_SUCCESS) r = vkQueueSubmit(queue, 1, &submit, fence);
+    if (r != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    r = vkWaitForFences(device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
+    if (r != VK_SUCCESS) {
+      vkDeviceWaitIdle(device);  // the buffers are reused: nothing may still run
+      vkResetFences(device, 1, &fence);
+      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    }
+    if (vkResetFences(device, 1, &fence) != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+  const auto* rgbd = static_cast<const float*>(colors.mapped);
+  for (uint32_t i = 0; i < n; ++i) {
+    float* out = batch.out_rgb + 3 * static_cast<size_t>(first + i);
+    if (slot[i] == UINT32_MAX) {
+      out[0] = out[1] = out[2] = 0.0f;
+      if (out_depth != nullptr) out_depth[first + i] = std::numeric_limits<float>::quiet_NaN();
+      continue;
+    }
+    const float* c = rgbd + 4 * static_cast<size_t>(slot[i]);
+    const bool finite = std::isfinite(c[0] + c[1] + c[2]);
+    for (int k = 0; k < 3; ++k) out[k] = finite ? std::max(c[k], 0.0f) : 0.0f;
+    if (out_depth != nullptr) {
+      const float depth = c[3];
+      // +inf (a miss) stays +INFINITY whatever the device made of it; NaN: none given.
+      out_depth[first + i] = std::isnan(depth)                                ? depth
+                             : (std::isinf(depth) || depth >= 1e30f) ? std::numeric_limits<float>::infinity()
+                                                                             : depth;
+    }
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+CallbackAdapter::CallbackAdapter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+CallbackAdapter::~CallbackAdapter() = default;
+
+std::unique_ptr<CallbackAdapter> CallbackAdapter::create(engine::Scene scene, std::string* error) {
+  return create(std::move(scene), CallbackAdapterOptions{}, error);
+}
+
+std::unique_ptr<CallbackAdapter> CallbackAdapter::create(engine::Scene scene, const CallbackAdapterOptions& options,
+                                                         std::string* error) {
+  try {
+    auto impl = std::make_unique<Impl>();
+    if (!impl->create_device(options, error)) return nullptr;
+    GpuContext context{impl->physical, impl->device, impl->family, impl->queue};
+    std::string tracer_error;
+    impl->tracer = GpuTracer::create(context, std::move(scene), options.tracer, &tracer_error);
+    if (!impl->tracer) {
+      set_error(error, tracer_error + " (device " + impl->name + ")");
+      return nullptr;
+    }
+    return std::unique_ptr<CallbackAdapter>(new CallbackAdapter(std::move(impl)));
+  } catch (const std::exception& e) {
+    set_error(error, std::string("gpu_engine: ") + e.what());
+    return nullptr;
+  }
+}
+
+int32_t CallbackAdapter::trace(const FoveartRayBatch* batch) noexcept {
+  if (!batch || batch->type != FOVEART_TYPE_RAY_BATCH ||
+      batch->size < offsetof(FoveartRayBatch, out_rgb) + sizeof(float*))
+    return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  if (batch->ray_count == 0) return FOVEART_RESULT_SUCCESS;
+  const bool explicit_rays = batch->origins_m && batch->directions;
+  const bool view_rays = batch->view && batch->sample_px && batch->view->type == FOVEART_TYPE_EYE_VIEW &&
+                         batch->view->size >= sizeof(FoveartEyeView) && batch->view->width_px > 0 &&
+                         batch->view->height_px > 0;
+  if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  try {
+    foveation::EyeFrustum frustum{};
+    foveation::EyePose pose{};
+    if (!explicit_rays) {
+      frustum = foveation::eye_frustum(*batch->view);
+      pose = foveation::eye_pose(*batch->view);
+    }
+    float* out_depth = batch->size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH ? batch->out_depth_m : nullptr;
+    std::lock_guard lock(impl_->mutex);
+    for (uint32_t first = 0; first < batch->ray_count; first += kMaxRaysPerSubmit) {
+      const uint32_t n = std::min(kMaxRaysPerSubmit, batch->ray_count - first);
+      const int32_t status = impl_->trace_chunk(*batch, first, n, explicit_rays, frustum, pose, out_depth);
+      if (status != FOVEART_RESULT_SUCCESS) return status;
+    }
+    return FOVEART_RESULT_SUCCESS;
+  } catch (const std::bad_alloc&) {
+    return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
+  } catch (...) {
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+}
+
+const std::string& CallbackAdapter::device_name() const { return impl_->name; }
+bool CallbackAdapter::device_is_cpu() const { return impl_->type == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+bool CallbackAdapter::validated() const { return impl_->validated; }
+std::vector<std::string> CallbackAdapter::validation_errors() const {
+  std::lock_guard lock(impl_->validation.mutex);
+  return impl_->validation.errors;
+}
+
+const engine::Scene& CallbackAdapter::scene() const { return impl_->tracer->scene(); }
+engine::Effects CallbackAdapter::scene_effects() const { return impl_->tracer->scene_effects(); }
+engine::Effects CallbackAdapter::effects() const { return impl_->tracer->effects(); }
+
+engine::RayCounts CallbackAdapter::counts() const {
+  std::lock_guard lock(impl_->mutex);
+  engine::RayCounts c = impl_->tracer->counts();
+  c.primary += impl_->skipped_primary;
+  return c;
+}
+
+void CallbackAdapter::reset_counts() {
+  std::lock_guard lock(impl_->mutex);
+  impl_->tracer->reset_counts();
+  impl_->skipped_primary = 0;
+}
+
+}  // namespace foveart::gpu_engine
+
+extern "C" int32_t foveart_gpu_engine_trace_rays(void* user_data, const FoveartRayBatch* batch) {
+  if (!user_data) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  return static_cast<foveart::gpu_engine::CallbackAdapter*>(user_data)->trace(batch);
+}
