@@ -1,6 +1,9 @@
 // `fovea render`: full-resolution and/or foveated rendering of a glTF scene with
 // the sample engine; JSON report of rays per effect and times. The foveated
-// frame is foveation::FoveatedView, the one the OpenXR layer runs.
+// frame is foveation::FoveatedView, the one the OpenXR layer runs. --engine gpu
+// answers the same callback with the GPU sample engine
+// (gpu_engine::CallbackAdapter: one device round trip per batch, so its times
+// include the transfers); reconstruction stays on the CPU either way.
 #include "cmd_render.hpp"
 #include "taa_modes.hpp"
 
@@ -13,6 +16,7 @@
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
+#include <gpu_engine/callback_adapter.hpp>
 
 #include <foveation/display_model.hpp>
 #include <foveation/executor.hpp>
@@ -36,6 +40,8 @@
 #include <iostream>
 #include <sstream>
 #include <vector>
+
+#include <xxhash.h>
 
 namespace foveart::tools {
 namespace {
@@ -97,9 +103,35 @@ double median_pair_ratio(const std::vector<double>& num, const std::vector<doubl
   return r.size() % 2 == 1 ? r[r.size() / 2] : 0.5 * (r[r.size() / 2 - 1] + r[r.size() / 2]);
 }
 
+// Who answers the rays: the CPU engine (engine::Tracer) or the GPU engine behind
+// the same callback (gpu_engine::CallbackAdapter).
+struct RenderEngine {
+  std::unique_ptr<engine::Tracer> cpu;
+  std::unique_ptr<gpu_engine::CallbackAdapter> gpu;
+
+  FoveartTraceRaysFn fn() const { return gpu ? &foveart_gpu_engine_trace_rays : &foveart_engine_trace_rays; }
+  void* user() const { return gpu ? static_cast<void*>(gpu.get()) : static_cast<void*>(cpu.get()); }
+  const engine::Scene& scene() const { return gpu ? gpu->scene() : cpu->scene(); }
+  engine::Effects effects() const { return gpu ? gpu->effects() : cpu->effects(); }
+  engine::Effects scene_effects() const { return gpu ? gpu->scene_effects() : cpu->scene_effects(); }
+  engine::RayCounts counts() const { return gpu ? gpu->counts() : cpu->counts(); }
+  // The reference cache's scene key: the CPU engine's rendered_scene_hash; the
+  // GPU engine's references are its own (they agree per ray to ~1e-3, not exactly).
+  uint64_t scene_hash() const {
+    if (cpu) return rendered_scene_hash(*cpu);
+    const uint64_t parts[3] = {scene_content_hash(scene()), static_cast<uint64_t>(effects().bits()),
+                               0x6770755f656e67ull /* "gpu_eng" */};
+    return XXH3_64bits(parts, sizeof(parts));
+  }
+};
+
 }  // namespace
 
 int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+  if (o.engine != "cpu" && o.engine != "gpu") {
+    err << "fovea render: --engine must be cpu or gpu, not \"" << o.engine << "\"\n";
+    return 2;
+  }
   if (!o.motion.empty()) {
     err << "fovea render: one still view; a sequence over a motion is `fovea-eval motion`\n";
     return 2;
@@ -118,22 +150,37 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   for (const std::string& w : loaded.scene->warnings) err << "fovea render: warning: " << w << "\n";
   t0 = std::chrono::steady_clock::now();
   std::string error;
-  std::unique_ptr<engine::Tracer> tracer =
-      engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
-  if (!tracer) {
-    err << "fovea render: " << error << "\n";
-    return 1;
+  RenderEngine eng;
+  if (o.engine == "gpu") {
+    const engine::TracerOptions cpu_options = render_tracer_options(o);
+    gpu_engine::CallbackAdapterOptions gpu_options;
+    gpu_options.tracer.max_depth = cpu_options.max_depth;
+    gpu_options.tracer.allowed = cpu_options.allowed;
+    eng.gpu = gpu_engine::CallbackAdapter::create(std::move(*loaded.scene), gpu_options, &error);
+    if (!eng.gpu) {
+      err << "fovea render: --engine gpu: " << error << "\n";
+      return 1;
+    }
+  } else {
+    eng.cpu = engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
+    if (!eng.cpu) {
+      err << "fovea render: " << error << "\n";
+      return 1;
+    }
   }
   const double build_ms = ms_since(t0);
-  const FoveartEyeView view = render_view(o, tracer->scene());
+  const FoveartEyeView view = render_view(o, eng.scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * static_cast<float>(view.width_px),
                                                       0.5f * static_cast<float>(view.height_px)));
   const uint64_t pixels = static_cast<uint64_t>(view.width_px) * view.height_px;
 
   Json report;
-  report["scene"] = tracer->scene().source;
-  report["triangles"] = tracer->scene().mesh.triangles.size();
-  report["effects"] = engine::to_string(tracer->effects());
+  report["scene"] = eng.scene().source;
+  report["triangles"] = eng.scene().mesh.triangles.size();
+  report["effects"] = engine::to_string(eng.effects());
+  report["engine"] = o.engine;
+  // The GPU engine's Vulkan device; its times include a device round trip per batch.
+  if (eng.gpu) report["gpu_device"] = eng.gpu->device_name();
   report["eye"] = o.eye;
   report["width"] = view.width_px;
   report["height"] = view.height_px;
@@ -149,7 +196,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   foveation::Executor executor(static_cast<unsigned>(o.threads));  // every parallel stage of this run
   report["threads"] = executor.thread_count();
   std::string display_error;
-  const std::optional<foveation::DisplayTransform> display = render_display(o, *tracer, view, executor, &display_error);
+  const std::optional<foveation::DisplayTransform> display = render_display(o, eng.fn(), eng.user(), view, executor, &display_error);
   if (!display) {
     err << "fovea render: " << display_error << "\n";
     return 1;
@@ -193,6 +240,10 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     foveated = std::make_unique<foveation::FoveatedView>(
         std::move(tables), taa_view_settings(o.taa, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young));
   }
+  // Embree's packet fill; the GPU engine has no packets (null).
+  const auto packets_json = [](const engine::RayCounts& c, const RenderEngine& e) {
+    return e.gpu ? Json(nullptr) : Json(lanes_per_packet(c));
+  };
   FrameTimes full_times, fov_times;
   std::vector<double> tile_ms;  // full mode: per-tile time summed over frames
   TileGrid grid;                // full mode's tiles
@@ -200,30 +251,30 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   uint64_t fov_points = 0;
   for (int frame = 0; frame < o.frames; ++frame) {
     if (run_full) {
-      const engine::RayCounts before = tracer->counts();
+      const engine::RayCounts before = eng.counts();
       const engine::RenderResult rr =
-          engine::render_full(&foveart_engine_trace_rays, tracer.get(), view, full_settings, &full, executor);
+          engine::render_full(eng.fn(), eng.user(), view, full_settings, &full, executor);
       if (rr.status != FOVEART_RESULT_SUCCESS) {
         err << "fovea render: engine callback failed with status " << rr.status << "\n";
         return 1;
       }
       full_times.add(rr.trace_ms, 0.0);
       if (frame == 0) {
-        full_rays = minus(tracer->counts(), before);
+        full_rays = minus(eng.counts(), before);
         grid = {view.width_px, view.height_px, rr.tile_width_px, rr.tile_height_px, rr.tiles_x};
         tile_ms.assign(rr.tile_ms.size(), 0.0);
       }
       for (size_t t = 0; t < tile_ms.size(); ++t) tile_ms[t] += rr.tile_ms[t];
     }
     if (run_foveated) {
-      const engine::RayCounts before = tracer->counts();
+      const engine::RayCounts before = eng.counts();
       foveation::FrameRequest request;
       request.view = view;
       request.gaze_px = o.gaze_px_per_frame.empty()
                             ? gaze
                             : o.gaze_px_per_frame[std::min<std::size_t>(std::size_t(frame), o.gaze_px_per_frame.size() - 1)];
       request.frame_index = o.first_frame + static_cast<uint64_t>(frame);
-      const foveation::FrameResult fr = foveated->render(request, &foveart_engine_trace_rays, tracer.get(), executor);
+      const foveation::FrameResult fr = foveated->render(request, eng.fn(), eng.user(), executor);
       if (!fr.ok()) {
         err << "fovea render: " << fr.message << "\n";
         return 1;
@@ -231,7 +282,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       // The fixed part: reconstruction and the temporal history.
       fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.taa_ms, fr.select_ms);
       if (frame == 0) {
-        fov_rays = minus(tracer->counts(), before);
+        fov_rays = minus(eng.counts(), before);
         fov_points = fr.points;
       }
     }
@@ -239,14 +290,14 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   report["frames"] = o.frames;
   if (run_foveated) report["first_frame"] = o.first_frame;
   if (run_full)
-    report["full"] = {{"rays", rays_json(full_rays)}, {"lanes_per_packet", lanes_per_packet(full_rays)},
+    report["full"] = {{"rays", rays_json(full_rays)}, {"lanes_per_packet", packets_json(full_rays, eng)},
                       {"trace_ms", full_times.median_trace_ms()}, {"reconstruct_ms", 0.0},
                       {"total_ms", full_times.median_total_ms()}, {"frames_total_ms", full_times.total_ms},
                       {"white_clipped_fraction", foveation::white_clipped_fraction(full, *display)}};
   if (run_foveated) {
     report["points"] = fov_points;
     report["foveated"] = {{"rays", rays_json(fov_rays)},
-                          {"lanes_per_packet", lanes_per_packet(fov_rays)},
+                          {"lanes_per_packet", packets_json(fov_rays, eng)},
                           {"interpolation", o.interpolation},
                           {"k", reconstruction_k(o)},
                           {"density_scale", o.density_scale},
@@ -290,7 +341,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                                                  : std::string();
       std::string bad;
       std::optional<Reference> ref = converged_reference(
-          &foveart_engine_trace_rays, tracer.get(), rendered_scene_hash(*tracer), view, gaze, ro, executor,
+          eng.fn(), eng.user(), eng.scene_hash(), view, gaze, ro, executor,
           [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &bad);
       if (!ref) {
         err << "fovea render: " << bad << "\n";
@@ -371,6 +422,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     out << "scene " << report["scene"].get<std::string>() << " (" << report["triangles"] << " triangles, "
         << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", rays per point "
         << o.rays_per_point << "\n";
+    out << "engine " << o.engine;
+    if (eng.gpu) out << " (" << eng.gpu->device_name() << "; each batch a device round trip, times include transfers)";
+    out << "\n";
     for (const char* mode : {"full", "foveated"}) {
       if (!report.contains(mode)) continue;
       const Json& m = report[mode];
@@ -398,7 +452,8 @@ void register_render(CLI::App& app) {
   auto opts = std::make_shared<foveart::tools::RenderOptions>();
   auto gaze = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
-  CLI::App* cmd = app.add_subcommand("render", "Render a glTF scene with the sample engine (full, foveated or both)");
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Render a glTF scene with the sample engine, CPU or GPU (full, foveated or both)");
   const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
   foveart::tools::add_temporal_option(cmd, opts);
   cmd->add_option("--gaze", *gaze,
@@ -412,6 +467,11 @@ void register_render(CLI::App& app) {
                   "Where the viewer stands, X,Y,Z (the head; the eye 32 mm aside), or an exact eye pose "
                   "px,py,pz,qx,qy,qz,qw (metres, unit quaternion; scene space)");
   cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
+  cmd->add_option("--engine", opts->engine,
+                  "Who traces the rays: cpu (the Embree sample engine) or gpu (the Vulkan compute sample engine "
+                  "behind the same callback, a hardware GPU if any else lavapipe; each batch is a device round "
+                  "trip, so its times include transfers). Reconstruction is on the CPU either way")
+      ->capture_default_str();
   cmd->callback([opts, gaze, pose, parse_common] {
     parse_common();
     if (gaze->find(';') != std::string::npos) {

@@ -1,5 +1,8 @@
 // `fovea render`: renders a glTF scene (or the built-in default) with the
 // sample engine, at full resolution and/or foveated, and reports rays and times.
+// --engine cpu|gpu: the CPU engine (Embree) or the GPU engine (Vulkan compute,
+// through gpu_engine::CallbackAdapter: a device round trip per batch); the
+// reconstruction is the CPU's either way.
 // One still view; a sequence over a scripted motion is `fovea-eval motion`.
 #pragma once
 

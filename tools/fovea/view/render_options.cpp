@@ -146,6 +146,12 @@ std::string check_view(const RenderOptions& o) {
 std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o, engine::Tracer& tracer,
                                                           const FoveartEyeView& view, foveation::Executor& executor,
                                                           std::string* error) {
+  return render_display(o, &foveart_engine_trace_rays, &tracer, view, executor, error);
+}
+
+std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o, FoveartTraceRaysFn trace,
+                                                          void* user_data, const FoveartEyeView& view,
+                                                          foveation::Executor& executor, std::string* error) {
   foveation::DisplayTransform d;
   d.tone_map = *foveation::parse_tone_map(o.tone_map);
   if (o.exposure != "auto") {
@@ -153,7 +159,7 @@ std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o
     return d;
   }
   const std::optional<engine::AutoExposure> a =
-      engine::auto_exposure(&foveart_engine_trace_rays, &tracer, view, executor, error);
+      engine::auto_exposure(trace, user_data, view, executor, error);
   if (!a) return std::nullopt;
   d.exposure = a->exposure;
   return d;

@@ -33,6 +33,10 @@ struct RenderOptions {
   std::string preset = "fove";
   std::string eye = "left";
   std::string mode = "full";      // full | foveated | both
+  // `fovea render --engine`: who answers the rays, "cpu" (engine::Tracer) or "gpu"
+  // (gpu_engine::CallbackAdapter: the GPU sample engine behind the same callback,
+  // a device round trip per batch). The lab's commands trace on the CPU.
+  std::string engine = "cpu";
   std::string interpolation = "nearest";  // nearest | msm | rbf
   std::optional<glm::vec2> gaze_px;  // default: image centre
   // `fovea render --gaze A;B;C`: the foveated frames' gazes in turn, the last
@@ -115,6 +119,10 @@ engine::TracerOptions render_tracer_options(const RenderOptions& options);
 std::optional<foveation::DisplayTransform> render_display(const RenderOptions& options, engine::Tracer& tracer,
                                                           const FoveartEyeView& view, foveation::Executor& executor,
                                                           std::string* error);
+// The same, metering "auto" through any engine's callback (`fovea render --engine gpu`).
+std::optional<foveation::DisplayTransform> render_display(const RenderOptions& options, FoveartTraceRaysFn trace,
+                                                          void* user_data, const FoveartEyeView& view,
+                                                          foveation::Executor& executor, std::string* error);
 
 // Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
 int reconstruction_k(const RenderOptions& options);
