@@ -7,7 +7,7 @@
 #     reconstruction, temporal history, encode), with the speedup;
 #  2. bench/reconstruction_paths.cpp: reconstruction + history per eye on the
 #     CPU and the GPU path.
-# Writes out/bench/gpu_frame.json and docs/results/gpu_frame_<device>.md,
+# Writes out/bench/gpu_frame.json and docs/results/bench_gpu_<device>.md,
 # headed by the command and the machine.
 #
 # Usage:
@@ -58,38 +58,43 @@ if [[ $mode == from-bundle ]]; then
 fi
 
 cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
-machine="$(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB"
+machine="$(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB, load average $(cut -d' ' -f1 /proc/loadavg) at the start"
 mkdir -p out/bench docs/results
 json=out/bench/gpu_frame.json
-# lavapipe traces a FOVE eye in tens of seconds: fewer frames there.
-args=(--json "$json")
+args=(--json "$json")  # gpu_frame times 8 frames on a GPU, 2 on lavapipe (tens of seconds a FOVE eye)
 [[ -n $frames ]] && args+=(--frames "$frames")
-run_frame() { "$bin/gpu_frame" "${args[@]}" "$@"; }
 echo "machine: $machine"
-out=$(run_frame | tee /dev/stderr)
-if [[ -z $frames ]] && grep -q '"device_is_cpu": true' "$json"; then
-  echo "bench_gpu.sh: a CPU device: the table above is from the default frame count; pass --frames N to change it" >&2
-fi
+frame_table=$("$bin/gpu_frame" "${args[@]}" | tee /dev/stderr)
 device=$(sed -n 's/.*"device": "\(.*\)",*/\1/p' "$json" | head -1)
+
+# Reconstruction + history on the CPU and the GPU path.
+recon_args=(--interpolation nearest,msm --k 5)
+grep -q '"device_is_cpu": true' "$json" && recon_args+=(--frames 3)
+recon_table=$(for temporal in rays image; do
+  "$bin/reconstruction_paths" "${recon_args[@]}" --temporal "$temporal"
+done | tee /dev/stderr)
+
 slug=$(echo "$device" | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/_/g; s/^_//; s/_$//' | cut -c1-40)
-result=docs/results/gpu_frame_${slug:-device}.md
+result=docs/results/bench_gpu_${slug:-device}.md
 {
-  echo "# One FOVE eye, full and foveated, on the GPU sample engine"
+  echo "# The GPU benchmark on ${device:-a Vulkan device}"
   echo
-  echo "Written by \`scripts/bench_gpu.sh${frames:+ --frames $frames}\` (bench/gpu_frame.cpp) on $(date -u +%F)."
-  echo "Machine: $machine; Vulkan device: $device."
-  echo "Times are GPU timestamps, medians over the timed frames; the full frame's history and encode are the"
-  echo "foveated frame's passes on the same pixels. Speedup: full / foveated per frame pair, median."
+  echo "Written by \`scripts/bench_gpu.sh${frames:+ --frames $frames}\` on $(date -u +%F). Machine: $machine."
+  echo
+  echo "## One FOVE eye, full and foveated, on the GPU sample engine (bench/gpu_frame.cpp)"
+  echo
+  echo "GPU timestamps, medians over the timed frames. The full frame's history and encode are the foveated"
+  echo "frame's passes on the same pixels; \"trace\" of the foveated frame is the device's rays, the engine's"
+  echo "trace and the resolve. Speedup: full / foveated per frame pair, median."
   echo
   echo '```'
-  echo "$out"
+  echo "$frame_table"
+  echo '```'
+  echo
+  echo "## Reconstruction and history per eye, CPU and GPU path (bench/reconstruction_paths.cpp)"
+  echo
+  echo '```'
+  echo "$recon_table"
   echo '```'
 } > "$result"
 echo "wrote $result and $json"
-
-# Reconstruction + history on the CPU and the GPU path (the previous table of this script).
-recon_args=(--interpolation nearest,msm --k 5)
-grep -q '"device_is_cpu": true' "$json" && recon_args+=(--frames 3)
-for temporal in rays image; do
-  "$bin/reconstruction_paths" "${recon_args[@]}" --temporal "$temporal"
-done | tee out/bench/reconstruction_paths.txt
