@@ -255,7 +255,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       const engine::RenderResult rr =
           engine::render_full(eng.fn(), eng.user(), view, full_settings, &full, executor);
       if (rr.status != FOVEART_RESULT_SUCCESS) {
-        err << "fovea render: engine callback failed with status " << rr.status << "\n";
+        err << "fovea render: engine callback failed with status " << rr.status;
+        if (eng.gpu && !eng.gpu->last_error().empty()) err << " (" << eng.gpu->last_error() << ")";
+        err << "\n";
         return 1;
       }
       full_times.add(rr.trace_ms, 0.0);
@@ -276,7 +278,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       request.frame_index = o.first_frame + static_cast<uint64_t>(frame);
       const foveation::FrameResult fr = foveated->render(request, eng.fn(), eng.user(), executor);
       if (!fr.ok()) {
-        err << "fovea render: " << fr.message << "\n";
+        err << "fovea render: " << fr.message;
+        if (eng.gpu && !eng.gpu->last_error().empty()) err << " (" << eng.gpu->last_error() << ")";
+        err << "\n";
         return 1;
       }
       // The fixed part: reconstruction and the temporal history.

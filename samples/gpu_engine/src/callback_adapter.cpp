@@ -172,6 +172,7 @@ struct CallbackAdapter::Impl {
   uint32_t capacity = 0;
   std::vector<uint32_t> slot;  // per ray of the current chunk: its packed index, or UINT32_MAX (black)
   uint64_t skipped_primary = 0;  // rays given black on the host: primary rays as engine::Tracer counts them
+  std::string last_error;        // why the last failed batch failed
 
   ~Impl() {
     if (device != VK_NULL_HANDLE) vkDeviceWaitIdle(device);
@@ -313,7 +314,10 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
                                            bool explicit_rays, const foveation::EyeFrustum& frustum,
                                            const foveation::EyePose& pose, float* out_depth) {
   std::string error;
-  if (!ensure_capacity(n, &error)) return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
+  if (!ensure_capacity(n, &error)) {
+    last_error = error;
+    return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
+  }
   // Pack the valid rays; the others are black with no depth, as engine::Tracer leaves them.
   auto* packed = static_cast<PackedRay*>(rays.mapped);
   slot.assign(n, UINT32_MAX);
@@ -353,7 +357,10 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     if (r == VK_SUCCESS) r = vkBeginCommandBuffer(cb, &begin);
-    if (r != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    if (r != VK_SUCCESS) {
+      last_error = vk_failure("vkBeginCommandBuffer", r);
+      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    }
     // Host writes of rays and count -> the shader's reads and the indirect dispatch's.
     VkMemoryBarrier before{};
     before.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
@@ -374,6 +381,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     device_batch.colors = {colors.buffer, 0, colors.size};
     device_batch.commandBuffer = cb;
     if (!tracer->record_trace(device_batch, &error)) {
+      last_error = error;
       vkEndCommandBuffer(cb);
       return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
     }
@@ -390,9 +398,13 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cb;
     if (r == VK_SUCCESS) r = vkQueueSubmit(queue, 1, &submit, fence);
-    if (r != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    if (r != VK_SUCCESS) {
+      last_error = vk_failure("vkQueueSubmit", r);
+      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+    }
     r = vkWaitForFences(device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
     if (r != VK_SUCCESS) {
+      last_error = vk_failure("vkWaitForFences", r);
       vkDeviceWaitIdle(device);  // the buffers are reused: nothing may still run
       vkResetFences(device, 1, &fence);
       return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
@@ -480,6 +492,10 @@ int32_t CallbackAdapter::trace(const FoveartRayBatch* batch) noexcept {
 }
 
 const std::string& CallbackAdapter::device_name() const { return impl_->name; }
+std::string CallbackAdapter::last_error() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->last_error;
+}
 bool CallbackAdapter::device_is_cpu() const { return impl_->type == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 bool CallbackAdapter::validated() const { return impl_->validated; }
 std::vector<std::string> CallbackAdapter::validation_errors() const {

@@ -70,6 +70,8 @@ class CallbackAdapter {
   int32_t trace(const FoveartRayBatch* batch) noexcept;
 
   const std::string& device_name() const;
+  // Why the last batch that failed on the device failed (empty: none has).
+  std::string last_error() const;
   bool device_is_cpu() const;   // VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe)
   bool validated() const;       // validation layer enabled
   std::vector<std::string> validation_errors() const;
