@@ -325,8 +325,13 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 }
 
 // The device-trace frame path under Vulkan validation with synchronization
-// validation (as HelloFoveatedValidated): no message.
-TEST_F(GpuEngine, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
+// validation (as HelloFoveatedValidated): no message. Also with --fault nan,
+// whose fill after the engine's dispatch needs its own barrier (without it,
+// synchronization validation reports SYNC-HAZARD-WRITE-AFTER-WRITE).
+class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
+  const std::string fault = GetParam();
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   IsolatedEnv::set("XR_API_LAYER_PATH", (explicit_layer_dir().string() + ":" + kSystemExplicitLayers).c_str());
   IsolatedEnv::set("XR_ENABLE_API_LAYERS", "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
@@ -335,12 +340,21 @@ TEST_F(GpuEngine, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
   IsolatedEnv::set("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT");
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
-  const AppRun r = launch("validated", "gpu", gaze, {"--no-explicit-layer"});
+  std::vector<std::string> extra{"--no-explicit-layer"};
+  if (fault != "none") extra.insert(extra.end(), {"--fault", fault});
+  const AppRun r = launch("validated", "gpu", gaze, extra);
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
-  ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu"));
+  if (fault == "none") {
+    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu"));
+  } else {
+    ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+    ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+    EXPECT_EQ(r.stats["views_fallback"], 2 * kFrames);
+    EXPECT_GT(r.stats["invalid_colours"].get<int>(), 0);
+  }
   EXPECT_GT(r.stats["engine_rays"]["gpu"]["primary"].get<uint64_t>(), 0u);
   for (const char* loaded : {"succeeded loading layer XR_APILAYER_LUNARG_core_validation",
                              "Insert instance layer \"VK_LAYER_KHRONOS_validation\""}) {
@@ -350,6 +364,8 @@ TEST_F(GpuEngine, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
     EXPECT_EQ(r.process.output.find(marker), std::string::npos) << marker << " in:\n" << r.process.output;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan"));
 
 // A device trace that fails: every view falls back to the app's grey
 // placeholder, counted, logged once; the app exits 0.
