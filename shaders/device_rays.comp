@@ -7,8 +7,8 @@
 // over their pixel, the rest in their disc, thesis 4.2). Mode 1, one
 // invocation: the ray count and the indirect dispatches from the ranks taken.
 #extension GL_GOOGLE_include_directive : require
+#include "eye_rays.glsl"
 #include "jitter.glsl"
-#include "quat.glsl"
 #include "foveation/shader_constants.h"
 
 layout(local_size_x = 64) in;
@@ -32,12 +32,6 @@ layout(push_constant) uniform Push {
   uint flags;            // bit 0: bspline2 pixel filter; bit 1: mode 1 (counts)
   uvec2 seed;            // low, high word
 };
-
-vec3 ray_direction(vec2 sample_px) {  // foveation::eye_ray_direction
-  const vec2 s = sample_px / vec2(screen_px);
-  const vec3 d = vec3(tan_lrud.x + s.x * (tan_lrud.y - tan_lrud.x), tan_lrud.z + s.y * (tan_lrud.w - tan_lrud.z), -1.0);
-  return normalize(rotate(orientation, d));
-}
 
 void write_counts() {
   const uint visible = control[FOVEART_DEVICE_VISIBLE_POINTS];
@@ -75,7 +69,7 @@ void main() {
                                      : screen + unit_disc_sample(seed, i, s) * p.z;
     const uint r = first + s;
     rays[2u * r] = vec4(position_m.xyz, sample_px.x);
-    rays[2u * r + 1u] = vec4(ray_direction(sample_px), sample_px.y);
+    rays[2u * r + 1u] = vec4(eye_ray_direction(tan_lrud, orientation, vec2(screen_px), sample_px), sample_px.y);
     point_index[r] = i;
   }
 }

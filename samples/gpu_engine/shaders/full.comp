@@ -4,6 +4,7 @@
 // first ray's hit distance. Rays as foveation::eye_ray_direction makes them.
 #extension GL_GOOGLE_include_directive : require
 #include "trace_core.glsl"
+#include "eye_rays.glsl"
 #include "jitter.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -18,14 +19,6 @@ layout(push_constant) uniform View {
   uvec4 seed_hi;        // x: seed high word
 } view;
 
-// foveation::eye_ray_direction.
-vec3 eye_ray_direction(vec2 sample_px) {
-  const float sx = sample_px.x / float(view.size_spp_seed.x);
-  const float sy = sample_px.y / float(view.size_spp_seed.y);
-  const vec3 v = vec3(view.tans.x + sx * (view.tans.y - view.tans.x), view.tans.z + sy * (view.tans.w - view.tans.z), -1.0);
-  return glm_normalize(glm_rotate(view.orientation, v));
-}
-
 void main() {
   begin_counting();
   const uvec2 px = gl_GlobalInvocationID.xy;
@@ -38,7 +31,9 @@ void main() {
     uvec3 secondary = uvec3(0u);
     for (uint s = 0u; s < spp; ++s) {
       const vec2 sample_px = vec2(px) + pixel_jitter(pixel, s, seed, false);
-      const vec4 c = trace_path(view.position_m.xyz, eye_ray_direction(sample_px), secondary);
+      const vec4 c = trace_path(view.position_m.xyz,
+                                  eye_ray_direction(view.tans, view.orientation, vec2(view.size_spp_seed.xy), sample_px),
+                                  secondary);
       sum += c.rgb;
       if (s == 0u) depth_m = c.w;
     }
