@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,7 @@
 #include "foveation/temporal_mode.hpp"
 #include "foveation/view_tables.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
+#include "gpu_engine/rt_device.hpp"
 #include "gpu_reconstruction.hpp"
 #include "headless_vulkan.hpp"
 
@@ -117,7 +119,15 @@ int main(int argc, char** argv) {
   view.width_px = uint32_t(size[0]);
   view.height_px = uint32_t(size[1]);
 
-  layer::HeadlessVulkan vulkan(layer::DevicePreference::hardware_gpu, false);
+  // The GPU engine's ray-tracing pipeline backend where the device offers it (else compute).
+  std::unique_ptr<foveart::gpu_engine::RayTracingDeviceSupport> rt_support;
+  std::vector<const char*> rt_extensions;
+  bool ray_tracing = false;
+  layer::HeadlessVulkan vulkan(layer::DevicePreference::hardware_gpu, false,
+                               [&](VkPhysicalDevice physical, VkDeviceCreateInfo* info) {
+                                 rt_support = std::make_unique<foveart::gpu_engine::RayTracingDeviceSupport>(physical);
+                                 ray_tracing = rt_support->enable(info, &rt_extensions);
+                               });
   if (!vulkan.ok()) return fail("no Vulkan device with a compute queue");
   if (frames == 0) frames = vulkan.is_cpu() ? 2 : 8;  // lavapipe traces a FOVE eye in tens of seconds
   const layer::GpuDevice device = vulkan.device();
@@ -126,8 +136,9 @@ int main(int argc, char** argv) {
   if (gpu == nullptr) return fail(vulkan.name() + " cannot run the shaders: " + error);
   VkQueue queue = VK_NULL_HANDLE;
   vkGetDeviceQueue(device.device, device.queue_family_index, device.queue_index, &queue);
-  auto tracer = foveart::gpu_engine::GpuTracer::create(
-      {device.physical_device, device.device, device.queue_family_index, queue}, std::move(*loaded.scene), {}, &error);
+  foveart::gpu_engine::GpuContext context{device.physical_device, device.device, device.queue_family_index, queue};
+  context.ray_tracing_enabled = ray_tracing;
+  auto tracer = foveart::gpu_engine::GpuTracer::create(context, std::move(*loaded.scene), {}, &error);
   if (tracer == nullptr) return fail("GPU engine: " + error);
   VkPhysicalDeviceProperties properties{};
   vkGetPhysicalDeviceProperties(device.physical_device, &properties);
@@ -163,9 +174,10 @@ int main(int argc, char** argv) {
     return fail(error);
   }
 
-  std::printf("gpu_frame: %s, scene %s (%s), eye %dx%d, %d spp, MSM k %d, temporal %s, %d frames; device: %s\n",
+  std::printf("gpu_frame: %s, scene %s (%s), eye %dx%d, %d spp, MSM k %d, temporal %s, %d frames; device: %s; "
+              "backend: %s\n",
               scene_spec.c_str(), tracer->scene().source.c_str(), foveart::engine::to_string(tracer->effects()).c_str(),
-              size[0], size[1], spp, k, temporal.c_str(), frames, vulkan.name().c_str());
+              size[0], size[1], spp, k, temporal.c_str(), frames, vulkan.name().c_str(), tracer->backend_name());
   std::vector<double> full_trace, fov_trace, gather, history, encode, full_total, fov_total, ratio, fov_wall, full_wall;
   std::vector<double> points;
   bool ok = true;
@@ -250,6 +262,7 @@ int main(int argc, char** argv) {
                         std::to_string(spp) + " --k " + std::to_string(k) + " --temporal " + temporal},
         {"device", vulkan.name()},
         {"device_is_cpu", vulkan.is_cpu()},
+        {"backend", tracer->backend_name()},
         {"scene", tracer->scene().source},
         {"effects", foveart::engine::to_string(tracer->effects())},
         {"eye_px", {size[0], size[1]}},

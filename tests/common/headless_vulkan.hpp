@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -60,11 +61,16 @@ enum class DevicePreference {
   cpu,           // a CPU implementation (lavapipe), else whatever there is
 };
 
+// Called with the chosen physical device and the VkDeviceCreateInfo just before
+// vkCreateDevice: may add extensions and feature structs (which must outlive the
+// call), e.g. gpu_engine::RayTracingDeviceSupport::enable.
+using DeviceCreateHook = std::function<void(VkPhysicalDevice, VkDeviceCreateInfo*)>;
+
 class HeadlessVulkan {
  public:
   // The device `preference` ranks first; validated (when the layer is installed)
   // with synchronization validation on.
-  HeadlessVulkan(DevicePreference preference, bool validate) {
+  HeadlessVulkan(DevicePreference preference, bool validate, const DeviceCreateHook& before_create_device = {}) {
     validated_ = validate && headless_detail::has_layer("VK_LAYER_KHRONOS_validation");
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -129,6 +135,7 @@ class HeadlessVulkan {
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue;
     device_info.pEnabledFeatures = &enabled;
+    if (before_create_device) before_create_device(physical_, &device_info);
     if (vkCreateDevice(physical_, &device_info, nullptr, &device_) != VK_SUCCESS) device_ = VK_NULL_HANDLE;
   }
   ~HeadlessVulkan() {

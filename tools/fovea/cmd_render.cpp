@@ -427,7 +427,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         << report["effects"].get<std::string>() << "), " << view.width_px << "x" << view.height_px << ", rays per point "
         << o.rays_per_point << "\n";
     out << "engine " << o.engine;
-    if (eng.gpu) out << " (" << eng.gpu->device_name() << "; each batch a device round trip, times include transfers)";
+    if (eng.gpu) out << " (" << eng.gpu->device_name() << ", " << eng.gpu->backend_name() << "; each batch a device round trip, times include transfers)";
     out << "\n";
     for (const char* mode : {"full", "foveated"}) {
       if (!report.contains(mode)) continue;

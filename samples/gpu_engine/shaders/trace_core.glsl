@@ -1,8 +1,11 @@
 // The GPU port of engine::Tracer (samples/engine/src/tracer.cpp, shading.hpp,
-// texture_sampler.hpp): BVH traversal (closest hit, any hit for shadow rays)
-// with the alpha-mask test, and the Whitted shading model term by term, its
-// recursion unrolled into a small stack of pending rays. Scene buffers in set 0
-// (samples/gpu_engine/src/scene_data.hpp declares the same std430 structs).
+// texture_sampler.hpp): the Whitted shading model term by term, its recursion
+// unrolled into a small stack of pending rays, over a scene query chosen at
+// compile time: the compute tracer's BVH traversal (scene_bvh.glsl) or, with
+// FOVEART_RT_PIPELINE defined, traceRayEXT on VK_KHR_ray_tracing_pipeline
+// (scene_rt.glsl). The shading code exists once, here. Scene buffers in set 0
+// (scene_data.glsl; samples/gpu_engine/src/scene_data.hpp declares the same
+// std430 structs).
 #ifndef FOVEART_GPU_TRACE_CORE_GLSL
 #define FOVEART_GPU_TRACE_CORE_GLSL
 
@@ -14,266 +17,16 @@ const bool FX_REFLECTION = (EFFECTS & 2u) != 0u;
 const bool FX_REFRACTION = (EFFECTS & 4u) != 0u;
 const bool FX_TEXTURES = (EFFECTS & 8u) != 0u;
 
-const uint LEAF_BIT = 0x80000000u;
-const uint EMPTY_CHILD = LEAF_BIT;
-const int BVH_STACK = 64;      // > kMaxBvhDepth (bvh.hpp)
 const int PENDING_STACK = 16;  // > GpuTracerOptions::kMaxDepth + 1
 const float INV_PI = 0.318309886;
 const float MIRROR_ROUGHNESS = 0.5;
 
-struct Node {
-  vec3 lmin;
-  uint left;
-  vec3 lmax;
-  uint pad0;
-  vec3 rmin;
-  uint right;
-  vec3 rmax;
-  uint pad1;
-};
-struct Triangle {
-  vec3 p0;
-  uint material;
-  vec3 p1;
-  uint masked;
-  vec3 p2;
-  uint pad;
-};
-struct Shading {
-  vec4 n0;  // w: face normal x
-  vec4 n1;  // w: face normal y
-  vec4 n2;  // w: face normal z
-  vec4 uva;  // uv0[v0], uv0[v1]
-  vec4 uvb;  // uv0[v2], uv1[v0]
-  vec4 uvc;  // uv1[v1], uv1[v2]
-};
-struct Material {
-  vec4 base_color;
-  vec3 emissive;
-  float metallic;
-  float roughness;
-  float alpha_cutoff;
-  float transmission;
-  float ior;
-  int texture;
-  int texcoord;
-  int alpha_mode;  // 0 opaque, 1 mask, 2 blend
-  int pad;
-};
-struct Light {
-  vec3 position;
-  uint type;  // 0 point, 1 spot, 2 directional
-  vec3 direction;
-  float range;
-  vec3 color;
-  float intensity;
-  float cos_inner;
-  float cos_outer;
-  vec2 pad;
-};
-struct TextureInfo {
-  uint offset;
-  uint width;
-  uint height;
-  uint flags;  // wrap_s | wrap_t << 2 | nearest << 4
-};
-
-layout(std430, set = 0, binding = 0) readonly buffer Nodes { Node nodes[]; };
-layout(std430, set = 0, binding = 1) readonly buffer Prims { uint prims[]; };
-layout(std430, set = 0, binding = 2) readonly buffer Triangles { Triangle tris[]; };
-layout(std430, set = 0, binding = 3) readonly buffer Shadings { Shading shading[]; };
-layout(std430, set = 0, binding = 4) readonly buffer Materials { Material materials[]; };
-layout(std430, set = 0, binding = 5) readonly buffer Lights { Light lights[]; };
-layout(std430, set = 0, binding = 6) readonly buffer Textures { TextureInfo textures[]; };
-layout(std430, set = 0, binding = 7) readonly buffer Texels { vec4 texels[]; };
-layout(std430, set = 0, binding = 8) readonly buffer Globals {
-  vec3 sky_zenith;
-  float epsilon;
-  vec3 sky_horizon;
-  uint light_count;
-  vec3 ambient;
-  uint globals_pad;
-};
-// primary, shadow, reflection, refraction
-layout(std430, set = 0, binding = 9) buffer Counters { uint counters[4]; };
-
-float positive_infinity() { return uintBitsToFloat(0x7f800000u); }
-bool finite(float x) { return !isnan(x) && !isinf(x); }
-
-// glm's formulas (the CPU engine's), so both round alike.
-vec3 glm_cross(vec3 x, vec3 y) { return vec3(x.y * y.z - y.y * x.z, x.z * y.x - y.z * x.x, x.x * y.y - y.x * x.y); }
-vec3 glm_mix3(vec3 x, vec3 y, float a) { return x * (1.0 - a) + y * a; }
-vec4 glm_mix4(vec4 x, vec4 y, float a) { return x * (1.0 - a) + y * a; }
-vec3 glm_normalize(vec3 v) { return v * (1.0 / sqrt(dot(v, v))); }
-vec3 glm_reflect(vec3 i, vec3 n) { return i - n * dot(n, i) * 2.0; }
-vec3 glm_refract(vec3 i, vec3 n, float eta) {
-  const float d = dot(n, i);
-  const float k = 1.0 - eta * eta * (1.0 - d * d);
-  return k >= 0.0 ? eta * i - (eta * d + sqrt(k)) * n : vec3(0.0);
-}
-// glm::quat * vec3.
-vec3 glm_rotate(vec4 q_xyzw, vec3 v) {
-  const vec3 uv = glm_cross(q_xyzw.xyz, v);
-  const vec3 uuv = glm_cross(q_xyzw.xyz, uv);
-  return v + ((uv * q_xyzw.w) + uuv) * 2.0;
-}
-
-// ---- texture_sampler.hpp -------------------------------------------------------
-
-int c_rem(int a, int n) { return a - (a / n) * n; }  // C's %: truncating division
-
-// wrap_texel: 0 repeat, 1 clamp, 2 mirror.
-int wrap_texel(int i, int n, uint mode) {
-  if (mode == 1u) return i < 0 ? 0 : (i >= n ? n - 1 : i);
-  if (mode == 2u) {
-    const int period = 2 * n;
-    int m = c_rem(i, period);
-    if (m < 0) m += period;
-    return m < n ? m : period - 1 - m;
-  }
-  const int m = c_rem(i, n);
-  return m < 0 ? m + n : m;
-}
-
-vec4 texel_at(TextureInfo t, int xi, int yi) {
-  const uint y = uint(wrap_texel(yi, int(t.height), (t.flags >> 2u) & 3u));
-  const uint x = uint(wrap_texel(xi, int(t.width), t.flags & 3u));
-  return texels[t.offset + y * t.width + x];
-}
-
-// sample_texture: bilinear (or nearest), uv origin top-left.
-vec4 sample_texture(int index, vec2 uv) {
-  const TextureInfo t = textures[index];
-  if (!finite(uv.x) || !finite(uv.y)) uv = vec2(0.0);
-  uv = clamp(uv, vec2(-1.0e6), vec2(1.0e6));
-  const float x = uv.x * float(t.width) - 0.5;
-  const float y = uv.y * float(t.height) - 0.5;
-  const float fx0 = floor(x);
-  const float fy0 = floor(y);
-  const int x0 = int(fx0);
-  const int y0 = int(fy0);
-  if ((t.flags & 16u) != 0u) return texel_at(t, int(floor(x + 0.5)), int(floor(y + 0.5)));
-  const float ax = x - fx0;
-  const float ay = y - fy0;
-  return glm_mix4(glm_mix4(texel_at(t, x0, y0), texel_at(t, x0 + 1, y0), ax),
-                  glm_mix4(texel_at(t, x0, y0 + 1), texel_at(t, x0 + 1, y0 + 1), ax), ay);
-}
-
-// Tracer::Impl::texcoord.
-vec2 texcoord(uint tri, int set, float u, float v) {
-  const Shading s = shading[tri];
-  if (set == 0) return (1.0 - u - v) * s.uva.xy + u * s.uva.zw + v * s.uvb.xy;
-  return (1.0 - u - v) * s.uvb.zw + u * s.uvc.xy + v * s.uvc.zw;
-}
-
-// Tracer::Impl::alpha_passes (glTF alphaMode MASK).
-bool alpha_passes(uint tri, float u, float v) {
-  const Material m = materials[tris[tri].material];
-  float alpha = m.base_color.a;
-  if (m.texture >= 0) alpha *= sample_texture(m.texture, texcoord(tri, m.texcoord, u, v)).a;
-  return alpha >= m.alpha_cutoff;
-}
-
-// ---- traversal -------------------------------------------------------------------
-
-// Moeller-Trumbore in Embree 3's form (triangle_intersector_moeller.h): hit
-// with t in (0, tfar], u weighting p1, v weighting p2.
-bool hit_triangle(uint tri, vec3 o, vec3 d, float tfar, out float t, out float u, out float v) {
-  const Triangle tr = tris[tri];
-  const vec3 e1 = tr.p0 - tr.p1;
-  const vec3 e2 = tr.p2 - tr.p0;
-  const vec3 ng = glm_cross(e2, e1);
-  const vec3 c = tr.p0 - o;
-  const vec3 r = glm_cross(c, d);
-  const float den = dot(ng, d);
-  const float abs_den = abs(den);
-  const float sgn = den < 0.0 ? -1.0 : 1.0;
-  const float U = dot(r, e2) * sgn;
-  const float V = dot(r, e1) * sgn;
-  t = 0.0;
-  u = 0.0;
-  v = 0.0;
-  if (den == 0.0 || U < 0.0 || V < 0.0 || U + V > abs_den) return false;
-  const float T = dot(ng, c) * sgn;
-  if (!(T > 0.0 && T <= abs_den * tfar)) return false;
-  const float rcp_den = 1.0 / abs_den;
-  t = T * rcp_den;
-  u = U * rcp_den;
-  v = V * rcp_den;
-  return true;
-}
-
-// Slab test; tfar widened by 2 ulp-ish so boxes never cut off a hit on their faces.
-bool hit_box(vec3 bmin, vec3 bmax, vec3 o, vec3 inv_d, float tmax, out float tnear) {
-  const vec3 t0 = (bmin - o) * inv_d;
-  const vec3 t1 = (bmax - o) * inv_d;
-  const vec3 lo = min(t0, t1);
-  const vec3 hi = max(t0, t1);
-  tnear = max(max(lo.x, lo.y), max(lo.z, 0.0));
-  const float tf = min(min(hi.x, hi.y), min(hi.z, tmax)) * 1.0000003;
-  return tnear <= tf;
-}
-
-vec3 safe_inverse(vec3 d) {
-  const float tiny = 1e-20;
-  return 1.0 / vec3(abs(d.x) < tiny ? (d.x < 0.0 ? -tiny : tiny) : d.x,
-                    abs(d.y) < tiny ? (d.y < 0.0 ? -tiny : tiny) : d.y,
-                    abs(d.z) < tiny ? (d.z < 0.0 ? -tiny : tiny) : d.z);
-}
-
-// Closest hit for t in (0, tfar]; any_hit stops at the first (shadow rays).
-bool traverse(vec3 o, vec3 d, float tfar, bool any_hit, out float hit_t, out float hit_u, out float hit_v,
-              out uint hit_tri) {
-  const vec3 inv_d = safe_inverse(d);
-  uint stack[BVH_STACK];
-  int sp = 0;
-  uint ref = 0u;  // the root node
-  bool found = false;
-  hit_t = tfar;
-  hit_u = 0.0;
-  hit_v = 0.0;
-  hit_tri = 0u;
-  for (;;) {
-    if ((ref & LEAF_BIT) != 0u) {
-      const uint first = ref & 0x7FFFFFFu;
-      const uint count = (ref >> 27u) & 15u;
-      for (uint k = 0u; k < count; ++k) {
-        const uint tri = prims[first + k];
-        float t, u, v;
-        if (!hit_triangle(tri, o, d, hit_t, t, u, v)) continue;
-        if (tris[tri].masked != 0u && !alpha_passes(tri, u, v)) continue;
-        found = true;
-        hit_t = t;
-        hit_u = u;
-        hit_v = v;
-        hit_tri = tri;
-        if (any_hit) return true;
-      }
-    } else {
-      const Node n = nodes[ref];
-      float tl, tr;
-      const bool hl = n.left != EMPTY_CHILD && hit_box(n.lmin, n.lmax, o, inv_d, hit_t, tl);
-      const bool hr = n.right != EMPTY_CHILD && hit_box(n.rmin, n.rmax, o, inv_d, hit_t, tr);
-      if (hl && hr) {
-        const bool left_first = tl <= tr;
-        if (sp < BVH_STACK) stack[sp++] = left_first ? n.right : n.left;
-        ref = left_first ? n.left : n.right;
-        continue;
-      }
-      if (hl) {
-        ref = n.left;
-        continue;
-      }
-      if (hr) {
-        ref = n.right;
-        continue;
-      }
-    }
-    if (sp == 0) break;
-    ref = stack[--sp];
-  }
-  return found;
-}
+#include "scene_data.glsl"
+#ifdef FOVEART_RT_PIPELINE
+#include "scene_rt.glsl"
+#else
+#include "scene_bvh.glsl"
+#endif
 
 // ---- shading.hpp -----------------------------------------------------------------
 
@@ -355,7 +108,7 @@ vec4 trace_path(vec3 o, vec3 d_in, inout uvec3 rays) {
     const Pending p = stack[--sp];
     float t, u, v;
     uint tri;
-    const bool hit = traverse(p.origin, p.dir, positive_infinity(), false, t, u, v, tri);
+    const bool hit = scene_closest_hit(p.origin, p.dir, positive_infinity(), t, u, v, tri);
     if (p.depth == 0) depth_m = hit ? t : positive_infinity();
     if (!hit) {
       color += p.weight * sky_radiance(p.dir);
@@ -387,9 +140,7 @@ vec4 trace_path(vec3 o, vec3 d_in, inout uvec3 rays) {
         const vec3 contrib = p.weight * base * (kd * INV_PI * cos_l) * radiance;
         const float tfar = isinf(dist) ? dist : max(dist - 2.0 * epsilon, 0.0);
         ++rays.x;
-        float st, su, sv;
-        uint stri;
-        if (!traverse(pos + n * epsilon, l, tfar, true, st, su, sv, stri)) color += contrib;
+        if (!scene_occluded(pos + n * epsilon, l, tfar)) color += contrib;
       }
     }
 
@@ -439,6 +190,20 @@ vec4 trace_path(vec3 o, vec3 d_in, inout uvec3 rays) {
   return vec4(max(color, vec3(0.0)), depth_m);
 }
 
+#ifdef FOVEART_RT_PIPELINE
+// ---- ray counters: one atomic per kind and launch (no workgroups in a ray-generation shader)
+
+void begin_counting() {}
+
+void count_rays(uint primary, uvec3 secondary) {
+  if (primary != 0u) atomicAdd(counters[0], primary);
+  if (secondary.x != 0u) atomicAdd(counters[1], secondary.x);
+  if (secondary.y != 0u) atomicAdd(counters[2], secondary.y);
+  if (secondary.z != 0u) atomicAdd(counters[3], secondary.z);
+}
+
+void end_counting() {}
+#else
 // ---- ray counters: summed per workgroup, one atomic per kind and group ------------
 
 shared uint group_rays[4];
@@ -460,5 +225,7 @@ void end_counting() {
   if (gl_LocalInvocationIndex < 4u && group_rays[gl_LocalInvocationIndex] != 0u)
     atomicAdd(counters[gl_LocalInvocationIndex], group_rays[gl_LocalInvocationIndex]);
 }
+
+#endif
 
 #endif

@@ -1,6 +1,7 @@
 // CallbackAdapter: a headless Vulkan device of its own, a GpuTracer on it, and
 // per batch: pack rays -> submit record_trace -> wait -> copy colours out.
 #include <gpu_engine/callback_adapter.hpp>
+#include <gpu_engine/rt_device.hpp>
 
 #include <foveation/eye_rays.hpp>
 
@@ -159,6 +160,7 @@ struct CallbackAdapter::Impl {
   VkQueue queue = VK_NULL_HANDLE;
   std::string name;
   VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  bool ray_tracing = false;  // the device was created with the ray-tracing extensions
   VkCommandPool pool = VK_NULL_HANDLE;
   VkCommandBuffer cb = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
@@ -262,6 +264,12 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
   device_info.pEnabledFeatures = &enabled;
+  // The ray-tracing pipeline backend's extensions where the device offers them
+  // and the tracer may use them.
+  RayTracingDeviceSupport rt_support(physical);
+  std::vector<const char*> device_extensions;
+  ray_tracing =
+      options.tracer.backend != GpuBackend::compute && rt_support.enable(&device_info, &device_extensions);
   r = vkCreateDevice(physical, &device_info, nullptr, &device);
   if (r != VK_SUCCESS) {
     device = VK_NULL_HANDLE;
@@ -366,9 +374,11 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     before.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     before.srcAccessMask = VK_ACCESS_HOST_WRITE_BIT;
     before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_HOST_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &before, 0,
-                         nullptr, 0, nullptr);
+    const VkPipelineStageFlags trace_stage = tracer->backend() == GpuBackend::ray_tracing_pipeline
+                                                 ? VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR
+                                                 : VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_HOST_BIT, trace_stage | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1,
+                         &before, 0, nullptr, 0, nullptr);
     XrFoveatedDeviceRayBatchFOVEART device_batch{};
     device_batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
     device_batch.frameIndex = batch.frame_index;
@@ -390,8 +400,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     after.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
     after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
     after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr,
-                         0, nullptr);
+    vkCmdPipelineBarrier(cb, trace_stage, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0, nullptr);
     r = vkEndCommandBuffer(cb);
     VkSubmitInfo submit{};
     submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
@@ -446,6 +455,7 @@ std::unique_ptr<CallbackAdapter> CallbackAdapter::create(engine::Scene scene, co
     auto impl = std::make_unique<Impl>();
     if (!impl->create_device(options, error)) return nullptr;
     GpuContext context{impl->physical, impl->device, impl->family, impl->queue};
+    context.ray_tracing_enabled = impl->ray_tracing;
     std::string tracer_error;
     impl->tracer = GpuTracer::create(context, std::move(scene), options.tracer, &tracer_error);
     if (!impl->tracer) {
@@ -496,6 +506,7 @@ std::string CallbackAdapter::last_error() const {
   std::lock_guard lock(impl_->mutex);
   return impl_->last_error;
 }
+const char* CallbackAdapter::backend_name() const { return impl_->tracer->backend_name(); }
 bool CallbackAdapter::device_is_cpu() const { return impl_->type == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 bool CallbackAdapter::validated() const { return impl_->validated; }
 std::vector<std::string> CallbackAdapter::validation_errors() const {

@@ -1,15 +1,23 @@
-// GpuTracer: the scene uploaded once, two compute pipelines (trace.comp for the
-// layer's device rays, full.comp for whole images) and their recording.
+// GpuTracer: the backend chosen, the scene uploaded once, two pipelines (the
+// layer's device rays, whole images): compute (trace.comp, full.comp) or
+// ray tracing (RtPipelineTracer: trace.rgen, full.rgen), and their recording.
+// Descriptor sets, the scene's storage buffers and the ray counters are the
+// same for both backends; set 0, binding 0 is the BVH's nodes or the TLAS,
+// binding 1 the BVH's leaf entries or RtScene::prims.
 #include <gpu_engine/gpu_tracer.hpp>
 
+#include "rt_pipeline_tracer.hpp"
 #include "scene_data.hpp"
 #include "vk_buffer.hpp"
+
+#include <gpu_engine/rt_device.hpp>
 
 #include <foveation/eye_rays.hpp>
 
 #include <gpu_engine_shaders/full.spv.h>
 #include <gpu_engine_shaders/trace.spv.h>
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <exception>
@@ -60,6 +68,13 @@ struct GpuTracer::Impl {
   engine::Effects scene_effects;
   engine::Effects effects;
   VkPhysicalDeviceLimits limits{};
+  std::string device_name;
+  GpuBackend backend = GpuBackend::compute;  // the one chosen
+  VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT;
+  VkShaderStageFlags push_stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
+  VkPipelineStageFlags pipeline_stage = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+  std::unique_ptr<RtPipelineTracer> rt;  // ray_tracing_pipeline only
 
   std::array<MappedBuffer, kSceneBindings> buffers;  // binding order of trace_core.glsl; [9] = counters
   VkDescriptorSetLayout scene_layout = VK_NULL_HANDLE;
@@ -76,6 +91,7 @@ struct GpuTracer::Impl {
   std::map<std::array<uint64_t, 10>, VkDescriptorSet> call_sets;
 
   ~Impl();
+  bool choose_backend(std::string* error);
   bool create(std::string* error);
   bool create_layouts(std::string* error);
   bool create_pipeline(const uint32_t* code, size_t bytes, VkPipelineLayout layout, VkPipeline* out,
@@ -93,6 +109,7 @@ struct GpuTracer::Impl {
 GpuTracer::Impl::~Impl() {
   VkDevice d = ctx.device;
   if (d == VK_NULL_HANDLE) return;
+  rt.reset();
   if (trace_pipeline) vkDestroyPipeline(d, trace_pipeline, nullptr);
   if (full_pipeline) vkDestroyPipeline(d, full_pipeline, nullptr);
   if (trace_pipeline_layout) vkDestroyPipelineLayout(d, trace_pipeline_layout, nullptr);
@@ -113,8 +130,10 @@ bool GpuTracer::Impl::create_layouts(std::string* error) {
       b[i].binding = i;
       b[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
       b[i].descriptorCount = 1;
-      b[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+      b[i].stageFlags = stages;
     }
+    if (n == kSceneBindings && backend == GpuBackend::ray_tracing_pipeline)
+      b[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;  // the TLAS
     VkDescriptorSetLayoutCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
     info.bindingCount = n;
@@ -128,7 +147,7 @@ bool GpuTracer::Impl::create_layouts(std::string* error) {
 
   auto make_pipeline_layout = [&](VkDescriptorSetLayout call_layout, uint32_t push_bytes, VkPipelineLayout* out) {
     const VkDescriptorSetLayout sets[2] = {scene_layout, call_layout};
-    VkPushConstantRange push{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+    VkPushConstantRange push{push_stage, 0, push_bytes};
     VkPipelineLayoutCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO;
     info.setLayoutCount = 2;
@@ -141,17 +160,18 @@ bool GpuTracer::Impl::create_layouts(std::string* error) {
   if (r == VK_SUCCESS) r = make_pipeline_layout(full_layout, sizeof(FullPush), &full_pipeline_layout);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreatePipelineLayout", r));
 
-  auto make_pool = [&](uint32_t sets, uint32_t descriptors, VkDescriptorPool* out) {
-    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors};
+  auto make_pool = [&](uint32_t sets, uint32_t descriptors, uint32_t acceleration_structures, VkDescriptorPool* out) {
+    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors - acceleration_structures},
+                                           {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, acceleration_structures}};
     VkDescriptorPoolCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     info.maxSets = sets;
-    info.poolSizeCount = 1;
-    info.pPoolSizes = &size;
+    info.poolSizeCount = acceleration_structures > 0 ? 2 : 1;
+    info.pPoolSizes = sizes;
     return vkCreateDescriptorPool(ctx.device, &info, nullptr, out);
   };
-  r = make_pool(1, kSceneBindings, &scene_pool);
-  if (r == VK_SUCCESS) r = make_pool(kCachedSets, kCachedSets * kTraceBindings, &call_pool);
+  r = make_pool(1, kSceneBindings, backend == GpuBackend::ray_tracing_pipeline ? 1 : 0, &scene_pool);
+  if (r == VK_SUCCESS) r = make_pool(kCachedSets, kCachedSets * kTraceBindings, 0, &call_pool);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateDescriptorPool", r));
   return true;
 }
@@ -188,7 +208,41 @@ bool GpuTracer::Impl::create_pipeline(const uint32_t* code, size_t bytes, VkPipe
   return true;
 }
 
-// Flatten + BVH, upload, scene descriptor set, pipelines.
+// options.backend -> backend: automatic takes the ray-tracing pipeline only
+// where the caller enabled it and the device offers it.
+bool GpuTracer::Impl::choose_backend(std::string* error) {
+  backend = GpuBackend::compute;
+  if (options.backend == GpuBackend::compute) return true;
+  const RayTracingDeviceSupport support(ctx.physical_device);
+  if (options.backend == GpuBackend::automatic) {
+    if (ctx.ray_tracing_enabled && support.offered() && ctx.queue != VK_NULL_HANDLE)
+      backend = GpuBackend::ray_tracing_pipeline;
+  } else if (options.backend == GpuBackend::ray_tracing_pipeline) {
+    if (!support.offered())
+      return fail(error, "gpu_engine: the ray_tracing_pipeline backend needs " + support.missing() + ", which " +
+                             device_name + " does not offer");
+    if (!ctx.ray_tracing_enabled)
+      return fail(error, "gpu_engine: the ray_tracing_pipeline backend needs " VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME
+                         " and " VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME " enabled on the device "
+                         "(GpuContext::ray_tracing_enabled is false; see rt_device.hpp)");
+    if (ctx.queue == VK_NULL_HANDLE)
+      return fail(error, "gpu_engine: the ray_tracing_pipeline backend needs GpuContext::queue to build its "
+                         "acceleration structures");
+    backend = GpuBackend::ray_tracing_pipeline;
+  } else {
+    return fail(error, "gpu_engine: unknown backend " + std::to_string(static_cast<int>(options.backend)));
+  }
+  if (backend == GpuBackend::ray_tracing_pipeline) {
+    stages = VK_SHADER_STAGE_RAYGEN_BIT_KHR | VK_SHADER_STAGE_MISS_BIT_KHR | VK_SHADER_STAGE_CLOSEST_HIT_BIT_KHR |
+             VK_SHADER_STAGE_ANY_HIT_BIT_KHR;
+    push_stage = VK_SHADER_STAGE_RAYGEN_BIT_KHR;
+    bind_point = VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR;
+    pipeline_stage = VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR;
+  }
+  return true;
+}
+
+// Backend, flatten + BVH (+ acceleration structures), upload, scene descriptor set, pipelines.
 bool GpuTracer::Impl::create(std::string* error) {
   if (ctx.physical_device == VK_NULL_HANDLE || ctx.device == VK_NULL_HANDLE)
     return fail(error, "gpu_engine: no Vulkan device");
@@ -205,6 +259,8 @@ bool GpuTracer::Impl::create(std::string* error) {
   VkPhysicalDeviceProperties props{};
   vkGetPhysicalDeviceProperties(ctx.physical_device, &props);
   limits = props.limits;
+  device_name = props.deviceName;
+  if (!choose_backend(error)) return false;
 
   SceneData data;
   if (!flatten_scene(scene, &data, error)) return false;
@@ -215,9 +271,14 @@ bool GpuTracer::Impl::create(std::string* error) {
     const void* data;
     size_t bytes;
   };
+  if (backend == GpuBackend::ray_tracing_pipeline) {
+    rt = RtPipelineTracer::create(ctx, data, error);
+    if (rt == nullptr) return false;
+  }
+  const std::vector<uint32_t>& prims = rt ? rt->scene().prims() : data.bvh.prims;
   const std::array<Upload, kSceneBindings> uploads = {
-      Upload{data.bvh.nodes.data(), data.bvh.nodes.size() * sizeof(GpuNode)},
-      Upload{data.bvh.prims.data(), data.bvh.prims.size() * sizeof(uint32_t)},
+      rt ? Upload{nullptr, 0} : Upload{data.bvh.nodes.data(), data.bvh.nodes.size() * sizeof(GpuNode)},
+      Upload{prims.data(), prims.size() * sizeof(uint32_t)},
       Upload{data.triangles.data(), data.triangles.size() * sizeof(GpuTriangle)},
       Upload{data.shading.data(), data.shading.size() * sizeof(GpuShading)},
       Upload{data.materials.data(), data.materials.size() * sizeof(GpuMaterial)},
@@ -252,8 +313,22 @@ bool GpuTracer::Impl::create(std::string* error) {
     writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[i].pBufferInfo = &infos[i];
   }
+  VkWriteDescriptorSetAccelerationStructureKHR tlas{};
+  VkAccelerationStructureKHR tlas_handle = VK_NULL_HANDLE;
+  if (rt) {
+    tlas_handle = rt->scene().tlas();
+    tlas.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET_ACCELERATION_STRUCTURE_KHR;
+    tlas.accelerationStructureCount = 1;
+    tlas.pAccelerationStructures = &tlas_handle;
+    writes[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;
+    writes[0].pBufferInfo = nullptr;
+    writes[0].pNext = &tlas;
+  }
   vkUpdateDescriptorSets(ctx.device, kSceneBindings, writes.data(), 0, nullptr);
 
+  if (rt)
+    return rt->create_pipelines(trace_pipeline_layout, full_pipeline_layout, effects.bits(), options.max_depth,
+                                error);
   return create_pipeline(foveart_gpu_trace_spv, sizeof(foveart_gpu_trace_spv), trace_pipeline_layout,
                          &trace_pipeline, error) &&
          create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline,
@@ -333,8 +408,7 @@ void GpuTracer::Impl::barrier_counters(VkCommandBuffer cb) const {
   b.buffer = buffers[kSceneBindings - 1].buffer();
   b.offset = 0;
   b.size = VK_WHOLE_SIZE;
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 0, nullptr,
-                       1, &b, 0, nullptr);
+  vkCmdPipelineBarrier(cb, pipeline_stage, pipeline_stage, 0, 0, nullptr, 1, &b, 0, nullptr);
 }
 
 // XrFoveatedDeviceRayBatchFOVEART -> bind, sets, dispatch indirect (64 rays per group).
@@ -356,6 +430,13 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
   VkCommandBuffer cb = batch.commandBuffer;
   barrier_counters(cb);
   const VkDescriptorSet sets[2] = {scene_set, set};
+  if (rt) {
+    // One launch per ray the buffers hold; trace.rgen returns past the count.
+    const auto launches = static_cast<uint32_t>(std::min<VkDeviceSize>(
+        {VkDeviceSize{batch.rayCapacity}, batch.rays.size / 32, batch.colors.size / 16}));
+    vkCmdBindDescriptorSets(cb, bind_point, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
+    return rt->record(cb, RtPipelineTracer::Entry::trace, launches, 1, error);
+  }
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline);
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
   // FoveartDeviceRayCount::dispatch64 follows the count.
@@ -372,7 +453,7 @@ bool GpuTracer::Impl::record_full(VkCommandBuffer cb, const FoveartEyeView& view
     return fail(error, "gpu_engine: invalid eye view");
   const uint32_t groups_x = (view.width_px + kFullGroup - 1) / kFullGroup;
   const uint32_t groups_y = (view.height_px + kFullGroup - 1) / kFullGroup;
-  if (groups_x > limits.maxComputeWorkGroupCount[0] || groups_y > limits.maxComputeWorkGroupCount[1])
+  if (!rt && (groups_x > limits.maxComputeWorkGroupCount[0] || groups_y > limits.maxComputeWorkGroupCount[1]))
     return fail(error, "gpu_engine: view too large for one dispatch");
   const VkDeviceSize bytes = VkDeviceSize{view.width_px} * view.height_px * 16;
   if (!check_range("full render output", out, offset, bytes, 16, error)) return false;
@@ -402,6 +483,11 @@ bool GpuTracer::Impl::record_full(VkCommandBuffer cb, const FoveartEyeView& view
 
   barrier_counters(cb);
   const VkDescriptorSet sets[2] = {scene_set, set};
+  if (rt) {
+    vkCmdBindDescriptorSets(cb, bind_point, full_pipeline_layout, 0, 2, sets, 0, nullptr);
+    vkCmdPushConstants(cb, full_pipeline_layout, push_stage, 0, sizeof(push), &push);
+    return rt->record(cb, RtPipelineTracer::Entry::full, view.width_px, view.height_px, error);
+  }
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, full_pipeline);
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, full_pipeline_layout, 0, 2, sets, 0, nullptr);
   vkCmdPushConstants(cb, full_pipeline_layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
@@ -449,7 +535,17 @@ bool GpuTracer::record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint
   }
 }
 
+const char* backend_name(GpuBackend backend) {
+  switch (backend) {
+    case GpuBackend::automatic: return "automatic";
+    case GpuBackend::compute: return "compute";
+    case GpuBackend::ray_tracing_pipeline: return "ray_tracing_pipeline";
+  }
+  return "unknown";
+}
+
 const engine::Scene& GpuTracer::scene() const { return impl_->scene; }
+GpuBackend GpuTracer::backend() const { return impl_->backend; }
 engine::Effects GpuTracer::scene_effects() const { return impl_->scene_effects; }
 engine::Effects GpuTracer::effects() const { return impl_->effects; }
 

@@ -20,14 +20,14 @@ uint32_t find_memory_type(VkPhysicalDevice physical_device, uint32_t bits, VkMem
 }  // namespace
 
 bool MappedBuffer::create(VkPhysicalDevice physical_device, VkDevice device, VkDeviceSize bytes, const void* data,
-                          std::string* error) {
+                          std::string* error, VkBufferUsageFlags usage) {
   destroy();
   device_ = device;
   size_ = std::max<VkDeviceSize>(bytes, 16);
   VkBufferCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
   info.size = size_;
-  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  info.usage = usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   VkResult r = vkCreateBuffer(device, &info, nullptr, &buffer_);
   if (r != VK_SUCCESS) {
@@ -41,6 +41,10 @@ bool MappedBuffer::create(VkPhysicalDevice physical_device, VkDevice device, VkD
   VkMemoryAllocateInfo alloc{};
   alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   alloc.allocationSize = req.size;
+  VkMemoryAllocateFlagsInfo flags{};
+  flags.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO;
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  if ((usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0) alloc.pNext = &flags;
   r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
   if (type != UINT32_MAX) {  // device-local host-visible heaps can be small: fall back below
     alloc.memoryTypeIndex = type;

@@ -1,5 +1,7 @@
 // A storage buffer in host-visible, coherent memory (device-local too where the
-// device offers such a type), mapped for its whole life.
+// device offers such a type), mapped for its whole life. With
+// VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT in `usage` its memory is allocated
+// with VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT (the ray-tracing backend's buffers).
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -18,7 +20,7 @@ class MappedBuffer {
 
   // A buffer of max(bytes, 16) bytes; `data` (bytes long, may be null) copied in.
   bool create(VkPhysicalDevice physical_device, VkDevice device, VkDeviceSize bytes, const void* data,
-              std::string* error);
+              std::string* error, VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   void destroy();
 
   VkBuffer buffer() const { return buffer_; }

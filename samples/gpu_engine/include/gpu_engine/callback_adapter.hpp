@@ -12,7 +12,8 @@
 //
 // Lifetime:  create() makes a Vulkan instance and device of its own (a hardware
 //            GPU where there is one, else a CPU implementation such as lavapipe;
-//            one compute queue), a GpuTracer on it, staging buffers (grown as
+//            one compute queue; the ray-tracing extensions of rt_device.hpp
+//            where offered, unless options.tracer.backend is compute), a GpuTracer on it, staging buffers (grown as
 //            batches need), a command pool and buffer and a fence. Destroying
 //            the adapter waits for the device and releases all of it.
 // Threads:   trace() and the C callback may be called from any number of
@@ -70,6 +71,10 @@ class CallbackAdapter {
   int32_t trace(const FoveartRayBatch* batch) noexcept;
 
   const std::string& device_name() const;
+  // The tracer's backend: "ray_tracing_pipeline" where the device offers
+  // VK_KHR_ray_tracing_pipeline (the adapter then enables it) and
+  // options.tracer.backend allows it, else "compute".
+  const char* backend_name() const;
   // Why the last batch that failed on the device failed (empty: none has).
   std::string last_error() const;
   bool device_is_cpu() const;   // VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe)

@@ -1,14 +1,25 @@
-// The sample engine's Whitted tracer on the GPU (Vulkan 1.1 compute): the same
-// scene, shading model, effects and ray counts as engine::Tracer, traced by a
-// compute shader over a BVH built on the CPU with Embree's rtcBuildBVH.
+// The sample engine's Whitted tracer on the GPU (Vulkan 1.1): the same scene,
+// shading model, effects and ray counts as engine::Tracer, on one of two
+// backends chosen at run time (GpuTracerOptions::backend):
+//   compute:               a compute shader over a BVH built on the CPU with
+//                          Embree's rtcBuildBVH (any Vulkan 1.1 device);
+//   ray_tracing_pipeline:  the same shading loop in a ray-generation shader,
+//                          the scene queried with traceRayEXT against a BLAS/TLAS
+//                          (VK_KHR_ray_tracing_pipeline; rt_device.hpp enables it).
+// Both share the shader source (samples/gpu_engine/shaders/trace_core.glsl) but
+// for the scene query, and give the same results within float rounding.
 //
 // Lifetime:  create() builds the BVH, uploads the scene once and creates the
-//            pipelines; the GpuTracer must outlive every submission of a
+//            pipelines (ray_tracing_pipeline: also builds the acceleration
+//            structures with a submission on context.queue, waited for; the
+//            queue must not be used from another thread during create()); the GpuTracer must outlive every submission of a
 //            command buffer it recorded into. The VkDevice must outlive it.
 // Threads:   one thread at a time (record_trace, record_full, counts, reset_counts).
-// Sync:      record_* record bind + descriptor set + push + dispatch (and a barrier
-//            on the tracer's own ray counters between its dispatches); the
-//            caller orders them against its own work (the layer's device trace
+// Sync:      record_* record bind + descriptor set + push + dispatch or trace
+//            rays (and a barrier on the tracer's own ray counters between its
+//            dispatches); the caller orders them against its own work, at
+//            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT (compute) or
+//            VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR (ray_tracing_pipeline) (the layer's device trace
 //            inserts its barriers around the call). Descriptor sets are cached
 //            per (buffer, offset, size) and rewritten on every call: a range
 //            recorded again needs the earlier submission that used it finished
@@ -42,11 +53,23 @@ struct GpuContext {
   VkDevice device = VK_NULL_HANDLE;
   uint32_t queue_family_index = 0;
   VkQueue queue = VK_NULL_HANDLE;
+  // The device was created with RayTracingDeviceSupport::enable (rt_device.hpp):
+  // VK_KHR_ray_tracing_pipeline, VK_KHR_acceleration_structure, their required
+  // extensions and features. A VkDevice cannot be asked; its creator says so.
+  bool ray_tracing_enabled = false;
 };
+
+enum class GpuBackend {
+  automatic,             // ray_tracing_pipeline where GpuContext::ray_tracing_enabled, else compute
+  compute,               // the compute shader over the CPU-built BVH
+  ray_tracing_pipeline,  // VK_KHR_ray_tracing_pipeline; create() fails without it
+};
+const char* backend_name(GpuBackend backend);  // "automatic", "compute", "ray_tracing_pipeline"
 
 struct GpuTracerOptions {
   int max_depth = 4;                                // secondary bounces per path, 0..kMaxDepth
   engine::Effects allowed = engine::Effects::all();  // effects to simulate at most
+  GpuBackend backend = GpuBackend::automatic;
   static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
 };
 
@@ -60,7 +83,10 @@ class GpuTracer {
   GpuTracer& operator=(const GpuTracer&) = delete;
 
   // The layer's device trace: records into batch.commandBuffer a dispatch
-  // indirect from batch.rayCount. false + *error: nothing usable was recorded.
+  // indirect from batch.rayCount (compute), or a vkCmdTraceRaysKHR of
+  // min(rayCapacity, rays, colors) launches of which those past the count
+  // return at once (ray_tracing_pipeline: an indirect launch needs a device
+  // address the layer's buffers do not have). false + *error: nothing usable was recorded.
   bool record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error);
 
   // A full render of `view` like engine::render_full (box-filter jitter
@@ -70,6 +96,8 @@ class GpuTracer {
                    VkDeviceSize offset, std::string* error);
 
   const engine::Scene& scene() const;
+  GpuBackend backend() const;  // compute or ray_tracing_pipeline: the one chosen
+  const char* backend_name() const { return gpu_engine::backend_name(backend()); }
   engine::Effects scene_effects() const;  // what the scene calls for
   engine::Effects effects() const;        // what the kernel simulates (scene & allowed)
   engine::RayCounts counts() const;       // device counters (packets stays 0)

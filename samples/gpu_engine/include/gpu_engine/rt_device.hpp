@@ -1,0 +1,52 @@
+// What a Vulkan device needs for GpuTracer's ray-tracing-pipeline backend, and
+// enabling it: VK_KHR_ray_tracing_pipeline, VK_KHR_acceleration_structure and
+// the extensions they require on a Vulkan 1.1 device (buffer device address,
+// deferred host operations, descriptor indexing, SPIR-V 1.4, float controls),
+// with the features rayTracingPipeline, accelerationStructure and bufferDeviceAddress.
+//
+// A VkDevice cannot be asked which extensions it was created with: whoever
+// creates the device enables them here (when offered) and tells the tracer
+// through GpuContext::ray_tracing_enabled.
+//
+// Lifetime:  enable() chains feature structs owned by this object into the
+//            VkDeviceCreateInfo: keep it alive until vkCreateDevice returns.
+// Threads:   none shared; one object per device creation.
+// Errors:    nothing throws; missing() names what the device lacks.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <string>
+#include <vector>
+
+namespace foveart::gpu_engine {
+
+class RayTracingDeviceSupport {
+ public:
+  // Queries the extensions and features `physical_device` offers (instance at
+  // Vulkan 1.1 or later: vkGetPhysicalDeviceFeatures2).
+  explicit RayTracingDeviceSupport(VkPhysicalDevice physical_device);
+  RayTracingDeviceSupport(const RayTracingDeviceSupport&) = delete;
+  RayTracingDeviceSupport& operator=(const RayTracingDeviceSupport&) = delete;
+
+  // Every extension and feature is offered.
+  bool offered() const { return missing_.empty(); }
+  // The first extension or feature the device lacks ("" when offered()).
+  const std::string& missing() const { return missing_; }
+
+  // When offered(): appends the extensions to *extensions, points
+  // info->ppEnabledExtensionNames at them and chains the three feature structs
+  // in front of info->pNext. Returns offered(); changes nothing otherwise.
+  bool enable(VkDeviceCreateInfo* info, std::vector<const char*>* extensions);
+
+  // The device extensions enable() adds.
+  static const std::vector<const char*>& extensions();
+
+ private:
+  std::string missing_;
+  VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address_{};
+  VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration_{};
+  VkPhysicalDeviceRayTracingPipelineFeaturesKHR pipeline_{};
+};
+
+}  // namespace foveart::gpu_engine

@@ -1,0 +1,152 @@
+// The scene as the tracers read it per hit: the std430 structs and storage
+// buffers of set 0 (samples/gpu_engine/src/scene_data.hpp declares the same),
+// the texture sampler and the alpha-mask test. Shared by the compute tracer
+// (trace_core.glsl), the ray-tracing pipeline's any-hit shader and its hit
+// shaders: no traversal and no shading here. Bindings 0 and 1 belong to the
+// scene query (scene_bvh.glsl or scene_rt.glsl).
+#ifndef FOVEART_GPU_SCENE_DATA_GLSL
+#define FOVEART_GPU_SCENE_DATA_GLSL
+
+struct Triangle {
+  vec3 p0;
+  uint material;
+  vec3 p1;
+  uint masked;
+  vec3 p2;
+  uint pad;
+};
+struct Shading {
+  vec4 n0;  // w: face normal x
+  vec4 n1;  // w: face normal y
+  vec4 n2;  // w: face normal z
+  vec4 uva;  // uv0[v0], uv0[v1]
+  vec4 uvb;  // uv0[v2], uv1[v0]
+  vec4 uvc;  // uv1[v1], uv1[v2]
+};
+struct Material {
+  vec4 base_color;
+  vec3 emissive;
+  float metallic;
+  float roughness;
+  float alpha_cutoff;
+  float transmission;
+  float ior;
+  int texture;
+  int texcoord;
+  int alpha_mode;  // 0 opaque, 1 mask, 2 blend
+  int pad;
+};
+struct Light {
+  vec3 position;
+  uint type;  // 0 point, 1 spot, 2 directional
+  vec3 direction;
+  float range;
+  vec3 color;
+  float intensity;
+  float cos_inner;
+  float cos_outer;
+  vec2 pad;
+};
+struct TextureInfo {
+  uint offset;
+  uint width;
+  uint height;
+  uint flags;  // wrap_s | wrap_t << 2 | nearest << 4
+};
+
+
+layout(std430, set = 0, binding = 2) readonly buffer Triangles { Triangle tris[]; };
+layout(std430, set = 0, binding = 3) readonly buffer Shadings { Shading shading[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Materials { Material materials[]; };
+layout(std430, set = 0, binding = 5) readonly buffer Lights { Light lights[]; };
+layout(std430, set = 0, binding = 6) readonly buffer Textures { TextureInfo textures[]; };
+layout(std430, set = 0, binding = 7) readonly buffer Texels { vec4 texels[]; };
+layout(std430, set = 0, binding = 8) readonly buffer Globals {
+  vec3 sky_zenith;
+  float epsilon;
+  vec3 sky_horizon;
+  uint light_count;
+  vec3 ambient;
+  uint globals_pad;
+};
+// primary, shadow, reflection, refraction
+layout(std430, set = 0, binding = 9) buffer Counters { uint counters[4]; };
+
+float positive_infinity() { return uintBitsToFloat(0x7f800000u); }
+bool finite(float x) { return !isnan(x) && !isinf(x); }
+
+// glm's formulas (the CPU engine's), so both round alike.
+vec3 glm_cross(vec3 x, vec3 y) { return vec3(x.y * y.z - y.y * x.z, x.z * y.x - y.z * x.x, x.x * y.y - y.x * x.y); }
+vec3 glm_mix3(vec3 x, vec3 y, float a) { return x * (1.0 - a) + y * a; }
+vec4 glm_mix4(vec4 x, vec4 y, float a) { return x * (1.0 - a) + y * a; }
+vec3 glm_normalize(vec3 v) { return v * (1.0 / sqrt(dot(v, v))); }
+vec3 glm_reflect(vec3 i, vec3 n) { return i - n * dot(n, i) * 2.0; }
+vec3 glm_refract(vec3 i, vec3 n, float eta) {
+  const float d = dot(n, i);
+  const float k = 1.0 - eta * eta * (1.0 - d * d);
+  return k >= 0.0 ? eta * i - (eta * d + sqrt(k)) * n : vec3(0.0);
+}
+// glm::quat * vec3.
+vec3 glm_rotate(vec4 q_xyzw, vec3 v) {
+  const vec3 uv = glm_cross(q_xyzw.xyz, v);
+  const vec3 uuv = glm_cross(q_xyzw.xyz, uv);
+  return v + ((uv * q_xyzw.w) + uuv) * 2.0;
+}
+
+// ---- texture_sampler.hpp -------------------------------------------------------
+
+int c_rem(int a, int n) { return a - (a / n) * n; }  // C's %: truncating division
+
+// wrap_texel: 0 repeat, 1 clamp, 2 mirror.
+int wrap_texel(int i, int n, uint mode) {
+  if (mode == 1u) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+  if (mode == 2u) {
+    const int period = 2 * n;
+    int m = c_rem(i, period);
+    if (m < 0) m += period;
+    return m < n ? m : period - 1 - m;
+  }
+  const int m = c_rem(i, n);
+  return m < 0 ? m + n : m;
+}
+
+vec4 texel_at(TextureInfo t, int xi, int yi) {
+  const uint y = uint(wrap_texel(yi, int(t.height), (t.flags >> 2u) & 3u));
+  const uint x = uint(wrap_texel(xi, int(t.width), t.flags & 3u));
+  return texels[t.offset + y * t.width + x];
+}
+
+// sample_texture: bilinear (or nearest), uv origin top-left.
+vec4 sample_texture(int index, vec2 uv) {
+  const TextureInfo t = textures[index];
+  if (!finite(uv.x) || !finite(uv.y)) uv = vec2(0.0);
+  uv = clamp(uv, vec2(-1.0e6), vec2(1.0e6));
+  const float x = uv.x * float(t.width) - 0.5;
+  const float y = uv.y * float(t.height) - 0.5;
+  const float fx0 = floor(x);
+  const float fy0 = floor(y);
+  const int x0 = int(fx0);
+  const int y0 = int(fy0);
+  if ((t.flags & 16u) != 0u) return texel_at(t, int(floor(x + 0.5)), int(floor(y + 0.5)));
+  const float ax = x - fx0;
+  const float ay = y - fy0;
+  return glm_mix4(glm_mix4(texel_at(t, x0, y0), texel_at(t, x0 + 1, y0), ax),
+                  glm_mix4(texel_at(t, x0, y0 + 1), texel_at(t, x0 + 1, y0 + 1), ax), ay);
+}
+
+// Tracer::Impl::texcoord.
+vec2 texcoord(uint tri, int set, float u, float v) {
+  const Shading s = shading[tri];
+  if (set == 0) return (1.0 - u - v) * s.uva.xy + u * s.uva.zw + v * s.uvb.xy;
+  return (1.0 - u - v) * s.uvb.zw + u * s.uvc.xy + v * s.uvc.zw;
+}
+
+// Tracer::Impl::alpha_passes (glTF alphaMode MASK).
+bool alpha_passes(uint tri, float u, float v) {
+  const Material m = materials[tris[tri].material];
+  float alpha = m.base_color.a;
+  if (m.texture >= 0) alpha *= sample_texture(m.texture, texcoord(tri, m.texcoord, u, v)).a;
+  return alpha >= m.alpha_cutoff;
+}
+
+#endif

@@ -1,0 +1,262 @@
+// RtScene: the BLAS and TLAS built once with vkCmdBuildAccelerationStructuresKHR
+// on the device, from host-visible input buffers freed after the build.
+#include "rt_scene.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+
+namespace foveart::gpu_engine {
+namespace {
+
+constexpr uint64_t kBuildTimeoutNs = 60ull * 1000 * 1000 * 1000;
+constexpr VkBufferUsageFlags kBuildInput =
+    VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+constexpr VkBufferUsageFlags kStorage =
+    VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+constexpr VkBufferUsageFlags kScratch = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+
+bool fail(std::string* error, const std::string& message) {
+  if (error) *error = message;
+  return false;
+}
+
+std::string vk_error(const char* what, VkResult r) {
+  return std::string("gpu_engine: ") + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
+}
+
+VkDeviceAddress align_up(VkDeviceAddress v, VkDeviceSize alignment) {
+  return alignment <= 1 ? v : (v + alignment - 1) / alignment * alignment;
+}
+
+// A command pool, one command buffer and a fence, released on scope exit.
+struct OneTimeCommands {
+  VkDevice device = VK_NULL_HANDLE;
+  VkCommandPool pool = VK_NULL_HANDLE;
+  VkCommandBuffer cb = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  OneTimeCommands() = default;
+  OneTimeCommands(const OneTimeCommands&) = delete;
+  OneTimeCommands& operator=(const OneTimeCommands&) = delete;
+  ~OneTimeCommands() {
+    if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
+    if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, pool, nullptr);
+  }
+  bool begin(VkDevice d, uint32_t family, std::string* error) {
+    device = d;
+    VkCommandPoolCreateInfo pool_info{};
+    pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
+    pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
+    pool_info.queueFamilyIndex = family;
+    VkResult r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
+    if (r != VK_SUCCESS) {
+      pool = VK_NULL_HANDLE;
+      return fail(error, vk_error("vkCreateCommandPool", r));
+    }
+    VkCommandBufferAllocateInfo alloc{};
+    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+    alloc.commandPool = pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    r = vkAllocateCommandBuffers(device, &alloc, &cb);
+    if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateCommandBuffers", r));
+    VkFenceCreateInfo fence_info{};
+    fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+    r = vkCreateFence(device, &fence_info, nullptr, &fence);
+    if (r != VK_SUCCESS) {
+      fence = VK_NULL_HANDLE;
+      return fail(error, vk_error("vkCreateFence", r));
+    }
+    VkCommandBufferBeginInfo begin_info{};
+    begin_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+    begin_info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    r = vkBeginCommandBuffer(cb, &begin_info);
+    return r == VK_SUCCESS || fail(error, vk_error("vkBeginCommandBuffer", r));
+  }
+  bool submit_and_wait(VkQueue queue, std::string* error) {
+    VkResult r = vkEndCommandBuffer(cb);
+    if (r != VK_SUCCESS) return fail(error, vk_error("vkEndCommandBuffer", r));
+    VkSubmitInfo submit{};
+    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cb;
+    r = vkQueueSubmit(queue, 1, &submit, fence);
+    if (r != VK_SUCCESS) return fail(error, vk_error("vkQueueSubmit (acceleration structure build)", r));
+    r = vkWaitForFences(device, 1, &fence, VK_TRUE, kBuildTimeoutNs);
+    return r == VK_SUCCESS || fail(error, vk_error("vkWaitForFences (acceleration structure build)", r));
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<RtScene> RtScene::create(const GpuContext& context, const RtFunctions& functions,
+                                         const SceneData& data, std::string* error) {
+  std::unique_ptr<RtScene> scene(new RtScene());
+  scene->device_ = context.device;
+  scene->fn_ = &functions;
+  if (!scene->build(context, data, error)) return nullptr;
+  return scene;
+}
+
+RtScene::~RtScene() {
+  if (fn_ == nullptr) return;
+  if (tlas_ != VK_NULL_HANDLE) fn_->destroy_acceleration_structure(device_, tlas_, nullptr);
+  if (blas_ != VK_NULL_HANDLE) fn_->destroy_acceleration_structure(device_, blas_, nullptr);
+  tlas_storage_.destroy();
+  blas_storage_.destroy();
+}
+
+bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* error) {
+  const RtFunctions& fn = *fn_;
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{};
+  as_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
+  VkPhysicalDeviceProperties2 props{};
+  props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  props.pNext = &as_props;
+  vkGetPhysicalDeviceProperties2(ctx.physical_device, &props);
+  const VkDeviceSize scratch_align = std::max<VkDeviceSize>(as_props.minAccelerationStructureScratchOffsetAlignment, 1);
+
+  // The BVH's triangles (spatial splits list some in several leaves: once each
+  // here), opaque ones first.
+  std::vector<bool> traced(data.triangles.size(), false);
+  for (uint32_t t : data.bvh.prims) traced[t] = true;
+  for (uint32_t masked = 0; masked < 2; ++masked) {
+    if (masked == 1) geometry1_first_ = static_cast<uint32_t>(prims_.size());
+    for (uint32_t t = 0; t < data.triangles.size(); ++t)
+      if (traced[t] && (data.triangles[t].masked != 0) == (masked == 1)) prims_.push_back(t);
+  }
+  const uint32_t counts[2] = {geometry1_first_, static_cast<uint32_t>(prims_.size()) - geometry1_first_};
+  if (static_cast<uint64_t>(prims_.size()) > as_props.maxPrimitiveCount)
+    return fail(error, "gpu_engine: " + std::to_string(prims_.size()) +
+                           " triangles exceed the device's maxPrimitiveCount for one acceleration structure");
+
+  std::vector<float> vertices;  // three world-space vertices per primitive
+  vertices.reserve(prims_.size() * 9);
+  for (uint32_t t : prims_) {
+    const GpuTriangle& g = data.triangles[t];
+    vertices.insert(vertices.end(), {g.p0[0], g.p0[1], g.p0[2], g.p1[0], g.p1[1], g.p1[2], g.p2[0], g.p2[1], g.p2[2]});
+  }
+  MappedBuffer vertex_buffer, instance_buffer, blas_scratch, tlas_scratch;
+  if (!vertex_buffer.create(ctx.physical_device, device_, vertices.size() * sizeof(float), vertices.data(), error,
+                            kBuildInput))
+    return false;
+  const VkDeviceAddress vertex_address = fn.address(device_, vertex_buffer.buffer());
+
+  OneTimeCommands commands;
+  if (!commands.begin(device_, ctx.queue_family_index, error)) return false;
+
+  // ---- BLAS: one geometry per non-empty kind
+  std::vector<VkAccelerationStructureGeometryKHR> geometries;
+  std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
+  std::vector<uint32_t> max_primitives;
+  uint32_t first = 0;
+  for (uint32_t kind = 0; kind < 2; ++kind) {
+    if (counts[kind] == 0) continue;
+    VkAccelerationStructureGeometryKHR g{};
+    g.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR;
+    g.geometryType = VK_GEOMETRY_TYPE_TRIANGLES_KHR;
+    g.flags = kind == 0 ? VK_GEOMETRY_OPAQUE_BIT_KHR : 0;
+    g.geometry.triangles.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
+    g.geometry.triangles.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
+    g.geometry.triangles.vertexData.deviceAddress = vertex_address + VkDeviceAddress{first} * 9 * sizeof(float);
+    g.geometry.triangles.vertexStride = 3 * sizeof(float);
+    g.geometry.triangles.maxVertex = 3 * counts[kind] - 1;
+    g.geometry.triangles.indexType = VK_INDEX_TYPE_NONE_KHR;
+    geometries.push_back(g);
+    ranges.push_back(VkAccelerationStructureBuildRangeInfoKHR{counts[kind], 0, 0, 0});
+    max_primitives.push_back(counts[kind]);
+    first += counts[kind];
+  }
+
+  auto create_structure = [&](VkAccelerationStructureTypeKHR type, VkAccelerationStructureBuildGeometryInfoKHR* info,
+                              const uint32_t* max_counts, MappedBuffer* storage, MappedBuffer* scratch,
+                              VkAccelerationStructureKHR* out) {
+    VkAccelerationStructureBuildSizesInfoKHR sizes{};
+    sizes.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR;
+    fn.get_acceleration_structure_build_sizes(device_, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, info,
+                                              max_counts, &sizes);
+    if (!storage->create(ctx.physical_device, device_, sizes.accelerationStructureSize, nullptr, error, kStorage) ||
+        !scratch->create(ctx.physical_device, device_, sizes.buildScratchSize + scratch_align, nullptr, error,
+                         kScratch))
+      return false;
+    VkAccelerationStructureCreateInfoKHR create{};
+    create.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR;
+    create.buffer = storage->buffer();
+    create.size = sizes.accelerationStructureSize;
+    create.type = type;
+    const VkResult r = fn.create_acceleration_structure(device_, &create, nullptr, out);
+    if (r != VK_SUCCESS) {
+      *out = VK_NULL_HANDLE;
+      return fail(error, vk_error("vkCreateAccelerationStructureKHR", r));
+    }
+    info->dstAccelerationStructure = *out;
+    info->scratchData.deviceAddress = align_up(fn.address(device_, scratch->buffer()), scratch_align);
+    return true;
+  };
+
+  if (!geometries.empty()) {
+    VkAccelerationStructureBuildGeometryInfoKHR info{};
+    info.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR;
+    info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+    info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+    info.geometryCount = static_cast<uint32_t>(geometries.size());
+    info.pGeometries = geometries.data();
+    if (!create_structure(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &info, max_primitives.data(),
+                          &blas_storage_, &blas_scratch, &blas_))
+      return false;
+    const VkAccelerationStructureBuildRangeInfoKHR* range_list = ranges.data();
+    fn.cmd_build_acceleration_structures(commands.cb, 1, &info, &range_list);
+    VkMemoryBarrier barrier{};
+    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+    barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+    vkCmdPipelineBarrier(commands.cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, 0, 1, &barrier, 0, nullptr, 0,
+                         nullptr);
+  }
+
+  // ---- TLAS: one instance of the BLAS, identity transform
+  VkAccelerationStructureInstanceKHR instance{};
+  instance.transform.matrix[0][0] = instance.transform.matrix[1][1] = instance.transform.matrix[2][2] = 1.0f;
+  instance.mask = 0xFF;
+  instance.flags = VK_GEOMETRY_INSTANCE_TRIANGLE_FACING_CULL_DISABLE_BIT_KHR;
+  const uint32_t instances = blas_ != VK_NULL_HANDLE ? 1u : 0u;
+  if (instances == 1) {
+    VkAccelerationStructureDeviceAddressInfoKHR address{};
+    address.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_DEVICE_ADDRESS_INFO_KHR;
+    address.accelerationStructure = blas_;
+    instance.accelerationStructureReference = fn.get_acceleration_structure_device_address(device_, &address);
+  }
+  if (!instance_buffer.create(ctx.physical_device, device_, sizeof(instance), &instance, error, kBuildInput))
+    return false;
+  VkAccelerationStructureGeometryKHR tlas_geometry{};
+  tlas_geometry.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR;
+  tlas_geometry.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
+  tlas_geometry.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
+  tlas_geometry.geometry.instances.arrayOfPointers = VK_FALSE;
+  tlas_geometry.geometry.instances.data.deviceAddress = fn.address(device_, instance_buffer.buffer());
+  VkAccelerationStructureBuildGeometryInfoKHR info{};
+  info.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR;
+  info.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
+  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+  info.geometryCount = 1;
+  info.pGeometries = &tlas_geometry;
+  if (!create_structure(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, &info, &instances, &tlas_storage_,
+                        &tlas_scratch, &tlas_))
+    return false;
+  const VkAccelerationStructureBuildRangeInfoKHR tlas_range{instances, 0, 0, 0};
+  const VkAccelerationStructureBuildRangeInfoKHR* tlas_ranges = &tlas_range;
+  fn.cmd_build_acceleration_structures(commands.cb, 1, &info, &tlas_ranges);
+  // The traces of later submissions on this queue read the TLAS (and through it the BLAS).
+  VkMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+  barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+  vkCmdPipelineBarrier(commands.cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                       VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+  return commands.submit_and_wait(ctx.queue, error);
+}
+
+}  // namespace foveart::gpu_engine
