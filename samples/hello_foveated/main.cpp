@@ -1,6 +1,7 @@
 // hello_foveated: the sample engine's glTF scene, ray traced by FoveaRT's
 // foveated renderer through the OpenXR layer, until the runtime ends the session.
-//   hello_foveated [--scene FILE.gltf] [--engine cpu|gpu] [--interpolation nearest|msm|rbf|config] [--k N]
+//   hello_foveated [--scene FILE.gltf] [--engine cpu|gpu] [--mode foveated|full|both]
+//                  [--interpolation nearest|msm|rbf|config] [--k N]
 //                  [--density-scale S] [--rays-per-point N] [--temporal off|image|rays|config]
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
@@ -22,6 +23,31 @@
 // {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
 // rays each engine traced for the layer during the session (the CPU engine's
 // counts exclude the exposure pre-pass; the GPU engine's are its device counters).
+// --mode full: the app renders every pixel of each eye itself with the chosen
+// engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
+// the layer's seed and jitter and no temporal history (each frame traced anew),
+// through the same display transform and sRGB encode, into its own swapchain
+// images, and does not opt in: the layer passes the views through
+// (full_frame.hpp). "config" exposure / tone map: the config's defaults (1,
+// pbr-neutral); the app reads no config file. --engine gpu: GpuTracer::record_full
+// on the session's device, timed by GPU timestamps; the read back, CPU encode
+// and upload after it are timed apart (transfer_encode_ms_per_eye).
+// --mode both: a full session, then a foveated one, in one process.
+// --json with --mode full: {"mode": "full", "engine", "frames_submitted",
+// "frames_rendered", "views", "rays_per_pixel", "rays_per_eye" [L, R] (W * H *
+// rays per pixel), "trace_ms_per_eye" [L, R], "trace_ms" (both eyes),
+// "frame_ms", "trace_clock" (cpu_wall_clock | gpu_timestamps),
+// "transfer_encode_ms_per_eye", "temporal": "off", "history", "display",
+// "layer_frames_traced" (0), "layer_views_fallback", "engine_rays"}; the
+// times are medians per frame (nearest rank), frame_ms from xrBeginFrame's call
+// to xrEndFrame's return. Foveated mode adds "mode": "foveated" and the same
+// "rays_per_eye", "trace_ms_per_eye", "trace_ms" (the layer's traceMs),
+// "frame_ms", "frames_rendered" over the traced frames, "trace_clock":
+// "layer_stats". --mode both prints {"mode": "both", "engine", "full": {...},
+// "foveated": {...}, "speedup": {"frame_ms", "trace_ms"}} (full / foveated of
+// the medians; null if the foveated one is 0); without --json, a short table.
+// Note both sessions use --rays-per-point; with 0 the foveated one takes the
+// config file's value, the full one the default 1.
 // --json adds, per traced frame and in the same order: gaze_px_per_frame [frame, left x,
 // left y, right x, right y], taa_reset_per_frame [left, right] (the eye's TAA history
 // restarted), gaze_saccade_per_frame / gaze_blink_per_frame (the gaze provider flagged
@@ -48,6 +74,9 @@
 #include "engine/render.hpp"
 #include "engine/tracer.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
+#include "foveation/display_transform.hpp"
+#include "foveation/executor.hpp"
+#include "full_frame.hpp"
 #include "xr_app.hpp"
 
 namespace {
@@ -122,6 +151,19 @@ nlohmann::json distribution(const std::vector<float>& v) {
   return {{"p50", percentile(v, 50)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
 }
 
+// The last frame's submitted views: pose (the scene's space), FOV, size.
+nlohmann::json views_json(const foveart::hello::AppResult& r) {
+  nlohmann::json views = nlohmann::json::array();
+  for (const auto& v : r.views) {
+    views.push_back({{"position_m", {v.pose.position.x, v.pose.position.y, v.pose.position.z}},
+                     {"orientation_xyzw",
+                      {v.pose.orientation.x, v.pose.orientation.y, v.pose.orientation.z, v.pose.orientation.w}},
+                     {"fov_rad", {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown}},
+                     {"size_px", {v.width_px, v.height_px}}});
+  }
+  return views;
+}
+
 nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   const auto& s = r.stats;
   nlohmann::json eyes = nlohmann::json::array();
@@ -157,14 +199,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
     pair.push_back(frame[1]);
     taa_reset.push_back(std::move(pair));
   }
-  nlohmann::json views = nlohmann::json::array();
-  for (const auto& v : r.views) {
-    views.push_back({{"position_m", {v.pose.position.x, v.pose.position.y, v.pose.position.z}},
-                     {"orientation_xyzw",
-                      {v.pose.orientation.x, v.pose.orientation.y, v.pose.orientation.z, v.pose.orientation.w}},
-                     {"fov_rad", {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown}},
-                     {"size_px", {v.width_px, v.height_px}}});
-  }
+  nlohmann::json views = views_json(r);
   return {{"frames_submitted", r.frames},
           {"views", views},
           {"frames_traced", s.framesTraced},
@@ -193,6 +228,77 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
             {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}}}}};
 }
 
+
+// The medians of a mode: per eye and of each frame's both eyes (nearest rank).
+nlohmann::json medians_json(const std::vector<float>* per_eye_trace_ms, const std::vector<float>& frame_ms) {
+  std::vector<float> both;
+  for (std::size_t f = 0; f < std::min(per_eye_trace_ms[0].size(), per_eye_trace_ms[1].size()); ++f)
+    both.push_back(per_eye_trace_ms[0][f] + per_eye_trace_ms[1][f]);
+  return {{"trace_ms_per_eye", {percentile(per_eye_trace_ms[0], 50), percentile(per_eye_trace_ms[1], 50)}},
+          {"trace_ms", percentile(both, 50)},
+          {"frame_ms", percentile(frame_ms, 50)},
+          {"frames_rendered", frame_ms.size()}};
+}
+
+// stats_json and, to compare with --mode full, the medians over the traced frames.
+nlohmann::json foveated_json(const foveart::hello::AppResult& r) {
+  nlohmann::json out = stats_json(r);
+  const nlohmann::json medians = medians_json(r.trace_ms, r.frame_ms);
+  for (const auto& item : medians.items()) out[item.key()] = item.value();
+  out["rays_per_eye"] = {r.stats.raysPerEye[0], r.stats.raysPerEye[1]};
+  out["trace_clock"] = "layer_stats";
+  return out;
+}
+
+// --mode full: what the app's own render of every pixel cost, and that the layer stayed out.
+nlohmann::json full_json(const foveart::hello::AppResult& r, const foveart::hello::FullFrameTimes& times,
+                         uint32_t spp, const foveart::foveation::DisplayTransform& display, bool gpu) {
+  nlohmann::json views = views_json(r);
+  nlohmann::json out = medians_json(times.trace_ms, r.frame_ms);
+  nlohmann::json rays = nlohmann::json::array();
+  for (const auto& v : r.views) rays.push_back(uint64_t(v.width_px) * uint64_t(v.height_px) * spp);
+  out["frames_submitted"] = r.frames;
+  out["views"] = std::move(views);
+  out["rays_per_pixel"] = spp;
+  out["rays_per_eye"] = std::move(rays);
+  out["temporal"] = "off";  // a full render keeps nothing from earlier frames
+  out["history"] = "none: each frame is traced anew with the same seed";
+  out["trace_clock"] = gpu ? "gpu_timestamps" : "cpu_wall_clock";
+  out["transfer_encode_ms_per_eye"] = {percentile(times.transfer_encode_ms[0], 50),
+                                       percentile(times.transfer_encode_ms[1], 50)};
+  out["display"] = {{"exposure", display.exposure}, {"tone_map", foveart::foveation::tone_map_name(display.tone_map)}};
+  out["layer_frames_traced"] = r.stats.framesTraced;
+  out["layer_views_fallback"] = r.stats.framesFallback;
+  return out;
+}
+
+// full / foveated of the printed medians; null where the foveated one is 0.
+nlohmann::json speedup_json(const nlohmann::json& full, const nlohmann::json& foveated) {
+  const auto ratio = [&](const char* key) {
+    const double f = full[key].get<double>(), v = foveated[key].get<double>();
+    return v > 0.0 ? nlohmann::json(f / v) : nlohmann::json(nullptr);
+  };
+  return {{"frame_ms", ratio("frame_ms")}, {"trace_ms", ratio("trace_ms")}};
+}
+
+void print_both_table(const nlohmann::json& both) {
+  const auto& full = both["full"];
+  const auto& fov = both["foveated"];
+  const auto size = full["views"][0]["size_px"];
+  std::printf("hello_foveated --mode both: %s engine, %dx%d per eye, medians per frame\n",
+              both["engine"].get<std::string>().c_str(), size[0].get<int>(), size[1].get<int>());
+  std::printf("  %-9s %12s %18s %12s %12s\n", "mode", "frame ms", "trace ms (2 eyes)", "rays/eye L", "rays/eye R");
+  for (const auto* row : {&full, &fov}) {
+    std::printf("  %-9s %12.2f %18.2f %12llu %12llu\n", (*row)["mode"].get<std::string>().c_str(),
+                (*row)["frame_ms"].get<double>(), (*row)["trace_ms"].get<double>(),
+                static_cast<unsigned long long>((*row)["rays_per_eye"][0].get<uint64_t>()),
+                static_cast<unsigned long long>((*row)["rays_per_eye"][1].get<uint64_t>()));
+  }
+  const auto x = [](const nlohmann::json& v) { return v.is_null() ? 0.0 : v.get<double>(); };
+  std::printf("  %-9s %11.2fx %17.2fx   (full / foveated)\n", "speedup", x(both["speedup"]["frame_ms"]),
+              x(both["speedup"]["trace_ms"]));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -206,6 +312,7 @@ int main(int argc, char** argv) {
   bool no_explicit_layer = false;
   std::string fault;
   std::string engine_name = "cpu";
+  std::string mode = "foveated";
   cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
   cli.add_option("--engine", engine_name,
                  "who traces: cpu (the Embree sample engine, a host callback) or gpu (the GPU sample engine on the "
@@ -213,15 +320,25 @@ int main(int argc, char** argv) {
                  "CPU reconstruction)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
+  cli.add_option("--mode", mode,
+                 "foveated: the layer ray traces the views (the opt-in); full: the app renders every pixel of "
+                 "each eye itself with the same engine, --rays-per-point rays per pixel (0: the layer config's "
+                 "default, 1), the same display transform and sRGB encode, no temporal history, and does not opt "
+                 "in; both: a full session, then a foveated one, and their median frame and trace times")
+      ->check(CLI::IsMember({"foveated", "full", "both"}))
+      ->capture_default_str();
   cli.add_option("--interpolation", interpolation, "nearest, msm or rbf (config = the layer config's)")
       ->check(CLI::IsMember({"nearest", "msm", "rbf", "config"}))
       ->capture_default_str();
   cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
   cli.add_option("--density-scale", options.density_scale, "density scale (0 = layer config)")
       ->check(CLI::Range(0.0, 16.0));
-  cli.add_option("--rays-per-point", options.rays_per_point, "rays per point (0 = layer config)")
+  cli.add_option("--rays-per-point", options.rays_per_point,
+                 "rays per point, and per pixel of --mode full (0 = layer config; --mode full: its default, 1)")
       ->check(CLI::Range(0, 64));
-  cli.add_option("--temporal", temporal, "what a frame keeps from earlier frames (config = the layer config's)")
+  cli.add_option("--temporal", temporal,
+                 "what a foveated frame keeps from earlier frames (config = the layer config's); a full render "
+                 "keeps nothing: --mode full takes only off or config")
       ->check(CLI::IsMember({"off", "image", "rays", "config"}))
       ->capture_default_str();
   cli.add_option("--gaze-source", gaze_source, "where gaze comes from (config = the layer config's)")
@@ -252,6 +369,16 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"nan", "error", "throw", "nothing"}));
   CLI11_PARSE(cli, argc, argv);
   const bool gpu_engine = engine_name == "gpu";
+  const bool run_full = mode != "foveated", run_foveated = mode != "full";
+  if (!fault.empty() && run_full) {
+    std::cerr << "hello_foveated: --fault is for --mode foveated only (it tests the layer's fallback)\n";
+    return 2;
+  }
+  if (mode == "full" && temporal != "off" && temporal != "config") {
+    std::cerr << "hello_foveated: --temporal " << temporal
+              << " needs --mode foveated or both: the full render keeps no temporal history\n";
+    return 2;
+  }
   if (fault == "throw" && gpu_engine) {
     std::cerr << "hello_foveated: --fault throw is for --engine cpu only (a device trace must never throw)\n";
     return 2;
@@ -301,7 +428,7 @@ int main(int argc, char** argv) {
   std::string error;
   // The GPU engine traces the same scene: a copy for it, made before the CPU tracer takes the original.
   std::optional<foveart::engine::Scene> gpu_scene;
-  if (gpu_engine) gpu_scene = *loaded.scene;
+  if (gpu_engine) gpu_scene = *loaded.scene;  // copied again for each session's device
   auto tracer = foveart::engine::Tracer::create(std::move(*loaded.scene), {}, &error);
   if (tracer == nullptr) {
     std::cerr << "hello_foveated: cannot build the ray tracer: " << error << "\n";
@@ -332,57 +459,109 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  tracer->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
   FaultyEngine faulty{tracer.get(), fault};
   if (!fault.empty() && !gpu_engine) {
     options.trace_rays = &faulty_trace_rays;
     options.user_data = &faulty;
   }
+  const uint32_t full_spp = options.rays_per_point != 0 ? options.rays_per_point : foveart::hello::kConfigRaysPerPoint;
+  const foveart::foveation::DisplayTransform display = foveart::hello::display_for(options.exposure, options.tone_map);
+  std::optional<foveart::foveation::Executor> full_executor;  // the full render's threads, started once
+  if (run_full) full_executor.emplace();
 
-  // --engine gpu: a GpuTracer on the session's device, made once it exists and
-  // destroyed before it; its device counters are read then (all work finished).
-  std::unique_ptr<foveart::gpu_engine::GpuTracer> gpu_tracer;
-  std::optional<foveart::engine::RayCounts> gpu_counts;
-  FaultyDeviceEngine faulty_device{nullptr, fault};
-  if (gpu_engine) {
-    options.make_device_trace = [&](const foveart::hello::VulkanDevice& device) {
-      std::string gpu_error;
-      gpu_tracer = foveart::gpu_engine::GpuTracer::create(
-          foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
-                                          device.queue},
-          std::move(*gpu_scene), {}, &gpu_error);
-      if (gpu_tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
-      gpu_tracer->reset_counts();
-      faulty_device.tracer = gpu_tracer.get();
-      if (!fault.empty()) return foveart::hello::DeviceTrace{&faulty_trace_rays_device, &faulty_device};
-      return foveart::hello::DeviceTrace{&foveart_gpu_engine_trace_rays_device, gpu_tracer.get()};
-    };
-    options.release_device_trace = [&]() noexcept {
-      if (gpu_tracer == nullptr) return;
-      gpu_counts = gpu_tracer->counts();
-      gpu_tracer.reset();
-    };
-  }
+  // One session of `session_mode` ("full" or "foveated"); its JSON, or the error in *error.
+  const auto run_session = [&](bool full, std::string* session_error) -> std::optional<nlohmann::json> {
+    foveart::hello::AppOptions session = options;
+    tracer->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
+    // --engine gpu: a GpuTracer on the session's device, made once it exists and
+    // destroyed before it; its device counters are read then (all work finished).
+    std::unique_ptr<foveart::gpu_engine::GpuTracer> gpu_tracer;
+    std::optional<foveart::engine::RayCounts> gpu_counts;
+    FaultyDeviceEngine faulty_device{nullptr, fault};
+    if (gpu_engine) {
+      session.make_device_trace = [&](const foveart::hello::VulkanDevice& device) {
+        std::string gpu_error;
+        gpu_tracer = foveart::gpu_engine::GpuTracer::create(
+            foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
+                                            device.queue},
+            foveart::engine::Scene(*gpu_scene), {}, &gpu_error);
+        if (gpu_tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
+        gpu_tracer->reset_counts();
+        faulty_device.tracer = gpu_tracer.get();
+        if (full) return foveart::hello::DeviceTrace{};  // the app traces; the layer gets none
+        if (!fault.empty()) return foveart::hello::DeviceTrace{&faulty_trace_rays_device, &faulty_device};
+        return foveart::hello::DeviceTrace{&foveart_gpu_engine_trace_rays_device, gpu_tracer.get()};
+      };
+      session.release_device_trace = [&]() noexcept {
+        if (gpu_tracer == nullptr) return;
+        gpu_counts = gpu_tracer->counts();
+        gpu_tracer.reset();
+      };
+    }
+    foveart::hello::FullFrameTimes full_times;
+    if (full) {
+      session.make_view_renderer = [&](const foveart::hello::VulkanDevice& device) {
+        foveart::hello::FullFrameEngine engine;
+        if (gpu_engine) {
+          engine.gpu = gpu_tracer.get();
+        } else {
+          engine.trace_rays = &foveart_engine_trace_rays;
+          engine.user_data = tracer.get();
+        }
+        return foveart::hello::make_full_frame(device, engine, full_spp, display, &*full_executor, &full_times);
+      };
+    }
+    const auto result = foveart::hello::run_app(session);
+    if (!result.ok) {
+      *session_error = result.error;
+      return std::nullopt;
+    }
+    nlohmann::json engine_rays = {
+        {"cpu", ray_counts_json(tracer->counts())},
+        {"gpu", gpu_counts ? ray_counts_json(*gpu_counts) : nlohmann::json(nullptr)}};
+    nlohmann::json out = full ? full_json(result, full_times, full_spp, display, gpu_engine) : foveated_json(result);
+    out["mode"] = full ? "full" : "foveated";
+    out["engine"] = engine_name;
+    out["engine_rays"] = std::move(engine_rays);
+    return out;
+  };
 
-  const auto result = foveart::hello::run_app(options);
-  if (!result.ok) {
-    std::cerr << "hello_foveated: " << result.error << "\n";
+  std::string error_of_session;
+  std::optional<nlohmann::json> full_stats, foveated_stats;
+  if (run_full && !(full_stats = run_session(true, &error_of_session))) {
+    std::cerr << "hello_foveated: full render session: " << error_of_session << "\n";
     return 1;
   }
-  nlohmann::json stats = stats_json(result);
-  stats["engine"] = engine_name;
-  stats["engine_rays"] = {{"cpu", ray_counts_json(tracer->counts())},
-                          {"gpu", gpu_counts ? ray_counts_json(*gpu_counts) : nlohmann::json(nullptr)}};
-  if (json) {
-    std::cout << stats.dump(2) << "\n";
+  if (run_foveated && !(foveated_stats = run_session(false, &error_of_session))) {
+    std::cerr << "hello_foveated: " << error_of_session << "\n";
+    return 1;
+  }
+  if (mode == "both") {
+    const nlohmann::json both = {{"mode", "both"},
+                                 {"engine", engine_name},
+                                 {"full", *full_stats},
+                                 {"foveated", *foveated_stats},
+                                 {"speedup", speedup_json(*full_stats, *foveated_stats)}};
+    if (json) std::cout << both.dump(2) << "\n";
+    else print_both_table(both);
+  } else if (json) {
+    std::cout << (full_stats ? *full_stats : *foveated_stats).dump(2) << "\n";
+  } else if (full_stats) {
+    const auto& f = *full_stats;
+    std::printf("hello_foveated: full render, %s engine: %llu frames, %u ray(s) per pixel, median frame %.2f ms, "
+                "trace %.2f ms (both eyes, %s)\n",
+                gpu_engine ? "GPU" : "CPU", static_cast<unsigned long long>(f["frames_submitted"].get<uint64_t>()),
+                full_spp, f["frame_ms"].get<double>(), f["trace_ms"].get<double>(),
+                f["trace_clock"].get<std::string>().c_str());
   } else {
+    const auto& st = *foveated_stats;
     std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; %s engine, reconstruction "
                 "on the %s, temporal \"%s\"\n",
-                static_cast<unsigned long long>(result.frames),
-                static_cast<unsigned long long>(result.stats.framesTraced),
-                static_cast<unsigned long long>(result.stats.framesFallback), gpu_engine ? "GPU" : "CPU",
-                stats["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU",
-                stats["temporal"].get<std::string>().c_str());
+                static_cast<unsigned long long>(st["frames_submitted"].get<uint64_t>()),
+                static_cast<unsigned long long>(st["frames_traced"].get<uint64_t>()),
+                static_cast<unsigned long long>(st["views_fallback"].get<uint64_t>()), gpu_engine ? "GPU" : "CPU",
+                st["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU",
+                st["temporal"].get<std::string>().c_str());
   }
   return 0;
 }

@@ -1,6 +1,7 @@
 #include "xr_app.hpp"
 
 #include <array>
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
@@ -70,6 +71,7 @@ class App {
     if (options_.app_actions) create_app_actions();
     create_swapchains();
     create_device_trace();
+    create_view_renderer();
     create_renderer();
     AppResult result;
     loop(&result);
@@ -280,6 +282,13 @@ class App {
     device_trace_ = options_.make_device_trace(VulkanDevice{physical_device_, device_, queue_family_, queue_});
   }
 
+  // --mode full: the app's own renderer of every view, on the session's device.
+  void create_view_renderer() {
+    if (!options_.make_view_renderer) return;
+    view_renderer_ = options_.make_view_renderer(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+    if (view_renderer_ == nullptr) throw std::runtime_error("the full render could not be set up");
+  }
+
   void create_renderer() {
     auto info = xr_struct<XrFoveatedRendererCreateInfoFOVEART>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART);
     auto device_trace = xr_struct<XrFoveatedDeviceTraceInfoFOVEART>(XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART);
@@ -369,6 +378,7 @@ class App {
       auto frame_state = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
       check(xrWaitFrame(session_, &wait_info, &frame_state), "xrWaitFrame");
       auto begin_info = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
+      const auto frame_t0 = std::chrono::steady_clock::now();
       check(xrBeginFrame(session_, &begin_info), "xrBeginFrame");
       if (options_.app_actions) locate_app_gaze(frame_state.predictedDisplayTime, result);
 
@@ -389,7 +399,12 @@ class App {
         auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
         wait.timeout = XR_INFINITE_DURATION;
         check(xrWaitSwapchainImage(eyes_[e].handle, &wait), "xrWaitSwapchainImage");
-        clear_placeholder(e, index);
+        if (view_renderer_ != nullptr) {
+          view_renderer_->render(e, views[e].pose, views[e].fov, eyes_[e].images[index],
+                                 static_cast<uint32_t>(eyes_[e].width), static_cast<uint32_t>(eyes_[e].height));
+        } else {
+          clear_placeholder(e, index);
+        }
         auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
         check(xrReleaseSwapchainImage(eyes_[e].handle, &release), "xrReleaseSwapchainImage");
         projection_views[e] = xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
@@ -408,7 +423,7 @@ class App {
       if (options_.exposure != 0.0f || options_.tone_map != XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART)
         foveated.next = &display;
       auto layer = xr_struct<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
-      layer.next = &foveated;
+      layer.next = view_renderer_ != nullptr ? nullptr : &foveated;  // a full render opts out
       layer.space = space_;
       layer.viewCount = 2;
       layer.views = projection_views.data();
@@ -419,6 +434,9 @@ class App {
       end.layerCount = frame_state.shouldRender ? 1 : 0;
       end.layers = layers;
       check(xrEndFrame(session_, &end), "xrEndFrame");
+      const auto frame_ms = static_cast<float>(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_t0).count());
+      if (view_renderer_ != nullptr) result->frame_ms.push_back(frame_ms);
       const auto frame_index = static_cast<float>(frames_);
       for (uint32_t e = 0; e < 2; ++e) {
         result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
@@ -431,6 +449,7 @@ class App {
       check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
       if (stats.framesTraced > traced_) {
         traced_ = stats.framesTraced;
+        result->frame_ms.push_back(frame_ms);
         result->gaze_px.push_back({frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x,
                                    stats.gazePixel[1].y});
         result->taa_reset.push_back(
@@ -466,6 +485,7 @@ class App {
     if (device_ != VK_NULL_HANDLE) {
       vkDeviceWaitIdle(device_);
       // The engine's objects on the device go before it (nothing of theirs is in flight now).
+      view_renderer_.reset();
       if (device_trace_made_ && options_.release_device_trace) options_.release_device_trace();
       device_trace_made_ = false;
       if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
@@ -506,6 +526,7 @@ class App {
   PFN_xrGetFoveatedRendererStatsFOVEART get_stats_ = nullptr;
   XrFoveatedRendererFOVEART renderer_ = XR_NULL_HANDLE;
   DeviceTrace device_trace_;
+  std::unique_ptr<ViewRenderer> view_renderer_;
   bool device_trace_made_ = false;
 };
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,20 @@ struct VulkanDevice {
   VkQueue queue = VK_NULL_HANDLE;  // the session's queue: the layer submits there too
 };
 
+// The app's own image of a view (--mode full): drawn into the acquired
+// swapchain image instead of the grey placeholder, and the frame does not opt
+// into the layer's foveated ray tracing.
+class ViewRenderer {
+ public:
+  virtual ~ViewRenderer() = default;
+  // image: the acquired swapchain image of eye `eye` (R8G8B8A8_SRGB, width_px x
+  // height_px, content undefined); left in COLOR_ATTACHMENT_OPTIMAL, its writes
+  // finished. pose/fov: the view as submitted (the app's space is the scene's).
+  // Throws std::exception on failure (run_app's error).
+  virtual void render(uint32_t eye, const XrPosef& pose, const XrFovf& fov, VkImage image, uint32_t width_px,
+                      uint32_t height_px) = 0;
+};
+
 // A device trace to chain into the renderer (XrFoveatedDeviceTraceInfoFOVEART).
 struct DeviceTrace {
   PFN_xrFoveatedTraceRaysDeviceFOVEART trace_rays_device = nullptr;  // null: no device trace
@@ -45,6 +60,10 @@ struct AppOptions {
   // destroyed and the device is idle, before the device is destroyed; release
   // what make_device_trace made on it. Must not throw.
   std::function<void()> release_device_trace;
+  // Optional (--mode full): called after make_device_trace; the app then draws
+  // every view with it and never chains XrFoveatedRayTracingLayerFOVEART (the
+  // layer passes the views through). Destroyed before release_device_trace.
+  std::function<std::unique_ptr<ViewRenderer>(const VulkanDevice&)> make_view_renderer;
   // The renderer's settings; each default leaves the setting to the layer's
   // config (the extension header's "Defaults").
   XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART;
@@ -89,6 +108,9 @@ struct AppResult {
   std::vector<float> gaze_age_ms;
   std::vector<float> overhead_ms[2];
   std::vector<float> trace_ms[2];
+  // Per rendered frame (foveated: the frames the layer traced; full: every
+  // frame): xrBeginFrame's call to xrEndFrame's return, as the app sees it.
+  std::vector<float> frame_ms;
   // Per traced frame: frame index, then the layer's gaze pixel of each eye (x, y).
   std::vector<std::array<float, 5>> gaze_px;
   uint64_t app_gaze_located_frames = 0;  // app_actions: frames its own gaze action located

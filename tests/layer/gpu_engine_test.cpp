@@ -30,6 +30,7 @@
 // each pixel centre's direction through the view's FOV tangents):
 //   PSNR >= 45 dB, >= 99 % of pixels within 1 step and >= 99.5 % within 2
 //   steps (a pixel's worst channel).
+// (The comparison and these bounds: ring_compare.hpp, shared with hello_foveated_mode_test.)
 // Measured on lavapipe (LLVM 15): every ring of both eyes within 1 step, max
 // difference 1, PSNR inf (rings < 10 deg) and 86-91 dB (beyond); the ray
 // counts of every kind equal. The controls fail these bounds by far: the CPU
@@ -38,8 +39,6 @@
 // move: identical), and one ray per point instead of two (another sample
 // set) gives 14-29 dB and 66-88 % in every ring. A wrong gaze, sample pattern
 // or jitter on the device path therefore cannot pass.
-#include <stb/stb_image.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -54,6 +53,7 @@
 #include <nlohmann/json.hpp>
 
 #include "child_process.hpp"
+#include "ring_compare.hpp"
 #include "test_env.hpp"
 
 namespace foveart::layer::test {
@@ -67,94 +67,8 @@ constexpr int kWidth = 320, kHeight = 360;  // small eyes: lavapipe traces them 
 constexpr int kFrames = 2;                  // the first may come before the replay's first gaze sample
 // Two rays per point: the device resolve averages them in its own order.
 constexpr int kRaysPerPoint = 2;
-constexpr double kPi = 3.14159265358979323846;
 // The scripted gaze, FOVE head space (+z forward): about 7 deg right, 4 deg down.
 constexpr double kGaze[3] = {0.12, -0.07, 0.99};
-
-// Rings of eccentricity, degrees from the gaze direction: [edge[i], edge[i + 1]).
-constexpr std::array<double, 6> kRingEdgesDeg = {0.0, 2.5, 5.0, 10.0, 20.0, 1000.0};
-constexpr int kRings = int(kRingEdgesDeg.size()) - 1;
-// The bounds of the comment above, each ring.
-constexpr double kMinPsnrDb = 45.0;
-constexpr double kMinWithin1 = 0.99;
-constexpr double kMinWithin2 = 0.995;
-
-struct Rgb8 {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-};
-
-Rgb8 load_rgb(const fs::path& png) {
-  Rgb8 img;
-  int channels = 0;
-  unsigned char* data = stbi_load(png.c_str(), &img.width, &img.height, &channels, 3);
-  if (data == nullptr) return img;
-  img.rgb.assign(data, data + std::size_t(img.width) * std::size_t(img.height) * 3);
-  stbi_image_free(data);
-  return img;
-}
-
-struct RingDiff {
-  std::size_t pixels = 0, within1 = 0, within2 = 0;
-  int max_abs = 0;
-  double sq = 0.0;  // sum of squared channel differences
-  double psnr_db() const {
-    if (pixels == 0) return std::numeric_limits<double>::infinity();
-    const double mse = sq / double(pixels * 3);
-    return mse == 0.0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(255.0 * 255.0 / mse);
-  }
-  double share1() const { return pixels == 0 ? 1.0 : double(within1) / double(pixels); }
-  double share2() const { return pixels == 0 ? 1.0 : double(within2) / double(pixels); }
-  bool passes() const { return psnr_db() >= kMinPsnrDb && share1() >= kMinWithin1 && share2() >= kMinWithin2; }
-};
-
-// Unit view-space direction (+x right, +y up, -z forward) through pixel (x, y)
-// (continuous, y down) of a view with FOV angles {left, right, up, down}.
-std::array<double, 3> pixel_direction(const std::vector<double>& fov, double x, double y) {
-  const double tl = std::tan(fov[0]), tr = std::tan(fov[1]), tu = std::tan(fov[2]), td = std::tan(fov[3]);
-  const double u = tl + (tr - tl) * x / kWidth;
-  const double v = tu - (tu - td) * y / kHeight;
-  const double n = std::sqrt(u * u + v * v + 1.0);
-  return {u / n, v / n, -1.0 / n};
-}
-
-std::array<RingDiff, kRings> compare_rings(const Rgb8& a, const Rgb8& b, const std::vector<double>& fov,
-                                           double gaze_x, double gaze_y) {
-  std::array<RingDiff, kRings> rings{};
-  // The gaze pixel is a pixel centre's coordinate as the layer reports it; its direction:
-  const auto g = pixel_direction(fov, gaze_x + 0.5, gaze_y + 0.5);
-  for (int y = 0; y < a.height; ++y) {
-    for (int x = 0; x < a.width; ++x) {
-      const auto d = pixel_direction(fov, x + 0.5, y + 0.5);
-      const double c = std::clamp(d[0] * g[0] + d[1] * g[1] + d[2] * g[2], -1.0, 1.0);
-      const double deg = std::acos(c) * 180.0 / kPi;
-      int r = 0;
-      while (r + 1 < kRings && deg >= kRingEdgesDeg[r + 1]) ++r;
-      RingDiff& ring = rings[r];
-      const std::size_t p = std::size_t(y) * std::size_t(a.width) + std::size_t(x);
-      int worst = 0;
-      for (int ch = 0; ch < 3; ++ch) {
-        const int u = a.rgb[p * 3 + ch], v = b.rgb[p * 3 + ch];
-        ring.sq += double(u - v) * (u - v);
-        worst = std::max(worst, std::abs(u - v));
-      }
-      ++ring.pixels;
-      ring.within1 += worst <= 1;
-      ring.within2 += worst <= 2;
-      ring.max_abs = std::max(ring.max_abs, worst);
-    }
-  }
-  return rings;
-}
-
-void print_rings(const char* what, const std::array<RingDiff, kRings>& rings) {
-  for (int r = 0; r < kRings; ++r) {
-    const RingDiff& d = rings[r];
-    std::printf("%s ring %4.1f-%5.1f deg: %6zu px, PSNR %6.2f dB, within 1 step %7.3f %%, within 2 %7.3f %%, max %3d\n",
-                what, kRingEdgesDeg[r], kRingEdgesDeg[r + 1], d.pixels, d.psnr_db(), 100.0 * d.share1(),
-                100.0 * d.share2(), d.max_abs);
-  }
-}
 
 struct AppRun {
   ProcessResult process;
