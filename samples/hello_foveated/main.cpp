@@ -323,8 +323,10 @@ int main(int argc, char** argv) {
   cli.add_option("--mode", mode,
                  "foveated: the layer ray traces the views (the opt-in); full: the app renders every pixel of "
                  "each eye itself with the same engine, --rays-per-point rays per pixel (0: the layer config's "
-                 "default, 1), the same display transform and sRGB encode, no temporal history, and does not opt "
-                 "in; both: a full session, then a foveated one, and their median frame and trace times")
+                 "default, 1), the same display transform and sRGB encode (exposure/tone map \"config\": 1, "
+                 "pbr-neutral), no temporal history, and does not opt in (--engine gpu: GPU timestamps time the "
+                 "trace; its read back, CPU encode and upload are timed apart); both: a full session, then a "
+                 "foveated one, and their median frame and trace times and speedup")
       ->check(CLI::IsMember({"foveated", "full", "both"}))
       ->capture_default_str();
   cli.add_option("--interpolation", interpolation, "nearest, msm or rbf (config = the layer config's)")
@@ -351,7 +353,7 @@ int main(int argc, char** argv) {
       ->expected(2);
   cli.add_flag("--no-explicit-layer", no_explicit_layer,
                "do not name the layer (it is enabled implicitly or by XR_ENABLE_API_LAYERS)");
-  cli.add_flag("--json", json, "print the layer's stats as JSON");
+  cli.add_flag("--json", json, "print the layer's stats as JSON (--mode full: the full render's; both: both and the speedup)");
   cli.add_flag("--app-actions", options.app_actions,
                "test aid: the app enables XR_EXT_eye_gaze_interaction and uses its own gaze action too");
   std::string exposure = "auto";
