@@ -12,7 +12,9 @@
 //    engine's trace + resolve).
 // Median over --frames frames after one warm-up; speedup = full / foveated
 // per frame pair, median. A discrete or integrated GPU when there is one,
-// else lavapipe (a CPU: there only the ratio means anything).
+// else lavapipe (a CPU: there only the ratio means anything). The engine runs
+// as a ray-tracing pipeline where the device offers VK_KHR_ray_tracing_pipeline,
+// else as a compute shader; the output and the JSON say which ("backend").
 //   gpu_frame [--scene default|room|hall|dense|FILE] [--size W H] [--frames N (8; 2 on a CPU device)]
 //             [--spp N] [--temporal off|image] [--k K] [--json FILE]
 // Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).

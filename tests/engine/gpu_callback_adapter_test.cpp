@@ -11,6 +11,8 @@
 
 #include <foveation/eye_rays.hpp>
 
+#include "icd_pin.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -42,6 +44,7 @@ struct Engines {
     options.prefer_cpu = true;  // lavapipe: the same device on every machine
     options.validate = true;
     gpu = CallbackAdapter::create(scene, options, &gpu_error);
+    foveart::sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
     if (gpu)
       std::printf("[ device ] %s, validation %s\n", gpu->device_name().c_str(),
                   gpu->validated() ? "on (synchronization)" : "off (layer not installed)");

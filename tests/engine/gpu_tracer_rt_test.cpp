@@ -1,7 +1,8 @@
 // GpuTracer's backend choice and its VK_KHR_ray_tracing_pipeline backend.
 // Everywhere (lavapipe has no ray-tracing extensions): automatic picks compute
 // and says so; an explicit ray_tracing_pipeline request fails create() with an
-// error naming the missing extension. Only where a device offers
+// error naming the missing extension; the backend's BLAS primitive order and
+// binding-table layout (pure arithmetic). Only where a device offers
 // VK_KHR_ray_tracing_pipeline (skipped elsewhere, with the reason): the
 // ray-tracing pipeline against the compute tracer on the same device and the
 // same rays (the scenes and tolerances of gpu_tracer_test.cpp), per-kind ray
@@ -19,6 +20,7 @@
 
 #include "headless_vulkan.hpp"
 #include "icd_pin.h"
+#include "rt_layout.hpp"  // samples/gpu_engine/src: the backend's layout arithmetic
 
 #include <gtest/gtest.h>
 
@@ -470,6 +472,58 @@ TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheCallerDidNotEnableI
   EXPECT_EQ(GpuTracer::create(gpu.context(), plain_floor(), options, &error), nullptr);  // created without them
   EXPECT_NE(error.find(VK_KHR_RAY_TRACING_PIPELINE_EXTENSION_NAME), std::string::npos) << error;
   EXPECT_NE(error.find("ray_tracing_enabled"), std::string::npos) << error;
+}
+
+// ---- the backend's layout arithmetic, everywhere ----------------------------------------
+
+TEST(GpuTracerRtLayout, EachTracedTriangleOnceOpaqueFirst) {
+  using foveart::gpu_engine::GpuTriangle;
+  std::vector<GpuTriangle> tris(5);
+  const uint32_t masked[5] = {0, 1, 0, 1, 0};
+  for (size_t i = 0; i < tris.size(); ++i) tris[i].masked = masked[i];
+  // Triangle 2 is not in the BVH (a MASK material cut out whole); 1 and 4 sit in two leaves.
+  auto order = foveart::gpu_engine::order_rt_primitives({4, 1, 1, 0, 3, 4}, tris);
+  EXPECT_EQ(order.prims, (std::vector<uint32_t>{0, 4, 1, 3}));
+  EXPECT_EQ(order.geometry1_first, 2u);
+  for (GpuTriangle& t : tris) t.masked = 0;
+  order = foveart::gpu_engine::order_rt_primitives({2, 0}, tris);
+  EXPECT_EQ(order.prims, (std::vector<uint32_t>{0, 2}));
+  EXPECT_EQ(order.geometry1_first, 2u);  // no masked geometry
+  for (GpuTriangle& t : tris) t.masked = 1;
+  order = foveart::gpu_engine::order_rt_primitives({3, 1}, tris);
+  EXPECT_EQ(order.prims, (std::vector<uint32_t>{1, 3}));
+  EXPECT_EQ(order.geometry1_first, 0u);  // the masked geometry is geometry 0: no offset
+  order = foveart::gpu_engine::order_rt_primitives({}, {});
+  EXPECT_TRUE(order.prims.empty());
+  EXPECT_EQ(order.geometry1_first, 0u);
+}
+
+TEST(GpuTracerRtLayout, BindingTableRegionsRespectTheDeviceAlignments) {
+  using foveart::gpu_engine::binding_table_layout;
+  auto l = binding_table_layout(32, 32, 64);  // common desktop values
+  EXPECT_EQ(l.record_stride_bytes, 32u);
+  EXPECT_EQ(l.raygen_offset_bytes, 0u);
+  EXPECT_EQ(l.miss_offset_bytes, 64u);
+  EXPECT_EQ(l.hit_offset_bytes, 128u);
+  EXPECT_EQ(l.table_bytes, 160u);
+  l = binding_table_layout(48, 16, 64);  // a handle that is not a power of two
+  EXPECT_EQ(l.record_stride_bytes, 48u);
+  EXPECT_EQ(l.miss_offset_bytes, 64u);
+  EXPECT_EQ(l.hit_offset_bytes, 192u);  // 64 + 2 x 48 = 160, up to 192
+  EXPECT_EQ(l.table_bytes, 240u);
+  for (uint32_t handle : {16u, 32u, 48u, 64u})
+    for (uint32_t align : {1u, 16u, 32u, 64u})
+      for (uint32_t base : {1u, 64u, 256u}) {
+        l = binding_table_layout(handle, align, base);
+        SCOPED_TRACE(std::to_string(handle) + " " + std::to_string(align) + " " + std::to_string(base));
+        EXPECT_GE(l.record_stride_bytes, handle);
+        EXPECT_EQ(l.record_stride_bytes % align, 0u);
+        EXPECT_EQ(l.miss_offset_bytes % base, 0u);
+        EXPECT_EQ(l.hit_offset_bytes % base, 0u);
+        EXPECT_GE(l.miss_offset_bytes, l.raygen_offset_bytes + l.record_stride_bytes);
+        EXPECT_GE(l.hit_offset_bytes, l.miss_offset_bytes + 2 * l.record_stride_bytes);
+        EXPECT_EQ(l.table_bytes, l.hit_offset_bytes + l.record_stride_bytes);
+      }
 }
 
 // ---- the ray-tracing pipeline against the compute tracer, where a device offers it ------

@@ -3,6 +3,8 @@
 // shaderGroupHandleAlignment and shaderGroupBaseAlignment -> vkCmdTraceRaysKHR.
 #include "rt_pipeline_tracer.hpp"
 
+#include "rt_layout.hpp"
+
 #include <gpu_engine_shaders/rt_alpha.spv.h>
 #include <gpu_engine_shaders/rt_full.spv.h>
 #include <gpu_engine_shaders/rt_hit.spv.h>
@@ -165,12 +167,14 @@ bool RtPipelineTracer::create_pipeline(Entry entry, VkPipelineLayout layout, uin
   r = fn_.get_ray_tracing_shader_group_handles(ctx_.device, table.pipeline, 0, kGroupCount, handles.size(),
                                                handles.data());
   if (r != VK_SUCCESS) return fail(error, vk_error("vkGetRayTracingShaderGroupHandlesKHR", r));
-  const VkDeviceSize record_stride = align_up(handle_bytes, std::max<uint32_t>(props_.shaderGroupHandleAlignment, 1));
+  const BindingTableLayout layout_bytes = binding_table_layout(handle_bytes, props_.shaderGroupHandleAlignment,
+                                                               props_.shaderGroupBaseAlignment);
+  const VkDeviceSize record_stride = layout_bytes.record_stride_bytes;
   const VkDeviceSize base_align = std::max<uint32_t>(props_.shaderGroupBaseAlignment, 1);
-  const VkDeviceSize raygen_offset = 0;
-  const VkDeviceSize miss_offset = align_up(raygen_offset + record_stride, base_align);
-  const VkDeviceSize hit_offset = align_up(miss_offset + 2 * record_stride, base_align);
-  const VkDeviceSize table_bytes = hit_offset + record_stride;
+  const VkDeviceSize raygen_offset = layout_bytes.raygen_offset_bytes;
+  const VkDeviceSize miss_offset = layout_bytes.miss_offset_bytes;
+  const VkDeviceSize hit_offset = layout_bytes.hit_offset_bytes;
+  const VkDeviceSize table_bytes = layout_bytes.table_bytes;
   if (!table.buffer.create(ctx_.physical_device, ctx_.device, table_bytes + base_align, nullptr, error,
                            VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT))
     return false;

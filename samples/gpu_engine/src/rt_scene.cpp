@@ -2,9 +2,12 @@
 // on the device, from host-visible input buffers freed after the build.
 #include "rt_scene.hpp"
 
+#include "rt_layout.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <utility>
 
 namespace foveart::gpu_engine {
 namespace {
@@ -116,15 +119,9 @@ bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* e
   vkGetPhysicalDeviceProperties2(ctx.physical_device, &props);
   const VkDeviceSize scratch_align = std::max<VkDeviceSize>(as_props.minAccelerationStructureScratchOffsetAlignment, 1);
 
-  // The BVH's triangles (spatial splits list some in several leaves: once each
-  // here), opaque ones first.
-  std::vector<bool> traced(data.triangles.size(), false);
-  for (uint32_t t : data.bvh.prims) traced[t] = true;
-  for (uint32_t masked = 0; masked < 2; ++masked) {
-    if (masked == 1) geometry1_first_ = static_cast<uint32_t>(prims_.size());
-    for (uint32_t t = 0; t < data.triangles.size(); ++t)
-      if (traced[t] && (data.triangles[t].masked != 0) == (masked == 1)) prims_.push_back(t);
-  }
+  RtPrimitiveOrder order = order_rt_primitives(data.bvh.prims, data.triangles);
+  prims_ = std::move(order.prims);
+  geometry1_first_ = order.geometry1_first;
   const uint32_t counts[2] = {geometry1_first_, static_cast<uint32_t>(prims_.size()) - geometry1_first_};
   if (static_cast<uint64_t>(prims_.size()) > as_props.maxPrimitiveCount)
     return fail(error, "gpu_engine: " + std::to_string(prims_.size()) +

@@ -34,9 +34,11 @@ class RayTracingDeviceSupport {
   // The first extension or feature the device lacks ("" when offered()).
   const std::string& missing() const { return missing_; }
 
-  // When offered(): appends the extensions to *extensions, points
-  // info->ppEnabledExtensionNames at them and chains the three feature structs
-  // in front of info->pNext. Returns offered(); changes nothing otherwise.
+  // When offered(): appends the extensions to *extensions (which must already
+  // hold the caller's own device extensions: info's list is replaced by it),
+  // points info->ppEnabledExtensionNames at it and chains the three feature
+  // structs in front of info->pNext; *extensions must outlive vkCreateDevice
+  // too. Returns offered(); changes nothing otherwise.
   bool enable(VkDeviceCreateInfo* info, std::vector<const char*>* extensions);
 
   // The device extensions enable() adds.
