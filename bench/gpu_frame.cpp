@@ -180,6 +180,7 @@ int main(int argc, char** argv) {
               "backend: %s\n",
               scene_spec.c_str(), tracer->scene().source.c_str(), foveart::engine::to_string(tracer->effects()).c_str(),
               size[0], size[1], spp, k, temporal.c_str(), frames, vulkan.name().c_str(), tracer->backend_name());
+  if (!tracer->backend_fallback().empty()) std::fprintf(stderr, "gpu_frame: %s\n", tracer->backend_fallback().c_str());
   std::vector<double> full_trace, fov_trace, gather, history, encode, full_total, fov_total, ratio, fov_wall, full_wall;
   std::vector<double> points;
   bool ok = true;
@@ -265,6 +266,7 @@ int main(int argc, char** argv) {
         {"device", vulkan.name()},
         {"device_is_cpu", vulkan.is_cpu()},
         {"backend", tracer->backend_name()},
+        {"backend_fallback", tracer->backend_fallback()},
         {"scene", tracer->scene().source},
         {"effects", foveart::engine::to_string(tracer->effects())},
         {"eye_px", {size[0], size[1]}},

@@ -70,6 +70,7 @@ struct GpuTracer::Impl {
   VkPhysicalDeviceLimits limits{};
   std::string device_name;
   GpuBackend backend = GpuBackend::compute;  // the one chosen
+  std::string backend_fallback;                 // automatic fell back to compute: why
   VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT;
   VkShaderStageFlags push_stage = VK_SHADER_STAGE_COMPUTE_BIT;
   VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
@@ -507,8 +508,22 @@ std::unique_ptr<GpuTracer> GpuTracer::create(const GpuContext& context, engine::
     impl->ctx = context;
     impl->options = options;
     impl->scene = std::move(scene);
-    if (!impl->create(error)) return nullptr;
-    return std::unique_ptr<GpuTracer>(new GpuTracer(std::move(impl)));
+    std::string create_error;
+    if (impl->create(&create_error)) return std::unique_ptr<GpuTracer>(new GpuTracer(std::move(impl)));
+    if (options.backend != GpuBackend::automatic || impl->backend != GpuBackend::ray_tracing_pipeline) {
+      if (error) *error = create_error;
+      return nullptr;
+    }
+    // automatic: a ray-tracing backend that cannot be built gives way to the compute one, with the reason kept.
+    auto fallback = std::make_unique<Impl>();
+    fallback->ctx = context;
+    fallback->options = options;
+    fallback->options.backend = GpuBackend::compute;
+    fallback->scene = std::move(impl->scene);
+    impl.reset();
+    if (!fallback->create(error)) return nullptr;
+    fallback->backend_fallback = "the ray_tracing_pipeline backend failed (" + create_error + "); compute instead";
+    return std::unique_ptr<GpuTracer>(new GpuTracer(std::move(fallback)));
   } catch (const std::exception& e) {
     if (error) *error = std::string("gpu_engine: ") + e.what();
     return nullptr;
@@ -546,6 +561,7 @@ const char* backend_name(GpuBackend backend) {
 
 const engine::Scene& GpuTracer::scene() const { return impl_->scene; }
 GpuBackend GpuTracer::backend() const { return impl_->backend; }
+const std::string& GpuTracer::backend_fallback() const { return impl_->backend_fallback; }
 engine::Effects GpuTracer::scene_effects() const { return impl_->scene_effects; }
 engine::Effects GpuTracer::effects() const { return impl_->effects; }
 

@@ -60,7 +60,8 @@ struct GpuContext {
 };
 
 enum class GpuBackend {
-  automatic,             // ray_tracing_pipeline where GpuContext::ray_tracing_enabled, else compute
+  automatic,             // ray_tracing_pipeline where GpuContext::ray_tracing_enabled, else compute;
+                         // compute too when the ray-tracing backend fails to build (backend_fallback())
   compute,               // the compute shader over the CPU-built BVH
   ray_tracing_pipeline,  // VK_KHR_ray_tracing_pipeline; create() fails without it
 };
@@ -98,6 +99,9 @@ class GpuTracer {
   const engine::Scene& scene() const;
   GpuBackend backend() const;  // compute or ray_tracing_pipeline: the one chosen
   const char* backend_name() const { return gpu_engine::backend_name(backend()); }
+  // Why an automatic choice fell back to compute after the ray-tracing backend
+  // failed to build (empty: it did not).
+  const std::string& backend_fallback() const;
   engine::Effects scene_effects() const;  // what the scene calls for
   engine::Effects effects() const;        // what the kernel simulates (scene & allowed)
   engine::RayCounts counts() const;       // device counters (packets stays 0)
