@@ -18,8 +18,7 @@
 
 #include <foveation/eye_rays.hpp>
 
-#include "headless_vulkan.hpp"
-#include "icd_pin.h"
+#include "gpu_trace_fixtures.hpp"
 #include "rt_layout.hpp"  // samples/gpu_engine/src: the backend's layout arithmetic
 
 #include <gtest/gtest.h>
@@ -45,88 +44,18 @@ using foveart::gpu_engine::GpuContext;
 using foveart::gpu_engine::GpuTracer;
 using foveart::gpu_engine::GpuTracerOptions;
 using foveart::gpu_engine::RayTracingDeviceSupport;
-using foveart::layer::DeviceCreateHook;
 using foveart::layer::DevicePreference;
-using foveart::layer::HeadlessVulkan;
-
-// A validated device, with the ray-tracing extensions enabled when asked for
-// and offered, and a way to run commands on it.
-struct Gpu {
-  std::unique_ptr<RayTracingDeviceSupport> support;
-  std::vector<const char*> extensions;
-  bool ray_tracing = false;  // the device was created with the extensions
-  HeadlessVulkan vk;
-  VkQueue queue = VK_NULL_HANDLE;
-  VkCommandPool pool = VK_NULL_HANDLE;
-
-  Gpu(DevicePreference preference, bool enable_ray_tracing)
-      : vk(preference, /*validate=*/true,
-           enable_ray_tracing ? DeviceCreateHook([this](VkPhysicalDevice physical, VkDeviceCreateInfo* info) {
-             support = std::make_unique<RayTracingDeviceSupport>(physical);
-             ray_tracing = support->enable(info, &extensions);
-           })
-                              : DeviceCreateHook()) {
-    foveart::sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
-    if (!vk.ok()) return;
-    std::printf("[ device ] %s, ray tracing %s, validation %s\n", vk.name().c_str(),
-                ray_tracing ? "enabled" : "off", vk.validated() ? "on (synchronization)" : "off");
-    vkGetDeviceQueue(vk.device().device, vk.device().queue_family_index, 0, &queue);
-    VkCommandPoolCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    info.queueFamilyIndex = vk.device().queue_family_index;
-    vkCreateCommandPool(vk.device().device, &info, nullptr, &pool);
-  }
-  ~Gpu() {
-    if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(vk.device().device, pool, nullptr);
-  }
-  GpuContext context() const {
-    GpuContext c{vk.device().physical_device, vk.device().device, vk.device().queue_family_index, queue};
-    c.ray_tracing_enabled = ray_tracing;
-    return c;
-  }
-  VkDevice device() const { return vk.device().device; }
-
-  // Records with `record`, submits, waits. False when recording said so.
-  bool run(const std::function<bool(VkCommandBuffer)>& record) {
-    VkCommandBufferAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-    alloc.commandPool = pool;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    VkCommandBuffer cb = VK_NULL_HANDLE;
-    if (vkAllocateCommandBuffers(device(), &alloc, &cb) != VK_SUCCESS) return false;
-    VkCommandBufferBeginInfo begin{};
-    begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    vkBeginCommandBuffer(cb, &begin);
-    const bool ok = record(cb);
-    vkEndCommandBuffer(cb);
-    VkFenceCreateInfo fence_info{};
-    fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    VkFence fence = VK_NULL_HANDLE;
-    vkCreateFence(device(), &fence_info, nullptr, &fence);
-    VkSubmitInfo submit{};
-    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cb;
-    const bool submitted = vkQueueSubmit(queue, 1, &submit, fence) == VK_SUCCESS;
-    if (submitted) vkWaitForFences(device(), 1, &fence, VK_TRUE, UINT64_MAX);
-    vkDestroyFence(device(), fence, nullptr);
-    vkFreeCommandBuffers(device(), pool, 1, &cb);
-    return ok && submitted;
-  }
-  std::vector<std::string> errors() { return vk.errors(); }
-};
+using namespace foveart::gpu_engine::testing;
 
 // The CPU implementation every machine has (lavapipe), without ray-tracing extensions.
-Gpu& cpu_device() {
-  static Gpu g(DevicePreference::cpu, false);
+TestGpu& cpu_device() {
+  static TestGpu g(DevicePreference::cpu, false);
   return g;
 }
 
 // A hardware GPU where there is one, with the ray-tracing extensions where offered.
-Gpu& rt_device() {
-  static Gpu g(DevicePreference::hardware_gpu, true);
+TestGpu& rt_device() {
+  static TestGpu g(DevicePreference::hardware_gpu, true);
   return g;
 }
 
@@ -144,178 +73,7 @@ Gpu& rt_device() {
                    << ")";                                                                                      \
   } while (0)
 
-// A host-visible buffer the layer would own (storage + indirect).
-struct HostBuffer {
-  VkDevice device = VK_NULL_HANDLE;
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  void* data = nullptr;
-  HostBuffer(Gpu& gpu, VkDeviceSize bytes) : device(gpu.device()) {
-    VkBufferCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    info.size = bytes;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
-    vkCreateBuffer(device, &info, nullptr, &buffer);
-    VkMemoryRequirements req{};
-    vkGetBufferMemoryRequirements(device, buffer, &req);
-    VkPhysicalDeviceMemoryProperties props{};
-    vkGetPhysicalDeviceMemoryProperties(gpu.vk.device().physical_device, &props);
-    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    VkMemoryAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    alloc.allocationSize = req.size;
-    for (uint32_t i = 0; i < props.memoryTypeCount; ++i)
-      if ((req.memoryTypeBits & (1u << i)) && (props.memoryTypes[i].propertyFlags & want) == want) {
-        alloc.memoryTypeIndex = i;
-        break;
-      }
-    vkAllocateMemory(device, &alloc, nullptr, &memory);
-    vkBindBufferMemory(device, buffer, memory, 0);
-    vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &data);
-  }
-  ~HostBuffer() {
-    vkDestroyBuffer(device, buffer, nullptr);
-    vkFreeMemory(device, memory, nullptr);
-  }
-  HostBuffer(const HostBuffer&) = delete;
-  HostBuffer& operator=(const HostBuffer&) = delete;
-};
-
-// The layer's barriers around the engine (XR_FOVEART_foveated_ray_tracing.h):
-// full memory barriers, which cover the ray-tracing stage as the compute one.
-void barrier(VkCommandBuffer cb, VkPipelineStageFlags dst) {
-  VkMemoryBarrier b{};
-  b.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-  b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-  b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT, dst, 0, 1, &b, 0,
-                       nullptr, 0, nullptr);
-}
-
-struct Rays {
-  std::vector<glm::vec3> origin, dir;
-};
-
-// n rays through pseudo-random screen positions of `view` (the LCG of gpu_tracer_test.cpp).
-Rays view_rays(const FoveartEyeView& view, size_t n) {
-  const foveart::foveation::EyeFrustum f = foveart::foveation::eye_frustum(view);
-  const foveart::foveation::EyePose pose = foveart::foveation::eye_pose(view);
-  Rays r;
-  uint32_t state = 12345u;
-  auto next = [&] {
-    state = state * 1664525u + 1013904223u;
-    return static_cast<float>(state >> 8) / 16777216.0f;
-  };
-  for (size_t i = 0; i < n; ++i) {
-    const glm::vec2 px(next() * static_cast<float>(view.width_px), next() * static_cast<float>(view.height_px));
-    r.origin.push_back(pose.position_m);
-    r.dir.push_back(foveart::foveation::eye_ray_direction(f, pose, px));
-  }
-  return r;
-}
-
-// A device ray batch as the layer hands it over (colours pre-filled with NaN).
-struct DeviceBatch {
-  HostBuffer count, rays, colors;
-  XrFoveatedDeviceRayBatchFOVEART batch{};
-  DeviceBatch(Gpu& gpu, const Rays& r)
-      : count(gpu, sizeof(FoveartDeviceRayCount)), rays(gpu, 32 * std::max<size_t>(r.origin.size(), 1)),
-        colors(gpu, 16 * std::max<size_t>(r.origin.size(), 1)) {
-    const auto n = static_cast<uint32_t>(r.origin.size());
-    FoveartDeviceRayCount c{};
-    c.count = n;
-    c.dispatch64[0] = (n + 63) / 64;
-    c.dispatch64[1] = c.dispatch64[2] = 1;
-    c.traceRays[0] = n;
-    c.traceRays[1] = c.traceRays[2] = 1;
-    std::memcpy(count.data, &c, sizeof(c));
-    auto* ray = static_cast<float*>(rays.data);
-    for (uint32_t i = 0; i < n; ++i) {
-      const float e[8] = {r.origin[i].x, r.origin[i].y, r.origin[i].z, 0.0f, r.dir[i].x, r.dir[i].y, r.dir[i].z, 0.0f};
-      std::memcpy(ray + 8 * i, e, sizeof(e));
-    }
-    auto* col = static_cast<float*>(colors.data);
-    std::fill(col, col + 4 * std::max<uint32_t>(n, 1), std::numeric_limits<float>::quiet_NaN());
-    batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
-    batch.rayCapacity = n;
-    batch.raysPerPoint = 1;
-    batch.rayCount = {count.buffer, 0, sizeof(FoveartDeviceRayCount)};
-    batch.rays = {rays.buffer, 0, 32 * VkDeviceSize{std::max<uint32_t>(n, 1)}};
-    batch.pointIndex = {rays.buffer, 0, 32};  // unused by the engine
-    batch.colors = {colors.buffer, 0, 16 * VkDeviceSize{std::max<uint32_t>(n, 1)}};
-  }
-  std::vector<glm::vec4> result() const {
-    std::vector<glm::vec4> out(batch.rayCapacity);
-    std::memcpy(out.data(), colors.data, out.size() * sizeof(glm::vec4));
-    return out;
-  }
-};
-
-// Traces `batch` through the C entry point, the layer's barriers around it.
-bool trace_batch(Gpu& gpu, GpuTracer& tracer, DeviceBatch& b) {
-  XrResult result = XR_ERROR_RUNTIME_FAILURE;
-  const bool ran = gpu.run([&](VkCommandBuffer cb) {
-    barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
-    b.batch.commandBuffer = cb;
-    result = foveart_gpu_engine_trace_rays_device(&tracer, &b.batch);
-    barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT);
-    return result == XR_SUCCESS;
-  });
-  EXPECT_EQ(result, XR_SUCCESS);
-  return ran;
-}
-
-std::vector<glm::vec4> trace(Gpu& gpu, GpuTracer& tracer, const Rays& r) {
-  DeviceBatch b(gpu, r);
-  EXPECT_TRUE(trace_batch(gpu, tracer, b));
-  return b.result();
-}
-
-// gpu_tracer_test.cpp's agreement, the compute tracer as the reference: a ray's
-// error is the largest channel difference relative to the reference's brightest
-// channel (+1e-3 so black stays absolute).
-struct Agreement {
-  double within = 0.0;        // share of rays with error <= 1e-3
-  double max_error = 0.0;
-  double mean_error = 0.0;
-  double depth_within = 0.0;  // share with the same hit/miss and |depth| within 1e-4 relative
-  size_t n = 0;
-};
-
-Agreement compare(const std::vector<glm::vec4>& rt, const std::vector<glm::vec4>& ref) {
-  Agreement a;
-  a.n = ref.size();
-  size_t ok = 0, depth_ok = 0;
-  for (size_t i = 0; i < a.n; ++i) {
-    const glm::vec4 g = rt[i], c = ref[i];
-    const float diff = std::max({std::fabs(g.r - c.r), std::fabs(g.g - c.g), std::fabs(g.b - c.b)});
-    const double err = std::isfinite(diff) ? double(diff) / (double(std::max({c.r, c.g, c.b})) + 1e-3) : 1e30;
-    a.max_error = std::max(a.max_error, err);
-    a.mean_error += err;
-    if (err <= 1e-3) ++ok;
-    if (std::isinf(c.w) ? std::isinf(g.w) && g.w > 0 : std::fabs(g.w - c.w) <= 1e-4f * std::max(1.0f, c.w)) ++depth_ok;
-  }
-  const double n = static_cast<double>(std::max<size_t>(a.n, 1));
-  a.within = static_cast<double>(ok) / n;
-  a.depth_within = static_cast<double>(depth_ok) / n;
-  a.mean_error /= n;
-  return a;
-}
-
-void expect_agreement(const Agreement& a, const char* what) {
-  std::printf("[ agreement ] %s: %zu samples, %.4f%% within 1e-3, mean error %.2e, max error %.3g, depth %.4f%%\n",
-              what, a.n, 100.0 * a.within, a.mean_error, a.max_error, 100.0 * a.depth_within);
-  EXPECT_GE(a.within, 0.99) << what;
-  EXPECT_LE(a.mean_error, 5e-3) << what;
-  EXPECT_GE(a.depth_within, 0.995) << what;
-}
-
-void expect_no_validation_errors(Gpu& gpu) {
-  const auto errors = gpu.errors();
-  EXPECT_TRUE(errors.empty()) << (errors.empty() ? "" : errors.front());
-}
-
-std::unique_ptr<GpuTracer> make(Gpu& gpu, Scene scene, GpuBackend backend, Effects allowed = Effects::all()) {
+std::unique_ptr<GpuTracer> make(TestGpu& gpu, Scene scene, GpuBackend backend, Effects allowed = Effects::all()) {
   std::string error;
   GpuTracerOptions options;
   options.backend = backend;
@@ -346,33 +104,6 @@ void expect_scene_agrees(const Scene& scene, const char* what, size_t n = 4096) 
   expect_no_validation_errors(rt_device());
 }
 
-// A (2 half) x (2 half) floor at y = 0, material `material`, uvs over [0,1]^2.
-void add_floor(Scene& s, float half, uint32_t material) {
-  const auto base = static_cast<uint32_t>(s.mesh.positions.size());
-  const glm::vec3 p[4] = {{-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}};
-  const glm::vec2 uv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  for (int i = 0; i < 4; ++i) {
-    s.mesh.positions.push_back(p[i]);
-    s.mesh.normals.push_back({0, 1, 0});
-    s.mesh.uv0.push_back(uv[i]);
-  }
-  s.mesh.triangles.push_back({base, base + 2, base + 1});
-  s.mesh.triangles.push_back({base, base + 3, base + 2});
-  s.mesh.triangle_material.push_back(material);
-  s.mesh.triangle_material.push_back(material);
-}
-
-Rays down_rays(int grid, float half) {
-  Rays r;
-  for (int i = 0; i < grid * grid; ++i) {
-    const float x = -half + 2.0f * half * (static_cast<float>(i % grid) + 0.5f) / static_cast<float>(grid);
-    const float z = -half + 2.0f * half * (static_cast<float>(i / grid) + 0.5f) / static_cast<float>(grid);
-    r.origin.push_back({x, 1.0f, z});
-    r.dir.push_back(glm::normalize(glm::vec3(0.1f, -1.0f, 0.05f)));
-  }
-  return r;
-}
-
 Scene plain_floor() {  // one rough, opaque, untextured floor; no lights
   Scene s;
   s.source = "plain";
@@ -401,7 +132,7 @@ TEST(GpuTracerBackend, NamesEachBackend) {
 }
 
 TEST(GpuTracerBackend, AutomaticPicksComputeOnADeviceWithoutRayTracing) {
-  Gpu& gpu = cpu_device();
+  TestGpu& gpu = cpu_device();
   REQUIRE_DEVICE(gpu);
   const RayTracingDeviceSupport support(gpu.vk.device().physical_device);
   std::printf("[ device ] %s: VK_KHR_ray_tracing_pipeline backend %s%s\n", gpu.vk.name().c_str(),
@@ -430,7 +161,7 @@ TEST(GpuTracerBackend, AutomaticPicksComputeOnADeviceWithoutRayTracing) {
 }
 
 TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheDeviceLacksIt) {
-  Gpu& gpu = cpu_device();
+  TestGpu& gpu = cpu_device();
   REQUIRE_DEVICE(gpu);
   const RayTracingDeviceSupport support(gpu.vk.device().physical_device);
   if (support.offered()) GTEST_SKIP() << gpu.vk.name() << " offers VK_KHR_ray_tracing_pipeline";
@@ -460,7 +191,7 @@ TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheDeviceLacksIt) {
 }
 
 TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheCallerDidNotEnableIt) {
-  Gpu& gpu = cpu_device();
+  TestGpu& gpu = cpu_device();
   REQUIRE_DEVICE(gpu);
   const RayTracingDeviceSupport support(gpu.vk.device().physical_device);
   if (!support.offered())
@@ -709,7 +440,7 @@ TEST(GpuTracerRt, FullRenderMatchesTheComputeTracerPerPixel) {
     std::string error;
     EXPECT_TRUE(rt_device().run([&](VkCommandBuffer cb) {
       const bool ok = t.record_full(cb, view, kSpp, kSeed, out.buffer, 0, &error);
-      barrier(cb, VK_PIPELINE_STAGE_HOST_BIT);
+      layer_barrier(cb, VK_PIPELINE_STAGE_HOST_BIT);
       return ok;
     })) << error;
     std::vector<glm::vec4> px(pixels);

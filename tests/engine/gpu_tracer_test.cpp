@@ -12,8 +12,7 @@
 #include <foveation/executor.hpp>
 #include <foveation/eye_rays.hpp>
 
-#include "headless_vulkan.hpp"
-#include "icd_pin.h"
+#include "gpu_trace_fixtures.hpp"
 
 #include <gtest/gtest.h>
 
@@ -37,107 +36,10 @@ using foveart::gpu_engine::GpuContext;
 using foveart::gpu_engine::GpuTracer;
 using foveart::gpu_engine::GpuTracerOptions;
 using foveart::layer::DevicePreference;
-using foveart::layer::HeadlessVulkan;
+using namespace foveart::gpu_engine::testing;
 
-// One validated lavapipe device for the whole suite, and a way to run commands on it.
-struct Gpu {
-  HeadlessVulkan vk{DevicePreference::cpu, /*validate=*/true};
-  VkQueue queue = VK_NULL_HANDLE;
-  VkCommandPool pool = VK_NULL_HANDLE;
-
-  Gpu() {
-    foveart::sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
-    if (!vk.ok()) return;
-    std::printf("[ device ] %s, validation %s\n", vk.name().c_str(), vk.validated() ? "on (synchronization)" : "off");
-    vkGetDeviceQueue(vk.device().device, vk.device().queue_family_index, 0, &queue);
-    VkCommandPoolCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    info.queueFamilyIndex = vk.device().queue_family_index;
-    vkCreateCommandPool(vk.device().device, &info, nullptr, &pool);
-  }
-  ~Gpu() {
-    if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(vk.device().device, pool, nullptr);
-  }
-  GpuContext context() const {
-    return GpuContext{vk.device().physical_device, vk.device().device, vk.device().queue_family_index, queue};
-  }
-  VkDevice device() const { return vk.device().device; }
-
-  // Records with `record`, submits, waits. False when recording said so.
-  bool run(const std::function<bool(VkCommandBuffer)>& record) {
-    VkCommandBufferAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-    alloc.commandPool = pool;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    VkCommandBuffer cb = VK_NULL_HANDLE;
-    if (vkAllocateCommandBuffers(device(), &alloc, &cb) != VK_SUCCESS) return false;
-    VkCommandBufferBeginInfo begin{};
-    begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    vkBeginCommandBuffer(cb, &begin);
-    const bool ok = record(cb);
-    vkEndCommandBuffer(cb);
-    VkFenceCreateInfo fence_info{};
-    fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    VkFence fence = VK_NULL_HANDLE;
-    vkCreateFence(device(), &fence_info, nullptr, &fence);
-    VkSubmitInfo submit{};
-    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cb;
-    const bool submitted = vkQueueSubmit(queue, 1, &submit, fence) == VK_SUCCESS;
-    if (submitted) vkWaitForFences(device(), 1, &fence, VK_TRUE, UINT64_MAX);
-    vkDestroyFence(device(), fence, nullptr);
-    vkFreeCommandBuffers(device(), pool, 1, &cb);
-    return ok && submitted;
-  }
-};
-
-Gpu& gpu() {
-  static Gpu g;
-  return g;
-}
-
-// A host-visible buffer the layer would own (storage + indirect).
-struct HostBuffer {
-  VkDevice device = VK_NULL_HANDLE;
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  void* data = nullptr;
-  HostBuffer(VkDeviceSize bytes) : device(gpu().device()) {
-    VkBufferCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    info.size = bytes;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
-    vkCreateBuffer(device, &info, nullptr, &buffer);
-    VkMemoryRequirements req{};
-    vkGetBufferMemoryRequirements(device, buffer, &req);
-    VkPhysicalDeviceMemoryProperties props{};
-    vkGetPhysicalDeviceMemoryProperties(gpu().vk.device().physical_device, &props);
-    const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    VkMemoryAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-    alloc.allocationSize = req.size;
-    for (uint32_t i = 0; i < props.memoryTypeCount; ++i)
-      if ((req.memoryTypeBits & (1u << i)) && (props.memoryTypes[i].propertyFlags & want) == want) {
-        alloc.memoryTypeIndex = i;
-        break;
-      }
-    vkAllocateMemory(device, &alloc, nullptr, &memory);
-    vkBindBufferMemory(device, buffer, memory, 0);
-    vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &data);
-  }
-  ~HostBuffer() {
-    vkDestroyBuffer(device, buffer, nullptr);
-    vkFreeMemory(device, memory, nullptr);
-  }
-  HostBuffer(const HostBuffer&) = delete;
-  HostBuffer& operator=(const HostBuffer&) = delete;
-};
-
-// What the layer records around the engine's trace: host writes -> shader and
-// indirect reads before, shader writes -> host reads after.
+// A narrow memory barrier for the tests' own recordings around the engine's
+// compute: host writes -> shader and indirect reads, shader writes -> host reads.
 void barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_access, VkPipelineStageFlags dst,
              VkAccessFlags dst_access) {
   VkMemoryBarrier b{};
@@ -145,28 +47,6 @@ void barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags src_acc
   b.srcAccessMask = src_access;
   b.dstAccessMask = dst_access;
   vkCmdPipelineBarrier(cb, src, dst, 0, 1, &b, 0, nullptr, 0, nullptr);
-}
-
-struct Rays {
-  std::vector<glm::vec3> origin, dir;
-};
-
-// n rays through pseudo-random screen positions of `view` (a fixed LCG).
-Rays view_rays(const FoveartEyeView& view, size_t n) {
-  const foveart::foveation::EyeFrustum f = foveart::foveation::eye_frustum(view);
-  const foveart::foveation::EyePose pose = foveart::foveation::eye_pose(view);
-  Rays r;
-  uint32_t state = 12345u;
-  auto next = [&] {
-    state = state * 1664525u + 1013904223u;
-    return static_cast<float>(state >> 8) / 16777216.0f;
-  };
-  for (size_t i = 0; i < n; ++i) {
-    const glm::vec2 px(next() * static_cast<float>(view.width_px), next() * static_cast<float>(view.height_px));
-    r.origin.push_back(pose.position_m);
-    r.dir.push_back(foveart::foveation::eye_ray_direction(f, pose, px));
-  }
-  return r;
 }
 
 // The CPU reference: rgb and depth per ray.
@@ -191,107 +71,19 @@ std::vector<glm::vec4> trace_cpu(foveart::engine::Tracer& tracer, const Rays& ra
   return out;
 }
 
-// A device ray batch as the layer hands it over.
-struct DeviceBatch {
-  HostBuffer count, rays, colors;
-  XrFoveatedDeviceRayBatchFOVEART batch{};
-  explicit DeviceBatch(const Rays& r)
-      : count(sizeof(FoveartDeviceRayCount)), rays(32 * std::max<size_t>(r.origin.size(), 1)),
-        colors(16 * std::max<size_t>(r.origin.size(), 1)) {
-    const auto n = static_cast<uint32_t>(r.origin.size());
-    FoveartDeviceRayCount c{};
-    c.count = n;
-    c.dispatch64[0] = (n + 63) / 64;
-    c.dispatch64[1] = c.dispatch64[2] = 1;
-    std::memcpy(count.data, &c, sizeof(c));
-    auto* ray = static_cast<float*>(rays.data);
-    for (uint32_t i = 0; i < n; ++i) {
-      const float e[8] = {r.origin[i].x, r.origin[i].y, r.origin[i].z, 0.0f, r.dir[i].x, r.dir[i].y, r.dir[i].z, 0.0f};
-      std::memcpy(ray + 8 * i, e, sizeof(e));
-    }
-    auto* col = static_cast<float*>(colors.data);
-    std::fill(col, col + 4 * std::max<uint32_t>(n, 1), std::numeric_limits<float>::quiet_NaN());  // as the layer
-    batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
-    batch.rayCapacity = n;
-    batch.raysPerPoint = 1;
-    batch.rayCount = {count.buffer, 0, sizeof(FoveartDeviceRayCount)};
-    batch.rays = {rays.buffer, 0, 32 * VkDeviceSize{std::max<uint32_t>(n, 1)}};
-    batch.pointIndex = {rays.buffer, 0, 32};  // unused by the engine
-    batch.colors = {colors.buffer, 0, 16 * VkDeviceSize{std::max<uint32_t>(n, 1)}};
-  }
-  std::vector<glm::vec4> result() const {
-    std::vector<glm::vec4> out(batch.rayCapacity);
-    std::memcpy(out.data(), colors.data, out.size() * sizeof(glm::vec4));
-    return out;
-  }
-};
-
-// Traces through the C entry point, the layer's barriers around it.
-std::vector<glm::vec4> trace_gpu(GpuTracer& tracer, const Rays& r) {
-  DeviceBatch b(r);
-  XrResult result = XR_ERROR_RUNTIME_FAILURE;
-  EXPECT_TRUE(gpu().run([&](VkCommandBuffer cb) {
-    barrier(cb, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
-            VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-            VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
-    b.batch.commandBuffer = cb;
-    result = foveart_gpu_engine_trace_rays_device(&tracer, &b.batch);
-    barrier(cb, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-            VK_ACCESS_HOST_READ_BIT);
-    return result == XR_SUCCESS;
-  }));
-  EXPECT_EQ(result, XR_SUCCESS);
-  return b.result();
+TestGpu& gpu() {  // one validated lavapipe device for the whole suite
+  static TestGpu g(DevicePreference::cpu, false);
+  return g;
 }
 
-// Agreement of two radiance/depth lists. A ray's error: the largest channel
-// difference relative to the CPU's brightest channel (+1e-3 so black stays
-// absolute). Float differences (traversal order, Embree's rcp, fma) flip a
-// few rays that graze an edge, which then see another surface entirely.
-struct Agreement {
-  double within = 0.0;        // share of rays with error <= 1e-3
-  double max_error = 0.0;     // over all rays
-  double mean_error = 0.0;
-  double depth_within = 0.0;  // share with the same hit/miss and |depth| within 1e-4 relative
-  size_t n = 0;
-};
-
-Agreement compare(const std::vector<glm::vec4>& gpu_out, const std::vector<glm::vec4>& cpu_out) {
-  Agreement a;
-  a.n = cpu_out.size();
-  size_t ok = 0, depth_ok = 0;
-  for (size_t i = 0; i < a.n; ++i) {
-    const glm::vec4 g = gpu_out[i], c = cpu_out[i];
-    const float diff = std::max({std::fabs(g.r - c.r), std::fabs(g.g - c.g), std::fabs(g.b - c.b)});
-    const double err = std::isfinite(diff) ? double(diff) / (double(std::max({c.r, c.g, c.b})) + 1e-3) : 1e30;
-    a.max_error = std::max(a.max_error, err);
-    a.mean_error += err;
-    if (err <= 1e-3) ++ok;
-    if (std::isinf(c.w) ? std::isinf(g.w) && g.w > 0 : std::fabs(g.w - c.w) <= 1e-4f * std::max(1.0f, c.w)) ++depth_ok;
-  }
-  a.within = static_cast<double>(ok) / static_cast<double>(std::max<size_t>(a.n, 1));
-  a.depth_within = static_cast<double>(depth_ok) / static_cast<double>(std::max<size_t>(a.n, 1));
-  a.mean_error /= static_cast<double>(std::max<size_t>(a.n, 1));
-  return a;
-}
-
-void expect_agreement(const Agreement& a, const char* what) {
-  std::printf("[ agreement ] %s: %zu samples, %.4f%% within 1e-3, mean error %.2e, max error %.3g, depth %.4f%%\n",
-              what, a.n, 100.0 * a.within, a.mean_error, a.max_error, 100.0 * a.depth_within);
-  EXPECT_GE(a.within, 0.99) << what;
-  EXPECT_LE(a.mean_error, 5e-3) << what;
-  EXPECT_GE(a.depth_within, 0.995) << what;
-}
+std::vector<glm::vec4> trace_gpu(GpuTracer& tracer, const Rays& r) { return trace(gpu(), tracer, r); }
 
 #define REQUIRE_GPU()                                                 \
   do {                                                                \
     if (!gpu().vk.ok()) GTEST_SKIP() << "no Vulkan device";           \
   } while (0)
 
-void expect_no_validation_errors() {
-  const auto errors = gpu().vk.errors();
-  EXPECT_TRUE(errors.empty()) << (errors.empty() ? "" : errors.front());
-}
+void expect_no_validation_errors() { expect_no_validation_errors(gpu()); }
 
 std::unique_ptr<GpuTracer> make_gpu(Scene scene, const GpuTracerOptions& options = {}) {
   std::string error;
@@ -318,33 +110,6 @@ void expect_scene_agrees(const Scene& scene, const char* what, size_t n = 4096) 
   const Rays rays = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), n);
   expect_agreement(compare(trace_gpu(*g, rays), trace_cpu(*c, rays)), what);
   expect_no_validation_errors();
-}
-
-// A rough floor of (2 half) x (2 half) at y = 0, material `material`, uvs over [0,1]^2.
-void add_floor(Scene& s, float half, uint32_t material) {
-  const auto base = static_cast<uint32_t>(s.mesh.positions.size());
-  const glm::vec3 p[4] = {{-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}};
-  const glm::vec2 uv[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  for (int i = 0; i < 4; ++i) {
-    s.mesh.positions.push_back(p[i]);
-    s.mesh.normals.push_back({0, 1, 0});
-    s.mesh.uv0.push_back(uv[i]);
-  }
-  s.mesh.triangles.push_back({base, base + 2, base + 1});
-  s.mesh.triangles.push_back({base, base + 3, base + 2});
-  s.mesh.triangle_material.push_back(material);
-  s.mesh.triangle_material.push_back(material);
-}
-
-Rays down_rays(int grid, float half) {
-  Rays r;
-  for (int i = 0; i < grid * grid; ++i) {
-    const float x = -half + 2.0f * half * (static_cast<float>(i % grid) + 0.5f) / static_cast<float>(grid);
-    const float z = -half + 2.0f * half * (static_cast<float>(i / grid) + 0.5f) / static_cast<float>(grid);
-    r.origin.push_back({x, 1.0f, z});
-    r.dir.push_back(glm::normalize(glm::vec3(0.1f, -1.0f, 0.05f)));
-  }
-  return r;
 }
 
 // ---- agreement with engine::Tracer ------------------------------------------------
@@ -490,7 +255,7 @@ TEST(GpuTracer, TracesOnlyTheCountedRaysAndFollowsNewBuffers) {
   const Rays a = view_rays(view, 300);
   // The dispatch covers all 300 rays (5 groups) but the count says 200: the
   // shader's bounds check leaves the rest as the layer filled them (NaN).
-  DeviceBatch b(a);
+  DeviceBatch b(gpu(), a);
   static_cast<FoveartDeviceRayCount*>(b.count.data)->count = 200;
   ASSERT_TRUE(gpu().run([&](VkCommandBuffer cb) {
     barrier(cb, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
@@ -541,7 +306,7 @@ TEST(GpuTracer, FullRenderMatchesRenderFullPerPixel) {
             FOVEART_RESULT_SUCCESS);
 
   const size_t pixels = size_t{view.width_px} * view.height_px;
-  HostBuffer out(16 * pixels);
+  HostBuffer out(gpu(), 16 * pixels);
   std::string error;
   ASSERT_TRUE(gpu().run([&](VkCommandBuffer cb) {
     const bool ok = g->record_full(cb, view, kSpp, kSeed, out.buffer, 0, &error);
@@ -574,7 +339,7 @@ TEST(GpuTracer, BadBatchesFailWithoutRecording) {
   Rays r;
   r.origin.assign(64, glm::vec3(0.0f));
   r.dir.assign(64, glm::vec3(0.0f, 0.0f, -1.0f));
-  DeviceBatch b(r);
+  DeviceBatch b(gpu(), r);
   EXPECT_TRUE(gpu().run([&](VkCommandBuffer cb) {
     XrFoveatedDeviceRayBatchFOVEART bad = b.batch;
     bad.commandBuffer = cb;
