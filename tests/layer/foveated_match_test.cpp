@@ -33,6 +33,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app_output.hpp"
 #include "child_process.hpp"
 #include "test_env.hpp"
 
@@ -139,9 +140,7 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
                                 "replay:" + trace.string()},
                                env_->root() / "hello_foveated.log", kTimeoutS);
   ASSERT_EQ(app.exit_code, 0) << app.output;
-  const auto brace = app.output.find("\n{");
-  ASSERT_NE(brace, std::string::npos) << app.output;
-  const auto stats = nlohmann::json::parse(app.output.substr(brace + 1), nullptr, false);
+  const auto stats = trailing_json(app.output);
   ASSERT_TRUE(stats.is_object()) << app.output;
   ASSERT_EQ(stats["frames_traced"], m.frames) << app.output;
   ASSERT_EQ(stats["views_fallback"], 0);
@@ -203,11 +202,10 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
         env_->root() / (std::string("fovea_") + eyes[e] + ".log"), kTimeoutS);
     ASSERT_EQ(render.exit_code, 0) << render.output;
 
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", m.frames - 1, eyes[e]);
-    const Rgb8 layer_img = load_rgb(env_->root() / "frames" / name);
+    const fs::path layer_frame = captured_frame(env_->root() / "frames", m.frames - 1, eyes[e]);
+    const Rgb8 layer_img = load_rgb(layer_frame);
     const Rgb8 fovea_img = load_rgb(prefix.string() + "_foveated.png");
-    ASSERT_EQ(layer_img.width, kWidth) << name;
+    ASSERT_EQ(layer_img.width, kWidth) << layer_frame;
     ASSERT_EQ(layer_img.height, kHeight);
     ASSERT_EQ(fovea_img.width, kWidth);
     ASSERT_EQ(fovea_img.height, kHeight);

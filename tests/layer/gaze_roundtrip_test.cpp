@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app_output.hpp"
 #include "child_process.hpp"
 #include "gaze_provider/gaze_math.h"
 #include "gaze_provider/trace_csv.h"
@@ -69,9 +70,7 @@ TEST(GazeRoundTrip, RecordedGazeFoveatesWhereTheRecordingLooked) {
                                                "--gaze-source", "eye_gaze_interaction", "--temporal", "off"},
                                               env.root() / "hello_foveated.log", kTimeoutS);
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const auto brace = run.output.find("\n{");
-  ASSERT_NE(brace, std::string::npos) << run.output;
-  const auto stats = nlohmann::json::parse(run.output.substr(brace + 1), nullptr, false);
+  const auto stats = trailing_json(run.output);
   ASSERT_TRUE(stats.is_object()) << run.output;
   EXPECT_EQ(stats["gaze_source"], "eye_gaze_interaction");
   EXPECT_EQ(stats["gaze_lost_frames"], 0) << "every frame must use the recorded gaze";

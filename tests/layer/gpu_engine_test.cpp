@@ -52,6 +52,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app_output.hpp"
 #include "child_process.hpp"
 #include "ring_compare.hpp"
 #include "test_env.hpp"
@@ -111,18 +112,11 @@ class GpuEngine : public ::testing::Test {
                                   "--gaze-source", "provider", "--gaze-provider", "replay:" + gaze.string()};
     args.insert(args.end(), extra.begin(), extra.end());
     r.process = run_process(args, env_->root() / (name + ".log"), kTimeoutS);
-    const auto brace = r.process.output.find("\n{");
-    if (brace != std::string::npos) {
-      r.stats = nlohmann::json::parse(r.process.output.substr(brace + 1), nullptr, false);
-    }
+    r.stats = trailing_json(r.process.output);
     return r;
   }
 
-  static fs::path frame(const AppRun& run, int index, const char* eye) {
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", index, eye);
-    return run.frames / name;
-  }
+  static fs::path frame(const AppRun& run, int index, const char* eye) { return captured_frame(run.frames, index, eye); }
 
   std::unique_ptr<IsolatedEnv> env_;
 };

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app_output.hpp"
 #include "child_process.hpp"
 #include "foveation/device.hpp"
 #include "test_env.hpp"
@@ -71,18 +72,11 @@ class HelloFoveated : public ::testing::Test {
     args.insert(args.begin(), {FOVEART_HELLO_FOVEATED, "--json", "--eye-size", "320", "360"});
     AppRun r;
     r.process = run_process(args, env_->root() / "hello_foveated.log", kTimeoutS);
-    const auto brace = r.process.output.find("\n{");
-    if (brace != std::string::npos) {
-      r.stats = nlohmann::json::parse(r.process.output.substr(brace + 1), nullptr, false);
-    }
+    r.stats = trailing_json(r.process.output);
     return r;
   }
 
-  fs::path frame(int index, const char* eye) const {
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06d_%s.png", index, eye);
-    return env_->root() / "frames" / name;
-  }
+  fs::path frame(int index, const char* eye) const { return captured_frame(env_->root() / "frames", index, eye); }
 
   std::unique_ptr<IsolatedEnv> env_;
 };

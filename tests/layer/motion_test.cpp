@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "app_output.hpp"
 #include "child_process.hpp"
 #include "motion_source.h"
 #include "motion_trace.h"
@@ -70,10 +71,7 @@ class LayerMotion : public ::testing::TestWithParam<const char*> {
     args.insert(args.begin(), {FOVEART_HELLO_FOVEATED, "--json", "--eye-size", "80", "90"});
     AppRun r;
     r.process = run_process(args, env_->root() / log_name, kTimeoutS);
-    const auto brace = r.process.output.find("\n{");
-    if (brace != std::string::npos) {
-      r.stats = nlohmann::json::parse(r.process.output.substr(brace + 1), nullptr, false);
-    }
+    r.stats = trailing_json(r.process.output);
     return r;
   }
 
