@@ -54,21 +54,6 @@ constexpr double kGaze[3] = {0.12, -0.07, 0.99};
 // weights, Y-flip or sRGB-vs-linear changes far more: a 1 px gaze shift gives
 // 25.6 dB and ~47k differing pixels, a 1 mm eye shift 40-41 dB and ~8.6k.)
 
-struct Rgb8 {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-};
-
-Rgb8 load_rgb(const fs::path& png) {
-  Rgb8 img;
-  int channels = 0;
-  unsigned char* data = stbi_load(png.c_str(), &img.width, &img.height, &channels, 3);
-  if (data == nullptr) return img;
-  img.rgb.assign(data, data + std::size_t(img.width) * std::size_t(img.height) * 3);
-  stbi_image_free(data);
-  return img;
-}
-
 struct Diff {
   double psnr_db = 0.0;
   int max_abs = 0;

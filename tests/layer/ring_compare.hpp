@@ -4,8 +4,6 @@
 // pixels within one step and >= 99.5 % within two (a pixel's worst channel).
 #pragma once
 
-#include <stb/stb_image.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,6 +13,8 @@
 #include <limits>
 #include <vector>
 
+#include "app_output.hpp"
+
 namespace foveart::layer::test {
 
 // Rings of eccentricity, degrees from the gaze direction: [edge[i], edge[i + 1]).
@@ -23,21 +23,6 @@ inline constexpr int kRings = int(kRingEdgesDeg.size()) - 1;
 inline constexpr double kMinPsnrDb = 45.0;
 inline constexpr double kMinWithin1 = 0.99;
 inline constexpr double kMinWithin2 = 0.995;
-
-struct Rgb8 {
-  int width = 0, height = 0;
-  std::vector<unsigned char> rgb;
-};
-
-inline Rgb8 load_rgb(const std::filesystem::path& png) {
-  Rgb8 img;
-  int channels = 0;
-  unsigned char* data = stbi_load(png.c_str(), &img.width, &img.height, &channels, 3);
-  if (data == nullptr) return img;
-  img.rgb.assign(data, data + std::size_t(img.width) * std::size_t(img.height) * 3);
-  stbi_image_free(data);
-  return img;
-}
 
 struct RingDiff {
   std::size_t pixels = 0, within1 = 0, within2 = 0;
