@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds, and runs every test
-#   1. AddressSanitizer + UBSan build (-O2, warnings as errors) -> the whole ctest suite
+#   1. AddressSanitizer + UBSan build (-O1 -g1, warnings as errors) -> the whole ctest suite
 #   2. ThreadSanitizer build of the threaded suites (label "threaded") -> ctest
 # Usage: scripts/test.sh [--plain | --quick]
 #   --plain  also run the whole suite on a plain build first (build/, as scripts/run.sh)
