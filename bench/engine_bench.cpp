@@ -176,15 +176,18 @@ const char* gaze_name(int which) { return which == 0 ? "centre" : (which == 1 ? 
 // Foveated (NN, scale 1, 1 ray per point) against full (1 ray per pixel), same
 // scene and view; the tables are precomputed once outside the timed loop.
 // Args: gaze (see bench_gaze), effects allowed (15 = the scene's kernel, 0 =
-// primary rays only: isolates packet coherence from the ray mix).
+// primary rays only: isolates packet coherence from the ray mix), traversal
+// (0 Embree's coherent one, the engine's; 1 its incoherent default).
 void BM_Foveated(benchmark::State& state) {
   TracerOptions o;
   o.allowed = Effects::from_bits(static_cast<uint32_t>(state.range(1)));
+  o.incoherent_traversal = state.range(2) != 0;
   auto t = make_tracer(make_default_scene(), o);
   const FoveartEyeView view = fove_eye_view(0, scene_head(t->scene()));
   const glm::vec2 gaze = bench_gaze(view, static_cast<int>(state.range(0)));
   state.SetLabel(std::string(gaze_name(static_cast<int>(state.range(0)))) + " " + std::to_string(static_cast<int>(gaze.x)) +
-                 "," + std::to_string(static_cast<int>(gaze.y)) + " " + to_string(o.allowed));
+                 "," + std::to_string(static_cast<int>(gaze.y)) + " " + to_string(o.allowed) +
+                 (o.incoherent_traversal ? " incoherent" : " coherent"));
   const auto foveated = nn_view();  // build (or load) the tables once
   double trace_ms = 0.0, reconstruct_ms = 0.0, cpu_s = 0.0, proc_cpu_s = 0.0;
   uint64_t points = 0;
@@ -214,20 +217,23 @@ void BM_Foveated(benchmark::State& state) {
   state.counters["proc_cpu_ms"] = proc_cpu_s * 1e3 / n;
 }
 BENCHMARK(BM_Foveated)
-    ->Args({0, 15})->Args({1, 15})->Args({2, 15})->Args({0, 0})->Args({1, 0})->Args({2, 0})
+    ->Args({0, 15, 0})->Args({1, 15, 0})->Args({2, 15, 0})->Args({0, 0, 0})->Args({1, 0, 0})->Args({2, 0, 0})
+    ->Args({0, 15, 1})->Args({0, 0, 1})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Arg: effects allowed (15 = the scene's kernel, 0 = primary only).
+// Args: effects allowed (15 = the scene's kernel, 0 = primary only), traversal
+// (0 coherent, 1 incoherent; as BM_Foveated).
 void BM_Full(benchmark::State& state) {
   TracerOptions o;
   o.allowed = Effects::from_bits(static_cast<uint32_t>(state.range(0)));
-  state.SetLabel(to_string(o.allowed));
+  o.incoherent_traversal = state.range(1) != 0;
+  state.SetLabel(to_string(o.allowed) + (o.incoherent_traversal ? " incoherent" : " coherent"));
   auto t = make_tracer(make_default_scene(), o);
   render_loop(state, *t);
   const RayCounts c = t->counts();
   state.counters["rays/pixel"] = static_cast<double>(c.total()) / static_cast<double>(c.primary);
 }
-BENCHMARK(BM_Full)->Arg(15)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Full)->Args({15, 0})->Args({0, 0})->Args({15, 1})->Args({0, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The bookkeeping alone, through an engine that traces nothing: 0 = full
 // (ray generation, averaging), 1 = foveated at the centred gaze (visible points,

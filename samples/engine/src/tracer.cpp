@@ -272,9 +272,9 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
   // Every packet is coherent by construction: camera rays of neighbouring pixels
   // or points (screen rows, the point set's Morton order), then the shadow rays
   // of their hits towards one light and their mirror bounces. Embree's coherent
-  // traversal (rtcInitIntersectContext(3)) traces them ~30 % faster than its
-  // default for incoherent rays (docs/results/scenes.md).
-  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  // traversal (rtcInitIntersectContext(3)) traces them faster than its default
+  // for incoherent rays (engine_bench BM_Full/BM_Foveated, docs/results/engine_traversal.md).
+  ctx.flags = options.incoherent_traversal ? RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT : RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) RTCRayHit16 rh;
   for (int i = 0; i < kLanes; ++i) {
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;

@@ -30,6 +30,8 @@ struct TracerOptions {
   Effects allowed = Effects::all();  // effects to simulate at most (e.g. none() = primary-only)
   bool generic_kernel = false;       // benchmark only: run the all-effects kernel with
                                      // run-time checks instead of the specialised one
+  bool incoherent_traversal = false; // benchmark only: Embree's traversal for incoherent
+                                     // rays instead of its coherent one
   std::string embree_config;         // rtcNewDevice configuration string, e.g. "threads=1"
 };
 
