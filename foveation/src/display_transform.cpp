@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 #include "foveation/shader_constants.h"
 #include "foveation/srgb.hpp"
@@ -70,6 +72,15 @@ std::optional<ToneMap> parse_tone_map(std::string_view name) {
   if (name == "pbr-neutral") return ToneMap::pbr_neutral;
   if (name == "aces") return ToneMap::aces;
   return std::nullopt;
+}
+
+std::optional<float> parse_exposure(std::string_view text) {
+  const std::string owned(text);  // strtof needs the terminating NUL
+  char* end = nullptr;
+  const float e = std::strtof(owned.c_str(), &end);
+  if (owned.empty() || end != owned.c_str() + owned.size() || !std::isfinite(e) || !(e > 0.0f) || e > kMaxExposure)
+    return std::nullopt;
+  return e;
 }
 
 const char* tone_map_name(ToneMap t) {

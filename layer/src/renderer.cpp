@@ -23,26 +23,6 @@ XrFoveatedGazeSourceFOVEART gaze_source_from_name(const std::string& name) {
 
 }  // namespace
 
-foveation::DisplayTransform resolve_display(const XrFoveatedDisplayTransformFOVEART* chained,
-                                            const foveation::DisplayTransform& configured, std::string* out_error) {
-  foveation::DisplayTransform d = configured;
-  if (chained == nullptr) return d;
-  if (chained->exposure != 0.0f) {
-    if (std::isfinite(chained->exposure) && chained->exposure > 0.0f) d.exposure = chained->exposure;
-    else *out_error = "XrFoveatedDisplayTransformFOVEART::exposure must be finite and > 0 (0 = config)";
-  }
-  switch (chained->toneMap) {
-    case XR_FOVEATED_TONE_MAP_NONE_FOVEART: d.tone_map = foveation::ToneMap::none; break;
-    case XR_FOVEATED_TONE_MAP_PBR_NEUTRAL_FOVEART: d.tone_map = foveation::ToneMap::pbr_neutral; break;
-    case XR_FOVEATED_TONE_MAP_ACES_FOVEART: d.tone_map = foveation::ToneMap::aces; break;
-    case XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART: break;
-    default:
-      *out_error = "XrFoveatedDisplayTransformFOVEART::toneMap " + std::to_string(int64_t{chained->toneMap}) +
-                   " is not an XrFoveatedToneMapFOVEART";
-  }
-  return d;
-}
-
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out, std::string* out_error) {
   RendererSettings s;

@@ -20,6 +20,7 @@
 #include <vulkan/vulkan.h>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
+#include "layer/display_transform_chain.hpp"  // resolve_display: a frame's display transform
 #include "log.hpp"
 #include "state.hpp"
 
@@ -52,12 +53,6 @@ struct RendererSettings {
 // Returns false with a message naming the bad field.
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out_settings, std::string* out_error);
-
-// A frame's display transform: the app's chained struct (null: none) over the
-// settings' (the config's). A field that says "use the config" takes the settings'
-// value; so does an invalid one, and *out_error (else left alone) says what was wrong.
-foveation::DisplayTransform resolve_display(const XrFoveatedDisplayTransformFOVEART* chained,
-                                            const foveation::DisplayTransform& configured, std::string* out_error);
 
 // The temporal mode a view runs: the settings' own, else the path's default ("rays" on the
 // GPU path, where it meets the flicker goal; "image" on the CPU path, where the render

@@ -15,6 +15,7 @@
 
 #include "engine/render.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
+#include "layer/display_transform_chain.hpp"
 
 namespace foveart::hello {
 namespace {
@@ -298,14 +299,11 @@ class FullFrame final : public ViewRenderer {
 }  // namespace
 
 foveation::DisplayTransform display_for(float exposure, XrFoveatedToneMapFOVEART tone_map) {
-  foveation::DisplayTransform d;  // its defaults are the layer config's: exposure 1, pbr-neutral
-  if (exposure != 0.0f) d.exposure = exposure;
-  switch (tone_map) {
-    case XR_FOVEATED_TONE_MAP_NONE_FOVEART: d.tone_map = foveation::ToneMap::none; break;
-    case XR_FOVEATED_TONE_MAP_PBR_NEUTRAL_FOVEART: d.tone_map = foveation::ToneMap::pbr_neutral; break;
-    case XR_FOVEATED_TONE_MAP_ACES_FOVEART: d.tone_map = foveation::ToneMap::aces; break;
-    default: break;  // USE_CONFIG
-  }
+  const XrFoveatedDisplayTransformFOVEART chained{XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART, nullptr, exposure, tone_map};
+  std::string error;
+  // Over the layer config's defaults (exposure 1, pbr-neutral): DisplayTransform's own.
+  const foveation::DisplayTransform d = layer::resolve_display(&chained, foveation::DisplayTransform{}, &error);
+  if (!error.empty()) throw std::invalid_argument(error);
   return d;
 }
 

@@ -360,7 +360,7 @@ int main(int argc, char** argv) {
   std::string tone_map = "config";
   cli.add_option("--exposure", exposure,
                  "linear exposure the app chains into each frame: auto (a low-resolution pre-pass of the start "
-                 "view), config (the layer config's) or a number > 0")
+                 "view), config (the layer config's) or a number in (0, 1e6]")
       ->capture_default_str();
   cli.add_option("--tone-map", tone_map, "tone-mapping curve (config = the layer config's)")
       ->check(CLI::IsMember({"none", "pbr-neutral", "aces", "config"}))
@@ -454,12 +454,12 @@ int main(int argc, char** argv) {
     }
     options.exposure = metered->exposure;
   } else if (exposure != "config") {
-    char* end = nullptr;
-    options.exposure = std::strtof(exposure.c_str(), &end);
-    if (end == exposure.c_str() || *end != '\0' || !std::isfinite(options.exposure) || !(options.exposure > 0.0f)) {
-      std::cerr << "hello_foveated: --exposure must be auto, config or a number > 0, got '" << exposure << "'\n";
+    const std::optional<float> e = foveart::foveation::parse_exposure(exposure);
+    if (!e) {
+      std::cerr << "hello_foveated: --exposure must be auto, config or a number in (0, 1e6], got '" << exposure << "'\n";
       return 2;
     }
+    options.exposure = *e;
   }
   FaultyEngine faulty{tracer.get(), fault};
   if (!fault.empty() && !gpu_engine) {

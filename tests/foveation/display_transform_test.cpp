@@ -64,6 +64,13 @@ TEST(ToneMap, NamesAndShaderIdsRoundTrip) {
   EXPECT_EQ(tone_map_shader_id(ToneMap::aces), FOVEART_TONE_MAP_ACES);
 }
 
+TEST(ToneMap, ExposureParsesPositiveFiniteNumbersUpToTheLimitOnly) {
+  EXPECT_EQ(parse_exposure("0.25"), 0.25f);
+  EXPECT_EQ(parse_exposure("1e6"), kMaxExposure);
+  for (const char* bad : {"", "0", "-1", "2e6", "nan", "inf", "1x", "auto"})
+    EXPECT_FALSE(parse_exposure(bad)) << bad;
+}
+
 ImageRgb image_with_bright_share(int bright_of_100, float bright, float rest) {
   ImageRgb im(10, 10);
   for (int i = 0; i < 100; ++i)

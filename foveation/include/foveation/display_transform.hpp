@@ -45,6 +45,11 @@ glm::vec3 tone_map_aces(glm::vec3 c);
 std::optional<ToneMap> parse_tone_map(std::string_view name);
 const char* tone_map_name(ToneMap t);
 
+// A linear exposure written as a number: in (0, kMaxExposure], the layer
+// config's range too; nullopt for anything else (text, NaN, 0, negative).
+inline constexpr float kMaxExposure = 1.0e6f;
+std::optional<float> parse_exposure(std::string_view text);
+
 // The value of shader_constants.h's FOVEART_TONE_MAP_* for each curve.
 std::uint32_t tone_map_shader_id(ToneMap t);
 

@@ -155,7 +155,7 @@ std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o
   foveation::DisplayTransform d;
   d.tone_map = *foveation::parse_tone_map(o.tone_map);
   if (o.exposure != "auto") {
-    d.exposure = std::strtof(o.exposure.c_str(), nullptr);
+    d.exposure = *foveation::parse_exposure(o.exposure);  // checked by check_render_options
     return d;
   }
   const std::optional<engine::AutoExposure> a =
@@ -201,12 +201,8 @@ std::string render_options_problem(const RenderOptions& o) {
     std::string bad;
     if (!engine::parse_effects(o.without, &bad)) return "--without: " + bad;
   }
-  if (o.exposure != "auto") {
-    char* end = nullptr;
-    const double e = std::strtod(o.exposure.c_str(), &end);
-    if (end == o.exposure.c_str() || *end != '\0' || !std::isfinite(e) || !(e > 0.0) || e > 1e6)
-      return "--exposure must be auto or a number in (0, 1e6], got '" + o.exposure + "'";
-  }
+  if (o.exposure != "auto" && !foveation::parse_exposure(o.exposure))
+    return "--exposure must be auto or a number in (0, 1e6], got '" + o.exposure + "'";
   if (!foveation::parse_tone_map(o.tone_map))
     return "--tone-map must be none, pbr-neutral or aces, got '" + o.tone_map + "'";
   if (!o.reference_spp.empty() && o.reference_spp != "auto") {
