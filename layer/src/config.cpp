@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <foveation/display_transform.hpp>
+
 #ifndef FOVEART_SYSTEM_CONFIG_DIR
 #define FOVEART_SYSTEM_CONFIG_DIR "/etc/xdg/foveart"
 #endif
@@ -176,7 +178,7 @@ struct Reader {
     read_string(obj, "cache_dir", {}, &c->cache_dir);
     read_bool(obj, "wait_for_tables", &c->wait_for_tables);
     read_string(obj, "reconstruction", {"auto", "gpu", "cpu"}, &c->reconstruction);
-    read_float(obj, "exposure", 0.0f, 1.0e6f, &c->exposure);
+    read_float(obj, "exposure", 0.0f, foveation::kMaxExposure, &c->exposure);
     read_string(obj, "tone_map", {"none", "pbr-neutral", "aces"}, &c->tone_map);
   }
 };
