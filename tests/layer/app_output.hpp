@@ -13,8 +13,9 @@
 
 namespace foveart::layer::test {
 
-// The JSON object starting on the output's last line that opens with '{';
-// null when there is none, discarded (is_discarded()) when it does not parse.
+// The JSON object from the output's first line that opens with '{' to its end
+// (the layer logs before it; the object's own inner lines are indented); null
+// when there is none, discarded (is_discarded()) when it does not parse.
 inline nlohmann::json trailing_json(const std::string& output) {
   const auto brace = output.find("\n{");
   if (brace == std::string::npos) return nullptr;
