@@ -13,7 +13,7 @@ namespace foveart::foveation {
 namespace {
 
 // Rays per engine callback call, and points of the set per parallel task: a
-// task is a contiguous run of the Morton order (the rays of a packet are
+// task is a contiguous run of the Hilbert order (the rays of a packet are
 // neighbours on the screen), small enough that the last task of a frame keeps
 // the other threads idle only briefly.
 constexpr std::uint32_t kBatchRays = 4096;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -94,16 +95,23 @@ class PointGrid {
 
 }  // namespace
 
-std::uint32_t morton_code(std::uint32_t x, std::uint32_t y) {
-  auto spread = [](std::uint32_t v) {
-    v &= 0xFFFFu;
-    v = (v | (v << 8)) & 0x00FF00FFu;
-    v = (v | (v << 4)) & 0x0F0F0F0Fu;
-    v = (v | (v << 2)) & 0x33333333u;
-    v = (v | (v << 1)) & 0x55555555u;
-    return v;
-  };
-  return spread(x) | (spread(y) << 1);
+std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y) {
+  constexpr std::uint32_t kSide = 1u << 16;
+  x &= kSide - 1;
+  y &= kSide - 1;
+  std::uint32_t index = 0;
+  for (std::uint32_t s = kSide / 2; s > 0; s /= 2) {
+    const std::uint32_t rx = (x & s) != 0, ry = (y & s) != 0;
+    index += s * s * ((3 * rx) ^ ry);
+    if (ry == 0) {  // turn the quadrant so that the curve inside it runs in its canonical orientation
+      if (rx == 1) {
+        x = kSide - 1 - x;
+        y = kSide - 1 - y;
+      }
+      std::swap(x, y);
+    }
+  }
+  return index;
 }
 
 PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed, const ProgressFn& progress) {
@@ -201,12 +209,13 @@ PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed, con
     }
   }
 
-  // Morton order (thesis 4.1) for memory locality; ties broken by position.
+  // Hilbert order for memory locality and compact ray packets (the thesis's 4.1
+  // uses Morton order); ties broken by position.
   std::vector<std::uint32_t> order(pos.size());
   std::vector<std::uint32_t> code(pos.size());
   for (std::size_t i = 0; i < pos.size(); ++i) {
     order[i] = std::uint32_t(i);
-    code[i] = morton_code(std::uint32_t(pos[i].x), std::uint32_t(pos[i].y));
+    code[i] = hilbert_index(std::uint32_t(pos[i].x), std::uint32_t(pos[i].y));
   }
   std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
     if (code[a] != code[b]) return code[a] < code[b];

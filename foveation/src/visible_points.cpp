@@ -11,7 +11,7 @@ VisiblePoints select_visible_points(const PointSet& points, const GazeMapping& m
   out.point_index.reserve(points.size() / 2);
   out.screen_px.reserve(points.size() / 2);
   const VisibleRegion region(mapping, margin_px.value_or(points.visible_margin_px));
-  // A linear scan keeps the Morton order (stable, cache-friendly for the callback)
+  // A linear scan keeps the Hilbert order (stable, cache-friendly for the callback)
   // and costs ~1 ms for the FOVE set.
   for (std::size_t i = 0; i < points.size(); ++i) {
     const glm::vec2 s = region.to_screen(points.position_px[i]);

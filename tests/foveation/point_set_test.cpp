@@ -2,9 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <unordered_map>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -175,16 +178,32 @@ TEST(PointSet, DeterministicForASeed) {
               std::memcmp(a.position_px.data(), c.position_px.data(), a.size() * sizeof(glm::vec2)) != 0);
 }
 
-TEST(PointSet, StoredInMortonOrder) {
-  EXPECT_EQ(fv::morton_code(0, 0), 0u);
-  EXPECT_EQ(fv::morton_code(1, 0), 1u);
-  EXPECT_EQ(fv::morton_code(0, 1), 2u);
-  EXPECT_EQ(fv::morton_code(3, 3), 15u);
-  EXPECT_EQ(fv::morton_code(0xFFFF, 0xFFFF), 0xFFFFFFFFu);
+// The Hilbert curve's first 4^m positions fill the 2^m square at the origin,
+// each position once, and consecutive positions are 4-neighbours.
+TEST(PointSet, HilbertIndexWalksTheSquareOneNeighbourAtATime) {
+  constexpr std::uint32_t kSide = 64;
+  std::vector<glm::uvec2> cell_at(kSide * kSide, glm::uvec2(UINT32_MAX));
+  for (std::uint32_t y = 0; y < kSide; ++y) {
+    for (std::uint32_t x = 0; x < kSide; ++x) {
+      const std::uint32_t d = fv::hilbert_index(x, y);
+      ASSERT_LT(d, kSide * kSide) << x << "," << y;
+      ASSERT_EQ(cell_at[d].x, UINT32_MAX) << "position " << d << " twice";
+      cell_at[d] = glm::uvec2(x, y);
+    }
+  }
+  for (std::uint32_t d = 1; d < kSide * kSide; ++d) {
+    const glm::ivec2 step = glm::ivec2(cell_at[d]) - glm::ivec2(cell_at[d - 1]);
+    ASSERT_EQ(std::abs(step.x) + std::abs(step.y), 1) << "positions " << d - 1 << " and " << d;
+  }
+  EXPECT_EQ(fv::hilbert_index(0, 0), 0u);
+  EXPECT_EQ(fv::hilbert_index(0x1FFFF, 0), fv::hilbert_index(0xFFFF, 0)) << "16 bits per coordinate";
+}
+
+TEST(PointSet, StoredInHilbertOrder) {
   const auto ps = fv::generate_point_set(small_display(), 5);
   for (std::size_t i = 1; i < ps.size(); ++i) {
-    ASSERT_LE(fv::morton_code(std::uint32_t(ps.position_px[i - 1].x), std::uint32_t(ps.position_px[i - 1].y)),
-              fv::morton_code(std::uint32_t(ps.position_px[i].x), std::uint32_t(ps.position_px[i].y)))
+    ASSERT_LE(fv::hilbert_index(std::uint32_t(ps.position_px[i - 1].x), std::uint32_t(ps.position_px[i - 1].y)),
+              fv::hilbert_index(std::uint32_t(ps.position_px[i].x), std::uint32_t(ps.position_px[i].y)))
         << "at " << i;
   }
 }

@@ -39,7 +39,7 @@ enum class PointFootprint : std::uint8_t {
 struct PointSet {
   int canvas_width_px = 0;
   int canvas_height_px = 0;
-  std::vector<glm::vec2> position_px;  // canvas coordinates, Morton order
+  std::vector<glm::vec2> position_px;  // canvas coordinates, Hilbert order
   std::vector<float> radius_px;        // disc radius of each point
   std::vector<PointFootprint> footprint;  // per point; empty: every point a disc
   // How far outside the screen a point is still traced: the thesis's 10 px for
@@ -57,7 +57,11 @@ struct PointSet {
 PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed,
                             const ProgressFn& progress = {});
 
-// 2D Morton (Z-order) code of integer pixel coordinates (16 bits each).
-std::uint32_t morton_code(std::uint32_t x, std::uint32_t y);
+// Position of integer pixel coordinates (16 bits each) along the Hilbert curve
+// over the 65536 x 65536 grid (Hilbert 1891), by the quadrant-rotation
+// recurrence. Consecutive positions are 4-neighbours, so every run of the
+// order is compact on the screen: a packet of 16 points spans less of it than
+// in Morton order (thesis 4.1), whose runs jump between quadrants.
+std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y);
 
 }  // namespace foveart::foveation

@@ -17,7 +17,8 @@
 
 namespace foveart::foveation {
 
-inline constexpr std::uint32_t kCacheFormatVersion = 3;
+// 4: points stored in Hilbert order (3: Morton order).
+inline constexpr std::uint32_t kCacheFormatVersion = 4;
 
 // Everything a cached point set / table depends on.
 struct PointSetKey {

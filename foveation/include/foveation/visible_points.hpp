@@ -32,7 +32,7 @@ struct VisibleRegion {
 };
 
 struct VisiblePoints {
-  std::vector<std::uint32_t> point_index;  // ascending (the point set's Morton order)
+  std::vector<std::uint32_t> point_index;  // ascending (the point set's Hilbert order)
   std::vector<glm::vec2> screen_px;        // position of each on the screen
 
   std::size_t size() const { return point_index.size(); }

@@ -270,7 +270,7 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   // Every packet is coherent by construction: camera rays of neighbouring pixels
-  // or points (screen rows, the point set's Morton order), then the shadow rays
+  // or points (screen rows, the point set's Hilbert order), then the shadow rays
   // of their hits towards one light and their mirror bounces. Embree's coherent
   // traversal (rtcInitIntersectContext(3)) traces them faster than its default
   // for incoherent rays (engine_bench BM_Full/BM_Foveated, docs/results/engine_traversal.md).
