@@ -55,14 +55,18 @@ glm::vec3 DisplayTransform::apply(glm::vec3 radiance) const {
   return glm::clamp(out, 0.0f, 1.0f);
 }
 
+glm::u8vec3 DisplayTransform::srgb8(glm::vec3 radiance) const {
+  const glm::vec3 c = apply(radiance);
+  return glm::u8vec3(encode_srgb8(c.r), encode_srgb8(c.g), encode_srgb8(c.b));
+}
+
 double white_clipped_fraction(const ImageRgb& radiance, const DisplayTransform& display) {
   const std::size_t n = radiance.pixel_count();
   if (n == 0) return 0.0;
   std::size_t white = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float* p = &radiance.rgb[i * 3];
-    const glm::vec3 c = display.apply(glm::vec3(p[0], p[1], p[2]));
-    white += encode_srgb8(c.r) == 255 && encode_srgb8(c.g) == 255 && encode_srgb8(c.b) == 255;
+    white += display.srgb8(glm::vec3(p[0], p[1], p[2])) == glm::u8vec3(255);
   }
   return double(white) / double(n);
 }

@@ -1,5 +1,5 @@
 // The display transform: exposure, the two tone-mapping curves and the clamp,
-// the share of burnt-out pixels, and the encode stage that applies it.
+// the sRGB bytes, the share of burnt-out pixels, and the encode stage that applies it.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -76,6 +76,17 @@ ImageRgb image_with_bright_share(int bright_of_100, float bright, float rest) {
   for (int i = 0; i < 100; ++i)
     for (int c = 0; c < 3; ++c) im.rgb[std::size_t(i) * 3 + std::size_t(c)] = i < bright_of_100 ? bright : rest;
   return im;
+}
+
+TEST(ToneMap, Srgb8IsTheCurveThenTheSrgbEncoding) {
+  // Clamp only: 0 -> 0, linear 0.5 -> sRGB 188 (0.7354 x 255), past 1 -> 255; NaN -> 0.
+  EXPECT_EQ(kClampOnly.srgb8(glm::vec3(0.0f, 0.5f, 2.0f)), glm::u8vec3(0, 188, 255));
+  EXPECT_EQ(kClampOnly.srgb8(glm::vec3(std::numeric_limits<float>::quiet_NaN(), -1.0f, 1.0f)), glm::u8vec3(0, 0, 255));
+  // A curve and an exposure come first: 0.5 at exposure 4 is 2, which PBR Neutral rolls off below white.
+  const glm::u8vec3 rolled = DisplayTransform{4.0f, ToneMap::pbr_neutral}.srgb8(glm::vec3(0.5f));
+  EXPECT_GT(rolled.r, 188);
+  EXPECT_LT(rolled.r, 255);
+  EXPECT_EQ(rolled, glm::u8vec3(rolled.r));
 }
 
 TEST(ToneMap, WhiteClippedFractionCountsPixelsBurntToWhite) {

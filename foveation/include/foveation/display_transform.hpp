@@ -4,6 +4,7 @@
 // sRGB encoding (srgb.hpp). Accuracy is measured before it, on radiance.
 #pragma once
 
+#include <glm/ext/vector_uint3_sized.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -27,6 +28,9 @@ struct DisplayTransform {
   bool operator==(const DisplayTransform&) const = default;
   // Radiance -> display-referred linear colour in [0, 1].
   glm::vec3 apply(glm::vec3 radiance) const;
+  // Radiance -> the bytes an sRGB display shows: apply(), then the sRGB
+  // encoding (srgb.hpp) of each channel.
+  glm::u8vec3 srgb8(glm::vec3 radiance) const;
 };
 
 // The identity up to the clamp: display values are the radiance itself.

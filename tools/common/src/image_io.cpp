@@ -52,8 +52,8 @@ bool write_png(const std::string& path, const foveation::ImageRgb& image, const 
   std::vector<std::uint8_t> px(image.rgb.size());
   for (std::size_t i = 0; i < image.pixel_count(); ++i) {
     const float* p = &image.rgb[i * 3];
-    const glm::vec3 c = display.apply(glm::vec3(p[0], p[1], p[2]));
-    for (int k = 0; k < 3; ++k) px[i * 3 + std::size_t(k)] = foveation::encode_srgb8(c[k]);
+    const glm::u8vec3 b = display.srgb8(glm::vec3(p[0], p[1], p[2]));
+    px[i * 3] = b.r, px[i * 3 + 1] = b.g, px[i * 3 + 2] = b.b;
   }
   return write_png_u8(path, image.width_px, image.height_px, 3, px, error);
 }
