@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "layer/sampling_defaults.hpp"
 #include "log.hpp"
 
 namespace foveart::layer {
@@ -56,7 +57,7 @@ struct LayerConfig {
   std::string interpolation = "msm";  // "nearest" | "msm" | "rbf"
   uint32_t k = 5;
   float density_scale = 1.0f;
-  uint32_t rays_per_point = 1;
+  uint32_t rays_per_point = kDefaultRaysPerPoint;
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
   // (TAA on a reprojected image) or "rays" (TAA on a render cache of the traced rays).
   // "auto": "rays" where reconstruction runs on the GPU, "image" on the CPU path, where

@@ -22,6 +22,7 @@
 #include "foveation/rgba8.hpp"
 #include "gaze_source.hpp"
 #include "gpu_reconstruction.hpp"
+#include "layer/sampling_defaults.hpp"
 #include "log.hpp"
 #include "next_chain.hpp"
 #include "renderer.hpp"
@@ -32,10 +33,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 float ms_since(Clock::time_point t0) { return std::chrono::duration<float, std::milli>(Clock::now() - t0).count(); }
-
-// The point set's seed, and the ray jitter's seed of a frame without TAA: a
-// static gaze then gives what `fovea render --mode foveated` gives for the view.
-constexpr std::uint64_t kSeed = 1;
 
 // The config's cache_dir, else foveation's default; nullopt (no cache) with *why
 // when the default directory is refused.
@@ -236,7 +233,7 @@ FoveatedRenderer::Frames::Tables FoveatedRenderer::Frames::tables_for(const Fove
     foveation::PointSetKey psk;
     psk.display = foveation::display_of_view(view);
     psk.display.scale = static_cast<double>(settings.density_scale);
-    psk.seed = kSeed;
+    psk.seed = kSampleSeed;
     log(LogLevel::Info, "foveated renderer: preparing tables for ", view.width_px, "x", view.height_px, " (cache ",
         cache ? cache->string() : std::string("none"), ")");
     it = tables.emplace(key, TableSlot{}).first;
@@ -497,7 +494,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
       }
     }
     foveation::ViewSettings vs =
-        foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSeed);
+        foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
     vs.reconstruct_on_cpu = !on_gpu;
     eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
   }

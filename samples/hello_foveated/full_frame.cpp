@@ -16,6 +16,7 @@
 #include "engine/render.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
 #include "layer/display_transform_chain.hpp"
+#include "layer/sampling_defaults.hpp"
 
 namespace foveart::hello {
 namespace {
@@ -123,7 +124,7 @@ class FullFrame final : public ViewRenderer {
     const std::size_t pixels = std::size_t(width_px) * height_px;
     // No temporal history: the layer's seed, the same every frame.
     const uint64_t seed =
-        foveation::temporal_view_settings(foveation::TemporalMode::off, int(spp_), kLayerSampleSeed).frame_sample_seed(0);
+        foveation::temporal_view_settings(foveation::TemporalMode::off, int(spp_), layer::kSampleSeed).frame_sample_seed(0);
     if (upload_.size < pixels * 4) create_buffer(device_, pixels * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, &upload_);
     double trace_ms = 0.0;
     if (engine_.gpu != nullptr) {

@@ -32,11 +32,6 @@ class GpuTracer;
 
 namespace foveart::hello {
 
-// The layer's sample seed (layer/src/foveated_renderer.cpp kSeed); with no
-// temporal history every frame is traced with it.
-inline constexpr uint64_t kLayerSampleSeed = 1;
-// --rays-per-point 0: the layer config's default rays_per_point (layer/src/config.hpp, docs/layer.md).
-inline constexpr uint32_t kConfigRaysPerPoint = 1;
 
 // The display transform the layer applies for a frame that chains `exposure`
 // (0: the config's) and `tone_map` (USE_CONFIG: the config's), with the config's

@@ -77,6 +77,7 @@
 #include "foveation/display_transform.hpp"
 #include "foveation/executor.hpp"
 #include "full_frame.hpp"
+#include "layer/sampling_defaults.hpp"
 #include "xr_app.hpp"
 
 namespace {
@@ -466,7 +467,7 @@ int main(int argc, char** argv) {
     options.trace_rays = &faulty_trace_rays;
     options.user_data = &faulty;
   }
-  const uint32_t full_spp = options.rays_per_point != 0 ? options.rays_per_point : foveart::hello::kConfigRaysPerPoint;
+  const uint32_t full_spp = options.rays_per_point != 0 ? options.rays_per_point : foveart::layer::kDefaultRaysPerPoint;
   const foveart::foveation::DisplayTransform display = foveart::hello::display_for(options.exposure, options.tone_map);
   std::optional<foveart::foveation::Executor> full_executor;  // the full render's threads, started once
   if (run_full) full_executor.emplace();
