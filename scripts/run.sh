@@ -54,7 +54,7 @@ json_to() {  # $1: file for the command's stdout (JSON), rest: the command
 step "1/3 FOVE point set -> out/pointset.json" pointset json_to out/pointset.json \
   build/bin/fovea pointset --preset fove --cache-dir out/cache --png out/pointset_centred.png --curves out/curves --json
 step "2/3 default scene, full vs foveated -> out/render*" render json_to out/render.json \
-  build/bin/fovea render --scene default --preset fove --mode both --interpolation msm --k 5 --cache-dir out/cache \
+  build/bin/fovea render --scene default --preset fove --mode both --interpolation msm --k 5 --frames 5 --cache-dir out/cache \
   --out out/render --json
 
 hello() {  # $1: reconstruction, $2: stats file, rest: hello_foveated arguments
