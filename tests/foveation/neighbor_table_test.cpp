@@ -1,6 +1,7 @@
 // The per-canvas-pixel k nearest points equal brute force, ties included.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstring>
 #include <functional>
 #include <numeric>
@@ -9,6 +10,8 @@
 
 #include <algorithm>
 #include <random>
+#include <utility>
+#include <vector>
 
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/neighbor_table.hpp"
@@ -19,16 +22,25 @@ namespace fv = foveart::foveation;
 
 namespace {
 
+// The k nearest points of pixel (x, y)'s centre by (squared distance, index): each
+// point against the worst of the k best so far (plain loops: the sanitizer
+// builds compile tests unoptimised).
 std::vector<std::uint32_t> brute_force(const fv::PointSet& ps, int x, int y, int k) {
-  std::vector<std::pair<double, std::uint32_t>> all(ps.size());
-  for (std::uint32_t i = 0; i < ps.size(); ++i) {
-    const double dx = double(ps.position_px[i].x) - (x + 0.5);
-    const double dy = double(ps.position_px[i].y) - (y + 0.5);
-    all[i] = {dx * dx + dy * dy, i};
+  std::vector<std::pair<double, std::uint32_t>> best;  // ascending, at most k
+  best.reserve(std::size_t(k) + 1);
+  const glm::vec2* p = ps.position_px.data();
+  const double cx = x + 0.5, cy = y + 0.5;
+  for (std::uint32_t i = 0, n = std::uint32_t(ps.size()); i < n; ++i) {
+    const double dx = double(p[i].x) - cx, dy = double(p[i].y) - cy;
+    const double d2 = dx * dx + dy * dy;
+    if (int(best.size()) == k && !(d2 < best.back().first)) continue;  // equal distance: the lower index came first
+    std::size_t at = best.size();
+    while (at > 0 && d2 < best[at - 1].first) --at;
+    best.insert(best.begin() + std::ptrdiff_t(at), {d2, i});
+    if (int(best.size()) > k) best.pop_back();
   }
-  std::partial_sort(all.begin(), all.begin() + k, all.end());
   std::vector<std::uint32_t> out;
-  for (int j = 0; j < k; ++j) out.push_back(all[std::size_t(j)].second);
+  for (const auto& b : best) out.push_back(b.second);
   return out;
 }
 
