@@ -2,7 +2,6 @@
 
 #include <cmath>
 
-
 namespace foveart::foveation {
 
 void encode_rgba8(const ImageRgb& image, bool srgb, const DisplayTransform& display, std::uint8_t* out,

@@ -32,7 +32,6 @@ class GpuTracer;
 
 namespace foveart::hello {
 
-
 // The display transform the layer applies for a frame that chains `exposure`
 // (0: the config's) and `tone_map` (USE_CONFIG: the config's), with the config's
 // defaults standing for "config": the app reads no layer config file.
