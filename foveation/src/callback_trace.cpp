@@ -56,6 +56,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
   if (batches_.size() < workers) {
     batches_.resize(workers);
     batch_points_.resize(workers);
+    previous_.resize(workers);
   }
   stats.select_ms = ms_since(t_setup);
 
@@ -68,14 +69,27 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
   const float inv_spp = 1.0f / float(spp);
   PointColors& colors = traced_.colors;
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) {
+    // Only the points traced hold a colour. Last frame's points of this run
+    // that this frame does not trace are cleared after it (forget_untraced),
+    // rather than all of them before: most are traced again and overwritten.
     std::vector<std::uint32_t>& traced = traced_.runs[run];
-    for (std::uint32_t id : traced) colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
+    std::vector<std::uint32_t>& before = previous_[worker];
+    before.swap(traced);
     traced.clear();
+    const auto forget_untraced = [&] {
+      auto now = traced.begin();  // both lists ascend (the run's order)
+      for (std::uint32_t id : before) {
+        while (now != traced.end() && *now < id) ++now;
+        if (now == traced.end() || *now != id) colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
+      }
+    };
     if (keep_rays_) traced_.rays[run].clear();
     const RunBox& box = run_boxes_[run];
     const glm::vec2 box_min = visible.to_screen(box.min_px), box_max = visible.to_screen(box.max_px);
-    if (box_max.x < visible.x0 || box_min.x >= visible.x1 || box_max.y < visible.y0 || box_min.y >= visible.y1)
+    if (box_max.x < visible.x0 || box_min.x >= visible.x1 || box_max.y < visible.y0 || box_min.y >= visible.y1) {
+      forget_untraced();
       return;  // no point of this run is on the screen
+    }
     RayBatch& batch = batches_[worker];
     std::vector<std::uint32_t>& ids = batch_points_[worker];
     batch.resize(std::size_t(batch_points) * spp);
@@ -88,6 +102,16 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
         failed_batches.fetch_add(1, std::memory_order_relaxed);
       } else if (const std::uint64_t bad = batch.invalid_components(rays); bad != 0) {
         invalid_colours.fetch_add(bad, std::memory_order_relaxed);
+      } else if (spp == 1 && !keep_rays_) {  // the common frame: a ray per point, its hit is its depth
+        for (std::uint32_t j = 0; j < n; ++j) {
+          const glm::vec3 c = batch.rgb(j);
+          const float d = batch.depth_m(j);
+          const bool has_depth = d >= 0.0f;
+          colors.rgba[ids[j]] = Rgba{c.x, c.y, c.z, 1.0f};
+          traced_.depth_m[ids[j]] = has_depth ? d : NAN;
+          run_has_depth = run_has_depth || has_depth;
+        }
+        traced.insert(traced.end(), ids.begin(), ids.begin() + n);
       } else {
         for (std::uint32_t j = 0, r = 0; j < n; ++j) {
           glm::vec3 sum(0.0f);
@@ -126,6 +150,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
       if (++n == batch_points) flush();  // stage 3
     }
     if (n > 0) flush();
+    forget_untraced();
     traced_points.fetch_add(run_points, std::memory_order_relaxed);
     if (run_has_depth) any_depth.store(true, std::memory_order_relaxed);
   });

@@ -1,6 +1,7 @@
 // Gaze mapping, visible-point selection and per-point ray samples (thesis 4.2).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <numeric>
@@ -81,7 +82,12 @@ TEST(VisiblePoints, ScreenPlusMarginInStableOrder) {
 namespace {
 int32_t grey_engine(void*, const FoveartRayBatch* batch) {
   for (uint32_t i = 0; i < batch->ray_count * 3; ++i) batch->out_rgb[i] = 0.5f;
+  for (uint32_t i = 0; i < batch->ray_count; ++i) batch->out_depth_m[i] = 2.0f;
   return FOVEART_RESULT_SUCCESS;
+}
+// Fails the batches that begin at an odd point of the set.
+int32_t half_failing_engine(void* user, const FoveartRayBatch* batch) {
+  return batch->point_index[0] % 2 == 1 ? FOVEART_RESULT_ERROR_ENGINE_FAILURE : grey_engine(user, batch);
 }
 }  // namespace
 
@@ -106,10 +112,33 @@ TEST(VisiblePoints, TheTracePassTracesExactlyTheVisiblePoints) {
     EXPECT_EQ(stats.points, visible.size());
     // Exactly the points traced this frame hold a colour: last frame's others are forgotten.
     std::size_t coloured = 0;
-    for (std::size_t i = 0; i < ps.size(); ++i) coloured += trace.traced().colors.rgba[i].a == 1.0f;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const bool has_colour = trace.traced().colors.rgba[i].a == 1.0f;
+      coloured += has_colour;
+      EXPECT_EQ(std::isnan(trace.traced().depth_m[i]), !has_colour) << i;
+    }
     EXPECT_EQ(coloured, visible.size()) << g.x << "," << g.y;
     EXPECT_LT(visible.size(), ps.size());
   }
+  // A frame whose engine fails some batches: their points hold no colour,
+  // whether or not they were traced the frame before; the others hold theirs.
+  fv::FrameContext frame;
+  frame.view = fv::make_eye_view(0, 480, 540, fv::EyePose{}, -0.8f, 0.8f, 0.85f, -0.85f);
+  frame.mapping = fv::map_gaze(480, 540, {300, 300});
+  frame.trace_rays = &half_failing_engine;
+  const fv::TraceStats stats = trace.trace(frame, executor);
+  EXPECT_GT(stats.failed_batches, 0u);
+  std::vector<std::uint32_t> traced;
+  for (const auto& run : trace.traced().runs) traced.insert(traced.end(), run.begin(), run.end());
+  ASSERT_FALSE(traced.empty());
+  std::size_t coloured = 0;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    const bool has_colour = trace.traced().colors.rgba[i].a == 1.0f;
+    coloured += has_colour;
+    EXPECT_EQ(has_colour, std::binary_search(traced.begin(), traced.end(), std::uint32_t(i))) << i;
+  }
+  EXPECT_EQ(coloured, traced.size());
+  EXPECT_LT(traced.size(), fv::select_visible_points(ps, frame.mapping).size());
 }
 
 TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {

@@ -1,8 +1,8 @@
 // Stages 1-3 of the frame on the CPU, through the engine's ray-trace callback
 // (ray_trace.h; thesis 4.2): in one pass over runs of the point set, each task
-// forgets the points it traced last frame, keeps the visible ones (stage 1),
-// casts their rays (stage 2), hands them to the engine in batches (stage 3)
-// and writes each point's mean colour into its slot.
+// keeps the visible points (stage 1), casts their rays (stage 2), hands them to
+// the engine in batches (stage 3), writes each point's mean colour into its
+// slot and forgets the points it traced last frame and not this one.
 //
 // Errors: a failed batch or a bad colour is counted in TraceStats, never thrown.
 #pragma once
@@ -36,6 +36,7 @@ class CallbackTrace final : public TraceStage {
   TracedPoints traced_;
   std::vector<RayBatch> batches_;                         // per worker slot
   std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
+  std::vector<std::vector<std::uint32_t>> previous_;      // per worker slot: its run's points of last frame
   // Per run of the point set, the canvas box its points lie in: a run wholly
   // off the screen is skipped without testing its points one by one.
   struct RunBox {

@@ -32,16 +32,13 @@ class PointRays {
   void set_rays(RayBatch& batch, std::size_t first_slot, std::uint32_t id, glm::vec2 screen_px,
                 const EyeFrustum& frustum, const EyePose& pose, int screen_width_px) const {
     const std::uint32_t spp = rays_per_point_;
-    if (points_.on_pixel_grid(id)) {
-      for (std::uint32_t s = 0; s < spp; ++s)
-        batch.set_ray(first_slot + s, frustum, pose,
-                      pixel_sample_px(screen_px, int(s), seed_, screen_width_px, pixel_filter_), id);
-      return;
-    }
-    for (std::uint32_t s = 0; s < spp; ++s) {
-      const glm::vec2 offset = precomputed_ ? offset_px_[std::size_t(id) * spp + s]
-                                            : unit_disc_sample(seed_, id, int(s)) * points_.radius_px[id];
-      batch.set_ray(first_slot + s, frustum, pose, screen_px + offset, id);
+    const bool on_grid = points_.on_pixel_grid(id);
+    for (std::uint32_t s = 0; s < spp; ++s) {  // one call site of set_ray, so that it is inlined
+      const glm::vec2 sample_px =
+          on_grid      ? pixel_sample_px(screen_px, int(s), seed_, screen_width_px, pixel_filter_)
+          : precomputed_ ? screen_px + offset_px_[std::size_t(id) * spp + s]
+                         : screen_px + unit_disc_sample(seed_, id, int(s)) * points_.radius_px[id];
+      batch.set_ray(first_slot + s, frustum, pose, sample_px, id);
     }
   }
 
