@@ -71,6 +71,7 @@ ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<f
   valid.assign(std::size_t(w) * std::size_t(h), 0);
   const EyeFrustum frustum = eye_frustum(view), history_frustum = eye_frustum(history_view);
   const EyePose pose = eye_pose(view), history_pose = eye_pose(history_view);
+  const ScreenRayMap ray_map = screen_ray_map(frustum, pose);
   const bool has_depth = depth_m.size() == valid.size();
   const bool has_history_depth = history_depth_m.size() == std::size_t(hw) * std::size_t(hh);
   std::atomic<std::uint64_t> off_screen{0}, disoccluded{0}, with_depth{0};
@@ -79,7 +80,7 @@ ReprojectionStats reproject_history(const ImageRgb& history, const std::vector<f
     for (int y = int(y0); y < int(y1); ++y) {
       for (int x = 0; x < w; ++x) {
         const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-        const glm::vec3 d = eye_ray_direction(frustum, pose, {float(x) + 0.5f, float(y) + 0.5f});
+        const glm::vec3 d = eye_ray_direction(ray_map, {float(x) + 0.5f, float(y) + 0.5f});
         const float depth = has_depth ? depth_m[p] : NAN;
         const bool finite = std::isfinite(depth);
         glm::vec3 seen = d;  // direction from the previous eye

@@ -48,6 +48,21 @@ TEST(EyeRays, OrientationRotatesTheRays) {
   expect_near(fv::eye_ray_direction(fv::eye_frustum(v), fv::eye_pose(v), {100.0f, 50.0f}), {-1, 0, 0});
 }
 
+// The folded map is the rotated pinhole direction, at every screen position
+// of a FOVE-sized asymmetric view under a tilted head.
+TEST(EyeRays, ScreenRayMapIsTheRotatedPinhole) {
+  fv::EyePose pose;
+  pose.orientation = glm::normalize(glm::quat(0.8f, -0.2f, 0.5f, 0.25f));
+  const FoveartEyeView v = fv::make_eye_view(0, 1280, 1440, pose, -0.9f, 0.75f, 0.85f, -0.95f);
+  const fv::EyeFrustum f = fv::eye_frustum(v);
+  const fv::EyePose p = fv::eye_pose(v);
+  const fv::ScreenRayMap map = fv::screen_ray_map(f, p);
+  for (float y = 0.0f; y <= 1440.0f; y += 37.3f)
+    for (float x = 0.0f; x <= 1280.0f; x += 41.7f)
+      expect_near(fv::eye_ray_direction(map, {x, y}),
+                  glm::normalize(p.orientation * fv::view_direction_unnormalised(f, {x, y})), 1e-6f);
+}
+
 TEST(EyeRays, ProjectInvertsDirection) {
   fv::EyePose pose;
   pose.orientation = glm::normalize(glm::quat(0.9f, 0.1f, -0.3f, 0.2f));

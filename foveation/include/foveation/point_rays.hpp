@@ -30,7 +30,7 @@ class PointRays {
   // Point `id`'s rays, at screen position screen_px, into batch slots
   // [first_slot, first_slot + rays_per_point()).
   void set_rays(RayBatch& batch, std::size_t first_slot, std::uint32_t id, glm::vec2 screen_px,
-                const EyeFrustum& frustum, const EyePose& pose, int screen_width_px) const {
+                const ScreenRayMap& rays, glm::vec3 origin_m, int screen_width_px) const {
     const std::uint32_t spp = rays_per_point_;
     const bool on_grid = points_.on_pixel_grid(id);
     for (std::uint32_t s = 0; s < spp; ++s) {  // one call site of set_ray, so that it is inlined
@@ -38,7 +38,7 @@ class PointRays {
           on_grid      ? pixel_sample_px(screen_px, int(s), seed_, screen_width_px, pixel_filter_)
           : precomputed_ ? screen_px + offset_px_[std::size_t(id) * spp + s]
                          : screen_px + unit_disc_sample(seed_, id, int(s)) * points_.radius_px[id];
-      batch.set_ray(first_slot + s, frustum, pose, sample_px, id);
+      batch.set_ray(first_slot + s, rays, origin_m, sample_px, id);
     }
   }
 

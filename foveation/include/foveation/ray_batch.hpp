@@ -21,14 +21,14 @@ class RayBatch {
   void resize(std::size_t ray_count);
   std::size_t capacity() const { return point_index_.size(); }
 
-  // Ray i from the eye through screen position sample_px, for point `point`.
-  void set_ray(std::size_t i, const EyeFrustum& frustum, const EyePose& pose, glm::vec2 sample_px, std::uint32_t point) {
-    const glm::vec3 d = eye_ray_direction(frustum, pose, sample_px);
+  // Ray i from the eye at origin_m through screen position sample_px, for point `point`.
+  void set_ray(std::size_t i, const ScreenRayMap& rays, glm::vec3 origin_m, glm::vec2 sample_px, std::uint32_t point) {
+    const glm::vec3 d = eye_ray_direction(rays, sample_px);
     float* o = origins_m_.data() + 3 * i;
     float* dir = directions_.data() + 3 * i;
-    o[0] = pose.position_m.x;
-    o[1] = pose.position_m.y;
-    o[2] = pose.position_m.z;
+    o[0] = origin_m.x;
+    o[1] = origin_m.y;
+    o[2] = origin_m.z;
     dir[0] = d.x;
     dir[1] = d.y;
     dir[2] = d.z;

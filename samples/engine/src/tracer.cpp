@@ -436,11 +436,11 @@ int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
   if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
   try {
     ScopedFlushDenormals ftz;
-    foveation::EyeFrustum frustum;
     foveation::EyePose pose;
+    foveation::ScreenRayMap ray_map;
     if (!explicit_rays) {
-      frustum = foveation::eye_frustum(*batch->view);
       pose = foveation::eye_pose(*batch->view);
+      ray_map = foveation::screen_ray_map(foveation::eye_frustum(*batch->view), pose);
     }
     LocalCounts counts;
     constexpr uint32_t kChunk = kLanes;
@@ -464,7 +464,7 @@ int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
           d = glm::vec3(batch->directions[3 * r], batch->directions[3 * r + 1], batch->directions[3 * r + 2]);
         } else {
           o = pose.position_m;
-          d = foveation::eye_ray_direction(frustum, pose, glm::vec2(batch->sample_px[2 * r], batch->sample_px[2 * r + 1]));
+          d = foveation::eye_ray_direction(ray_map, glm::vec2(batch->sample_px[2 * r], batch->sample_px[2 * r + 1]));
         }
         const float len2 = glm::dot(d, d);
         if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) continue;  // black

@@ -328,6 +328,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
   }
   // Pack the valid rays; the others are black with no depth, as engine::Tracer leaves them.
   auto* packed = static_cast<PackedRay*>(rays.mapped);
+  const foveation::ScreenRayMap ray_map = foveation::screen_ray_map(frustum, pose);
   slot.assign(n, UINT32_MAX);
   uint32_t valid = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -338,7 +339,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
       d = glm::vec3(batch.directions[3 * r], batch.directions[3 * r + 1], batch.directions[3 * r + 2]);
     } else {
       o = pose.position_m;
-      d = foveation::eye_ray_direction(frustum, pose, glm::vec2(batch.sample_px[2 * r], batch.sample_px[2 * r + 1]));
+      d = foveation::eye_ray_direction(ray_map, glm::vec2(batch.sample_px[2 * r], batch.sample_px[2 * r + 1]));
     }
     const float len2 = d.x * d.x + d.y * d.y + d.z * d.z;
     if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) continue;
