@@ -202,7 +202,8 @@ std::string render_options_problem(const RenderOptions& o) {
     if (!engine::parse_effects(o.without, &bad)) return "--without: " + bad;
   }
   if (o.exposure != "auto" && !foveation::parse_exposure(o.exposure))
-    return "--exposure must be auto or a number in (0, 1e6], got '" + o.exposure + "'";
+    return "--exposure must be auto or a number in (0, " + std::to_string(std::lround(foveation::kMaxExposure)) +
+           "], got '" + o.exposure + "'";
   if (!foveation::parse_tone_map(o.tone_map))
     return "--tone-map must be none, pbr-neutral or aces, got '" + o.tone_map + "'";
   if (!o.reference_spp.empty() && o.reference_spp != "auto") {
