@@ -181,6 +181,20 @@ TEST(RenderEngine, TextReportNamesTheEngine) {
   EXPECT_NE(out.str().find("engine gpu ("), std::string::npos) << out.str();
 }
 
+// An exposure outside (0, kMaxExposure] is refused, and the message names the bound.
+TEST(RenderEngine, ExposureOutOfRangeIsRefusedWithItsBound) {
+  for (const char* bad : {"0", "-1", "nan", "2e6", "bright"}) {
+    RenderOptions o;
+    o.exposure = bad;
+    o.size_px = glm::ivec2(16, 16);
+    std::ostringstream out, err;
+    EXPECT_EQ(run_render(o, out, err), 2) << bad;
+    EXPECT_NE(err.str().find("--exposure must be auto or a number in (0, 1000000], got '" + std::string(bad) + "'"),
+              std::string::npos)
+        << err.str();
+  }
+}
+
 TEST(RenderEngine, BogusEngineAndNoDeviceAreRefusedWithAMessage) {
   RenderOptions o;
   o.engine = "bogus";
