@@ -61,8 +61,8 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
-  const ScreenRayMap ray_map = screen_ray_map(eye_frustum(view), eye_pose(view));
-  const glm::vec3 eye_m = eye_pose(view).position_m;
+  const EyePose pose = eye_pose(view);
+  const ScreenRayMap ray_map = screen_ray_map(eye_frustum(view), pose);
   const VisibleRegion visible(frame.mapping, points.visible_margin_px);
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
@@ -144,7 +144,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
       const glm::vec2 screen = visible.to_screen(points.position_px[i]);
       if (!visible.contains(screen)) continue;  // stage 1
       const std::uint32_t id = std::uint32_t(i);
-      rays_.set_rays(batch, std::size_t(n) * spp, id, screen, ray_map, eye_m, int(view.width_px));  // stage 2
+      rays_.set_rays(batch, std::size_t(n) * spp, id, screen, ray_map, pose.position_m, int(view.width_px));  // stage 2
       ids[n] = id;
       ++run_points;
       if (++n == batch_points) flush();  // stage 3

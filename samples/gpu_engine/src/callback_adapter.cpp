@@ -191,7 +191,7 @@ struct CallbackAdapter::Impl {
   bool create_device(const CallbackAdapterOptions& options, std::string* error);
   bool ensure_capacity(uint32_t rays_needed, std::string* error);
   int32_t trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
-                      const foveation::EyeFrustum& frustum, const foveation::EyePose& pose, float* out_depth);
+                      const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m, float* out_depth);
 };
 
 bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options, std::string* error) {
@@ -319,8 +319,8 @@ bool CallbackAdapter::Impl::ensure_capacity(uint32_t rays_needed, std::string* e
 }
 
 int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n,
-                                           bool explicit_rays, const foveation::EyeFrustum& frustum,
-                                           const foveation::EyePose& pose, float* out_depth) {
+                                           bool explicit_rays, const foveation::ScreenRayMap& ray_map,
+                                           glm::vec3 eye_m, float* out_depth) {
   std::string error;
   if (!ensure_capacity(n, &error)) {
     last_error = error;
@@ -328,7 +328,6 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
   }
   // Pack the valid rays; the others are black with no depth, as engine::Tracer leaves them.
   auto* packed = static_cast<PackedRay*>(rays.mapped);
-  const foveation::ScreenRayMap ray_map = foveation::screen_ray_map(frustum, pose);
   slot.assign(n, UINT32_MAX);
   uint32_t valid = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -338,7 +337,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
       o = glm::vec3(batch.origins_m[3 * r], batch.origins_m[3 * r + 1], batch.origins_m[3 * r + 2]);
       d = glm::vec3(batch.directions[3 * r], batch.directions[3 * r + 1], batch.directions[3 * r + 2]);
     } else {
-      o = pose.position_m;
+      o = eye_m;
       d = foveation::eye_ray_direction(ray_map, glm::vec2(batch.sample_px[2 * r], batch.sample_px[2 * r + 1]));
     }
     const float len2 = d.x * d.x + d.y * d.y + d.z * d.z;
@@ -481,17 +480,17 @@ int32_t CallbackAdapter::trace(const FoveartRayBatch* batch) noexcept {
                          batch->view->height_px > 0;
   if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
   try {
-    foveation::EyeFrustum frustum{};
     foveation::EyePose pose{};
+    foveation::ScreenRayMap ray_map;
     if (!explicit_rays) {
-      frustum = foveation::eye_frustum(*batch->view);
       pose = foveation::eye_pose(*batch->view);
+      ray_map = foveation::screen_ray_map(foveation::eye_frustum(*batch->view), pose);
     }
     float* out_depth = batch->size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH ? batch->out_depth_m : nullptr;
     std::lock_guard lock(impl_->mutex);
     for (uint32_t first = 0; first < batch->ray_count; first += kMaxRaysPerSubmit) {
       const uint32_t n = std::min(kMaxRaysPerSubmit, batch->ray_count - first);
-      const int32_t status = impl_->trace_chunk(*batch, first, n, explicit_rays, frustum, pose, out_depth);
+      const int32_t status = impl_->trace_chunk(*batch, first, n, explicit_rays, ray_map, pose.position_m, out_depth);
       if (status != FOVEART_RESULT_SUCCESS) return status;
     }
     return FOVEART_RESULT_SUCCESS;
