@@ -1,8 +1,6 @@
 // The sample-history control (sample_history.hpp).
 #include <eval/sample_history.hpp>
 
-#include <foveation/eye_rays.hpp>
-
 #include <algorithm>
 #include <atomic>
 
@@ -18,8 +16,6 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
                                    foveation::ImageRgb* out_linear) {
   const int width = int(view.width_px), height = int(view.height_px);
   const std::size_t pixels = std::size_t(width) * std::size_t(height);
-  const foveation::EyePose pose = foveation::eye_pose(view);
-  const foveation::ScreenRayMap ray_map = foveation::screen_ray_map(foveation::eye_frustum(view), pose);
   if (restart) cache_.clear();
   cache_.begin_frame(view, executor);
   const std::size_t kept = cache_.kept();
@@ -38,12 +34,12 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
     std::uint32_t traced = 0;
     for (std::size_t i = begin; i < end; ++i) {
       if (i < kept) {
-        if (cache_.kept_on_screen(i)) b.set_ray(traced++, ray_map, pose.position_m, cache_.kept_sample_px(i), std::uint32_t(i));
+        if (cache_.kept_on_screen(i)) b.set_sample(traced++, cache_.kept_sample_px(i), std::uint32_t(i));
       } else {
         const std::uint64_t p = i - first_new;
         const glm::vec2 q = glm::vec2(float(p % std::uint64_t(width)), float(p / std::uint64_t(width))) +
                             foveation::pixel_jitter(p, 0, seed_ + frame_index, cache_.options().filter);
-        b.set_ray(traced++, ray_map, pose.position_m, q, std::uint32_t(i));
+        b.set_sample(traced++, q, std::uint32_t(i));
       }
     }
     const std::int32_t st = b.trace(fn, user_data, view, frame_index, traced);

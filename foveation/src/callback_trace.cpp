@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -61,8 +62,6 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
-  const EyePose pose = eye_pose(view);
-  const ScreenRayMap ray_map = screen_ray_map(eye_frustum(view), pose);
   const VisibleRegion visible(frame.mapping, points.visible_margin_px);
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
@@ -76,7 +75,9 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     std::vector<std::uint32_t>& before = previous_[worker];
     before.swap(traced);
     traced.clear();
+    const std::size_t first = run * kRunPoints, last = std::min(points.size(), first + kRunPoints);
     const auto forget_untraced = [&] {
+      if (traced.size() == last - first) return;  // every point of the run holds this frame's colour
       auto now = traced.begin();  // both lists ascend (the run's order)
       for (std::uint32_t id : before) {
         while (now != traced.end() && *now < id) ++now;
@@ -90,6 +91,8 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
       forget_untraced();
       return;  // no point of this run is on the screen
     }
+    // Most runs lie wholly on the screen: their points need no test of their own.
+    const bool run_visible = visible.contains(box_min) && visible.contains(box_max);
     RayBatch& batch = batches_[worker];
     std::vector<std::uint32_t>& ids = batch_points_[worker];
     batch.resize(std::size_t(batch_points) * spp);
@@ -98,6 +101,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     bool run_has_depth = false;  // written once per run: a shared flag stored per point bounces between cores
     auto flush = [&] {
       const std::uint32_t rays = n * spp;
+      rays_.set_rays(batch, std::span<const std::uint32_t>(ids.data(), n), visible, int(view.width_px));  // stage 2
       if (batch.trace(frame.trace_rays, frame.user_data, view, frame.frame_index, rays) != FOVEART_RESULT_SUCCESS) {
         failed_batches.fetch_add(1, std::memory_order_relaxed);
       } else if (const std::uint64_t bad = batch.invalid_components(rays); bad != 0) {
@@ -138,16 +142,12 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
       }
       n = 0;
     };
-    const std::size_t last = std::min(points.size(), (run + 1) * kRunPoints);
     std::uint64_t run_points = 0;
-    for (std::size_t i = run * kRunPoints; i < last; ++i) {
-      const glm::vec2 screen = visible.to_screen(points.position_px[i]);
-      if (!visible.contains(screen)) continue;  // stage 1
-      const std::uint32_t id = std::uint32_t(i);
-      rays_.set_rays(batch, std::size_t(n) * spp, id, screen, ray_map, pose.position_m, int(view.width_px));  // stage 2
-      ids[n] = id;
+    for (std::size_t i = first; i < last; ++i) {
+      if (!run_visible && !visible.contains(visible.to_screen(points.position_px[i]))) continue;  // stage 1
+      ids[n] = std::uint32_t(i);
       ++run_points;
-      if (++n == batch_points) flush();  // stage 3
+      if (++n == batch_points) flush();  // stages 2 and 3
     }
     if (n > 0) flush();
     forget_untraced();

@@ -34,4 +34,21 @@ void PointRays::prepare(std::uint64_t seed, Executor& executor) {
   seed_ = seed;
 }
 
+void PointRays::set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,
+                         int screen_width_px) const {
+  const std::uint32_t spp = rays_per_point_;
+  std::size_t slot = 0;
+  for (const std::uint32_t id : ids) {
+    const glm::vec2 screen_px = region.to_screen(points_.position_px[id]);
+    const bool on_grid = points_.on_pixel_grid(id);
+    for (std::uint32_t s = 0; s < spp; ++s, ++slot) {
+      const glm::vec2 sample_px =
+          on_grid      ? pixel_sample_px(screen_px, int(s), seed_, screen_width_px, pixel_filter_)
+          : precomputed_ ? screen_px + offset_px_[std::size_t(id) * spp + s]
+                         : screen_px + unit_disc_sample(seed_, id, int(s)) * points_.radius_px[id];
+      batch.set_sample(slot, sample_px, id);
+    }
+  }
+}
+
 }  // namespace foveart::foveation

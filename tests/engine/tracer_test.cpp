@@ -412,8 +412,7 @@ TEST(Tracer, RaysFromViewAndSamplePositionsEqualExplicitRays) {
   foveart::foveation::RayBatch explicit_rays;
   explicit_rays.resize(px.size());
   for (size_t i = 0; i < px.size(); ++i)
-    explicit_rays.set_ray(i, foveart::foveation::screen_ray_map(foveart::foveation::eye_frustum(v), foveart::foveation::eye_pose(v)),
-                          foveart::foveation::eye_pose(v).position_m, px[i], static_cast<uint32_t>(i));
+    explicit_rays.set_sample(i, px[i], static_cast<uint32_t>(i));
   ASSERT_EQ(explicit_rays.trace(&foveart_engine_trace_rays, t.get(), v, 0, static_cast<uint32_t>(px.size())),
             FOVEART_RESULT_SUCCESS);
   // ... and the engine's own rays from the view and the sample positions alone.

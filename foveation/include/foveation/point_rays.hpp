@@ -5,15 +5,16 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
 #include "foveation/executor.hpp"
-#include "foveation/eye_rays.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/ray_batch.hpp"
 #include "foveation/ray_samples.hpp"
+#include "foveation/visible_points.hpp"
 
 namespace foveart::foveation {
 
@@ -27,20 +28,10 @@ class PointRays {
   // fixed seed (precomputed while they take at most 64 MB).
   void prepare(std::uint64_t seed, Executor& executor);
 
-  // Point `id`'s rays, at screen position screen_px, into batch slots
-  // [first_slot, first_slot + rays_per_point()).
-  void set_rays(RayBatch& batch, std::size_t first_slot, std::uint32_t id, glm::vec2 screen_px,
-                const ScreenRayMap& rays, glm::vec3 origin_m, int screen_width_px) const {
-    const std::uint32_t spp = rays_per_point_;
-    const bool on_grid = points_.on_pixel_grid(id);
-    for (std::uint32_t s = 0; s < spp; ++s) {  // one call site of set_ray, so that it is inlined
-      const glm::vec2 sample_px =
-          on_grid      ? pixel_sample_px(screen_px, int(s), seed_, screen_width_px, pixel_filter_)
-          : precomputed_ ? screen_px + offset_px_[std::size_t(id) * spp + s]
-                         : screen_px + unit_disc_sample(seed_, id, int(s)) * points_.radius_px[id];
-      batch.set_ray(first_slot + s, rays, origin_m, sample_px, id);
-    }
-  }
+  // The rays of points ids (at region.to_screen of their positions) into batch
+  // slots [0, ids.size() * rays_per_point()), point by point.
+  void set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,
+                int screen_width_px) const;
 
   std::uint32_t rays_per_point() const { return rays_per_point_; }
 

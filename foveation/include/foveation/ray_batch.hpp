@@ -11,7 +11,6 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "foveation/eye_rays.hpp"
 #include "foveation/ray_trace.h"
 
 namespace foveart::foveation {
@@ -21,28 +20,20 @@ class RayBatch {
   void resize(std::size_t ray_count);
   std::size_t capacity() const { return point_index_.size(); }
 
-  // Ray i from the eye at origin_m through screen position sample_px, for point `point`.
-  void set_ray(std::size_t i, const ScreenRayMap& rays, glm::vec3 origin_m, glm::vec2 sample_px, std::uint32_t point) {
-    const glm::vec3 d = eye_ray_direction(rays, sample_px);
-    float* o = origins_m_.data() + 3 * i;
-    float* dir = directions_.data() + 3 * i;
-    o[0] = origin_m.x;
-    o[1] = origin_m.y;
-    o[2] = origin_m.z;
-    dir[0] = d.x;
-    dir[1] = d.y;
-    dir[2] = d.z;
+  // Ray i through screen position sample_px of the view trace() is given, for point `point`.
+  void set_sample(std::size_t i, glm::vec2 sample_px, std::uint32_t point) {
     sample_px_[2 * i] = sample_px.x;
     sample_px_[2 * i + 1] = sample_px.y;
     point_index_[i] = point;
   }
 
-  // Calls fn for rays [0, ray_count) and returns its status; a C++ exception
-  // from an engine without its own barrier becomes ENGINE_FAILURE.
+  // Aims rays [0, ray_count) from the view's eye through their samples, calls
+  // fn for them and returns its status; a C++ exception from an engine without
+  // its own barrier becomes ENGINE_FAILURE.
   std::int32_t trace(FoveartTraceRaysFn fn, void* user_data, const FoveartEyeView& view, std::uint64_t frame_index,
                      std::uint32_t ray_count);
 
-  // Where ray i crosses the screen, and the point it was set for (set_ray).
+  // Where ray i crosses the screen, and the point it was set for (set_sample).
   glm::vec2 sample_px(std::size_t i) const { return glm::vec2(sample_px_[2 * i], sample_px_[2 * i + 1]); }
   std::uint32_t point(std::size_t i) const { return point_index_[i]; }
   glm::vec3 rgb(std::size_t i) const { return glm::vec3(rgb_[3 * i], rgb_[3 * i + 1], rgb_[3 * i + 2]); }
@@ -52,6 +43,9 @@ class RayBatch {
   std::uint64_t invalid_components(std::uint32_t ray_count) const;
 
  private:
+  // Origins and unit directions of rays [0, ray_count): eye_ray_direction(map, sample) for each.
+  void aim(const FoveartEyeView& view, std::uint32_t ray_count);
+
   std::vector<float> origins_m_, directions_, sample_px_, rgb_, depth_m_;
   std::vector<std::uint32_t> point_index_;
 };

@@ -29,8 +29,6 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
   if (out->width_px != static_cast<int>(view.width_px) || out->height_px != static_cast<int>(view.height_px)) {
     *out = foveation::ImageRgb(static_cast<int>(view.width_px), static_cast<int>(view.height_px));  // every pixel is written below
   }
-  const foveation::EyePose pose = foveation::eye_pose(view);
-  const foveation::ScreenRayMap ray_map = foveation::screen_ray_map(foveation::eye_frustum(view), pose);
   const uint32_t spp = static_cast<uint32_t>(std::max(settings.spp, 1));
   constexpr uint32_t kTileWidth = 64;
   const uint32_t batch_pixels = std::max<uint32_t>(1, settings.batch_rays / spp);
@@ -58,10 +56,10 @@ RenderResult render_full(FoveartTraceRaysFn fn, void* user_data, const FoveartEy
       for (uint32_t x = x0; x < x1; ++x) {
         const uint64_t p = static_cast<uint64_t>(y) * view.width_px + x;
         for (uint32_t s = 0; s < spp; ++s)
-          b.set_ray(r++, ray_map, pose.position_m, glm::vec2(static_cast<float>(x), static_cast<float>(y)) +
-                                        (settings.jitter ? foveation::pixel_jitter(p, s, settings.seed, settings.pixel_filter)
-                                                         : glm::vec2(0.5f)),
-                    static_cast<uint32_t>(p));
+          b.set_sample(r++, glm::vec2(static_cast<float>(x), static_cast<float>(y)) +
+                                (settings.jitter ? foveation::pixel_jitter(p, s, settings.seed, settings.pixel_filter)
+                                                 : glm::vec2(0.5f)),
+                       static_cast<uint32_t>(p));
       }
     const int32_t st = b.trace(fn, user_data, view, 0, static_cast<uint32_t>(r));
     if (st != FOVEART_RESULT_SUCCESS) {
