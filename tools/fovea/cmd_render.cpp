@@ -90,14 +90,18 @@ struct FrameTimes {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// Whether frame i of n counts in a speedup: the first (first touches of the
+// images and caches) is left out when there are three or more.
+bool timed_frame(std::size_t i, std::size_t n) { return i > 0 || n < 3; }
+
 // The median over interleaved frame pairs of num[i] / den[i]: each pair saw the
 // machine in the same state, so a slow spell cancels instead of landing on one
-// side of a ratio of medians. The first pair (first touches) is left out when
-// there are three or more.
+// side of a ratio of medians. Timed frames only (timed_frame).
 double median_pair_ratio(const std::vector<double>& num, const std::vector<double>& den) {
   std::vector<double> r;
-  for (std::size_t i = num.size() >= 3 ? 1 : 0; i < std::min(num.size(), den.size()); ++i)
-    if (den[i] > 0.0) r.push_back(num[i] / den[i]);
+  const std::size_t n = std::min(num.size(), den.size());
+  for (std::size_t i = 0; i < n; ++i)
+    if (timed_frame(i, num.size()) && den[i] > 0.0) r.push_back(num[i] / den[i]);
   if (r.empty()) return 0.0;
   std::sort(r.begin(), r.end());
   return r.size() % 2 == 1 ? r[r.size() / 2] : 0.5 * (r[r.size() / 2 - 1] + r[r.size() / 2]);
@@ -245,7 +249,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     return e.gpu ? Json(nullptr) : Json(lanes_per_packet(c));
   };
   FrameTimes full_times, fov_times;
-  std::vector<double> tile_ms;  // full mode: per-tile time summed over frames
+  std::vector<double> tile_ms;  // full mode: per-tile time summed over the timed frames
   TileGrid grid;                // full mode's tiles
   engine::RayCounts full_rays, fov_rays;
   uint64_t fov_points = 0;
@@ -266,7 +270,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         grid = {view.width_px, view.height_px, rr.tile_width_px, rr.tile_height_px, rr.tiles_x};
         tile_ms.assign(rr.tile_ms.size(), 0.0);
       }
-      for (size_t t = 0; t < tile_ms.size(); ++t) tile_ms[t] += rr.tile_ms[t];
+      if (timed_frame(std::size_t(frame), std::size_t(o.frames)))  // as the speedups it is compared with
+        for (size_t t = 0; t < tile_ms.size(); ++t) tile_ms[t] += rr.tile_ms[t];
     }
     if (run_foveated) {
       const engine::RayCounts before = eng.counts();
