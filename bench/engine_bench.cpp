@@ -247,14 +247,20 @@ void BM_Bookkeeping(benchmark::State& state) {
   const auto foveated_view = foveated ? nn_view() : nullptr;
   RenderSettings rs;
   fv::ImageRgb img;
-  double cpu_s = 0.0, proc_cpu_s = 0.0, reconstruct_ms = 0.0;
+  double cpu_s = 0.0, proc_cpu_s = 0.0, trace_ms = 0.0, reconstruct_ms = 0.0;
+  uint64_t rays = 0;
   for (auto _ : state) {
     const double c0 = thread_cpu_s();
     const double p0 = process_cpu_s();
-    if (foveated)
-      reconstruct_ms += foveated_view->render(request_at(view, gaze), &null_engine, nullptr, bench_executor()).reconstruct_ms;
-    else
-      render_full(&null_engine, nullptr, view, rs, &img, bench_executor());
+    if (foveated) {
+      const fv::FrameResult r = foveated_view->render(request_at(view, gaze), &null_engine, nullptr, bench_executor());
+      trace_ms += r.select_ms + r.trace_ms;
+      reconstruct_ms += r.reconstruct_ms;
+      rays = r.rays;
+    } else {
+      trace_ms += render_full(&null_engine, nullptr, view, rs, &img, bench_executor()).trace_ms;
+      rays = uint64_t(view.width_px) * view.height_px;
+    }
     cpu_s += thread_cpu_s() - c0;
     proc_cpu_s += process_cpu_s() - p0;
     benchmark::DoNotOptimize(img.rgb.data());
@@ -262,7 +268,9 @@ void BM_Bookkeeping(benchmark::State& state) {
   const double n = static_cast<double>(state.iterations());
   state.counters["cpu_ms"] = cpu_s * 1e3 / n;
   state.counters["proc_cpu_ms"] = proc_cpu_s * 1e3 / n;
+  state.counters["trace_ms"] = trace_ms / n;  // selection, rays, colour slots: what a traced ray carries
   state.counters["reconstruct_ms"] = reconstruct_ms / n;
+  state.counters["trace_ns/ray"] = trace_ms * 1e6 / n / static_cast<double>(std::max<uint64_t>(rays, 1));
 }
 BENCHMARK(BM_Bookkeeping)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
