@@ -21,11 +21,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
-  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
-                           a.refraction - b.refraction, a.packets - b.packets};
-}
-
 Json ring_bounds(std::size_t r) {
   return {{"from_deg", foveation::kRingEdgesDeg[r]},
           {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[r + 1])}};
@@ -65,7 +60,7 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     if (f.index == 0) t.points = fr.points;
     image = &t.view->image();
   }
-  if (f.index == 0) t.rays = minus(tracer.counts(), before);
+  if (f.index == 0) t.rays = tracer.counts() - before;
   *display = foveation::display_encode(*image);
   return "";
 }

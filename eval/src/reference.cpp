@@ -4,6 +4,8 @@
 
 #include <engine/render.hpp>
 
+#include <foveation/elapsed.hpp>
+
 #include <foveation/srgb.hpp>
 
 #include <xxhash.h>
@@ -46,9 +48,7 @@ void hash_value(XXH3_state_t* s, const T& v) {
   XXH3_64bits_update(s, &v, sizeof v);
 }
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using foveation::ms_since;
 
 float encode(float linear) {
   return foveation::linear_to_srgb(std::clamp(std::isnan(linear) ? 0.0f : linear, 0.0f, 1.0f));

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "foveation/visible_points.hpp"
+#include "foveation/elapsed.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -21,7 +22,6 @@ constexpr std::uint32_t kBatchRays = 4096;
 constexpr std::size_t kRunPoints = 2048;
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 }  // namespace
 

@@ -8,12 +8,12 @@
 #include "foveation/gather_reconstruction.hpp"
 #include "foveation/image_history.hpp"
 #include "foveation/ray_history.hpp"
+#include "foveation/elapsed.hpp"
 
 namespace foveart::foveation {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 const ViewTables& checked(const std::shared_ptr<const ViewTables>& tables) {
   if (tables == nullptr) throw std::invalid_argument("foveated view: no tables");

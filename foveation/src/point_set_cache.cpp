@@ -15,6 +15,7 @@
 #include <xxhash.h>
 
 #include "cache_file.hpp"
+#include "foveation/elapsed.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -130,10 +131,6 @@ std::optional<detail::MappedFile> load_file(const std::filesystem::path& file, K
 // checked by division, so a count from a crafted header cannot wrap the product.
 bool count_fills_exactly(std::uint64_t count, std::uint64_t element_bytes, std::uint64_t bytes) {
   return element_bytes != 0 && bytes % element_bytes == 0 && count == bytes / element_bytes;
-}
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "foveation/eye_rays.hpp"
 #include "foveation/shader_constants.h"
 #include "gpu_reconstruction.hpp"
+#include "vk_util.hpp"
 #include "shaders/device_resolve.spv.h"
 #include "shaders/device_rays.spv.h"
 
@@ -40,8 +41,6 @@ constexpr uint32_t kResolveBindings = 6;  // ray colours, point index, control, 
 constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1};
 constexpr uint32_t kNaNBits = 0x7FC00000u;
 constexpr VkDeviceSize kRayBytes = 32, kColorBytes = 16;
-constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
-constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
 
 uint32_t groups(std::size_t n, uint32_t size) { return uint32_t((n + size - 1) / size); }
 

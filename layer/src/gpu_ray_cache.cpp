@@ -53,8 +53,6 @@ constexpr uint32_t kScanBlock = FOVEART_RAY_CACHE_SCAN_BLOCK;
 constexpr uint32_t kGroupSize = 256;    // cache_rays / cache_scan / cache_bin
 constexpr uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0]; the shaders loop beyond
 
-constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 
 uint32_t groups_for(std::size_t n) {
   return uint32_t(std::clamp<std::size_t>((n + kGroupSize - 1) / kGroupSize, 1, kMaxGroups));

@@ -81,8 +81,6 @@ enum Binding : uint32_t {
 constexpr uint32_t kDescriptorCounts[kBindings] = {uint32_t(kMaxGpuChunks), 1, 1, 1, 1, 1, 1, 1};
 constexpr uint32_t kQueries = 5;  // timestamps: start, scattered, gathered, accumulated, encoded
 
-constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
-constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
 
 uint32_t groups(uint32_t n, uint32_t size) {
   return (n + size - 1) / size;

@@ -17,6 +17,10 @@ T vk_struct(VkStructureType type) {
   return s;
 }
 
+// The compute passes' barriers: shader reads and writes, compute stage.
+constexpr VkAccessFlags kShaderRW = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
+constexpr VkPipelineStageFlags kCompute = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+
 inline std::string vk_error(const char* what, VkResult r) {
   return std::string(what) + " failed (VkResult " + std::to_string(r) + ")";
 }

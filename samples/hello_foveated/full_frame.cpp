@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <foveation/elapsed.hpp>
 #include <foveation/eye_rays.hpp>
 #include <foveation/image.hpp>
 #include <foveation/rgba8.hpp>
@@ -21,13 +22,11 @@
 namespace foveart::hello {
 namespace {
 
-void check(VkResult r, const char* what) {
+void check_full_render(VkResult r, const char* what) {
   if (r != VK_SUCCESS) throw std::runtime_error(std::string("full render: ") + what + " failed: VkResult " + std::to_string(r));
 }
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using foveation::ms_since;
 
 // The view as the layer makes it from a submitted projection view (layer/src/xr_glm.hpp eye_view_of).
 FoveartEyeView eye_view(uint32_t eye, const XrPosef& pose, const XrFovf& fov, uint32_t width_px, uint32_t height_px) {
@@ -83,7 +82,7 @@ void create_buffer(const VulkanDevice& d, VkDeviceSize size, VkBufferUsageFlags 
   info.size = size;
   info.usage = usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  check(vkCreateBuffer(d.device, &info, nullptr, &out->buffer), "vkCreateBuffer");
+  check_full_render(vkCreateBuffer(d.device, &info, nullptr, &out->buffer), "vkCreateBuffer");
   VkMemoryRequirements req{};
   vkGetBufferMemoryRequirements(d.device, out->buffer, &req);
   VkMemoryAllocateInfo alloc{};
@@ -93,9 +92,9 @@ void create_buffer(const VulkanDevice& d, VkDeviceSize size, VkBufferUsageFlags 
       host ? memory_type(d.physical_device, req.memoryTypeBits,
                          VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0)
            : memory_type(d.physical_device, req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  check(vkAllocateMemory(d.device, &alloc, nullptr, &out->memory), "vkAllocateMemory");
-  check(vkBindBufferMemory(d.device, out->buffer, out->memory, 0), "vkBindBufferMemory");
-  if (host) check(vkMapMemory(d.device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped), "vkMapMemory");
+  check_full_render(vkAllocateMemory(d.device, &alloc, nullptr, &out->memory), "vkAllocateMemory");
+  check_full_render(vkBindBufferMemory(d.device, out->buffer, out->memory, 0), "vkBindBufferMemory");
+  if (host) check_full_render(vkMapMemory(d.device, out->memory, 0, VK_WHOLE_SIZE, 0, &out->mapped), "vkMapMemory");
   out->size = size;
 }
 
@@ -151,16 +150,16 @@ class FullFrame final : public ViewRenderer {
     pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
     pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool.queueFamilyIndex = device_.queue_family_index;
-    check(vkCreateCommandPool(device_.device, &pool, nullptr, &pool_), "vkCreateCommandPool");
+    check_full_render(vkCreateCommandPool(device_.device, &pool, nullptr, &pool_), "vkCreateCommandPool");
     VkCommandBufferAllocateInfo cb{};
     cb.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
     cb.commandPool = pool_;
     cb.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     cb.commandBufferCount = 1;
-    check(vkAllocateCommandBuffers(device_.device, &cb, &cb_), "vkAllocateCommandBuffers");
+    check_full_render(vkAllocateCommandBuffers(device_.device, &cb, &cb_), "vkAllocateCommandBuffers");
     VkFenceCreateInfo fence{};
     fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    check(vkCreateFence(device_.device, &fence, nullptr, &fence_), "vkCreateFence");
+    check_full_render(vkCreateFence(device_.device, &fence, nullptr, &fence_), "vkCreateFence");
     if (engine_.gpu != nullptr) {
       uint32_t count = 0;
       vkGetPhysicalDeviceQueueFamilyProperties(device_.physical_device, &count, nullptr);
@@ -175,7 +174,7 @@ class FullFrame final : public ViewRenderer {
       query.sType = VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO;
       query.queryType = VK_QUERY_TYPE_TIMESTAMP;
       query.queryCount = 2;
-      check(vkCreateQueryPool(device_.device, &query, nullptr, &queries_), "vkCreateQueryPool");
+      check_full_render(vkCreateQueryPool(device_.device, &query, nullptr, &queries_), "vkCreateQueryPool");
     }
   }
 
@@ -226,7 +225,7 @@ class FullFrame final : public ViewRenderer {
                          0, nullptr);
     submit_and_wait();
     uint64_t t[2] = {};
-    check(vkGetQueryPoolResults(device_.device, queries_, 0, 2, sizeof t, t, sizeof(uint64_t),
+    check_full_render(vkGetQueryPoolResults(device_.device, queries_, 0, 2, sizeof t, t, sizeof(uint64_t),
                                 VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
           "vkGetQueryPoolResults");
     if (image_.width_px != int(view.width_px) || image_.height_px != int(view.height_px))
@@ -264,22 +263,22 @@ class FullFrame final : public ViewRenderer {
   }
 
   void begin() {
-    check(vkResetCommandBuffer(cb_, 0), "vkResetCommandBuffer");
+    check_full_render(vkResetCommandBuffer(cb_, 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo begin{};
     begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    check(vkBeginCommandBuffer(cb_, &begin), "vkBeginCommandBuffer");
+    check_full_render(vkBeginCommandBuffer(cb_, &begin), "vkBeginCommandBuffer");
   }
 
   void submit_and_wait() {
-    check(vkEndCommandBuffer(cb_), "vkEndCommandBuffer");
-    check(vkResetFences(device_.device, 1, &fence_), "vkResetFences");
+    check_full_render(vkEndCommandBuffer(cb_), "vkEndCommandBuffer");
+    check_full_render(vkResetFences(device_.device, 1, &fence_), "vkResetFences");
     VkSubmitInfo submit{};
     submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
     submit.commandBufferCount = 1;
     submit.pCommandBuffers = &cb_;
-    check(vkQueueSubmit(device_.queue, 1, &submit, fence_), "vkQueueSubmit");
-    check(vkWaitForFences(device_.device, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    check_full_render(vkQueueSubmit(device_.queue, 1, &submit, fence_), "vkQueueSubmit");
+    check_full_render(vkWaitForFences(device_.device, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   }
 
   VulkanDevice device_;

@@ -17,15 +17,14 @@
 #include <memory>
 #include <string>
 
+#include "../foveation/test_executor.hpp"
+
 using namespace foveart::engine;
 namespace fv = foveart::foveation;
 
 namespace {
 
-fv::Executor& executor() {
-  static fv::Executor two_threads(2);
-  return two_threads;
-}
+using foveart::foveation::test::executor;
 
 // The FOVE left eye at a quarter of its size per axis (the same field of view).
 FoveartEyeView small_fove_view(const Scene& scene) {

@@ -14,14 +14,13 @@
 #include <optional>
 #include <limits>
 
+#include "../foveation/test_executor.hpp"
+
 using namespace foveart::engine;
 
 namespace {
 
-foveart::foveation::Executor& executor() {
-  static foveart::foveation::Executor two_threads(2);
-  return two_threads;
-}
+using foveart::foveation::test::executor;
 
 // A square [-s,s]^2 in the plane y = h facing +y (s = 0.5 gives a unit quad).
 void add_floor(Scene& scene, float s, float h, uint32_t material) {

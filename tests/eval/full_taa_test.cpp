@@ -4,6 +4,7 @@
 // blends with the foveated view's weight, and at a still view its error
 // against a converged render falls as frames accumulate.
 #include <cmd_render.hpp>
+#include "small_scene.hpp"
 #include <eval/full_taa.hpp>
 #include <eval/image_metrics.hpp>
 #include <taa_modes.hpp>
@@ -21,17 +22,7 @@ using namespace foveart;
 
 namespace {
 
-struct SmallScene {
-  std::unique_ptr<engine::Tracer> tracer;
-  FoveartEyeView view{};
-  explicit SmallScene(int w, int h) {
-    engine::LoadResult loaded = engine::load_scene("default");
-    tracer = engine::Tracer::create(std::move(*loaded.scene));
-    tools::RenderOptions o;
-    o.size_px = glm::ivec2(w, h);
-    view = tools::render_view(o, tracer->scene());
-  }
-};
+using eval_test::SmallScene;
 
 // PSNR of two linear images in display values over all pixels and channels.
 double display_psnr(const foveation::ImageRgb& a, const foveation::ImageRgb& b) {

@@ -4,6 +4,7 @@
 #include "gltf_fixtures.hpp"
 
 #include <cmd_render.hpp>
+#include "small_scene.hpp"
 #include <pfm.hpp>
 #include <eval/reference.hpp>
 
@@ -25,19 +26,7 @@ using namespace foveart;
 
 namespace {
 
-struct SmallScene {
-  std::unique_ptr<engine::Tracer> tracer;
-  FoveartEyeView view{};
-  std::uint64_t hash = 0;
-  SmallScene(int w, int h) {
-    engine::LoadResult loaded = engine::load_scene("default");
-    hash = tools::scene_content_hash(*loaded.scene);
-    tracer = engine::Tracer::create(std::move(*loaded.scene));
-    tools::RenderOptions o;
-    o.size_px = glm::ivec2(w, h);
-    view = tools::render_view(o, tracer->scene());
-  }
-};
+using eval_test::SmallScene;
 
 }  // namespace
 

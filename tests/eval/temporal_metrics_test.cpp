@@ -22,23 +22,23 @@ using foveart::tools::TrackedPrevious;
 
 namespace {
 
-constexpr int kW = 4, kH = 2;
+constexpr int kTinyW = 4, kTinyH = 2;
 
 // Rings by hand: the left half in ring 0, the right half in `right_ring`.
 EccentricityMap map_with(std::uint8_t right_ring) {
   EccentricityMap m;
-  m.width_px = kW;
-  m.height_px = kH;
-  m.ring.resize(kW * kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) m.ring[std::size_t(y * kW + x)] = x < kW / 2 ? 0 : right_ring;
+  m.width_px = kTinyW;
+  m.height_px = kTinyH;
+  m.ring.resize(kTinyW * kTinyH);
+  for (int y = 0; y < kTinyH; ++y)
+    for (int x = 0; x < kTinyW; ++x) m.ring[std::size_t(y * kTinyW + x)] = x < kTinyW / 2 ? 0 : right_ring;
   for (std::uint8_t r : m.ring) ++m.ring_pixels[r];
   return m;
 }
 
 // The reference of frame t: a ramp that moves (the truth changes by 0.01 per frame and pixel index).
 ImageRgb truth(int t) {
-  ImageRgb im(kW, kH);
+  ImageRgb im(kTinyW, kTinyH);
   for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = 0.2f + 0.01f * float(t) * float(i % 7) + 0.02f * float(i % 3);
   return im;
 }
@@ -101,12 +101,12 @@ TEST(TemporalMetrics, GhostingOfAUniformMotionIsErrorNotFlicker) {
   // Pair (0, 1): I changes by 0, R by d; pairs (1,2)...(3,4): both by d. Frame 0 has no error.
   const ImageRgb d0 = truth(0), d1 = truth(1);
   double d2_left = 0.0, d2_right = 0.0;
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
+  for (int y = 0; y < kTinyH; ++y)
+    for (int x = 0; x < kTinyW; ++x)
       for (int c = 0; c < 3; ++c) {
-        const std::size_t k = std::size_t((y * kW + x) * 3 + c);
+        const std::size_t k = std::size_t((y * kTinyW + x) * 3 + c);
         const double d = double(d1.rgb[k]) - double(d0.rgb[k]);
-        (x < kW / 2 ? d2_left : d2_right) += d * d;
+        (x < kTinyW / 2 ? d2_left : d2_right) += d * d;
       }
   // Flicker: only pair (0, 1) contributes, sum d^2 over 4 pairs' values. Error: frames 1-4 each d^2.
   EXPECT_NEAR(r[0].flicker_rms, std::sqrt(d2_left / (4.0 * 12.0)), 1e-6);
@@ -137,9 +137,9 @@ TEST(TemporalMetrics, PooledOverRingsAndFramesWeighsEveryValueOnce) {
   const EccentricityMap m = map_with(4);
   for (int t = 0; t < 4; ++t) {
     ImageRgb image = truth(t);
-    for (int y = 0; y < kH; ++y)
-      for (int x = 0; x < kW; ++x)
-        for (int c = 0; c < 3; ++c) image.at(x, y)[c] += x < kW / 2 ? (t % 2 ? 0.3f : 0.1f) : 0.2f;
+    for (int y = 0; y < kTinyH; ++y)
+      for (int x = 0; x < kTinyW; ++x)
+        for (int c = 0; c < 3; ++c) image.at(x, y)[c] += x < kTinyW / 2 ? (t % 2 ? 0.3f : 0.1f) : 0.2f;
     e.add_frame(image, truth(t), m);
   }
   const TemporalRings rings = e.rings();
@@ -278,9 +278,9 @@ TEST(TemporalMetrics, ReferenceFloorWeighsBothFramesHalfDifferencesUnderThisFram
 TEST(TemporalMetrics, ReferenceFloorAddsTheVariancesOfConsecutiveFrames) {
   ReferenceFloor f;
   const EccentricityMap m = map_with(4);
-  f.add_frame(std::vector<float>(kW * kH, 0.01f), m);
-  f.add_frame(std::vector<float>(kW * kH, 0.03f), m);
-  f.add_frame(std::vector<float>(kW * kH, 0.01f), m);
+  f.add_frame(std::vector<float>(kTinyW * kTinyH, 0.01f), m);
+  f.add_frame(std::vector<float>(kTinyW * kTinyH, 0.03f), m);
+  f.add_frame(std::vector<float>(kTinyW * kTinyH, 0.01f), m);
   const TemporalRings r = f.rings();
   // Pairs: 0.01 + 0.03 and 0.03 + 0.01 -> mean 0.04; error: mean of 0.01, 0.03, 0.01.
   EXPECT_NEAR(r[0].flicker_rms, std::sqrt(0.04), 1e-7);
@@ -296,12 +296,12 @@ float content(int x, int t) { return 0.5f + 0.3f * std::sin(1.7f * float(x - t))
 // An error pattern as a function of position.
 float blemish(int x) { return 0.05f * float((x * 5) % 3) - 0.05f; }
 
-// Frame t of a kW x kH sequence; image = truth + the error at screen x (fixed) or
+// Frame t of a kTinyW x kTinyH sequence; image = truth + the error at screen x (fixed) or
 // at content position x - t (carried along by the motion).
 ImageRgb moving(int t, bool with_error, bool error_moves) {
-  ImageRgb im(kW, kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x)
+  ImageRgb im(kTinyW, kTinyH);
+  for (int y = 0; y < kTinyH; ++y)
+    for (int x = 0; x < kTinyW; ++x)
       for (int c = 0; c < 3; ++c)
         im.at(x, y)[c] = content(x, t) + (with_error ? blemish(error_moves ? x - t + 8 : x) : 0.0f);
   return im;
@@ -310,12 +310,12 @@ ImageRgb moving(int t, bool with_error, bool error_moves) {
 // The previous error warped one pixel right (the exact motion): pixel x came from x - 1;
 // the first column was off-screen.
 void warp_right(const ImageRgb& previous_error, ImageRgb* warped, std::vector<std::uint8_t>* valid) {
-  *warped = ImageRgb(kW, kH);
-  valid->assign(std::size_t(kW * kH), 0);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 1; x < kW; ++x) {
+  *warped = ImageRgb(kTinyW, kTinyH);
+  valid->assign(std::size_t(kTinyW * kTinyH), 0);
+  for (int y = 0; y < kTinyH; ++y)
+    for (int x = 1; x < kTinyW; ++x) {
       std::copy_n(previous_error.at(x - 1, y), 3, warped->at(x, y));
-      (*valid)[std::size_t(y * kW + x)] = 1;
+      (*valid)[std::size_t(y * kTinyW + x)] = 1;
     }
 }
 
@@ -354,7 +354,7 @@ TEST(TemporalMetrics, AnErrorFixedOnTheScreenIsTrackedFlickerWhileTheContentMove
   EXPECT_NEAR(r[0].flicker_rms, 0.0, 1e-7);
   double sum = 0.0;
   int n = 0;
-  for (int x = 1; x < kW / 2; ++x, ++n) sum += std::pow(double(blemish(x)) - double(blemish(x - 1)), 2.0);
+  for (int x = 1; x < kTinyW / 2; ++x, ++n) sum += std::pow(double(blemish(x)) - double(blemish(x - 1)), 2.0);
   EXPECT_NEAR(r[0].flicker_tracked_rms, std::sqrt(sum / double(n)), 1e-6);
   EXPECT_GT(r[0].flicker_tracked_rms, 0.03);
 }
@@ -364,10 +364,10 @@ TEST(TemporalMetrics, TrackedPreviousOfAnotherSizeThrows) {
   const EccentricityMap m = map_with(1);
   e.add_frame(truth(0), truth(0), m);
   const ImageRgb small(3, 2);
-  std::vector<std::uint8_t> valid(kW * kH, 1);
+  std::vector<std::uint8_t> valid(kTinyW * kTinyH, 1);
   const TrackedPrevious bad_image{&small, &valid};
   EXPECT_THROW(e.add_frame(truth(1), truth(1), m, &bad_image), std::invalid_argument);
-  const ImageRgb right(kW, kH);
+  const ImageRgb right(kTinyW, kTinyH);
   std::vector<std::uint8_t> short_valid(3, 1);
   const TrackedPrevious bad_valid{&right, &short_valid};
   EXPECT_THROW(e.add_frame(truth(1), truth(1), m, &bad_valid), std::invalid_argument);

@@ -1,4 +1,4 @@
-// The executor of the foveation tests that do not test threading themselves:
+// The executor of the tests that do not test threading themselves:
 // two threads, started once per test binary.
 #pragma once
 

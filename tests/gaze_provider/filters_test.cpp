@@ -7,10 +7,11 @@
 
 #include "gaze_provider/filters.h"
 
+#include "tracker_period.hpp"
+
 using namespace foveart::gaze;
 
 namespace {
-constexpr std::int64_t kPeriodNs = 8'333'333;  // 120 Hz
 
 GazeSample sample_at_yaw(double yaw_deg, std::int64_t i, bool valid = true) {
   GazeSample s;

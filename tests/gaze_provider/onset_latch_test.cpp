@@ -9,10 +9,11 @@
 #include "gaze_provider/gaze_math.h"
 #include "gaze_provider/onset_latch.h"
 
+#include "tracker_period.hpp"
+
 using namespace foveart::gaze;
 
 namespace {
-constexpr std::int64_t kPeriodNs = 8'333'333;  // 120 Hz
 
 // 10 deg minimum-jerk saccade from `from_deg`, starting at sample `start`, 43 ms long.
 double saccade_yaw_deg(double from_deg, int start, int i) {

@@ -10,10 +10,11 @@
 
 #include "gaze_provider/filters.h"
 
+#include "tracker_period.hpp"
+
 using namespace foveart::gaze;
 
 namespace {
-constexpr std::int64_t kPeriodNs = 8'333'333;
 constexpr std::int64_t kLatencyNs = 5'000'000;  // host receives 5 ms after capture
 
 double pursuit_yaw(double t_s) { return 10.0 * std::sin(2.0 * std::numbers::pi * 0.5 * t_s); }  // peak 31 deg/s

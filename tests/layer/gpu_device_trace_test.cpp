@@ -29,8 +29,8 @@
 namespace foveart::layer {
 namespace {
 
-constexpr uint32_t kW = 96;
-constexpr uint32_t kH = 80;
+constexpr uint32_t kViewW = 96;
+constexpr uint32_t kViewH = 80;
 constexpr uint32_t kRaysPerPoint = 2;
 
 // Scale 6: the pixel grid's edge lies inside the view, so frames hold grid and disc points.
@@ -38,7 +38,7 @@ std::shared_ptr<const foveation::ViewTables> small_tables() {
   static std::shared_ptr<const foveation::ViewTables> tables;
   if (!tables) {
     foveation::PointSetKey key;
-    key.display = foveation::DisplayModel::from_fov(kW, kH, 60.0);
+    key.display = foveation::DisplayModel::from_fov(kViewW, kViewH, 60.0);
     key.display.scale = 6.0;
     key.seed = 1;
     foveation::InterpOptions o;
@@ -58,7 +58,7 @@ foveation::FrameRequest request(glm::vec2 gaze_px, uint64_t frame_index) {
   pose.position_m = {-0.032f, 1.6f, 0.25f};
   const glm::vec3 forward(0.0f, 0.0f, -1.0f), diagonal = glm::normalize(glm::vec3(1.0f));
   pose.orientation = glm::angleAxis(std::acos(glm::dot(forward, diagonal)), glm::normalize(glm::cross(forward, diagonal)));
-  r.view = foveation::make_eye_view(0, kW, kH, pose, -0.4f, 0.42f, 0.38f, -0.36f);
+  r.view = foveation::make_eye_view(0, kViewW, kViewH, pose, -0.4f, 0.42f, 0.38f, -0.36f);
   r.frame_index = frame_index;
   r.gaze_px = gaze_px;
   return r;
@@ -221,7 +221,7 @@ class GpuDeviceTraceTest : public ::testing::Test {
     tables_ = small_tables();
     gpu_tables_ = gpu_->upload_tables(tables_, &error);
     ASSERT_NE(gpu_tables_, nullptr) << error;
-    eye_ = gpu_->create_eye(kW, kH, &error);
+    eye_ = gpu_->create_eye(kViewW, kViewH, &error);
     ASSERT_NE(eye_, nullptr) << error;
     settings_.rays_per_point = int(kRaysPerPoint);
     settings_.new_jitter_each_frame = true;

@@ -15,6 +15,7 @@
 #include "gaze_provider/trace_csv.h"
 #include "sim_runtime/sim_env.h"
 #include "xr_test_app.h"
+#include "motion_math.hpp"
 
 namespace foveart::sim::test {
 namespace {
@@ -35,10 +36,7 @@ double yaw_deg(const glm::quat& q) {
   return static_cast<double>(glm::degrees(std::atan2(f.x, -f.z)));
 }
 
-double angle_deg(const glm::vec3& a, const glm::vec3& b) {
-  const glm::dvec3 u(a), v(b);
-  return glm::degrees(std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)));
-}
+using test::angle_deg;
 
 XrSpace reference_space(XrSession session, XrReferenceSpaceType type) {
   auto info = xr<XrReferenceSpaceCreateInfo>(XR_TYPE_REFERENCE_SPACE_CREATE_INFO);

@@ -10,19 +10,15 @@
 #include <glm/trigonometric.hpp>
 
 #include "sim_test_env.h"
+#include "motion_math.hpp"
 
 namespace foveart::sim {
 namespace {
 
 constexpr int64_t kGazePeriodNs = 8'333'333;  // 120 Hz, foveation::fove0()
 
-int64_t ns(double seconds) { return std::llround(seconds * 1e9); }
-
-// Degrees between two directions (atan2 of |a x b| and a . b: exact near 0, unlike acos).
-double angle_deg(const glm::vec3& a, const glm::vec3& b) {
-  const glm::dvec3 u(a), v(b);
-  return glm::degrees(std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)));
-}
+using test::ns;
+using test::angle_deg;
 
 // Head yaw to the right, degrees: the forward (-z) axis turned about +y.
 double yaw_deg(const glm::quat& q) {

@@ -15,16 +15,13 @@
 #include "gaze_provider/trace_csv.h"
 #include "gaze_source.h"
 #include "sim_test_env.h"
+#include "motion_math.hpp"
 
 namespace foveart::sim {
 namespace {
 
-int64_t ns(double seconds) { return std::llround(seconds * 1e9); }
-
-double angle_deg(const glm::vec3& a, const glm::vec3& b) {
-  const glm::dvec3 u(a), v(b);
-  return glm::degrees(std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v)));
-}
+using test::ns;
+using test::angle_deg;
 
 std::string builtin_trace(const MotionSource& motion, double seconds) {
   const std::string path = test::fresh_dir("trace") + "/motion_gaze.csv";

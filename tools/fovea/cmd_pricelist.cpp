@@ -54,14 +54,9 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-Json rays_json(const engine::RayCounts& c) {
+Json rays_with_total_json(const engine::RayCounts& c) {
   return Json{{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection},
               {"refraction", c.refraction}, {"total", c.total()}};
-}
-
-engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
-  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
-                           a.refraction - b.refraction, a.packets - b.packets};
 }
 
 // One setting being measured: its view (foveated), its history (full with TAA) or
@@ -182,7 +177,7 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
     m.points = fr.points;
     image = &m.view->image();
   }
-  if (m.frames_done == 0) m.rays = minus(c.tracer.counts(), before);
+  if (m.frames_done == 0) m.rays = c.tracer.counts() - before;
   foveation::ImageRgb display = foveation::display_encode(*image, c.exposure);
   if (m.frames_done > 0) {
     const auto mse = foveation::ring_mse(m.previous_display, display, c.map);
@@ -229,7 +224,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   }
   j["taa"] = s.taa;
   j["points"] = m.points;
-  j["rays"] = rays_json(m.rays);
+  j["rays"] = rays_with_total_json(m.rays);
   // The frame whose total is the median, so that the stages add up to the total.
   std::vector<std::size_t> order(m.total_ms.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;

@@ -18,6 +18,7 @@
 
 #include "foveation/cache_dir.hpp"
 #include "foveation/display_model.hpp"
+#include "foveation/elapsed.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
 #include <eval/image_metrics.hpp>
@@ -31,9 +32,7 @@ namespace fv = foveart::foveation;
 
 namespace {
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using foveation::ms_since;
 
 // Bilinear sample of a [0, 1] RGB image at a screen position (pixel centres at
 // +0.5, clamped to the edge).

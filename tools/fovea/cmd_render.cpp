@@ -19,6 +19,7 @@
 #include <gpu_engine/callback_adapter.hpp>
 
 #include <foveation/display_model.hpp>
+#include <foveation/elapsed.hpp>
 #include <foveation/executor.hpp>
 #include <foveation/foveated_view.hpp>
 
@@ -48,17 +49,10 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using foveation::ms_since;
 
 Json rays_json(const engine::RayCounts& c) {
   return Json{{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection}, {"refraction", c.refraction}};
-}
-
-engine::RayCounts minus(const engine::RayCounts& a, const engine::RayCounts& b) {
-  return engine::RayCounts{a.primary - b.primary, a.shadow - b.shadow, a.reflection - b.reflection,
-                           a.refraction - b.refraction, a.packets - b.packets};
 }
 
 // Mean active lanes per 16-wide Embree call: how full (coherent) the packets were.
@@ -266,7 +260,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       }
       full_times.add(rr.trace_ms, 0.0);
       if (frame == 0) {
-        full_rays = minus(eng.counts(), before);
+        full_rays = eng.counts() - before;
         grid = {view.width_px, view.height_px, rr.tile_width_px, rr.tile_height_px, rr.tiles_x};
         tile_ms.assign(rr.tile_ms.size(), 0.0);
       }
@@ -291,7 +285,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       // The fixed part: reconstruction and the temporal history.
       fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.taa_ms, fr.select_ms);
       if (frame == 0) {
-        fov_rays = minus(eng.counts(), before);
+        fov_rays = eng.counts() - before;
         fov_points = fr.points;
       }
     }

@@ -2,6 +2,7 @@
 #include <engine/render.hpp>
 
 #include <foveation/device.hpp>
+#include <foveation/elapsed.hpp>
 #include <foveation/eye_rays.hpp>
 #include <foveation/ray_batch.hpp>
 #include <foveation/ray_samples.hpp>
@@ -16,9 +17,7 @@
 namespace foveart::engine {
 namespace {
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
+using foveation::ms_since;
 
 }  // namespace
 

@@ -5,6 +5,8 @@
 
 #include <foveation/eye_rays.hpp>
 
+#include "vk_helpers.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -20,15 +22,6 @@ namespace {
 constexpr uint32_t kGroupSize = 64;              // the trace shader's local_size_x
 constexpr uint32_t kMaxRaysPerSubmit = 1u << 18;  // larger batches go in several submissions
 constexpr uint64_t kFenceTimeoutNs = 120ull * 1000 * 1000 * 1000;
-
-std::string vk_failure(const char* call, VkResult r) {
-  return std::string("gpu_engine: ") + call + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
-}
-
-bool set_error(std::string* error, std::string message) {
-  if (error) *error = std::move(message);
-  return false;
-}
 
 struct Validation {
   std::mutex mutex;
@@ -109,7 +102,7 @@ struct HostBuffer {
     info.usage = usage;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VkResult r = vkCreateBuffer(device, &info, nullptr, &buffer);
-    if (r != VK_SUCCESS) return set_error(error, vk_failure("vkCreateBuffer", r));
+    if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateBuffer", r));
     VkMemoryRequirements req{};
     vkGetBufferMemoryRequirements(device, buffer, &req);
     VkPhysicalDeviceMemoryProperties props{};
@@ -132,7 +125,7 @@ struct HostBuffer {
     if (r == VK_SUCCESS) r = vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &mapped);
     if (r != VK_SUCCESS) {
       destroy();
-      return set_error(error, "gpu_engine: allocating a " + std::to_string(bytes) +
+      return fail(error, "gpu_engine: allocating a " + std::to_string(bytes) +
                                   "-byte host-visible buffer failed (VkResult " + std::to_string(static_cast<int>(r)) +
                                   ")");
     }
@@ -227,13 +220,13 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
   VkResult r = vkCreateInstance(&info, nullptr, &instance);
   if (r != VK_SUCCESS) {
     instance = VK_NULL_HANDLE;
-    return set_error(error, vk_failure("vkCreateInstance (is a Vulkan driver installed?)", r));
+    return fail(error, vk_error("vkCreateInstance (is a Vulkan driver installed?)", r));
   }
   uint32_t count = 0;
   r = vkEnumeratePhysicalDevices(instance, &count, nullptr);
   std::vector<VkPhysicalDevice> devices(count);
   if (r == VK_SUCCESS && count > 0) r = vkEnumeratePhysicalDevices(instance, &count, devices.data());
-  if (r != VK_SUCCESS && r != VK_INCOMPLETE) return set_error(error, vk_failure("vkEnumeratePhysicalDevices", r));
+  if (r != VK_SUCCESS && r != VK_INCOMPLETE) return fail(error, vk_error("vkEnumeratePhysicalDevices", r));
   for (VkPhysicalDevice d : devices) {
     VkPhysicalDeviceProperties p{};
     vkGetPhysicalDeviceProperties(d, &p);
@@ -246,7 +239,7 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
     }
   }
   if (physical == VK_NULL_HANDLE)
-    return set_error(error, "gpu_engine: no Vulkan 1.1 device with a compute queue (" + std::to_string(count) +
+    return fail(error, "gpu_engine: no Vulkan 1.1 device with a compute queue (" + std::to_string(count) +
                                 " device(s) found)");
   family = compute_family(physical);
   const float priority = 1.0f;
@@ -273,7 +266,7 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
   r = vkCreateDevice(physical, &device_info, nullptr, &device);
   if (r != VK_SUCCESS) {
     device = VK_NULL_HANDLE;
-    return set_error(error, vk_failure("vkCreateDevice", r) + " on " + name);
+    return fail(error, vk_error("vkCreateDevice", r) + " on " + name);
   }
   vkGetDeviceQueue(device, family, 0, &queue);
 
@@ -284,7 +277,7 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
   r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
   if (r != VK_SUCCESS) {
     pool = VK_NULL_HANDLE;
-    return set_error(error, vk_failure("vkCreateCommandPool", r));
+    return fail(error, vk_error("vkCreateCommandPool", r));
   }
   VkCommandBufferAllocateInfo cb_info{};
   cb_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
@@ -292,13 +285,13 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
   cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cb_info.commandBufferCount = 1;
   r = vkAllocateCommandBuffers(device, &cb_info, &cb);
-  if (r != VK_SUCCESS) return set_error(error, vk_failure("vkAllocateCommandBuffers", r));
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateCommandBuffers", r));
   VkFenceCreateInfo fence_info{};
   fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
   r = vkCreateFence(device, &fence_info, nullptr, &fence);
   if (r != VK_SUCCESS) {
     fence = VK_NULL_HANDLE;
-    return set_error(error, vk_failure("vkCreateFence", r));
+    return fail(error, vk_error("vkCreateFence", r));
   }
   return count_buffer.create(physical, device, sizeof(FoveartDeviceRayCount),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, error);
@@ -366,7 +359,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
     if (r == VK_SUCCESS) r = vkBeginCommandBuffer(cb, &begin);
     if (r != VK_SUCCESS) {
-      last_error = vk_failure("vkBeginCommandBuffer", r);
+      last_error = vk_error("vkBeginCommandBuffer", r);
       return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
     }
     // Host writes of rays and count -> the shader's reads and the indirect dispatch's.
@@ -408,12 +401,12 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     submit.pCommandBuffers = &cb;
     if (r == VK_SUCCESS) r = vkQueueSubmit(queue, 1, &submit, fence);
     if (r != VK_SUCCESS) {
-      last_error = vk_failure("vkQueueSubmit", r);
+      last_error = vk_error("vkQueueSubmit", r);
       return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
     }
     r = vkWaitForFences(device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
     if (r != VK_SUCCESS) {
-      last_error = vk_failure("vkWaitForFences", r);
+      last_error = vk_error("vkWaitForFences", r);
       vkDeviceWaitIdle(device);  // the buffers are reused: nothing may still run
       vkResetFences(device, 1, &fence);
       return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
@@ -459,12 +452,12 @@ std::unique_ptr<CallbackAdapter> CallbackAdapter::create(engine::Scene scene, co
     std::string tracer_error;
     impl->tracer = GpuTracer::create(context, std::move(scene), options.tracer, &tracer_error);
     if (!impl->tracer) {
-      set_error(error, tracer_error + " (device " + impl->name + ")");
+      fail(error, tracer_error + " (device " + impl->name + ")");
       return nullptr;
     }
     return std::unique_ptr<CallbackAdapter>(new CallbackAdapter(std::move(impl)));
   } catch (const std::exception& e) {
-    set_error(error, std::string("gpu_engine: ") + e.what());
+    fail(error, std::string("gpu_engine: ") + e.what());
     return nullptr;
   }
 }

@@ -7,6 +7,7 @@
 #include <gpu_engine/gpu_tracer.hpp>
 
 #include "rt_pipeline_tracer.hpp"
+#include "vk_helpers.hpp"
 #include "scene_data.hpp"
 #include "vk_buffer.hpp"
 
@@ -43,15 +44,6 @@ struct FullPush {  // full.comp's push constants
   uint32_t seed_hi[4];
 };
 static_assert(sizeof(FullPush) == 80);
-
-bool fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
-
-std::string vk_error(const char* what, VkResult r) {
-  return std::string("gpu_engine: ") + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
-}
 
 uint64_t handle_bits(VkBuffer b) {
   uint64_t v = 0;

@@ -1,16 +1,10 @@
 // order_rt_primitives and binding_table_layout (rt_layout.hpp).
 #include "rt_layout.hpp"
+#include "vk_helpers.hpp"
 
 #include <algorithm>
 
 namespace foveart::gpu_engine {
-namespace {
-
-VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize alignment) {
-  return alignment <= 1 ? v : (v + alignment - 1) / alignment * alignment;
-}
-
-}  // namespace
 
 RtPrimitiveOrder order_rt_primitives(const std::vector<uint32_t>& bvh_prims,
                                      const std::vector<GpuTriangle>& triangles) {

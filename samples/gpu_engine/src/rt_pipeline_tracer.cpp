@@ -2,6 +2,7 @@
 // handles copied into a binding table laid out by shaderGroupHandleSize,
 // shaderGroupHandleAlignment and shaderGroupBaseAlignment -> vkCmdTraceRaysKHR.
 #include "rt_pipeline_tracer.hpp"
+#include "vk_helpers.hpp"
 
 #include "rt_layout.hpp"
 
@@ -25,19 +26,6 @@ constexpr uint32_t kGroupMiss = 1;     // rt_miss.rmiss (closest-hit queries)
 constexpr uint32_t kGroupShadow = 2;   // rt_shadow.rmiss (occlusion queries)
 constexpr uint32_t kGroupHit = 3;      // rt_hit.rchit + rt_alpha.rahit
 constexpr uint32_t kGroupCount = 4;
-
-bool fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
-
-std::string vk_error(const char* what, VkResult r) {
-  return std::string("gpu_engine: ") + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
-}
-
-VkDeviceSize align_up(VkDeviceSize v, VkDeviceSize alignment) {
-  return alignment <= 1 ? v : (v + alignment - 1) / alignment * alignment;
-}
 
 // Shader modules destroyed on scope exit.
 struct Modules {

@@ -1,6 +1,7 @@
 // RtScene: the BLAS and TLAS built once with vkCmdBuildAccelerationStructuresKHR
 // on the device, from host-visible input buffers freed after the build.
 #include "rt_scene.hpp"
+#include "vk_helpers.hpp"
 
 #include "rt_layout.hpp"
 
@@ -18,19 +19,6 @@ constexpr VkBufferUsageFlags kBuildInput =
 constexpr VkBufferUsageFlags kStorage =
     VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
 constexpr VkBufferUsageFlags kScratch = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-
-bool fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
-}
-
-std::string vk_error(const char* what, VkResult r) {
-  return std::string("gpu_engine: ") + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
-}
-
-VkDeviceAddress align_up(VkDeviceAddress v, VkDeviceSize alignment) {
-  return alignment <= 1 ? v : (v + alignment - 1) / alignment * alignment;
-}
 
 // A command pool, one command buffer and a fence, released on scope exit.
 struct OneTimeCommands {

@@ -1,6 +1,7 @@
 // Scene -> std430 arrays: the data engine::Tracer reads per hit (tracer.cpp,
 // shading.hpp, texture_sampler.hpp), laid out for trace_core.glsl.
 #include "scene_data.hpp"
+#include "vk_helpers.hpp"
 
 #include <glm/geometric.hpp>
 
@@ -14,11 +15,6 @@ void put3(float (&dst)[3], glm::vec3 v) {
   dst[0] = v.x;
   dst[1] = v.y;
   dst[2] = v.z;
-}
-
-bool fail(std::string* error, const std::string& message) {
-  if (error) *error = message;
-  return false;
 }
 
 }  // namespace

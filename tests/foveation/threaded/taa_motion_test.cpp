@@ -19,12 +19,12 @@
 namespace foveart::foveation {
 namespace {
 
-constexpr uint32_t kW = 96, kH = 80;
+constexpr uint32_t kViewW = 96, kViewH = 80;
 
 std::shared_ptr<const ViewTables> tables() {
   static const auto t = [] {
     PointSetKey key;
-    key.display = DisplayModel::from_fov(kW, kH, 57.3);
+    key.display = DisplayModel::from_fov(kViewW, kViewH, 57.3);
     key.display.scale = 6.0;  // pixel grid and Poisson points both on screen
     key.seed = 1;
     InterpOptions o;
@@ -59,7 +59,7 @@ FoveartEyeView view_at(glm::vec3 position_m, float yaw_deg) {
   EyePose pose;
   pose.position_m = position_m;
   pose.orientation = glm::angleAxis(glm::radians(-yaw_deg), glm::vec3(0, 1, 0));
-  return make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
+  return make_eye_view(0, kViewW, kViewH, pose, -0.5f, 0.5f, 0.45f, -0.45f);
 }
 
 double rms(const ImageRgb& a, const ImageRgb& b) {
@@ -254,8 +254,8 @@ TEST(TaaMotion, BeyondThePixelGridTheRayCacheFiltersIntoEachPixelAsWideAsItsPoin
     req.frame_index = uint64_t(i + 1);
     ASSERT_TRUE(fv.render(req, trace, &engine, executor).ok());
     std::size_t beyond = 0, cache_shown = 0;
-    for (int y = 0; y < int(kH); ++y)
-      for (int x = 0; x < int(kW); ++x) {
+    for (int y = 0; y < int(kViewH); ++y)
+      for (int x = 0; x < int(kViewW); ++x) {
         if (glm::length(glm::vec2(float(x) + 0.5f, float(y) + 0.5f) - kGazePx) < beyond_px) continue;
         ++beyond;
         const bool gather = std::equal(fv.image().at(x, y), fv.image().at(x, y) + 3, fv.reconstructed().at(x, y));
@@ -351,7 +351,7 @@ TEST(TaaMotion, RayCacheWithoutCpuReconstructionHandsTheCacheItsRaysAndPixels) {
     EXPECT_EQ(rays, r.rays) << "frame " << i;
     ASSERT_NE(view.hand_off().temporal.ray_pixels, nullptr);
     const auto& pixels = *view.hand_off().temporal.ray_pixels;
-    ASSERT_EQ(pixels.size(), std::size_t(kW) * kH);
+    ASSERT_EQ(pixels.size(), std::size_t(kViewW) * kViewH);
     std::size_t grid = 0, wider = 0, covering = 0;
     for (const glm::vec2& p : pixels) {
       grid += p.x == 1.0f;

@@ -46,6 +46,13 @@ struct RayCounts {
   uint64_t total() const { return primary + shadow + reflection + refraction; }
 };
 
+// The rays traced between two readings of Tracer::counts(): later - earlier.
+inline RayCounts operator-(const RayCounts& later, const RayCounts& earlier) {
+  return RayCounts{later.primary - earlier.primary, later.shadow - earlier.shadow,
+                   later.reflection - earlier.reflection, later.refraction - earlier.refraction,
+                   later.packets - earlier.packets};
+}
+
 // One ray against the scene, for tests and tools.
 struct HitRecord {
   bool hit = false;
