@@ -5,6 +5,12 @@
 set(FOVEART_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
     -Wnon-virtual-dtor -Wold-style-cast -Woverloaded-virtual -Wnull-dereference
     -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+# In a unity batch every source but the batch's own is an included file, where
+# GCC warns of a class with a member of an unnamed-namespace type as if in a
+# header (the warning guards headers against ODR violations; these are sources).
+if(FOVEART_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  list(APPEND FOVEART_WARNINGS -Wno-subobject-linkage)
+endif()
 set(FOVEART_C_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion)
 
 # Sanitizer builds compile at FOVEART_SANITIZE_OPT, after the build type's flags so
@@ -23,8 +29,19 @@ endif()
 # Command-line, configuration and report glue (argument parsing, JSON, tables)
 # does no per-pixel or per-ray work, yet its CLI11 and JSON templates are the
 # costliest files to compile: sanitizer builds compile it unoptimised, about
-# half the time of FOVEART_SANITIZE_OPT. Call from the sources' own directory.
+# half the time of FOVEART_SANITIZE_OPT. foveart_glue_target for a target that
+# is all glue (its sources still share unity batches); foveart_glue_sources for
+# single files of other targets (call from the sources' own directory), which
+# compile alone.
+function(foveart_glue_target target)
+  if(FOVEART_SANITIZE)
+    target_compile_options(${target} PRIVATE -O0)
+  endif()
+endfunction()
+
 function(foveart_glue_sources)
+  # Alone in every build, so that the unity batches are the same with and without sanitizers.
+  set_property(SOURCE ${ARGN} PROPERTY SKIP_UNITY_BUILD_INCLUSION ON)
   if(FOVEART_SANITIZE)
     set_property(SOURCE ${ARGN} APPEND PROPERTY COMPILE_OPTIONS -O0)
   endif()

@@ -3,7 +3,9 @@
 // xrGetInstanceProcAddr; optional extension functions stay null when absent.
 #pragma once
 
+#ifndef XR_USE_GRAPHICS_API_VULKAN
 #define XR_USE_GRAPHICS_API_VULKAN
+#endif
 #include <vulkan/vulkan.h>
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>

@@ -232,6 +232,8 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
 } XrFoveatedRendererReconstructionStatsFOVEART;
 
 #ifdef XR_USE_GRAPHICS_API_VULKAN
+#include <vulkan/vulkan.h>
+
 /*
  * The device trace: for an engine that traces on the GPU. Chain an
  * XrFoveatedDeviceTraceInfoFOVEART into XrFoveatedRendererCreateInfoFOVEART::next;
