@@ -8,11 +8,13 @@
 # cost, and the cost per ray; a 320x360 full render is its picture.
 # Writes DIR/scenes.md (headed by the commands and this machine), DIR/json/<scene>.json
 # and DIR/img/<scene>.png.
-# Usage: bench/scenes.sh [DIR [FRAMES]]   (default: out/scenes 15); needs a built tree (scripts/run.sh or bench.sh)
+# FRAMES 45: on a shared machine the median of 15 frame pairs can follow one
+# slow spell of it; 45 pairs hold the trace / content ratio to about a hundredth.
+# Usage: bench/scenes.sh [DIR [FRAMES]]   (default: out/scenes 45); needs a built tree (scripts/run.sh or bench.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:-out/scenes}
-frames=${2:-15}
+frames=${2:-45}
 fovea=build/bin/fovea
 [ -x "$fovea" ] || { echo "bench/scenes.sh: $fovea is missing: build first (scripts/run.sh)" >&2; exit 2; }
 mkdir -p "$dir/img" "$dir/json" out/cache
