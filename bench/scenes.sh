@@ -9,7 +9,8 @@
 # Writes DIR/scenes.md (headed by the commands and this machine), DIR/json/<scene>.json
 # and DIR/img/<scene>.png.
 # FRAMES 45: on a shared machine the median of 15 frame pairs can follow one
-# slow spell of it; 45 pairs hold the trace / content ratio to about a hundredth.
+# slow spell of it; 45 make that rarer (not impossible: a run's ratios are
+# worth repeating before reading a hundredth into them).
 # Usage: bench/scenes.sh [DIR [FRAMES]]   (default: out/scenes 45); needs a built tree (scripts/run.sh or bench.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
