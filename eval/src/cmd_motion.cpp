@@ -177,7 +177,7 @@ int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     return 2;
   }
   std::string error;
-  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, &error);
   if (!motion) {
     err << "fovea-eval motion: " << error << "\n";
     return 2;

@@ -59,7 +59,7 @@ namespace {
 std::string temporal_options_problem(const TemporalOptions& o) {
   if (o.motion == "none") return "";
   std::string error;
-  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, &error);
   if (!motion) return error;
   MotionWindow w;
   w.start_s = o.start_s;
@@ -103,7 +103,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
                                            foveation::Executor& executor, std::ostream& err) {
   const TemporalOptions& o = c.options;
   std::string error;
-  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, &error);
   if (!motion) {  // checked before the run; the file may have gone since
     err << "fovea pricelist: " << error << "\n";
     return std::nullopt;

@@ -17,8 +17,8 @@ namespace {
 
 constexpr float kPi = 3.14159265f;
 
-foveation::MotionSample sample(double t, float head_yaw_deg, glm::vec3 gaze, bool valid = true, bool saccade = false) {
-  foveation::MotionSample s;
+motion::MotionSample sample(double t, float head_yaw_deg, glm::vec3 gaze, bool valid = true, bool saccade = false) {
+  motion::MotionSample s;
   s.time_s = t;
   s.head_orientation = glm::angleAxis(head_yaw_deg * kPi / 180.0f, glm::vec3(0, 1, 0));
   s.head_position_m = {0.0f, 1.6f, 0.0f};
@@ -39,7 +39,7 @@ FoveartEyeView eye_at_rest(const foveation::EyePose& head) {
 
 TEST(MotionViews, HeadSitsAtTheScenesHeadWhereTheMotionStandsInLocal) {
   foveation::EyePose scene_head{glm::vec3(1, 2, 3), glm::angleAxis(kPi / 2, glm::vec3(0, 1, 0))};
-  foveation::MotionSample s = sample(0.0, 0.0f, {0, 0, -1});
+  motion::MotionSample s = sample(0.0, 0.0f, {0, 0, -1});
   s.head_position_m = {0.1f, 1.6f, 0.0f};
   const foveation::EyePose h = tools::head_in_scene(scene_head, s);
   // 0.1 m to the motion's right is -z in a scene head turned 90 deg to the left.
@@ -51,7 +51,7 @@ TEST(MotionViews, HeadSitsAtTheScenesHeadWhereTheMotionStandsInLocal) {
 
 TEST(MotionViews, FramesFollowTheHeadKeepTheEyeOffsetAndProjectTheGaze) {
   const float tan10 = std::tan(10.0f * kPi / 180.0f);
-  const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}),
+  const motion::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}),
                                           sample(1.0, 90.0f, {tan10, 0, -1}),
                                           sample(2.0, 90.0f, {0, 0, -1}, false, false),
                                           sample(3.0, 90.0f, {0, 0, -1}, true, true)});
@@ -86,7 +86,7 @@ TEST(MotionViews, FramesFollowTheHeadKeepTheEyeOffsetAndProjectTheGaze) {
 }
 
 TEST(MotionViews, GazeOffTheViewFallsBackToTheLensCentre) {
-  const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {1, 0, 0}), sample(1.0, 0.0f, {1, 0, 0})});
+  const motion::ScriptedMotion motion({sample(0.0, 0.0f, {1, 0, 0}), sample(1.0, 0.0f, {1, 0, 0})});
   const foveation::EyePose head{};
   tools::MotionWindow w;
   w.fps = 1.0;
@@ -97,7 +97,7 @@ TEST(MotionViews, GazeOffTheViewFallsBackToTheLensCentre) {
 }
 
 TEST(MotionViews, WindowOutsideTheMotionIsNamed) {
-  const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}), sample(1.0, 0.0f, {0, 0, -1})});
+  const motion::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}), sample(1.0, 0.0f, {0, 0, -1})});
   tools::MotionWindow w;
   w.frames = 71;  // 70 fps from 0: the 71st frame is at 1 s, the last sample
   std::string error;

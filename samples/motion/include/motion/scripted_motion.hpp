@@ -1,7 +1,9 @@
 // A scripted head and gaze motion: head orientation and position plus the
 // gaze direction in head space over time, the same for the simulated runtime
-// (FOVEART_SIM_MOTION) and for `fovea render` / the price list's temporal
-// columns, so a motion measured offline is the motion played through the layer.
+// (FOVEART_SIM_MOTION) and for the lab (`fovea-eval motion`, the price list's
+// temporal columns), so a motion measured offline is the motion played through
+// the layer. Its own library (foveart::motion), owned by neither: it needs GLM
+// and the eye model (foveation/eye_rays.hpp) only.
 //
 // Head space: +x right, +y up, -z forward (OpenXR view convention); the gaze
 // is a unit direction in it. Pure math; the CSV reader is the only I/O.
@@ -18,7 +20,7 @@
 
 #include "foveation/eye_rays.hpp"
 
-namespace foveart::foveation {
+namespace foveart::motion {
 
 // A script's world is the floor frame (the OpenXR STAGE space); a standing
 // head is this high. Players of a script (the simulated runtime's LOCAL space,
@@ -37,8 +39,8 @@ struct MotionSample {
 // A sample's head pose with its origin moved up to a standing head: the pose
 // in a player's space whose origin is kStandingEyeHeightM above the script's
 // floor (the simulated runtime's LOCAL space, `fovea-eval motion`'s scene head).
-inline EyePose head_pose_above_standing_eye(const MotionSample& s) {
-  return EyePose{s.head_position_m - glm::vec3(0.0f, kStandingEyeHeightM, 0.0f), glm::normalize(s.head_orientation)};
+inline foveation::EyePose head_pose_above_standing_eye(const MotionSample& s) {
+  return foveation::EyePose{s.head_position_m - glm::vec3(0.0f, kStandingEyeHeightM, 0.0f), glm::normalize(s.head_orientation)};
 }
 
 class ScriptedMotion {
@@ -72,4 +74,4 @@ std::optional<ScriptedMotion> load_motion_csv(const std::filesystem::path& path,
 // False and *error naming the file when it cannot be written.
 [[nodiscard]] bool save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& path, std::string* error);
 
-}  // namespace foveart::foveation
+}  // namespace foveart::motion

@@ -1,4 +1,4 @@
-#include <eval/scripted_motion.hpp>
+#include <motion/scripted_motion.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 
-namespace foveart::foveation {
+namespace foveart::motion {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -192,4 +192,4 @@ bool save_motion_csv(const ScriptedMotion& motion, const std::filesystem::path& 
   return true;
 }
 
-}  // namespace foveart::foveation
+}  // namespace foveart::motion
