@@ -12,7 +12,7 @@
 #include <eval/pricelist_grid.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/pricelist_temporal_report.hpp>
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>

@@ -3,7 +3,7 @@
 
 #include <eval/pricelist_temporal_report.hpp>
 
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <toolkit/plot.hpp>
 
@@ -18,7 +18,7 @@ namespace foveart::tools {
 namespace {
 
 using Json = nlohmann::ordered_json;
-constexpr std::size_t kRings = foveation::kRingCount;
+constexpr std::size_t kRings = metrics::kRingCount;
 
 double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
 double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
@@ -108,10 +108,10 @@ std::string fair_headline(const std::vector<Json>& all, const PricelistContext& 
 
 std::string ring_name(std::size_t r) {
   char buf[32];
-  if (std::isinf(foveation::kRingEdgesDeg[r + 1]))
-    std::snprintf(buf, sizeof buf, ">%g", foveation::kRingEdgesDeg[r]);
+  if (std::isinf(metrics::kRingEdgesDeg[r + 1]))
+    std::snprintf(buf, sizeof buf, ">%g", metrics::kRingEdgesDeg[r]);
   else
-    std::snprintf(buf, sizeof buf, "%g-%g", foveation::kRingEdgesDeg[r], foveation::kRingEdgesDeg[r + 1]);
+    std::snprintf(buf, sizeof buf, "%g-%g", metrics::kRingEdgesDeg[r], metrics::kRingEdgesDeg[r + 1]);
   return buf;
 }
 

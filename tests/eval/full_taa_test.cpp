@@ -6,7 +6,7 @@
 #include <cmd_render.hpp>
 #include "small_scene.hpp"
 #include <eval/full_taa.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include <taa_modes.hpp>
 
 #include <engine/gltf_loader.hpp>
@@ -26,7 +26,7 @@ using eval_test::SmallScene;
 
 // PSNR of two linear images in display values over all pixels and channels.
 double display_psnr(const foveation::ImageRgb& a, const foveation::ImageRgb& b) {
-  const foveation::ImageRgb da = foveation::display_encode(a), db = foveation::display_encode(b);
+  const foveation::ImageRgb da = metrics::display_encode(a), db = metrics::display_encode(b);
   double se = 0.0;
   for (std::size_t i = 0; i < da.rgb.size(); ++i) se += std::pow(double(da.rgb[i]) - double(db.rgb[i]), 2.0);
   return 10.0 * std::log10(double(da.rgb.size()) / se);

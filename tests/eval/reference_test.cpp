@@ -12,7 +12,7 @@
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 #include <foveation/executor.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -147,7 +147,7 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   SmallScene s(40, 45);
   foveation::Executor executor(2);
   const glm::vec2 gaze(20, 22);
-  const auto map = foveation::eccentricity_map(s.view, gaze);
+  const auto map = metrics::eccentricity_map(s.view, gaze);
   std::string error;
   tools::ReferenceOptions o;
   o.spp = 4;
@@ -157,7 +157,7 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   ASSERT_TRUE(r4 && r64) << error;
   // 16x the rays: ~1/16 the residual; between 1/4 and 1/64 in the rings that hold many pixels.
   const auto a = r4->residual_mse(map), b = r64->residual_mse(map);
-  for (std::size_t r = 0; r < foveation::kRingCount; ++r) {
+  for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
     if (map.ring_pixels[r] < 200) continue;
     EXPECT_GT(a[r], 0.0) << r;
     EXPECT_LT(b[r], a[r] / 4.0) << r;
@@ -173,7 +173,7 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   EXPECT_EQ(autoref->tried_spp, (std::vector<int>{16, 32, 64}));
   EXPECT_FALSE(autoref->converged);
   EXPECT_EQ(autoref->image.rgb, r64->image.rgb);  // doubling reuses chunks: the same image as asking for 64
-  ASSERT_EQ(autoref->db_per_doubling.size(), foveation::kRingCount);
+  ASSERT_EQ(autoref->db_per_doubling.size(), metrics::kRingCount);
   // Needs 10 rays per pixel: 16 is enough, but the 1/N law is only seen after one doubling.
   o.baseline_spp = 1;
   autoref = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
@@ -181,7 +181,7 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   ASSERT_GE(autoref->tried_spp.size(), 2u);
   EXPECT_EQ(autoref->tried_spp[0], 16);
   if (autoref->converged) {
-    for (std::size_t r = 0; r < foveation::kRingCount; ++r)
+    for (std::size_t r = 0; r < metrics::kRingCount; ++r)
       if (map.ring_pixels[r] > 0 && std::isfinite(autoref->db_per_doubling[r])) {
         EXPECT_GE(autoref->db_per_doubling[r], 2.0) << r;
 
@@ -213,9 +213,9 @@ TEST(RenderCommand, ReportsErrorsAgainstAReferenceAndSaysWhichOne) {
   const auto& a = j["errors_against_reference"];
   EXPECT_EQ(a["reference"]["source"], "converged full render");
   EXPECT_EQ(a["reference"]["spp"], 16);
-  EXPECT_EQ(a["reference"]["residual_psnr"].size(), foveation::kRingCount);
-  ASSERT_EQ(a["full"]["rings"].size(), foveation::kRingCount);
-  ASSERT_EQ(a["foveated"]["rings"].size(), foveation::kRingCount);
+  EXPECT_EQ(a["reference"]["residual_psnr"].size(), metrics::kRingCount);
+  ASSERT_EQ(a["full"]["rings"].size(), metrics::kRingCount);
+  ASSERT_EQ(a["foveated"]["rings"].size(), metrics::kRingCount);
   EXPECT_TRUE(a["full"]["rings"][0]["psnr"].is_number());
   EXPECT_TRUE(fs::exists(dir.path / "reference"));
 

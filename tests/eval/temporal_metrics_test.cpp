@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
-using foveart::foveation::EccentricityMap;
+using foveart::metrics::EccentricityMap;
 using foveart::foveation::ImageRgb;
 using foveart::tools::ReferenceFloor;
 using foveart::tools::RingBand;

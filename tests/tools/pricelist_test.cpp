@@ -13,7 +13,7 @@
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 #include <foveation/executor.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -173,13 +173,13 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   for (const auto& s : settings) {
     foveation::ImageRgb im;
     ASSERT_TRUE(tools::read_pfm((pl / s["image"].get<std::string>()).string(), &im, &error)) << s["id"] << error;
-    std::vector<double> se(foveation::kRingCount, 0.0), n(foveation::kRingCount, 0.0);
+    std::vector<double> se(metrics::kRingCount, 0.0), n(metrics::kRingCount, 0.0);
     for (std::size_t i = 0; i < im.pixel_count(); ++i) {
       const auto r = std::size_t(ecc.rgb[i * 3 + 1]);
       for (int c = 0; c < 3; ++c) se[r] += std::pow(double(im.rgb[i * 3 + c]) - double(ref.rgb[i * 3 + c]), 2.0);
       n[r] += 3;
     }
-    for (std::size_t r = 0; r < foveation::kRingCount; ++r) {
+    for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
       const auto& json_psnr = s["rings"][r]["psnr"];
       if (n[r] == 0 || !json_psnr.is_number()) continue;
       EXPECT_NEAR(10.0 * std::log10(n[r] / se[r]), json_psnr.get<double>(), 0.05) << s["id"] << " ring " << r;
@@ -212,7 +212,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   // Every foveated setting has its equal-time baseline per ring, and report.md shows it.
   for (const auto& s : settings) {
     if (s["kind"] == "foveated") {
-      EXPECT_EQ(s["equal_time_full"].size(), foveation::kRingCount) << s["id"];
+      EXPECT_EQ(s["equal_time_full"].size(), metrics::kRingCount) << s["id"];
     }
   }
   {

@@ -6,7 +6,7 @@
 #include <render_options.hpp>
 
 #include <engine/default_scene.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include <gpu_engine/callback_adapter.hpp>
 #include <toolkit/image_io.hpp>
 
@@ -71,13 +71,13 @@ constexpr int kWidth = 160, kHeight = 180;
 // `o` (gaze at the centre): each ring >= 40 dB (see below).
 void expect_rings_agree(const RenderOptions& o, const fs::path& cpu_png, const fs::path& gpu_png, const char* what) {
   const FoveartEyeView view = foveart::tools::render_view(o, foveart::engine::make_default_scene());
-  const foveart::foveation::EccentricityMap map =
-      foveart::foveation::eccentricity_map(view, glm::vec2(0.5f * kWidth, 0.5f * kHeight));
+  const foveart::metrics::EccentricityMap map =
+      foveart::metrics::eccentricity_map(view, glm::vec2(0.5f * kWidth, 0.5f * kHeight));
   foveart::foveation::ImageRgb a, b;
   std::string e;
   ASSERT_TRUE(foveart::toolkit::read_image(cpu_png.string(), foveart::toolkit::PngValues::display, &a, &e)) << e;
   ASSERT_TRUE(foveart::toolkit::read_image(gpu_png.string(), foveart::toolkit::PngValues::display, &b, &e)) << e;
-  const auto mse = foveart::foveation::ring_mse(a, b, map);
+  const auto mse = foveart::metrics::ring_mse(a, b, map);
   for (size_t r = 0; r < mse.size(); ++r) {
     if (map.ring_pixels[r] == 0) continue;
     const double psnr = mse[r] > 0.0 ? 10.0 * std::log10(1.0 / mse[r]) : std::numeric_limits<double>::infinity();

@@ -13,17 +13,17 @@
 #include <eval/full_taa.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/reference.hpp>
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 #include <eval/results_jsonl.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 
-#include <eval/csf_error.hpp>
+#include <metrics/csf_error.hpp>
 #include <foveation/executor.hpp>
 #include <foveation/foveated_view.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <toolkit/image_io.hpp>
 #include <toolkit/machine.hpp>
@@ -70,7 +70,7 @@ struct Measure {
   engine::RayCounts rays;
   std::uint32_t points = 0;
   foveation::ImageRgb previous_display;
-  std::array<double, foveation::kRingCount> flicker_sum{};
+  std::array<double, metrics::kRingCount> flicker_sum{};
   int flicker_pairs = 0;
   int frames_wanted = 0;
   int frames_done = 0;
@@ -82,7 +82,7 @@ struct Context {
   FoveartEyeView view;
   glm::vec2 gaze;
   foveation::Executor& executor;
-  const foveation::EccentricityMap& map;
+  const metrics::EccentricityMap& map;
   const foveation::ImageRgb& reference_display;
   std::ostream& err;
   float exposure = 1.0f;  // what the display values scale radiance by (render_display)
@@ -178,9 +178,9 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
     image = &m.view->image();
   }
   if (m.frames_done == 0) m.rays = c.tracer.counts() - before;
-  foveation::ImageRgb display = foveation::display_encode(*image, c.exposure);
+  foveation::ImageRgb display = metrics::display_encode(*image, c.exposure);
   if (m.frames_done > 0) {
-    const auto mse = foveation::ring_mse(m.previous_display, display, c.map);
+    const auto mse = metrics::ring_mse(m.previous_display, display, c.map);
     for (std::size_t r = 0; r < mse.size(); ++r) m.flicker_sum[r] += std::isnan(mse[r]) ? 0.0 : mse[r];
     ++m.flicker_pairs;
   }
@@ -194,7 +194,7 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
 // percentile, returned in *scale_out, and above). False and *error when it cannot be written.
 bool write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out,
                    std::string* error) {
-  const std::vector<float> e = foveation::csf_error_map(c.reference_display, display, c.map);
+  const std::vector<float> e = metrics::csf_error_map(c.reference_display, display, c.map);
   std::vector<float> sorted = e;
   const std::size_t p99 = sorted.size() * 99 / 100;
   std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(p99), sorted.end());
@@ -214,7 +214,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
                  bool heatmap, std::string* error) {
   const PriceSetting& s = m.setting;
   const foveation::ImageRgb& last = m.previous_display;  // display values of the last frame
-  const foveation::ImageComparison cmp = foveation::compare_images(c.reference_display, last, c.map);
+  const metrics::ImageComparison cmp = metrics::compare_images(c.reference_display, last, c.map);
   Json j = {{"id", s.id()}, {"kind", s.full ? "full" : "foveated"}, {"spp", s.rays_per_point}};
   if (!s.full) {
     j["method"] = s.interpolation;
@@ -235,12 +235,12 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   j["frames_total_ms"] = m.total_ms;
   j["anchor_full_ms"] = anchor_ms;
   j["time_fraction"] = anchor_ms > 0.0 ? m.total_ms[med] / anchor_ms : 0.0;
-  const Json cj = comparison_json(cmp);
+  const Json cj = metrics::comparison_json(cmp);
   j["psnr"] = cj["psnr"];
   j["ssim"] = cj["ssim"];
   j["csf_rmse"] = cj["csf_rmse"];
   j["rings"] = cj["rings"];
-  for (std::size_t r = 0; r < foveation::kRingCount; ++r)
+  for (std::size_t r = 0; r < metrics::kRingCount; ++r)
     j["rings"][r]["flicker"] = m.flicker_pairs > 0 ? std::sqrt(m.flicker_sum[r] / m.flicker_pairs) : 0.0;
   j["flicker_frames"] = m.frames_done;
   if (write_image) {
@@ -447,7 +447,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     std::ofstream(run_file) << run.dump(2) << "\n";
   }
 
-  const foveation::EccentricityMap map = foveation::eccentricity_map(view, gaze);
+  const metrics::EccentricityMap map = metrics::eccentricity_map(view, gaze);
   ReferenceOptions ro;
   if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
   ro.baseline_spp = *std::max_element(o.grid.full_rays_per_point.begin(),
@@ -464,7 +464,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     err << "fovea pricelist: " << error << "\n";
     return 1;
   }
-  const foveation::ImageRgb reference_display = foveation::display_encode(reference->image, display->exposure);
+  const foveation::ImageRgb reference_display = metrics::display_encode(reference->image, display->exposure);
   if (!fs::exists(out_dir / "images" / "reference.pfm")) {
     if (!write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display, &error)) {
       err << "fovea pricelist: " << error << "\n";
@@ -538,7 +538,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
                    {"cache_file", reference->cache_file}, {"render_ms", reference->render_ms},
                    {"image", "images/reference.pfm"}};
   Json residual = Json::array();
-  for (double mse : reference->residual_mse(map)) residual.push_back(number_or_null_json(foveation::psnr_of_mse(mse)));
+  for (double mse : reference->residual_mse(map)) residual.push_back(metrics::number_or_null_json(metrics::psnr_of_mse(mse)));
   ref_json["residual_psnr"] = residual;
   PricelistContext pc;
   pc.run = run;

@@ -21,9 +21,9 @@
 #include "foveation/elapsed.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include "interp_commands.hpp"
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 #include "toolkit/image_io.hpp"
 
 namespace foveart::tools {
@@ -161,8 +161,8 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
     taa_ms += frame.taa_ms;
     total_ms += frame.select_ms + frame.trace_ms + frame.reconstruct_ms + frame.taa_ms;
     if (t > 0) {
-      flicker += fv::mean_abs_difference(view.image(), prev_out);
-      flicker_raw += fv::mean_abs_difference(view.reconstructed(), prev_raw);
+      flicker += metrics::mean_abs_difference(view.image(), prev_out);
+      flicker_raw += metrics::mean_abs_difference(view.reconstructed(), prev_raw);
     }
     prev_out = view.image();
     prev_raw = view.reconstructed();
@@ -176,10 +176,10 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
     if (std::string e; !toolkit::write_png(a.out, output, toolkit::PngValues::display, &e)) return fail(e);
   }
 
-  const double psnr = fv::psnr(reference, output);
-  const double ssim = fv::ssim(reference, output);
+  const double psnr = metrics::psnr(reference, output);
+  const double ssim = metrics::ssim(reference, output);
   // Rings by the angle between a pixel's ray and the gaze ray in the image's own view.
-  const fv::ImageComparison cmp = fv::compare_images(reference, output, fv::eccentricity_map(request.view, mapping.gaze_px));
+  const metrics::ImageComparison cmp = metrics::compare_images(reference, output, metrics::eccentricity_map(request.view, mapping.gaze_px));
   nlohmann::json j;
   j["image"] = a.image;
   j["preset"] = a.preset;
@@ -204,14 +204,14 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   j["rbf_clamp"] = fv::rbf_clamp_name(*rbf_clamp);
   j["rbf_fallback_pixels"] = tables->interpolation.stats.fallback_msm;
   j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
-  j["psnr"] = tools::number_or_null_json(psnr);
+  j["psnr"] = metrics::number_or_null_json(psnr);
   j["ssim"] = ssim;
   if (a.frames > 1) {
     j["flicker"] = flicker / (nf - 1.0);
     j["flicker_no_taa"] = flicker_raw / (nf - 1.0);
   }
-  j["csf_rmse"] = tools::number_or_null_json(cmp.csf_rmse);
-  j["rings"] = comparison_json(cmp)["rings"];
+  j["csf_rmse"] = metrics::number_or_null_json(cmp.csf_rmse);
+  j["rings"] = metrics::comparison_json(cmp)["rings"];
   if (a.json) {
     out << j.dump(2) << "\n";
   } else {

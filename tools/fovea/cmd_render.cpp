@@ -11,7 +11,7 @@
 #include "render_cli.hpp"
 #include "pfm.hpp"
 #include <eval/reference.hpp>
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
@@ -314,9 +314,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
                           {"frames_total_ms", fov_times.total_ms},
                           {"white_clipped_fraction", foveation::white_clipped_fraction(foveated->image(), *display)}};
   }
-  std::optional<foveation::EccentricityMap> ecc;
-  const auto ecc_map = [&]() -> const foveation::EccentricityMap& {
-    if (!ecc) ecc = foveation::eccentricity_map(view, gaze);
+  std::optional<metrics::EccentricityMap> ecc;
+  const auto ecc_map = [&]() -> const metrics::EccentricityMap& {
+    if (!ecc) ecc = metrics::eccentricity_map(view, gaze);
     return *ecc;
   };
   if (!o.reference_spp.empty() || !o.reference_file.empty()) {
@@ -351,20 +351,20 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         return 1;
       }
       Json residual = Json::array();
-      for (double mse : ref->residual_mse(ecc_map())) residual.push_back(number_or_null_json(foveation::psnr_of_mse(mse)));
+      for (double mse : ref->residual_mse(ecc_map())) residual.push_back(metrics::number_or_null_json(metrics::psnr_of_mse(mse)));
       ref_json = {{"source", "converged full render"}, {"spp", ref->spp}, {"spp_tried", ref->tried_spp},
                   {"converged", ref->converged}, {"db_per_doubling", ref->db_per_doubling},
                   {"from_cache", ref->from_cache}, {"cache_file", ref->cache_file}, {"render_ms", ref->render_ms},
                   {"residual_psnr", residual}};
       reference = std::move(ref->image);
     }
-    const foveation::ImageRgb reference_display = foveation::display_encode(reference, display->exposure);
+    const foveation::ImageRgb reference_display = metrics::display_encode(reference, display->exposure);
     Json against = {{"reference", ref_json}};
     if (run_full)
-      against["full"] = comparison_json(foveation::compare_images(reference_display, foveation::display_encode(full, display->exposure), ecc_map()));
+      against["full"] = metrics::comparison_json(metrics::compare_images(reference_display, metrics::display_encode(full, display->exposure), ecc_map()));
     if (run_foveated)
-      against["foveated"] = comparison_json(
-          foveation::compare_images(reference_display, foveation::display_encode(foveated->image(), display->exposure), ecc_map()));
+      against["foveated"] = metrics::comparison_json(
+          metrics::compare_images(reference_display, metrics::display_encode(foveated->image(), display->exposure), ecc_map()));
     report["errors_against_reference"] = against;
   }
   const double full_total = run_full ? full_times.median_total_ms() : 0.0;
@@ -395,9 +395,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         {"fixed_share_of_foveated", fov_total > 0.0 ? fixed / fov_total : 0.0},
         {"breakeven_full_ms", trace_speedup > 1.0 ? Json(fixed * trace_speedup / (trace_speedup - 1.0)) : Json(nullptr)}};
     // Agreement of the two images (both carry their own noise), not accuracy: see errors_against_reference.
-    const foveation::ImageComparison cmp = foveation::compare_images(
-        foveation::display_encode(full, display->exposure), foveation::display_encode(foveated->image(), display->exposure), ecc_map());
-    const Json c = comparison_json(cmp);
+    const metrics::ImageComparison cmp = metrics::compare_images(
+        metrics::display_encode(full, display->exposure), metrics::display_encode(foveated->image(), display->exposure), ecc_map());
+    const Json c = metrics::comparison_json(cmp);
     report["rings_compared_against"] = "full render at the same rays per pixel";
     report["psnr"] = c["psnr"];
     report["ssim"] = c["ssim"];

@@ -21,7 +21,7 @@
 
 #include <foveation/executor.hpp>
 #include <foveation/image.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include <foveation/ray_samples.hpp>
 #include <foveation/ray_trace.h>
 
@@ -73,7 +73,7 @@ struct Reference {
   bool converged = true;                // false: the check stopped at max_spp short of its goal
 
   // Residual MSE per ring against the truth, MSE(A, B) / 4, and its PSNR.
-  std::array<double, foveation::kRingCount> residual_mse(const foveation::EccentricityMap& map) const;
+  std::array<double, metrics::kRingCount> residual_mse(const metrics::EccentricityMap& map) const;
 };
 
 using ReferenceLog = std::function<void(const std::string&)>;

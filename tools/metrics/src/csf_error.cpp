@@ -1,6 +1,6 @@
 // CSF-weighted error (csf_error.hpp): Wang, Lu & Bovik 2001 eq. 5 with the
 // thesis's eqs. 1-3, over a band split of the display-luma difference.
-#include <eval/csf_error.hpp>
+#include <metrics/csf_error.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace foveart::foveation {
+namespace foveart::metrics {
 namespace {
 
 // Geisler & Perry 1998 fit, as the thesis and Wang et al. 2001 use it.
@@ -84,7 +84,7 @@ std::vector<float> csf_weighted_luma(const std::vector<double>& luma_difference,
   return out;
 }
 
-std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
+std::vector<float> csf_error_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map) {
   // The images against each other and the map's size; csf_weighted_luma checks the map's own arrays.
   if (ref.width_px != im.width_px || ref.height_px != im.height_px || ref.rgb.size() != im.rgb.size() ||
       ref.width_px != map.width_px || ref.height_px != map.height_px || ref.rgb.size() != ref.pixel_count() * 3) {
@@ -102,4 +102,4 @@ std::vector<float> csf_error_map(const ImageRgb& ref, const ImageRgb& im, const 
   return csf_weighted_luma(d, map);
 }
 
-}  // namespace foveart::foveation
+}  // namespace foveart::metrics

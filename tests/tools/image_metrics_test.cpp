@@ -1,4 +1,4 @@
-// Image metrics (eval/image_metrics.hpp, csf_error.hpp): known answers.
+// Image metrics (metrics/image_metrics.hpp, csf_error.hpp): known answers.
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -6,12 +6,16 @@
 
 #include <gtest/gtest.h>
 
-#include <eval/csf_error.hpp>
+#include <metrics/csf_error.hpp>
 #include "foveation/eye_rays.hpp"
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
-namespace foveart::foveation {
+namespace foveart::metrics {
 namespace {
+
+using foveation::EyePose;
+using foveation::ImageRgb;
+using foveation::make_eye_view;
 
 ImageRgb gradient(int w, int h) {
   ImageRgb im(w, h);
@@ -265,4 +269,4 @@ TEST(ImageMetrics, SizeMismatchIsAnErrorNamingTheSizes) {
 }
 
 }  // namespace
-}  // namespace foveart::foveation
+}  // namespace foveart::metrics

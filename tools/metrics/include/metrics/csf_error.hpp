@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "foveation/image.hpp"
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
-namespace foveart::foveation {
+namespace foveart::metrics {
 
 // Foveated contrast sensitivity relative to the fovea's, S(f, e) / S(f, 0)
 // (Wang et al. 2001 eq. 5 with thesis eqs. 2-3): 0 beyond the cut-off.
@@ -38,6 +38,6 @@ std::vector<float> csf_weighted_luma(const std::vector<double>& luma_difference,
 // With the weights uniform over an image its gain lies in [0, 1] at every frequency (the weights
 // grow towards the coarse bands, and each double box blur's gain lies in [0, 1]).
 // Throws std::invalid_argument when the sizes differ or the map lacks its eccentricities.
-std::vector<float> csf_error_map(const ImageRgb& reference, const ImageRgb& image, const EccentricityMap& map);
+std::vector<float> csf_error_map(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, const EccentricityMap& map);
 
-}  // namespace foveart::foveation
+}  // namespace foveart::metrics

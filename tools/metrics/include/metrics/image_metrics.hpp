@@ -21,14 +21,14 @@
 #include "foveation/image.hpp"
 #include "foveation/ray_trace.h"
 
-namespace foveart::foveation {
+namespace foveart::metrics {
 
 // 10 log10(peak^2 / MSE) over all channels; +inf for identical images.
-double psnr(const ImageRgb& reference, const ImageRgb& image, double peak = 1.0);
+double psnr(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, double peak = 1.0);
 // Mean SSIM over every pixel's window (the map of ssim_map()).
-double ssim(const ImageRgb& reference, const ImageRgb& image, double peak = 1.0);
+double ssim(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, double peak = 1.0);
 // Per-pixel SSIM of the 8x8 window around each pixel (clamped at the borders).
-std::vector<float> ssim_map(const ImageRgb& reference, const ImageRgb& image, double peak = 1.0);
+std::vector<float> ssim_map(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, double peak = 1.0);
 // PSNR of a mean squared error: 10 log10(peak^2 / mse), +inf for 0.
 double psnr_of_mse(double mse, double peak = 1.0);
 
@@ -37,7 +37,7 @@ inline double rec601_luma(double r, double g, double b) { return 0.299 * r + 0.5
 
 // Display values of a linear image: sRGB (IEC 61966-2-1) of exposure x each
 // channel clamped to [0, 1] (the exposure of the run's display transform).
-ImageRgb display_encode(const ImageRgb& linear, float exposure = 1.0f);
+foveation::ImageRgb display_encode(const foveation::ImageRgb& linear, float exposure = 1.0f);
 
 // Eccentricity ring edges in degrees: 0-2.5, 2.5-5, 5-10, 10-20, 20-30, 30-45, > 45.
 inline constexpr std::array<double, 8> kRingEdgesDeg = {0.0, 2.5, 5.0, 10.0, 20.0, 30.0, 45.0,
@@ -79,16 +79,16 @@ struct ImageComparison {
 };
 
 // Every metric of `image` against `reference` (same size as the map), overall and per ring.
-ImageComparison compare_images(const ImageRgb& reference, const ImageRgb& image, const EccentricityMap& map);
+ImageComparison compare_images(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, const EccentricityMap& map);
 
 // Squared error per ring only (cheap): MSE per ring over 3 channels.
-std::array<double, kRingCount> ring_mse(const ImageRgb& reference, const ImageRgb& image, const EccentricityMap& map);
+std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, const EccentricityMap& map);
 
 // Flicker: mean |I(t) - I(t-1)| over pixels and channels (TAA's temporal stability).
-double mean_abs_difference(const ImageRgb& a, const ImageRgb& b);
+double mean_abs_difference(const foveation::ImageRgb& a, const foveation::ImageRgb& b);
 
 // Flicker per ring of a sequence: the root mean square over consecutive frame
 // pairs, pixels and channels of I(t) - I(t-1). Zero for fewer than two frames.
-std::array<double, kRingCount> ring_flicker(const std::vector<ImageRgb>& frames, const EccentricityMap& map);
+std::array<double, kRingCount> ring_flicker(const std::vector<foveation::ImageRgb>& frames, const EccentricityMap& map);
 
-}  // namespace foveart::foveation
+}  // namespace foveart::metrics

@@ -4,15 +4,15 @@
 // Non-finite numbers (an identical ring's PSNR, an empty ring) are null.
 #pragma once
 
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <nlohmann/json.hpp>
 
-namespace foveart::tools {
+namespace foveart::metrics {
 
 nlohmann::ordered_json number_or_null_json(double v);
 
 // {"psnr", "ssim", "csf_rmse", "rings": [...]}
-nlohmann::ordered_json comparison_json(const foveation::ImageComparison& comparison);
+nlohmann::ordered_json comparison_json(const ImageComparison& comparison);
 
-}  // namespace foveart::tools
+}  // namespace foveart::metrics

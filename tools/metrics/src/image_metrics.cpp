@@ -1,9 +1,9 @@
 // PSNR, SSIM (Wang, Bovik, Sheikh, Simoncelli 2004, "Image quality assessment:
 // from error visibility to structural similarity") and their pooling per
 // eccentricity ring.
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
-#include <eval/csf_error.hpp>
+#include <metrics/csf_error.hpp>
 #include "foveation/eye_rays.hpp"
 #include "foveation/srgb.hpp"
 
@@ -16,11 +16,11 @@
 #include <stdexcept>
 #include <string>
 
-namespace foveart::foveation {
+namespace foveart::metrics {
 
 namespace {
 
-void check_sizes(const ImageRgb& a, const ImageRgb& b, const char* what) {
+void check_sizes(const foveation::ImageRgb& a, const foveation::ImageRgb& b, const char* what) {
   if (a.width_px != b.width_px || a.height_px != b.height_px || a.rgb.size() != b.rgb.size() ||
       a.rgb.size() != a.pixel_count() * 3) {
     throw std::invalid_argument(std::string(what) + ": images of different size (" + std::to_string(a.width_px) + "x" +
@@ -30,7 +30,7 @@ void check_sizes(const ImageRgb& a, const ImageRgb& b, const char* what) {
 }
 
 // Rec. 601 luma.
-std::vector<double> luma(const ImageRgb& im) {
+std::vector<double> luma(const foveation::ImageRgb& im) {
   std::vector<double> y(im.pixel_count());
   for (std::size_t i = 0; i < y.size(); ++i) {
     const float* c = im.rgb.data() + i * 3;
@@ -59,7 +59,7 @@ double box(const std::vector<double>& s, int w, int x0, int y0, int x1, int y1) 
 
 }  // namespace
 
-double psnr(const ImageRgb& ref, const ImageRgb& im, double peak) {
+double psnr(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, double peak) {
   check_sizes(ref, im, "psnr");
   double se = 0.0;
   for (std::size_t i = 0; i < ref.rgb.size(); ++i) {
@@ -69,7 +69,7 @@ double psnr(const ImageRgb& ref, const ImageRgb& im, double peak) {
   return psnr_of_mse(ref.rgb.empty() ? 0.0 : se / double(ref.rgb.size()), peak);
 }
 
-std::vector<float> ssim_map(const ImageRgb& ref, const ImageRgb& im, double peak) {
+std::vector<float> ssim_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, double peak) {
   check_sizes(ref, im, "ssim");
   const int w = ref.width_px, h = ref.height_px;
   const auto a = luma(ref), b = luma(im);
@@ -95,7 +95,7 @@ std::vector<float> ssim_map(const ImageRgb& ref, const ImageRgb& im, double peak
   return map;
 }
 
-double ssim(const ImageRgb& ref, const ImageRgb& im, double peak) {
+double ssim(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, double peak) {
   const auto map = ssim_map(ref, im, peak);
   double s = 0.0;
   for (float v : map) s += double(v);
@@ -106,9 +106,9 @@ double psnr_of_mse(double mse, double peak) {
   return mse > 0.0 ? 10.0 * std::log10(peak * peak / mse) : std::numeric_limits<double>::infinity();
 }
 
-ImageRgb display_encode(const ImageRgb& linear, float exposure) {
-  ImageRgb out = linear;
-  for (float& v : out.rgb) v = linear_to_srgb(std::clamp(std::isnan(v) ? 0.0f : v * exposure, 0.0f, 1.0f));
+foveation::ImageRgb display_encode(const foveation::ImageRgb& linear, float exposure) {
+  foveation::ImageRgb out = linear;
+  for (float& v : out.rgb) v = foveation::linear_to_srgb(std::clamp(std::isnan(v) ? 0.0f : v * exposure, 0.0f, 1.0f));
   return out;
 }
 
@@ -121,10 +121,10 @@ EccentricityMap eccentricity_map(const FoveartEyeView& view, glm::vec2 gaze_px) 
   m.eccentricity_deg.resize(n);
   m.pixels_per_deg.resize(n);
   m.ring.resize(n);
-  const EyeFrustum f = eye_frustum(view);
-  const glm::dvec3 g = glm::normalize(glm::dvec3(view_direction_unnormalised(f, gaze_px)));
+  const foveation::EyeFrustum f = foveation::eye_frustum(view);
+  const glm::dvec3 g = glm::normalize(glm::dvec3(foveation::view_direction_unnormalised(f, gaze_px)));
   const auto dir = [&f](double x, double y) {
-    return glm::normalize(glm::dvec3(view_direction_unnormalised(f, glm::vec2(float(x), float(y)))));
+    return glm::normalize(glm::dvec3(foveation::view_direction_unnormalised(f, glm::vec2(float(x), float(y)))));
   };
   const auto angle_deg = [](glm::dvec3 a, glm::dvec3 b) {
     // atan2(|a x b|, a.b): accurate for small angles, where acos is not.
@@ -148,7 +148,7 @@ EccentricityMap eccentricity_map(const FoveartEyeView& view, glm::vec2 gaze_px) 
 
 namespace {
 
-void check_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map, const char* what) {
+void check_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map, const char* what) {
   check_sizes(ref, im, what);
   if (ref.width_px != map.width_px || ref.height_px != map.height_px) {
     throw std::invalid_argument(std::string(what) + ": image " + std::to_string(ref.width_px) + "x" +
@@ -159,7 +159,7 @@ void check_map(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& m
 
 }  // namespace
 
-std::array<double, kRingCount> ring_mse(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
+std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map) {
   check_map(ref, im, map, "ring_mse");
   std::array<double, kRingCount> se{};
   for (std::size_t i = 0; i < map.ring.size(); ++i) {
@@ -175,7 +175,7 @@ std::array<double, kRingCount> ring_mse(const ImageRgb& ref, const ImageRgb& im,
   return se;
 }
 
-ImageComparison compare_images(const ImageRgb& ref, const ImageRgb& im, const EccentricityMap& map) {
+ImageComparison compare_images(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map) {
   check_map(ref, im, map, "compare_images");
   ImageComparison out;
   const auto mse = ring_mse(ref, im, map);
@@ -214,7 +214,7 @@ ImageComparison compare_images(const ImageRgb& ref, const ImageRgb& im, const Ec
   return out;
 }
 
-std::array<double, kRingCount> ring_flicker(const std::vector<ImageRgb>& frames, const EccentricityMap& map) {
+std::array<double, kRingCount> ring_flicker(const std::vector<foveation::ImageRgb>& frames, const EccentricityMap& map) {
   std::array<double, kRingCount> out{};
   if (frames.size() < 2) return out;
   for (std::size_t t = 1; t < frames.size(); ++t) {
@@ -225,11 +225,11 @@ std::array<double, kRingCount> ring_flicker(const std::vector<ImageRgb>& frames,
   return out;
 }
 
-double mean_abs_difference(const ImageRgb& a, const ImageRgb& b) {
+double mean_abs_difference(const foveation::ImageRgb& a, const foveation::ImageRgb& b) {
   check_sizes(a, b, "mean_abs_difference");
   double s = 0.0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) s += std::abs(double(a.rgb[i]) - double(b.rgb[i]));
   return a.rgb.empty() ? 0.0 : s / double(a.rgb.size());
 }
 
-}  // namespace foveart::foveation
+}  // namespace foveart::metrics
