@@ -16,7 +16,7 @@
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -357,4 +357,4 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
   return j;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 std::optional<motion::ScriptedMotion> load_motion(const std::string& spec, std::string* error) {
   if (spec == "builtin") return motion::builtin_motion(1);
@@ -98,4 +98,4 @@ std::vector<MotionFrame> motion_frames(const motion::ScriptedMotion& motion, con
   return frames;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -14,7 +14,7 @@
 #include <limits>
 #include <sstream>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -422,4 +422,4 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
   return "";
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -423,4 +423,4 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

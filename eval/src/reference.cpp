@@ -19,7 +19,7 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'V', 'R', 'T', 'R', 'E', 'F', '1'};
@@ -358,4 +358,4 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
   }
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

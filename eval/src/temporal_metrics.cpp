@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -238,4 +238,4 @@ void binomial_blur_3x3(const foveation::ImageRgb& image, foveation::ImageRgb* ou
   }
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -16,7 +16,7 @@
 
 #include "interp_commands.hpp"
 
-namespace foveart::tools {
+namespace foveart::fovea {
 namespace {
 
 namespace fs = std::filesystem;
@@ -260,4 +260,4 @@ TEST_F(InterpCommands, ReconstructErrors) {
 }
 
 }  // namespace
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

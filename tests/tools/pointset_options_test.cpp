@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::fovea {
 namespace {
 
 namespace fs = std::filesystem;
@@ -114,4 +114,4 @@ TEST_F(PointsetOptions, BadValueIsAnErrorNamingOptionAndValue) {
 }
 
 }  // namespace
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

@@ -3,7 +3,7 @@
 // by ring, and the report says which engine and device traced; a bad --engine
 // is refused. Runs on lavapipe; skipped without a Vulkan device.
 #include <cmd_render.hpp>
-#include <render_options.hpp>
+#include <render_view/render_options.hpp>
 
 #include <engine/default_scene.hpp>
 #include <metrics/image_metrics.hpp>
@@ -28,8 +28,9 @@
 #include <string>
 
 namespace fs = std::filesystem;
-using foveart::tools::RenderOptions;
-using foveart::tools::run_render;
+using foveart::render_view::RenderOptions;
+using foveart::fovea::register_render;
+using foveart::fovea::run_render;
 
 namespace {
 
@@ -70,7 +71,7 @@ constexpr int kWidth = 160, kHeight = 180;
 // PSNR per eccentricity ring (display values, peak 1) of two PNGs of the view of
 // `o` (gaze at the centre): each ring >= 40 dB (see below).
 void expect_rings_agree(const RenderOptions& o, const fs::path& cpu_png, const fs::path& gpu_png, const char* what) {
-  const FoveartEyeView view = foveart::tools::render_view(o, foveart::engine::make_default_scene());
+  const FoveartEyeView view = foveart::render_view::eye_view(o, foveart::engine::make_default_scene());
   const foveart::metrics::EccentricityMap map =
       foveart::metrics::eccentricity_map(view, glm::vec2(0.5f * kWidth, 0.5f * kHeight));
   foveart::foveation::ImageRgb a, b;

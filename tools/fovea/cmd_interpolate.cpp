@@ -23,7 +23,7 @@
 #include "foveation/rbf_clamp.hpp"
 #include "interp_commands.hpp"
 
-namespace foveart::tools {
+namespace foveart::fovea {
 
 namespace fv = foveart::foveation;
 
@@ -208,10 +208,7 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
   return 0;
 }
 
-}  // namespace foveart::tools
-
 void register_interpolate(CLI::App& app) {
-  using namespace foveart::tools;
   auto args = std::make_shared<InterpolateArgs>();
   auto* sub = app.add_subcommand("interpolate", "Interpolate scattered samples at query points (CSV in, values out)");
   sub->add_option("--interpolation", args->interpolation, "nearest, msm, rbf or rbf-gauss")->required();
@@ -235,3 +232,5 @@ void register_interpolate(CLI::App& app) {
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }
+
+}  // namespace foveart::fovea

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "display_options.hpp"
+#include <render_view/display_options.hpp>
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/point_density.hpp"
 #include "foveation/point_set_cache.hpp"
@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 namespace fv = foveation;
 
 struct PointsetOptions {
-  DisplayOptions display;
+  render_view::DisplayOptions display;
   int k = fv::kMaxNeighbors;
   std::string gaze;  // "X,Y"; empty: centre
   std::string cache_dir;
@@ -193,7 +193,7 @@ nlohmann::json write_curves(const std::string& dir, const fv::DisplayModel& disp
 }
 
 void run_pointset(const PointsetOptions& o) {
-  const fv::DisplayModel display = resolve_display(o.display);
+  const fv::DisplayModel display = render_view::resolve_display(o.display);
   if (o.k < 1 || o.k > fv::kMaxNeighbors) {
     throw CLI::ValidationError("--k", "k must be in 1..20, got " + std::to_string(o.k));
   }
@@ -298,7 +298,7 @@ void run_pointset(const PointsetOptions& o) {
 void register_pointset(CLI::App& app) {
   auto opts = std::make_shared<PointsetOptions>();
   CLI::App* cmd = app.add_subcommand("pointset", "build or load a display's point set and neighbour table");
-  add_display_options(cmd, opts->display);
+  render_view::add_display_options(cmd, opts->display);
   cmd->add_option("--k", opts->k, "neighbours per canvas pixel (1-20)")->capture_default_str();
   cmd->add_option("--gaze", opts->gaze, "gaze X,Y in pixels for --png (default: centre)");
   cmd->add_option("--cache-dir", opts->cache_dir, "cache directory (load if valid, else build and store)");

@@ -26,7 +26,7 @@
 #include <metrics/comparison_json.hpp>
 #include "toolkit/image_io.hpp"
 
-namespace foveart::tools {
+namespace foveart::fovea {
 
 namespace fv = foveart::foveation;
 
@@ -223,10 +223,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
 }
 
 
-}  // namespace foveart::tools
-
 void register_reconstruct(CLI::App& app) {
-  using namespace foveart::tools;
   auto a = std::make_shared<ReconstructArgs>();
   auto* sub = app.add_subcommand("reconstruct", "Foveate an image: sample it at the visible points and reconstruct");
   sub->add_option("--image", a->image, "input PNG (or any format stb_image reads)")->required();
@@ -264,3 +261,5 @@ void register_reconstruct(CLI::App& app) {
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }
+
+}  // namespace foveart::fovea

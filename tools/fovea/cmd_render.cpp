@@ -1,16 +1,15 @@
 // `fovea render`: full-resolution and/or foveated rendering of a glTF scene with
-// the sample engine; JSON report of rays per effect and times. The foveated
+// the sample engine; JSON report of rays per effect, times, the speedup and the
+// content bound. The foveated
 // frame is foveation::FoveatedView, the one the OpenXR layer runs. --engine gpu
 // answers the same callback with the GPU sample engine
 // (gpu_engine::CallbackAdapter: one device round trip per batch, so its times
 // include the transfers); reconstruction stays on the CPU either way.
 #include "cmd_render.hpp"
-#include "taa_modes.hpp"
+
 
 #include "content_speedup.hpp"
-#include "render_cli.hpp"
-#include "pfm.hpp"
-#include <eval/reference.hpp>
+#include <render_view/render_cli.hpp>
 #include <metrics/comparison_json.hpp>
 
 #include <engine/gltf_loader.hpp>
@@ -42,9 +41,7 @@
 #include <sstream>
 #include <vector>
 
-#include <xxhash.h>
-
-namespace foveart::tools {
+namespace foveart::fovea {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -113,28 +110,16 @@ struct RenderEngine {
   engine::Effects effects() const { return gpu ? gpu->effects() : cpu->effects(); }
   engine::Effects scene_effects() const { return gpu ? gpu->scene_effects() : cpu->scene_effects(); }
   engine::RayCounts counts() const { return gpu ? gpu->counts() : cpu->counts(); }
-  // The reference cache's scene key: the CPU engine's rendered_scene_hash; the
-  // GPU engine's references are its own (they agree per ray to ~1e-3, not exactly).
-  uint64_t scene_hash() const {
-    if (cpu) return rendered_scene_hash(*cpu);
-    const uint64_t parts[3] = {scene_content_hash(scene()), static_cast<uint64_t>(effects().bits()),
-                               0x6770755f656e67ull /* "gpu_eng" */};
-    return XXH3_64bits(parts, sizeof(parts));
-  }
 };
 
 }  // namespace
 
-int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
+int run_render(const render_view::RenderOptions& o, std::ostream& out, std::ostream& err) {
   if (o.engine != "cpu" && o.engine != "gpu") {
     err << "fovea render: --engine must be cpu or gpu, not \"" << o.engine << "\"\n";
     return 2;
   }
-  if (!o.motion.empty()) {
-    err << "fovea render: one still view; a sequence over a motion is `fovea-eval motion`\n";
-    return 2;
-  }
-  if (std::string bad; !check_render_options(o, &bad)) {
+  if (std::string bad; !render_view::check_render_options(o, &bad)) {
     err << "fovea render: " << bad << "\n";
     return 2;
   }
@@ -150,7 +135,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   std::string error;
   RenderEngine eng;
   if (o.engine == "gpu") {
-    const engine::TracerOptions cpu_options = render_tracer_options(o);
+    const engine::TracerOptions cpu_options = render_view::render_tracer_options(o);
     gpu_engine::CallbackAdapterOptions gpu_options;
     gpu_options.tracer.max_depth = cpu_options.max_depth;
     gpu_options.tracer.allowed = cpu_options.allowed;
@@ -160,14 +145,14 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
       return 1;
     }
   } else {
-    eng.cpu = engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
+    eng.cpu = engine::Tracer::create(std::move(*loaded.scene), render_view::render_tracer_options(o), &error);
     if (!eng.cpu) {
       err << "fovea render: " << error << "\n";
       return 1;
     }
   }
   const double build_ms = ms_since(t0);
-  const FoveartEyeView view = render_view(o, eng.scene());
+  const FoveartEyeView view = render_view::eye_view(o, eng.scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * static_cast<float>(view.width_px),
                                                       0.5f * static_cast<float>(view.height_px)));
   const uint64_t pixels = static_cast<uint64_t>(view.width_px) * view.height_px;
@@ -194,7 +179,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   foveation::Executor executor(static_cast<unsigned>(o.threads));  // every parallel stage of this run
   report["threads"] = executor.thread_count();
   std::string display_error;
-  const std::optional<foveation::DisplayTransform> display = render_display(o, eng.fn(), eng.user(), view, executor, &display_error);
+  const std::optional<foveation::DisplayTransform> display = render_view::render_display(o, eng.fn(), eng.user(), view, executor, &display_error);
   if (!display) {
     err << "fovea render: " << display_error << "\n";
     return 1;
@@ -227,7 +212,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     std::optional<std::filesystem::path> cache;
     if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
     const auto t_tables = std::chrono::steady_clock::now();
-    auto tables = load_foveated_tables(o, view, cache, executor,
+    auto tables = render_view::load_foveated_tables(o, view, cache, executor,
                                        [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &bad);
     if (!tables) {
       err << "fovea render: " << bad << "\n";
@@ -236,7 +221,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     precompute_ms = ms_since(t_tables);
     fov_display_pattern = tables->key.display.fovea_pattern;
     foveated = std::make_unique<foveation::FoveatedView>(
-        std::move(tables), taa_view_settings(o.taa, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young));
+        std::move(tables), render_view::foveated_view_settings(o));
   }
   // Embree's packet fill; the GPU engine has no packets (null).
   const auto packets_json = [](const engine::RayCounts& c, const RenderEngine& e) {
@@ -302,9 +287,9 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     report["foveated"] = {{"rays", rays_json(fov_rays)},
                           {"lanes_per_packet", packets_json(fov_rays, eng)},
                           {"interpolation", o.interpolation},
-                          {"k", reconstruction_k(o)},
+                          {"k", render_view::reconstruction_k(o)},
                           {"density_scale", o.density_scale},
-                          {"taa", o.taa},
+                          {"temporal", foveation::temporal_mode_name(o.temporal)},
                           {"pattern", foveation::fovea_pattern_name(fov_display_pattern)},
                           {"precompute_ms", precompute_ms},
                           {"trace_ms", fov_times.median_trace_ms()},
@@ -319,54 +304,6 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     if (!ecc) ecc = metrics::eccentricity_map(view, gaze);
     return *ecc;
   };
-  if (!o.reference_spp.empty() || !o.reference_file.empty()) {
-    foveation::ImageRgb reference;
-    Json ref_json;
-    if (!o.reference_file.empty()) {
-      if (std::string e; !read_pfm(o.reference_file, &reference, &e)) {
-        err << "fovea render: --reference: " << e << "\n";
-        return 1;
-      }
-      if (reference.width_px != int(view.width_px) || reference.height_px != int(view.height_px)) {
-        err << "fovea render: --reference: " << o.reference_file << " is " << reference.width_px << "x"
-            << reference.height_px << ", the view is " << view.width_px << "x" << view.height_px << "\n";
-        return 1;
-      }
-      ref_json = {{"source", "file"}, {"file", o.reference_file}};
-    } else {
-      ReferenceOptions ro;
-      if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
-      ro.baseline_spp = std::max(16, o.rays_per_point);  // far below this render and the price list's best full render
-      ro.seed = o.seed;
-      ro.pixel_filter = o.pixel_filter;
-      ro.cache_dir = !o.reference_cache.empty() ? o.reference_cache
-                     : !o.cache_dir.empty()      ? (std::filesystem::path(o.cache_dir) / "reference").string()
-                                                 : std::string();
-      std::string bad;
-      std::optional<Reference> ref = converged_reference(
-          eng.fn(), eng.user(), eng.scene_hash(), view, gaze, ro, executor,
-          [&](const std::string& m) { err << "fovea render: " << m << "\n"; }, &bad);
-      if (!ref) {
-        err << "fovea render: " << bad << "\n";
-        return 1;
-      }
-      Json residual = Json::array();
-      for (double mse : ref->residual_mse(ecc_map())) residual.push_back(metrics::number_or_null_json(metrics::psnr_of_mse(mse)));
-      ref_json = {{"source", "converged full render"}, {"spp", ref->spp}, {"spp_tried", ref->tried_spp},
-                  {"converged", ref->converged}, {"db_per_doubling", ref->db_per_doubling},
-                  {"from_cache", ref->from_cache}, {"cache_file", ref->cache_file}, {"render_ms", ref->render_ms},
-                  {"residual_psnr", residual}};
-      reference = std::move(ref->image);
-    }
-    const foveation::ImageRgb reference_display = metrics::display_encode(reference, display->exposure);
-    Json against = {{"reference", ref_json}};
-    if (run_full)
-      against["full"] = metrics::comparison_json(metrics::compare_images(reference_display, metrics::display_encode(full, display->exposure), ecc_map()));
-    if (run_foveated)
-      against["foveated"] = metrics::comparison_json(
-          metrics::compare_images(reference_display, metrics::display_encode(foveated->image(), display->exposure), ecc_map()));
-    report["errors_against_reference"] = against;
-  }
   const double full_total = run_full ? full_times.median_total_ms() : 0.0;
   const double fov_total = run_foveated ? fov_times.median_total_ms() : 0.0;
   if (o.mode == "both") {
@@ -394,7 +331,8 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         {"fixed_ms", fixed},
         {"fixed_share_of_foveated", fov_total > 0.0 ? fixed / fov_total : 0.0},
         {"breakeven_full_ms", trace_speedup > 1.0 ? Json(fixed * trace_speedup / (trace_speedup - 1.0)) : Json(nullptr)}};
-    // Agreement of the two images (both carry their own noise), not accuracy: see errors_against_reference.
+    // Agreement of the two images (both carry their own noise), not accuracy against the truth: that is
+    // the lab's (`fovea-eval accuracy`, against a converged reference).
     const metrics::ImageComparison cmp = metrics::compare_images(
         metrics::display_encode(full, display->exposure), metrics::display_encode(foveated->image(), display->exposure), ecc_map());
     const Json c = metrics::comparison_json(cmp);
@@ -449,16 +387,14 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
   return 0;
 }
 
-}  // namespace foveart::tools
-
 void register_render(CLI::App& app) {
-  auto opts = std::make_shared<foveart::tools::RenderOptions>();
+  auto opts = std::make_shared<render_view::RenderOptions>();
   auto gaze = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand(
       "render", "Render a glTF scene with the sample engine, CPU or GPU (full, foveated or both)");
-  const std::function<void()> parse_common = foveart::tools::add_render_options(cmd, opts);
-  foveart::tools::add_temporal_option(cmd, opts);
+  const std::function<void()> parse_common = render_view::add_render_options(cmd, opts);
+  render_view::add_temporal_option(cmd, opts);
   cmd->add_option("--gaze", *gaze,
                   "Gaze X,Y in pixels of the eye image (default: centre); X,Y;X,Y;...: the foveated frames' gazes in "
                   "turn, the last for the frames after");
@@ -469,7 +405,6 @@ void register_render(CLI::App& app) {
   cmd->add_option("--pose", *pose,
                   "Where the viewer stands, X,Y,Z (the head; the eye 32 mm aside), or an exact eye pose "
                   "px,py,pz,qx,qy,qz,qw (metres, unit quaternion; scene space)");
-  cmd->add_option("--reference", opts->reference_file, "Errors against this linear-RGB PFM of the view");
   cmd->add_option("--engine", opts->engine,
                   "Who traces the rays: cpu (the Embree sample engine) or gpu (the Vulkan compute sample engine "
                   "behind the same callback, a hardware GPU if any else lavapipe; each batch is a device round "
@@ -480,13 +415,15 @@ void register_render(CLI::App& app) {
     if (gaze->find(';') != std::string::npos) {
       std::stringstream list(*gaze);
       for (std::string item; std::getline(list, item, ';');)
-        opts->gaze_px_per_frame.push_back(foveart::tools::parse_gaze_option("--gaze", item));
+        opts->gaze_px_per_frame.push_back(render_view::parse_gaze_option("--gaze", item));
       opts->gaze_px = opts->gaze_px_per_frame.back();
     } else if (!gaze->empty()) {
-      opts->gaze_px = foveart::tools::parse_gaze_option("--gaze", *gaze);
+      opts->gaze_px = render_view::parse_gaze_option("--gaze", *gaze);
     }
-    if (!pose->empty()) foveart::tools::parse_pose_option("--pose", *pose, opts.get());
-    const int code = foveart::tools::run_render(*opts, std::cout, std::cerr);
+    if (!pose->empty()) render_view::parse_pose_option("--pose", *pose, opts.get());
+    const int code = run_render(*opts, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }
+
+}  // namespace foveart::fovea

@@ -8,10 +8,8 @@
 namespace foveart::fovea {
 
 void register_pointset(CLI::App& app);
-
-}  // namespace foveart::fovea
-
 void register_interpolate(CLI::App& app);
 void register_reconstruct(CLI::App& app);
 void register_render(CLI::App& app);
-void register_pricelist(CLI::App& app);
+
+}  // namespace foveart::fovea

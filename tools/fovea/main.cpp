@@ -4,12 +4,11 @@
 #include "commands.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"fovea - FoveaRT foveation tool: point sets, interpolation, reconstruction, rendering, price list"};
+  CLI::App app{"fovea - FoveaRT foveation tool: point sets, interpolation, reconstruction, rendering"};
   app.require_subcommand(1);
   foveart::fovea::register_pointset(app);
-  register_interpolate(app);
-  register_reconstruct(app);
-  register_render(app);
-  register_pricelist(app);
+  foveart::fovea::register_interpolate(app);
+  foveart::fovea::register_reconstruct(app);
+  foveart::fovea::register_render(app);
   return foveart::toolkit::run_cli(app, argc, argv, "fovea");
 }

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct SequenceTrack {
   std::string id;
@@ -159,4 +159,4 @@ nlohmann::ordered_json sequence_band_json(const TemporalError& error, const Sequ
 const nlohmann::ordered_json* find_band(const nlohmann::ordered_json& bands, const RingBand& band);
 double median_ms(std::vector<double> v);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

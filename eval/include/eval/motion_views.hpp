@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct MotionWindow {
   double start_s = 0.0;
@@ -59,4 +59,4 @@ foveation::EyePose head_in_scene(const foveation::EyePose& scene_head, const mot
 std::vector<MotionFrame> motion_frames(const motion::ScriptedMotion& motion, const MotionWindow& window,
                                        const FoveartEyeView& eye_at_rest, const foveation::EyePose& scene_head);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

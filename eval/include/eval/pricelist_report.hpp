@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct PricelistContext {
   nlohmann::ordered_json run;        // scene, view, gaze, machine, run time
@@ -41,4 +41,4 @@ std::optional<std::size_t> equal_time_full(const std::vector<nlohmann::ordered_j
 std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& context,
                             std::vector<nlohmann::ordered_json> settings, std::string* headline);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

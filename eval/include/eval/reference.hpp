@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 // The convergence check (spp = 0): a full render at s rays per pixel has MSE
 // sigma^2 / s against the truth, the reference at N has sigma^2 / N, so the
@@ -106,4 +106,4 @@ std::string write_reference(const std::filesystem::path& file, std::uint64_t key
 std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed,
                             foveation::PixelFilter filter);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

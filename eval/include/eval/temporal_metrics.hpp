@@ -45,7 +45,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct TemporalRing {
   std::uint64_t frame_values = 0;  // pixel-channel values summed into error_mse
@@ -147,4 +147,4 @@ class ReferenceFloor {
 // blurred truths is soft but stable in the world.
 void binomial_blur_3x3(const foveation::ImageRgb& image, foveation::ImageRgb* out);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -2,7 +2,7 @@
 // with 8x8 box windows, C1 = (0.01 L)^2, C2 = (0.03 L)^2), a CSF-weighted
 // error (csf_error.hpp), each overall and per eccentricity ring around the
 // gaze, and the flicker of a sequence per ring. The one implementation every
-// tool calls (`fovea render`, `fovea reconstruct`, `fovea pricelist`).
+// tool calls (`fovea render`, `fovea reconstruct`, and the lab's `fovea-eval`).
 //
 // Domain: the metrics compare the values they are given. Tools compare display
 // values (display_encode: sRGB of the exposed linear colour clamped to [0, 1],

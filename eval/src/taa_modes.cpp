@@ -1,4 +1,4 @@
-#include "taa_modes.hpp"
+#include <eval/taa_modes.hpp>
 
 #include <foveation/temporal_mode.hpp>
 
@@ -6,7 +6,7 @@
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 bool is_taa_mode(const std::string& name) {
   return name == "off" || name == "restart" || name == "reproject" || name == "cache" || name == "cache-kept";
@@ -53,4 +53,4 @@ foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_
   return vs;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -11,7 +11,7 @@
 #include "foveation/display_model.hpp"
 #include "foveation/ray_samples.hpp"
 
-namespace foveart::fovea {
+namespace foveart::render_view {
 
 // An unset option takes the preset's value; a given one must be valid (a
 // zero or negative size is an error, never "unset").
@@ -43,4 +43,4 @@ void add_pixel_filter_option(CLI::App* cmd, foveation::PixelFilter* filter);
 // option and the bad value.
 foveation::DisplayModel resolve_display(const DisplayOptions& opts);
 
-}  // namespace foveart::fovea
+}  // namespace foveart::render_view

@@ -1,8 +1,6 @@
-#include "render_cli.hpp"
+#include <render_view/render_cli.hpp>
 
-#include "taa_modes.hpp"
-
-#include "display_options.hpp"
+#include <render_view/display_options.hpp>
 
 #include <CLI/CLI.hpp>
 
@@ -10,7 +8,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace foveart::tools {
+namespace foveart::render_view {
 namespace {
 
 // "X,Y" -> two numbers.
@@ -87,11 +85,7 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--without", opts->without,
                   "Leave these effects out of the scene, the reference too: shadows, reflection, refraction, "
                   "textures, comma-separated (default: every effect the scene calls for)");
-  foveart::fovea::add_pixel_filter_option(cmd, &opts->pixel_filter);
-  cmd->add_option("--reference-spp", opts->reference_spp,
-                  "Errors against a converged full render: 'auto' (convergence check) or rays per pixel N");
-  cmd->add_option("--reference-cache", opts->reference_cache,
-                  "Reference cache directory (default: CACHE_DIR/reference)");
+  add_pixel_filter_option(cmd, &opts->pixel_filter);
   cmd->add_flag("--json", opts->json, "Print the report as JSON");
   cmd->add_option("--exposure", opts->exposure,
                   "Linear exposure of the images written, or auto (a low-resolution pre-pass of the view)")
@@ -132,21 +126,10 @@ void add_temporal_option(CLI::App* cmd, const std::shared_ptr<RenderOptions>& op
     if (option->count() == 0) return;
     foveation::TemporalMode mode{};
     foveation::parse_temporal_mode(*temporal, &mode);
-    opts->taa = taa_mode_of(mode);
+    opts->temporal = mode;
     if (mode == foveation::TemporalMode::rays && cmd->get_option("--pixel-filter")->count() == 0)
       opts->pixel_filter = foveation::PixelFilter::bspline2;
   });
 }
 
-void add_taa_lab_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts) {
-  cmd->add_option("--taa", opts->taa,
-                  "TAA modes of the foveated tracks, a list: off, restart (on every pose change), reproject (follows "
-                  "the head; the layer's \"temporal\": \"image\"), cache (the traced rays kept in a render cache; "
-                  "\"rays\"), cache-kept (its rays kept through saccades), e.g. off,restart,reproject")
-      ->capture_default_str();
-  cmd->add_flag("--taa-mean-while-young", opts->taa_mean_while_young,
-                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history; "
-                "default: alpha from the second frame on");
-}
-
-}  // namespace foveart::tools
+}  // namespace foveart::render_view

@@ -1,4 +1,4 @@
-// `fovea pricelist`: what every setting costs in time and rays and buys in
+// `fovea-eval pricelist`: what every setting costs in time and rays and buys in
 // accuracy against a converged reference, per eccentricity ring
 // (docs/pricelist.md).
 #pragma once
@@ -19,9 +19,9 @@ namespace CLI {
 class App;
 }
 
-void register_pricelist(CLI::App& app);
+namespace foveart::eval {
 
-namespace foveart::tools {
+void register_pricelist(CLI::App& app);
 
 struct PricelistOptions {
   std::string scene = "default";
@@ -55,4 +55,4 @@ struct PricelistOptions {
 
 int run_pricelist(const PricelistOptions& options, std::ostream& out, std::ostream& err);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -1,8 +1,9 @@
-// The command-line options of a render, one set for `fovea render` (one still
-// view) and `fovea-eval motion` (a sequence over a scripted motion), and each one's own.
+// The command-line options of a render, one set for the product's `fovea render`
+// and the lab's `fovea-eval` commands (accuracy, motion), and the parsers of the
+// values several commands take.
 #pragma once
 
-#include "render_options.hpp"
+#include <render_view/render_options.hpp>
 
 #include <functional>
 #include <memory>
@@ -11,25 +12,20 @@ namespace CLI {
 class App;
 }
 
-namespace foveart::tools {
+namespace foveart::render_view {
 
-// Adds the options both commands share to `cmd`, into *opts: the scene and
+// Adds the options every render command shares to `cmd`, into *opts: the scene and
 // view (--scene --preset --eye --size --fov), the render (--mode
 // --rays-per-point --interpolation --k --density-scale --pattern --frames
 // --threads --seed --without --pixel-filter), the viewer (--look-at), the
-// display (--exposure --tone-map), the reference (--reference-spp
-// --reference-cache) and the outputs (--out --cache-dir --json). Returns what the
-// command's callback calls first: it parses the options given as text (--size,
-// --fov) into *opts and throws CLI::ValidationError naming a bad one.
+// display (--exposure --tone-map) and the outputs (--out --cache-dir --json).
+// Returns what the command's callback calls first: it parses the options given
+// as text (--size, --fov) into *opts and throws CLI::ValidationError naming a bad one.
 std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
 
 // `fovea render`: --temporal off|image|rays, the product's one temporal choice (the layer's
-// "temporal"), into opts->taa; "rays" brings the B-spline pixel filter unless --pixel-filter is given.
+// "temporal"), into opts->temporal; "rays" brings the B-spline pixel filter unless --pixel-filter is given.
 void add_temporal_option(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
-
-// `fovea-eval motion`: the lab's TAA modes (--taa, a list, with its variations restart and
-// cache-kept) and --taa-mean-while-young.
-void add_taa_lab_options(CLI::App* cmd, const std::shared_ptr<RenderOptions>& opts);
 
 // "X,Y" -> gaze in pixels; throws CLI::ValidationError naming `option`.
 glm::vec2 parse_gaze_option(const std::string& option, const std::string& text);
@@ -37,4 +33,4 @@ glm::vec2 parse_gaze_option(const std::string& option, const std::string& text);
 // eye pose (out->pose); throws CLI::ValidationError naming `option`.
 void parse_pose_option(const std::string& option, const std::string& text, RenderOptions* out);
 
-}  // namespace foveart::tools
+}  // namespace foveart::render_view

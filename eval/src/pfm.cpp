@@ -1,12 +1,12 @@
 // PFM (Debevec's portable float map): "PF\n<w> <h>\n-1.0\n" then float RGB rows, bottom row first.
-#include "pfm.hpp"
+#include <eval/pfm.hpp>
 
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 namespace {
 
@@ -45,4 +45,4 @@ bool read_pfm(const std::string& path, foveation::ImageRgb* out, std::string* er
   return true;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

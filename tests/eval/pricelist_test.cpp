@@ -1,11 +1,10 @@
-// `fovea pricelist`: the grid with its full renders with TAA, the Pareto front,
+// `fovea-eval pricelist`: the grid with its full renders with TAA, the Pareto front,
 // the full render at equal time, a tiny sweep whose CSV agrees with its JSON
 // and whose written images reproduce its per-ring PSNR, resume, bad grids.
 #include "gltf_fixtures.hpp"
 
-#include <cmd_pricelist.hpp>
-#include <cmd_render.hpp>
-#include <pfm.hpp>
+#include <eval/cmd_pricelist.hpp>
+#include <eval/pfm.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/reference.hpp>
 
@@ -52,35 +51,35 @@ TEST(Pricelist, ParetoFrontKeepsTheUndominated) {
   //                 cost:  1    2    3    4    5   NaN
   const std::vector<double> cost = {1, 2, 3, 4, 5, NAN};
   const std::vector<double> acc = {10, 9, 20, 20, 30, 99};
-  EXPECT_EQ(tools::pareto_front(cost, acc), (std::vector<std::size_t>{0, 2, 4}));
+  EXPECT_EQ(eval::pareto_front(cost, acc), (std::vector<std::size_t>{0, 2, 4}));
 }
 
 TEST(Pricelist, ExpandGridAddsTheFullRenderWithTaaAtEveryTaaRayCount) {
-  tools::PriceGrid g;
+  eval::PriceGrid g;
   g.full_rays_per_point = {1, 2};
   g.interpolation = {"nearest:1"};
   g.density_scale = {1.0};
   g.rays_per_point = {1};
   g.pattern = {"thesis"};
   g.taa_rays_per_point = {1, 4};
-  std::vector<tools::PriceSetting> settings;
+  std::vector<eval::PriceSetting> settings;
   std::string error;
-  ASSERT_TRUE(tools::expand_grid(g, &settings, &error)) << error;
+  ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
   std::vector<std::string> ids;
-  for (const tools::PriceSetting& s : settings) ids.push_back(s.id());
+  for (const eval::PriceSetting& s : settings) ids.push_back(s.id());
   EXPECT_EQ(ids, (std::vector<std::string>{"full_spp1", "full_spp2", "full_spp1_taa", "full_spp4_taa",
                                            "nearest_k1_s1_thesis_r1", "nearest_k1_s1_thesis_r1_taa",
                                            "nearest_k1_s1_thesis_r4_taa"}));
   EXPECT_TRUE(settings[3].full && settings[3].taa && settings[3].rays_per_point == 4);
   EXPECT_EQ(settings[3].table_id(), "full");
   g.taa_rays_per_point.clear();  // --taa-rays-per-point none: no TAA rows, full or foveated
-  ASSERT_TRUE(tools::expand_grid(g, &settings, &error)) << error;
+  ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
   EXPECT_TRUE(std::none_of(settings.begin(), settings.end(), [](const auto& s) { return s.taa; }));
   g.taa_rays_per_point = {0};
-  EXPECT_FALSE(tools::expand_grid(g, &settings, &error));
+  EXPECT_FALSE(eval::expand_grid(g, &settings, &error));
   EXPECT_NE(error.find("TAA rays per point 0"), std::string::npos) << error;
   // --quick lists the full render with TAA at its TAA ray count.
-  ASSERT_TRUE(tools::expand_grid(tools::quick_grid(), &settings, &error)) << error;
+  ASSERT_TRUE(eval::expand_grid(eval::quick_grid(), &settings, &error)) << error;
   EXPECT_EQ(std::count_if(settings.begin(), settings.end(), [](const auto& s) { return s.id() == "full_spp1_taa"; }),
             1);
 }
@@ -92,7 +91,7 @@ TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
       result("fov_cheap", 0.5, 31.0),      result("fov_a", 1.05, 32.0),     result("fov_b", 1.5, 34.0),
       result("fov_c", 5.0, 40.0),          result("fov_fast_good", 0.9, 50.0)};
   const auto pick = [&](std::size_t of) {
-    const std::optional<std::size_t> f = tools::equal_time_full(all, of, 0);
+    const std::optional<std::size_t> f = eval::equal_time_full(all, of, 0);
     return f ? all[*f]["id"].get<std::string>() : std::string("none that cheap");
   };
   EXPECT_EQ(pick(5), "none that cheap");  // every full render with a PSNR takes longer
@@ -105,7 +104,7 @@ TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
 
 TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   engine_test::TempDir dir;
-  tools::PricelistOptions o;
+  eval::PricelistOptions o;
   o.size_px = glm::ivec2(48, 54);
   o.out_dir = (dir.path / "pl").string();
   o.reference_spp = "32";
@@ -121,7 +120,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.grid.taa_rays_per_point = {1};
   o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
   std::ostringstream out, err;
-  ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
+  ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("At the thesis's default"), std::string::npos) << out.str();
   EXPECT_FALSE(fs::exists(fs::path(o.out_dir) / "temporal.csv"));
   const fs::path pl = o.out_dir;
@@ -168,11 +167,11 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   // the display values in the PFMs and the ring index in eccentricity.pfm.
   foveation::ImageRgb ref, ecc;
   std::string error;
-  ASSERT_TRUE(tools::read_pfm((pl / "images/reference.pfm").string(), &ref, &error)) << error;
-  ASSERT_TRUE(tools::read_pfm((pl / "images/eccentricity.pfm").string(), &ecc, &error)) << error;
+  ASSERT_TRUE(eval::read_pfm((pl / "images/reference.pfm").string(), &ref, &error)) << error;
+  ASSERT_TRUE(eval::read_pfm((pl / "images/eccentricity.pfm").string(), &ecc, &error)) << error;
   for (const auto& s : settings) {
     foveation::ImageRgb im;
-    ASSERT_TRUE(tools::read_pfm((pl / s["image"].get<std::string>()).string(), &im, &error)) << s["id"] << error;
+    ASSERT_TRUE(eval::read_pfm((pl / s["image"].get<std::string>()).string(), &im, &error)) << s["id"] << error;
     std::vector<double> se(metrics::kRingCount, 0.0), n(metrics::kRingCount, 0.0);
     for (std::size_t i = 0; i < im.pixel_count(); ++i) {
       const auto r = std::size_t(ecc.rgb[i * 3 + 1]);
@@ -228,7 +227,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   // Resume: nothing measured again, the same headline.
   const std::size_t lines = count_lines(pl / "results.jsonl");
   std::ostringstream out2, err2;
-  ASSERT_EQ(tools::run_pricelist(o, out2, err2), 0) << err2.str();
+  ASSERT_EQ(eval::run_pricelist(o, out2, err2), 0) << err2.str();
   EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
   EXPECT_EQ(out2.str(), out.str());
   // Results from before the full render had a history: only full_spp1_taa is measured, against
@@ -243,7 +242,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   }
   ASSERT_EQ(count_lines(pl / "results.jsonl"), lines - 1);
   std::ostringstream out5, err5;
-  ASSERT_EQ(tools::run_pricelist(o, out5, err5), 0) << err5.str();
+  ASSERT_EQ(eval::run_pricelist(o, out5, err5), 0) << err5.str();
   EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
   {
     std::ifstream jf2(pl / "pricelist.json");
@@ -258,49 +257,49 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   // its settings and reference would be other images.
   o.pixel_filter = foveation::PixelFilter::bspline2;
   std::ostringstream out4, err4;
-  EXPECT_EQ(tools::run_pricelist(o, out4, err4), 1);
+  EXPECT_EQ(eval::run_pricelist(o, out4, err4), 1);
   EXPECT_NE(err4.str().find("describes another run"), std::string::npos) << err4.str();
   o.pixel_filter = foveation::PixelFilter::box;
   o.gaze_px = glm::vec2(10, 10);
   std::ostringstream out3, err3;
-  EXPECT_EQ(tools::run_pricelist(o, out3, err3), 1);
+  EXPECT_EQ(eval::run_pricelist(o, out3, err3), 1);
   EXPECT_NE(err3.str().find("describes another run"), std::string::npos) << err3.str();
 }
 
 TEST(Pricelist, BadGridIsAnErrorNamingTheEntry) {
   engine_test::TempDir dir;
-  tools::PricelistOptions o;
+  eval::PricelistOptions o;
   o.out_dir = dir.path.string();
   o.grid.interpolation = {"nearest:1", "foo:3"};
   std::ostringstream out, err;
-  EXPECT_EQ(tools::run_pricelist(o, out, err), 2);
+  EXPECT_EQ(eval::run_pricelist(o, out, err), 2);
   EXPECT_NE(err.str().find("interpolation 'foo:3'"), std::string::npos) << err.str();
   o.grid.interpolation = {"msm:0"};
   std::ostringstream out2, err2;
-  EXPECT_EQ(tools::run_pricelist(o, out2, err2), 2);
+  EXPECT_EQ(eval::run_pricelist(o, out2, err2), 2);
   EXPECT_NE(err2.str().find("k must be"), std::string::npos) << err2.str();
 }
 
-// `fovea pricelist --md FILE`, run as a person runs it: the file is headed by the
+// `fovea-eval pricelist --md FILE`, run as a person runs it: the file is headed by the
 // command line as given and the machine, holds the report's tables, and its image
 // links reach into --out from where the file is.
 TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
   engine_test::TempDir dir;
-  const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
-  ASSERT_TRUE(fs::exists(fovea)) << fovea << " is missing: build the fovea target";
+  const fs::path fovea_eval = fs::read_symlink("/proc/self/exe").parent_path() / "fovea-eval";
+  ASSERT_TRUE(fs::exists(fovea_eval)) << fovea_eval << " is missing: build the fovea-eval target";
   const fs::path md = dir.path / "results" / "pricelist.md";
   const std::string args =
       "pricelist --size 48,54 --reference-spp 32 --frames 1 --threads 2 --motion none "
       "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
       "--rays-per-point 1 --pattern pixel-grid --taa-rays-per-point none --out " +
       (dir.path / "pl").string() + " --md " + md.string();
-  const std::string cmd = "'" + fovea.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
+  const std::string cmd = "'" + fovea_eval.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir.path / "err").rdbuf();
   std::ifstream in(md);
   std::stringstream text;
   text << in.rdbuf();
   const std::string s = text.str();
-  EXPECT_NE(s.find("Written by `fovea " + args + "` on "), std::string::npos) << s;
+  EXPECT_NE(s.find("Written by `fovea-eval " + args + "` on "), std::string::npos) << s;
   std::string cpu;
   {
     std::ifstream cpuinfo("/proc/cpuinfo");

@@ -1,15 +1,16 @@
-// `fovea pricelist`: measures every setting of the grid against a converged
+// `fovea-eval pricelist`: measures every setting of the grid against a converged
 // reference, in groups that share tables, frames interleaved with a full
 // 1-ray-per-pixel anchor frame so that a slow spell of the machine falls on
 // both; appends each setting's result to OUT/results.jsonl as it lands (a
 // re-run with the same OUT skips those), then writes the price list
 // (pricelist_report.hpp).
-#include "cmd_pricelist.hpp"
+#include <eval/cmd_pricelist.hpp>
 
-#include "cmd_render.hpp"
-#include "taa_modes.hpp"
-#include "display_options.hpp"
-#include "pfm.hpp"
+#include <eval/taa_modes.hpp>
+#include <render_view/display_options.hpp>
+#include <render_view/render_options.hpp>
+#include <eval/lab_options.hpp>
+#include <eval/pfm.hpp>
 #include <eval/full_taa.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/reference.hpp>
@@ -42,7 +43,7 @@
 #include <memory>
 #include <sstream>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -88,8 +89,8 @@ struct Context {
   float exposure = 1.0f;  // what the display values scale radiance by (render_display)
 };
 
-RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
-  RenderOptions r;
+render_view::RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
+  render_view::RenderOptions r;
   r.scene = o.scene;
   r.preset = o.preset;
   r.eye = o.eye;
@@ -275,12 +276,12 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
       continue;
     }
     if (!tables) {
-      const RenderOptions ro = render_options_of(c.o, &m.setting);
-      tables = load_foveated_tables(ro, c.view, fs::path(c.o.cache_dir), c.executor,
-                                    [&](const std::string& msg) { c.err << "fovea pricelist: " << msg << "\n"; },
+      const render_view::RenderOptions ro = render_options_of(c.o, &m.setting);
+      tables = render_view::load_foveated_tables(ro, c.view, fs::path(c.o.cache_dir), c.executor,
+                                    [&](const std::string& msg) { c.err << "fovea-eval pricelist: " << msg << "\n"; },
                                     &error);
       if (!tables) {
-        c.err << "fovea pricelist: " << m.setting.id() << ": " << error << "\n";
+        c.err << "fovea-eval pricelist: " << m.setting.id() << ": " << error << "\n";
         return false;
       }
     }
@@ -309,7 +310,7 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     if (!error.empty()) break;
   }
   if (!error.empty()) {
-    c.err << "fovea pricelist: " << error << "\n";
+    c.err << "fovea-eval pricelist: " << error << "\n";
     return false;
   }
   const double anchor = median(anchor_ms);
@@ -318,7 +319,7 @@ bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& o
     const bool image = c.o.images || id == heatmap_id || id == "full_spp1";
     Json j = result_json(c, m, anchor, out_dir, image, id == heatmap_id, &error);
     if (!error.empty()) {
-      c.err << "fovea pricelist: " << error << "\n";
+      c.err << "fovea-eval pricelist: " << error << "\n";
       return false;
     }
     results << j.dump() << "\n";
@@ -363,34 +364,34 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   PricelistOptions o = o_in;
   if (o.quick) o.grid = quick_grid();
   if (o.out_dir.empty()) {
-    err << "fovea pricelist: --out DIR is required\n";
+    err << "fovea-eval pricelist: --out DIR is required\n";
     return 2;
   }
   if (o.frames < 1 || o.frames > 100) {
-    err << "fovea pricelist: --frames must be in 1..100\n";
+    err << "fovea-eval pricelist: --frames must be in 1..100\n";
     return 2;
   }
   if (o.taa_frames < 2 || o.taa_frames > 100) {
-    err << "fovea pricelist: --taa-frames must be in 2..100\n";
+    err << "fovea-eval pricelist: --taa-frames must be in 2..100\n";
     return 2;
   }
   std::vector<PriceSetting> settings;
   if (std::string bad; !expand_grid(o.grid, &settings, &bad)) {
-    err << "fovea pricelist: bad grid: " << bad << "\n";
+    err << "fovea-eval pricelist: bad grid: " << bad << "\n";
     return 2;
   }
-  RenderOptions base = render_options_of(o, nullptr);
-  base.reference_spp = o.reference_spp;
-  if (std::string bad; !check_render_options(base, &bad)) {
-    err << "fovea pricelist: " << bad << "\n";
+  render_view::RenderOptions base = render_options_of(o, nullptr);
+  if (std::string bad; !render_view::check_render_options(base, &bad) ||
+                       !check_reference_choice(ReferenceChoice{o.reference_spp, "", ""}, &bad)) {
+    err << "fovea-eval pricelist: " << bad << "\n";
     return 2;
   }
   if (std::string bad; !check_temporal_options(o.temporal, &bad)) {
-    err << "fovea pricelist: " << bad << "\n";
+    err << "fovea-eval pricelist: " << bad << "\n";
     return 2;
   }
   if (std::none_of(settings.begin(), settings.end(), is_anchor)) {
-    err << "fovea pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
+    err << "fovea-eval pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
     return 2;
   }
   const fs::path out_dir(o.out_dir);
@@ -398,28 +399,28 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   std::error_code ec;
   fs::create_directories(out_dir / "images", ec);
   if (ec) {
-    err << "fovea pricelist: cannot create " << (out_dir / "images").string() << ": " << ec.message() << "\n";
+    err << "fovea-eval pricelist: cannot create " << (out_dir / "images").string() << ": " << ec.message() << "\n";
     return 1;
   }
   const auto t_start = std::chrono::steady_clock::now();
   engine::LoadResult loaded = engine::load_scene(o.scene);
   if (!loaded.ok()) {
-    err << "fovea pricelist: " << loaded.error << "\n";
+    err << "fovea-eval pricelist: " << loaded.error << "\n";
     return 1;
   }
   std::string error;
   std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
   if (!tracer) {
-    err << "fovea pricelist: " << error << "\n";
+    err << "fovea-eval pricelist: " << error << "\n";
     return 1;
   }
   const std::uint64_t scene_hash = rendered_scene_hash(*tracer);
-  const FoveartEyeView view = render_view(base, tracer->scene());
+  const FoveartEyeView view = render_view::eye_view(base, tracer->scene());
   const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * float(view.width_px), 0.5f * float(view.height_px)));
   foveation::Executor executor(static_cast<unsigned>(std::max(0, o.threads)));
-  const std::optional<foveation::DisplayTransform> display = render_display(base, *tracer, view, executor, &error);
+  const std::optional<foveation::DisplayTransform> display = render_view::render_display(base, *tracer, view, executor, &error);
   if (!display) {
-    err << "fovea pricelist: " << error << "\n";
+    err << "fovea-eval pricelist: " << error << "\n";
     return 1;
   }
 
@@ -438,7 +439,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     std::ifstream in(run_file);
     Json old = Json::parse(in, nullptr, false);
     if (old.is_discarded() || old != run) {
-      err << "fovea pricelist: " << run_file.string()
+      err << "fovea-eval pricelist: " << run_file.string()
           << " describes another run (scene, view, gaze, reference or frames differ, or it is unreadable); "
              "use another --out or delete it\n";
       return 1;
@@ -455,24 +456,24 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   ro.seed = o.seed;
   ro.pixel_filter = o.pixel_filter;
   ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
-  err << "fovea pricelist: reference (" << o.reference_spp << " rays per pixel) of " << view.width_px << "x"
+  err << "fovea-eval pricelist: reference (" << o.reference_spp << " rays per pixel) of " << view.width_px << "x"
       << view.height_px << "...\n";
   std::optional<Reference> reference = converged_reference(
       &foveart_engine_trace_rays, tracer.get(), scene_hash, view, gaze, ro, executor,
-      [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; }, &error);
+      [&](const std::string& m) { err << "fovea-eval pricelist: " << m << "\n"; }, &error);
   if (!reference) {
-    err << "fovea pricelist: " << error << "\n";
+    err << "fovea-eval pricelist: " << error << "\n";
     return 1;
   }
   const foveation::ImageRgb reference_display = metrics::display_encode(reference->image, display->exposure);
   if (!fs::exists(out_dir / "images" / "reference.pfm")) {
     if (!write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display, &error)) {
-      err << "fovea pricelist: " << error << "\n";
+      err << "fovea-eval pricelist: " << error << "\n";
       return 1;
     }
     if (!toolkit::write_png((out_dir / "images" / "reference.png").string(), reference_display,
                             toolkit::PngValues::display, &error)) {
-      err << "fovea pricelist: " << error << "\n";
+      err << "fovea-eval pricelist: " << error << "\n";
       return 1;
     }
     foveation::ImageRgb ecc(map.width_px, map.height_px);  // eccentricity (deg), ring index, pixels per degree
@@ -482,7 +483,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
       ecc.rgb[i * 3 + 2] = map.pixels_per_deg[i];
     }
     if (!write_pfm((out_dir / "images" / "eccentricity.pfm").string(), ecc, &error)) {
-      err << "fovea pricelist: " << error << "\n";
+      err << "fovea-eval pricelist: " << error << "\n";
       return 1;
     }
   }
@@ -492,7 +493,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   std::map<std::string, Json> done_results = read_results_jsonl(results_file, err);
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
-    err << "fovea pricelist: cannot write " << results_file.string() << "\n";
+    err << "fovea-eval pricelist: cannot write " << results_file.string() << "\n";
     return 1;
   }
   const std::string thesis_default = "nearest_k1_s1_thesis_r1";
@@ -508,7 +509,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
     groups[s.table_id()].push_back(s);
     total_frames += s.taa ? o.taa_frames : o.frames;
   }
-  err << "fovea pricelist: " << settings.size() << " settings in the grid, " << done_results.size()
+  err << "fovea-eval pricelist: " << settings.size() << " settings in the grid, " << done_results.size()
       << " already measured in " << results_file.string() << "\n";
   Context c{o, *tracer, view, gaze, executor, map, reference_display, err, display->exposure};
   {
@@ -518,7 +519,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
       if (!run_group(c, groups[group_order[g]], out_dir, results, heatmap_id, progress, &done, total_frames,
                      &done_results))
         return 1;
-      err << "fovea pricelist: [" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
+      err << "fovea-eval pricelist: [" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
           << groups[group_order[g]].size() << " settings, "
           << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
     }
@@ -552,15 +553,15 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   pc.temporal = temporal;
   pc.command = !o.command.empty()                 ? o.command
                : !toolkit::command_line().empty() ? toolkit::command_line()
-                                                  : "fovea pricelist";
+                                                  : "fovea-eval pricelist";
   std::string headline;
   if (std::string e = write_pricelist(out_dir, pc, ordered, &headline); !e.empty()) {
-    err << "fovea pricelist: " << e << "\n";
+    err << "fovea-eval pricelist: " << e << "\n";
     return 1;
   }
   if (!o.md_file.empty()) {
     if (std::string e = write_md_copy(out_dir, o.md_file); !e.empty()) {
-      err << "fovea pricelist: --md: " << e << "\n";
+      err << "fovea-eval pricelist: --md: " << e << "\n";
       return 1;
     }
   }
@@ -568,14 +569,12 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   return 0;
 }
 
-}  // namespace foveart::tools
-
 namespace {
 
 template <class T>
 std::string parse_numbers(const std::string& text, std::vector<T>* out) {
   std::vector<std::string> items;
-  if (!foveart::tools::split_list(text, &items)) return "expected a comma-separated list";
+  if (!split_list(text, &items)) return "expected a comma-separated list";
   out->clear();
   for (const std::string& i : items) {
     std::istringstream in(i);
@@ -589,7 +588,7 @@ std::string parse_numbers(const std::string& text, std::vector<T>* out) {
 }  // namespace
 
 void register_pricelist(CLI::App& app) {
-  auto o = std::make_shared<foveart::tools::PricelistOptions>();
+  auto o = std::make_shared<PricelistOptions>();
   auto gaze = std::make_shared<std::string>();
   auto size = std::make_shared<std::string>();
   auto lists = std::make_shared<std::array<std::string, 6>>();  // the grid lists, as `names` below
@@ -624,7 +623,7 @@ void register_pricelist(CLI::App& app) {
   cmd->add_option("--md", o->md_file, "Also write the report (command, machine, tables) to this markdown file");
   cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
   cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
-  foveart::fovea::add_pixel_filter_option(cmd, &o->pixel_filter);
+  render_view::add_pixel_filter_option(cmd, &o->pixel_filter);
   auto temporal_size = std::make_shared<std::string>();
   cmd->add_option("--motion", o->temporal.motion,
                   "Temporal columns over this head and gaze motion: builtin, a CSV file, or none")
@@ -672,16 +671,18 @@ void register_pricelist(CLI::App& app) {
       if (o->quick) throw CLI::ValidationError(names[i], "give --quick or a grid list, not both");
       std::string bad;
       if (i == 0) bad = parse_numbers(t, &o->grid.full_rays_per_point);
-      if (i == 1 && !foveart::tools::split_list(t, &o->grid.interpolation)) bad = "expected a comma-separated list";
+      if (i == 1 && !split_list(t, &o->grid.interpolation)) bad = "expected a comma-separated list";
       if (i == 2) bad = parse_numbers(t, &o->grid.density_scale);
       if (i == 3) bad = parse_numbers(t, &o->grid.rays_per_point);
-      if (i == 4 && !foveart::tools::split_list(t, &o->grid.pattern)) bad = "expected a comma-separated list";
+      if (i == 4 && !split_list(t, &o->grid.pattern)) bad = "expected a comma-separated list";
       if (i == 5)
         bad = t == "none" ? (o->grid.taa_rays_per_point.clear(), std::string())
                           : parse_numbers(t, &o->grid.taa_rays_per_point);
       if (!bad.empty()) throw CLI::ValidationError(names[i], bad);
     }
-    const int code = foveart::tools::run_pricelist(*o, std::cout, std::cerr);
+    const int code = run_pricelist(*o, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }
+
+}  // namespace foveart::eval

@@ -1,6 +1,6 @@
-// The TAA modes the fovea commands name (--taa): the layer's temporal modes
-// and the lab's variations of them, and the view settings of each. Shared by
-// `fovea render` (one still view) and the lab's sequences (fovea-eval).
+// The lab's TAA modes (fovea-eval --taa): the product's temporal modes
+// (foveation/temporal_mode.hpp) and the lab's variations of them, and the view
+// settings of each.
 #pragma once
 
 #include <foveation/foveated_view.hpp>
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 // "off", "restart" (TaaHistory::restart_on_view_change, the TAA before
 // reprojection), "reproject" (TaaHistory::reproject), "cache"
@@ -29,4 +29,4 @@ foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_
                                           foveation::PixelFilter pixel_filter, bool taa_mean_while_young);
 
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -1,9 +1,9 @@
-#include "display_options.hpp"
+#include <render_view/display_options.hpp>
 
 #include <cmath>
 #include <sstream>
 
-namespace foveart::fovea {
+namespace foveart::render_view {
 namespace {
 
 template <typename T>
@@ -106,4 +106,4 @@ foveation::DisplayModel resolve_display(const DisplayOptions& o) {
   return d;
 }
 
-}  // namespace foveart::fovea
+}  // namespace foveart::render_view

@@ -8,9 +8,9 @@
 
 #include <string>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 [[nodiscard]] bool write_pfm(const std::string& path, const foveation::ImageRgb& image, std::string* error);
 [[nodiscard]] bool read_pfm(const std::string& path, foveation::ImageRgb* out, std::string* error);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

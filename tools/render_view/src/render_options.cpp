@@ -1,8 +1,7 @@
 // The view a render's options describe (render_options.hpp): preset geometry,
 // the eye view, the foveated display and its tables, and the options' checks.
-#include "render_options.hpp"
+#include <render_view/render_options.hpp>
 
-#include "taa_modes.hpp"
 
 #include <engine/exposure.hpp>
 #include <engine/render.hpp>
@@ -13,7 +12,7 @@
 #include <vector>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::render_view {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -64,6 +63,12 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
   return display;
 }
 
+foveation::ViewSettings foveated_view_settings(const RenderOptions& o) {
+  foveation::ViewSettings vs = foveation::temporal_view_settings(o.temporal, o.rays_per_point, o.seed);
+  vs.pixel_filter = o.pixel_filter;
+  return vs;
+}
+
 int reconstruction_k(const RenderOptions& o) {
   return o.interpolation == "nearest" ? 1 : (o.k > 0 ? o.k : 5);
 }
@@ -91,7 +96,7 @@ std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOp
 // Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
 // keeping the horizontal field of view; or, with --fov / --pose, exactly the
 // given OpenXR view.
-FoveartEyeView render_view(const RenderOptions& o, const engine::Scene& scene) {
+FoveartEyeView eye_view(const RenderOptions& o, const engine::Scene& scene) {
   const PresetGeometry g = *preset_geometry(o.preset);
   const auto vec3_of = [](const std::optional<std::array<double, 3>>& a) -> std::optional<glm::vec3> {
     if (!a) return std::nullopt;
@@ -206,27 +211,7 @@ std::string render_options_problem(const RenderOptions& o) {
            "], got '" + o.exposure + "'";
   if (!foveation::parse_tone_map(o.tone_map))
     return "--tone-map must be none, pbr-neutral or aces, got '" + o.tone_map + "'";
-  if (!o.reference_spp.empty() && o.reference_spp != "auto") {
-    char* end = nullptr;
-    const long n = std::strtol(o.reference_spp.c_str(), &end, 10);
-    if (end == o.reference_spp.c_str() || *end != '\0' || n < 2 || n > 65536 || n % 2 != 0 || (n > 16 && n % 16 != 0))
-      return "--reference-spp must be auto or rays per pixel 2, 4, ..., 16 or a multiple of 16 up to 65536, got '" +
-             o.reference_spp + "'";
-  }
-  if (!o.reference_spp.empty() && !o.reference_file.empty()) return "give --reference-spp or --reference, not both";
-  std::vector<std::string> taa;
-  if (std::string bad; !parse_taa_modes(o.taa, &taa, &bad)) return bad;
-  if (o.mode == "full" && taa != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
-  if (o.motion.empty()) {
-    if (taa.size() > 1) return "--taa: a list of modes needs --motion (one still view has one TAA)";
-    if (o.start_s) return "--start-s needs --motion";
-    if (o.fps) return "--fps needs --motion";
-  } else {
-    if (o.pose || o.viewer_m || o.look_at_m)
-      return "--pose and --look-at exclude --motion: the motion gives the head pose";
-    if (o.gaze_px) return "--gaze and --motion exclude each other: the motion gives the gaze";
-    if (!o.reference_file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
-  }
+  if (o.mode == "full" && o.temporal != foveation::TemporalMode::off) return "--temporal needs --mode foveated or both";
   return "";
 }
 
@@ -239,4 +224,4 @@ bool check_render_options(const RenderOptions& o, std::string* error) {
   return false;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::render_view

@@ -1,6 +1,9 @@
-// The options of a render and the view they describe, shared by `fovea render`
-// (one still view) and the lab's sequences (`fovea-eval motion`): the preset,
-// eye, size or exact view, the foveated display and its tables.
+// The options of a render and the view they describe, shared by the product's
+// `fovea render` (one still view, its speed) and the lab's commands
+// (`fovea-eval accuracy`, `motion`, `pricelist`): the preset, eye, size or exact
+// view, the foveated display and its tables, and the product's temporal mode.
+// What only the lab asks for (a converged reference, a scripted motion, its
+// temporal variants) is the lab's own (eval/lab_options.hpp).
 #pragma once
 
 
@@ -16,6 +19,7 @@
 #include <foveation/foveated_view.hpp>
 #include <foveation/ray_samples.hpp>
 #include <foveation/ray_trace.h>
+#include <foveation/temporal_mode.hpp>
 
 #include <array>
 #include <cstdint>
@@ -26,7 +30,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::render_view {
 
 struct RenderOptions {
   std::string scene = "default";
@@ -79,31 +83,17 @@ struct RenderOptions {
   // What every ray of a pixel follows (foveation/ray_samples.hpp): the full
   // render's, the pixel-grid fovea's and the reference's.
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
-  // Errors against a converged reference (eval/reference.hpp): "" none, "auto" (the
-  // convergence check picks the count) or an even count of rays per pixel;
-  // or a linear-RGB PFM of the view's size (--reference FILE).
-  std::string reference_spp;
-  std::string reference_file;
-  std::string reference_cache;    // reference cache directory; empty: <cache>/reference, or none
-  // TAA of the foveated frames: off, restart (the history restarts on every
-  // pose change) or reproject (it follows the head); with --motion a list
-  // (off,restart,reproject), each rendered as its own view at equal rays.
-  std::string taa = "off";
-  bool taa_mean_while_young = false;  // TaaOptions::mean_while_young (--taa-mean-while-young)
-  // A scripted head and gaze motion ("builtin" or a CSV file): --frames frames
-  // at start_s + i / fps, measured per ring against the reference sequence
-  // (`fovea-eval motion`, eval/src/cmd_motion.cpp); `fovea render` refuses them.
-  std::string motion;
-  std::optional<double> start_s;  // default 0
-  std::optional<double> fps;      // default 70
+  // What the foveated frames keep from earlier ones (the layer's "temporal"):
+  // off, an image history or a render cache of the traced rays.
+  foveation::TemporalMode temporal = foveation::TemporalMode::off;
   bool json = false;
 };
 
-// The checks `fovea render` applies to its options: false and *error saying what is wrong.
+// The checks every command applies to a render's options: false and *error saying what is wrong.
 [[nodiscard]] bool check_render_options(const RenderOptions& options, std::string* error);
 // The eye view `fovea render` renders for these options (preset, eye, size,
 // --fov, --pose) of a scene. The options must have passed check_render_options.
-FoveartEyeView render_view(const RenderOptions& options, const engine::Scene& scene);
+FoveartEyeView eye_view(const RenderOptions& options, const engine::Scene& scene);
 // The display the foveated view's tables are built for (preset, size, scale,
 // pattern); nullopt with *error when it is not valid.
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
@@ -124,6 +114,11 @@ std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o
                                                           void* user_data, const FoveartEyeView& view,
                                                           foveation::Executor& executor, std::string* error);
 
+// The foveated view's settings for these options: the product's temporal mode
+// (foveation::temporal_view_settings) at rays_per_point rays and the seed, with
+// the pixel filter asked for.
+foveation::ViewSettings foveated_view_settings(const RenderOptions& options);
+
 // Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
 int reconstruction_k(const RenderOptions& options);
 
@@ -136,4 +131,4 @@ std::shared_ptr<const foveation::ViewTables> load_foveated_tables(
     const RenderOptions& options, const FoveartEyeView& view, const std::optional<std::filesystem::path>& cache_dir,
     foveation::Executor& executor, const foveation::LogFn& log, std::string* error);
 
-}  // namespace foveart::tools
+}  // namespace foveart::render_view
