@@ -8,6 +8,7 @@
 
 #include <eval/taa_modes.hpp>
 #include <render_view/display_options.hpp>
+#include <render_view/render_cli.hpp>
 #include <render_view/render_options.hpp>
 #include <eval/lab_options.hpp>
 #include <eval/pfm.hpp>
@@ -585,101 +586,117 @@ std::string parse_numbers(const std::string& text, std::vector<T>* out) {
   return "";
 }
 
+// The options given as text, parsed once the command line is read.
+struct PricelistTexts {
+  std::string gaze, size, viewer, look_at, temporal_size;
+  std::array<std::string, 6> lists;  // the grid lists, in kGridListOptions' order
+};
+
+constexpr const char* kGridListOptions[] = {"--full-rays-per-point", "--interpolation", "--density-scale",
+                                            "--rays-per-point",      "--pattern",       "--taa-rays-per-point"};
+
+// The view: scene, display, eye, viewer, gaze and exposure.
+void add_view_options(CLI::App* cmd, PricelistOptions& o, PricelistTexts& t) {
+  cmd->add_option("--scene", o.scene, "glTF/GLB file, or 'default'")->capture_default_str();
+  cmd->add_option("--preset", o.preset, "Display preset")->capture_default_str();
+  cmd->add_option("--eye", o.eye, "left or right")->capture_default_str();
+  cmd->add_option("--gaze", t.gaze, "Gaze X,Y in pixels (default: centre)");
+  cmd->add_option("--pose", t.viewer, "Where the viewer stands, X,Y,Z (metres, scene space; default the scene's camera)");
+  cmd->add_option("--look-at", t.look_at, "Turn the viewer to face this point X,Y,Z");
+  cmd->add_option("--exposure", o.exposure,
+                  "Linear exposure of the display values the metrics compare, or auto (a pre-pass of the view)")
+      ->capture_default_str();
+  cmd->add_option("--size", t.size, "Per-eye size WxH in pixels (the preset's horizontal FOV kept)");
+}
+
+// Where the results go, the reference, frames, threads and what else is written.
+void add_run_options(CLI::App* cmd, PricelistOptions& o) {
+  cmd->add_option("--out", o.out_dir, "Output directory; re-running with it resumes")->required();
+  cmd->add_option("--cache-dir", o.cache_dir, "Tables and reference cache (default OUT/cache)");
+  cmd->add_option("--reference-spp", o.reference_spp, "Reference rays per pixel, or auto")->capture_default_str();
+  cmd->add_option("--frames", o.frames, "Interleaved frames per setting (median reported)")->capture_default_str();
+  cmd->add_option("--taa-frames", o.taa_frames, "Sequence length with TAA")->capture_default_str();
+  cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_flag("--quick", o.quick, "The small grid and a 320x360 motion (docs/pricelist.md)");
+  cmd->add_option("--heatmap", o.heatmap, "Setting id for the error heat map (default: the thesis default)");
+  cmd->add_option("--md", o.md_file, "Also write the report (command, machine, tables) to this markdown file");
+  cmd->add_flag("--images", o.images, "Write every setting's image (PFM, display values, and PNG)");
+  cmd->add_option("--seed", o.seed, "Seed of point set and jitter")->capture_default_str();
+  render_view::add_pixel_filter_option(cmd, &o.pixel_filter);
+}
+
+// The grid's lists (kGridListOptions).
+void add_grid_options(CLI::App* cmd, PricelistTexts& t) {
+  const char* help[] = {"Full-render baseline rays per pixel, e.g. 1,2,4,8,16",
+                        "interpolation:k list, e.g. nearest:1,msm:5,rbf:10", "Density scales, e.g. 1,1.5,2",
+                        "Rays per point, e.g. 1,2,4,8", "Fovea patterns, e.g. pixel-grid,thesis",
+                        "Rays per point measured with TAA too, or none"};
+  for (std::size_t i = 0; i < t.lists.size(); ++i) cmd->add_option(kGridListOptions[i], t.lists[i], help[i]);
+}
+
+// The temporal columns: the motion and its window, size and reference.
+void add_temporal_column_options(CLI::App* cmd, PricelistOptions& o, PricelistTexts& t) {
+  cmd->add_option("--motion", o.temporal.motion,
+                  "Temporal columns over this head and gaze motion: builtin, a CSV file, or none")
+      ->capture_default_str();
+  cmd->add_option("--temporal-size", t.temporal_size,
+                  "Eye size WxH of the motion (default 320x360 with --quick, else 640x720)");
+  cmd->add_option("--temporal-frames", o.temporal.frames, "Frames of the motion")->capture_default_str();
+  cmd->add_option("--temporal-start-s", o.temporal.start_s, "Time of the motion's first frame (s)")->capture_default_str();
+  cmd->add_option("--temporal-fps", o.temporal.fps, "Frames per second of the motion")->capture_default_str();
+  cmd->add_option("--temporal-reference-spp", o.temporal.reference_spp,
+                  "Rays per pixel of every reference frame of the motion")
+      ->capture_default_str();
+}
+
+glm::ivec2 size_option(const char* option, const std::string& text) {
+  glm::ivec2 size;
+  if (std::string e; !render_view::parse_size(text, &size, &e)) throw CLI::ValidationError(option, e);
+  return size;
+}
+
+// The view's texts into *o; throws CLI::ValidationError naming a bad one.
+void parse_view_texts(const PricelistTexts& t, PricelistOptions* o) {
+  if (!t.viewer.empty()) o->viewer_m = render_view::parse_point_option("--pose", t.viewer);
+  if (!t.look_at.empty()) o->look_at_m = render_view::parse_point_option("--look-at", t.look_at);
+  if (!t.gaze.empty()) o->gaze_px = render_view::parse_gaze_option("--gaze", t.gaze);
+  if (!t.size.empty()) o->size_px = size_option("--size", t.size);
+  if (!t.temporal_size.empty()) o->temporal.size_px = size_option("--temporal-size", t.temporal_size);
+}
+
+// The grid's lists into o->grid; throws CLI::ValidationError naming a bad one.
+void parse_grid_lists(const PricelistTexts& t, PricelistOptions* o) {
+  for (std::size_t i = 0; i < t.lists.size(); ++i) {
+    const std::string& text = t.lists[i];
+    if (text.empty()) continue;
+    if (o->quick) throw CLI::ValidationError(kGridListOptions[i], "give --quick or a grid list, not both");
+    std::string bad;
+    if (i == 0) bad = parse_numbers(text, &o->grid.full_rays_per_point);
+    if (i == 1 && !split_list(text, &o->grid.interpolation)) bad = "expected a comma-separated list";
+    if (i == 2) bad = parse_numbers(text, &o->grid.density_scale);
+    if (i == 3) bad = parse_numbers(text, &o->grid.rays_per_point);
+    if (i == 4 && !split_list(text, &o->grid.pattern)) bad = "expected a comma-separated list";
+    if (i == 5)
+      bad = text == "none" ? (o->grid.taa_rays_per_point.clear(), std::string())
+                           : parse_numbers(text, &o->grid.taa_rays_per_point);
+    if (!bad.empty()) throw CLI::ValidationError(kGridListOptions[i], bad);
+  }
+}
+
 }  // namespace
 
 void register_pricelist(CLI::App& app) {
   auto o = std::make_shared<PricelistOptions>();
-  auto gaze = std::make_shared<std::string>();
-  auto size = std::make_shared<std::string>();
-  auto lists = std::make_shared<std::array<std::string, 6>>();  // the grid lists, as `names` below
+  auto texts = std::make_shared<PricelistTexts>();
   CLI::App* cmd = app.add_subcommand(
       "pricelist", "What each setting costs in time and rays and buys in accuracy per eccentricity ring");
-  cmd->add_option("--scene", o->scene, "glTF/GLB file, or 'default'")->capture_default_str();
-  cmd->add_option("--preset", o->preset, "Display preset")->capture_default_str();
-  cmd->add_option("--eye", o->eye, "left or right")->capture_default_str();
-  cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels (default: centre)");
-  auto viewer = std::make_shared<std::string>();
-  auto look_at = std::make_shared<std::string>();
-  cmd->add_option("--pose", *viewer, "Where the viewer stands, X,Y,Z (metres, scene space; default the scene's camera)");
-  cmd->add_option("--look-at", *look_at, "Turn the viewer to face this point X,Y,Z");
-  cmd->add_option("--exposure", o->exposure,
-                  "Linear exposure of the display values the metrics compare, or auto (a pre-pass of the view)")
-      ->capture_default_str();
-  cmd->add_option("--size", *size, "Per-eye size W,H (same horizontal FOV)");
-  cmd->add_option("--out", o->out_dir, "Output directory; re-running with it resumes")->required();
-  cmd->add_option("--cache-dir", o->cache_dir, "Tables and reference cache (default OUT/cache)");
-  cmd->add_option("--reference-spp", o->reference_spp, "Reference rays per pixel, or auto")->capture_default_str();
-  cmd->add_option("--frames", o->frames, "Interleaved frames per setting (median reported)")->capture_default_str();
-  cmd->add_option("--taa-frames", o->taa_frames, "Sequence length with TAA")->capture_default_str();
-  cmd->add_option("--threads", o->threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->add_flag("--quick", o->quick, "The small grid and a 320x360 motion (docs/pricelist.md)");
-  cmd->add_option("--full-rays-per-point", (*lists)[0], "Full-render baseline rays per pixel, e.g. 1,2,4,8,16");
-  cmd->add_option("--interpolation", (*lists)[1], "interpolation:k list, e.g. nearest:1,msm:5,rbf:10");
-  cmd->add_option("--density-scale", (*lists)[2], "Density scales, e.g. 1,1.5,2");
-  cmd->add_option("--rays-per-point", (*lists)[3], "Rays per point, e.g. 1,2,4,8");
-  cmd->add_option("--pattern", (*lists)[4], "Fovea patterns, e.g. pixel-grid,thesis");
-  cmd->add_option("--taa-rays-per-point", (*lists)[5], "Rays per point measured with TAA too, or none");
-  cmd->add_option("--heatmap", o->heatmap, "Setting id for the error heat map (default: the thesis default)");
-  cmd->add_option("--md", o->md_file, "Also write the report (command, machine, tables) to this markdown file");
-  cmd->add_flag("--images", o->images, "Write every setting's image (PFM, display values, and PNG)");
-  cmd->add_option("--seed", o->seed, "Seed of point set and jitter")->capture_default_str();
-  render_view::add_pixel_filter_option(cmd, &o->pixel_filter);
-  auto temporal_size = std::make_shared<std::string>();
-  cmd->add_option("--motion", o->temporal.motion,
-                  "Temporal columns over this head and gaze motion: builtin, a CSV file, or none")
-      ->capture_default_str();
-  cmd->add_option("--temporal-size", *temporal_size, "Eye size W,H of the motion (default 320,360 with --quick, else 640,720)");
-  cmd->add_option("--temporal-frames", o->temporal.frames, "Frames of the motion")->capture_default_str();
-  cmd->add_option("--temporal-start-s", o->temporal.start_s, "Time of the motion's first frame (s)")->capture_default_str();
-  cmd->add_option("--temporal-fps", o->temporal.fps, "Frames per second of the motion")->capture_default_str();
-  cmd->add_option("--temporal-reference-spp", o->temporal.reference_spp,
-                  "Rays per pixel of every reference frame of the motion")
-      ->capture_default_str();
-  cmd->callback([o, gaze, size, lists, temporal_size, viewer, look_at] {
-    const auto triple = [](const std::string& text, const char* name) {
-      std::vector<double> v;
-      if (!parse_numbers(text, &v).empty() || v.size() != 3) throw CLI::ValidationError(name, "expected X,Y,Z");
-      return std::array<double, 3>{v[0], v[1], v[2]};
-    };
-    if (!viewer->empty()) o->viewer_m = triple(*viewer, "--pose");
-    if (!look_at->empty()) o->look_at_m = triple(*look_at, "--look-at");
-    const auto pair = [](const std::string& text, const char* name, auto* out) {
-      std::vector<double> v;
-      if (!parse_numbers(text, &v).empty() || v.size() != 2) throw CLI::ValidationError(name, "expected X,Y");
-      *out = {v[0], v[1]};
-    };
-    if (!gaze->empty()) {
-      glm::vec2 g;
-      pair(*gaze, "--gaze", &g);
-      o->gaze_px = g;
-    }
-    if (!size->empty()) {
-      glm::ivec2 s;
-      pair(*size, "--size", &s);
-      o->size_px = s;
-    }
-    if (!temporal_size->empty()) {
-      glm::ivec2 s;
-      pair(*temporal_size, "--temporal-size", &s);
-      o->temporal.size_px = s;
-    }
-    const char* names[] = {"--full-rays-per-point", "--interpolation", "--density-scale",
-                           "--rays-per-point",      "--pattern",       "--taa-rays-per-point"};
-    for (std::size_t i = 0; i < lists->size(); ++i) {
-      const std::string& t = (*lists)[i];
-      if (t.empty()) continue;
-      if (o->quick) throw CLI::ValidationError(names[i], "give --quick or a grid list, not both");
-      std::string bad;
-      if (i == 0) bad = parse_numbers(t, &o->grid.full_rays_per_point);
-      if (i == 1 && !split_list(t, &o->grid.interpolation)) bad = "expected a comma-separated list";
-      if (i == 2) bad = parse_numbers(t, &o->grid.density_scale);
-      if (i == 3) bad = parse_numbers(t, &o->grid.rays_per_point);
-      if (i == 4 && !split_list(t, &o->grid.pattern)) bad = "expected a comma-separated list";
-      if (i == 5)
-        bad = t == "none" ? (o->grid.taa_rays_per_point.clear(), std::string())
-                          : parse_numbers(t, &o->grid.taa_rays_per_point);
-      if (!bad.empty()) throw CLI::ValidationError(names[i], bad);
-    }
+  add_view_options(cmd, *o, *texts);
+  add_run_options(cmd, *o);
+  add_grid_options(cmd, *texts);
+  add_temporal_column_options(cmd, *o, *texts);
+  cmd->callback([o, texts] {
+    parse_view_texts(*texts, o.get());
+    parse_grid_lists(*texts, o.get());
     const int code = run_pricelist(*o, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);
   });

@@ -289,7 +289,7 @@ TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
   ASSERT_TRUE(fs::exists(fovea_eval)) << fovea_eval << " is missing: build the fovea-eval target";
   const fs::path md = dir.path / "results" / "pricelist.md";
   const std::string args =
-      "pricelist --size 48,54 --reference-spp 32 --frames 1 --threads 2 --motion none "
+      "pricelist --size 48x54 --reference-spp 32 --frames 1 --threads 2 --motion none "
       "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
       "--rays-per-point 1 --pattern pixel-grid --taa-rays-per-point none --out " +
       (dir.path / "pl").string() + " --md " + md.string();

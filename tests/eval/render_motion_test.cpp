@@ -94,7 +94,7 @@ TEST(RenderMotion, BadMotionFileIsAnErrorNamingTheFileAndLine) {
   EXPECT_NE(err.find("absent.csv: cannot open"), std::string::npos) << err;
 
   // The binary: the same message and a non-zero exit status.
-  EXPECT_EQ(run_fovea_binary("motion --size 64,72 --motion '" + file.string() + "'", dir.path, &err), 2) << err;
+  EXPECT_EQ(run_fovea_binary("motion --size 64x72 --motion '" + file.string() + "'", dir.path, &err), 2) << err;
   EXPECT_NE(err.find("11 columns"), std::string::npos) << err;
 }
 
@@ -274,7 +274,7 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   EXPECT_EQ(again["reference"]["frames_from_cache"], 3);
 
   std::string text;
-  const int status = run_fovea_binary("motion --size 64,72 --pixel-filter gaussian", dir.path, &text);
+  const int status = run_fovea_binary("motion --size 64x72 --pixel-filter gaussian", dir.path, &text);
   EXPECT_GT(status, 0) << text;
   EXPECT_NE(text.find("--pixel-filter: 'gaussian' is not box or bspline2"), std::string::npos) << text;
 }

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -113,10 +114,10 @@ TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
   CLI::App app;
   register_render(app);
   EXPECT_NO_THROW(app.get_subcommand("render"));
-  const char* argv[] = {"fovea", "render", "--gaze", "abc", "--size", "16,16"};
+  const char* argv[] = {"fovea", "render", "--gaze", "abc", "--size", "16x16"};
   EXPECT_THROW(app.parse(6, argv), CLI::ValidationError);
   // A per-frame list is checked item by item.
-  const char* list[] = {"fovea", "render", "--gaze", "8,8;abc", "--size", "16,16"};
+  const char* list[] = {"fovea", "render", "--gaze", "8,8;abc", "--size", "16x16"};
   EXPECT_THROW(app.parse(6, list), CLI::ValidationError);
 }
 
@@ -160,9 +161,9 @@ TEST(RenderCommand, TemporalIsTheLayersChoice) {
 TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
   std::ostringstream out, err;
   RenderOptions o = small("full");
-  o.fov_deg = std::array<double, 4>{20.0, -20.0, 20.0, -20.0};  // left > right
+  o.fov.angles = std::array<double, 4>{20.0, -20.0, 20.0, -20.0};  // left > right
   EXPECT_EQ(run_render(o, out, err), 2);
-  EXPECT_NE(err.str().find("--fov"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("--fov-deg: left must be less than right"), std::string::npos) << err.str();
   o = small("full");
   o.pose = std::array<double, 7>{0, 0, 0, 0, 0, 0, 2};  // not a unit quaternion
   EXPECT_EQ(run_render(o, out, err), 2);
@@ -170,7 +171,7 @@ TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
 
   CLI::App app;
   register_render(app);
-  const char* three[] = {"fovea", "render", "--fov", "1,2,3"};
+  const char* three[] = {"fovea", "render", "--fov-deg", "1,2,3"};
   EXPECT_THROW(app.parse(4, three), CLI::ValidationError);
   CLI::App app2;
   register_render(app2);
@@ -178,12 +179,50 @@ TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
   EXPECT_THROW(app2.parse(4, nan_pose), CLI::ValidationError);
 }
 
-// --fov / --pose replace the preset's view: echoed in the report, and a camera
+// One spelling per idea in both CLIs: --size WxH and --fov-deg; the old spellings
+// (--size W,H, --fov) are errors that name the new one, never a silent alias.
+TEST(RenderCommand, OldDisplaySpellingsAreErrorsNamingTheNewOnes) {
+  const auto parse_error = [](std::vector<const char*> argv) -> std::string {
+    CLI::App app;
+    register_render(app);
+    try {
+      app.parse(static_cast<int>(argv.size()), argv.data());
+    } catch (const CLI::RuntimeError&) {
+      return "";  // parsed; the run's own exit code
+    } catch (const CLI::ParseError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(parse_error({"fovea", "render", "--fov", "-40,40,40,-40"}).find("--fov-deg"), std::string::npos);
+  const std::string comma = parse_error({"fovea", "render", "--size", "16,16"});
+  EXPECT_NE(comma.find("expected WxH"), std::string::npos) << comma;
+  EXPECT_NE(comma.find("'16,16'"), std::string::npos) << comma;
+  EXPECT_NE(parse_error({"fovea", "render", "--size", "0x16"}).find("--size"), std::string::npos);
+  EXPECT_EQ(parse_error({"fovea", "render", "--size", "16x18", "--fov-deg", "60", "--frames", "0"}), "")
+      << "the new spellings parse (the run then refuses --frames 0)";
+}
+
+// --fov-deg H: a symmetric frustum of that horizontal span, its vertical span from the size.
+TEST(RenderCommand, OneFovNumberIsTheHorizontalSpan) {
+  RenderOptions o = small("full");  // 40x45
+  o.fov.horizontal = 60.0;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto j = nlohmann::json::parse(out.str());
+  EXPECT_NEAR(j["fov_deg"][0].get<double>(), -30.0, 1e-4);
+  EXPECT_NEAR(j["fov_deg"][1].get<double>(), 30.0, 1e-4);
+  const double up = std::atan(std::tan(30.0 * 3.14159265358979 / 180.0) * 45.0 / 40.0) * 180.0 / 3.14159265358979;
+  EXPECT_NEAR(j["fov_deg"][2].get<double>(), up, 1e-4);
+  EXPECT_NEAR(j["fov_deg"][3].get<double>(), -up, 1e-4);
+}
+
+// --fov-deg L,R,U,D / --pose replace the preset's view: echoed in the report, and a camera
 // turned around (180 deg about +y) sees another image.
 TEST(RenderCommand, FovAndPoseDefineTheView) {
   RenderOptions o = small("full");
   o.out_prefix.clear();
-  o.fov_deg = std::array<double, 4>{-40.0, 30.0, 35.0, -45.0};
+  o.fov.angles = std::array<double, 4>{-40.0, 30.0, 35.0, -45.0};
   o.pose = std::array<double, 7>{0.0, 1.6, 2.0, 0.0, 0.0, 0.0, 1.0};
   std::ostringstream out1, err1;
   ASSERT_EQ(run_render(o, out1, err1), 0) << err1.str();

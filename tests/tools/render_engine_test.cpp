@@ -101,7 +101,7 @@ TEST(RenderEngine, GpuEngineBothModeMatchesTheCpuEnginePerRing) {
   std::string why;
   if (!have_vulkan_device(&why)) GTEST_SKIP() << "no Vulkan device: " << why;
   engine_test::TempDir dir;
-  const std::string size = std::to_string(kWidth) + "," + std::to_string(kHeight);
+  const std::string size = std::to_string(kWidth) + "x" + std::to_string(kHeight);
   const ToolRun gpu = fovea("--engine gpu --mode both --json --frames 1 --threads 2 --size " + size + " --out '" +
                                 (dir.path / "gpu").string() + "'",
                             dir.path);
@@ -205,11 +205,11 @@ TEST(RenderEngine, BogusEngineAndNoDeviceAreRefusedWithAMessage) {
   EXPECT_NE(err.str().find("--engine must be cpu or gpu"), std::string::npos) << err.str();
   // And through the binary.
   engine_test::TempDir dir;
-  const ToolRun r = fovea("--engine bogus --size 16,16", dir.path);
+  const ToolRun r = fovea("--engine bogus --size 16x16", dir.path);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--engine must be cpu or gpu"), std::string::npos) << r.err;
   // No Vulkan driver to be found: a clear error, exit 1.
-  const ToolRun none = fovea("--engine gpu --size 16,16", dir.path,
+  const ToolRun none = fovea("--engine gpu --size 16x16", dir.path,
                              "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json");
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_NE(none.err.find("fovea render: --engine gpu: "), std::string::npos) << none.err;

@@ -45,6 +45,12 @@ glm::vec2 parse_gaze_option(const std::string& option, const std::string& text) 
   return g;
 }
 
+std::array<double, 3> parse_point_option(const std::string& option, const std::string& text) {
+  std::array<double, 3> p{};
+  if (std::string e = parse_list(text, &p); !e.empty()) throw CLI::ValidationError(option, e);
+  return p;
+}
+
 void parse_pose_option(const std::string& option, const std::string& text, RenderOptions* out) {
   if (std::count(text.begin(), text.end(), ',') == 2) {
     std::array<double, 3> p{};
@@ -77,8 +83,11 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
                   "sequence's frames)")
       ->capture_default_str();
   cmd->add_option("--threads", opts->threads, "Tracing threads (0 = all cores)")->capture_default_str();
-  cmd->add_option("--size", *size, "Override the per-eye size W,H (same horizontal FOV)");
-  cmd->add_option("--fov", *fov, "Exact view frustum L,R,U,D: XrFovf angles in degrees (point set from the R-L span)");
+  cmd->add_option("--size", *size, "Per-eye size WxH in pixels instead of the preset's (its horizontal FOV kept)");
+  cmd->add_option("--fov-deg", *fov,
+                  "Field of view in degrees: H, the horizontal span of a symmetric frustum, or an exact OpenXR "
+                  "frustum L,R,U,D (XrFovf angles); the point set follows the horizontal span");
+  add_renamed_option(cmd, "--fov", "--fov-deg L,R,U,D");
   cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
   cmd->add_option("--cache-dir", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
@@ -95,20 +104,14 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   auto look_at = std::make_shared<std::string>();
   cmd->add_option("--look-at", *look_at, "Turn the viewer to face this point X,Y,Z (metres, scene space)");
   return [opts, size, fov, look_at] {
-    if (!look_at->empty()) {
-      std::array<double, 3> p{};
-      if (std::string e = parse_list(*look_at, &p); !e.empty()) throw CLI::ValidationError("--look-at", e);
-      opts->look_at_m = p;
-    }
+    if (!look_at->empty()) opts->look_at_m = parse_point_option("--look-at", *look_at);
     if (!size->empty()) {
       glm::ivec2 s;
-      if (std::string e = parse_pair(*size, &s); !e.empty()) throw CLI::ValidationError("--size", e);
+      if (std::string e; !parse_size(*size, &s, &e)) throw CLI::ValidationError("--size", e);
       opts->size_px = s;
     }
     if (!fov->empty()) {
-      std::array<double, 4> f{};
-      if (std::string e = parse_list(*fov, &f); !e.empty()) throw CLI::ValidationError("--fov", e);
-      opts->fov_deg = f;
+      if (std::string e; !parse_fov_deg(*fov, &opts->fov, &e)) throw CLI::ValidationError("--fov-deg", e);
     }
   };
 }

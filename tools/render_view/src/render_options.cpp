@@ -36,8 +36,8 @@ std::optional<PresetGeometry> preset_geometry(const std::string& preset) {
 }  // namespace
 
 // The display the foveated view's tables are built for: the preset's; for
-// another size, the preset's horizontal FOV at that size; for an explicit view
-// (--fov), the display the layer builds for that view (display_of_view).
+// another size, the preset's horizontal FOV at that size; for another field of
+// view (--fov-deg), the display the layer builds for that view (display_of_view).
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, const FoveartEyeView& view,
                                                         std::string* error) {
   std::optional<foveation::DisplayModel> display = foveation::display_preset(o.preset);
@@ -45,7 +45,7 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
     *error = "unknown display preset '" + o.preset + "'";
     return std::nullopt;
   }
-  if (o.fov_deg) {
+  if (o.fov.given()) {
     display = foveation::display_of_view(view);
   } else if (static_cast<uint32_t>(display->width_px) != view.width_px ||
              static_cast<uint32_t>(display->height_px) != view.height_px) {
@@ -94,8 +94,8 @@ std::shared_ptr<const foveation::ViewTables> load_foveated_tables(const RenderOp
 }
 
 // Per-eye view of the preset (square pixels, symmetric frustum), optionally resized
-// keeping the horizontal field of view; or, with --fov / --pose, exactly the
-// given OpenXR view.
+// keeping the horizontal field of view or given another (--fov-deg H); or, with
+// --fov-deg L,R,U,D / --pose, exactly the given OpenXR view.
 FoveartEyeView eye_view(const RenderOptions& o, const engine::Scene& scene) {
   const PresetGeometry g = *preset_geometry(o.preset);
   const auto vec3_of = [](const std::optional<std::array<double, 3>>& a) -> std::optional<glm::vec3> {
@@ -106,15 +106,16 @@ FoveartEyeView eye_view(const RenderOptions& o, const engine::Scene& scene) {
   FoveartEyeView view = engine::fove_eye_view(o.eye == "right" ? 1u : 0u, head);
   view.width_px = static_cast<uint32_t>(o.size_px ? o.size_px->x : g.width_px);
   view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
-  const double tan_x = std::tan(g.half_fov_x_rad);
-  const double tan_y = o.size_px ? tan_x * o.size_px->y / o.size_px->x : std::tan(g.half_fov_y_rad);
-  view.angle_left_rad = static_cast<float>(-g.half_fov_x_rad);
-  view.angle_right_rad = static_cast<float>(g.half_fov_x_rad);
+  const double half_x = o.fov.horizontal ? 0.5 * *o.fov.horizontal * kPi / 180.0 : g.half_fov_x_rad;
+  const double tan_x = std::tan(half_x);
+  const double tan_y = o.size_px || o.fov.horizontal ? tan_x * view.height_px / view.width_px : std::tan(g.half_fov_y_rad);
+  view.angle_left_rad = static_cast<float>(-half_x);
+  view.angle_right_rad = static_cast<float>(half_x);
   view.angle_up_rad = static_cast<float>(std::atan(tan_y));
   view.angle_down_rad = static_cast<float>(-std::atan(tan_y));
-  if (o.fov_deg) {
+  if (o.fov.angles) {
     float* angles[4] = {&view.angle_left_rad, &view.angle_right_rad, &view.angle_up_rad, &view.angle_down_rad};
-    for (int i = 0; i < 4; ++i) *angles[i] = static_cast<float>((*o.fov_deg)[i] * kPi / 180.0);
+    for (int i = 0; i < 4; ++i) *angles[i] = static_cast<float>((*o.fov.angles)[i] * kPi / 180.0);
   }
   if (o.pose) {
     for (int i = 0; i < 3; ++i) view.position_m[i] = static_cast<float>((*o.pose)[i]);
@@ -126,13 +127,7 @@ FoveartEyeView eye_view(const RenderOptions& o, const engine::Scene& scene) {
 namespace {
 
 std::string check_view(const RenderOptions& o) {
-  if (o.fov_deg) {
-    const auto& f = *o.fov_deg;
-    for (double a : f)
-      if (!std::isfinite(a) || a <= -90.0 || a >= 90.0) return "--fov angles must be finite and inside (-90, 90) degrees";
-    if (!(f[0] < f[1])) return "--fov: left must be less than right";
-    if (!(f[3] < f[2])) return "--fov: down must be less than up";
-  }
+  if (std::string bad = fov_deg_problem(o.fov); !bad.empty()) return "--fov-deg: " + bad;
   if (o.pose) {
     double norm2 = 0.0;
     for (int i = 0; i < 7; ++i) {
@@ -200,7 +195,7 @@ std::string render_options_problem(const RenderOptions& o) {
     return "--gaze lists " + std::to_string(o.gaze_px_per_frame.size()) + " gazes, more than --frames " +
            std::to_string(o.frames);
   if (o.size_px && (o.size_px->x < 8 || o.size_px->y < 8 || o.size_px->x > 16384 || o.size_px->y > 16384))
-    return "--size must be between 8 and 16384 pixels per side";
+    return "--size must be between 8x8 and 16384x16384 pixels";
   if (std::string bad = check_view(o); !bad.empty()) return bad;
   if (!o.without.empty()) {
     std::string bad;

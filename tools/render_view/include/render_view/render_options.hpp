@@ -10,6 +10,8 @@
 #include <glm/vec2.hpp>
 #include <glm/ext/vector_int2.hpp>
 
+#include <render_view/display_options.hpp>
+
 #include <engine/scene.hpp>
 #include <engine/tracer.hpp>
 
@@ -56,12 +58,12 @@ struct RenderOptions {
   // each frame's jitter seed is seed + its index. 1: as the layer numbers its
   // frames, so that frame i of `--temporal image|rays` is the layer's frame i.
   uint64_t first_frame = 1;
-  std::optional<glm::ivec2> size_px;  // override the preset's per-eye size (same FOV)
-  // An exact OpenXR view instead of the preset's: XrFovf angles in degrees
-  // (left, right, up, down; the point set follows the horizontal span, as the
-  // layer's DisplayModel::from_fov does) and the eye pose in scene space
-  // (px, py, pz, qx, qy, qz, qw).
-  std::optional<std::array<double, 4>> fov_deg;
+  std::optional<glm::ivec2> size_px;  // --size WxH: override the preset's per-eye size (same FOV)
+  // --fov-deg: another field of view than the preset's, the horizontal span of
+  // a symmetric frustum or an exact OpenXR view's XrFovf angles (the point set
+  // follows the horizontal span, as the layer's DisplayModel::from_fov does);
+  // --pose: the eye pose in scene space (px, py, pz, qx, qy, qz, qw).
+  FovDeg fov;
   std::optional<std::array<double, 7>> pose;
   // A standing viewer instead (engine::standing_viewer): the head at viewer_m
   // (--pose X,Y,Z; default the scene's camera, or one framing the scene) facing
