@@ -57,7 +57,7 @@ struct Still {
 };
 
 // Loads the scene and sets up the view; false with *error on failure.
-bool set_up(const AccuracyOptions& o, foveation::Executor& executor, std::ostream& err, Still* s, std::string* error) {
+[[nodiscard]] bool set_up(const AccuracyOptions& o, foveation::Executor& executor, std::ostream& err, Still* s, std::string* error) {
   engine::LoadResult loaded = engine::load_scene(o.render.scene);
   if (!loaded.ok()) {
     *error = loaded.error;
@@ -83,7 +83,7 @@ struct Images {
   std::optional<foveation::ImageRgb> foveated;
 };
 
-bool render_images(const AccuracyOptions& o, const Still& s, foveation::Executor& executor, std::ostream& err,
+[[nodiscard]] bool render_images(const AccuracyOptions& o, const Still& s, foveation::Executor& executor, std::ostream& err,
                    Images* images, std::string* error) {
   const render_view::RenderOptions& r = o.render;
   if (r.mode != "foveated") {
@@ -123,7 +123,7 @@ bool render_images(const AccuracyOptions& o, const Still& s, foveation::Executor
 }
 
 // The reference image (linear RGB) and what it is, as JSON; false with *error.
-bool reference_of(const AccuracyOptions& o, const Still& s, const metrics::EccentricityMap& map,
+[[nodiscard]] bool reference_of(const AccuracyOptions& o, const Still& s, const metrics::EccentricityMap& map,
                   foveation::Executor& executor, std::ostream& err, foveation::ImageRgb* image, Json* about,
                   std::string* error) {
   if (!o.reference.file.empty()) {
@@ -162,7 +162,7 @@ bool reference_of(const AccuracyOptions& o, const Still& s, const metrics::Eccen
 }
 
 // --out PREFIX: the images measured as PREFIX_full.png and PREFIX_foveated.png; false with *error.
-bool write_images(const AccuracyOptions& o, const Still& s, const Images& images, Json* files, std::string* error) {
+[[nodiscard]] bool write_images(const AccuracyOptions& o, const Still& s, const Images& images, Json* files, std::string* error) {
   *files = Json::array();
   for (const auto& [image, suffix] : {std::pair{&images.full, "_full.png"}, std::pair{&images.foveated, "_foveated.png"}}) {
     if (!image->has_value()) continue;

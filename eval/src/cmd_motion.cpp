@@ -193,7 +193,7 @@ struct MotionScene {
 };
 
 // Loads the scene and lays the window's frames out in it; false with *error.
-bool set_up(const MotionOptions& m, const motion::ScriptedMotion& script, const MotionWindow& window,
+[[nodiscard]] bool set_up(const MotionOptions& m, const motion::ScriptedMotion& script, const MotionWindow& window,
             std::ostream& err, MotionScene* s, std::string* error) {
   const render_view::RenderOptions& o = m.render;
   engine::LoadResult loaded = engine::load_scene(o.scene);
@@ -212,7 +212,7 @@ bool set_up(const MotionOptions& m, const motion::ScriptedMotion& script, const 
 }
 
 // The full render's track (unless --mode foveated) and a foveated track per TAA mode (unless --mode full).
-bool make_tracks(const MotionOptions& m, const std::vector<std::string>& taa_modes, const MotionScene& s,
+[[nodiscard]] bool make_tracks(const MotionOptions& m, const std::vector<std::string>& taa_modes, const MotionScene& s,
                  foveation::Executor& executor, std::ostream& err, std::vector<SequenceTrack>* tracks,
                  std::string* error) {
   const render_view::RenderOptions& o = m.render;

@@ -124,7 +124,7 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
 }
 
 // One frame of a setting; false with a message on failure.
-bool render_frame(Context& c, Measure& m, int round, std::string* error) {
+[[nodiscard]] bool render_frame(Context& c, Measure& m, int round, std::string* error) {
   const engine::RayCounts before = c.tracer.counts();
   const foveation::ImageRgb* image = nullptr;
   if (m.full_taa) {
@@ -194,7 +194,7 @@ bool render_frame(Context& c, Measure& m, int round, std::string* error) {
 // The error heat map of a setting: the CSF-weighted error of every pixel as a
 // full-size PNG, black (0) through red and yellow to white (the 99th
 // percentile, returned in *scale_out, and above). False and *error when it cannot be written.
-bool write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out,
+[[nodiscard]] bool write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out,
                    std::string* error) {
   const std::vector<float> e = metrics::csf_error_map(c.reference_display, display, c.map);
   std::vector<float> sorted = e;
@@ -262,7 +262,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
 
 // Measures one group of settings (all full renders, or all settings on one
 // set of tables) and appends each result to results.jsonl.
-bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& out_dir, std::ofstream& results,
+[[nodiscard]] bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& out_dir, std::ofstream& results,
                const std::string& heatmap_id, toolkit::Progress& progress, double* done, double total,
                std::map<std::string, Json>* all) {
   std::string error;

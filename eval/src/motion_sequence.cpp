@@ -91,7 +91,7 @@ void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
 }
 
 // The reference of one frame (the convergence check on the first with "auto"), its residual into the floor.
-bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
+[[nodiscard]] bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
                      const SequenceReferenceOptions& ref_options, const metrics::EccentricityMap& map,
                      foveation::Executor& executor, const ReferenceLog& log, SequenceRun* run,
                      foveation::ImageRgb* reference_linear, foveation::ImageRgb* reference_display,
@@ -158,7 +158,7 @@ struct SampleHistories {
 
 // taa_restarts: whether the layer's TAA restarted on this frame (TemporalAccumulator::last_was_reset of the
 // TAA fed the reference, which sees the same gaze and flags): where `at_restarts` forgets its rays.
-bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
+[[nodiscard]] bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
                           const foveation::ImageRgb& reference_display, const metrics::EccentricityMap& map,
                           Tracking& tracking, foveation::Executor& executor, SequenceRun* run, std::string* error) {
   const struct {

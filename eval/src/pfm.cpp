@@ -10,7 +10,7 @@ namespace foveart::eval {
 
 namespace {
 
-bool fail(std::string* error, std::string message) {
+[[nodiscard]] bool fail(std::string* error, std::string message) {
   *error = std::move(message);
   return false;
 }

@@ -202,9 +202,9 @@ std::string write_reference(const std::filesystem::path& file, std::uint64_t key
   return "";
 }
 
-std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* why) {
+std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* error) {
   const auto fail = [&](const std::string& what) -> std::optional<Reference> {
-    *why = "reference cache " + file.string() + ": " + what;
+    *error = "reference cache " + file.string() + ": " + what;
     return std::nullopt;
   };
   std::ifstream in(file, std::ios::binary);

@@ -17,6 +17,7 @@
 #include "foveation/point_set_cache.hpp"
 #include "foveation/visible_points.hpp"
 #include "toolkit/image_io.hpp"
+#include "toolkit/outputs.hpp"
 #include "toolkit/plot.hpp"
 #include "toolkit/progress.hpp"
 
@@ -39,7 +40,7 @@ struct PointsetOptions {
 constexpr const char* kWho = "fovea pointset: ";
 
 // "X,Y" in pixels, empty: the centre; false and *error quoting the text.
-bool parse_gaze(const std::string& text, int w, int h, glm::vec2* gaze, std::string* error) {
+[[nodiscard]] bool parse_gaze(const std::string& text, int w, int h, glm::vec2* gaze, std::string* error) {
   if (text.empty()) {
     *gaze = {0.5f * float(w), 0.5f * float(h)};
     return true;
@@ -55,44 +56,16 @@ bool parse_gaze(const std::string& text, int w, int h, glm::vec2* gaze, std::str
   return true;
 }
 
-// Fails early, before minutes of work, when an output cannot be written: false and *error naming it.
-bool check_output_file(const std::string& path, const char* option, std::string* error) {
+// An output checked before the work (toolkit/outputs.hpp), its option named in *error.
+[[nodiscard]] bool check_output(const std::string& path, const char* option, bool folder, std::string* error) {
   if (path.empty()) return true;
-  const fs::path p(path);
-  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir)) {
-    *error = std::string(option) + ": cannot write " + path + ": directory " + dir.string() + " does not exist";
-    return false;
-  }
-  std::ofstream probe(p, std::ios::app);
-  if (!probe) {
-    *error = std::string(option) + ": cannot write " + path;
-    return false;
-  }
-  return true;
-}
-
-bool check_output_dir(const std::string& path, const char* option, std::string* error) {
-  if (path.empty()) return true;
-  std::error_code ec;
-  fs::create_directories(path, ec);
-  if (ec || !fs::is_directory(path)) {
-    *error = std::string(option) + ": cannot create directory " + path;
-    return false;
-  }
-  const fs::path probe_file = fs::path(path) / ".fovea_write_probe";
-  std::ofstream probe(probe_file);
-  if (!probe) {
-    *error = std::string(option) + ": cannot write into " + path;
-    return false;
-  }
-  probe.close();
-  fs::remove(probe_file, ec);
-  return true;
+  if (folder ? toolkit::check_writable_dir(path, error) : toolkit::check_writable_file(path, error)) return true;
+  *error = std::string(option) + ": " + *error;
+  return false;
 }
 
 // Thesis Fig. 12: every on-screen point as a dark pixel on white; false and *error naming the file.
-bool write_points_png(const std::string& path, const fv::VisiblePoints& vis, int w, int h, std::string* error) {
+[[nodiscard]] bool write_points_png(const std::string& path, const fv::VisiblePoints& vis, int w, int h, std::string* error) {
   std::vector<std::uint8_t> px(std::size_t(w) * std::size_t(h), 255);
   for (const auto& s : vis.screen_px) {
     const int x = int(std::floor(s.x));
@@ -103,7 +76,7 @@ bool write_points_png(const std::string& path, const fv::VisiblePoints& vis, int
 }
 
 // A plot written, or false and *error (write_plot_png's message names the file).
-bool plot(const fs::path& file, const toolkit::PlotSpec& spec, const std::vector<toolkit::PlotSeries>& series,
+[[nodiscard]] bool plot(const fs::path& file, const toolkit::PlotSpec& spec, const std::vector<toolkit::PlotSeries>& series,
           std::string* error) {
   *error = toolkit::write_plot_png(file.string(), spec, series);
   return error->empty();
@@ -129,7 +102,7 @@ DensityCurve density_curve(const fv::DisplayModel& display, const fv::PointSet& 
 
 // The measured spacing curve of the set, and of the thesis's Poisson reading
 // for the same display: where the pixel grid ends the density must not jump.
-bool write_density_curve(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points,
+[[nodiscard]] bool write_density_curve(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points,
                          std::string* error) {
   const DensityCurve mine = density_curve(display, points);
   fv::DisplayModel other = display;
@@ -166,7 +139,7 @@ bool write_density_curve(const std::string& dir, const fv::DisplayModel& display
 }
 
 // Thesis Fig. 11: cut-off and display frequency, and point radius, against eccentricity.
-bool write_spacing_curves(const std::string& dir, const fv::DisplayModel& display, std::string* error) {
+[[nodiscard]] bool write_spacing_curves(const std::string& dir, const fv::DisplayModel& display, std::string* error) {
   const double max_d = std::hypot(double(display.width_px), double(display.height_px));
   std::vector<double> ecc, fc, fd, radius;
   const fs::path csv_file = fs::path(dir) / "spacing_vs_eccentricity.csv";
@@ -197,7 +170,7 @@ bool write_spacing_curves(const std::string& dir, const fv::DisplayModel& displa
 }
 
 // Thesis Fig. 14: point count against scale 1.0-3.0, into *points_vs_scale too.
-bool write_scale_curve(const std::string& dir, const fv::DisplayModel& display, std::size_t count_at_scale,
+[[nodiscard]] bool write_scale_curve(const std::string& dir, const fv::DisplayModel& display, std::size_t count_at_scale,
                        nlohmann::json* points_vs_scale, std::string* error) {
   std::vector<double> scales, counts;
   const fs::path csv_file = fs::path(dir) / "points_vs_scale.csv";
@@ -225,7 +198,7 @@ bool write_scale_curve(const std::string& dir, const fv::DisplayModel& display, 
 }
 
 // --curves DIR: thesis Figs. 11 and 14 and the measured density; false and *error naming the file.
-bool write_curves(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points,
+[[nodiscard]] bool write_curves(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points,
                   nlohmann::json* points_vs_scale, std::string* error) {
   return write_spacing_curves(dir, display, error) && write_density_curve(dir, display, points, error) &&
          write_scale_curve(dir, display, points.size(), points_vs_scale, error);
@@ -240,8 +213,8 @@ std::optional<fv::DisplayModel> checked_display(const PointsetOptions& o, glm::v
     return std::nullopt;
   }
   if (!parse_gaze(o.gaze, display->width_px, display->height_px, gaze, error) ||
-      !check_output_file(o.png, "--png", error) || !check_output_dir(o.curves_dir, "--curves", error) ||
-      !check_output_dir(o.cache_dir, "--cache-dir", error))
+      !check_output(o.png, "--png", false, error) || !check_output(o.curves_dir, "--curves", true, error) ||
+      !check_output(o.cache_dir, "--cache-dir", true, error))
     return std::nullopt;
   return display;
 }

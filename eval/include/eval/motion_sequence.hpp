@@ -133,7 +133,7 @@ struct SequenceHooks {
 
 // Renders frames for every track against the reference sequence. false with
 // *error when the engine fails, a frame fails or the cache cannot be written.
-bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
+[[nodiscard]] bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
                   const SequenceReferenceOptions& reference, std::vector<SequenceTrack>& tracks,
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error);
 

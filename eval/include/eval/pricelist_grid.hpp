@@ -44,6 +44,6 @@ PriceGrid quick_grid();
 [[nodiscard]] bool expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out, std::string* error);
 
 // "a,b,c" -> items; false when an item is empty.
-bool split_list(const std::string& text, std::vector<std::string>* out);
+[[nodiscard]] bool split_list(const std::string& text, std::vector<std::string>* out);
 
 }  // namespace foveart::eval

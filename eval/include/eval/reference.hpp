@@ -99,9 +99,9 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
 std::filesystem::path reference_cache_path(const std::string& cache_dir, std::uint64_t scene_hash,
                                            const FoveartEyeView& view, int spp, std::uint64_t seed,
                                            foveation::PixelFilter filter);
-// Reads a cache file written by converged_reference; nullopt with *why (naming
+// Reads a cache file written by converged_reference; nullopt with *error (naming
 // the file and what is wrong) when it is missing, truncated, corrupt or of another key.
-std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* why);
+std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* error);
 std::string write_reference(const std::filesystem::path& file, std::uint64_t key, const Reference& reference);
 std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed,
                             foveation::PixelFilter filter);

@@ -15,7 +15,7 @@ std::string text_of(T value) {
 }
 
 // "A,B,..." -> numbers; false when an item is not a number.
-bool parse_numbers(const std::string& text, std::vector<double>* out) {
+[[nodiscard]] bool parse_numbers(const std::string& text, std::vector<double>* out) {
   std::istringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
