@@ -29,6 +29,7 @@
 
 #include <toolkit/image_io.hpp>
 #include <toolkit/machine.hpp>
+#include <toolkit/outputs.hpp>
 #include <toolkit/progress.hpp>
 
 #include <CLI/CLI.hpp>
@@ -359,214 +360,245 @@ std::string write_md_copy(const fs::path& out_dir, const fs::path& file) {
   return "";
 }
 
-}  // namespace
+constexpr const char* kWho = "fovea-eval pricelist: ";
+// The setting the headline calls the thesis's default, and the default of --heatmap.
+constexpr const char* kThesisDefault = "nearest_k1_s1_thesis_r1";
 
-int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream& err) {
-  PricelistOptions o = o_in;
-  if (o.quick) o.grid = quick_grid();
-  if (o.out_dir.empty()) {
-    err << "fovea-eval pricelist: --out DIR is required\n";
-    return 2;
+// What is wrong with the options before any work ("" when nothing), the grid's settings into *settings.
+std::string options_problem(const PricelistOptions& o, std::vector<PriceSetting>* settings) {
+  if (o.out_dir.empty()) return "--out DIR is required";
+  if (o.frames < 1 || o.frames > 100) return "--frames must be in 1..100";
+  if (o.taa_frames < 2 || o.taa_frames > 100) return "--taa-frames must be in 2..100";
+  std::string bad;
+  if (!expand_grid(o.grid, settings, &bad)) return "bad grid: " + bad;
+  if (o.reference_spp.empty()) return "--reference-spp must be auto or rays per pixel";
+  if (!render_view::check_render_options(render_options_of(o, nullptr), &bad) ||
+      !check_reference_choice(ReferenceChoice{o.reference_spp, "", ""}, &bad) ||
+      !check_temporal_options(o.temporal, &bad))
+    return bad;
+  if (std::none_of(settings->begin(), settings->end(), is_anchor))
+    return "the full-render baseline must include 1 ray per pixel (the time anchor)";
+  if (!toolkit::check_writable_dir((fs::path(o.out_dir) / "images").string(), &bad)) return "--out: " + bad;
+  if (!o.md_file.empty()) {  // its folder is made, as for --out
+    const fs::path folder = fs::absolute(o.md_file).parent_path();
+    if (!toolkit::check_writable_dir(folder.string(), &bad) || !toolkit::check_writable_file(o.md_file, &bad))
+      return "--md: " + bad;
   }
-  if (o.frames < 1 || o.frames > 100) {
-    err << "fovea-eval pricelist: --frames must be in 1..100\n";
-    return 2;
-  }
-  if (o.taa_frames < 2 || o.taa_frames > 100) {
-    err << "fovea-eval pricelist: --taa-frames must be in 2..100\n";
-    return 2;
-  }
-  std::vector<PriceSetting> settings;
-  if (std::string bad; !expand_grid(o.grid, &settings, &bad)) {
-    err << "fovea-eval pricelist: bad grid: " << bad << "\n";
-    return 2;
-  }
-  render_view::RenderOptions base = render_options_of(o, nullptr);
-  if (std::string bad; !render_view::check_render_options(base, &bad) ||
-                       !check_reference_choice(ReferenceChoice{o.reference_spp, "", ""}, &bad)) {
-    err << "fovea-eval pricelist: " << bad << "\n";
-    return 2;
-  }
-  if (std::string bad; !check_temporal_options(o.temporal, &bad)) {
-    err << "fovea-eval pricelist: " << bad << "\n";
-    return 2;
-  }
-  if (std::none_of(settings.begin(), settings.end(), is_anchor)) {
-    err << "fovea-eval pricelist: the full-render baseline must include 1 ray per pixel (the time anchor)\n";
-    return 2;
-  }
-  const fs::path out_dir(o.out_dir);
-  if (o.cache_dir.empty()) o.cache_dir = (out_dir / "cache").string();
-  std::error_code ec;
-  fs::create_directories(out_dir / "images", ec);
-  if (ec) {
-    err << "fovea-eval pricelist: cannot create " << (out_dir / "images").string() << ": " << ec.message() << "\n";
-    return 1;
-  }
-  const auto t_start = std::chrono::steady_clock::now();
+  return "";
+}
+
+// The scene, its tracer, the view and gaze measured, and its display transform: the whole run's.
+struct PriceScene {
+  std::unique_ptr<engine::Tracer> tracer;
+  std::uint64_t hash = 0;
+  FoveartEyeView view{};
+  glm::vec2 gaze{};
+  foveation::DisplayTransform display;
+};
+
+[[nodiscard]] bool set_up_scene(const PricelistOptions& o, foveation::Executor& executor, PriceScene* s,
+                                std::string* error) {
   engine::LoadResult loaded = engine::load_scene(o.scene);
   if (!loaded.ok()) {
-    err << "fovea-eval pricelist: " << loaded.error << "\n";
-    return 1;
+    *error = loaded.error;
+    return false;
   }
-  std::string error;
-  std::unique_ptr<engine::Tracer> tracer = engine::Tracer::create(std::move(*loaded.scene), {}, &error);
-  if (!tracer) {
-    err << "fovea-eval pricelist: " << error << "\n";
-    return 1;
-  }
-  const std::uint64_t scene_hash = rendered_scene_hash(*tracer);
-  const FoveartEyeView view = render_view::eye_view(base, tracer->scene());
-  const glm::vec2 gaze = o.gaze_px.value_or(glm::vec2(0.5f * float(view.width_px), 0.5f * float(view.height_px)));
-  foveation::Executor executor(static_cast<unsigned>(std::max(0, o.threads)));
-  const std::optional<foveation::DisplayTransform> display = render_view::render_display(base, *tracer, view, executor, &error);
-  if (!display) {
-    err << "fovea-eval pricelist: " << error << "\n";
-    return 1;
-  }
+  s->tracer = engine::Tracer::create(std::move(*loaded.scene), {}, error);
+  if (!s->tracer) return false;
+  s->hash = rendered_scene_hash(*s->tracer);
+  const render_view::RenderOptions base = render_options_of(o, nullptr);
+  s->view = render_view::eye_view(base, s->tracer->scene());
+  s->gaze = o.gaze_px.value_or(glm::vec2(0.5f * float(s->view.width_px), 0.5f * float(s->view.height_px)));
+  const std::optional<foveation::DisplayTransform> display =
+      render_view::render_display(base, *s->tracer, s->view, executor, error);
+  if (!display) return false;
+  s->display = *display;
+  return true;
+}
 
-  // What this output directory measures; a different run must not resume into it.
-  Json run = {{"scene", tracer->scene().source}, {"scene_hash", scene_hash}, {"width", view.width_px},
-              {"height", view.height_px}, {"eye", o.eye}, {"preset", o.preset}, {"gaze", {gaze.x, gaze.y}},
+// What an output directory measures: a different run must not resume into it.
+Json run_json(const PricelistOptions& o, const PriceScene& s) {
+  const FoveartEyeView& v = s.view;
+  Json run = {{"scene", s.tracer->scene().source}, {"scene_hash", s.hash}, {"width", v.width_px},
+              {"height", v.height_px}, {"eye", o.eye}, {"preset", o.preset}, {"gaze", {s.gaze.x, s.gaze.y}},
               {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed},
               {"pixel_filter", foveation::pixel_filter_name(o.pixel_filter)},
               {"temporal", temporal_run_json(o.temporal, o.quick)}};
   if (o.viewer_m || o.look_at_m)
-    run["viewer_pose"] = {view.position_m[0], view.position_m[1], view.position_m[2], view.orientation_xyzw[0],
-                          view.orientation_xyzw[1], view.orientation_xyzw[2], view.orientation_xyzw[3]};
-  if (display->exposure != 1.0f) run["exposure"] = display->exposure;
-  const fs::path run_file = out_dir / "run.json";
-  if (fs::exists(run_file)) {
-    std::ifstream in(run_file);
-    Json old = Json::parse(in, nullptr, false);
-    if (old.is_discarded() || old != run) {
-      err << "fovea-eval pricelist: " << run_file.string()
-          << " describes another run (scene, view, gaze, reference or frames differ, or it is unreadable); "
-             "use another --out or delete it\n";
-      return 1;
-    }
-  } else {
-    std::ofstream(run_file) << run.dump(2) << "\n";
-  }
+    run["viewer_pose"] = {v.position_m[0],        v.position_m[1],        v.position_m[2],       v.orientation_xyzw[0],
+                          v.orientation_xyzw[1], v.orientation_xyzw[2], v.orientation_xyzw[3]};
+  if (s.display.exposure != 1.0f) run["exposure"] = s.display.exposure;
+  return run;
+}
 
-  const metrics::EccentricityMap map = metrics::eccentricity_map(view, gaze);
+// OUT/run.json: written on the first run; a re-run resumes only the same run. False and *error.
+[[nodiscard]] bool claim_out_dir(const Json& run, const fs::path& out_dir, std::string* error) {
+  const fs::path run_file = out_dir / "run.json";
+  if (!fs::exists(run_file)) {
+    std::ofstream f(run_file);
+    f << run.dump(2) << "\n";
+    if (!f) *error = "cannot write " + run_file.string();
+    return static_cast<bool>(f);
+  }
+  std::ifstream in(run_file);
+  const Json old = Json::parse(in, nullptr, false);
+  if (!old.is_discarded() && old == run) return true;
+  *error = run_file.string() +
+           " describes another run (scene, view, gaze, reference or frames differ, or it is unreadable); "
+           "use another --out or delete it";
+  return false;
+}
+
+// The converged reference of the view (reference.hpp), cached under CACHE/reference.
+std::optional<Reference> measure_reference(const PricelistOptions& o, const PriceScene& s,
+                                           foveation::Executor& executor, std::ostream& err, std::string* error) {
   ReferenceOptions ro;
-  if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);
+  if (o.reference_spp != "auto") ro.spp = std::stoi(o.reference_spp);  // checked by check_reference_choice
   ro.baseline_spp = *std::max_element(o.grid.full_rays_per_point.begin(),
                                       o.grid.full_rays_per_point.end());  // the best full render measured
   ro.seed = o.seed;
   ro.pixel_filter = o.pixel_filter;
   ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
-  err << "fovea-eval pricelist: reference (" << o.reference_spp << " rays per pixel) of " << view.width_px << "x"
-      << view.height_px << "...\n";
-  std::optional<Reference> reference = converged_reference(
-      &foveart_engine_trace_rays, tracer.get(), scene_hash, view, gaze, ro, executor,
-      [&](const std::string& m) { err << "fovea-eval pricelist: " << m << "\n"; }, &error);
-  if (!reference) {
-    err << "fovea-eval pricelist: " << error << "\n";
-    return 1;
-  }
-  const foveation::ImageRgb reference_display = metrics::display_encode(reference->image, display->exposure);
-  if (!fs::exists(out_dir / "images" / "reference.pfm")) {
-    if (!write_pfm((out_dir / "images" / "reference.pfm").string(), reference_display, &error)) {
-      err << "fovea-eval pricelist: " << error << "\n";
-      return 1;
-    }
-    if (!toolkit::write_png((out_dir / "images" / "reference.png").string(), reference_display,
-                            toolkit::PngValues::display, &error)) {
-      err << "fovea-eval pricelist: " << error << "\n";
-      return 1;
-    }
-    foveation::ImageRgb ecc(map.width_px, map.height_px);  // eccentricity (deg), ring index, pixels per degree
-    for (std::size_t i = 0; i < map.ring.size(); ++i) {
-      ecc.rgb[i * 3] = map.eccentricity_deg[i];
-      ecc.rgb[i * 3 + 1] = float(map.ring[i]);
-      ecc.rgb[i * 3 + 2] = map.pixels_per_deg[i];
-    }
-    if (!write_pfm((out_dir / "images" / "eccentricity.pfm").string(), ecc, &error)) {
-      err << "fovea-eval pricelist: " << error << "\n";
-      return 1;
-    }
-  }
+  err << kWho << "reference (" << o.reference_spp << " rays per pixel) of " << s.view.width_px << "x"
+      << s.view.height_px << "...\n";
+  return converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, s.gaze, ro, executor,
+                             [&](const std::string& m) { err << kWho << m << "\n"; }, error);
+}
 
-  // Resume: the settings already in results.jsonl are done.
+// OUT/images: the reference in display values (PFM and PNG) and the eccentricity map (PFM: eccentricity
+// in degrees, ring index, pixels per degree), once. False and *error naming the file.
+[[nodiscard]] bool write_reference_images(const fs::path& out_dir, const foveation::ImageRgb& reference_display,
+                                          const metrics::EccentricityMap& map, std::string* error) {
+  const fs::path images = out_dir / "images";
+  if (fs::exists(images / "reference.pfm")) return true;
+  foveation::ImageRgb ecc(map.width_px, map.height_px);
+  for (std::size_t i = 0; i < map.ring.size(); ++i) {
+    ecc.rgb[i * 3] = map.eccentricity_deg[i];
+    ecc.rgb[i * 3 + 1] = float(map.ring[i]);
+    ecc.rgb[i * 3 + 2] = map.pixels_per_deg[i];
+  }
+  return write_pfm((images / "reference.pfm").string(), reference_display, error) &&
+         toolkit::write_png((images / "reference.png").string(), reference_display, toolkit::PngValues::display,
+                            error) &&
+         write_pfm((images / "eccentricity.pfm").string(), ecc, error);
+}
+
+// Measures every setting not yet in OUT/results.jsonl, in groups in grid order (the full renders,
+// then one per set of tables), into *done_results too. False with the problem on c.err.
+[[nodiscard]] bool measure_settings(Context& c, const std::vector<PriceSetting>& settings, const fs::path& out_dir,
+                                    std::chrono::steady_clock::time_point t_start,
+                                    std::map<std::string, Json>* done_results) {
   const fs::path results_file = out_dir / "results.jsonl";
-  std::map<std::string, Json> done_results = read_results_jsonl(results_file, err);
+  *done_results = read_results_jsonl(results_file, c.err);
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
-    err << "fovea-eval pricelist: cannot write " << results_file.string() << "\n";
-    return 1;
+    c.err << kWho << "cannot write " << results_file.string() << "\n";
+    return false;
   }
-  const std::string thesis_default = "nearest_k1_s1_thesis_r1";
-  const std::string heatmap_id = o.heatmap.empty() ? thesis_default : o.heatmap;
-
-  // Groups in grid order: the full renders, then one per set of tables.
   std::vector<std::string> group_order;
   std::map<std::string, std::vector<PriceSetting>> groups;
   double total_frames = 0.0;
   for (const PriceSetting& s : settings) {
-    if (done_results.count(s.id())) continue;
+    if (done_results->count(s.id())) continue;
     if (!groups.count(s.table_id())) group_order.push_back(s.table_id());
     groups[s.table_id()].push_back(s);
-    total_frames += s.taa ? o.taa_frames : o.frames;
+    total_frames += s.taa ? c.o.taa_frames : c.o.frames;
   }
-  err << "fovea-eval pricelist: " << settings.size() << " settings in the grid, " << done_results.size()
-      << " already measured in " << results_file.string() << "\n";
-  Context c{o, *tracer, view, gaze, executor, map, reference_display, err, display->exposure};
-  {
-    toolkit::Progress progress("pricelist");
-    double done = 0.0;
-    for (std::size_t g = 0; g < group_order.size(); ++g) {
-      if (!run_group(c, groups[group_order[g]], out_dir, results, heatmap_id, progress, &done, total_frames,
-                     &done_results))
-        return 1;
-      err << "fovea-eval pricelist: [" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
-          << groups[group_order[g]].size() << " settings, "
+  c.err << kWho << settings.size() << " settings in the grid, " << done_results->size() << " already measured in "
+        << results_file.string() << "\n";
+  const std::string heatmap_id = c.o.heatmap.empty() ? kThesisDefault : c.o.heatmap;
+  toolkit::Progress progress("pricelist");
+  double done = 0.0;
+  for (std::size_t g = 0; g < group_order.size(); ++g) {
+    const std::vector<PriceSetting>& group = groups[group_order[g]];
+    if (!run_group(c, group, out_dir, results, heatmap_id, progress, &done, total_frames, done_results)) return false;
+    c.err << kWho << "[" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
+          << group.size() << " settings, "
           << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
-    }
   }
-  Json temporal;
-  if (o.temporal.motion != "none") {
-    TemporalContext tc{o.temporal, o.quick, o.scene, o.preset, o.eye, o.seed, o.pixel_filter, o.cache_dir, out_dir};
-    std::optional<Json> t = run_pricelist_temporal(tc, settings, *tracer, scene_hash, executor, err);
-    if (!t) return 1;
-    temporal = std::move(*t);
-  }
+  return true;
+}
+
+// The reference as the report reads it: its count, convergence, cache and residual PSNR per ring.
+Json reference_json(const Reference& r, const metrics::EccentricityMap& map) {
+  Json j = {{"spp", r.spp}, {"spp_tried", r.tried_spp}, {"converged", r.converged},
+            {"db_per_doubling", r.db_per_doubling}, {"from_cache", r.from_cache},
+            {"cache_file", r.cache_file}, {"render_ms", r.render_ms}, {"image", "images/reference.pfm"}};
+  Json residual = Json::array();
+  for (double mse : r.residual_mse(map)) residual.push_back(metrics::number_or_null_json(metrics::psnr_of_mse(mse)));
+  j["residual_psnr"] = residual;
+  return j;
+}
+
+// The price list's files from the measured settings (in grid order), --md's copy, and the headline on `out`.
+[[nodiscard]] bool write_outputs(const PricelistOptions& o, const fs::path& out_dir, const PricelistContext& pc,
+                                 const std::vector<PriceSetting>& settings, std::map<std::string, Json>& done_results,
+                                 std::ostream& out, std::string* error) {
   std::vector<Json> ordered;
   for (const PriceSetting& s : settings)
     if (done_results.count(s.id())) ordered.push_back(done_results[s.id()]);
-  Json ref_json = {{"spp", reference->spp}, {"spp_tried", reference->tried_spp}, {"converged", reference->converged},
-                   {"db_per_doubling", reference->db_per_doubling}, {"from_cache", reference->from_cache},
-                   {"cache_file", reference->cache_file}, {"render_ms", reference->render_ms},
-                   {"image", "images/reference.pfm"}};
-  Json residual = Json::array();
-  for (double mse : reference->residual_mse(map)) residual.push_back(metrics::number_or_null_json(metrics::psnr_of_mse(mse)));
-  ref_json["residual_psnr"] = residual;
+  std::string headline;
+  if (!write_pricelist(out_dir, pc, ordered, &headline, error)) return false;
+  if (!o.md_file.empty()) {
+    if (const std::string e = write_md_copy(out_dir, o.md_file); !e.empty()) {
+      *error = "--md: " + e;
+      return false;
+    }
+  }
+  out << headline << "\n";
+  return true;
+}
+
+}  // namespace
+
+int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream& err) {
+  PricelistOptions o = o_in;
+  if (o.quick) o.grid = quick_grid();
+  std::vector<PriceSetting> settings;
+  if (const std::string bad = options_problem(o, &settings); !bad.empty()) {
+    err << kWho << bad << "\n";
+    return 2;
+  }
+  const auto fail = [&](const std::string& message) {
+    if (!message.empty()) err << kWho << message << "\n";
+    return 1;
+  };
+  const fs::path out_dir(o.out_dir);
+  if (o.cache_dir.empty()) o.cache_dir = (out_dir / "cache").string();
+  const auto t_start = std::chrono::steady_clock::now();
+  foveation::Executor executor(static_cast<unsigned>(std::max(0, o.threads)));
+  PriceScene s;
+  std::string error;
+  if (!set_up_scene(o, executor, &s, &error)) return fail(error);
+  const Json run = run_json(o, s);
+  if (!claim_out_dir(run, out_dir, &error)) return fail(error);
+  const metrics::EccentricityMap map = metrics::eccentricity_map(s.view, s.gaze);
+  const std::optional<Reference> reference = measure_reference(o, s, executor, err, &error);
+  if (!reference) return fail(error);
+  const foveation::ImageRgb reference_display = metrics::display_encode(reference->image, s.display.exposure);
+  if (!write_reference_images(out_dir, reference_display, map, &error)) return fail(error);
+  Context c{o, *s.tracer, s.view, s.gaze, executor, map, reference_display, err, s.display.exposure};
+  std::map<std::string, Json> done_results;
+  if (!measure_settings(c, settings, out_dir, t_start, &done_results)) return fail("");
   PricelistContext pc;
+  if (o.temporal.motion != "none") {
+    TemporalContext tc{o.temporal, o.quick, o.scene, o.preset, o.eye, o.seed, o.pixel_filter, o.cache_dir, out_dir};
+    std::optional<Json> t = run_pricelist_temporal(tc, settings, *s.tracer, s.hash, executor, err);
+    if (!t) return fail("");
+    pc.temporal = std::move(*t);
+  }
   pc.run = run;
   pc.run["machine"] = toolkit::machine_description();
   pc.run["threads"] = executor.thread_count();
   pc.run["quick"] = o.quick;
   pc.run["run_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  pc.reference = ref_json;
-  pc.thesis_default = thesis_default;
-  pc.heatmap = heatmap_id;
-  pc.temporal = temporal;
+  pc.reference = reference_json(*reference, map);
+  pc.thesis_default = kThesisDefault;
+  pc.heatmap = o.heatmap.empty() ? kThesisDefault : o.heatmap;
   pc.command = !o.command.empty()                 ? o.command
                : !toolkit::command_line().empty() ? toolkit::command_line()
                                                   : "fovea-eval pricelist";
-  std::string headline;
-  if (std::string e = write_pricelist(out_dir, pc, ordered, &headline); !e.empty()) {
-    err << "fovea-eval pricelist: " << e << "\n";
-    return 1;
-  }
-  if (!o.md_file.empty()) {
-    if (std::string e = write_md_copy(out_dir, o.md_file); !e.empty()) {
-      err << "fovea-eval pricelist: --md: " << e << "\n";
-      return 1;
-    }
-  }
-  out << headline << "\n";
+  if (!write_outputs(o, out_dir, pc, settings, done_results, out, &error)) return fail(error);
   return 0;
 }
 
