@@ -9,6 +9,7 @@
 
 
 #include "content_speedup.hpp"
+#include <render_view/display_options.hpp>
 #include <render_view/render_cli.hpp>
 #include <metrics/comparison_json.hpp>
 
@@ -460,6 +461,9 @@ void register_render(CLI::App& app) {
   cmd->add_option("--pose", *pose,
                   "Where the viewer stands, X,Y,Z (the head; the eye 32 mm aside), or an exact eye pose "
                   "px,py,pz,qx,qy,qz,qw (metres, unit quaternion; scene space)");
+  // Accuracy against a converged reference is the lab's: these options say so instead of "not expected".
+  for (const char* lab : {"--reference-spp", "--reference", "--reference-cache"})
+    render_view::add_renamed_option(cmd, lab, std::string("fovea-eval accuracy ") + lab);
   cmd->add_option("--engine", opts->engine,
                   "Who traces the rays: cpu (the Embree sample engine) or gpu (the Vulkan compute sample engine "
                   "behind the same callback, a hardware GPU if any else lavapipe; each batch is a device round "

@@ -90,7 +90,7 @@ void add_renamed_option(CLI::App* cmd, const std::string& old_name, const std::s
   cmd->add_option_function<std::string>(
          old_name,
          [old_name, replacement](const std::string&) {
-           throw CLI::ValidationError(old_name, "renamed: give " + replacement);
+           throw CLI::ValidationError(old_name, "no longer an option here: give " + replacement);
          },
          "")
       ->group("");  // hidden from --help

@@ -38,9 +38,10 @@ struct FovDeg {
 // What is wrong with a field of view, "" when nothing (the checks parse_fov_deg applies).
 std::string fov_deg_problem(const FovDeg& fov);
 
-// An option renamed: `old_name` stays, hidden, and giving it is an error naming
-// its replacement ("--width: renamed: give --size WxH"), so an old command line
-// fails clearly instead of meaning something else or nothing.
+// An option renamed or moved: `old_name` stays, hidden, and giving it is an
+// error naming its replacement ("--width: no longer an option here: give --size
+// WxH"; "--reference-spp: ... give fovea-eval accuracy --reference-spp"), so an
+// old command line fails clearly instead of meaning something else or nothing.
 void add_renamed_option(CLI::App* cmd, const std::string& old_name, const std::string& replacement);
 
 // `fovea pointset`'s display. An unset option takes the preset's value; a given
