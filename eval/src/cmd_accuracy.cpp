@@ -33,7 +33,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-constexpr const char* kWho = "fovea-eval accuracy: ";
+constexpr const char* kAccuracyWho = "fovea-eval accuracy: ";
 
 std::string options_problem(const AccuracyOptions& o) {
   std::string bad;
@@ -63,7 +63,7 @@ struct Still {
     *error = loaded.error;
     return false;
   }
-  for (const std::string& w : loaded.scene->warnings) err << kWho << "warning: " << w << "\n";
+  for (const std::string& w : loaded.scene->warnings) err << kAccuracyWho << "warning: " << w << "\n";
   s->tracer = engine::Tracer::create(std::move(*loaded.scene), render_view::render_tracer_options(o.render), error);
   if (!s->tracer) return false;
   s->view = render_view::eye_view(o.render, s->tracer->scene());
@@ -103,7 +103,7 @@ struct Images {
   std::optional<std::filesystem::path> cache;
   if (!r.cache_dir.empty()) cache = std::filesystem::path(r.cache_dir);
   auto tables = render_view::load_foveated_tables(
-      r, s.view, cache, executor, [&](const std::string& m) { err << kWho << m << "\n"; }, error);
+      r, s.view, cache, executor, [&](const std::string& m) { err << kAccuracyWho << m << "\n"; }, error);
   if (!tables) return false;
   foveation::FoveatedView view(
       std::move(tables), taa_view_settings(o.taa, r.rays_per_point, r.seed, r.pixel_filter, o.taa_mean_while_young));
@@ -148,7 +148,7 @@ struct Images {
   ro.cache_dir = reference_cache_dir(o.reference, o.render.cache_dir);
   std::optional<Reference> ref =
       converged_reference(&foveart_engine_trace_rays, s.tracer.get(), rendered_scene_hash(*s.tracer), s.view, s.gaze,
-                          ro, executor, [&](const std::string& m) { err << kWho << m << "\n"; }, error);
+                          ro, executor, [&](const std::string& m) { err << kAccuracyWho << m << "\n"; }, error);
   if (!ref) return false;
   Json residual = Json::array();
   for (double mse : ref->residual_mse(map))
@@ -214,7 +214,7 @@ void print_text(const Json& report, std::ostream& out) {
 
 int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err) {
   if (const std::string bad = options_problem(o); !bad.empty()) {
-    err << kWho << bad << "\n";
+    err << kAccuracyWho << bad << "\n";
     return 2;
   }
   foveation::Executor executor(static_cast<unsigned>(o.render.threads));
@@ -222,14 +222,14 @@ int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err)
   Images images;
   std::string error;
   if (!set_up(o, executor, err, &s, &error) || !render_images(o, s, executor, err, &images, &error)) {
-    err << kWho << error << "\n";
+    err << kAccuracyWho << error << "\n";
     return 1;
   }
   const metrics::EccentricityMap map = metrics::eccentricity_map(s.view, s.gaze);
   foveation::ImageRgb reference;
   Json about;
   if (!reference_of(o, s, map, executor, err, &reference, &about, &error)) {
-    err << kWho << error << "\n";
+    err << kAccuracyWho << error << "\n";
     return 1;
   }
   Json report = report_head(o, s);
@@ -244,7 +244,7 @@ int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err)
   if (!o.render.out_prefix.empty()) {
     Json files;
     if (!write_images(o, s, images, &files, &error)) {
-      err << kWho << error << "\n";
+      err << kAccuracyWho << error << "\n";
       return 1;
     }
     report["images"] = files;

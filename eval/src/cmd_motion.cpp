@@ -168,7 +168,7 @@ void print_text(const Json& report, std::ostream& out) {
 
 namespace {
 
-constexpr const char* kWho = "fovea-eval motion: ";
+constexpr const char* kMotionWho = "fovea-eval motion: ";
 
 std::string options_problem(const MotionOptions& m, std::vector<std::string>* taa_modes) {
   const render_view::RenderOptions& o = m.render;
@@ -201,7 +201,7 @@ struct MotionScene {
     *error = loaded.error;
     return false;
   }
-  for (const std::string& w : loaded.scene->warnings) err << kWho << "warning: " << w << "\n";
+  for (const std::string& w : loaded.scene->warnings) err << kMotionWho << "warning: " << w << "\n";
   s->tracer = engine::Tracer::create(std::move(*loaded.scene), render_view::render_tracer_options(o), error);
   if (!s->tracer) return false;
   s->hash = rendered_scene_hash(*s->tracer);
@@ -227,7 +227,7 @@ struct MotionScene {
   std::optional<std::filesystem::path> cache;
   if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
   const std::shared_ptr<const foveation::ViewTables> tables = render_view::load_foveated_tables(
-      o, s.eye_at_rest, cache, executor, [&](const std::string& msg) { err << kWho << msg << "\n"; }, error);
+      o, s.eye_at_rest, cache, executor, [&](const std::string& msg) { err << kMotionWho << msg << "\n"; }, error);
   if (!tables) return false;
   PriceSetting setting;
   setting.interpolation = o.interpolation;
@@ -263,13 +263,13 @@ SequenceReferenceOptions sequence_reference(const MotionOptions& m) {
 // reference sequence of many rays per pixel renders), and with --out every track's frames as PNGs.
 SequenceHooks sequence_hooks(const MotionOptions& m, std::ostream& err, toolkit::Progress& progress, Json* files) {
   SequenceHooks hooks;
-  hooks.log = [&err](const std::string& msg) { err << kWho << msg << "\n"; };
+  hooks.log = [&err](const std::string& msg) { err << kMotionWho << msg << "\n"; };
   auto last_line = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
   hooks.frame_done = [&err, &progress, last_line](int done, int total) {
     progress.update(double(done) / double(total));
     const auto now = std::chrono::steady_clock::now();
     if (done % 10 == 0 || done == total || now - *last_line >= std::chrono::seconds(30)) {
-      err << kWho << "frame " << done << "/" << total << "\n";
+      err << kMotionWho << "frame " << done << "/" << total << "\n";
       *last_line = now;
     }
   };
@@ -355,7 +355,7 @@ int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
   std::vector<std::string> taa_modes;
   std::string error;
   if (std::string bad = options_problem(m, &taa_modes); !bad.empty()) {
-    err << kWho << bad << "\n";
+    err << kMotionWho << bad << "\n";
     return 2;
   }
   const std::optional<motion::ScriptedMotion> script = load_motion(m.motion, &error);
@@ -364,14 +364,14 @@ int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
   window.fps = m.fps.value_or(70.0);
   window.frames = m.render.frames;
   if (!script || !check_motion_window(*script, window, &error)) {
-    err << kWho << error << "\n";
+    err << kMotionWho << error << "\n";
     return 2;
   }
   MotionScene s;
   foveation::Executor executor(static_cast<unsigned>(m.render.threads));
   std::vector<SequenceTrack> tracks;
   if (!set_up(m, *script, window, err, &s, &error) || !make_tracks(m, taa_modes, s, executor, err, &tracks, &error)) {
-    err << kWho << error << "\n";
+    err << kMotionWho << error << "\n";
     return 1;
   }
   toolkit::Progress progress("motion");
@@ -379,12 +379,12 @@ int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
   SequenceRun run;
   if (!run_sequence(*s.tracer, s.hash, s.frames, sequence_reference(m), tracks, executor,
                     sequence_hooks(m, err, progress, &files), &run, &error)) {
-    err << kWho << error << "\n";
+    err << kMotionWho << error << "\n";
     return 1;
   }
   Json report = report_json(m, *script, window, s, tracks, run, executor.thread_count());
   if (report.contains("sanity"))
-    if (const std::string w = floor_warning(report["sanity"]); !w.empty()) err << kWho << w << "\n";
+    if (const std::string w = floor_warning(report["sanity"]); !w.empty()) err << kMotionWho << w << "\n";
   if (!m.render.out_prefix.empty()) report["images"] = files;
   if (m.render.json)
     out << report.dump(2) << "\n";

@@ -360,7 +360,7 @@ std::string write_md_copy(const fs::path& out_dir, const fs::path& file) {
   return "";
 }
 
-constexpr const char* kWho = "fovea-eval pricelist: ";
+constexpr const char* kPricelistWho = "fovea-eval pricelist: ";
 // The setting the headline calls the thesis's default, and the default of --heatmap.
 constexpr const char* kThesisDefault = "nearest_k1_s1_thesis_r1";
 
@@ -459,10 +459,10 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
   ro.seed = o.seed;
   ro.pixel_filter = o.pixel_filter;
   ro.cache_dir = (fs::path(o.cache_dir) / "reference").string();
-  err << kWho << "reference (" << o.reference_spp << " rays per pixel) of " << s.view.width_px << "x"
+  err << kPricelistWho << "reference (" << o.reference_spp << " rays per pixel) of " << s.view.width_px << "x"
       << s.view.height_px << "...\n";
   return converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, s.gaze, ro, executor,
-                             [&](const std::string& m) { err << kWho << m << "\n"; }, error);
+                             [&](const std::string& m) { err << kPricelistWho << m << "\n"; }, error);
 }
 
 // OUT/images: the reference in display values (PFM and PNG) and the eccentricity map (PFM: eccentricity
@@ -492,7 +492,7 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
   *done_results = read_results_jsonl(results_file, c.err);
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
-    c.err << kWho << "cannot write " << results_file.string() << "\n";
+    c.err << kPricelistWho << "cannot write " << results_file.string() << "\n";
     return false;
   }
   std::vector<std::string> group_order;
@@ -504,7 +504,7 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
     groups[s.table_id()].push_back(s);
     total_frames += s.taa ? c.o.taa_frames : c.o.frames;
   }
-  c.err << kWho << settings.size() << " settings in the grid, " << done_results->size() << " already measured in "
+  c.err << kPricelistWho << settings.size() << " settings in the grid, " << done_results->size() << " already measured in "
         << results_file.string() << "\n";
   const std::string heatmap_id = c.o.heatmap.empty() ? kThesisDefault : c.o.heatmap;
   toolkit::Progress progress("pricelist");
@@ -512,7 +512,7 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
   for (std::size_t g = 0; g < group_order.size(); ++g) {
     const std::vector<PriceSetting>& group = groups[group_order[g]];
     if (!run_group(c, group, out_dir, results, heatmap_id, progress, &done, total_frames, done_results)) return false;
-    c.err << kWho << "[" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
+    c.err << kPricelistWho << "[" << g + 1 << "/" << group_order.size() << "] " << group_order[g] << " measured ("
           << group.size() << " settings, "
           << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
   }
@@ -556,11 +556,11 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   if (o.quick) o.grid = quick_grid();
   std::vector<PriceSetting> settings;
   if (const std::string bad = options_problem(o, &settings); !bad.empty()) {
-    err << kWho << bad << "\n";
+    err << kPricelistWho << bad << "\n";
     return 2;
   }
   const auto fail = [&](const std::string& message) {
-    if (!message.empty()) err << kWho << message << "\n";
+    if (!message.empty()) err << kPricelistWho << message << "\n";
     return 1;
   };
   const fs::path out_dir(o.out_dir);

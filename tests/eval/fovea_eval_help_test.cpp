@@ -17,14 +17,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
+struct HelpRun {
   int exit_code = -1;
   std::string output;  // stdout and stderr
 };
 
-ToolRun run_fovea_eval(const std::string& args) {
+HelpRun run_fovea_eval(const std::string& args) {
   const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea-eval";
-  ToolRun r;
+  HelpRun r;
   if (!fs::exists(fovea)) {
     r.output = fovea.string() + " is missing: build the fovea-eval target";
     return r;
@@ -40,7 +40,7 @@ ToolRun run_fovea_eval(const std::string& args) {
 }
 
 // The names under "Subcommands:" in CLI11's help.
-std::set<std::string> subcommands(const std::string& help) {
+std::set<std::string> help_subcommands(const std::string& help) {
   std::set<std::string> names;
   std::istringstream in(help);
   bool listing = false;
@@ -60,7 +60,7 @@ std::set<std::string> subcommands(const std::string& help) {
 }  // namespace
 
 TEST(FoveaEvalHelp, ListsTheLabsCommands) {
-  const ToolRun r = run_fovea_eval("--help");
+  const HelpRun r = run_fovea_eval("--help");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(subcommands(r.output), (std::set<std::string>{"accuracy", "motion", "pricelist", "bench-md"})) << r.output;
+  EXPECT_EQ(help_subcommands(r.output), (std::set<std::string>{"accuracy", "motion", "pricelist", "bench-md"})) << r.output;
 }

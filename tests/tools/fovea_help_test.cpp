@@ -17,14 +17,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ToolRun {
+struct HelpRun {
   int exit_code = -1;
   std::string output;  // stdout and stderr
 };
 
-ToolRun run_fovea(const std::string& args) {
+HelpRun run_fovea_for_help(const std::string& args) {
   const fs::path fovea = fs::read_symlink("/proc/self/exe").parent_path() / "fovea";
-  ToolRun r;
+  HelpRun r;
   if (!fs::exists(fovea)) {
     r.output = fovea.string() + " is missing: build the fovea target";
     return r;
@@ -40,7 +40,7 @@ ToolRun run_fovea(const std::string& args) {
 }
 
 // The names under "Subcommands:" in CLI11's help.
-std::set<std::string> subcommands(const std::string& help) {
+std::set<std::string> help_subcommands(const std::string& help) {
   std::set<std::string> names;
   std::istringstream in(help);
   bool listing = false;
@@ -60,15 +60,15 @@ std::set<std::string> subcommands(const std::string& help) {
 }  // namespace
 
 TEST(FoveaHelp, ListsExactlyTheFourProductCommands) {
-  const ToolRun r = run_fovea("--help");
+  const HelpRun r = run_fovea_for_help("--help");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(subcommands(r.output), (std::set<std::string>{"pointset", "interpolate", "reconstruct", "render"}))
+  EXPECT_EQ(help_subcommands(r.output), (std::set<std::string>{"pointset", "interpolate", "reconstruct", "render"}))
       << r.output;
 }
 
 TEST(FoveaHelp, TheLabsCommandsAreNotTheProducts) {
   for (const char* lab : {"pricelist", "accuracy", "motion", "bench-md"}) {
-    const ToolRun r = run_fovea(lab);
+    const HelpRun r = run_fovea_for_help(lab);
     EXPECT_NE(r.exit_code, 0) << lab << ": " << r.output;
     EXPECT_NE(r.output.find(lab), std::string::npos) << "the message names it: " << r.output;
   }

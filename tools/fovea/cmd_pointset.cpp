@@ -37,7 +37,7 @@ struct PointsetOptions {
   std::string curves_dir;
 };
 
-constexpr const char* kWho = "fovea pointset: ";
+constexpr const char* kPointsetWho = "fovea pointset: ";
 
 // "X,Y" in pixels, empty: the centre; false and *error quoting the text.
 [[nodiscard]] bool parse_gaze(const std::string& text, int w, int h, glm::vec2* gaze, std::string* error) {
@@ -227,7 +227,7 @@ fv::FoveationTables build_tables(const PointsetOptions& o, const fv::DisplayMode
   toolkit::Progress progress("fovea pointset: building point set and neighbour table");
   fv::Executor executor;  // all cores
   return fv::load_or_build_tables(cache, key, executor, [&](double f) { progress.update(f); },
-                                  [&](const std::string& msg) { err << kWho << msg << "\n"; });
+                                  [&](const std::string& msg) { err << kPointsetWho << msg << "\n"; });
 }
 
 // The points on screen at a centred gaze, at the corner (with and without the margin) and at the gaze asked for.
@@ -331,25 +331,25 @@ int run_pointset(const PointsetOptions& o, std::ostream& out, std::ostream& err)
   std::string error;
   const std::optional<fv::DisplayModel> display = checked_display(o, &gaze, &error);
   if (!display) {
-    err << kWho << error << "\n";
+    err << kPointsetWho << error << "\n";
     return 2;
   }
   fv::FoveationTables tables;
   try {
     tables = build_tables(o, *display, err);
   } catch (const std::exception& e) {  // the cache or the build: what failed, named by the library
-    err << kWho << e.what() << "\n";
+    err << kPointsetWho << e.what() << "\n";
     return 1;
   }
   const Visible v = visible_points(tables, *display, gaze);
   if (v.at_gaze.clamped) {
-    err << kWho << "gaze (" << gaze.x << ", " << gaze.y << ") is off-screen; clamped to (" << v.at_gaze.gaze_px.x
+    err << kPointsetWho << "gaze (" << gaze.x << ", " << gaze.y << ") is off-screen; clamped to (" << v.at_gaze.gaze_px.x
         << ", " << v.at_gaze.gaze_px.y << ")\n";
   }
   nlohmann::json j = report_json(o, *display, tables, v);
   if ((!o.png.empty() && !write_points_png(o.png, v.gaze, display->width_px, display->height_px, &error)) ||
       (!o.curves_dir.empty() && !write_curves(o.curves_dir, *display, tables.points, &j["points_vs_scale"], &error))) {
-    err << kWho << error << "\n";
+    err << kPointsetWho << error << "\n";
     return 1;
   }
   if (o.json)

@@ -74,7 +74,7 @@ std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a, std:
 
 namespace {
 
-constexpr const char* kWho = "fovea reconstruct: ";
+constexpr const char* kReconstructWho = "fovea reconstruct: ";
 
 // The checks before any work: the options and the output file. False and *error.
 [[nodiscard]] bool check_args(const ReconstructArgs& a, std::string* error) {
@@ -122,7 +122,7 @@ std::optional<fv::DisplayModel> image_display(const ReconstructArgs& a, int w, i
 std::shared_ptr<const fv::ViewTables> load_tables(const ReconstructArgs& a, const fv::DisplayModel& display,
                                                   fv::Executor& executor, std::ostream& err) {
   auto log = [&](const std::string& m) {
-    if (!a.json) err << kWho << m << "\n";
+    if (!a.json) err << kReconstructWho << m << "\n";
   };
   std::string no_cache_why;
   const auto cache = cache_dir_of(a, &no_cache_why);
@@ -216,7 +216,7 @@ nlohmann::json report_json(const ReconstructArgs& a, const fv::ViewTables& table
 // The whole pipeline after the checks; returns the exit code.
 int reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
   const auto fail = [&](const std::string& msg) {
-    err << kWho << msg << "\n";
+    err << kReconstructWho << msg << "\n";
     return 1;
   };
   fv::ImageRgb image;  // the input, as display values in [0, 1]
@@ -263,13 +263,13 @@ int reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) 
 
 int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
   if (std::string bad; !check_args(a, &bad)) {
-    err << kWho << bad << "\n";
+    err << kReconstructWho << bad << "\n";
     return 2;
   }
   try {
     return reconstruct(a, out, err);
   } catch (const std::exception& e) {  // the tables' cache or build: what failed, named by the library
-    err << kWho << e.what() << "\n";
+    err << kReconstructWho << e.what() << "\n";
     return 1;
   }
 }

@@ -114,7 +114,7 @@ struct RenderEngine {
   engine::RayCounts counts() const { return gpu ? gpu->counts() : cpu->counts(); }
 };
 
-constexpr const char* kWho = "fovea render: ";
+constexpr const char* kRenderWho = "fovea render: ";
 
 // The engine's failing status as a message, with the GPU engine's own words when it has them.
 std::string engine_failure(const RenderEngine& eng, std::int32_t status, const std::string& what) {
@@ -148,7 +148,7 @@ std::string engine_failure(const RenderEngine& eng, std::int32_t status, const s
     return false;
   }
   (*report)["load_ms"] = ms_since(t0);
-  for (const std::string& w : loaded.scene->warnings) err << kWho << "warning: " << w << "\n";
+  for (const std::string& w : loaded.scene->warnings) err << kRenderWho << "warning: " << w << "\n";
   t0 = std::chrono::steady_clock::now();
   const engine::TracerOptions cpu_options = render_view::render_tracer_options(o);
   if (o.engine == "gpu") {
@@ -199,7 +199,7 @@ struct Foveated {
   if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
   const auto t0 = std::chrono::steady_clock::now();
   auto tables = render_view::load_foveated_tables(
-      o, view, cache, executor, [&](const std::string& m) { err << kWho << m << "\n"; }, error);
+      o, view, cache, executor, [&](const std::string& m) { err << kRenderWho << m << "\n"; }, error);
   if (!tables) return false;
   f->precompute_ms = ms_since(t0);
   f->view = std::make_unique<foveation::FoveatedView>(std::move(tables), render_view::foveated_view_settings(o));
@@ -401,11 +401,11 @@ void print_text(const render_view::RenderOptions& o, const RenderEngine& eng, co
 int run_render(const render_view::RenderOptions& o, std::ostream& out, std::ostream& err) {
   std::string error;
   if (!check_options(o, &error)) {
-    err << kWho << error << "\n";
+    err << kRenderWho << error << "\n";
     return 2;
   }
   const auto fail = [&](const std::string& message) {
-    err << kWho << message << "\n";
+    err << kRenderWho << message << "\n";
     return 1;
   };
   Json report;
