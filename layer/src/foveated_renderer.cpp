@@ -400,15 +400,15 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
   if (eye.gpu->stage_times(&times)) {
     reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
     reconstruction.gpu_gather_ms[e] = times.gather_ms;
-    reconstruction.gpu_taa_ms[e] = times.taa_ms;
+    reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
     reconstruction.gpu_encode_ms[e] = times.encode_ms;
     if (device != nullptr) {  // the trace ran on the device: its GPU time is the frame's trace
       stats->traceMs[e] = times.scatter_ms;
-      stats->interpolateMs[e] = times.gather_ms;
+      stats->reconstructMs[e] = times.gather_ms;
     } else {
-      stats->interpolateMs[e] = times.scatter_ms + times.gather_ms;
+      stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
     }
-    stats->taaMs[e] = times.taa_ms;
+    stats->temporalMs[e] = times.temporal_ms;
   }
   return true;
 }
@@ -533,11 +533,11 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   stats->raysPerEye[e] = static_cast<uint32_t>(std::min<uint64_t>(result.rays, UINT32_MAX));
   stats->selectMs[e] = static_cast<float>(result.select_ms);
   stats->traceMs[e] = static_cast<float>(result.trace_ms);
-  stats->interpolateMs[e] = static_cast<float>(result.reconstruct_ms);
-  stats->taaMs[e] = static_cast<float>(result.taa_ms);
+  stats->reconstructMs[e] = static_cast<float>(result.reconstruct_ms);
+  stats->temporalMs[e] = static_cast<float>(result.temporal_ms);
   stats->callbackFailures += result.failed_batches;
-  reconstruction.taa_reset_last_frame[e] = result.taa_reset;
-  reconstruction.taa_resets += result.taa_reset ? 1 : 0;
+  reconstruction.temporal_reset_last_frame[e] = result.temporal_reset;
+  reconstruction.temporal_resets += result.temporal_reset ? 1 : 0;
   stats->invalidColours += result.invalid_colours;
   if (!result.ok()) {
     stats->fallbackFlags |= fallback_flag(result.failure);
@@ -592,7 +592,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     }
     reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
     reconstruction.temporal = eye.temporal;
-    for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_taa_ms,
+    for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_temporal_ms,
                      reconstruction.gpu_encode_ms}) {
       t[e] = 0.0f;
     }
@@ -660,11 +660,11 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     for (int e = 0; e < 2; ++e) {
       rec->gpuScatterMs[e] = reconstruction_.gpu_scatter_ms[e];
       rec->gpuGatherMs[e] = reconstruction_.gpu_gather_ms[e];
-      rec->gpuTaaMs[e] = reconstruction_.gpu_taa_ms[e];
+      rec->gpuTemporalMs[e] = reconstruction_.gpu_temporal_ms[e];
       rec->gpuEncodeMs[e] = reconstruction_.gpu_encode_ms[e];
-      rec->taaResetLastFrame[e] = reconstruction_.taa_reset_last_frame[e] ? XR_TRUE : XR_FALSE;
+      rec->temporalResetLastFrame[e] = reconstruction_.temporal_reset_last_frame[e] ? XR_TRUE : XR_FALSE;
     }
-    rec->taaResets = reconstruction_.taa_resets;
+    rec->temporalResets = reconstruction_.temporal_resets;
     rec->gazeSaccadeLastFrame = reconstruction_.gaze_saccade_last_frame ? XR_TRUE : XR_FALSE;
     rec->gazeBlinkLastFrame = reconstruction_.gaze_blink_last_frame ? XR_TRUE : XR_FALSE;
   }

@@ -16,8 +16,8 @@ struct FrameGaze {
   bool valid = false;
   glm::vec3 direction_view[2]{};  // per eye, OpenXR view space (-z forward), unit
   float age_ms = 0.0f;            // at composition (now) minus the newest measurement's host time
-  bool saccade = false;           // a saccade in flight, or begun since the last frame: TAA restarts its history
-  bool blink = false;             // a blink held now, or begun since the last frame: TAA restarts too
+  bool saccade = false;           // a saccade in flight, or begun since the last frame: the temporal history restarts
+  bool blink = false;             // a blink held now, or begun since the last frame: the history restarts too
   XrFoveatedGazeSourceFOVEART source = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
 };
 

@@ -13,6 +13,7 @@
 
 #include <foveation/display_transform.hpp>
 #include <foveation/temporal_mode.hpp>
+#include <foveation/view_settings.hpp>
 
 #ifndef XR_USE_GRAPHICS_API_VULKAN
 #define XR_USE_GRAPHICS_API_VULKAN
@@ -85,10 +86,10 @@ struct ReconstructionStats {
   uint32_t gpu_fallbacks = 0;
   float gpu_scatter_ms[2] = {0, 0};
   float gpu_gather_ms[2] = {0, 0};
-  float gpu_taa_ms[2] = {0, 0};
+  float gpu_temporal_ms[2] = {0, 0};
   float gpu_encode_ms[2] = {0, 0};
-  bool taa_reset_last_frame[2] = {false, false};
-  uint64_t taa_resets = 0;
+  bool temporal_reset_last_frame[2] = {false, false};
+  uint64_t temporal_resets = 0;
   bool gaze_saccade_last_frame = false;
   bool gaze_blink_last_frame = false;
 };

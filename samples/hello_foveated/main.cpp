@@ -49,10 +49,10 @@
 // Note both sessions use --rays-per-point; with 0 the foveated one takes the
 // config file's value, the full one the default 1.
 // --json adds, per traced frame and in the same order: gaze_px_per_frame [frame, left x,
-// left y, right x, right y], taa_reset_per_frame [left, right] (the eye's TAA history
+// left y, right x, right y], temporal_reset_per_frame [left, right] (the eye's temporal history
 // restarted), gaze_saccade_per_frame / gaze_blink_per_frame (the gaze provider flagged
 // a saccade / a blink for it) and display_time_s_per_frame (predicted display time
-// after the first traced frame's); taa_resets counts restarts of both eyes.
+// after the first traced frame's); temporal_resets counts restarts of both eyes.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -173,8 +173,8 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
                     {"rays", s.raysPerEye[e]},
                     {"select_ms", s.selectMs[e]},
                     {"trace_ms", s.traceMs[e]},
-                    {"interpolate_ms", s.interpolateMs[e]},
-                    {"taa_ms", s.taaMs[e]},
+                    {"reconstruct_ms", s.reconstructMs[e]},
+                    {"temporal_ms", s.temporalMs[e]},
                     {"upload_ms", s.uploadMs[e]}});
   }
   const auto& rec = r.reconstruction;
@@ -182,7 +182,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   for (int e = 0; e < 2; ++e) {
     gpu_ms.push_back({{"scatter", rec.gpuScatterMs[e]},
                       {"gather", rec.gpuGatherMs[e]},
-                      {"taa", rec.gpuTaaMs[e]},
+                      {"temporal", rec.gpuTemporalMs[e]},
                       {"encode", rec.gpuEncodeMs[e]}});
   }
   const char* path = rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART   ? "gpu"
@@ -193,12 +193,12 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
                                                                               : "off";
   // [left, right] per frame, built element by element: the std::array<bool, 2>
   // conversion trips GCC 12's false -Wnull-dereference inside nlohmann.
-  nlohmann::json taa_reset = nlohmann::json::array();
-  for (const auto& frame : r.taa_reset) {
+  nlohmann::json temporal_reset = nlohmann::json::array();
+  for (const auto& frame : r.temporal_reset) {
     nlohmann::json pair = nlohmann::json::array();
     pair.push_back(frame[0]);
     pair.push_back(frame[1]);
-    taa_reset.push_back(std::move(pair));
+    temporal_reset.push_back(std::move(pair));
   }
   nlohmann::json views = views_json(r);
   return {{"frames_submitted", r.frames},
@@ -217,8 +217,8 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"invalid_colours", s.invalidColours},
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
-          {"taa_resets", rec.taaResets},
-          {"taa_reset_per_frame", taa_reset},
+          {"temporal_resets", rec.temporalResets},
+          {"temporal_reset_per_frame", temporal_reset},
           {"gaze_saccade_per_frame", r.gaze_saccade},
           {"gaze_blink_per_frame", r.gaze_blink},
           {"display_time_s_per_frame", r.display_time_s},

@@ -452,8 +452,8 @@ class App {
         result->frame_ms.push_back(frame_ms);
         result->gaze_px.push_back({frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x,
                                    stats.gazePixel[1].y});
-        result->taa_reset.push_back(
-            {reconstruction.taaResetLastFrame[0] == XR_TRUE, reconstruction.taaResetLastFrame[1] == XR_TRUE});
+        result->temporal_reset.push_back(
+            {reconstruction.temporalResetLastFrame[0] == XR_TRUE, reconstruction.temporalResetLastFrame[1] == XR_TRUE});
         result->gaze_saccade.push_back(reconstruction.gazeSaccadeLastFrame == XR_TRUE);
         result->gaze_blink.push_back(reconstruction.gazeBlinkLastFrame == XR_TRUE);
         if (first_traced_display_time_ == 0) first_traced_display_time_ = frame_state.predictedDisplayTime;
@@ -461,7 +461,7 @@ class App {
             static_cast<double>(frame_state.predictedDisplayTime - first_traced_display_time_) * 1e-9);
         if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
         for (int e = 0; e < 2; ++e) {
-          result->overhead_ms[e].push_back(stats.selectMs[e] + stats.interpolateMs[e] + stats.taaMs[e] +
+          result->overhead_ms[e].push_back(stats.selectMs[e] + stats.reconstructMs[e] + stats.temporalMs[e] +
                                            stats.uploadMs[e]);
           result->trace_ms[e].push_back(stats.traceMs[e]);
         }

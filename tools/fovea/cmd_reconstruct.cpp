@@ -140,7 +140,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   settings.rays_per_point = a.rays_per_point;
   settings.sample_seed = a.seed;
   settings.new_jitter_each_frame = a.jitter;
-  settings.taa = true;
+  settings.temporal = fv::TemporalMode::image;
   settings.rbf_clamp = *rbf_clamp;
   fv::FoveatedView view(tables, settings);
   fv::FrameRequest request;  // the image's own view: a pinhole D pixels from the eye
@@ -148,7 +148,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   const float half_y = float(std::atan(0.5 * h / display->view_distance_px));
   request.view = fv::make_eye_view(0, std::uint32_t(w), std::uint32_t(h), fv::EyePose{}, -half_x, half_x, half_y, -half_y);
   request.gaze_px = gaze;
-  double sample_ms = 0, interpolate_ms = 0, taa_ms = 0, total_ms = 0;
+  double sample_ms = 0, interpolate_ms = 0, temporal_ms = 0, total_ms = 0;
   double flicker = 0, flicker_raw = 0;
   fv::ImageRgb prev_out, prev_raw;
   fv::FrameResult frame;
@@ -158,8 +158,8 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
     if (!frame.ok()) return fail(frame.message);
     sample_ms += frame.select_ms + frame.trace_ms;
     interpolate_ms += frame.reconstruct_ms;
-    taa_ms += frame.taa_ms;
-    total_ms += frame.select_ms + frame.trace_ms + frame.reconstruct_ms + frame.taa_ms;
+    temporal_ms += frame.temporal_ms;
+    total_ms += frame.select_ms + frame.trace_ms + frame.reconstruct_ms + frame.temporal_ms;
     if (t > 0) {
       flicker += fv::mean_abs_difference(view.image(), prev_out);
       flicker_raw += fv::mean_abs_difference(view.reconstructed(), prev_raw);
@@ -194,7 +194,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
   j["frames"] = a.frames;
   j["sample_ms"] = sample_ms / nf;
   j["interpolate_ms"] = interpolate_ms / nf;
-  j["taa_ms"] = taa_ms / nf;
+  j["temporal_ms"] = temporal_ms / nf;
   j["total_ms"] = total_ms / nf;
   j["setup_ms"] = setup_ms;
   j["table_from_cache"] = tables->from_cache;
@@ -216,7 +216,7 @@ int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& e
     out << j.dump(2) << "\n";
   } else {
     out << "points " << visible_count << ", " << w << "x" << h << " px, " << fv::method_name(*method) << " k=" << a.k
-        << ": sample " << sample_ms / nf << " ms, interpolate " << interpolate_ms / nf << " ms, taa " << taa_ms / nf
+        << ": sample " << sample_ms / nf << " ms, interpolate " << interpolate_ms / nf << " ms, taa " << temporal_ms / nf
         << " ms, total " << total_ms / nf << " ms; PSNR " << psnr << " dB, SSIM " << ssim << "\n";
   }
   return 0;

@@ -235,8 +235,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
     }
     precompute_ms = ms_since(t_tables);
     fov_display_pattern = tables->key.display.fovea_pattern;
-    foveated = std::make_unique<foveation::FoveatedView>(
-        std::move(tables), taa_view_settings(o.taa, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young));
+    foveated = make_taa_view(std::move(tables), o.taa, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young);
   }
   // Embree's packet fill; the GPU engine has no packets (null).
   const auto packets_json = [](const engine::RayCounts& c, const RenderEngine& e) {
@@ -283,7 +282,7 @@ int run_render(const RenderOptions& o, std::ostream& out, std::ostream& err) {
         return 1;
       }
       // The fixed part: reconstruction and the temporal history.
-      fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.taa_ms, fr.select_ms);
+      fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.temporal_ms, fr.select_ms);
       if (frame == 0) {
         fov_rays = eng.counts() - before;
         fov_points = fr.points;

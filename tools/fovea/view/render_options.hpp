@@ -89,7 +89,7 @@ struct RenderOptions {
   // pose change) or reproject (it follows the head); with --motion a list
   // (off,restart,reproject), each rendered as its own view at equal rays.
   std::string taa = "off";
-  bool taa_mean_while_young = false;  // TaaOptions::mean_while_young (--taa-mean-while-young)
+  bool taa_mean_while_young = false;  // TemporalOptions::mean_while_young (--taa-mean-while-young)
   // A scripted head and gaze motion ("builtin" or a CSV file): --frames frames
   // at start_s + i / fps, measured per ring against the reference sequence
   // (`fovea-eval motion`, eval/src/cmd_motion.cpp); `fovea render` refuses them.
