@@ -66,8 +66,9 @@ for f in "${user_docs[@]}"; do
     }' "$f")
 done
 
-# 3. Links. Prints "line<TAB>target" for every inline link or image outside fences and
-# code spans.
+# 3. Links. Prints "line<TAB>target<TAB>fragment" for every inline link or image outside fences
+# and code spans; the fragment lower-cased and without bytes outside ASCII, as anchors_of makes
+# anchors.
 links_of() {
   awk '
     /^[ \t]*(```|~~~)/ { fence = !fence; next }
@@ -81,7 +82,12 @@ links_of() {
         s = substr(s, RSTART + RLENGTH)
         sub(/^[ \t]*</, "", t); sub(/>[ \t]*$/, "", t)
         sub(/[ \t].*$/, "", t)  # a title after the target
-        if (t != "") printf "%d\t%s\n", NR, t
+        f = ""
+        if (index(t, "#") > 0) {
+          f = tolower(substr(t, index(t, "#") + 1))
+          gsub(/[\200-\377]/, "", f)
+        }
+        if (t != "") printf "%d\t%s\t%s\n", NR, t, f
       }
     }' "$1"
 }
@@ -109,24 +115,21 @@ anchors_of() {
 }
 
 declare -A anchor_cache
-has_anchor() {  # file anchor
+has_anchor() {  # file anchor (normalised by links_of)
   local file=$1 anchor=$2
   if [ -z "${anchor_cache[$file]+x}" ]; then
     anchor_cache[$file]=$'\n'"$(anchors_of "$file")"$'\n'
   fi
-  anchor=$(printf '%s' "$anchor" | tr -d '\200-\377' | tr 'A-Z' 'a-z')
   [[ ${anchor_cache[$file]} == *$'\n'"$anchor"$'\n'* ]]
 }
 
 for f in "${all_docs[@]}"; do
   dir=$(dirname "$f")
-  while IFS=$'\t' read -r n target; do
+  while IFS=$'\t' read -r n target fragment; do
     case "$target" in
       [a-zA-Z]*:*) continue ;;  # http:, https:, mailto:
     esac
     path=${target%%#*}
-    fragment=
-    [[ $target == *#* ]] && fragment=${target#*#}
     if [ -z "$path" ]; then
       resolved=$f
     else
