@@ -61,7 +61,7 @@ struct LayerConfig {
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
   // (TAA on a reprojected image) or "rays" (TAA on a render cache of the traced rays).
   // "auto": "rays" where reconstruction runs on the GPU, "image" on the CPU path, where
-  // the render cache costs more than twice the image history (docs/layer.md).
+  // the render cache costs more than twice the image history (docs/guide.md, "Configuration").
   std::string temporal = "auto";
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...

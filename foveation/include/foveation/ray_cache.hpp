@@ -10,8 +10,8 @@
 //
 // Unlike a history image warped every frame, nothing is resampled: a kept ray
 // lands where its surface now is, so the history neither blurs nor drifts,
-// and its rays are not lost when the gaze jumps (docs/pricelist.md, "A render
-// cache of the same rays, at equal rays").
+// and its rays are not lost when the gaze jumps (docs/foveation.md, "A history of rays:
+// the render cache").
 //
 // filter_at filters the same rays at any centre with the pixel filter
 // widened to a footprint: beyond the pixel grid, where rays are sparser than

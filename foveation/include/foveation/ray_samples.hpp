@@ -36,7 +36,7 @@ struct RaySamples {
 //    3 px, sigma 0.5 px (pbrt-v4's default Gaussian has the same sigma), each
 //    offset the sum of three uniforms. Softer, and smooth enough that a
 //    reprojected temporal history follows the image under sub-pixel motion
-//    (docs/pricelist.md, "The pixel filter").
+//    (docs/foveation.md, "The pixel filter").
 enum class PixelFilter : std::uint8_t { box = 0, bspline2 = 1 };
 // "box" / "bspline2".
 const char* pixel_filter_name(PixelFilter filter);
