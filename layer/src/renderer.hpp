@@ -53,7 +53,7 @@ struct RendererSettings {
 // config" (0, NULL, ..._USE_CONFIG_FOVEART: the extension header's "Defaults") takes it.
 // Returns false with a message naming the bad field.
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
-                      RendererSettings* out_settings, std::string* out_error);
+                      RendererSettings* out_settings, std::string* error);
 
 // The temporal mode a view runs: the settings' own, else the path's default ("rays" on the
 // GPU path, where it meets the flicker goal; "image" on the CPU path, where the render
