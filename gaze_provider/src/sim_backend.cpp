@@ -52,7 +52,8 @@ std::unique_ptr<GazeProvider> create_sim_provider(const SimConfig& sim, const Pr
     if (out_error) *out_error = "sim: rate_hz must be in (0, 10000]";
     return nullptr;
   }
-  return std::make_unique<detail::ThreadedProvider>(std::make_unique<SimBackend>(sim, detail::clock_of(options)), options);
+  return std::make_unique<detail::ThreadedProvider>(std::make_unique<SimBackend>(sim, detail::clock_of(options)),
+                                                    options);
 }
 
 }  // namespace foveart::gaze

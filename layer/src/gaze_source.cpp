@@ -103,7 +103,8 @@ class ProviderGaze final : public GazeSource {
 }  // namespace
 
 std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, const SessionState& session,
-                                               std::string* out_warning, std::shared_ptr<gaze::HostClock> provider_clock) {
+                                               std::string* out_warning,
+                                               std::shared_ptr<gaze::HostClock> provider_clock) {
   switch (settings.gaze_source) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: {
       gaze::ProviderOptions options;

@@ -104,7 +104,8 @@ struct Batch {
 // tolerances (ray_agreement.hpp): rgb and depth per ray.
 std::vector<glm::vec4> rgb_depth(const Batch& b) {
   std::vector<glm::vec4> out(b.depth.size());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = glm::vec4(b.rgb[3 * i], b.rgb[3 * i + 1], b.rgb[3 * i + 2], b.depth[i]);
+  for (size_t i = 0; i < out.size(); ++i)
+    out[i] = glm::vec4(b.rgb[3 * i], b.rgb[3 * i + 1], b.rgb[3 * i + 2], b.depth[i]);
   return out;
 }
 

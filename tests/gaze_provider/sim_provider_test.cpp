@@ -52,7 +52,8 @@ TEST(SimProvider, Holds120HzOverTwoSeconds) {
   ASSERT_TRUE(p.start(&error)) << error;
   std::vector<GazeSample> all;
   for (int step = 1; step <= 200; ++step) {  // read every 10 ms, as a consumer would
-    ASSERT_TRUE(clock->run_until(start + step * 10 * kMs)) << "the sampling thread did not settle by " << step * 10 << " ms";
+    ASSERT_TRUE(clock->run_until(start + step * 10 * kMs))
+        << "the sampling thread did not settle by " << step * 10 << " ms";
     drain(p, all);
   }
 
@@ -140,8 +141,9 @@ TEST(SimProvider, StopIsBoundedAndRestartable) {
     auto stopped = std::async(std::launch::async, [&] { created.provider->stop(); });
     bool returned = false;
     for (int i = 0; i < 1000 && !returned; ++i) {
-      ASSERT_TRUE(clock->settle([&] { return stopped.wait_for(std::chrono::seconds(0)) == std::future_status::ready; }));
-      returned = stopped.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+      auto stop_returned = [&] { return stopped.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+      ASSERT_TRUE(clock->settle(stop_returned));
+      returned = stop_returned();
       if (!returned) clock->advance_to(clock->now_ns() + 50 * kMs);
     }
     ASSERT_TRUE(returned);

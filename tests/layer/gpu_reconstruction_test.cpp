@@ -242,7 +242,9 @@ class GpuMatchesCpu : public GpuReconstruction, public ::testing::WithParamInter
 std::vector<Case> gpu_matches_cpu_cases() {
   std::vector<Case> cases;
   std::vector<DevicePreference> devices{DevicePreference::cpu};
-  if (!hardware_gpu_name(sim::pin_loaded_vulkan_icds_and_layers).empty()) devices.push_back(DevicePreference::hardware_gpu);
+  if (!hardware_gpu_name(sim::pin_loaded_vulkan_icds_and_layers).empty()) {
+    devices.push_back(DevicePreference::hardware_gpu);
+  }
   for (DevicePreference device : devices) {
     for (auto [method, k] : {std::pair{InterpMethod::nearest, 1}, std::pair{InterpMethod::msm, 1}, std::pair{InterpMethod::msm, 5},
                              std::pair{InterpMethod::msm, 20}, std::pair{InterpMethod::rbf, 1},

@@ -200,8 +200,9 @@ TEST(RenderEngine, GpuEngineBothModeMatchesTheCpuEnginePerRing) {
   settings.pixel_filter = o.pixel_filter;
   foveart::foveation::ImageRgb wrong(1, 1);
   foveart::foveation::Executor executor(2);
-  ASSERT_EQ(foveart::engine::render_full(&trace_rays_read_as_planar, adapter.get(), view, settings, &wrong, executor).status,
-            FOVEART_RESULT_SUCCESS);
+  const foveart::engine::RenderResult rendered =
+      foveart::engine::render_full(&trace_rays_read_as_planar, adapter.get(), view, settings, &wrong, executor);
+  ASSERT_EQ(rendered.status, FOVEART_RESULT_SUCCESS);
   foveart::foveation::DisplayTransform display;
   display.exposure = static_cast<float>(ge);
   display.tone_map = *foveart::foveation::parse_tone_map(o.tone_map);
