@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 namespace foveart::gaze {
@@ -39,6 +40,18 @@ const char* to_string(GazeSourceKind kind) noexcept {
   return "unknown";
 }
 
+std::shared_ptr<HostClock> steady_host_clock() {
+  class Steady final : public HostClock {
+   public:
+    std::int64_t now_ns() noexcept override { return detail::steady_now_ns(); }
+    void sleep_until_ns(std::int64_t t_ns) noexcept override {
+      std::this_thread::sleep_until(std::chrono::steady_clock::time_point(std::chrono::nanoseconds(t_ns)));
+    }
+  };
+  static const std::shared_ptr<HostClock> clock = std::make_shared<Steady>();
+  return clock;
+}
+
 namespace detail {
 
 std::int64_t steady_now_ns() noexcept {
@@ -47,7 +60,8 @@ std::int64_t steady_now_ns() noexcept {
 }
 
 ThreadedProvider::ThreadedProvider(std::unique_ptr<Backend> backend, const ProviderOptions& options)
-    : backend_(std::move(backend)), filters_(options.filters), raw_(options.raw_ring_capacity) {
+    : backend_(std::move(backend)), clock_(clock_of(options)), filters_(options.filters),
+      raw_(options.raw_ring_capacity) {
   status_.store(producer_status_);
 }
 
@@ -89,13 +103,13 @@ void ThreadedProvider::set_state(ProviderState state, const std::string& reason)
 void ThreadedProvider::run() noexcept {
   FilterChain chain(filters_);
   std::string reason;
-  std::int64_t last_sample_host_ns = steady_now_ns();
+  std::int64_t last_sample_host_ns = clock_->now_ns();
   std::uint64_t published_samples = 0;
   while (running_.load(std::memory_order_acquire)) {
     GazeSample raw;
     reason.clear();
     const PollResult r = backend_->poll(raw, reason);
-    const std::int64_t now = steady_now_ns();
+    const std::int64_t now = clock_->now_ns();
     if (r == PollResult::sample) {
       if (raw.host_time_ns == 0) raw.host_time_ns = now;
       raw.source = backend_->kind();

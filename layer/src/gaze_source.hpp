@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "gaze_provider/host_clock.h"
 #include "renderer.hpp"
 
 namespace foveart::layer {
@@ -45,7 +46,10 @@ class GazeSource {
 
 // Never null: when the requested source cannot be opened, a source that always
 // reports "no gaze" is returned and the reason is written to *out_warning.
+// provider_clock: the gaze provider's host clock (null: the steady clock; tests
+// pass a virtual one).
 std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, const SessionState& session,
-                                               std::string* out_warning);
+                                               std::string* out_warning,
+                                               std::shared_ptr<gaze::HostClock> provider_clock = nullptr);
 
 }  // namespace foveart::layer

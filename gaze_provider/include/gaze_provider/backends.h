@@ -12,6 +12,7 @@
 
 #include "gaze_provider/filters.h"
 #include "gaze_provider/gaze_provider.h"
+#include "gaze_provider/host_clock.h"
 #include "gaze_provider/simulator.h"
 
 namespace foveart::gaze {
@@ -70,6 +71,8 @@ struct ProviderOptions {
   FoveConfig fove{};
   HidConfig hid{};
   std::size_t raw_ring_capacity = 4096;  // raw samples queued for read_raw()
+  // Host time and the sim and replay backends' pacing; null: steady_host_clock().
+  std::shared_ptr<HostClock> clock;
 };
 
 std::unique_ptr<GazeProvider> create_sim_provider(const SimConfig& sim, const ProviderOptions& options,

@@ -18,7 +18,7 @@
 // The replay backend in as-fast-as-possible mode is the exception: it waits for room
 // so that a consumer sees every sample (documented in backends.h).
 //
-// Units: time in int64 ns; host time is std::chrono::steady_clock.
+// Units: time in int64 ns; host time is std::chrono::steady_clock (or ProviderOptions::clock).
 // Errors: no exceptions cross this interface; failures are reported through return
 // values and ProviderStatus::reason.
 #pragma once
