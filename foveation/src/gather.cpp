@@ -289,28 +289,28 @@ FOVEART_AVX2 inline v4 pixel_avx2(const Rgba* pal, const std::uint8_t* s, const 
 // One block's palette, copied into pal: how many of its colours are invalid
 // and, for RbfClamp::block, the range of the valid ones.
 struct BlockPalette {
-  int invalid = 0;  // an integer count: no floating-point dependency chain
+  int invalid;  // an integer count: no floating-point dependency chain
   v4 lo, hi;
 };
 
 template <RbfClamp kClamp>
 FOVEART_GATHER_INLINE BlockPalette load_palette(const Rgba* colors, const std::uint32_t* ids, int size, Rgba* pal) {
-  BlockPalette p;
-  p.lo = v4{INFINITY, INFINITY, INFINITY, INFINITY}, p.hi = -p.lo;
+  int invalid = 0;  // locals, not the result's fields: they stay in registers
+  v4 lo = {INFINITY, INFINITY, INFINITY, INFINITY}, hi = -lo;
   for (int i = 0; i < size; ++i) {
     pal[i] = colors[ids[i]];
-    p.invalid += pal[i].a == 0.0f;
+    invalid += pal[i].a == 0.0f;
     if constexpr (kClamp == RbfClamp::block) {
       const v4 c = load(pal[i]);
-      p.lo = min4(p.lo, c), p.hi = max4(p.hi, c);
+      lo = min4(lo, c), hi = max4(hi, c);
     }
   }
-  if (kClamp == RbfClamp::block && p.invalid != 0) {  // rare: the range of the valid colours only
-    p.lo = v4{INFINITY, INFINITY, INFINITY, INFINITY}, p.hi = -p.lo;
+  if (kClamp == RbfClamp::block && invalid != 0) {  // rare: the range of the valid colours only
+    lo = v4{INFINITY, INFINITY, INFINITY, INFINITY}, hi = -lo;
     for (int i = 0; i < size; ++i)
-      if (pal[i].a != 0.0f) p.lo = min4(p.lo, load(pal[i])), p.hi = max4(p.hi, load(pal[i]));
+      if (pal[i].a != 0.0f) lo = min4(lo, load(pal[i])), hi = max4(hi, load(pal[i]));
   }
-  return p;
+  return {invalid, lo, hi};
 }
 
 // Does the pixel with palette slots s use an invalid colour?
