@@ -98,6 +98,10 @@ class GpuDeviceTrace {
  private:
   bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
   void update_descriptors(VkBuffer colors, VkBuffer point_depth);
+  // The steps of record: stages 1-2 (the rays), stage 3 (the engine's trace), the colours per point.
+  void record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+  bool record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error);
+  void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
 
   GpuReconstructor& owner_;
   VkDevice device_ = VK_NULL_HANDLE;

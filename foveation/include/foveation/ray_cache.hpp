@@ -181,6 +181,10 @@ class RayCache {
   }
   // A ray at q: its pixel row + the filter's reach, or -1 beyond the filter's reach of the image.
   int row_within_reach(glm::vec2 q) const;
+  // The steps of resolve: the rays sorted by row, the filter over them, the rays kept for the next frame.
+  void sort_by_row(Executor& executor);
+  void filter_rows(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) const;
+  void keep_young_rays();
 
   RayCacheOptions options_;
   std::vector<Anchor> anchors_;  // the kept rays, then (during a frame) this frame's new ones

@@ -61,6 +61,7 @@ class RtPipelineTracer {
 
   RtPipelineTracer() = default;
   bool create_pipeline(Entry entry, VkPipelineLayout layout, uint32_t effect_bits, int max_depth, std::string* error);
+  bool fill_binding_table(Table& table, std::string* error);
 
   GpuContext ctx_;
   RtFunctions fn_;
