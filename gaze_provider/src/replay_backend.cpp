@@ -64,15 +64,15 @@ class ReplayBackend final : public detail::Backend {
 }  // namespace
 
 std::unique_ptr<GazeProvider> create_replay_provider(const ReplayConfig& replay, const ProviderOptions& options,
-                                                     std::string* out_error) {
-  TraceError error;
-  auto trace = read_trace_file(replay.path, &error);
+                                                     std::string* error) {
+  TraceError trace_error;
+  auto trace = read_trace_file(replay.path, &trace_error);
   if (!trace) {
-    if (out_error) *out_error = "replay: " + error.to_string();
+    if (error) *error = "replay: " + trace_error.to_string();
     return nullptr;
   }
   if (trace->rows.empty()) {
-    if (out_error) *out_error = "replay: " + replay.path + ": the trace has a header but no samples";
+    if (error) *error = "replay: " + replay.path + ": the trace has a header but no samples";
     return nullptr;
   }
   return std::make_unique<detail::ThreadedProvider>(

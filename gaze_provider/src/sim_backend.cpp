@@ -47,9 +47,9 @@ class SimBackend final : public detail::Backend {
 }  // namespace
 
 std::unique_ptr<GazeProvider> create_sim_provider(const SimConfig& sim, const ProviderOptions& options,
-                                                  std::string* out_error) {
+                                                  std::string* error) {
   if (!(sim.rate_hz > 0.0 && sim.rate_hz <= 10000.0)) {
-    if (out_error) *out_error = "sim: rate_hz must be in (0, 10000]";
+    if (error) *error = "sim: rate_hz must be in (0, 10000]";
     return nullptr;
   }
   return std::make_unique<detail::ThreadedProvider>(std::make_unique<SimBackend>(sim, detail::clock_of(options)),

@@ -67,7 +67,7 @@ ThreadedProvider::ThreadedProvider(std::unique_ptr<Backend> backend, const Provi
 
 ThreadedProvider::~ThreadedProvider() { stop(); }
 
-bool ThreadedProvider::start(std::string* out_error) {
+bool ThreadedProvider::start(std::string* error) {
   if (thread_.joinable()) return true;
   backend_->on_start();
   producer_status_ = ProviderStatus{};
@@ -77,7 +77,7 @@ bool ThreadedProvider::start(std::string* out_error) {
     thread_ = std::thread([this] { run(); });
   } catch (const std::exception& e) {
     running_.store(false);
-    if (out_error) *out_error = std::string("cannot start the sampling thread: ") + e.what();
+    if (error) *error = std::string("cannot start the sampling thread: ") + e.what();
     set_state(ProviderState::stopped, "thread creation failed");
     return false;
   }

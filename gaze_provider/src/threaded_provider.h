@@ -40,7 +40,7 @@ class ThreadedProvider final : public GazeProvider {
   ThreadedProvider(std::unique_ptr<Backend> backend, const ProviderOptions& options);
   ~ThreadedProvider() override;
 
-  bool start(std::string* out_error) override;
+  [[nodiscard]] bool start(std::string* error) override;
   void stop() override;
   std::optional<GazeSample> latest() const override;
   std::optional<GazeSample> sample_at(std::int64_t target_host_ns) const override;

@@ -240,9 +240,9 @@ std::string TraceError::to_string() const {
   return line == 0 ? message : "line " + std::to_string(line) + ": " + message;
 }
 
-std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
+std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
   auto fail = [&](std::size_t line, std::string message) -> std::optional<Trace> {
-    if (out_error) *out_error = TraceError{line, std::move(message)};
+    if (error) *error = TraceError{line, std::move(message)};
     return std::nullopt;
   };
 
@@ -251,7 +251,7 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
   if (!std::getline(in, line)) return fail(1, "empty file: expected the header line 'device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z'");
   ++line_no;
   TraceColumns cols;
-  if (std::string error = read_header(line, cols); !error.empty()) return fail(1, std::move(error));
+  if (std::string why = read_header(line, cols); !why.empty()) return fail(1, std::move(why));
 
   Trace trace;
   trace.has_host_time = cols.host.has_value();
@@ -263,7 +263,7 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
     ++line_no;
     if (trim(line).empty()) continue;
     TraceRow row;
-    if (auto error = parse_row(split(line), cols, row)) return fail(line_no, std::move(*error));
+    if (auto why = parse_row(split(line), cols, row)) return fail(line_no, std::move(*why));
     const GazeSample& s = row.sample;
     if (have_prev && s.device_time_ns <= prev_ns) {
       if (trace.skipped_non_monotonic++ == 0) trace.first_skipped_line = line_no;
@@ -277,14 +277,14 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
   return trace;
 }
 
-std::optional<Trace> read_trace_file(const std::string& path, TraceError* out_error) {
+std::optional<Trace> read_trace_file(const std::string& path, TraceError* error) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    if (out_error) *out_error = TraceError{0, path + ": cannot open for reading"};
+    if (error) *error = TraceError{0, path + ": cannot open for reading"};
     return std::nullopt;
   }
-  auto trace = read_trace(in, out_error);
-  if (!trace && out_error) out_error->message = path + ": " + out_error->message;
+  auto trace = read_trace(in, error);
+  if (!trace && error) error->message = path + ": " + error->message;
   return trace;
 }
 

@@ -48,16 +48,16 @@ class EyeSwapchain {
 
   // Copies the staging buffer into the next swapchain image; false with a message on failure
   // (the image is released either way when it was acquired).
-  bool upload(std::string* error);
+  [[nodiscard]] bool upload(std::string* error);
 
   // Acquires the next image, records `record(cb, image)` (which must leave the
   // image in COLOR_ATTACHMENT_OPTIMAL), submits, waits and releases.
   using RecordFn = std::function<bool(VkCommandBuffer cb, VkImage image, std::string* error)>;
-  bool present(const RecordFn& record, std::string* error);
+  [[nodiscard]] bool present(const RecordFn& record, std::string* error);
 
  private:
   EyeSwapchain() = default;
-  bool create_staging(std::string* error);
+  [[nodiscard]] bool create_staging(std::string* error);
 
   const NextDispatch* next_ = nullptr;
   VkDevice device_ = VK_NULL_HANDLE;

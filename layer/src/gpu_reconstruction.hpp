@@ -113,12 +113,12 @@ class GpuEye {
   // Writes the traced colours into the upload buffer and records the frame
   // into `cb`: scatter, gather, temporal blend (or the render cache), encode, and (image != null) the copy
   // into `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
-  bool record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
+  [[nodiscard]] bool record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
               std::string* error);
   // After the submission finished: the stage times it measured.
   bool stage_times(GpuStageTimes* out) const;
   // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
-  bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
+  [[nodiscard]] bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
 
   // After a device-traced submission finished: what its resolve found; the
   // engine's answer to its last call (XR_SUCCESS when it was not called).
@@ -139,11 +139,11 @@ class GpuEye {
   friend class GpuReconstructor;
   GpuEye() = default;
   using Buffer = BoundBuffer;
-  bool ensure_points(std::size_t point_count, std::string* error);
+  [[nodiscard]] bool ensure_points(std::size_t point_count, std::string* error);
   // The frame's stages 4-6 (foveation/frame_stages.hpp), recorded in turn by record().
-  bool record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor,
+  [[nodiscard]] bool record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor,
                           std::string* error);
-  bool record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set, foveation::Executor& executor,
+  [[nodiscard]] bool record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set, foveation::Executor& executor,
                        std::string* error);
   void record_encode(VkCommandBuffer cb, const GpuFrame& frame, VkImage image);
   void stamp(VkCommandBuffer cb, uint32_t query) const;  // a timestamp, when the queue has them
@@ -183,7 +183,7 @@ class GpuReconstructor {
 
   // Records with `record` into a one-time command buffer, submits it on the
   // queue and waits (table uploads, tests, benchmarks; the layer uses its swapchain's).
-  bool submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error);
+  [[nodiscard]] bool submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error);
 
   VkDeviceSize max_chunk_bytes() const { return max_chunk_bytes_; }
   const GpuDevice& device() const { return device_; }
@@ -192,7 +192,7 @@ class GpuReconstructor {
   friend class GpuEye;
   friend class GpuDeviceTrace;
   GpuReconstructor() = default;
-  bool create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
+  [[nodiscard]] bool create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
                      VkDeviceMemory* memory, void** mapped, std::string* error);
 
   GpuDevice device_;

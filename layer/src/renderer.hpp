@@ -52,7 +52,7 @@ struct RendererSettings {
 // App's create info over the config's defaults: a field that says "use the
 // config" (0, NULL, ..._USE_CONFIG_FOVEART: the extension header's "Defaults") takes it.
 // Returns false with a message naming the bad field.
-bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
+[[nodiscard]] bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
                       RendererSettings* out_settings, std::string* error);
 
 // The temporal mode a view runs: the settings' own, else the path's default ("rays" on the

@@ -67,7 +67,7 @@ class GazeProvider {
   GazeProvider& operator=(const GazeProvider&) = delete;
 
   // Starts the sampling thread. Returns false (and a message) if it cannot start.
-  virtual bool start(std::string* out_error) = 0;
+  [[nodiscard]] virtual bool start(std::string* error) = 0;
   // Stops and joins the sampling thread; idempotent. Bounded: returns within ~0.2 s.
   virtual void stop() = 0;
 

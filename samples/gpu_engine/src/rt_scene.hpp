@@ -43,7 +43,7 @@ class RtScene {
 
  private:
   RtScene() = default;
-  bool build(const GpuContext& context, const SceneData& data, std::string* error);
+  [[nodiscard]] bool build(const GpuContext& context, const SceneData& data, std::string* error);
   // The steps of build: the vertices uploaded, then the BLAS and the TLAS recorded.
   struct Build;  // one build's inputs and the buffers that outlive its commands (rt_scene.cpp)
   bool upload_vertices(Build& b, const SceneData& data);

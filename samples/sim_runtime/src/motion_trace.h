@@ -19,7 +19,7 @@ namespace foveart::sim {
 // Returns the number of rows written.
 std::size_t write_motion_gaze_trace(const MotionSource& motion, double duration_s, std::ostream& out);
 // To a file; false and a message naming the file when it cannot be written.
-bool write_motion_gaze_trace_file(const MotionSource& motion, double duration_s, const std::string& path,
+[[nodiscard]] bool write_motion_gaze_trace_file(const MotionSource& motion, double duration_s, const std::string& path,
                                   std::string* error);
 
 }  // namespace foveart::sim
