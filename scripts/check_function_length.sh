@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 limit=${FUNCTION_LENGTH_LIMIT:-80}
-dirs=(layer foveation gaze_provider gpu tools/fovea tools/common samples)  # not eval/, tests/, bench/
+dirs=(layer foveation gaze_provider gpu tools samples)  # the product: not eval/ (the lab), tests/, bench/
 
 if ! command -v ctags >/dev/null; then
   echo "check_function_length: ctags not found; install universal-ctags (apt-get install universal-ctags)" >&2
