@@ -75,7 +75,7 @@ void BM_RaySamples(benchmark::State& state) {
 }
 BENCHMARK(BM_RaySamples)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond);
 
-// One frame of the render cache (TaaHistory::ray_cache) at 320x360 while the
+// One frame of the render cache (TemporalMode::rays) at 320x360 while the
 // head turns 0.3 deg a frame: project the kept rays, add the new rays,
 // depth-test, filter and keep. Arg 0: frames of rays kept
 // (RayCacheOptions::max_age_frames), arg 1: 0 box, 1 bspline2, arg 2: 0 the

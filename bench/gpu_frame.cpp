@@ -35,6 +35,7 @@
 #include "engine/render.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/temporal_mode.hpp"
+#include "foveation/view_settings.hpp"
 #include "foveation/view_tables.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
 #include "gpu_engine/rt_device.hpp"
@@ -230,11 +231,11 @@ int main(int argc, char** argv) {
       break;
     }
     if (i == 0) continue;
-    const double fixed_ms = double(times.taa_ms + times.encode_ms);  // the same passes on the same pixels
+    const double fixed_ms = double(times.temporal_ms + times.encode_ms);  // the same passes on the same pixels
     full_trace.push_back(full_ms);
     fov_trace.push_back(double(times.scatter_ms));
     gather.push_back(double(times.gather_ms));
-    history.push_back(double(times.taa_ms));
+    history.push_back(double(times.temporal_ms));
     encode.push_back(double(times.encode_ms));
     full_total.push_back(full_ms + fixed_ms);
     fov_total.push_back(double(times.total_ms()));

@@ -24,7 +24,7 @@
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/interpolation_cache.hpp"
 #include "foveation/point_set_cache.hpp"
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 
 namespace fv = foveart::foveation;
 
@@ -277,20 +277,20 @@ void BM_TableLoadFromCache(benchmark::State& state) {
 }
 BENCHMARK(BM_TableLoadFromCache)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
 
-void BM_Taa(benchmark::State& state) {
+void BM_TemporalBlend(benchmark::State& state) {
   auto& s = scene();
   fv::ImageRgb a(s.mapping.screen_width_px, s.mapping.screen_height_px);
   std::mt19937 rng(2);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   for (float& v : a.rgb) v = u(rng);
-  fv::TaaOptions o;
-  o.constraint = state.range(0) == 0 ? fv::TaaConstraint::minmax_clamp : fv::TaaConstraint::variance_clip;
-  fv::TemporalAccumulator taa(o);
-  taa.accumulate(a, {640, 720}, executor(2));
-  for (auto _ : state) benchmark::DoNotOptimize(taa.accumulate(a, {640, 720}, executor(2)).rgb.data());
+  fv::TemporalOptions o;
+  o.constraint = state.range(0) == 0 ? fv::HistoryClip::minmax_clamp : fv::HistoryClip::variance_clip;
+  fv::TemporalAccumulator accumulator(o);
+  accumulator.accumulate(a, {640, 720}, executor(2));
+  for (auto _ : state) benchmark::DoNotOptimize(accumulator.accumulate(a, {640, 720}, executor(2)).rgb.data());
   state.SetLabel(state.range(0) == 0 ? "minmax clamp" : "variance clip");
 }
-BENCHMARK(BM_Taa)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TemporalBlend)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -1,7 +1,7 @@
 // Layer overhead per eye excluding the engine: one 1280x1440 FOVE eye through
 // the frame the layer runs (foveation::FoveatedView) with a constant-colour
 // callback, then the RGBA8 encode for the swapchain; NN / MSM k=5 / RBF k=5,
-// TAA on and off. Time = wall, CPU = all threads of the process.
+// temporal history on and off; and the encode alone. Time = wall, CPU = all threads of the process.
 // Tables come from $FOVEART_BENCH_CACHE (default /tmp/foveart_bench_cache).
 #include <chrono>
 #include <cstdlib>
@@ -46,19 +46,19 @@ std::shared_ptr<const fv::ViewTables> tables_for(fv::InterpMethod method) {
   return slot;
 }
 
-// Args: method (0 NN, 1 MSM, 2 RBF-MQ), TAA (0/1).
+// Args: method (0 NN, 1 MSM, 2 RBF-MQ), temporal history (0 off / 1 image).
 void BM_EyeFramePath(benchmark::State& state) {
   const fv::InterpMethod methods[] = {fv::InterpMethod::nearest, fv::InterpMethod::msm, fv::InterpMethod::rbf};
-  const bool taa = state.range(1) != 0;
+  const bool temporal = state.range(1) != 0;
   fv::ViewSettings settings;  // as the layer sets them
-  settings.taa = taa;
-  settings.new_jitter_each_frame = taa;
+  settings.temporal = temporal ? fv::TemporalMode::image : fv::TemporalMode::off;
+  settings.new_jitter_each_frame = temporal;
   fv::FoveatedView view(tables_for(methods[state.range(0)]), settings);
   fv::FrameRequest request;
   request.view = fv::make_eye_view(0, 1280, 1440, fv::EyePose{}, -0.83f, 0.83f, 0.87f, -0.87f);
   request.gaze_px = {640, 720};
   std::vector<uint8_t> rgba(1280u * 1440u * 4u);
-  double select = 0, trace = 0, interp = 0, taa_ms = 0, encode = 0;
+  double select = 0, trace = 0, interp = 0, temporal_ms = 0, encode = 0;
   for (auto _ : state) {
     ++request.frame_index;
     const auto out = view.render(request, &constant_engine, nullptr, executor());
@@ -69,16 +69,45 @@ void BM_EyeFramePath(benchmark::State& state) {
     select += out.select_ms;
     trace += out.trace_ms;
     interp += out.reconstruct_ms;
-    taa_ms += out.taa_ms;
+    temporal_ms += out.temporal_ms;
     state.counters["points"] = out.points;
   }
   const double n = static_cast<double>(state.iterations());
   state.counters["select_ms"] = select / n;
   state.counters["trace_ms"] = trace / n;
-  state.counters["interpolate_ms"] = interp / n;
-  state.counters["taa_ms"] = taa_ms / n;
+  state.counters["reconstruct_ms"] = interp / n;
+  state.counters["temporal_ms"] = temporal_ms / n;
   state.counters["encode_ms"] = encode / n;
 }
+// Stage 6 alone on one FOVE eye of radiance from 0 to 4 (the tone map's
+// roll-off included), PBR Neutral, sRGB, on the layer's executor. Arg 0: the
+// per-pixel DisplayTransform::srgb8() call in the loop (the encode before
+// rows were encoded as runs); arg 1: encode_rgba8, the curve chosen per run.
+void BM_EncodeRgba8(benchmark::State& state) {
+  fv::ImageRgb image(1280, 1440);
+  uint32_t x = 1;
+  for (float& v : image.rgb) v = float((x = x * 1664525u + 1013904223u) >> 8) / float(1 << 22);
+  const fv::DisplayTransform display;
+  std::vector<uint8_t> rgba(image.pixel_count() * 4);
+  const std::size_t width = std::size_t(image.width_px);
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      executor().parallel_chunks(std::size_t(image.height_px), 64, [&](std::size_t y0, std::size_t y1, unsigned) {
+        for (std::size_t i = y0 * width; i < y1 * width; ++i) {
+          const float* p = image.rgb.data() + i * 3;
+          const glm::u8vec3 b = display.srgb8(glm::vec3(p[0], p[1], p[2]));
+          rgba[i * 4] = b.r, rgba[i * 4 + 1] = b.g, rgba[i * 4 + 2] = b.b, rgba[i * 4 + 3] = 255;
+        }
+      });
+    } else {
+      fv::encode_rgba8(image, true, display, rgba.data(), executor());
+    }
+    benchmark::DoNotOptimize(rgba.data());
+  }
+  state.SetLabel(state.range(0) == 0 ? "per-pixel srgb8()" : "encode_rgba8 (runs)");
+}
+BENCHMARK(BM_EncodeRgba8)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
 BENCHMARK(BM_EyeFramePath)
     ->ArgsProduct({{0, 1, 2}, {0, 1}})
     ->Unit(benchmark::kMillisecond)

@@ -26,6 +26,7 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
 #include "foveation/temporal_mode.hpp"
+#include "foveation/view_settings.hpp"
 #include "gpu_reconstruction.hpp"
 #include "headless_vulkan.hpp"
 
@@ -96,7 +97,7 @@ int main(int argc, char** argv) {
   std::printf("reconstruction_paths: %dx%d per eye, density scale %g, temporal \"%s\", %d frames; GPU: %s; CPU: %u "
               "threads\n",
               size[0], size[1], density_scale, temporal.c_str(), frames, vulkan.name().c_str(), executor.thread_count());
-  std::printf("%-7s %3s | %12s %12s | %12s %12s %12s | %8s | gpu stages: scatter gather taa encode (ms)\n",
+  std::printf("%-7s %3s | %12s %12s | %12s %12s %12s | %8s | gpu stages: scatter gather temporal encode (ms)\n",
               "method", "k", "cpu recon ms", "cpu +enc ms", "gpu recon ms", "gpu +enc ms", "gpu wall ms", "cpu/gpu");
   for (const fv::InterpMethod method : methods) {
     const std::string m(fv::method_name(method));
@@ -143,14 +144,14 @@ int main(int argc, char** argv) {
           return 1;
         }
         if (i == 0) continue;
-        cpu_ms.push_back(c.reconstruct_ms + c.taa_ms);
-        cpu_enc_ms.push_back(c.reconstruct_ms + c.taa_ms + enc);
-        gpu_ms.push_back(double(times.scatter_ms + times.gather_ms + times.taa_ms));
+        cpu_ms.push_back(c.reconstruct_ms + c.temporal_ms);
+        cpu_enc_ms.push_back(c.reconstruct_ms + c.temporal_ms + enc);
+        gpu_ms.push_back(double(times.scatter_ms + times.gather_ms + times.temporal_ms));
         gpu_enc_ms.push_back(double(times.total_ms()));
         gpu_wall_ms.push_back(wall);
         stage[0].push_back(double(times.scatter_ms));
         stage[1].push_back(double(times.gather_ms));
-        stage[2].push_back(double(times.taa_ms));
+        stage[2].push_back(double(times.temporal_ms));
         stage[3].push_back(double(times.encode_ms));
       }
       std::printf("%-7s %3d | %12.2f %12.2f | %12.2f %12.2f %12.2f | %7.2fx | %.2f %.2f %.2f %.2f\n", m.c_str(), k,

@@ -8,6 +8,14 @@ include(GNUInstallDirs)
 
 set(_layer_name XR_APILAYER_FOVEART_foveated_ray_tracing)
 
+# The extension's version as the manifests advertise it: the header's, one definition.
+file(STRINGS ${PROJECT_SOURCE_DIR}/layer/include/layer/XR_FOVEART_foveated_ray_tracing.h _spec_line
+     REGEX "^#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION [0-9]+$")
+string(REGEX REPLACE ".* ([0-9]+)$" "\\1" FOVEART_EXTENSION_SPEC_VERSION "${_spec_line}")
+if(NOT FOVEART_EXTENSION_SPEC_VERSION MATCHES "^[0-9]+$")
+  message(FATAL_ERROR "manifests: no XR_FOVEART_foveated_ray_tracing_SPEC_VERSION in the extension header")
+endif()
+
 foreach(kind IN ITEMS explicit implicit)
   if(kind STREQUAL "explicit")
     set(_template ${CMAKE_CURRENT_LIST_DIR}/${_layer_name}.json.in)

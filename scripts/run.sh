@@ -10,7 +10,7 @@
 #      the GPU sample engine through the device trace, reconstructed by shaders/
 # Usage: scripts/run.sh [--pricelist]
 #   --pricelist  also write the quick price list of the default scene to out/pricelist/
-#                (about 7 more minutes on 2 cores; docs/pricelist.md has the last one)
+#                (about 7 more minutes on 2 cores; docs/lab/pricelist.md has the last one)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -103,7 +103,7 @@ jq -rn --slurpfile p out/pointset.json --slurpfile r out/render.json \
         "\($c[0].per_frame.layer_overhead_ms[0].p50 | r1) ms, temporal \"\($c[0].temporal)\""),
     ($g[0].gpu_stage_ms[0]) as $stage
     | row("whole frame per eye on the device, GPU engine, lavapipe (a CPU device)";
-        "trace \($g[0].per_frame.trace_ms[0].p50 | r1) ms (p50) + reconstruction \($stage.gather + $stage.taa + $stage.encode | r1) ms, temporal \"\($g[0].temporal)\""),
+        "trace \($g[0].per_frame.trace_ms[0].p50 | r1) ms (p50) + reconstruction \($stage.gather + $stage.temporal + $stage.encode | r1) ms, temporal \"\($g[0].temporal)\""),
     row("pictures"; "out/render_full.png, out/render_foveated.png, out/frames/, out/pointset_centred.png"),
     row("price list (accuracy per ring against a converged reference)";
-        if $pricelist == "1" then "out/pricelist/report.md" else "docs/pricelist.md (scripts/run.sh --pricelist: out/pricelist/)" end)'
+        if $pricelist == "1" then "out/pricelist/report.md" else "docs/lab/pricelist.md (scripts/run.sh --pricelist: out/pricelist/)" end)'

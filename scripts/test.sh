@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds, and runs every test
+#   0. the source checks: no product function over 80 lines, docs short and their links whole
 #   1. AddressSanitizer + UBSan build (-O1 -g1, warnings as errors) -> the whole ctest suite
 #   2. ThreadSanitizer build of the threaded suites (label "threaded") -> ctest
 # Usage: scripts/test.sh [--plain | --quick]
@@ -13,6 +14,10 @@ mode=${1:-}
 case "$mode" in ""|--plain|--quick) ;; *) echo "usage: scripts/test.sh [--plain | --quick]" >&2; exit 2;; esac
 
 bash scripts/setup.sh
+
+echo "=== source checks"
+bash scripts/check_function_length.sh
+bash scripts/check_docs.sh
 
 # Isolate tests from the developer's OpenXR/Vulkan configuration.
 export LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0"

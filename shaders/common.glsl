@@ -26,7 +26,7 @@ layout(set = 0, binding = 0, std430) readonly buffer Chunk { uint words[]; } chu
 
 // Colour of every point this frame; a = 1 traced, 0 not (never spread).
 layout(set = 0, binding = 1, std430) buffer Colors { vec4 colors[]; };
-// Depth (TAA reprojection) as the shaders carry it: the engine's distance in
+// Depth (history reprojection) as the shaders carry it: the engine's distance in
 // metres along the ray; no depth is DEPTH_UNKNOWN and a miss (the sky) is
 // DEPTH_FAR and above: no NaN or infinity reaches a shader (drivers may
 // compile isnan/isinf away).
@@ -36,7 +36,7 @@ layout(set = 0, binding = 1, std430) buffer Colors { vec4 colors[]; };
 // The reconstruction, one vec4 per screen pixel, row-major: rgb and the
 // pixel's depth (its nearest traced point's).
 layout(set = 0, binding = 2, std430) buffer Current { vec4 current[]; };
-// TAA history in (last frame's output) and out (this frame's output); a =
+// Temporal history in (last frame's output) and out (this frame's output); a =
 // the depth of that frame's pixel.
 layout(set = 0, binding = 3, std430) readonly buffer HistoryIn { vec4 history_in[]; };
 layout(set = 0, binding = 4, std430) buffer HistoryOut { vec4 history_out[]; };

@@ -105,20 +105,20 @@ struct Images {
   auto tables = render_view::load_foveated_tables(
       r, s.view, cache, executor, [&](const std::string& m) { err << kAccuracyWho << m << "\n"; }, error);
   if (!tables) return false;
-  foveation::FoveatedView view(
-      std::move(tables), taa_view_settings(o.taa, r.rays_per_point, r.seed, r.pixel_filter, o.taa_mean_while_young));
+  const std::unique_ptr<foveation::FoveatedView> view =
+      make_taa_view(std::move(tables), o.taa, r.rays_per_point, r.seed, r.pixel_filter, o.taa_mean_while_young);
   for (int frame = 0; frame < r.frames; ++frame) {
     foveation::FrameRequest request;
     request.view = s.view;
     request.gaze_px = s.gaze;
     request.frame_index = r.first_frame + static_cast<std::uint64_t>(frame);
-    const foveation::FrameResult fr = view.render(request, &foveart_engine_trace_rays, s.tracer.get(), executor);
+    const foveation::FrameResult fr = view->render(request, &foveart_engine_trace_rays, s.tracer.get(), executor);
     if (!fr.ok()) {
       *error = "foveated frame " + std::to_string(frame) + ": " + fr.message;
       return false;
     }
   }
-  images->foveated = view.image();
+  images->foveated = view->image();
   return true;
 }
 

@@ -240,8 +240,7 @@ struct MotionScene {
     t.taa = mode;
     t.spp = o.rays_per_point;
     t.id = setting.id() + "_taa-" + mode;
-    t.view = std::make_unique<foveation::FoveatedView>(
-        tables, taa_view_settings(mode, o.rays_per_point, o.seed, o.pixel_filter, m.taa_mean_while_young));
+    t.view = make_taa_view(tables, mode, o.rays_per_point, o.seed, o.pixel_filter, m.taa_mean_while_young);
     tracks->push_back(std::move(t));
   }
   return true;
@@ -288,15 +287,15 @@ SequenceHooks sequence_hooks(const MotionOptions& m, std::ostream& err, toolkit:
 }
 
 Json frames_json(const std::vector<MotionFrame>& frames, const std::vector<SequenceTrack>& tracks) {
-  std::vector<std::uint8_t> taa_reset(frames.size(), 0);  // per frame: some track's TAA restarted
+  std::vector<std::uint8_t> temporal_reset(frames.size(), 0);  // per frame: some track's history restarted
   for (const SequenceTrack& t : tracks)
-    for (int i : t.taa_reset_frames) taa_reset[std::size_t(i)] = 1;
+    for (int i : t.taa_reset_frames) temporal_reset[std::size_t(i)] = 1;
   Json list = Json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const MotionFrame& f = frames[i];
     list.push_back({{"index", f.index}, {"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}},
                     {"saccade", f.saccade}, {"blink", f.blink}, {"gaze_off_view", f.gaze_off_view},
-                    {"taa_reset", taa_reset[i] != 0},
+                    {"temporal_reset", temporal_reset[i] != 0},
                     {"pose", {f.view.position_m[0], f.view.position_m[1], f.view.position_m[2],
                               f.view.orientation_xyzw[0], f.view.orientation_xyzw[1], f.view.orientation_xyzw[2],
                               f.view.orientation_xyzw[3]}}});

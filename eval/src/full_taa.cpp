@@ -12,7 +12,7 @@ namespace foveart::eval {
 FullTaaRender::FullTaaRender(const foveation::ViewSettings& settings)
     : settings_(settings), taa_(settings.blend_options()) {
   // An image history only: a render cache keeps rays, not images, and TAA off keeps nothing.
-  if (!settings.taa || settings.taa_history == foveation::TaaHistory::ray_cache)
+  if (settings.temporal != foveation::TemporalMode::image)
     throw std::invalid_argument("full render with TAA: the settings must have an image history");
   if (settings.rays_per_point < 1) throw std::invalid_argument("full render with TAA: rays per pixel must be >= 1");
 }
@@ -34,7 +34,7 @@ FullTaaFrame FullTaaRender::render(FoveartTraceRaysFn trace_rays, void* user_dat
   if (rr.status != FOVEART_RESULT_SUCCESS) return f;
   const auto t0 = std::chrono::steady_clock::now();
   taa_.accumulate(frame_, gaze_px, executor);
-  f.taa_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  f.temporal_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return f;
 }
 

@@ -7,9 +7,10 @@
 #include <engine/render.hpp>
 
 #include <metrics/image_metrics.hpp>
-#include <foveation/taa.hpp>
-#include <foveation/taa_reprojection.hpp>
+#include <foveation/temporal_blend.hpp>
+#include <foveation/history_reprojection.hpp>
 #include <foveation/temporal_mode.hpp>
+#include <foveation/view_settings.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -53,8 +54,8 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     request.blink = f.blink;
     const foveation::FrameResult fr = t.view->render(request, &foveart_engine_trace_rays, &tracer, executor);
     if (!fr.ok()) return t.id + ": frame " + std::to_string(f.index) + ": " + fr.message;
-    t.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
-    if (fr.taa_reset) t.taa_reset_frames.push_back(f.index);
+    t.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.temporal_ms);
+    if (fr.temporal_reset) t.taa_reset_frames.push_back(f.index);
     t.history_off_screen += fr.history_off_screen;
     t.history_disoccluded += fr.history_disoccluded;
     if (f.index == 0) t.points = fr.points;
@@ -128,7 +129,7 @@ void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
 // reprojected through the pixel-centre depth, fed the converged reference in
 // place of a noisy frame; restarts at the same saccade and blink onsets.
 struct TaaOnReference {
-  foveation::TemporalAccumulator taa;  // the layer's TaaOptions, the tracks' young-history blend
+  foveation::TemporalAccumulator taa;  // the layer's TemporalOptions, the tracks' young-history blend
   foveation::ImageRgb warped;          // scratch
   std::vector<std::uint8_t> valid;     // scratch
 };
@@ -185,7 +186,7 @@ struct SampleHistories {
 }  // namespace
 
 int taa_settle_frames() {
-  return int(std::ceil(1.0 / double(foveation::TaaOptions{}.current_weight)));
+  return int(std::ceil(1.0 / double(foveation::TemporalOptions{}.current_weight)));
 }
 
 double median_ms(std::vector<double> v) {
@@ -204,8 +205,8 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
                " (its reference would not be the track's expectation)";
       return false;
     }
-    if (t.view != nullptr && t.view->settings().taa &&
-        t.view->settings().taa_options.mean_while_young != ref_options.taa_mean_while_young) {
+    if (t.view != nullptr && t.view->settings().temporal != foveation::TemporalMode::off &&
+        t.view->settings().temporal_options.mean_while_young != ref_options.taa_mean_while_young) {
       *error = t.id + ": its TAA's young-history blend differs from the sequence's (the control's)";
       return false;
     }
@@ -216,7 +217,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
   run->settled = settled_frames(restart, taa_settle_frames());
   foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
   Tracking tracking;
-  foveation::TaaOptions control_taa;
+  foveation::TemporalOptions control_taa;
   control_taa.mean_while_young = ref_options.taa_mean_while_young;
   TaaOnReference taa_on_reference{foveation::TemporalAccumulator(control_taa), {}, {}};
   SampleHistories sample_histories(ref_options.seed, ref_options.pixel_filter);
@@ -338,7 +339,7 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
   Json j = {{"id", t.id}, {"kind", t.full ? "full" : "foveated"}, {"taa", t.full ? Json(nullptr) : Json(t.taa)},
             {"spp", t.spp}, {"frames", t.error.frames()}, {"ms", ms}, {"frames_total_ms", t.total_ms},
             {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)}, {"points", t.points},
-            {"rays", rays}, {"taa_resets", t.taa_reset_frames.size()}, {"taa_reset_frames", t.taa_reset_frames},
+            {"rays", rays}, {"temporal_resets", t.taa_reset_frames.size()}, {"taa_reset_frames", t.taa_reset_frames},
             {"history_off_screen", t.history_off_screen},
             {"history_disoccluded", t.history_disoccluded}};
   Json rings = Json::array();

@@ -180,9 +180,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       t.id = track_id(s, mode);
       t.taa = mode;
       t.spp = s.rays_per_point;
-      t.view = std::make_unique<foveation::FoveatedView>(
-          tables, taa_view_settings(mode, s.rays_per_point, c.seed, c.pixel_filter,
-                                    /*taa_mean_while_young=*/false));
+      t.view = make_taa_view(tables, mode, s.rays_per_point, c.seed, c.pixel_filter, /*taa_mean_while_young=*/false);
       tracks.push_back(std::move(t));
     }
     SequenceHooks hooks;

@@ -261,7 +261,7 @@ std::string temporal_csf_line(const Json& a) {
 
 std::string write_temporal_csv(const std::filesystem::path& file, const Json& temporal) {
   std::ofstream f(file);
-  f << "id,setting,kind,method,k,scale,pattern,taa,spp,ms,time_fraction,taa_resets";
+  f << "id,setting,kind,method,k,scale,pattern,taa,spp,ms,time_fraction,temporal_resets";
   for (const char* m : {"flicker", "flicker_tracked", "flicker_csf", "psnr"})
     for (std::size_t r = 0; r < kRings; ++r) f << "," << m << "_" << ring_name(r);
   f << "\n";
@@ -279,7 +279,7 @@ std::string write_temporal_csv(const std::filesystem::path& file, const Json& te
     f << cell(t["id"]) << "," << cell(t["setting"]) << "," << cell(t["kind"]) << "," << cell(t.value("method", Json()))
       << "," << cell(t.value("k", Json())) << "," << cell(t.value("scale", Json())) << ","
       << cell(t.value("pattern", Json())) << "," << cell(t["taa"]) << "," << cell(t["spp"]) << "," << cell(t["ms"])
-      << "," << cell(t["time_fraction"]) << "," << cell(t["taa_resets"]);
+      << "," << cell(t["time_fraction"]) << "," << cell(t["temporal_resets"]);
     for (const char* m : {"flicker", "flicker_tracked", "flicker_csf", "psnr"})
       for (std::size_t r = 0; r < kRings; ++r) f << "," << cell(t["rings"][r].value(m, Json()));
     f << "\n";
@@ -390,7 +390,7 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
   };
   for (const Json& t : temporal["tracks"]) {
     md << "| " << t["id"].get<std::string>() << " | " << fmt(100.0 * num(t["time_fraction"]), 0) << " | "
-       << t["taa_resets"] << " |";
+       << t["temporal_resets"] << " |";
     cells(t, "flicker_tracked", "flicker", "psnr");
   }
   if (temporal.contains("reference") && temporal["reference"].is_object()) {

@@ -1,5 +1,7 @@
 #include <eval/taa_modes.hpp>
 
+#include <foveation/image_history.hpp>
+#include <foveation/ray_history.hpp>
 #include <foveation/temporal_mode.hpp>
 
 #include <algorithm>
@@ -47,10 +49,23 @@ foveation::ViewSettings taa_view_settings(const std::string& mode, int rays_per_
                                                                                     : foveation::TemporalMode::image;
   foveation::ViewSettings vs = foveation::temporal_view_settings(product, rays_per_point, seed);
   vs.pixel_filter = pixel_filter;  // the lab measures every filter under every mode
-  vs.taa_options.mean_while_young = taa_mean_while_young;
-  if (mode == "restart") vs.taa_history = foveation::TaaHistory::restart_on_view_change;
-  vs.ray_cache_keeps_through_saccades = mode == "cache-kept";
+  vs.temporal_options.mean_while_young = taa_mean_while_young;
   return vs;
+}
+
+std::unique_ptr<foveation::FoveatedView> make_taa_view(std::shared_ptr<const foveation::ViewTables> tables,
+                                                       const std::string& mode, int rays_per_point, std::uint64_t seed,
+                                                       foveation::PixelFilter pixel_filter, bool taa_mean_while_young) {
+  const foveation::ViewSettings vs = taa_view_settings(mode, rays_per_point, seed, pixel_filter, taa_mean_while_young);
+  std::unique_ptr<foveation::TemporalHistory> history;  // null: the product's mode
+  if (mode == "restart") {
+    history = std::make_unique<foveation::ImageHistory>(tables->neighbors, vs.blend_options(), /*reproject=*/false);
+  } else if (mode == "cache-kept") {
+    history = std::make_unique<foveation::RayHistory>(
+        *tables, vs.blend_options(),
+        foveation::RayHistoryOptions{vs.pixel_filter, vs.ray_cache_max_age_frames, /*keep_through_restarts=*/true});
+  }
+  return std::make_unique<foveation::FoveatedView>(std::move(tables), vs, std::move(history));
 }
 
 }  // namespace foveart::eval

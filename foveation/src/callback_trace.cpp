@@ -44,12 +44,21 @@ CallbackTrace::CallbackTrace(const PointSet& points, int rays_per_point, PixelFi
   }
 }
 
+// One frame's pass over the runs: what every run reads, and the counts they add to.
+struct CallbackTrace::FramePass {
+  const FrameContext& frame;
+  const VisibleRegion visible;
+  const std::uint32_t spp;           // rays per point
+  const std::uint32_t batch_points;  // points per engine call
+  const float inv_spp;
+  std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
+  std::atomic<bool> any_depth{false};
+};
+
 TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
   if (frame.trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
   TraceStats stats;
   const auto t_setup = Clock::now();
-  const PointSet& points = points_;
-  const FoveartEyeView& view = frame.view;
   const std::uint32_t spp = rays_.rays_per_point();
   rays_.prepare(frame.sample_seed, executor);
   const unsigned workers = executor.thread_count();
@@ -62,106 +71,137 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
-  const VisibleRegion visible(frame.mapping, points.visible_margin_px);
-  std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
-  std::atomic<bool> any_depth{false};
-  const float inv_spp = 1.0f / float(spp);
-  PointColors& colors = traced_.colors;
-  executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) {
-    // Only the points traced hold a colour. Last frame's points of this run
-    // that this frame does not trace are cleared after it (forget_untraced),
-    // rather than all of them before: most are traced again and overwritten.
-    std::vector<std::uint32_t>& traced = traced_.runs[run];
-    std::vector<std::uint32_t>& before = previous_[worker];
-    before.swap(traced);
-    traced.clear();
-    const std::size_t first = run * kRunPoints, last = std::min(points.size(), first + kRunPoints);
-    const auto forget_untraced = [&] {
-      if (traced.size() == last - first) return;  // every point of the run holds this frame's colour
-      auto now = traced.begin();  // both lists ascend (the run's order)
-      for (std::uint32_t id : before) {
-        while (now != traced.end() && *now < id) ++now;
-        if (now == traced.end() || *now != id) colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
-      }
-    };
-    if (keep_rays_) traced_.rays[run].clear();
-    const RunBox& box = run_boxes_[run];
-    const glm::vec2 box_min = visible.to_screen(box.min_px), box_max = visible.to_screen(box.max_px);
-    if (box_max.x < visible.x0 || box_min.x >= visible.x1 || box_max.y < visible.y0 || box_min.y >= visible.y1) {
-      forget_untraced();
-      return;  // no point of this run is on the screen
-    }
-    // Most runs lie wholly on the screen: their points need no test of their own.
-    const bool run_visible = visible.contains(box_min) && visible.contains(box_max);
-    RayBatch& batch = batches_[worker];
-    std::vector<std::uint32_t>& ids = batch_points_[worker];
-    batch.resize(std::size_t(batch_points) * spp);
-    ids.resize(batch_points);
-    std::uint32_t n = 0;
-    bool run_has_depth = false;  // written once per run: a shared flag stored per point bounces between cores
-    auto flush = [&] {
-      const std::uint32_t rays = n * spp;
-      rays_.set_rays(batch, std::span<const std::uint32_t>(ids.data(), n), visible, int(view.width_px));  // stage 2
-      if (batch.trace(frame.trace_rays, frame.user_data, view, frame.frame_index, rays) != FOVEART_RESULT_SUCCESS) {
-        failed_batches.fetch_add(1, std::memory_order_relaxed);
-      } else if (const std::uint64_t bad = batch.invalid_components(rays); bad != 0) {
-        invalid_colours.fetch_add(bad, std::memory_order_relaxed);
-      } else if (spp == 1 && !keep_rays_) {  // the common frame: a ray per point, its hit is its depth
-        for (std::uint32_t j = 0; j < n; ++j) {
-          const glm::vec3 c = batch.rgb(j);
-          const float d = batch.depth_m(j);
-          const bool has_depth = d >= 0.0f;
-          colors.rgba[ids[j]] = Rgba{c.x, c.y, c.z, 1.0f};
-          traced_.depth_m[ids[j]] = has_depth ? d : NAN;
-          run_has_depth = run_has_depth || has_depth;
-        }
-        traced.insert(traced.end(), ids.begin(), ids.begin() + n);
-      } else {
-        for (std::uint32_t j = 0, r = 0; j < n; ++j) {
-          glm::vec3 sum(0.0f);
-          float nearest_m = NAN;    // the point's depth: its nearest hit (NaN: the engine gave none)
-          float farthest_m = 0.0f;  // its farthest (NaN: one gave none), for the ray cache's depth test
-          // A pixel-grid ray is drawn for its point's pixel; a Poisson point's for none.
-          const glm::ivec2 pixel = keep_rays_ && points.on_pixel_grid(ids[j])
-                                       ? glm::ivec2(glm::floor(visible.to_screen(points.position_px[ids[j]])))
-                                       : glm::ivec2(-1);
-          for (std::uint32_t s = 0; s < spp; ++s, ++r) {
-            sum += batch.rgb(r);
-            const float d = batch.depth_m(r);
-            if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
-            farthest_m = d >= 0.0f ? std::max(farthest_m, d) : NAN;
-            if (keep_rays_) traced_.rays[run].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
-          }
-          sum *= inv_spp;
-          colors.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
-          traced_.depth_m[ids[j]] = nearest_m;
-          if (keep_rays_) traced_.farthest_m[ids[j]] = farthest_m;
-          run_has_depth = run_has_depth || !std::isnan(nearest_m);
-          traced.push_back(ids[j]);
-        }
-      }
-      n = 0;
-    };
-    std::uint64_t run_points = 0;
-    for (std::size_t i = first; i < last; ++i) {
-      if (!run_visible && !visible.contains(visible.to_screen(points.position_px[i]))) continue;  // stage 1
-      ids[n] = std::uint32_t(i);
-      ++run_points;
-      if (++n == batch_points) flush();  // stages 2 and 3
-    }
-    if (n > 0) flush();
-    forget_untraced();
-    traced_points.fetch_add(run_points, std::memory_order_relaxed);
-    if (run_has_depth) any_depth.store(true, std::memory_order_relaxed);
-  });
+  FramePass pass{frame, VisibleRegion(frame.mapping, points_.visible_margin_px), spp, batch_points, 1.0f / float(spp)};
+  executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) { trace_run(pass, run, worker); });
   stats.trace_ms = ms_since(t_trace);
-  stats.points = std::uint32_t(traced_points.load());
-  stats.rays = traced_points.load() * spp;
-  stats.failed_batches = failed_batches.load();
-  stats.invalid_colours = invalid_colours.load();
-  traced_.any_depth = any_depth.load();
-  if (stats.ok()) colors.invalid = points.size() - stats.points;
+  stats.points = std::uint32_t(pass.traced_points.load());
+  stats.rays = pass.traced_points.load() * spp;
+  stats.failed_batches = pass.failed_batches.load();
+  stats.invalid_colours = pass.invalid_colours.load();
+  traced_.any_depth = pass.any_depth.load();
+  if (stats.ok()) traced_.colors.invalid = points_.size() - stats.points;
   return stats;
+}
+
+// Only the points traced hold a colour. Last frame's points of this run that
+// this frame does not trace are cleared after it (forget_untraced), rather than
+// all of them before: most are traced again and overwritten.
+void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker) {
+  std::vector<std::uint32_t>& traced = traced_.runs[run];
+  std::vector<std::uint32_t>& before = previous_[worker];
+  before.swap(traced);
+  traced.clear();
+  const std::size_t first = run * kRunPoints, last = std::min(points_.size(), first + kRunPoints);
+  if (keep_rays_) traced_.rays[run].clear();
+  const VisibleRegion& visible = pass.visible;
+  const RunBox& box = run_boxes_[run];
+  const glm::vec2 box_min = visible.to_screen(box.min_px), box_max = visible.to_screen(box.max_px);
+  if (box_max.x < visible.x0 || box_min.x >= visible.x1 || box_max.y < visible.y0 || box_min.y >= visible.y1) {
+    forget_untraced(before, traced, last - first);
+    return;  // no point of this run is on the screen
+  }
+  // Most runs lie wholly on the screen: their points need no test of their own.
+  const bool run_visible = visible.contains(box_min) && visible.contains(box_max);
+  batches_[worker].resize(std::size_t(pass.batch_points) * pass.spp);
+  std::vector<std::uint32_t>& ids = batch_points_[worker];
+  ids.resize(pass.batch_points);
+  std::uint32_t n = 0;
+  bool run_has_depth = false;  // written once per run: a shared flag stored per point bounces between cores
+  std::uint64_t run_points = 0;
+  for (std::size_t i = first; i < last; ++i) {
+    if (!run_visible && !visible.contains(visible.to_screen(points_.position_px[i]))) continue;  // stage 1
+    ids[n] = std::uint32_t(i);
+    ++run_points;
+    if (++n == pass.batch_points) {  // stages 2 and 3
+      if (trace_batch(pass, run, worker, n)) run_has_depth = true;
+      n = 0;
+    }
+  }
+  if (n > 0 && trace_batch(pass, run, worker, n)) run_has_depth = true;
+  forget_untraced(before, traced, last - first);
+  pass.traced_points.fetch_add(run_points, std::memory_order_relaxed);
+  if (run_has_depth) pass.any_depth.store(true, std::memory_order_relaxed);
+}
+
+// Clears the colour and depth of the points in `before` (last frame's, of a
+// run of run_size points) that are not in `traced` (this frame's).
+void CallbackTrace::forget_untraced(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& traced,
+                                    std::size_t run_size) {
+  if (traced.size() == run_size) return;  // every point of the run holds this frame's colour
+  auto now = traced.begin();              // both lists ascend (the run's order)
+  for (std::uint32_t id : before) {
+    while (now != traced.end() && *now < id) ++now;
+    if (now == traced.end() || *now != id) traced_.colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
+  }
+}
+
+// Stages 2 and 3 for the first n points of the worker's batch: their rays, the
+// engine's colours, each point's colour and depth. True if a point got a depth.
+bool CallbackTrace::trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::uint32_t n) {
+  RayBatch& batch = batches_[worker];
+  const std::span<const std::uint32_t> ids(batch_points_[worker].data(), n);
+  const std::uint32_t rays = n * pass.spp;
+  rays_.set_rays(batch, ids, pass.visible, int(pass.frame.view.width_px));  // stage 2
+  if (batch.trace(pass.frame.trace_rays, pass.frame.user_data, pass.frame.view, pass.frame.frame_index, rays) !=
+      FOVEART_RESULT_SUCCESS) {
+    pass.failed_batches.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  if (const std::uint64_t bad = batch.invalid_components(rays); bad != 0) {
+    pass.invalid_colours.fetch_add(bad, std::memory_order_relaxed);
+    return false;
+  }
+  if (pass.spp == 1 && !keep_rays_) return keep_ray_colors(batch, ids, traced_.runs[run]);  // the common frame
+  return keep_mean_colors(pass, batch, ids, run);
+}
+
+// A ray per point: its colour and its hit distance are the point's.
+bool CallbackTrace::keep_ray_colors(const RayBatch& batch, std::span<const std::uint32_t> ids,
+                                    std::vector<std::uint32_t>& traced) {
+  PointColors& colors = traced_.colors;
+  bool any_depth = false;
+  for (std::uint32_t j = 0; j < ids.size(); ++j) {
+    const glm::vec3 c = batch.rgb(j);
+    const float d = batch.depth_m(j);
+    const bool has_depth = d >= 0.0f;
+    colors.rgba[ids[j]] = Rgba{c.x, c.y, c.z, 1.0f};
+    traced_.depth_m[ids[j]] = has_depth ? d : NAN;
+    any_depth = any_depth || has_depth;
+  }
+  traced.insert(traced.end(), ids.begin(), ids.end());
+  return any_depth;
+}
+
+// Several rays per point, or the rays kept: each point's mean colour, its
+// nearest and farthest hit and, with keep_rays_, every ray of the run.
+bool CallbackTrace::keep_mean_colors(const FramePass& pass, const RayBatch& batch, std::span<const std::uint32_t> ids,
+                                     std::size_t run) {
+  PointColors& colors = traced_.colors;
+  std::vector<std::uint32_t>& traced = traced_.runs[run];
+  bool any_depth = false;
+  for (std::uint32_t j = 0, r = 0; j < ids.size(); ++j) {
+    glm::vec3 sum(0.0f);
+    float nearest_m = NAN;    // the point's depth: its nearest hit (NaN: the engine gave none)
+    float farthest_m = 0.0f;  // its farthest (NaN: one gave none), for the ray cache's depth test
+    // A pixel-grid ray is drawn for its point's pixel; a Poisson point's for none.
+    const glm::ivec2 pixel = keep_rays_ && points_.on_pixel_grid(ids[j])
+                                 ? glm::ivec2(glm::floor(pass.visible.to_screen(points_.position_px[ids[j]])))
+                                 : glm::ivec2(-1);
+    for (std::uint32_t s = 0; s < pass.spp; ++s, ++r) {
+      sum += batch.rgb(r);
+      const float d = batch.depth_m(r);
+      if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
+      farthest_m = d >= 0.0f ? std::max(farthest_m, d) : NAN;
+      if (keep_rays_) traced_.rays[run].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
+    }
+    sum *= pass.inv_spp;
+    colors.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
+    traced_.depth_m[ids[j]] = nearest_m;
+    if (keep_rays_) traced_.farthest_m[ids[j]] = farthest_m;
+    any_depth = any_depth || !std::isnan(nearest_m);
+    traced.push_back(ids[j]);
+  }
+  return any_depth;
 }
 
 }  // namespace foveart::foveation

@@ -23,28 +23,26 @@ const ViewTables& checked(const std::shared_ptr<const ViewTables>& tables) {
 }  // namespace
 
 std::unique_ptr<TemporalHistory> make_temporal_history(const ViewTables& tables, const ViewSettings& settings) {
-  const TaaOptions blend = settings.blend_options();
-  if (!settings.taa) return std::make_unique<NoHistory>(blend);
-  switch (settings.taa_history) {
-    case TaaHistory::restart_on_view_change:
-      return std::make_unique<ImageHistory>(tables.neighbors, blend, false);
-    case TaaHistory::reproject:
-      return std::make_unique<ImageHistory>(tables.neighbors, blend, true);
-    case TaaHistory::ray_cache:
-      break;
+  const TemporalOptions blend = settings.blend_options();
+  switch (settings.temporal) {
+    case TemporalMode::off: return std::make_unique<NoHistory>(blend);
+    case TemporalMode::image: return std::make_unique<ImageHistory>(tables.neighbors, blend, /*reproject=*/true);
+    case TemporalMode::rays: break;
   }
   return std::make_unique<RayHistory>(
-      tables, blend,
-      RayHistoryOptions{settings.pixel_filter, settings.ray_cache_max_age_frames,
-                        settings.ray_cache_keeps_through_saccades});
+      tables, blend, RayHistoryOptions{settings.pixel_filter, settings.ray_cache_max_age_frames});
 }
 
 FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings)
+    : FoveatedView(std::move(tables), settings, nullptr) {}
+
+FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
+                           std::unique_ptr<TemporalHistory> history)
     : tables_(std::move(tables)),
       settings_(settings),
       centre_(settings.centre_deadband_deg * checked(tables_).key.display.view_distance_px * std::numbers::pi / 180.0) {
   if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
-  history_ = make_temporal_history(*tables_, settings_);
+  history_ = history != nullptr ? std::move(history) : make_temporal_history(*tables_, settings_);
   trace_ = std::make_unique<CallbackTrace>(tables_->points, settings_.rays_per_point, settings_.pixel_filter,
                                            settings_.new_jitter_each_frame, history_->keeps_rays());
   reconstruct_ = std::make_unique<GatherReconstruction>(*tables_, settings_.rbf_clamp);
@@ -84,8 +82,8 @@ FrameResult FoveatedView::plan(const FrameRequest& request, Executor& executor) 
   const FrameContext frame = begin_frame(request, &result);
   hand_off_.traced = &nothing_traced_;
   hand_off_.temporal = history_->decide(frame, nothing_traced_, executor);
-  result.taa_ms = ms_since(t_decide);
-  result.taa_reset = hand_off_.temporal.kept && hand_off_.temporal.reset;
+  result.temporal_ms = ms_since(t_decide);
+  result.temporal_reset = hand_off_.temporal.kept && hand_off_.temporal.reset;
   return result;
 }
 
@@ -122,16 +120,16 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the history's decision runs here
     const auto t_decide = Clock::now();
     temporal = history_->decide(frame, points, executor);
-    result.taa_ms = ms_since(t_decide);
+    result.temporal_ms = ms_since(t_decide);
   } else {
     const auto t_gather = Clock::now();  // stage 4
     result.gather = reconstruct_->reconstruct(frame, points, reconstructed_, executor);
     result.reconstruct_ms = ms_since(t_gather);
     const auto t_history = Clock::now();  // stage 5
     output_ = &history_->accumulate(frame, points, reconstructed_, executor, &temporal);
-    result.taa_ms = ms_since(t_history);
+    result.temporal_ms = ms_since(t_history);
   }
-  result.taa_reset = temporal.kept && temporal.reset;
+  result.temporal_reset = temporal.kept && temporal.reset;
   result.ray_cache_restart = temporal.rays && temporal.ray_restart;
   result.history_off_screen = temporal.history_off_screen;
   result.history_disoccluded = temporal.history_disoccluded;

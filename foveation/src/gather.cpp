@@ -277,15 +277,77 @@ FOVEART_AVX2 inline v4 pixel_avx2(const Rgba* pal, const std::uint8_t* s, const 
 }
 #endif
 
+// The tile kernel's target: AVX2 where the AVX2 kernel exists. Its helpers
+// share it and are always inlined, so the pixel loop compiles as one function.
+#if defined(FOVEART_GATHER_AVX2)
+#define FOVEART_GATHER_TARGET FOVEART_AVX2
+#else
+#define FOVEART_GATHER_TARGET
+#endif
+#define FOVEART_GATHER_INLINE FOVEART_GATHER_TARGET inline __attribute__((always_inline))
+
+// One block's palette, copied into pal: how many of its colours are invalid
+// and, for RbfClamp::block, the range of the valid ones.
+struct BlockPalette {
+  int invalid;  // an integer count: no floating-point dependency chain
+  v4 lo, hi;
+};
+
+template <RbfClamp kClamp>
+FOVEART_GATHER_INLINE BlockPalette load_palette(const Rgba* colors, const std::uint32_t* ids, int size, Rgba* pal) {
+  int invalid = 0;  // locals, not the result's fields: they stay in registers
+  v4 lo = {INFINITY, INFINITY, INFINITY, INFINITY}, hi = -lo;
+  for (int i = 0; i < size; ++i) {
+    pal[i] = colors[ids[i]];
+    invalid += pal[i].a == 0.0f;
+    if constexpr (kClamp == RbfClamp::block) {
+      const v4 c = load(pal[i]);
+      lo = min4(lo, c), hi = max4(hi, c);
+    }
+  }
+  if (kClamp == RbfClamp::block && invalid != 0) {  // rare: the range of the valid colours only
+    lo = v4{INFINITY, INFINITY, INFINITY, INFINITY}, hi = -lo;
+    for (int i = 0; i < size; ++i)
+      if (pal[i].a != 0.0f) lo = min4(lo, load(pal[i])), hi = max4(hi, load(pal[i]));
+  }
+  return {invalid, lo, hi};
+}
+
+// Does the pixel with palette slots s use an invalid colour?
+FOVEART_GATHER_INLINE bool uses_invalid(const Rgba* pal, const std::uint8_t* s, int k) {
+  bool any_invalid = false;
+  for (int j = 0; j < k; ++j) any_invalid |= pal[s[j]].a == 0.0f;
+  return any_invalid;
+}
+
+// A pixel whose taps are all valid: the AVX2 kernel where its weights can be
+// read in groups of 8 (avx2_fits), else the portable one; RbfClamp::block
+// clamps it to the block's range.
+template <typename W, RbfClamp kClamp, int kTaps, bool kAvx2>
+FOVEART_GATHER_INLINE v4 valid_pixel(const Rgba* pal, const BlockPalette& palette, const std::uint8_t* s, const W* w,
+                                     int k, bool normalized, bool avx2_fits) {
+  constexpr bool kTapsClamp = kClamp == RbfClamp::taps;
+  v4 c;
+#if defined(FOVEART_GATHER_AVX2)
+  if constexpr (kAvx2 && kTaps > 0) {
+    c = avx2_fits ? pixel_avx2<W, kTapsClamp, kTaps>(pal, s, w, normalized)
+                  : pixel_portable<W, kTapsClamp, kTaps>(pal, s, w, k, normalized);
+  } else
+#endif
+  {
+    (void)avx2_fits;
+    c = pixel_portable<W, kTapsClamp, kTaps>(pal, s, w, k, normalized);
+  }
+  if constexpr (kClamp == RbfClamp::block) c = min4(max4(c, palette.lo), palette.hi);
+  return c;
+}
+
 // Screen rows [y0, y1) of one band, tile by tile. kAvx2: the AVX2 kernel.
 // kClamp: RbfClamp::taps clamps each pixel in its kernel; RbfClamp::block takes
 // the range of the block's valid palette colours while copying them and clamps
 // each pixel of the block to it (O(1) per pixel instead of O(k)).
 template <typename W, RbfClamp kClamp, int kTaps, bool kAvx2>
-#if defined(FOVEART_GATHER_AVX2)
-FOVEART_AVX2
-#endif
-void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
+FOVEART_GATHER_TARGET void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats& stats) {
   const auto& t = *f.table;
   const auto& l = t.layout;
   const int k = kTaps > 0 ? kTaps : t.k();
@@ -314,51 +376,21 @@ void gather_tiles(const Frame& f, const W* weights, int y0, int y1, GatherStats&
       for (int by = ry0 / bs * bs; by < ry1; by += bs) {
         for (int bx = rx0 / bs * bs; bx < rx1; bx += bs) {
           const std::size_t b = l.tile_first_block[tile] + std::size_t((by / bs) * nbx + bx / bs);
-          const std::uint32_t* ids = l.palette.data() + l.block_palette[b];
-          const int size = int(l.block_palette[b + 1] - l.block_palette[b]);
-          int invalid = 0;  // an integer count: no floating-point dependency chain
-          v4 block_lo = {INFINITY, INFINITY, INFINITY, INFINITY}, block_hi = -block_lo;
-          for (int i = 0; i < size; ++i) {
-            pal[i] = f.colors[ids[i]];
-            invalid += pal[i].a == 0.0f;
-            if constexpr (kClamp == RbfClamp::block) {
-              const v4 c = load(pal[i]);
-              block_lo = min4(block_lo, c), block_hi = max4(block_hi, c);
-            }
-          }
-          if (kClamp == RbfClamp::block && invalid != 0) {  // rare: the range of the valid colours only
-            block_lo = v4{INFINITY, INFINITY, INFINITY, INFINITY}, block_hi = -block_lo;
-            for (int i = 0; i < size; ++i)
-              if (pal[i].a != 0.0f) block_lo = min4(block_lo, load(pal[i])), block_hi = max4(block_hi, load(pal[i]));
-          }
+          const BlockPalette palette = load_palette<kClamp>(f.colors, l.palette.data() + l.block_palette[b],
+                                                            int(l.block_palette[b + 1] - l.block_palette[b]), pal);
           for (int ly = std::max(by, ry0); ly < std::min(by + bs, ry1); ++ly) {
             float* dst = f.out->at(tx0 + std::max(bx, rx0) - ox, ty0 + ly - oy);
             for (int lx = std::max(bx, rx0); lx < std::min(bx + bs, rx1); ++lx, dst += 3) {
               const std::size_t ord = tile_base + std::size_t(ly * tw + lx);
               const std::uint8_t* s = l.slot.data() + ord * std::size_t(k);
               const W* w = weights + ord * std::size_t(k);
-              if (invalid != 0) {  // an invalid point in the block: does this pixel use one?
-                bool any_invalid = false;
-                for (int j = 0; j < k; ++j) any_invalid |= pal[s[j]].a == 0.0f;
-                if (any_invalid) {
-                  const std::size_t cp = std::size_t(ty0 + ly) * std::size_t(t.width_px) + std::size_t(tx0 + lx);
-                  slow_pixel(f, cp, w, dst, stats);
-                  continue;
-                }
+              if (palette.invalid != 0 && uses_invalid(pal, s, k)) {  // an invalid point in the block, used here
+                const std::size_t cp = std::size_t(ty0 + ly) * std::size_t(t.width_px) + std::size_t(tx0 + lx);
+                slow_pixel(f, cp, w, dst, stats);
+                continue;
               }
-              constexpr bool kTapsClamp = kClamp == RbfClamp::taps;
-              v4 c;
-#if defined(FOVEART_GATHER_AVX2)
-              if constexpr (kAvx2 && kTaps > 0) {
-                c = ord * std::size_t(k) + padded <= weight_count
-                        ? pixel_avx2<W, kTapsClamp, kTaps>(pal, s, w, normalized)
-                        : pixel_portable<W, kTapsClamp, kTaps>(pal, s, w, k, normalized);
-              } else
-#endif
-              {
-                c = pixel_portable<W, kTapsClamp, kTaps>(pal, s, w, k, normalized);
-              }
-              if constexpr (kClamp == RbfClamp::block) c = min4(max4(c, block_lo), block_hi);
+              const v4 c = valid_pixel<W, kClamp, kTaps, kAvx2>(pal, palette, s, w, k, normalized,
+                                                                ord * std::size_t(k) + padded <= weight_count);
               dst[0] = c[0], dst[1] = c[1], dst[2] = c[2];
             }
           }

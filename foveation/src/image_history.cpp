@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "foveation/taa_reprojection.hpp"
+#include "foveation/history_reprojection.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -24,11 +24,11 @@ const ImageRgb& NoHistory::accumulate(const FrameContext& frame, const TracedPoi
   return reconstructed;
 }
 
-ImageHistory::ImageHistory(const NeighborTable& neighbors, const TaaOptions& blend, bool reproject)
-    : neighbors_(neighbors), reproject_(reproject), taa_(blend) {}
+ImageHistory::ImageHistory(const NeighborTable& neighbors, const TemporalOptions& blend, bool reproject)
+    : neighbors_(neighbors), reproject_(reproject), accumulator_(blend) {}
 
 void ImageHistory::forget() {
-  taa_.reset();
+  accumulator_.reset();
   last_view_.reset();
 }
 
@@ -38,16 +38,16 @@ TemporalFrame ImageHistory::decision_after(bool reset) const {
   TemporalFrame t;
   t.kept = true;
   t.reset = reset;
-  t.blend = taa_.options();
-  t.blend.current_weight = taa_.frame_weight();  // this frame's: one weight rule for both paths
+  t.blend = accumulator_.options();
+  t.blend.current_weight = accumulator_.frame_weight();  // this frame's: one weight rule for both paths
   return t;
 }
 
 TemporalFrame ImageHistory::decide(const FrameContext& frame, const TracedPoints&, Executor&) {
   const bool view_moved = moved(frame.view);
-  if (!reproject_ && view_moved) taa_.reset();
+  if (!reproject_ && view_moved) accumulator_.reset();
   const GazeMapping& m = frame.mapping;
-  TemporalFrame t = decision_after(taa_.begin_frame(m.screen_width_px, m.screen_height_px, m.gaze_px, frame.restart));
+  TemporalFrame t = decision_after(accumulator_.begin_frame(m.screen_width_px, m.screen_height_px, m.gaze_px, frame.restart));
   if (!t.reset && view_moved) t.history_view = last_view_;  // the caller reprojects from there
   last_view_ = frame.view;
   return t;
@@ -60,8 +60,8 @@ const ImageRgb& ImageHistory::accumulate(const FrameContext& frame, const Traced
   const ImageRgb* out = nullptr;
   ReprojectionStats reprojected;
   if (!reproject_) {
-    if (view_moved) taa_.reset();
-    out = &taa_.accumulate(reconstructed, gaze_px, executor, frame.restart);
+    if (view_moved) accumulator_.reset();
+    out = &accumulator_.accumulate(reconstructed, gaze_px, executor, frame.restart);
   } else {
     // The history follows the head: reprojected into this view, by depth where the engine gave one.
     if (traced.any_depth) {
@@ -69,16 +69,16 @@ const ImageRgb& ImageHistory::accumulate(const FrameContext& frame, const Traced
     } else {
       depth_px_m_.clear();
     }
-    if (last_view_ && view_moved && taa_.history().width_px > 0) {
-      reprojected = reproject_history(taa_.history(), history_depth_px_m_, *last_view_, frame.view, depth_px_m_,
-                                      warped_, warped_valid_, executor, taa_.options().history_sampling);
-      out = &taa_.accumulate_reprojected(reconstructed, warped_, warped_valid_, gaze_px, executor, frame.restart);
+    if (last_view_ && view_moved && accumulator_.history().width_px > 0) {
+      reprojected = reproject_history(accumulator_.history(), history_depth_px_m_, *last_view_, frame.view, depth_px_m_,
+                                      warped_, warped_valid_, executor, accumulator_.options().history_sampling);
+      out = &accumulator_.accumulate_reprojected(reconstructed, warped_, warped_valid_, gaze_px, executor, frame.restart);
     } else {
-      out = &taa_.accumulate(reconstructed, gaze_px, executor, frame.restart);
+      out = &accumulator_.accumulate(reconstructed, gaze_px, executor, frame.restart);
     }
     std::swap(history_depth_px_m_, depth_px_m_);
   }
-  *decision = decision_after(taa_.last_was_reset());
+  *decision = decision_after(accumulator_.last_was_reset());
   decision->history_off_screen = reprojected.off_screen;
   decision->history_disoccluded = reprojected.disoccluded;
   decision->history_with_depth = reprojected.with_depth;

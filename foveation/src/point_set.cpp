@@ -93,6 +93,156 @@ class PointGrid {
   std::vector<int> next_;
 };
 
+// The points of one set as they are placed: the pixel grid, then Bridson's
+// dart throwing from its rim outwards, then the whole set in Hilbert order.
+class PointSampler {
+ public:
+  PointSampler(const DisplayModel& display, std::uint64_t seed)
+      : display_(display),
+        canvas_w_(display.canvas_width_px()),
+        canvas_h_(display.canvas_height_px()),
+        width_(float(canvas_w_)),
+        height_(float(canvas_h_)),
+        centre_{float(display.width_px), float(display.height_px)},
+        radius_(display, std::hypot(double(width_), double(height_))),
+        // Any conflicting point lies within min_distance(r, r_local) <= r + r_max;
+        // r grows by far less than 1 px per px, so 2 r_max + 1 further out bounds it.
+        reach_px_(2.0f * radius_.max() + 1.0f),
+        pixel_grid_(display.fovea_pattern == FoveaPattern::kPixelGrid),
+        grid_{canvas_w_, canvas_h_},
+        // Pixel-grid pattern: canvas pixels holding a point; a Poisson point never
+        // shares one, so no region holds more points than pixels.
+        occupied_(pixel_grid_ ? std::size_t(canvas_w_) * std::size_t(canvas_h_) : 0, 0),
+        rng_(detail::mix64(seed)) {}
+
+  // The pixel grid: every canvas pixel whose centre lies within the radius
+  // where f_c >= f_d (eqs. 2-4). Returns the points that seed Bridson: the
+  // grid's rim, or a point at the centre when there is no grid.
+  std::vector<int> place_pixel_grid() {
+    std::vector<int> active;
+    if (const double grid_radius_px = display_.pixel_grid_radius_px(); grid_radius_px > 0.0) {
+      constexpr double kRimPx = 1.5;  // grid points this close to the edge seed Bridson
+      const double r = std::min(grid_radius_px, std::hypot(double(width_), double(height_)));
+      const double cx = double(centre_.x), cy = double(centre_.y);
+      const int y0 = std::max(0, int(std::floor(cy - r))), y1 = std::min(canvas_h_, int(std::ceil(cy + r)) + 1);
+      const int x0 = std::max(0, int(std::floor(cx - r))), x1 = std::min(canvas_w_, int(std::ceil(cx + r)) + 1);
+      for (int y = y0; y < y1; ++y) {
+        for (int x = x0; x < x1; ++x) {
+          const double dx = double(x) + 0.5 - cx, dy = double(y) + 0.5 - cy;
+          const double d = std::sqrt(dx * dx + dy * dy);
+          if (d > grid_radius_px) continue;
+          if (d > grid_radius_px - kRimPx) active.push_back(int(pos_.size()));
+          add({float(x) + 0.5f, float(y) + 0.5f}, float(kPixelDiscRadiusPx), PointFootprint::kPixel);
+        }
+      }
+    }
+    if (pos_.empty()) {
+      try_add(centre_);
+      active.push_back(0);
+    }
+    return active;
+  }
+
+  // Bridson: around a random active point, up to k candidates in the annulus
+  // [d, 2d]; the first that fits becomes active, and a point none fits around retires.
+  void place_poisson_discs(std::vector<int>& active, const ProgressFn& progress) {
+    std::size_t retired = 0;
+    while (!active.empty()) {
+      const std::size_t slot = std::size_t(rng_() % active.size());
+      const int i = active[slot];
+      const glm::vec2 pi = pos_[std::size_t(i)];
+      const float ri = rad_[std::size_t(i)];
+      bool placed = false;
+      for (int c = 0; c < kCandidatesPerPoint && !placed; ++c) {
+        // Annulus [d, 2d] with d the allowed distance, uniform by area (Bridson 2007).
+        const float inner = min_point_distance_px(display_.disc_rule, ri, ri);
+        const float outer = 2.0f * inner;
+        const float dist = std::sqrt(inner * inner + uniform() * (outer * outer - inner * inner));
+        const float angle = 2.0f * std::numbers::pi_v<float> * uniform();
+        const glm::vec2 p = pi + dist * glm::vec2(std::cos(angle), std::sin(angle));
+        if (try_add(p)) {
+          active.push_back(int(pos_.size() - 1));
+          placed = true;
+        }
+      }
+      if (!placed) {
+        active[slot] = active.back();
+        active.pop_back();
+        if (progress && (++retired & 0x3FFFu) == 0) {
+          progress(std::min(0.99, double(retired) / double(retired + active.size() * 4 + 1)));
+        }
+      }
+    }
+  }
+
+  // Hilbert order for memory locality and compact ray packets (the thesis's 4.1
+  // uses Morton order); ties broken by position.
+  PointSet in_hilbert_order() const {
+    std::vector<std::uint32_t> order(pos_.size());
+    std::vector<std::uint32_t> code(pos_.size());
+    for (std::size_t i = 0; i < pos_.size(); ++i) {
+      order[i] = std::uint32_t(i);
+      code[i] = hilbert_index(std::uint32_t(pos_[i].x), std::uint32_t(pos_[i].y));
+    }
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      if (code[a] != code[b]) return code[a] < code[b];
+      if (pos_[a].y != pos_[b].y) return pos_[a].y < pos_[b].y;
+      return pos_[a].x < pos_[b].x;
+    });
+    PointSet out;
+    out.canvas_width_px = canvas_w_;
+    out.canvas_height_px = canvas_h_;
+    out.visible_margin_px = pixel_grid_ ? 0.0f : kVisibleMarginPx;
+    out.position_px.resize(pos_.size());
+    out.radius_px.resize(pos_.size());
+    if (pixel_grid_) out.footprint.resize(pos_.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      out.position_px[i] = pos_[order[i]];
+      out.radius_px[i] = rad_[order[i]];
+      if (pixel_grid_) out.footprint[i] = foot_[order[i]];
+    }
+    return out;
+  }
+
+ private:
+  std::size_t cell(glm::vec2 p) const { return std::size_t(p.y) * std::size_t(canvas_w_) + std::size_t(p.x); }
+  float uniform() { return float(detail::unit_double(rng_())); }
+
+  void add(glm::vec2 p, float r, PointFootprint f) {
+    grid_.insert(int(pos_.size()), p);
+    pos_.push_back(p);
+    rad_.push_back(r);
+    foot_.push_back(f);
+    if (pixel_grid_) occupied_[cell(p)] = 1;
+  }
+
+  // Adds a disc at p if it lies on the canvas and keeps its distance to every point.
+  bool try_add(glm::vec2 p) {
+    if (p.x < 0.0f || p.y < 0.0f || p.x >= width_ || p.y >= height_) return false;
+    if (pixel_grid_ && occupied_[cell(p)] != 0) return false;
+    const float d = glm::length(p - centre_);
+    const float r = radius_.at(d);
+    const float search = min_point_distance_px(display_.disc_rule, r, radius_.at(d + reach_px_));
+    if (!grid_.is_free(p, r, search, display_.disc_rule, pos_, rad_)) return false;
+    add(p, r, PointFootprint::kDisc);
+    return true;
+  }
+
+  const DisplayModel& display_;
+  const int canvas_w_, canvas_h_;
+  const float width_, height_;
+  const glm::vec2 centre_;
+  const RadiusProfile radius_;
+  const float reach_px_;
+  const bool pixel_grid_;
+  PointGrid grid_;
+  std::vector<std::uint8_t> occupied_;
+  std::mt19937_64 rng_;
+  std::vector<glm::vec2> pos_;
+  std::vector<float> rad_;
+  std::vector<PointFootprint> foot_;
+};
+
 }  // namespace
 
 std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y) {
@@ -116,125 +266,10 @@ std::uint32_t hilbert_index(std::uint32_t x, std::uint32_t y) {
 
 PointSet generate_point_set(const DisplayModel& display, std::uint64_t seed, const ProgressFn& progress) {
   if (const std::string err = display.validate(); !err.empty()) throw std::invalid_argument(err);
-
-  const int canvas_w = display.canvas_width_px();
-  const int canvas_h = display.canvas_height_px();
-  const float width = float(canvas_w);
-  const float height = float(canvas_h);
-  const glm::vec2 centre{float(display.width_px), float(display.height_px)};
-  const RadiusProfile radius(display, std::hypot(double(width), double(height)));
-  // Any conflicting point lies within min_distance(r, r_local) <= r + r_max;
-  // r grows by far less than 1 px per px, so 2 r_max + 1 further out bounds it.
-  const float reach_px = 2.0f * radius.max() + 1.0f;
-  const bool pixel_grid = display.fovea_pattern == FoveaPattern::kPixelGrid;
-
-  std::vector<glm::vec2> pos;
-  std::vector<float> rad;
-  std::vector<PointFootprint> foot;
-  PointGrid grid{canvas_w, canvas_h};
-  // Pixel-grid pattern: canvas pixels holding a point; a Poisson point never
-  // shares one, so no region holds more points than pixels.
-  std::vector<std::uint8_t> occupied(pixel_grid ? std::size_t(canvas_w) * std::size_t(canvas_h) : 0, 0);
-  auto cell = [&](glm::vec2 p) { return std::size_t(p.y) * std::size_t(canvas_w) + std::size_t(p.x); };
-  std::mt19937_64 rng(detail::mix64(seed));
-  auto uniform = [&rng] { return float(detail::unit_double(rng())); };
-
-  auto add = [&](glm::vec2 p, float r, PointFootprint f) {
-    grid.insert(int(pos.size()), p);
-    pos.push_back(p);
-    rad.push_back(r);
-    foot.push_back(f);
-    if (pixel_grid) occupied[cell(p)] = 1;
-  };
-  auto try_add = [&](glm::vec2 p) {
-    if (p.x < 0.0f || p.y < 0.0f || p.x >= width || p.y >= height) return false;
-    if (pixel_grid && occupied[cell(p)] != 0) return false;
-    const float d = glm::length(p - centre);
-    const float r = radius.at(d);
-    const float search = min_point_distance_px(display.disc_rule, r, radius.at(d + reach_px));
-    if (!grid.is_free(p, r, search, display.disc_rule, pos, rad)) return false;
-    add(p, r, PointFootprint::kDisc);
-    return true;
-  };
-
-  // The pixel grid: every canvas pixel whose centre lies within the radius
-  // where f_c >= f_d (eqs. 2-4); its rim seeds the Poisson set beyond it.
-  std::vector<int> active;
-  if (const double grid_radius_px = display.pixel_grid_radius_px(); grid_radius_px > 0.0) {
-    constexpr double kRimPx = 1.5;  // grid points this close to the edge seed Bridson
-    const double r = std::min(grid_radius_px, std::hypot(double(width), double(height)));
-    const double cx = double(centre.x), cy = double(centre.y);
-    const int y0 = std::max(0, int(std::floor(cy - r))), y1 = std::min(canvas_h, int(std::ceil(cy + r)) + 1);
-    const int x0 = std::max(0, int(std::floor(cx - r))), x1 = std::min(canvas_w, int(std::ceil(cx + r)) + 1);
-    for (int y = y0; y < y1; ++y) {
-      for (int x = x0; x < x1; ++x) {
-        const double dx = double(x) + 0.5 - cx, dy = double(y) + 0.5 - cy;
-        const double d = std::sqrt(dx * dx + dy * dy);
-        if (d > grid_radius_px) continue;
-        if (d > grid_radius_px - kRimPx) active.push_back(int(pos.size()));
-        add({float(x) + 0.5f, float(y) + 0.5f}, float(kPixelDiscRadiusPx), PointFootprint::kPixel);
-      }
-    }
-  }
-  if (pos.empty()) {
-    try_add(centre);
-    active.push_back(0);
-  }
-
-  std::size_t retired = 0;
-  while (!active.empty()) {
-    const std::size_t slot = std::size_t(rng() % active.size());
-    const int i = active[slot];
-    const glm::vec2 pi = pos[std::size_t(i)];
-    const float ri = rad[std::size_t(i)];
-    bool placed = false;
-    for (int c = 0; c < kCandidatesPerPoint && !placed; ++c) {
-      // Annulus [d, 2d] with d the allowed distance, uniform by area (Bridson 2007).
-      const float inner = min_point_distance_px(display.disc_rule, ri, ri);
-      const float outer = 2.0f * inner;
-      const float dist = std::sqrt(inner * inner + uniform() * (outer * outer - inner * inner));
-      const float angle = 2.0f * std::numbers::pi_v<float> * uniform();
-      const glm::vec2 p = pi + dist * glm::vec2(std::cos(angle), std::sin(angle));
-      if (try_add(p)) {
-        active.push_back(int(pos.size() - 1));
-        placed = true;
-      }
-    }
-    if (!placed) {
-      active[slot] = active.back();
-      active.pop_back();
-      if (progress && (++retired & 0x3FFFu) == 0) {
-        progress(std::min(0.99, double(retired) / double(retired + active.size() * 4 + 1)));
-      }
-    }
-  }
-
-  // Hilbert order for memory locality and compact ray packets (the thesis's 4.1
-  // uses Morton order); ties broken by position.
-  std::vector<std::uint32_t> order(pos.size());
-  std::vector<std::uint32_t> code(pos.size());
-  for (std::size_t i = 0; i < pos.size(); ++i) {
-    order[i] = std::uint32_t(i);
-    code[i] = hilbert_index(std::uint32_t(pos[i].x), std::uint32_t(pos[i].y));
-  }
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    if (code[a] != code[b]) return code[a] < code[b];
-    if (pos[a].y != pos[b].y) return pos[a].y < pos[b].y;
-    return pos[a].x < pos[b].x;
-  });
-
-  PointSet out;
-  out.canvas_width_px = canvas_w;
-  out.canvas_height_px = canvas_h;
-  out.visible_margin_px = pixel_grid ? 0.0f : kVisibleMarginPx;
-  out.position_px.resize(pos.size());
-  out.radius_px.resize(pos.size());
-  if (pixel_grid) out.footprint.resize(pos.size());
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    out.position_px[i] = pos[order[i]];
-    out.radius_px[i] = rad[order[i]];
-    if (pixel_grid) out.footprint[i] = foot[order[i]];
-  }
+  PointSampler sampler(display, seed);
+  std::vector<int> active = sampler.place_pixel_grid();
+  sampler.place_poisson_discs(active, progress);
+  PointSet out = sampler.in_hilbert_order();
   if (progress) progress(1.0);
   return out;
 }

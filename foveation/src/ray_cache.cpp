@@ -173,15 +173,18 @@ void RayCache::filter_at(const std::vector<glm::vec2>& centres_px, const std::ve
 }
 
 void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) {
-  const int width = width_px_, height = height_px_;
-  const int reach = reach_px(options_.filter);
-  const std::size_t rays = anchors_.size();
   forget_covered_once(executor);
+  sort_by_row(executor);
+  filter_rows(executor, out_linear, out_weight);
+  keep_young_rays();
+}
 
-  // The within-reach rays by pixel row, rows -reach .. height - 1 + reach: a
-  // counting sort per chunk of rays, stable (chunk by chunk, each in order), so
-  // the sums below run in one order whatever the thread count.
-  const std::size_t rows = std::size_t(height + 2 * reach);
+// The within-reach rays by pixel row, rows -reach .. height - 1 + reach, into
+// by_row_: a counting sort per chunk of rays, stable (chunk by chunk, each in
+// order), so the sums of filter_rows run in one order whatever the thread count.
+void RayCache::sort_by_row(Executor& executor) {
+  const std::size_t rays = anchors_.size();
+  const std::size_t rows = std::size_t(height_px_ + 2 * reach_px(options_.filter));
   const std::size_t chunks = (rays + kChunkRays - 1) / kChunkRays;
   chunk_rows_.assign(chunks * rows, 0);
   executor.parallel_for(chunks, [&](std::size_t c) {
@@ -203,8 +206,12 @@ void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<flo
         sample.t_px = q - pixel - 0.5f;
       }
   });
+}
 
-  // Each pixel: sum(w L) / sum(w) over the rays within the filter's reach (pbrt-v4 8.8).
+// Each pixel: sum(w L) / sum(w) over the rays within the filter's reach (pbrt-v4 8.8).
+void RayCache::filter_rows(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) const {
+  const int width = width_px_, height = height_px_;
+  const int reach = reach_px(options_.filter);
   if (out_linear->width_px != width || out_linear->height_px != height) *out_linear = ImageRgb(width, height);
   if (out_weight != nullptr) out_weight->assign(std::size_t(width) * std::size_t(height), 0.0f);
   executor.parallel_for(std::size_t(height), [&](std::size_t row) {
@@ -244,11 +251,13 @@ void RayCache::resolve(Executor& executor, ImageRgb* out_linear, std::vector<flo
       if (out_weight != nullptr) (*out_weight)[std::size_t(y) * std::size_t(width) + std::size_t(x)] = s.w;
     }
   });
+}
 
-  // Keep the rays still within reach and young enough to see the next frame, in order, in place.
+// Keeps the rays still within reach and young enough to see the next frame, in order, in place.
+void RayCache::keep_young_rays() {
   const std::uint32_t max_age = options_.max_age_frames;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < rays; ++i) {
+  for (std::size_t i = 0; i < anchors_.size(); ++i) {
     if (row_[i] < 0 || (max_age != 0 && anchors_[i].age_frames + 1 >= max_age)) continue;
     anchors_[n] = anchors_[i];
     ++anchors_[n++].age_frames;

@@ -5,7 +5,7 @@
 
 namespace foveart::foveation {
 
-RayHistory::RayHistory(const ViewTables& tables, const TaaOptions& blend, const RayHistoryOptions& options)
+RayHistory::RayHistory(const ViewTables& tables, const TemporalOptions& blend, const RayHistoryOptions& options)
     : tables_(tables),
       options_(options),
       restarts_(blend),

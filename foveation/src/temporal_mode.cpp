@@ -1,5 +1,7 @@
 #include "foveation/temporal_mode.hpp"
 
+#include "foveation/view_settings.hpp"
+
 namespace foveart::foveation {
 
 const char* temporal_mode_name(TemporalMode mode) {
@@ -25,9 +27,8 @@ ViewSettings temporal_view_settings(TemporalMode mode, int rays_per_point, std::
   ViewSettings v;
   v.rays_per_point = rays_per_point;
   v.sample_seed = sample_seed;
-  v.taa = mode != TemporalMode::off;
-  v.new_jitter_each_frame = v.taa;  // a history converges over new samples
-  v.taa_history = mode == TemporalMode::rays ? TaaHistory::ray_cache : TaaHistory::reproject;
+  v.temporal = mode;
+  v.new_jitter_each_frame = mode != TemporalMode::off;  // a history converges over new samples
   // The render cache filters its rays into the pixels around them: the B-spline spreads each one
   // smoothly, which is what brings its flicker under the goal; an image history keeps the box.
   v.pixel_filter = mode == TemporalMode::rays ? PixelFilter::bspline2 : PixelFilter::box;

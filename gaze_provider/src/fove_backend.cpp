@@ -165,9 +165,9 @@ std::string fove_library_path(const FoveConfig& config) {
 }
 
 std::unique_ptr<GazeProvider> create_fove_provider(const FoveConfig& fove, const ProviderOptions& options,
-                                                   std::string* out_error) {
+                                                   std::string* error) {
   auto fail = [&](std::string message) -> std::unique_ptr<GazeProvider> {
-    if (out_error) *out_error = "fove: " + std::move(message);
+    if (error) *error = "fove: " + std::move(message);
     return nullptr;
   };
   const std::string path = fove_library_path(fove);

@@ -28,7 +28,7 @@ bool hid_library_ready() {
   return ok;
 }
 
-std::string find_device(const HidConfig& c, std::string* out_error) {
+std::string find_device(const HidConfig& c, std::string* error) {
   if (!c.path.empty()) return c.path;
   std::string found;
   hid_device_info* list = hid_enumerate(0, 0);
@@ -38,14 +38,14 @@ std::string find_device(const HidConfig& c, std::string* out_error) {
       found = d->path ? d->path : "";
   }
   hid_free_enumeration(list);
-  if (found.empty() && out_error) {
+  if (found.empty() && error) {
     char what[96];
     if (c.vendor_id && c.product_id)
       std::snprintf(what, sizeof what, "no HID device %04x:%04x", unsigned(*c.vendor_id), unsigned(*c.product_id));
     else
       std::snprintf(what, sizeof what, "no HID device with usage page 0x%02x (Eye and Head Trackers)",
                     unsigned(c.usage_page));
-    *out_error = what;
+    *error = what;
   }
   return found;
 }
@@ -128,15 +128,15 @@ class HidBackend final : public detail::Backend {
 }  // namespace
 
 std::unique_ptr<GazeProvider> create_hid_provider(const HidConfig& hid, const ProviderOptions& options,
-                                                  std::string* out_error) {
+                                                  std::string* error) {
   auto fail = [&](const std::string& message) -> std::unique_ptr<GazeProvider> {
-    if (out_error) *out_error = "hid: " + message;
+    if (error) *error = "hid: " + message;
     return nullptr;
   };
   if (!hid_library_ready()) return fail("hid_init failed");
-  std::string error;
-  const std::string path = find_device(hid, &error);
-  if (path.empty()) return fail(error);
+  std::string why;
+  const std::string path = find_device(hid, &why);
+  if (path.empty()) return fail(why);
   hid_device* dev = hid_open_path(path.c_str());
   if (!dev) return fail("cannot open " + path + " (permissions? a udev rule must grant access to hidraw)");
   return std::make_unique<detail::ThreadedProvider>(std::make_unique<HidBackend>(dev, path, hid), options);

@@ -36,10 +36,10 @@ T read_le(const std::uint8_t* p) noexcept {
 
 }  // namespace
 
-std::optional<HidReportLayout> HidReportLayout::parse(std::string_view spec, std::string* out_error) {
+std::optional<HidReportLayout> HidReportLayout::parse(std::string_view spec, std::string* error) {
   HidReportLayout l;
   auto fail = [&](std::string message) -> std::optional<HidReportLayout> {
-    if (out_error) *out_error = "HID report layout '" + std::string(spec) + "': " + std::move(message);
+    if (error) *error = "HID report layout '" + std::string(spec) + "': " + std::move(message);
     return std::nullopt;
   };
   std::size_t start = 0;

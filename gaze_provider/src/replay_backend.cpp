@@ -1,6 +1,6 @@
 // Replay backend: a recorded trace at its original timing or as fast as possible.
-#include <chrono>
-#include <thread>
+#include <algorithm>
+#include <utility>
 
 #include "gaze_provider/trace_csv.h"
 #include "threaded_provider.h"
@@ -10,11 +10,12 @@ namespace {
 
 class ReplayBackend final : public detail::Backend {
  public:
-  ReplayBackend(Trace trace, const ReplayConfig& config) : trace_(std::move(trace)), config_(config) {}
+  ReplayBackend(Trace trace, const ReplayConfig& config, std::shared_ptr<HostClock> clock)
+      : trace_(std::move(trace)), config_(config), clock_(std::move(clock)) {}
 
   void on_start() noexcept override {
     next_ = 0;
-    start_host_ns_ = detail::steady_now_ns();
+    start_host_ns_ = clock_->now_ns();
   }
 
   detail::PollResult poll(GazeSample& out, std::string& reason) noexcept override {
@@ -29,17 +30,16 @@ class ReplayBackend final : public detail::Backend {
     if (config_.original_timing) {
       const std::int64_t due =
           start_host_ns_ + (s.device_time_ns - trace_.rows.front().sample.device_time_ns);
-      const std::int64_t wait_ns = due - detail::steady_now_ns();
-      if (wait_ns > 50'000'000) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      const std::int64_t now = clock_->now_ns();
+      if (now < due) {  // at most 50 ms at a time, so that stop() stays bounded
+        clock_->sleep_until_ns(std::min(due, now + 50'000'000));
         return detail::PollResult::none;
       }
-      if (wait_ns > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait_ns));
     }
     out = s;
     // Original timing is a live playback: stamp arrival now, so consumers can predict to
     // their own clock. As fast as possible is an analysis pass: recorded host times stay.
-    if (config_.original_timing || !trace_.rows[next_].has_host_time) out.host_time_ns = detail::steady_now_ns();
+    if (config_.original_timing || !trace_.rows[next_].has_host_time) out.host_time_ns = clock_->now_ns();
     ++next_;
     return detail::PollResult::sample;
   }
@@ -56,6 +56,7 @@ class ReplayBackend final : public detail::Backend {
  private:
   Trace trace_;
   ReplayConfig config_;
+  std::shared_ptr<HostClock> clock_;
   std::size_t next_ = 0;
   std::int64_t start_host_ns_ = 0;
 };
@@ -63,19 +64,19 @@ class ReplayBackend final : public detail::Backend {
 }  // namespace
 
 std::unique_ptr<GazeProvider> create_replay_provider(const ReplayConfig& replay, const ProviderOptions& options,
-                                                     std::string* out_error) {
-  TraceError error;
-  auto trace = read_trace_file(replay.path, &error);
+                                                     std::string* error) {
+  TraceError trace_error;
+  auto trace = read_trace_file(replay.path, &trace_error);
   if (!trace) {
-    if (out_error) *out_error = "replay: " + error.to_string();
+    if (error) *error = "replay: " + trace_error.to_string();
     return nullptr;
   }
   if (trace->rows.empty()) {
-    if (out_error) *out_error = "replay: " + replay.path + ": the trace has a header but no samples";
+    if (error) *error = "replay: " + replay.path + ": the trace has a header but no samples";
     return nullptr;
   }
-  return std::make_unique<detail::ThreadedProvider>(std::make_unique<ReplayBackend>(std::move(*trace), replay),
-                                                    options);
+  return std::make_unique<detail::ThreadedProvider>(
+      std::make_unique<ReplayBackend>(std::move(*trace), replay, detail::clock_of(options)), options);
 }
 
 }  // namespace foveart::gaze

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <thread>
 #include <vector>
 
 namespace foveart::gaze {
@@ -39,6 +40,18 @@ const char* to_string(GazeSourceKind kind) noexcept {
   return "unknown";
 }
 
+std::shared_ptr<HostClock> steady_host_clock() {
+  class Steady final : public HostClock {
+   public:
+    std::int64_t now_ns() noexcept override { return detail::steady_now_ns(); }
+    void sleep_until_ns(std::int64_t t_ns) noexcept override {
+      std::this_thread::sleep_until(std::chrono::steady_clock::time_point(std::chrono::nanoseconds(t_ns)));
+    }
+  };
+  static const std::shared_ptr<HostClock> clock = std::make_shared<Steady>();
+  return clock;
+}
+
 namespace detail {
 
 std::int64_t steady_now_ns() noexcept {
@@ -47,13 +60,14 @@ std::int64_t steady_now_ns() noexcept {
 }
 
 ThreadedProvider::ThreadedProvider(std::unique_ptr<Backend> backend, const ProviderOptions& options)
-    : backend_(std::move(backend)), filters_(options.filters), raw_(options.raw_ring_capacity) {
+    : backend_(std::move(backend)), clock_(clock_of(options)), filters_(options.filters),
+      raw_(options.raw_ring_capacity) {
   status_.store(producer_status_);
 }
 
 ThreadedProvider::~ThreadedProvider() { stop(); }
 
-bool ThreadedProvider::start(std::string* out_error) {
+bool ThreadedProvider::start(std::string* error) {
   if (thread_.joinable()) return true;
   backend_->on_start();
   producer_status_ = ProviderStatus{};
@@ -63,7 +77,7 @@ bool ThreadedProvider::start(std::string* out_error) {
     thread_ = std::thread([this] { run(); });
   } catch (const std::exception& e) {
     running_.store(false);
-    if (out_error) *out_error = std::string("cannot start the sampling thread: ") + e.what();
+    if (error) *error = std::string("cannot start the sampling thread: ") + e.what();
     set_state(ProviderState::stopped, "thread creation failed");
     return false;
   }
@@ -89,13 +103,13 @@ void ThreadedProvider::set_state(ProviderState state, const std::string& reason)
 void ThreadedProvider::run() noexcept {
   FilterChain chain(filters_);
   std::string reason;
-  std::int64_t last_sample_host_ns = steady_now_ns();
+  std::int64_t last_sample_host_ns = clock_->now_ns();
   std::uint64_t published_samples = 0;
   while (running_.load(std::memory_order_acquire)) {
     GazeSample raw;
     reason.clear();
     const PollResult r = backend_->poll(raw, reason);
-    const std::int64_t now = steady_now_ns();
+    const std::int64_t now = clock_->now_ns();
     if (r == PollResult::sample) {
       if (raw.host_time_ns == 0) raw.host_time_ns = now;
       raw.source = backend_->kind();

@@ -40,7 +40,7 @@ class ThreadedProvider final : public GazeProvider {
   ThreadedProvider(std::unique_ptr<Backend> backend, const ProviderOptions& options);
   ~ThreadedProvider() override;
 
-  bool start(std::string* out_error) override;
+  [[nodiscard]] bool start(std::string* error) override;
   void stop() override;
   std::optional<GazeSample> latest() const override;
   std::optional<GazeSample> sample_at(std::int64_t target_host_ns) const override;
@@ -54,6 +54,7 @@ class ThreadedProvider final : public GazeProvider {
   void set_state(ProviderState state, const std::string& reason) noexcept;
 
   std::unique_ptr<Backend> backend_;
+  std::shared_ptr<HostClock> clock_;
   FilterConfig filters_;
   SpscRing<GazeSample> raw_;
   SeqlockHistory<GazeSample, 32> history_;
@@ -64,5 +65,10 @@ class ThreadedProvider final : public GazeProvider {
 };
 
 std::int64_t steady_now_ns() noexcept;
+
+// options.clock, else the steady clock.
+inline std::shared_ptr<HostClock> clock_of(const ProviderOptions& options) {
+  return options.clock ? options.clock : steady_host_clock();
+}
 
 }  // namespace foveart::gaze::detail

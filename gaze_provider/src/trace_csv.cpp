@@ -111,15 +111,138 @@ std::string format_float(float v) {
   return ec == std::errc{} ? std::string(buf, p) : std::string("nan");
 }
 
+// ---- Reading: the header's columns, then each row against them ----
+
+using Column = std::optional<std::size_t>;  // where a column is, if the header has it
+using Vec3Columns = std::array<Column, 3>;
+
+struct EyeColumns {
+  Column valid;
+  Vec3Columns origin, dir;
+};
+
+// The header: every column's name, and where the optional ones are.
+struct TraceColumns {
+  std::vector<std::string> names;  // owns its names: the line is reused for the rows
+  Column host, state, conf;
+  Vec3Columns target;
+  std::array<EyeColumns, 2> eye;
+  bool has_targets() const { return target[0] && target[1] && target[2]; }
+};
+
+// Reads the header line into `out`; returns why it is no trace header, or "".
+std::string read_header(std::string line, TraceColumns& out) {
+  if (line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
+  for (std::string_view name : split(line)) out.names.emplace_back(name);
+  for (std::size_t i = 0; i < kRequired.size(); ++i) {
+    if (i >= out.names.size() || out.names[i] != kRequired[i])
+      return "header column " + std::to_string(i + 1) + " must be '" + std::string(kRequired[i]) +
+             "' (required columns, in order: device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z)";
+  }
+  std::map<std::string, std::size_t, std::less<>> optional;
+  for (std::size_t i = kRequired.size(); i < out.names.size(); ++i) optional.emplace(out.names[i], i);
+  auto column = [&](std::string_view name) -> Column {
+    auto it = optional.find(name);
+    return it == optional.end() ? std::nullopt : Column(it->second);
+  };
+  out.host = column("host_time_us");
+  out.state = column("eye_state");
+  out.conf = column("confidence");
+  out.target = {column("target_x"), column("target_y"), column("target_z")};
+  for (int e = 0; e < 2; ++e) {
+    const std::string p = e == 0 ? "left_" : "right_";
+    out.eye[e].valid = column(p + "valid");
+    for (int k = 0; k < 3; ++k) {
+      const std::string axis(1, char('x' + k));
+      out.eye[e].origin[k] = column(p + "origin_" + axis);
+      out.eye[e].dir[k] = column(p + axis);
+    }
+  }
+  return "";
+}
+
+// One row's fields as the header names them.
+struct RowFields {
+  const TraceColumns& cols;
+  const std::vector<std::string_view>& f;
+
+  std::string bad(std::size_t i, const char* what) const {
+    const std::string got(f[i]);
+    return "column " + std::to_string(i + 1) + " '" + cols.names[i] + "': " + what + " (got '" + got + "')";
+  }
+  // Reads the vector's columns present into v; the first that is no number, if any.
+  Column read_vec(const Vec3Columns& c, Vec3f& v) const {
+    float* out[3] = {&v.x, &v.y, &v.z};
+    for (int k = 0; k < 3; ++k)
+      if (c[k] && !parse_number(f[*c[k]], *out[k])) return c[k];
+    return std::nullopt;
+  }
+};
+
+// The combined gaze: the required columns, host time, eye state and confidence.
+std::optional<std::string> parse_combined(const RowFields& r, TraceRow& row) {
+  const auto& f = r.f;
+  const TraceColumns& c = r.cols;
+  GazeSample& s = row.sample;
+  s.source = GazeSourceKind::replay;
+  if (!parse_time_us(f[0], s.device_time_ns)) return r.bad(0, "not a decimal number of microseconds");
+  if (!parse_number(f[1], s.frame_id)) return r.bad(1, "not an unsigned integer");
+  if (!parse_bool01(f[2], s.valid)) return r.bad(2, "must be 0 or 1");
+  if (auto b = r.read_vec({3, 4, 5}, s.combined_direction)) return r.bad(*b, "not a number");
+  if (s.valid && (!is_finite(s.combined_direction) || length(s.combined_direction) < 1e-6))
+    return "valid row with a non-finite or zero gaze direction";
+  if (c.host) {
+    if (!parse_time_us(f[*c.host], s.host_time_ns)) return r.bad(*c.host, "not a decimal number of microseconds");
+    row.has_host_time = true;
+  }
+  s.eye_state = s.valid ? EyeState::open : EyeState::not_detected;
+  if (c.state && !parse_eye_state(f[*c.state], s.eye_state))
+    return r.bad(*c.state, "must be open, closed or not_detected");
+  s.confidence = s.valid ? 1.0f : 0.0f;
+  if (c.conf && (!parse_number(f[*c.conf], s.confidence) || !(s.confidence >= 0.0f && s.confidence <= 1.0f)))
+    return r.bad(*c.conf, "must be a number in [0, 1]");
+  return std::nullopt;
+}
+
+// Each eye's gaze (its state defaults to the combined one) and the target.
+std::optional<std::string> parse_eyes_and_target(const RowFields& r, TraceRow& row) {
+  GazeSample& s = row.sample;
+  for (int e = 0; e < 2; ++e) {
+    EyeGaze& eye = e == 0 ? s.left : s.right;
+    const EyeColumns& ec = r.cols.eye[e];
+    if (ec.valid && !parse_bool01(r.f[*ec.valid], eye.valid)) return r.bad(*ec.valid, "must be 0 or 1");
+    if (auto b = r.read_vec(ec.origin, eye.origin_m)) return r.bad(*b, "not a number");
+    if (auto b = r.read_vec(ec.dir, eye.direction)) return r.bad(*b, "not a number");
+    eye.state = eye.valid ? EyeState::open : s.eye_state;
+  }
+  if (r.cols.has_targets()) {
+    Vec3f t;
+    if (auto b = r.read_vec(r.cols.target, t)) return r.bad(*b, "not a number");
+    if (is_finite(t) && length(t) > 1e-6) row.target = t;
+  }
+  return std::nullopt;
+}
+
+// A data row into `row`; why it is not a valid row, if it is not.
+std::optional<std::string> parse_row(const std::vector<std::string_view>& f, const TraceColumns& cols, TraceRow& row) {
+  const std::size_t n = cols.names.size();
+  if (f.size() < n)
+    return "truncated row: " + std::to_string(f.size()) + " fields, the header has " + std::to_string(n);
+  if (f.size() > n) return "row has " + std::to_string(f.size()) + " fields, the header has " + std::to_string(n);
+  const RowFields r{cols, f};
+  if (auto error = parse_combined(r, row)) return error;
+  return parse_eyes_and_target(r, row);
+}
+
 }  // namespace
 
 std::string TraceError::to_string() const {
   return line == 0 ? message : "line " + std::to_string(line) + ": " + message;
 }
 
-std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
+std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
   auto fail = [&](std::size_t line, std::string message) -> std::optional<Trace> {
-    if (out_error) *out_error = TraceError{line, std::move(message)};
+    if (error) *error = TraceError{line, std::move(message)};
     return std::nullopt;
   };
 
@@ -127,102 +250,21 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
   std::size_t line_no = 0;
   if (!std::getline(in, line)) return fail(1, "empty file: expected the header line 'device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z'");
   ++line_no;
-  if (line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
-  std::vector<std::string> header;  // owns its names: `line` is reused for the rows
-  for (std::string_view name : split(line)) header.emplace_back(name);
-  for (std::size_t i = 0; i < kRequired.size(); ++i) {
-    if (i >= header.size() || header[i] != kRequired[i])
-      return fail(1, "header column " + std::to_string(i + 1) + " must be '" + std::string(kRequired[i]) +
-                         "' (required columns, in order: device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z)");
-  }
-  std::map<std::string, std::size_t, std::less<>> col;
-  for (std::size_t i = kRequired.size(); i < header.size(); ++i) col.emplace(std::string(header[i]), i);
-  auto column = [&](std::string_view name) -> std::optional<std::size_t> {
-    auto it = col.find(name);
-    return it == col.end() ? std::nullopt : std::optional<std::size_t>(it->second);
-  };
+  TraceColumns cols;
+  if (std::string why = read_header(line, cols); !why.empty()) return fail(1, std::move(why));
 
   Trace trace;
-  const auto c_host = column("host_time_us");
-  const auto c_state = column("eye_state");
-  const auto c_conf = column("confidence");
-  const std::array<std::optional<std::size_t>, 3> c_target = {column("target_x"), column("target_y"),
-                                                              column("target_z")};
-  trace.has_host_time = c_host.has_value();
-  trace.has_eye_state = c_state.has_value();
-  trace.has_targets = c_target[0] && c_target[1] && c_target[2];
-  struct EyeCols {
-    std::optional<std::size_t> valid;
-    std::array<std::optional<std::size_t>, 3> origin, dir;
-  };
-  std::array<EyeCols, 2> eye_cols;
-  for (int e = 0; e < 2; ++e) {
-    const std::string p = e == 0 ? "left_" : "right_";
-    eye_cols[e].valid = column(p + "valid");
-    for (int k = 0; k < 3; ++k) {
-      const std::string axis(1, char('x' + k));
-      eye_cols[e].origin[k] = column(p + "origin_" + axis);
-      eye_cols[e].dir[k] = column(p + axis);
-    }
-  }
-
+  trace.has_host_time = cols.host.has_value();
+  trace.has_eye_state = cols.state.has_value();
+  trace.has_targets = cols.has_targets();
   bool have_prev = false;
   std::int64_t prev_ns = 0;
   while (std::getline(in, line)) {
     ++line_no;
     if (trim(line).empty()) continue;
-    const std::vector<std::string_view> f = split(line);
-    if (f.size() < header.size())
-      return fail(line_no, "truncated row: " + std::to_string(f.size()) + " fields, the header has " +
-                               std::to_string(header.size()));
-    if (f.size() > header.size())
-      return fail(line_no, "row has " + std::to_string(f.size()) + " fields, the header has " +
-                               std::to_string(header.size()));
-
     TraceRow row;
-    GazeSample& s = row.sample;
-    s.source = GazeSourceKind::replay;
-    auto bad = [&](std::size_t i, const char* what) {
-      return fail(line_no, "column " + std::to_string(i + 1) + " '" + std::string(header[i]) + "': " + what +
-                               " (got '" + std::string(f[i]) + "')");
-    };
-    auto read_vec = [&](const std::array<std::optional<std::size_t>, 3>& cols, Vec3f& v) -> std::optional<std::size_t> {
-      float* c[3] = {&v.x, &v.y, &v.z};
-      for (int k = 0; k < 3; ++k)
-        if (cols[k] && !parse_number(f[*cols[k]], *c[k])) return cols[k];
-      return std::nullopt;
-    };
-
-    if (!parse_time_us(f[0], s.device_time_ns)) return bad(0, "not a decimal number of microseconds");
-    if (!parse_number(f[1], s.frame_id)) return bad(1, "not an unsigned integer");
-    if (!parse_bool01(f[2], s.valid)) return bad(2, "must be 0 or 1");
-    if (auto b = read_vec({3, 4, 5}, s.combined_direction)) return bad(*b, "not a number");
-    if (s.valid && (!is_finite(s.combined_direction) || length(s.combined_direction) < 1e-6))
-      return fail(line_no, "valid row with a non-finite or zero gaze direction");
-    if (c_host) {
-      if (!parse_time_us(f[*c_host], s.host_time_ns)) return bad(*c_host, "not a decimal number of microseconds");
-      row.has_host_time = true;
-    }
-    s.eye_state = s.valid ? EyeState::open : EyeState::not_detected;
-    if (c_state && !parse_eye_state(f[*c_state], s.eye_state))
-      return bad(*c_state, "must be open, closed or not_detected");
-    s.confidence = s.valid ? 1.0f : 0.0f;
-    if (c_conf && (!parse_number(f[*c_conf], s.confidence) || !(s.confidence >= 0.0f && s.confidence <= 1.0f)))
-      return bad(*c_conf, "must be a number in [0, 1]");
-    for (int e = 0; e < 2; ++e) {
-      EyeGaze& eye = e == 0 ? s.left : s.right;
-      const EyeCols& ec = eye_cols[e];
-      if (ec.valid && !parse_bool01(f[*ec.valid], eye.valid)) return bad(*ec.valid, "must be 0 or 1");
-      if (auto b = read_vec(ec.origin, eye.origin_m)) return bad(*b, "not a number");
-      if (auto b = read_vec(ec.dir, eye.direction)) return bad(*b, "not a number");
-      eye.state = eye.valid ? EyeState::open : s.eye_state;
-    }
-    if (trace.has_targets) {
-      Vec3f t;
-      if (auto b = read_vec(c_target, t)) return bad(*b, "not a number");
-      if (is_finite(t) && length(t) > 1e-6) row.target = t;
-    }
-
+    if (auto why = parse_row(split(line), cols, row)) return fail(line_no, std::move(*why));
+    const GazeSample& s = row.sample;
     if (have_prev && s.device_time_ns <= prev_ns) {
       if (trace.skipped_non_monotonic++ == 0) trace.first_skipped_line = line_no;
       continue;
@@ -235,14 +277,14 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* out_error) {
   return trace;
 }
 
-std::optional<Trace> read_trace_file(const std::string& path, TraceError* out_error) {
+std::optional<Trace> read_trace_file(const std::string& path, TraceError* error) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    if (out_error) *out_error = TraceError{0, path + ": cannot open for reading"};
+    if (error) *error = TraceError{0, path + ": cannot open for reading"};
     return std::nullopt;
   }
-  auto trace = read_trace(in, out_error);
-  if (!trace && out_error) out_error->message = path + ": " + out_error->message;
+  auto trace = read_trace(in, error);
+  if (!trace && error) error->message = path + ": " + error->message;
   return trace;
 }
 

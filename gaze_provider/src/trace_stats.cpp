@@ -24,19 +24,26 @@ std::string num(double v, int precision = 4) {
   std::snprintf(buf, sizeof buf, "%.*f", precision, v);
   return buf;
 }
-}  // namespace
 
-TraceStats compute_stats(std::span<const GazeSample> s, std::span<const std::optional<Vec3f>> targets,
-                         bool host_time_known, const FilterConfig& filters) {
-  TraceStats st;
-  st.samples = s.size();
-  if (s.empty()) return st;
-  st.duration_s = double(s.back().device_time_ns - s.front().device_time_ns) * 1e-9;
-  st.rate_hz = st.duration_s > 0 ? double(s.size() - 1) / st.duration_s : 0.0;
+// Median, 99th percentile and standard deviation of intervals (ms).
+struct IntervalStats {
+  double p50_ms, p99_ms, sd_ms;
+};
 
+IntervalStats interval_stats(const std::vector<double>& ms) {
+  double sum = 0, sum2 = 0;
+  for (double dt : ms) {
+    sum += dt;
+    sum2 += dt * dt;
+  }
+  const double n = double(ms.size());
+  return {percentile(ms, 0.5), percentile(ms, 0.99), std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)))};
+}
+
+// Validity, eye states, dropped frames, device-time intervals and latency.
+void add_device_timing(std::span<const GazeSample> s, bool host_time_known, TraceStats& st) {
   std::vector<double> intervals_ms, latency_ms;
   std::uint64_t valid = 0;
-  double sum = 0, sum2 = 0;
   for (std::size_t i = 0; i < s.size(); ++i) {
     if (s[i].valid) ++valid;
     switch (s[i].eye_state) {
@@ -46,51 +53,52 @@ TraceStats compute_stats(std::span<const GazeSample> s, std::span<const std::opt
     }
     if (host_time_known) latency_ms.push_back(double(s[i].host_time_ns - s[i].device_time_ns) * 1e-6);
     if (i == 0) continue;
-    const double dt = double(s[i].device_time_ns - s[i - 1].device_time_ns) * 1e-6;
-    intervals_ms.push_back(dt);
-    sum += dt;
-    sum2 += dt * dt;
+    intervals_ms.push_back(double(s[i].device_time_ns - s[i - 1].device_time_ns) * 1e-6);
     if (s[i].frame_id > s[i - 1].frame_id + 1) st.dropped += s[i].frame_id - s[i - 1].frame_id - 1;
   }
   st.valid_fraction = double(valid) / double(s.size());
   if (!intervals_ms.empty()) {
-    const double n = double(intervals_ms.size());
-    st.interval_p50_ms = percentile(intervals_ms, 0.5);
-    st.interval_p99_ms = percentile(intervals_ms, 0.99);
-    st.jitter_ms = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
-  }
-  if (host_time_known && s.size() > 1) {
-    std::vector<double> host_ms;
-    double hs = 0, hs2 = 0;
-    for (std::size_t i = 1; i < s.size(); ++i) {
-      const double dt = double(s[i].host_time_ns - s[i - 1].host_time_ns) * 1e-6;
-      host_ms.push_back(dt);
-      hs += dt;
-      hs2 += dt * dt;
-    }
-    const double n = double(host_ms.size());
-    st.host_interval_p50_ms = percentile(host_ms, 0.5);
-    st.host_interval_p99_ms = percentile(host_ms, 0.99);
-    st.host_jitter_ms = std::sqrt(std::max(0.0, hs2 / n - (hs / n) * (hs / n)));
+    const IntervalStats d = interval_stats(intervals_ms);
+    st.interval_p50_ms = d.p50_ms;
+    st.interval_p99_ms = d.p99_ms;
+    st.jitter_ms = d.sd_ms;
   }
   // Latency only when host and device share a clock (plausible 0..1 s offsets).
   if (!latency_ms.empty()) {
     const double p50 = percentile(latency_ms, 0.5);
     if (p50 >= 0.0 && p50 < 1000.0) st.latency_p50_ms = p50;
   }
+}
 
-  // Saccades: onsets found by the filter chain (hold/prediction do not matter here).
+// Host arrival intervals (at least two samples).
+void add_host_intervals(std::span<const GazeSample> s, TraceStats& st) {
+  std::vector<double> host_ms;
+  for (std::size_t i = 1; i < s.size(); ++i)
+    host_ms.push_back(double(s[i].host_time_ns - s[i - 1].host_time_ns) * 1e-6);
+  const IntervalStats h = interval_stats(host_ms);
+  st.host_interval_p50_ms = h.p50_ms;
+  st.host_interval_p99_ms = h.p99_ms;
+  st.host_jitter_ms = h.sd_ms;
+}
+
+// Saccades: onsets found by the filter chain (hold/prediction do not matter here).
+std::uint64_t count_saccades(std::span<const GazeSample> s, const FilterConfig& filters) {
   FilterChain chain(filters);
+  std::uint64_t saccades = 0;
   std::int64_t last_onset = 0;
   for (const GazeSample& g : s) {
     const GazeSample f = chain.process(g);
     if (f.saccade_onset_device_ns != 0 && f.saccade_onset_device_ns != last_onset) {
-      ++st.saccades;
+      ++saccades;
       last_onset = f.saccade_onset_device_ns;
     }
   }
-  // Blinks: runs of closed eyes; without eye state, runs of 50-500 ms invalid gaze.
-  bool any_closed = st.eye_closed > 0;
+  return saccades;
+}
+
+// Blinks: runs of closed eyes; without eye state (none closed), runs of 50-500 ms invalid gaze.
+std::uint64_t count_blinks(std::span<const GazeSample> s, bool any_closed) {
+  std::uint64_t blinks = 0;
   std::size_t run_start = 0;
   bool in_run = false;
   for (std::size_t i = 0; i <= s.size(); ++i) {
@@ -101,11 +109,14 @@ TraceStats compute_stats(std::span<const GazeSample> s, std::span<const std::opt
     } else if (!blinking && in_run) {
       in_run = false;
       const double ms = double(s[i - 1].device_time_ns - s[run_start].device_time_ns) * 1e-6;
-      if (any_closed || (ms >= 50.0 && ms <= 500.0)) ++st.blinks;
+      if (any_closed || (ms >= 50.0 && ms <= 500.0)) ++blinks;
     }
   }
+  return blinks;
+}
 
-  // Accuracy and precision (degrees).
+// Accuracy (mean angle to the target) and precision (RMS sample to sample), in degrees.
+void add_accuracy(std::span<const GazeSample> s, std::span<const std::optional<Vec3f>> targets, TraceStats& st) {
   double acc_sum = 0;
   std::uint64_t acc_n = 0;
   for (std::size_t i = 0; i < s.size() && i < targets.size(); ++i) {
@@ -114,19 +125,33 @@ TraceStats compute_stats(std::span<const GazeSample> s, std::span<const std::opt
       ++acc_n;
     }
   }
-  if (acc_n > 0) {
-    st.accuracy_deg = acc_sum / double(acc_n);
-    double p_sum2 = 0;
-    std::uint64_t p_n = 0;
-    for (std::size_t i = 1; i < s.size(); ++i) {
-      if (s[i].valid && s[i - 1].valid) {
-        const double a = angle_between_deg(s[i].combined_direction, s[i - 1].combined_direction);
-        p_sum2 += a * a;
-        ++p_n;
-      }
+  if (acc_n == 0) return;
+  st.accuracy_deg = acc_sum / double(acc_n);
+  double p_sum2 = 0;
+  std::uint64_t p_n = 0;
+  for (std::size_t i = 1; i < s.size(); ++i) {
+    if (s[i].valid && s[i - 1].valid) {
+      const double a = angle_between_deg(s[i].combined_direction, s[i - 1].combined_direction);
+      p_sum2 += a * a;
+      ++p_n;
     }
-    if (p_n > 0) st.precision_deg = std::sqrt(p_sum2 / double(p_n));
   }
+  if (p_n > 0) st.precision_deg = std::sqrt(p_sum2 / double(p_n));
+}
+}  // namespace
+
+TraceStats compute_stats(std::span<const GazeSample> s, std::span<const std::optional<Vec3f>> targets,
+                         bool host_time_known, const FilterConfig& filters) {
+  TraceStats st;
+  st.samples = s.size();
+  if (s.empty()) return st;
+  st.duration_s = double(s.back().device_time_ns - s.front().device_time_ns) * 1e-9;
+  st.rate_hz = st.duration_s > 0 ? double(s.size() - 1) / st.duration_s : 0.0;
+  add_device_timing(s, host_time_known, st);
+  if (host_time_known && s.size() > 1) add_host_intervals(s, st);
+  st.saccades = count_saccades(s, filters);
+  st.blinks = count_blinks(s, st.eye_closed > 0);
+  add_accuracy(s, targets, st);
   return st;
 }
 

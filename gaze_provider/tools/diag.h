@@ -14,6 +14,6 @@ int run_list(const FoveConfig& fove, bool json);
 
 // Writes PREFIX_heatmap.png and PREFIX_timeseries.png (PLplot, pngcairo).
 // Returns false and a message on failure.
-bool write_plots(const std::vector<GazeSample>& samples, const std::string& prefix, std::string* out_error);
+[[nodiscard]] bool write_plots(const std::vector<GazeSample>& samples, const std::string& prefix, std::string* error);
 
 }  // namespace foveart::gaze::diag

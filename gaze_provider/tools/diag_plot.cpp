@@ -17,10 +17,10 @@ namespace {
 constexpr double kRangeDeg = 40.0;  // heatmap covers +-40 deg yaw and pitch
 constexpr int kBins = 80;
 
-bool writable(const std::string& path, std::string* out_error) {
+bool writable(const std::string& path, std::string* error) {
   std::ofstream probe(path, std::ios::binary | std::ios::app);
   if (!probe) {
-    if (out_error) *out_error = "cannot write " + path;
+    if (error) *error = "cannot write " + path;
     return false;
   }
   return true;
@@ -103,9 +103,9 @@ void timeseries(const std::vector<GazeSample>& samples, const std::string& file)
 
 }  // namespace
 
-bool write_plots(const std::vector<GazeSample>& samples, const std::string& prefix, std::string* out_error) {
+bool write_plots(const std::vector<GazeSample>& samples, const std::string& prefix, std::string* error) {
   const std::string heat = prefix + "_heatmap.png", series = prefix + "_timeseries.png";
-  if (!writable(heat, out_error) || !writable(series, out_error)) return false;
+  if (!writable(heat, error) || !writable(series, error)) return false;
   heatmap(samples, heat);  // each plstream is ended (and its file closed) when destroyed
   timeseries(samples, series);
   return true;

@@ -19,33 +19,9 @@ using namespace foveart::gaze;
 
 namespace {
 
-int run_stream(const std::string& source, double seconds, const std::string& record, bool json,
-               ProviderOptions options) {
-  if (!(seconds > 0.0 && seconds <= 86400.0)) {
-    std::fprintf(stderr, "gaze-diag: --seconds must be in (0, 86400]\n");
-    return 1;
-  }
-  std::ofstream record_file;
-  std::unique_ptr<TraceWriter> writer;
-  if (!record.empty()) {
-    record_file.open(record, std::ios::binary | std::ios::trunc);
-    if (!record_file) {
-      std::fprintf(stderr, "gaze-diag: cannot write %s\n", record.c_str());
-      return 1;
-    }
-    writer = std::make_unique<TraceWriter>(record_file);
-  }
-  CreateResult created = create_gaze_provider(source, options);
-  if (!created) {
-    std::fprintf(stderr, "gaze-diag: %s\n", created.error.c_str());
-    return 2;
-  }
-  GazeProvider& p = *created.provider;
-  std::string error;
-  if (!p.start(&error)) {
-    std::fprintf(stderr, "gaze-diag: %s\n", error.c_str());
-    return 2;
-  }
+// Every sample of `p` for `seconds` or until its stream ends, then stops it;
+// each one also to `writer` if there is one. Progress each second on stderr unless json.
+std::vector<GazeSample> collect_samples(GazeProvider& p, double seconds, bool json, TraceWriter* writer) {
   std::vector<GazeSample> all;
   std::vector<GazeSample> buf(1024);
   const auto t0 = std::chrono::steady_clock::now();
@@ -75,8 +51,12 @@ int run_stream(const std::string& source, double seconds, const std::string& rec
   }
   p.stop();
   drain();
-  const ProviderStatus st = p.status();
-  const TraceStats stats = compute_stats(all, {}, true, options.filters);
+  return all;
+}
+
+// The stream's statistics and the provider's final status, as JSON or text.
+void print_stream_report(const TraceStats& stats, const GazeProvider& p, const ProviderStatus& st,
+                         const std::string& source, bool json) {
   if (json) {
     std::string j = stats_to_json(stats, source);
     j.resize(j.size() - 3);  // reopen the object: drop "\n}\n"
@@ -91,6 +71,38 @@ int run_stream(const std::string& source, double seconds, const std::string& rec
     std::cout << stats_to_text(stats, source) << "status          " << to_string(st.state)
               << (st.reason[0] ? std::string(": ") + st.reason.data() : std::string()) << "\n";
   }
+}
+
+int run_stream(const std::string& source, double seconds, const std::string& record, bool json,
+               ProviderOptions options) {
+  if (!(seconds > 0.0 && seconds <= 86400.0)) {
+    std::fprintf(stderr, "gaze-diag: --seconds must be in (0, 86400]\n");
+    return 1;
+  }
+  std::ofstream record_file;
+  std::unique_ptr<TraceWriter> writer;
+  if (!record.empty()) {
+    record_file.open(record, std::ios::binary | std::ios::trunc);
+    if (!record_file) {
+      std::fprintf(stderr, "gaze-diag: cannot write %s\n", record.c_str());
+      return 1;
+    }
+    writer = std::make_unique<TraceWriter>(record_file);
+  }
+  CreateResult created = create_gaze_provider(source, options);
+  if (!created) {
+    std::fprintf(stderr, "gaze-diag: %s\n", created.error.c_str());
+    return 2;
+  }
+  GazeProvider& p = *created.provider;
+  std::string error;
+  if (!p.start(&error)) {
+    std::fprintf(stderr, "gaze-diag: %s\n", error.c_str());
+    return 2;
+  }
+  const std::vector<GazeSample> all = collect_samples(p, seconds, json, writer.get());
+  const ProviderStatus st = p.status();
+  print_stream_report(compute_stats(all, {}, true, options.filters), p, st, source, json);
   if (writer && !writer->ok()) {
     std::fprintf(stderr, "gaze-diag: writing %s failed\n", record.c_str());
     return 1;

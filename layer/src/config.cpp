@@ -123,7 +123,7 @@ struct Reader {
   }
 
   // Keys an earlier config held (kRemovedConfigKeys): a warning each, "worker_threads" read
-  // into "threads" and the old TAA switch and history into "temporal" when this object
+  // into "threads" and the old temporal switch and history ("taa", "taa_history") into "temporal" when this object
   // does not name the new key.
   void read_removed_keys(const json& obj, LayerConfig* c) const {
     for (const RemovedConfigKey& removed : kRemovedConfigKeys) {
@@ -145,7 +145,7 @@ struct Reader {
     } else {
       return;
     }
-    warnings->push_back("config " + std::string(origin) + ": read the removed TAA keys as \"temporal\": \"" +
+    warnings->push_back("config " + std::string(origin) + ": read the removed keys taa / taa_history as \"temporal\": \"" +
                         c->temporal + "\"");
   }
 

@@ -43,7 +43,7 @@ inline constexpr RemovedConfigKey kRemovedConfigKeys[] = {
     {"taa", "\"temporal\": \"off\" | \"image\" | \"rays\""},
     {"taa_history", "\"temporal\": \"image\" (reproject) or \"rays\" (ray_cache)"},
     {"pixel_filter", "the pixel filter that \"temporal\" implies (box; bspline2 for \"rays\")"},
-    {"taa_mean_while_young", "nothing: the TAA's own weights (it was an experiment)"},
+    {"taa_mean_while_young", "nothing: the temporal blend's own weights (it was an experiment)"},
     {"worker_threads", "\"threads\" (the same count; the tools' --threads)"},
 };
 
@@ -59,16 +59,16 @@ struct LayerConfig {
   float density_scale = 1.0f;
   uint32_t rays_per_point = kDefaultRaysPerPoint;
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
-  // (TAA on a reprojected image) or "rays" (TAA on a render cache of the traced rays).
+  // (a reprojected image history) or "rays" (a render cache of the traced rays).
   // "auto": "rays" where reconstruction runs on the GPU, "image" on the CPU path, where
-  // the render cache costs more than twice the image history (docs/layer.md).
+  // the render cache costs more than twice the image history (docs/guide.md, "Configuration").
   std::string temporal = "auto";
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...
   uint32_t threads = 0;                  // the renderer's executor threads; 0: hardware concurrency
   std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
   bool wait_for_tables = false;          // block the first frame until the tables are ready
-  // Where reconstruction, TAA and encode run: "auto" (the GPU when the app's
+  // Where reconstruction, temporal history and encode run: "auto" (the GPU when the app's
   // device can run the shaders and is not a CPU implementation such as
   // lavapipe, else the CPU), "gpu" (the app's device whatever it is; the CPU,
   // with an error in the log, when it cannot run the shaders) or "cpu".

@@ -27,7 +27,7 @@ int format_rank(int64_t format) {
 }  // namespace
 
 std::unique_ptr<EyeSwapchain> EyeSwapchain::create(const SessionState& session, uint32_t width_px,
-                                                   uint32_t height_px, std::string* out_error) {
+                                                   uint32_t height_px, std::string* error) {
   std::unique_ptr<EyeSwapchain> sc(new EyeSwapchain());
   sc->instance_ = session.instance;
   sc->next_ = &session.instance->next;
@@ -38,15 +38,15 @@ std::unique_ptr<EyeSwapchain> EyeSwapchain::create(const SessionState& session, 
 
   uint32_t count = 0;
   XrResult r = next.EnumerateSwapchainFormats(session.handle, 0, &count, nullptr);
-  if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainFormats", r), nullptr;
+  if (XR_FAILED(r)) return *error = xr_error("xrEnumerateSwapchainFormats", r), nullptr;
   std::vector<int64_t> formats(count);
   r = next.EnumerateSwapchainFormats(session.handle, count, &count, formats.data());
-  if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainFormats", r), nullptr;
+  if (XR_FAILED(r)) return *error = xr_error("xrEnumerateSwapchainFormats", r), nullptr;
   int64_t chosen = -1;
   for (int64_t f : formats) {
     if (format_rank(f) >= 0 && (chosen < 0 || format_rank(f) < format_rank(chosen))) chosen = f;
   }
-  if (chosen < 0) return *out_error = "the runtime offers no RGBA8 swapchain format", nullptr;
+  if (chosen < 0) return *error = "the runtime offers no RGBA8 swapchain format", nullptr;
   sc->srgb_ = chosen == VK_FORMAT_R8G8B8A8_SRGB;
 
   XrSwapchainCreateInfo info{};
@@ -60,13 +60,13 @@ std::unique_ptr<EyeSwapchain> EyeSwapchain::create(const SessionState& session, 
   info.arraySize = 1;
   info.mipCount = 1;
   r = next.CreateSwapchain(session.handle, &info, &sc->swapchain_);
-  if (XR_FAILED(r)) return *out_error = xr_error("xrCreateSwapchain", r), nullptr;
+  if (XR_FAILED(r)) return *error = xr_error("xrCreateSwapchain", r), nullptr;
   r = next.EnumerateSwapchainImages(sc->swapchain_, 0, &count, nullptr);
-  if (XR_FAILED(r) || count == 0) return *out_error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
+  if (XR_FAILED(r) || count == 0) return *error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
   std::vector<XrSwapchainImageVulkanKHR> images(count, xr_struct<XrSwapchainImageVulkanKHR>(XR_TYPE_SWAPCHAIN_IMAGE_VULKAN_KHR));
   r = next.EnumerateSwapchainImages(sc->swapchain_, count, &count,
                                     reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data()));
-  if (XR_FAILED(r)) return *out_error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
+  if (XR_FAILED(r)) return *error = xr_error("xrEnumerateSwapchainImages", r), nullptr;
   for (const auto& image : images) sc->images_.push_back(image.image);
 
   sc->physical_device_ = session.vk_physical_device;
@@ -76,16 +76,16 @@ std::unique_ptr<EyeSwapchain> EyeSwapchain::create(const SessionState& session, 
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool_info.queueFamilyIndex = session.vk_queue_family_index;
   vr = vkCreateCommandPool(sc->device_, &pool_info, nullptr, &sc->pool_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateCommandPool", vr), nullptr;
+  if (vr != VK_SUCCESS) return *error = vk_error("vkCreateCommandPool", vr), nullptr;
   auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
   cb_info.commandPool = sc->pool_;
   cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cb_info.commandBufferCount = 1;
   vr = vkAllocateCommandBuffers(sc->device_, &cb_info, &sc->command_buffer_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkAllocateCommandBuffers", vr), nullptr;
+  if (vr != VK_SUCCESS) return *error = vk_error("vkAllocateCommandBuffers", vr), nullptr;
   auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
   vr = vkCreateFence(sc->device_, &fence_info, nullptr, &sc->fence_);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("vkCreateFence", vr), nullptr;
+  if (vr != VK_SUCCESS) return *error = vk_error("vkCreateFence", vr), nullptr;
   return sc;
 }
 
@@ -100,17 +100,17 @@ EyeSwapchain::~EyeSwapchain() {
   if (swapchain_ != XR_NULL_HANDLE && next_ != nullptr) next_->DestroySwapchain(swapchain_);
 }
 
-bool EyeSwapchain::create_staging(std::string* out_error) {
+bool EyeSwapchain::create_staging(std::string* error) {
   // Host-visible staging buffer, persistently mapped.
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(physical_device_, &memory);
   return create_bound_buffer(device_, memory, VkDeviceSize{width_px_} * height_px_ * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                              VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, &buffer_,
-                             &memory_, &mapped_, out_error);
+                             &memory_, &mapped_, error);
 }
 
-uint8_t* EyeSwapchain::staging(std::string* out_error) {
-  if (mapped_ == nullptr && !create_staging(out_error)) return nullptr;
+uint8_t* EyeSwapchain::staging(std::string* error) {
+  if (mapped_ == nullptr && !create_staging(error)) return nullptr;
   return static_cast<uint8_t*>(mapped_);
 }
 
@@ -140,27 +140,27 @@ void record_copy_to_swapchain_image(VkCommandBuffer cb, VkBuffer buffer, VkImage
                        nullptr, 0, nullptr, 1, &to_attachment);
 }
 
-bool EyeSwapchain::upload(std::string* out_error) {
-  if (mapped_ == nullptr) return *out_error = "upload before the staging buffer was written", false;
+bool EyeSwapchain::upload(std::string* error) {
+  if (mapped_ == nullptr) return *error = "upload before the staging buffer was written", false;
   return present(
       [this](VkCommandBuffer cb, VkImage image, std::string*) {
         record_copy_to_swapchain_image(cb, buffer_, image, width_px_, height_px_);
         return true;
       },
-      out_error);
+      error);
 }
 
-bool EyeSwapchain::present(const RecordFn& record, std::string* out_error) {
+bool EyeSwapchain::present(const RecordFn& record, std::string* error) {
   uint32_t index = 0;
   auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
   XrResult r = next_->AcquireSwapchainImage(swapchain_, &acquire, &index);
-  if (XR_FAILED(r) || index >= images_.size()) return *out_error = xr_error("xrAcquireSwapchainImage", r), false;
+  if (XR_FAILED(r) || index >= images_.size()) return *error = xr_error("xrAcquireSwapchainImage", r), false;
   auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
   auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
   wait.timeout = XR_INFINITE_DURATION;
   r = next_->WaitSwapchainImage(swapchain_, &wait);
   if (XR_FAILED(r)) {
-    *out_error = xr_error("xrWaitSwapchainImage", r);
+    *error = xr_error("xrWaitSwapchainImage", r);
     next_->ReleaseSwapchainImage(swapchain_, &release);
     return false;
   }
@@ -171,7 +171,7 @@ bool EyeSwapchain::present(const RecordFn& record, std::string* out_error) {
   if (vr == VK_SUCCESS) vr = vkBeginCommandBuffer(command_buffer_, &begin);
   bool recorded = false;
   if (vr == VK_SUCCESS) {
-    recorded = record(command_buffer_, images_[index], out_error);
+    recorded = record(command_buffer_, images_[index], error);
     vr = vkEndCommandBuffer(command_buffer_);
   }
   if (!recorded && vr == VK_SUCCESS) {  // nothing submitted: the image goes back as it was
@@ -187,8 +187,8 @@ bool EyeSwapchain::present(const RecordFn& record, std::string* out_error) {
   }
   if (vr == VK_SUCCESS) vr = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
   r = next_->ReleaseSwapchainImage(swapchain_, &release);
-  if (vr != VK_SUCCESS) return *out_error = vk_error("frame commands", vr), false;
-  if (XR_FAILED(r)) return *out_error = xr_error("xrReleaseSwapchainImage", r), false;
+  if (vr != VK_SUCCESS) return *error = vk_error("frame commands", vr), false;
+  if (XR_FAILED(r)) return *error = xr_error("xrReleaseSwapchainImage", r), false;
   return true;
 }
 

@@ -29,10 +29,10 @@ void record_copy_to_swapchain_image(VkCommandBuffer cb, VkBuffer buffer, VkImage
 
 class EyeSwapchain {
  public:
-  // Null with *out_error set when the runtime or the device says no. The
+  // Null with *error set when the runtime or the device says no. The
   // staging buffer (CPU path) is made on first use.
   static std::unique_ptr<EyeSwapchain> create(const SessionState& session, uint32_t width_px, uint32_t height_px,
-                                              std::string* out_error);
+                                              std::string* error);
   ~EyeSwapchain();
   EyeSwapchain(const EyeSwapchain&) = delete;
   EyeSwapchain& operator=(const EyeSwapchain&) = delete;
@@ -43,21 +43,21 @@ class EyeSwapchain {
   XrSwapchain handle() const { return swapchain_; }
 
   // Rows of width_px RGBA8 texels (already sRGB-encoded when srgb()); null
-  // with *out_error when the buffer cannot be made.
-  uint8_t* staging(std::string* out_error);
+  // with *error when the buffer cannot be made.
+  uint8_t* staging(std::string* error);
 
   // Copies the staging buffer into the next swapchain image; false with a message on failure
   // (the image is released either way when it was acquired).
-  bool upload(std::string* out_error);
+  [[nodiscard]] bool upload(std::string* error);
 
   // Acquires the next image, records `record(cb, image)` (which must leave the
   // image in COLOR_ATTACHMENT_OPTIMAL), submits, waits and releases.
-  using RecordFn = std::function<bool(VkCommandBuffer cb, VkImage image, std::string* out_error)>;
-  bool present(const RecordFn& record, std::string* out_error);
+  using RecordFn = std::function<bool(VkCommandBuffer cb, VkImage image, std::string* error)>;
+  [[nodiscard]] bool present(const RecordFn& record, std::string* error);
 
  private:
   EyeSwapchain() = default;
-  bool create_staging(std::string* out_error);
+  [[nodiscard]] bool create_staging(std::string* error);
 
   const NextDispatch* next_ = nullptr;
   VkDevice device_ = VK_NULL_HANDLE;

@@ -143,8 +143,24 @@ struct FoveatedRenderer::Frames {
   // After a device-traced frame was presented or refused: what the engine and
   // the resolve said; false (counted, logged once) when the view falls back.
   bool device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats);
+  // One eye's frame, in the steps below: false when the view shows the app's own image.
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
+  bool ensure_swapchain(uint32_t e, uint32_t w, uint32_t h, XrFoveatedRendererStatsFOVEART* stats);
+  // The eye's FoveatedView for these tables and path (made again when either changes).
+  void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, bool on_gpu,
+                   bool on_device);
+  // The request's frame, restart flags and foveation centre from this frame's gaze.
+  void aim_at_gaze(uint32_t e, const FrameGaze& gaze, foveation::FrameRequest& request,
+                   XrFoveatedRendererStatsFOVEART* stats);
+  // Stages 1-5 (or the plan of a device-traced frame) and their stats.
+  bool run_frame(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+                 XrFoveatedRendererStatsFOVEART* stats);
+  // Stage 6 and the copy into the eye's swapchain image, on either path.
+  bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+                   const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                   XrFoveatedRendererStatsFOVEART* stats);
+  bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
 
   std::shared_ptr<SessionState> session;
   RendererSettings settings;
@@ -400,15 +416,15 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
   if (eye.gpu->stage_times(&times)) {
     reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
     reconstruction.gpu_gather_ms[e] = times.gather_ms;
-    reconstruction.gpu_taa_ms[e] = times.taa_ms;
+    reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
     reconstruction.gpu_encode_ms[e] = times.encode_ms;
     if (device != nullptr) {  // the trace ran on the device: its GPU time is the frame's trace
       stats->traceMs[e] = times.scatter_ms;
-      stats->interpolateMs[e] = times.gather_ms;
+      stats->reconstructMs[e] = times.gather_ms;
     } else {
-      stats->interpolateMs[e] = times.scatter_ms + times.gather_ms;
+      stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
     }
-    stats->taaMs[e] = times.taa_ms;
+    stats->temporalMs[e] = times.temporal_ms;
   }
   return true;
 }
@@ -442,80 +458,64 @@ bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrFov
   return false;
 }
 
-bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
-                                          XrCompositionLayerProjectionView& view, XrFoveatedRendererStatsFOVEART* stats) {
+bool FoveatedRenderer::Frames::ensure_swapchain(uint32_t e, uint32_t w, uint32_t h,
+                                                XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
-  if (eye.failed) {
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-    return false;
-  }
-  const auto extent = view.subImage.imageRect.extent;  // positive: end_frame checked the rect
-  const auto w = static_cast<uint32_t>(extent.width);
-  const auto h = static_cast<uint32_t>(extent.height);
-  foveation::FrameRequest request;
-  request.view = eye_view_of(e, view.pose, view.fov, w, h);
-  const Tables found = tables_for(request.view);
-  if (found.failed) {
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART;
-    return false;
-  }
-  if (found.ready == nullptr) {
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
-    return false;
-  }
-  const auto& view_tables = found.ready;
-  if (eye.swapchain == nullptr || eye.swapchain->width_px() != w || eye.swapchain->height_px() != h) {
-    std::string error;
-    eye.swapchain = EyeSwapchain::create(*session, w, h, &error);
-    if (eye.swapchain == nullptr) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": cannot create the layer's swapchain: ", error,
-          "; this eye shows the app's image from now on");
-      eye.failed = true;
-      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-      return false;
-    }
-  }
-  const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
-  // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
-  const bool on_device = on_gpu && settings.trace_rays_device != nullptr;
-  if (!on_device && settings.trace_rays == nullptr) {  // a device trace alone, and no GPU path
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    return false;
-  }
-  if (eye.view == nullptr || &eye.view->tables() != view_tables.get() ||
-      eye.view->settings().reconstruct_on_cpu == on_gpu) {
-    eye.temporal = temporal_for_path(settings, on_gpu);
-    if (on_device && eye.temporal == foveation::TemporalMode::rays) {
-      // The render cache keeps the frame's rays on the host; a device trace never brings them there.
-      eye.temporal = foveation::TemporalMode::image;
-      if (device_rays_once.first()) {
-        log(LogLevel::Info, "foveated renderer: a device trace keeps its rays on the GPU: temporal \"rays\" runs as "
-                            "\"image\" (logged once)");
-      }
-    }
-    foveation::ViewSettings vs =
-        foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
-    vs.reconstruct_on_cpu = !on_gpu;
-    eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
-  }
+  if (eye.swapchain != nullptr && eye.swapchain->width_px() == w && eye.swapchain->height_px() == h) return true;
+  std::string error;
+  eye.swapchain = EyeSwapchain::create(*session, w, h, &error);
+  if (eye.swapchain != nullptr) return true;
+  log(LogLevel::Error, "foveated renderer: eye ", e, ": cannot create the layer's swapchain: ", error,
+      "; this eye shows the app's image from now on");
+  eye.failed = true;
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+  return false;
+}
 
+void FoveatedRenderer::Frames::ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                           bool on_gpu, bool on_device) {
+  Eye& eye = eyes[e];
+  if (eye.view != nullptr && &eye.view->tables() == view_tables.get() &&
+      eye.view->settings().reconstruct_on_cpu != on_gpu) {
+    return;
+  }
+  eye.temporal = temporal_for_path(settings, on_gpu);
+  if (on_device && eye.temporal == foveation::TemporalMode::rays) {
+    // The render cache keeps the frame's rays on the host; a device trace never brings them there.
+    eye.temporal = foveation::TemporalMode::image;
+    if (device_rays_once.first()) {
+      log(LogLevel::Info, "foveated renderer: a device trace keeps its rays on the GPU: temporal \"rays\" runs as "
+                          "\"image\" (logged once)");
+    }
+  }
+  foveation::ViewSettings vs =
+      foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
+  vs.reconstruct_on_cpu = !on_gpu;
+  eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
+}
+
+void FoveatedRenderer::Frames::aim_at_gaze(uint32_t e, const FrameGaze& frame_gaze, foveation::FrameRequest& request,
+                                           XrFoveatedRendererStatsFOVEART* stats) {
   request.frame_index = frame_index;
   request.saccade = frame_gaze.valid && frame_gaze.saccade;
   request.blink = frame_gaze.valid && frame_gaze.blink;
   const foveation::EyeFrustum frustum = foveation::eye_frustum(request.view);
   request.gaze_px = foveation::lens_centre_px(frustum);
-  if (frame_gaze.valid && !foveation::gaze_pixel(frustum, frame_gaze.direction_view[e], &request.gaze_px)) {
-    // A valid gaze behind the eye (or 87 degrees or more off its axis) projects nowhere: lens centre, flagged.
-    ++input.gaze_behind_views;
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
-    if (behind_once.first()) {
-      const glm::vec3 d = frame_gaze.direction_view[e];
-      log(LogLevel::Warn, "foveated renderer: eye ", e, ": the gaze points backwards or 87 degrees or more off the view "
-          "axis (view-space direction ", d.x, ", ", d.y, ", ", d.z, "); foveating at the lens centre (logged once, "
-          "counted in the stats)");
-    }
+  if (!frame_gaze.valid || foveation::gaze_pixel(frustum, frame_gaze.direction_view[e], &request.gaze_px)) return;
+  // A valid gaze behind the eye (or 87 degrees or more off its axis) projects nowhere: lens centre, flagged.
+  ++input.gaze_behind_views;
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
+  if (behind_once.first()) {
+    const glm::vec3 d = frame_gaze.direction_view[e];
+    log(LogLevel::Warn, "foveated renderer: eye ", e, ": the gaze points backwards or 87 degrees or more off the view "
+        "axis (view-space direction ", d.x, ", ", d.y, ", ", d.z, "); foveating at the lens centre (logged once, "
+        "counted in the stats)");
   }
+}
 
+bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+                                         XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
   foveation::FrameResult result;
   try {
     result = on_device ? eye.view->plan(request, executor)
@@ -533,70 +533,113 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   stats->raysPerEye[e] = static_cast<uint32_t>(std::min<uint64_t>(result.rays, UINT32_MAX));
   stats->selectMs[e] = static_cast<float>(result.select_ms);
   stats->traceMs[e] = static_cast<float>(result.trace_ms);
-  stats->interpolateMs[e] = static_cast<float>(result.reconstruct_ms);
-  stats->taaMs[e] = static_cast<float>(result.taa_ms);
+  stats->reconstructMs[e] = static_cast<float>(result.reconstruct_ms);
+  stats->temporalMs[e] = static_cast<float>(result.temporal_ms);
   stats->callbackFailures += result.failed_batches;
-  reconstruction.taa_reset_last_frame[e] = result.taa_reset;
-  reconstruction.taa_resets += result.taa_reset ? 1 : 0;
+  reconstruction.temporal_reset_last_frame[e] = result.temporal_reset;
+  reconstruction.temporal_resets += result.temporal_reset ? 1 : 0;
   stats->invalidColours += result.invalid_colours;
-  if (!result.ok()) {
-    stats->fallbackFlags |= fallback_flag(result.failure);
-    LogOnce& once = result.failure == foveation::FrameFailure::callback_failed ? callback_once : colour_once;
-    if (once.first()) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": ", result.message,
-          "; showing the app's own image for this view (logged once, counted in stats)");
+  if (result.ok()) return true;
+  stats->fallbackFlags |= fallback_flag(result.failure);
+  LogOnce& once = result.failure == foveation::FrameFailure::callback_failed ? callback_once : colour_once;
+  if (once.first()) {
+    log(LogLevel::Error, "foveated renderer: eye ", e, ": ", result.message,
+        "; showing the app's own image for this view (logged once, counted in stats)");
+  }
+  return false;
+}
+
+bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+                                           const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                           XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  const auto t0 = Clock::now();
+  DeviceTraceFrame device;
+  if (on_device) {
+    const foveation::FrameHandOff& hand_off = eye.view->hand_off();
+    device.engine = DeviceTraceFn{settings.trace_rays_device, settings.device_user_data};
+    device.points = &view_tables->points;
+    device.view = request.view;
+    device.mapping = hand_off.mapping;
+    device.frame_index = frame_index;
+    device.sample_seed = hand_off.sample_seed;
+    device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
+    device.pixel_filter = eye.view->settings().pixel_filter;
+  }
+  std::string error;
+  const bool presented = present_on_gpu(e, view_tables, on_device ? &device : nullptr, stats, &error);
+  stats->uploadMs[e] = ms_since(t0);
+  if (on_device && !device_trace_ok(e, presented, stats)) return false;
+  if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
+    eye.gpu_failed = true;
+    eye.gpu = nullptr;
+    eye.gpu_tables = nullptr;
+    ++reconstruction.gpu_fallbacks;
+    if (gpu_once.first()) {
+      log(LogLevel::Error, "foveated renderer: eye ", e, ": GPU reconstruction failed: ", error,
+          "; this eye reconstructs on the CPU from the next frame (logged once, counted in the stats)");
     }
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
     return false;
   }
+  reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART;
+  reconstruction.temporal = eye.temporal;
+  return true;
+}
+
+bool FoveatedRenderer::Frames::present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
   const auto t0 = Clock::now();
   std::string error;
-  if (on_gpu) {
-    DeviceTraceFrame device;
-    if (on_device) {
-      const foveation::FrameHandOff& hand_off = eye.view->hand_off();
-      device.engine = DeviceTraceFn{settings.trace_rays_device, settings.device_user_data};
-      device.points = &view_tables->points;
-      device.view = request.view;
-      device.mapping = hand_off.mapping;
-      device.frame_index = frame_index;
-      device.sample_seed = hand_off.sample_seed;
-      device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
-      device.pixel_filter = eye.view->settings().pixel_filter;
-    }
-    const bool presented = present_on_gpu(e, view_tables, on_device ? &device : nullptr, stats, &error);
-    stats->uploadMs[e] = ms_since(t0);
-    if (on_device && !device_trace_ok(e, presented, stats)) return false;
-    if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
-      eye.gpu_failed = true;
-      eye.gpu = nullptr;
-      eye.gpu_tables = nullptr;
-      ++reconstruction.gpu_fallbacks;
-      if (gpu_once.first()) {
-        log(LogLevel::Error, "foveated renderer: eye ", e, ": GPU reconstruction failed: ", error,
-            "; this eye reconstructs on the CPU from the next frame (logged once, counted in the stats)");
-      }
-      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-      return false;
-    }
-    reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART;
-    reconstruction.temporal = eye.temporal;
-  } else {
-    uint8_t* staging = eye.swapchain->staging(&error);
-    if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), display, staging, executor);
-    const bool uploaded = staging != nullptr && eye.swapchain->upload(&error);
-    stats->uploadMs[e] = ms_since(t0);
-    if (!uploaded) {
-      stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-      if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
-      return false;
-    }
-    reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
-    reconstruction.temporal = eye.temporal;
-    for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_taa_ms,
-                     reconstruction.gpu_encode_ms}) {
-      t[e] = 0.0f;
-    }
+  uint8_t* staging = eye.swapchain->staging(&error);
+  if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), display, staging, executor);
+  const bool uploaded = staging != nullptr && eye.swapchain->upload(&error);
+  stats->uploadMs[e] = ms_since(t0);
+  if (!uploaded) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+    if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
+    return false;
   }
+  reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
+  reconstruction.temporal = eye.temporal;
+  for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_temporal_ms,
+                   reconstruction.gpu_encode_ms}) {
+    t[e] = 0.0f;
+  }
+  return true;
+}
+
+bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
+                                          XrCompositionLayerProjectionView& view, XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  if (eye.failed) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+    return false;
+  }
+  const auto extent = view.subImage.imageRect.extent;  // positive: end_frame checked the rect
+  const auto w = static_cast<uint32_t>(extent.width);
+  const auto h = static_cast<uint32_t>(extent.height);
+  foveation::FrameRequest request;
+  request.view = eye_view_of(e, view.pose, view.fov, w, h);
+  const Tables found = tables_for(request.view);
+  if (found.failed || found.ready == nullptr) {
+    stats->fallbackFlags |= found.failed ? XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART
+                                         : XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
+    return false;
+  }
+  if (!ensure_swapchain(e, w, h, stats)) return false;
+  const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
+  // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
+  const bool on_device = on_gpu && settings.trace_rays_device != nullptr;
+  if (!on_device && settings.trace_rays == nullptr) {  // a device trace alone, and no GPU path
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+    return false;
+  }
+  ensure_view(e, found.ready, on_gpu, on_device);
+  aim_at_gaze(e, frame_gaze, request, stats);
+  if (!run_frame(e, request, on_device, stats)) return false;
+  const bool presented = on_gpu ? present_gpu(e, request, on_device, found.ready, stats) : present_cpu(e, stats);
+  if (!presented) return false;
   view.subImage.swapchain = eye.swapchain->handle();
   view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
   view.subImage.imageArrayIndex = 0;
@@ -660,11 +703,11 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     for (int e = 0; e < 2; ++e) {
       rec->gpuScatterMs[e] = reconstruction_.gpu_scatter_ms[e];
       rec->gpuGatherMs[e] = reconstruction_.gpu_gather_ms[e];
-      rec->gpuTaaMs[e] = reconstruction_.gpu_taa_ms[e];
+      rec->gpuTemporalMs[e] = reconstruction_.gpu_temporal_ms[e];
       rec->gpuEncodeMs[e] = reconstruction_.gpu_encode_ms[e];
-      rec->taaResetLastFrame[e] = reconstruction_.taa_reset_last_frame[e] ? XR_TRUE : XR_FALSE;
+      rec->temporalResetLastFrame[e] = reconstruction_.temporal_reset_last_frame[e] ? XR_TRUE : XR_FALSE;
     }
-    rec->taaResets = reconstruction_.taa_resets;
+    rec->temporalResets = reconstruction_.temporal_resets;
     rec->gazeSaccadeLastFrame = reconstruction_.gaze_saccade_last_frame ? XR_TRUE : XR_FALSE;
     rec->gazeBlinkLastFrame = reconstruction_.gaze_blink_last_frame ? XR_TRUE : XR_FALSE;
   }

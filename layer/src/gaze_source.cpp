@@ -9,6 +9,7 @@
 #include "log.hpp"
 #include "state.hpp"
 
+#include "gaze_provider/backends.h"
 #include "gaze_provider/gaze_provider.h"
 #include "gaze_provider/onset_latch.h"
 
@@ -102,10 +103,13 @@ class ProviderGaze final : public GazeSource {
 }  // namespace
 
 std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, const SessionState& session,
-                                               std::string* out_warning) {
+                                               std::string* out_warning,
+                                               std::shared_ptr<gaze::HostClock> provider_clock) {
   switch (settings.gaze_source) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: {
-      auto created = gaze::create_gaze_provider(settings.gaze_provider_spec);
+      gaze::ProviderOptions options;
+      options.clock = std::move(provider_clock);
+      auto created = gaze::create_gaze_provider(settings.gaze_provider_spec, options);
       if (!created) {
         *out_warning = "gaze provider '" + settings.gaze_provider_spec + "': " + created.error +
                        "; fixed foveation at the lens centre";

@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "gaze_provider/host_clock.h"
 #include "renderer.hpp"
 
 namespace foveart::layer {
@@ -16,8 +17,8 @@ struct FrameGaze {
   bool valid = false;
   glm::vec3 direction_view[2]{};  // per eye, OpenXR view space (-z forward), unit
   float age_ms = 0.0f;            // at composition (now) minus the newest measurement's host time
-  bool saccade = false;           // a saccade in flight, or begun since the last frame: TAA restarts its history
-  bool blink = false;             // a blink held now, or begun since the last frame: TAA restarts too
+  bool saccade = false;           // a saccade in flight, or begun since the last frame: the temporal history restarts
+  bool blink = false;             // a blink held now, or begun since the last frame: the history restarts too
   XrFoveatedGazeSourceFOVEART source = XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
 };
 
@@ -45,7 +46,10 @@ class GazeSource {
 
 // Never null: when the requested source cannot be opened, a source that always
 // reports "no gaze" is returned and the reason is written to *out_warning.
+// provider_clock: the gaze provider's host clock (null: the steady clock; tests
+// pass a virtual one).
 std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings, const SessionState& session,
-                                               std::string* out_warning);
+                                               std::string* out_warning,
+                                               std::shared_ptr<gaze::HostClock> provider_clock = nullptr);
 
 }  // namespace foveart::layer

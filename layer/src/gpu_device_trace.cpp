@@ -44,6 +44,30 @@ constexpr VkDeviceSize kRayBytes = 32, kColorBytes = 16;
 
 uint32_t groups(std::size_t n, uint32_t size) { return uint32_t((n + size - 1) / size); }
 
+// The ray shader's push constants for this frame's view, screen and points.
+RaysPush rays_push(const DeviceTraceFrame& frame) {
+  const foveation::EyeFrustum f = foveation::eye_frustum(frame.view);
+  const foveation::EyePose pose = foveation::eye_pose(frame.view);
+  RaysPush push{};
+  const float tan_lrud[4] = {f.tan_left, f.tan_right, f.tan_up, f.tan_down};
+  const float orientation[4] = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w};
+  const float position[4] = {pose.position_m.x, pose.position_m.y, pose.position_m.z, 0.0f};
+  std::memcpy(push.tan_lrud, tan_lrud, sizeof tan_lrud);
+  std::memcpy(push.orientation, orientation, sizeof orientation);
+  std::memcpy(push.position_m, position, sizeof position);
+  push.screen_px[0] = frame.mapping.screen_width_px;
+  push.screen_px[1] = frame.mapping.screen_height_px;
+  push.canvas_from_screen_px[0] = float(frame.mapping.canvas_from_screen_x_px);
+  push.canvas_from_screen_px[1] = float(frame.mapping.canvas_from_screen_y_px);
+  push.margin_px = frame.points->visible_margin_px;
+  push.rays_per_point = frame.rays_per_point;
+  push.point_count = uint32_t(frame.points->size());
+  push.flags = frame.pixel_filter == foveation::PixelFilter::bspline2 ? kBspline2 : 0u;
+  push.seed[0] = uint32_t(frame.sample_seed);
+  push.seed[1] = uint32_t(frame.sample_seed >> 32);
+  return push;
+}
+
 }  // namespace
 
 std::unique_ptr<GpuDeviceTracePipelines> GpuDeviceTracePipelines::create(VkDevice device, std::string* error) {
@@ -184,7 +208,6 @@ bool GpuDeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, V
   if (!ensure_buffers(points, frame.rays_per_point, error)) return false;
   if (descriptors_stale_ || bound_colors_ != colors || bound_point_depth_ != point_depth)
     update_descriptors(colors, point_depth);
-  const GpuDeviceTracePipelines& pipelines = *owner_.device_trace_;
 
   uploaded_bytes_ = 0;
   if (staged_bytes_ > 0) {  // new points: copied in this frame's commands (the staging buffer lives on)
@@ -192,30 +215,22 @@ bool GpuDeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, V
     vkCmdCopyBuffer(cb, staging_.buffer, points_.buffer, 1, &copy);
     uploaded_bytes_ = staged_bytes_;  // staged_bytes_ stays until the frame is recorded in full
   }
-  // Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made.
+  record_rays(cb, frame);
+  if (!record_engine_trace(cb, frame, error)) return false;
+  staged_bytes_ = 0;  // the points' copy is in a frame that will be submitted
+  record_resolve(cb, frame);
+  return true;
+}
+
+// Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made.
+void GpuDeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  const GpuDeviceTracePipelines& pipelines = *owner_.device_trace_;
+  const foveation::PointSet& points = *frame.points;
   vkCmdFillBuffer(cb, control_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, status_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
-  const foveation::EyeFrustum f = foveation::eye_frustum(frame.view);
-  const foveation::EyePose pose = foveation::eye_pose(frame.view);
-  RaysPush push{};
-  const float tan_lrud[4] = {f.tan_left, f.tan_right, f.tan_up, f.tan_down};
-  const float orientation[4] = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w};
-  const float position[4] = {pose.position_m.x, pose.position_m.y, pose.position_m.z, 0.0f};
-  std::memcpy(push.tan_lrud, tan_lrud, sizeof tan_lrud);
-  std::memcpy(push.orientation, orientation, sizeof orientation);
-  std::memcpy(push.position_m, position, sizeof position);
-  push.screen_px[0] = frame.mapping.screen_width_px;
-  push.screen_px[1] = frame.mapping.screen_height_px;
-  push.canvas_from_screen_px[0] = float(frame.mapping.canvas_from_screen_x_px);
-  push.canvas_from_screen_px[1] = float(frame.mapping.canvas_from_screen_y_px);
-  push.margin_px = points.visible_margin_px;
-  push.rays_per_point = frame.rays_per_point;
-  push.point_count = uint32_t(points.size());
-  push.flags = frame.pixel_filter == foveation::PixelFilter::bspline2 ? kBspline2 : 0u;
-  push.seed[0] = uint32_t(frame.sample_seed);
-  push.seed[1] = uint32_t(frame.sample_seed >> 32);
+  RaysPush push = rays_push(frame);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.rays_);
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.rays_layout_, 0, 1, &rays_set_, 0, nullptr);
   vkCmdPushConstants(cb, pipelines.rays_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
@@ -228,8 +243,10 @@ bool GpuDeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, V
   // writes them with (shaders of any kind, copies, indirect commands).
   memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+}
 
-  // Stage 3: the engine's trace.
+// Stage 3: the engine's trace, recorded by the engine into `cb`.
+bool GpuDeviceTrace::record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error) {
   XrFoveatedDeviceRayBatchFOVEART batch{};
   batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
   batch.frameIndex = frame.frame_index;
@@ -246,10 +263,13 @@ bool GpuDeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, V
   memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                  kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
-  staged_bytes_ = 0;  // the points' copy is in a frame that will be submitted
+  return true;
+}
 
-  // The colours per point, into the gather's slots.
-  const ResolvePush resolve{frame.rays_per_point, uint32_t(points.size())};
+// The colours per point, into the gather's slots.
+void GpuDeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  const GpuDeviceTracePipelines& pipelines = *owner_.device_trace_;
+  const ResolvePush resolve{frame.rays_per_point, uint32_t(frame.points->size())};
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.resolve_);
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines.resolve_layout_, 0, 1, &resolve_set_, 0,
                           nullptr);
@@ -257,7 +277,6 @@ bool GpuDeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, V
   vkCmdDispatchIndirect(cb, control_.buffer, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
                  kShaderRW | VK_ACCESS_HOST_READ_BIT);
-  return true;
 }
 
 DeviceTraceStatus GpuDeviceTrace::status() const {

@@ -85,7 +85,7 @@ class GpuDeviceTrace {
   // writing every visible point's colour (a = 1) and depth into `colors` and
   // `point_depth` (cleared by the caller). false with *error when a buffer
   // cannot be made or the engine's call fails (engine_result() says which).
-  bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
+  [[nodiscard]] bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
               std::string* error);
   // The engine's answer to the last record (XR_SUCCESS when it was not called).
   XrResult engine_result() const { return engine_result_; }
@@ -96,8 +96,12 @@ class GpuDeviceTrace {
   DeviceTraceStatus status() const;
 
  private:
-  bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
+  [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
   void update_descriptors(VkBuffer colors, VkBuffer point_depth);
+  // The steps of record: stages 1-2 (the rays), stage 3 (the engine's trace), the colours per point.
+  void record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+  [[nodiscard]] bool record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error);
+  void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
 
   GpuReconstructor& owner_;
   VkDevice device_ = VK_NULL_HANDLE;

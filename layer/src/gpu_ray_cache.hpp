@@ -71,7 +71,7 @@ class GpuRayCache {
   // the cache's passes into `cb`: they read the gather in `current` (the
   // eye's, one vec4 per pixel) and write the frame over it where a ray
   // reaches. Leaves `cb` with the cache's pipeline layout bound.
-  bool record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, const FoveartEyeView& view,
+  [[nodiscard]] bool record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, const FoveartEyeView& view,
               foveation::Executor& executor, std::string* error);
   // The rays kept after the last finished submission.
   std::size_t kept_rays() const;
@@ -80,9 +80,9 @@ class GpuRayCache {
   using Buffer = BoundBuffer;
   // Room for `kept` + `added` rays and `added` new ones; a larger buffer gets
   // the kept rays copied in `cb`, the old ones are destroyed at the next record.
-  bool ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error);
+  [[nodiscard]] bool ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error);
   bool update_descriptors(std::string* error);
-  bool make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error);
+  [[nodiscard]] bool make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error);
   void destroy(Buffer& b);
 
   const GpuRayCachePipelines& pipelines_;

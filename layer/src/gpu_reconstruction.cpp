@@ -13,7 +13,7 @@
 #include "shaders/encode.spv.h"
 #include "shaders/gather.spv.h"
 #include "shaders/scatter.spv.h"
-#include "shaders/taa.spv.h"
+#include "shaders/temporal.spv.h"
 #include "vk_util.hpp"
 
 namespace foveart::layer {
@@ -33,7 +33,7 @@ struct GatherPush {
   uint32_t chunk_first_row[kMaxGpuChunks];
 };
 static_assert(sizeof(GatherPush) == 128, "shaders/gather.comp push constants");
-struct TaaPush {
+struct TemporalPush {
   int32_t size_px[2];
   float current_weight;
   float variance_gamma;
@@ -46,7 +46,7 @@ struct TaaPush {
   float tan_view[4];  // left, right, up, down
   float tan_last[4];
 };
-static_assert(sizeof(TaaPush) == 96, "shaders/taa.comp push constants");
+static_assert(sizeof(TemporalPush) == 96, "shaders/temporal.comp push constants");
 
 struct EncodePush {
   int32_t size_px[2];
@@ -124,8 +124,8 @@ GpuFrame GpuFrame::of(const GpuTables& tables, const foveation::FrameHandOff& fr
   f.traced = traced.runs;
   f.mapping = frame.mapping;
   f.rbf_clamp = frame.rbf_clamp;
-  f.taa_reset = temporal.reset;
-  f.taa = temporal.blend;  // current_weight: this frame's, the CPU's weight rule for both paths
+  f.temporal_reset = temporal.reset;
+  f.blend = temporal.blend;  // current_weight: this frame's, the CPU's weight rule for both paths
   f.view = frame.view;
   f.history_view = temporal.history_view;
   f.srgb = srgb;
@@ -176,7 +176,7 @@ std::unique_ptr<GpuReconstructor> GpuReconstructor::create(const GpuDevice& devi
   };
   const Stage stages[] = {{foveart_scatter_spv, sizeof foveart_scatter_spv, &g->scatter_},
                           {foveart_gather_spv, sizeof foveart_gather_spv, &g->gather_},
-                          {foveart_taa_spv, sizeof foveart_taa_spv, &g->taa_},
+                          {foveart_temporal_spv, sizeof foveart_temporal_spv, &g->temporal_},
                           {foveart_encode_spv, sizeof foveart_encode_spv, &g->encode_}};
   for (const Stage& s : stages) {
     if (!create_compute_pipeline(dev, g->pipeline_layout_, s.code, s.bytes, s.pipeline, error)) return nullptr;
@@ -208,7 +208,7 @@ GpuReconstructor::~GpuReconstructor() {
   if (dev == VK_NULL_HANDLE) return;
   if (fence_ != VK_NULL_HANDLE) vkDestroyFence(dev, fence_, nullptr);
   if (command_pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(dev, command_pool_, nullptr);
-  for (VkPipeline p : {scatter_, gather_, taa_, encode_})
+  for (VkPipeline p : {scatter_, gather_, temporal_, encode_})
     if (p != VK_NULL_HANDLE) vkDestroyPipeline(dev, p, nullptr);
   if (pipeline_layout_ != VK_NULL_HANDLE) vkDestroyPipelineLayout(dev, pipeline_layout_, nullptr);
   if (set_layout_ != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(dev, set_layout_, nullptr);
@@ -511,10 +511,10 @@ bool GpuEye::record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, fovea
 }
 
 // Stage 5: the image history (blend, reprojected from history_view), or the
-// render cache writing its frame over the gather (the TAA pass then copies it).
+// render cache writing its frame over the gather (the temporal pass then copies it).
 bool GpuEye::record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set,
                              foveation::Executor& executor, std::string* error) {
-  if (frame.ray_cache) {  // the render cache writes its frame over the gather; the TAA pass then copies it
+  if (frame.ray_cache) {  // the render cache writes its frame over the gather; the temporal pass then copies it
     if (ray_cache_ == nullptr) {
       ray_cache_ = std::make_unique<GpuRayCache>(*owner_->ray_cache_, owner_->memory_properties_, current_.buffer,
                                                  width_px_, height_px_, owner_->max_chunk_bytes_);
@@ -522,15 +522,15 @@ bool GpuEye::record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescri
     if (!ray_cache_->record(cb, *frame.ray_cache, frame.view, executor, error)) return false;
     vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->pipeline_layout_, 0, 1, &set, 0, nullptr);
   }
-  TaaPush t{};
+  TemporalPush t{};
   t.size_px[0] = int32_t(width_px_);
   t.size_px[1] = int32_t(height_px_);
-  t.current_weight = frame.taa.current_weight;
-  t.variance_gamma = frame.taa.variance_gamma;
-  t.constraint = frame.taa.constraint == foveation::TaaConstraint::variance_clip ? 1u : 0u;
-  t.reset = frame.taa_reset || frame.ray_cache ? 1u : 0u;
-  t.clip_floor = frame.taa.clip_floor;
-  if (frame.history_view && !frame.taa_reset && !frame.ray_cache) {
+  t.current_weight = frame.blend.current_weight;
+  t.variance_gamma = frame.blend.variance_gamma;
+  t.constraint = frame.blend.constraint == foveation::HistoryClip::variance_clip ? 1u : 0u;
+  t.reset = frame.temporal_reset || frame.ray_cache ? 1u : 0u;
+  t.clip_floor = frame.blend.clip_floor;
+  if (frame.history_view && !frame.temporal_reset && !frame.ray_cache) {
     // foveation::reproject_history's world-space step, folded into one rigid
     // transform from this view's space to the last view's.
     const foveation::EyePose now = foveation::eye_pose(frame.view), last = foveation::eye_pose(*frame.history_view);
@@ -538,7 +538,7 @@ bool GpuEye::record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescri
     const glm::vec3 translation = glm::conjugate(last.orientation) * (now.position_m - last.position_m);
     const foveation::EyeFrustum fv = foveation::eye_frustum(frame.view),
                                 fl = foveation::eye_frustum(*frame.history_view);
-    t.reproject = frame.taa.history_sampling == foveation::HistorySampling::catmull_rom ? 2u : 1u;
+    t.reproject = frame.blend.history_sampling == foveation::HistorySampling::catmull_rom ? 2u : 1u;
     const float qv[4] = {q.x, q.y, q.z, q.w}, tv[4] = {translation.x, translation.y, translation.z, 0.0f};
     const float tan_view[4] = {fv.tan_left, fv.tan_right, fv.tan_up, fv.tan_down};
     const float tan_last[4] = {fl.tan_left, fl.tan_right, fl.tan_up, fl.tan_down};
@@ -547,7 +547,7 @@ bool GpuEye::record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescri
     std::memcpy(t.tan_view, tan_view, sizeof tan_view);
     std::memcpy(t.tan_last, tan_last, sizeof tan_last);
   }
-  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->taa_);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, owner_->temporal_);
   vkCmdPushConstants(cb, owner_->pipeline_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof t, &t);
   vkCmdDispatch(cb, groups(width_px_, 8), groups(height_px_, 8), 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);

@@ -1,4 +1,4 @@
-// Reconstruction, TAA and sRGB encode of one eye on the app's Vulkan device
+// Reconstruction, temporal history and sRGB encode of one eye on the app's Vulkan device
 // (shaders/, docs/gpu.md): the GPU path of the layer's frame. The CPU path
 // (foveation::gather, TemporalAccumulator, encode_rgba8) is its reference;
 // outputs agree within one 8-bit step (tests/layer/gpu_reconstruction_test.cpp).
@@ -76,14 +76,14 @@ struct GpuFrame {
   foveation::GazeMapping mapping;
   foveation::RbfClamp rbf_clamp = foveation::RbfClamp::block;
   std::array<float, 3> fallback_rgb{};
-  bool taa_reset = true;  // the TAA history restarts: the output is this frame alone (always without TAA)
+  bool temporal_reset = true;  // the history restarts: the output is this frame alone (always without a history)
   FoveartEyeView view{};  // this frame's view
   std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (TemporalFrame)
-  foveation::TaaOptions taa;  // current_weight: this frame's blend weight (TemporalFrame::blend)
+  foveation::TemporalOptions blend;  // current_weight: this frame's blend weight (TemporalFrame::blend)
   bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
   foveation::DisplayTransform display;  // exposure and tone-mapping curve before the encode
-  // Set: the view's history is a render cache (TaaHistory::ray_cache), which
-  // replaces the image TAA: this frame's rays and pixels for it.
+  // Set: the view's history is a render cache (TemporalMode::rays), which
+  // replaces the image history: this frame's rays and pixels for it.
   std::optional<GpuRayCacheFrame> ray_cache;
   // Set: stages 1-3 run on the device (the engine's device trace); colors,
   // point_depth_m and traced are then not read.
@@ -97,13 +97,13 @@ struct GpuFrame {
 
 // GPU time of each stage of the last frame (timestamps), milliseconds.
 struct GpuStageTimes {
-  // taa_ms: the image TAA, or the render cache with its copy into the output.
+  // temporal_ms: the image history, or the render cache with its copy into the output.
   // scatter_ms: on a device-traced frame, the rays, the engine's trace and the resolve.
-  float scatter_ms = 0, gather_ms = 0, taa_ms = 0, encode_ms = 0;  // encode includes the copy into the image
-  float total_ms() const { return scatter_ms + gather_ms + taa_ms + encode_ms; }
+  float scatter_ms = 0, gather_ms = 0, temporal_ms = 0, encode_ms = 0;  // encode includes the copy into the image
+  float total_ms() const { return scatter_ms + gather_ms + temporal_ms + encode_ms; }
 };
 
-// One eye's buffers (colours, reconstruction, TAA history, RGBA8) and descriptor sets.
+// One eye's buffers (colours, reconstruction, temporal history, RGBA8) and descriptor sets.
 class GpuEye {
  public:
   ~GpuEye();
@@ -111,14 +111,14 @@ class GpuEye {
   GpuEye& operator=(const GpuEye&) = delete;
 
   // Writes the traced colours into the upload buffer and records the frame
-  // into `cb`: scatter, gather, TAA (or the render cache), encode, and (image != null) the copy
+  // into `cb`: scatter, gather, temporal blend (or the render cache), encode, and (image != null) the copy
   // into `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
-  bool record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
+  [[nodiscard]] bool record(VkCommandBuffer cb, const GpuFrame& frame, VkImage image, foveation::Executor& executor,
               std::string* error);
   // After the submission finished: the stage times it measured.
   bool stage_times(GpuStageTimes* out) const;
   // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
-  bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
+  [[nodiscard]] bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
 
   // After a device-traced submission finished: what its resolve found; the
   // engine's answer to its last call (XR_SUCCESS when it was not called).
@@ -139,11 +139,11 @@ class GpuEye {
   friend class GpuReconstructor;
   GpuEye() = default;
   using Buffer = BoundBuffer;
-  bool ensure_points(std::size_t point_count, std::string* error);
+  [[nodiscard]] bool ensure_points(std::size_t point_count, std::string* error);
   // The frame's stages 4-6 (foveation/frame_stages.hpp), recorded in turn by record().
-  bool record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor,
+  [[nodiscard]] bool record_reconstruct(VkCommandBuffer cb, const GpuFrame& frame, foveation::Executor& executor,
                           std::string* error);
-  bool record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set, foveation::Executor& executor,
+  [[nodiscard]] bool record_temporal(VkCommandBuffer cb, const GpuFrame& frame, VkDescriptorSet set, foveation::Executor& executor,
                        std::string* error);
   void record_encode(VkCommandBuffer cb, const GpuFrame& frame, VkImage image);
   void stamp(VkCommandBuffer cb, uint32_t query) const;  // a timestamp, when the queue has them
@@ -183,7 +183,7 @@ class GpuReconstructor {
 
   // Records with `record` into a one-time command buffer, submits it on the
   // queue and waits (table uploads, tests, benchmarks; the layer uses its swapchain's).
-  bool submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error);
+  [[nodiscard]] bool submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error);
 
   VkDeviceSize max_chunk_bytes() const { return max_chunk_bytes_; }
   const GpuDevice& device() const { return device_; }
@@ -192,7 +192,7 @@ class GpuReconstructor {
   friend class GpuEye;
   friend class GpuDeviceTrace;
   GpuReconstructor() = default;
-  bool create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
+  [[nodiscard]] bool create_buffer(VkDeviceSize size, VkBufferUsageFlags usage, bool host_visible, VkBuffer* buffer,
                      VkDeviceMemory* memory, void** mapped, std::string* error);
 
   GpuDevice device_;
@@ -204,7 +204,7 @@ class GpuReconstructor {
   bool timestamps_ = false;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout pipeline_layout_ = VK_NULL_HANDLE;
-  VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, taa_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
+  VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, temporal_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
   std::unique_ptr<GpuRayCachePipelines> ray_cache_;
   std::unique_ptr<GpuDeviceTracePipelines> device_trace_;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;

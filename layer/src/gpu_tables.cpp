@@ -22,6 +22,108 @@ struct RowSpan {
   std::size_t tiles = 0, blocks = 0, palette = 0, pixels = 0;
 };
 
+// The pack's description of the tables, without chunks.
+GpuTablePack pack_description(const foveation::ViewTables& tables) {
+  const foveation::InterpolationTable& t = tables.interpolation;
+  GpuTablePack pack;
+  pack.weighted = t.has_weights();
+  pack.f16 = t.precision == foveation::WeightPrecision::f16;
+  pack.rbf = t.is_rbf();
+  pack.k = t.taps();
+  pack.neighbor_k = tables.neighbors.k();
+  pack.canvas_width_px = tables.neighbors.width_px();
+  pack.canvas_height_px = tables.neighbors.height_px();
+  return pack;
+}
+
+// The canvas as rows of 8x8 tiles, and what a run of them takes in a chunk.
+struct TileRows {
+  TileRows(const foveation::ViewTables& tables, const GpuTablePack& description)
+      : pack(description),
+        l(tables.interpolation.layout),
+        width(description.canvas_width_px),
+        height(description.canvas_height_px),
+        tiles_x((width + foveation::kGatherTilePx - 1) / foveation::kGatherTilePx),
+        rows((height + foveation::kGatherTilePx - 1) / foveation::kGatherTilePx),
+        weight_bytes(description.f16 ? 2 : 4) {}
+
+  RowSpan row_span(int r) const {
+    RowSpan s;
+    s.tiles = std::size_t(tiles_x);
+    s.pixels =
+        std::size_t(std::min(foveation::kGatherTilePx, height - r * foveation::kGatherTilePx)) * std::size_t(width);
+    if (pack.weighted) {
+      const std::size_t t0 = std::size_t(r) * std::size_t(tiles_x), t1 = t0 + std::size_t(tiles_x);
+      s.blocks = l.tile_first_block[t1] - l.tile_first_block[t0];
+      s.palette = l.block_palette[l.tile_first_block[t1]] - l.block_palette[l.tile_first_block[t0]];
+    }
+    return s;
+  }
+
+  std::size_t span_bytes(const RowSpan& s) const {
+    if (!pack.weighted) return 4 * (kHeaderWords + words_of_bytes(s.pixels * std::size_t(pack.neighbor_k) * 3) + 1);
+    return 4 * (kHeaderWords + s.tiles + s.blocks + 1 + s.palette + words_of_bytes(s.pixels * std::size_t(pack.k)) +
+                words_of_bytes(s.pixels * std::size_t(pack.k) * weight_bytes));
+  }
+
+  // The end of the longest run of rows from r0 that fits in max_bytes (r0 if none), and its span.
+  int rows_that_fit(int r0, std::size_t max_bytes, RowSpan* total) const {
+    int r1 = r0;
+    while (r1 < rows) {
+      const RowSpan s = row_span(r1);
+      const RowSpan grown{total->tiles + s.tiles, total->blocks + s.blocks, total->palette + s.palette,
+                          total->pixels + s.pixels};
+      if (span_bytes(grown) > max_bytes) break;
+      *total = grown;
+      ++r1;
+    }
+    return r1;
+  }
+
+  const GpuTablePack& pack;
+  const foveation::GatherLayout& l;
+  int width, height, tiles_x, rows;
+  std::size_t weight_bytes;
+};
+
+// The chunk of tile rows [r0, r1): its header, then the weighted tables' sections or the neighbours.
+GpuTableChunk pack_chunk(const foveation::ViewTables& tables, const GpuTablePack& pack, const TileRows& rows, int r0,
+                         int r1, const RowSpan& total) {
+  const foveation::InterpolationTable& t = tables.interpolation;
+  const foveation::GatherLayout& l = t.layout;
+  GpuTableChunk chunk;
+  chunk.first_row = std::uint32_t(r0);
+  chunk.end_row = std::uint32_t(r1);
+  auto& w = chunk.words;
+  w.assign(kHeaderWords, 0u);
+  w[kFirstRow] = chunk.first_row;
+  w[kEndRow] = chunk.end_row;
+  const std::size_t first_pixel = std::size_t(r0) * foveation::kGatherTilePx * std::size_t(rows.width);  // both orders
+  w[kOrdinalBase] = std::uint32_t(first_pixel);
+  w[kPixelBase] = std::uint32_t(first_pixel);
+  if (!pack.weighted) {
+    const std::size_t entry = std::size_t(pack.neighbor_k) * 3;
+    w[kNeighbors] = append_bytes(w, tables.neighbors.packed().data() + first_pixel * entry, total.pixels * entry, 1);
+    return chunk;
+  }
+  const std::size_t t0 = std::size_t(r0) * std::size_t(rows.tiles_x), t1 = std::size_t(r1) * std::size_t(rows.tiles_x);
+  const std::uint32_t b0 = l.tile_first_block[t0], b1 = l.tile_first_block[t1];
+  const std::uint32_t p0 = l.block_palette[b0], p1 = l.block_palette[b1];
+  w[kBlockBase] = b0;
+  w[kPaletteBase] = p0;
+  w[kTileInfo] = std::uint32_t(w.size());
+  for (std::size_t tile = t0; tile < t1; ++tile)
+    w.push_back((l.tile_first_block[tile] - b0) | (std::uint32_t(l.tile_level[tile]) << 30));
+  w[kBlockPalette] = std::uint32_t(w.size());
+  for (std::uint32_t b = b0; b <= b1; ++b) w.push_back(l.block_palette[b] - p0);
+  w[kPalette] = append_bytes(w, l.palette.data() + p0, std::size_t(p1 - p0) * 4);
+  const std::size_t taps0 = first_pixel * std::size_t(pack.k), taps = total.pixels * std::size_t(pack.k);
+  w[kSlots] = append_bytes(w, l.slot.data() + taps0, taps);
+  w[kWeights] = pack.f16 ? append_bytes(w, t.weights_f16.data() + taps0, taps * 2)
+                         : append_bytes(w, t.weights_f32.data() + taps0, taps * 4);
+  return chunk;
+}
+
 }  // namespace
 
 std::size_t GpuTablePack::bytes() const {
@@ -43,54 +145,14 @@ std::string gpu_tables_unsupported(const foveation::ViewTables& tables) {
 
 bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, GpuTablePack* out,
                      std::string* error) {
-  namespace fov = foveart::foveation;
-  const fov::InterpolationTable& t = tables.interpolation;
-  const fov::NeighborTable& nt = tables.neighbors;
   if (std::string why = gpu_tables_unsupported(tables); !why.empty()) return *error = why, false;
-  GpuTablePack pack;
-  pack.weighted = t.has_weights();
-  pack.f16 = t.precision == fov::WeightPrecision::f16;
-  pack.rbf = t.is_rbf();
-  pack.k = t.taps();
-  pack.neighbor_k = nt.k();
-  pack.canvas_width_px = nt.width_px();
-  pack.canvas_height_px = nt.height_px();
-  const int width = pack.canvas_width_px, height = pack.canvas_height_px;
-  const auto& l = t.layout;
-  const int tiles_x = (width + fov::kGatherTilePx - 1) / fov::kGatherTilePx;
-  const int rows = (height + fov::kGatherTilePx - 1) / fov::kGatherTilePx;
-  const std::size_t weight_bytes = pack.f16 ? 2 : 4;
-
-  auto row_span = [&](int r) {
-    RowSpan s;
-    s.tiles = std::size_t(tiles_x);
-    s.pixels = std::size_t(std::min(fov::kGatherTilePx, height - r * fov::kGatherTilePx)) * std::size_t(width);
-    if (pack.weighted) {
-      const std::size_t t0 = std::size_t(r) * std::size_t(tiles_x), t1 = t0 + std::size_t(tiles_x);
-      s.blocks = l.tile_first_block[t1] - l.tile_first_block[t0];
-      s.palette = l.block_palette[l.tile_first_block[t1]] - l.block_palette[l.tile_first_block[t0]];
-    }
-    return s;
-  };
-  auto span_bytes = [&](const RowSpan& s) {
-    if (!pack.weighted) return 4 * (kHeaderWords + words_of_bytes(s.pixels * std::size_t(pack.neighbor_k) * 3) + 1);
-    return 4 * (kHeaderWords + s.tiles + s.blocks + 1 + s.palette + words_of_bytes(s.pixels * std::size_t(pack.k)) +
-                words_of_bytes(s.pixels * std::size_t(pack.k) * weight_bytes));
-  };
-
-  for (int r0 = 0; r0 < rows;) {
+  GpuTablePack pack = pack_description(tables);
+  const TileRows rows(tables, pack);
+  for (int r0 = 0; r0 < rows.rows;) {
     RowSpan total;
-    int r1 = r0;
-    while (r1 < rows) {
-      const RowSpan s = row_span(r1);
-      const RowSpan grown{total.tiles + s.tiles, total.blocks + s.blocks, total.palette + s.palette,
-                          total.pixels + s.pixels};
-      if (span_bytes(grown) > max_chunk_bytes) break;
-      total = grown;
-      ++r1;
-    }
+    const int r1 = rows.rows_that_fit(r0, max_chunk_bytes, &total);
     if (r1 == r0) {
-      return *error = "one row of 8x8 canvas tiles needs " + std::to_string(span_bytes(row_span(r0))) +
+      return *error = "one row of 8x8 canvas tiles needs " + std::to_string(rows.span_bytes(rows.row_span(r0))) +
                       " bytes, more than a storage buffer's " + std::to_string(max_chunk_bytes),
              false;
     }
@@ -99,37 +161,7 @@ bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_
                       std::to_string(max_chunk_bytes) + " bytes",
              false;
     }
-    GpuTableChunk chunk;
-    chunk.first_row = std::uint32_t(r0);
-    chunk.end_row = std::uint32_t(r1);
-    auto& w = chunk.words;
-    w.assign(kHeaderWords, 0u);
-    w[kFirstRow] = chunk.first_row;
-    w[kEndRow] = chunk.end_row;
-    const std::size_t first_pixel = std::size_t(r0) * fov::kGatherTilePx * std::size_t(width);  // both orders
-    w[kOrdinalBase] = std::uint32_t(first_pixel);
-    w[kPixelBase] = std::uint32_t(first_pixel);
-    if (pack.weighted) {
-      const std::size_t t0 = std::size_t(r0) * std::size_t(tiles_x), t1 = std::size_t(r1) * std::size_t(tiles_x);
-      const std::uint32_t b0 = l.tile_first_block[t0], b1 = l.tile_first_block[t1];
-      const std::uint32_t p0 = l.block_palette[b0], p1 = l.block_palette[b1];
-      w[kBlockBase] = b0;
-      w[kPaletteBase] = p0;
-      w[kTileInfo] = std::uint32_t(w.size());
-      for (std::size_t tile = t0; tile < t1; ++tile)
-        w.push_back((l.tile_first_block[tile] - b0) | (std::uint32_t(l.tile_level[tile]) << 30));
-      w[kBlockPalette] = std::uint32_t(w.size());
-      for (std::uint32_t b = b0; b <= b1; ++b) w.push_back(l.block_palette[b] - p0);
-      w[kPalette] = append_bytes(w, l.palette.data() + p0, std::size_t(p1 - p0) * 4);
-      const std::size_t taps0 = first_pixel * std::size_t(pack.k), taps = total.pixels * std::size_t(pack.k);
-      w[kSlots] = append_bytes(w, l.slot.data() + taps0, taps);
-      w[kWeights] = pack.f16 ? append_bytes(w, t.weights_f16.data() + taps0, taps * 2)
-                             : append_bytes(w, t.weights_f32.data() + taps0, taps * 4);
-    } else {
-      const std::size_t entry = std::size_t(pack.neighbor_k) * 3;
-      w[kNeighbors] = append_bytes(w, nt.packed().data() + first_pixel * entry, total.pixels * entry, 1);
-    }
-    pack.chunks.push_back(std::move(chunk));
+    pack.chunks.push_back(pack_chunk(tables, pack, rows, r0, r1, total));
     r0 = r1;
   }
   *out = std::move(pack);

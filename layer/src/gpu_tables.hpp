@@ -64,7 +64,7 @@ std::string gpu_tables_unsupported(const foveation::ViewTables& tables);
 
 // The chunks of `tables`; false with *error when they are unsupported or a
 // tile row does not fit max_chunk_bytes, or more than kMaxGpuChunks are needed.
-bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, GpuTablePack* out,
+[[nodiscard]] bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, GpuTablePack* out,
                      std::string* error);
 
 }  // namespace foveart::layer

@@ -24,7 +24,7 @@ XrFoveatedGazeSourceFOVEART gaze_source_from_name(const std::string& name) {
 }  // namespace
 
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
-                      RendererSettings* out, std::string* out_error) {
+                      RendererSettings* out, std::string* error) {
   RendererSettings s;
   s.interpolation = interpolation_from_name(config.interpolation);
   s.k = config.k;
@@ -43,46 +43,46 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   if (const auto* device = find_in_chain<XrFoveatedDeviceTraceInfoFOVEART>(info.next,
                                                                           XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART)) {
     if (device->traceRaysDevice == nullptr) {
-      *out_error = "XrFoveatedDeviceTraceInfoFOVEART::traceRaysDevice must not be NULL";
+      *error = "XrFoveatedDeviceTraceInfoFOVEART::traceRaysDevice must not be NULL";
       return false;
     }
     s.trace_rays_device = device->traceRaysDevice;
     s.device_user_data = device->userData;
   }
   if (info.traceRays == nullptr && s.trace_rays_device == nullptr) {
-    *out_error = "traceRays must not be NULL (unless an XrFoveatedDeviceTraceInfoFOVEART is chained)";
+    *error = "traceRays must not be NULL (unless an XrFoveatedDeviceTraceInfoFOVEART is chained)";
     return false;
   }
   s.trace_rays = info.traceRays;
   s.user_data = info.userData;
   if (info.interpolation != XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART) {
     if (static_cast<uint64_t>(info.interpolation) > XR_FOVEATED_INTERPOLATION_RBF_FOVEART) {
-      *out_error = "interpolation " + std::to_string(info.interpolation) +
+      *error = "interpolation " + std::to_string(info.interpolation) +
                    " is not an XrFoveatedInterpolationFOVEART (or XR_FOVEATED_INTERPOLATION_USE_CONFIG_FOVEART)";
       return false;
     }
     s.interpolation = info.interpolation;
   }
   if (info.k > 20) {
-    *out_error = "k = " + std::to_string(info.k) + " is outside 1..20 (0 = config default)";
+    *error = "k = " + std::to_string(info.k) + " is outside 1..20 (0 = config default)";
     return false;
   }
   if (info.k != 0) s.k = info.k;
   if (s.interpolation == XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART) s.k = 1;
   if (!std::isfinite(info.densityScale) || info.densityScale < 0.0f || info.densityScale > 16.0f) {
-    *out_error = "densityScale must be in (0, 16] (0 = config default)";
+    *error = "densityScale must be in (0, 16] (0 = config default)";
     return false;
   }
   if (info.densityScale != 0.0f) s.density_scale = info.densityScale;
   if (info.raysPerPoint > 64) {
-    *out_error = "raysPerPoint = " + std::to_string(info.raysPerPoint) + " is outside 1..64 (0 = config default)";
+    *error = "raysPerPoint = " + std::to_string(info.raysPerPoint) + " is outside 1..64 (0 = config default)";
     return false;
   }
   if (info.raysPerPoint != 0) s.rays_per_point = info.raysPerPoint;
   if (info.temporal != XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART) {
     foveation::TemporalMode mode{};
     if (!temporal_mode_of(info.temporal, &mode)) {
-      *out_error = "temporal " + std::to_string(info.temporal) +
+      *error = "temporal " + std::to_string(info.temporal) +
                    " is not an XrFoveatedTemporalFOVEART (or XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART)";
       return false;
     }
@@ -90,7 +90,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   }
   if (info.gazeSource != XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART) {
     if (static_cast<uint64_t>(info.gazeSource) > XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART) {
-      *out_error = "gazeSource " + std::to_string(info.gazeSource) +
+      *error = "gazeSource " + std::to_string(info.gazeSource) +
                    " is not an XrFoveatedGazeSourceFOVEART (or XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART)";
       return false;
     }

@@ -13,6 +13,7 @@
 
 #include <foveation/display_transform.hpp>
 #include <foveation/temporal_mode.hpp>
+#include <foveation/view_settings.hpp>
 
 #ifndef XR_USE_GRAPHICS_API_VULKAN
 #define XR_USE_GRAPHICS_API_VULKAN
@@ -51,8 +52,8 @@ struct RendererSettings {
 // App's create info over the config's defaults: a field that says "use the
 // config" (0, NULL, ..._USE_CONFIG_FOVEART: the extension header's "Defaults") takes it.
 // Returns false with a message naming the bad field.
-bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
-                      RendererSettings* out_settings, std::string* out_error);
+[[nodiscard]] bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
+                      RendererSettings* out_settings, std::string* error);
 
 // The temporal mode a view runs: the settings' own, else the path's default ("rays" on the
 // GPU path, where it meets the flicker goal; "image" on the CPU path, where the render
@@ -85,10 +86,10 @@ struct ReconstructionStats {
   uint32_t gpu_fallbacks = 0;
   float gpu_scatter_ms[2] = {0, 0};
   float gpu_gather_ms[2] = {0, 0};
-  float gpu_taa_ms[2] = {0, 0};
+  float gpu_temporal_ms[2] = {0, 0};
   float gpu_encode_ms[2] = {0, 0};
-  bool taa_reset_last_frame[2] = {false, false};
-  uint64_t taa_resets = 0;
+  bool temporal_reset_last_frame[2] = {false, false};
+  uint64_t temporal_resets = 0;
   bool gaze_saccade_last_frame = false;
   bool gaze_blink_last_frame = false;
 };

@@ -46,7 +46,7 @@ inline VkMemoryPropertyFlags buffer_memory_flags(bool host_visible) {
 // A buffer of `size` bytes bound to new memory of the first type with all of
 // `wanted` (and mapped into *mapped when mapped is not null); false with
 // *error naming what failed. The caller destroys what was created either way.
-bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
+[[nodiscard]] bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
                          VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted, VkBuffer* buffer,
                          VkDeviceMemory* memory, void** mapped, std::string* error);
 
@@ -57,7 +57,7 @@ void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags 
 
 // The layout of compute pipelines that bind one set of storage buffers
 // (binding b: descriptor_counts[b] buffers) and push `push_bytes` of constants; false with *error.
-bool create_storage_pipeline_layout(VkDevice device, const uint32_t* descriptor_counts, uint32_t binding_count,
+[[nodiscard]] bool create_storage_pipeline_layout(VkDevice device, const uint32_t* descriptor_counts, uint32_t binding_count,
                                     uint32_t push_bytes, VkDescriptorSetLayout* set_layout,
                                     VkPipelineLayout* pipeline_layout, std::string* error);
 
@@ -66,7 +66,7 @@ void write_storage_descriptors(VkDevice device, VkDescriptorSet set, const VkDes
                                const uint32_t* descriptor_counts, uint32_t binding_count);
 
 // A compute pipeline of SPIR-V `code` (`bytes` long, entry point "main") in `layout`; false with *error.
-bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
+[[nodiscard]] bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
                              VkPipeline* pipeline, std::string* error);
 
 }  // namespace foveart::layer

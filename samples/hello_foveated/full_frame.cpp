@@ -11,6 +11,7 @@
 #include <foveation/image.hpp>
 #include <foveation/rgba8.hpp>
 #include <foveation/temporal_mode.hpp>
+#include <foveation/view_settings.hpp>
 
 #include <glm/gtc/quaternion.hpp>
 

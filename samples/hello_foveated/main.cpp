@@ -49,10 +49,10 @@
 // Note both sessions use --rays-per-point; with 0 the foveated one takes the
 // config file's value, the full one the default 1.
 // --json adds, per traced frame and in the same order: gaze_px_per_frame [frame, left x,
-// left y, right x, right y], taa_reset_per_frame [left, right] (the eye's TAA history
+// left y, right x, right y], temporal_reset_per_frame [left, right] (the eye's temporal history
 // restarted), gaze_saccade_per_frame / gaze_blink_per_frame (the gaze provider flagged
 // a saccade / a blink for it) and display_time_s_per_frame (predicted display time
-// after the first traced frame's); taa_resets counts restarts of both eyes.
+// after the first traced frame's); temporal_resets counts restarts of both eyes.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -173,8 +173,8 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
                     {"rays", s.raysPerEye[e]},
                     {"select_ms", s.selectMs[e]},
                     {"trace_ms", s.traceMs[e]},
-                    {"interpolate_ms", s.interpolateMs[e]},
-                    {"taa_ms", s.taaMs[e]},
+                    {"reconstruct_ms", s.reconstructMs[e]},
+                    {"temporal_ms", s.temporalMs[e]},
                     {"upload_ms", s.uploadMs[e]}});
   }
   const auto& rec = r.reconstruction;
@@ -182,7 +182,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   for (int e = 0; e < 2; ++e) {
     gpu_ms.push_back({{"scatter", rec.gpuScatterMs[e]},
                       {"gather", rec.gpuGatherMs[e]},
-                      {"taa", rec.gpuTaaMs[e]},
+                      {"temporal", rec.gpuTemporalMs[e]},
                       {"encode", rec.gpuEncodeMs[e]}});
   }
   const char* path = rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART   ? "gpu"
@@ -193,12 +193,12 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
                                                                               : "off";
   // [left, right] per frame, built element by element: the std::array<bool, 2>
   // conversion trips GCC 12's false -Wnull-dereference inside nlohmann.
-  nlohmann::json taa_reset = nlohmann::json::array();
-  for (const auto& frame : r.taa_reset) {
+  nlohmann::json temporal_reset = nlohmann::json::array();
+  for (const auto& frame : r.temporal_reset) {
     nlohmann::json pair = nlohmann::json::array();
     pair.push_back(frame[0]);
     pair.push_back(frame[1]);
-    taa_reset.push_back(std::move(pair));
+    temporal_reset.push_back(std::move(pair));
   }
   nlohmann::json views = views_json(r);
   return {{"frames_submitted", r.frames},
@@ -217,8 +217,8 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"invalid_colours", s.invalidColours},
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
-          {"taa_resets", rec.taaResets},
-          {"taa_reset_per_frame", taa_reset},
+          {"temporal_resets", rec.temporalResets},
+          {"temporal_reset_per_frame", temporal_reset},
           {"gaze_saccade_per_frame", r.gaze_saccade},
           {"gaze_blink_per_frame", r.gaze_blink},
           {"display_time_s_per_frame", r.display_time_s},
@@ -300,28 +300,37 @@ void print_both_table(const nlohmann::json& both) {
               x(both["speedup"]["trace_ms"]));
 }
 
-}  // namespace
+// ---- The command line ----
 
-int main(int argc, char** argv) {
-  CLI::App cli{"hello_foveated: an OpenXR app ray traced by the FoveaRT layer"};
+struct Args {
   std::string scene_spec = "default";
-  std::string interpolation = "config";
-  std::string gaze_source = "config";
-  std::string temporal = "config";
-  foveart::hello::AppOptions options;
-  bool json = false;
-  bool no_explicit_layer = false;
-  std::string fault;
   std::string engine_name = "cpu";
   std::string mode = "foveated";
-  cli.add_option("--scene", scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
-  cli.add_option("--engine", engine_name,
+  std::string interpolation = "config";
+  std::string temporal = "config";
+  std::string gaze_source = "config";
+  std::vector<uint32_t> eye_size;
+  bool no_explicit_layer = false;
+  bool json = false;
+  std::string exposure = "auto";
+  std::string tone_map = "config";
+  std::string fault;
+  foveart::hello::AppOptions options;  // the settings given as they are
+
+  bool gpu_engine() const { return engine_name == "gpu"; }
+  bool run_full() const { return mode != "foveated"; }
+  bool run_foveated() const { return mode != "full"; }
+};
+
+void add_scene_options(CLI::App& cli, Args& a) {
+  cli.add_option("--scene", a.scene_spec, "glTF 2.0 file, or 'default' for the built-in scene");
+  cli.add_option("--engine", a.engine_name,
                  "who traces: cpu (the Embree sample engine, a host callback) or gpu (the GPU sample engine on the "
                  "session's Vulkan device, through the layer's device trace; the CPU engine stays the callback for "
                  "CPU reconstruction)")
       ->check(CLI::IsMember({"cpu", "gpu"}))
       ->capture_default_str();
-  cli.add_option("--mode", mode,
+  cli.add_option("--mode", a.mode,
                  "foveated: the layer ray traces the views (the opt-in); full: the app renders every pixel of "
                  "each eye itself with the same engine, --rays-per-point rays per pixel (0: the layer config's "
                  "default, 1), the same display transform and sRGB encode (exposure/tone map \"config\": 1, "
@@ -330,67 +339,64 @@ int main(int argc, char** argv) {
                  "foveated one, and their median frame and trace times and speedup")
       ->check(CLI::IsMember({"foveated", "full", "both"}))
       ->capture_default_str();
-  cli.add_option("--interpolation", interpolation, "nearest, msm or rbf (config = the layer config's)")
+}
+
+void add_renderer_options(CLI::App& cli, Args& a) {
+  foveart::hello::AppOptions& o = a.options;
+  cli.add_option("--interpolation", a.interpolation, "nearest, msm or rbf (config = the layer config's)")
       ->check(CLI::IsMember({"nearest", "msm", "rbf", "config"}))
       ->capture_default_str();
-  cli.add_option("--k", options.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
-  cli.add_option("--density-scale", options.density_scale, "density scale (0 = layer config)")
-      ->check(CLI::Range(0.0, 16.0));
-  cli.add_option("--rays-per-point", options.rays_per_point,
+  cli.add_option("--k", o.k, "neighbours per pixel (0 = layer config)")->check(CLI::Range(0, 20));
+  cli.add_option("--density-scale", o.density_scale, "density scale (0 = layer config)")->check(CLI::Range(0.0, 16.0));
+  cli.add_option("--rays-per-point", o.rays_per_point,
                  "rays per point, and per pixel of --mode full (0 = layer config; --mode full: its default, 1)")
       ->check(CLI::Range(0, 64));
-  cli.add_option("--temporal", temporal,
+  cli.add_option("--temporal", a.temporal,
                  "what a foveated frame keeps from earlier frames (config = the layer config's); a full render "
                  "keeps nothing: --mode full takes only off or config")
       ->check(CLI::IsMember({"off", "image", "rays", "config"}))
       ->capture_default_str();
-  cli.add_option("--gaze-source", gaze_source, "where gaze comes from (config = the layer config's)")
+  cli.add_option("--gaze-source", a.gaze_source, "where gaze comes from (config = the layer config's)")
       ->check(CLI::IsMember({"none", "provider", "eye_gaze_interaction", "config"}))
       ->capture_default_str();
-  cli.add_option("--gaze-provider", options.gaze_provider, "gaze provider spec: sim, replay:FILE, ...");
-  cli.add_option("--max-frames", options.max_frames, "stop after N frames (0 = until the runtime ends)");
-  std::vector<uint32_t> eye_size;
-  cli.add_option("--eye-size", eye_size, "per-eye image W H (default: the runtime's recommended size)")
-      ->expected(2);
-  cli.add_flag("--no-explicit-layer", no_explicit_layer,
+  cli.add_option("--gaze-provider", o.gaze_provider, "gaze provider spec: sim, replay:FILE, ...");
+  cli.add_option("--max-frames", o.max_frames, "stop after N frames (0 = until the runtime ends)");
+  cli.add_option("--eye-size", a.eye_size, "per-eye image W H (default: the runtime's recommended size)")->expected(2);
+}
+
+void add_app_options(CLI::App& cli, Args& a) {
+  cli.add_flag("--no-explicit-layer", a.no_explicit_layer,
                "do not name the layer (it is enabled implicitly or by XR_ENABLE_API_LAYERS)");
-  cli.add_flag("--json", json, "print the layer's stats as JSON (--mode full: the full render's; both: both and the speedup)");
-  cli.add_flag("--app-actions", options.app_actions,
+  cli.add_flag("--json", a.json,
+               "print the layer's stats as JSON (--mode full: the full render's; both: both and the speedup)");
+  cli.add_flag("--app-actions", a.options.app_actions,
                "test aid: the app enables XR_EXT_eye_gaze_interaction and uses its own gaze action too");
-  std::string exposure = "auto";
-  std::string tone_map = "config";
-  cli.add_option("--exposure", exposure,
+  cli.add_option("--exposure", a.exposure,
                  "linear exposure the app chains into each frame: auto (a low-resolution pre-pass of the start "
                  "view), config (the layer config's) or a number in (0, 1e6]")
       ->capture_default_str();
-  cli.add_option("--tone-map", tone_map, "tone-mapping curve (config = the layer config's)")
+  cli.add_option("--tone-map", a.tone_map, "tone-mapping curve (config = the layer config's)")
       ->check(CLI::IsMember({"none", "pbr-neutral", "aces", "config"}))
       ->capture_default_str();
-  cli.add_option("--fault", fault,
+  cli.add_option("--fault", a.fault,
                  "test aid: make the engine misbehave. nan: a NaN colour; error: an error result; throw: an "
                  "exception (--engine cpu only); nothing: the device trace records nothing (--engine gpu only)")
       ->check(CLI::IsMember({"nan", "error", "throw", "nothing"}));
-  CLI11_PARSE(cli, argc, argv);
-  const bool gpu_engine = engine_name == "gpu";
-  const bool run_full = mode != "foveated", run_foveated = mode != "full";
-  if (!fault.empty() && run_full) {
-    std::cerr << "hello_foveated: --fault is for --mode foveated only (it tests the layer's fallback)\n";
-    return 2;
-  }
-  if (mode == "full" && temporal != "off" && temporal != "config") {
-    std::cerr << "hello_foveated: --temporal " << temporal
-              << " needs --mode foveated or both: the full render keeps no temporal history\n";
-    return 2;
-  }
-  if (fault == "throw" && gpu_engine) {
-    std::cerr << "hello_foveated: --fault throw is for --engine cpu only (a device trace must never throw)\n";
-    return 2;
-  }
-  if (fault == "nothing" && !gpu_engine) {
-    std::cerr << "hello_foveated: --fault nothing is for --engine gpu only\n";
-    return 2;
-  }
+}
 
+// Why the options do not go together; "" when they do.
+std::string conflicting_options(const Args& a) {
+  if (!a.fault.empty() && a.run_full()) return "--fault is for --mode foveated only (it tests the layer's fallback)";
+  if (a.mode == "full" && a.temporal != "off" && a.temporal != "config")
+    return "--temporal " + a.temporal + " needs --mode foveated or both: the full render keeps no temporal history";
+  if (a.fault == "throw" && a.gpu_engine())
+    return "--fault throw is for --engine cpu only (a device trace must never throw)";
+  if (a.fault == "nothing" && !a.gpu_engine()) return "--fault nothing is for --engine gpu only";
+  return "";
+}
+
+// The named settings into a.options; false if --eye-size is not two positive numbers.
+bool resolve_settings(Args& a) {
   const std::map<std::string, XrFoveatedInterpolationFOVEART> interps{
       {"nearest", XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART},
       {"msm", XR_FOVEATED_INTERPOLATION_MSM_FOVEART},
@@ -401,170 +407,238 @@ int main(int argc, char** argv) {
       {"provider", XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART},
       {"eye_gaze_interaction", XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART},
       {"config", XR_FOVEATED_GAZE_SOURCE_USE_CONFIG_FOVEART}};
-  const std::map<std::string, XrFoveatedTemporalFOVEART> temporals{
-      {"off", XR_FOVEATED_TEMPORAL_OFF_FOVEART},
-      {"image", XR_FOVEATED_TEMPORAL_IMAGE_FOVEART},
-      {"rays", XR_FOVEATED_TEMPORAL_RAYS_FOVEART},
-      {"config", XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART}};
-  options.interpolation = interps.at(interpolation);
-  options.gaze_source = gazes.at(gaze_source);
-  options.temporal = temporals.at(temporal);
-  options.enable_layer = !no_explicit_layer;
-  if (eye_size.size() == 2) {
-    if (eye_size[0] == 0 || eye_size[1] == 0) {
-      std::cerr << "hello_foveated: --eye-size needs two positive numbers\n";
-      return 2;
-    }
-    options.eye_width_px = eye_size[0];
-    options.eye_height_px = eye_size[1];
-  }
-
-  auto loaded = foveart::engine::load_scene(scene_spec);
-  if (!loaded.ok()) {
-    std::cerr << "hello_foveated: " << loaded.error << "\n";
-    return 2;
-  }
-  const foveart::engine::Camera camera = foveart::engine::scene_head(*loaded.scene);
-  options.scene_from_local.position = {camera.position_m.x, camera.position_m.y, camera.position_m.z};
-  options.scene_from_local.orientation = {camera.orientation.x, camera.orientation.y, camera.orientation.z,
-                                          camera.orientation.w};
-  std::string error;
-  // The GPU engine traces the same scene: a copy for it, made before the CPU tracer takes the original.
-  std::optional<foveart::engine::Scene> gpu_scene;
-  if (gpu_engine) gpu_scene = *loaded.scene;  // copied again for each session's device
-  auto tracer = foveart::engine::Tracer::create(std::move(*loaded.scene), {}, &error);
-  if (tracer == nullptr) {
-    std::cerr << "hello_foveated: cannot build the ray tracer: " << error << "\n";
-    return 2;
-  }
-  options.trace_rays = &foveart_engine_trace_rays;
-  options.user_data = tracer.get();
+  const std::map<std::string, XrFoveatedTemporalFOVEART> temporals{{"off", XR_FOVEATED_TEMPORAL_OFF_FOVEART},
+                                                                   {"image", XR_FOVEATED_TEMPORAL_IMAGE_FOVEART},
+                                                                   {"rays", XR_FOVEATED_TEMPORAL_RAYS_FOVEART},
+                                                                   {"config", XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART}};
   const std::map<std::string, XrFoveatedToneMapFOVEART> curves{
       {"none", XR_FOVEATED_TONE_MAP_NONE_FOVEART},
       {"pbr-neutral", XR_FOVEATED_TONE_MAP_PBR_NEUTRAL_FOVEART},
       {"aces", XR_FOVEATED_TONE_MAP_ACES_FOVEART},
       {"config", XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART}};
-  options.tone_map = curves.at(tone_map);
+  foveart::hello::AppOptions& o = a.options;
+  o.interpolation = interps.at(a.interpolation);
+  o.gaze_source = gazes.at(a.gaze_source);
+  o.temporal = temporals.at(a.temporal);
+  o.tone_map = curves.at(a.tone_map);
+  o.enable_layer = !a.no_explicit_layer;
+  if (a.eye_size.size() == 2) {
+    if (a.eye_size[0] == 0 || a.eye_size[1] == 0) return false;
+    o.eye_width_px = a.eye_size[0];
+    o.eye_height_px = a.eye_size[1];
+  }
+  return true;
+}
+
+// ---- The sessions ----
+
+// --exposure into options.exposure: auto meters the start view through the CPU engine.
+bool set_exposure(const std::string& exposure, foveart::engine::Tracer& tracer, const foveart::engine::Camera& camera,
+                  foveart::hello::AppOptions& options, std::string* error) {
   if (exposure == "auto") {
     foveart::foveation::Executor executor(1);  // a one-off pre-pass: no threads started for it
     const std::optional<foveart::engine::AutoExposure> metered = foveart::engine::auto_exposure(
-        &foveart_engine_trace_rays, tracer.get(), foveart::engine::fove_eye_view(0, camera), executor, &error);
-    if (!metered) {
-      std::cerr << "hello_foveated: " << error << "\n";
-      return 2;
-    }
+        &foveart_engine_trace_rays, &tracer, foveart::engine::fove_eye_view(0, camera), executor, error);
+    if (!metered) return false;
     options.exposure = metered->exposure;
   } else if (exposure != "config") {
     const std::optional<float> e = foveart::foveation::parse_exposure(exposure);
     if (!e) {
-      std::cerr << "hello_foveated: --exposure must be auto, config or a number in (0, 1e6], got '" << exposure << "'\n";
-      return 2;
+      *error = "--exposure must be auto, config or a number in (0, 1e6], got '" + exposure + "'";
+      return false;
     }
     options.exposure = *e;
   }
-  FaultyEngine faulty{tracer.get(), fault};
-  if (!fault.empty() && !gpu_engine) {
-    options.trace_rays = &faulty_trace_rays;
-    options.user_data = &faulty;
-  }
-  const uint32_t full_spp = options.rays_per_point != 0 ? options.rays_per_point : foveart::layer::kDefaultRaysPerPoint;
-  const foveart::foveation::DisplayTransform display = foveart::hello::display_for(options.exposure, options.tone_map);
-  std::optional<foveart::foveation::Executor> full_executor;  // the full render's threads, started once
-  if (run_full) full_executor.emplace();
+  return true;
+}
 
-  // One session of `session_mode` ("full" or "foveated"); its JSON, or the error in *error.
-  const auto run_session = [&](bool full, std::string* session_error) -> std::optional<nlohmann::json> {
-    foveart::hello::AppOptions session = options;
-    tracer->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
-    // --engine gpu: a GpuTracer on the session's device, made once it exists and
-    // destroyed before it; its device counters are read then (all work finished).
-    std::unique_ptr<foveart::gpu_engine::GpuTracer> gpu_tracer;
-    std::optional<foveart::engine::RayCounts> gpu_counts;
-    FaultyDeviceEngine faulty_device{nullptr, fault};
-    if (gpu_engine) {
-      session.make_device_trace = [&](const foveart::hello::VulkanDevice& device) {
-        std::string gpu_error;
-        gpu_tracer = foveart::gpu_engine::GpuTracer::create(
-            foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
-                                            device.queue},
-            foveart::engine::Scene(*gpu_scene), {}, &gpu_error);
-        if (gpu_tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
-        gpu_tracer->reset_counts();
-        faulty_device.tracer = gpu_tracer.get();
-        if (full) return foveart::hello::DeviceTrace{};  // the app traces; the layer gets none
-        if (!fault.empty()) return foveart::hello::DeviceTrace{&faulty_trace_rays_device, &faulty_device};
-        return foveart::hello::DeviceTrace{&foveart_gpu_engine_trace_rays_device, gpu_tracer.get()};
-      };
-      session.release_device_trace = [&]() noexcept {
-        if (gpu_tracer == nullptr) return;
-        gpu_counts = gpu_tracer->counts();
-        gpu_tracer.reset();
-      };
+// --engine gpu in one session: a GpuTracer on the session's device, made once
+// it exists and destroyed before it; its device counters are read then (all work finished).
+struct GpuSession {
+  std::unique_ptr<foveart::gpu_engine::GpuTracer> tracer;
+  std::optional<foveart::engine::RayCounts> counts;
+  FaultyDeviceEngine faulty;
+};
+
+// The scene's engines and the settings every session shares.
+class Sessions {
+ public:
+  explicit Sessions(const Args& args) : args_(args), options_(args.options), faulty_{nullptr, args.fault} {}
+  Sessions(const Sessions&) = delete;  // options_ may point at faulty_
+  Sessions& operator=(const Sessions&) = delete;
+
+  // Loads the scene, builds the engines and meters the exposure; false and *error on failure.
+  bool prepare(std::string* error) {
+    auto loaded = foveart::engine::load_scene(args_.scene_spec);
+    if (!loaded.ok()) return *error = loaded.error, false;
+    const foveart::engine::Camera camera = foveart::engine::scene_head(*loaded.scene);
+    options_.scene_from_local.position = {camera.position_m.x, camera.position_m.y, camera.position_m.z};
+    options_.scene_from_local.orientation = {camera.orientation.x, camera.orientation.y, camera.orientation.z,
+                                             camera.orientation.w};
+    // The GPU engine traces the same scene: a copy for it, made before the CPU tracer takes the original.
+    if (args_.gpu_engine()) gpu_scene_ = *loaded.scene;  // copied again for each session's device
+    std::string tracer_error;
+    tracer_ = foveart::engine::Tracer::create(std::move(*loaded.scene), {}, &tracer_error);
+    if (tracer_ == nullptr) return *error = "cannot build the ray tracer: " + tracer_error, false;
+    options_.trace_rays = &foveart_engine_trace_rays;
+    options_.user_data = tracer_.get();
+    if (!set_exposure(args_.exposure, *tracer_, camera, options_, error)) return false;
+    faulty_.tracer = tracer_.get();
+    if (!args_.fault.empty() && !args_.gpu_engine()) {
+      options_.trace_rays = &faulty_trace_rays;
+      options_.user_data = &faulty_;
     }
+    full_spp_ = options_.rays_per_point != 0 ? options_.rays_per_point : foveart::layer::kDefaultRaysPerPoint;
+    display_ = foveart::hello::display_for(options_.exposure, options_.tone_map);
+    if (args_.run_full()) full_executor_.emplace();  // the full render's threads, started once
+    return true;
+  }
+
+  uint32_t full_spp() const { return full_spp_; }
+
+  // One session, the full render or the foveated one; its JSON, or the error in *error.
+  std::optional<nlohmann::json> run(bool full, std::string* error) {
+    foveart::hello::AppOptions session = options_;
+    tracer_->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
+    GpuSession gpu{nullptr, std::nullopt, FaultyDeviceEngine{nullptr, args_.fault}};
+    if (args_.gpu_engine()) add_gpu_engine(session, full, gpu);
     foveart::hello::FullFrameTimes full_times;
-    if (full) {
-      session.make_view_renderer = [&](const foveart::hello::VulkanDevice& device) {
-        foveart::hello::FullFrameEngine engine;
-        if (gpu_engine) {
-          engine.gpu = gpu_tracer.get();
-        } else {
-          engine.trace_rays = &foveart_engine_trace_rays;
-          engine.user_data = tracer.get();
-        }
-        return foveart::hello::make_full_frame(device, engine, full_spp, display, &*full_executor, &full_times);
-      };
-    }
+    if (full) add_full_renderer(session, gpu, full_times);
     const auto result = foveart::hello::run_app(session);
     if (!result.ok) {
-      *session_error = result.error;
+      *error = result.error;
       return std::nullopt;
     }
-    nlohmann::json engine_rays = {
-        {"cpu", ray_counts_json(tracer->counts())},
-        {"gpu", gpu_counts ? ray_counts_json(*gpu_counts) : nlohmann::json(nullptr)}};
-    nlohmann::json out = full ? full_json(result, full_times, full_spp, display, gpu_engine) : foveated_json(result);
+    nlohmann::json engine_rays = {{"cpu", ray_counts_json(tracer_->counts())},
+                                  {"gpu", gpu.counts ? ray_counts_json(*gpu.counts) : nlohmann::json(nullptr)}};
+    nlohmann::json out =
+        full ? full_json(result, full_times, full_spp_, display_, args_.gpu_engine()) : foveated_json(result);
     out["mode"] = full ? "full" : "foveated";
-    out["engine"] = engine_name;
+    out["engine"] = args_.engine_name;
     out["engine_rays"] = std::move(engine_rays);
     return out;
-  };
+  }
 
-  std::string error_of_session;
-  std::optional<nlohmann::json> full_stats, foveated_stats;
-  if (run_full && !(full_stats = run_session(true, &error_of_session))) {
-    std::cerr << "hello_foveated: full render session: " << error_of_session << "\n";
-    return 1;
+ private:
+  // The GPU engine on the session's device: the layer's device trace (none for the full render).
+  void add_gpu_engine(foveart::hello::AppOptions& session, bool full, GpuSession& gpu) {
+    session.make_device_trace = [this, full, &gpu](const foveart::hello::VulkanDevice& device) {
+      std::string gpu_error;
+      gpu.tracer = foveart::gpu_engine::GpuTracer::create(
+          foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
+                                          device.queue},
+          foveart::engine::Scene(*gpu_scene_), {}, &gpu_error);
+      if (gpu.tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
+      gpu.tracer->reset_counts();
+      gpu.faulty.tracer = gpu.tracer.get();
+      if (full) return foveart::hello::DeviceTrace{};  // the app traces; the layer gets none
+      if (!args_.fault.empty()) return foveart::hello::DeviceTrace{&faulty_trace_rays_device, &gpu.faulty};
+      return foveart::hello::DeviceTrace{&foveart_gpu_engine_trace_rays_device, gpu.tracer.get()};
+    };
+    session.release_device_trace = [&gpu]() noexcept {
+      if (gpu.tracer == nullptr) return;
+      gpu.counts = gpu.tracer->counts();
+      gpu.tracer.reset();
+    };
   }
-  if (run_foveated && !(foveated_stats = run_session(false, &error_of_session))) {
-    std::cerr << "hello_foveated: " << error_of_session << "\n";
-    return 1;
+
+  // --mode full: the app renders every view itself with the chosen engine.
+  void add_full_renderer(foveart::hello::AppOptions& session, GpuSession& gpu, foveart::hello::FullFrameTimes& times) {
+    session.make_view_renderer = [this, &gpu, &times](const foveart::hello::VulkanDevice& device) {
+      foveart::hello::FullFrameEngine engine;
+      if (args_.gpu_engine()) {
+        engine.gpu = gpu.tracer.get();
+      } else {
+        engine.trace_rays = &foveart_engine_trace_rays;
+        engine.user_data = tracer_.get();
+      }
+      return foveart::hello::make_full_frame(device, engine, full_spp_, display_, &*full_executor_, &times);
+    };
   }
-  if (mode == "both") {
+
+  const Args& args_;
+  foveart::hello::AppOptions options_;
+  std::unique_ptr<foveart::engine::Tracer> tracer_;
+  std::optional<foveart::engine::Scene> gpu_scene_;
+  FaultyEngine faulty_;
+  uint32_t full_spp_ = 1;
+  foveart::foveation::DisplayTransform display_;
+  std::optional<foveart::foveation::Executor> full_executor_;
+};
+
+// ---- The results ----
+
+void print_full_summary(const nlohmann::json& f, bool gpu_engine, uint32_t full_spp) {
+  std::printf(
+      "hello_foveated: full render, %s engine: %llu frames, %u ray(s) per pixel, median frame %.2f ms, "
+      "trace %.2f ms (both eyes, %s)\n",
+      gpu_engine ? "GPU" : "CPU", static_cast<unsigned long long>(f["frames_submitted"].get<uint64_t>()), full_spp,
+      f["frame_ms"].get<double>(), f["trace_ms"].get<double>(), f["trace_clock"].get<std::string>().c_str());
+}
+
+void print_foveated_summary(const nlohmann::json& st, bool gpu_engine) {
+  std::printf(
+      "hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; %s engine, reconstruction "
+      "on the %s, temporal \"%s\"\n",
+      static_cast<unsigned long long>(st["frames_submitted"].get<uint64_t>()),
+      static_cast<unsigned long long>(st["frames_traced"].get<uint64_t>()),
+      static_cast<unsigned long long>(st["views_fallback"].get<uint64_t>()), gpu_engine ? "GPU" : "CPU",
+      st["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU", st["temporal"].get<std::string>().c_str());
+}
+
+// The sessions' results: JSON (--json) or a summary; --mode both with the speedup.
+void print_results(const Args& a, const std::optional<nlohmann::json>& full_stats,
+                   const std::optional<nlohmann::json>& foveated_stats, uint32_t full_spp) {
+  if (a.mode == "both") {
     const nlohmann::json both = {{"mode", "both"},
-                                 {"engine", engine_name},
+                                 {"engine", a.engine_name},
                                  {"full", *full_stats},
                                  {"foveated", *foveated_stats},
                                  {"speedup", speedup_json(*full_stats, *foveated_stats)}};
-    if (json) std::cout << both.dump(2) << "\n";
+    if (a.json)
+      std::cout << both.dump(2) << "\n";
     else print_both_table(both);
-  } else if (json) {
+  } else if (a.json) {
     std::cout << (full_stats ? *full_stats : *foveated_stats).dump(2) << "\n";
   } else if (full_stats) {
-    const auto& f = *full_stats;
-    std::printf("hello_foveated: full render, %s engine: %llu frames, %u ray(s) per pixel, median frame %.2f ms, "
-                "trace %.2f ms (both eyes, %s)\n",
-                gpu_engine ? "GPU" : "CPU", static_cast<unsigned long long>(f["frames_submitted"].get<uint64_t>()),
-                full_spp, f["frame_ms"].get<double>(), f["trace_ms"].get<double>(),
-                f["trace_clock"].get<std::string>().c_str());
+    print_full_summary(*full_stats, a.gpu_engine(), full_spp);
   } else {
-    const auto& st = *foveated_stats;
-    std::printf("hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; %s engine, reconstruction "
-                "on the %s, temporal \"%s\"\n",
-                static_cast<unsigned long long>(st["frames_submitted"].get<uint64_t>()),
-                static_cast<unsigned long long>(st["frames_traced"].get<uint64_t>()),
-                static_cast<unsigned long long>(st["views_fallback"].get<uint64_t>()), gpu_engine ? "GPU" : "CPU",
-                st["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU",
-                st["temporal"].get<std::string>().c_str());
+    print_foveated_summary(*foveated_stats, a.gpu_engine());
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"hello_foveated: an OpenXR app ray traced by the FoveaRT layer"};
+  Args args;
+  add_scene_options(cli, args);
+  add_renderer_options(cli, args);
+  add_app_options(cli, args);
+  CLI11_PARSE(cli, argc, argv);
+  if (const std::string conflict = conflicting_options(args); !conflict.empty()) {
+    std::cerr << "hello_foveated: " << conflict << "\n";
+    return 2;
+  }
+  if (!resolve_settings(args)) {
+    std::cerr << "hello_foveated: --eye-size needs two positive numbers\n";
+    return 2;
+  }
+  Sessions sessions(args);
+  std::string error;
+  if (!sessions.prepare(&error)) {
+    std::cerr << "hello_foveated: " << error << "\n";
+    return 2;
+  }
+  std::optional<nlohmann::json> full_stats, foveated_stats;
+  if (args.run_full() && !(full_stats = sessions.run(true, &error))) {
+    std::cerr << "hello_foveated: full render session: " << error << "\n";
+    return 1;
+  }
+  if (args.run_foveated() && !(foveated_stats = sessions.run(false, &error))) {
+    std::cerr << "hello_foveated: " << error << "\n";
+    return 1;
+  }
+  print_results(args, full_stats, foveated_stats, sessions.full_spp());
   return 0;
 }

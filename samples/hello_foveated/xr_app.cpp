@@ -374,98 +374,118 @@ class App {
     while (poll_events()) {
       if (options_.max_frames != 0 && frames_ >= options_.max_frames) break;
       if (!running_) continue;
-      auto wait_info = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
-      auto frame_state = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
-      check(xrWaitFrame(session_, &wait_info, &frame_state), "xrWaitFrame");
-      auto begin_info = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
-      const auto frame_t0 = std::chrono::steady_clock::now();
-      check(xrBeginFrame(session_, &begin_info), "xrBeginFrame");
-      if (options_.app_actions) locate_app_gaze(frame_state.predictedDisplayTime, result);
+      frame(result);
+    }
+  }
 
-      std::array<XrView, 2> views{xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
-      auto locate = xr_struct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
-      locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
-      locate.displayTime = frame_state.predictedDisplayTime;
-      locate.space = space_;
-      auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
-      uint32_t view_count = 0;
-      check(xrLocateViews(session_, &locate, &view_state, 2, &view_count, views.data()), "xrLocateViews");
+  // One frame: wait, begin, draw both eyes, end; then its times and the layer's stats.
+  void frame(AppResult* result) {
+    auto wait_info = xr_struct<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
+    auto frame_state = xr_struct<XrFrameState>(XR_TYPE_FRAME_STATE);
+    check(xrWaitFrame(session_, &wait_info, &frame_state), "xrWaitFrame");
+    auto begin_info = xr_struct<XrFrameBeginInfo>(XR_TYPE_FRAME_BEGIN_INFO);
+    const auto frame_t0 = std::chrono::steady_clock::now();
+    check(xrBeginFrame(session_, &begin_info), "xrBeginFrame");
+    if (options_.app_actions) locate_app_gaze(frame_state.predictedDisplayTime, result);
+    const std::array<XrView, 2> views = locate_views(frame_state.predictedDisplayTime);
+    std::array<XrCompositionLayerProjectionView, 2> projection_views{};
+    for (uint32_t e = 0; e < 2; ++e) projection_views[e] = draw_eye(e, views[e]);
+    end_frame(frame_state, projection_views);
+    const auto frame_ms = static_cast<float>(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_t0).count());
+    if (view_renderer_ != nullptr) result->frame_ms.push_back(frame_ms);
+    const auto frame_index = static_cast<float>(frames_);
+    for (uint32_t e = 0; e < 2; ++e) {
+      result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
+    }
+    ++frames_;
+    record_stats(frame_state.predictedDisplayTime, frame_ms, frame_index, result);
+  }
 
-      std::array<XrCompositionLayerProjectionView, 2> projection_views{};
-      for (uint32_t e = 0; e < 2; ++e) {
-        uint32_t index = 0;
-        auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
-        check(xrAcquireSwapchainImage(eyes_[e].handle, &acquire, &index), "xrAcquireSwapchainImage");
-        auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
-        wait.timeout = XR_INFINITE_DURATION;
-        check(xrWaitSwapchainImage(eyes_[e].handle, &wait), "xrWaitSwapchainImage");
-        if (view_renderer_ != nullptr) {
-          view_renderer_->render(e, views[e].pose, views[e].fov, eyes_[e].images[index],
-                                 static_cast<uint32_t>(eyes_[e].width), static_cast<uint32_t>(eyes_[e].height));
-        } else {
-          clear_placeholder(e, index);
-        }
-        auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
-        check(xrReleaseSwapchainImage(eyes_[e].handle, &release), "xrReleaseSwapchainImage");
-        projection_views[e] = xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
-        projection_views[e].pose = views[e].pose;
-        projection_views[e].fov = views[e].fov;
-        projection_views[e].subImage.swapchain = eyes_[e].handle;
-        projection_views[e].subImage.imageRect = {{0, 0}, {eyes_[e].width, eyes_[e].height}};
-      }
-      // The opt-in: chained first into the projection layer.
-      auto foveated = xr_struct<XrFoveatedRayTracingLayerFOVEART>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
-      foveated.renderer = renderer_;
-      // The engine's exposure and curve for this frame, after the opt-in.
-      auto display = xr_struct<XrFoveatedDisplayTransformFOVEART>(XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART);
-      display.exposure = options_.exposure;
-      display.toneMap = options_.tone_map;
-      if (options_.exposure != 0.0f || options_.tone_map != XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART)
-        foveated.next = &display;
-      auto layer = xr_struct<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
-      layer.next = view_renderer_ != nullptr ? nullptr : &foveated;  // a full render opts out
-      layer.space = space_;
-      layer.viewCount = 2;
-      layer.views = projection_views.data();
-      const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
-      auto end = xr_struct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
-      end.displayTime = frame_state.predictedDisplayTime;
-      end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
-      end.layerCount = frame_state.shouldRender ? 1 : 0;
-      end.layers = layers;
-      check(xrEndFrame(session_, &end), "xrEndFrame");
-      const auto frame_ms = static_cast<float>(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_t0).count());
-      if (view_renderer_ != nullptr) result->frame_ms.push_back(frame_ms);
-      const auto frame_index = static_cast<float>(frames_);
-      for (uint32_t e = 0; e < 2; ++e) {
-        result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
-      }
-      ++frames_;
-      auto reconstruction = xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(
-          XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
-      auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
-      stats.next = &reconstruction;
-      check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
-      if (stats.framesTraced > traced_) {
-        traced_ = stats.framesTraced;
-        result->frame_ms.push_back(frame_ms);
-        result->gaze_px.push_back({frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x,
-                                   stats.gazePixel[1].y});
-        result->taa_reset.push_back(
-            {reconstruction.taaResetLastFrame[0] == XR_TRUE, reconstruction.taaResetLastFrame[1] == XR_TRUE});
-        result->gaze_saccade.push_back(reconstruction.gazeSaccadeLastFrame == XR_TRUE);
-        result->gaze_blink.push_back(reconstruction.gazeBlinkLastFrame == XR_TRUE);
-        if (first_traced_display_time_ == 0) first_traced_display_time_ = frame_state.predictedDisplayTime;
-        result->display_time_s.push_back(
-            static_cast<double>(frame_state.predictedDisplayTime - first_traced_display_time_) * 1e-9);
-        if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
-        for (int e = 0; e < 2; ++e) {
-          result->overhead_ms[e].push_back(stats.selectMs[e] + stats.interpolateMs[e] + stats.taaMs[e] +
-                                           stats.uploadMs[e]);
-          result->trace_ms[e].push_back(stats.traceMs[e]);
-        }
-      }
+  std::array<XrView, 2> locate_views(XrTime display_time) {
+    std::array<XrView, 2> views{xr_struct<XrView>(XR_TYPE_VIEW), xr_struct<XrView>(XR_TYPE_VIEW)};
+    auto locate = xr_struct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
+    locate.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    locate.displayTime = display_time;
+    locate.space = space_;
+    auto view_state = xr_struct<XrViewState>(XR_TYPE_VIEW_STATE);
+    uint32_t view_count = 0;
+    check(xrLocateViews(session_, &locate, &view_state, 2, &view_count, views.data()), "xrLocateViews");
+    return views;
+  }
+
+  // Eye e's swapchain image, drawn by the full renderer or left as the placeholder; its projection view.
+  XrCompositionLayerProjectionView draw_eye(uint32_t e, const XrView& view) {
+    uint32_t index = 0;
+    auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
+    check(xrAcquireSwapchainImage(eyes_[e].handle, &acquire, &index), "xrAcquireSwapchainImage");
+    auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
+    wait.timeout = XR_INFINITE_DURATION;
+    check(xrWaitSwapchainImage(eyes_[e].handle, &wait), "xrWaitSwapchainImage");
+    if (view_renderer_ != nullptr) {
+      view_renderer_->render(e, view.pose, view.fov, eyes_[e].images[index], static_cast<uint32_t>(eyes_[e].width),
+                             static_cast<uint32_t>(eyes_[e].height));
+    } else {
+      clear_placeholder(e, index);
+    }
+    auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
+    check(xrReleaseSwapchainImage(eyes_[e].handle, &release), "xrReleaseSwapchainImage");
+    auto projection_view = xr_struct<XrCompositionLayerProjectionView>(XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW);
+    projection_view.pose = view.pose;
+    projection_view.fov = view.fov;
+    projection_view.subImage.swapchain = eyes_[e].handle;
+    projection_view.subImage.imageRect = {{0, 0}, {eyes_[e].width, eyes_[e].height}};
+    return projection_view;
+  }
+
+  // Submits the projection layer, opted in to the layer unless the app renders it in full.
+  void end_frame(const XrFrameState& frame_state,
+                 const std::array<XrCompositionLayerProjectionView, 2>& projection_views) {
+    // The opt-in: chained first into the projection layer.
+    auto foveated = xr_struct<XrFoveatedRayTracingLayerFOVEART>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
+    foveated.renderer = renderer_;
+    // The engine's exposure and curve for this frame, after the opt-in.
+    auto display = xr_struct<XrFoveatedDisplayTransformFOVEART>(XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART);
+    display.exposure = options_.exposure;
+    display.toneMap = options_.tone_map;
+    if (options_.exposure != 0.0f || options_.tone_map != XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART)
+      foveated.next = &display;
+    auto layer = xr_struct<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
+    layer.next = view_renderer_ != nullptr ? nullptr : &foveated;  // a full render opts out
+    layer.space = space_;
+    layer.viewCount = 2;
+    layer.views = projection_views.data();
+    const XrCompositionLayerBaseHeader* layers[] = {reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer)};
+    auto end = xr_struct<XrFrameEndInfo>(XR_TYPE_FRAME_END_INFO);
+    end.displayTime = frame_state.predictedDisplayTime;
+    end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
+    end.layerCount = frame_state.shouldRender ? 1 : 0;
+    end.layers = layers;
+    check(xrEndFrame(session_, &end), "xrEndFrame");
+  }
+
+  // The layer's stats after a frame; a frame it traced adds its per-frame entries to *result.
+  void record_stats(XrTime display_time, float frame_ms, float frame_index, AppResult* result) {
+    auto reconstruction =
+        xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
+    auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
+    stats.next = &reconstruction;
+    check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
+    if (stats.framesTraced <= traced_) return;
+    traced_ = stats.framesTraced;
+    result->frame_ms.push_back(frame_ms);
+    result->gaze_px.push_back(
+        {frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x, stats.gazePixel[1].y});
+    result->temporal_reset.push_back(
+        {reconstruction.temporalResetLastFrame[0] == XR_TRUE, reconstruction.temporalResetLastFrame[1] == XR_TRUE});
+    result->gaze_saccade.push_back(reconstruction.gazeSaccadeLastFrame == XR_TRUE);
+    result->gaze_blink.push_back(reconstruction.gazeBlinkLastFrame == XR_TRUE);
+    if (first_traced_display_time_ == 0) first_traced_display_time_ = display_time;
+    result->display_time_s.push_back(static_cast<double>(display_time - first_traced_display_time_) * 1e-9);
+    if (stats.gazeSource != XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART) result->gaze_age_ms.push_back(stats.gazeAgeMs);
+    for (int e = 0; e < 2; ++e) {
+      result->overhead_ms[e].push_back(stats.selectMs[e] + stats.reconstructMs[e] + stats.temporalMs[e] + stats.uploadMs[e]);
+      result->trace_ms[e].push_back(stats.traceMs[e]);
     }
   }
 

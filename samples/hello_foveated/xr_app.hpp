@@ -104,7 +104,7 @@ struct AppResult {
   };
   SubmittedView views[2];
   // Per traced frame: gaze age at composition, and the layer's own time per eye
-  // excluding the callback (select + interpolate + TAA + upload).
+  // excluding the callback (select + reconstruct + temporal + upload).
   std::vector<float> gaze_age_ms;
   std::vector<float> overhead_ms[2];
   std::vector<float> trace_ms[2];
@@ -115,10 +115,10 @@ struct AppResult {
   std::vector<std::array<float, 5>> gaze_px;
   uint64_t app_gaze_located_frames = 0;  // app_actions: frames its own gaze action located
   // Per traced frame, in the order of gaze_px (XrFoveatedRendererReconstructionStatsFOVEART,
-  // chained every frame): whether each eye's TAA history restarted, and whether the gaze
+  // chained every frame): whether each eye's temporal history restarted, and whether the gaze
   // provider flagged a saccade or a blink for that frame; and the frame's predicted display
   // time in seconds after the first traced frame's.
-  std::vector<std::array<bool, 2>> taa_reset;
+  std::vector<std::array<bool, 2>> temporal_reset;
   std::vector<bool> gaze_saccade;
   std::vector<bool> gaze_blink;
   std::vector<double> display_time_s;

@@ -66,6 +66,41 @@ enum class DevicePreference {
 // call), e.g. gpu_engine::RayTracingDeviceSupport::enable.
 using DeviceCreateHook = std::function<void(VkPhysicalDevice, VkDeviceCreateInfo*)>;
 
+// The name of the device DevicePreference::hardware_gpu would take, when that is
+// a GPU (discrete, integrated or virtual) and not a CPU implementation such as
+// lavapipe; empty without one. A plain instance, no validation, no device.
+// `while_loaded` runs before the instance is destroyed, while the loader still
+// holds the drivers (icd_pin.h).
+inline std::string hardware_gpu_name(const std::function<void()>& while_loaded = {}) {
+  VkApplicationInfo app{};
+  app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
+  app.pApplicationName = "hardware_gpu_probe";
+  app.apiVersion = VK_API_VERSION_1_1;
+  VkInstanceCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
+  info.pApplicationInfo = &app;
+  VkInstance instance = VK_NULL_HANDLE;
+  if (vkCreateInstance(&info, nullptr, &instance) != VK_SUCCESS) return {};
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  std::string name;
+  int best = 3;  // headless_detail::device_rank: 0-2 are GPUs
+  for (VkPhysicalDevice d : devices) {
+    VkPhysicalDeviceProperties p{};
+    vkGetPhysicalDeviceProperties(d, &p);
+    const int rank = headless_detail::device_rank(p.deviceType, false);
+    if (rank < best) {
+      best = rank;
+      name = p.deviceName;
+    }
+  }
+  if (while_loaded) while_loaded();
+  vkDestroyInstance(instance, nullptr);
+  return name;
+}
+
 class HeadlessVulkan {
  public:
   // The device `preference` ranks first; validated (when the layer is installed)

@@ -2,7 +2,8 @@
 // engine::Tracer) and gpu_tracer_rt_test.cpp (the ray-tracing pipeline against
 // the compute backend): a validated device and a way to run commands on it,
 // host-visible buffers, ray sets, a device ray batch as the layer hands it over,
-// the trace between the layer's barriers, and the per-ray agreement measure.
+// the trace between the layer's barriers (the per-ray agreement measure:
+// ray_agreement.hpp).
 #pragma once
 
 #include <gpu_engine/gpu_tracer.hpp>
@@ -14,6 +15,7 @@
 
 #include "headless_vulkan.hpp"
 #include "icd_pin.h"
+#include "ray_agreement.hpp"
 
 #include <gtest/gtest.h>
 
@@ -228,46 +230,6 @@ inline std::vector<glm::vec4> trace(TestGpu& gpu, GpuTracer& tracer, const Rays&
   DeviceBatch b(gpu, r);
   EXPECT_TRUE(trace_batch(gpu, tracer, b));
   return b.result();
-}
-
-// Agreement of two radiance/depth lists against a reference. A ray's error:
-// the largest channel difference relative to the reference's brightest channel
-// (+1e-3 so black stays absolute). Float differences (traversal order, Embree's
-// rcp, fma) flip a few rays that graze an edge, which then see another surface.
-struct Agreement {
-  double within = 0.0;        // share of rays with error <= 1e-3
-  double max_error = 0.0;
-  double mean_error = 0.0;
-  double depth_within = 0.0;  // share with the same hit/miss and |depth| within 1e-4 relative
-  size_t n = 0;
-};
-
-inline Agreement compare(const std::vector<glm::vec4>& out, const std::vector<glm::vec4>& ref) {
-  Agreement a;
-  a.n = ref.size();
-  size_t ok = 0, depth_ok = 0;
-  for (size_t i = 0; i < a.n; ++i) {
-    const glm::vec4 g = out[i], c = ref[i];
-    const float diff = std::max({std::fabs(g.r - c.r), std::fabs(g.g - c.g), std::fabs(g.b - c.b)});
-    const double err = std::isfinite(diff) ? double(diff) / (double(std::max({c.r, c.g, c.b})) + 1e-3) : 1e30;
-    a.max_error = std::max(a.max_error, err);
-    a.mean_error += err;
-    if (err <= 1e-3) ++ok;
-    if (std::isinf(c.w) ? std::isinf(g.w) && g.w > 0 : std::fabs(g.w - c.w) <= 1e-4f * std::max(1.0f, c.w)) ++depth_ok;
-  }
-  const double n = static_cast<double>(std::max<size_t>(a.n, 1));
-  a.within = static_cast<double>(ok) / n;
-  a.depth_within = static_cast<double>(depth_ok) / n;
-  a.mean_error /= n;
-  return a;
-}
-
-inline void expect_agreement(const Agreement& a, const char* what) {
-  std::printf("[ agreement ] %s: %zu samples, %.4f%% within 1e-3, mean error %.2e, max error %.3g, depth %.4f%%\n",
-              what, a.n, 100.0 * a.within, a.mean_error, a.max_error, 100.0 * a.depth_within);
-  EXPECT_GE(a.within, 0.99) << what;
-  EXPECT_LE(a.mean_error, 5e-3) << what;
-  EXPECT_GE(a.depth_within, 0.995) << what;
 }
 
 inline void expect_no_validation_errors(TestGpu& gpu) {

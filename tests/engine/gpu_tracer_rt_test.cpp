@@ -3,10 +3,11 @@
 // and says so; an explicit ray_tracing_pipeline request fails create() with an
 // error naming the missing extension; the backend's BLAS primitive order and
 // binding-table layout (pure arithmetic). Only where a device offers
-// VK_KHR_ray_tracing_pipeline (skipped elsewhere, with the reason): the
-// ray-tracing pipeline against the compute tracer on the same device and the
-// same rays (the scenes and tolerances of gpu_tracer_test.cpp), per-kind ray
-// counts, the full render per pixel, under synchronization validation.
+// VK_KHR_ray_tracing_pipeline (skipped elsewhere, saying they need hardware
+// ray tracing): the ray-tracing pipeline against the compute tracer on the
+// same device and the same rays (the scenes of gpu_tracer_test.cpp, its
+// per-ray tolerance, at most 0.1 % of rays flipped), per-kind ray counts, the
+// full render per pixel, under synchronization validation.
 #include <gpu_engine/gpu_tracer.hpp>
 #include <gpu_engine/rt_device.hpp>
 
@@ -66,11 +67,11 @@ TestGpu& rt_device() {
 
 #define REQUIRE_RAY_TRACING()                                                                                   \
   do {                                                                                                          \
-    if (!rt_device().vk.ok()) GTEST_SKIP() << "no Vulkan device";                                               \
+    if (!rt_device().vk.ok()) GTEST_SKIP() << "needs a GPU with hardware ray tracing; no Vulkan device at all"; \
     if (!rt_device().ray_tracing)                                                                               \
-      GTEST_SKIP() << "no Vulkan device offers VK_KHR_ray_tracing_pipeline (" << rt_device().vk.name()          \
-                   << " lacks " << (rt_device().support ? rt_device().support->missing() : std::string("?"))   \
-                   << ")";                                                                                      \
+      GTEST_SKIP() << "needs a GPU with hardware ray tracing (VK_KHR_ray_tracing_pipeline): "                   \
+                   << rt_device().vk.name() << " lacks "                                                        \
+                   << (rt_device().support ? rt_device().support->missing() : std::string("?"));               \
   } while (0)
 
 std::unique_ptr<GpuTracer> make(TestGpu& gpu, Scene scene, GpuBackend backend, Effects allowed = Effects::all()) {
@@ -95,12 +96,20 @@ struct Pair {
   bool ok() const { return rt && compute; }
 };
 
+// The ray-tracing pipeline's traversal against the compute kernel's BVH: rays
+// grazing an edge may see another surface, at most 0.1 % of them (the rest
+// within kRayTolerance, ray_agreement.hpp). Not measured: no machine this
+// project runs on offers VK_KHR_ray_tracing_pipeline.
+constexpr double kRtFlippedShare = 0.001;
+
+void expect_rt_agreement(const Agreement& a, const char* what) { expect_agreement(a, what, kRtFlippedShare); }
+
 void expect_scene_agrees(const Scene& scene, const char* what, size_t n = 4096) {
   Pair p(scene);
   ASSERT_TRUE(p.ok());
   EXPECT_EQ(p.rt->effects(), p.compute->effects());
   const Rays rays = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), n);
-  expect_agreement(compare(trace(rt_device(), *p.rt, rays), trace(rt_device(), *p.compute, rays)), what);
+  expect_rt_agreement(compare(trace(rt_device(), *p.rt, rays), trace(rt_device(), *p.compute, rays)), what);
   expect_no_validation_errors(rt_device());
 }
 
@@ -190,13 +199,15 @@ TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheDeviceLacksIt) {
   expect_no_validation_errors(gpu);
 }
 
+// A device that offers the extensions but was created without them. (It took
+// lavapipe, which never offers them, so it skipped on every machine.)
 TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheCallerDidNotEnableIt) {
-  TestGpu& gpu = cpu_device();
+  static TestGpu gpu(DevicePreference::hardware_gpu, false);  // the extensions left off even where offered
   REQUIRE_DEVICE(gpu);
   const RayTracingDeviceSupport support(gpu.vk.device().physical_device);
   if (!support.offered())
-    GTEST_SKIP() << gpu.vk.name() << " does not offer the extensions (the test above covers it): lacks "
-                 << support.missing();
+    GTEST_SKIP() << "needs a GPU with hardware ray tracing (VK_KHR_ray_tracing_pipeline): " << gpu.vk.name()
+                 << " lacks " << support.missing() << " (the test above covers a device without it)";
   GpuTracerOptions options;
   options.backend = GpuBackend::ray_tracing_pipeline;
   std::string error;
@@ -330,7 +341,7 @@ TEST(GpuTracerRt, AlphaMaskCutsOutTheSameTexelsAsTheComputeTracer) {
   for (const glm::vec4& v : rt) through += v.w > 1.5f * near_depth ? 1 : 0;
   EXPECT_GT(through, rays.origin.size() / 4);
   EXPECT_LT(through, 3 * rays.origin.size() / 4);
-  expect_agreement(compare(rt, compute), "rt vs compute: alpha mask over an opaque floor");
+  expect_rt_agreement(compare(rt, compute), "rt vs compute: alpha mask over an opaque floor");
   // Shadow rays through the mask too: a light above, both floors lit.
   foveart::engine::Light light;
   light.position = glm::vec3(0.2f, 3.0f, 0.1f);
@@ -339,7 +350,7 @@ TEST(GpuTracerRt, AlphaMaskCutsOutTheSameTexelsAsTheComputeTracer) {
   Pair lit(s);
   ASSERT_TRUE(lit.ok());
   const Rays wide = down_rays(32, 2.5f);
-  expect_agreement(compare(trace(rt_device(), *lit.rt, wide), trace(rt_device(), *lit.compute, wide)),
+  expect_rt_agreement(compare(trace(rt_device(), *lit.rt, wide), trace(rt_device(), *lit.compute, wide)),
                    "rt vs compute: shadows through the alpha mask");
   EXPECT_EQ(lit.rt->counts().shadow, lit.compute->counts().shadow);
   EXPECT_GT(lit.rt->counts().shadow, 0u);
@@ -397,7 +408,7 @@ TEST(GpuTracerRt, EffectsNotAllowedCastNoRaysAndMatchTheComputeKernel) {
   ASSERT_TRUE(p.ok());
   EXPECT_EQ(p.rt->effects(), Effects::none());
   const Rays rays = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), 2048);
-  expect_agreement(compare(trace(rt_device(), *p.rt, rays), trace(rt_device(), *p.compute, rays)),
+  expect_rt_agreement(compare(trace(rt_device(), *p.rt, rays), trace(rt_device(), *p.compute, rays)),
                    "rt vs compute: default scene, primary only");
   const RayCounts c = p.rt->counts();
   EXPECT_EQ(c.primary, 2048u);
@@ -417,7 +428,7 @@ TEST(GpuTracerRt, TracesOnlyTheCountedRays) {
   ASSERT_TRUE(trace_batch(rt_device(), *p.rt, b));
   const auto out = b.result();
   const auto ref = trace(rt_device(), *p.compute, a);
-  expect_agreement(compare({out.begin(), out.begin() + 200}, {ref.begin(), ref.begin() + 200}),
+  expect_rt_agreement(compare({out.begin(), out.begin() + 200}, {ref.begin(), ref.begin() + 200}),
                    "rt vs compute: room, 200 of 300");
   for (size_t i = 200; i < 300; ++i) EXPECT_TRUE(std::isnan(out[i].r)) << i;
   EXPECT_EQ(p.rt->counts().primary, 200u);
@@ -447,7 +458,7 @@ TEST(GpuTracerRt, FullRenderMatchesTheComputeTracerPerPixel) {
     std::memcpy(px.data(), out.data, 16 * pixels);
     return px;
   };
-  expect_agreement(compare(render(*p.rt), render(*p.compute)), "rt vs compute: full render 160x180, 2 spp");
+  expect_rt_agreement(compare(render(*p.rt), render(*p.compute)), "rt vs compute: full render 160x180, 2 spp");
   EXPECT_EQ(p.rt->counts().primary, kSpp * pixels);
   EXPECT_EQ(p.rt->counts().primary, p.compute->counts().primary);
   expect_no_validation_errors(rt_device());

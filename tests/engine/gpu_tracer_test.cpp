@@ -323,7 +323,7 @@ TEST(GpuTracer, FullRenderMatchesRenderFullPerPixel) {
   // Pixel 0's jitter does not depend on the pixel term of the hash: pixel 0
   // agreeing and the rest not points at jitter.glsl's pixel * 0x100000001B3.
   const Agreement first = compare({gpu_px.begin(), gpu_px.begin() + 1}, {cpu_px.begin(), cpu_px.begin() + 1});
-  SCOPED_TRACE(std::string("pixel 0 ") + (first.depth_within == 1.0 ? "agrees" : "differs"));
+  SCOPED_TRACE(std::string("pixel 0 ") + (first.depth_off == 0 ? "agrees" : "differs"));
   expect_agreement(compare(gpu_px, cpu_px), "full render 160x180, 2 spp");
   EXPECT_EQ(g->counts().primary, kSpp * pixels);
   EXPECT_EQ(g->counts().primary, c->counts().primary);

@@ -61,8 +61,8 @@ TEST(PricelistFullTaa, FirstFrameIsTheFullRenderThenNewJitterBlendedAsTheFoveate
             FOVEART_RESULT_SUCCESS);
   EXPECT_NE(r.image().rgb, first.rgb);
   EXPECT_FALSE(r.accumulator().last_was_reset()) << "a still view and gaze keep the history";
-  // The weight of a foveated view's history at 2 rays per point (taa_options_for_rays), not a frame's alpha.
-  EXPECT_FLOAT_EQ(r.accumulator().frame_weight(), 1.0f - std::pow(1.0f - vs.taa_options.current_weight, 2.0f));
+  // The weight of a foveated view's history at 2 rays per point (temporal_options_for_rays), not a frame's alpha.
+  EXPECT_FLOAT_EQ(r.accumulator().frame_weight(), 1.0f - std::pow(1.0f - vs.temporal_options.current_weight, 2.0f));
   EXPECT_THROW(eval::FullTaaRender(eval::taa_view_settings("off", 1, 7, foveation::PixelFilter::box, false)),
                std::invalid_argument);
 }

@@ -180,8 +180,8 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   // render's own jitter: TAA off is the full render at 1 ray, frame by frame.
   EXPECT_EQ(j["tracks"][1]["rings"], j["tracks"][0]["rings"]);
   // Restarting TAA restarts on every frame of a moving head; reprojecting only on the first.
-  EXPECT_EQ(j["tracks"][2]["taa_resets"], 3);
-  EXPECT_EQ(j["tracks"][3]["taa_resets"], 1);
+  EXPECT_EQ(j["tracks"][2]["temporal_resets"], 3);
+  EXPECT_EQ(j["tracks"][3]["temporal_resets"], 1);
   // Equal rays: the foveated tracks trace the same points.
   EXPECT_EQ(j["tracks"][1]["rays"]["primary"], j["tracks"][3]["rays"]["primary"]);
   // Each TAA track carries the goal against TAA off, read from the two tracks' rings.
@@ -337,7 +337,7 @@ TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
   EXPECT_EQ(j["reference"]["settled_frames"], settled.size());
   // The reprojected TAA restarts on the first frame and the saccade's first.
   EXPECT_EQ(j["tracks"][1]["taa_reset_frames"], nlohmann::json::array({0, restarts[1]}));
-  EXPECT_EQ(j["tracks"][1]["taa_resets"], 2);
+  EXPECT_EQ(j["tracks"][1]["temporal_resets"], 2);
   for (const auto* owner : {&j["tracks"][0]["bands"], &j["tracks"][1]["bands"],
                             &j["reference"]["taa_on_reference_bands"], &j["reference"]["stable_blur_bands"]}) {
     ASSERT_EQ(owner->size(), 2u);

@@ -113,5 +113,38 @@ TEST(Rgba8, EncodeAppliesTheDisplayTransform) {
   EXPECT_GT(toned[50 * 4], clamped[50 * 4] - 30);
 }
 
+// The image encode runs whole rows with the curve chosen once: it must give
+// the bytes of the per-pixel srgb8() / apply() for every curve, exposure and
+// input, NaN, infinities, negatives and the roll-off's knee included.
+TEST(Rgba8, EncodeGivesThePerPixelTransformsBytesForEveryCurve) {
+  constexpr int kWidth = 61, kHeight = 7;  // rows of odd length, spread over the executor's chunks
+  ImageRgb im(kWidth, kHeight);
+  const float specials[] = {0.0f, -0.0f, -1.0f, 0.0031308f, 0.04f, 0.08f, 0.7599f, 0.76f, 1.0f, 65504.0f,
+                            std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::denorm_min()};
+  std::uint32_t x = 12345;
+  for (std::size_t i = 0; i < im.rgb.size(); ++i) {
+    x = x * 1664525u + 1013904223u;  // LCG: a spread of radiance from 0 to 4
+    im.rgb[i] = i % 5 == 0 ? specials[(i / 5) % std::size(specials)] : float(x >> 8) / float(1 << 22);
+  }
+  for (const ToneMap curve : {ToneMap::none, ToneMap::pbr_neutral, ToneMap::aces}) {
+    for (const float exposure : {1.0f, 0.37f, 3.0f}) {
+      const DisplayTransform display{exposure, curve};
+      for (const bool srgb : {true, false}) {
+        std::vector<std::uint8_t> encoded(std::size_t(kWidth) * kHeight * 4);
+        encode_rgba8(im, srgb, display, encoded.data(), test::executor());
+        for (std::size_t p = 0; p < im.pixel_count(); ++p) {
+          const glm::vec3 radiance(im.rgb[p * 3], im.rgb[p * 3 + 1], im.rgb[p * 3 + 2]);
+          const glm::u8vec3 want = srgb ? display.srgb8(radiance)
+                                        : glm::u8vec3(glm::round(display.apply(radiance) * 255.0f));
+          ASSERT_EQ(glm::u8vec3(encoded[p * 4], encoded[p * 4 + 1], encoded[p * 4 + 2]), want)
+              << tone_map_name(curve) << " exposure " << exposure << (srgb ? " sRGB" : " UNORM") << " pixel " << p;
+          ASSERT_EQ(encoded[p * 4 + 3], 255);
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace foveart::foveation

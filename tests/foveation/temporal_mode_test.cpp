@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "foveation/temporal_mode.hpp"
+#include "foveation/view_settings.hpp"
 
 namespace foveart::foveation {
 namespace {
@@ -22,27 +23,24 @@ TEST(TemporalMode, NamesRoundTripAndOthersAreRefused) {
 
 TEST(TemporalMode, EachModeFixesHistoryJitterAndPixelFilter) {
   const ViewSettings off = temporal_view_settings(TemporalMode::off, 2, 7);
-  EXPECT_FALSE(off.taa);
+  EXPECT_EQ(off.temporal, TemporalMode::off);
   EXPECT_FALSE(off.new_jitter_each_frame);
   EXPECT_EQ(off.pixel_filter, PixelFilter::box);
 
   const ViewSettings image = temporal_view_settings(TemporalMode::image, 2, 7);
-  EXPECT_TRUE(image.taa);
+  EXPECT_EQ(image.temporal, TemporalMode::image);
   EXPECT_TRUE(image.new_jitter_each_frame);
-  EXPECT_EQ(image.taa_history, TaaHistory::reproject);
   EXPECT_EQ(image.pixel_filter, PixelFilter::box);
 
   const ViewSettings rays = temporal_view_settings(TemporalMode::rays, 2, 7);
-  EXPECT_TRUE(rays.taa);
+  EXPECT_EQ(rays.temporal, TemporalMode::rays);
   EXPECT_TRUE(rays.new_jitter_each_frame);
-  EXPECT_EQ(rays.taa_history, TaaHistory::ray_cache);
-  EXPECT_FALSE(rays.ray_cache_keeps_through_saccades) << "the history restarts at a saccade or blink";
   EXPECT_EQ(rays.pixel_filter, PixelFilter::bspline2);
 
   for (const ViewSettings& v : {off, image, rays}) {
     EXPECT_EQ(v.rays_per_point, 2);
     EXPECT_EQ(v.sample_seed, 7U);
-    EXPECT_FALSE(v.taa_options.mean_while_young) << "an evaluation option, never the product's";
+    EXPECT_FALSE(v.temporal_options.mean_while_young) << "an evaluation option, never the product's";
   }
 }
 

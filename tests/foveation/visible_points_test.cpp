@@ -162,8 +162,28 @@ TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {
   EXPECT_NEAR(sum_r2 / double(a.size()), 0.5, 0.01);
   const auto b = fv::generate_ray_samples(ps, vis, spp, 1234, 200);
   EXPECT_EQ(0, std::memcmp(a.sample_px.data(), b.sample_px.data(), a.size() * sizeof(glm::vec2)));
-  // A point's samples do not depend on which other points are visible.
-  EXPECT_EQ(fv::unit_disc_sample(1234, 77, 3), fv::unit_disc_sample(1234, 77, 3));
+  // A point's samples do not depend on which other points are visible: every
+  // third visible point alone (a different list, each point at another place in
+  // it) gets exactly the samples it got among all of them.
+  fv::VisiblePoints third;
+  for (std::size_t v = 0; v < vis.size(); v += 3) {
+    third.point_index.push_back(vis.point_index[v]);
+    third.screen_px.push_back(vis.screen_px[v]);
+  }
+  ASSERT_GT(third.size(), 10u);
+  const auto c = fv::generate_ray_samples(ps, third, spp, 1234, 200);
+  ASSERT_EQ(c.size(), third.size() * spp);
+  for (std::size_t t = 0; t < third.size(); ++t) {
+    for (int s = 0; s < spp; ++s) {
+      const std::size_t o = t * spp + std::size_t(s), full = 3 * t * spp + std::size_t(s);
+      ASSERT_EQ(c.point_index[o], a.point_index[full]) << t << "," << s;
+      const glm::vec2 alone = c.sample_px[o], among_all = a.sample_px[full];
+      ASSERT_TRUE(alone == among_all) << "point " << third.point_index[t] << " sample " << s << ": (" << alone.x << ", "
+                                      << alone.y << ") among every third point, (" << among_all.x << ", "
+                                      << among_all.y << ") among all";
+    }
+  }
+  // The seed does change them.
   EXPECT_NE(fv::unit_disc_sample(1234, 77, 3), fv::unit_disc_sample(1235, 77, 3));
   EXPECT_THROW(fv::generate_ray_samples(ps, vis, 0, 1, 200), std::invalid_argument);
 }

@@ -48,9 +48,14 @@ TEST_F(FakeFove, ScriptedStreamMapsErrorCodes) {
   EXPECT_EQ(p.source(), GazeSourceKind::fove);
   std::string error;
   ASSERT_TRUE(p.start(&error)) << error;
+  // Until the provider has published the script's last frame (id 1139); 20 s is
+  // a guard: running out of it fails the checks below.
   const auto deadline = std::chrono::steady_clock::now() + 20s;
-  while (frame_() < 140 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(5ms);
-  std::this_thread::sleep_for(20ms);
+  auto last_frame_in = [&] {
+    const auto latest = p.latest();
+    return latest && latest->frame_id >= 1139;
+  };
+  while (!last_frame_in() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(5ms);
   const ProviderStatus running = p.status();
   p.stop();
 

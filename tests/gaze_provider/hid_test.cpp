@@ -3,6 +3,7 @@
 //
 // HidUmockdev.* tests re-run this executable under umockdev-run, where the inner test
 // HidUmockdev.DISABLED_InsideTestbed (disabled in normal runs) does the streaming.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -14,6 +15,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -82,10 +85,16 @@ void write_script(const std::string& path) {
 
 std::string self_exe() { return std::filesystem::read_symlink("/proc/self/exe").string(); }
 
-int run_in_testbed(const std::string& source) {
+struct TestbedRun {
+  int exit_code = -1;
+  std::string output;  // the child's stdout and stderr
+};
+
+TestbedRun run_in_testbed(const std::string& source) {
   const std::string dir = std::filesystem::temp_directory_path() / ("foveart_hid_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string script = dir + "/hidraw0.script";
+  const std::string log = dir + "/child.log";
   write_script(script);
   const std::string data = GAZE_TEST_DATA_DIR;
   std::vector<std::string> args = {"umockdev-run",
@@ -103,12 +112,33 @@ int run_in_testbed(const std::string& source) {
   if (asan.find("verify_asan_link_order") == std::string::npos)
     setenv("ASAN_OPTIONS", (asan + (asan.empty() ? "" : ":") + "verify_asan_link_order=0").c_str(), 1);
   setenv("FOVEART_HID_TEST_SOURCE", source.c_str(), 1);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  TestbedRun run;
   pid_t pid = 0;
-  if (posix_spawnp(&pid, "umockdev-run", nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  int status = 0;
-  waitpid(pid, &status, 0);
+  const int spawned = posix_spawnp(&pid, "umockdev-run", &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned == 0) {
+    int status = 0;
+    waitpid(pid, &status, 0);
+    run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::ifstream in(log);
+    std::ostringstream text;
+    text << in.rdbuf();
+    run.output = text.str();
+  }
   std::filesystem::remove_all(dir);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return run;
+}
+
+// The child ran exactly the one inner test and it passed: its own summary line
+// says so (a filter that matches nothing also exits 0, with "0 tests").
+void expect_inner_test_passed(const TestbedRun& run) {
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("[  PASSED  ] 1 test.\n"), std::string::npos)
+      << "the child did not run and pass exactly one test:\n" << run.output;
 }
 
 }  // namespace
@@ -170,9 +200,9 @@ TEST(HidLayout, DecodesReports) {
   EXPECT_FALSE(decode_hid_report(HidReportLayout{}, other.data(), other.size(), t, f, s)) << "other report id";
 }
 
-TEST(HidUmockdev, StreamsByVidPid) { EXPECT_EQ(run_in_testbed("hid:2a5e:0001"), 0); }
+TEST(HidUmockdev, StreamsByVidPid) { expect_inner_test_passed(run_in_testbed("hid:2a5e:0001")); }
 
-TEST(HidUmockdev, FindsEyeTrackerUsagePage) { EXPECT_EQ(run_in_testbed("hid"), 0); }
+TEST(HidUmockdev, FindsEyeTrackerUsagePage) { expect_inner_test_passed(run_in_testbed("hid")); }
 
 TEST(HidUmockdev, MissingDeviceIsAnError) {
   CreateResult created = create_gaze_provider("hid:dead:beef");

@@ -5,7 +5,7 @@
 // reconstructs on the CPU, within one 8-bit step on the GPU (lavapipe).
 // With temporal history ("temporal": "image" or "rays") the captured (last)
 // frame blends the frames since the eye's last TAA restart (the layer's
-// taa_reset_per_frame): the first traced frame, or a gaze jump beyond the TAA's
+// temporal_reset_per_frame): the first traced frame, or a gaze jump beyond the TAA's
 // reset distance. The first frame may come before the gaze replay's first
 // sample and foveate the lens centre; at these small eyes the gaze is nearer
 // than the reset distance, so that frame can stay in the history. `fovea
@@ -140,7 +140,7 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
   // replay's first sample (lens centre); the last one used the gaze
   // (fallback_flags above is the last frame's).
   const auto gaze_frames = stats["gaze_px_per_frame"];
-  const auto resets = stats["taa_reset_per_frame"];
+  const auto resets = stats["temporal_reset_per_frame"];
   ASSERT_EQ(gaze_frames.size(), std::size_t(m.frames)) << app.output;
   ASSERT_EQ(resets.size(), std::size_t(m.frames)) << app.output;
   for (int i = 0; i < m.frames; ++i) ASSERT_EQ(gaze_frames[i][0], i) << "one traced frame per app frame";

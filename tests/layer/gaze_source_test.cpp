@@ -2,25 +2,28 @@
 // to the frame (TAA restarts its history on it): a replayed trace with a 20 deg
 // saccade between fixations must show FrameGaze::saccade while the eye is in
 // flight, and not during the fixations; frames too slow to catch the ~40 ms flag
-// must still see the saccade, in one frame.
-#include <chrono>
+// must still see the saccade, in one frame. The provider runs on a virtual clock
+// (tests/common/manual_clock.hpp) and the frames ask at its times: exact, on any
+// machine.
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <thread>
+#include <memory>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include "gaze_source.hpp"
+#include "manual_clock.hpp"
 #include "state.hpp"
 
 namespace foveart::layer {
 namespace {
 
-int64_t steady_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
+using foveart::test::ManualClock;
+
+constexpr int64_t kMs = 1'000'000;
 
 // 120 Hz: 0.4 s fixating straight ahead, a 20 deg rightward saccade over
 // 4 samples (~600 deg/s), then 1.2 s fixating there.
@@ -37,41 +40,48 @@ std::filesystem::path write_saccade_trace(const std::filesystem::path& dir) {
   return trace;
 }
 
-std::unique_ptr<GazeSource> replay_source(const std::filesystem::path& trace) {
+std::unique_ptr<GazeSource> replay_source(const std::filesystem::path& trace, std::shared_ptr<ManualClock> clock) {
   RendererSettings settings;
   settings.gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   settings.gaze_provider_spec = "replay:" + trace.string();
   SessionState session;
   std::string warning;
-  auto source = create_gaze_source(settings, session, &warning);
+  auto source = create_gaze_source(settings, session, &warning, std::move(clock));
   EXPECT_TRUE(warning.empty()) << warning;
   return source;
+}
+
+// A frame's question at virtual time t: composition and display now.
+FrameGaze ask(GazeSource& source, int64_t t_ns) {
+  GazeQuery q;
+  q.now_ns = t_ns;
+  q.display_time = t_ns;
+  return source.at(q);
 }
 
 TEST(ProviderGazeSource, CarriesTheSaccadeFlagToTheFrame) {
   const auto dir = std::filesystem::temp_directory_path() / ("foveart_gaze_source_" + std::to_string(::getpid()));
   const auto trace = write_saccade_trace(dir);
-  auto source = replay_source(trace);
+  auto clock = std::make_shared<ManualClock>();
+  const int64_t start = clock->now_ns();  // the replay starts here
+  auto source = replay_source(trace, clock);
   ASSERT_NE(source, nullptr);
+  foveart::test::ReleaseAtExit release{*clock};  // before the source stops its provider
 
-  // Ask at ~1 kHz, as frames would at display time, over the whole trace.
+  // Ask every millisecond, as frames would at display time, over the whole trace.
   bool saw_saccade = false, saccade_while_fixating = false, saw_valid = false;
-  const auto start = std::chrono::steady_clock::now();
-  while (std::chrono::steady_clock::now() - start < std::chrono::milliseconds(1500)) {
-    GazeQuery q;
-    q.now_ns = steady_now_ns();
-    q.display_time = q.now_ns;
-    const FrameGaze g = source->at(q);
-    const double t_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (int64_t t_ms = 0; t_ms < 1500; ++t_ms) {
+    ASSERT_TRUE(clock->run_until(start + t_ms * kMs)) << "at " << t_ms << " ms";
+    const FrameGaze g = ask(*source, clock->now_ns());
     if (g.valid) saw_valid = true;
     if (g.saccade) {
       saw_saccade = true;
       // The first fixation ends at 0.4 s and the eye lands by 0.44 s: well inside
       // either fixation (allowing for the filters' lag) nothing may flag.
-      if (t_s < 0.3 || t_s > 1.0) saccade_while_fixating = true;
+      if (t_ms < 300 || t_ms > 1000) saccade_while_fixating = true;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
+  clock->release();
   source.reset();
   std::filesystem::remove_all(dir);
   EXPECT_TRUE(saw_valid);
@@ -82,32 +92,30 @@ TEST(ProviderGazeSource, CarriesTheSaccadeFlagToTheFrame) {
 TEST(ProviderGazeSource, FramesTooSlowForTheFlagStillSeeTheSaccadeOnce) {
   const auto dir = std::filesystem::temp_directory_path() / ("foveart_gaze_slow_" + std::to_string(::getpid()));
   const auto trace = write_saccade_trace(dir);
-  auto source = replay_source(trace);
+  auto clock = std::make_shared<ManualClock>();
+  const int64_t start = clock->now_ns();
+  auto source = replay_source(trace, clock);
   ASSERT_NE(source, nullptr);
+  foveart::test::ReleaseAtExit release{*clock};  // before the source stops its provider
 
   // 5 frames a second at 0.1, 0.3, 0.5 ... s: the saccade (0.40-0.45 s) falls
   // between two of them; the flag itself lasts ~40 ms.
-  int saccade_frames = 0, valid_frames = 0;
-  double saccade_at_s = -1.0;
-  const auto start = std::chrono::steady_clock::now();
+  int saccade_frames = 0, valid_frames = 0, saccade_frame = -1;
   for (int frame = 0; frame < 7; ++frame) {
-    std::this_thread::sleep_until(start + std::chrono::milliseconds(100 + 200 * frame));
-    GazeQuery q;
-    q.now_ns = steady_now_ns();
-    q.display_time = q.now_ns;
-    const FrameGaze g = source->at(q);
+    ASSERT_TRUE(clock->run_until(start + (100 + 200 * frame) * kMs)) << "frame " << frame;
+    const FrameGaze g = ask(*source, clock->now_ns());
     valid_frames += g.valid ? 1 : 0;
     if (g.saccade) {
       ++saccade_frames;
-      saccade_at_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      saccade_frame = frame;
     }
   }
+  clock->release();
   source.reset();
   std::filesystem::remove_all(dir);
-  EXPECT_GE(valid_frames, 6);
+  EXPECT_EQ(valid_frames, 7);
   EXPECT_EQ(saccade_frames, 1) << "the saccade between two frames flags the next one, and only it";
-  EXPECT_GT(saccade_at_s, 0.35) << "not before the saccade";
-  EXPECT_LT(saccade_at_s, 1.0) << "the frame right after it (0.5 s, scheduler allowing)";
+  EXPECT_EQ(saccade_frame, 2) << "the frame at 0.5 s, right after the saccade (0.40-0.45 s)";
 }
 
 }  // namespace

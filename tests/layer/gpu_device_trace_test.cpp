@@ -335,9 +335,9 @@ TEST_F(GpuDeviceTraceTest, DeviceRaysAreTheCpuRays) {
 // Colours resolved on the device reconstruct as the callback's: a device
 // frame and a CPU-callback frame whose engines both answer each ray with its
 // direction (and its screen y as depth) give the same image, within one 8-bit
-// step (the directions agree within 1e-5), with TAA over a gaze jump.
+// step (the directions agree within 1e-5), with an image history over a gaze jump.
 TEST_F(GpuDeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
-  settings_.taa = true;
+  settings_.temporal = foveation::TemporalMode::image;
   engine_.answer = TestEngine::Answer::direction;
   foveation::FoveatedView device_view(tables_, settings_), callback_view(tables_, settings_);
   std::vector<uint8_t> first;

@@ -78,7 +78,7 @@ class LayerMotion : public ::testing::TestWithParam<const char*> {
   std::unique_ptr<IsolatedEnv> env_;
 };
 
-TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
+TEST_P(LayerMotion, TemporalHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   const std::string path = GetParam();
   const bool ray_cache = path.rfind("ray_cache_", 0) == 0;
   const std::string reconstruction = ray_cache ? path.substr(10) : path;  // "ray_cache_gpu": on the GPU
@@ -110,7 +110,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   // deliver its first sample after the first frame (seen: 1 frame in 15 runs).
   ASSERT_EQ(r.stats["frames_traced"], kFrames);
 
-  const auto& reset = r.stats["taa_reset_per_frame"];
+  const auto& reset = r.stats["temporal_reset_per_frame"];
   const auto& saccade = r.stats["gaze_saccade_per_frame"];
   const auto& blink = r.stats["gaze_blink_per_frame"];
   const auto& time_s = r.stats["display_time_s_per_frame"];
@@ -159,7 +159,7 @@ TEST_P(LayerMotion, TaaHistoryRestartsAtTheOnsetOfEachSaccadeAndBlink) {
   // Flags and seams take a few frames a loop, at 70 Hz as at the 10-15 frames a
   // second of a sanitizer build on 2 loaded cores: most frames are judged.
   EXPECT_GE(continuous_frames, kFrames / 2) << "too few frames away from the flags and the loop seams to judge";
-  EXPECT_EQ(r.stats["taa_resets"].get<uint64_t>(), restarts) << "the per-frame flags add up to the renderer's count";
+  EXPECT_EQ(r.stats["temporal_resets"].get<uint64_t>(), restarts) << "the per-frame flags add up to the renderer's count";
 }
 
 INSTANTIATE_TEST_SUITE_P(Paths, LayerMotion, ::testing::Values("cpu", "gpu", "ray_cache_cpu", "ray_cache_gpu"),

@@ -216,7 +216,7 @@ TEST_F(InterpCommands, ReconstructReportsEveryKey) {
   std::ostringstream out, err;
   ASSERT_EQ(run_reconstruct(a, out, err), 0) << err.str();
   const auto j = nlohmann::json::parse(out.str());
-  for (const char* key : {"points", "pixels", "sample_ms", "interpolate_ms", "taa_ms", "total_ms", "psnr", "ssim",
+  for (const char* key : {"points", "pixels", "sample_ms", "interpolate_ms", "temporal_ms", "total_ms", "psnr", "ssim",
                           "rings", "flicker", "flicker_no_taa"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }

@@ -140,7 +140,7 @@ std::shared_ptr<const fv::ViewTables> load_tables(const ReconstructArgs& a, cons
 
 // The frames' times summed, their flicker (with and without the history) and the last frame.
 struct Run {
-  double sample_ms = 0, interpolate_ms = 0, taa_ms = 0, total_ms = 0;
+  double sample_ms = 0, interpolate_ms = 0, temporal_ms = 0, total_ms = 0;
   double flicker = 0, flicker_raw = 0;
   fv::FrameResult frame;
 };
@@ -159,8 +159,8 @@ struct Run {
     }
     r->sample_ms += r->frame.select_ms + r->frame.trace_ms;
     r->interpolate_ms += r->frame.reconstruct_ms;
-    r->taa_ms += r->frame.taa_ms;
-    r->total_ms += r->frame.select_ms + r->frame.trace_ms + r->frame.reconstruct_ms + r->frame.taa_ms;
+    r->temporal_ms += r->frame.temporal_ms;
+    r->total_ms += r->frame.select_ms + r->frame.trace_ms + r->frame.reconstruct_ms + r->frame.temporal_ms;
     if (t > 0) {
       r->flicker += metrics::mean_abs_difference(view.image(), prev_out);
       r->flicker_raw += metrics::mean_abs_difference(view.reconstructed(), prev_raw);
@@ -192,7 +192,7 @@ nlohmann::json report_json(const ReconstructArgs& a, const fv::ViewTables& table
   j["frames"] = a.frames;
   j["sample_ms"] = r.sample_ms / nf;
   j["interpolate_ms"] = r.interpolate_ms / nf;
-  j["taa_ms"] = r.taa_ms / nf;
+  j["temporal_ms"] = r.temporal_ms / nf;
   j["total_ms"] = r.total_ms / nf;
   j["setup_ms"] = setup_ms;
   j["table_from_cache"] = tables.from_cache;
@@ -233,7 +233,7 @@ int reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) 
   settings.rays_per_point = a.rays_per_point;
   settings.sample_seed = a.seed;
   settings.new_jitter_each_frame = a.jitter;
-  settings.taa = true;
+  settings.temporal = fv::TemporalMode::image;
   settings.rbf_clamp = *fv::parse_rbf_clamp(a.rbf_clamp);
   fv::FoveatedView view(tables, settings);
   fv::FrameRequest request;  // the image's own view: a pinhole D pixels from the eye
@@ -253,7 +253,7 @@ int reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) 
     const double nf = double(a.frames);
     out << "points " << r.frame.points << ", " << w << "x" << h << " px, " << j["interpolation"].get<std::string>()
         << " k=" << a.k << ": sample " << r.sample_ms / nf << " ms, interpolate " << r.interpolate_ms / nf
-        << " ms, taa " << r.taa_ms / nf << " ms, total " << r.total_ms / nf << " ms; PSNR "
+        << " ms, temporal " << r.temporal_ms / nf << " ms, total " << r.total_ms / nf << " ms; PSNR "
         << metrics::psnr(image, view.image()) << " dB, SSIM " << j["ssim"].get<double>() << "\n";
   }
   return 0;

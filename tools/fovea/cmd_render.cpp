@@ -259,7 +259,7 @@ struct Frames {
     return false;
   }
   // The fixed part: reconstruction and the temporal history.
-  f->fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.taa_ms, fr.select_ms);
+  f->fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.temporal_ms, fr.select_ms);
   if (frame == 0) {
     f->fov_rays = eng.counts() - before;
     f->fov_points = fr.points;

@@ -8,7 +8,7 @@
 #include <foveation/executor.hpp>
 #include <foveation/image.hpp>
 #include <foveation/ray_trace.h>
-#include <foveation/taa.hpp>
+#include <foveation/temporal_blend.hpp>
 #include <foveation/view_settings.hpp>
 
 #include <glm/vec2.hpp>
@@ -20,7 +20,7 @@ namespace foveart::eval {
 struct FullTaaFrame {
   std::int32_t status = FOVEART_RESULT_SUCCESS;  // the first failing callback status, if any
   double trace_ms = 0.0;                         // the full render's ray generation + tracing
-  double taa_ms = 0.0;                           // the blend into the history
+  double temporal_ms = 0.0;                           // the blend into the history
 };
 
 class FullTaaRender {

@@ -51,7 +51,7 @@ struct SequenceReferenceOptions {
   // tracks' and every foveated track's (run_sequence refuses a track with another).
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   // The TAA's blend of a young history, the tracks' and the TAA-fed-the-reference control's
-  // (TaaOptions::mean_while_young; run_sequence refuses a track with another).
+  // (TemporalOptions::mean_while_young; run_sequence refuses a track with another).
   bool taa_mean_while_young = false;
   std::string cache_dir;     // empty: no cache
   // Measure the controls (SequenceRun::stable_blur, taa_on_reference, sample_history, sample_history_kept,
@@ -98,7 +98,7 @@ struct SequenceRun {
 };
 
 // Frames after a restart before the layer's TAA counts as settled: its blend's
-// time constant at one ray per point, 1 / TaaOptions::current_weight (10
+// time constant at one ray per point, 1 / TemporalOptions::current_weight (10
 // frames, 143 ms at 70 fps; frames of more rays settle sooner, taa.hpp).
 int taa_settle_frames();
 
@@ -144,7 +144,7 @@ struct SequenceHooks {
 // controls per ring.
 nlohmann::ordered_json sequence_reference_json(const SequenceRun& run);
 // {"id", "taa", "spp", "frames", "ms" (median frame), "time_fraction" (of anchor_ms; null without),
-// "points", "rays", "taa_resets", "taa_reset_frames", "history_off_screen", "history_disoccluded",
+// "points", "rays", "temporal_resets", "taa_reset_frames", "history_off_screen", "history_disoccluded",
 // "rings": [{from_deg, to_deg, flicker, flicker_tracked, psnr, rmse}], "bands": sequence_band_json}.
 nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, const SequenceRun& run, double anchor_ms);
 // The central and the peripheral band (kCentralBand, kPeripheralBand) of one

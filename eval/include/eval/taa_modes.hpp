@@ -6,8 +6,10 @@
 #include <foveation/foveated_view.hpp>
 #include <foveation/ray_samples.hpp>
 #include <foveation/temporal_mode.hpp>
+#include <foveation/view_settings.hpp>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,9 +26,15 @@ const char* taa_mode_of(foveation::TemporalMode mode);
 [[nodiscard]] bool parse_taa_modes(const std::string& text, std::vector<std::string>* out, std::string* error);
 // The view settings of a foveated frame with this TAA mode at equal rays: TAA
 // off keeps one jitter seed (the thesis's choice); TAA draws new jitter each
-// frame, which it accumulates; taa_mean_while_young: TaaOptions::mean_while_young.
+// frame, which it accumulates; taa_mean_while_young: TemporalOptions::mean_while_young.
 foveation::ViewSettings taa_view_settings(const std::string& taa_mode, int rays_per_point, std::uint64_t seed,
                                           foveation::PixelFilter pixel_filter, bool taa_mean_while_young);
+// The foveated view of that mode over `tables`: the product's history, or the
+// lab's variant of it (restart, cache-kept).
+std::unique_ptr<foveation::FoveatedView> make_taa_view(std::shared_ptr<const foveation::ViewTables> tables,
+                                                       const std::string& taa_mode, int rays_per_point,
+                                                       std::uint64_t seed, foveation::PixelFilter pixel_filter,
+                                                       bool taa_mean_while_young);
 
 
 }  // namespace foveart::eval

@@ -7,7 +7,9 @@
 // Errors: a failed batch or a bad colour is counted in TraceStats, never thrown.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -30,6 +32,16 @@ class CallbackTrace final : public TraceStage {
   const TracedPoints& traced() const override { return traced_; }
 
  private:
+  struct FramePass;  // one frame's shared state and counts (callback_trace.cpp)
+  // The steps of trace: a run of the point set, a batch of its points, their colours kept.
+  void trace_run(FramePass& pass, std::size_t run, unsigned worker);
+  void forget_untraced(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& traced,
+                       std::size_t run_size);
+  bool trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::uint32_t n);
+  bool keep_ray_colors(const RayBatch& batch, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& traced);
+  bool keep_mean_colors(const FramePass& pass, const RayBatch& batch, std::span<const std::uint32_t> ids,
+                        std::size_t run);
+
   const PointSet& points_;
   PointRays rays_;
   bool keep_rays_;

@@ -7,6 +7,7 @@
 #include <glm/ext/vector_uint3_sized.hpp>
 #include <glm/vec3.hpp>
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -31,6 +32,10 @@ struct DisplayTransform {
   // Radiance -> the bytes an sRGB display shows: apply(), then the sRGB
   // encoding (srgb.hpp) of each channel.
   glm::u8vec3 srgb8(glm::vec3 radiance) const;
+  // pixel_count radiance pixels (RGB floats) -> RGBA8 with alpha 255: each
+  // one's srgb8() when `srgb`, else apply() rounded to bytes. The same bytes as
+  // those per-pixel calls, with the curve chosen once per run of pixels.
+  void encode_rgba8(const float* rgb, std::size_t pixel_count, bool srgb, std::uint8_t* out) const;
 };
 
 // The identity up to the clamp: display values are the radiance itself.

@@ -2,7 +2,7 @@
 // ParallelFor): a fixed set of worker threads, started once by whoever owns
 // the executor (the layer, one per foveated renderer; a tool, one per
 // process) and injected into everything that runs in parallel — point set and
-// table builds, the engine callback's ray batches, the gather, TAA. Nothing
+// table builds, the engine callback's ray batches, the gather, the temporal blend. Nothing
 // that takes an Executor starts a thread.
 //
 // Why not oneTBB: its scheduler lives in an uninstrumented library, so

@@ -49,13 +49,13 @@ struct FrameResult {
   double select_ms = 0.0;           // the frame's set-up (selection itself runs inside the trace pass)
   double trace_ms = 0.0;            // visible-point test, rays, engine callback, colour per point
   double reconstruct_ms = 0.0;      // gather
-  double taa_ms = 0.0;              // the temporal history
+  double temporal_ms = 0.0;              // the temporal history
   glm::vec2 centre_px{};            // the foveation centre this frame used (ViewSettings::centre_deadband_deg)
-  bool taa_reset = false;           // a history is kept and restarted this frame
-  std::uint64_t history_off_screen = 0;   // TaaHistory::reproject: pixels whose surface was off the last view
+  bool temporal_reset = false;           // a history is kept and restarted this frame
+  std::uint64_t history_off_screen = 0;   // TemporalMode::image: pixels whose surface was off the last view
   std::uint64_t history_disoccluded = 0;  // ... whose last depth disagreed (a surface uncovered)
   std::uint64_t history_with_depth = 0;   // ... reprojected through the engine's depth (the rest: rotation only)
-  // TaaHistory::ray_cache: the cache restarts this frame (a restart the cache
+  // TemporalMode::rays: the cache restarts this frame (a restart the cache
   // is not kept through, a failed frame before it, or the first frame).
   bool ray_cache_restart = false;
   GatherStats gather;
@@ -66,6 +66,10 @@ struct FrameResult {
 class FoveatedView {
  public:
   FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings);
+  // The same with a temporal history made by the caller (the lab's variants of
+  // the product's modes) instead of make_temporal_history(settings); null: that.
+  FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
+               std::unique_ptr<TemporalHistory> history);
 
   // One frame. On success image() holds it; on failure image() keeps the last
   // good frame and the temporal history restarts.
@@ -92,9 +96,9 @@ class FoveatedView {
   std::size_t cached_rays() const { return history_->kept_rays(); }
   const ViewTables& tables() const { return *tables_; }
   const ViewSettings& settings() const { return settings_; }
-  // What the history blends with: settings().taa_options for its rays per
-  // point (taa_options_for_rays).
-  TaaOptions taa_options() const { return settings_.blend_options(); }
+  // What the history blends with: settings().temporal_options for its rays per
+  // point (temporal_options_for_rays).
+  TemporalOptions temporal_options() const { return settings_.blend_options(); }
 
  private:
   std::shared_ptr<const ViewTables> tables_;

@@ -8,7 +8,7 @@
 //   2. make rays              PointRays                    GpuEye: device rays
 //   3. trace                  CallbackTrace (TraceStage)   the engine's device trace, resolve
 //   4. reconstruct            GatherReconstruction         GpuEye: scatter + gather
-//   5. temporal history       TemporalHistory: NoHistory,  GpuEye: taa, or the
+//   5. temporal history       TemporalHistory: NoHistory,  GpuEye: temporal, or the
 //                             ImageHistory, RayHistory     render cache (GpuRayCache)
 //   6. encode                 encode_rgba8                 GpuEye: encode
 //
@@ -29,7 +29,7 @@
 #include "foveation/image.hpp"
 #include "foveation/ray_cache.hpp"
 #include "foveation/ray_trace.h"
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 
 namespace foveart::foveation {
 
@@ -86,7 +86,7 @@ struct TemporalFrame {
   bool kept = false;   // a history is kept at all (not NoHistory)
   bool reset = true;   // the output is this frame alone
   std::optional<FoveartEyeView> history_view;  // an image history to reproject from this view
-  TaaOptions blend;    // current_weight: this frame's blend weight
+  TemporalOptions blend;    // current_weight: this frame's blend weight
   // RayHistory: the cache forgets every kept ray first, and per screen pixel
   // (row-major) x, the footprint it filters with (1: the pixel filter; wider
   // beyond the pixel grid) and y, the distance beyond which a kept ray landing

@@ -1,7 +1,7 @@
 // Stage 5 of the frame with no history, or an image history (thesis 2.5, 6.1):
-// the reconstruction blended into the last output (taa.hpp), which either
+// the reconstruction blended into the last output (temporal_blend.hpp), which either
 // restarts whenever the view moves or follows the head, reprojected by
-// rotation and by the engine's depth (taa_reprojection.hpp).
+// rotation and by the engine's depth (history_reprojection.hpp).
 #pragma once
 
 #include <cstdint>
@@ -10,28 +10,28 @@
 
 #include "foveation/frame_stages.hpp"
 #include "foveation/neighbor_table.hpp"
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 
 namespace foveart::foveation {
 
 // Every frame alone ("temporal": "off").
 class NoHistory final : public TemporalHistory {
  public:
-  explicit NoHistory(const TaaOptions& blend) : blend_(blend) { blend_.current_weight = 1.0f; }
+  explicit NoHistory(const TemporalOptions& blend) : blend_(blend) { blend_.current_weight = 1.0f; }
   void forget() override {}
   TemporalFrame decide(const FrameContext&, const TracedPoints&, Executor&) override;
   const ImageRgb& accumulate(const FrameContext& frame, const TracedPoints& traced, const ImageRgb& reconstructed,
                              Executor& executor, TemporalFrame* decision) override;
 
  private:
-  TaaOptions blend_;
+  TemporalOptions blend_;
 };
 
 class ImageHistory final : public TemporalHistory {
  public:
   // `neighbors` (a pixel's depth is its nearest traced point's) must outlive
   // this. reproject false: any new pose or frustum restarts the history.
-  ImageHistory(const NeighborTable& neighbors, const TaaOptions& blend, bool reproject);
+  ImageHistory(const NeighborTable& neighbors, const TemporalOptions& blend, bool reproject);
 
   void forget() override;
   TemporalFrame decide(const FrameContext& frame, const TracedPoints& traced, Executor& executor) override;
@@ -45,7 +45,7 @@ class ImageHistory final : public TemporalHistory {
 
   const NeighborTable& neighbors_;
   bool reproject_;
-  TemporalAccumulator taa_;
+  TemporalAccumulator accumulator_;
   std::optional<FoveartEyeView> last_view_;  // the history's view
   std::vector<float> depth_px_m_, history_depth_px_m_;  // per screen pixel, this and the last frame (empty: none)
   ImageRgb warped_;                                     // the history reprojected into this frame's view

@@ -10,8 +10,8 @@
 //
 // Unlike a history image warped every frame, nothing is resampled: a kept ray
 // lands where its surface now is, so the history neither blurs nor drifts,
-// and its rays are not lost when the gaze jumps (docs/pricelist.md, "A render
-// cache of the same rays, at equal rays").
+// and its rays are not lost when the gaze jumps (docs/foveation.md, "A history of rays:
+// the render cache").
 //
 // filter_at filters the same rays at any centre with the pixel filter
 // widened to a footprint: beyond the pixel grid, where rays are sparser than
@@ -181,6 +181,10 @@ class RayCache {
   }
   // A ray at q: its pixel row + the filter's reach, or -1 beyond the filter's reach of the image.
   int row_within_reach(glm::vec2 q) const;
+  // The steps of resolve: the rays sorted by row, the filter over them, the rays kept for the next frame.
+  void sort_by_row(Executor& executor);
+  void filter_rows(Executor& executor, ImageRgb* out_linear, std::vector<float>* out_weight) const;
+  void keep_young_rays();
 
   RayCacheOptions options_;
   std::vector<Anchor> anchors_;  // the kept rays, then (during a frame) this frame's new ones

@@ -13,7 +13,7 @@
 
 #include "foveation/frame_stages.hpp"
 #include "foveation/ray_cache.hpp"
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 #include "foveation/view_tables.hpp"
 
 namespace foveart::foveation {
@@ -26,8 +26,8 @@ struct RayHistoryOptions {
 
 class RayHistory final : public TemporalHistory {
  public:
-  // `tables` must outlive this; `blend` gives the restart rule (taa.hpp).
-  RayHistory(const ViewTables& tables, const TaaOptions& blend, const RayHistoryOptions& options);
+  // `tables` must outlive this; `blend` gives the restart rule (temporal_blend.hpp).
+  RayHistory(const ViewTables& tables, const TemporalOptions& blend, const RayHistoryOptions& options);
 
   bool keeps_rays() const override { return true; }
   void forget() override;

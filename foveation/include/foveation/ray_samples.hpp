@@ -35,8 +35,8 @@ struct RaySamples {
 //  * bspline2: the quadratic B-spline, box * box * box (Unser 1999): support
 //    3 px, sigma 0.5 px (pbrt-v4's default Gaussian has the same sigma), each
 //    offset the sum of three uniforms. Softer, and smooth enough that a
-//    reprojected TAA history follows the image under sub-pixel motion
-//    (docs/pricelist.md, "The pixel filter").
+//    reprojected temporal history follows the image under sub-pixel motion
+//    (docs/foveation.md, "The pixel filter").
 enum class PixelFilter : std::uint8_t { box = 0, bspline2 = 1 };
 // "box" / "bspline2".
 const char* pixel_filter_name(PixelFilter filter);

@@ -75,7 +75,7 @@ typedef struct FoveartRayBatch {
   float* out_rgb;            /* rgb per ray, written by the engine */
   /* Optional, when size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH: distance in metres
    * along each ray to what it hit (+INFINITY for a miss). FoveaRT fills it with
-   * NaN before the call; an engine that leaves it so gets rotation-only TAA
+   * NaN before the call; an engine that leaves it so gets a rotation-only history
    * reprojection, one that fills it gets parallax-correct reprojection. */
   float* out_depth_m;
 } FoveartRayBatch;

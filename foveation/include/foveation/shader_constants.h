@@ -10,7 +10,7 @@
 #define FOVEART_DEPTH_UNKNOWN -1.0
 #define FOVEART_DEPTH_FAR 1.0e30
 
-// TAA reprojection: a history depth within this fraction of the expected one is the
+// History reprojection: a history depth within this fraction of the expected one is the
 // same surface (else disoccluded).
 #define FOVEART_DISOCCLUSION_TOLERANCE 0.1
 

@@ -64,10 +64,14 @@ class Srgb8Encoder {
   std::array<std::uint8_t, kBuckets> bucket_start_{};
 };
 
-// Linear -> sRGB byte, equal to encode_srgb8_reference for every float.
-inline std::uint8_t encode_srgb8(float linear) {
+// The one table of encode_srgb8, built on first use: a loop over pixels takes
+// it once rather than passing the static's guard per channel.
+inline const Srgb8Encoder& srgb8_encoder() {
   static const Srgb8Encoder encoder;
-  return encoder(linear);
+  return encoder;
 }
+
+// Linear -> sRGB byte, equal to encode_srgb8_reference for every float.
+inline std::uint8_t encode_srgb8(float linear) { return srgb8_encoder()(linear); }
 
 }  // namespace foveart::foveation

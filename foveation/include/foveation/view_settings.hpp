@@ -1,6 +1,6 @@
 // What one view's foveated frames are asked to do: the settings chosen once
-// (temporal_mode.hpp maps the product's one temporal choice onto them) and the
-// request of each frame.
+// (temporal_view_settings() fills them for each temporal mode) and the request
+// of each frame.
 #pragma once
 
 #include <cstdint>
@@ -10,35 +10,23 @@
 #include "foveation/ray_samples.hpp"
 #include "foveation/ray_trace.h"
 #include "foveation/gather.hpp"
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
+#include "foveation/temporal_mode.hpp"
 
 namespace foveart::foveation {
-
-// What the temporal history keeps when the view moves (thesis 6.1 had a static view).
-enum class TaaHistory : std::uint8_t {
-  restart_on_view_change,  // an image; any new pose or frustum restarts it
-  reproject,               // an image that follows the head: rotation, and parallax from the engine's depth
-  // every traced ray, kept in a render cache (ray_cache.hpp) and filtered
-  // with this frame's into the pixels around where it now lies
-  // (ray_history.hpp; on the GPU, shaders/cache_*.comp)
-  ray_cache,
-};
 
 struct ViewSettings {
   int rays_per_point = 1;            // jittered rays in each point's disc, averaged (thesis 4.2)
   std::uint64_t sample_seed = 1;     // where in its disc each ray goes
   PixelFilter pixel_filter = PixelFilter::box;  // how a pixel-grid point's rays spread (ray_samples.hpp)
   bool new_jitter_each_frame = false;  // sample_seed + frame_index: the history then converges over frames
-  bool taa = false;                  // temporal accumulation (thesis 2.5, 6.1)
-  TaaOptions taa_options;            // for 1 ray per point; more rays blend with taa_options_for_rays
-  TaaHistory taa_history = TaaHistory::reproject;
-  // TaaHistory::ray_cache: a kept ray is forgotten this many frames after it
-  // was traced (bounds the rays kept on a still view; 0: never) ...
+  // What a frame keeps from earlier frames (thesis 2.5, 6.1; temporal_mode.hpp).
+  TemporalMode temporal = TemporalMode::off;
+  TemporalOptions temporal_options;  // for 1 ray per point; more rays blend with temporal_options_for_rays
+  // TemporalMode::rays: a kept ray is forgotten this many frames after it was
+  // traced (bounds the rays kept on a still view; 0: never), and all of them at
+  // the history's restarts (a saccade's or a blink's onset, a gaze jump).
   std::uint32_t ray_cache_max_age_frames = 32;
-  // ... and all of them at the image history's restarts (a saccade's or a
-  // blink's onset, a gaze jump) unless this is set (an evaluation variant:
-  // its rays are anchored in the world, so a gaze jump leaves no ghost).
-  bool ray_cache_keeps_through_saccades = false;
   RbfClamp rbf_clamp = RbfClamp::block;
   // The foveation centre stays put while the gaze stays within this many
   // degrees of it (fixation: microsaccades, drift, tracker noise), and jumps
@@ -53,9 +41,13 @@ struct ViewSettings {
   std::uint64_t frame_sample_seed(std::uint64_t frame_index) const {
     return sample_seed + (new_jitter_each_frame ? frame_index : 0);
   }
-  // The history's blend for frames of rays_per_point rays (taa_options_for_rays).
-  TaaOptions blend_options() const { return taa_options_for_rays(taa_options, rays_per_point); }
+  // The history's blend for frames of rays_per_point rays (temporal_options_for_rays).
+  TemporalOptions blend_options() const { return temporal_options_for_rays(temporal_options, rays_per_point); }
 };
+
+// The view settings of a temporal mode at rays_per_point jittered rays per
+// point: the history, the per-frame jitter and the pixel filter it fixes.
+ViewSettings temporal_view_settings(TemporalMode mode, int rays_per_point, std::uint64_t sample_seed);
 
 struct FrameRequest {
   FoveartEyeView view{};       // pose, frustum and size; the size must be the tables' display

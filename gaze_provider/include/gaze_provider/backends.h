@@ -1,6 +1,6 @@
 // Backend configurations and factories. Each backend exports only its factory; a
 // factory opens the device (or file, or library) and returns nullptr plus a message
-// in *out_error on failure. The returned provider is stopped: call start().
+// in *error on failure. The returned provider is stopped: call start().
 #pragma once
 
 #include <cstddef>
@@ -12,6 +12,7 @@
 
 #include "gaze_provider/filters.h"
 #include "gaze_provider/gaze_provider.h"
+#include "gaze_provider/host_clock.h"
 #include "gaze_provider/simulator.h"
 
 namespace foveart::gaze {
@@ -49,8 +50,8 @@ struct HidReportLayout {
   std::size_t gaze_offset = 12;
   bool gaze_is_i16 = false;
 
-  // Parses a spec string; nullopt and *out_error on a bad spec.
-  static std::optional<HidReportLayout> parse(std::string_view spec, std::string* out_error);
+  // Parses a spec string; nullopt and *error on a bad spec.
+  static std::optional<HidReportLayout> parse(std::string_view spec, std::string* error);
   std::string to_string() const;
 };
 
@@ -70,17 +71,19 @@ struct ProviderOptions {
   FoveConfig fove{};
   HidConfig hid{};
   std::size_t raw_ring_capacity = 4096;  // raw samples queued for read_raw()
+  // Host time and the sim and replay backends' pacing; null: steady_host_clock().
+  std::shared_ptr<HostClock> clock;
 };
 
 std::unique_ptr<GazeProvider> create_sim_provider(const SimConfig& sim, const ProviderOptions& options,
-                                                  std::string* out_error);
+                                                  std::string* error);
 std::unique_ptr<GazeProvider> create_replay_provider(const ReplayConfig& replay,
                                                      const ProviderOptions& options,
-                                                     std::string* out_error);
+                                                     std::string* error);
 std::unique_ptr<GazeProvider> create_fove_provider(const FoveConfig& fove, const ProviderOptions& options,
-                                                   std::string* out_error);
+                                                   std::string* error);
 std::unique_ptr<GazeProvider> create_hid_provider(const HidConfig& hid, const ProviderOptions& options,
-                                                  std::string* out_error);
+                                                  std::string* error);
 
 // Decodes one report with `layout`; false when the report is too short or has
 // another report id. Fills device time (unwrapped by the caller), frame, validity,

@@ -18,7 +18,7 @@
 // The replay backend in as-fast-as-possible mode is the exception: it waits for room
 // so that a consumer sees every sample (documented in backends.h).
 //
-// Units: time in int64 ns; host time is std::chrono::steady_clock.
+// Units: time in int64 ns; host time is std::chrono::steady_clock (or ProviderOptions::clock).
 // Errors: no exceptions cross this interface; failures are reported through return
 // values and ProviderStatus::reason.
 #pragma once
@@ -67,7 +67,7 @@ class GazeProvider {
   GazeProvider& operator=(const GazeProvider&) = delete;
 
   // Starts the sampling thread. Returns false (and a message) if it cannot start.
-  virtual bool start(std::string* out_error) = 0;
+  [[nodiscard]] virtual bool start(std::string* error) = 0;
   // Stops and joins the sampling thread; idempotent. Bounded: returns within ~0.2 s.
   virtual void stop() = 0;
 

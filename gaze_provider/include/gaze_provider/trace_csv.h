@@ -55,8 +55,8 @@ struct TraceError {
   std::string to_string() const;
 };
 
-std::optional<Trace> read_trace(std::istream& in, TraceError* out_error);
-std::optional<Trace> read_trace_file(const std::string& path, TraceError* out_error);
+std::optional<Trace> read_trace(std::istream& in, TraceError* error);
+std::optional<Trace> read_trace_file(const std::string& path, TraceError* error);
 
 // Writes header + rows. Floats use enough digits to read back bit-identical.
 class TraceWriter {

@@ -45,6 +45,12 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
+ * Versions: 5 renames five stats fields for the one temporal name, at the same
+ *           offsets and types (interpolateMs -> reconstructMs, taaMs ->
+ *           temporalMs, gpuTaaMs -> gpuTemporalMs, taaResetLastFrame ->
+ *           temporalResetLastFrame, taaResets -> temporalResets): binaries built
+ *           against 4 read the same values. 4 added the device trace. The
+ *           manifests advertise the version defined here.
  */
 #ifndef XR_FOVEART_FOVEATED_RAY_TRACING_H
 #define XR_FOVEART_FOVEATED_RAY_TRACING_H
@@ -58,7 +64,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 1
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 5
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -97,8 +103,8 @@ typedef enum XrFoveatedGazeSourceFOVEART {
 /* What a frame keeps from earlier frames (the config's "temporal"; docs/layer.md). */
 typedef enum XrFoveatedTemporalFOVEART {
   XR_FOVEATED_TEMPORAL_OFF_FOVEART = 0,   /* each frame from its own rays */
-  XR_FOVEATED_TEMPORAL_IMAGE_FOVEART = 1, /* TAA on an image history, reprojected with the head */
-  XR_FOVEATED_TEMPORAL_RAYS_FOVEART = 2,  /* TAA on a render cache of the traced rays */
+  XR_FOVEATED_TEMPORAL_IMAGE_FOVEART = 1, /* an image history, reprojected with the head and blended */
+  XR_FOVEATED_TEMPORAL_RAYS_FOVEART = 2,  /* a render cache of the traced rays, blended alike */
   /* the config's "temporal"; create info only, never in the stats */
   XR_FOVEATED_TEMPORAL_USE_CONFIG_FOVEART = 0x7FFFFFFE,
   XR_FOVEATED_TEMPORAL_MAX_ENUM_FOVEART = 0x7FFFFFFF
@@ -175,8 +181,8 @@ typedef struct XrFoveatedRendererStatsFOVEART {
   uint32_t raysPerEye[2];
   float selectMs[2];
   float traceMs[2];
-  float interpolateMs[2];
-  float taaMs[2];
+  float reconstructMs[2];
+  float temporalMs[2];
   float uploadMs[2];
   float gazeAgeMs;           /* age of the newest gaze sample at composition (xrEndFrame), before prediction */
   XrFoveatedGazeSourceFOVEART gazeSource; /* source actually used last frame */
@@ -206,7 +212,7 @@ typedef struct XrFoveatedRendererInputStatsFOVEART {
 /* Where a renderer reconstructed its last frame (the config's "reconstruction"). */
 typedef enum XrFoveatedReconstructionPathFOVEART {
   XR_FOVEATED_RECONSTRUCTION_PATH_NONE_FOVEART = 0, /* no frame reconstructed yet */
-  XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART = 1,  /* foveation's CPU gather, TAA and encode, then an upload */
+  XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART = 1,  /* foveation's CPU gather, temporal history and encode, then an upload */
   XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART = 2,  /* Vulkan compute on the app's device (shaders/) */
   XR_FOVEATED_RECONSTRUCTION_PATH_MAX_ENUM_FOVEART = 0x7FFFFFFF
 } XrFoveatedReconstructionPathFOVEART;
@@ -214,7 +220,7 @@ typedef enum XrFoveatedReconstructionPathFOVEART {
 /* Chain into XrFoveatedRendererStatsFOVEART::next to also get the reconstruction path
  * of the last frame and, on the GPU path, each stage's GPU time per eye from timestamps (0 on the CPU
  * path): scatter of the traced colours (with a device trace: the device's rays, the engine's trace and
- * the resolve), gather, TAA, and sRGB encode with the copy into the image. */
+ * the resolve), gather, temporal history, and sRGB encode with the copy into the image. */
 typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART */
   void* XR_MAY_ALIAS next;
@@ -223,10 +229,10 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   uint32_t gpuFallbacks; /* views the GPU path could not do (logged once): reconstructed on the CPU instead */
   float gpuScatterMs[2];
   float gpuGatherMs[2];
-  float gpuTaaMs[2];
+  float gpuTemporalMs[2];
   float gpuEncodeMs[2];
-  XrBool32 taaResetLastFrame[2]; /* the TAA history restarted in the last frame (a saccade's or blink's onset, a gaze jump, new size) */
-  uint64_t taaResets;            /* history restarts since the renderer was created, both eyes */
+  XrBool32 temporalResetLastFrame[2]; /* the temporal history restarted in the last frame (a saccade's or blink's onset, a gaze jump, new size) */
+  uint64_t temporalResets;            /* history restarts since the renderer was created, both eyes */
   XrBool32 gazeSaccadeLastFrame; /* the gaze provider flagged a saccade for the last frame */
   XrBool32 gazeBlinkLastFrame;   /* ... or a blink (held gaze) */
 } XrFoveatedRendererReconstructionStatsFOVEART;

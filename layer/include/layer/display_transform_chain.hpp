@@ -16,15 +16,15 @@ namespace foveart::layer {
 
 // `chained` null: the configured transform. A field that says "use the config"
 // (exposure 0, ..._USE_CONFIG_FOVEART) takes the configured value; so does an
-// invalid one, and *out_error (else left alone) says what was wrong.
+// invalid one, and *error (else left alone) says what was wrong.
 inline foveation::DisplayTransform resolve_display(const XrFoveatedDisplayTransformFOVEART* chained,
                                                    const foveation::DisplayTransform& configured,
-                                                   std::string* out_error) {
+                                                   std::string* error) {
   foveation::DisplayTransform d = configured;
   if (chained == nullptr) return d;
   if (chained->exposure != 0.0f) {
     if (std::isfinite(chained->exposure) && chained->exposure > 0.0f) d.exposure = chained->exposure;
-    else *out_error = "XrFoveatedDisplayTransformFOVEART::exposure must be finite and > 0 (0 = config)";
+    else *error = "XrFoveatedDisplayTransformFOVEART::exposure must be finite and > 0 (0 = config)";
   }
   switch (chained->toneMap) {
     case XR_FOVEATED_TONE_MAP_NONE_FOVEART: d.tone_map = foveation::ToneMap::none; break;
@@ -32,7 +32,7 @@ inline foveation::DisplayTransform resolve_display(const XrFoveatedDisplayTransf
     case XR_FOVEATED_TONE_MAP_ACES_FOVEART: d.tone_map = foveation::ToneMap::aces; break;
     case XR_FOVEATED_TONE_MAP_USE_CONFIG_FOVEART: break;
     default:
-      *out_error = "XrFoveatedDisplayTransformFOVEART::toneMap " + std::to_string(int64_t{chained->toneMap}) +
+      *error = "XrFoveatedDisplayTransformFOVEART::toneMap " + std::to_string(int64_t{chained->toneMap}) +
                    " is not an XrFoveatedToneMapFOVEART";
   }
   return d;

@@ -46,24 +46,14 @@ Texture brick_texture() {
 constexpr float kColonnadeZ = -6.0f;
 constexpr float kGlassRadius = 0.7f;
 
-}  // namespace
+constexpr float kHallHeight = 4.0f;
 
-DefaultSceneLandmarks default_scene_landmarks() {
-  DefaultSceneLandmarks m;
-  m.pillar_edge = glm::vec3(-0.2f, 1.6f, kColonnadeZ + 0.2f);
-  m.glass_centre = glm::vec3(-3.0f, kGlassRadius, -1.0f);
-  m.floor_point = glm::vec3(0.0f, 0.0f, 1.4f);
-  return m;
-}
+// The scene's materials, by their index in the scene.
+struct SceneMaterials {
+  uint32_t floor, wall, ceiling, glow, panel, pillar, glass, crate;
+};
 
-Scene make_default_scene() {
-  Scene s;
-  s.source = "default";
-  s.sky_zenith = glm::vec3(2.0f, 2.0f, 2.1f);  // bright openings behind the far wall edges
-  s.sky_horizon = glm::vec3(1.6f, 1.6f, 1.7f);
-  s.ambient = glm::vec3(0.06f);
-  Builder b(s);
-
+SceneMaterials add_materials(Builder& b) {
   const uint32_t checker = b.texture(checker_texture());
   const uint32_t brick = b.texture(brick_texture());
 
@@ -111,37 +101,41 @@ Scene make_default_scene() {
   crate.metallic = 0.0f;
   crate.roughness = 0.7f;
 
-  const uint32_t m_floor = b.material(floor);
-  const uint32_t m_wall = b.material(wall);
-  const uint32_t m_ceiling = b.material(ceiling);
-  const uint32_t m_glow = b.material(glow);
-  const uint32_t m_panel = b.material(panel);
-  const uint32_t m_pillar = b.material(pillar);
-  const uint32_t m_glass = b.material(glass);
-  const uint32_t m_crate = b.material(crate);
+  return {b.material(floor), b.material(wall),   b.material(ceiling), b.material(glow),
+          b.material(panel), b.material(pillar), b.material(glass),   b.material(crate)};
+}
 
-  const float x0 = -5.0f, x1 = 5.0f, z0 = -18.0f, z1 = 5.0f, h = 4.0f;
-  b.quad({x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0}, {x0, 0, z0}, m_floor, 10.0f, 23.0f);       // floor, 1 m checks
-  b.quad({x0, h, z0}, {x1, h, z0}, {x1, h, z1}, {x0, h, z1}, m_ceiling);                    // ceiling
-  b.quad({x0, 0, z1}, {x0, 0, z0}, {x0, h, z0}, {x0, h, z1}, m_wall, 23.0f, 4.0f);          // left wall
-  b.quad({x1, 0, z0}, {x1, 0, z1}, {x1, h, z1}, {x1, h, z0}, m_wall, 23.0f, 4.0f);          // right wall
+// Floor, ceiling and walls; the far wall glows, with a gap around it that shows the bright sky.
+void add_hall(Builder& b, const SceneMaterials& m) {
+  const float x0 = -5.0f, x1 = 5.0f, z0 = -18.0f, z1 = 5.0f, h = kHallHeight;
+  b.quad({x0, 0, z1}, {x1, 0, z1}, {x1, 0, z0}, {x0, 0, z0}, m.floor, 10.0f, 23.0f);  // floor, 1 m checks
+  b.quad({x0, h, z0}, {x1, h, z0}, {x1, h, z1}, {x0, h, z1}, m.ceiling);              // ceiling
+  b.quad({x0, 0, z1}, {x0, 0, z0}, {x0, h, z0}, {x0, h, z1}, m.wall, 23.0f, 4.0f);    // left wall
+  b.quad({x1, 0, z0}, {x1, 0, z1}, {x1, h, z1}, {x1, h, z0}, m.wall, 23.0f, 4.0f);    // right wall
   b.quad({x0 + 0.5f, 0.0f, z0}, {x1 - 0.5f, 0.0f, z0}, {x1 - 0.5f, h - 0.5f, z0}, {x0 + 0.5f, h - 0.5f, z0},
-         m_glow);  // bright far wall; the gap around it shows the bright sky
-  b.quad({x1, 0, z1}, {x0, 0, z1}, {x0, h, z1}, {x1, h, z1}, m_wall, 10.0f, 4.0f);          // wall behind the viewer
+         m.glow);  // bright far wall; the gap around it shows the bright sky
+  b.quad({x1, 0, z1}, {x0, 0, z1}, {x0, h, z1}, {x1, h, z1}, m.wall, 10.0f, 4.0f);  // wall behind the viewer
+}
 
+void add_pillars(Builder& b, const SceneMaterials& m) {
+  const float h = kHallHeight;
   for (int i = 0; i < 6; ++i) {  // two rows of dark pillars against the bright wall
     const float z = -2.0f - 2.6f * static_cast<float>(i);
-    b.box({-2.6f, 0.0f, z - 0.2f}, {-2.2f, h, z + 0.2f}, m_pillar);
-    b.box({2.2f, 0.0f, z - 0.2f}, {2.6f, h, z + 0.2f}, m_pillar);
+    b.box({-2.6f, 0.0f, z - 0.2f}, {-2.2f, h, z + 0.2f}, m.pillar);
+    b.box({2.2f, 0.0f, z - 0.2f}, {2.6f, h, z + 0.2f}, m.pillar);
   }
   // The cross colonnade the view centre looks through: two dark pillars either
   // side of the centre line, 0.4 m apart, seen against the glowing far wall.
-  b.box({-0.6f, 0.0f, kColonnadeZ - 0.2f}, {-0.2f, h, kColonnadeZ + 0.2f}, m_pillar);
-  b.box({0.2f, 0.0f, kColonnadeZ - 0.2f}, {0.6f, h, kColonnadeZ + 0.2f}, m_pillar);
+  b.box({-0.6f, 0.0f, kColonnadeZ - 0.2f}, {-0.2f, h, kColonnadeZ + 0.2f}, m.pillar);
+  b.box({0.2f, 0.0f, kColonnadeZ - 0.2f}, {0.6f, h, kColonnadeZ + 0.2f}, m.pillar);
+}
+
+void add_ceiling_lights(Builder& b, const SceneMaterials& m, Scene& s) {
+  const float h = kHallHeight;
   for (int i = 0; i < 4; ++i) {  // bright ceiling light panels, each with a point light below
     const float z = -1.0f - 4.0f * static_cast<float>(i);
     b.quad({-0.8f, h - 0.01f, z - 0.4f}, {0.8f, h - 0.01f, z - 0.4f}, {0.8f, h - 0.01f, z + 0.4f},
-           {-0.8f, h - 0.01f, z + 0.4f}, m_panel);
+           {-0.8f, h - 0.01f, z + 0.4f}, m.panel);
     Light l;
     l.type = LightType::kPoint;
     l.position = glm::vec3(0.0f, h - 0.3f, z);
@@ -149,9 +143,32 @@ Scene make_default_scene() {
     l.intensity = 14.0f;
     s.lights.push_back(l);
   }
+}
+
+}  // namespace
+
+DefaultSceneLandmarks default_scene_landmarks() {
+  DefaultSceneLandmarks m;
+  m.pillar_edge = glm::vec3(-0.2f, 1.6f, kColonnadeZ + 0.2f);
+  m.glass_centre = glm::vec3(-3.0f, kGlassRadius, -1.0f);
+  m.floor_point = glm::vec3(0.0f, 0.0f, 1.4f);
+  return m;
+}
+
+Scene make_default_scene() {
+  Scene s;
+  s.source = "default";
+  s.sky_zenith = glm::vec3(2.0f, 2.0f, 2.1f);  // bright openings behind the far wall edges
+  s.sky_horizon = glm::vec3(1.6f, 1.6f, 1.7f);
+  s.ambient = glm::vec3(0.06f);
+  Builder b(s);
+  const SceneMaterials m = add_materials(b);
+  add_hall(b, m);
+  add_pillars(b, m);
+  add_ceiling_lights(b, m, s);
   const DefaultSceneLandmarks marks = default_scene_landmarks();
-  b.sphere(marks.glass_centre, kGlassRadius, m_glass);  // far left of the view, between the left pillars and the wall
-  b.box({0.9f, 0.0f, -2.2f}, {1.7f, 0.8f, -1.4f}, m_crate, 2.0f);
+  b.sphere(marks.glass_centre, kGlassRadius, m.glass);  // far left of the view, between the left pillars and the wall
+  b.box({0.9f, 0.0f, -2.2f}, {1.7f, 0.8f, -1.4f}, m.crate, 2.0f);
 
   Camera cam;
   cam.position_m = glm::vec3(0.0f, 1.6f, 3.0f);

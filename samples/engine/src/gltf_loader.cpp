@@ -52,6 +52,21 @@ const tinygltf::Value* find_extension(const tinygltf::ExtensionMap& ext, const c
   return it == ext.end() ? nullptr : &it->second;
 }
 
+// The triangles of a primitive's indices in its mode (triangles, strip or fan).
+std::vector<glm::uvec3> triangles_of(int mode, const std::vector<uint32_t>& idx) {
+  std::vector<glm::uvec3> tris;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    for (size_t i = 0; i + 2 < idx.size(); i += 3) tris.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 0; i + 2 < idx.size(); ++i)
+      tris.push_back(i % 2 == 0 ? glm::uvec3(idx[i], idx[i + 1], idx[i + 2])
+                                : glm::uvec3(idx[i + 1], idx[i], idx[i + 2]));
+  } else {
+    for (size_t i = 1; i + 1 < idx.size(); ++i) tris.emplace_back(idx[0], idx[i], idx[i + 1]);
+  }
+  return tris;
+}
+
 class Loader {
  public:
   Loader(const tinygltf::Model& model, Scene& scene) : model_(model), scene_(scene), accessors_(model) {}
@@ -324,28 +339,49 @@ class Loader {
       scene_.warnings.push_back(what + ": points/lines are not ray traced; skipped");
       return;
     }
-    auto pos_it = prim.attributes.find("POSITION");
-    if (pos_it == prim.attributes.end()) {
+    if (prim.attributes.find("POSITION") == prim.attributes.end()) {
       scene_.warnings.push_back(what + ": no POSITION; skipped");
       return;
     }
+    const VertexData vertices = read_vertices(prim, what);
+    const std::vector<glm::uvec3> tris = triangles_of(mode, read_indices(prim, what, vertices.count));
+    // prim.material was checked against the materials by check_mesh_references().
+    const uint32_t material = prim.material >= 0 ? static_cast<uint32_t>(prim.material) : default_material();
+    const size_t first = scene_.mesh.positions.size();
+    if (first + vertices.count > 0xFFFFFFFFu) throw BadInput(what + ": too many vertices");
+    append_vertices(vertices, world);
+    append_triangles(tris, first, glm::determinant(glm::mat3(world)) < 0.0f, material);
+  }
+
+  // A primitive's vertex attributes, checked: POSITION (there), NORMAL and TEXCOORD_0/1 if present.
+  struct VertexData {
+    std::vector<float> pos, nrm, uv[2];
+    size_t count = 0;
+  };
+
+  VertexData read_vertices(const tinygltf::Primitive& prim, const std::string& what) {
+    VertexData d;
     int ncomp = 0;
-    const std::vector<float> pos = accessors_.floats(pos_it->second, what + " POSITION", &ncomp);
+    d.pos = accessors_.floats(prim.attributes.at("POSITION"), what + " POSITION", &ncomp);
     if (ncomp != 3) throw BadInput(what + ": POSITION must be VEC3");
-    const size_t nvert = pos.size() / 3;
-    std::vector<float> nrm, uv[2];
+    d.count = d.pos.size() / 3;
     if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
-      nrm = accessors_.floats(it->second, what + " NORMAL", &ncomp);
-      if (ncomp != 3 || nrm.size() != pos.size())
+      d.nrm = accessors_.floats(it->second, what + " NORMAL", &ncomp);
+      if (ncomp != 3 || d.nrm.size() != d.pos.size())
         throw BadInput(what + ": NORMAL must be VEC3 with one entry per vertex");
     }
     for (int set = 0; set < 2; ++set) {
       if (auto it = prim.attributes.find("TEXCOORD_" + std::to_string(set)); it != prim.attributes.end()) {
-        uv[set] = accessors_.floats(it->second, what + " TEXCOORD_" + std::to_string(set), &ncomp);
-        if (ncomp != 2 || uv[set].size() != nvert * 2)
+        d.uv[set] = accessors_.floats(it->second, what + " TEXCOORD_" + std::to_string(set), &ncomp);
+        if (ncomp != 2 || d.uv[set].size() != d.count * 2)
           throw BadInput(what + ": TEXCOORD_" + std::to_string(set) + " must be VEC2 with one entry per vertex");
       }
     }
+    return d;
+  }
+
+  // The primitive's indices, each checked against its nvert vertices; without indices, 0 .. nvert - 1.
+  std::vector<uint32_t> read_indices(const tinygltf::Primitive& prim, const std::string& what, size_t nvert) {
     std::vector<uint32_t> idx;
     if (prim.indices >= 0) {
       idx = accessors_.indices(prim.indices, what + " indices");
@@ -357,30 +393,20 @@ class Loader {
       idx.resize(nvert);
       for (size_t i = 0; i < nvert; ++i) idx[i] = static_cast<uint32_t>(i);
     }
-    std::vector<glm::uvec3> tris;
-    if (mode == TINYGLTF_MODE_TRIANGLES) {
-      for (size_t i = 0; i + 2 < idx.size(); i += 3) tris.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
-    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-      for (size_t i = 0; i + 2 < idx.size(); ++i)
-        tris.push_back(i % 2 == 0 ? glm::uvec3(idx[i], idx[i + 1], idx[i + 2])
-                                  : glm::uvec3(idx[i + 1], idx[i], idx[i + 2]));
-    } else {
-      for (size_t i = 1; i + 1 < idx.size(); ++i) tris.emplace_back(idx[0], idx[i], idx[i + 1]);
-    }
+    return idx;
+  }
 
-    // prim.material was checked against the materials by check_mesh_references().
-    const uint32_t material = prim.material >= 0 ? static_cast<uint32_t>(prim.material) : default_material();
-
+  // The vertices into the mesh, in the scene's space: unit normals (0 if none
+  // or degenerate), and both UV sets kept as long as the positions once either exists.
+  void append_vertices(const VertexData& d, const glm::mat4& world) {
     Mesh& m = scene_.mesh;
     const size_t first = m.positions.size();
-    if (first + nvert > 0xFFFFFFFFu) throw BadInput(what + ": too many vertices");
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
-    const bool flip = glm::determinant(glm::mat3(world)) < 0.0f;
-    for (size_t v = 0; v < nvert; ++v) {
-      m.positions.push_back(glm::vec3(world * glm::vec4(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2], 1.0f)));
+    for (size_t v = 0; v < d.count; ++v) {
+      m.positions.push_back(glm::vec3(world * glm::vec4(d.pos[3 * v], d.pos[3 * v + 1], d.pos[3 * v + 2], 1.0f)));
       glm::vec3 n(0.0f);
-      if (!nrm.empty()) {
-        n = normal_matrix * glm::vec3(nrm[3 * v], nrm[3 * v + 1], nrm[3 * v + 2]);
+      if (!d.nrm.empty()) {
+        n = normal_matrix * glm::vec3(d.nrm[3 * v], d.nrm[3 * v + 1], d.nrm[3 * v + 2]);
         const float len = glm::length(n);
         n = len > 1e-12f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
       }
@@ -388,11 +414,17 @@ class Loader {
     }
     for (int set = 0; set < 2; ++set) {
       std::vector<glm::vec2>& dst = set == 0 ? m.uv0 : m.uv1;
-      if (uv[set].empty() && dst.empty()) continue;
+      if (d.uv[set].empty() && dst.empty()) continue;
       dst.resize(first, glm::vec2(0.0f));  // earlier primitives without this set
-      for (size_t v = 0; v < nvert; ++v)
-        dst.push_back(uv[set].empty() ? glm::vec2(0.0f) : glm::vec2(uv[set][2 * v], uv[set][2 * v + 1]));
+      for (size_t v = 0; v < d.count; ++v)
+        dst.push_back(d.uv[set].empty() ? glm::vec2(0.0f) : glm::vec2(d.uv[set][2 * v], d.uv[set][2 * v + 1]));
     }
+  }
+
+  // The triangles of vertices from `first` on into the mesh (wound back if the
+  // transform mirrors), but for the degenerate ones, which are counted.
+  void append_triangles(const std::vector<glm::uvec3>& tris, size_t first, bool flip, uint32_t material) {
+    Mesh& m = scene_.mesh;
     size_t degenerate = 0;
     for (const glm::uvec3& t : tris) {
       const glm::uvec3 g = glm::uvec3(static_cast<uint32_t>(first)) + (flip ? glm::uvec3(t.x, t.z, t.y) : t);

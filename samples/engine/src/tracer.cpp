@@ -60,9 +60,18 @@ struct PacketIn {
   float* primary_depth_m = nullptr;  // primary packets: per target, the hit distance (+inf: sky)
 };
 
+// Surface data of a packet's lanes that hit.
+struct PacketHits {
+  bool hit[kLanes] = {};
+  glm::vec3 pos[kLanes], nrm[kLanes], base[kLanes];
+  const Material* mat[kLanes] = {};
+  float cos_view[kLanes] = {};
+  bool front[kLanes] = {};
+};
+
 // Lane i of a 16-wide packet: the ray origin + t dir, t in [0, tfar].
 template <typename RayPacket>
-void set_lane(RayPacket& ray, int i, glm::vec3 origin, glm::vec3 dir, float tfar) {
+[[gnu::always_inline]] inline void set_lane(RayPacket& ray, int i, glm::vec3 origin, glm::vec3 dir, float tfar) {
   ray.org_x[i] = origin.x;
   ray.org_y[i] = origin.y;
   ray.org_z[i] = origin.z;
@@ -84,7 +93,7 @@ void set_lane(RayPacket& ray, int i, glm::vec3 origin, glm::vec3 dir, float tfar
 // traced, and a NaN in it trips Embree's ray.valid() assertion. So every
 // inactive lane holds a finite ray that both conventions skip.
 template <typename RayPacket>
-void set_inactive_lane(RayPacket& ray, int i) {
+[[gnu::always_inline]] inline void set_inactive_lane(RayPacket& ray, int i) {
   set_lane(ray, i, glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f), -std::numeric_limits<float>::infinity());
 }
 
@@ -130,6 +139,17 @@ struct Tracer::Impl {
 
   template <uint32_t kFx>
   void trace_packet(PacketIn& in, int depth, glm::vec3* color, LocalCounts& counts) const;
+  // The steps of trace_packet, inlined into each kernel; add_direct_light is
+  // one call per packet (inlined, it cost the kernel ~7 % more instructions).
+  [[gnu::always_inline]] inline void intersect(const PacketIn& in, RTCIntersectContext& ctx, RTCRayHit16& rh) const;
+  template <bool kTextures>
+  [[gnu::always_inline]] inline void shade_hits(PacketIn& in, const RTCRayHit16& rh, PacketHits& hits,
+                                                glm::vec3* color) const;
+  void add_direct_light(const PacketIn& in, const PacketHits& hits, RTCIntersectContext& ctx, glm::vec3* color,
+                        LocalCounts& counts) const;
+  [[gnu::always_inline]] inline int reflection_packet(const PacketIn& in, const PacketHits& hits, PacketIn& next) const;
+  template <bool kReflection>
+  [[gnu::always_inline]] inline int refraction_packet(const PacketIn& in, const PacketHits& hits, PacketIn& next) const;
 
   int32_t trace(const FoveartRayBatch* batch) noexcept;
 };
@@ -276,6 +296,31 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
   // for incoherent rays (engine_bench BM_Full/BM_Foveated, docs/results/engine_traversal.md).
   ctx.flags = options.incoherent_traversal ? RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT : RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   alignas(64) RTCRayHit16 rh;
+  intersect(in, ctx, rh);
+  ++counts.packets;
+  PacketHits hits;
+  shade_hits<kTextures>(in, rh, hits, color);
+  if constexpr (kShadows) add_direct_light(in, hits, ctx, color, counts);
+  if (depth >= options.max_depth) return;
+
+  if constexpr (kReflection) {
+    PacketIn next;
+    if (const int n_valid = reflection_packet(in, hits, next); n_valid > 0) {
+      counts.reflection += static_cast<uint64_t>(n_valid);
+      trace_packet<kFx>(next, depth + 1, color, counts);
+    }
+  }
+  if constexpr (kRefraction) {
+    PacketIn next;
+    if (const int n_valid = refraction_packet<kReflection>(in, hits, next); n_valid > 0) {
+      counts.refraction += static_cast<uint64_t>(n_valid);
+      trace_packet<kFx>(next, depth + 1, color, counts);
+    }
+  }
+}
+
+// The packet's active lanes traced; every other lane a finite ray Embree skips.
+void Tracer::Impl::intersect(const PacketIn& in, RTCIntersectContext& ctx, RTCRayHit16& rh) const {
   for (int i = 0; i < kLanes; ++i) {
     rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
@@ -286,14 +331,12 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
     }
   }
   rtcIntersect16(in.valid, rtc_scene, &ctx, &rh);
-  ++counts.packets;
+}
 
-  // Surface data of the lanes that hit.
-  bool hit[kLanes] = {};
-  glm::vec3 pos[kLanes], nrm[kLanes], base[kLanes];
-  const Material* mat[kLanes] = {};
-  float cos_view[kLanes] = {};
-  bool front[kLanes] = {};
+// Sky for the lanes that missed, emission and ambient for those that hit, and
+// their surface data into `hits`; primary packets also record each hit's distance.
+template <bool kTextures>
+void Tracer::Impl::shade_hits(PacketIn& in, const RTCRayHit16& rh, PacketHits& hits, glm::vec3* color) const {
   for (int i = 0; i < kLanes; ++i) {
     if (in.valid[i] != -1) continue;
     if (in.primary_depth_m != nullptr) {
@@ -304,124 +347,122 @@ void Tracer::Impl::trace_packet(PacketIn& in, int depth, glm::vec3* color, Local
       color[in.target[i]] += in.weight[i] * sky_radiance(scene, in.dir[i]);
       continue;
     }
-    hit[i] = true;
+    hits.hit[i] = true;
     const uint32_t tri = prim_to_triangle[rh.hit.geomID[i] & 1u][rh.hit.primID[i]];
     const float u = rh.hit.u[i];
     const float v = rh.hit.v[i];
     const glm::uvec3 t = scene.mesh.triangles[tri];
     const Material& m = scene.materials[scene.mesh.triangle_material[tri]];
-    mat[i] = &m;
-    pos[i] = in.origin[i] + rh.ray.tfar[i] * in.dir[i];
+    hits.mat[i] = &m;
+    hits.pos[i] = in.origin[i] + rh.ray.tfar[i] * in.dir[i];
     glm::vec3 n = (1.0f - u - v) * scene.mesh.normals[t.x] + u * scene.mesh.normals[t.y] + v * scene.mesh.normals[t.z];
     const float len2 = glm::dot(n, n);
     n = len2 > 1e-12f ? n * (1.0f / std::sqrt(len2)) : face_normal[tri];
-    front[i] = glm::dot(in.dir[i], n) < 0.0f;  // entering the surface (for refraction)
-    if (!front[i]) n = -n;                     // shade the side the ray sees
-    nrm[i] = n;
-    cos_view[i] = -glm::dot(in.dir[i], n);
+    hits.front[i] = glm::dot(in.dir[i], n) < 0.0f;  // entering the surface (for refraction)
+    if (!hits.front[i]) n = -n;                     // shade the side the ray sees
+    hits.nrm[i] = n;
+    hits.cos_view[i] = -glm::dot(in.dir[i], n);
     glm::vec3 c(m.base_color);
     if constexpr (kTextures) {
       if (m.base_color_texture >= 0)
         c *= glm::vec3(sample_texture(scene.textures[static_cast<size_t>(m.base_color_texture)],
                                       texcoord(tri, m.base_color_texcoord, u, v)));
     }
-    base[i] = c;
+    hits.base[i] = c;
     // Ambient with a view-facing falloff: shape cues for unlit scenes, no rays needed.
-    const float ambient_shape = 0.4f + 0.6f * cos_view[i];
+    const float ambient_shape = 0.4f + 0.6f * hits.cos_view[i];
     color[in.target[i]] += in.weight[i] * (m.emissive + c * (diffuse_weight(m) * ambient_shape) * scene.ambient);
   }
+}
 
-  if constexpr (kShadows) {
-    for (const Light& light : scene.lights) {
-      alignas(64) int valid[kLanes];
-      alignas(64) RTCRay16 sr;
-      glm::vec3 contrib[kLanes];
-      int n_valid = 0;
-      for (int i = 0; i < kLanes; ++i) {
-        valid[i] = 0;
-        set_inactive_lane(sr, i);  // until the lane proves to need a shadow ray
-        if (!hit[i]) continue;
-        const float kd = diffuse_weight(*mat[i]);
-        if (kd <= 0.0f) continue;
-        glm::vec3 l;
-        float dist = 0.0f;
-        const glm::vec3 radiance = light_incident(light, pos[i], &l, &dist);
-        const float cos_l = glm::dot(nrm[i], l);
-        if (cos_l <= 0.0f || radiance == glm::vec3(0.0f)) continue;
-        contrib[i] = in.weight[i] * base[i] * (kd * kInvPi * cos_l) * radiance;
-        // tfar never below tnear: a light closer than 2 epsilon is unoccluded on every ISA (a stream would skip it).
-        set_lane(sr, i, pos[i] + nrm[i] * epsilon, l, std::isinf(dist) ? dist : std::max(dist - 2.0f * epsilon, 0.0f));
-        valid[i] = -1;
-        ++n_valid;
-      }
-      if (n_valid == 0) continue;
-      counts.shadow += static_cast<uint64_t>(n_valid);
-      rtcOccluded16(valid, rtc_scene, &ctx, &sr);
-      ++counts.packets;
-      for (int i = 0; i < kLanes; ++i)  // Embree sets tfar to -inf for occluded rays
-        if (valid[i] == -1 && sr.tfar[i] >= 0.0f) color[in.target[i]] += contrib[i];
-    }
-  }
-
-  if (depth >= options.max_depth) return;
-
-  if constexpr (kReflection) {
-    PacketIn next;
+// Each light's diffuse contribution to the hits it reaches: a packet of shadow rays per light.
+void Tracer::Impl::add_direct_light(const PacketIn& in, const PacketHits& hits, RTCIntersectContext& ctx,
+                                    glm::vec3* color, LocalCounts& counts) const {
+  for (const Light& light : scene.lights) {
+    alignas(64) int valid[kLanes];
+    alignas(64) RTCRay16 sr;
+    glm::vec3 contrib[kLanes];
     int n_valid = 0;
     for (int i = 0; i < kLanes; ++i) {
-      next.valid[i] = 0;
-      if (!hit[i] || !mat[i]->reflective()) continue;
-      const glm::vec3 w = in.weight[i] * reflection_weight(*mat[i], base[i], cos_view[i]);
-      if (std::max(w.x, std::max(w.y, w.z)) < 1e-3f) continue;
-      next.valid[i] = -1;
-      next.origin[i] = pos[i] + nrm[i] * epsilon;
-      next.dir[i] = glm::reflect(in.dir[i], nrm[i]);
-      next.weight[i] = w;
-      next.target[i] = in.target[i];
+      valid[i] = 0;
+      set_inactive_lane(sr, i);  // until the lane proves to need a shadow ray
+      if (!hits.hit[i]) continue;
+      const float kd = diffuse_weight(*hits.mat[i]);
+      if (kd <= 0.0f) continue;
+      glm::vec3 l;
+      float dist = 0.0f;
+      const glm::vec3 radiance = light_incident(light, hits.pos[i], &l, &dist);
+      const float cos_l = glm::dot(hits.nrm[i], l);
+      if (cos_l <= 0.0f || radiance == glm::vec3(0.0f)) continue;
+      contrib[i] = in.weight[i] * hits.base[i] * (kd * kInvPi * cos_l) * radiance;
+      // tfar never below tnear: a light closer than 2 epsilon is unoccluded on every ISA (a stream would skip it).
+      set_lane(sr, i, hits.pos[i] + hits.nrm[i] * epsilon, l,
+               std::isinf(dist) ? dist : std::max(dist - 2.0f * epsilon, 0.0f));
+      valid[i] = -1;
       ++n_valid;
     }
-    if (n_valid > 0) {
-      counts.reflection += static_cast<uint64_t>(n_valid);
-      trace_packet<kFx>(next, depth + 1, color, counts);
-    }
+    if (n_valid == 0) continue;
+    counts.shadow += static_cast<uint64_t>(n_valid);
+    rtcOccluded16(valid, rtc_scene, &ctx, &sr);
+    ++counts.packets;
+    for (int i = 0; i < kLanes; ++i)  // Embree sets tfar to -inf for occluded rays
+      if (valid[i] == -1 && sr.tfar[i] >= 0.0f) color[in.target[i]] += contrib[i];
   }
+}
 
-  if constexpr (kRefraction) {
-    PacketIn next;
-    int n_valid = 0;
-    for (int i = 0; i < kLanes; ++i) {
-      next.valid[i] = 0;
-      if (!hit[i] || !mat[i]->transmissive()) continue;
-      const Material& m = *mat[i];
-      glm::vec3 w(0.0f);
-      glm::vec3 dir = in.dir[i];
-      glm::vec3 origin = pos[i] + in.dir[i] * epsilon;
-      if (m.transmission > 0.0f) {
-        // Snell refraction; without the reflection effect the Fresnel split is dropped.
-        const float eta = front[i] ? 1.0f / m.ior : m.ior;
-        glm::vec3 t = glm::refract(in.dir[i], nrm[i], eta);
-        if (glm::dot(t, t) == 0.0f) t = glm::reflect(in.dir[i], nrm[i]);  // total internal reflection
-        dir = glm::normalize(t);
-        origin = pos[i] + (glm::dot(dir, nrm[i]) < 0.0f ? -nrm[i] : nrm[i]) * epsilon;
-        glm::vec3 kt = base[i] * m.transmission;
-        if constexpr (kReflection) kt *= glm::vec3(1.0f) - reflection_weight(m, base[i], cos_view[i]);
-        w = in.weight[i] * kt;
-      } else {  // alpha blending: the ray continues straight through
-        w = in.weight[i] * (1.0f - m.base_color.a);
-      }
-      if (std::max(w.x, std::max(w.y, w.z)) < 1e-3f) continue;
-      next.valid[i] = -1;
-      next.origin[i] = origin;
-      next.dir[i] = dir;
-      next.weight[i] = w;
-      next.target[i] = in.target[i];
-      ++n_valid;
-    }
-    if (n_valid > 0) {
-      counts.refraction += static_cast<uint64_t>(n_valid);
-      trace_packet<kFx>(next, depth + 1, color, counts);
-    }
+// The mirror bounces of the reflective hits worth tracing, into `next`; how many.
+int Tracer::Impl::reflection_packet(const PacketIn& in, const PacketHits& hits, PacketIn& next) const {
+  int n_valid = 0;
+  for (int i = 0; i < kLanes; ++i) {
+    next.valid[i] = 0;
+    if (!hits.hit[i] || !hits.mat[i]->reflective()) continue;
+    const glm::vec3 w = in.weight[i] * reflection_weight(*hits.mat[i], hits.base[i], hits.cos_view[i]);
+    if (std::max(w.x, std::max(w.y, w.z)) < 1e-3f) continue;
+    next.valid[i] = -1;
+    next.origin[i] = hits.pos[i] + hits.nrm[i] * epsilon;
+    next.dir[i] = glm::reflect(in.dir[i], hits.nrm[i]);
+    next.weight[i] = w;
+    next.target[i] = in.target[i];
+    ++n_valid;
   }
+  return n_valid;
+}
+
+// The rays through the transmissive hits worth tracing, into `next`: Snell
+// refraction, or straight on through alpha blending; how many.
+template <bool kReflection>
+int Tracer::Impl::refraction_packet(const PacketIn& in, const PacketHits& hits, PacketIn& next) const {
+  int n_valid = 0;
+  for (int i = 0; i < kLanes; ++i) {
+    next.valid[i] = 0;
+    if (!hits.hit[i] || !hits.mat[i]->transmissive()) continue;
+    const Material& m = *hits.mat[i];
+    const glm::vec3 pos = hits.pos[i], nrm = hits.nrm[i];
+    glm::vec3 w(0.0f);
+    glm::vec3 dir = in.dir[i];
+    glm::vec3 origin = pos + in.dir[i] * epsilon;
+    if (m.transmission > 0.0f) {
+      // Snell refraction; without the reflection effect the Fresnel split is dropped.
+      const float eta = hits.front[i] ? 1.0f / m.ior : m.ior;
+      glm::vec3 t = glm::refract(in.dir[i], nrm, eta);
+      if (glm::dot(t, t) == 0.0f) t = glm::reflect(in.dir[i], nrm);  // total internal reflection
+      dir = glm::normalize(t);
+      origin = pos + (glm::dot(dir, nrm) < 0.0f ? -nrm : nrm) * epsilon;
+      glm::vec3 kt = hits.base[i] * m.transmission;
+      if constexpr (kReflection) kt *= glm::vec3(1.0f) - reflection_weight(m, hits.base[i], hits.cos_view[i]);
+      w = in.weight[i] * kt;
+    } else {  // alpha blending: the ray continues straight through
+      w = in.weight[i] * (1.0f - m.base_color.a);
+    }
+    if (std::max(w.x, std::max(w.y, w.z)) < 1e-3f) continue;
+    next.valid[i] = -1;
+    next.origin[i] = origin;
+    next.dir[i] = dir;
+    next.weight[i] = w;
+    next.target[i] = in.target[i];
+    ++n_valid;
+  }
+  return n_valid;
 }
 
 int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {

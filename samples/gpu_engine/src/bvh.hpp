@@ -37,6 +37,6 @@ struct BvhData {
 
 // BVH over the triangles listed in `triangles` (indices into mesh.triangles).
 // False + *error when Embree fails.
-bool build_bvh(const engine::Mesh& mesh, const std::vector<uint32_t>& triangles, BvhData* out, std::string* error);
+[[nodiscard]] bool build_bvh(const engine::Mesh& mesh, const std::vector<uint32_t>& triangles, BvhData* out, std::string* error);
 
 }  // namespace foveart::gpu_engine

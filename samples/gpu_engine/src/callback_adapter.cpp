@@ -182,12 +182,27 @@ struct CallbackAdapter::Impl {
   }
 
   bool create_device(const CallbackAdapterOptions& options, std::string* error);
+  bool create_instance(const CallbackAdapterOptions& options, std::string* error);
+  bool pick_physical_device(const CallbackAdapterOptions& options, std::string* error);
+  bool create_logical_device(const CallbackAdapterOptions& options, std::string* error);
+  bool create_submission(std::string* error);
   bool ensure_capacity(uint32_t rays_needed, std::string* error);
   int32_t trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
                       const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m, float* out_depth);
+  uint32_t pack_rays(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
+                     const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m);
+  int32_t record_trace(const FoveartRayBatch& batch, uint32_t valid);
+  int32_t submit_and_wait();
+  void unpack_colors(const FoveartRayBatch& batch, uint32_t first, uint32_t n, float* out_depth) const;
 };
 
 bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options, std::string* error) {
+  return create_instance(options, error) && pick_physical_device(options, error) &&
+         create_logical_device(options, error) && create_submission(error);
+}
+
+// The instance, with the validation layer (errors collected) when asked for and installed.
+bool CallbackAdapter::Impl::create_instance(const CallbackAdapterOptions& options, std::string* error) {
   validated = options.validate && has_layer("VK_LAYER_KHRONOS_validation");
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -217,13 +232,18 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
     info.enabledExtensionCount = 1;
     info.ppEnabledExtensionNames = extensions;
   }
-  VkResult r = vkCreateInstance(&info, nullptr, &instance);
+  const VkResult r = vkCreateInstance(&info, nullptr, &instance);
   if (r != VK_SUCCESS) {
     instance = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateInstance (is a Vulkan driver installed?)", r));
   }
+  return true;
+}
+
+// The preferred Vulkan 1.1 device with a compute queue (device_rank).
+bool CallbackAdapter::Impl::pick_physical_device(const CallbackAdapterOptions& options, std::string* error) {
   uint32_t count = 0;
-  r = vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  VkResult r = vkEnumeratePhysicalDevices(instance, &count, nullptr);
   std::vector<VkPhysicalDevice> devices(count);
   if (r == VK_SUCCESS && count > 0) r = vkEnumeratePhysicalDevices(instance, &count, devices.data());
   if (r != VK_SUCCESS && r != VK_INCOMPLETE) return fail(error, vk_error("vkEnumeratePhysicalDevices", r));
@@ -242,6 +262,11 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
     return fail(error, "gpu_engine: no Vulkan 1.1 device with a compute queue (" + std::to_string(count) +
                                 " device(s) found)");
   family = compute_family(physical);
+  return true;
+}
+
+// The device and its compute queue, with the ray-tracing extensions where offered and allowed.
+bool CallbackAdapter::Impl::create_logical_device(const CallbackAdapterOptions& options, std::string* error) {
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{};
   queue_info.sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO;
@@ -263,18 +288,22 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
   std::vector<const char*> device_extensions;
   ray_tracing =
       options.tracer.backend != GpuBackend::compute && rt_support.enable(&device_info, &device_extensions);
-  r = vkCreateDevice(physical, &device_info, nullptr, &device);
+  const VkResult r = vkCreateDevice(physical, &device_info, nullptr, &device);
   if (r != VK_SUCCESS) {
     device = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateDevice", r) + " on " + name);
   }
   vkGetDeviceQueue(device, family, 0, &queue);
+  return true;
+}
 
+// The one command buffer, its fence and the ray count buffer every submission uses.
+bool CallbackAdapter::Impl::create_submission(std::string* error) {
   VkCommandPoolCreateInfo pool_info{};
   pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool_info.queueFamilyIndex = family;
-  r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
+  VkResult r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
   if (r != VK_SUCCESS) {
     pool = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateCommandPool", r));
@@ -319,7 +348,20 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     last_error = error;
     return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
   }
-  // Pack the valid rays; the others are black with no depth, as engine::Tracer leaves them.
+  const uint32_t valid = pack_rays(batch, first, n, explicit_rays, ray_map, eye_m);
+  skipped_primary += n - valid;
+  if (valid > 0) {
+    if (const int32_t r = record_trace(batch, valid); r != FOVEART_RESULT_SUCCESS) return r;
+    if (const int32_t r = submit_and_wait(); r != FOVEART_RESULT_SUCCESS) return r;
+  }
+  unpack_colors(batch, first, n, out_depth);
+  return FOVEART_RESULT_SUCCESS;
+}
+
+// Packs rays [first, first + n) of the batch, the valid ones only; `slot` says
+// where each went (UINT32_MAX: black with no depth, as engine::Tracer leaves it). Returns how many.
+uint32_t CallbackAdapter::Impl::pack_rays(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
+                                          const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m) {
   auto* packed = static_cast<PackedRay*>(rays.mapped);
   slot.assign(n, UINT32_MAX);
   uint32_t valid = 0;
@@ -341,78 +383,92 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
     packed[valid] = PackedRay{{o.x, o.y, o.z, sx}, {d.x, d.y, d.z, sy}};
     slot[i] = valid++;
   }
-  skipped_primary += n - valid;
-  if (valid > 0) {
-    FoveartDeviceRayCount header{};
-    header.count = valid;
-    header.dispatch64[0] = (valid + kGroupSize - 1) / kGroupSize;
-    header.dispatch64[1] = 1;
-    header.dispatch64[2] = 1;
-    header.traceRays[0] = valid;
-    header.traceRays[1] = 1;
-    header.traceRays[2] = 1;
-    std::memcpy(count_buffer.mapped, &header, sizeof(header));
+  return valid;
+}
 
-    VkResult r = vkResetCommandBuffer(cb, 0);
-    VkCommandBufferBeginInfo begin{};
-    begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    if (r == VK_SUCCESS) r = vkBeginCommandBuffer(cb, &begin);
-    if (r != VK_SUCCESS) {
-      last_error = vk_error("vkBeginCommandBuffer", r);
-      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-    }
-    // Host writes of rays and count -> the shader's reads and the indirect dispatch's.
-    VkMemoryBarrier before{};
-    before.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    before.srcAccessMask = VK_ACCESS_HOST_WRITE_BIT;
-    before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
-    const VkPipelineStageFlags trace_stage = tracer->backend() == GpuBackend::ray_tracing_pipeline
-                                                 ? VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR
-                                                 : VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_HOST_BIT, trace_stage | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1,
-                         &before, 0, nullptr, 0, nullptr);
-    XrFoveatedDeviceRayBatchFOVEART device_batch{};
-    device_batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
-    device_batch.frameIndex = batch.frame_index;
-    device_batch.view = batch.view;
-    device_batch.rayCapacity = capacity;
-    device_batch.raysPerPoint = 1;
-    device_batch.rayCount = {count_buffer.buffer, 0, count_buffer.size};
-    device_batch.rays = {rays.buffer, 0, rays.size};
-    device_batch.pointIndex = {VK_NULL_HANDLE, 0, 0};  // the trace does not read it
-    device_batch.colors = {colors.buffer, 0, colors.size};
-    device_batch.commandBuffer = cb;
-    if (!tracer->record_trace(device_batch, &error)) {
-      last_error = error;
-      vkEndCommandBuffer(cb);
-      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-    }
-    // The shader's writes (colours, the tracer's counters) -> host reads.
-    VkMemoryBarrier after{};
-    after.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cb, trace_stage, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0, nullptr);
-    r = vkEndCommandBuffer(cb);
-    VkSubmitInfo submit{};
-    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cb;
-    if (r == VK_SUCCESS) r = vkQueueSubmit(queue, 1, &submit, fence);
-    if (r != VK_SUCCESS) {
-      last_error = vk_error("vkQueueSubmit", r);
-      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-    }
-    r = vkWaitForFences(device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
-    if (r != VK_SUCCESS) {
-      last_error = vk_error("vkWaitForFences", r);
-      vkDeviceWaitIdle(device);  // the buffers are reused: nothing may still run
-      vkResetFences(device, 1, &fence);
-      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-    }
-    if (vkResetFences(device, 1, &fence) != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+// The count header for `valid` packed rays, and the command buffer: barriers around the tracer's trace.
+int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32_t valid) {
+  FoveartDeviceRayCount header{};
+  header.count = valid;
+  header.dispatch64[0] = (valid + kGroupSize - 1) / kGroupSize;
+  header.dispatch64[1] = 1;
+  header.dispatch64[2] = 1;
+  header.traceRays[0] = valid;
+  header.traceRays[1] = 1;
+  header.traceRays[2] = 1;
+  std::memcpy(count_buffer.mapped, &header, sizeof(header));
+
+  VkResult r = vkResetCommandBuffer(cb, 0);
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  if (r == VK_SUCCESS) r = vkBeginCommandBuffer(cb, &begin);
+  if (r != VK_SUCCESS) {
+    last_error = vk_error("vkBeginCommandBuffer", r);
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
   }
+  // Host writes of rays and count -> the shader's reads and the indirect dispatch's.
+  VkMemoryBarrier before{};
+  before.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  before.srcAccessMask = VK_ACCESS_HOST_WRITE_BIT;
+  before.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+  const VkPipelineStageFlags trace_stage = tracer->backend() == GpuBackend::ray_tracing_pipeline
+                                               ? VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR
+                                               : VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_HOST_BIT, trace_stage | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &before,
+                       0, nullptr, 0, nullptr);
+  XrFoveatedDeviceRayBatchFOVEART device_batch{};
+  device_batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
+  device_batch.frameIndex = batch.frame_index;
+  device_batch.view = batch.view;
+  device_batch.rayCapacity = capacity;
+  device_batch.raysPerPoint = 1;
+  device_batch.rayCount = {count_buffer.buffer, 0, count_buffer.size};
+  device_batch.rays = {rays.buffer, 0, rays.size};
+  device_batch.pointIndex = {VK_NULL_HANDLE, 0, 0};  // the trace does not read it
+  device_batch.colors = {colors.buffer, 0, colors.size};
+  device_batch.commandBuffer = cb;
+  std::string error;
+  if (!tracer->record_trace(device_batch, &error)) {
+    last_error = error;
+    vkEndCommandBuffer(cb);
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+  // The shader's writes (colours, the tracer's counters) -> host reads.
+  VkMemoryBarrier after{};
+  after.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+  after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cb, trace_stage, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0, nullptr);
+  return FOVEART_RESULT_SUCCESS;
+}
+
+// Ends, submits and waits for the command buffer; the fence is reset for the next.
+int32_t CallbackAdapter::Impl::submit_and_wait() {
+  VkResult r = vkEndCommandBuffer(cb);
+  VkSubmitInfo submit{};
+  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cb;
+  if (r == VK_SUCCESS) r = vkQueueSubmit(queue, 1, &submit, fence);
+  if (r != VK_SUCCESS) {
+    last_error = vk_error("vkQueueSubmit", r);
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+  r = vkWaitForFences(device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
+  if (r != VK_SUCCESS) {
+    last_error = vk_error("vkWaitForFences", r);
+    vkDeviceWaitIdle(device);  // the buffers are reused: nothing may still run
+    vkResetFences(device, 1, &fence);
+    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  }
+  if (vkResetFences(device, 1, &fence) != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  return FOVEART_RESULT_SUCCESS;
+}
+
+// The colours (clamped to >= 0, black if not finite) and depths of rays [first, first + n) into the batch.
+void CallbackAdapter::Impl::unpack_colors(const FoveartRayBatch& batch, uint32_t first, uint32_t n,
+                                          float* out_depth) const {
   const auto* rgbd = static_cast<const float*>(colors.mapped);
   for (uint32_t i = 0; i < n; ++i) {
     float* out = batch.out_rgb + 3 * static_cast<size_t>(first + i);
@@ -432,7 +488,6 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
                                                                              : depth;
     }
   }
-  return FOVEART_RESULT_SUCCESS;
 }
 
 CallbackAdapter::CallbackAdapter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}

@@ -86,6 +86,9 @@ struct GpuTracer::Impl {
   ~Impl();
   bool choose_backend(std::string* error);
   bool create(std::string* error);
+  bool check_device(std::string* error);
+  bool upload_scene(const SceneData& data, std::string* error);
+  bool write_scene_set(std::string* error);
   bool create_layouts(std::string* error);
   bool create_pipeline(const uint32_t* code, size_t bytes, VkPipelineLayout layout, VkPipeline* out,
                        std::string* error);
@@ -237,6 +240,26 @@ bool GpuTracer::Impl::choose_backend(std::string* error) {
 
 // Backend, flatten + BVH (+ acceleration structures), upload, scene descriptor set, pipelines.
 bool GpuTracer::Impl::create(std::string* error) {
+  if (!check_device(error) || !choose_backend(error)) return false;
+  SceneData data;
+  if (!flatten_scene(scene, &data, error)) return false;
+  scene_effects = data.scene_effects;
+  effects = scene_effects & options.allowed;
+  if (backend == GpuBackend::ray_tracing_pipeline) {
+    rt = RtPipelineTracer::create(ctx, data, error);
+    if (rt == nullptr) return false;
+  }
+  if (!upload_scene(data, error) || !create_layouts(error) || !write_scene_set(error)) return false;
+  if (rt)
+    return rt->create_pipelines(trace_pipeline_layout, full_pipeline_layout, effects.bits(), options.max_depth, error);
+  return create_pipeline(foveart_gpu_trace_spv, sizeof(foveart_gpu_trace_spv), trace_pipeline_layout, &trace_pipeline,
+                         error) &&
+         create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline,
+                         error);
+}
+
+// The context names a device, its queue family computes, and the options are in range; the device's limits and name.
+bool GpuTracer::Impl::check_device(std::string* error) {
   if (ctx.physical_device == VK_NULL_HANDLE || ctx.device == VK_NULL_HANDLE)
     return fail(error, "gpu_engine: no Vulkan device");
   if (options.max_depth < 0 || options.max_depth > GpuTracerOptions::kMaxDepth)
@@ -253,21 +276,16 @@ bool GpuTracer::Impl::create(std::string* error) {
   vkGetPhysicalDeviceProperties(ctx.physical_device, &props);
   limits = props.limits;
   device_name = props.deviceName;
-  if (!choose_backend(error)) return false;
+  return true;
+}
 
-  SceneData data;
-  if (!flatten_scene(scene, &data, error)) return false;
-  scene_effects = data.scene_effects;
-  effects = scene_effects & options.allowed;
-
+// The scene's storage buffers (binding order); with the ray-tracing pipeline no
+// BVH nodes, and the primitives in its acceleration structure's order.
+bool GpuTracer::Impl::upload_scene(const SceneData& data, std::string* error) {
   struct Upload {
     const void* data;
     size_t bytes;
   };
-  if (backend == GpuBackend::ray_tracing_pipeline) {
-    rt = RtPipelineTracer::create(ctx, data, error);
-    if (rt == nullptr) return false;
-  }
   const std::vector<uint32_t>& prims = rt ? rt->scene().prims() : data.bvh.prims;
   const std::array<Upload, kSceneBindings> uploads = {
       rt ? Upload{nullptr, 0} : Upload{data.bvh.nodes.data(), data.bvh.nodes.size() * sizeof(GpuNode)},
@@ -286,14 +304,17 @@ bool GpuTracer::Impl::create(std::string* error) {
                              " bytes) exceeds maxStorageBufferRange");
     if (!buffers[i].create(ctx.physical_device, ctx.device, uploads[i].bytes, uploads[i].data, error)) return false;
   }
-  if (!create_layouts(error)) return false;
+  return true;
+}
 
+// The scene's descriptor set: its buffers, binding 0 the TLAS with the ray-tracing pipeline.
+bool GpuTracer::Impl::write_scene_set(std::string* error) {
   VkDescriptorSetAllocateInfo alloc{};
   alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
   alloc.descriptorPool = scene_pool;
   alloc.descriptorSetCount = 1;
   alloc.pSetLayouts = &scene_layout;
-  VkResult r = vkAllocateDescriptorSets(ctx.device, &alloc, &scene_set);
+  const VkResult r = vkAllocateDescriptorSets(ctx.device, &alloc, &scene_set);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateDescriptorSets", r));
   std::array<VkDescriptorBufferInfo, kSceneBindings> infos{};
   std::array<VkWriteDescriptorSet, kSceneBindings> writes{};
@@ -318,14 +339,7 @@ bool GpuTracer::Impl::create(std::string* error) {
     writes[0].pNext = &tlas;
   }
   vkUpdateDescriptorSets(ctx.device, kSceneBindings, writes.data(), 0, nullptr);
-
-  if (rt)
-    return rt->create_pipelines(trace_pipeline_layout, full_pipeline_layout, effects.bits(), options.max_depth,
-                                error);
-  return create_pipeline(foveart_gpu_trace_spv, sizeof(foveart_gpu_trace_spv), trace_pipeline_layout,
-                         &trace_pipeline, error) &&
-         create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline,
-                         error);
+  return true;
 }
 
 // The cached set for these buffer ranges, or a new one. Updating and resetting

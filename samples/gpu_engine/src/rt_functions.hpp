@@ -23,7 +23,7 @@ struct RtFunctions {
   PFN_vkGetRayTracingShaderGroupHandlesKHR get_ray_tracing_shader_group_handles = nullptr;
   PFN_vkCmdTraceRaysKHR cmd_trace_rays = nullptr;
 
-  bool load(VkDevice device, std::string* error);
+  [[nodiscard]] bool load(VkDevice device, std::string* error);
   VkDeviceAddress address(VkDevice device, VkBuffer buffer) const;
 };
 

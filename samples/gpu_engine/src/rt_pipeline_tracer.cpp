@@ -50,6 +50,25 @@ struct Modules {
   }
 };
 
+// The shader groups, in binding-table order: raygen, miss, shadow miss (general
+// groups of stages 0..2), then the hit group (closest hit 3, any hit 4).
+std::array<VkRayTracingShaderGroupCreateInfoKHR, kGroupCount> shader_groups() {
+  std::array<VkRayTracingShaderGroupCreateInfoKHR, kGroupCount> groups{};
+  for (uint32_t i = 0; i < kGroupCount; ++i) {
+    groups[i].sType = VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR;
+    groups[i].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
+    groups[i].generalShader = i;  // stages 0..2: raygen, miss, shadow miss
+    groups[i].closestHitShader = VK_SHADER_UNUSED_KHR;
+    groups[i].anyHitShader = VK_SHADER_UNUSED_KHR;
+    groups[i].intersectionShader = VK_SHADER_UNUSED_KHR;
+  }
+  groups[kGroupHit].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
+  groups[kGroupHit].generalShader = VK_SHADER_UNUSED_KHR;
+  groups[kGroupHit].closestHitShader = 3;
+  groups[kGroupHit].anyHitShader = 4;
+  return groups;
+}
+
 }  // namespace
 
 std::unique_ptr<RtPipelineTracer> RtPipelineTracer::create(const GpuContext& context, const SceneData& data,
@@ -118,19 +137,7 @@ bool RtPipelineTracer::create_pipeline(Entry entry, VkPipelineLayout layout, uin
     stages[i].pName = "main";
     stages[i].pSpecializationInfo = &spec;
   }
-  std::array<VkRayTracingShaderGroupCreateInfoKHR, kGroupCount> groups{};
-  for (uint32_t i = 0; i < kGroupCount; ++i) {
-    groups[i].sType = VK_STRUCTURE_TYPE_RAY_TRACING_SHADER_GROUP_CREATE_INFO_KHR;
-    groups[i].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_GENERAL_KHR;
-    groups[i].generalShader = i;  // stages 0..2: raygen, miss, shadow miss
-    groups[i].closestHitShader = VK_SHADER_UNUSED_KHR;
-    groups[i].anyHitShader = VK_SHADER_UNUSED_KHR;
-    groups[i].intersectionShader = VK_SHADER_UNUSED_KHR;
-  }
-  groups[kGroupHit].type = VK_RAY_TRACING_SHADER_GROUP_TYPE_TRIANGLES_HIT_GROUP_KHR;
-  groups[kGroupHit].generalShader = VK_SHADER_UNUSED_KHR;
-  groups[kGroupHit].closestHitShader = 3;
-  groups[kGroupHit].anyHitShader = 4;
+  const std::array<VkRayTracingShaderGroupCreateInfoKHR, kGroupCount> groups = shader_groups();
 
   VkRayTracingPipelineCreateInfoKHR info{};
   info.sType = VK_STRUCTURE_TYPE_RAY_TRACING_PIPELINE_CREATE_INFO_KHR;
@@ -141,19 +148,22 @@ bool RtPipelineTracer::create_pipeline(Entry entry, VkPipelineLayout layout, uin
   info.maxPipelineRayRecursionDepth = 1;  // rays are traced from the ray-generation shader only
   info.layout = layout;
   Table& table = tables_[static_cast<size_t>(entry)];
-  VkResult r = fn_.create_ray_tracing_pipelines(ctx_.device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &info, nullptr,
-                                                &table.pipeline);
+  const VkResult r =
+      fn_.create_ray_tracing_pipelines(ctx_.device, VK_NULL_HANDLE, VK_NULL_HANDLE, 1, &info, nullptr, &table.pipeline);
   if (r != VK_SUCCESS) {
     table.pipeline = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateRayTracingPipelinesKHR", r));
   }
+  return fill_binding_table(table, error);
+}
 
-  // The binding table: raygen | miss, shadow miss | hit group, each region at a
-  // multiple of shaderGroupBaseAlignment, records shaderGroupHandleAlignment apart.
+// The binding table: raygen | miss, shadow miss | hit group, each region at a
+// multiple of shaderGroupBaseAlignment, records shaderGroupHandleAlignment apart.
+bool RtPipelineTracer::fill_binding_table(Table& table, std::string* error) {
   const uint32_t handle_bytes = props_.shaderGroupHandleSize;
   std::vector<uint8_t> handles(size_t{kGroupCount} * handle_bytes);
-  r = fn_.get_ray_tracing_shader_group_handles(ctx_.device, table.pipeline, 0, kGroupCount, handles.size(),
-                                               handles.data());
+  const VkResult r = fn_.get_ray_tracing_shader_group_handles(ctx_.device, table.pipeline, 0, kGroupCount,
+                                                              handles.size(), handles.data());
   if (r != VK_SUCCESS) return fail(error, vk_error("vkGetRayTracingShaderGroupHandlesKHR", r));
   const BindingTableLayout layout_bytes = binding_table_layout(handle_bytes, props_.shaderGroupHandleAlignment,
                                                                props_.shaderGroupBaseAlignment);

@@ -45,12 +45,12 @@ class RtPipelineTracer {
 
   // Both pipelines, specialised like the compute ones (constant 0: effect bits,
   // 1: max_depth; 2: RtScene::geometry1_first), each with its binding table.
-  bool create_pipelines(VkPipelineLayout trace_layout, VkPipelineLayout full_layout, uint32_t effect_bits,
+  [[nodiscard]] bool create_pipelines(VkPipelineLayout trace_layout, VkPipelineLayout full_layout, uint32_t effect_bits,
                         int max_depth, std::string* error);
 
   // Binds `entry`'s pipeline and launches width x height rays. False + *error
   // (nothing recorded) when the launch exceeds the device's limits.
-  bool record(VkCommandBuffer cb, Entry entry, uint32_t width, uint32_t height, std::string* error) const;
+  [[nodiscard]] bool record(VkCommandBuffer cb, Entry entry, uint32_t width, uint32_t height, std::string* error) const;
 
  private:
   struct Table {  // one pipeline's shader binding table
@@ -60,7 +60,8 @@ class RtPipelineTracer {
   };
 
   RtPipelineTracer() = default;
-  bool create_pipeline(Entry entry, VkPipelineLayout layout, uint32_t effect_bits, int max_depth, std::string* error);
+  [[nodiscard]] bool create_pipeline(Entry entry, VkPipelineLayout layout, uint32_t effect_bits, int max_depth, std::string* error);
+  bool fill_binding_table(Table& table, std::string* error);
 
   GpuContext ctx_;
   RtFunctions fn_;

@@ -78,6 +78,17 @@ struct OneTimeCommands {
   }
 };
 
+VkPhysicalDeviceAccelerationStructurePropertiesKHR acceleration_structure_properties(const GpuContext& ctx) {
+  VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{};
+  as_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
+  VkPhysicalDeviceProperties2 props{};
+  props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  props.pNext = &as_props;
+  vkGetPhysicalDeviceProperties2(ctx.physical_device, &props);
+  as_props.pNext = nullptr;  // props is gone
+  return as_props;
+}
+
 }  // namespace
 
 std::unique_ptr<RtScene> RtScene::create(const GpuContext& context, const RtFunctions& functions,
@@ -97,40 +108,82 @@ RtScene::~RtScene() {
   blas_storage_.destroy();
 }
 
-bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* error) {
-  const RtFunctions& fn = *fn_;
-  VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{};
-  as_props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
-  VkPhysicalDeviceProperties2 props{};
-  props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
-  props.pNext = &as_props;
-  vkGetPhysicalDeviceProperties2(ctx.physical_device, &props);
-  const VkDeviceSize scratch_align = std::max<VkDeviceSize>(as_props.minAccelerationStructureScratchOffsetAlignment, 1);
+// One build's inputs and the buffers that must outlive its commands.
+struct RtScene::Build {
+  Build(const GpuContext& context, VkDeviceSize align, std::string* error_out)
+      : ctx(context), scratch_align(align), error(error_out) {}
+  const GpuContext& ctx;
+  VkDeviceSize scratch_align;
+  std::string* error;
+  VkCommandBuffer cb = VK_NULL_HANDLE;
+  VkDeviceAddress vertex_address = 0;
+  MappedBuffer vertex_buffer, instance_buffer, blas_scratch, tlas_scratch;
+};
 
+bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* error) {
+  const VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props = acceleration_structure_properties(ctx);
   RtPrimitiveOrder order = order_rt_primitives(data.bvh.prims, data.triangles);
   prims_ = std::move(order.prims);
   geometry1_first_ = order.geometry1_first;
-  const uint32_t counts[2] = {geometry1_first_, static_cast<uint32_t>(prims_.size()) - geometry1_first_};
   if (static_cast<uint64_t>(prims_.size()) > as_props.maxPrimitiveCount)
     return fail(error, "gpu_engine: " + std::to_string(prims_.size()) +
                            " triangles exceed the device's maxPrimitiveCount for one acceleration structure");
+  Build b(ctx, std::max<VkDeviceSize>(as_props.minAccelerationStructureScratchOffsetAlignment, 1), error);
+  if (!upload_vertices(b, data)) return false;
+  OneTimeCommands commands;
+  if (!commands.begin(device_, ctx.queue_family_index, error)) return false;
+  b.cb = commands.cb;
+  if (!build_blas(b) || !build_tlas(b)) return false;
+  return commands.submit_and_wait(ctx.queue, error);
+}
 
-  std::vector<float> vertices;  // three world-space vertices per primitive
+// Three world-space vertices per primitive, in prims_ order, into a build input buffer.
+bool RtScene::upload_vertices(Build& b, const SceneData& data) {
+  std::vector<float> vertices;
   vertices.reserve(prims_.size() * 9);
   for (uint32_t t : prims_) {
     const GpuTriangle& g = data.triangles[t];
     vertices.insert(vertices.end(), {g.p0[0], g.p0[1], g.p0[2], g.p1[0], g.p1[1], g.p1[2], g.p2[0], g.p2[1], g.p2[2]});
   }
-  MappedBuffer vertex_buffer, instance_buffer, blas_scratch, tlas_scratch;
-  if (!vertex_buffer.create(ctx.physical_device, device_, vertices.size() * sizeof(float), vertices.data(), error,
-                            kBuildInput))
+  if (!b.vertex_buffer.create(b.ctx.physical_device, device_, vertices.size() * sizeof(float), vertices.data(), b.error,
+                              kBuildInput))
     return false;
-  const VkDeviceAddress vertex_address = fn.address(device_, vertex_buffer.buffer());
+  b.vertex_address = fn_->address(device_, b.vertex_buffer.buffer());
+  return true;
+}
 
-  OneTimeCommands commands;
-  if (!commands.begin(device_, ctx.queue_family_index, error)) return false;
+// An acceleration structure of `type` for `info`: its storage and scratch
+// buffers, the structure, and info's destination and scratch address set.
+bool RtScene::create_structure(Build& b, VkAccelerationStructureTypeKHR type,
+                               VkAccelerationStructureBuildGeometryInfoKHR* info, const uint32_t* max_counts,
+                               MappedBuffer* storage, MappedBuffer* scratch, VkAccelerationStructureKHR* out) {
+  const RtFunctions& fn = *fn_;
+  VkAccelerationStructureBuildSizesInfoKHR sizes{};
+  sizes.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR;
+  fn.get_acceleration_structure_build_sizes(device_, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, info, max_counts,
+                                            &sizes);
+  if (!storage->create(b.ctx.physical_device, device_, sizes.accelerationStructureSize, nullptr, b.error, kStorage) ||
+      !scratch->create(b.ctx.physical_device, device_, sizes.buildScratchSize + b.scratch_align, nullptr, b.error,
+                       kScratch))
+    return false;
+  VkAccelerationStructureCreateInfoKHR create{};
+  create.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR;
+  create.buffer = storage->buffer();
+  create.size = sizes.accelerationStructureSize;
+  create.type = type;
+  const VkResult r = fn.create_acceleration_structure(device_, &create, nullptr, out);
+  if (r != VK_SUCCESS) {
+    *out = VK_NULL_HANDLE;
+    return fail(b.error, vk_error("vkCreateAccelerationStructureKHR", r));
+  }
+  info->dstAccelerationStructure = *out;
+  info->scratchData.deviceAddress = align_up(fn.address(device_, scratch->buffer()), b.scratch_align);
+  return true;
+}
 
-  // ---- BLAS: one geometry per non-empty kind
+// The BLAS: one geometry per non-empty kind (opaque, then alpha-tested); none without triangles.
+bool RtScene::build_blas(Build& b) {
+  const uint32_t counts[2] = {geometry1_first_, static_cast<uint32_t>(prims_.size()) - geometry1_first_};
   std::vector<VkAccelerationStructureGeometryKHR> geometries;
   std::vector<VkAccelerationStructureBuildRangeInfoKHR> ranges;
   std::vector<uint32_t> max_primitives;
@@ -143,7 +196,7 @@ bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* e
     g.flags = kind == 0 ? VK_GEOMETRY_OPAQUE_BIT_KHR : 0;
     g.geometry.triangles.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_TRIANGLES_DATA_KHR;
     g.geometry.triangles.vertexFormat = VK_FORMAT_R32G32B32_SFLOAT;
-    g.geometry.triangles.vertexData.deviceAddress = vertex_address + VkDeviceAddress{first} * 9 * sizeof(float);
+    g.geometry.triangles.vertexData.deviceAddress = b.vertex_address + VkDeviceAddress{first} * 9 * sizeof(float);
     g.geometry.triangles.vertexStride = 3 * sizeof(float);
     g.geometry.triangles.maxVertex = 3 * counts[kind] - 1;
     g.geometry.triangles.indexType = VK_INDEX_TYPE_NONE_KHR;
@@ -152,56 +205,31 @@ bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* e
     max_primitives.push_back(counts[kind]);
     first += counts[kind];
   }
+  if (geometries.empty()) return true;
+  VkAccelerationStructureBuildGeometryInfoKHR info{};
+  info.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR;
+  info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
+  info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
+  info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
+  info.geometryCount = static_cast<uint32_t>(geometries.size());
+  info.pGeometries = geometries.data();
+  if (!create_structure(b, VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &info, max_primitives.data(),
+                        &blas_storage_, &b.blas_scratch, &blas_))
+    return false;
+  const VkAccelerationStructureBuildRangeInfoKHR* range_list = ranges.data();
+  fn_->cmd_build_acceleration_structures(b.cb, 1, &info, &range_list);
+  VkMemoryBarrier barrier{};
+  barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+  barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
+  barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
+  vkCmdPipelineBarrier(b.cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+                       VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+  return true;
+}
 
-  auto create_structure = [&](VkAccelerationStructureTypeKHR type, VkAccelerationStructureBuildGeometryInfoKHR* info,
-                              const uint32_t* max_counts, MappedBuffer* storage, MappedBuffer* scratch,
-                              VkAccelerationStructureKHR* out) {
-    VkAccelerationStructureBuildSizesInfoKHR sizes{};
-    sizes.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR;
-    fn.get_acceleration_structure_build_sizes(device_, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, info,
-                                              max_counts, &sizes);
-    if (!storage->create(ctx.physical_device, device_, sizes.accelerationStructureSize, nullptr, error, kStorage) ||
-        !scratch->create(ctx.physical_device, device_, sizes.buildScratchSize + scratch_align, nullptr, error,
-                         kScratch))
-      return false;
-    VkAccelerationStructureCreateInfoKHR create{};
-    create.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR;
-    create.buffer = storage->buffer();
-    create.size = sizes.accelerationStructureSize;
-    create.type = type;
-    const VkResult r = fn.create_acceleration_structure(device_, &create, nullptr, out);
-    if (r != VK_SUCCESS) {
-      *out = VK_NULL_HANDLE;
-      return fail(error, vk_error("vkCreateAccelerationStructureKHR", r));
-    }
-    info->dstAccelerationStructure = *out;
-    info->scratchData.deviceAddress = align_up(fn.address(device_, scratch->buffer()), scratch_align);
-    return true;
-  };
-
-  if (!geometries.empty()) {
-    VkAccelerationStructureBuildGeometryInfoKHR info{};
-    info.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR;
-    info.type = VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR;
-    info.flags = VK_BUILD_ACCELERATION_STRUCTURE_PREFER_FAST_TRACE_BIT_KHR;
-    info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
-    info.geometryCount = static_cast<uint32_t>(geometries.size());
-    info.pGeometries = geometries.data();
-    if (!create_structure(VK_ACCELERATION_STRUCTURE_TYPE_BOTTOM_LEVEL_KHR, &info, max_primitives.data(),
-                          &blas_storage_, &blas_scratch, &blas_))
-      return false;
-    const VkAccelerationStructureBuildRangeInfoKHR* range_list = ranges.data();
-    fn.cmd_build_acceleration_structures(commands.cb, 1, &info, &range_list);
-    VkMemoryBarrier barrier{};
-    barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
-    barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
-    barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-    vkCmdPipelineBarrier(commands.cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
-                         VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR, 0, 1, &barrier, 0, nullptr, 0,
-                         nullptr);
-  }
-
-  // ---- TLAS: one instance of the BLAS, identity transform
+// The TLAS: one instance of the BLAS (none if there is no BLAS), identity transform.
+bool RtScene::build_tlas(Build& b) {
+  const RtFunctions& fn = *fn_;
   VkAccelerationStructureInstanceKHR instance{};
   instance.transform.matrix[0][0] = instance.transform.matrix[1][1] = instance.transform.matrix[2][2] = 1.0f;
   instance.mask = 0xFF;
@@ -213,14 +241,14 @@ bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* e
     address.accelerationStructure = blas_;
     instance.accelerationStructureReference = fn.get_acceleration_structure_device_address(device_, &address);
   }
-  if (!instance_buffer.create(ctx.physical_device, device_, sizeof(instance), &instance, error, kBuildInput))
+  if (!b.instance_buffer.create(b.ctx.physical_device, device_, sizeof(instance), &instance, b.error, kBuildInput))
     return false;
   VkAccelerationStructureGeometryKHR tlas_geometry{};
   tlas_geometry.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_KHR;
   tlas_geometry.geometryType = VK_GEOMETRY_TYPE_INSTANCES_KHR;
   tlas_geometry.geometry.instances.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_GEOMETRY_INSTANCES_DATA_KHR;
   tlas_geometry.geometry.instances.arrayOfPointers = VK_FALSE;
-  tlas_geometry.geometry.instances.data.deviceAddress = fn.address(device_, instance_buffer.buffer());
+  tlas_geometry.geometry.instances.data.deviceAddress = fn.address(device_, b.instance_buffer.buffer());
   VkAccelerationStructureBuildGeometryInfoKHR info{};
   info.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_GEOMETRY_INFO_KHR;
   info.type = VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR;
@@ -228,20 +256,20 @@ bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* e
   info.mode = VK_BUILD_ACCELERATION_STRUCTURE_MODE_BUILD_KHR;
   info.geometryCount = 1;
   info.pGeometries = &tlas_geometry;
-  if (!create_structure(VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, &info, &instances, &tlas_storage_,
-                        &tlas_scratch, &tlas_))
+  if (!create_structure(b, VK_ACCELERATION_STRUCTURE_TYPE_TOP_LEVEL_KHR, &info, &instances, &tlas_storage_,
+                        &b.tlas_scratch, &tlas_))
     return false;
   const VkAccelerationStructureBuildRangeInfoKHR tlas_range{instances, 0, 0, 0};
   const VkAccelerationStructureBuildRangeInfoKHR* tlas_ranges = &tlas_range;
-  fn.cmd_build_acceleration_structures(commands.cb, 1, &info, &tlas_ranges);
+  fn.cmd_build_acceleration_structures(b.cb, 1, &info, &tlas_ranges);
   // The traces of later submissions on this queue read the TLAS (and through it the BLAS).
   VkMemoryBarrier barrier{};
   barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
   barrier.srcAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_WRITE_BIT_KHR;
   barrier.dstAccessMask = VK_ACCESS_ACCELERATION_STRUCTURE_READ_BIT_KHR;
-  vkCmdPipelineBarrier(commands.cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
+  vkCmdPipelineBarrier(b.cb, VK_PIPELINE_STAGE_ACCELERATION_STRUCTURE_BUILD_BIT_KHR,
                        VK_PIPELINE_STAGE_RAY_TRACING_SHADER_BIT_KHR, 0, 1, &barrier, 0, nullptr, 0, nullptr);
-  return commands.submit_and_wait(ctx.queue, error);
+  return true;
 }
 
 }  // namespace foveart::gpu_engine

@@ -43,7 +43,15 @@ class RtScene {
 
  private:
   RtScene() = default;
-  bool build(const GpuContext& context, const SceneData& data, std::string* error);
+  [[nodiscard]] bool build(const GpuContext& context, const SceneData& data, std::string* error);
+  // The steps of build: the vertices uploaded, then the BLAS and the TLAS recorded.
+  struct Build;  // one build's inputs and the buffers that outlive its commands (rt_scene.cpp)
+  bool upload_vertices(Build& b, const SceneData& data);
+  bool create_structure(Build& b, VkAccelerationStructureTypeKHR type,
+                        VkAccelerationStructureBuildGeometryInfoKHR* info, const uint32_t* max_counts,
+                        MappedBuffer* storage, MappedBuffer* scratch, VkAccelerationStructureKHR* out);
+  bool build_blas(Build& b);
+  bool build_tlas(Build& b);
 
   VkDevice device_ = VK_NULL_HANDLE;
   const RtFunctions* fn_ = nullptr;

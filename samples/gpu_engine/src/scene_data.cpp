@@ -17,9 +17,9 @@ void put3(float (&dst)[3], glm::vec3 v) {
   dst[2] = v.z;
 }
 
-}  // namespace
-
-bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
+// The mesh's arrays agree and every index is in range; as engine::Tracer, a
+// texture index past the textures becomes "no texture".
+bool check_scene(engine::Scene& scene, std::string* error) {
   const engine::Mesh& m = scene.mesh;
   const size_t nv = m.positions.size();
   if (m.triangle_material.size() != m.triangles.size() || m.normals.size() != nv ||
@@ -37,10 +37,14 @@ bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
     if (t.width == 0 || t.height == 0 || t.texels.size() != static_cast<size_t>(t.width) * t.height)
       return fail(error, scene.source + ": texture " + std::to_string(i) + " has no or the wrong number of texels");
   }
-  out->scene_effects = engine::derive_effects(scene);
+  return true;
+}
 
-  // Triangles, and which go into the BVH: as engine::Tracer::build, a MASK
-  // material without texture is decided here, one with a texture per hit.
+// Triangles and their shading data; returns those that go into the BVH: as
+// engine::Tracer::build, a MASK material without texture is decided here, one
+// with a texture per hit.
+std::vector<uint32_t> flatten_triangles(const engine::Scene& scene, SceneData* out) {
+  const engine::Mesh& m = scene.mesh;
   out->triangles.resize(m.triangles.size());
   out->shading.resize(m.triangles.size());
   std::vector<uint32_t> traced;
@@ -75,8 +79,10 @@ bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
       s.uv[2 * k + 1] = uvs[k].y;
     }
   }
-  if (!build_bvh(m, traced, &out->bvh, error)) return false;
+  return traced;
+}
 
+void flatten_materials(const engine::Scene& scene, SceneData* out) {
   out->materials.clear();
   for (const engine::Material& mat : scene.materials) {
     GpuMaterial g{};
@@ -92,6 +98,9 @@ bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
     g.alpha_mode = static_cast<int32_t>(mat.alpha_mode);
     out->materials.push_back(g);
   }
+}
+
+void flatten_lights(const engine::Scene& scene, SceneData* out) {
   out->lights.clear();
   for (const engine::Light& l : scene.lights) {
     GpuLight g{};
@@ -105,6 +114,10 @@ bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
     g.cos_outer = std::cos(l.outer_cone_rad);
     out->lights.push_back(g);
   }
+}
+
+// Every texture's texels, one after another; false if their offsets outgrow 32 bits.
+bool flatten_textures(const engine::Scene& scene, SceneData* out, std::string* error) {
   out->textures.clear();
   out->texels.clear();
   for (const engine::Texture& t : scene.textures) {
@@ -118,7 +131,20 @@ bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
     for (const glm::vec4& c : t.texels) out->texels.insert(out->texels.end(), {c.r, c.g, c.b, c.a});
     out->textures.push_back(g);
   }
-  const engine::Bounds b = engine::scene_bounds(m);
+  return true;
+}
+
+}  // namespace
+
+bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
+  if (!check_scene(scene, error)) return false;
+  out->scene_effects = engine::derive_effects(scene);
+  const std::vector<uint32_t> traced = flatten_triangles(scene, out);
+  if (!build_bvh(scene.mesh, traced, &out->bvh, error)) return false;
+  flatten_materials(scene, out);
+  flatten_lights(scene, out);
+  if (!flatten_textures(scene, out, error)) return false;
+  const engine::Bounds b = engine::scene_bounds(scene.mesh);
   GpuGlobals& g = out->globals;
   put3(g.sky_zenith, scene.sky_zenith);
   put3(g.sky_horizon, scene.sky_horizon);

@@ -94,6 +94,6 @@ struct SceneData {
 
 // Checks the scene as engine::Tracer does (a texture index past the textures
 // becomes "no texture"), builds the BVH and fills *out. False + *error on bad input.
-bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error);
+[[nodiscard]] bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error);
 
 }  // namespace foveart::gpu_engine

@@ -19,7 +19,7 @@ class MappedBuffer {
   MappedBuffer& operator=(const MappedBuffer&) = delete;
 
   // A buffer of max(bytes, 16) bytes; `data` (bytes long, may be null) copied in.
-  bool create(VkPhysicalDevice physical_device, VkDevice device, VkDeviceSize bytes, const void* data,
+  [[nodiscard]] bool create(VkPhysicalDevice physical_device, VkDevice device, VkDeviceSize bytes, const void* data,
               std::string* error, VkBufferUsageFlags usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   void destroy();
 

@@ -48,6 +48,72 @@ XRAPI_ATTR XrResult XRAPI_CALL enumerate_api_layer_properties(uint32_t, uint32_t
   return XR_SUCCESS;
 }
 
+// Records the extensions the app enabled; any this runtime lacks fails.
+XrResult enable_extensions(const XrInstanceCreateInfo* info, Instance& inst) {
+  for (uint32_t i = 0; i < info->enabledExtensionCount; ++i) {
+    const char* e = info->enabledExtensionNames[i];
+    if (e == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+    if (std::strcmp(e, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME) == 0)
+      inst.ext_vulkan2 = true;
+    else if (std::strcmp(e, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME) == 0)
+      inst.ext_vulkan = true;
+    else if (std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0)
+      inst.ext_eye_gaze = true;
+    else if (std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0)
+      inst.ext_timespec = true;
+    else
+      return XR_ERROR_EXTENSION_NOT_PRESENT;
+  }
+  return XR_SUCCESS;
+}
+
+// Head and gaze: a scripted motion drives both; else a gaze trace file or the built-in saccade script.
+XrResult set_up_motion_and_gaze(const Config& config, Instance& inst) {
+  std::string error;
+  if (!config.motion.empty()) {
+    // The motion drives head and gaze: FOVEART_SIM_HEAD and FOVEART_SIM_GAZE step aside.
+    auto motion = MotionSource::from_spec(config.motion, config.motion_seed, &error);
+    if (!motion) {
+      log(LogLevel::Error, std::string(env::kMotion) + ": " + error);
+      return XR_ERROR_RUNTIME_FAILURE;
+    }
+    if (!config.gaze_file.empty()) {
+      log(LogLevel::Info, std::string(env::kMotion) + " drives the gaze: " + env::kGaze + " ignored");
+    }
+    if (config.head_sway) {
+      log(LogLevel::Info, std::string(env::kMotion) + " drives the head: " + env::kHead + " ignored");
+    }
+    inst.motion = std::move(*motion);
+    inst.gaze = GazeSource::saccade_script();
+  } else if (!config.gaze_file.empty()) {
+    auto gaze = GazeSource::from_trace_file(config.gaze_file, &error);
+    if (!gaze) {
+      log(LogLevel::Error, std::string(env::kGaze) + ": " + error);
+      return XR_ERROR_INITIALIZATION_FAILED;
+    }
+    if (gaze->skipped_rows() > 0) {
+      log(LogLevel::Info, std::string(env::kGaze) + ": skipped " + std::to_string(gaze->skipped_rows()) +
+                              " rows whose device time does not increase");
+    }
+    inst.gaze = std::move(*gaze);
+  } else {
+    inst.gaze = GazeSource::saccade_script();
+  }
+  return XR_SUCCESS;
+}
+
+void log_instance_created(const Instance& inst) {
+  const Config& config = inst.config;
+  log(LogLevel::Info,
+      "instance for '" + inst.application_name + "': clock " + (config.virtual_clock ? "virtual" : "real") +
+          ", frame budget " + (config.frame_budget ? std::to_string(config.frame_budget) : std::string("none")) +
+          (inst.motion ? ", head and gaze from the motion " + inst.motion->name()
+                       : std::string(", head ") + (config.head_sway ? "sway" : "static") + ", gaze " +
+                             (config.gaze_file.empty() ? "built-in saccade script" : config.gaze_file)) +
+          (config.eye_tracking ? "" : " (eye tracking off)") +
+          (config.capture_dir.empty() ? "" : ", capture to " + config.capture_dir));
+}
+
 XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info, XrInstance* out) {
   return guarded("xrCreateInstance", [&]() -> XrResult {
     FOVEART_CHECK_STRUCT(info, XR_TYPE_INSTANCE_CREATE_INFO);
@@ -60,20 +126,7 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     std::lock_guard<std::mutex> lock(rt.mutex);
     if (rt.instance) return XR_ERROR_LIMIT_REACHED;  // one instance per process, like the loader
     auto inst = std::make_unique<Instance>();
-    for (uint32_t i = 0; i < info->enabledExtensionCount; ++i) {
-      const char* e = info->enabledExtensionNames[i];
-      if (e == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-      if (std::strcmp(e, XR_KHR_VULKAN_ENABLE2_EXTENSION_NAME) == 0)
-        inst->ext_vulkan2 = true;
-      else if (std::strcmp(e, XR_KHR_VULKAN_ENABLE_EXTENSION_NAME) == 0)
-        inst->ext_vulkan = true;
-      else if (std::strcmp(e, XR_EXT_EYE_GAZE_INTERACTION_EXTENSION_NAME) == 0)
-        inst->ext_eye_gaze = true;
-      else if (std::strcmp(e, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME) == 0)
-        inst->ext_timespec = true;
-      else
-        return XR_ERROR_EXTENSION_NOT_PRESENT;
-    }
+    if (const XrResult r = enable_extensions(info, *inst); XR_FAILED(r)) return r;
     std::string error;
     auto config = config_from_environment(&error);
     if (!config) {
@@ -84,47 +137,11 @@ XRAPI_ATTR XrResult XRAPI_CALL create_instance(const XrInstanceCreateInfo* info,
     inst->config = *config;
     inst->clock = SimClock(config->virtual_clock);
     inst->origin_ns = inst->clock.now_ns();
-    if (!config->motion.empty()) {
-      // The motion drives head and gaze: FOVEART_SIM_HEAD and FOVEART_SIM_GAZE step aside.
-      auto motion = MotionSource::from_spec(config->motion, config->motion_seed, &error);
-      if (!motion) {
-        log(LogLevel::Error, std::string(env::kMotion) + ": " + error);
-        return XR_ERROR_RUNTIME_FAILURE;
-      }
-      if (!config->gaze_file.empty()) {
-        log(LogLevel::Info, std::string(env::kMotion) + " drives the gaze: " + env::kGaze + " ignored");
-      }
-      if (config->head_sway) {
-        log(LogLevel::Info, std::string(env::kMotion) + " drives the head: " + env::kHead + " ignored");
-      }
-      inst->motion = std::move(*motion);
-      inst->gaze = GazeSource::saccade_script();
-    } else if (!config->gaze_file.empty()) {
-      auto gaze = GazeSource::from_trace_file(config->gaze_file, &error);
-      if (!gaze) {
-        log(LogLevel::Error, std::string(env::kGaze) + ": " + error);
-        return XR_ERROR_INITIALIZATION_FAILED;
-      }
-      if (gaze->skipped_rows() > 0) {
-        log(LogLevel::Info, std::string(env::kGaze) + ": skipped " + std::to_string(gaze->skipped_rows()) +
-                                " rows whose device time does not increase");
-      }
-      inst->gaze = std::move(*gaze);
-    } else {
-      inst->gaze = GazeSource::saccade_script();
-    }
+    if (const XrResult r = set_up_motion_and_gaze(inst->config, *inst); XR_FAILED(r)) return r;
     inst->application_name = info->applicationInfo.applicationName;
     inst->id = rt.next_id++;
     *out = to_handle<XrInstance>(inst->id);
-    log(LogLevel::Info,
-        "instance for '" + inst->application_name + "': clock " +
-            (config->virtual_clock ? "virtual" : "real") + ", frame budget " +
-            (config->frame_budget ? std::to_string(config->frame_budget) : std::string("none")) +
-            (inst->motion ? ", head and gaze from the motion " + inst->motion->name()
-                          : std::string(", head ") + (config->head_sway ? "sway" : "static") + ", gaze " +
-                                (config->gaze_file.empty() ? "built-in saccade script" : config->gaze_file)) +
-            (config->eye_tracking ? "" : " (eye tracking off)") +
-            (config->capture_dir.empty() ? "" : ", capture to " + config->capture_dir));
+    log_instance_created(*inst);
     rt.instance = std::move(inst);
     return XR_SUCCESS;
   });

@@ -33,7 +33,7 @@ class FrameCapture {
   ~FrameCapture();
 
   // Creates dir (and parents) and frames.csv; false with a message on failure.
-  bool open(const std::string& dir, uint32_t every, std::string* error);
+  [[nodiscard]] bool open(const std::string& dir, uint32_t every, std::string* error);
   bool wants_images(uint64_t frame) const { return every_ != 0 && frame % every_ == 0; }
   // frame_000012_left.png; layer_index > 0 adds "_layerK"; views beyond 2 are "_viewN".
   std::string image_path(uint64_t frame, uint32_t layer_index, uint32_t view_index) const;

@@ -24,99 +24,135 @@ struct ProfileSpec {
   std::vector<SubpathGroup> groups;
 };
 
-// Transcribed in the spec's order. Paths marked "may not be available for application use" (system/...) are still
-// in the spec's allowlist, so they are listed. Extensions that add paths to these profiles are not covered.
+// One function per profile, transcribed from the spec. Paths marked "may not be available for application use"
+// (system/...) are still in the spec's allowlist, so they are listed. Extensions that add paths to these profiles
+// are not covered.
+ProfileSpec khr_simple_controller() {
+  return {"/interaction_profiles/khr/simple_controller",
+          "",
+          {kLeft, kRight},
+          {{kEveryPath,
+            {"/input/select/click", "/input/menu/click", "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}};
+}
+
+ProfileSpec google_daydream_controller() {
+  return {"/interaction_profiles/google/daydream_controller",
+          "",
+          {kLeft, kRight},
+          {{kEveryPath,
+            {"/input/select/click", "/input/trackpad/x", "/input/trackpad/y", "/input/trackpad/click",
+             "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose"}}}};
+}
+
+ProfileSpec htc_vive_controller() {
+  return {"/interaction_profiles/htc/vive_controller",
+          "",
+          {kLeft, kRight},
+          {{kEveryPath,
+            {"/input/system/click", "/input/squeeze/click", "/input/menu/click", "/input/trigger/click",
+             "/input/trigger/value", "/input/trackpad/x", "/input/trackpad/y", "/input/trackpad/click",
+             "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}};
+}
+
+ProfileSpec htc_vive_pro() {
+  return {"/interaction_profiles/htc/vive_pro",
+          "",
+          {"/user/head"},
+          {{kEveryPath,
+            {"/input/system/click", "/input/volume_up/click", "/input/volume_down/click", "/input/mute_mic/click"}}}};
+}
+
+ProfileSpec microsoft_motion_controller() {
+  return {
+      "/interaction_profiles/microsoft/motion_controller",
+      "",
+      {kLeft, kRight},
+      {{kEveryPath,
+        {"/input/menu/click", "/input/squeeze/click", "/input/trigger/value", "/input/thumbstick/x",
+         "/input/thumbstick/y", "/input/thumbstick/click", "/input/trackpad/x", "/input/trackpad/y",
+         "/input/trackpad/click", "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}};
+}
+
+ProfileSpec microsoft_xbox_controller() {
+  return {"/interaction_profiles/microsoft/xbox_controller",
+          "",
+          {"/user/gamepad"},
+          {{kEveryPath,
+            {"/input/menu/click",
+             "/input/view/click",
+             "/input/a/click",
+             "/input/b/click",
+             "/input/x/click",
+             "/input/y/click",
+             "/input/dpad_down/click",
+             "/input/dpad_right/click",
+             "/input/dpad_up/click",
+             "/input/dpad_left/click",
+             "/input/shoulder_left/click",
+             "/input/shoulder_right/click",
+             "/input/thumbstick_left/click",
+             "/input/thumbstick_right/click",
+             "/input/trigger_left/value",
+             "/input/trigger_right/value",
+             "/input/thumbstick_left/x",
+             "/input/thumbstick_left/y",
+             "/input/thumbstick_right/x",
+             "/input/thumbstick_right/y",
+             "/output/haptic_left",
+             "/output/haptic_right",
+             "/output/haptic_left_trigger",
+             "/output/haptic_right_trigger"}}}};
+}
+
+ProfileSpec oculus_go_controller() {
+  return {
+      "/interaction_profiles/oculus/go_controller",
+      "",
+      {kLeft, kRight},
+      {{kEveryPath,
+        {"/input/system/click", "/input/trigger/click", "/input/back/click", "/input/trackpad/x", "/input/trackpad/y",
+         "/input/trackpad/click", "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose"}}}};
+}
+
+ProfileSpec oculus_touch_controller() {
+  return {"/interaction_profiles/oculus/touch_controller",
+          "",
+          {kLeft, kRight},
+          {{kLeft, {"/input/x/click", "/input/x/touch", "/input/y/click", "/input/y/touch", "/input/menu/click"}},
+           {kRight, {"/input/a/click", "/input/a/touch", "/input/b/click", "/input/b/touch", "/input/system/click"}},
+           {kEveryPath,
+            {"/input/squeeze/value", "/input/trigger/value", "/input/trigger/touch", "/input/thumbstick/x",
+             "/input/thumbstick/y", "/input/thumbstick/click", "/input/thumbstick/touch", "/input/thumbrest/touch",
+             "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}};
+}
+
+ProfileSpec valve_index_controller() {
+  return {"/interaction_profiles/valve/index_controller",
+          "",
+          {kLeft, kRight},
+          {{kEveryPath,
+            {"/input/system/click",  "/input/system/touch",     "/input/a/click",          "/input/a/touch",
+             "/input/b/click",       "/input/b/touch",          "/input/squeeze/value",    "/input/squeeze/force",
+             "/input/trigger/click", "/input/trigger/value",    "/input/trigger/touch",    "/input/thumbstick/x",
+             "/input/thumbstick/y",  "/input/thumbstick/click", "/input/thumbstick/touch", "/input/trackpad/x",
+             "/input/trackpad/y",    "/input/trackpad/force",   "/input/trackpad/touch",   "/input/grip/pose",
+             "/input/aim/pose",      "/output/haptic"}}}};
+}
+
+// XR_EXT_eye_gaze_interaction, "Eye gaze input".
+ProfileSpec ext_eye_gaze_interaction() {
+  return {"/interaction_profiles/ext/eye_gaze_interaction",
+          "XR_EXT_eye_gaze_interaction",
+          {"/user/eyes_ext"},
+          {{kEveryPath, {"/input/gaze_ext/pose"}}}};
+}
+
+// In the spec's order.
 std::vector<ProfileSpec> profile_specs() {
   return {
-      {"/interaction_profiles/khr/simple_controller",
-       "",
-       {kLeft, kRight},
-       {{kEveryPath,
-         {"/input/select/click", "/input/menu/click", "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}},
-      {"/interaction_profiles/google/daydream_controller",
-       "",
-       {kLeft, kRight},
-       {{kEveryPath,
-         {"/input/select/click", "/input/trackpad/x", "/input/trackpad/y", "/input/trackpad/click",
-          "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose"}}}},
-      {"/interaction_profiles/htc/vive_controller",
-       "",
-       {kLeft, kRight},
-       {{kEveryPath,
-         {"/input/system/click", "/input/squeeze/click", "/input/menu/click", "/input/trigger/click",
-          "/input/trigger/value", "/input/trackpad/x", "/input/trackpad/y", "/input/trackpad/click",
-          "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}},
-      {"/interaction_profiles/htc/vive_pro",
-       "",
-       {"/user/head"},
-       {{kEveryPath,
-         {"/input/system/click", "/input/volume_up/click", "/input/volume_down/click", "/input/mute_mic/click"}}}},
-      {"/interaction_profiles/microsoft/motion_controller",
-       "",
-       {kLeft, kRight},
-       {{kEveryPath,
-         {"/input/menu/click", "/input/squeeze/click", "/input/trigger/value", "/input/thumbstick/x",
-          "/input/thumbstick/y", "/input/thumbstick/click", "/input/trackpad/x", "/input/trackpad/y",
-          "/input/trackpad/click", "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}},
-      {"/interaction_profiles/microsoft/xbox_controller",
-       "",
-       {"/user/gamepad"},
-       {{kEveryPath,
-         {"/input/menu/click",
-          "/input/view/click",
-          "/input/a/click",
-          "/input/b/click",
-          "/input/x/click",
-          "/input/y/click",
-          "/input/dpad_down/click",
-          "/input/dpad_right/click",
-          "/input/dpad_up/click",
-          "/input/dpad_left/click",
-          "/input/shoulder_left/click",
-          "/input/shoulder_right/click",
-          "/input/thumbstick_left/click",
-          "/input/thumbstick_right/click",
-          "/input/trigger_left/value",
-          "/input/trigger_right/value",
-          "/input/thumbstick_left/x",
-          "/input/thumbstick_left/y",
-          "/input/thumbstick_right/x",
-          "/input/thumbstick_right/y",
-          "/output/haptic_left",
-          "/output/haptic_right",
-          "/output/haptic_left_trigger",
-          "/output/haptic_right_trigger"}}}},
-      {"/interaction_profiles/oculus/go_controller",
-       "",
-       {kLeft, kRight},
-       {{kEveryPath,
-         {"/input/system/click", "/input/trigger/click", "/input/back/click", "/input/trackpad/x", "/input/trackpad/y",
-          "/input/trackpad/click", "/input/trackpad/touch", "/input/grip/pose", "/input/aim/pose"}}}},
-      {"/interaction_profiles/oculus/touch_controller",
-       "",
-       {kLeft, kRight},
-       {{kLeft, {"/input/x/click", "/input/x/touch", "/input/y/click", "/input/y/touch", "/input/menu/click"}},
-        {kRight, {"/input/a/click", "/input/a/touch", "/input/b/click", "/input/b/touch", "/input/system/click"}},
-        {kEveryPath,
-         {"/input/squeeze/value", "/input/trigger/value", "/input/trigger/touch", "/input/thumbstick/x",
-          "/input/thumbstick/y", "/input/thumbstick/click", "/input/thumbstick/touch", "/input/thumbrest/touch",
-          "/input/grip/pose", "/input/aim/pose", "/output/haptic"}}}},
-      {"/interaction_profiles/valve/index_controller",
-       "",
-       {kLeft, kRight},
-       {{kEveryPath,
-         {"/input/system/click",  "/input/system/touch",     "/input/a/click",          "/input/a/touch",
-          "/input/b/click",       "/input/b/touch",          "/input/squeeze/value",    "/input/squeeze/force",
-          "/input/trigger/click", "/input/trigger/value",    "/input/trigger/touch",    "/input/thumbstick/x",
-          "/input/thumbstick/y",  "/input/thumbstick/click", "/input/thumbstick/touch", "/input/trackpad/x",
-          "/input/trackpad/y",    "/input/trackpad/force",   "/input/trackpad/touch",   "/input/grip/pose",
-          "/input/aim/pose",      "/output/haptic"}}}},
-      // XR_EXT_eye_gaze_interaction, "Eye gaze input".
-      {"/interaction_profiles/ext/eye_gaze_interaction",
-       "XR_EXT_eye_gaze_interaction",
-       {"/user/eyes_ext"},
-       {{kEveryPath, {"/input/gaze_ext/pose"}}}},
-  };
+      khr_simple_controller(),       google_daydream_controller(), htc_vive_controller(),  htc_vive_pro(),
+      microsoft_motion_controller(), microsoft_xbox_controller(),  oculus_go_controller(), oculus_touch_controller(),
+      valve_index_controller(),      ext_eye_gaze_interaction()};
 }
 
 // The profiles with their full paths, built once; `storage` owns the strings the views point at (a deque never

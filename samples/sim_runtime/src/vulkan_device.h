@@ -27,14 +27,14 @@ struct ReadbackBuffer {
 class VulkanDevice {
  public:
   // Fails (returns false, error filled) when the binding's handles are unusable.
-  bool init(VkInstance instance, VkPhysicalDevice physical, VkDevice device, uint32_t queue_family,
+  [[nodiscard]] bool init(VkInstance instance, VkPhysicalDevice physical, VkDevice device, uint32_t queue_family,
             uint32_t queue_index, std::string* error);
   void destroy();
   bool valid() const { return device_ != VK_NULL_HANDLE; }
 
   bool supports(VkFormat format, VkImageUsageFlags usage, VkImageCreateFlags flags,
                 uint32_t array_size) const;
-  bool create_image(VkFormat format, uint32_t width, uint32_t height, uint32_t array_size,
+  [[nodiscard]] bool create_image(VkFormat format, uint32_t width, uint32_t height, uint32_t array_size,
                     uint32_t mip_count, VkImageUsageFlags usage, VkImageCreateFlags flags,
                     SwapchainImage& out, std::string* error);
   void destroy_image(SwapchainImage& img);

@@ -22,9 +22,12 @@
 #include "foveation/image_history.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/visible_points.hpp"
+#include "history_kinds.hpp"
 
 namespace foveart::foveation {
 namespace {
+
+using test::HistoryKind;
 
 constexpr uint32_t kW = 96;
 constexpr uint32_t kH = 80;
@@ -62,11 +65,11 @@ FrameRequest request_at(glm::vec2 gaze_px) {
   return r;
 }
 
-ViewSettings settings(int rays_per_point, bool taa) {
+ViewSettings settings(int rays_per_point, bool temporal) {
   ViewSettings s;
   s.rays_per_point = rays_per_point;
-  s.taa = taa;
-  s.new_jitter_each_frame = taa;
+  s.temporal = temporal ? TemporalMode::image : TemporalMode::off;
+  s.new_jitter_each_frame = temporal;
   return s;
 }
 
@@ -349,36 +352,36 @@ TEST(FoveatedView, OneThreadRunsEveryStageOnTheCallerAndStartsNoThread) {
   EXPECT_EQ(process_threads(), before);
 }
 
-// The TAA blends a frame of n rays per point as n one-ray frames (taa.hpp);
+// The temporal blend weighs a frame of n rays per point as n one-ray frames (temporal_blend.hpp);
 // the GPU path reads the same options (gpu_reconstruction_test).
 TEST(FoveatedView, TaaBlendWeightFollowsTheRaysPerPoint) {
   for (int rays : {1, 4, 16}) {
     const FoveatedView view(small_tables(InterpMethod::msm, 5), settings(rays, true));
-    const float expected = taa_options_for_rays(TaaOptions{}, rays).current_weight;
-    EXPECT_EQ(view.taa_options().current_weight, expected) << rays << " rays";
-    EXPECT_EQ(view.settings().taa_options.current_weight, TaaOptions{}.current_weight) << "the settings stay as given";
+    const float expected = temporal_options_for_rays(TemporalOptions{}, rays).current_weight;
+    EXPECT_EQ(view.temporal_options().current_weight, expected) << rays << " rays";
+    EXPECT_EQ(view.settings().temporal_options.current_weight, TemporalOptions{}.current_weight) << "the settings stay as given";
   }
-  EXPECT_NEAR(taa_options_for_rays(TaaOptions{}, 4).current_weight, 1.0 - std::pow(0.9, 4), 1e-6);
+  EXPECT_NEAR(temporal_options_for_rays(TemporalOptions{}, 4).current_weight, 1.0 - std::pow(0.9, 4), 1e-6);
 }
 
 TEST(FoveatedView, SaccadeRestartsTheHistory) {
   Executor executor(2);
   FoveatedView view(small_tables(InterpMethod::msm, 5), settings(1, true));
   auto request = request_at({48, 40});
-  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).taa_reset);  // first frame
+  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).temporal_reset);  // first frame
   request.frame_index = 8;
-  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).taa_reset);  // steady: the history goes on
+  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).temporal_reset);  // steady: the history goes on
   request.frame_index = 9;
   request.saccade = true;  // same gaze pixel, but the provider saw a saccade
-  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).taa_reset);
+  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).temporal_reset);
   request.frame_index = 10;  // still flagged: the history restarted at the onset and accumulates again
-  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).taa_reset);
+  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).temporal_reset);
   request.frame_index = 11;
   request.saccade = false;
-  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).taa_reset);
+  EXPECT_FALSE(view.render(request, &gradient, nullptr, executor).temporal_reset);
   request.frame_index = 12;
   request.blink = true;  // a new flagged run: its first frame restarts
-  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).taa_reset);
+  EXPECT_TRUE(view.render(request, &gradient, nullptr, executor).temporal_reset);
 }
 
 struct FaultCase {
@@ -403,7 +406,7 @@ TEST_P(Failure, KeepsTheLastGoodImageAndSaysWhy) {
   // The next good frame works again, and restarts the history.
   const auto again = view.render(request_at({48, 40}), &constant_colour, &rec, executor);
   EXPECT_TRUE(again.ok());
-  EXPECT_TRUE(again.taa_reset);
+  EXPECT_TRUE(again.temporal_reset);
 }
 
 INSTANTIATE_TEST_SUITE_P(Faults, Failure,
@@ -434,12 +437,11 @@ TEST(FrameStages, ComposedByHandTheyAreTheViewsFrame) {
   Executor executor(2);
   const auto tables = small_tables(InterpMethod::msm, 5);
   ViewSettings s = settings(2, true);
-  s.taa_history = TaaHistory::reproject;
   s.centre_deadband_deg = 0.0;  // the centre is the gaze: no FoveationCentre needed below
   FoveatedView view(tables, s);
   CallbackTrace trace(tables->points, s.rays_per_point, s.pixel_filter, s.new_jitter_each_frame, false);
   GatherReconstruction reconstruct(*tables, s.rbf_clamp);
-  ImageHistory history(tables->neighbors, taa_options_for_rays(s.taa_options, s.rays_per_point), true);
+  ImageHistory history(tables->neighbors, temporal_options_for_rays(s.temporal_options, s.rays_per_point), true);
   ImageRgb reconstructed;
   for (int f = 0; f < 4; ++f) {
     FrameRequest request = request_at({40.0f + 3.0f * float(f), 38});
@@ -466,14 +468,15 @@ TEST(FrameStages, ComposedByHandTheyAreTheViewsFrame) {
 // is the one it applies here: the same restarts, blend weights and ray-cache
 // restarts over moves, a saccade and a gaze jump, for every history.
 TEST(FrameStages, DecideAgreesWithAccumulateForEveryHistory) {
-  for (const TaaHistory kind : {TaaHistory::restart_on_view_change, TaaHistory::reproject, TaaHistory::ray_cache}) {
+  for (const HistoryKind kind : {HistoryKind::restart_on_view_change, HistoryKind::reproject, HistoryKind::ray_cache}) {
     SCOPED_TRACE(int(kind));
     Executor executor(2);
     ViewSettings s = settings(1, true);
-    s.taa_history = kind;
-    FoveatedView here(small_tables(InterpMethod::msm, 5), s);
+    s.temporal = test::mode_of(kind);
+    const auto tables = small_tables(InterpMethod::msm, 5);
+    FoveatedView here(tables, s, test::make_history(kind, *tables, s));
     s.reconstruct_on_cpu = false;
-    FoveatedView elsewhere(small_tables(InterpMethod::msm, 5), s);
+    FoveatedView elsewhere(tables, s, test::make_history(kind, *tables, s));
     std::vector<bool> resets;
     for (int f = 0; f < 8; ++f) {
       FrameRequest request = request_at(f == 6 ? glm::vec2(8, 8) : glm::vec2(48, 40));  // frame 6 jumps 51 px
@@ -488,14 +491,14 @@ TEST(FrameStages, DecideAgreesWithAccumulateForEveryHistory) {
       EXPECT_EQ(x.reset, y.reset) << "frame " << f;
       EXPECT_EQ(x.blend.current_weight, y.blend.current_weight) << "frame " << f;
       EXPECT_EQ(x.ray_restart, y.ray_restart) << "frame " << f;
-      EXPECT_EQ(a.taa_reset, b.taa_reset) << "frame " << f;
+      EXPECT_EQ(a.temporal_reset, b.temporal_reset) << "frame " << f;
       resets.push_back(x.reset);
     }
     EXPECT_TRUE(resets[0]) << "the first frame starts the history";
     EXPECT_TRUE(resets[3]) << "the saccade's onset restarts it";
     EXPECT_TRUE(resets[6]) << "the gaze jump restarts it";
     EXPECT_FALSE(resets[1]);
-    EXPECT_EQ(resets[5], kind == TaaHistory::restart_on_view_change) << "a moved head restarts only that history";
+    EXPECT_EQ(resets[5], kind == HistoryKind::restart_on_view_change) << "a moved head restarts only that history";
   }
 }
 

@@ -12,7 +12,7 @@
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/interpolation_table.hpp"
 #include "foveation/point_set.hpp"
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 
 namespace fv = foveart::foveation;
 

@@ -88,12 +88,12 @@ class GpuTracer {
   // min(rayCapacity, rays, colors) launches of which those past the count
   // return at once (ray_tracing_pipeline: an indirect launch needs a device
   // address the layer's buffers do not have). false + *error: nothing usable was recorded.
-  bool record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error);
+  [[nodiscard]] bool record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error);
 
   // A full render of `view` like engine::render_full (box-filter jitter
   // pixel_jitter(y * W + x, s, seed), spp rays per pixel, averaged) into `out`
   // at `offset`: W * H vec4 (rgb, w = the first ray's hit distance, +inf a miss).
-  bool record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed, VkBuffer out,
+  [[nodiscard]] bool record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed, VkBuffer out,
                    VkDeviceSize offset, std::string* error);
 
   const engine::Scene& scene() const;

@@ -1,4 +1,4 @@
-// TAA history that survives head motion (Karis 2014; Yang, Liu & Salvi 2020,
+// A temporal history that survives head motion (Karis 2014; Yang, Liu & Salvi 2020,
 // "A Survey of Temporal Antialiasing Techniques", section 3): each pixel of
 // the current view finds where its surface was in the previous view and
 // takes the previous output there (bilinear). Without depth the surface is

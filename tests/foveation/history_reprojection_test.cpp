@@ -1,4 +1,4 @@
-// TAA history reprojection (foveation/taa_reprojection.hpp) against analytic
+// TAA history reprojection (foveation/history_reprojection.hpp) against analytic
 // renders: a yaw (rotation only, no depth needed) and a sideways step of the
 // eye in front of a near bar and a far wall (parallax: needs depth, and the
 // bar's trailing edge uncovers wall the history never saw).
@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "analytic_scene.hpp"
-#include "foveation/taa_reprojection.hpp"
+#include "foveation/history_reprojection.hpp"
 #include "test_executor.hpp"
 
 namespace foveart::foveation {

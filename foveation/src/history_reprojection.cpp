@@ -1,4 +1,4 @@
-#include "foveation/taa_reprojection.hpp"
+#include "foveation/history_reprojection.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include <metrics/image_metrics.hpp>
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 #include "test_executor.hpp"
 
 namespace foveart::foveation {
@@ -37,12 +37,12 @@ ImageRgb noisy(const ImageRgb& base, std::mt19937& rng, float sigma) {
   return im;
 }
 
-class Taa : public ::testing::TestWithParam<TaaConstraint> {};
+class Taa : public ::testing::TestWithParam<HistoryClip> {};
 
 // The scalar definition TAA had before its row loop was vectorised (per pixel:
 // 3x3 taps with clamp-to-edge, constrain the history, blend): the fast path
 // must reproduce it bit for bit.
-ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptions& o, float weight) {
+ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TemporalOptions& o, float weight) {
   ImageRgb out(cur.width_px, cur.height_px);
   const int w = cur.width_px, h = cur.height_px;
   for (int y = 0; y < h; ++y) {
@@ -65,7 +65,7 @@ ImageRgb taa_reference(const ImageRgb& cur, const ImageRgb& hist, const TaaOptio
       const float* c = cur.at(x, y);
       const float* hp = hist.at(x, y);
       float hv[3] = {hp[0], hp[1], hp[2]};
-      if (o.constraint == TaaConstraint::minmax_clamp) {
+      if (o.constraint == HistoryClip::minmax_clamp) {
         for (int i = 0; i < 3; ++i) hv[i] = std::clamp(hv[i], lo[i], hi[i]);
       } else {
         float mu[3], ext[3];
@@ -97,7 +97,7 @@ TEST_P(Taa, MatchesTheScalarDefinitionBitForBit) {
   std::mt19937 rng(7);
   // Odd sizes, one-pixel-wide and one-row images: every edge case of the clamp.
   for (const auto& [w, h] : {std::pair{37, 23}, std::pair{1, 5}, std::pair{6, 1}, std::pair{2, 2}}) {
-    TaaOptions o;
+    TemporalOptions o;
     o.constraint = GetParam();
     o.mean_while_young = true;  // both weights: the young mean's 1 / k, then current_weight
     TemporalAccumulator taa(o);
@@ -120,7 +120,7 @@ TEST_P(Taa, MatchesTheScalarDefinitionBitForBit) {
 }
 
 TEST_P(Taa, StaticFrameIsAFixedPoint) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const auto frame = gradient(64, 48);
@@ -132,7 +132,7 @@ TEST_P(Taa, StaticFrameIsAFixedPoint) {
 }
 
 TEST_P(Taa, StaticNoisySceneConvergesAndFlickersLess) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const auto base = gradient(64, 48);
@@ -160,7 +160,7 @@ TEST_P(Taa, StaticNoisySceneConvergesAndFlickersLess) {
 }
 
 TEST_P(Taa, ConvergesToANewStaticScene) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const auto a = gradient(32, 32, 0.0f), b = gradient(32, 32, 0.3f);
@@ -189,12 +189,12 @@ ImageRgb checkerboard(int w, int h, float low, float high) {
 // The exponential blend's alpha per ray (a young history's mean needs none:
 // TaaFrameWeight below), so the young mean is off here.
 TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
-  TaaOptions one_ray;
+  TemporalOptions one_ray;
   one_ray.constraint = GetParam();
   one_ray.mean_while_young = false;
   const ImageRgb start = checkerboard(16, 12, 0.4f, 0.6f), target = checkerboard(16, 12, 0.0f, 1.0f);
   for (int rays : {2, 4, 16}) {
-    const TaaOptions n_rays = taa_options_for_rays(one_ray, rays);
+    const TemporalOptions n_rays = temporal_options_for_rays(one_ray, rays);
     TemporalAccumulator once(n_rays), in_turn(one_ray);
     once.accumulate(start, {8, 6}, test::executor());
     in_turn.accumulate(start, {8, 6}, test::executor());
@@ -213,7 +213,7 @@ TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
   }
   // One ray (and a nonsensical 0): the options as given, bit for bit.
   for (int rays : {1, 0}) {
-    const TaaOptions same = taa_options_for_rays(one_ray, rays);
+    const TemporalOptions same = temporal_options_for_rays(one_ray, rays);
     EXPECT_EQ(std::memcmp(&same.current_weight, &one_ray.current_weight, sizeof(float)), 0) << rays << " rays";
   }
 }
@@ -224,7 +224,7 @@ TEST_P(Taa, AFrameOfNRaysBlendsAsNOneRayFrames) {
 // and 1, and every mean lies between, so the min/max clamp never acts; the
 // variance clip is widened (gamma 4) to act as little.
 TEST_P(Taa, AYoungHistoryIsTheMeanOfItsFrames) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   o.mean_while_young = true;
   o.variance_gamma = 4.0f;
@@ -273,7 +273,7 @@ TEST_P(Taa, AYoungHistoryIsTheMeanOfItsFrames) {
 // Without the young mean (the default): the exponential blend from the second
 // frame on, so the first frame after a reset fades as (1 - alpha)^k.
 TEST_P(Taa, WithoutTheYoungMeanEveryFrameWeighsCurrentWeight) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   o.mean_while_young = false;
   TemporalAccumulator taa(o);
@@ -288,26 +288,26 @@ TEST_P(Taa, WithoutTheYoungMeanEveryFrameWeighsCurrentWeight) {
 }
 
 TEST(TaaFrameWeight, IsTheMeanThenCurrentWeight) {
-  EXPECT_FALSE(TaaOptions{}.mean_while_young) << "the layer's default blend";
-  TaaOptions o;
+  EXPECT_FALSE(TemporalOptions{}.mean_while_young) << "the layer's default blend";
+  TemporalOptions o;
   o.mean_while_young = true;
-  EXPECT_EQ(taa_frame_weight(o, 0), 1.0f);  // a reset: the frame alone
-  EXPECT_EQ(taa_frame_weight(o, 1), 0.5f);
-  EXPECT_FLOAT_EQ(taa_frame_weight(o, 3), 0.25f);
-  EXPECT_FLOAT_EQ(taa_frame_weight(o, 9), 0.1f);
-  EXPECT_EQ(taa_frame_weight(o, 10), o.current_weight);
-  EXPECT_EQ(taa_frame_weight(o, 1u << 16), o.current_weight);
+  EXPECT_EQ(temporal_frame_weight(o, 0), 1.0f);  // a reset: the frame alone
+  EXPECT_EQ(temporal_frame_weight(o, 1), 0.5f);
+  EXPECT_FLOAT_EQ(temporal_frame_weight(o, 3), 0.25f);
+  EXPECT_FLOAT_EQ(temporal_frame_weight(o, 9), 0.1f);
+  EXPECT_EQ(temporal_frame_weight(o, 10), o.current_weight);
+  EXPECT_EQ(temporal_frame_weight(o, 1u << 16), o.current_weight);
   // Frames of 4 rays: their own current_weight, 1 - 0.9^4 = 0.344, from the 2nd frame held on.
-  const TaaOptions four = taa_options_for_rays(o, 4);
-  EXPECT_EQ(taa_frame_weight(four, 1), 0.5f);
-  EXPECT_EQ(taa_frame_weight(four, 2), four.current_weight);
+  const TemporalOptions four = temporal_options_for_rays(o, 4);
+  EXPECT_EQ(temporal_frame_weight(four, 1), 0.5f);
+  EXPECT_EQ(temporal_frame_weight(four, 2), four.current_weight);
   o.mean_while_young = false;
-  EXPECT_EQ(taa_frame_weight(o, 0), 1.0f);
-  EXPECT_EQ(taa_frame_weight(o, 1), o.current_weight);
+  EXPECT_EQ(temporal_frame_weight(o, 0), 1.0f);
+  EXPECT_EQ(temporal_frame_weight(o, 1), o.current_weight);
 }
 
 TEST_P(Taa, GazeJumpResetsHistory) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const auto a = gradient(64, 48, 0.0f), c = gradient(64, 48, 0.4f);
@@ -337,7 +337,7 @@ TEST_P(Taa, GazeJumpResetsHistory) {
 // accumulate_reprojected: a pixel whose history was rejected (valid 0) is this
 // frame exactly; the others blend.
 TEST_P(Taa, RejectedHistoryPixelsAreTheCurrentFrameExactly) {
-  TaaOptions o;
+  TemporalOptions o;
   o.constraint = GetParam();
   TemporalAccumulator taa(o);
   const ImageRgb a = gradient(13, 7, 0.0f), b = gradient(13, 7, 0.05f);
@@ -354,7 +354,7 @@ TEST_P(Taa, RejectedHistoryPixelsAreTheCurrentFrameExactly) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Constraints, Taa,
-                         ::testing::Values(TaaConstraint::minmax_clamp, TaaConstraint::variance_clip));
+                         ::testing::Values(HistoryClip::minmax_clamp, HistoryClip::variance_clip));
 
 }  // namespace
 }  // namespace foveart::foveation

@@ -1,4 +1,4 @@
-#include "foveation/taa.hpp"
+#include "foveation/temporal_blend.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -82,15 +82,15 @@ inline float clamp_to_box(float h, const float* __restrict a, const float* __res
 
 // Rows above (a), at (b) and below (c) per channel; restrict parameters so
 // GCC needs no runtime alias checks.
-template <TaaConstraint kConstraint>
-void taa_row(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
+template <HistoryClip kConstraint>
+void blend_row(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
              const float* __restrict b0, const float* __restrict b1, const float* __restrict b2,
              const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
              const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
              float* __restrict o0, float* __restrict o1, float* __restrict o2, int w, float alpha, float gamma, float floor) {
   for (int x = 0; x < w; ++x) {
     float v0 = h0[x], v1 = h1[x], v2 = h2[x];
-    if constexpr (kConstraint == TaaConstraint::minmax_clamp) {
+    if constexpr (kConstraint == HistoryClip::minmax_clamp) {
       v0 = clamp_to_box(v0, a0, b0, c0, x);
       v1 = clamp_to_box(v1, a1, b1, c1, x);
       v2 = clamp_to_box(v2, a2, b2, c2, x);
@@ -120,9 +120,9 @@ void taa_row(const float* __restrict a0, const float* __restrict a1, const float
 
 #if defined(__SSE2__)
 // The variance-clip row with SSE2, four pixels per step: the same IEEE
-// operations per lane as taa_row<variance_clip> (min/max operands ordered as
+// operations per lane as blend_row<variance_clip> (min/max operands ordered as
 // std::min/std::max, so NaN behaves the same), hence bit-identical.
-void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
+void blend_row_variance_sse(const float* __restrict a0, const float* __restrict a1, const float* __restrict a2,
                           const float* __restrict b0, const float* __restrict b1, const float* __restrict b2,
                           const float* __restrict c0, const float* __restrict c1, const float* __restrict c2,
                           const float* __restrict h0, const float* __restrict h1, const float* __restrict h2,
@@ -172,14 +172,14 @@ void taa_row_variance_sse(const float* __restrict a0, const float* __restrict a1
     blend(v2, s2, t, b2, o2, x);
   }
   if (x < w) {  // the last 1..3 pixels
-    taa_row<TaaConstraint::variance_clip>(a0 + x, a1 + x, a2 + x, b0 + x, b1 + x, b2 + x, c0 + x, c1 + x, c2 + x, h0 + x,
+    blend_row<HistoryClip::variance_clip>(a0 + x, a1 + x, a2 + x, b0 + x, b1 + x, b2 + x, c0 + x, c1 + x, c2 + x, h0 + x,
                                           h1 + x, h2 + x, o0 + x, o1 + x, o2 + x, w - x, alpha, gamma, floor);
   }
 }
 #endif
 
 // Rows [y0, y1): out = lerp(constrain(history), current, weight).
-void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TaaOptions& o, float weight, int y0,
+void blend_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const TemporalOptions& o, float weight, int y0,
               int y1) {
   const int w = cur.width_px, h = cur.height_px;
   RowPlanes planes(w);
@@ -196,11 +196,11 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
       for (int i = 0; i < 3; ++i) hist_row[std::size_t(i) * std::size_t(w) + std::size_t(x)] = src[std::size_t(x) * 3 + std::size_t(i)];
     }
 #if defined(__SSE2__)
-    auto* row = o.constraint == TaaConstraint::minmax_clamp ? &taa_row<TaaConstraint::minmax_clamp>
-                                                            : &taa_row_variance_sse;
+    auto* row = o.constraint == HistoryClip::minmax_clamp ? &blend_row<HistoryClip::minmax_clamp>
+                                                            : &blend_row_variance_sse;
 #else
-    auto* row = o.constraint == TaaConstraint::minmax_clamp ? &taa_row<TaaConstraint::minmax_clamp>
-                                                            : &taa_row<TaaConstraint::variance_clip>;
+    auto* row = o.constraint == HistoryClip::minmax_clamp ? &blend_row<HistoryClip::minmax_clamp>
+                                                            : &blend_row<HistoryClip::variance_clip>;
 #endif
     row(r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2], hist_planes[0], hist_planes[1],
         hist_planes[2], out_planes[0], out_planes[1], out_planes[2], w, weight, o.variance_gamma,
@@ -215,7 +215,7 @@ void taa_rows(const ImageRgb& cur, const ImageRgb& hist, ImageRgb& out, const Ta
 }  // namespace
 
 // Karis 2014's exponential blend with alpha per ray rather than per frame.
-TaaOptions taa_options_for_rays(TaaOptions options, int rays_per_point) {
+TemporalOptions temporal_options_for_rays(TemporalOptions options, int rays_per_point) {
   if (rays_per_point <= 1) return options;
   const double history_weight = std::pow(1.0 - double(options.current_weight), rays_per_point);
   options.current_weight = float(1.0 - history_weight);
@@ -224,7 +224,7 @@ TaaOptions taa_options_for_rays(TaaOptions options, int rays_per_point) {
 
 // Progressive accumulation (the mean of the frames since the reset) until it
 // would weigh a frame less than the exponential blend of Karis 2014.
-float taa_frame_weight(const TaaOptions& options, std::uint32_t frames_held) {
+float temporal_frame_weight(const TemporalOptions& options, std::uint32_t frames_held) {
   if (frames_held == 0) return 1.0f;
   if (!options.mean_while_young) return options.current_weight;
   return std::max(options.current_weight, 1.0f / float(double(frames_held) + 1.0));
@@ -288,7 +288,7 @@ void TemporalAccumulator::blend(const ImageRgb& current, const ImageRgb& history
   const float weight = frame_weight();
   executor.parallel_for(std::size_t(bands), [&](std::size_t band) {
     const int y0 = h * int(band) / bands, y1 = h * (int(band) + 1) / bands;
-    taa_rows(current, history, scratch_, options_, weight, y0, y1);
+    blend_rows(current, history, scratch_, options_, weight, y0, y1);
     if (valid == nullptr) return;
     for (std::size_t p = std::size_t(y0) * std::size_t(w); p < std::size_t(y1) * std::size_t(w); ++p) {
       if (valid[p] == 0) std::copy_n(current.rgb.data() + p * 3, 3, scratch_.rgb.data() + p * 3);  // no history here

@@ -15,9 +15,12 @@
 #include "analytic_scene.hpp"
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
+#include "history_kinds.hpp"
 
 namespace foveart::foveation {
 namespace {
+
+using test::HistoryKind;
 
 constexpr uint32_t kViewW = 96, kViewH = 80;
 
@@ -100,19 +103,19 @@ struct MotionRun {
   double final_beyond_raw_rms = 0.0;  // ... final_raw_rms beyond the pixel grid
 };
 
-// frames frames, the view of frame i from view(i); TAA with `history`, new jitter each frame.
+// frames frames, the view of frame i from view(i); a temporal history of `history`'s kind,
+// new jitter each frame.
 template <class ViewFn>
-MotionRun run(const Engine& engine, TaaHistory history, int frames, ViewFn view, int rays_per_point = 1,
-              const TaaOptions& taa_options = {}) {
+MotionRun run(const Engine& engine, HistoryKind history, int frames, ViewFn view, int rays_per_point = 1,
+              const TemporalOptions& temporal_options = {}) {
   ViewSettings s;
   s.rays_per_point = rays_per_point;
-  s.taa_options = taa_options;
-  s.taa = true;
+  s.temporal_options = temporal_options;
+  s.temporal = test::mode_of(history);
   s.new_jitter_each_frame = true;
-  s.taa_history = history;
-  FoveatedView fv(tables(), s);
+  FoveatedView fv(tables(), s, test::make_history(history, *tables(), s));
   ViewSettings raw_settings = s;  // the same rays, each frame alone
-  raw_settings.taa = false;
+  raw_settings.temporal = TemporalMode::off;
   FoveatedView raw(tables(), raw_settings);
   Executor executor(2);
   MotionRun r;
@@ -124,7 +127,7 @@ MotionRun run(const Engine& engine, TaaHistory history, int frames, ViewFn view,
     const FrameResult res = fv.render(req, trace, const_cast<Engine*>(&engine), executor);
     EXPECT_TRUE(res.ok()) << res.message;
     EXPECT_TRUE(raw.render(req, trace, const_cast<Engine*>(&engine), executor).ok());
-    if (i > 0) r.resets_after_first += res.taa_reset ? 1 : 0;
+    if (i > 0) r.resets_after_first += res.temporal_reset ? 1 : 0;
     r.with_depth += res.history_with_depth;
     r.disoccluded += res.history_disoccluded;
     if (i == frames - 1) {
@@ -140,14 +143,14 @@ MotionRun run(const Engine& engine, TaaHistory history, int frames, ViewFn view,
   return r;
 }
 
-TEST(TaaMotion, EngineWithoutDepthGetsRotationalReprojection) {
+TEST(TemporalMotion, EngineWithoutDepthGetsRotationalReprojection) {
   Engine engine;
   engine.scene.wall_at_infinity = true;
   engine.scene.near_bar = false;
   engine.fill_depth = false;
   auto yaw = [](int i) { return view_at({0, 1.6f, 0}, 0.5f * float(i)); };  // 35 deg/s at 70 Hz
-  const MotionRun reproject = run(engine, TaaHistory::reproject, 12, yaw);
-  const MotionRun restart = run(engine, TaaHistory::restart_on_view_change, 12, yaw);
+  const MotionRun reproject = run(engine, HistoryKind::reproject, 12, yaw);
+  const MotionRun restart = run(engine, HistoryKind::restart_on_view_change, 12, yaw);
   std::printf("yaw 0.5 deg/frame: RMS %.4f reprojected TAA, %.4f restarting TAA, %.4f no TAA\n", reproject.final_rms,
               restart.final_rms, reproject.final_raw_rms);
   EXPECT_EQ(reproject.resets_after_first, 0) << "the history survives the head turning";
@@ -156,13 +159,13 @@ TEST(TaaMotion, EngineWithoutDepthGetsRotationalReprojection) {
   EXPECT_LT(reproject.final_rms, 0.8 * reproject.final_raw_rms) << "accumulated history must beat one frame";
 }
 
-TEST(TaaMotion, EngineWithDepthGetsParallaxCorrectHistory) {
+TEST(TemporalMotion, EngineWithDepthGetsParallaxCorrectHistory) {
   Engine with_depth, without_depth;
   without_depth.fill_depth = false;
   // The eye steps 2 cm right per frame: the near bar (1 m) slides ~2 px per frame across the wall (10 m).
   auto step = [](int i) { return view_at({0.02f * float(i) - 0.1f, 1.6f, 0}, 0.0f); };
-  const MotionRun depth = run(with_depth, TaaHistory::reproject, 12, step);
-  const MotionRun rotation = run(without_depth, TaaHistory::reproject, 12, step);
+  const MotionRun depth = run(with_depth, HistoryKind::reproject, 12, step);
+  const MotionRun rotation = run(without_depth, HistoryKind::reproject, 12, step);
   std::printf("step 2 cm/frame: RMS %.4f with depth, %.4f rotation only, %.4f no TAA; %llu px disoccluded\n",
               depth.final_rms, rotation.final_rms, depth.final_raw_rms,
               static_cast<unsigned long long>(depth.disoccluded));
@@ -172,23 +175,23 @@ TEST(TaaMotion, EngineWithDepthGetsParallaxCorrectHistory) {
   EXPECT_LT(depth.final_rms, 0.7 * rotation.final_rms) << "rotation-only history ghosts the near bar";
 }
 
-// Frames of many rays blend with a larger weight (taa_options_for_rays: the
+// Frames of many rays blend with a larger weight (temporal_options_for_rays: the
 // history holds as many rays as ten 1-ray frames). The history still beats
 // one frame of the same rays while the head turns. Printed beside it: alpha
 // 0.1 per frame whatever the rays, which averages more and on these smooth
 // stripes comes out closer to the truth; on the default scene's fine detail
 // it does not (docs/foveation.md, "Blend weight and rays per point").
-TEST(TaaMotion, FramesOfManyRaysStillBeatOneFrame) {
+TEST(TemporalMotion, FramesOfManyRaysStillBeatOneFrame) {
   Engine engine;
   engine.scene.wall_at_infinity = true;
   engine.scene.near_bar = false;
   auto yaw = [](int i) { return view_at({0, 1.6f, 0}, 0.5f * float(i)); };
   constexpr int kRays = 8;
-  TaaOptions per_frame;  // 1 - (1 - a)^8 = 0.1: alpha 0.1 per frame
+  TemporalOptions per_frame;  // 1 - (1 - a)^8 = 0.1: alpha 0.1 per frame
   per_frame.current_weight = float(1.0 - std::pow(0.9, 1.0 / kRays));
-  ASSERT_NEAR(taa_options_for_rays(per_frame, kRays).current_weight, 0.1f, 1e-6f);
-  const MotionRun per_ray = run(engine, TaaHistory::reproject, 24, yaw, kRays);
-  const MotionRun frame_alpha = run(engine, TaaHistory::reproject, 24, yaw, kRays, per_frame);
+  ASSERT_NEAR(temporal_options_for_rays(per_frame, kRays).current_weight, 0.1f, 1e-6f);
+  const MotionRun per_ray = run(engine, HistoryKind::reproject, 24, yaw, kRays);
+  const MotionRun frame_alpha = run(engine, HistoryKind::reproject, 24, yaw, kRays, per_frame);
   std::printf("yaw 0.5 deg/frame, %d rays per point: RMS %.4f alpha per ray, %.4f alpha 0.1 per frame, %.4f no TAA\n",
               kRays, per_ray.final_rms, frame_alpha.final_rms, per_ray.final_raw_rms);
   EXPECT_EQ(per_ray.resets_after_first, 0);
@@ -200,13 +203,13 @@ TEST(TaaMotion, FramesOfManyRaysStillBeatOneFrame) {
 // reprojected history too. While the eye steps sideways the near bar slides
 // over the wall: with the engine's depth each ray stays on its own surface,
 // without it the bar's and the wall's rays smear across each other.
-TEST(TaaMotion, RayCacheKeepsParallaxCorrectRaysOverThePixelGrid) {
+TEST(TemporalMotion, RayCacheKeepsParallaxCorrectRaysOverThePixelGrid) {
   Engine with_depth, without_depth;
   without_depth.fill_depth = false;
   ASSERT_GT(pixel_grid_inside_px(), 8.0f);
   auto yaw = [](int i) { return view_at({0, 1.6f, 0}, 0.5f * float(i)); };
-  const MotionRun cache_yaw = run(with_depth, TaaHistory::ray_cache, 12, yaw);
-  const MotionRun reproject_yaw = run(with_depth, TaaHistory::reproject, 12, yaw);
+  const MotionRun cache_yaw = run(with_depth, HistoryKind::ray_cache, 12, yaw);
+  const MotionRun reproject_yaw = run(with_depth, HistoryKind::reproject, 12, yaw);
   std::printf("yaw 0.5 deg/frame, the pixel grid (%.1f px): RMS %.4f ray cache, %.4f reprojected, %.4f no TAA\n",
               double(pixel_grid_inside_px()), cache_yaw.final_grid_rms, reproject_yaw.final_grid_rms,
               cache_yaw.final_grid_raw_rms);
@@ -215,8 +218,8 @@ TEST(TaaMotion, RayCacheKeepsParallaxCorrectRaysOverThePixelGrid) {
   EXPECT_LT(cache_yaw.final_grid_rms, reproject_yaw.final_grid_rms) << "kept rays do not blur";
 
   auto step = [](int i) { return view_at({0.02f * float(i) - 0.1f, 1.6f, 0}, 0.0f); };
-  const MotionRun depth = run(with_depth, TaaHistory::ray_cache, 12, step);
-  const MotionRun rotation = run(without_depth, TaaHistory::ray_cache, 12, step);
+  const MotionRun depth = run(with_depth, HistoryKind::ray_cache, 12, step);
+  const MotionRun rotation = run(without_depth, HistoryKind::ray_cache, 12, step);
   std::printf("step 2 cm/frame, the pixel grid: RMS %.4f ray cache with depth, %.4f without, %.4f no TAA\n",
               depth.final_grid_rms, rotation.final_grid_rms, depth.final_grid_raw_rms);
   EXPECT_LT(depth.final_grid_rms, depth.final_grid_raw_rms);
@@ -227,11 +230,11 @@ TEST(TaaMotion, RayCacheKeepsParallaxCorrectRaysOverThePixelGrid) {
 // pixel filter widened to the nearest point's disc: while the head turns and
 // steps, it beats one frame and the reprojected image history there too, and
 // the frame shows it there rather than the gather of this frame's points.
-TEST(TaaMotion, BeyondThePixelGridTheRayCacheFiltersIntoEachPixelAsWideAsItsPointsDisc) {
+TEST(TemporalMotion, BeyondThePixelGridTheRayCacheFiltersIntoEachPixelAsWideAsItsPointsDisc) {
   Engine engine;
   auto move = [](int i) { return view_at({0.01f * float(i), 1.6f, 0}, 0.5f * float(i)); };
-  const MotionRun cache = run(engine, TaaHistory::ray_cache, 12, move);
-  const MotionRun reproject = run(engine, TaaHistory::reproject, 12, move);
+  const MotionRun cache = run(engine, HistoryKind::ray_cache, 12, move);
+  const MotionRun reproject = run(engine, HistoryKind::reproject, 12, move);
   std::printf("yaw 0.5 deg/frame + 1 cm/frame, beyond the pixel grid (%.1f px): RMS %.4f ray cache, %.4f "
               "reprojected, %.4f no TAA\n",
               double(pixel_grid_beyond_px()), cache.final_beyond_rms, reproject.final_beyond_rms,
@@ -241,9 +244,8 @@ TEST(TaaMotion, BeyondThePixelGridTheRayCacheFiltersIntoEachPixelAsWideAsItsPoin
   EXPECT_LT(cache.final_beyond_rms, 0.9 * reproject.final_beyond_rms) << "kept rays do not blur";
 
   ViewSettings s;
-  s.taa = true;
+  s.temporal = TemporalMode::rays;
   s.new_jitter_each_frame = true;
-  s.taa_history = TaaHistory::ray_cache;
   FoveatedView fv(tables(), s);
   Executor executor(2);
   const float beyond_px = pixel_grid_beyond_px();
@@ -270,20 +272,19 @@ TEST(TaaMotion, BeyondThePixelGridTheRayCacheFiltersIntoEachPixelAsWideAsItsPoin
 
 // A saccade's onset restarts the cache with the image history (the rule
 // for every history); its later flagged frames add to it again. With
-// ViewSettings::ray_cache_keeps_through_saccades every ray of a still view
+// the lab's variant kept through them (RayHistoryOptions::keep_through_restarts) every ray of a still view
 // stays. A blink does the same. (A Poisson point's jittered rays that land
 // beyond the filter's reach of the image are not kept: a frame keeps at most
 // the rays it traced.)
-TEST(TaaMotion, RayCacheRestartsOnASaccadeOrBlinkUnlessKeptThroughIt) {
+TEST(TemporalMotion, RayCacheRestartsOnASaccadeOrBlinkUnlessKeptThroughIt) {
   Engine engine;
   for (const bool kept : {false, true}) {
     for (const bool blink : {false, true}) {
       ViewSettings s;
-      s.taa = true;
+      s.temporal = TemporalMode::rays;
       s.new_jitter_each_frame = true;
-      s.taa_history = TaaHistory::ray_cache;
-      s.ray_cache_keeps_through_saccades = kept;
-      FoveatedView fv(tables(), s);
+      const HistoryKind kind = kept ? HistoryKind::ray_cache_kept : HistoryKind::ray_cache;
+      FoveatedView fv(tables(), s, test::make_history(kind, *tables(), s));
       Executor executor(2);
       std::uint64_t rays_so_far = 0;   // traced since the first frame
       std::uint64_t restart_rays = 0;  // traced on the frame the cache restarted
@@ -312,7 +313,7 @@ TEST(TaaMotion, RayCacheRestartsOnASaccadeOrBlinkUnlessKeptThroughIt) {
           EXPECT_LE(fv.cached_rays(), result.rays + restart_rays) << "and keeps nothing from before it";
         }
         if (i == 3) restart_rays = result.rays;
-        EXPECT_EQ(result.taa_reset, i == 0 || i == 3) << "frame " << i;
+        EXPECT_EQ(result.temporal_reset, i == 0 || i == 3) << "frame " << i;
       }
       if (kept) {
         EXPECT_GT(double(fv.cached_rays()), 0.95 * double(rays_so_far)) << "blink " << blink;
@@ -326,11 +327,10 @@ TEST(TaaMotion, RayCacheRestartsOnASaccadeOrBlinkUnlessKeptThroughIt) {
 // layer's GPU path) what the CPU's takes: every traced ray, once; per pixel
 // the footprint (1 on the pixel grid, its point's disc beyond) and the
 // covering distance of the depth test; and when to restart.
-TEST(TaaMotion, RayCacheWithoutCpuReconstructionHandsTheCacheItsRaysAndPixels) {
+TEST(TemporalMotion, RayCacheWithoutCpuReconstructionHandsTheCacheItsRaysAndPixels) {
   ViewSettings s;
-  s.taa = true;
+  s.temporal = TemporalMode::rays;
   s.new_jitter_each_frame = true;
-  s.taa_history = TaaHistory::ray_cache;
   s.pixel_filter = PixelFilter::bspline2;
   s.reconstruct_on_cpu = false;
   FoveatedView view(tables(), s);

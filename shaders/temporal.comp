@@ -19,7 +19,7 @@ layout(push_constant) uniform Push {
   float variance_gamma;  // box mu +- gamma sigma
   uint constraint;       // 0 min/max clamp, 1 variance clip
   uint reset;            // 1: output = current
-  float clip_floor;      // the box's least half-width (TaaOptions::clip_floor)
+  float clip_floor;      // the box's least half-width (TemporalOptions::clip_floor)
   uint reproject;        // the view moved: reproject the history, 1 bilinear, 2 Catmull-Rom (0: it did not)
   vec4 last_from_view_q;  // rotation (x, y, z, w): this view's space -> the last view's
   vec4 last_from_view_t;  // xyz: this eye's position in the last view's space, metres
