@@ -4,7 +4,7 @@
 
 #include <eval/pfm.hpp>
 #include <eval/reference.hpp>
-#include <eval/taa_modes.hpp>
+#include <eval/temporal_variants.hpp>
 
 #include <render_view/render_cli.hpp>
 
@@ -35,16 +35,17 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kAccuracyWho = "fovea-eval accuracy: ";
 
-std::string options_problem(const AccuracyOptions& o) {
+std::string options_problem(const AccuracyOptions& o, TemporalVariant* variant) {
   std::string bad;
   if (!render_view::check_render_options(o.render, &bad)) return bad;
   if (!check_reference_choice(o.reference, &bad)) return bad;
   if (o.reference.spp.empty() && o.reference.file.empty())
     return "give the reference: --reference-spp auto|N (a converged full render) or --reference FILE.pfm";
-  std::vector<std::string> modes;
-  if (!parse_taa_modes(o.taa, &modes, &bad)) return bad;
-  if (modes.size() != 1) return "--taa: one still view has one TAA mode";
-  if (o.render.mode == "full" && o.taa != "off") return "--taa needs --mode foveated or both";
+  std::vector<TemporalVariant> variants;
+  if (!parse_temporal_variants(o.temporal, &variants, &bad)) return bad;
+  if (variants.size() != 1) return "--temporal: one still view has one temporal variant";
+  *variant = variants.front();
+  if (o.render.mode == "full" && *variant != TemporalVariant::off) return "--temporal needs --mode foveated or both";
   return "";
 }
 
@@ -57,7 +58,8 @@ struct Still {
 };
 
 // Loads the scene and sets up the view; false with *error on failure.
-[[nodiscard]] bool set_up(const AccuracyOptions& o, foveation::Executor& executor, std::ostream& err, Still* s, std::string* error) {
+[[nodiscard]] bool set_up(const AccuracyOptions& o, foveation::Executor& executor, std::ostream& err, Still* s,
+                          std::string* error) {
   engine::LoadResult loaded = engine::load_scene(o.render.scene);
   if (!loaded.ok()) {
     *error = loaded.error;
@@ -77,14 +79,14 @@ struct Still {
 }
 
 // The images measured: the full render (one frame: every frame traces the same rays) and the
-// foveated view's last frame after --frames frames with its TAA history.
+// foveated view's last frame after --frames frames with its temporal history.
 struct Images {
   std::optional<foveation::ImageRgb> full;
   std::optional<foveation::ImageRgb> foveated;
 };
 
-[[nodiscard]] bool render_images(const AccuracyOptions& o, const Still& s, foveation::Executor& executor, std::ostream& err,
-                   Images* images, std::string* error) {
+[[nodiscard]] bool render_images(const AccuracyOptions& o, TemporalVariant variant, const Still& s,
+                                 foveation::Executor& executor, std::ostream& err, Images* images, std::string* error) {
   const render_view::RenderOptions& r = o.render;
   if (r.mode != "foveated") {
     engine::RenderSettings rs;
@@ -106,7 +108,7 @@ struct Images {
       r, s.view, cache, executor, [&](const std::string& m) { err << kAccuracyWho << m << "\n"; }, error);
   if (!tables) return false;
   const std::unique_ptr<foveation::FoveatedView> view =
-      make_taa_view(std::move(tables), o.taa, r.rays_per_point, r.seed, r.pixel_filter, o.taa_mean_while_young);
+      make_variant_view(variant, std::move(tables), {r.rays_per_point, r.seed, r.pixel_filter, o.mean_while_young});
   for (int frame = 0; frame < r.frames; ++frame) {
     foveation::FrameRequest request;
     request.view = s.view;
@@ -162,9 +164,11 @@ struct Images {
 }
 
 // --out PREFIX: the images measured as PREFIX_full.png and PREFIX_foveated.png; false with *error.
-[[nodiscard]] bool write_images(const AccuracyOptions& o, const Still& s, const Images& images, Json* files, std::string* error) {
+[[nodiscard]] bool write_images(const AccuracyOptions& o, const Still& s, const Images& images, Json* files,
+                                std::string* error) {
   *files = Json::array();
-  for (const auto& [image, suffix] : {std::pair{&images.full, "_full.png"}, std::pair{&images.foveated, "_foveated.png"}}) {
+  for (const auto& [image, suffix] :
+       {std::pair{&images.full, "_full.png"}, std::pair{&images.foveated, "_foveated.png"}}) {
     if (!image->has_value()) continue;
     const std::string path = o.render.out_prefix + suffix;
     if (!toolkit::write_png(path, **image, s.display, error)) return false;
@@ -186,8 +190,8 @@ Json report_head(const AccuracyOptions& o, const Still& s) {
   j["pixel_filter"] = foveation::pixel_filter_name(r.pixel_filter);
   if (r.mode != "full") {
     j["foveated_settings"] = {{"interpolation", r.interpolation}, {"k", render_view::reconstruction_k(r)},
-                              {"density_scale", r.density_scale}, {"taa", o.taa},
-                              {"taa_mean_while_young", o.taa_mean_while_young}, {"frames", r.frames},
+                              {"density_scale", r.density_scale}, {"temporal", o.temporal},
+                              {"temporal_mean_while_young", o.mean_while_young}, {"frames", r.frames},
                               {"first_frame", r.first_frame}};
   }
   j["display"] = {{"exposure", s.display.exposure}, {"tone_map", foveation::tone_map_name(s.display.tone_map)}};
@@ -199,7 +203,8 @@ void print_text(const Json& report, std::ostream& out) {
   const Json& ref = against["reference"];
   out << "scene " << report["scene"].get<std::string>() << ", " << report["width"] << "x" << report["height"]
       << ", rays per point " << report["rays_per_point"] << "; reference: " << ref["source"].get<std::string>();
-  if (ref.contains("spp")) out << ", " << ref["spp"] << " rays per pixel" << (ref["converged"] == true ? "" : " (not converged)");
+  if (ref.contains("spp"))
+    out << ", " << ref["spp"] << " rays per pixel" << (ref["converged"] == true ? "" : " (not converged)");
   out << "\n";
   for (const char* image : {"full", "foveated"}) {
     if (!against.contains(image)) continue;
@@ -213,7 +218,8 @@ void print_text(const Json& report, std::ostream& out) {
 }  // namespace
 
 int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err) {
-  if (const std::string bad = options_problem(o); !bad.empty()) {
+  TemporalVariant variant{};
+  if (const std::string bad = options_problem(o, &variant); !bad.empty()) {
     err << kAccuracyWho << bad << "\n";
     return 2;
   }
@@ -221,7 +227,7 @@ int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err)
   Still s;
   Images images;
   std::string error;
-  if (!set_up(o, executor, err, &s, &error) || !render_images(o, s, executor, err, &images, &error)) {
+  if (!set_up(o, executor, err, &s, &error) || !render_images(o, variant, s, executor, err, &images, &error)) {
     err << kAccuracyWho << error << "\n";
     return 1;
   }
@@ -261,14 +267,15 @@ void register_accuracy(CLI::App& app) {
   auto gaze = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand(
-      "accuracy", "Render one still view (full, foveated or both) and measure it per ring against a converged reference");
+      "accuracy",
+      "Render one still view (full, foveated or both) and measure it per ring against a converged reference");
   const std::shared_ptr<render_view::RenderOptions> render(o, &o->render);
   const std::function<void()> parse_common = render_view::add_render_options(cmd, render);
-  add_taa_lab_options(cmd, &o->taa, &o->taa_mean_while_young, /*list=*/false);
+  add_temporal_lab_options(cmd, &o->temporal, &o->mean_while_young, /*list=*/false);
   add_reference_options(cmd, &o->reference, /*with_file=*/true);
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
   cmd->add_option("--first-frame", o->render.first_frame,
-                  "Index of the first foveated frame; with TAA each frame's jitter seed is --seed plus its index")
+                  "Index of the first foveated frame; with a history each frame's jitter seed is --seed plus its index")
       ->capture_default_str();
   cmd->add_option("--pose", *pose,
                   "Where the viewer stands, X,Y,Z (the head; the eye 32 mm aside), or an exact eye pose "

@@ -1,12 +1,12 @@
 // `fovea-eval motion`: a sequence of frames following a scripted head and
 // gaze motion (motion_views.hpp), for the full render and/or the foveated view
-// with each TAA mode asked for at equal rays, measured per ring against the
+// with each temporal variant asked for at equal rays, measured per ring against the
 // converged reference sequence (motion_sequence.hpp): flicker beyond the
 // truth's own change and the error over all frames.
 #include <eval/cmd_motion.hpp>
 
 #include <render_view/render_cli.hpp>
-#include <eval/taa_modes.hpp>
+#include <eval/temporal_variants.hpp>
 
 #include <eval/motion_sequence.hpp>
 #include <eval/pricelist_grid.hpp>
@@ -61,7 +61,7 @@ bool floor_10db_below(const Json& sanity) {
 }
 
 // "" when floor_10db_below; else what is too close and what to do. Closer, the reference's noise is a visible
-// share of the steadiest tracks' flicker, and their ratios to TAA off come out lower than they are.
+// share of the steadiest tracks' flicker, and their ratios to off come out lower than they are.
 std::string floor_warning(const Json& sanity) {
   if (floor_10db_below(sanity)) return "";
   double least = std::numeric_limits<double>::infinity();
@@ -76,7 +76,7 @@ std::string floor_warning(const Json& sanity) {
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "the reference's own noise lies only %.1f dB below a track's flicker or error (ring %s; 10 dB "
-                "wanted): the steadiest tracks' numbers include it, so their ratios to TAA off read low. Four times "
+                "wanted): the steadiest tracks' numbers include it, so their ratios to off read low. Four times "
                 "the --reference-spp lowers it by 6 dB",
                 least, ring_name(ring).c_str());
   return buf;
@@ -125,7 +125,7 @@ void print_text(const Json& report, std::ostream& out) {
   out << "flicker weighted by what the eye resolves (flicker_csf: the change's luma, CSF-weighted by eccentricity), "
          "per ring:\n";
   table({{"flicker_csf", 4}});
-  // The periphery over the frames whose TAA history has settled (motion_sequence.hpp).
+  // The periphery over the frames whose image history has settled (motion_sequence.hpp).
   out << "periphery (> 20 deg) over the " << report["reference"]["settled_frames"] << " frames at least "
       << report["reference"]["settle_frames"]
       << " frames after the motion's last restart: flicker along the motion / at fixed pixels / PSNR dB\n";
@@ -139,14 +139,14 @@ void print_text(const Json& report, std::ostream& out) {
   for (const Json& t : report["tracks"]) settled(t["id"].get<std::string>(), t["bands"]);
   for (const SequenceControl& c : kSequenceControls)
     settled(c.label, report["reference"][std::string(c.key) + "_bands"]);
-  // TAA off over each TAA track in the periphery, and each one's error gain where the user looks (the goal).
+  // Off over each track with history in the periphery, and each one's error gain where the user looks (the goal).
   bool goal_header = false;
   for (const Json& t : report["tracks"]) {
     const auto goal = t.find("goal");
     if (goal == t.end()) continue;
     if (!goal_header) {
-      out << "TAA off over each TAA track at 20-30 / 30-45 / >45 deg, along the motion | at fixed pixels (goal: 5x "
-             "along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
+      out << "off over each track with history at 20-30 / 30-45 / >45 deg, along the motion | at fixed pixels "
+             "(goal: 5x along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
       goal_header = true;
     }
     const auto met = [&](const char* key) {
@@ -170,17 +170,19 @@ namespace {
 
 constexpr const char* kMotionWho = "fovea-eval motion: ";
 
-std::string options_problem(const MotionOptions& m, std::vector<std::string>* taa_modes) {
+std::string options_problem(const MotionOptions& m, std::vector<TemporalVariant>* variants) {
   const render_view::RenderOptions& o = m.render;
   std::string bad;
   if (!render_view::check_render_options(o, &bad)) return bad;
   if (m.motion.empty()) return "--motion is required ('builtin' or a CSV file)";
-  if (o.pose || o.viewer_m || o.look_at_m) return "--pose and --look-at exclude --motion: the motion gives the head pose";
+  if (o.pose || o.viewer_m || o.look_at_m)
+    return "--pose and --look-at exclude --motion: the motion gives the head pose";
   if (o.gaze_px) return "--gaze and --motion exclude each other: the motion gives the gaze";
   if (!m.reference.file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
   if (!check_reference_choice(m.reference, &bad)) return bad;
-  if (!parse_taa_modes(m.taa, taa_modes, &bad)) return bad;
-  if (o.mode == "full" && *taa_modes != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
+  if (!parse_temporal_variants(m.temporal, variants, &bad)) return bad;
+  if (o.mode == "full" && *variants != std::vector<TemporalVariant>{TemporalVariant::off})
+    return "--temporal needs --mode foveated or both";
   return "";
 }
 
@@ -211,10 +213,10 @@ struct MotionScene {
   return true;
 }
 
-// The full render's track (unless --mode foveated) and a foveated track per TAA mode (unless --mode full).
-[[nodiscard]] bool make_tracks(const MotionOptions& m, const std::vector<std::string>& taa_modes, const MotionScene& s,
-                 foveation::Executor& executor, std::ostream& err, std::vector<SequenceTrack>* tracks,
-                 std::string* error) {
+// The full render's track (unless --mode foveated) and a foveated track per temporal variant (unless --mode full).
+[[nodiscard]] bool make_tracks(const MotionOptions& m, const std::vector<TemporalVariant>& variants,
+                               const MotionScene& s, foveation::Executor& executor, std::ostream& err,
+                               std::vector<SequenceTrack>* tracks, std::string* error) {
   const render_view::RenderOptions& o = m.render;
   if (o.mode != "foveated") {
     SequenceTrack t;
@@ -235,12 +237,12 @@ struct MotionScene {
   setting.density_scale = o.density_scale;
   setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
   setting.rays_per_point = o.rays_per_point;
-  for (const std::string& mode : taa_modes) {
+  for (const TemporalVariant variant : variants) {
     SequenceTrack t;
-    t.taa = mode;
+    t.temporal = temporal_variant_name(variant);
     t.spp = o.rays_per_point;
-    t.id = setting.id() + "_taa-" + mode;
-    t.view = make_taa_view(tables, mode, o.rays_per_point, o.seed, o.pixel_filter, m.taa_mean_while_young);
+    t.id = setting.id() + "_temporal-" + t.temporal;
+    t.view = make_variant_view(variant, tables, {o.rays_per_point, o.seed, o.pixel_filter, m.mean_while_young});
     tracks->push_back(std::move(t));
   }
   return true;
@@ -253,7 +255,7 @@ SequenceReferenceOptions sequence_reference(const MotionOptions& m) {
   ref.baseline_spp = std::max(16, o.rays_per_point);
   ref.seed = o.seed;
   ref.pixel_filter = o.pixel_filter;
-  ref.taa_mean_while_young = m.taa_mean_while_young;
+  ref.mean_while_young = m.mean_while_young;
   ref.cache_dir = reference_cache_dir(m.reference, o.cache_dir);
   return ref;
 }
@@ -289,7 +291,7 @@ SequenceHooks sequence_hooks(const MotionOptions& m, std::ostream& err, toolkit:
 Json frames_json(const std::vector<MotionFrame>& frames, const std::vector<SequenceTrack>& tracks) {
   std::vector<std::uint8_t> temporal_reset(frames.size(), 0);  // per frame: some track's history restarted
   for (const SequenceTrack& t : tracks)
-    for (int i : t.taa_reset_frames) temporal_reset[std::size_t(i)] = 1;
+    for (int i : t.temporal_reset_frames) temporal_reset[std::size_t(i)] = 1;
   Json list = Json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const MotionFrame& f = frames[i];
@@ -303,8 +305,8 @@ Json frames_json(const std::vector<MotionFrame>& frames, const std::vector<Seque
   return list;
 }
 
-// Every track's JSON; with a reference, issue #18's goal for each TAA track against the TAA-off track at
-// equal rays when both were measured (the full render's "taa" is null, a foveated track's its TAA mode).
+// Every track's JSON; with a reference, issue #18's goal for each track with history against the off track
+// at equal rays when both were measured (the full render's "temporal" is null, a foveated track's its variant).
 Json tracks_json(const std::vector<SequenceTrack>& tracks, const SequenceRun& run, bool measured) {
   const double anchor_ms = tracks.front().full ? median_ms(tracks.front().total_ms) : 0.0;
   Json list = Json::array();
@@ -317,11 +319,11 @@ Json tracks_json(const std::vector<SequenceTrack>& tracks, const SequenceRun& ru
     list.push_back(j);
   }
   if (!measured) return list;
-  const auto off = std::find_if(list.begin(), list.end(), [](const Json& t) { return t["taa"] == "off"; });
+  const auto off = std::find_if(list.begin(), list.end(), [](const Json& t) { return t["temporal"] == "off"; });
   if (off == list.end()) return list;
   const Json off_track = *off;
   for (Json& t : list)
-    if (t["taa"].is_string() && t["taa"] != "off") t["goal"] = temporal_goal(off_track, t);
+    if (t["temporal"].is_string() && t["temporal"] != "off") t["goal"] = temporal_goal(off_track, t);
   return list;
 }
 
@@ -337,7 +339,7 @@ Json report_json(const MotionOptions& m, const motion::ScriptedMotion& script, c
   report["height"] = s.eye_at_rest.height_px;
   report["threads"] = threads;
   report["pixel_filter"] = foveation::pixel_filter_name(m.render.pixel_filter);
-  report["taa_mean_while_young"] = m.taa_mean_while_young;
+  report["temporal_mean_while_young"] = m.mean_while_young;
   report["motion"] = {{"spec", m.motion}, {"duration_s", script.duration_s()}};
   report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
   report["frames"] = frames_json(s.frames, tracks);
@@ -351,9 +353,9 @@ Json report_json(const MotionOptions& m, const motion::ScriptedMotion& script, c
 }  // namespace
 
 int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
-  std::vector<std::string> taa_modes;
+  std::vector<TemporalVariant> variants;
   std::string error;
-  if (std::string bad = options_problem(m, &taa_modes); !bad.empty()) {
+  if (std::string bad = options_problem(m, &variants); !bad.empty()) {
     err << kMotionWho << bad << "\n";
     return 2;
   }
@@ -369,7 +371,7 @@ int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
   MotionScene s;
   foveation::Executor executor(static_cast<unsigned>(m.render.threads));
   std::vector<SequenceTrack> tracks;
-  if (!set_up(m, *script, window, err, &s, &error) || !make_tracks(m, taa_modes, s, executor, err, &tracks, &error)) {
+  if (!set_up(m, *script, window, err, &s, &error) || !make_tracks(m, variants, s, executor, err, &tracks, &error)) {
     err << kMotionWho << error << "\n";
     return 1;
   }
@@ -395,10 +397,11 @@ int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
 void register_motion(CLI::App& app) {
   auto m = std::make_shared<MotionOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "motion", "Render a sequence over a scripted head and gaze motion, per TAA mode, against the reference sequence");
+      "motion",
+      "Render a sequence over a scripted head and gaze motion, per temporal variant, against the reference sequence");
   const std::shared_ptr<render_view::RenderOptions> render(m, &m->render);
   const std::function<void()> parse_common = render_view::add_render_options(cmd, render);
-  add_taa_lab_options(cmd, &m->taa, &m->taa_mean_while_young, /*list=*/true);
+  add_temporal_lab_options(cmd, &m->temporal, &m->mean_while_young, /*list=*/true);
   add_reference_options(cmd, &m->reference, /*with_file=*/false);
   cmd->add_option("--motion", m->motion,
                   "The head and gaze motion: 'builtin' or a CSV file "

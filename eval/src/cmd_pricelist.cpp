@@ -6,13 +6,13 @@
 // (pricelist_report.hpp).
 #include <eval/cmd_pricelist.hpp>
 
-#include <eval/taa_modes.hpp>
+#include <eval/temporal_variants.hpp>
 #include <render_view/display_options.hpp>
 #include <render_view/render_cli.hpp>
 #include <render_view/render_options.hpp>
 #include <eval/lab_options.hpp>
 #include <eval/pfm.hpp>
-#include <eval/full_taa.hpp>
+#include <eval/full_history.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/reference.hpp>
 #include <metrics/comparison_json.hpp>
@@ -62,14 +62,14 @@ Json rays_with_total_json(const engine::RayCounts& c) {
               {"refraction", c.refraction}, {"total", c.total()}};
 }
 
-// One setting being measured: its view (foveated), its history (full with TAA) or
+// One setting being measured: its view (foveated), its history (full with the image history) or
 // render settings (full), per-frame stage times, rays of its first frame, flicker so far.
 struct Measure {
   PriceSetting setting;
   std::unique_ptr<foveation::FoveatedView> view;
-  std::unique_ptr<FullTaaRender> full_taa;
+  std::unique_ptr<FullHistoryRender> full_history;
   foveation::ImageRgb full_image;
-  std::vector<double> select_ms, trace_ms, reconstruct_ms, taa_ms, total_ms;
+  std::vector<double> select_ms, trace_ms, reconstruct_ms, temporal_ms, total_ms;
   engine::RayCounts rays;
   std::uint32_t points = 0;
   foveation::ImageRgb previous_display;
@@ -114,22 +114,22 @@ render_view::RenderOptions render_options_of(const PricelistOptions& o, const Pr
   return r;
 }
 
-// The time anchor: the full render at 1 ray per pixel without TAA.
-bool is_anchor(const PriceSetting& s) { return s.full && !s.taa && s.rays_per_point == 1; }
+// The time anchor: the full render at 1 ray per pixel without history.
+bool is_anchor(const PriceSetting& s) { return s.full && !s.history && s.rays_per_point == 1; }
 
-// A setting's view settings at a still view: TAA (when it has it) converges over frames of
-// new jitter; the full render with TAA takes the same (FullTaaRender).
+// A setting's view settings at a still view: the image history (when it has it) converges over
+// frames of new jitter; the full render with history takes the same (FullHistoryRender).
 foveation::ViewSettings still_view_settings(const PricelistOptions& o, const PriceSetting& s) {
-  return taa_view_settings(s.taa ? "reproject" : "off", s.rays_per_point, o.seed, o.pixel_filter,
-                           /*taa_mean_while_young=*/false);
+  return variant_view_settings(s.history ? TemporalVariant::image : TemporalVariant::off,
+                               {s.rays_per_point, o.seed, o.pixel_filter, /*mean_while_young=*/false});
 }
 
 // One frame of a setting; false with a message on failure.
 [[nodiscard]] bool render_frame(Context& c, Measure& m, int round, std::string* error) {
   const engine::RayCounts before = c.tracer.counts();
   const foveation::ImageRgb* image = nullptr;
-  if (m.full_taa) {
-    const FullTaaFrame f = m.full_taa->render(&foveart_engine_trace_rays, &c.tracer, c.view, c.gaze,
+  if (m.full_history) {
+    const FullHistoryFrame f = m.full_history->render(&foveart_engine_trace_rays, &c.tracer, c.view, c.gaze,
                                               std::uint64_t(round), c.executor);
     if (f.status != FOVEART_RESULT_SUCCESS) {
       *error = m.setting.id() + ": engine callback failed with status " + std::to_string(f.status);
@@ -138,19 +138,20 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.select_ms.push_back(0.0);
     m.trace_ms.push_back(f.trace_ms);
     m.reconstruct_ms.push_back(0.0);
-    m.taa_ms.push_back(f.taa_ms);
-    m.total_ms.push_back(f.trace_ms + f.taa_ms);
+    m.temporal_ms.push_back(f.temporal_ms);
+    m.total_ms.push_back(f.trace_ms + f.temporal_ms);
     m.points = c.view.width_px * c.view.height_px;
-    image = &m.full_taa->image();
+    image = &m.full_history->image();
   } else if (m.setting.full) {
     engine::RenderSettings rs;
     rs.spp = m.setting.rays_per_point;
-    // The same jitter every frame, as the foveated frames without TAA and as the
+    // The same jitter every frame, as the foveated frames without history and as the
     // pixel-grid fovea (foveation::pixel_jitter with the same seed): inside the
     // fovea a full frame and a pixel-grid frame trace the same rays.
     rs.seed = c.o.seed;
     rs.pixel_filter = c.o.pixel_filter;
-    const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, &c.tracer, c.view, rs, &m.full_image, c.executor);
+    const engine::RenderResult rr =
+        engine::render_full(&foveart_engine_trace_rays, &c.tracer, c.view, rs, &m.full_image, c.executor);
     if (rr.status != FOVEART_RESULT_SUCCESS) {
       *error = m.setting.id() + ": engine callback failed with status " + std::to_string(rr.status);
       return false;
@@ -158,7 +159,7 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.select_ms.push_back(0.0);
     m.trace_ms.push_back(rr.trace_ms);
     m.reconstruct_ms.push_back(0.0);
-    m.taa_ms.push_back(0.0);
+    m.temporal_ms.push_back(0.0);
     m.total_ms.push_back(rr.trace_ms);
     m.points = c.view.width_px * c.view.height_px;
     image = &m.full_image;
@@ -175,8 +176,8 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.select_ms.push_back(fr.select_ms);
     m.trace_ms.push_back(fr.trace_ms);
     m.reconstruct_ms.push_back(fr.reconstruct_ms);
-    m.taa_ms.push_back(fr.taa_ms);
-    m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
+    m.temporal_ms.push_back(fr.temporal_ms);
+    m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.temporal_ms);
     m.points = fr.points;
     image = &m.view->image();
   }
@@ -195,8 +196,8 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
 // The error heat map of a setting: the CSF-weighted error of every pixel as a
 // full-size PNG, black (0) through red and yellow to white (the 99th
 // percentile, returned in *scale_out, and above). False and *error when it cannot be written.
-[[nodiscard]] bool write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file, double* scale_out,
-                   std::string* error) {
+[[nodiscard]] bool write_heatmap(const Context& c, const foveation::ImageRgb& display, const fs::path& file,
+                                 double* scale_out, std::string* error) {
   const std::vector<float> e = metrics::csf_error_map(c.reference_display, display, c.map);
   std::vector<float> sorted = e;
   const std::size_t p99 = sorted.size() * 99 / 100;
@@ -225,7 +226,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     j["scale"] = s.density_scale;
     j["pattern"] = s.pattern;
   }
-  j["taa"] = s.taa;
+  j["temporal"] = s.history ? "image" : "off";
   j["points"] = m.points;
   j["rays"] = rays_with_total_json(m.rays);
   // The frame whose total is the median, so that the stages add up to the total.
@@ -234,7 +235,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return m.total_ms[a] < m.total_ms[b]; });
   const std::size_t med = order[order.size() / 2];
   j["ms"] = {{"select", m.select_ms[med]}, {"trace", m.trace_ms[med]}, {"reconstruct", m.reconstruct_ms[med]},
-             {"taa", m.taa_ms[med]}, {"total", m.total_ms[med]}};
+             {"temporal", m.temporal_ms[med]}, {"total", m.total_ms[med]}};
   j["frames_total_ms"] = m.total_ms;
   j["anchor_full_ms"] = anchor_ms;
   j["time_fraction"] = anchor_ms > 0.0 ? m.total_ms[med] / anchor_ms : 0.0;
@@ -249,7 +250,8 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   if (write_image) {
     const fs::path file = out_dir / "images" / (s.id() + ".pfm");
     if (!write_pfm(file.string(), last, error)) return {};
-    if (!toolkit::write_png((out_dir / "images" / (s.id() + ".png")).string(), last, toolkit::PngValues::display, error))
+    if (!toolkit::write_png((out_dir / "images" / (s.id() + ".png")).string(), last, toolkit::PngValues::display,
+                            error))
       return {};
     j["image"] = fs::relative(file, out_dir).string();
   }
@@ -263,18 +265,18 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
 
 // Measures one group of settings (all full renders, or all settings on one
 // set of tables) and appends each result to results.jsonl.
-[[nodiscard]] bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& out_dir, std::ofstream& results,
-               const std::string& heatmap_id, toolkit::Progress& progress, double* done, double total,
-               std::map<std::string, Json>* all) {
+[[nodiscard]] bool run_group(Context& c, std::vector<PriceSetting> settings, const fs::path& out_dir,
+                             std::ofstream& results, const std::string& heatmap_id, toolkit::Progress& progress,
+                             double* done, double total, std::map<std::string, Json>* all) {
   std::string error;
   std::vector<Measure> ms(settings.size());
   std::shared_ptr<const foveation::ViewTables> tables;
   for (std::size_t i = 0; i < settings.size(); ++i) {
     Measure& m = ms[i];
     m.setting = settings[i];
-    m.frames_wanted = m.setting.taa ? std::max(c.o.taa_frames, 2) : c.o.frames;
+    m.frames_wanted = m.setting.history ? std::max(c.o.history_frames, 2) : c.o.frames;
     if (m.setting.full) {
-      if (m.setting.taa) m.full_taa = std::make_unique<FullTaaRender>(still_view_settings(c.o, m.setting));
+      if (m.setting.history) m.full_history = std::make_unique<FullHistoryRender>(still_view_settings(c.o, m.setting));
       continue;
     }
     if (!tables) {
@@ -290,7 +292,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     m.view = std::make_unique<foveation::FoveatedView>(tables, still_view_settings(c.o, m.setting));
   }
   // The anchor: a full frame at 1 ray per pixel in every round (the group's own full_spp1 when it has it:
-  // a resumed full group may hold only full renders with TAA).
+  // a resumed full group may hold only full renders with history).
   const bool anchor_in_group = std::any_of(settings.begin(), settings.end(), is_anchor);
   Measure anchor_frames;
   anchor_frames.setting.full = true;
@@ -368,7 +370,7 @@ constexpr const char* kThesisDefault = "nearest_k1_s1_thesis_r1";
 std::string options_problem(const PricelistOptions& o, std::vector<PriceSetting>* settings) {
   if (o.out_dir.empty()) return "--out DIR is required";
   if (o.frames < 1 || o.frames > 100) return "--frames must be in 1..100";
-  if (o.taa_frames < 2 || o.taa_frames > 100) return "--taa-frames must be in 2..100";
+  if (o.history_frames < 2 || o.history_frames > 100) return "--history-frames must be in 2..100";
   std::string bad;
   if (!expand_grid(o.grid, settings, &bad)) return "bad grid: " + bad;
   if (o.reference_spp.empty()) return "--reference-spp must be auto or rays per pixel";
@@ -419,9 +421,17 @@ struct PriceScene {
 // What an output directory measures: a different run must not resume into it.
 Json run_json(const PricelistOptions& o, const PriceScene& s) {
   const FoveartEyeView& v = s.view;
-  Json run = {{"scene", s.tracer->scene().source}, {"scene_hash", s.hash}, {"width", v.width_px},
-              {"height", v.height_px}, {"eye", o.eye}, {"preset", o.preset}, {"gaze", {s.gaze.x, s.gaze.y}},
-              {"reference_spp", o.reference_spp}, {"frames", o.frames}, {"taa_frames", o.taa_frames}, {"seed", o.seed},
+  Json run = {{"scene", s.tracer->scene().source},
+              {"scene_hash", s.hash},
+              {"width", v.width_px},
+              {"height", v.height_px},
+              {"eye", o.eye},
+              {"preset", o.preset},
+              {"gaze", {s.gaze.x, s.gaze.y}},
+              {"reference_spp", o.reference_spp},
+              {"frames", o.frames},
+              {"history_frames", o.history_frames},
+              {"seed", o.seed},
               {"pixel_filter", foveation::pixel_filter_name(o.pixel_filter)},
               {"temporal", temporal_run_json(o.temporal, o.quick)}};
   if (o.viewer_m || o.look_at_m)
@@ -502,10 +512,10 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
     if (done_results->count(s.id())) continue;
     if (!groups.count(s.table_id())) group_order.push_back(s.table_id());
     groups[s.table_id()].push_back(s);
-    total_frames += s.taa ? c.o.taa_frames : c.o.frames;
+    total_frames += s.history ? c.o.history_frames : c.o.frames;
   }
-  c.err << kPricelistWho << settings.size() << " settings in the grid, " << done_results->size() << " already measured in "
-        << results_file.string() << "\n";
+  c.err << kPricelistWho << settings.size() << " settings in the grid, " << done_results->size()
+        << " already measured in " << results_file.string() << "\n";
   const std::string heatmap_id = c.o.heatmap.empty() ? kThesisDefault : c.o.heatmap;
   toolkit::Progress progress("pricelist");
   double done = 0.0;
@@ -625,7 +635,7 @@ struct PricelistTexts {
 };
 
 constexpr const char* kGridListOptions[] = {"--full-rays-per-point", "--interpolation", "--density-scale",
-                                            "--rays-per-point",      "--pattern",       "--taa-rays-per-point"};
+                                            "--rays-per-point",      "--pattern",       "--history-rays-per-point"};
 
 // The view: scene, display, eye, viewer, gaze and exposure.
 void add_view_options(CLI::App* cmd, PricelistOptions& o, PricelistTexts& t) {
@@ -633,7 +643,8 @@ void add_view_options(CLI::App* cmd, PricelistOptions& o, PricelistTexts& t) {
   cmd->add_option("--preset", o.preset, "Display preset")->capture_default_str();
   cmd->add_option("--eye", o.eye, "left or right")->capture_default_str();
   cmd->add_option("--gaze", t.gaze, "Gaze X,Y in pixels (default: centre)");
-  cmd->add_option("--pose", t.viewer, "Where the viewer stands, X,Y,Z (metres, scene space; default the scene's camera)");
+  cmd->add_option("--pose", t.viewer,
+                  "Where the viewer stands, X,Y,Z (metres, scene space; default the scene's camera)");
   cmd->add_option("--look-at", t.look_at, "Turn the viewer to face this point X,Y,Z");
   cmd->add_option("--exposure", o.exposure,
                   "Linear exposure of the display values the metrics compare, or auto (a pre-pass of the view)")
@@ -647,7 +658,9 @@ void add_run_options(CLI::App* cmd, PricelistOptions& o) {
   cmd->add_option("--cache-dir", o.cache_dir, "Tables and reference cache (default OUT/cache)");
   cmd->add_option("--reference-spp", o.reference_spp, "Reference rays per pixel, or auto")->capture_default_str();
   cmd->add_option("--frames", o.frames, "Interleaved frames per setting (median reported)")->capture_default_str();
-  cmd->add_option("--taa-frames", o.taa_frames, "Sequence length with TAA")->capture_default_str();
+  cmd->add_option("--history-frames", o.history_frames, "Sequence length of a setting with the image history")
+      ->capture_default_str();
+  render_view::add_renamed_option(cmd, "--taa-frames", "--history-frames");
   cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
   cmd->add_flag("--quick", o.quick, "The small grid and a 320x360 motion (docs/pricelist.md)");
   cmd->add_option("--heatmap", o.heatmap, "Setting id for the error heat map (default: the thesis default)");
@@ -662,8 +675,9 @@ void add_grid_options(CLI::App* cmd, PricelistTexts& t) {
   const char* help[] = {"Full-render baseline rays per pixel, e.g. 1,2,4,8,16",
                         "interpolation:k list, e.g. nearest:1,msm:5,rbf:10", "Density scales, e.g. 1,1.5,2",
                         "Rays per point, e.g. 1,2,4,8", "Fovea patterns, e.g. pixel-grid,thesis",
-                        "Rays per point measured with TAA too, or none"};
+                        "Rays per point measured with the image history too, or none"};
   for (std::size_t i = 0; i < t.lists.size(); ++i) cmd->add_option(kGridListOptions[i], t.lists[i], help[i]);
+  render_view::add_renamed_option(cmd, "--taa-rays-per-point", "--history-rays-per-point");
 }
 
 // The temporal columns: the motion and its window, size and reference.
@@ -674,7 +688,8 @@ void add_temporal_column_options(CLI::App* cmd, PricelistOptions& o, PricelistTe
   cmd->add_option("--temporal-size", t.temporal_size,
                   "Eye size WxH of the motion (default 320x360 with --quick, else 640x720)");
   cmd->add_option("--temporal-frames", o.temporal.frames, "Frames of the motion")->capture_default_str();
-  cmd->add_option("--temporal-start-s", o.temporal.start_s, "Time of the motion's first frame (s)")->capture_default_str();
+  cmd->add_option("--temporal-start-s", o.temporal.start_s, "Time of the motion's first frame (s)")
+      ->capture_default_str();
   cmd->add_option("--temporal-fps", o.temporal.fps, "Frames per second of the motion")->capture_default_str();
   cmd->add_option("--temporal-reference-spp", o.temporal.reference_spp,
                   "Rays per pixel of every reference frame of the motion")
@@ -709,8 +724,8 @@ void parse_grid_lists(const PricelistTexts& t, PricelistOptions* o) {
     if (i == 3) bad = parse_numbers(text, &o->grid.rays_per_point);
     if (i == 4 && !split_list(text, &o->grid.pattern)) bad = "expected a comma-separated list";
     if (i == 5)
-      bad = text == "none" ? (o->grid.taa_rays_per_point.clear(), std::string())
-                           : parse_numbers(text, &o->grid.taa_rays_per_point);
+      bad = text == "none" ? (o->grid.history_rays_per_point.clear(), std::string())
+                           : parse_numbers(text, &o->grid.history_rays_per_point);
     if (!bad.empty()) throw CLI::ValidationError(kGridListOptions[i], bad);
   }
 }

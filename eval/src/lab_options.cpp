@@ -1,6 +1,8 @@
 // The lab's options beside a render's (lab_options.hpp).
 #include <eval/lab_options.hpp>
 
+#include <render_view/display_options.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <cstdlib>
@@ -38,17 +40,20 @@ void add_reference_options(CLI::App* cmd, ReferenceChoice* reference, bool with_
   cmd->add_option("--reference-cache", reference->cache, "Reference cache directory (default: CACHE_DIR/reference)");
 }
 
-void add_taa_lab_options(CLI::App* cmd, std::string* taa, bool* mean_while_young, bool list) {
-  cmd->add_option("--taa", *taa,
-                  std::string(list ? "TAA modes of the foveated tracks, a list" : "TAA mode of the foveated frames") +
-                      ": off, restart (on every pose change), reproject (follows the head; the layer's \"temporal\": "
-                      "\"image\"), cache (the traced rays kept in a render cache; \"rays\"), cache-kept (its rays "
-                      "kept through saccades)" +
-                      (list ? ", e.g. off,restart,reproject" : ""))
+void add_temporal_lab_options(CLI::App* cmd, std::string* temporal, bool* mean_while_young, bool list) {
+  cmd->add_option("--temporal", *temporal,
+                  std::string(list ? "The foveated tracks' temporal variants, a list"
+                                   : "The foveated frames' temporal variant") +
+                      ": the product's off, image (an image history reprojected with the head) and rays (a render "
+                      "cache of the traced rays), and the lab's restart (an image history restarted at every new "
+                      "pose) and rays-kept (the render cache kept through saccades)" +
+                      (list ? ", e.g. off,restart,image" : ""))
       ->capture_default_str();
-  cmd->add_flag("--taa-mean-while-young", *mean_while_young,
-                "TAA: the k-th frame since a restart weighs max(1/k, alpha), the mean of a young history; "
+  cmd->add_flag("--temporal-mean-while-young", *mean_while_young,
+                "The k-th frame since a history's restart weighs max(1/k, alpha), the mean of a young history; "
                 "default: alpha from the second frame on");
+  render_view::add_renamed_option(cmd, "--taa", "--temporal");
+  render_view::add_renamed_option(cmd, "--taa-mean-while-young", "--temporal-mean-while-young", /*flag=*/true);
 }
 
 }  // namespace foveart::eval

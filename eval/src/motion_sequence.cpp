@@ -55,7 +55,7 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     const foveation::FrameResult fr = t.view->render(request, &foveart_engine_trace_rays, &tracer, executor);
     if (!fr.ok()) return t.id + ": frame " + std::to_string(f.index) + ": " + fr.message;
     t.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.temporal_ms);
-    if (fr.temporal_reset) t.taa_reset_frames.push_back(f.index);
+    if (fr.temporal_reset) t.temporal_reset_frames.push_back(f.index);
     t.history_off_screen += fr.history_off_screen;
     t.history_disoccluded += fr.history_disoccluded;
     if (f.index == 0) t.points = fr.points;
@@ -77,7 +77,7 @@ struct Tracking {
 };
 
 // Adds a frame to `error` with its previous error warped along the motion
-// (each pixel's surface where it was a frame before: taa_reprojection.hpp).
+// (each pixel's surface where it was a frame before: history_reprojection.hpp).
 void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
                        const foveation::ImageRgb& reference_display, const metrics::EccentricityMap& map,
                        Tracking& tracking, foveation::Executor& executor) {
@@ -125,23 +125,23 @@ void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
   return true;
 }
 
-// The TAA ceiling (SequenceRun::taa_on_reference): the layer's TAA, its history
+// The history's ceiling (SequenceRun::history_on_reference): the layer's image history, its history
 // reprojected through the pixel-centre depth, fed the converged reference in
 // place of a noisy frame; restarts at the same saccade and blink onsets.
-struct TaaOnReference {
-  foveation::TemporalAccumulator taa;  // the layer's TemporalOptions, the tracks' young-history blend
+struct HistoryOnReference {
+  foveation::TemporalAccumulator blend;  // the layer's TemporalOptions, the tracks' young-history blend
   foveation::ImageRgb warped;          // scratch
   std::vector<std::uint8_t> valid;     // scratch
 };
 
-const foveation::ImageRgb& accumulate_reference(TaaOnReference& c, const foveation::ImageRgb& reference_linear,
+const foveation::ImageRgb& accumulate_reference(HistoryOnReference& c, const foveation::ImageRgb& reference_linear,
                                                 const MotionFrame& f, const Tracking& tracking,
                                                 foveation::Executor& executor) {
   const bool restart = f.saccade || f.blink;
-  if (tracking.previous == nullptr) return c.taa.accumulate(reference_linear, f.gaze_px, executor, restart);
-  foveation::reproject_history(c.taa.history(), tracking.previous_depth_m, tracking.previous->view, f.view,
-                               tracking.depth_m, c.warped, c.valid, executor, c.taa.options().history_sampling);
-  return c.taa.accumulate_reprojected(reference_linear, c.warped, c.valid, f.gaze_px, executor, restart);
+  if (tracking.previous == nullptr) return c.blend.accumulate(reference_linear, f.gaze_px, executor, restart);
+  foveation::reproject_history(c.blend.history(), tracking.previous_depth_m, tracking.previous->view, f.view,
+                               tracking.depth_m, c.warped, c.valid, executor, c.blend.options().history_sampling);
+  return c.blend.accumulate_reprojected(reference_linear, c.warped, c.valid, f.gaze_px, executor, restart);
 }
 
 // The sample-history controls (SequenceRun::sample_history, sample_history_kept, ray_cache, ray_cache_kept),
@@ -157,18 +157,19 @@ struct SampleHistories {
         cache_kept(seed + 0x85157AF5ull, filter, RayReuse::keep_colour) {}
 };
 
-// taa_restarts: whether the layer's TAA restarted on this frame (TemporalAccumulator::last_was_reset of the
-// TAA fed the reference, which sees the same gaze and flags): where `at_restarts` forgets its rays.
-[[nodiscard]] bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
-                          const foveation::ImageRgb& reference_display, const metrics::EccentricityMap& map,
-                          Tracking& tracking, foveation::Executor& executor, SequenceRun* run, std::string* error) {
+// history_restarts: whether the layer's history restarted on this frame (TemporalAccumulator::last_was_reset
+// of the history fed the reference, which sees the same gaze and flags): where `at_restarts` forgets its rays.
+[[nodiscard]] bool add_sample_histories(SampleHistories& h, bool history_restarts, engine::Tracer& tracer,
+                                        const MotionFrame& f, const foveation::ImageRgb& reference_display,
+                                        const metrics::EccentricityMap& map, Tracking& tracking,
+                                        foveation::Executor& executor, SequenceRun* run, std::string* error) {
   const struct {
     SampleHistory* history;
     TemporalError* measured;
     bool restart;
-  } controls[] = {{&h.at_restarts, &run->sample_history, taa_restarts},
+  } controls[] = {{&h.at_restarts, &run->sample_history, history_restarts},
                   {&h.kept, &run->sample_history_kept, f.index == 0},
-                  {&h.cache_at_restarts, &run->ray_cache, taa_restarts},
+                  {&h.cache_at_restarts, &run->ray_cache, history_restarts},
                   {&h.cache_kept, &run->ray_cache_kept, f.index == 0}};
   for (const auto& c : controls) {
     if (const std::int32_t st = c.history->render(&foveart_engine_trace_rays, &tracer, f.view,
@@ -185,7 +186,7 @@ struct SampleHistories {
 
 }  // namespace
 
-int taa_settle_frames() {
+int history_settle_frames() {
   return int(std::ceil(1.0 / double(foveation::TemporalOptions{}.current_weight)));
 }
 
@@ -206,20 +207,20 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
       return false;
     }
     if (t.view != nullptr && t.view->settings().temporal != foveation::TemporalMode::off &&
-        t.view->settings().temporal_options.mean_while_young != ref_options.taa_mean_while_young) {
-      *error = t.id + ": its TAA's young-history blend differs from the sequence's (the control's)";
+        t.view->settings().temporal_options.mean_while_young != ref_options.mean_while_young) {
+      *error = t.id + ": its history's young-history blend differs from the sequence's (the control's)";
       return false;
     }
   }
   run->frames = frames;
   std::vector<std::uint8_t> restart(frames.size(), 0);
   for (std::size_t i = 0; i < frames.size(); ++i) restart[i] = frames[i].saccade || frames[i].blink ? 1 : 0;
-  run->settled = settled_frames(restart, taa_settle_frames());
+  run->settled = settled_frames(restart, history_settle_frames());
   foveation::ImageRgb full_linear, display, reference_linear, reference_display, centre_image, blurred;
   Tracking tracking;
-  foveation::TemporalOptions control_taa;
-  control_taa.mean_while_young = ref_options.taa_mean_while_young;
-  TaaOnReference taa_on_reference{foveation::TemporalAccumulator(control_taa), {}, {}};
+  foveation::TemporalOptions control_blend;
+  control_blend.mean_while_young = ref_options.mean_while_young;
+  HistoryOnReference history_on_reference{foveation::TemporalAccumulator(control_blend), {}, {}};
   SampleHistories sample_histories(ref_options.seed, ref_options.pixel_filter);
   const bool with_reference = !ref_options.spp.empty();
   for (const MotionFrame& f : frames) {
@@ -246,11 +247,11 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
     if (with_reference && ref_options.controls) {
       binomial_blur_3x3(reference_display, &blurred);
       add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
-      add_tracked_frame(run->taa_on_reference,
+      add_tracked_frame(run->history_on_reference,
                         metrics::display_encode(
-                            accumulate_reference(taa_on_reference, reference_linear, f, tracking, executor)),
+                            accumulate_reference(history_on_reference, reference_linear, f, tracking, executor)),
                         reference_display, map, tracking, executor);
-      if (!add_sample_histories(sample_histories, taa_on_reference.taa.last_was_reset(), tracer, f,
+      if (!add_sample_histories(sample_histories, history_on_reference.blend.last_was_reset(), tracer, f,
                                 reference_display, map, tracking, executor, run, error))
         return false;
     }
@@ -296,7 +297,7 @@ Json sequence_reference_json(const SequenceRun& run) {
   }
   Json j = {{"spp", run.reference_spp}, {"spp_tried", run.tried_spp}, {"converged", run.converged},
             {"frames_from_cache", run.reference_frames_cached}, {"render_ms", run.reference_ms},
-            {"seeds", "seed + frame index"}, {"rings", rings}, {"settle_frames", taa_settle_frames()},
+            {"seeds", "seed + frame index"}, {"rings", rings}, {"settle_frames", history_settle_frames()},
             {"settled_frames", std::count(run.settled.begin(), run.settled.end(), std::uint8_t(1))}};
   for (const SequenceControl& c : kSequenceControls)
     j[std::string(c.key) + "_bands"] = sequence_band_json(run.*c.error, run);
@@ -336,10 +337,18 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
   const double ms = median_ms(t.total_ms);
   Json rays = {{"primary", t.rays.primary}, {"shadow", t.rays.shadow}, {"reflection", t.rays.reflection},
                {"refraction", t.rays.refraction}, {"total", t.rays.total()}};
-  Json j = {{"id", t.id}, {"kind", t.full ? "full" : "foveated"}, {"taa", t.full ? Json(nullptr) : Json(t.taa)},
-            {"spp", t.spp}, {"frames", t.error.frames()}, {"ms", ms}, {"frames_total_ms", t.total_ms},
-            {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)}, {"points", t.points},
-            {"rays", rays}, {"temporal_resets", t.taa_reset_frames.size()}, {"taa_reset_frames", t.taa_reset_frames},
+  Json j = {{"id", t.id},
+            {"kind", t.full ? "full" : "foveated"},
+            {"temporal", t.full ? Json(nullptr) : Json(t.temporal)},
+            {"spp", t.spp},
+            {"frames", t.error.frames()},
+            {"ms", ms},
+            {"frames_total_ms", t.total_ms},
+            {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)},
+            {"points", t.points},
+            {"rays", rays},
+            {"temporal_resets", t.temporal_reset_frames.size()},
+            {"temporal_reset_frames", t.temporal_reset_frames},
             {"history_off_screen", t.history_off_screen},
             {"history_disoccluded", t.history_disoccluded}};
   Json rings = Json::array();

@@ -17,8 +17,9 @@ std::string number(double v) {
 }  // namespace
 
 std::string PriceSetting::id() const {
-  if (full) return "full_spp" + std::to_string(rays_per_point) + (taa ? "_taa" : "");
-  return table_id() + "_r" + std::to_string(rays_per_point) + (taa ? "_taa" : "");  // e.g. nearest_k1_s1_thesis_r1
+  if (full) return "full_spp" + std::to_string(rays_per_point) + (history ? "_image" : "");
+  return table_id() + "_r" + std::to_string(rays_per_point) +
+         (history ? "_image" : "");  // e.g. nearest_k1_s1_thesis_r1
 }
 
 std::string PriceSetting::table_id() const {
@@ -33,7 +34,7 @@ PriceGrid quick_grid() {
   g.density_scale = {1.0, 2.0};
   g.rays_per_point = {1, 4};
   g.pattern = {"pixel-grid", "thesis"};
-  g.taa_rays_per_point = {1};
+  g.history_rays_per_point = {1};
   return g;
 }
 
@@ -59,12 +60,12 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
     s.rays_per_point = spp;
     out->push_back(s);
   }
-  for (int r : g.taa_rays_per_point) {  // the full render with the foveated TAA rows' history
-    if (r < 1 || r > 1024) return "TAA rays per point " + std::to_string(r) + " (1..1024)";
+  for (int r : g.history_rays_per_point) {  // the full render with the foveated rows' image history
+    if (r < 1 || r > 1024) return "history rays per point " + std::to_string(r) + " (1..1024)";
     PriceSetting s;
     s.full = true;
     s.rays_per_point = r;
-    s.taa = true;
+    s.history = true;
     out->push_back(s);
   }
   for (const std::string& pattern : g.pattern)
@@ -98,12 +99,12 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
         for (int r : g.rays_per_point) {
           if (r < 1 || r > 1024) return "rays per point " + std::to_string(r) + " (1..1024)";
           s.rays_per_point = r;
-          s.taa = false;
+          s.history = false;
           out->push_back(s);
         }
-        for (int r : g.taa_rays_per_point) {
+        for (int r : g.history_rays_per_point) {
           s.rays_per_point = r;
-          s.taa = true;
+          s.history = true;
           out->push_back(s);
         }
       }

@@ -24,8 +24,8 @@ constexpr std::size_t kRings = metrics::kRingCount;
 double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
 double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
 double time_pct(const Json& s) { return 100.0 * num(s["time_fraction"]); }
-// Results written before full renders had a TAA flag have none: false.
-bool has_taa(const Json& s) { return s.value("taa", false); }
+// Whether a setting has the image history ("temporal": "image"; "off" without).
+bool has_history(const Json& s) { return s.value("temporal", std::string("off")) != "off"; }
 
 std::string fmt(double v, int decimals = 1) {
   if (!std::isfinite(v)) return "-";
@@ -67,22 +67,22 @@ void add_equal_time(std::vector<Json>& all) {
   }
 }
 
-// The headline's fair comparisons in the fovea (ring 0): a foveated + TAA setting (the thesis's
-// default with TAA, else the first measured) against the full render with the same history at the
+// The headline's fair comparisons in the fovea (ring 0): a foveated setting with the image history
+// (the thesis's default with it, else the first measured) against the full render with the same history at the
 // same rays; the thesis's default and that setting against the full render at equal time.
 std::string fair_headline(const std::vector<Json>& all, const PricelistContext& ctx, const Json* def) {
   std::ostringstream h;
-  const Json* fov = find(all, ctx.thesis_default + "_taa");
+  const Json* fov = find(all, ctx.thesis_default + "_image");
   for (const Json& s : all)
-    if (!fov && s["kind"] == "foveated" && has_taa(s)) fov = &s;
+    if (!fov && s["kind"] == "foveated" && has_history(s)) fov = &s;
   const int rays = fov ? (*fov)["spp"].get<int>() : 0;
-  const Json* full = fov ? find(all, "full_spp" + std::to_string(rays) + "_taa") : nullptr;
+  const Json* full = fov ? find(all, "full_spp" + std::to_string(rays) + "_image") : nullptr;
   if (full) {
-    h << "With the same history (TAA over " << ctx.run.value("taa_frames", 0) << " frames of new jitter, " << rays
-      << (rays == 1 ? " ray" : " rays") << " per point or pixel) the fovea of " << (*fov)["id"].get<std::string>()
-      << " is " << db_above_below(ring_psnr(*fov, 0) - ring_psnr(*full, 0)) << " " << (*full)["id"].get<std::string>()
-      << " (" << fmt(ring_psnr(*fov, 0)) << " vs " << fmt(ring_psnr(*full, 0)) << " dB) at " << fmt(time_pct(*fov), 0)
-      << "% vs " << fmt(time_pct(*full), 0) << "% of the time. ";
+    h << "With the same history (the image history over " << ctx.run.value("history_frames", 0)
+      << " frames of new jitter, " << rays << (rays == 1 ? " ray" : " rays") << " per point or pixel) the fovea of "
+      << (*fov)["id"].get<std::string>() << " is " << db_above_below(ring_psnr(*fov, 0) - ring_psnr(*full, 0)) << " "
+      << (*full)["id"].get<std::string>() << " (" << fmt(ring_psnr(*fov, 0)) << " vs " << fmt(ring_psnr(*full, 0))
+      << " dB) at " << fmt(time_pct(*fov), 0) << "% vs " << fmt(time_pct(*full), 0) << "% of the time. ";
   }
   std::vector<std::string> clauses;
   for (const Json* s : {def, fov}) {
@@ -150,15 +150,15 @@ std::optional<std::size_t> equal_time_full(const std::vector<Json>& all, std::si
 
 namespace {
 
-// The full renders without and with TAA, each by rays per pixel.
+// The full renders without and with the image history, each by rays per pixel.
 struct FullRenders {
-  std::vector<const Json*> plain, taa;
+  std::vector<const Json*> plain, history;
 };
 
 FullRenders full_renders(const std::vector<Json>& all) {
   FullRenders f;
   for (const Json& s : all)
-    if (s["kind"] == "full") (has_taa(s) ? f.taa : f.plain).push_back(&s);
+    if (s["kind"] == "full") (has_history(s) ? f.history : f.plain).push_back(&s);
   std::sort(f.plain.begin(), f.plain.end(), [](const Json* a, const Json* b) { return (*a)["spp"] < (*b)["spp"]; });
   return f;
 }
@@ -181,7 +181,7 @@ std::vector<std::vector<std::size_t>> mark_fronts(std::vector<Json>& all, std::v
   return fronts;
 }
 
-// Sanity: the full render's error (without TAA) falls with rays per pixel in every ring;
+// Sanity: the full render's error (without history) falls with rays per pixel in every ring;
 // the reference's residual is >= 10 dB below the best setting in every ring.
 Json sanity_json(const std::vector<Json>& all, const std::vector<const Json*>& full, const PricelistContext& ctx) {
   Json sanity = {{"full_error_falls_with_spp", true}, {"full_error_failures", Json::array()},
@@ -236,7 +236,7 @@ std::string still_headline(const std::vector<Json>& all, const PricelistContext&
   return h.str();
 }
 
-// The temporal columns read: the acceptance at the layer's defaults (else the first TAA setting
+// The temporal columns read: the acceptance at the layer's defaults (else the first setting with history
 // measured) and the reference floor's checks, added to `temporal`; their sentences onto *headline.
 struct TemporalReading {
   Json temporal, acceptance, checks;
@@ -247,12 +247,12 @@ TemporalReading read_temporal(const PricelistContext& ctx, std::string* headline
   if (!t.temporal.is_object()) return t;
   std::string setting = kTemporalHeadlineSetting;
   bool measured = false;
-  for (const Json& track : t.temporal["tracks"]) measured = measured || track["id"] == setting + "_taa-off";
+  for (const Json& track : t.temporal["tracks"]) measured = measured || track["id"] == setting + "_temporal-off";
   if (!measured)
     for (const Json& track : t.temporal["tracks"])
-      if (track["taa"] == "off") {
+      if (track["temporal"] == "off") {
         const std::string id = track["id"].get<std::string>();
-        setting = id.substr(0, id.size() - std::string("_taa-off").size());
+        setting = id.substr(0, id.size() - std::string("_temporal-off").size());
         break;
       }
   t.acceptance = temporal_acceptance(t.temporal, setting);
@@ -279,20 +279,22 @@ std::string csv_cell(const Json& j) {
 // pricelist.csv: one row per setting. False and *error naming the file.
 [[nodiscard]] bool write_csv(const std::filesystem::path& file, const std::vector<Json>& all, std::string* error) {
   std::ofstream f(file);
-  f << "id,kind,method,k,scale,pattern,taa,spp,points,rays_primary,rays_shadow,rays_reflection,rays_refraction,"
-       "rays_total,ms_select,ms_trace,ms_reconstruct,ms_taa,ms_total,anchor_full_ms,time_fraction,psnr,ssim,csf_rmse";
+  f << "id,kind,method,k,scale,pattern,temporal,spp,points,rays_primary,rays_shadow,rays_reflection,rays_refraction,"
+       "rays_total,ms_select,ms_trace,ms_reconstruct,ms_temporal,ms_total,anchor_full_ms,time_fraction,psnr,ssim,csf_"
+       "rmse";
   for (std::size_t r = 0; r < kRings; ++r)
     for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
-  for (std::size_t r = 0; r < kRings; ++r) f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
+  for (std::size_t r = 0; r < kRings; ++r)
+    f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
   f << "\n";
   for (const Json& s : all) {
     const bool fov = s["kind"] == "foveated";
     f << csv_cell(s["id"]) << "," << csv_cell(s["kind"]) << "," << (fov ? csv_cell(s["method"]) : "") << ","
       << (fov ? csv_cell(s["k"]) : "") << "," << (fov ? csv_cell(s["scale"]) : "") << ","
-      << (fov ? csv_cell(s["pattern"]) : "") << "," << csv_cell(Json(has_taa(s))) << "," << csv_cell(s["spp"]) << ","
-      << csv_cell(s["points"]);
+      << (fov ? csv_cell(s["pattern"]) : "") << "," << csv_cell(s.value("temporal", Json("off"))) << ","
+      << csv_cell(s["spp"]) << "," << csv_cell(s["points"]);
     for (const char* k : {"primary", "shadow", "reflection", "refraction", "total"}) f << "," << csv_cell(s["rays"][k]);
-    for (const char* k : {"select", "trace", "reconstruct", "taa", "total"}) f << "," << csv_cell(s["ms"][k]);
+    for (const char* k : {"select", "trace", "reconstruct", "temporal", "total"}) f << "," << csv_cell(s["ms"][k]);
     f << "," << csv_cell(s["anchor_full_ms"]) << "," << csv_cell(s["time_fraction"]) << "," << csv_cell(s["psnr"])
       << "," << csv_cell(s["ssim"]) << "," << csv_cell(s["csf_rmse"]);
     for (std::size_t r = 0; r < kRings; ++r)
@@ -316,8 +318,8 @@ std::string plot_ring(const std::filesystem::path& file, const std::string& titl
   toolkit::PlotSeries full_curve{"full render 1-16 spp", {}, {}, false};
   toolkit::PlotSeries grid{"foveated, pixel-grid fovea", {}, {}, true};
   toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
-  toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
-  toolkit::PlotSeries history_curve{"full render + TAA", {}, {}, true};
+  toolkit::PlotSeries with_history{"foveated + image history", {}, {}, true};
+  toolkit::PlotSeries history_curve{"full render + image history", {}, {}, true};
   toolkit::PlotSeries front_curve{"Pareto front", {}, {}, false};
   const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
   const auto add = [&](toolkit::PlotSeries& to, const Json& s) {
@@ -325,9 +327,9 @@ std::string plot_ring(const std::filesystem::path& file, const std::string& titl
     to.y.push_back(ring_psnr(s, r));
   };
   for (const Json* s : full.plain) add(full_curve, *s);
-  for (const Json* s : full.taa) add(history_curve, *s);
+  for (const Json* s : full.history) add(history_curve, *s);
   for (const Json& s : all)
-    if (s["kind"] == "foveated") add(s["taa"].get<bool>() ? taa : (s["pattern"] == "thesis" ? thesis : grid), s);
+    if (s["kind"] == "foveated") add(has_history(s) ? with_history : (s["pattern"] == "thesis" ? thesis : grid), s);
   for (std::size_t i : front) {
     front_curve.x.push_back(x_of(cost[i]));
     front_curve.y.push_back(ring_psnr(all[i], r));
@@ -336,7 +338,7 @@ std::string plot_ring(const std::filesystem::path& file, const std::string& titl
   spec.title = title;
   spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
   spec.y_label = "PSNR against the reference (dB)";
-  const std::vector<toolkit::PlotSeries> series = {full_curve, front_curve, grid, thesis, taa, history_curve};
+  const std::vector<toolkit::PlotSeries> series = {full_curve, front_curve, grid, thesis, with_history, history_curve};
   return toolkit::has_finite_point(series) ? toolkit::write_plot_png(file.string(), spec, series) : std::string();
 }
 
@@ -344,11 +346,13 @@ std::string plot_ring(const std::filesystem::path& file, const std::string& titl
                                const std::vector<std::vector<std::size_t>>& fronts, const std::vector<double>& cost,
                                std::string* error) {
   for (std::size_t r = 0; r < kRings; ++r) {
-    *error = plot_ring(dir / ("pareto_ring" + std::to_string(r) + ".png"),
-                       "Price list, ring " + ring_name(r) + " deg: time against accuracy", r, all, full, fronts[r], cost);
+    *error =
+        plot_ring(dir / ("pareto_ring" + std::to_string(r) + ".png"),
+                  "Price list, ring " + ring_name(r) + " deg: time against accuracy", r, all, full, fronts[r], cost);
     if (!error->empty()) return false;
   }
-  *error = plot_ring(dir / "pricelist.png", "What accuracy costs in the fovea (0-2.5 deg)", 0, all, full, fronts[0], cost);
+  *error =
+      plot_ring(dir / "pricelist.png", "What accuracy costs in the fovea (0-2.5 deg)", 0, all, full, fronts[0], cost);
   return error->empty();
 }
 
@@ -362,8 +366,8 @@ void write_md_head(std::ostream& md, const PricelistContext& ctx, const std::str
      << headline << "\n\n"
      << "Times are each setting's median frame "
      << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it. "
-     << "`full_sppN_taa` is the full render with the foveated + TAA settings' history: the same "
-     << ctx.run.value("taa_frames", 0) << " frames of new jitter, the same blend; its time is trace + blend.\n\n"
+     << "`full_sppN_image` is the full render with the foveated settings' image history: the same "
+     << ctx.run.value("history_frames", 0) << " frames of new jitter, the same blend; its time is trace + blend.\n\n"
      << "Reference: " << ctx.reference["spp"] << " rays per pixel; residual PSNR per ring (MSE(A,B)/4 of two "
      << "independent halves):";
   for (std::size_t r = 0; r < kRings; ++r)
@@ -441,7 +445,7 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
      << "(primary + shadow + reflection + refraction); PSNR, SSIM and the CSF-weighted error (as dB) in the ring "
      << "against the reference; ms per dB and rays per dB from the previous setting on the front. "
      << "At equal time: each foveated setting on the front against the most accurate full render (with or "
-     << "without TAA) that takes no more time, and how many dB it gains on it in the ring.\n\n";
+     << "without history) that takes no more time, and how many dB it gains on it in the ring.\n\n";
   for (std::size_t r = 0; r < kRings; ++r)
     write_md_ring(md, r, all, fronts[r], [&](const Json& s) { return num(s["time_fraction"]) * full1_ms; });
   if (t.temporal.is_object()) write_temporal_markdown(md, t.temporal, t.acceptance, t.checks);

@@ -2,7 +2,7 @@
 #include <eval/pricelist_temporal.hpp>
 
 #include <render_view/render_options.hpp>
-#include <eval/taa_modes.hpp>
+#include <eval/temporal_variants.hpp>
 #include <eval/results_jsonl.hpp>
 #include <eval/motion_sequence.hpp>
 #include <eval/motion_views.hpp>
@@ -26,22 +26,27 @@ namespace {
 using Json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
 
-constexpr const char* kTaaModes[] = {"off", "restart", "reproject", "cache"};
+// The variants every setting with history is measured with, at equal rays: off, the image history
+// restarting on every pose change, the product's image history and its render cache.
+constexpr TemporalVariant kVariants[] = {TemporalVariant::off, TemporalVariant::restart, TemporalVariant::image,
+                                         TemporalVariant::rays};
 
-// One group of the temporal pass: a TAA setting of the grid without its TAA.
+// One group of the temporal pass: a setting of the grid with history, without it.
 struct TemporalGroup {
-  PriceSetting setting;  // taa = false
+  PriceSetting setting;  // history = false
 };
 
-std::string track_id(const PriceSetting& s, const std::string& mode) { return s.id() + "_taa-" + mode; }
+std::string track_id(const PriceSetting& s, TemporalVariant variant) {
+  return s.id() + "_temporal-" + temporal_variant_name(variant);
+}
 
 std::vector<TemporalGroup> temporal_groups(const std::vector<PriceSetting>& settings) {
   std::vector<TemporalGroup> groups;
   for (const PriceSetting& s : settings) {
-    if (s.full || !s.taa) continue;
+    if (s.full || !s.history) continue;
     TemporalGroup g;
     g.setting = s;
-    g.setting.taa = false;
+    g.setting.history = false;
     groups.push_back(g);
   }
   return groups;
@@ -98,57 +103,164 @@ Json temporal_run_json(const TemporalOptions& o, bool quick) {
           {"start_s", o.start_s}, {"fps", o.fps}, {"reference_spp", o.reference_spp}};
 }
 
-std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::vector<PriceSetting>& settings,
-                                           engine::Tracer& tracer, std::uint64_t scene_hash,
-                                           foveation::Executor& executor, std::ostream& err) {
-  const TemporalOptions& o = c.options;
-  std::string error;
-  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, &error);
-  if (!motion) {  // checked before the run; the file may have gone since
-    err << "fovea-eval pricelist: " << error << "\n";
-    return std::nullopt;
-  }
+namespace {
+
+constexpr const char* kTemporalWho = "fovea-eval pricelist: ";
+
+// The motion's frames in the scene at the temporal pass's eye size, and the view options of that eye.
+struct TemporalScene {
   render_view::RenderOptions view_options;
-  view_options.scene = c.scene;
-  view_options.preset = c.preset;
-  view_options.eye = c.eye;
-  view_options.size_px = temporal_size(o, c.quick);
-  view_options.seed = c.seed;
-  const FoveartEyeView eye_at_rest = render_view::eye_view(view_options, tracer.scene());
+  FoveartEyeView eye_at_rest{};
+  std::vector<MotionFrame> frames;
+};
+
+[[nodiscard]] bool lay_out_motion(const TemporalContext& c, const engine::Tracer& tracer, TemporalScene* t,
+                                  std::string* error) {
+  const TemporalOptions& o = c.options;
+  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, error);
+  if (!motion) return false;  // checked before the run; the file may have gone since
+  t->view_options.scene = c.scene;
+  t->view_options.preset = c.preset;
+  t->view_options.eye = c.eye;
+  t->view_options.size_px = temporal_size(o, c.quick);
+  t->view_options.seed = c.seed;
+  t->eye_at_rest = render_view::eye_view(t->view_options, tracer.scene());
   const engine::Camera head = engine::scene_head(tracer.scene());
   MotionWindow window;
   window.start_s = o.start_s;
   window.fps = o.fps;
   window.frames = o.frames;
-  const std::vector<MotionFrame> frames =
-      motion_frames(*motion, window, eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
+  t->frames = motion_frames(*motion, window, t->eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
+  return true;
+}
 
-  const fs::path results_file = c.out_dir / "temporal.jsonl";
-  std::map<std::string, Json> done = read_results_jsonl(results_file, err);
-  std::ofstream results(results_file, std::ios::app);
-  if (!results) {
-    err << "fovea-eval pricelist: cannot write " << results_file.string() << "\n";
-    return std::nullopt;
-  }
-  const std::vector<TemporalGroup> groups = temporal_groups(settings);
+// The groups with a variant not yet in temporal.jsonl; with none, the first group again when the full
+// render or the reference is missing (they are measured with a group).
+std::vector<const TemporalGroup*> groups_to_measure(const std::vector<TemporalGroup>& groups,
+                                                    const std::map<std::string, Json>& done) {
   std::vector<const TemporalGroup*> todo;
   for (const TemporalGroup& g : groups) {
     bool all = true;
-    for (const char* mode : kTaaModes) all = all && done.count(track_id(g.setting, mode));
+    for (const TemporalVariant v : kVariants) all = all && done.count(track_id(g.setting, v));
     if (!all) todo.push_back(&g);
   }
   if (todo.empty() && !groups.empty() && (!done.count("full_spp1") || !done.count("reference")))
-    todo.push_back(&groups.front());  // the full render or the reference is missing: measure them with one group
-  if (groups.empty()) {
-    err << "fovea-eval pricelist: no TAA setting in the grid (--taa-rays): no temporal columns\n";
-  } else {
-    err << "fovea-eval pricelist: temporal columns: " << groups.size() << " TAA setting(s) x off/restart/reproject/cache over "
-        << o.frames << " frames of the " << o.motion << " motion at " << eye_at_rest.width_px << "x"
-        << eye_at_rest.height_px << ", " << groups.size() - todo.size() << " already measured in "
-        << results_file.string() << "\n";
+    todo.push_back(&groups.front());
+  return todo;
+}
+
+// A group's tracks: the full render at 1 ray per pixel (its time anchor) and the setting's foveated
+// view with each variant at equal rays, over one set of tables.
+[[nodiscard]] bool make_group_tracks(const TemporalContext& c, const PriceSetting& s, const TemporalScene& t,
+                                     foveation::Executor& executor, std::ostream& err,
+                                     std::vector<SequenceTrack>* tracks, std::string* error) {
+  SequenceTrack full;
+  full.id = "full_spp1";
+  full.full = true;
+  tracks->push_back(std::move(full));
+  render_view::RenderOptions ro = t.view_options;
+  ro.mode = "foveated";
+  ro.interpolation = s.interpolation;
+  ro.k = s.k;
+  ro.density_scale = s.density_scale;
+  ro.pattern = s.pattern;
+  ro.rays_per_point = s.rays_per_point;
+  const std::shared_ptr<const foveation::ViewTables> tables = render_view::load_foveated_tables(
+      ro, t.eye_at_rest, fs::path(c.cache_dir), executor,
+      [&](const std::string& m) { err << kTemporalWho << m << "\n"; }, error);
+  if (!tables) {
+    *error = s.id() + ": " + *error;
+    return false;
   }
+  for (const TemporalVariant v : kVariants) {
+    SequenceTrack track;
+    track.id = track_id(s, v);
+    track.temporal = temporal_variant_name(v);
+    track.spp = s.rays_per_point;
+    track.view = make_variant_view(v, tables, {s.rays_per_point, c.seed, c.pixel_filter, /*mean_while_young=*/false});
+    tracks->push_back(std::move(track));
+  }
+  return true;
+}
+
+// A measured group's lines for temporal.jsonl: the reference (once, with the controls and the frames)
+// and every track not yet there, each with the still setting it belongs to.
+std::vector<Json> group_lines(const PriceSetting& s, const std::vector<SequenceTrack>& tracks, const SequenceRun& run,
+                              const std::vector<MotionFrame>& frames, const std::map<std::string, Json>& done) {
+  std::vector<Json> lines;
+  if (!done.count("reference")) {
+    Json r = sequence_reference_json(run);
+    r["id"] = "reference";
+    Json fl = Json::array();
+    for (const MotionFrame& f : frames)
+      fl.push_back({{"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}}, {"saccade", f.saccade},
+                    {"blink", f.blink}});
+    r["frames"] = fl;
+    lines.push_back(r);
+  }
+  const double anchor_ms = median_ms(tracks.front().total_ms);
+  for (const SequenceTrack& t : tracks) {
+    if (t.full && done.count(t.id)) continue;
+    Json j = sequence_track_json(t, run, anchor_ms);
+    if (t.full) {
+      j["setting"] = "full_spp1";
+    } else {
+      PriceSetting still = s;
+      still.history = t.temporal != "off";
+      j["setting"] = still.id();
+      j["method"] = s.interpolation;
+      j["k"] = s.k;
+      j["scale"] = s.density_scale;
+      j["pattern"] = s.pattern;
+    }
+    lines.push_back(j);
+  }
+  return lines;
+}
+
+Json temporal_json(const TemporalContext& c, const std::vector<TemporalGroup>& groups,
+                   std::map<std::string, Json>& done) {
+  Json out = {{"run", temporal_run_json(c.options, c.quick)},
+              {"reference", done.count("reference") ? done["reference"] : Json()},
+              {"tracks", Json::array()}};
+  out["run"]["eye"] = c.eye;
+  if (done.count("full_spp1")) out["tracks"].push_back(done["full_spp1"]);
+  for (const TemporalGroup& g : groups)
+    for (const TemporalVariant v : kVariants)
+      if (done.count(track_id(g.setting, v))) out["tracks"].push_back(done[track_id(g.setting, v)]);
+  return out;
+}
+
+void say_what_is_measured(const TemporalContext& c, const TemporalScene& t, std::size_t groups, std::size_t todo,
+                          const fs::path& results_file, std::ostream& err) {
+  if (groups == 0) {
+    err << kTemporalWho << "no setting with history in the grid (--history-rays-per-point): no temporal columns\n";
+    return;
+  }
+  err << kTemporalWho << "temporal columns: " << groups << " setting(s) with history x off/restart/image/rays over "
+      << c.options.frames << " frames of the " << c.options.motion << " motion at " << t.eye_at_rest.width_px << "x"
+      << t.eye_at_rest.height_px << ", " << groups - todo << " already measured in " << results_file.string() << "\n";
+}
+
+}  // namespace
+
+std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::vector<PriceSetting>& settings,
+                                           engine::Tracer& tracer, std::uint64_t scene_hash,
+                                           foveation::Executor& executor, std::ostream& err) {
+  std::string error;
+  TemporalScene scene;
+  const fs::path results_file = c.out_dir / "temporal.jsonl";
+  std::map<std::string, Json> done = read_results_jsonl(results_file, err);
+  std::ofstream results(results_file, std::ios::app);
+  if (!lay_out_motion(c, tracer, &scene, &error) || !results) {
+    err << kTemporalWho << (results ? error : "cannot write " + results_file.string()) << "\n";
+    return std::nullopt;
+  }
+  const std::vector<TemporalGroup> groups = temporal_groups(settings);
+  const std::vector<const TemporalGroup*> todo = groups_to_measure(groups, done);
+  say_what_is_measured(c, scene, groups.size(), todo.size(), results_file, err);
   SequenceReferenceOptions ref;
-  ref.spp = std::to_string(o.reference_spp);
+  ref.spp = std::to_string(c.options.reference_spp);
   ref.seed = c.seed;
   ref.pixel_filter = c.pixel_filter;
   ref.cache_dir = (fs::path(c.cache_dir) / "reference").string();
@@ -157,93 +269,36 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
   for (std::size_t gi = 0; gi < todo.size(); ++gi) {
     const PriceSetting& s = todo[gi]->setting;
     std::vector<SequenceTrack> tracks;
-    SequenceTrack full;
-    full.id = "full_spp1";
-    full.full = true;
-    tracks.push_back(std::move(full));
-    render_view::RenderOptions ro = view_options;
-    ro.mode = "foveated";
-    ro.interpolation = s.interpolation;
-    ro.k = s.k;
-    ro.density_scale = s.density_scale;
-    ro.pattern = s.pattern;
-    ro.rays_per_point = s.rays_per_point;
-    const std::shared_ptr<const foveation::ViewTables> tables = render_view::load_foveated_tables(
-        ro, eye_at_rest, fs::path(c.cache_dir), executor,
-        [&](const std::string& m) { err << "fovea-eval pricelist: " << m << "\n"; }, &error);
-    if (!tables) {
-      err << "fovea-eval pricelist: " << s.id() << ": " << error << "\n";
+    if (!make_group_tracks(c, s, scene, executor, err, &tracks, &error)) {
+      err << kTemporalWho << error << "\n";
       return std::nullopt;
     }
-    for (const char* mode : kTaaModes) {
-      SequenceTrack t;
-      t.id = track_id(s, mode);
-      t.taa = mode;
-      t.spp = s.rays_per_point;
-      t.view = make_taa_view(tables, mode, s.rays_per_point, c.seed, c.pixel_filter, /*taa_mean_while_young=*/false);
-      tracks.push_back(std::move(t));
-    }
     SequenceHooks hooks;
-    hooks.log = [&](const std::string& m) { err << "fovea-eval pricelist: " << m << "\n"; };
+    hooks.log = [&](const std::string& m) { err << kTemporalWho << m << "\n"; };
     hooks.frame_done = [&](int frame, int total) {
       progress.update((double(gi) + double(frame) / double(total)) / double(todo.size()));
     };
     SequenceRun run;
     ref.controls = !done.count("reference");  // the controls go into the reference's line, written once
-    if (!run_sequence(tracer, scene_hash, frames, ref, tracks, executor, hooks, &run, &error)) {
-      err << "fovea-eval pricelist: temporal " << s.id() << ": " << error << "\n";
+    if (!run_sequence(tracer, scene_hash, scene.frames, ref, tracks, executor, hooks, &run, &error)) {
+      err << kTemporalWho << "temporal " << s.id() << ": " << error << "\n";
       return std::nullopt;
     }
-    const double anchor_ms = median_ms(tracks.front().total_ms);
-    std::vector<Json> lines;
-    if (!done.count("reference")) {
-      Json r = sequence_reference_json(run);
-      r["id"] = "reference";
-      Json fl = Json::array();
-      for (const MotionFrame& f : frames)
-        fl.push_back({{"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}}, {"saccade", f.saccade},
-                      {"blink", f.blink}});
-      r["frames"] = fl;
-      lines.push_back(r);
-    }
-    for (const SequenceTrack& t : tracks) {
-      if (t.full && done.count(t.id)) continue;
-      Json j = sequence_track_json(t, run, anchor_ms);
-      if (t.full) {
-        j["setting"] = "full_spp1";
-      } else {
-        PriceSetting still = s;
-        still.taa = t.taa != "off";
-        j["setting"] = still.id();
-        j["method"] = s.interpolation;
-        j["k"] = s.k;
-        j["scale"] = s.density_scale;
-        j["pattern"] = s.pattern;
-      }
-      lines.push_back(j);
-    }
-    for (Json& j : lines) {
+    for (Json& j : group_lines(s, tracks, run, scene.frames, done)) {
       results << j.dump() << "\n";
       const std::string id = j["id"].get<std::string>();
       done[id] = std::move(j);
     }
     results.flush();
     if (!results) {
-      err << "fovea-eval pricelist: cannot write " << results_file.string() << "\n";
+      err << kTemporalWho << "cannot write " << results_file.string() << "\n";
       return std::nullopt;
     }
-    err << "fovea-eval pricelist: temporal [" << gi + 1 << "/" << todo.size() << "] " << s.id() << " measured (reference "
-        << run.reference_frames_cached << "/" << frames.size() << " frames from the cache, "
+    err << kTemporalWho << "temporal [" << gi + 1 << "/" << todo.size() << "] " << s.id() << " measured (reference "
+        << run.reference_frames_cached << "/" << scene.frames.size() << " frames from the cache, "
         << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
   }
-  Json out = {{"run", temporal_run_json(o, c.quick)}, {"reference", done.count("reference") ? done["reference"] : Json()},
-              {"tracks", Json::array()}};
-  out["run"]["eye"] = c.eye;
-  if (done.count("full_spp1")) out["tracks"].push_back(done["full_spp1"]);
-  for (const TemporalGroup& g : groups)
-    for (const char* mode : kTaaModes)
-      if (done.count(track_id(g.setting, mode))) out["tracks"].push_back(done[track_id(g.setting, mode)]);
-  return out;
+  return temporal_json(c, groups, done);
 }
 
 }  // namespace foveart::eval

@@ -115,15 +115,15 @@ Json temporal_goal(const Json& off, const Json& history) {
 }
 
 Json temporal_acceptance(const Json& temporal, const std::string& setting) {
-  const Json* off = track(temporal, setting + "_taa-off");
-  const Json* restart = track(temporal, setting + "_taa-restart");
-  const Json* reproject = track(temporal, setting + "_taa-reproject");
+  const Json* off = track(temporal, setting + "_temporal-off");
+  const Json* restart = track(temporal, setting + "_temporal-restart");
+  const Json* reproject = track(temporal, setting + "_temporal-image");
   if (!off || !restart || !reproject) return nullptr;
   const bool have_control = temporal.contains("reference") && temporal["reference"].is_object();
   Json a = {{"setting", setting}};
-  // The reprojected TAA (the layer's default history) against TAA off, and beside it off over restart and
+  // The image history (the layer's history on the CPU path) against off, and beside it off over restart and
   // off over each control (kSequenceControls): the stable blur (an image that is soft but does not flicker at
-  // all), the TAA fed the reference (what the history's reprojection costs without noise) and the sample
+  // all), the image history fed the reference (what the history's reprojection costs without noise) and the sample
   // histories (what keeping the rays themselves reaches). The third measure, weighted by what the eye resolves
   // (temporal_metrics.hpp flicker_csf_rms), stands beside the goal, which is set on the plain change.
   const Json goal = temporal_goal(*off, *reproject), restart_goal = temporal_goal(*off, *restart);
@@ -137,18 +137,18 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
             have_control ? ring_value(*off, r, measure) / ring_value(temporal["reference"], r, key.c_str()) : kNaN));
       a[m + "_ratio_off_over_" + control.key] = ratio_control;
     }
-    a[m + "_ratio_off_over_reproject"] = goal[m + "_ratio"];
+    a[m + "_ratio_off_over_image"] = goal[m + "_ratio"];
     a[m + "_ratio_off_over_restart"] = restart_goal[m + "_ratio"];
   }
   for (const char* key :
        {"peripheral_flicker_5x_lower", "peripheral_tracked_flicker_5x_lower", "peripheral_csf_flicker_5x_lower"})
     a[key] = goal[key];
-  a["psnr_reproject_minus_off_db"] = goal["psnr_minus_off_db"];
+  a["psnr_image_minus_off_db"] = goal["psnr_minus_off_db"];
   a["central_error_no_worse"] = goal["central_error_no_worse"];
-  // The render cache (TaaHistory::ray_cache, restarting where the reprojected TAA restarts) against the same
-  // TAA off; absent from runs measured before the price list had it.
-  if (const Json* cache = track(temporal, setting + "_taa-cache")) a["render_cache"] = temporal_goal(*off, *cache);
-  // Beside the goal, which pools every frame: the periphery over the frames whose TAA history has
+  // The render cache (TemporalMode::rays, restarting where the image history restarts) against the same
+  // off; absent from runs measured before the price list had it.
+  if (const Json* cache = track(temporal, setting + "_temporal-rays")) a["render_cache"] = temporal_goal(*off, *cache);
+  // Beside the goal, which pools every frame: the periphery over the frames whose image history has
   // settled (motion_sequence.hpp), without the cold start and the frames after the saccade.
   const Json* off_band = periphery_of(*off, "bands");
   const Json* reproject_band = periphery_of(*reproject, "bands");
@@ -158,7 +158,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
     for (const char* measure : {"flicker", "flicker_tracked", "flicker_csf"}) {
       const std::string m = measure;
       const double o = settled_value(off_band, measure);
-      settled[m + "_ratio_off_over_reproject"] = metrics::number_or_null_json(o / settled_value(reproject_band, measure));
+      settled[m + "_ratio_off_over_image"] = metrics::number_or_null_json(o / settled_value(reproject_band, measure));
       for (const SequenceControl& control : kSequenceControls) {
         const std::string key = control.key;
         const Json* band = have_control ? periphery_of(temporal["reference"], key + "_bands") : nullptr;
@@ -208,18 +208,19 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
   std::ostringstream h;
   h << "Over the " << run["motion"].get<std::string>() << " motion (" << run["frames"] << " frames from "
     << fmt(num(run["start_s"]), 2) << " s at " << fmt(num(run["fps"]), 0) << " fps, " << run["width"] << "x"
-    << run["height"] << ") at equal rays (" << a["setting"].get<std::string>()
-    << "), reprojected TAA flickers " << three("flicker_ratio_off_over_reproject")
-    << " less than no TAA at 20-30 / 30-45 / >45 deg at fixed pixels and " << three("flicker_tracked_ratio_off_over_reproject")
+    << run["height"] << ") at equal rays (" << a["setting"].get<std::string>() << "), the image history flickers "
+    << three("flicker_ratio_off_over_image") << " less than off at 20-30 / 30-45 / >45 deg at fixed pixels and "
+    << three("flicker_tracked_ratio_off_over_image")
     << " along the motion (goal 5x: " << (a["peripheral_flicker_5x_lower"].get<bool>() ? "met" : "not met") << " / "
     << (a.value("peripheral_tracked_flicker_5x_lower", false) ? "met" : "not met")
     << "; the reference blurred [1 2 1]^2, soft but stable, reaches " << three("flicker_ratio_off_over_stable_blur")
     << " at fixed pixels and " << three("flicker_tracked_ratio_off_over_stable_blur")
-    << " along the motion; the same TAA fed the reference itself, without noise, "
-    << three("flicker_ratio_off_over_taa_on_reference") << " at fixed pixels and "
-    << three("flicker_tracked_ratio_off_over_taa_on_reference") << " along the motion"
-    << "; every ray since the TAA's last restart kept and traced again (what a history of these rays reaches "
-       "without error) " << three("flicker_ratio_off_over_sample_history") << " at fixed pixels and "
+    << " along the motion; the same history fed the reference itself, without noise, "
+    << three("flicker_ratio_off_over_history_on_reference") << " at fixed pixels and "
+    << three("flicker_tracked_ratio_off_over_history_on_reference") << " along the motion"
+    << "; every ray since the history's last restart kept and traced again (what a history of these rays reaches "
+       "without error) "
+    << three("flicker_ratio_off_over_sample_history") << " at fixed pixels and "
     << three("flicker_tracked_ratio_off_over_sample_history") << " along the motion, kept through the saccade "
     << three("flicker_ratio_off_over_sample_history_kept") << " and "
     << three("flicker_tracked_ratio_off_over_sample_history_kept")
@@ -227,9 +228,9 @@ std::string temporal_headline(const Json& temporal, const Json& a) {
     << three("flicker_ratio_off_over_ray_cache") << " and " << three("flicker_tracked_ratio_off_over_ray_cache")
     << ", kept through the saccade " << three("flicker_ratio_off_over_ray_cache_kept") << " and "
     << three("flicker_tracked_ratio_off_over_ray_cache_kept")
-    << "; TAA restarting on every pose change: "
-    << three("flicker_ratio_off_over_restart") << "); its error at 0-2.5 / 2.5-5 deg is "
-    << central_gains_db(a["psnr_reproject_minus_off_db"]) << " dB against no TAA (goal: no worse: " << (a["central_error_no_worse"].get<bool>() ? "met" : "not met") << ").";
+    << "; the image history restarting on every pose change: " << three("flicker_ratio_off_over_restart")
+    << "); its error at 0-2.5 / 2.5-5 deg is " << central_gains_db(a["psnr_image_minus_off_db"])
+    << " dB against off (goal: no worse: " << (a["central_error_no_worse"].get<bool>() ? "met" : "not met") << ").";
   return h.str();
 }
 
@@ -239,20 +240,22 @@ std::string temporal_render_cache_line(const Json& a) {
   const auto met = [&](const char* key) { return g.value(key, false) ? "met" : "not met"; };
   std::ostringstream line;
   line << "The render cache (the layer's \"temporal\": \"rays\": the traced rays kept where they hit, "
-          "restarting where the reprojected TAA restarts) flickers "
-       << peripheral_ratios(g, "flicker_ratio") << " less than no TAA at 20-30 / 30-45 / >45 deg at fixed pixels and "
-       << peripheral_ratios(g, "flicker_tracked_ratio") << " along the motion (goal 5x: "
-       << met("peripheral_flicker_5x_lower") << " / " << met("peripheral_tracked_flicker_5x_lower")
-       << "); its error at 0-2.5 / 2.5-5 deg is " << central_gains_db(g["psnr_minus_off_db"]) << " dB against no TAA (goal: no worse: " << met("central_error_no_worse") << ").";
+          "restarting where the image history restarts) flickers "
+       << peripheral_ratios(g, "flicker_ratio") << " less than off at 20-30 / 30-45 / >45 deg at fixed pixels and "
+       << peripheral_ratios(g, "flicker_tracked_ratio")
+       << " along the motion (goal 5x: " << met("peripheral_flicker_5x_lower") << " / "
+       << met("peripheral_tracked_flicker_5x_lower") << "); its error at 0-2.5 / 2.5-5 deg is "
+       << central_gains_db(g["psnr_minus_off_db"])
+       << " dB against off (goal: no worse: " << met("central_error_no_worse") << ").";
   return line.str();
 }
 
 std::string temporal_csf_line(const Json& a) {
-  if (a.is_null() || !a.contains("flicker_csf_ratio_off_over_reproject")) return "";
+  if (a.is_null() || !a.contains("flicker_csf_ratio_off_over_image")) return "";
   std::ostringstream line;
   line << "Weighted by what the eye resolves at each pixel's eccentricity (the change's luma in octave bands, "
-          "each weighted by the foveated contrast sensitivity; `flicker_csf`), reprojected TAA flickers "
-       << peripheral_ratios(a, "flicker_csf_ratio_off_over_reproject") << " less than no TAA at 20-30 / 30-45 / >45 deg";
+          "each weighted by the foveated contrast sensitivity; `flicker_csf`), the image history flickers "
+       << peripheral_ratios(a, "flicker_csf_ratio_off_over_image") << " less than off at 20-30 / 30-45 / >45 deg";
   for (const SequenceControl& control : kSequenceControls)
     line << "; `" << control.key << "` " << peripheral_ratios(a, std::string("flicker_csf_ratio_off_over_") + control.key);
   line << ".";
@@ -261,7 +264,7 @@ std::string temporal_csf_line(const Json& a) {
 
 std::string write_temporal_csv(const std::filesystem::path& file, const Json& temporal) {
   std::ofstream f(file);
-  f << "id,setting,kind,method,k,scale,pattern,taa,spp,ms,time_fraction,temporal_resets";
+  f << "id,setting,kind,method,k,scale,pattern,temporal,spp,ms,time_fraction,temporal_resets";
   for (const char* m : {"flicker", "flicker_tracked", "flicker_csf", "psnr"})
     for (std::size_t r = 0; r < kRings; ++r) f << "," << m << "_" << ring_name(r);
   f << "\n";
@@ -278,7 +281,7 @@ std::string write_temporal_csv(const std::filesystem::path& file, const Json& te
   for (const Json& t : temporal["tracks"]) {
     f << cell(t["id"]) << "," << cell(t["setting"]) << "," << cell(t["kind"]) << "," << cell(t.value("method", Json()))
       << "," << cell(t.value("k", Json())) << "," << cell(t.value("scale", Json())) << ","
-      << cell(t.value("pattern", Json())) << "," << cell(t["taa"]) << "," << cell(t["spp"]) << "," << cell(t["ms"])
+      << cell(t.value("pattern", Json())) << "," << cell(t["temporal"]) << "," << cell(t["spp"]) << "," << cell(t["ms"])
       << "," << cell(t["time_fraction"]) << "," << cell(t["temporal_resets"]);
     for (const char* m : {"flicker", "flicker_tracked", "flicker_csf", "psnr"})
       for (std::size_t r = 0; r < kRings; ++r) f << "," << cell(t["rings"][r].value(m, Json()));
@@ -292,12 +295,12 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
   if (a.is_null()) return "";
   const std::string setting = a["setting"].get<std::string>();
   const Json* ceiling =
-      temporal.contains("reference") ? periphery_of(temporal["reference"], "taa_on_reference_bands") : nullptr;
+      temporal.contains("reference") ? periphery_of(temporal["reference"], "history_on_reference_bands") : nullptr;
   const Json* sample_history =
       temporal.contains("reference") ? periphery_of(temporal["reference"], "sample_history_bands") : nullptr;
   const Json* ray_cache =
       temporal.contains("reference") ? periphery_of(temporal["reference"], "ray_cache_bands") : nullptr;
-  const Json* reproject = track(temporal, setting + "_taa-reproject");
+  const Json* reproject = track(temporal, setting + "_temporal-image");
   // Frame t's value of a per-frame array (t >= 1: a pair), as a series.
   const auto series = [](const std::string& label, const Json* band, const char* key, bool points,
                          const std::vector<int>* only) {
@@ -312,24 +315,24 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
     return s;
   };
   std::vector<int> resets;
-  if (reproject != nullptr && reproject->contains("taa_reset_frames"))
-    resets = (*reproject)["taa_reset_frames"].get<std::vector<int>>();
+  if (reproject != nullptr && reproject->contains("temporal_reset_frames"))
+    resets = (*reproject)["temporal_reset_frames"].get<std::vector<int>>();
   for (const auto& [key, file, title] :
        {std::tuple{"flicker_by_frame", kTemporalPlotFixed, "at fixed pixels"},
         std::tuple{"flicker_tracked_by_frame", kTemporalPlotTracked, "along the motion"}}) {
     std::vector<toolkit::PlotSeries> lines;
-    for (const auto& [mode, label] : {std::pair{"off", "TAA off"}, std::pair{"restart", "TAA restarting on every pose change"},
-                                      std::pair{"reproject", "reprojected TAA"},
-                                      std::pair{"cache", "render cache (ray_cache)"}}) {
-      const Json* t = track(temporal, setting + "_taa-" + mode);
-      if (t == nullptr && std::string(mode) == "cache") continue;  // a run measured before the price list had it
+    for (const auto& [variant, label] :
+         {std::pair{"off", "off"}, std::pair{"restart", "image history restarting on every pose change"},
+          std::pair{"image", "image history (reprojected)"}, std::pair{"rays", "render cache (rays)"}}) {
+      const Json* t = track(temporal, setting + "_temporal-" + variant);
+      if (t == nullptr && std::string(variant) == "rays") continue;  // a run measured before the price list had it
       lines.push_back(series(label, t ? periphery_of(*t, "bands") : nullptr, key, false, nullptr));
     }
-    lines.push_back(series("control: reprojected TAA fed the reference", ceiling, key, false, nullptr));
-    lines.push_back(series("control: every ray since the TAA's last restart, kept", sample_history, key, false,
+    lines.push_back(series("control: the image history fed the reference", ceiling, key, false, nullptr));
+    lines.push_back(series("control: every ray since the history's last restart, kept", sample_history, key, false,
                            nullptr));
     lines.push_back(series("control: the same rays' render cache (equal rays)", ray_cache, key, false, nullptr));
-    lines.push_back(series("history restart (reprojected TAA)",
+    lines.push_back(series("history restart (image history)",
                            reproject ? periphery_of(*reproject, "bands") : nullptr, key, true,
                            &resets));
     if (!toolkit::has_finite_point(lines)) continue;  // no per-frame values (a resumed older run)
@@ -352,13 +355,13 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
      << " rays per pixel. flicker: RMS over consecutive frames, pixels and channels of the error's change "
         "e_t - e_t-1 (e = I - R: the change beyond the reference's own) at fixed pixels, and along the motion "
         "(e_t - e_t-1 warped to where each pixel's surface was: what an eye that keeps the world still sees); "
-        "PSNR: the error against the reference over all frames. The same rays per point with TAA off (one "
+        "PSNR: the error against the reference over all frames. The same rays per point without history (one "
         "jitter), restarting on every pose change, reprojecting its history (new jitter each frame), and keeping "
-        "the traced rays in a render cache (the layer's ray_cache history, restarting with it). Four "
-        "controls: the reference blurred [1 2 1]^2, soft but stable by construction; the layer's reprojected "
-        "TAA fed the reference itself in place of the noisy frames: what its reprojection and clip cost without "
+        "the traced rays in a render cache (the layer's \"rays\", restarting with it). Four "
+        "controls: the reference blurred [1 2 1]^2, soft but stable by construction; the layer's image "
+        "history fed the reference itself in place of the noisy frames: what its reprojection and clip cost without "
         "noise, the part more averaging cannot remove; and one new jittered ray per pixel per frame with every "
-        "ray since the TAA's last restart (or since the first frame) kept where it hit and traced again from "
+        "ray since the history's last restart (or since the first frame) kept where it hit and traced again from "
         "each frame's eye: what a history of these rays reaches when nothing it keeps is wrong.\n\n";
   if (!a.is_null()) md << temporal_headline(temporal, a) << "\n\n";
   if (const std::string line = temporal_render_cache_line(a); !line.empty()) md << line << "\n\n";
@@ -376,7 +379,8 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
     md << " " << ring_name(r) << ": " << fmt(num(sanity["flicker_margin_db"][r]), 1) << " / "
        << fmt(num(sanity["error_margin_db"][r]), 1) << " dB;";
   md << " at least 10 dB in every ring: " << (sanity["floor_10db_below"].get<bool>() ? "yes" : "**no**") << ".\n\n";
-  md << "Per ring: flicker along the motion / at fixed pixels / PSNR dB.\n\n| track | time % of full_spp1 | TAA resets |";
+  md << "Per ring: flicker along the motion / at fixed pixels / PSNR dB.\n\n| track | time % of full_spp1 | history "
+        "restarts |";
   for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << " |";
   md << "\n|---|---|---|";
   for (std::size_t r = 0; r < kRings; ++r) md << "---|";
@@ -408,14 +412,15 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
     const auto ratio = [&](const char* key) { return fmt(field(settled, key), 1) + "x"; };
     md << "\n### Frame by frame in the periphery (> 20 deg)\n\n"
        << "![at fixed pixels](" << kTemporalPlotFixed << ")\n\n![along the motion](" << kTemporalPlotTracked
-       << ")\n\nThe goal pools every frame, the TAA's cold start and the frames after the saccade included. "
+       << ")\n\nThe goal pools every frame, the history's cold start and the frames after the saccade included. "
        << "Pooled over the " << settled["frames"] << " frames whose history has settled (at least "
        << settled["settle_frames"] << " frames, the blend's time constant, since the motion's last restart: the "
-       << "first frame, a saccade's or a blink's), reprojected TAA flickers " << ratio("flicker_ratio_off_over_reproject")
-       << " less than no TAA at fixed pixels and " << ratio("flicker_tracked_ratio_off_over_reproject")
-       << " along the motion; the TAA fed the reference " << ratio("flicker_ratio_off_over_taa_on_reference")
-       << " and " << ratio("flicker_tracked_ratio_off_over_taa_on_reference")
-       << "; every ray since the TAA's last restart, kept " << ratio("flicker_ratio_off_over_sample_history")
+       << "first frame, a saccade's or a blink's), image history flickers " << ratio("flicker_ratio_off_over_image")
+       << " less than off at fixed pixels and " << ratio("flicker_tracked_ratio_off_over_image")
+       << " along the motion; the image history fed the reference "
+       << ratio("flicker_ratio_off_over_history_on_reference") << " and "
+       << ratio("flicker_tracked_ratio_off_over_history_on_reference")
+       << "; every ray since the history's last restart, kept " << ratio("flicker_ratio_off_over_sample_history")
        << " and " << ratio("flicker_tracked_ratio_off_over_sample_history") << "; the same rays' render cache "
        << ratio("flicker_ratio_off_over_ray_cache") << " and " << ratio("flicker_tracked_ratio_off_over_ray_cache")
        << ".\n";

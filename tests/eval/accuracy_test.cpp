@@ -91,17 +91,17 @@ TEST(AccuracyCommand, WithoutLeavesEffectsOutOfTheReferenceToo) {
   EXPECT_TRUE(run_json(o)["errors_against_reference"]["reference"]["from_cache"].get<bool>());
 }
 
-// One still view has one TAA mode, and TAA needs the foveated view.
-TEST(AccuracyCommand, TaaIsOneModeOfTheFoveatedView) {
+// One still view has one temporal variant, and a history needs the foveated view.
+TEST(AccuracyCommand, TemporalIsOneVariantOfTheFoveatedView) {
   eval::AccuracyOptions o = small("full");
   o.reference.spp = "4";
-  o.taa = "reproject";
+  o.temporal = "image";
   std::ostringstream out, err;
   EXPECT_EQ(eval::run_accuracy(o, out, err), 2);
-  EXPECT_NE(err.str().find("--taa needs --mode foveated or both"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("--temporal needs --mode foveated or both"), std::string::npos) << err.str();
   o.render.mode = "foveated";
-  o.taa = "off,reproject";
+  o.temporal = "off,image";
   std::ostringstream out2, err2;
   EXPECT_EQ(eval::run_accuracy(o, out2, err2), 2);
-  EXPECT_NE(err2.str().find("one TAA mode"), std::string::npos) << err2.str();
+  EXPECT_NE(err2.str().find("one temporal variant"), std::string::npos) << err2.str();
 }

@@ -62,5 +62,6 @@ std::set<std::string> help_subcommands(const std::string& help) {
 TEST(FoveaEvalHelp, ListsTheLabsCommands) {
   const HelpRun r = run_fovea_eval("--help");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(help_subcommands(r.output), (std::set<std::string>{"accuracy", "motion", "pricelist", "bench-md"})) << r.output;
+  EXPECT_EQ(help_subcommands(r.output), (std::set<std::string>{"accuracy", "motion", "pricelist", "bench-md"}))
+      << r.output;
 }

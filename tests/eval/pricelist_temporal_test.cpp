@@ -1,6 +1,6 @@
 // The price list's temporal columns: a tiny sweep over the built-in motion
-// reports per-ring flicker and error for TAA off / restart / reproject / cache of every
-// TAA setting, agrees between JSON and CSV, resumes without measuring again;
+// reports per-ring flicker and error for off / restart / image / rays of every
+// setting with history, agrees between JSON and CSV, resumes without measuring again;
 // bad temporal options are errors naming the option; the acceptance reads the
 // ratios it reports.
 #include "gltf_fixtures.hpp"
@@ -27,14 +27,14 @@ eval::PricelistOptions tiny(const fs::path& out) {
   o.out_dir = out.string();
   o.reference_spp = "16";
   o.frames = 1;
-  o.taa_frames = 2;
+  o.history_frames = 2;
   o.threads = 2;
   o.grid.full_rays_per_point = {1};
   o.grid.interpolation = {"nearest:1", "msm:5"};
   o.grid.density_scale = {1.0};
   o.grid.rays_per_point = {1};
   o.grid.pattern = {"pixel-grid"};
-  o.grid.taa_rays_per_point = {1};
+  o.grid.history_rays_per_point = {1};
   o.temporal.size_px = glm::ivec2(64, 72);
   o.temporal.frames = 4;
   o.temporal.start_s = 0.5;
@@ -57,25 +57,25 @@ Json synthetic(const std::array<double, 7>& off_flicker, const std::array<double
   const auto track = [](const std::string& id, const std::array<double, 7>& f, const std::array<double, 7>& p) {
     Json rings = Json::array();
     for (std::size_t r = 0; r < 7; ++r) rings.push_back({{"flicker", f[r]}, {"psnr", p[r]}});
-    return Json{{"id", id}, {"taa", id.substr(id.rfind('-') + 1)}, {"rings", rings}};
+    return Json{{"id", id}, {"temporal", id.substr(id.rfind('-') + 1)}, {"rings", rings}};
   };
   Json t = {{"run", {{"motion", "builtin"}, {"frames", 36}, {"start_s", 1.3}, {"fps", 70.0}, {"width", 320},
                      {"height", 360}}},
             {"tracks", Json::array()}};
-  t["tracks"].push_back(track("s_taa-off", off_flicker, off_psnr));
-  t["tracks"].push_back(track("s_taa-restart", off_flicker, off_psnr));
-  t["tracks"].push_back(track("s_taa-reproject", reproject_flicker, reproject_psnr));
+  t["tracks"].push_back(track("s_temporal-off", off_flicker, off_psnr));
+  t["tracks"].push_back(track("s_temporal-restart", off_flicker, off_psnr));
+  t["tracks"].push_back(track("s_temporal-image", reproject_flicker, reproject_psnr));
   return t;
 }
 
 }  // namespace
 
-TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
+TEST(PricelistTemporal, TinySweepReportsEveryTemporalVariantPerRingAndResumes) {
   engine_test::TempDir dir;
   const eval::PricelistOptions o = tiny(dir.path / "pl");
   std::ostringstream out, err;
   ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
-  EXPECT_NE(out.str().find("reprojected TAA flickers"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("the image history flickers"), std::string::npos) << out.str();
   std::ifstream jf(dir.path / "pl" / "pricelist.json");
   const Json doc = Json::parse(jf);
   const Json& t = doc["temporal"];
@@ -85,14 +85,14 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_EQ(t["reference"]["spp"], 8);
   ASSERT_EQ(t["tracks"].size(), 9u);  // full_spp1 + 2 settings x off/restart/reproject/cache
   const std::vector<std::string> ids = {"full_spp1",
-                                        "nearest_k1_s1_pixel-grid_r1_taa-off",
-                                        "nearest_k1_s1_pixel-grid_r1_taa-restart",
-                                        "nearest_k1_s1_pixel-grid_r1_taa-reproject",
-                                        "nearest_k1_s1_pixel-grid_r1_taa-cache",
-                                        "msm_k5_s1_pixel-grid_r1_taa-off",
-                                        "msm_k5_s1_pixel-grid_r1_taa-restart",
-                                        "msm_k5_s1_pixel-grid_r1_taa-reproject",
-                                        "msm_k5_s1_pixel-grid_r1_taa-cache"};
+                                        "nearest_k1_s1_pixel-grid_r1_temporal-off",
+                                        "nearest_k1_s1_pixel-grid_r1_temporal-restart",
+                                        "nearest_k1_s1_pixel-grid_r1_temporal-image",
+                                        "nearest_k1_s1_pixel-grid_r1_temporal-rays",
+                                        "msm_k5_s1_pixel-grid_r1_temporal-off",
+                                        "msm_k5_s1_pixel-grid_r1_temporal-restart",
+                                        "msm_k5_s1_pixel-grid_r1_temporal-image",
+                                        "msm_k5_s1_pixel-grid_r1_temporal-rays"};
   // Where each of the acceptance's setting's tracks sits.
   constexpr std::size_t kOff = 5, kReproject = 7, kCache = 8;
   for (std::size_t i = 0; i < ids.size(); ++i) {
@@ -115,27 +115,28 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
     EXPECT_GT(ring["stable_blur_flicker"].get<double>(), 0.0) << ring.dump();
     EXPECT_GT(ring["stable_blur_flicker_tracked"].get<double>(), 0.0) << ring.dump();
     EXPECT_TRUE(ring["stable_blur_psnr"].is_number()) << ring.dump();
-    EXPECT_GT(ring["taa_on_reference_flicker"].get<double>(), 0.0) << ring.dump();
-    EXPECT_GT(ring["taa_on_reference_flicker_tracked"].get<double>(), 0.0) << ring.dump();
-    // Fed the reference instead of 1-ray frames, the same TAA errs less than the reprojecting track.
-    EXPECT_GT(ring["taa_on_reference_psnr"].get<double>(), t["tracks"][kReproject]["rings"][r]["psnr"].get<double>())
+    EXPECT_GT(ring["history_on_reference_flicker"].get<double>(), 0.0) << ring.dump();
+    EXPECT_GT(ring["history_on_reference_flicker_tracked"].get<double>(), 0.0) << ring.dump();
+    // Fed the reference instead of 1-ray frames, the same history errs less than the reprojecting track.
+    EXPECT_GT(ring["history_on_reference_psnr"].get<double>(),
+              t["tracks"][kReproject]["rings"][r]["psnr"].get<double>())
         << ring.dump();
   }
-  // The track names the still setting it belongs to: TAA off is the setting without TAA.
+  // The track names the still setting it belongs to: off is the setting without history.
   EXPECT_EQ(t["tracks"][1]["setting"], "nearest_k1_s1_pixel-grid_r1");
-  EXPECT_EQ(t["tracks"][3]["setting"], "nearest_k1_s1_pixel-grid_r1_taa");
-  EXPECT_EQ(t["tracks"][4]["setting"], "nearest_k1_s1_pixel-grid_r1_taa");
-  EXPECT_EQ(t["tracks"][kCache]["taa"], "cache");
-  EXPECT_EQ(t["tracks"][kCache]["taa_reset_frames"], t["tracks"][kReproject]["taa_reset_frames"]);
+  EXPECT_EQ(t["tracks"][3]["setting"], "nearest_k1_s1_pixel-grid_r1_image");
+  EXPECT_EQ(t["tracks"][4]["setting"], "nearest_k1_s1_pixel-grid_r1_image");
+  EXPECT_EQ(t["tracks"][kCache]["temporal"], "rays");
+  EXPECT_EQ(t["tracks"][kCache]["temporal_reset_frames"], t["tracks"][kReproject]["temporal_reset_frames"]);
   // The acceptance is read at the layer's defaults (MSM k = 5, scale 1, pixel grid, 1 ray).
   EXPECT_EQ(t["acceptance"]["setting"], "msm_k5_s1_pixel-grid_r1");
-  ASSERT_EQ(t["acceptance"]["flicker_ratio_off_over_reproject"].size(), 7u);
-  const double ratio = t["acceptance"]["flicker_ratio_off_over_reproject"][4].get<double>();
+  ASSERT_EQ(t["acceptance"]["flicker_ratio_off_over_image"].size(), 7u);
+  const double ratio = t["acceptance"]["flicker_ratio_off_over_image"][4].get<double>();
   EXPECT_NEAR(ratio,
               t["tracks"][kOff]["rings"][4]["flicker"].get<double>() /
                   t["tracks"][kReproject]["rings"][4]["flicker"].get<double>(),
               1e-12);
-  const double tracked_ratio = t["acceptance"]["flicker_tracked_ratio_off_over_reproject"][4].get<double>();
+  const double tracked_ratio = t["acceptance"]["flicker_tracked_ratio_off_over_image"][4].get<double>();
   EXPECT_NEAR(tracked_ratio,
               t["tracks"][kOff]["rings"][4]["flicker_tracked"].get<double>() /
                   t["tracks"][kReproject]["rings"][4]["flicker_tracked"].get<double>(),
@@ -144,16 +145,16 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
               t["tracks"][kOff]["rings"][4]["flicker"].get<double>() /
                   t["reference"]["rings"][4]["stable_blur_flicker"].get<double>(),
               1e-12);
-  EXPECT_NEAR(t["acceptance"]["flicker_tracked_ratio_off_over_taa_on_reference"][4].get<double>(),
+  EXPECT_NEAR(t["acceptance"]["flicker_tracked_ratio_off_over_history_on_reference"][4].get<double>(),
               t["tracks"][kOff]["rings"][4]["flicker_tracked"].get<double>() /
-                  t["reference"]["rings"][4]["taa_on_reference_flicker_tracked"].get<double>(),
+                  t["reference"]["rings"][4]["history_on_reference_flicker_tracked"].get<double>(),
               1e-12);
   EXPECT_NEAR(t["acceptance"]["flicker_ratio_off_over_sample_history"][4].get<double>(),
               t["tracks"][kOff]["rings"][4]["flicker"].get<double>() /
                   t["reference"]["rings"][4]["sample_history_flicker"].get<double>(),
               1e-12);
   EXPECT_TRUE(t["acceptance"]["peripheral_tracked_flicker_5x_lower"].is_boolean());
-  // The render cache's goal reads its own track against the same TAA off.
+  // The render cache's goal reads its own track against the same off.
   const Json& cache_goal = t["acceptance"]["render_cache"];
   EXPECT_NEAR(cache_goal["flicker_tracked_ratio"][4].get<double>(),
               t["tracks"][kOff]["rings"][4]["flicker_tracked"].get<double>() /
@@ -194,7 +195,7 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   }
   EXPECT_EQ(t["reference"]["settled_frames"], 0);
   EXPECT_EQ(t["acceptance"]["settled_periphery"]["frames"], 0);
-  EXPECT_TRUE(t["acceptance"]["settled_periphery"]["flicker_ratio_off_over_reproject"].is_null());
+  EXPECT_TRUE(t["acceptance"]["settled_periphery"]["flicker_ratio_off_over_image"].is_null());
   EXPECT_EQ(t["tracks"][kReproject]["bands"][1]["flicker_by_frame"].size(), 4u);
   EXPECT_EQ(t["tracks"][kCache]["bands"][1]["flicker_by_frame"].size(), 4u);
   EXPECT_NE(report.str().find("The render cache"), std::string::npos);
@@ -252,8 +253,8 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   const std::array<double, 7> psnr_rep = {30, 30.5, 29, 29, 29, 29, 29};  // central: +0, +0.5
   Json a = eval::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "s");
   ASSERT_TRUE(a.is_object());
-  EXPECT_NEAR(a["flicker_ratio_off_over_reproject"][5].get<double>(), 10.0, 1e-12);
-  EXPECT_NEAR(a["psnr_reproject_minus_off_db"][1].get<double>(), 0.5, 1e-12);
+  EXPECT_NEAR(a["flicker_ratio_off_over_image"][5].get<double>(), 10.0, 1e-12);
+  EXPECT_NEAR(a["psnr_image_minus_off_db"][1].get<double>(), 0.5, 1e-12);
   EXPECT_TRUE(a["peripheral_flicker_5x_lower"].get<bool>());
   EXPECT_TRUE(a["central_error_no_worse"].get<bool>());
   // 4.9x in one peripheral ring misses the goal; so does 0.1 dB worse in the fovea.
@@ -282,17 +283,17 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   with_bands["tracks"][0]["bands"] = periphery(0.06, 0.05);
   with_bands["tracks"][2]["bands"] = periphery(0.03, 0.01);
   with_bands["reference"] = {{"settle_frames", 10}, {"settled_frames", 13}, {"rings", Json::array()},
-                             {"taa_on_reference_bands", periphery(0.02, 0.004)},
+                             {"history_on_reference_bands", periphery(0.02, 0.004)},
                              {"sample_history_bands", periphery(0.015, 0.01)}};
   a = eval::temporal_acceptance(with_bands, "s");
   ASSERT_TRUE(a.contains("settled_periphery")) << a.dump();
   const Json& settled = a["settled_periphery"];
   EXPECT_EQ(settled["frames"], 13);
   EXPECT_EQ(settled["settle_frames"], 10);
-  EXPECT_NEAR(settled["flicker_ratio_off_over_reproject"].get<double>(), 2.0, 1e-12);
-  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_reproject"].get<double>(), 5.0, 1e-12);
-  EXPECT_NEAR(settled["flicker_ratio_off_over_taa_on_reference"].get<double>(), 3.0, 1e-12);
-  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_taa_on_reference"].get<double>(), 12.5, 1e-12);
+  EXPECT_NEAR(settled["flicker_ratio_off_over_image"].get<double>(), 2.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_image"].get<double>(), 5.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_ratio_off_over_history_on_reference"].get<double>(), 3.0, 1e-12);
+  EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_history_on_reference"].get<double>(), 12.5, 1e-12);
   EXPECT_NEAR(settled["flicker_ratio_off_over_sample_history"].get<double>(), 4.0, 1e-12);
   EXPECT_NEAR(settled["flicker_tracked_ratio_off_over_sample_history"].get<double>(), 5.0, 1e-12);
   EXPECT_TRUE(settled["flicker_ratio_off_over_stable_blur"].is_null());  // that control has no bands here
@@ -320,7 +321,7 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
     cache_rings.push_back({{"flicker", r == 5 ? 0.025 : 0.015},
                            {"flicker_tracked", 0.1 / 6.0},
                            {"psnr", r == 0 ? 31.0 : r == 1 ? 29.8 : 35.0}});
-  with_cache["tracks"].push_back({{"id", "s_taa-cache"}, {"taa", "cache"}, {"rings", cache_rings}});
+  with_cache["tracks"].push_back({{"id", "s_temporal-rays"}, {"temporal", "rays"}, {"rings", cache_rings}});
   a = eval::temporal_acceptance(with_cache, "s");
   ASSERT_TRUE(a.contains("render_cache")) << a.dump();
   const Json& cache_goal = a["render_cache"];
@@ -331,7 +332,7 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   EXPECT_NEAR(cache_goal["psnr_minus_off_db"][0].get<double>(), 1.0, 1e-12);
   EXPECT_NEAR(cache_goal["psnr_minus_off_db"][1].get<double>(), -0.2, 1e-9);
   EXPECT_FALSE(cache_goal["central_error_no_worse"].get<bool>());
-  EXPECT_TRUE(a["peripheral_flicker_5x_lower"].get<bool>());  // the reprojected TAA's goal is its own
+  EXPECT_TRUE(a["peripheral_flicker_5x_lower"].get<bool>());  // the image history's goal is its own
   const std::string cache_line = eval::temporal_render_cache_line(a);
   EXPECT_NE(cache_line.find("6.7x / 4.0x / 6.7x"), std::string::npos) << cache_line;
   EXPECT_NE(cache_line.find("6.0x / 6.0x / 6.0x"), std::string::npos) << cache_line;

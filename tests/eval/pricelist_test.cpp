@@ -1,4 +1,4 @@
-// `fovea-eval pricelist`: the grid with its full renders with TAA, the Pareto front,
+// `fovea-eval pricelist`: the grid with its full renders with history, the Pareto front,
 // the full render at equal time, a tiny sweep whose CSV agrees with its JSON
 // and whose written images reproduce its per-ring PSNR, resume, bad grids.
 #include "gltf_fixtures.hpp"
@@ -54,40 +54,40 @@ TEST(Pricelist, ParetoFrontKeepsTheUndominated) {
   EXPECT_EQ(eval::pareto_front(cost, acc), (std::vector<std::size_t>{0, 2, 4}));
 }
 
-TEST(Pricelist, ExpandGridAddsTheFullRenderWithTaaAtEveryTaaRayCount) {
+TEST(Pricelist, ExpandGridAddsTheFullRenderWithHistoryAtEveryHistoryRayCount) {
   eval::PriceGrid g;
   g.full_rays_per_point = {1, 2};
   g.interpolation = {"nearest:1"};
   g.density_scale = {1.0};
   g.rays_per_point = {1};
   g.pattern = {"thesis"};
-  g.taa_rays_per_point = {1, 4};
+  g.history_rays_per_point = {1, 4};
   std::vector<eval::PriceSetting> settings;
   std::string error;
   ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
   std::vector<std::string> ids;
   for (const eval::PriceSetting& s : settings) ids.push_back(s.id());
-  EXPECT_EQ(ids, (std::vector<std::string>{"full_spp1", "full_spp2", "full_spp1_taa", "full_spp4_taa",
-                                           "nearest_k1_s1_thesis_r1", "nearest_k1_s1_thesis_r1_taa",
-                                           "nearest_k1_s1_thesis_r4_taa"}));
-  EXPECT_TRUE(settings[3].full && settings[3].taa && settings[3].rays_per_point == 4);
+  EXPECT_EQ(ids, (std::vector<std::string>{"full_spp1", "full_spp2", "full_spp1_image", "full_spp4_image",
+                                           "nearest_k1_s1_thesis_r1", "nearest_k1_s1_thesis_r1_image",
+                                           "nearest_k1_s1_thesis_r4_image"}));
+  EXPECT_TRUE(settings[3].full && settings[3].history && settings[3].rays_per_point == 4);
   EXPECT_EQ(settings[3].table_id(), "full");
-  g.taa_rays_per_point.clear();  // --taa-rays-per-point none: no TAA rows, full or foveated
+  g.history_rays_per_point.clear();  // --history-rays-per-point none: no rows with history, full or foveated
   ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
-  EXPECT_TRUE(std::none_of(settings.begin(), settings.end(), [](const auto& s) { return s.taa; }));
-  g.taa_rays_per_point = {0};
+  EXPECT_TRUE(std::none_of(settings.begin(), settings.end(), [](const auto& s) { return s.history; }));
+  g.history_rays_per_point = {0};
   EXPECT_FALSE(eval::expand_grid(g, &settings, &error));
-  EXPECT_NE(error.find("TAA rays per point 0"), std::string::npos) << error;
-  // --quick lists the full render with TAA at its TAA ray count.
+  EXPECT_NE(error.find("history rays per point 0"), std::string::npos) << error;
+  // --quick lists the full render with history at its history ray count.
   ASSERT_TRUE(eval::expand_grid(eval::quick_grid(), &settings, &error)) << error;
-  EXPECT_EQ(std::count_if(settings.begin(), settings.end(), [](const auto& s) { return s.id() == "full_spp1_taa"; }),
+  EXPECT_EQ(std::count_if(settings.begin(), settings.end(), [](const auto& s) { return s.id() == "full_spp1_image"; }),
             1);
 }
 
 TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
   const std::vector<nlohmann::ordered_json> all = {
       result("full_spp1", 1.0, 30.0),      result("full_spp2", 2.0, 33.0),  result("full_spp4", 4.0, 36.0),
-      result("full_spp1_taa", 1.1, 36.0),  result("full_spp8", 0.2, NAN),   // no PSNR in the ring: never picked
+      result("full_spp1_image", 1.1, 36.0),  result("full_spp8", 0.2, NAN),   // no PSNR in the ring: never picked
       result("fov_cheap", 0.5, 31.0),      result("fov_a", 1.05, 32.0),     result("fov_b", 1.5, 34.0),
       result("fov_c", 5.0, 40.0),          result("fov_fast_good", 0.9, 50.0)};
   const auto pick = [&](std::size_t of) {
@@ -96,8 +96,8 @@ TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
   };
   EXPECT_EQ(pick(5), "none that cheap");  // every full render with a PSNR takes longer
   EXPECT_EQ(pick(6), "full_spp1");
-  EXPECT_EQ(pick(7), "full_spp1_taa");   // the history beats more rays per pixel at this time
-  EXPECT_EQ(pick(8), "full_spp1_taa");   // a tie with full_spp4 at 36 dB: the cheaper
+  EXPECT_EQ(pick(7), "full_spp1_image");   // the history beats more rays per pixel at this time
+  EXPECT_EQ(pick(8), "full_spp1_image");   // a tie with full_spp4 at 36 dB: the cheaper
   EXPECT_EQ(pick(9), "none that cheap");  // a foveated setting is never the baseline
   EXPECT_EQ(pick(0), "full_spp1");        // a full render's own: itself at most
 }
@@ -109,7 +109,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.out_dir = (dir.path / "pl").string();
   o.reference_spp = "32";
   o.frames = 1;
-  o.taa_frames = 3;
+  o.history_frames = 3;
   o.threads = 2;
   o.images = true;
   o.grid.full_rays_per_point = {1, 4};
@@ -117,7 +117,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.grid.density_scale = {1.0};
   o.grid.rays_per_point = {1};
   o.grid.pattern = {"thesis", "pixel-grid"};
-  o.grid.taa_rays_per_point = {1};
+  o.grid.history_rays_per_point = {1};
   o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
   std::ostringstream out, err;
   ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
@@ -127,7 +127,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   std::ifstream jf(pl / "pricelist.json");
   const auto doc = nlohmann::json::parse(jf);
   const auto& settings = doc["settings"];
-  ASSERT_EQ(settings.size(), 7u);  // full 1, 4, 1 + TAA; per pattern nn r1 and nn r1 + TAA
+  ASSERT_EQ(settings.size(), 7u);  // full 1, 4, 1 + history; per pattern nn r1 and nn r1 + history
   EXPECT_EQ(count_lines(pl / "pricelist.csv"), settings.size() + 1);
   for (const char* f : {"pricelist.png", "pareto_ring0.png", "report.md", "heatmap.png", "images/reference.pfm"})
     EXPECT_TRUE(fs::exists(pl / f)) << f;
@@ -194,20 +194,20 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   const auto full1 = by_id("full_spp1"), grid1 = by_id("nearest_k1_s1_pixel-grid_r1");
   ASSERT_GT(full1["rings"][0]["pixels"].get<int>(), 0);
   EXPECT_EQ(grid1["rings"][0]["psnr"], full1["rings"][0]["psnr"]);
-  const auto taa = std::find_if(settings.begin(), settings.end(),
-                                [](const auto& s) { return s["id"] == "nearest_k1_s1_thesis_r1_taa"; });
-  ASSERT_NE(taa, settings.end());
-  EXPECT_EQ((*taa)["flicker_frames"], 3);
-  EXPECT_GT((*taa)["rings"][0]["flicker"].get<double>(), 0.0);  // new jitter each frame: the image moves
+  const auto with_history = std::find_if(settings.begin(), settings.end(),
+                                [](const auto& s) { return s["id"] == "nearest_k1_s1_thesis_r1_image"; });
+  ASSERT_NE(with_history, settings.end());
+  EXPECT_EQ((*with_history)["flicker_frames"], 3);
+  EXPECT_GT((*with_history)["rings"][0]["flicker"].get<double>(), 0.0);  // new jitter each frame: the image moves
   // The full render with the same history: as many frames, new jitter, and inside the fovea the
-  // pixel-grid fovea with TAA traces and blends the same rays.
-  const auto full_taa = by_id("full_spp1_taa"), grid_taa = by_id("nearest_k1_s1_pixel-grid_r1_taa");
-  EXPECT_EQ(full_taa["kind"], "full");
-  EXPECT_EQ(full_taa["taa"], true);
-  EXPECT_EQ(full_taa["flicker_frames"], 3);
-  EXPECT_GT(full_taa["rings"][0]["flicker"].get<double>(), 0.0);
-  EXPECT_EQ(grid_taa["rings"][0]["psnr"], full_taa["rings"][0]["psnr"]);
-  EXPECT_GT(full_taa["rings"][0]["psnr"].get<double>(), full1["rings"][0]["psnr"].get<double>());
+  // pixel-grid fovea with history traces and blends the same rays.
+  const auto full_history = by_id("full_spp1_image"), grid_history = by_id("nearest_k1_s1_pixel-grid_r1_image");
+  EXPECT_EQ(full_history["kind"], "full");
+  EXPECT_EQ(full_history["temporal"], "image");
+  EXPECT_EQ(full_history["flicker_frames"], 3);
+  EXPECT_GT(full_history["rings"][0]["flicker"].get<double>(), 0.0);
+  EXPECT_EQ(grid_history["rings"][0]["psnr"], full_history["rings"][0]["psnr"]);
+  EXPECT_GT(full_history["rings"][0]["psnr"].get<double>(), full1["rings"][0]["psnr"].get<double>());
   // Every foveated setting has its equal-time baseline per ring, and report.md shows it.
   for (const auto& s : settings) {
     if (s["kind"] == "foveated") {
@@ -220,7 +220,8 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     text << rf.rdbuf();
     const std::string md = text.str();
     EXPECT_NE(md.find("| foveated on the front | time % | PSNR dB | full render no slower |"), std::string::npos);
-    EXPECT_NE(md.find("With the same history (TAA over 3 frames"), std::string::npos) << md.substr(0, 2000);
+    EXPECT_NE(md.find("With the same history (the image history over 3 frames"), std::string::npos)
+        << md.substr(0, 2000);
     EXPECT_NE(md.find("At equal time "), std::string::npos) << md.substr(0, 2000);
   }
 
@@ -230,13 +231,13 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   ASSERT_EQ(eval::run_pricelist(o, out2, err2), 0) << err2.str();
   EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
   EXPECT_EQ(out2.str(), out.str());
-  // Results from before the full render had a history: only full_spp1_taa is measured, against
+  // Results from before the full render had a history: only full_spp1_image is measured, against
   // an anchor of its own (full_spp1 is not measured again).
   {
     std::ifstream in(pl / "results.jsonl");
     std::stringstream kept;
     for (std::string line; std::getline(in, line);)
-      if (nlohmann::json::parse(line)["id"] != "full_spp1_taa") kept << line << "\n";
+      if (nlohmann::json::parse(line)["id"] != "full_spp1_image") kept << line << "\n";
     in.close();
     std::ofstream(pl / "results.jsonl") << kept.str();
   }
@@ -248,10 +249,10 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     std::ifstream jf2(pl / "pricelist.json");
     const auto doc2 = nlohmann::json::parse(jf2);
     const auto it = std::find_if(doc2["settings"].begin(), doc2["settings"].end(),
-                                 [](const auto& s) { return s["id"] == "full_spp1_taa"; });
+                                 [](const auto& s) { return s["id"] == "full_spp1_image"; });
     ASSERT_NE(it, doc2["settings"].end());
     EXPECT_GT((*it)["anchor_full_ms"].get<double>(), 0.0) << "an anchor was rendered beside it";
-    EXPECT_EQ((*it)["rings"][0]["psnr"], full_taa["rings"][0]["psnr"]) << "the same frames, the same image";
+    EXPECT_EQ((*it)["rings"][0]["psnr"], full_history["rings"][0]["psnr"]) << "the same frames, the same image";
   }
   // Another pixel filter, or another gaze, into the same directory is refused:
   // its settings and reference would be other images.
@@ -291,9 +292,10 @@ TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
   const std::string args =
       "pricelist --size 48x54 --reference-spp 32 --frames 1 --threads 2 --motion none "
       "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
-      "--rays-per-point 1 --pattern pixel-grid --taa-rays-per-point none --out " +
+      "--rays-per-point 1 --pattern pixel-grid --history-rays-per-point none --out " +
       (dir.path / "pl").string() + " --md " + md.string();
-  const std::string cmd = "'" + fovea_eval.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
+  const std::string cmd =
+      "'" + fovea_eval.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir.path / "err").rdbuf();
   std::ifstream in(md);
   std::stringstream text;

@@ -40,12 +40,14 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
   const auto logger = [&](const std::string& m) { log.push_back(m); };
   std::string error;
   const glm::vec2 gaze(16, 18);
-  auto first = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto first = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                         logger, &error);
   ASSERT_TRUE(first) << error;
   EXPECT_FALSE(first->from_cache);
   EXPECT_EQ(first->spp, 8);
   ASSERT_TRUE(fs::exists(first->cache_file));
-  auto second = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto second = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                          logger, &error);
   ASSERT_TRUE(second) << error;
   EXPECT_TRUE(second->from_cache);
   EXPECT_EQ(second->image.rgb, first->image.rgb);
@@ -76,7 +78,8 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
   EXPECT_FALSE(eval::read_reference(first->cache_file, key, &why));
   EXPECT_NE(why.find("checksum mismatch"), std::string::npos) << why;
   EXPECT_NE(why.find(first->cache_file), std::string::npos) << why;
-  auto third = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto third = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                         logger, &error);
   ASSERT_TRUE(third) << error;
   EXPECT_FALSE(third->from_cache);
   EXPECT_EQ(third->image.rgb, first->image.rgb);  // the same chunks, the same image
@@ -87,7 +90,8 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
   fs::resize_file(first->cache_file, 50);
   EXPECT_FALSE(eval::read_reference(first->cache_file, key, &why));
   EXPECT_NE(why.find("size"), std::string::npos) << why;
-  auto fourth = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto fourth = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                          logger, &error);
   ASSERT_TRUE(fourth);
   EXPECT_FALSE(eval::read_reference(first->cache_file, key + 1, &why));
   EXPECT_NE(why.find("key mismatch"), std::string::npos) << why;
@@ -105,10 +109,12 @@ TEST(Reference, PixelFilterIsPartOfTheReferenceAndItsCacheKey) {
   o.cache_dir = dir.path.string();
   std::string error;
   const glm::vec2 gaze(16, 18);
-  auto box = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto box = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                       {}, &error);
   ASSERT_TRUE(box) << error;
   o.pixel_filter = foveation::PixelFilter::bspline2;
-  auto bspline = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto bspline = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o,
+                                           executor, {}, &error);
   ASSERT_TRUE(bspline) << error;
   EXPECT_FALSE(bspline->from_cache);
   EXPECT_NE(bspline->cache_file, box->cache_file);
@@ -136,7 +142,8 @@ TEST(Reference, PixelFilterIsPartOfTheReferenceAndItsCacheKey) {
     box_diff2 += d * d;
   }
   EXPECT_LT(diff2, box_diff2);  // an independent bspline2 render lies nearer the bspline2 reference
-  auto again = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto again = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                         {}, &error);
   ASSERT_TRUE(again) << error;
   EXPECT_TRUE(again->from_cache);
   EXPECT_EQ(again->image.rgb, bspline->image.rgb);
@@ -150,9 +157,11 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   std::string error;
   eval::ReferenceOptions o;
   o.spp = 4;
-  auto r4 = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto r4 = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {},
+                                      &error);
   o.spp = 64;
-  auto r64 = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto r64 = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor,
+                                       {}, &error);
   ASSERT_TRUE(r4 && r64) << error;
   // 16x the rays: ~1/16 the residual; between 1/4 and 1/64 in the rings that hold many pixels.
   const auto a = r4->residual_mse(map), b = r64->residual_mse(map);
@@ -167,7 +176,8 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   o.min_spp = 16;
   o.max_spp = 64;
   o.baseline_spp = 1000;  // needs 10,000 rays per pixel: stops at max_spp, not converged
-  auto autoref = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto autoref = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o,
+                                           executor, {}, &error);
   ASSERT_TRUE(autoref) << error;
   EXPECT_EQ(autoref->tried_spp, (std::vector<int>{16, 32, 64}));
   EXPECT_FALSE(autoref->converged);
@@ -175,7 +185,8 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   ASSERT_EQ(autoref->db_per_doubling.size(), metrics::kRingCount);
   // Needs 10 rays per pixel: 16 is enough, but the 1/N law is only seen after one doubling.
   o.baseline_spp = 1;
-  autoref = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  autoref = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {},
+                                      &error);
   ASSERT_TRUE(autoref);
   ASSERT_GE(autoref->tried_spp.size(), 2u);
   EXPECT_EQ(autoref->tried_spp[0], 16);

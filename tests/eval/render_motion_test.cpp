@@ -1,6 +1,6 @@
 // `fovea-eval motion`: bad motion files and options are errors naming what
 // is wrong with a non-zero exit; a tiny sequence reports per-ring flicker and
-// error against the reference sequence for every TAA mode at equal rays, and
+// error against the reference sequence for every temporal variant at equal rays, and
 // says when the reference's own noise lies too close to a track's.
 #include "gltf_fixtures.hpp"
 
@@ -37,9 +37,9 @@ MotionOptions tiny_motion() {
 }
 
 // tiny_motion() measured against an 8-ray reference sequence cached in `dir`.
-MotionOptions tiny_motion_with_reference(const fs::path& dir, const std::string& taa_modes) {
+MotionOptions tiny_motion_with_reference(const fs::path& dir, const std::string& variants) {
   MotionOptions o = tiny_motion();
-  o.taa = taa_modes;
+  o.temporal = variants;
   o.reference.spp = "8";
   o.render.cache_dir = (dir / "cache").string();
   return o;
@@ -98,7 +98,20 @@ TEST(RenderMotion, BadMotionFileIsAnErrorNamingTheFileAndLine) {
   EXPECT_NE(err.find("11 columns"), std::string::npos) << err;
 }
 
-TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
+// The lab takes --temporal as the product does, with its own variants too; the old --taa and
+// --taa-mean-while-young are errors naming the new options.
+TEST(RenderMotion, OldTaaOptionsNameTemporal) {
+  engine_test::TempDir dir;
+  std::string err;
+  EXPECT_NE(run_fovea_binary("motion --size 64x72 --taa off,reproject", dir.path, &err), 0) << err;
+  EXPECT_NE(err.find("--taa: no longer an option here: give --temporal"), std::string::npos) << err;
+  EXPECT_NE(run_fovea_binary("motion --size 64x72 --taa-mean-while-young", dir.path, &err), 0) << err;
+  EXPECT_NE(err.find("--temporal-mean-while-young"), std::string::npos) << err;
+  EXPECT_NE(run_fovea_binary("motion --size 64x72 --temporal off,reproject", dir.path, &err), 0) << err;
+  EXPECT_NE(err.find("'reproject' is not off, restart, image, rays or rays-kept"), std::string::npos) << err;
+}
+
+TEST(RenderMotion, FramesTemporalAndWindowAreValidated) {
   std::string err;
   MotionOptions o = tiny_motion();
   o.render.frames = 1;
@@ -113,20 +126,20 @@ TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--frames"), std::string::npos) << err;
   o = tiny_motion();
-  o.taa = "off,sometimes";
+  o.temporal = "off,sometimes";
   EXPECT_EQ(run(o, &err), 2);
-  EXPECT_NE(err.find("'sometimes' is not off, restart, reproject, cache or cache-kept"), std::string::npos) << err;
-  o.taa = "off,off";
+  EXPECT_NE(err.find("'sometimes' is not off, restart, image, rays or rays-kept"), std::string::npos) << err;
+  o.temporal = "off,off";
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("given twice"), std::string::npos) << err;
-  o.taa = "reproject,";
+  o.temporal = "image,";
   EXPECT_EQ(run(o, &err), 2);
-  EXPECT_NE(err.find("--taa"), std::string::npos) << err;
+  EXPECT_NE(err.find("--temporal"), std::string::npos) << err;
   o = tiny_motion();
   o.render.mode = "full";
-  o.taa = "reproject";
+  o.temporal = "image";
   EXPECT_EQ(run(o, &err), 2);
-  EXPECT_NE(err.find("--taa needs --mode foveated or both"), std::string::npos) << err;
+  EXPECT_NE(err.find("--temporal needs --mode foveated or both"), std::string::npos) << err;
   o = tiny_motion();
   o.motion.clear();
   EXPECT_EQ(run(o, &err), 2);
@@ -145,9 +158,9 @@ TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
   EXPECT_NE(err.find("--gaze and --motion"), std::string::npos) << err;
 }
 
-TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
+TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryVariant) {
   engine_test::TempDir dir;
-  const MotionOptions o = tiny_motion_with_reference(dir.path, "off,restart,reproject");
+  const MotionOptions o = tiny_motion_with_reference(dir.path, "off,restart,image");
   const auto j = run_json(o);
   ASSERT_FALSE(j.is_null());
   ASSERT_EQ(j["frames"].size(), 3u);
@@ -157,9 +170,9 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   EXPECT_EQ(j["reference"]["spp"], 8);
   EXPECT_EQ(j["reference"]["rings"].size(), 7u);
   ASSERT_EQ(j["tracks"].size(), 4u);
-  const std::vector<std::string> ids = {"full_spp1", "nearest_k1_s1_pixel-grid_r1_taa-off",
-                                        "nearest_k1_s1_pixel-grid_r1_taa-restart",
-                                        "nearest_k1_s1_pixel-grid_r1_taa-reproject"};
+  const std::vector<std::string> ids = {"full_spp1", "nearest_k1_s1_pixel-grid_r1_temporal-off",
+                                        "nearest_k1_s1_pixel-grid_r1_temporal-restart",
+                                        "nearest_k1_s1_pixel-grid_r1_temporal-image"};
   for (std::size_t i = 0; i < ids.size(); ++i) {
     const auto& t = j["tracks"][i];
     EXPECT_EQ(t["id"], ids[i]);
@@ -177,14 +190,14 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
     }
   }
   // At 64x72 px the pixel-exact point set is one point per pixel with the full
-  // render's own jitter: TAA off is the full render at 1 ray, frame by frame.
+  // render's own jitter: off is the full render at 1 ray, frame by frame.
   EXPECT_EQ(j["tracks"][1]["rings"], j["tracks"][0]["rings"]);
-  // Restarting TAA restarts on every frame of a moving head; reprojecting only on the first.
+  // The restarting history restarts on every frame of a moving head; reprojecting only on the first.
   EXPECT_EQ(j["tracks"][2]["temporal_resets"], 3);
   EXPECT_EQ(j["tracks"][3]["temporal_resets"], 1);
   // Equal rays: the foveated tracks trace the same points.
   EXPECT_EQ(j["tracks"][1]["rays"]["primary"], j["tracks"][3]["rays"]["primary"]);
-  // Each TAA track carries the goal against TAA off, read from the two tracks' rings.
+  // Each track with history carries the goal against off, read from the two tracks' rings.
   EXPECT_FALSE(j["tracks"][0].contains("goal"));
   EXPECT_FALSE(j["tracks"][1].contains("goal"));
   for (const std::size_t i : {std::size_t(2), std::size_t(3)}) {
@@ -201,7 +214,7 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
     }
     EXPECT_TRUE(goal["peripheral_tracked_flicker_5x_lower"].is_boolean());
   }
-  // Three frames of 1-ray TAA are nowhere near 5x.
+  // Three frames of a 1-ray history are nowhere near 5x.
   EXPECT_FALSE(j["tracks"][3]["goal"]["peripheral_tracked_flicker_5x_lower"].get<bool>());
   // The reference sequence is cached: a second run renders none of it.
   const auto j2 = run_json(o);
@@ -211,11 +224,11 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
 }
 
 // The reference sequence's own noise against every track's flicker and error, as the price list checks it: an
-// 8-ray reference lies too close to a reprojecting TAA, and the run says so; a 256-ray one lies 10 dB below
-// 1-ray frames without TAA.
+// 8-ray reference lies too close to a reprojected history, and the run says so; a 256-ray one lies 10 dB below
+// 1-ray frames without history.
 TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   engine_test::TempDir dir;
-  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,image");
   std::ostringstream out, err;
   ASSERT_EQ(run_motion(o, out, err), 0) << err.str();
   auto j = nlohmann::json::parse(out.str());
@@ -228,7 +241,7 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   EXPECT_NE(err.str().find("the reference's own noise lies only"), std::string::npos) << err.str();
   EXPECT_NE(err.str().find("--reference-spp"), std::string::npos) << err.str();
 
-  o.taa = "off";
+  o.temporal = "off";
   o.reference.spp = "256";
   std::ostringstream out2, err2;
   ASSERT_EQ(run_motion(o, out2, err2), 0) << err2.str();
@@ -242,13 +255,13 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   EXPECT_NE(out3.str().find("reference floor at least 10 dB below every track's flicker and error in every ring: yes"),
             std::string::npos)
       << out3.str();
-  // Without a TAA track there is no goal to read.
-  EXPECT_EQ(out3.str().find("TAA off over each TAA track"), std::string::npos) << out3.str();
-  o.taa = "off,reproject";
+  // Without a track with history there is no goal to read.
+  EXPECT_EQ(out3.str().find("off over each track with history"), std::string::npos) << out3.str();
+  o.temporal = "off,image";
   std::ostringstream out4, err4;
   ASSERT_EQ(run_motion(o, out4, err4), 0) << err4.str();
-  EXPECT_NE(out4.str().find("TAA off over each TAA track"), std::string::npos) << out4.str();
-  EXPECT_NE(out4.str().find("nearest_k1_s1_pixel-grid_r1_taa-reproject: "), std::string::npos) << out4.str();
+  EXPECT_NE(out4.str().find("off over each track with history"), std::string::npos) << out4.str();
+  EXPECT_NE(out4.str().find("nearest_k1_s1_pixel-grid_r1_temporal-image: "), std::string::npos) << out4.str();
 }
 
 // --pixel-filter: the reference sequence, the full render and the foveated
@@ -257,7 +270,7 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
 // filter the tool does not know is an error naming the option.
 TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   engine_test::TempDir dir;
-  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,image");
   const auto box = run_json(o);
   ASSERT_FALSE(box.is_null());
   EXPECT_EQ(box["pixel_filter"], "box");
@@ -279,39 +292,39 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   EXPECT_NE(text.find("--pixel-filter: 'gaussian' is not box or bspline2"), std::string::npos) << text;
 }
 
-// --taa-mean-while-young: the TAA tracks and the TAA-fed-the-reference control
-// blend a young history as the mean of its frames; the track without TAA and
+// --temporal-mean-while-young: the tracks with history and the history-fed-the-reference control
+// blend a young history as the mean of its frames; the track without history and
 // the reference are untouched.
-TEST(RenderMotion, TaaMeanWhileYoungReachesTheTaaTracksAndTheirControl) {
+TEST(RenderMotion, MeanWhileYoungReachesTheHistoryTracksAndTheirControl) {
   engine_test::TempDir dir;
-  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,image");
   const auto exponential = run_json(o);
   ASSERT_FALSE(exponential.is_null());
-  EXPECT_EQ(exponential["taa_mean_while_young"], false);
-  o.taa_mean_while_young = true;
+  EXPECT_EQ(exponential["temporal_mean_while_young"], false);
+  o.mean_while_young = true;
   const auto mean = run_json(o);
   ASSERT_FALSE(mean.is_null());
-  EXPECT_EQ(mean["taa_mean_while_young"], true);
+  EXPECT_EQ(mean["temporal_mean_while_young"], true);
   ASSERT_EQ(mean["tracks"].size(), exponential["tracks"].size());
   for (std::size_t t = 0; t < mean["tracks"].size(); ++t) {
     const auto& a = mean["tracks"][t];
-    const bool taa = a["taa"] == "reproject";
-    EXPECT_EQ(a["rings"] != exponential["tracks"][t]["rings"], taa) << a["id"];
+    const bool history = a["temporal"] == "image";
+    EXPECT_EQ(a["rings"] != exponential["tracks"][t]["rings"], history) << a["id"];
   }
   const auto& ring_mean = mean["reference"]["rings"][0];
   const auto& ring_exp = exponential["reference"]["rings"][0];
   EXPECT_EQ(ring_mean["psnr_floor"], ring_exp["psnr_floor"]);
-  EXPECT_NE(ring_mean["taa_on_reference_psnr"], ring_exp["taa_on_reference_psnr"]);
+  EXPECT_NE(ring_mean["history_on_reference_psnr"], ring_exp["history_on_reference_psnr"]);
 }
 
 // Across the saccade: every track reports its central and peripheral band frame
-// by frame (frame 0 has no pair), the reprojected TAA restarts on the first
+// by frame (frame 0 has no pair), the image history restarts on the first
 // frame and at the saccade's onset, and the settled frames are the frames at
-// least taa_settle_frames after the motion's last restart, their pooled
+// least history_settle_frames after the motion's last restart, their pooled
 // flicker within the range of their own frames'.
 TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
   engine_test::TempDir dir;
-  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,image");
   o.render.mode = "foveated";
   o.render.frames = 24;
   o.start_s = 1.43;  // the built-in motion's saccade starts at 1.5 s
@@ -335,11 +348,11 @@ TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
   ASSERT_GT(restarts.size(), 1u) << "the window holds the saccade";
   ASSERT_FALSE(settled.empty()) << "and frames after it settle";
   EXPECT_EQ(j["reference"]["settled_frames"], settled.size());
-  // The reprojected TAA restarts on the first frame and the saccade's first.
-  EXPECT_EQ(j["tracks"][1]["taa_reset_frames"], nlohmann::json::array({0, restarts[1]}));
+  // The image history restarts on the first frame and the saccade's first.
+  EXPECT_EQ(j["tracks"][1]["temporal_reset_frames"], nlohmann::json::array({0, restarts[1]}));
   EXPECT_EQ(j["tracks"][1]["temporal_resets"], 2);
   for (const auto* owner : {&j["tracks"][0]["bands"], &j["tracks"][1]["bands"],
-                            &j["reference"]["taa_on_reference_bands"], &j["reference"]["stable_blur_bands"]}) {
+                            &j["reference"]["history_on_reference_bands"], &j["reference"]["stable_blur_bands"]}) {
     ASSERT_EQ(owner->size(), 2u);
     EXPECT_EQ((*owner)[0]["band"], "centre");
     EXPECT_EQ((*owner)[0]["to_deg"], 5.0);
@@ -364,10 +377,10 @@ TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
       }
     }
   }
-  // The TAA fed the reference starts from the reference itself: no error (an infinite PSNR is null).
-  EXPECT_TRUE(j["reference"]["taa_on_reference_bands"][1]["psnr_by_frame"][0].is_null());
+  // The history fed the reference starts from the reference itself: no error (an infinite PSNR is null).
+  EXPECT_TRUE(j["reference"]["history_on_reference_bands"][1]["psnr_by_frame"][0].is_null());
   EXPECT_TRUE(j["tracks"][1]["bands"][1]["psnr_by_frame"][0].is_number());
-  // The restart shows the raw frame: the reprojected TAA's peripheral flicker
+  // The restart shows the raw frame: the image history's peripheral flicker
   // jumps at the saccade's onset above its settled level.
   const auto& reproject = j["tracks"][1]["bands"][1];
   EXPECT_GT(reproject["flicker_tracked_by_frame"][std::size_t(restarts[1])].get<double>(),

@@ -217,7 +217,7 @@ TEST_F(InterpCommands, ReconstructReportsEveryKey) {
   ASSERT_EQ(run_reconstruct(a, out, err), 0) << err.str();
   const auto j = nlohmann::json::parse(out.str());
   for (const char* key : {"points", "pixels", "sample_ms", "interpolate_ms", "temporal_ms", "total_ms", "psnr", "ssim",
-                          "rings", "flicker", "flicker_no_taa"}) {
+                          "rings", "flicker", "flicker_no_history"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["pixels"].get<int>(), w * h);

@@ -122,7 +122,7 @@ TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
 }
 
 // --temporal is the layer's one temporal choice: the product's TemporalMode, "rays"
-// brings the B-spline unless --pixel-filter says otherwise, and the lab's TAA lists,
+// brings the B-spline unless --pixel-filter says otherwise, and the lab's temporal variants and lists,
 // its experiments and its reference are not the product's options.
 TEST(RenderCommand, TemporalIsTheLayersChoice) {
   using foveart::foveation::PixelFilter;
@@ -148,6 +148,9 @@ TEST(RenderCommand, TemporalIsTheLayersChoice) {
     EXPECT_EQ(opts->pixel_filter, c.filter);
   }
   for (std::vector<const char*> bad : {std::vector<const char*>{"fovea", "render", "--temporal", "on"},
+                                       std::vector<const char*>{"fovea", "render", "--temporal", "restart"},
+                                       std::vector<const char*>{"fovea", "render", "--temporal", "rays-kept"},
+                                       std::vector<const char*>{"fovea", "render", "--temporal", "off,image"},
                                        std::vector<const char*>{"fovea", "render", "--taa", "reproject"},
                                        std::vector<const char*>{"fovea", "render", "--taa-mean-while-young"},
                                        std::vector<const char*>{"fovea", "render", "--reference-spp", "16"},

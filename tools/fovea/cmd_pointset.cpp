@@ -65,7 +65,8 @@ constexpr const char* kPointsetWho = "fovea pointset: ";
 }
 
 // Thesis Fig. 12: every on-screen point as a dark pixel on white; false and *error naming the file.
-[[nodiscard]] bool write_points_png(const std::string& path, const fv::VisiblePoints& vis, int w, int h, std::string* error) {
+[[nodiscard]] bool write_points_png(const std::string& path, const fv::VisiblePoints& vis, int w, int h,
+                                    std::string* error) {
   std::vector<std::uint8_t> px(std::size_t(w) * std::size_t(h), 255);
   for (const auto& s : vis.screen_px) {
     const int x = int(std::floor(s.x));
@@ -76,8 +77,8 @@ constexpr const char* kPointsetWho = "fovea pointset: ";
 }
 
 // A plot written, or false and *error (write_plot_png's message names the file).
-[[nodiscard]] bool plot(const fs::path& file, const toolkit::PlotSpec& spec, const std::vector<toolkit::PlotSeries>& series,
-          std::string* error) {
+[[nodiscard]] bool plot(const fs::path& file, const toolkit::PlotSpec& spec,
+                        const std::vector<toolkit::PlotSeries>& series, std::string* error) {
   *error = toolkit::write_plot_png(file.string(), spec, series);
   return error->empty();
 }
@@ -102,8 +103,8 @@ DensityCurve density_curve(const fv::DisplayModel& display, const fv::PointSet& 
 
 // The measured spacing curve of the set, and of the thesis's Poisson reading
 // for the same display: where the pixel grid ends the density must not jump.
-[[nodiscard]] bool write_density_curve(const std::string& dir, const fv::DisplayModel& display, const fv::PointSet& points,
-                         std::string* error) {
+[[nodiscard]] bool write_density_curve(const std::string& dir, const fv::DisplayModel& display,
+                                       const fv::PointSet& points, std::string* error) {
   const DensityCurve mine = density_curve(display, points);
   fv::DisplayModel other = display;
   other.fovea_pattern = display.fovea_pattern == fv::FoveaPattern::kPixelGrid ? fv::FoveaPattern::kThesisPoisson
@@ -170,8 +171,8 @@ DensityCurve density_curve(const fv::DisplayModel& display, const fv::PointSet& 
 }
 
 // Thesis Fig. 14: point count against scale 1.0-3.0, into *points_vs_scale too.
-[[nodiscard]] bool write_scale_curve(const std::string& dir, const fv::DisplayModel& display, std::size_t count_at_scale,
-                       nlohmann::json* points_vs_scale, std::string* error) {
+[[nodiscard]] bool write_scale_curve(const std::string& dir, const fv::DisplayModel& display,
+                                     std::size_t count_at_scale, nlohmann::json* points_vs_scale, std::string* error) {
   std::vector<double> scales, counts;
   const fs::path csv_file = fs::path(dir) / "points_vs_scale.csv";
   std::ofstream csv(csv_file);
@@ -191,7 +192,8 @@ DensityCurve density_curve(const fv::DisplayModel& display, const fv::PointSet& 
     *error = "cannot write " + csv_file.string();
     return false;
   }
-  for (std::size_t i = 0; i < scales.size(); ++i) points_vs_scale->push_back({{"scale", scales[i]}, {"points", counts[i]}});
+  for (std::size_t i = 0; i < scales.size(); ++i)
+    points_vs_scale->push_back({{"scale", scales[i]}, {"points", counts[i]}});
   const std::vector<toolkit::PlotSeries> series{{"points", scales, counts, true}, {"", scales, counts}};
   return plot(fs::path(dir) / "points_vs_scale.png",
               {"Points in the set against density scale (thesis Fig. 14)", "density scale", "points"}, series, error);
@@ -343,8 +345,8 @@ int run_pointset(const PointsetOptions& o, std::ostream& out, std::ostream& err)
   }
   const Visible v = visible_points(tables, *display, gaze);
   if (v.at_gaze.clamped) {
-    err << kPointsetWho << "gaze (" << gaze.x << ", " << gaze.y << ") is off-screen; clamped to (" << v.at_gaze.gaze_px.x
-        << ", " << v.at_gaze.gaze_px.y << ")\n";
+    err << kPointsetWho << "gaze (" << gaze.x << ", " << gaze.y << ") is off-screen; clamped to ("
+        << v.at_gaze.gaze_px.x << ", " << v.at_gaze.gaze_px.y << ")\n";
   }
   nlohmann::json j = report_json(o, *display, tables, v);
   if ((!o.png.empty() && !write_points_png(o.png, v.gaze, display->width_px, display->height_px, &error)) ||

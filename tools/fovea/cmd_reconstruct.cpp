@@ -3,7 +3,7 @@
 // The thesis's user-study pipeline on an image, through the one foveated frame
 // (foveation::FoveatedView) whose "engine" samples the image: spp bilinear
 // samples in each visible point's disc, every pixel reconstructed with the k-tap
-// gather, TAA, and timings and error per ring.
+// gather, the image history, and timings and error per ring.
 #include <CLI/CLI.hpp>
 
 #include <chrono>
@@ -86,7 +86,8 @@ constexpr const char* kReconstructWho = "fovea reconstruct: ";
     return fail("unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)");
   if (a.k < 1 || a.k > fv::kMaxNeighbors) return fail("--k must be in 1..20");
   if (a.rays_per_point < 1 || a.rays_per_point > 4096) return fail("--rays-per-point must be in 1..4096");
-  if (!(a.density_scale > 0.0) || !std::isfinite(a.density_scale)) return fail("--density-scale must be a positive number");
+  if (!(a.density_scale > 0.0) || !std::isfinite(a.density_scale))
+    return fail("--density-scale must be a positive number");
   if (a.frames < 1 || a.frames > 10000) return fail("--frames must be in 1..10000");
   if (!fv::parse_rbf_clamp(a.rbf_clamp)) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
   if (!fv::display_preset(a.preset)) {
@@ -177,7 +178,8 @@ nlohmann::json report_json(const ReconstructArgs& a, const fv::ViewTables& table
   const fv::GatherStats gstats = r.frame.gather;
   // Rings by the angle between a pixel's ray and the gaze ray in the image's own view.
   const glm::vec2 gaze = fv::map_gaze(image.width_px, image.height_px, request.gaze_px).gaze_px;
-  const metrics::ImageComparison cmp = metrics::compare_images(image, output, metrics::eccentricity_map(request.view, gaze));
+  const metrics::ImageComparison cmp =
+      metrics::compare_images(image, output, metrics::eccentricity_map(request.view, gaze));
   nlohmann::json j;
   j["image"] = a.image;
   j["preset"] = a.preset;
@@ -206,7 +208,7 @@ nlohmann::json report_json(const ReconstructArgs& a, const fv::ViewTables& table
   j["ssim"] = metrics::ssim(image, output);
   if (a.frames > 1) {
     j["flicker"] = r.flicker / (nf - 1.0);
-    j["flicker_no_taa"] = r.flicker_raw / (nf - 1.0);
+    j["flicker_no_history"] = r.flicker_raw / (nf - 1.0);
   }
   j["csf_rmse"] = metrics::number_or_null_json(cmp.csf_rmse);
   j["rings"] = metrics::comparison_json(cmp)["rings"];
@@ -239,13 +241,15 @@ int reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) 
   fv::FrameRequest request;  // the image's own view: a pinhole D pixels from the eye
   const float half_x = float(std::atan(0.5 * w / display->view_distance_px));
   const float half_y = float(std::atan(0.5 * h / display->view_distance_px));
-  request.view = fv::make_eye_view(0, std::uint32_t(w), std::uint32_t(h), fv::EyePose{}, -half_x, half_x, half_y, -half_y);
+  request.view =
+      fv::make_eye_view(0, std::uint32_t(w), std::uint32_t(h), fv::EyePose{}, -half_x, half_x, half_y, -half_y);
   glm::vec2 gaze{float(w) / 2.0f, float(h) / 2.0f};
   if (!a.gaze.empty()) std::sscanf(a.gaze.c_str(), "%f,%f", &gaze.x, &gaze.y);  // checked by check_args
   request.gaze_px = gaze;
   Run r;
   if (!run_frames(a, view, request, image, executor, &r, &error)) return fail(error);
-  if (!a.out.empty() && !toolkit::write_png(a.out, view.image(), toolkit::PngValues::display, &error)) return fail(error);
+  if (!a.out.empty() && !toolkit::write_png(a.out, view.image(), toolkit::PngValues::display, &error))
+    return fail(error);
   const nlohmann::json j = report_json(a, *tables, request, image, view.image(), r, setup_ms);
   if (a.json) {
     out << j.dump(2) << "\n";
@@ -287,7 +291,8 @@ void register_reconstruct(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--out", a->out, "output PNG");
   sub->add_flag("--json", a->json, "print a JSON report");
-  sub->add_option("--frames", a->frames, "frames to run through TAA (static gaze)")->capture_default_str();
+  sub->add_option("--frames", a->frames, "frames to run through the image history (static gaze)")
+      ->capture_default_str();
   sub->add_flag("--jitter", a->jitter, "new sample positions every frame (to measure flicker)");
   sub->add_option("--seed", a->seed, "point set and sample seed")->capture_default_str();
   sub->add_option("--cache-dir", a->cache_dir, "cache directory (default $FOVEART_CACHE_DIR, $XDG_CACHE_HOME/foveart)");

@@ -248,9 +248,10 @@ struct Frames {
   const engine::RayCounts before = eng.counts();
   foveation::FrameRequest request;
   request.view = view;
-  request.gaze_px = o.gaze_px_per_frame.empty()
-                        ? gaze
-                        : o.gaze_px_per_frame[std::min<std::size_t>(std::size_t(frame), o.gaze_px_per_frame.size() - 1)];
+  request.gaze_px =
+      o.gaze_px_per_frame.empty()
+          ? gaze
+          : o.gaze_px_per_frame[std::min<std::size_t>(std::size_t(frame), o.gaze_px_per_frame.size() - 1)];
   request.frame_index = o.first_frame + static_cast<uint64_t>(frame);
   const foveation::FrameResult fr = foveated.render(request, eng.fn(), eng.user(), executor);
   if (!fr.ok()) {
@@ -285,7 +286,9 @@ struct Frames {
 // The two modes' times and rays; Embree's packet fill (the GPU engine has no packets: null).
 void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng, const Frames& f,
                     const Foveated& fov, const foveation::DisplayTransform& display, Json& report) {
-  const auto packets_json = [&](const engine::RayCounts& c) { return eng.gpu ? Json(nullptr) : Json(lanes_per_packet(c)); };
+  const auto packets_json = [&](const engine::RayCounts& c) {
+    return eng.gpu ? Json(nullptr) : Json(lanes_per_packet(c));
+  };
   report["frames"] = o.frames;
   if (fov.view) report["first_frame"] = o.first_frame;
   if (o.mode != "foveated")

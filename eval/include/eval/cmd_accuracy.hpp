@@ -1,6 +1,6 @@
 // `fovea-eval accuracy`: one still view rendered as `fovea render` renders it
 // (the full render and/or the foveated view, the foveated one over --frames
-// frames with the history of its TAA mode), each measured per eccentricity ring
+// frames with the history of its temporal variant), each measured per eccentricity ring
 // against a converged reference (reference.hpp) or a reference image. The
 // product's `fovea render` reports speed; how close its images come to the
 // truth is measured here. The CPU engine traces, as everywhere in the lab.
@@ -22,8 +22,8 @@ namespace foveart::eval {
 struct AccuracyOptions {
   render_view::RenderOptions render;  // the view and the render, as `fovea render` takes them
   ReferenceChoice reference;          // a count (--reference-spp) or a file (--reference) is required
-  std::string taa = "off";            // one of the lab's TAA modes (taa_modes.hpp)
-  bool taa_mean_while_young = false;  // TaaOptions::mean_while_young
+  std::string temporal = "off";       // one of the lab's temporal variants (temporal_variants.hpp)
+  bool mean_while_young = false;      // TemporalOptions::mean_while_young
 };
 
 void register_accuracy(CLI::App& app);

@@ -1,7 +1,7 @@
 // `fovea-eval motion`: a sequence of frames following a scripted head and gaze
-// motion, for the full render and/or the foveated view with each TAA mode
+// motion, for the full render and/or the foveated view with each temporal variant
 // asked for at equal rays, measured per ring against the converged reference
-// sequence, with the temporal goal of every TAA track against TAA off.
+// sequence, with the temporal goal of every track with history against off.
 #pragma once
 
 #include <eval/lab_options.hpp>
@@ -27,10 +27,10 @@ struct MotionOptions {
   std::string motion = "builtin";
   std::optional<double> start_s;  // default 0
   std::optional<double> fps;      // default 70
-  // The foveated tracks' TAA modes, a list (off,restart,reproject), each rendered
-  // as its own view at equal rays (taa_modes.hpp).
-  std::string taa = "off";
-  bool taa_mean_while_young = false;  // TaaOptions::mean_while_young
+  // The foveated tracks' temporal variants, a list (off,restart,image), each
+  // rendered as its own view at equal rays (temporal_variants.hpp).
+  std::string temporal = "off";
+  bool mean_while_young = false;  // TemporalOptions::mean_while_young
   ReferenceChoice reference;          // a count or none (no temporal error); no file
 };
 

@@ -38,7 +38,7 @@ struct PricelistOptions {
   std::string cache_dir;                // tables and reference; default OUT/cache
   std::string reference_spp = "auto";   // "auto" or an even count
   int frames = 3;                       // interleaved frames per setting; the median is reported
-  int taa_frames = 8;                   // sequence length of a TAA setting
+  int history_frames = 8;               // sequence length of a setting with the image history
   int threads = 0;                      // executor threads, 0 = all cores
   bool quick = false;
   PriceGrid grid;                       // replaced by quick_grid() when quick

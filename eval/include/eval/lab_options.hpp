@@ -1,6 +1,6 @@
 // What the lab's commands ask for beside a render's options
 // (render_view::RenderOptions, shared with the product): the converged
-// reference the images are measured against, and the lab's TAA modes.
+// reference the images are measured against, and the lab's temporal variants.
 #pragma once
 
 #include <string>
@@ -29,8 +29,9 @@ std::string reference_cache_dir(const ReferenceChoice& reference, const std::str
 // --reference-spp and --reference-cache into *reference; with_file: --reference FILE too.
 void add_reference_options(CLI::App* cmd, ReferenceChoice* reference, bool with_file);
 
-// --taa (one of the lab's TAA modes, taa_modes.hpp, or with a list a comma-separated list of them)
-// and --taa-mean-while-young.
-void add_taa_lab_options(CLI::App* cmd, std::string* taa, bool* mean_while_young, bool list);
+// --temporal (one of the lab's temporal variants, temporal_variants.hpp, or with `list` a
+// comma-separated list of them) and --temporal-mean-while-young; the old --taa and
+// --taa-mean-while-young are errors naming them.
+void add_temporal_lab_options(CLI::App* cmd, std::string* temporal, bool* mean_while_young, bool list);
 
 }  // namespace foveart::eval

@@ -1,7 +1,7 @@
 // The settings `fovea-eval pricelist` sweeps: the full render at 1..16 rays per
-// pixel (the baseline), the full render with the foveated frames' TAA at each
-// TAA ray count, and foveated frames over interpolation x k x density scale x
-// rays per point x fovea pattern, with and without TAA.
+// pixel (the baseline), the full render with the foveated frames' image history
+// at each history ray count, and foveated frames over interpolation x k x density
+// scale x rays per point x fovea pattern, with and without the image history.
 #pragma once
 
 #include <string>
@@ -16,9 +16,11 @@ struct PriceSetting {
   int k = 1;
   double density_scale = 1.0;
   std::string pattern = "pixel-grid";  // pixel-grid | thesis
-  bool taa = false;           // temporal accumulation over a sequence, new jitter each frame (full or foveated)
+  // The product's image history (TemporalMode::image) over a sequence of frames of
+  // new jitter, full or foveated; without it, one frame of one jitter seed.
+  bool history = false;
 
-  // Stable name, e.g. "full_spp4", "full_spp1_taa", "nearest_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_taa".
+  // Stable name, e.g. "full_spp4", "full_spp1_image", "nearest_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_image".
   std::string id() const;
   // The settings that share one set of tables (point set, neighbours, weights).
   std::string table_id() const;
@@ -31,15 +33,16 @@ struct PriceGrid {
   std::vector<double> density_scale = {1.0, 1.5, 2.0};
   std::vector<int> rays_per_point = {1, 2, 4, 8};
   std::vector<std::string> pattern = {"pixel-grid", "thesis"};
-  std::vector<int> taa_rays_per_point = {1};  // rays per point (and per pixel: full_sppN_taa) measured with TAA too
+  // Rays per point (and per pixel: full_sppN_image) measured with the image history too.
+  std::vector<int> history_rays_per_point = {1};
 };
 
 // The small grid of --quick: full render at 1-8 rays per pixel; nearest and MSM k=5 at
-// scale 1 and 2, both patterns, 1 and 4 rays, TAA at 1 (full_spp1_taa too).
+// scale 1 and 2, both patterns, 1 and 4 rays, the image history at 1 (full_spp1_image too).
 PriceGrid quick_grid();
 
 // Every setting of a grid, the full-render baseline first (full_sppN, then
-// full_sppN_taa for each TAA ray count); false and *error
+// full_sppN_image for each history ray count); false and *error
 // naming the bad entry ("interpolation 'foo'", "k 0").
 [[nodiscard]] bool expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out, std::string* error);
 

@@ -31,7 +31,7 @@ std::string ring_name(std::size_t r);
 std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std::vector<double>& accuracy);
 
 // The equal-time baseline of setting `of` in ring `ring`: among the full renders (with and
-// without TAA) whose time fraction is no more than its own, the one with the highest PSNR
+// without the image history) whose time fraction is no more than its own, the one with the highest PSNR
 // in the ring (the cheaper on a tie). nullopt: no full render measured is that cheap.
 std::optional<std::size_t> equal_time_full(const std::vector<nlohmann::ordered_json>& settings, std::size_t of,
                                            std::size_t ring);

@@ -1,10 +1,11 @@
-// The price list's temporal columns (docs/pricelist.md "Temporal columns"):
-// every TAA setting of the grid (method, k, scale, pattern at the TAA rays)
-// rendered over a scripted head and gaze motion four times at equal rays —
-// TAA off, restarting on every pose change (the TAA before reprojection),
-// reprojecting its history, and keeping the traced rays in a render cache
-// (TaaHistory::ray_cache) — plus the full render at 1 ray per pixel, each
-// measured per ring against the reference sequence (motion_sequence.hpp).
+// The price list's temporal columns (docs/lab/motion.md): every setting of the
+// grid with history (method, k, scale, pattern at the history's rays) rendered
+// over a scripted head and gaze motion four times at equal rays, once per
+// temporal variant (temporal_variants.hpp): off, the image history restarting on
+// every pose change (the history before reprojection), the product's image
+// history reprojecting it, and the product's render cache of the traced rays —
+// plus the full render at 1 ray per pixel, each measured per ring against the
+// reference sequence (motion_sequence.hpp).
 //
 // The motion renders at its own eye size (a sequence costs frames x the
 // reference's rays): 320x360 with --quick, 640x720 otherwise (temporal_size_px).
@@ -66,7 +67,7 @@ struct TemporalContext {
   std::filesystem::path out_dir;
 };
 
-// Runs (or resumes) the temporal pass for the TAA settings among `settings`.
+// Runs (or resumes) the temporal pass for the settings with history among `settings`.
 // Returns {"run", "reference", "tracks": [...]} (tracks: sequence_track_json
 // plus method, k, scale, pattern, setting), or nullopt with the problem on
 // `err` (an engine or frame failure, an unwritable file).

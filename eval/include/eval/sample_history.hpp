@@ -7,7 +7,7 @@
 //  - traced again from the current eye: today's colour, occlusion included,
 //    so nothing a real history has to guess (reprojection, disocclusion,
 //    shading that moved) is wrong. What it still flickers is set by how many
-//    rays it holds and where they fall: the limit of any sample-reusing TAA
+//    rays it holds and where they fall: the limit of any sample-reusing history
 //    with the same restarts, at many rays a frame;
 //  - the colour it was traced with, dropped once a nearer surface covers it:
 //    the render cache at equal rays, whose stale shading and missed occlusion

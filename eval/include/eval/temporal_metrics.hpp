@@ -30,7 +30,7 @@
 //
 // Every frame's sums are kept, so that the same measure can be pooled over any
 // rings and any frames (pooled()): frame by frame (by_frame) to show where in a
-// sequence the flicker comes from, or over the frames whose TAA history has
+// sequence the flicker comes from, or over the frames whose image history has
 // settled (settled_frames).
 //
 // The reference's own noise adds to both (ReferenceFloor): with e_t its error
@@ -72,14 +72,14 @@ struct RingBand {
 inline constexpr RingBand kCentralBand{"centre", 0, 2};
 inline constexpr RingBand kPeripheralBand{"periphery", 4, metrics::kRingCount};
 
-// Per frame: 1 where a TAA history has run at least `settle_frames` frames since
+// Per frame: 1 where an image history has run at least `settle_frames` frames since
 // it last restarted — restart[t] != 0 marks a frame that restarts it (the first,
 // a saccade's or a blink's frames) — so that pooling over them measures a
-// settled TAA, without its cold start and the frames after a saccade. Frame 0
+// settled history, without its cold start and the frames after a saccade. Frame 0
 // always counts as a restart.
 std::vector<std::uint8_t> settled_frames(const std::vector<std::uint8_t>& restart, int settle_frames);
 
-// The previous frame's error warped into this frame (taa_reprojection.hpp's
+// The previous frame's error warped into this frame (history_reprojection.hpp's
 // reproject_history of previous_error()): valid[p] == 0 where the surface was
 // not in the previous view.
 struct TrackedPrevious {

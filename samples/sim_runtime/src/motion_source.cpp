@@ -23,7 +23,8 @@ MotionSource::MotionSource(motion::ScriptedMotion motion, std::string name)
 
 std::optional<MotionSource> MotionSource::from_spec(const std::string& spec, uint64_t seed,
                                                     std::string* error) {
-  if (spec == "builtin") return MotionSource(motion::builtin_motion(seed), "builtin (seed " + std::to_string(seed) + ")");
+  if (spec == "builtin")
+    return MotionSource(motion::builtin_motion(seed), "builtin (seed " + std::to_string(seed) + ")");
   std::optional<motion::ScriptedMotion> motion = motion::load_motion_csv(spec, error);
   if (!motion) return std::nullopt;
   return MotionSource(std::move(*motion), spec);

@@ -84,7 +84,8 @@ std::vector<float> csf_weighted_luma(const std::vector<double>& luma_difference,
   return out;
 }
 
-std::vector<float> csf_error_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map) {
+std::vector<float> csf_error_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im,
+                                 const EccentricityMap& map) {
   // The images against each other and the map's size; csf_weighted_luma checks the map's own arrays.
   if (ref.width_px != im.width_px || ref.height_px != im.height_px || ref.rgb.size() != im.rgb.size() ||
       ref.width_px != map.width_px || ref.height_px != map.height_px || ref.rgb.size() != ref.pixel_count() * 3) {

@@ -148,7 +148,8 @@ EccentricityMap eccentricity_map(const FoveartEyeView& view, glm::vec2 gaze_px) 
 
 namespace {
 
-void check_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map, const char* what) {
+void check_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map,
+               const char* what) {
   check_sizes(ref, im, what);
   if (ref.width_px != map.width_px || ref.height_px != map.height_px) {
     throw std::invalid_argument(std::string(what) + ": image " + std::to_string(ref.width_px) + "x" +
@@ -159,7 +160,8 @@ void check_map(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, co
 
 }  // namespace
 
-std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map) {
+std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& ref, const foveation::ImageRgb& im,
+                                        const EccentricityMap& map) {
   check_map(ref, im, map, "ring_mse");
   std::array<double, kRingCount> se{};
   for (std::size_t i = 0; i < map.ring.size(); ++i) {
@@ -175,7 +177,8 @@ std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& ref, const fo
   return se;
 }
 
-ImageComparison compare_images(const foveation::ImageRgb& ref, const foveation::ImageRgb& im, const EccentricityMap& map) {
+ImageComparison compare_images(const foveation::ImageRgb& ref, const foveation::ImageRgb& im,
+                               const EccentricityMap& map) {
   check_map(ref, im, map, "compare_images");
   ImageComparison out;
   const auto mse = ring_mse(ref, im, map);
@@ -214,7 +217,8 @@ ImageComparison compare_images(const foveation::ImageRgb& ref, const foveation::
   return out;
 }
 
-std::array<double, kRingCount> ring_flicker(const std::vector<foveation::ImageRgb>& frames, const EccentricityMap& map) {
+std::array<double, kRingCount> ring_flicker(const std::vector<foveation::ImageRgb>& frames,
+                                            const EccentricityMap& map) {
   std::array<double, kRingCount> out{};
   if (frames.size() < 2) return out;
   for (std::size_t t = 1; t < frames.size(); ++t) {

@@ -86,14 +86,15 @@ bool parse_fov_deg(const std::string& text, FovDeg* fov, std::string* error) {
   return true;
 }
 
-void add_renamed_option(CLI::App* cmd, const std::string& old_name, const std::string& replacement) {
-  cmd->add_option_function<std::string>(
-         old_name,
-         [old_name, replacement](const std::string&) {
-           throw CLI::ValidationError(old_name, "no longer an option here: give " + replacement);
-         },
-         "")
-      ->group("");  // hidden from --help
+void add_renamed_option(CLI::App* cmd, const std::string& old_name, const std::string& replacement, bool flag) {
+  const auto refuse = [old_name, replacement] {
+    throw CLI::ValidationError(old_name, "no longer an option here: give " + replacement);
+  };
+  CLI::Option* option = flag ? cmd->add_flag_function(
+                                   old_name, [refuse](std::int64_t) { refuse(); }, "")
+                             : cmd->add_option_function<std::string>(
+                                   old_name, [refuse](const std::string&) { refuse(); }, "");
+  option->group("");  // hidden from --help
 }
 
 void add_display_options(CLI::App* cmd, DisplayOptions& o) {

@@ -120,8 +120,8 @@ void add_temporal_option(CLI::App* cmd, const std::shared_ptr<RenderOptions>& op
   auto temporal = std::make_shared<std::string>("off");
   CLI::Option* option =
       cmd->add_option("--temporal", *temporal,
-                      "What the foveated frames keep from earlier ones, as the layer's \"temporal\": off, image (TAA "
-                      "on a reprojected image) or rays (TAA on a render cache of the traced rays; implies "
+                      "What the foveated frames keep from earlier ones, as the layer's \"temporal\": off, image (an "
+                      "image history, reprojected with the head) or rays (a render cache of the traced rays; implies "
                       "--pixel-filter bspline2 unless given)")
           ->check(CLI::IsMember({"off", "image", "rays"}))
           ->capture_default_str();

@@ -108,7 +108,8 @@ FoveartEyeView eye_view(const RenderOptions& o, const engine::Scene& scene) {
   view.height_px = static_cast<uint32_t>(o.size_px ? o.size_px->y : g.height_px);
   const double half_x = o.fov.horizontal ? 0.5 * *o.fov.horizontal * kPi / 180.0 : g.half_fov_x_rad;
   const double tan_x = std::tan(half_x);
-  const double tan_y = o.size_px || o.fov.horizontal ? tan_x * view.height_px / view.width_px : std::tan(g.half_fov_y_rad);
+  const double tan_y =
+      o.size_px || o.fov.horizontal ? tan_x * view.height_px / view.width_px : std::tan(g.half_fov_y_rad);
   view.angle_left_rad = static_cast<float>(-half_x);
   view.angle_right_rad = static_cast<float>(half_x);
   view.angle_up_rad = static_cast<float>(std::atan(tan_y));

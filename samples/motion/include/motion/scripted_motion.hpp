@@ -40,7 +40,8 @@ struct MotionSample {
 // in a player's space whose origin is kStandingEyeHeightM above the script's
 // floor (the simulated runtime's LOCAL space, `fovea-eval motion`'s scene head).
 inline foveation::EyePose head_pose_above_standing_eye(const MotionSample& s) {
-  return foveation::EyePose{s.head_position_m - glm::vec3(0.0f, kStandingEyeHeightM, 0.0f), glm::normalize(s.head_orientation)};
+  return foveation::EyePose{s.head_position_m - glm::vec3(0.0f, kStandingEyeHeightM, 0.0f),
+                            glm::normalize(s.head_orientation)};
 }
 
 class ScriptedMotion {

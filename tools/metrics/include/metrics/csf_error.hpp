@@ -38,6 +38,7 @@ std::vector<float> csf_weighted_luma(const std::vector<double>& luma_difference,
 // With the weights uniform over an image its gain lies in [0, 1] at every frequency (the weights
 // grow towards the coarse bands, and each double box blur's gain lies in [0, 1]).
 // Throws std::invalid_argument when the sizes differ or the map lacks its eccentricities.
-std::vector<float> csf_error_map(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, const EccentricityMap& map);
+std::vector<float> csf_error_map(const foveation::ImageRgb& reference, const foveation::ImageRgb& image,
+                                 const EccentricityMap& map);
 
 }  // namespace foveart::metrics

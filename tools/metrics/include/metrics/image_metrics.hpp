@@ -79,12 +79,14 @@ struct ImageComparison {
 };
 
 // Every metric of `image` against `reference` (same size as the map), overall and per ring.
-ImageComparison compare_images(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, const EccentricityMap& map);
+ImageComparison compare_images(const foveation::ImageRgb& reference, const foveation::ImageRgb& image,
+                               const EccentricityMap& map);
 
 // Squared error per ring only (cheap): MSE per ring over 3 channels.
-std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& reference, const foveation::ImageRgb& image, const EccentricityMap& map);
+std::array<double, kRingCount> ring_mse(const foveation::ImageRgb& reference, const foveation::ImageRgb& image,
+                                        const EccentricityMap& map);
 
-// Flicker: mean |I(t) - I(t-1)| over pixels and channels (TAA's temporal stability).
+// Flicker: mean |I(t) - I(t-1)| over pixels and channels (a temporal history's stability).
 double mean_abs_difference(const foveation::ImageRgb& a, const foveation::ImageRgb& b);
 
 // Flicker per ring of a sequence: the root mean square over consecutive frame

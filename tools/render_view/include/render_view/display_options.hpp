@@ -42,7 +42,9 @@ std::string fov_deg_problem(const FovDeg& fov);
 // error naming its replacement ("--width: no longer an option here: give --size
 // WxH"; "--reference-spp: ... give fovea-eval accuracy --reference-spp"), so an
 // old command line fails clearly instead of meaning something else or nothing.
-void add_renamed_option(CLI::App* cmd, const std::string& old_name, const std::string& replacement);
+// `flag`: the old option took no value.
+void add_renamed_option(CLI::App* cmd, const std::string& old_name, const std::string& replacement,
+                        bool flag = false);
 
 // `fovea pointset`'s display. An unset option takes the preset's value; a given
 // one must be valid (a zero or negative size is an error, never "unset").

@@ -54,7 +54,7 @@ struct RenderOptions {
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
-  // The index of the first foveated frame, the next ones counting up: with TAA
+  // The index of the first foveated frame, the next ones counting up: with a history
   // each frame's jitter seed is seed + its index. 1: as the layer numbers its
   // frames, so that frame i of `--temporal image|rays` is the layer's frame i.
   uint64_t first_frame = 1;

@@ -1,13 +1,13 @@
-// The full render with a foveated view's temporal history (eval/full_taa.hpp):
+// The full render with a foveated view's temporal history (eval/full_history.hpp):
 // its first frame is the plain full render at the view's seed, each frame
-// draws new jitter (seed + frame index, as a foveated view with TAA), it
+// draws new jitter (seed + frame index, as a foveated view with history), it
 // blends with the foveated view's weight, and at a still view its error
 // against a converged render falls as frames accumulate.
 #include <render_view/render_options.hpp>
 #include "small_scene.hpp"
-#include <eval/full_taa.hpp>
+#include <eval/full_history.hpp>
 #include <metrics/image_metrics.hpp>
-#include <eval/taa_modes.hpp>
+#include <eval/temporal_variants.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
@@ -44,12 +44,12 @@ foveation::ImageRgb full_render(SmallScene& s, int spp, std::uint64_t seed, fove
 
 }  // namespace
 
-TEST(PricelistFullTaa, FirstFrameIsTheFullRenderThenNewJitterBlendedAsTheFoveatedView) {
+TEST(PricelistFullHistory, FirstFrameIsTheFullRenderThenNewJitterBlendedAsTheFoveatedView) {
   SmallScene s(32, 36);
   foveation::Executor executor(2);
   const foveation::ViewSettings vs =
-      eval::taa_view_settings("reproject", 2, 7, foveation::PixelFilter::box, /*taa_mean_while_young=*/false);
-  eval::FullTaaRender r(vs);
+      eval::variant_view_settings(eval::TemporalVariant::image, {2, 7, foveation::PixelFilter::box, false});
+  eval::FullHistoryRender r(vs);
   EXPECT_EQ(r.frame_seed(0), 7u);
   EXPECT_EQ(r.frame_seed(5), 12u);  // new jitter each frame, as FoveatedView's sample_seed + frame_index
   const glm::vec2 gaze(16, 18);
@@ -63,15 +63,17 @@ TEST(PricelistFullTaa, FirstFrameIsTheFullRenderThenNewJitterBlendedAsTheFoveate
   EXPECT_FALSE(r.accumulator().last_was_reset()) << "a still view and gaze keep the history";
   // The weight of a foveated view's history at 2 rays per point (temporal_options_for_rays), not a frame's alpha.
   EXPECT_FLOAT_EQ(r.accumulator().frame_weight(), 1.0f - std::pow(1.0f - vs.temporal_options.current_weight, 2.0f));
-  EXPECT_THROW(eval::FullTaaRender(eval::taa_view_settings("off", 1, 7, foveation::PixelFilter::box, false)),
+  EXPECT_THROW(eval::FullHistoryRender(
+                   eval::variant_view_settings(eval::TemporalVariant::off, {1, 7, foveation::PixelFilter::box, false})),
                std::invalid_argument);
 }
 
-TEST(PricelistFullTaa, ErrorFallsAsFramesAccumulateAtAStillView) {
+TEST(PricelistFullHistory, ErrorFallsAsFramesAccumulateAtAStillView) {
   SmallScene s(32, 36);
   foveation::Executor executor(2);
   const foveation::ImageRgb reference = full_render(s, 512, 1000, executor);
-  eval::FullTaaRender r(eval::taa_view_settings("reproject", 1, 1, foveation::PixelFilter::box, false));
+  eval::FullHistoryRender r(
+      eval::variant_view_settings(eval::TemporalVariant::image, {1, 1, foveation::PixelFilter::box, false}));
   std::vector<double> psnr;  // after 1, 4 and 16 frames
   for (std::uint64_t i = 0; i < 16; ++i) {
     ASSERT_EQ(r.render(&foveart_engine_trace_rays, s.tracer.get(), s.view, glm::vec2(16, 18), i, executor).status,

@@ -2,7 +2,7 @@
 // "Fair baselines"): at a still view, frame i traces every pixel with the jitter
 // seed a foveated view with these settings gives its frame i, and blends it
 // into the history with the same TemporalAccumulator options, so that a
-// full + TAA row of the price list accumulates exactly as a foveated + TAA row.
+// full render with history in the price list accumulates exactly as a foveated one.
 #pragma once
 
 #include <foveation/executor.hpp>
@@ -17,33 +17,33 @@
 
 namespace foveart::eval {
 
-struct FullTaaFrame {
+struct FullHistoryFrame {
   std::int32_t status = FOVEART_RESULT_SUCCESS;  // the first failing callback status, if any
   double trace_ms = 0.0;                         // the full render's ray generation + tracing
   double temporal_ms = 0.0;                           // the blend into the history
 };
 
-class FullTaaRender {
+class FullHistoryRender {
  public:
-  // `settings`: a foveated view's (render_view::taa_view_settings); its rays per point are the
-  // full render's rays per pixel, and its seed, new-jitter rule, pixel filter and TAA
+  // `settings`: a foveated view's (variant_view_settings of TemporalVariant::image); its rays per
+  // point are the full render's rays per pixel, and its seed, new-jitter rule, pixel filter and blend
   // options are the full render's. Throws std::invalid_argument without an image history.
-  explicit FullTaaRender(const foveation::ViewSettings& settings);
+  explicit FullHistoryRender(const foveation::ViewSettings& settings);
 
   // Frame `frame_index` of a still view and gaze; on a failing callback the history is kept as it was.
-  FullTaaFrame render(FoveartTraceRaysFn trace_rays, void* user_data, const FoveartEyeView& view, glm::vec2 gaze_px,
+  FullHistoryFrame render(FoveartTraceRaysFn trace_rays, void* user_data, const FoveartEyeView& view, glm::vec2 gaze_px,
                       std::uint64_t frame_index, foveation::Executor& executor);
 
   // The jitter seed of frame `frame_index`: FoveatedView's (sample_seed, + frame_index with new jitter each frame).
   std::uint64_t frame_seed(std::uint64_t frame_index) const;
 
   // The accumulated output of the last frame (empty before the first).
-  const foveation::ImageRgb& image() const { return taa_.history(); }
-  const foveation::TemporalAccumulator& accumulator() const { return taa_; }
+  const foveation::ImageRgb& image() const { return history_.history(); }
+  const foveation::TemporalAccumulator& accumulator() const { return history_; }
 
  private:
   foveation::ViewSettings settings_;
-  foveation::TemporalAccumulator taa_;
+  foveation::TemporalAccumulator history_;
   foveation::ImageRgb frame_;  // the last full render, before the blend
 };
 
