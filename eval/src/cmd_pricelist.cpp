@@ -662,7 +662,7 @@ void add_run_options(CLI::App* cmd, PricelistOptions& o) {
       ->capture_default_str();
   render_view::add_renamed_option(cmd, "--taa-frames", "--history-frames");
   cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
-  cmd->add_flag("--quick", o.quick, "The small grid and a 320x360 motion (docs/pricelist.md)");
+  cmd->add_flag("--quick", o.quick, "The small grid and a 320x360 motion (docs/lab/pricelist.md)");
   cmd->add_option("--heatmap", o.heatmap, "Setting id for the error heat map (default: the thesis default)");
   cmd->add_option("--md", o.md_file, "Also write the report (command, machine, tables) to this markdown file");
   cmd->add_flag("--images", o.images, "Write every setting's image (PFM, display values, and PNG)");

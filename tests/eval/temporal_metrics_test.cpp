@@ -402,7 +402,7 @@ TEST(TemporalMetrics, BinomialBlurKeepsFlatImagesAndSpreadsAnImpulse) {
 // drawn anew each frame, sqrt(2 v): against 1-ray frames, sqrt(2), only
 // sqrt((2 - alpha) / alpha) = sqrt(19) = 4.36x less at alpha 0.1. Along the
 // motion it changes by alpha (n_t - e_{t-1}) alone: sqrt(2 / (alpha^2 (1 + v)))
-// = 13.8x less (docs/pricelist.md, "What any image history reaches").
+// = 13.8x less (docs/results/pricelist.md, "What any image history reaches").
 TEST(TemporalMetrics, AnExactHistoryCarriedByTheMotionFlickersAtFixedPixelsAsItsErrorDrawnAnew) {
   constexpr int kWide = 192, kTall = 96, kFrames = 40;
   constexpr double kAlpha = 0.1, kSigma = 0.05;

@@ -1,6 +1,6 @@
 // `fovea-eval pricelist`: what every setting costs in time and rays and buys in
 // accuracy against a converged reference, per eccentricity ring
-// (docs/pricelist.md).
+// (docs/lab/pricelist.md).
 #pragma once
 
 #include <array>

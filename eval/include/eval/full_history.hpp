@@ -1,5 +1,5 @@
-// The full render with a foveated view's temporal history (docs/pricelist.md,
-// "Fair baselines"): at a still view, frame i traces every pixel with the jitter
+// The full render with a foveated view's temporal history (docs/lab/pricelist.md,
+// "The fair baseline"): at a still view, frame i traces every pixel with the jitter
 // seed a foveated view with these settings gives its frame i, and blends it
 // into the history with the same TemporalAccumulator options, so that a
 // full render with history in the price list accumulates exactly as a foveated one.

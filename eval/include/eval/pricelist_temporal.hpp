@@ -41,7 +41,7 @@ struct TemporalOptions {
   double fps = 70.0;
   // Rays per pixel of every reference frame: with the box filter 256 keeps its own flicker (its floor)
   // 10 dB below every track's. With bspline2 the render cache flickers less: 256 lies 3-6 dB below it,
-  // 1024 8-12 dB at 320x360 (sanity.floor_10db_below says; docs/pricelist.md, "The reference's own share").
+  // 1024 8-12 dB at 320x360 (sanity.floor_10db_below says; docs/results/pricelist.md, "The reference's own share").
   int reference_spp = 256;
 };
 

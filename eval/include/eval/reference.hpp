@@ -2,7 +2,7 @@
 // with many jittered rays per pixel, its residual error estimated per
 // eccentricity ring, cached on disk.
 //
-// Estimate (docs/pricelist.md "The reference"): the reference is the mean of
+// Estimate (docs/lab/pricelist.md "The reference"): the reference is the mean of
 // two halves A and B, each spp/2 rays per pixel with independent jitter. Both
 // are unbiased estimates of the pixel's true colour with the same variance s2,
 // so E[(A - B)^2] = 2 s2 and the mean (A + B)/2 has variance s2 / 2 =

@@ -1,5 +1,5 @@
 // The temporal measure of a rendered sequence against a converged reference
-// sequence, per eccentricity ring (docs/pricelist.md "Temporal columns").
+// sequence, per eccentricity ring (docs/lab/motion.md).
 // Pure arithmetic on display values; frames are added one at a time so that a
 // sequence never has to be held in memory.
 //
@@ -21,7 +21,7 @@
 //     offset) is not tracked flicker; one fixed on the screen while the content
 //     moves under it (sparse samples, a fixed jitter) is;
 //   flicker_csf_rms: the fixed-pixel change e_t - e_{t-1} weighted by what the
-//     eye resolves where each pixel lies (eval/csf_error.hpp: the luma
+//     eye resolves where each pixel lies (metrics/csf_error.hpp: the luma
 //     change split into octave bands, each weighted by the foveated contrast
 //     sensitivity at the pixel's eccentricity), RMS over the ring's pixels:
 //     the part of the flicker the eye can see. Where the eye resolves every

@@ -1,4 +1,4 @@
-// JSON of an image comparison (eval/image_metrics.hpp), the same fields in
+// JSON of an image comparison (metrics/image_metrics.hpp), the same fields in
 // every fovea command: overall psnr/ssim/csf_rmse and `rings` [{from_deg,
 // to_deg (null for the open last ring), pixels, psnr, ssim, csf_rmse, csf_psnr}].
 // Non-finite numbers (an identical ring's PSNR, an empty ring) are null.
