@@ -51,7 +51,7 @@ for entry in "${scenes[@]}"; do
   # shellcheck disable=SC2086  # the viewer options split into words
   "$fovea" render --scene "$scene" $viewer --frames "$n" "${common[@]}" > "$dir/json/$name.json"
   # shellcheck disable=SC2086
-  "$fovea" render --scene "$scene" $viewer --size 320,360 --frames 1 --out "$dir/img/$name" > /dev/null
+  "$fovea" render --scene "$scene" $viewer --size 320x360 --frames 1 --out "$dir/img/$name" > /dev/null
   mv "$dir/img/${name}_full.png" "$dir/img/$name.png"
   jq -r --arg name "$name" --arg viewer "${viewer:-its camera}" '
     def r(n): (. * pow(10; n) | round) / pow(10; n);

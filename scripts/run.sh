@@ -41,9 +41,9 @@ step() {  # $1: what, $2: log name, rest: the command; its stdout goes to the lo
 }
 
 # The same tree and flags as `scripts/test.sh --plain`; only the targets this job runs.
-step "build (fovea, hello_foveated, layer, simulated runtime)" build bash -c \
+step "build (fovea, fovea-eval, hello_foveated, layer, simulated runtime)" build bash -c \
   'cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFOVEART_WERROR=ON &&
-   cmake --build build -j "$(nproc)" --target fovea hello_foveated foveart_layer foveart_sim_runtime'
+   cmake --build build -j "$(nproc)" --target fovea fovea-eval hello_foveated foveart_layer foveart_sim_runtime'
 
 json_to() {  # $1: file for the command's stdout (JSON), rest: the command
   local file=$1
@@ -77,7 +77,7 @@ FOVEART_SIM_FRAMES=3 \
 if [ "$pricelist" = 1 ]; then
   rm -rf out/pricelist && mkdir -p out/pricelist
   step "    quick price list -> out/pricelist/" pricelist \
-    build/bin/fovea pricelist --scene default --preset fove --quick --cache-dir out/cache --out out/pricelist
+    build/bin/fovea-eval pricelist --scene default --preset fove --quick --cache-dir out/cache --out out/pricelist
 fi
 
 # The summary: one plain table, read from the JSON the steps wrote.

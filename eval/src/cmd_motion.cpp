@@ -5,14 +5,14 @@
 // truth's own change and the error over all frames.
 #include <eval/cmd_motion.hpp>
 
-#include "render_cli.hpp"
-#include "taa_modes.hpp"
+#include <render_view/render_cli.hpp>
+#include <eval/taa_modes.hpp>
 
 #include <eval/motion_sequence.hpp>
 #include <eval/pricelist_grid.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/pricelist_temporal_report.hpp>
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
@@ -40,7 +40,6 @@
 #include <ostream>
 
 namespace foveart::eval {
-using namespace foveart::tools;
 
 namespace {
 
@@ -167,181 +166,226 @@ void print_text(const Json& report, std::ostream& out) {
 
 }  // namespace
 
-int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
-  if (std::string bad; !check_render_options(o, &bad)) {
-    err << "fovea-eval motion: " << bad << "\n";
-    return 2;
-  }
-  if (o.motion.empty()) {
-    err << "fovea-eval motion: --motion is required ('builtin' or a CSV file)\n";
-    return 2;
-  }
-  std::string error;
-  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
-  if (!motion) {
-    err << "fovea-eval motion: " << error << "\n";
-    return 2;
-  }
-  MotionWindow window;
-  window.start_s = o.start_s.value_or(0.0);
-  window.fps = o.fps.value_or(70.0);
-  window.frames = o.frames;
-  if (std::string bad; !check_motion_window(*motion, window, &bad)) {
-    err << "fovea-eval motion: " << bad << "\n";
-    return 2;
-  }
-  std::vector<std::string> taa_modes;
-  if (!parse_taa_modes(o.taa, &taa_modes, &error)) {  // checked by check_render_options
-    err << "fovea-eval motion: " << error << "\n";
-    return 2;
-  }
+namespace {
 
+constexpr const char* kMotionWho = "fovea-eval motion: ";
+
+std::string options_problem(const MotionOptions& m, std::vector<std::string>* taa_modes) {
+  const render_view::RenderOptions& o = m.render;
+  std::string bad;
+  if (!render_view::check_render_options(o, &bad)) return bad;
+  if (m.motion.empty()) return "--motion is required ('builtin' or a CSV file)";
+  if (o.pose || o.viewer_m || o.look_at_m) return "--pose and --look-at exclude --motion: the motion gives the head pose";
+  if (o.gaze_px) return "--gaze and --motion exclude each other: the motion gives the gaze";
+  if (!m.reference.file.empty()) return "--reference FILE is one still image; with --motion use --reference-spp";
+  if (!check_reference_choice(m.reference, &bad)) return bad;
+  if (!parse_taa_modes(m.taa, taa_modes, &bad)) return bad;
+  if (o.mode == "full" && *taa_modes != std::vector<std::string>{"off"}) return "--taa needs --mode foveated or both";
+  return "";
+}
+
+// The scene, its tracer and the motion's frames in it.
+struct MotionScene {
+  std::unique_ptr<engine::Tracer> tracer;
+  std::uint64_t hash = 0;
+  FoveartEyeView eye_at_rest{};
+  std::vector<MotionFrame> frames;
+};
+
+// Loads the scene and lays the window's frames out in it; false with *error.
+[[nodiscard]] bool set_up(const MotionOptions& m, const motion::ScriptedMotion& script, const MotionWindow& window,
+            std::ostream& err, MotionScene* s, std::string* error) {
+  const render_view::RenderOptions& o = m.render;
   engine::LoadResult loaded = engine::load_scene(o.scene);
   if (!loaded.ok()) {
-    err << "fovea-eval motion: " << loaded.error << "\n";
-    return 1;
+    *error = loaded.error;
+    return false;
   }
-  for (const std::string& w : loaded.scene->warnings) err << "fovea-eval motion: warning: " << w << "\n";
-  std::unique_ptr<engine::Tracer> tracer =
-      engine::Tracer::create(std::move(*loaded.scene), render_tracer_options(o), &error);
-  if (!tracer) {
-    err << "fovea-eval motion: " << error << "\n";
-    return 1;
-  }
-  const std::uint64_t scene_hash = rendered_scene_hash(*tracer);
-  const FoveartEyeView eye_at_rest = render_view(o, tracer->scene());
-  const engine::Camera head = engine::scene_head(tracer->scene());
-  const std::vector<MotionFrame> frames =
-      motion_frames(*motion, window, eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
-  foveation::Executor executor(static_cast<unsigned>(o.threads));
+  for (const std::string& w : loaded.scene->warnings) err << kMotionWho << "warning: " << w << "\n";
+  s->tracer = engine::Tracer::create(std::move(*loaded.scene), render_view::render_tracer_options(o), error);
+  if (!s->tracer) return false;
+  s->hash = rendered_scene_hash(*s->tracer);
+  s->eye_at_rest = render_view::eye_view(o, s->tracer->scene());
+  const engine::Camera head = engine::scene_head(s->tracer->scene());
+  s->frames = motion_frames(script, window, s->eye_at_rest, foveation::EyePose{head.position_m, head.orientation});
+  return true;
+}
 
-  std::vector<SequenceTrack> tracks;
+// The full render's track (unless --mode foveated) and a foveated track per TAA mode (unless --mode full).
+[[nodiscard]] bool make_tracks(const MotionOptions& m, const std::vector<std::string>& taa_modes, const MotionScene& s,
+                 foveation::Executor& executor, std::ostream& err, std::vector<SequenceTrack>* tracks,
+                 std::string* error) {
+  const render_view::RenderOptions& o = m.render;
   if (o.mode != "foveated") {
     SequenceTrack t;
     t.full = true;
     t.spp = o.rays_per_point;
     t.id = "full_spp" + std::to_string(o.rays_per_point);
-    tracks.push_back(std::move(t));
+    tracks->push_back(std::move(t));
   }
-  if (o.mode != "full") {
-    std::optional<std::filesystem::path> cache;
-    if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
-    const std::shared_ptr<const foveation::ViewTables> tables = load_foveated_tables(
-        o, eye_at_rest, cache, executor, [&](const std::string& m) { err << "fovea-eval motion: " << m << "\n"; }, &error);
-    if (!tables) {
-      err << "fovea-eval motion: " << error << "\n";
-      return 1;
-    }
-    PriceSetting setting;
-    setting.interpolation = o.interpolation;
-    setting.k = reconstruction_k(o);
-    setting.density_scale = o.density_scale;
-    setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
-    setting.rays_per_point = o.rays_per_point;
-    for (const std::string& mode : taa_modes) {
-      SequenceTrack t;
-      t.taa = mode;
-      t.spp = o.rays_per_point;
-      t.id = setting.id() + "_taa-" + mode;
-      t.view = make_taa_view(tables, mode, o.rays_per_point, o.seed, o.pixel_filter, o.taa_mean_while_young);
-      tracks.push_back(std::move(t));
-    }
+  if (o.mode == "full") return true;
+  std::optional<std::filesystem::path> cache;
+  if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
+  const std::shared_ptr<const foveation::ViewTables> tables = render_view::load_foveated_tables(
+      o, s.eye_at_rest, cache, executor, [&](const std::string& msg) { err << kMotionWho << msg << "\n"; }, error);
+  if (!tables) return false;
+  PriceSetting setting;
+  setting.interpolation = o.interpolation;
+  setting.k = render_view::reconstruction_k(o);
+  setting.density_scale = o.density_scale;
+  setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
+  setting.rays_per_point = o.rays_per_point;
+  for (const std::string& mode : taa_modes) {
+    SequenceTrack t;
+    t.taa = mode;
+    t.spp = o.rays_per_point;
+    t.id = setting.id() + "_taa-" + mode;
+    t.view = make_taa_view(tables, mode, o.rays_per_point, o.seed, o.pixel_filter, m.taa_mean_while_young);
+    tracks->push_back(std::move(t));
   }
+  return true;
+}
 
+SequenceReferenceOptions sequence_reference(const MotionOptions& m) {
+  const render_view::RenderOptions& o = m.render;
   SequenceReferenceOptions ref;
-  ref.spp = o.reference_spp;  // empty: no reference, no temporal error
+  ref.spp = m.reference.spp;  // empty: no reference, no temporal error
   ref.baseline_spp = std::max(16, o.rays_per_point);
   ref.seed = o.seed;
   ref.pixel_filter = o.pixel_filter;
-  ref.taa_mean_while_young = o.taa_mean_while_young;
-  ref.cache_dir = !o.reference_cache.empty() ? o.reference_cache
-                  : !o.cache_dir.empty()     ? (std::filesystem::path(o.cache_dir) / "reference").string()
-                                             : std::string();
+  ref.taa_mean_while_young = m.taa_mean_while_young;
+  ref.cache_dir = reference_cache_dir(m.reference, o.cache_dir);
+  return ref;
+}
+
+// Progress, a line every 10 frames (or at least every 30 s: a log shows the run is alive while a
+// reference sequence of many rays per pixel renders), and with --out every track's frames as PNGs.
+SequenceHooks sequence_hooks(const MotionOptions& m, std::ostream& err, toolkit::Progress& progress, Json* files) {
   SequenceHooks hooks;
-  hooks.log = [&](const std::string& m) { err << "fovea-eval motion: " << m << "\n"; };
-  toolkit::Progress progress("motion");
-  // A line every 10 frames, or sooner when frames are slow (a reference sequence of many rays per pixel being
-  // rendered): at least every 30 s, so a log shows the run is alive.
-  auto last_line = std::chrono::steady_clock::now();
-  hooks.frame_done = [&](int done, int total) {
+  hooks.log = [&err](const std::string& msg) { err << kMotionWho << msg << "\n"; };
+  auto last_line = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
+  hooks.frame_done = [&err, &progress, last_line](int done, int total) {
     progress.update(double(done) / double(total));
     const auto now = std::chrono::steady_clock::now();
-    if (done % 10 == 0 || done == total || now - last_line >= std::chrono::seconds(30)) {
-      err << "fovea-eval motion: frame " << done << "/" << total << "\n";
-      last_line = now;
+    if (done % 10 == 0 || done == total || now - *last_line >= std::chrono::seconds(30)) {
+      err << kMotionWho << "frame " << done << "/" << total << "\n";
+      *last_line = now;
     }
   };
-  Json files = Json::array();
-  if (!o.out_prefix.empty()) {
-    hooks.image = [&](const SequenceTrack& t, const MotionFrame& f, const foveation::ImageRgb& display) {
+  if (!m.render.out_prefix.empty()) {
+    hooks.image = [prefix = m.render.out_prefix, files](const SequenceTrack& t, const MotionFrame& f,
+                                                        const foveation::ImageRgb& display) {
       char suffix[32];
       std::snprintf(suffix, sizeof suffix, "_f%03d.png", f.index);
-      const std::string path = o.out_prefix + "_" + t.id + suffix;
+      const std::string path = prefix + "_" + t.id + suffix;
       if (std::string e; !toolkit::write_png(path, display, toolkit::PngValues::display, &e)) return e;
-      files.push_back(path);
+      files->push_back(path);
       return std::string();
     };
   }
-  SequenceRun run;
-  if (!run_sequence(*tracer, scene_hash, frames, ref, tracks, executor, hooks, &run, &error)) {
-    err << "fovea-eval motion: " << error << "\n";
-    return 1;
-  }
+  return hooks;
+}
 
-  Json report;
-  report["scene"] = tracer->scene().source;
-  report["effects"] = engine::to_string(tracer->effects());
-  report["eye"] = o.eye;
-  report["width"] = eye_at_rest.width_px;
-  report["height"] = eye_at_rest.height_px;
-  report["threads"] = executor.thread_count();
-  report["pixel_filter"] = foveation::pixel_filter_name(o.pixel_filter);
-  report["taa_mean_while_young"] = o.taa_mean_while_young;
-  report["motion"] = {{"spec", o.motion}, {"duration_s", motion->duration_s()}};
-  report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
-  std::vector<std::uint8_t> temporal_reset(frames.size(), 0);  // per frame: some track's TAA restarted
+Json frames_json(const std::vector<MotionFrame>& frames, const std::vector<SequenceTrack>& tracks) {
+  std::vector<std::uint8_t> temporal_reset(frames.size(), 0);  // per frame: some track's history restarted
   for (const SequenceTrack& t : tracks)
     for (int i : t.taa_reset_frames) temporal_reset[std::size_t(i)] = 1;
-  Json frame_list = Json::array();
+  Json list = Json::array();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const MotionFrame& f = frames[i];
-    frame_list.push_back({{"index", f.index}, {"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}},
-                          {"saccade", f.saccade}, {"blink", f.blink}, {"gaze_off_view", f.gaze_off_view},
-                          {"temporal_reset", temporal_reset[i] != 0},
-                          {"pose", {f.view.position_m[0], f.view.position_m[1], f.view.position_m[2],
-                                    f.view.orientation_xyzw[0], f.view.orientation_xyzw[1],
-                                    f.view.orientation_xyzw[2], f.view.orientation_xyzw[3]}}});
+    list.push_back({{"index", f.index}, {"time_s", f.time_s}, {"gaze_px", {f.gaze_px.x, f.gaze_px.y}},
+                    {"saccade", f.saccade}, {"blink", f.blink}, {"gaze_off_view", f.gaze_off_view},
+                    {"temporal_reset", temporal_reset[i] != 0},
+                    {"pose", {f.view.position_m[0], f.view.position_m[1], f.view.position_m[2],
+                              f.view.orientation_xyzw[0], f.view.orientation_xyzw[1], f.view.orientation_xyzw[2],
+                              f.view.orientation_xyzw[3]}}});
   }
-  report["frames"] = frame_list;
-  if (!ref.spp.empty()) report["reference"] = sequence_reference_json(run);
+  return list;
+}
+
+// Every track's JSON; with a reference, issue #18's goal for each TAA track against the TAA-off track at
+// equal rays when both were measured (the full render's "taa" is null, a foveated track's its TAA mode).
+Json tracks_json(const std::vector<SequenceTrack>& tracks, const SequenceRun& run, bool measured) {
   const double anchor_ms = tracks.front().full ? median_ms(tracks.front().total_ms) : 0.0;
-  Json track_list = Json::array();
+  Json list = Json::array();
   for (const SequenceTrack& t : tracks) {
     Json j = sequence_track_json(t, run, anchor_ms);
-    if (ref.spp.empty()) {  // nothing measured
+    if (!measured) {
       j.erase("rings");
       j.erase("bands");
     }
-    track_list.push_back(j);
+    list.push_back(j);
   }
-  if (!ref.spp.empty()) {
-    // Issue #18's goal for each TAA track against the TAA-off track at equal rays, when both were measured.
-    // The full render's "taa" is null; a foveated track's is its TAA mode.
-    const auto off = std::find_if(track_list.begin(), track_list.end(), [](const Json& t) { return t["taa"] == "off"; });
-    if (off != track_list.end()) {
-      const Json off_track = *off;
-      for (Json& t : track_list)
-        if (t["taa"].is_string() && t["taa"] != "off") t["goal"] = temporal_goal(off_track, t);
-    }
+  if (!measured) return list;
+  const auto off = std::find_if(list.begin(), list.end(), [](const Json& t) { return t["taa"] == "off"; });
+  if (off == list.end()) return list;
+  const Json off_track = *off;
+  for (Json& t : list)
+    if (t["taa"].is_string() && t["taa"] != "off") t["goal"] = temporal_goal(off_track, t);
+  return list;
+}
+
+Json report_json(const MotionOptions& m, const motion::ScriptedMotion& script, const MotionWindow& window,
+                 const MotionScene& s, const std::vector<SequenceTrack>& tracks, const SequenceRun& run,
+                 unsigned threads) {
+  const bool measured = !m.reference.spp.empty();
+  Json report;
+  report["scene"] = s.tracer->scene().source;
+  report["effects"] = engine::to_string(s.tracer->effects());
+  report["eye"] = m.render.eye;
+  report["width"] = s.eye_at_rest.width_px;
+  report["height"] = s.eye_at_rest.height_px;
+  report["threads"] = threads;
+  report["pixel_filter"] = foveation::pixel_filter_name(m.render.pixel_filter);
+  report["taa_mean_while_young"] = m.taa_mean_while_young;
+  report["motion"] = {{"spec", m.motion}, {"duration_s", script.duration_s()}};
+  report["window"] = {{"start_s", window.start_s}, {"fps", window.fps}, {"frames", window.frames}};
+  report["frames"] = frames_json(s.frames, tracks);
+  if (measured) report["reference"] = sequence_reference_json(run);
+  report["tracks"] = tracks_json(tracks, run, measured);
+  // The reference's own flicker and error against every track's, as the price list checks them.
+  if (measured) report["sanity"] = temporal_sanity(report);
+  return report;
+}
+
+}  // namespace
+
+int run_motion(const MotionOptions& m, std::ostream& out, std::ostream& err) {
+  std::vector<std::string> taa_modes;
+  std::string error;
+  if (std::string bad = options_problem(m, &taa_modes); !bad.empty()) {
+    err << kMotionWho << bad << "\n";
+    return 2;
   }
-  report["tracks"] = track_list;
-  if (report.contains("reference")) {
-    // The reference's own flicker and error against every track's, as the price list checks them.
-    report["sanity"] = temporal_sanity(report);
-    if (const std::string w = floor_warning(report["sanity"]); !w.empty()) err << "fovea-eval motion: " << w << "\n";
+  const std::optional<motion::ScriptedMotion> script = load_motion(m.motion, &error);
+  MotionWindow window;
+  window.start_s = m.start_s.value_or(0.0);
+  window.fps = m.fps.value_or(70.0);
+  window.frames = m.render.frames;
+  if (!script || !check_motion_window(*script, window, &error)) {
+    err << kMotionWho << error << "\n";
+    return 2;
   }
-  if (!o.out_prefix.empty()) report["images"] = files;
-  if (o.json)
+  MotionScene s;
+  foveation::Executor executor(static_cast<unsigned>(m.render.threads));
+  std::vector<SequenceTrack> tracks;
+  if (!set_up(m, *script, window, err, &s, &error) || !make_tracks(m, taa_modes, s, executor, err, &tracks, &error)) {
+    err << kMotionWho << error << "\n";
+    return 1;
+  }
+  toolkit::Progress progress("motion");
+  Json files = Json::array();
+  SequenceRun run;
+  if (!run_sequence(*s.tracer, s.hash, s.frames, sequence_reference(m), tracks, executor,
+                    sequence_hooks(m, err, progress, &files), &run, &error)) {
+    err << kMotionWho << error << "\n";
+    return 1;
+  }
+  Json report = report_json(m, *script, window, s, tracks, run, executor.thread_count());
+  if (report.contains("sanity"))
+    if (const std::string w = floor_warning(report["sanity"]); !w.empty()) err << kMotionWho << w << "\n";
+  if (!m.render.out_prefix.empty()) report["images"] = files;
+  if (m.render.json)
     out << report.dump(2) << "\n";
   else
     print_text(report, out);
@@ -349,13 +393,14 @@ int run_motion(const RenderOptions& o, std::ostream& out, std::ostream& err) {
 }
 
 void register_motion(CLI::App& app) {
-  auto opts = std::make_shared<RenderOptions>();
-  opts->motion = "builtin";
+  auto m = std::make_shared<MotionOptions>();
   CLI::App* cmd = app.add_subcommand(
       "motion", "Render a sequence over a scripted head and gaze motion, per TAA mode, against the reference sequence");
-  const std::function<void()> parse_common = add_render_options(cmd, opts);
-  add_taa_lab_options(cmd, opts);
-  cmd->add_option("--motion", opts->motion,
+  const std::shared_ptr<render_view::RenderOptions> render(m, &m->render);
+  const std::function<void()> parse_common = render_view::add_render_options(cmd, render);
+  add_taa_lab_options(cmd, &m->taa, &m->taa_mean_while_young, /*list=*/true);
+  add_reference_options(cmd, &m->reference, /*with_file=*/false);
+  cmd->add_option("--motion", m->motion,
                   "The head and gaze motion: 'builtin' or a CSV file "
                   "(time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade])")
       ->capture_default_str();
@@ -363,11 +408,11 @@ void register_motion(CLI::App& app) {
   auto fps = std::make_shared<double>(70.0);
   CLI::Option* start_opt = cmd->add_option("--start-s", *start_s, "Time of the first frame (s), default 0");
   CLI::Option* fps_opt = cmd->add_option("--fps", *fps, "Frames per second, default 70");
-  cmd->callback([opts, parse_common, start_s, fps, start_opt, fps_opt] {
+  cmd->callback([m, parse_common, start_s, fps, start_opt, fps_opt] {
     parse_common();
-    if (start_opt->count() > 0) opts->start_s = *start_s;
-    if (fps_opt->count() > 0) opts->fps = *fps;
-    const int code = run_motion(*opts, std::cout, std::cerr);
+    if (start_opt->count() > 0) m->start_s = *start_s;
+    if (fps_opt->count() > 0) m->fps = *fps;
+    const int code = run_motion(*m, std::cout, std::cerr);
     if (code != 0) throw CLI::RuntimeError(code);
   });
 }

@@ -6,7 +6,7 @@
 #include <chrono>
 #include <stdexcept>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 // The blend options of make_temporal_history (foveated_view.cpp): per ray, for frames of rays_per_point rays.
 FullTaaRender::FullTaaRender(const foveation::ViewSettings& settings)
@@ -38,4 +38,4 @@ FullTaaFrame FullTaaRender::render(FoveartTraceRaysFn trace_rays, void* user_dat
   return f;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -1,12 +1,12 @@
 // A motion's frames for several tracks against the reference sequence (motion_sequence.hpp).
 #include <eval/motion_sequence.hpp>
 
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 #include <eval/sample_history.hpp>
 
 #include <engine/render.hpp>
 
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include <foveation/temporal_blend.hpp>
 #include <foveation/history_reprojection.hpp>
 #include <foveation/temporal_mode.hpp>
@@ -17,14 +17,14 @@
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
 
 Json ring_bounds(std::size_t r) {
-  return {{"from_deg", foveation::kRingEdgesDeg[r]},
-          {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[r + 1])}};
+  return {{"from_deg", metrics::kRingEdgesDeg[r]},
+          {"to_deg", metrics::number_or_null_json(metrics::kRingEdgesDeg[r + 1])}};
 }
 
 // One frame of a track, its display values into *display; "" or what failed.
@@ -62,7 +62,7 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     image = &t.view->image();
   }
   if (f.index == 0) t.rays = tracer.counts() - before;
-  *display = foveation::display_encode(*image);
+  *display = metrics::display_encode(*image);
   return "";
 }
 
@@ -79,7 +79,7 @@ struct Tracking {
 // Adds a frame to `error` with its previous error warped along the motion
 // (each pixel's surface where it was a frame before: taa_reprojection.hpp).
 void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
-                       const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
+                       const foveation::ImageRgb& reference_display, const metrics::EccentricityMap& map,
                        Tracking& tracking, foveation::Executor& executor) {
   TrackedPrevious tracked;
   if (tracking.previous != nullptr) {
@@ -92,8 +92,8 @@ void add_tracked_frame(TemporalError& error, const foveation::ImageRgb& display,
 }
 
 // The reference of one frame (the convergence check on the first with "auto"), its residual into the floor.
-bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
-                     const SequenceReferenceOptions& ref_options, const foveation::EccentricityMap& map,
+[[nodiscard]] bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const MotionFrame& f,
+                     const SequenceReferenceOptions& ref_options, const metrics::EccentricityMap& map,
                      foveation::Executor& executor, const ReferenceLog& log, SequenceRun* run,
                      foveation::ImageRgb* reference_linear, foveation::ImageRgb* reference_display,
                      std::string* error) {
@@ -120,7 +120,7 @@ bool reference_frame(engine::Tracer& tracer, std::uint64_t scene_hash, const Mot
   std::vector<float> residual(ref->half_difference2.size());
   for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = ref->half_difference2[i] / 4.0f;
   run->floor.add_frame(residual, map, &ref->half_difference_luma);
-  *reference_display = foveation::display_encode(ref->image);
+  *reference_display = metrics::display_encode(ref->image);
   *reference_linear = std::move(ref->image);
   return true;
 }
@@ -159,8 +159,8 @@ struct SampleHistories {
 
 // taa_restarts: whether the layer's TAA restarted on this frame (TemporalAccumulator::last_was_reset of the
 // TAA fed the reference, which sees the same gaze and flags): where `at_restarts` forgets its rays.
-bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
-                          const foveation::ImageRgb& reference_display, const foveation::EccentricityMap& map,
+[[nodiscard]] bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer& tracer, const MotionFrame& f,
+                          const foveation::ImageRgb& reference_display, const metrics::EccentricityMap& map,
                           Tracking& tracking, foveation::Executor& executor, SequenceRun* run, std::string* error) {
   const struct {
     SampleHistory* history;
@@ -178,7 +178,7 @@ bool add_sample_histories(SampleHistories& h, bool taa_restarts, engine::Tracer&
                std::to_string(st);
       return false;
     }
-    add_tracked_frame(*c.measured, foveation::display_encode(h.image), reference_display, map, tracking, executor);
+    add_tracked_frame(*c.measured, metrics::display_encode(h.image), reference_display, map, tracking, executor);
   }
   return true;
 }
@@ -223,7 +223,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
   SampleHistories sample_histories(ref_options.seed, ref_options.pixel_filter);
   const bool with_reference = !ref_options.spp.empty();
   for (const MotionFrame& f : frames) {
-    const foveation::EccentricityMap map = foveation::eccentricity_map(f.view, f.gaze_px);
+    const metrics::EccentricityMap map = metrics::eccentricity_map(f.view, f.gaze_px);
     if (with_reference && !reference_frame(tracer, scene_hash, f, ref_options, map, executor, hooks.log, run,
                                            &reference_linear, &reference_display, error))
       return false;
@@ -247,7 +247,7 @@ bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::v
       binomial_blur_3x3(reference_display, &blurred);
       add_tracked_frame(run->stable_blur, blurred, reference_display, map, tracking, executor);
       add_tracked_frame(run->taa_on_reference,
-                        foveation::display_encode(
+                        metrics::display_encode(
                             accumulate_reference(taa_on_reference, reference_linear, f, tracking, executor)),
                         reference_display, map, tracking, executor);
       if (!add_sample_histories(sample_histories, taa_on_reference.taa.last_was_reset(), tracer, f,
@@ -281,16 +281,16 @@ Json sequence_reference_json(const SequenceRun& run) {
   for (const SequenceControl& c : kSequenceControls) controls.push_back((run.*c.error).rings());
   for (std::size_t r = 0; r < floor.size(); ++r) {
     Json j = ring_bounds(r);
-    j["flicker_floor"] = number_or_null_json(floor[r].flicker_rms);
-    j["flicker_tracked_floor"] = number_or_null_json(floor[r].flicker_tracked_rms);
-    j["flicker_csf_floor"] = number_or_null_json(floor[r].flicker_csf_rms);
-    j["psnr_floor"] = number_or_null_json(floor[r].psnr_db());
+    j["flicker_floor"] = metrics::number_or_null_json(floor[r].flicker_rms);
+    j["flicker_tracked_floor"] = metrics::number_or_null_json(floor[r].flicker_tracked_rms);
+    j["flicker_csf_floor"] = metrics::number_or_null_json(floor[r].flicker_csf_rms);
+    j["psnr_floor"] = metrics::number_or_null_json(floor[r].psnr_db());
     for (std::size_t c = 0; c < controls.size(); ++c) {
       const std::string key = kSequenceControls[c].key;
-      j[key + "_flicker"] = number_or_null_json(controls[c][r].flicker_rms);
-      j[key + "_flicker_tracked"] = number_or_null_json(controls[c][r].flicker_tracked_rms);
-      j[key + "_flicker_csf"] = number_or_null_json(controls[c][r].flicker_csf_rms);
-      j[key + "_psnr"] = number_or_null_json(controls[c][r].psnr_db());
+      j[key + "_flicker"] = metrics::number_or_null_json(controls[c][r].flicker_rms);
+      j[key + "_flicker_tracked"] = metrics::number_or_null_json(controls[c][r].flicker_tracked_rms);
+      j[key + "_flicker_csf"] = metrics::number_or_null_json(controls[c][r].flicker_csf_rms);
+      j[key + "_psnr"] = metrics::number_or_null_json(controls[c][r].psnr_db());
     }
     rings.push_back(j);
   }
@@ -309,18 +309,18 @@ Json sequence_band_json(const TemporalError& error, const SequenceRun& run) {
   for (const RingBand& band : {kCentralBand, kPeripheralBand}) {
     Json flicker = Json::array(), tracked = Json::array(), psnr = Json::array();
     for (const TemporalRing& f : error.by_frame(band)) {
-      flicker.push_back(number_or_null_json(f.flicker_rms));
-      tracked.push_back(number_or_null_json(f.flicker_tracked_rms));
-      psnr.push_back(number_or_null_json(f.psnr_db()));
+      flicker.push_back(metrics::number_or_null_json(f.flicker_rms));
+      tracked.push_back(metrics::number_or_null_json(f.flicker_tracked_rms));
+      psnr.push_back(metrics::number_or_null_json(f.psnr_db()));
     }
     const TemporalRing settled = error.pooled(band, &run.settled);
-    bands.push_back({{"band", band.name}, {"from_deg", foveation::kRingEdgesDeg[band.begin]},
-                     {"to_deg", number_or_null_json(foveation::kRingEdgesDeg[band.end])},
+    bands.push_back({{"band", band.name}, {"from_deg", metrics::kRingEdgesDeg[band.begin]},
+                     {"to_deg", metrics::number_or_null_json(metrics::kRingEdgesDeg[band.end])},
                      {"flicker_by_frame", flicker}, {"flicker_tracked_by_frame", tracked}, {"psnr_by_frame", psnr},
-                     {"settled", {{"flicker", number_or_null_json(settled.flicker_rms)},
-                                  {"flicker_tracked", number_or_null_json(settled.flicker_tracked_rms)},
-                                  {"flicker_csf", number_or_null_json(settled.flicker_csf_rms)},
-                                  {"psnr", number_or_null_json(settled.psnr_db())}}}});
+                     {"settled", {{"flicker", metrics::number_or_null_json(settled.flicker_rms)},
+                                  {"flicker_tracked", metrics::number_or_null_json(settled.flicker_tracked_rms)},
+                                  {"flicker_csf", metrics::number_or_null_json(settled.flicker_csf_rms)},
+                                  {"psnr", metrics::number_or_null_json(settled.psnr_db())}}}});
   }
   return bands;
 }
@@ -346,11 +346,11 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
   const TemporalRings m = t.error.rings();
   for (std::size_t r = 0; r < m.size(); ++r) {
     Json ring = ring_bounds(r);
-    ring["flicker"] = number_or_null_json(m[r].flicker_rms);
-    ring["flicker_tracked"] = number_or_null_json(m[r].flicker_tracked_rms);
-    ring["flicker_csf"] = number_or_null_json(m[r].flicker_csf_rms);
-    ring["psnr"] = number_or_null_json(m[r].psnr_db());
-    ring["rmse"] = number_or_null_json(std::sqrt(m[r].error_mse));
+    ring["flicker"] = metrics::number_or_null_json(m[r].flicker_rms);
+    ring["flicker_tracked"] = metrics::number_or_null_json(m[r].flicker_tracked_rms);
+    ring["flicker_csf"] = metrics::number_or_null_json(m[r].flicker_csf_rms);
+    ring["psnr"] = metrics::number_or_null_json(m[r].psnr_db());
+    ring["rmse"] = metrics::number_or_null_json(std::sqrt(m[r].error_mse));
     rings.push_back(ring);
   }
   j["rings"] = rings;
@@ -358,4 +358,4 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
   return j;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -8,22 +8,22 @@
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
-std::optional<foveation::ScriptedMotion> load_motion(const std::string& spec, std::string* error) {
-  if (spec == "builtin") return foveation::builtin_motion(1);
+std::optional<motion::ScriptedMotion> load_motion(const std::string& spec, std::string* error) {
+  if (spec == "builtin") return motion::builtin_motion(1);
   if (spec.empty()) {
     *error = "--motion: expected 'builtin' or a CSV file";
     return std::nullopt;
   }
-  std::optional<foveation::ScriptedMotion> motion = foveation::load_motion_csv(spec, error);
+  std::optional<motion::ScriptedMotion> motion = motion::load_motion_csv(spec, error);
   if (!motion) *error = "--motion: " + *error;
   return motion;
 }
 
 namespace {
 
-std::string motion_window_problem(const foveation::ScriptedMotion& motion, const MotionWindow& w) {
+std::string motion_window_problem(const motion::ScriptedMotion& motion, const MotionWindow& w) {
   std::ostringstream s;
   if (!std::isfinite(w.fps) || w.fps < 1.0 || w.fps > 1000.0) return "--fps must be in 1..1000";
   if (w.frames < 2) return "--frames must be at least 2 with --motion (flicker needs pairs of frames)";
@@ -43,22 +43,22 @@ std::string motion_window_problem(const foveation::ScriptedMotion& motion, const
 
 }  // namespace
 
-bool check_motion_window(const foveation::ScriptedMotion& motion, const MotionWindow& w, std::string* error) {
+bool check_motion_window(const motion::ScriptedMotion& motion, const MotionWindow& w, std::string* error) {
   std::string problem = motion_window_problem(motion, w);
   if (problem.empty()) return true;
   *error = std::move(problem);
   return false;
 }
 
-foveation::EyePose head_in_scene(const foveation::EyePose& scene_head, const foveation::MotionSample& sample) {
-  const foveation::EyePose in_local = foveation::head_pose_above_standing_eye(sample);
+foveation::EyePose head_in_scene(const foveation::EyePose& scene_head, const motion::MotionSample& sample) {
+  const foveation::EyePose in_local = motion::head_pose_above_standing_eye(sample);
   foveation::EyePose head;
   head.orientation = glm::normalize(scene_head.orientation * in_local.orientation);
   head.position_m = scene_head.position_m + scene_head.orientation * in_local.position_m;
   return head;
 }
 
-std::vector<MotionFrame> motion_frames(const foveation::ScriptedMotion& motion, const MotionWindow& w,
+std::vector<MotionFrame> motion_frames(const motion::ScriptedMotion& motion, const MotionWindow& w,
                                        const FoveartEyeView& eye_at_rest, const foveation::EyePose& scene_head) {
   // The eye's offset from the head, in head space (the display's IPD, as render_view placed it).
   const foveation::EyePose rest = foveation::eye_pose(eye_at_rest);
@@ -72,7 +72,7 @@ std::vector<MotionFrame> motion_frames(const foveation::ScriptedMotion& motion, 
     MotionFrame f;
     f.index = i;
     f.time_s = w.start_s + double(i) / w.fps;
-    const foveation::MotionSample s = motion.at(f.time_s);
+    const motion::MotionSample s = motion.at(f.time_s);
     foveation::EyePose eye = head_in_scene(scene_head, s);
     eye.position_m += eye.orientation * eye_offset_head;
     f.view = eye_at_rest;
@@ -98,4 +98,4 @@ std::vector<MotionFrame> motion_frames(const foveation::ScriptedMotion& motion, 
   return frames;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 std::string number(double v) {
@@ -121,4 +121,4 @@ bool expand_grid(const PriceGrid& g, std::vector<PriceSetting>* out, std::string
   return false;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

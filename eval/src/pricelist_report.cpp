@@ -3,7 +3,7 @@
 
 #include <eval/pricelist_temporal_report.hpp>
 
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <toolkit/plot.hpp>
 
@@ -11,14 +11,15 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <sstream>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
-constexpr std::size_t kRings = foveation::kRingCount;
+constexpr std::size_t kRings = metrics::kRingCount;
 
 double num(const Json& j) { return j.is_number() ? j.get<double>() : std::numeric_limits<double>::quiet_NaN(); }
 double ring_psnr(const Json& s, std::size_t r) { return num(s["rings"][r]["psnr"]); }
@@ -108,10 +109,10 @@ std::string fair_headline(const std::vector<Json>& all, const PricelistContext& 
 
 std::string ring_name(std::size_t r) {
   char buf[32];
-  if (std::isinf(foveation::kRingEdgesDeg[r + 1]))
-    std::snprintf(buf, sizeof buf, ">%g", foveation::kRingEdgesDeg[r]);
+  if (std::isinf(metrics::kRingEdgesDeg[r + 1]))
+    std::snprintf(buf, sizeof buf, ">%g", metrics::kRingEdgesDeg[r]);
   else
-    std::snprintf(buf, sizeof buf, "%g-%g", foveation::kRingEdgesDeg[r], foveation::kRingEdgesDeg[r + 1]);
+    std::snprintf(buf, sizeof buf, "%g-%g", metrics::kRingEdgesDeg[r], metrics::kRingEdgesDeg[r + 1]);
   return buf;
 }
 
@@ -147,29 +148,42 @@ std::optional<std::size_t> equal_time_full(const std::vector<Json>& all, std::si
   return best;
 }
 
-std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& ctx, std::vector<Json> all,
-                            std::string* headline) {
-  // Fronts per ring over every setting (full renders included: a user may pick either).
-  std::vector<double> cost(all.size());
+namespace {
+
+// The full renders without and with TAA, each by rays per pixel.
+struct FullRenders {
+  std::vector<const Json*> plain, taa;
+};
+
+FullRenders full_renders(const std::vector<Json>& all) {
+  FullRenders f;
+  for (const Json& s : all)
+    if (s["kind"] == "full") (has_taa(s) ? f.taa : f.plain).push_back(&s);
+  std::sort(f.plain.begin(), f.plain.end(), [](const Json* a, const Json* b) { return (*a)["spp"] < (*b)["spp"]; });
+  return f;
+}
+
+// The Pareto front of every ring over every setting (full renders included: a user may pick
+// either), each setting's "front_rings" set; cost[i] is setting i's time in percent.
+std::vector<std::vector<std::size_t>> mark_fronts(std::vector<Json>& all, std::vector<double>* cost) {
+  cost->assign(all.size(), 0.0);
   for (std::size_t i = 0; i < all.size(); ++i) {
-    cost[i] = time_pct(all[i]);
+    (*cost)[i] = time_pct(all[i]);
     all[i]["front_rings"] = Json::array();
   }
   std::vector<std::vector<std::size_t>> fronts(kRings);
   for (std::size_t r = 0; r < kRings; ++r) {
     std::vector<double> acc(all.size());
     for (std::size_t i = 0; i < all.size(); ++i) acc[i] = ring_psnr(all[i], r);
-    fronts[r] = pareto_front(cost, acc);
+    fronts[r] = pareto_front(*cost, acc);
     for (std::size_t i : fronts[r]) all[i]["front_rings"].push_back(r);
   }
-  add_equal_time(all);
+  return fronts;
+}
 
-  // Sanity: the full render's error (without TAA) falls with rays per pixel in every ring;
-  // the reference's residual is >= 10 dB below the best setting in every ring.
-  std::vector<const Json*> full, full_taa;
-  for (const Json& s : all)
-    if (s["kind"] == "full") (has_taa(s) ? full_taa : full).push_back(&s);
-  std::sort(full.begin(), full.end(), [](const Json* a, const Json* b) { return (*a)["spp"] < (*b)["spp"]; });
+// Sanity: the full render's error (without TAA) falls with rays per pixel in every ring;
+// the reference's residual is >= 10 dB below the best setting in every ring.
+Json sanity_json(const std::vector<Json>& all, const std::vector<const Json*>& full, const PricelistContext& ctx) {
   Json sanity = {{"full_error_falls_with_spp", true}, {"full_error_failures", Json::array()},
                  {"reference_10db_below_best", true}, {"reference_margin_db", Json::array()}};
   for (std::size_t r = 0; r < kRings; ++r) {
@@ -185,13 +199,16 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     double best = -std::numeric_limits<double>::infinity();
     for (const Json& s : all)
       if (!std::isnan(ring_psnr(s, r))) best = std::max(best, ring_psnr(s, r));
-    const double residual = num(ctx.reference["residual_psnr"][r]);
-    const double margin = residual - best;
+    const double margin = num(ctx.reference["residual_psnr"][r]) - best;
     sanity["reference_margin_db"].push_back(std::isfinite(margin) ? Json(margin) : Json(nullptr));
     if (std::isfinite(margin) && margin < 10.0) sanity["reference_10db_below_best"] = false;
   }
+  return sanity;
+}
 
-  // Headline.
+// The headline's first sentences: the thesis's default against the full render at 1 ray per pixel in
+// the fovea, the cheapest setting within 0.5 dB of it inside 10 deg, and the fair comparisons.
+std::string still_headline(const std::vector<Json>& all, const PricelistContext& ctx) {
   std::ostringstream h;
   const Json* full1 = find(all, "full_spp1");
   const Json* def = find(all, ctx.thesis_default);
@@ -216,143 +233,141 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
     h << "(the headline needs full_spp1 and " << ctx.thesis_default << " in the grid)";
   }
   if (const std::string fair = fair_headline(all, ctx, def); !fair.empty()) h << " " << fair;
-  // The temporal columns: the acceptance at the layer's defaults (else the first TAA setting measured).
-  Json temporal = ctx.temporal;
-  Json acceptance, temporal_checks;
-  if (temporal.is_object()) {
-    std::string setting = kTemporalHeadlineSetting;
-    bool measured = false;
-    for (const Json& t : temporal["tracks"]) measured = measured || t["id"] == setting + "_taa-off";
-    if (!measured)
-      for (const Json& t : temporal["tracks"])
-        if (t["taa"] == "off") {
-          const std::string id = t["id"].get<std::string>();
-          setting = id.substr(0, id.size() - std::string("_taa-off").size());
-          break;
-        }
-    acceptance = temporal_acceptance(temporal, setting);
-    temporal_checks = temporal_sanity(temporal);
-    temporal["acceptance"] = acceptance;
-    temporal["sanity"] = temporal_checks;
-    if (const std::string t = temporal_headline(temporal, acceptance); !t.empty()) h << " " << t;
-    if (const std::string t = temporal_render_cache_line(acceptance); !t.empty()) h << " " << t;
-  }
-  *headline = h.str();
+  return h.str();
+}
 
-  Json doc = {{"run", ctx.run}, {"reference", ctx.reference}, {"sanity", sanity}, {"headline", *headline},
-              {"rings_deg", Json::array()}, {"settings", all}, {"temporal", temporal}};
-  if (temporal.is_object()) {
-    if (std::string e = write_temporal_csv(dir / "temporal.csv", temporal); !e.empty()) return e;
-    if (std::string e = write_temporal_plots(dir, temporal, acceptance); !e.empty()) return e;
-  }
-  for (std::size_t r = 0; r < kRings; ++r) doc["rings_deg"].push_back(ring_name(r));
-  {
-    std::ofstream f(dir / "pricelist.json");
-    f << doc.dump(2) << "\n";
-    if (!f) return "cannot write " + (dir / "pricelist.json").string();
-  }
+// The temporal columns read: the acceptance at the layer's defaults (else the first TAA setting
+// measured) and the reference floor's checks, added to `temporal`; their sentences onto *headline.
+struct TemporalReading {
+  Json temporal, acceptance, checks;
+};
 
-  // CSV: one row per setting.
-  {
-    std::ofstream f(dir / "pricelist.csv");
-    f << "id,kind,method,k,scale,pattern,taa,spp,points,rays_primary,rays_shadow,rays_reflection,rays_refraction,"
-         "rays_total,ms_select,ms_trace,ms_reconstruct,ms_taa,ms_total,anchor_full_ms,time_fraction,psnr,ssim,csf_rmse";
+TemporalReading read_temporal(const PricelistContext& ctx, std::string* headline) {
+  TemporalReading t{ctx.temporal, {}, {}};
+  if (!t.temporal.is_object()) return t;
+  std::string setting = kTemporalHeadlineSetting;
+  bool measured = false;
+  for (const Json& track : t.temporal["tracks"]) measured = measured || track["id"] == setting + "_taa-off";
+  if (!measured)
+    for (const Json& track : t.temporal["tracks"])
+      if (track["taa"] == "off") {
+        const std::string id = track["id"].get<std::string>();
+        setting = id.substr(0, id.size() - std::string("_taa-off").size());
+        break;
+      }
+  t.acceptance = temporal_acceptance(t.temporal, setting);
+  t.checks = temporal_sanity(t.temporal);
+  t.temporal["acceptance"] = t.acceptance;
+  t.temporal["sanity"] = t.checks;
+  if (const std::string line = temporal_headline(t.temporal, t.acceptance); !line.empty()) *headline += " " + line;
+  if (const std::string line = temporal_render_cache_line(t.acceptance); !line.empty()) *headline += " " + line;
+  return t;
+}
+
+std::string csv_cell(const Json& j) {
+  if (j.is_null()) return "";
+  if (j.is_string()) return j.get<std::string>();
+  if (j.is_boolean()) return j.get<bool>() ? "1" : "0";
+  if (j.is_number_float()) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", j.get<double>());
+    return buf;
+  }
+  return j.dump();
+}
+
+// pricelist.csv: one row per setting. False and *error naming the file.
+[[nodiscard]] bool write_csv(const std::filesystem::path& file, const std::vector<Json>& all, std::string* error) {
+  std::ofstream f(file);
+  f << "id,kind,method,k,scale,pattern,taa,spp,points,rays_primary,rays_shadow,rays_reflection,rays_refraction,"
+       "rays_total,ms_select,ms_trace,ms_reconstruct,ms_taa,ms_total,anchor_full_ms,time_fraction,psnr,ssim,csf_rmse";
+  for (std::size_t r = 0; r < kRings; ++r)
+    for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
+  for (std::size_t r = 0; r < kRings; ++r) f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
+  f << "\n";
+  for (const Json& s : all) {
+    const bool fov = s["kind"] == "foveated";
+    f << csv_cell(s["id"]) << "," << csv_cell(s["kind"]) << "," << (fov ? csv_cell(s["method"]) : "") << ","
+      << (fov ? csv_cell(s["k"]) : "") << "," << (fov ? csv_cell(s["scale"]) : "") << ","
+      << (fov ? csv_cell(s["pattern"]) : "") << "," << csv_cell(Json(has_taa(s))) << "," << csv_cell(s["spp"]) << ","
+      << csv_cell(s["points"]);
+    for (const char* k : {"primary", "shadow", "reflection", "refraction", "total"}) f << "," << csv_cell(s["rays"][k]);
+    for (const char* k : {"select", "trace", "reconstruct", "taa", "total"}) f << "," << csv_cell(s["ms"][k]);
+    f << "," << csv_cell(s["anchor_full_ms"]) << "," << csv_cell(s["time_fraction"]) << "," << csv_cell(s["psnr"])
+      << "," << csv_cell(s["ssim"]) << "," << csv_cell(s["csf_rmse"]);
     for (std::size_t r = 0; r < kRings; ++r)
-      for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
-    for (std::size_t r = 0; r < kRings; ++r)
-      f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
+      for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << csv_cell(s["rings"][r][m]);
+    for (std::size_t r = 0; r < kRings; ++r) {  // full renders: empty; "none": no full render that cheap
+      const Json e = fov ? s["equal_time_full"][r] : Json();
+      f << "," << (!fov ? "" : e.is_null() ? "none" : csv_cell(e["id"]));
+      f << "," << (e.is_null() ? "" : csv_cell(e["gain_db"]));
+    }
     f << "\n";
-    const auto cell = [](const Json& j) -> std::string {
-      if (j.is_null()) return "";
-      if (j.is_string()) return j.get<std::string>();
-      if (j.is_boolean()) return j.get<bool>() ? "1" : "0";
-      if (j.is_number_float()) {
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "%.17g", j.get<double>());
-        return buf;
-      }
-      return j.dump();
-    };
-    for (const Json& s : all) {
-      const bool fov = s["kind"] == "foveated";
-      f << cell(s["id"]) << "," << cell(s["kind"]) << "," << (fov ? cell(s["method"]) : "") << ","
-        << (fov ? cell(s["k"]) : "") << "," << (fov ? cell(s["scale"]) : "") << "," << (fov ? cell(s["pattern"]) : "")
-        << "," << cell(Json(has_taa(s))) << "," << cell(s["spp"]) << "," << cell(s["points"]);
-      for (const char* k : {"primary", "shadow", "reflection", "refraction", "total"}) f << "," << cell(s["rays"][k]);
-      for (const char* k : {"select", "trace", "reconstruct", "taa", "total"}) f << "," << cell(s["ms"][k]);
-      f << "," << cell(s["anchor_full_ms"]) << "," << cell(s["time_fraction"]) << "," << cell(s["psnr"]) << ","
-        << cell(s["ssim"]) << "," << cell(s["csf_rmse"]);
-      for (std::size_t r = 0; r < kRings; ++r)
-        for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << cell(s["rings"][r][m]);
-      for (std::size_t r = 0; r < kRings; ++r) {  // full renders: empty; "none": no full render that cheap
-        const Json e = fov ? s["equal_time_full"][r] : Json();
-        f << "," << (!fov ? "" : e.is_null() ? "none" : cell(e["id"]));
-        f << "," << (e.is_null() ? "" : cell(e["gain_db"]));
-      }
-      f << "\n";
-    }
-    if (!f) return "cannot write " + (dir / "pricelist.csv").string();
   }
+  if (!f) *error = "cannot write " + file.string();
+  return static_cast<bool>(f);
+}
 
-  // Pareto plots: time (% of a full frame at 1 ray per pixel) against PSNR per ring.
-  const auto plot_ring = [&](std::size_t r, const std::string& file, const std::string& title) {
-    toolkit::PlotSeries full_curve{"full render 1-16 spp", {}, {}, false};
-    toolkit::PlotSeries grid{"foveated, pixel-grid fovea", {}, {}, true};
-    toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
-    toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
-    toolkit::PlotSeries history_curve{"full render + TAA", {}, {}, true};
-    toolkit::PlotSeries front{"Pareto front", {}, {}, false};
-    const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
-    for (const Json* s : full) {
-      full_curve.x.push_back(x_of(time_pct(*s)));
-      full_curve.y.push_back(ring_psnr(*s, r));
-    }
-    for (const Json* s : full_taa) {
-      history_curve.x.push_back(x_of(time_pct(*s)));
-      history_curve.y.push_back(ring_psnr(*s, r));
-    }
-    for (const Json& s : all) {
-      if (s["kind"] != "foveated") continue;
-      toolkit::PlotSeries& to = s["taa"].get<bool>() ? taa : (s["pattern"] == "thesis" ? thesis : grid);
-      to.x.push_back(x_of(time_pct(s)));
-      to.y.push_back(ring_psnr(s, r));
-    }
-    for (std::size_t i : fronts[r]) {
-      front.x.push_back(x_of(cost[i]));
-      front.y.push_back(ring_psnr(all[i], r));
-    }
-    toolkit::PlotSpec spec;
-    spec.title = title;
-    spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
-    spec.y_label = "PSNR against the reference (dB)";
-    const std::vector<toolkit::PlotSeries> series = {full_curve, front, grid, thesis, taa, history_curve};
-    // A ring without a finite PSNR (empty at this size) gets no plot.
-    return toolkit::has_finite_point(series) ? toolkit::write_plot_png((dir / file).string(), spec, series)
-                                             : std::string();
+// The Pareto plot of one ring: time (% of a full frame at 1 ray per pixel) against PSNR. "" or what
+// could not be written; nothing is drawn for a ring without a finite PSNR (empty at this size).
+std::string plot_ring(const std::filesystem::path& file, const std::string& title, std::size_t r,
+                      const std::vector<Json>& all, const FullRenders& full, const std::vector<std::size_t>& front,
+                      const std::vector<double>& cost) {
+  toolkit::PlotSeries full_curve{"full render 1-16 spp", {}, {}, false};
+  toolkit::PlotSeries grid{"foveated, pixel-grid fovea", {}, {}, true};
+  toolkit::PlotSeries thesis{"foveated, thesis fovea", {}, {}, true};
+  toolkit::PlotSeries taa{"foveated + TAA", {}, {}, true};
+  toolkit::PlotSeries history_curve{"full render + TAA", {}, {}, true};
+  toolkit::PlotSeries front_curve{"Pareto front", {}, {}, false};
+  const auto x_of = [](double pct) { return std::log2(pct / 100.0); };
+  const auto add = [&](toolkit::PlotSeries& to, const Json& s) {
+    to.x.push_back(x_of(time_pct(s)));
+    to.y.push_back(ring_psnr(s, r));
   };
-  for (std::size_t r = 0; r < kRings; ++r) {
-    const std::string e = plot_ring(r, "pareto_ring" + std::to_string(r) + ".png",
-                                    "Price list, ring " + ring_name(r) + " deg: time against accuracy");
-    if (!e.empty()) return e;
+  for (const Json* s : full.plain) add(full_curve, *s);
+  for (const Json* s : full.taa) add(history_curve, *s);
+  for (const Json& s : all)
+    if (s["kind"] == "foveated") add(s["taa"].get<bool>() ? taa : (s["pattern"] == "thesis" ? thesis : grid), s);
+  for (std::size_t i : front) {
+    front_curve.x.push_back(x_of(cost[i]));
+    front_curve.y.push_back(ring_psnr(all[i], r));
   }
-  if (std::string e = plot_ring(0, "pricelist.png", "What accuracy costs in the fovea (0-2.5 deg)"); !e.empty())
-    return e;
+  toolkit::PlotSpec spec;
+  spec.title = title;
+  spec.x_label = "log2 (frame time / full frame at 1 ray per pixel): -2 = 25%, 0 = 100%, 3 = 800%";
+  spec.y_label = "PSNR against the reference (dB)";
+  const std::vector<toolkit::PlotSeries> series = {full_curve, front_curve, grid, thesis, taa, history_curve};
+  return toolkit::has_finite_point(series) ? toolkit::write_plot_png(file.string(), spec, series) : std::string();
+}
 
-  // report.md
-  std::ofstream md(dir / "report.md");
+[[nodiscard]] bool write_plots(const std::filesystem::path& dir, const std::vector<Json>& all, const FullRenders& full,
+                               const std::vector<std::vector<std::size_t>>& fronts, const std::vector<double>& cost,
+                               std::string* error) {
+  for (std::size_t r = 0; r < kRings; ++r) {
+    *error = plot_ring(dir / ("pareto_ring" + std::to_string(r) + ".png"),
+                       "Price list, ring " + ring_name(r) + " deg: time against accuracy", r, all, full, fronts[r], cost);
+    if (!error->empty()) return false;
+  }
+  *error = plot_ring(dir / "pricelist.png", "What accuracy costs in the fovea (0-2.5 deg)", 0, all, full, fronts[0], cost);
+  return error->empty();
+}
+
+// report.md's head: the run, the headline, the reference and the sanity checks.
+void write_md_head(std::ostream& md, const PricelistContext& ctx, const std::string& headline, const Json& sanity) {
   md << "# Price list: " << ctx.run["scene"].get<std::string>() << ", " << ctx.run["width"] << "x" << ctx.run["height"]
      << ", gaze (" << fmt(num(ctx.run["gaze"][0]), 0) << ", " << fmt(num(ctx.run["gaze"][1]), 0) << ")\n\n"
      << "Written by `" << ctx.command << "` on " << ctx.run.value("machine", std::string("?")) << ", "
      << ctx.run.value("threads", 0) << " threads, in " << fmt(ctx.run.value("run_s", 0.0), 0)
      << " s. The numbers below are that run's own output; rerun the command to update them.\n\n"
-     << *headline << "\n\n"
+     << headline << "\n\n"
      << "Times are each setting's median frame "
      << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it. "
      << "`full_sppN_taa` is the full render with the foveated + TAA settings' history: the same "
      << ctx.run.value("taa_frames", 0) << " frames of new jitter, the same blend; its time is trace + blend.\n\n"
      << "Reference: " << ctx.reference["spp"] << " rays per pixel; residual PSNR per ring (MSE(A,B)/4 of two "
      << "independent halves):";
-  for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << ": " << fmt(num(ctx.reference["residual_psnr"][r])) << " dB;";
+  for (std::size_t r = 0; r < kRings; ++r)
+    md << " " << ring_name(r) << ": " << fmt(num(ctx.reference["residual_psnr"][r])) << " dB;";
   md << " convergence check " << (ctx.reference.value("converged", true) ? "met" : "**not met** (stopped at its cap)")
      << ", counts tried " << ctx.reference["spp_tried"].dump() << ", each doubling lowered the residual by";
   if (ctx.reference.contains("db_per_doubling"))
@@ -363,63 +378,108 @@ std::string write_pricelist(const std::filesystem::path& dir, const PricelistCon
   for (const Json& f : sanity["full_error_failures"]) md << "; " << f.get<std::string>();
   md << ". Reference residual >= 10 dB below the best setting in every ring: "
      << (sanity["reference_10db_below_best"].get<bool>() ? "yes" : "**no**") << " (margins";
-  for (std::size_t r = 0; r < kRings; ++r) md << " " << fmt(num(sanity["reference_margin_db"][r])) ;
+  for (std::size_t r = 0; r < kRings; ++r) md << " " << fmt(num(sanity["reference_margin_db"][r]));
   md << " dB).\n\n![fovea](pricelist.png)\n\n";
+}
+
+// report.md's section of one ring: its front with ms and rays per dB, and each foveated setting on it
+// against the full render at equal time. ms_of: a setting's time fraction x full_spp1's ms.
+void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all, const std::vector<std::size_t>& front,
+                   const std::function<double(const Json&)>& ms_of) {
+  md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
+     << "| on the front | time % | ms | rays (total) | PSNR dB | SSIM | CSF dB | ms per dB | rays per dB |\n"
+     << "|---|---|---|---|---|---|---|---|---|\n";
+  const Json* prev = nullptr;
+  for (std::size_t i : front) {
+    const Json& s = all[i];
+    std::string ms_db = "-", rays_db = "-";
+    if (prev) {
+      const double ddb = ring_psnr(s, r) - ring_psnr(*prev, r);
+      if (ddb > 0) {
+        ms_db = fmt((ms_of(s) - ms_of(*prev)) / ddb, 2);
+        rays_db = fmt((num(s["rays"]["total"]) - num((*prev)["rays"]["total"])) / ddb, 0);
+      }
+    }
+    md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ms_of(s)) << " | "
+       << s["rays"]["total"] << " | " << fmt(ring_psnr(s, r), 2) << " | " << fmt(num(s["rings"][r]["ssim"]), 3)
+       << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db << " | " << rays_db << " |\n";
+    prev = &s;
+  }
+  const bool any_foveated =
+      std::any_of(front.begin(), front.end(), [&](std::size_t i) { return all[i]["kind"] == "foveated"; });
+  md << "\nAt equal time, ring " << ring_name(r) << " deg:"
+     << (any_foveated ? "\n\n| foveated on the front | time % | PSNR dB | full render no slower | its time % | "
+                        "its PSNR dB | gain dB |\n|---|---|---|---|---|---|---|\n"
+                      : " no foveated setting is on this ring's front.\n");
+  for (std::size_t i : front) {
+    const Json& s = all[i];
+    if (s["kind"] != "foveated") continue;
+    const Json& e = s["equal_time_full"][r];
+    md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ring_psnr(s, r), 2);
+    if (e.is_null())
+      md << " | none that cheap | - | - | - |\n";
+    else
+      md << " | " << e["id"].get<std::string>() << " | " << fmt(100.0 * num(e["time_fraction"]), 1) << " | "
+         << fmt(num(e["psnr"]), 2) << " | " << fmt(num(e["gain_db"]), 2) << " |\n";
+  }
+  md << "\n";
+}
+
+// report.md: the head, a section per ring, the temporal columns, and where the rest is.
+[[nodiscard]] bool write_md(const std::filesystem::path& file, const PricelistContext& ctx, const std::string& headline,
+                            const Json& sanity, const std::vector<Json>& all,
+                            const std::vector<std::vector<std::size_t>>& fronts, const TemporalReading& t,
+                            std::string* error) {
+  std::ofstream md(file);
+  write_md_head(md, ctx, headline, sanity);
   // ms at the pace of the full group's frames: time fraction x full_spp1's ms (the groups ran
   // minutes apart on a shared machine; the fraction is what each measured against its anchor).
+  const Json* full1 = find(all, "full_spp1");
   const double full1_ms = full1 ? num((*full1)["ms"]["total"]) : std::numeric_limits<double>::quiet_NaN();
-  const auto ms_of = [&](const Json& s) { return num(s["time_fraction"]) * full1_ms; };
   md << "Columns: time % of a full frame at 1 ray per pixel (measured against the anchor frames interleaved "
      << "with it); ms = that fraction x the full render's " << fmt(full1_ms) << " ms; rays traced in all "
      << "(primary + shadow + reflection + refraction); PSNR, SSIM and the CSF-weighted error (as dB) in the ring "
      << "against the reference; ms per dB and rays per dB from the previous setting on the front. "
      << "At equal time: each foveated setting on the front against the most accurate full render (with or "
      << "without TAA) that takes no more time, and how many dB it gains on it in the ring.\n\n";
-  for (std::size_t r = 0; r < kRings; ++r) {
-    md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
-       << "| on the front | time % | ms | rays (total) | PSNR dB | SSIM | CSF dB | ms per dB | rays per dB |\n"
-       << "|---|---|---|---|---|---|---|---|---|\n";
-    const Json* prev = nullptr;
-    for (std::size_t i : fronts[r]) {
-      const Json& s = all[i];
-      std::string ms_db = "-", rays_db = "-";
-      if (prev) {
-        const double ddb = ring_psnr(s, r) - ring_psnr(*prev, r);
-        if (ddb > 0) {
-          ms_db = fmt((ms_of(s) - ms_of(*prev)) / ddb, 2);
-          rays_db = fmt((num(s["rays"]["total"]) - num((*prev)["rays"]["total"])) / ddb, 0);
-        }
-      }
-      md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ms_of(s))
-         << " | " << s["rays"]["total"] << " | " << fmt(ring_psnr(s, r), 2) << " | "
-         << fmt(num(s["rings"][r]["ssim"]), 3) << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db
-         << " | " << rays_db << " |\n";
-      prev = &s;
-    }
-    const bool any_foveated =
-        std::any_of(fronts[r].begin(), fronts[r].end(), [&](std::size_t i) { return all[i]["kind"] == "foveated"; });
-    md << "\nAt equal time, ring " << ring_name(r) << " deg:"
-       << (any_foveated ? "\n\n| foveated on the front | time % | PSNR dB | full render no slower | its time % | "
-                          "its PSNR dB | gain dB |\n|---|---|---|---|---|---|---|\n"
-                        : " no foveated setting is on this ring's front.\n");
-    for (std::size_t i : fronts[r]) {
-      const Json& s = all[i];
-      if (s["kind"] != "foveated") continue;
-      const Json& e = s["equal_time_full"][r];
-      md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ring_psnr(s, r), 2);
-      if (e.is_null())
-        md << " | none that cheap | - | - | - |\n";
-      else
-        md << " | " << e["id"].get<std::string>() << " | " << fmt(100.0 * num(e["time_fraction"]), 1) << " | "
-           << fmt(num(e["psnr"]), 2) << " | " << fmt(num(e["gain_db"]), 2) << " |\n";
-    }
-    md << "\n";
-  }
-  if (temporal.is_object()) write_temporal_markdown(md, temporal, acceptance, temporal_checks);
+  for (std::size_t r = 0; r < kRings; ++r)
+    write_md_ring(md, r, all, fronts[r], [&](const Json& s) { return num(s["time_fraction"]) * full1_ms; });
+  if (t.temporal.is_object()) write_temporal_markdown(md, t.temporal, t.acceptance, t.checks);
   md << "## Every setting\n\nSee `pricelist.csv` (one row per setting) and `pricelist.json`. Error heat map of "
      << ctx.heatmap << ": ![heat map](heatmap.png)\n";
-  if (!md) return "cannot write " + (dir / "report.md").string();
-  return "";
+  if (!md) *error = "cannot write " + file.string();
+  return static_cast<bool>(md);
 }
 
-}  // namespace foveart::tools
+}  // namespace
+
+bool write_pricelist(const std::filesystem::path& dir, const PricelistContext& ctx, std::vector<Json> all,
+                     std::string* headline, std::string* error) {
+  std::vector<double> cost;
+  const std::vector<std::vector<std::size_t>> fronts = mark_fronts(all, &cost);
+  add_equal_time(all);
+  const FullRenders full = full_renders(all);
+  const Json sanity = sanity_json(all, full.plain, ctx);
+  *headline = still_headline(all, ctx);
+  const TemporalReading t = read_temporal(ctx, headline);
+  Json doc = {{"run", ctx.run}, {"reference", ctx.reference}, {"sanity", sanity}, {"headline", *headline},
+              {"rings_deg", Json::array()}, {"settings", all}, {"temporal", t.temporal}};
+  for (std::size_t r = 0; r < kRings; ++r) doc["rings_deg"].push_back(ring_name(r));
+  if (t.temporal.is_object()) {
+    *error = write_temporal_csv(dir / "temporal.csv", t.temporal);
+    if (error->empty()) *error = write_temporal_plots(dir, t.temporal, t.acceptance);
+    if (!error->empty()) return false;
+  }
+  {
+    std::ofstream f(dir / "pricelist.json");
+    f << doc.dump(2) << "\n";
+    if (!f) {
+      *error = "cannot write " + (dir / "pricelist.json").string();
+      return false;
+    }
+  }
+  return write_csv(dir / "pricelist.csv", all, error) && write_plots(dir, all, full, fronts, cost, error) &&
+         write_md(dir / "report.md", ctx, *headline, sanity, all, fronts, t, error);
+}
+
+}  // namespace foveart::eval

@@ -1,8 +1,8 @@
 // The price list's temporal pass (pricelist_temporal.hpp).
 #include <eval/pricelist_temporal.hpp>
 
-#include "render_options.hpp"
-#include "taa_modes.hpp"
+#include <render_view/render_options.hpp>
+#include <eval/taa_modes.hpp>
 #include <eval/results_jsonl.hpp>
 #include <eval/motion_sequence.hpp>
 #include <eval/motion_views.hpp>
@@ -20,7 +20,7 @@
 #include <set>
 #include <utility>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
@@ -59,7 +59,7 @@ namespace {
 std::string temporal_options_problem(const TemporalOptions& o) {
   if (o.motion == "none") return "";
   std::string error;
-  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, &error);
   if (!motion) return error;
   MotionWindow w;
   w.start_s = o.start_s;
@@ -103,18 +103,18 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
                                            foveation::Executor& executor, std::ostream& err) {
   const TemporalOptions& o = c.options;
   std::string error;
-  const std::optional<foveation::ScriptedMotion> motion = load_motion(o.motion, &error);
+  const std::optional<motion::ScriptedMotion> motion = load_motion(o.motion, &error);
   if (!motion) {  // checked before the run; the file may have gone since
-    err << "fovea pricelist: " << error << "\n";
+    err << "fovea-eval pricelist: " << error << "\n";
     return std::nullopt;
   }
-  RenderOptions view_options;
+  render_view::RenderOptions view_options;
   view_options.scene = c.scene;
   view_options.preset = c.preset;
   view_options.eye = c.eye;
   view_options.size_px = temporal_size(o, c.quick);
   view_options.seed = c.seed;
-  const FoveartEyeView eye_at_rest = render_view(view_options, tracer.scene());
+  const FoveartEyeView eye_at_rest = render_view::eye_view(view_options, tracer.scene());
   const engine::Camera head = engine::scene_head(tracer.scene());
   MotionWindow window;
   window.start_s = o.start_s;
@@ -127,7 +127,7 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
   std::map<std::string, Json> done = read_results_jsonl(results_file, err);
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
-    err << "fovea pricelist: cannot write " << results_file.string() << "\n";
+    err << "fovea-eval pricelist: cannot write " << results_file.string() << "\n";
     return std::nullopt;
   }
   const std::vector<TemporalGroup> groups = temporal_groups(settings);
@@ -140,9 +140,9 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
   if (todo.empty() && !groups.empty() && (!done.count("full_spp1") || !done.count("reference")))
     todo.push_back(&groups.front());  // the full render or the reference is missing: measure them with one group
   if (groups.empty()) {
-    err << "fovea pricelist: no TAA setting in the grid (--taa-rays): no temporal columns\n";
+    err << "fovea-eval pricelist: no TAA setting in the grid (--taa-rays): no temporal columns\n";
   } else {
-    err << "fovea pricelist: temporal columns: " << groups.size() << " TAA setting(s) x off/restart/reproject/cache over "
+    err << "fovea-eval pricelist: temporal columns: " << groups.size() << " TAA setting(s) x off/restart/reproject/cache over "
         << o.frames << " frames of the " << o.motion << " motion at " << eye_at_rest.width_px << "x"
         << eye_at_rest.height_px << ", " << groups.size() - todo.size() << " already measured in "
         << results_file.string() << "\n";
@@ -161,18 +161,18 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
     full.id = "full_spp1";
     full.full = true;
     tracks.push_back(std::move(full));
-    RenderOptions ro = view_options;
+    render_view::RenderOptions ro = view_options;
     ro.mode = "foveated";
     ro.interpolation = s.interpolation;
     ro.k = s.k;
     ro.density_scale = s.density_scale;
     ro.pattern = s.pattern;
     ro.rays_per_point = s.rays_per_point;
-    const std::shared_ptr<const foveation::ViewTables> tables = load_foveated_tables(
+    const std::shared_ptr<const foveation::ViewTables> tables = render_view::load_foveated_tables(
         ro, eye_at_rest, fs::path(c.cache_dir), executor,
-        [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; }, &error);
+        [&](const std::string& m) { err << "fovea-eval pricelist: " << m << "\n"; }, &error);
     if (!tables) {
-      err << "fovea pricelist: " << s.id() << ": " << error << "\n";
+      err << "fovea-eval pricelist: " << s.id() << ": " << error << "\n";
       return std::nullopt;
     }
     for (const char* mode : kTaaModes) {
@@ -184,14 +184,14 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
       tracks.push_back(std::move(t));
     }
     SequenceHooks hooks;
-    hooks.log = [&](const std::string& m) { err << "fovea pricelist: " << m << "\n"; };
+    hooks.log = [&](const std::string& m) { err << "fovea-eval pricelist: " << m << "\n"; };
     hooks.frame_done = [&](int frame, int total) {
       progress.update((double(gi) + double(frame) / double(total)) / double(todo.size()));
     };
     SequenceRun run;
     ref.controls = !done.count("reference");  // the controls go into the reference's line, written once
     if (!run_sequence(tracer, scene_hash, frames, ref, tracks, executor, hooks, &run, &error)) {
-      err << "fovea pricelist: temporal " << s.id() << ": " << error << "\n";
+      err << "fovea-eval pricelist: temporal " << s.id() << ": " << error << "\n";
       return std::nullopt;
     }
     const double anchor_ms = median_ms(tracks.front().total_ms);
@@ -229,10 +229,10 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
     }
     results.flush();
     if (!results) {
-      err << "fovea pricelist: cannot write " << results_file.string() << "\n";
+      err << "fovea-eval pricelist: cannot write " << results_file.string() << "\n";
       return std::nullopt;
     }
-    err << "fovea pricelist: temporal [" << gi + 1 << "/" << todo.size() << "] " << s.id() << " measured (reference "
+    err << "fovea-eval pricelist: temporal [" << gi + 1 << "/" << todo.size() << "] " << s.id() << " measured (reference "
         << run.reference_frames_cached << "/" << frames.size() << " frames from the cache, "
         << std::lround(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()) << " s)\n";
   }
@@ -246,4 +246,4 @@ std::optional<Json> run_pricelist_temporal(const TemporalContext& c, const std::
   return out;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -3,9 +3,9 @@
 
 #include <eval/motion_sequence.hpp>
 #include <eval/pricelist_report.hpp>
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <toolkit/plot.hpp>
 
@@ -19,11 +19,11 @@
 #include <utility>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 using Json = nlohmann::ordered_json;
-constexpr std::size_t kRings = foveation::kRingCount;
+constexpr std::size_t kRings = metrics::kRingCount;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double num(const Json& j) { return j.is_number() ? j.get<double>() : kNaN; }
@@ -94,7 +94,7 @@ Json temporal_goal(const Json& off, const Json& history) {
     const std::string m = measure;
     Json ratio = Json::array();
     for (std::size_t r = 0; r < kRings; ++r)
-      ratio.push_back(number_or_null_json(ring_value(off, r, measure) / ring_value(history, r, measure)));
+      ratio.push_back(metrics::number_or_null_json(ring_value(off, r, measure) / ring_value(history, r, measure)));
     bool peripheral = true;
     for (std::size_t r = kPeripheralBand.begin; r < kPeripheralBand.end; ++r)
       peripheral = peripheral && ratio[r].is_number() && ratio[r].get<double>() >= 5.0;
@@ -105,7 +105,7 @@ Json temporal_goal(const Json& off, const Json& history) {
   }
   Json gain = Json::array();
   for (std::size_t r = 0; r < kRings; ++r)
-    gain.push_back(number_or_null_json(ring_value(history, r, "psnr") - ring_value(off, r, "psnr")));
+    gain.push_back(metrics::number_or_null_json(ring_value(history, r, "psnr") - ring_value(off, r, "psnr")));
   bool central = true;
   for (std::size_t r = kCentralBand.begin; r < kCentralBand.end; ++r)
     central = central && gain[r].is_number() && gain[r].get<double>() >= 0.0;
@@ -133,7 +133,7 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
       const std::string key = std::string(control.key) + "_" + m;
       Json ratio_control = Json::array();
       for (std::size_t r = 0; r < kRings; ++r)
-        ratio_control.push_back(number_or_null_json(
+        ratio_control.push_back(metrics::number_or_null_json(
             have_control ? ring_value(*off, r, measure) / ring_value(temporal["reference"], r, key.c_str()) : kNaN));
       a[m + "_ratio_off_over_" + control.key] = ratio_control;
     }
@@ -158,11 +158,11 @@ Json temporal_acceptance(const Json& temporal, const std::string& setting) {
     for (const char* measure : {"flicker", "flicker_tracked", "flicker_csf"}) {
       const std::string m = measure;
       const double o = settled_value(off_band, measure);
-      settled[m + "_ratio_off_over_reproject"] = number_or_null_json(o / settled_value(reproject_band, measure));
+      settled[m + "_ratio_off_over_reproject"] = metrics::number_or_null_json(o / settled_value(reproject_band, measure));
       for (const SequenceControl& control : kSequenceControls) {
         const std::string key = control.key;
         const Json* band = have_control ? periphery_of(temporal["reference"], key + "_bands") : nullptr;
-        settled[m + "_ratio_off_over_" + key] = number_or_null_json(o / settled_value(band, measure));
+        settled[m + "_ratio_off_over_" + key] = metrics::number_or_null_json(o / settled_value(band, measure));
       }
     }
     a["settled_periphery"] = settled;
@@ -191,9 +191,9 @@ Json temporal_sanity(const Json& temporal) {
     for (const Json& t : temporal["tracks"])
       if (std::isfinite(ring_value(t, r, "psnr"))) max_psnr = std::max(max_psnr, ring_value(t, r, "psnr"));
     const double em = ring_value(temporal["reference"], r, "psnr_floor") - max_psnr;
-    flicker_margin.push_back(number_or_null_json(fm));
-    error_margin.push_back(number_or_null_json(em));
-    csf_margin.push_back(number_or_null_json(cm));
+    flicker_margin.push_back(metrics::number_or_null_json(fm));
+    error_margin.push_back(metrics::number_or_null_json(em));
+    csf_margin.push_back(metrics::number_or_null_json(cm));
     if ((std::isfinite(fm) && fm < 10.0) || (std::isfinite(em) && em < 10.0)) ok = false;
     if (!std::isfinite(cm) || cm < 10.0) csf_ok = false;
   }
@@ -423,4 +423,4 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

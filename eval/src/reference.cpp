@@ -19,7 +19,7 @@
 #include <sstream>
 #include <unistd.h>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 constexpr char kMagic[8] = {'F', 'V', 'R', 'T', 'R', 'E', 'F', '1'};
@@ -56,8 +56,8 @@ float encode(float linear) {
 
 }  // namespace
 
-std::array<double, foveation::kRingCount> Reference::residual_mse(const foveation::EccentricityMap& map) const {
-  std::array<double, foveation::kRingCount> out{};
+std::array<double, metrics::kRingCount> Reference::residual_mse(const metrics::EccentricityMap& map) const {
+  std::array<double, metrics::kRingCount> out{};
   if (half_difference2.size() != map.ring.size()) {
     out.fill(std::numeric_limits<double>::quiet_NaN());
     return out;
@@ -202,9 +202,9 @@ std::string write_reference(const std::filesystem::path& file, std::uint64_t key
   return "";
 }
 
-std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* why) {
+std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* error) {
   const auto fail = [&](const std::string& what) -> std::optional<Reference> {
-    *why = "reference cache " + file.string() + ": " + what;
+    *error = "reference cache " + file.string() + ": " + what;
     return std::nullopt;
   };
   std::ifstream in(file, std::ios::binary);
@@ -247,7 +247,7 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
     *error = "reference rays per pixel must be 2, 4, ..., 16 or a multiple of 16, got " + std::to_string(o.spp);
     return std::nullopt;
   }
-  const foveation::EccentricityMap map = foveation::eccentricity_map(view, gaze_px);
+  const metrics::EccentricityMap map = metrics::eccentricity_map(view, gaze_px);
   const int w = int(view.width_px), h = int(view.height_px);
   const std::size_t n = std::size_t(w) * std::size_t(h);
   // Running sums of the two halves (linear), chunk by chunk: chunk j (kChunkSpp
@@ -301,13 +301,13 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
         d_rgb[c] = d;
       }
       ref.half_difference2[i] = float(d2 / 3.0);
-      ref.half_difference_luma[i] = float(foveation::rec601_luma(d_rgb[0], d_rgb[1], d_rgb[2]));
+      ref.half_difference_luma[i] = float(metrics::rec601_luma(d_rgb[0], d_rgb[1], d_rgb[2]));
     }
     return ref;
   };
   const auto residual_db = [&](const Reference& ref) {
     std::vector<double> db;
-    for (double mse : ref.residual_mse(map)) db.push_back(foveation::psnr_of_mse(mse));
+    for (double mse : ref.residual_mse(map)) db.push_back(metrics::psnr_of_mse(mse));
     return db;
   };
   const double needed_spp = double(o.baseline_spp) * std::pow(10.0, o.margin_db / 10.0);
@@ -358,4 +358,4 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
   }
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <ostream>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 std::map<std::string, nlohmann::ordered_json> read_results_jsonl(const std::filesystem::path& file, std::ostream& err) {
   std::map<std::string, nlohmann::ordered_json> done;
@@ -12,7 +12,7 @@ std::map<std::string, nlohmann::ordered_json> read_results_jsonl(const std::file
   for (int line_no = 1; std::getline(in, line); ++line_no) {
     nlohmann::ordered_json j = nlohmann::ordered_json::parse(line, nullptr, false);
     if (j.is_discarded() || !j.contains("id") || !j["id"].is_string()) {
-      err << "fovea pricelist: " << file.string() << " line " << line_no << " is not a result; measuring again\n";
+      err << "fovea-eval pricelist: " << file.string() << " line " << line_no << " is not a result; measuring again\n";
       continue;
     }
     const std::string id = j["id"].get<std::string>();  // before the move: `=` evaluates its right side first
@@ -21,4 +21,4 @@ std::map<std::string, nlohmann::ordered_json> read_results_jsonl(const std::file
   return done;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <atomic>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 constexpr std::size_t kBatchRays = 4096;
@@ -67,4 +67,4 @@ std::int32_t SampleHistory::render(FoveartTraceRaysFn fn, void* user_data, const
   return FOVEART_RESULT_SUCCESS;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -1,7 +1,7 @@
 // The temporal measure's sums (temporal_metrics.hpp).
 #include <eval/temporal_metrics.hpp>
 
-#include <eval/csf_error.hpp>
+#include <metrics/csf_error.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +9,12 @@
 #include <stdexcept>
 #include <string>
 
-namespace foveart::tools {
+namespace foveart::eval {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-void check_size(const foveation::ImageRgb& image, const foveation::EccentricityMap& map, const char* what) {
+void check_size(const foveation::ImageRgb& image, const metrics::EccentricityMap& map, const char* what) {
   if (image.width_px != map.width_px || image.height_px != map.height_px ||
       image.rgb.size() != map.ring.size() * 3)
     throw std::invalid_argument(std::string("TemporalError::add_frame: the ") + what + " is " +
@@ -23,10 +23,10 @@ void check_size(const foveation::ImageRgb& image, const foveation::EccentricityM
                                 std::to_string(map.height_px));
 }
 
-TemporalRings finish(const std::array<double, foveation::kRingCount>& flicker_sum,
-                     const std::array<std::uint64_t, foveation::kRingCount>& flicker_n,
-                     const std::array<double, foveation::kRingCount>& error_sum,
-                     const std::array<std::uint64_t, foveation::kRingCount>& error_n) {
+TemporalRings finish(const std::array<double, metrics::kRingCount>& flicker_sum,
+                     const std::array<std::uint64_t, metrics::kRingCount>& flicker_n,
+                     const std::array<double, metrics::kRingCount>& error_sum,
+                     const std::array<std::uint64_t, metrics::kRingCount>& error_n) {
   TemporalRings out;
   for (std::size_t r = 0; r < out.size(); ++r) {
     out[r].pair_values = flicker_n[r];
@@ -37,14 +37,14 @@ TemporalRings finish(const std::array<double, foveation::kRingCount>& flicker_su
   return out;
 }
 
-bool map_has_eccentricity(const foveation::EccentricityMap& map) {
+bool map_has_eccentricity(const metrics::EccentricityMap& map) {
   return map.eccentricity_deg.size() == map.ring.size() && map.pixels_per_deg.size() == map.ring.size();
 }
 
 }  // namespace
 
 void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation::ImageRgb& reference,
-                              const foveation::EccentricityMap& map, const TrackedPrevious* tracked) {
+                              const metrics::EccentricityMap& map, const TrackedPrevious* tracked) {
   check_size(image, map, "image");
   check_size(reference, map, "reference");
   const bool pair = frames_ > 0;
@@ -95,7 +95,7 @@ void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation:
   }
   if (pair && map_has_eccentricity(map)) {
     // e_t - e_{t-1} weighted by what the eye resolves where the pixel lies (csf_error.hpp), luma only.
-    const std::vector<float> csf = foveation::csf_error_map(previous_error_, error_, map);
+    const std::vector<float> csf = metrics::csf_error_map(previous_error_, error_, map);
     for (std::size_t i = 0; i < map.ring.size(); ++i) {
       sums.csf[map.ring[i]] += double(csf[i]) * double(csf[i]);
       sums.csf_n[map.ring[i]] += 1;
@@ -106,9 +106,9 @@ void TemporalError::add_frame(const foveation::ImageRgb& image, const foveation:
 }
 
 TemporalRing TemporalError::pooled(const RingBand& band, const std::vector<std::uint8_t>* frame_mask) const {
-  if (band.begin >= band.end || band.end > foveation::kRingCount)
+  if (band.begin >= band.end || band.end > metrics::kRingCount)
     throw std::invalid_argument("TemporalError::pooled: rings [" + std::to_string(band.begin) + ", " +
-                                std::to_string(band.end) + ") of " + std::to_string(foveation::kRingCount));
+                                std::to_string(band.end) + ") of " + std::to_string(metrics::kRingCount));
   if (frame_mask != nullptr && frame_mask->size() != sums_.size())
     throw std::invalid_argument("TemporalError::pooled: a mask of " + std::to_string(frame_mask->size()) +
                                 " frames for " + std::to_string(sums_.size()));
@@ -161,7 +161,7 @@ std::vector<std::uint8_t> settled_frames(const std::vector<std::uint8_t>& restar
   return settled;
 }
 
-void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map,
+void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const metrics::EccentricityMap& map,
                                const std::vector<float>* half_difference_luma) {
   if (residual_mse.size() != map.ring.size())
     throw std::invalid_argument("ReferenceFloor::add_frame: " + std::to_string(residual_mse.size()) +
@@ -191,7 +191,7 @@ void ReferenceFloor::add_frame(const std::vector<float>& residual_mse, const fov
       const auto weighted = [&](const std::vector<float>& d) {
         std::vector<double> r(d.size());
         for (std::size_t i = 0; i < d.size(); ++i) r[i] = 0.5 * double(d[i]);
-        return foveation::csf_weighted_luma(r, map);
+        return metrics::csf_weighted_luma(r, map);
       };
       const std::vector<float> now = weighted(*half_difference_luma), before = weighted(previous_luma_);
       for (std::size_t i = 0; i < map.ring.size(); ++i) {
@@ -238,4 +238,4 @@ void binomial_blur_3x3(const foveation::ImageRgb& image, foveation::ImageRgb* ou
   }
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -17,8 +17,8 @@ namespace {
 
 constexpr float kPi = 3.14159265f;
 
-foveation::MotionSample sample(double t, float head_yaw_deg, glm::vec3 gaze, bool valid = true, bool saccade = false) {
-  foveation::MotionSample s;
+motion::MotionSample sample(double t, float head_yaw_deg, glm::vec3 gaze, bool valid = true, bool saccade = false) {
+  motion::MotionSample s;
   s.time_s = t;
   s.head_orientation = glm::angleAxis(head_yaw_deg * kPi / 180.0f, glm::vec3(0, 1, 0));
   s.head_position_m = {0.0f, 1.6f, 0.0f};
@@ -39,9 +39,9 @@ FoveartEyeView eye_at_rest(const foveation::EyePose& head) {
 
 TEST(MotionViews, HeadSitsAtTheScenesHeadWhereTheMotionStandsInLocal) {
   foveation::EyePose scene_head{glm::vec3(1, 2, 3), glm::angleAxis(kPi / 2, glm::vec3(0, 1, 0))};
-  foveation::MotionSample s = sample(0.0, 0.0f, {0, 0, -1});
+  motion::MotionSample s = sample(0.0, 0.0f, {0, 0, -1});
   s.head_position_m = {0.1f, 1.6f, 0.0f};
-  const foveation::EyePose h = tools::head_in_scene(scene_head, s);
+  const foveation::EyePose h = eval::head_in_scene(scene_head, s);
   // 0.1 m to the motion's right is -z in a scene head turned 90 deg to the left.
   EXPECT_NEAR(h.position_m.x, 1.0f, 1e-6f);
   EXPECT_NEAR(h.position_m.y, 2.0f, 1e-6f);
@@ -51,18 +51,18 @@ TEST(MotionViews, HeadSitsAtTheScenesHeadWhereTheMotionStandsInLocal) {
 
 TEST(MotionViews, FramesFollowTheHeadKeepTheEyeOffsetAndProjectTheGaze) {
   const float tan10 = std::tan(10.0f * kPi / 180.0f);
-  const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}),
+  const motion::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}),
                                           sample(1.0, 90.0f, {tan10, 0, -1}),
                                           sample(2.0, 90.0f, {0, 0, -1}, false, false),
                                           sample(3.0, 90.0f, {0, 0, -1}, true, true)});
   const foveation::EyePose head{glm::vec3(1, 2, 3), glm::quat(1, 0, 0, 0)};
-  tools::MotionWindow w;
+  eval::MotionWindow w;
   w.start_s = 0.0;
   w.fps = 1.0;
   w.frames = 4;
   std::string error;
-  ASSERT_TRUE(tools::check_motion_window(motion, w, &error)) << error;
-  const auto frames = tools::motion_frames(motion, w, eye_at_rest(head), head);
+  ASSERT_TRUE(eval::check_motion_window(motion, w, &error)) << error;
+  const auto frames = eval::motion_frames(motion, w, eye_at_rest(head), head);
   ASSERT_EQ(frames.size(), 4u);
   EXPECT_DOUBLE_EQ(frames[1].time_s, 1.0);
   // Frame 0: at rest, gaze ahead: the lens centre.
@@ -86,26 +86,26 @@ TEST(MotionViews, FramesFollowTheHeadKeepTheEyeOffsetAndProjectTheGaze) {
 }
 
 TEST(MotionViews, GazeOffTheViewFallsBackToTheLensCentre) {
-  const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {1, 0, 0}), sample(1.0, 0.0f, {1, 0, 0})});
+  const motion::ScriptedMotion motion({sample(0.0, 0.0f, {1, 0, 0}), sample(1.0, 0.0f, {1, 0, 0})});
   const foveation::EyePose head{};
-  tools::MotionWindow w;
+  eval::MotionWindow w;
   w.fps = 1.0;
   w.frames = 2;
-  const auto frames = tools::motion_frames(motion, w, eye_at_rest(head), head);
+  const auto frames = eval::motion_frames(motion, w, eye_at_rest(head), head);
   EXPECT_TRUE(frames[0].gaze_off_view);
   EXPECT_EQ(frames[0].gaze_px, glm::vec2(50, 40));
 }
 
 TEST(MotionViews, WindowOutsideTheMotionIsNamed) {
-  const foveation::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}), sample(1.0, 0.0f, {0, 0, -1})});
-  tools::MotionWindow w;
+  const motion::ScriptedMotion motion({sample(0.0, 0.0f, {0, 0, -1}), sample(1.0, 0.0f, {0, 0, -1})});
+  eval::MotionWindow w;
   w.frames = 71;  // 70 fps from 0: the 71st frame is at 1 s, the last sample
   std::string error;
-  EXPECT_TRUE(tools::check_motion_window(motion, w, &error)) << error;
+  EXPECT_TRUE(eval::check_motion_window(motion, w, &error)) << error;
   // The message of the window's first problem (empty when it has none).
   const auto problem = [&] {
     std::string e;
-    return tools::check_motion_window(motion, w, &e) ? std::string() : e;
+    return eval::check_motion_window(motion, w, &e) ? std::string() : e;
   };
   w.frames = 72;
   EXPECT_NE(problem().find("past the motion's end"), std::string::npos);
@@ -121,14 +121,14 @@ TEST(MotionViews, WindowOutsideTheMotionIsNamed) {
 
 TEST(MotionViews, LoadsTheBuiltinAndNamesABadFile) {
   std::string error;
-  const auto builtin = tools::load_motion("builtin", &error);
+  const auto builtin = eval::load_motion("builtin", &error);
   ASSERT_TRUE(builtin.has_value()) << error;
   EXPECT_NEAR(builtin->duration_s(), 4.0, 1e-9);
   engine_test::TempDir dir;
   const auto file = dir.path / "bad.csv";
   std::ofstream(file) << "time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid\n0,0,0,0,1,0,1.6,0,0,0,-1,1\n0.1,0,0,0,1,0,1.6,x,0,0,-1,1\n";
-  EXPECT_FALSE(tools::load_motion(file.string(), &error).has_value());
+  EXPECT_FALSE(eval::load_motion(file.string(), &error).has_value());
   EXPECT_NE(error.find("bad.csv:3: column 8"), std::string::npos) << error;
-  EXPECT_FALSE(tools::load_motion((dir.path / "missing.csv").string(), &error).has_value());
+  EXPECT_FALSE(eval::load_motion((dir.path / "missing.csv").string(), &error).has_value());
   EXPECT_NE(error.find("missing.csv"), std::string::npos) << error;
 }

@@ -5,7 +5,7 @@
 // ratios it reports.
 #include "gltf_fixtures.hpp"
 
-#include <cmd_pricelist.hpp>
+#include <eval/cmd_pricelist.hpp>
 #include <eval/pricelist_temporal_report.hpp>
 
 #include <gtest/gtest.h>
@@ -21,8 +21,8 @@ using Json = nlohmann::ordered_json;
 
 namespace {
 
-tools::PricelistOptions tiny(const fs::path& out) {
-  tools::PricelistOptions o;
+eval::PricelistOptions tiny(const fs::path& out) {
+  eval::PricelistOptions o;
   o.size_px = glm::ivec2(48, 54);
   o.out_dir = out.string();
   o.reference_spp = "16";
@@ -72,9 +72,9 @@ Json synthetic(const std::array<double, 7>& off_flicker, const std::array<double
 
 TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   engine_test::TempDir dir;
-  const tools::PricelistOptions o = tiny(dir.path / "pl");
+  const eval::PricelistOptions o = tiny(dir.path / "pl");
   std::ostringstream out, err;
-  ASSERT_EQ(tools::run_pricelist(o, out, err), 0) << err.str();
+  ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("reprojected TAA flickers"), std::string::npos) << out.str();
   std::ifstream jf(dir.path / "pl" / "pricelist.json");
   const Json doc = Json::parse(jf);
@@ -188,7 +188,7 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
   EXPECT_NE(report.str().find("## Temporal columns"), std::string::npos);
   // Frame by frame: both pictures, and the settled frames (none in a 4-frame window: no ratio).
   EXPECT_NE(report.str().find("### Frame by frame in the periphery"), std::string::npos);
-  for (const char* png : {tools::kTemporalPlotFixed, tools::kTemporalPlotTracked}) {
+  for (const char* png : {eval::kTemporalPlotFixed, eval::kTemporalPlotTracked}) {
     EXPECT_GT(fs::file_size(dir.path / "pl" / png), 1000u) << png;
     EXPECT_NE(report.str().find(png), std::string::npos) << png;
   }
@@ -201,28 +201,28 @@ TEST(PricelistTemporal, TinySweepReportsEveryTaaModePerRingAndResumes) {
 
   // Resume: nothing is measured again, the same numbers come back.
   std::ostringstream out2, err2;
-  ASSERT_EQ(tools::run_pricelist(o, out2, err2), 0) << err2.str();
+  ASSERT_EQ(eval::run_pricelist(o, out2, err2), 0) << err2.str();
   EXPECT_NE(err2.str().find("2 already measured"), std::string::npos) << err2.str();
   std::ifstream jf2(dir.path / "pl" / "pricelist.json");
   EXPECT_EQ(Json::parse(jf2)["temporal"]["tracks"], t["tracks"]);
 
   // Another motion window into the same directory is refused.
-  tools::PricelistOptions other = o;
+  eval::PricelistOptions other = o;
   other.temporal.frames = 5;
   std::ostringstream out3, err3;
-  EXPECT_EQ(tools::run_pricelist(other, out3, err3), 1);
+  EXPECT_EQ(eval::run_pricelist(other, out3, err3), 1);
   EXPECT_NE(err3.str().find("describes another run"), std::string::npos) << err3.str();
 }
 
 TEST(PricelistTemporal, BadTemporalOptionsAreErrorsNamingTheOption) {
   engine_test::TempDir dir;
-  const auto expect_error = [&](const tools::PricelistOptions& o, const std::string& what) {
+  const auto expect_error = [&](const eval::PricelistOptions& o, const std::string& what) {
     std::ostringstream out, err;
-    EXPECT_EQ(tools::run_pricelist(o, out, err), 2) << what;
+    EXPECT_EQ(eval::run_pricelist(o, out, err), 2) << what;
     EXPECT_NE(err.str().find(what), std::string::npos) << err.str();
     EXPECT_FALSE(fs::exists(dir.path / "pl" / "run.json"));  // refused before anything is written
   };
-  tools::PricelistOptions o = tiny(dir.path / "pl");
+  eval::PricelistOptions o = tiny(dir.path / "pl");
   const fs::path bad = dir.path / "bad.csv";
   std::ofstream(bad) << "time_s,qx,qy\n";
   o.temporal.motion = bad.string();
@@ -250,7 +250,7 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   const std::array<double, 7> rep = {0.1, 0.1, 0.1, 0.1, 0.019, 0.01, 0.0195};  // 5.3x, 10x, 5.1x
   const std::array<double, 7> psnr_off = {30, 30, 30, 30, 30, 30, 30};
   const std::array<double, 7> psnr_rep = {30, 30.5, 29, 29, 29, 29, 29};  // central: +0, +0.5
-  Json a = tools::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "s");
+  Json a = eval::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "s");
   ASSERT_TRUE(a.is_object());
   EXPECT_NEAR(a["flicker_ratio_off_over_reproject"][5].get<double>(), 10.0, 1e-12);
   EXPECT_NEAR(a["psnr_reproject_minus_off_db"][1].get<double>(), 0.5, 1e-12);
@@ -261,17 +261,17 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   rep2[6] = 0.1 / 4.9;
   std::array<double, 7> psnr_rep2 = psnr_rep;
   psnr_rep2[0] = 29.9;
-  a = tools::temporal_acceptance(synthetic(off, rep2, psnr_off, psnr_rep2), "s");
+  a = eval::temporal_acceptance(synthetic(off, rep2, psnr_off, psnr_rep2), "s");
   EXPECT_FALSE(a["peripheral_flicker_5x_lower"].get<bool>());
   EXPECT_FALSE(a["central_error_no_worse"].get<bool>());
-  EXPECT_NE(tools::temporal_headline(synthetic(off, rep2, psnr_off, psnr_rep2), a).find("4.9x"), std::string::npos);
+  EXPECT_NE(eval::temporal_headline(synthetic(off, rep2, psnr_off, psnr_rep2), a).find("4.9x"), std::string::npos);
   // Without per-frame values (a resumed older run) there is no settled comparison, and no picture.
   EXPECT_FALSE(a.contains("settled_periphery"));
   {
     engine_test::TempDir plots;
-    EXPECT_EQ(tools::write_temporal_plots(plots.path, synthetic(off, rep2, psnr_off, psnr_rep2), a), "");
-    EXPECT_FALSE(fs::exists(plots.path / tools::kTemporalPlotFixed));
-    EXPECT_FALSE(fs::exists(plots.path / tools::kTemporalPlotTracked));
+    EXPECT_EQ(eval::write_temporal_plots(plots.path, synthetic(off, rep2, psnr_off, psnr_rep2), a), "");
+    EXPECT_FALSE(fs::exists(plots.path / eval::kTemporalPlotFixed));
+    EXPECT_FALSE(fs::exists(plots.path / eval::kTemporalPlotTracked));
   }
   // With them, the settled periphery's ratios read the bands' settled values.
   Json with_bands = synthetic(off, rep, psnr_off, psnr_rep);
@@ -284,7 +284,7 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   with_bands["reference"] = {{"settle_frames", 10}, {"settled_frames", 13}, {"rings", Json::array()},
                              {"taa_on_reference_bands", periphery(0.02, 0.004)},
                              {"sample_history_bands", periphery(0.015, 0.01)}};
-  a = tools::temporal_acceptance(with_bands, "s");
+  a = eval::temporal_acceptance(with_bands, "s");
   ASSERT_TRUE(a.contains("settled_periphery")) << a.dump();
   const Json& settled = a["settled_periphery"];
   EXPECT_EQ(settled["frames"], 13);
@@ -303,17 +303,17 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   }
   {
     engine_test::TempDir plots;
-    EXPECT_EQ(tools::write_temporal_plots(plots.path, with_bands, a), "");
-    EXPECT_GT(fs::file_size(plots.path / tools::kTemporalPlotFixed), 1000u);
-    EXPECT_GT(fs::file_size(plots.path / tools::kTemporalPlotTracked), 1000u);
-    const std::string e = tools::write_temporal_plots(plots.path / "missing" / "dir", with_bands, a);
-    EXPECT_NE(e.find(tools::kTemporalPlotFixed), std::string::npos) << e;
+    EXPECT_EQ(eval::write_temporal_plots(plots.path, with_bands, a), "");
+    EXPECT_GT(fs::file_size(plots.path / eval::kTemporalPlotFixed), 1000u);
+    EXPECT_GT(fs::file_size(plots.path / eval::kTemporalPlotTracked), 1000u);
+    const std::string e = eval::write_temporal_plots(plots.path / "missing" / "dir", with_bands, a);
+    EXPECT_NE(e.find(eval::kTemporalPlotFixed), std::string::npos) << e;
   }
   // The setting's render-cache track gets the same goal, read from its own rings: 6x along the motion in every
   // peripheral ring but 4x at fixed pixels in one; 1 dB better at 0-2.5 deg but 0.2 dB worse at 2.5-5 deg.
   Json with_cache = synthetic(off, rep, psnr_off, psnr_rep);
-  EXPECT_FALSE(tools::temporal_acceptance(with_cache, "s").contains("render_cache"));
-  EXPECT_EQ(tools::temporal_render_cache_line(tools::temporal_acceptance(with_cache, "s")), "");
+  EXPECT_FALSE(eval::temporal_acceptance(with_cache, "s").contains("render_cache"));
+  EXPECT_EQ(eval::temporal_render_cache_line(eval::temporal_acceptance(with_cache, "s")), "");
   for (Json& ring : with_cache["tracks"][0]["rings"]) ring["flicker_tracked"] = ring["flicker"];
   Json cache_rings = Json::array();
   for (std::size_t r = 0; r < 7; ++r)
@@ -321,7 +321,7 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
                            {"flicker_tracked", 0.1 / 6.0},
                            {"psnr", r == 0 ? 31.0 : r == 1 ? 29.8 : 35.0}});
   with_cache["tracks"].push_back({{"id", "s_taa-cache"}, {"taa", "cache"}, {"rings", cache_rings}});
-  a = tools::temporal_acceptance(with_cache, "s");
+  a = eval::temporal_acceptance(with_cache, "s");
   ASSERT_TRUE(a.contains("render_cache")) << a.dump();
   const Json& cache_goal = a["render_cache"];
   EXPECT_NEAR(cache_goal["flicker_ratio"][5].get<double>(), 4.0, 1e-12);
@@ -332,11 +332,11 @@ TEST(PricelistTemporal, AcceptanceReadsTheRatiosAgainstItsGoals) {
   EXPECT_NEAR(cache_goal["psnr_minus_off_db"][1].get<double>(), -0.2, 1e-9);
   EXPECT_FALSE(cache_goal["central_error_no_worse"].get<bool>());
   EXPECT_TRUE(a["peripheral_flicker_5x_lower"].get<bool>());  // the reprojected TAA's goal is its own
-  const std::string cache_line = tools::temporal_render_cache_line(a);
+  const std::string cache_line = eval::temporal_render_cache_line(a);
   EXPECT_NE(cache_line.find("6.7x / 4.0x / 6.7x"), std::string::npos) << cache_line;
   EXPECT_NE(cache_line.find("6.0x / 6.0x / 6.0x"), std::string::npos) << cache_line;
   EXPECT_NE(cache_line.find("goal 5x: not met / met"), std::string::npos) << cache_line;
   EXPECT_NE(cache_line.find("+1.0 / -0.2 dB"), std::string::npos) << cache_line;
   // A setting without its three tracks has no acceptance.
-  EXPECT_TRUE(tools::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "other").is_null());
+  EXPECT_TRUE(eval::temporal_acceptance(synthetic(off, rep, psnr_off, psnr_rep), "other").is_null());
 }

@@ -1,18 +1,17 @@
 // The converged reference (eval/reference.hpp): its cache round trip,
 // corruption rejected and rendered again, the residual estimate; PFM files;
-// `fovea render` reporting errors against a reference.
+// the reference cache key of every pixel filter.
 #include "gltf_fixtures.hpp"
 
-#include <cmd_render.hpp>
 #include "small_scene.hpp"
-#include <pfm.hpp>
+#include <eval/pfm.hpp>
 #include <eval/reference.hpp>
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
 #include <foveation/executor.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -34,19 +33,19 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
   engine_test::TempDir dir;
   SmallScene s(32, 36);
   foveation::Executor executor(2);
-  tools::ReferenceOptions o;
+  eval::ReferenceOptions o;
   o.spp = 8;
   o.cache_dir = dir.path.string();
   std::vector<std::string> log;
   const auto logger = [&](const std::string& m) { log.push_back(m); };
   std::string error;
   const glm::vec2 gaze(16, 18);
-  auto first = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto first = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
   ASSERT_TRUE(first) << error;
   EXPECT_FALSE(first->from_cache);
   EXPECT_EQ(first->spp, 8);
   ASSERT_TRUE(fs::exists(first->cache_file));
-  auto second = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto second = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
   ASSERT_TRUE(second) << error;
   EXPECT_TRUE(second->from_cache);
   EXPECT_EQ(second->image.rgb, first->image.rgb);
@@ -73,11 +72,11 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
     f.write(&c, 1);
   }
   std::string why;
-  const std::uint64_t key = tools::reference_key(s.hash, s.view, 8, o.seed, o.pixel_filter);
-  EXPECT_FALSE(tools::read_reference(first->cache_file, key, &why));
+  const std::uint64_t key = eval::reference_key(s.hash, s.view, 8, o.seed, o.pixel_filter);
+  EXPECT_FALSE(eval::read_reference(first->cache_file, key, &why));
   EXPECT_NE(why.find("checksum mismatch"), std::string::npos) << why;
   EXPECT_NE(why.find(first->cache_file), std::string::npos) << why;
-  auto third = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto third = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
   ASSERT_TRUE(third) << error;
   EXPECT_FALSE(third->from_cache);
   EXPECT_EQ(third->image.rgb, first->image.rgb);  // the same chunks, the same image
@@ -86,11 +85,11 @@ TEST(Reference, CacheRoundTripAndCorruptionIsRejectedAndRenderedAgain) {
 
   // Truncated, another key.
   fs::resize_file(first->cache_file, 50);
-  EXPECT_FALSE(tools::read_reference(first->cache_file, key, &why));
+  EXPECT_FALSE(eval::read_reference(first->cache_file, key, &why));
   EXPECT_NE(why.find("size"), std::string::npos) << why;
-  auto fourth = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
+  auto fourth = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, logger, &error);
   ASSERT_TRUE(fourth);
-  EXPECT_FALSE(tools::read_reference(first->cache_file, key + 1, &why));
+  EXPECT_FALSE(eval::read_reference(first->cache_file, key + 1, &why));
   EXPECT_NE(why.find("key mismatch"), std::string::npos) << why;
 }
 
@@ -101,20 +100,20 @@ TEST(Reference, PixelFilterIsPartOfTheReferenceAndItsCacheKey) {
   engine_test::TempDir dir;
   SmallScene s(32, 36);
   foveation::Executor executor(2);
-  tools::ReferenceOptions o;
+  eval::ReferenceOptions o;
   o.spp = 16;
   o.cache_dir = dir.path.string();
   std::string error;
   const glm::vec2 gaze(16, 18);
-  auto box = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto box = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(box) << error;
   o.pixel_filter = foveation::PixelFilter::bspline2;
-  auto bspline = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto bspline = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(bspline) << error;
   EXPECT_FALSE(bspline->from_cache);
   EXPECT_NE(bspline->cache_file, box->cache_file);
-  EXPECT_NE(tools::reference_key(s.hash, s.view, 16, o.seed, foveation::PixelFilter::box),
-            tools::reference_key(s.hash, s.view, 16, o.seed, foveation::PixelFilter::bspline2));
+  EXPECT_NE(eval::reference_key(s.hash, s.view, 16, o.seed, foveation::PixelFilter::box),
+            eval::reference_key(s.hash, s.view, 16, o.seed, foveation::PixelFilter::bspline2));
   EXPECT_NE(bspline->image.rgb, box->image.rgb);
   // The reference renders with the filter: its image is the full render's with the same settings.
   foveation::ImageRgb direct;
@@ -137,7 +136,7 @@ TEST(Reference, PixelFilterIsPartOfTheReferenceAndItsCacheKey) {
     box_diff2 += d * d;
   }
   EXPECT_LT(diff2, box_diff2);  // an independent bspline2 render lies nearer the bspline2 reference
-  auto again = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto again = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(again) << error;
   EXPECT_TRUE(again->from_cache);
   EXPECT_EQ(again->image.rgb, bspline->image.rgb);
@@ -147,17 +146,17 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   SmallScene s(40, 45);
   foveation::Executor executor(2);
   const glm::vec2 gaze(20, 22);
-  const auto map = foveation::eccentricity_map(s.view, gaze);
+  const auto map = metrics::eccentricity_map(s.view, gaze);
   std::string error;
-  tools::ReferenceOptions o;
+  eval::ReferenceOptions o;
   o.spp = 4;
-  auto r4 = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto r4 = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   o.spp = 64;
-  auto r64 = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto r64 = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(r4 && r64) << error;
   // 16x the rays: ~1/16 the residual; between 1/4 and 1/64 in the rings that hold many pixels.
   const auto a = r4->residual_mse(map), b = r64->residual_mse(map);
-  for (std::size_t r = 0; r < foveation::kRingCount; ++r) {
+  for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
     if (map.ring_pixels[r] < 200) continue;
     EXPECT_GT(a[r], 0.0) << r;
     EXPECT_LT(b[r], a[r] / 4.0) << r;
@@ -168,20 +167,20 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
   o.min_spp = 16;
   o.max_spp = 64;
   o.baseline_spp = 1000;  // needs 10,000 rays per pixel: stops at max_spp, not converged
-  auto autoref = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  auto autoref = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(autoref) << error;
   EXPECT_EQ(autoref->tried_spp, (std::vector<int>{16, 32, 64}));
   EXPECT_FALSE(autoref->converged);
   EXPECT_EQ(autoref->image.rgb, r64->image.rgb);  // doubling reuses chunks: the same image as asking for 64
-  ASSERT_EQ(autoref->db_per_doubling.size(), foveation::kRingCount);
+  ASSERT_EQ(autoref->db_per_doubling.size(), metrics::kRingCount);
   // Needs 10 rays per pixel: 16 is enough, but the 1/N law is only seen after one doubling.
   o.baseline_spp = 1;
-  autoref = tools::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
+  autoref = eval::converged_reference(&foveart_engine_trace_rays, s.tracer.get(), s.hash, s.view, gaze, o, executor, {}, &error);
   ASSERT_TRUE(autoref);
   ASSERT_GE(autoref->tried_spp.size(), 2u);
   EXPECT_EQ(autoref->tried_spp[0], 16);
   if (autoref->converged) {
-    for (std::size_t r = 0; r < foveation::kRingCount; ++r)
+    for (std::size_t r = 0; r < metrics::kRingCount; ++r)
       if (map.ring_pixels[r] > 0 && std::isfinite(autoref->db_per_doubling[r])) {
         EXPECT_GE(autoref->db_per_doubling[r], 2.0) << r;
 
@@ -191,48 +190,9 @@ TEST(Reference, ResidualFallsWithRaysPerPixelAndTheCheckStopsAtItsTarget) {
 
 TEST(Reference, SceneHashFollowsContent) {
   engine::LoadResult a = engine::load_scene("default"), b = engine::load_scene("default");
-  EXPECT_EQ(tools::scene_content_hash(*a.scene), tools::scene_content_hash(*b.scene));
+  EXPECT_EQ(eval::scene_content_hash(*a.scene), eval::scene_content_hash(*b.scene));
   b.scene->materials[0].roughness += 0.01f;
-  EXPECT_NE(tools::scene_content_hash(*a.scene), tools::scene_content_hash(*b.scene));
-}
-
-TEST(RenderCommand, ReportsErrorsAgainstAReferenceAndSaysWhichOne) {
-  engine_test::TempDir dir;
-  tools::RenderOptions o;
-  o.mode = "both";
-  o.size_px = glm::ivec2(40, 45);
-  o.threads = 2;
-  o.json = true;
-  o.frames = 1;
-  o.reference_spp = "16";
-  o.cache_dir = dir.path.string();
-  std::ostringstream out, err;
-  ASSERT_EQ(tools::run_render(o, out, err), 0) << err.str();
-  const auto j = nlohmann::json::parse(out.str());
-  EXPECT_EQ(j["rings_compared_against"], "full render at the same rays per pixel");
-  const auto& a = j["errors_against_reference"];
-  EXPECT_EQ(a["reference"]["source"], "converged full render");
-  EXPECT_EQ(a["reference"]["spp"], 16);
-  EXPECT_EQ(a["reference"]["residual_psnr"].size(), foveation::kRingCount);
-  ASSERT_EQ(a["full"]["rings"].size(), foveation::kRingCount);
-  ASSERT_EQ(a["foveated"]["rings"].size(), foveation::kRingCount);
-  EXPECT_TRUE(a["full"]["rings"][0]["psnr"].is_number());
-  EXPECT_TRUE(fs::exists(dir.path / "reference"));
-
-  // A PFM reference of another size, a bad count: clear errors.
-  foveation::ImageRgb tiny(4, 4);
-  std::string error;
-  ASSERT_TRUE(tools::write_pfm((dir.path / "tiny.pfm").string(), tiny, &error)) << error;
-  o.reference_spp.clear();
-  o.reference_file = (dir.path / "tiny.pfm").string();
-  std::ostringstream out2, err2;
-  EXPECT_EQ(tools::run_render(o, out2, err2), 1);
-  EXPECT_NE(err2.str().find("tiny.pfm is 4x4"), std::string::npos) << err2.str();
-  o.reference_file.clear();
-  o.reference_spp = "7";
-  std::ostringstream out3, err3;
-  EXPECT_EQ(tools::run_render(o, out3, err3), 2);
-  EXPECT_NE(err3.str().find("--reference-spp"), std::string::npos) << err3.str();
+  EXPECT_NE(eval::scene_content_hash(*a.scene), eval::scene_content_hash(*b.scene));
 }
 
 TEST(Pfm, RoundTripIsBitExactAndBadFilesAreNamed) {
@@ -241,13 +201,13 @@ TEST(Pfm, RoundTripIsBitExactAndBadFilesAreNamed) {
   for (std::size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = float(i) * 0.37f - 1.0f;
   const std::string file = (dir.path / "a.pfm").string();
   std::string e;
-  ASSERT_TRUE(tools::write_pfm(file, im, &e)) << e;
+  ASSERT_TRUE(eval::write_pfm(file, im, &e)) << e;
   foveation::ImageRgb back;
-  ASSERT_TRUE(tools::read_pfm(file, &back, &e)) << e;
+  ASSERT_TRUE(eval::read_pfm(file, &back, &e)) << e;
   EXPECT_EQ(back.width_px, 3);
   EXPECT_EQ(back.rgb, im.rgb);
   fs::resize_file(file, 20);
-  EXPECT_FALSE(tools::read_pfm(file, &back, &e));
+  EXPECT_FALSE(eval::read_pfm(file, &back, &e));
   EXPECT_NE(e.find("truncated"), std::string::npos) << e;
   EXPECT_NE(e.find(file), std::string::npos) << e;
 }

@@ -18,35 +18,35 @@
 #include <fstream>
 #include <sstream>
 
-using foveart::tools::RenderOptions;
+using foveart::eval::MotionOptions;
 using foveart::eval::run_motion;
 namespace fs = std::filesystem;
 
 namespace {
 
-RenderOptions tiny_motion() {
-  RenderOptions o;
-  o.mode = "both";
+MotionOptions tiny_motion() {
+  MotionOptions o;
+  o.render.mode = "both";
   o.motion = "builtin";
-  o.size_px = glm::ivec2(64, 72);  // 1.5 deg per pixel: every ring has pixels
-  o.frames = 3;
+  o.render.size_px = glm::ivec2(64, 72);  // 1.5 deg per pixel: every ring has pixels
+  o.render.frames = 3;
   o.start_s = 0.5;  // a fixation: no saccade, no blink
-  o.threads = 2;
-  o.json = true;
+  o.render.threads = 2;
+  o.render.json = true;
   return o;
 }
 
 // tiny_motion() measured against an 8-ray reference sequence cached in `dir`.
-RenderOptions tiny_motion_with_reference(const fs::path& dir, const std::string& taa_modes) {
-  RenderOptions o = tiny_motion();
+MotionOptions tiny_motion_with_reference(const fs::path& dir, const std::string& taa_modes) {
+  MotionOptions o = tiny_motion();
   o.taa = taa_modes;
-  o.reference_spp = "8";
-  o.cache_dir = (dir / "cache").string();
+  o.reference.spp = "8";
+  o.render.cache_dir = (dir / "cache").string();
   return o;
 }
 
 // run_motion's JSON report; null, and a failure with its message, when it fails.
-nlohmann::json run_json(const RenderOptions& o) {
+nlohmann::json run_json(const MotionOptions& o) {
   std::ostringstream out, err;
   const int code = run_motion(o, out, err);
   EXPECT_EQ(code, 0) << err.str();
@@ -70,7 +70,7 @@ int run_fovea_binary(const std::string& args, const fs::path& dir, std::string* 
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-int run(const RenderOptions& o, std::string* err_text) {
+int run(const MotionOptions& o, std::string* err_text) {
   std::ostringstream out, err;
   const int code = run_motion(o, out, err);
   *err_text = err.str();
@@ -84,7 +84,7 @@ TEST(RenderMotion, BadMotionFileIsAnErrorNamingTheFileAndLine) {
   const fs::path file = dir.path / "motion.csv";
   std::ofstream(file) << "time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid\n0,0,0,0,1,0,1.6,0,0,0,-1,1\n"
                          "0.5,0,0,0,1,0,1.6,0,0,0,-1\n";  // 11 columns
-  RenderOptions o = tiny_motion();
+  MotionOptions o = tiny_motion();
   o.motion = file.string();
   std::string err;
   EXPECT_EQ(run(o, &err), 2);
@@ -94,22 +94,22 @@ TEST(RenderMotion, BadMotionFileIsAnErrorNamingTheFileAndLine) {
   EXPECT_NE(err.find("absent.csv: cannot open"), std::string::npos) << err;
 
   // The binary: the same message and a non-zero exit status.
-  EXPECT_EQ(run_fovea_binary("motion --size 64,72 --motion '" + file.string() + "'", dir.path, &err), 2) << err;
+  EXPECT_EQ(run_fovea_binary("motion --size 64x72 --motion '" + file.string() + "'", dir.path, &err), 2) << err;
   EXPECT_NE(err.find("11 columns"), std::string::npos) << err;
 }
 
 TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
   std::string err;
-  RenderOptions o = tiny_motion();
-  o.frames = 1;
+  MotionOptions o = tiny_motion();
+  o.render.frames = 1;
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--frames must be at least 2"), std::string::npos) << err;
   o = tiny_motion();
-  o.frames = 300;  // 300 frames at 70 fps from 0.5 s end after the 4 s motion
+  o.render.frames = 300;  // 300 frames at 70 fps from 0.5 s end after the 4 s motion
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("past the motion's end"), std::string::npos) << err;
   o = tiny_motion();
-  o.frames = 0;
+  o.render.frames = 0;
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--frames"), std::string::npos) << err;
   o = tiny_motion();
@@ -123,18 +123,14 @@ TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--taa"), std::string::npos) << err;
   o = tiny_motion();
-  o.mode = "full";
+  o.render.mode = "full";
   o.taa = "reproject";
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--taa needs --mode foveated or both"), std::string::npos) << err;
   o = tiny_motion();
   o.motion.clear();
-  o.taa = "off,reproject";
   EXPECT_EQ(run(o, &err), 2);
-  EXPECT_NE(err.find("needs --motion"), std::string::npos) << err;
-  o.taa = "off";
-  EXPECT_EQ(run(o, &err), 2);  // --start-s without --motion
-  EXPECT_NE(err.find("--start-s needs --motion"), std::string::npos) << err;
+  EXPECT_NE(err.find("--motion is required"), std::string::npos) << err;
   o = tiny_motion();
   o.fps = 0.0;
   EXPECT_EQ(run(o, &err), 2);
@@ -144,14 +140,14 @@ TEST(RenderMotion, FramesTaaAndWindowAreValidated) {
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--start-s must be inside the motion"), std::string::npos) << err;
   o = tiny_motion();
-  o.gaze_px = glm::vec2(3, 3);
+  o.render.gaze_px = glm::vec2(3, 3);
   EXPECT_EQ(run(o, &err), 2);
   EXPECT_NE(err.find("--gaze and --motion"), std::string::npos) << err;
 }
 
 TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
   engine_test::TempDir dir;
-  const RenderOptions o = tiny_motion_with_reference(dir.path, "off,restart,reproject");
+  const MotionOptions o = tiny_motion_with_reference(dir.path, "off,restart,reproject");
   const auto j = run_json(o);
   ASSERT_FALSE(j.is_null());
   ASSERT_EQ(j["frames"].size(), 3u);
@@ -219,7 +215,7 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryTaaMode) {
 // 1-ray frames without TAA.
 TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
   std::ostringstream out, err;
   ASSERT_EQ(run_motion(o, out, err), 0) << err.str();
   auto j = nlohmann::json::parse(out.str());
@@ -233,14 +229,14 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
   EXPECT_NE(err.str().find("--reference-spp"), std::string::npos) << err.str();
 
   o.taa = "off";
-  o.reference_spp = "256";
+  o.reference.spp = "256";
   std::ostringstream out2, err2;
   ASSERT_EQ(run_motion(o, out2, err2), 0) << err2.str();
   j = nlohmann::json::parse(out2.str());
   EXPECT_TRUE(j["sanity"]["floor_10db_below"].get<bool>()) << j["sanity"].dump();
   EXPECT_EQ(err2.str().find("the reference's own noise"), std::string::npos) << err2.str();
   // The text report says it too.
-  o.json = false;
+  o.render.json = false;
   std::ostringstream out3, err3;
   ASSERT_EQ(run_motion(o, out3, err3), 0) << err3.str();
   EXPECT_NE(out3.str().find("reference floor at least 10 dB below every track's flicker and error in every ring: yes"),
@@ -261,11 +257,11 @@ TEST(RenderMotion, AReferenceTooNoisyForTheSteadiestTrackIsSaid) {
 // filter the tool does not know is an error naming the option.
 TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
   const auto box = run_json(o);
   ASSERT_FALSE(box.is_null());
   EXPECT_EQ(box["pixel_filter"], "box");
-  o.pixel_filter = foveart::foveation::PixelFilter::bspline2;
+  o.render.pixel_filter = foveart::foveation::PixelFilter::bspline2;
   const auto j = run_json(o);
   ASSERT_FALSE(j.is_null());
   EXPECT_EQ(j["pixel_filter"], "bspline2");
@@ -278,7 +274,7 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
   EXPECT_EQ(again["reference"]["frames_from_cache"], 3);
 
   std::string text;
-  const int status = run_fovea_binary("motion --size 64,72 --pixel-filter gaussian", dir.path, &text);
+  const int status = run_fovea_binary("motion --size 64x72 --pixel-filter gaussian", dir.path, &text);
   EXPECT_GT(status, 0) << text;
   EXPECT_NE(text.find("--pixel-filter: 'gaussian' is not box or bspline2"), std::string::npos) << text;
 }
@@ -288,7 +284,7 @@ TEST(RenderMotion, PixelFilterReachesTheReferenceAndEveryTrack) {
 // the reference are untouched.
 TEST(RenderMotion, TaaMeanWhileYoungReachesTheTaaTracksAndTheirControl) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
   const auto exponential = run_json(o);
   ASSERT_FALSE(exponential.is_null());
   EXPECT_EQ(exponential["taa_mean_while_young"], false);
@@ -315,9 +311,9 @@ TEST(RenderMotion, TaaMeanWhileYoungReachesTheTaaTracksAndTheirControl) {
 // flicker within the range of their own frames'.
 TEST(RenderMotion, BandsFrameByFrameAndTheSettledFramesAcrossASaccade) {
   engine_test::TempDir dir;
-  RenderOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
-  o.mode = "foveated";
-  o.frames = 24;
+  MotionOptions o = tiny_motion_with_reference(dir.path, "off,reproject");
+  o.render.mode = "foveated";
+  o.render.frames = 24;
   o.start_s = 1.43;  // the built-in motion's saccade starts at 1.5 s
   const auto j = run_json(o);
   ASSERT_FALSE(j.is_null());

@@ -62,7 +62,7 @@ TEST(SampleHistory, StillViewAveragesEveryRaySinceTheRestart) {
   const foveation::EyePose pose = foveation::eye_pose(view);
   constexpr std::uint64_t kSeed = 7;
   constexpr int kFrames = 4;
-  tools::SampleHistory history(kSeed, PixelFilter::box);
+  eval::SampleHistory history(kSeed, PixelFilter::box);
   ImageRgb out;
   for (int frame = 0; frame < kFrames; ++frame) {
     ASSERT_EQ(history.render(&trace, &engine, view, std::uint64_t(frame), frame == 0, executor, &out),
@@ -96,7 +96,7 @@ TEST(SampleHistory, StillViewAveragesEveryRaySinceTheRestart) {
 TEST(SampleHistory, RestartForgetsEveryRayAndRepeatsAFreshHistory) {
   Engine engine;
   foveation::Executor executor(2);
-  tools::SampleHistory history(3, PixelFilter::bspline2), fresh(3, PixelFilter::bspline2);
+  eval::SampleHistory history(3, PixelFilter::bspline2), fresh(3, PixelFilter::bspline2);
   ImageRgb out, fresh_out;
   for (int frame = 0; frame < 3; ++frame)
     ASSERT_EQ(history.render(&trace, &engine, view_at({0, 1.6f, 0}, 0.5f * float(frame)), std::uint64_t(frame),
@@ -119,7 +119,7 @@ TEST(SampleHistory, KeptRaysAreAnchoredWhereTheyHit) {
     Engine engine;
     engine.scene.near_bar = false;
     engine.scene.wall_at_infinity = at_infinity;
-    tools::SampleHistory history(5, PixelFilter::box);
+    eval::SampleHistory history(5, PixelFilter::box);
     ImageRgb out;
     constexpr int kFrames = 5;
     for (int frame = 0; frame < kFrames; ++frame)  // 0.2 m a frame: 0.96 px at 10 m
@@ -141,7 +141,7 @@ TEST(SampleHistory, KeptRaysAreAnchoredWhereTheyHit) {
 TEST(SampleHistory, TurningHeadConvergesTowardsTheTruth) {
   Engine engine;
   foveation::Executor executor(2);
-  tools::SampleHistory history(11, PixelFilter::box);
+  eval::SampleHistory history(11, PixelFilter::box);
   ImageRgb out;
   FoveartEyeView view{};
   constexpr int kFrames = 12;
@@ -151,7 +151,7 @@ TEST(SampleHistory, TurningHeadConvergesTowardsTheTruth) {
               FOVEART_RESULT_SUCCESS);
   }
   const ImageRgb truth = engine.scene.render(view, 8);
-  tools::SampleHistory one(11, PixelFilter::box);
+  eval::SampleHistory one(11, PixelFilter::box);
   ImageRgb one_ray;
   ASSERT_EQ(one.render(&trace, &engine, view, kFrames - 1, true, executor, &one_ray), FOVEART_RESULT_SUCCESS);
   const auto rms = [&](const ImageRgb& a) {
@@ -165,7 +165,7 @@ TEST(SampleHistory, TurningHeadConvergesTowardsTheTruth) {
 TEST(SampleHistory, EngineFailureIsReturnedAndKeepsTheRaysItHad) {
   Engine engine;
   foveation::Executor executor(2);
-  tools::SampleHistory history(2, PixelFilter::box);
+  eval::SampleHistory history(2, PixelFilter::box);
   ImageRgb out;
   const FoveartEyeView view = view_at({0, 1.6f, 0}, 0.0f);
   ASSERT_EQ(history.render(&trace, &engine, view, 0, true, executor, &out), FOVEART_RESULT_SUCCESS);
@@ -185,8 +185,8 @@ TEST(RayCache, StillViewTracesOnlyTheNewRaysAndMatchesTheRetracedHistory) {
   constexpr int kFrames = 4;
   for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
     Engine retraced_engine, cached_engine;
-    tools::SampleHistory retraced(9, filter, tools::RayReuse::retrace);
-    tools::SampleHistory cached(9, filter, tools::RayReuse::keep_colour);
+    eval::SampleHistory retraced(9, filter, eval::RayReuse::retrace);
+    eval::SampleHistory cached(9, filter, eval::RayReuse::keep_colour);
     ImageRgb retraced_out, cached_out;
     for (int frame = 0; frame < kFrames; ++frame) {
       ASSERT_EQ(
@@ -215,7 +215,7 @@ TEST(RayCache, RaysANearerSurfaceCoversAreForgotten) {
   for (const PixelFilter filter : {PixelFilter::box, PixelFilter::bspline2}) {
     SCOPED_TRACE(foveation::pixel_filter_name(filter));
     Engine engine;
-    tools::SampleHistory cached(4, filter, tools::RayReuse::keep_colour);
+    eval::SampleHistory cached(4, filter, eval::RayReuse::keep_colour);
     ImageRgb out;
     FoveartEyeView view{};
     constexpr int kFrames = 6;

@@ -1,7 +1,7 @@
 // The built-in scene on a small view, for the lab's tests that render it.
 #pragma once
 
-#include <cmd_render.hpp>
+#include <render_view/render_options.hpp>
 #include <eval/reference.hpp>
 
 #include <engine/gltf_loader.hpp>
@@ -21,11 +21,11 @@ struct SmallScene {
   std::uint64_t hash = 0;  // the scene's content hash, as the reference cache keys it
   SmallScene(int w, int h) {
     engine::LoadResult loaded = engine::load_scene("default");
-    hash = tools::scene_content_hash(*loaded.scene);
+    hash = eval::scene_content_hash(*loaded.scene);
     tracer = engine::Tracer::create(std::move(*loaded.scene));
-    tools::RenderOptions o;
+    render_view::RenderOptions o;
     o.size_px = glm::ivec2(w, h);
-    view = tools::render_view(o, tracer->scene());
+    view = render_view::eye_view(o, tracer->scene());
   }
 };
 

@@ -10,15 +10,15 @@
 #include <stdexcept>
 #include <vector>
 
-using foveart::foveation::EccentricityMap;
+using foveart::metrics::EccentricityMap;
 using foveart::foveation::ImageRgb;
-using foveart::tools::ReferenceFloor;
-using foveart::tools::RingBand;
-using foveart::tools::settled_frames;
-using foveart::tools::TemporalRing;
-using foveart::tools::TemporalError;
-using foveart::tools::TemporalRings;
-using foveart::tools::TrackedPrevious;
+using foveart::eval::ReferenceFloor;
+using foveart::eval::RingBand;
+using foveart::eval::settled_frames;
+using foveart::eval::TemporalRing;
+using foveart::eval::TemporalError;
+using foveart::eval::TemporalRings;
+using foveart::eval::TrackedPrevious;
 
 namespace {
 
@@ -377,11 +377,11 @@ TEST(TemporalMetrics, BinomialBlurKeepsFlatImagesAndSpreadsAnImpulse) {
   ImageRgb flat(5, 5);
   for (float& v : flat.rgb) v = 0.25f;
   ImageRgb out;
-  foveart::tools::binomial_blur_3x3(flat, &out);
+  foveart::eval::binomial_blur_3x3(flat, &out);
   for (float v : out.rgb) EXPECT_FLOAT_EQ(v, 0.25f);
   ImageRgb impulse(5, 5);
   impulse.at(2, 2)[1] = 16.0f;
-  foveart::tools::binomial_blur_3x3(impulse, &out);
+  foveart::eval::binomial_blur_3x3(impulse, &out);
   const float kernel[3][3] = {{1, 2, 1}, {2, 4, 2}, {1, 2, 1}};
   double total = 0.0;
   for (int y = 0; y < 5; ++y)

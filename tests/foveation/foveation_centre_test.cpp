@@ -12,10 +12,14 @@
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/foveation_centre.hpp"
-#include <eval/scripted_motion.hpp>
+#include <motion/scripted_motion.hpp>
 
 namespace foveart::foveation {
 namespace {
+
+using motion::builtin_motion;
+using motion::MotionSample;
+using motion::ScriptedMotion;
 
 struct Playback {
   int moves = 0;             // frames whose centre differs from the last frame's

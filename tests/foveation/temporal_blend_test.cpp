@@ -8,12 +8,14 @@
 #include <random>
 #include <vector>
 
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include "foveation/temporal_blend.hpp"
 #include "test_executor.hpp"
 
 namespace foveart::foveation {
 namespace {
+
+using metrics::mean_abs_difference;
 
 ImageRgb gradient(int w, int h, float offset = 0.0f) {
   ImageRgb im(w, h);

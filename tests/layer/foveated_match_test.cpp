@@ -180,7 +180,7 @@ TEST_P(LayerMatchesFoveaRender, BothEyesMatchFoveaRender) {
     const auto render = run_process(
         {FOVEART_FOVEA, "render", "--scene", "default", "--mode", "foveated", "--interpolation", m.fovea, "--k",
          std::to_string(m.k), "--rays-per-point", "1", "--density-scale", "1", "--seed", "1", "--size",
-         std::to_string(kWidth) + "," + std::to_string(kHeight), "--fov", join(fov_deg), "--pose", join(pose),
+         std::to_string(kWidth) + "x" + std::to_string(kHeight), "--fov-deg", join(fov_deg), "--pose", join(pose),
          "--gaze", gaze_arg.str(), "--temporal", m.temporal, "--frames", std::to_string(m.frames - restart),
          "--first-frame", std::to_string(restart + 1), "--cache-dir", FOVEART_TEST_CACHE_DIR, "--threads", "2", "--out",
          prefix.string(), "--json"},

@@ -10,7 +10,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "foveation/device.hpp"
-#include <eval/scripted_motion.hpp>
+#include <motion/scripted_motion.hpp>
 #include "gaze_provider/gaze_math.h"
 #include "gaze_provider/trace_csv.h"
 #include "sim_runtime/sim_env.h"
@@ -61,10 +61,10 @@ TEST_F(SimRuntimeMotion, ViewsFollowTheScriptedHeadInsteadOfTheSway) {
   const XrSpace local = reference_space(app.session, XR_REFERENCE_SPACE_TYPE_LOCAL);
   const XrSpace stage = reference_space(app.session, XR_REFERENCE_SPACE_TYPE_STAGE);
   const XrSpace view = reference_space(app.session, XR_REFERENCE_SPACE_TYPE_VIEW);
-  const foveation::ScriptedMotion script = foveation::builtin_motion(1);
+  const motion::ScriptedMotion script = motion::builtin_motion(1);
 
   for (double t_s : {0.0, 1.0, 2.25}) {
-    const foveation::MotionSample s = script.at(t_s);
+    const motion::MotionSample s = script.at(t_s);
     auto head = xr<XrSpaceLocation>(XR_TYPE_SPACE_LOCATION);
     ASSERT_EQ(xrLocateSpace(view, local, at(t_s), &head), XR_SUCCESS);
     ASSERT_NE(head.locationFlags & XR_SPACE_LOCATION_ORIENTATION_VALID_BIT, 0u);
@@ -128,7 +128,7 @@ TEST_F(SimRuntimeMotion, EyeGazePoseIsTheScriptsGazeInTheTurningHeadInsteadOfThe
   const XrSpace view = reference_space(app.session, XR_REFERENCE_SPACE_TYPE_VIEW);
   ASSERT_TRUE(app.run_until_state(XR_SESSION_STATE_FOCUSED));
   ASSERT_EQ(sync(app, g.set), XR_SUCCESS);
-  const foveation::ScriptedMotion script = foveation::builtin_motion(2);
+  const motion::ScriptedMotion script = motion::builtin_motion(2);
 
   for (double t_s : {0.5, 1.003, 1.52, 2.6}) {
     const int64_t sample_ns = (std::llround(t_s * 1e9) / kGazePeriodNs) * kGazePeriodNs;

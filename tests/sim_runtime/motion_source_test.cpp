@@ -39,10 +39,10 @@ TEST(MotionSource, BuiltinIsTheSeededFourSecondScript) {
 }
 
 TEST(MotionSource, HeadIsTheScriptsPoseLoweredToLocalAndLoops) {
-  const foveation::ScriptedMotion script = foveation::builtin_motion(1);
+  const motion::ScriptedMotion script = motion::builtin_motion(1);
   const MotionSource motion(script, "test");
   for (double t : {0.0, 0.25, 1.0, 2.5, 3.999}) {
-    const foveation::MotionSample s = script.at(t);
+    const motion::MotionSample s = script.at(t);
     const Pose head = motion.head_in_local(ns(t));
     EXPECT_NEAR(std::abs(glm::dot(head.orientation, s.head_orientation)), 1.0, 1e-6) << t;
     EXPECT_NEAR(head.position.x, s.head_position_m.x, 1e-6) << t;
@@ -60,7 +60,7 @@ TEST(MotionSource, HeadIsTheScriptsPoseLoweredToLocalAndLoops) {
 }
 
 TEST(MotionSource, GazeIsSampledAt120HzWithForwardAlongPlusZAndInvalidInTheBlink) {
-  const foveation::ScriptedMotion script = foveation::builtin_motion(1);
+  const motion::ScriptedMotion script = motion::builtin_motion(1);
   const MotionSource motion(script, "test");
   // 1.003 s falls in sample 120, which holds until sample 121.
   const GazeSample s = motion.gaze_at(ns(1.003));
@@ -104,11 +104,11 @@ TEST(MotionSource, BadMotionFilesAreErrorsNamingFileLineAndColumn) {
 TEST(MotionSource, ReadsTheMotionCsvThatTheScriptWrites) {
   const std::string path = test::fresh_dir("motion") + "/builtin.csv";
   std::string error;
-  ASSERT_TRUE(foveation::save_motion_csv(foveation::builtin_motion(3), path, &error)) << error;
+  ASSERT_TRUE(motion::save_motion_csv(motion::builtin_motion(3), path, &error)) << error;
   const auto from_file = MotionSource::from_spec(path, 1, &error);
   ASSERT_TRUE(from_file.has_value()) << error;
   EXPECT_EQ(from_file->name(), path);
-  const MotionSource builtin(foveation::builtin_motion(3), "builtin");
+  const MotionSource builtin(motion::builtin_motion(3), "builtin");
   EXPECT_EQ(from_file->loop_period_ns(), builtin.loop_period_ns());
   for (double t : {0.1, 1.52, 2.7}) {
     EXPECT_LT(angle_deg(from_file->gaze_at(ns(t)).direction, builtin.gaze_at(ns(t)).direction), 1e-3) << t;

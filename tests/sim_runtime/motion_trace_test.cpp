@@ -31,7 +31,7 @@ std::string builtin_trace(const MotionSource& motion, double seconds) {
 }
 
 TEST(MotionTrace, ProvidersReaderGetsTheRuntimesSamplesRowForRow) {
-  const MotionSource motion(foveation::builtin_motion(1), "builtin");
+  const MotionSource motion(motion::builtin_motion(1), "builtin");
   const std::string path = builtin_trace(motion, 4.0);
   gaze::TraceError error;
   const auto trace = gaze::read_trace_file(path, &error);
@@ -57,7 +57,7 @@ TEST(MotionTrace, ProvidersReaderGetsTheRuntimesSamplesRowForRow) {
 TEST(MotionTrace, RuntimeReplayingTheTraceShowsTheMotionsGaze) {
   // FOVEART_SIM_GAZE=trace and FOVEART_SIM_MOTION=builtin give the same eye tracker
   // within the first loop (the trace then loops a sample period later than the motion).
-  const MotionSource motion(foveation::builtin_motion(1), "builtin");
+  const MotionSource motion(motion::builtin_motion(1), "builtin");
   std::string error;
   const auto replay = GazeSource::from_trace_file(builtin_trace(motion, 4.0), &error);
   ASSERT_TRUE(replay.has_value()) << error;
@@ -73,7 +73,7 @@ TEST(MotionTrace, RuntimeReplayingTheTraceShowsTheMotionsGaze) {
 }
 
 TEST(MotionTrace, LongerTracesLoopTheMotionAndStayMonotonic) {
-  const MotionSource motion(foveation::builtin_motion(1), "builtin");
+  const MotionSource motion(motion::builtin_motion(1), "builtin");
   gaze::TraceError error;
   const auto trace = gaze::read_trace_file(builtin_trace(motion, 12.0), &error);
   ASSERT_TRUE(trace.has_value()) << error.to_string();
@@ -91,7 +91,7 @@ TEST(MotionTrace, LongerTracesLoopTheMotionAndStayMonotonic) {
 // else (microsaccades, drift and tracker noise stay below 75 deg/s), and its hold
 // bridges exactly the blink.
 TEST(MotionTrace, ProvidersFilterChainFlagsTheScriptedSaccadeAndHoldsTheBlink) {
-  const MotionSource motion(foveation::builtin_motion(1), "builtin");
+  const MotionSource motion(motion::builtin_motion(1), "builtin");
   gaze::TraceError error;
   // One loop: rows 0-479 (the loop's restart at 4 s is a gaze jump, a saccade too).
   const auto trace = gaze::read_trace_file(builtin_trace(motion, 3.995), &error);

@@ -5,8 +5,8 @@
 
 #include <vector>
 
-using foveart::tools::content_speedup;
-using foveart::tools::TileGrid;
+using foveart::fovea::content_speedup;
+using foveart::fovea::TileGrid;
 
 TEST(ContentSpeedup, UniformCostGivesPixelsPerPoint) {
   const TileGrid g{128, 64, 64, 64, 2};  // two 64 x 64 tiles

@@ -16,7 +16,7 @@
 
 #include "interp_commands.hpp"
 
-namespace foveart::tools {
+namespace foveart::fovea {
 namespace {
 
 namespace fs = std::filesystem;
@@ -223,7 +223,7 @@ TEST_F(InterpCommands, ReconstructReportsEveryKey) {
   EXPECT_EQ(j["pixels"].get<int>(), w * h);
   EXPECT_GT(j["points"].get<int>(), 0);
   EXPECT_GT(j["psnr"].get<double>(), 10.0);
-  ASSERT_EQ(j["rings"].size(), 7u);  // foveation::kRingEdgesDeg: 0, 2.5, 5, 10, 20, 30, 45, open
+  ASSERT_EQ(j["rings"].size(), 7u);  // metrics::kRingEdgesDeg: 0, 2.5, 5, 10, 20, 30, 45, open
   EXPECT_EQ(j["rings"][0]["from_deg"].get<double>(), 0.0);
   EXPECT_EQ(j["rings"][1]["from_deg"].get<double>(), 2.5);
   EXPECT_EQ(j["rings"][6]["from_deg"].get<double>(), 45.0);
@@ -260,4 +260,4 @@ TEST_F(InterpCommands, ReconstructErrors) {
 }
 
 }  // namespace
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

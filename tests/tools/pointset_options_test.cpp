@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::fovea {
 namespace {
 
 namespace fs = std::filesystem;
@@ -49,9 +49,10 @@ class PointsetOptions : public ::testing::Test {
   fs::path outputs() const { return dir_ / "outputs"; }
 
   // fovea pointset with every output option pointed into outputs().
-  ToolRun pointset(const std::vector<std::string>& args) const {
+  // png: where --png writes, empty for outputs()/points.png.
+  ToolRun pointset(const std::vector<std::string>& args, const std::string& png = "") const {
     std::string cmd = "'" + fovea_.string() + "' pointset --k 1 --json";
-    cmd += " --png '" + (outputs() / "points.png").string() + "'";
+    cmd += " --png '" + (png.empty() ? (outputs() / "points.png").string() : png) + "'";
     cmd += " --curves '" + (outputs() / "curves").string() + "'";
     cmd += " --cache-dir '" + (outputs() / "cache").string() + "'";
     for (const auto& a : args) cmd += " '" + a + "'";
@@ -69,10 +70,19 @@ class PointsetOptions : public ::testing::Test {
 
 TEST_F(PointsetOptions, ValidSmallDisplayRunsAndWrites) {
   fs::create_directories(outputs());
-  const ToolRun r = pointset({"--width", "64", "--height", "48", "--fov-deg", "40"});
+  const ToolRun r = pointset({"--size", "64x48", "--fov-deg", "40"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\"width\": 64"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"height\": 48"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(outputs() / "points.png"));
+}
+
+// --fov-deg L,R,U,D: the point set follows the horizontal span, as the layer's.
+TEST_F(PointsetOptions, FourFovAnglesGiveTheirHorizontalSpan) {
+  fs::create_directories(outputs());
+  const ToolRun r = pointset({"--size", "64x48", "--fov-deg", "-25,15,20,-20"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"fov_deg\": 40"), std::string::npos) << r.out;
 }
 
 TEST_F(PointsetOptions, BadValueIsAnErrorNamingOptionAndValue) {
@@ -81,21 +91,25 @@ TEST_F(PointsetOptions, BadValueIsAnErrorNamingOptionAndValue) {
     const char* value;
     std::vector<std::string> rest;  // a small valid display otherwise
   };
-  const std::vector<std::string> size = {"--width", "64", "--height", "48"};
+  const std::vector<std::string> size = {"--size", "64x48"};
+  const std::vector<std::string> display = {"--size", "64x48", "--fov-deg", "40"};
   const std::vector<Case> cases = {
-      {"--width", "0", {"--height", "48", "--fov-deg", "40"}},
-      {"--width", "-5", {"--height", "48", "--fov-deg", "40"}},
-      {"--height", "0", {"--width", "64", "--fov-deg", "40"}},
+      {"--size", "0x48", {"--fov-deg", "40"}},
+      {"--size", "-5x48", {"--fov-deg", "40"}},
+      {"--size", "64x0", {"--fov-deg", "40"}},
+      {"--size", "64,48", {"--fov-deg", "40"}},  // the old separator
       {"--fov-deg", "0", size},
       {"--fov-deg", "-10", size},
       {"--fov-deg", "180", size},
       {"--fov-deg", "nan", size},
+      {"--fov-deg", "10,20", size},
+      {"--fov-deg", "20,-20,20,-20", size},  // left > right
       {"--pixels-per-degree", "0", size},
       {"--pixels-per-degree", "-2", size},
       {"--pixels-per-degree", "inf", size},
-      {"--density-scale", "0", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
-      {"--density-scale", "-1", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
-      {"--density-scale", "nan", {"--width", "64", "--height", "48", "--fov-deg", "40"}},
+      {"--density-scale", "0", display},
+      {"--density-scale", "-1", display},
+      {"--density-scale", "nan", display},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(std::string(c.option) + " " + c.value);
@@ -105,13 +119,41 @@ TEST_F(PointsetOptions, BadValueIsAnErrorNamingOptionAndValue) {
     fs::remove_all(outputs());
     fs::create_directories(outputs());
     const ToolRun r = pointset(args);
-    EXPECT_NE(r.exit_code, 0);
-    EXPECT_NE(r.err.find(c.option), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find(std::string("got ") + c.value + "\n"), std::string::npos) << r.err;
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(r.err.rfind(std::string("fovea pointset: ") + c.option + ": ", 0), 0u) << r.err;
+    const std::string value = c.value;
+    const bool says_value = r.err.find("got " + value + "\n") != std::string::npos ||
+                            r.err.find("got '" + value + "'\n") != std::string::npos;
+    if (value != "20,-20,20,-20") {
+      EXPECT_TRUE(says_value) << r.err;
+    }
     EXPECT_TRUE(r.out.empty()) << r.out;
     EXPECT_TRUE(fs::is_empty(outputs())) << "written despite the error";
   }
 }
 
+// The old spellings --width and --height are errors naming --size, not silently taken.
+TEST_F(PointsetOptions, OldSizeSpellingsNameTheNewOne) {
+  for (const char* old : {"--width", "--height"}) {
+    fs::remove_all(outputs());
+    fs::create_directories(outputs());
+    const ToolRun r = pointset({old, "64"});
+    EXPECT_NE(r.exit_code, 0) << old;
+    EXPECT_NE(r.err.find(old), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--size WxH"), std::string::npos) << r.err;
+    EXPECT_TRUE(r.out.empty()) << r.out;
+  }
+}
+
+// An output that cannot be written: exit code 2 and a message naming the file, before any work.
+TEST_F(PointsetOptions, UnwritableOutputIsExitCodeTwoNamingTheFile) {
+  fs::create_directories(outputs());
+  const std::string missing = (dir_ / "no_such_dir" / "points.png").string();
+  const ToolRun r = pointset({"--size", "64x48"}, missing);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("fovea pointset: --png: cannot write " + missing), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
 }  // namespace
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

@@ -2,7 +2,7 @@
 #include "gltf_fixtures.hpp"
 
 #include <cmd_render.hpp>
-#include <render_cli.hpp>
+#include <render_view/render_cli.hpp>
 #include <engine/default_scene.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
@@ -15,12 +15,14 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <numeric>
 #include <sstream>
 
-using foveart::tools::RenderOptions;
-using foveart::tools::run_render;
+using foveart::render_view::RenderOptions;
+using foveart::fovea::register_render;
+using foveart::fovea::run_render;
 
 namespace {
 
@@ -83,11 +85,8 @@ TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
   EXPECT_NE(err.str().find("--gaze lists 2 gazes, more than --frames 1"), std::string::npos) << err.str();
 }
 
-TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImageAndItsReference) {
-  engine_test::TempDir dir;
+TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImage) {
   RenderOptions o = small("full");
-  o.reference_spp = "4";
-  o.reference_cache = dir.path.string();
   std::ostringstream out, err;
   ASSERT_EQ(run_render(o, out, err), 0) << err.str();
   const auto every = nlohmann::json::parse(out.str());
@@ -102,13 +101,7 @@ TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImageAndItsReference) {
   EXPECT_GT(without["full"]["rays"]["shadow"].get<uint64_t>(), 0u);
   EXPECT_EQ(without["full"]["rays"]["reflection"], 0);
   EXPECT_EQ(without["full"]["rays"]["refraction"], 0);
-  // Its reference is rendered without them too, not read from the full scene's cache.
-  EXPECT_FALSE(without["errors_against_reference"]["reference"]["from_cache"].get<bool>());
-  EXPECT_NE(without["errors_against_reference"]["reference"]["cache_file"],
-            every["errors_against_reference"]["reference"]["cache_file"]);
-  out.str("");
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  EXPECT_TRUE(nlohmann::json::parse(out.str())["errors_against_reference"]["reference"]["from_cache"].get<bool>());
+  EXPECT_FALSE(without.contains("errors_against_reference"));  // accuracy is the lab's: fovea-eval accuracy
 
   o.without = "reflection,glitter";
   err.str("");
@@ -121,40 +114,44 @@ TEST(RenderCommand, RegistersWithCli11AndRejectsBadGaze) {
   CLI::App app;
   register_render(app);
   EXPECT_NO_THROW(app.get_subcommand("render"));
-  const char* argv[] = {"fovea", "render", "--gaze", "abc", "--size", "16,16"};
+  const char* argv[] = {"fovea", "render", "--gaze", "abc", "--size", "16x16"};
   EXPECT_THROW(app.parse(6, argv), CLI::ValidationError);
   // A per-frame list is checked item by item.
-  const char* list[] = {"fovea", "render", "--gaze", "8,8;abc", "--size", "16,16"};
+  const char* list[] = {"fovea", "render", "--gaze", "8,8;abc", "--size", "16x16"};
   EXPECT_THROW(app.parse(6, list), CLI::ValidationError);
 }
 
-// --temporal is the layer's one temporal choice: it picks the TAA mode through the one
-// mapping, "rays" brings the B-spline unless --pixel-filter says otherwise, and the lab's
-// --taa lists and experiments are not the product's options.
+// --temporal is the layer's one temporal choice: the product's TemporalMode, "rays"
+// brings the B-spline unless --pixel-filter says otherwise, and the lab's TAA lists,
+// its experiments and its reference are not the product's options.
 TEST(RenderCommand, TemporalIsTheLayersChoice) {
+  using foveart::foveation::PixelFilter;
+  using foveart::foveation::TemporalMode;
   struct Case {
     std::vector<const char*> args;
-    const char* taa;
-    foveart::foveation::PixelFilter filter;
+    TemporalMode temporal;
+    PixelFilter filter;
   };
-  for (const Case& c : {Case{{}, "off", foveart::foveation::PixelFilter::box},
-                        Case{{"--temporal", "image"}, "reproject", foveart::foveation::PixelFilter::box},
-                        Case{{"--temporal", "rays"}, "cache", foveart::foveation::PixelFilter::bspline2},
-                        Case{{"--temporal", "rays", "--pixel-filter", "box"}, "cache", foveart::foveation::PixelFilter::box}}) {
+  for (const Case& c : {Case{{}, TemporalMode::off, PixelFilter::box},
+                        Case{{"--temporal", "image"}, TemporalMode::image, PixelFilter::box},
+                        Case{{"--temporal", "rays"}, TemporalMode::rays, PixelFilter::bspline2},
+                        Case{{"--temporal", "rays", "--pixel-filter", "box"}, TemporalMode::rays, PixelFilter::box}}) {
     CLI::App app;
     CLI::App* cmd = app.add_subcommand("render");
     auto opts = std::make_shared<RenderOptions>();
-    foveart::tools::add_render_options(cmd, opts);
-    foveart::tools::add_temporal_option(cmd, opts);
+    foveart::render_view::add_render_options(cmd, opts);
+    foveart::render_view::add_temporal_option(cmd, opts);
     std::vector<const char*> argv{"fovea", "render"};
     argv.insert(argv.end(), c.args.begin(), c.args.end());
     ASSERT_NO_THROW(app.parse(static_cast<int>(argv.size()), argv.data()));
-    EXPECT_EQ(opts->taa, c.taa);
+    EXPECT_EQ(opts->temporal, c.temporal);
     EXPECT_EQ(opts->pixel_filter, c.filter);
   }
   for (std::vector<const char*> bad : {std::vector<const char*>{"fovea", "render", "--temporal", "on"},
                                        std::vector<const char*>{"fovea", "render", "--taa", "reproject"},
-                                       std::vector<const char*>{"fovea", "render", "--taa-mean-while-young"}}) {
+                                       std::vector<const char*>{"fovea", "render", "--taa-mean-while-young"},
+                                       std::vector<const char*>{"fovea", "render", "--reference-spp", "16"},
+                                       std::vector<const char*>{"fovea", "render", "--reference", "r.pfm"}}) {
     CLI::App app;
     register_render(app);
     EXPECT_ANY_THROW(app.parse(static_cast<int>(bad.size()), bad.data())) << bad[2];
@@ -164,9 +161,9 @@ TEST(RenderCommand, TemporalIsTheLayersChoice) {
 TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
   std::ostringstream out, err;
   RenderOptions o = small("full");
-  o.fov_deg = std::array<double, 4>{20.0, -20.0, 20.0, -20.0};  // left > right
+  o.fov.angles = std::array<double, 4>{20.0, -20.0, 20.0, -20.0};  // left > right
   EXPECT_EQ(run_render(o, out, err), 2);
-  EXPECT_NE(err.str().find("--fov"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("--fov-deg: left must be less than right"), std::string::npos) << err.str();
   o = small("full");
   o.pose = std::array<double, 7>{0, 0, 0, 0, 0, 0, 2};  // not a unit quaternion
   EXPECT_EQ(run_render(o, out, err), 2);
@@ -174,7 +171,7 @@ TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
 
   CLI::App app;
   register_render(app);
-  const char* three[] = {"fovea", "render", "--fov", "1,2,3"};
+  const char* three[] = {"fovea", "render", "--fov-deg", "1,2,3"};
   EXPECT_THROW(app.parse(4, three), CLI::ValidationError);
   CLI::App app2;
   register_render(app2);
@@ -182,12 +179,50 @@ TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
   EXPECT_THROW(app2.parse(4, nan_pose), CLI::ValidationError);
 }
 
-// --fov / --pose replace the preset's view: echoed in the report, and a camera
+// One spelling per idea in both CLIs: --size WxH and --fov-deg; the old spellings
+// (--size W,H, --fov) are errors that name the new one, never a silent alias.
+TEST(RenderCommand, OldDisplaySpellingsAreErrorsNamingTheNewOnes) {
+  const auto parse_error = [](std::vector<const char*> argv) -> std::string {
+    CLI::App app;
+    register_render(app);
+    try {
+      app.parse(static_cast<int>(argv.size()), argv.data());
+    } catch (const CLI::RuntimeError&) {
+      return "";  // parsed; the run's own exit code
+    } catch (const CLI::ParseError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(parse_error({"fovea", "render", "--fov", "-40,40,40,-40"}).find("--fov-deg"), std::string::npos);
+  const std::string comma = parse_error({"fovea", "render", "--size", "16,16"});
+  EXPECT_NE(comma.find("expected WxH"), std::string::npos) << comma;
+  EXPECT_NE(comma.find("'16,16'"), std::string::npos) << comma;
+  EXPECT_NE(parse_error({"fovea", "render", "--size", "0x16"}).find("--size"), std::string::npos);
+  EXPECT_EQ(parse_error({"fovea", "render", "--size", "16x18", "--fov-deg", "60", "--frames", "0"}), "")
+      << "the new spellings parse (the run then refuses --frames 0)";
+}
+
+// --fov-deg H: a symmetric frustum of that horizontal span, its vertical span from the size.
+TEST(RenderCommand, OneFovNumberIsTheHorizontalSpan) {
+  RenderOptions o = small("full");  // 40x45
+  o.fov.horizontal = 60.0;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const auto j = nlohmann::json::parse(out.str());
+  EXPECT_NEAR(j["fov_deg"][0].get<double>(), -30.0, 1e-4);
+  EXPECT_NEAR(j["fov_deg"][1].get<double>(), 30.0, 1e-4);
+  const double up = std::atan(std::tan(30.0 * 3.14159265358979 / 180.0) * 45.0 / 40.0) * 180.0 / 3.14159265358979;
+  EXPECT_NEAR(j["fov_deg"][2].get<double>(), up, 1e-4);
+  EXPECT_NEAR(j["fov_deg"][3].get<double>(), -up, 1e-4);
+}
+
+// --fov-deg L,R,U,D / --pose replace the preset's view: echoed in the report, and a camera
 // turned around (180 deg about +y) sees another image.
 TEST(RenderCommand, FovAndPoseDefineTheView) {
   RenderOptions o = small("full");
   o.out_prefix.clear();
-  o.fov_deg = std::array<double, 4>{-40.0, 30.0, 35.0, -45.0};
+  o.fov.angles = std::array<double, 4>{-40.0, 30.0, 35.0, -45.0};
   o.pose = std::array<double, 7>{0.0, 1.6, 2.0, 0.0, 0.0, 0.0, 1.0};
   std::ostringstream out1, err1;
   ASSERT_EQ(run_render(o, out1, err1), 0) << err1.str();

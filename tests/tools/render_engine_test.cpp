@@ -3,11 +3,11 @@
 // by ring, and the report says which engine and device traced; a bad --engine
 // is refused. Runs on lavapipe; skipped without a Vulkan device.
 #include <cmd_render.hpp>
-#include <render_options.hpp>
+#include <render_view/render_options.hpp>
 
 #include <engine/default_scene.hpp>
 #include <engine/render.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include <foveation/executor.hpp>
 #include <gpu_engine/callback_adapter.hpp>
 #include <toolkit/image_io.hpp>
@@ -32,8 +32,9 @@
 #include <vector>
 
 namespace fs = std::filesystem;
-using foveart::tools::RenderOptions;
-using foveart::tools::run_render;
+using foveart::render_view::RenderOptions;
+using foveart::fovea::register_render;
+using foveart::fovea::run_render;
 
 namespace {
 
@@ -88,16 +89,16 @@ constexpr double kControlDb = 20.0;
 // PSNR per eccentricity ring (pixels in the ring, dB) of two PNGs of the view of `o` (gaze at the centre).
 std::vector<std::pair<uint64_t, double>> ring_psnr(const RenderOptions& o, const fs::path& a_png, const fs::path& b_png,
                                                    const char* what) {
-  const FoveartEyeView view = foveart::tools::render_view(o, foveart::engine::make_default_scene());
-  const foveart::foveation::EccentricityMap map =
-      foveart::foveation::eccentricity_map(view, glm::vec2(0.5f * kWidth, 0.5f * kHeight));
+  const FoveartEyeView view = foveart::render_view::eye_view(o, foveart::engine::make_default_scene());
+  const foveart::metrics::EccentricityMap map =
+      foveart::metrics::eccentricity_map(view, glm::vec2(0.5f * kWidth, 0.5f * kHeight));
   foveart::foveation::ImageRgb a, b;
   std::string e;
   std::vector<std::pair<uint64_t, double>> rings;
   EXPECT_TRUE(foveart::toolkit::read_image(a_png.string(), foveart::toolkit::PngValues::display, &a, &e)) << e;
   EXPECT_TRUE(foveart::toolkit::read_image(b_png.string(), foveart::toolkit::PngValues::display, &b, &e)) << e;
   if (!e.empty()) return rings;
-  const auto mse = foveart::foveation::ring_mse(a, b, map);
+  const auto mse = foveart::metrics::ring_mse(a, b, map);
   for (size_t r = 0; r < mse.size(); ++r) {
     const double psnr = mse[r] > 0.0 ? 10.0 * std::log10(1.0 / mse[r]) : std::numeric_limits<double>::infinity();
     rings.emplace_back(map.ring_pixels[r], psnr);
@@ -150,7 +151,7 @@ TEST(RenderEngine, GpuEngineBothModeMatchesTheCpuEnginePerRing) {
   std::string why;
   if (!have_vulkan_device(&why)) GTEST_SKIP() << "no Vulkan device: " << why;
   engine_test::TempDir dir;
-  const std::string size = std::to_string(kWidth) + "," + std::to_string(kHeight);
+  const std::string size = std::to_string(kWidth) + "x" + std::to_string(kHeight);
   const ToolRun gpu = fovea("--engine gpu --mode both --json --frames 1 --threads 2 --size " + size + " --out '" +
                                 (dir.path / "gpu").string() + "'",
                             dir.path);
@@ -193,7 +194,7 @@ TEST(RenderEngine, GpuEngineBothModeMatchesTheCpuEnginePerRing) {
   std::string error;
   auto adapter = foveart::gpu_engine::CallbackAdapter::create(foveart::engine::make_default_scene(), &error);
   ASSERT_NE(adapter, nullptr) << error;
-  const FoveartEyeView view = foveart::tools::render_view(o, foveart::engine::make_default_scene());
+  const FoveartEyeView view = foveart::render_view::eye_view(o, foveart::engine::make_default_scene());
   foveart::engine::RenderSettings settings;
   settings.spp = o.rays_per_point;
   settings.seed = o.seed;
@@ -282,11 +283,11 @@ TEST(RenderEngine, BogusEngineAndNoDeviceAreRefusedWithAMessage) {
   EXPECT_NE(err.str().find("--engine must be cpu or gpu"), std::string::npos) << err.str();
   // And through the binary.
   engine_test::TempDir dir;
-  const ToolRun r = fovea("--engine bogus --size 16,16", dir.path);
+  const ToolRun r = fovea("--engine bogus --size 16x16", dir.path);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--engine must be cpu or gpu"), std::string::npos) << r.err;
   // No Vulkan driver to be found: a clear error, exit 1.
-  const ToolRun none = fovea("--engine gpu --size 16,16", dir.path,
+  const ToolRun none = fovea("--engine gpu --size 16x16", dir.path,
                              "VK_ICD_FILENAMES=/nonexistent/icd.json VK_DRIVER_FILES=/nonexistent/icd.json");
   EXPECT_EQ(none.exit_code, 1);
   EXPECT_NE(none.err.find("fovea render: --engine gpu: "), std::string::npos) << none.err;

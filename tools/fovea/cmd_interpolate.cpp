@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include <nanoflann.hpp>
@@ -23,7 +24,7 @@
 #include "foveation/rbf_clamp.hpp"
 #include "interp_commands.hpp"
 
-namespace foveart::tools {
+namespace foveart::fovea {
 
 namespace fv = foveart::foveation;
 
@@ -35,15 +36,15 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// Splits a line into exactly `fields` numbers; returns false with `why` set.
-bool parse_line(std::string_view line, int fields, double* out, std::string& why) {
+// Splits a line into exactly `fields` numbers; false and *error saying what is wrong.
+[[nodiscard]] bool parse_line(std::string_view line, int fields, double* out, std::string* error) {
   int n = 0;
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
     const std::string_view field = trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
     if (n == fields) {
-      why = "expected " + std::to_string(fields) + " fields, found more";
+      *error = "expected " + std::to_string(fields) + " fields, found more";
       return false;
     }
     double v = 0.0;
@@ -52,11 +53,11 @@ bool parse_line(std::string_view line, int fields, double* out, std::string& why
     if (!field.empty() && *first == '+') ++first;
     const auto [ptr, ec] = std::from_chars(first, last, v);
     if (ec == std::errc::result_out_of_range) {
-      why = "field " + std::to_string(n + 1) + " '" + std::string(field) + "' is out of the double range";
+      *error = "field " + std::to_string(n + 1) + " '" + std::string(field) + "' is out of the double range";
       return false;
     }
     if (field.empty() || ec != std::errc() || ptr != last) {
-      why = "field " + std::to_string(n + 1) + " '" + std::string(field) + "' is not a number";
+      *error = "field " + std::to_string(n + 1) + " '" + std::string(field) + "' is not a number";
       return false;
     }
     out[n++] = v;
@@ -64,7 +65,7 @@ bool parse_line(std::string_view line, int fields, double* out, std::string& why
     start = comma + 1;
   }
   if (n != fields) {
-    why = "expected " + std::to_string(fields) + " fields, found " + std::to_string(n);
+    *error = "expected " + std::to_string(fields) + " fields, found " + std::to_string(n);
     return false;
   }
   return true;
@@ -92,7 +93,7 @@ std::string parse_csv_rows(std::istream& in, const std::string& name, int fields
     const std::string_view l = trim(line);
     if (l.empty()) continue;
     std::string why;
-    if (!parse_line(l, fields, row, why)) {
+    if (!parse_line(l, fields, row, &why)) {
       if (first_content) {  // a header line
         first_content = false;
         continue;
@@ -111,96 +112,141 @@ std::string parse_csv_rows(std::istream& in, const std::string& name, int fields
   return {};
 }
 
-int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& err) {
-  auto fail = [&](const std::string& msg) {
-    err << "fovea interpolate: " << msg << "\n";
-    return 1;
-  };
+namespace {
+
+// The options as the weight code takes them; nullopt and *error naming a bad one.
+std::optional<fv::InterpOptions> interp_options(const InterpolateArgs& a, bool* clamp_rbf, std::string* error) {
   const auto method = fv::parse_method(a.interpolation);
-  if (!method) return fail("unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)");
-  if (a.k < 1 || a.k > fv::kMaxNeighbors) {
-    return fail("--k " + std::to_string(a.k) + " is outside 1.." + std::to_string(fv::kMaxNeighbors));
+  if (!method) {
+    *error = "unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)";
+    return std::nullopt;
   }
-  if (!(a.shape >= 0.0) || !std::isfinite(a.shape)) return fail("--shape must be a finite number >= 0");
+  if (a.k < 1 || a.k > fv::kMaxNeighbors) {
+    *error = "--k " + std::to_string(a.k) + " is outside 1.." + std::to_string(fv::kMaxNeighbors);
+    return std::nullopt;
+  }
+  if (!(a.shape >= 0.0) || !std::isfinite(a.shape)) {
+    *error = "--shape must be a finite number >= 0";
+    return std::nullopt;
+  }
   const auto rbf_clamp = fv::parse_rbf_clamp(a.rbf_clamp);
-  if (!rbf_clamp) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
+  if (!rbf_clamp) {
+    *error = "unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)";
+    return std::nullopt;
+  }
   // A scattered query has no gather block: block clamps to its own taps, the
   // range that the renderer's block range always contains.
-  const bool clamp_rbf = *rbf_clamp != fv::RbfClamp::off &&
-                     (*method == fv::InterpMethod::rbf || *method == fv::InterpMethod::rbf_gauss);
-  std::vector<double> samples, queries;
-  {
-    std::ifstream f(a.samples_file);
-    if (!f) return fail("cannot open samples file '" + a.samples_file + "'");
-    if (auto e = parse_csv_rows(f, a.samples_file, 3, samples); !e.empty()) return fail(e);
-  }
-  {
-    std::ifstream f(a.queries_file);
-    if (!f) return fail("cannot open queries file '" + a.queries_file + "'");
-    if (auto e = parse_csv_rows(f, a.queries_file, 2, queries); !e.empty()) return fail(e);
-  }
-  const std::size_t n = samples.size() / 3;
-  if (std::size_t(a.k) > n) {
-    return fail("--k " + std::to_string(a.k) + " is larger than the " + std::to_string(n) + " samples");
-  }
-  if (n >= (std::size_t(1) << 32) - 1) return fail("too many samples");
+  *clamp_rbf = *rbf_clamp != fv::RbfClamp::off &&
+               (*method == fv::InterpMethod::rbf || *method == fv::InterpMethod::rbf_gauss);
   fv::InterpOptions o;
   o.method = *method;
   o.k = a.k;
   o.shape = a.shape;
   o.constant_term = !a.no_constant;
+  return o;
+}
 
-  Cloud cloud{&samples};
-  Tree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
-  std::vector<std::uint32_t> idx(std::size_t(a.k));
-  std::vector<double> dist(std::size_t(a.k));
-  std::vector<std::pair<std::uint32_t, double>> hits;
+// One CSV file of rows with `fields` numbers each into *values; false and *error naming the file.
+[[nodiscard]] bool read_rows(const std::string& file, const char* what, int fields, std::vector<double>* values,
+                             std::string* error) {
+  std::ifstream f(file);
+  if (!f) {
+    *error = std::string("cannot open ") + what + " file '" + file + "'";
+    return false;
+  }
+  *error = parse_csv_rows(f, file, fields, *values);
+  return error->empty();
+}
+
+// The k nearest samples of a query in exact (distance in double, row) order: every sample within
+// the k-th distance (plus a rounding margin) is a candidate, so ties are complete.
+class NearestSamples {
+ public:
+  NearestSamples(const std::vector<double>& samples, int k)
+      : samples_(samples), cloud_{&samples}, tree_(2, cloud_, nanoflann::KDTreeSingleIndexAdaptorParams(16)),
+        k_(std::size_t(k)), idx_(k_), dist_(k_) {
+    tree_.buildIndex();
+  }
+
+  // The rows of the k nearest samples of (x, y), nearest first.
+  const std::vector<std::uint32_t>& of(const double qp[2]) {
+    const std::size_t found = tree_.knnSearch(qp, k_, idx_.data(), dist_.data());
+    double dk = 0.0;
+    for (std::size_t i = 0; i < found; ++i) dk = std::max(dk, distance(idx_[i], qp));
+    const double radius = dk * (1.0 + 1e-9) + 1e-12 * (std::abs(qp[0]) + std::abs(qp[1]) + 1.0);
+    hits_.clear();
+    tree_.radiusSearch(qp, radius * radius * (1.0 + 1e-9), hits_, nanoflann::SearchParams(32, 0.0f, false));
+    cand_.clear();
+    for (const auto& h : hits_) cand_.push_back({squared(h.first, qp), h.first});
+    for (std::size_t i = 0; i < found; ++i)  // never fewer than k candidates
+      if (std::none_of(cand_.begin(), cand_.end(), [&](const Cand& c) { return c.i == idx_[i]; }))
+        cand_.push_back({squared(idx_[i], qp), idx_[i]});
+    std::partial_sort(cand_.begin(), cand_.begin() + std::ptrdiff_t(k_), cand_.end(),
+                      [](const Cand& x, const Cand& y) { return x.d2 != y.d2 ? x.d2 < y.d2 : x.i < y.i; });
+    rows_.resize(k_);
+    for (std::size_t j = 0; j < k_; ++j) rows_[j] = cand_[j].i;
+    return rows_;
+  }
+
+ private:
   struct Cand {
     double d2;
     std::uint32_t i;
   };
-  std::vector<Cand> cand;
+  double squared(std::uint32_t i, const double qp[2]) const {
+    const double dx = samples_[i * 3] - qp[0], dy = samples_[i * 3 + 1] - qp[1];
+    return dx * dx + dy * dy;
+  }
+  double distance(std::uint32_t i, const double qp[2]) const {
+    return std::hypot(samples_[i * 3] - qp[0], samples_[i * 3 + 1] - qp[1]);
+  }
+
+  const std::vector<double>& samples_;
+  Cloud cloud_;
+  Tree tree_;
+  std::size_t k_;
+  std::vector<std::uint32_t> idx_;
+  std::vector<double> dist_;
+  std::vector<std::pair<std::uint32_t, double>> hits_;
+  std::vector<Cand> cand_;
+  std::vector<std::uint32_t> rows_;
+};
+
+}  // namespace
+
+int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& err) {
+  auto fail = [&](const std::string& msg, int code) {
+    err << "fovea interpolate: " << msg << "\n";
+    return code;
+  };
+  std::string error;
+  bool clamp_rbf = false;
+  const std::optional<fv::InterpOptions> o = interp_options(a, &clamp_rbf, &error);
+  if (!o) return fail(error, 2);
+  std::vector<double> samples, queries;
+  if (!read_rows(a.samples_file, "samples", 3, &samples, &error) ||
+      !read_rows(a.queries_file, "queries", 2, &queries, &error))
+    return fail(error, 1);
+  const std::size_t n = samples.size() / 3;
+  if (std::size_t(a.k) > n)
+    return fail("--k " + std::to_string(a.k) + " is larger than the " + std::to_string(n) + " samples", 2);
+  if (n >= (std::size_t(1) << 32) - 1) return fail("too many samples", 1);
+  NearestSamples nearest(samples, a.k);
   std::vector<fv::Vec2d> nb(std::size_t(a.k));
-  std::vector<std::uint32_t> ids(std::size_t(a.k));
   std::vector<double> w(std::size_t(a.k)), f(std::size_t(a.k));
   char buf[40];
   for (std::size_t q = 0; q < queries.size() / 2; ++q) {
     const double qp[2] = {queries[q * 2], queries[q * 2 + 1]};
-    const std::size_t found = tree.knnSearch(qp, std::size_t(a.k), idx.data(), dist.data());
-    // Exact order by (distance in double, row): every sample within the k-th
-    // distance (plus rounding margin) is a candidate, so ties are complete.
-    double dk = 0.0;
-    for (std::size_t i = 0; i < found; ++i) {
-      dk = std::max(dk, std::hypot(samples[idx[i] * 3] - qp[0], samples[idx[i] * 3 + 1] - qp[1]));
+    const std::vector<std::uint32_t>& ids = nearest.of(qp);
+    for (std::size_t j = 0; j < ids.size(); ++j) {
+      nb[j] = {samples[ids[j] * 3], samples[ids[j] * 3 + 1]};
+      f[j] = samples[ids[j] * 3 + 2];
     }
-    const double radius = dk * (1.0 + 1e-9) + 1e-12 * (std::abs(qp[0]) + std::abs(qp[1]) + 1.0);
-    hits.clear();
-    tree.radiusSearch(qp, radius * radius * (1.0 + 1e-9), hits, nanoflann::SearchParams(32, 0.0f, false));
-    cand.clear();
-    for (const auto& h : hits) {
-      const double dx = samples[h.first * 3] - qp[0], dy = samples[h.first * 3 + 1] - qp[1];
-      cand.push_back({dx * dx + dy * dy, h.first});
-    }
-    for (std::size_t i = 0; i < found; ++i) {  // never fewer than k candidates
-      if (std::none_of(cand.begin(), cand.end(), [&](const Cand& c) { return c.i == idx[i]; })) {
-        const double dx = samples[idx[i] * 3] - qp[0], dy = samples[idx[i] * 3 + 1] - qp[1];
-        cand.push_back({dx * dx + dy * dy, idx[i]});
-      }
-    }
-    std::partial_sort(cand.begin(), cand.begin() + a.k, cand.end(), [](const Cand& x, const Cand& y) {
-      return x.d2 != y.d2 ? x.d2 < y.d2 : x.i < y.i;
-    });
-    for (int j = 0; j < a.k; ++j) {
-      const std::uint32_t i = cand[std::size_t(j)].i;
-      ids[std::size_t(j)] = i;
-      nb[std::size_t(j)] = {samples[i * 3], samples[i * 3 + 1]};
-      f[std::size_t(j)] = samples[i * 3 + 2];
-    }
-    fv::interpolation_weights(o, nb, ids, {qp[0], qp[1]}, w);
+    fv::interpolation_weights(*o, nb, ids, {qp[0], qp[1]}, w);
     double v = fv::apply_weights(w, f);
     if (clamp_rbf) v = fv::rbf_clamp_to_taps<double>(v, f);
-    if (!std::isfinite(v)) return fail("query " + std::to_string(q + 1) + " gave a non-finite value (please report)");
+    if (!std::isfinite(v))
+      return fail("query " + std::to_string(q + 1) + " gave a non-finite value (please report)", 1);
     std::snprintf(buf, sizeof buf, "%.17g", v);
     out << buf << '\n';
   }
@@ -208,10 +254,7 @@ int run_interpolate(const InterpolateArgs& a, std::ostream& out, std::ostream& e
   return 0;
 }
 
-}  // namespace foveart::tools
-
 void register_interpolate(CLI::App& app) {
-  using namespace foveart::tools;
   auto args = std::make_shared<InterpolateArgs>();
   auto* sub = app.add_subcommand("interpolate", "Interpolate scattered samples at query points (CSV in, values out)");
   sub->add_option("--interpolation", args->interpolation, "nearest, msm, rbf or rbf-gauss")->required();
@@ -226,12 +269,9 @@ void register_interpolate(CLI::App& app) {
   sub->add_option("--samples", args->samples_file, "CSV rows x,y,value (header line allowed)")->required();
   sub->add_option("--queries", args->queries_file, "CSV rows x,y (header line allowed)")->required();
   sub->callback([args] {
-    int rc = 1;
-    try {
-      rc = run_interpolate(*args, std::cout, std::cerr);
-    } catch (const std::exception& e) {
-      std::cerr << "fovea interpolate: " << e.what() << "\n";
-    }
+    const int rc = run_interpolate(*args, std::cout, std::cerr);  // never throws: problems are its exit code
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }
+
+}  // namespace foveart::fovea

@@ -21,12 +21,13 @@
 #include "foveation/elapsed.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/foveated_view.hpp"
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include "interp_commands.hpp"
-#include <eval/render_metrics.hpp>
+#include <metrics/comparison_json.hpp>
 #include "toolkit/image_io.hpp"
+#include "toolkit/outputs.hpp"
 
-namespace foveart::tools {
+namespace foveart::fovea {
 
 namespace fv = foveart::foveation;
 
@@ -71,162 +72,209 @@ std::optional<std::filesystem::path> cache_dir_of(const ReconstructArgs& a, std:
 
 }  // namespace
 
-int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
-  auto fail = [&](const std::string& msg) {
-    err << "fovea reconstruct: " << msg << "\n";
-    return 1;
+namespace {
+
+constexpr const char* kReconstructWho = "fovea reconstruct: ";
+
+// The checks before any work: the options and the output file. False and *error.
+[[nodiscard]] bool check_args(const ReconstructArgs& a, std::string* error) {
+  const auto fail = [&](std::string m) {
+    *error = std::move(m);
+    return false;
   };
-  const auto method = fv::parse_method(a.interpolation);
-  if (!method) return fail("unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)");
+  if (!fv::parse_method(a.interpolation))
+    return fail("unknown --interpolation '" + a.interpolation + "' (nearest, msm, rbf, rbf-gauss)");
   if (a.k < 1 || a.k > fv::kMaxNeighbors) return fail("--k must be in 1..20");
   if (a.rays_per_point < 1 || a.rays_per_point > 4096) return fail("--rays-per-point must be in 1..4096");
-  if (!(a.density_scale > 0.0) || !std::isfinite(a.density_scale))
-    return fail("--density-scale must be a positive number");
+  if (!(a.density_scale > 0.0) || !std::isfinite(a.density_scale)) return fail("--density-scale must be a positive number");
   if (a.frames < 1 || a.frames > 10000) return fail("--frames must be in 1..10000");
-  const auto rbf_clamp = fv::parse_rbf_clamp(a.rbf_clamp);
-  if (!rbf_clamp) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
-  auto display = fv::display_preset(a.preset);
-  if (!display) {
+  if (!fv::parse_rbf_clamp(a.rbf_clamp)) return fail("unknown --rbf-clamp '" + a.rbf_clamp + "' (off, taps, block)");
+  if (!fv::display_preset(a.preset)) {
     std::string names;
     for (const auto& n : fv::display_preset_names()) names += (names.empty() ? "" : ", ") + n;
     return fail("unknown --preset '" + a.preset + "' (" + names + ")");
   }
+  if (!a.gaze.empty()) {
+    float gx = 0, gy = 0;
+    char extra = 0;
+    if (std::sscanf(a.gaze.c_str(), "%f,%f%c", &gx, &gy, &extra) != 2 || !std::isfinite(gx) || !std::isfinite(gy))
+      return fail("--gaze '" + a.gaze + "' is not X,Y in pixels");
+  }
+  if (!a.out.empty() && !toolkit::check_writable_file(a.out, error)) return fail("--out: " + *error);
+  return true;
+}
 
-  // Input image, as display values in [0, 1].
-  fv::ImageRgb reference;
-  if (std::string e; !toolkit::read_image(a.image, toolkit::PngValues::display, &reference, &e)) return fail(e);
-  const int w = reference.width_px, h = reference.height_px;
-
-  // The display takes the image's size and keeps the preset's field of view.
+// The image's own display: the preset's field of view at the image's size.
+std::optional<fv::DisplayModel> image_display(const ReconstructArgs& a, int w, int h, std::string* error) {
+  std::optional<fv::DisplayModel> display = fv::display_preset(a.preset);
   display->view_distance_px *= double(w) / double(display->width_px);
   display->width_px = w;
   display->height_px = h;
   display->scale = a.density_scale;
-  if (auto e = display->validate(); !e.empty()) return fail("display: " + e);
-
-  glm::vec2 gaze{float(w) / 2.0f, float(h) / 2.0f};
-  if (!a.gaze.empty()) {
-    float gx = 0, gy = 0;
-    char extra = 0;
-    if (std::sscanf(a.gaze.c_str(), "%f,%f%c", &gx, &gy, &extra) != 2 || !std::isfinite(gx) || !std::isfinite(gy)) {
-      return fail("--gaze '" + a.gaze + "' is not X,Y in pixels");
-    }
-    gaze = {gx, gy};
+  if (auto e = display->validate(); !e.empty()) {
+    *error = "display: " + e;
+    return std::nullopt;
   }
-  const auto mapping = fv::map_gaze(w, h, gaze);
+  return display;
+}
 
-  // Point set, neighbour table and weights: cached, not part of the frame time.
-  fv::Executor executor(static_cast<unsigned>(std::max(0, a.threads)));
-  const auto t_setup = std::chrono::steady_clock::now();
-  fv::PointSetKey key{*display, a.seed, a.k};
+// Point set, neighbour table and weights: cached, not part of the frame time.
+std::shared_ptr<const fv::ViewTables> load_tables(const ReconstructArgs& a, const fv::DisplayModel& display,
+                                                  fv::Executor& executor, std::ostream& err) {
   auto log = [&](const std::string& m) {
-    if (!a.json) err << "fovea reconstruct: " << m << "\n";
+    if (!a.json) err << kReconstructWho << m << "\n";
   };
   std::string no_cache_why;
   const auto cache = cache_dir_of(a, &no_cache_why);
   if (!cache && !no_cache_why.empty()) log("no table cache: " + no_cache_why);
   fv::InterpOptions io;
-  io.method = *method;
+  io.method = *fv::parse_method(a.interpolation);
   io.k = a.k;
   io.shape = a.shape;
   io.constant_term = !a.no_constant;
   std::optional<fv::WeightPrecision> precision;
   if (a.weights == "f16") precision = fv::WeightPrecision::f16;
   if (a.weights == "f32") precision = fv::WeightPrecision::f32;
-  const auto tables = fv::load_view_tables(cache, key, io, executor, precision, {}, log);
-  const double setup_ms = ms_since(t_setup);
+  return fv::load_view_tables(cache, fv::PointSetKey{display, a.seed, a.k}, io, executor, precision, {}, log);
+}
 
+// The frames' times summed, their flicker (with and without the history) and the last frame.
+struct Run {
+  double sample_ms = 0, interpolate_ms = 0, temporal_ms = 0, total_ms = 0;
+  double flicker = 0, flicker_raw = 0;
+  fv::FrameResult frame;
+};
+
+// --frames frames of the image through the foveated view; false and *error when a frame fails.
+[[nodiscard]] bool run_frames(const ReconstructArgs& a, fv::FoveatedView& view, const fv::FrameRequest& first,
+                              fv::ImageRgb& image, fv::Executor& executor, Run* r, std::string* error) {
+  fv::FrameRequest request = first;
+  fv::ImageRgb prev_out, prev_raw;
+  for (int t = 0; t < a.frames; ++t) {
+    request.frame_index = std::uint64_t(t);
+    r->frame = view.render(request, &sample_image, &image, executor);
+    if (!r->frame.ok()) {
+      *error = r->frame.message;
+      return false;
+    }
+    r->sample_ms += r->frame.select_ms + r->frame.trace_ms;
+    r->interpolate_ms += r->frame.reconstruct_ms;
+    r->temporal_ms += r->frame.temporal_ms;
+    r->total_ms += r->frame.select_ms + r->frame.trace_ms + r->frame.reconstruct_ms + r->frame.temporal_ms;
+    if (t > 0) {
+      r->flicker += metrics::mean_abs_difference(view.image(), prev_out);
+      r->flicker_raw += metrics::mean_abs_difference(view.reconstructed(), prev_raw);
+    }
+    prev_out = view.image();
+    prev_raw = view.reconstructed();
+  }
+  return true;
+}
+
+nlohmann::json report_json(const ReconstructArgs& a, const fv::ViewTables& tables, const fv::FrameRequest& request,
+                           const fv::ImageRgb& image, const fv::ImageRgb& output, const Run& r, double setup_ms) {
+  const double nf = double(a.frames);
+  const fv::GatherStats gstats = r.frame.gather;
+  // Rings by the angle between a pixel's ray and the gaze ray in the image's own view.
+  const glm::vec2 gaze = fv::map_gaze(image.width_px, image.height_px, request.gaze_px).gaze_px;
+  const metrics::ImageComparison cmp = metrics::compare_images(image, output, metrics::eccentricity_map(request.view, gaze));
+  nlohmann::json j;
+  j["image"] = a.image;
+  j["preset"] = a.preset;
+  j["interpolation"] = std::string(fv::method_name(*fv::parse_method(a.interpolation)));
+  j["k"] = a.k;
+  j["density_scale"] = a.density_scale;
+  j["rays_per_point"] = a.rays_per_point;
+  j["gaze"] = {gaze.x, gaze.y};
+  j["points"] = r.frame.points;
+  j["points_total"] = tables.points.size();
+  j["pixels"] = std::size_t(image.width_px) * std::size_t(image.height_px);
+  j["frames"] = a.frames;
+  j["sample_ms"] = r.sample_ms / nf;
+  j["interpolate_ms"] = r.interpolate_ms / nf;
+  j["temporal_ms"] = r.temporal_ms / nf;
+  j["total_ms"] = r.total_ms / nf;
+  j["setup_ms"] = setup_ms;
+  j["table_from_cache"] = tables.from_cache;
+  j["table_weight_bytes"] = tables.interpolation.bytes();
+  j["table_index_bytes"] = tables.neighbors.bytes();
+  j["weights"] = tables.interpolation.precision == fv::WeightPrecision::f16 ? "f16" : "f32";
+  j["rbf_clamp"] = fv::rbf_clamp_name(*fv::parse_rbf_clamp(a.rbf_clamp));
+  j["rbf_fallback_pixels"] = tables.interpolation.stats.fallback_msm;
+  j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
+  j["psnr"] = metrics::number_or_null_json(metrics::psnr(image, output));
+  j["ssim"] = metrics::ssim(image, output);
+  if (a.frames > 1) {
+    j["flicker"] = r.flicker / (nf - 1.0);
+    j["flicker_no_taa"] = r.flicker_raw / (nf - 1.0);
+  }
+  j["csf_rmse"] = metrics::number_or_null_json(cmp.csf_rmse);
+  j["rings"] = metrics::comparison_json(cmp)["rings"];
+  return j;
+}
+
+// The whole pipeline after the checks; returns the exit code.
+int reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
+  const auto fail = [&](const std::string& msg) {
+    err << kReconstructWho << msg << "\n";
+    return 1;
+  };
+  fv::ImageRgb image;  // the input, as display values in [0, 1]
+  std::string error;
+  if (!toolkit::read_image(a.image, toolkit::PngValues::display, &image, &error)) return fail(error);
+  const int w = image.width_px, h = image.height_px;
+  const std::optional<fv::DisplayModel> display = image_display(a, w, h, &error);
+  if (!display) return fail(error);
+  fv::Executor executor(static_cast<unsigned>(std::max(0, a.threads)));
+  const auto t_setup = std::chrono::steady_clock::now();
+  const auto tables = load_tables(a, *display, executor, err);
+  const double setup_ms = ms_since(t_setup);
   fv::ViewSettings settings;
   settings.rays_per_point = a.rays_per_point;
   settings.sample_seed = a.seed;
   settings.new_jitter_each_frame = a.jitter;
   settings.temporal = fv::TemporalMode::image;
-  settings.rbf_clamp = *rbf_clamp;
+  settings.rbf_clamp = *fv::parse_rbf_clamp(a.rbf_clamp);
   fv::FoveatedView view(tables, settings);
   fv::FrameRequest request;  // the image's own view: a pinhole D pixels from the eye
   const float half_x = float(std::atan(0.5 * w / display->view_distance_px));
   const float half_y = float(std::atan(0.5 * h / display->view_distance_px));
   request.view = fv::make_eye_view(0, std::uint32_t(w), std::uint32_t(h), fv::EyePose{}, -half_x, half_x, half_y, -half_y);
+  glm::vec2 gaze{float(w) / 2.0f, float(h) / 2.0f};
+  if (!a.gaze.empty()) std::sscanf(a.gaze.c_str(), "%f,%f", &gaze.x, &gaze.y);  // checked by check_args
   request.gaze_px = gaze;
-  double sample_ms = 0, interpolate_ms = 0, temporal_ms = 0, total_ms = 0;
-  double flicker = 0, flicker_raw = 0;
-  fv::ImageRgb prev_out, prev_raw;
-  fv::FrameResult frame;
-  for (int t = 0; t < a.frames; ++t) {
-    request.frame_index = std::uint64_t(t);
-    frame = view.render(request, &sample_image, &reference, executor);
-    if (!frame.ok()) return fail(frame.message);
-    sample_ms += frame.select_ms + frame.trace_ms;
-    interpolate_ms += frame.reconstruct_ms;
-    temporal_ms += frame.temporal_ms;
-    total_ms += frame.select_ms + frame.trace_ms + frame.reconstruct_ms + frame.temporal_ms;
-    if (t > 0) {
-      flicker += fv::mean_abs_difference(view.image(), prev_out);
-      flicker_raw += fv::mean_abs_difference(view.reconstructed(), prev_raw);
-    }
-    prev_out = view.image();
-    prev_raw = view.reconstructed();
-  }
-  const fv::ImageRgb& output = view.image();
-  const fv::GatherStats gstats = frame.gather;
-  const std::size_t visible_count = frame.points;
-  const double nf = double(a.frames);
-
-  if (!a.out.empty()) {
-    if (std::string e; !toolkit::write_png(a.out, output, toolkit::PngValues::display, &e)) return fail(e);
-  }
-
-  const double psnr = fv::psnr(reference, output);
-  const double ssim = fv::ssim(reference, output);
-  // Rings by the angle between a pixel's ray and the gaze ray in the image's own view.
-  const fv::ImageComparison cmp = fv::compare_images(reference, output, fv::eccentricity_map(request.view, mapping.gaze_px));
-  nlohmann::json j;
-  j["image"] = a.image;
-  j["preset"] = a.preset;
-  j["interpolation"] = std::string(fv::method_name(*method));
-  j["k"] = a.k;
-  j["density_scale"] = a.density_scale;
-  j["rays_per_point"] = a.rays_per_point;
-  j["gaze"] = {mapping.gaze_px.x, mapping.gaze_px.y};
-  j["points"] = visible_count;
-  j["points_total"] = tables->points.size();
-  j["pixels"] = std::size_t(w) * std::size_t(h);
-  j["frames"] = a.frames;
-  j["sample_ms"] = sample_ms / nf;
-  j["interpolate_ms"] = interpolate_ms / nf;
-  j["temporal_ms"] = temporal_ms / nf;
-  j["total_ms"] = total_ms / nf;
-  j["setup_ms"] = setup_ms;
-  j["table_from_cache"] = tables->from_cache;
-  j["table_weight_bytes"] = tables->interpolation.bytes();
-  j["table_index_bytes"] = tables->neighbors.bytes();
-  j["weights"] = tables->interpolation.precision == fv::WeightPrecision::f16 ? "f16" : "f32";
-  j["rbf_clamp"] = fv::rbf_clamp_name(*rbf_clamp);
-  j["rbf_fallback_pixels"] = tables->interpolation.stats.fallback_msm;
-  j["invalid_tap_pixels"] = gstats.renormalized + gstats.nearest_valid + gstats.fallback;
-  j["psnr"] = tools::number_or_null_json(psnr);
-  j["ssim"] = ssim;
-  if (a.frames > 1) {
-    j["flicker"] = flicker / (nf - 1.0);
-    j["flicker_no_taa"] = flicker_raw / (nf - 1.0);
-  }
-  j["csf_rmse"] = tools::number_or_null_json(cmp.csf_rmse);
-  j["rings"] = comparison_json(cmp)["rings"];
+  Run r;
+  if (!run_frames(a, view, request, image, executor, &r, &error)) return fail(error);
+  if (!a.out.empty() && !toolkit::write_png(a.out, view.image(), toolkit::PngValues::display, &error)) return fail(error);
+  const nlohmann::json j = report_json(a, *tables, request, image, view.image(), r, setup_ms);
   if (a.json) {
     out << j.dump(2) << "\n";
   } else {
-    out << "points " << visible_count << ", " << w << "x" << h << " px, " << fv::method_name(*method) << " k=" << a.k
-        << ": sample " << sample_ms / nf << " ms, interpolate " << interpolate_ms / nf << " ms, taa " << temporal_ms / nf
-        << " ms, total " << total_ms / nf << " ms; PSNR " << psnr << " dB, SSIM " << ssim << "\n";
+    const double nf = double(a.frames);
+    out << "points " << r.frame.points << ", " << w << "x" << h << " px, " << j["interpolation"].get<std::string>()
+        << " k=" << a.k << ": sample " << r.sample_ms / nf << " ms, interpolate " << r.interpolate_ms / nf
+        << " ms, temporal " << r.temporal_ms / nf << " ms, total " << r.total_ms / nf << " ms; PSNR "
+        << metrics::psnr(image, view.image()) << " dB, SSIM " << j["ssim"].get<double>() << "\n";
   }
   return 0;
 }
 
+}  // namespace
 
-}  // namespace foveart::tools
+int run_reconstruct(const ReconstructArgs& a, std::ostream& out, std::ostream& err) {
+  if (std::string bad; !check_args(a, &bad)) {
+    err << kReconstructWho << bad << "\n";
+    return 2;
+  }
+  try {
+    return reconstruct(a, out, err);
+  } catch (const std::exception& e) {  // the tables' cache or build: what failed, named by the library
+    err << kReconstructWho << e.what() << "\n";
+    return 1;
+  }
+}
 
 void register_reconstruct(CLI::App& app) {
-  using namespace foveart::tools;
   auto a = std::make_shared<ReconstructArgs>();
   auto* sub = app.add_subcommand("reconstruct", "Foveate an image: sample it at the visible points and reconstruct");
   sub->add_option("--image", a->image, "input PNG (or any format stb_image reads)")->required();
@@ -255,12 +303,9 @@ void register_reconstruct(CLI::App& app) {
       ->check(CLI::IsMember({"off", "taps", "block"}))
       ->capture_default_str();
   sub->callback([a] {
-    int rc = 1;
-    try {
-      rc = run_reconstruct(*a, std::cout, std::cerr);
-    } catch (const std::exception& e) {
-      std::cerr << "fovea reconstruct: " << e.what() << "\n";
-    }
+    const int rc = run_reconstruct(*a, std::cout, std::cerr);  // never throws: problems are its exit code
     if (rc != 0) throw CLI::RuntimeError(rc);
   });
 }
+
+}  // namespace foveart::fovea

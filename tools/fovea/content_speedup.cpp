@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace foveart::tools {
+namespace foveart::fovea {
 
 double content_speedup(const TileGrid& g, std::span<const double> tile_ms, std::span<const uint32_t> points) {
   if (g.tile_w_px == 0 || g.tile_h_px == 0 || g.tiles_x == 0 || tile_ms.size() != points.size()) return 0.0;
@@ -19,4 +19,4 @@ double content_speedup(const TileGrid& g, std::span<const double> tile_ms, std::
   return cost_points > 0.0 ? cost_all / cost_points : 0.0;
 }
 
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <span>
 
-namespace foveart::tools {
+namespace foveart::fovea {
 
 // A full frame's tiles: tiles_x columns of tile_w x tile_h pixels over a
 // width x height image (the last row and column may be cut by the edge).
@@ -26,4 +26,4 @@ struct TileGrid {
 double content_speedup(const TileGrid& grid, std::span<const double> tile_ms,
                        std::span<const uint32_t> points_per_tile);
 
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

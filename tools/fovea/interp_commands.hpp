@@ -11,11 +11,11 @@ namespace CLI {
 class App;
 }
 
+namespace foveart::fovea {
+
 // Registration with the fovea tool (declared for main.cpp in commands.hpp).
 void register_interpolate(CLI::App& app);
 void register_reconstruct(CLI::App& app);
-
-namespace foveart::tools {
 
 // --- fovea interpolate ---------------------------------------------------------
 struct InterpolateArgs {
@@ -61,4 +61,4 @@ struct ReconstructArgs {
 // Runs the whole pipeline; returns the exit code (errors as one line on `err`).
 int run_reconstruct(const ReconstructArgs& args, std::ostream& out, std::ostream& err);
 
-}  // namespace foveart::tools
+}  // namespace foveart::fovea

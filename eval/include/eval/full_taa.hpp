@@ -15,7 +15,7 @@
 
 #include <cstdint>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct FullTaaFrame {
   std::int32_t status = FOVEART_RESULT_SUCCESS;  // the first failing callback status, if any
@@ -25,7 +25,7 @@ struct FullTaaFrame {
 
 class FullTaaRender {
  public:
-  // `settings`: a foveated view's (tools::taa_view_settings); its rays per point are the
+  // `settings`: a foveated view's (render_view::taa_view_settings); its rays per point are the
   // full render's rays per pixel, and its seed, new-jitter rule, pixel filter and TAA
   // options are the full render's. Throws std::invalid_argument without an image history.
   explicit FullTaaRender(const foveation::ViewSettings& settings);
@@ -47,4 +47,4 @@ class FullTaaRender {
   foveation::ImageRgb frame_;  // the last full render, before the blend
 };
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct SequenceTrack {
   std::string id;
@@ -133,7 +133,7 @@ struct SequenceHooks {
 
 // Renders frames for every track against the reference sequence. false with
 // *error when the engine fails, a frame fails or the cache cannot be written.
-bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
+[[nodiscard]] bool run_sequence(engine::Tracer& tracer, std::uint64_t scene_hash, const std::vector<MotionFrame>& frames,
                   const SequenceReferenceOptions& reference, std::vector<SequenceTrack>& tracks,
                   foveation::Executor& executor, const SequenceHooks& hooks, SequenceRun* run, std::string* error);
 
@@ -159,4 +159,4 @@ nlohmann::ordered_json sequence_band_json(const TemporalError& error, const Sequ
 const nlohmann::ordered_json* find_band(const nlohmann::ordered_json& bands, const RingBand& band);
 double median_ms(std::vector<double> v);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -1,4 +1,4 @@
-// The settings `fovea pricelist` sweeps: the full render at 1..16 rays per
+// The settings `fovea-eval pricelist` sweeps: the full render at 1..16 rays per
 // pixel (the baseline), the full render with the foveated frames' TAA at each
 // TAA ray count, and foveated frames over interpolation x k x density scale x
 // rays per point x fovea pattern, with and without TAA.
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct PriceSetting {
   bool full = false;                      // the full render instead of a foveated frame
@@ -24,7 +24,7 @@ struct PriceSetting {
   std::string table_id() const;
 };
 
-// Each list is the `fovea pricelist` option of the same name (kebab-case).
+// Each list is the `fovea-eval pricelist` option of the same name (kebab-case).
 struct PriceGrid {
   std::vector<int> full_rays_per_point = {1, 2, 4, 8, 16};
   std::vector<std::string> interpolation = {"nearest:1", "msm:5", "msm:10", "rbf:5", "rbf:10"};  // method:k
@@ -44,6 +44,6 @@ PriceGrid quick_grid();
 [[nodiscard]] bool expand_grid(const PriceGrid& grid, std::vector<PriceSetting>* out, std::string* error);
 
 // "a,b,c" -> items; false when an item is empty.
-bool split_list(const std::string& text, std::vector<std::string>* out);
+[[nodiscard]] bool split_list(const std::string& text, std::vector<std::string>* out);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

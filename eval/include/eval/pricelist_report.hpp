@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct PricelistContext {
   nlohmann::ordered_json run;        // scene, view, gaze, machine, run time
@@ -37,8 +37,10 @@ std::optional<std::size_t> equal_time_full(const std::vector<nlohmann::ordered_j
                                            std::size_t ring);
 
 // Writes pricelist.json, pricelist.csv, pareto_ring<R>.png, pricelist.png,
-// report.md and, with temporal columns, temporal.csv into `dir`; *headline gets the summary sentence. Error message or "".
-std::string write_pricelist(const std::filesystem::path& dir, const PricelistContext& context,
-                            std::vector<nlohmann::ordered_json> settings, std::string* headline);
+// report.md and, with temporal columns, temporal.csv into `dir`; *headline gets the summary sentence.
+// False and *error naming the file that could not be written.
+[[nodiscard]] bool write_pricelist(const std::filesystem::path& dir, const PricelistContext& context,
+                                   std::vector<nlohmann::ordered_json> settings, std::string* headline,
+                                   std::string* error);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct TemporalOptions {
   std::string motion = "builtin";       // "builtin", a CSV file, or "none" (no temporal columns)
@@ -75,4 +75,4 @@ std::optional<nlohmann::ordered_json> run_pricelist_temporal(const TemporalConte
                                                              engine::Tracer& tracer, std::uint64_t scene_hash,
                                                              foveation::Executor& executor, std::ostream& err);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -10,7 +10,7 @@
 #include <ostream>
 #include <string>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 // The setting the headline reads: the layer's defaults (MSM k = 5, scale 1,
 // pixel-grid fovea, 1 ray per point) when measured, else the first TAA setting.
@@ -75,4 +75,4 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const nlohman
 void write_temporal_markdown(std::ostream& md, const nlohmann::ordered_json& temporal,
                              const nlohmann::ordered_json& acceptance, const nlohmann::ordered_json& sanity);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -21,7 +21,7 @@
 
 #include <foveation/executor.hpp>
 #include <foveation/image.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 #include <foveation/ray_samples.hpp>
 #include <foveation/ray_trace.h>
 
@@ -33,7 +33,7 @@
 #include <string>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 // The convergence check (spp = 0): a full render at s rays per pixel has MSE
 // sigma^2 / s against the truth, the reference at N has sigma^2 / N, so the
@@ -73,7 +73,7 @@ struct Reference {
   bool converged = true;                // false: the check stopped at max_spp short of its goal
 
   // Residual MSE per ring against the truth, MSE(A, B) / 4, and its PSNR.
-  std::array<double, foveation::kRingCount> residual_mse(const foveation::EccentricityMap& map) const;
+  std::array<double, metrics::kRingCount> residual_mse(const metrics::EccentricityMap& map) const;
 };
 
 using ReferenceLog = std::function<void(const std::string&)>;
@@ -99,11 +99,11 @@ std::optional<Reference> converged_reference(FoveartTraceRaysFn fn, void* user_d
 std::filesystem::path reference_cache_path(const std::string& cache_dir, std::uint64_t scene_hash,
                                            const FoveartEyeView& view, int spp, std::uint64_t seed,
                                            foveation::PixelFilter filter);
-// Reads a cache file written by converged_reference; nullopt with *why (naming
+// Reads a cache file written by converged_reference; nullopt with *error (naming
 // the file and what is wrong) when it is missing, truncated, corrupt or of another key.
-std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* why);
+std::optional<Reference> read_reference(const std::filesystem::path& file, std::uint64_t key, std::string* error);
 std::string write_reference(const std::filesystem::path& file, std::uint64_t key, const Reference& reference);
 std::uint64_t reference_key(std::uint64_t scene_hash, const FoveartEyeView& view, int spp, std::uint64_t seed,
                             foveation::PixelFilter filter);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -24,7 +24,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 // The colour a kept ray brings to a frame.
 enum class RayReuse : std::uint8_t {
@@ -55,4 +55,4 @@ class SampleHistory {
   std::vector<foveation::RayBatch> batches_;  // per worker slot
 };
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

@@ -39,13 +39,13 @@
 #pragma once
 
 #include <foveation/image.hpp>
-#include <eval/image_metrics.hpp>
+#include <metrics/image_metrics.hpp>
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
-namespace foveart::tools {
+namespace foveart::eval {
 
 struct TemporalRing {
   std::uint64_t frame_values = 0;  // pixel-channel values summed into error_mse
@@ -56,12 +56,12 @@ struct TemporalRing {
   std::uint64_t csf_pair_pixels = 0;  // pixels summed into flicker_csf_rms
   double flicker_csf_rms = 0.0;       // NaN without a pair or without the map's eccentricities
   double error_mse = 0.0;          // NaN for an empty ring
-  double psnr_db() const { return foveation::psnr_of_mse(error_mse); }
+  double psnr_db() const { return metrics::psnr_of_mse(error_mse); }
 };
 
-using TemporalRings = std::array<TemporalRing, foveation::kRingCount>;
+using TemporalRings = std::array<TemporalRing, metrics::kRingCount>;
 
-// Rings [begin, end) of foveation::kRingEdgesDeg pooled into one region.
+// Rings [begin, end) of metrics::kRingEdgesDeg pooled into one region.
 struct RingBand {
   const char* name;
   std::size_t begin;
@@ -70,7 +70,7 @@ struct RingBand {
 // The two regions of the temporal goal: where the user looks
 // (0-5 deg: no ghosting) and the periphery (> 20 deg: flicker).
 inline constexpr RingBand kCentralBand{"centre", 0, 2};
-inline constexpr RingBand kPeripheralBand{"periphery", 4, foveation::kRingCount};
+inline constexpr RingBand kPeripheralBand{"periphery", 4, metrics::kRingCount};
 
 // Per frame: 1 where a TAA history has run at least `settle_frames` frames since
 // it last restarted — restart[t] != 0 marks a frame that restarts it (the first,
@@ -93,7 +93,7 @@ class TemporalError {
   // holds frame t's rings; `tracked` (optional, from frame 1 on) the previous
   // error along the motion. Throws std::invalid_argument on mismatched sizes.
   void add_frame(const foveation::ImageRgb& image, const foveation::ImageRgb& reference,
-                 const foveation::EccentricityMap& map, const TrackedPrevious* tracked = nullptr);
+                 const metrics::EccentricityMap& map, const TrackedPrevious* tracked = nullptr);
   TemporalRings rings() const;
   // Rings [band.begin, band.end) pooled over the frames t with frame_mask[t] != 0
   // (all frames when frame_mask is null): error over those frames, flicker over
@@ -108,8 +108,8 @@ class TemporalError {
  private:
   // One frame's sums per ring: its error, and its pair with the frame before.
   struct FrameSums {
-    std::array<double, foveation::kRingCount> flicker{}, tracked{}, error{}, csf{};
-    std::array<std::uint64_t, foveation::kRingCount> flicker_n{}, tracked_n{}, error_n{}, csf_n{};
+    std::array<double, metrics::kRingCount> flicker{}, tracked{}, error{}, csf{};
+    std::array<std::uint64_t, metrics::kRingCount> flicker_n{}, tracked_n{}, error_n{}, csf_n{};
   };
   foveation::ImageRgb previous_error_, error_;
   std::vector<FrameSums> sums_;
@@ -131,15 +131,15 @@ class TemporalError {
 class ReferenceFloor {
  public:
   // Throws std::invalid_argument when residual_mse, half_difference_luma (optional) and map differ in size.
-  void add_frame(const std::vector<float>& residual_mse, const foveation::EccentricityMap& map,
+  void add_frame(const std::vector<float>& residual_mse, const metrics::EccentricityMap& map,
                  const std::vector<float>* half_difference_luma = nullptr);
   TemporalRings rings() const;
 
  private:
   std::vector<float> previous_, previous_luma_;
   bool luma_every_frame_ = true;
-  std::array<double, foveation::kRingCount> flicker_sum_{}, error_sum_{}, csf_sum_{};
-  std::array<std::uint64_t, foveation::kRingCount> flicker_n_{}, error_n_{}, csf_n_{};
+  std::array<double, metrics::kRingCount> flicker_sum_{}, error_sum_{}, csf_sum_{};
+  std::array<std::uint64_t, metrics::kRingCount> flicker_n_{}, error_n_{}, csf_n_{};
 };
 
 // *out = image blurred by the binomial kernel [1 2 1]/4 along rows, then
@@ -147,4 +147,4 @@ class ReferenceFloor {
 // blurred truths is soft but stable in the world.
 void binomial_blur_3x3(const foveation::ImageRgb& image, foveation::ImageRgb* out);
 
-}  // namespace foveart::tools
+}  // namespace foveart::eval

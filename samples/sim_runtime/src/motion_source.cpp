@@ -9,8 +9,8 @@
 
 namespace foveart::sim {
 
-MotionSource::MotionSource(foveation::ScriptedMotion motion, std::string name)
-    : motion_(std::make_shared<const foveation::ScriptedMotion>(std::move(motion))),
+MotionSource::MotionSource(motion::ScriptedMotion motion, std::string name)
+    : motion_(std::make_shared<const motion::ScriptedMotion>(std::move(motion))),
       name_(std::move(name)) {
   if (!motion_->samples().empty()) {
     const double span_s = motion_->samples().back().time_s - motion_->samples().front().time_s;
@@ -23,8 +23,8 @@ MotionSource::MotionSource(foveation::ScriptedMotion motion, std::string name)
 
 std::optional<MotionSource> MotionSource::from_spec(const std::string& spec, uint64_t seed,
                                                     std::string* error) {
-  if (spec == "builtin") return MotionSource(foveation::builtin_motion(seed), "builtin (seed " + std::to_string(seed) + ")");
-  std::optional<foveation::ScriptedMotion> motion = foveation::load_motion_csv(spec, error);
+  if (spec == "builtin") return MotionSource(motion::builtin_motion(seed), "builtin (seed " + std::to_string(seed) + ")");
+  std::optional<motion::ScriptedMotion> motion = motion::load_motion_csv(spec, error);
   if (!motion) return std::nullopt;
   return MotionSource(std::move(*motion), spec);
 }
@@ -48,8 +48,8 @@ Pose MotionSource::head_in_local(int64_t offset_ns) const {
   int64_t loop_start_ns = 0;
   int64_t in_loop_ns = 0;
   split(offset_ns, loop_start_ns, in_loop_ns);
-  const foveation::MotionSample s = motion_->at(script_time_s(in_loop_ns));
-  const foveation::EyePose local = foveation::head_pose_above_standing_eye(s);
+  const motion::MotionSample s = motion_->at(script_time_s(in_loop_ns));
+  const foveation::EyePose local = motion::head_pose_above_standing_eye(s);
   Pose p;
   p.orientation = local.orientation;
   p.position = local.position_m;
@@ -63,7 +63,7 @@ GazeSample MotionSource::gaze_at(int64_t offset_ns) const {
   const int64_t period_ns = headset().gaze_period_ns();
   const int64_t index = period_ns_ > 0 ? std::min(in_loop_ns / period_ns, samples_per_loop_ - 1) : 0;
   const int64_t sample_in_loop_ns = index * period_ns;
-  const foveation::MotionSample s = motion_->at(script_time_s(sample_in_loop_ns));
+  const motion::MotionSample s = motion_->at(script_time_s(sample_in_loop_ns));
   GazeSample out;
   out.offset_ns = loop_start_ns + sample_in_loop_ns;
   out.valid = s.gaze_valid;

@@ -1,4 +1,4 @@
-// The scripted head and gaze motion (eval/scripted_motion.hpp) as the simulated
+// The scripted head and gaze motion (motion/scripted_motion.hpp, foveart::motion) as the simulated
 // headset plays it (FOVEART_SIM_MOTION): the head pose of VIEW in LOCAL and the eye
 // tracker's samples, both from one script on one time base, looping.
 //
@@ -19,7 +19,7 @@
 #include <optional>
 #include <string>
 
-#include <eval/scripted_motion.hpp>
+#include <motion/scripted_motion.hpp>
 
 #include "gaze_source.h"
 #include "pose_math.h"
@@ -27,14 +27,14 @@
 namespace foveart::sim {
 
 // LOCAL sits this far above the STAGE floor (the motion's world frame).
-inline constexpr float kLocalAboveStageM = foveation::kStandingEyeHeightM;
+inline constexpr float kLocalAboveStageM = motion::kStandingEyeHeightM;
 
 class MotionSource {
  public:
-  explicit MotionSource(foveation::ScriptedMotion motion, std::string name);
+  explicit MotionSource(motion::ScriptedMotion motion, std::string name);
 
-  // "builtin": foveation::builtin_motion(seed); anything else is a CSV path
-  // (foveation::load_motion_csv; the seed is unused). nullopt and a message naming
+  // "builtin": motion::builtin_motion(seed); anything else is a CSV path
+  // (motion::load_motion_csv; the seed is unused). nullopt and a message naming
   // the file, line and column on bad input.
   static std::optional<MotionSource> from_spec(const std::string& spec, uint64_t seed,
                                                std::string* error);
@@ -48,7 +48,7 @@ class MotionSource {
   int64_t next_sample_ns(int64_t sample_offset_ns) const;
 
   int64_t loop_period_ns() const { return period_ns_; }
-  const foveation::ScriptedMotion& motion() const { return *motion_; }
+  const motion::ScriptedMotion& motion() const { return *motion_; }
   const std::string& name() const { return name_; }  // "builtin (seed 1)" or the path
 
  private:
@@ -56,7 +56,7 @@ class MotionSource {
   double script_time_s(int64_t in_loop_ns) const;
   void split(int64_t offset_ns, int64_t& loop_start_ns, int64_t& in_loop_ns) const;
 
-  std::shared_ptr<const foveation::ScriptedMotion> motion_;
+  std::shared_ptr<const motion::ScriptedMotion> motion_;
   std::string name_;
   int64_t period_ns_ = 0;         // 0: a single sample, no looping
   int64_t samples_per_loop_ = 1;  // eye-tracker samples in one loop

@@ -15,7 +15,7 @@ namespace foveart::toolkit {
 
 namespace {
 
-bool fail(std::string* error, std::string message) {
+[[nodiscard]] bool fail(std::string* error, std::string message) {
   *error = std::move(message);
   return false;
 }

@@ -27,7 +27,7 @@ inline constexpr const char* kEyeTracking = "FOVEART_SIM_EYE_TRACKING";
 // "static" (default) or "sway": slow scripted head yaw of +-10 deg at 0.1 Hz.
 // Ignored under kMotion.
 inline constexpr const char* kHead = "FOVEART_SIM_HEAD";
-// Scripted head and gaze motion (eval/scripted_motion.hpp): "builtin" (4 s:
+// Scripted head and gaze motion (motion/scripted_motion.hpp): "builtin" (4 s:
 // head turning 10-30 deg/s, fixations, a 12 deg saccade at 1.5 s, a 150 ms blink at
 // 3.0 s) or the path of a motion CSV (time_s,qx,qy,qz,qw,px,py,pz,gx,gy,gz,valid[,saccade]).
 // Drives the head pose (VIEW, xrLocateViews) and the eye gaze pose from the session's

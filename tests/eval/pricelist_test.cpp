@@ -1,0 +1,318 @@
+// `fovea-eval pricelist`: the grid with its full renders with TAA, the Pareto front,
+// the full render at equal time, a tiny sweep whose CSV agrees with its JSON
+// and whose written images reproduce its per-ring PSNR, resume, bad grids.
+#include "gltf_fixtures.hpp"
+
+#include <eval/cmd_pricelist.hpp>
+#include <eval/pfm.hpp>
+#include <eval/pricelist_report.hpp>
+#include <eval/reference.hpp>
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <engine/tracer.hpp>
+#include <foveation/executor.hpp>
+#include <metrics/image_metrics.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using namespace foveart;
+
+namespace {
+
+std::size_t count_lines(const fs::path& file) {
+  std::ifstream in(file);
+  std::size_t n = 0;
+  std::string line;
+  while (std::getline(in, line)) ++n;
+  return n;
+}
+
+// Ring 0 PSNR and time fraction as given; kind from the id.
+nlohmann::ordered_json result(const std::string& id, double time_fraction, double psnr0) {
+  nlohmann::ordered_json rings = nlohmann::ordered_json::array();
+  rings.push_back({{"psnr", std::isnan(psnr0) ? nlohmann::ordered_json() : nlohmann::ordered_json(psnr0)}});
+  return {{"id", id}, {"kind", id.rfind("full", 0) == 0 ? "full" : "foveated"}, {"time_fraction", time_fraction},
+          {"rings", rings}};
+}
+
+}  // namespace
+
+TEST(Pricelist, ParetoFrontKeepsTheUndominated) {
+  //                 cost:  1    2    3    4    5   NaN
+  const std::vector<double> cost = {1, 2, 3, 4, 5, NAN};
+  const std::vector<double> acc = {10, 9, 20, 20, 30, 99};
+  EXPECT_EQ(eval::pareto_front(cost, acc), (std::vector<std::size_t>{0, 2, 4}));
+}
+
+TEST(Pricelist, ExpandGridAddsTheFullRenderWithTaaAtEveryTaaRayCount) {
+  eval::PriceGrid g;
+  g.full_rays_per_point = {1, 2};
+  g.interpolation = {"nearest:1"};
+  g.density_scale = {1.0};
+  g.rays_per_point = {1};
+  g.pattern = {"thesis"};
+  g.taa_rays_per_point = {1, 4};
+  std::vector<eval::PriceSetting> settings;
+  std::string error;
+  ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
+  std::vector<std::string> ids;
+  for (const eval::PriceSetting& s : settings) ids.push_back(s.id());
+  EXPECT_EQ(ids, (std::vector<std::string>{"full_spp1", "full_spp2", "full_spp1_taa", "full_spp4_taa",
+                                           "nearest_k1_s1_thesis_r1", "nearest_k1_s1_thesis_r1_taa",
+                                           "nearest_k1_s1_thesis_r4_taa"}));
+  EXPECT_TRUE(settings[3].full && settings[3].taa && settings[3].rays_per_point == 4);
+  EXPECT_EQ(settings[3].table_id(), "full");
+  g.taa_rays_per_point.clear();  // --taa-rays-per-point none: no TAA rows, full or foveated
+  ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
+  EXPECT_TRUE(std::none_of(settings.begin(), settings.end(), [](const auto& s) { return s.taa; }));
+  g.taa_rays_per_point = {0};
+  EXPECT_FALSE(eval::expand_grid(g, &settings, &error));
+  EXPECT_NE(error.find("TAA rays per point 0"), std::string::npos) << error;
+  // --quick lists the full render with TAA at its TAA ray count.
+  ASSERT_TRUE(eval::expand_grid(eval::quick_grid(), &settings, &error)) << error;
+  EXPECT_EQ(std::count_if(settings.begin(), settings.end(), [](const auto& s) { return s.id() == "full_spp1_taa"; }),
+            1);
+}
+
+TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
+  const std::vector<nlohmann::ordered_json> all = {
+      result("full_spp1", 1.0, 30.0),      result("full_spp2", 2.0, 33.0),  result("full_spp4", 4.0, 36.0),
+      result("full_spp1_taa", 1.1, 36.0),  result("full_spp8", 0.2, NAN),   // no PSNR in the ring: never picked
+      result("fov_cheap", 0.5, 31.0),      result("fov_a", 1.05, 32.0),     result("fov_b", 1.5, 34.0),
+      result("fov_c", 5.0, 40.0),          result("fov_fast_good", 0.9, 50.0)};
+  const auto pick = [&](std::size_t of) {
+    const std::optional<std::size_t> f = eval::equal_time_full(all, of, 0);
+    return f ? all[*f]["id"].get<std::string>() : std::string("none that cheap");
+  };
+  EXPECT_EQ(pick(5), "none that cheap");  // every full render with a PSNR takes longer
+  EXPECT_EQ(pick(6), "full_spp1");
+  EXPECT_EQ(pick(7), "full_spp1_taa");   // the history beats more rays per pixel at this time
+  EXPECT_EQ(pick(8), "full_spp1_taa");   // a tie with full_spp4 at 36 dB: the cheaper
+  EXPECT_EQ(pick(9), "none that cheap");  // a foveated setting is never the baseline
+  EXPECT_EQ(pick(0), "full_spp1");        // a full render's own: itself at most
+}
+
+TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
+  engine_test::TempDir dir;
+  eval::PricelistOptions o;
+  o.size_px = glm::ivec2(48, 54);
+  o.out_dir = (dir.path / "pl").string();
+  o.reference_spp = "32";
+  o.frames = 1;
+  o.taa_frames = 3;
+  o.threads = 2;
+  o.images = true;
+  o.grid.full_rays_per_point = {1, 4};
+  o.grid.interpolation = {"nearest:1"};
+  o.grid.density_scale = {1.0};
+  o.grid.rays_per_point = {1};
+  o.grid.pattern = {"thesis", "pixel-grid"};
+  o.grid.taa_rays_per_point = {1};
+  o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
+  std::ostringstream out, err;
+  ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("At the thesis's default"), std::string::npos) << out.str();
+  EXPECT_FALSE(fs::exists(fs::path(o.out_dir) / "temporal.csv"));
+  const fs::path pl = o.out_dir;
+  std::ifstream jf(pl / "pricelist.json");
+  const auto doc = nlohmann::json::parse(jf);
+  const auto& settings = doc["settings"];
+  ASSERT_EQ(settings.size(), 7u);  // full 1, 4, 1 + TAA; per pattern nn r1 and nn r1 + TAA
+  EXPECT_EQ(count_lines(pl / "pricelist.csv"), settings.size() + 1);
+  for (const char* f : {"pricelist.png", "pareto_ring0.png", "report.md", "heatmap.png", "images/reference.pfm"})
+    EXPECT_TRUE(fs::exists(pl / f)) << f;
+  EXPECT_EQ(doc["reference"]["spp"], 32);
+  EXPECT_TRUE(doc["sanity"].contains("full_error_falls_with_spp"));
+
+  // CSV and JSON agree: the ring-0 PSNR column of each row.
+  {
+    std::ifstream cf(pl / "pricelist.csv");
+    std::string header, line;
+    std::getline(cf, header);
+    std::vector<std::string> cols;
+    std::stringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) cols.push_back(c);
+    const auto col = std::find(cols.begin(), cols.end(), "psnr_0-2.5") - cols.begin();
+    ASSERT_LT(std::size_t(col), cols.size());
+    const auto eq_col = std::find(cols.begin(), cols.end(), "equal_time_full_0-2.5") - cols.begin();
+    ASSERT_LT(std::size_t(eq_col), cols.size());
+    for (const auto& s : settings) {
+      ASSERT_TRUE(std::getline(cf, line));
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      EXPECT_EQ(cells[0], s["id"].get<std::string>());
+      if (s["rings"][0]["psnr"].is_number()) {
+        EXPECT_NEAR(std::stod(cells[std::size_t(col)]), s["rings"][0]["psnr"].get<double>(), 1e-9);
+      }
+      ASSERT_LT(std::size_t(eq_col), cells.size()) << line;
+      if (s["kind"] == "foveated") {
+        const auto& e = s["equal_time_full"][0];
+        EXPECT_EQ(cells[std::size_t(eq_col)], e.is_null() ? "none" : e["id"].get<std::string>()) << s["id"];
+      }
+    }
+  }
+
+  // A person's own recomputation from the written images: PSNR per ring over
+  // the display values in the PFMs and the ring index in eccentricity.pfm.
+  foveation::ImageRgb ref, ecc;
+  std::string error;
+  ASSERT_TRUE(eval::read_pfm((pl / "images/reference.pfm").string(), &ref, &error)) << error;
+  ASSERT_TRUE(eval::read_pfm((pl / "images/eccentricity.pfm").string(), &ecc, &error)) << error;
+  for (const auto& s : settings) {
+    foveation::ImageRgb im;
+    ASSERT_TRUE(eval::read_pfm((pl / s["image"].get<std::string>()).string(), &im, &error)) << s["id"] << error;
+    std::vector<double> se(metrics::kRingCount, 0.0), n(metrics::kRingCount, 0.0);
+    for (std::size_t i = 0; i < im.pixel_count(); ++i) {
+      const auto r = std::size_t(ecc.rgb[i * 3 + 1]);
+      for (int c = 0; c < 3; ++c) se[r] += std::pow(double(im.rgb[i * 3 + c]) - double(ref.rgb[i * 3 + c]), 2.0);
+      n[r] += 3;
+    }
+    for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
+      const auto& json_psnr = s["rings"][r]["psnr"];
+      if (n[r] == 0 || !json_psnr.is_number()) continue;
+      EXPECT_NEAR(10.0 * std::log10(n[r] / se[r]), json_psnr.get<double>(), 0.05) << s["id"] << " ring " << r;
+    }
+  }
+  // Inside the fovea the pixel-grid pattern traces the full render's rays (same
+  // pixel jitter, same seed): the same error there, to the bit.
+  const auto by_id = [&](const std::string& id) {
+    const auto it = std::find_if(settings.begin(), settings.end(), [&](const auto& s) { return s["id"] == id; });
+    EXPECT_NE(it, settings.end()) << id;
+    return *it;
+  };
+  const auto full1 = by_id("full_spp1"), grid1 = by_id("nearest_k1_s1_pixel-grid_r1");
+  ASSERT_GT(full1["rings"][0]["pixels"].get<int>(), 0);
+  EXPECT_EQ(grid1["rings"][0]["psnr"], full1["rings"][0]["psnr"]);
+  const auto taa = std::find_if(settings.begin(), settings.end(),
+                                [](const auto& s) { return s["id"] == "nearest_k1_s1_thesis_r1_taa"; });
+  ASSERT_NE(taa, settings.end());
+  EXPECT_EQ((*taa)["flicker_frames"], 3);
+  EXPECT_GT((*taa)["rings"][0]["flicker"].get<double>(), 0.0);  // new jitter each frame: the image moves
+  // The full render with the same history: as many frames, new jitter, and inside the fovea the
+  // pixel-grid fovea with TAA traces and blends the same rays.
+  const auto full_taa = by_id("full_spp1_taa"), grid_taa = by_id("nearest_k1_s1_pixel-grid_r1_taa");
+  EXPECT_EQ(full_taa["kind"], "full");
+  EXPECT_EQ(full_taa["taa"], true);
+  EXPECT_EQ(full_taa["flicker_frames"], 3);
+  EXPECT_GT(full_taa["rings"][0]["flicker"].get<double>(), 0.0);
+  EXPECT_EQ(grid_taa["rings"][0]["psnr"], full_taa["rings"][0]["psnr"]);
+  EXPECT_GT(full_taa["rings"][0]["psnr"].get<double>(), full1["rings"][0]["psnr"].get<double>());
+  // Every foveated setting has its equal-time baseline per ring, and report.md shows it.
+  for (const auto& s : settings) {
+    if (s["kind"] == "foveated") {
+      EXPECT_EQ(s["equal_time_full"].size(), metrics::kRingCount) << s["id"];
+    }
+  }
+  {
+    std::ifstream rf(pl / "report.md");
+    std::stringstream text;
+    text << rf.rdbuf();
+    const std::string md = text.str();
+    EXPECT_NE(md.find("| foveated on the front | time % | PSNR dB | full render no slower |"), std::string::npos);
+    EXPECT_NE(md.find("With the same history (TAA over 3 frames"), std::string::npos) << md.substr(0, 2000);
+    EXPECT_NE(md.find("At equal time "), std::string::npos) << md.substr(0, 2000);
+  }
+
+  // Resume: nothing measured again, the same headline.
+  const std::size_t lines = count_lines(pl / "results.jsonl");
+  std::ostringstream out2, err2;
+  ASSERT_EQ(eval::run_pricelist(o, out2, err2), 0) << err2.str();
+  EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
+  EXPECT_EQ(out2.str(), out.str());
+  // Results from before the full render had a history: only full_spp1_taa is measured, against
+  // an anchor of its own (full_spp1 is not measured again).
+  {
+    std::ifstream in(pl / "results.jsonl");
+    std::stringstream kept;
+    for (std::string line; std::getline(in, line);)
+      if (nlohmann::json::parse(line)["id"] != "full_spp1_taa") kept << line << "\n";
+    in.close();
+    std::ofstream(pl / "results.jsonl") << kept.str();
+  }
+  ASSERT_EQ(count_lines(pl / "results.jsonl"), lines - 1);
+  std::ostringstream out5, err5;
+  ASSERT_EQ(eval::run_pricelist(o, out5, err5), 0) << err5.str();
+  EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
+  {
+    std::ifstream jf2(pl / "pricelist.json");
+    const auto doc2 = nlohmann::json::parse(jf2);
+    const auto it = std::find_if(doc2["settings"].begin(), doc2["settings"].end(),
+                                 [](const auto& s) { return s["id"] == "full_spp1_taa"; });
+    ASSERT_NE(it, doc2["settings"].end());
+    EXPECT_GT((*it)["anchor_full_ms"].get<double>(), 0.0) << "an anchor was rendered beside it";
+    EXPECT_EQ((*it)["rings"][0]["psnr"], full_taa["rings"][0]["psnr"]) << "the same frames, the same image";
+  }
+  // Another pixel filter, or another gaze, into the same directory is refused:
+  // its settings and reference would be other images.
+  o.pixel_filter = foveation::PixelFilter::bspline2;
+  std::ostringstream out4, err4;
+  EXPECT_EQ(eval::run_pricelist(o, out4, err4), 1);
+  EXPECT_NE(err4.str().find("describes another run"), std::string::npos) << err4.str();
+  o.pixel_filter = foveation::PixelFilter::box;
+  o.gaze_px = glm::vec2(10, 10);
+  std::ostringstream out3, err3;
+  EXPECT_EQ(eval::run_pricelist(o, out3, err3), 1);
+  EXPECT_NE(err3.str().find("describes another run"), std::string::npos) << err3.str();
+}
+
+TEST(Pricelist, BadGridIsAnErrorNamingTheEntry) {
+  engine_test::TempDir dir;
+  eval::PricelistOptions o;
+  o.out_dir = dir.path.string();
+  o.grid.interpolation = {"nearest:1", "foo:3"};
+  std::ostringstream out, err;
+  EXPECT_EQ(eval::run_pricelist(o, out, err), 2);
+  EXPECT_NE(err.str().find("interpolation 'foo:3'"), std::string::npos) << err.str();
+  o.grid.interpolation = {"msm:0"};
+  std::ostringstream out2, err2;
+  EXPECT_EQ(eval::run_pricelist(o, out2, err2), 2);
+  EXPECT_NE(err2.str().find("k must be"), std::string::npos) << err2.str();
+}
+
+// `fovea-eval pricelist --md FILE`, run as a person runs it: the file is headed by the
+// command line as given and the machine, holds the report's tables, and its image
+// links reach into --out from where the file is.
+TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
+  engine_test::TempDir dir;
+  const fs::path fovea_eval = fs::read_symlink("/proc/self/exe").parent_path() / "fovea-eval";
+  ASSERT_TRUE(fs::exists(fovea_eval)) << fovea_eval << " is missing: build the fovea-eval target";
+  const fs::path md = dir.path / "results" / "pricelist.md";
+  const std::string args =
+      "pricelist --size 48x54 --reference-spp 32 --frames 1 --threads 2 --motion none "
+      "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
+      "--rays-per-point 1 --pattern pixel-grid --taa-rays-per-point none --out " +
+      (dir.path / "pl").string() + " --md " + md.string();
+  const std::string cmd = "'" + fovea_eval.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir.path / "err").rdbuf();
+  std::ifstream in(md);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  EXPECT_NE(s.find("Written by `fovea-eval " + args + "` on "), std::string::npos) << s;
+  std::string cpu;
+  {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    for (std::string line; std::getline(cpuinfo, line) && cpu.empty();) {
+      if (line.rfind("model name", 0) == 0) cpu = line.substr(line.find(':') + 2);
+    }
+  }
+  if (!cpu.empty()) {
+    EXPECT_NE(s.find(cpu), std::string::npos) << "the CPU model, from /proc/cpuinfo";
+  }
+  EXPECT_NE(s.find(" cores; "), std::string::npos) << s;
+  EXPECT_NE(s.find("| on the front | time % |"), std::string::npos) << "the ring tables";
+  EXPECT_NE(s.find("|---|---|---|---|---|---|---|---|---|\n| "), std::string::npos) << "a table with a row";
+  EXPECT_NE(s.find("](../pl/pricelist.png)"), std::string::npos) << "links into --out from the file's folder";
+  EXPECT_TRUE(fs::exists(md.parent_path() / "../pl/pricelist.png"));
+}
