@@ -69,7 +69,7 @@ struct Measure {
   std::unique_ptr<foveation::FoveatedView> view;
   std::unique_ptr<FullTaaRender> full_taa;
   foveation::ImageRgb full_image;
-  std::vector<double> select_ms, trace_ms, reconstruct_ms, taa_ms, total_ms;
+  std::vector<double> select_ms, trace_ms, reconstruct_ms, temporal_ms, total_ms;
   engine::RayCounts rays;
   std::uint32_t points = 0;
   foveation::ImageRgb previous_display;
@@ -138,8 +138,8 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.select_ms.push_back(0.0);
     m.trace_ms.push_back(f.trace_ms);
     m.reconstruct_ms.push_back(0.0);
-    m.taa_ms.push_back(f.taa_ms);
-    m.total_ms.push_back(f.trace_ms + f.taa_ms);
+    m.temporal_ms.push_back(f.temporal_ms);
+    m.total_ms.push_back(f.trace_ms + f.temporal_ms);
     m.points = c.view.width_px * c.view.height_px;
     image = &m.full_taa->image();
   } else if (m.setting.full) {
@@ -158,7 +158,7 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.select_ms.push_back(0.0);
     m.trace_ms.push_back(rr.trace_ms);
     m.reconstruct_ms.push_back(0.0);
-    m.taa_ms.push_back(0.0);
+    m.temporal_ms.push_back(0.0);
     m.total_ms.push_back(rr.trace_ms);
     m.points = c.view.width_px * c.view.height_px;
     image = &m.full_image;
@@ -175,8 +175,8 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.select_ms.push_back(fr.select_ms);
     m.trace_ms.push_back(fr.trace_ms);
     m.reconstruct_ms.push_back(fr.reconstruct_ms);
-    m.taa_ms.push_back(fr.taa_ms);
-    m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.taa_ms);
+    m.temporal_ms.push_back(fr.temporal_ms);
+    m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.temporal_ms);
     m.points = fr.points;
     image = &m.view->image();
   }
@@ -234,7 +234,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return m.total_ms[a] < m.total_ms[b]; });
   const std::size_t med = order[order.size() / 2];
   j["ms"] = {{"select", m.select_ms[med]}, {"trace", m.trace_ms[med]}, {"reconstruct", m.reconstruct_ms[med]},
-             {"taa", m.taa_ms[med]}, {"total", m.total_ms[med]}};
+             {"taa", m.temporal_ms[med]}, {"total", m.total_ms[med]}};
   j["frames_total_ms"] = m.total_ms;
   j["anchor_full_ms"] = anchor_ms;
   j["time_fraction"] = anchor_ms > 0.0 ? m.total_ms[med] / anchor_ms : 0.0;
