@@ -7,6 +7,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <algorithm>
 
 namespace foveart::foveation {
 
@@ -31,7 +33,8 @@ inline std::uint8_t encode_srgb8_reference(float c) {
 // encode_srgb8_reference, bit-exact for every float, from a table: the
 // smallest float that encodes to each byte (found by bisection over float bit
 // patterns, so the boundaries are the reference's own), and per 1/4096 bucket
-// of [0,1) the byte at its start. A lookup steps over at most a few bytes.
+// of [0,1) the byte at its start. A lookup steps over the few bytes a bucket
+// spans with a fixed number of compares (no branch that depends on the value).
 class Srgb8Encoder {
  public:
   Srgb8Encoder() {
@@ -44,8 +47,14 @@ class Srgb8Encoder {
       }
       threshold_[byte] = std::bit_cast<float>(lo);
     }
+    threshold_[256] = std::numeric_limits<float>::infinity();  // no byte past 255
     for (std::size_t i = 0; i < kBuckets; ++i) {
       bucket_start_[i] = encode_srgb8_reference(static_cast<float>(i) / static_cast<float>(kBuckets));
+    }
+    // A value in bucket i encodes to at most the next bucket's first byte (255 past the last).
+    for (std::size_t i = 0; i < kBuckets; ++i) {
+      const unsigned next = i + 1 < kBuckets ? bucket_start_[i + 1] : 255u;
+      steps_ = std::max(steps_, next - bucket_start_[i]);
     }
   }
 
@@ -54,14 +63,15 @@ class Srgb8Encoder {
     if (c >= 1.0f) return 255;
     // c * 4096 scales by a power of two: exact, so the bucket's start is <= c.
     unsigned byte = bucket_start_[static_cast<std::size_t>(c * static_cast<float>(kBuckets))];
-    while (byte < 255 && c >= threshold_[byte + 1]) ++byte;
+    for (unsigned k = 0; k < steps_; ++k) byte += c >= threshold_[byte + 1] ? 1u : 0u;
     return static_cast<std::uint8_t>(byte);
   }
 
  private:
   static constexpr std::size_t kBuckets = 4096;
-  std::array<float, 256> threshold_{};
+  std::array<float, 257> threshold_{};
   std::array<std::uint8_t, kBuckets> bucket_start_{};
+  unsigned steps_ = 0;  // the most bytes one bucket spans
 };
 
 // The one table of encode_srgb8, built on first use: a loop over pixels takes
