@@ -43,6 +43,7 @@ struct FrameResult {
   FrameFailure failure = FrameFailure::none;
   std::string message;              // the failure, for a log line
   std::uint32_t points = 0;         // visible points traced
+  std::uint32_t points_thinned = 0; // visible points of flat tiles filled from their parents (content density)
   std::uint64_t rays = 0;           // primary rays handed to the engine
   std::uint64_t failed_batches = 0;
   std::uint64_t invalid_colours = 0;  // colour components
