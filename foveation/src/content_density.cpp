@@ -18,7 +18,10 @@ float tile_contrast(float min_luminance, float max_luminance, float dark_luminan
 
 std::uint8_t level_for_contrast(float contrast, const ContentDensityOptions& options) {
   if (!options.enabled() || contrast >= options.full_contrast) return PointLevels::kFinest;
-  return contrast >= 0.25f * options.full_contrast ? 1 : 0;
+  // Each level halves the contrast it needs: level l from full_contrast / 2^(kFinest - l).
+  std::uint8_t level = PointLevels::kFinest - 1;
+  for (float needed = 0.5f * options.full_contrast; level > 0 && contrast < needed; needed *= 0.5f) --level;
+  return level;
 }
 
 ContentDensity::ContentDensity(const PointLevels& levels, const ContentDensityOptions& options)

@@ -1,8 +1,8 @@
 // Density that follows the content (thesis 8.2; docs/foveation.md, "Content-aware
 // density"): each screen tile traces the points of the levels (point_levels.hpp) its
 // visible contrast calls for, measured from the colours the points had in the last
-// frame. A tile whose luminance range is flat or dark traces level 0 only (about a
-// quarter of its points), a moderate one levels 0-1, a high-contrast one all of them.
+// frame. A tile whose luminance range is flat or dark traces level 0 only (about a ninth
+// of its Poisson points), finer levels as its contrast rises, a high-contrast one all.
 // A tile's contrast is that of its 3x3 neighbourhood, so an edge keeps its density on
 // both sides, on a tile's border too. The first frame, and the one after a failed frame
 // or a restart, trace every point.
@@ -20,8 +20,9 @@
 namespace foveart::foveation {
 
 struct ContentDensityOptions {
-  // Contrast (below) at which a tile traces all its points; a quarter of it, half.
-  // 0: off, every visible point is traced.
+  // Contrast (below) at which a tile traces all its points; from half of it, level 2
+  // (about half of them), from a quarter, level 1 (a quarter). 0: off, every visible
+  // point is traced.
   float full_contrast = 0.0f;
   // Luminance (display-linear, 1 = white) added to both ends of the range: below it
   // the eye's sensitivity falls (the de Vries-Rose range), so dark tiles read as flat.

@@ -1,8 +1,9 @@
 // Nested levels of a point set, so that a frame can thin its points where the content
 // is flat by a test per point, never a rebuild (thesis 8.2: density that follows the
-// content). Level 0 is a Poisson subset at twice the set's spacing (about a quarter of
-// the points), level 1 adds points down to sqrt(2) times it (about half), level 2 is
-// the rest. The pixel-exact fovea is level 0 throughout, so it is always traced.
+// content). Level 0 is a Poisson subset at three times the set's spacing (about a ninth
+// of the points), level 1 adds points down to twice it (about a quarter), level 2 down
+// to sqrt(2) times it (about half), level 3 is the rest. The pixel-exact fovea is level
+// 0 throughout, so it is always traced.
 //
 // A point above level 0 keeps its nearest level-0 points and their inverse-distance
 // weights (Shepard 1968): a frame that does not trace it gives it their colour, so the
@@ -19,7 +20,7 @@
 namespace foveart::foveation {
 
 struct PointLevels {
-  static constexpr std::uint8_t kLevels = 3;
+  static constexpr std::uint8_t kLevels = 4;
   static constexpr std::uint8_t kFinest = kLevels - 1;
   static constexpr std::uint32_t kParents = 3;
   static constexpr std::uint32_t kNoParent = 0xFFFFFFFFu;
@@ -39,6 +40,6 @@ struct PointLevels {
 PointLevels build_point_levels(const PointSet& points, Executor& executor);
 
 // Spacing of each level's subset in units of a point's disc radius (the finest: the set's own).
-inline constexpr float kLevelSpacing[PointLevels::kLevels] = {2.0f, 1.41421356f, 0.0f};
+inline constexpr float kLevelSpacing[PointLevels::kLevels] = {3.0f, 2.0f, 1.41421356f, 0.0f};
 
 }  // namespace foveart::foveation
