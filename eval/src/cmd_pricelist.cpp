@@ -69,7 +69,7 @@ struct Measure {
   std::unique_ptr<foveation::FoveatedView> view;
   std::unique_ptr<FullHistoryRender> full_history;
   foveation::ImageRgb full_image;
-  std::vector<double> select_ms, trace_ms, reconstruct_ms, temporal_ms, total_ms;
+  std::vector<double> select_ms, trace_ms, reconstruct_ms, temporal_ms, density_ms, total_ms;
   engine::RayCounts rays;
   std::uint32_t points = 0;
   foveation::ImageRgb previous_display;
@@ -178,6 +178,7 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.trace_ms.push_back(fr.trace_ms);
     m.reconstruct_ms.push_back(fr.reconstruct_ms);
     m.temporal_ms.push_back(fr.temporal_ms);
+    m.density_ms.push_back(fr.density_ms);
     m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.temporal_ms);
     m.points = fr.points;
     image = &m.view->image();
@@ -241,6 +242,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   const std::size_t med = order[order.size() / 2];
   j["ms"] = {{"select", m.select_ms[med]}, {"trace", m.trace_ms[med]}, {"reconstruct", m.reconstruct_ms[med]},
              {"temporal", m.temporal_ms[med]}, {"total", m.total_ms[med]}};
+  if (!s.full) j["ms"]["density"] = m.density_ms[med];  // content-aware density's part of select and trace
   j["frames_total_ms"] = m.total_ms;
   j["anchor_full_ms"] = anchor_ms;
   j["time_fraction"] = anchor_ms > 0.0 ? m.total_ms[med] / anchor_ms : 0.0;

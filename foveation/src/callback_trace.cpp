@@ -62,6 +62,7 @@ struct CallbackTrace::FramePass {
   ContentDensity* density;            // null: every visible point is traced
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
+  std::atomic<std::int64_t> observe_ns{0};  // content density's observations, summed over the workers
 };
 
 TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
@@ -77,16 +78,20 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     batch_points_.resize(workers);
     previous_.resize(workers);
   }
+  const auto t_density = Clock::now();
   if (levels_of_set_ && density_options_.enabled() && !keep_rays_ && !density_)
-    density_.emplace(levels_of_set_(executor), density_options_);
+    density_.emplace(levels_of_set_(executor), density_options_);  // the levels: once per table set
   if (density_) density_->begin_frame(frame.mapping, workers);
+  stats.density_ms = ms_since(t_density);
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
   FramePass pass{frame, VisibleRegion(frame.mapping, points_.visible_margin_px), spp, batch_points, 1.0f / float(spp),
                  density_ ? &*density_ : nullptr};
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) { trace_run(pass, run, worker); });
+  const auto t_fill = Clock::now();
   const std::uint64_t filled = density_ ? fill_thinned(executor) : 0;
+  stats.density_ms += ms_since(t_fill) + 1e-6 * double(pass.observe_ns.load()) / double(workers);
   stats.trace_ms = ms_since(t_trace);
   stats.points = std::uint32_t(pass.traced_points.load());
   stats.points_thinned = std::uint32_t(filled);
@@ -234,9 +239,12 @@ bool CallbackTrace::thins(const FramePass& pass, std::uint32_t id) const {
   return parent != PointLevels::kNoParent && pass.visible.contains(pass.visible.to_screen(points_.position_px[parent]));
 }
 
-void CallbackTrace::observe_run(const FramePass& pass, std::size_t run, unsigned worker) {
+void CallbackTrace::observe_run(FramePass& pass, std::size_t run, unsigned worker) {
+  const auto t0 = Clock::now();
   for (std::uint32_t id : traced_.runs[run])
     pass.density->observe(worker, pass.visible.to_screen(points_.position_px[id]), traced_.colors.rgba[id]);
+  pass.observe_ns.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count(),
+                            std::memory_order_relaxed);
 }
 
 // Each thinned point takes the inverse-distance mean of its traced parents

@@ -110,6 +110,7 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   result.trace_ms = traced.trace_ms;
   result.points = traced.points;
   result.points_thinned = traced.points_thinned;
+  result.density_ms = traced.density_ms;
   result.rays = traced.rays;
   result.failed_batches = traced.failed_batches;
   result.invalid_colours = traced.invalid_colours;

@@ -219,6 +219,7 @@ struct Frames {
   engine::RayCounts full_rays, fov_rays;
   uint64_t fov_points = 0;
   uint64_t fov_points_thinned = 0;
+  double fov_density_ms = 0.0;  // the last frame's content-aware density stage
 };
 
 [[nodiscard]] bool render_full_frame(const render_view::RenderOptions& o, const RenderEngine& eng,
@@ -269,6 +270,7 @@ struct Frames {
   f->fov_rays = eng.counts() - before;
   f->fov_points = fr.points;
   f->fov_points_thinned = fr.points_thinned;
+  f->fov_density_ms = fr.density_ms;
   return true;
 }
 
@@ -309,6 +311,7 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"k", render_view::reconstruction_k(o)},
                         {"density_scale", o.density_scale},
                         {"content_contrast", o.content_contrast},
+                        {"density_ms", f.fov_density_ms},
                         {"temporal", foveation::temporal_mode_name(o.temporal)},
                         {"pattern", foveation::fovea_pattern_name(fov.view->tables().key.display.fovea_pattern)},
                         {"precompute_ms", fov.precompute_ms},

@@ -51,7 +51,7 @@ class CallbackTrace final : public TraceStage {
   // Content-aware density: this run's traced colours for the next frame's contrast, and
   // the thinned points' colours from their parents (after every run is traced).
   bool thins(const FramePass& pass, std::uint32_t id) const;
-  void observe_run(const FramePass& pass, std::size_t run, unsigned worker);
+  void observe_run(FramePass& pass, std::size_t run, unsigned worker);
   std::uint64_t fill_thinned(Executor& executor);
   bool fill_point(std::uint32_t id);
 

@@ -49,6 +49,7 @@ struct FrameResult {
   std::uint64_t invalid_colours = 0;  // colour components
   double select_ms = 0.0;           // the frame's set-up (selection itself runs inside the trace pass)
   double trace_ms = 0.0;            // visible-point test, rays, engine callback, colour per point
+  double density_ms = 0.0;          // content-aware density's part of select and trace (TraceStats::density_ms)
   double reconstruct_ms = 0.0;      // gather
   double temporal_ms = 0.0;              // the temporal history
   glm::vec2 centre_px{};            // the foveation centre this frame used (ViewSettings::centre_deadband_deg)

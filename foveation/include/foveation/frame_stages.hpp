@@ -63,6 +63,10 @@ struct TraceStats {
   std::uint64_t invalid_colours = 0; // NaN, infinite or negative colour components
   double select_ms = 0.0;            // per-frame set-up before the fused pass
   double trace_ms = 0.0;             // selection, rays, engine, colour per point
+  // Content-aware density's share of select_ms and trace_ms: the tiles' levels, the
+  // observations (their CPU time over the threads) and the fill; the first frame's
+  // includes building the set's levels.
+  double density_ms = 0.0;
   bool ok() const { return failed_batches == 0 && invalid_colours == 0; }
 };
 
