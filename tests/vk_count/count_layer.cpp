@@ -5,7 +5,12 @@
 // or on an older frame still in flight, or on a fence never submitted), queue
 // and device idle waits, semaphore waits, query results with and without
 // VK_QUERY_RESULT_WAIT_BIT, fence status polls, maps (and bytes), unmaps,
-// flushes and invalidations (and bytes).
+// flushes and invalidations (and bytes), and the transfers through memory the
+// host keeps mapped: a submitted vkCmdCopyBuffer / vkCmdCopyImageToBuffer into a
+// buffer whose memory was mapped when it was recorded is a copy to the host
+// (a read-back through a persistent map), one out of such a buffer
+// (vkCmdCopyBuffer, vkCmdCopyBufferToImage) a copy from the host; bytes for
+// buffer copies, texels for image copies.
 //
 // Each call is an event with its thread and its caller: the modules on the
 // stack (shared objects and the program, by file name, innermost first, this
@@ -36,6 +41,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -64,7 +70,14 @@ struct Event {
   uint64_t items = 0;     // fences waited, batches submitted, ranges, queries
   uint64_t bytes = 0;
   uint64_t command_buffers = 0;  // a submission's
+  uint64_t texels = 0;           // a copy event's, of image copies
   std::vector<std::string> chain;  // callers, innermost first
+};
+
+// The copies through mapped memory a command buffer holds, since its vkBeginCommandBuffer.
+struct Copies {
+  uint64_t to_host = 0, to_host_bytes = 0, to_host_texels = 0;
+  uint64_t from_host = 0, from_host_bytes = 0, from_host_texels = 0;
 };
 
 struct DeviceData {
@@ -90,12 +103,22 @@ struct DeviceData {
   PFN_vkUnmapMemory UnmapMemory = nullptr;
   PFN_vkFlushMappedMemoryRanges FlushMappedMemoryRanges = nullptr;
   PFN_vkInvalidateMappedMemoryRanges InvalidateMappedMemoryRanges = nullptr;
+  PFN_vkBindBufferMemory BindBufferMemory = nullptr;
+  PFN_vkBindBufferMemory2 BindBufferMemory2 = nullptr;
+  PFN_vkBindBufferMemory2 BindBufferMemory2KHR = nullptr;
+  PFN_vkBeginCommandBuffer BeginCommandBuffer = nullptr;
+  PFN_vkCmdCopyBuffer CmdCopyBuffer = nullptr;
+  PFN_vkCmdCopyImageToBuffer CmdCopyImageToBuffer = nullptr;
+  PFN_vkCmdCopyBufferToImage CmdCopyBufferToImage = nullptr;
 
   // Guarded by the layer's mutex.
   uint64_t submissions = 0;                                   // every submission on every queue, numbered
   std::unordered_map<VkQueue, uint64_t> newest;               // a queue's newest submission
   std::unordered_map<VkFence, std::pair<VkQueue, uint64_t>> fence_submission;  // a fence's pending one
   std::unordered_map<VkDeviceMemory, VkDeviceSize> memory_size;
+  std::unordered_set<VkDeviceMemory> mapped;                  // mapped now
+  std::unordered_map<VkBuffer, VkDeviceMemory> buffer_memory;  // as bound
+  std::unordered_map<VkCommandBuffer, Copies> recorded;
   std::vector<Event> events;
 };
 
@@ -175,7 +198,7 @@ DeviceData& device_of(Key k) {
 
 nlohmann::json to_json(const DeviceData& d) {
   struct Tally {
-    uint64_t calls = 0, items = 0, bytes = 0, command_buffers = 0;
+    uint64_t calls = 0, items = 0, bytes = 0, command_buffers = 0, texels = 0;
   };
   std::map<std::string, Tally> tallies;
   nlohmann::json events = nlohmann::json::array();
@@ -185,13 +208,18 @@ nlohmann::json to_json(const DeviceData& d) {
     t.items += e.items;
     t.bytes += e.bytes;
     t.command_buffers += e.command_buffers;
+    t.texels += e.texels;
     events.push_back({{"seq", e.seq}, {"thread", e.thread}, {"call", e.call}, {"kind", e.kind}, {"items", e.items},
-                      {"bytes", e.bytes}, {"command_buffers", e.command_buffers}, {"chain", e.chain}});
+                      {"bytes", e.bytes}, {"command_buffers", e.command_buffers}, {"texels", e.texels},
+                      {"chain", e.chain}});
   }
   nlohmann::json totals = nlohmann::json::object();
   for (const auto& [metric, t] : tallies)
-    totals[metric] = {
-        {"calls", t.calls}, {"items", t.items}, {"bytes", t.bytes}, {"command_buffers", t.command_buffers}};
+    totals[metric] = {{"calls", t.calls},
+                      {"items", t.items},
+                      {"bytes", t.bytes},
+                      {"command_buffers", t.command_buffers},
+                      {"texels", t.texels}};
   return {{"device", d.name}, {"pid", static_cast<long>(getpid())}, {"totals", totals}, {"events", events}};
 }
 
@@ -224,8 +252,34 @@ uint64_t ranges_bytes(const DeviceData& d, uint32_t count, const VkMappedMemoryR
 
 // ---- device functions ----------------------------------------------------------
 
-// A submission of `batches` batches with `command_buffers` command buffers to `queue`, signalling `fence`.
-void note_submission(VkQueue queue, const char* call, uint64_t batches, uint64_t command_buffers, VkFence fence) {
+// The copies through mapped memory that submitting `cbs` performs, as two events
+// after the submission's ("copy_to_host", "copy_from_host"; items: copies).
+void note_copies(DeviceData& d, const std::vector<VkCommandBuffer>& cbs, const std::vector<std::string>& chain) {
+  Copies sum;
+  for (VkCommandBuffer cb : cbs) {
+    auto it = d.recorded.find(cb);
+    if (it == d.recorded.end()) continue;
+    const Copies& c = it->second;
+    sum.to_host += c.to_host;
+    sum.to_host_bytes += c.to_host_bytes;
+    sum.to_host_texels += c.to_host_texels;
+    sum.from_host += c.from_host;
+    sum.from_host_bytes += c.from_host_bytes;
+    sum.from_host_texels += c.from_host_texels;
+  }
+  if (sum.to_host > 0) {
+    record(d, "copy_to_host", "", sum.to_host, sum.to_host_bytes, chain);
+    d.events.back().texels = sum.to_host_texels;
+  }
+  if (sum.from_host > 0) {
+    record(d, "copy_from_host", "", sum.from_host, sum.from_host_bytes, chain);
+    d.events.back().texels = sum.from_host_texels;
+  }
+}
+
+// A submission of `batches` batches with command buffers `cbs` to `queue`, signalling `fence`.
+void note_submission(VkQueue queue, const char* call, uint64_t batches, const std::vector<VkCommandBuffer>& cbs,
+                     VkFence fence) {
   auto chain = caller_chain();
   Layer& l = layer();
   std::lock_guard lock(l.mutex);
@@ -235,20 +289,24 @@ void note_submission(VkQueue queue, const char* call, uint64_t batches, uint64_t
   const uint64_t number = ++d.submissions;
   d.newest[queue] = number;
   if (fence != VK_NULL_HANDLE) d.fence_submission[fence] = {queue, number};
-  record(d, call, "", batches, 0, std::move(chain));
-  d.events.back().command_buffers = command_buffers;
+  record(d, call, "", batches, 0, chain);
+  d.events.back().command_buffers = cbs.size();
+  note_copies(d, cbs, chain);
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
-  uint64_t cbs = 0;
-  for (uint32_t i = 0; i < count; ++i) cbs += submits[i].commandBufferCount;
+  std::vector<VkCommandBuffer> cbs;
+  for (uint32_t i = 0; i < count; ++i)
+    cbs.insert(cbs.end(), submits[i].pCommandBuffers, submits[i].pCommandBuffers + submits[i].commandBufferCount);
   note_submission(queue, "vkQueueSubmit", count, cbs, fence);
   return device_of(key_of(queue)).QueueSubmit(queue, count, submits, fence);
 }
 
-uint64_t command_buffers2(uint32_t count, const VkSubmitInfo2* submits) {
-  uint64_t cbs = 0;
-  for (uint32_t i = 0; i < count; ++i) cbs += submits[i].commandBufferInfoCount;
+std::vector<VkCommandBuffer> command_buffers2(uint32_t count, const VkSubmitInfo2* submits) {
+  std::vector<VkCommandBuffer> cbs;
+  for (uint32_t i = 0; i < count; ++i)
+    for (uint32_t j = 0; j < submits[i].commandBufferInfoCount; ++j)
+      cbs.push_back(submits[i].pCommandBufferInfos[j].commandBuffer);
   return cbs;
 }
 
@@ -375,6 +433,7 @@ VKAPI_ATTR void VKAPI_CALL FreeMemory(VkDevice device, VkDeviceMemory memory, co
     std::lock_guard lock(l.mutex);
     DeviceData& d = l.devices.at(key_of(device));
     d.memory_size.erase(memory);
+    d.mapped.erase(memory);  // freeing unmaps
     next = d.FreeMemory;
   }
   next(device, memory, allocator);
@@ -391,12 +450,141 @@ VKAPI_ATTR VkResult VKAPI_CALL MapMemory(VkDevice device, VkDeviceMemory memory,
     record(d, "vkMapMemory", "", 1, range_bytes(d, memory, offset, size), std::move(chain));
     next = d.MapMemory;
   }
-  return next(device, memory, offset, size, flags, data);
+  const VkResult r = next(device, memory, offset, size, flags, data);
+  if (r == VK_SUCCESS) {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    l.devices.at(key_of(device)).mapped.insert(memory);
+  }
+  return r;
 }
 
 VKAPI_ATTR void VKAPI_CALL UnmapMemory(VkDevice device, VkDeviceMemory memory) {
-  record_on(device, "vkUnmapMemory", "", 1, 0);
+  if (DeviceData* d = record_on(device, "vkUnmapMemory", "", 1, 0)) {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    d->mapped.erase(memory);
+  }
   device_of(key_of(device)).UnmapMemory(device, memory);
+}
+
+// ---- copies through mapped memory ------------------------------------------------
+
+VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory(VkDevice device, VkBuffer buffer, VkDeviceMemory memory,
+                                                VkDeviceSize offset) {
+  PFN_vkBindBufferMemory next = nullptr;
+  {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    DeviceData& d = l.devices.at(key_of(device));
+    d.buffer_memory[buffer] = memory;
+    next = d.BindBufferMemory;
+  }
+  return next(device, buffer, memory, offset);
+}
+
+template <PFN_vkBindBufferMemory2 DeviceData::*Next>
+VkResult bind_buffer_memory2(VkDevice device, uint32_t count, const VkBindBufferMemoryInfo* infos) {
+  PFN_vkBindBufferMemory2 next = nullptr;
+  {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    DeviceData& d = l.devices.at(key_of(device));
+    for (uint32_t i = 0; i < count; ++i) d.buffer_memory[infos[i].buffer] = infos[i].memory;
+    next = d.*Next;
+  }
+  return next(device, count, infos);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory2(VkDevice device, uint32_t count, const VkBindBufferMemoryInfo* infos) {
+  return bind_buffer_memory2<&DeviceData::BindBufferMemory2>(device, count, infos);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL BindBufferMemory2KHR(VkDevice device, uint32_t count,
+                                                    const VkBindBufferMemoryInfo* infos) {
+  return bind_buffer_memory2<&DeviceData::BindBufferMemory2KHR>(device, count, infos);
+}
+
+VKAPI_ATTR VkResult VKAPI_CALL BeginCommandBuffer(VkCommandBuffer cb, const VkCommandBufferBeginInfo* info) {
+  PFN_vkBeginCommandBuffer next = nullptr;
+  {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    DeviceData& d = l.devices.at(key_of(cb));
+    d.recorded.erase(cb);  // a begin resets what the buffer held
+    next = d.BeginCommandBuffer;
+  }
+  return next(cb, info);
+}
+
+// Whether `buffer`'s memory is mapped now; the caller holds the mutex.
+bool mapped_now(const DeviceData& d, VkBuffer buffer) {
+  auto it = d.buffer_memory.find(buffer);
+  return it != d.buffer_memory.end() && d.mapped.count(it->second) != 0;
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyBuffer(VkCommandBuffer cb, VkBuffer src, VkBuffer dst, uint32_t count,
+                                         const VkBufferCopy* regions) {
+  PFN_vkCmdCopyBuffer next = nullptr;
+  {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    DeviceData& d = l.devices.at(key_of(cb));
+    uint64_t bytes = 0;
+    for (uint32_t i = 0; i < count; ++i) bytes += regions[i].size;
+    Copies& c = d.recorded[cb];
+    if (mapped_now(d, dst)) {
+      c.to_host += 1;
+      c.to_host_bytes += bytes;
+    } else if (mapped_now(d, src)) {
+      c.from_host += 1;
+      c.from_host_bytes += bytes;
+    }
+    next = d.CmdCopyBuffer;
+  }
+  next(cb, src, dst, count, regions);
+}
+
+uint64_t texels_of(uint32_t count, const VkBufferImageCopy* regions) {
+  uint64_t texels = 0;
+  for (uint32_t i = 0; i < count; ++i)
+    texels += uint64_t{regions[i].imageExtent.width} * regions[i].imageExtent.height * regions[i].imageExtent.depth *
+              regions[i].imageSubresource.layerCount;
+  return texels;
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyImageToBuffer(VkCommandBuffer cb, VkImage src, VkImageLayout layout, VkBuffer dst,
+                                                uint32_t count, const VkBufferImageCopy* regions) {
+  PFN_vkCmdCopyImageToBuffer next = nullptr;
+  {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    DeviceData& d = l.devices.at(key_of(cb));
+    if (mapped_now(d, dst)) {
+      Copies& c = d.recorded[cb];
+      c.to_host += 1;
+      c.to_host_texels += texels_of(count, regions);
+    }
+    next = d.CmdCopyImageToBuffer;
+  }
+  next(cb, src, layout, dst, count, regions);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdCopyBufferToImage(VkCommandBuffer cb, VkBuffer src, VkImage dst, VkImageLayout layout,
+                                                uint32_t count, const VkBufferImageCopy* regions) {
+  PFN_vkCmdCopyBufferToImage next = nullptr;
+  {
+    Layer& l = layer();
+    std::lock_guard lock(l.mutex);
+    DeviceData& d = l.devices.at(key_of(cb));
+    if (mapped_now(d, src)) {
+      Copies& c = d.recorded[cb];
+      c.from_host += 1;
+      c.from_host_texels += texels_of(count, regions);
+    }
+    next = d.CmdCopyBufferToImage;
+  }
+  next(cb, src, dst, layout, count, regions);
 }
 
 // vkFlushMappedMemoryRanges and vkInvalidateMappedMemoryRanges: one event, their bytes.
@@ -464,6 +652,13 @@ PFN_vkVoidFunction device_intercept(const char* name) {
       {"vkUnmapMemory", reinterpret_cast<PFN_vkVoidFunction>(&UnmapMemory)},
       {"vkFlushMappedMemoryRanges", reinterpret_cast<PFN_vkVoidFunction>(&FlushMappedMemoryRanges)},
       {"vkInvalidateMappedMemoryRanges", reinterpret_cast<PFN_vkVoidFunction>(&InvalidateMappedMemoryRanges)},
+      {"vkBindBufferMemory", reinterpret_cast<PFN_vkVoidFunction>(&BindBufferMemory)},
+      {"vkBindBufferMemory2", reinterpret_cast<PFN_vkVoidFunction>(&BindBufferMemory2)},
+      {"vkBindBufferMemory2KHR", reinterpret_cast<PFN_vkVoidFunction>(&BindBufferMemory2KHR)},
+      {"vkBeginCommandBuffer", reinterpret_cast<PFN_vkVoidFunction>(&BeginCommandBuffer)},
+      {"vkCmdCopyBuffer", reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyBuffer)},
+      {"vkCmdCopyImageToBuffer", reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyImageToBuffer)},
+      {"vkCmdCopyBufferToImage", reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyBufferToImage)},
   };
   auto it = table.find(name);
   return it != table.end() ? it->second : nullptr;
@@ -495,9 +690,18 @@ bool load_device(DeviceData& d) {
   load(d, "vkUnmapMemory", d.UnmapMemory);
   load(d, "vkFlushMappedMemoryRanges", d.FlushMappedMemoryRanges);
   load(d, "vkInvalidateMappedMemoryRanges", d.InvalidateMappedMemoryRanges);
-  return d.DestroyDevice && d.QueueSubmit && d.WaitForFences && d.ResetFences && d.DestroyFence &&
-         d.GetFenceStatus && d.QueueWaitIdle && d.DeviceWaitIdle && d.GetQueryPoolResults && d.AllocateMemory &&
-         d.FreeMemory && d.MapMemory && d.UnmapMemory && d.FlushMappedMemoryRanges && d.InvalidateMappedMemoryRanges;
+  load(d, "vkBindBufferMemory", d.BindBufferMemory);
+  load(d, "vkBindBufferMemory2", d.BindBufferMemory2);
+  load(d, "vkBindBufferMemory2KHR", d.BindBufferMemory2KHR);
+  load(d, "vkBeginCommandBuffer", d.BeginCommandBuffer);
+  load(d, "vkCmdCopyBuffer", d.CmdCopyBuffer);
+  load(d, "vkCmdCopyImageToBuffer", d.CmdCopyImageToBuffer);
+  load(d, "vkCmdCopyBufferToImage", d.CmdCopyBufferToImage);
+  return d.BindBufferMemory && d.BeginCommandBuffer && d.CmdCopyBuffer && d.CmdCopyImageToBuffer &&
+         d.CmdCopyBufferToImage && d.DestroyDevice && d.QueueSubmit && d.WaitForFences && d.ResetFences &&
+         d.DestroyFence && d.GetFenceStatus && d.QueueWaitIdle && d.DeviceWaitIdle && d.GetQueryPoolResults &&
+         d.AllocateMemory && d.FreeMemory && d.MapMemory && d.UnmapMemory && d.FlushMappedMemoryRanges &&
+         d.InvalidateMappedMemoryRanges;
 }
 
 VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL GetDeviceProcAddr(VkDevice device, const char* name);

@@ -5,6 +5,8 @@
 //   --wait      a wait on this frame's fence right after submitting it
 //   --readback  a full-image read-back of the finished frame i-2: map, invalidate
 //               and unmap of its whole width x height x 4-byte buffer
+//   --staging   a full-image read-back through a persistent map: each frame also
+//               copies its buffer into a staging buffer mapped once at start-up
 // Exit 0 when every Vulkan call succeeded; 1 with a message otherwise.
 #include <vulkan/vulkan.h>
 
@@ -22,7 +24,7 @@ namespace {
 struct Options {
   int frames = 6;
   uint32_t width = 320, height = 360;
-  bool wait = false, readback = false;
+  bool wait = false, readback = false, staging = false;
 };
 
 [[noreturn]] void die(const char* what, VkResult r) {
@@ -41,6 +43,8 @@ bool parse(int argc, char** argv, Options* o) {
       o->wait = true;
     } else if (a == "--readback") {
       o->readback = true;
+    } else if (a == "--staging") {
+      o->staging = true;
     } else if (a == "--frames" && i + 1 < argc) {
       o->frames = std::atoi(argv[++i]);
     } else if (a == "--size" && i + 2 < argc) {
@@ -99,19 +103,23 @@ Device open_device() {
 struct Slot {
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
+  VkBuffer staging = VK_NULL_HANDLE;  // --staging: the read-back's, mapped for the probe's life
+  VkDeviceMemory staging_memory = VK_NULL_HANDLE;
+  void* staging_data = nullptr;
   VkCommandBuffer cb = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
 };
 
-Slot make_slot(const Device& d, VkCommandPool pool, VkDeviceSize bytes) {
-  Slot s;
+// A host-visible buffer of `bytes` bytes.
+void make_buffer(const Device& d, VkDeviceSize bytes, VkBufferUsageFlags usage, VkBuffer* buffer,
+                 VkDeviceMemory* memory) {
   VkBufferCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
   info.size = bytes;
-  info.usage = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  check(vkCreateBuffer(d.device, &info, nullptr, &s.buffer), "vkCreateBuffer");
+  info.usage = usage;
+  check(vkCreateBuffer(d.device, &info, nullptr, buffer), "vkCreateBuffer");
   VkMemoryRequirements req{};
-  vkGetBufferMemoryRequirements(d.device, s.buffer, &req);
+  vkGetBufferMemoryRequirements(d.device, *buffer, &req);
   VkPhysicalDeviceMemoryProperties props{};
   vkGetPhysicalDeviceMemoryProperties(d.physical, &props);
   VkMemoryAllocateInfo alloc{};
@@ -123,8 +131,17 @@ Slot make_slot(const Device& d, VkCommandPool pool, VkDeviceSize bytes) {
         (props.memoryTypes[i].propertyFlags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0)
       alloc.memoryTypeIndex = i;
   if (alloc.memoryTypeIndex == UINT32_MAX) die("finding host-visible memory", VK_ERROR_FEATURE_NOT_PRESENT);
-  check(vkAllocateMemory(d.device, &alloc, nullptr, &s.memory), "vkAllocateMemory");
-  check(vkBindBufferMemory(d.device, s.buffer, s.memory, 0), "vkBindBufferMemory");
+  check(vkAllocateMemory(d.device, &alloc, nullptr, memory), "vkAllocateMemory");
+  check(vkBindBufferMemory(d.device, *buffer, *memory, 0), "vkBindBufferMemory");
+}
+
+Slot make_slot(const Device& d, VkCommandPool pool, VkDeviceSize bytes, bool staging) {
+  Slot s;
+  make_buffer(d, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, &s.buffer, &s.memory);
+  if (staging) {
+    make_buffer(d, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, &s.staging, &s.staging_memory);
+    check(vkMapMemory(d.device, s.staging_memory, 0, VK_WHOLE_SIZE, 0, &s.staging_data), "vkMapMemory (staging)");
+  }
   VkCommandBufferAllocateInfo cb_info{};
   cb_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
   cb_info.commandPool = pool;
@@ -145,6 +162,16 @@ void render(const Device& d, Slot& s, VkDeviceSize bytes, uint32_t frame) {
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(s.cb, &begin), "vkBeginCommandBuffer");
   vkCmdFillBuffer(s.cb, s.buffer, 0, bytes, frame);
+  if (s.staging != VK_NULL_HANDLE) {
+    VkMemoryBarrier filled{};
+    filled.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
+    filled.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    filled.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+    vkCmdPipelineBarrier(s.cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &filled, 0,
+                         nullptr, 0, nullptr);
+    const VkBufferCopy copy{0, 0, bytes};
+    vkCmdCopyBuffer(s.cb, s.buffer, s.staging, 1, &copy);
+  }
   VkMemoryBarrier to_host{};
   to_host.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
   to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
@@ -179,7 +206,7 @@ void read_back(const Device& d, const Slot& s, uint32_t frame) {
 int main(int argc, char** argv) {
   Options o;
   if (!parse(argc, argv, &o)) {
-    std::fprintf(stderr, "usage: vk_count_probe [--frames N] [--size W H] [--wait] [--readback]\n");
+    std::fprintf(stderr, "usage: vk_count_probe [--frames N] [--size W H] [--wait] [--readback] [--staging]\n");
     return 2;
   }
   Device d = open_device();
@@ -191,12 +218,15 @@ int main(int argc, char** argv) {
   VkCommandPool pool = VK_NULL_HANDLE;
   check(vkCreateCommandPool(d.device, &pool_info, nullptr, &pool), "vkCreateCommandPool");
   const VkDeviceSize bytes = VkDeviceSize{o.width} * o.height * 4;
-  Slot slots[2] = {make_slot(d, pool, bytes), make_slot(d, pool, bytes)};
+  Slot slots[2] = {make_slot(d, pool, bytes, o.staging), make_slot(d, pool, bytes, o.staging)};
   for (int i = 0; i < o.frames; ++i) {
     Slot& s = slots[i % 2];
     if (i >= 2) {  // the slot's previous frame, i - 2, is an older frame still in flight
       check(vkWaitForFences(d.device, 1, &s.fence, VK_TRUE, UINT64_MAX), "vkWaitForFences (older frame)");
       if (o.readback) read_back(d, s, static_cast<uint32_t>(i - 2));
+      uint32_t first = static_cast<uint32_t>(i - 2);
+      if (o.staging) std::memcpy(&first, s.staging_data, sizeof first);  // the persistent map: no call to count
+      if (first != static_cast<uint32_t>(i - 2)) die("reading the staging buffer (wrong contents)", VK_ERROR_UNKNOWN);
       check(vkResetFences(d.device, 1, &s.fence), "vkResetFences");
     }
     render(d, s, bytes, static_cast<uint32_t>(i));
@@ -207,11 +237,13 @@ int main(int argc, char** argv) {
     vkDestroyFence(d.device, s.fence, nullptr);
     vkDestroyBuffer(d.device, s.buffer, nullptr);
     vkFreeMemory(d.device, s.memory, nullptr);
+    if (s.staging != VK_NULL_HANDLE) vkDestroyBuffer(d.device, s.staging, nullptr);
+    if (s.staging_memory != VK_NULL_HANDLE) vkFreeMemory(d.device, s.staging_memory, nullptr);  // unmaps
   }
   vkDestroyCommandPool(d.device, pool, nullptr);
   vkDestroyDevice(d.device, nullptr);
   vkDestroyInstance(d.instance, nullptr);
-  std::printf("vk_count_probe: %d frames of %ux%u%s%s\n", o.frames, o.width, o.height, o.wait ? ", --wait" : "",
-              o.readback ? ", --readback" : "");
+  std::printf("vk_count_probe: %d frames of %ux%u%s%s%s\n", o.frames, o.width, o.height, o.wait ? ", --wait" : "",
+              o.readback ? ", --readback" : "", o.staging ? ", --staging" : "");
   return 0;
 }

@@ -119,13 +119,15 @@ Tally probe_baseline() {
 }
 
 // The pipelined acceptance of the GPU path, also met by the plain probe: no host
-// wait on this frame's work, at most one submission per frame, no read-back.
+// wait on this frame's work, at most one submission per frame, no read-back (no
+// map, no invalidation, no copy into mapped memory).
 HostBudget pipelined_acceptance() {
   HostBudget b;
   b.submissions = 1;
   b.waits_this_frame = 0;
   b.maps = 0;
   b.invalidates = 0;
+  b.copies_to_host = 0;
   return b;
 }
 
@@ -144,6 +146,8 @@ HostBudget exactly(const Tally& t) {
   b.invalidated_bytes = t.invalidated_bytes;
   b.flushes = t.flushes;
   b.flushed_bytes = t.flushed_bytes;
+  b.copies_to_host = t.copies_to_host;
+  b.copies_from_host = t.copies_from_host;
   return b;
 }
 
@@ -204,6 +208,21 @@ TEST_F(VkCountProbe, AReadBackPerFrameIsCountedExactlyAndBreaksTheBudget) {
   const std::map<std::string, int> against_acceptance{{"vkMapMemory calls", n},
                                                       {"vkInvalidateMappedMemoryRanges calls", n}};
   EXPECT_EQ(budget_failures(frames, pipelined_acceptance()), against_acceptance);
+}
+
+// One full-image read-back per frame through a staging buffer mapped once at
+// start-up (no map or invalidation per frame): the copy into it is counted.
+TEST_F(VkCountProbe, AReadBackThroughAPersistentMapIsCountedAsACopyToTheHost) {
+  const auto frames = run("staging", {"--staging"});
+  ASSERT_FALSE(frames.empty());
+  Tally expected = probe_baseline();
+  expected.copies_to_host = 1;
+  expected.to_host_bytes = kProbeImageBytes;
+  for (const Frame& f : frames) EXPECT_EQ(sum(f, {"app"}), expected);
+  const std::map<std::string, int> expected_failures{
+      {"copies into mapped memory (read-backs)", int(frames.size())}};
+  EXPECT_EQ(budget_failures(frames, exactly(probe_baseline())), expected_failures);
+  EXPECT_EQ(budget_failures(frames, pipelined_acceptance()), expected_failures);
 }
 
 // One wait on this frame's fence per frame: exactly that on top of the baseline,

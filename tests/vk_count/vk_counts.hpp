@@ -68,6 +68,10 @@ struct Tally {
   uint64_t unmaps = 0;
   uint64_t invalidates = 0, invalidated_bytes = 0;
   uint64_t flushes = 0, flushed_bytes = 0;
+  // Submitted copies into (to_host) or out of (from_host) memory mapped when recorded:
+  // bytes of buffer copies, texels of image copies.
+  uint64_t copies_to_host = 0, to_host_bytes = 0, to_host_texels = 0;
+  uint64_t copies_from_host = 0, from_host_bytes = 0, from_host_texels = 0;
 
   void add(const nlohmann::json& e) {
     const std::string call = e["call"], kind = e["kind"];
@@ -94,6 +98,14 @@ struct Tally {
     } else if (call == "vkFlushMappedMemoryRanges") {
       ++flushes;
       flushed_bytes += bytes;
+    } else if (call == "copy_to_host") {
+      copies_to_host += e["items"].get<uint64_t>();
+      to_host_bytes += bytes;
+      to_host_texels += e["texels"].get<uint64_t>();
+    } else if (call == "copy_from_host") {
+      copies_from_host += e["items"].get<uint64_t>();
+      from_host_bytes += bytes;
+      from_host_texels += e["texels"].get<uint64_t>();
     }
   }
   bool operator==(const Tally&) const = default;
@@ -108,7 +120,10 @@ inline void PrintTo(const Tally& t, std::ostream* os) {
       {"query_reads", t.query_reads},   {"maps", t.maps},
       {"mapped_bytes", t.mapped_bytes}, {"unmaps", t.unmaps},
       {"invalidates", t.invalidates},   {"invalidated_bytes", t.invalidated_bytes},
-      {"flushes", t.flushes},           {"flushed_bytes", t.flushed_bytes}};
+      {"flushes", t.flushes},           {"flushed_bytes", t.flushed_bytes},
+      {"copies_to_host", t.copies_to_host}, {"to_host_bytes", t.to_host_bytes},
+      {"to_host_texels", t.to_host_texels}, {"copies_from_host", t.copies_from_host},
+      {"from_host_bytes", t.from_host_bytes}, {"from_host_texels", t.from_host_texels}};
   *os << "{";
   for (const auto& [name, value] : fields)
     if (value != 0) *os << " " << name << "=" << value;
@@ -165,6 +180,12 @@ inline Tally sum(const Frame& f, std::initializer_list<const char*> roles) {
     t.invalidated_bytes += a.invalidated_bytes;
     t.flushes += a.flushes;
     t.flushed_bytes += a.flushed_bytes;
+    t.copies_to_host += a.copies_to_host;
+    t.to_host_bytes += a.to_host_bytes;
+    t.to_host_texels += a.to_host_texels;
+    t.copies_from_host += a.copies_from_host;
+    t.from_host_bytes += a.from_host_bytes;
+    t.from_host_texels += a.from_host_texels;
   }
   return t;
 }
@@ -172,7 +193,8 @@ inline Tally sum(const Frame& f, std::initializer_list<const char*> roles) {
 // Per-frame maxima of host calls at the Vulkan boundary; nullopt: not limited.
 struct HostBudget {
   std::optional<uint64_t> submissions, waits_this_frame, waits_older_frame, waits_unsubmitted, fence_polls,
-      query_reads, maps, mapped_bytes, invalidates, invalidated_bytes, flushes, flushed_bytes;
+      query_reads, maps, mapped_bytes, invalidates, invalidated_bytes, flushes, flushed_bytes, copies_to_host,
+      copies_from_host;
 };
 
 // Expects `t` (frame `frame` of `who`) within `budget`, one failure per exceeded limit.
@@ -194,16 +216,20 @@ inline void expect_within(const Tally& t, const HostBudget& budget, const std::s
   check("vkInvalidateMappedMemoryRanges bytes", t.invalidated_bytes, budget.invalidated_bytes);
   check("vkFlushMappedMemoryRanges calls", t.flushes, budget.flushes);
   check("vkFlushMappedMemoryRanges bytes", t.flushed_bytes, budget.flushed_bytes);
+  check("copies into mapped memory (read-backs)", t.copies_to_host, budget.copies_to_host);
+  check("copies out of mapped memory (uploads)", t.copies_from_host, budget.copies_from_host);
 }
 
 // Prints one line per frame and role: the table a test reports.
 inline void print_frames(const char* title, const std::vector<Frame>& frames) {
-  std::printf("%s\n%-5s %-8s %6s %5s %6s %6s %6s %6s %6s %5s %10s %5s %10s %5s %10s\n", title, "frame", "who",
-              "submit", "cbs", "wait:T", "wait:O", "wait:U", "polls", "query", "maps", "map B", "inval", "inval B",
-              "flush", "flush B");
+  std::printf("%s\n%-5s %-8s %6s %5s %6s %6s %6s %6s %6s %5s %10s %5s %10s %5s %10s %4s %10s %4s %10s\n", title,
+              "frame", "who", "submit", "cbs", "wait:T", "wait:O", "wait:U", "polls", "query", "maps", "map B", "inval",
+              "inval B", "flush", "flush B", "d2h", "d2h B|tx", "h2d", "h2d B|tx");
   for (std::size_t i = 0; i < frames.size(); ++i)
     for (const auto& [who, t] : frames[i])
-      std::printf("%-5zu %-8s %6llu %5llu %6llu %6llu %6llu %6llu %6llu %5llu %10llu %5llu %10llu %5llu %10llu\n", i,
+      std::printf("%-5zu %-8s %6llu %5llu %6llu %6llu %6llu %6llu %6llu %5llu %10llu %5llu %10llu %5llu %10llu %4llu "
+                  "%10llu %4llu %10llu\n",
+                  i,
                   who.c_str(), static_cast<unsigned long long>(t.submissions),
                   static_cast<unsigned long long>(t.command_buffers),
                   static_cast<unsigned long long>(t.waits_this_frame),
@@ -212,8 +238,13 @@ inline void print_frames(const char* title, const std::vector<Frame>& frames) {
                   static_cast<unsigned long long>(t.query_reads), static_cast<unsigned long long>(t.maps),
                   static_cast<unsigned long long>(t.mapped_bytes), static_cast<unsigned long long>(t.invalidates),
                   static_cast<unsigned long long>(t.invalidated_bytes), static_cast<unsigned long long>(t.flushes),
-                  static_cast<unsigned long long>(t.flushed_bytes));
-  std::printf("(wait:T on this frame's work, wait:O on an older frame, wait:U on an unsubmitted fence)\n");
+                  static_cast<unsigned long long>(t.flushed_bytes), static_cast<unsigned long long>(t.copies_to_host),
+                  static_cast<unsigned long long>(t.to_host_bytes + t.to_host_texels),
+                  static_cast<unsigned long long>(t.copies_from_host),
+                  static_cast<unsigned long long>(t.from_host_bytes + t.from_host_texels));
+  std::printf(
+      "(wait:T on this frame's work, wait:O on an older frame, wait:U on an unsubmitted fence; d2h/h2d: copies\n"
+      " into/out of mapped memory, bytes of buffer copies plus texels of image copies)\n");
 }
 
 }  // namespace foveart::vk_count
