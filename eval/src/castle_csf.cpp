@@ -88,7 +88,11 @@ double castle_critical_area_deg2(double freq_cpd) {
   return kSustained.area0_deg2 / (1.0 + (freq_cpd / kSustained.f0_cpd) * (freq_cpd / kSustained.f0_cpd));
 }
 
-double castle_sensitivity(const CsfStimulus& s, EccentricityTerm ecc) {
+double castle_chromatic_critical_area_deg2(double freq_cpd) {
+  return kYellowViolet.area0_deg2 / (1.0 + (freq_cpd / kYellowViolet.f0_cpd) * (freq_cpd / kYellowViolet.f0_cpd));
+}
+
+CsfParts castle_sensitivity_parts(const CsfStimulus& s, EccentricityTerm ecc) {
   const double rho = s.freq_cpd;
   const double lum = s.luminance_cd_m2;  // unclamped, as castleCSF evaluates it (the data reach 2e-5 cd/m^2)
   const bool drop = ecc == EccentricityTerm::kOn;
@@ -103,7 +107,12 @@ double castle_sensitivity(const CsfStimulus& s, EccentricityTerm ecc) {
   const double a = kD65Lms[0] + kD65Lms[1];
   const double rg_share = std::abs(kD65Lms[0] - kRgM * kD65Lms[1]) / a;
   const double yv_share = std::abs(-kD65Lms[0] - kD65Lms[1] + kYvS * kD65Lms[2]) / a;
-  return std::sqrt(s_ach * s_ach + (rg_share * s_rg) * (rg_share * s_rg) + (yv_share * s_yv) * (yv_share * s_yv));
+  return {s_ach, std::hypot(rg_share * s_rg, yv_share * s_yv)};
+}
+
+double castle_sensitivity(const CsfStimulus& s, EccentricityTerm ecc) {
+  const CsfParts p = castle_sensitivity_parts(s, ecc);
+  return std::hypot(p.achromatic, p.chromatic);
 }
 
 double castle_disc_sensitivity(double radius_deg, double luminance_cd_m2, double ecc_deg, double vis_field_deg,

@@ -11,8 +11,9 @@
 namespace foveart::eval::perceptual_detail {
 
 inline constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-inline constexpr double kLogLumMin = -3.0, kLogLumMax = 4.0, kLogLumStep = 0.125;  // castleCSF's 0.001-10^4 cd/m^2
-inline constexpr int kLumSteps = int((kLogLumMax - kLogLumMin) / kLogLumStep) + 1;
+// The tables' luminance axis: the display's range (black .. white, black at least kMinLuminance,
+// below the castleCSF data's 2e-5 cd/m^2), a step beyond each end, kLogLumStep apart.
+inline constexpr double kMinLuminance = 1e-5, kLogLumStep = 0.125;
 inline constexpr double kEccStepDeg = 1.0;
 // ColorVideoVDP's (Mantiuk et al. 2024) achromatic sustained masking: p, q and k = 10^c.
 inline constexpr double kMaskP = 2.264355;
@@ -20,6 +21,13 @@ inline constexpr double kMaskQ = 1.302623;
 inline const double kMaskK = std::pow(10.0, -0.795497);
 inline constexpr double kPsychometricBeta = 3.5;  // Weibull slope of detection (Robson & Graham 1981)
 inline constexpr int kMinBandSidePx = 8;
+
+// Pyramid levels for a w x h image: level l exists while min(w, h) >> (l + 1) >= 4.
+inline int level_count(int w, int h) {
+  int levels = 0;
+  while ((std::min(w, h) >> (levels + 1)) >= kMinBandSidePx / 2) ++levels;
+  return levels;
+}
 
 // Eccentricity (deg) of a point dist_px from the gaze: thesis eq. 1, e = atan(d / D), unscaled.
 inline double ecc_of_distance(double dist_px, double view_distance_px) {
@@ -33,9 +41,10 @@ inline double local_ppd(double ppd_centre, double ecc_deg) {
 }
 
 // Bilinear lookup of a table over (log luminance, eccentricity).
-inline float lookup(const std::vector<float>& table, double log_lum, double ecc_deg, int ecc_steps) {
-  const double u = std::clamp((log_lum - kLogLumMin) / kLogLumStep, 0.0, double(kLumSteps - 1) - 1e-6);
-  const double v = std::clamp(ecc_deg / kEccStepDeg, 0.0, double(ecc_steps - 1) - 1e-6);
+inline float lookup(const std::vector<float>& table, double log_lum, double ecc_deg, const PerceptualMetric::TableGrid& g) {
+  const int kLumSteps = g.lum_steps;
+  const double u = std::clamp((log_lum - g.log_lum_min) / kLogLumStep, 0.0, double(kLumSteps - 1) - 1e-6);
+  const double v = std::clamp(ecc_deg / kEccStepDeg, 0.0, double(g.ecc_steps - 1) - 1e-6);
   const int l = int(u), e = int(v);
   const double fu = u - l, fv = v - e;
   const auto at = [&](int ee, int ll) { return double(table[std::size_t(ee * kLumSteps + ll)]); };

@@ -60,41 +60,52 @@ struct BandInputs {
   int band;
 };
 
-// Band b's squared threshold-unit contrast difference E and masking signal M, before pooling.
-void band_energy(const BandInputs& in, const PerceptualMetric::BandTable& table, int ecc_steps,
-                 const PerceptualDisplay& d, glm::vec2 gaze_px, foveation::Executor* ex, Plane& e, Plane& m) {
-  const double scale = std::ldexp(1.0, in.band);
+// Band b's squared threshold-unit contrast difference per mechanism (E_a achromatic, E_c chromatic)
+// and the masking signal M, before pooling.
+struct BandEnergy {
+  Plane e_ach, e_chr, mask;
+};
+
+void band_energy(const BandInputs& in, const PerceptualMetric::BandTable& table, const PerceptualMetric::TableGrid& grid,
+                 const PerceptualDisplay& d, glm::vec2 gaze_px, foveation::Executor* ex, BandEnergy& out) {
+  const double scale = std::ldexp(1.0, in.band / kBandsPerLevel);
   const double view_distance_px = d.pixels_per_deg * kDegPerRad;
-  e = Plane(in.test_band.width_px, in.test_band.height_px);
-  m = Plane(e.width_px, e.height_px);
-  for_rows(ex, e.height_px, [&](int y0, int y1) {
+  const int w_px = in.test_band.width_px, h_px = in.test_band.height_px;
+  out.e_ach = Plane(w_px, h_px);
+  out.e_chr = Plane(w_px, h_px);
+  out.mask = Plane(w_px, h_px);
+  for_rows(ex, h_px, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < e.width_px; ++x) {
+      for (int x = 0; x < w_px; ++x) {
         const double dx = (x + 0.5) * scale - 0.5 - double(gaze_px.x), dy = (y + 0.5) * scale - 0.5 - double(gaze_px.y);
         const double ecc = ecc_of_distance(std::hypot(dx, dy), view_distance_px);
-        const double lum = std::max(1e-3, double(in.ref_mean.at(x, y)));
+        const double lum = std::max(kMinLuminance, double(in.ref_mean.at(x, y)));
         const double log_lum = std::log10(lum);
-        const double w = temporal_weight(dx, dy, d.eye);
-        const double log_s = (1.0 - w) * double(lookup(table.log_s_nasal, log_lum, ecc, ecc_steps)) +
-                             w * double(lookup(table.log_s_temporal, log_lum, ecc, ecc_steps));
-        const double s_over_lum = std::pow(10.0, log_s) / lum;
-        const double t = s_over_lum * double(in.test_band.at(x, y)), r = s_over_lum * double(in.ref_band.at(x, y));
-        e.at(x, y) = float((t - r) * (t - r));
+        const double tw = temporal_weight(dx, dy, d.eye);
+        double w2[2];
+        for (std::size_t m = 0; m < 2; ++m) {
+          const double log_s = (1.0 - tw) * double(lookup(table.log_s_nasal[m], log_lum, ecc, grid)) +
+                               tw * double(lookup(table.log_s_temporal[m], log_lum, ecc, grid));
+          w2[m] = std::pow(10.0, 2.0 * log_s);
+        }
+        const double t = double(in.test_band.at(x, y)) / lum, r = double(in.ref_band.at(x, y)) / lum;
+        out.e_ach.at(x, y) = float(w2[0] * (t - r) * (t - r));
+        out.e_chr.at(x, y) = float(w2[1] * (t - r) * (t - r));
         const double mask = std::min(std::abs(t), std::abs(r));
-        m.at(x, y) = float(mask * mask);
+        out.mask.at(x, y) = float((w2[0] + w2[1]) * mask * mask);
       }
   });
 }
 
 // ColorVideoVDP's masking transducer, in threshold units: d^2 = D^2 / (1 + (k M)^q)^(2 / p).
-void mask_band(Plane& e, const Plane& m, double energy_scale, bool masking) {
+void mask_band(Plane& e, const Plane& m, bool masking) {
   for (std::size_t i = 0; i < e.v.size(); ++i) {
-    const double d2 = energy_scale * double(e.v[i]);
+    const double d2 = double(e.v[i]);
     if (!masking) {
       e.v[i] = float(d2);
       continue;
     }
-    const double mask = std::sqrt(std::max(0.0, energy_scale * double(m.v[i])));
+    const double mask = std::sqrt(std::max(0.0, double(m.v[i])));
     e.v[i] = float(d2 / std::pow(1.0 + std::pow(kMaskK * mask, kMaskQ), 2.0 / kMaskP));
   }
 }
@@ -145,22 +156,25 @@ bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation
                                 std::string& error) const {
   if (bands_.empty()) return error = "perceptual metric: the model was not created", false;
   if (!check_inputs(test, reference, gaze_px, max_width_px_, max_height_px_, error)) return false;
-  int band_count = 0;
-  while (band_count < int(bands_.size()) &&
-         (std::min(test.width_px, test.height_px) >> (band_count + 1)) >= kMinBandSidePx / 2)
-    ++band_count;
+  const int levels = std::min(int(bands_.size()) / kBandsPerLevel, level_count(test.width_px, test.height_px));
+  const int band_count = levels * kBandsPerLevel;
   LaplacianPyramid pt, pr;
-  two_tasks(executor, [&] { pt = laplacian_pyramid(luminance_plane(test, display_, nullptr), band_count); },
-            [&] { pr = laplacian_pyramid(luminance_plane(reference, display_, nullptr), band_count); });
+  two_tasks(executor, [&] { pt = laplacian_pyramid(luminance_plane(test, display_, nullptr), levels); },
+            [&] { pr = laplacian_pyramid(luminance_plane(reference, display_, nullptr), levels); });
   Plane acc;
   for (int b = band_count - 1; b >= 0; --b) {
-    Plane e, m;
-    band_energy({pt.band[std::size_t(b)], pr.band[std::size_t(b)], pr.mean[std::size_t(b)], b},
-                bands_[std::size_t(b)], ecc_steps_, display_, gaze_px, executor, e, m);
-    const double sigma = bands_[std::size_t(b)].pool_sigma_px;
-    two_tasks(executor, [&] { box3_blur(e, sigma); }, [&] { if (options_.masking) box3_blur(m, sigma); });
-    mask_band(e, m, energy_scale_, options_.masking);
-    if (!acc.v.empty()) {
+    BandEnergy be;
+    band_energy({pt.band[std::size_t(b)], pr.band[std::size_t(b)], pr.mean[std::size_t(b / kBandsPerLevel)], b},
+                bands_[std::size_t(b)], grid_, display_, gaze_px, executor, be);
+    const auto& sigma = bands_[std::size_t(b)].pool_sigma_px;
+    two_tasks(executor, [&] { box3_blur(be.e_ach, sigma[0]); box3_blur(be.e_chr, sigma[1]); },
+              [&] { if (options_.masking) box3_blur(be.mask, sigma[0]); });
+    Plane& e = be.e_ach;
+    for (std::size_t i = 0; i < e.v.size(); ++i) e.v[i] += be.e_chr.v[i];
+    mask_band(e, be.mask, options_.masking);
+    if (!acc.v.empty() && acc.width_px == e.width_px && acc.height_px == e.height_px) {
+      for (std::size_t i = 0; i < e.v.size(); ++i) e.v[i] += acc.v[i];
+    } else if (!acc.v.empty()) {
       const Plane up = pyramid_expand(acc, e.width_px, e.height_px);
       for (std::size_t i = 0; i < e.v.size(); ++i) e.v[i] += std::max(0.0f, up.v[i]);
     }

@@ -88,13 +88,28 @@ inline void add_prediction(std::array<BandStats, 4>& bands, const CastleRow& row
   b.sum_tol2 += tol * tol;
 }
 
-inline std::string band_table(const std::string& title, const std::array<BandStats, 4>& bands) {
+// What a band's row in the agreement table is: a check that must hold, a known miss printed with
+// its numbers (the band misses its tolerance today; the row says by how much), or too few rows to
+// assert anything (reported only).
+enum class BandCheck { kAsserted, kPrintedMiss, kReportOnly };
+
+inline const char* check_name(BandCheck c) {
+  return c == BandCheck::kAsserted ? "asserted" : c == BandCheck::kPrintedMiss ? "MISS, printed" : "reported only";
+}
+
+// The agreement table: band, rows, RMSE, bias, tolerance (RMS of the rows' published errors,
+// combined in quadrature with margin_log10), the control's RMSE, and what the row is.
+inline std::string band_table(const std::string& title, const std::array<BandStats, 4>& bands,
+                              const std::array<BandStats, 4>& control, const std::array<BandCheck, 4>& checks,
+                              double margin_log10 = 0.0) {
   std::ostringstream os;
-  os << "\n" << title << "\n| band | rows | RMSE log10 S | bias log10 S | tolerance |\n|---|---|---|---|---|\n";
+  os << "\n" << title << "\n| band | rows | RMSE log10 S | bias log10 S | tolerance | control RMSE | check |\n"
+     << "|---|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < bands.size(); ++i) {
-    char line[160];
-    std::snprintf(line, sizeof line, "| %s | %d | %.3f | %+.3f | %.3f |\n", kBandNames[i], bands[i].rows,
-                  bands[i].rmse(), bands[i].bias(), bands[i].tolerance());
+    char line[200];
+    const double tol = std::hypot(bands[i].tolerance(), margin_log10);
+    std::snprintf(line, sizeof line, "| %s | %d | %.3f | %+.3f | %.3f | %.3f | %s |\n", kBandNames[i], bands[i].rows,
+                  bands[i].rmse(), bands[i].bias(), tol, control[i].rmse(), check_name(checks[i]));
     os << line;
   }
   return os.str();

@@ -31,9 +31,20 @@ enum class EccentricityTerm : bool { kOff = false, kOn = true };
 // stelaCSF channel plus the chromatic mechanisms' share (castleCSF eqs. for S_A, S_R, S_Y).
 [[nodiscard]] double castle_sensitivity(const CsfStimulus& s, EccentricityTerm ecc = EccentricityTerm::kOn);
 
+// The same in its two parts, whose Minkowski (beta = 2) sum it is: the achromatic mechanism
+// (sustained + transient) and the chromatic mechanisms' share (red-green, yellow-violet).
+struct CsfParts {
+  double achromatic = 0.0;
+  double chromatic = 0.0;
+};
+[[nodiscard]] CsfParts castle_sensitivity_parts(const CsfStimulus& s, EccentricityTerm ecc = EccentricityTerm::kOn);
+
 // The critical area A_c(rho) of the achromatic sustained channel in deg^2 (Rovamo et al.
 // 1993 after eq. 25; stelaCSF eq. 11): the area over which contrast energy sums.
 [[nodiscard]] double castle_critical_area_deg2(double freq_cpd);
+// The chromatic mechanisms' critical area (yellow-violet's A_0 / (1 + (rho / f_0)^2), deg^2; the
+// red-green one is within 20 % of it above 0.2 cpd): where the chromatic share sums.
+[[nodiscard]] double castle_chromatic_critical_area_deg2(double freq_cpd);
 
 // Sensitivity to a uniform disc of radius_deg (castleCSF's disc model, Ashraf et al.
 // 2024 sec. "Discs"): the most sensitive Gabor of a fixed area, scaled by radius^(1/beta).

@@ -72,8 +72,10 @@ struct PerceptualResult {
 class PerceptualMetric {
  public:
   // Builds the sensitivity tables for images up to max_width_px x max_height_px on `display`.
+  // `executor` (may be null) solves the tables' rows in parallel.
   [[nodiscard]] static bool create(const PerceptualDisplay& display, int max_width_px, int max_height_px,
-                                   const PerceptualOptions& options, PerceptualMetric& out, std::string& error);
+                                   const PerceptualOptions& options, PerceptualMetric& out, std::string& error,
+                                   foveation::Executor* executor = nullptr);
 
   // Detection probability of test against reference at gaze_px (screen pixels). Errors:
   // sizes differ or exceed the model's, non-finite pixels, gaze off the image.
@@ -84,11 +86,20 @@ class PerceptualMetric {
 
   const PerceptualDisplay& display() const { return display_; }
 
-  // One band's tables: log10 sensitivity over (log10 luminance, eccentricity) in both fields.
+  // One band's tables over (log10 luminance, eccentricity) in both fields, per mechanism (0: the
+  // achromatic, 1: the chromatic mechanisms' share of a luminance modulation, each with its own
+  // critical area): log10 of the band's sensitivity sqrt(w_b), solved so that the bands together
+  // give castleCSF's sensitivity to a Gabor at any frequency they cover (perceptual_metric.cpp).
+  static constexpr int kMechanisms = 2;
+  struct TableGrid {
+    double log_lum_min = 0.0;  // the first column's log10 luminance
+    int lum_steps = 0;         // columns, perceptual_detail.hpp's kLogLumStep apart
+    int ecc_steps = 0;         // rows, kEccStepDeg apart from 0
+  };
   struct BandTable {
-    double freq_cyc_px = 0.0;  // the band's peak frequency, cycles per full-resolution pixel
-    double pool_sigma_px = 0.0;  // the critical area's Gaussian sigma, band pixels
-    std::vector<float> log_s_nasal, log_s_temporal;
+    double freq_cyc_px = 0.0;  // the band's centre frequency, cycles per full-resolution pixel
+    std::array<double, kMechanisms> pool_sigma_px{};  // each critical area's Gaussian sigma, band pixels
+    std::array<std::vector<float>, kMechanisms> log_s_nasal, log_s_temporal;
   };
 
  private:
@@ -96,8 +107,7 @@ class PerceptualMetric {
   PerceptualOptions options_;
   int max_width_px_ = 0;
   int max_height_px_ = 0;
-  int ecc_steps_ = 0;  // rows of each band table, kEccStepDeg apart
-  double energy_scale_ = 1.0;  // 2 / sum of squared band gains: a sinusoid's energy -> contrast^2
+  TableGrid grid_;
   std::vector<BandTable> bands_;
 };
 
