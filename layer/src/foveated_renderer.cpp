@@ -21,7 +21,8 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
 #include "gaze_source.hpp"
-#include "gpu_reconstruction.hpp"
+#include "device_trace_engine.hpp"
+#include "gpu/reconstructor.hpp"
 #include "layer/sampling_defaults.hpp"
 #include "log.hpp"
 #include "next_chain.hpp"
@@ -91,8 +92,8 @@ struct FoveatedRenderer::Frames {
   struct Eye {
     std::unique_ptr<EyeSwapchain> swapchain;
     std::unique_ptr<foveation::FoveatedView> view;
-    std::shared_ptr<GpuTables> gpu_tables;  // GPU path: the view's tables on the device
-    std::unique_ptr<GpuEye> gpu;            // GPU path: this eye's buffers
+    std::shared_ptr<gpu::Tables> gpu_tables;  // GPU path: the view's tables on the device
+    std::unique_ptr<gpu::Eye> gpu_eye;      // GPU path: this eye's buffers and stages
     bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
     bool failed = false;  // swapchain creation failed: this eye falls back for good
     foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of `view`
@@ -136,13 +137,13 @@ struct FoveatedRenderer::Frames {
   void build_tables();
   void cache_problem(const std::string& message);
   void choose_reconstruction();
-  std::shared_ptr<GpuTables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
+  std::shared_ptr<gpu::Tables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
   bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                      const DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats, std::string* error);
-  // After a device-traced frame was presented or refused: what the engine and
-  // the resolve said; false (counted, logged once) when the view falls back.
-  bool device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats);
+                      const gpu::DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats, std::string* error);
+  // After a device-traced frame was presented or refused: what the engine
+  // (`engine`, its last result) and the resolve said; false (counted, logged once) when the view falls back.
+  bool device_trace_ok(uint32_t e, bool presented, XrResult engine, XrFoveatedRendererStatsFOVEART* stats);
   // One eye's frame, in the steps below: false when the view shows the app's own image.
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
@@ -179,9 +180,9 @@ struct FoveatedRenderer::Frames {
   bool stop_building = false;
   std::atomic<bool> cancel_build{false};  // the build in progress is not needed any more
   std::thread builder;  // started once with the renderer
-  std::unique_ptr<GpuReconstructor> gpu;  // null: the CPU reconstructs
-  std::vector<std::shared_ptr<GpuTables>> gpu_tables;  // uploaded table sets, shared by the eyes
-  Eye eyes[2];  // after gpu: destroyed before it
+  std::unique_ptr<gpu::Reconstructor> reconstructor;  // null: the CPU reconstructs
+  std::vector<std::shared_ptr<gpu::Tables>> gpu_tables;  // uploaded table sets, shared by the eyes
+  Eye eyes[2];  // after reconstructor: destroyed before it
   uint64_t frame_index = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
@@ -355,12 +356,12 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
     return;
   }
   std::string why;
-  gpu = GpuReconstructor::create(
-      GpuDevice{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
+  reconstructor = gpu::Reconstructor::create(
+      gpu::Device{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
                 session->vk_queue_index},
       &why);
   const auto& properties = device;
-  if (gpu != nullptr) {
+  if (reconstructor != nullptr) {
     log(LogLevel::Info, "foveated renderer: reconstruction on the GPU (", properties.deviceName, ", config \"",
         settings.reconstruction, "\")");
   } else if (settings.reconstruction == "gpu") {
@@ -372,13 +373,13 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
   }
 }
 
-std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
+std::shared_ptr<gpu::Tables> FoveatedRenderer::Frames::gpu_tables_for(
     const std::shared_ptr<const foveation::ViewTables>& view_tables, std::string* error) {
   // Sets no eye holds any more go first (a view size that is gone).
-  std::erase_if(gpu_tables, [](const std::shared_ptr<GpuTables>& t) { return t.use_count() == 1; });
+  std::erase_if(gpu_tables, [](const std::shared_ptr<gpu::Tables>& t) { return t.use_count() == 1; });
   for (const auto& t : gpu_tables)
     if (&t->view_tables() == view_tables.get()) return t;
-  auto uploaded = gpu->upload_tables(view_tables, error);
+  auto uploaded = reconstructor->upload_tables(view_tables, error);
   if (uploaded != nullptr) {
     gpu_tables.push_back(uploaded);
     log(LogLevel::Info, "foveated renderer: ", uploaded->bytes() >> 20, " MiB of tables on the GPU in ",
@@ -389,7 +390,8 @@ std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
 
 bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
                                               const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              const DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats,
+                                              const gpu::DeviceTraceFrame* device,
+                                              XrFoveatedRendererStatsFOVEART* stats,
                                               std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
@@ -398,41 +400,37 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     eye.gpu_tables = gpu_tables_for(view_tables, error);
     if (eye.gpu_tables == nullptr) return false;
   }
-  if (eye.gpu == nullptr || eye.gpu->width_px() != w || eye.gpu->height_px() != h) {
-    eye.gpu = nullptr;
-    eye.gpu = gpu->create_eye(w, h, error);
-    if (eye.gpu == nullptr) return false;
+  if (eye.gpu_eye == nullptr || eye.gpu_eye->width_px() != w || eye.gpu_eye->height_px() != h) {
+    eye.gpu_eye = nullptr;
+    eye.gpu_eye = reconstructor->create_eye(w, h, error);
+    if (eye.gpu_eye == nullptr) return false;
   }
-  GpuFrame frame = GpuFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
+  gpu::EyeFrame frame = gpu::EyeFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
   frame.display = display;
   frame.device = device;
   const bool ok = eye.swapchain->present(
       [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
-        return eye.gpu->record(cb, frame, image, executor, record_error);
+        return eye.gpu_eye->record(cb, frame, image, executor, record_error);
       },
       error);
   if (!ok) return false;
-  GpuStageTimes times;
-  if (eye.gpu->stage_times(&times)) {
+  gpu::StageTimes times;
+  if (eye.gpu_eye->stage_times(&times)) {
     reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
     reconstruction.gpu_gather_ms[e] = times.gather_ms;
     reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
     reconstruction.gpu_encode_ms[e] = times.encode_ms;
-    if (device != nullptr) {  // the trace ran on the device: its GPU time is the frame's trace
-      stats->traceMs[e] = times.scatter_ms;
-      stats->reconstructMs[e] = times.gather_ms;
-    } else {
-      stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
-    }
+    if (device != nullptr) stats->traceMs[e] = times.trace_ms;  // the trace ran on the device: its own slot
+    stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
     stats->temporalMs[e] = times.temporal_ms;
   }
   return true;
 }
 
-bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats) {
+bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrResult engine,
+                                               XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   if (!presented) {
-    const XrResult engine = eye.gpu->device_trace_result();
     if (XR_SUCCEEDED(engine)) return true;  // not the engine's failure: the GPU path's
     ++stats->callbackFailures;
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
@@ -443,7 +441,7 @@ bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrFov
     eye.view->forget_history();
     return false;
   }
-  const DeviceTraceStatus status = eye.gpu->device_trace_status();
+  const gpu::DeviceTraceStatus status = eye.gpu_eye->device_trace_status();
   stats->pointsPerEye[e] = status.visible_points;
   stats->raysPerEye[e] = status.visible_points * settings.rays_per_point;
   if (status.invalid_components == 0) return true;
@@ -554,10 +552,11 @@ bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameReq
                                            XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   const auto t0 = Clock::now();
-  DeviceTraceFrame device;
+  gpu::DeviceTraceFrame device;
+  XrResult engine = XR_SUCCESS;
   if (on_device) {
     const foveation::FrameHandOff& hand_off = eye.view->hand_off();
-    device.engine = DeviceTraceFn{settings.trace_rays_device, settings.device_user_data};
+    device.engine = xr_device_trace_engine(settings.trace_rays_device, settings.device_user_data, &engine);
     device.points = &view_tables->points;
     device.view = request.view;
     device.mapping = hand_off.mapping;
@@ -569,10 +568,10 @@ bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameReq
   std::string error;
   const bool presented = present_on_gpu(e, view_tables, on_device ? &device : nullptr, stats, &error);
   stats->uploadMs[e] = ms_since(t0);
-  if (on_device && !device_trace_ok(e, presented, stats)) return false;
+  if (on_device && !device_trace_ok(e, presented, engine, stats)) return false;
   if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
     eye.gpu_failed = true;
-    eye.gpu = nullptr;
+    eye.gpu_eye = nullptr;
     eye.gpu_tables = nullptr;
     ++reconstruction.gpu_fallbacks;
     if (gpu_once.first()) {
@@ -628,7 +627,7 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     return false;
   }
   if (!ensure_swapchain(e, w, h, stats)) return false;
-  const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
+  const bool on_gpu = reconstructor != nullptr && !eye.gpu_failed;
   // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
   const bool on_device = on_gpu && settings.trace_rays_device != nullptr;
   if (!on_device && settings.trace_rays == nullptr) {  // a device trace alone, and no GPU path

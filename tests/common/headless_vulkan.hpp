@@ -13,7 +13,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "gpu_reconstruction.hpp"
+#include "gpu/context.hpp"
 
 namespace foveart::layer {
 namespace headless_detail {
@@ -180,7 +180,7 @@ class HeadlessVulkan {
   }
   bool ok() const { return device_ != VK_NULL_HANDLE; }
   bool validated() const { return validated_; }
-  GpuDevice device() const { return {physical_, device_, family_, 0}; }
+  gpu::Device device() const { return {physical_, device_, family_, 0}; }
   const std::string& name() const { return name_; }
   bool is_cpu() const { return type_ == VK_PHYSICAL_DEVICE_TYPE_CPU; }
   std::vector<std::string> errors() {
