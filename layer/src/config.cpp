@@ -174,6 +174,7 @@ struct Reader {
     read_string(obj, "temporal", {"auto", "off", "image", "rays"}, &c->temporal);
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);
+    read_string(obj, "gaze_clock", {"steady", "display_time"}, &c->gaze_clock);
     read_uint(obj, "threads", 0, 256, &c->threads);
     read_string(obj, "cache_dir", {}, &c->cache_dir);
     read_bool(obj, "wait_for_tables", &c->wait_for_tables);

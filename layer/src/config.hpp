@@ -29,7 +29,7 @@ inline constexpr std::string_view kConfigKeys[] = {
     "enabled",       "log_level",      "log_file",        "interpolation",  "k",
     "density_scale", "rays_per_point", "temporal",        "gaze_source",    "gaze_provider",
     "threads",       "cache_dir",      "wait_for_tables", "reconstruction", "exposure",
-    "tone_map",      "applications"};
+    "tone_map",      "gaze_clock",     "applications"};
 
 // Keys earlier configs held: a file that names one still loads, with a warning that says
 // what replaced it. "taa" and "taa_history" are read into "temporal" when the same object
@@ -65,6 +65,9 @@ struct LayerConfig {
   std::string temporal = "auto";
   std::string gaze_source = "provider";  // "none" | "provider" | "eye_gaze_interaction"
   std::string gaze_provider = "sim";     // gaze provider spec: "sim", "replay:FILE", ...
+  // The provider's clock: "steady" (the host's), or "display_time": stepped to each frame's
+  // display time, for a simulated runtime's virtual clock (a replay stays in step with the frames).
+  std::string gaze_clock = "steady";
   uint32_t threads = 0;                  // the renderer's executor threads; 0: hardware concurrency
   std::string cache_dir;                 // point set / neighbour table cache; empty: $XDG_CACHE_HOME/foveart
   bool wait_for_tables = false;          // block the first frame until the tables are ready

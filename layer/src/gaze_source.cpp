@@ -12,6 +12,7 @@
 #include "gaze_provider/backends.h"
 #include "gaze_provider/gaze_provider.h"
 #include "gaze_provider/onset_latch.h"
+#include "gaze_provider/stepped_clock.h"
 
 namespace foveart::layer {
 namespace {
@@ -70,14 +71,21 @@ bool usable(const gaze::Vec3f& d) {
 
 class ProviderGaze final : public GazeSource {
  public:
-  explicit ProviderGaze(std::unique_ptr<gaze::GazeProvider> provider) : provider_(std::move(provider)) {}
-  ~ProviderGaze() override { provider_->stop(); }
+  // stepped: the provider's clock, stepped here to each frame's display time; null: the
+  // provider runs on its own (steady) clock.
+  ProviderGaze(std::unique_ptr<gaze::GazeProvider> provider, std::shared_ptr<gaze::SteppedClock> stepped)
+      : provider_(std::move(provider)), stepped_(std::move(stepped)) {}
+  ~ProviderGaze() override {
+    if (stepped_) stepped_->release();  // stop() returns without time passing
+    provider_->stop();
+  }
 
   FrameGaze at(const GazeQuery& q) override {
     FrameGaze out;
     out.source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
-    const int64_t now_ns = q.now_ns;
-    const auto sample = provider_->sample_at(q.steady_display_time_ns());
+    int64_t now_ns = q.now_ns, target_ns = q.steady_display_time_ns();
+    if (stepped_) now_ns = target_ns = step_to(q.display_time);
+    const auto sample = provider_->sample_at(target_ns);
     if (!sample || !sample->valid || sample->lost || !usable(sample->combined_direction)) return out;
     const gaze::EyeGaze* eyes[2] = {&sample->left, &sample->right};
     for (int e = 0; e < 2; ++e) {
@@ -96,7 +104,26 @@ class ProviderGaze final : public GazeSource {
   }
 
  private:
+  // Lets the provider produce every sample due by this frame's display time (the first
+  // frame's is the clock's zero); returns the clock's time.
+  int64_t step_to(XrTime display_time) {
+    if (!origin_) origin_ = display_time;
+    const auto stopped = [&] {
+      const gaze::ProviderState state = provider_->status().state;
+      return state == gaze::ProviderState::ended || state == gaze::ProviderState::stopped;
+    };
+    if (!stepped_->run_until(display_time - *origin_, stopped) && stall_once_.first()) {
+      log(LogLevel::Warn, "gaze provider: its thread did not settle at the frame's display time within ",
+          gaze::SteppedClock::kGuard.count(), " s (\"gaze_clock\": \"display_time\"); the frame uses the newest "
+          "sample (logged once)");
+    }
+    return stepped_->now_ns();
+  }
+
   std::unique_ptr<gaze::GazeProvider> provider_;
+  std::shared_ptr<gaze::SteppedClock> stepped_;
+  std::optional<XrTime> origin_;
+  LogOnce stall_once_;
   gaze::OnsetLatch onsets_;
 };
 
@@ -108,6 +135,8 @@ std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings,
   switch (settings.gaze_source) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: {
       gaze::ProviderOptions options;
+      std::shared_ptr<gaze::SteppedClock> stepped;
+      if (!provider_clock && settings.gaze_clock_display_time) provider_clock = stepped = std::make_shared<gaze::SteppedClock>(0);
       options.clock = std::move(provider_clock);
       auto created = gaze::create_gaze_provider(settings.gaze_provider_spec, options);
       if (!created) {
@@ -121,7 +150,7 @@ std::unique_ptr<GazeSource> create_gaze_source(const RendererSettings& settings,
                        "; fixed foveation at the lens centre";
         return std::make_unique<NoGaze>();
       }
-      return std::make_unique<ProviderGaze>(std::move(created.provider));
+      return std::make_unique<ProviderGaze>(std::move(created.provider), std::move(stepped));
     }
     case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: {
       const auto& actions = session.instance->eye_gaze;

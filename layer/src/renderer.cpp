@@ -33,6 +33,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   if (foveation::TemporalMode mode{}; foveation::parse_temporal_mode(config.temporal, &mode)) s.temporal = mode;
   s.gaze_source = gaze_source_from_name(config.gaze_source);
   s.gaze_provider_spec = config.gaze_provider;
+  s.gaze_clock_display_time = config.gaze_clock == "display_time";
   s.threads = config.threads;
   s.cache_dir = config.cache_dir;
   s.wait_for_tables = config.wait_for_tables;

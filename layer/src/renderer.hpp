@@ -41,6 +41,7 @@ struct RendererSettings {
   std::optional<foveation::TemporalMode> temporal;
   XrFoveatedGazeSourceFOVEART gaze_source = XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
   std::string gaze_provider_spec = "sim";
+  bool gaze_clock_display_time = false;  // LayerConfig::gaze_clock == "display_time"
   uint32_t threads = 0;  // the config's "threads" (0: all cores)
   std::string cache_dir;
   bool wait_for_tables = false;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include "foveation/display_transform.hpp"

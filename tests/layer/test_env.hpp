@@ -76,12 +76,14 @@ inline bool have_runtime() { return fs::exists(runtime_manifest()); }
 // for the whole suite), reconstructs where `reconstruction` says (auto | gpu |
 // cpu), captures into <root>/frames and runs `frames` frames.
 // temporal: the config's "temporal" (empty: its default).
+// extra_keys: more of the config's keys, as JSON members ("\"gaze_clock\": \"display_time\"").
 inline void configure_hello_foveated(const IsolatedEnv& env, int frames, const char* reconstruction = "auto",
-                                     const std::string& temporal = {}) {
+                                     const std::string& temporal = {}, const std::string& extra_keys = {}) {
   const auto config = env.root() / "config.json";
   std::ofstream(config) << R"({"wait_for_tables": true, "cache_dir": ")" << FOVEART_TEST_CACHE_DIR
                         << R"(", "log_level": "info", "reconstruction": ")" << reconstruction << '"'
-                        << (temporal.empty() ? "" : R"(, "temporal": ")" + temporal + '"') << "}";
+                        << (temporal.empty() ? "" : R"(, "temporal": ")" + temporal + '"')
+                        << (extra_keys.empty() ? "" : ", " + extra_keys) << "}";
   IsolatedEnv::set("FOVEART_CONFIG", config);
   IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", env.root() / "frames");
   IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(frames).c_str());
