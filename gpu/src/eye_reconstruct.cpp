@@ -73,7 +73,11 @@ bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* e
   stamp(cb, 0);
   if (frame.device != nullptr) {
     clear_slots(cb, colors_.buffer, point_depth_.buffer);
-    if (device_trace_ == nullptr) device_trace_ = std::make_unique<DeviceTrace>(context_, pipelines_.device_trace());
+    if (device_trace_ == nullptr) {
+      const DeviceTracePipelines* pipelines = pipelines_.device_trace(error);
+      if (pipelines == nullptr) return false;
+      device_trace_ = std::make_unique<DeviceTrace>(context_, *pipelines);
+    }
     if (!device_trace_->record(cb, *frame.device, colors_.buffer, point_depth_.buffer, error)) return false;
     host_written_ += device_trace_->host_bytes_written();
   }

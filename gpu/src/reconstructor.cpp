@@ -23,6 +23,13 @@ std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_
   if (VK_API_VERSION_MINOR(properties.apiVersion) < 1 && VK_API_VERSION_MAJOR(properties.apiVersion) == 1) {
     return "the device is Vulkan 1.0; the shaders are SPIR-V 1.3 (Vulkan 1.1)";
   }
+  if (properties.limits.maxPerStageDescriptorStorageBuffers < kFrameStorageBuffers) {
+    return "the device binds fewer than " + std::to_string(kFrameStorageBuffers) + " storage buffers per stage";
+  }
+  return {};
+}
+
+std::string device_trace_unsupported_reason(VkPhysicalDevice physical_device) {
   VkPhysicalDeviceSubgroupProperties subgroup{};
   subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
   VkPhysicalDeviceProperties2 properties2{};
@@ -31,10 +38,8 @@ std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_
   vkGetPhysicalDeviceProperties2(physical_device, &properties2);
   const VkSubgroupFeatureFlags ballot = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
   if ((subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) == 0 || (subgroup.supportedOperations & ballot) != ballot) {
-    return "the device has no subgroup ballots in compute shaders (the device trace's ray compaction)";
-  }
-  if (properties.limits.maxPerStageDescriptorStorageBuffers < kFrameStorageBuffers) {
-    return "the device binds fewer than " + std::to_string(kFrameStorageBuffers) + " storage buffers per stage";
+    return "the device reports no subgroup ballots in compute shaders (the ray compaction needs them; an app's "
+           "Vulkan 1.0 instance reports none)";
   }
   return {};
 }
@@ -46,7 +51,7 @@ std::unique_ptr<Reconstructor> Reconstructor::create(const Device& device, std::
   std::unique_ptr<Reconstructor> r(new Reconstructor());
   r->context_ = Context::create(device, error);
   if (r->context_ == nullptr) return nullptr;
-  r->pipelines_ = FramePipelines::create(device.device, error);
+  r->pipelines_ = FramePipelines::create(device.device, device_trace_unsupported_reason(device.physical_device), error);
   if (r->pipelines_ == nullptr) return nullptr;
   return r;
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -89,12 +90,27 @@ struct FoveatedRenderer::Frames {
     std::shared_ptr<const foveation::ViewTables> ready;  // null: not (yet) there
     bool failed = false;  // the build failed: this view size falls back for good
   };
+  struct Eye;
+  // How an eye makes its frames, chosen once (choose_path) and again only after
+  // its GPU path failed: the per-eye frame code calls it without asking which.
+  struct EyePath {
+    bool reconstruct_on_gpu = false;
+    bool device_trace = false;  // stages 1-3 on the device (the engine's device trace)
+    // Stages 1-5 on the host (a device-traced frame: the history's decision only).
+    std::function<foveation::FrameResult(Eye& eye, const foveation::FrameRequest& request)> run;
+    // Stage 6 (a device-traced frame: stages 1-6) and the copy into the eye's swapchain image.
+    std::function<bool(uint32_t e, const foveation::FrameRequest& request,
+                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                       XrFoveatedRendererStatsFOVEART* stats)>
+        present;
+  };
   struct Eye {
     std::unique_ptr<EyeSwapchain> swapchain;
     std::unique_ptr<foveation::FoveatedView> view;
     std::shared_ptr<gpu::Tables> gpu_tables;  // GPU path: the view's tables on the device
     std::unique_ptr<gpu::Eye> gpu_eye;      // GPU path: this eye's buffers and stages
     bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
+    std::optional<EyePath> path;  // chosen at the eye's first frame (choose_path)
     bool failed = false;  // swapchain creation failed: this eye falls back for good
     foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of `view`
   };
@@ -148,17 +164,19 @@ struct FoveatedRenderer::Frames {
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
   bool ensure_swapchain(uint32_t e, uint32_t w, uint32_t h, XrFoveatedRendererStatsFOVEART* stats);
-  // The eye's FoveatedView for these tables and path (made again when either changes).
-  void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, bool on_gpu,
-                   bool on_device);
+  // The eye's path: the GPU where the reconstructor runs and the eye's GPU path has not failed,
+  // with the engine's device trace where it registered one; else the CPU with its callback.
+  // False when neither can run (a device trace alone, and no GPU path).
+  bool choose_path(uint32_t e);
+  // The eye's FoveatedView for these tables and its path (made again when either changes).
+  void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables);
   // The request's frame, restart flags and foveation centre from this frame's gaze.
   void aim_at_gaze(uint32_t e, const FrameGaze& gaze, foveation::FrameRequest& request,
                    XrFoveatedRendererStatsFOVEART* stats);
-  // Stages 1-5 (or the plan of a device-traced frame) and their stats.
-  bool run_frame(uint32_t e, const foveation::FrameRequest& request, bool on_device,
-                 XrFoveatedRendererStatsFOVEART* stats);
-  // Stage 6 and the copy into the eye's swapchain image, on either path.
-  bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+  // Stages 1-5 (or the plan of a device-traced frame), through the eye's path, and their stats.
+  bool run_frame(uint32_t e, const foveation::FrameRequest& request, XrFoveatedRendererStatsFOVEART* stats);
+  // Stage 6 and the copy into the eye's swapchain image: the paths' present.
+  bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
                    const std::shared_ptr<const foveation::ViewTables>& view_tables,
                    XrFoveatedRendererStatsFOVEART* stats);
   bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
@@ -470,15 +488,53 @@ bool FoveatedRenderer::Frames::ensure_swapchain(uint32_t e, uint32_t w, uint32_t
   return false;
 }
 
-void FoveatedRenderer::Frames::ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                           bool on_gpu, bool on_device) {
+bool FoveatedRenderer::Frames::choose_path(uint32_t e) {
   Eye& eye = eyes[e];
+  EyePath path;
+  path.reconstruct_on_gpu = reconstructor != nullptr && !eye.gpu_failed;
+  // The engine's device trace where the GPU reconstructs and can run it; its CPU callback elsewhere.
+  path.device_trace = path.reconstruct_on_gpu && settings.trace_rays_device != nullptr &&
+                      reconstructor->device_trace_unsupported().empty();
+  if (path.reconstruct_on_gpu && settings.trace_rays_device != nullptr && !path.device_trace &&
+      device_once.first()) {
+    log(LogLevel::Warn, "foveated renderer: the engine's device trace cannot run here: ",
+        reconstructor->device_trace_unsupported(), "; its callback traces instead, where it registered one (logged once)");
+  }
+  if (!path.device_trace && settings.trace_rays == nullptr) return false;  // a device trace alone, and no GPU path
+  if (path.device_trace) {
+    path.run = [this](Eye& eye_, const foveation::FrameRequest& request) { return eye_.view->plan(request, executor); };
+  } else {
+    path.run = [this](Eye& eye_, const foveation::FrameRequest& request) {
+      return eye_.view->render(request, settings.trace_rays, settings.user_data, executor);
+    };
+  }
+  if (path.reconstruct_on_gpu) {
+    path.present = [this, device_trace = path.device_trace](
+                       uint32_t eye_index, const foveation::FrameRequest& request,
+                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                       XrFoveatedRendererStatsFOVEART* stats) {
+      return present_gpu(eye_index, request, device_trace, view_tables, stats);
+    };
+  } else {
+    path.present = [this](uint32_t eye_index, const foveation::FrameRequest&,
+                          const std::shared_ptr<const foveation::ViewTables>&, XrFoveatedRendererStatsFOVEART* stats) {
+      return present_cpu(eye_index, stats);
+    };
+  }
+  eye.path = std::move(path);
+  return true;
+}
+
+void FoveatedRenderer::Frames::ensure_view(uint32_t e,
+                                           const std::shared_ptr<const foveation::ViewTables>& view_tables) {
+  Eye& eye = eyes[e];
+  const EyePath& path = *eye.path;
   if (eye.view != nullptr && &eye.view->tables() == view_tables.get() &&
-      eye.view->settings().reconstruct_on_cpu != on_gpu) {
+      eye.view->settings().reconstruct_on_cpu != path.reconstruct_on_gpu) {
     return;
   }
-  eye.temporal = temporal_for_path(settings, on_gpu);
-  if (on_device && eye.temporal == foveation::TemporalMode::rays) {
+  eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);
+  if (path.device_trace && eye.temporal == foveation::TemporalMode::rays) {
     // The render cache keeps the frame's rays on the host; a device trace never brings them there.
     eye.temporal = foveation::TemporalMode::image;
     if (device_rays_once.first()) {
@@ -488,7 +544,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e, const std::shared_ptr<con
   }
   foveation::ViewSettings vs =
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
-  vs.reconstruct_on_cpu = !on_gpu;
+  vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;
   eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
 }
 
@@ -511,13 +567,12 @@ void FoveatedRenderer::Frames::aim_at_gaze(uint32_t e, const FrameGaze& frame_ga
   }
 }
 
-bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameRequest& request,
                                          XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   foveation::FrameResult result;
   try {
-    result = on_device ? eye.view->plan(request, executor)
-                       : eye.view->render(request, settings.trace_rays, settings.user_data, executor);
+    result = eye.path->run(eye, request);
   } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
     if (internal_once.first()) {
       log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
@@ -547,14 +602,14 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
   return false;
 }
 
-bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
                                            const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                            XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   const auto t0 = Clock::now();
   gpu::DeviceTraceFrame device;
   XrResult engine = XR_SUCCESS;
-  if (on_device) {
+  if (device_trace) {
     const foveation::FrameHandOff& hand_off = eye.view->hand_off();
     device.engine = xr_device_trace_engine(settings.trace_rays_device, settings.device_user_data, &engine);
     device.points = &view_tables->points;
@@ -566,11 +621,12 @@ bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameReq
     device.pixel_filter = eye.view->settings().pixel_filter;
   }
   std::string error;
-  const bool presented = present_on_gpu(e, view_tables, on_device ? &device : nullptr, stats, &error);
+  const bool presented = present_on_gpu(e, view_tables, device_trace ? &device : nullptr, stats, &error);
   stats->uploadMs[e] = ms_since(t0);
-  if (on_device && !device_trace_ok(e, presented, engine, stats)) return false;
+  if (device_trace && !device_trace_ok(e, presented, engine, stats)) return false;
   if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
     eye.gpu_failed = true;
+    eye.path.reset();  // chosen again at the next frame: the CPU's
     eye.gpu_eye = nullptr;
     eye.gpu_tables = nullptr;
     ++reconstruction.gpu_fallbacks;
@@ -627,18 +683,14 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     return false;
   }
   if (!ensure_swapchain(e, w, h, stats)) return false;
-  const bool on_gpu = reconstructor != nullptr && !eye.gpu_failed;
-  // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
-  const bool on_device = on_gpu && settings.trace_rays_device != nullptr;
-  if (!on_device && settings.trace_rays == nullptr) {  // a device trace alone, and no GPU path
+  if (!eye.path && !choose_path(e)) {
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
     return false;
   }
-  ensure_view(e, found.ready, on_gpu, on_device);
+  ensure_view(e, found.ready);
   aim_at_gaze(e, frame_gaze, request, stats);
-  if (!run_frame(e, request, on_device, stats)) return false;
-  const bool presented = on_gpu ? present_gpu(e, request, on_device, found.ready, stats) : present_cpu(e, stats);
-  if (!presented) return false;
+  if (!run_frame(e, request, stats)) return false;
+  if (!eye.path->present(e, request, found.ready, stats)) return false;
   view.subImage.swapchain = eye.swapchain->handle();
   view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
   view.subImage.imageArrayIndex = 0;

@@ -1,7 +1,7 @@
 // Every compute pipeline of a device frame, made once per device and shared
 // by its eyes: the reconstruction set's (scatter, gather, temporal, encode:
 // shaders/common.glsl's one descriptor set and their push constants), the
-// render cache's and the device trace's.
+// render cache's and, at the first device-traced frame, the device trace's.
 #pragma once
 
 #include <algorithm>
@@ -43,7 +43,9 @@ inline constexpr uint32_t kFramePushBytes = uint32_t(
 
 class FramePipelines {
  public:
-  static std::unique_ptr<FramePipelines> create(VkDevice device, std::string* error);
+  // device_trace_unsupported: why the device trace's shaders cannot run here (empty: they can).
+  static std::unique_ptr<FramePipelines> create(VkDevice device, std::string device_trace_unsupported,
+                                                std::string* error);
   ~FramePipelines();
   FramePipelines(const FramePipelines&) = delete;
   FramePipelines& operator=(const FramePipelines&) = delete;
@@ -55,7 +57,9 @@ class FramePipelines {
   VkPipeline temporal() const { return temporal_; }
   VkPipeline encode() const { return encode_; }
   const RayCachePipelines& ray_cache() const { return *ray_cache_; }
-  const DeviceTracePipelines& device_trace() const { return *device_trace_; }
+  // The device trace's pipelines, made at the first call; null with *error where they cannot run.
+  const DeviceTracePipelines* device_trace(std::string* error) const;
+  const std::string& device_trace_unsupported() const { return device_trace_unsupported_; }
 
  private:
   FramePipelines() = default;
@@ -64,7 +68,8 @@ class FramePipelines {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, temporal_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
   std::unique_ptr<RayCachePipelines> ray_cache_;
-  std::unique_ptr<DeviceTracePipelines> device_trace_;
+  std::string device_trace_unsupported_;
+  mutable std::unique_ptr<DeviceTracePipelines> device_trace_;  // one thread at a time, as every stage
 };
 
 }  // namespace foveart::gpu
