@@ -69,7 +69,7 @@ struct Measure {
   std::unique_ptr<foveation::FoveatedView> view;
   std::unique_ptr<FullHistoryRender> full_history;
   foveation::ImageRgb full_image;
-  std::vector<double> select_ms, trace_ms, reconstruct_ms, temporal_ms, total_ms;
+  std::vector<double> select_ms, trace_ms, reconstruct_ms, temporal_ms, density_ms, total_ms;
   engine::RayCounts rays;
   std::uint32_t points = 0;
   foveation::ImageRgb previous_display;
@@ -110,6 +110,7 @@ render_view::RenderOptions render_options_of(const PricelistOptions& o, const Pr
     r.density_scale = s->density_scale;
     r.pattern = s->pattern;
     r.rays_per_point = s->rays_per_point;
+    r.content_contrast = s->content_contrast;
   }
   return r;
 }
@@ -177,11 +178,12 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
     m.trace_ms.push_back(fr.trace_ms);
     m.reconstruct_ms.push_back(fr.reconstruct_ms);
     m.temporal_ms.push_back(fr.temporal_ms);
+    m.density_ms.push_back(fr.density_ms);
     m.total_ms.push_back(fr.select_ms + fr.trace_ms + fr.reconstruct_ms + fr.temporal_ms);
     m.points = fr.points;
     image = &m.view->image();
   }
-  if (m.frames_done == 0) m.rays = c.tracer.counts() - before;
+  m.rays = c.tracer.counts() - before;  // the last frame's: content-aware density thins from the second on
   foveation::ImageRgb display = metrics::display_encode(*image, c.exposure);
   if (m.frames_done > 0) {
     const auto mse = metrics::ring_mse(m.previous_display, display, c.map);
@@ -225,10 +227,14 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     j["k"] = s.k;
     j["scale"] = s.density_scale;
     j["pattern"] = s.pattern;
+    j["content_contrast"] = s.content_contrast;
   }
   j["temporal"] = s.history ? "image" : "off";
   j["points"] = m.points;
   j["rays"] = rays_with_total_json(m.rays);
+  // Primary rays of the last frame against the full render's at the same rays per pixel.
+  const double full_rays = double(c.view.width_px) * double(c.view.height_px) * double(s.rays_per_point);
+  j["ray_fraction"] = full_rays > 0.0 ? double(m.rays.primary) / full_rays : 0.0;
   // The frame whose total is the median, so that the stages add up to the total.
   std::vector<std::size_t> order(m.total_ms.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -236,6 +242,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   const std::size_t med = order[order.size() / 2];
   j["ms"] = {{"select", m.select_ms[med]}, {"trace", m.trace_ms[med]}, {"reconstruct", m.reconstruct_ms[med]},
              {"temporal", m.temporal_ms[med]}, {"total", m.total_ms[med]}};
+  if (!s.full) j["ms"]["density"] = m.density_ms[med];  // content-aware density's part of select and trace
   j["frames_total_ms"] = m.total_ms;
   j["anchor_full_ms"] = anchor_ms;
   j["time_fraction"] = anchor_ms > 0.0 ? m.total_ms[med] / anchor_ms : 0.0;
@@ -289,7 +296,10 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
         return false;
       }
     }
-    m.view = std::make_unique<foveation::FoveatedView>(tables, still_view_settings(c.o, m.setting));
+    foveation::ViewSettings vs = still_view_settings(c.o, m.setting);
+    vs.content_density.full_contrast = float(m.setting.content_contrast);
+    vs.content_density.exposure = c.exposure;
+    m.view = std::make_unique<foveation::FoveatedView>(tables, vs);
   }
   // The anchor: a full frame at 1 ray per pixel in every round (the group's own full_spp1 when it has it:
   // a resumed full group may hold only full renders with history).
@@ -631,11 +641,12 @@ std::string parse_numbers(const std::string& text, std::vector<T>* out) {
 // The options given as text, parsed once the command line is read.
 struct PricelistTexts {
   std::string gaze, size, viewer, look_at, temporal_size;
-  std::array<std::string, 6> lists;  // the grid lists, in kGridListOptions' order
+  std::array<std::string, 7> lists;  // the grid lists, in kGridListOptions' order
 };
 
 constexpr const char* kGridListOptions[] = {"--full-rays-per-point", "--interpolation", "--density-scale",
-                                            "--rays-per-point",      "--pattern",       "--history-rays-per-point"};
+                                            "--rays-per-point",      "--pattern",       "--history-rays-per-point",
+                                            "--content-contrast"};
 
 // The view: scene, display, eye, viewer, gaze and exposure.
 void add_view_options(CLI::App* cmd, PricelistOptions& o, PricelistTexts& t) {
@@ -675,7 +686,8 @@ void add_grid_options(CLI::App* cmd, PricelistTexts& t) {
   const char* help[] = {"Full-render baseline rays per pixel, e.g. 1,2,4,8,16",
                         "interpolation:k list, e.g. nearest:1,msm:5,rbf:10", "Density scales, e.g. 1,1.5,2",
                         "Rays per point, e.g. 1,2,4,8", "Fovea patterns, e.g. pixel-grid,thesis",
-                        "Rays per point measured with the image history too, or none"};
+                        "Rays per point measured with the image history too, or none",
+                        "Content contrasts of content-aware density, e.g. 0,0.25,0.5 (0: eccentricity alone)"};
   for (std::size_t i = 0; i < t.lists.size(); ++i) cmd->add_option(kGridListOptions[i], t.lists[i], help[i]);
   render_view::add_renamed_option(cmd, "--taa-rays-per-point", "--history-rays-per-point");
 }
@@ -726,6 +738,7 @@ void parse_grid_lists(const PricelistTexts& t, PricelistOptions* o) {
     if (i == 5)
       bad = text == "none" ? (o->grid.history_rays_per_point.clear(), std::string())
                            : parse_numbers(text, &o->grid.history_rays_per_point);
+    if (i == 6) bad = parse_numbers(text, &o->grid.content_contrast);
     if (!bad.empty()) throw CLI::ValidationError(kGridListOptions[i], bad);
   }
 }

@@ -19,7 +19,8 @@ std::string number(double v) {
 std::string PriceSetting::id() const {
   if (full) return "full_spp" + std::to_string(rays_per_point) + (history ? "_image" : "");
   return table_id() + "_r" + std::to_string(rays_per_point) +
-         (history ? "_image" : "");  // e.g. nearest_k1_s1_thesis_r1
+         (content_contrast > 0.0 ? "_c" + number(content_contrast) : "") +
+         (history ? "_image" : "");  // e.g. nearest_k1_s1_thesis_r1, msm_k5_s1_pixel-grid_r1_c0.5
 }
 
 std::string PriceSetting::table_id() const {
@@ -50,6 +51,22 @@ bool split_list(const std::string& text, std::vector<std::string>* out) {
 }
 
 namespace {
+
+// A foveated setting at each rays per point, without and with the image history.
+std::string add_foveated_rows(const PriceGrid& g, PriceSetting s, std::vector<PriceSetting>* out) {
+  for (int r : g.rays_per_point) {
+    if (r < 1 || r > 1024) return "rays per point " + std::to_string(r) + " (1..1024)";
+    s.rays_per_point = r;
+    s.history = false;
+    out->push_back(s);
+  }
+  for (int r : g.history_rays_per_point) {
+    s.rays_per_point = r;
+    s.history = true;
+    out->push_back(s);
+  }
+  return "";
+}
 
 std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
   out->clear();
@@ -91,21 +108,15 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
     for (double scale : g.density_scale) {
       if (!(scale > 0.0) || scale > 100.0) return "density scale " + number(scale) + " (0, 100]";
       for (const std::string& pattern : g.pattern) {
-        PriceSetting s;
-        s.interpolation = method;
-        s.k = k;
-        s.density_scale = scale;
-        s.pattern = pattern;
-        for (int r : g.rays_per_point) {
-          if (r < 1 || r > 1024) return "rays per point " + std::to_string(r) + " (1..1024)";
-          s.rays_per_point = r;
-          s.history = false;
-          out->push_back(s);
-        }
-        for (int r : g.history_rays_per_point) {
-          s.rays_per_point = r;
-          s.history = true;
-          out->push_back(s);
+        for (double contrast : g.content_contrast) {
+          if (!(contrast >= 0.0) || contrast > 1.0) return "content contrast " + number(contrast) + " [0, 1]";
+          PriceSetting s;
+          s.interpolation = method;
+          s.k = k;
+          s.density_scale = scale;
+          s.pattern = pattern;
+          s.content_contrast = contrast;
+          if (std::string bad = add_foveated_rows(g, s, out); !bad.empty()) return bad;
         }
       }
     }

@@ -286,7 +286,7 @@ std::string csv_cell(const Json& j) {
     for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
   for (std::size_t r = 0; r < kRings; ++r)
     f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
-  f << "\n";
+  f << ",content_contrast,ray_fraction\n";
   for (const Json& s : all) {
     const bool fov = s["kind"] == "foveated";
     f << csv_cell(s["id"]) << "," << csv_cell(s["kind"]) << "," << (fov ? csv_cell(s["method"]) : "") << ","
@@ -304,6 +304,8 @@ std::string csv_cell(const Json& j) {
       f << "," << (!fov ? "" : e.is_null() ? "none" : csv_cell(e["id"]));
       f << "," << (e.is_null() ? "" : csv_cell(e["gain_db"]));
     }
+    f << "," << (fov ? csv_cell(s.value("content_contrast", Json(0.0))) : "") << ","
+      << csv_cell(s.value("ray_fraction", Json()));
     f << "\n";
   }
   if (!f) *error = "cannot write " + file.string();
@@ -391,8 +393,9 @@ void write_md_head(std::ostream& md, const PricelistContext& ctx, const std::str
 void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all, const std::vector<std::size_t>& front,
                    const std::function<double(const Json&)>& ms_of) {
   md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
-     << "| on the front | time % | ms | rays (total) | PSNR dB | SSIM | CSF dB | ms per dB | rays per dB |\n"
-     << "|---|---|---|---|---|---|---|---|---|\n";
+     << "| on the front | time % | ms | rays (total) | primary rays % of full | PSNR dB | SSIM | CSF dB | ms per dB | "
+        "rays per dB |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|\n";
   const Json* prev = nullptr;
   for (std::size_t i : front) {
     const Json& s = all[i];
@@ -405,7 +408,8 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
       }
     }
     md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ms_of(s)) << " | "
-       << s["rays"]["total"] << " | " << fmt(ring_psnr(s, r), 2) << " | " << fmt(num(s["rings"][r]["ssim"]), 3)
+       << s["rays"]["total"] << " | " << fmt(100.0 * num(s.value("ray_fraction", Json(0.0))), 1) << " | "
+       << fmt(ring_psnr(s, r), 2) << " | " << fmt(num(s["rings"][r]["ssim"]), 3)
        << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db << " | " << rays_db << " |\n";
     prev = &s;
   }

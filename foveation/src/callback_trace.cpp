@@ -44,6 +44,14 @@ CallbackTrace::CallbackTrace(const PointSet& points, int rays_per_point, PixelFi
   }
 }
 
+void CallbackTrace::set_content_density(std::function<const PointLevels&(Executor&)> levels,
+                                        const ContentDensityOptions& options) {
+  levels_of_set_ = std::move(levels);
+  density_options_ = options;
+  density_.reset();
+  thinned_.assign(traced_.runs.size(), {});
+}
+
 // One frame's pass over the runs: what every run reads, and the counts they add to.
 struct CallbackTrace::FramePass {
   const FrameContext& frame;
@@ -51,8 +59,10 @@ struct CallbackTrace::FramePass {
   const std::uint32_t spp;           // rays per point
   const std::uint32_t batch_points;  // points per engine call
   const float inv_spp;
+  ContentDensity* density;            // null: every visible point is traced
   std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
+  std::atomic<std::int64_t> observe_ns{0};  // content density's observations, summed over the workers
 };
 
 TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
@@ -68,18 +78,29 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
     batch_points_.resize(workers);
     previous_.resize(workers);
   }
+  const auto t_density = Clock::now();
+  if (levels_of_set_ && density_options_.enabled() && !keep_rays_ && !density_)
+    density_.emplace(levels_of_set_(executor), density_options_);  // the levels: once per table set
+  if (density_) density_->begin_frame(frame.mapping, workers);
+  stats.density_ms = ms_since(t_density);
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
-  FramePass pass{frame, VisibleRegion(frame.mapping, points_.visible_margin_px), spp, batch_points, 1.0f / float(spp)};
+  FramePass pass{frame, VisibleRegion(frame.mapping, points_.visible_margin_px), spp, batch_points, 1.0f / float(spp),
+                 density_ ? &*density_ : nullptr};
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) { trace_run(pass, run, worker); });
+  const auto t_fill = Clock::now();
+  const std::uint64_t filled = density_ ? fill_thinned(executor) : 0;
+  stats.density_ms += ms_since(t_fill) + 1e-6 * double(pass.observe_ns.load()) / double(workers);
   stats.trace_ms = ms_since(t_trace);
   stats.points = std::uint32_t(pass.traced_points.load());
+  stats.points_thinned = std::uint32_t(filled);
   stats.rays = pass.traced_points.load() * spp;
   stats.failed_batches = pass.failed_batches.load();
   stats.invalid_colours = pass.invalid_colours.load();
   traced_.any_depth = pass.any_depth.load();
-  if (stats.ok()) traced_.colors.invalid = points_.size() - stats.points;
+  if (stats.ok()) traced_.colors.invalid = points_.size() - stats.points - filled;
+  if (density_) density_->end_frame(stats.ok());
   return stats;
 }
 
@@ -91,6 +112,7 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
   std::vector<std::uint32_t>& before = previous_[worker];
   before.swap(traced);
   traced.clear();
+  if (pass.density != nullptr) thinned_[run].clear();
   const std::size_t first = run * kRunPoints, last = std::min(points_.size(), first + kRunPoints);
   if (keep_rays_) traced_.rays[run].clear();
   const VisibleRegion& visible = pass.visible;
@@ -110,6 +132,10 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
   std::uint64_t run_points = 0;
   for (std::size_t i = first; i < last; ++i) {
     if (!run_visible && !visible.contains(visible.to_screen(points_.position_px[i]))) continue;  // stage 1
+    if (pass.density != nullptr && thins(pass, std::uint32_t(i))) {
+      thinned_[run].push_back(std::uint32_t(i));  // a flat tile's finer point: filled after the pass
+      continue;
+    }
     ids[n] = std::uint32_t(i);
     ++run_points;
     if (++n == pass.batch_points) {  // stages 2 and 3
@@ -118,6 +144,7 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
     }
   }
   if (n > 0 && trace_batch(pass, run, worker, n)) run_has_depth = true;
+  if (pass.density != nullptr) observe_run(pass, run, worker);
   forget_untraced(before, traced, last - first);
   pass.traced_points.fetch_add(run_points, std::memory_order_relaxed);
   if (run_has_depth) pass.any_depth.store(true, std::memory_order_relaxed);
@@ -202,6 +229,60 @@ bool CallbackTrace::keep_mean_colors(const FramePass& pass, const RayBatch& batc
     traced.push_back(ids[j]);
   }
   return any_depth;
+}
+
+// A flat tile's finer point whose nearest parent is traced this frame (visible: level 0
+// always is); one beside the margin, whose parents lie beyond it, is traced itself.
+bool CallbackTrace::thins(const FramePass& pass, std::uint32_t id) const {
+  if (pass.density->traces(id, pass.visible.to_screen(points_.position_px[id]))) return false;
+  const std::uint32_t parent = pass.density->levels().parent[id][0];
+  return parent != PointLevels::kNoParent && pass.visible.contains(pass.visible.to_screen(points_.position_px[parent]));
+}
+
+void CallbackTrace::observe_run(FramePass& pass, std::size_t run, unsigned worker) {
+  const auto t0 = Clock::now();
+  for (std::uint32_t id : traced_.runs[run])
+    pass.density->observe(worker, pass.visible.to_screen(points_.position_px[id]), traced_.colors.rgba[id]);
+  pass.observe_ns.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count(),
+                            std::memory_order_relaxed);
+}
+
+// Each thinned point takes the inverse-distance mean of its traced parents
+// (point_levels.hpp) and joins its run's list, which stays ascending.
+std::uint64_t CallbackTrace::fill_thinned(Executor& executor) {
+  std::atomic<std::uint64_t> filled{0};
+  executor.parallel_for(traced_.runs.size(), [&](std::size_t run) {
+    std::vector<std::uint32_t>& thinned = thinned_[run];
+    if (thinned.empty()) return;
+    thinned.erase(std::remove_if(thinned.begin(), thinned.end(), [&](std::uint32_t id) { return !fill_point(id); }),
+                  thinned.end());
+    std::vector<std::uint32_t>& list = traced_.runs[run];
+    const auto middle = list.insert(list.end(), thinned.begin(), thinned.end());
+    std::inplace_merge(list.begin(), middle, list.end());
+    filled.fetch_add(thinned.size(), std::memory_order_relaxed);
+  });
+  return filled.load();
+}
+
+// False when no parent was traced this frame (the point then stays without a colour).
+bool CallbackTrace::fill_point(std::uint32_t id) {
+  const PointLevels& levels = density_->levels();
+  std::vector<Rgba>& rgba = traced_.colors.rgba;
+  glm::vec3 sum(0.0f);
+  float weight = 0.0f, depth_m = NAN;
+  for (std::uint32_t j = 0; j < PointLevels::kParents; ++j) {
+    const std::uint32_t parent = levels.parent[id][j];
+    if (parent == PointLevels::kNoParent || rgba[parent].a != 1.0f) continue;
+    const float w = levels.parent_weight[id][j];
+    sum += w * glm::vec3(rgba[parent].r, rgba[parent].g, rgba[parent].b);
+    if (weight == 0.0f) depth_m = traced_.depth_m[parent];  // the nearest traced parent's
+    weight += w;
+  }
+  if (weight <= 0.0f) return false;
+  sum /= weight;
+  rgba[id] = Rgba{sum.x, sum.y, sum.z, 1.0f};
+  traced_.depth_m[id] = depth_m;
+  return true;
 }
 
 }  // namespace foveart::foveation

@@ -43,8 +43,14 @@ FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewS
       centre_(settings.centre_deadband_deg * checked(tables_).key.display.view_distance_px * std::numbers::pi / 180.0) {
   if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
   history_ = history != nullptr ? std::move(history) : make_temporal_history(*tables_, settings_);
-  trace_ = std::make_unique<CallbackTrace>(tables_->points, settings_.rays_per_point, settings_.pixel_filter,
-                                           settings_.new_jitter_each_frame, history_->keeps_rays());
+  auto trace = std::make_unique<CallbackTrace>(tables_->points, settings_.rays_per_point, settings_.pixel_filter,
+                                               settings_.new_jitter_each_frame, history_->keeps_rays());
+  if (settings_.content_density.enabled() && !history_->keeps_rays()) {
+    trace->set_content_density([tables = tables_](Executor& executor) -> const PointLevels& {
+      return tables->levels(executor);
+    }, settings_.content_density);
+  }
+  trace_ = std::move(trace);
   reconstruct_ = std::make_unique<GatherReconstruction>(*tables_, settings_.rbf_clamp);
   hand_off_.traced = &trace_->traced();
   hand_off_.rbf_clamp = settings_.rbf_clamp;
@@ -103,6 +109,8 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   result.select_ms = setup_ms + traced.select_ms;
   result.trace_ms = traced.trace_ms;
   result.points = traced.points;
+  result.points_thinned = traced.points_thinned;
+  result.density_ms = traced.density_ms;
   result.rays = traced.rays;
   result.failed_batches = traced.failed_batches;
   result.invalid_colours = traced.invalid_colours;

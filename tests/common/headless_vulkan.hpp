@@ -1,7 +1,11 @@
 // A Vulkan instance and device of its own, without OpenXR, for the GPU
 // reconstruction's tests and benchmark (test code, not the layer's): one compute
 // queue, the features the shaders need, and (optionally) VK_LAYER_KHRONOS_validation
-// with synchronization validation, whose error messages it collects.
+// with synchronization validation, whose error messages it collects through a
+// VkDebugUtilsMessengerEXT registered for the instance's whole life. (A messenger
+// only chained into VkInstanceCreateInfo::pNext hears vkCreateInstance and
+// vkDestroyInstance and nothing in between: the hazards of every submission
+// would go unheard.)
 #pragma once
 
 #include <algorithm>
@@ -18,20 +22,40 @@
 namespace foveart::layer {
 namespace headless_detail {
 
+// The error messages heard; the callback may run on any thread that calls Vulkan.
 struct Validation {
   std::mutex mutex;
   std::vector<std::string> errors;
 };
 
+// An error message as "<message id name>: <message>" (the id, e.g.
+// SYNC-HAZARD-WRITE-AFTER-WRITE, is what a test looks for).
 inline VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                           VkDebugUtilsMessageTypeFlagsEXT,
                                           const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
     auto* v = static_cast<Validation*>(user);
+    std::string text = data->pMessageIdName != nullptr ? data->pMessageIdName : "?";
+    text += ": ";
+    text += data->pMessage != nullptr ? data->pMessage : "?";
     std::lock_guard lock(v->mutex);
-    v->errors.emplace_back(data->pMessage != nullptr ? data->pMessage : "?");
+    v->errors.push_back(std::move(text));
   }
   return VK_FALSE;
+}
+
+// The messenger's create info, for vkCreateDebugUtilsMessengerEXT and for the
+// instance's pNext (which covers vkCreateInstance and vkDestroyInstance).
+inline VkDebugUtilsMessengerCreateInfoEXT messenger_info(Validation* validation) {
+  VkDebugUtilsMessengerCreateInfoEXT info{};
+  info.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+  info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  info.messageType =
+      VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+  info.pfnUserCallback = on_message;
+  info.pUserData = validation;
+  return info;
 }
 
 inline bool has_layer(const char* name) {
@@ -106,7 +130,7 @@ class HeadlessVulkan {
   // The device `preference` ranks first; validated (when the layer is installed)
   // with synchronization validation on.
   HeadlessVulkan(DevicePreference preference, bool validate, const DeviceCreateHook& before_create_device = {}) {
-    validated_ = validate && headless_detail::has_layer("VK_LAYER_KHRONOS_validation");
+    const bool layer = validate && headless_detail::has_layer("VK_LAYER_KHRONOS_validation");
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
     app.pApplicationName = "gpu_reconstruction_test";
@@ -118,17 +142,12 @@ class HeadlessVulkan {
     features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
     features.enabledValidationFeatureCount = 1;
     features.pEnabledValidationFeatures = enables;
-    VkDebugUtilsMessengerCreateInfoEXT messenger{};
-    messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-    messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-    messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
-    messenger.pfnUserCallback = headless_detail::on_message;
-    messenger.pUserData = &validation_;
+    VkDebugUtilsMessengerCreateInfoEXT messenger = headless_detail::messenger_info(&validation_);
     features.pNext = &messenger;
     VkInstanceCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
     info.pApplicationInfo = &app;
-    if (validated_) {
+    if (layer) {
       info.pNext = &features;
       info.enabledLayerCount = 1;
       info.ppEnabledLayerNames = layers;
@@ -136,6 +155,7 @@ class HeadlessVulkan {
       info.ppEnabledExtensionNames = extensions;
     }
     if (vkCreateInstance(&info, nullptr, &instance_) != VK_SUCCESS) return;
+    if (layer) register_messenger(messenger);
     uint32_t count = 0;
     vkEnumeratePhysicalDevices(instance_, &count, nullptr);
     std::vector<VkPhysicalDevice> devices(count);
@@ -176,22 +196,38 @@ class HeadlessVulkan {
   ~HeadlessVulkan() {
     if (device_ != VK_NULL_HANDLE) vkDeviceWaitIdle(device_);
     if (device_ != VK_NULL_HANDLE) vkDestroyDevice(device_, nullptr);
+    if (messenger_ != VK_NULL_HANDLE) {
+      auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+      if (destroy != nullptr) destroy(instance_, messenger_, nullptr);
+    }
     if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
   }
   bool ok() const { return device_ != VK_NULL_HANDLE; }
-  bool validated() const { return validated_; }
+  // Validation is active: VK_LAYER_KHRONOS_validation is enabled with
+  // synchronization validation and a messenger hears it (errors() can report).
+  bool validated() const { return messenger_ != VK_NULL_HANDLE; }
   gpu::Device device() const { return {physical_, device_, family_, 0}; }
   const std::string& name() const { return name_; }
   bool is_cpu() const { return type_ == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+  // The validation errors heard so far, each "<message id name>: <message>".
   std::vector<std::string> errors() {
     std::lock_guard lock(validation_.mutex);
     return validation_.errors;
   }
 
  private:
+  void register_messenger(const VkDebugUtilsMessengerCreateInfoEXT& messenger) {
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+    VkDebugUtilsMessengerCreateInfoEXT info = messenger;
+    info.pNext = nullptr;
+    if (create == nullptr || create(instance_, &info, nullptr, &messenger_) != VK_SUCCESS) messenger_ = VK_NULL_HANDLE;
+  }
+
   headless_detail::Validation validation_;
-  bool validated_ = false;
   VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
   VkDevice device_ = VK_NULL_HANDLE;
   uint32_t family_ = UINT32_MAX;

@@ -111,7 +111,11 @@ std::vector<glm::vec4> rgb_depth(const Batch& b) {
 
 Agreement compare(const Batch& gpu, const Batch& cpu) { return compare(rgb_depth(gpu), rgb_depth(cpu)); }
 
+// Validation heard the adapter's device (layer enabled, messenger registered:
+// vulkan-validationlayers is a dependency, scripts/setup.sh) and reported nothing.
 void expect_no_validation_errors() {
+  ASSERT_TRUE(engines().gpu->validated())
+      << "validation is not active: VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers) or no messenger";
   const auto errors = engines().gpu->validation_errors();
   EXPECT_TRUE(errors.empty()) << errors.size() << " errors, the first: " << (errors.empty() ? "" : errors.front());
 }

@@ -232,9 +232,14 @@ inline std::vector<glm::vec4> trace(TestGpu& gpu, GpuTracer& tracer, const Rays&
   return b.result();
 }
 
+// Validation heard the device (the layer is enabled and a messenger registered:
+// vulkan-validationlayers is a dependency, scripts/setup.sh) and reported nothing.
 inline void expect_no_validation_errors(TestGpu& gpu) {
+  ASSERT_TRUE(gpu.vk.validated()) << "validation is not active on " << gpu.vk.name()
+                                  << ": VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers) or no messenger";
   const auto errors = gpu.errors();
-  EXPECT_TRUE(errors.empty()) << (errors.empty() ? "" : errors.front());
+  EXPECT_TRUE(errors.empty()) << errors.size() << " validation error(s), the first: "
+                              << (errors.empty() ? "" : errors.front());
 }
 
 // A (2 half) x (2 half) floor at y = 0, material `material`, uvs over [0,1]^2.

@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -82,6 +83,47 @@ TEST(Pricelist, ExpandGridAddsTheFullRenderWithHistoryAtEveryHistoryRayCount) {
   ASSERT_TRUE(eval::expand_grid(eval::quick_grid(), &settings, &error)) << error;
   EXPECT_EQ(std::count_if(settings.begin(), settings.end(), [](const auto& s) { return s.id() == "full_spp1_image"; }),
             1);
+}
+
+TEST(Pricelist, ContentContrastRowsTraceFewerRaysThanTheirEccentricityOnlyTwins) {
+  eval::PriceGrid g;
+  g.full_rays_per_point = {1};
+  g.interpolation = {"msm:5"};
+  g.density_scale = {4.0};
+  g.rays_per_point = {1};
+  g.pattern = {"pixel-grid"};
+  g.history_rays_per_point.clear();
+  g.content_contrast = {0.0, 1.5};
+  std::vector<eval::PriceSetting> settings;
+  std::string error;
+  EXPECT_FALSE(eval::expand_grid(g, &settings, &error));
+  EXPECT_NE(error.find("content contrast 1.5"), std::string::npos) << error;
+
+  engine_test::TempDir dir;
+  eval::PricelistOptions o;
+  o.size_px = glm::ivec2(320, 360);  // with scale 4 the pixel-exact fovea ends inside the view
+  o.out_dir = (dir.path / "pl").string();
+  o.reference_spp = "8";
+  o.frames = 2;  // the second frame thins by the first's contrast
+  o.threads = 2;
+  o.grid = g;
+  o.grid.content_contrast = {0.0, 1.0};
+  o.temporal.motion = "none";
+  std::ostringstream out, err;
+  ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
+  std::ifstream jf(fs::path(o.out_dir) / "pricelist.json");
+  const auto doc = nlohmann::json::parse(jf);
+  std::map<std::string, nlohmann::json> by_id;
+  for (const auto& s : doc["settings"]) by_id[s["id"].get<std::string>()] = s;
+  ASSERT_TRUE(by_id.count("msm_k5_s4_pixel-grid_r1")) << doc["settings"].dump();
+  ASSERT_TRUE(by_id.count("msm_k5_s4_pixel-grid_r1_c1"));
+  EXPECT_DOUBLE_EQ(by_id["full_spp1"]["ray_fraction"].get<double>(), 1.0);
+  const double eccentricity_only = by_id["msm_k5_s4_pixel-grid_r1"]["ray_fraction"].get<double>();
+  const double content = by_id["msm_k5_s4_pixel-grid_r1_c1"]["ray_fraction"].get<double>();
+  EXPECT_LT(eccentricity_only, 1.0);
+  EXPECT_LT(content, eccentricity_only) << "the content rows trace fewer rays";
+  EXPECT_GT(content, 0.0);
+  EXPECT_EQ(by_id["msm_k5_s4_pixel-grid_r1_c1"]["content_contrast"], 1.0);
 }
 
 TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {

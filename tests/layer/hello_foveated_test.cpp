@@ -8,6 +8,8 @@
 #include <utility>
 #include <string>
 
+#include <iostream>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -103,6 +105,32 @@ TEST_F(HelloFoveated, TracesBothEyesEveryFrame) {
     // The app only cleared its images to grey (sRGB 124): a traced scene has contrast.
     EXPECT_GT(img.max - img.min, 150.0) << eye;
   }
+}
+
+// Content-aware density through the layer's config: from the second frame on, the
+// flat tiles trace fewer points; the frames stay the scene's.
+TEST_F(HelloFoveated, ContentContrastTracesFewerRaysWhereTheViewIsFlat) {
+  // Density scale 4 puts the pixel-exact fovea's edge inside these small eyes.
+  configure_hello_foveated(*env_, 3, "auto", {}, R"("density_scale": 4)");
+  const auto full = launch({"--gaze-source", "none"});
+  ASSERT_EQ(full.process.exit_code, 0) << full.process.output;
+  const auto full_frame = summarize(frame(2, "left"));
+  configure_hello_foveated(*env_, 3, "auto", {}, R"("density_scale": 4, "content_contrast": 0.9)");
+  const auto thinned = launch({"--gaze-source", "none"});
+  ASSERT_EQ(thinned.process.exit_code, 0) << thinned.process.output;
+  EXPECT_EQ(thinned.stats["views_fallback"], 0);
+  for (int e = 0; e < 2; ++e) {
+    const double rays = thinned.stats["eyes"][e]["rays"].get<double>();
+    const double full_rays = full.stats["eyes"][e]["rays"].get<double>();
+    std::cout << "[ measured ] eye " << e << ": " << rays << " rays of " << full_rays << " without\n";
+    EXPECT_LT(rays, 0.9 * full_rays) << "eye " << e;
+    EXPECT_GT(rays, 0.2 * full_rays) << "eye " << e << ": level 0 and the fovea stay";
+  }
+  const auto img = summarize(frame(2, "left"));
+  ASSERT_TRUE(img.loaded);
+  std::cout << "[ measured ] left eye frame 2 mean " << img.mean << " (without: " << full_frame.mean << ")\n";
+  EXPECT_NEAR(img.mean, full_frame.mean, 2.0) << "the same scene";
+  EXPECT_GT(img.max - img.min, 150.0);
 }
 
 TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {

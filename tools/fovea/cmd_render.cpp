@@ -194,7 +194,8 @@ struct Foveated {
 };
 
 [[nodiscard]] bool make_foveated(const render_view::RenderOptions& o, const FoveartEyeView& view,
-                                 foveation::Executor& executor, std::ostream& err, Foveated* f, std::string* error) {
+                                 const foveation::DisplayTransform& display, foveation::Executor& executor,
+                                 std::ostream& err, Foveated* f, std::string* error) {
   std::optional<std::filesystem::path> cache;
   if (!o.cache_dir.empty()) cache = std::filesystem::path(o.cache_dir);
   const auto t0 = std::chrono::steady_clock::now();
@@ -202,7 +203,9 @@ struct Foveated {
       o, view, cache, executor, [&](const std::string& m) { err << kRenderWho << m << "\n"; }, error);
   if (!tables) return false;
   f->precompute_ms = ms_since(t0);
-  f->view = std::make_unique<foveation::FoveatedView>(std::move(tables), render_view::foveated_view_settings(o));
+  foveation::ViewSettings settings = render_view::foveated_view_settings(o);
+  settings.content_density.exposure = display.exposure;
+  f->view = std::make_unique<foveation::FoveatedView>(std::move(tables), settings);
   return true;
 }
 
@@ -215,6 +218,8 @@ struct Frames {
   TileGrid grid;
   engine::RayCounts full_rays, fov_rays;
   uint64_t fov_points = 0;
+  uint64_t fov_points_thinned = 0;
+  double fov_density_ms = 0.0;  // the last frame's content-aware density stage
 };
 
 [[nodiscard]] bool render_full_frame(const render_view::RenderOptions& o, const RenderEngine& eng,
@@ -261,10 +266,11 @@ struct Frames {
   }
   // The fixed part: reconstruction and the temporal history.
   f->fov_times.add(fr.select_ms + fr.trace_ms, fr.reconstruct_ms + fr.temporal_ms, fr.select_ms);
-  if (frame == 0) {
-    f->fov_rays = eng.counts() - before;
-    f->fov_points = fr.points;
-  }
+  // The last frame's: content-aware density thins from the second frame on.
+  f->fov_rays = eng.counts() - before;
+  f->fov_points = fr.points;
+  f->fov_points_thinned = fr.points_thinned;
+  f->fov_density_ms = fr.density_ms;
   return true;
 }
 
@@ -298,11 +304,14 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                       {"white_clipped_fraction", foveation::white_clipped_fraction(f.full, display)}};
   if (!fov.view) return;
   report["points"] = f.fov_points;
+  report["points_thinned"] = f.fov_points_thinned;
   report["foveated"] = {{"rays", rays_json(f.fov_rays)},
                         {"lanes_per_packet", packets_json(f.fov_rays)},
                         {"interpolation", o.interpolation},
                         {"k", render_view::reconstruction_k(o)},
                         {"density_scale", o.density_scale},
+                        {"content_contrast", o.content_contrast},
+                        {"density_ms", f.fov_density_ms},
                         {"temporal", foveation::temporal_mode_name(o.temporal)},
                         {"pattern", foveation::fovea_pattern_name(fov.view->tables().key.display.fovea_pattern)},
                         {"precompute_ms", fov.precompute_ms},
@@ -430,7 +439,7 @@ int run_render(const render_view::RenderOptions& o, std::ostream& out, std::ostr
   report["points"] = report["pixels"];  // full mode: one point per pixel; the visible points with foveated frames
   Foveated fov;
   Frames frames;
-  if (o.mode != "full" && !make_foveated(o, view, executor, err, &fov, &error)) return fail(error);
+  if (o.mode != "full" && !make_foveated(o, view, *display, executor, err, &fov, &error)) return fail(error);
   if (!render_frames(o, eng, view, gaze, executor, fov.view.get(), &frames, &error)) return fail(error);
   add_modes_json(o, eng, frames, fov, *display, report);
   if (o.mode == "both") add_speedup_json(view, gaze, frames, *fov.view, *display, report);

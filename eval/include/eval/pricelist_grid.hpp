@@ -1,7 +1,7 @@
 // The settings `fovea-eval pricelist` sweeps: the full render at 1..16 rays per
 // pixel (the baseline), the full render with the foveated frames' image history
 // at each history ray count, and foveated frames over interpolation x k x density
-// scale x rays per point x fovea pattern, with and without the image history.
+// scale x rays per point x fovea pattern x content contrast, with and without the image history.
 #pragma once
 
 #include <string>
@@ -16,11 +16,15 @@ struct PriceSetting {
   int k = 1;
   double density_scale = 1.0;
   std::string pattern = "pixel-grid";  // pixel-grid | thesis
+  // Content-aware density (foveation/content_density.hpp): a tile's contrast for all its
+  // points; 0: density by eccentricity alone.
+  double content_contrast = 0.0;
   // The product's image history (TemporalMode::image) over a sequence of frames of
   // new jitter, full or foveated; without it, one frame of one jitter seed.
   bool history = false;
 
-  // Stable name, e.g. "full_spp4", "full_spp1_image", "nearest_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_image".
+  // Stable name, e.g. "full_spp4", "full_spp1_image", "nearest_k1_s1_pixel-grid_r1", "msm_k5_s2_thesis_r4_image",
+  // "msm_k5_s1_pixel-grid_r1_c0.5" (content-aware density).
   std::string id() const;
   // The settings that share one set of tables (point set, neighbours, weights).
   std::string table_id() const;
@@ -33,6 +37,8 @@ struct PriceGrid {
   std::vector<double> density_scale = {1.0, 1.5, 2.0};
   std::vector<int> rays_per_point = {1, 2, 4, 8};
   std::vector<std::string> pattern = {"pixel-grid", "thesis"};
+  // Content contrasts of the foveated rows; 0: eccentricity alone (the rows without a _c suffix).
+  std::vector<double> content_contrast = {0.0};
   // Rays per point (and per pixel: full_sppN_image) measured with the image history too.
   std::vector<int> history_rays_per_point = {1};
 };

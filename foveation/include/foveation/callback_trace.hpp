@@ -9,11 +9,14 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
 
+#include "foveation/content_density.hpp"
 #include "foveation/frame_stages.hpp"
 #include "foveation/point_rays.hpp"
 #include "foveation/point_set.hpp"
@@ -28,6 +31,10 @@ class CallbackTrace final : public TraceStage {
   CallbackTrace(const PointSet& points, int rays_per_point, PixelFilter pixel_filter, bool jitter_each_frame,
                 bool keep_rays);
 
+  // Thins the points of flat tiles (content_density.hpp); `levels` gives the set's levels
+  // at the first frame. Not with keep_rays: a thinned point has no rays of its own.
+  void set_content_density(std::function<const PointLevels&(Executor&)> levels, const ContentDensityOptions& options);
+
   TraceStats trace(const FrameContext& frame, Executor& executor) override;
   const TracedPoints& traced() const override { return traced_; }
 
@@ -41,6 +48,12 @@ class CallbackTrace final : public TraceStage {
   bool keep_ray_colors(const RayBatch& batch, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& traced);
   bool keep_mean_colors(const FramePass& pass, const RayBatch& batch, std::span<const std::uint32_t> ids,
                         std::size_t run);
+  // Content-aware density: this run's traced colours for the next frame's contrast, and
+  // the thinned points' colours from their parents (after every run is traced).
+  bool thins(const FramePass& pass, std::uint32_t id) const;
+  void observe_run(FramePass& pass, std::size_t run, unsigned worker);
+  std::uint64_t fill_thinned(Executor& executor);
+  bool fill_point(std::uint32_t id);
 
   const PointSet& points_;
   PointRays rays_;
@@ -55,6 +68,10 @@ class CallbackTrace final : public TraceStage {
     glm::vec2 min_px, max_px;
   };
   std::vector<RunBox> run_boxes_;
+  std::function<const PointLevels&(Executor&)> levels_of_set_;
+  ContentDensityOptions density_options_;
+  std::optional<ContentDensity> density_;
+  std::vector<std::vector<std::uint32_t>> thinned_;  // per run: visible points this frame does not trace
 };
 
 }  // namespace foveart::foveation

@@ -43,11 +43,13 @@ struct FrameResult {
   FrameFailure failure = FrameFailure::none;
   std::string message;              // the failure, for a log line
   std::uint32_t points = 0;         // visible points traced
+  std::uint32_t points_thinned = 0; // visible points of flat tiles filled from their parents (content density)
   std::uint64_t rays = 0;           // primary rays handed to the engine
   std::uint64_t failed_batches = 0;
   std::uint64_t invalid_colours = 0;  // colour components
   double select_ms = 0.0;           // the frame's set-up (selection itself runs inside the trace pass)
   double trace_ms = 0.0;            // visible-point test, rays, engine callback, colour per point
+  double density_ms = 0.0;          // content-aware density's part of select and trace (TraceStats::density_ms)
   double reconstruct_ms = 0.0;      // gather
   double temporal_ms = 0.0;              // the temporal history
   glm::vec2 centre_px{};            // the foveation centre this frame used (ViewSettings::centre_deadband_deg)

@@ -48,7 +48,7 @@ struct FrameContext {
 struct TracedPoints {
   PointColors colors;                            // a slot per point of the set; a = 1: traced this frame
   std::vector<float> depth_m;                    // per point: nearest hit of its rays (NaN: none returned)
-  std::vector<std::vector<std::uint32_t>> runs;  // the points traced, per run of the set
+  std::vector<std::vector<std::uint32_t>> runs;  // the points with a colour this frame, per run of the set
   bool any_depth = false;                        // the engine returned a depth for some point
   // Only for a history that keeps rays (TemporalHistory::keeps_rays):
   std::vector<std::vector<TracedRay>> rays;      // per run: its rays
@@ -57,11 +57,16 @@ struct TracedPoints {
 
 struct TraceStats {
   std::uint32_t points = 0;          // visible points traced
+  std::uint32_t points_thinned = 0;  // visible points left untraced in flat tiles, filled from their parents
   std::uint64_t rays = 0;            // primary rays handed to the engine
   std::uint64_t failed_batches = 0;  // the engine returned an error (or threw)
   std::uint64_t invalid_colours = 0; // NaN, infinite or negative colour components
   double select_ms = 0.0;            // per-frame set-up before the fused pass
   double trace_ms = 0.0;             // selection, rays, engine, colour per point
+  // Content-aware density's share of select_ms and trace_ms: the tiles' levels, the
+  // observations (their CPU time over the threads) and the fill; the first frame's
+  // includes building the set's levels.
+  double density_ms = 0.0;
   bool ok() const { return failed_batches == 0 && invalid_colours == 0; }
 };
 

@@ -7,6 +7,7 @@
 
 #include <glm/vec2.hpp>
 
+#include "foveation/content_density.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/ray_trace.h"
 #include "foveation/gather.hpp"
@@ -28,6 +29,9 @@ struct ViewSettings {
   // the history's restarts (a saccade's or a blink's onset, a gaze jump).
   std::uint32_t ray_cache_max_age_frames = 32;
   RbfClamp rbf_clamp = RbfClamp::block;
+  // Density that follows the content (content_density.hpp): off by default. Applies
+  // with the temporal modes off and image; the render cache keeps every point's rays.
+  ContentDensityOptions content_density;
   // The foveation centre stays put while the gaze stays within this many
   // degrees of it (fixation: microsaccades, drift, tracker noise), and jumps
   // to the gaze at once beyond it or on a saccade or blink (docs/foveation.md).

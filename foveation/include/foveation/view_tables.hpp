@@ -6,12 +6,14 @@
 
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <optional>
 
 #include "foveation/executor.hpp"
 #include "foveation/interpolation_table.hpp"
 #include "foveation/interpolation_weights.hpp"
 #include "foveation/neighbor_table.hpp"
+#include "foveation/point_levels.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/point_set_cache.hpp"
 #include "foveation/ray_trace.h"
@@ -25,6 +27,20 @@ struct ViewTables {
   InterpolationTable interpolation;
   bool from_cache = false;  // all three loaded from the cache directory
   double load_ms = 0.0;     // load or build, all three
+
+  // The point set's levels for content-aware density (point_levels.hpp), built on first
+  // use: views that thin nothing never pay for them. Any thread.
+  const PointLevels& levels(Executor& executor) const {
+    std::call_once(lazy_levels_->once, [&] { lazy_levels_->levels = build_point_levels(points, executor); });
+    return lazy_levels_->levels;
+  }
+
+ private:
+  struct LazyLevels {
+    std::once_flag once;
+    PointLevels levels;
+  };
+  std::shared_ptr<LazyLevels> lazy_levels_ = std::make_shared<LazyLevels>();
 };
 
 // The display whose tables fit a submitted view: its size and its horizontal

@@ -28,13 +28,17 @@ struct Validation {
   std::vector<std::string> errors;
 };
 
+// An error message as "<message id name>: <message>".
 VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                           VkDebugUtilsMessageTypeFlagsEXT,
                                           const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
   if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
     auto* v = static_cast<Validation*>(user);
+    std::string text = data->pMessageIdName != nullptr ? data->pMessageIdName : "?";
+    text += ": ";
+    text += data->pMessage != nullptr ? data->pMessage : "?";
     std::lock_guard lock(v->mutex);
-    v->errors.emplace_back(data->pMessage != nullptr ? data->pMessage : "?");
+    v->errors.push_back(std::move(text));
   }
   return VK_FALSE;
 }
@@ -145,8 +149,10 @@ static_assert(sizeof(PackedRay) == 32, "the trace shader's DeviceRay is 32 bytes
 struct CallbackAdapter::Impl {
   // Vulkan objects, destroyed in reverse order by the destructor.
   Validation validation;
-  bool validated = false;
   VkInstance instance = VK_NULL_HANDLE;
+  // Registered for the instance's life (a messenger only in the instance's pNext
+  // hears nothing between vkCreateInstance and vkDestroyInstance).
+  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
   VkPhysicalDevice physical = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
   uint32_t family = UINT32_MAX;
@@ -178,11 +184,17 @@ struct CallbackAdapter::Impl {
     if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
     if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, pool, nullptr);  // frees cb
     if (device != VK_NULL_HANDLE) vkDestroyDevice(device, nullptr);
+    if (messenger != VK_NULL_HANDLE) {
+      auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+      if (destroy != nullptr) destroy(instance, messenger, nullptr);
+    }
     if (instance != VK_NULL_HANDLE) vkDestroyInstance(instance, nullptr);
   }
 
   bool create_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_instance(const CallbackAdapterOptions& options, std::string* error);
+  void register_messenger(const VkDebugUtilsMessengerCreateInfoEXT& info);
   bool pick_physical_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_logical_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_submission(std::string* error);
@@ -203,7 +215,7 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
 
 // The instance, with the validation layer (errors collected) when asked for and installed.
 bool CallbackAdapter::Impl::create_instance(const CallbackAdapterOptions& options, std::string* error) {
-  validated = options.validate && has_layer("VK_LAYER_KHRONOS_validation");
+  const bool validated = options.validate && has_layer("VK_LAYER_KHRONOS_validation");
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
   app.pApplicationName = "foveart_gpu_engine_callback_adapter";
@@ -215,13 +227,15 @@ bool CallbackAdapter::Impl::create_instance(const CallbackAdapterOptions& option
   features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
   features.enabledValidationFeatureCount = 1;
   features.pEnabledValidationFeatures = enables;
-  VkDebugUtilsMessengerCreateInfoEXT messenger{};
-  messenger.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-  messenger.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-  messenger.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
-  messenger.pfnUserCallback = on_message;
-  messenger.pUserData = &validation;
-  features.pNext = &messenger;
+  VkDebugUtilsMessengerCreateInfoEXT messenger_info{};
+  messenger_info.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
+  messenger_info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+  messenger_info.messageType =
+      VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
+  messenger_info.pfnUserCallback = on_message;
+  messenger_info.pUserData = &validation;
+  features.pNext = &messenger_info;
   VkInstanceCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   info.pApplicationInfo = &app;
@@ -237,7 +251,18 @@ bool CallbackAdapter::Impl::create_instance(const CallbackAdapterOptions& option
     instance = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateInstance (is a Vulkan driver installed?)", r));
   }
+  if (validated) register_messenger(messenger_info);
   return true;
+}
+
+// The messenger that hears validation for the instance's life; none (validated()
+// false) when the loader or layer does not give one.
+void CallbackAdapter::Impl::register_messenger(const VkDebugUtilsMessengerCreateInfoEXT& info) {
+  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+      vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+  VkDebugUtilsMessengerCreateInfoEXT alone = info;
+  alone.pNext = nullptr;
+  if (create == nullptr || create(instance, &alone, nullptr, &messenger) != VK_SUCCESS) messenger = VK_NULL_HANDLE;
 }
 
 // The preferred Vulkan 1.1 device with a compute queue (device_rank).
@@ -556,7 +581,7 @@ std::string CallbackAdapter::last_error() const {
 }
 const char* CallbackAdapter::backend_name() const { return impl_->tracer->backend_name(); }
 bool CallbackAdapter::device_is_cpu() const { return impl_->type == VK_PHYSICAL_DEVICE_TYPE_CPU; }
-bool CallbackAdapter::validated() const { return impl_->validated; }
+bool CallbackAdapter::validated() const { return impl_->messenger != VK_NULL_HANDLE; }
 std::vector<std::string> CallbackAdapter::validation_errors() const {
   std::lock_guard lock(impl_->validation.mutex);
   return impl_->validation.errors;

@@ -76,6 +76,10 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--interpolation", opts->interpolation, "nearest, msm or rbf")->capture_default_str();
   cmd->add_option("--k", opts->k, "Neighbours per pixel (msm, rbf; default 5; nearest uses 1)");
   cmd->add_option("--density-scale", opts->density_scale, "Point density scale (thesis 4.1)")->capture_default_str();
+  cmd->add_option("--content-contrast", opts->content_contrast,
+                  "Content-aware density: a screen tile traces all its points from this Michelson contrast "
+                  "(last frame's), half from a quarter of it, a quarter below; 0: off")
+      ->capture_default_str();
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,

@@ -66,6 +66,7 @@ std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& o, 
 foveation::ViewSettings foveated_view_settings(const RenderOptions& o) {
   foveation::ViewSettings vs = foveation::temporal_view_settings(o.temporal, o.rays_per_point, o.seed);
   vs.pixel_filter = o.pixel_filter;
+  vs.content_density.full_contrast = float(o.content_contrast);
   return vs;
 }
 
@@ -188,6 +189,8 @@ std::string render_options_problem(const RenderOptions& o) {
   if (o.rays_per_point < 1 || o.rays_per_point > 1024) return "--rays-per-point must be in 1..1024";
   if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
   if (!(o.density_scale > 0.0) || o.density_scale > 100.0) return "--density-scale must be in (0, 100]";
+  if (!(o.content_contrast >= 0.0) || o.content_contrast > 1.0)
+    return "--content-contrast must be in [0, 1] (0: off), got " + std::to_string(o.content_contrast);
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";

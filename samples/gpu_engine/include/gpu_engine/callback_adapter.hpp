@@ -52,7 +52,8 @@ struct CallbackAdapterOptions {
   // Take a CPU implementation (lavapipe) even where a hardware GPU exists.
   bool prefer_cpu = false;
   // Enable VK_LAYER_KHRONOS_validation with synchronization validation when it
-  // is installed; its error messages are kept (validation_errors()).
+  // is installed, with a debug messenger for the instance's life; its error
+  // messages are kept (validation_errors()).
   bool validate = false;
 };
 
@@ -78,7 +79,10 @@ class CallbackAdapter {
   // Why the last batch that failed on the device failed (empty: none has).
   std::string last_error() const;
   bool device_is_cpu() const;   // VK_PHYSICAL_DEVICE_TYPE_CPU (lavapipe)
-  bool validated() const;       // validation layer enabled
+  // Validation is active: the layer is enabled with synchronization validation
+  // and a messenger hears it, so validation_errors() can report.
+  bool validated() const;
+  // Every validation error heard so far, "<message id name>: <message>".
   std::vector<std::string> validation_errors() const;
 
   const engine::Scene& scene() const;

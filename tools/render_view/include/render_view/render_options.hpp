@@ -51,6 +51,9 @@ struct RenderOptions {
   int rays_per_point = 1;            // a full render's points are its pixels
   int k = 0;                      // 0: the default (reconstruction_k)
   double density_scale = 1.0;
+  // Content-aware density (foveation/content_density.hpp): the Michelson contrast at which
+  // a screen tile traces all its points; 0: off.
+  double content_contrast = 0.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame

@@ -1,0 +1,80 @@
+// Density that follows the content (thesis 8.2; docs/foveation.md, "Content-aware
+// density"): each screen tile traces the points of the levels (point_levels.hpp) its
+// visible contrast calls for, measured from the colours the points had in the last
+// frame. A tile whose luminance range is flat or dark traces level 0 only (about a ninth
+// of its Poisson points), finer levels as its contrast rises, a high-contrast one all.
+// A tile's contrast is that of its 3x3 neighbourhood, so an edge keeps its density on
+// both sides, on a tile's border too. The first frame, and the one after a failed frame
+// or a restart, trace every point.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "foveation/gather.hpp"
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/point_levels.hpp"
+
+namespace foveart::foveation {
+
+struct ContentDensityOptions {
+  // Contrast (below) at which a tile traces all its points; from half of it, level 2
+  // (about half of them), from a quarter, level 1 (a quarter). 0: off, every visible
+  // point is traced.
+  float full_contrast = 0.0f;
+  // Luminance (display-linear, 1 = white) added to both ends of the range: below it
+  // the eye's sensitivity falls (the de Vries-Rose range), so dark tiles read as flat.
+  float dark_luminance = 0.01f;
+  float exposure = 1.0f;  // radiance to display-linear
+  int tile_px = 16;
+  bool enabled() const { return full_contrast > 0.0f; }
+};
+
+// Michelson contrast of a tile's luminance range with the dark floor (Peli 1990's band
+// contrast's simplest form): (max - min) / (max + min + 2 dark).
+float tile_contrast(float min_luminance, float max_luminance, float dark_luminance);
+
+// The level a tile of that contrast traces.
+std::uint8_t level_for_contrast(float contrast, const ContentDensityOptions& options);
+
+class ContentDensity {
+ public:
+  ContentDensity(const PointLevels& levels, const ContentDensityOptions& options);
+
+  bool enabled() const { return options_.enabled(); }
+  // A frame at `mapping` begins: its tiles' levels from the last frame's colours.
+  void begin_frame(const GazeMapping& mapping, unsigned workers);
+  // This frame traces the point at screen_px (else it is filled from its parents).
+  bool traces(std::uint32_t point, glm::vec2 screen_px) const {
+    return !active_ || levels_.level[point] <= tile_level_[tile_of(screen_px)];
+  }
+  // A point's colour this frame, for the next frame's contrast (worker: the executor's slot).
+  void observe(unsigned worker, glm::vec2 screen_px, const Rgba& colour);
+  // The frame ends: ok, its observations give the next frame's levels; else the next
+  // frame traces every point.
+  void end_frame(bool ok);
+  // The next frame traces every point (the history restarts, the view changed).
+  void restart() { have_contrast_ = false; }
+
+  const ContentDensityOptions& options() const { return options_; }
+  const PointLevels& levels() const { return levels_; }
+  // Tiles of the frame per level (0..kFinest), for the stats.
+  const std::vector<std::uint32_t>& tiles_per_level() const { return tiles_per_level_; }
+
+ private:
+  std::size_t tile_of(glm::vec2 screen_px) const;
+  void levels_from_ranges();
+
+  const PointLevels& levels_;
+  ContentDensityOptions options_;
+  int tiles_x_ = 0, tiles_y_ = 0;
+  bool active_ = false;         // this frame thins
+  bool have_contrast_ = false;  // the last frame's observations hold
+  std::vector<std::uint8_t> tile_level_;
+  std::vector<std::vector<glm::vec2>> worker_range_;  // per worker, per tile: min, max luminance
+  std::vector<std::uint32_t> tiles_per_level_;
+};
+
+}  // namespace foveart::foveation

@@ -1,0 +1,251 @@
+// Content-aware density (foveation/content_density.hpp, point_levels.hpp): the nested
+// levels keep their spacing and parents, a flat view traces level 0 alone from its
+// second frame and gives the same image, an edge keeps every point of the tiles beside
+// it (on a tile border too), the pixel-exact fovea is never thinned, a failed frame or
+// a history that keeps rays traces every point, and it is off unless asked for.
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <mutex>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "foveation/content_density.hpp"
+#include "foveation/display_model.hpp"
+#include "foveation/foveated_view.hpp"
+#include "foveation/point_levels.hpp"
+#include "foveation/visible_points.hpp"
+
+namespace foveart::foveation::content_density_test {
+namespace {
+
+constexpr uint32_t kW = 128;
+constexpr uint32_t kH = 96;
+constexpr float kEdgeX = 48.0f;  // a tile border (16 px tiles)
+
+// Scale 4: the pixel grid's edge lies inside the view, so frames hold grid and Poisson points.
+std::shared_ptr<const ViewTables> tables() {
+  static std::once_flag once;
+  static std::shared_ptr<const ViewTables> t;
+  std::call_once(once, [] {
+    PointSetKey key;
+    key.display = DisplayModel::from_fov(kW, kH, 60.0);
+    key.display.scale = 4.0;
+    key.seed = 3;
+    InterpOptions o;
+    o.method = InterpMethod::msm;
+    o.k = 5;
+    Executor executor(2);
+    t = load_view_tables(std::nullopt, key, o, executor);
+  });
+  return t;
+}
+
+FrameRequest request(uint64_t frame_index) {
+  FrameRequest r;
+  EyePose pose;
+  pose.position_m = {0.0f, 1.6f, 0.0f};
+  r.view = make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.4f, -0.4f);
+  r.frame_index = frame_index;
+  r.gaze_px = {float(kW) / 2.0f, float(kH) / 2.0f};
+  return r;
+}
+
+ViewSettings settings(float full_contrast, TemporalMode temporal = TemporalMode::off) {
+  ViewSettings s = temporal_view_settings(temporal, 1, 1);
+  s.content_density.full_contrast = full_contrast;
+  return s;
+}
+
+// The engine: a scene by screen position, recording the points it was asked for.
+struct Scene {
+  bool edge = false;  // dark left of kEdgeX, white right of it; else flat grey
+  bool fail = false;
+  std::mutex mutex;
+  std::set<uint32_t> points;
+};
+
+int32_t trace(void* user, const FoveartRayBatch* batch) {
+  auto* scene = static_cast<Scene*>(user);
+  if (scene->fail) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  std::lock_guard lock(scene->mutex);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    const float v = !scene->edge ? 0.4f : (batch->sample_px[i * 2] < kEdgeX ? 0.02f : 1.0f);
+    for (int c = 0; c < 3; ++c) batch->out_rgb[i * 3 + c] = v;
+    scene->points.insert(batch->point_index[i]);
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+FrameResult render(FoveatedView& view, Scene& scene, uint64_t frame_index, Executor& executor) {
+  scene.points.clear();
+  return view.render(request(frame_index), &trace, &scene, executor);
+}
+
+float max_difference(const ImageRgb& a, const ImageRgb& b) {
+  float d = 0.0f;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) d = std::max(d, std::fabs(a.rgb[i] - b.rgb[i]));
+  return d;
+}
+
+TEST(PointLevels, NestedSubsetsKeepTheirSpacingAndTracedParents) {
+  Executor executor(2);
+  const PointSet& points = tables()->points;
+  const PointLevels levels = build_point_levels(points, executor);
+  ASSERT_EQ(levels.size(), points.size());
+  std::size_t poisson = 0, poisson_level0 = 0, poisson_level01 = 0, poisson_level012 = 0;
+  std::vector<std::size_t> level0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (points.on_pixel_grid(i)) {
+      EXPECT_EQ(levels.level[i], 0) << "grid point " << i << ": the pixel-exact fovea is level 0";
+      continue;
+    }
+    ++poisson;
+    poisson_level0 += levels.level[i] == 0 ? 1 : 0;
+    poisson_level01 += levels.level[i] <= 1 ? 1 : 0;
+    poisson_level012 += levels.level[i] <= 2 ? 1 : 0;
+    if (levels.level[i] == 0) level0.push_back(i);
+  }
+  ASSERT_GT(poisson, 1000u);
+  // Three times the spacing keeps about a ninth; twice about a quarter; sqrt(2) times about half.
+  const double n = double(poisson);
+  std::cout << "[ measured ] levels 0, 0-1, 0-2 hold " << double(poisson_level0) / n << ", "
+            << double(poisson_level01) / n << ", " << double(poisson_level012) / n << " of the Poisson points\n";
+  EXPECT_GT(double(poisson_level0) / n, 0.05);
+  EXPECT_LT(double(poisson_level0) / n, 0.20);
+  EXPECT_GT(double(poisson_level01) / n, 0.15);
+  EXPECT_LT(double(poisson_level01) / n, 0.40);
+  EXPECT_GT(double(poisson_level012) / n, 0.35);
+  EXPECT_LT(double(poisson_level012) / n, 0.75);
+  // A level-0 Poisson point lies at least three times its radius from every level-0 point before it.
+  for (std::size_t b = 0; b < level0.size(); ++b)
+    for (std::size_t a = 0; a < b; ++a) {
+      const std::size_t i = level0[a], j = level0[b];
+      ASSERT_GE(glm::distance(points.position_px[i], points.position_px[j]),
+                kLevelSpacing[0] * points.radius_px[j] * 0.999f)
+          << "level-0 points " << i << " and " << j;
+    }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (levels.level[i] == 0) continue;
+    float sum = 0.0f;
+    for (uint32_t j = 0; j < PointLevels::kParents; ++j) {
+      const uint32_t p = levels.parent[i][j];
+      if (p == PointLevels::kNoParent) continue;
+      EXPECT_EQ(levels.level[p], 0) << "point " << i << "'s parent " << p;
+      sum += levels.parent_weight[i][j];
+    }
+    ASSERT_NE(levels.parent[i][0], PointLevels::kNoParent) << "point " << i;
+    EXPECT_NEAR(sum, 1.0f, 1e-5f) << "point " << i;
+  }
+  const PointLevels again = build_point_levels(points, executor);
+  EXPECT_EQ(again.level, levels.level) << "deterministic for the set";
+}
+
+TEST(ContentDensity, ContrastAndLevels) {
+  EXPECT_EQ(tile_contrast(0.5f, 0.5f, 0.01f), 0.0f);
+  EXPECT_FLOAT_EQ(tile_contrast(0.0f, 1.0f, 0.0f), 1.0f);
+  EXPECT_LT(tile_contrast(0.0f, 0.001f, 0.01f), 0.05f) << "dark tiles read as flat";
+  EXPECT_EQ(tile_contrast(INFINITY, -INFINITY, 0.01f), 0.0f) << "a tile nobody observed";
+  ContentDensityOptions o;
+  EXPECT_EQ(level_for_contrast(0.0f, o), PointLevels::kFinest) << "off: every point";
+  o.full_contrast = 0.2f;
+  EXPECT_EQ(level_for_contrast(0.3f, o), 3);
+  EXPECT_EQ(level_for_contrast(0.15f, o), 2);
+  EXPECT_EQ(level_for_contrast(0.07f, o), 1);
+  EXPECT_EQ(level_for_contrast(0.01f, o), 0);
+}
+
+TEST(ContentDensity, FlatViewTracesLevelZeroFromItsSecondFrameWithTheSameImage) {
+  Executor executor(2);
+  Scene scene;
+  FoveatedView view(tables(), settings(0.05f));
+  const FrameResult first = render(view, scene, 1, executor);
+  ASSERT_TRUE(first.ok()) << first.message;
+  EXPECT_EQ(first.points_thinned, 0u) << "no contrast measured yet";
+  const ImageRgb full = view.image();
+  const FrameResult second = render(view, scene, 2, executor);
+  ASSERT_TRUE(second.ok()) << second.message;
+
+  const PointLevels& levels = tables()->levels(executor);
+  const VisiblePoints visible = select_visible_points(tables()->points, map_gaze(kW, kH, second.centre_px));
+  std::size_t level0 = 0;
+  for (uint32_t i : visible.point_index) {
+    level0 += levels.level[i] == 0 ? 1 : 0;
+    if (levels.level[i] == 0) {
+      EXPECT_TRUE(scene.points.count(i)) << "level-0 point " << i << " not traced";
+    }
+    if (tables()->points.on_pixel_grid(i)) {
+      EXPECT_TRUE(scene.points.count(i)) << "grid point " << i << " thinned";
+    }
+  }
+  // Level 0, and the few finer points beside the margin whose parents lie beyond it.
+  EXPECT_GE(second.points, level0);
+  EXPECT_LT(second.points, level0 + level0 / 50);
+  EXPECT_EQ(second.points + second.points_thinned, first.points) << "every visible point has a colour";
+  EXPECT_LT(double(second.points), 0.8 * double(first.points));
+  EXPECT_LT(max_difference(full, view.image()), 1e-6f) << "a flat view's fill is its colour";
+}
+
+TEST(ContentDensity, AnEdgeOnATileBorderKeepsEveryPointOfTheTilesBesideIt) {
+  Executor executor(2);
+  Scene thin_scene, full_scene;
+  thin_scene.edge = full_scene.edge = true;
+  FoveatedView thinned(tables(), settings(0.05f)), full(tables(), settings(0.0f));
+  for (uint64_t f = 1; f <= 2; ++f) {
+    ASSERT_TRUE(render(full, full_scene, f, executor).ok());
+    const FrameResult r = render(thinned, thin_scene, f, executor);
+    ASSERT_TRUE(r.ok()) << r.message;
+    if (f == 2) {
+      EXPECT_GT(r.points_thinned, 0u) << "the flat tiles away from the edge thin";
+    }
+  }
+  const VisiblePoints visible = select_visible_points(tables()->points, map_gaze(kW, kH, {kW / 2.0f, kH / 2.0f}));
+  std::size_t beside = 0;
+  for (std::size_t v = 0; v < visible.size(); ++v) {
+    const float x = visible.screen_px[v].x;
+    if (x < kEdgeX - 16.0f || x >= kEdgeX + 16.0f) continue;
+    ++beside;
+    EXPECT_TRUE(thin_scene.points.count(visible.point_index[v]))
+        << "point " << visible.point_index[v] << " at x = " << x << " beside the edge was thinned";
+  }
+  EXPECT_GT(beside, 100u);
+  // Away from the edge each side is flat, so the fill is exact: the frames agree.
+  EXPECT_LT(max_difference(full.image(), thinned.image()), 1e-5f);
+}
+
+TEST(ContentDensity, AFailedFrameOrARayHistoryTracesEveryPoint) {
+  Executor executor(2);
+  Scene scene;
+  FoveatedView view(tables(), settings(0.05f));
+  ASSERT_TRUE(render(view, scene, 1, executor).ok());
+  scene.fail = true;
+  EXPECT_FALSE(render(view, scene, 2, executor).ok());
+  scene.fail = false;
+  const FrameResult after = render(view, scene, 3, executor);
+  ASSERT_TRUE(after.ok());
+  EXPECT_EQ(after.points_thinned, 0u) << "the frame after a failure measures again";
+
+  FoveatedView rays(tables(), settings(0.05f, TemporalMode::rays));
+  for (uint64_t f = 1; f <= 3; ++f) {
+    const FrameResult r = render(rays, scene, f, executor);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r.points_thinned, 0u) << "the render cache keeps every point's rays";
+  }
+}
+
+TEST(ContentDensity, OffUnlessAskedFor) {
+  Executor executor(2);
+  Scene scene;
+  EXPECT_FALSE(ViewSettings{}.content_density.enabled());
+  FoveatedView view(tables(), ViewSettings{});
+  for (uint64_t f = 1; f <= 3; ++f) {
+    const FrameResult r = render(view, scene, f, executor);
+    ASSERT_TRUE(r.ok());
+    EXPECT_EQ(r.points_thinned, 0u);
+  }
+}
+
+}  // namespace
+}  // namespace foveart::foveation::content_density_test
