@@ -1,8 +1,8 @@
-#include "vk_util.hpp"
+#include "gpu/vk_util.hpp"
 
 #include <vector>
 
-namespace foveart::layer {
+namespace foveart::gpu {
 
 bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
                          VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted, VkBuffer* buffer,
@@ -113,4 +113,29 @@ bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uin
   return true;
 }
 
-}  // namespace foveart::layer
+void record_copy_to_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px, uint32_t height_px) {
+  auto to_transfer = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
+  to_transfer.srcAccessMask = 0;
+  to_transfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_transfer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // every texel is overwritten
+  to_transfer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  to_transfer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_transfer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_transfer.image = image;
+  to_transfer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+                       nullptr, 1, &to_transfer);
+  VkBufferImageCopy copy{};
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageExtent = {width_px, height_px, 1};
+  vkCmdCopyBufferToImage(cb, buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+  VkImageMemoryBarrier to_attachment = to_transfer;
+  to_attachment.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+  to_attachment.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+  to_attachment.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
+  to_attachment.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &to_attachment);
+}
+
+}  // namespace foveart::gpu

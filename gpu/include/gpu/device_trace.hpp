@@ -1,46 +1,64 @@
-// Stages 1-3 of a frame on the device, for an engine that registered a
-// device trace (XrFoveatedDeviceTraceInfoFOVEART; docs/gpu.md "The device
-// trace"): shaders/device_rays.comp selects the visible points and makes
-// their rays from the gaze offset and the view (push constants), the engine
-// records its trace of them into the frame's command buffer, and
+// Stages 1-3 of a frame on the device, for an engine that traces on the GPU
+// (docs/gpu.md "The device trace"; the layer adapts the app's
+// XrFoveatedDeviceTraceInfoFOVEART to a DeviceTraceEngine):
+// shaders/device_rays.comp selects the visible points and makes their rays
+// from the gaze offset and the view (push constants) in the point set's order,
+// the engine records its trace of them into the frame's command buffer, and
 // shaders/device_resolve.comp averages each point's rays into the slots the
 // gather reads. No ray or colour crosses to the host: per frame the host
 // reads back only the resolve's status (two words).
 //
-// Threads: as GpuEye (one thread at a time); each frame's submission has
-// finished before the next record (the layer waits in xrEndFrame). Nothing
-// here throws.
+// Threads: as Eye (one thread at a time); each frame's submission has
+// finished before the next record (the layer waits in xrEndFrame): one frame
+// in flight, since the rays, colours, control and status buffers are single.
+// Nothing here throws.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
-#ifndef XR_USE_GRAPHICS_API_VULKAN
-#define XR_USE_GRAPHICS_API_VULKAN
-#endif
 #include <vulkan/vulkan.h>
-#include <openxr/openxr.h>
 
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/ray_samples.hpp"
-#include "layer/XR_FOVEART_foveated_ray_tracing.h"
-#include "vk_util.hpp"
+#include "foveation/ray_trace.h"
+#include "gpu/context.hpp"
+#include "gpu/vk_util.hpp"
 
-namespace foveart::layer {
+namespace foveart::gpu {
 
-class GpuReconstructor;
-
-// The engine's device trace, as registered.
-struct DeviceTraceFn {
-  PFN_xrFoveatedTraceRaysDeviceFOVEART trace = nullptr;
-  void* user_data = nullptr;
+// A range of one of the device trace's buffers.
+struct BufferRange {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0;
+  VkDeviceSize size = 0;  // bytes
 };
+
+// What the engine traces one view's rays from, and records its trace into:
+// the contract of XrFoveatedDeviceRayBatchFOVEART (the layer's public header
+// states it in full), without OpenXR.
+struct DeviceRayBatch {
+  std::uint64_t frame_index = 0;
+  const FoveartEyeView* view = nullptr;
+  std::uint32_t ray_capacity = 0;
+  std::uint32_t rays_per_point = 1;
+  BufferRange ray_count;    // FoveartDeviceRayCount (shader_interface/device_trace.h); read and indirect only
+  BufferRange rays;         // ray_capacity x DeviceRay; read only
+  BufferRange point_index;  // ray_capacity x uint32_t; read only
+  BufferRange colors;       // ray_capacity x vec4 (rgb, depth_m); written by the engine
+  VkCommandBuffer command_buffer = VK_NULL_HANDLE;  // record the trace here
+};
+
+// The engine's device trace: records into batch.command_buffer; false when
+// it failed (the frame is then not submitted; the caller keeps the engine's own result).
+using DeviceTraceEngine = std::function<bool(const DeviceRayBatch& batch)>;
 
 // What one eye's device-traced frame needs.
 struct DeviceTraceFrame {
-  DeviceTraceFn engine;
+  DeviceTraceEngine engine;
   const foveation::PointSet* points = nullptr;  // the view tables' set
   FoveartEyeView view{};
   foveation::GazeMapping mapping;
@@ -57,16 +75,22 @@ struct DeviceTraceStatus {
 };
 
 // The device trace's shaders, shared by the eyes of one device.
-class GpuDeviceTracePipelines {
+class DeviceTracePipelines {
  public:
-  static std::unique_ptr<GpuDeviceTracePipelines> create(VkDevice device, std::string* error);
-  ~GpuDeviceTracePipelines();
-  GpuDeviceTracePipelines(const GpuDeviceTracePipelines&) = delete;
-  GpuDeviceTracePipelines& operator=(const GpuDeviceTracePipelines&) = delete;
+  static std::unique_ptr<DeviceTracePipelines> create(VkDevice device, std::string* error);
+  ~DeviceTracePipelines();
+  DeviceTracePipelines(const DeviceTracePipelines&) = delete;
+  DeviceTracePipelines& operator=(const DeviceTracePipelines&) = delete;
+
+  VkDescriptorSetLayout rays_set_layout() const { return rays_set_layout_; }
+  VkDescriptorSetLayout resolve_set_layout() const { return resolve_set_layout_; }
+  VkPipelineLayout rays_layout() const { return rays_layout_; }
+  VkPipelineLayout resolve_layout() const { return resolve_layout_; }
+  VkPipeline rays() const { return rays_; }
+  VkPipeline resolve() const { return resolve_; }
 
  private:
-  friend class GpuDeviceTrace;
-  GpuDeviceTracePipelines() = default;
+  DeviceTracePipelines() = default;
   VkDevice device_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout rays_set_layout_ = VK_NULL_HANDLE, resolve_set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout rays_layout_ = VK_NULL_HANDLE, resolve_layout_ = VK_NULL_HANDLE;
@@ -74,21 +98,19 @@ class GpuDeviceTracePipelines {
 };
 
 // One eye's rays, colours and counts on the device.
-class GpuDeviceTrace {
+class DeviceTrace {
  public:
-  explicit GpuDeviceTrace(GpuReconstructor& owner);
-  ~GpuDeviceTrace();
-  GpuDeviceTrace(const GpuDeviceTrace&) = delete;
-  GpuDeviceTrace& operator=(const GpuDeviceTrace&) = delete;
+  DeviceTrace(const Context& context, const DeviceTracePipelines& pipelines);
+  ~DeviceTrace();
+  DeviceTrace(const DeviceTrace&) = delete;
+  DeviceTrace& operator=(const DeviceTrace&) = delete;
 
   // Records the frame's rays, the engine's trace and the resolve into `cb`,
   // writing every visible point's colour (a = 1) and depth into `colors` and
   // `point_depth` (cleared by the caller). false with *error when a buffer
-  // cannot be made or the engine's call fails (engine_result() says which).
+  // cannot be made or the engine's trace fails.
   [[nodiscard]] bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
               std::string* error);
-  // The engine's answer to the last record (XR_SUCCESS when it was not called).
-  XrResult engine_result() const { return engine_result_; }
   // Bytes the host wrote for the last record: the point set, once per table set; else 0.
   std::uint64_t host_bytes_written() const { return uploaded_bytes_; }
   // After the submission finished: what the resolve found (the frame's one
@@ -103,18 +125,19 @@ class GpuDeviceTrace {
   [[nodiscard]] bool record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error);
   void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
 
-  GpuReconstructor& owner_;
+  const Context& context_;
+  const DeviceTracePipelines& pipelines_;
   VkDevice device_ = VK_NULL_HANDLE;
   const foveation::PointSet* uploaded_points_ = nullptr;
   std::uint32_t ray_capacity_ = 0;
   BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_, status_;
+  BoundBuffer blocks_;  // per block of points: its visible points, then where they begin (device_rays.comp)
   VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record
   std::uint64_t uploaded_bytes_ = 0;  // the last record's copy of them
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet rays_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;
   VkBuffer bound_colors_ = VK_NULL_HANDLE, bound_point_depth_ = VK_NULL_HANDLE;
   bool descriptors_stale_ = true;
-  XrResult engine_result_ = XR_SUCCESS;
 };
 
-}  // namespace foveart::layer
+}  // namespace foveart::gpu

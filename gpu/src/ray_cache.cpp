@@ -1,4 +1,4 @@
-#include "gpu_ray_cache.hpp"
+#include "gpu/ray_cache.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,32 +6,18 @@
 
 #include "foveation/eye_rays.hpp"
 #include "foveation/shader_constants.h"
-#include "shader_depth.hpp"
+#include "gpu/shader_depth.hpp"
+#include "gpu/shader_interface/ray_cache.h"
 #include "shaders/cache_bin.spv.h"
 #include "shaders/cache_filter.spv.h"
 #include "shaders/cache_rays.spv.h"
 #include "shaders/cache_scan.spv.h"
-#include "vk_util.hpp"
+#include "gpu/vk_util.hpp"
 
-namespace foveart::layer {
+namespace foveart::gpu {
 namespace {
 
-// Push constants, laid out as shaders/ray_cache.glsl declares them (std430).
-struct CachePush {
-  float orientation[4];  // x y z w
-  float position_m[4];
-  float tan_lrud[4];
-  int32_t size_px[2];
-  int32_t cells_xy[2];
-  uint32_t kept;
-  uint32_t added;
-  uint32_t filter_kind;
-  uint32_t max_age;
-  uint32_t scan_phase;
-  uint32_t cell_count;
-  uint32_t capacity;
-};
-static_assert(sizeof(CachePush) == 92, "shaders/ray_cache.glsl push constants");
+using shader::CachePush;
 
 // Buffers as ray_cache.glsl binds them, and their element sizes.
 enum Binding : uint32_t {
@@ -47,10 +33,11 @@ enum Binding : uint32_t {
   kBindings
 };
 constexpr uint32_t kDescriptorCounts[kBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1};  // one buffer each
-constexpr VkDeviceSize kAnchorBytes = 32, kNewRayBytes = 32, kRayFrameBytes = 16, kCellRayBytes = 24;
+constexpr VkDeviceSize kAnchorBytes = sizeof(shader::Anchor), kNewRayBytes = sizeof(shader::NewRay),
+                       kRayFrameBytes = sizeof(shader::RayFrame), kCellRayBytes = sizeof(shader::CellRay);
 constexpr uint32_t kCellPx = FOVEART_RAY_CACHE_CELL_PX;
 constexpr uint32_t kScanBlock = FOVEART_RAY_CACHE_SCAN_BLOCK;
-constexpr uint32_t kGroupSize = 256;    // cache_rays / cache_scan / cache_bin
+constexpr uint32_t kGroupSize = FOVEART_RAY_CACHE_GROUP_SIZE;  // cache_rays / cache_scan / cache_bin
 constexpr uint32_t kMaxGroups = 65535;  // the least maxComputeWorkGroupCount[0]; the shaders loop beyond
 
 
@@ -60,10 +47,10 @@ uint32_t groups_for(std::size_t n) {
 
 }  // namespace
 
-// ---- GpuRayCachePipelines -----------------------------------------------------
+// ---- RayCachePipelines -----------------------------------------------------
 
-std::unique_ptr<GpuRayCachePipelines> GpuRayCachePipelines::create(VkDevice device, std::string* error) {
-  std::unique_ptr<GpuRayCachePipelines> p(new GpuRayCachePipelines());
+std::unique_ptr<RayCachePipelines> RayCachePipelines::create(VkDevice device, std::string* error) {
+  std::unique_ptr<RayCachePipelines> p(new RayCachePipelines());
   p->device_ = device;
   if (!create_storage_pipeline_layout(device, kDescriptorCounts, kBindings, sizeof(CachePush), &p->set_layout_,
                                       &p->layout_, error)) {
@@ -81,21 +68,21 @@ std::unique_ptr<GpuRayCachePipelines> GpuRayCachePipelines::create(VkDevice devi
   return p;
 }
 
-GpuRayCachePipelines::~GpuRayCachePipelines() {
+RayCachePipelines::~RayCachePipelines() {
   for (VkPipeline p : {rays_, scan_, bin_, filter_})
     if (p != VK_NULL_HANDLE) vkDestroyPipeline(device_, p, nullptr);
   if (layout_ != VK_NULL_HANDLE) vkDestroyPipelineLayout(device_, layout_, nullptr);
   if (set_layout_ != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
 }
 
-// ---- GpuRayCache --------------------------------------------------------------
+// ---- RayCache --------------------------------------------------------------
 
-GpuRayCache::GpuRayCache(const GpuRayCachePipelines& pipelines,
-                         const VkPhysicalDeviceMemoryProperties& memory_properties, VkBuffer current,
-                         std::uint32_t width_px, std::uint32_t height_px, VkDeviceSize max_buffer_bytes)
-    : pipelines_(pipelines),
-      memory_properties_(memory_properties),
-      max_buffer_bytes_(max_buffer_bytes),
+RayCache::RayCache(const Context& context, const RayCachePipelines& pipelines, VkBuffer current,
+                   std::uint32_t width_px, std::uint32_t height_px, VkDeviceSize max_buffer_bytes)
+    : context_(context),
+      pipelines_(pipelines),
+      device_(context.vk_device()),
+      max_buffer_bytes_(max_buffer_bytes > 0 ? max_buffer_bytes : context.max_storage_buffer_bytes()),
       current_(current),
       width_px_(width_px),
       height_px_(height_px),
@@ -103,35 +90,32 @@ GpuRayCache::GpuRayCache(const GpuRayCachePipelines& pipelines,
       cells_x_((width_px + 2 * kCellPx - 1) / kCellPx + 1),
       cells_y_((height_px + 2 * kCellPx - 1) / kCellPx + 1) {}
 
-GpuRayCache::~GpuRayCache() {
-  VkDevice device = pipelines_.device_;
-  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, pool_, nullptr);
+RayCache::~RayCache() {
+  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
   for (Buffer* b : {&anchors_[0], &anchors_[1], &new_rays_, &ray_frame_, &cells_, &by_cell_, &pixels_, &counter_})
     destroy(*b);
   for (Buffer& b : retired_) destroy(b);
 }
 
-bool GpuRayCache::make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error) {
-  b.size = std::max<VkDeviceSize>(size, 16);
+bool RayCache::make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error) {
   const VkBufferUsageFlags usage =
       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  return create_bound_buffer(pipelines_.device_, memory_properties_, b.size, usage, buffer_memory_flags(host_visible),
-                             &b.buffer, &b.memory, host_visible ? &b.mapped : nullptr, error);
+  return context_.create_buffer(&b, size, usage, host_visible, error);
 }
 
-void GpuRayCache::destroy(Buffer& b) {
-  destroy_buffer(pipelines_.device_, &b);
+void RayCache::destroy(Buffer& b) {
+  destroy_buffer(device_, &b);
 }
 
-std::size_t GpuRayCache::kept_rays() const {
+std::size_t RayCache::kept_rays() const {
   if (!recorded_ || counter_.mapped == nullptr) return 0;
   std::uint32_t kept = 0;
   std::memcpy(&kept, counter_.mapped, sizeof kept);
   return std::min<std::size_t>(kept, capacity_);
 }
 
-bool GpuRayCache::update_descriptors(std::string* error) {
-  VkDevice device = pipelines_.device_;
+bool RayCache::update_descriptors(std::string* error) {
+  VkDevice device = device_;
   if (pool_ == VK_NULL_HANDLE) {
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * kBindings};
     auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
@@ -140,7 +124,7 @@ bool GpuRayCache::update_descriptors(std::string* error) {
     pool_info.pPoolSizes = &size;
     VkResult r = vkCreateDescriptorPool(device, &pool_info, nullptr, &pool_);
     if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool (render cache)", r), false;
-    const VkDescriptorSetLayout layouts[2] = {pipelines_.set_layout_, pipelines_.set_layout_};
+    const VkDescriptorSetLayout layouts[2] = {pipelines_.set_layout(), pipelines_.set_layout()};
     auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
     alloc.descriptorPool = pool_;
     alloc.descriptorSetCount = 2;
@@ -163,7 +147,7 @@ bool GpuRayCache::update_descriptors(std::string* error) {
   return true;
 }
 
-bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error) {
+bool RayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::size_t added, std::string* error) {
   const std::size_t max_rays = std::size_t(max_buffer_bytes_ / kAnchorBytes);  // anchors are the largest
   if (kept + added > max_rays) {  // before anything changes: a refused frame leaves the cache as it was
     return *error = "GPU render cache: " + std::to_string(kept + added) + " rays need " +
@@ -222,7 +206,7 @@ bool GpuRayCache::ensure_capacity(VkCommandBuffer cb, std::size_t kept, std::siz
   return true;
 }
 
-bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, const FoveartEyeView& view,
+bool RayCache::record(VkCommandBuffer cb, const RayCacheFrame& frame, const FoveartEyeView& view,
                          foveation::Executor& executor, std::string* error) {
   const std::size_t pixels = std::size_t(width_px_) * height_px_;
   if (frame.rays == nullptr || frame.pixels == nullptr || frame.pixels->size() != pixels) {
@@ -240,9 +224,10 @@ bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, cons
   executor.parallel_for(frame.rays->size(), [&](std::size_t c) {
     float* out = rays + first[c] * 8;
     for (const foveation::TracedRay& r : (*frame.rays)[c]) {
-      const float v[8] = {r.sample_px.x, r.sample_px.y, shader_depth(r.depth_m), 0.0f, r.rgb.x, r.rgb.y, r.rgb.z, 0.0f};
-      std::memcpy(out, v, sizeof v);
-      out += 8;
+      const shader::NewRay ray{{r.sample_px.x, r.sample_px.y, shader_depth(r.depth_m), 0.0f},
+                               {r.rgb.x, r.rgb.y, r.rgb.z, 0.0f}};
+      std::memcpy(out, &ray, sizeof ray);
+      out += sizeof ray / sizeof(float);
     }
   });
   auto* pixel_out = static_cast<float*>(pixels_.mapped);
@@ -257,30 +242,26 @@ bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, cons
   CachePush push{};
   const foveation::EyePose pose = foveation::eye_pose(view);
   const foveation::EyeFrustum frustum = foveation::eye_frustum(view);
-  const float q[4] = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w};
-  const float position[4] = {pose.position_m.x, pose.position_m.y, pose.position_m.z, 0.0f};
-  const float tan_lrud[4] = {frustum.tan_left, frustum.tan_right, frustum.tan_up, frustum.tan_down};
-  std::memcpy(push.orientation, q, sizeof q);
-  std::memcpy(push.position_m, position, sizeof position);
-  std::memcpy(push.tan_lrud, tan_lrud, sizeof tan_lrud);
-  push.size_px[0] = int32_t(width_px_);
-  push.size_px[1] = int32_t(height_px_);
-  push.cells_xy[0] = int32_t(cells_x_);
-  push.cells_xy[1] = int32_t(cells_y_);
+  push.orientation = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w};
+  push.position_m = {pose.position_m.x, pose.position_m.y, pose.position_m.z, 0.0f};
+  push.tan_lrud = {frustum.tan_left, frustum.tan_right, frustum.tan_up, frustum.tan_down};
+  push.size_px = {int32_t(width_px_), int32_t(height_px_)};
+  push.cells_xy = {int32_t(cells_x_), int32_t(cells_y_)};
   push.kept = uint32_t(kept);
   push.added = uint32_t(added);
-  push.filter_kind = frame.filter == foveation::PixelFilter::box ? 0u : 1u;
+  push.filter_kind =
+      frame.filter == foveation::PixelFilter::box ? FOVEART_RAY_CACHE_FILTER_BOX : FOVEART_RAY_CACHE_FILTER_BSPLINE2;
   push.max_age = frame.max_age_frames;
   push.cell_count = cells_x_ * cells_y_;
   push.capacity = uint32_t(capacity_);
   const std::size_t rays_this_frame = kept + added;
   const uint32_t blocks = (push.cell_count + kScanBlock - 1) / kScanBlock;
 
-  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.layout_, 0, 1, &sets_[parity_], 0, nullptr);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.layout(), 0, 1, &sets_[parity_], 0, nullptr);
   auto dispatch = [&](VkPipeline pipeline, uint32_t phase, uint32_t x, uint32_t y) {
     push.scan_phase = phase;
     vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdPushConstants(cb, pipelines_.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    vkCmdPushConstants(cb, pipelines_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
     vkCmdDispatch(cb, x, y, 1);
     memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   };
@@ -288,12 +269,12 @@ bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, cons
   vkCmdFillBuffer(cb, cells_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, counter_.buffer, 0, VK_WHOLE_SIZE, 0u);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
-  dispatch(pipelines_.rays_, 0, groups_for(rays_this_frame), 1);
-  dispatch(pipelines_.scan_, 0, blocks, 1);
-  dispatch(pipelines_.scan_, 1, 1, 1);
-  dispatch(pipelines_.scan_, 2, groups_for(push.cell_count), 1);
-  dispatch(pipelines_.bin_, 0, groups_for(rays_this_frame), 1);
-  dispatch(pipelines_.filter_, 0, (width_px_ + 7) / 8, (height_px_ + 7) / 8);
+  dispatch(pipelines_.rays(), 0, groups_for(rays_this_frame), 1);
+  dispatch(pipelines_.scan(), FOVEART_SCAN_BLOCKS, blocks, 1);
+  dispatch(pipelines_.scan(), FOVEART_SCAN_BLOCK_SUMS, 1, 1);
+  dispatch(pipelines_.scan(), FOVEART_SCAN_ADD_BLOCK_SUMS, groups_for(push.cell_count), 1);
+  dispatch(pipelines_.bin(), 0, groups_for(rays_this_frame), 1);
+  dispatch(pipelines_.filter(), 0, (width_px_ + 7) / 8, (height_px_ + 7) / 8);
   // The kept count, for the next frame's record.
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
   parity_ ^= 1;  // the kept rays are in the other buffer now
@@ -301,4 +282,4 @@ bool GpuRayCache::record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, cons
   return true;
 }
 
-}  // namespace foveart::layer
+}  // namespace foveart::gpu

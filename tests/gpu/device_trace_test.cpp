@@ -1,7 +1,7 @@
-// The device trace (layer/src/gpu_device_trace.*, shaders/device_*.comp) on
+// The device trace (gpu/device_trace.hpp, shaders/device_*.comp) on
 // lavapipe, under VK_LAYER_KHRONOS_validation with synchronization validation:
 // the rays made on the device are the CPU path's rays (same points, same
-// jitter), a frame traced on the device reconstructs as the CPU-callback frame
+// jitter), in the point set's order and the same on every run, a frame traced on the device reconstructs as the CPU-callback frame
 // of the same colours does, the engine's faults (an error, NaN or negative
 // colours, a trace that records nothing) are found and counted, and per frame
 // the host writes nothing and reads back only the resolve's status and the
@@ -19,15 +19,18 @@
 
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
-#include "foveation/shader_constants.h"
-#include "gpu_reconstruction.hpp"
+#include "gpu/shader_interface/device_rays.h"
 #include "headless_vulkan.hpp"
 #include "direction_engine.spv.h"
+#include "gpu/reconstructor.hpp"
+#include "gpu/vk_util.hpp"
 #include "icd_pin.h"
-#include "vk_util.hpp"
 
-namespace foveart::layer {
+namespace foveart::gpu {
 namespace {
+
+using layer::DevicePreference;
+using layer::HeadlessVulkan;
 
 constexpr uint32_t kViewW = 96;
 constexpr uint32_t kViewH = 80;
@@ -108,7 +111,7 @@ struct TestEngine {
   const VkPhysicalDeviceMemoryProperties* memory = nullptr;
   BoundBuffer rays, point_index, control;
   uint32_t calls = 0;
-  XrFoveatedDeviceRayBatchFOVEART last{};
+  DeviceRayBatch last{};
 
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
@@ -124,7 +127,7 @@ struct TestEngine {
     if (pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, pool, nullptr);
   }
   // direction_engine.comp over the batch, dispatched from the layer's counts.
-  bool direction_shader(const XrFoveatedDeviceRayBatchFOVEART& batch) {
+  bool direction_shader(const DeviceRayBatch& batch) {
     static constexpr uint32_t kOnes[3] = {1, 1, 1};
     std::string error;
     if (pipeline == VK_NULL_HANDLE) {
@@ -145,16 +148,16 @@ struct TestEngine {
       alloc.pSetLayouts = &set_layout;
       if (vkAllocateDescriptorSets(device, &alloc, &set) != VK_SUCCESS) return false;
     }
-    const VkDescriptorBufferInfo buffers[3] = {{batch.rayCount.buffer, batch.rayCount.offset, 4},
+    const VkDescriptorBufferInfo buffers[3] = {{batch.ray_count.buffer, batch.ray_count.offset, 4},
                                                {batch.rays.buffer, batch.rays.offset, batch.rays.size},
                                                {batch.colors.buffer, batch.colors.offset, batch.colors.size}};
     write_storage_descriptors(device, set, buffers, kOnes, 3);
-    vkCmdBindPipeline(batch.commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdBindDescriptorSets(batch.commandBuffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
-    vkCmdDispatchIndirect(batch.commandBuffer, batch.rayCount.buffer, batch.rayCount.offset + 4);
+    vkCmdBindPipeline(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdBindDescriptorSets(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
+    vkCmdDispatchIndirect(batch.command_buffer, batch.ray_count.buffer, batch.ray_count.offset + 4);
     return true;
   }
-  bool readback(BoundBuffer& b, const XrFoveatedDeviceBufferFOVEART& from, VkCommandBuffer cb) {
+  bool readback(BoundBuffer& b, const BufferRange& from, VkCommandBuffer cb) {
     if (b.buffer == VK_NULL_HANDLE) {
       std::string error;
       b.size = from.size;
@@ -169,22 +172,20 @@ struct TestEngine {
   }
 };
 
-XrResult test_engine(void* user, const XrFoveatedDeviceRayBatchFOVEART* batch) {
-  auto* engine = static_cast<TestEngine*>(user);
+bool test_engine(TestEngine* engine, const DeviceRayBatch* batch) {
   ++engine->calls;
   engine->last = *batch;
-  if (engine->answer == TestEngine::Answer::error) return XR_ERROR_RUNTIME_FAILURE;
-  if (engine->answer == TestEngine::Answer::nothing) return XR_SUCCESS;
-  VkCommandBuffer cb = batch->commandBuffer;
+  if (engine->answer == TestEngine::Answer::error) return false;
+  if (engine->answer == TestEngine::Answer::nothing) return true;
+  VkCommandBuffer cb = batch->command_buffer;
   if (engine->answer == TestEngine::Answer::direction) {
-    if (!engine->direction_shader(*batch)) return XR_ERROR_RUNTIME_FAILURE;
-    return XR_SUCCESS;
+    return engine->direction_shader(*batch);
   }
   vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
   if (engine->copy && (!engine->readback(engine->rays, batch->rays, cb) ||
-                       !engine->readback(engine->point_index, batch->pointIndex, cb) ||
-                       !engine->readback(engine->control, batch->rayCount, cb))) {
-    return XR_ERROR_OUT_OF_MEMORY;
+                       !engine->readback(engine->point_index, batch->point_index, cb) ||
+                       !engine->readback(engine->control, batch->ray_count, cb))) {
+    return false;
   }
   if (engine->copy) {
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT,
@@ -192,7 +193,7 @@ XrResult test_engine(void* user, const XrFoveatedDeviceRayBatchFOVEART* batch) {
     vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
                          0, nullptr);
   }
-  return XR_SUCCESS;
+  return true;
 }
 
 uint32_t bits_of(float f) {
@@ -201,7 +202,7 @@ uint32_t bits_of(float f) {
   return b;
 }
 
-class GpuDeviceTraceTest : public ::testing::Test {
+class DeviceTraceTest : public ::testing::Test {
  protected:
   static void TearDownTestSuite() { vulkan_.reset(); }
   void SetUp() override {
@@ -212,7 +213,7 @@ class GpuDeviceTraceTest : public ::testing::Test {
     ASSERT_TRUE(vulkan_->ok()) << "no Vulkan device (mesa-vulkan-drivers brings lavapipe)";
     ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
     std::string error;
-    gpu_ = GpuReconstructor::create(vulkan_->device(), &error);
+    gpu_ = Reconstructor::create(vulkan_->device(), &error);
     ASSERT_NE(gpu_, nullptr) << error;
     vkGetPhysicalDeviceMemoryProperties(vulkan_->device().physical_device, &memory_);
     engine_.device = vulkan_->device().device;
@@ -242,7 +243,7 @@ class GpuDeviceTraceTest : public ::testing::Test {
     foveation::Executor executor(2);
     EXPECT_TRUE(view.plan(req, executor).ok());
     DeviceTraceFrame device;
-    device.engine = DeviceTraceFn{&test_engine, &engine_};
+    device.engine = [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); };
     device.points = &tables_->points;
     device.view = req.view;
     device.mapping = view.hand_off().mapping;
@@ -250,7 +251,7 @@ class GpuDeviceTraceTest : public ::testing::Test {
     device.sample_seed = view.hand_off().sample_seed;
     device.rays_per_point = uint32_t(view.settings().rays_per_point);
     device.pixel_filter = view.settings().pixel_filter;
-    GpuFrame frame = GpuFrame::of(*gpu_tables_, view.hand_off(), true);
+    EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
     frame.device = &device;
     return gpu_->submit_and_wait(
         [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
@@ -261,27 +262,27 @@ class GpuDeviceTraceTest : public ::testing::Test {
                       void* user, std::string* error) {
     foveation::Executor executor(2);
     EXPECT_TRUE(view.render(req, trace, user, executor).ok());
-    GpuFrame frame = GpuFrame::of(*gpu_tables_, view.hand_off(), true);
+    EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
     return gpu_->submit_and_wait(
         [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
   }
 
   static std::unique_ptr<HeadlessVulkan> vulkan_;
   VkPhysicalDeviceMemoryProperties memory_{};
-  std::unique_ptr<GpuReconstructor> gpu_;
+  std::unique_ptr<Reconstructor> gpu_;
   std::shared_ptr<const foveation::ViewTables> tables_;
-  std::shared_ptr<GpuTables> gpu_tables_;
-  std::unique_ptr<GpuEye> eye_;
+  std::shared_ptr<Tables> gpu_tables_;
+  std::unique_ptr<Eye> eye_;
   foveation::ViewSettings settings_;
   TestEngine engine_;
 };
-std::unique_ptr<HeadlessVulkan> GpuDeviceTraceTest::vulkan_;
+std::unique_ptr<HeadlessVulkan> DeviceTraceTest::vulkan_;
 
 // Stages 1-2 on the device give the CPU's points and rays: the same visible
 // points, each with its samples in order. A pixel-grid point's jitter is
 // bit-exact (integer hashing); a disc point's rounds its uniforms to float
 // (1e-3 px is a thousandth of a pixel); directions follow within 1e-5.
-TEST_F(GpuDeviceTraceTest, DeviceRaysAreTheCpuRays) {
+TEST_F(DeviceTraceTest, DeviceRaysAreTheCpuRays) {
   for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(3, 77)}) {  // centred, and a corner (margin points left of 0)
     CpuRays cpu;
     foveation::FoveatedView cpu_view(tables_, settings_);
@@ -297,8 +298,8 @@ TEST_F(GpuDeviceTraceTest, DeviceRaysAreTheCpuRays) {
     EXPECT_EQ(control[1], (count + 63) / 64);  // dispatch64
     EXPECT_EQ(control[2], 1u);
     EXPECT_EQ(control[4], count);  // trace rays: count x 1 x 1
-    EXPECT_LE(count, engine_.last.rayCapacity);
-    EXPECT_EQ(engine_.last.raysPerPoint, kRaysPerPoint);
+    EXPECT_LE(count, engine_.last.ray_capacity);
+    EXPECT_EQ(engine_.last.rays_per_point, kRaysPerPoint);
     const auto* rays = static_cast<const float*>(engine_.rays.mapped);
     const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
     float worst_px = 0.0f, worst_dir = 0.0f;
@@ -332,11 +333,53 @@ TEST_F(GpuDeviceTraceTest, DeviceRaysAreTheCpuRays) {
   }
 }
 
+// The ray order is deterministic: the visible points are compacted in the
+// point set's order (device_rays.comp: per-block counts by subgroup ballots,
+// a scan, the writes), so two runs of the same frame give the same ray and
+// point-index buffers byte for byte, each point's rays consecutive and the
+// points in increasing index order, over many blocks of points and a partly
+// visible one at the corner.
+TEST_F(DeviceTraceTest, RaysAreInThePointSetOrderAndTheSameOnEveryRun) {
+  ASSERT_GT(tables_->points.size(), 4u * FOVEART_DEVICE_RAYS_BLOCK) << "the frame spans several blocks";
+  engine_.copy = true;
+  for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(3, 77)}) {
+    std::vector<uint8_t> first_rays, first_points;
+    for (int run = 0; run < 3; ++run) {
+      foveation::FoveatedView view(tables_, settings_);
+      std::string error;
+      ASSERT_TRUE(device_frame(view, request(gaze, 11), &error)) << error;
+      const uint32_t count = static_cast<const uint32_t*>(engine_.control.mapped)[0];
+      ASSERT_GT(count, 0u);
+      const auto* rays = static_cast<const uint8_t*>(engine_.rays.mapped);
+      const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
+      std::vector<uint8_t> ray_bytes(rays, rays + std::size_t(count) * sizeof(shader::DeviceRay));
+      std::vector<uint8_t> point_bytes(reinterpret_cast<const uint8_t*>(points),
+                                       reinterpret_cast<const uint8_t*>(points + count));
+      for (uint32_t r = 0; r < count; ++r) {
+        if (r % kRaysPerPoint != 0) {
+          ASSERT_EQ(points[r], points[r - 1]) << "ray " << r << ": a point's rays are consecutive";
+        } else if (r > 0) {
+          ASSERT_GT(points[r], points[r - 1]) << "ray " << r << ": points in the set's order";
+        }
+      }
+      if (run == 0) {
+        first_rays = std::move(ray_bytes);
+        first_points = std::move(point_bytes);
+        continue;
+      }
+      EXPECT_EQ(ray_bytes, first_rays) << "run " << run << " gave other rays";
+      EXPECT_EQ(point_bytes, first_points) << "run " << run << " gave another point order";
+    }
+  }
+  engine_.copy = false;
+  for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control}) destroy_buffer(engine_.device, b);
+}
+
 // Colours resolved on the device reconstruct as the callback's: a device
 // frame and a CPU-callback frame whose engines both answer each ray with its
 // direction (and its screen y as depth) give the same image, within one 8-bit
 // step (the directions agree within 1e-5), with an image history over a gaze jump.
-TEST_F(GpuDeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
+TEST_F(DeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
   settings_.temporal = foveation::TemporalMode::image;
   engine_.answer = TestEngine::Answer::direction;
   foveation::FoveatedView device_view(tables_, settings_), callback_view(tables_, settings_);
@@ -368,18 +411,18 @@ TEST_F(GpuDeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
 // Per frame the device path writes nothing to host memory and reads back the
 // resolve's status and the stage timestamps only; the callback path uploads
 // every traced point's colour.
-TEST_F(GpuDeviceTraceTest, OnlyConstantsCrossToTheHost) {
+TEST_F(DeviceTraceTest, OnlyConstantsCrossToTheHost) {
   foveation::FoveatedView device_view(tables_, settings_), callback_view(tables_, settings_);
   std::string error;
   for (uint64_t i = 0; i < 2; ++i) {
     ASSERT_TRUE(device_frame(device_view, request(glm::vec2(48, 40), i), &error)) << error;
-    GpuStageTimes times;
+    StageTimes times;
     EXPECT_TRUE(eye_->stage_times(&times));
     const DeviceTraceStatus status = eye_->device_trace_status();
     EXPECT_GT(status.visible_points, 0u);
     // The first frame of a table set copies its points up once (16 bytes each).
     EXPECT_EQ(eye_->host_bytes_written(), i == 0 ? tables_->points.size() * 16 : 0u);
-    EXPECT_EQ(eye_->host_bytes_read(), FOVEART_DEVICE_STATUS_WORDS * 4 + 5 * sizeof(uint64_t));
+    EXPECT_EQ(eye_->host_bytes_read(), FOVEART_DEVICE_STATUS_WORDS * 4 + StageTimes::kTimestamps * sizeof(uint64_t));
   }
   ASSERT_TRUE(callback_frame(callback_view, request(glm::vec2(48, 40), 2), &constant_colour, nullptr, &error)) << error;
   EXPECT_GE(eye_->host_bytes_written(), 20u * 1000u);  // (index, rgb, depth) per traced point
@@ -388,12 +431,12 @@ TEST_F(GpuDeviceTraceTest, OnlyConstantsCrossToTheHost) {
 // The engine's faults: an error (nothing is submitted), NaN or negative
 // colours, and a trace that records nothing (its rays stay NaN) are found on
 // the device and counted per colour component.
-TEST_F(GpuDeviceTraceTest, EngineFaultsAreFoundAndCounted) {
+TEST_F(DeviceTraceTest, EngineFaultsAreFoundAndCounted) {
   foveation::FoveatedView view(tables_, settings_);
   std::string error;
   engine_.answer = TestEngine::Answer::error;
   EXPECT_FALSE(device_frame(view, request(glm::vec2(48, 40), 1), &error));
-  EXPECT_EQ(eye_->device_trace_result(), XR_ERROR_RUNTIME_FAILURE);
+  EXPECT_EQ(engine_.calls, 1u);
   EXPECT_NE(error.find("device trace"), std::string::npos) << error;
 
   engine_.answer = TestEngine::Answer::fill;
@@ -401,7 +444,6 @@ TEST_F(GpuDeviceTraceTest, EngineFaultsAreFoundAndCounted) {
   const uint32_t visible = eye_->device_trace_status().visible_points;
   ASSERT_GT(visible, 0u);
   EXPECT_EQ(eye_->device_trace_status().invalid_components, 0u);
-  EXPECT_EQ(eye_->device_trace_result(), XR_SUCCESS);
 
   const uint64_t components = uint64_t(visible) * kRaysPerPoint * 3;
   for (uint32_t bits : {0x7FC00000u /* NaN */, 0x7F800000u /* +inf */, bits_of(-0.5f)}) {
@@ -415,4 +457,4 @@ TEST_F(GpuDeviceTraceTest, EngineFaultsAreFoundAndCounted) {
 }
 
 }  // namespace
-}  // namespace foveart::layer
+}  // namespace foveart::gpu

@@ -10,7 +10,7 @@
 // buffers grown by half again whenever a frame needs more, the kept rays
 // copied over: about max_age_frames x the rays a frame traces (RayCacheOptions).
 //
-// Threads: as GpuEye (one thread at a time). The kept count is read back from
+// Threads: as Eye (one thread at a time). The kept count is read back from
 // the last submission, so each frame's submission must have finished before
 // the next record (the layer waits for it in xrEndFrame). Nothing here throws.
 #pragma once
@@ -27,13 +27,14 @@
 #include "foveation/executor.hpp"
 #include "foveation/ray_cache.hpp"
 #include "foveation/ray_trace.h"
-#include "vk_util.hpp"
+#include "gpu/context.hpp"
+#include "gpu/vk_util.hpp"
 
-namespace foveart::layer {
+namespace foveart::gpu {
 
 // What one eye's frame gives the cache (foveation::FrameHandOff: the traced
 // rays, and the ray history's pixels and restart).
-struct GpuRayCacheFrame {
+struct RayCacheFrame {
   const std::vector<std::vector<foveation::TracedRay>>* rays = nullptr;
   const std::vector<glm::vec2>* pixels = nullptr;  // per screen pixel: footprint, covering distance
   bool restart = true;                             // forget every kept ray first
@@ -42,16 +43,22 @@ struct GpuRayCacheFrame {
 };
 
 // The pipelines, shared by the eyes of one device.
-class GpuRayCachePipelines {
+class RayCachePipelines {
  public:
-  static std::unique_ptr<GpuRayCachePipelines> create(VkDevice device, std::string* error);
-  ~GpuRayCachePipelines();
-  GpuRayCachePipelines(const GpuRayCachePipelines&) = delete;
-  GpuRayCachePipelines& operator=(const GpuRayCachePipelines&) = delete;
+  static std::unique_ptr<RayCachePipelines> create(VkDevice device, std::string* error);
+  ~RayCachePipelines();
+  RayCachePipelines(const RayCachePipelines&) = delete;
+  RayCachePipelines& operator=(const RayCachePipelines&) = delete;
+
+  VkDescriptorSetLayout set_layout() const { return set_layout_; }
+  VkPipelineLayout layout() const { return layout_; }
+  VkPipeline rays() const { return rays_; }
+  VkPipeline scan() const { return scan_; }
+  VkPipeline bin() const { return bin_; }
+  VkPipeline filter() const { return filter_; }
 
  private:
-  friend class GpuRayCache;
-  GpuRayCachePipelines() = default;
+  RayCachePipelines() = default;
   VkDevice device_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
@@ -59,19 +66,21 @@ class GpuRayCachePipelines {
 };
 
 // One eye's cache.
-class GpuRayCache {
+class RayCache {
  public:
-  GpuRayCache(const GpuRayCachePipelines& pipelines, const VkPhysicalDeviceMemoryProperties& memory_properties,
-              VkBuffer current, std::uint32_t width_px, std::uint32_t height_px, VkDeviceSize max_buffer_bytes);
-  ~GpuRayCache();
-  GpuRayCache(const GpuRayCache&) = delete;
-  GpuRayCache& operator=(const GpuRayCache&) = delete;
+  // `current`: the eye's gather (one vec4 per pixel), which the cache's frame
+  // overwrites; max_buffer_bytes: the largest buffer (0: the device's maxStorageBufferRange).
+  RayCache(const Context& context, const RayCachePipelines& pipelines, VkBuffer current, std::uint32_t width_px,
+           std::uint32_t height_px, VkDeviceSize max_buffer_bytes = 0);
+  ~RayCache();
+  RayCache(const RayCache&) = delete;
+  RayCache& operator=(const RayCache&) = delete;
 
   // Writes the frame's rays and pixels into the upload buffers and records
   // the cache's passes into `cb`: they read the gather in `current` (the
   // eye's, one vec4 per pixel) and write the frame over it where a ray
   // reaches. Leaves `cb` with the cache's pipeline layout bound.
-  [[nodiscard]] bool record(VkCommandBuffer cb, const GpuRayCacheFrame& frame, const FoveartEyeView& view,
+  [[nodiscard]] bool record(VkCommandBuffer cb, const RayCacheFrame& frame, const FoveartEyeView& view,
               foveation::Executor& executor, std::string* error);
   // The rays kept after the last finished submission.
   std::size_t kept_rays() const;
@@ -85,8 +94,9 @@ class GpuRayCache {
   [[nodiscard]] bool make(Buffer& b, VkDeviceSize size, bool host_visible, std::string* error);
   void destroy(Buffer& b);
 
-  const GpuRayCachePipelines& pipelines_;
-  VkPhysicalDeviceMemoryProperties memory_properties_;
+  const Context& context_;
+  const RayCachePipelines& pipelines_;
+  VkDevice device_ = VK_NULL_HANDLE;
   VkDeviceSize max_buffer_bytes_ = 0;  // maxStorageBufferRange
   VkBuffer current_ = VK_NULL_HANDLE;
   std::uint32_t width_px_ = 0, height_px_ = 0, cells_x_ = 0, cells_y_ = 0;
@@ -100,4 +110,4 @@ class GpuRayCache {
   bool descriptors_stale_ = false;  // a buffer was replaced since the sets were written
 };
 
-}  // namespace foveart::layer
+}  // namespace foveart::gpu

@@ -1,5 +1,6 @@
-// Small helpers the layer's Vulkan code shares: a zeroed struct with its
-// sType set, and the message for a failed call.
+// Small helpers every device stage (and the layer's swapchain upload) shares:
+// a zeroed struct with its sType set, the message for a failed call, buffers,
+// barriers, storage-buffer pipelines and the copy into a swapchain image.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -8,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-namespace foveart::layer {
+namespace foveart::gpu {
 
 template <class T>
 T vk_struct(VkStructureType type) {
@@ -69,4 +70,9 @@ void write_storage_descriptors(VkDevice device, VkDescriptorSet set, const VkDes
 [[nodiscard]] bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
                              VkPipeline* pipeline, std::string* error);
 
-}  // namespace foveart::layer
+// Records the copy of tightly packed RGBA8 texels in `buffer` into `image`
+// (any previous layout; every texel is overwritten), leaving it in
+// COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
+void record_copy_to_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px, uint32_t height_px);
+
+}  // namespace foveart::gpu

@@ -17,11 +17,11 @@
 #include <vector>
 
 #include "foveation/foveated_view.hpp"
-#include "foveation/shader_constants.h"
+#include "gpu/shader_interface/table_chunks.h"
 
-namespace foveart::layer {
+namespace foveart::gpu {
 
-// Word offsets in a chunk's header (foveation/shader_constants.h; shaders/common.glsl names them H_*).
+// Word offsets in a chunk's header (gpu/shader_interface/table_chunks.h; shaders/common.glsl names them H_*).
 enum ChunkHeader : std::uint32_t {
   kFirstRow = FOVEART_CHUNK_FIRST_ROW,
   kEndRow = FOVEART_CHUNK_END_ROW,
@@ -38,15 +38,15 @@ enum ChunkHeader : std::uint32_t {
   kHeaderWords = FOVEART_CHUNK_HEADER_WORDS,
 };
 
-inline constexpr std::size_t kMaxGpuChunks = FOVEART_MAX_TABLE_CHUNKS;
+inline constexpr std::size_t kMaxTableChunks = FOVEART_MAX_TABLE_CHUNKS;
 
-struct GpuTableChunk {
+struct TableChunk {
   std::uint32_t first_row = 0;  // canvas tile rows [first_row, end_row)
   std::uint32_t end_row = 0;
   std::vector<std::uint32_t> words;
 };
 
-struct GpuTablePack {
+struct TablePack {
   bool weighted = false;  // MSM / RBF through the gather layout; false: NN
   bool f16 = false;       // weights as IEEE half
   bool rbf = false;
@@ -54,17 +54,17 @@ struct GpuTablePack {
   int neighbor_k = 1;     // neighbour-table entries per pixel (NN)
   int canvas_width_px = 0;
   int canvas_height_px = 0;
-  std::vector<GpuTableChunk> chunks;
+  std::vector<TableChunk> chunks;
   std::size_t bytes() const;
 };
 
 // Why the shaders cannot reconstruct with these tables; empty when they can
 // (plain RBF without a constant term, whose gain needs per-pixel sums, stays on the CPU).
-std::string gpu_tables_unsupported(const foveation::ViewTables& tables);
+std::string tables_unsupported(const foveation::ViewTables& tables);
 
 // The chunks of `tables`; false with *error when they are unsupported or a
-// tile row does not fit max_chunk_bytes, or more than kMaxGpuChunks are needed.
-[[nodiscard]] bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, GpuTablePack* out,
+// tile row does not fit max_chunk_bytes, or more than kMaxTableChunks are needed.
+[[nodiscard]] bool pack_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, TablePack* out,
                      std::string* error);
 
-}  // namespace foveart::layer
+}  // namespace foveart::gpu

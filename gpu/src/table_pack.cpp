@@ -1,9 +1,9 @@
-#include "gpu_tables.hpp"
+#include "gpu/table_pack.hpp"
 
 #include <algorithm>
 #include <cstring>
 
-namespace foveart::layer {
+namespace foveart::gpu {
 namespace {
 
 std::size_t words_of_bytes(std::size_t bytes) { return (bytes + 3) / 4; }
@@ -23,9 +23,9 @@ struct RowSpan {
 };
 
 // The pack's description of the tables, without chunks.
-GpuTablePack pack_description(const foveation::ViewTables& tables) {
+TablePack pack_description(const foveation::ViewTables& tables) {
   const foveation::InterpolationTable& t = tables.interpolation;
-  GpuTablePack pack;
+  TablePack pack;
   pack.weighted = t.has_weights();
   pack.f16 = t.precision == foveation::WeightPrecision::f16;
   pack.rbf = t.is_rbf();
@@ -38,7 +38,7 @@ GpuTablePack pack_description(const foveation::ViewTables& tables) {
 
 // The canvas as rows of 8x8 tiles, and what a run of them takes in a chunk.
 struct TileRows {
-  TileRows(const foveation::ViewTables& tables, const GpuTablePack& description)
+  TileRows(const foveation::ViewTables& tables, const TablePack& description)
       : pack(description),
         l(tables.interpolation.layout),
         width(description.canvas_width_px),
@@ -80,18 +80,18 @@ struct TileRows {
     return r1;
   }
 
-  const GpuTablePack& pack;
+  const TablePack& pack;
   const foveation::GatherLayout& l;
   int width, height, tiles_x, rows;
   std::size_t weight_bytes;
 };
 
 // The chunk of tile rows [r0, r1): its header, then the weighted tables' sections or the neighbours.
-GpuTableChunk pack_chunk(const foveation::ViewTables& tables, const GpuTablePack& pack, const TileRows& rows, int r0,
+TableChunk pack_chunk(const foveation::ViewTables& tables, const TablePack& pack, const TileRows& rows, int r0,
                          int r1, const RowSpan& total) {
   const foveation::InterpolationTable& t = tables.interpolation;
   const foveation::GatherLayout& l = t.layout;
-  GpuTableChunk chunk;
+  TableChunk chunk;
   chunk.first_row = std::uint32_t(r0);
   chunk.end_row = std::uint32_t(r1);
   auto& w = chunk.words;
@@ -126,13 +126,13 @@ GpuTableChunk pack_chunk(const foveation::ViewTables& tables, const GpuTablePack
 
 }  // namespace
 
-std::size_t GpuTablePack::bytes() const {
+std::size_t TablePack::bytes() const {
   std::size_t n = 0;
   for (const auto& c : chunks) n += c.words.size() * 4;
   return n;
 }
 
-std::string gpu_tables_unsupported(const foveation::ViewTables& tables) {
+std::string tables_unsupported(const foveation::ViewTables& tables) {
   const auto& t = tables.interpolation;
   if (t.has_weights() && !t.normalized()) {
     return "plain RBF (no constant term) keeps a per-pixel gain the shaders do not apply";
@@ -143,10 +143,10 @@ std::string gpu_tables_unsupported(const foveation::ViewTables& tables) {
   return {};
 }
 
-bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, GpuTablePack* out,
+bool pack_tables(const foveation::ViewTables& tables, std::size_t max_chunk_bytes, TablePack* out,
                      std::string* error) {
-  if (std::string why = gpu_tables_unsupported(tables); !why.empty()) return *error = why, false;
-  GpuTablePack pack = pack_description(tables);
+  if (std::string why = tables_unsupported(tables); !why.empty()) return *error = why, false;
+  TablePack pack = pack_description(tables);
   const TileRows rows(tables, pack);
   for (int r0 = 0; r0 < rows.rows;) {
     RowSpan total;
@@ -156,8 +156,8 @@ bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_
                       " bytes, more than a storage buffer's " + std::to_string(max_chunk_bytes),
              false;
     }
-    if (pack.chunks.size() == kMaxGpuChunks) {
-      return *error = "the tables need more than " + std::to_string(kMaxGpuChunks) + " buffers of " +
+    if (pack.chunks.size() == kMaxTableChunks) {
+      return *error = "the tables need more than " + std::to_string(kMaxTableChunks) + " buffers of " +
                       std::to_string(max_chunk_bytes) + " bytes",
              false;
     }
@@ -168,4 +168,4 @@ bool pack_gpu_tables(const foveation::ViewTables& tables, std::size_t max_chunk_
   return true;
 }
 
-}  // namespace foveart::layer
+}  // namespace foveart::gpu

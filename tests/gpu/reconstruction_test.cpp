@@ -1,4 +1,4 @@
-// The GPU reconstruction (shaders/, layer/src/gpu_*) against its CPU
+// The GPU reconstruction (shaders/, gpu/) against its CPU
 // reference, on a hardware GPU where the machine has one (GpuMatchesCpu's
 // needs_real_gpu cases, registered only there) and on lavapipe: the same frames of foveation::FoveatedView, once
 // reconstructed, accumulated and encoded by foveation (CPU) and once by the
@@ -23,16 +23,20 @@
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
-#include "gpu_reconstruction.hpp"
-#include "gpu_tables.hpp"
+#include "gpu/reconstructor.hpp"
+#include "gpu/table_pack.hpp"
+#include "gpu/vk_util.hpp"
 #include "headless_vulkan.hpp"
-#include "vk_util.hpp"
 #include "icd_pin.h"
 #include "analytic_scene.hpp"
 #include "history_kinds.hpp"
 
-namespace foveart::layer {
+namespace foveart::gpu {
 namespace {
+
+using layer::DevicePreference;
+using layer::HeadlessVulkan;
+using layer::hardware_gpu_name;
 
 using foveation::InterpMethod;
 
@@ -124,7 +128,7 @@ class GpuReconstruction : public ::testing::Test {
     }
     ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
     std::string error;
-    gpu_ = GpuReconstructor::create(vulkan_->device(), &error);
+    gpu_ = Reconstructor::create(vulkan_->device(), &error);
     ASSERT_NE(gpu_, nullptr) << error;
   }
   void TearDown() override {
@@ -176,12 +180,12 @@ class GpuReconstruction : public ::testing::Test {
       std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
       foveation::encode_rgba8(cpu_view.image(), true, display_, expected.data(), executor);
 
-      GpuFrame frame = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);
+      EyeFrame frame = EyeFrame::of(*gpu_tables, gpu_view.hand_off(), true);
       frame.display = display_;
       EXPECT_TRUE(gpu_->submit_and_wait(
           [&](VkCommandBuffer cb) { return gpu_eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error))
           << error;
-      GpuStageTimes times;
+      StageTimes times;
       EXPECT_TRUE(gpu_eye->stage_times(&times));  // lavapipe has timestamps
       if (gpu_cached_rays != nullptr) gpu_cached_rays->push_back(gpu_eye->cached_rays());
       std::vector<uint8_t> actual;
@@ -197,7 +201,7 @@ class GpuReconstruction : public ::testing::Test {
 
   static std::unique_ptr<HeadlessVulkan> vulkans_[2];  // [0] hardware GPU, [1] lavapipe; made on first use
   HeadlessVulkan* vulkan_ = nullptr;                   // this test's
-  std::unique_ptr<GpuReconstructor> gpu_;
+  std::unique_ptr<Reconstructor> gpu_;
   int rays_per_point_ = 1;  // for run()'s views
   bool mean_while_young_ = false;  // for run()'s views: TemporalOptions::mean_while_young
   foveation::test::HistoryKind history_kind_ = foveation::test::HistoryKind::reproject;  // for run()'s views
@@ -407,8 +411,8 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
   settings.reconstruct_on_cpu = false;
   foveation::FoveatedView view(small_tables(InterpMethod::msm, 5), settings);
   std::string error;
-  const GpuDevice device = vulkan_->device();
-  auto pipelines = GpuRayCachePipelines::create(device.device, &error);
+  const Device device = vulkan_->device();
+  auto pipelines = RayCachePipelines::create(device.device, &error);
   ASSERT_NE(pipelines, nullptr) << error;
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(device.physical_device, &memory);
@@ -419,7 +423,7 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
       << error;
   constexpr std::size_t kLimitRays = 40000;  // 32-byte anchors: about 6 frames of this view's rays
   {
-    GpuRayCache cache(*pipelines, memory, current, kW, kH, kLimitRays * 32);
+    RayCache cache(gpu_->context(), *pipelines, current, kW, kH, kLimitRays * 32);
     foveation::Executor executor(2);
     std::size_t frames_recorded = 0, last_kept = 0;
     bool refused = false;
@@ -427,7 +431,7 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
       const foveation::FrameRequest req = request(0, {48, 40}, uint64_t(i + 1));
       const auto result = view.render(req, scene, nullptr, executor);
       ASSERT_TRUE(result.ok());
-      GpuRayCacheFrame frame;
+      RayCacheFrame frame;
       frame.rays = &view.hand_off().traced->rays;
       frame.pixels = view.hand_off().temporal.ray_pixels;
       frame.restart = result.ray_cache_restart;
@@ -454,17 +458,17 @@ TEST_F(GpuReconstruction, RayCacheGrowsToTheDeviceLimitAndRefusesBeyondIt) {
 // Tables cut into many small buffers give the same bits as one buffer.
 TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
   for (Case c : {Case{InterpMethod::nearest, 1, DevicePreference::cpu}, Case{InterpMethod::rbf, 20, DevicePreference::cpu}}) {
-    GpuTablePack whole;
+    TablePack whole;
     std::string error;
-    ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), 1u << 30, &whole, &error)) << error;
+    ASSERT_TRUE(pack_tables(*small_tables(c.method, c.k), 1u << 30, &whole, &error)) << error;
     ASSERT_EQ(whole.chunks.size(), 1u);
     const std::size_t small = whole.bytes() / 6;
     std::vector<std::vector<uint8_t>> one, many;
     auto at = [](int) { return request(0, glm::vec2(30, 50), 1); };
     run(c.method, c.k, false, 1, at, 0, &one);
     run(c.method, c.k, false, 1, at, small, &many);
-    GpuTablePack cut;
-    ASSERT_TRUE(pack_gpu_tables(*small_tables(c.method, c.k), small, &cut, &error)) << error;
+    TablePack cut;
+    ASSERT_TRUE(pack_tables(*small_tables(c.method, c.k), small, &cut, &error)) << error;
     EXPECT_GE(cut.chunks.size(), 6u);
     for (std::size_t i = 1; i < cut.chunks.size(); ++i) EXPECT_EQ(cut.chunks[i].first_row, cut.chunks[i - 1].end_row);
     ASSERT_EQ(one.size(), 1u);
@@ -473,16 +477,16 @@ TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
   }
 }
 
-TEST(GpuTables, RefusesWhatTheShadersCannotRead) {
-  GpuTablePack pack;
+TEST(Tables, RefusesWhatTheShadersCannotRead) {
+  TablePack pack;
   std::string error;
   // A tile row larger than the buffer limit.
-  EXPECT_FALSE(pack_gpu_tables(*small_tables(InterpMethod::msm, 5), 1024, &pack, &error));
+  EXPECT_FALSE(pack_tables(*small_tables(InterpMethod::msm, 5), 1024, &pack, &error));
   EXPECT_NE(error.find("one row of 8x8 canvas tiles"), std::string::npos) << error;
-  // More than kMaxGpuChunks buffers.
-  GpuTablePack whole;
-  ASSERT_TRUE(pack_gpu_tables(*small_tables(InterpMethod::msm, 5), 1u << 30, &whole, &error));
-  EXPECT_FALSE(pack_gpu_tables(*small_tables(InterpMethod::msm, 5), whole.bytes() / 18, &pack, &error));
+  // More than kMaxTableChunks buffers.
+  TablePack whole;
+  ASSERT_TRUE(pack_tables(*small_tables(InterpMethod::msm, 5), 1u << 30, &whole, &error));
+  EXPECT_FALSE(pack_tables(*small_tables(InterpMethod::msm, 5), whole.bytes() / 18, &pack, &error));
   EXPECT_NE(error.find("more than 16 buffers"), std::string::npos) << error;
   // Plain RBF keeps a per-pixel gain.
   foveation::PointSetKey key;
@@ -494,9 +498,9 @@ TEST(GpuTables, RefusesWhatTheShadersCannotRead) {
   plain.constant_term = false;
   foveation::Executor executor(2);
   const auto tables = foveation::load_view_tables(std::nullopt, key, plain, executor);
-  EXPECT_FALSE(pack_gpu_tables(*tables, 1u << 30, &pack, &error));
+  EXPECT_FALSE(pack_tables(*tables, 1u << 30, &pack, &error));
   EXPECT_NE(error.find("plain RBF"), std::string::npos) << error;
 }
 
 }  // namespace
-}  // namespace foveart::layer
+}  // namespace foveart::gpu
