@@ -1,6 +1,7 @@
 // The scene flattened into the shader's std430 storage buffers (trace_core.glsl
 // declares the same structs): triangles, per-triangle shading data, materials,
-// lights, textures (all texels in one array) and the scene constants.
+// lights, the scene constants, and which textures the materials sample (the
+// images themselves: scene_textures.hpp).
 #pragma once
 
 #include "bvh.hpp"
@@ -43,7 +44,7 @@ struct GpuMaterial {
   float alpha_cutoff;
   float transmission;
   float ior;
-  int32_t texture;   // -1: none
+  int32_t texture;   // slot in scene_textures (SceneData::texture_slots), -1: none
   int32_t texcoord;  // 0 or 1
   int32_t alpha_mode;
   int32_t pad;
@@ -63,13 +64,6 @@ struct GpuLight {
 };
 static_assert(sizeof(GpuLight) == 64);
 
-struct GpuTexture {
-  uint32_t offset;  // first texel in the texel buffer
-  uint32_t width;
-  uint32_t height;
-  uint32_t flags;   // wrap_s | wrap_t << 2 | nearest << 4
-};
-
 struct GpuGlobals {
   float sky_zenith[3];
   float epsilon;
@@ -86,8 +80,7 @@ struct SceneData {
   std::vector<GpuShading> shading;
   std::vector<GpuMaterial> materials;
   std::vector<GpuLight> lights;
-  std::vector<GpuTexture> textures;
-  std::vector<float> texels;  // RGBA
+  std::vector<uint32_t> texture_slots;  // per slot: its index into Scene::textures (those a material samples)
   GpuGlobals globals{};
   engine::Effects scene_effects;
 };
