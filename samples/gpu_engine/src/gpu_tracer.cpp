@@ -319,16 +319,20 @@ bool GpuTracer::Impl::upload_scene(const SceneData& data, std::string* error) {
     size_t bytes;
   };
   const std::vector<uint32_t>& prims = rt ? rt->scene().prims() : data.bvh.prims;
+  Uploader uploader(ctx.physical_device, ctx.device, ctx.queue_family_index, ctx.queue);
+  if (!textures.create(ledger, uploader, scene, data.texture_slots, error)) return false;
+  std::vector<GpuMaterial> materials = data.materials;  // + how each texture is stored
+  for (GpuMaterial& m : materials)
+    if (m.texture >= 0 && textures.srgb8(static_cast<uint32_t>(m.texture))) m.texture_flags |= kTextureSrgb8;
   const std::array<Upload, kCounterBinding> uploads = {
       rt ? Upload{nullptr, 0} : Upload{data.bvh.nodes.data(), data.bvh.nodes.size() * sizeof(GpuNode)},
       Upload{prims.data(), prims.size() * sizeof(uint32_t)},
       Upload{data.triangles.data(), data.triangles.size() * sizeof(GpuTriangle)},
       Upload{data.shading.data(), data.shading.size() * sizeof(GpuShading)},
-      Upload{data.materials.data(), data.materials.size() * sizeof(GpuMaterial)},
+      Upload{materials.data(), materials.size() * sizeof(GpuMaterial)},
       Upload{data.lights.data(), data.lights.size() * sizeof(GpuLight)},
       Upload{nullptr, 0},  // kTextureBinding: images
       Upload{&data.globals, sizeof(GpuGlobals)}};
-  Uploader uploader(ctx.physical_device, ctx.device, ctx.queue_family_index, ctx.queue);
   for (size_t i = 0; i < uploads.size(); ++i) {
     if (i == kTextureBinding) continue;
     if (uploads[i].bytes > limits.maxStorageBufferRange)
@@ -338,7 +342,6 @@ bool GpuTracer::Impl::upload_scene(const SceneData& data, std::string* error) {
         !uploader.buffer(buffers[i], uploads[i].data, uploads[i].bytes, error))
       return false;
   }
-  if (!textures.create(ledger, uploader, scene, data.texture_slots, error)) return false;
   return uploader.finish(error) &&
          counters.create(ctx.physical_device, ctx.device, 4 * sizeof(uint32_t), nullptr, error);  // zeroed
 }

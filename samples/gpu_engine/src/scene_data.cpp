@@ -94,6 +94,10 @@ void flatten_materials(const engine::Scene& scene, SceneData* out) {
     g.transmission = mat.transmission;
     g.ior = mat.ior;
     g.texture = mat.base_color_texture;
+    if (g.texture >= 0) {
+      const engine::Texture& t = scene.textures[static_cast<size_t>(g.texture)];
+      g.texture_flags = static_cast<uint32_t>(t.wrap_s) | static_cast<uint32_t>(t.wrap_t) << 2 | (t.nearest ? 16u : 0u);
+    }
     g.texcoord = mat.base_color_texcoord;
     g.alpha_mode = static_cast<int32_t>(mat.alpha_mode);
     out->materials.push_back(g);

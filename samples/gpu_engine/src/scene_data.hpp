@@ -47,9 +47,10 @@ struct GpuMaterial {
   int32_t texture;   // slot in scene_textures (SceneData::texture_slots), -1: none
   int32_t texcoord;  // 0 or 1
   int32_t alpha_mode;
-  int32_t pad;
+  uint32_t texture_flags;  // its texture's wrap_s | wrap_t << 2 | nearest << 4 | srgb8 << 5 (kTextureSrgb8)
 };
 static_assert(sizeof(GpuMaterial) == 64);
+inline constexpr uint32_t kTextureSrgb8 = 32;  // texture_flags: RGBA8 holding sRGB bytes (SceneTextures)
 
 struct GpuLight {
   float position[3];

@@ -1,11 +1,9 @@
 // SceneTextures: format choice (exact sRGB8 or float), images through staging,
-// samplers from the glTF sampler, the placeholder for unused slots.
+// the placeholder for unused slots.
 #include "scene_textures.hpp"
 #include "vk_helpers.hpp"
 
 #include <foveation/srgb.hpp>
-
-#include <glm/gtc/packing.hpp>
 
 #include <array>
 #include <cstring>
@@ -49,21 +47,6 @@ std::vector<uint8_t> exact_srgb8(const engine::Texture& t) {
   return out;
 }
 
-VkSamplerAddressMode address_mode(engine::WrapMode w) {
-  switch (w) {
-    case engine::WrapMode::kClamp: return VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
-    case engine::WrapMode::kMirror: return VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT;
-    case engine::WrapMode::kRepeat:
-    default: return VK_SAMPLER_ADDRESS_MODE_REPEAT;
-  }
-}
-
-bool filters_linearly(VkPhysicalDevice physical, VkFormat format) {
-  VkFormatProperties props{};
-  vkGetPhysicalDeviceFormatProperties(physical, format, &props);
-  return (props.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT) != 0;
-}
-
 }  // namespace
 
 SceneTextures::~SceneTextures() { destroy(); }
@@ -76,35 +59,28 @@ void SceneTextures::destroy() {
     if (i.image != VK_NULL_HANDLE) vkDestroyImage(d, i.image, nullptr);
     ledger_->release(&i.memory);
   }
-  for (auto& s : samplers_) vkDestroySampler(d, s.second, nullptr);
+  if (sampler_ != VK_NULL_HANDLE) vkDestroySampler(d, sampler_, nullptr);
+  sampler_ = VK_NULL_HANDLE;
   images_.clear();
-  samplers_.clear();
   ledger_.reset();
 }
 
-// The sampler for t's wrap modes and filter (shared by textures that agree). No
-// mips: level 0, as the CPU engine; magnification and minification alike.
-VkSampler SceneTextures::sampler(const engine::Texture& t, std::string* error) {
-  const uint32_t key = static_cast<uint32_t>(t.wrap_s) | static_cast<uint32_t>(t.wrap_t) << 2 | (t.nearest ? 16u : 0u);
-  for (const auto& s : samplers_)
-    if (s.first == key) return s.second;
+// The one sampler: the shaders fetch texels (texelFetch) and filter them
+// themselves, so it only has to be valid: nearest, clamped, level 0.
+VkSampler SceneTextures::sampler(std::string* error) {
+  if (sampler_ != VK_NULL_HANDLE) return sampler_;
   VkSamplerCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
-  info.magFilter = info.minFilter = t.nearest ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
+  info.magFilter = info.minFilter = VK_FILTER_NEAREST;
   info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
-  info.addressModeU = address_mode(t.wrap_s);
-  info.addressModeV = address_mode(t.wrap_t);
-  info.addressModeW = VK_SAMPLER_ADDRESS_MODE_REPEAT;
+  info.addressModeU = info.addressModeV = info.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   info.maxLod = 0.0f;
-  info.borderColor = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
-  VkSampler s = VK_NULL_HANDLE;
-  const VkResult r = vkCreateSampler(ledger_->device(), &info, nullptr, &s);
+  const VkResult r = vkCreateSampler(ledger_->device(), &info, nullptr, &sampler_);
   if (r != VK_SUCCESS) {
+    sampler_ = VK_NULL_HANDLE;
     fail(error, vk_error("vkCreateSampler", r));
-    return VK_NULL_HANDLE;
   }
-  samplers_.emplace_back(key, s);
-  return s;
+  return sampler_;
 }
 
 // One sampled image of one level, its memory from the ledger, uploaded, and its view.
@@ -158,32 +134,25 @@ bool SceneTextures::create(const std::shared_ptr<MemoryLedger>& ledger, Uploader
   if (used.size() > kTextureSlots)
     return fail(error, scene.source + ": the materials sample " + std::to_string(used.size()) +
                            " textures; the GPU engine binds at most " + std::to_string(kTextureSlots));
-  const bool float32 = filters_linearly(ledger->physical_device(), VK_FORMAT_R32G32B32A32_SFLOAT);
+  const VkSampler s = sampler(error);
+  if (s == VK_NULL_HANDLE) return false;
   for (uint32_t slot = 0; slot < used.size(); ++slot) {
     const engine::Texture& t = scene.textures[used[slot]];
-    const VkSampler s = sampler(t, error);
-    if (s == VK_NULL_HANDLE) return false;
     const std::vector<uint8_t> srgb = exact_srgb8(t);
     bool ok = false;
     if (!srgb.empty()) {
-      ++srgb8_;
-      ok = add_image(uploader, t.width, t.height, VK_FORMAT_R8G8B8A8_SRGB, srgb.data(), 4, error);
-    } else if (float32 || t.nearest) {
+      srgb8_.push_back(slot);
+      ok = add_image(uploader, t.width, t.height, VK_FORMAT_R8G8B8A8_UNORM, srgb.data(), 4, error);
+    } else {
       ok = add_image(uploader, t.width, t.height, VK_FORMAT_R32G32B32A32_SFLOAT, t.texels.data(), 16, error);
-    } else {  // RGBA16F: filterable on every Vulkan device
-      std::vector<uint16_t> half(t.texels.size() * 4);
-      for (size_t i = 0; i < half.size(); ++i) half[i] = glm::packHalf1x16(t.texels[i / 4][static_cast<int>(i % 4)]);
-      ok = add_image(uploader, t.width, t.height, VK_FORMAT_R16G16B16A16_SFLOAT, half.data(), 8, error);
     }
     if (!ok) return false;
     descriptors_[slot] = VkDescriptorImageInfo{s, images_.back().view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   }
   count_ = static_cast<uint32_t>(used.size());
   // The placeholder: one opaque white texel for the slots no material samples.
-  engine::Texture white;
   const uint8_t texel[4] = {255, 255, 255, 255};
-  const VkSampler s = sampler(white, error);
-  if (s == VK_NULL_HANDLE || !add_image(uploader, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, texel, 4, error)) return false;
+  if (!add_image(uploader, 1, 1, VK_FORMAT_R8G8B8A8_UNORM, texel, 4, error)) return false;
   for (uint32_t slot = count_; slot < kTextureSlots; ++slot)
     descriptors_[slot] = VkDescriptorImageInfo{s, images_.back().view, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   return true;
