@@ -136,8 +136,14 @@ bool SceneTextures::create(const std::shared_ptr<MemoryLedger>& ledger, Uploader
                            " textures; the GPU engine binds at most " + std::to_string(kTextureSlots));
   const VkSampler s = sampler(error);
   if (s == VK_NULL_HANDLE) return false;
+  VkPhysicalDeviceProperties props{};
+  vkGetPhysicalDeviceProperties(ledger->physical_device(), &props);
   for (uint32_t slot = 0; slot < used.size(); ++slot) {
     const engine::Texture& t = scene.textures[used[slot]];
+    if (t.width > props.limits.maxImageDimension2D || t.height > props.limits.maxImageDimension2D)
+      return fail(error, scene.source + ": texture " + std::to_string(used[slot]) + " (" + std::to_string(t.width) +
+                             "x" + std::to_string(t.height) + ") exceeds the device's maxImageDimension2D (" +
+                             std::to_string(props.limits.maxImageDimension2D) + ")");
     const std::vector<uint8_t> srgb = exact_srgb8(t);
     bool ok = false;
     if (!srgb.empty()) {
