@@ -11,22 +11,13 @@
 #include <stdexcept>
 #include <string>
 
-#include <nanoflann.hpp>
+#include "point_kd_tree.hpp"
 #include <sys/mman.h>
 
 namespace foveart::foveation {
 namespace {
 
-struct PointCloud {
-  const std::vector<glm::vec2>* pts;
-  std::size_t kdtree_get_point_count() const { return pts->size(); }
-  float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*pts)[i][int(dim)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const { return false; }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
-    nanoflann::L2_Simple_Adaptor<float, PointCloud, double>, PointCloud, 2, std::uint32_t>;
+using KdTree = PointKdTree<double>;
 
 // Pixels are processed in square tiles. Every pixel q of a tile with centre c
 // and half-diagonal h has its k nearest points within d_k(c) + 2h of c (they lie

@@ -7,27 +7,18 @@
 #include <numeric>
 #include <vector>
 
-#include <nanoflann.hpp>
+#include "point_kd_tree.hpp"
 
 namespace foveart::foveation {
 namespace {
 
-struct PointCloud {
-  const std::vector<glm::vec2>* pts;
-  std::size_t kdtree_get_point_count() const { return pts->size(); }
-  float kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*pts)[i][int(dim)]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const { return false; }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, PointCloud, float>,
-                                                   PointCloud, 2, std::uint32_t>;
+using LevelKdTree = PointKdTree<float>;
 
 constexpr std::uint8_t kUnassigned = 0xFF;
 
 // Level `l` takes, in the set's order, each unassigned point with no point of level <= l
 // within kLevelSpacing[l] times its radius. The pixel grid is level 0 whole.
-void assign_level(const PointSet& points, const KdTree& tree, std::uint8_t l, std::vector<std::uint8_t>& level) {
+void assign_level(const PointSet& points, const LevelKdTree& tree, std::uint8_t l, std::vector<std::uint8_t>& level) {
   std::vector<std::pair<std::uint32_t, float>> hits;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (level[i] != kUnassigned) continue;
@@ -56,7 +47,7 @@ void find_parents(const PointSet& points, PointLevels& out, Executor& executor) 
   out.parent_weight.assign(points.size(), {0.0f, 0.0f, 0.0f});
   if (coarse_px.empty()) return;
   PointCloud cloud{&coarse_px};
-  KdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  LevelKdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   constexpr std::size_t kChunk = 4096;
   executor.parallel_for((points.size() + kChunk - 1) / kChunk, [&](std::size_t chunk) {
@@ -87,7 +78,7 @@ PointLevels build_point_levels(const PointSet& points, Executor& executor) {
   PointLevels out;
   out.level.assign(points.size(), kUnassigned);
   PointCloud cloud{&points.position_px};
-  KdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  LevelKdTree tree(2, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   for (std::uint8_t l = 0; l < PointLevels::kFinest; ++l) assign_level(points, tree, l, out.level);
   for (std::uint8_t& l : out.level)

@@ -319,13 +319,10 @@ TEST_F(VkCountGpuPath, TheLayersHostCallsPerFrameStayAtTodaysCounts) {
   expect_steady_frames_within(frames, todays_gpu_path());
 }
 
-// The acceptance of the pipelined GPU path (not met today: see todays_gpu_path()):
-// per frame, no host wait on this frame's work and at most one submission for
-// both eyes, no map or invalidation. Enable by dropping DISABLED_ once the layer
-// is pipelined.
-TEST_F(VkCountGpuPath, DISABLED_PipelinedNoWaitOnThisFrameAndOneSubmissionForBothEyes) {
-  expect_steady_frames_within(run(), pipelined_acceptance());
-}
+// The pipelined GPU path's budget, pipelined_acceptance() (no host wait on this frame's
+// work, at most one submission for both eyes, no map or invalidation per frame), is not
+// met today: the test holding the layer to it comes with the pipelined frame; the probe's
+// tests above show the budget catches each kind of host call.
 
 }  // namespace
 }  // namespace foveart::vk_count

@@ -1,0 +1,114 @@
+// A perceptual foveated difference metric: per pixel, the probability that an observer
+// fixating the gaze point detects the difference between a test and a reference image
+// (docs/lab/perceptual_metric.md). A model built once per display evaluates many pairs.
+//
+// Model: luminance (cd/m^2) of both images through the display; band-limited contrast on
+// a Laplacian pyramid (Peli 1990); each band's contrast difference in threshold units
+// through the castleCSF sensitivity (castle_csf.hpp) at the band's frequency, the local
+// mean luminance and the pixel's eccentricity; contrast energy summed over the critical
+// area A_c(rho) (Rovamo et al. 1993, the area model castleCSF uses), so that a Gabor of
+// area A sums to castleCSF's sqrt(A / (A + A_c)); mutual contrast masking (the transducer
+// of FovVideoVDP / ColorVideoVDP, Mantiuk et al. 2021, 2024); energy (beta = 2) summation
+// over bands and a Weibull psychometric function, P = 1 - 0.5^(d^3.5) (probability
+// summation, Quick 1974; Robson & Graham 1981), P = 0.5 at d = 1.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "eval/castle_csf.hpp"
+#include "eval/contrast_pyramid.hpp"
+#include "foveation/display_model.hpp"
+#include "foveation/display_transform.hpp"
+#include "foveation/executor.hpp"
+#include "foveation/image.hpp"
+
+namespace foveart::eval {
+
+enum class Eye : bool { kRight = false, kLeft = true };  // which visual field (nasal / temporal) a side is
+
+// What the observer sees: pixels to degrees as the project maps them (display_model.hpp:
+// e = atan(d / D) around the gaze, D = pixels per degree * 180 / pi), and luminance.
+struct PerceptualDisplay {
+  double pixels_per_deg = 20.0;          // at the gaze point; > 0
+  double white_luminance_cd_m2 = 100.0;  // what display value 1.0 (white) emits; > 0
+  double black_luminance_cd_m2 = 0.1;    // what display value 0 emits (stray light, panel black); >= 0
+  // Radiance -> display values in [0, 1] (the lab's metrics use kClampOnly; a run's own
+  // transform may be given). Luminance = black + (white - black) x Rec. 709 Y of the display values.
+  foveation::DisplayTransform transform = foveation::kClampOnly;
+  Eye eye = Eye::kRight;
+};
+
+struct PerceptualOptions {
+  EccentricityTerm eccentricity = EccentricityTerm::kOn;  // kOff: the control without the drop
+  bool masking = true;
+};
+
+// One ring of metrics::kRingEdgesDeg.
+struct PerceptualRing {
+  double from_deg = 0.0;
+  double to_deg = std::numeric_limits<double>::infinity();
+  std::uint64_t pixels = 0;
+  double p_mean = 0.0;             // mean detection probability over the ring's pixels
+  double p_max = 0.0;              // largest
+  double detected_fraction = 0.0;  // share of pixels with P >= 0.5
+};
+
+struct PerceptualResult {
+  int width_px = 0;
+  int height_px = 0;
+  std::vector<float> p_detect;  // per pixel, row-major
+  std::vector<PerceptualRing> rings;
+  double p_mean = 0.0;
+  double p_max = 0.0;
+  double detected_fraction = 0.0;
+};
+
+class PerceptualMetric {
+ public:
+  // Builds the sensitivity tables for images up to max_width_px x max_height_px on `display`.
+  // `executor` (may be null) solves the tables' rows in parallel.
+  [[nodiscard]] static bool create(const PerceptualDisplay& display, int max_width_px, int max_height_px,
+                                   const PerceptualOptions& options, PerceptualMetric& out, std::string& error,
+                                   foveation::Executor* executor = nullptr);
+
+  // Detection probability of test against reference at gaze_px (screen pixels). Errors:
+  // sizes differ or exceed the model's, non-finite pixels, gaze off the image.
+  // `executor` (may be null) runs the bands' rows in parallel; no thread is started.
+  [[nodiscard]] bool evaluate(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
+                              glm::vec2 gaze_px, foveation::Executor* executor, PerceptualResult& out,
+                              std::string& error) const;
+
+  const PerceptualDisplay& display() const { return display_; }
+
+  // One band's tables over (log10 luminance, eccentricity) in both fields, per mechanism (0: the
+  // achromatic, 1: the chromatic mechanisms' share of a luminance modulation, each with its own
+  // critical area): log10 of the band's sensitivity sqrt(w_b), solved so that the bands together
+  // give castleCSF's sensitivity to a Gabor at any frequency they cover (perceptual_metric.cpp).
+  static constexpr int kMechanisms = 2;
+  struct TableGrid {
+    double log_lum_min = 0.0;  // the first column's log10 luminance
+    int lum_steps = 0;         // columns, perceptual_detail.hpp's kLogLumStep apart
+    int ecc_steps = 0;         // rows, kEccStepDeg apart from 0
+  };
+  struct BandTable {
+    double freq_cyc_px = 0.0;  // the band's centre frequency, cycles per full-resolution pixel
+    std::array<double, kMechanisms> pool_sigma_px{};  // each critical area's Gaussian sigma, band pixels
+    std::array<std::vector<float>, kMechanisms> log_s_nasal, log_s_temporal;
+  };
+
+ private:
+  PerceptualDisplay display_;
+  PerceptualOptions options_;
+  int max_width_px_ = 0;
+  int max_height_px_ = 0;
+  TableGrid grid_;
+  std::vector<BandTable> bands_;
+};
+
+}  // namespace foveart::eval
