@@ -173,6 +173,46 @@ TEST(GpuTracer, AlphaMaskCutsOutTheSameTexelsAsTheCpu) {
   expect_no_validation_errors();
 }
 
+// ---- memory --------------------------------------------------------------------------
+
+void print_memory(const char* what, const GpuTracer& t) {
+  const foveart::gpu_engine::MemoryUse m = t.memory_use();
+  std::printf("[ memory ] %s: device-local %llu bytes, host-visible %llu bytes, of which textures %llu bytes\n", what,
+              static_cast<unsigned long long>(m.device_local_bytes),
+              static_cast<unsigned long long>(m.host_visible_bytes), static_cast<unsigned long long>(m.texture_bytes));
+}
+
+TEST(GpuTracer, SceneLivesInDeviceLocalMemory) {
+  REQUIRE_GPU();
+  auto g = make_gpu(foveart::engine::make_textured_hall());
+  ASSERT_TRUE(g);
+  print_memory("hall", *g);
+  EXPECT_EQ(g->memory_fallback(), "");
+  EXPECT_GT(g->memory_use().device_local_bytes, 0u);
+  EXPECT_EQ(g->memory_use().host_visible_bytes, 0u);
+  expect_no_validation_errors();
+}
+
+TEST(GpuTracer, HostVisibleFallbackRendersTheSameAndSaysSoOnce) {
+  REQUIRE_GPU();
+  const Scene scene = foveart::engine::make_textured_hall();
+  GpuTracerOptions options;
+  options.device_local_memory = false;  // as a device without device-local memory that fits
+  auto g = make_gpu(scene, options);
+  auto c = make_cpu(scene);
+  ASSERT_TRUE(g && c);
+  print_memory("hall, host-visible fallback", *g);
+  const std::string& line = g->memory_fallback();
+  std::printf("[ fallback ] %s\n", line.c_str());
+  EXPECT_NE(line.find("host-visible"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos) << "one line";
+  EXPECT_EQ(g->memory_use().device_local_bytes, 0u);
+  EXPECT_GT(g->memory_use().host_visible_bytes, 0u);
+  const Rays rays = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), 4096);
+  expect_agreement(compare(trace_gpu(*g, rays), trace_cpu(*c, rays)), "hall, host-visible fallback");
+  expect_no_validation_errors();
+}
+
 // ---- effects and ray counts ---------------------------------------------------------
 
 TEST(GpuTracer, RayCountsEqualTheCpuTracersOnTheDefaultScene) {

@@ -1,6 +1,6 @@
 // The scene as the tracers read it per hit: the std430 structs and storage
 // buffers of set 0 (samples/gpu_engine/src/scene_data.hpp declares the same),
-// the texture sampler and the alpha-mask test. Shared by the compute tracer
+// the textures (sampled images) and the alpha-mask test. Shared by the compute tracer
 // (trace_core.glsl), the ray-tracing pipeline's any-hit shader and its hit
 // shaders: no traversal and no shading here. Bindings 0 and 1 belong to the
 // scene query (scene_bvh.glsl or scene_rt.glsl).
@@ -34,7 +34,7 @@ struct Material {
   int texture;
   int texcoord;
   int alpha_mode;  // 0 opaque, 1 mask, 2 blend
-  int pad;
+  uint texture_flags;  // its texture's wrap_s | wrap_t << 2 | nearest << 4 | srgb8 << 5
 };
 struct Light {
   vec3 position;
@@ -47,21 +47,18 @@ struct Light {
   float cos_outer;
   vec2 pad;
 };
-struct TextureInfo {
-  uint offset;
-  uint width;
-  uint height;
-  uint flags;  // wrap_s | wrap_t << 2 | nearest << 4
-};
 
 
 layout(std430, set = 0, binding = 2) readonly buffer Triangles { Triangle tris[]; };
 layout(std430, set = 0, binding = 3) readonly buffer Shadings { Shading shading[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Materials { Material materials[]; };
 layout(std430, set = 0, binding = 5) readonly buffer Lights { Light lights[]; };
-layout(std430, set = 0, binding = 6) readonly buffer Textures { TextureInfo textures[]; };
-layout(std430, set = 0, binding = 7) readonly buffer Texels { vec4 texels[]; };
-layout(std430, set = 0, binding = 8) readonly buffer Globals {
+// The textures the materials sample (scene_textures.hpp): sampled images, RGBA8
+// sRGB or float. Indexed with constants only (slot_texel): no descriptor
+// indexing needed.
+layout(constant_id = 3) const uint TEXTURE_COUNT = 32u;  // slots holding scene textures
+layout(set = 0, binding = 6) uniform sampler2D scene_textures[32];  // kTextureSlots
+layout(std430, set = 0, binding = 7) readonly buffer Globals {
   vec3 sky_zenith;
   float epsilon;
   vec3 sky_horizon;
@@ -70,7 +67,7 @@ layout(std430, set = 0, binding = 8) readonly buffer Globals {
   uint globals_pad;
 };
 // primary, shadow, reflection, refraction
-layout(std430, set = 0, binding = 9) buffer Counters { uint counters[4]; };
+layout(std430, set = 0, binding = 8) buffer Counters { uint counters[4]; };
 
 float positive_infinity() { return uintBitsToFloat(0x7f800000u); }
 bool finite(float x) { return !isnan(x) && !isinf(x); }
@@ -95,6 +92,37 @@ vec3 glm_rotate(vec4 q_xyzw, vec3 v) {
 
 // ---- texture_sampler.hpp -------------------------------------------------------
 
+// Slot `slot`'s texel p (level 0) and size, through a switch of constant
+// indices: slots past TEXTURE_COUNT are specialised away.
+#define FOVEART_SLOT(k) \
+  case k:               \
+    if (uint(k) < TEXTURE_COUNT) return FOVEART_SLOT_OP(scene_textures[k]); \
+    break;
+#define FOVEART_SLOTS                                                                                  \
+  switch (slot) {                                                                                      \
+    FOVEART_SLOT(0) FOVEART_SLOT(1) FOVEART_SLOT(2) FOVEART_SLOT(3) FOVEART_SLOT(4) FOVEART_SLOT(5)     \
+    FOVEART_SLOT(6) FOVEART_SLOT(7) FOVEART_SLOT(8) FOVEART_SLOT(9) FOVEART_SLOT(10) FOVEART_SLOT(11)   \
+    FOVEART_SLOT(12) FOVEART_SLOT(13) FOVEART_SLOT(14) FOVEART_SLOT(15) FOVEART_SLOT(16) FOVEART_SLOT(17) \
+    FOVEART_SLOT(18) FOVEART_SLOT(19) FOVEART_SLOT(20) FOVEART_SLOT(21) FOVEART_SLOT(22) FOVEART_SLOT(23) \
+    FOVEART_SLOT(24) FOVEART_SLOT(25) FOVEART_SLOT(26) FOVEART_SLOT(27) FOVEART_SLOT(28) FOVEART_SLOT(29) \
+    FOVEART_SLOT(30) FOVEART_SLOT(31)                                                                  \
+    default: break;                                                                                    \
+  }
+#define FOVEART_SLOT_OP(t) texelFetch(t, p, 0)
+vec4 slot_texel(int slot, ivec2 p) {
+  FOVEART_SLOTS
+  return vec4(1.0);
+}
+#undef FOVEART_SLOT_OP
+#define FOVEART_SLOT_OP(t) textureSize(t, 0)
+ivec2 slot_size(int slot) {
+  FOVEART_SLOTS
+  return ivec2(1);
+}
+#undef FOVEART_SLOT_OP
+#undef FOVEART_SLOTS
+#undef FOVEART_SLOT
+
 int c_rem(int a, int n) { return a - (a / n) * n; }  // C's %: truncating division
 
 // wrap_texel: 0 repeat, 1 clamp, 2 mirror.
@@ -110,28 +138,39 @@ int wrap_texel(int i, int n, uint mode) {
   return m < 0 ? m + n : m;
 }
 
-vec4 texel_at(TextureInfo t, int xi, int yi) {
-  const uint y = uint(wrap_texel(yi, int(t.height), (t.flags >> 2u) & 3u));
-  const uint x = uint(wrap_texel(xi, int(t.width), t.flags & 3u));
-  return texels[t.offset + y * t.width + x];
+// foveation::srgb_to_linear per channel.
+vec3 srgb_to_linear(vec3 c) {
+  return mix(pow((c + 0.055) / 1.055, vec3(2.4)), c / 12.92, lessThanEqual(c, vec3(0.04045)));
 }
 
-// sample_texture: bilinear (or nearest), uv origin top-left.
-vec4 sample_texture(int index, vec2 uv) {
-  const TextureInfo t = textures[index];
+// The texel as the CPU engine holds it: sRGB bytes (flags & 32) decoded here,
+// in float, as the loader decodes them.
+vec4 texel_at(int slot, ivec2 size, uint flags, int xi, int yi) {
+  vec4 t = slot_texel(slot, ivec2(wrap_texel(xi, size.x, flags & 3u), wrap_texel(yi, size.y, (flags >> 2u) & 3u)));
+  if ((flags & 32u) != 0u) t.rgb = srgb_to_linear(t.rgb);
+  return t;
+}
+
+// sample_texture: bilinear (or nearest), uv origin top-left; flags: wrap_s |
+// wrap_t << 2 | nearest << 4 | srgb8 << 5. Texels fetched, decoded, wrapped and
+// filtered here in float as the CPU engine does (texture_sampler.hpp): lavapipe's
+// own sRGB decode is up to 1.8 % off in dark texels, past the per-ray tolerance.
+vec4 sample_texture(int slot, uint flags, vec2 uv) {
+  const ivec2 size = slot_size(slot);
   if (!finite(uv.x) || !finite(uv.y)) uv = vec2(0.0);
   uv = clamp(uv, vec2(-1.0e6), vec2(1.0e6));
-  const float x = uv.x * float(t.width) - 0.5;
-  const float y = uv.y * float(t.height) - 0.5;
+  const float x = uv.x * float(size.x) - 0.5;
+  const float y = uv.y * float(size.y) - 0.5;
   const float fx0 = floor(x);
   const float fy0 = floor(y);
   const int x0 = int(fx0);
   const int y0 = int(fy0);
-  if ((t.flags & 16u) != 0u) return texel_at(t, int(floor(x + 0.5)), int(floor(y + 0.5)));
+  if ((flags & 16u) != 0u) return texel_at(slot, size, flags, int(floor(x + 0.5)), int(floor(y + 0.5)));
   const float ax = x - fx0;
   const float ay = y - fy0;
-  return glm_mix4(glm_mix4(texel_at(t, x0, y0), texel_at(t, x0 + 1, y0), ax),
-                  glm_mix4(texel_at(t, x0, y0 + 1), texel_at(t, x0 + 1, y0 + 1), ax), ay);
+  return glm_mix4(glm_mix4(texel_at(slot, size, flags, x0, y0), texel_at(slot, size, flags, x0 + 1, y0), ax),
+                  glm_mix4(texel_at(slot, size, flags, x0, y0 + 1), texel_at(slot, size, flags, x0 + 1, y0 + 1), ax),
+                  ay);
 }
 
 // Tracer::Impl::texcoord.
@@ -145,7 +184,7 @@ vec2 texcoord(uint tri, int set, float u, float v) {
 bool alpha_passes(uint tri, float u, float v) {
   const Material m = materials[tris[tri].material];
   float alpha = m.base_color.a;
-  if (m.texture >= 0) alpha *= sample_texture(m.texture, texcoord(tri, m.texcoord, u, v)).a;
+  if (m.texture >= 0) alpha *= sample_texture(m.texture, m.texture_flags, texcoord(tri, m.texcoord, u, v)).a;
   return alpha >= m.alpha_cutoff;
 }
 

@@ -125,7 +125,7 @@ vec4 trace_path(vec3 o, vec3 d_in, inout uvec3 rays) {
     if (!front) n = -n;                      // shade the side the ray sees
     const float cos_view = -dot(p.dir, n);
     vec3 base = m.base_color.rgb;
-    if (FX_TEXTURES && m.texture >= 0) base *= sample_texture(m.texture, texcoord(tri, m.texcoord, u, v)).rgb;
+    if (FX_TEXTURES && m.texture >= 0) base *= sample_texture(m.texture, m.texture_flags, texcoord(tri, m.texcoord, u, v)).rgb;
     const float kd = diffuse_weight(m);
     const float ambient_shape = 0.4 + 0.6 * cos_view;
     color += p.weight * (m.emissive + base * (kd * ambient_shape) * ambient);

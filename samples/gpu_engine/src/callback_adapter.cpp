@@ -74,6 +74,10 @@ uint32_t compute_family(VkPhysicalDevice d) {
 }
 
 // A host-visible, coherent buffer mapped for its life (device-local too where offered).
+// The adapter's ray count, rays and colours stay host-visible on purpose: the
+// host writes every call's rays and reads its colours back, each byte once per
+// call, so a device-local copy would only add a staging copy each way; the
+// scene they are traced against is the tracer's, in device-local memory.
 struct HostBuffer {
   VkDevice device = VK_NULL_HANDLE;
   VkBuffer buffer = VK_NULL_HANDLE;

@@ -1,14 +1,17 @@
 // GpuTracer: the backend chosen, the scene uploaded once, two pipelines (the
 // layer's device rays, whole images): compute (trace.comp, full.comp) or
 // ray tracing (RtPipelineTracer: trace.rgen, full.rgen), and their recording.
-// Descriptor sets, the scene's storage buffers and the ray counters are the
-// same for both backends; set 0, binding 0 is the BVH's nodes or the TLAS,
-// binding 1 the BVH's leaf entries or RtScene::prims.
+// Descriptor sets, the scene's storage buffers (device-local, filled through
+// staging), its textures (SceneTextures, binding 6) and the ray counters
+// (host-visible: the host reads and resets them) are the same for both
+// backends; set 0, binding 0 is the BVH's nodes or the TLAS, binding 1 the
+// BVH's leaf entries or RtScene::prims.
 #include <gpu_engine/gpu_tracer.hpp>
 
 #include "rt_pipeline_tracer.hpp"
 #include "vk_helpers.hpp"
 #include "scene_data.hpp"
+#include "scene_textures.hpp"
 #include "vk_buffer.hpp"
 
 #include <gpu_engine/rt_device.hpp>
@@ -29,7 +32,9 @@
 namespace foveart::gpu_engine {
 namespace {
 
-constexpr uint32_t kSceneBindings = 10;   // trace_core.glsl, set 0
+constexpr uint32_t kSceneBindings = 9;    // scene_data.glsl, set 0
+constexpr uint32_t kTextureBinding = 6;   // scene_textures[kTextureSlots]
+constexpr uint32_t kCounterBinding = 8;   // the ray counters
 constexpr uint32_t kTraceBindings = 3;    // trace.comp, set 1: rayCount, rays, colors
 constexpr uint32_t kFullBindings = 1;     // full.comp, set 1: pixels
 constexpr uint32_t kCachedSets = 32;      // per-call descriptor sets kept before the pool is reset
@@ -69,7 +74,13 @@ struct GpuTracer::Impl {
   VkPipelineStageFlags pipeline_stage = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
   std::unique_ptr<RtPipelineTracer> rt;  // ray_tracing_pipeline only
 
-  std::array<MappedBuffer, kSceneBindings> buffers;  // binding order of trace_core.glsl; [9] = counters
+  // The scene: device-local where the device allows (filled through staging at
+  // create()); the ray counters host-visible, as the host reads and resets them
+  // between submissions (counts(), reset_counts()).
+  std::shared_ptr<MemoryLedger> ledger;
+  std::array<DeviceBuffer, kCounterBinding> buffers;  // by binding; none at kTextureBinding
+  SceneTextures textures;                             // kTextureBinding
+  MappedBuffer counters;                              // kCounterBinding
   VkDescriptorSetLayout scene_layout = VK_NULL_HANDLE;
   VkDescriptorSetLayout trace_layout = VK_NULL_HANDLE;
   VkDescriptorSetLayout full_layout = VK_NULL_HANDLE;
@@ -115,7 +126,9 @@ GpuTracer::Impl::~Impl() {
   if (scene_layout) vkDestroyDescriptorSetLayout(d, scene_layout, nullptr);
   if (trace_layout) vkDestroyDescriptorSetLayout(d, trace_layout, nullptr);
   if (full_layout) vkDestroyDescriptorSetLayout(d, full_layout, nullptr);
-  for (MappedBuffer& b : buffers) b.destroy();
+  for (DeviceBuffer& b : buffers) b.destroy();
+  textures.destroy();
+  counters.destroy();
 }
 
 // Descriptor set layouts, pipeline layouts and pools.
@@ -130,6 +143,10 @@ bool GpuTracer::Impl::create_layouts(std::string* error) {
     }
     if (n == kSceneBindings && backend == GpuBackend::ray_tracing_pipeline)
       b[0].descriptorType = VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR;  // the TLAS
+    if (n == kSceneBindings) {
+      b[kTextureBinding].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      b[kTextureBinding].descriptorCount = kTextureSlots;
+    }
     VkDescriptorSetLayoutCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
     info.bindingCount = n;
@@ -156,18 +173,23 @@ bool GpuTracer::Impl::create_layouts(std::string* error) {
   if (r == VK_SUCCESS) r = make_pipeline_layout(full_layout, sizeof(FullPush), &full_pipeline_layout);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreatePipelineLayout", r));
 
-  auto make_pool = [&](uint32_t sets, uint32_t descriptors, uint32_t acceleration_structures, VkDescriptorPool* out) {
-    const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, descriptors - acceleration_structures},
-                                           {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, acceleration_structures}};
+  auto make_pool = [&](uint32_t sets, uint32_t buffers_count, uint32_t acceleration_structures, uint32_t images,
+                       VkDescriptorPool* out) {
+    std::array<VkDescriptorPoolSize, 3> sizes{};
+    uint32_t n = 0;
+    sizes[n++] = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffers_count};
+    if (acceleration_structures > 0) sizes[n++] = {VK_DESCRIPTOR_TYPE_ACCELERATION_STRUCTURE_KHR, acceleration_structures};
+    if (images > 0) sizes[n++] = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, images};
     VkDescriptorPoolCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
     info.maxSets = sets;
-    info.poolSizeCount = acceleration_structures > 0 ? 2 : 1;
-    info.pPoolSizes = sizes;
+    info.poolSizeCount = n;
+    info.pPoolSizes = sizes.data();
     return vkCreateDescriptorPool(ctx.device, &info, nullptr, out);
   };
-  r = make_pool(1, kSceneBindings, backend == GpuBackend::ray_tracing_pipeline ? 1 : 0, &scene_pool);
-  if (r == VK_SUCCESS) r = make_pool(kCachedSets, kCachedSets * kTraceBindings, 0, &call_pool);
+  const uint32_t tlas = backend == GpuBackend::ray_tracing_pipeline ? 1 : 0;
+  r = make_pool(1, kSceneBindings - 1 - tlas, tlas, kTextureSlots, &scene_pool);
+  if (r == VK_SUCCESS) r = make_pool(kCachedSets, kCachedSets * kTraceBindings, 0, 0, &call_pool);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateDescriptorPool", r));
   return true;
 }
@@ -182,9 +204,11 @@ bool GpuTracer::Impl::create_pipeline(const uint32_t* code, size_t bytes, VkPipe
   VkShaderModule module = VK_NULL_HANDLE;
   VkResult r = vkCreateShaderModule(ctx.device, &module_info, nullptr, &module);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateShaderModule", r));
-  const std::array<uint32_t, 2> values = {effects.bits(), static_cast<uint32_t>(options.max_depth)};
-  const std::array<VkSpecializationMapEntry, 2> entries = {
-      VkSpecializationMapEntry{0, 0, sizeof(uint32_t)}, VkSpecializationMapEntry{1, sizeof(uint32_t), sizeof(uint32_t)}};
+  // EFFECTS, MAX_DEPTH (trace_core.glsl), TEXTURE_COUNT (scene_data.glsl; constant_id 3).
+  const std::array<uint32_t, 3> values = {effects.bits(), static_cast<uint32_t>(options.max_depth), textures.count()};
+  const std::array<VkSpecializationMapEntry, 3> entries = {
+      VkSpecializationMapEntry{0, 0, sizeof(uint32_t)}, VkSpecializationMapEntry{1, sizeof(uint32_t), sizeof(uint32_t)},
+      VkSpecializationMapEntry{3, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
   VkSpecializationInfo spec{};
   spec.mapEntryCount = static_cast<uint32_t>(entries.size());
   spec.pMapEntries = entries.data();
@@ -241,17 +265,20 @@ bool GpuTracer::Impl::choose_backend(std::string* error) {
 // Backend, flatten + BVH (+ acceleration structures), upload, scene descriptor set, pipelines.
 bool GpuTracer::Impl::create(std::string* error) {
   if (!check_device(error) || !choose_backend(error)) return false;
+  ledger = std::make_shared<MemoryLedger>(ctx.physical_device, ctx.device, options.device_local_memory);
+  if (ctx.queue == VK_NULL_HANDLE) return fail(error, "gpu_engine: GpuContext::queue is needed to upload the scene");
   SceneData data;
   if (!flatten_scene(scene, &data, error)) return false;
   scene_effects = data.scene_effects;
   effects = scene_effects & options.allowed;
   if (backend == GpuBackend::ray_tracing_pipeline) {
-    rt = RtPipelineTracer::create(ctx, data, error);
+    rt = RtPipelineTracer::create(ctx, ledger, data, error);
     if (rt == nullptr) return false;
   }
   if (!upload_scene(data, error) || !create_layouts(error) || !write_scene_set(error)) return false;
   if (rt)
-    return rt->create_pipelines(trace_pipeline_layout, full_pipeline_layout, effects.bits(), options.max_depth, error);
+    return rt->create_pipelines(trace_pipeline_layout, full_pipeline_layout, effects.bits(), options.max_depth,
+                                textures.count(), error);
   return create_pipeline(foveart_gpu_trace_spv, sizeof(foveart_gpu_trace_spv), trace_pipeline_layout, &trace_pipeline,
                          error) &&
          create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline,
@@ -276,35 +303,47 @@ bool GpuTracer::Impl::check_device(std::string* error) {
   vkGetPhysicalDeviceProperties(ctx.physical_device, &props);
   limits = props.limits;
   device_name = props.deviceName;
+  if (limits.maxPerStageDescriptorSamplers < kTextureSlots || limits.maxPerStageDescriptorSampledImages < kTextureSlots ||
+      limits.maxDescriptorSetSamplers < kTextureSlots || limits.maxDescriptorSetSampledImages < kTextureSlots)
+    return fail(error, "gpu_engine: " + device_name + " binds fewer than " + std::to_string(kTextureSlots) +
+                           " sampled textures per shader stage");
   return true;
 }
 
-// The scene's storage buffers (binding order); with the ray-tracing pipeline no
-// BVH nodes, and the primitives in its acceleration structure's order.
+// The scene's storage buffers (binding order), filled through staging; with the
+// ray-tracing pipeline no BVH nodes, and the primitives in its acceleration
+// structure's order.
 bool GpuTracer::Impl::upload_scene(const SceneData& data, std::string* error) {
   struct Upload {
     const void* data;
     size_t bytes;
   };
   const std::vector<uint32_t>& prims = rt ? rt->scene().prims() : data.bvh.prims;
-  const std::array<Upload, kSceneBindings> uploads = {
+  Uploader uploader(ctx.physical_device, ctx.device, ctx.queue_family_index, ctx.queue);
+  if (!textures.create(ledger, uploader, scene, data.texture_slots, error)) return false;
+  std::vector<GpuMaterial> materials = data.materials;  // + how each texture is stored
+  for (GpuMaterial& m : materials)
+    if (m.texture >= 0 && textures.srgb8(static_cast<uint32_t>(m.texture))) m.texture_flags |= kTextureSrgb8;
+  const std::array<Upload, kCounterBinding> uploads = {
       rt ? Upload{nullptr, 0} : Upload{data.bvh.nodes.data(), data.bvh.nodes.size() * sizeof(GpuNode)},
       Upload{prims.data(), prims.size() * sizeof(uint32_t)},
       Upload{data.triangles.data(), data.triangles.size() * sizeof(GpuTriangle)},
       Upload{data.shading.data(), data.shading.size() * sizeof(GpuShading)},
-      Upload{data.materials.data(), data.materials.size() * sizeof(GpuMaterial)},
+      Upload{materials.data(), materials.size() * sizeof(GpuMaterial)},
       Upload{data.lights.data(), data.lights.size() * sizeof(GpuLight)},
-      Upload{data.textures.data(), data.textures.size() * sizeof(GpuTexture)},
-      Upload{data.texels.data(), data.texels.size() * sizeof(float)},
-      Upload{&data.globals, sizeof(GpuGlobals)},
-      Upload{nullptr, 4 * sizeof(uint32_t)}};  // counters, zeroed
-  for (size_t i = 0; i < kSceneBindings; ++i) {
+      Upload{nullptr, 0},  // kTextureBinding: images
+      Upload{&data.globals, sizeof(GpuGlobals)}};
+  for (size_t i = 0; i < uploads.size(); ++i) {
+    if (i == kTextureBinding) continue;
     if (uploads[i].bytes > limits.maxStorageBufferRange)
       return fail(error, "gpu_engine: scene buffer " + std::to_string(i) + " (" + std::to_string(uploads[i].bytes) +
                              " bytes) exceeds maxStorageBufferRange");
-    if (!buffers[i].create(ctx.physical_device, ctx.device, uploads[i].bytes, uploads[i].data, error)) return false;
+    if (!buffers[i].create(ledger, uploads[i].bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, error) ||
+        !uploader.buffer(buffers[i], uploads[i].data, uploads[i].bytes, error))
+      return false;
   }
-  return true;
+  return uploader.finish(error) &&
+         counters.create(ctx.physical_device, ctx.device, 4 * sizeof(uint32_t), nullptr, error);  // zeroed
 }
 
 // The scene's descriptor set: its buffers, binding 0 the TLAS with the ray-tracing pipeline.
@@ -319,7 +358,7 @@ bool GpuTracer::Impl::write_scene_set(std::string* error) {
   std::array<VkDescriptorBufferInfo, kSceneBindings> infos{};
   std::array<VkWriteDescriptorSet, kSceneBindings> writes{};
   for (uint32_t i = 0; i < kSceneBindings; ++i) {
-    infos[i] = VkDescriptorBufferInfo{buffers[i].buffer(), 0, VK_WHOLE_SIZE};
+    infos[i] = VkDescriptorBufferInfo{i == kCounterBinding ? counters.buffer() : buffers[i].buffer(), 0, VK_WHOLE_SIZE};
     writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
     writes[i].dstSet = scene_set;
     writes[i].dstBinding = i;
@@ -327,6 +366,10 @@ bool GpuTracer::Impl::write_scene_set(std::string* error) {
     writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     writes[i].pBufferInfo = &infos[i];
   }
+  writes[kTextureBinding].descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+  writes[kTextureBinding].descriptorCount = kTextureSlots;
+  writes[kTextureBinding].pBufferInfo = nullptr;
+  writes[kTextureBinding].pImageInfo = textures.descriptors().data();
   VkWriteDescriptorSetAccelerationStructureKHR tlas{};
   VkAccelerationStructureKHR tlas_handle = VK_NULL_HANDLE;
   if (rt) {
@@ -412,7 +455,7 @@ void GpuTracer::Impl::barrier_counters(VkCommandBuffer cb) const {
   b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT;
   b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.buffer = buffers[kSceneBindings - 1].buffer();
+  b.buffer = counters.buffer();  // kCounterBinding
   b.offset = 0;
   b.size = VK_WHOLE_SIZE;
   vkCmdPipelineBarrier(cb, pipeline_stage, pipeline_stage, 0, 0, nullptr, 1, &b, 0, nullptr);
@@ -573,7 +616,7 @@ engine::Effects GpuTracer::effects() const { return impl_->effects; }
 
 engine::RayCounts GpuTracer::counts() const {
   uint32_t c[4];
-  std::memcpy(c, impl_->buffers[kSceneBindings - 1].mapped(), sizeof(c));
+  std::memcpy(c, impl_->counters.mapped(), sizeof(c));
   engine::RayCounts out;
   out.primary = c[0];
   out.shadow = c[1];
@@ -582,7 +625,10 @@ engine::RayCounts GpuTracer::counts() const {
   return out;
 }
 
-void GpuTracer::reset_counts() { std::memset(impl_->buffers[kSceneBindings - 1].mapped(), 0, 4 * sizeof(uint32_t)); }
+void GpuTracer::reset_counts() { std::memset(impl_->counters.mapped(), 0, 4 * sizeof(uint32_t)); }
+
+MemoryUse GpuTracer::memory_use() const { return impl_->ledger->use(); }
+const std::string& GpuTracer::memory_fallback() const { return impl_->ledger->fallback(); }
 
 }  // namespace foveart::gpu_engine
 

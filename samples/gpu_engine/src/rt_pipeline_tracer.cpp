@@ -71,10 +71,12 @@ std::array<VkRayTracingShaderGroupCreateInfoKHR, kGroupCount> shader_groups() {
 
 }  // namespace
 
-std::unique_ptr<RtPipelineTracer> RtPipelineTracer::create(const GpuContext& context, const SceneData& data,
-                                                           std::string* error) {
+std::unique_ptr<RtPipelineTracer> RtPipelineTracer::create(const GpuContext& context,
+                                                           const std::shared_ptr<MemoryLedger>& ledger,
+                                                           const SceneData& data, std::string* error) {
   std::unique_ptr<RtPipelineTracer> t(new RtPipelineTracer());
   t->ctx_ = context;
+  t->ledger_ = ledger;
   if (!t->fn_.load(context.device, error)) return nullptr;
   t->props_.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_PROPERTIES_KHR;
   VkPhysicalDeviceProperties2 props{};
@@ -86,7 +88,7 @@ std::unique_ptr<RtPipelineTracer> RtPipelineTracer::create(const GpuContext& con
     fail(error, "gpu_engine: the device's maxRayRecursionDepth is 0");
     return nullptr;
   }
-  t->scene_ = RtScene::create(context, t->fn_, data, error);
+  t->scene_ = RtScene::create(context, t->fn_, ledger, data, error);
   if (t->scene_ == nullptr) return nullptr;
   return t;
 }
@@ -100,7 +102,9 @@ RtPipelineTracer::~RtPipelineTracer() {
 }
 
 bool RtPipelineTracer::create_pipelines(VkPipelineLayout trace_layout, VkPipelineLayout full_layout,
-                                        uint32_t effect_bits, int max_depth, std::string* error) {
+                                        uint32_t effect_bits, int max_depth, uint32_t texture_count,
+                                        std::string* error) {
+  texture_count_ = texture_count;
   return create_pipeline(Entry::trace, trace_layout, effect_bits, max_depth, error) &&
          create_pipeline(Entry::full, full_layout, effect_bits, max_depth, error);
 }
@@ -116,8 +120,9 @@ bool RtPipelineTracer::create_pipeline(Entry entry, VkPipelineLayout layout, uin
       !modules.add(foveart_gpu_rt_alpha_spv, sizeof(foveart_gpu_rt_alpha_spv), error))
     return false;
 
-  const std::array<uint32_t, 3> values = {effect_bits, static_cast<uint32_t>(max_depth), scene_->geometry1_first()};
-  std::array<VkSpecializationMapEntry, 3> entries{};
+  const std::array<uint32_t, 4> values = {effect_bits, static_cast<uint32_t>(max_depth), scene_->geometry1_first(),
+                                          texture_count_};
+  std::array<VkSpecializationMapEntry, 4> entries{};
   for (uint32_t i = 0; i < entries.size(); ++i)
     entries[i] = VkSpecializationMapEntry{i, static_cast<uint32_t>(i * sizeof(uint32_t)), sizeof(uint32_t)};
   VkSpecializationInfo spec{};
@@ -173,12 +178,14 @@ bool RtPipelineTracer::fill_binding_table(Table& table, std::string* error) {
   const VkDeviceSize miss_offset = layout_bytes.miss_offset_bytes;
   const VkDeviceSize hit_offset = layout_bytes.hit_offset_bytes;
   const VkDeviceSize table_bytes = layout_bytes.table_bytes;
-  if (!table.buffer.create(ctx_.physical_device, ctx_.device, table_bytes + base_align, nullptr, error,
-                           VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT))
+  // Device-local, read by every launch; filled through staging.
+  if (!table.buffer.create(ledger_, table_bytes + base_align,
+                           VK_BUFFER_USAGE_SHADER_BINDING_TABLE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT, error))
     return false;
   const VkDeviceAddress buffer_address = fn_.address(ctx_.device, table.buffer.buffer());
   const VkDeviceAddress base = align_up(buffer_address, base_align);
-  auto* bytes = static_cast<uint8_t*>(table.buffer.mapped()) + (base - buffer_address);
+  std::vector<uint8_t> host(static_cast<size_t>(table.buffer.size()), 0);
+  uint8_t* bytes = host.data() + (base - buffer_address);
   auto put = [&](VkDeviceSize offset, uint32_t group) {
     std::memcpy(bytes + offset, handles.data() + size_t{group} * handle_bytes, handle_bytes);
   };
@@ -186,6 +193,8 @@ bool RtPipelineTracer::fill_binding_table(Table& table, std::string* error) {
   put(miss_offset, kGroupMiss);
   put(miss_offset + record_stride, kGroupShadow);
   put(hit_offset, kGroupHit);
+  Uploader uploader(ctx_.physical_device, ctx_.device, ctx_.queue_family_index, ctx_.queue);
+  if (!uploader.buffer(table.buffer, host.data(), host.size(), error) || !uploader.finish(error)) return false;
   table.raygen = VkStridedDeviceAddressRegionKHR{base + raygen_offset, record_stride, record_stride};
   table.miss = VkStridedDeviceAddressRegionKHR{base + miss_offset, record_stride, 2 * record_stride};
   table.hit = VkStridedDeviceAddressRegionKHR{base + hit_offset, record_stride, record_stride};

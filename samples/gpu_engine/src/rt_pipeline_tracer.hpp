@@ -35,7 +35,8 @@ class RtPipelineTracer {
  public:
   enum class Entry { trace = 0, full = 1 };
 
-  static std::unique_ptr<RtPipelineTracer> create(const GpuContext& context, const SceneData& data,
+  static std::unique_ptr<RtPipelineTracer> create(const GpuContext& context,
+                                                  const std::shared_ptr<MemoryLedger>& ledger, const SceneData& data,
                                                   std::string* error);
   ~RtPipelineTracer();
   RtPipelineTracer(const RtPipelineTracer&) = delete;
@@ -44,9 +45,10 @@ class RtPipelineTracer {
   const RtScene& scene() const { return *scene_; }
 
   // Both pipelines, specialised like the compute ones (constant 0: effect bits,
-  // 1: max_depth; 2: RtScene::geometry1_first), each with its binding table.
+  // 1: max_depth; 2: RtScene::geometry1_first; 3: the scene's texture count),
+  // each with its binding table.
   [[nodiscard]] bool create_pipelines(VkPipelineLayout trace_layout, VkPipelineLayout full_layout, uint32_t effect_bits,
-                        int max_depth, std::string* error);
+                        int max_depth, uint32_t texture_count, std::string* error);
 
   // Binds `entry`'s pipeline and launches width x height rays. False + *error
   // (nothing recorded) when the launch exceeds the device's limits.
@@ -55,7 +57,7 @@ class RtPipelineTracer {
  private:
   struct Table {  // one pipeline's shader binding table
     VkPipeline pipeline = VK_NULL_HANDLE;
-    MappedBuffer buffer;
+    DeviceBuffer buffer;
     VkStridedDeviceAddressRegionKHR raygen{}, miss{}, hit{}, callable{};
   };
 
@@ -67,6 +69,8 @@ class RtPipelineTracer {
   RtFunctions fn_;
   VkPhysicalDeviceRayTracingPipelinePropertiesKHR props_{};
   VkPhysicalDeviceLimits limits_{};
+  std::shared_ptr<MemoryLedger> ledger_;
+  uint32_t texture_count_ = 0;
   std::unique_ptr<RtScene> scene_;
   std::array<Table, 2> tables_;
 };

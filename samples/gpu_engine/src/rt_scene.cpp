@@ -1,5 +1,7 @@
 // RtScene: the BLAS and TLAS built once with vkCmdBuildAccelerationStructuresKHR
-// on the device, from host-visible input buffers freed after the build.
+// on the device, from input buffers freed after the build: the vertices in
+// device-local memory (filled through staging), the one TLAS instance in
+// host-visible memory (64 bytes the host writes once, read by one build).
 #include "rt_scene.hpp"
 #include "vk_helpers.hpp"
 
@@ -92,8 +94,10 @@ VkPhysicalDeviceAccelerationStructurePropertiesKHR acceleration_structure_proper
 }  // namespace
 
 std::unique_ptr<RtScene> RtScene::create(const GpuContext& context, const RtFunctions& functions,
-                                         const SceneData& data, std::string* error) {
+                                         const std::shared_ptr<MemoryLedger>& ledger, const SceneData& data,
+                                         std::string* error) {
   std::unique_ptr<RtScene> scene(new RtScene());
+  scene->ledger_ = ledger;
   scene->device_ = context.device;
   scene->fn_ = &functions;
   if (!scene->build(context, data, error)) return nullptr;
@@ -117,7 +121,8 @@ struct RtScene::Build {
   std::string* error;
   VkCommandBuffer cb = VK_NULL_HANDLE;
   VkDeviceAddress vertex_address = 0;
-  MappedBuffer vertex_buffer, instance_buffer, blas_scratch, tlas_scratch;
+  DeviceBuffer vertex_buffer, blas_scratch, tlas_scratch;
+  MappedBuffer instance_buffer;
 };
 
 bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* error) {
@@ -145,8 +150,10 @@ bool RtScene::upload_vertices(Build& b, const SceneData& data) {
     const GpuTriangle& g = data.triangles[t];
     vertices.insert(vertices.end(), {g.p0[0], g.p0[1], g.p0[2], g.p1[0], g.p1[1], g.p1[2], g.p2[0], g.p2[1], g.p2[2]});
   }
-  if (!b.vertex_buffer.create(b.ctx.physical_device, device_, vertices.size() * sizeof(float), vertices.data(), b.error,
-                              kBuildInput))
+  const VkDeviceSize bytes = vertices.size() * sizeof(float);
+  Uploader uploader(b.ctx.physical_device, device_, b.ctx.queue_family_index, b.ctx.queue);
+  if (!b.vertex_buffer.create(ledger_, bytes, kBuildInput, b.error) ||
+      !uploader.buffer(b.vertex_buffer, vertices.data(), bytes, b.error) || !uploader.finish(b.error))
     return false;
   b.vertex_address = fn_->address(device_, b.vertex_buffer.buffer());
   return true;
@@ -156,15 +163,14 @@ bool RtScene::upload_vertices(Build& b, const SceneData& data) {
 // buffers, the structure, and info's destination and scratch address set.
 bool RtScene::create_structure(Build& b, VkAccelerationStructureTypeKHR type,
                                VkAccelerationStructureBuildGeometryInfoKHR* info, const uint32_t* max_counts,
-                               MappedBuffer* storage, MappedBuffer* scratch, VkAccelerationStructureKHR* out) {
+                               DeviceBuffer* storage, DeviceBuffer* scratch, VkAccelerationStructureKHR* out) {
   const RtFunctions& fn = *fn_;
   VkAccelerationStructureBuildSizesInfoKHR sizes{};
   sizes.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_BUILD_SIZES_INFO_KHR;
   fn.get_acceleration_structure_build_sizes(device_, VK_ACCELERATION_STRUCTURE_BUILD_TYPE_DEVICE_KHR, info, max_counts,
                                             &sizes);
-  if (!storage->create(b.ctx.physical_device, device_, sizes.accelerationStructureSize, nullptr, b.error, kStorage) ||
-      !scratch->create(b.ctx.physical_device, device_, sizes.buildScratchSize + b.scratch_align, nullptr, b.error,
-                       kScratch))
+  if (!storage->create(ledger_, sizes.accelerationStructureSize, kStorage, b.error) ||
+      !scratch->create(ledger_, sizes.buildScratchSize + b.scratch_align, kScratch, b.error))
     return false;
   VkAccelerationStructureCreateInfoKHR create{};
   create.sType = VK_STRUCTURE_TYPE_ACCELERATION_STRUCTURE_CREATE_INFO_KHR;

@@ -5,7 +5,8 @@
 // non-opaque, so rt_alpha.rahit decides per hit), and a TLAS with one instance
 // of it (identity transform; no instance when the scene has no triangles).
 //
-// Lifetime:  create() records the builds into a command buffer of its own,
+// Lifetime:  create() uploads the vertices through staging, then records the
+//            builds into a command buffer of its own,
 //            submits it on context.queue and waits for it: the caller must not
 //            use that queue from another thread meanwhile. Afterwards only the
 //            acceleration structures and their storage are kept; they must
@@ -28,8 +29,11 @@ namespace foveart::gpu_engine {
 
 class RtScene {
  public:
+  // The acceleration structures' storage, the build scratch and the vertex
+  // input in device-local memory from `ledger` (the vertices through staging).
   static std::unique_ptr<RtScene> create(const GpuContext& context, const RtFunctions& functions,
-                                         const SceneData& data, std::string* error);
+                                         const std::shared_ptr<MemoryLedger>& ledger, const SceneData& data,
+                                         std::string* error);
   ~RtScene();
   RtScene(const RtScene&) = delete;
   RtScene& operator=(const RtScene&) = delete;
@@ -49,7 +53,7 @@ class RtScene {
   bool upload_vertices(Build& b, const SceneData& data);
   bool create_structure(Build& b, VkAccelerationStructureTypeKHR type,
                         VkAccelerationStructureBuildGeometryInfoKHR* info, const uint32_t* max_counts,
-                        MappedBuffer* storage, MappedBuffer* scratch, VkAccelerationStructureKHR* out);
+                        DeviceBuffer* storage, DeviceBuffer* scratch, VkAccelerationStructureKHR* out);
   bool build_blas(Build& b);
   bool build_tlas(Build& b);
 
@@ -57,7 +61,8 @@ class RtScene {
   const RtFunctions* fn_ = nullptr;
   std::vector<uint32_t> prims_;
   uint32_t geometry1_first_ = 0;
-  MappedBuffer blas_storage_, tlas_storage_;
+  std::shared_ptr<MemoryLedger> ledger_;
+  DeviceBuffer blas_storage_, tlas_storage_;
   VkAccelerationStructureKHR blas_ = VK_NULL_HANDLE;
   VkAccelerationStructureKHR tlas_ = VK_NULL_HANDLE;
 };

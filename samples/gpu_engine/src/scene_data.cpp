@@ -94,6 +94,10 @@ void flatten_materials(const engine::Scene& scene, SceneData* out) {
     g.transmission = mat.transmission;
     g.ior = mat.ior;
     g.texture = mat.base_color_texture;
+    if (g.texture >= 0) {
+      const engine::Texture& t = scene.textures[static_cast<size_t>(g.texture)];
+      g.texture_flags = static_cast<uint32_t>(t.wrap_s) | static_cast<uint32_t>(t.wrap_t) << 2 | (t.nearest ? 16u : 0u);
+    }
     g.texcoord = mat.base_color_texcoord;
     g.alpha_mode = static_cast<int32_t>(mat.alpha_mode);
     out->materials.push_back(g);
@@ -116,22 +120,20 @@ void flatten_lights(const engine::Scene& scene, SceneData* out) {
   }
 }
 
-// Every texture's texels, one after another; false if their offsets outgrow 32 bits.
-bool flatten_textures(const engine::Scene& scene, SceneData* out, std::string* error) {
-  out->textures.clear();
-  out->texels.clear();
-  for (const engine::Texture& t : scene.textures) {
-    if (out->texels.size() / 4 + t.texels.size() > 0xFFFFFFFFull)
-      return fail(error, scene.source + ": textures too large for 32-bit texel offsets");
-    GpuTexture g{};
-    g.offset = static_cast<uint32_t>(out->texels.size() / 4);
-    g.width = t.width;
-    g.height = t.height;
-    g.flags = static_cast<uint32_t>(t.wrap_s) | static_cast<uint32_t>(t.wrap_t) << 2 | (t.nearest ? 16u : 0u);
-    for (const glm::vec4& c : t.texels) out->texels.insert(out->texels.end(), {c.r, c.g, c.b, c.a});
-    out->textures.push_back(g);
+// The textures the materials sample, each once, in slots in order of first
+// use; the materials refer to slots (unused textures are not uploaded).
+void assign_texture_slots(const engine::Scene& scene, SceneData* out) {
+  out->texture_slots.clear();
+  std::vector<int32_t> slot_of(scene.textures.size(), -1);
+  for (GpuMaterial& g : out->materials) {
+    if (g.texture < 0) continue;
+    int32_t& slot = slot_of[static_cast<size_t>(g.texture)];
+    if (slot < 0) {
+      slot = static_cast<int32_t>(out->texture_slots.size());
+      out->texture_slots.push_back(static_cast<uint32_t>(g.texture));
+    }
+    g.texture = slot;
   }
-  return true;
 }
 
 }  // namespace
@@ -143,7 +145,7 @@ bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
   if (!build_bvh(scene.mesh, traced, &out->bvh, error)) return false;
   flatten_materials(scene, out);
   flatten_lights(scene, out);
-  if (!flatten_textures(scene, out, error)) return false;
+  assign_texture_slots(scene, out);
   const engine::Bounds b = engine::scene_bounds(scene.mesh);
   GpuGlobals& g = out->globals;
   put3(g.sky_zenith, scene.sky_zenith);

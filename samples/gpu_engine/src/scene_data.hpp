@@ -1,6 +1,7 @@
 // The scene flattened into the shader's std430 storage buffers (trace_core.glsl
 // declares the same structs): triangles, per-triangle shading data, materials,
-// lights, textures (all texels in one array) and the scene constants.
+// lights, the scene constants, and which textures the materials sample (the
+// images themselves: scene_textures.hpp).
 #pragma once
 
 #include "bvh.hpp"
@@ -43,12 +44,13 @@ struct GpuMaterial {
   float alpha_cutoff;
   float transmission;
   float ior;
-  int32_t texture;   // -1: none
+  int32_t texture;   // slot in scene_textures (SceneData::texture_slots), -1: none
   int32_t texcoord;  // 0 or 1
   int32_t alpha_mode;
-  int32_t pad;
+  uint32_t texture_flags;  // its texture's wrap_s | wrap_t << 2 | nearest << 4 | srgb8 << 5 (kTextureSrgb8)
 };
 static_assert(sizeof(GpuMaterial) == 64);
+inline constexpr uint32_t kTextureSrgb8 = 32;  // texture_flags: RGBA8 holding sRGB bytes (SceneTextures)
 
 struct GpuLight {
   float position[3];
@@ -62,13 +64,6 @@ struct GpuLight {
   float pad[2];
 };
 static_assert(sizeof(GpuLight) == 64);
-
-struct GpuTexture {
-  uint32_t offset;  // first texel in the texel buffer
-  uint32_t width;
-  uint32_t height;
-  uint32_t flags;   // wrap_s | wrap_t << 2 | nearest << 4
-};
 
 struct GpuGlobals {
   float sky_zenith[3];
@@ -86,8 +81,7 @@ struct SceneData {
   std::vector<GpuShading> shading;
   std::vector<GpuMaterial> materials;
   std::vector<GpuLight> lights;
-  std::vector<GpuTexture> textures;
-  std::vector<float> texels;  // RGBA
+  std::vector<uint32_t> texture_slots;  // per slot: its index into Scene::textures (those a material samples)
   GpuGlobals globals{};
   engine::Effects scene_effects;
 };

@@ -9,10 +9,13 @@
 // Both share the shader source (samples/gpu_engine/shaders/trace_core.glsl) but
 // for the scene query, and give the same results within float rounding.
 //
-// Lifetime:  create() builds the BVH, uploads the scene once and creates the
-//            pipelines (ray_tracing_pipeline: also builds the acceleration
-//            structures with a submission on context.queue, waited for; the
-//            queue must not be used from another thread during create()); the GpuTracer must outlive every submission of a
+// Lifetime:  create() builds the BVH, uploads the scene once into device-local
+//            memory through staging (submissions on context.queue, waited for;
+//            host-visible memory where the device has no device-local memory
+//            that fits, memory_fallback() saying so) and creates the pipelines
+//            (ray_tracing_pipeline: also builds the acceleration structures on
+//            context.queue); the queue must not be used from another thread
+//            during create(). The GpuTracer must outlive every submission of a
 //            command buffer it recorded into. The VkDevice must outlive it.
 // Threads:   one thread at a time (record_trace, record_full, counts, reset_counts).
 // Sync:      record_* record bind + descriptor set + push + dispatch or trace
@@ -48,11 +51,18 @@
 
 namespace foveart::gpu_engine {
 
+// Bytes a tracer holds on the device, by kind (live allocations; staging excluded).
+struct MemoryUse {
+  uint64_t device_local_bytes = 0;  // DEVICE_LOCAL memory (buffers and images)
+  uint64_t host_visible_bytes = 0;  // host-visible memory that is not device-local
+  uint64_t texture_bytes = 0;       // of the above, the texture images
+};
+
 struct GpuContext {
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
   uint32_t queue_family_index = 0;
-  VkQueue queue = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;  // of queue_family_index: the scene's upload (and acceleration structure builds)
   // The device was created with RayTracingDeviceSupport::enable (rt_device.hpp):
   // VK_KHR_ray_tracing_pipeline, VK_KHR_acceleration_structure, their required
   // extensions and features. A VkDevice cannot be asked; its creator says so.
@@ -71,6 +81,9 @@ struct GpuTracerOptions {
   int max_depth = 4;                                // secondary bounces per path, 0..kMaxDepth
   engine::Effects allowed = engine::Effects::all();  // effects to simulate at most
   GpuBackend backend = GpuBackend::automatic;
+  // false: behave as if the device had no device-local memory (the host-visible
+  // fallback, for tests); memory_fallback() says so.
+  bool device_local_memory = true;
   static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
 };
 
@@ -106,6 +119,13 @@ class GpuTracer {
   engine::Effects effects() const;        // what the kernel simulates (scene & allowed)
   engine::RayCounts counts() const;       // device counters (packets stays 0)
   void reset_counts();
+  // Bytes the tracer holds on the device by kind, staging excluded (MemoryUse:
+  // device-local, host-visible, of which texture images).
+  MemoryUse memory_use() const;
+  // One line when (part of) the scene had to live in host-visible memory: no
+  // device-local type fits, an allocation failed, or the options said so. Empty
+  // otherwise; the caller logs it once (as backend_fallback()).
+  const std::string& memory_fallback() const;
 
   struct Impl;
 
