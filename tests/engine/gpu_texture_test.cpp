@@ -40,7 +40,7 @@ using namespace foveart::gpu_engine::testing;
 constexpr int kSide = 2048;
 constexpr int kTextures = 5;
 
-TestGpu& gpu() {
+TestGpu& texture_gpu() {
   static TestGpu g(DevicePreference::cpu, false);
   return g;
 }
@@ -134,9 +134,9 @@ std::vector<glm::vec4> render_cpu(foveart::engine::Tracer& tracer, const Foveart
 
 std::vector<glm::vec4> render_gpu(GpuTracer& tracer, const FoveartEyeView& view, uint32_t spp, uint64_t seed) {
   const size_t pixels = size_t{view.width_px} * view.height_px;
-  HostBuffer out(gpu(), 16 * pixels);
+  HostBuffer out(texture_gpu(), 16 * pixels);
   std::string error;
-  EXPECT_TRUE(gpu().run([&](VkCommandBuffer cb) {
+  EXPECT_TRUE(texture_gpu().run([&](VkCommandBuffer cb) {
     const bool ok = tracer.record_full(cb, view, spp, seed, out.buffer, 0, &error);
     layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT);
     return ok;
@@ -189,7 +189,7 @@ void expect_rays_agree_per_ring(const std::vector<glm::vec4>& gpu_px, const std:
 }  // namespace
 
 TEST(GpuTextures, FiveTextures2048MatchTheCpuEnginePerRing) {
-  if (!gpu().vk.ok()) GTEST_SKIP() << "no Vulkan device";
+  if (!texture_gpu().vk.ok()) GTEST_SKIP() << "no Vulkan device";
   engine_test::TempDir dir;
   const std::filesystem::path file = write_five_textures(dir.path);
   ASSERT_FALSE(file.empty()) << "writing the PNGs failed";
@@ -202,7 +202,7 @@ TEST(GpuTextures, FiveTextures2048MatchTheCpuEnginePerRing) {
   view.height_px = 180;
 
   std::string error;
-  auto g = GpuTracer::create(gpu().context(), *loaded.scene, {}, &error);
+  auto g = GpuTracer::create(texture_gpu().context(), *loaded.scene, {}, &error);
   ASSERT_NE(g, nullptr) << error;  // was: "scene buffer 7 (335544320 bytes) exceeds maxStorageBufferRange"
   const foveart::gpu_engine::MemoryUse m = g->memory_use();
   std::printf("[ memory ] five 2048x2048 textures: device-local %llu bytes, host-visible %llu bytes, textures %llu "
@@ -236,5 +236,5 @@ TEST(GpuTextures, FiveTextures2048MatchTheCpuEnginePerRing) {
                                                          view.width_px / 2, view.height_px / 2);
   foveart::layer::test::print_rings("[ rings ] 8-bit", rings);
   for (int r = 0; r < kRings; ++r) EXPECT_TRUE(rings[r].passes()) << "ring " << r;
-  expect_no_validation_errors(gpu());
+  expect_no_validation_errors(texture_gpu());
 }
