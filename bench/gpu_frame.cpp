@@ -7,7 +7,7 @@
 //    from it: the full frame = its trace + the foveated frame's history and
 //    encode);
 //  * foveated: the layer's device path: rays made on the device, the engine's
-//    device trace, the resolve, gather, history and encode (GpuEye with a
+//    device trace, the resolve, gather, history and encode (gpu::Eye with a
 //    DeviceTraceFrame), each stage from timestamps ("trace" is rays + the
 //    engine's trace + resolve).
 // Median over --frames frames after one warm-up; speedup = full / foveated
@@ -39,7 +39,8 @@
 #include "foveation/view_tables.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
 #include "gpu_engine/rt_device.hpp"
-#include "gpu_reconstruction.hpp"
+#include "device_trace_engine.hpp"
+#include "gpu/reconstructor.hpp"
 #include "headless_vulkan.hpp"
 
 namespace {
@@ -133,9 +134,9 @@ int main(int argc, char** argv) {
                                });
   if (!vulkan.ok()) return fail("no Vulkan device with a compute queue");
   if (frames == 0) frames = vulkan.is_cpu() ? 2 : 8;  // lavapipe traces a FOVE eye in tens of seconds
-  const layer::GpuDevice device = vulkan.device();
+  const foveart::gpu::Device device = vulkan.device();
   std::string error;
-  auto gpu = layer::GpuReconstructor::create(device, &error);
+  auto gpu = foveart::gpu::Reconstructor::create(device, &error);
   if (gpu == nullptr) return fail(vulkan.name() + " cannot run the shaders: " + error);
   VkQueue queue = VK_NULL_HANDLE;
   vkGetDeviceQueue(device.device, device.queue_family_index, device.queue_index, &queue);
@@ -168,11 +169,11 @@ int main(int argc, char** argv) {
   auto eye = gpu_tables ? gpu->create_eye(view.width_px, view.height_px, &error) : nullptr;
   if (eye == nullptr) return fail(error);
 
-  layer::BoundBuffer full_out;
+  foveart::gpu::BoundBuffer full_out;
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(device.physical_device, &memory);
-  if (!layer::create_bound_buffer(device.device, memory, VkDeviceSize{view.width_px} * view.height_px * 16,
-                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, layer::buffer_memory_flags(false),
+  if (!foveart::gpu::create_bound_buffer(device.device, memory, VkDeviceSize{view.width_px} * view.height_px * 16,
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, foveart::gpu::buffer_memory_flags(false),
                                   &full_out.buffer, &full_out.memory, nullptr, &error)) {
     return fail(error);
   }
@@ -208,8 +209,10 @@ int main(int argc, char** argv) {
 
     const auto t_fov = std::chrono::steady_clock::now();
     foveated.plan(request, executor);  // the history's decision on the CPU (in the wall time)
-    layer::DeviceTraceFrame trace;
-    trace.engine = layer::DeviceTraceFn{&foveart_gpu_engine_trace_rays_device, tracer.get()};
+    foveart::gpu::DeviceTraceFrame trace;
+    XrResult engine_result = XR_SUCCESS;
+    trace.engine =
+        layer::xr_device_trace_engine(&foveart_gpu_engine_trace_rays_device, tracer.get(), &engine_result);
     trace.points = &tables->points;
     trace.view = view;
     trace.mapping = foveated.hand_off().mapping;
@@ -217,14 +220,14 @@ int main(int argc, char** argv) {
     trace.sample_seed = foveated.hand_off().sample_seed;
     trace.rays_per_point = uint32_t(spp);
     trace.pixel_filter = settings.pixel_filter;
-    layer::GpuFrame frame = layer::GpuFrame::of(*gpu_tables, foveated.hand_off(), true);
+    foveart::gpu::EyeFrame frame = foveart::gpu::EyeFrame::of(*gpu_tables, foveated.hand_off(), true);
     frame.device = &trace;
     ok = gpu->submit_and_wait(
         [&](VkCommandBuffer cb) { return eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error);
     const double fov_wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_fov).count();
-    layer::GpuStageTimes times;
+    foveart::gpu::StageTimes times;
     if (!ok || !eye->stage_times(&times)) break;
-    const layer::DeviceTraceStatus status = eye->device_trace_status();
+    const foveart::gpu::DeviceTraceStatus status = eye->device_trace_status();
     if (status.invalid_components != 0) {
       error = std::to_string(status.invalid_components) + " invalid colour components";
       ok = false;
@@ -233,7 +236,7 @@ int main(int argc, char** argv) {
     if (i == 0) continue;
     const double fixed_ms = double(times.temporal_ms + times.encode_ms);  // the same passes on the same pixels
     full_trace.push_back(full_ms);
-    fov_trace.push_back(double(times.scatter_ms));
+    fov_trace.push_back(double(times.trace_ms));
     gather.push_back(double(times.gather_ms));
     history.push_back(double(times.temporal_ms));
     encode.push_back(double(times.encode_ms));
@@ -244,7 +247,7 @@ int main(int argc, char** argv) {
     fov_wall.push_back(fov_wall_ms);
     points.push_back(double(status.visible_points));
   }
-  layer::destroy_buffer(device.device, &full_out);
+  foveart::gpu::destroy_buffer(device.device, &full_out);
   if (!ok) return fail("frame failed: " + error);
 
   const double fov_ms = median(fov_total);

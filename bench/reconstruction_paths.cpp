@@ -1,7 +1,7 @@
 // Per-eye reconstruction + TAA on both paths in one run (docs/gpu.md): the
 // same frames of foveation::FoveatedView, reconstructed and accumulated by
 // foveation on the CPU (all cores, the layer's executor) and by the compute
-// shaders (layer/src/gpu_reconstruction) on a Vulkan device: a discrete or
+// shaders (gpu/) on a Vulkan device: a discrete or
 // integrated GPU when there is one, else lavapipe (a CPU: there the ratio is
 // what matters, not the absolute time). Median over --frames frames after one
 // warm-up; GPU time from timestamps, CPU time from the wall clock. --temporal
@@ -27,14 +27,14 @@
 #include "foveation/rgba8.hpp"
 #include "foveation/temporal_mode.hpp"
 #include "foveation/view_settings.hpp"
-#include "gpu_reconstruction.hpp"
+#include "gpu/reconstructor.hpp"
 #include "headless_vulkan.hpp"
 
 namespace {
 
 namespace fv = foveart::foveation;
-using foveart::layer::GpuFrame;
-using foveart::layer::GpuStageTimes;
+using foveart::gpu::EyeFrame;
+using foveart::gpu::StageTimes;
 
 int32_t gradient_engine(void*, const FoveartRayBatch* batch) {
   for (uint32_t i = 0; i < batch->ray_count; ++i) {
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::string error;
-  auto gpu = foveart::layer::GpuReconstructor::create(vulkan.device(), &error);
+  auto gpu = foveart::gpu::Reconstructor::create(vulkan.device(), &error);
   if (gpu == nullptr) {
     std::fprintf(stderr, "reconstruction_paths: %s cannot run the shaders: %s\n", vulkan.name().c_str(), error.c_str());
     return 1;
@@ -133,12 +133,12 @@ int main(int argc, char** argv) {
         fv::encode_rgba8(cpu_view.image(), true, fv::DisplayTransform{}, rgba.data(), executor);
         const double enc = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         const auto g = gpu_view.render(r, gradient_engine, nullptr, executor);
-        const GpuFrame f = GpuFrame::of(*gpu_tables, gpu_view.hand_off(), true);
+        const EyeFrame f = EyeFrame::of(*gpu_tables, gpu_view.hand_off(), true);
         const auto t1 = std::chrono::steady_clock::now();
         const bool ok = gpu->submit_and_wait(
             [&](VkCommandBuffer cb) { return eye->record(cb, f, VK_NULL_HANDLE, executor, &error); }, &error);
         const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
-        GpuStageTimes times;
+        StageTimes times;
         if (!ok || !c.ok() || !g.ok() || !eye->stage_times(&times)) {
           std::fprintf(stderr, "reconstruction_paths: frame %d failed: %s\n", i, error.c_str());
           return 1;

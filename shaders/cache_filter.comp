@@ -15,7 +15,7 @@ void main() {
   const float footprint_px = pixels[index].x;
   const float inv_footprint = 1.0 / footprint_px;
   const vec2 centre = vec2(p) + 0.5;
-  const float half_width = filter_kind == 0u ? 0.5 : 1.5;
+  const float half_width = filter_kind == FOVEART_RAY_CACHE_FILTER_BOX ? 0.5 : 1.5;
   const vec2 r = vec2(half_width * footprint_px);
   const ivec2 lo = max(ivec2(floor((centre - r) / CELL_PX)) + 1, ivec2(0));
   const ivec2 hi = min(ivec2(floor((centre + r) / CELL_PX)) + 1, cells_xy - 1);

@@ -1,9 +1,11 @@
 // Bindings and constants shared by the reconstruction shaders (docs/gpu.md).
-// One descriptor set for every pipeline; the host side is layer/src/gpu_*.
+// One descriptor set for every pipeline; the host side is gpu/ (gpu/eye.hpp).
 #ifndef FOVEART_COMMON_GLSL
 #define FOVEART_COMMON_GLSL
 #extension GL_GOOGLE_include_directive : require
 #include "foveation/shader_constants.h"
+#include "gpu/shader_interface/depth.h"
+#include "gpu/shader_interface/table_chunks.h"
 
 // Table chunks: canvas tile rows [first_row, end_row) of the interpolation
 // table (or the neighbour table for NN), each <= maxStorageBufferRange bytes.

@@ -1,37 +1,43 @@
 #version 450
 // Stages 1-2 of a frame traced on the device (docs/gpu.md "The device
 // trace"): foveation::CallbackTrace's visible test and foveation::PointRays
-// on the GPU. Mode 0, one invocation per point of the set: a point whose
-// screen position lies in the screen and its margin takes the next rank and
-// writes its rays_per_point rays at rank * spp (pixel-grid points jittered
-// over their pixel, the rest in their disc, thesis 4.2). Mode 1, one
-// invocation: the ray count and the indirect dispatches from the ranks taken.
+// on the GPU. A point whose screen position lies in the screen and its margin
+// is visible; the visible points are compacted in the point set's order, so a
+// frame gives the same rays in the same places on every run (and neighbouring
+// rays stay neighbours, as the set's Hilbert order made them):
+//   COUNT  a workgroup per block of points counts its visible ones
+//          (subgroup ballots, then the subgroups' counts in shared memory);
+//   SCAN   one workgroup: the blocks' counts become where each block's points
+//          begin (scan.glsl), the total is the visible points; the ray count
+//          and the indirect dispatches follow;
+//   WRITE  a workgroup per block: each visible point's rank is its block's
+//          start plus the visible points before it in the block; its
+//          rays_per_point rays go at rank * spp (pixel-grid points jittered
+//          over their pixel, the rest in their disc, thesis 4.2).
+// Ranks follow gl_LocalInvocationIndex when subgroups hold consecutive
+// invocations (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID), as
+// the drivers lay them out; tests/gpu/device_trace_test.cpp checks the order.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "eye_rays.glsl"
 #include "jitter.glsl"
-#include "foveation/shader_constants.h"
+#include "gpu/shader_interface/device_rays.h"
 
-layout(local_size_x = 64) in;
-// Per point: canvas x, y (pixels), disc radius (pixels), 1 = on the pixel grid.
-layout(set = 0, binding = 0, std430) readonly buffer Points { vec4 points[]; };
+layout(local_size_x = FOVEART_DEVICE_RAYS_BLOCK) in;
+layout(set = 0, binding = 0, std430) readonly buffer Points { DevicePoint points[]; };
 // Per ray: (origin xyz, sample x), (direction xyz, sample y): the engine's contract.
-layout(set = 0, binding = 1, std430) writeonly buffer Rays { vec4 rays[]; };
+layout(set = 0, binding = 1, std430) writeonly buffer Rays { DeviceRay rays[]; };
 layout(set = 0, binding = 2, std430) writeonly buffer PointIndex { uint point_index[]; };
-// FoveartDeviceRayCount, then the resolve's dispatch and the visible points (shader_constants.h).
+// FoveartDeviceRayCount, then the resolve's dispatch and the visible points (device_trace.h).
 layout(set = 0, binding = 3, std430) buffer Control { uint control[]; };
+// Per block of points: its visible points (COUNT), then where they begin (SCAN).
+layout(set = 0, binding = 4, std430) buffer Blocks { uint block_first[]; };
 
-layout(push_constant) uniform Push {
-  vec4 tan_lrud;         // the frustum: tan of the left, right, up, down angles
-  vec4 orientation;      // unit quaternion xyzw, tracking from view
-  vec4 position_m;       // xyz
-  ivec2 screen_px;
-  vec2 canvas_from_screen_px;
-  float margin_px;
-  uint rays_per_point;
-  uint point_count;
-  uint flags;            // bit 0: bspline2 pixel filter; bit 1: mode 1 (counts)
-  uvec2 seed;            // low, high word
-};
+#define SCAN_ARRAY block_first
+#define SCAN_THREADS FOVEART_DEVICE_RAYS_BLOCK
+#include "scan.glsl"
+
+shared uint subgroup_before[FOVEART_DEVICE_RAYS_BLOCK];  // per subgroup: visible points before it in the block
 
 void write_counts() {
   const uint visible = control[FOVEART_DEVICE_VISIBLE_POINTS];
@@ -49,27 +55,62 @@ void write_counts() {
   control[FOVEART_DEVICE_RESOLVE_DISPATCH + 2u] = 1u;
 }
 
-void main() {
-  if ((flags & 2u) != 0u) {
-    if (gl_GlobalInvocationID.x == 0u) write_counts();
-    return;
+bool visible_point(uint i, out vec2 screen) {
+  screen = vec2(0.0);
+  if (i >= point_count) return false;
+  screen = points[i].position_radius_grid.xy - canvas_from_screen_px;
+  return screen.x >= -margin_px && screen.x < float(screen_px.x) + margin_px && screen.y >= -margin_px &&
+         screen.y < float(screen_px.y) + margin_px;
+}
+
+// The visible points of this workgroup's block before this invocation's, and (*block_visible) in all of it.
+uint rank_in_block(bool visible, out uint block_visible) {
+  const uvec4 ballot = subgroupBallot(visible);
+  if (subgroupElect()) subgroup_before[gl_SubgroupID] = subgroupBallotBitCount(ballot);
+  barrier();
+  uint before = 0u;
+  block_visible = 0u;
+  for (uint s = 0u; s < gl_NumSubgroups; ++s) {
+    const uint n = subgroup_before[s];
+    before += s < gl_SubgroupID ? n : 0u;
+    block_visible += n;
   }
-  const uint i = gl_GlobalInvocationID.x;
-  if (i >= point_count) return;
-  const vec4 p = points[i];
-  const vec2 screen = p.xy - canvas_from_screen_px;
-  if (!(screen.x >= -margin_px && screen.x < float(screen_px.x) + margin_px && screen.y >= -margin_px &&
-        screen.y < float(screen_px.y) + margin_px)) {
-    return;
-  }
-  const uint first = atomicAdd(control[FOVEART_DEVICE_VISIBLE_POINTS], 1u) * rays_per_point;
-  const bool bspline2 = (flags & 1u) != 0u;
+  return before + subgroupBallotExclusiveBitCount(ballot);
+}
+
+void write_rays(uint i, uint rank, vec2 screen) {
+  const vec4 p = points[i].position_radius_grid;
+  const uint first = rank * rays_per_point;
+  const bool bspline2 = (flags & FOVEART_DEVICE_RAYS_BSPLINE2) != 0u;
   for (uint s = 0u; s < rays_per_point; ++s) {
     const vec2 sample_px = p.w > 0.5 ? pixel_sample_px(screen, s, seed, screen_px.x, bspline2)
                                      : screen + unit_disc_sample(seed, i, s) * p.z;
     const uint r = first + s;
-    rays[2u * r] = vec4(position_m.xyz, sample_px.x);
-    rays[2u * r + 1u] = vec4(eye_ray_direction(tan_lrud, orientation, vec2(screen_px), sample_px), sample_px.y);
+    rays[r].origin_sample_x = vec4(position_m.xyz, sample_px.x);
+    rays[r].direction_sample_y =
+        vec4(eye_ray_direction(tan_lrud, orientation, vec2(screen_px), sample_px), sample_px.y);
     point_index[r] = i;
+  }
+}
+
+void main() {
+  const uint blocks = (point_count + uint(FOVEART_DEVICE_RAYS_BLOCK) - 1u) / uint(FOVEART_DEVICE_RAYS_BLOCK);
+  if (pass == FOVEART_DEVICE_RAYS_SCAN) {
+    const uint visible = scan_all(0u, blocks);
+    if (gl_LocalInvocationIndex == 0u) {
+      control[FOVEART_DEVICE_VISIBLE_POINTS] = visible;
+      write_counts();
+    }
+    return;
+  }
+  const uint i = gl_GlobalInvocationID.x;
+  vec2 screen;
+  const bool visible = visible_point(i, screen);
+  uint block_visible;
+  const uint rank = rank_in_block(visible, block_visible);
+  if (pass == FOVEART_DEVICE_RAYS_COUNT) {
+    if (gl_LocalInvocationIndex == 0u) block_first[gl_WorkGroupID.x] = block_visible;
+  } else if (visible) {
+    write_rays(i, block_first[gl_WorkGroupID.x] + rank, screen);
   }
 }

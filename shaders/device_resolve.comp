@@ -6,7 +6,8 @@
 // counted into the status the host reads after the frame (the view then
 // falls back); NaN is found from the bits (drivers may compile isnan away).
 #extension GL_GOOGLE_include_directive : require
-#include "foveation/shader_constants.h"
+#include "gpu/shader_interface/depth.h"
+#include "gpu/shader_interface/device_resolve.h"
 
 layout(local_size_x = 64) in;
 layout(set = 0, binding = 0, std430) readonly buffer RayColors { vec4 ray_colors[]; };  // rgb, depth in metres
@@ -15,11 +16,6 @@ layout(set = 0, binding = 2, std430) readonly buffer Control { uint control[]; }
 layout(set = 0, binding = 3, std430) buffer Status { uint status[]; };  // invalid components, visible points
 layout(set = 0, binding = 4, std430) writeonly buffer Colors { vec4 colors[]; };
 layout(set = 0, binding = 5, std430) writeonly buffer PointDepth { float point_depth[]; };
-
-layout(push_constant) uniform Push {
-  uint rays_per_point;
-  uint point_count;
-};
 
 bool not_finite(uint bits) { return (bits & 0x7F800000u) == 0x7F800000u; }
 bool invalid(uint bits) { return not_finite(bits) || (bits > 0x80000000u); }  // NaN, infinite, below -0
@@ -42,7 +38,7 @@ void main() {
     sum += c.rgb;
     const uint depth_bits = floatBitsToUint(c.w);
     if (depth_bits == 0x7F800000u) {  // +inf: the sky
-      if (nearest_m == FOVEART_DEPTH_UNKNOWN) nearest_m = 3.0e38;
+      if (nearest_m == FOVEART_DEPTH_UNKNOWN) nearest_m = FOVEART_DEPTH_SKY;
     } else if (!not_finite(depth_bits) && depth_bits < 0x80000000u) {  // finite and >= 0
       nearest_m = nearest_m == FOVEART_DEPTH_UNKNOWN ? c.w : min(nearest_m, c.w);
     }

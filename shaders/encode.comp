@@ -8,12 +8,7 @@
 #include "tone_map.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(push_constant) uniform Push {
-  ivec2 size_px;
-  uint srgb;
-  float exposure;
-  uint tone_map;
-};
+#include "gpu/shader_interface/encode.h"
 
 uint encode_channel(float c) {
   if (!(c > 0.0)) return 0u;

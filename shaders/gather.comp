@@ -13,6 +13,7 @@
 // colours of the block (RbfClamp::block) or of the pixel's taps (::taps).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
+#include "gpu/shader_interface/gather.h"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -21,19 +22,6 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define CLAMP_TAPS FOVEART_GATHER_CLAMP_TAPS
 #define CLAMP_BLOCK FOVEART_GATHER_CLAMP_BLOCK
 #define RBF FOVEART_GATHER_RBF
-
-layout(push_constant) uniform Push {
-  ivec2 screen_px;
-  ivec2 canvas_offset_px;  // canvas pixel of screen pixel (0, 0)
-  ivec2 canvas_px;
-  ivec2 first_tile;        // canvas tile of workgroup (0, 0)
-  int k;                   // taps (weighted methods)
-  int neighbor_k;          // neighbour-table entries per pixel (NN)
-  uint flags;
-  uint chunk_count;
-  vec4 fallback_rgb;
-  uvec4 chunk_first_row[MAX_CHUNKS / 4];
-};
 
 uint word(uint c, uint i) { return chunks[c].words[i]; }
 

@@ -1,6 +1,6 @@
 // The render cache on the GPU (docs/gpu.md "The render cache"): the twin of
 // foveation::RayCache as FoveatedView runs it. Its own descriptor set; the
-// host side is layer/src/gpu_ray_cache.*. A frame:
+// host side is gpu/ray_cache.hpp. A frame:
 //   cache_rays   every kept ray projected into this view and depth-tested,
 //                every new ray anchored; each within reach counted into its
 //                cell of a 2-px grid (its slot there from the atomic count)
@@ -18,35 +18,12 @@
 #include "quat.glsl"
 
 #include "foveation/shader_constants.h"
+#include "gpu/shader_interface/depth.h"
+#include "gpu/shader_interface/ray_cache.h"
 #define CELL_PX float(FOVEART_RAY_CACHE_CELL_PX)
 #define KEPT_RAY_OCCLUSION_TOLERANCE FOVEART_KEPT_RAY_OCCLUSION_TOLERANCE
 #define DEPTH_FAR FOVEART_DEPTH_FAR
-#define SCAN_BLOCK FOVEART_RAY_CACHE_SCAN_BLOCK  // cells per workgroup of cache_scan (256 threads x 4)
-
-// A kept ray: where it hit (w = 0) or its direction (w = 1: a miss or no
-// depth), its colour and its age in frames (w).
-struct Anchor {
-  vec4 point_m_or_direction;
-  vec4 rgb_age;
-};
-// A new ray as uploaded: where it crossed the screen, its depth (as
-// common.glsl carries depth: < 0 none, >= DEPTH_FAR the sky), its colour.
-struct NewRay {
-  vec4 sample_px_depth;
-  vec4 rgb;
-};
-// A ray this frame: where it lands, its cell (-1: beyond reach or covered) and its slot there.
-struct RayFrame {
-  vec2 sample_px;
-  int cell;
-  uint slot;
-};
-struct CellRay {
-  vec2 sample_px;
-  vec2 rg;
-  float b;
-  float unused;
-};
+#define SCAN_BLOCK FOVEART_RAY_CACHE_SCAN_BLOCK  // cells per workgroup of cache_scan
 
 // The gather of this frame (rgb, depth); cache_filter writes the frame into it.
 layout(set = 0, binding = 0, std430) buffer Current { vec4 current[]; };
@@ -63,20 +40,6 @@ layout(set = 0, binding = 6, std430) buffer ByCell { CellRay by_cell[]; };
 layout(set = 0, binding = 7, std430) readonly buffer Pixels { vec2 pixels[]; };
 layout(set = 0, binding = 8, std430) buffer Counter { uint kept_out; };
 
-layout(push_constant) uniform Push {
-  vec4 orientation;  // the eye's, x y z w
-  vec4 position_m;   // the eye's, xyz
-  vec4 tan_lrud;     // tan(left, right, up, down)
-  ivec2 size_px;
-  ivec2 cells_xy;
-  uint kept;         // rays in anchors_in from earlier frames
-  uint added;        // this frame's new rays, after them
-  uint filter_kind;  // 0 box, 1 bspline2
-  uint max_age;      // frames a ray is kept (0: no limit)
-  uint scan_phase;   // cache_scan: 0 blocks, 1 the block sums, 2 add them
-  uint cell_count;
-  uint capacity;     // anchors either buffer holds
-};
 
 // foveation::eye_ray_direction: the unit tracking-space direction through a screen position.
 vec3 eye_ray_direction(vec2 sample_px) {
@@ -98,13 +61,13 @@ bool project_direction(vec3 direction, out vec2 sample_px) {
 
 // foveation::RayCache::row_within_reach: within the filter's reach of the image.
 bool within_reach(vec2 q) {
-  const float r = filter_kind == 0u ? 0.0 : 1.0;
+  const float r = filter_kind == FOVEART_RAY_CACHE_FILTER_BOX ? 0.0 : 1.0;
   return q.x >= -r && q.x < float(size_px.x) + r && q.y >= -r && q.y < float(size_px.y) + r;
 }
 
 // foveation::pixel_filter_weight, per axis.
 float pixel_filter_weight(float offset_px) {
-  if (filter_kind == 0u) return offset_px >= -0.5 && offset_px < 0.5 ? 1.0 : 0.0;
+  if (filter_kind == FOVEART_RAY_CACHE_FILTER_BOX) return offset_px >= -0.5 && offset_px < 0.5 ? 1.0 : 0.0;
   const float u = abs(offset_px);
   if (u < 0.5) return 0.75 - u * u;
   if (u < 1.5) return 0.5 * (1.5 - u) * (1.5 - u);
@@ -113,7 +76,7 @@ float pixel_filter_weight(float offset_px) {
 
 // The per-ray and per-cell passes' workgroup size, and their grid-stride
 // loops: a dispatch of at most 65535 workgroups covers any count.
-#define GROUP_SIZE 256
+#define GROUP_SIZE FOVEART_RAY_CACHE_GROUP_SIZE
 uint stride() { return gl_NumWorkGroups.x * uint(GROUP_SIZE); }
 
 #endif

@@ -5,10 +5,7 @@
 #include "common.glsl"
 
 layout(local_size_x = 64) in;
-layout(push_constant) uniform Push {
-  uint count;        // entries in uploaded[]
-  uint point_count;  // slots in colors[]
-};
+#include "gpu/shader_interface/scatter.h"
 
 void main() {
   const uint i = gl_GlobalInvocationID.x;

@@ -13,19 +13,7 @@
 #include "quat.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(push_constant) uniform Push {
-  ivec2 size_px;
-  float current_weight;  // this frame's blend weight (TemporalAccumulator::frame_weight)
-  float variance_gamma;  // box mu +- gamma sigma
-  uint constraint;       // 0 min/max clamp, 1 variance clip
-  uint reset;            // 1: output = current
-  float clip_floor;      // the box's least half-width (TemporalOptions::clip_floor)
-  uint reproject;        // the view moved: reproject the history, 1 bilinear, 2 Catmull-Rom (0: it did not)
-  vec4 last_from_view_q;  // rotation (x, y, z, w): this view's space -> the last view's
-  vec4 last_from_view_t;  // xyz: this eye's position in the last view's space, metres
-  vec4 tan_view;          // this view's tan(left, right, up, down)
-  vec4 tan_last;          // the last view's
-};
+#include "gpu/shader_interface/temporal.h"
 
 #define DISOCCLUSION_TOLERANCE FOVEART_DISOCCLUSION_TOLERANCE
 
@@ -90,7 +78,7 @@ bool reprojected_history(ivec2 p, float depth, out vec3 history) {
   const vec2 a = f - vec2(i0);
   const vec3 c00 = last_at(i0), c10 = last_at(i0 + ivec2(1, 0));
   const vec3 c01 = last_at(i0 + ivec2(0, 1)), c11 = last_at(i0 + ivec2(1, 1));
-  if (reproject == 1u) {
+  if (reproject == FOVEART_REPROJECT_BILINEAR) {
     const vec3 top = c00 + a.x * (c10 - c00), bottom = c01 + a.x * (c11 - c01);
     history = top + a.y * (bottom - top);
     return true;
@@ -109,11 +97,11 @@ void main() {
   const uint i = uint(p.y * size_px.x + p.x);
   const vec4 cur = current[i];
   vec3 v = history_in[i].rgb;
-  if (reset != 0u || (reproject != 0u && !reprojected_history(p, cur.a, v))) {
+  if (reset != 0u || (reproject != FOVEART_REPROJECT_NONE && !reprojected_history(p, cur.a, v))) {
     history_out[i] = cur;  // no history: this frame alone
     return;
   }
-  if (constraint == 0u) {
+  if (constraint == FOVEART_HISTORY_MIN_MAX_CLAMP) {
     vec3 lo = vec3(1.0 / 0.0), hi = vec3(-1.0 / 0.0);
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 
-#include "vk_util.hpp"
+#include "gpu/vk_util.hpp"
 
 namespace foveart::layer {
+using gpu::vk_error;
+using gpu::vk_struct;
 namespace {
 
 std::string xr_error(const char* what, XrResult r) { return std::string(what) + " failed (XrResult " + std::to_string(r) + ")"; }
@@ -104,7 +106,7 @@ bool EyeSwapchain::create_staging(std::string* error) {
   // Host-visible staging buffer, persistently mapped.
   VkPhysicalDeviceMemoryProperties memory{};
   vkGetPhysicalDeviceMemoryProperties(physical_device_, &memory);
-  return create_bound_buffer(device_, memory, VkDeviceSize{width_px_} * height_px_ * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+  return gpu::create_bound_buffer(device_, memory, VkDeviceSize{width_px_} * height_px_ * 4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
                              VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, &buffer_,
                              &memory_, &mapped_, error);
 }
@@ -114,37 +116,12 @@ uint8_t* EyeSwapchain::staging(std::string* error) {
   return static_cast<uint8_t*>(mapped_);
 }
 
-void record_copy_to_swapchain_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px,
-                                    uint32_t height_px) {
-  auto to_transfer = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
-  to_transfer.srcAccessMask = 0;
-  to_transfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  to_transfer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // every texel is overwritten
-  to_transfer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  to_transfer.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_transfer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  to_transfer.image = image;
-  to_transfer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                       nullptr, 1, &to_transfer);
-  VkBufferImageCopy copy{};
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-  copy.imageExtent = {width_px, height_px, 1};
-  vkCmdCopyBufferToImage(cb, buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
-  VkImageMemoryBarrier to_attachment = to_transfer;
-  to_attachment.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-  to_attachment.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  to_attachment.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
-  to_attachment.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
-                       nullptr, 0, nullptr, 1, &to_attachment);
-}
 
 bool EyeSwapchain::upload(std::string* error) {
   if (mapped_ == nullptr) return *error = "upload before the staging buffer was written", false;
   return present(
       [this](VkCommandBuffer cb, VkImage image, std::string*) {
-        record_copy_to_swapchain_image(cb, buffer_, image, width_px_, height_px_);
+        gpu::record_copy_to_image(cb, buffer_, image, width_px_, height_px_);
         return true;
       },
       error);

@@ -1,7 +1,7 @@
 // A swapchain the layer owns for one eye, created through the runtime on the
 // app's Vulkan device, and the two ways a frame gets into it: the CPU path's
 // upload from a host-visible staging buffer, or the GPU path's commands
-// (gpu_reconstruction.hpp) recorded into the swapchain's command buffer.
+// (gpu/eye.hpp) recorded into the swapchain's command buffer.
 //
 // Sync: each frame acquires and waits for an image (xrAcquire/xrWait), records
 // its commands (ending with UNDEFINED -> TRANSFER_DST, a buffer-to-image copy
@@ -20,12 +20,6 @@
 #include "state.hpp"
 
 namespace foveart::layer {
-
-// Records the copy of `buffer` (width_px x height_px RGBA8 texels, written by
-// an earlier command or the host) into `image`, whose old contents are dropped,
-// and leaves `image` in COLOR_ATTACHMENT_OPTIMAL.
-void record_copy_to_swapchain_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px,
-                                    uint32_t height_px);
 
 class EyeSwapchain {
  public:

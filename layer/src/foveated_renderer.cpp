@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -21,7 +22,8 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
 #include "gaze_source.hpp"
-#include "gpu_reconstruction.hpp"
+#include "device_trace_engine.hpp"
+#include "gpu/reconstructor.hpp"
 #include "layer/sampling_defaults.hpp"
 #include "log.hpp"
 #include "next_chain.hpp"
@@ -88,12 +90,27 @@ struct FoveatedRenderer::Frames {
     std::shared_ptr<const foveation::ViewTables> ready;  // null: not (yet) there
     bool failed = false;  // the build failed: this view size falls back for good
   };
+  struct Eye;
+  // How an eye makes its frames, chosen once (choose_path) and again only after
+  // its GPU path failed: the per-eye frame code calls it without asking which.
+  struct EyePath {
+    bool reconstruct_on_gpu = false;
+    bool device_trace = false;  // stages 1-3 on the device (the engine's device trace)
+    // Stages 1-5 on the host (a device-traced frame: the history's decision only).
+    std::function<foveation::FrameResult(Eye& eye, const foveation::FrameRequest& request)> run;
+    // Stage 6 (a device-traced frame: stages 1-6) and the copy into the eye's swapchain image.
+    std::function<bool(uint32_t e, const foveation::FrameRequest& request,
+                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                       XrFoveatedRendererStatsFOVEART* stats)>
+        present;
+  };
   struct Eye {
     std::unique_ptr<EyeSwapchain> swapchain;
     std::unique_ptr<foveation::FoveatedView> view;
-    std::shared_ptr<GpuTables> gpu_tables;  // GPU path: the view's tables on the device
-    std::unique_ptr<GpuEye> gpu;            // GPU path: this eye's buffers
+    std::shared_ptr<gpu::Tables> gpu_tables;  // GPU path: the view's tables on the device
+    std::unique_ptr<gpu::Eye> gpu_eye;      // GPU path: this eye's buffers and stages
     bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
+    std::optional<EyePath> path;  // chosen at the eye's first frame (choose_path)
     bool failed = false;  // swapchain creation failed: this eye falls back for good
     foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of `view`
   };
@@ -136,28 +153,30 @@ struct FoveatedRenderer::Frames {
   void build_tables();
   void cache_problem(const std::string& message);
   void choose_reconstruction();
-  std::shared_ptr<GpuTables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
+  std::shared_ptr<gpu::Tables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
   bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                      const DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats, std::string* error);
-  // After a device-traced frame was presented or refused: what the engine and
-  // the resolve said; false (counted, logged once) when the view falls back.
-  bool device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats);
+                      const gpu::DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats, std::string* error);
+  // After a device-traced frame was presented or refused: what the engine
+  // (`engine`, its last result) and the resolve said; false (counted, logged once) when the view falls back.
+  bool device_trace_ok(uint32_t e, bool presented, XrResult engine, XrFoveatedRendererStatsFOVEART* stats);
   // One eye's frame, in the steps below: false when the view shows the app's own image.
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
   bool ensure_swapchain(uint32_t e, uint32_t w, uint32_t h, XrFoveatedRendererStatsFOVEART* stats);
-  // The eye's FoveatedView for these tables and path (made again when either changes).
-  void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, bool on_gpu,
-                   bool on_device);
+  // The eye's path: the GPU where the reconstructor runs and the eye's GPU path has not failed,
+  // with the engine's device trace where it registered one; else the CPU with its callback.
+  // False when neither can run (a device trace alone, and no GPU path).
+  bool choose_path(uint32_t e);
+  // The eye's FoveatedView for these tables and its path (made again when either changes).
+  void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables);
   // The request's frame, restart flags and foveation centre from this frame's gaze.
   void aim_at_gaze(uint32_t e, const FrameGaze& gaze, foveation::FrameRequest& request,
                    XrFoveatedRendererStatsFOVEART* stats);
-  // Stages 1-5 (or the plan of a device-traced frame) and their stats.
-  bool run_frame(uint32_t e, const foveation::FrameRequest& request, bool on_device,
-                 XrFoveatedRendererStatsFOVEART* stats);
-  // Stage 6 and the copy into the eye's swapchain image, on either path.
-  bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+  // Stages 1-5 (or the plan of a device-traced frame), through the eye's path, and their stats.
+  bool run_frame(uint32_t e, const foveation::FrameRequest& request, XrFoveatedRendererStatsFOVEART* stats);
+  // Stage 6 and the copy into the eye's swapchain image: the paths' present.
+  bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
                    const std::shared_ptr<const foveation::ViewTables>& view_tables,
                    XrFoveatedRendererStatsFOVEART* stats);
   bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
@@ -179,9 +198,9 @@ struct FoveatedRenderer::Frames {
   bool stop_building = false;
   std::atomic<bool> cancel_build{false};  // the build in progress is not needed any more
   std::thread builder;  // started once with the renderer
-  std::unique_ptr<GpuReconstructor> gpu;  // null: the CPU reconstructs
-  std::vector<std::shared_ptr<GpuTables>> gpu_tables;  // uploaded table sets, shared by the eyes
-  Eye eyes[2];  // after gpu: destroyed before it
+  std::unique_ptr<gpu::Reconstructor> reconstructor;  // null: the CPU reconstructs
+  std::vector<std::shared_ptr<gpu::Tables>> gpu_tables;  // uploaded table sets, shared by the eyes
+  Eye eyes[2];  // after reconstructor: destroyed before it
   uint64_t frame_index = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
@@ -355,12 +374,12 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
     return;
   }
   std::string why;
-  gpu = GpuReconstructor::create(
-      GpuDevice{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
+  reconstructor = gpu::Reconstructor::create(
+      gpu::Device{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
                 session->vk_queue_index},
       &why);
   const auto& properties = device;
-  if (gpu != nullptr) {
+  if (reconstructor != nullptr) {
     log(LogLevel::Info, "foveated renderer: reconstruction on the GPU (", properties.deviceName, ", config \"",
         settings.reconstruction, "\")");
   } else if (settings.reconstruction == "gpu") {
@@ -372,13 +391,13 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
   }
 }
 
-std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
+std::shared_ptr<gpu::Tables> FoveatedRenderer::Frames::gpu_tables_for(
     const std::shared_ptr<const foveation::ViewTables>& view_tables, std::string* error) {
   // Sets no eye holds any more go first (a view size that is gone).
-  std::erase_if(gpu_tables, [](const std::shared_ptr<GpuTables>& t) { return t.use_count() == 1; });
+  std::erase_if(gpu_tables, [](const std::shared_ptr<gpu::Tables>& t) { return t.use_count() == 1; });
   for (const auto& t : gpu_tables)
     if (&t->view_tables() == view_tables.get()) return t;
-  auto uploaded = gpu->upload_tables(view_tables, error);
+  auto uploaded = reconstructor->upload_tables(view_tables, error);
   if (uploaded != nullptr) {
     gpu_tables.push_back(uploaded);
     log(LogLevel::Info, "foveated renderer: ", uploaded->bytes() >> 20, " MiB of tables on the GPU in ",
@@ -389,7 +408,8 @@ std::shared_ptr<GpuTables> FoveatedRenderer::Frames::gpu_tables_for(
 
 bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
                                               const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              const DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats,
+                                              const gpu::DeviceTraceFrame* device,
+                                              XrFoveatedRendererStatsFOVEART* stats,
                                               std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
@@ -398,41 +418,37 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     eye.gpu_tables = gpu_tables_for(view_tables, error);
     if (eye.gpu_tables == nullptr) return false;
   }
-  if (eye.gpu == nullptr || eye.gpu->width_px() != w || eye.gpu->height_px() != h) {
-    eye.gpu = nullptr;
-    eye.gpu = gpu->create_eye(w, h, error);
-    if (eye.gpu == nullptr) return false;
+  if (eye.gpu_eye == nullptr || eye.gpu_eye->width_px() != w || eye.gpu_eye->height_px() != h) {
+    eye.gpu_eye = nullptr;
+    eye.gpu_eye = reconstructor->create_eye(w, h, error);
+    if (eye.gpu_eye == nullptr) return false;
   }
-  GpuFrame frame = GpuFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
+  gpu::EyeFrame frame = gpu::EyeFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
   frame.display = display;
   frame.device = device;
   const bool ok = eye.swapchain->present(
       [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
-        return eye.gpu->record(cb, frame, image, executor, record_error);
+        return eye.gpu_eye->record(cb, frame, image, executor, record_error);
       },
       error);
   if (!ok) return false;
-  GpuStageTimes times;
-  if (eye.gpu->stage_times(&times)) {
+  gpu::StageTimes times;
+  if (eye.gpu_eye->stage_times(&times)) {
     reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
     reconstruction.gpu_gather_ms[e] = times.gather_ms;
     reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
     reconstruction.gpu_encode_ms[e] = times.encode_ms;
-    if (device != nullptr) {  // the trace ran on the device: its GPU time is the frame's trace
-      stats->traceMs[e] = times.scatter_ms;
-      stats->reconstructMs[e] = times.gather_ms;
-    } else {
-      stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
-    }
+    if (device != nullptr) stats->traceMs[e] = times.trace_ms;  // the trace ran on the device: its own slot
+    stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
     stats->temporalMs[e] = times.temporal_ms;
   }
   return true;
 }
 
-bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrFoveatedRendererStatsFOVEART* stats) {
+bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrResult engine,
+                                               XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   if (!presented) {
-    const XrResult engine = eye.gpu->device_trace_result();
     if (XR_SUCCEEDED(engine)) return true;  // not the engine's failure: the GPU path's
     ++stats->callbackFailures;
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
@@ -443,7 +459,7 @@ bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrFov
     eye.view->forget_history();
     return false;
   }
-  const DeviceTraceStatus status = eye.gpu->device_trace_status();
+  const gpu::DeviceTraceStatus status = eye.gpu_eye->device_trace_status();
   stats->pointsPerEye[e] = status.visible_points;
   stats->raysPerEye[e] = status.visible_points * settings.rays_per_point;
   if (status.invalid_components == 0) return true;
@@ -472,15 +488,53 @@ bool FoveatedRenderer::Frames::ensure_swapchain(uint32_t e, uint32_t w, uint32_t
   return false;
 }
 
-void FoveatedRenderer::Frames::ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                           bool on_gpu, bool on_device) {
+bool FoveatedRenderer::Frames::choose_path(uint32_t e) {
   Eye& eye = eyes[e];
+  EyePath path;
+  path.reconstruct_on_gpu = reconstructor != nullptr && !eye.gpu_failed;
+  // The engine's device trace where the GPU reconstructs and can run it; its CPU callback elsewhere.
+  path.device_trace = path.reconstruct_on_gpu && settings.trace_rays_device != nullptr &&
+                      reconstructor->device_trace_unsupported().empty();
+  if (path.reconstruct_on_gpu && settings.trace_rays_device != nullptr && !path.device_trace &&
+      device_once.first()) {
+    log(LogLevel::Warn, "foveated renderer: the engine's device trace cannot run here: ",
+        reconstructor->device_trace_unsupported(), "; its callback traces instead, where it registered one (logged once)");
+  }
+  if (!path.device_trace && settings.trace_rays == nullptr) return false;  // a device trace alone, and no GPU path
+  if (path.device_trace) {
+    path.run = [this](Eye& eye_, const foveation::FrameRequest& request) { return eye_.view->plan(request, executor); };
+  } else {
+    path.run = [this](Eye& eye_, const foveation::FrameRequest& request) {
+      return eye_.view->render(request, settings.trace_rays, settings.user_data, executor);
+    };
+  }
+  if (path.reconstruct_on_gpu) {
+    path.present = [this, device_trace = path.device_trace](
+                       uint32_t eye_index, const foveation::FrameRequest& request,
+                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                       XrFoveatedRendererStatsFOVEART* stats) {
+      return present_gpu(eye_index, request, device_trace, view_tables, stats);
+    };
+  } else {
+    path.present = [this](uint32_t eye_index, const foveation::FrameRequest&,
+                          const std::shared_ptr<const foveation::ViewTables>&, XrFoveatedRendererStatsFOVEART* stats) {
+      return present_cpu(eye_index, stats);
+    };
+  }
+  eye.path = std::move(path);
+  return true;
+}
+
+void FoveatedRenderer::Frames::ensure_view(uint32_t e,
+                                           const std::shared_ptr<const foveation::ViewTables>& view_tables) {
+  Eye& eye = eyes[e];
+  const EyePath& path = *eye.path;
   if (eye.view != nullptr && &eye.view->tables() == view_tables.get() &&
-      eye.view->settings().reconstruct_on_cpu != on_gpu) {
+      eye.view->settings().reconstruct_on_cpu != path.reconstruct_on_gpu) {
     return;
   }
-  eye.temporal = temporal_for_path(settings, on_gpu);
-  if (on_device && eye.temporal == foveation::TemporalMode::rays) {
+  eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);
+  if (path.device_trace && eye.temporal == foveation::TemporalMode::rays) {
     // The render cache keeps the frame's rays on the host; a device trace never brings them there.
     eye.temporal = foveation::TemporalMode::image;
     if (device_rays_once.first()) {
@@ -490,7 +544,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e, const std::shared_ptr<con
   }
   foveation::ViewSettings vs =
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
-  vs.reconstruct_on_cpu = !on_gpu;
+  vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;
   vs.content_density.full_contrast = settings.content_contrast;  // a device trace thins nothing yet
   vs.content_density.exposure = settings.display.exposure;
   eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
@@ -515,13 +569,12 @@ void FoveatedRenderer::Frames::aim_at_gaze(uint32_t e, const FrameGaze& frame_ga
   }
 }
 
-bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameRequest& request,
                                          XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   foveation::FrameResult result;
   try {
-    result = on_device ? eye.view->plan(request, executor)
-                       : eye.view->render(request, settings.trace_rays, settings.user_data, executor);
+    result = eye.path->run(eye, request);
   } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
     if (internal_once.first()) {
       log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
@@ -551,15 +604,16 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
   return false;
 }
 
-bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool on_device,
+bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
                                            const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                            XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   const auto t0 = Clock::now();
-  DeviceTraceFrame device;
-  if (on_device) {
+  gpu::DeviceTraceFrame device;
+  XrResult engine = XR_SUCCESS;
+  if (device_trace) {
     const foveation::FrameHandOff& hand_off = eye.view->hand_off();
-    device.engine = DeviceTraceFn{settings.trace_rays_device, settings.device_user_data};
+    device.engine = xr_device_trace_engine(settings.trace_rays_device, settings.device_user_data, &engine);
     device.points = &view_tables->points;
     device.view = request.view;
     device.mapping = hand_off.mapping;
@@ -569,12 +623,13 @@ bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameReq
     device.pixel_filter = eye.view->settings().pixel_filter;
   }
   std::string error;
-  const bool presented = present_on_gpu(e, view_tables, on_device ? &device : nullptr, stats, &error);
+  const bool presented = present_on_gpu(e, view_tables, device_trace ? &device : nullptr, stats, &error);
   stats->uploadMs[e] = ms_since(t0);
-  if (on_device && !device_trace_ok(e, presented, stats)) return false;
+  if (device_trace && !device_trace_ok(e, presented, engine, stats)) return false;
   if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
     eye.gpu_failed = true;
-    eye.gpu = nullptr;
+    eye.path.reset();  // chosen again at the next frame: the CPU's
+    eye.gpu_eye = nullptr;
     eye.gpu_tables = nullptr;
     ++reconstruction.gpu_fallbacks;
     if (gpu_once.first()) {
@@ -630,18 +685,14 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     return false;
   }
   if (!ensure_swapchain(e, w, h, stats)) return false;
-  const bool on_gpu = gpu != nullptr && !eye.gpu_failed;
-  // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
-  const bool on_device = on_gpu && settings.trace_rays_device != nullptr;
-  if (!on_device && settings.trace_rays == nullptr) {  // a device trace alone, and no GPU path
+  if (!eye.path && !choose_path(e)) {
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
     return false;
   }
-  ensure_view(e, found.ready, on_gpu, on_device);
+  ensure_view(e, found.ready);
   aim_at_gaze(e, frame_gaze, request, stats);
-  if (!run_frame(e, request, on_device, stats)) return false;
-  const bool presented = on_gpu ? present_gpu(e, request, on_device, found.ready, stats) : present_cpu(e, stats);
-  if (!presented) return false;
+  if (!run_frame(e, request, stats)) return false;
+  if (!eye.path->present(e, request, found.ready, stats)) return false;
   view.subImage.swapchain = eye.swapchain->handle();
   view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
   view.subImage.imageArrayIndex = 0;

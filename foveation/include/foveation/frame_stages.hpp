@@ -3,14 +3,14 @@
 // never their internals; FoveatedView composes them, and the layer's GPU path
 // takes over after stage 3 from the same hand-off.
 //
-//   stage                     CPU                          GPU (layer/src)
-//   1. select visible points  VisibleRegion                GpuEye: device rays
-//   2. make rays              PointRays                    GpuEye: device rays
+//   stage                     CPU                          GPU (gpu/)
+//   1. select visible points  VisibleRegion                gpu::DeviceTrace: device rays
+//   2. make rays              PointRays                    gpu::DeviceTrace: device rays
 //   3. trace                  CallbackTrace (TraceStage)   the engine's device trace, resolve
-//   4. reconstruct            GatherReconstruction         GpuEye: scatter + gather
-//   5. temporal history       TemporalHistory: NoHistory,  GpuEye: temporal, or the
-//                             ImageHistory, RayHistory     render cache (GpuRayCache)
-//   6. encode                 encode_rgba8                 GpuEye: encode
+//   4. reconstruct            GatherReconstruction         gpu::Eye: scatter + gather
+//   5. temporal history       TemporalHistory: NoHistory,  gpu::Eye: temporal, or the
+//                             ImageHistory, RayHistory     render cache (gpu::RayCache)
+//   6. encode                 encode_rgba8                 gpu::Eye: encode
 //
 // Stages 1-3 run fused per run of the point set on the CPU (a run's rays go
 // to the engine while they are hot); stage 5 decides its restarts on the CPU

@@ -219,8 +219,9 @@ typedef enum XrFoveatedReconstructionPathFOVEART {
 
 /* Chain into XrFoveatedRendererStatsFOVEART::next to also get the reconstruction path
  * of the last frame and, on the GPU path, each stage's GPU time per eye from timestamps (0 on the CPU
- * path): scatter of the traced colours (with a device trace: the device's rays, the engine's trace and
- * the resolve), gather, temporal history, and sRGB encode with the copy into the image. */
+ * path): scatter of the traced colours, gather, temporal history, and sRGB encode with the copy into
+ * the image. With a device trace, the device's rays, the engine's trace and the resolve are the
+ * stats' traceMs, their own slot, and the scatter has nothing to do. */
 typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART */
   void* XR_MAY_ALIAS next;

@@ -353,7 +353,7 @@ TEST(FoveatedView, OneThreadRunsEveryStageOnTheCallerAndStartsNoThread) {
 }
 
 // The temporal blend weighs a frame of n rays per point as n one-ray frames (temporal_blend.hpp);
-// the GPU path reads the same options (gpu_reconstruction_test).
+// the GPU path reads the same options (tests/gpu/reconstruction_test.cpp).
 TEST(FoveatedView, TaaBlendWeightFollowsTheRaysPerPoint) {
   for (int rays : {1, 4, 16}) {
     const FoveatedView view(small_tables(InterpMethod::msm, 5), settings(rays, true));

@@ -1,0 +1,143 @@
+// Stages 1-3 of a frame on the device, for an engine that traces on the GPU
+// (docs/gpu.md "The device trace"; the layer adapts the app's
+// XrFoveatedDeviceTraceInfoFOVEART to a DeviceTraceEngine):
+// shaders/device_rays.comp selects the visible points and makes their rays
+// from the gaze offset and the view (push constants) in the point set's order,
+// the engine records its trace of them into the frame's command buffer, and
+// shaders/device_resolve.comp averages each point's rays into the slots the
+// gather reads. No ray or colour crosses to the host: per frame the host
+// reads back only the resolve's status (two words).
+//
+// Threads: as Eye (one thread at a time); each frame's submission has
+// finished before the next record (the layer waits in xrEndFrame): one frame
+// in flight, since the rays, colours, control and status buffers are single.
+// Nothing here throws.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+#include "foveation/gaze_mapping.hpp"
+#include "foveation/point_set.hpp"
+#include "foveation/ray_samples.hpp"
+#include "foveation/ray_trace.h"
+#include "gpu/context.hpp"
+#include "gpu/vk_util.hpp"
+
+namespace foveart::gpu {
+
+// A range of one of the device trace's buffers.
+struct BufferRange {
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceSize offset = 0;
+  VkDeviceSize size = 0;  // bytes
+};
+
+// What the engine traces one view's rays from, and records its trace into:
+// the contract of XrFoveatedDeviceRayBatchFOVEART (the layer's public header
+// states it in full), without OpenXR.
+struct DeviceRayBatch {
+  std::uint64_t frame_index = 0;
+  const FoveartEyeView* view = nullptr;
+  std::uint32_t ray_capacity = 0;
+  std::uint32_t rays_per_point = 1;
+  BufferRange ray_count;    // FoveartDeviceRayCount (shader_interface/device_trace.h); read and indirect only
+  BufferRange rays;         // ray_capacity x DeviceRay; read only
+  BufferRange point_index;  // ray_capacity x uint32_t; read only
+  BufferRange colors;       // ray_capacity x vec4 (rgb, depth_m); written by the engine
+  VkCommandBuffer command_buffer = VK_NULL_HANDLE;  // record the trace here
+};
+
+// The engine's device trace: records into batch.command_buffer; false when
+// it failed (the frame is then not submitted; the caller keeps the engine's own result).
+using DeviceTraceEngine = std::function<bool(const DeviceRayBatch& batch)>;
+
+// What one eye's device-traced frame needs.
+struct DeviceTraceFrame {
+  DeviceTraceEngine engine;
+  const foveation::PointSet* points = nullptr;  // the view tables' set
+  FoveartEyeView view{};
+  foveation::GazeMapping mapping;
+  std::uint64_t frame_index = 0;
+  std::uint64_t sample_seed = 0;
+  std::uint32_t rays_per_point = 1;
+  foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
+};
+
+// What the resolve found (read after the submission finished).
+struct DeviceTraceStatus {
+  std::uint64_t invalid_components = 0;  // NaN, infinite or negative colour components
+  std::uint32_t visible_points = 0;
+};
+
+// The device trace's shaders, shared by the eyes of one device.
+class DeviceTracePipelines {
+ public:
+  static std::unique_ptr<DeviceTracePipelines> create(VkDevice device, std::string* error);
+  ~DeviceTracePipelines();
+  DeviceTracePipelines(const DeviceTracePipelines&) = delete;
+  DeviceTracePipelines& operator=(const DeviceTracePipelines&) = delete;
+
+  VkDescriptorSetLayout rays_set_layout() const { return rays_set_layout_; }
+  VkDescriptorSetLayout resolve_set_layout() const { return resolve_set_layout_; }
+  VkPipelineLayout rays_layout() const { return rays_layout_; }
+  VkPipelineLayout resolve_layout() const { return resolve_layout_; }
+  VkPipeline rays() const { return rays_; }
+  VkPipeline resolve() const { return resolve_; }
+
+ private:
+  DeviceTracePipelines() = default;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout rays_set_layout_ = VK_NULL_HANDLE, resolve_set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout rays_layout_ = VK_NULL_HANDLE, resolve_layout_ = VK_NULL_HANDLE;
+  VkPipeline rays_ = VK_NULL_HANDLE, resolve_ = VK_NULL_HANDLE;
+};
+
+// One eye's rays, colours and counts on the device.
+class DeviceTrace {
+ public:
+  DeviceTrace(const Context& context, const DeviceTracePipelines& pipelines);
+  ~DeviceTrace();
+  DeviceTrace(const DeviceTrace&) = delete;
+  DeviceTrace& operator=(const DeviceTrace&) = delete;
+
+  // Records the frame's rays, the engine's trace and the resolve into `cb`,
+  // writing every visible point's colour (a = 1) and depth into `colors` and
+  // `point_depth` (cleared by the caller). false with *error when a buffer
+  // cannot be made or the engine's trace fails.
+  [[nodiscard]] bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
+              std::string* error);
+  // Bytes the host wrote for the last record: the point set, once per table set; else 0.
+  std::uint64_t host_bytes_written() const { return uploaded_bytes_; }
+  // After the submission finished: what the resolve found (the frame's one
+  // read-back: FOVEART_DEVICE_STATUS_WORDS words).
+  DeviceTraceStatus status() const;
+
+ private:
+  [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
+  void update_descriptors(VkBuffer colors, VkBuffer point_depth);
+  // The steps of record: stages 1-2 (the rays), stage 3 (the engine's trace), the colours per point.
+  void record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+  [[nodiscard]] bool record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error);
+  void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+
+  const Context& context_;
+  const DeviceTracePipelines& pipelines_;
+  VkDevice device_ = VK_NULL_HANDLE;
+  const foveation::PointSet* uploaded_points_ = nullptr;
+  std::uint32_t ray_capacity_ = 0;
+  BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_, status_;
+  BoundBuffer blocks_;  // per block of points: its visible points, then where they begin (device_rays.comp)
+  VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record
+  std::uint64_t uploaded_bytes_ = 0;  // the last record's copy of them
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet rays_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;
+  VkBuffer bound_colors_ = VK_NULL_HANDLE, bound_point_depth_ = VK_NULL_HANDLE;
+  bool descriptors_stale_ = true;
+};
+
+}  // namespace foveart::gpu

@@ -1,0 +1,145 @@
+// One eye's frame on the device after the trace (docs/gpu.md): stage 4
+// (scatter of the traced colours, the gather), stage 5 (the image history, or
+// the render cache) and stage 6 (display transform and encode), and with a
+// device trace stages 1-3 before them (device_trace.hpp). The CPU path
+// (foveation::gather, TemporalAccumulator, encode_rgba8) is its reference;
+// outputs agree within one 8-bit step (tests/gpu/reconstruction_test.cpp).
+//
+// Per frame only the traced points' colours (20 bytes each) go to the device
+// (nothing with a device trace). Recording happens on the caller's command
+// buffer; the caller submits it and waits for it before the next record: one
+// frame in flight. The buffers a frame writes (upload, colours, current,
+// encoded; the device trace's and the render cache's) are single: a frame
+// pipeline would need a set of them per frame slot, the history pair aside.
+//
+// Threads: one thread at a time (the renderer's frame lock). Nothing here
+// throws; failures return false with a message.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "foveation/display_transform.hpp"
+#include "foveation/executor.hpp"
+#include "foveation/foveated_view.hpp"
+#include "gpu/context.hpp"
+#include "gpu/device_trace.hpp"
+#include "gpu/frame_pipelines.hpp"
+#include "gpu/ray_cache.hpp"
+#include "gpu/tables.hpp"
+
+namespace foveart::gpu {
+
+// What one eye's frame reconstructs.
+struct EyeFrame {
+  const Tables* tables = nullptr;
+  const foveation::PointColors* colors = nullptr;  // the view's colours this frame (a = 1 traced)
+  const std::vector<float>* point_depth_m = nullptr;  // per point (NaN: none; +inf: sky); null: no depth
+  std::span<const std::vector<std::uint32_t>> traced;  // the points traced this frame, in runs
+  foveation::GazeMapping mapping;
+  foveation::RbfClamp rbf_clamp = foveation::RbfClamp::block;
+  std::array<float, 3> fallback_rgb{};
+  bool temporal_reset = true;  // the history restarts: the output is this frame alone (always without a history)
+  FoveartEyeView view{};  // this frame's view
+  std::optional<FoveartEyeView> history_view;  // set: reproject the history from this view (TemporalFrame)
+  foveation::TemporalOptions blend;  // current_weight: this frame's blend weight (TemporalFrame::blend)
+  bool srgb = true;       // sRGB-encode (an sRGB swapchain format)
+  foveation::DisplayTransform display;  // exposure and tone-mapping curve before the encode
+  // Set: the view's history is a render cache (TemporalMode::rays), which
+  // replaces the image history: this frame's rays and pixels for it.
+  std::optional<RayCacheFrame> ray_cache;
+  // Set: stages 1-3 run on the device (the engine's device trace); colors,
+  // point_depth_m and traced are then not read.
+  const DeviceTraceFrame* device = nullptr;
+
+  // A frame's hand-off (FoveatedView::hand_off after render() with
+  // reconstruct_on_cpu = false), on `tables`: the traced points and the
+  // temporal history's decision.
+  static EyeFrame of(const Tables& tables, const foveation::FrameHandOff& frame, bool srgb);
+};
+
+// GPU time of each stage of the last frame (timestamps), milliseconds.
+struct StageTimes {
+  static constexpr uint32_t kTimestamps = 6;  // start, traced, scattered, gathered, accumulated, encoded
+  float trace_ms = 0;     // a device-traced frame's rays, the engine's trace and the resolve (else 0)
+  float scatter_ms = 0;   // the slots cleared and the uploaded colours scattered into them
+  float gather_ms = 0;
+  float temporal_ms = 0;  // the image history, or the render cache with its copy into the output
+  float encode_ms = 0;    // includes the copy into the image
+  float total_ms() const { return trace_ms + scatter_ms + gather_ms + temporal_ms + encode_ms; }
+};
+
+// One eye's buffers (colours, reconstruction, temporal history, RGBA8), descriptor sets and stages.
+class Eye {
+ public:
+  static std::unique_ptr<Eye> create(Context& context, const FramePipelines& pipelines, uint32_t width_px,
+                                     uint32_t height_px, std::string* error);
+  ~Eye();
+  Eye(const Eye&) = delete;
+  Eye& operator=(const Eye&) = delete;
+
+  // Writes the traced colours into the upload buffer and records the frame
+  // into `cb`: (the device trace,) scatter, gather, temporal blend (or the render cache), encode, and (image != null)
+  // the copy into `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
+  [[nodiscard]] bool record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
+                            std::string* error);
+  // After the submission finished: the stage times it measured.
+  bool stage_times(StageTimes* out) const;
+  // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
+  [[nodiscard]] bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
+
+  // After a device-traced submission finished: what its resolve found.
+  DeviceTraceStatus device_trace_status() const;
+  // Bytes the host wrote into, and read from, mapped memory for the last
+  // frame (uploads, status and timestamp read-backs; push constants aside).
+  std::uint64_t host_bytes_written() const { return host_written_; }
+  std::uint64_t host_bytes_read() const { return host_read_; }
+
+  // The render cache's rays kept after the last finished submission (0: no cache).
+  std::size_t cached_rays() const { return ray_cache_ != nullptr ? ray_cache_->kept_rays() : 0; }
+
+  uint32_t width_px() const { return width_px_; }
+  uint32_t height_px() const { return height_px_; }
+
+ private:
+  Eye(Context& context, const FramePipelines& pipelines, uint32_t width_px, uint32_t height_px);
+  [[nodiscard]] bool create_buffers(std::string* error);
+  [[nodiscard]] bool ensure_points(std::size_t point_count, std::string* error);
+  void update_descriptors();
+  void bind_set(VkCommandBuffer cb) const;
+  void stamp(VkCommandBuffer cb, uint32_t query) const;  // a timestamp, when the queue has them
+  // The frame's stages in turn (foveation/frame_stages.hpp), recorded by record().
+  [[nodiscard]] bool record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* error);  // 1-3 or upload
+  void record_scatter(VkCommandBuffer cb, const EyeFrame& frame, std::size_t uploaded);           // 4
+  void record_gather(VkCommandBuffer cb, const EyeFrame& frame);                                  // 4
+  [[nodiscard]] bool record_temporal(VkCommandBuffer cb, const EyeFrame& frame, foveation::Executor& executor,
+                                     std::string* error);                                          // 5
+  void record_encode(VkCommandBuffer cb, const EyeFrame& frame, VkImage image);                   // 6
+  std::size_t upload_traced(const EyeFrame& frame, foveation::Executor& executor);
+
+  Context& context_;
+  const FramePipelines& pipelines_;
+  VkDevice device_ = VK_NULL_HANDLE;
+  uint32_t width_px_ = 0, height_px_ = 0;
+  BoundBuffer upload_, colors_, point_depth_, current_, history_[2], encoded_, readback_;
+  std::size_t point_capacity_ = 0;
+  const Tables* bound_tables_ = nullptr;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet sets_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // history 0 -> 1, 1 -> 0
+  int parity_ = 0;                                              // which set the frame being recorded uses
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  bool recorded_ = false;
+  std::unique_ptr<RayCache> ray_cache_;  // made by the first frame with one
+  std::unique_ptr<DeviceTrace> device_trace_;  // made by the first device-traced frame
+  std::uint64_t host_written_ = 0;
+  mutable std::uint64_t host_read_ = 0;
+};
+
+}  // namespace foveart::gpu

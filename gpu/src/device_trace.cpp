@@ -1,0 +1,260 @@
+#include "gpu/device_trace.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <glm/gtc/quaternion.hpp>
+#include <vector>
+
+#include "foveation/eye_rays.hpp"
+#include "gpu/shader_interface/device_resolve.h"
+#include "gpu/shader_interface/device_rays.h"
+#include "gpu/vk_util.hpp"
+#include "shaders/device_resolve.spv.h"
+#include "shaders/device_rays.spv.h"
+
+namespace foveart::gpu {
+namespace {
+
+using shader::DeviceRaysPush;
+using shader::DeviceResolvePush;
+
+constexpr uint32_t kRaysBindings = 5;     // points, rays, point index, control, blocks
+constexpr uint32_t kResolveBindings = 6;  // ray colours, point index, control, status, colours, point depth
+constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1};
+constexpr uint32_t kNaNBits = 0x7FC00000u;
+constexpr VkDeviceSize kRayBytes = sizeof(shader::DeviceRay), kColorBytes = 16;
+
+// Blocks of points of the compaction (device_rays.comp): a workgroup each.
+uint32_t point_blocks(std::size_t points) {
+  return uint32_t((points + FOVEART_DEVICE_RAYS_BLOCK - 1) / FOVEART_DEVICE_RAYS_BLOCK);
+}
+
+// The ray shader's push constants for this frame's view, screen and points.
+DeviceRaysPush rays_push(const DeviceTraceFrame& frame) {
+  const foveation::EyeFrustum f = foveation::eye_frustum(frame.view);
+  const foveation::EyePose pose = foveation::eye_pose(frame.view);
+  DeviceRaysPush push{};
+  push.tan_lrud = {f.tan_left, f.tan_right, f.tan_up, f.tan_down};
+  push.orientation = {pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w};
+  push.position_m = {pose.position_m.x, pose.position_m.y, pose.position_m.z, 0.0f};
+  push.screen_px = {frame.mapping.screen_width_px, frame.mapping.screen_height_px};
+  push.canvas_from_screen_px = {float(frame.mapping.canvas_from_screen_x_px),
+                                float(frame.mapping.canvas_from_screen_y_px)};
+  push.margin_px = frame.points->visible_margin_px;
+  push.rays_per_point = frame.rays_per_point;
+  push.point_count = uint32_t(frame.points->size());
+  push.flags = frame.pixel_filter == foveation::PixelFilter::bspline2 ? FOVEART_DEVICE_RAYS_BSPLINE2 : 0u;
+  push.seed = {uint32_t(frame.sample_seed), uint32_t(frame.sample_seed >> 32)};
+  return push;
+}
+
+}  // namespace
+
+std::unique_ptr<DeviceTracePipelines> DeviceTracePipelines::create(VkDevice device, std::string* error) {
+  std::unique_ptr<DeviceTracePipelines> p(new DeviceTracePipelines());
+  p->device_ = device;
+  if (!create_storage_pipeline_layout(device, kOnes, kRaysBindings, sizeof(DeviceRaysPush), &p->rays_set_layout_,
+                                      &p->rays_layout_, error) ||
+      !create_storage_pipeline_layout(device, kOnes, kResolveBindings, sizeof(DeviceResolvePush), &p->resolve_set_layout_,
+                                      &p->resolve_layout_, error) ||
+      !create_compute_pipeline(device, p->rays_layout_, foveart_device_rays_spv, sizeof foveart_device_rays_spv,
+                               &p->rays_, error) ||
+      !create_compute_pipeline(device, p->resolve_layout_, foveart_device_resolve_spv,
+                               sizeof foveart_device_resolve_spv, &p->resolve_, error)) {
+    return nullptr;
+  }
+  return p;
+}
+
+DeviceTracePipelines::~DeviceTracePipelines() {
+  for (VkPipeline pipeline : {rays_, resolve_})
+    if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device_, pipeline, nullptr);
+  for (VkPipelineLayout layout : {rays_layout_, resolve_layout_})
+    if (layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device_, layout, nullptr);
+  for (VkDescriptorSetLayout layout : {rays_set_layout_, resolve_set_layout_})
+    if (layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device_, layout, nullptr);
+}
+
+DeviceTrace::DeviceTrace(const Context& context, const DeviceTracePipelines& pipelines)
+    : context_(context), pipelines_(pipelines), device_(context.vk_device()) {}
+
+DeviceTrace::~DeviceTrace() {
+  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
+  for (BoundBuffer* b : {&points_, &staging_, &rays_, &point_index_, &ray_colors_, &control_, &status_, &blocks_})
+    destroy_buffer(device_, b);
+}
+
+bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point,
+                                    std::string* error) {
+  if (pool_ == VK_NULL_HANDLE) {
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kRaysBindings + kResolveBindings};
+    auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+    pool_info.maxSets = 2;
+    pool_info.poolSizeCount = 1;
+    pool_info.pPoolSizes = &size;
+    VkResult r = vkCreateDescriptorPool(device_, &pool_info, nullptr, &pool_);
+    if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool", r), false;
+    const VkDescriptorSetLayout layouts[2] = {pipelines_.rays_set_layout(), pipelines_.resolve_set_layout()};
+    VkDescriptorSet sets[2] = {};
+    auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+    alloc.descriptorPool = pool_;
+    alloc.descriptorSetCount = 2;
+    alloc.pSetLayouts = layouts;
+    r = vkAllocateDescriptorSets(device_, &alloc, sets);
+    if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets", r), false;
+    rays_set_ = sets[0];
+    resolve_set_ = sets[1];
+  }
+  const auto transfer = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const auto storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const auto source = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;  // the engine may copy what it reads
+  if (control_.buffer == VK_NULL_HANDLE) {
+    if (!context_.create_buffer(&control_, FOVEART_DEVICE_CONTROL_WORDS * 4,
+                                storage | transfer | source | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false, error) ||
+        !context_.create_buffer(&status_, FOVEART_DEVICE_STATUS_WORDS * 4, storage | transfer, true, error)) {
+      return false;
+    }
+    descriptors_stale_ = true;
+  }
+  if (uploaded_points_ != &points) {  // the set's points, once per table set: canvas x, y, radius, pixel grid
+    for (BoundBuffer* b : {&points_, &staging_, &blocks_}) destroy_buffer(device_, b);
+    uploaded_points_ = nullptr;
+    const VkDeviceSize bytes = std::max<VkDeviceSize>(points.size() * sizeof(shader::DevicePoint), 16);
+    if (!context_.create_buffer(&points_, bytes, storage | transfer, false, error) ||
+        !context_.create_buffer(&staging_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, error) ||
+        !context_.create_buffer(&blocks_, VkDeviceSize{point_blocks(points.size())} * 4, storage, false, error)) {
+      return false;
+    }
+    auto* packed = static_cast<shader::DevicePoint*>(staging_.mapped);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      packed[i].position_radius_grid = {points.position_px[i].x, points.position_px[i].y, points.radius_px[i],
+                                        points.on_pixel_grid(i) ? 1.0f : 0.0f};
+    }
+    staged_bytes_ = points.size() * sizeof(shader::DevicePoint);
+    uploaded_points_ = &points;
+    descriptors_stale_ = true;
+  }
+  const std::size_t rays = points.size() * rays_per_point;
+  if (rays > UINT32_MAX / 2) return *error = "device trace: more than 2^31 rays a frame", false;
+  if (rays > ray_capacity_ || rays_.buffer == VK_NULL_HANDLE) {
+    for (BoundBuffer* b : {&rays_, &point_index_, &ray_colors_}) destroy_buffer(device_, b);
+    ray_capacity_ = 0;
+    const VkDeviceSize n = std::max<VkDeviceSize>(rays, 1);
+    if (!context_.create_buffer(&rays_, n * kRayBytes, storage | source, false, error) ||
+        !context_.create_buffer(&point_index_, n * 4, storage | source, false, error) ||
+        !context_.create_buffer(&ray_colors_, n * kColorBytes, storage | transfer | source, false, error)) {
+      return false;
+    }
+    ray_capacity_ = uint32_t(n);
+    descriptors_stale_ = true;
+  }
+  return true;
+}
+
+void DeviceTrace::update_descriptors(VkBuffer colors, VkBuffer point_depth) {
+  const VkDescriptorBufferInfo rays[kRaysBindings] = {{points_.buffer, 0, VK_WHOLE_SIZE},
+                                                      {rays_.buffer, 0, VK_WHOLE_SIZE},
+                                                      {point_index_.buffer, 0, VK_WHOLE_SIZE},
+                                                      {control_.buffer, 0, VK_WHOLE_SIZE},
+                                                      {blocks_.buffer, 0, VK_WHOLE_SIZE}};
+  write_storage_descriptors(device_, rays_set_, rays, kOnes, kRaysBindings);
+  const VkDescriptorBufferInfo resolve[kResolveBindings] = {
+      {ray_colors_.buffer, 0, VK_WHOLE_SIZE}, {point_index_.buffer, 0, VK_WHOLE_SIZE},
+      {control_.buffer, 0, VK_WHOLE_SIZE},    {status_.buffer, 0, VK_WHOLE_SIZE},
+      {colors, 0, VK_WHOLE_SIZE},             {point_depth, 0, VK_WHOLE_SIZE}};
+  write_storage_descriptors(device_, resolve_set_, resolve, kOnes, kResolveBindings);
+  bound_colors_ = colors;
+  bound_point_depth_ = point_depth;
+  descriptors_stale_ = false;
+}
+
+bool DeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
+                            std::string* error) {
+  if (!frame.engine || frame.points == nullptr || frame.rays_per_point < 1) {
+    return *error = "device trace: no engine, points or rays", false;
+  }
+  const foveation::PointSet& points = *frame.points;
+  if (!ensure_buffers(points, frame.rays_per_point, error)) return false;
+  if (descriptors_stale_ || bound_colors_ != colors || bound_point_depth_ != point_depth)
+    update_descriptors(colors, point_depth);
+
+  uploaded_bytes_ = 0;
+  if (staged_bytes_ > 0) {  // new points: copied in this frame's commands (the staging buffer lives on)
+    const VkBufferCopy copy{0, 0, staged_bytes_};
+    vkCmdCopyBuffer(cb, staging_.buffer, points_.buffer, 1, &copy);
+    uploaded_bytes_ = staged_bytes_;  // staged_bytes_ stays until the frame is recorded in full
+  }
+  record_rays(cb, frame);
+  if (!record_engine_trace(cb, frame, error)) return false;
+  staged_bytes_ = 0;  // the points' copy is in a frame that will be submitted
+  record_resolve(cb, frame);
+  return true;
+}
+
+// Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made.
+void DeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  const foveation::PointSet& points = *frame.points;
+  vkCmdFillBuffer(cb, control_.buffer, 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cb, status_.buffer, 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
+  memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
+  // The visible points compacted in the set's order: counts per block, where each block begins, the rays.
+  DeviceRaysPush push = rays_push(frame);
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.rays());
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.rays_layout(), 0, 1, &rays_set_, 0, nullptr);
+  const uint32_t blocks = point_blocks(points.size());
+  for (const uint32_t pass : {FOVEART_DEVICE_RAYS_COUNT, FOVEART_DEVICE_RAYS_SCAN, FOVEART_DEVICE_RAYS_WRITE}) {
+    push.pass = pass;
+    vkCmdPushConstants(cb, pipelines_.rays_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+    const uint32_t groups = pass == FOVEART_DEVICE_RAYS_SCAN ? 1 : blocks;
+    if (groups > 0) vkCmdDispatch(cb, groups, 1, 1);
+    memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+  }
+  // The rays, counts and NaN-filled colours for whatever the engine reads or
+  // writes them with (shaders of any kind, copies, indirect commands).
+  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+}
+
+// Stage 3: the engine's trace, recorded by the engine into `cb`.
+bool DeviceTrace::record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error) {
+  DeviceRayBatch batch;
+  batch.frame_index = frame.frame_index;
+  batch.view = &frame.view;
+  batch.ray_capacity = ray_capacity_;
+  batch.rays_per_point = frame.rays_per_point;
+  batch.ray_count = {control_.buffer, 0, FOVEART_DEVICE_RAY_COUNT_WORDS * 4};
+  batch.rays = {rays_.buffer, 0, rays_.size};
+  batch.point_index = {point_index_.buffer, 0, point_index_.size};
+  batch.colors = {ray_colors_.buffer, 0, ray_colors_.size};
+  batch.command_buffer = cb;
+  if (!frame.engine(batch)) return *error = "the device trace failed", false;
+  memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+  return true;
+}
+
+// The colours per point, into the gather's slots.
+void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  const DeviceResolvePush resolve{frame.rays_per_point, uint32_t(frame.points->size())};
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve());
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve_layout(), 0, 1, &resolve_set_, 0,
+                          nullptr);
+  vkCmdPushConstants(cb, pipelines_.resolve_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof resolve, &resolve);
+  vkCmdDispatchIndirect(cb, control_.buffer, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
+                 kShaderRW | VK_ACCESS_HOST_READ_BIT);
+}
+
+DeviceTraceStatus DeviceTrace::status() const {
+  DeviceTraceStatus s;
+  if (status_.mapped == nullptr) return s;
+  uint32_t words[FOVEART_DEVICE_STATUS_WORDS] = {};
+  std::memcpy(words, status_.mapped, sizeof words);
+  s.invalid_components = words[FOVEART_DEVICE_STATUS_INVALID_COMPONENTS];
+  s.visible_points = words[FOVEART_DEVICE_STATUS_VISIBLE_POINTS];
+  return s;
+}
+
+}  // namespace foveart::gpu

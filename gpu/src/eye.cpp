@@ -1,0 +1,224 @@
+#include "gpu/eye.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <iterator>
+
+#include "gpu/shader_interface/device_trace.h"
+#include "gpu/vk_util.hpp"
+
+namespace foveart::gpu {
+
+EyeFrame EyeFrame::of(const Tables& tables, const foveation::FrameHandOff& frame, bool srgb) {
+  const foveation::TracedPoints& traced = *frame.traced;
+  const foveation::TemporalFrame& temporal = frame.temporal;
+  EyeFrame f;
+  f.tables = &tables;
+  f.colors = &traced.colors;
+  f.point_depth_m = &traced.depth_m;
+  f.traced = traced.runs;
+  f.mapping = frame.mapping;
+  f.rbf_clamp = frame.rbf_clamp;
+  f.temporal_reset = temporal.reset;
+  f.blend = temporal.blend;  // current_weight: this frame's, the CPU's weight rule for both paths
+  f.view = frame.view;
+  f.history_view = temporal.history_view;
+  f.srgb = srgb;
+  // A render cache reprojects its rays itself; its frame has no history_view.
+  if (temporal.rays) {
+    RayCacheFrame c;
+    c.rays = &traced.rays;
+    c.pixels = temporal.ray_pixels;
+    c.restart = temporal.ray_restart;
+    c.filter = temporal.ray_filter;
+    c.max_age_frames = temporal.ray_max_age_frames;
+    f.ray_cache = c;
+  }
+  return f;
+}
+
+Eye::Eye(Context& context, const FramePipelines& pipelines, uint32_t width_px, uint32_t height_px)
+    : context_(context), pipelines_(pipelines), device_(context.vk_device()), width_px_(width_px),
+      height_px_(height_px) {}
+
+std::unique_ptr<Eye> Eye::create(Context& context, const FramePipelines& pipelines, uint32_t width_px,
+                                 uint32_t height_px, std::string* error) {
+  std::unique_ptr<Eye> e(new Eye(context, pipelines, width_px, height_px));
+  if (!e->create_buffers(error)) return nullptr;
+  return e;
+}
+
+bool Eye::create_buffers(std::string* error) {
+  const VkDeviceSize pixels = VkDeviceSize{width_px_} * height_px_;
+  const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  if (!context_.create_buffer(&current_, pixels * 16, storage, false, error) ||
+      !context_.create_buffer(&history_[0], pixels * 16, storage, false, error) ||
+      !context_.create_buffer(&history_[1], pixels * 16, storage, false, error) ||
+      !context_.create_buffer(&encoded_, pixels * 4, storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, error)) {
+    return false;
+  }
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * kFrameStorageBuffers};
+  auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = 2;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &size;
+  VkResult r = vkCreateDescriptorPool(device_, &pool_info, nullptr, &pool_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool", r), false;
+  const VkDescriptorSetLayout layouts[2] = {pipelines_.set_layout(), pipelines_.set_layout()};
+  auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = pool_;
+  alloc.descriptorSetCount = 2;
+  alloc.pSetLayouts = layouts;
+  r = vkAllocateDescriptorSets(device_, &alloc, sets_);
+  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets", r), false;
+  if (context_.timestamps()) {
+    auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+    query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    query_info.queryCount = StageTimes::kTimestamps;
+    r = vkCreateQueryPool(device_, &query_info, nullptr, &queries_);
+    if (r != VK_SUCCESS) return *error = vk_error("vkCreateQueryPool", r), false;
+  }
+  return true;
+}
+
+Eye::~Eye() {
+  device_trace_ = nullptr;
+  ray_cache_ = nullptr;
+  if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
+  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
+  for (BoundBuffer* b :
+       {&upload_, &colors_, &point_depth_, &current_, &history_[0], &history_[1], &encoded_, &readback_}) {
+    destroy_buffer(device_, b);
+  }
+}
+
+bool Eye::ensure_points(std::size_t point_count, std::string* error) {
+  if (point_count <= point_capacity_) return true;
+  for (BoundBuffer* b : {&upload_, &colors_, &point_depth_}) destroy_buffer(device_, b);
+  point_capacity_ = 0;
+  const VkDeviceSize bytes = VkDeviceSize{point_count} * 16;
+  const VkBufferUsageFlags filled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  // The upload: entries, then a depth each (shaders/common.glsl Upload).
+  if (!context_.create_buffer(&upload_, bytes + VkDeviceSize{point_count} * 4 + 16,
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, error) ||
+      !context_.create_buffer(&colors_, bytes, filled, false, error) ||
+      !context_.create_buffer(&point_depth_, VkDeviceSize{point_count} * 4, filled, false, error)) {
+    return false;
+  }
+  point_capacity_ = point_count;
+  bound_tables_ = nullptr;  // descriptors name the old buffers
+  return true;
+}
+
+void Eye::update_descriptors() {
+  const std::span<const VkBuffer> buffers = bound_tables_->buffers();
+  VkDescriptorBufferInfo chunks[kMaxTableChunks];
+  for (std::size_t i = 0; i < kMaxTableChunks; ++i) {
+    // Unused slots repeat the last chunk: every descriptor of the array is valid.
+    chunks[i] = {buffers[std::min(i, buffers.size() - 1)], 0, VK_WHOLE_SIZE};
+  }
+  for (int s = 0; s < 2; ++s) {
+    VkDescriptorBufferInfo info[kFrameStorageBuffers] = {};
+    std::copy(std::begin(chunks), std::end(chunks), info);
+    const VkDescriptorBufferInfo rest[kFrameBindings - 1] = {
+        {colors_.buffer, 0, VK_WHOLE_SIZE},     {current_.buffer, 0, VK_WHOLE_SIZE},
+        {history_[s].buffer, 0, VK_WHOLE_SIZE}, {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
+        {upload_.buffer, 0, VK_WHOLE_SIZE},     {encoded_.buffer, 0, VK_WHOLE_SIZE},
+        {point_depth_.buffer, 0, VK_WHOLE_SIZE}};
+    std::copy(std::begin(rest), std::end(rest), info + kMaxTableChunks);
+    write_storage_descriptors(device_, sets_[s], info, kFrameDescriptorCounts, kFrameBindings);
+  }
+}
+
+void Eye::bind_set(VkCommandBuffer cb) const {
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.layout(), 0, 1, &sets_[parity_], 0, nullptr);
+}
+
+bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
+                 std::string* error) {
+  recorded_ = false;
+  const Tables& tables = *frame.tables;
+  const auto& m = frame.mapping;
+  if (uint32_t(m.screen_width_px) != width_px_ || uint32_t(m.screen_height_px) != height_px_) {
+    return *error = "GPU eye is " + std::to_string(width_px_) + "x" + std::to_string(height_px_) + ", the frame " +
+                    std::to_string(m.screen_width_px) + "x" + std::to_string(m.screen_height_px),
+           false;
+  }
+  const std::size_t point_count = tables.view_tables().points.size();
+  if (frame.device == nullptr && (frame.colors == nullptr || frame.colors->size() != point_count)) {
+    return *error = "GPU frame: point colours do not match the tables", false;
+  }
+  host_written_ = 0;
+  host_read_ = 0;
+  std::size_t traced_points = 0;
+  for (const auto& run : frame.traced) traced_points += run.size();
+  if (traced_points > point_count) return *error = "GPU frame: more traced points than points", false;
+  if (!ensure_points(point_count, error)) return false;
+  if (bound_tables_ != &tables) {
+    bound_tables_ = &tables;
+    update_descriptors();
+  }
+  if (queries_ != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, queries_, 0, StageTimes::kTimestamps);
+  // Last frame's passes read and wrote these buffers (an earlier submission).
+  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+  const std::size_t uploaded = frame.device == nullptr ? upload_traced(frame, executor) : 0;
+  if (!record_trace(cb, frame, error)) return false;           // stages 1-3 on the device, or the slots cleared
+  record_scatter(cb, frame, uploaded);                         // stage 4
+  record_gather(cb, frame);
+  if (!record_temporal(cb, frame, executor, error)) return false;  // stage 5
+  record_encode(cb, frame, image);                                 // stage 6
+  parity_ ^= 1;  // this frame's output is the next frame's history
+  recorded_ = true;
+  return true;
+}
+
+void Eye::stamp(VkCommandBuffer cb, uint32_t query) const {
+  if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query);
+}
+
+bool Eye::stage_times(StageTimes* out) const {
+  if (!recorded_ || queries_ == VK_NULL_HANDLE) return false;
+  uint64_t t[StageTimes::kTimestamps] = {};
+  if (vkGetQueryPoolResults(device_, queries_, 0, StageTimes::kTimestamps, sizeof t, t, sizeof(uint64_t),
+                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS) {
+    return false;
+  }
+  host_read_ += sizeof t;
+  const double ms = double(context_.timestamp_period_ns()) * 1e-6;
+  auto span = [&](int a) { return float(double(t[a + 1] - t[a]) * ms); };
+  *out = StageTimes{span(0), span(1), span(2), span(3), span(4)};
+  return true;
+}
+
+DeviceTraceStatus Eye::device_trace_status() const {
+  if (device_trace_ == nullptr) return {};
+  host_read_ += FOVEART_DEVICE_STATUS_WORDS * 4;
+  return device_trace_->status();
+}
+
+bool Eye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
+  const VkDeviceSize bytes = VkDeviceSize{width_px_} * height_px_ * 4;
+  if (readback_.buffer == VK_NULL_HANDLE &&
+      !context_.create_buffer(&readback_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, error)) {
+    return false;
+  }
+  const bool ok = context_.submit_and_wait(
+      [&](VkCommandBuffer cb) {
+        memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+        const VkBufferCopy copy{0, 0, bytes};
+        vkCmdCopyBuffer(cb, encoded_.buffer, readback_.buffer, 1, &copy);
+        memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                       VK_ACCESS_HOST_READ_BIT);
+        return true;
+      },
+      error);
+  if (!ok) return false;
+  out->resize(std::size_t(bytes));
+  std::memcpy(out->data(), readback_.mapped, std::size_t(bytes));
+  return true;
+}
+
+}  // namespace foveart::gpu

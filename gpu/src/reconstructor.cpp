@@ -1,0 +1,59 @@
+#include "gpu/reconstructor.hpp"
+
+#include <vector>
+
+namespace foveart::gpu {
+
+std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_family_index) {
+  uint32_t count = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, families.data());
+  if (queue_family_index >= count) return "the session's queue family does not exist";
+  if ((families[queue_family_index].queueFlags & VK_QUEUE_COMPUTE_BIT) == 0) {
+    return "the session's queue family has no compute";
+  }
+  VkPhysicalDeviceFeatures features{};
+  vkGetPhysicalDeviceFeatures(physical_device, &features);
+  if (!features.shaderStorageBufferArrayDynamicIndexing) {
+    return "the device lacks shaderStorageBufferArrayDynamicIndexing (table chunks)";
+  }
+  VkPhysicalDeviceProperties properties{};
+  vkGetPhysicalDeviceProperties(physical_device, &properties);
+  if (VK_API_VERSION_MINOR(properties.apiVersion) < 1 && VK_API_VERSION_MAJOR(properties.apiVersion) == 1) {
+    return "the device is Vulkan 1.0; the shaders are SPIR-V 1.3 (Vulkan 1.1)";
+  }
+  if (properties.limits.maxPerStageDescriptorStorageBuffers < kFrameStorageBuffers) {
+    return "the device binds fewer than " + std::to_string(kFrameStorageBuffers) + " storage buffers per stage";
+  }
+  return {};
+}
+
+std::string device_trace_unsupported_reason(VkPhysicalDevice physical_device) {
+  VkPhysicalDeviceSubgroupProperties subgroup{};
+  subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
+  VkPhysicalDeviceProperties2 properties2{};
+  properties2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
+  properties2.pNext = &subgroup;
+  vkGetPhysicalDeviceProperties2(physical_device, &properties2);
+  const VkSubgroupFeatureFlags ballot = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
+  if ((subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) == 0 || (subgroup.supportedOperations & ballot) != ballot) {
+    return "the device reports no subgroup ballots in compute shaders (the ray compaction needs them; an app's "
+           "Vulkan 1.0 instance reports none)";
+  }
+  return {};
+}
+
+std::unique_ptr<Reconstructor> Reconstructor::create(const Device& device, std::string* error) {
+  if (std::string why = unsupported_reason(device.physical_device, device.queue_family_index); !why.empty()) {
+    return *error = why, nullptr;
+  }
+  std::unique_ptr<Reconstructor> r(new Reconstructor());
+  r->context_ = Context::create(device, error);
+  if (r->context_ == nullptr) return nullptr;
+  r->pipelines_ = FramePipelines::create(device.device, device_trace_unsupported_reason(device.physical_device), error);
+  if (r->pipelines_ == nullptr) return nullptr;
+  return r;
+}
+
+}  // namespace foveart::gpu

@@ -1,0 +1,460 @@
+// The device trace (gpu/device_trace.hpp, shaders/device_*.comp) on
+// lavapipe, under VK_LAYER_KHRONOS_validation with synchronization validation:
+// the rays made on the device are the CPU path's rays (same points, same
+// jitter), in the point set's order and the same on every run, a frame traced on the device reconstructs as the CPU-callback frame
+// of the same colours does, the engine's faults (an error, NaN or negative
+// colours, a trace that records nothing) are found and counted, and per frame
+// the host writes nothing and reads back only the resolve's status and the
+// timestamps.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "foveation/display_model.hpp"
+#include "foveation/foveated_view.hpp"
+#include "gpu/shader_interface/device_rays.h"
+#include "headless_vulkan.hpp"
+#include "direction_engine.spv.h"
+#include "gpu/reconstructor.hpp"
+#include "gpu/vk_util.hpp"
+#include "icd_pin.h"
+
+namespace foveart::gpu {
+namespace {
+
+using layer::DevicePreference;
+using layer::HeadlessVulkan;
+
+constexpr uint32_t kViewW = 96;
+constexpr uint32_t kViewH = 80;
+constexpr uint32_t kRaysPerPoint = 2;
+
+// Scale 6: the pixel grid's edge lies inside the view, so frames hold grid and disc points.
+std::shared_ptr<const foveation::ViewTables> small_tables() {
+  static std::shared_ptr<const foveation::ViewTables> tables;
+  if (!tables) {
+    foveation::PointSetKey key;
+    key.display = foveation::DisplayModel::from_fov(kViewW, kViewH, 60.0);
+    key.display.scale = 6.0;
+    key.seed = 1;
+    foveation::InterpOptions o;
+    o.method = foveation::InterpMethod::msm;
+    o.k = 5;
+    foveation::Executor executor(2);
+    tables = foveation::load_view_tables(std::nullopt, key, o, executor);
+  }
+  return tables;
+}
+
+// The eye looks along (1, 1, 1): every ray direction of its 60-degree frustum
+// has positive components, so a direction is a valid colour (the "direction" engines).
+foveation::FrameRequest request(glm::vec2 gaze_px, uint64_t frame_index) {
+  foveation::FrameRequest r;
+  foveation::EyePose pose;
+  pose.position_m = {-0.032f, 1.6f, 0.25f};
+  const glm::vec3 forward(0.0f, 0.0f, -1.0f), diagonal = glm::normalize(glm::vec3(1.0f));
+  pose.orientation = glm::angleAxis(std::acos(glm::dot(forward, diagonal)), glm::normalize(glm::cross(forward, diagonal)));
+  r.view = foveation::make_eye_view(0, kViewW, kViewH, pose, -0.4f, 0.42f, 0.38f, -0.36f);
+  r.frame_index = frame_index;
+  r.gaze_px = gaze_px;
+  return r;
+}
+
+constexpr float kConstant = 0.25f;
+
+int32_t constant_colour(void*, const FoveartRayBatch* batch) {
+  std::fill_n(batch->out_rgb, std::size_t(batch->ray_count) * 3, kConstant);
+  return FOVEART_RESULT_SUCCESS;
+}
+
+// Colour = the ray's direction, depth = its screen y: a colour that varies from ray to ray.
+int32_t direction_colour(void*, const FoveartRayBatch* batch) {
+  std::copy_n(batch->directions, std::size_t(batch->ray_count) * 3, batch->out_rgb);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) batch->out_depth_m[i] = batch->sample_px[2 * i + 1];
+  return FOVEART_RESULT_SUCCESS;
+}
+
+// The rays the CPU path hands its callback: per point, its samples in order.
+struct CpuRays {
+  std::mutex mutex;
+  std::map<uint32_t, std::vector<std::pair<glm::vec2, glm::vec3>>> by_point;
+};
+
+int32_t record_cpu_rays(void* user, const FoveartRayBatch* batch) {
+  auto* rays = static_cast<CpuRays*>(user);
+  std::lock_guard lock(rays->mutex);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    rays->by_point[batch->point_index[i]].push_back(
+        {glm::vec2(batch->sample_px[2 * i], batch->sample_px[2 * i + 1]),
+         glm::vec3(batch->directions[3 * i], batch->directions[3 * i + 1], batch->directions[3 * i + 2])});
+  }
+  return constant_colour(nullptr, batch);
+}
+
+// A device "engine" for the tests: it answers with a fill pattern (or an
+// error, or nothing) and may copy what the layer handed it to the host.
+struct TestEngine {
+  // fill: fill_bits everywhere; direction: each ray's (direction, screen y) as
+  // its (colour, depth), copied; error: an error; nothing: records nothing.
+  enum class Answer { fill, direction, error, nothing };
+  Answer answer = Answer::fill;
+  uint32_t fill_bits = 0;  // the colour buffer's every word (rgb and depth)
+  bool copy = false;       // copy rays, point indices and counts into the buffers below
+  VkDevice device = VK_NULL_HANDLE;
+  const VkPhysicalDeviceMemoryProperties* memory = nullptr;
+  BoundBuffer rays, point_index, control;
+  uint32_t calls = 0;
+  DeviceRayBatch last{};
+
+  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+
+  ~TestEngine() {
+    for (BoundBuffer* b : {&rays, &point_index, &control}) destroy_buffer(device, b);
+    if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
+    if (layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, layout, nullptr);
+    if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
+    if (pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, pool, nullptr);
+  }
+  // direction_engine.comp over the batch, dispatched from the layer's counts.
+  bool direction_shader(const DeviceRayBatch& batch) {
+    static constexpr uint32_t kOnes[3] = {1, 1, 1};
+    std::string error;
+    if (pipeline == VK_NULL_HANDLE) {
+      const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
+      auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+      pool_info.maxSets = 1;
+      pool_info.poolSizeCount = 1;
+      pool_info.pPoolSizes = &size;
+      if (!create_storage_pipeline_layout(device, kOnes, 3, 4, &set_layout, &layout, &error) ||
+          !create_compute_pipeline(device, layout, direction_engine_spv, sizeof direction_engine_spv, &pipeline,
+                                   &error) ||
+          vkCreateDescriptorPool(device, &pool_info, nullptr, &pool) != VK_SUCCESS) {
+        return false;
+      }
+      auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+      alloc.descriptorPool = pool;
+      alloc.descriptorSetCount = 1;
+      alloc.pSetLayouts = &set_layout;
+      if (vkAllocateDescriptorSets(device, &alloc, &set) != VK_SUCCESS) return false;
+    }
+    const VkDescriptorBufferInfo buffers[3] = {{batch.ray_count.buffer, batch.ray_count.offset, 4},
+                                               {batch.rays.buffer, batch.rays.offset, batch.rays.size},
+                                               {batch.colors.buffer, batch.colors.offset, batch.colors.size}};
+    write_storage_descriptors(device, set, buffers, kOnes, 3);
+    vkCmdBindPipeline(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdBindDescriptorSets(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
+    vkCmdDispatchIndirect(batch.command_buffer, batch.ray_count.buffer, batch.ray_count.offset + 4);
+    return true;
+  }
+  bool readback(BoundBuffer& b, const BufferRange& from, VkCommandBuffer cb) {
+    if (b.buffer == VK_NULL_HANDLE) {
+      std::string error;
+      b.size = from.size;
+      if (!create_bound_buffer(device, *memory, from.size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, buffer_memory_flags(true),
+                               &b.buffer, &b.memory, &b.mapped, &error)) {
+        return false;
+      }
+    }
+    const VkBufferCopy region{from.offset, 0, std::min(from.size, b.size)};
+    vkCmdCopyBuffer(cb, from.buffer, b.buffer, 1, &region);
+    return true;
+  }
+};
+
+bool test_engine(TestEngine* engine, const DeviceRayBatch* batch) {
+  ++engine->calls;
+  engine->last = *batch;
+  if (engine->answer == TestEngine::Answer::error) return false;
+  if (engine->answer == TestEngine::Answer::nothing) return true;
+  VkCommandBuffer cb = batch->command_buffer;
+  if (engine->answer == TestEngine::Answer::direction) {
+    return engine->direction_shader(*batch);
+  }
+  vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
+  if (engine->copy && (!engine->readback(engine->rays, batch->rays, cb) ||
+                       !engine->readback(engine->point_index, batch->point_index, cb) ||
+                       !engine->readback(engine->control, batch->ray_count, cb))) {
+    return false;
+  }
+  if (engine->copy) {
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT,
+                            VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
+                         0, nullptr);
+  }
+  return true;
+}
+
+uint32_t bits_of(float f) {
+  uint32_t b = 0;
+  std::memcpy(&b, &f, 4);
+  return b;
+}
+
+class DeviceTraceTest : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() { vulkan_.reset(); }
+  void SetUp() override {
+    if (vulkan_ == nullptr) {
+      vulkan_ = std::make_unique<HeadlessVulkan>(DevicePreference::cpu, true);
+      sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
+    }
+    ASSERT_TRUE(vulkan_->ok()) << "no Vulkan device (mesa-vulkan-drivers brings lavapipe)";
+    ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
+    std::string error;
+    gpu_ = Reconstructor::create(vulkan_->device(), &error);
+    ASSERT_NE(gpu_, nullptr) << error;
+    vkGetPhysicalDeviceMemoryProperties(vulkan_->device().physical_device, &memory_);
+    engine_.device = vulkan_->device().device;
+    engine_.memory = &memory_;
+    engine_.fill_bits = bits_of(kConstant);
+    tables_ = small_tables();
+    gpu_tables_ = gpu_->upload_tables(tables_, &error);
+    ASSERT_NE(gpu_tables_, nullptr) << error;
+    eye_ = gpu_->create_eye(kViewW, kViewH, &error);
+    ASSERT_NE(eye_, nullptr) << error;
+    settings_.rays_per_point = int(kRaysPerPoint);
+    settings_.new_jitter_each_frame = true;
+    settings_.reconstruct_on_cpu = false;
+  }
+  void TearDown() override {
+    eye_.reset();
+    gpu_tables_.reset();
+    gpu_.reset();
+    if (vulkan_ != nullptr && vulkan_->ok()) {
+      const auto errors = vulkan_->errors();
+      EXPECT_TRUE(errors.empty()) << errors.size() << " validation error(s), the first: " << errors.front();
+    }
+  }
+
+  // One device-traced frame of `view` through the test engine; false when the submission was refused.
+  bool device_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, std::string* error) {
+    foveation::Executor executor(2);
+    EXPECT_TRUE(view.plan(req, executor).ok());
+    DeviceTraceFrame device;
+    device.engine = [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); };
+    device.points = &tables_->points;
+    device.view = req.view;
+    device.mapping = view.hand_off().mapping;
+    device.frame_index = req.frame_index;
+    device.sample_seed = view.hand_off().sample_seed;
+    device.rays_per_point = uint32_t(view.settings().rays_per_point);
+    device.pixel_filter = view.settings().pixel_filter;
+    EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
+    frame.device = &device;
+    return gpu_->submit_and_wait(
+        [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
+  }
+
+  // The same frame with the colours coming from the CPU callback.
+  bool callback_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, FoveartTraceRaysFn trace,
+                      void* user, std::string* error) {
+    foveation::Executor executor(2);
+    EXPECT_TRUE(view.render(req, trace, user, executor).ok());
+    EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
+    return gpu_->submit_and_wait(
+        [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
+  }
+
+  static std::unique_ptr<HeadlessVulkan> vulkan_;
+  VkPhysicalDeviceMemoryProperties memory_{};
+  std::unique_ptr<Reconstructor> gpu_;
+  std::shared_ptr<const foveation::ViewTables> tables_;
+  std::shared_ptr<Tables> gpu_tables_;
+  std::unique_ptr<Eye> eye_;
+  foveation::ViewSettings settings_;
+  TestEngine engine_;
+};
+std::unique_ptr<HeadlessVulkan> DeviceTraceTest::vulkan_;
+
+// Stages 1-2 on the device give the CPU's points and rays: the same visible
+// points, each with its samples in order. A pixel-grid point's jitter is
+// bit-exact (integer hashing); a disc point's rounds its uniforms to float
+// (1e-3 px is a thousandth of a pixel); directions follow within 1e-5.
+TEST_F(DeviceTraceTest, DeviceRaysAreTheCpuRays) {
+  for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(3, 77)}) {  // centred, and a corner (margin points left of 0)
+    CpuRays cpu;
+    foveation::FoveatedView cpu_view(tables_, settings_);
+    std::string error;
+    ASSERT_TRUE(callback_frame(cpu_view, request(gaze, 7), &record_cpu_rays, &cpu, &error)) << error;
+    engine_.copy = true;
+    foveation::FoveatedView device_view(tables_, settings_);
+    ASSERT_TRUE(device_frame(device_view, request(gaze, 7), &error)) << error;
+
+    const auto* control = static_cast<const uint32_t*>(engine_.control.mapped);
+    const uint32_t count = control[0];
+    ASSERT_EQ(count, cpu.by_point.size() * kRaysPerPoint);
+    EXPECT_EQ(control[1], (count + 63) / 64);  // dispatch64
+    EXPECT_EQ(control[2], 1u);
+    EXPECT_EQ(control[4], count);  // trace rays: count x 1 x 1
+    EXPECT_LE(count, engine_.last.ray_capacity);
+    EXPECT_EQ(engine_.last.rays_per_point, kRaysPerPoint);
+    const auto* rays = static_cast<const float*>(engine_.rays.mapped);
+    const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
+    float worst_px = 0.0f, worst_dir = 0.0f;
+    std::size_t grid_points = 0;
+    for (uint32_t first = 0; first < count; first += kRaysPerPoint) {
+      const uint32_t p = points[first];
+      const auto it = cpu.by_point.find(p);
+      ASSERT_NE(it, cpu.by_point.end()) << "point " << p << " traced on the device only";
+      ASSERT_EQ(it->second.size(), kRaysPerPoint);
+      grid_points += tables_->points.on_pixel_grid(p) ? 1 : 0;
+      for (uint32_t s = 0; s < kRaysPerPoint; ++s) {
+        const float* r = rays + 8 * (first + s);
+        EXPECT_EQ(points[first + s], p);
+        const glm::vec2 sample(r[3], r[7]);
+        const glm::vec3 dir(r[4], r[5], r[6]);
+        const float px = glm::length(sample - it->second[s].first);
+        if (tables_->points.on_pixel_grid(p)) {
+          EXPECT_EQ(px, 0.0f) << "grid point " << p << " sample " << s;
+        }
+        worst_px = std::max(worst_px, px);
+        worst_dir = std::max(worst_dir, glm::length(dir - it->second[s].second));
+        EXPECT_NEAR(r[0], -0.032f, 1e-6f);  // the eye's position
+      }
+    }
+    EXPECT_GT(grid_points, 0u);
+    EXPECT_LT(grid_points, count / kRaysPerPoint);  // disc points too
+    EXPECT_LE(worst_px, 1e-3f);
+    EXPECT_LE(worst_dir, 1e-5f);
+    engine_.copy = false;
+    for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control}) destroy_buffer(engine_.device, b);
+  }
+}
+
+// The ray order is deterministic: the visible points are compacted in the
+// point set's order (device_rays.comp: per-block counts by subgroup ballots,
+// a scan, the writes), so two runs of the same frame give the same ray and
+// point-index buffers byte for byte, each point's rays consecutive and the
+// points in increasing index order, over many blocks of points and a partly
+// visible one at the corner.
+TEST_F(DeviceTraceTest, RaysAreInThePointSetOrderAndTheSameOnEveryRun) {
+  ASSERT_GT(tables_->points.size(), 4u * FOVEART_DEVICE_RAYS_BLOCK) << "the frame spans several blocks";
+  engine_.copy = true;
+  for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(3, 77)}) {
+    std::vector<uint8_t> first_rays, first_points;
+    for (int run = 0; run < 3; ++run) {
+      foveation::FoveatedView view(tables_, settings_);
+      std::string error;
+      ASSERT_TRUE(device_frame(view, request(gaze, 11), &error)) << error;
+      const uint32_t count = static_cast<const uint32_t*>(engine_.control.mapped)[0];
+      ASSERT_GT(count, 0u);
+      const auto* rays = static_cast<const uint8_t*>(engine_.rays.mapped);
+      const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
+      std::vector<uint8_t> ray_bytes(rays, rays + std::size_t(count) * sizeof(shader::DeviceRay));
+      std::vector<uint8_t> point_bytes(reinterpret_cast<const uint8_t*>(points),
+                                       reinterpret_cast<const uint8_t*>(points + count));
+      for (uint32_t r = 0; r < count; ++r) {
+        if (r % kRaysPerPoint != 0) {
+          ASSERT_EQ(points[r], points[r - 1]) << "ray " << r << ": a point's rays are consecutive";
+        } else if (r > 0) {
+          ASSERT_GT(points[r], points[r - 1]) << "ray " << r << ": points in the set's order";
+        }
+      }
+      if (run == 0) {
+        first_rays = std::move(ray_bytes);
+        first_points = std::move(point_bytes);
+        continue;
+      }
+      EXPECT_EQ(ray_bytes, first_rays) << "run " << run << " gave other rays";
+      EXPECT_EQ(point_bytes, first_points) << "run " << run << " gave another point order";
+    }
+  }
+  engine_.copy = false;
+  for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control}) destroy_buffer(engine_.device, b);
+}
+
+// Colours resolved on the device reconstruct as the callback's: a device
+// frame and a CPU-callback frame whose engines both answer each ray with its
+// direction (and its screen y as depth) give the same image, within one 8-bit
+// step (the directions agree within 1e-5), with an image history over a gaze jump.
+TEST_F(DeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
+  settings_.temporal = foveation::TemporalMode::image;
+  engine_.answer = TestEngine::Answer::direction;
+  foveation::FoveatedView device_view(tables_, settings_), callback_view(tables_, settings_);
+  std::vector<uint8_t> first;
+  for (uint64_t i = 0; i < 4; ++i) {
+    const foveation::FrameRequest req = request(i < 2 ? glm::vec2(40, 30) : glm::vec2(70, 60), i);
+    std::string error;
+    ASSERT_TRUE(callback_frame(callback_view, req, &direction_colour, nullptr, &error)) << error;
+    std::vector<uint8_t> expected, actual;
+    ASSERT_TRUE(eye_->read_rgba8(&expected, &error)) << error;
+    ASSERT_TRUE(device_frame(device_view, req, &error)) << error;
+    EXPECT_EQ(eye_->device_trace_status().invalid_components, 0u);
+    ASSERT_TRUE(eye_->read_rgba8(&actual, &error)) << error;
+    ASSERT_EQ(actual.size(), expected.size());
+    int worst = 0;
+    for (std::size_t b = 0; b < actual.size(); ++b) worst = std::max(worst, std::abs(int(actual[b]) - int(expected[b])));
+    EXPECT_LE(worst, 1) << "frame " << i;
+    EXPECT_EQ(device_view.hand_off().temporal.reset, callback_view.hand_off().temporal.reset) << "frame " << i;
+    if (i == 0) first = actual;
+  }
+  EXPECT_EQ(engine_.calls, 4u);
+  // The colours vary over the image: the comparison is not of a flat field.
+  std::size_t distinct_red = 0;
+  std::vector<bool> seen(256, false);
+  for (std::size_t b = 0; b < first.size(); b += 4) distinct_red += seen[first[b]] ? 0 : (seen[first[b]] = true, 1);
+  EXPECT_GT(distinct_red, 20u);
+}
+
+// Per frame the device path writes nothing to host memory and reads back the
+// resolve's status and the stage timestamps only; the callback path uploads
+// every traced point's colour.
+TEST_F(DeviceTraceTest, OnlyConstantsCrossToTheHost) {
+  foveation::FoveatedView device_view(tables_, settings_), callback_view(tables_, settings_);
+  std::string error;
+  for (uint64_t i = 0; i < 2; ++i) {
+    ASSERT_TRUE(device_frame(device_view, request(glm::vec2(48, 40), i), &error)) << error;
+    StageTimes times;
+    EXPECT_TRUE(eye_->stage_times(&times));
+    const DeviceTraceStatus status = eye_->device_trace_status();
+    EXPECT_GT(status.visible_points, 0u);
+    // The first frame of a table set copies its points up once (16 bytes each).
+    EXPECT_EQ(eye_->host_bytes_written(), i == 0 ? tables_->points.size() * 16 : 0u);
+    EXPECT_EQ(eye_->host_bytes_read(), FOVEART_DEVICE_STATUS_WORDS * 4 + StageTimes::kTimestamps * sizeof(uint64_t));
+  }
+  ASSERT_TRUE(callback_frame(callback_view, request(glm::vec2(48, 40), 2), &constant_colour, nullptr, &error)) << error;
+  EXPECT_GE(eye_->host_bytes_written(), 20u * 1000u);  // (index, rgb, depth) per traced point
+}
+
+// The engine's faults: an error (nothing is submitted), NaN or negative
+// colours, and a trace that records nothing (its rays stay NaN) are found on
+// the device and counted per colour component.
+TEST_F(DeviceTraceTest, EngineFaultsAreFoundAndCounted) {
+  foveation::FoveatedView view(tables_, settings_);
+  std::string error;
+  engine_.answer = TestEngine::Answer::error;
+  EXPECT_FALSE(device_frame(view, request(glm::vec2(48, 40), 1), &error));
+  EXPECT_EQ(engine_.calls, 1u);
+  EXPECT_NE(error.find("device trace"), std::string::npos) << error;
+
+  engine_.answer = TestEngine::Answer::fill;
+  ASSERT_TRUE(device_frame(view, request(glm::vec2(48, 40), 2), &error)) << error;
+  const uint32_t visible = eye_->device_trace_status().visible_points;
+  ASSERT_GT(visible, 0u);
+  EXPECT_EQ(eye_->device_trace_status().invalid_components, 0u);
+
+  const uint64_t components = uint64_t(visible) * kRaysPerPoint * 3;
+  for (uint32_t bits : {0x7FC00000u /* NaN */, 0x7F800000u /* +inf */, bits_of(-0.5f)}) {
+    engine_.fill_bits = bits;
+    ASSERT_TRUE(device_frame(view, request(glm::vec2(48, 40), 3), &error)) << error;
+    EXPECT_EQ(eye_->device_trace_status().invalid_components, components) << std::hex << bits;
+  }
+  engine_.answer = TestEngine::Answer::nothing;
+  ASSERT_TRUE(device_frame(view, request(glm::vec2(48, 40), 4), &error)) << error;
+  EXPECT_EQ(eye_->device_trace_status().invalid_components, components);
+}
+
+}  // namespace
+}  // namespace foveart::gpu
