@@ -13,6 +13,7 @@
 #include <eval/lab_options.hpp>
 #include <eval/pfm.hpp>
 #include <eval/full_history.hpp>
+#include <eval/perceptual_metric.hpp>
 #include <eval/pricelist_report.hpp>
 #include <eval/reference.hpp>
 #include <metrics/comparison_json.hpp>
@@ -89,6 +90,10 @@ struct Context {
   const foveation::ImageRgb& reference_display;
   std::ostream& err;
   float exposure = 1.0f;  // what the display values scale radiance by (render_display)
+  const PerceptualMetric* perceptual = nullptr;
+  // The full render's display values (its last frame) per rays per pixel: what the perceptual
+  // metric compares every row at that count with.
+  std::map<int, foveation::ImageRgb> full_display;
 };
 
 render_view::RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
@@ -216,6 +221,31 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
   return toolkit::write_png_u8(file.string(), c.map.width_px, c.map.height_px, 3, rgb, error);
 }
 
+// The perceptual metric's detection probability of the row's last frame against the full render at
+// the same rays per pixel (full_spp<r>; for that row itself 0 by construction): per ring
+// (rings[r].p_detect_mean, p_detect_share = the share of pixels at P >= 0.5) and over the image
+// (and its largest). Null where that full render's image is not at hand.
+void add_perceptual(const Context& c, const PriceSetting& s, const foveation::ImageRgb& last, Json& j) {
+  const std::string against = "full_spp" + std::to_string(s.rays_per_point);
+  j["p_detect_against"] = against;
+  const auto full = c.full_display.find(s.rays_per_point);
+  PerceptualResult p;
+  std::string error;
+  const bool ok = c.perceptual != nullptr && full != c.full_display.end() &&
+                  c.perceptual->evaluate(last, full->second, c.gaze, &c.executor, p, error);
+  if (!ok && c.perceptual != nullptr)
+    c.err << "fovea-eval pricelist: " << s.id() << ": no perceptual columns ("
+          << (error.empty() ? against + "'s image is not at hand" : error) << ")\n";
+  j["p_detect_mean"] = ok ? Json(p.p_mean) : Json();
+  j["p_detect_share"] = ok ? Json(p.detected_fraction) : Json();
+  j["p_detect_max"] = ok ? Json(p.p_max) : Json();
+  for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
+    const bool has = ok && p.rings[r].pixels > 0;
+    j["rings"][r]["p_detect_mean"] = has ? Json(p.rings[r].p_mean) : Json();
+    j["rings"][r]["p_detect_share"] = has ? Json(p.rings[r].detected_fraction) : Json();
+  }
+}
+
 Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path& out_dir, bool write_image,
                  bool heatmap, std::string* error) {
   const PriceSetting& s = m.setting;
@@ -254,6 +284,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
   for (std::size_t r = 0; r < metrics::kRingCount; ++r)
     j["rings"][r]["flicker"] = m.flicker_pairs > 0 ? std::sqrt(m.flicker_sum[r] / m.flicker_pairs) : 0.0;
   j["flicker_frames"] = m.frames_done;
+  add_perceptual(c, s, last, j);
   if (write_image) {
     const fs::path file = out_dir / "images" / (s.id() + ".pfm");
     if (!write_pfm(file.string(), last, error)) return {};
@@ -328,9 +359,12 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     return false;
   }
   const double anchor = median(anchor_ms);
+  for (Measure& m : ms)
+    if (m.setting.full && !m.setting.history) c.full_display[m.setting.rays_per_point] = m.previous_display;
   for (Measure& m : ms) {
     const std::string id = m.setting.id();
-    const bool image = c.o.images || id == heatmap_id || id == "full_spp1";
+    // The full renders without history always: a resumed run's perceptual columns compare with them.
+    const bool image = c.o.images || id == heatmap_id || (m.setting.full && !m.setting.history);
     Json j = result_json(c, m, anchor, out_dir, image, id == heatmap_id, &error);
     if (!error.empty()) {
       c.err << "fovea-eval pricelist: " << error << "\n";
@@ -376,6 +410,23 @@ constexpr const char* kPricelistWho = "fovea-eval pricelist: ";
 // The setting the headline calls the thesis's default, and the default of --heatmap.
 constexpr const char* kThesisDefault = "nearest_k1_s1_thesis_r1";
 
+// The full render (without history) at every rays per point a row of the grid has, added after the
+// full renders when the grid lacks it: the perceptual columns compare each row with it.
+void add_equal_spp_full_renders(std::vector<PriceSetting>* settings) {
+  std::vector<int> have, want;
+  for (const PriceSetting& s : *settings) (s.full && !s.history ? have : want).push_back(s.rays_per_point);
+  std::sort(want.begin(), want.end());
+  want.erase(std::unique(want.begin(), want.end()), want.end());
+  auto at = std::find_if(settings->begin(), settings->end(), [](const PriceSetting& s) { return !s.full || s.history; });
+  for (const int r : want) {
+    if (std::find(have.begin(), have.end(), r) != have.end()) continue;
+    PriceSetting full;
+    full.full = true;
+    full.rays_per_point = r;
+    at = settings->insert(at, full) + 1;
+  }
+}
+
 // What is wrong with the options before any work ("" when nothing), the grid's settings into *settings.
 std::string options_problem(const PricelistOptions& o, std::vector<PriceSetting>* settings) {
   if (o.out_dir.empty()) return "--out DIR is required";
@@ -383,6 +434,8 @@ std::string options_problem(const PricelistOptions& o, std::vector<PriceSetting>
   if (o.history_frames < 2 || o.history_frames > 100) return "--history-frames must be in 2..100";
   std::string bad;
   if (!expand_grid(o.grid, settings, &bad)) return "bad grid: " + bad;
+  add_equal_spp_full_renders(settings);
+  if (!(o.white_cd_m2 > 0.0) || !std::isfinite(o.white_cd_m2)) return "--white-cd-m2 must be a positive luminance";
   if (o.reference_spp.empty()) return "--reference-spp must be auto or rays per pixel";
   if (!render_view::check_render_options(render_options_of(o, nullptr), &bad) ||
       !check_reference_choice(ReferenceChoice{o.reference_spp, "", ""}, &bad) ||
@@ -448,7 +501,18 @@ Json run_json(const PricelistOptions& o, const PriceScene& s) {
     run["viewer_pose"] = {v.position_m[0],        v.position_m[1],        v.position_m[2],       v.orientation_xyzw[0],
                           v.orientation_xyzw[1], v.orientation_xyzw[2], v.orientation_xyzw[3]};
   if (s.display.exposure != 1.0f) run["exposure"] = s.display.exposure;
+  if (o.white_cd_m2 != 100.0) run["white_cd_m2"] = o.white_cd_m2;  // the perceptual columns' display
   return run;
+}
+
+// The perceptual metric's display: the view's pixels per degree at the gaze, --white-cd-m2, the eye.
+PerceptualDisplay perceptual_display(const PricelistOptions& o, const metrics::EccentricityMap& map) {
+  PerceptualDisplay d;
+  const int gx = std::clamp(int(map.gaze_px.x), 0, map.width_px - 1), gy = std::clamp(int(map.gaze_px.y), 0, map.height_px - 1);
+  d.pixels_per_deg = double(map.pixels_per_deg[std::size_t(gy) * std::size_t(map.width_px) + std::size_t(gx)]);
+  d.white_luminance_cd_m2 = o.white_cd_m2;
+  d.eye = o.eye == "left" ? Eye::kLeft : Eye::kRight;
+  return d;
 }
 
 // OUT/run.json: written on the first run; a re-run resumes only the same run. False and *error.
@@ -510,6 +574,13 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
                                     std::map<std::string, Json>* done_results) {
   const fs::path results_file = out_dir / "results.jsonl";
   *done_results = read_results_jsonl(results_file, c.err);
+  for (const PriceSetting& s : settings)  // measured before: their images (result_json wrote them)
+    if (s.full && !s.history && done_results->count(s.id())) {
+      foveation::ImageRgb image;
+      std::string ignored;
+      if (read_pfm((out_dir / "images" / (s.id() + ".pfm")).string(), &image, &ignored))
+        c.full_display[s.rays_per_point] = std::move(image);
+    }
   std::ofstream results(results_file, std::ios::app);
   if (!results) {
     c.err << kPricelistWho << "cannot write " << results_file.string() << "\n";
@@ -597,7 +668,12 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   if (!reference) return fail(error);
   const foveation::ImageRgb reference_display = metrics::display_encode(reference->image, s.display.exposure);
   if (!write_reference_images(out_dir, reference_display, map, &error)) return fail(error);
-  Context c{o, *s.tracer, s.view, s.gaze, executor, map, reference_display, err, s.display.exposure};
+  Context c{o, *s.tracer, s.view, s.gaze, executor, map, reference_display, err, s.display.exposure, nullptr, {}};
+  PerceptualMetric perceptual;
+  const PerceptualDisplay pd = perceptual_display(o, map);
+  if (!PerceptualMetric::create(pd, s.view.width_px, s.view.height_px, {}, perceptual, error, &executor))
+    return fail(error);
+  c.perceptual = &perceptual;
   std::map<std::string, Json> done_results;
   if (!measure_settings(c, settings, out_dir, t_start, &done_results)) return fail("");
   PricelistContext pc;
@@ -611,6 +687,9 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   pc.run["machine"] = toolkit::machine_description();
   pc.run["threads"] = executor.thread_count();
   pc.run["quick"] = o.quick;
+  pc.run["perceptual_display"] = {{"pixels_per_deg", pd.pixels_per_deg},
+                                  {"white_cd_m2", pd.white_luminance_cd_m2},
+                                  {"black_cd_m2", pd.black_luminance_cd_m2}};
   pc.run["run_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   pc.reference = reference_json(*reference, map);
   pc.thesis_default = kThesisDefault;
@@ -678,6 +757,8 @@ void add_run_options(CLI::App* cmd, PricelistOptions& o) {
   cmd->add_option("--md", o.md_file, "Also write the report (command, machine, tables) to this markdown file");
   cmd->add_flag("--images", o.images, "Write every setting's image (PFM, display values, and PNG)");
   cmd->add_option("--seed", o.seed, "Seed of point set and jitter")->capture_default_str();
+  cmd->add_option("--white-cd-m2", o.white_cd_m2,
+                  "Luminance of display white for the perceptual columns (cd/m^2)")->capture_default_str();
   render_view::add_pixel_filter_option(cmd, &o.pixel_filter);
 }
 

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <numbers>
 
 namespace foveart::eval::perceptual_detail {
@@ -64,3 +67,23 @@ inline void for_rows(foveation::Executor* ex, int rows, const std::function<void
 }
 
 }  // namespace foveart::eval::perceptual_detail
+
+namespace foveart::eval {
+
+// What depends on the gaze, the image size and the display alone (perceptual_evaluate.cpp), per
+// pyramid level: each pixel's table row (eccentricity / kEccStepDeg, clamped to the table) and its
+// temporal field's weight; the ring (metrics::kRingEdgesDeg) of every full-resolution pixel.
+struct GazeTables {
+  glm::vec2 gaze_px{};
+  int width_px = 0, height_px = 0, levels = 0;
+  std::vector<Plane> ecc_row, temporal_weight;
+  std::vector<std::uint8_t> ring;
+};
+
+// The last gaze's tables, shared by copies of a metric (they share its display).
+struct PerceptualMetric::GazeCache {
+  std::mutex mutex;
+  std::shared_ptr<const GazeTables> last;
+};
+
+}  // namespace foveart::eval

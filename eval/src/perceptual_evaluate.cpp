@@ -1,4 +1,9 @@
 // The perceptual metric's evaluation of one image pair (perceptual_metric.hpp).
+//
+// Speed: every plane pass runs as row (or column-strip) tasks on the executor; what depends on
+// the gaze alone (eccentricity, field weight and table row per pixel and level, the ring of
+// every pixel) is built once per gaze and reused; the table column (log luminance) once per
+// level for both of its bands; transcendental functions in float where the result is a float.
 #include <eval/perceptual_metric.hpp>
 
 #include <metrics/image_metrics.hpp>
@@ -40,7 +45,7 @@ bool check_inputs(const foveation::ImageRgb& test, const foveation::ImageRgb& re
 
 // Luminance (cd/m^2): black + (white - black) x Rec. 709 Y of the display values.
 Plane luminance_plane(const foveation::ImageRgb& image, const PerceptualDisplay& d, foveation::Executor* ex) {
-  Plane out(image.width_px, image.height_px);
+  Plane out = Plane::uninitialized(image.width_px, image.height_px);
   const double span = d.white_luminance_cd_m2 - d.black_luminance_cd_m2;
   for_rows(ex, image.height_px, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
@@ -53,11 +58,62 @@ Plane luminance_plane(const foveation::ImageRgb& image, const PerceptualDisplay&
   return out;
 }
 
+// Level `level` of the gaze tables: per pixel of that level's planes, the table row (eccentricity
+// / kEccStepDeg, clamped to the table) and the temporal field's weight; at level 0 the ring too.
+void gaze_level(const PerceptualDisplay& d, const PerceptualMetric::TableGrid& grid, int level, int w, int h,
+                foveation::Executor* ex, GazeTables& t) {
+  const double scale = std::ldexp(1.0, level), view_distance_px = d.pixels_per_deg * kDegPerRad;
+  Plane ecc_row = Plane::uninitialized(w, h), tw = Plane::uninitialized(w, h);
+  const glm::vec2 gaze = t.gaze_px;
+  for_rows(ex, h, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const double dx = (x + 0.5) * scale - 0.5 - double(gaze.x), dy = (y + 0.5) * scale - 0.5 - double(gaze.y);
+        const double ecc = ecc_of_distance(std::hypot(dx, dy), view_distance_px);
+        ecc_row.at(x, y) = float(std::clamp(ecc / kEccStepDeg, 0.0, double(grid.ecc_steps - 1) - 1e-6));
+        tw.at(x, y) = float(temporal_weight(dx, dy, d.eye));
+        if (level > 0) continue;
+        std::size_t r = 0;
+        while (r + 1 < metrics::kRingCount && ecc >= metrics::kRingEdgesDeg[r + 1]) ++r;
+        t.ring[std::size_t(y) * std::size_t(w) + std::size_t(x)] = std::uint8_t(r);
+      }
+  });
+  t.ecc_row.push_back(std::move(ecc_row));
+  t.temporal_weight.push_back(std::move(tw));
+}
+
+std::shared_ptr<const GazeTables> build_gaze_tables(const PerceptualDisplay& d, const PerceptualMetric::TableGrid& grid,
+                                                    glm::vec2 gaze_px, int w, int h, int levels, foveation::Executor* ex) {
+  auto t = std::make_shared<GazeTables>();
+  t->gaze_px = gaze_px;
+  t->width_px = w;
+  t->height_px = h;
+  t->levels = levels;
+  t->ring.resize(std::size_t(w) * std::size_t(h));
+  for (int level = 0; level < levels; ++level, w = (w + 1) / 2, h = (h + 1) / 2) gaze_level(d, grid, level, w, h, ex, *t);
+  return t;
+}
+
+// The table column (log10 luminance - its minimum) / kLogLumStep of each pixel's local mean, clamped.
+Plane lum_columns(const Plane& mean, const PerceptualMetric::TableGrid& g, foveation::Executor* ex) {
+  Plane out = Plane::uninitialized(mean.width_px, mean.height_px);
+  for_rows(ex, mean.height_px, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < mean.width_px; ++x) {
+        const double log_lum = std::log10(std::max(kMinLuminance, double(mean.at(x, y))));
+        out.at(x, y) = float(std::clamp((log_lum - g.log_lum_min) / kLogLumStep, 0.0, double(g.lum_steps - 1) - 1e-6));
+      }
+  });
+  return out;
+}
+
 struct BandInputs {
   const Plane& test_band;
   const Plane& ref_band;
   const Plane& ref_mean;
-  int band;
+  const Plane& lum_column;  // lum_columns of ref_mean
+  const Plane& ecc_row;     // the gaze tables' level
+  const Plane& temporal_weight;
 };
 
 // Band b's squared threshold-unit contrast difference per mechanism (E_a achromatic, E_c chromatic)
@@ -66,90 +122,123 @@ struct BandEnergy {
   Plane e_ach, e_chr, mask;
 };
 
+// A band's squared sensitivity per mechanism at one pixel: both fields' tables, bilinear in
+// (luminance column u, eccentricity row v), blended by the temporal weight tw.
+void band_weights(const PerceptualMetric::BandTable& table, int lum_steps, float u, float v, float tw, float w2[2]) {
+  constexpr double kTwoLn10 = 2.0 * std::numbers::ln10;
+  const int l = int(u), e = int(v);
+  const double fu = double(u) - l, fv = double(v) - e;
+  const std::size_t i00 = std::size_t(e * lum_steps + l), i10 = i00 + std::size_t(lum_steps);
+  const auto bilinear = [&](const std::vector<float>& t) {
+    return (1 - fv) * ((1 - fu) * double(t[i00]) + fu * double(t[i00 + 1])) +
+           fv * ((1 - fu) * double(t[i10]) + fu * double(t[i10 + 1]));
+  };
+  for (std::size_t m = 0; m < 2; ++m) {
+    const double log_s = (1.0 - double(tw)) * bilinear(table.log_s_nasal[m]) + double(tw) * bilinear(table.log_s_temporal[m]);
+    w2[m] = std::exp(float(kTwoLn10 * log_s));
+  }
+}
+
 void band_energy(const BandInputs& in, const PerceptualMetric::BandTable& table, const PerceptualMetric::TableGrid& grid,
-                 const PerceptualDisplay& d, glm::vec2 gaze_px, foveation::Executor* ex, BandEnergy& out) {
-  const double scale = std::ldexp(1.0, in.band / kBandsPerLevel);
-  const double view_distance_px = d.pixels_per_deg * kDegPerRad;
+                 foveation::Executor* ex, BandEnergy& out) {
   const int w_px = in.test_band.width_px, h_px = in.test_band.height_px;
-  out.e_ach = Plane(w_px, h_px);
-  out.e_chr = Plane(w_px, h_px);
-  out.mask = Plane(w_px, h_px);
+  out.e_ach = Plane::uninitialized(w_px, h_px);
+  out.e_chr = Plane::uninitialized(w_px, h_px);
+  out.mask = Plane::uninitialized(w_px, h_px);
   for_rows(ex, h_px, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < w_px; ++x) {
-        const double dx = (x + 0.5) * scale - 0.5 - double(gaze_px.x), dy = (y + 0.5) * scale - 0.5 - double(gaze_px.y);
-        const double ecc = ecc_of_distance(std::hypot(dx, dy), view_distance_px);
-        const double lum = std::max(kMinLuminance, double(in.ref_mean.at(x, y)));
-        const double log_lum = std::log10(lum);
-        const double tw = temporal_weight(dx, dy, d.eye);
-        double w2[2];
-        for (std::size_t m = 0; m < 2; ++m) {
-          const double log_s = (1.0 - tw) * double(lookup(table.log_s_nasal[m], log_lum, ecc, grid)) +
-                               tw * double(lookup(table.log_s_temporal[m], log_lum, ecc, grid));
-          w2[m] = std::pow(10.0, 2.0 * log_s);
-        }
-        const double t = double(in.test_band.at(x, y)) / lum, r = double(in.ref_band.at(x, y)) / lum;
-        out.e_ach.at(x, y) = float(w2[0] * (t - r) * (t - r));
-        out.e_chr.at(x, y) = float(w2[1] * (t - r) * (t - r));
-        const double mask = std::min(std::abs(t), std::abs(r));
-        out.mask.at(x, y) = float((w2[0] + w2[1]) * mask * mask);
+        float w2[2];
+        band_weights(table, grid.lum_steps, in.lum_column.at(x, y), in.ecc_row.at(x, y), in.temporal_weight.at(x, y), w2);
+        const float lum = std::max(float(kMinLuminance), in.ref_mean.at(x, y));
+        const float t = in.test_band.at(x, y) / lum, r = in.ref_band.at(x, y) / lum;
+        out.e_ach.at(x, y) = w2[0] * (t - r) * (t - r);
+        out.e_chr.at(x, y) = w2[1] * (t - r) * (t - r);
+        const float mask = std::min(std::abs(t), std::abs(r));
+        out.mask.at(x, y) = (w2[0] + w2[1]) * mask * mask;
       }
   });
 }
 
-// ColorVideoVDP's masking transducer, in threshold units: d^2 = D^2 / (1 + (k M)^q)^(2 / p).
-void mask_band(Plane& e, const Plane& m, bool masking) {
-  for (std::size_t i = 0; i < e.v.size(); ++i) {
-    const double d2 = double(e.v[i]);
-    if (!masking) {
-      e.v[i] = float(d2);
-      continue;
+// Both mechanisms' pooled energy through ColorVideoVDP's masking transducer, in threshold units,
+// d^2 = D^2 / (1 + (k M)^q)^(2 / p), plus the coarser bands' sum `below` (null: none; clamped at 0
+// when it was expanded from a coarser level): into be.e_ach.
+void combine_band(BandEnergy& be, const Plane* below, bool expanded, bool masking, foveation::Executor* ex) {
+  const float k = float(kMaskK), q = float(kMaskQ), two_over_p = float(2.0 / kMaskP);
+  Plane& e = be.e_ach;
+  for_rows(ex, e.height_px, [&](int y0, int y1) {
+    const std::size_t a = std::size_t(y0) * std::size_t(e.width_px), b = std::size_t(y1) * std::size_t(e.width_px);
+    for (std::size_t i = a; i < b; ++i) {
+      float d2 = e.v[i] + be.e_chr.v[i];
+      if (masking) d2 /= std::pow(1.0f + std::pow(k * std::sqrt(std::max(0.0f, be.mask.v[i])), q), two_over_p);
+      if (below != nullptr) d2 += expanded ? std::max(0.0f, below->v[i]) : below->v[i];
+      e.v[i] = d2;
     }
-    const double mask = std::sqrt(std::max(0.0, double(m.v[i])));
-    e.v[i] = float(d2 / std::pow(1.0 + std::pow(kMaskK * mask, kMaskQ), 2.0 / kMaskP));
-  }
+  });
 }
 
-// Runs a and b, on two of the executor's threads when there is one.
-void two_tasks(foveation::Executor* ex, const std::function<void()>& a, const std::function<void()>& b) {
-  if (ex == nullptr) return a(), b();
-  ex->parallel_for(2, [&](std::size_t i) { i == 0 ? a() : b(); });
-}
-
-void summarize(const PerceptualDisplay& d, glm::vec2 gaze_px, PerceptualResult& out) {
-  const double view_distance_px = d.pixels_per_deg * kDegPerRad;
-  out.rings.assign(metrics::kRingCount, PerceptualRing{});
-  std::vector<double> sums(metrics::kRingCount, 0.0), detected(metrics::kRingCount, 0.0);
-  double total = 0.0, total_detected = 0.0;
-  for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
+void summarize(const GazeTables& gt, foveation::Executor* ex, PerceptualResult& out) {
+  constexpr std::size_t kRings = metrics::kRingCount;
+  struct RowSums {
+    std::array<std::uint64_t, kRings> pixels{}, detected{};
+    std::array<double, kRings> sum{};
+    std::array<float, kRings> max{};
+  };
+  std::vector<RowSums> rows(std::size_t(out.height_px));
+  for_rows(ex, out.height_px, [&](int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < out.width_px; ++x) {
+        const std::size_t i = std::size_t(y) * std::size_t(out.width_px) + std::size_t(x), r = gt.ring[i];
+        const float p = out.p_detect[i];
+        RowSums& s = rows[std::size_t(y)];
+        ++s.pixels[r];
+        s.sum[r] += double(p);
+        s.detected[r] += p >= 0.5f ? 1 : 0;
+        s.max[r] = std::max(s.max[r], p);
+      }
+  });
+  out.rings.assign(kRings, PerceptualRing{});
+  std::array<double, kRings> sums{}, detected{};
+  for (std::size_t r = 0; r < kRings; ++r) {
     out.rings[r].from_deg = metrics::kRingEdgesDeg[r];
     out.rings[r].to_deg = metrics::kRingEdgesDeg[r + 1];
   }
-  for (int y = 0; y < out.height_px; ++y)
-    for (int x = 0; x < out.width_px; ++x) {
-      const double ecc = ecc_of_distance(std::hypot(double(x) - double(gaze_px.x), double(y) - double(gaze_px.y)), view_distance_px);
-      std::size_t r = 0;
-      while (r + 1 < metrics::kRingCount && ecc >= metrics::kRingEdgesDeg[r + 1]) ++r;
-      const double p = out.p_detect[std::size_t(y) * std::size_t(out.width_px) + std::size_t(x)];
-      PerceptualRing& ring = out.rings[r];
-      ++ring.pixels;
-      sums[r] += p;
-      detected[r] += p >= 0.5 ? 1.0 : 0.0;
-      ring.p_max = std::max(ring.p_max, p);
-      total += p;
-      total_detected += p >= 0.5 ? 1.0 : 0.0;
-      out.p_max = std::max(out.p_max, p);
+  for (const RowSums& s : rows)
+    for (std::size_t r = 0; r < kRings; ++r) {
+      out.rings[r].pixels += s.pixels[r];
+      sums[r] += s.sum[r];
+      detected[r] += double(s.detected[r]);
+      out.rings[r].p_max = std::max(out.rings[r].p_max, double(s.max[r]));
     }
-  for (std::size_t r = 0; r < metrics::kRingCount; ++r)
-    if (out.rings[r].pixels > 0) {
-      out.rings[r].p_mean = sums[r] / double(out.rings[r].pixels);
-      out.rings[r].detected_fraction = detected[r] / double(out.rings[r].pixels);
-    }
+  double total = 0.0, total_detected = 0.0;
+  for (std::size_t r = 0; r < kRings; ++r) {
+    total += sums[r];
+    total_detected += detected[r];
+    out.p_max = std::max(out.p_max, out.rings[r].p_max);
+    if (out.rings[r].pixels == 0) continue;
+    out.rings[r].p_mean = sums[r] / double(out.rings[r].pixels);
+    out.rings[r].detected_fraction = detected[r] / double(out.rings[r].pixels);
+  }
   out.p_mean = total / double(out.p_detect.size());
   out.detected_fraction = total_detected / double(out.p_detect.size());
 }
 
 }  // namespace
+
+std::shared_ptr<const GazeTables> PerceptualMetric::gaze_tables(glm::vec2 gaze_px, int w, int h, int levels,
+                                                                foveation::Executor* executor) const {
+  const auto fits = [&](const std::shared_ptr<const GazeTables>& t) {
+    return t && t->gaze_px == gaze_px && t->width_px == w && t->height_px == h && t->levels == levels;
+  };
+  {
+    const std::lock_guard<std::mutex> lock(gaze_cache_->mutex);
+    if (fits(gaze_cache_->last)) return gaze_cache_->last;
+  }
+  std::shared_ptr<const GazeTables> t = build_gaze_tables(display_, grid_, gaze_px, w, h, levels, executor);
+  const std::lock_guard<std::mutex> lock(gaze_cache_->mutex);
+  gaze_cache_->last = t;
+  return t;
+}
 
 bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
                                 glm::vec2 gaze_px, foveation::Executor* executor, PerceptualResult& out,
@@ -157,36 +246,36 @@ bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation
   if (bands_.empty()) return error = "perceptual metric: the model was not created", false;
   if (!check_inputs(test, reference, gaze_px, max_width_px_, max_height_px_, error)) return false;
   const int levels = std::min(int(bands_.size()) / kBandsPerLevel, level_count(test.width_px, test.height_px));
-  const int band_count = levels * kBandsPerLevel;
-  LaplacianPyramid pt, pr;
-  two_tasks(executor, [&] { pt = laplacian_pyramid(luminance_plane(test, display_, nullptr), levels); },
-            [&] { pr = laplacian_pyramid(luminance_plane(reference, display_, nullptr), levels); });
-  Plane acc;
-  for (int b = band_count - 1; b >= 0; --b) {
+  const std::shared_ptr<const GazeTables> gt = gaze_tables(gaze_px, test.width_px, test.height_px, levels, executor);
+  const LaplacianPyramid pt = laplacian_pyramid(luminance_plane(test, display_, executor), levels, executor);
+  const LaplacianPyramid pr = laplacian_pyramid(luminance_plane(reference, display_, executor), levels, executor);
+  Plane acc, lum_column;
+  for (int b = levels * kBandsPerLevel - 1; b >= 0; --b) {
+    const std::size_t level = std::size_t(b / kBandsPerLevel);
+    if (b % kBandsPerLevel == kBandsPerLevel - 1) lum_column = lum_columns(pr.mean[level], grid_, executor);
     BandEnergy be;
-    band_energy({pt.band[std::size_t(b)], pr.band[std::size_t(b)], pr.mean[std::size_t(b / kBandsPerLevel)], b},
-                bands_[std::size_t(b)], grid_, display_, gaze_px, executor, be);
+    band_energy({pt.band[std::size_t(b)], pr.band[std::size_t(b)], pr.mean[level], lum_column, gt->ecc_row[level],
+                 gt->temporal_weight[level]},
+                bands_[std::size_t(b)], grid_, executor, be);
     const auto& sigma = bands_[std::size_t(b)].pool_sigma_px;
-    two_tasks(executor, [&] { box3_blur(be.e_ach, sigma[0]); box3_blur(be.e_chr, sigma[1]); },
-              [&] { if (options_.masking) box3_blur(be.mask, sigma[0]); });
-    Plane& e = be.e_ach;
-    for (std::size_t i = 0; i < e.v.size(); ++i) e.v[i] += be.e_chr.v[i];
-    mask_band(e, be.mask, options_.masking);
-    if (!acc.v.empty() && acc.width_px == e.width_px && acc.height_px == e.height_px) {
-      for (std::size_t i = 0; i < e.v.size(); ++i) e.v[i] += acc.v[i];
-    } else if (!acc.v.empty()) {
-      const Plane up = pyramid_expand(acc, e.width_px, e.height_px);
-      for (std::size_t i = 0; i < e.v.size(); ++i) e.v[i] += std::max(0.0f, up.v[i]);
-    }
-    acc = std::move(e);
+    box3_blur(be.e_ach, sigma[0], executor);
+    box3_blur(be.e_chr, sigma[1], executor);
+    if (options_.masking) box3_blur(be.mask, sigma[0], executor);
+    const bool same = !acc.v.empty() && acc.width_px == be.e_ach.width_px && acc.height_px == be.e_ach.height_px;
+    const Plane up = acc.v.empty() || same ? Plane{} : pyramid_expand(acc, be.e_ach.width_px, be.e_ach.height_px, executor);
+    combine_band(be, same ? &acc : up.v.empty() ? nullptr : &up, !same, options_.masking, executor);
+    acc = std::move(be.e_ach);
   }
   out = PerceptualResult{};
   out.width_px = test.width_px;
   out.height_px = test.height_px;
   out.p_detect.resize(acc.v.size());
-  for (std::size_t i = 0; i < acc.v.size(); ++i)
-    out.p_detect[i] = float(1.0 - std::exp(std::log(0.5) * std::pow(std::max(0.0, double(acc.v[i])), 0.5 * kPsychometricBeta)));
-  summarize(display_, gaze_px, out);
+  const float log_half = float(std::log(0.5)), half_beta = float(0.5 * kPsychometricBeta);
+  for_rows(executor, acc.height_px, [&](int y0, int y1) {
+    for (std::size_t i = std::size_t(y0) * std::size_t(acc.width_px); i < std::size_t(y1) * std::size_t(acc.width_px); ++i)
+      out.p_detect[i] = 0.0f - std::expm1(log_half * std::pow(std::max(0.0f, acc.v[i]), half_beta));
+  });
+  summarize(*gt, executor, out);
   return true;
 }
 

@@ -209,6 +209,7 @@ bool PerceptualMetric::create(const PerceptualDisplay& display, int max_width_px
   if (max_width_px < kMinBandSidePx || max_height_px < kMinBandSidePx)
     return error = "perceptual metric: images must be at least 8x8 pixels", false;
   out = PerceptualMetric{};
+  out.gaze_cache_ = std::make_shared<GazeCache>();
   out.display_ = display;
   out.options_ = options;
   out.max_width_px_ = max_width_px;

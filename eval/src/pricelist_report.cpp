@@ -34,6 +34,12 @@ std::string fmt(double v, int decimals = 1) {
   return buf;
 }
 
+// A ring's perceptual metric cell: "mean / share" of the detection probability, "-" without it.
+std::string p_detect_cell(const Json& ring) {
+  const double mean = num(ring.value("p_detect_mean", Json())), share = num(ring.value("p_detect_share", Json()));
+  return std::isfinite(mean) ? fmt(mean, 3) + " / " + fmt(share, 3) : "-";
+}
+
 const Json* find(const std::vector<Json>& all, const std::string& id) {
   for (const Json& s : all)
     if (s["id"] == id) return &s;
@@ -286,7 +292,9 @@ std::string csv_cell(const Json& j) {
     for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
   for (std::size_t r = 0; r < kRings; ++r)
     f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
-  f << ",content_contrast,ray_fraction\n";
+  f << ",content_contrast,ray_fraction,p_detect_against,p_detect_mean,p_detect_share,p_detect_max";
+  for (std::size_t r = 0; r < kRings; ++r) f << ",p_detect_mean_" << ring_name(r) << ",p_detect_share_" << ring_name(r);
+  f << "\n";
   for (const Json& s : all) {
     const bool fov = s["kind"] == "foveated";
     f << csv_cell(s["id"]) << "," << csv_cell(s["kind"]) << "," << (fov ? csv_cell(s["method"]) : "") << ","
@@ -306,6 +314,11 @@ std::string csv_cell(const Json& j) {
     }
     f << "," << (fov ? csv_cell(s.value("content_contrast", Json(0.0))) : "") << ","
       << csv_cell(s.value("ray_fraction", Json()));
+    for (const char* k : {"p_detect_against", "p_detect_mean", "p_detect_share", "p_detect_max"})
+      f << "," << csv_cell(s.value(k, Json()));
+    for (std::size_t r = 0; r < kRings; ++r)
+      f << "," << csv_cell(s["rings"][r].value("p_detect_mean", Json())) << ","
+        << csv_cell(s["rings"][r].value("p_detect_share", Json()));
     f << "\n";
   }
   if (!f) *error = "cannot write " + file.string();
@@ -393,9 +406,9 @@ void write_md_head(std::ostream& md, const PricelistContext& ctx, const std::str
 void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all, const std::vector<std::size_t>& front,
                    const std::function<double(const Json&)>& ms_of) {
   md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
-     << "| on the front | time % | ms | rays (total) | primary rays % of full | PSNR dB | SSIM | CSF dB | ms per dB | "
-        "rays per dB |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|\n";
+     << "| on the front | time % | ms | rays (total) | primary rays % of full | PSNR dB | SSIM | CSF dB | "
+        "P detect vs full same spp (mean / share >= 0.5) | ms per dB | rays per dB |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   const Json* prev = nullptr;
   for (std::size_t i : front) {
     const Json& s = all[i];
@@ -410,7 +423,8 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
     md << "| " << s["id"].get<std::string>() << " | " << fmt(time_pct(s), 1) << " | " << fmt(ms_of(s)) << " | "
        << s["rays"]["total"] << " | " << fmt(100.0 * num(s.value("ray_fraction", Json(0.0))), 1) << " | "
        << fmt(ring_psnr(s, r), 2) << " | " << fmt(num(s["rings"][r]["ssim"]), 3)
-       << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << ms_db << " | " << rays_db << " |\n";
+       << " | " << fmt(num(s["rings"][r]["csf_psnr"]), 2) << " | " << p_detect_cell(s["rings"][r]) << " | " << ms_db
+       << " | " << rays_db << " |\n";
     prev = &s;
   }
   const bool any_foveated =

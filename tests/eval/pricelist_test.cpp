@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -124,6 +125,71 @@ TEST(Pricelist, ContentContrastRowsTraceFewerRaysThanTheirEccentricityOnlyTwins)
   EXPECT_LT(content, eccentricity_only) << "the content rows trace fewer rays";
   EXPECT_GT(content, 0.0);
   EXPECT_EQ(by_id["msm_k5_s4_pixel-grid_r1_c1"]["content_contrast"], 1.0);
+
+  // The perceptual columns against full_spp1: where content-aware density thins (the periphery,
+  // fewer rays than the eccentricity-only twin) its difference from the full render is no less
+  // visible; the ring with the most pixels outside the fovea, and the whole image.
+  const auto& c0 = by_id["msm_k5_s4_pixel-grid_r1"];
+  const auto& c1 = by_id["msm_k5_s4_pixel-grid_r1_c1"];
+  EXPECT_EQ(c1["p_detect_against"], "full_spp1");
+  std::size_t periphery = 1;
+  for (std::size_t r = 1; r < c0["rings"].size(); ++r)
+    if (c0["rings"][r]["pixels"].get<double>() > c0["rings"][periphery]["pixels"].get<double>()) periphery = r;
+  for (std::size_t r = 0; r < c0["rings"].size(); ++r)
+    std::cout << "ring " << r << " pixels " << c0["rings"][r]["pixels"] << " p_detect_mean/share " << c0["rings"][r]["p_detect_mean"] << " "
+              << c0["rings"][r]["p_detect_share"] << " | content " << c1["rings"][r]["p_detect_mean"] << " "
+              << c1["rings"][r]["p_detect_share"] << " psnr " << c0["rings"][r]["psnr"] << " " << c1["rings"][r]["psnr"] << "\n";
+  std::cout << "p_detect_mean ring " << periphery << ": eccentricity only " << c0["rings"][periphery]["p_detect_mean"]
+            << ", content " << c1["rings"][periphery]["p_detect_mean"] << "; image " << c0["p_detect_mean"] << ", "
+            << c1["p_detect_mean"] << "\n";
+  EXPECT_GE(c1["rings"][periphery]["p_detect_mean"].get<double>(), c0["rings"][periphery]["p_detect_mean"].get<double>());
+  EXPECT_GE(c1["p_detect_mean"].get<double>(), c0["p_detect_mean"].get<double>());
+  EXPECT_GT(c0["p_detect_mean"].get<double>(), 0.0) << "interpolation differs from the full render somewhere";
+}
+
+TEST(Pricelist, PerceptualColumnsCompareEachRowWithTheFullRenderAtItsRaysPerPixel) {
+  engine_test::TempDir dir;
+  eval::PricelistOptions o;
+  o.size_px = glm::ivec2(48, 54);
+  o.out_dir = (dir.path / "pl").string();
+  o.reference_spp = "8";
+  o.frames = 1;
+  o.threads = 2;
+  o.grid.full_rays_per_point = {1};  // full_spp2 is added: the foveated row traces 2 rays per point
+  o.grid.interpolation = {"nearest:1"};
+  o.grid.density_scale = {1.0};
+  o.grid.rays_per_point = {2};
+  o.grid.pattern = {"thesis"};
+  o.grid.history_rays_per_point.clear();
+  o.temporal.motion = "none";
+  std::ostringstream out, err;
+  ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
+  std::ifstream jf(fs::path(o.out_dir) / "pricelist.json");
+  const auto doc = nlohmann::json::parse(jf);
+  std::map<std::string, nlohmann::json> by_id;
+  for (const auto& s : doc["settings"]) by_id[s["id"].get<std::string>()] = s;
+  ASSERT_TRUE(by_id.count("full_spp2")) << doc["settings"].dump();
+  const auto& fov = by_id["nearest_k1_s1_thesis_r2"];
+  EXPECT_EQ(fov["p_detect_against"], "full_spp2");
+  EXPECT_EQ(by_id["full_spp2"]["p_detect_against"], "full_spp2");
+  for (const auto& [id, s] : by_id) {
+    for (const char* k : {"p_detect_mean", "p_detect_share", "p_detect_max"}) {
+      ASSERT_TRUE(s[k].is_number()) << id << " " << k;
+      EXPECT_GE(s[k].get<double>(), 0.0) << id << " " << k;
+      EXPECT_LE(s[k].get<double>(), 1.0) << id << " " << k;
+    }
+    for (const auto& ring : s["rings"]) {
+      if (ring["pixels"].get<double>() == 0.0) continue;
+      ASSERT_TRUE(ring["p_detect_mean"].is_number()) << id;
+      // P < 0.5 outside the share: the mean is at most 0.5 + 0.5 share.
+      EXPECT_LE(ring["p_detect_mean"].get<double>(), 0.5 + 0.5 * ring["p_detect_share"].get<double>() + 1e-12) << id;
+      if (s["kind"] == "full") {
+        EXPECT_EQ(ring["p_detect_mean"].get<double>(), 0.0) << id << ": compared with itself";
+      }
+    }
+  }
+  EXPECT_GT(fov["p_detect_max"].get<double>(), 0.0) << "the thesis pattern's frame is not the full render";
+  EXPECT_GE(fov["p_detect_max"].get<double>(), fov["p_detect_mean"].get<double>());
 }
 
 TEST(Pricelist, EqualTimePicksTheMostAccurateFullRenderNoSlower) {
@@ -188,6 +254,9 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     ASSERT_LT(std::size_t(col), cols.size());
     const auto eq_col = std::find(cols.begin(), cols.end(), "equal_time_full_0-2.5") - cols.begin();
     ASSERT_LT(std::size_t(eq_col), cols.size());
+    const auto p_col = std::find(cols.begin(), cols.end(), "p_detect_mean_0-2.5") - cols.begin();
+    ASSERT_LT(std::size_t(p_col), cols.size());
+    EXPECT_EQ(cols.back(), "p_detect_share_>45") << "the perceptual columns are appended at the end";
     for (const auto& s : settings) {
       ASSERT_TRUE(std::getline(cf, line));
       std::vector<std::string> cells;
@@ -198,6 +267,9 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
         EXPECT_NEAR(std::stod(cells[std::size_t(col)]), s["rings"][0]["psnr"].get<double>(), 1e-9);
       }
       ASSERT_LT(std::size_t(eq_col), cells.size()) << line;
+      ASSERT_LT(std::size_t(p_col), cells.size()) << line;
+      ASSERT_TRUE(s["rings"][0]["p_detect_mean"].is_number()) << s["id"];
+      EXPECT_NEAR(std::stod(cells[std::size_t(p_col)]), s["rings"][0]["p_detect_mean"].get<double>(), 1e-12);
       if (s["kind"] == "foveated") {
         const auto& e = s["equal_time_full"][0];
         EXPECT_EQ(cells[std::size_t(eq_col)], e.is_null() ? "none" : e["id"].get<std::string>()) << s["id"];

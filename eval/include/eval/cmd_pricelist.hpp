@@ -49,6 +49,8 @@ struct PricelistOptions {
   // (foveation/ray_samples.hpp).
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   TemporalOptions temporal;             // the temporal columns (motion "none": without them)
+  // The perceptual metric's display (PerceptualDisplay): what display value 1.0 emits, cd/m^2.
+  double white_cd_m2 = 100.0;
   std::string md_file;                  // also write report.md here, its links pointing into out_dir
   std::string command;                  // the command line report.md names; default the recorded one
 };

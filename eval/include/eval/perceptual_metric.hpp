@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,8 @@ struct PerceptualResult {
   double detected_fraction = 0.0;
 };
 
+struct GazeTables;  // per gaze, per pyramid level (perceptual_detail.hpp)
+
 class PerceptualMetric {
  public:
   // Builds the sensitivity tables for images up to max_width_px x max_height_px on `display`.
@@ -109,6 +112,12 @@ class PerceptualMetric {
   int max_height_px_ = 0;
   TableGrid grid_;
   std::vector<BandTable> bands_;
+  // The last gaze's tables (eccentricity, field weight, ring per pixel), reused while the gaze and
+  // the image size stay: a price list evaluates every setting at one gaze.
+  struct GazeCache;
+  std::shared_ptr<GazeCache> gaze_cache_;
+  std::shared_ptr<const GazeTables> gaze_tables(glm::vec2 gaze_px, int w, int h, int levels,
+                                                foveation::Executor* executor) const;
 };
 
 }  // namespace foveart::eval

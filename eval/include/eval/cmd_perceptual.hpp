@@ -1,0 +1,33 @@
+// `fovea-eval perceptual`: the perceptual metric (perceptual_metric.hpp) of one image pair at a
+// gaze: per ring and whole-image detection probability, as text or JSON, and a heat map.
+#pragma once
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+
+#include <glm/vec2.hpp>
+
+namespace CLI {
+class App;
+}
+
+namespace foveart::eval {
+
+void register_perceptual(CLI::App& app);
+
+struct PerceptualCommand {
+  std::string test, reference;     // PFM (display values) or any stb-readable image (PNG: display values / 255)
+  std::optional<glm::vec2> gaze_px;  // required
+  std::optional<double> fov_deg;   // horizontal field of view of the image; or
+  std::optional<double> ppd;       // pixels per degree at the gaze (default 20)
+  double white_cd_m2 = 100.0;
+  std::string eye = "left";
+  bool json = false;
+  std::string heatmap_png;         // P per pixel, black 0 .. white 1
+};
+
+// 0 done; 2 bad arguments or unreadable / mismatched images (the message on err); 1 a failure after that.
+int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& err);
+
+}  // namespace foveart::eval
