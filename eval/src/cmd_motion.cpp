@@ -82,6 +82,27 @@ std::string floor_warning(const Json& sanity) {
   return buf;
 }
 
+// Off over each track with history in the periphery, and each one's error gain where the user looks (the goal).
+void print_goals(const Json& report, std::ostream& out) {
+  bool goal_header = false;
+  for (const Json& t : report["tracks"]) {
+    const auto goal = t.find("goal");
+    if (goal == t.end()) continue;
+    if (!goal_header) {
+      out << "off over each track with history at 20-30 / 30-45 / >45 deg, along the motion | at fixed pixels "
+             "(goal: 5x along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
+      goal_header = true;
+    }
+    const auto met = [&](const char* key) {
+      const auto flag = goal->find(key);
+      return flag != goal->end() && *flag == Json(true) ? "met" : "not met";
+    };
+    out << t["id"].get<std::string>() << ": " << peripheral_ratios(*goal, "flicker_tracked_ratio", 2) << " ("
+        << met("peripheral_tracked_flicker_5x_lower") << ") | " << peripheral_ratios(*goal, "flicker_ratio", 2) << " | "
+        << central_gains_db((*goal)["psnr_minus_off_db"]) << " dB (" << met("central_error_no_worse") << ")\n";
+  }
+}
+
 void print_text(const Json& report, std::ostream& out) {
   out << "motion " << report["motion"]["spec"].get<std::string>() << ": " << report["window"]["frames"]
       << " frames at " << report["window"]["fps"] << " fps from " << report["window"]["start_s"] << " s, "
@@ -139,24 +160,7 @@ void print_text(const Json& report, std::ostream& out) {
   for (const Json& t : report["tracks"]) settled(t["id"].get<std::string>(), t["bands"]);
   for (const SequenceControl& c : kSequenceControls)
     settled(c.label, report["reference"][std::string(c.key) + "_bands"]);
-  // Off over each track with history in the periphery, and each one's error gain where the user looks (the goal).
-  bool goal_header = false;
-  for (const Json& t : report["tracks"]) {
-    const auto goal = t.find("goal");
-    if (goal == t.end()) continue;
-    if (!goal_header) {
-      out << "off over each track with history at 20-30 / 30-45 / >45 deg, along the motion | at fixed pixels "
-             "(goal: 5x along the motion), and its PSNR gain at 0-2.5 / 2.5-5 deg (goal: no loss):\n";
-      goal_header = true;
-    }
-    const auto met = [&](const char* key) {
-      const auto flag = goal->find(key);
-      return flag != goal->end() && *flag == Json(true) ? "met" : "not met";
-    };
-    out << t["id"].get<std::string>() << ": " << peripheral_ratios(*goal, "flicker_tracked_ratio", 2) << " ("
-        << met("peripheral_tracked_flicker_5x_lower") << ") | " << peripheral_ratios(*goal, "flicker_ratio", 2) << " | "
-        << central_gains_db((*goal)["psnr_minus_off_db"]) << " dB (" << met("central_error_no_worse") << ")\n";
-  }
+  print_goals(report, out);
   if (report.contains("sanity")) {
     const Json& sanity = report["sanity"];
     out << "reference floor at least 10 dB below every track's flicker and error in every ring: "

@@ -346,6 +346,31 @@ std::string write_temporal_plots(const std::filesystem::path& dir, const Json& t
   return "";
 }
 
+namespace {
+
+// The periphery's flicker over the frames whose history has settled (the analysis `a`), with its plots.
+void write_settled_periphery(std::ostream& md, const Json& a) {
+  if (a.is_null() || !a.contains("settled_periphery")) return;
+  const Json& settled = a["settled_periphery"];
+  const auto ratio = [&](const char* key) { return fmt(field(settled, key), 1) + "x"; };
+  md << "\n### Frame by frame in the periphery (> 20 deg)\n\n"
+     << "![at fixed pixels](" << kTemporalPlotFixed << ")\n\n![along the motion](" << kTemporalPlotTracked
+     << ")\n\nThe goal pools every frame, the history's cold start and the frames after the saccade included. "
+     << "Pooled over the " << settled["frames"] << " frames whose history has settled (at least "
+     << settled["settle_frames"] << " frames, the blend's time constant, since the motion's last restart: the "
+     << "first frame, a saccade's or a blink's), image history flickers " << ratio("flicker_ratio_off_over_image")
+     << " less than off at fixed pixels and " << ratio("flicker_tracked_ratio_off_over_image")
+     << " along the motion; the image history fed the reference "
+     << ratio("flicker_ratio_off_over_history_on_reference") << " and "
+     << ratio("flicker_tracked_ratio_off_over_history_on_reference")
+     << "; every ray since the history's last restart, kept " << ratio("flicker_ratio_off_over_sample_history")
+     << " and " << ratio("flicker_tracked_ratio_off_over_sample_history") << "; the same rays' render cache "
+     << ratio("flicker_ratio_off_over_ray_cache") << " and " << ratio("flicker_tracked_ratio_off_over_ray_cache")
+     << ".\n";
+}
+
+}  // namespace
+
 void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json& a, const Json& sanity) {
   const Json& run = temporal["run"];
   md << "## Temporal columns: the " << run["motion"].get<std::string>() << " motion\n\n"
@@ -407,24 +432,7 @@ void write_temporal_markdown(std::ostream& md, const Json& temporal, const Json&
     md << "| reference floor | - | - |";
     cells(temporal["reference"], "flicker_tracked_floor", "flicker_floor", "psnr_floor");
   }
-  if (!a.is_null() && a.contains("settled_periphery")) {
-    const Json& settled = a["settled_periphery"];
-    const auto ratio = [&](const char* key) { return fmt(field(settled, key), 1) + "x"; };
-    md << "\n### Frame by frame in the periphery (> 20 deg)\n\n"
-       << "![at fixed pixels](" << kTemporalPlotFixed << ")\n\n![along the motion](" << kTemporalPlotTracked
-       << ")\n\nThe goal pools every frame, the history's cold start and the frames after the saccade included. "
-       << "Pooled over the " << settled["frames"] << " frames whose history has settled (at least "
-       << settled["settle_frames"] << " frames, the blend's time constant, since the motion's last restart: the "
-       << "first frame, a saccade's or a blink's), image history flickers " << ratio("flicker_ratio_off_over_image")
-       << " less than off at fixed pixels and " << ratio("flicker_tracked_ratio_off_over_image")
-       << " along the motion; the image history fed the reference "
-       << ratio("flicker_ratio_off_over_history_on_reference") << " and "
-       << ratio("flicker_tracked_ratio_off_over_history_on_reference")
-       << "; every ray since the history's last restart, kept " << ratio("flicker_ratio_off_over_sample_history")
-       << " and " << ratio("flicker_tracked_ratio_off_over_sample_history") << "; the same rays' render cache "
-       << ratio("flicker_ratio_off_over_ray_cache") << " and " << ratio("flicker_tracked_ratio_off_over_ray_cache")
-       << ".\n";
-  }
+  write_settled_periphery(md, a);
   md << "\nEvery track: `temporal.csv` and `pricelist.json` (`temporal`).\n\n";
 }
 
