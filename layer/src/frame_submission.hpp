@@ -15,9 +15,13 @@
 #include <string>
 
 #include "gpu/frame_slots.hpp"
-#include "state.hpp"
+#include "state.hpp"  // before the extension header: Vulkan's part of it
+#include "layer/XR_FOVEART_foveated_ray_tracing.h"
 
 namespace foveart::layer {
+
+static_assert(gpu::kFrameSlots == XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS,
+              "the extension header promises engines this many device-trace frames in flight");
 
 class FrameSubmission {
  public:
