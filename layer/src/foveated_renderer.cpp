@@ -204,7 +204,7 @@ struct FoveatedRenderer::Frames {
   uint64_t frame_index = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
-      behind_once, rect_once, failed_once, gpu_once, device_once, device_rays_once;
+      behind_once, rect_once, failed_once, gpu_once, device_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
@@ -533,15 +533,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
       eye.view->settings().reconstruct_on_cpu != path.reconstruct_on_gpu) {
     return;
   }
-  eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);
-  if (path.device_trace && eye.temporal == foveation::TemporalMode::rays) {
-    // The render cache keeps the frame's rays on the host; a device trace never brings them there.
-    eye.temporal = foveation::TemporalMode::image;
-    if (device_rays_once.first()) {
-      log(LogLevel::Info, "foveated renderer: a device trace keeps its rays on the GPU: temporal \"rays\" runs as "
-                          "\"image\" (logged once)");
-    }
-  }
+  eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);  // a device trace's rays stay on the GPU
   foveation::ViewSettings vs =
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;

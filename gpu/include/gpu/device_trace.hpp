@@ -74,6 +74,17 @@ struct DeviceTraceStatus {
   std::uint32_t visible_points = 0;
 };
 
+// The buffers a frame's rays and hits are in, for a pass after the resolve
+// (the render cache's cache_device_rays.comp reads them on the device).
+struct DeviceTraceBuffers {
+  VkBuffer rays = VK_NULL_HANDLE;         // DeviceRay per ray
+  VkBuffer ray_colors = VK_NULL_HANDLE;   // vec4 per ray: rgb, depth in metres (the engine's)
+  VkBuffer point_index = VK_NULL_HANDLE;  // uint per ray
+  VkBuffer control = VK_NULL_HANDLE;      // the control words (device_trace.h)
+  VkBuffer status = VK_NULL_HANDLE;       // the resolve's status words
+  VkBuffer points = VK_NULL_HANDLE;       // DevicePoint per point of the set
+};
+
 // The device trace's shaders, shared by the eyes of one device.
 class DeviceTracePipelines {
  public:
@@ -116,6 +127,10 @@ class DeviceTrace {
   // After the submission finished: what the resolve found (the frame's one
   // read-back: FOVEART_DEVICE_STATUS_WORDS words).
   DeviceTraceStatus status() const;
+  // The buffers the last record wrote the frame's rays, hits and status into.
+  DeviceTraceBuffers buffers() const {
+    return {rays_.buffer, ray_colors_.buffer, point_index_.buffer, control_.buffer, status_.buffer, points_.buffer};
+  }
 
  private:
   [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);

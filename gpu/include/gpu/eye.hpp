@@ -58,6 +58,7 @@ struct EyeFrame {
   // Set: stages 1-3 run on the device (the engine's device trace); colors,
   // point_depth_m and traced are then not read.
   const DeviceTraceFrame* device = nullptr;
+  std::uint32_t slot = 0;  // the frame's slot (frame n: n % kFrameSlots): which per-slot buffers it writes
 
   // A frame's hand-off (FoveatedView::hand_off after render() with
   // reconstruct_on_cpu = false), on `tables`: the traced points and the
@@ -102,8 +103,10 @@ class Eye {
   std::uint64_t host_bytes_written() const { return host_written_; }
   std::uint64_t host_bytes_read() const { return host_read_; }
 
-  // The render cache's rays kept after the last finished submission (0: no cache).
-  std::size_t cached_rays() const { return ray_cache_ != nullptr ? ray_cache_->kept_rays() : 0; }
+  // Tests and benchmarks only: the render cache's rays kept after the last
+  // frame, read back with a submission of its own after the caller waited
+  // for that frame (0: no cache; SIZE_MAX: the read-back failed).
+  std::size_t cached_rays_after_wait();
 
   uint32_t width_px() const { return width_px_; }
   uint32_t height_px() const { return height_px_; }
