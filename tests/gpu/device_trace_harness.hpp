@@ -1,7 +1,8 @@
 // The device-trace tests' harness (device_trace_test.cpp,
 // device_ray_cache_test.cpp): a small view's tables, a view looking along
 // (1, 1, 1), a test "engine" that answers on the device (a fill pattern, each
-// ray's direction through direction_engine.comp, an error, or nothing), the
+// ray's direction through direction_engine.comp, a sky of stripes through
+// stripes_engine.comp, an error, or nothing), the
 // CPU callbacks that answer alike, and a fixture with lavapipe under
 // validation, a reconstructor, the tables on the device and one eye.
 #pragma once
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "direction_engine.spv.h"
+#include "stripes_engine.spv.h"
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
 #include "gpu/reconstructor.hpp"
@@ -81,8 +83,9 @@ inline int32_t direction_colour(void*, const FoveartRayBatch* batch) {
 // error, or nothing) and may copy what the layer handed it to the host.
 struct TestEngine {
   // fill: fill_bits everywhere; direction: each ray's (direction, screen y) as
-  // its (colour, depth), copied; error: an error; nothing: records nothing.
-  enum class Answer { fill, direction, error, nothing };
+  // its (colour, depth), copied; stripes: a sky of stripes fixed in the world
+  // (stripes_engine.comp); error: an error; nothing: records nothing.
+  enum class Answer { fill, direction, stripes, error, nothing };
   Answer answer = Answer::fill;
   uint32_t fill_bits = 0;  // the colour buffer's every word (rgb and depth)
   bool copy = false;       // copy rays, point indices and counts into the buffers below
@@ -94,19 +97,20 @@ struct TestEngine {
 
   VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkPipeline pipeline = VK_NULL_HANDLE, stripes_pipeline = VK_NULL_HANDLE;
   VkDescriptorPool pool = VK_NULL_HANDLE;
   VkDescriptorSet set = VK_NULL_HANDLE;
 
   ~TestEngine() {
     for (BoundBuffer* b : {&rays, &point_index, &control}) destroy_buffer(device, b);
-    if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
+    for (VkPipeline p : {pipeline, stripes_pipeline})
+      if (p != VK_NULL_HANDLE) vkDestroyPipeline(device, p, nullptr);
     if (layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, layout, nullptr);
     if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
     if (pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, pool, nullptr);
   }
-  // direction_engine.comp over the batch, dispatched from the layer's counts.
-  bool direction_shader(const DeviceRayBatch& batch) {
+  // direction_engine.comp (or stripes_engine.comp) over the batch, dispatched from the layer's counts.
+  bool engine_shader(const DeviceRayBatch& batch, bool stripes) {
     static constexpr uint32_t kOnes[3] = {1, 1, 1};
     std::string error;
     if (pipeline == VK_NULL_HANDLE) {
@@ -117,6 +121,8 @@ struct TestEngine {
       pool_info.pPoolSizes = &size;
       if (!create_storage_pipeline_layout(device, kOnes, 3, 4, &set_layout, &layout, &error) ||
           !create_compute_pipeline(device, layout, direction_engine_spv, sizeof direction_engine_spv, &pipeline,
+                                   &error) ||
+          !create_compute_pipeline(device, layout, stripes_engine_spv, sizeof stripes_engine_spv, &stripes_pipeline,
                                    &error) ||
           vkCreateDescriptorPool(device, &pool_info, nullptr, &pool) != VK_SUCCESS) {
         return false;
@@ -131,7 +137,7 @@ struct TestEngine {
                                                {batch.rays.buffer, batch.rays.offset, batch.rays.size},
                                                {batch.colors.buffer, batch.colors.offset, batch.colors.size}};
     write_storage_descriptors(device, set, buffers, kOnes, 3);
-    vkCmdBindPipeline(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
+    vkCmdBindPipeline(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, stripes ? stripes_pipeline : pipeline);
     vkCmdBindDescriptorSets(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
     vkCmdDispatchIndirect(batch.command_buffer, batch.ray_count.buffer, batch.ray_count.offset + 4);
     return true;
@@ -157,8 +163,8 @@ inline bool test_engine(TestEngine* engine, const DeviceRayBatch* batch) {
   if (engine->answer == TestEngine::Answer::error) return false;
   if (engine->answer == TestEngine::Answer::nothing) return true;
   VkCommandBuffer cb = batch->command_buffer;
-  if (engine->answer == TestEngine::Answer::direction) {
-    return engine->direction_shader(*batch);
+  if (engine->answer == TestEngine::Answer::direction || engine->answer == TestEngine::Answer::stripes) {
+    return engine->engine_shader(*batch, engine->answer == TestEngine::Answer::stripes);
   }
   vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
   if (engine->copy && (!engine->readback(engine->rays, batch->rays, cb) ||
@@ -217,8 +223,11 @@ class DeviceTraceFixture : public ::testing::Test {
     }
   }
 
-  // One device-traced frame of `view` through the test engine; false when the submission was refused.
-  bool device_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, std::string* error) {
+  // One device-traced frame of `view` through the test engine, on `eye` (null:
+  // eye_); false when the submission was refused.
+  bool device_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, std::string* error,
+                    Eye* eye = nullptr) {
+    if (eye == nullptr) eye = eye_.get();
     foveation::Executor executor(2);
     EXPECT_TRUE(view.plan(req, executor).ok());
     DeviceTraceFrame device;
@@ -234,7 +243,7 @@ class DeviceTraceFixture : public ::testing::Test {
     frame.device = &device;
     frame.slot = uint32_t(req.frame_index % kFrameSlots);  // as the layer runs frames in flight
     return gpu_->submit_and_wait(
-        [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
+        [&](VkCommandBuffer cb) { return eye->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
   }
 
   // The same frame with the colours coming from the CPU callback.
