@@ -9,8 +9,9 @@
 // (nothing with a device trace). Recording happens on the caller's command
 // buffer; the caller submits it and waits for it before the next record: one
 // frame in flight. The buffers a frame writes (upload, colours, current,
-// encoded; the device trace's and the render cache's) are single: a frame
-// pipeline would need a set of them per frame slot, the history pair aside.
+// encoded; the device trace's) are single: a frame pipeline would need a set
+// of them per frame slot, the history pair aside (the render cache's are per
+// slot already: ray_cache.hpp).
 //
 // Threads: one thread at a time (the renderer's frame lock). Nothing here
 // throws; failures return false with a message.
