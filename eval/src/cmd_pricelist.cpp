@@ -530,11 +530,8 @@ Json run_json(const PricelistOptions& o, const PriceScene& s) {
 
 // The perceptual metric's display: the view's pixels per degree at the gaze, --white-cd-m2, the eye.
 PerceptualDisplay perceptual_display(const PricelistOptions& o, const metrics::EccentricityMap& map) {
-  PerceptualDisplay d;
-  const int gx = std::clamp(int(map.gaze_px.x), 0, map.width_px - 1), gy = std::clamp(int(map.gaze_px.y), 0, map.height_px - 1);
-  d.pixels_per_deg = double(map.pixels_per_deg[std::size_t(gy) * std::size_t(map.width_px) + std::size_t(gx)]);
+  PerceptualDisplay d = view_display(map, o.eye == "left" ? Eye::kLeft : Eye::kRight);
   d.white_luminance_cd_m2 = o.white_cd_m2;
-  d.eye = o.eye == "left" ? Eye::kLeft : Eye::kRight;
   d.input = PerceptualInput::kSrgbEncoded;  // the rows' images are metrics::display_encode's
   return d;
 }

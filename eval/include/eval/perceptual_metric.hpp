@@ -28,6 +28,7 @@
 #include "foveation/display_transform.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/image.hpp"
+#include "metrics/image_metrics.hpp"
 
 namespace foveart::eval {
 
@@ -51,6 +52,10 @@ struct PerceptualDisplay {
   PerceptualInput input = PerceptualInput::kRadiance;
   Eye eye = Eye::kRight;
 };
+
+// A rendered view's display for the metric: its pixels per degree at the gaze (the map's), the eye;
+// the rest PerceptualDisplay's defaults.
+PerceptualDisplay view_display(const metrics::EccentricityMap& map, Eye eye);
 
 struct PerceptualOptions {
   EccentricityTerm eccentricity = EccentricityTerm::kOn;  // kOff: the control without the drop
