@@ -5,7 +5,8 @@
 // density (--contrasts, at --density-scale), each against a converged reference through the
 // metric (eval/density_detection.hpp) on the view's display (its exposure and tone map). Per row
 // the ray fraction, the density's and the frame's ms and each ring's largest P; per kind the
-// smallest ray fraction at which every ring stays below P = 0.5. JSON on stdout.
+// smallest ray fraction at which every ring stays below P = 0.5, among the rings where the full
+// render itself stays below it (elsewhere its own noise hides foveation). JSON on stdout.
 #pragma once
 
 #include <eval/lab_options.hpp>
