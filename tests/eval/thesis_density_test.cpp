@@ -11,7 +11,7 @@
 // at 128 the full render stays below 0.5 (checked below), so what the metric sees is foveation's.
 // The fovea: the pixel grid (the project's default) where the thesis's density is one point per
 // pixel or more; the thesis's Poisson fovea under nearest-neighbour aliases sub-pixel edges, which
-// the metric detects at every scale (docs/lab/perceptual_metric.md).
+// the metric detects at every scale of the study, 1 to 3 (docs/lab/perceptual_metric.md).
 // The control: the metric without its eccentricity term must predict detection at a density the
 // metric still passes (a lower scale).
 #include <gtest/gtest.h>
