@@ -22,6 +22,7 @@
 #include "eye_rays.glsl"
 #include "jitter.glsl"
 #include "gpu/shader_interface/device_rays.h"
+#include "gpu/shader_interface/ray_dispatch.h"
 
 layout(local_size_x = FOVEART_DEVICE_RAYS_BLOCK) in;
 layout(set = 0, binding = 0, std430) readonly buffer Points { DevicePoint points[]; };
@@ -43,8 +44,10 @@ void write_counts() {
   const uint visible = control[FOVEART_DEVICE_VISIBLE_POINTS];
   const uint count = visible * rays_per_point;
   control[0] = count;
-  control[1] = (count + 63u) / 64u;
-  control[2] = 1u;
+  uint groups_x, rows;
+  ray_dispatch_groups(count, groups_x, rows);  // two-dimensional: every side within Vulkan's minimum limit
+  control[1] = groups_x;
+  control[2] = rows;
   control[3] = 1u;
   control[4] = count;
   control[5] = 1u;

@@ -8,6 +8,7 @@
 #include "foveation/eye_rays.hpp"
 #include "gpu/shader_interface/device_resolve.h"
 #include "gpu/shader_interface/device_rays.h"
+#include "gpu/shader_interface/ray_dispatch.h"
 #include "gpu/vk_util.hpp"
 #include "shaders/device_resolve.spv.h"
 #include "shaders/device_rays.spv.h"
@@ -122,7 +123,7 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
     descriptors_stale_ = true;
   }
   const std::size_t rays = points.size() * rays_per_point;
-  if (rays > UINT32_MAX / 2) return *error = "device trace: more than 2^31 rays a frame", false;
+  if (rays > FOVEART_DEVICE_MAX_RAYS) return *error = "device trace: more than 2^31 - 1 rays a view", false;
   if (rays > ray_capacity_ || rays_.buffer == VK_NULL_HANDLE) {
     for (BoundBuffer* b : {&rays_, &point_index_, &ray_colors_}) destroy_buffer(device_, b);
     ray_capacity_ = 0;

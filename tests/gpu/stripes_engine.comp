@@ -10,7 +10,8 @@ layout(set = 0, binding = 1, std430) readonly buffer Rays { vec4 rays[]; };
 layout(set = 0, binding = 2, std430) writeonly buffer Colors { vec4 colors[]; };
 
 void main() {
-  const uint r = gl_GlobalInvocationID.x;
+  // Dispatched from the count's dispatch64: rows of at most 65535 workgroups of 64 rays.
+  const uint r = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * 64u + gl_LocalInvocationIndex;
   if (r >= count) return;
   const vec4 d = rays[2u * r + 1u];
   colors[r] = vec4(vec3(0.5) + 0.4 * sin(60.0 * d.xyz + vec3(0.0, 2.0, 4.0)), d.w);

@@ -291,7 +291,11 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           nothing of its own across calls works unchanged.)
  * Rays:     rays[0, count) of the frame are valid, count in the rayCount
  *           buffer (FoveartDeviceRayCount) written on the device: dispatch
- *           indirectly from it. Each ray is 32 bytes (std430
+ *           indirectly from it. dispatch64 is two-dimensional, x <= 65535
+ *           workgroups by y rows, so a compute shader of 64 invocations
+ *           traces ray (gl_WorkGroupID.y * gl_NumWorkGroups.x +
+ *           gl_WorkGroupID.x) * 64 + gl_LocalInvocationIndex and returns when
+ *           that is >= count (y is 1 up to 65535 * 64 rays). Each ray is 32 bytes (std430
  *           `vec4 origin_sample_x; vec4 direction_sample_y;`): origin in
  *           metres, unit direction, tracking space; the screen position in
  *           pixels, as in FoveartRayBatch. pointIndex holds the point of each
@@ -326,7 +330,7 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
 /* The rayCount buffer's contents, written on the device before the call. */
 typedef struct FoveartDeviceRayCount {
   uint32_t count;            /* valid rays */
-  uint32_t dispatch64[3];    /* VkDispatchIndirectCommand for 64 rays per workgroup */
+  uint32_t dispatch64[3];    /* VkDispatchIndirectCommand for 64 rays per workgroup: x <= 65535 by y rows, 1 */
   uint32_t traceRays[3];     /* VkTraceRaysIndirectCommandKHR: count x 1 x 1 */
   uint32_t reserved;
 } FoveartDeviceRayCount;

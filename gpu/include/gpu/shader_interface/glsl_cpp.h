@@ -11,6 +11,8 @@
 //   FOVEART_PUSH_CONSTANTS(Name) { members };   a push-constant block / struct Name
 //   struct Name { members };                    a buffer element, the same in both
 //   #define FOVEART_..._BIT 1u                  flags and sentinels (1u is C++ too)
+//   FOVEART_FUNCTION void f(uint a, FOVEART_OUT(uint) b) { ... }
+//                                               arithmetic both run (uint, ?:, no library calls)
 #ifndef FOVEART_SHADER_INTERFACE_GLSL_CPP_H
 #define FOVEART_SHADER_INTERFACE_GLSL_CPP_H
 
@@ -39,10 +41,14 @@ struct alignas(16) uvec4 {
 #define FOVEART_SHADER_INTERFACE_BEGIN namespace foveart::gpu::shader {
 #define FOVEART_SHADER_INTERFACE_END }
 #define FOVEART_PUSH_CONSTANTS(name) struct name
+#define FOVEART_FUNCTION inline
+#define FOVEART_OUT(type) type&
 #else
 #define FOVEART_SHADER_INTERFACE_BEGIN
 #define FOVEART_SHADER_INTERFACE_END
 #define FOVEART_PUSH_CONSTANTS(name) layout(push_constant) uniform name
+#define FOVEART_FUNCTION
+#define FOVEART_OUT(type) out type
 #endif
 
 #endif  // FOVEART_SHADER_INTERFACE_GLSL_CPP_H
