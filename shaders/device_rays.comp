@@ -29,7 +29,7 @@ layout(set = 0, binding = 0, std430) readonly buffer Points { DevicePoint points
 // Per ray: (origin xyz, sample x), (direction xyz, sample y): the engine's contract.
 layout(set = 0, binding = 1, std430) writeonly buffer Rays { DeviceRay rays[]; };
 layout(set = 0, binding = 2, std430) writeonly buffer PointIndex { uint point_index[]; };
-// FoveartDeviceRayCount, then the resolve's dispatch and the visible points (device_trace.h).
+// XrFoveatedDeviceRayCountFOVEART, then the resolve's dispatch and the visible points (device_trace.h).
 layout(set = 0, binding = 3, std430) buffer Control { uint control[]; };
 // Per block of points: its visible points (COUNT), then where they begin (SCAN).
 layout(set = 0, binding = 4, std430) buffer Blocks { uint block_first[]; };

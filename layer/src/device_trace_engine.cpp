@@ -9,8 +9,8 @@
 namespace foveart::layer {
 
 // The count buffer the engine reads is the gpu module's control words 0-7.
-static_assert(sizeof(FoveartDeviceRayCount) == FOVEART_DEVICE_RAY_COUNT_WORDS * 4);
-static_assert(offsetof(FoveartDeviceRayCount, dispatch64) == 4 && offsetof(FoveartDeviceRayCount, traceRays) == 16);
+static_assert(sizeof(XrFoveatedDeviceRayCountFOVEART) == FOVEART_DEVICE_RAY_COUNT_WORDS * 4);
+static_assert(offsetof(XrFoveatedDeviceRayCountFOVEART, dispatch64) == 4 && offsetof(XrFoveatedDeviceRayCountFOVEART, traceRays) == 16);
 
 namespace {
 

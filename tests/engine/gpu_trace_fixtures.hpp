@@ -180,10 +180,10 @@ struct DeviceBatch {
   HostBuffer count, rays, colors;
   XrFoveatedDeviceRayBatchFOVEART batch{};
   DeviceBatch(TestGpu& gpu, const Rays& r)
-      : count(gpu, sizeof(FoveartDeviceRayCount)), rays(gpu, 32 * std::max<size_t>(r.origin.size(), 1)),
+      : count(gpu, sizeof(XrFoveatedDeviceRayCountFOVEART)), rays(gpu, 32 * std::max<size_t>(r.origin.size(), 1)),
         colors(gpu, 16 * std::max<size_t>(r.origin.size(), 1)) {
     const auto n = static_cast<uint32_t>(r.origin.size());
-    FoveartDeviceRayCount c{};
+    XrFoveatedDeviceRayCountFOVEART c{};
     c.count = n;
     c.dispatch64[0] = (n + 63) / 64;
     c.dispatch64[1] = c.dispatch64[2] = 1;
@@ -200,7 +200,7 @@ struct DeviceBatch {
     batch.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
     batch.rayCapacity = n;
     batch.raysPerPoint = 1;
-    batch.rayCount = {count.buffer, 0, sizeof(FoveartDeviceRayCount)};
+    batch.rayCount = {count.buffer, 0, sizeof(XrFoveatedDeviceRayCountFOVEART)};
     batch.rays = {rays.buffer, 0, 32 * VkDeviceSize{std::max<uint32_t>(n, 1)}};
     batch.pointIndex = {rays.buffer, 0, 32};  // unused by the engine
     batch.colors = {colors.buffer, 0, 16 * VkDeviceSize{std::max<uint32_t>(n, 1)}};

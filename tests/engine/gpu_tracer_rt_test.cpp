@@ -424,7 +424,7 @@ TEST(GpuTracerRt, TracesOnlyTheCountedRays) {
   const Rays a = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), 300);
   // The launch covers the capacity (300) but the count says 200: the rest stay NaN.
   DeviceBatch b(rt_device(), a);
-  static_cast<FoveartDeviceRayCount*>(b.count.data)->count = 200;
+  static_cast<XrFoveatedDeviceRayCountFOVEART*>(b.count.data)->count = 200;
   ASSERT_TRUE(trace_batch(rt_device(), *p.rt, b));
   const auto out = b.result();
   const auto ref = trace(rt_device(), *p.compute, a);

@@ -296,7 +296,7 @@ TEST(GpuTracer, TracesOnlyTheCountedRaysAndFollowsNewBuffers) {
   // The dispatch covers all 300 rays (5 groups) but the count says 200: the
   // shader's bounds check leaves the rest as the layer filled them (NaN).
   DeviceBatch b(gpu(), a);
-  static_cast<FoveartDeviceRayCount*>(b.count.data)->count = 200;
+  static_cast<XrFoveatedDeviceRayCountFOVEART*>(b.count.data)->count = 200;
   ASSERT_TRUE(gpu().run([&](VkCommandBuffer cb) {
     barrier(cb, VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_WRITE_BIT,
             VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,

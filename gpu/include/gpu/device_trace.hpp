@@ -49,7 +49,7 @@ struct DeviceRayBatch {
   const FoveartEyeView* view = nullptr;
   std::uint32_t ray_capacity = 0;
   std::uint32_t rays_per_point = 1;
-  BufferRange ray_count;    // FoveartDeviceRayCount (shader_interface/device_trace.h); read and indirect only
+  BufferRange ray_count;    // XrFoveatedDeviceRayCountFOVEART (shader_interface/device_trace.h); read and indirect only
   BufferRange rays;         // ray_capacity x DeviceRay; read only
   BufferRange point_index;  // ray_capacity x uint32_t; read only
   BufferRange colors;       // ray_capacity x vec4 (rgb, depth_m); written by the engine

@@ -290,7 +290,7 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           before the next call; an engine written for that and keeping
  *           nothing of its own across calls works unchanged.)
  * Rays:     rays[0, count) of the frame are valid, count in the rayCount
- *           buffer (FoveartDeviceRayCount) written on the device: dispatch
+ *           buffer (XrFoveatedDeviceRayCountFOVEART) written on the device: dispatch
  *           indirectly from it. dispatch64 is two-dimensional, x <= 65535
  *           workgroups by y rows, so a compute shader of 64 invocations
  *           traces ray (gl_WorkGroupID.y * gl_NumWorkGroups.x +
@@ -328,12 +328,14 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
 #define XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900007)
 
 /* The rayCount buffer's contents, written on the device before the call. */
-typedef struct FoveartDeviceRayCount {
+typedef struct XrFoveatedDeviceRayCountFOVEART {
   uint32_t count;            /* valid rays */
   uint32_t dispatch64[3];    /* VkDispatchIndirectCommand for 64 rays per workgroup: x <= 65535 by y rows, 1 */
   uint32_t traceRays[3];     /* VkTraceRaysIndirectCommandKHR: count x 1 x 1 */
   uint32_t reserved;
-} FoveartDeviceRayCount;
+} XrFoveatedDeviceRayCountFOVEART;
+/* Deprecated: the name before version 7, kept for old sources; use XrFoveatedDeviceRayCountFOVEART. */
+typedef XrFoveatedDeviceRayCountFOVEART FoveartDeviceRayCount;
 
 /* A range of one of the layer's buffers. */
 typedef struct XrFoveatedDeviceBufferFOVEART {
@@ -350,7 +352,7 @@ typedef struct XrFoveatedDeviceRayBatchFOVEART {
   const FoveartEyeView* view;  /* as in FoveartRayBatch */
   uint32_t rayCapacity;        /* rays the buffers hold; count <= rayCapacity */
   uint32_t raysPerPoint;
-  XrFoveatedDeviceBufferFOVEART rayCount;   /* FoveartDeviceRayCount; read (and indirect) only */
+  XrFoveatedDeviceBufferFOVEART rayCount;   /* XrFoveatedDeviceRayCountFOVEART; read (and indirect) only */
   XrFoveatedDeviceBufferFOVEART rays;       /* rayCapacity x 32 bytes; read only */
   XrFoveatedDeviceBufferFOVEART pointIndex; /* rayCapacity x uint32_t; read only */
   XrFoveatedDeviceBufferFOVEART colors;     /* rayCapacity x vec4 (rgb, depth_m); written by the engine */

@@ -6,7 +6,7 @@
 
 #include "gpu/shader_interface/glsl_cpp.h"
 
-// The control words: the engine's FoveartDeviceRayCount (words 0-7, the
+// The control words: the engine's XrFoveatedDeviceRayCountFOVEART (words 0-7, the
 // layer's public header), the resolve's indirect dispatch, the visible points.
 #define FOVEART_DEVICE_RAY_COUNT_WORDS 8u
 #define FOVEART_DEVICE_RESOLVE_DISPATCH 8u

@@ -1,4 +1,4 @@
-// The device trace's indirect dispatch of the engine's rays (FoveartDeviceRayCount::dispatch64,
+// The device trace's indirect dispatch of the engine's rays (XrFoveatedDeviceRayCountFOVEART::dispatch64,
 // written by shaders/device_rays.comp; checked on the host by tests/gpu/ray_dispatch_test.cpp).
 #ifndef FOVEART_SHADER_INTERFACE_RAY_DISPATCH_H
 #define FOVEART_SHADER_INTERFACE_RAY_DISPATCH_H
