@@ -268,11 +268,20 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           VK_SHARING_MODE_EXCLUSIVE on that family (no ownership transfer)
  *           and usage STORAGE_BUFFER | TRANSFER_SRC, plus INDIRECT_BUFFER for
  *           rayCount and TRANSFER_DST for colors.
- * Barriers: the layer's writes of rays and counts are made visible to shader
- *           reads and indirect-command reads at every stage before the call;
- *           everything the engine records is made visible to the layer's
- *           compute reads after it (a full memory barrier). Between its own
- *           commands the engine synchronises as it would anywhere.
+ * Barriers: the layer records one vkCmdPipelineBarrier with one
+ *           VkMemoryBarrier (no buffer or image barriers, no dependency
+ *           flags) on each side of the call. Before it: srcStageMask
+ *           COMPUTE_SHADER | TRANSFER, srcAccessMask SHADER_WRITE |
+ *           TRANSFER_WRITE (the layer's ray shader and its fills of the counts
+ *           and colours), dstStageMask ALL_COMMANDS, dstAccessMask
+ *           MEMORY_READ | MEMORY_WRITE: the engine may read the rays and
+ *           counts and write the colours in any stage (shaders, copies,
+ *           indirect commands). After it: srcStageMask ALL_COMMANDS,
+ *           srcAccessMask MEMORY_WRITE, dstStageMask COMPUTE_SHADER |
+ *           DRAW_INDIRECT, dstAccessMask SHADER_READ | INDIRECT_COMMAND_READ:
+ *           the engine's writes in any stage are visible to the layer's
+ *           compute shaders and indirect dispatches that follow. Between its
+ *           own commands the engine synchronises as it would anywhere.
  * State:    the command buffer is outside any render pass; the engine may
  *           bind pipelines, descriptor sets and push constants of its own
  *           (the layer rebinds what it needs afterwards).
