@@ -328,8 +328,11 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  * Both:     with traceRays and traceRaysDevice the device trace is used where
  *           the layer reconstructs on the GPU, traceRays elsewhere (CPU
  *           reconstruction, a device the shaders cannot run on).
- * Growth:   both structs follow OpenXR: (type, next), fields appended only
- *           with a new structure type or a larger size the layer checks.
+ * Growth:   both structs follow OpenXR: (type, next). No struct here
+ *           changes size or layout; what is added comes as a new structure
+ *           type chained in `next` (OpenXR's rule). The layer ignores
+ *           chained structures whose type it does not know; an engine
+ *           ignores those in a batch's `next` likewise.
  */
 #define XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900006)
 /* Frames of the device trace in flight at once; a call's slot is frameIndex % this. */
