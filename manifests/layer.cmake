@@ -9,6 +9,9 @@ include(GNUInstallDirs)
 set(_layer_name XR_APILAYER_FOVEART_foveated_ray_tracing)
 
 # The extension's version as the manifests advertise it: the header's, one definition.
+# A new version in the header configures the manifests again.
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+             ${PROJECT_SOURCE_DIR}/layer/include/layer/XR_FOVEART_foveated_ray_tracing.h)
 file(STRINGS ${PROJECT_SOURCE_DIR}/layer/include/layer/XR_FOVEART_foveated_ray_tracing.h _spec_line
      REGEX "^#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION [0-9]+$")
 string(REGEX REPLACE ".* ([0-9]+)$" "\\1" FOVEART_EXTENSION_SPEC_VERSION "${_spec_line}")

@@ -46,7 +46,12 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
- * Versions: 6 pipelines the device trace's frames: up to two in flight,
+ * Versions: 7 makes the device trace's indirect dispatch two-dimensional
+ *           (dispatch64: x <= 65535 workgroups by y rows, see "Rays"; one row
+ *           as before up to 65535 * 64 rays), renames FoveartDeviceRayCount
+ *           XrFoveatedDeviceRayCountFOVEART (the old name stays, deprecated)
+ *           and states the barriers as recorded; no layout changed.
+ *           6 pipelines the device trace's frames: up to two in flight,
  *           its handles valid until their frame slot's submission finished,
  *           faults judged on the device and counted frames later (see the
  *           device trace's "Lifetime" and "Errors"); no struct changed. 5 renames five stats fields for the one temporal name, at the same
@@ -68,7 +73,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 6
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 7
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
