@@ -1,8 +1,8 @@
 // Reading VK_LAYER_FOVEART_count's output (count_layer.cpp): the device records
 // (one JSON object per line), who made each call (the innermost module on the
 // caller's stack), frames split at a marker submission, per-frame tallies of
-// host submissions, waits, maps and flushes, and a per-frame budget to hold
-// them to.
+// host submissions, waits, maps and flushes, the work submitted (dispatches,
+// barriers, ray-tracing launches), and a per-frame budget to hold them to.
 #pragma once
 
 #include <cstdint>
@@ -72,6 +72,8 @@ struct Tally {
   // bytes of buffer copies, texels of image copies.
   uint64_t copies_to_host = 0, to_host_bytes = 0, to_host_texels = 0;
   uint64_t copies_from_host = 0, from_host_bytes = 0, from_host_texels = 0;
+  // The work in the command buffers submitted (recorded commands, not host calls).
+  uint64_t dispatches = 0, dispatches_indirect = 0, barriers = 0, trace_rays = 0;
 
   void add(const nlohmann::json& e) {
     const std::string call = e["call"], kind = e["kind"];
@@ -106,6 +108,14 @@ struct Tally {
       copies_from_host += e["items"].get<uint64_t>();
       from_host_bytes += bytes;
       from_host_texels += e["texels"].get<uint64_t>();
+    } else if (call == "vkCmdDispatch") {
+      dispatches += e["items"].get<uint64_t>();
+    } else if (call == "vkCmdDispatchIndirect") {
+      dispatches_indirect += e["items"].get<uint64_t>();
+    } else if (call == "vkCmdPipelineBarrier") {
+      barriers += e["items"].get<uint64_t>();
+    } else if (call == "vkCmdTraceRaysKHR") {
+      trace_rays += e["items"].get<uint64_t>();
     }
   }
   bool operator==(const Tally&) const = default;
@@ -123,7 +133,9 @@ inline void PrintTo(const Tally& t, std::ostream* os) {
       {"flushes", t.flushes},           {"flushed_bytes", t.flushed_bytes},
       {"copies_to_host", t.copies_to_host}, {"to_host_bytes", t.to_host_bytes},
       {"to_host_texels", t.to_host_texels}, {"copies_from_host", t.copies_from_host},
-      {"from_host_bytes", t.from_host_bytes}, {"from_host_texels", t.from_host_texels}};
+      {"from_host_bytes", t.from_host_bytes}, {"from_host_texels", t.from_host_texels},
+      {"dispatches", t.dispatches},     {"dispatches_indirect", t.dispatches_indirect},
+      {"barriers", t.barriers},         {"trace_rays", t.trace_rays}};
   *os << "{";
   for (const auto& [name, value] : fields)
     if (value != 0) *os << " " << name << "=" << value;
@@ -186,6 +198,10 @@ inline Tally sum(const Frame& f, std::initializer_list<const char*> roles) {
     t.copies_from_host += a.copies_from_host;
     t.from_host_bytes += a.from_host_bytes;
     t.from_host_texels += a.from_host_texels;
+    t.dispatches += a.dispatches;
+    t.dispatches_indirect += a.dispatches_indirect;
+    t.barriers += a.barriers;
+    t.trace_rays += a.trace_rays;
   }
   return t;
 }
