@@ -6,6 +6,7 @@
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
 //                  [--fault nan|error|throw|nothing] [--json] [--app-actions] [--no-explicit-layer]
+//                  [--count-work]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
 // --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
@@ -22,7 +23,15 @@
 // --json prints, besides the layer's stats: "engine" (cpu | gpu) and "engine_rays"
 // {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
 // rays each engine traced for the layer during the session (the CPU engine's
-// counts exclude the exposure pre-pass; the GPU engine's are its device counters).
+// counts exclude the exposure pre-pass; the GPU engine's are its device counters),
+// and "gpu_engine" (null with --engine cpu): {"backend", "memory":
+// {device_local_bytes, host_visible_bytes, texture_bytes, fallback} (memory_use(),
+// memory_fallback()), "work": {bvh_nodes, triangle_tests, bvh_node_count} with
+// --count-work on the compute backend, else null}. Its "per_frame" adds
+// "end_frame_host_ms" (the host wall time of each xrEndFrame call, steady clock,
+// in the app), "gpu_eye_ms" [L, R] (the layer's GPU time per eye: traceMs plus
+// the GPU stages; 0 on the CPU path) and "gpu_frame_ms" (both eyes), each
+// {p50, p95, p99, count}.
 // --mode full: the app renders every pixel of each eye itself with the chosen
 // engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
 // the layer's seed and jitter and no temporal history (each frame traced anew),
@@ -132,6 +141,21 @@ nlohmann::json ray_counts_json(const foveart::engine::RayCounts& c) {
   return {{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection}, {"refraction", c.refraction}};
 }
 
+// What the GPU engine holds on the device and, with --count-work, its traversal's work.
+nlohmann::json gpu_engine_json(const foveart::gpu_engine::GpuTracer& tracer) {
+  const foveart::gpu_engine::MemoryUse m = tracer.memory_use();
+  const foveart::gpu_engine::WorkCounts w = tracer.work_counts();
+  return {{"backend", tracer.backend_name()},
+          {"memory", {{"device_local_bytes", m.device_local_bytes},
+                      {"host_visible_bytes", m.host_visible_bytes},
+                      {"texture_bytes", m.texture_bytes},
+                      {"fallback", tracer.memory_fallback()}}},
+          {"work", w.counted ? nlohmann::json{{"bvh_nodes", w.bvh_nodes},
+                                              {"triangle_tests", w.triangle_tests},
+                                              {"bvh_node_count", tracer.bvh_node_count()}}
+                             : nlohmann::json(nullptr)}};
+}
+
 const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
   switch (s) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: return "provider";
@@ -149,7 +173,7 @@ float percentile(std::vector<float> v, double p) {
 }
 
 nlohmann::json distribution(const std::vector<float>& v) {
-  return {{"p50", percentile(v, 50)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
+  return {{"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
 }
 
 // The last frame's submitted views: pose (the scene's space), FOV, size.
@@ -226,7 +250,10 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"per_frame",
            {{"gaze_age_ms", distribution(r.gaze_age_ms)},
             {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
-            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}}}}};
+            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}},
+            {"gpu_eye_ms", {distribution(r.gpu_eye_ms[0]), distribution(r.gpu_eye_ms[1])}},
+            {"gpu_frame_ms", distribution(r.gpu_frame_ms)},
+            {"end_frame_host_ms", distribution(r.end_frame_host_ms)}}}};
 }
 
 
@@ -315,6 +342,7 @@ struct Args {
   std::string exposure = "auto";
   std::string tone_map = "config";
   std::string fault;
+  bool count_work = false;
   foveart::hello::AppOptions options;  // the settings given as they are
 
   bool gpu_engine() const { return engine_name == "gpu"; }
@@ -382,6 +410,9 @@ void add_app_options(CLI::App& cli, Args& a) {
                  "test aid: make the engine misbehave. nan: a NaN colour; error: an error result; throw: an "
                  "exception (--engine cpu only); nothing: the device trace records nothing (--engine gpu only)")
       ->check(CLI::IsMember({"nan", "error", "throw", "nothing"}));
+  cli.add_flag("--count-work", a.count_work,
+               "benchmark aid, --engine gpu: the GPU engine counts the BVH nodes and triangles its traversal "
+               "visits (gpu_engine.work in the JSON; the compute backend only; slows the trace)");
 }
 
 // Why the options do not go together; "" when they do.
@@ -392,6 +423,7 @@ std::string conflicting_options(const Args& a) {
   if (a.fault == "throw" && a.gpu_engine())
     return "--fault throw is for --engine cpu only (a device trace must never throw)";
   if (a.fault == "nothing" && !a.gpu_engine()) return "--fault nothing is for --engine gpu only";
+  if (a.count_work && !a.gpu_engine()) return "--count-work is for --engine gpu only";
   return "";
 }
 
@@ -457,6 +489,7 @@ bool set_exposure(const std::string& exposure, foveart::engine::Tracer& tracer, 
 struct GpuSession {
   std::unique_ptr<foveart::gpu_engine::GpuTracer> tracer;
   std::optional<foveart::engine::RayCounts> counts;
+  std::optional<nlohmann::json> engine;  // gpu_engine_json, read with the counts
   FaultyDeviceEngine faulty;
 };
 
@@ -500,7 +533,7 @@ class Sessions {
   std::optional<nlohmann::json> run(bool full, std::string* error) {
     foveart::hello::AppOptions session = options_;
     tracer_->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
-    GpuSession gpu{nullptr, std::nullopt, FaultyDeviceEngine{nullptr, args_.fault}};
+    GpuSession gpu{nullptr, std::nullopt, std::nullopt, FaultyDeviceEngine{nullptr, args_.fault}};
     if (args_.gpu_engine()) add_gpu_engine(session, full, gpu);
     foveart::hello::FullFrameTimes full_times;
     if (full) add_full_renderer(session, gpu, full_times);
@@ -516,6 +549,7 @@ class Sessions {
     out["mode"] = full ? "full" : "foveated";
     out["engine"] = args_.engine_name;
     out["engine_rays"] = std::move(engine_rays);
+    out["gpu_engine"] = gpu.engine ? *gpu.engine : nlohmann::json(nullptr);
     return out;
   }
 
@@ -524,10 +558,12 @@ class Sessions {
   void add_gpu_engine(foveart::hello::AppOptions& session, bool full, GpuSession& gpu) {
     session.make_device_trace = [this, full, &gpu](const foveart::hello::VulkanDevice& device) {
       std::string gpu_error;
+      foveart::gpu_engine::GpuTracerOptions gpu_options;
+      gpu_options.count_work = args_.count_work;
       gpu.tracer = foveart::gpu_engine::GpuTracer::create(
           foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
                                           device.queue},
-          foveart::engine::Scene(*gpu_scene_), {}, &gpu_error);
+          foveart::engine::Scene(*gpu_scene_), gpu_options, &gpu_error);
       if (gpu.tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
       gpu.tracer->reset_counts();
       gpu.faulty.tracer = gpu.tracer.get();
@@ -538,6 +574,10 @@ class Sessions {
     session.release_device_trace = [&gpu]() noexcept {
       if (gpu.tracer == nullptr) return;
       gpu.counts = gpu.tracer->counts();
+      try {
+        gpu.engine = gpu_engine_json(*gpu.tracer);
+      } catch (...) {  // noexcept: the JSON stays null rather than end the program
+      }
       gpu.tracer.reset();
     };
   }
