@@ -2,6 +2,7 @@
 // and ray counts; the full render matches engine::render_full; bad input fails
 // cleanly; synchronization validation stays silent. Runs on lavapipe.
 #include <gpu_engine/gpu_tracer.hpp>
+#include <gpu_engine/timestamps.hpp>
 
 #include <engine/default_scene.hpp>
 #include <engine/gltf_loader.hpp>
@@ -266,6 +267,31 @@ TEST(GpuTracer, AbsentEffectsCastNoRays) {
   EXPECT_EQ(c.refraction, 0u);
   for (const glm::vec4& v : out) EXPECT_NEAR(v.w, 1.0f / std::fabs(glm::normalize(glm::vec3(0.1f, -1.0f, 0.05f)).y), 1e-4f);
   expect_no_validation_errors();
+}
+
+// ---- the benchmark's timestamp check (gpu_engine/timestamps.hpp) --------------------
+
+TEST(GpuTimestamps, AQueueWithoutTimestampsOrStampsThatDoNotAdvanceAreRefusedByName) {
+  using foveart::gpu_engine::timestamp_reading_problem;
+  using foveart::gpu_engine::timestamp_support_problem;
+  EXPECT_EQ(timestamp_support_problem("GPU X", 64, 1.0f), "");
+  const std::string no_bits = timestamp_support_problem("GPU X", 0, 1.0f);
+  EXPECT_NE(no_bits.find("GPU X"), std::string::npos) << no_bits;
+  EXPECT_NE(no_bits.find("timestampValidBits 0"), std::string::npos) << no_bits;
+  EXPECT_NE(timestamp_support_problem("GPU X", 36, 0.0f), "");
+  EXPECT_EQ(timestamp_reading_problem("GPU X", 100, 250), "");
+  const std::string zeros = timestamp_reading_problem("GPU X", 0, 0);
+  EXPECT_NE(zeros.find("GPU X"), std::string::npos) << zeros;
+  EXPECT_NE(zeros.find("read 0"), std::string::npos) << zeros;
+  EXPECT_NE(timestamp_reading_problem("GPU X", 250, 250), "");
+  EXPECT_NE(timestamp_reading_problem("GPU X", 250, 100), "");
+}
+
+TEST(GpuTimestamps, TheTestDevicesQueueHasThem) {
+  REQUIRE_GPU();
+  const GpuContext context = gpu().context();
+  EXPECT_EQ(foveart::gpu_engine::timestamp_support_problem(context.physical_device, context.queue_family_index), "");
+  EXPECT_NE(foveart::gpu_engine::timestamp_support_problem(context.physical_device, 1000u), "") << "no such family";
 }
 
 // ---- traversal work (GpuTracerOptions::count_work) -----------------------------------
