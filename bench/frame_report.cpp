@@ -208,8 +208,12 @@ int main(int argc, char** argv) {
   }
   if (!times_measured(in)) return 1;
   const json& view = in.timing["views"][0];
-  std::printf("whole frame: %s, %dx%d per eye, engine backend %s, temporal %s\n",
-              in.frame.value("device", std::string("?")).c_str(), view["size_px"][0].get<int>(),
+  const std::string device = in.timing["gpu_engine"].value("device", std::string("?"));
+  if (device != in.frame.value("device", std::string("?")))
+    std::printf("NOTE: the OpenXR session ran on %s, gpu_frame on %s\n", device.c_str(),
+                in.frame.value("device", std::string("?")).c_str());
+  std::printf("whole frame: %s, %dx%d per eye, engine backend %s, temporal %s\n", device.c_str(),
+              view["size_px"][0].get<int>(),
               view["size_px"][1].get<int>(), in.counting["gpu_engine"].value("backend", std::string("?")).c_str(),
               in.timing.value("temporal", std::string("?")).c_str());
   print_times(in);

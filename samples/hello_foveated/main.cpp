@@ -24,7 +24,7 @@
 // {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
 // rays each engine traced for the layer during the session (the CPU engine's
 // counts exclude the exposure pre-pass; the GPU engine's are its device counters),
-// and "gpu_engine" (null with --engine cpu): {"backend", "memory":
+// and "gpu_engine" (null with --engine cpu): {"device", "backend", "memory":
 // {device_local_bytes, host_visible_bytes, texture_bytes, fallback} (memory_use(),
 // memory_fallback()), "work": {bvh_nodes, triangle_tests, bvh_node_count} with
 // --count-work on the compute backend, else null}. Its "per_frame" adds
@@ -142,10 +142,11 @@ nlohmann::json ray_counts_json(const foveart::engine::RayCounts& c) {
 }
 
 // What the GPU engine holds on the device and, with --count-work, its traversal's work.
-nlohmann::json gpu_engine_json(const foveart::gpu_engine::GpuTracer& tracer) {
+nlohmann::json gpu_engine_json(const foveart::gpu_engine::GpuTracer& tracer, const std::string& device) {
   const foveart::gpu_engine::MemoryUse m = tracer.memory_use();
   const foveart::gpu_engine::WorkCounts w = tracer.work_counts();
-  return {{"backend", tracer.backend_name()},
+  return {{"device", device},
+          {"backend", tracer.backend_name()},
           {"memory", {{"device_local_bytes", m.device_local_bytes},
                       {"host_visible_bytes", m.host_visible_bytes},
                       {"texture_bytes", m.texture_bytes},
@@ -490,6 +491,7 @@ struct GpuSession {
   std::unique_ptr<foveart::gpu_engine::GpuTracer> tracer;
   std::optional<foveart::engine::RayCounts> counts;
   std::optional<nlohmann::json> engine;  // gpu_engine_json, read with the counts
+  std::string device;                    // the session's physical device's name
   FaultyDeviceEngine faulty;
 };
 
@@ -533,7 +535,7 @@ class Sessions {
   std::optional<nlohmann::json> run(bool full, std::string* error) {
     foveart::hello::AppOptions session = options_;
     tracer_->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
-    GpuSession gpu{nullptr, std::nullopt, std::nullopt, FaultyDeviceEngine{nullptr, args_.fault}};
+    GpuSession gpu{nullptr, std::nullopt, std::nullopt, "", FaultyDeviceEngine{nullptr, args_.fault}};
     if (args_.gpu_engine()) add_gpu_engine(session, full, gpu);
     foveart::hello::FullFrameTimes full_times;
     if (full) add_full_renderer(session, gpu, full_times);
@@ -560,6 +562,9 @@ class Sessions {
       std::string gpu_error;
       foveart::gpu_engine::GpuTracerOptions gpu_options;
       gpu_options.count_work = args_.count_work;
+      VkPhysicalDeviceProperties properties{};
+      vkGetPhysicalDeviceProperties(device.physical_device, &properties);
+      gpu.device = properties.deviceName;
       gpu.tracer = foveart::gpu_engine::GpuTracer::create(
           foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
                                           device.queue},
@@ -575,7 +580,7 @@ class Sessions {
       if (gpu.tracer == nullptr) return;
       gpu.counts = gpu.tracer->counts();
       try {
-        gpu.engine = gpu_engine_json(*gpu.tracer);
+        gpu.engine = gpu_engine_json(*gpu.tracer, gpu.device);
       } catch (...) {  // noexcept: the JSON stays null rather than end the program
       }
       gpu.tracer.reset();
