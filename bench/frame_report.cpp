@@ -5,8 +5,8 @@
 //    (trace = device rays + the engine's trace + resolve; gather; temporal;
 //    encode with the copy into the swapchain image), the frame's GPU time for
 //    both eyes, and the app's host time in xrEndFrame; medians (p50) over the
-//    frames the layer traced, p95 too for the host time; whether an eye fits
-//    3.5 ms and 7 ms;
+//    frames the layer traced but the first (the tables' wait, first touches),
+//    p95 too for the host time; whether the slower eye fits 3.5 ms and 7 ms;
 //  * the counting run (VK_LAYER_FOVEART_count, --count-work): per frame the
 //    submissions, dispatches, barriers and ray-tracing launches the layer and
 //    the engine submitted (one steady frame), the rays of each kind and the
@@ -20,6 +20,7 @@
 //   gpu_frame_report --timing FILE --counting FILE --vk-counts FILE --program NAME --frame-json FILE
 //                    [--bandwidth-gbs X] [--rays-per-s Y]
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -54,24 +55,50 @@ json read_json(const std::string& path) {
 
 const char* verdict(double ms, double budget_ms) { return ms <= budget_ms ? "fits" : "misses"; }
 
-double p50(const json& distribution) { return distribution.value("p50", 0.0); }
+// Nearest-rank percentile p of `v` (as hello_foveated's); 0 for none.
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
+  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
 
-// Per eye: the stage times (p50 of the trace, the last frame's reconstruction stages) and the total.
+// A per-frame series of the timing run without its first frame (the tables' wait, first
+// touches) where there are more; `eye` picks one of [L, R], -1 sums them.
+std::vector<double> steady(const json& series, int eye) {
+  std::vector<double> v;
+  for (std::size_t f = series.size() > 1 ? 1 : 0; f < series.size(); ++f)
+    v.push_back(eye < 0 ? (series[f].is_array() ? series[f][0].get<double>() + series[f][1].get<double>()
+                                                : series[f].get<double>())
+                        : series[f][eye].get<double>());
+  return v;
+}
+
+// The slower eye's GPU time, p50 over the steady frames.
+double eye_ms(const Inputs& in) {
+  const json& eyes = in.timing["gpu_eye_ms_per_frame"];
+  return std::max(percentile(steady(eyes, 0), 50), percentile(steady(eyes, 1), 50));
+}
+
+// Per eye: the stage times (p50 of the trace and the eye, the last frame's reconstruction stages).
 void print_times(const Inputs& in) {
   const json& t = in.timing;
-  const json& per_frame = t["per_frame"];
+  const json& trace = t["trace_ms_per_frame"];
+  const json& eyes = t["gpu_eye_ms_per_frame"];
+  const std::vector<double> host = steady(t["end_frame_host_ms_per_frame"], -1);
   std::printf("GPU time per eye (ms)      |     left    right\n");
-  const char* stages[] = {"scatter", "gather", "temporal", "encode"};
-  std::printf("%-26s | %8.2f %8.2f\n", "trace (p50)", p50(per_frame["trace_ms"][0]), p50(per_frame["trace_ms"][1]));
-  for (const char* stage : stages)
+  std::printf("%-26s | %8.2f %8.2f\n", "trace (p50)", percentile(steady(trace, 0), 50),
+              percentile(steady(trace, 1), 50));
+  for (const char* stage : {"scatter", "gather", "temporal", "encode"})
     std::printf("%-26s | %8.2f %8.2f\n", (std::string(stage) + (std::string(stage) == "encode" ? " + copy" : "")).c_str(),
                 t["gpu_stage_ms"][0].value(stage, 0.0), t["gpu_stage_ms"][1].value(stage, 0.0));
-  std::printf("%-26s | %8.2f %8.2f\n", "eye total (p50)", p50(per_frame["gpu_eye_ms"][0]),
-              p50(per_frame["gpu_eye_ms"][1]));
-  const json& host = per_frame["end_frame_host_ms"];
-  std::printf("frame, both eyes: GPU %.2f ms (p50); host time in xrEndFrame p50 %.2f ms, p95 %.2f ms; %d frames\n",
-              p50(per_frame["gpu_frame_ms"]), p50(host), host.value("p95", 0.0), host.value("count", 0));
-  const double worst_eye = std::max(p50(per_frame["gpu_eye_ms"][0]), p50(per_frame["gpu_eye_ms"][1]));
+  std::printf("%-26s | %8.2f %8.2f\n", "eye total (p50)", percentile(steady(eyes, 0), 50),
+              percentile(steady(eyes, 1), 50));
+  std::printf("frame, both eyes: GPU %.2f ms (p50); host time in xrEndFrame p50 %.2f ms, p95 %.2f ms; over %zu "
+              "frames (of %zu, the first left out)\n",
+              percentile(steady(eyes, -1), 50), percentile(host, 50), percentile(host, 95), host.size(),
+              t["end_frame_host_ms_per_frame"].size());
+  const double worst_eye = eye_ms(in);
   std::printf("slower eye %.2f ms: %s 3.5 ms per eye (half a 70 Hz frame for two eyes), %s 7 ms per eye (two eyes "
               "in a 70 Hz frame)\n",
               worst_eye, verdict(worst_eye, 3.5), verdict(worst_eye, 7.0));
@@ -155,7 +182,7 @@ void print_bytes_and_prediction(const Inputs& in, double rays_per_frame) {
   std::printf("bytes bound per eye (MB; buffer sizes, an upper bound on the bytes touched): trace %.1f, gather %.1f, "
               "temporal %.1f, encode + copy %.1f, total %.1f\n",
               b.trace * 1e-6, b.gather * 1e-6, b.temporal * 1e-6, b.encode * 1e-6, b.total() * 1e-6);
-  const double measured = p50(in.timing["per_frame"]["gpu_eye_ms"][0]);
+  const double measured = eye_ms(in);
   if (in.frame.value("device_is_cpu", false) || in.bandwidth_gbs <= 0.0 || in.rays_per_s <= 0.0) {
     std::printf("predicted per eye: n/a (%s); measured %.2f ms\n",
                 in.frame.value("device_is_cpu", false) ? "a CPU device"
@@ -171,8 +198,7 @@ void print_bytes_and_prediction(const Inputs& in, double rays_per_frame) {
 
 // The GPU times must be real: 0 ms means the device gave no timestamps.
 bool times_measured(const Inputs& in) {
-  const json& per_frame = in.timing["per_frame"];
-  if (in.timing.value("reconstruction", std::string()) != "gpu" || !(p50(per_frame["gpu_frame_ms"]) > 0.0)) {
+  if (in.timing.value("reconstruction", std::string()) != "gpu" || !(eye_ms(in) > 0.0)) {
     std::fprintf(stderr,
                  "gpu_frame_report: %s: the layer's GPU times read 0 (reconstruction \"%s\"): no timestamps, or "
                  "the frames did not run on the GPU path; nothing to report\n",

@@ -30,9 +30,10 @@
 #   scripts/bench_gpu.sh --from-bundle FILE.tar.xz [OPTIONS]
 #                                                  run a bundle: no set-up, no build (a fresh
 #                                                  GPU machine with only a driver and a loader)
-# OPTIONS: --frames N (gpu_frame's timed frames), --hello-frames N (frames of each
-#          hello_foveated run, default 3), --bandwidth-gbs X and --rays-per-s Y (the
-#          device's memory bandwidth and the engine's ray rate, for the prediction)
+# OPTIONS: --frames N (gpu_frame's timed frames), --hello-frames N (hello_foveated's
+#          timing run, default 3; the counting run one more), --bandwidth-gbs X and
+#          --rays-per-s Y (the device's memory bandwidth and the engine's ray rate,
+#          for the prediction)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mode=run bundle="" frames="" hello_frames=3 bandwidth="" ray_rate=""
@@ -109,20 +110,20 @@ frame_table=$("$bin/gpu_frame" "${args[@]}" | tee /dev/stderr) ||
 device=$(sed -n 's/.*"device": "\(.*\)",*/\1/p' "$json" | head -1)
 
 # The whole frame, both eyes: hello_foveated through the loader, the layer and the simulated runtime.
-hello() {  # $1: JSON out, rest: extra arguments; the environment adds the counting layer
-  local out=$1
-  shift
+hello() {  # $1: JSON out, $2: frames, rest: extra arguments; the environment adds the counting layer
+  local out=$1 n=$2
+  shift 2
   printf '{ "wait_for_tables": true, "log_level": "warn", "reconstruction": "gpu" }\n' >out/bench/foveart_config.json
   FOVEART_CONFIG=$PWD/out/bench/foveart_config.json XDG_CACHE_HOME=$PWD/out/bench/cache \
-  FOVEART_SIM_FRAMES=$hello_frames XR_RUNTIME_JSON=$runtime_json XR_API_LAYER_PATH=$xr_layer_dir \
+  FOVEART_SIM_FRAMES=$n XR_RUNTIME_JSON=$runtime_json XR_API_LAYER_PATH=$xr_layer_dir \
     "$bin/hello_foveated" --engine gpu --scene default --eye-size 1280 1440 --interpolation msm --k 5 \
     --temporal image --json "$@" >"$out" 2>"${out%.json}.log" ||
     { echo "bench_gpu.sh: hello_foveated failed; its log is ${out%.json}.log" >&2; tail -5 "${out%.json}.log" >&2; exit 1; }
 }
-hello out/bench/hello_timing.json
+hello out/bench/hello_timing.json "$hello_frames"
 rm -f out/bench/vk_counts.jsonl
 VK_LAYER_PATH=$vk_layer_dir VK_INSTANCE_LAYERS=VK_LAYER_FOVEART_count FOVEART_VK_COUNT_OUT=$PWD/out/bench/vk_counts.jsonl \
-  hello out/bench/hello_counting.json --count-work
+  hello out/bench/hello_counting.json $((hello_frames + 1)) --count-work  # a steady frame after the start
 report_args=(--timing out/bench/hello_timing.json --counting out/bench/hello_counting.json
   --vk-counts out/bench/vk_counts.jsonl --program hello_foveated --frame-json "$json")
 [[ -n $bandwidth ]] && report_args+=(--bandwidth-gbs "$bandwidth")
@@ -149,9 +150,9 @@ result=docs/results/bench_gpu_${slug:-device}.md
   echo
   echo "## The whole frame, both eyes, through the layer (hello_foveated --engine gpu, bench/frame_report.cpp)"
   echo
-  echo "The real OpenXR loader, the layer and the simulated runtime, FOVE eyes (1280x1440), $hello_frames frames per"
-  echo "run. GPU times are the layer's timestamps per eye: trace (device rays, the engine's trace, resolve) as p50"
-  echo "over the frames, the reconstruction stages of the last frame, encode with the copy into the swapchain."
+  echo "The real OpenXR loader, the layer and the simulated runtime, FOVE eyes (1280x1440), $hello_frames frames. GPU"
+  echo "times are the layer's timestamps per eye: trace (device rays, the engine's trace, resolve) as p50 over the"
+  echo "frames but the first, the reconstruction stages of the last frame, encode with the copy into the swapchain."
   echo "The host time is the app's steady clock around each xrEndFrame call. Work, rays and nodes come from a"
   echo "second run under VK_LAYER_FOVEART_count with the engine's work counters on; bytes are the sizes of the"
   echo "buffers each stage binds, an upper bound on the bytes it touches."

@@ -31,7 +31,8 @@
 // "end_frame_host_ms" (the host wall time of each xrEndFrame call, steady clock,
 // in the app), "gpu_eye_ms" [L, R] (the layer's GPU time per eye: traceMs plus
 // the GPU stages; 0 on the CPU path) and "gpu_frame_ms" (both eyes), each
-// {p50, p95, p99, count}.
+// {p50, p95, p99, count}; and per traced frame end_frame_host_ms_per_frame,
+// trace_ms_per_frame [L, R] and gpu_eye_ms_per_frame [L, R].
 // --mode full: the app renders every pixel of each eye itself with the chosen
 // engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
 // the layer's seed and jitter and no temporal history (each frame traced anew),
@@ -190,6 +191,14 @@ nlohmann::json views_json(const foveart::hello::AppResult& r) {
   return views;
 }
 
+// Per traced frame [left, right] of two per-eye series.
+nlohmann::json eye_pairs(const std::vector<float>* per_eye) {
+  nlohmann::json pairs = nlohmann::json::array();
+  for (std::size_t f = 0; f < std::min(per_eye[0].size(), per_eye[1].size()); ++f)
+    pairs.push_back({per_eye[0][f], per_eye[1][f]});
+  return pairs;
+}
+
 nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   const auto& s = r.stats;
   nlohmann::json eyes = nlohmann::json::array();
@@ -242,6 +251,9 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"invalid_colours", s.invalidColours},
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
+          {"end_frame_host_ms_per_frame", r.end_frame_host_ms},
+          {"trace_ms_per_frame", eye_pairs(r.trace_ms)},
+          {"gpu_eye_ms_per_frame", eye_pairs(r.gpu_eye_ms)},
           {"temporal_resets", rec.temporalResets},
           {"temporal_reset_per_frame", temporal_reset},
           {"gaze_saccade_per_frame", r.gaze_saccade},
