@@ -5,6 +5,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "foveation/shader_constants.h"
 #include "gpu/shader_interface/depth.h"
+#include "gpu/shader_interface/device_trace.h"
 #include "gpu/shader_interface/table_chunks.h"
 
 // Table chunks: canvas tile rows [first_row, end_row) of the interpolation
@@ -45,9 +46,16 @@ layout(set = 0, binding = 4, std430) buffer HistoryOut { vec4 history_out[]; };
 // The frame's traced points: (point index, r, g, b as float bits), then one
 // depth per entry (float bits, 4 per uvec4).
 layout(set = 0, binding = 5, std430) readonly buffer Upload { uvec4 uploaded[]; };
-// RGBA8 texels (R in the low byte), row-major: copied into the swapchain image.
+// The shown image: RGBA8 texels (R in the low byte), row-major, written by
+// good frames only and copied into the swapchain image every frame.
 layout(set = 0, binding = 6, std430) writeonly buffer Encoded { uint encoded[]; };
 // Depth of every point this frame (DEPTH_UNKNOWN when not traced or none returned).
 layout(set = 0, binding = 7, std430) buffer PointDepth { float point_depth[]; };
+// The frame slot's status (gpu/shader_interface/device_trace.h): zeroed per
+// frame, a device trace's invalid colours counted into it by its resolve.
+layout(set = 0, binding = 8, std430) readonly buffer FrameStatus { uint frame_status[]; };
+// The frame's trace failed (a device trace's NaN, infinite, negative or
+// unwritten colours): the frame keeps the history and the shown image as they were.
+bool frame_faulted() { return frame_status[FOVEART_DEVICE_STATUS_INVALID_COMPONENTS] != 0u; }
 
 #endif

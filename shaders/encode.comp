@@ -1,7 +1,8 @@
 #version 450
 // Linear radiance -> display values (tone_map.glsl) -> RGBA8 texels for the
 // swapchain: sRGB-encoded (IEC 61966-2-1) for an sRGB format, else
-// [0,1] -> [0,255]; alpha 255. NaN encodes as 0.
+// [0,1] -> [0,255]; alpha 255. NaN encodes as 0. A faulted frame
+// (common.glsl frame_faulted) writes nothing: the last good frame stays shown.
 // The GPU twin of foveation::encode_rgba8 (within one 8-bit step: pow).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
@@ -20,7 +21,7 @@ uint encode_channel(float c) {
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
-  if (p.x >= size_px.x || p.y >= size_px.y) return;
+  if (p.x >= size_px.x || p.y >= size_px.y || frame_faulted()) return;
   const uint i = uint(p.y * size_px.x + p.x);
   const vec3 c = display_transform(history_out[i].rgb, exposure, tone_map);
   encoded[i] = encode_channel(c.r) | (encode_channel(c.g) << 8) | (encode_channel(c.b) << 16) | (255u << 24);

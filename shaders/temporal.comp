@@ -8,6 +8,7 @@
 // neighbourhood (clamp to edge) by min/max clamping (Karis 2014) or variance
 // clipping towards the mean (Salvi 2016) and blended with the current frame.
 // A reset (decided on the CPU, one rule for both paths) copies the current frame.
+// A faulted frame (common.glsl frame_faulted) keeps the history as it was.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "quat.glsl"
@@ -95,6 +96,10 @@ void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (p.x >= size_px.x || p.y >= size_px.y) return;
   const uint i = uint(p.y * size_px.x + p.x);
+  if (frame_faulted()) {
+    history_out[i] = history_in[i];
+    return;
+  }
   const vec4 cur = current[i];
   vec3 v = history_in[i].rgb;
   if (reset != 0u || (reproject != FOVEART_REPROJECT_NONE && !reprojected_history(p, cur.a, v))) {

@@ -80,28 +80,16 @@ DeviceTrace::DeviceTrace(const Context& context, const DeviceTracePipelines& pip
 
 DeviceTrace::~DeviceTrace() {
   if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
-  for (BoundBuffer* b : {&points_, &staging_, &rays_, &point_index_, &ray_colors_, &control_, &status_, &blocks_})
+  for (BoundBuffer* b : {&points_, &staging_, &rays_, &point_index_, &ray_colors_, &control_, &blocks_})
     destroy_buffer(device_, b);
 }
 
 bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point,
                                     std::string* error) {
   if (pool_ == VK_NULL_HANDLE) {
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kRaysBindings + kResolveBindings};
-    auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-    pool_info.maxSets = 2;
-    pool_info.poolSizeCount = 1;
-    pool_info.pPoolSizes = &size;
-    VkResult r = vkCreateDescriptorPool(device_, &pool_info, nullptr, &pool_);
-    if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool", r), false;
     const VkDescriptorSetLayout layouts[2] = {pipelines_.rays_set_layout(), pipelines_.resolve_set_layout()};
     VkDescriptorSet sets[2] = {};
-    auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-    alloc.descriptorPool = pool_;
-    alloc.descriptorSetCount = 2;
-    alloc.pSetLayouts = layouts;
-    r = vkAllocateDescriptorSets(device_, &alloc, sets);
-    if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets", r), false;
+    if (!allocate_storage_sets(device_, layouts, 2, kRaysBindings + kResolveBindings, &pool_, sets, error)) return false;
     rays_set_ = sets[0];
     resolve_set_ = sets[1];
   }
@@ -110,8 +98,7 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
   const auto source = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;  // the engine may copy what it reads
   if (control_.buffer == VK_NULL_HANDLE) {
     if (!context_.create_buffer(&control_, FOVEART_DEVICE_CONTROL_WORDS * 4,
-                                storage | transfer | source | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false, error) ||
-        !context_.create_buffer(&status_, FOVEART_DEVICE_STATUS_WORDS * 4, storage | transfer, true, error)) {
+                                storage | transfer | source | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false, error)) {
       return false;
     }
     descriptors_stale_ = true;
@@ -151,7 +138,7 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
   return true;
 }
 
-void DeviceTrace::update_descriptors(VkBuffer colors, VkBuffer point_depth) {
+void DeviceTrace::update_descriptors(const DeviceTraceTargets& targets) {
   const VkDescriptorBufferInfo rays[kRaysBindings] = {{points_.buffer, 0, VK_WHOLE_SIZE},
                                                       {rays_.buffer, 0, VK_WHOLE_SIZE},
                                                       {point_index_.buffer, 0, VK_WHOLE_SIZE},
@@ -160,23 +147,21 @@ void DeviceTrace::update_descriptors(VkBuffer colors, VkBuffer point_depth) {
   write_storage_descriptors(device_, rays_set_, rays, kOnes, kRaysBindings);
   const VkDescriptorBufferInfo resolve[kResolveBindings] = {
       {ray_colors_.buffer, 0, VK_WHOLE_SIZE}, {point_index_.buffer, 0, VK_WHOLE_SIZE},
-      {control_.buffer, 0, VK_WHOLE_SIZE},    {status_.buffer, 0, VK_WHOLE_SIZE},
-      {colors, 0, VK_WHOLE_SIZE},             {point_depth, 0, VK_WHOLE_SIZE}};
+      {control_.buffer, 0, VK_WHOLE_SIZE},    {targets.status, 0, VK_WHOLE_SIZE},
+      {targets.colors, 0, VK_WHOLE_SIZE},     {targets.point_depth, 0, VK_WHOLE_SIZE}};
   write_storage_descriptors(device_, resolve_set_, resolve, kOnes, kResolveBindings);
-  bound_colors_ = colors;
-  bound_point_depth_ = point_depth;
+  bound_ = targets;
   descriptors_stale_ = false;
 }
 
-bool DeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
-                            std::string* error) {
+bool DeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, const DeviceTraceTargets& targets,
+                         std::string* error) {
   if (!frame.engine || frame.points == nullptr || frame.rays_per_point < 1) {
     return *error = "device trace: no engine, points or rays", false;
   }
   const foveation::PointSet& points = *frame.points;
   if (!ensure_buffers(points, frame.rays_per_point, error)) return false;
-  if (descriptors_stale_ || bound_colors_ != colors || bound_point_depth_ != point_depth)
-    update_descriptors(colors, point_depth);
+  if (descriptors_stale_ || !(bound_ == targets)) update_descriptors(targets);
 
   uploaded_bytes_ = 0;
   if (staged_bytes_ > 0) {  // new points: copied in this frame's commands (the staging buffer lives on)
@@ -191,11 +176,11 @@ bool DeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBu
   return true;
 }
 
-// Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made.
+// Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made
+// (the caller cleared the status with the frame's other targets).
 void DeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   const foveation::PointSet& points = *frame.points;
   vkCmdFillBuffer(cb, control_.buffer, 0, VK_WHOLE_SIZE, 0u);
-  vkCmdFillBuffer(cb, status_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   // The visible points compacted in the set's order: counts per block, where each block begins, the rays.
@@ -245,16 +230,6 @@ void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& fra
   vkCmdDispatchIndirect(cb, control_.buffer, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
                  kShaderRW | VK_ACCESS_HOST_READ_BIT);
-}
-
-DeviceTraceStatus DeviceTrace::status() const {
-  DeviceTraceStatus s;
-  if (status_.mapped == nullptr) return s;
-  uint32_t words[FOVEART_DEVICE_STATUS_WORDS] = {};
-  std::memcpy(words, status_.mapped, sizeof words);
-  s.invalid_components = words[FOVEART_DEVICE_STATUS_INVALID_COMPONENTS];
-  s.visible_points = words[FOVEART_DEVICE_STATUS_VISIBLE_POINTS];
-  return s;
 }
 
 }  // namespace foveart::gpu

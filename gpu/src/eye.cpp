@@ -1,6 +1,7 @@
 #include "gpu/eye.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <iterator>
 
@@ -51,67 +52,74 @@ std::unique_ptr<Eye> Eye::create(Context& context, const FramePipelines& pipelin
 bool Eye::create_buffers(std::string* error) {
   const VkDeviceSize pixels = VkDeviceSize{width_px_} * height_px_;
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  const VkBufferUsageFlags shown = storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   if (!context_.create_buffer(&current_, pixels * 16, storage, false, error) ||
       !context_.create_buffer(&history_[0], pixels * 16, storage, false, error) ||
       !context_.create_buffer(&history_[1], pixels * 16, storage, false, error) ||
-      !context_.create_buffer(&encoded_, pixels * 4, storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, error)) {
+      !context_.create_buffer(&shown_, pixels * 4, shown, false, error)) {
     return false;
   }
-  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2 * kFrameStorageBuffers};
-  auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-  pool_info.maxSets = 2;
-  pool_info.poolSizeCount = 1;
-  pool_info.pPoolSizes = &size;
-  VkResult r = vkCreateDescriptorPool(device_, &pool_info, nullptr, &pool_);
-  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool", r), false;
-  const VkDescriptorSetLayout layouts[2] = {pipelines_.set_layout(), pipelines_.set_layout()};
-  auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-  alloc.descriptorPool = pool_;
-  alloc.descriptorSetCount = 2;
-  alloc.pSetLayouts = layouts;
-  r = vkAllocateDescriptorSets(device_, &alloc, sets_);
-  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets", r), false;
-  if (context_.timestamps()) {
-    auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
-    query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
-    query_info.queryCount = StageTimes::kTimestamps;
-    r = vkCreateQueryPool(device_, &query_info, nullptr, &queries_);
-    if (r != VK_SUCCESS) return *error = vk_error("vkCreateQueryPool", r), false;
+  std::array<VkDescriptorSetLayout, 2 * kFrameSlots> layouts;
+  layouts.fill(pipelines_.set_layout());
+  std::array<VkDescriptorSet, 2 * kFrameSlots> sets{};
+  if (!allocate_storage_sets(device_, layouts.data(), uint32_t(layouts.size()),
+                             uint32_t(layouts.size()) * kFrameStorageBuffers, &pool_, sets.data(), error)) {
+    return false;
   }
+  for (uint32_t s = 0; s < kFrameSlots; ++s) {
+    slots_[s].sets[0] = sets[2 * s];
+    slots_[s].sets[1] = sets[2 * s + 1];
+    if (!create_slot(slots_[s], error)) return false;
+  }
+  return true;
+}
+
+// A slot's status (read by the host) and timestamp queries.
+bool Eye::create_slot(Slot& slot, std::string* error) {
+  if (!context_.create_buffer(&slot.status, FOVEART_DEVICE_STATUS_WORDS * 4,
+                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, error)) {
+    return false;
+  }
+  if (!context_.timestamps()) return true;
+  auto query_info = vk_struct<VkQueryPoolCreateInfo>(VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO);
+  query_info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  query_info.queryCount = StageTimes::kTimestamps;
+  const VkResult r = vkCreateQueryPool(device_, &query_info, nullptr, &slot.queries);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateQueryPool", r), false;
   return true;
 }
 
 Eye::~Eye() {
-  device_trace_ = nullptr;
   ray_cache_ = nullptr;
-  if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_, queries_, nullptr);
-  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
-  for (BoundBuffer* b :
-       {&upload_, &colors_, &point_depth_, &current_, &history_[0], &history_[1], &encoded_, &readback_}) {
-    destroy_buffer(device_, b);
+  for (Slot& slot : slots_) {
+    slot.device_trace = nullptr;
+    if (slot.queries != VK_NULL_HANDLE) vkDestroyQueryPool(device_, slot.queries, nullptr);
+    for (BoundBuffer* b : {&slot.upload, &slot.colors, &slot.point_depth, &slot.status}) destroy_buffer(device_, b);
   }
+  if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
+  for (BoundBuffer* b : {&current_, &history_[0], &history_[1], &shown_, &readback_}) destroy_buffer(device_, b);
 }
 
-bool Eye::ensure_points(std::size_t point_count, std::string* error) {
-  if (point_count <= point_capacity_) return true;
-  for (BoundBuffer* b : {&upload_, &colors_, &point_depth_}) destroy_buffer(device_, b);
-  point_capacity_ = 0;
+bool Eye::ensure_points(Slot& slot, std::size_t point_count, std::string* error) {
+  if (point_count <= slot.point_capacity) return true;
+  for (BoundBuffer* b : {&slot.upload, &slot.colors, &slot.point_depth}) destroy_buffer(device_, b);
+  slot.point_capacity = 0;
   const VkDeviceSize bytes = VkDeviceSize{point_count} * 16;
   const VkBufferUsageFlags filled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   // The upload: entries, then a depth each (shaders/common.glsl Upload).
-  if (!context_.create_buffer(&upload_, bytes + VkDeviceSize{point_count} * 4 + 16,
+  if (!context_.create_buffer(&slot.upload, bytes + VkDeviceSize{point_count} * 4 + 16,
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, error) ||
-      !context_.create_buffer(&colors_, bytes, filled, false, error) ||
-      !context_.create_buffer(&point_depth_, VkDeviceSize{point_count} * 4, filled, false, error)) {
+      !context_.create_buffer(&slot.colors, bytes, filled, false, error) ||
+      !context_.create_buffer(&slot.point_depth, VkDeviceSize{point_count} * 4, filled, false, error)) {
     return false;
   }
-  point_capacity_ = point_count;
-  bound_tables_ = nullptr;  // descriptors name the old buffers
+  slot.point_capacity = point_count;
+  slot.bound_tables = nullptr;  // descriptors name the old buffers
   return true;
 }
 
-void Eye::update_descriptors() {
-  const std::span<const VkBuffer> buffers = bound_tables_->buffers();
+void Eye::update_descriptors(Slot& slot) {
+  const std::span<const VkBuffer> buffers = slot.bound_tables->buffers();
   VkDescriptorBufferInfo chunks[kMaxTableChunks];
   for (std::size_t i = 0; i < kMaxTableChunks; ++i) {
     // Unused slots repeat the last chunk: every descriptor of the array is valid.
@@ -121,48 +129,59 @@ void Eye::update_descriptors() {
     VkDescriptorBufferInfo info[kFrameStorageBuffers] = {};
     std::copy(std::begin(chunks), std::end(chunks), info);
     const VkDescriptorBufferInfo rest[kFrameBindings - 1] = {
-        {colors_.buffer, 0, VK_WHOLE_SIZE},     {current_.buffer, 0, VK_WHOLE_SIZE},
-        {history_[s].buffer, 0, VK_WHOLE_SIZE}, {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
-        {upload_.buffer, 0, VK_WHOLE_SIZE},     {encoded_.buffer, 0, VK_WHOLE_SIZE},
-        {point_depth_.buffer, 0, VK_WHOLE_SIZE}};
+        {slot.colors.buffer, 0, VK_WHOLE_SIZE},  {current_.buffer, 0, VK_WHOLE_SIZE},
+        {history_[s].buffer, 0, VK_WHOLE_SIZE},  {history_[1 - s].buffer, 0, VK_WHOLE_SIZE},
+        {slot.upload.buffer, 0, VK_WHOLE_SIZE},  {shown_.buffer, 0, VK_WHOLE_SIZE},
+        {slot.point_depth.buffer, 0, VK_WHOLE_SIZE}, {slot.status.buffer, 0, VK_WHOLE_SIZE}};
     std::copy(std::begin(rest), std::end(rest), info + kMaxTableChunks);
-    write_storage_descriptors(device_, sets_[s], info, kFrameDescriptorCounts, kFrameBindings);
+    write_storage_descriptors(device_, slot.sets[s], info, kFrameDescriptorCounts, kFrameBindings);
   }
 }
 
 void Eye::bind_set(VkCommandBuffer cb) const {
-  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.layout(), 0, 1, &sets_[parity_], 0, nullptr);
+  vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.layout(), 0, 1, &slot().sets[parity_], 0,
+                          nullptr);
 }
 
-bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
-                 std::string* error) {
-  recorded_ = false;
-  const Tables& tables = *frame.tables;
+bool Eye::check_frame(const EyeFrame& frame, std::string* error) const {
   const auto& m = frame.mapping;
   if (uint32_t(m.screen_width_px) != width_px_ || uint32_t(m.screen_height_px) != height_px_) {
     return *error = "GPU eye is " + std::to_string(width_px_) + "x" + std::to_string(height_px_) + ", the frame " +
                     std::to_string(m.screen_width_px) + "x" + std::to_string(m.screen_height_px),
            false;
   }
-  const std::size_t point_count = tables.view_tables().points.size();
+  if (frame.slot >= kFrameSlots) return *error = "GPU frame: no frame slot " + std::to_string(frame.slot), false;
+  const std::size_t point_count = frame.tables->view_tables().points.size();
   if (frame.device == nullptr && (frame.colors == nullptr || frame.colors->size() != point_count)) {
     return *error = "GPU frame: point colours do not match the tables", false;
   }
-  host_written_ = 0;
-  host_read_ = 0;
   std::size_t traced_points = 0;
   for (const auto& run : frame.traced) traced_points += run.size();
   if (traced_points > point_count) return *error = "GPU frame: more traced points than points", false;
-  if (!ensure_points(point_count, error)) return false;
-  if (bound_tables_ != &tables) {
-    bound_tables_ = &tables;
-    update_descriptors();
+  return true;
+}
+
+bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
+                 std::string* error) {
+  if (!check_frame(frame, error)) return false;
+  slot_ = last_slot_ = frame.slot;
+  Slot& s = slot();
+  s.recorded = false;
+  host_written_ = 0;
+  host_read_ = 0;
+  if (!ensure_points(s, frame.tables->view_tables().points.size(), error)) return false;
+  if (s.bound_tables != frame.tables) {
+    s.bound_tables = frame.tables;
+    update_descriptors(s);
   }
-  if (queries_ != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, queries_, 0, StageTimes::kTimestamps);
-  // Last frame's passes read and wrote these buffers (an earlier submission).
+  if (s.queries != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, s.queries, 0, StageTimes::kTimestamps);
+  // Earlier frames' passes read and wrote the shared buffers (earlier submissions, in queue order).
   memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+  vkCmdFillBuffer(cb, s.status.buffer, 0, VK_WHOLE_SIZE, 0u);  // no fault yet; the resolve counts them
+  if (!shown_cleared_) vkCmdFillBuffer(cb, shown_.buffer, 0, VK_WHOLE_SIZE, 0xFF000000u);  // opaque black
+  shown_cleared_ = true;
   const std::size_t uploaded = frame.device == nullptr ? upload_traced(frame, executor) : 0;
   if (!record_trace(cb, frame, error)) return false;           // stages 1-3 on the device, or the slots cleared
   record_scatter(cb, frame, uploaded);                         // stage 4
@@ -170,18 +189,20 @@ bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, fovea
   if (!record_temporal(cb, frame, executor, error)) return false;  // stage 5
   record_encode(cb, frame, image);                                 // stage 6
   parity_ ^= 1;  // this frame's output is the next frame's history
-  recorded_ = true;
+  s.recorded = true;
   return true;
 }
 
 void Eye::stamp(VkCommandBuffer cb, uint32_t query) const {
-  if (queries_ != VK_NULL_HANDLE) vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, query);
+  if (slot().queries != VK_NULL_HANDLE) {
+    vkCmdWriteTimestamp(cb, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, slot().queries, query);
+  }
 }
 
-bool Eye::stage_times(StageTimes* out) const {
-  if (!recorded_ || queries_ == VK_NULL_HANDLE) return false;
+bool Eye::stage_times(std::uint32_t slot, StageTimes* out) const {
+  if (slot >= kFrameSlots || !slots_[slot].recorded || slots_[slot].queries == VK_NULL_HANDLE) return false;
   uint64_t t[StageTimes::kTimestamps] = {};
-  if (vkGetQueryPoolResults(device_, queries_, 0, StageTimes::kTimestamps, sizeof t, t, sizeof(uint64_t),
+  if (vkGetQueryPoolResults(device_, slots_[slot].queries, 0, StageTimes::kTimestamps, sizeof t, t, sizeof(uint64_t),
                             VK_QUERY_RESULT_64_BIT) != VK_SUCCESS) {
     return false;
   }
@@ -192,10 +213,15 @@ bool Eye::stage_times(StageTimes* out) const {
   return true;
 }
 
-DeviceTraceStatus Eye::device_trace_status() const {
-  if (device_trace_ == nullptr) return {};
-  host_read_ += FOVEART_DEVICE_STATUS_WORDS * 4;
-  return device_trace_->status();
+DeviceTraceStatus Eye::device_trace_status(std::uint32_t slot) const {
+  DeviceTraceStatus s;
+  if (slot >= kFrameSlots || slots_[slot].device_trace == nullptr || slots_[slot].status.mapped == nullptr) return s;
+  uint32_t words[FOVEART_DEVICE_STATUS_WORDS] = {};
+  std::memcpy(words, slots_[slot].status.mapped, sizeof words);
+  host_read_ += sizeof words;
+  s.invalid_components = words[FOVEART_DEVICE_STATUS_INVALID_COMPONENTS];
+  s.visible_points = words[FOVEART_DEVICE_STATUS_VISIBLE_POINTS];
+  return s;
 }
 
 bool Eye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
@@ -209,7 +235,7 @@ bool Eye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {
         memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
         const VkBufferCopy copy{0, 0, bytes};
-        vkCmdCopyBuffer(cb, encoded_.buffer, readback_.buffer, 1, &copy);
+        vkCmdCopyBuffer(cb, shown_.buffer, readback_.buffer, 1, &copy);
         memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                        VK_ACCESS_HOST_READ_BIT);
         return true;

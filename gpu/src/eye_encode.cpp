@@ -1,5 +1,7 @@
 // Stage 6 of an eye's device frame: the display transform and 8-bit (sRGB)
-// encode, and the copy into the swapchain image.
+// encode into the shown image (skipped on the device when the frame slot's
+// status says the trace failed), and the copy of the shown image into the
+// swapchain image.
 #include "foveation/display_transform.hpp"
 #include "gpu/eye.hpp"
 #include "gpu/shader_interface/encode.h"
@@ -21,7 +23,7 @@ void Eye::record_encode(VkCommandBuffer cb, const EyeFrame& frame, VkImage image
   vkCmdPushConstants(cb, pipelines_.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof e, &e);
   vkCmdDispatch(cb, (width_px_ + 7) / 8, (height_px_ + 7) / 8, 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-  if (image != VK_NULL_HANDLE) record_copy_to_image(cb, encoded_.buffer, image, width_px_, height_px_);
+  if (image != VK_NULL_HANDLE) record_copy_to_image(cb, shown_.buffer, image, width_px_, height_px_);
   stamp(cb, 5);
 }
 

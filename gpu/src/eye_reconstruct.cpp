@@ -37,7 +37,7 @@ std::size_t Eye::upload_traced(const EyeFrame& frame, foveation::Executor& execu
   for (std::size_t i = 0; i < frame.traced.size(); ++i) first[i + 1] = first[i] + frame.traced[i].size();
   const std::size_t uploaded = first.back();  // at most point_count (record)
   if (uploaded == 0) return 0;
-  auto* entries = static_cast<uint32_t*>(upload_.mapped);
+  auto* entries = static_cast<uint32_t*>(slot().upload.mapped);
   auto* depths = reinterpret_cast<float*>(entries + uploaded * 4);  // shaders/common.glsl Upload
   const foveation::Rgba* colors = frame.colors->rgba.data();
   const bool has_depth = frame.point_depth_m != nullptr && frame.point_depth_m->size() == point_count;
@@ -71,15 +71,17 @@ void clear_slots(VkCommandBuffer cb, VkBuffer colors, VkBuffer point_depth) {
 // Stages 1-3 on the device, resolved into the slots (a device-traced frame; else nothing but the first timestamp).
 bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* error) {
   stamp(cb, 0);
+  Slot& s = slot();
   if (frame.device != nullptr) {
-    clear_slots(cb, colors_.buffer, point_depth_.buffer);
-    if (device_trace_ == nullptr) {
+    clear_slots(cb, s.colors.buffer, s.point_depth.buffer);
+    if (s.device_trace == nullptr) {
       const DeviceTracePipelines* pipelines = pipelines_.device_trace(error);
       if (pipelines == nullptr) return false;
-      device_trace_ = std::make_unique<DeviceTrace>(context_, *pipelines);
+      s.device_trace = std::make_unique<DeviceTrace>(context_, *pipelines);
     }
-    if (!device_trace_->record(cb, *frame.device, colors_.buffer, point_depth_.buffer, error)) return false;
-    host_written_ += device_trace_->host_bytes_written();
+    const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer};
+    if (!s.device_trace->record(cb, *frame.device, targets, error)) return false;
+    host_written_ += s.device_trace->host_bytes_written();
   }
   stamp(cb, 1);
   return true;
@@ -89,7 +91,7 @@ bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* e
 void Eye::record_scatter(VkCommandBuffer cb, const EyeFrame& frame, std::size_t uploaded) {
   bind_set(cb);
   if (frame.device == nullptr) {
-    clear_slots(cb, colors_.buffer, point_depth_.buffer);
+    clear_slots(cb, slot().colors.buffer, slot().point_depth.buffer);
     if (uploaded > 0) {
       vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.scatter());
       const ScatterPush push{uint32_t(uploaded), uint32_t(frame.tables->view_tables().points.size())};

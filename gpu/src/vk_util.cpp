@@ -93,6 +93,24 @@ void write_storage_descriptors(VkDevice device, VkDescriptorSet set, const VkDes
   vkUpdateDescriptorSets(device, binding_count, writes.data(), 0, nullptr);
 }
 
+bool allocate_storage_sets(VkDevice device, const VkDescriptorSetLayout* layouts, uint32_t set_count,
+                           uint32_t storage_buffers, VkDescriptorPool* pool, VkDescriptorSet* sets, std::string* error) {
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, storage_buffers};
+  auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
+  pool_info.maxSets = set_count;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &size;
+  VkResult r = vkCreateDescriptorPool(device, &pool_info, nullptr, pool);
+  if (r != VK_SUCCESS) return *error = vk_error("vkCreateDescriptorPool", r), false;
+  auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
+  alloc.descriptorPool = *pool;
+  alloc.descriptorSetCount = set_count;
+  alloc.pSetLayouts = layouts;
+  r = vkAllocateDescriptorSets(device, &alloc, sets);
+  if (r != VK_SUCCESS) return *error = vk_error("vkAllocateDescriptorSets", r), false;
+  return true;
+}
+
 bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
                              VkPipeline* pipeline, std::string* error) {
   auto module_info = vk_struct<VkShaderModuleCreateInfo>(VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO);
@@ -115,7 +133,9 @@ bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uin
 
 void record_copy_to_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, uint32_t width_px, uint32_t height_px) {
   auto to_transfer = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
-  to_transfer.srcAccessMask = 0;
+  // After the image's last writes (an earlier frame's copy and layout change, the
+  // runtime's read), which may still be in flight: they end at this stage.
+  to_transfer.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
   to_transfer.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   to_transfer.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;  // every texel is overwritten
   to_transfer.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
@@ -123,8 +143,8 @@ void record_copy_to_image(VkCommandBuffer cb, VkBuffer buffer, VkImage image, ui
   to_transfer.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   to_transfer.image = image;
   to_transfer.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                       nullptr, 1, &to_transfer);
+  vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &to_transfer);
   VkBufferImageCopy copy{};
   copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   copy.imageExtent = {width_px, height_px, 1};

@@ -127,32 +127,46 @@ bool EyeSwapchain::upload(std::string* error) {
       error);
 }
 
-bool EyeSwapchain::present(const RecordFn& record, std::string* error) {
+bool EyeSwapchain::acquire(VkImage* image, std::string* error) {
   uint32_t index = 0;
   auto acquire = xr_struct<XrSwapchainImageAcquireInfo>(XR_TYPE_SWAPCHAIN_IMAGE_ACQUIRE_INFO);
   XrResult r = next_->AcquireSwapchainImage(swapchain_, &acquire, &index);
   if (XR_FAILED(r) || index >= images_.size()) return *error = xr_error("xrAcquireSwapchainImage", r), false;
-  auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
   auto wait = xr_struct<XrSwapchainImageWaitInfo>(XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO);
   wait.timeout = XR_INFINITE_DURATION;
   r = next_->WaitSwapchainImage(swapchain_, &wait);
   if (XR_FAILED(r)) {
     *error = xr_error("xrWaitSwapchainImage", r);
-    next_->ReleaseSwapchainImage(swapchain_, &release);
+    std::string ignored;
+    (void)release(&ignored);
     return false;
   }
+  *image = images_[index];
+  return true;
+}
 
+bool EyeSwapchain::release(std::string* error) {
+  auto release = xr_struct<XrSwapchainImageReleaseInfo>(XR_TYPE_SWAPCHAIN_IMAGE_RELEASE_INFO);
+  const XrResult r = next_->ReleaseSwapchainImage(swapchain_, &release);
+  if (XR_FAILED(r)) return *error = xr_error("xrReleaseSwapchainImage", r), false;
+  return true;
+}
+
+bool EyeSwapchain::present(const RecordFn& record, std::string* error) {
+  VkImage image = VK_NULL_HANDLE;
+  if (!acquire(&image, error)) return false;
+  std::string ignored;
   VkResult vr = vkResetCommandBuffer(command_buffer_, 0);
   auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   if (vr == VK_SUCCESS) vr = vkBeginCommandBuffer(command_buffer_, &begin);
   bool recorded = false;
   if (vr == VK_SUCCESS) {
-    recorded = record(command_buffer_, images_[index], error);
+    recorded = record(command_buffer_, image, error);
     vr = vkEndCommandBuffer(command_buffer_);
   }
   if (!recorded && vr == VK_SUCCESS) {  // nothing submitted: the image goes back as it was
-    next_->ReleaseSwapchainImage(swapchain_, &release);
+    (void)release(&ignored);
     return false;
   }
   if (vr == VK_SUCCESS) vr = vkResetFences(device_, 1, &fence_);
@@ -163,10 +177,9 @@ bool EyeSwapchain::present(const RecordFn& record, std::string* error) {
     vr = vkQueueSubmit(queue_, 1, &submit, fence_);
   }
   if (vr == VK_SUCCESS) vr = vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX);
-  r = next_->ReleaseSwapchainImage(swapchain_, &release);
+  const bool released = release(vr == VK_SUCCESS ? error : &ignored);
   if (vr != VK_SUCCESS) return *error = vk_error("frame commands", vr), false;
-  if (XR_FAILED(r)) return *error = xr_error("xrReleaseSwapchainImage", r), false;
-  return true;
+  return released;
 }
 
 }  // namespace foveart::layer

@@ -1,14 +1,17 @@
 // A swapchain the layer owns for one eye, created through the runtime on the
 // app's Vulkan device, and the two ways a frame gets into it: the CPU path's
 // upload from a host-visible staging buffer, or the GPU path's commands
-// (gpu/eye.hpp) recorded into the swapchain's command buffer.
+// (gpu/eye.hpp) recorded into the frame's command buffer (frame_submission.hpp).
 //
-// Sync: each frame acquires and waits for an image (xrAcquire/xrWait), records
-// its commands (ending with UNDEFINED -> TRANSFER_DST, a buffer-to-image copy
-// and TRANSFER_DST -> COLOR_ATTACHMENT_OPTIMAL, the layout OpenXR requires at
-// release), submits on the app's queue with a fence, waits for the fence and
-// releases the image, all inside xrEndFrame where the app may not use the
-// queue (OpenXR spec 10.1).
+// Sync: each frame acquires and waits for an image (xrAcquire/xrWait) and
+// records its commands (ending with UNDEFINED -> TRANSFER_DST, a
+// buffer-to-image copy and TRANSFER_DST -> COLOR_ATTACHMENT_OPTIMAL, the
+// layout OpenXR requires at release). The CPU path's upload submits on the
+// app's queue with this swapchain's fence, waits and releases; the GPU path
+// releases the image after the frame's one submission, without waiting: the
+// runtime orders its use of the image after that submission on the same queue
+// (OpenXR 10.1: work submitted before release). All inside xrEndFrame, where
+// the app may not use the queue.
 #pragma once
 
 #include <cstdint>
@@ -44,8 +47,14 @@ class EyeSwapchain {
   // (the image is released either way when it was acquired).
   [[nodiscard]] bool upload(std::string* error);
 
+  // Acquires the next image and waits for it: *image; false with *error (nothing held then).
+  [[nodiscard]] bool acquire(VkImage* image, std::string* error);
+  // Releases the image acquire() gave; false with *error.
+  [[nodiscard]] bool release(std::string* error);
+
   // Acquires the next image, records `record(cb, image)` (which must leave the
-  // image in COLOR_ATTACHMENT_OPTIMAL), submits, waits and releases.
+  // image in COLOR_ATTACHMENT_OPTIMAL) into this swapchain's command buffer,
+  // submits, waits and releases.
   using RecordFn = std::function<bool(VkCommandBuffer cb, VkImage image, std::string* error)>;
   [[nodiscard]] bool present(const RecordFn& record, std::string* error);
 

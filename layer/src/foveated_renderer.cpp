@@ -2,7 +2,11 @@
 // frame of foveation/ (foveation::FoveatedView) per eye, RGBA8 into the
 // layer's swapchain, the rewritten subImage out. Gaze comes from the
 // renderer's gaze source; tables are built in the background per view size.
+// On the GPU path both eyes of a frame are recorded into one command buffer of
+// the frame's slot and submitted once; their status and timestamps are read
+// when the slot comes round again (frame_submission.hpp, docs/gpu.md).
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +22,7 @@
 #include <tuple>
 
 #include "eye_swapchain.hpp"
+#include "frame_submission.hpp"
 #include "foveation/cache_dir.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
@@ -105,10 +110,17 @@ struct FoveatedRenderer::Frames {
         present;
   };
   struct Eye {
-    std::unique_ptr<EyeSwapchain> swapchain;
+    std::shared_ptr<EyeSwapchain> swapchain;
     std::unique_ptr<foveation::FoveatedView> view;
     std::shared_ptr<gpu::Tables> gpu_tables;  // GPU path: the view's tables on the device
-    std::unique_ptr<gpu::Eye> gpu_eye;      // GPU path: this eye's buffers and stages
+    std::shared_ptr<gpu::Eye> gpu_eye;      // GPU path: this eye's buffers and stages
+    // GPU path: gpu_eye's shown image holds a good frame (the host read its
+    // status). Until then a device-traced frame is waited for in xrEndFrame.
+    bool shown_good = false;
+    bool image_acquired = false;  // this frame's swapchain image, released after the submission
+    // The last finished GPU frame's stage times and device-trace status (an older frame).
+    std::optional<gpu::StageTimes> times;
+    std::optional<gpu::DeviceTraceStatus> status;
     bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
     std::optional<EyePath> path;  // chosen at the eye's first frame (choose_path)
     bool failed = false;  // swapchain creation failed: this eye falls back for good
@@ -155,11 +167,23 @@ struct FoveatedRenderer::Frames {
   void choose_reconstruction();
   std::shared_ptr<gpu::Tables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
+  // Records eye e's frame into the frame slot's command buffer, its swapchain image acquired.
   bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                      const gpu::DeviceTraceFrame* device, XrFoveatedRendererStatsFOVEART* stats, std::string* error);
-  // After a device-traced frame was presented or refused: what the engine
-  // (`engine`, its last result) and the resolve said; false (counted, logged once) when the view falls back.
-  bool device_trace_ok(uint32_t e, bool presented, XrResult engine, XrFoveatedRendererStatsFOVEART* stats);
+                      const gpu::DeviceTraceFrame* device, std::string* error);
+  // A device trace that returned an error while recording: counted, logged once; the view falls back.
+  void device_trace_failed(uint32_t e, XrResult engine, XrFoveatedRendererStatsFOVEART* stats);
+  // What a finished device-traced frame's resolve found: false (counted, logged once) when it faulted.
+  bool device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status, XrFoveatedRendererStatsFOVEART* stats);
+  // The slot's last submission (kFrameSlots frames ago): waited for, its eyes'
+  // status and stage times read and applied; `faulted`: the eyes whose trace faulted.
+  void collect(uint32_t slot, XrFoveatedRendererStatsFOVEART* stats, std::array<bool, 2>* faulted = nullptr);
+  // The eye's last collected GPU times and status into this frame's stats.
+  void apply_collected(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
+  // After the eyes: the slot's one submission, the images released, and the
+  // device-traced eyes without a good shown image waited for; the views that
+  // fall back after all get the app's sub-image back. Returns how many.
+  uint32_t finish_gpu_frame(uint32_t slot, XrCompositionLayerProjectionView* views,
+                            const XrSwapchainSubImage* app_sub_images, XrFoveatedRendererStatsFOVEART* stats);
   // One eye's frame, in the steps below: false when the view shows the app's own image.
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
@@ -201,10 +225,21 @@ struct FoveatedRenderer::Frames {
   std::unique_ptr<gpu::Reconstructor> reconstructor;  // null: the CPU reconstructs
   std::vector<std::shared_ptr<gpu::Tables>> gpu_tables;  // uploaded table sets, shared by the eyes
   Eye eyes[2];  // after reconstructor: destroyed before it
+  // What a slot's submission uses, kept alive until it finished, and what is read after it.
+  struct InFlightEye {
+    std::shared_ptr<gpu::Eye> gpu_eye;
+    std::shared_ptr<gpu::Tables> tables;
+    std::shared_ptr<EyeSwapchain> swapchain;
+    bool recorded = false;      // recorded in full: its status and times are read
+    bool device_trace = false;  // its status says whether the trace faulted
+    bool shown = false;         // shown when submitted (pipelined): a fault is a fallback counted later
+  };
+  std::array<std::array<std::optional<InFlightEye>, 2>, gpu::kFrameSlots> in_flight;
+  std::unique_ptr<FrameSubmission> submission;  // with the reconstructor; destroyed first: waits for the slots
   uint64_t frame_index = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
-      behind_once, rect_once, failed_once, gpu_once, device_once, device_rays_once;
+      behind_once, rect_once, failed_once, gpu_once, device_once, device_rays_once, submit_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
@@ -234,8 +269,12 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
   reconstruction.gaze_saccade_last_frame = frame_gaze.valid && frame_gaze.saccade;
   reconstruction.gaze_blink_last_frame = frame_gaze.valid && frame_gaze.blink;
 
+  const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
+  collect(slot, stats);
   uint32_t rewritten = 0;
   const uint32_t eye_count = std::min<uint32_t>(layer.viewCount, 2);
+  XrSwapchainSubImage app_sub_images[2] = {};
+  for (uint32_t e = 0; e < eye_count; ++e) app_sub_images[e] = views[e].subImage;
   for (uint32_t e = 0; e < eye_count; ++e) {
     if (e >= rect_valid.size() || !rect_valid[e]) {
       // The runtime judges the app's rect; the layer neither traces nor rewrites it.
@@ -253,6 +292,7 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
     if (render_eye(e, frame_gaze, views[e], stats)) ++rewritten;
     else ++stats->framesFallback;
   }
+  rewritten -= finish_gpu_frame(slot, views, app_sub_images, stats);
   stats->framesFallback += layer.viewCount - eye_count;  // views beyond two stay the app's
   if (rewritten > 0) ++stats->framesTraced;
   return rewritten;
@@ -379,6 +419,8 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
                 session->vk_queue_index},
       &why);
   const auto& properties = device;
+  if (reconstructor != nullptr) submission = FrameSubmission::create(*session, &why);
+  if (submission == nullptr) reconstructor = nullptr;  // no command buffers for its frames
   if (reconstructor != nullptr) {
     log(LogLevel::Info, "foveated renderer: reconstruction on the GPU (", properties.deviceName, ", config \"",
         settings.reconstruction, "\")");
@@ -408,9 +450,7 @@ std::shared_ptr<gpu::Tables> FoveatedRenderer::Frames::gpu_tables_for(
 
 bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
                                               const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              const gpu::DeviceTraceFrame* device,
-                                              XrFoveatedRendererStatsFOVEART* stats,
-                                              std::string* error) {
+                                              const gpu::DeviceTraceFrame* device, std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
   if (eye.gpu_tables == nullptr || &eye.gpu_tables->view_tables() != view_tables.get()) {
@@ -419,59 +459,129 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     if (eye.gpu_tables == nullptr) return false;
   }
   if (eye.gpu_eye == nullptr || eye.gpu_eye->width_px() != w || eye.gpu_eye->height_px() != h) {
-    eye.gpu_eye = nullptr;
+    eye.gpu_eye = nullptr;  // a frame in flight keeps the old one (in_flight)
     eye.gpu_eye = reconstructor->create_eye(w, h, error);
+    eye.shown_good = false;
     if (eye.gpu_eye == nullptr) return false;
   }
+  const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
   gpu::EyeFrame frame = gpu::EyeFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
   frame.display = display;
   frame.device = device;
-  const bool ok = eye.swapchain->present(
-      [&](VkCommandBuffer cb, VkImage image, std::string* record_error) {
-        return eye.gpu_eye->record(cb, frame, image, executor, record_error);
-      },
-      error);
-  if (!ok) return false;
-  gpu::StageTimes times;
-  if (eye.gpu_eye->stage_times(&times)) {
-    reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
-    reconstruction.gpu_gather_ms[e] = times.gather_ms;
-    reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
-    reconstruction.gpu_encode_ms[e] = times.encode_ms;
-    if (device != nullptr) stats->traceMs[e] = times.trace_ms;  // the trace ran on the device: its own slot
-    stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
-    stats->temporalMs[e] = times.temporal_ms;
-  }
-  return true;
+  frame.slot = slot;
+  // The render cache reads its kept count back from the frame before.
+  if (gpu::Eye::needs_previous_frame(frame) && !submission->wait_all(error)) return false;
+  const VkCommandBuffer cb = submission->begin(slot, error);
+  VkImage image = VK_NULL_HANDLE;
+  if (cb == VK_NULL_HANDLE || !eye.swapchain->acquire(&image, error)) return false;
+  eye.image_acquired = true;
+  auto& flight = in_flight[slot][e];
+  flight = InFlightEye{eye.gpu_eye, eye.gpu_tables, eye.swapchain, false, device != nullptr,
+                       device == nullptr || eye.shown_good};
+  flight->recorded = eye.gpu_eye->record(cb, frame, image, executor, error);
+  return flight->recorded;
 }
 
-bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, bool presented, XrResult engine,
-                                               XrFoveatedRendererStatsFOVEART* stats) {
-  Eye& eye = eyes[e];
-  if (!presented) {
-    if (XR_SUCCEEDED(engine)) return true;  // not the engine's failure: the GPU path's
-    ++stats->callbackFailures;
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
-    if (callback_once.first()) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": the device trace returned ", engine,
-          "; showing the app's own image for this view (logged once, counted in stats)");
-    }
-    eye.view->forget_history();
-    return false;
+void FoveatedRenderer::Frames::device_trace_failed(uint32_t e, XrResult engine, XrFoveatedRendererStatsFOVEART* stats) {
+  ++stats->callbackFailures;
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
+  if (callback_once.first()) {
+    log(LogLevel::Error, "foveated renderer: eye ", e, ": the device trace returned ", engine,
+        "; showing the app's own image for this view (logged once, counted in stats)");
   }
-  const gpu::DeviceTraceStatus status = eye.gpu_eye->device_trace_status();
-  stats->pointsPerEye[e] = status.visible_points;
-  stats->raysPerEye[e] = status.visible_points * settings.rays_per_point;
+  eyes[e].view->forget_history();
+}
+
+bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status,
+                                               XrFoveatedRendererStatsFOVEART* stats) {
   if (status.invalid_components == 0) return true;
   stats->invalidColours += status.invalid_components;
   stats->fallbackFlags |= XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART;
   if (colour_once.first()) {
     log(LogLevel::Error, "foveated renderer: eye ", e, ": the device trace wrote ", status.invalid_components,
-        " NaN/Inf/negative colour components (or left rays unwritten); showing the app's own image for this view "
-        "(logged once, counted in stats)");
+        " NaN/Inf/negative colour components (or left rays unwritten); that frame kept the view's last good image "
+        "(the app's own before the first) (logged once, counted in stats)");
   }
-  eye.view->forget_history();
+  if (eyes[e].view != nullptr) eyes[e].view->forget_history();
   return false;
+}
+
+void FoveatedRenderer::Frames::collect(uint32_t slot, XrFoveatedRendererStatsFOVEART* stats,
+                                       std::array<bool, 2>* faulted) {
+  if (submission == nullptr) return;
+  std::string error;
+  if (!submission->wait(slot, &error) && submit_once.first())
+    log(LogLevel::Error, "foveated renderer: ", error, " (logged once)");
+  for (uint32_t e = 0; e < 2; ++e) {
+    std::optional<InFlightEye> flight = std::move(in_flight[slot][e]);
+    in_flight[slot][e].reset();
+    if (!flight || !flight->recorded) continue;
+    Eye& eye = eyes[e];
+    const bool same_eye = flight->gpu_eye == eye.gpu_eye;
+    gpu::StageTimes times;
+    if (flight->gpu_eye->stage_times(slot, &times)) eye.times = times;
+    bool good = true;
+    if (flight->device_trace) {
+      eye.status = flight->gpu_eye->device_trace_status(slot);
+      good = device_trace_ok(e, *eye.status, stats);
+    }
+    if (good && same_eye) eye.shown_good = true;
+    if (!good && flight->shown) ++stats->framesFallback;  // shown as its last good image, counted now
+    if (!good && !flight->shown && faulted != nullptr) (*faulted)[e] = true;
+    apply_collected(e, stats);
+  }
+}
+
+void FoveatedRenderer::Frames::apply_collected(uint32_t e, XrFoveatedRendererStatsFOVEART* stats) {
+  const Eye& eye = eyes[e];
+  if (eye.status) {
+    stats->pointsPerEye[e] = eye.status->visible_points;
+    stats->raysPerEye[e] = eye.status->visible_points * settings.rays_per_point;
+  }
+  if (!eye.times) return;
+  const gpu::StageTimes& times = *eye.times;
+  reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
+  reconstruction.gpu_gather_ms[e] = times.gather_ms;
+  reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
+  reconstruction.gpu_encode_ms[e] = times.encode_ms;
+  if (eye.status) stats->traceMs[e] = times.trace_ms;  // the trace ran on the device: its own slot
+  stats->reconstructMs[e] = times.scatter_ms + times.gather_ms;
+  stats->temporalMs[e] = times.temporal_ms;
+}
+
+uint32_t FoveatedRenderer::Frames::finish_gpu_frame(uint32_t slot, XrCompositionLayerProjectionView* views,
+                                                    const XrSwapchainSubImage* app_sub_images,
+                                                    XrFoveatedRendererStatsFOVEART* stats) {
+  if (submission == nullptr || !submission->begun(slot)) return 0;
+  std::string error;
+  const bool submitted = submission->submit(slot, &error);
+  for (Eye& eye : eyes) {
+    std::string release_error;
+    if (eye.image_acquired && !eye.swapchain->release(&release_error) && submit_once.first())
+      log(LogLevel::Error, "foveated renderer: ", release_error, " (logged once)");
+    eye.image_acquired = false;
+  }
+  std::array<bool, 2> back{};  // the views that show the app's image after all
+  if (!submitted) {
+    if (submit_once.first()) log(LogLevel::Error, "foveated renderer: ", error, "; these views show the app's image");
+    for (uint32_t e = 0; e < 2; ++e) back[e] = in_flight[slot][e] && in_flight[slot][e]->recorded;
+    in_flight[slot] = {};
+  }
+  bool warm_up = false;  // a device-traced eye without a good shown image: waited for now
+  for (const auto& flight : in_flight[slot]) warm_up = warm_up || (flight && flight->recorded && !flight->shown);
+  if (warm_up) {
+    std::array<bool, 2> faulted{};
+    collect(slot, stats, &faulted);
+    for (uint32_t e = 0; e < 2; ++e) back[e] = back[e] || faulted[e];
+  }
+  uint32_t fell_back = 0;
+  for (uint32_t e = 0; e < 2; ++e) {
+    if (!back[e]) continue;
+    views[e].subImage = app_sub_images[e];
+    ++stats->framesFallback;
+    ++fell_back;
+  }
+  return fell_back;
 }
 
 bool FoveatedRenderer::Frames::ensure_swapchain(uint32_t e, uint32_t w, uint32_t h,
@@ -623,13 +733,17 @@ bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameReq
     device.pixel_filter = eye.view->settings().pixel_filter;
   }
   std::string error;
-  const bool presented = present_on_gpu(e, view_tables, device_trace ? &device : nullptr, stats, &error);
+  const bool recorded = present_on_gpu(e, view_tables, device_trace ? &device : nullptr, &error);
   stats->uploadMs[e] = ms_since(t0);
-  if (device_trace && !device_trace_ok(e, presented, engine, stats)) return false;
-  if (!presented) {  // this frame shows the app's image; the CPU reconstructs from the next one
+  apply_collected(e, stats);  // the GPU's times of an earlier frame of this eye
+  if (!recorded && XR_FAILED(engine)) {  // the engine's failure, not the GPU path's
+    device_trace_failed(e, engine, stats);
+    return false;
+  }
+  if (!recorded) {  // this frame shows the app's image; the CPU reconstructs from the next one
     eye.gpu_failed = true;
     eye.path.reset();  // chosen again at the next frame: the CPU's
-    eye.gpu_eye = nullptr;
+    eye.gpu_eye = nullptr;  // kept by the frame in flight until it finished
     eye.gpu_tables = nullptr;
     ++reconstruction.gpu_fallbacks;
     if (gpu_once.first()) {

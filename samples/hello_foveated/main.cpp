@@ -5,8 +5,8 @@
 //                  [--density-scale S] [--rays-per-point N] [--temporal off|image|rays|config]
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
-//                  [--fault nan|error|throw|nothing] [--json] [--app-actions] [--no-explicit-layer]
-//                  [--count-work]
+//                  [--fault nan|error|throw|nothing] [--fault-from-frame N] [--json] [--app-actions]
+//                  [--no-explicit-layer] [--count-work]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
 // --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
@@ -20,6 +20,8 @@
 // trace, then NaN over the first ray's colour), error (XR_ERROR_RUNTIME_FAILURE),
 // nothing (records no commands: every colour stays unwritten). "throw" is
 // CPU-only: a device trace must never throw across its C call.
+// --fault-from-frame N (gpu): the device trace misbehaves from the layer's
+// frame N on (the batch's frameIndex, from 1), tracing right before it.
 // --json prints, besides the layer's stats: "engine" (cpu | gpu) and "engine_rays"
 // {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
 // rays each engine traced for the layer during the session (the CPU engine's
@@ -111,11 +113,13 @@ int32_t faulty_trace_rays(void* user_data, const FoveartRayBatch* batch) {
 struct FaultyDeviceEngine {
   foveart::gpu_engine::GpuTracer* tracer = nullptr;
   std::string fault;  // "nan" | "error" | "nothing"
+  uint64_t from_frame = 0;  // the first frameIndex that faults
 };
 
 XrResult faulty_trace_rays_device(void* user_data, const XrFoveatedDeviceRayBatchFOVEART* batch) noexcept {
   auto* engine = static_cast<FaultyDeviceEngine*>(user_data);
   if (engine == nullptr || batch == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+  if (batch->frameIndex < engine->from_frame) return foveart_gpu_engine_trace_rays_device(engine->tracer, batch);
   if (engine->fault == "error") return XR_ERROR_RUNTIME_FAILURE;
   if (engine->fault == "nothing") return XR_SUCCESS;  // the layer's NaN fill stays: every ray unwritten
   const XrResult r = foveart_gpu_engine_trace_rays_device(engine->tracer, batch);
@@ -356,6 +360,7 @@ struct Args {
   std::string tone_map = "config";
   std::string fault;
   bool count_work = false;
+  uint64_t fault_from_frame = 0;
   foveart::hello::AppOptions options;  // the settings given as they are
 
   bool gpu_engine() const { return engine_name == "gpu"; }
@@ -426,6 +431,8 @@ void add_app_options(CLI::App& cli, Args& a) {
   cli.add_flag("--count-work", a.count_work,
                "benchmark aid, --engine gpu: the GPU engine counts the BVH nodes and triangles its traversal "
                "visits (gpu_engine.work in the JSON; the compute backend only; slows the trace)");
+  cli.add_option("--fault-from-frame", a.fault_from_frame,
+                 "with --fault and --engine gpu: the device trace misbehaves from the layer's frame N on (from 1)");
 }
 
 // Why the options do not go together; "" when they do.
@@ -437,6 +444,8 @@ std::string conflicting_options(const Args& a) {
     return "--fault throw is for --engine cpu only (a device trace must never throw)";
   if (a.fault == "nothing" && !a.gpu_engine()) return "--fault nothing is for --engine gpu only";
   if (a.count_work && !a.gpu_engine()) return "--count-work is for --engine gpu only";
+  if (a.fault_from_frame != 0 && (a.fault.empty() || !a.gpu_engine()))
+    return "--fault-from-frame is for --fault with --engine gpu only";
   return "";
 }
 
@@ -547,7 +556,8 @@ class Sessions {
   std::optional<nlohmann::json> run(bool full, std::string* error) {
     foveart::hello::AppOptions session = options_;
     tracer_->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
-    GpuSession gpu{nullptr, std::nullopt, std::nullopt, "", FaultyDeviceEngine{nullptr, args_.fault}};
+    GpuSession gpu{nullptr, std::nullopt, std::nullopt, "",
+                   FaultyDeviceEngine{nullptr, args_.fault, args_.fault_from_frame}};
     if (args_.gpu_engine()) add_gpu_engine(session, full, gpu);
     foveart::hello::FullFrameTimes full_times;
     if (full) add_full_renderer(session, gpu, full_times);

@@ -238,10 +238,8 @@ class DeviceTraceTest : public ::testing::Test {
     }
   }
 
-  // One device-traced frame of `view` through the test engine; false when the submission was refused.
-  bool device_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, std::string* error) {
-    foveation::Executor executor(2);
-    EXPECT_TRUE(view.plan(req, executor).ok());
+  // The device trace of `view`'s planned frame `req` through the test engine.
+  DeviceTraceFrame device_of(const foveation::FoveatedView& view, const foveation::FrameRequest& req) {
     DeviceTraceFrame device;
     device.engine = [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); };
     device.points = &tables_->points;
@@ -251,10 +249,41 @@ class DeviceTraceTest : public ::testing::Test {
     device.sample_seed = view.hand_off().sample_seed;
     device.rays_per_point = uint32_t(view.settings().rays_per_point);
     device.pixel_filter = view.settings().pixel_filter;
+    return device;
+  }
+
+  // One device-traced frame of `view` through the test engine; false when the submission was refused.
+  bool device_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, std::string* error) {
+    foveation::Executor executor(2);
+    EXPECT_TRUE(view.plan(req, executor).ok());
+    const DeviceTraceFrame device = device_of(view, req);
     EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
     frame.device = &device;
     return gpu_->submit_and_wait(
         [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
+  }
+
+  // Device-traced frames first_index, first_index + 1, ... recorded one after the
+  // other into one submission, as the layer does with frames in flight: frame i
+  // into slot slots[i], the engine filling every colour word with fill_bits[i].
+  bool frames_in_one_submission(foveation::FoveatedView& view, uint64_t first_index, std::vector<uint32_t> slots,
+                                std::vector<uint32_t> fill_bits, std::string* error) {
+    foveation::Executor executor(2);
+    return gpu_->submit_and_wait(
+        [&](VkCommandBuffer cb) {
+          for (std::size_t i = 0; i < slots.size(); ++i) {
+            const foveation::FrameRequest req = request(glm::vec2(48, 40), first_index + i);
+            if (!view.plan(req, executor).ok()) return false;
+            engine_.fill_bits = fill_bits[i];
+            const DeviceTraceFrame device = device_of(view, req);
+            EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
+            frame.device = &device;
+            frame.slot = slots[i];
+            if (!eye_->record(cb, frame, VK_NULL_HANDLE, executor, error)) return false;
+          }
+          return true;
+        },
+        error);
   }
 
   // The same frame with the colours coming from the CPU callback.
@@ -454,6 +483,34 @@ TEST_F(DeviceTraceTest, EngineFaultsAreFoundAndCounted) {
   engine_.answer = TestEngine::Answer::nothing;
   ASSERT_TRUE(device_frame(view, request(glm::vec2(48, 40), 4), &error)) << error;
   EXPECT_EQ(eye_->device_trace_status().invalid_components, components);
+}
+
+// Two frames in flight, each in its own slot of the eye, recorded into one
+// submission: each slot keeps its own status, and a frame whose colours are
+// NaN (found by the resolve) leaves the shown image as the last good frame
+// wrote it, decided on the device; the good frames' image is grey, the NaN
+// frame's would be black (NaN encodes as 0).
+TEST_F(DeviceTraceTest, EachSlotKeepsItsStatusAndAFaultKeepsTheShownImage) {
+  foveation::FoveatedView view(tables_, settings_);
+  engine_.answer = TestEngine::Answer::fill;
+  const uint32_t grey = bits_of(0.25f), nan = 0x7FC00000u;
+  std::string error;
+  ASSERT_TRUE(frames_in_one_submission(view, 1, {0}, {grey}, &error)) << error;
+  std::vector<uint8_t> good;
+  ASSERT_TRUE(eye_->read_rgba8(&good, &error)) << error;
+  ASSERT_GT(*std::max_element(good.begin(), good.end()), 0) << "the good frame is not black";
+  for (const bool fault_first : {true, false}) {
+    SCOPED_TRACE(fault_first ? "fault, then a good frame" : "a good frame, then a fault");
+    const std::vector<uint32_t> fills = fault_first ? std::vector{nan, grey} : std::vector{grey, nan};
+    ASSERT_TRUE(frames_in_one_submission(view, 2, {1, 0}, fills, &error)) << error;
+    EXPECT_EQ(eye_->device_trace_status(1).invalid_components > 0, fault_first);
+    EXPECT_EQ(eye_->device_trace_status(0).invalid_components > 0, !fault_first);
+    EXPECT_GT(eye_->device_trace_status(0).visible_points, 0u);
+    EXPECT_EQ(eye_->device_trace_status(0).visible_points, eye_->device_trace_status(1).visible_points);
+    std::vector<uint8_t> shown;
+    ASSERT_TRUE(eye_->read_rgba8(&shown, &error)) << error;
+    EXPECT_TRUE(shown == good) << "the shown image is not the last good frame's";
+  }
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 // those of the CPU engine's callback, reconstructed on the GPU as well, per
 // eccentricity ring around the gaze; under Vulkan synchronization validation it
 // stays silent; a device trace that fails, writes NaN or writes nothing makes
-// the views fall back, counted, and the app exits normally.
+// the views fall back, counted, and the app exits normally; a trace that
+// starts writing NaN after good frames shows the last good image, decided on
+// the device, and is counted when the layer reads the frame's status.
 //
 // The setting. 320x360 eyes (lavapipe traces them in seconds), density
 // scale 4: about 30.8k points per eye, pixel-exact (one point per pixel)
@@ -235,7 +237,10 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 // The device-trace frame path under Vulkan validation with synchronization
 // validation (as HelloFoveatedValidated): no message. Also with --fault nan,
 // whose fill after the engine's dispatch needs its own barrier (without it,
-// synchronization validation reports SYNC-HAZARD-WRITE-AFTER-WRITE).
+// synchronization validation reports SYNC-HAZARD-WRITE-AFTER-WRITE): from the
+// first frame ("nan": every frame waited for, as no good image is shown yet)
+// and from frame 2 on ("late": pipelined frames, the fault kept on the device;
+// frame 2's status is read at frame 4).
 class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
@@ -249,14 +254,22 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   std::vector<std::string> extra{"--no-explicit-layer"};
-  if (fault != "none") extra.insert(extra.end(), {"--fault", fault});
-  const AppRun r = launch("validated", "gpu", gaze, extra);
+  if (fault == "nan") extra.insert(extra.end(), {"--fault", fault});
+  if (fault == "late") extra.insert(extra.end(), {"--fault", "nan", "--fault-from-frame", "2"});
+  constexpr int kLateFrames = 4;
+  const AppRun r = launch("validated", "gpu", gaze, extra, fault == "late" ? kLateFrames : kFrames);
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
   if (fault == "none") {
     ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu"));
+  } else if (fault == "late") {
+    ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+    ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+    EXPECT_EQ(r.stats["frames_traced"], kLateFrames);
+    EXPECT_EQ(r.stats["views_fallback"], 2);
+    EXPECT_GT(r.stats["invalid_colours"].get<int>(), 0);
   } else {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
     ASSERT_TRUE(r.stats.is_object()) << r.process.output;
@@ -273,7 +286,7 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan"));
+INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late"));
 
 // A device trace that fails: every view falls back to the app's grey
 // placeholder, counted, logged once; the app exits 0.
@@ -313,6 +326,42 @@ TEST_P(FailingDeviceTrace, ViewsFallBackCountedAndTheAppExitsNormally) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Faults, FailingDeviceTrace, ::testing::Values("error", "nan", "nothing"));
+
+// A device trace that writes NaN from the layer's frame 4 on, after three good
+// frames. The layer does not wait for those frames (two in flight): the device
+// finds the fault (the resolve's status) and keeps each eye's last good image,
+// so every faulted frame shows exactly frame 3's image (temporal "off", a
+// static head and gaze: the good frames are alike). Shown, the faulted frame
+// would differ: the NaN ray's point spreads NaN through the gather, which the
+// encode writes as black (with the temporal pass and the encode ignoring the
+// status, this test fails on every faulted frame). The host reads frame 4's status when its slot comes
+// round, at frame 6: that frame's two views are counted as fallbacks, and
+// frames 5 and 6 are still in flight when the app reads the stats.
+TEST_F(GpuEngine, AFaultAfterGoodFramesShowsTheLastGoodImage) {
+  constexpr int kRun = 6, kFirstFault = 4;  // the layer's frame indices count from 1
+  const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
+  const AppRun r = launch("late_fault", "gpu", gaze,
+                          {"--fault", "nan", "--fault-from-frame", std::to_string(kFirstFault)}, kRun);
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  EXPECT_EQ(r.stats["frames_traced"], kRun) << "every view shows the layer's image";
+  EXPECT_EQ(r.stats["views_fallback"], 2) << "frame 4's two views, read at frame 6";
+  EXPECT_GT(r.stats["invalid_colours"].get<int>(), 0);
+  EXPECT_EQ(r.stats["callback_failures"], 0);
+  for (const char* eye : {"left", "right"}) {
+    SCOPED_TRACE(eye);
+    const Rgb8 good = load_rgb(frame(r, kFirstFault - 2, eye));  // capture indices count from 0
+    ASSERT_EQ(good.width, kWidth);
+    const auto [lo, hi] = std::minmax_element(good.rgb.begin(), good.rgb.end());
+    EXPECT_GT(*hi - *lo, 16) << "a traced image, not the app's grey placeholder";
+    EXPECT_EQ(load_rgb(frame(r, 0, eye)).rgb, good.rgb) << "the good frames are alike";
+    for (int f = kFirstFault - 1; f < kRun; ++f) {
+      const Rgb8 shown = load_rgb(frame(r, f, eye));
+      ASSERT_EQ(shown.rgb.size(), good.rgb.size()) << "frame " << f;
+      EXPECT_TRUE(shown.rgb == good.rgb) << "faulted frame " << f << " is not the last good image";
+    }
+  }
+}
 
 // Bad arguments: a clear message and a non-zero exit, before any session.
 TEST_F(GpuEngine, FaultsOfTheOtherEngineAreRejected) {

@@ -2,7 +2,7 @@
 // what the stages need to know of it (memory types, limits, timestamps), the
 // buffers they make on it, and a one-time submission for uploads, tests and
 // benchmarks. Frames are recorded into a command buffer of the caller's (the
-// layer's swapchain), not through this.
+// layer's frame slot), not through this.
 //
 // Threads: used from one thread at a time (the layer's frame lock). Nothing
 // here throws; failures return false with a message.

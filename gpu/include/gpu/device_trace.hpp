@@ -5,13 +5,17 @@
 // from the gaze offset and the view (push constants) in the point set's order,
 // the engine records its trace of them into the frame's command buffer, and
 // shaders/device_resolve.comp averages each point's rays into the slots the
-// gather reads. No ray or colour crosses to the host: per frame the host
-// reads back only the resolve's status (two words).
+// gather reads. No ray or colour crosses to the host: the resolve's status
+// (two words, in the eye's frame slot) is read on the device by the frame's
+// encode, which keeps the eye's last good image on a fault, and by the host
+// frames later.
 //
-// Threads: as Eye (one thread at a time); each frame's submission has
-// finished before the next record (the layer waits in xrEndFrame): one frame
-// in flight, since the rays, colours, control and status buffers are single.
-// Nothing here throws.
+// Frames in flight (gpu/frame_slots.hpp): a DeviceTrace is one frame slot's
+// set of buffers (rays, point index, colours, control, blocks, the point set
+// and its staging copy) and descriptor sets; gpu::Eye keeps one per slot, so
+// it is recorded again only after that slot's previous submission finished.
+//
+// Threads: as Eye (one thread at a time). Nothing here throws.
 #pragma once
 
 #include <cstdint>
@@ -74,6 +78,14 @@ struct DeviceTraceStatus {
   std::uint32_t visible_points = 0;
 };
 
+// The frame slot's buffers the resolve writes: every point's colour and depth
+// (cleared by the caller), and the status (FOVEART_DEVICE_STATUS_WORDS words,
+// cleared by the caller), which the frame's encode reads on the device.
+struct DeviceTraceTargets {
+  VkBuffer colors = VK_NULL_HANDLE, point_depth = VK_NULL_HANDLE, status = VK_NULL_HANDLE;
+  bool operator==(const DeviceTraceTargets&) const = default;
+};
+
 // The device trace's shaders, shared by the eyes of one device.
 class DeviceTracePipelines {
  public:
@@ -106,20 +118,17 @@ class DeviceTrace {
   DeviceTrace& operator=(const DeviceTrace&) = delete;
 
   // Records the frame's rays, the engine's trace and the resolve into `cb`,
-  // writing every visible point's colour (a = 1) and depth into `colors` and
-  // `point_depth` (cleared by the caller). false with *error when a buffer
-  // cannot be made or the engine's trace fails.
-  [[nodiscard]] bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, VkBuffer colors, VkBuffer point_depth,
-              std::string* error);
+  // writing every visible point's colour (a = 1) and depth, and the status,
+  // into `targets`. false with *error when a buffer cannot be made or the
+  // engine's trace fails (what was recorded stays in `cb`).
+  [[nodiscard]] bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, const DeviceTraceTargets& targets,
+                            std::string* error);
   // Bytes the host wrote for the last record: the point set, once per table set; else 0.
   std::uint64_t host_bytes_written() const { return uploaded_bytes_; }
-  // After the submission finished: what the resolve found (the frame's one
-  // read-back: FOVEART_DEVICE_STATUS_WORDS words).
-  DeviceTraceStatus status() const;
 
  private:
   [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
-  void update_descriptors(VkBuffer colors, VkBuffer point_depth);
+  void update_descriptors(const DeviceTraceTargets& targets);
   // The steps of record: stages 1-2 (the rays), stage 3 (the engine's trace), the colours per point.
   void record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame);
   [[nodiscard]] bool record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error);
@@ -130,13 +139,13 @@ class DeviceTrace {
   VkDevice device_ = VK_NULL_HANDLE;
   const foveation::PointSet* uploaded_points_ = nullptr;
   std::uint32_t ray_capacity_ = 0;
-  BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_, status_;
+  BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_;
   BoundBuffer blocks_;  // per block of points: its visible points, then where they begin (device_rays.comp)
   VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record
   std::uint64_t uploaded_bytes_ = 0;  // the last record's copy of them
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet rays_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;
-  VkBuffer bound_colors_ = VK_NULL_HANDLE, bound_point_depth_ = VK_NULL_HANDLE;
+  DeviceTraceTargets bound_;
   bool descriptors_stale_ = true;
 };
 

@@ -7,10 +7,24 @@
 //
 // Per frame only the traced points' colours (20 bytes each) go to the device
 // (nothing with a device trace). Recording happens on the caller's command
-// buffer; the caller submits it and waits for it before the next record: one
-// frame in flight. The buffers a frame writes (upload, colours, current,
-// encoded; the device trace's and the render cache's) are single: a frame
-// pipeline would need a set of them per frame slot, the history pair aside.
+// buffer, which the caller submits.
+//
+// Frames in flight (gpu/frame_slots.hpp): frame n is recorded into slot
+// EyeFrame::slot = n % kFrameSlots. What a frame writes and the host fills or
+// reads (upload, colours, point depths, the status, timestamps, the device
+// trace's buffers) and the descriptor sets naming them exist once per slot;
+// a slot is recorded again only after its previous submission finished. The
+// image history pair, the gather's output (`current`, which the render cache
+// binds) and the shown image are one per eye: frames run in queue order, and a
+// barrier at the top of each frame's commands orders them after the previous
+// submission. The render cache (ray_cache.hpp) still reads its kept count
+// back: a frame with one needs the previous frame finished before its record.
+//
+// Faults on the device: the status (zeroed per frame; a device trace's
+// resolve counts invalid colours into it) is read by the temporal pass, which
+// then keeps the history as it was, and by the encode, which then leaves the
+// shown image (the last good frame's) as it was; the copy into the swapchain
+// image always copies the shown image. The host reads the status frames later.
 //
 // Threads: one thread at a time (the renderer's frame lock). Nothing here
 // throws; failures return false with a message.
@@ -32,6 +46,7 @@
 #include "gpu/context.hpp"
 #include "gpu/device_trace.hpp"
 #include "gpu/frame_pipelines.hpp"
+#include "gpu/frame_slots.hpp"
 #include "gpu/ray_cache.hpp"
 #include "gpu/tables.hpp"
 
@@ -58,6 +73,7 @@ struct EyeFrame {
   // Set: stages 1-3 run on the device (the engine's device trace); colors,
   // point_depth_m and traced are then not read.
   const DeviceTraceFrame* device = nullptr;
+  std::uint32_t slot = 0;  // the frame slot, < kFrameSlots: frame n's is n % kFrameSlots
 
   // A frame's hand-off (FoveatedView::hand_off after render() with
   // reconstruct_on_cpu = false), on `tables`: the traced points and the
@@ -65,7 +81,7 @@ struct EyeFrame {
   static EyeFrame of(const Tables& tables, const foveation::FrameHandOff& frame, bool srgb);
 };
 
-// GPU time of each stage of the last frame (timestamps), milliseconds.
+// GPU time of each stage of a frame (timestamps), milliseconds.
 struct StageTimes {
   static constexpr uint32_t kTimestamps = 6;  // start, traced, scattered, gathered, accumulated, encoded
   float trace_ms = 0;     // a device-traced frame's rays, the engine's trace and the resolve (else 0)
@@ -85,18 +101,25 @@ class Eye {
   Eye(const Eye&) = delete;
   Eye& operator=(const Eye&) = delete;
 
-  // Writes the traced colours into the upload buffer and records the frame
-  // into `cb`: (the device trace,) scatter, gather, temporal blend (or the render cache), encode, and (image != null)
-  // the copy into `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
+  // Writes the traced colours into the slot's upload buffer and records the
+  // frame into `cb`: (the device trace,) scatter, gather, temporal blend (or
+  // the render cache), encode into the shown image unless the status says the
+  // trace failed, and (image != null) the copy of the shown image into
+  // `image`, left in COLOR_ATTACHMENT_OPTIMAL as OpenXR requires at release.
+  // The slot's previous submission must have finished. On false, what was
+  // recorded stays in `cb` (it may be submitted: it writes only this eye's buffers).
   [[nodiscard]] bool record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
                             std::string* error);
-  // After the submission finished: the stage times it measured.
-  bool stage_times(StageTimes* out) const;
-  // After the submission finished: records nothing; copies the last frame's RGBA8 texels (tests, benchmarks).
+  // After the slot's submission finished: the stage times it measured.
+  bool stage_times(std::uint32_t slot, StageTimes* out) const;
+  bool stage_times(StageTimes* out) const { return stage_times(last_slot_, out); }
+  // After the submission finished: records nothing; copies the shown image's
+  // RGBA8 texels (tests, benchmarks).
   [[nodiscard]] bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
 
-  // After a device-traced submission finished: what its resolve found.
-  DeviceTraceStatus device_trace_status() const;
+  // After the slot's device-traced submission finished: what its resolve found.
+  DeviceTraceStatus device_trace_status(std::uint32_t slot) const;
+  DeviceTraceStatus device_trace_status() const { return device_trace_status(last_slot_); }
   // Bytes the host wrote into, and read from, mapped memory for the last
   // frame (uploads, status and timestamp read-backs; push constants aside).
   std::uint64_t host_bytes_written() const { return host_written_; }
@@ -104,15 +127,33 @@ class Eye {
 
   // The render cache's rays kept after the last finished submission (0: no cache).
   std::size_t cached_rays() const { return ray_cache_ != nullptr ? ray_cache_->kept_rays() : 0; }
+  // The frame needs the previous frame's submission finished before its record
+  // (the render cache reads its kept count back).
+  static bool needs_previous_frame(const EyeFrame& frame) { return frame.ray_cache.has_value(); }
 
   uint32_t width_px() const { return width_px_; }
   uint32_t height_px() const { return height_px_; }
 
  private:
+  // What one frame slot holds (frame_slots.hpp).
+  struct Slot {
+    BoundBuffer upload, colors, point_depth, status;
+    std::size_t point_capacity = 0;
+    const Tables* bound_tables = nullptr;  // the tables the sets name (null: stale)
+    VkDescriptorSet sets[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // history 0 -> 1, 1 -> 0
+    VkQueryPool queries = VK_NULL_HANDLE;
+    std::unique_ptr<DeviceTrace> device_trace;  // made by the slot's first device-traced frame
+    bool recorded = false;
+  };
+
   Eye(Context& context, const FramePipelines& pipelines, uint32_t width_px, uint32_t height_px);
   [[nodiscard]] bool create_buffers(std::string* error);
-  [[nodiscard]] bool ensure_points(std::size_t point_count, std::string* error);
-  void update_descriptors();
+  [[nodiscard]] bool create_slot(Slot& slot, std::string* error);
+  [[nodiscard]] bool ensure_points(Slot& slot, std::size_t point_count, std::string* error);
+  void update_descriptors(Slot& slot);
+  [[nodiscard]] bool check_frame(const EyeFrame& frame, std::string* error) const;
+  Slot& slot() { return slots_[slot_]; }
+  const Slot& slot() const { return slots_[slot_]; }
   void bind_set(VkCommandBuffer cb) const;
   void stamp(VkCommandBuffer cb, uint32_t query) const;  // a timestamp, when the queue has them
   // The frame's stages in turn (foveation/frame_stages.hpp), recorded by record().
@@ -128,16 +169,14 @@ class Eye {
   const FramePipelines& pipelines_;
   VkDevice device_ = VK_NULL_HANDLE;
   uint32_t width_px_ = 0, height_px_ = 0;
-  BoundBuffer upload_, colors_, point_depth_, current_, history_[2], encoded_, readback_;
-  std::size_t point_capacity_ = 0;
-  const Tables* bound_tables_ = nullptr;
+  std::array<Slot, kFrameSlots> slots_;
+  BoundBuffer current_, history_[2], shown_, readback_;
+  uint32_t slot_ = 0;       // the slot being recorded
+  uint32_t last_slot_ = 0;  // the slot recorded last
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
-  VkDescriptorSet sets_[2] = {VK_NULL_HANDLE, VK_NULL_HANDLE};  // history 0 -> 1, 1 -> 0
-  int parity_ = 0;                                              // which set the frame being recorded uses
-  VkQueryPool queries_ = VK_NULL_HANDLE;
-  bool recorded_ = false;
+  int parity_ = 0;  // which of a slot's sets the frame being recorded uses
+  bool shown_cleared_ = false;  // the shown image starts opaque black, filled by the first record
   std::unique_ptr<RayCache> ray_cache_;  // made by the first frame with one
-  std::unique_ptr<DeviceTrace> device_trace_;  // made by the first device-traced frame
   std::uint64_t host_written_ = 0;
   mutable std::uint64_t host_read_ = 0;
 };

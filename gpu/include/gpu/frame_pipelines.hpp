@@ -30,11 +30,12 @@ enum FrameBinding : uint32_t {
   kHistoryInBinding,
   kHistoryOutBinding,
   kUploadBinding,
-  kEncodedBinding,
+  kEncodedBinding,  // the shown image (RGBA8), written by good frames only
   kPointDepthBinding,
+  kStatusBinding,  // the frame slot's status (shader_interface/device_trace.h)
   kFrameBindings
 };
-inline constexpr uint32_t kFrameDescriptorCounts[kFrameBindings] = {uint32_t(kMaxTableChunks), 1, 1, 1, 1, 1, 1, 1};
+inline constexpr uint32_t kFrameDescriptorCounts[kFrameBindings] = {uint32_t(kMaxTableChunks), 1, 1, 1, 1, 1, 1, 1, 1};
 inline constexpr uint32_t kFrameStorageBuffers = uint32_t(kMaxTableChunks) + kFrameBindings - 1;
 // The set's push-constant range: the largest of its shaders' blocks.
 inline constexpr uint32_t kFramePushBytes = uint32_t(

@@ -66,6 +66,12 @@ void memory_barrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkAccessFlags 
 void write_storage_descriptors(VkDevice device, VkDescriptorSet set, const VkDescriptorBufferInfo* buffers,
                                const uint32_t* descriptor_counts, uint32_t binding_count);
 
+// A descriptor pool of `set_count` sets holding `storage_buffers` storage-buffer
+// descriptors in all, and one set of each layouts[i] from it into sets[i]; false with *error.
+[[nodiscard]] bool allocate_storage_sets(VkDevice device, const VkDescriptorSetLayout* layouts, uint32_t set_count,
+                                         uint32_t storage_buffers, VkDescriptorPool* pool, VkDescriptorSet* sets,
+                                         std::string* error);
+
 // A compute pipeline of SPIR-V `code` (`bytes` long, entry point "main") in `layout`; false with *error.
 [[nodiscard]] bool create_compute_pipeline(VkDevice device, VkPipelineLayout layout, const uint32_t* code, size_t bytes,
                              VkPipeline* pipeline, std::string* error);

@@ -28,9 +28,10 @@
  *           thread-safe.
  * Fallback: no or invalid gaze -> fixed foveation at the lens centre. If a
  *           frame cannot be produced (callback error, NaN/Inf colours, upload
- *           failure) the view is forwarded with the app's own subImage; the
- *           first failure of each kind is logged and every one is counted in
- *           the stats. No garbage frame is ever shown.
+ *           failure) the view is forwarded with the app's own subImage (a
+ *           device trace's colours are judged on the device: see "Errors"
+ *           there); the first failure of each kind is logged and every one is
+ *           counted in the stats. No garbage frame is ever shown.
  * Defaults: every field of XrFoveatedRendererCreateInfoFOVEART other than
  *           traceRays/userData can take the layer config's value instead of
  *           the app's ("k", "density_scale", ... in the config; docs/layer.md):
@@ -45,7 +46,10 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
- * Versions: 5 renames five stats fields for the one temporal name, at the same
+ * Versions: 6 pipelines the device trace's frames: up to two in flight,
+ *           its handles valid until their frame slot's submission finished,
+ *           faults judged on the device and counted frames later (see the
+ *           device trace's "Lifetime" and "Errors"); no struct changed. 5 renames five stats fields for the one temporal name, at the same
  *           offsets and types (interpolateMs -> reconstructMs, taaMs ->
  *           temporalMs, gpuTaaMs -> gpuTemporalMs, taaResetLastFrame ->
  *           temporalResetLastFrame, taaResets -> temporalResets): binaries built
@@ -64,7 +68,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 5
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 6
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -221,7 +225,11 @@ typedef enum XrFoveatedReconstructionPathFOVEART {
  * of the last frame and, on the GPU path, each stage's GPU time per eye from timestamps (0 on the CPU
  * path): scatter of the traced colours, gather, temporal history, and sRGB encode with the copy into
  * the image. With a device trace, the device's rays, the engine's trace and the resolve are the
- * stats' traceMs, their own slot, and the scatter has nothing to do. */
+ * stats' traceMs, their own slot, and the scatter has nothing to do. The GPU path's frames are
+ * in flight when xrEndFrame returns: its stage times (and those stats' traceMs, reconstructMs,
+ * temporalMs, and a device trace's pointsPerEye and raysPerEye) describe the newest frame whose
+ * submission has finished, up to two frames older than the last xrEndFrame; a device trace's
+ * invalidColours and framesFallback are counted then too. */
 typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART */
   void* XR_MAY_ALIAS next;
@@ -251,8 +259,9 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  * reconstructs from the colours the engine writes.
  *
  * Threads:  traceRaysDevice runs on the thread that called xrEndFrame, once
- *           per traced view, one view after the other. It records; it must
- *           not submit, end or reset the command buffer, nor wait on the queue.
+ *           per traced view, one view after the other, both into the frame's
+ *           one command buffer. It records; it must not submit, end or reset
+ *           the command buffer, nor wait on the queue.
  * Queue:    the command buffer belongs to the queue family and queue of the
  *           session's XrGraphicsBindingVulkan2KHR and is submitted there
  *           inside xrEndFrame. Every buffer below is the layer's, created with
@@ -267,10 +276,19 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  * State:    the command buffer is outside any render pass; the engine may
  *           bind pipelines, descriptor sets and push constants of its own
  *           (the layer rebinds what it needs afterwards).
- * Lifetime: the handles are valid until the submission finishes, and each
- *           call's submission has finished before the next call. They may
- *           change from one call to the next (a view size changes): update
- *           descriptors from every batch, or cache them by handle.
+ * Lifetime: up to XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS (2) frames are in
+ *           flight: xrEndFrame submits a frame and returns without waiting
+ *           for it. A call's handles belong to frame slot frameIndex %
+ *           XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS and stay valid until that
+ *           slot's submission finished; when a call of that slot comes again,
+ *           the slot's previous submission has finished, so the engine may
+ *           keep resources of its own per slot (a descriptor set, a buffer it
+ *           writes) indexed the same way and reuse them then. Within a slot
+ *           the handles may still change from one call to the next (a view
+ *           size changes): update descriptors from every batch, or cache them
+ *           by handle. (Before version 6 each call's submission had finished
+ *           before the next call; an engine written for that and keeping
+ *           nothing of its own across calls works unchanged.)
  * Rays:     rays[0, count) of the frame are valid, count in the rayCount
  *           buffer (FoveartDeviceRayCount) written on the device: dispatch
  *           indirectly from it. Each ray is 32 bytes (std430
@@ -282,11 +300,18 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           distance in metres to the nearest hit (+inf: a miss; NaN: none
  *           given, rotation-only reprojection). The layer fills the buffer
  *           with NaN before the call: a ray left unwritten is an invalid colour.
- * Errors:   return XR_SUCCESS, or an error code: the layer then submits
- *           nothing and the view shows the app's own image. NaN, infinite or
- *           negative colours (found on the device) also make the view fall
- *           back; both are counted in the stats (callbackFailures,
- *           invalidColours) as for traceRays. Never throw across this call.
+ * Errors:   return XR_SUCCESS, or an error code: the view then shows the
+ *           app's own image this frame, counted at once (callbackFailures).
+ *           What the engine recorded before it returned is still submitted
+ *           (both views share the frame's submission): leave the command
+ *           buffer fit to submit. NaN, infinite or negative colours, or rays
+ *           left unwritten, are found on the device, which then keeps the
+ *           view's last good image for that frame (the app's own while the
+ *           layer has seen no good frame of the view yet: it waits for those
+ *           frames) and the temporal history as it was; the layer reads the
+ *           fault when the frame's slot comes round, counts it (invalidColours,
+ *           framesFallback) and restarts the view's history. Never throw
+ *           across this call.
  * Both:     with traceRays and traceRaysDevice the device trace is used where
  *           the layer reconstructs on the GPU, traceRays elsewhere (CPU
  *           reconstruction, a device the shaders cannot run on).
@@ -294,6 +319,8 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           with a new structure type or a larger size the layer checks.
  */
 #define XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900006)
+/* Frames of the device trace in flight at once; a call's slot is frameIndex % this. */
+#define XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS 2
 #define XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900007)
 
 /* The rayCount buffer's contents, written on the device before the call. */
