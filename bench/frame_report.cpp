@@ -6,7 +6,9 @@
 //    encode with the copy into the swapchain image), the frame's GPU time for
 //    both eyes, and the app's host time in xrEndFrame; medians (p50) over the
 //    frames the layer traced but the first (the tables' wait, first touches),
-//    p95 too for the host time; whether the slower eye fits 3.5 ms and 7 ms;
+//    p95 too for the host time; the GPU times over the frames whose stats held
+//    them (the newest finished frame's: the frame is pipelined); whether the
+//    slower eye fits 3.5 ms and 7 ms;
 //  * the counting run (VK_LAYER_FOVEART_count, --count-work): per frame the
 //    submissions, dispatches, barriers and ray-tracing launches the layer and
 //    the engine submitted (one steady frame), the rays of each kind and the
@@ -63,8 +65,8 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
-// A per-frame series of the timing run without its first frame (the tables' wait, first
-// touches) where there are more; `eye` picks one of [L, R], -1 sums them.
+// A per-frame series of the timing run without its first frame (the host's: the tables'
+// wait; the GPU's: first touches) where there are more; `eye` picks one of [L, R], -1 sums them.
 std::vector<double> steady(const json& series, int eye) {
   std::vector<double> v;
   for (std::size_t f = series.size() > 1 ? 1 : 0; f < series.size(); ++f)
@@ -83,7 +85,7 @@ double eye_ms(const Inputs& in) {
 // Per eye: the stage times (p50 of the trace and the eye, the last frame's reconstruction stages).
 void print_times(const Inputs& in) {
   const json& t = in.timing;
-  const json& trace = t["trace_ms_per_frame"];
+  const json& trace = t["gpu_trace_ms_per_frame"];
   const json& eyes = t["gpu_eye_ms_per_frame"];
   const std::vector<double> host = steady(t["end_frame_host_ms_per_frame"], -1);
   std::printf("GPU time per eye (ms)      |     left    right\n");
@@ -94,10 +96,10 @@ void print_times(const Inputs& in) {
                 t["gpu_stage_ms"][0].value(stage, 0.0), t["gpu_stage_ms"][1].value(stage, 0.0));
   std::printf("%-26s | %8.2f %8.2f\n", "eye total (p50)", percentile(steady(eyes, 0), 50),
               percentile(steady(eyes, 1), 50));
-  std::printf("frame, both eyes: GPU %.2f ms (p50); host time in xrEndFrame p50 %.2f ms, p95 %.2f ms; over %zu "
-              "frames (of %zu, the first left out)\n",
-              percentile(steady(eyes, -1), 50), percentile(host, 50), percentile(host, 95), host.size(),
-              t["end_frame_host_ms_per_frame"].size());
+  std::printf("frame, both eyes: GPU %.2f ms (p50 of %zu frames with GPU times, the first left out); host time in "
+              "xrEndFrame p50 %.2f ms, p95 %.2f ms (of %zu frames, the first left out)\n",
+              percentile(steady(eyes, -1), 50), steady(eyes, -1).size(), percentile(host, 50), percentile(host, 95),
+              host.size());
   const double worst_eye = eye_ms(in);
   std::printf("slower eye %.2f ms: %s 3.5 ms per eye (half a 70 Hz frame for two eyes), %s 7 ms per eye (two eyes "
               "in a 70 Hz frame)\n",

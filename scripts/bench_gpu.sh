@@ -31,12 +31,13 @@
 #                                                  run a bundle: no set-up, no build (a fresh
 #                                                  GPU machine with only a driver and a loader)
 # OPTIONS: --frames N (gpu_frame's timed frames), --hello-frames N (hello_foveated's
-#          timing run, default 3; the counting run one more), --bandwidth-gbs X and
+#          timing run, default 5: the layer reports a frame's GPU times up to two frames
+#          later; the counting run one more), --bandwidth-gbs X and
 #          --rays-per-s Y (the device's memory bandwidth and the engine's ray rate,
 #          for the prediction)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-mode=run bundle="" frames="" hello_frames=3 bandwidth="" ray_rate=""
+mode=run bundle="" frames="" hello_frames=5 bandwidth="" ray_rate=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --bundle) mode=bundle bundle=$2; shift 2 ;;
@@ -139,7 +140,7 @@ recon_table=$(for temporal in rays image; do
 done | tee /dev/stderr)
 
 command="scripts/bench_gpu.sh${frames:+ --frames $frames}"
-[[ $hello_frames != 3 ]] && command+=" --hello-frames $hello_frames"
+[[ $hello_frames != 5 ]] && command+=" --hello-frames $hello_frames"
 command+="${bandwidth:+ --bandwidth-gbs $bandwidth}${ray_rate:+ --rays-per-s $ray_rate}"
 slug=$(echo "$device" | tr 'A-Z' 'a-z' | sed 's/[^a-z0-9]\+/_/g; s/^_//; s/_$//' | cut -c1-40)
 result=docs/results/bench_gpu_${slug:-device}.md
@@ -151,8 +152,9 @@ result=docs/results/bench_gpu_${slug:-device}.md
   echo "## The whole frame, both eyes, through the layer (hello_foveated --engine gpu, bench/frame_report.cpp)"
   echo
   echo "The real OpenXR loader, the layer and the simulated runtime, FOVE eyes (1280x1440), $hello_frames frames. GPU"
-  echo "times are the layer's timestamps per eye: trace (device rays, the engine's trace, resolve) as p50 over the"
-  echo "frames but the first, the reconstruction stages of the last frame, encode with the copy into the swapchain."
+  echo "times are the layer's timestamps per eye, read with its stats (of the newest finished frame: the frame is"
+  echo "pipelined): trace (device rays, the engine's trace, resolve) and the eye as p50 over the frames with times"
+  echo "but the first, the reconstruction stages of the last reading, encode with the copy into the swapchain."
   echo "The host time is the app's steady clock around each xrEndFrame call. Work, rays and nodes come from a"
   echo "second run under VK_LAYER_FOVEART_count with the engine's work counters on; bytes are the sizes of the"
   echo "buffers each stage binds, an upper bound on the bytes it touches."

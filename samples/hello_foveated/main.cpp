@@ -31,10 +31,12 @@
 // memory_fallback()), "work": {bvh_nodes, triangle_tests, bvh_node_count} with
 // --count-work on the compute backend, else null}. Its "per_frame" adds
 // "end_frame_host_ms" (the host wall time of each xrEndFrame call, steady clock,
-// in the app), "gpu_eye_ms" [L, R] (the layer's GPU time per eye: traceMs plus
-// the GPU stages; 0 on the CPU path) and "gpu_frame_ms" (both eyes), each
-// {p50, p95, p99, count}; and per traced frame end_frame_host_ms_per_frame,
-// trace_ms_per_frame [L, R] and gpu_eye_ms_per_frame [L, R].
+// in the app), and on the GPU path, once per finished frame whose times the stats
+// held (the newest finished, up to two older): "gpu_trace_ms" [L, R] (the
+// device trace's traceMs), "gpu_eye_ms" [L, R] (that plus the GPU stages) and
+// "gpu_frame_ms" (both eyes), each {p50, p95, p99, count}; and the series
+// end_frame_host_ms_per_frame (per traced frame), gpu_trace_ms_per_frame [L, R]
+// and gpu_eye_ms_per_frame [L, R] (per frame with GPU times).
 // --mode full: the app renders every pixel of each eye itself with the chosen
 // engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
 // the layer's seed and jitter and no temporal history (each frame traced anew),
@@ -256,7 +258,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
           {"end_frame_host_ms_per_frame", r.end_frame_host_ms},
-          {"trace_ms_per_frame", eye_pairs(r.trace_ms)},
+          {"gpu_trace_ms_per_frame", eye_pairs(r.gpu_trace_ms)},
           {"gpu_eye_ms_per_frame", eye_pairs(r.gpu_eye_ms)},
           {"temporal_resets", rec.temporalResets},
           {"temporal_reset_per_frame", temporal_reset},
@@ -268,6 +270,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
            {{"gaze_age_ms", distribution(r.gaze_age_ms)},
             {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
             {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}},
+            {"gpu_trace_ms", {distribution(r.gpu_trace_ms[0]), distribution(r.gpu_trace_ms[1])}},
             {"gpu_eye_ms", {distribution(r.gpu_eye_ms[0]), distribution(r.gpu_eye_ms[1])}},
             {"gpu_frame_ms", distribution(r.gpu_frame_ms)},
             {"end_frame_host_ms", distribution(r.end_frame_host_ms)}}}};

@@ -500,13 +500,30 @@ class App {
     for (int e = 0; e < 2; ++e) {
       result->overhead_ms[e].push_back(stats.selectMs[e] + stats.reconstructMs[e] + stats.temporalMs[e] + stats.uploadMs[e]);
       result->trace_ms[e].push_back(stats.traceMs[e]);
-      const bool on_gpu = reconstruction.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART;
-      result->gpu_eye_ms[e].push_back(on_gpu ? stats.traceMs[e] + reconstruction.gpuScatterMs[e] +
-                                                   reconstruction.gpuGatherMs[e] + reconstruction.gpuTemporalMs[e] +
-                                                   reconstruction.gpuEncodeMs[e]
-                                             : 0.0f);
     }
-    result->gpu_frame_ms.push_back(result->gpu_eye_ms[0].back() + result->gpu_eye_ms[1].back());
+    record_gpu_times(stats, reconstruction, result);
+  }
+
+  // The GPU path's times per eye where the stats have them (a finished frame, up
+  // to two older than this one), once per finished frame: the trace slot and the
+  // eye's stages in all.
+  static void record_gpu_times(const XrFoveatedRendererStatsFOVEART& stats,
+                               const XrFoveatedRendererReconstructionStatsFOVEART& reconstruction,
+                               AppResult* result) {
+    if (reconstruction.path != XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART) return;
+    float eye_ms[2];
+    for (int e = 0; e < 2; ++e)
+      eye_ms[e] = stats.traceMs[e] + reconstruction.gpuScatterMs[e] + reconstruction.gpuGatherMs[e] +
+                  reconstruction.gpuTemporalMs[e] + reconstruction.gpuEncodeMs[e];
+    if (!(eye_ms[0] > 0.0f && eye_ms[1] > 0.0f)) return;  // no frame finished yet
+    if (!result->gpu_eye_ms[0].empty() && result->gpu_eye_ms[0].back() == eye_ms[0] &&
+        result->gpu_eye_ms[1].back() == eye_ms[1])
+      return;  // the same finished frame read again
+    for (int e = 0; e < 2; ++e) {
+      result->gpu_trace_ms[e].push_back(stats.traceMs[e]);
+      result->gpu_eye_ms[e].push_back(eye_ms[e]);
+    }
+    result->gpu_frame_ms.push_back(eye_ms[0] + eye_ms[1]);
   }
 
   void shutdown() noexcept {
