@@ -7,7 +7,8 @@
 layout(local_size_x = GROUP_SIZE) in;
 
 void main() {
-  const uint n = kept + added;
+  const uint kept = counts[FOVEART_CACHE_KEPT];
+  const uint n = kept + counts[FOVEART_CACHE_ADDED];
   for (uint i = gl_GlobalInvocationID.x; i < n; i += stride()) {
     vec2 q;
     bool within;

@@ -15,12 +15,12 @@ layout(local_size_x = GROUP_SIZE) in;
 void main() {
   const uint blocks = (cell_count + SCAN_BLOCK - 1u) / SCAN_BLOCK;
   const uint sums = cell_count + 1u;  // where the block sums are
-  if (scan_phase == FOVEART_SCAN_BLOCKS) {
+  if (phase == FOVEART_SCAN_BLOCKS) {
     const uint b = gl_WorkGroupID.x;
     if (b >= blocks) return;  // uniform per workgroup
     const uint total = scan_block(0u, b * SCAN_BLOCK, min(SCAN_BLOCK, cell_count - b * SCAN_BLOCK), 0u);
     if (gl_LocalInvocationID.x == 0u) cells[sums + b] = total;
-  } else if (scan_phase == FOVEART_SCAN_BLOCK_SUMS) {
+  } else if (phase == FOVEART_SCAN_BLOCK_SUMS) {
     const uint total = scan_all(sums, blocks);
     if (gl_LocalInvocationID.x == 0u) cells[cell_count] = total;
   } else {

@@ -14,6 +14,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 #include "gpu/shader_interface/gather.h"
+#include "table_taps.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -23,22 +24,10 @@ layout(local_size_x = 8, local_size_y = 8) in;
 #define CLAMP_BLOCK FOVEART_GATHER_CLAMP_BLOCK
 #define RBF FOVEART_GATHER_RBF
 
-uint word(uint c, uint i) { return chunks[c].words[i]; }
-
-uint byte_at(uint c, uint base, uint i) { return (word(c, base + (i >> 2)) >> ((i & 3u) * 8u)) & 0xFFu; }
-
 float weight_at(uint c, uint base, uint i) {
   if ((flags & F16) == 0u) return uintBitsToFloat(word(c, base + i));
   const vec2 pair = unpackHalf2x16(word(c, base + (i >> 1)));
   return (i & 1u) == 0u ? pair.x : pair.y;
-}
-
-// 24-bit point index at byte offset b (the host pads one word at the end).
-uint point_at(uint c, uint base, uint b) {
-  const uint shift = (b & 3u) * 8u;
-  uint v = word(c, base + (b >> 2)) >> shift;
-  if (shift > 8u) v |= word(c, base + (b >> 2) + 1u) << (32u - shift);
-  return v & 0xFFFFFFu;
 }
 
 // NN: the nearest traced neighbour, else the fallback; depth: that point's.
@@ -55,23 +44,6 @@ vec3 nearest(uint c, ivec2 cp, out float depth) {
     }
   }
   return fallback_rgb.rgb;
-}
-
-// Which block of its tile canvas pixel cp lies in (foveation/gather_layout.hpp),
-// and the block's first palette entry.
-struct Block {
-  uint index;  // within the chunk
-  uint local;  // within the tile (row-major blocks)
-};
-
-Block block_of(uint c, ivec2 tile, ivec2 cp) {
-  const int tiles_x = (canvas_px.x + 7) / 8;
-  const uint info = word(c, word(c, H_TILE_INFO) + uint((tile.y - int(word(c, H_FIRST_ROW))) * tiles_x + tile.x));
-  const int bs = 8 >> (info >> 30);
-  const int tw = min(8, canvas_px.x - tile.x * 8);
-  const ivec2 l = cp - tile * 8;
-  const uint local = uint((l.y / bs) * ((tw + bs - 1) / bs) + l.x / bs);
-  return Block((info & 0x3FFFFFFFu) + local, local);
 }
 
 // RbfClamp::block: per block of the tile, the range of its valid palette
@@ -100,12 +72,10 @@ void block_ranges(uint c, ivec2 tile) {
 }
 
 vec3 weighted(uint c, ivec2 tile, ivec2 cp, out float depth) {
-  const int tw = min(8, canvas_px.x - tile.x * 8), th = min(8, canvas_px.y - tile.y * 8);
-  const ivec2 l = cp - tile * 8;
   const Block block = block_of(c, tile, cp);
   const uint palette = word(c, H_PALETTE);
   const uint pal0 = word(c, word(c, H_BLOCK_PALETTE) + block.index);
-  const uint ord = uint(tile.y * 8 * canvas_px.x + tile.x * 8 * th + l.y * tw + l.x) - word(c, H_ORDINAL_BASE);
+  const uint ord = tile_ordinal(c, tile, cp);
   const uint slots = word(c, H_SLOTS), weights = word(c, H_WEIGHTS);
 
   vec3 acc = vec3(0.0), valid_acc = vec3(0.0);

@@ -1,6 +1,8 @@
 // The render cache on the GPU (docs/gpu.md "The render cache"): the twin of
 // foveation::RayCache as FoveatedView runs it. Its own descriptor set; the
-// host side is gpu/ray_cache.hpp. A frame:
+// host side is gpu/ray_cache.hpp. A frame (after, with a device trace,
+// cache_device_rays and cache_pixels: the new rays and the pixels):
+//   cache_count  (begin) the kept and new rays' counts, the dispatch for them
 //   cache_rays   every kept ray projected into this view and depth-tested,
 //                every new ray anchored; each within reach counted into its
 //                cell of a 2-px grid (its slot there from the atomic count)
@@ -9,6 +11,7 @@
 //                to the other anchor buffer, one frame older
 //   cache_filter each pixel: sum(w L) / sum(w) over the rays within its
 //                filter, widened to its footprint; the gather where none is
+//   cache_count  (end) a faulted device trace keeps nothing
 // Sums run in whatever order the atomics gave: results agree with the CPU
 // within float rounding, not bit for bit.
 #ifndef FOVEART_RAY_CACHE_GLSL
@@ -19,7 +22,7 @@
 
 #include "foveation/shader_constants.h"
 #include "gpu/shader_interface/depth.h"
-#include "gpu/shader_interface/ray_cache.h"
+#include "gpu/shader_interface/cache_push.h"
 #define CELL_PX float(FOVEART_RAY_CACHE_CELL_PX)
 #define KEPT_RAY_OCCLUSION_TOLERANCE FOVEART_KEPT_RAY_OCCLUSION_TOLERANCE
 #define DEPTH_FAR FOVEART_DEPTH_FAR
@@ -38,7 +41,12 @@ layout(set = 0, binding = 6, std430) buffer ByCell { CellRay by_cell[]; };
 // Per screen pixel: x its filter's footprint (1: the pixel filter), y the
 // distance beyond which a kept ray there is covered (< 0: cannot tell).
 layout(set = 0, binding = 7, std430) readonly buffer Pixels { vec2 pixels[]; };
-layout(set = 0, binding = 8, std430) buffer Counter { uint kept_out; };
+// The count words (FOVEART_CACHE_*): kept, added, kept_out, the indirect dispatch.
+layout(set = 0, binding = 8, std430) coherent buffer Counts { uint counts[]; };
+// With a device trace (FOVEART_CACHE_DEVICE_RAYS): its control words (the
+// rays it made) and its resolve's status (a fault); else the counts again.
+layout(set = 0, binding = 9, std430) readonly buffer DeviceControl { uint device_control[]; };
+layout(set = 0, binding = 10, std430) readonly buffer DeviceStatus { uint device_status[]; };
 
 
 // foveation::eye_ray_direction: the unit tracking-space direction through a screen position.

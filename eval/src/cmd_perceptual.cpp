@@ -53,6 +53,7 @@ std::string problem(const PerceptualCommand& c, const foveation::ImageRgb& test,
   d->white_luminance_cd_m2 = c.white_cd_m2;
   d->black_luminance_cd_m2 = std::min(d->black_luminance_cd_m2, 0.5 * c.white_cd_m2);
   d->eye = c.eye == "left" ? Eye::kLeft : Eye::kRight;
+  d->input = PerceptualInput::kSrgbEncoded;  // a PNG's bytes, the price list's PFMs: sRGB-encoded display values
   return "";
 }
 
@@ -125,7 +126,7 @@ void register_perceptual(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "perceptual", "Would an observer fixating the gaze see the difference: detection probability per ring");
   // Checked by run_perceptual, not CLI11, so that every bad argument exits 2 with its message.
-  cmd->add_option("--test", c->test, "Test image: PFM (display values) or PNG (required)");
+  cmd->add_option("--test", c->test, "Test image: PFM or PNG of sRGB-encoded display values (required)");
   cmd->add_option("--reference", c->reference, "Reference image, the same size (required)");
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels (required)");
   auto* fov_opt = cmd->add_option("--fov-deg", *fov, "Horizontal field of view of the image (degrees, flat screen)");

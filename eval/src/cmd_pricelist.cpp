@@ -91,9 +91,10 @@ struct Context {
   std::ostream& err;
   float exposure = 1.0f;  // what the display values scale radiance by (render_display)
   const PerceptualMetric* perceptual = nullptr;
-  // The full render's display values (its last frame) per rays per pixel: what the perceptual
-  // metric compares every row at that count with.
+  // The full render's display values (its last frame) per rays per pixel: the perceptual
+  // columns' baseline for every row at that count.
   std::map<int, foveation::ImageRgb> full_display;
+  mutable std::map<int, PerceptualResult> full_perceptual;  // each full_display's against the reference
 };
 
 render_view::RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
@@ -221,28 +222,50 @@ foveation::ViewSettings still_view_settings(const PricelistOptions& o, const Pri
   return toolkit::write_png_u8(file.string(), c.map.width_px, c.map.height_px, 3, rgb, error);
 }
 
-// The perceptual metric's detection probability of the row's last frame against the full render at
-// the same rays per pixel (full_spp<r>; for that row itself 0 by construction): per ring
-// (rings[r].p_detect_mean, p_detect_share = the share of pixels at P >= 0.5) and over the image
-// (and its largest). Null where that full render's image is not at hand.
+// The full render's at `rays_per_pixel` detection probability against the reference, evaluated once;
+// null (and *error, or empty when its image is not at hand) when it cannot be.
+const PerceptualResult* baseline_perceptual(const Context& c, int rays_per_pixel, std::string* error) {
+  if (const auto done = c.full_perceptual.find(rays_per_pixel); done != c.full_perceptual.end()) return &done->second;
+  const auto full = c.full_display.find(rays_per_pixel);
+  PerceptualResult p;
+  if (full == c.full_display.end() || !c.perceptual->evaluate(full->second, c.reference_display, c.gaze, &c.executor, p, *error))
+    return nullptr;
+  return &c.full_perceptual.emplace(rays_per_pixel, std::move(p)).first->second;
+}
+
+// The perceptual metric's detection probability of the row's last frame against the converged
+// reference, beside the same for the full render at the same rays per pixel (full_spp<r>, the
+// baseline): what the row shows that the full render at its rays does not is what foveation adds
+// (docs/lab/perceptual_metric.md). Per ring (rings[r].p_detect_mean, _share = the share of pixels
+// at P >= 0.5, _max; p_detect_full_* the baseline's) and over the image. Null where the metric or
+// the baseline's image is not at hand.
 void add_perceptual(const Context& c, const PriceSetting& s, const foveation::ImageRgb& last, Json& j) {
-  const std::string against = "full_spp" + std::to_string(s.rays_per_point);
-  j["p_detect_against"] = against;
-  const auto full = c.full_display.find(s.rays_per_point);
+  const std::string baseline = "full_spp" + std::to_string(s.rays_per_point);
+  j["p_detect_against"] = "reference";
+  j["p_detect_baseline"] = baseline;
   PerceptualResult p;
   std::string error;
-  const bool ok = c.perceptual != nullptr && full != c.full_display.end() &&
-                  c.perceptual->evaluate(last, full->second, c.gaze, &c.executor, p, error);
-  if (!ok && c.perceptual != nullptr)
-    c.err << "fovea-eval pricelist: " << s.id() << ": no perceptual columns ("
-          << (error.empty() ? against + "'s image is not at hand" : error) << ")\n";
-  j["p_detect_mean"] = ok ? Json(p.p_mean) : Json();
-  j["p_detect_share"] = ok ? Json(p.detected_fraction) : Json();
-  j["p_detect_max"] = ok ? Json(p.p_max) : Json();
+  const bool ok = c.perceptual != nullptr && c.perceptual->evaluate(last, c.reference_display, c.gaze, &c.executor, p, error);
+  const PerceptualResult* full = ok ? baseline_perceptual(c, s.rays_per_point, &error) : nullptr;
+  if (c.perceptual != nullptr && (!ok || full == nullptr))
+    c.err << "fovea-eval pricelist: " << s.id() << ": " << (ok ? "no baseline perceptual columns (" : "no perceptual columns (")
+          << (error.empty() ? baseline + "'s image is not at hand" : error) << ")\n";
+  const auto put = [&j](const std::string& prefix, const PerceptualResult* r) {
+    j[prefix + "mean"] = r != nullptr ? Json(r->p_mean) : Json();
+    j[prefix + "share"] = r != nullptr ? Json(r->detected_fraction) : Json();
+    j[prefix + "max"] = r != nullptr ? Json(r->p_max) : Json();
+  };
+  put("p_detect_", ok ? &p : nullptr);
+  put("p_detect_full_", full);
   for (std::size_t r = 0; r < metrics::kRingCount; ++r) {
     const bool has = ok && p.rings[r].pixels > 0;
-    j["rings"][r]["p_detect_mean"] = has ? Json(p.rings[r].p_mean) : Json();
-    j["rings"][r]["p_detect_share"] = has ? Json(p.rings[r].detected_fraction) : Json();
+    Json& ring = j["rings"][r];
+    ring["p_detect_mean"] = has ? Json(p.rings[r].p_mean) : Json();
+    ring["p_detect_share"] = has ? Json(p.rings[r].detected_fraction) : Json();
+    ring["p_detect_max"] = has ? Json(p.rings[r].p_max) : Json();
+    ring["p_detect_full_mean"] = has && full ? Json(full->rings[r].p_mean) : Json();
+    ring["p_detect_full_share"] = has && full ? Json(full->rings[r].detected_fraction) : Json();
+    ring["p_detect_full_max"] = has && full ? Json(full->rings[r].p_max) : Json();
   }
 }
 
@@ -507,11 +530,9 @@ Json run_json(const PricelistOptions& o, const PriceScene& s) {
 
 // The perceptual metric's display: the view's pixels per degree at the gaze, --white-cd-m2, the eye.
 PerceptualDisplay perceptual_display(const PricelistOptions& o, const metrics::EccentricityMap& map) {
-  PerceptualDisplay d;
-  const int gx = std::clamp(int(map.gaze_px.x), 0, map.width_px - 1), gy = std::clamp(int(map.gaze_px.y), 0, map.height_px - 1);
-  d.pixels_per_deg = double(map.pixels_per_deg[std::size_t(gy) * std::size_t(map.width_px) + std::size_t(gx)]);
+  PerceptualDisplay d = view_display(map, o.eye == "left" ? Eye::kLeft : Eye::kRight);
   d.white_luminance_cd_m2 = o.white_cd_m2;
-  d.eye = o.eye == "left" ? Eye::kLeft : Eye::kRight;
+  d.input = PerceptualInput::kSrgbEncoded;  // the rows' images are metrics::display_encode's
   return d;
 }
 
@@ -668,7 +689,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   if (!reference) return fail(error);
   const foveation::ImageRgb reference_display = metrics::display_encode(reference->image, s.display.exposure);
   if (!write_reference_images(out_dir, reference_display, map, &error)) return fail(error);
-  Context c{o, *s.tracer, s.view, s.gaze, executor, map, reference_display, err, s.display.exposure, nullptr, {}};
+  Context c{o, *s.tracer, s.view, s.gaze, executor, map, reference_display, err, s.display.exposure, nullptr, {}, {}};
   PerceptualMetric perceptual;
   const PerceptualDisplay pd = perceptual_display(o, map);
   if (!PerceptualMetric::create(pd, s.view.width_px, s.view.height_px, {}, perceptual, error, &executor))

@@ -6,6 +6,7 @@
 // level for both of its bands; transcendental functions in float where the result is a float.
 #include <eval/perceptual_metric.hpp>
 
+#include <foveation/srgb.hpp>
 #include <metrics/image_metrics.hpp>
 
 #include "perceptual_detail.hpp"
@@ -43,15 +44,21 @@ bool check_inputs(const foveation::ImageRgb& test, const foveation::ImageRgb& re
   return true;
 }
 
-// Luminance (cd/m^2): black + (white - black) x Rec. 709 Y of the display values.
+// A pixel's display-linear colour: the transform of radiance, or the sRGB EOTF of encoded values.
+glm::vec3 display_linear(const float* p, const PerceptualDisplay& d) {
+  if (d.input == PerceptualInput::kRadiance) return d.transform.apply({p[0], p[1], p[2]});
+  const auto eotf = [](float c) { return foveation::srgb_to_linear(std::clamp(c, 0.0f, 1.0f)); };
+  return {eotf(p[0]), eotf(p[1]), eotf(p[2])};
+}
+
+// Luminance (cd/m^2): black + (white - black) x Rec. 709 Y of the display-linear values.
 Plane luminance_plane(const foveation::ImageRgb& image, const PerceptualDisplay& d, foveation::Executor* ex) {
   Plane out = Plane::uninitialized(image.width_px, image.height_px);
   const double span = d.white_luminance_cd_m2 - d.black_luminance_cd_m2;
   for_rows(ex, image.height_px, [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < image.width_px; ++x) {
-        const float* p = image.at(x, y);
-        const glm::vec3 v = d.transform.apply({p[0], p[1], p[2]});
+        const glm::vec3 v = display_linear(image.at(x, y), d);
         out.at(x, y) = float(d.black_luminance_cd_m2 + span * (0.2126 * double(v.r) + 0.7152 * double(v.g) + 0.0722 * double(v.b)));
       }
   });

@@ -197,6 +197,14 @@ BandShape band_shape(int b, const PerceptualDisplay& display) {
 
 }  // namespace
 
+PerceptualDisplay view_display(const metrics::EccentricityMap& map, Eye eye) {
+  PerceptualDisplay d;
+  const int gx = std::clamp(int(map.gaze_px.x), 0, map.width_px - 1), gy = std::clamp(int(map.gaze_px.y), 0, map.height_px - 1);
+  d.pixels_per_deg = double(map.pixels_per_deg[std::size_t(gy) * std::size_t(map.width_px) + std::size_t(gx)]);
+  d.eye = eye;
+  return d;
+}
+
 bool PerceptualMetric::create(const PerceptualDisplay& display, int max_width_px, int max_height_px,
                               const PerceptualOptions& options, PerceptualMetric& out, std::string& error,
                               foveation::Executor* executor) {

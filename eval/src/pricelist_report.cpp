@@ -34,10 +34,11 @@ std::string fmt(double v, int decimals = 1) {
   return buf;
 }
 
-// A ring's perceptual metric cell: "mean / share" of the detection probability, "-" without it.
+// A ring's perceptual metric cell: the share of pixels at P >= 0.5 against the reference, the row's
+// and the full render's at its rays per pixel ("row / full"); "-" without it.
 std::string p_detect_cell(const Json& ring) {
-  const double mean = num(ring.value("p_detect_mean", Json())), share = num(ring.value("p_detect_share", Json()));
-  return std::isfinite(mean) ? fmt(mean, 3) + " / " + fmt(share, 3) : "-";
+  const double share = num(ring.value("p_detect_share", Json())), full = num(ring.value("p_detect_full_share", Json()));
+  return std::isfinite(share) ? fmt(share, 3) + " / " + fmt(full, 3) : "-";
 }
 
 const Json* find(const std::vector<Json>& all, const std::string& id) {
@@ -282,6 +283,10 @@ std::string csv_cell(const Json& j) {
   return j.dump();
 }
 
+// The perceptual columns, over the image and per ring: the row's and its baseline's against the reference.
+constexpr const char* kPerceptualColumns[] = {"p_detect_mean",      "p_detect_share",      "p_detect_max",
+                                              "p_detect_full_mean", "p_detect_full_share", "p_detect_full_max"};
+
 // pricelist.csv: one row per setting. False and *error naming the file.
 [[nodiscard]] bool write_csv(const std::filesystem::path& file, const std::vector<Json>& all, std::string* error) {
   std::ofstream f(file);
@@ -292,8 +297,10 @@ std::string csv_cell(const Json& j) {
     for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
   for (std::size_t r = 0; r < kRings; ++r)
     f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
-  f << ",content_contrast,ray_fraction,p_detect_against,p_detect_mean,p_detect_share,p_detect_max";
-  for (std::size_t r = 0; r < kRings; ++r) f << ",p_detect_mean_" << ring_name(r) << ",p_detect_share_" << ring_name(r);
+  f << ",content_contrast,ray_fraction,p_detect_against,p_detect_baseline";
+  for (const char* k : kPerceptualColumns) f << "," << k;
+  for (std::size_t r = 0; r < kRings; ++r)
+    for (const char* k : kPerceptualColumns) f << "," << k << "_" << ring_name(r);
   f << "\n";
   for (const Json& s : all) {
     const bool fov = s["kind"] == "foveated";
@@ -314,11 +321,10 @@ std::string csv_cell(const Json& j) {
     }
     f << "," << (fov ? csv_cell(s.value("content_contrast", Json(0.0))) : "") << ","
       << csv_cell(s.value("ray_fraction", Json()));
-    for (const char* k : {"p_detect_against", "p_detect_mean", "p_detect_share", "p_detect_max"})
-      f << "," << csv_cell(s.value(k, Json()));
+    for (const char* k : {"p_detect_against", "p_detect_baseline"}) f << "," << csv_cell(s.value(k, Json()));
+    for (const char* k : kPerceptualColumns) f << "," << csv_cell(s.value(k, Json()));
     for (std::size_t r = 0; r < kRings; ++r)
-      f << "," << csv_cell(s["rings"][r].value("p_detect_mean", Json())) << ","
-        << csv_cell(s["rings"][r].value("p_detect_share", Json()));
+      for (const char* k : kPerceptualColumns) f << "," << csv_cell(s["rings"][r].value(k, Json()));
     f << "\n";
   }
   if (!f) *error = "cannot write " + file.string();
@@ -407,7 +413,7 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
                    const std::function<double(const Json&)>& ms_of) {
   md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
      << "| on the front | time % | ms | rays (total) | primary rays % of full | PSNR dB | SSIM | CSF dB | "
-        "P detect vs full same spp (mean / share >= 0.5) | ms per dB | rays per dB |\n"
+        "share P >= 0.5 vs reference (row / full same spp) | ms per dB | rays per dB |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   const Json* prev = nullptr;
   for (std::size_t i : front) {

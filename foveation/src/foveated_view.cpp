@@ -80,9 +80,8 @@ FrameContext FoveatedView::begin_frame(const FrameRequest& request, FrameResult*
 }
 
 FrameResult FoveatedView::plan(const FrameRequest& request, Executor& executor) {
-  if (settings_.reconstruct_on_cpu || history_->keeps_rays())
-    throw std::invalid_argument("foveated view: a frame traced on the device needs the GPU reconstruction and a "
-                                "history that keeps no rays");
+  if (settings_.reconstruct_on_cpu)
+    throw std::invalid_argument("foveated view: a frame traced on the device needs the GPU reconstruction");
   FrameResult result;
   const auto t_decide = Clock::now();
   const FrameContext frame = begin_frame(request, &result);

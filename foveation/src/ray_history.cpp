@@ -35,7 +35,11 @@ TemporalFrame RayHistory::begin(const FrameContext& frame) {
 
 TemporalFrame RayHistory::decide(const FrameContext& frame, const TracedPoints& traced, Executor& executor) {
   TemporalFrame t = begin(frame);
-  prepare_pixels(frame, traced, true, executor);  // what the cache elsewhere takes
+  if (traced.colors.rgba.empty()) {  // traced elsewhere (FoveatedView::plan): the device makes the pixels itself
+    t.ray_pixels = nullptr;
+  } else {
+    prepare_pixels(frame, traced, true, executor);  // what the cache elsewhere takes
+  }
   last_view_ = frame.view;
   return t;
 }

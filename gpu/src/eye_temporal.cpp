@@ -1,6 +1,8 @@
 // Stage 5 of an eye's device frame: the image history (blend, reprojected
 // from the history's view), or the render cache writing its frame over the
 // gather (the temporal pass then copies it into the output).
+#include <cstdint>
+
 #include <glm/gtc/quaternion.hpp>
 
 #include "foveation/eye_rays.hpp"
@@ -34,9 +36,15 @@ bool Eye::record_temporal(VkCommandBuffer cb, const EyeFrame& frame, foveation::
                           std::string* error) {
   if (frame.ray_cache) {  // the render cache writes its frame over the gather; the temporal pass then copies it
     if (ray_cache_ == nullptr) {
-      ray_cache_ = std::make_unique<RayCache>(context_, pipelines_.ray_cache(), current_.buffer, width_px_, height_px_);
+      ray_cache_ = std::make_unique<RayCache>(context_, pipelines_.ray_cache(), current_.buffer, width_px_, height_px_,
+                                              kFrameSlots);
     }
-    if (!ray_cache_->record(cb, *frame.ray_cache, frame.view, executor, error)) return false;
+    RayCacheFrame cache = *frame.ray_cache;
+    if (frame.device != nullptr) {  // the device trace's rays, straight from its buffers after the resolve
+      cache.device = RayCacheDeviceRays{slot().device_trace->buffers(), slot().colors.buffer, frame.tables, frame.mapping,
+                                        frame.device->rays_per_point};
+    }
+    if (!ray_cache_->record(cb, cache, frame.view, frame.slot, executor, error)) return false;
     bind_set(cb);
   }
   TemporalPush t{};
@@ -54,6 +62,13 @@ bool Eye::record_temporal(VkCommandBuffer cb, const EyeFrame& frame, foveation::
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
   stamp(cb, 4);
   return true;
+}
+
+std::size_t Eye::cached_rays_after_wait() {
+  std::size_t kept = 0;
+  std::string error;
+  if (ray_cache_ != nullptr && !ray_cache_->kept_rays_after_wait(context_, &kept, &error)) return SIZE_MAX;
+  return kept;
 }
 
 }  // namespace foveart::gpu

@@ -4,6 +4,9 @@
 // A divergence fails this file's compilation, naming the shader and the member.
 #include <cstddef>
 
+#include "gpu/shader_interface/cache_device_rays.h"
+#include "gpu/shader_interface/cache_pixels.h"
+#include "gpu/shader_interface/cache_push.h"
 #include "gpu/shader_interface/device_resolve.h"
 #include "gpu/shader_interface/device_rays.h"
 #include "gpu/shader_interface/encode.h"

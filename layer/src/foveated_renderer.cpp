@@ -239,7 +239,7 @@ struct FoveatedRenderer::Frames {
   uint64_t frame_index = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
-      behind_once, rect_once, failed_once, gpu_once, device_once, device_rays_once, submit_once;
+      behind_once, rect_once, failed_once, gpu_once, device_once, submit_once;
 };
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
@@ -469,8 +469,6 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
   frame.display = display;
   frame.device = device;
   frame.slot = slot;
-  // The render cache reads its kept count back from the frame before.
-  if (gpu::Eye::needs_previous_frame(frame) && !submission->wait_all(error)) return false;
   const VkCommandBuffer cb = submission->begin(slot, error);
   VkImage image = VK_NULL_HANDLE;
   if (cb == VK_NULL_HANDLE || !eye.swapchain->acquire(&image, error)) return false;
@@ -643,15 +641,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
       eye.view->settings().reconstruct_on_cpu != path.reconstruct_on_gpu) {
     return;
   }
-  eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);
-  if (path.device_trace && eye.temporal == foveation::TemporalMode::rays) {
-    // The render cache keeps the frame's rays on the host; a device trace never brings them there.
-    eye.temporal = foveation::TemporalMode::image;
-    if (device_rays_once.first()) {
-      log(LogLevel::Info, "foveated renderer: a device trace keeps its rays on the GPU: temporal \"rays\" runs as "
-                          "\"image\" (logged once)");
-    }
-  }
+  eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);  // a device trace's rays stay on the GPU
   foveation::ViewSettings vs =
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;

@@ -1,4 +1,4 @@
-// `fovea-eval` is the lab: its --help lists accuracy, motion, pricelist, perceptual and
+// `fovea-eval` is the lab: its --help lists accuracy, density, motion, pricelist, perceptual and
 // bench-md, and none of the product's commands (pointset, interpolate,
 // reconstruct, render). Runs the fovea-eval binary built next to this
 // test (both go to the build's bin/).
@@ -21,7 +21,8 @@ HelpRun run_fovea_eval(const std::string& args) { return foveart::test::run_sibl
 TEST(FoveaEvalHelp, ListsTheLabsCommands) {
   const HelpRun r = run_fovea_eval("--help");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(help_subcommands(r.output), (std::set<std::string>{"accuracy", "motion", "pricelist", "perceptual", "bench-md"}))
+  EXPECT_EQ(help_subcommands(r.output),
+            (std::set<std::string>{"accuracy", "density", "motion", "pricelist", "perceptual", "bench-md"}))
       << r.output;
 }
 

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "eval/castle_csf.hpp"
+#include "foveation/srgb.hpp"
 #include "perceptual_stimulus.hpp"
 
 namespace {
@@ -79,4 +80,36 @@ TEST(PerceptualMetricCalibration, GaborAtCastleThresholdGivesHalfProbability) {
   if (kUnderSanitizer) return;
   EXPECT_GE(n, 36);  // most of the grid is drawable
   EXPECT_LE(rms, 0.05);
+}
+
+// The metric's luminance is linear in the display-linear values: images that hold sRGB-encoded
+// display values (the price list's, a PNG's) must be decoded first (PerceptualInput::kSrgbEncoded).
+// A Gabor at the metric's threshold, drawn in display-linear values, then sRGB-encoded, gives
+// P = 0.5 again when decoded; read as if linear (what the price list once did) it reads as
+// about a quarter of its contrast on a brighter background, far below threshold.
+TEST(PerceptualMetricCalibration, SrgbEncodedImagesAreDecodedBeforeLuminance) {
+  GaborStimulus s;
+  s.freq_cpd = 4.0;
+  s.sigma_deg = 1.5 / s.freq_cpd;
+  s.luminance_cd_m2 = 10.0;
+  const GaborScene scene(s);
+  PerceptualMetric linear_metric, encoded_metric;
+  std::string error;
+  ASSERT_TRUE(PerceptualMetric::create(scene.display(), scene.width, scene.height, {}, linear_metric, error)) << error;
+  foveart::eval::PerceptualDisplay encoded_display = scene.display();
+  encoded_display.input = foveart::eval::PerceptualInput::kSrgbEncoded;
+  ASSERT_TRUE(PerceptualMetric::create(encoded_display, scene.width, scene.height, {}, encoded_metric, error)) << error;
+  const double c_t = metric_threshold_contrast(scene, linear_metric, 0.01);
+  const auto encode = [](foveart::foveation::ImageRgb img) {
+    for (float& v : img.rgb) v = foveart::foveation::linear_to_srgb(v);
+    return img;
+  };
+  const foveart::foveation::ImageRgb test = encode(scene.image(c_t)), ref = encode(scene.image(0.0));
+  const glm::vec2 gaze{float(scene.gaze_x), float(scene.gaze_y)};
+  foveart::eval::PerceptualResult decoded, as_linear;
+  ASSERT_TRUE(encoded_metric.evaluate(test, ref, gaze, nullptr, decoded, error)) << error;
+  ASSERT_TRUE(linear_metric.evaluate(test, ref, gaze, nullptr, as_linear, error)) << error;
+  std::printf("threshold contrast %.4f: P %.3f decoded, %.3f read as linear\n", c_t, decoded.p_max, as_linear.p_max);
+  EXPECT_NEAR(decoded.p_max, 0.5, 0.01);
+  EXPECT_LT(as_linear.p_max, 0.1);
 }

@@ -17,69 +17,13 @@
 
 #include <gtest/gtest.h>
 
-#include "foveation/display_model.hpp"
-#include "foveation/foveated_view.hpp"
+#include "device_trace_harness.hpp"
 #include "gpu/shader_interface/device_rays.h"
-#include "headless_vulkan.hpp"
-#include "direction_engine.spv.h"
-#include "gpu/reconstructor.hpp"
-#include "gpu/vk_util.hpp"
-#include "icd_pin.h"
 
 namespace foveart::gpu {
 namespace {
 
-using layer::DevicePreference;
-using layer::HeadlessVulkan;
-
-constexpr uint32_t kViewW = 96;
-constexpr uint32_t kViewH = 80;
-constexpr uint32_t kRaysPerPoint = 2;
-
-// Scale 6: the pixel grid's edge lies inside the view, so frames hold grid and disc points.
-std::shared_ptr<const foveation::ViewTables> small_tables() {
-  static std::shared_ptr<const foveation::ViewTables> tables;
-  if (!tables) {
-    foveation::PointSetKey key;
-    key.display = foveation::DisplayModel::from_fov(kViewW, kViewH, 60.0);
-    key.display.scale = 6.0;
-    key.seed = 1;
-    foveation::InterpOptions o;
-    o.method = foveation::InterpMethod::msm;
-    o.k = 5;
-    foveation::Executor executor(2);
-    tables = foveation::load_view_tables(std::nullopt, key, o, executor);
-  }
-  return tables;
-}
-
-// The eye looks along (1, 1, 1): every ray direction of its 60-degree frustum
-// has positive components, so a direction is a valid colour (the "direction" engines).
-foveation::FrameRequest request(glm::vec2 gaze_px, uint64_t frame_index) {
-  foveation::FrameRequest r;
-  foveation::EyePose pose;
-  pose.position_m = {-0.032f, 1.6f, 0.25f};
-  const glm::vec3 forward(0.0f, 0.0f, -1.0f), diagonal = glm::normalize(glm::vec3(1.0f));
-  pose.orientation = glm::angleAxis(std::acos(glm::dot(forward, diagonal)), glm::normalize(glm::cross(forward, diagonal)));
-  r.view = foveation::make_eye_view(0, kViewW, kViewH, pose, -0.4f, 0.42f, 0.38f, -0.36f);
-  r.frame_index = frame_index;
-  r.gaze_px = gaze_px;
-  return r;
-}
-
-constexpr float kConstant = 0.25f;
-
-int32_t constant_colour(void*, const FoveartRayBatch* batch) {
-  std::fill_n(batch->out_rgb, std::size_t(batch->ray_count) * 3, kConstant);
-  return FOVEART_RESULT_SUCCESS;
-}
-
-// Colour = the ray's direction, depth = its screen y: a colour that varies from ray to ray.
-int32_t direction_colour(void*, const FoveartRayBatch* batch) {
-  std::copy_n(batch->directions, std::size_t(batch->ray_count) * 3, batch->out_rgb);
-  for (uint32_t i = 0; i < batch->ray_count; ++i) batch->out_depth_m[i] = batch->sample_px[2 * i + 1];
-  return FOVEART_RESULT_SUCCESS;
-}
+using namespace device_test;  // NOLINT(google-build-using-namespace): the harness is this file's
 
 // The rays the CPU path hands its callback: per point, its samples in order.
 struct CpuRays {
@@ -98,214 +42,7 @@ int32_t record_cpu_rays(void* user, const FoveartRayBatch* batch) {
   return constant_colour(nullptr, batch);
 }
 
-// A device "engine" for the tests: it answers with a fill pattern (or an
-// error, or nothing) and may copy what the layer handed it to the host.
-struct TestEngine {
-  // fill: fill_bits everywhere; direction: each ray's (direction, screen y) as
-  // its (colour, depth), copied; error: an error; nothing: records nothing.
-  enum class Answer { fill, direction, error, nothing };
-  Answer answer = Answer::fill;
-  uint32_t fill_bits = 0;  // the colour buffer's every word (rgb and depth)
-  bool copy = false;       // copy rays, point indices and counts into the buffers below
-  VkDevice device = VK_NULL_HANDLE;
-  const VkPhysicalDeviceMemoryProperties* memory = nullptr;
-  BoundBuffer rays, point_index, control;
-  uint32_t calls = 0;
-  DeviceRayBatch last{};
-
-  VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
-  VkPipelineLayout layout = VK_NULL_HANDLE;
-  VkPipeline pipeline = VK_NULL_HANDLE;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  VkDescriptorSet set = VK_NULL_HANDLE;
-
-  ~TestEngine() {
-    for (BoundBuffer* b : {&rays, &point_index, &control}) destroy_buffer(device, b);
-    if (pipeline != VK_NULL_HANDLE) vkDestroyPipeline(device, pipeline, nullptr);
-    if (layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, layout, nullptr);
-    if (set_layout != VK_NULL_HANDLE) vkDestroyDescriptorSetLayout(device, set_layout, nullptr);
-    if (pool != VK_NULL_HANDLE) vkDestroyDescriptorPool(device, pool, nullptr);
-  }
-  // direction_engine.comp over the batch, dispatched from the layer's counts.
-  bool direction_shader(const DeviceRayBatch& batch) {
-    static constexpr uint32_t kOnes[3] = {1, 1, 1};
-    std::string error;
-    if (pipeline == VK_NULL_HANDLE) {
-      const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
-      auto pool_info = vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
-      pool_info.maxSets = 1;
-      pool_info.poolSizeCount = 1;
-      pool_info.pPoolSizes = &size;
-      if (!create_storage_pipeline_layout(device, kOnes, 3, 4, &set_layout, &layout, &error) ||
-          !create_compute_pipeline(device, layout, direction_engine_spv, sizeof direction_engine_spv, &pipeline,
-                                   &error) ||
-          vkCreateDescriptorPool(device, &pool_info, nullptr, &pool) != VK_SUCCESS) {
-        return false;
-      }
-      auto alloc = vk_struct<VkDescriptorSetAllocateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO);
-      alloc.descriptorPool = pool;
-      alloc.descriptorSetCount = 1;
-      alloc.pSetLayouts = &set_layout;
-      if (vkAllocateDescriptorSets(device, &alloc, &set) != VK_SUCCESS) return false;
-    }
-    const VkDescriptorBufferInfo buffers[3] = {{batch.ray_count.buffer, batch.ray_count.offset, 4},
-                                               {batch.rays.buffer, batch.rays.offset, batch.rays.size},
-                                               {batch.colors.buffer, batch.colors.offset, batch.colors.size}};
-    write_storage_descriptors(device, set, buffers, kOnes, 3);
-    vkCmdBindPipeline(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
-    vkCmdBindDescriptorSets(batch.command_buffer, VK_PIPELINE_BIND_POINT_COMPUTE, layout, 0, 1, &set, 0, nullptr);
-    vkCmdDispatchIndirect(batch.command_buffer, batch.ray_count.buffer, batch.ray_count.offset + 4);
-    return true;
-  }
-  bool readback(BoundBuffer& b, const BufferRange& from, VkCommandBuffer cb) {
-    if (b.buffer == VK_NULL_HANDLE) {
-      std::string error;
-      b.size = from.size;
-      if (!create_bound_buffer(device, *memory, from.size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, buffer_memory_flags(true),
-                               &b.buffer, &b.memory, &b.mapped, &error)) {
-        return false;
-      }
-    }
-    const VkBufferCopy region{from.offset, 0, std::min(from.size, b.size)};
-    vkCmdCopyBuffer(cb, from.buffer, b.buffer, 1, &region);
-    return true;
-  }
-};
-
-bool test_engine(TestEngine* engine, const DeviceRayBatch* batch) {
-  ++engine->calls;
-  engine->last = *batch;
-  if (engine->answer == TestEngine::Answer::error) return false;
-  if (engine->answer == TestEngine::Answer::nothing) return true;
-  VkCommandBuffer cb = batch->command_buffer;
-  if (engine->answer == TestEngine::Answer::direction) {
-    return engine->direction_shader(*batch);
-  }
-  vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
-  if (engine->copy && (!engine->readback(engine->rays, batch->rays, cb) ||
-                       !engine->readback(engine->point_index, batch->point_index, cb) ||
-                       !engine->readback(engine->control, batch->ray_count, cb))) {
-    return false;
-  }
-  if (engine->copy) {
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT,
-                            VK_ACCESS_HOST_READ_BIT};
-    vkCmdPipelineBarrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr,
-                         0, nullptr);
-  }
-  return true;
-}
-
-uint32_t bits_of(float f) {
-  uint32_t b = 0;
-  std::memcpy(&b, &f, 4);
-  return b;
-}
-
-class DeviceTraceTest : public ::testing::Test {
- protected:
-  static void TearDownTestSuite() { vulkan_.reset(); }
-  void SetUp() override {
-    if (vulkan_ == nullptr) {
-      vulkan_ = std::make_unique<HeadlessVulkan>(DevicePreference::cpu, true);
-      sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
-    }
-    ASSERT_TRUE(vulkan_->ok()) << "no Vulkan device (mesa-vulkan-drivers brings lavapipe)";
-    ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
-    std::string error;
-    gpu_ = Reconstructor::create(vulkan_->device(), &error);
-    ASSERT_NE(gpu_, nullptr) << error;
-    vkGetPhysicalDeviceMemoryProperties(vulkan_->device().physical_device, &memory_);
-    engine_.device = vulkan_->device().device;
-    engine_.memory = &memory_;
-    engine_.fill_bits = bits_of(kConstant);
-    tables_ = small_tables();
-    gpu_tables_ = gpu_->upload_tables(tables_, &error);
-    ASSERT_NE(gpu_tables_, nullptr) << error;
-    eye_ = gpu_->create_eye(kViewW, kViewH, &error);
-    ASSERT_NE(eye_, nullptr) << error;
-    settings_.rays_per_point = int(kRaysPerPoint);
-    settings_.new_jitter_each_frame = true;
-    settings_.reconstruct_on_cpu = false;
-  }
-  void TearDown() override {
-    eye_.reset();
-    gpu_tables_.reset();
-    gpu_.reset();
-    if (vulkan_ != nullptr && vulkan_->ok()) {
-      const auto errors = vulkan_->errors();
-      EXPECT_TRUE(errors.empty()) << errors.size() << " validation error(s), the first: " << errors.front();
-    }
-  }
-
-  // The device trace of `view`'s planned frame `req` through the test engine.
-  DeviceTraceFrame device_of(const foveation::FoveatedView& view, const foveation::FrameRequest& req) {
-    DeviceTraceFrame device;
-    device.engine = [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); };
-    device.points = &tables_->points;
-    device.view = req.view;
-    device.mapping = view.hand_off().mapping;
-    device.frame_index = req.frame_index;
-    device.sample_seed = view.hand_off().sample_seed;
-    device.rays_per_point = uint32_t(view.settings().rays_per_point);
-    device.pixel_filter = view.settings().pixel_filter;
-    return device;
-  }
-
-  // One device-traced frame of `view` through the test engine; false when the submission was refused.
-  bool device_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, std::string* error) {
-    foveation::Executor executor(2);
-    EXPECT_TRUE(view.plan(req, executor).ok());
-    const DeviceTraceFrame device = device_of(view, req);
-    EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
-    frame.device = &device;
-    return gpu_->submit_and_wait(
-        [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
-  }
-
-  // Device-traced frames first_index, first_index + 1, ... recorded one after the
-  // other into one submission, as the layer does with frames in flight: frame i
-  // into slot slots[i], the engine filling every colour word with fill_bits[i].
-  bool frames_in_one_submission(foveation::FoveatedView& view, uint64_t first_index, std::vector<uint32_t> slots,
-                                std::vector<uint32_t> fill_bits, std::string* error) {
-    foveation::Executor executor(2);
-    return gpu_->submit_and_wait(
-        [&](VkCommandBuffer cb) {
-          for (std::size_t i = 0; i < slots.size(); ++i) {
-            const foveation::FrameRequest req = request(glm::vec2(48, 40), first_index + i);
-            if (!view.plan(req, executor).ok()) return false;
-            engine_.fill_bits = fill_bits[i];
-            const DeviceTraceFrame device = device_of(view, req);
-            EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
-            frame.device = &device;
-            frame.slot = slots[i];
-            if (!eye_->record(cb, frame, VK_NULL_HANDLE, executor, error)) return false;
-          }
-          return true;
-        },
-        error);
-  }
-
-  // The same frame with the colours coming from the CPU callback.
-  bool callback_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req, FoveartTraceRaysFn trace,
-                      void* user, std::string* error) {
-    foveation::Executor executor(2);
-    EXPECT_TRUE(view.render(req, trace, user, executor).ok());
-    EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
-    return gpu_->submit_and_wait(
-        [&](VkCommandBuffer cb) { return eye_->record(cb, frame, VK_NULL_HANDLE, executor, error); }, error);
-  }
-
-  static std::unique_ptr<HeadlessVulkan> vulkan_;
-  VkPhysicalDeviceMemoryProperties memory_{};
-  std::unique_ptr<Reconstructor> gpu_;
-  std::shared_ptr<const foveation::ViewTables> tables_;
-  std::shared_ptr<Tables> gpu_tables_;
-  std::unique_ptr<Eye> eye_;
-  foveation::ViewSettings settings_;
-  TestEngine engine_;
-};
-std::unique_ptr<HeadlessVulkan> DeviceTraceTest::vulkan_;
+class DeviceTraceTest : public DeviceTraceFixture {};
 
 // Stages 1-2 on the device give the CPU's points and rays: the same visible
 // points, each with its samples in order. A pixel-grid point's jitter is
@@ -443,17 +180,18 @@ TEST_F(DeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
 TEST_F(DeviceTraceTest, OnlyConstantsCrossToTheHost) {
   foveation::FoveatedView device_view(tables_, settings_), callback_view(tables_, settings_);
   std::string error;
-  for (uint64_t i = 0; i < 2; ++i) {
+  for (uint64_t i = 0; i < 2 * kFrameSlots; ++i) {
     ASSERT_TRUE(device_frame(device_view, request(glm::vec2(48, 40), i), &error)) << error;
     StageTimes times;
     EXPECT_TRUE(eye_->stage_times(&times));
     const DeviceTraceStatus status = eye_->device_trace_status();
     EXPECT_GT(status.visible_points, 0u);
-    // The first frame of a table set copies its points up once (16 bytes each).
-    EXPECT_EQ(eye_->host_bytes_written(), i == 0 ? tables_->points.size() * 16 : 0u);
+    // The first frame of a table set in each frame slot copies its points up
+    // once (16 bytes each): each slot has its own device trace.
+    EXPECT_EQ(eye_->host_bytes_written(), i < kFrameSlots ? tables_->points.size() * 16 : 0u) << "frame " << i;
     EXPECT_EQ(eye_->host_bytes_read(), FOVEART_DEVICE_STATUS_WORDS * 4 + StageTimes::kTimestamps * sizeof(uint64_t));
   }
-  ASSERT_TRUE(callback_frame(callback_view, request(glm::vec2(48, 40), 2), &constant_colour, nullptr, &error)) << error;
+  ASSERT_TRUE(callback_frame(callback_view, request(glm::vec2(48, 40), 2 * kFrameSlots), &constant_colour, nullptr, &error)) << error;
   EXPECT_GE(eye_->host_bytes_written(), 20u * 1000u);  // (index, rgb, depth) per traced point
 }
 

@@ -103,14 +103,15 @@ class GpuEngine : public ::testing::Test {
 
   // hello_foveated with the scripted gaze, its frames captured into <root>/<name>.
   AppRun launch(const std::string& name, const std::string& engine, const fs::path& gaze,
-                std::vector<std::string> extra = {}, int frames = kFrames, int rays_per_point = kRaysPerPoint) {
+                std::vector<std::string> extra = {}, int frames = kFrames, int rays_per_point = kRaysPerPoint,
+                const std::string& temporal = "off") {
     AppRun r;
     r.frames = env_->root() / name;
     IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", r.frames);
     IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(frames).c_str());
     std::vector<std::string> args{FOVEART_HELLO_FOVEATED, "--json", "--engine", engine, "--eye-size",
                                   std::to_string(kWidth), std::to_string(kHeight), "--interpolation", "msm", "--k",
-                                  "5", "--density-scale", "4", "--rays-per-point", std::to_string(rays_per_point), "--temporal", "off",
+                                  "5", "--density-scale", "4", "--rays-per-point", std::to_string(rays_per_point), "--temporal", temporal,
                                   "--gaze-source", "provider", "--gaze-provider", "replay:" + gaze.string()};
     args.insert(args.end(), extra.begin(), extra.end());
     r.process = run_process(args, env_->root() / (name + ".log"), kTimeoutS);
@@ -129,7 +130,7 @@ uint64_t total_rays(const nlohmann::json& counts) {
 }
 
 // A run where every view was traced and reconstructed on the GPU, nothing fell back.
-void expect_clean(const AppRun& r, const char* engine, int frames = kFrames) {
+void expect_clean(const AppRun& r, const char* engine, int frames = kFrames, const char* temporal = "off") {
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
   EXPECT_EQ(r.stats["engine"], engine);
@@ -140,7 +141,7 @@ void expect_clean(const AppRun& r, const char* engine, int frames = kFrames) {
   EXPECT_EQ(r.stats["gpu_fallbacks"], 0);
   EXPECT_EQ(r.stats["fallback_flags"], 0) << "the scripted gaze must be used, not fixed foveation";
   EXPECT_EQ(r.stats["reconstruction"], "gpu");
-  EXPECT_EQ(r.stats["temporal"], "off");
+  EXPECT_EQ(r.stats["temporal"], temporal) << "the temporal mode that ran";
 }
 
 TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
@@ -240,7 +241,8 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 // synchronization validation reports SYNC-HAZARD-WRITE-AFTER-WRITE): from the
 // first frame ("nan": every frame waited for, as no good image is shown yet)
 // and from frame 2 on ("late": pipelined frames, the fault kept on the device;
-// frame 2's status is read at frame 4).
+// frame 2's status is read at frame 4); and with "temporal": "rays" ("rays"),
+// the render cache fed by the device trace on the device.
 class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
@@ -254,16 +256,18 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   std::vector<std::string> extra{"--no-explicit-layer"};
+  const bool rays = fault == "rays";  // no fault; the render cache fed by the device trace, on the device
   if (fault == "nan") extra.insert(extra.end(), {"--fault", fault});
   if (fault == "late") extra.insert(extra.end(), {"--fault", "nan", "--fault-from-frame", "2"});
   constexpr int kLateFrames = 4;
-  const AppRun r = launch("validated", "gpu", gaze, extra, fault == "late" ? kLateFrames : kFrames);
+  const AppRun r = launch("validated", "gpu", gaze, extra, fault == "late" ? kLateFrames : kFrames, kRaysPerPoint,
+                          rays ? "rays" : "off");
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
-  if (fault == "none") {
-    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu"));
+  if (fault == "none" || rays) {
+    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kFrames, rays ? "rays" : "off"));
   } else if (fault == "late") {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
     ASSERT_TRUE(r.stats.is_object()) << r.process.output;
@@ -286,7 +290,9 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late"));
+// "rays": no fault, "temporal": "rays": the render cache runs on the device trace's rays (not downgraded to
+// "image", as the stats say), silently under synchronization validation.
+INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late", "rays"));
 
 // A device trace that fails: every view falls back to the app's grey
 // placeholder, counted, logged once; the app exits 0.

@@ -28,10 +28,17 @@
 #include "foveation/display_transform.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/image.hpp"
+#include "metrics/image_metrics.hpp"
 
 namespace foveart::eval {
 
 enum class Eye : bool { kRight = false, kLeft = true };  // which visual field (nasal / temporal) a side is
+
+// What the images hold. kRadiance: linear radiance, through PerceptualDisplay::transform to
+// display-linear values. kSrgbEncoded: display values already sRGB-encoded (metrics::display_encode,
+// a PNG's bytes / 255): the display's sRGB EOTF (IEC 61966-2-1) decodes them, the transform is
+// not applied. Luminance is linear in the display-linear values either way.
+enum class PerceptualInput : bool { kRadiance = false, kSrgbEncoded = true };
 
 // What the observer sees: pixels to degrees as the project maps them (display_model.hpp:
 // e = atan(d / D) around the gaze, D = pixels per degree * 180 / pi), and luminance.
@@ -39,11 +46,16 @@ struct PerceptualDisplay {
   double pixels_per_deg = 20.0;          // at the gaze point; > 0
   double white_luminance_cd_m2 = 100.0;  // what display value 1.0 (white) emits; > 0
   double black_luminance_cd_m2 = 0.1;    // what display value 0 emits (stray light, panel black); >= 0
-  // Radiance -> display values in [0, 1] (the lab's metrics use kClampOnly; a run's own
-  // transform may be given). Luminance = black + (white - black) x Rec. 709 Y of the display values.
+  // Radiance -> display-linear values in [0, 1] (kRadiance input; a run's own transform may be
+  // given). Luminance = black + (white - black) x Rec. 709 Y of the display-linear values.
   foveation::DisplayTransform transform = foveation::kClampOnly;
+  PerceptualInput input = PerceptualInput::kRadiance;
   Eye eye = Eye::kRight;
 };
+
+// A rendered view's display for the metric: its pixels per degree at the gaze (the map's), the eye;
+// the rest PerceptualDisplay's defaults.
+PerceptualDisplay view_display(const metrics::EccentricityMap& map, Eye eye);
 
 struct PerceptualOptions {
   EccentricityTerm eccentricity = EccentricityTerm::kOn;  // kOff: the control without the drop

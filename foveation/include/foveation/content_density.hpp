@@ -4,8 +4,10 @@
 // frame. A tile whose luminance range is flat or dark traces level 0 only (about a ninth
 // of its Poisson points), finer levels as its contrast rises, a high-contrast one all.
 // A tile's contrast is that of its 3x3 neighbourhood, so an edge keeps its density on
-// both sides, on a tile's border too. The first frame, and the one after a failed frame
-// or a restart, trace every point.
+// both sides, on a tile's border too. The first frame, the one after a failed frame and
+// the first at a new screen size trace every point. A saccade or a head move keeps them: the tiles' contrast is the last
+// frame's where its points fell on the screen (the 3x3 neighbourhood covers a move of less
+// than a tile).
 #pragma once
 
 #include <cstdint>
@@ -55,8 +57,6 @@ class ContentDensity {
   // The frame ends: ok, its observations give the next frame's levels; else the next
   // frame traces every point.
   void end_frame(bool ok);
-  // The next frame traces every point (the history restarts, the view changed).
-  void restart() { have_contrast_ = false; }
 
   const ContentDensityOptions& options() const { return options_; }
   const PointLevels& levels() const { return levels_; }

@@ -80,8 +80,9 @@ class FoveatedView {
 
   // A frame traced elsewhere (the layer's device trace runs stages 1-3 on the
   // GPU): the frame's canvas mapping, jitter seed and the history's decision,
-  // in hand_off(), with no traced points. Needs reconstruct_on_cpu = false
-  // and a history that keeps no rays (throws std::invalid_argument otherwise).
+  // in hand_off(), with no traced points (a ray history decides its restart
+  // only: the device makes its rays and pixels). Needs reconstruct_on_cpu =
+  // false (throws std::invalid_argument otherwise).
   FrameResult plan(const FrameRequest& request, Executor& executor);
   // A planned frame failed where it was traced: the next frame restarts the history.
   void forget_history() { history_->forget(); }

@@ -100,7 +100,7 @@ struct TemporalFrame {
   bool ray_restart = false;
   PixelFilter ray_filter = PixelFilter::box;
   std::uint32_t ray_max_age_frames = 0;
-  const std::vector<glm::vec2>* ray_pixels = nullptr;
+  const std::vector<glm::vec2>* ray_pixels = nullptr;  // null after FoveatedView::plan (the device makes them)
   // Applied here (accumulate): pixels of an image history that were off the
   // last view, uncovered, or reprojected through the engine's depth.
   std::uint64_t history_off_screen = 0, history_disoccluded = 0, history_with_depth = 0;

@@ -86,6 +86,17 @@ struct DeviceTraceTargets {
   bool operator==(const DeviceTraceTargets&) const = default;
 };
 
+// The buffers a frame's rays and hits are in, for a pass after the resolve
+// (the render cache's cache_device_rays.comp reads them on the device).
+struct DeviceTraceBuffers {
+  VkBuffer rays = VK_NULL_HANDLE;         // DeviceRay per ray
+  VkBuffer ray_colors = VK_NULL_HANDLE;   // vec4 per ray: rgb, depth in metres (the engine's)
+  VkBuffer point_index = VK_NULL_HANDLE;  // uint per ray
+  VkBuffer control = VK_NULL_HANDLE;      // the control words (device_trace.h)
+  VkBuffer status = VK_NULL_HANDLE;       // the resolve's status words
+  VkBuffer points = VK_NULL_HANDLE;       // DevicePoint per point of the set
+};
+
 // The device trace's shaders, shared by the eyes of one device.
 class DeviceTracePipelines {
  public:
@@ -125,6 +136,11 @@ class DeviceTrace {
                             std::string* error);
   // Bytes the host wrote for the last record: the point set, once per table set; else 0.
   std::uint64_t host_bytes_written() const { return uploaded_bytes_; }
+  // The buffers the last record wrote the frame's rays, hits and status into
+  // (the status is the slot's target, DeviceTraceTargets::status).
+  DeviceTraceBuffers buffers() const {
+    return {rays_.buffer, ray_colors_.buffer, point_index_.buffer, control_.buffer, bound_.status, points_.buffer};
+  }
 
  private:
   [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);

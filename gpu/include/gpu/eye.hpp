@@ -17,8 +17,8 @@
 // image history pair, the gather's output (`current`, which the render cache
 // binds) and the shown image are one per eye: frames run in queue order, and a
 // barrier at the top of each frame's commands orders them after the previous
-// submission. The render cache (ray_cache.hpp) still reads its kept count
-// back: a frame with one needs the previous frame finished before its record.
+// submission. The render cache (ray_cache.hpp) keeps its count on the device
+// and its uploads per slot: nothing is read back on the frame path.
 //
 // Faults on the device: the status (zeroed per frame; a device trace's
 // resolve counts invalid colours into it) is read by the temporal pass, which
@@ -125,11 +125,10 @@ class Eye {
   std::uint64_t host_bytes_written() const { return host_written_; }
   std::uint64_t host_bytes_read() const { return host_read_; }
 
-  // The render cache's rays kept after the last finished submission (0: no cache).
-  std::size_t cached_rays() const { return ray_cache_ != nullptr ? ray_cache_->kept_rays() : 0; }
-  // The frame needs the previous frame's submission finished before its record
-  // (the render cache reads its kept count back).
-  static bool needs_previous_frame(const EyeFrame& frame) { return frame.ray_cache.has_value(); }
+  // Tests and benchmarks only: the render cache's rays kept after the last
+  // frame, read back with a submission of its own after the caller waited
+  // for that frame (0: no cache; SIZE_MAX: the read-back failed).
+  std::size_t cached_rays_after_wait();
 
   uint32_t width_px() const { return width_px_; }
   uint32_t height_px() const { return height_px_; }

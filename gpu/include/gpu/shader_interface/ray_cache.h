@@ -1,6 +1,7 @@
 // The render cache's interface (shaders/ray_cache.glsl and cache_*.comp;
-// gpu/ray_cache.hpp): its push constants, the rays its buffers hold, and the
-// constants of its passes.
+// gpu/ray_cache.hpp): the rays its buffers hold and the constants of its
+// passes. The push constants: cache_push.h (cache_rays, _scan, _bin, _filter,
+// _count), cache_device_rays.h, cache_pixels.h.
 #ifndef FOVEART_SHADER_INTERFACE_RAY_CACHE_H
 #define FOVEART_SHADER_INTERFACE_RAY_CACHE_H
 
@@ -13,10 +14,30 @@
 // CachePush::filter_kind.
 #define FOVEART_RAY_CACHE_FILTER_BOX 0u
 #define FOVEART_RAY_CACHE_FILTER_BSPLINE2 1u
-// CachePush::scan_phase (cache_scan.comp).
+// CachePush::phase of cache_scan.comp.
 #define FOVEART_SCAN_BLOCKS 0u
 #define FOVEART_SCAN_BLOCK_SUMS 1u
 #define FOVEART_SCAN_ADD_BLOCK_SUMS 2u
+// CachePush::phase of cache_count.comp: before the frame's passes, after them.
+#define FOVEART_CACHE_COUNT_BEGIN 0u
+#define FOVEART_CACHE_COUNT_END 1u
+// CachePush::flags.
+#define FOVEART_CACHE_RESTART 1u      // forget every kept ray first (the host's restart rule)
+#define FOVEART_CACHE_DEVICE_RAYS 2u  // the device trace's rays: their count from its control words, and
+                                      // a fault in its status forgets every ray at the frame's end
+// The count words (ray_cache.glsl Counts), kept on the device from frame to frame.
+#define FOVEART_CACHE_KEPT 0u      // rays kept from earlier frames: anchors_in[0, kept)
+#define FOVEART_CACHE_ADDED 1u     // this frame's new rays, after them
+#define FOVEART_CACHE_KEPT_OUT 2u  // appended by cache_bin: the next frame's kept rays
+#define FOVEART_CACHE_DISPATCH 4u  // x, y, z: cache_rays' and cache_bin's indirect dispatch (16-byte aligned)
+#define FOVEART_CACHE_COUNT_WORDS 8u
+// cache_device_rays.comp's workgroup: one visible point per invocation, the
+// device trace's resolve dispatch (FOVEART_DEVICE_RESOLVE_DISPATCH) reused.
+#define FOVEART_CACHE_DEVICE_RAYS_GROUP 64
+// The per-pixel passes' encoding of a farthest hit (cache_device_rays,
+// cache_pixels): 0 none, 1 + the float's bits for a hit at a finite distance,
+// FOVEART_CACHE_FAR_UNKNOWN for a miss or no depth; atomicMax picks the farthest.
+#define FOVEART_CACHE_FAR_UNKNOWN 0xFFFFFFFFu
 
 FOVEART_SHADER_INTERFACE_BEGIN
 
@@ -43,21 +64,6 @@ struct CellRay {
   vec2 rg;
   float b;
   float unused;
-};
-
-FOVEART_PUSH_CONSTANTS(CachePush) {
-  vec4 orientation;  // the eye's, x y z w
-  vec4 position_m;   // the eye's, xyz
-  vec4 tan_lrud;     // tan(left, right, up, down)
-  ivec2 size_px;
-  ivec2 cells_xy;
-  uint kept;         // rays in anchors_in from earlier frames
-  uint added;        // this frame's new rays, after them
-  uint filter_kind;  // FOVEART_RAY_CACHE_FILTER_*
-  uint max_age;      // frames a ray is kept (0: no limit)
-  uint scan_phase;   // FOVEART_SCAN_*
-  uint cell_count;
-  uint capacity;     // anchors either buffer holds
 };
 
 FOVEART_SHADER_INTERFACE_END

@@ -1,0 +1,43 @@
+// `fovea-eval density`: how few rays foveation may trace before the perceptual metric sees it.
+// One still view (a crop of the preset's view at its pixels per degree, --crop, keeps it quick),
+// one gaze: the full render at --rays-per-point rays per pixel (the baseline) and the foveated
+// frame over eccentricity-only density (--scales, the thesis's density scale) and content-aware
+// density (--contrasts, at --density-scale), each against a converged reference through the
+// metric (eval/density_detection.hpp) on the view's display (its exposure and tone map). Per row
+// the ray fraction, the density's and the frame's ms and each ring's largest P; per kind the
+// smallest ray fraction at which every ring stays below P = 0.5, among the rings where the full
+// render itself stays below it (elsewhere its own noise hides foveation). JSON on stdout.
+#pragma once
+
+#include <eval/lab_options.hpp>
+
+#include <render_view/render_options.hpp>
+
+#include <glm/ext/vector_int2.hpp>
+
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace foveart::eval {
+
+struct DensityOptions {
+  render_view::RenderOptions render;   // view, method, k, pattern, rays per point, cache, exposure
+  std::optional<glm::ivec2> crop_px;   // a WxH crop of the preset's view at its pixels per degree
+  ReferenceChoice reference;           // a count of rays per pixel is required
+  std::vector<double> scales = {1.0, 1.5, 2.0, 3.0};
+  std::vector<double> contrasts = {0.25, 0.5, 1.0};
+  double white_cd_m2 = 100.0;
+};
+
+void register_density(CLI::App& app);
+
+// 0, 2 for bad options, 1 when the scene, the engine, the reference or the tables fail.
+int run_density(const DensityOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace foveart::eval

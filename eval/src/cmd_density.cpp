@@ -1,0 +1,202 @@
+// `fovea-eval density` (cmd_density.hpp).
+#include <eval/cmd_density.hpp>
+
+#include <eval/density_detection.hpp>
+#include <eval/reference.hpp>
+#include <render_view/render_cli.hpp>
+
+#include <engine/gltf_loader.hpp>
+#include <engine/render.hpp>
+#include <foveation/display_model.hpp>
+#include <metrics/image_metrics.hpp>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <numbers>
+
+namespace foveart::eval {
+namespace {
+
+constexpr const char* kDensityWho = "fovea-eval density: ";
+using Json = nlohmann::ordered_json;
+
+// What is wrong with the options ("" when nothing); a crop becomes the view's size and field of view.
+std::string density_problem(DensityOptions& o) {
+  if (o.reference.spp.empty() || !o.reference.file.empty()) return "--reference-spp N is required";
+  std::string bad;
+  if (!check_reference_choice(o.reference, &bad)) return bad;
+  for (const double s : o.scales)
+    if (!(s > 0.0 && s <= 100.0)) return "--scales: each density scale must be in (0, 100]";
+  for (const double c : o.contrasts)
+    if (!(c > 0.0 && c <= 1.0)) return "--contrasts: each content contrast must be in (0, 1]";
+  if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
+  if (o.crop_px) {
+    const std::optional<foveation::DisplayModel> preset = foveation::display_preset(o.render.preset);
+    if (!preset) return "--crop needs a display preset, got '" + o.render.preset + "'";
+    if (o.crop_px->x < 8 || o.crop_px->y < 8 || o.crop_px->x > preset->width_px || o.crop_px->y > preset->height_px)
+      return "--crop must lie inside the preset's view";
+    o.render.size_px = *o.crop_px;
+    o.render.fov.horizontal = 2.0 * std::atan(0.5 * o.crop_px->x / preset->view_distance_px) * 180.0 / std::numbers::pi;
+  }
+  o.render.mode = "foveated";
+  return render_view::check_render_options(o.render, &bad) ? "" : bad;
+}
+
+// The scene, the view, the gaze, the reference and the metric on the view's display.
+struct DensityRun {
+  std::unique_ptr<engine::Tracer> tracer;
+  FoveartEyeView view{};
+  glm::vec2 gaze{};
+  foveation::ImageRgb reference;
+  int reference_spp = 0;
+  PerceptualMetric metric;
+};
+
+[[nodiscard]] bool set_up_density(const DensityOptions& o, foveation::Executor& executor, std::ostream& err,
+                                  DensityRun* r, std::string* error) {
+  engine::LoadResult loaded = engine::load_scene(o.render.scene);
+  if (!loaded.ok()) return *error = loaded.error, false;
+  r->tracer = engine::Tracer::create(std::move(*loaded.scene), render_view::render_tracer_options(o.render), error);
+  if (!r->tracer) return false;
+  r->view = render_view::eye_view(o.render, r->tracer->scene());
+  r->gaze = o.render.gaze_px.value_or(glm::vec2(0.5f * float(r->view.width_px), 0.5f * float(r->view.height_px)));
+  const auto display = render_view::render_display(o.render, *r->tracer, r->view, executor, error);
+  if (!display) return false;
+  ReferenceOptions ro;
+  if (o.reference.spp != "auto") ro.spp = std::stoi(o.reference.spp);  // checked by check_reference_choice
+  ro.baseline_spp = o.render.rays_per_point;
+  ro.seed = o.render.seed;
+  ro.pixel_filter = o.render.pixel_filter;
+  ro.cache_dir = reference_cache_dir(o.reference, o.render.cache_dir);
+  const auto ref = converged_reference(&foveart_engine_trace_rays, r->tracer.get(), rendered_scene_hash(*r->tracer),
+                                       r->view, r->gaze, ro, executor,
+                                       [&](const std::string& m) { err << kDensityWho << m << "\n"; }, error);
+  if (!ref) return false;
+  r->reference = ref->image;
+  r->reference_spp = ref->spp;
+  PerceptualDisplay pd = view_display(metrics::eccentricity_map(r->view, r->gaze), o.render.eye == "left" ? Eye::kLeft : Eye::kRight);
+  pd.white_luminance_cd_m2 = o.white_cd_m2;
+  pd.transform = *display;
+  return PerceptualMetric::create(pd, int(r->view.width_px), int(r->view.height_px), {}, r->metric, *error, &executor);
+}
+
+// Every ring that the full render at the same rays per pixel does not show (its largest P below
+// 0.5: the measurable rings) below P = 0.5 at its most visible pixel: foveation adds nothing seen.
+// A ring the full render already shows cannot tell foveation from that render's own noise.
+bool unseen_in_every_ring(const PerceptualResult& p, const PerceptualResult& full) {
+  for (std::size_t r = 0; r < p.rings.size(); ++r)
+    if (p.rings[r].pixels > 0 && full.rings[r].p_max < 0.5 && p.rings[r].p_max >= 0.5) return false;
+  return true;
+}
+
+Json rings_p_max(const PerceptualResult& p) {
+  Json a = Json::array();
+  for (const PerceptualRing& r : p.rings) a.push_back(r.pixels > 0 ? Json(r.p_max) : Json());
+  return a;
+}
+
+Json row_json(const char* kind, const DensityDetection& d, const PerceptualResult& full) {
+  return {{"kind", kind},           {"density_scale", d.density_scale}, {"content_contrast", d.content_contrast},
+          {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
+          {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},  {"unseen", unseen_in_every_ring(d.p, full)}};
+}
+
+// The baseline: the full render at the rows' rays per pixel against the reference, and its ms.
+[[nodiscard]] bool baseline_json(const DensityOptions& o, DensityRun& r, foveation::Executor& executor,
+                                 PerceptualResult* p, Json* out, std::string* error) {
+  engine::RenderSettings rs;
+  rs.spp = o.render.rays_per_point;
+  rs.seed = o.render.seed;
+  rs.pixel_filter = o.render.pixel_filter;
+  foveation::ImageRgb full;
+  const engine::RenderResult rr = engine::render_full(&foveart_engine_trace_rays, r.tracer.get(), r.view, rs, &full, executor);
+  if (rr.status != FOVEART_RESULT_SUCCESS) return *error = "full render: engine callback failed", false;
+  if (!r.metric.evaluate(full, r.reference, r.gaze, &executor, *p, *error)) return false;
+  *out = {{"frame_ms", rr.trace_ms}, {"p_max", p->p_max}, {"rings_p_max", rings_p_max(*p)}};
+  return true;
+}
+
+// The rows of one kind and the smallest ray fraction among its unseen ones (null: none).
+[[nodiscard]] bool sweep(const DensityProbe& probe, const char* kind, const std::vector<std::pair<double, double>>& at,
+                         const PerceptualResult& full, std::ostream& err, Json* rows, Json* best, std::string* error) {
+  *best = Json();
+  for (const auto& [scale, contrast] : at) {
+    DensityDetection d;
+    if (!measure_density(probe, scale, contrast, &d, error)) return false;
+    err << kDensityWho << kind << " scale " << scale << " contrast " << contrast << ": rays " << d.ray_fraction
+        << ", P max " << d.p.p_max << "\n";
+    Json row = row_json(kind, d, full);
+    if (row["unseen"].get<bool>() && (best->is_null() || d.ray_fraction < (*best)["ray_fraction"].get<double>())) *best = row;
+    rows->push_back(std::move(row));
+  }
+  return true;
+}
+
+}  // namespace
+
+int run_density(const DensityOptions& options, std::ostream& out, std::ostream& err) {
+  DensityOptions o = options;
+  if (const std::string bad = density_problem(o); !bad.empty()) return err << kDensityWho << bad << "\n", 2;
+  foveation::Executor executor(o.render.threads > 0 ? unsigned(o.render.threads) : 0u);
+  DensityRun r;
+  std::string error;
+  Json baseline, rows = Json::array(), best_eccentricity, best_content;
+  PerceptualResult full;
+  if (!set_up_density(o, executor, err, &r, &error) || !baseline_json(o, r, executor, &full, &baseline, &error))
+    return err << kDensityWho << error << "\n", 1;
+  DensityProbe probe{r.tracer.get(), r.view, r.gaze, o.render, &r.reference, &r.metric, std::nullopt, {}, &executor};
+  if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);
+  probe.log = [&](const std::string& m) { err << kDensityWho << m << "\n"; };
+  std::vector<std::pair<double, double>> eccentricity, content;
+  for (const double s : o.scales) eccentricity.emplace_back(s, 0.0);
+  for (const double c : o.contrasts) content.emplace_back(o.render.density_scale, c);
+  if (!sweep(probe, "eccentricity", eccentricity, full, err, &rows, &best_eccentricity, &error) ||
+      !sweep(probe, "content", content, full, err, &rows, &best_content, &error))
+    return err << kDensityWho << error << "\n", 1;
+  const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
+                       {"width", r.view.width_px}, {"height", r.view.height_px},
+                       {"gaze", {r.gaze.x, r.gaze.y}}, {"pixels_per_deg", r.metric.display().pixels_per_deg},
+                       {"interpolation", o.render.interpolation}, {"rays_per_point", o.render.rays_per_point},
+                       {"reference_spp", r.reference_spp}, {"ring_edges_deg", metrics::kRingEdgesDeg},
+                       {"full", baseline}, {"rows", rows},
+                       {"best_eccentricity", best_eccentricity}, {"best_content", best_content}};
+  out << report.dump(2) << "\n";
+  return 0;
+}
+
+void register_density(CLI::App& app) {
+  auto o = std::make_shared<DensityOptions>();
+  auto gaze = std::make_shared<std::string>(), pose = std::make_shared<std::string>(), crop = std::make_shared<std::string>();
+  CLI::App* cmd = app.add_subcommand(
+      "density", "The smallest ray fraction, eccentricity-only and content-aware, that the perceptual metric does not see");
+  const std::shared_ptr<render_view::RenderOptions> render(o, &o->render);
+  const std::function<void()> parse_common = render_view::add_render_options(cmd, render);
+  add_reference_options(cmd, &o->reference, /*with_file=*/false);
+  cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
+  cmd->add_option("--pose", *pose, "Where the viewer stands, X,Y,Z, or an exact eye pose px,py,pz,qx,qy,qz,qw");
+  cmd->add_option("--crop", *crop, "WxH: a crop of the preset's view at its pixels per degree, around its centre");
+  cmd->add_option("--scales", o->scales, "Density scales of the eccentricity-only rows")->delimiter(',')->capture_default_str();
+  cmd->add_option("--contrasts", o->contrasts, "Content contrasts of the content-aware rows (at --density-scale)")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();
+  cmd->callback([o, gaze, pose, crop, parse_common] {
+    parse_common();
+    if (!gaze->empty()) o->render.gaze_px = render_view::parse_gaze_option("--gaze", *gaze);
+    if (!pose->empty()) render_view::parse_pose_option("--pose", *pose, &o->render);
+    if (!crop->empty()) {
+      int w = 0, h = 0;
+      char end = 0;
+      if (std::sscanf(crop->c_str(), "%dx%d%c", &w, &h, &end) != 2) throw CLI::ValidationError("--crop", "expected WxH, got '" + *crop + "'");
+      o->crop_px = glm::ivec2(w, h);
+    }
+    const int code = run_density(*o, std::cout, std::cerr);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}
+
+}  // namespace foveart::eval

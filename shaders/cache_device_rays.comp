@@ -1,0 +1,53 @@
+#version 450
+// The device trace's rays into the render cache (docs/gpu.md "The render
+// cache"), after its resolve, with the resolve's dispatch: one invocation per
+// visible point, over its rays. Each ray becomes a new ray of the cache
+// (screen position, depth as depth.h carries it, colour: what the host
+// uploads for a callback's rays); the point's farthest hit, and for a
+// pixel-grid point its pixel's farthest drawn hit, are kept for
+// cache_pixels (foveation::CallbackTrace's farthest_m and
+// foveation::RayHistory::prepare_pixels' drawn_farthest_m, encoded as
+// FOVEART_CACHE_FAR_UNKNOWN says).
+#extension GL_GOOGLE_include_directive : require
+#include "gpu/shader_interface/cache_device_rays.h"
+#include "gpu/shader_interface/depth.h"
+
+layout(local_size_x = FOVEART_CACHE_DEVICE_RAYS_GROUP) in;
+layout(set = 0, binding = 0, std430) readonly buffer Rays { DeviceRay rays[]; };
+layout(set = 0, binding = 1, std430) readonly buffer RayColors { vec4 ray_colors[]; };  // rgb, depth in metres
+layout(set = 0, binding = 2, std430) readonly buffer PointIndex { uint point_index[]; };
+layout(set = 0, binding = 3, std430) readonly buffer Control { uint control[]; };
+layout(set = 0, binding = 4, std430) readonly buffer Points { DevicePoint points[]; };
+layout(set = 0, binding = 5, std430) writeonly buffer NewRays { NewRay new_rays[]; };
+layout(set = 0, binding = 6, std430) writeonly buffer PointFarthest { uint point_farthest[]; };  // per point
+layout(set = 0, binding = 7, std430) buffer Drawn { uint drawn[]; };  // per screen pixel
+
+// A ray's depth from its bits (drivers may compile isnan away): a hit at a
+// finite distance >= 0, the sky (+inf), or none (NaN, negative, -inf).
+bool finite_hit(uint bits) { return bits < 0x7F800000u || bits == 0x80000000u; }
+
+void main() {
+  const uint v = gl_GlobalInvocationID.x;
+  if (v >= control[FOVEART_DEVICE_VISIBLE_POINTS]) return;
+  const uint first = v * rays_per_point;
+  const uint p = point_index[first];
+  if (p >= point_count) return;
+  uint farthest = 0u;
+  for (uint s = 0u; s < rays_per_point; ++s) {
+    const uint r = first + s;
+    const vec4 c = ray_colors[r];
+    const uint bits = floatBitsToUint(c.w);
+    const bool hit = finite_hit(bits);
+    const float depth = hit ? min(uintBitsToFloat(bits & 0x7FFFFFFFu), FOVEART_DEPTH_SKY)
+                            : bits == 0x7F800000u ? FOVEART_DEPTH_SKY : FOVEART_DEPTH_UNKNOWN;
+    const vec2 sample_px = vec2(rays[r].origin_sample_x.w, rays[r].direction_sample_y.w);
+    new_rays[r] = NewRay(vec4(sample_px, depth, 0.0), vec4(c.rgb, 0.0));
+    farthest = max(farthest, hit ? 1u + (bits & 0x7FFFFFFFu) : FOVEART_CACHE_FAR_UNKNOWN);
+  }
+  point_farthest[p] = farthest;
+  const vec4 point = points[p].position_radius_grid;
+  if (point.w < 0.5) return;  // a Poisson point's rays are drawn for no pixel
+  const ivec2 pixel = ivec2(floor(point.xy - canvas_from_screen_px));
+  if (all(greaterThanEqual(pixel, ivec2(0))) && all(lessThan(pixel, screen_px)))
+    atomicMax(drawn[pixel.y * screen_px.x + pixel.x], farthest);
+}

@@ -1,0 +1,99 @@
+// `fovea-eval density` in process (bad options exit 2 naming the problem; a tiny sweep's rows,
+// their verdicts and the smallest unseen ray fraction per kind) and the bisection it shares with
+// the thesis check (eval/density_detection.hpp).
+#include <eval/cmd_density.hpp>
+#include <eval/density_detection.hpp>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <sstream>
+
+#include "gltf_fixtures.hpp"  // engine_test::TempDir
+
+using namespace foveart;
+
+namespace {
+
+int run_density_command(const eval::DensityOptions& o, std::string* out, std::string* err) {
+  std::ostringstream os, es;
+  const int code = eval::run_density(o, os, es);
+  *out = os.str(), *err = es.str();
+  return code;
+}
+
+eval::DensityOptions tiny_density(const std::string& cache) {
+  eval::DensityOptions o;
+  o.crop_px = glm::ivec2(96, 108);  // to 6 deg from the centre: scale 4 thins beyond 4
+  o.render.rays_per_point = 2;
+  o.render.threads = 2;
+  o.render.cache_dir = cache;
+  o.reference.spp = "16";
+  o.scales = {1.0, 4.0};
+  o.contrasts = {1.0};
+  return o;
+}
+
+}  // namespace
+
+TEST(DensityCommand, BadOptionsExitTwoNamingTheProblem) {
+  engine_test::TempDir dir;
+  std::string out, err;
+  eval::DensityOptions o = tiny_density(dir.path.string());
+  o.reference.spp.clear();
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--reference-spp N is required"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
+  o.scales = {0.0};
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--scales"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
+  o.contrasts = {1.5};
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--contrasts"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
+  o.crop_px = glm::ivec2(5000, 36);
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--crop"), std::string::npos) << err;
+}
+
+TEST(DensityCommand, RowsTheirVerdictsAndTheSmallestUnseenRayFraction) {
+  engine_test::TempDir dir;
+  std::string out, err;
+  ASSERT_EQ(run_density_command(tiny_density(dir.path.string()), &out, &err), 0) << err;
+  const auto j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["width"], 96);
+  EXPECT_EQ(j["height"], 108);
+  ASSERT_EQ(j["rows"].size(), 3u);  // two scales, one contrast
+  EXPECT_LT(j["rows"][1]["ray_fraction"].get<double>(), j["rows"][0]["ray_fraction"].get<double>()) << "scale 4 thins";
+  const auto& full = j["full"]["rings_p_max"];
+  for (const char* kind : {"eccentricity", "content"}) {
+    const nlohmann::json* smallest = nullptr;
+    for (const auto& row : j["rows"]) {
+      if (row["kind"] != kind) continue;
+      bool unseen = true;  // every ring the full render does not show stays below one half
+      for (std::size_t r = 0; r < full.size(); ++r)
+        if (full[r].is_number() && full[r].get<double>() < 0.5 && row["rings_p_max"][r].get<double>() >= 0.5) unseen = false;
+      EXPECT_EQ(row["unseen"].get<bool>(), unseen) << row.dump();
+      if (unseen && (!smallest || row["ray_fraction"].get<double>() < (*smallest)["ray_fraction"].get<double>())) smallest = &row;
+    }
+    const auto& best = j[std::string("best_") + kind];
+    if (smallest == nullptr) {
+      EXPECT_TRUE(best.is_null()) << best.dump();
+    } else {
+      EXPECT_EQ(best, *smallest);
+    }
+  }
+}
+
+TEST(DensityDetection, BisectionFindsTheHalfCrossingOrSaysThereIsNone) {
+  int calls = 0;
+  const auto step_at_1_3 = [&](double s) -> std::optional<double> { return ++calls, s < 1.3 ? 0.2 : 0.9; };
+  const std::optional<double> s = eval::half_detection_scale(step_at_1_3, 1.0, 3.0, 0.01);
+  ASSERT_TRUE(s.has_value());
+  EXPECT_NEAR(*s, 1.3, 0.01);
+  EXPECT_LE(calls, 2 + 8);  // the ends and log2(2 / 0.01) halvings
+  EXPECT_FALSE(eval::half_detection_scale(step_at_1_3, 1.5, 3.0, 0.01)) << "detected at both ends";
+  EXPECT_FALSE(eval::half_detection_scale(step_at_1_3, 1.0, 1.2, 0.01)) << "unseen at both ends";
+  EXPECT_FALSE(eval::half_detection_scale([](double) { return std::optional<double>(); }, 1.0, 3.0, 0.01));
+}
