@@ -103,7 +103,10 @@ jq -rn --slurpfile p out/pointset.json --slurpfile r out/render.json \
         "\($c[0].per_frame.layer_overhead_ms[0].p50 | r1) ms, temporal \"\($c[0].temporal)\""),
     ($g[0].gpu_stage_ms[0]) as $stage
     | row("whole frame per eye on the device, GPU engine, lavapipe (a CPU device)";
-        "trace \($g[0].per_frame.trace_ms[0].p50 | r1) ms (p50) + reconstruction \($stage.gather + $stage.temporal + $stage.encode | r1) ms, temporal \"\($g[0].temporal)\""),
+        "trace \($g[0].per_frame.gpu_trace_ms[0].p50 | r1) ms (p50) + reconstruction \($stage.gather + $stage.temporal + $stage.encode | r1) ms, temporal \"\($g[0].temporal)\""),
+    ($g[0].per_frame) as $pf
+    | row("GPU engine: GPU time per eye (p50, left / right) beside the host time per frame in xrEndFrame";
+        "GPU \($pf.gpu_eye_ms[0].p50 | r1) / \($pf.gpu_eye_ms[1].p50 | r1) ms per eye; host in xrEndFrame \($pf.end_frame_host_ms.p50 | r1) ms p50, \($pf.end_frame_host_ms.p95 | r1) ms p95 per frame"),
     row("pictures"; "out/render_full.png, out/render_foveated.png, out/frames/, out/pointset_centred.png"),
     row("price list (accuracy per ring against a converged reference)";
         if $pricelist == "1" then "out/pricelist/report.md" else "docs/lab/pricelist.md (scripts/run.sh --pricelist: out/pricelist/)" end)'

@@ -6,7 +6,7 @@
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
 //                  [--fault nan|error|throw|nothing] [--fault-from-frame N] [--json] [--app-actions]
-//                  [--no-explicit-layer]
+//                  [--no-explicit-layer] [--count-work]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
 // --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
@@ -25,7 +25,18 @@
 // --json prints, besides the layer's stats: "engine" (cpu | gpu) and "engine_rays"
 // {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
 // rays each engine traced for the layer during the session (the CPU engine's
-// counts exclude the exposure pre-pass; the GPU engine's are its device counters).
+// counts exclude the exposure pre-pass; the GPU engine's are its device counters),
+// and "gpu_engine" (null with --engine cpu): {"device", "backend", "memory":
+// {device_local_bytes, host_visible_bytes, texture_bytes, fallback} (memory_use(),
+// memory_fallback()), "work": {bvh_nodes, triangle_tests, bvh_node_count} with
+// --count-work on the compute backend, else null}. Its "per_frame" adds
+// "end_frame_host_ms" (the host wall time of each xrEndFrame call, steady clock,
+// in the app), and on the GPU path, once per finished frame whose times the stats
+// held (the newest finished, up to two older): "gpu_trace_ms" [L, R] (the
+// device trace's traceMs), "gpu_eye_ms" [L, R] (that plus the GPU stages) and
+// "gpu_frame_ms" (both eyes), each {p50, p95, p99, count}; and the series
+// end_frame_host_ms_per_frame (per traced frame), gpu_trace_ms_per_frame [L, R]
+// and gpu_eye_ms_per_frame [L, R] (per frame with GPU times).
 // --mode full: the app renders every pixel of each eye itself with the chosen
 // engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
 // the layer's seed and jitter and no temporal history (each frame traced anew),
@@ -137,6 +148,22 @@ nlohmann::json ray_counts_json(const foveart::engine::RayCounts& c) {
   return {{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection}, {"refraction", c.refraction}};
 }
 
+// What the GPU engine holds on the device and, with --count-work, its traversal's work.
+nlohmann::json gpu_engine_json(const foveart::gpu_engine::GpuTracer& tracer, const std::string& device) {
+  const foveart::gpu_engine::MemoryUse m = tracer.memory_use();
+  const foveart::gpu_engine::WorkCounts w = tracer.work_counts();
+  return {{"device", device},
+          {"backend", tracer.backend_name()},
+          {"memory", {{"device_local_bytes", m.device_local_bytes},
+                      {"host_visible_bytes", m.host_visible_bytes},
+                      {"texture_bytes", m.texture_bytes},
+                      {"fallback", tracer.memory_fallback()}}},
+          {"work", w.counted ? nlohmann::json{{"bvh_nodes", w.bvh_nodes},
+                                              {"triangle_tests", w.triangle_tests},
+                                              {"bvh_node_count", tracer.bvh_node_count()}}
+                             : nlohmann::json(nullptr)}};
+}
+
 const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
   switch (s) {
     case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: return "provider";
@@ -154,7 +181,7 @@ float percentile(std::vector<float> v, double p) {
 }
 
 nlohmann::json distribution(const std::vector<float>& v) {
-  return {{"p50", percentile(v, 50)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
+  return {{"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
 }
 
 // The last frame's submitted views: pose (the scene's space), FOV, size.
@@ -168,6 +195,14 @@ nlohmann::json views_json(const foveart::hello::AppResult& r) {
                      {"size_px", {v.width_px, v.height_px}}});
   }
   return views;
+}
+
+// Per traced frame [left, right] of two per-eye series.
+nlohmann::json eye_pairs(const std::vector<float>* per_eye) {
+  nlohmann::json pairs = nlohmann::json::array();
+  for (std::size_t f = 0; f < std::min(per_eye[0].size(), per_eye[1].size()); ++f)
+    pairs.push_back({per_eye[0][f], per_eye[1][f]});
+  return pairs;
 }
 
 nlohmann::json stats_json(const foveart::hello::AppResult& r) {
@@ -222,6 +257,9 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"invalid_colours", s.invalidColours},
           {"gaze_lost_frames", s.gazeLostFrames},
           {"gaze_px_per_frame", r.gaze_px},
+          {"end_frame_host_ms_per_frame", r.end_frame_host_ms},
+          {"gpu_trace_ms_per_frame", eye_pairs(r.gpu_trace_ms)},
+          {"gpu_eye_ms_per_frame", eye_pairs(r.gpu_eye_ms)},
           {"temporal_resets", rec.temporalResets},
           {"temporal_reset_per_frame", temporal_reset},
           {"gaze_saccade_per_frame", r.gaze_saccade},
@@ -231,7 +269,11 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"per_frame",
            {{"gaze_age_ms", distribution(r.gaze_age_ms)},
             {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
-            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}}}}};
+            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}},
+            {"gpu_trace_ms", {distribution(r.gpu_trace_ms[0]), distribution(r.gpu_trace_ms[1])}},
+            {"gpu_eye_ms", {distribution(r.gpu_eye_ms[0]), distribution(r.gpu_eye_ms[1])}},
+            {"gpu_frame_ms", distribution(r.gpu_frame_ms)},
+            {"end_frame_host_ms", distribution(r.end_frame_host_ms)}}}};
 }
 
 
@@ -320,6 +362,7 @@ struct Args {
   std::string exposure = "auto";
   std::string tone_map = "config";
   std::string fault;
+  bool count_work = false;
   uint64_t fault_from_frame = 0;
   foveart::hello::AppOptions options;  // the settings given as they are
 
@@ -388,6 +431,9 @@ void add_app_options(CLI::App& cli, Args& a) {
                  "test aid: make the engine misbehave. nan: a NaN colour; error: an error result; throw: an "
                  "exception (--engine cpu only); nothing: the device trace records nothing (--engine gpu only)")
       ->check(CLI::IsMember({"nan", "error", "throw", "nothing"}));
+  cli.add_flag("--count-work", a.count_work,
+               "benchmark aid, --engine gpu: the GPU engine counts the BVH nodes and triangles its traversal "
+               "visits (gpu_engine.work in the JSON; the compute backend only; slows the trace)");
   cli.add_option("--fault-from-frame", a.fault_from_frame,
                  "with --fault and --engine gpu: the device trace misbehaves from the layer's frame N on (from 1)");
 }
@@ -400,6 +446,7 @@ std::string conflicting_options(const Args& a) {
   if (a.fault == "throw" && a.gpu_engine())
     return "--fault throw is for --engine cpu only (a device trace must never throw)";
   if (a.fault == "nothing" && !a.gpu_engine()) return "--fault nothing is for --engine gpu only";
+  if (a.count_work && !a.gpu_engine()) return "--count-work is for --engine gpu only";
   if (a.fault_from_frame != 0 && (a.fault.empty() || !a.gpu_engine()))
     return "--fault-from-frame is for --fault with --engine gpu only";
   return "";
@@ -467,6 +514,8 @@ bool set_exposure(const std::string& exposure, foveart::engine::Tracer& tracer, 
 struct GpuSession {
   std::unique_ptr<foveart::gpu_engine::GpuTracer> tracer;
   std::optional<foveart::engine::RayCounts> counts;
+  std::optional<nlohmann::json> engine;  // gpu_engine_json, read with the counts
+  std::string device;                    // the session's physical device's name
   FaultyDeviceEngine faulty;
 };
 
@@ -510,7 +559,8 @@ class Sessions {
   std::optional<nlohmann::json> run(bool full, std::string* error) {
     foveart::hello::AppOptions session = options_;
     tracer_->reset_counts();  // engine_rays: the session's rays, not the exposure pre-pass's
-    GpuSession gpu{nullptr, std::nullopt, FaultyDeviceEngine{nullptr, args_.fault, args_.fault_from_frame}};
+    GpuSession gpu{nullptr, std::nullopt, std::nullopt, "",
+                   FaultyDeviceEngine{nullptr, args_.fault, args_.fault_from_frame}};
     if (args_.gpu_engine()) add_gpu_engine(session, full, gpu);
     foveart::hello::FullFrameTimes full_times;
     if (full) add_full_renderer(session, gpu, full_times);
@@ -526,6 +576,7 @@ class Sessions {
     out["mode"] = full ? "full" : "foveated";
     out["engine"] = args_.engine_name;
     out["engine_rays"] = std::move(engine_rays);
+    out["gpu_engine"] = gpu.engine ? *gpu.engine : nlohmann::json(nullptr);
     return out;
   }
 
@@ -534,10 +585,15 @@ class Sessions {
   void add_gpu_engine(foveart::hello::AppOptions& session, bool full, GpuSession& gpu) {
     session.make_device_trace = [this, full, &gpu](const foveart::hello::VulkanDevice& device) {
       std::string gpu_error;
+      foveart::gpu_engine::GpuTracerOptions gpu_options;
+      gpu_options.count_work = args_.count_work;
+      VkPhysicalDeviceProperties properties{};
+      vkGetPhysicalDeviceProperties(device.physical_device, &properties);
+      gpu.device = properties.deviceName;
       gpu.tracer = foveart::gpu_engine::GpuTracer::create(
           foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
                                           device.queue},
-          foveart::engine::Scene(*gpu_scene_), {}, &gpu_error);
+          foveart::engine::Scene(*gpu_scene_), gpu_options, &gpu_error);
       if (gpu.tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
       gpu.tracer->reset_counts();
       gpu.faulty.tracer = gpu.tracer.get();
@@ -548,6 +604,10 @@ class Sessions {
     session.release_device_trace = [&gpu]() noexcept {
       if (gpu.tracer == nullptr) return;
       gpu.counts = gpu.tracer->counts();
+      try {
+        gpu.engine = gpu_engine_json(*gpu.tracer, gpu.device);
+      } catch (...) {  // noexcept: the JSON stays null rather than end the program
+      }
       gpu.tracer.reset();
     };
   }

@@ -390,16 +390,19 @@ class App {
     const std::array<XrView, 2> views = locate_views(frame_state.predictedDisplayTime);
     std::array<XrCompositionLayerProjectionView, 2> projection_views{};
     for (uint32_t e = 0; e < 2; ++e) projection_views[e] = draw_eye(e, views[e]);
-    end_frame(frame_state, projection_views);
+    const float end_frame_ms = end_frame(frame_state, projection_views);
     const auto frame_ms = static_cast<float>(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - frame_t0).count());
-    if (view_renderer_ != nullptr) result->frame_ms.push_back(frame_ms);
+    if (view_renderer_ != nullptr) {
+      result->frame_ms.push_back(frame_ms);
+      result->end_frame_host_ms.push_back(end_frame_ms);
+    }
     const auto frame_index = static_cast<float>(frames_);
     for (uint32_t e = 0; e < 2; ++e) {
       result->views[e] = {projection_views[e].pose, projection_views[e].fov, eyes_[e].width, eyes_[e].height};
     }
     ++frames_;
-    record_stats(frame_state.predictedDisplayTime, frame_ms, frame_index, result);
+    record_stats(frame_state.predictedDisplayTime, {frame_ms, end_frame_ms}, frame_index, result);
   }
 
   std::array<XrView, 2> locate_views(XrTime display_time) {
@@ -438,8 +441,9 @@ class App {
     return projection_view;
   }
 
-  // Submits the projection layer, opted in to the layer unless the app renders it in full.
-  void end_frame(const XrFrameState& frame_state,
+  // Submits the projection layer, opted in to the layer unless the app renders it in full;
+  // the host wall time of the xrEndFrame call in ms.
+  float end_frame(const XrFrameState& frame_state,
                  const std::array<XrCompositionLayerProjectionView, 2>& projection_views) {
     // The opt-in: chained first into the projection layer.
     auto foveated = xr_struct<XrFoveatedRayTracingLayerFOVEART>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
@@ -461,11 +465,20 @@ class App {
     end.environmentBlendMode = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
     end.layerCount = frame_state.shouldRender ? 1 : 0;
     end.layers = layers;
-    check(xrEndFrame(session_, &end), "xrEndFrame");
+    const auto t0 = std::chrono::steady_clock::now();
+    const XrResult r = xrEndFrame(session_, &end);
+    const auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    check(r, "xrEndFrame");
+    return static_cast<float>(ms);
   }
 
+  struct FrameTimes {
+    float frame_ms;      // xrBeginFrame's call to xrEndFrame's return
+    float end_frame_ms;  // the xrEndFrame call
+  };
+
   // The layer's stats after a frame; a frame it traced adds its per-frame entries to *result.
-  void record_stats(XrTime display_time, float frame_ms, float frame_index, AppResult* result) {
+  void record_stats(XrTime display_time, FrameTimes times, float frame_index, AppResult* result) {
     auto reconstruction =
         xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
     auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
@@ -473,7 +486,8 @@ class App {
     check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
     if (stats.framesTraced <= traced_) return;
     traced_ = stats.framesTraced;
-    result->frame_ms.push_back(frame_ms);
+    result->frame_ms.push_back(times.frame_ms);
+    result->end_frame_host_ms.push_back(times.end_frame_ms);
     result->gaze_px.push_back(
         {frame_index, stats.gazePixel[0].x, stats.gazePixel[0].y, stats.gazePixel[1].x, stats.gazePixel[1].y});
     result->temporal_reset.push_back(
@@ -487,6 +501,29 @@ class App {
       result->overhead_ms[e].push_back(stats.selectMs[e] + stats.reconstructMs[e] + stats.temporalMs[e] + stats.uploadMs[e]);
       result->trace_ms[e].push_back(stats.traceMs[e]);
     }
+    record_gpu_times(stats, reconstruction, result);
+  }
+
+  // The GPU path's times per eye where the stats have them (a finished frame, up
+  // to two older than this one), once per finished frame: the trace slot and the
+  // eye's stages in all.
+  static void record_gpu_times(const XrFoveatedRendererStatsFOVEART& stats,
+                               const XrFoveatedRendererReconstructionStatsFOVEART& reconstruction,
+                               AppResult* result) {
+    if (reconstruction.path != XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART) return;
+    float eye_ms[2];
+    for (int e = 0; e < 2; ++e)
+      eye_ms[e] = stats.traceMs[e] + reconstruction.gpuScatterMs[e] + reconstruction.gpuGatherMs[e] +
+                  reconstruction.gpuTemporalMs[e] + reconstruction.gpuEncodeMs[e];
+    if (!(eye_ms[0] > 0.0f && eye_ms[1] > 0.0f)) return;  // no frame finished yet
+    if (!result->gpu_eye_ms[0].empty() && result->gpu_eye_ms[0].back() == eye_ms[0] &&
+        result->gpu_eye_ms[1].back() == eye_ms[1])
+      return;  // the same finished frame read again
+    for (int e = 0; e < 2; ++e) {
+      result->gpu_trace_ms[e].push_back(stats.traceMs[e]);
+      result->gpu_eye_ms[e].push_back(eye_ms[e]);
+    }
+    result->gpu_frame_ms.push_back(eye_ms[0] + eye_ms[1]);
   }
 
   void shutdown() noexcept {

@@ -111,6 +111,17 @@ struct AppResult {
   // Per rendered frame (foveated: the frames the layer traced; full: every
   // frame): xrBeginFrame's call to xrEndFrame's return, as the app sees it.
   std::vector<float> frame_ms;
+  // Per rendered frame as frame_ms: the host wall time of the xrEndFrame call alone
+  // (the layer's work on the app's thread: its submissions and waits).
+  std::vector<float> end_frame_host_ms;
+  // Per finished frame on the GPU path whose times the stats held (the newest
+  // finished frame, up to two older than the last; one read again is kept once),
+  // per eye: the device trace's slot of traceMs, and the eye's GPU time in all
+  // (+ scatter, gather, temporal, encode with the copy into the image); and both
+  // eyes' sum.
+  std::vector<float> gpu_trace_ms[2];
+  std::vector<float> gpu_eye_ms[2];
+  std::vector<float> gpu_frame_ms;
   // Per traced frame: frame index, then the layer's gaze pixel of each eye (x, y).
   std::vector<std::array<float, 5>> gaze_px;
   uint64_t app_gaze_located_frames = 0;  // app_actions: frames its own gaze action located

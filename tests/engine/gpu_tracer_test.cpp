@@ -2,6 +2,7 @@
 // and ray counts; the full render matches engine::render_full; bad input fails
 // cleanly; synchronization validation stays silent. Runs on lavapipe.
 #include <gpu_engine/gpu_tracer.hpp>
+#include <gpu_engine/timestamps.hpp>
 
 #include <engine/default_scene.hpp>
 #include <engine/gltf_loader.hpp>
@@ -265,6 +266,97 @@ TEST(GpuTracer, AbsentEffectsCastNoRays) {
   EXPECT_EQ(c.reflection, 0u);
   EXPECT_EQ(c.refraction, 0u);
   for (const glm::vec4& v : out) EXPECT_NEAR(v.w, 1.0f / std::fabs(glm::normalize(glm::vec3(0.1f, -1.0f, 0.05f)).y), 1e-4f);
+  expect_no_validation_errors();
+}
+
+// ---- the benchmark's timestamp check (gpu_engine/timestamps.hpp) --------------------
+
+TEST(GpuTimestamps, AQueueWithoutTimestampsOrStampsThatDoNotAdvanceAreRefusedByName) {
+  using foveart::gpu_engine::timestamp_reading_problem;
+  using foveart::gpu_engine::timestamp_support_problem;
+  EXPECT_EQ(timestamp_support_problem("GPU X", 64, 1.0f), "");
+  const std::string no_bits = timestamp_support_problem("GPU X", 0, 1.0f);
+  EXPECT_NE(no_bits.find("GPU X"), std::string::npos) << no_bits;
+  EXPECT_NE(no_bits.find("timestampValidBits 0"), std::string::npos) << no_bits;
+  EXPECT_NE(timestamp_support_problem("GPU X", 36, 0.0f), "");
+  EXPECT_EQ(timestamp_reading_problem("GPU X", 100, 250), "");
+  const std::string zeros = timestamp_reading_problem("GPU X", 0, 0);
+  EXPECT_NE(zeros.find("GPU X"), std::string::npos) << zeros;
+  EXPECT_NE(zeros.find("read 0"), std::string::npos) << zeros;
+  EXPECT_NE(timestamp_reading_problem("GPU X", 250, 250), "");
+  EXPECT_NE(timestamp_reading_problem("GPU X", 250, 100), "");
+}
+
+TEST(GpuTimestamps, TheTestDevicesQueueHasThem) {
+  REQUIRE_GPU();
+  const GpuContext context = gpu().context();
+  EXPECT_EQ(foveart::gpu_engine::timestamp_support_problem(context.physical_device, context.queue_family_index), "");
+  EXPECT_NE(foveart::gpu_engine::timestamp_support_problem(context.physical_device, 1000u), "") << "no such family";
+}
+
+// ---- traversal work (GpuTracerOptions::count_work) -----------------------------------
+
+// A floor of two triangles is one leaf under the root: every ray visits both nodes
+// and tests both triangles, so the counts are exact.
+TEST(GpuTracer, WorkCountersCountEachNodeAndTriangleOfAOneLeafScene) {
+  REQUIRE_GPU();
+  Scene s;
+  s.source = "floor";  // rough, opaque, untextured, no lights: primary rays only
+  foveart::engine::Material m;
+  m.roughness = 1.0f;
+  m.metallic = 0.0f;
+  s.materials.push_back(m);
+  add_floor(s, 2.0f, 0);
+  GpuTracerOptions options;
+  options.count_work = true;
+  auto g = make_gpu(s, options);
+  ASSERT_TRUE(g);
+  ASSERT_EQ(g->bvh_node_count(), 2u) << "the root and one leaf";
+  const Rays rays = down_rays(16, 1.5f);
+  trace_gpu(*g, rays);
+  const foveart::gpu_engine::WorkCounts w = g->work_counts();
+  EXPECT_TRUE(w.counted);
+  EXPECT_EQ(g->counts().total(), rays.origin.size());
+  EXPECT_EQ(w.bvh_nodes, 2u * rays.origin.size());
+  EXPECT_EQ(w.triangle_tests, 2u * rays.origin.size());
+  g->reset_counts();
+  EXPECT_EQ(g->work_counts().bvh_nodes, 0u);
+  EXPECT_EQ(g->work_counts().triangle_tests, 0u);
+  expect_no_validation_errors();
+}
+
+// On the default scene each ray's traversal visits at least the root and at most
+// every node, tests at most every triangle; counting changes no colour and no
+// ray count, and a tracer not asked to count leaves the counters at 0.
+TEST(GpuTracer, WorkCountersBoundEachTraversalAndChangeNothing) {
+  REQUIRE_GPU();
+  const Scene scene = foveart::engine::make_default_scene();
+  GpuTracerOptions options;
+  options.count_work = true;
+  auto counting = make_gpu(scene, options);
+  auto plain = make_gpu(scene);
+  ASSERT_TRUE(counting && plain);
+  const Rays rays = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), 4096);
+  const auto a = trace_gpu(*counting, rays);
+  const auto b = trace_gpu(*plain, rays);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])), 0) << "counting changed a colour";
+  const RayCounts c = counting->counts();
+  EXPECT_EQ(c.total(), plain->counts().total());
+  EXPECT_GT(c.shadow + c.reflection + c.refraction, 0u);
+  const foveart::gpu_engine::WorkCounts w = counting->work_counts();
+  std::printf("[ work ] %llu rays, %llu BVH nodes (%.1f per ray of %llu), %llu triangle tests\n",
+              static_cast<unsigned long long>(c.total()), static_cast<unsigned long long>(w.bvh_nodes),
+              double(w.bvh_nodes) / double(c.total()), static_cast<unsigned long long>(counting->bvh_node_count()),
+              static_cast<unsigned long long>(w.triangle_tests));
+  EXPECT_TRUE(w.counted);
+  EXPECT_GT(w.bvh_nodes, 2u * c.total()) << "rays descend below the root";
+  EXPECT_LE(w.bvh_nodes, counting->bvh_node_count() * c.total());
+  EXPECT_GT(w.triangle_tests, 0u);
+  EXPECT_LE(w.triangle_tests, scene.mesh.triangles.size() * c.total());
+  const foveart::gpu_engine::WorkCounts none = plain->work_counts();
+  EXPECT_FALSE(none.counted);
+  EXPECT_EQ(none.bvh_nodes + none.triangle_tests, 0u);
   expect_no_validation_errors();
 }
 

@@ -10,7 +10,9 @@
 // buffer whose memory was mapped when it was recorded is a copy to the host
 // (a read-back through a persistent map), one out of such a buffer
 // (vkCmdCopyBuffer, vkCmdCopyBufferToImage) a copy from the host; bytes for
-// buffer copies, texels for image copies.
+// buffer copies, texels for image copies. And the work a submission carries:
+// the dispatches (direct, indirect), pipeline barriers and ray-tracing launches
+// recorded into its command buffers (secondary command buffers not looked into).
 //
 // Each call is an event with its thread and its caller: the modules on the
 // stack (shared objects and the program, by file name, innermost first, this
@@ -80,6 +82,11 @@ struct Copies {
   uint64_t from_host = 0, from_host_bytes = 0, from_host_texels = 0;
 };
 
+// The commands of work a command buffer holds, since its vkBeginCommandBuffer.
+struct Commands {
+  uint64_t dispatches = 0, dispatches_indirect = 0, barriers = 0, trace_rays = 0;
+};
+
 struct DeviceData {
   VkDevice device = VK_NULL_HANDLE;
   std::string name;
@@ -110,6 +117,13 @@ struct DeviceData {
   PFN_vkCmdCopyBuffer CmdCopyBuffer = nullptr;
   PFN_vkCmdCopyImageToBuffer CmdCopyImageToBuffer = nullptr;
   PFN_vkCmdCopyBufferToImage CmdCopyBufferToImage = nullptr;
+  PFN_vkCmdDispatch CmdDispatch = nullptr;
+  PFN_vkCmdDispatchIndirect CmdDispatchIndirect = nullptr;
+  PFN_vkCmdPipelineBarrier CmdPipelineBarrier = nullptr;
+  PFN_vkCmdPipelineBarrier2 CmdPipelineBarrier2 = nullptr;
+  PFN_vkCmdPipelineBarrier2 CmdPipelineBarrier2KHR = nullptr;
+  PFN_vkCmdTraceRaysKHR CmdTraceRaysKHR = nullptr;
+  PFN_vkCmdTraceRaysIndirectKHR CmdTraceRaysIndirectKHR = nullptr;
 
   // Guarded by the layer's mutex.
   uint64_t submissions = 0;                                   // every submission on every queue, numbered
@@ -119,6 +133,7 @@ struct DeviceData {
   std::unordered_set<VkDeviceMemory> mapped;                  // mapped now
   std::unordered_map<VkBuffer, VkDeviceMemory> buffer_memory;  // as bound
   std::unordered_map<VkCommandBuffer, Copies> recorded;
+  std::unordered_map<VkCommandBuffer, Commands> commands;
   std::vector<Event> events;
 };
 
@@ -277,6 +292,26 @@ void note_copies(DeviceData& d, const std::vector<VkCommandBuffer>& cbs, const s
   }
 }
 
+// The work that submitting `cbs` carries, as one event per kind after the
+// submission's (named by the command; items: how many were recorded).
+void note_commands(DeviceData& d, const std::vector<VkCommandBuffer>& cbs, const std::vector<std::string>& chain) {
+  Commands sum;
+  for (VkCommandBuffer cb : cbs) {
+    auto it = d.commands.find(cb);
+    if (it == d.commands.end()) continue;
+    sum.dispatches += it->second.dispatches;
+    sum.dispatches_indirect += it->second.dispatches_indirect;
+    sum.barriers += it->second.barriers;
+    sum.trace_rays += it->second.trace_rays;
+  }
+  const std::pair<const char*, uint64_t> kinds[] = {{"vkCmdDispatch", sum.dispatches},
+                                                    {"vkCmdDispatchIndirect", sum.dispatches_indirect},
+                                                    {"vkCmdPipelineBarrier", sum.barriers},
+                                                    {"vkCmdTraceRaysKHR", sum.trace_rays}};
+  for (const auto& [call, items] : kinds)
+    if (items > 0) record(d, call, "", items, 0, chain);
+}
+
 // A submission of `batches` batches with command buffers `cbs` to `queue`, signalling `fence`.
 void note_submission(VkQueue queue, const char* call, uint64_t batches, const std::vector<VkCommandBuffer>& cbs,
                      VkFence fence) {
@@ -292,6 +327,7 @@ void note_submission(VkQueue queue, const char* call, uint64_t batches, const st
   record(d, call, "", batches, 0, chain);
   d.events.back().command_buffers = cbs.size();
   note_copies(d, cbs, chain);
+  note_commands(d, cbs, chain);
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit(VkQueue queue, uint32_t count, const VkSubmitInfo* submits, VkFence fence) {
@@ -512,6 +548,7 @@ VKAPI_ATTR VkResult VKAPI_CALL BeginCommandBuffer(VkCommandBuffer cb, const VkCo
     std::lock_guard lock(l.mutex);
     DeviceData& d = l.devices.at(key_of(cb));
     d.recorded.erase(cb);  // a begin resets what the buffer held
+    d.commands.erase(cb);
     next = d.BeginCommandBuffer;
   }
   return next(cb, info);
@@ -587,6 +624,59 @@ VKAPI_ATTR void VKAPI_CALL CmdCopyBufferToImage(VkCommandBuffer cb, VkBuffer src
   next(cb, src, dst, layout, count, regions);
 }
 
+// Counts one command of `cb` in `field`; the next link's function.
+template <class Fn>
+Fn count_command(VkCommandBuffer cb, uint64_t Commands::*field, Fn DeviceData::*next) {
+  Layer& l = layer();
+  std::lock_guard lock(l.mutex);
+  DeviceData& d = l.devices.at(key_of(cb));
+  ++(d.commands[cb].*field);
+  return d.*next;
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdDispatch(VkCommandBuffer cb, uint32_t x, uint32_t y, uint32_t z) {
+  count_command(cb, &Commands::dispatches, &DeviceData::CmdDispatch)(cb, x, y, z);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdDispatchIndirect(VkCommandBuffer cb, VkBuffer buffer, VkDeviceSize offset) {
+  count_command(cb, &Commands::dispatches_indirect, &DeviceData::CmdDispatchIndirect)(cb, buffer, offset);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdPipelineBarrier(VkCommandBuffer cb, VkPipelineStageFlags src, VkPipelineStageFlags dst,
+                                              VkDependencyFlags flags, uint32_t memory_count,
+                                              const VkMemoryBarrier* memory, uint32_t buffer_count,
+                                              const VkBufferMemoryBarrier* buffers, uint32_t image_count,
+                                              const VkImageMemoryBarrier* images) {
+  count_command(cb, &Commands::barriers, &DeviceData::CmdPipelineBarrier)(
+      cb, src, dst, flags, memory_count, memory, buffer_count, buffers, image_count, images);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdPipelineBarrier2(VkCommandBuffer cb, const VkDependencyInfo* info) {
+  count_command(cb, &Commands::barriers, &DeviceData::CmdPipelineBarrier2)(cb, info);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdPipelineBarrier2KHR(VkCommandBuffer cb, const VkDependencyInfo* info) {
+  count_command(cb, &Commands::barriers, &DeviceData::CmdPipelineBarrier2KHR)(cb, info);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdTraceRaysKHR(VkCommandBuffer cb, const VkStridedDeviceAddressRegionKHR* raygen,
+                                           const VkStridedDeviceAddressRegionKHR* miss,
+                                           const VkStridedDeviceAddressRegionKHR* hit,
+                                           const VkStridedDeviceAddressRegionKHR* callable, uint32_t width,
+                                           uint32_t height, uint32_t depth) {
+  count_command(cb, &Commands::trace_rays, &DeviceData::CmdTraceRaysKHR)(cb, raygen, miss, hit, callable, width,
+                                                                         height, depth);
+}
+
+VKAPI_ATTR void VKAPI_CALL CmdTraceRaysIndirectKHR(VkCommandBuffer cb, const VkStridedDeviceAddressRegionKHR* raygen,
+                                                   const VkStridedDeviceAddressRegionKHR* miss,
+                                                   const VkStridedDeviceAddressRegionKHR* hit,
+                                                   const VkStridedDeviceAddressRegionKHR* callable,
+                                                   VkDeviceAddress address) {
+  count_command(cb, &Commands::trace_rays, &DeviceData::CmdTraceRaysIndirectKHR)(cb, raygen, miss, hit, callable,
+                                                                                 address);
+}
+
 // vkFlushMappedMemoryRanges and vkInvalidateMappedMemoryRanges: one event, their bytes.
 template <PFN_vkFlushMappedMemoryRanges DeviceData::*Next>
 VkResult ranges_call(const char* call, VkDevice device, uint32_t count, const VkMappedMemoryRange* ranges) {
@@ -659,6 +749,13 @@ PFN_vkVoidFunction device_intercept(const char* name) {
       {"vkCmdCopyBuffer", reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyBuffer)},
       {"vkCmdCopyImageToBuffer", reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyImageToBuffer)},
       {"vkCmdCopyBufferToImage", reinterpret_cast<PFN_vkVoidFunction>(&CmdCopyBufferToImage)},
+      {"vkCmdDispatch", reinterpret_cast<PFN_vkVoidFunction>(&CmdDispatch)},
+      {"vkCmdDispatchIndirect", reinterpret_cast<PFN_vkVoidFunction>(&CmdDispatchIndirect)},
+      {"vkCmdPipelineBarrier", reinterpret_cast<PFN_vkVoidFunction>(&CmdPipelineBarrier)},
+      {"vkCmdPipelineBarrier2", reinterpret_cast<PFN_vkVoidFunction>(&CmdPipelineBarrier2)},
+      {"vkCmdPipelineBarrier2KHR", reinterpret_cast<PFN_vkVoidFunction>(&CmdPipelineBarrier2KHR)},
+      {"vkCmdTraceRaysKHR", reinterpret_cast<PFN_vkVoidFunction>(&CmdTraceRaysKHR)},
+      {"vkCmdTraceRaysIndirectKHR", reinterpret_cast<PFN_vkVoidFunction>(&CmdTraceRaysIndirectKHR)},
   };
   auto it = table.find(name);
   return it != table.end() ? it->second : nullptr;
@@ -697,7 +794,14 @@ bool load_device(DeviceData& d) {
   load(d, "vkCmdCopyBuffer", d.CmdCopyBuffer);
   load(d, "vkCmdCopyImageToBuffer", d.CmdCopyImageToBuffer);
   load(d, "vkCmdCopyBufferToImage", d.CmdCopyBufferToImage);
-  return d.BindBufferMemory && d.BeginCommandBuffer && d.CmdCopyBuffer && d.CmdCopyImageToBuffer &&
+  load(d, "vkCmdDispatch", d.CmdDispatch);
+  load(d, "vkCmdDispatchIndirect", d.CmdDispatchIndirect);
+  load(d, "vkCmdPipelineBarrier", d.CmdPipelineBarrier);
+  load(d, "vkCmdPipelineBarrier2", d.CmdPipelineBarrier2);  // these four: where the device offers them
+  load(d, "vkCmdPipelineBarrier2KHR", d.CmdPipelineBarrier2KHR);
+  load(d, "vkCmdTraceRaysKHR", d.CmdTraceRaysKHR);
+  load(d, "vkCmdTraceRaysIndirectKHR", d.CmdTraceRaysIndirectKHR);
+  return d.CmdDispatch && d.CmdDispatchIndirect && d.CmdPipelineBarrier && d.BindBufferMemory && d.BeginCommandBuffer && d.CmdCopyBuffer && d.CmdCopyImageToBuffer &&
          d.CmdCopyBufferToImage && d.DestroyDevice && d.QueueSubmit && d.WaitForFences && d.ResetFences &&
          d.DestroyFence && d.GetFenceStatus && d.QueueWaitIdle && d.DeviceWaitIdle && d.GetQueryPoolResults &&
          d.AllocateMemory && d.FreeMemory && d.MapMemory && d.UnmapMemory && d.FlushMappedMemoryRanges &&

@@ -74,6 +74,10 @@ vec3 safe_inverse(vec3 d) {
                     abs(d.z) < tiny ? (d.z < 0.0 ? -tiny : tiny) : d.z);
 }
 
+// This invocation's traversal work (COUNT_WORK): nodes visited (inner and leaf), triangles tested.
+uint work_nodes = 0u;
+uint work_triangles = 0u;
+
 // Closest hit for t in (0, tfar]; any_hit stops at the first (shadow rays).
 bool traverse(vec3 o, vec3 d, float tfar, bool any_hit, out float hit_t, out float hit_u, out float hit_v,
               out uint hit_tri) {
@@ -87,9 +91,11 @@ bool traverse(vec3 o, vec3 d, float tfar, bool any_hit, out float hit_t, out flo
   hit_v = 0.0;
   hit_tri = 0u;
   for (;;) {
+    if (COUNT_WORK != 0u) ++work_nodes;
     if ((ref & LEAF_BIT) != 0u) {
       const uint first = ref & 0x7FFFFFFu;
       const uint count = (ref >> 27u) & 15u;
+      if (COUNT_WORK != 0u) work_triangles += count;
       for (uint k = 0u; k < count; ++k) {
         const uint tri = prims[first + k];
         float t, u, v;

@@ -66,8 +66,10 @@ layout(std430, set = 0, binding = 7) readonly buffer Globals {
   vec3 ambient;
   uint globals_pad;
 };
-// primary, shadow, reflection, refraction
-layout(std430, set = 0, binding = 8) buffer Counters { uint counters[4]; };
+// primary, shadow, reflection, refraction; then, with COUNT_WORK (the compute
+// tracer only), BVH nodes visited and triangles tested, each as (low, high) words.
+layout(std430, set = 0, binding = 8) buffer Counters { uint counters[8]; };
+layout(constant_id = 4) const uint COUNT_WORK = 0u;  // GpuTracerOptions::count_work
 
 float positive_infinity() { return uintBitsToFloat(0x7f800000u); }
 bool finite(float x) { return !isnan(x) && !isinf(x); }

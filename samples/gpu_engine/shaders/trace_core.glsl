@@ -205,11 +205,13 @@ void count_rays(uint primary, uvec3 secondary) {
 void end_counting() {}
 #else
 // ---- ray counters: summed per workgroup, one atomic per kind and group ------------
+// group_rays[4], [5]: the group's traversal work (COUNT_WORK), added to the 64-bit
+// counters[4, 5] and [6, 7] with the carry into the high word.
 
-shared uint group_rays[4];
+shared uint group_rays[6];
 
 void begin_counting() {
-  if (gl_LocalInvocationIndex < 4u) group_rays[gl_LocalInvocationIndex] = 0u;
+  if (gl_LocalInvocationIndex < 6u) group_rays[gl_LocalInvocationIndex] = 0u;
   barrier();
 }
 
@@ -220,10 +222,21 @@ void count_rays(uint primary, uvec3 secondary) {
   if (secondary.z != 0u) atomicAdd(group_rays[3], secondary.z);
 }
 
+// counters[low, low + 1] += value as one 64-bit count.
+void add_wide(uint low, uint value) {
+  const uint before = atomicAdd(counters[low], value);
+  if (before + value < before) atomicAdd(counters[low + 1u], 1u);
+}
+
 void end_counting() {
+  if (COUNT_WORK != 0u) {
+    if (work_nodes != 0u) atomicAdd(group_rays[4], work_nodes);
+    if (work_triangles != 0u) atomicAdd(group_rays[5], work_triangles);
+  }
   barrier();
-  if (gl_LocalInvocationIndex < 4u && group_rays[gl_LocalInvocationIndex] != 0u)
-    atomicAdd(counters[gl_LocalInvocationIndex], group_rays[gl_LocalInvocationIndex]);
+  const uint i = gl_LocalInvocationIndex;
+  if (i < 4u && group_rays[i] != 0u) atomicAdd(counters[i], group_rays[i]);
+  if (COUNT_WORK != 0u && i >= 4u && i < 6u && group_rays[i] != 0u) add_wide(4u + 2u * (i - 4u), group_rays[i]);
 }
 
 #endif

@@ -40,6 +40,7 @@ constexpr uint32_t kFullBindings = 1;     // full.comp, set 1: pixels
 constexpr uint32_t kCachedSets = 32;      // per-call descriptor sets kept before the pool is reset
 constexpr uint32_t kTraceGroup = 64;      // trace.comp local_size_x
 constexpr uint32_t kFullGroup = 8;        // full.comp local_size_x and _y
+constexpr uint32_t kCounterWords = 8;     // scene_data.glsl's counters[]: 4 ray kinds, 2 x (low, high) work
 
 struct FullPush {  // full.comp's push constants
   float tans[4];
@@ -49,6 +50,15 @@ struct FullPush {  // full.comp's push constants
   uint32_t seed_hi[4];
 };
 static_assert(sizeof(FullPush) == 80);
+
+// Inner nodes plus non-empty leaves: the most nodes one traversal visits.
+uint64_t count_bvh_nodes(const BvhData& bvh) {
+  uint64_t leaves = 0;
+  for (const GpuNode& n : bvh.nodes)
+    for (const uint32_t child : {n.left, n.right})
+      if ((child & kLeafBit) != 0u && child != kEmptyChild) ++leaves;
+  return bvh.nodes.size() + leaves;
+}
 
 uint64_t handle_bits(VkBuffer b) {
   uint64_t v = 0;
@@ -68,6 +78,7 @@ struct GpuTracer::Impl {
   std::string device_name;
   GpuBackend backend = GpuBackend::compute;  // the one chosen
   std::string backend_fallback;                 // automatic fell back to compute: why
+  uint64_t bvh_node_count = 0;                  // compute: inner nodes + non-empty leaves
   VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT;
   VkShaderStageFlags push_stage = VK_SHADER_STAGE_COMPUTE_BIT;
   VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
@@ -204,11 +215,13 @@ bool GpuTracer::Impl::create_pipeline(const uint32_t* code, size_t bytes, VkPipe
   VkShaderModule module = VK_NULL_HANDLE;
   VkResult r = vkCreateShaderModule(ctx.device, &module_info, nullptr, &module);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateShaderModule", r));
-  // EFFECTS, MAX_DEPTH (trace_core.glsl), TEXTURE_COUNT (scene_data.glsl; constant_id 3).
-  const std::array<uint32_t, 3> values = {effects.bits(), static_cast<uint32_t>(options.max_depth), textures.count()};
-  const std::array<VkSpecializationMapEntry, 3> entries = {
+  // EFFECTS, MAX_DEPTH (trace_core.glsl), TEXTURE_COUNT, COUNT_WORK (scene_data.glsl; constant_id 3, 4).
+  const std::array<uint32_t, 4> values = {effects.bits(), static_cast<uint32_t>(options.max_depth), textures.count(),
+                                          options.count_work ? 1u : 0u};
+  const std::array<VkSpecializationMapEntry, 4> entries = {
       VkSpecializationMapEntry{0, 0, sizeof(uint32_t)}, VkSpecializationMapEntry{1, sizeof(uint32_t), sizeof(uint32_t)},
-      VkSpecializationMapEntry{3, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
+      VkSpecializationMapEntry{3, 2 * sizeof(uint32_t), sizeof(uint32_t)},
+      VkSpecializationMapEntry{4, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
   VkSpecializationInfo spec{};
   spec.mapEntryCount = static_cast<uint32_t>(entries.size());
   spec.pMapEntries = entries.data();
@@ -271,6 +284,7 @@ bool GpuTracer::Impl::create(std::string* error) {
   if (!flatten_scene(scene, &data, error)) return false;
   scene_effects = data.scene_effects;
   effects = scene_effects & options.allowed;
+  if (backend == GpuBackend::compute) bvh_node_count = count_bvh_nodes(data.bvh);
   if (backend == GpuBackend::ray_tracing_pipeline) {
     rt = RtPipelineTracer::create(ctx, ledger, data, error);
     if (rt == nullptr) return false;
@@ -343,7 +357,7 @@ bool GpuTracer::Impl::upload_scene(const SceneData& data, std::string* error) {
       return false;
   }
   return uploader.finish(error) &&
-         counters.create(ctx.physical_device, ctx.device, 4 * sizeof(uint32_t), nullptr, error);  // zeroed
+         counters.create(ctx.physical_device, ctx.device, kCounterWords * sizeof(uint32_t), nullptr, error);  // zeroed
 }
 
 // The scene's descriptor set: its buffers, binding 0 the TLAS with the ray-tracing pipeline.
@@ -625,7 +639,19 @@ engine::RayCounts GpuTracer::counts() const {
   return out;
 }
 
-void GpuTracer::reset_counts() { std::memset(impl_->counters.mapped(), 0, 4 * sizeof(uint32_t)); }
+WorkCounts GpuTracer::work_counts() const {
+  uint32_t c[kCounterWords];
+  std::memcpy(c, impl_->counters.mapped(), sizeof(c));
+  WorkCounts out;
+  out.counted = impl_->options.count_work && impl_->backend == GpuBackend::compute;
+  out.bvh_nodes = (uint64_t{c[5]} << 32) | c[4];
+  out.triangle_tests = (uint64_t{c[7]} << 32) | c[6];
+  return out;
+}
+
+uint64_t GpuTracer::bvh_node_count() const { return impl_->bvh_node_count; }
+
+void GpuTracer::reset_counts() { std::memset(impl_->counters.mapped(), 0, kCounterWords * sizeof(uint32_t)); }
 
 MemoryUse GpuTracer::memory_use() const { return impl_->ledger->use(); }
 const std::string& GpuTracer::memory_fallback() const { return impl_->ledger->fallback(); }

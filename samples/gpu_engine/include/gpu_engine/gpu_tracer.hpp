@@ -17,7 +17,7 @@
 //            context.queue); the queue must not be used from another thread
 //            during create(). The GpuTracer must outlive every submission of a
 //            command buffer it recorded into. The VkDevice must outlive it.
-// Threads:   one thread at a time (record_trace, record_full, counts, reset_counts).
+// Threads:   one thread at a time (record_trace, record_full, counts, work_counts, reset_counts).
 // Sync:      record_* record bind + descriptor set + push + dispatch or trace
 //            rays (and a barrier on the tracer's own ray counters between its
 //            dispatches); the caller orders them against its own work, at
@@ -29,7 +29,8 @@
 //            (the layer guarantees it for record_trace); several record_* calls
 //            in one command buffer must use distinct ranges.
 // Counters:  32-bit on the device (no shaderInt64): read after the submissions
-//            finished; they wrap after 2^32 rays of one kind between resets.
+//            finished; they wrap after 2^32 rays of one kind between resets
+//            (the work counters carry into a second word: 64-bit).
 // Errors:    nothing throws; failures return null/false with *error set.
 #pragma once
 
@@ -58,6 +59,13 @@ struct MemoryUse {
   uint64_t texture_bytes = 0;       // of the above, the texture images
 };
 
+// The compute tracer's BVH traversal work between two resets (GpuTracerOptions::count_work).
+struct WorkCounts {
+  bool counted = false;         // count_work on the compute backend; else the counts stay 0
+  uint64_t bvh_nodes = 0;       // nodes visited, inner and leaf (each traversal starts at the root)
+  uint64_t triangle_tests = 0;  // triangles tested in the leaves visited
+};
+
 struct GpuContext {
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
@@ -84,6 +92,10 @@ struct GpuTracerOptions {
   // false: behave as if the device had no device-local memory (the host-visible
   // fallback, for tests); memory_fallback() says so.
   bool device_local_memory = true;
+  // Benchmark only: count the BVH nodes each traversal visits and the triangles
+  // it tests (work_counts()), at the cost of a few atomics per workgroup. The
+  // compute backend only: a ray-tracing pipeline's traversal is the driver's.
+  bool count_work = false;
   static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
 };
 
@@ -118,7 +130,11 @@ class GpuTracer {
   engine::Effects scene_effects() const;  // what the scene calls for
   engine::Effects effects() const;        // what the kernel simulates (scene & allowed)
   engine::RayCounts counts() const;       // device counters (packets stays 0)
-  void reset_counts();
+  WorkCounts work_counts() const;         // device counters, 64-bit (GpuTracerOptions::count_work)
+  // Nodes of the compute tracer's BVH, inner and non-empty leaves (0 with the
+  // ray-tracing pipeline): at most what one traversal visits.
+  uint64_t bvh_node_count() const;
+  void reset_counts();                    // the ray and the work counters
   // Bytes the tracer holds on the device by kind, staging excluded (MemoryUse:
   // device-local, host-visible, of which texture images).
   MemoryUse memory_use() const;
