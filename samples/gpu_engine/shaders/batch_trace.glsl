@@ -5,7 +5,7 @@
 #ifndef FOVEART_GPU_BATCH_TRACE_GLSL
 #define FOVEART_GPU_BATCH_TRACE_GLSL
 
-// FoveartDeviceRayCount: the first uint is the valid ray count.
+// XrFoveatedDeviceRayCountFOVEART: the first uint is the valid ray count.
 layout(std430, set = 1, binding = 0) readonly buffer RayCount { uint ray_count; };
 struct DeviceRay {
   vec4 origin_sample_x;

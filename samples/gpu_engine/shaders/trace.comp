@@ -1,6 +1,6 @@
 #version 450
 // The layer's device trace on the compute tracer: 64 rays per workgroup,
-// dispatched indirectly from FoveartDeviceRayCount::dispatch64 (batch_trace.glsl) in rows
+// dispatched indirectly from XrFoveatedDeviceRayCountFOVEART::dispatch64 (batch_trace.glsl) in rows
 // of at most 65535 workgroups.
 #extension GL_GOOGLE_include_directive : require
 #include "trace_core.glsl"

@@ -171,7 +171,7 @@ struct CallbackAdapter::Impl {
 
   // Guarded by `mutex`: the staging buffers and the one submission in flight.
   mutable std::mutex mutex;
-  HostBuffer count_buffer;  // FoveartDeviceRayCount
+  HostBuffer count_buffer;  // XrFoveatedDeviceRayCountFOVEART
   HostBuffer rays;          // capacity x 32 bytes
   HostBuffer colors;        // capacity x vec4
   uint32_t capacity = 0;
@@ -351,7 +351,7 @@ bool CallbackAdapter::Impl::create_submission(std::string* error) {
     fence = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateFence", r));
   }
-  return count_buffer.create(physical, device, sizeof(FoveartDeviceRayCount),
+  return count_buffer.create(physical, device, sizeof(XrFoveatedDeviceRayCountFOVEART),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, error);
 }
 
@@ -417,7 +417,7 @@ uint32_t CallbackAdapter::Impl::pack_rays(const FoveartRayBatch& batch, uint32_t
 
 // The count header for `valid` packed rays, and the command buffer: barriers around the tracer's trace.
 int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32_t valid) {
-  FoveartDeviceRayCount header{};
+  XrFoveatedDeviceRayCountFOVEART header{};
   header.count = valid;
   header.dispatch64[0] = (valid + kGroupSize - 1) / kGroupSize;
   header.dispatch64[1] = 1;

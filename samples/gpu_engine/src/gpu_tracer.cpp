@@ -503,8 +503,8 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
   }
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline);
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
-  // FoveartDeviceRayCount::dispatch64 follows the count.
-  vkCmdDispatchIndirect(cb, batch.rayCount.buffer, batch.rayCount.offset + offsetof(FoveartDeviceRayCount, dispatch64));
+  // XrFoveatedDeviceRayCountFOVEART::dispatch64 follows the count.
+  vkCmdDispatchIndirect(cb, batch.rayCount.buffer, batch.rayCount.offset + offsetof(XrFoveatedDeviceRayCountFOVEART, dispatch64));
   return true;
 }
 
