@@ -35,6 +35,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -73,6 +74,9 @@ struct Event {
   uint64_t bytes = 0;
   uint64_t command_buffers = 0;  // a submission's
   uint64_t texels = 0;           // a copy event's, of image copies
+  // A submission's number on its device (from 1); a fence wait's: the newest
+  // submission its fences signal (0: none submitted).
+  uint64_t submission = 0;
   std::vector<std::string> chain;  // callers, innermost first
 };
 
@@ -226,6 +230,7 @@ nlohmann::json to_json(const DeviceData& d) {
     t.texels += e.texels;
     events.push_back({{"seq", e.seq}, {"thread", e.thread}, {"call", e.call}, {"kind", e.kind}, {"items", e.items},
                       {"bytes", e.bytes}, {"command_buffers", e.command_buffers}, {"texels", e.texels},
+                      {"submission", e.submission},
                       {"chain", e.chain}});
   }
   nlohmann::json totals = nlohmann::json::object();
@@ -326,6 +331,7 @@ void note_submission(VkQueue queue, const char* call, uint64_t batches, const st
   if (fence != VK_NULL_HANDLE) d.fence_submission[fence] = {queue, number};
   record(d, call, "", batches, 0, chain);
   d.events.back().command_buffers = cbs.size();
+  d.events.back().submission = number;
   note_copies(d, cbs, chain);
   note_commands(d, cbs, chain);
 }
@@ -382,6 +388,10 @@ VKAPI_ATTR VkResult VKAPI_CALL WaitForFences(VkDevice device, uint32_t count, co
     std::lock_guard lock(l.mutex);
     DeviceData& d = l.devices.at(key_of(device));
     record(d, "vkWaitForFences", fence_kind(d, count, fences), count, 0, std::move(chain));
+    for (uint32_t i = 0; i < count; ++i) {
+      auto it = d.fence_submission.find(fences[i]);
+      if (it != d.fence_submission.end()) d.events.back().submission = std::max(d.events.back().submission, it->second.second);
+    }
     next = d.WaitForFences;
   }
   return next(device, count, fences, all, timeout);  // not under the lock: it blocks

@@ -18,6 +18,7 @@
 // (and the GPU engine's, called back by it) per frame are printed and every
 // steady frame is held to the pipelined acceptance, so a read-back or a wait
 // on this frame added to the frame path fails.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -273,6 +274,7 @@ class VkCountGpuPath : public ::testing::Test {
     const nlohmann::json record = one_record(out, r);
     if (record.is_null()) return {};
     const Roles roles{fs::path(FOVEART_HELLO_FOVEATED).filename().string()};
+    older_wait_ages_ = older_wait_ages(record, roles);
     // The app's placeholder clear, one submission per eye: two per frame.
     auto frames = split_frames(
         record, roles, [](const nlohmann::json& e, const std::string& who) {
@@ -295,16 +297,34 @@ class VkCountGpuPath : public ::testing::Test {
       expect_within(sum(frames[i], {"layer", "engine"}), budget, "layer + engine", int(i));
   }
 
+  // For each of the layer's (and engine's) waits on an older frame, in order:
+  // how many of their own submissions are newer than the one it waits for, plus
+  // one (1: the frame before, 2: the one before that, ...).
+  static std::vector<uint64_t> older_wait_ages(const nlohmann::json& record, const Roles& roles) {
+    std::vector<uint64_t> submitted, ages;
+    for (const auto& e : record["events"]) {
+      const std::string role = role_of(e, roles);
+      if (role != "layer" && role != "engine") continue;
+      const uint64_t submission = e.value("submission", uint64_t{0});
+      if (e["call"] == "vkQueueSubmit" || e["call"] == "vkQueueSubmit2") submitted.push_back(submission);
+      if (e["call"] != "vkWaitForFences" || e["kind"] != "older_frame") continue;
+      const auto it = std::find(submitted.begin(), submitted.end(), submission);
+      ages.push_back(it == submitted.end() ? 0 : uint64_t(submitted.end() - it));
+    }
+    return ages;
+  }
+
   std::unique_ptr<IsolatedEnv> env_;
+  std::vector<uint64_t> older_wait_ages_;  // run()'s, older_wait_ages
 };
 
 // The pipelined frame (docs/gpu.md): both eyes recorded into one command buffer
 // and submitted once, no host wait on this frame's work, nothing read back
 // through a map, an invalidation or a copy; the layer waits only on an older
 // frame (its slot's previous submission), at most once a frame, and does wait:
-// it reuses its slots. (Which older frame a wait is on, n - 2 rather than
-// n - 1, the counting layer cannot tell: it records a wait's kind, not its
-// fence's submission.)
+// it reuses its slots, and each such wait is on frame n - 2 or older: at
+// least two frames are in flight (the counting layer records which submission
+// a wait's fences signal).
 TEST_F(VkCountGpuPath, EverySteadyFrameMeetsThePipelinedAcceptance) {
   const auto frames = run();
   ASSERT_GT(frames.size(), std::size_t{kWarmUpFrames + 1});
@@ -319,6 +339,9 @@ TEST_F(VkCountGpuPath, EverySteadyFrameMeetsThePipelinedAcceptance) {
     EXPECT_EQ(sum(frames[i], {"app"}).submissions, 2u) << "frame " << i;
   }
   EXPECT_GT(older_waits, 0u) << "the layer reuses its frame slots after their submissions finished";
+  ASSERT_GE(older_wait_ages_.size(), older_waits);
+  for (std::size_t i = older_wait_ages_.size() - older_waits; i < older_wait_ages_.size(); ++i)
+    EXPECT_GE(older_wait_ages_[i], 2u) << "steady wait " << i << " is on the frame just before: one frame in flight";
   expect_steady_frames_within(frames, pipelined_acceptance());
 }
 
