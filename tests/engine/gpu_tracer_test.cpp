@@ -413,6 +413,44 @@ TEST(GpuTracer, TracesOnlyTheCountedRaysAndFollowsNewBuffers) {
   expect_no_validation_errors();
 }
 
+// Frames in flight (the header's Lifetime clause): a set a recorded frame uses
+// stays valid while more distinct buffers than the engine caches sets for
+// (32) come in the same frame. Resetting the full pool would free the first
+// batch's set inside the pending command buffer, which validation reports at
+// submission; the engine retires the pool instead.
+TEST(GpuTracer, ManyBuffersInOneFrameKeepTheFirstBatchsSetValid) {
+  REQUIRE_GPU();
+  const Scene scene = foveart::engine::make_lit_room();
+  auto g = make_gpu(scene);
+  auto c = make_cpu(scene);
+  ASSERT_TRUE(g && c);
+  const FoveartEyeView view = foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene));
+  const Rays first_rays = view_rays(view, 64), other_rays = view_rays(view, 8);
+  DeviceBatch first(gpu(), first_rays);
+  std::vector<std::unique_ptr<DeviceBatch>> others;
+  for (int i = 0; i < 40; ++i) others.push_back(std::make_unique<DeviceBatch>(gpu(), other_rays));
+  ASSERT_TRUE(gpu().run([&](VkCommandBuffer cb) {
+    bool ok = true;
+    for (DeviceBatch* b : {&first}) {
+      layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+      b->batch.commandBuffer = cb;
+      b->batch.frameIndex = 7;
+      ok = ok && foveart_gpu_engine_trace_rays_device(g.get(), &b->batch) == XR_SUCCESS;
+    }
+    for (auto& b : others) {
+      layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
+      b->batch.commandBuffer = cb;
+      b->batch.frameIndex = 7;
+      ok = ok && foveart_gpu_engine_trace_rays_device(g.get(), &b->batch) == XR_SUCCESS;
+    }
+    layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT);
+    return ok;
+  }));
+  expect_agreement(compare(first.result(), trace_cpu(*c, first_rays)), "room, the first batch of 41");
+  expect_agreement(compare(others.back()->result(), trace_cpu(*c, other_rays)), "room, the last batch of 41");
+  expect_no_validation_errors();
+}
+
 // ---- the full render -----------------------------------------------------------------
 
 TEST(GpuTracer, FullRenderMatchesRenderFullPerPixel) {

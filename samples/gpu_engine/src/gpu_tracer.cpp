@@ -104,6 +104,15 @@ struct GpuTracer::Impl {
   VkDescriptorSet scene_set = VK_NULL_HANDLE;
   // (kind, buffer, offset, size per binding) -> set; see record_* for why reuse is safe.
   std::map<std::array<uint64_t, 10>, VkDescriptorSet> call_sets;
+  // Full call pools replaced by new ones while a frame in flight may still use
+  // their sets: destroyed once the trace's frame index is a frame slot round
+  // past the last frame that could (the header's Lifetime clause).
+  struct RetiredPool {
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    uint64_t frame_index = 0;
+  };
+  std::vector<RetiredPool> retired_pools;
+  uint64_t trace_frame_index = 0;  // the newest trace call's
 
   ~Impl();
   bool choose_backend(std::string* error);
@@ -112,6 +121,8 @@ struct GpuTracer::Impl {
   bool upload_scene(const SceneData& data, std::string* error);
   bool write_scene_set(std::string* error);
   bool create_layouts(std::string* error);
+  VkResult make_call_pool(VkDescriptorPool* out) const;
+  bool renew_call_pool(std::string* error);
   bool create_pipeline(const uint32_t* code, size_t bytes, VkPipelineLayout layout, VkPipeline* out,
                        std::string* error);
   VkDescriptorSet call_set(uint64_t kind, VkDescriptorSetLayout layout, const VkDescriptorBufferInfo* infos,
@@ -134,6 +145,7 @@ GpuTracer::Impl::~Impl() {
   if (full_pipeline_layout) vkDestroyPipelineLayout(d, full_pipeline_layout, nullptr);
   if (scene_pool) vkDestroyDescriptorPool(d, scene_pool, nullptr);  // frees its sets
   if (call_pool) vkDestroyDescriptorPool(d, call_pool, nullptr);
+  for (const RetiredPool& p : retired_pools) vkDestroyDescriptorPool(d, p.pool, nullptr);
   if (scene_layout) vkDestroyDescriptorSetLayout(d, scene_layout, nullptr);
   if (trace_layout) vkDestroyDescriptorSetLayout(d, trace_layout, nullptr);
   if (full_layout) vkDestroyDescriptorSetLayout(d, full_layout, nullptr);
@@ -200,8 +212,31 @@ bool GpuTracer::Impl::create_layouts(std::string* error) {
   };
   const uint32_t tlas = backend == GpuBackend::ray_tracing_pipeline ? 1 : 0;
   r = make_pool(1, kSceneBindings - 1 - tlas, tlas, kTextureSlots, &scene_pool);
-  if (r == VK_SUCCESS) r = make_pool(kCachedSets, kCachedSets * kTraceBindings, 0, 0, &call_pool);
+  if (r == VK_SUCCESS) r = make_call_pool(&call_pool);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateDescriptorPool", r));
+  return true;
+}
+
+// A pool for kCachedSets per-call sets of storage buffers.
+VkResult GpuTracer::Impl::make_call_pool(VkDescriptorPool* out) const {
+  const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kCachedSets * kTraceBindings};
+  VkDescriptorPoolCreateInfo info{};
+  info.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;
+  info.maxSets = kCachedSets;
+  info.poolSizeCount = 1;
+  info.pPoolSizes = &size;
+  return vkCreateDescriptorPool(ctx.device, &info, nullptr, out);
+}
+
+// The call pool is full: a new one, the old one kept until no frame in flight
+// can use its sets (up to XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS frames are).
+bool GpuTracer::Impl::renew_call_pool(std::string* error) {
+  VkDescriptorPool fresh = VK_NULL_HANDLE;
+  const VkResult r = make_call_pool(&fresh);
+  if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateDescriptorPool", r));
+  retired_pools.push_back({call_pool, trace_frame_index});
+  call_pool = fresh;
+  call_sets.clear();
   return true;
 }
 
@@ -399,8 +434,9 @@ bool GpuTracer::Impl::write_scene_set(std::string* error) {
   return true;
 }
 
-// The cached set for these buffer ranges, or a new one. Updating and resetting
-// are safe because every earlier submission has finished (the contract of record_*).
+// The cached set for these buffer ranges, or a new one. Updating a found set
+// is safe: its buffers are the same frame slot's, whose earlier submission has
+// finished (the header's Lifetime clause); a full pool is retired, not reset.
 VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout layout,
                                           const VkDescriptorBufferInfo* infos, uint32_t count, std::string* error) {
   std::array<uint64_t, 10> key{};
@@ -414,10 +450,12 @@ VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout l
   if (auto it = call_sets.find(key); it != call_sets.end()) {
     set = it->second;
   } else {
-    if (call_sets.size() >= kCachedSets) {
-      vkResetDescriptorPool(ctx.device, call_pool, 0);
-      call_sets.clear();
-    }
+    std::erase_if(retired_pools, [&](const RetiredPool& p) {
+      const bool done = p.frame_index + XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS <= trace_frame_index;
+      if (done) vkDestroyDescriptorPool(ctx.device, p.pool, nullptr);
+      return done;
+    });
+    if (call_sets.size() >= kCachedSets && !renew_call_pool(error)) return VK_NULL_HANDLE;
     VkDescriptorSetAllocateInfo alloc{};
     alloc.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO;
     alloc.descriptorPool = call_pool;
@@ -489,6 +527,7 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
       VkDescriptorBufferInfo{batch.rayCount.buffer, batch.rayCount.offset, batch.rayCount.size},
       VkDescriptorBufferInfo{batch.rays.buffer, batch.rays.offset, batch.rays.size},
       VkDescriptorBufferInfo{batch.colors.buffer, batch.colors.offset, batch.colors.size}};
+  trace_frame_index = std::max(trace_frame_index, batch.frameIndex);
   const VkDescriptorSet set = call_set(0, trace_layout, infos.data(), kTraceBindings, error);
   if (set == VK_NULL_HANDLE) return false;
   VkCommandBuffer cb = batch.commandBuffer;
