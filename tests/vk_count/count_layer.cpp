@@ -367,16 +367,19 @@ VKAPI_ATTR VkResult VKAPI_CALL QueueSubmit2KHR(VkQueue queue, uint32_t count, co
 // Which frame's work a wait on these fences waits for: "this_frame" when one of
 // them signals the newest submission on its queue, else "older_frame" when one
 // signals an earlier submission, else "unsubmitted" (never submitted, or reset).
-const char* fence_kind(const DeviceData& d, uint32_t count, const VkFence* fences) {
-  const char* kind = "unsubmitted";
+// *submission: the newest submission they signal (0: none).
+const char* fence_kind(const DeviceData& d, uint32_t count, const VkFence* fences, uint64_t* submission) {
+  bool submitted = false, this_frame = false;
+  *submission = 0;
   for (uint32_t i = 0; i < count; ++i) {
     auto it = d.fence_submission.find(fences[i]);
     if (it == d.fence_submission.end()) continue;
+    submitted = true;
+    *submission = std::max(*submission, it->second.second);
     auto newest = d.newest.find(it->second.first);
-    if (newest != d.newest.end() && newest->second == it->second.second) return "this_frame";
-    kind = "older_frame";
+    this_frame = this_frame || (newest != d.newest.end() && newest->second == it->second.second);
   }
-  return kind;
+  return this_frame ? "this_frame" : submitted ? "older_frame" : "unsubmitted";
 }
 
 VKAPI_ATTR VkResult VKAPI_CALL WaitForFences(VkDevice device, uint32_t count, const VkFence* fences, VkBool32 all,
@@ -387,11 +390,9 @@ VKAPI_ATTR VkResult VKAPI_CALL WaitForFences(VkDevice device, uint32_t count, co
     Layer& l = layer();
     std::lock_guard lock(l.mutex);
     DeviceData& d = l.devices.at(key_of(device));
-    record(d, "vkWaitForFences", fence_kind(d, count, fences), count, 0, std::move(chain));
-    for (uint32_t i = 0; i < count; ++i) {
-      auto it = d.fence_submission.find(fences[i]);
-      if (it != d.fence_submission.end()) d.events.back().submission = std::max(d.events.back().submission, it->second.second);
-    }
+    uint64_t submission = 0;
+    record(d, "vkWaitForFences", fence_kind(d, count, fences, &submission), count, 0, std::move(chain));
+    d.events.back().submission = submission;
     next = d.WaitForFences;
   }
   return next(device, count, fences, all, timeout);  // not under the lock: it blocks
@@ -404,7 +405,8 @@ VKAPI_ATTR VkResult VKAPI_CALL GetFenceStatus(VkDevice device, VkFence fence) {
     Layer& l = layer();
     std::lock_guard lock(l.mutex);
     DeviceData& d = l.devices.at(key_of(device));
-    record(d, "vkGetFenceStatus", fence_kind(d, 1, &fence), 1, 0, std::move(chain));
+    uint64_t submission = 0;
+    record(d, "vkGetFenceStatus", fence_kind(d, 1, &fence, &submission), 1, 0, std::move(chain));
     next = d.GetFenceStatus;
   }
   return next(device, fence);
