@@ -430,19 +430,14 @@ TEST(GpuTracer, ManyBuffersInOneFrameKeepTheFirstBatchsSetValid) {
   std::vector<std::unique_ptr<DeviceBatch>> others;
   for (int i = 0; i < 40; ++i) others.push_back(std::make_unique<DeviceBatch>(gpu(), other_rays));
   ASSERT_TRUE(gpu().run([&](VkCommandBuffer cb) {
-    bool ok = true;
-    for (DeviceBatch* b : {&first}) {
+    auto trace_in_frame_7 = [&](DeviceBatch& b) {
       layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
-      b->batch.commandBuffer = cb;
-      b->batch.frameIndex = 7;
-      ok = ok && foveart_gpu_engine_trace_rays_device(g.get(), &b->batch) == XR_SUCCESS;
-    }
-    for (auto& b : others) {
-      layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT);
-      b->batch.commandBuffer = cb;
-      b->batch.frameIndex = 7;
-      ok = ok && foveart_gpu_engine_trace_rays_device(g.get(), &b->batch) == XR_SUCCESS;
-    }
+      b.batch.commandBuffer = cb;
+      b.batch.frameIndex = 7;
+      return foveart_gpu_engine_trace_rays_device(g.get(), &b.batch) == XR_SUCCESS;
+    };
+    bool ok = trace_in_frame_7(first);
+    for (auto& b : others) ok = trace_in_frame_7(*b) && ok;
     layer_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT);
     return ok;
   }));
