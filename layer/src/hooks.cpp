@@ -249,6 +249,15 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrEndFrame(XrSession session, const XrFrameE
   return exception_barrier("xrEndFrame", [&] { return end_frame(session, info); });
 }
 
+// "" when every family is one of the session's physical device; else what is wrong.
+std::string unknown_queue_family(const SessionState& session, const std::vector<uint32_t>& families) {
+  uint32_t count = 0;
+  if (!families.empty()) vkGetPhysicalDeviceQueueFamilyProperties(session.vk_physical_device, &count, nullptr);
+  for (const uint32_t family : families)
+    if (family >= count) return std::to_string(family) + " is not a queue family of the session's device";
+  return "";
+}
+
 XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateFoveatedRendererFOVEART(
     XrSession session, const XrFoveatedRendererCreateInfoFOVEART* info,
     XrFoveatedRendererFOVEART* out_renderer) noexcept {
@@ -269,6 +278,10 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateFoveatedRendererFOVEART(
       log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: the session has no Vulkan graphics binding "
                            "(XR_KHR_vulkan_enable2 is required)");
       return XR_ERROR_GRAPHICS_DEVICE_INVALID;
+    }
+    if (const std::string bad = unknown_queue_family(*state, settings.app_queue_families); !bad.empty()) {
+      log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: XrFoveatedAppTraceInfoFOVEART::queueFamilyIndices: ", bad);
+      return XR_ERROR_VALIDATION_FAILURE;
     }
     auto renderer = std::make_shared<FoveatedRenderer>(state, std::move(settings));
     *out_renderer = Registry::get().add_renderer(session, std::move(renderer));
@@ -291,6 +304,30 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrGetFoveatedRendererStatsFOVEART(XrFoveated
     if (stats == nullptr || type_of(stats) != static_cast<std::int32_t>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART)) return XR_ERROR_VALIDATION_FAILURE;
     r->stats(stats);
     return XR_SUCCESS;
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrAcquireFoveatedRayBatchFOVEART(
+    XrFoveatedRendererFOVEART renderer, const XrFoveatedRayBatchAcquireInfoFOVEART* info,
+    XrFoveatedRayBatchFOVEART* batch) noexcept {
+  return exception_barrier("xrAcquireFoveatedRayBatchFOVEART", [&]() -> XrResult {
+    auto r = Registry::get().renderer(renderer);
+    if (r == nullptr) return XR_ERROR_HANDLE_INVALID;
+    if (info == nullptr || type_of(info) != static_cast<std::int32_t>(XR_TYPE_FOVEATED_RAY_BATCH_ACQUIRE_INFO_FOVEART) ||
+        batch == nullptr || type_of(batch) != static_cast<std::int32_t>(XR_TYPE_FOVEATED_RAY_BATCH_FOVEART)) {
+      log(LogLevel::Error, "xrAcquireFoveatedRayBatchFOVEART: acquireInfo or batch missing or of the wrong type");
+      return XR_ERROR_VALIDATION_FAILURE;
+    }
+    return r->acquire_ray_batch(*info, batch);
+  });
+}
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrReleaseFoveatedRayBatchFOVEART(XrFoveatedRendererFOVEART renderer,
+                                                                      uint64_t batch_id) noexcept {
+  return exception_barrier("xrReleaseFoveatedRayBatchFOVEART", [&]() -> XrResult {
+    auto r = Registry::get().renderer(renderer);
+    if (r == nullptr) return XR_ERROR_HANDLE_INVALID;
+    return r->release_ray_batch(batch_id);
   });
 }
 
@@ -320,6 +357,8 @@ const HookEntry* hooks_begin(std::size_t* out_count) {
       {"xrCreateFoveatedRendererFOVEART", as_void(&hook_xrCreateFoveatedRendererFOVEART), true},
       {"xrDestroyFoveatedRendererFOVEART", as_void(&hook_xrDestroyFoveatedRendererFOVEART), true},
       {"xrGetFoveatedRendererStatsFOVEART", as_void(&hook_xrGetFoveatedRendererStatsFOVEART), true},
+      {"xrAcquireFoveatedRayBatchFOVEART", as_void(&hook_xrAcquireFoveatedRayBatchFOVEART), true},
+      {"xrReleaseFoveatedRayBatchFOVEART", as_void(&hook_xrReleaseFoveatedRayBatchFOVEART), true},
   };
   *out_count = std::size(kHooks);
   return kHooks;

@@ -21,6 +21,30 @@ XrFoveatedGazeSourceFOVEART gaze_source_from_name(const std::string& name) {
   return XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART;
 }
 
+// The traces chained into the create info: a device trace, the app-recorded trace.
+bool resolve_chained_traces(const XrFoveatedRendererCreateInfoFOVEART& info, RendererSettings* out,
+                            std::string* error) {
+  RendererSettings& s = *out;
+  if (const auto* device = find_in_chain<XrFoveatedDeviceTraceInfoFOVEART>(info.next,
+                                                                          XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART)) {
+    if (device->traceRaysDevice == nullptr) {
+      *error = "XrFoveatedDeviceTraceInfoFOVEART::traceRaysDevice must not be NULL";
+      return false;
+    }
+    s.trace_rays_device = device->traceRaysDevice;
+    s.device_user_data = device->userData;
+  }
+  if (const auto* app = find_in_chain<XrFoveatedAppTraceInfoFOVEART>(info.next, XR_TYPE_FOVEATED_APP_TRACE_INFO_FOVEART)) {
+    if (app->queueFamilyIndexCount > 0 && app->queueFamilyIndices == nullptr) {
+      *error = "XrFoveatedAppTraceInfoFOVEART::queueFamilyIndices is NULL with a nonzero queueFamilyIndexCount";
+      return false;
+    }
+    s.app_trace = true;
+    s.app_queue_families.assign(app->queueFamilyIndices, app->queueFamilyIndices + app->queueFamilyIndexCount);
+  }
+  return true;
+}
+
 }  // namespace
 
 bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const LayerConfig& config,
@@ -42,17 +66,10 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.display.exposure = config.exposure;
   s.display.tone_map = foveation::parse_tone_map(config.tone_map).value_or(foveation::ToneMap::pbr_neutral);
 
-  if (const auto* device = find_in_chain<XrFoveatedDeviceTraceInfoFOVEART>(info.next,
-                                                                          XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART)) {
-    if (device->traceRaysDevice == nullptr) {
-      *error = "XrFoveatedDeviceTraceInfoFOVEART::traceRaysDevice must not be NULL";
-      return false;
-    }
-    s.trace_rays_device = device->traceRaysDevice;
-    s.device_user_data = device->userData;
-  }
-  if (info.traceRays == nullptr && s.trace_rays_device == nullptr) {
-    *error = "traceRays must not be NULL (unless an XrFoveatedDeviceTraceInfoFOVEART is chained)";
+  if (!resolve_chained_traces(info, &s, error)) return false;
+  if (info.traceRays == nullptr && s.trace_rays_device == nullptr && !s.app_trace) {
+    *error = "traceRays must not be NULL (unless an XrFoveatedDeviceTraceInfoFOVEART or XrFoveatedAppTraceInfoFOVEART "
+             "is chained)";
     return false;
   }
   s.trace_rays = info.traceRays;

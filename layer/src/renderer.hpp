@@ -33,6 +33,10 @@ struct RendererSettings {
   // The engine's device trace (XrFoveatedDeviceTraceInfoFOVEART), when chained.
   PFN_xrFoveatedTraceRaysDeviceFOVEART trace_rays_device = nullptr;
   void* device_user_data = nullptr;
+  // The app-recorded trace (XrFoveatedAppTraceInfoFOVEART), when chained: the
+  // queue families besides the session's that touch its buffers.
+  bool app_trace = false;
+  std::vector<uint32_t> app_queue_families;
   XrFoveatedInterpolationFOVEART interpolation = XR_FOVEATED_INTERPOLATION_MSM_FOVEART;
   uint32_t k = 5;
   float density_scale = 1.0f;
@@ -124,6 +128,10 @@ class FoveatedRenderer {
 
   void stats(XrFoveatedRendererStatsFOVEART* out_stats) const;
 
+  // The app-recorded trace (the extension header): XR_SUCCESS or the header's error.
+  XrResult acquire_ray_batch(const XrFoveatedRayBatchAcquireInfoFOVEART& info, XrFoveatedRayBatchFOVEART* out_batch);
+  XrResult release_ray_batch(std::uint64_t batch_id);
+
  private:
   struct Frames;  // the frame path's state (foveated_renderer.cpp)
 
@@ -132,7 +140,7 @@ class FoveatedRenderer {
   mutable std::mutex mutex_;  // one frame at a time; stats readers
   InputCounters input_;       // before frames_: its builder thread counts until frames_ is gone
   ReconstructionStats reconstruction_;
-  LogOnce foreign_once_;
+  LogOnce foreign_once_, release_once_;
   std::unique_ptr<Frames> frames_;  // null when the session has no Vulkan: views pass through
   XrFoveatedRendererStatsFOVEART stats_{};
 };

@@ -99,6 +99,7 @@ TEST(Loader, ExtensionFunctionsOnlyWhenEnabled) {
     ASSERT_EQ(without.result, XR_SUCCESS);
     EXPECT_EQ(lookup(without.handle, "xrCreateFoveatedRendererFOVEART"), XR_ERROR_FUNCTION_UNSUPPORTED);
     EXPECT_EQ(lookup(without.handle, "xrGetFoveatedRendererStatsFOVEART"), XR_ERROR_FUNCTION_UNSUPPORTED);
+    EXPECT_EQ(lookup(without.handle, "xrAcquireFoveatedRayBatchFOVEART"), XR_ERROR_FUNCTION_UNSUPPORTED);
     EXPECT_EQ(lookup(without.handle, "xrEndFrame"), XR_SUCCESS);  // pass-through still works
   }
   {
@@ -108,6 +109,8 @@ TEST(Loader, ExtensionFunctionsOnlyWhenEnabled) {
     EXPECT_EQ(lookup(with.handle, "xrCreateFoveatedRendererFOVEART"), XR_SUCCESS);
     EXPECT_EQ(lookup(with.handle, "xrDestroyFoveatedRendererFOVEART"), XR_SUCCESS);
     EXPECT_EQ(lookup(with.handle, "xrGetFoveatedRendererStatsFOVEART"), XR_SUCCESS);
+    EXPECT_EQ(lookup(with.handle, "xrAcquireFoveatedRayBatchFOVEART"), XR_SUCCESS);
+    EXPECT_EQ(lookup(with.handle, "xrReleaseFoveatedRayBatchFOVEART"), XR_SUCCESS);
   }
 }
 

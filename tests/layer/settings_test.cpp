@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <vector>
 #include <string_view>
 
 #include <gtest/gtest.h>
@@ -246,6 +247,31 @@ TEST(ResolveSettings, BadFieldsAreNamed) {
     EXPECT_FALSE(resolve_settings(info, LayerConfig{}, &s, &error)) << c.field;
     EXPECT_NE(error.find(c.field), std::string::npos) << error;
   }
+}
+
+// The app-recorded trace chained: no callback needed, its queue families kept;
+// a count without indices is named.
+TEST(ResolveSettings, AppRecordedTraceStandsInForTheCallback) {
+  auto info = use_config_info();
+  info.traceRays = nullptr;
+  const uint32_t families[2] = {2, 0};
+  XrFoveatedAppTraceInfoFOVEART app{};
+  app.type = XR_TYPE_FOVEATED_APP_TRACE_INFO_FOVEART;
+  app.queueFamilyIndexCount = 2;
+  app.queueFamilyIndices = families;
+  info.next = &app;
+  RendererSettings s;
+  std::string error;
+  ASSERT_TRUE(resolve_settings(info, LayerConfig{}, &s, &error)) << error;
+  EXPECT_TRUE(s.app_trace);
+  EXPECT_EQ(s.app_queue_families, (std::vector<uint32_t>{2, 0}));
+  EXPECT_EQ(s.trace_rays_device, nullptr);
+  app.queueFamilyIndices = nullptr;
+  EXPECT_FALSE(resolve_settings(info, LayerConfig{}, &s, &error));
+  EXPECT_NE(error.find("queueFamilyIndices"), std::string::npos) << error;
+  info.next = nullptr;
+  EXPECT_FALSE(resolve_settings(info, LayerConfig{}, &s, &error)) << "no trace at all";
+  EXPECT_NE(error.find("traceRays"), std::string::npos) << error;
 }
 
 // A frame's XrFoveatedDisplayTransformFOVEART over the config's transform: each

@@ -46,7 +46,9 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
- * Versions: 7 makes the device trace's indirect dispatch two-dimensional
+ * Versions: 8 adds the app-recorded trace (XrFoveatedAppTraceInfoFOVEART,
+ *           xrAcquireFoveatedRayBatchFOVEART, xrReleaseFoveatedRayBatchFOVEART);
+ *           nothing else changed. 7 makes the device trace's indirect dispatch two-dimensional
  *           (dispatch64: x <= 65535 workgroups by y rows, see "Rays"; one row
  *           as before up to 65535 * 64 rays), renames FoveartDeviceRayCount
  *           XrFoveatedDeviceRayCountFOVEART (the old name stays, deprecated)
@@ -73,7 +75,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 7
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 8
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -138,7 +140,7 @@ static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_IMAGE_R
 typedef struct XrFoveatedRendererCreateInfoFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART */
   const void* XR_MAY_ALIAS next;
-  FoveartTraceRaysFn traceRays; /* required unless a device trace is chained (XrFoveatedDeviceTraceInfoFOVEART) */
+  FoveartTraceRaysFn traceRays; /* required unless a device or app-recorded trace is chained (below) */
   void* userData;               /* passed back to traceRays unchanged */
   XrFoveatedInterpolationFOVEART interpolation; /* ..._USE_CONFIG_FOVEART = config (0 is NEAREST) */
   uint32_t k;           /* neighbours per pixel (1 for nearest), 1..20; 0 = config */
@@ -386,6 +388,149 @@ typedef struct XrFoveatedDeviceTraceInfoFOVEART {
   PFN_xrFoveatedTraceRaysDeviceFOVEART traceRaysDevice; /* required */
   void* userData;                                       /* passed back unchanged */
 } XrFoveatedDeviceTraceInfoFOVEART;
+
+/*
+ * The app-recorded trace: the device trace for an engine that records its
+ * trace in its own command buffers and submits them on a queue it chooses
+ * (a render graph: Unreal's RDG, Unity's SRP, Godot's RenderingDevice).
+ * Chain an XrFoveatedAppTraceInfoFOVEART into
+ * XrFoveatedRendererCreateInfoFOVEART::next; traceRays may then be NULL.
+ * Each frame, after xrLocateViews and before xrEndFrame:
+ *
+ *   xrAcquireFoveatedRayBatchFOVEART(renderer, &acquire, &batch);
+ *   // record: wait batch.semaphore >= batch.raysReadyValue, trace
+ *   // batch.views[v] (rays -> colors, as a device trace), then signal
+ *   // batch.semaphore = batch.tracedValue; submit it on the app's queue.
+ *   xrReleaseFoveatedRayBatchFOVEART(renderer, batch.batchId);
+ *   xrEndFrame(...);  // the projection layer chains XrFoveatedRayTracingLayerFOVEART
+ *
+ * Why this shape: it is an OpenXR swapchain's acquire / use / release, for
+ * buffers the layer writes and the app's GPU work reads and writes. As with
+ * XR_FB_foveation_vulkan's fragment density maps, the layer owns the
+ * resources and makes their contents, the app only uses them in command
+ * buffers it records; unlike an image the runtime finishes before
+ * xrWaitSwapchainImage returns, both sides are ahead on the GPU, so the order
+ * is a timeline semaphore's values, never a host wait.
+ *
+ * Acquire:  once per frame, after xrWaitFrame and xrLocateViews (the
+ *           displayTime, space and views of the frame's projection layer).
+ *           The layer takes the gaze predicted for displayTime, plans each
+ *           view and submits the rays of every view on the session's queue
+ *           (XrGraphicsBindingVulkan2KHR), which then signals `semaphore` to
+ *           raysReadyValue. A view the layer does not trace this frame
+ *           (tables still being built, a view beyond two) has rayCapacity 0
+ *           and null buffers: record nothing for it. The app's work must
+ *           wait for raysReadyValue before it reads the rays (a
+ *           VkTimelineSemaphoreSubmitInfo wait on its submission) and must
+ *           signal tracedValue after its last write of the colours. The
+ *           device needs Vulkan 1.2's timelineSemaphore enabled. Like
+ *           xrEndFrame, the acquire submits on the session's queue: the app
+ *           must not use that queue from another thread during the call. A
+ *           batch belongs to the next xrEndFrame whose projection layer names
+ *           the renderer.
+ * Release:  xrReleaseFoveatedRayBatchFOVEART(batchId) promises that the
+ *           submission signalling tracedValue has been made (as
+ *           xrReleaseSwapchainImage promises the app's rendering). Then
+ *           xrEndFrame's one submission waits for tracedValue before it
+ *           resolves the colours, reconstructs and encodes as a device trace.
+ * Queue:    the rays are made and the colours read on the session's queue
+ *           family. When queueFamilyIndices name another family, every buffer
+ *           the renderer makes is VK_SHARING_MODE_CONCURRENT over those and
+ *           the session's family (no ownership transfer to record on either
+ *           side); else EXCLUSIVE on the session's family, and the app traces
+ *           on any queue of it (another queue index is fine). An index that
+ *           is no queue family of the device fails the create
+ *           (XR_ERROR_VALIDATION_FAILURE). The semaphore is the layer's.
+ * Lifetime: a batch's buffers stay valid until the frame's submission (the
+ *           xrEndFrame after the acquire) finished, frame slot by frame slot
+ *           as the device trace's ("Lifetime" there, frameIndex in each
+ *           view); a view's `view` pointer until the next acquire. When a
+ *           slot's batch is acquired again, the slot's previous frame has
+ *           finished on the device, the app's trace included (the layer's
+ *           submission waited for it). The semaphore lives as long as the
+ *           renderer; destroy the renderer only after the app's submissions
+ *           that use it finished.
+ * Gaze:     the rays are made at acquire, before the app records: the gaze
+ *           is older at display than with a device trace (made at xrEndFrame)
+ *           by the time from acquire to xrEndFrame, reported per frame in
+ *           XrFoveatedAppTraceStatsFOVEART::acquireToEndFrameMs.
+ * Errors:   a second acquire before the frame's xrEndFrame:
+ *           XR_ERROR_CALL_ORDER_INVALID. A release of an unknown batchId, or
+ *           a second release: XR_ERROR_VALIDATION_FAILURE (counted:
+ *           rejectedReleases). A renderer created without the info struct:
+ *           XR_ERROR_VALIDATION_FAILURE; one that reconstructs on the CPU
+ *           (the config, a device the shaders cannot run on):
+ *           XR_ERROR_FEATURE_UNSUPPORTED; viewCapacityInput too small:
+ *           XR_ERROR_SIZE_INSUFFICIENT with viewCountOutput set. A batch not
+ *           released by its frame's xrEndFrame is retired: its views show the
+ *           app's own image (counted: unreleasedBatches, framesFallback,
+ *           logged once), the layer never waits for its tracedValue, its
+ *           semaphore is replaced for later batches (the old one lives until
+ *           the renderer is destroyed: a late signal of it is harmless), and a
+ *           later release of it returns XR_ERROR_CALL_ORDER_INVALID. A view
+ *           whose pose, fov or size at xrEndFrame differs from the acquire's
+ *           shows the app's own image (counted: mismatchedViews). Colours
+ *           are judged on the device as a device trace's.
+ * Both:     a frame without an acquired batch is traced through a chained
+ *           device trace where the renderer has one, else its views show the
+ *           app's own image; a frame with one, by the app. traceRays (the CPU
+ *           callback) serves where the layer reconstructs on the CPU, where
+ *           the acquire is refused. The device trace's callback model is this
+ *           model with the layer as the app: the same rays, resolve and frame.
+ */
+#define XR_TYPE_FOVEATED_APP_TRACE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900008)
+#define XR_TYPE_FOVEATED_RAY_BATCH_ACQUIRE_INFO_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900009)
+#define XR_TYPE_FOVEATED_RAY_BATCH_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900010)
+#define XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900011)
+
+/* Chain into XrFoveatedRendererCreateInfoFOVEART::next to trace in the app's own command buffers. */
+typedef struct XrFoveatedAppTraceInfoFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_APP_TRACE_INFO_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  uint32_t queueFamilyIndexCount;      /* families besides the session's that touch the buffers; may be 0 */
+  const uint32_t* queueFamilyIndices;
+} XrFoveatedAppTraceInfoFOVEART;
+
+/* What a frame's rays are made for: the projection layer's display time, space and views. */
+typedef struct XrFoveatedRayBatchAcquireInfoFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RAY_BATCH_ACQUIRE_INFO_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  XrTime displayTime;             /* xrWaitFrame's predictedDisplayTime, as given to xrEndFrame */
+  XrSpace space;                  /* the projection layer's space */
+  uint32_t viewCount;             /* 1.. (views beyond two are not traced) */
+  const XrView* views;            /* xrLocateViews in `space`: pose and fov per view */
+  const XrExtent2Di* imageSizes;  /* per view, the imageRect extent the layer will be given */
+} XrFoveatedRayBatchAcquireInfoFOVEART;
+
+/* One frame's rays; views[v].commandBuffer is VK_NULL_HANDLE (the app records in its own). */
+typedef struct XrFoveatedRayBatchFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RAY_BATCH_FOVEART */
+  void* XR_MAY_ALIAS next;
+  uint64_t batchId;               /* nonzero; release with it */
+  uint32_t viewCapacityInput;     /* elements of views */
+  uint32_t viewCountOutput;       /* the acquire's viewCount, at most viewCapacityInput */
+  XrFoveatedDeviceRayBatchFOVEART* views; /* written per view; rayCapacity 0: nothing to trace */
+  VkSemaphore semaphore;          /* timeline, the layer's */
+  uint64_t raysReadyValue;        /* wait for it before reading the rays */
+  uint64_t tracedValue;           /* signal it after writing the colours */
+} XrFoveatedRayBatchFOVEART;
+
+/* Chain into XrFoveatedRendererStatsFOVEART::next: the app-recorded trace's counts since creation. */
+typedef struct XrFoveatedAppTraceStatsFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART */
+  void* XR_MAY_ALIAS next;
+  uint64_t batchesAcquired;
+  uint64_t unreleasedBatches;     /* retired at xrEndFrame unreleased: their views fell back */
+  uint64_t rejectedReleases;      /* releases refused (unknown, twice, retired) */
+  uint64_t mismatchedViews;       /* views whose pose, fov or size changed after the acquire: fell back */
+  float acquireToEndFrameMs;      /* last frame: how much older the gaze is than with a device trace */
+} XrFoveatedAppTraceStatsFOVEART;
+
+typedef XrResult(XRAPI_PTR* PFN_xrAcquireFoveatedRayBatchFOVEART)(XrFoveatedRendererFOVEART renderer,
+                                                                  const XrFoveatedRayBatchAcquireInfoFOVEART* acquireInfo,
+                                                                  XrFoveatedRayBatchFOVEART* batch);
+typedef XrResult(XRAPI_PTR* PFN_xrReleaseFoveatedRayBatchFOVEART)(XrFoveatedRendererFOVEART renderer,
+                                                                  uint64_t batchId);
 #endif /* XR_USE_GRAPHICS_API_VULKAN */
 
 typedef XrResult(XRAPI_PTR* PFN_xrCreateFoveatedRendererFOVEART)(
