@@ -8,6 +8,11 @@ namespace foveart::gpu {
 std::unique_ptr<Context> Context::create(const Device& device, std::string* error) {
   std::unique_ptr<Context> c(new Context());
   c->device_ = device;
+  for (const uint32_t family : device.other_queue_families)
+    if (family != device.queue_family_index) c->buffer_families_.push_back(family);
+  if (!c->buffer_families_.empty()) c->buffer_families_.push_back(device.queue_family_index);
+  std::sort(c->buffer_families_.begin(), c->buffer_families_.end());
+  c->buffer_families_.erase(std::unique(c->buffer_families_.begin(), c->buffer_families_.end()), c->buffer_families_.end());
   vkGetDeviceQueue(device.device, device.queue_family_index, device.queue_index, &c->queue_);
   vkGetPhysicalDeviceMemoryProperties(device.physical_device, &c->memory_properties_);
   VkPhysicalDeviceProperties properties{};
@@ -53,7 +58,7 @@ bool Context::create_buffer(BoundBuffer* b, VkDeviceSize size, VkBufferUsageFlag
                             std::string* error) const {
   b->size = std::max<VkDeviceSize>(size, 16);
   return create_bound_buffer(device_.device, memory_properties_, b->size, usage, buffer_memory_flags(host_visible),
-                             &b->buffer, &b->memory, host_visible ? &b->mapped : nullptr, error);
+                             &b->buffer, &b->memory, host_visible ? &b->mapped : nullptr, error, buffer_families_);
 }
 
 bool Context::submit_and_wait(const std::function<bool(VkCommandBuffer)>& record, std::string* error) {

@@ -157,9 +157,16 @@ void DeviceTrace::update_descriptors(const DeviceTraceTargets& targets) {
 
 bool DeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, const DeviceTraceTargets& targets,
                          std::string* error) {
-  if (!frame.engine || frame.points == nullptr || frame.rays_per_point < 1) {
-    return *error = "device trace: no engine, points or rays", false;
-  }
+  if (!frame.engine) return *error = "device trace: no engine", false;
+  if (!record_rays(cb, frame, targets, error)) return false;
+  if (!record_engine_trace(cb, frame, error)) return false;
+  record_resolve(cb, frame);
+  return true;
+}
+
+bool DeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame, const DeviceTraceTargets& targets,
+                              std::string* error) {
+  if (frame.points == nullptr || frame.rays_per_point < 1) return *error = "device trace: no points or rays", false;
   const foveation::PointSet& points = *frame.points;
   if (!ensure_buffers(points, frame.rays_per_point, error)) return false;
   if (descriptors_stale_ || !(bound_ == targets)) update_descriptors(targets);
@@ -168,18 +175,29 @@ bool DeviceTrace::record(VkCommandBuffer cb, const DeviceTraceFrame& frame, cons
   if (staged_bytes_ > 0) {  // new points: copied in this frame's commands (the staging buffer lives on)
     const VkBufferCopy copy{0, 0, staged_bytes_};
     vkCmdCopyBuffer(cb, staging_.buffer, points_.buffer, 1, &copy);
-    uploaded_bytes_ = staged_bytes_;  // staged_bytes_ stays until the frame is recorded in full
+    uploaded_bytes_ = staged_bytes_;  // staged_bytes_ stays until the frame's resolve is recorded
   }
-  record_rays(cb, frame);
-  if (!record_engine_trace(cb, frame, error)) return false;
-  staged_bytes_ = 0;  // the points' copy is in a frame that will be submitted
-  record_resolve(cb, frame);
+  record_ray_passes(cb, frame);
   return true;
+}
+
+DeviceRayBatch DeviceTrace::batch(const DeviceTraceFrame& frame, VkCommandBuffer cb) const {
+  DeviceRayBatch batch;
+  batch.frame_index = frame.frame_index;
+  batch.view = &frame.view;
+  batch.ray_capacity = ray_capacity_;
+  batch.rays_per_point = frame.rays_per_point;
+  batch.ray_count = {control_.buffer, 0, FOVEART_DEVICE_RAY_COUNT_WORDS * 4};
+  batch.rays = {rays_.buffer, 0, rays_.size};
+  batch.point_index = {point_index_.buffer, 0, point_index_.size};
+  batch.colors = {ray_colors_.buffer, 0, ray_colors_.size};
+  batch.command_buffer = cb;
+  return batch;
 }
 
 // Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made
 // (the caller cleared the status with the frame's other targets).
-void DeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+void DeviceTrace::record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   const foveation::PointSet& points = *frame.points;
   vkCmdFillBuffer(cb, control_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
@@ -204,25 +222,17 @@ void DeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame)
 
 // Stage 3: the engine's trace, recorded by the engine into `cb`.
 bool DeviceTrace::record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error) {
-  DeviceRayBatch batch;
-  batch.frame_index = frame.frame_index;
-  batch.view = &frame.view;
-  batch.ray_capacity = ray_capacity_;
-  batch.rays_per_point = frame.rays_per_point;
-  batch.ray_count = {control_.buffer, 0, FOVEART_DEVICE_RAY_COUNT_WORDS * 4};
-  batch.rays = {rays_.buffer, 0, rays_.size};
-  batch.point_index = {point_index_.buffer, 0, point_index_.size};
-  batch.colors = {ray_colors_.buffer, 0, ray_colors_.size};
-  batch.command_buffer = cb;
-  if (!frame.engine(batch)) return *error = "the device trace failed", false;
-  memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
-                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+  if (!frame.engine(batch(frame, cb))) return *error = "the device trace failed", false;
   return true;
 }
 
 // The colours per point, into the gather's slots.
 void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  // The engine's writes in any stage (in `cb`, or a submission this one waited for).
+  memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+  staged_bytes_ = 0;  // the points' copy is in a frame that will be submitted
   const DeviceResolvePush resolve{frame.rays_per_point, uint32_t(frame.points->size())};
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve());
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve_layout(), 0, 1, &resolve_set_, 0,

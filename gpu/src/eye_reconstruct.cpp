@@ -68,19 +68,39 @@ void clear_slots(VkCommandBuffer cb, VkBuffer colors, VkBuffer point_depth) {
 
 }  // namespace
 
+bool Eye::ensure_device_trace(Slot& s, std::string* error) {
+  if (s.device_trace != nullptr) return true;
+  const DeviceTracePipelines* pipelines = pipelines_.device_trace(error);
+  if (pipelines == nullptr) return false;
+  s.device_trace = std::make_unique<DeviceTrace>(context_, *pipelines);
+  return true;
+}
+
+bool Eye::record_app_rays(VkCommandBuffer cb, std::uint32_t slot_index, const Tables& tables,
+                          const DeviceTraceFrame& frame, DeviceRayBatch* out_batch, std::string* error) {
+  if (slot_index >= kFrameSlots) return *error = "GPU frame: no frame slot " + std::to_string(slot_index), false;
+  Slot& s = slots_[slot_index];
+  if (!ensure_points(s, tables.view_tables().points.size(), error) || !ensure_device_trace(s, error)) return false;
+  const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer};
+  if (!s.device_trace->record_rays(cb, frame, targets, error)) return false;
+  *out_batch = s.device_trace->batch(frame, VK_NULL_HANDLE);
+  return true;
+}
+
 // Stages 1-3 on the device, resolved into the slots (a device-traced frame; else nothing but the first timestamp).
+// An app-recorded trace's rays are in the slot already (record_app_rays): its colours are resolved only.
 bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* error) {
   stamp(cb, 0);
   Slot& s = slot();
   if (frame.device != nullptr) {
     clear_slots(cb, s.colors.buffer, s.point_depth.buffer);
-    if (s.device_trace == nullptr) {
-      const DeviceTracePipelines* pipelines = pipelines_.device_trace(error);
-      if (pipelines == nullptr) return false;
-      s.device_trace = std::make_unique<DeviceTrace>(context_, *pipelines);
-    }
+    if (!ensure_device_trace(s, error)) return false;
     const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer};
-    if (!s.device_trace->record(cb, *frame.device, targets, error)) return false;
+    if (frame.device->app_trace) {
+      s.device_trace->record_resolve(cb, *frame.device);
+    } else if (!s.device_trace->record(cb, *frame.device, targets, error)) {
+      return false;
+    }
     host_written_ += s.device_trace->host_bytes_written();
   }
   stamp(cb, 1);

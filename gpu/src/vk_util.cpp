@@ -6,11 +6,17 @@ namespace foveart::gpu {
 
 bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
                          VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted, VkBuffer* buffer,
-                         VkDeviceMemory* memory, void** mapped, std::string* error) {
+                         VkDeviceMemory* memory, void** mapped, std::string* error,
+                         std::span<const uint32_t> concurrent_families) {
   auto info = vk_struct<VkBufferCreateInfo>(VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO);
   info.size = size;
   info.usage = usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  if (concurrent_families.size() >= 2) {  // no ownership transfers between them
+    info.sharingMode = VK_SHARING_MODE_CONCURRENT;
+    info.queueFamilyIndexCount = uint32_t(concurrent_families.size());
+    info.pQueueFamilyIndices = concurrent_families.data();
+  }
   VkResult r = vkCreateBuffer(device, &info, nullptr, buffer);
   if (r != VK_SUCCESS) return *error = vk_error("vkCreateBuffer", r), false;
   VkMemoryRequirements req{};

@@ -32,6 +32,7 @@
 #include "layer/sampling_defaults.hpp"
 #include "log.hpp"
 #include "next_chain.hpp"
+#include "ray_batch.hpp"
 #include "renderer.hpp"
 #include "xr_glm.hpp"
 
@@ -160,6 +161,26 @@ struct FoveatedRenderer::Frames {
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
                   const std::vector<bool>& rect_valid, const XrFoveatedDisplayTransformFOVEART* chained_display,
                   XrFoveatedRendererStatsFOVEART* stats);
+  // The gaze predicted for display_time (XrTime on Linux runtimes is
+  // CLOCK_MONOTONIC; a clock far away, a virtual runtime clock, is replaced
+  // by now), and the frame's gaze stats.
+  FrameGaze gaze_at(XrTime display_time, XrSpace space, const XrCompositionLayerProjectionView* views,
+                    uint32_t view_count, XrFoveatedRendererStatsFOVEART* stats);
+  // The app-recorded trace (ray_batch.hpp, the extension header).
+  XrResult acquire(const XrFoveatedRayBatchAcquireInfoFOVEART& info, XrFoveatedRayBatchFOVEART* out,
+                   XrFoveatedRendererStatsFOVEART* stats);
+  // Why the acquire is refused (its error and *why), or XR_SUCCESS.
+  XrResult acquire_refusal(const XrFoveatedRayBatchAcquireInfoFOVEART& info, XrFoveatedRayBatchFOVEART* out,
+                           std::string* why) const;
+  // Eye e's plan and rays at the acquire into `cb`; false (out left empty) when the view is not traced.
+  bool plan_app_eye(uint32_t e, const FrameGaze& gaze, const XrView& view, XrExtent2Di size_px, VkCommandBuffer cb,
+                    XrFoveatedDeviceRayBatchFOVEART* out, XrFoveatedRendererStatsFOVEART* stats);
+  // xrEndFrame took the acquired batch: its age and, unreleased, its count.
+  void took_batch(const TakenRayBatch& taken, XrFoveatedRendererStatsFOVEART* stats);
+  // Eye e's frame from the app's trace: false when the view shows the app's own image.
+  bool render_app_eye(uint32_t e, const TakenRayBatch& taken, XrCompositionLayerProjectionView& view,
+                      XrFoveatedRendererStatsFOVEART* stats);
+  void app_trace_stats(XrFoveatedAppTraceStatsFOVEART* out) const;
   Tables tables_for(const FoveartEyeView& view);
   void evict_least_recently_used();  // under build_mutex
   void build_tables();
@@ -167,6 +188,11 @@ struct FoveatedRenderer::Frames {
   void choose_reconstruction();
   std::shared_ptr<gpu::Tables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
+  // Eye e's tables and buffers on the device for these tables and its swapchain's size.
+  bool ensure_gpu_eye(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, std::string* error);
+  // Eye e's device-traced frame, from its view's hand-off (no engine yet).
+  gpu::DeviceTraceFrame device_frame(uint32_t e, const foveation::FrameRequest& request,
+                                     const std::shared_ptr<const foveation::ViewTables>& view_tables) const;
   // Records eye e's frame into the frame slot's command buffer, its swapchain image acquired.
   bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
                       const gpu::DeviceTraceFrame* device, std::string* error);
@@ -203,7 +229,13 @@ struct FoveatedRenderer::Frames {
   bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
                    const std::shared_ptr<const foveation::ViewTables>& view_tables,
                    XrFoveatedRendererStatsFOVEART* stats);
+  // present_gpu's steps after the device frame is made: `engine` is its device trace's result.
+  bool present_device(uint32_t e, const gpu::DeviceTraceFrame* device, XrResult engine,
+                      const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                      XrFoveatedRendererStatsFOVEART* stats);
   bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
+  // The view shows eye e's layer swapchain image.
+  void show_layer_image(uint32_t e, XrCompositionLayerProjectionView& view) const;
 
   std::shared_ptr<SessionState> session;
   RendererSettings settings;
@@ -237,8 +269,22 @@ struct FoveatedRenderer::Frames {
   std::array<std::array<std::optional<InFlightEye>, 2>, gpu::kFrameSlots> in_flight;
   std::unique_ptr<FrameSubmission> submission;  // with the reconstructor; destroyed first: waits for the slots
   uint64_t frame_index = 0;
+  // The app-recorded trace: the frame's batch, and per eye what its rays were
+  // made for at the acquire (its batch's view points into it until the next acquire).
+  struct AppEye {
+    foveation::FrameRequest request;
+    std::shared_ptr<const foveation::ViewTables> tables;
+    gpu::DeviceTraceFrame device;
+  };
+  RayBatches batches;
+  std::array<std::optional<AppEye>, 2> app_eyes;
+  bool frame_started = false;  // an acquire counted the next frame already
+  XrFoveatedFallbackFlagsFOVEART acquire_flags = 0;  // why the acquire's views were not traced
+  float acquired_gaze_age_ms = 0.0f;
+  float acquire_to_end_frame_ms = 0.0f;
+  uint64_t mismatched_views = 0;
   foveation::DisplayTransform display;  // this frame's (resolve_display)
-  LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
+  LogOnce app_once, unreleased_once, mismatch_once, display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
       behind_once, rect_once, failed_once, gpu_once, device_once, submit_once;
 };
 
@@ -246,28 +292,15 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
                                           XrCompositionLayerProjectionView* views, const std::vector<bool>& rect_valid,
                                           const XrFoveatedDisplayTransformFOVEART* chained_display,
                                           XrFoveatedRendererStatsFOVEART* stats) {
-  ++frame_index;
+  const std::optional<TakenRayBatch> taken = batches.take();  // the app-recorded trace's, when acquired
+  if (!frame_started) ++frame_index;
+  frame_started = false;
   std::string display_error;
   display = resolve_display(chained_display, settings.display, &display_error);
   if (!display_error.empty() && display_once.first())
     log(LogLevel::Warn, "xrEndFrame: ", display_error, "; the config's value is used (logged once)");
-  // XrTime on Linux runtimes is CLOCK_MONOTONIC (= steady_clock); a clock far
-  // away (virtual runtime clock) is replaced by now for gaze prediction.
-  const int64_t now_ns = steady_now_ns();
-  GazeQuery query;
-  query.now_ns = now_ns;
-  query.display_time = display_time;
-  query.runtime_clock_is_steady = std::llabs(display_time - now_ns) < 1'000'000'000;
-  query.space = layer.space;
-  query.views = views;
-  query.view_count = layer.viewCount;
-  const FrameGaze frame_gaze = gaze->at(query);
-  stats->gazeSource = frame_gaze.valid ? frame_gaze.source : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
-  stats->gazeAgeMs = frame_gaze.valid ? frame_gaze.age_ms : 0.0f;
-  stats->fallbackFlags = frame_gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
-  if (!frame_gaze.valid) ++stats->gazeLostFrames;
-  reconstruction.gaze_saccade_last_frame = frame_gaze.valid && frame_gaze.saccade;
-  reconstruction.gaze_blink_last_frame = frame_gaze.valid && frame_gaze.blink;
+  const FrameGaze frame_gaze = gaze_at(display_time, layer.space, views, layer.viewCount, stats);
+  if (taken) took_batch(*taken, stats);
 
   const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
   collect(slot, stats);
@@ -289,13 +322,203 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
       ++stats->framesFallback;
       continue;
     }
-    if (render_eye(e, frame_gaze, views[e], stats)) ++rewritten;
+    if (taken ? render_app_eye(e, *taken, views[e], stats) : render_eye(e, frame_gaze, views[e], stats)) ++rewritten;
     else ++stats->framesFallback;
+  }
+  if (taken && taken->released && submission != nullptr && submission->begun(slot)) {
+    std::string error;  // the current semaphore: a released batch never changes it
+    submission->wait_before(slot, submission->timeline(batches.semaphore_generation(), &error), taken->traced_value);
   }
   rewritten -= finish_gpu_frame(slot, views, app_sub_images, stats);
   stats->framesFallback += layer.viewCount - eye_count;  // views beyond two stay the app's
   if (rewritten > 0) ++stats->framesTraced;
   return rewritten;
+}
+
+FrameGaze FoveatedRenderer::Frames::gaze_at(XrTime display_time, XrSpace space,
+                                            const XrCompositionLayerProjectionView* views, uint32_t view_count,
+                                            XrFoveatedRendererStatsFOVEART* stats) {
+  const int64_t now_ns = steady_now_ns();
+  GazeQuery query;
+  query.now_ns = now_ns;
+  query.display_time = display_time;
+  query.runtime_clock_is_steady = std::llabs(display_time - now_ns) < 1'000'000'000;
+  query.space = space;
+  query.views = views;
+  query.view_count = view_count;
+  const FrameGaze frame_gaze = gaze->at(query);
+  stats->gazeSource = frame_gaze.valid ? frame_gaze.source : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
+  stats->gazeAgeMs = frame_gaze.valid ? frame_gaze.age_ms : 0.0f;
+  stats->fallbackFlags = frame_gaze.valid ? 0 : XR_FOVEATED_FALLBACK_FIXED_FOVEATION_BIT_FOVEART;
+  if (!frame_gaze.valid) ++stats->gazeLostFrames;
+  reconstruction.gaze_saccade_last_frame = frame_gaze.valid && frame_gaze.saccade;
+  reconstruction.gaze_blink_last_frame = frame_gaze.valid && frame_gaze.blink;
+  return frame_gaze;
+}
+
+XrResult FoveatedRenderer::Frames::acquire_refusal(const XrFoveatedRayBatchAcquireInfoFOVEART& info,
+                                                   XrFoveatedRayBatchFOVEART* out, std::string* why) const {
+  if (!settings.app_trace) {
+    *why = "the renderer was created without an XrFoveatedAppTraceInfoFOVEART";
+    return XR_ERROR_VALIDATION_FAILURE;
+  }
+  if (info.viewCount == 0 || info.views == nullptr || info.imageSizes == nullptr) {
+    *why = "acquireInfo has no views or image sizes";
+    return XR_ERROR_VALIDATION_FAILURE;
+  }
+  for (uint32_t v = 0; v < info.viewCount; ++v) {
+    if (info.imageSizes[v].width <= 0 || info.imageSizes[v].height <= 0) {
+      *why = "imageSizes[" + std::to_string(v) + "] is not positive";
+      return XR_ERROR_VALIDATION_FAILURE;
+    }
+  }
+  out->viewCountOutput = info.viewCount;
+  if (out->viewCapacityInput < info.viewCount || out->views == nullptr) {
+    *why = "batch->views holds fewer than acquireInfo->viewCount views";
+    return XR_ERROR_SIZE_INSUFFICIENT;
+  }
+  if (reconstructor == nullptr || submission == nullptr || !reconstructor->device_trace_unsupported().empty()) {
+    *why = "this renderer reconstructs on the CPU (config \"reconstruction\", or a device the shaders cannot run on)";
+    return XR_ERROR_FEATURE_UNSUPPORTED;
+  }
+  return XR_SUCCESS;
+}
+
+XrResult FoveatedRenderer::Frames::acquire(const XrFoveatedRayBatchAcquireInfoFOVEART& info,
+                                           XrFoveatedRayBatchFOVEART* out, XrFoveatedRendererStatsFOVEART* stats) {
+  std::string why;
+  XrResult refused = acquire_refusal(info, out, &why);
+  std::vector<RayBatchView> keys(info.viewCount);
+  for (uint32_t v = 0; v < info.viewCount && XR_SUCCEEDED(refused); ++v)
+    keys[v] = RayBatchView{info.views[v].pose, info.views[v].fov, info.imageSizes[v]};
+  uint64_t id = 0, rays_ready = 0, traced = 0;
+  if (XR_SUCCEEDED(refused)) refused = batches.acquire(steady_now_ns(), std::move(keys), &id, &rays_ready, &traced);
+  if (refused == XR_ERROR_CALL_ORDER_INVALID) why = "a batch is out for this frame already (acquire once per xrEndFrame)";
+  if (XR_FAILED(refused)) {
+    if (app_once.first()) log(LogLevel::Error, "xrAcquireFoveatedRayBatchFOVEART: ", why, " (logged once)");
+    return refused;
+  }
+  if (!frame_started) ++frame_index;  // the frame this batch belongs to
+  frame_started = true;
+  const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
+  collect(slot, stats);  // its previous frame finished: the slot's buffers may be written
+  const VkSemaphore semaphore = submission->timeline(batches.semaphore_generation(), &why);
+  const VkCommandBuffer cb = semaphore == VK_NULL_HANDLE ? VK_NULL_HANDLE : submission->begin_rays(slot, &why);
+  std::vector<XrCompositionLayerProjectionView> located(info.viewCount);
+  for (uint32_t v = 0; v < info.viewCount; ++v) {
+    located[v].type = XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW;
+    located[v].pose = info.views[v].pose;
+    located[v].fov = info.views[v].fov;
+  }
+  XrFoveatedRendererStatsFOVEART at_acquire = *stats;  // xrEndFrame counts the frame's gaze; this one is the rays'
+  const FrameGaze frame_gaze = gaze_at(info.displayTime, info.space, located.data(), info.viewCount, &at_acquire);
+  acquired_gaze_age_ms = at_acquire.gazeAgeMs;
+  stats->fallbackFlags = at_acquire.fallbackFlags;  // the acquired frame's, from here
+  for (uint32_t v = 0; v < info.viewCount; ++v) {
+    out->views[v] = XrFoveatedDeviceRayBatchFOVEART{};
+    out->views[v].type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
+    if (v < 2) app_eyes[v].reset();
+    if (v < 2 && cb != VK_NULL_HANDLE)
+      plan_app_eye(v, frame_gaze, info.views[v], info.imageSizes[v], cb, &out->views[v], stats);
+  }
+  acquire_flags = stats->fallbackFlags;
+  if (cb == VK_NULL_HANDLE || !submission->submit_rays(slot, semaphore, rays_ready, &why)) {
+    batches.withdraw();
+    app_eyes = {};
+    if (submit_once.first()) log(LogLevel::Error, "xrAcquireFoveatedRayBatchFOVEART: ", why, " (logged once)");
+    return XR_ERROR_RUNTIME_FAILURE;
+  }
+  out->batchId = id;
+  out->semaphore = semaphore;
+  out->raysReadyValue = rays_ready;
+  out->tracedValue = traced;
+  return XR_SUCCESS;
+}
+
+bool FoveatedRenderer::Frames::plan_app_eye(uint32_t e, const FrameGaze& frame_gaze, const XrView& located,
+                                            XrExtent2Di size_px, VkCommandBuffer cb,
+                                            XrFoveatedDeviceRayBatchFOVEART* out, XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  const auto w = static_cast<uint32_t>(size_px.width), h = static_cast<uint32_t>(size_px.height);
+  AppEye app_eye;
+  app_eye.request.view = eye_view_of(e, located.pose, located.fov, w, h);
+  const Tables found = tables_for(app_eye.request.view);
+  if (eye.failed || found.failed || found.ready == nullptr) {
+    if (!eye.failed)
+      stats->fallbackFlags |= found.failed ? XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART : XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
+    return false;
+  }
+  if (!ensure_swapchain(e, w, h, stats)) return false;
+  if ((!eye.path && !choose_path(e)) || !eye.path->device_trace) {
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+    return false;
+  }
+  ensure_view(e, found.ready);
+  aim_at_gaze(e, frame_gaze, app_eye.request, stats);
+  if (!run_frame(e, app_eye.request, stats)) return false;
+  std::string error;
+  gpu::DeviceRayBatch batch;
+  bool made = ensure_gpu_eye(e, found.ready, &error);
+  if (made) {
+    app_eye.tables = found.ready;
+    AppEye& kept = app_eyes[e].emplace(std::move(app_eye));
+    kept.device = device_frame(e, kept.request, kept.tables);
+    kept.device.app_trace = true;
+    made = eye.gpu_eye->record_app_rays(cb, uint32_t(frame_index % gpu::kFrameSlots), *eye.gpu_tables, kept.device,
+                                        &batch, &error);
+  }
+  if (!made) {
+    app_eyes[e].reset();
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+    if (gpu_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": the rays cannot be made: ", error, " (logged once)");
+    return false;
+  }
+  *out = xr_device_ray_batch(batch);
+  return true;
+}
+
+void FoveatedRenderer::Frames::took_batch(const TakenRayBatch& taken, XrFoveatedRendererStatsFOVEART* stats) {
+  acquire_to_end_frame_ms = float(double(steady_now_ns() - taken.acquired_ns) * 1e-6);
+  stats->fallbackFlags |= acquire_flags;
+  if (stats->gazeAgeMs > 0.0f) stats->gazeAgeMs = acquired_gaze_age_ms + acquire_to_end_frame_ms;  // the rays' gaze
+  if (taken.released) return;
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
+  if (unreleased_once.first()) {
+    log(LogLevel::Error, "xrEndFrame: ray batch ", taken.id, " was not released (xrReleaseFoveatedRayBatchFOVEART); "
+        "its views show the app's own image and it is retired (logged once, counted in the stats)");
+  }
+}
+
+bool FoveatedRenderer::Frames::render_app_eye(uint32_t e, const TakenRayBatch& taken,
+                                              XrCompositionLayerProjectionView& view,
+                                              XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  if (!app_eyes[e]) return false;  // not traced at the acquire (flags in acquire_flags)
+  const RayBatchView shown{view.pose, view.fov, view.subImage.imageRect.extent};
+  const bool same = e < taken.views.size() && same_view(taken.views[e], shown);
+  if (taken.released && !same) {
+    ++mismatched_views;
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+    if (mismatch_once.first()) {
+      log(LogLevel::Error, "xrEndFrame: eye ", e, ": its pose, fov or imageRect size differ from the ray batch's "
+          "acquire; showing the app's own image (logged once, counted in the stats)");
+    }
+  }
+  if (!taken.released || !same || !eye.path || !eye.path->device_trace) {
+    if (eye.view != nullptr) eye.view->forget_history();  // its plan was not shown
+    return false;
+  }
+  if (!present_device(e, &app_eyes[e]->device, XR_SUCCESS, app_eyes[e]->tables, stats)) return false;
+  show_layer_image(e, view);
+  return true;
+}
+
+void FoveatedRenderer::Frames::app_trace_stats(XrFoveatedAppTraceStatsFOVEART* out) const {
+  out->batchesAcquired = batches.acquired();
+  out->unreleasedBatches = batches.retired();
+  out->rejectedReleases = batches.rejected_releases();
+  out->mismatchedViews = mismatched_views;
+  out->acquireToEndFrameMs = acquire_to_end_frame_ms;
 }
 
 FoveatedRenderer::Frames::Tables FoveatedRenderer::Frames::tables_for(const FoveartEyeView& view) {
@@ -406,17 +629,17 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
   VkPhysicalDeviceProperties device{};
   vkGetPhysicalDeviceProperties(session->vk_physical_device, &device);
   if (settings.reconstruction == "auto" && device.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU &&
-      settings.trace_rays_device == nullptr) {
+      settings.trace_rays_device == nullptr && !settings.app_trace) {
     // A CPU Vulkan device (lavapipe) runs the shaders on the cores the CPU path
     // uses, 3-20x slower than its SIMD gather (docs/gpu.md): auto keeps the CPU.
     log(LogLevel::Info, "foveated renderer: reconstruction on the CPU: ", device.deviceName,
-        " is a CPU device (config \"reconstruction\": \"gpu\" uses it anyway; so does a device trace)");
+        " is a CPU device (config \"reconstruction\": \"gpu\" uses it anyway; so does a device or app-recorded trace)");
     return;
   }
   std::string why;
   reconstructor = gpu::Reconstructor::create(
       gpu::Device{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
-                session->vk_queue_index},
+                  session->vk_queue_index, settings.app_queue_families},  // the app-recorded trace's families
       &why);
   const auto& properties = device;
   if (reconstructor != nullptr) submission = FrameSubmission::create(*session, &why);
@@ -448,9 +671,9 @@ std::shared_ptr<gpu::Tables> FoveatedRenderer::Frames::gpu_tables_for(
   return uploaded;
 }
 
-bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
+bool FoveatedRenderer::Frames::ensure_gpu_eye(uint32_t e,
                                               const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              const gpu::DeviceTraceFrame* device, std::string* error) {
+                                              std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
   if (eye.gpu_tables == nullptr || &eye.gpu_tables->view_tables() != view_tables.get()) {
@@ -464,6 +687,14 @@ bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
     eye.shown_good = false;
     if (eye.gpu_eye == nullptr) return false;
   }
+  return true;
+}
+
+bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
+                                              const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                              const gpu::DeviceTraceFrame* device, std::string* error) {
+  Eye& eye = eyes[e];
+  if (!ensure_gpu_eye(e, view_tables, error)) return false;
   const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
   gpu::EyeFrame frame = gpu::EyeFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
   frame.display = display;
@@ -601,9 +832,9 @@ bool FoveatedRenderer::Frames::choose_path(uint32_t e) {
   EyePath path;
   path.reconstruct_on_gpu = reconstructor != nullptr && !eye.gpu_failed;
   // The engine's device trace where the GPU reconstructs and can run it; its CPU callback elsewhere.
-  path.device_trace = path.reconstruct_on_gpu && settings.trace_rays_device != nullptr &&
-                      reconstructor->device_trace_unsupported().empty();
-  if (path.reconstruct_on_gpu && settings.trace_rays_device != nullptr && !path.device_trace &&
+  const bool device_traced = settings.trace_rays_device != nullptr || settings.app_trace;
+  path.device_trace = path.reconstruct_on_gpu && device_traced && reconstructor->device_trace_unsupported().empty();
+  if (path.reconstruct_on_gpu && device_traced && !path.device_trace &&
       device_once.first()) {
     log(LogLevel::Warn, "foveated renderer: the engine's device trace cannot run here: ",
         reconstructor->device_trace_unsupported(), "; its callback traces instead, where it registered one (logged once)");
@@ -707,23 +938,38 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
 bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
                                            const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                            XrFoveatedRendererStatsFOVEART* stats) {
-  Eye& eye = eyes[e];
-  const auto t0 = Clock::now();
   gpu::DeviceTraceFrame device;
   XrResult engine = XR_SUCCESS;
   if (device_trace) {
-    const foveation::FrameHandOff& hand_off = eye.view->hand_off();
+    device = device_frame(e, request, view_tables);
     device.engine = xr_device_trace_engine(settings.trace_rays_device, settings.device_user_data, &engine);
-    device.points = &view_tables->points;
-    device.view = request.view;
-    device.mapping = hand_off.mapping;
-    device.frame_index = frame_index;
-    device.sample_seed = hand_off.sample_seed;
-    device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
-    device.pixel_filter = eye.view->settings().pixel_filter;
   }
+  return present_device(e, device_trace ? &device : nullptr, engine, view_tables, stats);
+}
+
+gpu::DeviceTraceFrame FoveatedRenderer::Frames::device_frame(
+    uint32_t e, const foveation::FrameRequest& request,
+    const std::shared_ptr<const foveation::ViewTables>& view_tables) const {
+  const Eye& eye = eyes[e];
+  const foveation::FrameHandOff& hand_off = eye.view->hand_off();
+  gpu::DeviceTraceFrame device;
+  device.points = &view_tables->points;
+  device.view = request.view;
+  device.mapping = hand_off.mapping;
+  device.frame_index = frame_index;
+  device.sample_seed = hand_off.sample_seed;
+  device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
+  device.pixel_filter = eye.view->settings().pixel_filter;
+  return device;
+}
+
+bool FoveatedRenderer::Frames::present_device(uint32_t e, const gpu::DeviceTraceFrame* device, XrResult engine,
+                                              const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                              XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
+  const auto t0 = Clock::now();
   std::string error;
-  const bool recorded = present_on_gpu(e, view_tables, device_trace ? &device : nullptr, &error);
+  const bool recorded = present_on_gpu(e, view_tables, device, &error);
   stats->uploadMs[e] = ms_since(t0);
   apply_collected(e, stats);  // the GPU's times of an earlier frame of this eye
   if (!recorded && XR_FAILED(engine)) {  // the engine's failure, not the GPU path's
@@ -796,11 +1042,20 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   ensure_view(e, found.ready);
   aim_at_gaze(e, frame_gaze, request, stats);
   if (!run_frame(e, request, stats)) return false;
+  if (eye.path->device_trace && settings.trace_rays_device == nullptr) {  // app-recorded only: no acquire this frame
+    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
+    return false;
+  }
   if (!eye.path->present(e, request, found.ready, stats)) return false;
-  view.subImage.swapchain = eye.swapchain->handle();
-  view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
-  view.subImage.imageArrayIndex = 0;
+  show_layer_image(e, view);
   return true;
+}
+
+void FoveatedRenderer::Frames::show_layer_image(uint32_t e, XrCompositionLayerProjectionView& view) const {
+  const EyeSwapchain& swapchain = *eyes[e].swapchain;
+  view.subImage.swapchain = swapchain.handle();
+  view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(swapchain.width_px()), static_cast<int32_t>(swapchain.height_px())}};
+  view.subImage.imageArrayIndex = 0;
 }
 
 FoveatedRenderer::FoveatedRenderer(std::shared_ptr<SessionState> session, RendererSettings settings)
@@ -822,6 +1077,26 @@ uint32_t FoveatedRenderer::render(XrTime display_time, const XrCompositionLayerP
     return 0;
   }
   return frames_->render(display_time, layer, out_views, rect_valid, display, &stats_);
+}
+
+XrResult FoveatedRenderer::acquire_ray_batch(const XrFoveatedRayBatchAcquireInfoFOVEART& info,
+                                             XrFoveatedRayBatchFOVEART* out_batch) {
+  std::lock_guard lock(mutex_);
+  if (frames_ == nullptr) return XR_ERROR_FEATURE_UNSUPPORTED;  // no Vulkan: create refused it already
+  return frames_->acquire(info, out_batch, &stats_);
+}
+
+XrResult FoveatedRenderer::release_ray_batch(std::uint64_t batch_id) {
+  std::lock_guard lock(mutex_);
+  if (frames_ == nullptr) return XR_ERROR_VALIDATION_FAILURE;
+  const XrResult result = frames_->batches.release(batch_id);
+  if (XR_FAILED(result) && release_once_.first()) {
+    log(LogLevel::Error, "xrReleaseFoveatedRayBatchFOVEART: batch ", batch_id,
+        result == XR_ERROR_CALL_ORDER_INVALID ? " was retired unreleased at its xrEndFrame"
+                                              : " is unknown or released already",
+        " (logged once, counted in the stats)");
+  }
+  return result;
 }
 
 void FoveatedRenderer::count_foreign_session_layer() {
@@ -850,6 +1125,13 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     in->gazeBehindViews = input_.gaze_behind_views;
     in->invalidImageRectViews = input_.invalid_image_rect_views;
     in->foreignSessionLayers = input_.foreign_session_layers;
+  }
+  if (auto* app = find_in_out_chain<XrFoveatedAppTraceStatsFOVEART>(next, XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART)) {
+    void* app_next = app->next;
+    *app = XrFoveatedAppTraceStatsFOVEART{};
+    app->type = XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART;
+    app->next = app_next;
+    if (frames_ != nullptr) frames_->app_trace_stats(app);
   }
   // The reconstruction path, temporal mode and GPU stage times.
   if (auto* rec = find_in_out_chain<XrFoveatedRendererReconstructionStatsFOVEART>(

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -25,6 +26,9 @@ struct Device {
   VkDevice device = VK_NULL_HANDLE;
   uint32_t queue_family_index = 0;
   uint32_t queue_index = 0;
+  // Other queue families that use the buffers (the app-recorded trace's): with
+  // any, every buffer made here is VK_SHARING_MODE_CONCURRENT over them and queue_family_index.
+  std::vector<uint32_t> other_queue_families;
 };
 
 class Context {
@@ -63,6 +67,7 @@ class Context {
   VkDeviceSize max_storage_buffer_bytes_ = 0;
   float timestamp_period_ns_ = 1.0f;
   bool timestamps_ = false;
+  std::vector<uint32_t> buffer_families_;  // concurrent sharing: two or more
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

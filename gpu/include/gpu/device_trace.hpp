@@ -70,6 +70,9 @@ struct DeviceTraceFrame {
   std::uint64_t sample_seed = 0;
   std::uint32_t rays_per_point = 1;
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
+  // The app-recorded trace: the rays were made earlier (Eye::record_app_rays)
+  // and the app's submission traced them; the frame resolves only (engine unused).
+  bool app_trace = false;
 };
 
 // What the resolve found (read after the submission finished).
@@ -131,9 +134,21 @@ class DeviceTrace {
   // Records the frame's rays, the engine's trace and the resolve into `cb`,
   // writing every visible point's colour (a = 1) and depth, and the status,
   // into `targets`. false with *error when a buffer cannot be made or the
-  // engine's trace fails (what was recorded stays in `cb`).
+  // engine's trace fails (what was recorded stays in `cb`). The three steps
+  // below in one command buffer: the device trace's callback model.
   [[nodiscard]] bool record(VkCommandBuffer cb, const DeviceTraceFrame& frame, const DeviceTraceTargets& targets,
                             std::string* error);
+  // Stages 1-2: the frame's rays (and counts, and NaN colours) into this
+  // trace's buffers; frame.engine is not called. false with *error when a
+  // buffer cannot be made.
+  [[nodiscard]] bool record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame, const DeviceTraceTargets& targets,
+                                 std::string* error);
+  // Stage 3's input and output: the buffers of the last record_rays, for an
+  // engine recording into `cb` (VK_NULL_HANDLE: the app's own command buffer).
+  DeviceRayBatch batch(const DeviceTraceFrame& frame, VkCommandBuffer cb) const;
+  // After the engine's trace (in `cb` or a submission `cb`'s waits for): the
+  // colours per point into the targets of the last record_rays.
+  void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
   // Bytes the host wrote for the last record: the point set, once per table set; else 0.
   std::uint64_t host_bytes_written() const { return uploaded_bytes_; }
   // The buffers the last record wrote the frame's rays, hits and status into
@@ -145,10 +160,9 @@ class DeviceTrace {
  private:
   [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
   void update_descriptors(const DeviceTraceTargets& targets);
-  // The steps of record: stages 1-2 (the rays), stage 3 (the engine's trace), the colours per point.
-  void record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+  // Stages 1-2's passes, and stage 3 by frame.engine into `cb`.
+  void record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& frame);
   [[nodiscard]] bool record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::string* error);
-  void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
 
   const Context& context_;
   const DeviceTracePipelines& pipelines_;

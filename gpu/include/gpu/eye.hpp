@@ -110,6 +110,12 @@ class Eye {
   // recorded stays in `cb` (it may be submitted: it writes only this eye's buffers).
   [[nodiscard]] bool record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
                             std::string* error);
+  // The app-recorded trace: stages 1-2 of the frame in slot `slot_index` into
+  // `cb` (submitted before the frame's record), and the buffers the app's
+  // trace reads and writes. The frame's record() with device->app_trace then
+  // resolves them. The slot's previous submission must have finished.
+  [[nodiscard]] bool record_app_rays(VkCommandBuffer cb, std::uint32_t slot_index, const Tables& tables,
+                                     const DeviceTraceFrame& frame, DeviceRayBatch* out_batch, std::string* error);
   // After the slot's submission finished: the stage times it measured.
   bool stage_times(std::uint32_t slot, StageTimes* out) const;
   bool stage_times(StageTimes* out) const { return stage_times(last_slot_, out); }
@@ -149,6 +155,7 @@ class Eye {
   [[nodiscard]] bool create_buffers(std::string* error);
   [[nodiscard]] bool create_slot(Slot& slot, std::string* error);
   [[nodiscard]] bool ensure_points(Slot& slot, std::size_t point_count, std::string* error);
+  [[nodiscard]] bool ensure_device_trace(Slot& slot, std::string* error);
   void update_descriptors(Slot& slot);
   [[nodiscard]] bool check_frame(const EyeFrame& frame, std::string* error) const;
   Slot& slot() { return slots_[slot_]; }

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace foveart::gpu {
@@ -47,9 +48,11 @@ inline VkMemoryPropertyFlags buffer_memory_flags(bool host_visible) {
 // A buffer of `size` bytes bound to new memory of the first type with all of
 // `wanted` (and mapped into *mapped when mapped is not null); false with
 // *error naming what failed. The caller destroys what was created either way.
+// Two or more concurrent_families: VK_SHARING_MODE_CONCURRENT over them; else exclusive.
 [[nodiscard]] bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties& memory_properties, VkDeviceSize size,
                          VkBufferUsageFlags usage, VkMemoryPropertyFlags wanted, VkBuffer* buffer,
-                         VkDeviceMemory* memory, void** mapped, std::string* error);
+                         VkDeviceMemory* memory, void** mapped, std::string* error,
+                         std::span<const uint32_t> concurrent_families = {});
 
 // One global memory barrier: the GPU frame's passes are whole-buffer
 // producers and consumers, so a memory barrier says all there is.
