@@ -6,7 +6,8 @@
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
 //                  [--fault nan|error|throw|nothing] [--fault-from-frame N] [--json] [--app-actions]
-//                  [--no-explicit-layer] [--count-work]
+//                  [--no-explicit-layer] [--count-work] [--trace-model callback|app]
+//                  [--release-fault never|twice|unknown]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
 // --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
@@ -15,6 +16,17 @@
 // the CPU engine stays registered as traceRays for where it reconstructs on the
 // CPU (the header's "Both" rule). The auto exposure pre-pass runs on the CPU
 // engine either way.
+// --trace-model app (--engine gpu): the app records the GPU engine's trace in
+// its own command buffer and submits it itself, on a second queue where the
+// device has one (the extension's app-recorded trace: acquire the frame's ray
+// batch, wait for its raysReadyValue, trace, signal its tracedValue, release);
+// callback (the default): the layer calls the device trace inside xrEndFrame.
+// --json then adds "trace_model", and with app "app_trace": {batches_acquired,
+// unreleased_batches, rejected_releases, mismatched_views, release_errors,
+// last_release_error, second_queue, acquire_to_end_frame_ms {p50, p95, p99,
+// count}: how much older the rays' gaze is than with the callback}.
+// --release-fault (test aid, --trace-model app): never (no release), twice (a
+// second release), unknown (an unknown id released instead of the batch).
 // --fault: test aid, the engine misbehaving on purpose to watch the layer fall
 // back. cpu: nan (one NaN colour per batch), error, throw. gpu: nan (the real
 // trace, then NaN over the first ray's colour), error (XR_ERROR_RUNTIME_FAILURE),
@@ -277,6 +289,19 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
 }
 
 
+// --trace-model app: the layer's counts and the rays' extra gaze age.
+nlohmann::json app_trace_json(const foveart::hello::AppResult& r) {
+  const auto& a = r.app_trace;
+  return {{"batches_acquired", a.batchesAcquired},
+          {"unreleased_batches", a.unreleasedBatches},
+          {"rejected_releases", a.rejectedReleases},
+          {"mismatched_views", a.mismatchedViews},
+          {"release_errors", r.release_errors},
+          {"last_release_error", r.last_release_error},
+          {"second_queue", r.second_queue},
+          {"acquire_to_end_frame_ms", distribution(r.acquire_to_end_frame_ms)}};
+}
+
 // The medians of a mode: per eye and of each frame's both eyes (nearest rank).
 nlohmann::json medians_json(const std::vector<float>* per_eye_trace_ms, const std::vector<float>& frame_ms) {
   std::vector<float> both;
@@ -364,6 +389,7 @@ struct Args {
   std::string fault;
   bool count_work = false;
   uint64_t fault_from_frame = 0;
+  std::string trace_model = "callback";
   foveart::hello::AppOptions options;  // the settings given as they are
 
   bool gpu_engine() const { return engine_name == "gpu"; }
@@ -436,6 +462,15 @@ void add_app_options(CLI::App& cli, Args& a) {
                "visits (gpu_engine.work in the JSON; the compute backend only; slows the trace)");
   cli.add_option("--fault-from-frame", a.fault_from_frame,
                  "with --fault and --engine gpu: the device trace misbehaves from the layer's frame N on (from 1)");
+  cli.add_option("--trace-model", a.trace_model,
+                 "--engine gpu: callback (the layer records the device trace in xrEndFrame) or app (the app records "
+                 "it in its own command buffer and submits it: the app-recorded trace)")
+      ->check(CLI::IsMember({"callback", "app"}))
+      ->capture_default_str();
+  cli.add_option("--release-fault", a.options.release_fault,
+                 "test aid, --trace-model app: never (the batch is never released), twice (released twice), "
+                 "unknown (an unknown id released instead)")
+      ->check(CLI::IsMember({"never", "twice", "unknown"}));
 }
 
 // Why the options do not go together; "" when they do.
@@ -449,6 +484,9 @@ std::string conflicting_options(const Args& a) {
   if (a.count_work && !a.gpu_engine()) return "--count-work is for --engine gpu only";
   if (a.fault_from_frame != 0 && (a.fault.empty() || !a.gpu_engine()))
     return "--fault-from-frame is for --fault with --engine gpu only";
+  if (a.trace_model == "app" && (!a.gpu_engine() || a.mode != "foveated"))
+    return "--trace-model app is for --engine gpu --mode foveated only";
+  if (!a.options.release_fault.empty() && a.trace_model != "app") return "--release-fault is for --trace-model app only";
   return "";
 }
 
@@ -479,6 +517,7 @@ bool resolve_settings(Args& a) {
   o.temporal = temporals.at(a.temporal);
   o.tone_map = curves.at(a.tone_map);
   o.enable_layer = !a.no_explicit_layer;
+  o.app_recorded_trace = a.trace_model == "app";
   if (a.eye_size.size() == 2) {
     if (a.eye_size[0] == 0 || a.eye_size[1] == 0) return false;
     o.eye_width_px = a.eye_size[0];
@@ -577,6 +616,8 @@ class Sessions {
     out["engine"] = args_.engine_name;
     out["engine_rays"] = std::move(engine_rays);
     out["gpu_engine"] = gpu.engine ? *gpu.engine : nlohmann::json(nullptr);
+    out["trace_model"] = args_.trace_model;
+    if (session.app_recorded_trace) out["app_trace"] = app_trace_json(result);
     return out;
   }
 

@@ -1,5 +1,7 @@
 #include "xr_app.hpp"
 
+#include "app_trace.hpp"
+
 #include <array>
 #include <chrono>
 #include <cstring>
@@ -81,8 +83,12 @@ class App {
     result.reconstruction = xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(
         XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
     result.stats.next = &result.reconstruction;
+    result.app_trace = xr_struct<XrFoveatedAppTraceStatsFOVEART>(XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART);
+    result.reconstruction.next = &result.app_trace;
     check(get_stats_(renderer_, &result.stats), "xrGetFoveatedRendererStatsFOVEART");
     result.stats.next = nullptr;
+    result.reconstruction.next = nullptr;
+    result.second_queue = trace_queue_ != queue_;
     return result;
   }
 
@@ -108,6 +114,10 @@ class App {
     create_renderer_ = proc<PFN_xrCreateFoveatedRendererFOVEART>(instance_, "xrCreateFoveatedRendererFOVEART");
     destroy_renderer_ = proc<PFN_xrDestroyFoveatedRendererFOVEART>(instance_, "xrDestroyFoveatedRendererFOVEART");
     get_stats_ = proc<PFN_xrGetFoveatedRendererStatsFOVEART>(instance_, "xrGetFoveatedRendererStatsFOVEART");
+    if (options_.app_recorded_trace) {
+      acquire_batch_ = proc<PFN_xrAcquireFoveatedRayBatchFOVEART>(instance_, "xrAcquireFoveatedRayBatchFOVEART");
+      release_batch_ = proc<PFN_xrReleaseFoveatedRayBatchFOVEART>(instance_, "xrReleaseFoveatedRayBatchFOVEART");
+    }
   }
 
   void create_vulkan() {
@@ -117,7 +127,7 @@ class App {
           "xrGetVulkanGraphicsRequirements2KHR");
     auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
     app.pApplicationName = "hello_foveated";
-    app.apiVersion = VK_API_VERSION_1_1;
+    app.apiVersion = options_.app_recorded_trace ? VK_API_VERSION_1_2 : VK_API_VERSION_1_1;  // timeline semaphores
     auto vk_info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
     vk_info.pApplicationInfo = &app;
     auto create = xr_struct<XrVulkanInstanceCreateInfoKHR>(XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR);
@@ -147,14 +157,18 @@ class App {
       }
     }
     if (queue_family_ == UINT32_MAX) throw std::runtime_error("no graphics queue family");
-    const float priority = 1.0f;
+    const float priorities[2] = {1.0f, 1.0f};
     auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
     queue_info.queueFamilyIndex = queue_family_;
-    queue_info.queueCount = 1;
-    queue_info.pQueuePriorities = &priority;
+    // The app-recorded trace traces on a second queue of the family where it has one (lavapipe has one queue).
+    queue_info.queueCount = options_.app_recorded_trace && families[queue_family_].queueCount >= 2 ? 2 : 1;
+    queue_info.pQueuePriorities = priorities;
     auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;
+    auto vulkan12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    vulkan12.timelineSemaphore = VK_TRUE;  // the app-recorded trace's waits and signals
+    if (options_.app_recorded_trace) device_info.pNext = &vulkan12;
     auto device_create = xr_struct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
     device_create.systemId = system_;
     device_create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
@@ -165,6 +179,7 @@ class App {
           "xrCreateVulkanDeviceKHR");
     check(vr, "vkCreateDevice");
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+    vkGetDeviceQueue(device_, queue_family_, queue_info.queueCount - 1, &trace_queue_);
     auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool_info.queueFamilyIndex = queue_family_;
@@ -280,6 +295,9 @@ class App {
     if (!options_.make_device_trace) return;
     device_trace_made_ = true;  // released at shutdown even if making it threw half-way
     device_trace_ = options_.make_device_trace(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+    if (!options_.app_recorded_trace) return;
+    if (device_trace_.trace_rays_device == nullptr) throw std::runtime_error("the app-recorded trace needs a device trace");
+    app_trace_ = std::make_unique<AppRecordedTrace>(device_, queue_family_, trace_queue_);
   }
 
   // --mode full: the app's own renderer of every view, on the session's device.
@@ -292,7 +310,10 @@ class App {
   void create_renderer() {
     auto info = xr_struct<XrFoveatedRendererCreateInfoFOVEART>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART);
     auto device_trace = xr_struct<XrFoveatedDeviceTraceInfoFOVEART>(XR_TYPE_FOVEATED_DEVICE_TRACE_INFO_FOVEART);
-    if (device_trace_.trace_rays_device != nullptr) {
+    auto app_trace = xr_struct<XrFoveatedAppTraceInfoFOVEART>(XR_TYPE_FOVEATED_APP_TRACE_INFO_FOVEART);
+    if (app_trace_ != nullptr) {
+      info.next = &app_trace;  // one queue family: the layer's buffers stay exclusive to it
+    } else if (device_trace_.trace_rays_device != nullptr) {
       device_trace.traceRaysDevice = device_trace_.trace_rays_device;
       device_trace.userData = device_trace_.user_data;
       info.next = &device_trace;
@@ -388,6 +409,7 @@ class App {
     check(xrBeginFrame(session_, &begin_info), "xrBeginFrame");
     if (options_.app_actions) locate_app_gaze(frame_state.predictedDisplayTime, result);
     const std::array<XrView, 2> views = locate_views(frame_state.predictedDisplayTime);
+    if (app_trace_ != nullptr && frame_state.shouldRender) trace_in_app(frame_state.predictedDisplayTime, views, result);
     std::array<XrCompositionLayerProjectionView, 2> projection_views{};
     for (uint32_t e = 0; e < 2; ++e) projection_views[e] = draw_eye(e, views[e]);
     const float end_frame_ms = end_frame(frame_state, projection_views);
@@ -403,6 +425,31 @@ class App {
     }
     ++frames_;
     record_stats(frame_state.predictedDisplayTime, {frame_ms, end_frame_ms}, frame_index, result);
+  }
+
+  // The app-recorded trace: the frame's rays acquired, traced in the app's own
+  // command buffer and submitted, the batch released (release_fault aside).
+  void trace_in_app(XrTime display_time, const std::array<XrView, 2>& views, AppResult* result) {
+    const XrExtent2Di sizes[2] = {{eyes_[0].width, eyes_[0].height}, {eyes_[1].width, eyes_[1].height}};
+    auto acquire = xr_struct<XrFoveatedRayBatchAcquireInfoFOVEART>(XR_TYPE_FOVEATED_RAY_BATCH_ACQUIRE_INFO_FOVEART);
+    acquire.displayTime = display_time;
+    acquire.space = space_;
+    acquire.viewCount = 2;
+    acquire.views = views.data();
+    acquire.imageSizes = sizes;
+    std::array<XrFoveatedDeviceRayBatchFOVEART, 2> per_view{};
+    auto batch = xr_struct<XrFoveatedRayBatchFOVEART>(XR_TYPE_FOVEATED_RAY_BATCH_FOVEART);
+    batch.viewCapacityInput = 2;
+    batch.views = per_view.data();
+    check(acquire_batch_(renderer_, &acquire, &batch), "xrAcquireFoveatedRayBatchFOVEART");
+    app_trace_->trace(batch, device_trace_.trace_rays_device, device_trace_.user_data);
+    const std::string& fault = options_.release_fault;
+    if (fault == "never") return;
+    const uint64_t id = fault == "unknown" ? batch.batchId + 1000 : batch.batchId;
+    for (int i = 0; i < (fault == "twice" ? 2 : 1); ++i) {
+      const XrResult r = release_batch_(renderer_, id);
+      if (XR_FAILED(r)) ++result->release_errors, result->last_release_error = r;
+    }
   }
 
   std::array<XrView, 2> locate_views(XrTime display_time) {
@@ -483,9 +530,12 @@ class App {
         xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
     auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
     stats.next = &reconstruction;
+    auto app_trace = xr_struct<XrFoveatedAppTraceStatsFOVEART>(XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART);
+    if (app_trace_ != nullptr) reconstruction.next = &app_trace;
     check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
     if (stats.framesTraced <= traced_) return;
     traced_ = stats.framesTraced;
+    if (app_trace_ != nullptr) result->acquire_to_end_frame_ms.push_back(app_trace.acquireToEndFrameMs);
     result->frame_ms.push_back(times.frame_ms);
     result->end_frame_host_ms.push_back(times.end_frame_ms);
     result->gaze_px.push_back(
@@ -527,6 +577,8 @@ class App {
   }
 
   void shutdown() noexcept {
+    // The app's traces use the renderer's semaphore: finished before the renderer goes (the header's "Lifetime").
+    if (app_trace_ != nullptr) vkDeviceWaitIdle(device_);
     if (renderer_ != XR_NULL_HANDLE && destroy_renderer_ != nullptr) destroy_renderer_(renderer_);
     renderer_ = XR_NULL_HANDLE;
     for (auto& eye : eyes_) {
@@ -543,6 +595,7 @@ class App {
       vkDeviceWaitIdle(device_);
       // The engine's objects on the device go before it (nothing of theirs is in flight now).
       view_renderer_.reset();
+      app_trace_.reset();  // its submissions finished (the device is idle)
       if (device_trace_made_ && options_.release_device_trace) options_.release_device_trace();
       device_trace_made_ = false;
       if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
@@ -575,15 +628,19 @@ class App {
   VkDevice device_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   VkQueue queue_ = VK_NULL_HANDLE;
+  VkQueue trace_queue_ = VK_NULL_HANDLE;  // the app-recorded trace's: a second queue, else queue_
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   PFN_xrCreateFoveatedRendererFOVEART create_renderer_ = nullptr;
   PFN_xrDestroyFoveatedRendererFOVEART destroy_renderer_ = nullptr;
   PFN_xrGetFoveatedRendererStatsFOVEART get_stats_ = nullptr;
+  PFN_xrAcquireFoveatedRayBatchFOVEART acquire_batch_ = nullptr;
+  PFN_xrReleaseFoveatedRayBatchFOVEART release_batch_ = nullptr;
   XrFoveatedRendererFOVEART renderer_ = XR_NULL_HANDLE;
   DeviceTrace device_trace_;
   std::unique_ptr<ViewRenderer> view_renderer_;
+  std::unique_ptr<AppRecordedTrace> app_trace_;  // app_recorded_trace
   bool device_trace_made_ = false;
 };
 

@@ -84,6 +84,14 @@ struct AppOptions {
   // Test aid: the app enables XR_EXT_eye_gaze_interaction itself and uses its
   // own gaze action (suggest, attach, sync, locate) next to the layer's.
   bool app_actions = false;
+  // --trace-model app: the device trace that make_device_trace returns is
+  // recorded by the app in its own command buffers, on a second queue where the
+  // device has one, through xrAcquireFoveatedRayBatchFOVEART (the app-recorded
+  // trace); the layer never calls it. Needs a device trace and Vulkan 1.2's timelineSemaphore.
+  bool app_recorded_trace = false;
+  // Test aid with app_recorded_trace: "never" (the batch is never released),
+  // "twice" (released twice), "unknown" (an unknown id released instead of it).
+  std::string release_fault;
   // Where the headset's LOCAL origin sits in the scene (the scene's camera):
   // the app's space is LOCAL offset by this pose, so rays come out in scene space.
   XrPosef scene_from_local{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
@@ -133,6 +141,14 @@ struct AppResult {
   std::vector<bool> gaze_saccade;
   std::vector<bool> gaze_blink;
   std::vector<double> display_time_s;
+  // app_recorded_trace: the layer's counts, and per traced frame how much older
+  // the rays' gaze is than at xrEndFrame (acquire to xrEndFrame); the releases
+  // the layer refused and the last error; whether the trace ran on a second queue.
+  XrFoveatedAppTraceStatsFOVEART app_trace{};
+  std::vector<float> acquire_to_end_frame_ms;
+  uint64_t release_errors = 0;
+  int32_t last_release_error = 0;
+  bool second_queue = false;
 };
 
 AppResult run_app(const AppOptions& options);

@@ -1,0 +1,152 @@
+// hello_foveated --engine gpu --trace-model app through the real loader, the
+// layer and the simulated runtime on lavapipe: the app acquires each frame's
+// ray batch, records the GPU engine's trace in its own command buffer, submits
+// it with the batch's timeline wait and signal and releases the batch (the
+// extension header's app-recorded trace).
+//
+// Its frames equal the callback model's (the layer records the same engine's
+// trace inside xrEndFrame) within one 8-bit step: the same rays (made by the
+// same shader from the same gaze and seed), traced by the same engine with the
+// same commands, resolved and reconstructed by the same shaders; only who
+// records and submits the trace differs, so any pixel off by more than one
+// step is a different frame. Under synchronization validation the model is
+// silent, over more frames than slots (each slot reused). A batch never
+// released, or an unknown id released instead, is an XrResult error and the
+// views fall back, counted; a second release is refused while the frame is traced.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gpu_engine_run.hpp"
+
+namespace foveart::layer::test {
+namespace {
+
+constexpr int kPipelinedFrames = 4;  // two frame slots, each used twice
+
+// The largest difference of any channel of any pixel; -1 when the sizes differ.
+int max_step(const Rgb8& a, const Rgb8& b) {
+  if (a.width != b.width || a.height != b.height || a.rgb.size() != b.rgb.size()) return -1;
+  int worst = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) worst = std::max(worst, std::abs(int(a.rgb[i]) - int(b.rgb[i])));
+  return worst;
+}
+
+// A traced image, not the app's uniform grey placeholder.
+bool traced_image(const Rgb8& img) {
+  const auto [lo, hi] = std::minmax_element(img.rgb.begin(), img.rgb.end());
+  return img.width > 0 && *hi - *lo > 16;
+}
+
+void expect_app_trace(const AppRun& r, int acquired, int unreleased, int rejected, int release_errors) {
+  ASSERT_TRUE(r.stats["app_trace"].is_object()) << r.process.output;
+  const auto& a = r.stats["app_trace"];
+  EXPECT_EQ(r.stats["trace_model"], "app");
+  EXPECT_EQ(a["batches_acquired"], acquired);
+  EXPECT_EQ(a["unreleased_batches"], unreleased);
+  EXPECT_EQ(a["rejected_releases"], rejected);
+  EXPECT_EQ(a["release_errors"], release_errors);
+  EXPECT_EQ(a["mismatched_views"], 0);
+}
+
+TEST_F(GpuEngine, AppRecordedFramesEqualTheCallbackModelsWithinOneStep) {
+  const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
+  const AppRun callback = launch("callback", "gpu", gaze, {}, kPipelinedFrames);
+  ASSERT_NO_FATAL_FAILURE(expect_clean(callback, "gpu", kPipelinedFrames));
+  EXPECT_EQ(callback.stats["trace_model"], "callback");
+  EXPECT_FALSE(callback.stats.contains("app_trace")) << "the callback model acquires nothing";
+  const AppRun app = launch("app", "gpu", gaze, {"--trace-model", "app"}, kPipelinedFrames);
+  ASSERT_NO_FATAL_FAILURE(expect_clean(app, "gpu", kPipelinedFrames));
+  ASSERT_NO_FATAL_FAILURE(expect_app_trace(app, kPipelinedFrames, 0, 0, 0));
+  std::printf("app-recorded trace: %s\n", app.stats["app_trace"].dump().c_str());
+  EXPECT_EQ(app.stats["app_trace"]["acquire_to_end_frame_ms"]["count"], kPipelinedFrames);
+  EXPECT_GT(app.stats["app_trace"]["acquire_to_end_frame_ms"]["p50"].get<double>(), 0.0)
+      << "the rays' gaze is older than xrEndFrame's by the app's trace";
+  // The same engine traced the same rays, once per ray.
+  EXPECT_EQ(app.stats["engine_rays"]["gpu"]["primary"], callback.stats["engine_rays"]["gpu"]["primary"]);
+  EXPECT_EQ(app.stats["gaze_px_per_frame"], callback.stats["gaze_px_per_frame"]);
+  for (int f = 0; f < kPipelinedFrames; ++f) {
+    for (const char* eye : {"left", "right"}) {
+      SCOPED_TRACE(std::string(eye) + ", frame " + std::to_string(f));
+      const Rgb8 a = load_rgb(frame(callback, f, eye));
+      const Rgb8 b = load_rgb(frame(app, f, eye));
+      ASSERT_TRUE(traced_image(a));
+      EXPECT_GE(max_step(a, b), 0) << "the sizes differ";
+      EXPECT_LE(max_step(a, b), 1);
+    }
+  }
+}
+
+// As GpuEngineValidated: the layers loaded, no message.
+TEST_F(GpuEngine, AppRecordedTraceUnderSynchronizationValidationHasNoErrors) {
+  const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
+  IsolatedEnv::set("XR_API_LAYER_PATH", (explicit_layer_dir().string() + ":" + kSystemExplicitLayers).c_str());
+  IsolatedEnv::set("XR_ENABLE_API_LAYERS", "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
+  IsolatedEnv::set("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation");
+  IsolatedEnv::set("VK_LAYER_PATH", "/usr/share/vulkan/explicit_layer.d");
+  IsolatedEnv::set("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT");
+  IsolatedEnv::set("XR_LOADER_DEBUG", "info");
+  IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
+  const AppRun r = launch("validated_app", "gpu", gaze, {"--no-explicit-layer", "--trace-model", "app"}, kPipelinedFrames);
+  for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
+                           "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
+    ::unsetenv(name);
+  }
+  ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kPipelinedFrames));
+  ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kPipelinedFrames, 0, 0, 0));
+  for (const char* loaded : {"succeeded loading layer XR_APILAYER_LUNARG_core_validation",
+                             "Insert instance layer \"VK_LAYER_KHRONOS_validation\""}) {
+    EXPECT_NE(r.process.output.find(loaded), std::string::npos) << "missing: " << loaded;
+  }
+  for (const char* marker : {"Validation Error", "VUID-", "VALID_ERROR", "SYNC-HAZARD", "Validation Warning"}) {
+    EXPECT_EQ(r.process.output.find(marker), std::string::npos) << marker << " in:\n" << r.process.output;
+  }
+}
+
+// A batch the app never releases (never), or in whose place it releases an
+// unknown id (unknown): its views show the app's grey placeholder, counted,
+// the batch retired and logged once; the app's next acquire works. A second
+// release of a released batch (twice) is refused; its frame is traced.
+class AppTraceRelease : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
+  const std::string fault = GetParam();
+  const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
+  const AppRun r = launch("release_" + fault, "gpu", gaze, {"--trace-model", "app", "--release-fault", fault});
+  ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+  ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  const bool released = fault == "twice";
+  const int errors = fault == "never" ? 0 : kFrames;
+  ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kFrames, released ? 0 : kFrames, errors, errors));
+  constexpr int kValidationFailure = -1;  // XR_ERROR_VALIDATION_FAILURE
+  if (errors > 0) {
+    EXPECT_EQ(r.stats["app_trace"]["last_release_error"], kValidationFailure);
+  }
+  EXPECT_EQ(r.stats["frames_traced"], released ? kFrames : 0);
+  EXPECT_EQ(r.stats["views_fallback"], released ? 0 : 2 * kFrames) << "every unreleased view counted";
+  EXPECT_EQ(r.process.output.find("was not released") == std::string::npos, released) << r.process.output;
+  for (const char* eye : {"left", "right"}) {
+    EXPECT_EQ(traced_image(load_rgb(frame(r, kFrames - 1, eye))), released) << eye;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown"));
+
+// Bad arguments: a clear message and a non-zero exit, before any session.
+TEST_F(GpuEngine, AppTraceModelNeedsTheGpuEngine) {
+  for (const auto& args : std::vector<std::vector<std::string>>{{"--engine", "cpu", "--trace-model", "app"},
+                                                               {"--engine", "gpu", "--release-fault", "never"}}) {
+    std::vector<std::string> argv{FOVEART_HELLO_FOVEATED};
+    argv.insert(argv.end(), args.begin(), args.end());
+    const auto r = run_process(argv, env_->root() / "bad_args.log", 60);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(args[2]), std::string::npos) << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace foveart::layer::test
