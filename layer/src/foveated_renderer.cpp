@@ -1035,17 +1035,14 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
     return false;
   }
   if (!ensure_swapchain(e, w, h, stats)) return false;
-  if (!eye.path && !choose_path(e)) {
+  // No path, or the app-recorded trace alone and no batch acquired for this frame.
+  if ((!eye.path && !choose_path(e)) || (eye.path->device_trace && settings.trace_rays_device == nullptr)) {
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
     return false;
   }
   ensure_view(e, found.ready);
   aim_at_gaze(e, frame_gaze, request, stats);
   if (!run_frame(e, request, stats)) return false;
-  if (eye.path->device_trace && settings.trace_rays_device == nullptr) {  // app-recorded only: no acquire this frame
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    return false;
-  }
   if (!eye.path->present(e, request, found.ready, stats)) return false;
   show_layer_image(e, view);
   return true;

@@ -81,8 +81,13 @@ TEST_F(GpuEngine, AppRecordedFramesEqualTheCallbackModelsWithinOneStep) {
   }
 }
 
-// As GpuEngineValidated: the layers loaded, no message.
-TEST_F(GpuEngine, AppRecordedTraceUnderSynchronizationValidationHasNoErrors) {
+// As GpuEngineValidated: the layers loaded, no message; over more frames than
+// slots, and with batches never released ("never": the layer waits for no
+// value, the app still signals the retired semaphore, later batches use a new one).
+class AppTraceValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(AppTraceValidated, AppRecordedTraceUnderSynchronizationValidationHasNoErrors) {
+  const std::string fault = GetParam();
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   IsolatedEnv::set("XR_API_LAYER_PATH", (explicit_layer_dir().string() + ":" + kSystemExplicitLayers).c_str());
   IsolatedEnv::set("XR_ENABLE_API_LAYERS", "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
@@ -91,13 +96,21 @@ TEST_F(GpuEngine, AppRecordedTraceUnderSynchronizationValidationHasNoErrors) {
   IsolatedEnv::set("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT");
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
-  const AppRun r = launch("validated_app", "gpu", gaze, {"--no-explicit-layer", "--trace-model", "app"}, kPipelinedFrames);
+  std::vector<std::string> extra{"--no-explicit-layer", "--trace-model", "app"};
+  if (fault != "none") extra.insert(extra.end(), {"--release-fault", fault});
+  const AppRun r = launch("validated_app", "gpu", gaze, extra, kPipelinedFrames);
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
-  ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kPipelinedFrames));
-  ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kPipelinedFrames, 0, 0, 0));
+  if (fault == "none") {
+    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kPipelinedFrames));
+    ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kPipelinedFrames, 0, 0, 0));
+  } else {
+    ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
+    ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kPipelinedFrames, kPipelinedFrames, 0, 0));
+    EXPECT_EQ(r.stats["views_fallback"], 2 * kPipelinedFrames);
+  }
   for (const char* loaded : {"succeeded loading layer XR_APILAYER_LUNARG_core_validation",
                              "Insert instance layer \"VK_LAYER_KHRONOS_validation\""}) {
     EXPECT_NE(r.process.output.find(loaded), std::string::npos) << "missing: " << loaded;
@@ -106,6 +119,8 @@ TEST_F(GpuEngine, AppRecordedTraceUnderSynchronizationValidationHasNoErrors) {
     EXPECT_EQ(r.process.output.find(marker), std::string::npos) << marker << " in:\n" << r.process.output;
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "never"));
 
 // A batch the app never releases (never), or in whose place it releases an
 // unknown id (unknown): its views show the app's grey placeholder, counted,
