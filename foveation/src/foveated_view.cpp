@@ -163,8 +163,9 @@ bool FoveatedView::run_trace(const FrameContext& frame, FrameResources& resource
   if (traced.ok()) return true;
   if (traced.failed_batches != 0) {
     result->failure = FrameFailure::callback_failed;
-    result->message = "the ray-trace callback failed " + std::to_string(traced.failed_batches) + " batch(es)";
-    if (!traced.error.empty()) result->message += ": " + traced.error;
+    result->message = !traced.error.empty() ? traced.error  // the trace stage's own words (a device trace)
+                                            : "the ray-trace callback failed " +
+                                                  std::to_string(traced.failed_batches) + " batch(es)";
   } else if (traced.invalid_colours != 0) {
     result->failure = FrameFailure::invalid_colour;
     result->message = "the ray-trace callback returned " + std::to_string(traced.invalid_colours) +

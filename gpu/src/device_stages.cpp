@@ -61,7 +61,10 @@ class DeviceTraceStage final : public foveation::TraceStage {
     engine_failed_ = false;
     const VkCommandBuffer cb = d->recording(frame, &stats.error);
     if (cb == VK_NULL_HANDLE || d->eye->record_trace(cb, d->frame, &stats.error)) return stats;
-    if (engine_failed_) stats.failed_batches = 1;  // the engine's failure, not the device's
+    if (engine_failed_) {  // the engine's failure, not the device's
+      stats.failed_batches = 1;
+      stats.error = "the engine's device trace returned an error";
+    }
     return stats;
   }
   // No points on the host: the device made and resolved the rays.
@@ -168,10 +171,11 @@ class DeviceEncode final : public foveation::EncodeStage {
 };
 
 foveation::FrameStages make_device_stages(std::shared_ptr<const foveation::ViewTables> tables,
-                                          const foveation::ViewSettings& settings, DeviceTraceEngine engine) {
+                                          const foveation::ViewSettings& settings, DeviceTraceEngine engine,
+                                          std::unique_ptr<foveation::TemporalHistory> host_history) {
   if (tables == nullptr) throw std::invalid_argument("device stages: no tables");
   foveation::FrameStages stages;
-  auto host_history = foveation::make_temporal_history(*tables, settings);
+  if (host_history == nullptr) host_history = foveation::make_temporal_history(*tables, settings);
   const bool keep_rays = host_history->keeps_rays();
   stages.history = std::make_unique<DeviceHistory>(std::move(host_history));
   if (engine) {

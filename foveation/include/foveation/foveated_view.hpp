@@ -90,13 +90,14 @@ class FoveatedView {
   FrameResult render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
                      FrameResources& resources, Executor& executor);
 
-  // A frame traced elsewhere (the layer's device trace runs stages 1-3 on the
-  // GPU): the frame's canvas mapping, jitter seed and the history's decision,
+  // A frame traced elsewhere by a caller that records the device's frame
+  // itself (tests, benchmarks; the device's stage set needs none): the frame's canvas mapping, jitter seed and the history's decision,
   // in hand_off(), with no traced points (a ray history decides its restart
   // only: the device makes its rays and pixels). Needs reconstruct_on_cpu =
   // false (throws std::invalid_argument otherwise).
   FrameResult plan(const FrameRequest& request, Executor& executor);
-  // A planned frame failed where it was traced: the next frame restarts the history.
+  // A frame failed where it was traced (a fault the device reported frames
+  // later): the next frame restarts the history.
   void forget_history() { history_->forget(); }
 
   // The last successful frame (after the temporal history), in the callback's

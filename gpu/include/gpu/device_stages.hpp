@@ -57,10 +57,12 @@ struct DeviceFrame final : foveation::FrameResources {
 // The device's resources of a frame, or *error naming the stage that needs them.
 DeviceFrame* device_frame(foveation::FrameResources& resources, const char* stage, std::string* error);
 
-// The device's stage set for a view of `tables` with `settings` (the history
-// they choose, decided on the host). `engine` set: stages 1-3 on the device
-// through it; empty: through the engine's callback on the CPU, uploaded.
+// The device's stage set for a view of `tables` with `settings`. `engine`
+// set: stages 1-3 on the device through it; empty: through the engine's
+// callback on the CPU, uploaded. `host_history` decides the history (null:
+// make_temporal_history's, the one the CPU's set would keep).
 foveation::FrameStages make_device_stages(std::shared_ptr<const foveation::ViewTables> tables,
-                                          const foveation::ViewSettings& settings, DeviceTraceEngine engine);
+                                          const foveation::ViewSettings& settings, DeviceTraceEngine engine,
+                                          std::unique_ptr<foveation::TemporalHistory> host_history = nullptr);
 
 }  // namespace foveart::gpu
