@@ -78,6 +78,7 @@ XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
   switch (failure) {
     case foveation::FrameFailure::callback_failed: return XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
     case foveation::FrameFailure::invalid_colour: return XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART;
+    case foveation::FrameFailure::resources_failed: return XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
     case foveation::FrameFailure::none: break;
   }
   return 0;
