@@ -7,42 +7,21 @@
 // the frame's slot and submitted once; their status and timestamps are read
 // when the slot comes round again (frame_submission.hpp, docs/gpu.md).
 #include <algorithm>
-#include <array>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
-#include <condition_variable>
-#include <deque>
-#include <mutex>
-#include <thread>
 #include <map>
-#include <optional>
-#include <tuple>
 
-#include "eye_swapchain.hpp"
-#include "frame_submission.hpp"
 #include "foveation/cache_dir.hpp"
-#include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
-#include "gaze_source.hpp"
-#include "device_trace_engine.hpp"
-#include "gpu/device_stages.hpp"
-#include "gpu/reconstructor.hpp"
 #include "layer/sampling_defaults.hpp"
 #include "log.hpp"
 #include "next_chain.hpp"
-#include "ray_batch.hpp"
-#include "renderer.hpp"
+#include "renderer_frames.hpp"
 #include "xr_glm.hpp"
 
 namespace foveart::layer {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-float ms_since(Clock::time_point t0) { return std::chrono::duration<float, std::milli>(Clock::now() - t0).count(); }
 
 // The config's cache_dir, else foveation's default; nullopt (no cache) with *why
 // when the default directory is refused.
@@ -59,10 +38,6 @@ struct BuildCancelled {};
 // Table sets held at once: both eyes' current sizes and the previous ones. A
 // view size changing every frame (dynamic resolution) evicts the least recently used.
 constexpr std::size_t kMaxTableSets = 4;
-
-int64_t steady_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
 
 foveation::InterpOptions interp_options(const RendererSettings& settings) {
   foveation::InterpOptions o;
@@ -87,225 +62,36 @@ XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
 
 }  // namespace
 
-struct FoveatedRenderer::Frames {
-  using TableKey = std::tuple<uint32_t, uint32_t, int64_t>;  // w, h, horizontal FOV in micro-radians
-  enum class SlotState { queued, building, ready, failed };
-  struct TableSlot {
-    SlotState state = SlotState::queued;
-    std::shared_ptr<const foveation::ViewTables> ready;  // when state == ready
-    uint64_t last_used = 0;  // frame index, for LRU eviction
-  };
-  struct Tables {
-    std::shared_ptr<const foveation::ViewTables> ready;  // null: not (yet) there
-    bool failed = false;  // the build failed: this view size falls back for good
-  };
-  // How an eye makes its frames, chosen once (choose_path) and again only after
-  // its GPU path failed: which stage set its view runs (the CPU's or the
-  // device's, foveation/frame_stages.hpp) and the frame resources they run on.
-  // The per-eye frame code calls it without asking which.
-  struct EyePath {
-    bool reconstruct_on_gpu = false;
-    bool device_trace = false;  // stages 1-3 on the device (the engine's device trace)
-    // The view's stage set, made with the view.
-    std::function<foveation::FrameStages(const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                         const foveation::ViewSettings& view_settings)>
-        stages;
-    // This frame's resources for them (null: the frame falls back, counted and logged).
-    std::function<foveation::FrameResources*(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                             XrFoveatedRendererStatsFOVEART* stats)>
-        resources;
-    // The stages could not run on the resources: counted and logged (the GPU path falls back to the CPU).
-    std::function<void(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats)> resources_failed;
-    // The frame after its stages into the swapchain: uploaded, or recorded for the slot's submission.
-    std::function<bool(uint32_t e, XrFoveatedRendererStatsFOVEART* stats)> present;
-  };
-  struct Eye {
-    std::shared_ptr<EyeSwapchain> swapchain;
-    std::unique_ptr<foveation::FoveatedView> view;
-    std::shared_ptr<gpu::Tables> gpu_tables;  // GPU path: the view's tables on the device
-    std::shared_ptr<gpu::Eye> gpu_eye;      // GPU path: this eye's buffers and stages
-    // GPU path: gpu_eye's shown image holds a good frame (the host read its
-    // status). Until then a device-traced frame is waited for in xrEndFrame.
-    bool shown_good = false;
-    bool image_acquired = false;  // this frame's swapchain image, released after the submission
-    // The last finished GPU frame's stage times and device-trace status (an older frame).
-    std::optional<gpu::StageTimes> times;
-    std::optional<gpu::DeviceTraceStatus> status;
-    bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
-    std::optional<EyePath> path;  // chosen at the eye's first frame (choose_path)
-    foveation::HostFrame host;    // the CPU path's frame resources
-    gpu::DeviceFrame device;      // the GPU path's, this frame's
-    bool failed = false;  // swapchain creation failed: this eye falls back for good
-    foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of `view`
-  };
 
-  Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in, InputCounters& input_in,
-         ReconstructionStats& reconstruction_in)
-      : session(std::move(session_in)),
-        settings(settings_in),
-        input(input_in),
-        reconstruction(reconstruction_in),
-        executor(settings_in.threads) {
-    std::string warning;
-    gaze = create_gaze_source(settings, *session, &warning);
-    if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
-    std::string why;
-    cache = cache_dir(settings, &why);
-    if (!cache) {
-      ++input.cache_failures;
-      log(LogLevel::Warn, "foveated renderer: ", why, "; tables are built without a cache (counted in the stats)");
-    }
-    choose_reconstruction();
-    builder = std::thread([this] { build_tables(); });
+FoveatedRenderer::Frames::Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in,
+                                 InputCounters& input_in, ReconstructionStats& reconstruction_in)
+    : session(std::move(session_in)),
+      settings(settings_in),
+      input(input_in),
+      reconstruction(reconstruction_in),
+      executor(settings_in.threads) {
+  std::string warning;
+  gaze = create_gaze_source(settings, *session, &warning);
+  if (!warning.empty()) log(LogLevel::Warn, "foveated renderer: ", warning);
+  std::string why;
+  cache = cache_dir(settings, &why);
+  if (!cache) {
+    ++input.cache_failures;
+    log(LogLevel::Warn, "foveated renderer: ", why, "; tables are built without a cache (counted in the stats)");
   }
+  choose_reconstruction();
+  builder = std::thread([this] { build_tables(); });
+}
 
-  ~Frames() {
-    {
-      std::lock_guard lock(build_mutex);
-      stop_building = true;
-    }
-    cancel_build = true;  // the build in progress stops at its next progress report
-    build_wake.notify_all();
-    builder.join();
+FoveatedRenderer::Frames::~Frames() {
+  {
+    std::lock_guard lock(build_mutex);
+    stop_building = true;
   }
-
-  uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
-                  const std::vector<bool>& rect_valid, const XrFoveatedDisplayTransformFOVEART* chained_display,
-                  XrFoveatedRendererStatsFOVEART* stats);
-  // The gaze predicted for display_time (XrTime on Linux runtimes is
-  // CLOCK_MONOTONIC; a clock far away, a virtual runtime clock, is replaced
-  // by now), and the frame's gaze stats.
-  FrameGaze gaze_at(XrTime display_time, XrSpace space, const XrCompositionLayerProjectionView* views,
-                    uint32_t view_count, XrFoveatedRendererStatsFOVEART* stats);
-  // The app-recorded trace (ray_batch.hpp, the extension header).
-  XrResult acquire(const XrFoveatedRayBatchAcquireInfoFOVEART& info, XrFoveatedRayBatchFOVEART* out,
-                   XrFoveatedRendererStatsFOVEART* stats);
-  // Why the acquire is refused (its error and *why), or XR_SUCCESS.
-  XrResult acquire_refusal(const XrFoveatedRayBatchAcquireInfoFOVEART& info, XrFoveatedRayBatchFOVEART* out,
-                           std::string* why) const;
-  // Eye e's plan and rays at the acquire into `cb`; false (out left empty) when the view is not traced.
-  bool plan_app_eye(uint32_t e, const FrameGaze& gaze, const XrView& view, XrExtent2Di size_px, VkCommandBuffer cb,
-                    XrFoveatedDeviceRayBatchFOVEART* out, XrFoveatedRendererStatsFOVEART* stats);
-  // xrEndFrame took the acquired batch: its age and, unreleased, its count.
-  void took_batch(const TakenRayBatch& taken, XrFoveatedRendererStatsFOVEART* stats);
-  // Eye e's frame from the app's trace: false when the view shows the app's own image.
-  bool render_app_eye(uint32_t e, const TakenRayBatch& taken, XrCompositionLayerProjectionView& view,
-                      XrFoveatedRendererStatsFOVEART* stats);
-  void app_trace_stats(XrFoveatedAppTraceStatsFOVEART* out) const;
-  Tables tables_for(const FoveartEyeView& view);
-  void evict_least_recently_used();  // under build_mutex
-  void build_tables();
-  void cache_problem(const std::string& message);
-  void choose_reconstruction();
-  std::shared_ptr<gpu::Tables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                            std::string* error);
-  // Eye e's frame begun on the device (its device stages' first recording): the
-  // eye's buffers and tables, the frame slot's command buffer, its swapchain image acquired.
-  VkCommandBuffer begin_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                               bool device_trace, gpu::DeviceFrame& frame, std::string* error);
-  // Eye e's tables and buffers on the device for these tables and its swapchain's size.
-  bool ensure_gpu_eye(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, std::string* error);
-  // Eye e's app-traced frame, from its view's hand-off (no engine: the app traces).
-  gpu::DeviceTraceFrame device_frame(uint32_t e, const foveation::FrameRequest& request,
-                                     const std::shared_ptr<const foveation::ViewTables>& view_tables) const;
-  // What a finished device-traced frame's resolve found: false (counted, logged once) when it faulted.
-  bool device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status, XrFoveatedRendererStatsFOVEART* stats);
-  // The slot's last submission (kFrameSlots frames ago): waited for, its eyes'
-  // status and stage times read and applied; `faulted`: the eyes whose trace faulted.
-  void collect(uint32_t slot, XrFoveatedRendererStatsFOVEART* stats, std::array<bool, 2>* faulted = nullptr);
-  // The eye's last collected GPU times and status into this frame's stats.
-  void apply_collected(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  // After the eyes: the slot's one submission, the images released, and the
-  // device-traced eyes without a good shown image waited for; the views that
-  // fall back after all get the app's sub-image back. Returns how many.
-  uint32_t finish_gpu_frame(uint32_t slot, XrCompositionLayerProjectionView* views,
-                            const XrSwapchainSubImage* app_sub_images, XrFoveatedRendererStatsFOVEART* stats);
-  // One eye's frame, in the steps below: false when the view shows the app's own image.
-  bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
-                  XrFoveatedRendererStatsFOVEART* stats);
-  bool ensure_swapchain(uint32_t e, uint32_t w, uint32_t h, XrFoveatedRendererStatsFOVEART* stats);
-  // The eye's path: the GPU where the reconstructor runs and the eye's GPU path has not failed,
-  // with the engine's device trace where it registered one; else the CPU with its callback.
-  // False when neither can run (a device trace alone, and no GPU path).
-  bool choose_path(uint32_t e);
-  void choose_gpu_path(EyePath& path);  // the device's stage set and resources
-  void choose_cpu_path(EyePath& path);  // the CPU's
-  // The eye's FoveatedView for these tables and its path (made again when either changes).
-  void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables);
-  // The request's frame, restart flags and foveation centre from this frame's gaze.
-  void aim_at_gaze(uint32_t e, const FrameGaze& gaze, foveation::FrameRequest& request,
-                   XrFoveatedRendererStatsFOVEART* stats);
-  // The eye's stages 1-6 on the path's resources, and their stats.
-  bool run_frame(uint32_t e, const foveation::FrameRequest& request,
-                 const std::shared_ptr<const foveation::ViewTables>& view_tables, XrFoveatedRendererStatsFOVEART* stats);
-  // The paths' resources and present (EyePath).
-  foveation::FrameResources* gpu_resources(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                           bool device_trace);
-  foveation::FrameResources* cpu_resources(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  void gpu_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
-  void upload_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
-  bool present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  // A frame's result into the stats: false (logged once) when it failed.
-  bool take_result(uint32_t e, const foveation::FrameResult& result, XrFoveatedRendererStatsFOVEART* stats);
-  // The app-recorded trace: eye e's plan at the acquire (stages 1-5's decisions), and its stats.
-  bool plan_app_frame(uint32_t e, const foveation::FrameRequest& request, XrFoveatedRendererStatsFOVEART* stats);
-  // ... and its frame recorded at xrEndFrame (the resolve of the app's colours, stages 4-6).
-  bool present_app_frame(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  // The view shows eye e's layer swapchain image.
-  void show_layer_image(uint32_t e, XrCompositionLayerProjectionView& view) const;
-
-  std::shared_ptr<SessionState> session;
-  RendererSettings settings;
-  InputCounters& input;  // the renderer's; outlives this
-  ReconstructionStats& reconstruction;  // the renderer's; written under its frame lock
-  std::optional<std::filesystem::path> cache;  // null: no usable cache directory
-  foveation::Executor executor;  // frames and table builds share its workers
-  std::unique_ptr<GazeSource> gaze;
-  // Tables per view size, built one after another on the builder thread
-  // (seconds each): frames never wait for them unless wait_for_tables. At most
-  // kMaxTableSets are held; the least recently used goes first.
-  std::mutex build_mutex;
-  std::condition_variable build_wake, build_done;
-  std::deque<std::pair<TableKey, foveation::PointSetKey>> build_queue;
-  std::map<TableKey, TableSlot> tables;
-  bool stop_building = false;
-  std::atomic<bool> cancel_build{false};  // the build in progress is not needed any more
-  std::thread builder;  // started once with the renderer
-  std::unique_ptr<gpu::Reconstructor> reconstructor;  // null: the CPU reconstructs
-  std::vector<std::shared_ptr<gpu::Tables>> gpu_tables;  // uploaded table sets, shared by the eyes
-  Eye eyes[2];  // after reconstructor: destroyed before it
-  // What a slot's submission uses, kept alive until it finished, and what is read after it.
-  struct InFlightEye {
-    std::shared_ptr<gpu::Eye> gpu_eye;
-    std::shared_ptr<gpu::Tables> tables;
-    std::shared_ptr<EyeSwapchain> swapchain;
-    bool recorded = false;      // recorded in full: its status and times are read
-    bool device_trace = false;  // its status says whether the trace faulted
-    bool shown = false;         // shown when submitted (pipelined): a fault is a fallback counted later
-  };
-  std::array<std::array<std::optional<InFlightEye>, 2>, gpu::kFrameSlots> in_flight;
-  std::unique_ptr<FrameSubmission> submission;  // with the reconstructor; destroyed first: waits for the slots
-  uint64_t frame_index = 0;
-  // The app-recorded trace: the frame's batch, and per eye what its rays were
-  // made for at the acquire (its batch's view points into it until the next acquire).
-  struct AppEye {
-    foveation::FrameRequest request;
-    std::shared_ptr<const foveation::ViewTables> tables;
-    gpu::DeviceTraceFrame device;
-  };
-  RayBatches batches;
-  std::array<std::optional<AppEye>, 2> app_eyes;
-  bool frame_started = false;  // an acquire counted the next frame already
-  XrFoveatedFallbackFlagsFOVEART acquire_flags = 0;  // why the acquire's views were not traced
-  float acquired_gaze_age_ms = 0.0f;
-  float acquire_to_end_frame_ms = 0.0f;
-  uint64_t mismatched_views = 0;
-  XrResult device_engine_result = XR_SUCCESS;  // the engine's last device trace's (xr_device_trace_engine)
-  foveation::DisplayTransform display;  // this frame's (resolve_display)
-  LogOnce app_once, unreleased_once, mismatch_once, display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
-      behind_once, rect_once, failed_once, gpu_once, device_once, submit_once;
-};
+  cancel_build = true;  // the build in progress stops at its next progress report
+  build_wake.notify_all();
+  builder.join();
+}
 
 uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositionLayerProjection& layer,
                                           XrCompositionLayerProjectionView* views, const std::vector<bool>& rect_valid,
@@ -373,171 +159,6 @@ FrameGaze FoveatedRenderer::Frames::gaze_at(XrTime display_time, XrSpace space,
   reconstruction.gaze_saccade_last_frame = frame_gaze.valid && frame_gaze.saccade;
   reconstruction.gaze_blink_last_frame = frame_gaze.valid && frame_gaze.blink;
   return frame_gaze;
-}
-
-XrResult FoveatedRenderer::Frames::acquire_refusal(const XrFoveatedRayBatchAcquireInfoFOVEART& info,
-                                                   XrFoveatedRayBatchFOVEART* out, std::string* why) const {
-  if (!settings.app_trace) {
-    *why = "the renderer was created without an XrFoveatedAppTraceInfoFOVEART";
-    return XR_ERROR_VALIDATION_FAILURE;
-  }
-  if (info.viewCount == 0 || info.views == nullptr || info.imageSizes == nullptr) {
-    *why = "acquireInfo has no views or image sizes";
-    return XR_ERROR_VALIDATION_FAILURE;
-  }
-  for (uint32_t v = 0; v < info.viewCount; ++v) {
-    if (info.imageSizes[v].width <= 0 || info.imageSizes[v].height <= 0) {
-      *why = "imageSizes[" + std::to_string(v) + "] is not positive";
-      return XR_ERROR_VALIDATION_FAILURE;
-    }
-  }
-  out->viewCountOutput = info.viewCount;
-  if (out->viewCapacityInput < info.viewCount || out->views == nullptr) {
-    *why = "batch->views holds fewer than acquireInfo->viewCount views";
-    return XR_ERROR_SIZE_INSUFFICIENT;
-  }
-  if (reconstructor == nullptr || submission == nullptr || !reconstructor->device_trace_unsupported().empty()) {
-    *why = "this renderer reconstructs on the CPU (config \"reconstruction\", or a device the shaders cannot run on)";
-    return XR_ERROR_FEATURE_UNSUPPORTED;
-  }
-  return XR_SUCCESS;
-}
-
-XrResult FoveatedRenderer::Frames::acquire(const XrFoveatedRayBatchAcquireInfoFOVEART& info,
-                                           XrFoveatedRayBatchFOVEART* out, XrFoveatedRendererStatsFOVEART* stats) {
-  std::string why;
-  XrResult refused = acquire_refusal(info, out, &why);
-  std::vector<RayBatchView> keys(info.viewCount);
-  for (uint32_t v = 0; v < info.viewCount && XR_SUCCEEDED(refused); ++v)
-    keys[v] = RayBatchView{info.views[v].pose, info.views[v].fov, info.imageSizes[v]};
-  uint64_t id = 0, rays_ready = 0, traced = 0;
-  if (XR_SUCCEEDED(refused)) refused = batches.acquire(steady_now_ns(), std::move(keys), &id, &rays_ready, &traced);
-  if (refused == XR_ERROR_CALL_ORDER_INVALID) why = "a batch is out for this frame already (acquire once per xrEndFrame)";
-  if (XR_FAILED(refused)) {
-    if (app_once.first()) log(LogLevel::Error, "xrAcquireFoveatedRayBatchFOVEART: ", why, " (logged once)");
-    return refused;
-  }
-  if (!frame_started) ++frame_index;  // the frame this batch belongs to
-  frame_started = true;
-  const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
-  collect(slot, stats);  // its previous frame finished: the slot's buffers may be written
-  const VkSemaphore semaphore = submission->timeline(batches.semaphore_generation(), &why);
-  const VkCommandBuffer cb = semaphore == VK_NULL_HANDLE ? VK_NULL_HANDLE : submission->begin_rays(slot, &why);
-  std::vector<XrCompositionLayerProjectionView> located(info.viewCount);
-  for (uint32_t v = 0; v < info.viewCount; ++v) {
-    located[v].type = XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW;
-    located[v].pose = info.views[v].pose;
-    located[v].fov = info.views[v].fov;
-  }
-  XrFoveatedRendererStatsFOVEART at_acquire = *stats;  // xrEndFrame counts the frame's gaze; this one is the rays'
-  const FrameGaze frame_gaze = gaze_at(info.displayTime, info.space, located.data(), info.viewCount, &at_acquire);
-  acquired_gaze_age_ms = at_acquire.gazeAgeMs;
-  stats->fallbackFlags = at_acquire.fallbackFlags;  // the acquired frame's, from here
-  for (uint32_t v = 0; v < info.viewCount; ++v) {
-    out->views[v] = XrFoveatedDeviceRayBatchFOVEART{};
-    out->views[v].type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
-    if (v < 2) app_eyes[v].reset();
-    if (v < 2 && cb != VK_NULL_HANDLE)
-      plan_app_eye(v, frame_gaze, info.views[v], info.imageSizes[v], cb, &out->views[v], stats);
-  }
-  acquire_flags = stats->fallbackFlags;
-  if (cb == VK_NULL_HANDLE || !submission->submit_rays(slot, semaphore, rays_ready, &why)) {
-    batches.withdraw();
-    app_eyes = {};
-    if (submit_once.first()) log(LogLevel::Error, "xrAcquireFoveatedRayBatchFOVEART: ", why, " (logged once)");
-    return XR_ERROR_RUNTIME_FAILURE;
-  }
-  out->batchId = id;
-  out->semaphore = semaphore;
-  out->raysReadyValue = rays_ready;
-  out->tracedValue = traced;
-  return XR_SUCCESS;
-}
-
-bool FoveatedRenderer::Frames::plan_app_eye(uint32_t e, const FrameGaze& frame_gaze, const XrView& located,
-                                            XrExtent2Di size_px, VkCommandBuffer cb,
-                                            XrFoveatedDeviceRayBatchFOVEART* out, XrFoveatedRendererStatsFOVEART* stats) {
-  Eye& eye = eyes[e];
-  const auto w = static_cast<uint32_t>(size_px.width), h = static_cast<uint32_t>(size_px.height);
-  AppEye app_eye;
-  app_eye.request.view = eye_view_of(e, located.pose, located.fov, w, h);
-  const Tables found = tables_for(app_eye.request.view);
-  if (eye.failed || found.failed || found.ready == nullptr) {
-    if (!eye.failed)
-      stats->fallbackFlags |= found.failed ? XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART : XR_FOVEATED_FALLBACK_WARMING_UP_BIT_FOVEART;
-    return false;
-  }
-  if (!ensure_swapchain(e, w, h, stats)) return false;
-  if ((!eye.path && !choose_path(e)) || !eye.path->device_trace) {
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    return false;
-  }
-  ensure_view(e, found.ready);
-  aim_at_gaze(e, frame_gaze, app_eye.request, stats);
-  if (!plan_app_frame(e, app_eye.request, stats)) return false;
-  std::string error;
-  gpu::DeviceRayBatch batch;
-  bool made = ensure_gpu_eye(e, found.ready, &error);
-  if (made) {
-    app_eye.tables = found.ready;
-    AppEye& kept = app_eyes[e].emplace(std::move(app_eye));
-    kept.device = device_frame(e, kept.request, kept.tables);
-    kept.device.app_trace = true;
-    made = eye.gpu_eye->record_app_rays(cb, uint32_t(frame_index % gpu::kFrameSlots), *eye.gpu_tables, kept.device,
-                                        &batch, &error);
-  }
-  if (!made) {
-    app_eyes[e].reset();
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-    if (gpu_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": the rays cannot be made: ", error, " (logged once)");
-    return false;
-  }
-  *out = xr_device_ray_batch(batch);
-  return true;
-}
-
-void FoveatedRenderer::Frames::took_batch(const TakenRayBatch& taken, XrFoveatedRendererStatsFOVEART* stats) {
-  acquire_to_end_frame_ms = float(double(steady_now_ns() - taken.acquired_ns) * 1e-6);
-  stats->fallbackFlags |= acquire_flags;
-  if (stats->gazeAgeMs > 0.0f) stats->gazeAgeMs = acquired_gaze_age_ms + acquire_to_end_frame_ms;  // the rays' gaze
-  if (taken.released) return;
-  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
-  if (unreleased_once.first()) {
-    log(LogLevel::Error, "xrEndFrame: ray batch ", taken.id, " was not released (xrReleaseFoveatedRayBatchFOVEART); "
-        "its views show the app's own image and it is retired (logged once, counted in the stats)");
-  }
-}
-
-bool FoveatedRenderer::Frames::render_app_eye(uint32_t e, const TakenRayBatch& taken,
-                                              XrCompositionLayerProjectionView& view,
-                                              XrFoveatedRendererStatsFOVEART* stats) {
-  Eye& eye = eyes[e];
-  if (!app_eyes[e]) return false;  // not traced at the acquire (flags in acquire_flags)
-  const RayBatchView shown{view.pose, view.fov, view.subImage.imageRect.extent};
-  const bool same = e < taken.views.size() && same_view(taken.views[e], shown);
-  if (taken.released && !same) {
-    ++mismatched_views;
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    if (mismatch_once.first()) {
-      log(LogLevel::Error, "xrEndFrame: eye ", e, ": its pose, fov or imageRect size differ from the ray batch's "
-          "acquire; showing the app's own image (logged once, counted in the stats)");
-    }
-  }
-  if (!taken.released || !same || !eye.path || !eye.path->device_trace) {
-    if (eye.view != nullptr) eye.view->forget_history();  // its plan was not shown
-    return false;
-  }
-  if (!present_app_frame(e, stats)) return false;
-  show_layer_image(e, view);
-  return true;
-}
-
-void FoveatedRenderer::Frames::app_trace_stats(XrFoveatedAppTraceStatsFOVEART* out) const {
-  out->batchesAcquired = batches.acquired();
-  out->unreleasedBatches = batches.retired();
-  out->rejectedReleases = batches.rejected_releases();
-  out->mismatchedViews = mismatched_views;
-  out->acquireToEndFrameMs = acquire_to_end_frame_ms;
 }
 
 FoveatedRenderer::Frames::Tables FoveatedRenderer::Frames::tables_for(const FoveartEyeView& view) {
@@ -723,31 +344,6 @@ VkCommandBuffer FoveatedRenderer::Frames::begin_on_gpu(uint32_t e,
   in_flight[frame.slot][e] = InFlightEye{eye.gpu_eye, eye.gpu_tables, eye.swapchain, false, device_trace,
                                          !device_trace || eye.shown_good};
   return cb;
-}
-
-bool FoveatedRenderer::Frames::present_app_frame(uint32_t e, XrFoveatedRendererStatsFOVEART* stats) {
-  Eye& eye = eyes[e];
-  AppEye& app_eye = *app_eyes[e];
-  const auto t0 = Clock::now();
-  gpu::DeviceFrame begun;
-  begun.slot = uint32_t(frame_index % gpu::kFrameSlots);
-  std::string error;
-  const VkCommandBuffer cb = begin_on_gpu(e, app_eye.tables, true, begun, &error);
-  bool recorded = cb != VK_NULL_HANDLE;
-  if (recorded) {
-    // The plan's hand-off (the acquire's), resolved from the app's colours and reconstructed as a device trace's.
-    gpu::EyeFrame frame = gpu::EyeFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
-    frame.display = display;
-    frame.device = &app_eye.device;
-    frame.slot = begun.slot;
-    recorded = eye.gpu_eye->record(cb, frame, begun.image, executor, &error);
-  }
-  stats->uploadMs[e] = ms_since(t0);
-  if (!recorded) {
-    gpu_failed(e, error, stats);
-    return false;
-  }
-  return present_gpu(e, stats);
 }
 
 bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status,
@@ -967,22 +563,6 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
   return take_result(e, result, stats);
 }
 
-bool FoveatedRenderer::Frames::plan_app_frame(uint32_t e, const foveation::FrameRequest& request,
-                                              XrFoveatedRendererStatsFOVEART* stats) {
-  foveation::FrameResult result;
-  try {
-    result = eyes[e].view->plan(request, executor);
-  } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
-    if (internal_once.first()) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
-          "; showing the app's own image for this view (logged once, counted in stats)");
-    }
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    return false;
-  }
-  return take_result(e, result, stats);
-}
-
 bool FoveatedRenderer::Frames::take_result(uint32_t e, const foveation::FrameResult& result,
                                            XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
@@ -1010,22 +590,6 @@ bool FoveatedRenderer::Frames::take_result(uint32_t e, const foveation::FrameRes
         "; showing the app's own image for this view (logged once, counted in stats)");
   }
   return false;
-}
-
-gpu::DeviceTraceFrame FoveatedRenderer::Frames::device_frame(
-    uint32_t e, const foveation::FrameRequest& request,
-    const std::shared_ptr<const foveation::ViewTables>& view_tables) const {
-  const Eye& eye = eyes[e];
-  const foveation::FrameHandOff& hand_off = eye.view->hand_off();
-  gpu::DeviceTraceFrame device;
-  device.points = &view_tables->points;
-  device.view = request.view;
-  device.mapping = hand_off.mapping;
-  device.frame_index = frame_index;
-  device.sample_seed = hand_off.sample_seed;
-  device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
-  device.pixel_filter = eye.view->settings().pixel_filter;
-  return device;
 }
 
 foveation::FrameResources* FoveatedRenderer::Frames::gpu_resources(
@@ -1161,26 +725,6 @@ uint32_t FoveatedRenderer::render(XrTime display_time, const XrCompositionLayerP
     return 0;
   }
   return frames_->render(display_time, layer, out_views, rect_valid, display, &stats_);
-}
-
-XrResult FoveatedRenderer::acquire_ray_batch(const XrFoveatedRayBatchAcquireInfoFOVEART& info,
-                                             XrFoveatedRayBatchFOVEART* out_batch) {
-  std::lock_guard lock(mutex_);
-  if (frames_ == nullptr) return XR_ERROR_FEATURE_UNSUPPORTED;  // no Vulkan: create refused it already
-  return frames_->acquire(info, out_batch, &stats_);
-}
-
-XrResult FoveatedRenderer::release_ray_batch(std::uint64_t batch_id) {
-  std::lock_guard lock(mutex_);
-  if (frames_ == nullptr) return XR_ERROR_VALIDATION_FAILURE;
-  const XrResult result = frames_->batches.release(batch_id);
-  if (XR_FAILED(result) && release_once_.first()) {
-    log(LogLevel::Error, "xrReleaseFoveatedRayBatchFOVEART: batch ", batch_id,
-        result == XR_ERROR_CALL_ORDER_INVALID ? " was retired unreleased at its xrEndFrame"
-                                              : " is unknown or released already",
-        " (logged once, counted in the stats)");
-  }
-  return result;
 }
 
 void FoveatedRenderer::count_foreign_session_layer() {

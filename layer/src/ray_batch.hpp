@@ -12,12 +12,12 @@
 // Threads: not thread-safe; the renderer calls it under its frame lock.
 #pragma once
 
+#include <openxr/openxr.h>
+
 #include <cstdint>
 #include <deque>
 #include <optional>
 #include <vector>
-
-#include <openxr/openxr.h>
 
 namespace foveart::layer {
 
@@ -32,9 +32,9 @@ bool same_view(const RayBatchView& a, const RayBatchView& b);
 // A frame's batch as xrEndFrame takes it.
 struct TakenRayBatch {
   std::uint64_t id = 0;
-  bool released = false;            // false: retired, its views fall back
-  std::uint64_t traced_value = 0;   // wait for it (released only)
-  std::int64_t acquired_ns = 0;     // steady clock at acquire
+  bool released = false;           // false: retired, its views fall back
+  std::uint64_t traced_value = 0;  // wait for it (released only)
+  std::int64_t acquired_ns = 0;    // steady clock at acquire
   std::vector<RayBatchView> views;
 };
 
@@ -68,7 +68,7 @@ class RayBatches {
  private:
   std::optional<TakenRayBatch> out_;  // acquired, not taken yet
   std::uint64_t next_id_ = 1;
-  std::uint64_t next_value_ = 0;      // on the current generation's semaphore
+  std::uint64_t next_value_ = 0;  // on the current generation's semaphore
   std::uint64_t generation_ = 0;
   std::deque<std::uint64_t> retired_ids_;
   std::uint64_t acquired_ = 0, retired_count_ = 0, rejected_ = 0;

@@ -7,13 +7,13 @@ namespace foveart::hello {
 namespace {
 
 template <class T>
-T vk_struct(VkStructureType type) {
+T trace_vk_struct(VkStructureType type) {
   T s{};
   s.sType = type;
   return s;
 }
 
-void check(VkResult r, const char* what) {
+void check_trace(VkResult r, const char* what) {
   if (r != VK_SUCCESS) throw std::runtime_error(std::string(what) + " failed: VkResult " + std::to_string(r));
 }
 
@@ -21,18 +21,19 @@ void check(VkResult r, const char* what) {
 
 AppRecordedTrace::AppRecordedTrace(VkDevice device, uint32_t queue_family_index, VkQueue queue)
     : device_(device), queue_(queue) {
-  auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
+  auto pool_info = trace_vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   pool_info.queueFamilyIndex = queue_family_index;
-  check(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool (app trace)");
-  auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
+  check_trace(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool (app trace)");
+  auto cb_info = trace_vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
   cb_info.commandPool = pool_;
   cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   cb_info.commandBufferCount = static_cast<uint32_t>(command_buffers_.size());
-  check(vkAllocateCommandBuffers(device_, &cb_info, command_buffers_.data()), "vkAllocateCommandBuffers (app trace)");
+  check_trace(vkAllocateCommandBuffers(device_, &cb_info, command_buffers_.data()),
+              "vkAllocateCommandBuffers (app trace)");
   for (VkFence& fence : fences_) {
-    auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
-    check(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence (app trace)");
+    auto fence_info = trace_vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
+    check_trace(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence (app trace)");
   }
 }
 
@@ -51,13 +52,14 @@ void AppRecordedTrace::trace(const XrFoveatedRayBatchFOVEART& batch, PFN_xrFovea
     if (batch.views[v].rayCapacity > 0) frame_index = batch.views[v].frameIndex;
   // The slot's last trace finished: its command buffer, and the engine's resources of that slot, are free.
   const std::size_t slot = frame_index % command_buffers_.size();
-  if (in_flight_[slot]) check(vkWaitForFences(device_, 1, &fences_[slot], VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  if (in_flight_[slot])
+    check_trace(vkWaitForFences(device_, 1, &fences_[slot], VK_TRUE, UINT64_MAX), "vkWaitForFences");
   in_flight_[slot] = false;
   const VkCommandBuffer cb = command_buffers_[slot];
-  check(vkResetCommandBuffer(cb, 0), "vkResetCommandBuffer");
-  auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
+  check_trace(vkResetCommandBuffer(cb, 0), "vkResetCommandBuffer");
+  auto begin = trace_vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  check(vkBeginCommandBuffer(cb, &begin), "vkBeginCommandBuffer");
+  check_trace(vkBeginCommandBuffer(cb, &begin), "vkBeginCommandBuffer");
   XrResult traced = XR_SUCCESS;
   for (uint32_t v = 0; v < batch.viewCountOutput && XR_SUCCEEDED(traced); ++v) {
     if (batch.views[v].rayCapacity == 0) continue;  // not traced this frame
@@ -65,15 +67,15 @@ void AppRecordedTrace::trace(const XrFoveatedRayBatchFOVEART& batch, PFN_xrFovea
     view.commandBuffer = cb;  // the engine's recorder, into the app's own command buffer
     traced = engine(user_data, &view);
   }
-  check(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
+  check_trace(vkEndCommandBuffer(cb), "vkEndCommandBuffer");
   // Submitted even when a view failed: the layer waits for tracedValue once the batch is released.
   const VkPipelineStageFlags stage = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
-  auto timeline = vk_struct<VkTimelineSemaphoreSubmitInfo>(VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
+  auto timeline = trace_vk_struct<VkTimelineSemaphoreSubmitInfo>(VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO);
   timeline.waitSemaphoreValueCount = 1;
   timeline.pWaitSemaphoreValues = &batch.raysReadyValue;
   timeline.signalSemaphoreValueCount = 1;
   timeline.pSignalSemaphoreValues = &batch.tracedValue;
-  auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
+  auto submit = trace_vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
   submit.pNext = &timeline;
   submit.waitSemaphoreCount = 1;
   submit.pWaitSemaphores = &batch.semaphore;
@@ -82,8 +84,8 @@ void AppRecordedTrace::trace(const XrFoveatedRayBatchFOVEART& batch, PFN_xrFovea
   submit.pCommandBuffers = &cb;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &batch.semaphore;
-  check(vkResetFences(device_, 1, &fences_[slot]), "vkResetFences");
-  check(vkQueueSubmit(queue_, 1, &submit, fences_[slot]), "vkQueueSubmit (app trace)");
+  check_trace(vkResetFences(device_, 1, &fences_[slot]), "vkResetFences");
+  check_trace(vkQueueSubmit(queue_, 1, &submit, fences_[slot]), "vkQueueSubmit (app trace)");
   in_flight_[slot] = true;
   if (XR_FAILED(traced)) throw std::runtime_error("the device trace failed: XrResult " + std::to_string(traced));
 }

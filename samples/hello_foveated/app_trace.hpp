@@ -9,8 +9,8 @@
 #include <cstdint>
 
 #define XR_USE_GRAPHICS_API_VULKAN
-#include <vulkan/vulkan.h>
 #include <openxr/openxr.h>
+#include <vulkan/vulkan.h>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 

@@ -13,13 +13,13 @@
 // silent, over more frames than slots (each slot reused). A batch never
 // released, or an unknown id released instead, is an XrResult error and the
 // views fall back, counted; a second release is refused while the frame is traced.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "gpu_engine_run.hpp"
 
@@ -90,7 +90,8 @@ TEST_P(AppTraceValidated, AppRecordedTraceUnderSynchronizationValidationHasNoErr
   const std::string fault = GetParam();
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   IsolatedEnv::set("XR_API_LAYER_PATH", (explicit_layer_dir().string() + ":" + kSystemExplicitLayers).c_str());
-  IsolatedEnv::set("XR_ENABLE_API_LAYERS", "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
+  IsolatedEnv::set("XR_ENABLE_API_LAYERS",
+                   "XR_APILAYER_FOVEART_foveated_ray_tracing:XR_APILAYER_LUNARG_core_validation");
   IsolatedEnv::set("VK_INSTANCE_LAYERS", "VK_LAYER_KHRONOS_validation");
   IsolatedEnv::set("VK_LAYER_PATH", "/usr/share/vulkan/explicit_layer.d");
   IsolatedEnv::set("VK_LAYER_ENABLES", "VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT");
@@ -154,7 +155,7 @@ INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "tw
 // Bad arguments: a clear message and a non-zero exit, before any session.
 TEST_F(GpuEngine, AppTraceModelNeedsTheGpuEngine) {
   for (const auto& args : std::vector<std::vector<std::string>>{{"--engine", "cpu", "--trace-model", "app"},
-                                                               {"--engine", "gpu", "--release-fault", "never"}}) {
+                                                                {"--engine", "gpu", "--release-fault", "never"}}) {
     std::vector<std::string> argv{FOVEART_HELLO_FOVEATED};
     argv.insert(argv.end(), args.begin(), args.end());
     const auto r = run_process(argv, env_->root() / "bad_args.log", 60);

@@ -1,9 +1,9 @@
 // The app-recorded trace's bookkeeping without a GPU: one batch a frame, the
 // release's errors, a batch xrEndFrame takes unreleased retired with its
 // semaphore generation, and the views compared bit for bit.
-#include <gtest/gtest.h>
-
 #include "ray_batch.hpp"
+
+#include <gtest/gtest.h>
 
 namespace foveart::layer {
 namespace {
