@@ -11,6 +11,7 @@
 #include "log.hpp"
 #include "next_chain.hpp"
 #include "renderer.hpp"
+#include "vulkan_device.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -46,6 +47,9 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateSession(XrInstance instance, const X
       session->vk_device = vk->device;
       session->vk_queue_family_index = vk->queueFamilyIndex;
       session->vk_queue_index = vk->queueIndex;
+      const VulkanDeviceFeatures features = Registry::get().vulkan_device(vk->device);
+      session->buffer_device_address = features.buffer_device_address;
+      session->timeline_semaphore = features.timeline_semaphore;
     }
     if (state->eye_gaze.ready()) {
       session->eye_gaze = std::make_shared<SessionEyeGaze>(*out_session, state->eye_gaze,
@@ -317,6 +321,7 @@ const HookEntry* hooks_begin(std::size_t* out_count) {
       {"xrAttachSessionActionSets", as_void(&hook_xrAttachSessionActionSets), false},
       {"xrSyncActions", as_void(&hook_xrSyncActions), false},
       {"xrGetCurrentInteractionProfile", as_void(&hook_xrGetCurrentInteractionProfile), false},
+      {"xrCreateVulkanDeviceKHR", as_void(&hook_xrCreateVulkanDeviceKHR), false},
       {"xrCreateFoveatedRendererFOVEART", as_void(&hook_xrCreateFoveatedRendererFOVEART), true},
       {"xrDestroyFoveatedRendererFOVEART", as_void(&hook_xrDestroyFoveatedRendererFOVEART), true},
       {"xrGetFoveatedRendererStatsFOVEART", as_void(&hook_xrGetFoveatedRendererStatsFOVEART), true},
@@ -333,6 +338,8 @@ PFN_xrVoidFunction find_hook(std::string_view name, const InstanceState& instanc
   for (std::size_t i = 0; i < count; ++i) {
     if (hooks[i].name != name) continue;
     if (hooks[i].extension && !instance.extension_enabled) return nullptr;
+    // Another extension's function: hooked only where the next link has it.
+    if (name == "xrCreateVulkanDeviceKHR" && instance.next.CreateVulkanDeviceKHR == nullptr) return nullptr;
     return hooks[i].function;
   }
   return nullptr;
