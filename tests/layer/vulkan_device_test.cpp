@@ -78,7 +78,8 @@ TEST(VulkanDeviceFeatures, TheHookRecordsTheCreatedDeviceUntilItsInstanceGoes) {
   v12.bufferDeviceAddress = VK_TRUE;
   v12.timelineSemaphore = VK_TRUE;
   const VkDeviceCreateInfo vk_info = device_info(&v12);
-  XrVulkanDeviceCreateInfoKHR info{XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR};
+  XrVulkanDeviceCreateInfoKHR info{};
+  info.type = XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR;
   info.vulkanCreateInfo = &vk_info;
   VkDevice device = VK_NULL_HANDLE;
   VkResult vk_result = VK_ERROR_UNKNOWN;
