@@ -416,7 +416,7 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
   std::string why;
   reconstructor = gpu::Reconstructor::create(
       gpu::Device{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
-                session->vk_queue_index},
+                session->vk_queue_index, session->buffer_device_address},
       &why);
   const auto& properties = device;
   if (reconstructor != nullptr) submission = FrameSubmission::create(*session, &why);
