@@ -38,14 +38,22 @@ class RayTracingDeviceSupport {
   // hold the caller's own device extensions: info's list is replaced by it),
   // points info->ppEnabledExtensionNames at it and chains the three feature
   // structs in front of info->pNext; *extensions must outlive vkCreateDevice
-  // too. Returns offered(); changes nothing otherwise.
+  // too. Where the caller chained a VkPhysicalDeviceVulkan12Features (a
+  // Vulkan 1.2 device), bufferDeviceAddress is set there instead and only the
+  // two ray-tracing structs are chained: one chain may not hold both. Returns
+  // offered(); changes nothing otherwise.
   bool enable(VkDeviceCreateInfo* info, std::vector<const char*>* extensions);
+
+  // The device offers rayTracingPipelineTraceRaysIndirect, which enable() then enables too
+  // (GpuContext::trace_rays_indirect: the tracer launches only the frame's rays).
+  bool trace_rays_indirect() const { return offered() && indirect_; }
 
   // The device extensions enable() adds.
   static const std::vector<const char*>& extensions();
 
  private:
   std::string missing_;
+  bool indirect_ = false;
   VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address_{};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration_{};
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR pipeline_{};
