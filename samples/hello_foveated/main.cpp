@@ -590,10 +590,12 @@ class Sessions {
       VkPhysicalDeviceProperties properties{};
       vkGetPhysicalDeviceProperties(device.physical_device, &properties);
       gpu.device = properties.deviceName;
-      gpu.tracer = foveart::gpu_engine::GpuTracer::create(
-          foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
-                                          device.queue},
-          foveart::engine::Scene(*gpu_scene_), gpu_options, &gpu_error);
+      foveart::gpu_engine::GpuContext context{device.physical_device, device.device, device.queue_family_index,
+                                              device.queue};
+      context.ray_tracing_enabled = device.ray_tracing;
+      context.trace_rays_indirect = device.trace_rays_indirect;
+      gpu.tracer = foveart::gpu_engine::GpuTracer::create(context, foveart::engine::Scene(*gpu_scene_), gpu_options,
+                                                          &gpu_error);
       if (gpu.tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
       gpu.tracer->reset_counts();
       gpu.faulty.tracer = gpu.tracer.get();

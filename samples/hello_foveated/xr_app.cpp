@@ -1,5 +1,7 @@
 #include "xr_app.hpp"
 
+#include <gpu_engine/rt_device.hpp>
+
 #include <array>
 #include <chrono>
 #include <cstring>
@@ -117,7 +119,11 @@ class App {
           "xrGetVulkanGraphicsRequirements2KHR");
     auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
     app.pApplicationName = "hello_foveated";
-    app.apiVersion = VK_API_VERSION_1_1;
+    uint32_t loader_version = VK_API_VERSION_1_0;
+    vkEnumerateInstanceVersion(&loader_version);
+    // 1.2 where the loader has it (the device's features: create_device), else 1.1 as the engines need.
+    app.apiVersion = loader_version >= VK_API_VERSION_1_2 ? VK_API_VERSION_1_2 : VK_API_VERSION_1_1;
+    instance_api_version_ = app.apiVersion;
     auto vk_info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
     vk_info.pApplicationInfo = &app;
     auto create = xr_struct<XrVulkanInstanceCreateInfoKHR>(XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR);
@@ -147,23 +153,7 @@ class App {
       }
     }
     if (queue_family_ == UINT32_MAX) throw std::runtime_error("no graphics queue family");
-    const float priority = 1.0f;
-    auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
-    queue_info.queueFamilyIndex = queue_family_;
-    queue_info.queueCount = 1;
-    queue_info.pQueuePriorities = &priority;
-    auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
-    device_info.queueCreateInfoCount = 1;
-    device_info.pQueueCreateInfos = &queue_info;
-    auto device_create = xr_struct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
-    device_create.systemId = system_;
-    device_create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
-    device_create.vulkanPhysicalDevice = physical_device_;
-    device_create.vulkanCreateInfo = &device_info;
-    check(proc<PFN_xrCreateVulkanDeviceKHR>(instance_, "xrCreateVulkanDeviceKHR")(instance_, &device_create,
-                                                                                  &device_, &vr),
-          "xrCreateVulkanDeviceKHR");
-    check(vr, "vkCreateDevice");
+    create_device();
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -176,6 +166,51 @@ class App {
     check(vkAllocateCommandBuffers(device_, &cb_info, &command_buffer_), "vkAllocateCommandBuffers");
     auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
     check(vkCreateFence(device_, &fence_info, nullptr, &fence_), "vkCreateFence");
+  }
+
+  // The device through the runtime, with one valid feature chain: on Vulkan 1.2 (instance and device)
+  // one VkPhysicalDeviceVulkan12Features with bufferDeviceAddress (the device trace's addresses) and
+  // timelineSemaphore where offered; the ray-tracing pipeline's extensions and features where offered.
+  void create_device() {
+    const float priority = 1.0f;
+    auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+    queue_info.queueFamilyIndex = queue_family_;
+    queue_info.queueCount = 1;
+    queue_info.pQueuePriorities = &priority;
+    auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+    device_info.queueCreateInfoCount = 1;
+    device_info.pQueueCreateInfos = &queue_info;
+    VkPhysicalDeviceProperties properties{};
+    vkGetPhysicalDeviceProperties(physical_device_, &properties);
+    auto v12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    if (instance_api_version_ >= VK_API_VERSION_1_2 && properties.apiVersion >= VK_API_VERSION_1_2) {
+      auto features = vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+      features.pNext = &v12;
+      vkGetPhysicalDeviceFeatures2(physical_device_, &features);
+      const VkBool32 address = v12.bufferDeviceAddress, timeline = v12.timelineSemaphore;
+      v12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+      v12.bufferDeviceAddress = address;
+      v12.timelineSemaphore = timeline;
+      device_info.pNext = &v12;
+    }
+    foveart::gpu_engine::RayTracingDeviceSupport ray_tracing(physical_device_);
+    std::vector<const char*> extensions;
+    ray_tracing_ = ray_tracing.enable(&device_info, &extensions);
+    trace_rays_indirect_ = ray_tracing_ && ray_tracing.trace_rays_indirect();
+    auto device_create = xr_struct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
+    device_create.systemId = system_;
+    device_create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
+    device_create.vulkanPhysicalDevice = physical_device_;
+    device_create.vulkanCreateInfo = &device_info;
+    VkResult vr = VK_SUCCESS;
+    check(proc<PFN_xrCreateVulkanDeviceKHR>(instance_, "xrCreateVulkanDeviceKHR")(instance_, &device_create,
+                                                                                  &device_, &vr),
+          "xrCreateVulkanDeviceKHR");
+    check(vr, "vkCreateDevice");
+  }
+
+  VulkanDevice vulkan_device() const {
+    return VulkanDevice{physical_device_, device_, queue_family_, queue_, ray_tracing_, trace_rays_indirect_};
   }
 
   void create_session() {
@@ -279,13 +314,13 @@ class App {
   void create_device_trace() {
     if (!options_.make_device_trace) return;
     device_trace_made_ = true;  // released at shutdown even if making it threw half-way
-    device_trace_ = options_.make_device_trace(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+    device_trace_ = options_.make_device_trace(vulkan_device());
   }
 
   // --mode full: the app's own renderer of every view, on the session's device.
   void create_view_renderer() {
     if (!options_.make_view_renderer) return;
-    view_renderer_ = options_.make_view_renderer(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+    view_renderer_ = options_.make_view_renderer(vulkan_device());
     if (view_renderer_ == nullptr) throw std::runtime_error("the full render could not be set up");
   }
 
@@ -575,6 +610,9 @@ class App {
   VkDevice device_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t instance_api_version_ = VK_API_VERSION_1_1;
+  bool ray_tracing_ = false;          // the ray-tracing pipeline's extensions enabled (create_device)
+  bool trace_rays_indirect_ = false;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
