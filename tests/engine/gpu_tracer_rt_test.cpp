@@ -218,6 +218,36 @@ TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheCallerDidNotEnableI
 
 // ---- the backend's layout arithmetic, everywhere ----------------------------------------
 
+// The feature chain enable() builds is valid beside the caller's own: a Vulkan 1.2 caller's
+// VkPhysicalDeviceVulkan12Features carries bufferDeviceAddress (no second struct for it, which
+// the spec forbids in one chain); without one, the separate struct is chained.
+TEST(GpuTracerRtDevice, FeatureChainSetsBufferDeviceAddressInTheCallersVulkan12Features) {
+  for (const bool vulkan12 : {true, false}) {
+    VkPhysicalDeviceVulkan12Features v12{};
+    v12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    v12.timelineSemaphore = VK_TRUE;
+    VkDeviceCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    info.pNext = vulkan12 ? &v12 : nullptr;
+    VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address{};
+    address.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR;
+    address.bufferDeviceAddress = VK_TRUE;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{};
+    acceleration.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
+    VkPhysicalDeviceRayTracingPipelineFeaturesKHR pipeline{};
+    pipeline.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR;
+    RayTracingDeviceSupport::chain_features(&info, &address, &acceleration, &pipeline);
+    std::vector<VkStructureType> chain;
+    for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s != nullptr; s = s->pNext) chain.push_back(s->sType);
+    const std::vector<VkStructureType> expected =
+        vulkan12 ? std::vector<VkStructureType>{pipeline.sType, acceleration.sType, v12.sType}
+                 : std::vector<VkStructureType>{pipeline.sType, acceleration.sType, address.sType};
+    EXPECT_EQ(chain, expected) << (vulkan12 ? "with" : "without") << " Vulkan12Features";
+    EXPECT_EQ(v12.bufferDeviceAddress, vulkan12 ? VK_TRUE : VK_FALSE);
+    EXPECT_EQ(v12.timelineSemaphore, VK_TRUE) << "the caller's other features stay";
+  }
+}
+
 TEST(GpuTracerRtLayout, EachTracedTriangleOnceOpaqueFirst) {
   using foveart::gpu_engine::GpuTriangle;
   std::vector<GpuTriangle> tris(5);

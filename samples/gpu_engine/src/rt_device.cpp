@@ -66,6 +66,23 @@ RayTracingDeviceSupport::RayTracingDeviceSupport(VkPhysicalDevice physical_devic
   indirect_ = pipeline_.rayTracingPipelineTraceRaysIndirect == VK_TRUE;
 }
 
+void RayTracingDeviceSupport::chain_features(VkDeviceCreateInfo* info,
+                                             VkPhysicalDeviceBufferDeviceAddressFeaturesKHR* address,
+                                             VkPhysicalDeviceAccelerationStructureFeaturesKHR* acceleration,
+                                             VkPhysicalDeviceRayTracingPipelineFeaturesKHR* pipeline) {
+  // A VkPhysicalDeviceVulkan12Features of the caller's must carry the feature instead: the
+  // spec forbids it beside a VkPhysicalDeviceBufferDeviceAddressFeatures in one chain.
+  if (auto* v12 = find_vulkan12_features(info)) {
+    v12->bufferDeviceAddress = VK_TRUE;
+    acceleration->pNext = const_cast<void*>(info->pNext);
+  } else {
+    address->pNext = const_cast<void*>(info->pNext);
+    acceleration->pNext = address;
+  }
+  pipeline->pNext = acceleration;
+  info->pNext = pipeline;
+}
+
 bool RayTracingDeviceSupport::enable(VkDeviceCreateInfo* info, std::vector<const char*>* extension_names) {
   if (!offered() || info == nullptr || extension_names == nullptr) return false;
   // Only what the tracer uses: no capture/replay, indirect builds or host commands.
@@ -82,17 +99,7 @@ bool RayTracingDeviceSupport::enable(VkDeviceCreateInfo* info, std::vector<const
   address_ = address;
   acceleration_ = acceleration;
   pipeline_ = pipeline;
-  // A VkPhysicalDeviceVulkan12Features of the caller's must carry the feature instead: the
-  // spec forbids it beside a VkPhysicalDeviceBufferDeviceAddressFeatures in one chain.
-  if (auto* v12 = find_vulkan12_features(info)) {
-    v12->bufferDeviceAddress = VK_TRUE;
-    acceleration_.pNext = const_cast<void*>(info->pNext);
-  } else {
-    address_.pNext = const_cast<void*>(info->pNext);
-    acceleration_.pNext = &address_;
-  }
-  pipeline_.pNext = &acceleration_;
-  info->pNext = &pipeline_;
+  chain_features(info, &address_, &acceleration_, &pipeline_);
   for (const char* name : extensions())
     if (std::none_of(extension_names->begin(), extension_names->end(),
                      [&](const char* e) { return std::strcmp(e, name) == 0; }))

@@ -48,6 +48,14 @@ class RayTracingDeviceSupport {
   // (GpuContext::trace_rays_indirect: the tracer launches only the frame's rays).
   bool trace_rays_indirect() const { return offered() && indirect_; }
 
+  // The feature chain enable() puts in front of info->pNext: pipeline -> acceleration
+  // (-> address unless the chain holds a VkPhysicalDeviceVulkan12Features, whose
+  // bufferDeviceAddress is set instead) -> the caller's chain. The structs must outlive
+  // vkCreateDevice.
+  static void chain_features(VkDeviceCreateInfo* info, VkPhysicalDeviceBufferDeviceAddressFeaturesKHR* address,
+                             VkPhysicalDeviceAccelerationStructureFeaturesKHR* acceleration,
+                             VkPhysicalDeviceRayTracingPipelineFeaturesKHR* pipeline);
+
   // The device extensions enable() adds.
   static const std::vector<const char*>& extensions();
 
