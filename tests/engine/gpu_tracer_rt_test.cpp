@@ -465,6 +465,40 @@ TEST(GpuTracerRt, TracesOnlyTheCountedRays) {
   expect_no_validation_errors(rt_device());
 }
 
+// With the count buffer's address chained (XrFoveatedDeviceRayAddressesFOVEART) the launch is
+// vkCmdTraceRaysIndirectKHR of traceRays: set below the count, only those rays are traced.
+TEST(GpuTracerRt, LaunchesIndirectlyFromTheTraceRaysArguments) {
+  REQUIRE_RAY_TRACING();
+  if (!rt_device().context().trace_rays_indirect)
+    GTEST_SKIP() << rt_device().vk.name() << " lacks rayTracingPipelineTraceRaysIndirect";
+  const Scene scene = foveart::engine::make_lit_room();
+  Pair p(scene);
+  ASSERT_TRUE(p.ok());
+  const Rays a = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), 300);
+  DeviceBatch b(rt_device(), a);
+  HostBuffer count(rt_device(), sizeof(XrFoveatedDeviceRayCountFOVEART), true);
+  ASSERT_NE(count.address, 0u);
+  XrFoveatedDeviceRayCountFOVEART c{};
+  c.count = 200;
+  c.traceRays[0] = 50;  // two rows of 50: rays 0..99 of the 200 counted
+  c.traceRays[1] = 2;
+  c.traceRays[2] = 1;
+  std::memcpy(count.data, &c, sizeof(c));
+  b.batch.rayCount = {count.buffer, 0, sizeof(c)};
+  XrFoveatedDeviceRayAddressesFOVEART addresses{};
+  addresses.type = XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART;
+  addresses.rayCount = count.address;
+  b.batch.next = &addresses;
+  ASSERT_TRUE(trace_batch(rt_device(), *p.rt, b));
+  const auto out = b.result();
+  const auto ref = trace(rt_device(), *p.compute, a);
+  expect_rt_agreement(compare({out.begin(), out.begin() + 100}, {ref.begin(), ref.begin() + 100}),
+                      "rt indirect vs compute: room, 100 launched of 200 counted");
+  for (size_t i = 100; i < 300; ++i) EXPECT_TRUE(std::isnan(out[i].r)) << i;
+  EXPECT_EQ(p.rt->counts().primary, 100u);
+  expect_no_validation_errors(rt_device());
+}
+
 TEST(GpuTracerRt, FullRenderMatchesTheComputeTracerPerPixel) {
   REQUIRE_RAY_TRACING();
   const Scene scene = foveart::engine::make_default_scene();
