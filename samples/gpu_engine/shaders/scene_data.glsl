@@ -199,7 +199,6 @@ vec4 sample_texture_lod(int slot, uint flags, vec2 uv, float lod) {
   return a > 0.0 ? glm_mix4(c0, sample_texture_level(slot, l1, flags, uv), a) : c0;
 }
 
-
 // Tracer::Impl::texcoord.
 vec2 texcoord(uint tri, int set, float u, float v) {
   const Shading s = shading[tri];
