@@ -6,7 +6,7 @@
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
 //                  [--fault nan|error|throw|nothing] [--fault-from-frame N] [--json] [--app-actions]
-//                  [--no-explicit-layer] [--count-work]
+//                  [--no-explicit-layer] [--count-work] [--texture-lod on|off]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
 // --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
@@ -15,6 +15,8 @@
 // the CPU engine stays registered as traceRays for where it reconstructs on the
 // CPU (the header's "Both" rule). The auto exposure pre-pass runs on the CPU
 // engine either way.
+// --texture-lod off (gpu): the GPU engine samples every texture at level 0 as the CPU engine,
+// ignoring the rays' footprints (on: their ray cones pick the level; docs/engine.md).
 // --fault: test aid, the engine misbehaving on purpose to watch the layer fall
 // back. cpu: nan (one NaN colour per batch), error, throw. gpu: nan (the real
 // trace, then NaN over the first ray's colour), error (XR_ERROR_RUNTIME_FAILURE),
@@ -363,6 +365,7 @@ struct Args {
   std::string tone_map = "config";
   std::string fault;
   bool count_work = false;
+  std::string texture_lod = "on";
   uint64_t fault_from_frame = 0;
   foveart::hello::AppOptions options;  // the settings given as they are
 
@@ -434,6 +437,10 @@ void add_app_options(CLI::App& cli, Args& a) {
   cli.add_flag("--count-work", a.count_work,
                "benchmark aid, --engine gpu: the GPU engine counts the BVH nodes and triangles its traversal "
                "visits (gpu_engine.work in the JSON; the compute backend only; slows the trace)");
+  cli.add_option("--texture-lod", a.texture_lod,
+                 "--engine gpu: on, the rays' footprints pick the texture level; off, level 0 as the CPU engine")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   cli.add_option("--fault-from-frame", a.fault_from_frame,
                  "with --fault and --engine gpu: the device trace misbehaves from the layer's frame N on (from 1)");
 }
@@ -447,6 +454,7 @@ std::string conflicting_options(const Args& a) {
     return "--fault throw is for --engine cpu only (a device trace must never throw)";
   if (a.fault == "nothing" && !a.gpu_engine()) return "--fault nothing is for --engine gpu only";
   if (a.count_work && !a.gpu_engine()) return "--count-work is for --engine gpu only";
+  if (a.texture_lod == "off" && !a.gpu_engine()) return "--texture-lod is for --engine gpu only";
   if (a.fault_from_frame != 0 && (a.fault.empty() || !a.gpu_engine()))
     return "--fault-from-frame is for --fault with --engine gpu only";
   return "";
@@ -587,6 +595,7 @@ class Sessions {
       std::string gpu_error;
       foveart::gpu_engine::GpuTracerOptions gpu_options;
       gpu_options.count_work = args_.count_work;
+      gpu_options.texture_lod = args_.texture_lod == "on";
       VkPhysicalDeviceProperties properties{};
       vkGetPhysicalDeviceProperties(device.physical_device, &properties);
       gpu.device = properties.deviceName;

@@ -539,7 +539,7 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
   const auto* footprint = find_chained<XrFoveatedDeviceRayFootprintFOVEART>(
       batch.next, XR_TYPE_FOVEATED_DEVICE_RAY_FOOTPRINT_FOVEART);
   VkDescriptorBufferInfo footprints{no_footprints.buffer(), 0, VK_WHOLE_SIZE};
-  if (footprint != nullptr && footprint->footprints.buffer != VK_NULL_HANDLE) {
+  if (options.texture_lod && footprint != nullptr && footprint->footprints.buffer != VK_NULL_HANDLE) {
     if (!check_range("footprints", footprint->footprints.buffer, footprint->footprints.offset,
                      footprint->footprints.size, 4, error))
       return false;

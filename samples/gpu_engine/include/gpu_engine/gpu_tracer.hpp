@@ -98,6 +98,9 @@ struct GpuTracerOptions {
   // it tests (work_counts()), at the cost of a few atomics per workgroup. The
   // compute backend only: a ray-tracing pipeline's traversal is the driver's.
   bool count_work = false;
+  // A device-trace ray's footprint picks its primary hit's texture level (record_trace);
+  // false: every lookup at level 0 as the CPU engine's, footprints ignored (its equality tests).
+  bool texture_lod = true;
   static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
 };
 
