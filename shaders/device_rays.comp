@@ -13,7 +13,8 @@
 //   WRITE  a workgroup per block: each visible point's rank is its block's
 //          start plus the visible points before it in the block; its
 //          rays_per_point rays go at rank * spp (pixel-grid points jittered
-//          over their pixel, the rest in their disc, thesis 4.2).
+//          over their pixel, the rest in their disc, thesis 4.2), each with
+//          its footprint: the point's disc radius as an angle at the eye.
 // Ranks follow gl_LocalInvocationIndex when subgroups hold consecutive
 // invocations (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID), as
 // the drivers lay them out; tests/gpu/device_trace_test.cpp checks the order.
@@ -33,6 +34,8 @@ layout(set = 0, binding = 2, std430) writeonly buffer PointIndex { uint point_in
 layout(set = 0, binding = 3, std430) buffer Control { uint control[]; };
 // Per block of points: its visible points (COUNT), then where they begin (SCAN).
 layout(set = 0, binding = 4, std430) buffer Blocks { uint block_first[]; };
+// Per ray: its footprint in radians (XrFoveatedDeviceRayFootprintFOVEART).
+layout(set = 0, binding = 5, std430) writeonly buffer Footprints { float footprint_rad[]; };
 
 #define SCAN_ARRAY block_first
 #define SCAN_THREADS FOVEART_DEVICE_RAYS_BLOCK
@@ -49,8 +52,10 @@ void write_counts() {
   control[1] = groups_x;
   control[2] = rows;
   control[3] = 1u;
-  control[4] = count;
-  control[5] = 1u;
+  uint width, height;
+  trace_rays_size(count, width, height);  // rows, within Vulkan's minimum ray-tracing limits
+  control[4] = width;
+  control[5] = height;
   control[6] = 1u;
   control[7] = 0u;
   control[FOVEART_DEVICE_RESOLVE_DISPATCH] = (visible + 63u) / 64u;
@@ -81,10 +86,19 @@ uint rank_in_block(bool visible, out uint block_visible) {
   return before + subgroupBallotExclusiveBitCount(ballot);
 }
 
+// The angle at the eye between the point's centre and the edge of its disc (radius r_i, thesis eq. 4):
+// 2 asin(|d1 - d0| / 2) of the two unit directions, exact for small angles too.
+float disc_radius_rad(vec2 screen, float radius_px) {
+  const vec3 d0 = eye_ray_direction(tan_lrud, orientation, vec2(screen_px), screen);
+  const vec3 d1 = eye_ray_direction(tan_lrud, orientation, vec2(screen_px), screen + vec2(radius_px, 0.0));
+  return 2.0 * asin(min(0.5 * length(d1 - d0), 1.0));
+}
+
 void write_rays(uint i, uint rank, vec2 screen) {
   const vec4 p = points[i].position_radius_grid;
   const uint first = rank * rays_per_point;
   const bool bspline2 = (flags & FOVEART_DEVICE_RAYS_BSPLINE2) != 0u;
+  const float footprint = disc_radius_rad(screen, p.z);
   for (uint s = 0u; s < rays_per_point; ++s) {
     const vec2 sample_px = p.w > 0.5 ? pixel_sample_px(screen, s, seed, screen_px.x, bspline2)
                                      : screen + unit_disc_sample(seed, i, s) * p.z;
@@ -93,6 +107,7 @@ void write_rays(uint i, uint rank, vec2 screen) {
     rays[r].direction_sample_y =
         vec4(eye_ray_direction(tan_lrud, orientation, vec2(screen_px), sample_px), sample_px.y);
     point_index[r] = i;
+    footprint_rad[r] = footprint;
   }
 }
 

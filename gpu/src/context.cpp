@@ -24,8 +24,20 @@ std::unique_ptr<Context> Context::create(const Device& device, std::string* erro
   std::vector<VkQueueFamilyProperties> families(count);
   vkGetPhysicalDeviceQueueFamilyProperties(device.physical_device, &count, families.data());
   c->timestamps_ = device.queue_family_index < count && families[device.queue_family_index].timestampValidBits > 0;
+  if (device.buffer_device_address) {  // core in Vulkan 1.2, else VK_KHR_buffer_device_address
+    auto fn = vkGetDeviceProcAddr(device.device, "vkGetBufferDeviceAddress");
+    if (fn == nullptr) fn = vkGetDeviceProcAddr(device.device, "vkGetBufferDeviceAddressKHR");
+    c->get_buffer_address_ = reinterpret_cast<PFN_vkGetBufferDeviceAddress>(fn);
+  }
   if (!c->create_submission(error)) return nullptr;
   return c;
+}
+
+VkDeviceAddress Context::buffer_address(VkBuffer buffer) const {
+  if (get_buffer_address_ == nullptr || buffer == VK_NULL_HANDLE) return 0;
+  auto info = vk_struct<VkBufferDeviceAddressInfo>(VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO);
+  info.buffer = buffer;
+  return get_buffer_address_(device_.device, &info);
 }
 
 bool Context::create_submission(std::string* error) {

@@ -19,7 +19,7 @@ namespace {
 using shader::DeviceRaysPush;
 using shader::DeviceResolvePush;
 
-constexpr uint32_t kRaysBindings = 5;     // points, rays, point index, control, blocks
+constexpr uint32_t kRaysBindings = 6;     // points, rays, point index, control, blocks, footprints
 constexpr uint32_t kResolveBindings = 6;  // ray colours, point index, control, status, colours, point depth
 constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1};
 constexpr uint32_t kNaNBits = 0x7FC00000u;
@@ -83,6 +83,7 @@ DeviceTrace::~DeviceTrace() {
   if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
   for (BoundBuffer* b : {&points_, &staging_, &rays_, &point_index_, &ray_colors_, &control_, &blocks_})
     destroy_buffer(device_, b);
+  destroy_buffer(device_, &footprints_);
 }
 
 bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point,
@@ -97,9 +98,11 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
   const auto transfer = VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   const auto storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   const auto source = VK_BUFFER_USAGE_TRANSFER_SRC_BIT;  // the engine may copy what it reads
+  const auto address = context_.address_usage();          // where the app enabled bufferDeviceAddress
   if (control_.buffer == VK_NULL_HANDLE) {
     if (!context_.create_buffer(&control_, FOVEART_DEVICE_CONTROL_WORDS * 4,
-                                storage | transfer | source | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false, error)) {
+                                storage | transfer | source | address | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, false,
+                                error)) {
       return false;
     }
     descriptors_stale_ = true;
@@ -125,12 +128,13 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
   const std::size_t rays = points.size() * rays_per_point;
   if (rays > FOVEART_DEVICE_MAX_RAYS) return *error = "device trace: more than 2^31 - 1 rays a view", false;
   if (rays > ray_capacity_ || rays_.buffer == VK_NULL_HANDLE) {
-    for (BoundBuffer* b : {&rays_, &point_index_, &ray_colors_}) destroy_buffer(device_, b);
+    for (BoundBuffer* b : {&rays_, &point_index_, &ray_colors_, &footprints_}) destroy_buffer(device_, b);
     ray_capacity_ = 0;
     const VkDeviceSize n = std::max<VkDeviceSize>(rays, 1);
-    if (!context_.create_buffer(&rays_, n * kRayBytes, storage | source, false, error) ||
-        !context_.create_buffer(&point_index_, n * 4, storage | source, false, error) ||
-        !context_.create_buffer(&ray_colors_, n * kColorBytes, storage | transfer | source, false, error)) {
+    if (!context_.create_buffer(&rays_, n * kRayBytes, storage | source | address, false, error) ||
+        !context_.create_buffer(&point_index_, n * 4, storage | source | address, false, error) ||
+        !context_.create_buffer(&ray_colors_, n * kColorBytes, storage | transfer | source | address, false, error) ||
+        !context_.create_buffer(&footprints_, n * 4, storage | source | address, false, error)) {
       return false;
     }
     ray_capacity_ = uint32_t(n);
@@ -144,7 +148,8 @@ void DeviceTrace::update_descriptors(const DeviceTraceTargets& targets) {
                                                       {rays_.buffer, 0, VK_WHOLE_SIZE},
                                                       {point_index_.buffer, 0, VK_WHOLE_SIZE},
                                                       {control_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {blocks_.buffer, 0, VK_WHOLE_SIZE}};
+                                                      {blocks_.buffer, 0, VK_WHOLE_SIZE},
+                                                      {footprints_.buffer, 0, VK_WHOLE_SIZE}};
   write_storage_descriptors(device_, rays_set_, rays, kOnes, kRaysBindings);
   const VkDescriptorBufferInfo resolve[kResolveBindings] = {
       {ray_colors_.buffer, 0, VK_WHOLE_SIZE}, {point_index_.buffer, 0, VK_WHOLE_SIZE},
@@ -191,6 +196,10 @@ DeviceRayBatch DeviceTrace::batch(const DeviceTraceFrame& frame, VkCommandBuffer
   batch.rays = {rays_.buffer, 0, rays_.size};
   batch.point_index = {point_index_.buffer, 0, point_index_.size};
   batch.colors = {ray_colors_.buffer, 0, ray_colors_.size};
+  batch.footprints = {footprints_.buffer, 0, footprints_.size};
+  batch.addresses = {context_.buffer_address(control_.buffer), context_.buffer_address(rays_.buffer),
+                     context_.buffer_address(point_index_.buffer), context_.buffer_address(ray_colors_.buffer),
+                     context_.buffer_address(footprints_.buffer)};
   batch.command_buffer = cb;
   return batch;
 }

@@ -32,6 +32,9 @@ bool create_bound_buffer(VkDevice device, const VkPhysicalDeviceMemoryProperties
   auto alloc = vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = type;
+  auto flags = vk_struct<VkMemoryAllocateFlagsInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO);
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;  // a buffer with an address needs memory that has one
+  if ((usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0) alloc.pNext = &flags;
   r = vkAllocateMemory(device, &alloc, nullptr, memory);
   if (r != VK_SUCCESS) return *error = vk_error("vkAllocateMemory", r), false;
   r = vkBindBufferMemory(device, *buffer, *memory, 0);

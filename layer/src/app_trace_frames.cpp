@@ -134,7 +134,9 @@ bool FoveatedRenderer::Frames::plan_app_eye(uint32_t e, const FrameGaze& frame_g
       log(LogLevel::Error, "foveated renderer: eye ", e, ": the rays cannot be made: ", error, " (logged once)");
     return false;
   }
-  *out = xr_device_ray_batch(batch);
+  AppEye& kept = *app_eyes[e];
+  kept.handed = std::make_unique<XrDeviceRayBatch>(batch);
+  *out = kept.handed->batch;  // its `next` (footprint, addresses) points into kept.handed until the next acquire
   return true;
 }
 

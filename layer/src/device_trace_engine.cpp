@@ -20,27 +20,36 @@ XrFoveatedDeviceBufferFOVEART xr_buffer(const gpu::BufferRange& range) {
 
 }  // namespace
 
-XrFoveatedDeviceRayBatchFOVEART xr_device_ray_batch(const gpu::DeviceRayBatch& batch) {
-  XrFoveatedDeviceRayBatchFOVEART xr{};
+XrDeviceRayBatch::XrDeviceRayBatch(const gpu::DeviceRayBatch& in) {
+  XrFoveatedDeviceRayBatchFOVEART& xr = batch;
   xr.type = XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART;
-  xr.frameIndex = batch.frame_index;
-  xr.view = batch.view;
-  xr.rayCapacity = batch.ray_capacity;
-  xr.raysPerPoint = batch.rays_per_point;
-  xr.rayCount = xr_buffer(batch.ray_count);
-  xr.rays = xr_buffer(batch.rays);
-  xr.pointIndex = xr_buffer(batch.point_index);
-  xr.colors = xr_buffer(batch.colors);
-  xr.commandBuffer = batch.command_buffer;
-  return xr;
+  xr.next = &footprint;
+  xr.frameIndex = in.frame_index;
+  xr.view = in.view;
+  xr.rayCapacity = in.ray_capacity;
+  xr.raysPerPoint = in.rays_per_point;
+  xr.rayCount = xr_buffer(in.ray_count);
+  xr.rays = xr_buffer(in.rays);
+  xr.pointIndex = xr_buffer(in.point_index);
+  xr.colors = xr_buffer(in.colors);
+  xr.commandBuffer = in.command_buffer;
+  footprint.type = XR_TYPE_FOVEATED_DEVICE_RAY_FOOTPRINT_FOVEART;
+  footprint.next = &addresses;
+  footprint.footprints = xr_buffer(in.footprints);
+  addresses.type = XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART;
+  addresses.rayCount = in.addresses.ray_count;
+  addresses.rays = in.addresses.rays;
+  addresses.pointIndex = in.addresses.point_index;
+  addresses.colors = in.addresses.colors;
+  addresses.footprints = in.addresses.footprints;
 }
 
 gpu::DeviceTraceEngine xr_device_trace_engine(PFN_xrFoveatedTraceRaysDeviceFOVEART trace, void* user_data,
                                               XrResult* result) {
   *result = XR_SUCCESS;
   return [trace, user_data, result](const gpu::DeviceRayBatch& batch) {
-    const XrFoveatedDeviceRayBatchFOVEART xr = xr_device_ray_batch(batch);
-    *result = trace(user_data, &xr);
+    const XrDeviceRayBatch xr(batch);
+    *result = trace(user_data, &xr.batch);
     return XR_SUCCEEDED(*result);
   };
 }

@@ -10,8 +10,16 @@
 
 namespace foveart::layer {
 
-// The batch as the extension hands it to the engine.
-XrFoveatedDeviceRayBatchFOVEART xr_device_ray_batch(const gpu::DeviceRayBatch& batch);
+// The batch as the extension hands it to the engine, its footprint and
+// addresses chained in its `next` (pointing into this object: not copyable).
+struct XrDeviceRayBatch {
+  XrFoveatedDeviceRayBatchFOVEART batch{};
+  XrFoveatedDeviceRayFootprintFOVEART footprint{};
+  XrFoveatedDeviceRayAddressesFOVEART addresses{};
+  explicit XrDeviceRayBatch(const gpu::DeviceRayBatch& device_batch);
+  XrDeviceRayBatch(const XrDeviceRayBatch&) = delete;
+  XrDeviceRayBatch& operator=(const XrDeviceRayBatch&) = delete;
+};
 
 // Calls `trace` with each batch; *result (which outlives the engine) holds
 // the last call's result, XR_SUCCESS until it is called.

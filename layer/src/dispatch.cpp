@@ -34,6 +34,7 @@ bool load_next_dispatch(XrInstance instance, PFN_xrGetInstanceProcAddr next_gipa
   ok = load(instance, next_gipa, "xrAttachSessionActionSets", &d.AttachSessionActionSets) && ok;
   ok = load(instance, next_gipa, "xrSyncActions", &d.SyncActions) && ok;
   ok = load(instance, next_gipa, "xrGetCurrentInteractionProfile", &d.GetCurrentInteractionProfile) && ok;
+  load(instance, next_gipa, "xrCreateVulkanDeviceKHR", &d.CreateVulkanDeviceKHR);  // optional
   *out = d;
   return ok;
 }

@@ -32,6 +32,8 @@ struct NextDispatch {
   PFN_xrAttachSessionActionSets AttachSessionActionSets = nullptr;
   PFN_xrSyncActions SyncActions = nullptr;
   PFN_xrGetCurrentInteractionProfile GetCurrentInteractionProfile = nullptr;
+  // XR_KHR_vulkan_enable2, when the app enabled it (null otherwise).
+  PFN_xrCreateVulkanDeviceKHR CreateVulkanDeviceKHR = nullptr;
 };
 
 // Loads every entry above from next_gipa; false if a core function is missing.

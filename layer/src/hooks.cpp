@@ -11,6 +11,7 @@
 #include "log.hpp"
 #include "next_chain.hpp"
 #include "renderer.hpp"
+#include "vulkan_device.hpp"
 
 namespace foveart::layer {
 namespace {
@@ -46,6 +47,9 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateSession(XrInstance instance, const X
       session->vk_device = vk->device;
       session->vk_queue_family_index = vk->queueFamilyIndex;
       session->vk_queue_index = vk->queueIndex;
+      const VulkanDeviceFeatures features = Registry::get().vulkan_device(vk->device);
+      session->buffer_device_address = features.buffer_device_address;
+      session->timeline_semaphore = features.timeline_semaphore;
     }
     if (state->eye_gaze.ready()) {
       session->eye_gaze = std::make_shared<SessionEyeGaze>(*out_session, state->eye_gaze,
@@ -279,6 +283,11 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateFoveatedRendererFOVEART(
                            "(XR_KHR_vulkan_enable2 is required)");
       return XR_ERROR_GRAPHICS_DEVICE_INVALID;
     }
+    if (settings.app_trace && !state->timeline_semaphore) {
+      log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: XrFoveatedAppTraceInfoFOVEART needs the session's device "
+                           "made through xrCreateVulkanDeviceKHR with Vulkan 1.2's timelineSemaphore enabled");
+      return XR_ERROR_VALIDATION_FAILURE;
+    }
     if (const std::string bad = unknown_queue_family(*state, settings.app_queue_families); !bad.empty()) {
       log(LogLevel::Error, "xrCreateFoveatedRendererFOVEART: XrFoveatedAppTraceInfoFOVEART::queueFamilyIndices: ", bad);
       return XR_ERROR_VALIDATION_FAILURE;
@@ -354,6 +363,7 @@ const HookEntry* hooks_begin(std::size_t* out_count) {
       {"xrAttachSessionActionSets", as_void(&hook_xrAttachSessionActionSets), false},
       {"xrSyncActions", as_void(&hook_xrSyncActions), false},
       {"xrGetCurrentInteractionProfile", as_void(&hook_xrGetCurrentInteractionProfile), false},
+      {"xrCreateVulkanDeviceKHR", as_void(&hook_xrCreateVulkanDeviceKHR), false},
       {"xrCreateFoveatedRendererFOVEART", as_void(&hook_xrCreateFoveatedRendererFOVEART), true},
       {"xrDestroyFoveatedRendererFOVEART", as_void(&hook_xrDestroyFoveatedRendererFOVEART), true},
       {"xrGetFoveatedRendererStatsFOVEART", as_void(&hook_xrGetFoveatedRendererStatsFOVEART), true},
@@ -372,6 +382,8 @@ PFN_xrVoidFunction find_hook(std::string_view name, const InstanceState& instanc
   for (std::size_t i = 0; i < count; ++i) {
     if (hooks[i].name != name) continue;
     if (hooks[i].extension && !instance.extension_enabled) return nullptr;
+    // Another extension's function: hooked only where the next link has it.
+    if (name == "xrCreateVulkanDeviceKHR" && instance.next.CreateVulkanDeviceKHR == nullptr) return nullptr;
     return hooks[i].function;
   }
   return nullptr;

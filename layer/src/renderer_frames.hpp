@@ -221,6 +221,7 @@ struct FoveatedRenderer::Frames {
     foveation::FrameRequest request;
     std::shared_ptr<const foveation::ViewTables> tables;
     gpu::DeviceTraceFrame device;
+    std::unique_ptr<XrDeviceRayBatch> handed;  // the batch's view as handed to the app, its chain in here
   };
   RayBatches batches;
   std::array<std::optional<AppEye>, 2> app_eyes;

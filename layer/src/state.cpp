@@ -34,6 +34,7 @@ std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_instance(XrInsta
     erase_children_of_session(it->first, &removed);
     it = sessions_.erase(it);
   }
+  std::erase_if(vulkan_devices_, [&](const auto& entry) { return entry.second.instance == handle; });
   instances_.erase(handle);
   return removed;
 }
@@ -136,6 +137,17 @@ std::optional<SwapchainExtent> Registry::swapchain(XrSwapchain handle, XrSession
   auto it = swapchains_.find(handle);
   if (it == swapchains_.end() || it->second.session != session) return std::nullopt;
   return it->second;
+}
+
+void Registry::add_vulkan_device(XrInstance instance, VkDevice device, const VulkanDeviceFeatures& features) {
+  std::lock_guard lock(mutex_);
+  vulkan_devices_[device] = VulkanDeviceEntry{instance, features};
+}
+
+VulkanDeviceFeatures Registry::vulkan_device(VkDevice device) const {
+  std::lock_guard lock(mutex_);
+  auto it = vulkan_devices_.find(device);
+  return it == vulkan_devices_.end() ? VulkanDeviceFeatures{} : it->second.features;
 }
 
 std::size_t Registry::instance_count() const {

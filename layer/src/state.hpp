@@ -20,6 +20,13 @@ namespace foveart::layer {
 
 class FoveatedRenderer;
 
+// What the app enabled on its VkDevice that the layer's device work may use
+// (recorded at xrCreateVulkanDeviceKHR: vulkan_device.hpp).
+struct VulkanDeviceFeatures {
+  bool buffer_device_address = false;  // bufferDeviceAddress: the device trace's buffers get addresses
+  bool timeline_semaphore = false;     // timelineSemaphore
+};
+
 struct InstanceState {
   XrInstance handle = XR_NULL_HANDLE;
   NextDispatch next;
@@ -41,6 +48,9 @@ struct SessionState {
   VkDevice vk_device = VK_NULL_HANDLE;
   uint32_t vk_queue_family_index = 0;
   uint32_t vk_queue_index = 0;
+  // What the app enabled on vk_device through xrCreateVulkanDeviceKHR (false otherwise).
+  bool buffer_device_address = false;
+  bool timeline_semaphore = false;
   std::shared_ptr<SessionEyeGaze> eye_gaze;  // null unless the instance's eye_gaze is ready()
 };
 
@@ -83,12 +93,20 @@ class Registry {
   // The app swapchain's extent if it was created in `session`.
   std::optional<SwapchainExtent> swapchain(XrSwapchain handle, XrSession session) const;
 
+  // The features a device created through xrCreateVulkanDeviceKHR enabled; none for another device.
+  void add_vulkan_device(XrInstance instance, VkDevice device, const VulkanDeviceFeatures& features);
+  VulkanDeviceFeatures vulkan_device(VkDevice device) const;
+
   std::size_t instance_count() const;
 
  private:
   struct RendererEntry {
     XrSession session;
     std::shared_ptr<FoveatedRenderer> renderer;
+  };
+  struct VulkanDeviceEntry {
+    XrInstance instance;
+    VulkanDeviceFeatures features;
   };
   // Moves the session's renderers into *removed and forgets its swapchains;
   // the caller holds mutex_ and erases the session itself.
@@ -99,6 +117,7 @@ class Registry {
   std::unordered_map<XrSession, std::shared_ptr<SessionState>> sessions_;
   std::unordered_map<uint64_t, RendererEntry> renderers_;
   std::unordered_map<XrSwapchain, SwapchainExtent> swapchains_;
+  std::unordered_map<VkDevice, VulkanDeviceEntry> vulkan_devices_;
   uint64_t next_renderer_id_ = 1;
 };
 

@@ -6,8 +6,8 @@
 //                  [--gaze-source none|provider|eye_gaze_interaction|config] [--gaze-provider SPEC]
 //                  [--max-frames N] [--eye-size W H] [--exposure auto|config|X] [--tone-map CURVE]
 //                  [--fault nan|error|throw|nothing] [--fault-from-frame N] [--json] [--app-actions]
-//                  [--no-explicit-layer] [--count-work] [--trace-model callback|app]
-//                  [--release-fault never|twice|unknown]
+//                  [--no-explicit-layer] [--count-work] [--texture-lod on|off]
+//                  [--trace-model callback|app] [--release-fault never|twice|unknown]
 // Every renderer setting not given here is left to the layer's config file
 // ("config", 0 or no value: the extension header's "Defaults").
 // --engine gpu: the GPU sample engine (samples/gpu_engine) on the session's own
@@ -16,6 +16,8 @@
 // the CPU engine stays registered as traceRays for where it reconstructs on the
 // CPU (the header's "Both" rule). The auto exposure pre-pass runs on the CPU
 // engine either way.
+// --texture-lod off (gpu): the GPU engine samples every texture at level 0 as the CPU engine,
+// ignoring the rays' footprints (on: their ray cones pick the level; docs/engine.md).
 // --trace-model app (--engine gpu): the app records the GPU engine's trace in
 // its own command buffer and submits it itself, on a second queue where the
 // device has one (the extension's app-recorded trace: acquire the frame's ray
@@ -388,6 +390,7 @@ struct Args {
   std::string tone_map = "config";
   std::string fault;
   bool count_work = false;
+  std::string texture_lod = "on";
   uint64_t fault_from_frame = 0;
   std::string trace_model = "callback";
   foveart::hello::AppOptions options;  // the settings given as they are
@@ -460,6 +463,10 @@ void add_app_options(CLI::App& cli, Args& a) {
   cli.add_flag("--count-work", a.count_work,
                "benchmark aid, --engine gpu: the GPU engine counts the BVH nodes and triangles its traversal "
                "visits (gpu_engine.work in the JSON; the compute backend only; slows the trace)");
+  cli.add_option("--texture-lod", a.texture_lod,
+                 "--engine gpu: on, the rays' footprints pick the texture level; off, level 0 as the CPU engine")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
   cli.add_option("--fault-from-frame", a.fault_from_frame,
                  "with --fault and --engine gpu: the device trace misbehaves from the layer's frame N on (from 1)");
   cli.add_option("--trace-model", a.trace_model,
@@ -482,6 +489,7 @@ std::string conflicting_options(const Args& a) {
     return "--fault throw is for --engine cpu only (a device trace must never throw)";
   if (a.fault == "nothing" && !a.gpu_engine()) return "--fault nothing is for --engine gpu only";
   if (a.count_work && !a.gpu_engine()) return "--count-work is for --engine gpu only";
+  if (a.texture_lod == "off" && !a.gpu_engine()) return "--texture-lod is for --engine gpu only";
   if (a.fault_from_frame != 0 && (a.fault.empty() || !a.gpu_engine()))
     return "--fault-from-frame is for --fault with --engine gpu only";
   if (a.trace_model == "app" && (!a.gpu_engine() || a.mode != "foveated"))
@@ -628,13 +636,16 @@ class Sessions {
       std::string gpu_error;
       foveart::gpu_engine::GpuTracerOptions gpu_options;
       gpu_options.count_work = args_.count_work;
+      gpu_options.texture_lod = args_.texture_lod == "on";
       VkPhysicalDeviceProperties properties{};
       vkGetPhysicalDeviceProperties(device.physical_device, &properties);
       gpu.device = properties.deviceName;
-      gpu.tracer = foveart::gpu_engine::GpuTracer::create(
-          foveart::gpu_engine::GpuContext{device.physical_device, device.device, device.queue_family_index,
-                                          device.queue},
-          foveart::engine::Scene(*gpu_scene_), gpu_options, &gpu_error);
+      foveart::gpu_engine::GpuContext context{device.physical_device, device.device, device.queue_family_index,
+                                              device.queue};
+      context.ray_tracing_enabled = device.ray_tracing;
+      context.trace_rays_indirect = device.trace_rays_indirect;
+      gpu.tracer = foveart::gpu_engine::GpuTracer::create(context, foveart::engine::Scene(*gpu_scene_), gpu_options,
+                                                          &gpu_error);
       if (gpu.tracer == nullptr) throw std::runtime_error("cannot build the GPU ray tracer: " + gpu_error);
       gpu.tracer->reset_counts();
       gpu.faulty.tracer = gpu.tracer.get();

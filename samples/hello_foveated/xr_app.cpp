@@ -1,6 +1,7 @@
 #include "xr_app.hpp"
 
 #include "app_trace.hpp"
+#include <gpu_engine/rt_device.hpp>
 
 #include <array>
 #include <chrono>
@@ -127,7 +128,11 @@ class App {
           "xrGetVulkanGraphicsRequirements2KHR");
     auto app = vk_struct<VkApplicationInfo>(VK_STRUCTURE_TYPE_APPLICATION_INFO);
     app.pApplicationName = "hello_foveated";
-    app.apiVersion = options_.app_recorded_trace ? VK_API_VERSION_1_2 : VK_API_VERSION_1_1;  // timeline semaphores
+    uint32_t loader_version = VK_API_VERSION_1_0;
+    vkEnumerateInstanceVersion(&loader_version);
+    // 1.2 where the loader has it (the device's features: create_device), else 1.1 as the engines need.
+    app.apiVersion = loader_version >= VK_API_VERSION_1_2 ? VK_API_VERSION_1_2 : VK_API_VERSION_1_1;
+    instance_api_version_ = app.apiVersion;
     auto vk_info = vk_struct<VkInstanceCreateInfo>(VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO);
     vk_info.pApplicationInfo = &app;
     auto create = xr_struct<XrVulkanInstanceCreateInfoKHR>(XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR);
@@ -157,29 +162,11 @@ class App {
       }
     }
     if (queue_family_ == UINT32_MAX) throw std::runtime_error("no graphics queue family");
-    const float priorities[2] = {1.0f, 1.0f};
-    auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
-    queue_info.queueFamilyIndex = queue_family_;
     // The app-recorded trace traces on a second queue of the family where it has one (lavapipe has one queue).
-    queue_info.queueCount = options_.app_recorded_trace && families[queue_family_].queueCount >= 2 ? 2 : 1;
-    queue_info.pQueuePriorities = priorities;
-    auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
-    device_info.queueCreateInfoCount = 1;
-    device_info.pQueueCreateInfos = &queue_info;
-    auto vulkan12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
-    vulkan12.timelineSemaphore = VK_TRUE;  // the app-recorded trace's waits and signals
-    if (options_.app_recorded_trace) device_info.pNext = &vulkan12;
-    auto device_create = xr_struct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
-    device_create.systemId = system_;
-    device_create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
-    device_create.vulkanPhysicalDevice = physical_device_;
-    device_create.vulkanCreateInfo = &device_info;
-    check(proc<PFN_xrCreateVulkanDeviceKHR>(instance_, "xrCreateVulkanDeviceKHR")(instance_, &device_create,
-                                                                                  &device_, &vr),
-          "xrCreateVulkanDeviceKHR");
-    check(vr, "vkCreateDevice");
+    queue_count_ = options_.app_recorded_trace && families[queue_family_].queueCount >= 2 ? 2 : 1;
+    create_device();
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-    vkGetDeviceQueue(device_, queue_family_, queue_info.queueCount - 1, &trace_queue_);
+    vkGetDeviceQueue(device_, queue_family_, queue_count_ - 1, &trace_queue_);
     auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool_info.queueFamilyIndex = queue_family_;
@@ -191,6 +178,51 @@ class App {
     check(vkAllocateCommandBuffers(device_, &cb_info, &command_buffer_), "vkAllocateCommandBuffers");
     auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
     check(vkCreateFence(device_, &fence_info, nullptr, &fence_), "vkCreateFence");
+  }
+
+  // The device through the runtime, with one valid feature chain: on Vulkan 1.2 (instance and device)
+  // one VkPhysicalDeviceVulkan12Features with bufferDeviceAddress (the device trace's addresses) and
+  // timelineSemaphore where offered; the ray-tracing pipeline's extensions and features where offered.
+  void create_device() {
+    const float priorities[2] = {1.0f, 1.0f};
+    auto queue_info = vk_struct<VkDeviceQueueCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO);
+    queue_info.queueFamilyIndex = queue_family_;
+    queue_info.queueCount = queue_count_;
+    queue_info.pQueuePriorities = priorities;
+    auto device_info = vk_struct<VkDeviceCreateInfo>(VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO);
+    device_info.queueCreateInfoCount = 1;
+    device_info.pQueueCreateInfos = &queue_info;
+    VkPhysicalDeviceProperties properties{};
+    vkGetPhysicalDeviceProperties(physical_device_, &properties);
+    auto v12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+    if (instance_api_version_ >= VK_API_VERSION_1_2 && properties.apiVersion >= VK_API_VERSION_1_2) {
+      auto features = vk_struct<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+      features.pNext = &v12;
+      vkGetPhysicalDeviceFeatures2(physical_device_, &features);
+      const VkBool32 address = v12.bufferDeviceAddress, timeline = v12.timelineSemaphore;
+      v12 = vk_struct<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+      v12.bufferDeviceAddress = address;
+      v12.timelineSemaphore = timeline;
+      device_info.pNext = &v12;
+    }
+    foveart::gpu_engine::RayTracingDeviceSupport ray_tracing(physical_device_);
+    std::vector<const char*> extensions;
+    ray_tracing_ = ray_tracing.enable(&device_info, &extensions);
+    trace_rays_indirect_ = ray_tracing_ && ray_tracing.trace_rays_indirect();
+    auto device_create = xr_struct<XrVulkanDeviceCreateInfoKHR>(XR_TYPE_VULKAN_DEVICE_CREATE_INFO_KHR);
+    device_create.systemId = system_;
+    device_create.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
+    device_create.vulkanPhysicalDevice = physical_device_;
+    device_create.vulkanCreateInfo = &device_info;
+    VkResult vr = VK_SUCCESS;
+    check(proc<PFN_xrCreateVulkanDeviceKHR>(instance_, "xrCreateVulkanDeviceKHR")(instance_, &device_create,
+                                                                                  &device_, &vr),
+          "xrCreateVulkanDeviceKHR");
+    check(vr, "vkCreateDevice");
+  }
+
+  VulkanDevice vulkan_device() const {
+    return VulkanDevice{physical_device_, device_, queue_family_, queue_, ray_tracing_, trace_rays_indirect_};
   }
 
   void create_session() {
@@ -294,7 +326,7 @@ class App {
   void create_device_trace() {
     if (!options_.make_device_trace) return;
     device_trace_made_ = true;  // released at shutdown even if making it threw half-way
-    device_trace_ = options_.make_device_trace(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+    device_trace_ = options_.make_device_trace(vulkan_device());
     if (!options_.app_recorded_trace) return;
     if (device_trace_.trace_rays_device == nullptr) throw std::runtime_error("the app-recorded trace needs a device trace");
     app_trace_ = std::make_unique<AppRecordedTrace>(device_, queue_family_, trace_queue_);
@@ -303,7 +335,7 @@ class App {
   // --mode full: the app's own renderer of every view, on the session's device.
   void create_view_renderer() {
     if (!options_.make_view_renderer) return;
-    view_renderer_ = options_.make_view_renderer(VulkanDevice{physical_device_, device_, queue_family_, queue_});
+    view_renderer_ = options_.make_view_renderer(vulkan_device());
     if (view_renderer_ == nullptr) throw std::runtime_error("the full render could not be set up");
   }
 
@@ -629,6 +661,10 @@ class App {
   uint32_t queue_family_ = 0;
   VkQueue queue_ = VK_NULL_HANDLE;
   VkQueue trace_queue_ = VK_NULL_HANDLE;  // the app-recorded trace's: a second queue, else queue_
+  uint32_t queue_count_ = 1;              // of queue_family_: 2 where the app-recorded trace has a second queue
+  uint32_t instance_api_version_ = VK_API_VERSION_1_1;
+  bool ray_tracing_ = false;          // the ray-tracing pipeline's extensions enabled (create_device)
+  bool trace_rays_indirect_ = false;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

@@ -26,6 +26,8 @@ struct VulkanDevice {
   VkDevice device = VK_NULL_HANDLE;
   uint32_t queue_family_index = 0;
   VkQueue queue = VK_NULL_HANDLE;  // the session's queue: the layer submits there too
+  bool ray_tracing = false;          // created with RayTracingDeviceSupport::enable (gpu_engine::GpuContext)
+  bool trace_rays_indirect = false;  // ... and its rayTracingPipelineTraceRaysIndirect
 };
 
 // The app's own image of a view (--mode full): drawn into the acquired

@@ -207,7 +207,7 @@ class HeadlessVulkan {
   // Validation is active: VK_LAYER_KHRONOS_validation is enabled with
   // synchronization validation and a messenger hears it (errors() can report).
   bool validated() const { return messenger_ != VK_NULL_HANDLE; }
-  gpu::Device device() const { return {physical_, device_, family_, 0, {}}; }
+  gpu::Device device() const { return {physical_, device_, family_, 0, false, {}}; }
   const std::string& name() const { return name_; }
   bool is_cpu() const { return type_ == VK_PHYSICAL_DEVICE_TYPE_CPU; }
   // The validation errors heard so far, each "<message id name>: <message>".

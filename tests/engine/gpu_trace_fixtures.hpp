@@ -69,6 +69,7 @@ struct TestGpu {
   GpuContext context() const {
     GpuContext c{vk.device().physical_device, vk.device().device, vk.device().queue_family_index, queue};
     c.ray_tracing_enabled = ray_tracing;
+    c.trace_rays_indirect = ray_tracing && support != nullptr && support->trace_rays_indirect();
     return c;
   }
   VkDevice device() const { return vk.device().device; }
@@ -105,17 +106,19 @@ struct TestGpu {
   std::vector<std::string> errors() { return vk.errors(); }
 };
 
-// A host-visible buffer the layer would own (storage + indirect).
+// A host-visible buffer the layer would own (storage + indirect; + a device address when asked).
 struct HostBuffer {
   VkDevice device = VK_NULL_HANDLE;
   VkBuffer buffer = VK_NULL_HANDLE;
   VkDeviceMemory memory = VK_NULL_HANDLE;
   void* data = nullptr;
-  HostBuffer(TestGpu& gpu, VkDeviceSize bytes) : device(gpu.device()) {
+  VkDeviceAddress address = 0;  // with_address only
+  HostBuffer(TestGpu& gpu, VkDeviceSize bytes, bool with_address = false) : device(gpu.device()) {
     VkBufferCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
     info.size = bytes;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                 (with_address ? VkBufferUsageFlags{VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT} : VkBufferUsageFlags{0});
     vkCreateBuffer(device, &info, nullptr, &buffer);
     VkMemoryRequirements req{};
     vkGetBufferMemoryRequirements(device, buffer, &req);
@@ -130,9 +133,20 @@ struct HostBuffer {
         alloc.memoryTypeIndex = i;
         break;
       }
+    VkMemoryAllocateFlagsInfo flags{};
+    flags.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO;
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    if (with_address) alloc.pNext = &flags;
     vkAllocateMemory(device, &alloc, nullptr, &memory);
     vkBindBufferMemory(device, buffer, memory, 0);
     vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &data);
+    if (with_address) {
+      auto get = reinterpret_cast<PFN_vkGetBufferDeviceAddressKHR>(vkGetDeviceProcAddr(device, "vkGetBufferDeviceAddressKHR"));
+      VkBufferDeviceAddressInfo address_info{};
+      address_info.sType = VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO;
+      address_info.buffer = buffer;
+      if (get != nullptr) address = get(device, &address_info);
+    }
   }
   ~HostBuffer() {
     vkDestroyBuffer(device, buffer, nullptr);

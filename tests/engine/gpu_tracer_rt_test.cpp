@@ -218,6 +218,36 @@ TEST(GpuTracerBackend, RayTracingPipelineRequestFailsWhereTheCallerDidNotEnableI
 
 // ---- the backend's layout arithmetic, everywhere ----------------------------------------
 
+// The feature chain enable() builds is valid beside the caller's own: a Vulkan 1.2 caller's
+// VkPhysicalDeviceVulkan12Features carries bufferDeviceAddress (no second struct for it, which
+// the spec forbids in one chain); without one, the separate struct is chained.
+TEST(GpuTracerRtDevice, FeatureChainSetsBufferDeviceAddressInTheCallersVulkan12Features) {
+  for (const bool vulkan12 : {true, false}) {
+    VkPhysicalDeviceVulkan12Features v12{};
+    v12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    v12.timelineSemaphore = VK_TRUE;
+    VkDeviceCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
+    info.pNext = vulkan12 ? &v12 : nullptr;
+    VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address{};
+    address.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES_KHR;
+    address.bufferDeviceAddress = VK_TRUE;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{};
+    acceleration.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR;
+    VkPhysicalDeviceRayTracingPipelineFeaturesKHR pipeline{};
+    pipeline.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR;
+    RayTracingDeviceSupport::chain_features(&info, &address, &acceleration, &pipeline);
+    std::vector<VkStructureType> chain;
+    for (auto* s = static_cast<const VkBaseInStructure*>(info.pNext); s != nullptr; s = s->pNext) chain.push_back(s->sType);
+    const std::vector<VkStructureType> expected =
+        vulkan12 ? std::vector<VkStructureType>{pipeline.sType, acceleration.sType, v12.sType}
+                 : std::vector<VkStructureType>{pipeline.sType, acceleration.sType, address.sType};
+    EXPECT_EQ(chain, expected) << (vulkan12 ? "with" : "without") << " Vulkan12Features";
+    EXPECT_EQ(v12.bufferDeviceAddress, vulkan12 ? VK_TRUE : VK_FALSE);
+    EXPECT_EQ(v12.timelineSemaphore, VK_TRUE) << "the caller's other features stay";
+  }
+}
+
 TEST(GpuTracerRtLayout, EachTracedTriangleOnceOpaqueFirst) {
   using foveart::gpu_engine::GpuTriangle;
   std::vector<GpuTriangle> tris(5);
@@ -432,6 +462,40 @@ TEST(GpuTracerRt, TracesOnlyTheCountedRays) {
                    "rt vs compute: room, 200 of 300");
   for (size_t i = 200; i < 300; ++i) EXPECT_TRUE(std::isnan(out[i].r)) << i;
   EXPECT_EQ(p.rt->counts().primary, 200u);
+  expect_no_validation_errors(rt_device());
+}
+
+// With the count buffer's address chained (XrFoveatedDeviceRayAddressesFOVEART) the launch is
+// vkCmdTraceRaysIndirectKHR of traceRays: set below the count, only those rays are traced.
+TEST(GpuTracerRt, LaunchesIndirectlyFromTheTraceRaysArguments) {
+  REQUIRE_RAY_TRACING();
+  if (!rt_device().context().trace_rays_indirect)
+    GTEST_SKIP() << rt_device().vk.name() << " lacks rayTracingPipelineTraceRaysIndirect";
+  const Scene scene = foveart::engine::make_lit_room();
+  Pair p(scene);
+  ASSERT_TRUE(p.ok());
+  const Rays a = view_rays(foveart::engine::fove_eye_view(0, foveart::engine::scene_head(scene)), 300);
+  DeviceBatch b(rt_device(), a);
+  HostBuffer count(rt_device(), sizeof(XrFoveatedDeviceRayCountFOVEART), true);
+  ASSERT_NE(count.address, 0u);
+  XrFoveatedDeviceRayCountFOVEART c{};
+  c.count = 200;
+  c.traceRays[0] = 50;  // two rows of 50: rays 0..99 of the 200 counted
+  c.traceRays[1] = 2;
+  c.traceRays[2] = 1;
+  std::memcpy(count.data, &c, sizeof(c));
+  b.batch.rayCount = {count.buffer, 0, sizeof(c)};
+  XrFoveatedDeviceRayAddressesFOVEART addresses{};
+  addresses.type = XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART;
+  addresses.rayCount = count.address;
+  b.batch.next = &addresses;
+  ASSERT_TRUE(trace_batch(rt_device(), *p.rt, b));
+  const auto out = b.result();
+  const auto ref = trace(rt_device(), *p.compute, a);
+  expect_rt_agreement(compare({out.begin(), out.begin() + 100}, {ref.begin(), ref.begin() + 100}),
+                      "rt indirect vs compute: room, 100 launched of 200 counted");
+  for (size_t i = 100; i < 300; ++i) EXPECT_TRUE(std::isnan(out[i].r)) << i;
+  EXPECT_EQ(p.rt->counts().primary, 100u);
   expect_no_validation_errors(rt_device());
 }
 

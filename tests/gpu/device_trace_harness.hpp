@@ -91,7 +91,7 @@ struct TestEngine {
   bool copy = false;       // copy rays, point indices and counts into the buffers below
   VkDevice device = VK_NULL_HANDLE;
   const VkPhysicalDeviceMemoryProperties* memory = nullptr;
-  BoundBuffer rays, point_index, control;
+  BoundBuffer rays, point_index, control, footprints;
   uint32_t calls = 0;
   DeviceRayBatch last{};
 
@@ -102,7 +102,7 @@ struct TestEngine {
   VkDescriptorSet set = VK_NULL_HANDLE;
 
   ~TestEngine() {
-    for (BoundBuffer* b : {&rays, &point_index, &control}) destroy_buffer(device, b);
+    for (BoundBuffer* b : {&rays, &point_index, &control, &footprints}) destroy_buffer(device, b);
     for (VkPipeline p : {pipeline, stripes_pipeline})
       if (p != VK_NULL_HANDLE) vkDestroyPipeline(device, p, nullptr);
     if (layout != VK_NULL_HANDLE) vkDestroyPipelineLayout(device, layout, nullptr);
@@ -169,7 +169,8 @@ inline bool test_engine(TestEngine* engine, const DeviceRayBatch* batch) {
   vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
   if (engine->copy && (!engine->readback(engine->rays, batch->rays, cb) ||
                        !engine->readback(engine->point_index, batch->point_index, cb) ||
-                       !engine->readback(engine->control, batch->ray_count, cb))) {
+                       !engine->readback(engine->control, batch->ray_count, cb) ||
+                       !engine->readback(engine->footprints, batch->footprints, cb))) {
     return false;
   }
   if (engine->copy) {
@@ -189,19 +190,40 @@ inline uint32_t bits_of(float f) {
 
 class DeviceTraceFixture : public ::testing::Test {
  protected:
-  static void TearDownTestSuite() { vulkan_.reset(); }
+  static void TearDownTestSuite() {
+    vulkan_.reset();
+    addressed_vulkan_.reset();
+  }
+  // The device enables bufferDeviceAddress (VK_KHR_buffer_device_address, as an app
+  // through xrCreateVulkanDeviceKHR) and the reconstructor is told so.
+  virtual bool buffer_device_address() const { return false; }
+  static std::unique_ptr<HeadlessVulkan> make_vulkan(bool addresses) {
+    if (!addresses) return std::make_unique<HeadlessVulkan>(DevicePreference::cpu, true);
+    return std::make_unique<HeadlessVulkan>(DevicePreference::cpu, true, [](VkPhysicalDevice, VkDeviceCreateInfo* info) {
+      static VkPhysicalDeviceBufferDeviceAddressFeatures features{
+          VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_BUFFER_DEVICE_ADDRESS_FEATURES, nullptr, VK_TRUE, VK_FALSE, VK_FALSE};
+      static const char* extensions[] = {VK_KHR_BUFFER_DEVICE_ADDRESS_EXTENSION_NAME};
+      info->pNext = &features;
+      info->enabledExtensionCount = 1;
+      info->ppEnabledExtensionNames = extensions;
+    });
+  }
   void SetUp() override {
-    if (vulkan_ == nullptr) {
-      vulkan_ = std::make_unique<HeadlessVulkan>(DevicePreference::cpu, true);
+    std::unique_ptr<HeadlessVulkan>& slot = buffer_device_address() ? addressed_vulkan_ : vulkan_;
+    if (slot == nullptr) {
+      slot = make_vulkan(buffer_device_address());
       sim::pin_loaded_vulkan_icds_and_layers();  // LeakSanitizer names them at exit (icd_pin.h)
     }
-    ASSERT_TRUE(vulkan_->ok()) << "no Vulkan device (mesa-vulkan-drivers brings lavapipe)";
-    ASSERT_TRUE(vulkan_->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
+    vulkan_in_use_ = slot.get();
+    ASSERT_TRUE(slot->ok()) << "no Vulkan device (mesa-vulkan-drivers brings lavapipe)";
+    ASSERT_TRUE(slot->validated()) << "VK_LAYER_KHRONOS_validation missing (vulkan-validationlayers)";
     std::string error;
-    gpu_ = Reconstructor::create(vulkan_->device(), &error);
+    Device device = slot->device();
+    device.buffer_device_address = buffer_device_address();
+    gpu_ = Reconstructor::create(device, &error);
     ASSERT_NE(gpu_, nullptr) << error;
-    vkGetPhysicalDeviceMemoryProperties(vulkan_->device().physical_device, &memory_);
-    engine_.device = vulkan_->device().device;
+    vkGetPhysicalDeviceMemoryProperties(slot->device().physical_device, &memory_);
+    engine_.device = slot->device().device;
     engine_.memory = &memory_;
     engine_.fill_bits = bits_of(kConstant);
     tables_ = small_tables();
@@ -217,8 +239,8 @@ class DeviceTraceFixture : public ::testing::Test {
     eye_.reset();
     gpu_tables_.reset();
     gpu_.reset();
-    if (vulkan_ != nullptr && vulkan_->ok()) {
-      const auto errors = vulkan_->errors();
+    if (vulkan_in_use_ != nullptr && vulkan_in_use_->ok()) {
+      const auto errors = vulkan_in_use_->errors();
       EXPECT_TRUE(errors.empty()) << errors.size() << " validation error(s), the first: " << errors.front();
     }
   }
@@ -286,6 +308,8 @@ class DeviceTraceFixture : public ::testing::Test {
   }
 
   static std::unique_ptr<HeadlessVulkan> vulkan_;  // shared by the suites; made on first use
+  static std::unique_ptr<HeadlessVulkan> addressed_vulkan_;  // ... with bufferDeviceAddress
+  HeadlessVulkan* vulkan_in_use_ = nullptr;                 // this test's
   VkPhysicalDeviceMemoryProperties memory_{};
   std::unique_ptr<Reconstructor> gpu_;
   std::shared_ptr<const foveation::ViewTables> tables_;
@@ -295,5 +319,6 @@ class DeviceTraceFixture : public ::testing::Test {
   TestEngine engine_;
 };
 inline std::unique_ptr<HeadlessVulkan> DeviceTraceFixture::vulkan_;
+inline std::unique_ptr<HeadlessVulkan> DeviceTraceFixture::addressed_vulkan_;
 
 }  // namespace foveart::gpu::device_test

@@ -63,7 +63,8 @@ TEST_F(DeviceTraceTest, DeviceRaysAreTheCpuRays) {
     ASSERT_EQ(count, cpu.by_point.size() * kRaysPerPoint);
     EXPECT_EQ(control[1], (count + 63) / 64);  // dispatch64
     EXPECT_EQ(control[2], 1u);
-    EXPECT_EQ(control[4], count);  // trace rays: count x 1 x 1
+    EXPECT_EQ(control[4], count);  // trace rays: one row of count (fewer than 65536)
+    EXPECT_EQ(control[5], 1u);
     EXPECT_LE(count, engine_.last.ray_capacity);
     EXPECT_EQ(engine_.last.rays_per_point, kRaysPerPoint);
     const auto* rays = static_cast<const float*>(engine_.rays.mapped);
@@ -95,8 +96,81 @@ TEST_F(DeviceTraceTest, DeviceRaysAreTheCpuRays) {
     EXPECT_LE(worst_px, 1e-3f);
     EXPECT_LE(worst_dir, 1e-5f);
     engine_.copy = false;
-    for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control}) destroy_buffer(engine_.device, b);
+    for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control, &engine_.footprints})
+      destroy_buffer(engine_.device, b);
   }
+}
+
+// Each ray carries its point's footprint (XrFoveatedDeviceRayFootprintFOVEART): the angle
+// at the eye of the point's disc radius, the same for all its rays, as the host computes
+// it from the point's screen position; the periphery's discs wider than the pixel grid's.
+TEST_F(DeviceTraceTest, EachRayCarriesItsPointsDiscRadiusAsAnAngle) {
+  engine_.copy = true;
+  foveation::FoveatedView view(tables_, settings_);
+  const foveation::FrameRequest req = request(glm::vec2(48, 40), 3);
+  std::string error;
+  ASSERT_TRUE(device_frame(view, req, &error)) << error;
+  const DeviceTraceFrame device = device_of(view, req);
+  const foveation::EyeFrustum frustum = foveation::eye_frustum(req.view);
+  const foveation::EyePose pose = foveation::eye_pose(req.view);
+  const uint32_t count = static_cast<const uint32_t*>(engine_.control.mapped)[0];
+  ASSERT_GT(count, 0u);
+  EXPECT_EQ(engine_.last.footprints.size, VkDeviceSize{engine_.last.ray_capacity} * 4);
+  const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
+  const auto* footprint_rad = static_cast<const float*>(engine_.footprints.mapped);
+  float grid_max = 0.0f, disc_max = 0.0f, worst = 0.0f;
+  for (uint32_t r = 0; r < count; ++r) {
+    const uint32_t p = points[r];
+    const glm::vec2 screen = device.mapping.screen_from_canvas(tables_->points.position_px[p]);
+    const glm::vec3 d0 = foveation::eye_ray_direction(frustum, pose, screen);
+    const glm::vec3 d1 =
+        foveation::eye_ray_direction(frustum, pose, screen + glm::vec2(tables_->points.radius_px[p], 0.0f));
+    const float expected = 2.0f * std::asin(0.5f * glm::length(d1 - d0));
+    ASSERT_GT(footprint_rad[r], 0.0f) << "ray " << r;
+    worst = std::max(worst, std::abs(footprint_rad[r] - expected) / expected);
+    float& side_max = tables_->points.on_pixel_grid(p) ? grid_max : disc_max;
+    side_max = std::max(side_max, footprint_rad[r]);
+    if (r % kRaysPerPoint != 0) {
+      EXPECT_EQ(footprint_rad[r], footprint_rad[r - 1]) << "point " << p;
+    }
+  }
+  EXPECT_LT(worst, 1e-3f) << "relative to the host's angle";
+  EXPECT_GT(disc_max, grid_max) << "the periphery's discs are wider than the pixel grid's";
+  engine_.copy = false;
+  for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control, &engine_.footprints})
+    destroy_buffer(engine_.device, b);
+}
+
+// Without bufferDeviceAddress on the app's device, the batch's addresses are 0.
+TEST_F(DeviceTraceTest, NoAddressesWithoutTheFeature) {
+  foveation::FoveatedView view(tables_, settings_);
+  std::string error;
+  ASSERT_TRUE(device_frame(view, request(glm::vec2(48, 40), 1), &error)) << error;
+  const DeviceRayBatch::Addresses& a = engine_.last.addresses;
+  for (const VkDeviceAddress address : {a.ray_count, a.rays, a.point_index, a.colors, a.footprints})
+    EXPECT_EQ(address, 0u);
+}
+
+// With it, every buffer of the batch has SHADER_DEVICE_ADDRESS usage and an address:
+// the layer's vkGetBufferDeviceAddress of a buffer without that usage, or of memory
+// allocated without DEVICE_ADDRESS, is a validation error (checked in TearDown).
+class DeviceTraceAddressTest : public DeviceTraceFixture {
+ protected:
+  bool buffer_device_address() const override { return true; }
+};
+
+TEST_F(DeviceTraceAddressTest, TheBatchsBuffersHaveDeviceAddresses) {
+  foveation::FoveatedView view(tables_, settings_);
+  std::string error;
+  ASSERT_TRUE(device_frame(view, request(glm::vec2(48, 40), 1), &error)) << error;
+  const DeviceRayBatch& batch = engine_.last;
+  const DeviceRayBatch::Addresses& a = batch.addresses;
+  const VkDeviceAddress all[] = {a.ray_count, a.rays, a.point_index, a.colors, a.footprints};
+  for (const VkDeviceAddress address : all) EXPECT_NE(address, 0u);
+  for (std::size_t i = 0; i < std::size(all); ++i)
+    for (std::size_t j = i + 1; j < std::size(all); ++j) EXPECT_NE(all[i], all[j]) << i << ", " << j;
+  EXPECT_EQ(a.ray_count % 4, 0u) << "vkCmdTraceRaysIndirectKHR's address + 16 must be 4-aligned";
+  EXPECT_EQ(engine_.calls, 1u);
 }
 
 // The ray order is deterministic: the visible points are compacted in the

@@ -26,6 +26,8 @@ struct Device {
   VkDevice device = VK_NULL_HANDLE;
   uint32_t queue_family_index = 0;
   uint32_t queue_index = 0;
+  // The app enabled bufferDeviceAddress on `device`: the device trace's buffers get addresses.
+  bool buffer_device_address = false;
   // Other queue families that use the buffers (the app-recorded trace's): with
   // any, every buffer made here is VK_SHARING_MODE_CONCURRENT over them and queue_family_index.
   std::vector<uint32_t> other_queue_families;
@@ -47,6 +49,14 @@ class Context {
   // Timestamps on the queue, and nanoseconds per tick.
   bool timestamps() const { return timestamps_; }
   float timestamp_period_ns() const { return timestamp_period_ns_; }
+  // Buffers may have device addresses (Device::buffer_device_address, and the device has the function).
+  bool buffer_device_address() const { return get_buffer_address_ != nullptr; }
+  // VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT where buffer_device_address(), else 0.
+  VkBufferUsageFlags address_usage() const {
+    return buffer_device_address() ? VkBufferUsageFlags{VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT} : VkBufferUsageFlags{0};
+  }
+  // The buffer's device address; 0 without buffer_device_address() (or for no buffer).
+  VkDeviceAddress buffer_address(VkBuffer buffer) const;
 
   // A buffer of at least 16 bytes, host-visible and mapped (b->mapped) or
   // device-local; b->size is set. The caller destroys it (destroy_buffer) either way.
@@ -67,6 +77,7 @@ class Context {
   VkDeviceSize max_storage_buffer_bytes_ = 0;
   float timestamp_period_ns_ = 1.0f;
   bool timestamps_ = false;
+  PFN_vkGetBufferDeviceAddress get_buffer_address_ = nullptr;
   std::vector<uint32_t> buffer_families_;  // concurrent sharing: two or more
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
   VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;

@@ -53,7 +53,12 @@ struct DeviceRayBatch {
   BufferRange rays;         // ray_capacity x DeviceRay; read only
   BufferRange point_index;  // ray_capacity x uint32_t; read only
   BufferRange colors;       // ray_capacity x vec4 (rgb, depth_m); written by the engine
+  BufferRange footprints;   // ray_capacity x float: each ray's footprint in radians (its point's disc); read only
   VkCommandBuffer command_buffer = VK_NULL_HANDLE;  // record the trace here
+  // Each range's device address (buffer address + offset); all 0 unless Context::buffer_device_address().
+  struct Addresses {
+    VkDeviceAddress ray_count = 0, rays = 0, point_index = 0, colors = 0, footprints = 0;
+  } addresses;
 };
 
 // The engine's device trace: records into batch.command_buffer; false when
@@ -170,6 +175,7 @@ class DeviceTrace {
   const foveation::PointSet* uploaded_points_ = nullptr;
   std::uint32_t ray_capacity_ = 0;
   BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_;
+  BoundBuffer footprints_;  // per ray: its point's disc radius as an angle, radians (device_rays.comp)
   BoundBuffer blocks_;  // per block of points: its visible points, then where they begin (device_rays.comp)
   VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record
   std::uint64_t uploaded_bytes_ = 0;  // the last record's copy of them

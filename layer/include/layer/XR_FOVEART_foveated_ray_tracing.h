@@ -46,9 +46,15 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
- * Versions: 8 adds the app-recorded trace (XrFoveatedAppTraceInfoFOVEART,
+ * Versions: 9 adds the app-recorded trace (XrFoveatedAppTraceInfoFOVEART,
  *           xrAcquireFoveatedRayBatchFOVEART, xrReleaseFoveatedRayBatchFOVEART);
- *           nothing else changed. 7 makes the device trace's indirect dispatch two-dimensional
+ *           nothing else changed.
+ *           8 adds each device ray's footprint (XrFoveatedDeviceRayFootprintFOVEART)
+ *           and the device trace buffers' device addresses
+ *           (XrFoveatedDeviceRayAddressesFOVEART), both chained into the
+ *           batch's `next`, and makes traceRays rows (see "Rays"); no layout
+ *           changed.
+ *           7 makes the device trace's indirect dispatch two-dimensional
  *           (dispatch64: x <= 65535 workgroups by y rows, see "Rays"; one row
  *           as before up to 65535 * 64 rays), renames FoveartDeviceRayCount
  *           XrFoveatedDeviceRayCountFOVEART (the old name stays, deprecated)
@@ -75,7 +81,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 8
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 9
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -311,7 +317,12 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           workgroups by y rows, so a compute shader of 64 invocations
  *           traces ray (gl_WorkGroupID.y * gl_NumWorkGroups.x +
  *           gl_WorkGroupID.x) * 64 + gl_LocalInvocationIndex and returns when
- *           that is >= count (y is 1 up to 65535 * 64 rays). Each ray is 32 bytes (std430
+ *           that is >= count (y is 1 up to 65535 * 64 rays). traceRays
+ *           (vkCmdTraceRaysIndirectKHR, from the rayCount buffer's device
+ *           address) is width x height x 1, rows of at most 65536, at most
+ *           2^30 launches in all (Vulkan's minimum limits): launch (x, y)
+ *           traces ray y * width + x, and that plus width * height while it
+ *           is < count (only past 2^30 rays). Each ray is 32 bytes (std430
  *           `vec4 origin_sample_x; vec4 direction_sample_y;`): origin in
  *           metres, unit direction, tracking space; the screen position in
  *           pixels, as in FoveartRayBatch. pointIndex holds the point of each
@@ -350,7 +361,7 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
 typedef struct XrFoveatedDeviceRayCountFOVEART {
   uint32_t count;            /* valid rays */
   uint32_t dispatch64[3];    /* VkDispatchIndirectCommand for 64 rays per workgroup: x <= 65535 by y rows, 1 */
-  uint32_t traceRays[3];     /* VkTraceRaysIndirectCommandKHR: count x 1 x 1 */
+  uint32_t traceRays[3];     /* VkTraceRaysIndirectCommandKHR: width x height x 1 (see "Rays") */
   uint32_t reserved;
 } XrFoveatedDeviceRayCountFOVEART;
 /* Deprecated: the name before version 7, kept for old sources; use XrFoveatedDeviceRayCountFOVEART. */
@@ -377,6 +388,44 @@ typedef struct XrFoveatedDeviceRayBatchFOVEART {
   XrFoveatedDeviceBufferFOVEART colors;     /* rayCapacity x vec4 (rgb, depth_m); written by the engine */
   VkCommandBuffer commandBuffer;            /* record the trace here */
 } XrFoveatedDeviceRayBatchFOVEART;
+
+/*
+ * Chained into every XrFoveatedDeviceRayBatchFOVEART's `next` (version 8):
+ *
+ * Footprint: XrFoveatedDeviceRayFootprintFOVEART, a float per ray, radians:
+ *           the angle at the eye of the disc radius of the ray's point
+ *           (thesis eq. 4; a pixel-grid point's own radius), written on the
+ *           device with the rays. A ray stands for its point's disc: treat it
+ *           as a cone of that half angle, whose radius at hit distance t is
+ *           t * tan(footprint), to pick a texture level of detail. Same
+ *           usage, queue and barriers as the rays.
+ * Addresses: XrFoveatedDeviceRayAddressesFOVEART, each buffer range's
+ *           VkDeviceAddress (buffer address + offset) when the app enabled
+ *           bufferDeviceAddress on its device through
+ *           xrCreateVulkanDeviceKHR (VkPhysicalDeviceVulkan12Features or
+ *           VkPhysicalDeviceBufferDeviceAddressFeatures): the buffers then
+ *           also have usage SHADER_DEVICE_ADDRESS. Otherwise every address
+ *           is 0 and the usage absent. vkCmdTraceRaysIndirectKHR takes
+ *           rayCount + 16 (XrFoveatedDeviceRayCountFOVEART::traceRays).
+ */
+#define XR_TYPE_FOVEATED_DEVICE_RAY_FOOTPRINT_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900008)
+#define XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900009)
+
+typedef struct XrFoveatedDeviceRayFootprintFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_DEVICE_RAY_FOOTPRINT_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  XrFoveatedDeviceBufferFOVEART footprints; /* rayCapacity x float, radians; read only */
+} XrFoveatedDeviceRayFootprintFOVEART;
+
+typedef struct XrFoveatedDeviceRayAddressesFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART */
+  const void* XR_MAY_ALIAS next;
+  VkDeviceAddress rayCount;   /* 0 without bufferDeviceAddress */
+  VkDeviceAddress rays;
+  VkDeviceAddress pointIndex;
+  VkDeviceAddress colors;
+  VkDeviceAddress footprints;
+} XrFoveatedDeviceRayAddressesFOVEART;
 
 typedef XrResult(XRAPI_PTR* PFN_xrFoveatedTraceRaysDeviceFOVEART)(void* userData,
                                                                  const XrFoveatedDeviceRayBatchFOVEART* batch);
@@ -423,7 +472,9 @@ typedef struct XrFoveatedDeviceTraceInfoFOVEART {
  *           wait for raysReadyValue before it reads the rays (a
  *           VkTimelineSemaphoreSubmitInfo wait on its submission) and must
  *           signal tracedValue after its last write of the colours. The
- *           device needs Vulkan 1.2's timelineSemaphore enabled. Like
+ *           device needs Vulkan 1.2's timelineSemaphore, enabled through
+ *           xrCreateVulkanDeviceKHR (else the create fails with
+ *           XR_ERROR_VALIDATION_FAILURE). Like
  *           xrEndFrame, the acquire submits on the session's queue: the app
  *           must not use that queue from another thread during the call. A
  *           batch belongs to the next xrEndFrame whose projection layer names
@@ -444,7 +495,8 @@ typedef struct XrFoveatedDeviceTraceInfoFOVEART {
  * Lifetime: a batch's buffers stay valid until the frame's submission (the
  *           xrEndFrame after the acquire) finished, frame slot by frame slot
  *           as the device trace's ("Lifetime" there, frameIndex in each
- *           view); a view's `view` pointer until the next acquire. When a
+ *           view); a view's `view` pointer and `next` chain (the footprint
+ *           and addresses, as a device trace's) until the next acquire. When a
  *           slot's batch is acquired again, the slot's previous frame has
  *           finished on the device, the app's trace included (the layer's
  *           submission waited for it). The semaphore lives as long as the

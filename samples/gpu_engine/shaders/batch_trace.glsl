@@ -13,12 +13,18 @@ struct DeviceRay {
 };
 layout(std430, set = 1, binding = 1) readonly buffer Rays { DeviceRay rays[]; };
 layout(std430, set = 1, binding = 2) writeonly buffer Colors { vec4 colors[]; };
+// XrFoveatedDeviceRayFootprintFOVEART's buffer: radians per ray (the engine binds zeros when the batch has none).
+layout(std430, set = 1, binding = 3) readonly buffer Footprints { float footprints[]; };
+
+// The valid rays: the count, within what the buffers hold.
+uint batch_ray_count() { return min(ray_count, min(uint(rays.length()), uint(colors.length()))); }
 
 // Traces ray i when it is one of the valid rays; counts it.
 void trace_batch_ray(uint i) {
-  const uint n = min(ray_count, min(uint(rays.length()), uint(colors.length())));
+  const uint n = batch_ray_count();
   if (i < n) {
     const DeviceRay r = rays[i];
+    ray_footprint_rad = i < uint(footprints.length()) ? footprints[i] : 0.0;
     uvec3 secondary = uvec3(0u);
     colors[i] = trace_path(r.origin_sample_x.xyz, r.direction_sample_y.xyz, secondary);
     count_rays(1u, secondary);

@@ -94,7 +94,7 @@ vec3 glm_rotate(vec4 q_xyzw, vec3 v) {
 
 // ---- texture_sampler.hpp -------------------------------------------------------
 
-// Slot `slot`'s texel p (level 0) and size, through a switch of constant
+// Slot `slot`'s texel p and size at a level, and its levels, through a switch of constant
 // indices: slots past TEXTURE_COUNT are specialised away.
 #define FOVEART_SLOT(k) \
   case k:               \
@@ -110,16 +110,22 @@ vec3 glm_rotate(vec4 q_xyzw, vec3 v) {
     FOVEART_SLOT(30) FOVEART_SLOT(31)                                                                  \
     default: break;                                                                                    \
   }
-#define FOVEART_SLOT_OP(t) texelFetch(t, p, 0)
-vec4 slot_texel(int slot, ivec2 p) {
+#define FOVEART_SLOT_OP(t) texelFetch(t, p, level)
+vec4 slot_texel(int slot, ivec2 p, int level) {
   FOVEART_SLOTS
   return vec4(1.0);
 }
 #undef FOVEART_SLOT_OP
-#define FOVEART_SLOT_OP(t) textureSize(t, 0)
-ivec2 slot_size(int slot) {
+#define FOVEART_SLOT_OP(t) textureSize(t, level)
+ivec2 slot_size(int slot, int level) {
   FOVEART_SLOTS
   return ivec2(1);
+}
+#undef FOVEART_SLOT_OP
+#define FOVEART_SLOT_OP(t) textureQueryLevels(t)
+int slot_levels(int slot) {
+  FOVEART_SLOTS
+  return 1;
 }
 #undef FOVEART_SLOT_OP
 #undef FOVEART_SLOTS
@@ -147,8 +153,9 @@ vec3 srgb_to_linear(vec3 c) {
 
 // The texel as the CPU engine holds it: sRGB bytes (flags & 32) decoded here,
 // in float, as the loader decodes them.
-vec4 texel_at(int slot, ivec2 size, uint flags, int xi, int yi) {
-  vec4 t = slot_texel(slot, ivec2(wrap_texel(xi, size.x, flags & 3u), wrap_texel(yi, size.y, (flags >> 2u) & 3u)));
+vec4 texel_at(int slot, int level, ivec2 size, uint flags, int xi, int yi) {
+  vec4 t = slot_texel(slot, ivec2(wrap_texel(xi, size.x, flags & 3u), wrap_texel(yi, size.y, (flags >> 2u) & 3u)),
+                      level);
   if ((flags & 32u) != 0u) t.rgb = srgb_to_linear(t.rgb);
   return t;
 }
@@ -157,8 +164,8 @@ vec4 texel_at(int slot, ivec2 size, uint flags, int xi, int yi) {
 // wrap_t << 2 | nearest << 4 | srgb8 << 5. Texels fetched, decoded, wrapped and
 // filtered here in float as the CPU engine does (texture_sampler.hpp): lavapipe's
 // own sRGB decode is up to 1.8 % off in dark texels, past the per-ray tolerance.
-vec4 sample_texture(int slot, uint flags, vec2 uv) {
-  const ivec2 size = slot_size(slot);
+vec4 sample_texture_level(int slot, int level, uint flags, vec2 uv) {
+  const ivec2 size = slot_size(slot, level);
   if (!finite(uv.x) || !finite(uv.y)) uv = vec2(0.0);
   uv = clamp(uv, vec2(-1.0e6), vec2(1.0e6));
   const float x = uv.x * float(size.x) - 0.5;
@@ -167,12 +174,29 @@ vec4 sample_texture(int slot, uint flags, vec2 uv) {
   const float fy0 = floor(y);
   const int x0 = int(fx0);
   const int y0 = int(fy0);
-  if ((flags & 16u) != 0u) return texel_at(slot, size, flags, int(floor(x + 0.5)), int(floor(y + 0.5)));
+  if ((flags & 16u) != 0u) return texel_at(slot, level, size, flags, int(floor(x + 0.5)), int(floor(y + 0.5)));
   const float ax = x - fx0;
   const float ay = y - fy0;
-  return glm_mix4(glm_mix4(texel_at(slot, size, flags, x0, y0), texel_at(slot, size, flags, x0 + 1, y0), ax),
-                  glm_mix4(texel_at(slot, size, flags, x0, y0 + 1), texel_at(slot, size, flags, x0 + 1, y0 + 1), ax),
+  return glm_mix4(glm_mix4(texel_at(slot, level, size, flags, x0, y0), texel_at(slot, level, size, flags, x0 + 1, y0), ax),
+                  glm_mix4(texel_at(slot, level, size, flags, x0, y0 + 1),
+                           texel_at(slot, level, size, flags, x0 + 1, y0 + 1), ax),
                   ay);
+}
+
+// Level 0, as the CPU engine samples.
+vec4 sample_texture(int slot, uint flags, vec2 uv) { return sample_texture_level(slot, 0, flags, uv); }
+
+// At level of detail `lod` (texture_mips.hpp's chain): level 0 for lod <= 0 (exactly
+// sample_texture), else the two levels around it mixed (trilinear), the last level past the chain.
+vec4 sample_texture_lod(int slot, uint flags, vec2 uv, float lod) {
+  if (!(lod > 0.0)) return sample_texture(slot, flags, uv);
+  const int last = slot_levels(slot) - 1;
+  const float l = min(lod, float(last));
+  const int l0 = int(floor(l));
+  const int l1 = min(l0 + 1, last);
+  const float a = l - float(l0);
+  const vec4 c0 = sample_texture_level(slot, l0, flags, uv);
+  return a > 0.0 ? glm_mix4(c0, sample_texture_level(slot, l1, flags, uv), a) : c0;
 }
 
 // Tracer::Impl::texcoord.
@@ -180,6 +204,22 @@ vec2 texcoord(uint tri, int set, float u, float v) {
   const Shading s = shading[tri];
   if (set == 0) return (1.0 - u - v) * s.uva.xy + u * s.uva.zw + v * s.uvb.xy;
   return (1.0 - u - v) * s.uvb.zw + u * s.uvc.xy + v * s.uvc.zw;
+}
+
+// The texture level of detail of a ray cone at a triangle hit: Akenine-Moller et al. 2019,
+// "Texture Level of Detail Strategies for Real-Time Ray Tracing" (Ray Tracing Gems ch. 20),
+// lambda = 0.5 log2(t_a / p_a) + log2(w / |n.d|), with t_a the triangle's area in texels,
+// p_a in square metres and w the cone's width at the hit, 2 t tan(footprint_rad).
+float cone_texture_lod(uint tri, int set, int slot, float t, float footprint_rad, float cos_view) {
+  const Triangle tr = tris[tri];
+  const float world_area = length(glm_cross(tr.p1 - tr.p0, tr.p2 - tr.p0));
+  const vec2 uv0 = texcoord(tri, set, 0.0, 0.0), uv1 = texcoord(tri, set, 1.0, 0.0), uv2 = texcoord(tri, set, 0.0, 1.0);
+  const vec2 size = vec2(slot_size(slot, 0));
+  const vec2 e1 = (uv1 - uv0) * size, e2 = (uv2 - uv0) * size;
+  const float texel_area = abs(e1.x * e2.y - e1.y * e2.x);
+  const float width_m = 2.0 * t * tan(footprint_rad);
+  if (!(world_area > 0.0) || !(texel_area > 0.0) || !(width_m > 0.0)) return 0.0;
+  return 0.5 * log2(texel_area / world_area) + log2(width_m / max(abs(cos_view), 1e-3));
 }
 
 // Tracer::Impl::alpha_passes (glTF alphaMode MASK).

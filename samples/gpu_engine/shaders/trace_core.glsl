@@ -92,6 +92,10 @@ struct Pending {
   int depth;
 };
 
+// The traced ray's footprint in radians (XrFoveatedDeviceRayFootprintFOVEART; batch_trace.glsl
+// sets it): its primary hit samples textures at the cone's level of detail. 0: level 0, as the CPU engine.
+float ray_footprint_rad = 0.0;
+
 // Radiance along (o, d) as Tracer::Impl::trace and trace_packet compute it: rgb
 // (finite, >= 0) and in w the primary hit distance (+inf: a miss; NaN: an
 // invalid ray, black). rays.xyz += shadow, reflection, refraction rays cast.
@@ -125,7 +129,12 @@ vec4 trace_path(vec3 o, vec3 d_in, inout uvec3 rays) {
     if (!front) n = -n;                      // shade the side the ray sees
     const float cos_view = -dot(p.dir, n);
     vec3 base = m.base_color.rgb;
-    if (FX_TEXTURES && m.texture >= 0) base *= sample_texture(m.texture, m.texture_flags, texcoord(tri, m.texcoord, u, v)).rgb;
+    if (FX_TEXTURES && m.texture >= 0) {
+      const float lod = p.depth == 0 && ray_footprint_rad > 0.0
+                            ? cone_texture_lod(tri, m.texcoord, m.texture, t, ray_footprint_rad, cos_view)
+                            : 0.0;
+      base *= sample_texture_lod(m.texture, m.texture_flags, texcoord(tri, m.texcoord, u, v), lod).rgb;
+    }
     const float kd = diffuse_weight(m);
     const float ambient_shape = 0.4 + 0.6 * cos_view;
     color += p.weight * (m.emissive + base * (kd * ambient_shape) * ambient);

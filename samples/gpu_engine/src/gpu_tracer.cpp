@@ -35,7 +35,7 @@ namespace {
 constexpr uint32_t kSceneBindings = 9;    // scene_data.glsl, set 0
 constexpr uint32_t kTextureBinding = 6;   // scene_textures[kTextureSlots]
 constexpr uint32_t kCounterBinding = 8;   // the ray counters
-constexpr uint32_t kTraceBindings = 3;    // trace.comp, set 1: rayCount, rays, colors
+constexpr uint32_t kTraceBindings = 4;    // trace.comp, set 1: rayCount, rays, colors, footprints
 constexpr uint32_t kFullBindings = 1;     // full.comp, set 1: pixels
 constexpr uint32_t kCachedSets = 32;      // per-call descriptor sets kept before the pool is reset
 constexpr uint32_t kTraceGroup = 64;      // trace.comp local_size_x
@@ -58,6 +58,14 @@ uint64_t count_bvh_nodes(const BvhData& bvh) {
     for (const uint32_t child : {n.left, n.right})
       if ((child & kLeafBit) != 0u && child != kEmptyChild) ++leaves;
   return bvh.nodes.size() + leaves;
+}
+
+// The struct of `type` in a batch's next chain, or null (OpenXR's rule: unknown types are skipped).
+template <class T>
+const T* find_chained(const void* next, XrStructureType type) {
+  for (auto* s = static_cast<const XrBaseInStructure*>(next); s != nullptr; s = s->next)
+    if (s->type == type) return reinterpret_cast<const T*>(s);
+  return nullptr;
 }
 
 uint64_t handle_bits(VkBuffer b) {
@@ -103,7 +111,8 @@ struct GpuTracer::Impl {
   VkDescriptorPool call_pool = VK_NULL_HANDLE;
   VkDescriptorSet scene_set = VK_NULL_HANDLE;
   // (kind, buffer, offset, size per binding) -> set; see record_* for why reuse is safe.
-  std::map<std::array<uint64_t, 10>, VkDescriptorSet> call_sets;
+  std::map<std::array<uint64_t, 1 + 3 * kTraceBindings>, VkDescriptorSet> call_sets;
+  MappedBuffer no_footprints;  // zeros: the footprints of a batch that has none (texture level 0)
   // Full call pools replaced by new ones while a frame in flight may still use
   // their sets: destroyed once the trace's frame index is a frame slot round
   // past the last frame that could (the header's Lifetime clause).
@@ -152,6 +161,7 @@ GpuTracer::Impl::~Impl() {
   for (DeviceBuffer& b : buffers) b.destroy();
   textures.destroy();
   counters.destroy();
+  no_footprints.destroy();
 }
 
 // Descriptor set layouts, pipeline layouts and pools.
@@ -392,7 +402,8 @@ bool GpuTracer::Impl::upload_scene(const SceneData& data, std::string* error) {
       return false;
   }
   return uploader.finish(error) &&
-         counters.create(ctx.physical_device, ctx.device, kCounterWords * sizeof(uint32_t), nullptr, error);  // zeroed
+         counters.create(ctx.physical_device, ctx.device, kCounterWords * sizeof(uint32_t), nullptr, error) &&  // zeroed
+         no_footprints.create(ctx.physical_device, ctx.device, 16, nullptr, error);
 }
 
 // The scene's descriptor set: its buffers, binding 0 the TLAS with the ray-tracing pipeline.
@@ -439,7 +450,7 @@ bool GpuTracer::Impl::write_scene_set(std::string* error) {
 // finished (the header's Lifetime clause); a full pool is retired, not reset.
 VkDescriptorSet GpuTracer::Impl::call_set(uint64_t kind, VkDescriptorSetLayout layout,
                                           const VkDescriptorBufferInfo* infos, uint32_t count, std::string* error) {
-  std::array<uint64_t, 10> key{};
+  std::array<uint64_t, 1 + 3 * kTraceBindings> key{};
   key[0] = kind;
   for (uint32_t i = 0; i < count; ++i) {
     key[1 + 3 * i] = handle_bits(infos[i].buffer);
@@ -513,7 +524,8 @@ void GpuTracer::Impl::barrier_counters(VkCommandBuffer cb) const {
   vkCmdPipelineBarrier(cb, pipeline_stage, pipeline_stage, 0, 0, nullptr, 1, &b, 0, nullptr);
 }
 
-// XrFoveatedDeviceRayBatchFOVEART -> bind, sets, dispatch indirect (64 rays per group).
+// XrFoveatedDeviceRayBatchFOVEART -> bind, sets, dispatch indirect (64 rays per group) or trace rays
+// indirect (the ray-tracing pipeline, where the batch has addresses).
 bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error) {
   if (batch.type != XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART)
     return fail(error, "gpu_engine: batch type is not XR_TYPE_FOVEATED_DEVICE_RAY_BATCH_FOVEART");
@@ -523,10 +535,20 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
       !check_range("rays", batch.rays.buffer, batch.rays.offset, batch.rays.size, 32, error) ||
       !check_range("colors", batch.colors.buffer, batch.colors.offset, batch.colors.size, 16, error))
     return false;
+  // The rays' footprints pick the texture level of detail; without them (or an empty range), zeros: level 0.
+  const auto* footprint = find_chained<XrFoveatedDeviceRayFootprintFOVEART>(
+      batch.next, XR_TYPE_FOVEATED_DEVICE_RAY_FOOTPRINT_FOVEART);
+  VkDescriptorBufferInfo footprints{no_footprints.buffer(), 0, VK_WHOLE_SIZE};
+  if (options.texture_lod && footprint != nullptr && footprint->footprints.buffer != VK_NULL_HANDLE) {
+    if (!check_range("footprints", footprint->footprints.buffer, footprint->footprints.offset,
+                     footprint->footprints.size, 4, error))
+      return false;
+    footprints = {footprint->footprints.buffer, footprint->footprints.offset, footprint->footprints.size};
+  }
   const std::array<VkDescriptorBufferInfo, kTraceBindings> infos = {
       VkDescriptorBufferInfo{batch.rayCount.buffer, batch.rayCount.offset, batch.rayCount.size},
       VkDescriptorBufferInfo{batch.rays.buffer, batch.rays.offset, batch.rays.size},
-      VkDescriptorBufferInfo{batch.colors.buffer, batch.colors.offset, batch.colors.size}};
+      VkDescriptorBufferInfo{batch.colors.buffer, batch.colors.offset, batch.colors.size}, footprints};
   trace_frame_index = std::max(trace_frame_index, batch.frameIndex);
   const VkDescriptorSet set = call_set(0, trace_layout, infos.data(), kTraceBindings, error);
   if (set == VK_NULL_HANDLE) return false;
@@ -534,10 +556,17 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
   barrier_counters(cb);
   const VkDescriptorSet sets[2] = {scene_set, set};
   if (rt) {
-    // One launch per ray the buffers hold; trace.rgen returns past the count.
+    vkCmdBindDescriptorSets(cb, bind_point, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
+    // Only the frame's rays, launched from XrFoveatedDeviceRayCountFOVEART::traceRays at the count's address.
+    const auto* addresses = find_chained<XrFoveatedDeviceRayAddressesFOVEART>(
+        batch.next, XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART);
+    if (addresses != nullptr && addresses->rayCount != 0 && ctx.trace_rays_indirect) {
+      return rt->record_indirect(cb, RtPipelineTracer::Entry::trace,
+                                 addresses->rayCount + offsetof(XrFoveatedDeviceRayCountFOVEART, traceRays), error);
+    }
+    // Else one launch per ray the buffers hold; trace.rgen returns past the count.
     const auto launches = static_cast<uint32_t>(std::min<VkDeviceSize>(
         {VkDeviceSize{batch.rayCapacity}, batch.rays.size / 32, batch.colors.size / 16}));
-    vkCmdBindDescriptorSets(cb, bind_point, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
     return rt->record(cb, RtPipelineTracer::Entry::trace, launches, 1, error);
   }
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, trace_pipeline);

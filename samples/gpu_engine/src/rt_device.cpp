@@ -6,6 +6,20 @@
 #include <cstring>
 
 namespace foveart::gpu_engine {
+namespace {
+
+// The VkPhysicalDeviceVulkan12Features in info's chain, or null.
+VkPhysicalDeviceVulkan12Features* find_vulkan12_features(const VkDeviceCreateInfo* info) {
+  for (auto* s = static_cast<const VkBaseInStructure*>(info->pNext); s != nullptr; s = s->pNext) {
+    if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES) {
+      // The caller's own struct, chained for this device creation: enable() may set its fields.
+      return reinterpret_cast<VkPhysicalDeviceVulkan12Features*>(const_cast<VkBaseInStructure*>(s));
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
 
 const std::vector<const char*>& RayTracingDeviceSupport::extensions() {
   static const std::vector<const char*> names = {
@@ -49,6 +63,24 @@ RayTracingDeviceSupport::RayTracingDeviceSupport(VkPhysicalDevice physical_devic
   if (!pipeline_.rayTracingPipeline) missing_ = "the rayTracingPipeline feature";
   else if (!acceleration_.accelerationStructure) missing_ = "the accelerationStructure feature";
   else if (!address_.bufferDeviceAddress) missing_ = "the bufferDeviceAddress feature";
+  indirect_ = pipeline_.rayTracingPipelineTraceRaysIndirect == VK_TRUE;
+}
+
+void RayTracingDeviceSupport::chain_features(VkDeviceCreateInfo* info,
+                                             VkPhysicalDeviceBufferDeviceAddressFeaturesKHR* address,
+                                             VkPhysicalDeviceAccelerationStructureFeaturesKHR* acceleration,
+                                             VkPhysicalDeviceRayTracingPipelineFeaturesKHR* pipeline) {
+  // A VkPhysicalDeviceVulkan12Features of the caller's must carry the feature instead: the
+  // spec forbids it beside a VkPhysicalDeviceBufferDeviceAddressFeatures in one chain.
+  if (auto* v12 = find_vulkan12_features(info)) {
+    v12->bufferDeviceAddress = VK_TRUE;
+    acceleration->pNext = const_cast<void*>(info->pNext);
+  } else {
+    address->pNext = const_cast<void*>(info->pNext);
+    acceleration->pNext = address;
+  }
+  pipeline->pNext = acceleration;
+  info->pNext = pipeline;
 }
 
 bool RayTracingDeviceSupport::enable(VkDeviceCreateInfo* info, std::vector<const char*>* extension_names) {
@@ -63,13 +95,11 @@ bool RayTracingDeviceSupport::enable(VkDeviceCreateInfo* info, std::vector<const
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR pipeline{};
   pipeline.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_TRACING_PIPELINE_FEATURES_KHR;
   pipeline.rayTracingPipeline = VK_TRUE;
+  pipeline.rayTracingPipelineTraceRaysIndirect = indirect_ ? VK_TRUE : VK_FALSE;
   address_ = address;
   acceleration_ = acceleration;
   pipeline_ = pipeline;
-  address_.pNext = const_cast<void*>(info->pNext);
-  acceleration_.pNext = &address_;
-  pipeline_.pNext = &acceleration_;
-  info->pNext = &pipeline_;
+  chain_features(info, &address_, &acceleration_, &pipeline_);
   for (const char* name : extensions())
     if (std::none_of(extension_names->begin(), extension_names->end(),
                      [&](const char* e) { return std::strcmp(e, name) == 0; }))

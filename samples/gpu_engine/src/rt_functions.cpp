@@ -15,6 +15,8 @@ bool load_one(VkDevice device, const char* name, Pfn* out, std::string* error) {
 }  // namespace
 
 bool RtFunctions::load(VkDevice device, std::string* error) {
+  cmd_trace_rays_indirect =
+      reinterpret_cast<PFN_vkCmdTraceRaysIndirectKHR>(vkGetDeviceProcAddr(device, "vkCmdTraceRaysIndirectKHR"));
   return load_one(device, "vkGetBufferDeviceAddressKHR", &get_buffer_device_address, error) &&
          load_one(device, "vkCreateAccelerationStructureKHR", &create_acceleration_structure, error) &&
          load_one(device, "vkDestroyAccelerationStructureKHR", &destroy_acceleration_structure, error) &&

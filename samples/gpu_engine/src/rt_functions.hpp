@@ -22,6 +22,7 @@ struct RtFunctions {
   PFN_vkCreateRayTracingPipelinesKHR create_ray_tracing_pipelines = nullptr;
   PFN_vkGetRayTracingShaderGroupHandlesKHR get_ray_tracing_shader_group_handles = nullptr;
   PFN_vkCmdTraceRaysKHR cmd_trace_rays = nullptr;
+  PFN_vkCmdTraceRaysIndirectKHR cmd_trace_rays_indirect = nullptr;  // optional: null where not loaded
 
   [[nodiscard]] bool load(VkDevice device, std::string* error);
   VkDeviceAddress address(VkDevice device, VkBuffer buffer) const;

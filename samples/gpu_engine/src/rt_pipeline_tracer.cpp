@@ -219,4 +219,14 @@ bool RtPipelineTracer::record(VkCommandBuffer cb, Entry entry, uint32_t width, u
   return true;
 }
 
+bool RtPipelineTracer::record_indirect(VkCommandBuffer cb, Entry entry, VkDeviceAddress args,
+                                       std::string* error) const {
+  const Table& table = tables_[static_cast<size_t>(entry)];
+  if (table.pipeline == VK_NULL_HANDLE) return fail(error, "gpu_engine: ray-tracing pipeline not created");
+  if (fn_.cmd_trace_rays_indirect == nullptr) return fail(error, "gpu_engine: no vkCmdTraceRaysIndirectKHR");
+  vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_RAY_TRACING_KHR, table.pipeline);
+  fn_.cmd_trace_rays_indirect(cb, &table.raygen, &table.miss, &table.hit, &table.callable, args);
+  return true;
+}
+
 }  // namespace foveart::gpu_engine

@@ -53,6 +53,9 @@ class RtPipelineTracer {
   // Binds `entry`'s pipeline and launches width x height rays. False + *error
   // (nothing recorded) when the launch exceeds the device's limits.
   [[nodiscard]] bool record(VkCommandBuffer cb, Entry entry, uint32_t width, uint32_t height, std::string* error) const;
+  // Binds `entry`'s pipeline and launches from the VkTraceRaysIndirectCommandKHR at `args`
+  // (vkCmdTraceRaysIndirectKHR: GpuContext::trace_rays_indirect).
+  [[nodiscard]] bool record_indirect(VkCommandBuffer cb, Entry entry, VkDeviceAddress args, std::string* error) const;
 
  private:
   struct Table {  // one pipeline's shader binding table

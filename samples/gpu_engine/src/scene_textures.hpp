@@ -6,15 +6,17 @@
 // decodes from an 8-bit sRGB image (srgb_to_linear(v / 255) for colour, v / 255
 // for alpha: re-encoding gives the bytes back exactly), 4 bytes a texel. Any
 // other texture (procedural floats, 16-bit PNGs) is RGBA32F, so its texels stay
-// what the CPU engine reads. One level: the CPU engine samples level 0.
+// what the CPU engine reads. Level 0 is what the CPU engine samples; a full mip
+// chain follows (texture_mips.hpp: 2x2 box filters in linear values, re-encoded
+// to sRGB bytes for RGBA8), sampled where a ray brings its footprint.
 //
 // Decoding and filtering: the shaders fetch texels and decode, wrap and filter
 // them in float with the glTF wrap modes and filter (GpuMaterial::texture_flags),
 // as the loader and texture_sampler.hpp do. Measured on lavapipe, an
 // R8G8B8A8_SRGB view's own decode is up to 1.8 % off the CPU engine's in dark
 // texels (sampled or fetched), past the per-ray tolerance: hence UNORM and the
-// decode in the shader. The sampler is a placeholder (nearest, clamp) until the
-// ray footprint brings mip levels and the device's filtering.
+// decode in the shader (and the shader's own filtering between levels). The
+// sampler only has to be valid (nearest, clamp).
 //
 // Slots: shaders index the array only with constants (lavapipe offers no
 // descriptor indexing), so it has a fixed size; unused slots hold a 1x1 texture.
@@ -61,8 +63,13 @@ class SceneTextures {
     VkImageView view = VK_NULL_HANDLE;
     MemoryLedger::Allocation memory;
   };
+  struct MipUpload {  // a level past 0: its size and texels, in the image's format
+    uint32_t width, height;
+    const void* texels;
+  };
   bool add_image(Uploader& uploader, uint32_t width, uint32_t height, VkFormat format, const void* texels,
-                 uint32_t texel_bytes, std::string* error);
+                 uint32_t texel_bytes, std::string* error, const std::vector<MipUpload>& mips = {});
+  bool add_texture(Uploader& uploader, const engine::Texture& t, uint32_t slot, std::string* error);
   VkSampler sampler(std::string* error);
 
   std::shared_ptr<MemoryLedger> ledger_;

@@ -309,7 +309,7 @@ bool Uploader::buffer(const DeviceBuffer& dst, const void* data, VkDeviceSize by
 }
 
 bool Uploader::image(VkImage dst, uint32_t width, uint32_t height, uint32_t texel_bytes, const void* data,
-                     std::string* error) {
+                     std::string* error, uint32_t level) {
   MappedBuffer* staging = stage(data, VkDeviceSize{width} * height * texel_bytes, error);
   if (staging == nullptr) return false;
   VkImageMemoryBarrier b{};
@@ -320,11 +320,11 @@ bool Uploader::image(VkImage dst, uint32_t width, uint32_t height, uint32_t texe
   b.newLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
   b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.image = dst;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, 1, 0, 1};
   vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
                        nullptr, 1, &b);
   VkBufferImageCopy copy{};
-  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
   copy.imageExtent = {width, height, 1};
   vkCmdCopyBufferToImage(cb_, staging->buffer(), dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   // The layout the shaders sample in; its visibility to them comes with submit()'s barrier.

@@ -120,10 +120,10 @@ class Uploader {
   Uploader& operator=(const Uploader&) = delete;
 
   [[nodiscard]] bool buffer(const DeviceBuffer& dst, const void* data, VkDeviceSize bytes, std::string* error);
-  // An image of one mip level and layer, `texel_bytes` per texel, tightly packed:
-  // UNDEFINED -> TRANSFER_DST_OPTIMAL -> copy -> SHADER_READ_ONLY_OPTIMAL.
+  // Mip level `level` (width x height) of an image of one layer, `texel_bytes` per texel, tightly
+  // packed: UNDEFINED -> TRANSFER_DST_OPTIMAL -> copy -> SHADER_READ_ONLY_OPTIMAL, that level alone.
   [[nodiscard]] bool image(VkImage dst, uint32_t width, uint32_t height, uint32_t texel_bytes, const void* data,
-                           std::string* error);
+                           std::string* error, uint32_t level = 0);
   [[nodiscard]] bool finish(std::string* error);  // records nothing more afterwards
 
   static constexpr VkDeviceSize kFlushBytes = VkDeviceSize{64} << 20;

@@ -75,6 +75,8 @@ struct GpuContext {
   // VK_KHR_ray_tracing_pipeline, VK_KHR_acceleration_structure, their required
   // extensions and features. A VkDevice cannot be asked; its creator says so.
   bool ray_tracing_enabled = false;
+  // ... and its rayTracingPipelineTraceRaysIndirect feature (RayTracingDeviceSupport::trace_rays_indirect()).
+  bool trace_rays_indirect = false;
 };
 
 enum class GpuBackend {
@@ -96,6 +98,9 @@ struct GpuTracerOptions {
   // it tests (work_counts()), at the cost of a few atomics per workgroup. The
   // compute backend only: a ray-tracing pipeline's traversal is the driver's.
   bool count_work = false;
+  // A device-trace ray's footprint picks its primary hit's texture level (record_trace);
+  // false: every lookup at level 0 as the CPU engine's, footprints ignored (its equality tests).
+  bool texture_lod = true;
   static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
 };
 
@@ -109,10 +114,14 @@ class GpuTracer {
   GpuTracer& operator=(const GpuTracer&) = delete;
 
   // The layer's device trace: records into batch.commandBuffer a dispatch
-  // indirect from batch.rayCount (compute), or a vkCmdTraceRaysKHR of
+  // indirect from batch.rayCount (compute), or (ray_tracing_pipeline) a
+  // vkCmdTraceRaysIndirectKHR of traceRays at the count buffer's address
+  // (XrFoveatedDeviceRayAddressesFOVEART, where the batch has addresses and
+  // GpuContext::trace_rays_indirect), else a vkCmdTraceRaysKHR of
   // min(rayCapacity, rays, colors) launches of which those past the count
-  // return at once (ray_tracing_pipeline: an indirect launch needs a device
-  // address the layer's buffers do not have). false + *error: nothing usable was recorded.
+  // return at once. Each ray's primary hit samples textures at the level of
+  // detail of its footprint (XrFoveatedDeviceRayFootprintFOVEART; level 0
+  // without one, as the CPU engine). false + *error: nothing usable was recorded.
   [[nodiscard]] bool record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch, std::string* error);
 
   // A full render of `view` like engine::render_full (box-filter jitter

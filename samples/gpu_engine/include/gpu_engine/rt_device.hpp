@@ -38,14 +38,30 @@ class RayTracingDeviceSupport {
   // hold the caller's own device extensions: info's list is replaced by it),
   // points info->ppEnabledExtensionNames at it and chains the three feature
   // structs in front of info->pNext; *extensions must outlive vkCreateDevice
-  // too. Returns offered(); changes nothing otherwise.
+  // too. Where the caller chained a VkPhysicalDeviceVulkan12Features (a
+  // Vulkan 1.2 device), bufferDeviceAddress is set there instead and only the
+  // two ray-tracing structs are chained: one chain may not hold both. Returns
+  // offered(); changes nothing otherwise.
   bool enable(VkDeviceCreateInfo* info, std::vector<const char*>* extensions);
+
+  // The device offers rayTracingPipelineTraceRaysIndirect, which enable() then enables too
+  // (GpuContext::trace_rays_indirect: the tracer launches only the frame's rays).
+  bool trace_rays_indirect() const { return offered() && indirect_; }
+
+  // The feature chain enable() puts in front of info->pNext: pipeline -> acceleration
+  // (-> address unless the chain holds a VkPhysicalDeviceVulkan12Features, whose
+  // bufferDeviceAddress is set instead) -> the caller's chain. The structs must outlive
+  // vkCreateDevice.
+  static void chain_features(VkDeviceCreateInfo* info, VkPhysicalDeviceBufferDeviceAddressFeaturesKHR* address,
+                             VkPhysicalDeviceAccelerationStructureFeaturesKHR* acceleration,
+                             VkPhysicalDeviceRayTracingPipelineFeaturesKHR* pipeline);
 
   // The device extensions enable() adds.
   static const std::vector<const char*>& extensions();
 
  private:
   std::string missing_;
+  bool indirect_ = false;
   VkPhysicalDeviceBufferDeviceAddressFeaturesKHR address_{};
   VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration_{};
   VkPhysicalDeviceRayTracingPipelineFeaturesKHR pipeline_{};
