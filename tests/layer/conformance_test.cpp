@@ -230,6 +230,45 @@ TEST(LayerConformance, UnknownRendererHandleForwardsTheFrameUntraced) {
   EXPECT_EQ(a.stats(renderer).main.framesTraced, 1u);
 }
 
+// The app-recorded trace's entry points on a session whose device has no
+// timelineSemaphore (the test app's Vulkan 1.0 device) and a renderer without
+// it: every bad call is an XrResult, nothing is traced, the frame goes on.
+TEST(LayerConformance, AppRecordedTraceRefusesBadCallsWithXrResults) {
+  FOVEART_REQUIRE_RUNTIME();
+  IsolatedEnv env;
+  LayerApp a(env, config(env, R"(, "wait_for_tables": true)"));
+  a.start();
+  const auto acquire = a.app.proc<PFN_xrAcquireFoveatedRayBatchFOVEART>("xrAcquireFoveatedRayBatchFOVEART");
+  const auto release = a.app.proc<PFN_xrReleaseFoveatedRayBatchFOVEART>("xrReleaseFoveatedRayBatchFOVEART");
+  ASSERT_TRUE(acquire && release);
+  auto info = xr<XrFoveatedRendererCreateInfoFOVEART>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART);
+  info.traceRays = &grey;
+  auto app_trace = xr<XrFoveatedAppTraceInfoFOVEART>(XR_TYPE_FOVEATED_APP_TRACE_INFO_FOVEART);
+  info.next = &app_trace;
+  XrFoveatedRendererFOVEART refused = XR_NULL_HANDLE;
+  EXPECT_EQ(a.create(a.app.session, &info, &refused), XR_ERROR_VALIDATION_FAILURE) << "no timelineSemaphore";
+  const auto renderer = a.make_renderer();  // the callback alone
+  const XrView view = xr<XrView>(XR_TYPE_VIEW);
+  const XrExtent2Di size{64, 64};
+  auto acquire_info = xr<XrFoveatedRayBatchAcquireInfoFOVEART>(XR_TYPE_FOVEATED_RAY_BATCH_ACQUIRE_INFO_FOVEART);
+  acquire_info.viewCount = 1;
+  acquire_info.views = &view;
+  acquire_info.imageSizes = &size;
+  XrFoveatedDeviceRayBatchFOVEART views[1] = {};
+  auto batch = xr<XrFoveatedRayBatchFOVEART>(XR_TYPE_FOVEATED_RAY_BATCH_FOVEART);
+  batch.viewCapacityInput = 1;
+  batch.views = views;
+  EXPECT_EQ(acquire(renderer, &acquire_info, &batch), XR_ERROR_VALIDATION_FAILURE) << "not an app-recorded renderer";
+  EXPECT_EQ(acquire(renderer, nullptr, &batch), XR_ERROR_VALIDATION_FAILURE);
+  EXPECT_EQ(acquire(renderer, &acquire_info, nullptr), XR_ERROR_VALIDATION_FAILURE);
+  const auto unknown = reinterpret_cast<XrFoveatedRendererFOVEART>(uintptr_t{0xdead});
+  EXPECT_EQ(acquire(unknown, &acquire_info, &batch), XR_ERROR_HANDLE_INVALID);
+  EXPECT_EQ(release(unknown, 1), XR_ERROR_HANDLE_INVALID);
+  EXPECT_EQ(release(renderer, 1), XR_ERROR_VALIDATION_FAILURE) << "never handed out";
+  EXPECT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  EXPECT_EQ(a.stats(renderer).main.framesTraced, 1u) << "the callback still traces";
+}
+
 TEST(LayerConformance, ThreeViewsAreForwardedForTheRuntimeToReject) {
   FOVEART_REQUIRE_RUNTIME();
   IsolatedEnv env;
