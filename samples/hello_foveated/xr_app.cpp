@@ -328,7 +328,8 @@ class App {
     device_trace_made_ = true;  // released at shutdown even if making it threw half-way
     device_trace_ = options_.make_device_trace(vulkan_device());
     if (!options_.app_recorded_trace) return;
-    if (device_trace_.trace_rays_device == nullptr) throw std::runtime_error("the app-recorded trace needs a device trace");
+    if (device_trace_.trace_rays_device == nullptr)
+      throw std::runtime_error("the app-recorded trace needs a device trace");
     app_trace_ = std::make_unique<AppRecordedTrace>(device_, queue_family_, trace_queue_);
   }
 
@@ -467,7 +468,10 @@ class App {
     acquire.displayTime = display_time;
     acquire.space = space_;
     acquire.viewCount = 2;
-    acquire.views = views.data();
+    std::array<XrView, 2> acquired = views;
+    if (options_.release_fault == "moved")
+      for (XrView& v : acquired) v.pose.position.x += 0.01f;  // the layer's views differ at xrEndFrame
+    acquire.views = acquired.data();
     acquire.imageSizes = sizes;
     std::array<XrFoveatedDeviceRayBatchFOVEART, 2> per_view{};
     auto batch = xr_struct<XrFoveatedRayBatchFOVEART>(XR_TYPE_FOVEATED_RAY_BATCH_FOVEART);

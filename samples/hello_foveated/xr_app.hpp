@@ -92,7 +92,8 @@ struct AppOptions {
   // trace); the layer never calls it. Needs a device trace and Vulkan 1.2's timelineSemaphore.
   bool app_recorded_trace = false;
   // Test aid with app_recorded_trace: "never" (the batch is never released),
-  // "twice" (released twice), "unknown" (an unknown id released instead of it).
+  // "twice" (released twice), "unknown" (an unknown id released instead of it),
+  // "moved" (acquired for views 1 cm off those submitted).
   std::string release_fault;
   // Where the headset's LOCAL origin sits in the scene (the scene's camera):
   // the app's space is LOCAL offset by this pose, so rays come out in scene space.

@@ -126,7 +126,9 @@ INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "n
 // A batch the app never releases (never), or in whose place it releases an
 // unknown id (unknown): its views show the app's grey placeholder, counted,
 // the batch retired and logged once; the app's next acquire works. A second
-// release of a released batch (twice) is refused; its frame is traced.
+// release of a released batch (twice) is refused; its frame is traced. A
+// batch acquired for other views than those submitted (moved): each view
+// falls back, counted as mismatched.
 class AppTraceRelease : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
@@ -135,6 +137,14 @@ TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
   const AppRun r = launch("release_" + fault, "gpu", gaze, {"--trace-model", "app", "--release-fault", fault});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  if (fault == "moved") {
+    EXPECT_EQ(r.stats["app_trace"]["mismatched_views"], 2 * kFrames);
+    EXPECT_EQ(r.stats["app_trace"]["unreleased_batches"], 0);
+    EXPECT_EQ(r.stats["frames_traced"], 0);
+    EXPECT_EQ(r.stats["views_fallback"], 2 * kFrames);
+    EXPECT_FALSE(traced_image(load_rgb(frame(r, kFrames - 1, "left"))));
+    return;
+  }
   const bool released = fault == "twice";
   const int errors = fault == "never" ? 0 : kFrames;
   ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kFrames, released ? 0 : kFrames, errors, errors));
@@ -150,7 +160,7 @@ TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown"));
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown", "moved"));
 
 // Bad arguments: a clear message and a non-zero exit, before any session.
 TEST_F(GpuEngine, AppTraceModelNeedsTheGpuEngine) {
