@@ -196,7 +196,8 @@ void register_density(CLI::App& app) {
   cmd->add_option("--contrasts", o->contrasts, "Content contrasts of the content-aware rows (at --density-scale)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--ray-contrasts", o->ray_contrasts,
-                  "Contrasts from which a point casts all its rays, of the rays-per-point rows (at --density-scale)")
+                  "Contrasts from which a point casts all its rays, of the rays-per-point rows (at --density-scale; "
+                  "none by default)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();
   cmd->callback([o, gaze, pose, crop, parse_common] {
