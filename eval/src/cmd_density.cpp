@@ -34,6 +34,8 @@ std::string density_problem(DensityOptions& o) {
     if (!(s > 0.0 && s <= 100.0)) return "--scales: each density scale must be in (0, 100]";
   for (const double c : o.contrasts)
     if (!(c > 0.0 && c <= 1.0)) return "--contrasts: each content contrast must be in (0, 1]";
+  for (const double c : o.ray_contrasts)
+    if (!(c > 0.0 && c <= 1.0)) return "--ray-contrasts: each contrast must be in (0, 1]";
   if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (o.crop_px) {
     const std::optional<foveation::DisplayModel> preset = foveation::display_preset(o.render.preset);
@@ -102,7 +104,7 @@ Json rings_p_max(const PerceptualResult& p) {
 
 Json row_json(const char* kind, const DensityDetection& d, const PerceptualResult& full) {
   return {{"kind", kind},           {"density_scale", d.density_scale}, {"content_contrast", d.content_contrast},
-          {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
+          {"content_rays", d.content_rays}, {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
           {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},  {"unseen", unseen_in_every_ring(d.p, full)}};
 }
 
@@ -121,15 +123,22 @@ Json row_json(const char* kind, const DensityDetection& d, const PerceptualResul
   return true;
 }
 
+// One row's density: its scale, content-aware density's contrast, the rays per point's (0: off).
+struct DensityAt {
+  double scale = 1.0, contrast = 0.0, rays_contrast = 0.0;
+};
+
 // The rows of one kind and the smallest ray fraction among its unseen ones (null: none).
-[[nodiscard]] bool sweep(const DensityProbe& probe, const char* kind, const std::vector<std::pair<double, double>>& at,
+[[nodiscard]] bool sweep(const DensityProbe& probe, const char* kind, const std::vector<DensityAt>& at,
                          const PerceptualResult& full, std::ostream& err, Json* rows, Json* best, std::string* error) {
   *best = Json();
-  for (const auto& [scale, contrast] : at) {
+  for (const DensityAt& a : at) {
+    DensityProbe p = probe;
+    p.options.content_rays = a.rays_contrast;
     DensityDetection d;
-    if (!measure_density(probe, scale, contrast, &d, error)) return false;
-    err << kDensityWho << kind << " scale " << scale << " contrast " << contrast << ": rays " << d.ray_fraction
-        << ", P max " << d.p.p_max << "\n";
+    if (!measure_density(p, a.scale, a.contrast, &d, error)) return false;
+    err << kDensityWho << kind << " scale " << a.scale << " contrast " << a.contrast << " rays by contrast "
+        << a.rays_contrast << ": rays " << d.ray_fraction << ", P max " << d.p.p_max << "\n";
     Json row = row_json(kind, d, full);
     if (row["unseen"].get<bool>() && (best->is_null() || d.ray_fraction < (*best)["ray_fraction"].get<double>())) *best = row;
     rows->push_back(std::move(row));
@@ -145,18 +154,20 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   foveation::Executor executor(o.render.threads > 0 ? unsigned(o.render.threads) : 0u);
   DensityRun r;
   std::string error;
-  Json baseline, rows = Json::array(), best_eccentricity, best_content;
+  Json baseline, rows = Json::array(), best_eccentricity, best_content, best_rays;
   PerceptualResult full;
   if (!set_up_density(o, executor, err, &r, &error) || !baseline_json(o, r, executor, &full, &baseline, &error))
     return err << kDensityWho << error << "\n", 1;
   DensityProbe probe{r.tracer.get(), r.view, r.gaze, o.render, &r.reference, &r.metric, std::nullopt, {}, &executor};
   if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);
   probe.log = [&](const std::string& m) { err << kDensityWho << m << "\n"; };
-  std::vector<std::pair<double, double>> eccentricity, content;
-  for (const double s : o.scales) eccentricity.emplace_back(s, 0.0);
-  for (const double c : o.contrasts) content.emplace_back(o.render.density_scale, c);
+  std::vector<DensityAt> eccentricity, content, rays;
+  for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0});
+  for (const double c : o.contrasts) content.push_back({o.render.density_scale, c, 0.0});
+  for (const double c : o.ray_contrasts) rays.push_back({o.render.density_scale, 0.0, c});
   if (!sweep(probe, "eccentricity", eccentricity, full, err, &rows, &best_eccentricity, &error) ||
-      !sweep(probe, "content", content, full, err, &rows, &best_content, &error))
+      !sweep(probe, "content", content, full, err, &rows, &best_content, &error) ||
+      !sweep(probe, "rays", rays, full, err, &rows, &best_rays, &error))
     return err << kDensityWho << error << "\n", 1;
   const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
                        {"width", r.view.width_px}, {"height", r.view.height_px},
@@ -164,7 +175,8 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
                        {"interpolation", o.render.interpolation}, {"rays_per_point", o.render.rays_per_point},
                        {"reference_spp", r.reference_spp}, {"ring_edges_deg", metrics::kRingEdgesDeg},
                        {"full", baseline}, {"rows", rows},
-                       {"best_eccentricity", best_eccentricity}, {"best_content", best_content}};
+                       {"best_eccentricity", best_eccentricity}, {"best_content", best_content},
+                       {"best_rays", best_rays}};
   out << report.dump(2) << "\n";
   return 0;
 }
@@ -182,6 +194,10 @@ void register_density(CLI::App& app) {
   cmd->add_option("--crop", *crop, "WxH: a crop of the preset's view at its pixels per degree, around its centre");
   cmd->add_option("--scales", o->scales, "Density scales of the eccentricity-only rows")->delimiter(',')->capture_default_str();
   cmd->add_option("--contrasts", o->contrasts, "Content contrasts of the content-aware rows (at --density-scale)")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--ray-contrasts", o->ray_contrasts,
+                  "Contrasts from which a point casts all its rays, of the rays-per-point rows (at --density-scale; "
+                  "none by default)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();
   cmd->callback([o, gaze, pose, crop, parse_common] {

@@ -60,7 +60,8 @@ struct CallbackTrace::FramePass {
   const std::uint32_t batch_points;  // points per engine call
   const float inv_spp;
   ContentDensity* density;            // null: every visible point is traced
-  std::atomic<std::uint64_t> traced_points{0}, failed_batches{0}, invalid_colours{0};
+  const bool varies_rays;             // rays per point by the content (point_rays.hpp)
+  std::atomic<std::uint64_t> traced_points{0}, traced_rays{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
   std::atomic<std::int64_t> observe_ns{0};  // content density's observations, summed over the workers
 };
@@ -77,6 +78,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
     batches_.resize(workers);
     batch_points_.resize(workers);
     previous_.resize(workers);
+    batch_counts_.resize(workers);
   }
   const auto t_density = Clock::now();
   if (levels_of_set_ && density_options_.enabled() && !keep_rays_ && !density_)
@@ -87,7 +89,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
 
   const auto t_trace = Clock::now();
   FramePass pass{frame, VisibleRegion(frame.mapping, points_.visible_margin_px), spp, batch_points, 1.0f / float(spp),
-                 density_ ? &*density_ : nullptr};
+                 density_ ? &*density_ : nullptr, density_ && density_->options().varies_rays()};
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) { trace_run(pass, run, worker); });
   const auto t_fill = Clock::now();
   const std::uint64_t filled = density_ ? fill_thinned(executor) : 0;
@@ -95,7 +97,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
   stats.trace_ms = ms_since(t_trace);
   stats.points = std::uint32_t(pass.traced_points.load());
   stats.points_thinned = std::uint32_t(filled);
-  stats.rays = pass.traced_points.load() * spp;
+  stats.rays = pass.traced_rays.load();
   stats.failed_batches = pass.failed_batches.load();
   stats.invalid_colours = pass.invalid_colours.load();
   traced_.any_depth = pass.any_depth.load();
@@ -167,8 +169,13 @@ void CallbackTrace::forget_untraced(const std::vector<std::uint32_t>& before, co
 bool CallbackTrace::trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::uint32_t n) {
   RayBatch& batch = batches_[worker];
   const std::span<const std::uint32_t> ids(batch_points_[worker].data(), n);
-  const std::uint32_t rays = n * pass.spp;
-  rays_.set_rays(batch, ids, pass.visible, int(pass.frame.view.width_px));  // stage 2
+  std::vector<std::uint32_t>& counts = batch_counts_[worker];
+  counts.clear();
+  for (std::uint32_t j = 0; pass.varies_rays && j < n; ++j)
+    counts.push_back(rays_.rays_of(ids[j], pass.density->contrast(pass.visible.to_screen(points_.position_px[ids[j]])),
+                                   pass.density->options().rays_contrast));
+  const std::uint32_t rays = rays_.set_rays(batch, ids, pass.visible, int(pass.frame.view.width_px), counts);  // stage 2
+  pass.traced_rays.fetch_add(rays, std::memory_order_relaxed);
   if (batch.trace(pass.frame.trace_rays, pass.frame.user_data, pass.frame.view, pass.frame.frame_index, rays) !=
       FOVEART_RESULT_SUCCESS) {
     pass.failed_batches.fetch_add(1, std::memory_order_relaxed);
@@ -179,7 +186,7 @@ bool CallbackTrace::trace_batch(FramePass& pass, std::size_t run, unsigned worke
     return false;
   }
   if (pass.spp == 1 && !keep_rays_) return keep_ray_colors(batch, ids, traced_.runs[run]);  // the common frame
-  return keep_mean_colors(pass, batch, ids, run);
+  return keep_mean_colors(pass, batch, ids, counts, run);
 }
 
 // A ray per point: its colour and its hit distance are the point's.
@@ -202,7 +209,7 @@ bool CallbackTrace::keep_ray_colors(const RayBatch& batch, std::span<const std::
 // Several rays per point, or the rays kept: each point's mean colour, its
 // nearest and farthest hit and, with keep_rays_, every ray of the run.
 bool CallbackTrace::keep_mean_colors(const FramePass& pass, const RayBatch& batch, std::span<const std::uint32_t> ids,
-                                     std::size_t run) {
+                                     std::span<const std::uint32_t> counts, std::size_t run) {
   PointColors& colors = traced_.colors;
   std::vector<std::uint32_t>& traced = traced_.runs[run];
   bool any_depth = false;
@@ -214,14 +221,15 @@ bool CallbackTrace::keep_mean_colors(const FramePass& pass, const RayBatch& batc
     const glm::ivec2 pixel = keep_rays_ && points_.on_pixel_grid(ids[j])
                                  ? glm::ivec2(glm::floor(pass.visible.to_screen(points_.position_px[ids[j]])))
                                  : glm::ivec2(-1);
-    for (std::uint32_t s = 0; s < pass.spp; ++s, ++r) {
+    const std::uint32_t rays = counts.empty() ? pass.spp : counts[j];
+    for (std::uint32_t s = 0; s < rays; ++s, ++r) {
       sum += batch.rgb(r);
       const float d = batch.depth_m(r);
       if (d >= 0.0f && !(d >= nearest_m)) nearest_m = d;  // NaN and negative ignored
       farthest_m = d >= 0.0f ? std::max(farthest_m, d) : NAN;
       if (keep_rays_) traced_.rays[run].push_back(TracedRay{batch.sample_px(r), batch.rgb(r), d, pixel});
     }
-    sum *= pass.inv_spp;
+    sum *= counts.empty() ? pass.inv_spp : 1.0f / float(rays);
     colors.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
     traced_.depth_m[ids[j]] = nearest_m;
     if (keep_rays_) traced_.farthest_m[ids[j]] = farthest_m;

@@ -17,7 +17,7 @@ float tile_contrast(float min_luminance, float max_luminance, float dark_luminan
 }
 
 std::uint8_t level_for_contrast(float contrast, const ContentDensityOptions& options) {
-  if (!options.enabled() || contrast >= options.full_contrast) return PointLevels::kFinest;
+  if (!options.thins() || contrast >= options.full_contrast) return PointLevels::kFinest;
   // Each level halves the contrast it needs: level l from full_contrast / 2^(kFinest - l).
   std::uint8_t level = PointLevels::kFinest - 1;
   for (float needed = 0.5f * options.full_contrast; level > 0 && contrast < needed; needed *= 0.5f) --level;
@@ -76,6 +76,7 @@ void ContentDensity::end_frame(bool ok) {
 void ContentDensity::levels_from_ranges() {
   const std::vector<glm::vec2>& range = worker_range_[0];
   tile_level_.assign(range.size(), 0);
+  tile_contrast_.assign(range.size(), 0.0f);
   for (int y = 0; y < tiles_y_; ++y)
     for (int x = 0; x < tiles_x_; ++x) {
       glm::vec2 around(INFINITY, -INFINITY);
@@ -84,9 +85,10 @@ void ContentDensity::levels_from_ranges() {
           const glm::vec2 r = range[std::size_t(ny) * std::size_t(tiles_x_) + std::size_t(nx)];
           around = glm::vec2(std::min(around.x, r.x), std::max(around.y, r.y));
         }
-      const std::uint8_t level =
-          level_for_contrast(tile_contrast(around.x, around.y, options_.dark_luminance), options_);
+      const float contrast = tile_contrast(around.x, around.y, options_.dark_luminance);
+      const std::uint8_t level = level_for_contrast(contrast, options_);
       tile_level_[std::size_t(y) * std::size_t(tiles_x_) + std::size_t(x)] = level;
+      tile_contrast_[std::size_t(y) * std::size_t(tiles_x_) + std::size_t(x)] = contrast;
       ++tiles_per_level_[level];
     }
 }

@@ -1,5 +1,7 @@
 #include "foveation/point_rays.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace foveart::foveation {
@@ -34,14 +36,28 @@ void PointRays::prepare(std::uint64_t seed, Executor& executor) {
   seed_ = seed;
 }
 
-void PointRays::set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,
-                         int screen_width_px) const {
+std::uint32_t point_ray_count(std::uint32_t rays_per_point, float radius_px, float tile_contrast, float rays_contrast) {
+  const float disc_share = std::min(1.0f, radius_px * radius_px);  // pi r^2 / (pi 1^2)
+  const float contrast_share = std::min(1.0f, tile_contrast / rays_contrast);  // +inf (none measured yet): all
+  const float rays = std::ceil(float(rays_per_point) * disc_share * contrast_share * contrast_share);
+  return rays >= 1.0f ? std::min(rays_per_point, std::uint32_t(rays)) : 1u;
+}
+
+std::uint32_t PointRays::rays_of(std::uint32_t id, float tile_contrast, float rays_contrast) const {
+  if (points_.on_pixel_grid(id)) return rays_per_point_;
+  return point_ray_count(rays_per_point_, points_.radius_px[id], tile_contrast, rays_contrast);
+}
+
+std::uint32_t PointRays::set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,
+                                  int screen_width_px, std::span<const std::uint32_t> counts) const {
   const std::uint32_t spp = rays_per_point_;
   std::size_t slot = 0;
-  for (const std::uint32_t id : ids) {
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    const std::uint32_t id = ids[j];
     const glm::vec2 screen_px = region.to_screen(points_.position_px[id]);
     const bool on_grid = points_.on_pixel_grid(id);
-    for (std::uint32_t s = 0; s < spp; ++s, ++slot) {
+    const std::uint32_t rays = counts.empty() ? spp : std::min(spp, counts[j]);
+    for (std::uint32_t s = 0; s < rays; ++s, ++slot) {
       const glm::vec2 sample_px =
           on_grid      ? pixel_sample_px(screen_px, int(s), seed_, screen_width_px, pixel_filter_)
           : precomputed_ ? screen_px + offset_px_[std::size_t(id) * spp + s]
@@ -49,6 +65,7 @@ void PointRays::set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, co
       batch.set_sample(slot, sample_px, id);
     }
   }
+  return std::uint32_t(slot);
 }
 
 }  // namespace foveart::foveation

@@ -41,7 +41,8 @@
 // {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
 // rays each engine traced for the layer during the session (the CPU engine's
 // counts exclude the exposure pre-pass; the GPU engine's are its device counters),
-// and "gpu_engine" (null with --engine cpu): {"device", "backend", "memory":
+// and "gpu_engine" (null with --engine cpu): {"device", "backend", "batch": {footprints,
+// addresses} (what the layer's last batch chained: GpuTracer::last_batch_chain()), "memory":
 // {device_local_bytes, host_visible_bytes, texture_bytes, fallback} (memory_use(),
 // memory_fallback()), "work": {bvh_nodes, triangle_tests, bvh_node_count} with
 // --count-work on the compute backend, else null}. Its "per_frame" adds
@@ -167,8 +168,10 @@ nlohmann::json ray_counts_json(const foveart::engine::RayCounts& c) {
 nlohmann::json gpu_engine_json(const foveart::gpu_engine::GpuTracer& tracer, const std::string& device) {
   const foveart::gpu_engine::MemoryUse m = tracer.memory_use();
   const foveart::gpu_engine::WorkCounts w = tracer.work_counts();
+  const foveart::gpu_engine::BatchChain chain = tracer.last_batch_chain();
   return {{"device", device},
           {"backend", tracer.backend_name()},
+          {"batch", {{"footprints", chain.footprints}, {"addresses", chain.addresses}}},
           {"memory", {{"device_local_bytes", m.device_local_bytes},
                       {"host_visible_bytes", m.host_visible_bytes},
                       {"texture_bytes", m.texture_bytes},

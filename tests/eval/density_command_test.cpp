@@ -1,5 +1,5 @@
 // `fovea-eval density` in process (bad options exit 2 naming the problem; a tiny sweep's rows,
-// their verdicts and the smallest unseen ray fraction per kind) and the bisection it shares with
+// their verdicts and the smallest unseen ray fraction per kind, rays per point by contrast among them) and the bisection it shares with
 // the thesis check (eval/density_detection.hpp).
 #include <eval/cmd_density.hpp>
 #include <eval/density_detection.hpp>
@@ -31,6 +31,8 @@ eval::DensityOptions tiny_density(const std::string& cache) {
   o.reference.spp = "16";
   o.scales = {1.0, 4.0};
   o.contrasts = {1.0};
+  o.ray_contrasts = {1.0};
+  o.render.density_scale = 4.0;  // the content-aware rows' scale: Poisson points to thin, or to give fewer rays
   return o;
 }
 
@@ -52,6 +54,10 @@ TEST(DensityCommand, BadOptionsExitTwoNamingTheProblem) {
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--contrasts"), std::string::npos) << err;
   o = tiny_density(dir.path.string());
+  o.ray_contrasts = {0.0};
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--ray-contrasts"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
   o.crop_px = glm::ivec2(5000, 36);
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--crop"), std::string::npos) << err;
@@ -64,10 +70,14 @@ TEST(DensityCommand, RowsTheirVerdictsAndTheSmallestUnseenRayFraction) {
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["width"], 96);
   EXPECT_EQ(j["height"], 108);
-  ASSERT_EQ(j["rows"].size(), 3u);  // two scales, one contrast
+  ASSERT_EQ(j["rows"].size(), 4u);  // two scales, one contrast, one rays-per-point contrast
   EXPECT_LT(j["rows"][1]["ray_fraction"].get<double>(), j["rows"][0]["ray_fraction"].get<double>()) << "scale 4 thins";
+  EXPECT_EQ(j["rows"][3]["kind"], "rays");
+  EXPECT_EQ(j["rows"][3]["content_rays"], 1.0);
+  EXPECT_LT(j["rows"][3]["ray_fraction"].get<double>(), j["rows"][1]["ray_fraction"].get<double>())
+      << "at scale 4, fewer rays per point in the flat and dark tiles";
   const auto& full = j["full"]["rings_p_max"];
-  for (const char* kind : {"eccentricity", "content"}) {
+  for (const char* kind : {"eccentricity", "content", "rays"}) {
     const nlohmann::json* smallest = nullptr;
     for (const auto& row : j["rows"]) {
       if (row["kind"] != kind) continue;

@@ -74,6 +74,10 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
   EXPECT_TRUE(cpu_rays["gpu"].is_null());
   EXPECT_GT(cpu_rays["cpu"]["primary"].get<uint64_t>(), 0u);
   ASSERT_TRUE(gpu_rays["gpu"].is_object()) << gpu.process.output;
+  // hello_foveated enables bufferDeviceAddress through xrCreateVulkanDeviceKHR (lavapipe offers
+  // it): the layer recorded it, so its batches chain the buffers' addresses besides the footprints.
+  EXPECT_EQ(gpu.stats["gpu_engine"]["batch"]["footprints"], true) << gpu.process.output;
+  EXPECT_EQ(gpu.stats["gpu_engine"]["batch"]["addresses"], true) << gpu.process.output;
   EXPECT_GT(gpu_rays["gpu"]["primary"].get<uint64_t>(), 0u);
   EXPECT_GT(gpu_rays["gpu"]["shadow"].get<uint64_t>(), 0u);
   EXPECT_EQ(total_rays(gpu_rays["cpu"]), 0u) << "the CPU engine traced during a device-trace run";

@@ -311,6 +311,7 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"k", render_view::reconstruction_k(o)},
                         {"density_scale", o.density_scale},
                         {"content_contrast", o.content_contrast},
+                        {"content_rays", o.content_rays},
                         {"density_ms", f.fov_density_ms},
                         {"temporal", foveation::temporal_mode_name(o.temporal)},
                         {"pattern", foveation::fovea_pattern_name(fov.view->tables().key.display.fovea_pattern)},

@@ -1,8 +1,9 @@
 // `fovea-eval density`: how few rays foveation may trace before the perceptual metric sees it.
 // One still view (a crop of the preset's view at its pixels per degree, --crop, keeps it quick),
 // one gaze: the full render at --rays-per-point rays per pixel (the baseline) and the foveated
-// frame over eccentricity-only density (--scales, the thesis's density scale) and content-aware
-// density (--contrasts, at --density-scale), each against a converged reference through the
+// frame over eccentricity-only density (--scales, the thesis's density scale), content-aware
+// density (--contrasts, at --density-scale) and rays per point by contrast (--ray-contrasts, at
+// --density-scale; foveation/point_rays.hpp), each against a converged reference through the
 // metric (eval/density_detection.hpp) on the view's display (its exposure and tone map). Per row
 // the ray fraction, the density's and the frame's ms and each ring's largest P; per kind the
 // smallest ray fraction at which every ring stays below P = 0.5, among the rings where the full
@@ -32,6 +33,7 @@ struct DensityOptions {
   ReferenceChoice reference;           // a count of rays per pixel is required
   std::vector<double> scales = {1.0, 1.5, 2.0, 3.0};
   std::vector<double> contrasts = {0.25, 0.5, 1.0};
+  std::vector<double> ray_contrasts;  // none unless asked for: the benchmark's sweeps stay as they were
   double white_cd_m2 = 100.0;
 };
 

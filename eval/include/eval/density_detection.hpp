@@ -25,8 +25,8 @@ struct DensityProbe {
   engine::Tracer* tracer = nullptr;
   FoveartEyeView view{};
   glm::vec2 gaze_px{};
-  // The foveated render (method, k, pattern, rays per point, seed, preset); density_scale and
-  // content_contrast are each call's.
+  // The foveated render (method, k, pattern, rays per point and content_rays, seed, preset);
+  // density_scale and content_contrast are each call's.
   render_view::RenderOptions options;
   const foveation::ImageRgb* reference = nullptr;  // linear radiance of the view, converged
   const PerceptualMetric* metric = nullptr;        // PerceptualInput::kRadiance, the view's display transform
@@ -38,14 +38,15 @@ struct DensityProbe {
 struct DensityDetection {
   double density_scale = 1.0;
   double content_contrast = 0.0;
+  double content_rays = 0.0;  // the probe's rays per point by contrast (0: off)
   double ray_fraction = 0.0;  // primary rays of the measured frame over the full render's at the same rays per pixel
   double density_ms = 0.0;    // content-aware density's part of that frame (FrameResult::density_ms)
   double frame_ms = 0.0;      // that frame's select + trace + reconstruct
   PerceptualResult p;         // the frame against the reference
 };
 
-// One density: frames without a history, two when content-aware (it thins from the second frame
-// by the first's colours), the last measured. False with *error (tables, engine, metric).
+// One density: frames without a history, two when content-aware (it thins, or varies the rays
+// per point, from the second frame by the first's colours), the last measured. False with *error (tables, engine, metric).
 [[nodiscard]] bool measure_density(const DensityProbe& probe, double density_scale, double content_contrast,
                                    DensityDetection* out, std::string* error);
 

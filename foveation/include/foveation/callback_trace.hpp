@@ -47,7 +47,7 @@ class CallbackTrace final : public TraceStage {
   bool trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::uint32_t n);
   bool keep_ray_colors(const RayBatch& batch, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& traced);
   bool keep_mean_colors(const FramePass& pass, const RayBatch& batch, std::span<const std::uint32_t> ids,
-                        std::size_t run);
+                        std::span<const std::uint32_t> counts, std::size_t run);
   // Content-aware density: this run's traced colours for the next frame's contrast, and
   // the thinned points' colours from their parents (after every run is traced).
   bool thins(const FramePass& pass, std::uint32_t id) const;
@@ -62,6 +62,7 @@ class CallbackTrace final : public TraceStage {
   std::vector<RayBatch> batches_;                         // per worker slot
   std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
   std::vector<std::vector<std::uint32_t>> previous_;      // per worker slot: its run's points of last frame
+  std::vector<std::vector<std::uint32_t>> batch_counts_;  // per worker slot: its batch's rays per point (empty: all)
   // Per run of the point set, the canvas box its points lie in: a run wholly
   // off the screen is skipped without testing its points one by one.
   struct RunBox {

@@ -7,9 +7,11 @@
 // both sides, on a tile's border too. The first frame, the one after a failed frame and
 // the first at a new screen size trace every point. A saccade or a head move keeps them: the tiles' contrast is the last
 // frame's where its points fell on the screen (the 3x3 neighbourhood covers a move of less
-// than a tile).
+// than a tile). The same contrast sets how many rays a point casts (ContentDensityOptions::
+// rays_contrast, point_rays.hpp), with or without the thinning.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -31,7 +33,13 @@ struct ContentDensityOptions {
   float dark_luminance = 0.01f;
   float exposure = 1.0f;  // radiance to display-linear
   int tile_px = 16;
-  bool enabled() const { return full_contrast > 0.0f; }
+  // Rays per point by the tile's contrast and the point's disc (point_ray_count,
+  // point_rays.hpp): the contrast from which a point casts all its rays. 0: off, every
+  // point casts rays_per_point.
+  float rays_contrast = 0.0f;
+  bool thins() const { return full_contrast > 0.0f; }
+  bool varies_rays() const { return rays_contrast > 0.0f; }
+  bool enabled() const { return thins() || varies_rays(); }
 };
 
 // Michelson contrast of a tile's luminance range with the dark floor (Peli 1990's band
@@ -51,6 +59,11 @@ class ContentDensity {
   // This frame traces the point at screen_px (else it is filled from its parents).
   bool traces(std::uint32_t point, glm::vec2 screen_px) const {
     return !active_ || levels_.level[point] <= tile_level_[tile_of(screen_px)];
+  }
+  // The contrast of the tile at screen_px (its 3x3 neighbourhood's, last frame's); +inf
+  // while none is measured (the first frame, after a failed one): every ray is cast.
+  float contrast(glm::vec2 screen_px) const {
+    return active_ ? tile_contrast_[tile_of(screen_px)] : INFINITY;
   }
   // A point's colour this frame, for the next frame's contrast (worker: the executor's slot).
   void observe(unsigned worker, glm::vec2 screen_px, const Rgba& colour);
@@ -73,6 +86,7 @@ class ContentDensity {
   bool active_ = false;         // this frame thins
   bool have_contrast_ = false;  // the last frame's observations hold
   std::vector<std::uint8_t> tile_level_;
+  std::vector<float> tile_contrast_;
   std::vector<std::vector<glm::vec2>> worker_range_;  // per worker, per tile: min, max luminance
   std::vector<std::uint32_t> tiles_per_level_;
 };

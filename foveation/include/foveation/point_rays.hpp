@@ -18,6 +18,16 @@
 
 namespace foveart::foveation {
 
+// Rays a Poisson point casts when they follow the content (ContentDensityOptions::
+// rays_contrast > 0), of at most rays_per_point. Its disc: thesis 8.2, a point at
+// pixel density needs fewer rays than one that stands for an area of pixels, so the
+// share is the disc's area over that of a disc one pixel in radius, at most 1. The
+// tile's contrast: the point's colour is a mean of n rays, its error sigma / sqrt(n)
+// (Monte Carlo standard error) with sigma bounded by the tile's contrast, so holding
+// the error of a tile at rays_contrast for lower contrasts takes (contrast /
+// rays_contrast)^2 of the rays. At least one ray.
+std::uint32_t point_ray_count(std::uint32_t rays_per_point, float radius_px, float tile_contrast, float rays_contrast);
+
 class PointRays {
  public:
   // `points` must outlive this. jitter_each_frame: the seed changes every
@@ -29,11 +39,16 @@ class PointRays {
   void prepare(std::uint64_t seed, Executor& executor);
 
   // The rays of points ids (at region.to_screen of their positions) into batch
-  // slots [0, ids.size() * rays_per_point()), point by point.
-  void set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,
-                int screen_width_px) const;
+  // slots from 0, point by point: rays_per_point() each, or counts[j] (at most
+  // rays_per_point(), the first of its rays) for ids[j] when counts is not empty.
+  // Returns the rays set.
+  std::uint32_t set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,
+                         int screen_width_px, std::span<const std::uint32_t> counts = {}) const;
 
   std::uint32_t rays_per_point() const { return rays_per_point_; }
+  // The rays point id casts in a tile of that contrast: point_ray_count, or all of them
+  // for a pixel-grid point (the pixel-exact fovea samples its pixel as the full render).
+  std::uint32_t rays_of(std::uint32_t id, float tile_contrast, float rays_contrast) const;
 
  private:
   const PointSet& points_;

@@ -122,6 +122,7 @@ struct GpuTracer::Impl {
   };
   std::vector<RetiredPool> retired_pools;
   uint64_t trace_frame_index = 0;  // the newest trace call's
+  BatchChain last_chain;           // the last trace call's batch
 
   ~Impl();
   bool choose_backend(std::string* error);
@@ -538,6 +539,10 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
   // The rays' footprints pick the texture level of detail; without them (or an empty range), zeros: level 0.
   const auto* footprint = find_chained<XrFoveatedDeviceRayFootprintFOVEART>(
       batch.next, XR_TYPE_FOVEATED_DEVICE_RAY_FOOTPRINT_FOVEART);
+  const auto* addresses = find_chained<XrFoveatedDeviceRayAddressesFOVEART>(
+      batch.next, XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART);
+  last_chain = {footprint != nullptr && footprint->footprints.buffer != VK_NULL_HANDLE,
+                addresses != nullptr && addresses->rayCount != 0};
   VkDescriptorBufferInfo footprints{no_footprints.buffer(), 0, VK_WHOLE_SIZE};
   if (options.texture_lod && footprint != nullptr && footprint->footprints.buffer != VK_NULL_HANDLE) {
     if (!check_range("footprints", footprint->footprints.buffer, footprint->footprints.offset,
@@ -558,9 +563,7 @@ bool GpuTracer::Impl::record_trace(const XrFoveatedDeviceRayBatchFOVEART& batch,
   if (rt) {
     vkCmdBindDescriptorSets(cb, bind_point, trace_pipeline_layout, 0, 2, sets, 0, nullptr);
     // Only the frame's rays, launched from XrFoveatedDeviceRayCountFOVEART::traceRays at the count's address.
-    const auto* addresses = find_chained<XrFoveatedDeviceRayAddressesFOVEART>(
-        batch.next, XR_TYPE_FOVEATED_DEVICE_RAY_ADDRESSES_FOVEART);
-    if (addresses != nullptr && addresses->rayCount != 0 && ctx.trace_rays_indirect) {
+    if (last_chain.addresses && ctx.trace_rays_indirect) {
       return rt->record_indirect(cb, RtPipelineTracer::Entry::trace,
                                  addresses->rayCount + offsetof(XrFoveatedDeviceRayCountFOVEART, traceRays), error);
     }
@@ -718,6 +721,7 @@ WorkCounts GpuTracer::work_counts() const {
 }
 
 uint64_t GpuTracer::bvh_node_count() const { return impl_->bvh_node_count; }
+BatchChain GpuTracer::last_batch_chain() const { return impl_->last_chain; }
 
 void GpuTracer::reset_counts() { std::memset(impl_->counters.mapped(), 0, kCounterWords * sizeof(uint32_t)); }
 

@@ -80,6 +80,11 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
                   "Content-aware density: a screen tile traces all its points from this Michelson contrast "
                   "(last frame's), half from a quarter of it, a quarter below; 0: off")
       ->capture_default_str();
+  cmd->add_option("--content-rays", opts->content_rays,
+                  "Rays per point by the content: a point casts all --rays-per-point rays from this Michelson "
+                  "contrast of its tile (last frame's), (contrast / this)^2 of them below, and fewer where its disc "
+                  "is under a pixel in radius; the pixel-exact fovea keeps all; 0: off")
+      ->capture_default_str();
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,

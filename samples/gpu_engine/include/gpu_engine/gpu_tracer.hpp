@@ -59,6 +59,13 @@ struct MemoryUse {
   uint64_t texture_bytes = 0;       // of the above, the texture images
 };
 
+// What the last device-trace batch chained (record_trace): its rays' footprints, and a
+// non-zero count buffer address (XrFoveatedDeviceRayAddressesFOVEART).
+struct BatchChain {
+  bool footprints = false;
+  bool addresses = false;
+};
+
 // The compute tracer's BVH traversal work between two resets (GpuTracerOptions::count_work).
 struct WorkCounts {
   bool counted = false;         // count_work on the compute backend; else the counts stay 0
@@ -140,6 +147,7 @@ class GpuTracer {
   engine::Effects effects() const;        // what the kernel simulates (scene & allowed)
   engine::RayCounts counts() const;       // device counters (packets stays 0)
   WorkCounts work_counts() const;         // device counters, 64-bit (GpuTracerOptions::count_work)
+  BatchChain last_batch_chain() const;    // of the last record_trace call
   // Nodes of the compute tracer's BVH, inner and non-empty leaves (0 with the
   // ray-tracing pipeline): at most what one traversal visits.
   uint64_t bvh_node_count() const;

@@ -54,6 +54,9 @@ struct RenderOptions {
   // Content-aware density (foveation/content_density.hpp): the Michelson contrast at which
   // a screen tile traces all its points; 0: off.
   double content_contrast = 0.0;
+  // Rays per point by the content (foveation/point_rays.hpp, point_ray_count): the contrast
+  // from which a point casts all rays_per_point rays; 0: off.
+  double content_rays = 0.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame

@@ -1,0 +1,195 @@
+// Rays per point by the content (point_rays.hpp, point_ray_count; ContentDensityOptions::
+// rays_contrast): the rule's shares, and in frames: a point beside an edge casts what the rule
+// gives for its disc (all of them from a disc one pixel in radius), a point in a flat or dark
+// tile one ray, the pixel-exact fovea all of them, the first frame what the discs give, and the frame
+// stays whole (every visible point coloured, the flat parts unchanged).
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <mutex>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "foveation/content_density.hpp"
+#include "foveation/display_model.hpp"
+#include "foveation/foveated_view.hpp"
+#include "foveation/point_rays.hpp"
+#include "foveation/visible_points.hpp"
+
+namespace foveart::foveation::point_ray_count_test {
+namespace {
+
+constexpr uint32_t kRaysW = 128;
+constexpr uint32_t kRaysH = 96;
+constexpr float kRaysEdgeX = 16.0f;  // a tile border (16 px tiles), left of the pixel grid
+constexpr int kRays = 8;
+constexpr float kRaysContrast = 0.2f;
+
+// Scale 8: a pixel grid about 22 px in radius around the centre, Poisson points around it.
+std::shared_ptr<const ViewTables> ray_tables() {
+  static std::once_flag once;
+  static std::shared_ptr<const ViewTables> t;
+  std::call_once(once, [] {
+    PointSetKey key;
+    key.display = DisplayModel::from_fov(kRaysW, kRaysH, 60.0);
+    key.display.scale = 8.0;
+    key.seed = 5;
+    InterpOptions o;
+    o.method = InterpMethod::nearest;
+    o.k = 1;
+    Executor executor(2);
+    t = load_view_tables(std::nullopt, key, o, executor);
+  });
+  return t;
+}
+
+FrameRequest ray_request(uint64_t frame_index) {
+  FrameRequest r;
+  EyePose pose;
+  pose.position_m = {0.0f, 1.6f, 0.0f};
+  r.view = make_eye_view(0, kRaysW, kRaysH, pose, -0.5f, 0.5f, 0.4f, -0.4f);
+  r.frame_index = frame_index;
+  r.gaze_px = {float(kRaysW) / 2.0f, float(kRaysH) / 2.0f};
+  return r;
+}
+
+ViewSettings ray_settings(float rays_contrast) {
+  ViewSettings s = temporal_view_settings(TemporalMode::off, kRays, 1);
+  s.content_density.rays_contrast = rays_contrast;
+  return s;
+}
+
+// The engine: a scene by screen position, counting the rays each point was given.
+struct RayScene {
+  float left = 0.02f, right = 1.0f;  // left of kRaysEdgeX, right of it
+  std::mutex mutex;
+  std::vector<uint32_t> rays_of_point;
+};
+
+int32_t count_rays(void* user, const FoveartRayBatch* batch) {
+  auto* scene = static_cast<RayScene*>(user);
+  std::lock_guard lock(scene->mutex);
+  for (uint32_t i = 0; i < batch->ray_count; ++i) {
+    const float v = batch->sample_px[i * 2] < kRaysEdgeX ? scene->left : scene->right;
+    for (int c = 0; c < 3; ++c) batch->out_rgb[i * 3 + c] = v;
+    ++scene->rays_of_point[batch->point_index[i]];
+  }
+  return FOVEART_RESULT_SUCCESS;
+}
+
+FrameResult render_counting(FoveatedView& view, RayScene& scene, uint64_t frame_index, Executor& executor) {
+  scene.rays_of_point.assign(ray_tables()->points.size(), 0);
+  return view.render(ray_request(frame_index), &count_rays, &scene, executor);
+}
+
+TEST(PointRayCount, SharesOfDiscAndContrast) {
+  EXPECT_EQ(point_ray_count(32, 2.0f, 0.5f, 0.2f), 32u) << "a wide disc at high contrast: all";
+  EXPECT_EQ(point_ray_count(32, 1.0f, 0.2f, 0.2f), 32u) << "a disc one pixel in radius: all";
+  EXPECT_EQ(point_ray_count(32, 0.5f, 1.0f, 0.2f), 8u) << "a disc of a quarter of that area: a quarter";
+  EXPECT_EQ(point_ray_count(32, 2.0f, 0.1f, 0.2f), 8u) << "half the contrast: a quarter (standard error)";
+  EXPECT_EQ(point_ray_count(32, 2.0f, 0.0f, 0.2f), 1u) << "a flat tile: one ray";
+  EXPECT_EQ(point_ray_count(32, 2.0f, INFINITY, 0.2f), 32u) << "no contrast measured yet: all";
+  EXPECT_EQ(point_ray_count(1, 0.1f, 0.0f, 0.2f), 1u);
+  // More contrast never gives fewer rays, a wider disc never fewer.
+  for (float c = 0.0f; c < 0.3f; c += 0.01f) {
+    EXPECT_LE(point_ray_count(16, 3.0f, c, 0.2f), point_ray_count(16, 3.0f, c + 0.01f, 0.2f)) << c;
+    EXPECT_LE(point_ray_count(16, 0.1f + c, 1.0f, 0.2f), point_ray_count(16, 0.11f + c, 1.0f, 0.2f)) << c;
+  }
+}
+
+TEST(PointRayCount, FramesGiveEdgesTheirRaysAndFlatOrDarkTilesOne) {
+  Executor executor(2);
+  RayScene varied, full;
+  FoveatedView view(ray_tables(), ray_settings(kRaysContrast)), reference(ray_tables(), ray_settings(0.0f));
+  const FrameResult first = render_counting(view, varied, 1, executor);
+  ASSERT_TRUE(first.ok()) << first.message;
+  ASSERT_TRUE(render_counting(reference, full, 1, executor).ok());
+  const PointSet& points = ray_tables()->points;
+  // No contrast measured yet: a point casts what its disc calls for, a grid point all.
+  uint64_t first_rays = 0;
+  for (uint32_t id = 0; id < points.size(); ++id) {
+    const uint32_t rays = varied.rays_of_point[id];
+    first_rays += rays;
+    if (rays == 0) continue;
+    const uint32_t expected =
+        points.on_pixel_grid(id) ? uint32_t(kRays) : point_ray_count(kRays, points.radius_px[id], INFINITY, kRaysContrast);
+    ASSERT_EQ(rays, expected) << "first frame, point " << id;
+  }
+  EXPECT_EQ(first.rays, first_rays);
+  EXPECT_LT(first.rays, first.points * uint64_t(kRays)) << "the discs under a pixel in radius cast fewer";
+  const FrameResult second = render_counting(view, varied, 2, executor);
+  ASSERT_TRUE(second.ok()) << second.message;
+  ASSERT_TRUE(render_counting(reference, full, 2, executor).ok());
+
+  const VisiblePoints visible = select_visible_points(points, map_gaze(kRaysW, kRaysH, second.centre_px));
+  uint64_t counted = 0;
+  std::size_t edge_points = 0, flat_points = 0, grid_points = 0;
+  for (std::size_t v = 0; v < visible.size(); ++v) {
+    const uint32_t id = visible.point_index[v];
+    const uint32_t rays = varied.rays_of_point[id];
+    counted += rays;
+    ASSERT_EQ(full.rays_of_point[id], uint32_t(kRays)) << "off: point " << id;
+    if (points.on_pixel_grid(id)) {
+      ++grid_points;
+      EXPECT_EQ(rays, uint32_t(kRays)) << "grid point " << id << ": the pixel-exact fovea keeps its rays";
+      continue;
+    }
+    const float x = visible.screen_px[v].x;
+    if (x >= kRaysEdgeX - 16.0f && x < kRaysEdgeX + 16.0f) {  // the tiles beside the edge: contrast 0.94
+      ++edge_points;
+      EXPECT_EQ(rays, point_ray_count(kRays, points.radius_px[id], 1.0f, kRaysContrast)) << "point " << id;
+    } else if (x < kRaysEdgeX - 32.0f || x >= kRaysEdgeX + 32.0f) {  // flat tiles, their neighbours flat too
+      ++flat_points;
+      EXPECT_EQ(rays, 1u) << "point " << id << " at x = " << x << " in a flat tile";
+    }
+  }
+  ASSERT_GT(edge_points, 50u);
+  ASSERT_GT(flat_points, 200u);
+  ASSERT_GT(grid_points, 0u);
+  EXPECT_EQ(second.rays, counted) << "the stats count the rays handed to the engine";
+  EXPECT_LT(double(second.rays), 0.7 * double(first.rays));
+  std::cout << "[ measured ] rays of the second frame: " << second.rays << " of " << first.rays << " ("
+            << second.points << " points)\n";
+  // The frame is whole: every visible point coloured; a flat tile's one ray is its colour.
+  EXPECT_EQ(second.points, first.points);
+  const ImageRgb& a = view.image();
+  const ImageRgb& b = reference.image();
+  for (uint32_t y = 0; y < kRaysH; ++y)
+    for (uint32_t x = 0; x < kRaysW; ++x) {
+      const float* pa = a.at(int(x), int(y));
+      ASSERT_TRUE(std::isfinite(pa[0])) << x << "," << y;
+      if (std::fabs(float(x) + 0.5f - kRaysEdgeX) > 24.0f) {
+        ASSERT_NEAR(pa[0], b.at(int(x), int(y))[0], 1e-6f) << x << "," << y;
+      }
+    }
+}
+
+TEST(PointRayCount, ADarkTileReadsAsFlat) {
+  Executor executor(2);
+  RayScene dark;
+  dark.left = 0.0f, dark.right = 0.0005f;  // an edge below the dark floor (ContentDensityOptions::dark_luminance)
+  FoveatedView view(ray_tables(), ray_settings(kRaysContrast));
+  ASSERT_TRUE(render_counting(view, dark, 1, executor).ok());
+  const FrameResult second = render_counting(view, dark, 2, executor);
+  ASSERT_TRUE(second.ok());
+  const PointSet& points = ray_tables()->points;
+  std::size_t poisson = 0;
+  for (std::size_t id = 0; id < points.size(); ++id) {
+    if (dark.rays_of_point[id] == 0 || points.on_pixel_grid(id)) continue;
+    ++poisson;
+    EXPECT_LE(dark.rays_of_point[id], 1u) << "point " << id << " of a dark edge";
+  }
+  EXPECT_GT(poisson, 200u);
+}
+
+TEST(PointRayCount, OffUnlessAskedFor) {
+  EXPECT_FALSE(ViewSettings{}.content_density.varies_rays());
+  ContentDensityOptions thin_only;
+  thin_only.full_contrast = 0.2f;
+  EXPECT_TRUE(thin_only.enabled());
+  EXPECT_FALSE(thin_only.varies_rays()) << "thinning alone keeps every point's rays";
+}
+
+}  // namespace
+}  // namespace foveart::foveation::point_ray_count_test
