@@ -753,6 +753,7 @@ foveation::FrameResources* FoveatedRenderer::Frames::cpu_resources(uint32_t e, X
     upload_failed(e, error, stats);
     return nullptr;
   }
+  eye.host.output = nullptr;  // set by this frame's history
   eye.host.srgb = eye.swapchain->srgb();
   eye.host.display = display;
   return &eye.host;
