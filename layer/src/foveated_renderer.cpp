@@ -110,7 +110,8 @@ struct FoveatedRenderer::Frames {
                                          const foveation::ViewSettings& view_settings)>
         stages;
     // This frame's resources for them (null: the frame falls back, counted and logged).
-    std::function<foveation::FrameResources*(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+    std::function<foveation::FrameResources*(uint32_t e,
+                                             const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                              XrFoveatedRendererStatsFOVEART* stats)>
         resources;
     // The stages could not run on the resources: counted and logged (the GPU path falls back to the CPU).
@@ -211,12 +212,13 @@ struct FoveatedRenderer::Frames {
                    XrFoveatedRendererStatsFOVEART* stats);
   // The eye's stages 1-6 on the path's resources, and their stats.
   bool run_frame(uint32_t e, const foveation::FrameRequest& request,
-                 const std::shared_ptr<const foveation::ViewTables>& view_tables, XrFoveatedRendererStatsFOVEART* stats);
+                 const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                 XrFoveatedRendererStatsFOVEART* stats);
   // The paths' resources and present (EyePath).
   foveation::FrameResources* gpu_resources(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                            bool device_trace);
   foveation::FrameResources* cpu_resources(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  void gpu_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
+  void fall_back_to_cpu(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
   void upload_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
   bool present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
   bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
@@ -635,7 +637,7 @@ void FoveatedRenderer::Frames::choose_gpu_path(EyePath& path) {
     return gpu_resources(e, view_tables, device_trace);
   };
   path.resources_failed = [this](uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats) {
-    gpu_failed(e, error, stats);
+    fall_back_to_cpu(e, error, stats);
   };
   path.present = [this](uint32_t e, XrFoveatedRendererStatsFOVEART* stats) { return present_gpu(e, stats); };
 }
@@ -759,7 +761,8 @@ foveation::FrameResources* FoveatedRenderer::Frames::cpu_resources(uint32_t e, X
   return &eye.host;
 }
 
-void FoveatedRenderer::Frames::gpu_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats) {
+void FoveatedRenderer::Frames::fall_back_to_cpu(uint32_t e, const std::string& error,
+                                                XrFoveatedRendererStatsFOVEART* stats) {
   // This frame shows the app's image; the CPU reconstructs from the next one.
   Eye& eye = eyes[e];
   eye.gpu_failed = true;

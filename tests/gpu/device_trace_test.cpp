@@ -184,7 +184,8 @@ TEST_F(DeviceTraceTest, DeviceStageSetRecordsTheEyesFrame) {
   foveation::FoveatedView planned(tables_, settings_);
   foveation::FoveatedView staged(
       tables_, settings_,
-      make_device_stages(tables_, settings_, [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); }));
+      make_device_stages(tables_, settings_,
+                         [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); }));
   std::string error;
   const auto staged_eye = gpu_->create_eye(kViewW, kViewH, &error);
   ASSERT_NE(staged_eye, nullptr) << error;
