@@ -66,7 +66,7 @@ struct CallbackTrace::FramePass {
   std::atomic<std::int64_t> observe_ns{0};  // content density's observations, summed over the workers
 };
 
-TraceStats CallbackTrace::trace(const FrameContext& frame, Executor& executor) {
+TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Executor& executor) {
   if (frame.trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
   TraceStats stats;
   const auto t_setup = Clock::now();

@@ -6,6 +6,7 @@
 
 #include "foveation/callback_trace.hpp"
 #include "foveation/gather_reconstruction.hpp"
+#include "foveation/host_encode.hpp"
 #include "foveation/image_history.hpp"
 #include "foveation/ray_history.hpp"
 #include "foveation/elapsed.hpp"
@@ -33,25 +34,47 @@ std::unique_ptr<TemporalHistory> make_temporal_history(const ViewTables& tables,
       tables, blend, RayHistoryOptions{settings.pixel_filter, settings.ray_cache_max_age_frames});
 }
 
+std::unique_ptr<TraceStage> make_callback_trace(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
+                                                bool keep_rays) {
+  if (settings.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
+  auto trace = std::make_unique<CallbackTrace>(checked(tables).points, settings.rays_per_point, settings.pixel_filter,
+                                               settings.new_jitter_each_frame, keep_rays);
+  if (settings.content_density.enabled() && !keep_rays) {
+    trace->set_content_density([tables](Executor& executor) -> const PointLevels& {
+      return tables->levels(executor);
+    }, settings.content_density);
+  }
+  return trace;
+}
+
+FrameStages make_cpu_stages(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
+                            std::unique_ptr<TemporalHistory> history) {
+  FrameStages stages;
+  stages.history = history != nullptr ? std::move(history) : make_temporal_history(checked(tables), settings);
+  stages.trace = make_callback_trace(tables, settings, stages.history->keeps_rays());
+  stages.reconstruct = std::make_unique<GatherReconstruction>(*tables, settings.rbf_clamp);
+  stages.encode = std::make_unique<HostEncode>();
+  return stages;
+}
+
 FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings)
-    : FoveatedView(std::move(tables), settings, nullptr) {}
+    : FoveatedView(std::move(tables), settings, std::unique_ptr<TemporalHistory>{}) {}
 
 FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
                            std::unique_ptr<TemporalHistory> history)
+    : FoveatedView(tables, settings, make_cpu_stages(tables, settings, std::move(history))) {}
+
+FoveatedView::FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings, FrameStages stages)
     : tables_(std::move(tables)),
       settings_(settings),
-      centre_(settings.centre_deadband_deg * checked(tables_).key.display.view_distance_px * std::numbers::pi / 180.0) {
+      centre_(settings.centre_deadband_deg * checked(tables_).key.display.view_distance_px * std::numbers::pi / 180.0),
+      history_(std::move(stages.history)),
+      trace_(std::move(stages.trace)),
+      reconstruct_(std::move(stages.reconstruct)),
+      encode_(std::move(stages.encode)) {
   if (settings_.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
-  history_ = history != nullptr ? std::move(history) : make_temporal_history(*tables_, settings_);
-  auto trace = std::make_unique<CallbackTrace>(tables_->points, settings_.rays_per_point, settings_.pixel_filter,
-                                               settings_.new_jitter_each_frame, history_->keeps_rays());
-  if (settings_.content_density.enabled() && !history_->keeps_rays()) {
-    trace->set_content_density([tables = tables_](Executor& executor) -> const PointLevels& {
-      return tables->levels(executor);
-    }, settings_.content_density);
-  }
-  trace_ = std::move(trace);
-  reconstruct_ = std::make_unique<GatherReconstruction>(*tables_, settings_.rbf_clamp);
+  if (history_ == nullptr || trace_ == nullptr || reconstruct_ == nullptr || encode_ == nullptr)
+    throw std::invalid_argument("foveated view: a stage of the frame is missing");
   hand_off_.traced = &trace_->traced();
   hand_off_.rbf_clamp = settings_.rbf_clamp;
 }
@@ -95,53 +118,93 @@ FrameResult FoveatedView::plan(const FrameRequest& request, Executor& executor) 
 FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
                                  Executor& executor) {
   if (trace_rays == nullptr) throw std::invalid_argument("foveated view: no ray-trace callback");
+  if (settings_.reconstruct_on_cpu) return render(request, trace_rays, user_data, host_, executor);
+  // The caller reconstructs: only the trace and the history's decision run here.
   FrameResult result;
   const auto t_frame = Clock::now();
   FrameContext frame = begin_frame(request, &result);
   frame.trace_rays = trace_rays;
   frame.user_data = user_data;
-  hand_off_.traced = &trace_->traced();
-  const double setup_ms = ms_since(t_frame);
-
-  // Stages 1-3.
-  const TraceStats traced = trace_->trace(frame, executor);
-  result.select_ms = setup_ms + traced.select_ms;
-  result.trace_ms = traced.trace_ms;
-  result.points = traced.points;
-  result.points_thinned = traced.points_thinned;
-  result.density_ms = traced.density_ms;
-  result.rays = traced.rays;
-  result.failed_batches = traced.failed_batches;
-  result.invalid_colours = traced.invalid_colours;
-  if (!traced.ok()) {
-    result.failure = traced.failed_batches != 0 ? FrameFailure::callback_failed : FrameFailure::invalid_colour;
-    result.message = traced.failed_batches != 0
-                         ? "the ray-trace callback failed " + std::to_string(traced.failed_batches) + " batch(es)"
-                         : "the ray-trace callback returned " + std::to_string(traced.invalid_colours) +
-                               " NaN/Inf/negative colour components";
-    history_->forget();
-    return result;
-  }
-  const TracedPoints& points = trace_->traced();
-  TemporalFrame& temporal = hand_off_.temporal;
-  if (!settings_.reconstruct_on_cpu) {  // the caller reconstructs: only the history's decision runs here
-    const auto t_decide = Clock::now();
-    temporal = history_->decide(frame, points, executor);
-    result.temporal_ms = ms_since(t_decide);
-  } else {
-    const auto t_gather = Clock::now();  // stage 4
-    result.gather = reconstruct_->reconstruct(frame, points, reconstructed_, executor);
-    result.reconstruct_ms = ms_since(t_gather);
-    const auto t_history = Clock::now();  // stage 5
-    output_ = &history_->accumulate(frame, points, reconstructed_, executor, &temporal);
-    result.temporal_ms = ms_since(t_history);
-  }
-  result.temporal_reset = temporal.kept && temporal.reset;
-  result.ray_cache_restart = temporal.rays && temporal.ray_restart;
-  result.history_off_screen = temporal.history_off_screen;
-  result.history_disoccluded = temporal.history_disoccluded;
-  result.history_with_depth = temporal.history_with_depth;
+  result.select_ms = ms_since(t_frame);
+  if (!run_trace(frame, host_, executor, &result)) return result;
+  const auto t_decide = Clock::now();
+  hand_off_.temporal = history_->decide(frame, trace_->traced(), executor);
+  result.temporal_ms = ms_since(t_decide);
+  finish(&result);
   return result;
+}
+
+FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                                 FrameResources& resources, Executor& executor) {
+  FrameResult result;
+  const auto t_frame = Clock::now();
+  FrameContext frame = begin_frame(request, &result);
+  frame.trace_rays = trace_rays;
+  frame.user_data = user_data;
+  result.select_ms = ms_since(t_frame);
+  if (!run_trace(frame, resources, executor, &result) || !run_after_trace(frame, resources, executor, &result))
+    return result;
+  finish(&result);
+  return result;
+}
+
+bool FoveatedView::run_trace(const FrameContext& frame, FrameResources& resources, Executor& executor,
+                             FrameResult* result) {
+  hand_off_.traced = &trace_->traced();
+  const TraceStats traced = trace_->trace(frame, resources, executor);
+  result->select_ms += traced.select_ms;
+  result->trace_ms = traced.trace_ms;
+  result->points = traced.points;
+  result->points_thinned = traced.points_thinned;
+  result->density_ms = traced.density_ms;
+  result->rays = traced.rays;
+  result->failed_batches = traced.failed_batches;
+  result->invalid_colours = traced.invalid_colours;
+  if (traced.ok()) return true;
+  if (traced.failed_batches != 0) {
+    result->failure = FrameFailure::callback_failed;
+    result->message = !traced.error.empty() ? traced.error  // the trace stage's own words (a device trace)
+                                            : "the ray-trace callback failed " +
+                                                  std::to_string(traced.failed_batches) + " batch(es)";
+  } else if (traced.invalid_colours != 0) {
+    result->failure = FrameFailure::invalid_colour;
+    result->message = "the ray-trace callback returned " + std::to_string(traced.invalid_colours) +
+                      " NaN/Inf/negative colour components";
+  } else {
+    result->failure = FrameFailure::resources_failed;
+    result->message = traced.error;
+  }
+  history_->forget();
+  return false;
+}
+
+bool FoveatedView::run_after_trace(const FrameContext& frame, FrameResources& resources, Executor& executor,
+                                   FrameResult* result) {
+  const TracedPoints& points = trace_->traced();
+  std::string error;
+  const auto t_gather = Clock::now();  // stage 4
+  bool ok = reconstruct_->reconstruct(frame, points, resources, executor, &result->gather, &error);
+  result->reconstruct_ms = ms_since(t_gather);
+  const auto t_history = Clock::now();  // stage 5
+  ok = ok && history_->apply(frame, points, resources, executor, &hand_off_.temporal, &error);
+  result->temporal_ms = ms_since(t_history);
+  const auto t_encode = Clock::now();  // stage 6
+  ok = ok && encode_->encode(frame, resources, executor, &error);
+  result->encode_ms = ms_since(t_encode);
+  if (ok) return true;
+  result->failure = FrameFailure::resources_failed;
+  result->message = error;
+  history_->forget();
+  return false;
+}
+
+void FoveatedView::finish(FrameResult* result) const {
+  const TemporalFrame& temporal = hand_off_.temporal;
+  result->temporal_reset = temporal.kept && temporal.reset;
+  result->ray_cache_restart = temporal.rays && temporal.ray_restart;
+  result->history_off_screen = temporal.history_off_screen;
+  result->history_disoccluded = temporal.history_disoccluded;
+  result->history_with_depth = temporal.history_with_depth;
 }
 
 }  // namespace foveart::foveation

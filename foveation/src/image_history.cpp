@@ -18,10 +18,13 @@ TemporalFrame NoHistory::decide(const FrameContext&, const TracedPoints&, Execut
   return t;
 }
 
-const ImageRgb& NoHistory::accumulate(const FrameContext& frame, const TracedPoints& traced,
-                                      const ImageRgb& reconstructed, Executor& executor, TemporalFrame* decision) {
+bool NoHistory::apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources,
+                      Executor& executor, TemporalFrame* decision, std::string* error) {
+  HostFrame* host = host_frame(resources, "the CPU's temporal history", error);
+  if (host == nullptr) return false;
   *decision = decide(frame, traced, executor);
-  return reconstructed;
+  host->output = &host->reconstructed;
+  return true;
 }
 
 ImageHistory::ImageHistory(const NeighborTable& neighbors, const TemporalOptions& blend, bool reproject)
@@ -53,8 +56,11 @@ TemporalFrame ImageHistory::decide(const FrameContext& frame, const TracedPoints
   return t;
 }
 
-const ImageRgb& ImageHistory::accumulate(const FrameContext& frame, const TracedPoints& traced,
-                                         const ImageRgb& reconstructed, Executor& executor, TemporalFrame* decision) {
+bool ImageHistory::apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources,
+                         Executor& executor, TemporalFrame* decision, std::string* error) {
+  HostFrame* host = host_frame(resources, "the CPU's temporal history", error);
+  if (host == nullptr) return false;
+  const ImageRgb& reconstructed = host->reconstructed;
   const bool view_moved = moved(frame.view);
   const glm::vec2 gaze_px = frame.mapping.gaze_px;
   const ImageRgb* out = nullptr;
@@ -83,7 +89,8 @@ const ImageRgb& ImageHistory::accumulate(const FrameContext& frame, const Traced
   decision->history_disoccluded = reprojected.disoccluded;
   decision->history_with_depth = reprojected.with_depth;
   last_view_ = frame.view;
-  return *out;
+  host->output = out;
+  return true;
 }
 
 void ImageHistory::pixel_depths(const FrameContext& frame, const TracedPoints& traced, Executor& executor) {

@@ -44,8 +44,11 @@ TemporalFrame RayHistory::decide(const FrameContext& frame, const TracedPoints& 
   return t;
 }
 
-const ImageRgb& RayHistory::accumulate(const FrameContext& frame, const TracedPoints& traced,
-                                       const ImageRgb& reconstructed, Executor& executor, TemporalFrame* decision) {
+bool RayHistory::apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources,
+                       Executor& executor, TemporalFrame* decision, std::string* error) {
+  HostFrame* host = host_frame(resources, "the CPU's ray history", error);
+  if (host == nullptr) return false;
+  const ImageRgb& reconstructed = host->reconstructed;
   *decision = begin(frame);
   filter(frame, traced, decision->ray_restart, executor);
   // Every pixel a ray of the cache reaches shows the cache; any other the reconstruction.
@@ -60,7 +63,8 @@ const ImageRgb& RayHistory::accumulate(const FrameContext& frame, const TracedPo
     }
   });
   last_view_ = frame.view;
-  return image_;
+  host->output = &image_;
+  return true;
 }
 
 void RayHistory::filter(const FrameContext& frame, const TracedPoints& traced, bool restart, Executor& executor) {

@@ -12,7 +12,6 @@ namespace foveart::gpu {
 
 EyeFrame EyeFrame::of(const Tables& tables, const foveation::FrameHandOff& frame, bool srgb) {
   const foveation::TracedPoints& traced = *frame.traced;
-  const foveation::TemporalFrame& temporal = frame.temporal;
   EyeFrame f;
   f.tables = &tables;
   f.colors = &traced.colors;
@@ -20,22 +19,27 @@ EyeFrame EyeFrame::of(const Tables& tables, const foveation::FrameHandOff& frame
   f.traced = traced.runs;
   f.mapping = frame.mapping;
   f.rbf_clamp = frame.rbf_clamp;
-  f.temporal_reset = temporal.reset;
-  f.blend = temporal.blend;  // current_weight: this frame's, the CPU's weight rule for both paths
   f.view = frame.view;
-  f.history_view = temporal.history_view;
   f.srgb = srgb;
+  f.set_temporal(traced, frame.temporal);
+  return f;
+}
+
+void EyeFrame::set_temporal(const foveation::TracedPoints& points, const foveation::TemporalFrame& temporal) {
+  temporal_reset = temporal.reset;
+  blend = temporal.blend;  // current_weight: this frame's, the CPU's weight rule for both paths
+  history_view = temporal.history_view;
+  ray_cache.reset();
   // A render cache reprojects its rays itself; its frame has no history_view.
   if (temporal.rays) {
     RayCacheFrame c;
-    c.rays = &traced.rays;
+    c.rays = &points.rays;
     c.pixels = temporal.ray_pixels;
     c.restart = temporal.ray_restart;
     c.filter = temporal.ray_filter;
     c.max_age_frames = temporal.ray_max_age_frames;
-    f.ray_cache = c;
+    ray_cache = c;
   }
-  return f;
 }
 
 Eye::Eye(Context& context, const FramePipelines& pipelines, uint32_t width_px, uint32_t height_px)
@@ -161,8 +165,7 @@ bool Eye::check_frame(const EyeFrame& frame, std::string* error) const {
   return true;
 }
 
-bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
-                 std::string* error) {
+bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* error) {
   if (!check_frame(frame, error)) return false;
   slot_ = last_slot_ = frame.slot;
   Slot& s = slot();
@@ -182,14 +185,24 @@ bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, fovea
   vkCmdFillBuffer(cb, s.status.buffer, 0, VK_WHOLE_SIZE, 0u);  // no fault yet; the resolve counts them
   if (!shown_cleared_) vkCmdFillBuffer(cb, shown_.buffer, 0, VK_WHOLE_SIZE, 0xFF000000u);  // opaque black
   shown_cleared_ = true;
+  return true;
+}
+
+void Eye::end_frame() {
+  parity_ ^= 1;  // this frame's output is the next frame's history
+  slot().recorded = true;
+}
+
+bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
+                 std::string* error) {
+  if (!begin_frame(cb, frame, error)) return false;
   const std::size_t uploaded = frame.device == nullptr ? upload_traced(frame, executor) : 0;
   if (!record_trace(cb, frame, error)) return false;           // stages 1-3 on the device, or the slots cleared
   record_scatter(cb, frame, uploaded);                         // stage 4
   record_gather(cb, frame);
   if (!record_temporal(cb, frame, executor, error)) return false;  // stage 5
   record_encode(cb, frame, image);                                 // stage 6
-  parity_ ^= 1;  // this frame's output is the next frame's history
-  s.recorded = true;
+  end_frame();
   return true;
 }
 

@@ -1,6 +1,7 @@
 // The layer's side of a foveated frame: OpenXR views in, the one foveated
-// frame of foveation/ (foveation::FoveatedView) per eye, RGBA8 into the
-// layer's swapchain, the rewritten subImage out. Gaze comes from the
+// frame of foveation/ (foveation::FoveatedView) per eye, running the stage set
+// chosen for the eye once (the CPU's, or the device's: gpu/device_stages.hpp),
+// RGBA8 into the layer's swapchain, the rewritten subImage out. Gaze comes from the
 // renderer's gaze source; tables are built in the background per view size.
 // On the GPU path both eyes of a frame are recorded into one command buffer of
 // the frame's slot and submitted once; their status and timestamps are read
@@ -28,6 +29,7 @@
 #include "foveation/rgba8.hpp"
 #include "gaze_source.hpp"
 #include "device_trace_engine.hpp"
+#include "gpu/device_stages.hpp"
 #include "gpu/reconstructor.hpp"
 #include "layer/sampling_defaults.hpp"
 #include "log.hpp"
@@ -76,6 +78,7 @@ XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
   switch (failure) {
     case foveation::FrameFailure::callback_failed: return XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
     case foveation::FrameFailure::invalid_colour: return XR_FOVEATED_FALLBACK_INVALID_COLOUR_BIT_FOVEART;
+    case foveation::FrameFailure::resources_failed: return XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
     case foveation::FrameFailure::none: break;
   }
   return 0;
@@ -95,19 +98,26 @@ struct FoveatedRenderer::Frames {
     std::shared_ptr<const foveation::ViewTables> ready;  // null: not (yet) there
     bool failed = false;  // the build failed: this view size falls back for good
   };
-  struct Eye;
   // How an eye makes its frames, chosen once (choose_path) and again only after
-  // its GPU path failed: the per-eye frame code calls it without asking which.
+  // its GPU path failed: which stage set its view runs (the CPU's or the
+  // device's, foveation/frame_stages.hpp) and the frame resources they run on.
+  // The per-eye frame code calls it without asking which.
   struct EyePath {
     bool reconstruct_on_gpu = false;
     bool device_trace = false;  // stages 1-3 on the device (the engine's device trace)
-    // Stages 1-5 on the host (a device-traced frame: the history's decision only).
-    std::function<foveation::FrameResult(Eye& eye, const foveation::FrameRequest& request)> run;
-    // Stage 6 (a device-traced frame: stages 1-6) and the copy into the eye's swapchain image.
-    std::function<bool(uint32_t e, const foveation::FrameRequest& request,
-                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                       XrFoveatedRendererStatsFOVEART* stats)>
-        present;
+    // The view's stage set, made with the view.
+    std::function<foveation::FrameStages(const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                         const foveation::ViewSettings& view_settings)>
+        stages;
+    // This frame's resources for them (null: the frame falls back, counted and logged).
+    std::function<foveation::FrameResources*(uint32_t e,
+                                             const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                             XrFoveatedRendererStatsFOVEART* stats)>
+        resources;
+    // The stages could not run on the resources: counted and logged (the GPU path falls back to the CPU).
+    std::function<void(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats)> resources_failed;
+    // The frame after its stages into the swapchain: uploaded, or recorded for the slot's submission.
+    std::function<bool(uint32_t e, XrFoveatedRendererStatsFOVEART* stats)> present;
   };
   struct Eye {
     std::shared_ptr<EyeSwapchain> swapchain;
@@ -123,6 +133,8 @@ struct FoveatedRenderer::Frames {
     std::optional<gpu::DeviceTraceStatus> status;
     bool gpu_failed = false;  // the GPU path failed for this eye: the CPU reconstructs from now on
     std::optional<EyePath> path;  // chosen at the eye's first frame (choose_path)
+    foveation::HostFrame host;    // the CPU path's frame resources
+    gpu::DeviceFrame device;      // the GPU path's, this frame's
     bool failed = false;  // swapchain creation failed: this eye falls back for good
     foveation::TemporalMode temporal = foveation::TemporalMode::off;  // of `view`
   };
@@ -167,11 +179,10 @@ struct FoveatedRenderer::Frames {
   void choose_reconstruction();
   std::shared_ptr<gpu::Tables> gpu_tables_for(const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                             std::string* error);
-  // Records eye e's frame into the frame slot's command buffer, its swapchain image acquired.
-  bool present_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                      const gpu::DeviceTraceFrame* device, std::string* error);
-  // A device trace that returned an error while recording: counted, logged once; the view falls back.
-  void device_trace_failed(uint32_t e, XrResult engine, XrFoveatedRendererStatsFOVEART* stats);
+  // Eye e's frame begun on the device (its device stages' first recording): the
+  // eye's buffers and tables, the frame slot's command buffer, its swapchain image acquired.
+  VkCommandBuffer begin_on_gpu(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                               bool device_trace, gpu::DeviceFrame& frame, std::string* error);
   // What a finished device-traced frame's resolve found: false (counted, logged once) when it faulted.
   bool device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status, XrFoveatedRendererStatsFOVEART* stats);
   // The slot's last submission (kFrameSlots frames ago): waited for, its eyes'
@@ -192,17 +203,24 @@ struct FoveatedRenderer::Frames {
   // with the engine's device trace where it registered one; else the CPU with its callback.
   // False when neither can run (a device trace alone, and no GPU path).
   bool choose_path(uint32_t e);
+  void choose_gpu_path(EyePath& path);  // the device's stage set and resources
+  void choose_cpu_path(EyePath& path);  // the CPU's
   // The eye's FoveatedView for these tables and its path (made again when either changes).
   void ensure_view(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables);
   // The request's frame, restart flags and foveation centre from this frame's gaze.
   void aim_at_gaze(uint32_t e, const FrameGaze& gaze, foveation::FrameRequest& request,
                    XrFoveatedRendererStatsFOVEART* stats);
-  // Stages 1-5 (or the plan of a device-traced frame), through the eye's path, and their stats.
-  bool run_frame(uint32_t e, const foveation::FrameRequest& request, XrFoveatedRendererStatsFOVEART* stats);
-  // Stage 6 and the copy into the eye's swapchain image: the paths' present.
-  bool present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
-                   const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                   XrFoveatedRendererStatsFOVEART* stats);
+  // The eye's stages 1-6 on the path's resources, and their stats.
+  bool run_frame(uint32_t e, const foveation::FrameRequest& request,
+                 const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                 XrFoveatedRendererStatsFOVEART* stats);
+  // The paths' resources and present (EyePath).
+  foveation::FrameResources* gpu_resources(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                           bool device_trace);
+  foveation::FrameResources* cpu_resources(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
+  void fall_back_to_cpu(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
+  void upload_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
+  bool present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
   bool present_cpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
 
   std::shared_ptr<SessionState> session;
@@ -237,6 +255,7 @@ struct FoveatedRenderer::Frames {
   std::array<std::array<std::optional<InFlightEye>, 2>, gpu::kFrameSlots> in_flight;
   std::unique_ptr<FrameSubmission> submission;  // with the reconstructor; destroyed first: waits for the slots
   uint64_t frame_index = 0;
+  XrResult device_engine_result = XR_SUCCESS;  // the engine's last device trace's (xr_device_trace_engine)
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once, evicted_once,
       behind_once, rect_once, failed_once, gpu_once, device_once, submit_once;
@@ -448,46 +467,31 @@ std::shared_ptr<gpu::Tables> FoveatedRenderer::Frames::gpu_tables_for(
   return uploaded;
 }
 
-bool FoveatedRenderer::Frames::present_on_gpu(uint32_t e,
-                                              const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                              const gpu::DeviceTraceFrame* device, std::string* error) {
+VkCommandBuffer FoveatedRenderer::Frames::begin_on_gpu(uint32_t e,
+                                                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                                       bool device_trace, gpu::DeviceFrame& frame, std::string* error) {
   Eye& eye = eyes[e];
   const uint32_t w = eye.swapchain->width_px(), h = eye.swapchain->height_px();
   if (eye.gpu_tables == nullptr || &eye.gpu_tables->view_tables() != view_tables.get()) {
     eye.gpu_tables = nullptr;
     eye.gpu_tables = gpu_tables_for(view_tables, error);
-    if (eye.gpu_tables == nullptr) return false;
+    if (eye.gpu_tables == nullptr) return VK_NULL_HANDLE;
   }
   if (eye.gpu_eye == nullptr || eye.gpu_eye->width_px() != w || eye.gpu_eye->height_px() != h) {
     eye.gpu_eye = nullptr;  // a frame in flight keeps the old one (in_flight)
     eye.gpu_eye = reconstructor->create_eye(w, h, error);
     eye.shown_good = false;
-    if (eye.gpu_eye == nullptr) return false;
+    if (eye.gpu_eye == nullptr) return VK_NULL_HANDLE;
   }
-  const uint32_t slot = uint32_t(frame_index % gpu::kFrameSlots);
-  gpu::EyeFrame frame = gpu::EyeFrame::of(*eye.gpu_tables, eye.view->hand_off(), eye.swapchain->srgb());
-  frame.display = display;
-  frame.device = device;
-  frame.slot = slot;
-  const VkCommandBuffer cb = submission->begin(slot, error);
-  VkImage image = VK_NULL_HANDLE;
-  if (cb == VK_NULL_HANDLE || !eye.swapchain->acquire(&image, error)) return false;
+  const VkCommandBuffer cb = submission->begin(frame.slot, error);
+  if (cb == VK_NULL_HANDLE || !eye.swapchain->acquire(&frame.image, error)) return VK_NULL_HANDLE;
   eye.image_acquired = true;
-  auto& flight = in_flight[slot][e];
-  flight = InFlightEye{eye.gpu_eye, eye.gpu_tables, eye.swapchain, false, device != nullptr,
-                       device == nullptr || eye.shown_good};
-  flight->recorded = eye.gpu_eye->record(cb, frame, image, executor, error);
-  return flight->recorded;
-}
-
-void FoveatedRenderer::Frames::device_trace_failed(uint32_t e, XrResult engine, XrFoveatedRendererStatsFOVEART* stats) {
-  ++stats->callbackFailures;
-  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
-  if (callback_once.first()) {
-    log(LogLevel::Error, "foveated renderer: eye ", e, ": the device trace returned ", engine,
-        "; showing the app's own image for this view (logged once, counted in stats)");
-  }
-  eyes[e].view->forget_history();
+  frame.eye = eye.gpu_eye.get();
+  frame.tables = eye.gpu_tables.get();
+  // Recorded in full once the eye's present marks it so (present_gpu).
+  in_flight[frame.slot][e] = InFlightEye{eye.gpu_eye, eye.gpu_tables, eye.swapchain, false, device_trace,
+                                         !device_trace || eye.shown_good};
+  return cb;
 }
 
 bool FoveatedRenderer::Frames::device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status,
@@ -609,28 +613,46 @@ bool FoveatedRenderer::Frames::choose_path(uint32_t e) {
         reconstructor->device_trace_unsupported(), "; its callback traces instead, where it registered one (logged once)");
   }
   if (!path.device_trace && settings.trace_rays == nullptr) return false;  // a device trace alone, and no GPU path
-  if (path.device_trace) {
-    path.run = [this](Eye& eye_, const foveation::FrameRequest& request) { return eye_.view->plan(request, executor); };
-  } else {
-    path.run = [this](Eye& eye_, const foveation::FrameRequest& request) {
-      return eye_.view->render(request, settings.trace_rays, settings.user_data, executor);
-    };
-  }
   if (path.reconstruct_on_gpu) {
-    path.present = [this, device_trace = path.device_trace](
-                       uint32_t eye_index, const foveation::FrameRequest& request,
-                       const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                       XrFoveatedRendererStatsFOVEART* stats) {
-      return present_gpu(eye_index, request, device_trace, view_tables, stats);
-    };
+    choose_gpu_path(path);
   } else {
-    path.present = [this](uint32_t eye_index, const foveation::FrameRequest&,
-                          const std::shared_ptr<const foveation::ViewTables>&, XrFoveatedRendererStatsFOVEART* stats) {
-      return present_cpu(eye_index, stats);
-    };
+    choose_cpu_path(path);
   }
   eye.path = std::move(path);
   return true;
+}
+
+void FoveatedRenderer::Frames::choose_gpu_path(EyePath& path) {
+  const bool device_trace = path.device_trace;
+  path.stages = [this, device_trace](const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                     const foveation::ViewSettings& view_settings) {
+    gpu::DeviceTraceEngine engine;  // empty: the engine's callback traces, its colours uploaded
+    if (device_trace) {
+      engine = xr_device_trace_engine(settings.trace_rays_device, settings.device_user_data, &device_engine_result);
+    }
+    return gpu::make_device_stages(view_tables, view_settings, std::move(engine));
+  };
+  path.resources = [this, device_trace](uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                                        XrFoveatedRendererStatsFOVEART*) {
+    return gpu_resources(e, view_tables, device_trace);
+  };
+  path.resources_failed = [this](uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats) {
+    fall_back_to_cpu(e, error, stats);
+  };
+  path.present = [this](uint32_t e, XrFoveatedRendererStatsFOVEART* stats) { return present_gpu(e, stats); };
+}
+
+void FoveatedRenderer::Frames::choose_cpu_path(EyePath& path) {
+  path.stages = [](const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                   const foveation::ViewSettings& view_settings) {
+    return foveation::make_cpu_stages(view_tables, view_settings);
+  };
+  path.resources = [this](uint32_t e, const std::shared_ptr<const foveation::ViewTables>&,
+                          XrFoveatedRendererStatsFOVEART* stats) { return cpu_resources(e, stats); };
+  path.resources_failed = [this](uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats) {
+    upload_failed(e, error, stats);
+  };
+  path.present = [this](uint32_t e, XrFoveatedRendererStatsFOVEART* stats) { return present_cpu(e, stats); };
 }
 
 void FoveatedRenderer::Frames::ensure_view(uint32_t e,
@@ -647,7 +669,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;
   vs.content_density.full_contrast = settings.content_contrast;  // a device trace thins nothing yet
   vs.content_density.exposure = settings.display.exposure;
-  eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs);
+  eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs, path.stages(view_tables, vs));
 }
 
 void FoveatedRenderer::Frames::aim_at_gaze(uint32_t e, const FrameGaze& frame_gaze, foveation::FrameRequest& request,
@@ -670,11 +692,14 @@ void FoveatedRenderer::Frames::aim_at_gaze(uint32_t e, const FrameGaze& frame_ga
 }
 
 bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameRequest& request,
+                                         const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                          XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
+  foveation::FrameResources* resources = eye.path->resources(e, view_tables, stats);
+  if (resources == nullptr) return false;
   foveation::FrameResult result;
   try {
-    result = eye.path->run(eye, request);
+    result = eye.view->render(request, settings.trace_rays, settings.user_data, *resources, executor);
   } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
     if (internal_once.first()) {
       log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
@@ -690,11 +715,16 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
   stats->traceMs[e] = static_cast<float>(result.trace_ms);
   stats->reconstructMs[e] = static_cast<float>(result.reconstruct_ms);
   stats->temporalMs[e] = static_cast<float>(result.temporal_ms);
+  stats->uploadMs[e] = static_cast<float>(result.encode_ms);  // the present adds the upload
   stats->callbackFailures += result.failed_batches;
   reconstruction.temporal_reset_last_frame[e] = result.temporal_reset;
   reconstruction.temporal_resets += result.temporal_reset ? 1 : 0;
   stats->invalidColours += result.invalid_colours;
   if (result.ok()) return true;
+  if (result.failure == foveation::FrameFailure::resources_failed) {
+    eye.path->resources_failed(e, result.message, stats);
+    return false;
+  }
   stats->fallbackFlags |= fallback_flag(result.failure);
   LogOnce& once = result.failure == foveation::FrameFailure::callback_failed ? callback_once : colour_once;
   if (once.first()) {
@@ -704,47 +734,61 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
   return false;
 }
 
-bool FoveatedRenderer::Frames::present_gpu(uint32_t e, const foveation::FrameRequest& request, bool device_trace,
-                                           const std::shared_ptr<const foveation::ViewTables>& view_tables,
-                                           XrFoveatedRendererStatsFOVEART* stats) {
+foveation::FrameResources* FoveatedRenderer::Frames::gpu_resources(
+    uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, bool device_trace) {
   Eye& eye = eyes[e];
-  const auto t0 = Clock::now();
-  gpu::DeviceTraceFrame device;
-  XrResult engine = XR_SUCCESS;
-  if (device_trace) {
-    const foveation::FrameHandOff& hand_off = eye.view->hand_off();
-    device.engine = xr_device_trace_engine(settings.trace_rays_device, settings.device_user_data, &engine);
-    device.points = &view_tables->points;
-    device.view = request.view;
-    device.mapping = hand_off.mapping;
-    device.frame_index = frame_index;
-    device.sample_seed = hand_off.sample_seed;
-    device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
-    device.pixel_filter = eye.view->settings().pixel_filter;
-  }
+  eye.device = gpu::DeviceFrame{};
+  eye.device.slot = uint32_t(frame_index % gpu::kFrameSlots);
+  eye.device.srgb = eye.swapchain->srgb();
+  eye.device.display = display;
+  eye.device.begin = [this, e, view_tables, device_trace](gpu::DeviceFrame& frame, std::string* error) {
+    return begin_on_gpu(e, view_tables, device_trace, frame, error);
+  };
+  return &eye.device;
+}
+
+foveation::FrameResources* FoveatedRenderer::Frames::cpu_resources(uint32_t e, XrFoveatedRendererStatsFOVEART* stats) {
+  Eye& eye = eyes[e];
   std::string error;
-  const bool recorded = present_on_gpu(e, view_tables, device_trace ? &device : nullptr, &error);
-  stats->uploadMs[e] = ms_since(t0);
+  eye.host.rgba8 = eye.swapchain->staging(&error);
+  if (eye.host.rgba8 == nullptr) {
+    upload_failed(e, error, stats);
+    return nullptr;
+  }
+  eye.host.output = nullptr;  // set by this frame's history
+  eye.host.srgb = eye.swapchain->srgb();
+  eye.host.display = display;
+  return &eye.host;
+}
+
+void FoveatedRenderer::Frames::fall_back_to_cpu(uint32_t e, const std::string& error,
+                                                XrFoveatedRendererStatsFOVEART* stats) {
+  // This frame shows the app's image; the CPU reconstructs from the next one.
+  Eye& eye = eyes[e];
+  eye.gpu_failed = true;
+  eye.path.reset();  // chosen again at the next frame: the CPU's stages
+  eye.gpu_eye = nullptr;  // kept by the frame in flight until it finished
+  eye.gpu_tables = nullptr;
+  ++reconstruction.gpu_fallbacks;
+  if (gpu_once.first()) {
+    log(LogLevel::Error, "foveated renderer: eye ", e, ": GPU reconstruction failed: ", error,
+        "; this eye reconstructs on the CPU from the next frame (logged once, counted in the stats)");
+  }
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+}
+
+void FoveatedRenderer::Frames::upload_failed(uint32_t e, const std::string& error,
+                                             XrFoveatedRendererStatsFOVEART* stats) {
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
+  if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
+}
+
+bool FoveatedRenderer::Frames::present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats) {
+  auto& flight = in_flight[uint32_t(frame_index % gpu::kFrameSlots)][e];
+  if (flight) flight->recorded = true;  // its status and times are read when the slot comes round
   apply_collected(e, stats);  // the GPU's times of an earlier frame of this eye
-  if (!recorded && XR_FAILED(engine)) {  // the engine's failure, not the GPU path's
-    device_trace_failed(e, engine, stats);
-    return false;
-  }
-  if (!recorded) {  // this frame shows the app's image; the CPU reconstructs from the next one
-    eye.gpu_failed = true;
-    eye.path.reset();  // chosen again at the next frame: the CPU's
-    eye.gpu_eye = nullptr;  // kept by the frame in flight until it finished
-    eye.gpu_tables = nullptr;
-    ++reconstruction.gpu_fallbacks;
-    if (gpu_once.first()) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": GPU reconstruction failed: ", error,
-          "; this eye reconstructs on the CPU from the next frame (logged once, counted in the stats)");
-    }
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-    return false;
-  }
   reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART;
-  reconstruction.temporal = eye.temporal;
+  reconstruction.temporal = eyes[e].temporal;
   return true;
 }
 
@@ -752,13 +796,10 @@ bool FoveatedRenderer::Frames::present_cpu(uint32_t e, XrFoveatedRendererStatsFO
   Eye& eye = eyes[e];
   const auto t0 = Clock::now();
   std::string error;
-  uint8_t* staging = eye.swapchain->staging(&error);
-  if (staging != nullptr) foveation::encode_rgba8(eye.view->image(), eye.swapchain->srgb(), display, staging, executor);
-  const bool uploaded = staging != nullptr && eye.swapchain->upload(&error);
-  stats->uploadMs[e] = ms_since(t0);
+  const bool uploaded = eye.swapchain->upload(&error);
+  stats->uploadMs[e] += ms_since(t0);
   if (!uploaded) {
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
-    if (upload_once.first()) log(LogLevel::Error, "foveated renderer: eye ", e, ": upload failed: ", error);
+    upload_failed(e, error, stats);
     return false;
   }
   reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
@@ -795,8 +836,8 @@ bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaz
   }
   ensure_view(e, found.ready);
   aim_at_gaze(e, frame_gaze, request, stats);
-  if (!run_frame(e, request, stats)) return false;
-  if (!eye.path->present(e, request, found.ready, stats)) return false;
+  if (!run_frame(e, request, found.ready, stats)) return false;
+  if (!eye.path->present(e, stats)) return false;
   view.subImage.swapchain = eye.swapchain->handle();
   view.subImage.imageRect = {{0, 0}, {static_cast<int32_t>(w), static_cast<int32_t>(h)}};
   view.subImage.imageArrayIndex = 0;

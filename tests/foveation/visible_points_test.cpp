@@ -99,12 +99,13 @@ TEST(VisiblePoints, TheTracePassTracesExactlyTheVisiblePoints) {
   ASSERT_GT(ps.size(), 4u * 8192u);  // several runs of the trace pass
   fv::Executor executor(2);
   fv::CallbackTrace trace(ps, 1, fv::PixelFilter::box, false, false);
+  fv::HostFrame host;  // the trace writes nothing there: its points stay in traced()
   for (const glm::vec2 g : {glm::vec2(240, 270), glm::vec2(0, 0), glm::vec2(480, 540), glm::vec2(450, 20)}) {
     fv::FrameContext frame;
     frame.view = fv::make_eye_view(0, 480, 540, fv::EyePose{}, -0.8f, 0.8f, 0.85f, -0.85f);
     frame.mapping = fv::map_gaze(480, 540, g);
     frame.trace_rays = &grey_engine;
-    const fv::TraceStats stats = trace.trace(frame, executor);
+    const fv::TraceStats stats = trace.trace(frame, host, executor);
     std::vector<std::uint32_t> traced;
     for (const auto& run : trace.traced().runs) traced.insert(traced.end(), run.begin(), run.end());
     const fv::VisiblePoints visible = fv::select_visible_points(ps, frame.mapping);
@@ -126,7 +127,7 @@ TEST(VisiblePoints, TheTracePassTracesExactlyTheVisiblePoints) {
   frame.view = fv::make_eye_view(0, 480, 540, fv::EyePose{}, -0.8f, 0.8f, 0.85f, -0.85f);
   frame.mapping = fv::map_gaze(480, 540, {300, 300});
   frame.trace_rays = &half_failing_engine;
-  const fv::TraceStats stats = trace.trace(frame, executor);
+  const fv::TraceStats stats = trace.trace(frame, host, executor);
   EXPECT_GT(stats.failed_batches, 0u);
   std::vector<std::uint32_t> traced;
   for (const auto& run : trace.traced().runs) traced.insert(traced.end(), run.begin(), run.end());

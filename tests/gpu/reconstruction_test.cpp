@@ -23,6 +23,7 @@
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/rgba8.hpp"
+#include "gpu/device_stages.hpp"
 #include "gpu/reconstructor.hpp"
 #include "gpu/table_pack.hpp"
 #include "gpu/vk_util.hpp"
@@ -157,9 +158,9 @@ class GpuReconstruction : public ::testing::Test {
     const auto history = [&] {
       return temporal ? foveation::test::make_history(history_kind_, *tables, settings) : nullptr;
     };
-    foveation::FoveatedView cpu_view(tables, settings, history());
-    settings.reconstruct_on_cpu = false;
-    foveation::FoveatedView gpu_view(tables, settings, history());
+    // Both sides' stage sets, run by the one driver (FoveatedView) into their resources.
+    foveation::FoveatedView cpu_view(tables, settings, foveation::make_cpu_stages(tables, settings, history()));
+    foveation::FoveatedView gpu_view(tables, settings, make_device_stages(tables, settings, {}, history()));
     std::string error;
     const auto gpu_tables = gpu_->upload_tables(tables, &error, max_chunk_bytes);
     EXPECT_NE(gpu_tables, nullptr) << error;
@@ -170,21 +171,31 @@ class GpuReconstruction : public ::testing::Test {
     Difference worst;
     for (int i = 0; i < frames; ++i) {
       const foveation::FrameRequest req = request_of(i);
-      const auto cpu = cpu_view.render(req, trace, user, executor);
-      const auto gpu = gpu_view.render(req, trace, user, executor);
+      std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
+      foveation::HostFrame host;
+      host.rgba8 = expected.data();
+      host.display = display_;
+      const auto cpu = cpu_view.render(req, trace, user, host, executor);
+      DeviceFrame device;
+      device.eye = gpu_eye.get();
+      device.tables = gpu_tables.get();
+      device.slot = uint32_t(i) % kFrameSlots;
+      device.display = display_;
+      foveation::FrameResult gpu;
+      EXPECT_TRUE(gpu_->submit_and_wait(
+          [&](VkCommandBuffer cb) {
+            device.cb = cb;
+            gpu = gpu_view.render(req, trace, user, device, executor);
+            return gpu.ok();
+          },
+          &error))
+          << error << gpu.message;
       if (reprojected_frames != nullptr) *reprojected_frames += gpu_view.hand_off().temporal.history_view ? 1 : 0;
       if (cached_rays != nullptr) cached_rays->push_back(cpu_view.cached_rays());
-      EXPECT_TRUE(cpu.ok() && gpu.ok());
+      EXPECT_TRUE(cpu.ok() && gpu.ok()) << cpu.message << gpu.message;
       EXPECT_EQ(cpu.temporal_reset, gpu.temporal_reset) << "frame " << i;
       if (invalid_paths != nullptr) *invalid_paths += cpu.gather.renormalized + cpu.gather.nearest_valid + cpu.gather.fallback;
-      std::vector<uint8_t> expected(std::size_t(kW) * kH * 4);
-      foveation::encode_rgba8(cpu_view.image(), true, display_, expected.data(), executor);
 
-      EyeFrame frame = EyeFrame::of(*gpu_tables, gpu_view.hand_off(), true);
-      frame.display = display_;
-      EXPECT_TRUE(gpu_->submit_and_wait(
-          [&](VkCommandBuffer cb) { return gpu_eye->record(cb, frame, VK_NULL_HANDLE, executor, &error); }, &error))
-          << error;
       StageTimes times;
       EXPECT_TRUE(gpu_eye->stage_times(&times));  // lavapipe has timestamps
       if (gpu_cached_rays != nullptr) gpu_cached_rays->push_back(gpu_eye->cached_rays_after_wait());
@@ -496,6 +507,32 @@ TEST_F(GpuReconstruction, ChunkedTablesGiveTheSameFrame) {
     ASSERT_EQ(many.size(), 1u);
     EXPECT_EQ(one[0], many[0]);
   }
+}
+
+// One stage hierarchy: each side's set, on the other side's resources (or a
+// device frame with nothing to record into), fails the frame with a clear
+// message instead of writing anything.
+TEST_F(GpuReconstruction, EachSidesStagesRefuseTheOtherSidesResources) {
+  const auto tables = small_tables(InterpMethod::msm, 5);
+  const foveation::ViewSettings settings;
+  foveation::Executor executor(2);
+  const foveation::FrameRequest req = eye_request(0, glm::vec2(40, 40), 1);
+  foveation::FoveatedView cpu_view(tables, settings, foveation::make_cpu_stages(tables, settings));
+  foveation::FoveatedView gpu_view(tables, settings, make_device_stages(tables, settings, {}));
+  DeviceFrame device;
+  foveation::HostFrame host;
+  const auto cpu_on_device = cpu_view.render(req, scene, nullptr, device, executor);
+  EXPECT_EQ(cpu_on_device.failure, foveation::FrameFailure::resources_failed);
+  EXPECT_NE(cpu_on_device.message.find("runs on the host"), std::string::npos) << cpu_on_device.message;
+  const auto gpu_on_host = gpu_view.render(req, scene, nullptr, host, executor);
+  EXPECT_EQ(gpu_on_host.failure, foveation::FrameFailure::resources_failed);
+  EXPECT_NE(gpu_on_host.message.find("records on the device"), std::string::npos) << gpu_on_host.message;
+  EXPECT_EQ(gpu_on_host.rays, 0u) << "refused before the engine ran";
+  const auto nothing_to_record = gpu_view.render(req, scene, nullptr, device, executor);
+  EXPECT_EQ(nothing_to_record.failure, foveation::FrameFailure::resources_failed);
+  EXPECT_NE(nothing_to_record.message.find("no command buffer"), std::string::npos) << nothing_to_record.message;
+  EXPECT_EQ(host.output, nullptr);
+  EXPECT_TRUE(cpu_view.render(req, scene, nullptr, host, executor).ok()) << "each on its own side runs";
 }
 
 TEST(Tables, RefusesWhatTheShadersCannotRead) {

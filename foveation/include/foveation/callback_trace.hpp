@@ -35,7 +35,7 @@ class CallbackTrace final : public TraceStage {
   // at the first frame. Not with keep_rays: a thinned point has no rays of its own.
   void set_content_density(std::function<const PointLevels&(Executor&)> levels, const ContentDensityOptions& options);
 
-  TraceStats trace(const FrameContext& frame, Executor& executor) override;
+  TraceStats trace(const FrameContext& frame, FrameResources& resources, Executor& executor) override;
   const TracedPoints& traced() const override { return traced_; }
 
  private:

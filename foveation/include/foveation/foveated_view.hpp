@@ -1,12 +1,15 @@
 // The one foveated frame (thesis 4.2-4.3; docs/design.md "One frame in
 // stages"), used by the OpenXR layer, `fovea render` and `fovea reconstruct`
-// alike: the stages of frame_stages.hpp composed for one view. The visible
-// points' jittered rays go to the engine callback in batches on the executor
-// (stages 1-3, CallbackTrace); every pixel is a k-tap gather over the canvas
-// tables (stage 4, GatherReconstruction); the temporal history the settings
-// choose follows (stage 5). With reconstruct_on_cpu = false the frame stops
-// after the history's decision and the caller takes hand_off() (the layer's
-// GPU path, which also encodes: stage 6).
+// alike: a stage set of frame_stages.hpp, chosen once, run in order for one
+// view. The CPU's set (make_cpu_stages): the visible points' jittered rays go
+// to the engine callback in batches on the executor (stages 1-3,
+// CallbackTrace); every pixel is a k-tap gather over the canvas tables (stage
+// 4, GatherReconstruction); the temporal history the settings choose follows
+// (stage 5), and the encode into the frame's RGBA8 rows (stage 6). The
+// device's set (gpu::make_device_stages) records the same stages into the
+// frame's command buffer. With reconstruct_on_cpu = false, render() without
+// resources stops after the history's decision and the caller takes
+// hand_off() (a reconstruction elsewhere: tests and benchmarks).
 //
 // Lifetime and threads: a FoveatedView belongs to one view (one eye of one
 // display); render() is called from one thread at a time and spreads its work
@@ -37,6 +40,7 @@ enum class FrameFailure : std::uint8_t {
   none = 0,
   callback_failed,  // the engine returned an error for a batch (or threw)
   invalid_colour,   // a colour component was NaN, infinite or negative
+  resources_failed, // a stage could not run on the frame's resources (the wrong side, a device call failed)
 };
 
 struct FrameResult {
@@ -52,6 +56,7 @@ struct FrameResult {
   double density_ms = 0.0;          // content-aware density's part of select and trace (TraceStats::density_ms)
   double reconstruct_ms = 0.0;      // gather
   double temporal_ms = 0.0;              // the temporal history
+  double encode_ms = 0.0;           // the encode (on the device: recording it)
   glm::vec2 centre_px{};            // the foveation centre this frame used (ViewSettings::centre_deadband_deg)
   bool temporal_reset = false;           // a history is kept and restarted this frame
   std::uint64_t history_off_screen = 0;   // TemporalMode::image: pixels whose surface was off the last view
@@ -72,26 +77,35 @@ class FoveatedView {
   // the product's modes) instead of make_temporal_history(settings); null: that.
   FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
                std::unique_ptr<TemporalHistory> history);
+  // A frame of these stages (make_cpu_stages, gpu::make_device_stages), chosen once.
+  FoveatedView(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings, FrameStages stages);
 
   // One frame. On success image() holds it; on failure image() keeps the last
   // good frame and the temporal history restarts.
   FrameResult render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
                      Executor& executor);
+  // One frame of every stage into `resources`, the side the stages were made
+  // for (a resources_failed frame otherwise). trace_rays may be null when the
+  // trace stage calls none (a device trace).
+  FrameResult render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                     FrameResources& resources, Executor& executor);
 
-  // A frame traced elsewhere (the layer's device trace runs stages 1-3 on the
-  // GPU): the frame's canvas mapping, jitter seed and the history's decision,
+  // A frame traced elsewhere by a caller that records the device's frame
+  // itself (tests, benchmarks; the device's stage set needs none): the
+  // frame's canvas mapping, jitter seed and the history's decision,
   // in hand_off(), with no traced points (a ray history decides its restart
   // only: the device makes its rays and pixels). Needs reconstruct_on_cpu =
   // false (throws std::invalid_argument otherwise).
   FrameResult plan(const FrameRequest& request, Executor& executor);
-  // A planned frame failed where it was traced: the next frame restarts the history.
+  // A frame failed where it was traced (a fault the device reported frames
+  // later): the next frame restarts the history.
   void forget_history() { history_->forget(); }
 
   // The last successful frame (after the temporal history), in the callback's
   // colour space (linear RGB from an engine).
-  const ImageRgb& image() const { return output_ != nullptr ? *output_ : reconstructed_; }
+  const ImageRgb& image() const { return host_.output != nullptr ? *host_.output : host_.reconstructed; }
   // The same frame before the history: the reconstruction alone.
-  const ImageRgb& reconstructed() const { return reconstructed_; }
+  const ImageRgb& reconstructed() const { return host_.reconstructed; }
   // What a reconstruction elsewhere takes from the last frame (stage 3's
   // points, stage 5's decision): valid until the next render().
   const FrameHandOff& hand_off() const { return hand_off_; }
@@ -110,16 +124,29 @@ class FoveatedView {
   std::unique_ptr<TemporalHistory> history_;   // stage 5
   std::unique_ptr<TraceStage> trace_;          // stages 1-3
   std::unique_ptr<ReconstructStage> reconstruct_;  // stage 4
+  std::unique_ptr<EncodeStage> encode_;        // stage 6
   // The frame's context: the request checked against the tables, the centre moved.
   FrameContext begin_frame(const FrameRequest& request, FrameResult* result);
+  // Stages 1-3 into `result`: false (the history forgotten) when the trace failed.
+  bool run_trace(const FrameContext& frame, FrameResources& resources, Executor& executor, FrameResult* result);
+  // Stages 4-6: false (the history forgotten) when a stage failed on the resources.
+  bool run_after_trace(const FrameContext& frame, FrameResources& resources, Executor& executor,
+                       FrameResult* result);
+  void finish(FrameResult* result) const;  // the history's decision into the result
 
-  ImageRgb reconstructed_;
-  const ImageRgb* output_ = nullptr;
+  HostFrame host_;  // render() without resources: image()
   TracedPoints nothing_traced_;  // plan()'s hand-off
   FrameHandOff hand_off_;
 };
 
 // The temporal history (stage 5) that `settings` choose, for `tables`.
 std::unique_ptr<TemporalHistory> make_temporal_history(const ViewTables& tables, const ViewSettings& settings);
+// Stages 1-3 through the engine's callback as `settings` choose (content
+// density unless the history keeps rays); both sides' sets trace with it.
+std::unique_ptr<TraceStage> make_callback_trace(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
+                                                bool keep_rays);
+// The CPU's stage set; `history` null: make_temporal_history's.
+FrameStages make_cpu_stages(std::shared_ptr<const ViewTables> tables, const ViewSettings& settings,
+                            std::unique_ptr<TemporalHistory> history = nullptr);
 
 }  // namespace foveart::foveation

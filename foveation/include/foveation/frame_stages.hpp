@@ -1,28 +1,37 @@
-// The foveated frame in six stages (docs/design.md, "One frame in stages").
-// Each stage reads what the stages before it hand on (the structs below),
-// never their internals; FoveatedView composes them, and the layer's GPU path
-// takes over after stage 3 from the same hand-off.
+// The foveated frame in six stages (docs/design.md, "One frame in stages"),
+// one hierarchy for the CPU and the device. Each stage reads what the stages
+// before it hand on (the structs below), never their internals, and writes
+// into the frame's resources (FrameResources): host images on the CPU
+// (HostFrame), the command buffer being recorded and the eye's buffers on the
+// device (gpu::DeviceFrame, gpu/device_stages.hpp). A stage set is chosen once
+// (make_cpu_stages, gpu::make_device_stages) and FoveatedView runs it in order.
 //
-//   stage                     CPU                          GPU (gpu/)
-//   1. select visible points  VisibleRegion                gpu::DeviceTrace: device rays
-//   2. make rays              PointRays                    gpu::DeviceTrace: device rays
-//   3. trace                  CallbackTrace (TraceStage)   the engine's device trace, resolve
-//   4. reconstruct            GatherReconstruction         gpu::Eye: scatter + gather
-//   5. temporal history       TemporalHistory: NoHistory,  gpu::Eye: temporal, or the
-//                             ImageHistory, RayHistory     render cache (gpu::RayCache)
-//   6. encode                 encode_rgba8                 gpu::Eye: encode
+//   stage                     CPU (make_cpu_stages)        device (gpu::make_device_stages)
+//   1-3. select, rays, trace  CallbackTrace                the engine's device trace and resolve,
+//                                                          or CallbackTrace with the colours uploaded
+//   4. reconstruct            GatherReconstruction         scatter + gather
+//   5. temporal history       NoHistory, ImageHistory,     the image history, or the render cache
+//                             RayHistory                   (gpu::RayCache), as the host decides
+//   6. encode                 HostEncode (encode_rgba8)    display transform, encode, copy into the image
 //
 // Stages 1-3 run fused per run of the point set on the CPU (a run's rays go
-// to the engine while they are hot); stage 5 decides its restarts on the CPU
-// for either path (decide()) and applies the history where the frame is
-// reconstructed. A device trace (FoveatedView::plan) runs stages 1-3 on the
-// GPU as well: the CPU then only decides the history.
+// to the engine while they are hot). Stage 5 decides its restarts on the host
+// for both sides (TemporalHistory::decide); the device's history wraps the
+// host's decision and records its application.
+//
+// Resources: a stage asks the frame for its side once (host() or device(),
+// null when the frame is the other side's) and fails with a clear error on a
+// mismatch: a virtual accessor, not casts, and not templates, since the layer
+// picks a stage set at run time.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "foveation/display_transform.hpp"
 #include "foveation/executor.hpp"
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
@@ -31,7 +40,32 @@
 #include "foveation/ray_trace.h"
 #include "foveation/temporal_blend.hpp"
 
+namespace foveart::gpu {
+struct DeviceFrame;  // gpu/device_stages.hpp
+}  // namespace foveart::gpu
+
 namespace foveart::foveation {
+
+struct HostFrame;
+
+// What one frame's stages read and write, on the host or on the device.
+class FrameResources {
+ public:
+  virtual ~FrameResources() = default;
+  virtual HostFrame* host() { return nullptr; }
+  virtual gpu::DeviceFrame* device() { return nullptr; }
+};
+
+// A frame on the host: the reconstruction (stage 4), the image after the
+// history (stage 5) and the RGBA8 rows it is encoded into (stage 6).
+struct HostFrame final : FrameResources {
+  ImageRgb reconstructed;
+  const ImageRgb* output = nullptr;  // the history's image, or `reconstructed`; valid until the next frame
+  std::uint8_t* rgba8 = nullptr;     // width x height RGBA8 texels (the swapchain's staging); null: not encoded
+  bool srgb = true;                  // sRGB-encode (an sRGB swapchain format)
+  DisplayTransform display;          // exposure and tone-mapping curve before the encode
+  HostFrame* host() override { return this; }
+};
 
 // What every stage of one frame knows.
 struct FrameContext {
@@ -67,14 +101,16 @@ struct TraceStats {
   // observations (their CPU time over the threads) and the fill; the first frame's
   // includes building the set's levels.
   double density_ms = 0.0;
-  bool ok() const { return failed_batches == 0 && invalid_colours == 0; }
+  // The frame's resources failed (the wrong side, a device call): not the engine's doing.
+  std::string error;
+  bool ok() const { return failed_batches == 0 && invalid_colours == 0 && error.empty(); }
 };
 
 // Stages 1-3: the visible points' rays through the engine, one colour each.
 class TraceStage {
  public:
   virtual ~TraceStage() = default;
-  virtual TraceStats trace(const FrameContext& frame, Executor& executor) = 0;
+  virtual TraceStats trace(const FrameContext& frame, FrameResources& resources, Executor& executor) = 0;
   virtual const TracedPoints& traced() const = 0;
 };
 
@@ -82,8 +118,10 @@ class TraceStage {
 class ReconstructStage {
  public:
   virtual ~ReconstructStage() = default;
-  virtual GatherStats reconstruct(const FrameContext& frame, const TracedPoints& traced, ImageRgb& out,
-                                  Executor& executor) = 0;
+  // false with *error when the resources cannot take it.
+  [[nodiscard]] virtual bool reconstruct(const FrameContext& frame, const TracedPoints& traced,
+                                         FrameResources& resources, Executor& executor, GatherStats* stats,
+                                         std::string* error) = 0;
 };
 
 // Stage 5's decision for one frame, and what applying it counted.
@@ -116,12 +154,32 @@ class TemporalHistory {
   virtual void forget() = 0;
   // This frame's decision for a history applied elsewhere (the GPU path); keeps no image.
   virtual TemporalFrame decide(const FrameContext& frame, const TracedPoints& traced, Executor& executor) = 0;
-  // Decides and applies the history to this frame's reconstruction; the
-  // output stays valid until the next call.
-  virtual const ImageRgb& accumulate(const FrameContext& frame, const TracedPoints& traced,
-                                     const ImageRgb& reconstructed, Executor& executor, TemporalFrame* decision) = 0;
+  // Decides and applies the history to this frame's reconstruction in
+  // `resources` (on the host: HostFrame::output, valid until the next call);
+  // false with *error when the resources cannot take it.
+  [[nodiscard]] virtual bool apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources,
+                                   Executor& executor, TemporalFrame* decision, std::string* error) = 0;
   // RayHistory: the rays kept after the last frame.
   virtual std::size_t kept_rays() const { return 0; }
+};
+
+// Stage 6: the frame for a swapchain (display transform, 8-bit encode).
+class EncodeStage {
+ public:
+  virtual ~EncodeStage() = default;
+  [[nodiscard]] virtual bool encode(const FrameContext& frame, FrameResources& resources, Executor& executor,
+                                    std::string* error) = 0;
+};
+
+// The host's resources of a frame, or *error naming the stage that needs them.
+HostFrame* host_frame(FrameResources& resources, const char* stage, std::string* error);
+
+// One frame's stages, chosen once; FoveatedView runs them in order.
+struct FrameStages {
+  std::unique_ptr<TraceStage> trace;              // 1-3
+  std::unique_ptr<ReconstructStage> reconstruct;  // 4
+  std::unique_ptr<TemporalHistory> history;       // 5
+  std::unique_ptr<EncodeStage> encode;            // 6
 };
 
 // What a reconstruction elsewhere takes from a frame: stage 3's points and

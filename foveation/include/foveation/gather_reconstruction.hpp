@@ -13,9 +13,14 @@ class GatherReconstruction final : public ReconstructStage {
   GatherReconstruction(const ViewTables& tables, RbfClamp rbf_clamp) : tables_(tables) {
     options_.rbf_clamp = rbf_clamp;
   }
-  GatherStats reconstruct(const FrameContext& frame, const TracedPoints& traced, ImageRgb& out,
-                          Executor& executor) override {
-    return gather(tables_.neighbors, tables_.interpolation, traced.colors, frame.mapping, out, executor, options_);
+  // Into HostFrame::reconstructed.
+  bool reconstruct(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources,
+                   Executor& executor, GatherStats* stats, std::string* error) override {
+    HostFrame* host = host_frame(resources, "the CPU's gather", error);
+    if (host == nullptr) return false;
+    *stats = gather(tables_.neighbors, tables_.interpolation, traced.colors, frame.mapping, host->reconstructed,
+                    executor, options_);
+    return true;
   }
 
  private:

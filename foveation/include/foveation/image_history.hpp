@@ -20,8 +20,8 @@ class NoHistory final : public TemporalHistory {
   explicit NoHistory(const TemporalOptions& blend) : blend_(blend) { blend_.current_weight = 1.0f; }
   void forget() override {}
   TemporalFrame decide(const FrameContext&, const TracedPoints&, Executor&) override;
-  const ImageRgb& accumulate(const FrameContext& frame, const TracedPoints& traced, const ImageRgb& reconstructed,
-                             Executor& executor, TemporalFrame* decision) override;
+  bool apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources, Executor& executor,
+             TemporalFrame* decision, std::string* error) override;
 
  private:
   TemporalOptions blend_;
@@ -35,8 +35,8 @@ class ImageHistory final : public TemporalHistory {
 
   void forget() override;
   TemporalFrame decide(const FrameContext& frame, const TracedPoints& traced, Executor& executor) override;
-  const ImageRgb& accumulate(const FrameContext& frame, const TracedPoints& traced, const ImageRgb& reconstructed,
-                             Executor& executor, TemporalFrame* decision) override;
+  bool apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources, Executor& executor,
+             TemporalFrame* decision, std::string* error) override;
 
  private:
   bool moved(const FoveartEyeView& view) const;

@@ -32,8 +32,8 @@ class RayHistory final : public TemporalHistory {
   bool keeps_rays() const override { return true; }
   void forget() override;
   TemporalFrame decide(const FrameContext& frame, const TracedPoints& traced, Executor& executor) override;
-  const ImageRgb& accumulate(const FrameContext& frame, const TracedPoints& traced, const ImageRgb& reconstructed,
-                             Executor& executor, TemporalFrame* decision) override;
+  bool apply(const FrameContext& frame, const TracedPoints& traced, FrameResources& resources, Executor& executor,
+             TemporalFrame* decision, std::string* error) override;
   std::size_t kept_rays() const override { return cache_.size(); }
 
  private:

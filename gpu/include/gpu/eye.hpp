@@ -7,7 +7,9 @@
 //
 // Per frame only the traced points' colours (20 bytes each) go to the device
 // (nothing with a device trace). Recording happens on the caller's command
-// buffer, which the caller submits.
+// buffer, which the caller submits: a stage at a time by the device's stage
+// set (device_stages.hpp, the layer's frames), or all at once by record()
+// from a frame's hand-off (tests, benchmarks).
 //
 // Frames in flight (gpu/frame_slots.hpp): frame n is recorded into slot
 // EyeFrame::slot = n % kFrameSlots. What a frame writes and the host fills or
@@ -79,6 +81,8 @@ struct EyeFrame {
   // reconstruct_on_cpu = false), on `tables`: the traced points and the
   // temporal history's decision.
   static EyeFrame of(const Tables& tables, const foveation::FrameHandOff& frame, bool srgb);
+  // Stage 5's decision for this frame: the history's blend and view, or the render cache's frame.
+  void set_temporal(const foveation::TracedPoints& points, const foveation::TemporalFrame& temporal);
 };
 
 // GPU time of each stage of a frame (timestamps), milliseconds.
@@ -110,6 +114,19 @@ class Eye {
   // recorded stays in `cb` (it may be submitted: it writes only this eye's buffers).
   [[nodiscard]] bool record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
                             std::string* error);
+
+  // The same frame a stage at a time (the device's stage set, device_stages.hpp):
+  // begin_frame (the slot, its buffers and sets, the status cleared), the
+  // stages in order as far as `frame` is known by then, end_frame.
+  [[nodiscard]] bool begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* error);
+  std::size_t upload_traced(const EyeFrame& frame, foveation::Executor& executor);  // CPU-traced colours, before 1-3
+  [[nodiscard]] bool record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* error);  // 1-3
+  void record_scatter(VkCommandBuffer cb, const EyeFrame& frame, std::size_t uploaded);           // 4
+  void record_gather(VkCommandBuffer cb, const EyeFrame& frame);                                  // 4
+  [[nodiscard]] bool record_temporal(VkCommandBuffer cb, const EyeFrame& frame, foveation::Executor& executor,
+                                     std::string* error);                                          // 5
+  void record_encode(VkCommandBuffer cb, const EyeFrame& frame, VkImage image);                   // 6
+  void end_frame();
   // After the slot's submission finished: the stage times it measured.
   bool stage_times(std::uint32_t slot, StageTimes* out) const;
   bool stage_times(StageTimes* out) const { return stage_times(last_slot_, out); }
@@ -155,14 +172,6 @@ class Eye {
   const Slot& slot() const { return slots_[slot_]; }
   void bind_set(VkCommandBuffer cb) const;
   void stamp(VkCommandBuffer cb, uint32_t query) const;  // a timestamp, when the queue has them
-  // The frame's stages in turn (foveation/frame_stages.hpp), recorded by record().
-  [[nodiscard]] bool record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* error);  // 1-3 or upload
-  void record_scatter(VkCommandBuffer cb, const EyeFrame& frame, std::size_t uploaded);           // 4
-  void record_gather(VkCommandBuffer cb, const EyeFrame& frame);                                  // 4
-  [[nodiscard]] bool record_temporal(VkCommandBuffer cb, const EyeFrame& frame, foveation::Executor& executor,
-                                     std::string* error);                                          // 5
-  void record_encode(VkCommandBuffer cb, const EyeFrame& frame, VkImage image);                   // 6
-  std::size_t upload_traced(const EyeFrame& frame, foveation::Executor& executor);
 
   Context& context_;
   const FramePipelines& pipelines_;

@@ -19,6 +19,8 @@
 #include "foveation/callback_trace.hpp"
 #include "foveation/foveated_view.hpp"
 #include "foveation/gather_reconstruction.hpp"
+#include "foveation/host_encode.hpp"
+#include "foveation/rgba8.hpp"
 #include "foveation/image_history.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/visible_points.hpp"
@@ -442,7 +444,8 @@ TEST(FrameStages, ComposedByHandTheyAreTheViewsFrame) {
   CallbackTrace trace(tables->points, s.rays_per_point, s.pixel_filter, s.new_jitter_each_frame, false);
   GatherReconstruction reconstruct(*tables, s.rbf_clamp);
   ImageHistory history(tables->neighbors, temporal_options_for_rays(s.temporal_options, s.rays_per_point), true);
-  ImageRgb reconstructed;
+  HostEncode encode;
+  HostFrame host;
   for (int f = 0; f < 4; ++f) {
     FrameRequest request = request_at({40.0f + 3.0f * float(f), 38});
     request.frame_index = uint64_t(f + 1);
@@ -454,14 +457,41 @@ TEST(FrameStages, ComposedByHandTheyAreTheViewsFrame) {
     frame.frame_index = request.frame_index;
     frame.sample_seed = s.sample_seed + request.frame_index;
     frame.trace_rays = &gradient;
-    ASSERT_TRUE(trace.trace(frame, executor).ok());
-    reconstruct.reconstruct(frame, trace.traced(), reconstructed, executor);
+    ASSERT_TRUE(trace.trace(frame, host, executor).ok());
+    GatherStats gathered;
+    std::string error;
+    ASSERT_TRUE(reconstruct.reconstruct(frame, trace.traced(), host, executor, &gathered, &error)) << error;
     TemporalFrame decision;
-    const ImageRgb& out = history.accumulate(frame, trace.traced(), reconstructed, executor, &decision);
-    EXPECT_EQ(reconstructed.rgb, view.reconstructed().rgb) << "frame " << f;
-    EXPECT_EQ(out.rgb, view.image().rgb) << "frame " << f;
+    ASSERT_TRUE(history.apply(frame, trace.traced(), host, executor, &decision, &error)) << error;
+    EXPECT_EQ(host.reconstructed.rgb, view.reconstructed().rgb) << "frame " << f;
+    ASSERT_NE(host.output, nullptr);
+    EXPECT_EQ(host.output->rgb, view.image().rgb) << "frame " << f;
     EXPECT_EQ(decision.reset, f == 0) << "frame " << f;
+    std::vector<std::uint8_t> by_hand(std::size_t(kW) * kH * 4), by_view(by_hand.size());
+    host.rgba8 = by_hand.data();
+    ASSERT_TRUE(encode.encode(frame, host, executor, &error)) << error;
+    host.rgba8 = nullptr;
+    encode_rgba8(view.image(), true, DisplayTransform{}, by_view.data(), executor);
+    EXPECT_EQ(by_hand, by_view) << "frame " << f;
   }
+}
+
+// The CPU's stages on resources that are not the host's: a clear error, a
+// failed frame the view reports, and nothing written.
+TEST(FrameStages, HostStagesRefuseResourcesOfAnotherSide) {
+  struct NotTheHost final : FrameResources {};
+  Executor executor(2);
+  const auto tables = small_tables(InterpMethod::msm, 5);
+  FoveatedView view(tables, settings(1, true));
+  NotTheHost elsewhere;
+  const FrameResult result = view.render(request_at({48, 40}), &gradient, nullptr, elsewhere, executor);
+  EXPECT_EQ(result.failure, FrameFailure::resources_failed);
+  EXPECT_NE(result.message.find("on the host"), std::string::npos) << result.message;
+  EXPECT_EQ(view.image().width_px, 0) << "no image was made";
+  std::string error;
+  EXPECT_FALSE(HostEncode().encode(FrameContext{}, elsewhere, executor, &error));
+  EXPECT_NE(error.find("encode"), std::string::npos) << error;
+  ASSERT_TRUE(view.render(request_at({48, 40}), &gradient, nullptr, executor).ok()) << "the host's frame still runs";
 }
 
 // A history's decision for a frame reconstructed elsewhere (the GPU path)
