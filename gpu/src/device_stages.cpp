@@ -9,7 +9,8 @@ namespace foveart::gpu {
 
 DeviceFrame* device_frame(foveation::FrameResources& resources, const char* stage, std::string* error) {
   DeviceFrame* device = resources.device();
-  if (device == nullptr) *error = std::string(stage) + " records on the device, and this frame's resources are the host's";
+  if (device == nullptr)
+    *error = std::string(stage) + " records on the device, and this frame's resources are the host's";
   return device;
 }
 
@@ -20,7 +21,10 @@ VkCommandBuffer DeviceFrame::recording(const foveation::FrameContext& context, s
     if (error->empty()) *error = "GPU frame: no command buffer to record into";
     return VK_NULL_HANDLE;
   }
-  if (eye == nullptr || tables == nullptr) return *error = "GPU frame: no eye or no tables on the device", VK_NULL_HANDLE;
+  if (eye == nullptr || tables == nullptr) {
+    *error = "GPU frame: no eye or no tables on the device";
+    return VK_NULL_HANDLE;
+  }
   frame.tables = tables;
   frame.mapping = context.mapping;
   frame.view = context.view;
@@ -101,7 +105,7 @@ class UploadedTrace final : public foveation::TraceStage {
     const VkCommandBuffer cb = d->recording(frame, &stats.error);
     if (cb == VK_NULL_HANDLE) return stats;
     d->uploaded = d->eye->upload_traced(d->frame, executor);
-    if (!d->eye->record_trace(cb, d->frame, &stats.error)) return stats;
+    (void)d->eye->record_trace(cb, d->frame, &stats.error);  // false: stats.error says why
     return stats;
   }
   const foveation::TracedPoints& traced() const override { return callback_->traced(); }

@@ -205,7 +205,7 @@ bool FoveatedRenderer::Frames::present_app_frame(uint32_t e, XrFoveatedRendererS
   }
   stats->uploadMs[e] = ms_since(t0);
   if (!recorded) {
-    gpu_failed(e, error, stats);
+    fall_back_to_cpu(e, error, stats);
     return false;
   }
   return present_gpu(e, stats);

@@ -490,7 +490,7 @@ void FoveatedRenderer::Frames::choose_gpu_path(EyePath& path) {
     return gpu_resources(e, view_tables, device_trace);
   };
   path.resources_failed = [this](uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats) {
-    gpu_failed(e, error, stats);
+    fall_back_to_cpu(e, error, stats);
   };
   path.present = [this](uint32_t e, XrFoveatedRendererStatsFOVEART* stats) { return present_gpu(e, stats); };
 }
@@ -614,12 +614,14 @@ foveation::FrameResources* FoveatedRenderer::Frames::cpu_resources(uint32_t e, X
     upload_failed(e, error, stats);
     return nullptr;
   }
+  eye.host.output = nullptr;  // set by this frame's history
   eye.host.srgb = eye.swapchain->srgb();
   eye.host.display = display;
   return &eye.host;
 }
 
-void FoveatedRenderer::Frames::gpu_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats) {
+void FoveatedRenderer::Frames::fall_back_to_cpu(uint32_t e, const std::string& error,
+                                                XrFoveatedRendererStatsFOVEART* stats) {
   // This frame shows the app's image; the CPU reconstructs from the next one.
   Eye& eye = eyes[e];
   eye.gpu_failed = true;

@@ -65,7 +65,8 @@ struct FoveatedRenderer::Frames {
                                          const foveation::ViewSettings& view_settings)>
         stages;
     // This frame's resources for them (null: the frame falls back, counted and logged).
-    std::function<foveation::FrameResources*(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
+    std::function<foveation::FrameResources*(uint32_t e,
+                                             const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                              XrFoveatedRendererStatsFOVEART* stats)>
         resources;
     // The stages could not run on the resources: counted and logged (the GPU path falls back to the CPU).
@@ -165,12 +166,13 @@ struct FoveatedRenderer::Frames {
                    XrFoveatedRendererStatsFOVEART* stats);
   // The eye's stages 1-6 on the path's resources, and their stats.
   bool run_frame(uint32_t e, const foveation::FrameRequest& request,
-                 const std::shared_ptr<const foveation::ViewTables>& view_tables, XrFoveatedRendererStatsFOVEART* stats);
+                 const std::shared_ptr<const foveation::ViewTables>& view_tables,
+                 XrFoveatedRendererStatsFOVEART* stats);
   // The paths' resources and present (EyePath).
   foveation::FrameResources* gpu_resources(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables,
                                            bool device_trace);
   foveation::FrameResources* cpu_resources(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
-  void gpu_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
+  void fall_back_to_cpu(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
   void upload_failed(uint32_t e, const std::string& error, XrFoveatedRendererStatsFOVEART* stats);
   bool present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
   // A frame's result into the stats: false (logged once) when it failed.

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "device_trace_harness.hpp"
+#include "gpu/device_stages.hpp"
 #include "gpu/shader_interface/device_rays.h"
 
 namespace foveart::gpu {
@@ -246,6 +247,55 @@ TEST_F(DeviceTraceTest, DeviceFrameReconstructsAsTheCallbackFrame) {
   std::vector<bool> seen(256, false);
   for (std::size_t b = 0; b < first.size(); b += 4) distinct_red += seen[first[b]] ? 0 : (seen[first[b]] = true, 1);
   EXPECT_GT(distinct_red, 20u);
+}
+
+// The device's stage set (make_device_stages), run by FoveatedView into a
+// DeviceFrame, records the frame gpu::Eye records from a planned hand-off,
+// bit for bit; an engine error fails the frame as the engine's, not the device's.
+TEST_F(DeviceTraceTest, DeviceStageSetRecordsTheEyesFrame) {
+  settings_.temporal = foveation::TemporalMode::image;
+  engine_.answer = TestEngine::Answer::direction;
+  foveation::FoveatedView planned(tables_, settings_);
+  foveation::FoveatedView staged(
+      tables_, settings_,
+      make_device_stages(tables_, settings_,
+                         [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); }));
+  std::string error;
+  const auto staged_eye = gpu_->create_eye(kViewW, kViewH, &error);
+  ASSERT_NE(staged_eye, nullptr) << error;
+  foveation::Executor executor(2);
+  const auto run_staged = [&](const foveation::FrameRequest& req) {
+    DeviceFrame frame;
+    frame.eye = staged_eye.get();
+    frame.tables = gpu_tables_.get();
+    frame.slot = uint32_t(req.frame_index % kFrameSlots);
+    foveation::FrameResult result;
+    (void)gpu_->submit_and_wait(
+        [&](VkCommandBuffer cb) {
+          frame.cb = cb;
+          result = staged.render(req, nullptr, nullptr, frame, executor);
+          return result.ok();
+        },
+        &error);
+    return result;
+  };
+  for (uint64_t i = 0; i < 4; ++i) {
+    const foveation::FrameRequest req = request(i < 2 ? glm::vec2(40, 30) : glm::vec2(70, 60), i);
+    ASSERT_TRUE(device_frame(planned, req, &error)) << error;
+    const foveation::FrameResult result = run_staged(req);
+    ASSERT_TRUE(result.ok()) << result.message << error;
+    std::vector<uint8_t> expected, actual;
+    ASSERT_TRUE(eye_->read_rgba8(&expected, &error)) << error;
+    ASSERT_TRUE(staged_eye->read_rgba8(&actual, &error)) << error;
+    EXPECT_EQ(actual, expected) << "frame " << i;
+    EXPECT_EQ(staged.hand_off().temporal.reset, planned.hand_off().temporal.reset) << "frame " << i;
+    EXPECT_EQ(staged_eye->device_trace_status().visible_points, eye_->device_trace_status().visible_points);
+  }
+  engine_.answer = TestEngine::Answer::error;
+  const foveation::FrameResult failed = run_staged(request(glm::vec2(48, 40), 4));
+  EXPECT_EQ(failed.failure, foveation::FrameFailure::callback_failed);
+  EXPECT_EQ(failed.failed_batches, 1u);
+  EXPECT_NE(failed.message.find("device trace"), std::string::npos) << failed.message;
 }
 
 // Per frame the device path writes nothing to host memory and reads back the

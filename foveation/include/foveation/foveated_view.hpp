@@ -91,7 +91,8 @@ class FoveatedView {
                      FrameResources& resources, Executor& executor);
 
   // A frame traced elsewhere by a caller that records the device's frame
-  // itself (tests, benchmarks; the device's stage set needs none): the frame's canvas mapping, jitter seed and the history's decision,
+  // itself (tests, benchmarks; the device's stage set needs none): the
+  // frame's canvas mapping, jitter seed and the history's decision,
   // in hand_off(), with no traced points (a ray history decides its restart
   // only: the device makes its rays and pixels). Needs reconstruct_on_cpu =
   // false (throws std::invalid_argument otherwise).

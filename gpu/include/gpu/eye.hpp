@@ -7,7 +7,9 @@
 //
 // Per frame only the traced points' colours (20 bytes each) go to the device
 // (nothing with a device trace). Recording happens on the caller's command
-// buffer, which the caller submits.
+// buffer, which the caller submits: a stage at a time by the device's stage
+// set (device_stages.hpp, the layer's frames), or all at once by record()
+// from a frame's hand-off (tests, benchmarks).
 //
 // Frames in flight (gpu/frame_slots.hpp): frame n is recorded into slot
 // EyeFrame::slot = n % kFrameSlots. What a frame writes and the host fills or
