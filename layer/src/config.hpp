@@ -29,7 +29,7 @@ inline constexpr std::string_view kConfigKeys[] = {
     "enabled",       "log_level",      "log_file",        "interpolation",  "k",
     "density_scale", "rays_per_point", "temporal",        "gaze_source",    "gaze_provider",
     "threads",       "cache_dir",      "wait_for_tables", "reconstruction", "exposure",
-    "tone_map",      "gaze_clock",     "content_contrast", "applications"};
+    "tone_map",      "gaze_clock",     "content_contrast", "content_rays", "applications"};
 
 // Keys earlier configs held: a file that names one still loads, with a warning that says
 // what replaced it. "taa" and "taa_history" are read into "temporal" when the same object
@@ -60,6 +60,9 @@ struct LayerConfig {
   // Content-aware density (foveation/content_density.hpp): the Michelson contrast from which
   // a screen tile traces all its points; 0 (the default): off, density by eccentricity alone.
   float content_contrast = 0.0f;
+  // Rays per point by the content (foveation/point_rays.hpp): the tile contrast from which a
+  // point casts all rays_per_point rays; 0 (the default): off, every point casts them all.
+  float content_rays = 0.0f;
   uint32_t rays_per_point = kDefaultRaysPerPoint;
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
   // (a reprojected image history) or "rays" (a render cache of the traced rays).

@@ -54,6 +54,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.k = config.k;
   s.density_scale = config.density_scale;
   s.content_contrast = config.content_contrast;
+  s.content_rays = config.content_rays;
   s.rays_per_point = config.rays_per_point;
   if (foveation::TemporalMode mode{}; foveation::parse_temporal_mode(config.temporal, &mode)) s.temporal = mode;
   s.gaze_source = gaze_source_from_name(config.gaze_source);

@@ -41,6 +41,7 @@ struct RendererSettings {
   uint32_t k = 5;
   float density_scale = 1.0f;
   float content_contrast = 0.0f;  // LayerConfig::content_contrast (0: off)
+  float content_rays = 0.0f;      // LayerConfig::content_rays (0: off)
   uint32_t rays_per_point = 1;
   // LayerConfig::temporal; empty ("auto"): temporal_for_path() picks it by the reconstruction path.
   std::optional<foveation::TemporalMode> temporal;

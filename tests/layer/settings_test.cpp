@@ -83,6 +83,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
   if (key == "content_contrast") return std::to_string(s.content_contrast);
+  if (key == "content_rays") return std::to_string(s.content_rays);
   if (key == "gaze_clock") return s.gaze_clock_display_time ? "display_time" : "steady";
   if (key == "threads") return std::to_string(s.threads);
   if (key == "cache_dir") return s.cache_dir;
@@ -115,6 +116,7 @@ const KeyCase kRendererKeys[] = {
      "sim2"},
     {"gaze_clock", R"("display_time")", "display_time", nullptr, {}},
     {"content_contrast", "0.2", std::to_string(0.2f), nullptr, {}},
+    {"content_rays", "0.5", std::to_string(0.5f), nullptr, {}},
     {"threads", "3", "3", nullptr, {}},
     {"cache_dir", R"("/tmp/foveart-cache")", "/tmp/foveart-cache", nullptr, {}},
     {"wait_for_tables", "true", "true", nullptr, {}},
