@@ -148,7 +148,8 @@ void FoveatedRenderer::Frames::took_batch(const TakenRayBatch& taken, XrFoveated
   stats->fallbackFlags |= XR_FOVEATED_FALLBACK_CALLBACK_FAILED_BIT_FOVEART;
   if (unreleased_once.first()) {
     log(LogLevel::Error, "xrEndFrame: ray batch ", taken.id,
-        " was not released (xrReleaseFoveatedRayBatchFOVEART); "
+        taken.released_twice ? " was released twice" : " was not released",
+        " (xrReleaseFoveatedRayBatchFOVEART); "
         "its views show the app's own image and it is retired (logged once, counted in the stats)");
   }
 }

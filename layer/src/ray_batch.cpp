@@ -37,9 +37,13 @@ void RayBatches::withdraw() {
 }
 
 XrResult RayBatches::release(std::uint64_t id) {
-  if (out_ && out_->id == id && !out_->released) {
-    out_->released = true;
-    return XR_SUCCESS;
+  if (out_ && out_->id == id) {
+    if (!out_->released) {
+      out_->released = true;
+      return XR_SUCCESS;
+    }
+    // Two releases promise two signals of one value: neither can be relied on.
+    out_->released_twice = true;
   }
   ++rejected_;
   if (std::find(retired_ids_.begin(), retired_ids_.end(), id) != retired_ids_.end()) return XR_ERROR_CALL_ORDER_INVALID;
@@ -49,7 +53,8 @@ XrResult RayBatches::release(std::uint64_t id) {
 std::optional<TakenRayBatch> RayBatches::take() {
   std::optional<TakenRayBatch> taken = std::move(out_);
   out_.reset();
-  if (!taken || taken->released) return taken;
+  if (!taken || (taken->released && !taken->released_twice)) return taken;
+  taken->released = false;
   ++retired_count_;
   retired_ids_.push_back(taken->id);
   if (retired_ids_.size() > kRetiredRemembered) retired_ids_.pop_front();

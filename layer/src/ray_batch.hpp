@@ -33,6 +33,7 @@ bool same_view(const RayBatchView& a, const RayBatchView& b);
 struct TakenRayBatch {
   std::uint64_t id = 0;
   bool released = false;           // false: retired, its views fall back
+  bool released_twice = false;     // released, then released again: retired as well (its promise is in doubt)
   std::uint64_t traced_value = 0;  // wait for it (released only)
   std::int64_t acquired_ns = 0;    // steady clock at acquire
   std::vector<RayBatchView> views;
@@ -50,7 +51,8 @@ class RayBatches {
   // batch's raysReadyValue is the previous batch's tracedValue + 1.
   void withdraw();
   // XR_SUCCESS; XR_ERROR_VALIDATION_FAILURE for an id never handed out or
-  // released already; XR_ERROR_CALL_ORDER_INVALID for a retired one.
+  // released already (the batch out, released twice, is then retired at
+  // xrEndFrame); XR_ERROR_CALL_ORDER_INVALID for a retired one.
   XrResult release(std::uint64_t id);
   // xrEndFrame: the frame's batch, if one was acquired; unreleased, it is retired.
   std::optional<TakenRayBatch> take();

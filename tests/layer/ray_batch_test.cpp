@@ -56,8 +56,12 @@ TEST(RayBatches, ReleasingTwiceOrAnUnknownIdIsAValidationError) {
   EXPECT_EQ(batches.release(a.id + 1), XR_ERROR_VALIDATION_FAILURE);
   ASSERT_EQ(batches.release(a.id), XR_SUCCESS);
   EXPECT_EQ(batches.release(a.id), XR_ERROR_VALIDATION_FAILURE) << "twice, before xrEndFrame";
-  ASSERT_TRUE(batches.take().has_value());
-  EXPECT_EQ(batches.release(a.id), XR_ERROR_VALIDATION_FAILURE) << "twice, after xrEndFrame";
+  const std::optional<TakenRayBatch> taken = batches.take();
+  ASSERT_TRUE(taken.has_value());
+  EXPECT_FALSE(taken->released) << "released twice: retired, nobody waits for its value";
+  EXPECT_TRUE(taken->released_twice);
+  EXPECT_EQ(batches.retired(), 1u);
+  EXPECT_EQ(batches.release(a.id), XR_ERROR_CALL_ORDER_INVALID) << "twice, after xrEndFrame: a retired batch";
   EXPECT_EQ(batches.rejected_releases(), 4u);
 }
 

@@ -509,7 +509,9 @@ typedef struct XrFoveatedDeviceTraceInfoFOVEART {
  * Errors:   a second acquire before the frame's xrEndFrame:
  *           XR_ERROR_CALL_ORDER_INVALID. A release of an unknown batchId, or
  *           a second release: XR_ERROR_VALIDATION_FAILURE (counted:
- *           rejectedReleases). A renderer created without the info struct:
+ *           rejectedReleases); a batch released twice before its xrEndFrame
+ *           is retired there as an unreleased one (two releases promise two
+ *           signals of one value: the layer relies on neither). A renderer created without the info struct:
  *           XR_ERROR_VALIDATION_FAILURE; one that reconstructs on the CPU
  *           (the config, a device the shaders cannot run on):
  *           XR_ERROR_FEATURE_UNSUPPORTED; viewCapacityInput too small:
@@ -572,7 +574,7 @@ typedef struct XrFoveatedAppTraceStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART */
   void* XR_MAY_ALIAS next;
   uint64_t batchesAcquired;
-  uint64_t unreleasedBatches;     /* retired at xrEndFrame unreleased: their views fell back */
+  uint64_t unreleasedBatches;     /* retired at xrEndFrame unreleased or released twice: their views fell back */
   uint64_t rejectedReleases;      /* releases refused (unknown, twice, retired) */
   uint64_t mismatchedViews;       /* views whose pose, fov or size changed after the acquire: fell back */
   float acquireToEndFrameMs;      /* last frame: how much older the gaze is than with a device trace */
