@@ -214,18 +214,7 @@ bool FoveatedRenderer::Frames::present_app_frame(uint32_t e, XrFoveatedRendererS
 
 bool FoveatedRenderer::Frames::plan_app_frame(uint32_t e, const foveation::FrameRequest& request,
                                               XrFoveatedRendererStatsFOVEART* stats) {
-  foveation::FrameResult result;
-  try {
-    result = eyes[e].view->plan(request, executor);
-  } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
-    if (internal_once.first()) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
-          "; showing the app's own image for this view (logged once, counted in stats)");
-    }
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    return false;
-  }
-  return take_result(e, result, stats);
+  return run_step(e, stats, [&] { return eyes[e].view->plan(request, executor); });
 }
 
 gpu::DeviceTraceFrame FoveatedRenderer::Frames::device_frame(

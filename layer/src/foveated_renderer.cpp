@@ -551,18 +551,18 @@ bool FoveatedRenderer::Frames::run_frame(uint32_t e, const foveation::FrameReque
   Eye& eye = eyes[e];
   foveation::FrameResources* resources = eye.path->resources(e, view_tables, stats);
   if (resources == nullptr) return false;
-  foveation::FrameResult result;
-  try {
-    result = eye.view->render(request, settings.trace_rays, settings.user_data, *resources, executor);
-  } catch (const std::exception& error) {  // a table/view inconsistency: this view falls back
-    if (internal_once.first()) {
-      log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
-          "; showing the app's own image for this view (logged once, counted in stats)");
-    }
-    stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
-    return false;
+  return run_step(e, stats, [&] {
+    return eye.view->render(request, settings.trace_rays, settings.user_data, *resources, executor);
+  });
+}
+
+void FoveatedRenderer::Frames::frame_path_error(uint32_t e, const std::exception& error,
+                                                XrFoveatedRendererStatsFOVEART* stats) {
+  if (internal_once.first()) {
+    log(LogLevel::Error, "foveated renderer: eye ", e, ": frame path error: ", error.what(),
+        "; showing the app's own image for this view (logged once, counted in stats)");
   }
-  return take_result(e, result, stats);
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UNAVAILABLE_BIT_FOVEART;
 }
 
 bool FoveatedRenderer::Frames::take_result(uint32_t e, const foveation::FrameResult& result,

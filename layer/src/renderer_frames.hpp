@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <map>
 #include <memory>
@@ -177,6 +178,20 @@ struct FoveatedRenderer::Frames {
   bool present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
   // A frame's result into the stats: false (logged once) when it failed.
   bool take_result(uint32_t e, const foveation::FrameResult& result, XrFoveatedRendererStatsFOVEART* stats);
+  // One eye's frame step (a render or an app-recorded plan) and its result; a
+  // table/view inconsistency it throws makes the view fall back (frame_path_error).
+  template <class Step>
+  bool run_step(uint32_t e, XrFoveatedRendererStatsFOVEART* stats, Step&& step) {
+    foveation::FrameResult result;
+    try {
+      result = step();
+    } catch (const std::exception& error) {
+      frame_path_error(e, error, stats);
+      return false;
+    }
+    return take_result(e, result, stats);
+  }
+  void frame_path_error(uint32_t e, const std::exception& error, XrFoveatedRendererStatsFOVEART* stats);
   // The app-recorded trace: eye e's plan at the acquire (stages 1-5's decisions), and its stats.
   bool plan_app_frame(uint32_t e, const foveation::FrameRequest& request, XrFoveatedRendererStatsFOVEART* stats);
   // ... and its frame recorded at xrEndFrame (the resolve of the app's colours, stages 4-6).
