@@ -121,12 +121,8 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
   if (settings_.reconstruct_on_cpu) return render(request, trace_rays, user_data, host_, executor);
   // The caller reconstructs: only the trace and the history's decision run here.
   FrameResult result;
-  const auto t_frame = Clock::now();
-  FrameContext frame = begin_frame(request, &result);
-  frame.trace_rays = trace_rays;
-  frame.user_data = user_data;
-  result.select_ms = ms_since(t_frame);
-  if (!run_trace(frame, host_, executor, &result)) return result;
+  FrameContext frame;
+  if (!begin_traced(request, trace_rays, user_data, host_, executor, &frame, &result)) return result;
   const auto t_decide = Clock::now();
   hand_off_.temporal = history_->decide(frame, trace_->traced(), executor);
   result.temporal_ms = ms_since(t_decide);
@@ -137,15 +133,23 @@ FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn
 FrameResult FoveatedView::render(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
                                  FrameResources& resources, Executor& executor) {
   FrameResult result;
-  const auto t_frame = Clock::now();
-  FrameContext frame = begin_frame(request, &result);
-  frame.trace_rays = trace_rays;
-  frame.user_data = user_data;
-  result.select_ms = ms_since(t_frame);
-  if (!run_trace(frame, resources, executor, &result) || !run_after_trace(frame, resources, executor, &result))
+  FrameContext frame;
+  if (!begin_traced(request, trace_rays, user_data, resources, executor, &frame, &result) ||
+      !run_after_trace(frame, resources, executor, &result))
     return result;
   finish(&result);
   return result;
+}
+
+bool FoveatedView::begin_traced(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                                FrameResources& resources, Executor& executor, FrameContext* frame,
+                                FrameResult* result) {
+  const auto t_frame = Clock::now();
+  *frame = begin_frame(request, result);
+  frame->trace_rays = trace_rays;
+  frame->user_data = user_data;
+  result->select_ms = ms_since(t_frame);
+  return run_trace(*frame, resources, executor, result);
 }
 
 bool FoveatedView::run_trace(const FrameContext& frame, FrameResources& resources, Executor& executor,

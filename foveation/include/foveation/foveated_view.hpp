@@ -127,6 +127,9 @@ class FoveatedView {
   std::unique_ptr<EncodeStage> encode_;        // stage 6
   // The frame's context: the request checked against the tables, the centre moved.
   FrameContext begin_frame(const FrameRequest& request, FrameResult* result);
+  // begin_frame with the engine's callback, then run_trace: false when the trace failed.
+  bool begin_traced(const FrameRequest& request, FoveartTraceRaysFn trace_rays, void* user_data,
+                    FrameResources& resources, Executor& executor, FrameContext* frame, FrameResult* result);
   // Stages 1-3 into `result`: false (the history forgotten) when the trace failed.
   bool run_trace(const FrameContext& frame, FrameResources& resources, Executor& executor, FrameResult* result);
   // Stages 4-6: false (the history forgotten) when a stage failed on the resources.
