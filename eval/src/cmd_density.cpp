@@ -87,13 +87,11 @@ struct DensityRun {
   return PerceptualMetric::create(pd, int(r->view.width_px), int(r->view.height_px), {}, r->metric, *error, &executor);
 }
 
-// Every ring that the full render at the same rays per pixel does not show (its largest P below
-// 0.5: the measurable rings) below P = 0.5 at its most visible pixel: foveation adds nothing seen.
-// A ring the full render already shows cannot tell foveation from that render's own noise.
-bool unseen_in_every_ring(const PerceptualResult& p, const PerceptualResult& full) {
-  for (std::size_t r = 0; r < p.rings.size(); ++r)
-    if (p.rings[r].pixels > 0 && full.rings[r].p_max < 0.5 && p.rings[r].p_max >= 0.5) return false;
-  return true;
+// Each ring's largest P; NaN where the ring has no pixels.
+std::vector<double> ring_p_max(const PerceptualResult& p) {
+  std::vector<double> v;
+  for (const PerceptualRing& r : p.rings) v.push_back(r.pixels > 0 ? r.p_max : std::nan(""));
+  return v;
 }
 
 Json rings_p_max(const PerceptualResult& p) {
@@ -105,7 +103,8 @@ Json rings_p_max(const PerceptualResult& p) {
 Json row_json(const char* kind, const DensityDetection& d, const PerceptualResult& full) {
   return {{"kind", kind},           {"density_scale", d.density_scale}, {"content_contrast", d.content_contrast},
           {"content_rays", d.content_rays}, {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
-          {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},  {"unseen", unseen_in_every_ring(d.p, full)}};
+          {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},
+          {"unseen", unseen_in_every_ring(ring_p_max(d.p), ring_p_max(full))}};
 }
 
 // The baseline: the full render at the rows' rays per pixel against the reference, and its ms.
@@ -131,7 +130,8 @@ struct DensityAt {
 // The rows of one kind and the smallest ray fraction among its unseen ones (null: none).
 [[nodiscard]] bool sweep(const DensityProbe& probe, const char* kind, const std::vector<DensityAt>& at,
                          const PerceptualResult& full, std::ostream& err, Json* rows, Json* best, std::string* error) {
-  *best = Json();
+  std::vector<UnseenCandidate> candidates;
+  const std::size_t first = rows->size();
   for (const DensityAt& a : at) {
     DensityProbe p = probe;
     p.options.content_rays = a.rays_contrast;
@@ -140,13 +140,28 @@ struct DensityAt {
     err << kDensityWho << kind << " scale " << a.scale << " contrast " << a.contrast << " rays by contrast "
         << a.rays_contrast << ": rays " << d.ray_fraction << ", P max " << d.p.p_max << "\n";
     Json row = row_json(kind, d, full);
-    if (row["unseen"].get<bool>() && (best->is_null() || d.ray_fraction < (*best)["ray_fraction"].get<double>())) *best = row;
+    candidates.push_back({d.ray_fraction, row["unseen"].get<bool>()});
     rows->push_back(std::move(row));
   }
+  const std::optional<std::size_t> i = smallest_unseen(candidates);
+  *best = i ? (*rows)[first + *i] : Json();
   return true;
 }
 
 }  // namespace
+
+bool unseen_in_every_ring(const std::vector<double>& row_p_max, const std::vector<double>& full_p_max) {
+  for (std::size_t r = 0; r < row_p_max.size() && r < full_p_max.size(); ++r)
+    if (full_p_max[r] < 0.5 && !(row_p_max[r] < 0.5)) return false;  // NaN full: not measurable
+  return true;
+}
+
+std::optional<std::size_t> smallest_unseen(const std::vector<UnseenCandidate>& rows) {
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].unseen && (!best || rows[i].ray_fraction < rows[*best].ray_fraction)) best = i;
+  return best;
+}
 
 int run_density(const DensityOptions& options, std::ostream& out, std::ostream& err) {
   DensityOptions o = options;

@@ -117,6 +117,7 @@ render_view::RenderOptions render_options_of(const PricelistOptions& o, const Pr
     r.pattern = s->pattern;
     r.rays_per_point = s->rays_per_point;
     r.content_contrast = s->content_contrast;
+    r.content_rays = s->content_rays;
   }
   return r;
 }
@@ -281,6 +282,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     j["scale"] = s.density_scale;
     j["pattern"] = s.pattern;
     j["content_contrast"] = s.content_contrast;
+    j["content_rays"] = s.content_rays;
   }
   j["temporal"] = s.history ? "image" : "off";
   j["points"] = m.points;
@@ -352,6 +354,7 @@ Json result_json(const Context& c, Measure& m, double anchor_ms, const fs::path&
     }
     foveation::ViewSettings vs = still_view_settings(c.o, m.setting);
     vs.content_density.full_contrast = float(m.setting.content_contrast);
+    vs.content_density.rays_contrast = float(m.setting.content_rays);
     vs.content_density.exposure = c.exposure;
     m.view = std::make_unique<foveation::FoveatedView>(tables, vs);
   }
@@ -738,15 +741,22 @@ std::string parse_numbers(const std::string& text, std::vector<T>* out) {
   return "";
 }
 
+// A list of numbers, or "none" (empty).
+std::string list_or_none(const std::string& text, std::vector<double>* out) {
+  if (text != "none") return parse_numbers(text, out);
+  out->clear();
+  return "";
+}
+
 // The options given as text, parsed once the command line is read.
 struct PricelistTexts {
   std::string gaze, size, viewer, look_at, temporal_size;
-  std::array<std::string, 7> lists;  // the grid lists, in kGridListOptions' order
+  std::array<std::string, 8> lists;  // the grid lists, in kGridListOptions' order
 };
 
 constexpr const char* kGridListOptions[] = {"--full-rays-per-point", "--interpolation", "--density-scale",
                                             "--rays-per-point",      "--pattern",       "--history-rays-per-point",
-                                            "--content-contrast"};
+                                            "--content-contrast",    "--content-rays"};
 
 // The view: scene, display, eye, viewer, gaze and exposure.
 void add_view_options(CLI::App* cmd, PricelistOptions& o, PricelistTexts& t) {
@@ -789,7 +799,9 @@ void add_grid_options(CLI::App* cmd, PricelistTexts& t) {
                         "interpolation:k list, e.g. nearest:1,msm:5,rbf:10", "Density scales, e.g. 1,1.5,2",
                         "Rays per point, e.g. 1,2,4,8", "Fovea patterns, e.g. pixel-grid,thesis",
                         "Rays per point measured with the image history too, or none",
-                        "Content contrasts of content-aware density, e.g. 0,0.25,0.5 (0: eccentricity alone)"};
+                        "Content contrasts of the content-aware rows, e.g. 0.25,0.5,1, or none",
+                        "Contrasts of the rows with rays per point by content (at rays per point > 1), e.g. 0.5, "
+                        "or none"};
   for (std::size_t i = 0; i < t.lists.size(); ++i) cmd->add_option(kGridListOptions[i], t.lists[i], help[i]);
   render_view::add_renamed_option(cmd, "--taa-rays-per-point", "--history-rays-per-point");
 }
@@ -840,7 +852,8 @@ void parse_grid_lists(const PricelistTexts& t, PricelistOptions* o) {
     if (i == 5)
       bad = text == "none" ? (o->grid.history_rays_per_point.clear(), std::string())
                            : parse_numbers(text, &o->grid.history_rays_per_point);
-    if (i == 6) bad = parse_numbers(text, &o->grid.content_contrast);
+    if (i == 6) bad = list_or_none(text, &o->grid.content_contrast);
+    if (i == 7) bad = list_or_none(text, &o->grid.content_rays);
     if (!bad.empty()) throw CLI::ValidationError(kGridListOptions[i], bad);
   }
 }

@@ -20,6 +20,7 @@ std::string PriceSetting::id() const {
   if (full) return "full_spp" + std::to_string(rays_per_point) + (history ? "_image" : "");
   return table_id() + "_r" + std::to_string(rays_per_point) +
          (content_contrast > 0.0 ? "_c" + number(content_contrast) : "") +
+         (content_rays > 0.0 ? "_cr" + number(content_rays) : "") +
          (history ? "_image" : "");  // e.g. nearest_k1_s1_thesis_r1, msm_k5_s1_pixel-grid_r1_c0.5
 }
 
@@ -36,6 +37,8 @@ PriceGrid quick_grid() {
   g.rays_per_point = {1, 4};
   g.pattern = {"pixel-grid", "thesis"};
   g.history_rays_per_point = {1};
+  g.content_contrast = {0.5};
+  g.content_rays = {0.5};
   return g;
 }
 
@@ -64,6 +67,32 @@ std::string add_foveated_rows(const PriceGrid& g, PriceSetting s, std::vector<Pr
     s.rays_per_point = r;
     s.history = true;
     out->push_back(s);
+  }
+  return "";
+}
+
+// The content-aware family of one foveated setting: each content contrast at each rays per point,
+// then each contrast of rays per point by content at each rays per point above 1; no history.
+std::string add_content_rows(const PriceGrid& g, PriceSetting s, std::vector<PriceSetting>* out) {
+  s.history = false;
+  for (double contrast : g.content_contrast) {
+    if (!(contrast >= 0.0) || contrast > 1.0) return "content contrast " + number(contrast) + " [0, 1]";
+    if (contrast == 0.0) continue;  // the eccentricity-only rows
+    s.content_contrast = contrast;
+    for (int r : g.rays_per_point) {
+      s.rays_per_point = r;
+      out->push_back(s);
+    }
+  }
+  s.content_contrast = 0.0;
+  for (double contrast : g.content_rays) {
+    if (!(contrast > 0.0) || contrast > 1.0) return "content rays " + number(contrast) + " (0, 1]";
+    s.content_rays = contrast;
+    for (int r : g.rays_per_point) {
+      if (r == 1) continue;
+      s.rays_per_point = r;
+      out->push_back(s);
+    }
   }
   return "";
 }
@@ -108,16 +137,13 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
     for (double scale : g.density_scale) {
       if (!(scale > 0.0) || scale > 100.0) return "density scale " + number(scale) + " (0, 100]";
       for (const std::string& pattern : g.pattern) {
-        for (double contrast : g.content_contrast) {
-          if (!(contrast >= 0.0) || contrast > 1.0) return "content contrast " + number(contrast) + " [0, 1]";
-          PriceSetting s;
-          s.interpolation = method;
-          s.k = k;
-          s.density_scale = scale;
-          s.pattern = pattern;
-          s.content_contrast = contrast;
-          if (std::string bad = add_foveated_rows(g, s, out); !bad.empty()) return bad;
-        }
+        PriceSetting s;
+        s.interpolation = method;
+        s.k = k;
+        s.density_scale = scale;
+        s.pattern = pattern;
+        if (std::string bad = add_foveated_rows(g, s, out); !bad.empty()) return bad;
+        if (std::string bad = add_content_rows(g, s, out); !bad.empty()) return bad;
       }
     }
   }

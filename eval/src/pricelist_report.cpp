@@ -1,6 +1,7 @@
 // pricelist.json / .csv / plots / report.md from the measured settings.
 #include <eval/pricelist_report.hpp>
 
+#include <eval/cmd_density.hpp>
 #include <eval/pricelist_temporal_report.hpp>
 
 #include <metrics/image_metrics.hpp>
@@ -13,6 +14,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <sstream>
 
 namespace foveart::eval {
@@ -34,11 +36,25 @@ std::string fmt(double v, int decimals = 1) {
   return buf;
 }
 
-// A ring's perceptual metric cell: the share of pixels at P >= 0.5 against the reference, the row's
-// and the full render's at its rays per pixel ("row / full"); "-" without it.
+// A number as %g: 0.5, 1, 0.25.
+std::string fmt_g(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+constexpr const char* kEccentricityFamily = "eccentricity only";
+constexpr const char* kContentFamily = "content-aware";
+constexpr const char* kRaysFamily = "rays per point by content";
+constexpr double kGoalRayFraction = 0.10;  // the issue's goal: 10 % of the full render's rays or fewer
+
+// A ring's perceptual metric cell: the share of pixels at P >= 0.5 and the largest P against the
+// reference, each the row's and the full render's at its rays per pixel ("row / full"); "-" without it.
 std::string p_detect_cell(const Json& ring) {
   const double share = num(ring.value("p_detect_share", Json())), full = num(ring.value("p_detect_full_share", Json()));
-  return std::isfinite(share) ? fmt(share, 3) + " / " + fmt(full, 3) : "-";
+  const double max = num(ring.value("p_detect_max", Json())), full_max = num(ring.value("p_detect_full_max", Json()));
+  return std::isfinite(share) ? fmt(share, 3) + " / " + fmt(full, 3) + "; " + fmt(max, 2) + " / " + fmt(full_max, 2)
+                              : "-";
 }
 
 const Json* find(const std::vector<Json>& all, const std::string& id) {
@@ -153,6 +169,102 @@ std::optional<std::size_t> equal_time_full(const std::vector<Json>& all, std::si
     if (psnr > best_psnr || (psnr == best_psnr && t < best_t)) best = i;
   }
   return best;
+}
+
+namespace {
+
+// A row's largest P per ring, key "p_detect_max" (the row's) or "p_detect_full_max" (its baseline's); NaN: none.
+std::vector<double> rings_p(const Json& s, const char* key) {
+  std::vector<double> v;
+  for (std::size_t r = 0; r < kRings; ++r) v.push_back(num(s["rings"][r].value(key, Json())));
+  return v;
+}
+
+// The families of the content-aware comparison a row belongs to; none for full renders, rows with
+// history and rows without perceptual columns.
+std::vector<std::string> families_of(const Json& s) {
+  if (s["kind"] != "foveated" || has_history(s) || !row_unseen(s)) return {};
+  const double contrast = num(s.value("content_contrast", Json(0.0))), rays = num(s.value("content_rays", Json(0.0)));
+  if (contrast > 0.0) return {kContentFamily, std::string(kContentFamily) + ", contrast " + fmt_g(contrast)};
+  if (rays > 0.0) return {std::string(kRaysFamily) + ", contrast " + fmt_g(rays)};
+  return {kEccentricityFamily};
+}
+
+// The rings where the metric sees a row that it does not see in its full render.
+Json rings_seen(const Json& s) {
+  const std::vector<double> row = rings_p(s, "p_detect_max"), full = rings_p(s, "p_detect_full_max");
+  Json seen = Json::array();
+  for (std::size_t r = 0; r < kRings; ++r)
+    if (full[r] < 0.5 && !(row[r] < 0.5)) seen.push_back(ring_name(r));
+  return seen;
+}
+
+Json row_summary(const Json& s) {
+  return {{"id", s["id"]}, {"ray_fraction", s.value("ray_fraction", Json())}, {"time_fraction", s["time_fraction"]},
+          {"psnr", s["psnr"]}, {"rings_seen", rings_seen(s)}};
+}
+
+// One family's count, unseen count, smallest unseen ray fraction (smallest_unseen) and fewest rays.
+Json family_json(const std::string& name, const std::vector<const Json*>& rows) {
+  std::vector<UnseenCandidate> candidates;
+  std::vector<UnseenCandidate> every;  // every row as unseen: the fewest rays of all
+  std::size_t unseen = 0;
+  for (const Json* s : rows) {
+    candidates.push_back({num(s->value("ray_fraction", Json())), *row_unseen(*s)});
+    every.push_back({candidates.back().ray_fraction, true});
+    unseen += candidates.back().unseen ? 1 : 0;
+  }
+  const std::optional<std::size_t> best = smallest_unseen(candidates), fewest = smallest_unseen(every);
+  return {{"family", name}, {"rows", rows.size()}, {"unseen_rows", unseen},
+          {"smallest_unseen", best ? row_summary(*rows[*best]) : Json()},
+          {"fewest_rays", fewest ? row_summary(*rows[*fewest]) : Json()}};
+}
+
+// The goal: rows at or below kGoalRayFraction, how many are unseen, and per ring how many the metric sees.
+Json goal_json(const std::vector<Json>& all) {
+  std::size_t rows = 0, unseen = 0;
+  std::vector<std::size_t> seen(kRings, 0);
+  for (const Json& s : all) {
+    if (families_of(s).empty() || !(num(s.value("ray_fraction", Json())) <= kGoalRayFraction)) continue;
+    ++rows;
+    unseen += *row_unseen(s) ? 1 : 0;
+    for (const Json& ring : rings_seen(s))
+      for (std::size_t r = 0; r < kRings; ++r) seen[r] += ring == ring_name(r) ? 1 : 0;
+  }
+  return {{"ray_fraction", kGoalRayFraction}, {"rows_at_or_below", rows}, {"unseen_at_or_below", unseen},
+          {"met", unseen > 0}, {"rows_seen_per_ring", seen}};
+}
+
+}  // namespace
+
+std::optional<bool> row_unseen(const Json& s) {
+  if (!s.value("p_detect_max", Json()).is_number() || !s.value("p_detect_full_max", Json()).is_number())
+    return std::nullopt;
+  return unseen_in_every_ring(rings_p(s, "p_detect_max"), rings_p(s, "p_detect_full_max"));
+}
+
+Json detection_json(std::vector<Json>& all) {
+  std::vector<std::string> names;
+  std::map<std::string, std::vector<const Json*>> members;
+  for (Json& s : all) {
+    const std::optional<bool> unseen = row_unseen(s);
+    s["p_unseen"] = unseen ? Json(*unseen) : Json();
+  }
+  for (const Json& s : all)
+    for (const std::string& f : families_of(s)) {
+      if (!members.count(f)) names.push_back(f);
+      members[f].push_back(&s);
+    }
+  // Eccentricity only first, then content-aware (any contrast, then each), then rays per point by content.
+  const auto rank = [](const std::string& n) {
+    return n == kEccentricityFamily ? 0 : n.rfind(kContentFamily, 0) == 0 ? 1 : 2;
+  };
+  std::stable_sort(names.begin(), names.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+  Json families = Json::array();
+  for (const std::string& f : names) families.push_back(family_json(f, members[f]));
+  return {{"rule", "the smallest ray fraction whose largest P stays below 0.5 in every ring where the full render at "
+                   "the same rays per pixel stays below 0.5 (fovea-eval density's rule)"},
+          {"families", families}, {"goal", goal_json(all)}};
 }
 
 namespace {
@@ -297,7 +409,7 @@ constexpr const char* kPerceptualColumns[] = {"p_detect_mean",      "p_detect_sh
     for (const char* m : {"psnr", "ssim", "csf_psnr", "flicker"}) f << "," << m << "_" << ring_name(r);
   for (std::size_t r = 0; r < kRings; ++r)
     f << ",equal_time_full_" << ring_name(r) << ",equal_time_gain_db_" << ring_name(r);
-  f << ",content_contrast,ray_fraction,p_detect_against,p_detect_baseline";
+  f << ",content_contrast,content_rays,ray_fraction,p_detect_against,p_detect_baseline,p_unseen";
   for (const char* k : kPerceptualColumns) f << "," << k;
   for (std::size_t r = 0; r < kRings; ++r)
     for (const char* k : kPerceptualColumns) f << "," << k << "_" << ring_name(r);
@@ -319,9 +431,9 @@ constexpr const char* kPerceptualColumns[] = {"p_detect_mean",      "p_detect_sh
       f << "," << (!fov ? "" : e.is_null() ? "none" : csv_cell(e["id"]));
       f << "," << (e.is_null() ? "" : csv_cell(e["gain_db"]));
     }
-    f << "," << (fov ? csv_cell(s.value("content_contrast", Json(0.0))) : "") << ","
-      << csv_cell(s.value("ray_fraction", Json()));
-    for (const char* k : {"p_detect_against", "p_detect_baseline"}) f << "," << csv_cell(s.value(k, Json()));
+    for (const char* k : {"content_contrast", "content_rays"}) f << "," << (fov ? csv_cell(s.value(k, Json(0.0))) : "");
+    f << "," << csv_cell(s.value("ray_fraction", Json()));
+    for (const char* k : {"p_detect_against", "p_detect_baseline", "p_unseen"}) f << "," << csv_cell(s.value(k, Json()));
     for (const char* k : kPerceptualColumns) f << "," << csv_cell(s.value(k, Json()));
     for (std::size_t r = 0; r < kRings; ++r)
       for (const char* k : kPerceptualColumns) f << "," << csv_cell(s["rings"][r].value(k, Json()));
@@ -413,7 +525,7 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
                    const std::function<double(const Json&)>& ms_of) {
   md << "## Ring " << ring_name(r) << " deg\n\n![ring " << ring_name(r) << "](pareto_ring" << r << ".png)\n\n"
      << "| on the front | time % | ms | rays (total) | primary rays % of full | PSNR dB | SSIM | CSF dB | "
-        "share P >= 0.5 vs reference (row / full same spp) | ms per dB | rays per dB |\n"
+        "share P >= 0.5; largest P, vs reference (row / full same spp) | ms per dB | rays per dB |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   const Json* prev = nullptr;
   for (std::size_t i : front) {
@@ -453,11 +565,76 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
   md << "\n";
 }
 
+// "12.3 % (id, time 45 %)" of a family's row summary; "-" for none.
+std::string summary_cell(const Json& row) {
+  if (row.is_null()) return "- | - | - | -";
+  return fmt(100.0 * num(row["ray_fraction"]), 1) + " | " + row["id"].get<std::string>() + " | " +
+         fmt(100.0 * num(row["time_fraction"]), 0) + " | " + fmt(num(row["psnr"]), 2);
+}
+
+std::string ring_list(const Json& rings) {
+  std::string text;
+  for (const Json& r : rings) text += (text.empty() ? "" : ", ") + r.get<std::string>();
+  return text.empty() ? "none" : text;
+}
+
+// report.md's "Content-aware density": per family the smallest unseen ray fraction and the fewest
+// rays, eccentricity-only beside content-aware, and where the list lands against the goal.
+void write_md_content_density(std::ostream& md, const Json& detection) {
+  md << "## Content-aware density\n\nRows without history by family. Unseen: the row's largest P against the "
+     << "reference stays below 0.5 in every ring where the full render at the same rays per pixel stays below 0.5 "
+     << "(the rule of `fovea-eval density`); rays % = primary rays over the full render's at the same rays per pixel.\n\n"
+     << "| family | rows | unseen | smallest unseen: rays % | setting | time % | PSNR dB | fewest rays: rays % | "
+        "setting | rings seen |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const Json& f : detection["families"]) {
+    const Json& fewest = f["fewest_rays"];
+    md << "| " << f["family"].get<std::string>() << " | " << f["rows"] << " | " << f["unseen_rows"] << " | "
+       << summary_cell(f["smallest_unseen"]) << " | " << fmt(100.0 * num(fewest["ray_fraction"]), 1) << " | "
+       << fewest["id"].get<std::string>() << " | " << ring_list(fewest["rings_seen"]) << " |\n";
+  }
+  const Json& goal = detection["goal"];
+  const double goal_pct = 100.0 * num(goal["ray_fraction"]);
+  md << "\nGoal, unseen at " << fmt(goal_pct, 0) << " % of the full render's rays or fewer: "
+     << (goal["met"].get<bool>() ? "**met**" : "**not met**") << " (" << goal["unseen_at_or_below"] << " of "
+     << goal["rows_at_or_below"] << " rows at or below " << fmt(goal_pct, 0) << " % unseen";
+  if (!goal["met"].get<bool>() && goal["rows_at_or_below"].get<std::size_t>() > 0) {
+    md << "; the metric sees them in";
+    for (std::size_t r = 0; r < kRings; ++r)
+      if (goal["rows_seen_per_ring"][r].get<std::size_t>() > 0)
+        md << " " << ring_name(r) << " deg (" << goal["rows_seen_per_ring"][r] << " rows)";
+  }
+  md << ").\n\n";
+}
+
+// report.md's "Detection per ring": every row's rays, time and per ring its largest P beside its
+// full render's at the same rays per pixel and its PSNR.
+void write_md_detection(std::ostream& md, const std::vector<Json>& all) {
+  md << "## Detection per ring\n\nPer ring: largest P against the reference, the row's / the full render's at "
+     << "the same rays per pixel, then PSNR dB. Unseen: as above (full renders: their own baseline).\n\n"
+     << "| setting | rays % of full | time % |";
+  for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << " |";
+  md << " unseen |\n|---|---|---|";
+  for (std::size_t r = 0; r < kRings; ++r) md << "---|";
+  md << "---|\n";
+  for (const Json& s : all) {
+    md << "| " << s["id"].get<std::string>() << " | " << fmt(100.0 * num(s.value("ray_fraction", Json())), 1) << " | "
+       << fmt(time_pct(s), 1) << " |";
+    for (std::size_t r = 0; r < kRings; ++r) {
+      const Json& ring = s["rings"][r];
+      md << " " << fmt(num(ring.value("p_detect_max", Json())), 2) << " / "
+         << fmt(num(ring.value("p_detect_full_max", Json())), 2) << " · " << fmt(num(ring["psnr"]), 1) << " |";
+    }
+    const Json unseen = s.value("p_unseen", Json());
+    md << " " << (unseen.is_boolean() ? (unseen.get<bool>() ? "yes" : "no") : "-") << " |\n";
+  }
+  md << "\n";
+}
+
 // report.md: the head, a section per ring, the temporal columns, and where the rest is.
 [[nodiscard]] bool write_md(const std::filesystem::path& file, const PricelistContext& ctx, const std::string& headline,
                             const Json& sanity, const std::vector<Json>& all,
-                            const std::vector<std::vector<std::size_t>>& fronts, const TemporalReading& t,
-                            std::string* error) {
+                            const std::vector<std::vector<std::size_t>>& fronts, const Json& detection,
+                            const TemporalReading& t, std::string* error) {
   std::ofstream md(file);
   write_md_head(md, ctx, headline, sanity);
   // ms at the pace of the full group's frames: time fraction x full_spp1's ms (the groups ran
@@ -472,6 +649,8 @@ void write_md_ring(std::ostream& md, std::size_t r, const std::vector<Json>& all
      << "without history) that takes no more time, and how many dB it gains on it in the ring.\n\n";
   for (std::size_t r = 0; r < kRings; ++r)
     write_md_ring(md, r, all, fronts[r], [&](const Json& s) { return num(s["time_fraction"]) * full1_ms; });
+  write_md_content_density(md, detection);
+  write_md_detection(md, all);
   if (t.temporal.is_object()) write_temporal_markdown(md, t.temporal, t.acceptance, t.checks);
   md << "## Every setting\n\nSee `pricelist.csv` (one row per setting) and `pricelist.json`. Error heat map of "
      << ctx.heatmap << ": ![heat map](heatmap.png)\n";
@@ -486,12 +665,13 @@ bool write_pricelist(const std::filesystem::path& dir, const PricelistContext& c
   std::vector<double> cost;
   const std::vector<std::vector<std::size_t>> fronts = mark_fronts(all, &cost);
   add_equal_time(all);
+  const Json detection = detection_json(all);
   const FullRenders full = full_renders(all);
   const Json sanity = sanity_json(all, full.plain, ctx);
   *headline = still_headline(all, ctx);
   const TemporalReading t = read_temporal(ctx, headline);
   Json doc = {{"run", ctx.run}, {"reference", ctx.reference}, {"sanity", sanity}, {"headline", *headline},
-              {"rings_deg", Json::array()}, {"settings", all}, {"temporal", t.temporal}};
+              {"rings_deg", Json::array()}, {"detection", detection}, {"settings", all}, {"temporal", t.temporal}};
   for (std::size_t r = 0; r < kRings; ++r) doc["rings_deg"].push_back(ring_name(r));
   if (t.temporal.is_object()) {
     *error = write_temporal_csv(dir / "temporal.csv", t.temporal);
@@ -507,7 +687,7 @@ bool write_pricelist(const std::filesystem::path& dir, const PricelistContext& c
     }
   }
   return write_csv(dir / "pricelist.csv", all, error) && write_plots(dir, all, full, fronts, cost, error) &&
-         write_md(dir / "report.md", ctx, *headline, sanity, all, fronts, t, error);
+         write_md(dir / "report.md", ctx, *headline, sanity, all, fronts, detection, t, error);
 }
 
 }  // namespace foveart::eval

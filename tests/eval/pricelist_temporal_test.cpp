@@ -35,6 +35,8 @@ eval::PricelistOptions tiny(const fs::path& out) {
   o.grid.rays_per_point = {1};
   o.grid.pattern = {"pixel-grid"};
   o.grid.history_rays_per_point = {1};
+  o.grid.content_contrast.clear();  // rows without history: no tracks of their own
+  o.grid.content_rays.clear();
   o.temporal.size_px = glm::ivec2(64, 72);
   o.temporal.frames = 4;
   o.temporal.start_s = 0.5;

@@ -3,6 +3,7 @@
 // and whose written images reproduce its per-ring PSNR, resume, bad grids.
 #include "gltf_fixtures.hpp"
 
+#include <eval/cmd_density.hpp>
 #include <eval/cmd_pricelist.hpp>
 #include <eval/pfm.hpp>
 #include <eval/pricelist_report.hpp>
@@ -64,6 +65,8 @@ TEST(Pricelist, ExpandGridAddsTheFullRenderWithHistoryAtEveryHistoryRayCount) {
   g.rays_per_point = {1};
   g.pattern = {"thesis"};
   g.history_rays_per_point = {1, 4};
+  g.content_contrast.clear();  // the content-aware family has its own test
+  g.content_rays.clear();
   std::vector<eval::PriceSetting> settings;
   std::string error;
   ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
@@ -149,6 +152,113 @@ TEST(Pricelist, ContentContrastRowsTraceFewerRaysThanTheirEccentricityOnlyTwins)
   EXPECT_GT(c0["p_detect_mean"].get<double>(), 0.0) << "interpolation differs from the full render somewhere";
 }
 
+TEST(Pricelist, ExpandGridAddsTheContentFamilyBesideTheEccentricityOnlyRows) {
+  eval::PriceGrid g;
+  g.full_rays_per_point = {1};
+  g.interpolation = {"nearest:1"};
+  g.density_scale = {2.0};
+  g.rays_per_point = {1, 4};
+  g.pattern = {"thesis"};
+  g.history_rays_per_point = {1};
+  g.content_contrast = {0.0, 0.5};  // 0: the eccentricity-only rows, always there
+  g.content_rays = {0.25};
+  std::vector<eval::PriceSetting> settings;
+  std::string error;
+  ASSERT_TRUE(eval::expand_grid(g, &settings, &error)) << error;
+  std::vector<std::string> ids;
+  for (const eval::PriceSetting& s : settings) ids.push_back(s.id());
+  EXPECT_EQ(ids, (std::vector<std::string>{"full_spp1", "full_spp1_image", "nearest_k1_s2_thesis_r1",
+                                           "nearest_k1_s2_thesis_r4", "nearest_k1_s2_thesis_r1_image",
+                                           "nearest_k1_s2_thesis_r1_c0.5", "nearest_k1_s2_thesis_r4_c0.5",
+                                           "nearest_k1_s2_thesis_r4_cr0.25"}))
+      << "content rows without history; rays per point by content only above 1 ray per point";
+  EXPECT_EQ(settings.back().content_rays, 0.25);
+  EXPECT_EQ(settings.back().content_contrast, 0.0);
+  EXPECT_EQ(settings.back().table_id(), settings[2].table_id()) << "one set of tables for the family";
+  g.content_rays = {0.0};
+  EXPECT_FALSE(eval::expand_grid(g, &settings, &error));
+  EXPECT_NE(error.find("content rays 0"), std::string::npos) << error;
+  // The full grid's defaults and --quick list the family.
+  for (const eval::PriceGrid& grid : {eval::PriceGrid{}, eval::quick_grid()}) {
+    ASSERT_TRUE(eval::expand_grid(grid, &settings, &error)) << error;
+    EXPECT_TRUE(std::any_of(settings.begin(), settings.end(), [](const auto& s) { return s.content_contrast > 0.0; }));
+    EXPECT_TRUE(std::any_of(settings.begin(), settings.end(), [](const auto& s) { return s.content_rays > 0.0; }));
+  }
+  EXPECT_EQ(eval::PriceGrid{}.content_contrast, (std::vector<double>{0.25, 0.5, 1.0}));
+}
+
+namespace {
+
+// A made-up row for the detection summary: its ray fraction and per ring its largest P and its
+// full render's (NaN: none); kind from the id, content contrast from a "_c" in it.
+nlohmann::ordered_json detection_row(const std::string& id, double ray_fraction, const std::vector<double>& p_max,
+                                     const std::vector<double>& full_p_max) {
+  nlohmann::ordered_json rings = nlohmann::ordered_json::array();
+  const auto or_null = [](double v) { return std::isnan(v) ? nlohmann::ordered_json() : nlohmann::ordered_json(v); };
+  for (std::size_t r = 0; r < metrics::kRingCount; ++r)
+    rings.push_back({{"psnr", 30.0}, {"p_detect_max", or_null(p_max[r])}, {"p_detect_full_max", or_null(full_p_max[r])}});
+  const bool full = id.rfind("full", 0) == 0;
+  const auto c = id.find("_c");
+  return {{"id", id}, {"kind", full ? "full" : "foveated"}, {"temporal", id.ends_with("_image") ? "image" : "off"},
+          {"content_contrast", c == std::string::npos ? 0.0 : std::stod(id.substr(c + 2))},
+          {"ray_fraction", ray_fraction}, {"time_fraction", ray_fraction}, {"psnr", 30.0},
+          {"p_detect_max", or_null(*std::max_element(p_max.begin(), p_max.end()))},
+          {"p_detect_full_max", or_null(*std::max_element(full_p_max.begin(), full_p_max.end()))}, {"rings", rings}};
+}
+
+}  // namespace
+
+TEST(Pricelist, SmallestUnseenRayFractionSkipsRowsSeenWhereTheFullRenderIsNot) {
+  const double n = NAN;
+  //                                       rings: 0     1     2     3     4     5     6
+  const std::vector<double> full = {0.1, 0.9, 0.2, 0.2, 0.2, 0.2, n};  // ring 1: the full render is seen
+  EXPECT_TRUE(eval::unseen_in_every_ring({0.4, 0.99, 0.3, 0.1, 0.1, 0.1, n}, full)) << "ring 1 is not measurable";
+  EXPECT_FALSE(eval::unseen_in_every_ring({0.4, 0.1, 0.5, 0.1, 0.1, 0.1, n}, full)) << "P = 0.5 in ring 2 is seen";
+  EXPECT_FALSE(eval::unseen_in_every_ring({0.4, 0.1, n, 0.1, 0.1, 0.1, n}, full)) << "no P where the full render has one";
+  EXPECT_EQ(eval::smallest_unseen({{0.3, true}, {0.1, false}, {0.2, true}, {0.2, true}}), std::optional<std::size_t>(2))
+      << "the fewest rays among the unseen, the first on a tie";
+  EXPECT_EQ(eval::smallest_unseen({{0.1, false}}), std::nullopt);
+
+  std::vector<nlohmann::ordered_json> rows = {
+      detection_row("full_spp1", 1.0, full, full),
+      detection_row("nearest_k1_s1_thesis_r1", 0.30, {0.4, 0.99, 0.3, 0.1, 0.1, 0.1, n}, full),
+      detection_row("nearest_k1_s2_thesis_r1", 0.12, {0.4, 0.1, 0.3, 0.1, 0.1, 0.2, n}, full),
+      detection_row("nearest_k1_s3_thesis_r1", 0.05, {0.4, 0.1, 0.7, 0.6, 0.1, 0.1, n}, full),  // seen: too few
+      detection_row("nearest_k1_s1_thesis_r1_image", 0.01, {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, n}, full),  // history
+      detection_row("nearest_k1_s1_thesis_r1_c0.5", 0.08, {0.2, 0.2, 0.2, 0.2, 0.2, 0.2, n}, full),
+      detection_row("nearest_k1_s1_thesis_r1_c1", 0.04, {0.2, 0.2, 0.2, 0.2, 0.2, 0.55, n}, full)};
+  rows.push_back(detection_row("nearest_k1_s2_thesis_r1_c1", 0.02, full, full));
+  rows.back().erase("p_detect_max");  // no perceptual columns: in no family
+  const auto d = eval::detection_json(rows);
+  EXPECT_EQ(rows[3]["p_unseen"], false);
+  EXPECT_EQ(rows[1]["p_unseen"], true);
+  EXPECT_TRUE(rows[7]["p_unseen"].is_null());
+  std::map<std::string, nlohmann::ordered_json> by_family;
+  std::vector<std::string> order;
+  for (const auto& f : d["families"]) {
+    order.push_back(f["family"].get<std::string>());
+    by_family[order.back()] = f;
+  }
+  EXPECT_EQ(order, (std::vector<std::string>{"eccentricity only", "content-aware", "content-aware, contrast 0.5",
+                                             "content-aware, contrast 1"}));
+  const auto& eccentricity = by_family["eccentricity only"];
+  EXPECT_EQ(eccentricity["rows"], 3) << "full renders and rows with history are in no family";
+  EXPECT_EQ(eccentricity["unseen_rows"], 2);
+  EXPECT_EQ(eccentricity["smallest_unseen"]["id"], "nearest_k1_s2_thesis_r1");
+  EXPECT_EQ(eccentricity["fewest_rays"]["id"], "nearest_k1_s3_thesis_r1");
+  EXPECT_EQ(eccentricity["fewest_rays"]["rings_seen"], (nlohmann::ordered_json{"5-10", "10-20"}));
+  EXPECT_EQ(by_family["content-aware"]["smallest_unseen"]["id"], "nearest_k1_s1_thesis_r1_c0.5");
+  EXPECT_EQ(by_family["content-aware"]["fewest_rays"]["id"], "nearest_k1_s1_thesis_r1_c1");
+  EXPECT_TRUE(by_family["content-aware, contrast 1"]["smallest_unseen"].is_null());
+  // The goal: 3 rows at or below 10 %, one of them unseen (the content row at 8 %).
+  EXPECT_EQ(d["goal"]["rows_at_or_below"], 3);
+  EXPECT_EQ(d["goal"]["unseen_at_or_below"], 1);
+  EXPECT_TRUE(d["goal"]["met"].get<bool>());
+  EXPECT_EQ(d["goal"]["rows_seen_per_ring"], (nlohmann::ordered_json{0, 0, 1, 1, 0, 1, 0}));
+  rows[5] = detection_row("nearest_k1_s1_thesis_r1_c0.5", 0.11, {0.2, 0.2, 0.2, 0.2, 0.2, 0.2, n}, full);
+  EXPECT_FALSE(eval::detection_json(rows)["goal"]["met"].get<bool>()) << "its only unseen row now costs 11 %";
+}
+
 TEST(Pricelist, PerceptualColumnsPutEachRowBesideTheFullRenderAtItsRaysPerPixel) {
   engine_test::TempDir dir;
   eval::PricelistOptions o;
@@ -163,6 +273,8 @@ TEST(Pricelist, PerceptualColumnsPutEachRowBesideTheFullRenderAtItsRaysPerPixel)
   o.grid.rays_per_point = {2};
   o.grid.pattern = {"thesis"};
   o.grid.history_rays_per_point.clear();
+  o.grid.content_contrast.clear();
+  o.grid.content_rays.clear();
   o.temporal.motion = "none";
   std::ostringstream out, err;
   ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
@@ -232,6 +344,8 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   o.grid.rays_per_point = {1};
   o.grid.pattern = {"thesis", "pixel-grid"};
   o.grid.history_rays_per_point = {1};
+  o.grid.content_contrast = {0.5};
+  o.grid.content_rays = {0.5};  // none at 1 ray per point
   o.temporal.motion = "none";  // the temporal columns have their own test (pricelist_temporal_test.cpp)
   std::ostringstream out, err;
   ASSERT_EQ(eval::run_pricelist(o, out, err), 0) << err.str();
@@ -241,7 +355,7 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   std::ifstream jf(pl / "pricelist.json");
   const auto doc = nlohmann::json::parse(jf);
   const auto& settings = doc["settings"];
-  ASSERT_EQ(settings.size(), 7u);  // full 1, 4, 1 + history; per pattern nn r1 and nn r1 + history
+  ASSERT_EQ(settings.size(), 9u);  // full 1, 4, 1 + history; per pattern nn r1, nn r1 + history, nn r1 c0.5
   EXPECT_EQ(count_lines(pl / "pricelist.csv"), settings.size() + 1);
   for (const char* f : {"pricelist.png", "pareto_ring0.png", "report.md", "heatmap.png", "images/reference.pfm"})
     EXPECT_TRUE(fs::exists(pl / f)) << f;
@@ -263,6 +377,8 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     const auto p_col = std::find(cols.begin(), cols.end(), "p_detect_mean_0-2.5") - cols.begin();
     ASSERT_LT(std::size_t(p_col), cols.size());
     EXPECT_EQ(cols.back(), "p_detect_full_max_>45") << "the perceptual columns are appended at the end";
+    const auto unseen_col = std::find(cols.begin(), cols.end(), "p_unseen") - cols.begin();
+    ASSERT_LT(std::size_t(unseen_col), cols.size());
     for (const auto& s : settings) {
       ASSERT_TRUE(std::getline(cf, line));
       std::vector<std::string> cells;
@@ -276,6 +392,9 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
       ASSERT_LT(std::size_t(p_col), cells.size()) << line;
       ASSERT_TRUE(s["rings"][0]["p_detect_mean"].is_number()) << s["id"];
       EXPECT_NEAR(std::stod(cells[std::size_t(p_col)]), s["rings"][0]["p_detect_mean"].get<double>(), 1e-12);
+      ASSERT_TRUE(s["p_unseen"].is_boolean()) << s["id"];
+      EXPECT_EQ(cells[std::size_t(unseen_col)], s["p_unseen"].get<bool>() ? "1" : "0") << s["id"];
+      EXPECT_EQ(s["p_unseen"].get<bool>(), eval::row_unseen(s).value()) << s["id"];
       if (s["kind"] == "foveated") {
         const auto& e = s["equal_time_full"][0];
         EXPECT_EQ(cells[std::size_t(eq_col)], e.is_null() ? "none" : e["id"].get<std::string>()) << s["id"];
@@ -343,6 +462,20 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
     EXPECT_NE(md.find("With the same history (the image history over 3 frames"), std::string::npos)
         << md.substr(0, 2000);
     EXPECT_NE(md.find("At equal time "), std::string::npos) << md.substr(0, 2000);
+    // The content-aware family beside the eccentricity-only rows, and every row's detection per ring.
+    EXPECT_NE(md.find("## Content-aware density"), std::string::npos);
+    EXPECT_NE(md.find("| eccentricity only | 2 | "), std::string::npos) << "the two rows without history";
+    EXPECT_NE(md.find("| content-aware, contrast 0.5 | 2 | "), std::string::npos);
+    EXPECT_NE(md.find("Goal, unseen at 10 % of the full render's rays or fewer: **"), std::string::npos);
+    EXPECT_NE(md.find("## Detection per ring"), std::string::npos);
+    for (const auto& s : settings) EXPECT_NE(md.find("\n| " + s["id"].get<std::string>() + " | "), std::string::npos) << s["id"];
+  }
+  {  // pricelist.json's summary of the same
+    std::vector<std::string> families;
+    for (const auto& f : doc["detection"]["families"]) families.push_back(f["family"].get<std::string>());
+    EXPECT_EQ(families, (std::vector<std::string>{"eccentricity only", "content-aware", "content-aware, contrast 0.5"}));
+    EXPECT_EQ(doc["detection"]["goal"]["ray_fraction"], 0.1);
+    EXPECT_EQ(by_id("nearest_k1_s1_thesis_r1_c0.5")["content_contrast"], 0.5);
   }
 
   // Resume: nothing measured again, the same headline.
@@ -412,7 +545,8 @@ TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
   const std::string args =
       "pricelist --size 48x54 --reference-spp 32 --frames 1 --threads 2 --motion none "
       "--full-rays-per-point 1,2 --interpolation nearest:1 --density-scale 1 "
-      "--rays-per-point 1 --pattern pixel-grid --history-rays-per-point none --out " +
+      "--rays-per-point 1 --pattern pixel-grid --history-rays-per-point none --content-contrast 0.5 "
+      "--content-rays none --out " +
       (dir.path / "pl").string() + " --md " + md.string();
   const std::string cmd =
       "'" + fovea_eval.string() + "' " + args + " >/dev/null 2>'" + (dir.path / "err").string() + "'";
@@ -434,6 +568,7 @@ TEST(Pricelist, MdFileNamesItsCommandAndMachine) {
   }
   EXPECT_NE(s.find(" cores; "), std::string::npos) << s;
   EXPECT_NE(s.find("| on the front | time % |"), std::string::npos) << "the ring tables";
+  EXPECT_NE(s.find("| content-aware, contrast 0.5 | 1 | "), std::string::npos) << "--content-contrast's row";
   EXPECT_NE(s.find("|---|---|---|---|---|---|---|---|---|\n| "), std::string::npos) << "a table with a row";
   EXPECT_NE(s.find("](../pl/pricelist.png)"), std::string::npos) << "links into --out from the file's folder";
   EXPECT_TRUE(fs::exists(md.parent_path() / "../pl/pricelist.png"));

@@ -16,6 +16,7 @@
 
 #include <glm/ext/vector_int2.hpp>
 
+#include <cstddef>
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -41,5 +42,21 @@ void register_density(CLI::App& app);
 
 // 0, 2 for bad options, 1 when the scene, the engine, the reference or the tables fail.
 int run_density(const DensityOptions& options, std::ostream& out, std::ostream& err);
+
+// Whether the metric sees nothing that foveation adds: every ring the full render at the same rays
+// per pixel does not show (its largest P below 0.5; the measurable rings) stays below P = 0.5 at the
+// row's most visible pixel. A ring the full render already shows cannot tell foveation from that
+// render's own noise. Per ring the largest P of the row and of the full render; NaN: no pixels there.
+bool unseen_in_every_ring(const std::vector<double>& row_p_max, const std::vector<double>& full_p_max);
+
+// One row of a sweep: its primary rays over the full render's, and unseen_in_every_ring's verdict.
+struct UnseenCandidate {
+  double ray_fraction = 0.0;
+  bool unseen = false;
+};
+
+// The smallest ray fraction the metric does not see: the index of the unseen row with the fewest
+// rays (the first on a tie); nullopt when no row is unseen.
+std::optional<std::size_t> smallest_unseen(const std::vector<UnseenCandidate>& rows);
 
 }  // namespace foveart::eval

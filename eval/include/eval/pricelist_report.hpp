@@ -36,6 +36,18 @@ std::vector<std::size_t> pareto_front(const std::vector<double>& cost, const std
 std::optional<std::size_t> equal_time_full(const std::vector<nlohmann::ordered_json>& settings, std::size_t of,
                                            std::size_t ring);
 
+// Whether the perceptual metric sees nothing a row adds to its full render at the same rays per
+// pixel (unseen_in_every_ring on its rings' p_detect_max and p_detect_full_max); nullopt without
+// perceptual columns.
+std::optional<bool> row_unseen(const nlohmann::ordered_json& setting);
+
+// The content-aware comparison (pricelist.json's "detection"): each setting's "p_unseen" set, then per
+// family of rows without history (eccentricity only; content-aware, any contrast and each; rays per
+// point by content, each contrast) the rows, the unseen ones, the smallest unseen ray fraction
+// (smallest_unseen) and the fewest rays with the rings seen there; and the goal (unseen at 10 % of
+// the full render's rays or fewer): met or not, and per ring how many rows that cheap are seen.
+nlohmann::ordered_json detection_json(std::vector<nlohmann::ordered_json>& settings);
+
 // Writes pricelist.json, pricelist.csv, pareto_ring<R>.png, pricelist.png,
 // report.md and, with temporal columns, temporal.csv into `dir`; *headline gets the summary sentence.
 // False and *error naming the file that could not be written.
