@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -154,6 +155,10 @@ bool unseen_in_every_ring(const std::vector<double>& row_p_max, const std::vecto
   for (std::size_t r = 0; r < row_p_max.size() && r < full_p_max.size(); ++r)
     if (full_p_max[r] < 0.5 && !(row_p_max[r] < 0.5)) return false;  // NaN full: not measurable
   return true;
+}
+
+std::size_t measurable_ring_count(const std::vector<double>& full_p_max) {
+  return std::size_t(std::count_if(full_p_max.begin(), full_p_max.end(), [](double p) { return p < 0.5; }));
 }
 
 std::optional<std::size_t> smallest_unseen(const std::vector<UnseenCandidate>& rows) {

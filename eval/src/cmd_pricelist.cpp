@@ -95,6 +95,7 @@ struct Context {
   // columns' baseline for every row at that count.
   std::map<int, foveation::ImageRgb> full_display;
   mutable std::map<int, PerceptualResult> full_perceptual;  // each full_display's against the reference
+  std::size_t resumed = 0;  // settings of the grid measured by earlier runs (results.jsonl)
 };
 
 render_view::RenderOptions render_options_of(const PricelistOptions& o, const PriceSetting* s) {
@@ -598,6 +599,8 @@ std::optional<Reference> measure_reference(const PricelistOptions& o, const Pric
                                     std::map<std::string, Json>* done_results) {
   const fs::path results_file = out_dir / "results.jsonl";
   *done_results = read_results_jsonl(results_file, c.err);
+  c.resumed = std::size_t(std::count_if(settings.begin(), settings.end(),
+                                        [&](const PriceSetting& s) { return done_results->count(s.id()) > 0; }));
   for (const PriceSetting& s : settings)  // measured before: their images (result_json wrote them)
     if (s.full && !s.history && done_results->count(s.id())) {
       foveation::ImageRgb image;
@@ -711,6 +714,7 @@ int run_pricelist(const PricelistOptions& o_in, std::ostream& out, std::ostream&
   pc.run["machine"] = toolkit::machine_description();
   pc.run["threads"] = executor.thread_count();
   pc.run["quick"] = o.quick;
+  if (c.resumed > 0) pc.run["resumed_settings"] = c.resumed;
   pc.run["perceptual_display"] = {{"pixels_per_deg", pd.pixels_per_deg},
                                   {"white_cd_m2", pd.white_luminance_cd_m2},
                                   {"black_cd_m2", pd.black_luminance_cd_m2}};

@@ -183,7 +183,7 @@ std::vector<double> rings_p(const Json& s, const char* key) {
 // The families of the content-aware comparison a row belongs to; none for full renders, rows with
 // history and rows without perceptual columns.
 std::vector<std::string> families_of(const Json& s) {
-  if (s["kind"] != "foveated" || has_history(s) || !row_unseen(s)) return {};
+  if (s["kind"] != "foveated" || has_history(s) || !s.value("p_detect_max", Json()).is_number()) return {};
   const double contrast = num(s.value("content_contrast", Json(0.0))), rays = num(s.value("content_rays", Json(0.0)));
   if (contrast > 0.0) return {kContentFamily, std::string(kContentFamily) + ", contrast " + fmt_g(contrast)};
   if (rays > 0.0) return {std::string(kRaysFamily) + ", contrast " + fmt_g(rays)};
@@ -204,34 +204,41 @@ Json row_summary(const Json& s) {
           {"psnr", s["psnr"]}, {"rings_seen", rings_seen(s)}};
 }
 
-// One family's count, unseen count, smallest unseen ray fraction (smallest_unseen) and fewest rays.
+// One family's count, judged count (a ring to judge), unseen count, smallest unseen ray fraction
+// (smallest_unseen) and fewest rays among the judged rows.
 Json family_json(const std::string& name, const std::vector<const Json*>& rows) {
   std::vector<UnseenCandidate> candidates;
-  std::vector<UnseenCandidate> every;  // every row as unseen: the fewest rays of all
+  std::vector<UnseenCandidate> judged;  // every judged row as unseen: the fewest rays of them
   std::size_t unseen = 0;
   for (const Json* s : rows) {
-    candidates.push_back({num(s->value("ray_fraction", Json())), *row_unseen(*s)});
-    every.push_back({candidates.back().ray_fraction, true});
+    const std::optional<bool> verdict = row_unseen(*s);
+    candidates.push_back({num(s->value("ray_fraction", Json())), verdict.value_or(false)});
+    judged.push_back({candidates.back().ray_fraction, verdict.has_value()});
     unseen += candidates.back().unseen ? 1 : 0;
   }
-  const std::optional<std::size_t> best = smallest_unseen(candidates), fewest = smallest_unseen(every);
-  return {{"family", name}, {"rows", rows.size()}, {"unseen_rows", unseen},
+  const std::optional<std::size_t> best = smallest_unseen(candidates), fewest = smallest_unseen(judged);
+  const auto judged_rows = std::count_if(judged.begin(), judged.end(), [](const UnseenCandidate& c) { return c.unseen; });
+  return {{"family", name}, {"rows", rows.size()}, {"judged_rows", judged_rows}, {"unseen_rows", unseen},
           {"smallest_unseen", best ? row_summary(*rows[*best]) : Json()},
           {"fewest_rays", fewest ? row_summary(*rows[*fewest]) : Json()}};
 }
 
-// The goal: rows at or below kGoalRayFraction, how many are unseen, and per ring how many the metric sees.
+// The goal: rows at or below kGoalRayFraction, how many of them have a ring to judge and how many
+// are unseen, and per ring how many the metric sees.
 Json goal_json(const std::vector<Json>& all) {
-  std::size_t rows = 0, unseen = 0;
+  std::size_t rows = 0, judged = 0, unseen = 0;
   std::vector<std::size_t> seen(kRings, 0);
   for (const Json& s : all) {
     if (families_of(s).empty() || !(num(s.value("ray_fraction", Json())) <= kGoalRayFraction)) continue;
     ++rows;
-    unseen += *row_unseen(s) ? 1 : 0;
+    const std::optional<bool> verdict = row_unseen(s);
+    judged += verdict ? 1 : 0;
+    unseen += verdict.value_or(false) ? 1 : 0;
     for (const Json& ring : rings_seen(s))
       for (std::size_t r = 0; r < kRings; ++r) seen[r] += ring == ring_name(r) ? 1 : 0;
   }
-  return {{"ray_fraction", kGoalRayFraction}, {"rows_at_or_below", rows}, {"unseen_at_or_below", unseen},
+  return {{"ray_fraction", kGoalRayFraction}, {"rows_at_or_below", rows}, {"judged_at_or_below", judged},
+          {"unseen_at_or_below", unseen},
           {"met", unseen > 0}, {"rows_seen_per_ring", seen}};
 }
 
@@ -240,7 +247,9 @@ Json goal_json(const std::vector<Json>& all) {
 std::optional<bool> row_unseen(const Json& s) {
   if (!s.value("p_detect_max", Json()).is_number() || !s.value("p_detect_full_max", Json()).is_number())
     return std::nullopt;
-  return unseen_in_every_ring(rings_p(s, "p_detect_max"), rings_p(s, "p_detect_full_max"));
+  const std::vector<double> full = rings_p(s, "p_detect_full_max");
+  if (measurable_ring_count(full) == 0) return std::nullopt;
+  return unseen_in_every_ring(rings_p(s, "p_detect_max"), full);
 }
 
 Json detection_json(std::vector<Json>& all) {
@@ -495,7 +504,11 @@ void write_md_head(std::ostream& md, const PricelistContext& ctx, const std::str
      << ", gaze (" << fmt(num(ctx.run["gaze"][0]), 0) << ", " << fmt(num(ctx.run["gaze"][1]), 0) << ")\n\n"
      << "Written by `" << ctx.command << "` on " << ctx.run.value("machine", std::string("?")) << ", "
      << ctx.run.value("threads", 0) << " threads, in " << fmt(ctx.run.value("run_s", 0.0), 0)
-     << " s. The numbers below are that run's own output; rerun the command to update them.\n\n"
+     << (ctx.run.value("resumed_settings", 0) > 0
+             ? " s (resuming: " + std::to_string(ctx.run.value("resumed_settings", 0)) +
+                   " settings were measured by earlier runs into the same --out)"
+             : std::string(" s"))
+     << ". The numbers below are that run's own output; rerun the command to update them.\n\n"
      << headline << "\n\n"
      << "Times are each setting's median frame "
      << "as a percentage of a full frame at 1 ray per pixel rendered interleaved with it. "
@@ -583,20 +596,26 @@ std::string ring_list(const Json& rings) {
 void write_md_content_density(std::ostream& md, const Json& detection) {
   md << "## Content-aware density\n\nRows without history by family. Unseen: the row's largest P against the "
      << "reference stays below 0.5 in every ring where the full render at the same rays per pixel stays below 0.5 "
-     << "(the rule of `fovea-eval density`); rays % = primary rays over the full render's at the same rays per pixel.\n\n"
-     << "| family | rows | unseen | smallest unseen: rays % | setting | time % | PSNR dB | fewest rays: rays % | "
-        "setting | rings seen |\n|---|---|---|---|---|---|---|---|---|---|\n";
+     << "(the rule of `fovea-eval density`); judged: rows with such a ring (where the full render is seen in every "
+     << "ring the metric cannot tell foveation from its noise); rays % = primary rays over the full render's at the "
+     << "same rays per pixel.\n\n"
+     << "| family | rows | judged | unseen | smallest unseen: rays % | setting | time % | PSNR dB | fewest rays "
+        "judged: rays % | setting | rings seen |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Json& f : detection["families"]) {
     const Json& fewest = f["fewest_rays"];
-    md << "| " << f["family"].get<std::string>() << " | " << f["rows"] << " | " << f["unseen_rows"] << " | "
-       << summary_cell(f["smallest_unseen"]) << " | " << fmt(100.0 * num(fewest["ray_fraction"]), 1) << " | "
-       << fewest["id"].get<std::string>() << " | " << ring_list(fewest["rings_seen"]) << " |\n";
+    md << "| " << f["family"].get<std::string>() << " | " << f["rows"] << " | " << f["judged_rows"] << " | "
+       << f["unseen_rows"] << " | " << summary_cell(f["smallest_unseen"]) << " | "
+       << (fewest.is_null() ? "- | - | -"
+                            : fmt(100.0 * num(fewest["ray_fraction"]), 1) + " | " + fewest["id"].get<std::string>() +
+                                  " | " + ring_list(fewest["rings_seen"]))
+       << " |\n";
   }
   const Json& goal = detection["goal"];
   const double goal_pct = 100.0 * num(goal["ray_fraction"]);
   md << "\nGoal, unseen at " << fmt(goal_pct, 0) << " % of the full render's rays or fewer: "
      << (goal["met"].get<bool>() ? "**met**" : "**not met**") << " (" << goal["unseen_at_or_below"] << " of "
-     << goal["rows_at_or_below"] << " rows at or below " << fmt(goal_pct, 0) << " % unseen";
+     << goal["judged_at_or_below"] << " judged rows at or below " << fmt(goal_pct, 0) << " % unseen; "
+     << goal["rows_at_or_below"] << " rows there in all";
   if (!goal["met"].get<bool>() && goal["rows_at_or_below"].get<std::size_t>() > 0) {
     md << "; the metric sees them in";
     for (std::size_t r = 0; r < kRings; ++r)
@@ -610,7 +629,8 @@ void write_md_content_density(std::ostream& md, const Json& detection) {
 // full render's at the same rays per pixel and its PSNR.
 void write_md_detection(std::ostream& md, const std::vector<Json>& all) {
   md << "## Detection per ring\n\nPer ring: largest P against the reference, the row's / the full render's at "
-     << "the same rays per pixel, then PSNR dB. Unseen: as above (full renders: their own baseline).\n\n"
+     << "the same rays per pixel, then PSNR dB. Unseen: as above (-: no ring to judge; a full render is its own "
+     << "baseline).\n\n"
      << "| setting | rays % of full | time % |";
   for (std::size_t r = 0; r < kRings; ++r) md << " " << ring_name(r) << " |";
   md << " unseen |\n|---|---|---|";

@@ -229,10 +229,16 @@ TEST(Pricelist, SmallestUnseenRayFractionSkipsRowsSeenWhereTheFullRenderIsNot) {
       detection_row("nearest_k1_s1_thesis_r1_c1", 0.04, {0.2, 0.2, 0.2, 0.2, 0.2, 0.55, n}, full)};
   rows.push_back(detection_row("nearest_k1_s2_thesis_r1_c1", 0.02, full, full));
   rows.back().erase("p_detect_max");  // no perceptual columns: in no family
+  // Its full render seen in every ring: no ring to judge, in its family but never its smallest unseen.
+  rows.push_back(detection_row("nearest_k1_s3_thesis_r1_c0.5", 0.01, {0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9},
+                               {0.9, 0.9, 0.9, 0.9, 0.9, 0.9, 0.9}));
+  EXPECT_EQ(eval::measurable_ring_count(full), 5u);
+  EXPECT_EQ(eval::measurable_ring_count(std::vector<double>(7, 0.9)), 0u);
   const auto d = eval::detection_json(rows);
   EXPECT_EQ(rows[3]["p_unseen"], false);
   EXPECT_EQ(rows[1]["p_unseen"], true);
   EXPECT_TRUE(rows[7]["p_unseen"].is_null());
+  EXPECT_TRUE(rows[8]["p_unseen"].is_null()) << "nothing to judge it by";
   std::map<std::string, nlohmann::ordered_json> by_family;
   std::vector<std::string> order;
   for (const auto& f : d["families"]) {
@@ -248,10 +254,13 @@ TEST(Pricelist, SmallestUnseenRayFractionSkipsRowsSeenWhereTheFullRenderIsNot) {
   EXPECT_EQ(eccentricity["fewest_rays"]["id"], "nearest_k1_s3_thesis_r1");
   EXPECT_EQ(eccentricity["fewest_rays"]["rings_seen"], (nlohmann::ordered_json{"5-10", "10-20"}));
   EXPECT_EQ(by_family["content-aware"]["smallest_unseen"]["id"], "nearest_k1_s1_thesis_r1_c0.5");
+  EXPECT_EQ(by_family["content-aware"]["rows"], 3);
+  EXPECT_EQ(by_family["content-aware"]["judged_rows"], 2);
   EXPECT_EQ(by_family["content-aware"]["fewest_rays"]["id"], "nearest_k1_s1_thesis_r1_c1");
   EXPECT_TRUE(by_family["content-aware, contrast 1"]["smallest_unseen"].is_null());
-  // The goal: 3 rows at or below 10 %, one of them unseen (the content row at 8 %).
-  EXPECT_EQ(d["goal"]["rows_at_or_below"], 3);
+  // The goal: 4 rows at or below 10 %, 3 of them judged, one of those unseen (the content row at 8 %).
+  EXPECT_EQ(d["goal"]["rows_at_or_below"], 4);
+  EXPECT_EQ(d["goal"]["judged_at_or_below"], 3);
   EXPECT_EQ(d["goal"]["unseen_at_or_below"], 1);
   EXPECT_TRUE(d["goal"]["met"].get<bool>());
   EXPECT_EQ(d["goal"]["rows_seen_per_ring"], (nlohmann::ordered_json{0, 0, 1, 1, 0, 1, 0}));
@@ -392,9 +401,9 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
       ASSERT_LT(std::size_t(p_col), cells.size()) << line;
       ASSERT_TRUE(s["rings"][0]["p_detect_mean"].is_number()) << s["id"];
       EXPECT_NEAR(std::stod(cells[std::size_t(p_col)]), s["rings"][0]["p_detect_mean"].get<double>(), 1e-12);
-      ASSERT_TRUE(s["p_unseen"].is_boolean()) << s["id"];
-      EXPECT_EQ(cells[std::size_t(unseen_col)], s["p_unseen"].get<bool>() ? "1" : "0") << s["id"];
-      EXPECT_EQ(s["p_unseen"].get<bool>(), eval::row_unseen(s).value()) << s["id"];
+      const std::optional<bool> unseen = eval::row_unseen(s);  // none: its full render is seen in every ring
+      EXPECT_EQ(s["p_unseen"], unseen ? nlohmann::json(*unseen) : nlohmann::json()) << s["id"];
+      EXPECT_EQ(cells[std::size_t(unseen_col)], !unseen ? "" : *unseen ? "1" : "0") << s["id"];
       if (s["kind"] == "foveated") {
         const auto& e = s["equal_time_full"][0];
         EXPECT_EQ(cells[std::size_t(eq_col)], e.is_null() ? "none" : e["id"].get<std::string>()) << s["id"];

@@ -49,6 +49,10 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
 // render's own noise. Per ring the largest P of the row and of the full render; NaN: no pixels there.
 bool unseen_in_every_ring(const std::vector<double>& row_p_max, const std::vector<double>& full_p_max);
 
+// How many rings unseen_in_every_ring can judge: those where the full render's largest P is below 0.5.
+// With none, every row is "unseen" for want of a ring to see it in, and says nothing.
+std::size_t measurable_ring_count(const std::vector<double>& full_p_max);
+
 // One row of a sweep: its primary rays over the full render's, and unseen_in_every_ring's verdict.
 struct UnseenCandidate {
   double ray_fraction = 0.0;

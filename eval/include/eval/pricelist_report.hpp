@@ -38,7 +38,7 @@ std::optional<std::size_t> equal_time_full(const std::vector<nlohmann::ordered_j
 
 // Whether the perceptual metric sees nothing a row adds to its full render at the same rays per
 // pixel (unseen_in_every_ring on its rings' p_detect_max and p_detect_full_max); nullopt without
-// perceptual columns.
+// perceptual columns or without a ring to judge (the full render is seen in every ring).
 std::optional<bool> row_unseen(const nlohmann::ordered_json& setting);
 
 // The content-aware comparison (pricelist.json's "detection"): each setting's "p_unseen" set, then per
