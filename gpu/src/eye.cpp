@@ -193,7 +193,9 @@ bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* er
     vkCmdFillBuffer(cb, tiles_.buffer, 0, VK_WHOLE_SIZE, 0u);           // no contrast measured
   }
   shown_cleared_ = true;
-  tiles_measured_ = ended_measuring_;  // the last frame measured the tiles and ended (end_frame)
+  // The last frame measured the tiles and ended (end_frame), on these tables (a new set starts anew, as on the CPU).
+  tiles_measured_ = ended_measuring_ && measured_tables_ == frame.tables;
+  measured_tables_ = frame.tables;
   ended_measuring_ = density_recorded_ = false;
   return true;
 }
