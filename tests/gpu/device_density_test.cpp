@@ -167,9 +167,13 @@ TEST_F(DeviceDensityTest, PointsAndRaysFollowTheCpuRule) {
     EXPECT_GT(fewer, 0u) << "frame " << i;
     EXPECT_GT(all, 0u) << "frame " << i;
     const uint64_t unthinned = uint64_t(first.visible_points) * kDensityRays;
+    StageTimes times;
+    ASSERT_TRUE(eye_->stage_times(&times));
     std::cout << "[ device density ] frame " << i << ": " << eye_->device_trace_status().rays << " rays of "
               << unthinned << " without content density, " << expected.thinned << " of "
-              << eye_->device_trace_status().visible_points << " visible points thinned\n";
+              << eye_->device_trace_status().visible_points << " visible points thinned; GPU ms: trace "
+              << times.trace_ms << ", of it fill " << times.density_fill_ms << ", contrast "
+              << times.density_contrast_ms << "\n";
   }
 }
 
