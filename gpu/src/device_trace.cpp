@@ -24,8 +24,8 @@ constexpr uint32_t kRaysBindings = 9;
 // ray colours, point index, control, status, colours, point depth, point rays, points, levels, tiles
 constexpr uint32_t kResolveBindings = 10;
 constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-static_assert(FOVEART_DEVICE_FINEST_LEVEL == foveation::PointLevels::kFinest &&
-              foveation::PointLevels::kParents == 3 && FOVEART_DEVICE_NO_PARENT == foveation::PointLevels::kNoParent);
+static_assert(FOVEART_DEVICE_FINEST_LEVEL == foveation::PointLevels::kFinest && foveation::PointLevels::kParents == 3 &&
+              FOVEART_DEVICE_NO_PARENT == foveation::PointLevels::kNoParent);
 constexpr uint32_t kNaNBits = 0x7FC00000u;
 constexpr VkDeviceSize kRayBytes = sizeof(shader::DeviceRay), kColorBytes = 16;
 
@@ -35,7 +35,9 @@ uint32_t point_blocks(std::size_t points) {
 }
 
 // Workgroups of 64 (device_resolve.comp) over n points or tiles.
-uint32_t point_blocks64(std::size_t n) { return uint32_t((n + 63) / 64); }
+uint32_t point_blocks64(std::size_t n) {
+  return uint32_t((n + 63) / 64);
+}
 
 // The ray shader's push constants for this frame's view, screen and points.
 DeviceRaysPush rays_push(const DeviceTraceFrame& frame, bool tiles_measured) {
@@ -81,11 +83,12 @@ DeviceResolvePush resolve_push(const DeviceTraceFrame& frame, uint32_t pass) {
   return push;
 }
 
-
 }  // namespace
 
 std::uint64_t device_tile_capacity(std::uint32_t width_px, std::uint32_t height_px) {
-  const auto tiles = [](std::uint32_t px) { return std::uint64_t((px + FOVEART_DEVICE_MIN_TILE_PX - 1) / FOVEART_DEVICE_MIN_TILE_PX); };
+  const auto tiles = [](std::uint32_t px) {
+    return std::uint64_t((px + FOVEART_DEVICE_MIN_TILE_PX - 1) / FOVEART_DEVICE_MIN_TILE_PX);
+  };
   return tiles(width_px) * tiles(height_px);
 }
 
@@ -210,15 +213,10 @@ bool DeviceTrace::ensure_levels(const foveation::PointLevels* levels, std::strin
 }
 
 void DeviceTrace::update_descriptors(const DeviceTraceTargets& targets) {
-  const VkDescriptorBufferInfo rays[kRaysBindings] = {{points_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {rays_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {point_index_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {control_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {blocks_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {footprints_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {levels_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {targets.tiles, 0, VK_WHOLE_SIZE},
-                                                      {point_rays_.buffer, 0, VK_WHOLE_SIZE}};
+  const VkDescriptorBufferInfo rays[kRaysBindings] = {
+      {points_.buffer, 0, VK_WHOLE_SIZE},  {rays_.buffer, 0, VK_WHOLE_SIZE},   {point_index_.buffer, 0, VK_WHOLE_SIZE},
+      {control_.buffer, 0, VK_WHOLE_SIZE}, {blocks_.buffer, 0, VK_WHOLE_SIZE}, {footprints_.buffer, 0, VK_WHOLE_SIZE},
+      {levels_.buffer, 0, VK_WHOLE_SIZE},  {targets.tiles, 0, VK_WHOLE_SIZE},  {point_rays_.buffer, 0, VK_WHOLE_SIZE}};
   write_storage_descriptors(device_, rays_set_, rays, kOnes, kRaysBindings);
   const VkDescriptorBufferInfo resolve[kResolveBindings] = {
       {ray_colors_.buffer, 0, VK_WHOLE_SIZE}, {point_index_.buffer, 0, VK_WHOLE_SIZE},
@@ -334,8 +332,8 @@ void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& fra
   staged_bytes_ = 0;  // the points' and levels' copies are in a frame that will be submitted
   staged_level_bytes_ = 0;
   if (frame.density_on()) {
-    const VkDeviceSize capacity = device_tile_capacity(uint32_t(frame.mapping.screen_width_px),
-                                                       uint32_t(frame.mapping.screen_height_px));
+    const VkDeviceSize capacity =
+        device_tile_capacity(uint32_t(frame.mapping.screen_width_px), uint32_t(frame.mapping.screen_height_px));
     const VkDeviceSize header = FOVEART_DEVICE_TILES_HEADER_WORDS * 4;
     vkCmdFillBuffer(cb, bound_.tiles, header + FOVEART_DEVICE_TILE_MIN * capacity * 4, capacity * 4, 0xFFFFFFFFu);
     vkCmdFillBuffer(cb, bound_.tiles, header + FOVEART_DEVICE_TILE_MAX * capacity * 4, capacity * 4, 0u);
@@ -362,8 +360,7 @@ void DeviceTrace::record_contrast(VkCommandBuffer cb, const DeviceTraceFrame& fr
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
 }
 
-void DeviceTrace::dispatch_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, uint32_t pass,
-                                   uint32_t groups) {
+void DeviceTrace::dispatch_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, uint32_t pass, uint32_t groups) {
   const DeviceResolvePush push = resolve_push(frame, pass);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve());
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve_layout(), 0, 1, &resolve_set_, 0,

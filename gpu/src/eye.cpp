@@ -57,14 +57,13 @@ bool Eye::create_buffers(std::string* error) {
   const VkDeviceSize pixels = VkDeviceSize{width_px_} * height_px_;
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   const VkBufferUsageFlags shown = storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const VkDeviceSize tile_words =
+      FOVEART_DEVICE_TILES_HEADER_WORDS + FOVEART_DEVICE_TILE_REGIONS * device_tile_capacity(width_px_, height_px_);
   if (!context_.create_buffer(&current_, pixels * 16, storage, false, error) ||
       !context_.create_buffer(&history_[0], pixels * 16, storage, false, error) ||
       !context_.create_buffer(&history_[1], pixels * 16, storage, false, error) ||
       !context_.create_buffer(&shown_, pixels * 4, shown, false, error) ||
-      !context_.create_buffer(&tiles_,
-                              (FOVEART_DEVICE_TILES_HEADER_WORDS +
-                               FOVEART_DEVICE_TILE_REGIONS * device_tile_capacity(width_px_, height_px_)) * 4,
-                              storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, error)) {
+      !context_.create_buffer(&tiles_, tile_words * 4, storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, error)) {
     return false;
   }
   std::array<VkDescriptorSetLayout, 2 * kFrameSlots> layouts;
@@ -105,7 +104,8 @@ Eye::~Eye() {
     for (BoundBuffer* b : {&slot.upload, &slot.colors, &slot.point_depth, &slot.status}) destroy_buffer(device_, b);
   }
   if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
-  for (BoundBuffer* b : {&current_, &history_[0], &history_[1], &shown_, &readback_, &tiles_}) destroy_buffer(device_, b);
+  for (BoundBuffer* b : {&current_, &history_[0], &history_[1], &shown_, &readback_, &tiles_})
+    destroy_buffer(device_, b);
 }
 
 bool Eye::ensure_points(Slot& slot, std::size_t point_count, std::string* error) {

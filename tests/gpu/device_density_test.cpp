@@ -253,7 +253,8 @@ TEST_F(DeviceDensityTest, FrameMatchesTheCpuContentDensityFrame) {
     ASSERT_TRUE(device_eye->read_rgba8(&actual, &error)) << error;
     ASSERT_EQ(actual.size(), expected.size());
     int worst = 0;
-    for (std::size_t b = 0; b < actual.size(); ++b) worst = std::max(worst, std::abs(int(actual[b]) - int(expected[b])));
+    for (std::size_t b = 0; b < actual.size(); ++b)
+      worst = std::max(worst, std::abs(int(actual[b]) - int(expected[b])));
     EXPECT_LE(worst, 1) << "frame " << i;
     EXPECT_EQ(device_eye->device_trace_status().thinned_points > 0, i > 0) << "frame " << i;
   }
@@ -265,10 +266,10 @@ TEST_F(DeviceDensityTest, FrameMatchesTheCpuContentDensityFrame) {
 TEST_F(DeviceDensityTest, DeviceStageSetTakesTheViewsContentDensity) {
   engine_.answer = TestEngine::Answer::direction;
   foveation::FoveatedView planned(tables_, settings_);
-  foveation::FoveatedView staged(
-      tables_, settings_,
-      make_device_stages(tables_, settings_,
-                         [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); }));
+  foveation::FoveatedView staged(tables_, settings_,
+                                 make_device_stages(tables_, settings_, [this](const DeviceRayBatch& batch) {
+                                   return test_engine(&engine_, &batch);
+                                 }));
   std::string error;
   const auto staged_eye = gpu_->create_eye(kViewW, kViewH, &error);
   ASSERT_NE(staged_eye, nullptr) << error;

@@ -211,7 +211,7 @@ class DeviceTrace {
   std::uint32_t ray_capacity_ = 0;
   BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_;
   BoundBuffer footprints_;  // per ray: its point's disc radius as an angle, radians (device_rays.comp)
-  BoundBuffer blocks_;  // per block of points: its rays, then where they begin (device_rays.comp)
+  BoundBuffer blocks_;      // per block of points: its rays, then where they begin (device_rays.comp)
   BoundBuffer point_rays_;  // per point: (first ray, ray count) (device_rays.comp)
   BoundBuffer levels_, levels_staging_;  // per point: DeviceLevel (content density; a placeholder while off)
   VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record

@@ -197,9 +197,9 @@ class Eye {
   // Content density's tiles (shader_interface/device_trace.h), one set per eye: each
   // device-traced frame measures them for the next, in queue order.
   BoundBuffer tiles_;
-  bool density_recorded_ = false;  // the frame being recorded measures the tiles
-  bool tiles_measured_ = false;    // this frame may read them: the last frame measured them and ended
-  bool ended_measuring_ = false;   // the last frame ended (end_frame) having measured them
+  bool density_recorded_ = false;            // the frame being recorded measures the tiles
+  bool tiles_measured_ = false;              // this frame may read them: the last frame measured them and ended
+  bool ended_measuring_ = false;             // the last frame ended (end_frame) having measured them
   const Tables* measured_tables_ = nullptr;  // the tables of the last frame begun
   uint32_t slot_ = 0;       // the slot being recorded
   uint32_t last_slot_ = 0;  // the slot recorded last

@@ -7,9 +7,9 @@
 
 // DeviceRaysPush::flags.
 #define FOVEART_DEVICE_RAYS_BSPLINE2 1u  // the bspline2 pixel filter (else box)
-#define FOVEART_DEVICE_RAYS_THIN 2u       // content density thins points (full_contrast > 0)
-#define FOVEART_DEVICE_RAYS_VARY 4u       // content density varies rays per point (rays_contrast > 0)
-#define FOVEART_DEVICE_RAYS_MEASURED 8u   // the eye's tiles may hold the last frame's contrast
+#define FOVEART_DEVICE_RAYS_THIN 2u      // content density thins points (full_contrast > 0)
+#define FOVEART_DEVICE_RAYS_VARY 4u      // content density varies rays per point (rays_contrast > 0)
+#define FOVEART_DEVICE_RAYS_MEASURED 8u  // the eye's tiles may hold the last frame's contrast
 // DeviceRaysPush::pass: device_rays.comp's three dispatches, a compaction in the point set's order.
 #define FOVEART_DEVICE_RAYS_COUNT 0u  // a workgroup per block of points: how many of them are visible
 #define FOVEART_DEVICE_RAYS_SCAN 1u   // one workgroup: where each block's points begin; the counts
