@@ -56,7 +56,7 @@ struct DeviceRayBatch {
   std::uint64_t frame_index = 0;
   const FoveartEyeView* view = nullptr;
   std::uint32_t ray_capacity = 0;
-  std::uint32_t rays_per_point = 1;
+  std::uint32_t rays_per_point = 1;  // the most a point casts (with content density, 1 to this; point_index says whose)
   BufferRange ray_count;    // XrFoveatedDeviceRayCountFOVEART (shader_interface/device_trace.h); read and indirect only
   BufferRange rays;         // ray_capacity x DeviceRay; read only
   BufferRange point_index;  // ray_capacity x uint32_t; read only
