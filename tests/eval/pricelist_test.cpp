@@ -493,6 +493,13 @@ TEST(Pricelist, TinySweepWritesConsistentJsonCsvAndImagesAndResumes) {
   ASSERT_EQ(eval::run_pricelist(o, out2, err2), 0) << err2.str();
   EXPECT_EQ(count_lines(pl / "results.jsonl"), lines);
   EXPECT_EQ(out2.str(), out.str());
+  {  // its report says the settings came from the earlier run
+    std::ifstream rf(pl / "report.md");
+    std::stringstream text;
+    text << rf.rdbuf();
+    EXPECT_NE(text.str().find("(resuming: 9 settings were measured by earlier runs into the same --out)"),
+              std::string::npos) << text.str().substr(0, 600);
+  }
   // Results from before the full render had a history: only full_spp1_image is measured, against
   // an anchor of its own (full_spp1 is not measured again).
   {
