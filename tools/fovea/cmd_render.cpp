@@ -220,6 +220,7 @@ struct Frames {
   uint64_t fov_points = 0;
   uint64_t fov_points_thinned = 0;
   double fov_density_ms = 0.0;  // the last frame's content-aware density stage
+  foveation::DensityCost fov_density;  // ... per stage
 };
 
 [[nodiscard]] bool render_full_frame(const render_view::RenderOptions& o, const RenderEngine& eng,
@@ -271,6 +272,7 @@ struct Frames {
   f->fov_points = fr.points;
   f->fov_points_thinned = fr.points_thinned;
   f->fov_density_ms = fr.density_ms;
+  f->fov_density = fr.density;
   return true;
 }
 
@@ -313,6 +315,8 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"content_contrast", o.content_contrast},
                         {"content_rays", o.content_rays},
                         {"density_ms", f.fov_density_ms},
+                        {"density_stages_ms", {{"levels", f.fov_density.levels_ms}, {"test", f.fov_density.test_ms},
+                                               {"observe", f.fov_density.observe_ms}, {"fill", f.fov_density.fill_ms}}},
                         {"temporal", foveation::temporal_mode_name(o.temporal)},
                         {"pattern", foveation::fovea_pattern_name(fov.view->tables().key.display.fovea_pattern)},
                         {"precompute_ms", fov.precompute_ms},

@@ -2,7 +2,8 @@
 // levels keep their spacing and parents, a flat view traces level 0 alone from its
 // second frame and gives the same image, an edge keeps every point of the tiles beside
 // it (on a tile border too), the pixel-exact fovea is never thinned, a failed frame or
-// a history that keeps rays traces every point, and it is off unless asked for.
+// a history that keeps rays traces every point, its cost is reported per stage, and it is
+// off unless asked for.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -213,6 +214,28 @@ TEST(ContentDensity, AnEdgeOnATileBorderKeepsEveryPointOfTheTilesBesideIt) {
   EXPECT_GT(beside, 100u);
   // Away from the edge each side is flat, so the fill is exact: the frames agree.
   EXPECT_LT(max_difference(full.image(), thinned.image()), 1e-5f);
+}
+
+TEST(ContentDensity, ItsCostIsReportedPerStageAsAPartOfSelectAndTrace) {
+  Executor executor(2);
+  Scene scene, off_scene;
+  scene.edge = off_scene.edge = true;
+  FoveatedView view(tables(), settings(0.05f)), off(tables(), settings(0.0f));
+  for (uint64_t f = 1; f <= 2; ++f) {
+    const FrameResult r = render(view, scene, f, executor), o = render(off, off_scene, f, executor);
+    ASSERT_TRUE(r.ok() && o.ok()) << r.message << o.message;
+    EXPECT_EQ(o.density_ms, 0.0) << "off: no density stage";
+    EXPECT_EQ(o.density.total_ms(), 0.0);
+    EXPECT_DOUBLE_EQ(r.density_ms, r.density.total_ms()) << "frame " << f;
+    // The stages run within the frame's select and trace (the per-point ones: CPU time over the threads).
+    EXPECT_LE(r.density_ms, r.select_ms + r.trace_ms) << "frame " << f;
+    if (f == 1) continue;
+    ASSERT_GT(r.points_thinned, 0u);
+    EXPECT_GT(r.density.levels_ms, 0.0) << "the tiles' levels from the first frame's ranges";
+    EXPECT_GT(r.density.test_ms, 0.0) << "every visible point was tested";
+    EXPECT_GT(r.density.observe_ms, 0.0) << "every traced colour was observed";
+    EXPECT_GT(r.density.fill_ms, 0.0) << "the thinned points were filled";
+  }
 }
 
 TEST(ContentDensity, AFailedFrameOrARayHistoryTracesEveryPoint) {

@@ -148,6 +148,7 @@ TEST(PointRayCount, FramesGiveEdgesTheirRaysAndFlatOrDarkTilesOne) {
   ASSERT_GT(flat_points, 200u);
   ASSERT_GT(grid_points, 0u);
   EXPECT_EQ(second.rays, counted) << "the stats count the rays handed to the engine";
+  EXPECT_GT(second.density.test_ms, 0.0) << "a point's rays by its tile's contrast are density's per-point test";
   EXPECT_LT(double(second.rays), 0.7 * double(first.rays));
   std::cout << "[ measured ] rays of the second frame: " << second.rays << " of " << first.rays << " ("
             << second.points << " points)\n";
