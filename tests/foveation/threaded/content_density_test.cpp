@@ -18,6 +18,7 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/point_levels.hpp"
 #include "foveation/visible_points.hpp"
+#include "threaded/small_view.hpp"
 
 namespace foveart::foveation::content_density_test {
 namespace {
@@ -28,31 +29,11 @@ constexpr float kEdgeX = 48.0f;  // a tile border (16 px tiles)
 
 // Scale 4: the pixel grid's edge lies inside the view, so frames hold grid and Poisson points.
 std::shared_ptr<const ViewTables> tables() {
-  static std::once_flag once;
-  static std::shared_ptr<const ViewTables> t;
-  std::call_once(once, [] {
-    PointSetKey key;
-    key.display = DisplayModel::from_fov(kW, kH, 60.0);
-    key.display.scale = 4.0;
-    key.seed = 3;
-    InterpOptions o;
-    o.method = InterpMethod::msm;
-    o.k = 5;
-    Executor executor(2);
-    t = load_view_tables(std::nullopt, key, o, executor);
-  });
+  static const std::shared_ptr<const ViewTables> t = small_view::tables(kW, kH, 4.0, 3, InterpMethod::msm, 5);
   return t;
 }
 
-FrameRequest request(uint64_t frame_index) {
-  FrameRequest r;
-  EyePose pose;
-  pose.position_m = {0.0f, 1.6f, 0.0f};
-  r.view = make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.4f, -0.4f);
-  r.frame_index = frame_index;
-  r.gaze_px = {float(kW) / 2.0f, float(kH) / 2.0f};
-  return r;
-}
+FrameRequest request(uint64_t frame_index) { return small_view::request(kW, kH, frame_index); }
 
 ViewSettings settings(float full_contrast, TemporalMode temporal = TemporalMode::off) {
   ViewSettings s = temporal_view_settings(temporal, 1, 1);
