@@ -28,6 +28,7 @@ bool finite_hit(uint bits) { return bits < 0x7F800000u || bits == 0x80000000u; }
 
 void main() {
   const uint v = gl_GlobalInvocationID.x;
+  // Every visible point casts rays_per_point: content density is off with the render cache.
   if (v >= control[FOVEART_DEVICE_VISIBLE_POINTS]) return;
   const uint first = v * rays_per_point;
   const uint p = point_index[first];

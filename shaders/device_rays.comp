@@ -1,51 +1,60 @@
 #version 450
 // Stages 1-2 of a frame traced on the device (docs/gpu.md "The device
-// trace"): foveation::CallbackTrace's visible test and foveation::PointRays
-// on the GPU. A point whose screen position lies in the screen and its margin
-// is visible; the visible points are compacted in the point set's order, so a
-// frame gives the same rays in the same places on every run (and neighbouring
-// rays stay neighbours, as the set's Hilbert order made them):
-//   COUNT  a workgroup per block of points counts its visible ones
-//          (subgroup ballots, then the subgroups' counts in shared memory);
-//   SCAN   one workgroup: the blocks' counts become where each block's points
-//          begin (scan.glsl), the total is the visible points; the ray count
-//          and the indirect dispatches follow;
-//   WRITE  a workgroup per block: each visible point's rank is its block's
-//          start plus the visible points before it in the block; its
-//          rays_per_point rays go at rank * spp (pixel-grid points jittered
-//          over their pixel, the rest in their disc, thesis 4.2), each with
-//          its footprint: the point's disc radius as an angle at the eye.
-// Ranks follow gl_LocalInvocationIndex when subgroups hold consecutive
-// invocations (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID), as
-// the drivers lay them out; tests/gpu/device_trace_test.cpp checks the order.
+// trace"): foveation::CallbackTrace's visible test, content density and
+// foveation::PointRays on the GPU. A point whose screen position lies in the
+// screen and its margin is visible; with content density (device_density.glsl)
+// a visible point of a level finer than its tile's (the eye's tiles of the
+// last frame's contrast) whose nearest parent is visible is thinned (no rays:
+// the resolve fills it from its parents), and a traced point casts its rays by
+// its disc and its tile's contrast; else every visible point casts
+// rays_per_point. The rays are compacted in the point set's order, so a frame
+// gives the same rays in the same places on every run (and neighbouring rays
+// stay neighbours, as the set's Hilbert order made them):
+//   COUNT  a workgroup per block of points sums its points' rays (and counts
+//          the visible, traced and thinned points);
+//   SCAN   one workgroup: the blocks' sums become where each block's rays
+//          begin (scan.glsl), the total is the ray count; the indirect
+//          dispatches follow;
+//   WRITE  a workgroup per block: each point's first ray is its block's start
+//          plus the rays of the points before it in the block (a scan in
+//          shared memory); its rays go there (pixel-grid points jittered over
+//          their pixel, the rest in their disc, thesis 4.2), each with its
+//          footprint: the point's disc radius as an angle at the eye; every
+//          point's (first ray, count) goes to point_rays for the resolve.
 #extension GL_GOOGLE_include_directive : require
-#extension GL_KHR_shader_subgroup_ballot : require
 #include "eye_rays.glsl"
 #include "jitter.glsl"
 #include "gpu/shader_interface/device_rays.h"
 #include "gpu/shader_interface/ray_dispatch.h"
+#include "device_density.glsl"
 
 layout(local_size_x = FOVEART_DEVICE_RAYS_BLOCK) in;
 layout(set = 0, binding = 0, std430) readonly buffer Points { DevicePoint points[]; };
 // Per ray: (origin xyz, sample x), (direction xyz, sample y): the engine's contract.
 layout(set = 0, binding = 1, std430) writeonly buffer Rays { DeviceRay rays[]; };
 layout(set = 0, binding = 2, std430) writeonly buffer PointIndex { uint point_index[]; };
-// XrFoveatedDeviceRayCountFOVEART, then the resolve's dispatch and the visible points (device_trace.h).
+// XrFoveatedDeviceRayCountFOVEART, then the resolve's dispatch and the point counts (device_trace.h).
 layout(set = 0, binding = 3, std430) buffer Control { uint control[]; };
-// Per block of points: its visible points (COUNT), then where they begin (SCAN).
+// Per block of points: its rays (COUNT), then where they begin (SCAN).
 layout(set = 0, binding = 4, std430) buffer Blocks { uint block_first[]; };
 // Per ray: its footprint in radians (XrFoveatedDeviceRayFootprintFOVEART).
 layout(set = 0, binding = 5, std430) writeonly buffer Footprints { float footprint_rad[]; };
+// Per point: its level and parents (content density; else unread).
+layout(set = 0, binding = 6, std430) readonly buffer Levels { DeviceLevel levels[]; };
+// The eye's tiles: the last frame's contrast and level per tile (device_trace.h).
+layout(set = 0, binding = 7, std430) readonly buffer Tiles { uint tile_words[]; };
+// Per point: (first ray, ray count), FOVEART_DEVICE_THINNED first for a thinned point.
+layout(set = 0, binding = 8, std430) writeonly buffer PointRays { uvec2 point_rays[]; };
 
 #define SCAN_ARRAY block_first
 #define SCAN_THREADS FOVEART_DEVICE_RAYS_BLOCK
 #include "scan.glsl"
 
-shared uint subgroup_before[FOVEART_DEVICE_RAYS_BLOCK];  // per subgroup: visible points before it in the block
+shared uint rays_before[FOVEART_DEVICE_RAYS_BLOCK];  // per invocation: the rays of the block before its point
+shared uint block_counts[3];                         // the block's visible, traced and thinned points
 
-void write_counts() {
-  const uint visible = control[FOVEART_DEVICE_VISIBLE_POINTS];
-  const uint count = visible * rays_per_point;
+void write_counts(uint count) {
+  const uint traced = control[FOVEART_DEVICE_TRACED_POINTS];
   control[0] = count;
   uint groups_x, rows;
   ray_dispatch_groups(count, groups_x, rows);  // two-dimensional: every side within Vulkan's minimum limit
@@ -58,7 +67,7 @@ void write_counts() {
   control[5] = height;
   control[6] = 1u;
   control[7] = 0u;
-  control[FOVEART_DEVICE_RESOLVE_DISPATCH] = (visible + 63u) / 64u;
+  control[FOVEART_DEVICE_RESOLVE_DISPATCH] = (traced + 63u) / 64u;
   control[FOVEART_DEVICE_RESOLVE_DISPATCH + 1u] = 1u;
   control[FOVEART_DEVICE_RESOLVE_DISPATCH + 2u] = 1u;
 }
@@ -71,19 +80,69 @@ bool visible_point(uint i, out vec2 screen) {
          screen.y < float(screen_px.y) + margin_px;
 }
 
-// The visible points of this workgroup's block before this invocation's, and (*block_visible) in all of it.
-uint rank_in_block(bool visible, out uint block_visible) {
-  const uvec4 ballot = subgroupBallot(visible);
-  if (subgroupElect()) subgroup_before[gl_SubgroupID] = subgroupBallotBitCount(ballot);
+// The rays of the block's points before this invocation's (exclusive, in
+// gl_LocalInvocationIndex order: a Hillis-Steele scan in shared memory), and
+// (*block_rays) of all of them.
+uint rays_in_block(uint rays, out uint block_rays) {
+  const uint t = gl_LocalInvocationIndex;
+  rays_before[t] = rays;
   barrier();
-  uint before = 0u;
-  block_visible = 0u;
-  for (uint s = 0u; s < gl_NumSubgroups; ++s) {
-    const uint n = subgroup_before[s];
-    before += s < gl_SubgroupID ? n : 0u;
-    block_visible += n;
+  for (uint step = 1u; step < uint(FOVEART_DEVICE_RAYS_BLOCK); step <<= 1u) {
+    const uint add = t >= step ? rays_before[t - step] : 0u;
+    barrier();
+    rays_before[t] += add;
+    barrier();
   }
-  return before + subgroupBallotExclusiveBitCount(ballot);
+  block_rays = rays_before[FOVEART_DEVICE_RAYS_BLOCK - 1];
+  return rays_before[t] - rays;
+}
+
+// Content density's rays of visible point i at `screen` (0: thinned), from the
+// eye's tiles of the last frame: CallbackTrace::thins and PointRays::rays_of.
+uint density_rays(uint i, vec2 screen) {
+  const uvec2 tiles = density_tiles(screen_px, tile_px);
+  const bool measured = (flags & FOVEART_DEVICE_RAYS_MEASURED) != 0u &&
+                        tile_words[FOVEART_DEVICE_TILES_MEASURED] == 1u && tile_words[FOVEART_DEVICE_TILES_X] == tiles.x &&
+                        tile_words[FOVEART_DEVICE_TILES_Y] == tiles.y && tile_words[FOVEART_DEVICE_TILES_PX] == tile_px;
+  float contrast = DENSITY_INFINITY;  // none measured: every point traced, rays by its disc
+  if (measured) {
+    const uint t = density_tile_of(screen, screen_px, tile_px);
+    contrast = uintBitsToFloat(tile_words[density_tile_word(screen_px, FOVEART_DEVICE_TILE_CONTRAST, t)]);
+    const uint parent = levels[i].parents_level.x;
+    vec2 parent_screen;
+    if ((flags & FOVEART_DEVICE_RAYS_THIN) != 0u &&
+        levels[i].parents_level.w > tile_words[density_tile_word(screen_px, FOVEART_DEVICE_TILE_LEVEL, t)] &&
+        parent != FOVEART_DEVICE_NO_PARENT && visible_point(parent, parent_screen)) {
+      return 0u;
+    }
+  }
+  const vec4 p = points[i].position_radius_grid;
+  if ((flags & FOVEART_DEVICE_RAYS_VARY) == 0u || p.w > 0.5) return rays_per_point;  // the fovea keeps all
+  return density_ray_count(rays_per_point, p.z, contrast, rays_contrast);
+}
+
+// Point i's rays this frame: 0 when invisible (*visible false) or thinned.
+uint rays_of(uint i, out bool visible, out vec2 screen) {
+  visible = visible_point(i, screen);
+  if (!visible) return 0u;
+  return (flags & (FOVEART_DEVICE_RAYS_THIN | FOVEART_DEVICE_RAYS_VARY)) != 0u ? density_rays(i, screen)
+                                                                                : rays_per_point;
+}
+
+// COUNT: the block's visible, traced and thinned points into the control words.
+void count_points(bool visible, uint rays) {
+  if (gl_LocalInvocationIndex < 3u) block_counts[gl_LocalInvocationIndex] = 0u;
+  barrier();
+  if (visible) {
+    atomicAdd(block_counts[0], 1u);
+    atomicAdd(block_counts[rays > 0u ? 1 : 2], 1u);
+  }
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    atomicAdd(control[FOVEART_DEVICE_VISIBLE_POINTS], block_counts[0]);
+    atomicAdd(control[FOVEART_DEVICE_TRACED_POINTS], block_counts[1]);
+    atomicAdd(control[FOVEART_DEVICE_THINNED_POINTS], block_counts[2]);
+  }
 }
 
 // The angle at the eye between the point's centre and the edge of its disc (radius r_i, thesis eq. 4):
@@ -94,12 +153,11 @@ float disc_radius_rad(vec2 screen, float radius_px) {
   return 2.0 * asin(min(0.5 * length(d1 - d0), 1.0));
 }
 
-void write_rays(uint i, uint rank, vec2 screen) {
+void write_rays(uint i, uint first, uint count, vec2 screen) {
   const vec4 p = points[i].position_radius_grid;
-  const uint first = rank * rays_per_point;
   const bool bspline2 = (flags & FOVEART_DEVICE_RAYS_BSPLINE2) != 0u;
   const float footprint = disc_radius_rad(screen, p.z);
-  for (uint s = 0u; s < rays_per_point; ++s) {
+  for (uint s = 0u; s < count; ++s) {
     const vec2 sample_px = p.w > 0.5 ? pixel_sample_px(screen, s, seed, screen_px.x, bspline2)
                                      : screen + unit_disc_sample(seed, i, s) * p.z;
     const uint r = first + s;
@@ -114,21 +172,23 @@ void write_rays(uint i, uint rank, vec2 screen) {
 void main() {
   const uint blocks = (point_count + uint(FOVEART_DEVICE_RAYS_BLOCK) - 1u) / uint(FOVEART_DEVICE_RAYS_BLOCK);
   if (pass == FOVEART_DEVICE_RAYS_SCAN) {
-    const uint visible = scan_all(0u, blocks);
-    if (gl_LocalInvocationIndex == 0u) {
-      control[FOVEART_DEVICE_VISIBLE_POINTS] = visible;
-      write_counts();
-    }
+    const uint count = scan_all(0u, blocks);
+    if (gl_LocalInvocationIndex == 0u) write_counts(count);
     return;
   }
   const uint i = gl_GlobalInvocationID.x;
+  bool visible;
   vec2 screen;
-  const bool visible = visible_point(i, screen);
-  uint block_visible;
-  const uint rank = rank_in_block(visible, block_visible);
+  const uint rays = rays_of(i, visible, screen);
+  uint block_rays;
+  const uint before = rays_in_block(rays, block_rays);
   if (pass == FOVEART_DEVICE_RAYS_COUNT) {
-    if (gl_LocalInvocationIndex == 0u) block_first[gl_WorkGroupID.x] = block_visible;
-  } else if (visible) {
-    write_rays(i, block_first[gl_WorkGroupID.x] + rank, screen);
+    if (gl_LocalInvocationIndex == 0u) block_first[gl_WorkGroupID.x] = block_rays;
+    count_points(visible, rays);
+    return;
   }
+  if (i >= point_count) return;
+  const uint first = block_first[gl_WorkGroupID.x] + before;
+  point_rays[i] = uvec2(visible && rays == 0u ? FOVEART_DEVICE_THINNED : first, rays);
+  if (rays > 0u) write_rays(i, first, rays, screen);
 }

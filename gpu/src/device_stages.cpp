@@ -39,8 +39,10 @@ VkCommandBuffer DeviceFrame::recording(const foveation::FrameContext& context, s
 // Stages 1-3 on the device: the engine's device trace into the frame slot's colours.
 class DeviceTraceStage final : public foveation::TraceStage {
  public:
+  // keep_rays: the history keeps the frame's rays (the render cache), which content density
+  // leaves as it is on the CPU (foveated_view.cpp): every visible point, every ray.
   DeviceTraceStage(std::shared_ptr<const foveation::ViewTables> tables, const foveation::ViewSettings& settings,
-                   DeviceTraceEngine engine)
+                   DeviceTraceEngine engine, bool keep_rays)
       : tables_(std::move(tables)), engine_(std::move(engine)) {
     device_.engine = [this](const DeviceRayBatch& batch) {
       const bool ok = engine_(batch);
@@ -50,10 +52,11 @@ class DeviceTraceStage final : public foveation::TraceStage {
     device_.points = &tables_->points;
     device_.rays_per_point = std::uint32_t(settings.rays_per_point);
     device_.pixel_filter = settings.pixel_filter;
+    if (!keep_rays) device_.density = settings.content_density;
   }
 
   foveation::TraceStats trace(const foveation::FrameContext& frame, foveation::FrameResources& resources,
-                              foveation::Executor&) override {
+                              foveation::Executor& executor) override {
     foveation::TraceStats stats;
     DeviceFrame* d = device_frame(resources, "the device trace", &stats.error);
     if (d == nullptr) return stats;
@@ -61,6 +64,7 @@ class DeviceTraceStage final : public foveation::TraceStage {
     device_.mapping = frame.mapping;
     device_.frame_index = frame.frame_index;
     device_.sample_seed = frame.sample_seed;
+    if (device_.density.enabled() && device_.levels == nullptr) device_.levels = &tables_->levels(executor);
     d->frame.device = &device_;
     engine_failed_ = false;
     const VkCommandBuffer cb = d->recording(frame, &stats.error);
@@ -183,7 +187,7 @@ foveation::FrameStages make_device_stages(std::shared_ptr<const foveation::ViewT
   const bool keep_rays = host_history->keeps_rays();
   stages.history = std::make_unique<DeviceHistory>(std::move(host_history));
   if (engine) {
-    stages.trace = std::make_unique<DeviceTraceStage>(tables, settings, std::move(engine));
+    stages.trace = std::make_unique<DeviceTraceStage>(tables, settings, std::move(engine), keep_rays);
   } else {
     stages.trace = std::make_unique<UploadedTrace>(foveation::make_callback_trace(tables, settings, keep_rays));
   }

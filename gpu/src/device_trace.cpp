@@ -19,9 +19,13 @@ namespace {
 using shader::DeviceRaysPush;
 using shader::DeviceResolvePush;
 
-constexpr uint32_t kRaysBindings = 6;     // points, rays, point index, control, blocks, footprints
-constexpr uint32_t kResolveBindings = 6;  // ray colours, point index, control, status, colours, point depth
-constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1};
+// points, rays, point index, control, blocks, footprints, levels, tiles, point rays
+constexpr uint32_t kRaysBindings = 9;
+// ray colours, point index, control, status, colours, point depth, point rays, points, levels, tiles
+constexpr uint32_t kResolveBindings = 10;
+constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+static_assert(FOVEART_DEVICE_FINEST_LEVEL == foveation::PointLevels::kFinest && foveation::PointLevels::kParents == 3 &&
+              FOVEART_DEVICE_NO_PARENT == foveation::PointLevels::kNoParent);
 constexpr uint32_t kNaNBits = 0x7FC00000u;
 constexpr VkDeviceSize kRayBytes = sizeof(shader::DeviceRay), kColorBytes = 16;
 
@@ -30,8 +34,13 @@ uint32_t point_blocks(std::size_t points) {
   return uint32_t((points + FOVEART_DEVICE_RAYS_BLOCK - 1) / FOVEART_DEVICE_RAYS_BLOCK);
 }
 
+// Workgroups of 64 (device_resolve.comp) over n points or tiles.
+uint32_t point_blocks64(std::size_t n) {
+  return uint32_t((n + 63) / 64);
+}
+
 // The ray shader's push constants for this frame's view, screen and points.
-DeviceRaysPush rays_push(const DeviceTraceFrame& frame) {
+DeviceRaysPush rays_push(const DeviceTraceFrame& frame, bool tiles_measured) {
   const foveation::EyeFrustum f = foveation::eye_frustum(frame.view);
   const foveation::EyePose pose = foveation::eye_pose(frame.view);
   DeviceRaysPush push{};
@@ -46,10 +55,42 @@ DeviceRaysPush rays_push(const DeviceTraceFrame& frame) {
   push.point_count = uint32_t(frame.points->size());
   push.flags = frame.pixel_filter == foveation::PixelFilter::bspline2 ? FOVEART_DEVICE_RAYS_BSPLINE2 : 0u;
   push.seed = {uint32_t(frame.sample_seed), uint32_t(frame.sample_seed >> 32)};
+  if (frame.density_on()) {
+    push.flags |= (frame.density.thins() ? FOVEART_DEVICE_RAYS_THIN : 0u) |
+                  (frame.density.varies_rays() ? FOVEART_DEVICE_RAYS_VARY : 0u) |
+                  (tiles_measured ? FOVEART_DEVICE_RAYS_MEASURED : 0u);
+    push.full_contrast = frame.density.full_contrast;
+    push.rays_contrast = frame.density.rays_contrast;
+  }
+  push.tile_px = uint32_t(std::max(frame.density.tile_px, 1));
+  return push;
+}
+
+// The resolve's push constants for `pass`.
+DeviceResolvePush resolve_push(const DeviceTraceFrame& frame, uint32_t pass) {
+  DeviceResolvePush push{};
+  push.rays_per_point = frame.rays_per_point;
+  push.point_count = uint32_t(frame.points->size());
+  push.pass = pass;
+  push.flags = frame.density_on() ? FOVEART_DEVICE_RESOLVE_OBSERVE : 0u;
+  push.screen_px = {frame.mapping.screen_width_px, frame.mapping.screen_height_px};
+  push.canvas_from_screen_px = {float(frame.mapping.canvas_from_screen_x_px),
+                                float(frame.mapping.canvas_from_screen_y_px)};
+  push.tile_px = uint32_t(std::max(frame.density.tile_px, 1));
+  push.exposure = frame.density.exposure;
+  push.dark_luminance = frame.density.dark_luminance;
+  push.full_contrast = frame.density.full_contrast;
   return push;
 }
 
 }  // namespace
+
+std::uint64_t device_tile_capacity(std::uint32_t width_px, std::uint32_t height_px) {
+  const auto tiles = [](std::uint32_t px) {
+    return std::uint64_t((px + FOVEART_DEVICE_MIN_TILE_PX - 1) / FOVEART_DEVICE_MIN_TILE_PX);
+  };
+  return tiles(width_px) * tiles(height_px);
+}
 
 std::unique_ptr<DeviceTracePipelines> DeviceTracePipelines::create(VkDevice device, std::string* error) {
   std::unique_ptr<DeviceTracePipelines> p(new DeviceTracePipelines());
@@ -83,7 +124,7 @@ DeviceTrace::~DeviceTrace() {
   if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
   for (BoundBuffer* b : {&points_, &staging_, &rays_, &point_index_, &ray_colors_, &control_, &blocks_})
     destroy_buffer(device_, b);
-  destroy_buffer(device_, &footprints_);
+  for (BoundBuffer* b : {&footprints_, &point_rays_, &levels_, &levels_staging_}) destroy_buffer(device_, b);
 }
 
 bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point,
@@ -108,12 +149,13 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
     descriptors_stale_ = true;
   }
   if (uploaded_points_ != &points) {  // the set's points, once per table set: canvas x, y, radius, pixel grid
-    for (BoundBuffer* b : {&points_, &staging_, &blocks_}) destroy_buffer(device_, b);
+    for (BoundBuffer* b : {&points_, &staging_, &blocks_, &point_rays_}) destroy_buffer(device_, b);
     uploaded_points_ = nullptr;
     const VkDeviceSize bytes = std::max<VkDeviceSize>(points.size() * sizeof(shader::DevicePoint), 16);
     if (!context_.create_buffer(&points_, bytes, storage | transfer, false, error) ||
         !context_.create_buffer(&staging_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, error) ||
-        !context_.create_buffer(&blocks_, VkDeviceSize{point_blocks(points.size())} * 4, storage, false, error)) {
+        !context_.create_buffer(&blocks_, VkDeviceSize{point_blocks(points.size())} * 4, storage, false, error) ||
+        !context_.create_buffer(&point_rays_, std::max<VkDeviceSize>(points.size() * 8, 8), storage, false, error)) {
       return false;
     }
     auto* packed = static_cast<shader::DevicePoint*>(staging_.mapped);
@@ -143,18 +185,45 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
   return true;
 }
 
+// The set's levels and parents (content density), once per level set; while off, a placeholder to bind.
+bool DeviceTrace::ensure_levels(const foveation::PointLevels* levels, std::string* error) {
+  if (levels == nullptr ? levels_.buffer != VK_NULL_HANDLE : levels == uploaded_levels_) return true;
+  for (BoundBuffer* b : {&levels_, &levels_staging_}) destroy_buffer(device_, b);
+  uploaded_levels_ = nullptr;
+  staged_level_bytes_ = 0;
+  descriptors_stale_ = true;
+  const std::size_t n = levels == nullptr ? 0 : levels->size();
+  const VkDeviceSize bytes = std::max<VkDeviceSize>(n * sizeof(shader::DeviceLevel), sizeof(shader::DeviceLevel));
+  if (!context_.create_buffer(&levels_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                              false, error)) {
+    return false;
+  }
+  if (levels == nullptr) return true;
+  if (!context_.create_buffer(&levels_staging_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, error)) return false;
+  auto* packed = static_cast<shader::DeviceLevel*>(levels_staging_.mapped);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& parent = levels->parent[i];
+    const auto& weight = levels->parent_weight[i];
+    packed[i].parents_level = {parent[0], parent[1], parent[2], levels->level[i]};
+    packed[i].weights = {weight[0], weight[1], weight[2], 0.0f};
+  }
+  staged_level_bytes_ = n * sizeof(shader::DeviceLevel);
+  uploaded_levels_ = levels;
+  return true;
+}
+
 void DeviceTrace::update_descriptors(const DeviceTraceTargets& targets) {
-  const VkDescriptorBufferInfo rays[kRaysBindings] = {{points_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {rays_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {point_index_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {control_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {blocks_.buffer, 0, VK_WHOLE_SIZE},
-                                                      {footprints_.buffer, 0, VK_WHOLE_SIZE}};
+  const VkDescriptorBufferInfo rays[kRaysBindings] = {
+      {points_.buffer, 0, VK_WHOLE_SIZE},  {rays_.buffer, 0, VK_WHOLE_SIZE},   {point_index_.buffer, 0, VK_WHOLE_SIZE},
+      {control_.buffer, 0, VK_WHOLE_SIZE}, {blocks_.buffer, 0, VK_WHOLE_SIZE}, {footprints_.buffer, 0, VK_WHOLE_SIZE},
+      {levels_.buffer, 0, VK_WHOLE_SIZE},  {targets.tiles, 0, VK_WHOLE_SIZE},  {point_rays_.buffer, 0, VK_WHOLE_SIZE}};
   write_storage_descriptors(device_, rays_set_, rays, kOnes, kRaysBindings);
   const VkDescriptorBufferInfo resolve[kResolveBindings] = {
       {ray_colors_.buffer, 0, VK_WHOLE_SIZE}, {point_index_.buffer, 0, VK_WHOLE_SIZE},
       {control_.buffer, 0, VK_WHOLE_SIZE},    {targets.status, 0, VK_WHOLE_SIZE},
-      {targets.colors, 0, VK_WHOLE_SIZE},     {targets.point_depth, 0, VK_WHOLE_SIZE}};
+      {targets.colors, 0, VK_WHOLE_SIZE},     {targets.point_depth, 0, VK_WHOLE_SIZE},
+      {point_rays_.buffer, 0, VK_WHOLE_SIZE}, {points_.buffer, 0, VK_WHOLE_SIZE},
+      {levels_.buffer, 0, VK_WHOLE_SIZE},     {targets.tiles, 0, VK_WHOLE_SIZE}};
   write_storage_descriptors(device_, resolve_set_, resolve, kOnes, kResolveBindings);
   bound_ = targets;
   descriptors_stale_ = false;
@@ -173,17 +242,35 @@ bool DeviceTrace::record_rays(VkCommandBuffer cb, const DeviceTraceFrame& frame,
                               std::string* error) {
   if (frame.points == nullptr || frame.rays_per_point < 1) return *error = "device trace: no points or rays", false;
   const foveation::PointSet& points = *frame.points;
-  if (!ensure_buffers(points, frame.rays_per_point, error)) return false;
-  if (descriptors_stale_ || !(bound_ == targets)) update_descriptors(targets);
-
-  uploaded_bytes_ = 0;
-  if (staged_bytes_ > 0) {  // new points: copied in this frame's commands (the staging buffer lives on)
-    const VkBufferCopy copy{0, 0, staged_bytes_};
-    vkCmdCopyBuffer(cb, staging_.buffer, points_.buffer, 1, &copy);
-    uploaded_bytes_ = staged_bytes_;  // staged_bytes_ stays until the frame's resolve is recorded
+  if (frame.density_on() && (frame.levels->size() != points.size() || targets.tiles == VK_NULL_HANDLE ||
+                             frame.density.tile_px < int(FOVEART_DEVICE_MIN_TILE_PX))) {
+    return *error = "device content density: no levels of the set, no tiles, or tiles under 4 px", false;
   }
+  if (!ensure_buffers(points, frame.rays_per_point, error) ||
+      !ensure_levels(frame.density_on() ? frame.levels : nullptr, error)) {
+    return false;
+  }
+  if (descriptors_stale_ || !bound_.same_buffers(targets)) update_descriptors(targets);
+  bound_ = targets;
+  record_uploads(cb);
   record_ray_passes(cb, frame);
   return true;
+}
+
+// New points and levels, copied in this frame's commands (the staging buffers live on;
+// staged bytes stay until the frame's resolve is recorded).
+void DeviceTrace::record_uploads(VkCommandBuffer cb) {
+  uploaded_bytes_ = 0;
+  if (staged_bytes_ > 0) {
+    const VkBufferCopy copy{0, 0, staged_bytes_};
+    vkCmdCopyBuffer(cb, staging_.buffer, points_.buffer, 1, &copy);
+    uploaded_bytes_ += staged_bytes_;
+  }
+  if (staged_level_bytes_ > 0) {
+    const VkBufferCopy copy{0, 0, staged_level_bytes_};
+    vkCmdCopyBuffer(cb, levels_staging_.buffer, levels_.buffer, 1, &copy);
+    uploaded_bytes_ += staged_level_bytes_;
+  }
 }
 
 DeviceRayBatch DeviceTrace::batch(const DeviceTraceFrame& frame, VkCommandBuffer cb) const {
@@ -212,7 +299,7 @@ void DeviceTrace::record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& 
   vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   // The visible points compacted in the set's order: counts per block, where each block begins, the rays.
-  DeviceRaysPush push = rays_push(frame);
+  DeviceRaysPush push = rays_push(frame, bound_.tiles_measured);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.rays());
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.rays_layout(), 0, 1, &rays_set_, 0, nullptr);
   const uint32_t blocks = point_blocks(points.size());
@@ -235,21 +322,51 @@ bool DeviceTrace::record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame
   return true;
 }
 
-// The colours per point, into the gather's slots.
+// The colours per point, into the gather's slots (with content density, each
+// traced point's luminance into its tile's range, cleared first: min none, max 0).
 void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   // The engine's writes in any stage (in `cb`, or a submission this one waited for).
   memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
                  kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
-  staged_bytes_ = 0;  // the points' copy is in a frame that will be submitted
-  const DeviceResolvePush resolve{frame.rays_per_point, uint32_t(frame.points->size())};
+  staged_bytes_ = 0;  // the points' and levels' copies are in a frame that will be submitted
+  staged_level_bytes_ = 0;
+  if (frame.density_on()) {
+    const VkDeviceSize capacity =
+        device_tile_capacity(uint32_t(frame.mapping.screen_width_px), uint32_t(frame.mapping.screen_height_px));
+    const VkDeviceSize header = FOVEART_DEVICE_TILES_HEADER_WORDS * 4;
+    vkCmdFillBuffer(cb, bound_.tiles, header + FOVEART_DEVICE_TILE_MIN * capacity * 4, capacity * 4, 0xFFFFFFFFu);
+    vkCmdFillBuffer(cb, bound_.tiles, header + FOVEART_DEVICE_TILE_MAX * capacity * 4, capacity * 4, 0u);
+    memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
+  }
+  dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_POINTS, point_blocks64(frame.points->size()));
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
+                 kShaderRW | VK_ACCESS_HOST_READ_BIT);
+}
+
+void DeviceTrace::record_fill(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  if (!frame.density_on() || !frame.density.thins()) return;
+  dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_FILL, point_blocks64(frame.points->size()));
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
+                 kShaderRW | VK_ACCESS_HOST_READ_BIT);
+}
+
+void DeviceTrace::record_contrast(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
+  if (!frame.density_on()) return;
+  const int tile_px = frame.density.tile_px;
+  const uint32_t tiles = uint32_t((frame.mapping.screen_width_px + tile_px - 1) / tile_px) *
+                         uint32_t((frame.mapping.screen_height_px + tile_px - 1) / tile_px);
+  dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_CONTRAST, std::max<uint32_t>(1, point_blocks64(tiles)));
+  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
+}
+
+void DeviceTrace::dispatch_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, uint32_t pass, uint32_t groups) {
+  const DeviceResolvePush push = resolve_push(frame, pass);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve());
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve_layout(), 0, 1, &resolve_set_, 0,
                           nullptr);
-  vkCmdPushConstants(cb, pipelines_.resolve_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof resolve, &resolve);
-  vkCmdDispatchIndirect(cb, control_.buffer, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);
-  memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
-                 kShaderRW | VK_ACCESS_HOST_READ_BIT);
+  vkCmdPushConstants(cb, pipelines_.resolve_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
+  if (groups > 0) vkCmdDispatch(cb, groups, 1, 1);
 }
 
 }  // namespace foveart::gpu

@@ -57,10 +57,13 @@ bool Eye::create_buffers(std::string* error) {
   const VkDeviceSize pixels = VkDeviceSize{width_px_} * height_px_;
   const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
   const VkBufferUsageFlags shown = storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  const VkDeviceSize tile_words =
+      FOVEART_DEVICE_TILES_HEADER_WORDS + FOVEART_DEVICE_TILE_REGIONS * device_tile_capacity(width_px_, height_px_);
   if (!context_.create_buffer(&current_, pixels * 16, storage, false, error) ||
       !context_.create_buffer(&history_[0], pixels * 16, storage, false, error) ||
       !context_.create_buffer(&history_[1], pixels * 16, storage, false, error) ||
-      !context_.create_buffer(&shown_, pixels * 4, shown, false, error)) {
+      !context_.create_buffer(&shown_, pixels * 4, shown, false, error) ||
+      !context_.create_buffer(&tiles_, tile_words * 4, storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false, error)) {
     return false;
   }
   std::array<VkDescriptorSetLayout, 2 * kFrameSlots> layouts;
@@ -101,7 +104,8 @@ Eye::~Eye() {
     for (BoundBuffer* b : {&slot.upload, &slot.colors, &slot.point_depth, &slot.status}) destroy_buffer(device_, b);
   }
   if (pool_ != VK_NULL_HANDLE) vkDestroyDescriptorPool(device_, pool_, nullptr);
-  for (BoundBuffer* b : {&current_, &history_[0], &history_[1], &shown_, &readback_}) destroy_buffer(device_, b);
+  for (BoundBuffer* b : {&current_, &history_[0], &history_[1], &shown_, &readback_, &tiles_})
+    destroy_buffer(device_, b);
 }
 
 bool Eye::ensure_points(Slot& slot, std::size_t point_count, std::string* error) {
@@ -109,11 +113,12 @@ bool Eye::ensure_points(Slot& slot, std::size_t point_count, std::string* error)
   for (BoundBuffer* b : {&slot.upload, &slot.colors, &slot.point_depth}) destroy_buffer(device_, b);
   slot.point_capacity = 0;
   const VkDeviceSize bytes = VkDeviceSize{point_count} * 16;
+  // Colours: also copied out for the tests (read_point_colors).
   const VkBufferUsageFlags filled = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   // The upload: entries, then a depth each (shaders/common.glsl Upload).
   if (!context_.create_buffer(&slot.upload, bytes + VkDeviceSize{point_count} * 4 + 16,
                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, true, error) ||
-      !context_.create_buffer(&slot.colors, bytes, filled, false, error) ||
+      !context_.create_buffer(&slot.colors, bytes, filled | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, false, error) ||
       !context_.create_buffer(&slot.point_depth, VkDeviceSize{point_count} * 4, filled, false, error)) {
     return false;
   }
@@ -183,14 +188,22 @@ bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* er
                  VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
                  kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
   vkCmdFillBuffer(cb, s.status.buffer, 0, VK_WHOLE_SIZE, 0u);  // no fault yet; the resolve counts them
-  if (!shown_cleared_) vkCmdFillBuffer(cb, shown_.buffer, 0, VK_WHOLE_SIZE, 0xFF000000u);  // opaque black
+  if (!shown_cleared_) {
+    vkCmdFillBuffer(cb, shown_.buffer, 0, VK_WHOLE_SIZE, 0xFF000000u);  // opaque black
+    vkCmdFillBuffer(cb, tiles_.buffer, 0, VK_WHOLE_SIZE, 0u);           // no contrast measured
+  }
   shown_cleared_ = true;
+  // The last frame measured the tiles and ended (end_frame), on these tables (a new set starts anew, as on the CPU).
+  tiles_measured_ = ended_measuring_ && measured_tables_ == frame.tables;
+  measured_tables_ = frame.tables;
+  ended_measuring_ = density_recorded_ = false;
   return true;
 }
 
 void Eye::end_frame() {
   parity_ ^= 1;  // this frame's output is the next frame's history
   slot().recorded = true;
+  ended_measuring_ = density_recorded_;
 }
 
 bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,
@@ -222,7 +235,7 @@ bool Eye::stage_times(std::uint32_t slot, StageTimes* out) const {
   host_read_ += sizeof t;
   const double ms = double(context_.timestamp_period_ns()) * 1e-6;
   auto span = [&](int a) { return float(double(t[a + 1] - t[a]) * ms); };
-  *out = StageTimes{span(0), span(1), span(2), span(3), span(4)};
+  *out = StageTimes{span(0), span(6), span(7), span(1), span(2), span(3), span(4)};
   return true;
 }
 
@@ -234,7 +247,34 @@ DeviceTraceStatus Eye::device_trace_status(std::uint32_t slot) const {
   host_read_ += sizeof words;
   s.invalid_components = words[FOVEART_DEVICE_STATUS_INVALID_COMPONENTS];
   s.visible_points = words[FOVEART_DEVICE_STATUS_VISIBLE_POINTS];
+  s.traced_points = words[FOVEART_DEVICE_STATUS_TRACED_POINTS];
+  s.thinned_points = words[FOVEART_DEVICE_STATUS_THINNED_POINTS];
+  s.rays = words[FOVEART_DEVICE_STATUS_RAYS];
   return s;
+}
+
+bool Eye::read_point_colors(std::uint32_t slot, std::vector<float>* rgba, std::string* error) {
+  if (slot >= kFrameSlots || slots_[slot].colors.buffer == VK_NULL_HANDLE) return *error = "no point colours", false;
+  BoundBuffer copy;
+  const VkDeviceSize bytes = slots_[slot].colors.size;
+  if (!context_.create_buffer(&copy, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, error)) return false;
+  const bool ok = context_.submit_and_wait(
+      [&](VkCommandBuffer cb) {
+        memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_ACCESS_TRANSFER_READ_BIT);
+        const VkBufferCopy region{0, 0, bytes};
+        vkCmdCopyBuffer(cb, slots_[slot].colors.buffer, copy.buffer, 1, &region);
+        memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                       VK_ACCESS_HOST_READ_BIT);
+        return true;
+      },
+      error);
+  if (ok) {
+    rgba->resize(std::size_t(bytes / 4));
+    std::memcpy(rgba->data(), copy.mapped, std::size_t(bytes));
+  }
+  destroy_buffer(device_, &copy);
+  return ok;
 }
 
 bool Eye::read_rgba8(std::vector<std::uint8_t>* out, std::string* error) {

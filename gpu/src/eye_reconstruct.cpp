@@ -81,21 +81,23 @@ bool Eye::record_app_rays(VkCommandBuffer cb, std::uint32_t slot_index, const Ta
   if (slot_index >= kFrameSlots) return *error = "GPU frame: no frame slot " + std::to_string(slot_index), false;
   Slot& s = slots_[slot_index];
   if (!ensure_points(s, tables.view_tables().points.size(), error) || !ensure_device_trace(s, error)) return false;
-  const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer};
+  const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer, tiles_.buffer};
   if (!s.device_trace->record_rays(cb, frame, targets, error)) return false;
   *out_batch = s.device_trace->batch(frame, VK_NULL_HANDLE);
   return true;
 }
 
-// Stages 1-3 on the device, resolved into the slots (a device-traced frame; else nothing but the first timestamp).
+// Stages 1-3 on the device, resolved into the slots (a device-traced frame; else nothing but the timestamps).
 // An app-recorded trace's rays are in the slot already (record_app_rays): its colours are resolved only.
+// Content density's passes after the resolve are timed on their own (StageTimes::density_*_ms).
 bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* error) {
   stamp(cb, 0);
   Slot& s = slot();
   if (frame.device != nullptr) {
     clear_slots(cb, s.colors.buffer, s.point_depth.buffer);
     if (!ensure_device_trace(s, error)) return false;
-    const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer};
+    DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer, tiles_.buffer};
+    targets.tiles_measured = tiles_measured_;
     if (frame.device->app_trace) {
       s.device_trace->record_resolve(cb, *frame.device);
     } else if (!s.device_trace->record(cb, *frame.device, targets, error)) {
@@ -103,6 +105,12 @@ bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* e
     }
     host_written_ += s.device_trace->host_bytes_written();
   }
+  stamp(cb, 6);
+  if (frame.device != nullptr) s.device_trace->record_fill(cb, *frame.device);
+  stamp(cb, 7);
+  if (frame.device != nullptr) s.device_trace->record_contrast(cb, *frame.device);
+  stamp(cb, 8);
+  density_recorded_ = frame.device != nullptr && frame.device->density_on();
   stamp(cb, 1);
   return true;
 }

@@ -390,8 +390,8 @@ void FoveatedRenderer::Frames::collect(uint32_t slot, XrFoveatedRendererStatsFOV
 void FoveatedRenderer::Frames::apply_collected(uint32_t e, XrFoveatedRendererStatsFOVEART* stats) {
   const Eye& eye = eyes[e];
   if (eye.status) {
-    stats->pointsPerEye[e] = eye.status->visible_points;
-    stats->raysPerEye[e] = eye.status->visible_points * settings.rays_per_point;
+    stats->pointsPerEye[e] = eye.status->traced_points;  // as the CPU's: visible points traced
+    stats->raysPerEye[e] = static_cast<uint32_t>(std::min<uint64_t>(eye.status->rays, UINT32_MAX));
   }
   if (!eye.times) return;
   const gpu::StageTimes& times = *eye.times;
@@ -520,8 +520,8 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
   foveation::ViewSettings vs =
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;
-  vs.content_density.full_contrast = settings.content_contrast;  // a device trace thins nothing yet
-  vs.content_density.rays_contrast = settings.content_rays;      // nor varies its rays per point
+  vs.content_density.full_contrast = settings.content_contrast;  // both paths, the device trace's too
+  vs.content_density.rays_contrast = settings.content_rays;
   vs.content_density.exposure = settings.display.exposure;
   eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs, path.stages(view_tables, vs));
 }

@@ -88,7 +88,7 @@ struct TestEngine {
   enum class Answer { fill, direction, stripes, error, nothing };
   Answer answer = Answer::fill;
   uint32_t fill_bits = 0;  // the colour buffer's every word (rgb and depth)
-  bool copy = false;       // copy rays, point indices and counts into the buffers below
+  bool copy = false;       // copy rays, point indices and counts into the buffers below (any answer but error, nothing)
   VkDevice device = VK_NULL_HANDLE;
   const VkPhysicalDeviceMemoryProperties* memory = nullptr;
   BoundBuffer rays, point_index, control, footprints;
@@ -164,9 +164,10 @@ inline bool test_engine(TestEngine* engine, const DeviceRayBatch* batch) {
   if (engine->answer == TestEngine::Answer::nothing) return true;
   VkCommandBuffer cb = batch->command_buffer;
   if (engine->answer == TestEngine::Answer::direction || engine->answer == TestEngine::Answer::stripes) {
-    return engine->engine_shader(*batch, engine->answer == TestEngine::Answer::stripes);
+    if (!engine->engine_shader(*batch, engine->answer == TestEngine::Answer::stripes)) return false;
+  } else {
+    vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
   }
-  vkCmdFillBuffer(cb, batch->colors.buffer, batch->colors.offset, batch->colors.size, engine->fill_bits);
   if (engine->copy && (!engine->readback(engine->rays, batch->rays, cb) ||
                        !engine->readback(engine->point_index, batch->point_index, cb) ||
                        !engine->readback(engine->control, batch->ray_count, cb) ||

@@ -175,8 +175,8 @@ TEST_F(DeviceTraceAddressTest, TheBatchsBuffersHaveDeviceAddresses) {
 }
 
 // The ray order is deterministic: the visible points are compacted in the
-// point set's order (device_rays.comp: per-block counts by subgroup ballots,
-// a scan, the writes), so two runs of the same frame give the same ray and
+// point set's order (device_rays.comp: per-block ray sums, a scan of the
+// blocks, the writes), so two runs of the same frame give the same ray and
 // point-index buffers byte for byte, each point's rays consecutive and the
 // points in increasing index order, over many blocks of points and a partly
 // visible one at the corner.

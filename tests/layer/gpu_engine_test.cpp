@@ -161,8 +161,9 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 // synchronization validation reports SYNC-HAZARD-WRITE-AFTER-WRITE): from the
 // first frame ("nan": every frame waited for, as no good image is shown yet)
 // and from frame 2 on ("late": pipelined frames, the fault kept on the device;
-// frame 2's status is read at frame 4); and with "temporal": "rays" ("rays"),
-// the render cache fed by the device trace on the device.
+// frame 2's status is read at frame 4); with "temporal": "rays" ("rays"),
+// the render cache fed by the device trace on the device; and with content
+// density ("density": the second frame thins by the first's tiles on the device).
 class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
@@ -177,6 +178,8 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   std::vector<std::string> extra{"--no-explicit-layer"};
   const bool rays = fault == "rays";  // no fault; the render cache fed by the device trace, on the device
+  const bool density = fault == "density";  // no fault; content density on the device trace
+  if (density) configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0.1, "content_rays": 0.2)");
   if (fault == "nan") extra.insert(extra.end(), {"--fault", fault});
   if (fault == "late") extra.insert(extra.end(), {"--fault", "nan", "--fault-from-frame", "2"});
   constexpr int kLateFrames = 4;
@@ -186,7 +189,7 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
-  if (fault == "none" || rays) {
+  if (fault == "none" || rays || density) {
     ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kFrames, rays ? "rays" : "off"));
   } else if (fault == "late") {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
@@ -212,7 +215,7 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
 
 // "rays": no fault, "temporal": "rays": the render cache runs on the device trace's rays (not downgraded to
 // "image", as the stats say), silently under synchronization validation.
-INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late", "rays"));
+INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late", "rays", "density"));
 
 // A device trace that fails: every view falls back to the app's grey
 // placeholder, counted, logged once; the app exits 0.

@@ -345,5 +345,21 @@ TEST_F(VkCountGpuPath, EverySteadyFrameMeetsThePipelinedAcceptance) {
   expect_steady_frames_within(frames, pipelined_acceptance());
 }
 
+// With content density on the device trace the frame is the same at the Vulkan boundary: the
+// eyes' tiles persist on the device (frame n reads frame n-1's in queue order), so nothing is
+// read back or waited for, and both eyes stay one submission.
+TEST_F(VkCountGpuPath, ContentDensityKeepsThePipelinedAcceptance) {
+  foveart::layer::test::configure_hello_foveated(*env_, kAppFrames, "gpu", {},
+                                                 R"("content_contrast": 0.1, "content_rays": 0.2)");
+  const auto frames = run();
+  ASSERT_GT(frames.size(), std::size_t{kWarmUpFrames + 1});
+  for (std::size_t i = kWarmUpFrames; i < frames.size(); ++i) {
+    const Tally t = sum(frames[i], {"layer", "engine"});
+    EXPECT_EQ(t.submissions, 1u) << "frame " << i << ": both eyes in one submission";
+    EXPECT_EQ(t.command_buffers, 1u) << "frame " << i << ": both eyes in one command buffer";
+  }
+  expect_steady_frames_within(frames, pipelined_acceptance());
+}
+
 }  // namespace
 }  // namespace foveart::vk_count

@@ -6,9 +6,15 @@
 // the engine records its trace of them into the frame's command buffer, and
 // shaders/device_resolve.comp averages each point's rays into the slots the
 // gather reads. No ray or colour crosses to the host: the resolve's status
-// (two words, in the eye's frame slot) is read on the device by the frame's
-// encode, which keeps the eye's last good image on a fault, and by the host
-// frames later.
+// (in the eye's frame slot) is read on the device by the frame's encode,
+// which keeps the eye's last good image on a fault, and by the host frames later.
+//
+// Content density (DeviceTraceFrame::density, thesis 8.2) on the device: the
+// rays pass thins points and varies their rays by the eye's tiles of the last
+// frame's contrast (DeviceTraceTargets::tiles, which persist across frames);
+// the resolve measures this frame's tiles from the traced colours, fills the
+// thinned points from their parents and turns the tiles' ranges into the next
+// frame's contrast (record_fill, record_contrast). Nothing waits on the host.
 //
 // Frames in flight (gpu/frame_slots.hpp): a DeviceTrace is one frame slot's
 // set of buffers (rays, point index, colours, control, blocks, the point set
@@ -25,7 +31,9 @@
 
 #include <vulkan/vulkan.h>
 
+#include "foveation/content_density.hpp"
 #include "foveation/gaze_mapping.hpp"
+#include "foveation/point_levels.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/ray_trace.h"
@@ -48,7 +56,7 @@ struct DeviceRayBatch {
   std::uint64_t frame_index = 0;
   const FoveartEyeView* view = nullptr;
   std::uint32_t ray_capacity = 0;
-  std::uint32_t rays_per_point = 1;
+  std::uint32_t rays_per_point = 1;  // the most a point casts (with content density, 1 to this; point_index says whose)
   BufferRange ray_count;    // XrFoveatedDeviceRayCountFOVEART (shader_interface/device_trace.h); read and indirect only
   BufferRange rays;         // ray_capacity x DeviceRay; read only
   BufferRange point_index;  // ray_capacity x uint32_t; read only
@@ -78,20 +86,34 @@ struct DeviceTraceFrame {
   // The app-recorded trace: the rays were made earlier (Eye::record_app_rays)
   // and the app's submission traced them; the frame resolves only (engine unused).
   bool app_trace = false;
+  // Content density (off by default); `levels`: the set's (ViewTables::levels) while on.
+  foveation::ContentDensityOptions density;
+  const foveation::PointLevels* levels = nullptr;
+  // Content density runs: enabled, with the levels, and not an app-recorded trace (whose
+  // rays the app's own submission may make on another queue, unordered with the tiles).
+  bool density_on() const { return density.enabled() && levels != nullptr && !app_trace; }
 };
 
 // What the resolve found (read after the submission finished).
 struct DeviceTraceStatus {
   std::uint64_t invalid_components = 0;  // NaN, infinite or negative colour components
   std::uint32_t visible_points = 0;
+  std::uint32_t traced_points = 0;   // visible and not thinned
+  std::uint32_t thinned_points = 0;  // visible, thinned by content density (filled from their parents)
+  std::uint64_t rays = 0;            // rays made for the engine
 };
 
 // The frame slot's buffers the resolve writes: every point's colour and depth
 // (cleared by the caller), and the status (FOVEART_DEVICE_STATUS_WORDS words,
-// cleared by the caller), which the frame's encode reads on the device.
+// cleared by the caller), which the frame's encode reads on the device; and
+// the eye's content-density tiles (device_trace.h), which persist across frames.
 struct DeviceTraceTargets {
-  VkBuffer colors = VK_NULL_HANDLE, point_depth = VK_NULL_HANDLE, status = VK_NULL_HANDLE;
-  bool operator==(const DeviceTraceTargets&) const = default;
+  VkBuffer colors = VK_NULL_HANDLE, point_depth = VK_NULL_HANDLE, status = VK_NULL_HANDLE, tiles = VK_NULL_HANDLE;
+  // The tiles may hold the last frame's contrast: the eye's last frame measured them and was recorded whole.
+  bool tiles_measured = false;
+  bool same_buffers(const DeviceTraceTargets& o) const {
+    return colors == o.colors && point_depth == o.point_depth && status == o.status && tiles == o.tiles;
+  }
 };
 
 // The buffers a frame's rays and hits are in, for a pass after the resolve
@@ -104,6 +126,10 @@ struct DeviceTraceBuffers {
   VkBuffer status = VK_NULL_HANDLE;       // the resolve's status words
   VkBuffer points = VK_NULL_HANDLE;       // DevicePoint per point of the set
 };
+
+// Tiles per region of an eye's content-density tile words (shader_interface/device_trace.h):
+// those of FOVEART_DEVICE_MIN_TILE_PX on the screen.
+std::uint64_t device_tile_capacity(std::uint32_t width_px, std::uint32_t height_px);
 
 // The device trace's shaders, shared by the eyes of one device.
 class DeviceTracePipelines {
@@ -152,8 +178,13 @@ class DeviceTrace {
   // engine recording into `cb` (VK_NULL_HANDLE: the app's own command buffer).
   DeviceRayBatch batch(const DeviceTraceFrame& frame, VkCommandBuffer cb) const;
   // After the engine's trace (in `cb` or a submission `cb`'s waits for): the
-  // colours per point into the targets of the last record_rays.
+  // colours per point into the targets of the last record_rays (with content
+  // density, also their luminance into the tiles' ranges, cleared first).
   void record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+  // Content density, after the resolve (nothing when it is off): the thinned
+  // points filled from their parents, then the tiles' contrast for the next frame.
+  void record_fill(VkCommandBuffer cb, const DeviceTraceFrame& frame);
+  void record_contrast(VkCommandBuffer cb, const DeviceTraceFrame& frame);
   // Bytes the host wrote for the last record: the point set, once per table set; else 0.
   std::uint64_t host_bytes_written() const { return uploaded_bytes_; }
   // The buffers the last record wrote the frame's rays, hits and status into
@@ -164,6 +195,9 @@ class DeviceTrace {
 
  private:
   [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
+  [[nodiscard]] bool ensure_levels(const foveation::PointLevels* levels, std::string* error);
+  void record_uploads(VkCommandBuffer cb);
+  void dispatch_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::uint32_t pass, std::uint32_t groups);
   void update_descriptors(const DeviceTraceTargets& targets);
   // Stages 1-2's passes, and stage 3 by frame.engine into `cb`.
   void record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& frame);
@@ -173,11 +207,15 @@ class DeviceTrace {
   const DeviceTracePipelines& pipelines_;
   VkDevice device_ = VK_NULL_HANDLE;
   const foveation::PointSet* uploaded_points_ = nullptr;
+  const foveation::PointLevels* uploaded_levels_ = nullptr;
   std::uint32_t ray_capacity_ = 0;
   BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_;
   BoundBuffer footprints_;  // per ray: its point's disc radius as an angle, radians (device_rays.comp)
-  BoundBuffer blocks_;  // per block of points: its visible points, then where they begin (device_rays.comp)
+  BoundBuffer blocks_;      // per block of points: its rays, then where they begin (device_rays.comp)
+  BoundBuffer point_rays_;  // per point: (first ray, ray count) (device_rays.comp)
+  BoundBuffer levels_, levels_staging_;  // per point: DeviceLevel (content density; a placeholder while off)
   VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record
+  VkDeviceSize staged_level_bytes_ = 0;  // levels waiting in levels_staging_
   std::uint64_t uploaded_bytes_ = 0;  // the last record's copy of them
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet rays_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;

@@ -87,8 +87,13 @@ struct EyeFrame {
 
 // GPU time of each stage of a frame (timestamps), milliseconds.
 struct StageTimes {
-  static constexpr uint32_t kTimestamps = 6;  // start, traced, scattered, gathered, accumulated, encoded
+  // start, traced, scattered, gathered, accumulated, encoded; within the trace: density fill, contrast, end
+  static constexpr uint32_t kTimestamps = 9;
   float trace_ms = 0;     // a device-traced frame's rays, the engine's trace and the resolve (else 0)
+  // Within trace_ms, content density's passes after the resolve (0 while off): the thinned
+  // points filled from their parents, and the tiles' contrast for the next frame.
+  float density_fill_ms = 0;
+  float density_contrast_ms = 0;
   float scatter_ms = 0;   // the slots cleared and the uploaded colours scattered into them
   float gather_ms = 0;
   float temporal_ms = 0;  // the image history, or the render cache with its copy into the output
@@ -139,6 +144,9 @@ class Eye {
   // After the submission finished: records nothing; copies the shown image's
   // RGBA8 texels (tests, benchmarks).
   [[nodiscard]] bool read_rgba8(std::vector<std::uint8_t>* out, std::string* error);
+  // After the slot's submission finished: records nothing; copies the point
+  // colours (rgba per point, a = 1 traced or filled) the slot's frame resolved (tests).
+  [[nodiscard]] bool read_point_colors(std::uint32_t slot, std::vector<float>* rgba, std::string* error);
 
   // After the slot's device-traced submission finished: what its resolve found.
   DeviceTraceStatus device_trace_status(std::uint32_t slot) const;
@@ -186,6 +194,13 @@ class Eye {
   uint32_t width_px_ = 0, height_px_ = 0;
   std::array<Slot, kFrameSlots> slots_;
   BoundBuffer current_, history_[2], shown_, readback_;
+  // Content density's tiles (shader_interface/device_trace.h), one set per eye: each
+  // device-traced frame measures them for the next, in queue order.
+  BoundBuffer tiles_;
+  bool density_recorded_ = false;            // the frame being recorded measures the tiles
+  bool tiles_measured_ = false;              // this frame may read them: the last frame measured them and ended
+  bool ended_measuring_ = false;             // the last frame ended (end_frame) having measured them
+  const Tables* measured_tables_ = nullptr;  // the tables of the last frame begun
   uint32_t slot_ = 0;       // the slot being recorded
   uint32_t last_slot_ = 0;  // the slot recorded last
   VkDescriptorPool pool_ = VK_NULL_HANDLE;

@@ -326,7 +326,9 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *           `vec4 origin_sample_x; vec4 direction_sample_y;`): origin in
  *           metres, unit direction, tracking space; the screen position in
  *           pixels, as in FoveartRayBatch. pointIndex holds the point of each
- *           ray; rays of one point are consecutive, raysPerPoint of them.
+ *           ray; rays of one point are consecutive, raysPerPoint of them
+ *           (with content density, "content_contrast" or "content_rays" in
+ *           the layer's config, from 1 to raysPerPoint, and fewer points).
  * Colours:  per ray a vec4: linear radiance in rgb (finite, >= 0) and in w the
  *           distance in metres to the nearest hit (+inf: a miss; NaN: none
  *           given, rotation-only reprojection). The layer fills the buffer

@@ -7,6 +7,9 @@
 
 // DeviceRaysPush::flags.
 #define FOVEART_DEVICE_RAYS_BSPLINE2 1u  // the bspline2 pixel filter (else box)
+#define FOVEART_DEVICE_RAYS_THIN 2u      // content density thins points (full_contrast > 0)
+#define FOVEART_DEVICE_RAYS_VARY 4u      // content density varies rays per point (rays_contrast > 0)
+#define FOVEART_DEVICE_RAYS_MEASURED 8u  // the eye's tiles may hold the last frame's contrast
 // DeviceRaysPush::pass: device_rays.comp's three dispatches, a compaction in the point set's order.
 #define FOVEART_DEVICE_RAYS_COUNT 0u  // a workgroup per block of points: how many of them are visible
 #define FOVEART_DEVICE_RAYS_SCAN 1u   // one workgroup: where each block's points begin; the counts
@@ -28,6 +31,9 @@ FOVEART_PUSH_CONSTANTS(DeviceRaysPush) {
   uint flags;            // FOVEART_DEVICE_RAYS_*
   uvec2 seed;            // low, high word
   uint pass;             // FOVEART_DEVICE_RAYS_COUNT, _SCAN, _WRITE
+  float full_contrast;   // ContentDensityOptions
+  float rays_contrast;
+  uint tile_px;
 };
 
 FOVEART_SHADER_INTERFACE_END

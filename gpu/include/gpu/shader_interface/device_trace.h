@@ -7,21 +7,55 @@
 #include "gpu/shader_interface/glsl_cpp.h"
 
 // The control words: the engine's XrFoveatedDeviceRayCountFOVEART (words 0-7, the
-// layer's public header), the resolve's indirect dispatch, the visible points.
+// layer's public header), an indirect dispatch of a workgroup of 64 per traced
+// point (the render cache's), the visible points, those traced and those thinned.
 #define FOVEART_DEVICE_RAY_COUNT_WORDS 8u
 #define FOVEART_DEVICE_RESOLVE_DISPATCH 8u
 #define FOVEART_DEVICE_VISIBLE_POINTS 11u
-#define FOVEART_DEVICE_CONTROL_WORDS 12u
+#define FOVEART_DEVICE_TRACED_POINTS 12u
+#define FOVEART_DEVICE_THINNED_POINTS 13u
+#define FOVEART_DEVICE_CONTROL_WORDS 14u
 // The status the host reads back after the frame.
 #define FOVEART_DEVICE_STATUS_INVALID_COMPONENTS 0u
 #define FOVEART_DEVICE_STATUS_VISIBLE_POINTS 1u
-#define FOVEART_DEVICE_STATUS_WORDS 2u
+#define FOVEART_DEVICE_STATUS_TRACED_POINTS 2u
+#define FOVEART_DEVICE_STATUS_RAYS 3u
+#define FOVEART_DEVICE_STATUS_THINNED_POINTS 4u
+#define FOVEART_DEVICE_STATUS_WORDS 5u
+// Per point, its rays (device_rays.comp WRITE): (first ray, ray count); a thinned
+// point's first ray is this, an invisible point's count 0.
+#define FOVEART_DEVICE_THINNED 0xFFFFFFFFu
+#define FOVEART_DEVICE_NO_PARENT 0xFFFFFFFFu
+
+// Content density's per-eye tile words (device_density.glsl): a header, then four
+// regions of FOVEART_DEVICE_TILE_CAPACITY tiles each: the frame's minimum and maximum
+// luminance (ordered float bits; min 0xFFFFFFFF: none seen), the contrast the next
+// frame reads (float bits) and its level. The capacity is the tiles of the smallest
+// tile size, so any tile_px >= FOVEART_DEVICE_MIN_TILE_PX fits.
+#define FOVEART_DEVICE_TILES_MEASURED 0u  // 1: the tiles hold a good frame's contrast
+#define FOVEART_DEVICE_TILES_X 1u
+#define FOVEART_DEVICE_TILES_Y 2u
+#define FOVEART_DEVICE_TILES_PX 3u
+#define FOVEART_DEVICE_TILES_HEADER_WORDS 4u
+#define FOVEART_DEVICE_TILE_MIN 0u
+#define FOVEART_DEVICE_TILE_MAX 1u
+#define FOVEART_DEVICE_TILE_CONTRAST 2u
+#define FOVEART_DEVICE_TILE_LEVEL 3u
+#define FOVEART_DEVICE_TILE_REGIONS 4u
+#define FOVEART_DEVICE_MIN_TILE_PX 4u
+#define FOVEART_DEVICE_FINEST_LEVEL 3u  // foveation::PointLevels::kFinest
 
 FOVEART_SHADER_INTERFACE_BEGIN
 
 // A point of the set: canvas x, y (pixels), disc radius (pixels), 1 = on the pixel grid.
 struct DevicePoint {
   vec4 position_radius_grid;
+};
+// A point's content-density level and parents (foveation::PointLevels): its
+// nearest level-0 points (FOVEART_DEVICE_NO_PARENT: fewer) and their weights.
+struct DeviceLevel {
+  uvec4 parents_level;  // parent 0, 1, 2, level
+  vec4 weights;         // w0, w1, w2, 0
 };
 // A ray, as the engine reads it (XrFoveatedDeviceRayBatchFOVEART): origin
 // in metres and the screen x; unit direction and the screen y.
