@@ -10,7 +10,8 @@ foveart_target_defaults(layer_bench)
 # Not a Google Benchmark program: its own table of both paths (hence not *_bench).
 add_executable(reconstruction_paths ${CMAKE_CURRENT_SOURCE_DIR}/reconstruction_paths.cpp)
 target_link_libraries(reconstruction_paths PRIVATE foveart::layer_impl CLI11::CLI11)
-target_include_directories(reconstruction_paths PRIVATE ${PROJECT_SOURCE_DIR}/tests/common)  # headless_vulkan.hpp
+target_include_directories(reconstruction_paths PRIVATE ${PROJECT_SOURCE_DIR}/tests/common  # headless_vulkan.hpp
+                                                        ${PROJECT_SOURCE_DIR}/samples/gpu_engine/include)  # its messenger
 foveart_target_defaults(reconstruction_paths)
 # GCC 12's false -Wnull-dereference inside CLI11's detail::split (as in tools/fovea).
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")

@@ -14,6 +14,7 @@
 # Usage: bench/scenes.sh [DIR [FRAMES]]   (default: out/scenes 45); needs a built tree (scripts/run.sh or bench.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+. bench/results_lib.sh
 dir=${1:-out/scenes}
 frames=${2:-45}
 fovea=build/bin/fovea
@@ -30,12 +31,11 @@ scenes=(
   "dense|dense||1"
   "engine|$engine_glb|--pose 450,300,420 --look-at 0,-80,100|4"
 )
-cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
 common=(--preset fove --mode both --interpolation msm --k 5 --cache-dir out/cache --json)
 {
   echo "# Benchmark set: speedup against what the content allows"
   echo
-  echo "Machine: $(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB; $(date -u +%Y-%m-%d)."
+  results_machine
   echo "Command per scene: \`$fovea render --scene SCENE VIEWER --frames N ${common[*]}\` (bench/scenes.sh)."
   echo "Full and foveated frames interleaved in one run; times are medians of N frames (its column), speedups medians of the frame pairs' ratios (the first pair left out)."
   echo "Trace = selection + rays + engine callback; fixed = reconstruction + temporal history."

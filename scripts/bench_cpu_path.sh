@@ -8,7 +8,7 @@
 # Usage: scripts/bench_cpu_path.sh [results-dir [runs]]   (defaults: out/results, 3)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-root=$PWD
+. bench/results_lib.sh
 results=${1:-out/results}
 runs=${2:-3}
 bash scripts/setup.sh
@@ -19,29 +19,23 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 printf '{ "wait_for_tables": true, "reconstruction": "cpu" }\n' >"$work/config.json"
 
-cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
-load_before=$(cut -d' ' -f1-3 /proc/loadavg)
+load_before=$(results_load)
 hello=(build/bin/hello_foveated --scene default --interpolation msm --k 5 --json)
 for run in $(seq 1 "$runs"); do
   echo "hello_foveated, CPU path: run $run of $runs" >&2
-  FOVEART_CONFIG="$work/config.json" XDG_CACHE_HOME="$root/out/cache" FOVEART_SIM_FRAMES=16 \
-  XR_RUNTIME_JSON="$root/build/manifests/foveart_sim_runtime.json" \
-  XR_API_LAYER_PATH="$root/build/manifests/explicit" \
-  VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json \
-    "${hello[@]}" >"$work/run$run.json" 2>"$work/run$run.log"
+  results_sim_run "$work/config.json" 16 "${hello[@]}" >"$work/run$run.json" 2>"$work/run$run.log"
 done
 echo "layer_bench BM_EncodeRgba8" >&2
 encode_args=(--benchmark_filter=BM_EncodeRgba8 --benchmark_out="out/bench/encode_rgba8.json"
              --benchmark_out_format=json)
 build/bin/layer_bench "${encode_args[@]}" >/dev/null
-load_after=$(cut -d' ' -f1-3 /proc/loadavg)
+load_after=$(results_load)
 
 {
   echo "# The layer's CPU path per eye"
   echo
-  echo "Written by \`scripts/bench_cpu_path.sh $*\`."
-  echo "Machine: $(nproc) cores, ${cpu:-unknown CPU}, $(free -g | awk '/Mem:/{print $2}') GiB," \
-       "$(. /etc/os-release; echo "$PRETTY_NAME"), $(g++ --version | head -1), RelWithDebInfo."
+  results_written_by scripts/bench_cpu_path.sh "$@"
+  results_machine
   echo "Load average (1, 5, 15 min): $load_before before, $load_after after."
   echo
   echo "## Layer time per eye in \`xrEndFrame\`, callback excluded"

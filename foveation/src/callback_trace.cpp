@@ -63,7 +63,8 @@ struct CallbackTrace::FramePass {
   const bool varies_rays;             // rays per point by the content (point_rays.hpp)
   std::atomic<std::uint64_t> traced_points{0}, traced_rays{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
-  std::atomic<std::int64_t> observe_ns{0};  // content density's observations, summed over the workers
+  // Content density's per-point test and observations, CPU time summed over the workers.
+  std::atomic<double> test_ms{0.0}, observe_ms{0.0};
 };
 
 TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Executor& executor) {
@@ -84,7 +85,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
   if (levels_of_set_ && density_options_.enabled() && !keep_rays_ && !density_)
     density_.emplace(levels_of_set_(executor), density_options_);  // the levels: once per table set
   if (density_) density_->begin_frame(frame.mapping, workers);
-  stats.density_ms = ms_since(t_density);
+  const double levels_ms = ms_since(t_density);
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
@@ -93,7 +94,11 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) { trace_run(pass, run, worker); });
   const auto t_fill = Clock::now();
   const std::uint64_t filled = density_ ? fill_thinned(executor) : 0;
-  stats.density_ms += ms_since(t_fill) + 1e-6 * double(pass.observe_ns.load()) / double(workers);
+  if (density_) {
+    stats.density = DensityCost{levels_ms, pass.test_ms.load() / double(workers),
+                                pass.observe_ms.load() / double(workers), ms_since(t_fill)};
+    stats.density_ms = stats.density.total_ms();
+  }
   stats.trace_ms = ms_since(t_trace);
   stats.points = std::uint32_t(pass.traced_points.load());
   stats.points_thinned = std::uint32_t(filled);
@@ -126,30 +131,37 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
   }
   // Most runs lie wholly on the screen: their points need no test of their own.
   const bool run_visible = visible.contains(box_min) && visible.contains(box_max);
-  batches_[worker].resize(std::size_t(pass.batch_points) * pass.spp);
   std::vector<std::uint32_t>& ids = batch_points_[worker];
-  ids.resize(pass.batch_points);
-  std::uint32_t n = 0;
+  select_run(pass, run, run_visible, ids);
+  batches_[worker].resize(std::size_t(pass.batch_points) * pass.spp);
   bool run_has_depth = false;  // written once per run: a shared flag stored per point bounces between cores
-  std::uint64_t run_points = 0;
+  for (std::size_t b = 0; b < ids.size(); b += pass.batch_points) {  // stages 2 and 3
+    const std::span<const std::uint32_t> batch(ids.data() + b, std::min<std::size_t>(pass.batch_points, ids.size() - b));
+    if (trace_batch(pass, run, worker, batch)) run_has_depth = true;
+  }
+  if (pass.density != nullptr) observe_run(pass, run, worker);
+  forget_untraced(before, traced, last - first);
+  pass.traced_points.fetch_add(ids.size(), std::memory_order_relaxed);
+  if (run_has_depth) pass.any_depth.store(true, std::memory_order_relaxed);
+}
+
+// Stage 1 and content density's per-point test over a run: the points to trace into `ids`
+// (ascending), a flat tile's finer points into thinned_[run]. The test's time is taken per
+// run; on a run partly off the screen it holds the visible test it shares the loop with.
+void CallbackTrace::select_run(FramePass& pass, std::size_t run, bool run_visible, std::vector<std::uint32_t>& ids) {
+  const std::size_t first = run * kRunPoints, last = std::min(points_.size(), first + kRunPoints);
+  const VisibleRegion& visible = pass.visible;
+  const auto t0 = Clock::now();
+  ids.clear();
   for (std::size_t i = first; i < last; ++i) {
     if (!run_visible && !visible.contains(visible.to_screen(points_.position_px[i]))) continue;  // stage 1
     if (pass.density != nullptr && thins(pass, std::uint32_t(i))) {
-      thinned_[run].push_back(std::uint32_t(i));  // a flat tile's finer point: filled after the pass
+      thinned_[run].push_back(std::uint32_t(i));  // filled after the pass
       continue;
     }
-    ids[n] = std::uint32_t(i);
-    ++run_points;
-    if (++n == pass.batch_points) {  // stages 2 and 3
-      if (trace_batch(pass, run, worker, n)) run_has_depth = true;
-      n = 0;
-    }
+    ids.push_back(std::uint32_t(i));
   }
-  if (n > 0 && trace_batch(pass, run, worker, n)) run_has_depth = true;
-  if (pass.density != nullptr) observe_run(pass, run, worker);
-  forget_untraced(before, traced, last - first);
-  pass.traced_points.fetch_add(run_points, std::memory_order_relaxed);
-  if (run_has_depth) pass.any_depth.store(true, std::memory_order_relaxed);
+  if (pass.density != nullptr) pass.test_ms.fetch_add(ms_since(t0), std::memory_order_relaxed);
 }
 
 // Clears the colour and depth of the points in `before` (last frame's, of a
@@ -164,16 +176,12 @@ void CallbackTrace::forget_untraced(const std::vector<std::uint32_t>& before, co
   }
 }
 
-// Stages 2 and 3 for the first n points of the worker's batch: their rays, the
-// engine's colours, each point's colour and depth. True if a point got a depth.
-bool CallbackTrace::trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::uint32_t n) {
+// Stages 2 and 3 for a batch of the worker's run: their rays, the engine's colours,
+// each point's colour and depth. True if a point got a depth.
+bool CallbackTrace::trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::span<const std::uint32_t> ids) {
   RayBatch& batch = batches_[worker];
-  const std::span<const std::uint32_t> ids(batch_points_[worker].data(), n);
   std::vector<std::uint32_t>& counts = batch_counts_[worker];
-  counts.clear();
-  for (std::uint32_t j = 0; pass.varies_rays && j < n; ++j)
-    counts.push_back(rays_.rays_of(ids[j], pass.density->contrast(pass.visible.to_screen(points_.position_px[ids[j]])),
-                                   pass.density->options().rays_contrast));
+  count_rays(pass, ids, counts);
   const std::uint32_t rays = rays_.set_rays(batch, ids, pass.visible, int(pass.frame.view.width_px), counts);  // stage 2
   pass.traced_rays.fetch_add(rays, std::memory_order_relaxed);
   if (batch.trace(pass.frame.trace_rays, pass.frame.user_data, pass.frame.view, pass.frame.frame_index, rays) !=
@@ -247,12 +255,23 @@ bool CallbackTrace::thins(const FramePass& pass, std::uint32_t id) const {
   return parent != PointLevels::kNoParent && pass.visible.contains(pass.visible.to_screen(points_.position_px[parent]));
 }
 
+// Rays per point by the tile's contrast (point_rays.hpp) into `counts`; empty: every point casts all.
+void CallbackTrace::count_rays(FramePass& pass, std::span<const std::uint32_t> ids,
+                               std::vector<std::uint32_t>& counts) const {
+  counts.clear();
+  if (!pass.varies_rays) return;
+  const auto t0 = Clock::now();
+  for (const std::uint32_t id : ids)
+    counts.push_back(rays_.rays_of(id, pass.density->contrast(pass.visible.to_screen(points_.position_px[id])),
+                                   pass.density->options().rays_contrast));
+  pass.test_ms.fetch_add(ms_since(t0), std::memory_order_relaxed);
+}
+
 void CallbackTrace::observe_run(FramePass& pass, std::size_t run, unsigned worker) {
   const auto t0 = Clock::now();
   for (std::uint32_t id : traced_.runs[run])
     pass.density->observe(worker, pass.visible.to_screen(points_.position_px[id]), traced_.colors.rgba[id]);
-  pass.observe_ns.fetch_add(std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count(),
-                            std::memory_order_relaxed);
+  pass.observe_ms.fetch_add(ms_since(t0), std::memory_order_relaxed);
 }
 
 // Each thinned point takes the inverse-distance mean of its traced parents

@@ -161,6 +161,7 @@ bool FoveatedView::run_trace(const FrameContext& frame, FrameResources& resource
   result->points = traced.points;
   result->points_thinned = traced.points_thinned;
   result->density_ms = traced.density_ms;
+  result->density = traced.density;
   result->rays = traced.rays;
   result->failed_batches = traced.failed_batches;
   result->invalid_colours = traced.invalid_colours;

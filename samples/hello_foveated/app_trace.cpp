@@ -21,28 +21,13 @@ void check_trace(VkResult r, const char* what) {
 
 AppRecordedTrace::AppRecordedTrace(VkDevice device, uint32_t queue_family_index, VkQueue queue)
     : device_(device), queue_(queue) {
-  auto pool_info = trace_vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
-  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pool_info.queueFamilyIndex = queue_family_index;
-  check_trace(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool (app trace)");
-  auto cb_info = trace_vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
-  cb_info.commandPool = pool_;
-  cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cb_info.commandBufferCount = static_cast<uint32_t>(command_buffers_.size());
-  check_trace(vkAllocateCommandBuffers(device_, &cb_info, command_buffers_.data()),
-              "vkAllocateCommandBuffers (app trace)");
-  for (VkFence& fence : fences_) {
-    auto fence_info = trace_vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
-    check_trace(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence (app trace)");
-  }
+  slots_.create(device_, queue_family_index, in_flight_.size(), "app trace");
 }
 
 AppRecordedTrace::~AppRecordedTrace() {
-  for (std::size_t s = 0; s < fences_.size(); ++s) {
-    if (in_flight_[s]) (void)vkWaitForFences(device_, 1, &fences_[s], VK_TRUE, UINT64_MAX);
-    if (fences_[s] != VK_NULL_HANDLE) vkDestroyFence(device_, fences_[s], nullptr);
-  }
-  if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
+  for (std::size_t s = 0; s < slots_.fences.size(); ++s)
+    if (in_flight_[s]) (void)vkWaitForFences(device_, 1, &slots_.fences[s], VK_TRUE, UINT64_MAX);
+  slots_.destroy(device_);
 }
 
 void AppRecordedTrace::trace(const XrFoveatedRayBatchFOVEART& batch, PFN_xrFoveatedTraceRaysDeviceFOVEART engine,
@@ -51,11 +36,11 @@ void AppRecordedTrace::trace(const XrFoveatedRayBatchFOVEART& batch, PFN_xrFovea
   for (uint32_t v = 0; v < batch.viewCountOutput; ++v)
     if (batch.views[v].rayCapacity > 0) frame_index = batch.views[v].frameIndex;
   // The slot's last trace finished: its command buffer, and the engine's resources of that slot, are free.
-  const std::size_t slot = frame_index % command_buffers_.size();
-  if (in_flight_[slot])
-    check_trace(vkWaitForFences(device_, 1, &fences_[slot], VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  const std::size_t slot = frame_index % slots_.buffers.size();
+  VkFence& fence = slots_.fences[slot];
+  if (in_flight_[slot]) check_trace(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   in_flight_[slot] = false;
-  const VkCommandBuffer cb = command_buffers_[slot];
+  const VkCommandBuffer cb = slots_.buffers[slot];
   check_trace(vkResetCommandBuffer(cb, 0), "vkResetCommandBuffer");
   auto begin = trace_vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
@@ -84,8 +69,8 @@ void AppRecordedTrace::trace(const XrFoveatedRayBatchFOVEART& batch, PFN_xrFovea
   submit.pCommandBuffers = &cb;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &batch.semaphore;
-  check_trace(vkResetFences(device_, 1, &fences_[slot]), "vkResetFences");
-  check_trace(vkQueueSubmit(queue_, 1, &submit, fences_[slot]), "vkQueueSubmit (app trace)");
+  check_trace(vkResetFences(device_, 1, &fence), "vkResetFences");
+  check_trace(vkQueueSubmit(queue_, 1, &submit, fence), "vkQueueSubmit (app trace)");
   in_flight_[slot] = true;
   if (XR_FAILED(traced)) throw std::runtime_error("the device trace failed: XrResult " + std::to_string(traced));
 }

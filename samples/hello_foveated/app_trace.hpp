@@ -12,6 +12,7 @@
 #include <openxr/openxr.h>
 #include <vulkan/vulkan.h>
 
+#include "command_pool.hpp"
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
 
 namespace foveart::hello {
@@ -32,9 +33,7 @@ class AppRecordedTrace {
  private:
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;
-  VkCommandPool pool_ = VK_NULL_HANDLE;
-  std::array<VkCommandBuffer, XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS> command_buffers_{};
-  std::array<VkFence, XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS> fences_{};
+  CommandPool slots_;  // a command buffer and fence per frame slot
   std::array<bool, XR_FOVEART_DEVICE_TRACE_FRAME_SLOTS> in_flight_{};
 };
 

@@ -15,6 +15,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "command_pool.hpp"
 #include "engine/render.hpp"
 #include "gpu_engine/gpu_tracer.hpp"
 #include "layer/display_transform_chain.hpp"
@@ -147,20 +148,7 @@ class FullFrame final : public ViewRenderer {
 
  private:
   void create_objects() {
-    VkCommandPoolCreateInfo pool{};
-    pool.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool.queueFamilyIndex = device_.queue_family_index;
-    check_full_render(vkCreateCommandPool(device_.device, &pool, nullptr, &pool_), "vkCreateCommandPool");
-    VkCommandBufferAllocateInfo cb{};
-    cb.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-    cb.commandPool = pool_;
-    cb.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cb.commandBufferCount = 1;
-    check_full_render(vkAllocateCommandBuffers(device_.device, &cb, &cb_), "vkAllocateCommandBuffers");
-    VkFenceCreateInfo fence{};
-    fence.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    check_full_render(vkCreateFence(device_.device, &fence, nullptr, &fence_), "vkCreateFence");
+    commands_.create(device_.device, device_.queue_family_index, 1, "full render");
     if (engine_.gpu != nullptr) {
       uint32_t count = 0;
       vkGetPhysicalDeviceQueueFamilyProperties(device_.physical_device, &count, nullptr);
@@ -181,11 +169,8 @@ class FullFrame final : public ViewRenderer {
 
   void destroy_objects() noexcept {
     if (queries_ != VK_NULL_HANDLE) vkDestroyQueryPool(device_.device, queries_, nullptr);
-    if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_.device, fence_, nullptr);
-    if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_.device, pool_, nullptr);
+    commands_.destroy(device_.device);
     queries_ = VK_NULL_HANDLE;
-    fence_ = VK_NULL_HANDLE;
-    pool_ = VK_NULL_HANDLE;
   }
 
   // record_full between two timestamps, then a copy into the readback buffer;
@@ -198,14 +183,14 @@ class FullFrame final : public ViewRenderer {
       create_buffer(device_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT, true, &readback_);
     }
     begin();
-    vkCmdResetQueryPool(cb_, queries_, 0, 2);
-    vkCmdWriteTimestamp(cb_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
+    vkCmdResetQueryPool(cb(), queries_, 0, 2);
+    vkCmdWriteTimestamp(cb(), VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
     std::string error;
-    if (!engine_.gpu->record_full(cb_, view, spp_, seed, out_.buffer, 0, &error)) {
-      vkEndCommandBuffer(cb_);
+    if (!engine_.gpu->record_full(cb(), view, spp_, seed, out_.buffer, 0, &error)) {
+      vkEndCommandBuffer(cb());
       throw std::runtime_error("full render: the GPU engine could not record: " + error);
     }
-    vkCmdWriteTimestamp(cb_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
+    vkCmdWriteTimestamp(cb(), VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
     VkBufferMemoryBarrier barrier{};
     barrier.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER;
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -215,14 +200,14 @@ class FullFrame final : public ViewRenderer {
     barrier.buffer = out_.buffer;
     barrier.size = VK_WHOLE_SIZE;
     // The engine's shader writes (whichever stage its backend writes from) before the copy.
-    vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 1,
+    vkCmdPipelineBarrier(cb(), VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 1,
                          &barrier, 0, nullptr);
     const VkBufferCopy copy{0, 0, bytes};
-    vkCmdCopyBuffer(cb_, out_.buffer, readback_.buffer, 1, &copy);
+    vkCmdCopyBuffer(cb(), out_.buffer, readback_.buffer, 1, &copy);
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
     barrier.buffer = readback_.buffer;
-    vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &barrier,
+    vkCmdPipelineBarrier(cb(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &barrier,
                          0, nullptr);
     submit_and_wait();
     uint64_t t[2] = {};
@@ -248,38 +233,38 @@ class FullFrame final : public ViewRenderer {
     barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = image;
     barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
+    vkCmdPipelineBarrier(cb(), VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
                          nullptr, 1, &barrier);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageExtent = {width_px, height_px, 1};
-    vkCmdCopyBufferToImage(cb_, upload_.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+    vkCmdCopyBufferToImage(cb(), upload_.buffer, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
     barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
     barrier.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
+    vkCmdPipelineBarrier(cb(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0,
                          nullptr, 0, nullptr, 1, &barrier);
     submit_and_wait();
   }
 
   void begin() {
-    check_full_render(vkResetCommandBuffer(cb_, 0), "vkResetCommandBuffer");
+    check_full_render(vkResetCommandBuffer(cb(), 0), "vkResetCommandBuffer");
     VkCommandBufferBeginInfo begin{};
     begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    check_full_render(vkBeginCommandBuffer(cb_, &begin), "vkBeginCommandBuffer");
+    check_full_render(vkBeginCommandBuffer(cb(), &begin), "vkBeginCommandBuffer");
   }
 
   void submit_and_wait() {
-    check_full_render(vkEndCommandBuffer(cb_), "vkEndCommandBuffer");
-    check_full_render(vkResetFences(device_.device, 1, &fence_), "vkResetFences");
+    check_full_render(vkEndCommandBuffer(cb()), "vkEndCommandBuffer");
+    check_full_render(vkResetFences(device_.device, 1, &commands_.fences[0]), "vkResetFences");
     VkSubmitInfo submit{};
     submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
     submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cb_;
-    check_full_render(vkQueueSubmit(device_.queue, 1, &submit, fence_), "vkQueueSubmit");
-    check_full_render(vkWaitForFences(device_.device, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    submit.pCommandBuffers = &commands_.buffers[0];
+    check_full_render(vkQueueSubmit(device_.queue, 1, &submit, commands_.fences[0]), "vkQueueSubmit");
+    check_full_render(vkWaitForFences(device_.device, 1, &commands_.fences[0], VK_TRUE, UINT64_MAX), "vkWaitForFences");
   }
 
   VulkanDevice device_;
@@ -288,9 +273,8 @@ class FullFrame final : public ViewRenderer {
   foveation::DisplayTransform display_;
   foveation::Executor* executor_;
   FullFrameTimes* times_;
-  VkCommandPool pool_ = VK_NULL_HANDLE;
-  VkCommandBuffer cb_ = VK_NULL_HANDLE;
-  VkFence fence_ = VK_NULL_HANDLE;
+  CommandPool commands_;  // one command buffer and its fence
+  VkCommandBuffer cb() const { return commands_.buffers[0]; }
   VkQueryPool queries_ = VK_NULL_HANDLE;
   float timestamp_period_ns_ = 1.0f;
   Buffer out_, readback_, upload_;  // the GPU engine's linear image, its host copy, the encoded bytes

@@ -1,6 +1,7 @@
 #include "xr_app.hpp"
 
 #include "app_trace.hpp"
+#include "command_pool.hpp"
 #include <gpu_engine/rt_device.hpp>
 
 #include <array>
@@ -167,17 +168,7 @@ class App {
     create_device();
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     vkGetDeviceQueue(device_, queue_family_, queue_count_ - 1, &trace_queue_);
-    auto pool_info = vk_struct<VkCommandPoolCreateInfo>(VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO);
-    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool_info.queueFamilyIndex = queue_family_;
-    check(vkCreateCommandPool(device_, &pool_info, nullptr, &pool_), "vkCreateCommandPool");
-    auto cb_info = vk_struct<VkCommandBufferAllocateInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO);
-    cb_info.commandPool = pool_;
-    cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    cb_info.commandBufferCount = 1;
-    check(vkAllocateCommandBuffers(device_, &cb_info, &command_buffer_), "vkAllocateCommandBuffers");
-    auto fence_info = vk_struct<VkFenceCreateInfo>(VK_STRUCTURE_TYPE_FENCE_CREATE_INFO);
-    check(vkCreateFence(device_, &fence_info, nullptr, &fence_), "vkCreateFence");
+    placeholder_.create(device_, queue_family_, 1, "placeholder clear");
   }
 
   // The device through the runtime, with one valid feature chain: on Vulkan 1.2 (instance and device)
@@ -366,10 +357,12 @@ class App {
   // The placeholder: a grey clear. It is what the runtime shows if the layer
   // falls back for a view.
   void clear_placeholder(uint32_t e, uint32_t index) {
-    check(vkResetCommandBuffer(command_buffer_, 0), "vkResetCommandBuffer");
+    const VkCommandBuffer command_buffer = placeholder_.buffers[0];
+    VkFence& fence = placeholder_.fences[0];
+    check(vkResetCommandBuffer(command_buffer, 0), "vkResetCommandBuffer");
     auto begin = vk_struct<VkCommandBufferBeginInfo>(VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO);
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    check(vkBeginCommandBuffer(command_buffer_, &begin), "vkBeginCommandBuffer");
+    check(vkBeginCommandBuffer(command_buffer, &begin), "vkBeginCommandBuffer");
     auto barrier = vk_struct<VkImageMemoryBarrier>(VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER);
     barrier.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
@@ -378,26 +371,26 @@ class App {
     barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     barrier.image = eyes_[e].images[index];
     barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
+    vkCmdPipelineBarrier(command_buffer, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0,
                          nullptr, 0, nullptr, 1, &barrier);
     VkClearColorValue grey{};
     grey.float32[0] = grey.float32[1] = grey.float32[2] = 0.2f;
     grey.float32[3] = 1.0f;
-    vkCmdClearColorImage(command_buffer_, barrier.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1,
+    vkCmdClearColorImage(command_buffer, barrier.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &grey, 1,
                          &barrier.subresourceRange);
     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
     barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
     barrier.newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_TRANSFER_BIT,
+    vkCmdPipelineBarrier(command_buffer, VK_PIPELINE_STAGE_TRANSFER_BIT,
                          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, 0, 0, nullptr, 0, nullptr, 1, &barrier);
-    check(vkEndCommandBuffer(command_buffer_), "vkEndCommandBuffer");
-    check(vkResetFences(device_, 1, &fence_), "vkResetFences");
+    check(vkEndCommandBuffer(command_buffer), "vkEndCommandBuffer");
+    check(vkResetFences(device_, 1, &fence), "vkResetFences");
     auto submit = vk_struct<VkSubmitInfo>(VK_STRUCTURE_TYPE_SUBMIT_INFO);
     submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &command_buffer_;
-    check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
-    check(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+    submit.pCommandBuffers = &command_buffer;
+    check(vkQueueSubmit(queue_, 1, &submit, fence), "vkQueueSubmit");
+    check(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   }
 
   bool poll_events() {
@@ -634,8 +627,7 @@ class App {
       app_trace_.reset();  // its submissions finished (the device is idle)
       if (device_trace_made_ && options_.release_device_trace) options_.release_device_trace();
       device_trace_made_ = false;
-      if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
-      if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
+      placeholder_.destroy(device_);
       vkDestroyDevice(device_, nullptr);
       device_ = VK_NULL_HANDLE;
     }
@@ -669,9 +661,7 @@ class App {
   uint32_t instance_api_version_ = VK_API_VERSION_1_1;
   bool ray_tracing_ = false;          // the ray-tracing pipeline's extensions enabled (create_device)
   bool trace_rays_indirect_ = false;
-  VkCommandPool pool_ = VK_NULL_HANDLE;
-  VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
-  VkFence fence_ = VK_NULL_HANDLE;
+  CommandPool placeholder_;  // the placeholder clear's command buffer and fence
   PFN_xrCreateFoveatedRendererFOVEART create_renderer_ = nullptr;
   PFN_xrDestroyFoveatedRendererFOVEART destroy_renderer_ = nullptr;
   PFN_xrGetFoveatedRendererStatsFOVEART get_stats_ = nullptr;

@@ -3,7 +3,8 @@
 // scripted motion (eval::motion_frames), one jittered ray per foveated point
 // (its disc at 30 deg on the FOVE 0, thesis eq. 4) each frame, flickers less
 // against the converged disc average (eval::TemporalError) with the footprint
-// (XrFoveatedDeviceRayFootprintFOVEART) than without. Runs on lavapipe; prints the numbers.
+// (XrFoveatedDeviceRayFootprintFOVEART) than without. Runs on lavapipe; prints the numbers
+// (bench/footprint_flicker.sh writes them into docs/results/footprint_flicker.md).
 #include <gpu_engine/gpu_tracer.hpp>
 
 #include <eval/motion_views.hpp>
@@ -170,10 +171,12 @@ TEST(GpuFootprint, TexturedFloorAt30DegFlickersLessWithTheFootprint) {
   }
   const foveart::eval::RingBand band{"30-45 deg", kRing30, kRing30 + 1};
   const double flicker_with = with.pooled(band).flicker_rms, flicker_without = without.pooled(band).flicker_rms;
-  std::printf("[ footprint ] disc at %.1f deg: %.2f px from the gaze, radius %.2f px; flicker_rms over %d frames "
-              "of the builtin motion: with footprint %.4f, without %.4f (error_mse %.5f vs %.5f)\n",
-              kEccentricityDeg, disc.distance_px, disc.radius_px, kFrames, flicker_with, flicker_without,
-              with.pooled(band).error_mse, without.pooled(band).error_mse);
+  // One JSON line, read by bench/footprint_flicker.sh into docs/results/footprint_flicker.md.
+  std::printf("[ footprint ] {\"device\": \"%s\", \"eccentricity_deg\": %.1f, \"distance_px\": %.2f, "
+              "\"radius_px\": %.2f, \"frames\": %d, \"reference_rays\": %d, \"flicker_rms_with\": %.4f, "
+              "\"flicker_rms_without\": %.4f, \"error_mse_with\": %.5f, \"error_mse_without\": %.5f}\n",
+              footprint_gpu().vk.name().c_str(), kEccentricityDeg, disc.distance_px, disc.radius_px, kFrames,
+              kReferenceRays, flicker_with, flicker_without, with.pooled(band).error_mse, without.pooled(band).error_mse);
   EXPECT_GT(flicker_without, 0.0);
   EXPECT_LT(flicker_with, flicker_without);
   expect_no_validation_errors(footprint_gpu());

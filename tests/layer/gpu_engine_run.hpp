@@ -7,23 +7,15 @@
 
 #include <cstdint>
 #include <fstream>
-#include <memory>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "app_output.hpp"
-#include "child_process.hpp"
-#include "test_env.hpp"
+#include "hello_foveated_run.hpp"
 
 namespace foveart::layer::test {
 
-using foveart::test::ProcessResult;
-using foveart::test::run_process;
-
-constexpr int kTimeoutS = 600;
 constexpr int kWidth = 320, kHeight = 360;  // small eyes: lavapipe traces them in seconds
 constexpr int kFrames = 2;                  // the first may come before the replay's first gaze sample
 // Two rays per point: the device resolve averages them in its own order.
@@ -31,23 +23,9 @@ constexpr int kRaysPerPoint = 2;
 // The scripted gaze, FOVE head space (+z forward): about 7 deg right, 4 deg down.
 constexpr double kGaze[3] = {0.12, -0.07, 0.99};
 
-struct AppRun {
-  ProcessResult process;
-  nlohmann::json stats;
-  fs::path frames;
-};
-
-class GpuEngine : public ::testing::Test {
+class GpuEngine : public HelloFoveatedRun {
  protected:
-  void SetUp() override {
-    ASSERT_TRUE(have_runtime()) << "the simulated runtime is part of every build: its manifest is missing";
-    env_ = std::make_unique<IsolatedEnv>();
-    configure_hello_foveated(*env_, kFrames, "gpu");
-    IsolatedEnv::set("FOVEART_SIM_HEAD", "static");
-    for (const char* name : {"FOVEART_SIM_CAPTURE_EVERY", "FOVEART_SIM_EYE_TRACKING", "FOVEART_SIM_GAZE"}) {
-      ::unsetenv(name);
-    }
-  }
+  void SetUp() override { set_up(kFrames, "gpu"); }
 
   // A constant scripted gaze (3 min at 120 Hz) in its own file.
   fs::path gaze_trace(const std::string& name, double gx, double gy, double gz) const {
@@ -63,23 +41,13 @@ class GpuEngine : public ::testing::Test {
   AppRun launch(const std::string& name, const std::string& engine, const fs::path& gaze,
                 std::vector<std::string> extra = {}, int frames = kFrames, int rays_per_point = kRaysPerPoint,
                 const std::string& temporal = "off") {
-    AppRun r;
-    r.frames = env_->root() / name;
-    IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", r.frames);
-    IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(frames).c_str());
     std::vector<std::string> args{FOVEART_HELLO_FOVEATED, "--json", "--engine", engine, "--eye-size",
                                   std::to_string(kWidth), std::to_string(kHeight), "--interpolation", "msm", "--k",
                                   "5", "--density-scale", "4", "--rays-per-point", std::to_string(rays_per_point), "--temporal", temporal,
                                   "--gaze-source", "provider", "--gaze-provider", "replay:" + gaze.string()};
     args.insert(args.end(), extra.begin(), extra.end());
-    r.process = run_process(args, env_->root() / (name + ".log"), kTimeoutS);
-    r.stats = trailing_json(r.process.output);
-    return r;
+    return run(name, args, frames);
   }
-
-  static fs::path frame(const AppRun& run, int index, const char* eye) { return captured_frame(run.frames, index, eye); }
-
-  std::unique_ptr<IsolatedEnv> env_;
 };
 
 inline uint64_t total_rays(const nlohmann::json& counts) {

@@ -22,8 +22,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "app_output.hpp"
-#include "child_process.hpp"
 #include "engine/gltf_loader.hpp"
 #include "engine/render.hpp"
 #include "engine/tracer.hpp"
@@ -31,16 +29,12 @@
 #include "foveation/executor.hpp"
 #include "foveation/eye_rays.hpp"
 #include "foveation/rgba8.hpp"
+#include "hello_foveated_run.hpp"
 #include "ring_compare.hpp"
-#include "test_env.hpp"
 
 namespace foveart::layer::test {
 namespace {
 
-using foveart::test::ProcessResult;
-using foveart::test::run_process;
-
-constexpr int kTimeoutS = 600;
 constexpr int kWidth = 320, kHeight = 360;
 constexpr int kFrames = 2;
 constexpr int kRaysPerPixel = 2;
@@ -53,44 +47,20 @@ struct EyeSize {
   int width, height;
 };
 
-struct AppRun {
-  ProcessResult process;
-  nlohmann::json stats;
-  fs::path frames;
-};
-
-class HelloFoveatedMode : public ::testing::Test {
+class HelloFoveatedMode : public HelloFoveatedRun {
  protected:
-  void SetUp() override {
-    ASSERT_TRUE(have_runtime()) << "the simulated runtime is part of every build: its manifest is missing";
-    env_ = std::make_unique<IsolatedEnv>();
-    configure_hello_foveated(*env_, kFrames);
-    IsolatedEnv::set("FOVEART_SIM_HEAD", "static");
-    for (const char* name : {"FOVEART_SIM_CAPTURE_EVERY", "FOVEART_SIM_EYE_TRACKING", "FOVEART_SIM_GAZE"}) {
-      ::unsetenv(name);
-    }
-  }
+  void SetUp() override { set_up(kFrames, "auto"); }
 
   // hello_foveated --json with the common setting; frames captured into <root>/<name>.
   AppRun launch(const std::string& name, std::vector<std::string> extra, EyeSize eye = {kWidth, kHeight},
                 int frames = kFrames) {
-    AppRun r;
-    r.frames = env_->root() / name;
-    IsolatedEnv::set("FOVEART_SIM_CAPTURE_DIR", r.frames);
-    IsolatedEnv::set("FOVEART_SIM_FRAMES", std::to_string(frames).c_str());
     std::vector<std::string> args{FOVEART_HELLO_FOVEATED, "--json", "--eye-size", std::to_string(eye.width),
                                   std::to_string(eye.height), "--interpolation", "msm", "--k", "5", "--density-scale",
                                   "4", "--rays-per-point", std::to_string(kRaysPerPixel), "--temporal", "off",
                                   "--gaze-source", "none", "--exposure", "1.5", "--tone-map", "aces"};
     args.insert(args.end(), extra.begin(), extra.end());
-    r.process = run_process(args, env_->root() / (name + ".log"), kTimeoutS);
-    r.stats = trailing_json(r.process.output);
-    return r;
+    return run(name, args, frames);
   }
-
-  static fs::path frame(const AppRun& run, int index, const char* eye) { return captured_frame(run.frames, index, eye); }
-
-  std::unique_ptr<IsolatedEnv> env_;
 };
 
 constexpr const char* kEyes[2] = {"left", "right"};

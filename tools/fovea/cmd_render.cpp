@@ -219,7 +219,7 @@ struct Frames {
   engine::RayCounts full_rays, fov_rays;
   uint64_t fov_points = 0;
   uint64_t fov_points_thinned = 0;
-  double fov_density_ms = 0.0;  // the last frame's content-aware density stage
+  std::vector<foveation::DensityCost> fov_density;  // per frame, content-aware density's stages
 };
 
 [[nodiscard]] bool render_full_frame(const render_view::RenderOptions& o, const RenderEngine& eng,
@@ -270,7 +270,7 @@ struct Frames {
   f->fov_rays = eng.counts() - before;
   f->fov_points = fr.points;
   f->fov_points_thinned = fr.points_thinned;
-  f->fov_density_ms = fr.density_ms;
+  f->fov_density.push_back(fr.density);
   return true;
 }
 
@@ -303,6 +303,7 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                       {"total_ms", f.full_times.median_total_ms()}, {"frames_total_ms", f.full_times.total_ms},
                       {"white_clipped_fraction", foveation::white_clipped_fraction(f.full, display)}};
   if (!fov.view) return;
+  const foveation::DensityCost& density = f.fov_density[f.fov_times.median_frame()];
   report["points"] = f.fov_points;
   report["points_thinned"] = f.fov_points_thinned;
   report["foveated"] = {{"rays", rays_json(f.fov_rays)},
@@ -312,7 +313,9 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"density_scale", o.density_scale},
                         {"content_contrast", o.content_contrast},
                         {"content_rays", o.content_rays},
-                        {"density_ms", f.fov_density_ms},
+                        {"density_ms", density.total_ms()},  // the median frame's, as its stages
+                        {"density_stages_ms", {{"levels", density.levels_ms}, {"test", density.test_ms},
+                                               {"observe", density.observe_ms}, {"fill", density.fill_ms}}},
                         {"temporal", foveation::temporal_mode_name(o.temporal)},
                         {"pattern", foveation::fovea_pattern_name(fov.view->tables().key.display.fovea_pattern)},
                         {"precompute_ms", fov.precompute_ms},

@@ -44,13 +44,15 @@ class CallbackTrace final : public TraceStage {
   void trace_run(FramePass& pass, std::size_t run, unsigned worker);
   void forget_untraced(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& traced,
                        std::size_t run_size);
-  bool trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::uint32_t n);
+  void select_run(FramePass& pass, std::size_t run, bool run_visible, std::vector<std::uint32_t>& ids);
+  bool trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::span<const std::uint32_t> ids);
   bool keep_ray_colors(const RayBatch& batch, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& traced);
   bool keep_mean_colors(const FramePass& pass, const RayBatch& batch, std::span<const std::uint32_t> ids,
                         std::span<const std::uint32_t> counts, std::size_t run);
-  // Content-aware density: this run's traced colours for the next frame's contrast, and
-  // the thinned points' colours from their parents (after every run is traced).
+  // Content-aware density: the per-point test, this run's traced colours for the next
+  // frame's contrast, and the thinned points' colours from their parents (after every run).
   bool thins(const FramePass& pass, std::uint32_t id) const;
+  void count_rays(FramePass& pass, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& counts) const;
   void observe_run(FramePass& pass, std::size_t run, unsigned worker);
   std::uint64_t fill_thinned(Executor& executor);
   bool fill_point(std::uint32_t id);
@@ -60,7 +62,7 @@ class CallbackTrace final : public TraceStage {
   bool keep_rays_;
   TracedPoints traced_;
   std::vector<RayBatch> batches_;                         // per worker slot
-  std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: the points of its batch
+  std::vector<std::vector<std::uint32_t>> batch_points_;  // per worker slot: its run's points to trace
   std::vector<std::vector<std::uint32_t>> previous_;      // per worker slot: its run's points of last frame
   std::vector<std::vector<std::uint32_t>> batch_counts_;  // per worker slot: its batch's rays per point (empty: all)
   // Per run of the point set, the canvas box its points lie in: a run wholly

@@ -54,6 +54,7 @@ struct FrameResult {
   double select_ms = 0.0;           // the frame's set-up (selection itself runs inside the trace pass)
   double trace_ms = 0.0;            // visible-point test, rays, engine callback, colour per point
   double density_ms = 0.0;          // content-aware density's part of select and trace (TraceStats::density_ms)
+  DensityCost density;              // ... per stage (TraceStats::density)
   double reconstruct_ms = 0.0;      // gather
   double temporal_ms = 0.0;              // the temporal history
   double encode_ms = 0.0;           // the encode (on the device: recording it)

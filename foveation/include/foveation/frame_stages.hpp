@@ -89,6 +89,16 @@ struct TracedPoints {
   std::vector<float> farthest_m;                 // per point: farthest hit of its rays (NaN: one gave none)
 };
 
+// Content-aware density's CPU cost per stage (docs/foveation.md, "Content-aware density"), ms;
+// the two per-point stages are their CPU time over the threads, divided by the threads.
+struct DensityCost {
+  double levels_ms = 0.0;   // the tiles' levels from the last frame's ranges; the first frame's builds the set's levels
+  double test_ms = 0.0;     // the per-point test: thinned or traced, and rays by the tile's contrast
+  double observe_ms = 0.0;  // the traced points' colours into their tiles' ranges
+  double fill_ms = 0.0;     // the thinned points from their parents
+  double total_ms() const { return levels_ms + test_ms + observe_ms + fill_ms; }
+};
+
 struct TraceStats {
   std::uint32_t points = 0;          // visible points traced
   std::uint32_t points_thinned = 0;  // visible points left untraced in flat tiles, filled from their parents
@@ -97,10 +107,9 @@ struct TraceStats {
   std::uint64_t invalid_colours = 0; // NaN, infinite or negative colour components
   double select_ms = 0.0;            // per-frame set-up before the fused pass
   double trace_ms = 0.0;             // selection, rays, engine, colour per point
-  // Content-aware density's share of select_ms and trace_ms: the tiles' levels, the
-  // observations (their CPU time over the threads) and the fill; the first frame's
-  // includes building the set's levels.
+  // Content-aware density's share of select_ms and trace_ms: density.total_ms().
   double density_ms = 0.0;
+  DensityCost density;               // ... per stage
   // The frame's resources failed (the wrong side, a device call): not the engine's doing.
   std::string error;
   bool ok() const { return failed_batches == 0 && invalid_colours == 0 && error.empty(); }

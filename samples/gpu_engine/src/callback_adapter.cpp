@@ -2,6 +2,7 @@
 // per batch: pack rays -> submit record_trace -> wait -> copy colours out.
 #include <gpu_engine/callback_adapter.hpp>
 #include <gpu_engine/rt_device.hpp>
+#include <gpu_engine/validation_messenger.hpp>
 
 #include <foveation/eye_rays.hpp>
 
@@ -22,34 +23,6 @@ namespace {
 constexpr uint32_t kGroupSize = 64;              // the trace shader's local_size_x
 constexpr uint32_t kMaxRaysPerSubmit = 1u << 18;  // larger batches go in several submissions
 constexpr uint64_t kFenceTimeoutNs = 120ull * 1000 * 1000 * 1000;
-
-struct Validation {
-  std::mutex mutex;
-  std::vector<std::string> errors;
-};
-
-// An error message as "<message id name>: <message>".
-VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                          VkDebugUtilsMessageTypeFlagsEXT,
-                                          const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
-  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
-    auto* v = static_cast<Validation*>(user);
-    std::string text = data->pMessageIdName != nullptr ? data->pMessageIdName : "?";
-    text += ": ";
-    text += data->pMessage != nullptr ? data->pMessage : "?";
-    std::lock_guard lock(v->mutex);
-    v->errors.push_back(std::move(text));
-  }
-  return VK_FALSE;
-}
-
-bool has_layer(const char* name) {
-  uint32_t count = 0;
-  if (vkEnumerateInstanceLayerProperties(&count, nullptr) != VK_SUCCESS) return false;
-  std::vector<VkLayerProperties> layers(count);
-  if (vkEnumerateInstanceLayerProperties(&count, layers.data()) != VK_SUCCESS) return false;
-  return std::any_of(layers.begin(), layers.end(), [&](const auto& l) { return std::strcmp(l.layerName, name) == 0; });
-}
 
 // Lower is preferred.
 int device_rank(VkPhysicalDeviceType type, bool prefer_cpu) {
@@ -152,11 +125,8 @@ static_assert(sizeof(PackedRay) == 32, "the trace shader's DeviceRay is 32 bytes
 
 struct CallbackAdapter::Impl {
   // Vulkan objects, destroyed in reverse order by the destructor.
-  Validation validation;
+  ValidationMessenger validation;
   VkInstance instance = VK_NULL_HANDLE;
-  // Registered for the instance's life (a messenger only in the instance's pNext
-  // hears nothing between vkCreateInstance and vkDestroyInstance).
-  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
   VkPhysicalDevice physical = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
   uint32_t family = UINT32_MAX;
@@ -188,17 +158,12 @@ struct CallbackAdapter::Impl {
     if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
     if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, pool, nullptr);  // frees cb
     if (device != VK_NULL_HANDLE) vkDestroyDevice(device, nullptr);
-    if (messenger != VK_NULL_HANDLE) {
-      auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-          vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
-      if (destroy != nullptr) destroy(instance, messenger, nullptr);
-    }
+    validation.destroy(instance);
     if (instance != VK_NULL_HANDLE) vkDestroyInstance(instance, nullptr);
   }
 
   bool create_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_instance(const CallbackAdapterOptions& options, std::string* error);
-  void register_messenger(const VkDebugUtilsMessengerCreateInfoEXT& info);
   bool pick_physical_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_logical_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_submission(std::string* error);
@@ -219,54 +184,21 @@ bool CallbackAdapter::Impl::create_device(const CallbackAdapterOptions& options,
 
 // The instance, with the validation layer (errors collected) when asked for and installed.
 bool CallbackAdapter::Impl::create_instance(const CallbackAdapterOptions& options, std::string* error) {
-  const bool validated = options.validate && has_layer("VK_LAYER_KHRONOS_validation");
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
   app.pApplicationName = "foveart_gpu_engine_callback_adapter";
   app.apiVersion = VK_API_VERSION_1_1;
-  const char* layers[] = {"VK_LAYER_KHRONOS_validation"};
-  const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
-  VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
-  VkValidationFeaturesEXT features{};
-  features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
-  features.enabledValidationFeatureCount = 1;
-  features.pEnabledValidationFeatures = enables;
-  VkDebugUtilsMessengerCreateInfoEXT messenger_info{};
-  messenger_info.sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT;
-  messenger_info.messageSeverity =
-      VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
-  messenger_info.messageType =
-      VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT;
-  messenger_info.pfnUserCallback = on_message;
-  messenger_info.pUserData = &validation;
-  features.pNext = &messenger_info;
   VkInstanceCreateInfo info{};
   info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   info.pApplicationInfo = &app;
-  if (validated) {
-    info.pNext = &features;
-    info.enabledLayerCount = 1;
-    info.ppEnabledLayerNames = layers;
-    info.enabledExtensionCount = 1;
-    info.ppEnabledExtensionNames = extensions;
-  }
+  validation.chain(options.validate, &info);
   const VkResult r = vkCreateInstance(&info, nullptr, &instance);
   if (r != VK_SUCCESS) {
     instance = VK_NULL_HANDLE;
     return fail(error, vk_error("vkCreateInstance (is a Vulkan driver installed?)", r));
   }
-  if (validated) register_messenger(messenger_info);
+  validation.register_for(instance);
   return true;
-}
-
-// The messenger that hears validation for the instance's life; none (validated()
-// false) when the loader or layer does not give one.
-void CallbackAdapter::Impl::register_messenger(const VkDebugUtilsMessengerCreateInfoEXT& info) {
-  auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-      vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
-  VkDebugUtilsMessengerCreateInfoEXT alone = info;
-  alone.pNext = nullptr;
-  if (create == nullptr || create(instance, &alone, nullptr, &messenger) != VK_SUCCESS) messenger = VK_NULL_HANDLE;
 }
 
 // The preferred Vulkan 1.1 device with a compute queue (device_rank).
@@ -585,10 +517,9 @@ std::string CallbackAdapter::last_error() const {
 }
 const char* CallbackAdapter::backend_name() const { return impl_->tracer->backend_name(); }
 bool CallbackAdapter::device_is_cpu() const { return impl_->type == VK_PHYSICAL_DEVICE_TYPE_CPU; }
-bool CallbackAdapter::validated() const { return impl_->messenger != VK_NULL_HANDLE; }
+bool CallbackAdapter::validated() const { return impl_->validation.active(); }
 std::vector<std::string> CallbackAdapter::validation_errors() const {
-  std::lock_guard lock(impl_->validation.mutex);
-  return impl_->validation.errors;
+  return impl_->validation.errors();
 }
 
 const engine::Scene& CallbackAdapter::scene() const { return impl_->tracer->scene(); }

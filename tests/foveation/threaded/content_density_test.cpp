@@ -2,7 +2,8 @@
 // levels keep their spacing and parents, a flat view traces level 0 alone from its
 // second frame and gives the same image, an edge keeps every point of the tiles beside
 // it (on a tile border too), the pixel-exact fovea is never thinned, a failed frame or
-// a history that keeps rays traces every point, and it is off unless asked for.
+// a history that keeps rays traces every point, its cost is reported per stage, and it is
+// off unless asked for.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -17,6 +18,7 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/point_levels.hpp"
 #include "foveation/visible_points.hpp"
+#include "threaded/small_view.hpp"
 
 namespace foveart::foveation::content_density_test {
 namespace {
@@ -27,31 +29,11 @@ constexpr float kEdgeX = 48.0f;  // a tile border (16 px tiles)
 
 // Scale 4: the pixel grid's edge lies inside the view, so frames hold grid and Poisson points.
 std::shared_ptr<const ViewTables> tables() {
-  static std::once_flag once;
-  static std::shared_ptr<const ViewTables> t;
-  std::call_once(once, [] {
-    PointSetKey key;
-    key.display = DisplayModel::from_fov(kW, kH, 60.0);
-    key.display.scale = 4.0;
-    key.seed = 3;
-    InterpOptions o;
-    o.method = InterpMethod::msm;
-    o.k = 5;
-    Executor executor(2);
-    t = load_view_tables(std::nullopt, key, o, executor);
-  });
+  static const std::shared_ptr<const ViewTables> t = small_view::tables(kW, kH, 4.0, 3, InterpMethod::msm, 5);
   return t;
 }
 
-FrameRequest request(uint64_t frame_index) {
-  FrameRequest r;
-  EyePose pose;
-  pose.position_m = {0.0f, 1.6f, 0.0f};
-  r.view = make_eye_view(0, kW, kH, pose, -0.5f, 0.5f, 0.4f, -0.4f);
-  r.frame_index = frame_index;
-  r.gaze_px = {float(kW) / 2.0f, float(kH) / 2.0f};
-  return r;
-}
+FrameRequest request(uint64_t frame_index) { return small_view::request(kW, kH, frame_index); }
 
 ViewSettings settings(float full_contrast, TemporalMode temporal = TemporalMode::off) {
   ViewSettings s = temporal_view_settings(temporal, 1, 1);
@@ -213,6 +195,28 @@ TEST(ContentDensity, AnEdgeOnATileBorderKeepsEveryPointOfTheTilesBesideIt) {
   EXPECT_GT(beside, 100u);
   // Away from the edge each side is flat, so the fill is exact: the frames agree.
   EXPECT_LT(max_difference(full.image(), thinned.image()), 1e-5f);
+}
+
+TEST(ContentDensity, ItsCostIsReportedPerStageAsAPartOfSelectAndTrace) {
+  Executor executor(2);
+  Scene scene, off_scene;
+  scene.edge = off_scene.edge = true;
+  FoveatedView view(tables(), settings(0.05f)), off(tables(), settings(0.0f));
+  for (uint64_t f = 1; f <= 2; ++f) {
+    const FrameResult r = render(view, scene, f, executor), o = render(off, off_scene, f, executor);
+    ASSERT_TRUE(r.ok() && o.ok()) << r.message << o.message;
+    EXPECT_EQ(o.density_ms, 0.0) << "off: no density stage";
+    EXPECT_EQ(o.density.total_ms(), 0.0);
+    EXPECT_DOUBLE_EQ(r.density_ms, r.density.total_ms()) << "frame " << f;
+    // The stages run within the frame's select and trace (the per-point ones: CPU time over the threads).
+    EXPECT_LE(r.density_ms, r.select_ms + r.trace_ms) << "frame " << f;
+    if (f == 1) continue;
+    ASSERT_GT(r.points_thinned, 0u);
+    EXPECT_GT(r.density.levels_ms, 0.0) << "the tiles' levels from the first frame's ranges";
+    EXPECT_GT(r.density.test_ms, 0.0) << "every visible point was tested";
+    EXPECT_GT(r.density.observe_ms, 0.0) << "every traced colour was observed";
+    EXPECT_GT(r.density.fill_ms, 0.0) << "the thinned points were filled";
+  }
 }
 
 TEST(ContentDensity, AFailedFrameOrARayHistoryTracesEveryPoint) {

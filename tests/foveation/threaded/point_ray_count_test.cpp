@@ -16,6 +16,7 @@
 #include "foveation/foveated_view.hpp"
 #include "foveation/point_rays.hpp"
 #include "foveation/visible_points.hpp"
+#include "threaded/small_view.hpp"
 
 namespace foveart::foveation::point_ray_count_test {
 namespace {
@@ -28,31 +29,12 @@ constexpr float kRaysContrast = 0.2f;
 
 // Scale 8: a pixel grid about 22 px in radius around the centre, Poisson points around it.
 std::shared_ptr<const ViewTables> ray_tables() {
-  static std::once_flag once;
-  static std::shared_ptr<const ViewTables> t;
-  std::call_once(once, [] {
-    PointSetKey key;
-    key.display = DisplayModel::from_fov(kRaysW, kRaysH, 60.0);
-    key.display.scale = 8.0;
-    key.seed = 5;
-    InterpOptions o;
-    o.method = InterpMethod::nearest;
-    o.k = 1;
-    Executor executor(2);
-    t = load_view_tables(std::nullopt, key, o, executor);
-  });
+  static const std::shared_ptr<const ViewTables> t =
+      small_view::tables(kRaysW, kRaysH, 8.0, 5, InterpMethod::nearest, 1);
   return t;
 }
 
-FrameRequest ray_request(uint64_t frame_index) {
-  FrameRequest r;
-  EyePose pose;
-  pose.position_m = {0.0f, 1.6f, 0.0f};
-  r.view = make_eye_view(0, kRaysW, kRaysH, pose, -0.5f, 0.5f, 0.4f, -0.4f);
-  r.frame_index = frame_index;
-  r.gaze_px = {float(kRaysW) / 2.0f, float(kRaysH) / 2.0f};
-  return r;
-}
+FrameRequest ray_request(uint64_t frame_index) { return small_view::request(kRaysW, kRaysH, frame_index); }
 
 ViewSettings ray_settings(float rays_contrast) {
   ViewSettings s = temporal_view_settings(TemporalMode::off, kRays, 1);
@@ -148,6 +130,7 @@ TEST(PointRayCount, FramesGiveEdgesTheirRaysAndFlatOrDarkTilesOne) {
   ASSERT_GT(flat_points, 200u);
   ASSERT_GT(grid_points, 0u);
   EXPECT_EQ(second.rays, counted) << "the stats count the rays handed to the engine";
+  EXPECT_GT(second.density.test_ms, 0.0) << "a point's rays by its tile's contrast are density's per-point test";
   EXPECT_LT(double(second.rays), 0.7 * double(first.rays));
   std::cout << "[ measured ] rays of the second frame: " << second.rays << " of " << first.rays << " ("
             << second.points << " points)\n";
