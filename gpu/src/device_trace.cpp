@@ -85,11 +85,13 @@ DeviceResolvePush resolve_push(const DeviceTraceFrame& frame, uint32_t pass) {
 
 }  // namespace
 
-std::uint64_t device_tile_capacity(std::uint32_t width_px, std::uint32_t height_px) {
-  const auto tiles = [](std::uint32_t px) {
-    return std::uint64_t((px + FOVEART_DEVICE_MIN_TILE_PX - 1) / FOVEART_DEVICE_MIN_TILE_PX);
-  };
+std::uint64_t device_tiles(std::uint32_t width_px, std::uint32_t height_px, std::uint32_t tile_px) {
+  const auto tiles = [tile_px](std::uint32_t px) { return std::uint64_t((px + tile_px - 1) / tile_px); };
   return tiles(width_px) * tiles(height_px);
+}
+
+std::uint64_t device_tile_capacity(std::uint32_t width_px, std::uint32_t height_px) {
+  return device_tiles(width_px, height_px, FOVEART_DEVICE_MIN_TILE_PX);
 }
 
 std::unique_ptr<DeviceTracePipelines> DeviceTracePipelines::create(VkDevice device, std::string* error) {
@@ -353,9 +355,8 @@ void DeviceTrace::record_fill(VkCommandBuffer cb, const DeviceTraceFrame& frame)
 
 void DeviceTrace::record_contrast(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   if (!frame.density_on()) return;
-  const int tile_px = frame.density.tile_px;
-  const uint32_t tiles = uint32_t((frame.mapping.screen_width_px + tile_px - 1) / tile_px) *
-                         uint32_t((frame.mapping.screen_height_px + tile_px - 1) / tile_px);
+  const auto tiles = uint32_t(device_tiles(uint32_t(frame.mapping.screen_width_px),
+                                           uint32_t(frame.mapping.screen_height_px), uint32_t(frame.density.tile_px)));
   dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_CONTRAST, std::max<uint32_t>(1, point_blocks64(tiles)));
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
 }

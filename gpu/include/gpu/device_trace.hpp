@@ -127,6 +127,9 @@ struct DeviceTraceBuffers {
   VkBuffer points = VK_NULL_HANDLE;       // DevicePoint per point of the set
 };
 
+// Content density's tiles of tile_px on a width_px x height_px screen (ContentDensity's grid;
+// device_density.glsl's density_tiles).
+std::uint64_t device_tiles(std::uint32_t width_px, std::uint32_t height_px, std::uint32_t tile_px);
 // Tiles per region of an eye's content-density tile words (shader_interface/device_trace.h):
 // those of FOVEART_DEVICE_MIN_TILE_PX on the screen.
 std::uint64_t device_tile_capacity(std::uint32_t width_px, std::uint32_t height_px);
