@@ -174,7 +174,7 @@ bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* er
   if (!check_frame(frame, error)) return false;
   slot_ = last_slot_ = frame.slot;
   Slot& s = slot();
-  s.recorded = false;
+  s.recorded = s.density = false;
   host_written_ = 0;
   host_read_ = 0;
   if (!ensure_points(s, frame.tables->view_tables().points.size(), error)) return false;
@@ -236,6 +236,7 @@ bool Eye::stage_times(std::uint32_t slot, StageTimes* out) const {
   const double ms = double(context_.timestamp_period_ns()) * 1e-6;
   auto span = [&](int a) { return float(double(t[a + 1] - t[a]) * ms); };
   *out = StageTimes{span(0), span(6), span(7), span(1), span(2), span(3), span(4)};
+  if (!slots_[slot].density) out->density_fill_ms = out->density_contrast_ms = 0;  // empty: the stamps' own cost
   return true;
 }
 

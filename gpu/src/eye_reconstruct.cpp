@@ -111,6 +111,7 @@ bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* e
   if (frame.device != nullptr) s.device_trace->record_contrast(cb, *frame.device);
   stamp(cb, 8);
   density_recorded_ = frame.device != nullptr && frame.device->density_on();
+  s.density = density_recorded_;
   stamp(cb, 1);
   return true;
 }

@@ -64,11 +64,13 @@ XrFoveatedFallbackFlagsFOVEART fallback_flag(foveation::FrameFailure failure) {
 
 
 FoveatedRenderer::Frames::Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in,
-                                 InputCounters& input_in, ReconstructionStats& reconstruction_in)
+                                 InputCounters& input_in, ReconstructionStats& reconstruction_in,
+                                 DensityStats& density_in)
     : session(std::move(session_in)),
       settings(settings_in),
       input(input_in),
       reconstruction(reconstruction_in),
+      density(density_in),
       executor(settings_in.threads) {
   std::string warning;
   gaze = create_gaze_source(settings, *session, &warning);
@@ -392,9 +394,12 @@ void FoveatedRenderer::Frames::apply_collected(uint32_t e, XrFoveatedRendererSta
   if (eye.status) {
     stats->pointsPerEye[e] = eye.status->traced_points;  // as the CPU's: visible points traced
     stats->raysPerEye[e] = static_cast<uint32_t>(std::min<uint64_t>(eye.status->rays, UINT32_MAX));
+    density.points_thinned[e] = eye.status->thinned_points;
   }
   if (!eye.times) return;
   const gpu::StageTimes& times = *eye.times;
+  density.gpu_fill_ms[e] = times.density_fill_ms;  // 0 unless a device trace thinned
+  density.gpu_contrast_ms[e] = times.density_contrast_ms;
   reconstruction.gpu_scatter_ms[e] = times.scatter_ms;
   reconstruction.gpu_gather_ms[e] = times.gather_ms;
   reconstruction.gpu_temporal_ms[e] = times.temporal_ms;
@@ -577,6 +582,7 @@ bool FoveatedRenderer::Frames::take_result(uint32_t e, const foveation::FrameRes
   stats->temporalMs[e] = static_cast<float>(result.temporal_ms);
   stats->uploadMs[e] = static_cast<float>(result.encode_ms);  // the present adds the upload
   stats->callbackFailures += result.failed_batches;
+  take_density(e, result);
   reconstruction.temporal_reset_last_frame[e] = result.temporal_reset;
   reconstruction.temporal_resets += result.temporal_reset ? 1 : 0;
   stats->invalidColours += result.invalid_colours;
@@ -592,6 +598,16 @@ bool FoveatedRenderer::Frames::take_result(uint32_t e, const foveation::FrameRes
         "; showing the app's own image for this view (logged once, counted in stats)");
   }
   return false;
+}
+
+// The CPU trace's content density cost (foveation::DensityCost): 0 on a device trace, whose
+// passes are timed on the device (apply_collected).
+void FoveatedRenderer::Frames::take_density(uint32_t e, const foveation::FrameResult& result) {
+  density.points_thinned[e] = result.points_thinned;
+  density.levels_ms[e] = static_cast<float>(result.density.levels_ms);
+  density.test_ms[e] = static_cast<float>(result.density.test_ms);
+  density.observe_ms[e] = static_cast<float>(result.density.observe_ms);
+  density.fill_ms[e] = static_cast<float>(result.density.fill_ms);
 }
 
 foveation::FrameResources* FoveatedRenderer::Frames::gpu_resources(
@@ -665,7 +681,7 @@ bool FoveatedRenderer::Frames::present_cpu(uint32_t e, XrFoveatedRendererStatsFO
   reconstruction.path = XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART;
   reconstruction.temporal = eye.temporal;
   for (float* t : {reconstruction.gpu_scatter_ms, reconstruction.gpu_gather_ms, reconstruction.gpu_temporal_ms,
-                   reconstruction.gpu_encode_ms}) {
+                   reconstruction.gpu_encode_ms, density.gpu_fill_ms, density.gpu_contrast_ms}) {
     t[e] = 0.0f;
   }
   return true;
@@ -714,7 +730,7 @@ FoveatedRenderer::FoveatedRenderer(std::shared_ptr<SessionState> session, Render
     : session_(std::move(session)), settings_(std::move(settings)) {
   stats_.type = XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART;
   stats_.gazeSource = settings_.gaze_source;
-  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_, input_, reconstruction_);
+  if (session_->has_vulkan) frames_ = std::make_unique<Frames>(session_, settings_, input_, reconstruction_, density_);
 }
 
 FoveatedRenderer::~FoveatedRenderer() = default;
@@ -765,6 +781,10 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     app->next = app_next;
     if (frames_ != nullptr) frames_->app_trace_stats(app);
   }
+  if (auto* out = find_in_out_chain<XrFoveatedRendererDensityStatsFOVEART>(next,
+                                                                          XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART)) {
+    write_density_stats(out);
+  }
   // The reconstruction path, temporal mode and GPU stage times.
   if (auto* rec = find_in_out_chain<XrFoveatedRendererReconstructionStatsFOVEART>(
           next, XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART)) {
@@ -781,6 +801,18 @@ void FoveatedRenderer::stats(XrFoveatedRendererStatsFOVEART* out_stats) const {
     rec->temporalResets = reconstruction_.temporal_resets;
     rec->gazeSaccadeLastFrame = reconstruction_.gaze_saccade_last_frame ? XR_TRUE : XR_FALSE;
     rec->gazeBlinkLastFrame = reconstruction_.gaze_blink_last_frame ? XR_TRUE : XR_FALSE;
+  }
+}
+
+void FoveatedRenderer::write_density_stats(XrFoveatedRendererDensityStatsFOVEART* out) const {
+  for (int e = 0; e < 2; ++e) {
+    out->pointsThinned[e] = density_.points_thinned[e];
+    out->levelsMs[e] = density_.levels_ms[e];
+    out->testMs[e] = density_.test_ms[e];
+    out->observeMs[e] = density_.observe_ms[e];
+    out->fillMs[e] = density_.fill_ms[e];
+    out->gpuFillMs[e] = density_.gpu_fill_ms[e];
+    out->gpuContrastMs[e] = density_.gpu_contrast_ms[e];
   }
 }
 

@@ -101,6 +101,15 @@ struct ReconstructionStats {
   bool gaze_blink_last_frame = false;
 };
 
+// What choosing the density by content cost the last frame per eye, for
+// XrFoveatedRendererDensityStatsFOVEART (the header says which trace fills which).
+// Written and read under the renderer's frame lock.
+struct DensityStats {
+  uint32_t points_thinned[2] = {0, 0};
+  float levels_ms[2] = {0, 0}, test_ms[2] = {0, 0}, observe_ms[2] = {0, 0}, fill_ms[2] = {0, 0};  // host
+  float gpu_fill_ms[2] = {0, 0}, gpu_contrast_ms[2] = {0, 0};  // the device trace's timestamps
+};
+
 // One foveated renderer of a session: its executor ("threads" threads,
 // started here, never per frame), its gaze source, the foveation tables per
 // (view size, FOV), and per eye the layer's swapchain and the one foveated
@@ -135,12 +144,14 @@ class FoveatedRenderer {
 
  private:
   struct Frames;  // the frame path's state (foveated_renderer.cpp)
+  void write_density_stats(XrFoveatedRendererDensityStatsFOVEART* out) const;  // under mutex_
 
   std::shared_ptr<SessionState> session_;
   RendererSettings settings_;
   mutable std::mutex mutex_;  // one frame at a time; stats readers
   InputCounters input_;       // before frames_: its builder thread counts until frames_ is gone
   ReconstructionStats reconstruction_;
+  DensityStats density_;
   LogOnce foreign_once_, release_once_;
   std::unique_ptr<Frames> frames_;  // null when the session has no Vulkan: views pass through
   XrFoveatedRendererStatsFOVEART stats_{};

@@ -96,7 +96,7 @@ struct FoveatedRenderer::Frames {
   };
 
   Frames(std::shared_ptr<SessionState> session_in, const RendererSettings& settings_in, InputCounters& input_in,
-         ReconstructionStats& reconstruction_in);
+         ReconstructionStats& reconstruction_in, DensityStats& density_in);
   ~Frames();
 
   uint32_t render(XrTime display_time, const XrCompositionLayerProjection& layer, XrCompositionLayerProjectionView* views,
@@ -178,6 +178,7 @@ struct FoveatedRenderer::Frames {
   bool present_gpu(uint32_t e, XrFoveatedRendererStatsFOVEART* stats);
   // A frame's result into the stats: false (logged once) when it failed.
   bool take_result(uint32_t e, const foveation::FrameResult& result, XrFoveatedRendererStatsFOVEART* stats);
+  void take_density(uint32_t e, const foveation::FrameResult& result);
   // One eye's frame step (a render or an app-recorded plan) and its result; a
   // table/view inconsistency it throws makes the view fall back (frame_path_error).
   template <class Step>
@@ -204,6 +205,7 @@ struct FoveatedRenderer::Frames {
   RendererSettings settings;
   InputCounters& input;  // the renderer's; outlives this
   ReconstructionStats& reconstruction;  // the renderer's; written under its frame lock
+  DensityStats& density;                // the renderer's; likewise
   std::optional<std::filesystem::path> cache;  // null: no usable cache directory
   foveation::Executor executor;  // frames and table builds share its workers
   std::unique_ptr<GazeSource> gaze;

@@ -53,6 +53,14 @@
 // "gpu_frame_ms" (both eyes), each {p50, p95, p99, count}; and the series
 // end_frame_host_ms_per_frame (per traced frame), gpu_trace_ms_per_frame [L, R]
 // and gpu_eye_ms_per_frame [L, R] (per frame with GPU times).
+// "density": content density's cost (XrFoveatedRendererDensityStatsFOVEART):
+// "eyes" [L, R] of the last frame's {points_thinned, levels_ms, test_ms,
+// observe_ms, fill_ms (the CPU trace's host stages), gpu_fill_ms, gpu_contrast_ms
+// (the device trace's passes, of the newest finished frame)}; the series
+// gpu_fill_ms_per_frame and gpu_contrast_ms_per_frame [L, R] (as gpu_trace_ms);
+// and "per_frame": host_ms [L, R] (the host stages' sum per traced frame),
+// gpu_fill_ms and gpu_contrast_ms [L, R], each {p50, p95, p99, count}. The summary
+// without --json prints an eye's last frame where content density thinned points.
 // --mode full: the app renders every pixel of each eye itself with the chosen
 // engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
 // the layer's seed and jitter and no temporal history (each frame traced anew),
@@ -223,6 +231,30 @@ nlohmann::json eye_pairs(const std::vector<float>* per_eye) {
   return pairs;
 }
 
+// Content density's cost per eye (XrFoveatedRendererDensityStatsFOVEART): the last frame's
+// stages (host on a CPU trace, GPU on a device trace, the newest finished frame), and per frame.
+nlohmann::json density_json(const foveart::hello::AppResult& r) {
+  const auto& d = r.density;
+  nlohmann::json eyes = nlohmann::json::array();
+  for (int e = 0; e < 2; ++e) {
+    eyes.push_back({{"points_thinned", d.pointsThinned[e]},
+                    {"levels_ms", d.levelsMs[e]},
+                    {"test_ms", d.testMs[e]},
+                    {"observe_ms", d.observeMs[e]},
+                    {"fill_ms", d.fillMs[e]},
+                    {"gpu_fill_ms", d.gpuFillMs[e]},
+                    {"gpu_contrast_ms", d.gpuContrastMs[e]}});
+  }
+  return {{"eyes", eyes},
+          {"gpu_fill_ms_per_frame", eye_pairs(r.gpu_density_fill_ms)},
+          {"gpu_contrast_ms_per_frame", eye_pairs(r.gpu_density_contrast_ms)},
+          {"per_frame",
+           {{"host_ms", {distribution(r.density_ms[0]), distribution(r.density_ms[1])}},
+            {"gpu_fill_ms", {distribution(r.gpu_density_fill_ms[0]), distribution(r.gpu_density_fill_ms[1])}},
+            {"gpu_contrast_ms",
+             {distribution(r.gpu_density_contrast_ms[0]), distribution(r.gpu_density_contrast_ms[1])}}}}};
+}
+
 nlohmann::json stats_json(const foveart::hello::AppResult& r) {
   const auto& s = r.stats;
   nlohmann::json eyes = nlohmann::json::array();
@@ -268,6 +300,7 @@ nlohmann::json stats_json(const foveart::hello::AppResult& r) {
           {"temporal", temporal},
           {"gpu_stage_ms", gpu_ms},
           {"gpu_fallbacks", rec.gpuFallbacks},
+          {"density", density_json(r)},
           {"gaze_age_ms", s.gazeAgeMs},
           {"gaze_source", gaze_source_name(s.gazeSource)},
           {"fallback_flags", s.fallbackFlags},
@@ -710,6 +743,15 @@ void print_foveated_summary(const nlohmann::json& st, bool gpu_engine) {
       static_cast<unsigned long long>(st["frames_traced"].get<uint64_t>()),
       static_cast<unsigned long long>(st["views_fallback"].get<uint64_t>()), gpu_engine ? "GPU" : "CPU",
       st["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU", st["temporal"].get<std::string>().c_str());
+  for (int e = 0; e < 2; ++e) {  // content density's last frame, where it thinned
+    const nlohmann::json& d = st["density"]["eyes"][e];
+    if (d["points_thinned"].get<uint64_t>() == 0) continue;
+    std::printf("  %s eye, content density: %llu points thinned; host ms levels %.2f, test %.2f, observe %.2f, "
+                "fill %.2f; device ms fill %.3f, contrast %.3f\n",
+                e == 0 ? "left" : "right", static_cast<unsigned long long>(d["points_thinned"].get<uint64_t>()),
+                d["levels_ms"].get<double>(), d["test_ms"].get<double>(), d["observe_ms"].get<double>(),
+                d["fill_ms"].get<double>(), d["gpu_fill_ms"].get<double>(), d["gpu_contrast_ms"].get<double>());
+  }
 }
 
 // The sessions' results: JSON (--json) or a summary; --mode both with the speedup.

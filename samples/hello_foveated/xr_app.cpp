@@ -87,9 +87,12 @@ class App {
     result.stats.next = &result.reconstruction;
     result.app_trace = xr_struct<XrFoveatedAppTraceStatsFOVEART>(XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART);
     result.reconstruction.next = &result.app_trace;
+    result.density = xr_struct<XrFoveatedRendererDensityStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART);
+    result.app_trace.next = &result.density;
     check(get_stats_(renderer_, &result.stats), "xrGetFoveatedRendererStatsFOVEART");
     result.stats.next = nullptr;
     result.reconstruction.next = nullptr;
+    result.app_trace.next = nullptr;
     result.second_queue = trace_queue_ != queue_;
     return result;
   }
@@ -559,8 +562,10 @@ class App {
         xr_struct<XrFoveatedRendererReconstructionStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART);
     auto stats = xr_struct<XrFoveatedRendererStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_STATS_FOVEART);
     stats.next = &reconstruction;
+    auto density = xr_struct<XrFoveatedRendererDensityStatsFOVEART>(XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART);
+    reconstruction.next = &density;
     auto app_trace = xr_struct<XrFoveatedAppTraceStatsFOVEART>(XR_TYPE_FOVEATED_APP_TRACE_STATS_FOVEART);
-    if (app_trace_ != nullptr) reconstruction.next = &app_trace;
+    if (app_trace_ != nullptr) density.next = &app_trace;
     check(get_stats_(renderer_, &stats), "xrGetFoveatedRendererStatsFOVEART");
     if (stats.framesTraced <= traced_) return;
     traced_ = stats.framesTraced;
@@ -579,8 +584,10 @@ class App {
     for (int e = 0; e < 2; ++e) {
       result->overhead_ms[e].push_back(stats.selectMs[e] + stats.reconstructMs[e] + stats.temporalMs[e] + stats.uploadMs[e]);
       result->trace_ms[e].push_back(stats.traceMs[e]);
+      result->density_ms[e].push_back(density.levelsMs[e] + density.testMs[e] + density.observeMs[e] +
+                                      density.fillMs[e]);
     }
-    record_gpu_times(stats, reconstruction, result);
+    record_gpu_times(stats, reconstruction, density, result);
   }
 
   // The GPU path's times per eye where the stats have them (a finished frame, up
@@ -588,7 +595,7 @@ class App {
   // eye's stages in all.
   static void record_gpu_times(const XrFoveatedRendererStatsFOVEART& stats,
                                const XrFoveatedRendererReconstructionStatsFOVEART& reconstruction,
-                               AppResult* result) {
+                               const XrFoveatedRendererDensityStatsFOVEART& density, AppResult* result) {
     if (reconstruction.path != XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART) return;
     float eye_ms[2];
     for (int e = 0; e < 2; ++e)
@@ -601,6 +608,8 @@ class App {
     for (int e = 0; e < 2; ++e) {
       result->gpu_trace_ms[e].push_back(stats.traceMs[e]);
       result->gpu_eye_ms[e].push_back(eye_ms[e]);
+      result->gpu_density_fill_ms[e].push_back(density.gpuFillMs[e]);
+      result->gpu_density_contrast_ms[e].push_back(density.gpuContrastMs[e]);
     }
     result->gpu_frame_ms.push_back(eye_ms[0] + eye_ms[1]);
   }

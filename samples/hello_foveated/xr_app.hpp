@@ -106,6 +106,7 @@ struct AppResult {
   uint64_t frames = 0;
   XrFoveatedRendererStatsFOVEART stats{};
   XrFoveatedRendererReconstructionStatsFOVEART reconstruction{};  // chained into stats at the end
+  XrFoveatedRendererDensityStatsFOVEART density{};                // ... as well
   // The last frame's submitted projection views (pose in the app's space, which
   // is the scene's; FOV; image size): what the layer traced them from.
   struct SubmittedView {
@@ -119,6 +120,9 @@ struct AppResult {
   std::vector<float> gaze_age_ms;
   std::vector<float> overhead_ms[2];
   std::vector<float> trace_ms[2];
+  // Per traced frame: content density's host ms (XrFoveatedRendererDensityStatsFOVEART's
+  // levels + test + observe + fill; 0 on a device trace or while off).
+  std::vector<float> density_ms[2];
   // Per rendered frame (foveated: the frames the layer traced; full: every
   // frame): xrBeginFrame's call to xrEndFrame's return, as the app sees it.
   std::vector<float> frame_ms;
@@ -133,6 +137,9 @@ struct AppResult {
   std::vector<float> gpu_trace_ms[2];
   std::vector<float> gpu_eye_ms[2];
   std::vector<float> gpu_frame_ms;
+  // ... and, within gpu_trace_ms, content density's passes on the device: fill and contrast.
+  std::vector<float> gpu_density_fill_ms[2];
+  std::vector<float> gpu_density_contrast_ms[2];
   // Per traced frame: frame index, then the layer's gaze pixel of each eye (x, y).
   std::vector<std::array<float, 5>> gaze_px;
   uint64_t app_gaze_located_frames = 0;  // app_actions: frames its own gaze action located

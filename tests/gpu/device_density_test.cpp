@@ -169,6 +169,8 @@ TEST_F(DeviceDensityTest, PointsAndRaysFollowTheCpuRule) {
     const uint64_t unthinned = uint64_t(first.visible_points) * kDensityRays;
     StageTimes times;
     ASSERT_TRUE(eye_->stage_times(&times));
+    EXPECT_GT(times.density_fill_ms, 0.0f) << "frame " << i << ": the fill pass is timed";
+    EXPECT_GT(times.density_contrast_ms, 0.0f) << "frame " << i << ": the contrast pass is timed";
     std::cout << "[ device density ] frame " << i << ": " << eye_->device_trace_status().rays << " rays of "
               << unthinned << " without content density, " << expected.thinned << " of "
               << eye_->device_trace_status().visible_points << " visible points thinned; GPU ms: trace "

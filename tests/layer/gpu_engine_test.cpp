@@ -46,6 +46,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <memory>
 #include <string>
@@ -163,8 +164,33 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 // and from frame 2 on ("late": pipelined frames, the fault kept on the device;
 // frame 2's status is read at frame 4); with "temporal": "rays" ("rays"),
 // the render cache fed by the device trace on the device; and with content
-// density ("density": the second frame thins by the first's tiles on the device).
+// density ("density": the second frame thins by the first's tiles on the device;
+// XrFoveatedRendererDensityStatsFOVEART has its thinned points and passes' GPU ms).
 class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
+
+// XrFoveatedRendererDensityStatsFOVEART through hello_foveated --json on a device trace: with
+// content density on, the newest finished frame thinned points and the device's passes are
+// timed, while the host's stages stay 0 (the CPU's test, observe and fill do not run); off
+// (or with the render cache, which keeps every ray), everything is 0.
+void expect_device_density_stats(const AppRun& r, bool density_on) {
+  const nlohmann::json& d = r.stats["density"];
+  ASSERT_TRUE(d.is_object()) << r.process.output;
+  for (int e = 0; e < 2; ++e) {
+    const nlohmann::json& eye = d["eyes"][e];
+    std::cout << "[ measured ] eye " << e << " density stats " << eye.dump() << "\n";
+    for (const char* host : {"levels_ms", "test_ms", "observe_ms", "fill_ms"})
+      EXPECT_EQ(eye[host].get<double>(), 0.0) << "eye " << e << " " << host;
+    if (!density_on) {
+      for (const char* key : {"points_thinned", "gpu_fill_ms", "gpu_contrast_ms"})
+        EXPECT_EQ(eye[key].get<double>(), 0.0) << "eye " << e << " " << key;
+      continue;
+    }
+    EXPECT_GT(eye["points_thinned"].get<uint64_t>(), 0u) << "eye " << e;
+    EXPECT_GT(eye["gpu_fill_ms"].get<double>(), 0.0) << "eye " << e;
+    EXPECT_GT(eye["gpu_contrast_ms"].get<double>(), 0.0) << "eye " << e;
+    EXPECT_GT(d["per_frame"]["gpu_contrast_ms"][e]["count"].get<int>(), 0) << "eye " << e;
+  }
+}
 
 TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors) {
   const std::string fault = GetParam();
@@ -182,15 +208,17 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   if (density) configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0.1, "content_rays": 0.2)");
   if (fault == "nan") extra.insert(extra.end(), {"--fault", fault});
   if (fault == "late") extra.insert(extra.end(), {"--fault", "nan", "--fault-from-frame", "2"});
+  // "late", and "density" so that the stats hold frame 2, the first that thins (read when its slot comes round).
   constexpr int kLateFrames = 4;
-  const AppRun r = launch("validated", "gpu", gaze, extra, fault == "late" ? kLateFrames : kFrames, kRaysPerPoint,
-                          rays ? "rays" : "off");
+  const int frames = fault == "late" || density ? kLateFrames : kFrames;
+  const AppRun r = launch("validated", "gpu", gaze, extra, frames, kRaysPerPoint, rays ? "rays" : "off");
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
   if (fault == "none" || rays || density) {
-    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kFrames, rays ? "rays" : "off"));
+    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", frames, rays ? "rays" : "off"));
+    ASSERT_NO_FATAL_FAILURE(expect_device_density_stats(r, density));
   } else if (fault == "late") {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
     ASSERT_TRUE(r.stats.is_object()) << r.process.output;

@@ -107,6 +107,28 @@ TEST_F(HelloFoveated, TracesBothEyesEveryFrame) {
   }
 }
 
+// XrFoveatedRendererDensityStatsFOVEART through hello_foveated --json on the CPU trace:
+// with content density on, the last frame thinned points and each host stage took time
+// (levels may round to nothing: the sum is checked), the device's stages stay 0; off, all 0.
+void expect_cpu_density_stats(const nlohmann::json& stats, int e, bool density_on) {
+  const nlohmann::json& eye = stats["density"]["eyes"][e];
+  ASSERT_TRUE(eye.is_object()) << stats.dump();
+  std::cout << "[ measured ] eye " << e << " density stats " << eye.dump() << "\n";
+  EXPECT_EQ(eye["gpu_fill_ms"].get<double>(), 0.0) << "eye " << e;
+  EXPECT_EQ(eye["gpu_contrast_ms"].get<double>(), 0.0) << "eye " << e;
+  const double host_ms = eye["levels_ms"].get<double>() + eye["test_ms"].get<double>() +
+                         eye["observe_ms"].get<double>() + eye["fill_ms"].get<double>();
+  if (!density_on) {
+    EXPECT_EQ(eye["points_thinned"].get<uint64_t>(), 0u) << "eye " << e;
+    EXPECT_EQ(host_ms, 0.0) << "eye " << e;
+    return;
+  }
+  EXPECT_GT(eye["points_thinned"].get<uint64_t>(), 0u) << "eye " << e;
+  for (const char* stage : {"test_ms", "observe_ms", "fill_ms"})
+    EXPECT_GT(eye[stage].get<double>(), 0.0) << "eye " << e << " " << stage;
+  EXPECT_GT(stats["density"]["per_frame"]["host_ms"][e]["p50"].get<double>(), 0.0) << "eye " << e;
+}
+
 // Content-aware density through the layer's config: from the second frame on, the
 // flat tiles trace fewer points; the frames stay the scene's.
 TEST_F(HelloFoveated, ContentContrastTracesFewerRaysWhereTheViewIsFlat) {
@@ -125,6 +147,8 @@ TEST_F(HelloFoveated, ContentContrastTracesFewerRaysWhereTheViewIsFlat) {
     std::cout << "[ measured ] eye " << e << ": " << rays << " rays of " << full_rays << " without\n";
     EXPECT_LT(rays, 0.9 * full_rays) << "eye " << e;
     EXPECT_GT(rays, 0.2 * full_rays) << "eye " << e << ": level 0 and the fovea stay";
+    ASSERT_NO_FATAL_FAILURE(expect_cpu_density_stats(thinned.stats, e, true));
+    ASSERT_NO_FATAL_FAILURE(expect_cpu_density_stats(full.stats, e, false));
   }
   const auto img = summarize(frame(2, "left"));
   ASSERT_TRUE(img.loaded);

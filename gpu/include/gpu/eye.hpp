@@ -174,6 +174,7 @@ class Eye {
     VkQueryPool queries = VK_NULL_HANDLE;
     std::unique_ptr<DeviceTrace> device_trace;  // made by the slot's first device-traced frame
     bool recorded = false;
+    bool density = false;  // its frame ran content density's passes: their times are kept (stage_times)
   };
 
   Eye(Context& context, const FramePipelines& pipelines, uint32_t width_px, uint32_t height_px);

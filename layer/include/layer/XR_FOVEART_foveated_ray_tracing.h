@@ -46,7 +46,10 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
- * Versions: 9 adds the app-recorded trace (XrFoveatedAppTraceInfoFOVEART,
+ * Versions: 10 adds the per-stage cost of content density
+ *           (XrFoveatedRendererDensityStatsFOVEART, chained into the stats);
+ *           nothing else changed.
+ *           9 adds the app-recorded trace (XrFoveatedAppTraceInfoFOVEART,
  *           xrAcquireFoveatedRayBatchFOVEART, xrReleaseFoveatedRayBatchFOVEART);
  *           nothing else changed.
  *           8 adds each device ray's footprint (XrFoveatedDeviceRayFootprintFOVEART)
@@ -81,7 +84,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 9
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 10
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
@@ -98,6 +101,7 @@ XR_DEFINE_HANDLE(XrFoveatedRendererFOVEART)
 #define XR_TYPE_FOVEATED_RENDERER_INPUT_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900003)
 #define XR_TYPE_FOVEATED_RENDERER_RECONSTRUCTION_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900004)
 #define XR_TYPE_FOVEATED_DISPLAY_TRANSFORM_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900005)
+#define XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART XR_FOVEART_STRUCTURE_TYPE(1000900012)
 
 typedef enum XrFoveatedInterpolationFOVEART {
   XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART = 0, /* nearest neighbour */
@@ -258,6 +262,36 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
   XrBool32 gazeSaccadeLastFrame; /* the gaze provider flagged a saccade for the last frame */
   XrBool32 gazeBlinkLastFrame;   /* ... or a blink (held gaze) */
 } XrFoveatedRendererReconstructionStatsFOVEART;
+
+/* Chain into XrFoveatedRendererStatsFOVEART::next to also get what choosing the
+ * point density by content ("content_contrast" / "content_rays" in the config)
+ * cost per eye, in milliseconds, and the points it thinned. All 0 while it is off.
+ * The stages (docs/foveation.md, "Content-aware density"):
+ *   CPU trace (the traceRays callback, either reconstruction path), host time of
+ *   the last frame: levelsMs, the tiles' levels from the last frame's luminance
+ *   ranges; testMs, the per-point test (thinned or traced, rays by the tile's
+ *   contrast); observeMs, the traced colours into their tiles' ranges; fillMs,
+ *   the thinned points from their parents. Test and observe run inside the
+ *   parallel trace pass: their time summed over the threads, divided by the
+ *   threads. They are part of the stats' selectMs and traceMs. gpu* are 0.
+ *   Device trace (XrFoveatedDeviceTraceInfoFOVEART), GPU time from timestamps,
+ *   part of the stats' traceMs: gpuFillMs, the thinned points from their
+ *   parents; gpuContrastMs, the tiles' contrast for the next frame. Like the
+ *   other GPU stage times (and pointsThinned with them) they describe the newest
+ *   frame whose submission finished, up to two frames older than the last
+ *   xrEndFrame. The host stages are 0.
+ *   The app-recorded trace does not choose the density by content: all 0. */
+typedef struct XrFoveatedRendererDensityStatsFOVEART {
+  XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART */
+  void* XR_MAY_ALIAS next;
+  uint32_t pointsThinned[2]; /* visible points left untraced in flat tiles, filled from their parents */
+  float levelsMs[2];
+  float testMs[2];
+  float observeMs[2];
+  float fillMs[2];
+  float gpuFillMs[2];
+  float gpuContrastMs[2];
+} XrFoveatedRendererDensityStatsFOVEART;
 
 #ifdef XR_USE_GRAPHICS_API_VULKAN
 #include <vulkan/vulkan.h>
