@@ -13,15 +13,22 @@
 #  rays (rays.md): rays per point by contrast, centred gaze: `fovea-eval density --ray-contrasts`
 #    on the CROP at 16 rays per point and density scale 2, the primary rays against eccentricity
 #    only at the same scale, and what the metric sees.
-# Usage: bench/content_density.sh [--part detection|cost|rays] [DIR [CROP [RAYS [REFERENCE_SPP]]]]
+#  device-cost (cost_device.md): the same on the device trace, per stage: `hello_foveated --engine
+#    gpu` through the layer and the simulated runtime on lavapipe (the scenes it loads: not engine,
+#    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
+#    density's passes from XrFoveatedRendererDensityStatsFOVEART beside the trace and frame.
+# Usage: bench/content_density.sh [--part detection|cost|rays|device-cost] [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part; out/content_density 320x360 128 512)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 args=("$@")
-parts=(detection cost rays)
+parts=(detection cost rays device-cost)
 if [ "${1:-}" = --part ]; then
-  case "${2:-}" in detection | cost | rays) parts=("$2") ;; *) echo "bench/content_density.sh: --part detection, cost or rays" >&2; exit 2 ;; esac
+  case "${2:-}" in
+    detection | cost | rays | device-cost) parts=("$2") ;;
+    *) echo "bench/content_density.sh: --part detection, cost, rays or device-cost" >&2; exit 2 ;;
+  esac
   shift 2
 fi
 dir=${1:-out/content_density}
@@ -30,6 +37,7 @@ rays=${3:-128}
 reference_spp=${4:-512}
 eval_bin=build/bin/fovea-eval
 fovea=build/bin/fovea
+hello=build/bin/hello_foveated
 need() {
   [ -x "$1" ] || { echo "bench/content_density.sh: $1 is missing: build first (scripts/run.sh)" >&2; exit 2; }
 }
@@ -126,7 +134,7 @@ cost_part() {
     echo "frame's luminance ranges; test, the per-point test (thinned or traced); observe, the traced colours into their"
     echo "tiles' ranges; fill, the thinned points from their parents. Test and observe run inside the parallel trace pass:"
     echo "their time summed over the threads, divided by the threads. Density ms is the four's sum. Load average (1 min)"
-    echo "when each ran."
+    echo "when each ran. The device trace's passes: [cost_device.md](cost_device.md)."
     echo
     echo "| scene | levels ms | test ms | observe ms | fill ms | density ms | frame ms | density % of the frame | rays % of full | load |"
     echo "|---|---|---|---|---|---|---|---|---|---|"
@@ -183,11 +191,77 @@ rays_part() {
   echo "Rings: 0: 0-2.5, 1: 2.5-5, 2: 5-10, 3: 10-20, 4: 20-30, 5: 30-45, 6: >45 degrees from the gaze." >>"$md"
 }
 
+# hello_foveated --engine gpu with the layer config's extra keys $1 (', "content_contrast": ...' or '')
+# on SCENE ($2) for $3 frames into JSON $4: centred (fixed) foveation, the device trace, reconstruction
+# on the GPU. Its config and log go to out/content_density_device/.
+device_run() {
+  local extra=$1 scene=$2 frames=$3 json=$4 work=out/content_density_device log
+  log="$work/$(basename "${json%.json}").log"
+  mkdir -p "$work"
+  printf '{ "wait_for_tables": true, "log_level": "warn", "reconstruction": "gpu"%s }\n' "$extra" >"$work/config.json"
+  results_sim_run "$PWD/$work/config.json" "$frames" \
+    "$hello" --engine gpu --scene "$scene" --eye-size "$cw" "$ch" --density-scale 4 --interpolation msm --k 5 \
+    --temporal image --gaze-source none --json >"$json" 2>"$log" ||
+    { echo "bench/content_density.sh: hello_foveated failed; its log is $log" >&2; exit 1; }
+}
+
+# Per scene, content density's GPU cost per pass on the device trace, on lavapipe: cost_device.md.
+device_cost_part() {
+  need "$hello"
+  local md="$dir/cost_device.md" frames=8
+  {
+    header "What choosing the density costs, per pass, on the device trace (lavapipe)"
+    echo "Lavapipe is Mesa's CPU rasteriser: these are the passes' work on llvmpipe on this machine's cores, not GPU"
+    echo "times; they say what runs where and in what proportion, not how fast a GPU is. Per scene, \`$hello --engine gpu"
+    echo "--scene SCENE --eye-size $cw $ch --density-scale 4 --interpolation msm --k 5 --temporal image --gaze-source none"
+    echo "--json\` through the layer and the simulated runtime (bench/results_lib.sh), $frames frames, layer config"
+    echo "\`\"reconstruction\": \"gpu\", \"content_contrast\": 0.5\` and once without content density: both eyes, the"
+    echo "device trace (the GPU sample engine traces the layer's device rays), centred foveation. A $cw x $ch eye at density"
+    echo "scale 4 puts the pixel-exact fovea's edge inside the view, as the whole FOVE eye at scale 1 does. Temporal"
+    echo "\"image\": the GPU path's default history, the render cache, keeps every ray and so thins nothing. The scenes"
+    echo "hello_foveated loads from their own camera: not engine, whose viewer it cannot place."
+    echo
+    echo "From \`XrFoveatedRendererDensityStatsFOVEART\` (\`hello_foveated --json\`'s \`density\`), per finished frame,"
+    echo "both eyes' sum, median over the frames: fill, the thinned points from their parents; contrast, the tiles'"
+    echo "contrast for the next frame. Trace: the stats' \`traceMs\` on the device (the rays, the engine's trace, the"
+    echo "resolve and the two passes); frame: both eyes' GPU time in all (\`gpu_eye_ms_per_frame\`). Rays, with content"
+    echo "density and without, and thinned points (filled from their parents): the newest finished frame's, both eyes."
+    echo "llvmpipe shares the cores with whatever else runs: under load its trace varies by tens of % from frame to"
+    echo "frame, so the two trace columns differ by more than content density changes them; the fill and contrast"
+    echo "columns are the passes' own time. The CPU trace's stages: [cost.md](cost.md). Load average (1 min) when each ran."
+    echo
+    echo "| scene | fill ms | contrast ms | density % of the trace | trace ms | trace ms without | frame ms | rays | rays without | rays % | thinned points | load |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+  } >"$md"
+  local entry name scene viewer load
+  for entry in "${scenes[@]}"; do
+    IFS='|' read -r name scene viewer <<<"$entry"
+    [ -z "$viewer" ] || continue  # hello_foveated has no viewer pose: the scenes viewed from their own camera
+    echo "=== $name, device cost" >&2
+    load=$(cut -d' ' -f1 /proc/loadavg)
+    device_run ', "content_contrast": 0.5' "$scene" "$frames" "$dir/json/${name}_cost_device.json"
+    device_run '' "$scene" "$frames" "$dir/json/${name}_cost_device_off.json"
+    jq -r -s --arg name "$name" --arg load "$load" '
+      def r2: . * 100 | round / 100;
+      def median: sort | .[(length - 1) / 2 | floor];
+      def both($pairs): $pairs | map(add) | median;
+      .[0] as $on | .[1] as $off | $on.density as $d
+      | both($d.gpu_fill_ms_per_frame) as $fill | both($d.gpu_contrast_ms_per_frame) as $contrast
+      | both($on.gpu_trace_ms_per_frame) as $trace | ($on.eyes | map(.rays) | add) as $rays
+      | ($off.eyes | map(.rays) | add) as $rays_off
+      | "| \($name) | \($fill | r2) | \($contrast | r2) | \(($fill + $contrast) / $trace * 1000 | round / 10)"
+        + " | \($trace | r2) | \(both($off.gpu_trace_ms_per_frame) | r2) | \(both($on.gpu_eye_ms_per_frame) | r2)"
+        + " | \($rays) | \($rays_off) | \($rays / $rays_off * 1000 | round / 10)"
+        + " | \($d.eyes | map(.points_thinned) | add) | \($load) |"' \
+      "$dir/json/${name}_cost_device.json" "$dir/json/${name}_cost_device_off.json" >>"$md"
+  done
+}
+
 if [ ! -f "$engine_glb" ]; then
   echo "bench/content_density.sh: $engine_glb is missing (assimp-testmodels): skipping engine" >&2
   unset 'scenes[4]'
 fi
 for part in "${parts[@]}"; do
-  "${part}_part"
+  "${part//-/_}_part"
 done
 echo "wrote ${parts[*]} in $dir" >&2
