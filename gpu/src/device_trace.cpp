@@ -295,11 +295,10 @@ DeviceRayBatch DeviceTrace::batch(const DeviceTraceFrame& frame, VkCommandBuffer
   return batch;
 }
 
-// Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made
-// (the caller cleared the status with the frame's other targets).
+// Stages 1-2: every ray colour NaN (unwritten is invalid), the rays made, the SCAN writing
+// every control word (the caller cleared the status with the frame's other targets).
 void DeviceTrace::record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   const foveation::PointSet& points = *frame.points;
-  vkCmdFillBuffer(cb, control_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   // The visible points compacted in the set's order: counts per block, where each block begins, the rays.
