@@ -12,7 +12,8 @@
 #include "gpu/shader_interface/cache_device_rays.h"
 #include "gpu/shader_interface/depth.h"
 
-layout(local_size_x = FOVEART_CACHE_DEVICE_RAYS_GROUP) in;
+// One visible point per invocation: the device trace's resolve dispatch reused (device_trace.h).
+layout(local_size_x = FOVEART_DEVICE_RESOLVE_GROUP) in;
 layout(set = 0, binding = 0, std430) readonly buffer Rays { DeviceRay rays[]; };
 layout(set = 0, binding = 1, std430) readonly buffer RayColors { vec4 ray_colors[]; };  // rgb, depth in metres
 layout(set = 0, binding = 2, std430) readonly buffer PointIndex { uint point_index[]; };

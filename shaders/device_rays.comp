@@ -10,17 +10,20 @@
 // rays_per_point. The rays are compacted in the point set's order, so a frame
 // gives the same rays in the same places on every run (and neighbouring rays
 // stay neighbours, as the set's Hilbert order made them):
-//   COUNT  a workgroup per block of points sums its points' rays (and counts
-//          the visible, traced and thinned points);
-//   SCAN   one workgroup: the blocks' sums become where each block's rays
-//          begin (scan.glsl), the total is the ray count; the indirect
-//          dispatches follow;
-//   WRITE  a workgroup per block: each point's first ray is its block's start
-//          plus the rays of the points before it in the block (a scan in
-//          shared memory); its rays go there (pixel-grid points jittered over
-//          their pixel, the rest in their disc, thesis 4.2), each with its
-//          footprint: the point's disc radius as an angle at the eye; every
-//          point's (first ray, count) goes to point_rays for the resolve.
+//   COUNT  a workgroup per block of points sums its points' rays, traced
+//          points and thinned points;
+//   SCAN   one workgroup: each of the blocks' sums becomes where the block's
+//          rays, traced and thinned points begin (scan.glsl); the totals are
+//          the ray and point counts; the indirect dispatches follow: the
+//          engine's over the rays, the resolve's over the traced points and
+//          the fill's over the thinned ones;
+//   WRITE  a workgroup per block: each point's first ray and rank are its
+//          block's starts plus those of the points before it in the block (a
+//          scan in shared memory); its rays go there (pixel-grid points
+//          jittered over their pixel, the rest in their disc, thesis 4.2), each
+//          with its footprint: the point's disc radius as an angle at the eye;
+//          a visible point's (point, first ray, count) goes to point_rays at
+//          its rank (traced points first, then thinned), for the resolve.
 #extension GL_GOOGLE_include_directive : require
 #include "eye_rays.glsl"
 #include "jitter.glsl"
@@ -33,9 +36,10 @@ layout(set = 0, binding = 0, std430) readonly buffer Points { DevicePoint points
 // Per ray: (origin xyz, sample x), (direction xyz, sample y): the engine's contract.
 layout(set = 0, binding = 1, std430) writeonly buffer Rays { DeviceRay rays[]; };
 layout(set = 0, binding = 2, std430) writeonly buffer PointIndex { uint point_index[]; };
-// XrFoveatedDeviceRayCountFOVEART, then the resolve's dispatch and the point counts (device_trace.h).
+// XrFoveatedDeviceRayCountFOVEART, the resolve's and fill's dispatches and the point counts (device_trace.h).
 layout(set = 0, binding = 3, std430) buffer Control { uint control[]; };
-// Per block of points: its rays (COUNT), then where they begin (SCAN).
+// Three regions of a word per block of points (BLOCK_RAYS, _TRACED, _THINNED):
+// its rays, traced and thinned points (COUNT), then where they begin (SCAN).
 layout(set = 0, binding = 4, std430) buffer Blocks { uint block_first[]; };
 // Per ray: its footprint in radians (XrFoveatedDeviceRayFootprintFOVEART).
 layout(set = 0, binding = 5, std430) writeonly buffer Footprints { float footprint_rad[]; };
@@ -43,18 +47,26 @@ layout(set = 0, binding = 5, std430) writeonly buffer Footprints { float footpri
 layout(set = 0, binding = 6, std430) readonly buffer Levels { DeviceLevel levels[]; };
 // The eye's tiles: the last frame's contrast and level per tile (device_trace.h).
 layout(set = 0, binding = 7, std430) readonly buffer Tiles { uint tile_words[]; };
-// Per point: (first ray, ray count), FOVEART_DEVICE_THINNED first for a thinned point.
-layout(set = 0, binding = 8, std430) writeonly buffer PointRays { uvec2 point_rays[]; };
+// Per rank of a visible point: its rays (device_trace.h), traced points first.
+layout(set = 0, binding = 8, std430) writeonly buffer PointRays { DevicePointRays point_rays[]; };
 
 #define SCAN_ARRAY block_first
 #define SCAN_THREADS FOVEART_DEVICE_RAYS_BLOCK
 #include "scan.glsl"
 
-shared uint rays_before[FOVEART_DEVICE_RAYS_BLOCK];  // per invocation: the rays of the block before its point
-shared uint block_counts[3];                         // the block's visible, traced and thinned points
+// The regions of block_first: a word per block each.
+#define BLOCK_RAYS 0u
+#define BLOCK_TRACED 1u
+#define BLOCK_THINNED 2u
 
-void write_counts(uint count) {
-  const uint traced = control[FOVEART_DEVICE_TRACED_POINTS];
+// Per invocation: the rays, traced and thinned points of the block before its point.
+shared uvec3 block_before[FOVEART_DEVICE_RAYS_BLOCK];
+
+// The control words from the totals: the counts and the indirect dispatches.
+void write_counts(uint count, uint traced, uint thinned) {
+  control[FOVEART_DEVICE_VISIBLE_POINTS] = traced + thinned;
+  control[FOVEART_DEVICE_TRACED_POINTS] = traced;
+  control[FOVEART_DEVICE_THINNED_POINTS] = thinned;
   control[0] = count;
   uint groups_x, rows;
   ray_dispatch_groups(count, groups_x, rows);  // two-dimensional: every side within Vulkan's minimum limit
@@ -67,9 +79,13 @@ void write_counts(uint count) {
   control[5] = height;
   control[6] = 1u;
   control[7] = 0u;
-  control[FOVEART_DEVICE_RESOLVE_DISPATCH] = (traced + 63u) / 64u;
+  const uint group = uint(FOVEART_DEVICE_RESOLVE_GROUP);
+  control[FOVEART_DEVICE_RESOLVE_DISPATCH] = (traced + group - 1u) / group;
   control[FOVEART_DEVICE_RESOLVE_DISPATCH + 1u] = 1u;
   control[FOVEART_DEVICE_RESOLVE_DISPATCH + 2u] = 1u;
+  control[FOVEART_DEVICE_FILL_DISPATCH] = (thinned + group - 1u) / group;
+  control[FOVEART_DEVICE_FILL_DISPATCH + 1u] = 1u;
+  control[FOVEART_DEVICE_FILL_DISPATCH + 2u] = 1u;
 }
 
 bool visible_point(uint i, out vec2 screen) {
@@ -80,21 +96,21 @@ bool visible_point(uint i, out vec2 screen) {
          screen.y < float(screen_px.y) + margin_px;
 }
 
-// The rays of the block's points before this invocation's (exclusive, in
-// gl_LocalInvocationIndex order: a Hillis-Steele scan in shared memory), and
-// (*block_rays) of all of them.
-uint rays_in_block(uint rays, out uint block_rays) {
+// The rays, traced and thinned points of the block's points before this
+// invocation's (exclusive, in gl_LocalInvocationIndex order: a Hillis-Steele
+// scan in shared memory), and (*block_sums) of all of them.
+uvec3 before_in_block(uvec3 own, out uvec3 block_sums) {
   const uint t = gl_LocalInvocationIndex;
-  rays_before[t] = rays;
+  block_before[t] = own;
   barrier();
   for (uint step = 1u; step < uint(FOVEART_DEVICE_RAYS_BLOCK); step <<= 1u) {
-    const uint add = t >= step ? rays_before[t - step] : 0u;
+    const uvec3 add = t >= step ? block_before[t - step] : uvec3(0u);
     barrier();
-    rays_before[t] += add;
+    block_before[t] += add;
     barrier();
   }
-  block_rays = rays_before[FOVEART_DEVICE_RAYS_BLOCK - 1];
-  return rays_before[t] - rays;
+  block_sums = block_before[FOVEART_DEVICE_RAYS_BLOCK - 1];
+  return block_before[t] - own;
 }
 
 // Content density's rays of visible point i at `screen` (0: thinned), from the
@@ -129,22 +145,6 @@ uint rays_of(uint i, out bool visible, out vec2 screen) {
                                                                                 : rays_per_point;
 }
 
-// COUNT: the block's visible, traced and thinned points into the control words.
-void count_points(bool visible, uint rays) {
-  if (gl_LocalInvocationIndex < 3u) block_counts[gl_LocalInvocationIndex] = 0u;
-  barrier();
-  if (visible) {
-    atomicAdd(block_counts[0], 1u);
-    atomicAdd(block_counts[rays > 0u ? 1 : 2], 1u);
-  }
-  barrier();
-  if (gl_LocalInvocationIndex == 0u) {
-    atomicAdd(control[FOVEART_DEVICE_VISIBLE_POINTS], block_counts[0]);
-    atomicAdd(control[FOVEART_DEVICE_TRACED_POINTS], block_counts[1]);
-    atomicAdd(control[FOVEART_DEVICE_THINNED_POINTS], block_counts[2]);
-  }
-}
-
 // The angle at the eye between the point's centre and the edge of its disc (radius r_i, thesis eq. 4):
 // 2 asin(|d1 - d0| / 2) of the two unit directions, exact for small angles too.
 float disc_radius_rad(vec2 screen, float radius_px) {
@@ -169,26 +169,42 @@ void write_rays(uint i, uint first, uint count, vec2 screen) {
   }
 }
 
+// WRITE: visible point i's entry at its rank, and its rays; `before`: the
+// block's rays, traced and thinned points before it.
+void write_point(uint i, uint blocks, uint rays, uvec3 before, vec2 screen) {
+  const uint b = gl_WorkGroupID.x;
+  if (rays == 0u) {  // thinned: after every traced point
+    const uint rank = control[FOVEART_DEVICE_TRACED_POINTS] + block_first[BLOCK_THINNED * blocks + b] + before.z;
+    point_rays[rank] = DevicePointRays(i, FOVEART_DEVICE_THINNED, 0u);
+    return;
+  }
+  const uint first = block_first[BLOCK_RAYS * blocks + b] + before.x;
+  point_rays[block_first[BLOCK_TRACED * blocks + b] + before.y] = DevicePointRays(i, first, rays);
+  write_rays(i, first, rays, screen);
+}
+
 void main() {
   const uint blocks = (point_count + uint(FOVEART_DEVICE_RAYS_BLOCK) - 1u) / uint(FOVEART_DEVICE_RAYS_BLOCK);
   if (pass == FOVEART_DEVICE_RAYS_SCAN) {
-    const uint count = scan_all(0u, blocks);
-    if (gl_LocalInvocationIndex == 0u) write_counts(count);
+    const uint count = scan_all(BLOCK_RAYS * blocks, blocks);
+    const uint traced = scan_all(BLOCK_TRACED * blocks, blocks);
+    const uint thinned = scan_all(BLOCK_THINNED * blocks, blocks);
+    if (gl_LocalInvocationIndex == 0u) write_counts(count, traced, thinned);
     return;
   }
   const uint i = gl_GlobalInvocationID.x;
   bool visible;
   vec2 screen;
   const uint rays = rays_of(i, visible, screen);
-  uint block_rays;
-  const uint before = rays_in_block(rays, block_rays);
+  const uvec3 own = uvec3(rays, visible && rays > 0u ? 1u : 0u, visible && rays == 0u ? 1u : 0u);
+  uvec3 block_sums;
+  const uvec3 before = before_in_block(own, block_sums);
   if (pass == FOVEART_DEVICE_RAYS_COUNT) {
-    if (gl_LocalInvocationIndex == 0u) block_first[gl_WorkGroupID.x] = block_rays;
-    count_points(visible, rays);
+    if (gl_LocalInvocationIndex == 0u) {
+      for (uint region = BLOCK_RAYS; region <= BLOCK_THINNED; ++region)
+        block_first[region * blocks + gl_WorkGroupID.x] = block_sums[region];
+    }
     return;
   }
-  if (i >= point_count) return;
-  const uint first = block_first[gl_WorkGroupID.x] + before;
-  point_rays[i] = uvec2(visible && rays == 0u ? FOVEART_DEVICE_THINNED : first, rays);
-  if (rays > 0u) write_rays(i, first, rays, screen);
+  if (visible) write_point(i, blocks, rays, before, screen);
 }

@@ -1,6 +1,8 @@
 #version 450
 // Stage 3's end on the device, three dispatches (DeviceResolvePush::pass):
-//   POINTS    a point each: a traced point's colour is the mean of its rays'
+//   POINTS    a traced point each (indirect: device_rays.comp's SCAN sized it
+//             by the traced points, which its WRITE ranked first in
+//             point_rays): a traced point's colour is the mean of its rays'
 //             colours and its depth the nearest of their hits, as
 //             foveation::CallbackTrace makes them on the CPU, written into the
 //             point slots the gather reads. NaN, infinite and negative colour
@@ -9,7 +11,7 @@
 //             (drivers may compile isnan away). With content density its
 //             display-linear luminance goes into its tile's range (atomic
 //             min/max of the ordered bits of a non-negative float);
-//   FILL      a point each: a thinned point takes the weighted colour of its
+//   FILL      a thinned point each (indirect, ranked after the traced ones): it takes the weighted colour of its
 //             traced parents and the nearest traced parent's depth
 //             (CallbackTrace::fill_point), so the gather reads a complete set;
 //   CONTRAST  a tile each: the contrast of its 3x3 neighbourhood's range and
@@ -20,13 +22,14 @@
 #include "gpu/shader_interface/device_resolve.h"
 #include "device_density.glsl"
 
-layout(local_size_x = 64) in;
+layout(local_size_x = FOVEART_DEVICE_RESOLVE_GROUP) in;
 layout(set = 0, binding = 0, std430) readonly buffer RayColors { vec4 ray_colors[]; };  // rgb, depth in metres
 layout(set = 0, binding = 2, std430) readonly buffer Control { uint control[]; };
 layout(set = 0, binding = 3, std430) buffer Status { uint status[]; };  // device_trace.h
 layout(set = 0, binding = 4, std430) buffer Colors { vec4 colors[]; };
 layout(set = 0, binding = 5, std430) buffer PointDepth { float point_depth[]; };
-layout(set = 0, binding = 6, std430) readonly buffer PointRays { uvec2 point_rays[]; };  // device_rays.comp
+// Per rank of a visible point: its rays (device_rays.comp), traced points first.
+layout(set = 0, binding = 6, std430) readonly buffer PointRays { DevicePointRays point_rays[]; };
 layout(set = 0, binding = 7, std430) readonly buffer Points { DevicePoint points[]; };
 layout(set = 0, binding = 8, std430) readonly buffer Levels { DeviceLevel levels[]; };
 layout(set = 0, binding = 9, std430) buffer Tiles { uint tile_words[]; };  // the eye's (device_trace.h)
@@ -43,14 +46,12 @@ void observe(uint p, vec3 rgb) {
   atomicMax(tile_words[density_tile_word(screen_px, FOVEART_DEVICE_TILE_MAX, t)], bits);
 }
 
-void resolve_point(uint p) {
-  const uvec2 rays = point_rays[p];
-  if (rays.y == 0u) return;
+void resolve_point(DevicePointRays rays) {
   vec3 sum = vec3(0.0);
   uint bad = 0u;
   float nearest_m = FOVEART_DEPTH_UNKNOWN;
-  for (uint s = 0u; s < rays.y; ++s) {
-    const vec4 c = ray_colors[rays.x + s];
+  for (uint s = 0u; s < rays.ray_count; ++s) {
+    const vec4 c = ray_colors[rays.first_ray + s];
     const uvec3 bits = floatBitsToUint(c.rgb);
     bad += (invalid(bits.r) ? 1u : 0u) + (invalid(bits.g) ? 1u : 0u) + (invalid(bits.b) ? 1u : 0u);
     sum += c.rgb;
@@ -62,15 +63,14 @@ void resolve_point(uint p) {
     }
   }
   if (bad != 0u) atomicAdd(status[FOVEART_DEVICE_STATUS_INVALID_COMPONENTS], bad);
-  const vec3 rgb = sum / float(rays.y);
-  colors[p] = vec4(rgb, 1.0);
-  point_depth[p] = nearest_m;
-  if ((flags & FOVEART_DEVICE_RESOLVE_OBSERVE) != 0u) observe(p, rgb);
+  const vec3 rgb = sum / float(rays.ray_count);
+  colors[rays.point] = vec4(rgb, 1.0);
+  point_depth[rays.point] = nearest_m;
+  if ((flags & FOVEART_DEVICE_RESOLVE_OBSERVE) != 0u) observe(rays.point, rgb);
 }
 
 // A thinned point from its traced parents (none traced: it stays untraced).
 void fill_point(uint p) {
-  if (point_rays[p].x != FOVEART_DEVICE_THINNED) return;
   const DeviceLevel level = levels[p];
   const uvec3 parent = level.parents_level.xyz;
   vec3 sum = vec3(0.0);
@@ -117,16 +117,19 @@ void main() {
     if (v < tiles.x * tiles.y) tile_contrast(v, tiles);
     return;
   }
-  if (v >= point_count) return;
+  const uint traced = control[FOVEART_DEVICE_TRACED_POINTS];
   if (pass == FOVEART_DEVICE_RESOLVE_FILL) {
-    fill_point(v);
+    if (v < control[FOVEART_DEVICE_THINNED_POINTS]) fill_point(point_rays[traced + v].point);
     return;
   }
+  if (v >= traced) return;
+  // No traced point: no invocation, and the status, cleared, is right (no
+  // rays, and no thinned point: a thinned point's parent is visible and traced).
   if (v == 0u) {
     status[FOVEART_DEVICE_STATUS_VISIBLE_POINTS] = control[FOVEART_DEVICE_VISIBLE_POINTS];
     status[FOVEART_DEVICE_STATUS_TRACED_POINTS] = control[FOVEART_DEVICE_TRACED_POINTS];
     status[FOVEART_DEVICE_STATUS_RAYS] = control[0];
     status[FOVEART_DEVICE_STATUS_THINNED_POINTS] = control[FOVEART_DEVICE_THINNED_POINTS];
   }
-  resolve_point(v);
+  resolve_point(point_rays[v]);
 }

@@ -33,10 +33,12 @@ constexpr VkDeviceSize kRayBytes = sizeof(shader::DeviceRay), kColorBytes = 16;
 uint32_t point_blocks(std::size_t points) {
   return uint32_t((points + FOVEART_DEVICE_RAYS_BLOCK - 1) / FOVEART_DEVICE_RAYS_BLOCK);
 }
+// The compaction's words per block (device_rays.comp's block_first): its rays, traced and thinned points.
+constexpr VkDeviceSize kBlockWords = 3;
 
-// Workgroups of 64 (device_resolve.comp) over n points or tiles.
-uint32_t point_blocks64(std::size_t n) {
-  return uint32_t((n + 63) / 64);
+// device_resolve.comp's workgroups over n tiles.
+uint32_t resolve_groups(std::size_t n) {
+  return uint32_t((n + FOVEART_DEVICE_RESOLVE_GROUP - 1) / FOVEART_DEVICE_RESOLVE_GROUP);
 }
 
 // The ray shader's push constants for this frame's view, screen and points.
@@ -69,8 +71,6 @@ DeviceRaysPush rays_push(const DeviceTraceFrame& frame, bool tiles_measured) {
 // The resolve's push constants for `pass`.
 DeviceResolvePush resolve_push(const DeviceTraceFrame& frame, uint32_t pass) {
   DeviceResolvePush push{};
-  push.rays_per_point = frame.rays_per_point;
-  push.point_count = uint32_t(frame.points->size());
   push.pass = pass;
   push.flags = frame.density_on() ? FOVEART_DEVICE_RESOLVE_OBSERVE : 0u;
   push.screen_px = {frame.mapping.screen_width_px, frame.mapping.screen_height_px};
@@ -156,8 +156,10 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
     const VkDeviceSize bytes = std::max<VkDeviceSize>(points.size() * sizeof(shader::DevicePoint), 16);
     if (!context_.create_buffer(&points_, bytes, storage | transfer, false, error) ||
         !context_.create_buffer(&staging_, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, true, error) ||
-        !context_.create_buffer(&blocks_, VkDeviceSize{point_blocks(points.size())} * 4, storage, false, error) ||
-        !context_.create_buffer(&point_rays_, std::max<VkDeviceSize>(points.size() * 8, 8), storage, false, error)) {
+        !context_.create_buffer(&blocks_, std::max<VkDeviceSize>(point_blocks(points.size()), 1) * kBlockWords * 4,
+                                storage, false, error) ||
+        !context_.create_buffer(&point_rays_, std::max<size_t>(points.size(), 1) * sizeof(shader::DevicePointRays),
+                                storage, false, error)) {
       return false;
     }
     auto* packed = static_cast<shader::DevicePoint*>(staging_.mapped);
@@ -293,11 +295,10 @@ DeviceRayBatch DeviceTrace::batch(const DeviceTraceFrame& frame, VkCommandBuffer
   return batch;
 }
 
-// Stages 1-2: counters cleared, every ray colour NaN (unwritten is invalid), the rays made
-// (the caller cleared the status with the frame's other targets).
+// Stages 1-2: every ray colour NaN (unwritten is invalid), the rays made, the SCAN writing
+// every control word (the caller cleared the status with the frame's other targets).
 void DeviceTrace::record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   const foveation::PointSet& points = *frame.points;
-  vkCmdFillBuffer(cb, control_.buffer, 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cb, ray_colors_.buffer, 0, VK_WHOLE_SIZE, kNaNBits);
   memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   // The visible points compacted in the set's order: counts per block, where each block begins, the rays.
@@ -341,14 +342,17 @@ void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& fra
     vkCmdFillBuffer(cb, bound_.tiles, header + FOVEART_DEVICE_TILE_MAX * capacity * 4, capacity * 4, 0u);
     memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, kCompute, kShaderRW);
   }
-  dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_POINTS, point_blocks64(frame.points->size()));
+  // A thread per traced point: device_rays.comp's SCAN wrote the group count.
+  bind_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_POINTS);
+  vkCmdDispatchIndirect(cb, control_.buffer, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
                  kShaderRW | VK_ACCESS_HOST_READ_BIT);
 }
 
 void DeviceTrace::record_fill(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
   if (!frame.density_on() || !frame.density.thins()) return;
-  dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_FILL, point_blocks64(frame.points->size()));
+  bind_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_FILL);  // a thread per thinned point, likewise
+  vkCmdDispatchIndirect(cb, control_.buffer, FOVEART_DEVICE_FILL_DISPATCH * 4);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_HOST_BIT,
                  kShaderRW | VK_ACCESS_HOST_READ_BIT);
 }
@@ -357,17 +361,17 @@ void DeviceTrace::record_contrast(VkCommandBuffer cb, const DeviceTraceFrame& fr
   if (!frame.density_on()) return;
   const auto tiles = uint32_t(device_tiles(uint32_t(frame.mapping.screen_width_px),
                                            uint32_t(frame.mapping.screen_height_px), uint32_t(frame.density.tile_px)));
-  dispatch_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_CONTRAST, std::max<uint32_t>(1, point_blocks64(tiles)));
+  bind_resolve(cb, frame, FOVEART_DEVICE_RESOLVE_CONTRAST);
+  vkCmdDispatch(cb, std::max<uint32_t>(1, resolve_groups(tiles)), 1, 1);
   memory_barrier(cb, kCompute, VK_ACCESS_SHADER_WRITE_BIT, kCompute, kShaderRW);
 }
 
-void DeviceTrace::dispatch_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, uint32_t pass, uint32_t groups) {
+void DeviceTrace::bind_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, uint32_t pass) {
   const DeviceResolvePush push = resolve_push(frame, pass);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve());
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.resolve_layout(), 0, 1, &resolve_set_, 0,
                           nullptr);
   vkCmdPushConstants(cb, pipelines_.resolve_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof push, &push);
-  if (groups > 0) vkCmdDispatch(cb, groups, 1, 1);
 }
 
 }  // namespace foveart::gpu

@@ -301,5 +301,33 @@ TEST_F(DeviceDensityTest, DeviceStageSetTakesTheViewsContentDensity) {
   }
 }
 
+// With content density the resolve runs a thread per traced point and the fill one
+// per thinned point, each sized on the device: after a flat frame many points are
+// thinned, the resolve's groups are those of the traced points (fewer than those of
+// the visible), the fill's those of the thinned, and every visible point, traced or
+// filled, and no other, has a colour.
+TEST_F(DeviceDensityTest, ResolveAndFillRunOverTheTracedAndThinnedPointsOnly) {
+  const uint32_t group = FOVEART_DEVICE_RESOLVE_GROUP;
+  const auto groups = [group](std::size_t n) { return uint32_t((n + group - 1) / group); };
+  engine_.answer = TestEngine::Answer::fill;
+  foveation::FoveatedView view(tables_, settings_);
+  std::string error;
+  ASSERT_TRUE(density_frame(view, request(glm::vec2(48, 40), 0), &error)) << error;
+  ASSERT_TRUE(density_frame(view, request(glm::vec2(48, 40), 1), &error)) << error;
+  const DeviceTraceStatus status = eye_->device_trace_status();
+  const std::vector<uint32_t> control = last_control_words();
+  ASSERT_GT(status.thinned_points, 0u);
+  EXPECT_EQ(control[FOVEART_DEVICE_TRACED_POINTS], status.traced_points);
+  EXPECT_EQ(control[FOVEART_DEVICE_THINNED_POINTS], status.thinned_points);
+  EXPECT_EQ(control[FOVEART_DEVICE_RESOLVE_DISPATCH], groups(status.traced_points));
+  EXPECT_EQ(control[FOVEART_DEVICE_FILL_DISPATCH], groups(status.thinned_points));
+  EXPECT_EQ(control[FOVEART_DEVICE_FILL_DISPATCH + 1], 1u);
+  EXPECT_EQ(control[FOVEART_DEVICE_FILL_DISPATCH + 2], 1u);
+  EXPECT_LT(control[FOVEART_DEVICE_RESOLVE_DISPATCH], groups(status.visible_points));
+  const std::vector<bool> visible = visible_at(view.hand_off().mapping);
+  EXPECT_EQ(uint32_t(std::count(visible.begin(), visible.end(), true)), status.visible_points);
+  EXPECT_EQ(coloured_unlike(1, visible), 0u);
+}
+
 }  // namespace
 }  // namespace foveart::gpu

@@ -20,7 +20,9 @@
 #include "stripes_engine.spv.h"
 #include "foveation/display_model.hpp"
 #include "foveation/foveated_view.hpp"
+#include "foveation/visible_points.hpp"
 #include "gpu/reconstructor.hpp"
+#include "gpu/shader_interface/device_trace.h"
 #include "gpu/vk_util.hpp"
 #include "headless_vulkan.hpp"
 #include "icd_pin.h"
@@ -296,6 +298,49 @@ class DeviceTraceFixture : public ::testing::Test {
           return true;
         },
         error);
+  }
+
+  // Per point of the set: visible at `mapping` (the CPU's test, foveation::VisibleRegion).
+  std::vector<bool> visible_at(const foveation::GazeMapping& mapping) const {
+    const foveation::PointSet& points = tables_->points;
+    const foveation::VisibleRegion region(mapping, points.visible_margin_px);
+    std::vector<bool> visible(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) visible[i] = region.contains(region.to_screen(points.position_px[i]));
+    return visible;
+  }
+
+  // Points of slot `slot`'s resolved colours whose having a colour (a = 1) is not `expected`'s.
+  std::size_t coloured_unlike(uint32_t slot, const std::vector<bool>& expected) {
+    std::vector<float> rgba;
+    std::string error;
+    EXPECT_TRUE(eye_->read_point_colors(slot, &rgba, &error)) << error;
+    if (rgba.size() < 4 * expected.size()) return expected.size();
+    std::size_t unlike = 0;
+    for (std::size_t i = 0; i < expected.size(); ++i) unlike += (rgba[4 * i + 3] == 1.0f) != expected[i] ? 1 : 0;
+    return unlike;
+  }
+
+  // The control words (shader_interface/device_trace.h) of the last device-traced
+  // frame, copied back after it: its counts and the indirect dispatches it ran.
+  std::vector<uint32_t> last_control_words() {
+    const BufferRange control{engine_.last.ray_count.buffer, 0, FOVEART_DEVICE_CONTROL_WORDS * 4};
+    BoundBuffer copy;
+    std::string error;
+    const bool ok = gpu_->submit_and_wait(
+        [&](VkCommandBuffer cb) {
+          memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                         VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+          if (!engine_.readback(copy, control, cb)) return false;
+          memory_barrier(cb, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                         VK_ACCESS_HOST_READ_BIT);
+          return true;
+        },
+        &error);
+    EXPECT_TRUE(ok) << error;
+    std::vector<uint32_t> words(FOVEART_DEVICE_CONTROL_WORDS, 0);
+    if (ok) std::memcpy(words.data(), copy.mapped, words.size() * 4);
+    destroy_buffer(engine_.device, &copy);
+    return words;
   }
 
   // The same frame with the colours coming from the CPU callback.

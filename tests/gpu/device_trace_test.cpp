@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -376,6 +377,39 @@ TEST_F(DeviceTraceTest, EachSlotKeepsItsStatusAndAFaultKeepsTheShownImage) {
     std::vector<uint8_t> shown;
     ASSERT_TRUE(eye_->read_rgba8(&shown, &error)) << error;
     EXPECT_TRUE(shown == good) << "the shown image is not the last good frame's";
+  }
+}
+
+// The resolve runs a thread per traced point, not one per point of the set: the
+// rays pass's SCAN sizes its indirect dispatch on the device. After a frame its
+// groups are those of the visible points (the CPU's test; without content density
+// all are traced), fewer than the whole set's (the set extends beyond the screen so
+// the gaze can move), there is no fill, and the compacted entries it ran over gave
+// every visible point, and no other, its colour.
+TEST_F(DeviceTraceTest, ResolveRunsAGroupPerTracedPointsOnly) {
+  const uint32_t group = FOVEART_DEVICE_RESOLVE_GROUP;
+  const auto groups = [group](std::size_t n) { return uint32_t((n + group - 1) / group); };
+  for (glm::vec2 gaze : {glm::vec2(48, 40), glm::vec2(3, 77)}) {
+    foveation::FoveatedView view(tables_, settings_);
+    const foveation::FrameRequest req = request(gaze, 5);
+    std::string error;
+    ASSERT_TRUE(device_frame(view, req, &error)) << error;
+    const std::vector<bool> visible = visible_at(view.hand_off().mapping);
+    const auto traced = uint32_t(std::count(visible.begin(), visible.end(), true));
+    ASSERT_GT(traced, 0u);
+    const std::vector<uint32_t> control = last_control_words();
+    EXPECT_EQ(control[FOVEART_DEVICE_TRACED_POINTS], traced);
+    EXPECT_EQ(control[FOVEART_DEVICE_VISIBLE_POINTS], traced);
+    EXPECT_EQ(control[FOVEART_DEVICE_RESOLVE_DISPATCH], groups(traced));
+    EXPECT_EQ(control[FOVEART_DEVICE_RESOLVE_DISPATCH + 1], 1u);
+    EXPECT_EQ(control[FOVEART_DEVICE_RESOLVE_DISPATCH + 2], 1u);
+    EXPECT_LT(control[FOVEART_DEVICE_RESOLVE_DISPATCH], groups(tables_->points.size()));
+    EXPECT_EQ(control[FOVEART_DEVICE_FILL_DISPATCH], 0u);
+    EXPECT_EQ(eye_->device_trace_status().traced_points, traced);
+    EXPECT_EQ(coloured_unlike(uint32_t(req.frame_index % kFrameSlots), visible), 0u) << "gaze " << gaze.x;
+    std::cout << "[ work count ] gaze (" << gaze.x << ", " << gaze.y << "): the resolve runs "
+              << control[FOVEART_DEVICE_RESOLVE_DISPATCH] << " groups for " << traced << " traced points of "
+              << tables_->points.size() << " (the whole set: " << groups(tables_->points.size()) << ")\n";
   }
 }
 

@@ -200,7 +200,8 @@ class DeviceTrace {
   [[nodiscard]] bool ensure_buffers(const foveation::PointSet& points, std::uint32_t rays_per_point, std::string* error);
   [[nodiscard]] bool ensure_levels(const foveation::PointLevels* levels, std::string* error);
   void record_uploads(VkCommandBuffer cb);
-  void dispatch_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::uint32_t pass, std::uint32_t groups);
+  // Binds the resolve for `pass`; the caller dispatches it.
+  void bind_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame, std::uint32_t pass);
   void update_descriptors(const DeviceTraceTargets& targets);
   // Stages 1-2's passes, and stage 3 by frame.engine into `cb`.
   void record_ray_passes(VkCommandBuffer cb, const DeviceTraceFrame& frame);
@@ -214,8 +215,8 @@ class DeviceTrace {
   std::uint32_t ray_capacity_ = 0;
   BoundBuffer points_, staging_, rays_, point_index_, ray_colors_, control_;
   BoundBuffer footprints_;  // per ray: its point's disc radius as an angle, radians (device_rays.comp)
-  BoundBuffer blocks_;      // per block of points: its rays, then where they begin (device_rays.comp)
-  BoundBuffer point_rays_;  // per point: (first ray, ray count) (device_rays.comp)
+  BoundBuffer blocks_;      // per block of points: its rays, traced and thinned points, then where they begin
+  BoundBuffer point_rays_;  // per rank of a visible point: DevicePointRays (device_rays.comp), traced ones first
   BoundBuffer levels_, levels_staging_;  // per point: DeviceLevel (content density; a placeholder while off)
   VkDeviceSize staged_bytes_ = 0;    // points waiting in staging_ for the next record
   VkDeviceSize staged_level_bytes_ = 0;  // levels waiting in levels_staging_

@@ -6,8 +6,8 @@
 #include "gpu/shader_interface/device_trace.h"
 
 // DeviceResolvePush::pass: device_resolve.comp's dispatches.
-#define FOVEART_DEVICE_RESOLVE_POINTS 0u    // a point each: the mean of its rays (and its tile's luminance range)
-#define FOVEART_DEVICE_RESOLVE_FILL 1u      // a point each: a thinned point from its parents
+#define FOVEART_DEVICE_RESOLVE_POINTS 0u    // a traced point each: the mean of its rays (and its tile's luminance range)
+#define FOVEART_DEVICE_RESOLVE_FILL 1u      // a thinned point each: its colour from its parents
 #define FOVEART_DEVICE_RESOLVE_CONTRAST 2u  // a tile each: its contrast and level for the next frame
 // DeviceResolvePush::flags.
 #define FOVEART_DEVICE_RESOLVE_OBSERVE 1u  // content density: the traced colours into the tiles' ranges
@@ -15,8 +15,6 @@
 FOVEART_SHADER_INTERFACE_BEGIN
 
 FOVEART_PUSH_CONSTANTS(DeviceResolvePush) {
-  uint rays_per_point;
-  uint point_count;
   uint pass;   // FOVEART_DEVICE_RESOLVE_*
   uint flags;  // FOVEART_DEVICE_RESOLVE_OBSERVE
   ivec2 screen_px;

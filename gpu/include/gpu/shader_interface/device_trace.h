@@ -6,15 +6,22 @@
 
 #include "gpu/shader_interface/glsl_cpp.h"
 
-// The control words: the engine's XrFoveatedDeviceRayCountFOVEART (words 0-7, the
-// layer's public header), an indirect dispatch of a workgroup of 64 per traced
-// point (the render cache's), the visible points, those traced and those thinned.
+// The control words, written by device_rays.comp's SCAN: the engine's
+// XrFoveatedDeviceRayCountFOVEART (words 0-7, the layer's public header), the
+// resolve's indirect dispatch of a workgroup per FOVEART_DEVICE_RESOLVE_GROUP
+// traced points (also the render cache's), the visible points, those traced and
+// those thinned, and the fill's indirect dispatch, a workgroup per
+// FOVEART_DEVICE_RESOLVE_GROUP thinned points.
 #define FOVEART_DEVICE_RAY_COUNT_WORDS 8u
 #define FOVEART_DEVICE_RESOLVE_DISPATCH 8u
 #define FOVEART_DEVICE_VISIBLE_POINTS 11u
 #define FOVEART_DEVICE_TRACED_POINTS 12u
 #define FOVEART_DEVICE_THINNED_POINTS 13u
-#define FOVEART_DEVICE_CONTROL_WORDS 14u
+#define FOVEART_DEVICE_FILL_DISPATCH 14u
+#define FOVEART_DEVICE_CONTROL_WORDS 17u
+// device_resolve.comp's workgroup: its point passes run an invocation per traced
+// (or thinned) point, in workgroups of this many.
+#define FOVEART_DEVICE_RESOLVE_GROUP 64
 // The status the host reads back after the frame.
 #define FOVEART_DEVICE_STATUS_INVALID_COMPONENTS 0u
 #define FOVEART_DEVICE_STATUS_VISIBLE_POINTS 1u
@@ -22,8 +29,7 @@
 #define FOVEART_DEVICE_STATUS_RAYS 3u
 #define FOVEART_DEVICE_STATUS_THINNED_POINTS 4u
 #define FOVEART_DEVICE_STATUS_WORDS 5u
-// Per point, its rays (device_rays.comp WRITE): (first ray, ray count); a thinned
-// point's first ray is this, an invisible point's count 0.
+// A thinned point's first ray in its DevicePointRays.
 #define FOVEART_DEVICE_THINNED 0xFFFFFFFFu
 #define FOVEART_DEVICE_NO_PARENT 0xFFFFFFFFu
 
@@ -56,6 +62,14 @@ struct DevicePoint {
 struct DeviceLevel {
   uvec4 parents_level;  // parent 0, 1, 2, level
   vec4 weights;         // w0, w1, w2, 0
+};
+// A visible point's rays, at its rank (device_rays.comp WRITE, read by
+// device_resolve.comp): the traced points first, in the set's order, then the
+// thinned ones (first_ray FOVEART_DEVICE_THINNED, ray_count 0), in the set's order.
+struct DevicePointRays {
+  uint point;  // its index in the set
+  uint first_ray;
+  uint ray_count;
 };
 // A ray, as the engine reads it (XrFoveatedDeviceRayBatchFOVEART): origin
 // in metres and the screen x; unit direction and the screen y.

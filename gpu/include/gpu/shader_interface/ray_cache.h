@@ -31,9 +31,6 @@
 #define FOVEART_CACHE_KEPT_OUT 2u  // appended by cache_bin: the next frame's kept rays
 #define FOVEART_CACHE_DISPATCH 4u  // x, y, z: cache_rays' and cache_bin's indirect dispatch (16-byte aligned)
 #define FOVEART_CACHE_COUNT_WORDS 8u
-// cache_device_rays.comp's workgroup: one visible point per invocation, the
-// device trace's resolve dispatch (FOVEART_DEVICE_RESOLVE_DISPATCH) reused.
-#define FOVEART_CACHE_DEVICE_RAYS_GROUP 64
 // The per-pixel passes' encoding of a farthest hit (cache_device_rays,
 // cache_pixels): 0 none, 1 + the float's bits for a hit at a finite distance,
 // FOVEART_CACHE_FAR_UNKNOWN for a miss or no depth; atomicMax picks the farthest.
