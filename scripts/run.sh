@@ -10,7 +10,8 @@
 #      the GPU sample engine through the device trace, reconstructed by shaders/
 # Usage: scripts/run.sh [--pricelist]
 #   --pricelist  also write the quick price list of the default scene to out/pricelist/
-#                (about 7 more minutes on 2 cores; docs/lab/pricelist.md has the last one)
+#                (the longest step, tens of minutes on 2 cores, its time printed like every
+#                step's; docs/lab/pricelist.md has the last list)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD

@@ -149,6 +149,26 @@ struct DensityAt {
   return true;
 }
 
+// The content-aware row with the fewest rays detected no more than eccentricity-only density at
+// the same density scale (null: none, or no eccentricity row at that scale).
+Json fewest_at_eccentricity_detection(const Json& rows, double density_scale) {
+  const auto p_of = [](const Json& row) {
+    std::vector<double> v;
+    for (const Json& p : row["rings_p_max"]) v.push_back(p.is_null() ? std::nan("") : p.get<double>());
+    return v;
+  };
+  const auto baseline = std::find_if(rows.begin(), rows.end(), [&](const Json& row) {
+    return row["kind"] == "eccentricity" && row["density_scale"].get<double>() == density_scale;
+  });
+  if (baseline == rows.end()) return Json();
+  Json best;
+  for (const Json& row : rows)
+    if (row["kind"] == "content" && detected_no_more(p_of(row), p_of(*baseline)) &&
+        (best.is_null() || row["ray_fraction"].get<double>() < best["ray_fraction"].get<double>()))
+      best = row;
+  return best;
+}
+
 }  // namespace
 
 bool unseen_in_every_ring(const std::vector<double>& row_p_max, const std::vector<double>& full_p_max) {
@@ -166,6 +186,14 @@ std::optional<std::size_t> smallest_unseen(const std::vector<UnseenCandidate>& r
   for (std::size_t i = 0; i < rows.size(); ++i)
     if (rows[i].unseen && (!best || rows[i].ray_fraction < rows[*best].ray_fraction)) best = i;
   return best;
+}
+
+bool detected_no_more(const std::vector<double>& row_p_max, const std::vector<double>& baseline_p_max) {
+  for (std::size_t r = 0; r < row_p_max.size() && r < baseline_p_max.size(); ++r) {
+    if (std::isnan(row_p_max[r]) && std::isnan(baseline_p_max[r])) continue;
+    if (!(row_p_max[r] <= baseline_p_max[r] + kSameDetectionP)) return false;  // NaN on one side: not the same
+  }
+  return true;
 }
 
 int run_density(const DensityOptions& options, std::ostream& out, std::ostream& err) {
@@ -196,7 +224,8 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
                        {"reference_spp", r.reference_spp}, {"ring_edges_deg", metrics::kRingEdgesDeg},
                        {"full", baseline}, {"rows", rows},
                        {"best_eccentricity", best_eccentricity}, {"best_content", best_content},
-                       {"best_rays", best_rays}};
+                       {"best_rays", best_rays},
+                       {"content_at_eccentricity_detection", fewest_at_eccentricity_detection(rows, o.render.density_scale)}};
   out << report.dump(2) << "\n";
   return 0;
 }

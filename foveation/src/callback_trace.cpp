@@ -145,23 +145,45 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
   if (run_has_depth) pass.any_depth.store(true, std::memory_order_relaxed);
 }
 
-// Stage 1 and content density's per-point test over a run: the points to trace into `ids`
-// (ascending), a flat tile's finer points into thinned_[run]. The test's time is taken per
-// run; on a run partly off the screen it holds the visible test it shares the loop with.
+// Stage 1 over a run: its visible points into `ids` (ascending); then content density's
+// per-point test.
 void CallbackTrace::select_run(FramePass& pass, std::size_t run, bool run_visible, std::vector<std::uint32_t>& ids) {
   const std::size_t first = run * kRunPoints, last = std::min(points_.size(), first + kRunPoints);
   const VisibleRegion& visible = pass.visible;
-  const auto t0 = Clock::now();
   ids.clear();
-  for (std::size_t i = first; i < last; ++i) {
-    if (!run_visible && !visible.contains(visible.to_screen(points_.position_px[i]))) continue;  // stage 1
-    if (pass.density != nullptr && thins(pass, std::uint32_t(i))) {
-      thinned_[run].push_back(std::uint32_t(i));  // filled after the pass
-      continue;
+  for (std::size_t i = first; i < last; ++i)
+    if (run_visible || visible.contains(visible.to_screen(points_.position_px[i]))) ids.push_back(std::uint32_t(i));
+  if (pass.density != nullptr) thin_run(pass, run, ids);
+}
+
+// Content density's per-point test over a run's visible points: a flat tile's finer points
+// move from `ids` to thinned_[run] (filled after the pass). The levels of the tiles under
+// the run's box settle most points by their level alone; only a point of a level between
+// them looks up its tile. A point whose nearest parent lies beyond the margin is traced.
+void CallbackTrace::thin_run(FramePass& pass, std::size_t run, std::vector<std::uint32_t>& ids) {
+  const auto t0 = Clock::now();
+  const VisibleRegion& visible = pass.visible;
+  const ContentDensity& density = *pass.density;
+  const RunBox& box = run_boxes_[run];
+  const auto [lowest, highest] = density.levels_under(visible.to_screen(box.min_px), visible.to_screen(box.max_px));
+  if (lowest < PointLevels::kFinest) {
+    const PointLevels& levels = density.levels();
+    const auto parent_visible = [&](std::uint32_t parent) {
+      return parent != PointLevels::kNoParent && visible.contains(visible.to_screen(points_.position_px[parent]));
+    };
+    std::size_t kept = 0;
+    for (const std::uint32_t id : ids) {
+      const std::uint8_t level = levels.level[id];
+      const bool traced =
+          level <= lowest || (level <= highest && density.traces(id, visible.to_screen(points_.position_px[id])));
+      if (traced || !parent_visible(levels.parent[id][0]))
+        ids[kept++] = id;
+      else
+        thinned_[run].push_back(id);
     }
-    ids.push_back(std::uint32_t(i));
+    ids.resize(kept);
   }
-  if (pass.density != nullptr) pass.test_ms.fetch_add(ms_since(t0), std::memory_order_relaxed);
+  pass.test_ms.fetch_add(ms_since(t0), std::memory_order_relaxed);
 }
 
 // Clears the colour and depth of the points in `before` (last frame's, of a
@@ -245,14 +267,6 @@ bool CallbackTrace::keep_mean_colors(const FramePass& pass, const RayBatch& batc
     traced.push_back(ids[j]);
   }
   return any_depth;
-}
-
-// A flat tile's finer point whose nearest parent is traced this frame (visible: level 0
-// always is); one beside the margin, whose parents lie beyond it, is traced itself.
-bool CallbackTrace::thins(const FramePass& pass, std::uint32_t id) const {
-  if (pass.density->traces(id, pass.visible.to_screen(points_.position_px[id]))) return false;
-  const std::uint32_t parent = pass.density->levels().parent[id][0];
-  return parent != PointLevels::kNoParent && pass.visible.contains(pass.visible.to_screen(points_.position_px[parent]));
 }
 
 // Rays per point by the tile's contrast (point_rays.hpp) into `counts`; empty: every point casts all.

@@ -1,16 +1,10 @@
 #include "foveation/content_density.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace foveart::foveation {
-namespace {
-
-// Rec. 709 luminance of linear RGB.
-float luminance(const Rgba& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
-
-}  // namespace
-
 float tile_contrast(float min_luminance, float max_luminance, float dark_luminance) {
   if (!(max_luminance >= min_luminance)) return 0.0f;  // no observation (or NaN)
   return (max_luminance - min_luminance) / std::max(max_luminance + min_luminance + 2.0f * dark_luminance, 1e-12f);
@@ -27,13 +21,20 @@ std::uint8_t level_for_contrast(float contrast, const ContentDensityOptions& opt
 ContentDensity::ContentDensity(const PointLevels& levels, const ContentDensityOptions& options)
     : levels_(levels), options_(options), tiles_per_level_(PointLevels::kLevels, 0) {
   options_.tile_px = std::max(1, options_.tile_px);
+  if (std::has_single_bit(unsigned(options_.tile_px))) tile_shift_ = std::countr_zero(unsigned(options_.tile_px));
 }
 
-std::size_t ContentDensity::tile_of(glm::vec2 screen_px) const {
-  // Points in the visible margin count in the nearest tile.
-  const int tx = std::clamp(int(std::floor(screen_px.x)) / options_.tile_px, 0, tiles_x_ - 1);
-  const int ty = std::clamp(int(std::floor(screen_px.y)) / options_.tile_px, 0, tiles_y_ - 1);
-  return std::size_t(ty) * std::size_t(tiles_x_) + std::size_t(tx);
+ContentDensity::LevelRange ContentDensity::levels_under(glm::vec2 min_px, glm::vec2 max_px) const {
+  if (!active_) return {PointLevels::kFinest, PointLevels::kFinest};
+  LevelRange range{PointLevels::kFinest, 0};
+  const int x0 = tile_column(min_px.x), x1 = tile_column(max_px.x);
+  for (int y = tile_row(min_px.y), y1 = tile_row(max_px.y); y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x) {
+      const std::uint8_t level = tile_level_[std::size_t(y) * std::size_t(tiles_x_) + std::size_t(x)];
+      range.lowest = std::min(range.lowest, level);
+      range.highest = std::max(range.highest, level);
+    }
+  return range;
 }
 
 void ContentDensity::begin_frame(const GazeMapping& mapping, unsigned workers) {
@@ -51,13 +52,6 @@ void ContentDensity::begin_frame(const GazeMapping& mapping, unsigned workers) {
   if (active_) levels_from_ranges();
   worker_range_.resize(workers);
   for (auto& range : worker_range_) range.assign(tiles, glm::vec2(INFINITY, -INFINITY));
-}
-
-void ContentDensity::observe(unsigned worker, glm::vec2 screen_px, const Rgba& colour) {
-  const float l = luminance(colour) * options_.exposure;
-  glm::vec2& range = worker_range_[worker][tile_of(screen_px)];
-  range.x = std::min(range.x, l);
-  range.y = std::max(range.y, l);
 }
 
 void ContentDensity::end_frame(bool ok) {

@@ -208,6 +208,16 @@ nlohmann::ordered_json detection_row(const std::string& id, double ray_fraction,
 
 }  // namespace
 
+TEST(Density, SameDetectionAllowsOnePercentagePointPerRingAndNoNewRing) {
+  const double n = NAN;
+  const std::vector<double> eccentricity = {0.42, 0.72, 0.54, 0.98, 0.63, n, n};
+  EXPECT_TRUE(eval::detected_no_more(eccentricity, eccentricity));
+  EXPECT_TRUE(eval::detected_no_more({0.40, 0.72, 0.55, 0.98, 0.10, n, n}, eccentricity)) << "0.01 higher, or lower";
+  EXPECT_FALSE(eval::detected_no_more({0.42, 0.72, 0.54, 1.00, 0.63, n, n}, eccentricity)) << "0.02 higher in ring 3";
+  EXPECT_FALSE(eval::detected_no_more({0.42, 0.72, 0.54, 0.98, 0.63, 0.1, n}, eccentricity)) << "a ring the baseline lacks";
+  EXPECT_FALSE(eval::detected_no_more({0.42, n, 0.54, 0.98, 0.63, n, n}, eccentricity)) << "a ring without its P";
+}
+
 TEST(Pricelist, SmallestUnseenRayFractionSkipsRowsSeenWhereTheFullRenderIsNot) {
   const double n = NAN;
   //                                       rings: 0     1     2     3     4     5     6

@@ -63,4 +63,10 @@ struct UnseenCandidate {
 // rays (the first on a tie); nullopt when no row is unseen.
 std::optional<std::size_t> smallest_unseen(const std::vector<UnseenCandidate>& rows);
 
+// Whether a row is detected no more than a baseline row: in every ring, its largest P exceeds the
+// baseline's by at most kSameDetectionP (a ring without pixels in either is skipped). What
+// "content-aware density reaches the same detection probability as eccentricity-only" means.
+inline constexpr double kSameDetectionP = 0.01;  // one percentage point: the tables' precision
+bool detected_no_more(const std::vector<double>& row_p_max, const std::vector<double>& baseline_p_max);
+
 }  // namespace foveart::eval

@@ -51,7 +51,7 @@ class CallbackTrace final : public TraceStage {
                         std::span<const std::uint32_t> counts, std::size_t run);
   // Content-aware density: the per-point test, this run's traced colours for the next
   // frame's contrast, and the thinned points' colours from their parents (after every run).
-  bool thins(const FramePass& pass, std::uint32_t id) const;
+  void thin_run(FramePass& pass, std::size_t run, std::vector<std::uint32_t>& ids);
   void count_rays(FramePass& pass, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& counts) const;
   void observe_run(FramePass& pass, std::size_t run, unsigned worker);
   std::uint64_t fill_thinned(Executor& executor);

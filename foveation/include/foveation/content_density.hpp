@@ -11,6 +11,7 @@
 // rays_contrast, point_rays.hpp), with or without the thinning.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -60,13 +61,26 @@ class ContentDensity {
   bool traces(std::uint32_t point, glm::vec2 screen_px) const {
     return !active_ || levels_.level[point] <= tile_level_[tile_of(screen_px)];
   }
+  // The lowest and highest level of the tiles under a screen box: a point of a level at
+  // or below the lowest is traced, one above the highest is not, without its tile. Both
+  // kFinest while the frame does not thin.
+  struct LevelRange {
+    std::uint8_t lowest, highest;
+  };
+  LevelRange levels_under(glm::vec2 min_px, glm::vec2 max_px) const;
   // The contrast of the tile at screen_px (its 3x3 neighbourhood's, last frame's); +inf
   // while none is measured (the first frame, after a failed one): every ray is cast.
   float contrast(glm::vec2 screen_px) const {
     return active_ ? tile_contrast_[tile_of(screen_px)] : INFINITY;
   }
   // A point's colour this frame, for the next frame's contrast (worker: the executor's slot).
-  void observe(unsigned worker, glm::vec2 screen_px, const Rgba& colour);
+  void observe(unsigned worker, glm::vec2 screen_px, const Rgba& colour) {
+    // Rec. 709 luminance of linear RGB.
+    const float l = (0.2126f * colour.r + 0.7152f * colour.g + 0.0722f * colour.b) * options_.exposure;
+    glm::vec2& range = worker_range_[worker][tile_of(screen_px)];
+    range.x = std::min(range.x, l);
+    range.y = std::max(range.y, l);
+  }
   // The frame ends: ok, its observations give the next frame's levels; else the next
   // frame traces every point.
   void end_frame(bool ok);
@@ -77,12 +91,26 @@ class ContentDensity {
   const std::vector<std::uint32_t>& tiles_per_level() const { return tiles_per_level_; }
 
  private:
-  std::size_t tile_of(glm::vec2 screen_px) const;
+  // Points in the visible margin count in the nearest tile.
+  int tile_column(float x_px) const { return std::clamp(tile_index(floor_px(x_px)), 0, tiles_x_ - 1); }
+  int tile_row(float y_px) const { return std::clamp(tile_index(floor_px(y_px)), 0, tiles_y_ - 1); }
+  // floor() of a screen coordinate, inline (without SSE4.1 std::floor is a call per point).
+  static int floor_px(float x_px) {
+    const int i = int(x_px);
+    return float(i) > x_px ? i - 1 : i;
+  }
+  // A pixel coordinate's tile: a shift for a power-of-two tile (the default 16 px); the
+  // same index for every pixel >= 0, and a negative one clamps to 0 either way.
+  int tile_index(int px) const { return tile_shift_ >= 0 ? px >> tile_shift_ : px / options_.tile_px; }
+  std::size_t tile_of(glm::vec2 screen_px) const {
+    return std::size_t(tile_row(screen_px.y)) * std::size_t(tiles_x_) + std::size_t(tile_column(screen_px.x));
+  }
   void levels_from_ranges();
 
   const PointLevels& levels_;
   ContentDensityOptions options_;
   int tiles_x_ = 0, tiles_y_ = 0;
+  int tile_shift_ = -1;         // log2(tile_px) when a power of two, else -1
   bool active_ = false;         // this frame thins
   bool have_contrast_ = false;  // the last frame's observations hold
   std::vector<std::uint8_t> tile_level_;

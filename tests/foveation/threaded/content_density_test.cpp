@@ -2,7 +2,8 @@
 // levels keep their spacing and parents, a flat view traces level 0 alone from its
 // second frame and gives the same image, an edge keeps every point of the tiles beside
 // it (on a tile border too), the pixel-exact fovea is never thinned, a failed frame or
-// a history that keeps rays traces every point, its cost is reported per stage, and it is
+// a history that keeps rays traces every point, a box's tiles bound the levels of the points
+// in it (the per-point test's shortcut), its cost is reported per stage, and it is
 // off unless asked for.
 #include <algorithm>
 #include <cmath>
@@ -137,6 +138,47 @@ TEST(ContentDensity, ContrastAndLevels) {
   EXPECT_EQ(level_for_contrast(0.15f, o), 2);
   EXPECT_EQ(level_for_contrast(0.07f, o), 1);
   EXPECT_EQ(level_for_contrast(0.01f, o), 0);
+}
+
+// The run-level shortcut of the per-point test: levels_under() of a screen box is the
+// lowest and highest level of the tiles under it, for power-of-two tiles (a shift) and
+// others (a division), boxes reaching into the margin included.
+TEST(ContentDensity, LevelsUnderABoxAreItsTilesLowestAndHighest) {
+  Executor executor(1);
+  const PointLevels levels = build_point_levels(tables()->points, executor);
+  GazeMapping mapping;
+  mapping.screen_width_px = int(kW), mapping.screen_height_px = int(kH);
+  for (const int tile_px : {16, 12}) {
+    ContentDensityOptions options;
+    options.full_contrast = 0.25f;
+    options.tile_px = tile_px;
+    ContentDensity density(levels, options);
+    density.begin_frame(mapping, 1);
+    EXPECT_EQ(density.levels_under({0, 0}, {kW, kH}).lowest, PointLevels::kFinest) << "the first frame thins nothing";
+    // Grey stripes whose contrast rises to the right in steps, so that tiles span every level.
+    for (uint32_t y = 0; y < kH; ++y)
+      for (uint32_t x = 0; x < kW; ++x) {
+        const float l = 0.5f + float(x % 2) * 0.05f * float(x / 16);
+        density.observe(0, {float(x) + 0.5f, float(y) + 0.5f}, Rgba{l, l, l, 1.0f});
+      }
+    density.end_frame(true);
+    density.begin_frame(mapping, 1);
+    std::set<uint8_t> seen;
+    for (const glm::vec4 box : {glm::vec4(0, 0, kW - 1, kH - 1), glm::vec4(-6, -3, 20, 15), glm::vec4(17, 5, 47.9f, 30),
+                                glm::vec4(60, 40, 61, 41), glm::vec4(100, 80, kW + 5, kH + 5)}) {
+      uint8_t lowest = PointLevels::kFinest, highest = 0;
+      for (float y = box.y; y <= box.w; y += 0.5f)
+        for (float x = box.x; x <= box.z; x += 0.5f) {
+          const uint8_t level = level_for_contrast(density.contrast({x, y}), options);
+          lowest = std::min(lowest, level), highest = std::max(highest, level);
+          seen.insert(level);
+        }
+      const ContentDensity::LevelRange range = density.levels_under({box.x, box.y}, {box.z, box.w});
+      EXPECT_EQ(range.lowest, lowest) << "tile " << tile_px << " box " << box.x << "," << box.y;
+      EXPECT_EQ(range.highest, highest) << "tile " << tile_px << " box " << box.x << "," << box.y;
+    }
+    EXPECT_EQ(seen.size(), std::size_t(PointLevels::kLevels)) << "the steps give the tiles every level";
+  }
 }
 
 TEST(ContentDensity, FlatViewTracesLevelZeroFromItsSecondFrameWithTheSameImage) {
