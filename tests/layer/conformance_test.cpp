@@ -100,14 +100,15 @@ class LayerApp {
     app.state = XR_SESSION_STATE_UNKNOWN;
   }
 
-  XrFoveatedRendererFOVEART make_renderer(const char* gaze_spec = nullptr, bool eye_gaze_interaction = false) {
+  XrFoveatedRendererFOVEART make_renderer(const char* gaze_spec = nullptr, bool eye_gaze_interaction = false,
+                                          XrFoveatedTemporalFOVEART temporal = XR_FOVEATED_TEMPORAL_OFF_FOVEART) {
     auto info = xr<XrFoveatedRendererCreateInfoFOVEART>(XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART);
     info.traceRays = &grey;
     info.interpolation = XR_FOVEATED_INTERPOLATION_NEAREST_FOVEART;
     info.k = 1;
     info.densityScale = 1.0f;
     info.raysPerPoint = 1;
-    info.temporal = XR_FOVEATED_TEMPORAL_OFF_FOVEART;
+    info.temporal = temporal;
     info.gazeSource = gaze_spec ? XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART : XR_FOVEATED_GAZE_SOURCE_NONE_FOVEART;
     info.gazeProviderSpec = gaze_spec;
     if (eye_gaze_interaction) info.gazeSource = XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART;
@@ -418,6 +419,24 @@ TEST(LayerConformance, ConfigCpuKeepsReconstructionOnTheCpu) {
   EXPECT_EQ(s.reconstruction.path, XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART);
   EXPECT_EQ(s.reconstruction.gpuGatherMs[0], 0.0f);
   EXPECT_NE(a.log().find("reconstruction on the CPU"), std::string::npos) << a.log();
+}
+
+// Content density is set but the history keeps every ray: the layer says so once, for both
+// eyes and every frame, and not with a history that lets it thin.
+TEST(LayerInputs, ContentDensityBesideTheRenderCacheIsLoggedOnceAsWithoutEffect) {
+  FOVEART_REQUIRE_RUNTIME();
+  for (const XrFoveatedTemporalFOVEART temporal : {XR_FOVEATED_TEMPORAL_RAYS_FOVEART, XR_FOVEATED_TEMPORAL_IMAGE_FOVEART}) {
+    IsolatedEnv env;
+    LayerApp a(env, config(env, R"(, "wait_for_tables": true, "reconstruction": "cpu", "content_contrast": 0.5)"));
+    a.start();
+    const auto renderer = a.make_renderer(nullptr, false, temporal);
+    ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+    ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+    EXPECT_EQ(a.stats(renderer).main.framesTraced, 2u);
+    const bool rays = temporal == XR_FOVEATED_TEMPORAL_RAYS_FOVEART;
+    EXPECT_EQ(count_of(a.log(), "have no effect while the history is the render cache"), rays ? 1u : 0u)
+        << (rays ? "rays" : "image") << ":\n" << a.log();
+  }
 }
 
 TEST(LayerInputs, UnwritableCacheIsLoggedOnceAndCounted) {
