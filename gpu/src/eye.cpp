@@ -196,14 +196,14 @@ bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* er
   // The last frame measured the tiles and ended (end_frame), on these tables (a new set starts anew, as on the CPU).
   tiles_measured_ = ended_measuring_ && measured_tables_ == frame.tables;
   measured_tables_ = frame.tables;
-  ended_measuring_ = density_recorded_ = false;
+  ended_measuring_ = false;
   return true;
 }
 
 void Eye::end_frame() {
   parity_ ^= 1;  // this frame's output is the next frame's history
   slot().recorded = true;
-  ended_measuring_ = density_recorded_;
+  ended_measuring_ = slot().density;
 }
 
 bool Eye::record(VkCommandBuffer cb, const EyeFrame& frame, VkImage image, foveation::Executor& executor,

@@ -110,8 +110,7 @@ bool Eye::record_trace(VkCommandBuffer cb, const EyeFrame& frame, std::string* e
   stamp(cb, 7);
   if (frame.device != nullptr) s.device_trace->record_contrast(cb, *frame.device);
   stamp(cb, 8);
-  density_recorded_ = frame.device != nullptr && frame.device->density_on();
-  s.density = density_recorded_;
+  s.density = frame.device != nullptr && frame.device->density_on();
   stamp(cb, 1);
   return true;
 }

@@ -174,7 +174,7 @@ class Eye {
     VkQueryPool queries = VK_NULL_HANDLE;
     std::unique_ptr<DeviceTrace> device_trace;  // made by the slot's first device-traced frame
     bool recorded = false;
-    bool density = false;  // its frame ran content density's passes: their times are kept (stage_times)
+    bool density = false;  // its frame ran content density's passes: it measures the tiles, its times are kept
   };
 
   Eye(Context& context, const FramePipelines& pipelines, uint32_t width_px, uint32_t height_px);
@@ -198,7 +198,6 @@ class Eye {
   // Content density's tiles (shader_interface/device_trace.h), one set per eye: each
   // device-traced frame measures them for the next, in queue order.
   BoundBuffer tiles_;
-  bool density_recorded_ = false;            // the frame being recorded measures the tiles
   bool tiles_measured_ = false;              // this frame may read them: the last frame measured them and ended
   bool ended_measuring_ = false;             // the last frame ended (end_frame) having measured them
   const Tables* measured_tables_ = nullptr;  // the tables of the last frame begun
