@@ -606,9 +606,10 @@ bool FoveatedRenderer::Frames::take_result(uint32_t e, const foveation::FrameRes
 }
 
 // The CPU trace's content density cost (foveation::DensityCost): 0 on a device trace, whose
-// passes are timed on the device (apply_collected).
+// passes are timed on the device and whose thinned points come with its status (apply_collected).
 void FoveatedRenderer::Frames::take_density(uint32_t e, const foveation::FrameResult& result) {
-  density.points_thinned[e] = result.points_thinned;
+  const std::optional<EyePath>& path = eyes[e].path;
+  if (!path || !path->device_trace) density.points_thinned[e] = result.points_thinned;
   density.levels_ms[e] = static_cast<float>(result.density.levels_ms);
   density.test_ms[e] = static_cast<float>(result.density.test_ms);
   density.observe_ms[e] = static_cast<float>(result.density.observe_ms);
