@@ -3,8 +3,10 @@
 # scenes and viewers), in three parts, each writing its own file in DIR (headed by its command and
 # this machine) and its JSON in DIR/json/:
 #  detection (content_density.md): per scene, at a centred and an off-centre gaze, `fovea-eval
-#    density` sweeps the density scale (eccentricity only) and the content contrast (content-aware,
-#    at scale 1) and gives, per kind, the smallest ray fraction at which the perceptual metric
+#    density` sweeps the density scale (eccentricity only) and content-aware density at scale 1,
+#    its levers: the contrast that thins points, the contrast from which a point casts all its rays
+#    (rays per point by contrast), and both from one contrast; it gives, per kind, the smallest ray
+#    fraction at which the perceptual metric
 #    predicts P < 0.5 in every ring the full render at the same rays per pixel does not already
 #    show, against a converged reference (cached in out/cache/reference), and the content-aware
 #    row with the fewest rays at eccentricity only's detection per ring. The view: a CROP of the
@@ -68,9 +70,10 @@ header() {  # the title, then this machine, the load and the command
 detection_part() {
   need "$eval_bin"
   local gazes=("centre|$((cw / 2)),$((ch / 2))" "off-centre|$((cw / 5)),$((ch / 5))")
-  local scales=1,1.5,2,3,4 contrasts=0.1,0.25,0.5,1
+  local scales=1,1.5,2,3,4 contrasts=0.1,0.25,0.5,1 ray_contrasts=0.25,0.5,1 both_contrasts=0.25,0.5,1
   local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
-                --k 5 --scales "$scales" --contrasts "$contrasts" --cache-dir out/cache)
+                --k 5 --scales "$scales" --contrasts "$contrasts" --ray-contrasts "$ray_contrasts"
+                --both-contrasts "$both_contrasts" --cache-dir out/cache)
   local md="$dir/content_density.md" details
   {
     header "Content-aware density on the benchmark set, judged by the perceptual metric"
@@ -81,13 +84,15 @@ detection_part() {
     echo "$reference_spp rays per pixel. A row is unseen when, in every ring where the full render at $rays rays per"
     echo "pixel stays below P = 0.5, the row's largest P stays below 0.5 too; rings the full render already shows are"
     echo "listed (its own noise hides foveation there). Ray %: the row's primary rays over the full render's at the"
-    echo "same rays per pixel. Eccentricity only sweeps the density scale $scales; content-aware the contrast $contrasts"
-    echo "at scale 1. \"none\": no row of that kind is unseen. The goal is 10 % or less. Same detection: the"
+    echo "same rays per pixel. Eccentricity only sweeps the density scale $scales; content-aware density, at scale 1,"
+    echo "the contrast that thins points (\"thin C\": $contrasts) or the one from which a point casts all its rays"
+    echo "(\"rays C\": $ray_contrasts, fewer below it), or both from one contrast (\"both C\": $both_contrasts)."
+    echo "\"none\": no row of that kind is unseen. The goal is 10 % or less. Same detection: the"
     echo "content-aware row with the fewest rays whose largest P exceeds eccentricity only's at scale 1 by at most"
     echo "0.01 in every ring (\`detected_no_more\`), and the rays it saves against that row. What choosing the density"
     echo "costs per stage: [cost.md](cost.md); rays per point by contrast: [rays.md](rays.md)."
     echo
-    echo "| scene | gaze | rings the full render shows | eccentricity only: smallest unseen ray % (scale) | content-aware: smallest unseen ray % (contrast) | eccentricity only at scale 1: ray %, rings seen | content-aware at the same detection: ray % (contrast), rays saved % |"
+    echo "| scene | gaze | rings the full render shows | eccentricity only: smallest unseen ray % (scale) | content-aware: smallest unseen ray % (lever) | eccentricity only at scale 1: ray %, rings seen | content-aware at the same detection: ray % (lever), rays saved % |"
     echo "|---|---|---|---|---|---|---|"
   } >"$md"
   details=$(mktemp)
@@ -100,16 +105,19 @@ detection_part() {
       # shellcheck disable=SC2086
       "$eval_bin" density --scene "$scene" $viewer --gaze "$gaze" "${common[@]}" >"$json"
       jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings"'
-        def best($b; $key): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b[$key]))" end;
+        def lever: if .kind == "rays" then "rays \(.content_rays)" elif .kind == "content" then "thin \(.content_contrast)"
+          elif .kind == "both" then "both \(.content_contrast)" else "\(.density_scale)" end;
+        def best($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever))" end;
+        def fewer($a; $b): if $a == null then $b elif $b == null then $a elif $b.ray_fraction < $a.ray_fraction then $b else $a end;
         (.rows[] | select(.kind == "eccentricity" and .density_scale == 1)) as $s1
         | .content_at_eccentricity_detection as $m
-        | "| \($name) | \($gaze) | \(seen(.full.rings_p_max)) | \(best(.best_eccentricity; "density_scale"))"
-          + " | \(best(.best_content; "content_contrast")) | \($s1.ray_fraction | pct), \(seen($s1.rings_p_max))"
-          + " | \(if $m == null then "none" else "\($m.ray_fraction | pct) (\($m.content_contrast)), \((1 - $m.ray_fraction / $s1.ray_fraction) | pct)" end) |"' \
+        | "| \($name) | \($gaze) | \(seen(.full.rings_p_max)) | \(best(.best_eccentricity))"
+          + " | \(best(fewer(fewer(.best_content; .best_rays); .best_both))) | \($s1.ray_fraction | pct), \(seen($s1.rings_p_max))"
+          + " | \(if $m == null then "none" else "\($m.ray_fraction | pct) (\($m | lever)), \((1 - $m.ray_fraction / $s1.ray_fraction) | pct)" end) |"' \
         "$json" >>"$md"
       jq -r --arg name "$name" --arg gaze "$gname" '
         def r2: if . == null then "-" else . * 100 | round / 100 end;
-        .rows[] | "| \($name) | \($gaze) | \(.kind) | \(.density_scale) | \(.content_contrast) | \(.ray_fraction * 1000 | round / 10)"
+        .rows[] | "| \($name) | \($gaze) | \(.kind) | \(.density_scale) | \(.content_contrast) | \(.content_rays) | \(.ray_fraction * 1000 | round / 10)"
           + " | \(.rings_p_max | map(r2) | join(" | ")) | \(if .unseen then "yes" else "no" end) |"' "$json" >>"$details"
     done
   done
@@ -119,8 +127,8 @@ detection_part() {
     echo
     echo "## Every row: the largest P per ring"
     echo
-    echo "| scene | gaze | density | scale | contrast | ray % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 | unseen |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | gaze | density | scale | thin C | rays C | ray % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 | unseen |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
     cat "$details"
   } >>"$md"
   rm -f "$details"
@@ -165,7 +173,8 @@ rays_part() {
   need "$eval_bin"
   local ray_contrasts=0.25,0.5,1
   local common=(--preset fove --crop "$crop" --rays-per-point 16 --density-scale 2 --reference-spp "$reference_spp"
-                --interpolation msm --k 5 --scales 2 --contrasts 1 --ray-contrasts "$ray_contrasts" --cache-dir out/cache)
+                --interpolation msm --k 5 --scales 2 --contrasts 1 --ray-contrasts "$ray_contrasts"
+                --both-contrasts "$both_contrasts" --cache-dir out/cache)
   local md="$dir/rays.md"
   {
     header "Rays per point by contrast on the benchmark set"

@@ -37,6 +37,8 @@ std::string density_problem(DensityOptions& o) {
     if (!(c > 0.0 && c <= 1.0)) return "--contrasts: each content contrast must be in (0, 1]";
   for (const double c : o.ray_contrasts)
     if (!(c > 0.0 && c <= 1.0)) return "--ray-contrasts: each contrast must be in (0, 1]";
+  for (const double c : o.both_contrasts)
+    if (!(c > 0.0 && c <= 1.0)) return "--both-contrasts: each contrast must be in (0, 1]";
   if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (o.crop_px) {
     const std::optional<foveation::DisplayModel> preset = foveation::display_preset(o.render.preset);
@@ -149,8 +151,9 @@ struct DensityAt {
   return true;
 }
 
-// The content-aware row with the fewest rays detected no more than eccentricity-only density at
-// the same density scale (null: none, or no eccentricity row at that scale).
+// The content-aware row (thinned by contrast, rays per point by contrast, or both) with the fewest rays
+// detected no more than eccentricity-only density at the same density scale (null: none, or no
+// eccentricity row at that scale).
 Json fewest_at_eccentricity_detection(const Json& rows, double density_scale) {
   const auto p_of = [](const Json& row) {
     std::vector<double> v;
@@ -163,7 +166,7 @@ Json fewest_at_eccentricity_detection(const Json& rows, double density_scale) {
   if (baseline == rows.end()) return Json();
   Json best;
   for (const Json& row : rows)
-    if (row["kind"] == "content" && detected_no_more(p_of(row), p_of(*baseline)) &&
+    if (row["kind"] != "eccentricity" && detected_no_more(p_of(row), p_of(*baseline)) &&
         (best.is_null() || row["ray_fraction"].get<double>() < best["ray_fraction"].get<double>()))
       best = row;
   return best;
@@ -202,20 +205,22 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   foveation::Executor executor(o.render.threads > 0 ? unsigned(o.render.threads) : 0u);
   DensityRun r;
   std::string error;
-  Json baseline, rows = Json::array(), best_eccentricity, best_content, best_rays;
+  Json baseline, rows = Json::array(), best_eccentricity, best_content, best_rays, best_both;
   PerceptualResult full;
   if (!set_up_density(o, executor, err, &r, &error) || !baseline_json(o, r, executor, &full, &baseline, &error))
     return err << kDensityWho << error << "\n", 1;
   DensityProbe probe{r.tracer.get(), r.view, r.gaze, o.render, &r.reference, &r.metric, std::nullopt, {}, &executor};
   if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);
   probe.log = [&](const std::string& m) { err << kDensityWho << m << "\n"; };
-  std::vector<DensityAt> eccentricity, content, rays;
+  std::vector<DensityAt> eccentricity, content, rays, both;
   for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0});
   for (const double c : o.contrasts) content.push_back({o.render.density_scale, c, 0.0});
   for (const double c : o.ray_contrasts) rays.push_back({o.render.density_scale, 0.0, c});
+  for (const double c : o.both_contrasts) both.push_back({o.render.density_scale, c, c});
   if (!sweep(probe, "eccentricity", eccentricity, full, err, &rows, &best_eccentricity, &error) ||
       !sweep(probe, "content", content, full, err, &rows, &best_content, &error) ||
-      !sweep(probe, "rays", rays, full, err, &rows, &best_rays, &error))
+      !sweep(probe, "rays", rays, full, err, &rows, &best_rays, &error) ||
+      !sweep(probe, "both", both, full, err, &rows, &best_both, &error))
     return err << kDensityWho << error << "\n", 1;
   const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
                        {"width", r.view.width_px}, {"height", r.view.height_px},
@@ -224,7 +229,7 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
                        {"reference_spp", r.reference_spp}, {"ring_edges_deg", metrics::kRingEdgesDeg},
                        {"full", baseline}, {"rows", rows},
                        {"best_eccentricity", best_eccentricity}, {"best_content", best_content},
-                       {"best_rays", best_rays},
+                       {"best_rays", best_rays}, {"best_both", best_both},
                        {"content_at_eccentricity_detection", fewest_at_eccentricity_detection(rows, o.render.density_scale)}};
   out << report.dump(2) << "\n";
   return 0;
@@ -246,6 +251,10 @@ void register_density(CLI::App& app) {
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--ray-contrasts", o->ray_contrasts,
                   "Contrasts from which a point casts all its rays, of the rays-per-point rows (at --density-scale; "
+                  "none by default)")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--both-contrasts", o->both_contrasts,
+                  "Contrasts of rows that thin points and vary their rays from the same contrast (at --density-scale; "
                   "none by default)")
       ->delimiter(',')->capture_default_str();
   cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();

@@ -1,5 +1,6 @@
 // `fovea-eval density` in process (bad options exit 2 naming the problem; a tiny sweep's rows,
-// their verdicts and the smallest unseen ray fraction per kind, rays per point by contrast among them) and the bisection it shares with
+// their verdicts, the smallest unseen ray fraction per kind, rays per point by contrast and both levers among them, and
+// the content-aware row at eccentricity-only's detection) and the bisection it shares with
 // the thesis check (eval/density_detection.hpp).
 #include <eval/cmd_density.hpp>
 #include <eval/density_detection.hpp>
@@ -7,7 +8,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "gltf_fixtures.hpp"  // engine_test::TempDir
 
@@ -32,6 +35,7 @@ eval::DensityOptions tiny_density(const std::string& cache) {
   o.scales = {1.0, 4.0};
   o.contrasts = {1.0};
   o.ray_contrasts = {1.0};
+  o.both_contrasts = {1.0};
   o.render.density_scale = 4.0;  // the content-aware rows' scale: Poisson points to thin, or to give fewer rays
   return o;
 }
@@ -58,6 +62,10 @@ TEST(DensityCommand, BadOptionsExitTwoNamingTheProblem) {
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--ray-contrasts"), std::string::npos) << err;
   o = tiny_density(dir.path.string());
+  o.both_contrasts = {-1.0};
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--both-contrasts"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
   o.crop_px = glm::ivec2(5000, 36);
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--crop"), std::string::npos) << err;
@@ -70,14 +78,19 @@ TEST(DensityCommand, RowsTheirVerdictsAndTheSmallestUnseenRayFraction) {
   const auto j = nlohmann::json::parse(out);
   EXPECT_EQ(j["width"], 96);
   EXPECT_EQ(j["height"], 108);
-  ASSERT_EQ(j["rows"].size(), 4u);  // two scales, one contrast, one rays-per-point contrast
+  ASSERT_EQ(j["rows"].size(), 5u);  // two scales, one contrast, one rays-per-point contrast, one of both
   EXPECT_LT(j["rows"][1]["ray_fraction"].get<double>(), j["rows"][0]["ray_fraction"].get<double>()) << "scale 4 thins";
   EXPECT_EQ(j["rows"][3]["kind"], "rays");
   EXPECT_EQ(j["rows"][3]["content_rays"], 1.0);
   EXPECT_LT(j["rows"][3]["ray_fraction"].get<double>(), j["rows"][1]["ray_fraction"].get<double>())
       << "at scale 4, fewer rays per point in the flat and dark tiles";
   const auto& full = j["full"]["rings_p_max"];
-  for (const char* kind : {"eccentricity", "content", "rays"}) {
+  EXPECT_EQ(j["rows"][4]["kind"], "both");
+  EXPECT_EQ(j["rows"][4]["content_contrast"], 1.0);
+  EXPECT_EQ(j["rows"][4]["content_rays"], 1.0);
+  EXPECT_LT(j["rows"][4]["ray_fraction"].get<double>(), j["rows"][3]["ray_fraction"].get<double>())
+      << "thinning as well as fewer rays per point";
+  for (const char* kind : {"eccentricity", "content", "rays", "both"}) {
     const nlohmann::json* smallest = nullptr;
     for (const auto& row : j["rows"]) {
       if (row["kind"] != kind) continue;
@@ -93,6 +106,24 @@ TEST(DensityCommand, RowsTheirVerdictsAndTheSmallestUnseenRayFraction) {
     } else {
       EXPECT_EQ(best, *smallest);
     }
+  }
+  // Same detection with the fewest rays: any content-aware kind, against eccentricity only at
+  // the content-aware rows' scale (rows[1], scale 4), ring by ring.
+  const auto p_of = [](const nlohmann::json& row) {
+    std::vector<double> v;
+    for (const auto& p : row["rings_p_max"]) v.push_back(p.is_null() ? std::nan("") : p.get<double>());
+    return v;
+  };
+  ASSERT_EQ(j["rows"][1]["density_scale"], 4.0);
+  const nlohmann::json* fewest = nullptr;
+  for (const auto& row : j["rows"])
+    if (row["kind"] != "eccentricity" && eval::detected_no_more(p_of(row), p_of(j["rows"][1])) &&
+        (!fewest || row["ray_fraction"].get<double>() < (*fewest)["ray_fraction"].get<double>()))
+      fewest = &row;
+  if (fewest == nullptr) {
+    EXPECT_TRUE(j["content_at_eccentricity_detection"].is_null()) << j["content_at_eccentricity_detection"].dump();
+  } else {
+    EXPECT_EQ(j["content_at_eccentricity_detection"], *fewest);
   }
 }
 

@@ -2,12 +2,14 @@
 // One still view (a crop of the preset's view at its pixels per degree, --crop, keeps it quick),
 // one gaze: the full render at --rays-per-point rays per pixel (the baseline) and the foveated
 // frame over eccentricity-only density (--scales, the thesis's density scale), content-aware
-// density (--contrasts, at --density-scale) and rays per point by contrast (--ray-contrasts, at
-// --density-scale; foveation/point_rays.hpp), each against a converged reference through the
+// density (--contrasts, at --density-scale), rays per point by contrast (--ray-contrasts, at
+// --density-scale; foveation/point_rays.hpp) and both from one contrast (--both-contrasts), each
+// against a converged reference through the
 // metric (eval/density_detection.hpp) on the view's display (its exposure and tone map). Per row
 // the ray fraction, the density's and the frame's ms and each ring's largest P; per kind the
 // smallest ray fraction at which every ring stays below P = 0.5, among the rings where the full
-// render itself stays below it (elsewhere its own noise hides foveation). JSON on stdout.
+// render itself stays below it (elsewhere its own noise hides foveation); and the content-aware row
+// (any of its kinds) with the fewest rays at eccentricity-only's detection (detected_no_more). JSON on stdout.
 #pragma once
 
 #include <eval/lab_options.hpp>
@@ -35,6 +37,7 @@ struct DensityOptions {
   std::vector<double> scales = {1.0, 1.5, 2.0, 3.0};
   std::vector<double> contrasts = {0.25, 0.5, 1.0};
   std::vector<double> ray_contrasts;  // none unless asked for: the benchmark's sweeps stay as they were
+  std::vector<double> both_contrasts;  // rows that thin and vary the rays per point from the same contrast
   double white_cd_m2 = 100.0;
 };
 
