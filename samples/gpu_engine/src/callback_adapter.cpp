@@ -6,6 +6,7 @@
 
 #include <foveation/eye_rays.hpp>
 
+#include "icd_pin.h"
 #include "vk_helpers.hpp"
 
 #include <algorithm>
@@ -223,6 +224,9 @@ bool CallbackAdapter::Impl::pick_physical_device(const CallbackAdapterOptions& o
     return fail(error, "gpu_engine: no Vulkan 1.1 device with a compute queue (" + std::to_string(count) +
                                 " device(s) found)");
   family = compute_family(physical);
+  // The driver made its process-lifetime allocations while enumerating: keep it mapped so
+  // that LeakSanitizer names them at exit, as the simulated runtime does (icd_pin.h).
+  foveart::sim::pin_loaded_vulkan_icds_and_layers();
   return true;
 }
 

@@ -8,7 +8,8 @@
 // applies and our own leaks are still reported. The same holds for layers: the
 // Khronos validation layer with synchronization validation on keeps allocations
 // past vkDestroyInstance. The runtime pins whatever drivers and layers are loaded once
-// it is handed the app's Vulkan objects (tests with their own instance do the same);
+// it is handed the app's Vulkan objects (the GPU sample engine's adapter, and tests with
+// their own instance, do the same);
 // a driver is recognised by the export that the loader-ICD interface requires of
 // every ICD (vk_icdGetInstanceProcAddr), a layer by the loader-layer interface's
 // (vkNegotiateLoaderLayerInterfaceVersion), never by file name or path.
