@@ -12,7 +12,8 @@
 #    row with the fewest rays at eccentricity only's detection per ring. The view: a CROP of the
 #    FOVE eye at its pixels per degree (10.2 at the gaze), RAYS rays per point and per pixel.
 #  cost (cost.md): what choosing the density costs in a product frame, per stage: `fovea render`
-#    on the whole FOVE eye at one ray per point, content contrast 0.5, against the frame's ms.
+#    on the whole FOVE eye, content contrast 0.5 at one ray per point, and both levers at four,
+#    against the frame's ms.
 #  rays (rays.md): rays per point by contrast, centred gaze: `fovea-eval density --ray-contrasts`
 #    on the CROP at 16 rays per point and density scale 2, the primary rays against eccentricity
 #    only at the same scale, and what the metric sees.
@@ -138,33 +139,44 @@ detection_part() {
 cost_part() {
   need "$fovea"
   local md="$dir/cost.md"
+  local settings=(  # name | options: thinning alone at one ray per point; both levers at four
+    "thin 0.5, 1 ray|--content-contrast 0.5 --rays-per-point 1"
+    "both 0.5, 4 rays|--content-contrast 0.5 --content-rays 0.5 --rays-per-point 4"
+  )
   {
     header "What choosing the density costs, per stage, on the CPU"
-    echo "The whole FOVE eye (1280x1440), one ray per point, MSM k = 5, content contrast 0.5, centred gaze:"
-    echo "\`$fovea render --scene SCENE VIEWER --preset fove --mode foveated --interpolation msm --k 5"
-    echo "--content-contrast 0.5 --frames 5 --cache-dir out/cache --json\`, its median frame (select, trace and"
+    echo "The whole FOVE eye (1280x1440), MSM k = 5, centred gaze, in two settings: content contrast 0.5 at one ray per"
+    echo "point (thinning alone), and both levers from contrast 0.5 at four rays per point (\`--content-rays 0.5\`: the"
+    echo "per-point test also counts each point's rays):"
+    echo "\`$fovea render --scene SCENE VIEWER --preset fove --mode foveated --interpolation msm --k 5 SETTING"
+    echo "--frames 5 --cache-dir out/cache --json\`, its median frame (select, trace and"
     echo "reconstruction: frame ms) and that frame's \`density_stages_ms\`: levels, the tiles' levels from the last"
-    echo "frame's luminance ranges; test, the per-point test (thinned or traced); observe, the traced colours into their"
-    echo "tiles' ranges; fill, the thinned points from their parents. Test and observe run inside the parallel trace pass:"
-    echo "their time summed over the threads, divided by the threads. Density ms is the four's sum. Load average (1 min)"
-    echo "when each ran. The device trace's passes: [cost_device.md](cost_device.md)."
+    echo "frame's luminance ranges; test, the per-point test (thinned or traced, and its rays); observe, the traced"
+    echo "colours into their tiles' ranges; fill, the thinned points from their parents. Test and observe run inside the"
+    echo "parallel trace pass: their time summed over the threads, divided by the threads. Density ms is the four's sum."
+    echo "Rays % of full: primary rays over the full render's at the same rays per pixel. Load average (1 min) when each"
+    echo "ran. The device trace's passes: [cost_device.md](cost_device.md)."
     echo
-    echo "| scene | levels ms | test ms | observe ms | fill ms | density ms | frame ms | density % of the frame | rays % of full | load |"
-    echo "|---|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | setting | levels ms | test ms | observe ms | fill ms | density ms | frame ms | density % of the frame | rays % of full | load |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|"
   } >"$md"
   for entry in "${scenes[@]}"; do
     IFS='|' read -r name scene viewer <<<"$entry"
-    echo "=== $name, cost" >&2
-    load=$(cut -d' ' -f1 /proc/loadavg)
-    # shellcheck disable=SC2086
-    "$fovea" render --scene "$scene" $viewer --preset fove --mode foveated --interpolation msm --k 5 \
-      --content-contrast 0.5 --frames 5 --cache-dir out/cache --json >"$dir/json/${name}_cost.json"
-    jq -r --arg name "$name" --arg load "$load" '
-      def r2: . * 100 | round / 100;
-      .foveated as $f | $f.density_stages_ms as $s
-      | "| \($name) | \($s.levels | r2) | \($s.test | r2) | \($s.observe | r2) | \($s.fill | r2) | \($f.density_ms | r2)"
-        + " | \($f.total_ms | r2) | \($f.density_ms / $f.total_ms * 1000 | round / 10)"
-        + " | \($f.rays.primary / .pixels * 1000 | round / 10) | \($load) |"' "$dir/json/${name}_cost.json" >>"$md"
+    for setting in "${settings[@]}"; do
+      IFS='|' read -r sname soptions <<<"$setting"
+      echo "=== $name, cost, $sname" >&2
+      load=$(cut -d' ' -f1 /proc/loadavg)
+      json="$dir/json/${name}_cost_${sname//[ ,.]/_}.json"
+      # shellcheck disable=SC2086
+      "$fovea" render --scene "$scene" $viewer --preset fove --mode foveated --interpolation msm --k 5 $soptions \
+        --frames 5 --cache-dir out/cache --json >"$json"
+      jq -r --arg name "$name" --arg setting "$sname" --arg load "$load" '
+        def r2: . * 100 | round / 100;
+        .foveated as $f | $f.density_stages_ms as $s
+        | "| \($name) | \($setting) | \($s.levels | r2) | \($s.test | r2) | \($s.observe | r2) | \($s.fill | r2)"
+          + " | \($f.density_ms | r2) | \($f.total_ms | r2) | \($f.density_ms / $f.total_ms * 1000 | round / 10)"
+          + " | \($f.rays.primary / .pixels / .rays_per_point * 1000 | round / 10) | \($load) |"' "$json" >>"$md"
+    done
   done
 }
 
