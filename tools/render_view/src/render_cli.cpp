@@ -78,7 +78,7 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
   cmd->add_option("--density-scale", opts->density_scale, "Point density scale (thesis 4.1)")->capture_default_str();
   cmd->add_option("--content-contrast", opts->content_contrast,
                   "Content-aware density: a screen tile traces all its points from this Michelson contrast "
-                  "(last frame's), half from a quarter of it, a quarter below; 0: off")
+                  "(last frame's), about half from half of it, a quarter from a quarter, a ninth below; 0: off")
       ->capture_default_str();
   cmd->add_option("--content-rays", opts->content_rays,
                   "Rays per point by the content: a point casts all --rays-per-point rays from this Michelson "
