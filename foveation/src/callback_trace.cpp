@@ -32,6 +32,7 @@ CallbackTrace::CallbackTrace(const PointSet& points, int rays_per_point, PixelFi
   traced_.colors.invalid = points.size();
   traced_.depth_m.assign(points.size(), NAN);
   traced_.runs.resize((points.size() + kRunPoints - 1) / kRunPoints);
+  filled_begin_.assign(traced_.runs.size(), 0);
   run_boxes_.resize(traced_.runs.size(), RunBox{glm::vec2(INFINITY), glm::vec2(-INFINITY)});
   for (std::size_t i = 0; i < points.size(); ++i) {
     RunBox& box = run_boxes_[i / kRunPoints];
@@ -119,6 +120,7 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
   std::vector<std::uint32_t>& before = previous_[worker];
   before.swap(traced);
   traced.clear();
+  const std::size_t filled_before = std::min<std::size_t>(filled_begin_[run], before.size());
   if (pass.density != nullptr) thinned_[run].clear();
   const std::size_t first = run * kRunPoints, last = std::min(points_.size(), first + kRunPoints);
   if (keep_rays_) traced_.rays[run].clear();
@@ -126,7 +128,8 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
   const RunBox& box = run_boxes_[run];
   const glm::vec2 box_min = visible.to_screen(box.min_px), box_max = visible.to_screen(box.max_px);
   if (box_max.x < visible.x0 || box_min.x >= visible.x1 || box_max.y < visible.y0 || box_min.y >= visible.y1) {
-    forget_untraced(before, traced, last - first);
+    forget_untraced(before, filled_before, traced, last - first);
+    filled_begin_[run] = 0;
     return;  // no point of this run is on the screen
   }
   // Most runs lie wholly on the screen: their points need no test of their own.
@@ -140,7 +143,8 @@ void CallbackTrace::trace_run(FramePass& pass, std::size_t run, unsigned worker)
     if (trace_batch(pass, run, worker, batch)) run_has_depth = true;
   }
   if (pass.density != nullptr) observe_run(pass, run, worker);
-  forget_untraced(before, traced, last - first);
+  forget_untraced(before, filled_before, traced, last - first);
+  filled_begin_[run] = std::uint32_t(traced.size());  // fill_thinned appends after them
   pass.traced_points.fetch_add(ids.size(), std::memory_order_relaxed);
   if (run_has_depth) pass.any_depth.store(true, std::memory_order_relaxed);
 }
@@ -187,15 +191,20 @@ void CallbackTrace::thin_run(FramePass& pass, std::size_t run, std::vector<std::
 }
 
 // Clears the colour and depth of the points in `before` (last frame's, of a
-// run of run_size points) that are not in `traced` (this frame's).
-void CallbackTrace::forget_untraced(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& traced,
-                                    std::size_t run_size) {
+// run of run_size points) that are not in `traced` (this frame's). `before` is
+// two ascending lists: the points traced, then from filled_before those filled.
+void CallbackTrace::forget_untraced(const std::vector<std::uint32_t>& before, std::size_t filled_before,
+                                    const std::vector<std::uint32_t>& traced, std::size_t run_size) {
   if (traced.size() == run_size) return;  // every point of the run holds this frame's colour
-  auto now = traced.begin();              // both lists ascend (the run's order)
-  for (std::uint32_t id : before) {
-    while (now != traced.end() && *now < id) ++now;
-    if (now == traced.end() || *now != id) traced_.colors.rgba[id] = Rgba{}, traced_.depth_m[id] = NAN;
-  }
+  const auto forget = [&](auto begin, auto end) {
+    auto now = traced.begin();  // both ascend (the run's order)
+    for (auto it = begin; it != end; ++it) {
+      while (now != traced.end() && *now < *it) ++now;
+      if (now == traced.end() || *now != *it) traced_.colors.rgba[*it] = Rgba{}, traced_.depth_m[*it] = NAN;
+    }
+  };
+  forget(before.begin(), before.begin() + std::ptrdiff_t(filled_before));
+  forget(before.begin() + std::ptrdiff_t(filled_before), before.end());
 }
 
 // Stages 2 and 3 for a batch of the worker's run: their rays, the engine's colours,
@@ -289,7 +298,8 @@ void CallbackTrace::observe_run(FramePass& pass, std::size_t run, unsigned worke
 }
 
 // Each thinned point takes the inverse-distance mean of its traced parents
-// (point_levels.hpp) and joins its run's list, which stays ascending.
+// (point_levels.hpp) and joins its run's list after the traced ones (from
+// filled_begin_), both ascending: no merge, which would allocate per run and frame.
 std::uint64_t CallbackTrace::fill_thinned(Executor& executor) {
   std::atomic<std::uint64_t> filled{0};
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run) {
@@ -298,8 +308,7 @@ std::uint64_t CallbackTrace::fill_thinned(Executor& executor) {
     thinned.erase(std::remove_if(thinned.begin(), thinned.end(), [&](std::uint32_t id) { return !fill_point(id); }),
                   thinned.end());
     std::vector<std::uint32_t>& list = traced_.runs[run];
-    const auto middle = list.insert(list.end(), thinned.begin(), thinned.end());
-    std::inplace_merge(list.begin(), middle, list.end());
+    list.insert(list.end(), thinned.begin(), thinned.end());
     filled.fetch_add(thinned.size(), std::memory_order_relaxed);
   });
   return filled.load();

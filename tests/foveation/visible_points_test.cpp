@@ -12,8 +12,10 @@
 #include <limits>
 
 #include "foveation/callback_trace.hpp"
+#include "foveation/content_density.hpp"
 #include "foveation/eye_rays.hpp"
 #include "foveation/gaze_mapping.hpp"
+#include "foveation/point_levels.hpp"
 #include "foveation/point_set.hpp"
 #include "foveation/ray_samples.hpp"
 #include "foveation/visible_points.hpp"
@@ -140,6 +142,46 @@ TEST(VisiblePoints, TheTracePassTracesExactlyTheVisiblePoints) {
   }
   EXPECT_EQ(coloured, traced.size());
   EXPECT_LT(traced.size(), fv::select_visible_points(ps, frame.mapping).size());
+}
+
+// With content density the run lists hold the points traced, then those filled from their
+// parents; exactly those hold a colour, each once, while the gaze moves and filled points of
+// the last frame fall off the screen or are traced again.
+TEST(VisiblePoints, WithContentDensityExactlyTheTracedAndFilledPointsHoldAColour) {
+  const fv::PointSet ps = fv::generate_point_set(fv::DisplayModel::from_fov(480, 540, 95.0), 3);
+  fv::Executor executor(2);
+  fv::CallbackTrace trace(ps, 1, fv::PixelFilter::box, false, false);
+  const fv::PointLevels levels = fv::build_point_levels(ps, executor);
+  fv::ContentDensityOptions options;
+  options.full_contrast = 0.5f;  // the grey engine's view is flat: its tiles trace level 0
+  trace.set_content_density([&](fv::Executor&) -> const fv::PointLevels& { return levels; }, options);
+  fv::HostFrame host;
+  std::uint64_t thinned = 0;
+  for (const glm::vec2 g : {glm::vec2(240, 270), glm::vec2(240, 270), glm::vec2(0, 0), glm::vec2(480, 540),
+                            glm::vec2(450, 20), glm::vec2(240, 270)}) {
+    fv::FrameContext frame;
+    frame.view = fv::make_eye_view(0, 480, 540, fv::EyePose{}, -0.8f, 0.8f, 0.85f, -0.85f);
+    frame.mapping = fv::map_gaze(480, 540, g);
+    frame.trace_rays = &grey_engine;
+    const fv::TraceStats stats = trace.trace(frame, host, executor);
+    ASSERT_TRUE(stats.ok()) << stats.error;
+    thinned += stats.points_thinned;
+    std::vector<std::uint32_t> listed;
+    for (const auto& run : trace.traced().runs) listed.insert(listed.end(), run.begin(), run.end());
+    EXPECT_EQ(listed.size(), std::size_t(stats.points) + stats.points_thinned) << g.x << "," << g.y;
+    std::sort(listed.begin(), listed.end());
+    EXPECT_EQ(std::adjacent_find(listed.begin(), listed.end()), listed.end()) << "a point listed twice";
+    std::size_t coloured = 0;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      const bool has_colour = trace.traced().colors.rgba[i].a == 1.0f;
+      coloured += has_colour;
+      if (has_colour) {
+        EXPECT_TRUE(std::binary_search(listed.begin(), listed.end(), std::uint32_t(i))) << i;
+      }
+    }
+    EXPECT_EQ(coloured, listed.size()) << g.x << "," << g.y;
+  }
+  EXPECT_GT(thinned, 0u) << "a flat view thins from its second frame";
 }
 
 TEST(RaySamples, UniformInsideEachDiscAndIdenticalEveryFrame) {

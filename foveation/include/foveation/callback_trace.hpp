@@ -42,8 +42,8 @@ class CallbackTrace final : public TraceStage {
   struct FramePass;  // one frame's shared state and counts (callback_trace.cpp)
   // The steps of trace: a run of the point set, a batch of its points, their colours kept.
   void trace_run(FramePass& pass, std::size_t run, unsigned worker);
-  void forget_untraced(const std::vector<std::uint32_t>& before, const std::vector<std::uint32_t>& traced,
-                       std::size_t run_size);
+  void forget_untraced(const std::vector<std::uint32_t>& before, std::size_t filled_before,
+                       const std::vector<std::uint32_t>& traced, std::size_t run_size);
   void select_run(FramePass& pass, std::size_t run, bool run_visible, std::vector<std::uint32_t>& ids);
   bool trace_batch(FramePass& pass, std::size_t run, unsigned worker, std::span<const std::uint32_t> ids);
   bool keep_ray_colors(const RayBatch& batch, std::span<const std::uint32_t> ids, std::vector<std::uint32_t>& traced);
@@ -75,6 +75,8 @@ class CallbackTrace final : public TraceStage {
   ContentDensityOptions density_options_;
   std::optional<ContentDensity> density_;
   std::vector<std::vector<std::uint32_t>> thinned_;  // per run: visible points this frame does not trace
+  // Per run: where the filled points begin in traced_.runs (the traced ones come first).
+  std::vector<std::uint32_t> filled_begin_;
 };
 
 }  // namespace foveart::foveation

@@ -82,7 +82,9 @@ struct FrameContext {
 struct TracedPoints {
   PointColors colors;                            // a slot per point of the set; a = 1: traced this frame
   std::vector<float> depth_m;                    // per point: nearest hit of its rays (NaN: none returned)
-  std::vector<std::vector<std::uint32_t>> runs;  // the points with a colour this frame, per run of the set
+  // The points with a colour this frame, per run of the set: those traced, then those filled
+  // (content density), each ascending.
+  std::vector<std::vector<std::uint32_t>> runs;
   bool any_depth = false;                        // the engine returned a depth for some point
   // Only for a history that keeps rays (TemporalHistory::keeps_rays):
   std::vector<std::vector<TracedRay>> rays;      // per run: its rays
