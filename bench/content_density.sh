@@ -185,8 +185,7 @@ rays_part() {
   need "$eval_bin"
   local ray_contrasts=0.25,0.5,1
   local common=(--preset fove --crop "$crop" --rays-per-point 16 --density-scale 2 --reference-spp "$reference_spp"
-                --interpolation msm --k 5 --scales 2 --contrasts 1 --ray-contrasts "$ray_contrasts"
-                --both-contrasts "$both_contrasts" --cache-dir out/cache)
+                --interpolation msm --k 5 --scales 2 --contrasts 1 --ray-contrasts "$ray_contrasts" --cache-dir out/cache)
   local md="$dir/rays.md"
   {
     header "Rays per point by contrast on the benchmark set"
