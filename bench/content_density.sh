@@ -226,7 +226,7 @@ device_run() {
   printf '{ "wait_for_tables": true, "log_level": "warn", "reconstruction": "gpu"%s }\n' "$extra" >"$work/config.json"
   results_sim_run "$PWD/$work/config.json" "$frames" \
     "$hello" --engine gpu --scene "$scene" --eye-size "$cw" "$ch" --density-scale 4 --interpolation msm --k 5 \
-    --temporal image --gaze-source none --json >"$json" 2>"$log" ||
+    --temporal rays --gaze-source none --json >"$json" 2>"$log" ||
     { echo "bench/content_density.sh: hello_foveated failed; its log is $log" >&2; exit 1; }
 }
 
@@ -238,12 +238,12 @@ device_cost_part() {
     header "What choosing the density costs, per pass, on the device trace (lavapipe)"
     echo "Lavapipe is Mesa's CPU rasteriser: these are the passes' work on llvmpipe on this machine's cores, not GPU"
     echo "times; they say what runs where and in what proportion, not how fast a GPU is. Per scene, \`$hello --engine gpu"
-    echo "--scene SCENE --eye-size $cw $ch --density-scale 4 --interpolation msm --k 5 --temporal image --gaze-source none"
+    echo "--scene SCENE --eye-size $cw $ch --density-scale 4 --interpolation msm --k 5 --temporal rays --gaze-source none"
     echo "--json\` through the layer and the simulated runtime (bench/results_lib.sh), $frames frames, layer config"
     echo "\`\"reconstruction\": \"gpu\", \"content_contrast\": 0.5\` and once without content density: both eyes, the"
     echo "device trace (the GPU sample engine traces the layer's device rays), centred foveation. A $cw x $ch eye at density"
     echo "scale 4 puts the pixel-exact fovea's edge inside the view, as the whole FOVE eye at scale 1 does. Temporal"
-    echo "\"image\": the GPU path's default history, the render cache, keeps every ray and so thins nothing. The scenes"
+    echo "\"rays\": the GPU path's default history, the render cache, which takes the traced points' rays. The scenes"
     echo "hello_foveated loads from their own camera: not engine, whose viewer it cannot place."
     echo
     echo "From \`XrFoveatedRendererDensityStatsFOVEART\` (\`hello_foveated --json\`'s \`density\`), per finished frame,"

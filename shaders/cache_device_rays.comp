@@ -1,22 +1,30 @@
 #version 450
 // The device trace's rays into the render cache (docs/gpu.md "The render
-// cache"), after its resolve, with the resolve's dispatch: one invocation per
-// visible point, over its rays. Each ray becomes a new ray of the cache
-// (screen position, depth as depth.h carries it, colour: what the host
-// uploads for a callback's rays); the point's farthest hit, and for a
-// pixel-grid point its pixel's farthest drawn hit, are kept for
-// cache_pixels (foveation::CallbackTrace's farthest_m and
-// foveation::RayHistory::prepare_pixels' drawn_farthest_m, encoded as
-// FOVEART_CACHE_FAR_UNKNOWN says).
+// cache"), after its resolve and fill, in two dispatches:
+//   TRACED   the resolve's (one invocation per traced point, device_rays.comp
+//            ranked them first in point_rays), over the point's rays: each
+//            becomes a new ray of the cache (screen position, depth as depth.h
+//            carries it, colour: what the host uploads for a callback's rays);
+//            the point's farthest hit, and for a pixel-grid point its pixel's
+//            farthest drawn hit, are kept for cache_pixels
+//            (foveation::CallbackTrace's farthest_m and
+//            foveation::RayHistory::prepare_pixels' drawn_farthest_m, encoded
+//            as FOVEART_CACHE_FAR_UNKNOWN says);
+//   THINNED  the fill's (one invocation per point content density thinned,
+//            ranked after the traced ones): such a point has a colour but no
+//            ray of this frame, so it gives cache_pixels no farthest hit (0,
+//            as CallbackTrace's -inf), whatever an earlier frame left there.
+// A point's rays may be any number (content density's rays by contrast): each
+// entry of point_rays says where they begin and how many.
 #extension GL_GOOGLE_include_directive : require
 #include "gpu/shader_interface/cache_device_rays.h"
 #include "gpu/shader_interface/depth.h"
 
-// One visible point per invocation: the device trace's resolve dispatch reused (device_trace.h).
+// One point per invocation: the device trace's resolve or fill dispatch reused (device_trace.h).
 layout(local_size_x = FOVEART_DEVICE_RESOLVE_GROUP) in;
 layout(set = 0, binding = 0, std430) readonly buffer Rays { DeviceRay rays[]; };
 layout(set = 0, binding = 1, std430) readonly buffer RayColors { vec4 ray_colors[]; };  // rgb, depth in metres
-layout(set = 0, binding = 2, std430) readonly buffer PointIndex { uint point_index[]; };
+layout(set = 0, binding = 2, std430) readonly buffer PointRays { DevicePointRays point_rays[]; };
 layout(set = 0, binding = 3, std430) readonly buffer Control { uint control[]; };
 layout(set = 0, binding = 4, std430) readonly buffer Points { DevicePoint points[]; };
 layout(set = 0, binding = 5, std430) writeonly buffer NewRays { NewRay new_rays[]; };
@@ -29,14 +37,20 @@ bool finite_hit(uint bits) { return bits < 0x7F800000u || bits == 0x80000000u; }
 
 void main() {
   const uint v = gl_GlobalInvocationID.x;
-  // Every visible point casts rays_per_point: content density is off with the render cache.
-  if (v >= control[FOVEART_DEVICE_VISIBLE_POINTS]) return;
-  const uint first = v * rays_per_point;
-  const uint p = point_index[first];
+  const uint traced = control[FOVEART_DEVICE_TRACED_POINTS];
+  if (pass == FOVEART_CACHE_DEVICE_RAYS_THINNED) {
+    if (v >= control[FOVEART_DEVICE_THINNED_POINTS]) return;
+    const uint p = point_rays[traced + v].point;
+    if (p < point_count) point_farthest[p] = 0u;
+    return;
+  }
+  if (v >= traced) return;
+  const DevicePointRays entry = point_rays[v];
+  const uint p = entry.point;
   if (p >= point_count) return;
   uint farthest = 0u;
-  for (uint s = 0u; s < rays_per_point; ++s) {
-    const uint r = first + s;
+  for (uint s = 0u; s < entry.ray_count; ++s) {
+    const uint r = entry.first_ray + s;
     const vec4 c = ray_colors[r];
     const uint bits = floatBitsToUint(c.w);
     const bool hit = finite_hit(bits);

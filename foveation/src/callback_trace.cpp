@@ -83,7 +83,7 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
     batch_counts_.resize(workers);
   }
   const auto t_density = Clock::now();
-  if (levels_of_set_ && density_options_.enabled() && !keep_rays_ && !density_)
+  if (levels_of_set_ && density_options_.enabled() && !density_)
     density_.emplace(levels_of_set_(executor), density_options_);  // the levels: once per table set
   if (density_) density_->begin_frame(frame.mapping, workers);
   const double levels_ms = ms_since(t_density);
@@ -332,6 +332,7 @@ bool CallbackTrace::fill_point(std::uint32_t id) {
   sum /= weight;
   rgba[id] = Rgba{sum.x, sum.y, sum.z, 1.0f};
   traced_.depth_m[id] = depth_m;
+  if (keep_rays_) traced_.farthest_m[id] = -INFINITY;  // no ray of its own: no farthest hit for the ray history
   return true;
 }
 

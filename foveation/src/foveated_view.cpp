@@ -39,7 +39,7 @@ std::unique_ptr<TraceStage> make_callback_trace(std::shared_ptr<const ViewTables
   if (settings.rays_per_point < 1) throw std::invalid_argument("foveated view: rays per point must be >= 1");
   auto trace = std::make_unique<CallbackTrace>(checked(tables).points, settings.rays_per_point, settings.pixel_filter,
                                                settings.new_jitter_each_frame, keep_rays);
-  if (settings.content_density.enabled() && !keep_rays) {
+  if (settings.content_density.enabled()) {
     trace->set_content_density([tables](Executor& executor) -> const PointLevels& {
       return tables->levels(executor);
     }, settings.content_density);

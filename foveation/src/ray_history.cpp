@@ -155,7 +155,7 @@ void RayHistory::prepare_pixels(const FrameContext& frame, const TracedPoints& t
   // the nearest point's disc footprint, and the farthest new ray of the
   // traced points among the k nearest (the 3x3 test's counterpart where this
   // frame has no ray per pixel; a missed or depthless one among them, or
-  // none traced, cannot tell).
+  // none traced, cannot tell; a point content density filled has no ray).
   pixel_.resize(pixels);
   executor.parallel_for(std::size_t(h), [&](std::size_t y) {
     for (std::size_t x = 0; x < std::size_t(w); ++x) {

@@ -39,10 +39,8 @@ VkCommandBuffer DeviceFrame::recording(const foveation::FrameContext& context, s
 // Stages 1-3 on the device: the engine's device trace into the frame slot's colours.
 class DeviceTraceStage final : public foveation::TraceStage {
  public:
-  // keep_rays: the history keeps the frame's rays (the render cache), which content density
-  // leaves as it is on the CPU (foveated_view.cpp): every visible point, every ray.
   DeviceTraceStage(std::shared_ptr<const foveation::ViewTables> tables, const foveation::ViewSettings& settings,
-                   DeviceTraceEngine engine, bool keep_rays)
+                   DeviceTraceEngine engine)
       : tables_(std::move(tables)), engine_(std::move(engine)) {
     device_.engine = [this](const DeviceRayBatch& batch) {
       const bool ok = engine_(batch);
@@ -52,7 +50,7 @@ class DeviceTraceStage final : public foveation::TraceStage {
     device_.points = &tables_->points;
     device_.rays_per_point = std::uint32_t(settings.rays_per_point);
     device_.pixel_filter = settings.pixel_filter;
-    if (!keep_rays) device_.density = settings.content_density;
+    device_.density = settings.content_density;
   }
 
   foveation::TraceStats trace(const foveation::FrameContext& frame, foveation::FrameResources& resources,
@@ -187,7 +185,7 @@ foveation::FrameStages make_device_stages(std::shared_ptr<const foveation::ViewT
   const bool keep_rays = host_history->keeps_rays();
   stages.history = std::make_unique<DeviceHistory>(std::move(host_history));
   if (engine) {
-    stages.trace = std::make_unique<DeviceTraceStage>(tables, settings, std::move(engine), keep_rays);
+    stages.trace = std::make_unique<DeviceTraceStage>(tables, settings, std::move(engine));
   } else {
     stages.trace = std::make_unique<UploadedTrace>(foveation::make_callback_trace(tables, settings, keep_rays));
   }

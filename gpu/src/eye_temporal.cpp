@@ -42,7 +42,8 @@ bool Eye::record_temporal(VkCommandBuffer cb, const EyeFrame& frame, foveation::
     RayCacheFrame cache = *frame.ray_cache;
     if (frame.device != nullptr) {  // the device trace's rays, straight from its buffers after the resolve
       cache.device = RayCacheDeviceRays{slot().device_trace->buffers(), slot().colors.buffer, frame.tables, frame.mapping,
-                                        frame.device->rays_per_point};
+                                        frame.device->rays_per_point,
+                                        frame.device->density_on() && frame.device->density.thins()};
     }
     if (!ray_cache_->record(cb, cache, frame.view, frame.slot, executor, error)) return false;
     bind_set(cb);

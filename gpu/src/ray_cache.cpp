@@ -362,20 +362,26 @@ void RayCache::record_device_inputs(VkCommandBuffer cb, const RayCacheDeviceRays
   const TablePack& pack = device.tables->layout();
   const DeviceTraceBuffers& t = device.trace;
   const uint32_t point_count = uint32_t(device.tables->view_tables().points.size());
-  const CacheDeviceRaysPush rays{{m.screen_width_px, m.screen_height_px},
-                                 {float(m.canvas_from_screen_x_px), float(m.canvas_from_screen_y_px)},
-                                 device.rays_per_point,
-                                 point_count};
+  CacheDeviceRaysPush rays{{m.screen_width_px, m.screen_height_px},
+                           {float(m.canvas_from_screen_x_px), float(m.canvas_from_screen_y_px)},
+                           FOVEART_CACHE_DEVICE_RAYS_TRACED,
+                           point_count};
   const VkDescriptorSet rays_set = set_naming(
       slot * kSetsPerSlot + 2,
-      {t.rays, t.ray_colors, t.point_index, t.control, t.points, device_upload_.new_rays.buffer, point_farthest_.buffer,
+      {t.rays, t.ray_colors, t.point_rays, t.control, t.points, device_upload_.new_rays.buffer, point_farthest_.buffer,
        drawn_.buffer},
       kOnes, kDeviceRaysBindings);
   vkCmdBindPipeline(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.device_rays());
   vkCmdBindDescriptorSets(cb, VK_PIPELINE_BIND_POINT_COMPUTE, pipelines_.device_rays_layout(), 0, 1, &rays_set, 0,
                           nullptr);
   vkCmdPushConstants(cb, pipelines_.device_rays_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof rays, &rays);
-  vkCmdDispatchIndirect(cb, t.control, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);  // the resolve's: a point each
+  vkCmdDispatchIndirect(cb, t.control, FOVEART_DEVICE_RESOLVE_DISPATCH * 4);  // the resolve's: a traced point each
+  if (device.thins) {  // the fill's: a thinned point each, which has no ray of its own
+    compute_barrier(cb);  // both write point_farthest (other points; the barrier keeps the validation's hazards exact)
+    rays.pass = FOVEART_CACHE_DEVICE_RAYS_THINNED;
+    vkCmdPushConstants(cb, pipelines_.device_rays_layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof rays, &rays);
+    vkCmdDispatchIndirect(cb, t.control, FOVEART_DEVICE_FILL_DISPATCH * 4);
+  }
   compute_barrier(cb);
 
   CachePixelsPush px{};

@@ -528,11 +528,6 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
   vs.content_density.full_contrast = settings.content_contrast;  // both paths, the device trace's too
   vs.content_density.rays_contrast = settings.content_rays;
   vs.content_density.exposure = settings.display.exposure;
-  if (vs.content_density.enabled() && eye.temporal == foveation::TemporalMode::rays && density_once.first()) {
-    log(LogLevel::Warn, "foveated renderer: \"content_contrast\" and \"content_rays\" have no effect while the history "
-        "is the render cache (\"temporal\": \"rays\", the GPU reconstruction's default), which keeps every ray; "
-        "\"temporal\": \"image\" chooses the density by content (logged once)");
-  }
   eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs, path.stages(view_tables, vs));
 }
 

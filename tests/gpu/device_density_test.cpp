@@ -57,9 +57,7 @@ class DeviceDensityTest : public DeviceTraceFixture {
     if (eye == nullptr) eye = eye_.get();
     foveation::Executor executor(2);
     if (!view.plan(req, executor).ok()) return *error = "the plan failed", false;
-    DeviceTraceFrame device = device_of(view, req);
-    device.density = view.settings().content_density;
-    device.levels = &tables_->levels(executor);
+    const DeviceTraceFrame device = device_of(view, req);
     EyeFrame frame = EyeFrame::of(*gpu_tables_, view.hand_off(), true);
     frame.device = &device;
     frame.slot = uint32_t(req.frame_index % kFrameSlots);

@@ -4,7 +4,8 @@
 // distance computed there (shaders/cache_device_rays.comp, cache_pixels.comp)
 // and the kept count never read back on the frame path. Against the CPU's
 // render cache of the same engine traced by the callback: the same rays kept
-// every frame, frames equal within a tolerance per eccentricity ring; a
+// every frame, frames equal within a tolerance per eccentricity ring, with
+// content density too; a
 // faulted view (NaN colours) restarts the cache on the device; and along the
 // lab's scripted motion it flickers at least 5x less than no history beyond
 // 20 deg, by the lab's measure (eval::TemporalError).
@@ -149,6 +150,56 @@ TEST_F(DeviceRayCacheTest, DeviceTracedRaysCacheAsTheCpuCacheDoes) {
   }
   EXPECT_GT(cpu_view.cached_rays(), 0u);
   EXPECT_EQ(engine_.calls, 8u);
+}
+
+// With content density beside the render cache, the device trace's cache takes only
+// the traced points' rays, each point's as many as the contrast gave it, and a thinned
+// point gives the pixels around it no covering distance: every frame, over the moving
+// head and the saccade, it keeps exactly the CPU cache's rays, thins the CPU's points
+// (both from the same rule on colours within float rounding: device_density_test.cpp)
+// and gives the CPU's frame within the tolerance above.
+TEST_F(DeviceRayCacheTest, WithContentDensityTheDeviceCacheKeepsTheCpuCachesRays) {
+  settings_.rays_per_point = 4;  // room for the contrast to take some
+  settings_.content_density.full_contrast = 0.08f;
+  settings_.content_density.rays_contrast = 0.16f;
+  foveation::FoveatedView cpu_view(tables_, cpu_settings()), device_view(tables_, settings_);
+  foveation::FoveatedView unthinned(tables_, [&] {
+    foveation::ViewSettings s = cpu_settings();
+    s.content_density = {};
+    return s;
+  }());
+  foveation::Executor executor(2);
+  for (int i = 0; i < 8; ++i) {
+    const foveation::FrameRequest req = moving_request(i);
+    const foveation::FrameResult cpu = cpu_view.render(req, &direction_colour, nullptr, executor);
+    ASSERT_TRUE(cpu.ok()) << cpu.message;
+    std::vector<uint8_t> expected(std::size_t(kViewW) * kViewH * 4);
+    foveation::encode_rgba8(cpu_view.image(), true, foveation::DisplayTransform{}, expected.data(), executor);
+    const foveation::FrameResult all = unthinned.render(req, &direction_colour, nullptr, executor);
+    ASSERT_TRUE(all.ok()) << all.message;
+    std::string error;
+    ASSERT_TRUE(device_frame(device_view, req, &error)) << error;
+    const DeviceTraceStatus status = eye_->device_trace_status();
+    EXPECT_EQ(status.invalid_components, 0u);
+    EXPECT_EQ(status.thinned_points, cpu.points_thinned) << "frame " << i;
+    EXPECT_EQ(status.rays, cpu.rays) << "frame " << i;
+    if (i > 0) {
+      EXPECT_GT(cpu.points_thinned, 0u) << "frame " << i;
+      EXPECT_LT(cpu.rays, all.rays) << "frame " << i;
+    }
+    EXPECT_EQ(eye_->cached_rays_after_wait(), cpu_view.cached_rays()) << "frame " << i;
+    std::vector<uint8_t> actual;
+    ASSERT_TRUE(eye_->read_rgba8(&actual, &error)) << error;
+    ASSERT_EQ(actual.size(), expected.size());
+    const RingDifference d = ring_difference(expected, actual, req);
+    for (std::size_t r = 0; r < kCacheRings; ++r) {
+      EXPECT_LE(d.max_step[r], 1) << "frame " << i << ", ring " << r;
+      EXPECT_LT(d.mean_step[r], 0.01) << "frame " << i << ", ring " << r;
+    }
+  }
+  std::printf("[ measured ] last frame: %zu rays kept, of them %llu new of %llu without content density\n",
+              cpu_view.cached_rays(), static_cast<unsigned long long>(eye_->device_trace_status().rays),
+              static_cast<unsigned long long>(unthinned.cached_rays()));
 }
 
 // A faulted view (the engine writes NaN) restarts the cache on the device:

@@ -248,7 +248,8 @@ class DeviceTraceFixture : public ::testing::Test {
     }
   }
 
-  // The device trace of `view`'s planned frame `req` through the test engine.
+  // The device trace of `view`'s planned frame `req` through the test engine, with the
+  // view's content density.
   DeviceTraceFrame device_of(const foveation::FoveatedView& view, const foveation::FrameRequest& req) {
     DeviceTraceFrame device;
     device.engine = [this](const DeviceRayBatch& batch) { return test_engine(&engine_, &batch); };
@@ -259,6 +260,11 @@ class DeviceTraceFixture : public ::testing::Test {
     device.sample_seed = view.hand_off().sample_seed;
     device.rays_per_point = uint32_t(view.settings().rays_per_point);
     device.pixel_filter = view.settings().pixel_filter;
+    device.density = view.settings().content_density;
+    if (device.density.enabled()) {
+      foveation::Executor executor(1);
+      device.levels = &tables_->levels(executor);  // built once per table set
+    }
     return device;
   }
 

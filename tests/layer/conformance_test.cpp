@@ -421,24 +421,6 @@ TEST(LayerConformance, ConfigCpuKeepsReconstructionOnTheCpu) {
   EXPECT_NE(a.log().find("reconstruction on the CPU"), std::string::npos) << a.log();
 }
 
-// Content density is set but the history keeps every ray: the layer says so once, for both
-// eyes and every frame, and not with a history that lets it thin.
-TEST(LayerInputs, ContentDensityBesideTheRenderCacheIsLoggedOnceAsWithoutEffect) {
-  FOVEART_REQUIRE_RUNTIME();
-  for (const XrFoveatedTemporalFOVEART temporal : {XR_FOVEATED_TEMPORAL_RAYS_FOVEART, XR_FOVEATED_TEMPORAL_IMAGE_FOVEART}) {
-    IsolatedEnv env;
-    LayerApp a(env, config(env, R"(, "wait_for_tables": true, "reconstruction": "cpu", "content_contrast": 0.5)"));
-    a.start();
-    const auto renderer = a.make_renderer(nullptr, false, temporal);
-    ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
-    ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
-    EXPECT_EQ(a.stats(renderer).main.framesTraced, 2u);
-    const bool rays = temporal == XR_FOVEATED_TEMPORAL_RAYS_FOVEART;
-    EXPECT_EQ(count_of(a.log(), "have no effect while the history is the render cache"), rays ? 1u : 0u)
-        << (rays ? "rays" : "image") << ":\n" << a.log();
-  }
-}
-
 TEST(LayerInputs, UnwritableCacheIsLoggedOnceAndCounted) {
   FOVEART_REQUIRE_RUNTIME();
   IsolatedEnv env;

@@ -164,14 +164,15 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 // and from frame 2 on ("late": pipelined frames, the fault kept on the device;
 // frame 2's status is read at frame 4); with "temporal": "rays" ("rays"),
 // the render cache fed by the device trace on the device; and with content
-// density ("density": the second frame thins by the first's tiles on the device;
+// density beside that render cache ("density": the second frame thins by the first's
+// tiles on the device, the cache takes the traced points' rays;
 // XrFoveatedRendererDensityStatsFOVEART has its thinned points and passes' GPU ms).
 class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 // XrFoveatedRendererDensityStatsFOVEART through hello_foveated --json on a device trace: with
 // content density on, the newest finished frame thinned points and the device's passes are
-// timed, while the host's stages stay 0 (the CPU's test, observe and fill do not run); off
-// (or with the render cache, which keeps every ray), everything is 0.
+// timed, while the host's stages stay 0 (the CPU's test, observe and fill do not run); off,
+// everything is 0.
 void expect_device_density_stats(const AppRun& r, bool density_on) {
   const nlohmann::json& d = r.stats["density"];
   ASSERT_TRUE(d.is_object()) << r.process.output;
@@ -211,13 +212,13 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   // "late", and "density" so that the stats hold frame 2, the first that thins (read when its slot comes round).
   constexpr int kLateFrames = 4;
   const int frames = fault == "late" || density ? kLateFrames : kFrames;
-  const AppRun r = launch("validated", "gpu", gaze, extra, frames, kRaysPerPoint, rays ? "rays" : "off");
+  const AppRun r = launch("validated", "gpu", gaze, extra, frames, kRaysPerPoint, rays || density ? "rays" : "off");
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
   if (fault == "none" || rays || density) {
-    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", frames, rays ? "rays" : "off"));
+    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", frames, rays || density ? "rays" : "off"));
     ASSERT_NO_FATAL_FAILURE(expect_device_density_stats(r, density));
   } else if (fault == "late") {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;

@@ -129,32 +129,37 @@ void expect_cpu_density_stats(const nlohmann::json& stats, int e, bool density_o
   EXPECT_GT(stats["density"]["per_frame"]["host_ms"][e]["p50"].get<double>(), 0.0) << "eye " << e;
 }
 
-// Content-aware density through the layer's config: from the second frame on, the
-// flat tiles trace fewer points; the frames stay the scene's.
+// Content-aware density through the layer's config, with either history (the image
+// history, and the render cache, which takes only the traced points' rays): from the
+// second frame on, the flat tiles trace fewer points; the frames stay the scene's.
 TEST_F(HelloFoveated, ContentContrastTracesFewerRaysWhereTheViewIsFlat) {
   // Density scale 4 puts the pixel-exact fovea's edge inside these small eyes.
   configure_hello_foveated(*env_, 3, "auto", {}, R"("density_scale": 4)");
   const auto full = launch({"--gaze-source", "none"});
   ASSERT_EQ(full.process.exit_code, 0) << full.process.output;
   const auto full_frame = summarize(frame(2, "left"));
-  configure_hello_foveated(*env_, 3, "auto", {}, R"("density_scale": 4, "content_contrast": 0.9)");
-  const auto thinned = launch({"--gaze-source", "none"});
-  ASSERT_EQ(thinned.process.exit_code, 0) << thinned.process.output;
-  EXPECT_EQ(thinned.stats["views_fallback"], 0);
-  for (int e = 0; e < 2; ++e) {
-    const double rays = thinned.stats["eyes"][e]["rays"].get<double>();
-    const double full_rays = full.stats["eyes"][e]["rays"].get<double>();
-    std::cout << "[ measured ] eye " << e << ": " << rays << " rays of " << full_rays << " without\n";
-    EXPECT_LT(rays, 0.9 * full_rays) << "eye " << e;
-    EXPECT_GT(rays, 0.2 * full_rays) << "eye " << e << ": level 0 and the fovea stay";
-    ASSERT_NO_FATAL_FAILURE(expect_cpu_density_stats(thinned.stats, e, true));
-    ASSERT_NO_FATAL_FAILURE(expect_cpu_density_stats(full.stats, e, false));
+  for (const char* temporal : {"image", "rays"}) {
+    configure_hello_foveated(*env_, 3, "auto", temporal, R"("density_scale": 4, "content_contrast": 0.9)");
+    const auto thinned = launch({"--gaze-source", "none"});
+    ASSERT_EQ(thinned.process.exit_code, 0) << thinned.process.output;
+    EXPECT_EQ(thinned.stats["views_fallback"], 0) << temporal;
+    for (int e = 0; e < 2; ++e) {
+      const double rays = thinned.stats["eyes"][e]["rays"].get<double>();
+      const double full_rays = full.stats["eyes"][e]["rays"].get<double>();
+      std::cout << "[ measured ] " << temporal << ", eye " << e << ": " << rays << " rays of " << full_rays
+                << " without\n";
+      EXPECT_LT(rays, 0.9 * full_rays) << temporal << ", eye " << e;
+      EXPECT_GT(rays, 0.2 * full_rays) << temporal << ", eye " << e << ": level 0 and the fovea stay";
+      ASSERT_NO_FATAL_FAILURE(expect_cpu_density_stats(thinned.stats, e, true)) << temporal;
+      ASSERT_NO_FATAL_FAILURE(expect_cpu_density_stats(full.stats, e, false));
+    }
+    const auto img = summarize(frame(2, "left"));
+    ASSERT_TRUE(img.loaded) << temporal;
+    std::cout << "[ measured ] " << temporal << ", left eye frame 2 mean " << img.mean << " (without: "
+              << full_frame.mean << ")\n";
+    EXPECT_NEAR(img.mean, full_frame.mean, 2.0) << temporal << ": the same scene";
+    EXPECT_GT(img.max - img.min, 150.0) << temporal;
   }
-  const auto img = summarize(frame(2, "left"));
-  ASSERT_TRUE(img.loaded);
-  std::cout << "[ measured ] left eye frame 2 mean " << img.mean << " (without: " << full_frame.mean << ")\n";
-  EXPECT_NEAR(img.mean, full_frame.mean, 2.0) << "the same scene";
-  EXPECT_GT(img.max - img.min, 150.0);
 }
 
 TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {

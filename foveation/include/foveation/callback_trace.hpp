@@ -32,7 +32,7 @@ class CallbackTrace final : public TraceStage {
                 bool keep_rays);
 
   // Thins the points of flat tiles (content_density.hpp); `levels` gives the set's levels
-  // at the first frame. Not with keep_rays: a thinned point has no rays of its own.
+  // at the first frame. With keep_rays a thinned point hands on no ray: its farthest_m is -inf.
   void set_content_density(std::function<const PointLevels&(Executor&)> levels, const ContentDensityOptions& options);
 
   TraceStats trace(const FrameContext& frame, FrameResources& resources, Executor& executor) override;

@@ -88,7 +88,8 @@ struct TracedPoints {
   bool any_depth = false;                        // the engine returned a depth for some point
   // Only for a history that keeps rays (TemporalHistory::keeps_rays):
   std::vector<std::vector<TracedRay>> rays;      // per run: its rays
-  std::vector<float> farthest_m;                 // per point: farthest hit of its rays (NaN: one gave none)
+  // Per point: the farthest hit of its rays (NaN: one gave none; -inf: filled by content density, no ray).
+  std::vector<float> farthest_m;
 };
 
 // Content-aware density's CPU cost per stage (docs/foveation.md, "Content-aware density"), ms;

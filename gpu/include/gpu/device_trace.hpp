@@ -121,7 +121,7 @@ struct DeviceTraceTargets {
 struct DeviceTraceBuffers {
   VkBuffer rays = VK_NULL_HANDLE;         // DeviceRay per ray
   VkBuffer ray_colors = VK_NULL_HANDLE;   // vec4 per ray: rgb, depth in metres (the engine's)
-  VkBuffer point_index = VK_NULL_HANDLE;  // uint per ray
+  VkBuffer point_rays = VK_NULL_HANDLE;   // DevicePointRays per rank of a visible point, traced ones first
   VkBuffer control = VK_NULL_HANDLE;      // the control words (device_trace.h)
   VkBuffer status = VK_NULL_HANDLE;       // the resolve's status words
   VkBuffer points = VK_NULL_HANDLE;       // DevicePoint per point of the set
@@ -193,7 +193,7 @@ class DeviceTrace {
   // The buffers the last record wrote the frame's rays, hits and status into
   // (the status is the slot's target, DeviceTraceTargets::status).
   DeviceTraceBuffers buffers() const {
-    return {rays_.buffer, ray_colors_.buffer, point_index_.buffer, control_.buffer, bound_.status, points_.buffer};
+    return {rays_.buffer, ray_colors_.buffer, point_rays_.buffer, control_.buffer, bound_.status, points_.buffer};
   }
 
  private:

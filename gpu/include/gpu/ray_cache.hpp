@@ -56,7 +56,8 @@ struct RayCacheDeviceRays {
   VkBuffer point_colors = VK_NULL_HANDLE;  // the eye's colour slots (a = traced), after the resolve
   const Tables* tables = nullptr;          // the view's tables (their chunks give each pixel's neighbours)
   foveation::GazeMapping mapping;
-  std::uint32_t rays_per_point = 1;
+  std::uint32_t rays_per_point = 1;        // at most, per point (content density may cast fewer)
+  bool thins = false;                      // content density thins points (they cast no ray)
 };
 
 // What one eye's frame gives the cache (foveation::FrameHandOff: the traced

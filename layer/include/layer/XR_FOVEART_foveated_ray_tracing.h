@@ -280,9 +280,7 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *   other GPU stage times (and pointsThinned with them) they describe the newest
  *   frame whose submission finished, up to two frames older than the last
  *   xrEndFrame. The host stages are 0.
- *   The app-recorded trace, and a view whose history is the render cache
- *   (XR_FOVEATED_TEMPORAL_RAYS_FOVEART, which keeps every ray), do not choose
- *   the density by content: all 0. */
+ *   The app-recorded trace does not choose the density by content: all 0. */
 typedef struct XrFoveatedRendererDensityStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART */
   void* XR_MAY_ALIAS next;

@@ -1,8 +1,8 @@
 // Content-aware density (foveation/content_density.hpp, point_levels.hpp): the nested
 // levels keep their spacing and parents, a flat view traces level 0 alone from its
 // second frame and gives the same image, an edge keeps every point of the tiles beside
-// it (on a tile border too), the pixel-exact fovea is never thinned, a failed frame or
-// a history that keeps rays traces every point, a box's tiles bound the levels of the points
+// it (on a tile border too), the pixel-exact fovea is never thinned, a failed frame makes
+// the next trace every point, the render cache takes only the traced points' rays, a box's tiles bound the levels of the points
 // in it (the per-point test's shortcut), its cost is reported per stage, and it is
 // off unless asked for.
 #include <algorithm>
@@ -261,7 +261,7 @@ TEST(ContentDensity, ItsCostIsReportedPerStageAsAPartOfSelectAndTrace) {
   }
 }
 
-TEST(ContentDensity, AFailedFrameOrARayHistoryTracesEveryPoint) {
+TEST(ContentDensity, AFailedFrameTracesEveryPointInTheNext) {
   Executor executor(2);
   Scene scene;
   FoveatedView view(tables(), settings(0.05f));
@@ -272,12 +272,31 @@ TEST(ContentDensity, AFailedFrameOrARayHistoryTracesEveryPoint) {
   const FrameResult after = render(view, scene, 3, executor);
   ASSERT_TRUE(after.ok());
   EXPECT_EQ(after.points_thinned, 0u) << "the frame after a failure measures again";
+}
 
-  FoveatedView rays(tables(), settings(0.05f, TemporalMode::rays));
-  for (uint64_t f = 1; f <= 3; ++f) {
-    const FrameResult r = render(rays, scene, f, executor);
+// With the render cache ("rays") content density thins too: from the second frame of a
+// flat view the cache takes only the traced points' rays (the engine gives no depth, so
+// none is covered and the cache holds every ray traced since the first frame), and the
+// frame stays the flat grey: the pixels no ray reaches show the gather of the filled points.
+TEST(ContentDensity, TheRenderCacheKeepsOnlyTheTracedPointsRays) {
+  Executor executor(2);
+  Scene scene;
+  FoveatedView view(tables(), settings(0.05f, TemporalMode::rays));
+  const FrameResult first = render(view, scene, 1, executor);
+  ASSERT_TRUE(first.ok());
+  EXPECT_EQ(first.points_thinned, 0u);
+  EXPECT_EQ(view.cached_rays(), first.rays);
+  const ImageRgb first_image = view.image();
+  uint64_t traced = first.rays;
+  for (uint64_t f = 2; f <= 3; ++f) {
+    const FrameResult r = render(view, scene, f, executor);
     ASSERT_TRUE(r.ok());
-    EXPECT_EQ(r.points_thinned, 0u) << "the render cache keeps every point's rays";
+    EXPECT_GT(r.points_thinned, first.points / 4) << "frame " << f;
+    EXPECT_LT(r.rays, first.rays) << "frame " << f;
+    EXPECT_EQ(scene.points.size(), r.points) << "frame " << f << ": the engine saw the traced points only";
+    traced += r.rays;
+    EXPECT_EQ(view.cached_rays(), traced) << "frame " << f;
+    EXPECT_LT(max_difference(view.image(), first_image), 1e-5f) << "frame " << f;
   }
 }
 

@@ -8,11 +8,15 @@
 
 FOVEART_SHADER_INTERFACE_BEGIN
 
+// cache_device_rays.comp's two dispatches (CacheDeviceRaysPush::pass).
+#define FOVEART_CACHE_DEVICE_RAYS_TRACED 0u   // a traced point each: its rays into the cache
+#define FOVEART_CACHE_DEVICE_RAYS_THINNED 1u  // a thinned point each: no new ray of its own
+
 // cache_device_rays.comp: the device trace's rays as new rays of the cache.
 FOVEART_PUSH_CONSTANTS(CacheDeviceRaysPush) {
   ivec2 screen_px;
   vec2 canvas_from_screen_px;
-  uint rays_per_point;
+  uint pass;  // FOVEART_CACHE_DEVICE_RAYS_*
   uint point_count;
 };
 
