@@ -328,10 +328,11 @@ bool DeviceTrace::record_engine_trace(VkCommandBuffer cb, const DeviceTraceFrame
 // The colours per point, into the gather's slots (with content density, each
 // traced point's luminance into its tile's range, cleared first: min none, max 0).
 void DeviceTrace::record_resolve(VkCommandBuffer cb, const DeviceTraceFrame& frame) {
-  // The engine's writes in any stage (in `cb`, or a submission this one waited for).
+  // The engine's writes in any stage (in `cb`, or a submission this one waited for), and
+  // this frame's earlier writes of the tiles (the eye's first clear) before their fills below.
   memory_barrier(cb, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
-                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+                 kCompute | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT);
   staged_bytes_ = 0;  // the points' and levels' copies are in a frame that will be submitted
   staged_level_bytes_ = 0;
   if (frame.density_on()) {

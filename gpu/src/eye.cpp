@@ -183,10 +183,7 @@ bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* er
     update_descriptors(s);
   }
   if (s.queries != VK_NULL_HANDLE) vkCmdResetQueryPool(cb, s.queries, 0, StageTimes::kTimestamps);
-  // Earlier frames' passes read and wrote the shared buffers (earlier submissions, in queue order).
-  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                 kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+  after_earlier_submissions(cb);  // earlier frames' passes read and wrote the shared buffers
   vkCmdFillBuffer(cb, s.status.buffer, 0, VK_WHOLE_SIZE, 0u);  // no fault yet; the resolve counts them
   if (!shown_cleared_) {
     vkCmdFillBuffer(cb, shown_.buffer, 0, VK_WHOLE_SIZE, 0xFF000000u);  // opaque black
@@ -198,6 +195,12 @@ bool Eye::begin_frame(VkCommandBuffer cb, const EyeFrame& frame, std::string* er
   measured_tables_ = frame.tables;
   ended_measuring_ = false;
   return true;
+}
+
+void Eye::after_earlier_submissions(VkCommandBuffer cb) {
+  memory_barrier(cb, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT, kCompute | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                 kShaderRW | VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
 }
 
 void Eye::end_frame() {

@@ -81,7 +81,11 @@ bool Eye::record_app_rays(VkCommandBuffer cb, std::uint32_t slot_index, const Ta
   if (slot_index >= kFrameSlots) return *error = "GPU frame: no frame slot " + std::to_string(slot_index), false;
   Slot& s = slots_[slot_index];
   if (!ensure_points(s, tables.view_tables().points.size(), error) || !ensure_device_trace(s, error)) return false;
-  const DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer, tiles_.buffer};
+  DeviceTraceTargets targets{s.colors.buffer, s.point_depth.buffer, s.status.buffer, tiles_.buffer};
+  // The acquire comes after the last frame's record: its content density reads that frame's tiles,
+  // as begin_frame will decide for this frame.
+  targets.tiles_measured = ended_measuring_ && measured_tables_ == &tables;
+  after_earlier_submissions(cb);  // they wrote the tiles and read the buffers the rays go into
   if (!s.device_trace->record_rays(cb, frame, targets, error)) return false;
   *out_batch = s.device_trace->batch(frame, VK_NULL_HANDLE);
   return true;

@@ -219,7 +219,7 @@ bool FoveatedRenderer::Frames::plan_app_frame(uint32_t e, const foveation::Frame
 
 gpu::DeviceTraceFrame FoveatedRenderer::Frames::device_frame(
     uint32_t e, const foveation::FrameRequest& request,
-    const std::shared_ptr<const foveation::ViewTables>& view_tables) const {
+    const std::shared_ptr<const foveation::ViewTables>& view_tables) {
   const Eye& eye = eyes[e];
   const foveation::FrameHandOff& hand_off = eye.view->hand_off();
   gpu::DeviceTraceFrame device;
@@ -230,6 +230,8 @@ gpu::DeviceTraceFrame FoveatedRenderer::Frames::device_frame(
   device.sample_seed = hand_off.sample_seed;
   device.rays_per_point = uint32_t(eye.view->settings().rays_per_point);
   device.pixel_filter = eye.view->settings().pixel_filter;
+  device.density = eye.view->settings().content_density;
+  if (device.density.enabled()) device.levels = &view_tables->levels(executor);  // built once per table set
   return device;
 }
 

@@ -137,7 +137,7 @@ struct FoveatedRenderer::Frames {
   bool ensure_gpu_eye(uint32_t e, const std::shared_ptr<const foveation::ViewTables>& view_tables, std::string* error);
   // Eye e's app-traced frame, from its view's hand-off (no engine: the app traces).
   gpu::DeviceTraceFrame device_frame(uint32_t e, const foveation::FrameRequest& request,
-                                     const std::shared_ptr<const foveation::ViewTables>& view_tables) const;
+                                     const std::shared_ptr<const foveation::ViewTables>& view_tables);
   // What a finished device-traced frame's resolve found: false (counted, logged once) when it faulted.
   bool device_trace_ok(uint32_t e, const gpu::DeviceTraceStatus& status, XrFoveatedRendererStatsFOVEART* stats);
   // The slot's last submission (kFrameSlots frames ago): waited for, its eyes'

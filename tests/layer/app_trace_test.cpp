@@ -9,8 +9,9 @@
 // same shader from the same gaze and seed), traced by the same engine with the
 // same commands, resolved and reconstructed by the same shaders; only who
 // records and submits the trace differs, so any pixel off by more than one
-// step is a different frame. Under synchronization validation the model is
-// silent, over more frames than slots (each slot reused). A batch never
+// step is a different frame; with content density too, whose tiles the acquire's
+// rays read. Under synchronization validation the model is silent, over more
+// frames than slots (each slot reused). A batch never
 // released, or an unknown id released instead, is an XrResult error and the
 // views fall back, counted; a second release is refused while the frame is traced.
 #include <gtest/gtest.h>
@@ -81,9 +82,46 @@ TEST_F(GpuEngine, AppRecordedFramesEqualTheCallbackModelsWithinOneStep) {
   }
 }
 
+// With content density beside the render cache (the GPU path's default history), the
+// acquire's rays read the tiles the last frame's xrEndFrame measured, as the callback
+// model's rays do inside xrEndFrame: the same points thinned, the same rays traced, the
+// frames within one step. Frame 2 on thins (the first has no contrast yet).
+TEST_F(GpuEngine, AppRecordedContentDensityThinsAsTheCallbackModel) {
+  const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
+  configure_hello_foveated(*env_, kPipelinedFrames, "gpu", {}, R"("content_contrast": 0.1, "content_rays": 0.2)");
+  const AppRun callback = launch("callback_density", "gpu", gaze, {}, kPipelinedFrames, kRaysPerPoint, "rays");
+  ASSERT_NO_FATAL_FAILURE(expect_clean(callback, "gpu", kPipelinedFrames, "rays"));
+  const AppRun app =
+      launch("app_density", "gpu", gaze, {"--trace-model", "app"}, kPipelinedFrames, kRaysPerPoint, "rays");
+  ASSERT_NO_FATAL_FAILURE(expect_clean(app, "gpu", kPipelinedFrames, "rays"));
+  ASSERT_NO_FATAL_FAILURE(expect_app_trace(app, kPipelinedFrames, 0, 0, 0));
+  for (int e = 0; e < 2; ++e) {
+    const uint64_t thinned = app.stats["density"]["eyes"][e]["points_thinned"].get<uint64_t>();
+    std::printf("eye %d: %llu points thinned, app-recorded; callback model: %s\n", e,
+                static_cast<unsigned long long>(thinned),
+                callback.stats["density"]["eyes"][e]["points_thinned"].dump().c_str());
+    EXPECT_GT(thinned, 0u) << "eye " << e;
+    EXPECT_EQ(app.stats["density"]["eyes"][e]["points_thinned"], callback.stats["density"]["eyes"][e]["points_thinned"])
+        << "eye " << e;
+  }
+  EXPECT_EQ(app.stats["engine_rays"]["gpu"]["primary"], callback.stats["engine_rays"]["gpu"]["primary"]);
+  for (int f = 0; f < kPipelinedFrames; ++f) {
+    for (const char* eye : {"left", "right"}) {
+      SCOPED_TRACE(std::string(eye) + ", frame " + std::to_string(f));
+      const Rgb8 a = load_rgb(frame(callback, f, eye));
+      const Rgb8 b = load_rgb(frame(app, f, eye));
+      ASSERT_TRUE(traced_image(a));
+      EXPECT_GE(max_step(a, b), 0) << "the sizes differ";
+      EXPECT_LE(max_step(a, b), 1);
+    }
+  }
+}
+
 // As GpuEngineValidated: the layers loaded, no message; over more frames than
-// slots, and with batches never released ("never": the layer waits for no
-// value, the app still signals the retired semaphore, later batches use a new one).
+// slots, with batches never released ("never": the layer waits for no value,
+// the app still signals the retired semaphore, later batches use a new one), and
+// with content density beside the render cache ("density": the acquire's rays
+// read the tiles the last frame's submission wrote).
 class AppTraceValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(AppTraceValidated, AppRecordedTraceUnderSynchronizationValidationHasNoErrors) {
@@ -98,15 +136,23 @@ TEST_P(AppTraceValidated, AppRecordedTraceUnderSynchronizationValidationHasNoErr
   IsolatedEnv::set("XR_LOADER_DEBUG", "info");
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   std::vector<std::string> extra{"--no-explicit-layer", "--trace-model", "app"};
-  if (fault != "none") extra.insert(extra.end(), {"--release-fault", fault});
-  const AppRun r = launch("validated_app", "gpu", gaze, extra, kPipelinedFrames);
+  const bool density = fault == "density";  // no fault: content density beside the render cache
+  if (density) {
+    configure_hello_foveated(*env_, kPipelinedFrames, "gpu", {}, R"("content_contrast": 0.1, "content_rays": 0.2)");
+  } else if (fault != "none") {
+    extra.insert(extra.end(), {"--release-fault", fault});
+  }
+  const char* temporal = density ? "rays" : "off";
+  const AppRun r = launch("validated_app", "gpu", gaze, extra, kPipelinedFrames, kRaysPerPoint, temporal);
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
     ::unsetenv(name);
   }
-  if (fault == "none") {
-    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kPipelinedFrames));
+  if (fault == "none" || density) {
+    ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", kPipelinedFrames, temporal));
     ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kPipelinedFrames, 0, 0, 0));
+    for (int e = 0; e < 2 && density; ++e)
+      EXPECT_GT(r.stats["density"]["eyes"][e]["points_thinned"].get<uint64_t>(), 0u) << "eye " << e;
   } else {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
     ASSERT_NO_FATAL_FAILURE(expect_app_trace(r, kPipelinedFrames, kPipelinedFrames, 0, 0));
@@ -121,7 +167,7 @@ TEST_P(AppTraceValidated, AppRecordedTraceUnderSynchronizationValidationHasNoErr
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "never"));
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "never", "density"));
 
 // A batch the app never releases (never), or in whose place it releases an
 // unknown id (unknown): its views show the app's grey placeholder, counted,

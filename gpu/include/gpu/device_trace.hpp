@@ -89,9 +89,9 @@ struct DeviceTraceFrame {
   // Content density (off by default); `levels`: the set's (ViewTables::levels) while on.
   foveation::ContentDensityOptions density;
   const foveation::PointLevels* levels = nullptr;
-  // Content density runs: enabled, with the levels, and not an app-recorded trace (whose
-  // rays the app's own submission may make on another queue, unordered with the tiles).
-  bool density_on() const { return density.enabled() && levels != nullptr && !app_trace; }
+  // Content density runs: enabled, with the levels (the app-recorded trace's rays read the
+  // tiles in the acquire's submission, after the last frame's in queue order).
+  bool density_on() const { return density.enabled() && levels != nullptr; }
 };
 
 // What the resolve found (read after the submission finished).

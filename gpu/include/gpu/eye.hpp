@@ -165,6 +165,8 @@ class Eye {
   uint32_t height_px() const { return height_px_; }
 
  private:
+  // What commands submitted earlier on the queue wrote or read (shader or transfer), for this command buffer's.
+  static void after_earlier_submissions(VkCommandBuffer cb);
   // What one frame slot holds (frame_slots.hpp).
   struct Slot {
     BoundBuffer upload, colors, point_depth, status;

@@ -274,13 +274,13 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
  *   the thinned points from their parents. Test and observe run inside the
  *   parallel trace pass: their time summed over the threads, divided by the
  *   threads. They are part of the stats' selectMs and traceMs. gpu* are 0.
- *   Device trace (XrFoveatedDeviceTraceInfoFOVEART), GPU time from timestamps,
+ *   Device trace (XrFoveatedDeviceTraceInfoFOVEART, or the app-recorded trace
+ *   XrFoveatedAppTraceInfoFOVEART), GPU time from timestamps,
  *   part of the stats' traceMs: gpuFillMs, the thinned points from their
  *   parents; gpuContrastMs, the tiles' contrast for the next frame. Like the
  *   other GPU stage times (and pointsThinned with them) they describe the newest
  *   frame whose submission finished, up to two frames older than the last
- *   xrEndFrame. The host stages are 0.
- *   The app-recorded trace does not choose the density by content: all 0. */
+ *   xrEndFrame. The host stages are 0. */
 typedef struct XrFoveatedRendererDensityStatsFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_DENSITY_STATS_FOVEART */
   void* XR_MAY_ALIAS next;
