@@ -92,14 +92,23 @@ class DeviceRayCacheTest : public DeviceTraceFixture {
     s.reconstruct_on_cpu = true;
     return s;
   }
-  // The CPU's frame of `view` (the callback's colours), encoded as the GPU encodes.
+  // The CPU's frame of `view` (the callback's colours), encoded as the GPU encodes; *result its result.
   std::vector<uint8_t> cpu_frame(foveation::FoveatedView& view, const foveation::FrameRequest& req,
-                                 FoveartTraceRaysFn trace, bool* ok) {
+                                 FoveartTraceRaysFn trace, foveation::FrameResult* result) {
     foveation::Executor executor(2);
-    *ok = view.render(req, trace, nullptr, executor).ok();
+    *result = view.render(req, trace, nullptr, executor);
     std::vector<uint8_t> out(std::size_t(kViewW) * kViewH * 4);
     foveation::encode_rgba8(view.image(), true, foveation::DisplayTransform{}, out.data(), executor);
     return out;
+  }
+  // The eye's shown frame (read back after the submission) against `expected`, per ring of `req`.
+  bool shown_difference(const std::vector<uint8_t>& expected, const foveation::FrameRequest& req, RingDifference* d,
+                        std::string* error) {
+    std::vector<uint8_t> actual;
+    if (!eye_->read_rgba8(&actual, error)) return false;
+    if (actual.size() != expected.size()) return *error = "the shown frame's size differs", false;
+    *d = ring_difference(expected, actual, req);
+    return true;
   }
 };
 
@@ -125,18 +134,16 @@ TEST_F(DeviceRayCacheTest, DeviceTracedRaysCacheAsTheCpuCacheDoes) {
   RingDifference worst;
   for (int i = 0; i < 8; ++i) {
     const foveation::FrameRequest req = moving_request(i);
-    bool ok = false;
-    const std::vector<uint8_t> expected = cpu_frame(cpu_view, req, &direction_colour, &ok);
-    ASSERT_TRUE(ok);
+    foveation::FrameResult cpu;
+    const std::vector<uint8_t> expected = cpu_frame(cpu_view, req, &direction_colour, &cpu);
+    ASSERT_TRUE(cpu.ok());
     std::string error;
     ASSERT_TRUE(device_frame(device_view, req, &error)) << error;
     EXPECT_EQ(eye_->device_trace_status().invalid_components, 0u);
     EXPECT_EQ(device_view.hand_off().temporal.ray_restart, cpu_view.hand_off().temporal.ray_restart) << "frame " << i;
     EXPECT_EQ(eye_->cached_rays_after_wait(), cpu_view.cached_rays()) << "frame " << i;
-    std::vector<uint8_t> actual;
-    ASSERT_TRUE(eye_->read_rgba8(&actual, &error)) << error;
-    ASSERT_EQ(actual.size(), expected.size());
-    const RingDifference d = ring_difference(expected, actual, req);
+    RingDifference d;
+    ASSERT_TRUE(shown_difference(expected, req, &d, &error)) << error;
     for (std::size_t r = 0; r < kCacheRings; ++r) {
       worst.max_step[r] = std::max(worst.max_step[r], d.max_step[r]);
       worst.mean_step[r] = std::max(worst.mean_step[r], d.mean_step[r]);
@@ -171,10 +178,9 @@ TEST_F(DeviceRayCacheTest, WithContentDensityTheDeviceCacheKeepsTheCpuCachesRays
   foveation::Executor executor(2);
   for (int i = 0; i < 8; ++i) {
     const foveation::FrameRequest req = moving_request(i);
-    const foveation::FrameResult cpu = cpu_view.render(req, &direction_colour, nullptr, executor);
+    foveation::FrameResult cpu;
+    const std::vector<uint8_t> expected = cpu_frame(cpu_view, req, &direction_colour, &cpu);
     ASSERT_TRUE(cpu.ok()) << cpu.message;
-    std::vector<uint8_t> expected(std::size_t(kViewW) * kViewH * 4);
-    foveation::encode_rgba8(cpu_view.image(), true, foveation::DisplayTransform{}, expected.data(), executor);
     const foveation::FrameResult all = unthinned.render(req, &direction_colour, nullptr, executor);
     ASSERT_TRUE(all.ok()) << all.message;
     std::string error;
@@ -188,10 +194,8 @@ TEST_F(DeviceRayCacheTest, WithContentDensityTheDeviceCacheKeepsTheCpuCachesRays
       EXPECT_LT(cpu.rays, all.rays) << "frame " << i;
     }
     EXPECT_EQ(eye_->cached_rays_after_wait(), cpu_view.cached_rays()) << "frame " << i;
-    std::vector<uint8_t> actual;
-    ASSERT_TRUE(eye_->read_rgba8(&actual, &error)) << error;
-    ASSERT_EQ(actual.size(), expected.size());
-    const RingDifference d = ring_difference(expected, actual, req);
+    RingDifference d;
+    ASSERT_TRUE(shown_difference(expected, req, &d, &error)) << error;
     for (std::size_t r = 0; r < kCacheRings; ++r) {
       EXPECT_LE(d.max_step[r], 1) << "frame " << i << ", ring " << r;
       EXPECT_LT(d.mean_step[r], 0.01) << "frame " << i << ", ring " << r;
@@ -210,9 +214,9 @@ TEST_F(DeviceRayCacheTest, WithContentDensityTheDeviceCacheKeepsTheCpuCachesRays
 TEST_F(DeviceRayCacheTest, AFaultedViewRestartsTheCacheOnTheDevice) {
   foveation::FoveatedView cpu_view(tables_, cpu_settings()), device_view(tables_, settings_);
   std::string error;
+  foveation::FrameResult cpu;
   for (int i = 0; i < 3; ++i) {
-    bool ok = false;
-    cpu_frame(cpu_view, moving_request(i), &direction_colour, &ok);
+    cpu_frame(cpu_view, moving_request(i), &direction_colour, &cpu);
     ASSERT_TRUE(device_frame(device_view, moving_request(i), &error)) << error;
   }
   const std::size_t kept_before = eye_->cached_rays_after_wait();
@@ -221,26 +225,24 @@ TEST_F(DeviceRayCacheTest, AFaultedViewRestartsTheCacheOnTheDevice) {
 
   engine_.answer = TestEngine::Answer::fill;
   engine_.fill_bits = 0x7FC00000u;  // NaN
-  bool ok = true;
-  cpu_frame(cpu_view, moving_request(3), &nan_colour, &ok);
-  EXPECT_FALSE(ok) << "the CPU's frame fails";
+  cpu_frame(cpu_view, moving_request(3), &nan_colour, &cpu);
+  EXPECT_FALSE(cpu.ok()) << "the CPU's frame fails";
   ASSERT_TRUE(device_frame(device_view, moving_request(3), &error)) << error;
   EXPECT_GT(eye_->device_trace_status().invalid_components, 0u);
   EXPECT_EQ(eye_->cached_rays_after_wait(), 0u) << "the faulted frame keeps nothing";
 
   engine_.answer = TestEngine::Answer::direction;
   const foveation::FrameRequest next = moving_request(4);
-  const std::vector<uint8_t> expected = cpu_frame(cpu_view, next, &direction_colour, &ok);
-  ASSERT_TRUE(ok);
+  const std::vector<uint8_t> expected = cpu_frame(cpu_view, next, &direction_colour, &cpu);
+  ASSERT_TRUE(cpu.ok());
   ASSERT_TRUE(device_frame(device_view, next, &error)) << error;
   EXPECT_FALSE(device_view.hand_off().temporal.ray_restart) << "the host did not ask for the restart";
   EXPECT_TRUE(cpu_view.hand_off().temporal.ray_restart);
   const std::size_t kept_after = eye_->cached_rays_after_wait();
   EXPECT_EQ(kept_after, cpu_view.cached_rays()) << "only the new frame's rays";
   EXPECT_LT(kept_after, kept_before);
-  std::vector<uint8_t> actual;
-  ASSERT_TRUE(eye_->read_rgba8(&actual, &error)) << error;
-  const RingDifference d = ring_difference(expected, actual, next);
+  RingDifference d;
+  ASSERT_TRUE(shown_difference(expected, next, &d, &error)) << error;
   for (std::size_t r = 0; r < kCacheRings; ++r) EXPECT_LE(d.max_step[r], 1) << "ring " << r;
 }
 

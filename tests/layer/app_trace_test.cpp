@@ -43,6 +43,20 @@ bool traced_image(const Rgb8& img) {
   return img.width > 0 && *hi - *lo > 16;
 }
 
+// Every captured frame of both eyes: `expected`'s is traced, and `actual`'s is within one step of it.
+void expect_frames_within_one_step(const AppRun& expected, const AppRun& actual) {
+  for (int f = 0; f < kPipelinedFrames; ++f) {
+    for (const char* eye : {"left", "right"}) {
+      SCOPED_TRACE(std::string(eye) + ", frame " + std::to_string(f));
+      const Rgb8 a = load_rgb(captured_frame(expected.frames, f, eye));
+      const Rgb8 b = load_rgb(captured_frame(actual.frames, f, eye));
+      ASSERT_TRUE(traced_image(a));
+      EXPECT_GE(max_step(a, b), 0) << "the sizes differ";
+      EXPECT_LE(max_step(a, b), 1);
+    }
+  }
+}
+
 void expect_app_trace(const AppRun& r, int acquired, int unreleased, int rejected, int release_errors) {
   ASSERT_TRUE(r.stats["app_trace"].is_object()) << r.process.output;
   const auto& a = r.stats["app_trace"];
@@ -70,16 +84,7 @@ TEST_F(GpuEngine, AppRecordedFramesEqualTheCallbackModelsWithinOneStep) {
   // The same engine traced the same rays, once per ray.
   EXPECT_EQ(app.stats["engine_rays"]["gpu"]["primary"], callback.stats["engine_rays"]["gpu"]["primary"]);
   EXPECT_EQ(app.stats["gaze_px_per_frame"], callback.stats["gaze_px_per_frame"]);
-  for (int f = 0; f < kPipelinedFrames; ++f) {
-    for (const char* eye : {"left", "right"}) {
-      SCOPED_TRACE(std::string(eye) + ", frame " + std::to_string(f));
-      const Rgb8 a = load_rgb(frame(callback, f, eye));
-      const Rgb8 b = load_rgb(frame(app, f, eye));
-      ASSERT_TRUE(traced_image(a));
-      EXPECT_GE(max_step(a, b), 0) << "the sizes differ";
-      EXPECT_LE(max_step(a, b), 1);
-    }
-  }
+  expect_frames_within_one_step(callback, app);
 }
 
 // With content density beside the render cache (the GPU path's default history), the
@@ -105,16 +110,7 @@ TEST_F(GpuEngine, AppRecordedContentDensityThinsAsTheCallbackModel) {
         << "eye " << e;
   }
   EXPECT_EQ(app.stats["engine_rays"]["gpu"]["primary"], callback.stats["engine_rays"]["gpu"]["primary"]);
-  for (int f = 0; f < kPipelinedFrames; ++f) {
-    for (const char* eye : {"left", "right"}) {
-      SCOPED_TRACE(std::string(eye) + ", frame " + std::to_string(f));
-      const Rgb8 a = load_rgb(frame(callback, f, eye));
-      const Rgb8 b = load_rgb(frame(app, f, eye));
-      ASSERT_TRUE(traced_image(a));
-      EXPECT_GE(max_step(a, b), 0) << "the sizes differ";
-      EXPECT_LE(max_step(a, b), 1);
-    }
-  }
+  expect_frames_within_one_step(callback, app);
 }
 
 // As GpuEngineValidated: the layers loaded, no message; over more frames than
