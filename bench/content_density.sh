@@ -21,8 +21,10 @@
 #    gpu` through the layer and the simulated runtime on lavapipe (the scenes it loads: not engine,
 #    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
 #    density's passes from XrFoveatedRendererDensityStatsFOVEART beside the trace and frame.
-# Usage: bench/content_density.sh [--part detection|cost|rays|device-cost] [DIR [CROP [RAYS [REFERENCE_SPP]]]]
-#   (defaults: every part; out/content_density 320x360 128 512)
+# Usage: bench/content_density.sh [--part detection|cost|rays|device-cost] [--scenes NAME,...]
+#                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
+#   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
+#   the whole eye, out to its widest eccentricities: about 5 minutes a scene on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
@@ -33,6 +35,11 @@ if [ "${1:-}" = --part ]; then
     detection | cost | rays | device-cost) parts=("$2") ;;
     *) echo "bench/content_density.sh: --part detection, cost, rays or device-cost" >&2; exit 2 ;;
   esac
+  shift 2
+fi
+only_scenes=""
+if [ "${1:-}" = --scenes ]; then
+  only_scenes=${2:?bench/content_density.sh: --scenes needs a list: default,room,hall,dense,engine}
   shift 2
 fi
 dir=${1:-out/content_density}
@@ -80,8 +87,12 @@ detection_part() {
     header "Content-aware density on the benchmark set, judged by the perceptual metric"
     echo "Per scene and gaze \`$eval_bin density --scene SCENE VIEWER --gaze X,Y ${common[*]}\`."
     echo
-    echo "The view is a $crop crop of the FOVE eye at its pixels per degree (the whole eye at $rays rays per pixel and its"
-    echo "reference would take hours on this machine). Every image is measured against a converged reference at"
+    if [ "$crop" = 1280x1440 ]; then
+      echo "The view is the whole FOVE eye (1280x1440). Every image is measured against a converged reference at"
+    else
+      echo "The view is a $crop crop of the FOVE eye at its pixels per degree, around the gaze (CROP 1280x1440: the"
+      echo "whole eye). Every image is measured against a converged reference at"
+    fi
     echo "$reference_spp rays per pixel. A row is unseen when, in every ring where the full render at $rays rays per"
     echo "pixel stays below P = 0.5, the row's largest P stays below 0.5 too; rings the full render already shows are"
     echo "listed (its own noise hides foveation there). Ray %: the row's primary rays over the full render's at the"
@@ -90,8 +101,10 @@ detection_part() {
     echo "(\"rays C\": $ray_contrasts, fewer below it), or both from one contrast (\"both C\": $both_contrasts)."
     echo "\"none\": no row of that kind is unseen. The goal is 10 % or less. Same detection: the"
     echo "content-aware row with the fewest rays whose largest P exceeds eccentricity only's at scale 1 by at most"
-    echo "0.01 in every ring (\`detected_no_more\`), and the rays it saves against that row. What choosing the density"
-    echo "costs per stage: [cost.md](cost.md); rays per point by contrast: [rays.md](rays.md)."
+    echo "0.01 in every ring (\`detected_no_more\`), and the rays it saves against that row."
+    if [ "$crop" != 1280x1440 ]; then
+      echo "What choosing the density costs per stage: [cost.md](cost.md); rays per point by contrast: [rays.md](rays.md)."
+    fi
     echo
     echo "| scene | gaze | rings the full render shows | eccentricity only: smallest unseen ray % (scale) | content-aware: smallest unseen ray % (lever) | eccentricity only at scale 1: ray %, rings seen | content-aware at the same detection: ray % (lever), rays saved % |"
     echo "|---|---|---|---|---|---|---|"
@@ -285,6 +298,14 @@ device_cost_part() {
 if [ ! -f "$engine_glb" ]; then
   echo "bench/content_density.sh: $engine_glb is missing (assimp-testmodels): skipping engine" >&2
   unset 'scenes[4]'
+fi
+if [ -n "$only_scenes" ]; then
+  kept=()
+  for entry in "${scenes[@]}"; do
+    [[ ",$only_scenes," == *",${entry%%|*},"* ]] && kept+=("$entry")
+  done
+  [ ${#kept[@]} -gt 0 ] || { echo "bench/content_density.sh: --scenes $only_scenes names no scene" >&2; exit 2; }
+  scenes=("${kept[@]}")
 fi
 for part in "${parts[@]}"; do
   "${part//-/_}_part"
