@@ -108,7 +108,7 @@ struct Images {
       r, s.view, cache, executor, [&](const std::string& m) { err << kAccuracyWho << m << "\n"; }, error);
   if (!tables) return false;
   const std::unique_ptr<foveation::FoveatedView> view =
-      make_variant_view(variant, std::move(tables), {r.rays_per_point, r.seed, r.pixel_filter, o.mean_while_young});
+      make_variant_view(variant, std::move(tables), variant_settings(r, o.mean_while_young, s.display.exposure));
   for (int frame = 0; frame < r.frames; ++frame) {
     foveation::FrameRequest request;
     request.view = s.view;

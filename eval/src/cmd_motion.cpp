@@ -241,12 +241,20 @@ struct MotionScene {
   setting.density_scale = o.density_scale;
   setting.pattern = foveation::fovea_pattern_name(tables->key.display.fovea_pattern);
   setting.rays_per_point = o.rays_per_point;
+  // Content density reads the colours at the display's exposure, as the product's view does.
+  float exposure = 1.0f;
+  if (o.content_contrast > 0.0 || o.content_rays > 0.0) {
+    const std::optional<foveation::DisplayTransform> display =
+        render_view::render_display(o, *s.tracer, s.eye_at_rest, executor, error);
+    if (!display) return false;
+    exposure = display->exposure;
+  }
   for (const TemporalVariant variant : variants) {
     SequenceTrack t;
     t.temporal = temporal_variant_name(variant);
     t.spp = o.rays_per_point;
     t.id = setting.id() + "_temporal-" + t.temporal;
-    t.view = make_variant_view(variant, tables, {o.rays_per_point, o.seed, o.pixel_filter, m.mean_while_young});
+    t.view = make_variant_view(variant, tables, variant_settings(o, m.mean_while_young, exposure));
     tracks->push_back(std::move(t));
   }
   return true;

@@ -72,10 +72,18 @@ foveation::TemporalMode product_mode(TemporalVariant variant) {
   return foveation::TemporalMode::off;
 }
 
+VariantSettings variant_settings(const render_view::RenderOptions& o, bool mean_while_young, float exposure) {
+  VariantSettings s{o.rays_per_point, o.seed, o.pixel_filter, mean_while_young};
+  s.content_density = render_view::foveated_view_settings(o).content_density;
+  s.content_density.exposure = exposure;
+  return s;
+}
+
 foveation::ViewSettings variant_view_settings(TemporalVariant variant, const VariantSettings& s) {
   foveation::ViewSettings vs = foveation::temporal_view_settings(product_mode(variant), s.rays_per_point, s.seed);
   vs.pixel_filter = s.pixel_filter;
   vs.temporal_options.mean_while_young = s.mean_while_young;
+  vs.content_density = s.content_density;
   return vs;
 }
 

@@ -9,6 +9,7 @@
 #include <foveation/temporal_mode.hpp>
 #include <foveation/view_settings.hpp>
 #include <foveation/view_tables.hpp>
+#include <render_view/render_options.hpp>
 
 #include <cstdint>
 #include <memory>
@@ -44,7 +45,13 @@ struct VariantSettings {
   std::uint64_t seed = 1;
   foveation::PixelFilter pixel_filter = foveation::PixelFilter::box;
   bool mean_while_young = false;
+  // Density that follows the content, as the product's view applies it (off by default).
+  foveation::ContentDensityOptions content_density{};
 };
+
+// The shared settings of `o` (a foveated command's options), with the content density of
+// `o` at the view's display exposure (radiance to display-linear), as `fovea render` applies it.
+VariantSettings variant_settings(const render_view::RenderOptions& o, bool mean_while_young, float exposure);
 
 // The view settings of a variant: its product mode's (foveation::temporal_view_settings:
 // off keeps one jitter seed, the thesis's choice; a history draws new jitter each frame,
