@@ -44,6 +44,7 @@ if [ "${1:-}" = --scenes ]; then
 fi
 dir=${1:-out/content_density}
 crop=${2:-320x360}
+whole_eye=1280x1440  # a CROP of the FOVE eye's own size is the whole eye
 rays=${3:-128}
 reference_spp=${4:-512}
 eval_bin=build/bin/fovea-eval
@@ -87,10 +88,10 @@ detection_part() {
     header "Content-aware density on the benchmark set, judged by the perceptual metric"
     echo "Per scene and gaze \`$eval_bin density --scene SCENE VIEWER --gaze X,Y ${common[*]}\`."
     echo
-    if [ "$crop" = 1280x1440 ]; then
-      echo "The view is the whole FOVE eye (1280x1440). Every image is measured against a converged reference at"
+    if [ "$crop" = "$whole_eye" ]; then
+      echo "The view is the whole FOVE eye ($whole_eye). Every image is measured against a converged reference at"
     else
-      echo "The view is a $crop crop of the FOVE eye at its pixels per degree, around the gaze (CROP 1280x1440: the"
+      echo "The view is a $crop crop of the FOVE eye at its pixels per degree, around the gaze (CROP $whole_eye: the"
       echo "whole eye). Every image is measured against a converged reference at"
     fi
     echo "$reference_spp rays per pixel. A row is unseen when, in every ring where the full render at $rays rays per"
@@ -102,7 +103,7 @@ detection_part() {
     echo "\"none\": no row of that kind is unseen. The goal is 10 % or less. Same detection: the"
     echo "content-aware row with the fewest rays whose largest P exceeds eccentricity only's at scale 1 by at most"
     echo "0.01 in every ring (\`detected_no_more\`), and the rays it saves against that row."
-    if [ "$crop" != 1280x1440 ]; then
+    if [ "$crop" != "$whole_eye" ]; then
       echo "What choosing the density costs per stage: [cost.md](cost.md); rays per point by contrast: [rays.md](rays.md)."
     fi
     echo
@@ -158,7 +159,7 @@ cost_part() {
   )
   {
     header "What choosing the density costs, per stage, on the CPU"
-    echo "The whole FOVE eye (1280x1440), MSM k = 5, centred gaze, in two settings: content contrast 0.5 at one ray per"
+    echo "The whole FOVE eye ($whole_eye), MSM k = 5, centred gaze, in two settings: content contrast 0.5 at one ray per"
     echo "point (thinning alone), and both levers from contrast 0.5 at four rays per point (\`--content-rays 0.5\`: the"
     echo "per-point test also counts each point's rays):"
     echo "\`$fovea render --scene SCENE VIEWER --preset fove --mode foveated --interpolation msm --k 5 SETTING"
