@@ -43,7 +43,7 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     if (rr.status != FOVEART_RESULT_SUCCESS)
       return t.id + ": engine callback failed with status " + std::to_string(rr.status);
     t.total_ms.push_back(rr.trace_ms);
-    if (f.index == 0) t.points = f.view.width_px * f.view.height_px;
+    t.points_by_frame.push_back(std::uint32_t(f.view.width_px * f.view.height_px));
     image = linear_full;
   } else {
     foveation::FrameRequest request;
@@ -58,10 +58,13 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     if (fr.temporal_reset) t.temporal_reset_frames.push_back(f.index);
     t.history_off_screen += fr.history_off_screen;
     t.history_disoccluded += fr.history_disoccluded;
-    if (f.index == 0) t.points = fr.points;
+    t.points_by_frame.push_back(fr.points);
     image = &t.view->image();
   }
-  if (f.index == 0) t.rays = tracer.counts() - before;
+  if (f.index == 0) {
+    t.rays = tracer.counts() - before;
+    t.points = t.points_by_frame.front();
+  }
   *display = metrics::display_encode(*image);
   return "";
 }
@@ -346,6 +349,7 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
             {"frames_total_ms", t.total_ms},
             {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)},
             {"points", t.points},
+            {"points_by_frame", t.points_by_frame},
             {"rays", rays},
             {"temporal_resets", t.temporal_reset_frames.size()},
             {"temporal_reset_frames", t.temporal_reset_frames},

@@ -177,6 +177,10 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryVariant) {
     const auto& t = j["tracks"][i];
     EXPECT_EQ(t["id"], ids[i]);
     EXPECT_EQ(t["frames"], 3);
+    // Points traced per frame, the first frame's also as "points": at 64x72 px, every pixel.
+    ASSERT_EQ(t["points_by_frame"].size(), 3u) << t["id"];
+    EXPECT_EQ(t["points_by_frame"][0], t["points"]) << t["id"];
+    for (const auto& p : t["points_by_frame"]) EXPECT_EQ(p, 64 * 72) << t["id"];
     ASSERT_EQ(t["rings"].size(), 7u);
     // Every ring, the fovea included, has pixels at 64x72.
     for (const auto& r : t["rings"]) {
