@@ -21,7 +21,10 @@
 #    gpu` through the layer and the simulated runtime on lavapipe (the scenes it loads: not engine,
 #    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
 #    density's passes from XrFoveatedRendererDensityStatsFOVEART beside the trace and frame.
-# Usage: bench/content_density.sh [--part detection|cost|rays|device-cost] [--scenes NAME,...]
+#  flicker (flicker.md): does thinning flicker? `fovea-eval motion` on the whole FOVE eye over the
+#    built-in head and gaze motion, with the image history, at content contrast 0.1 and without: the
+#    CSF-weighted flicker per ring against a converged reference sequence, and the points traced.
+# Usage: bench/content_density.sh [--part detection|cost|rays|device-cost|flicker] [--scenes NAME,...]
 #                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
 #   the whole eye, out to its widest eccentricities: about 5 minutes a scene on 2 cores.
@@ -29,11 +32,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 args=("$@")
-parts=(detection cost rays device-cost)
+parts=(detection cost rays device-cost flicker)
 if [ "${1:-}" = --part ]; then
   case "${2:-}" in
-    detection | cost | rays | device-cost) parts=("$2") ;;
-    *) echo "bench/content_density.sh: --part detection, cost, rays or device-cost" >&2; exit 2 ;;
+    detection | cost | rays | device-cost | flicker) parts=("$2") ;;
+    *) echo "bench/content_density.sh: --part detection, cost, rays, device-cost or flicker" >&2; exit 2 ;;
   esac
   shift 2
 fi
@@ -293,6 +296,48 @@ device_cost_part() {
         + " | \($rays) | \($rays_off) | \($rays / $rays_off * 1000 | round / 10)"
         + " | \($d.eyes | map(.points_thinned) | add) | \($load) |"' \
       "$dir/json/${name}_cost_device.json" "$dir/json/${name}_cost_device_off.json" >>"$md"
+  done
+}
+
+# Per scene, the flicker of thinned points over a head and gaze motion against eccentricity only: flicker.md.
+flicker_part() {
+  need "$eval_bin"
+  local contrast=0.1 frames=12 motion_spp=32 md="$dir/flicker.md" entry name scene viewer c
+  local common=(--mode foveated --frames "$frames" --temporal image,rays --interpolation msm --k 5
+                --reference-spp "$motion_spp" --cache-dir out/cache --json)
+  {
+    header "Does thinning flicker? Content-aware density over a head and gaze motion"
+    echo "Per scene, \`$eval_bin motion --scene SCENE ${common[*]}\` once with \`--content-contrast $contrast\` and"
+    echo "once without: the whole FOVE eye over the first $frames frames (70 Hz) of the built-in head and gaze motion, MSM"
+    echo "k = 5, one ray per point, with each temporal history of the product: image (the CPU path's default) and rays"
+    echo "(the render cache, the device path's). Flicker: the CSF-weighted frame-to-frame change of the error against a"
+    echo "converged reference sequence of $motion_spp rays per pixel (\`flicker_csf\`, per ring), and the reference's own"
+    echo "(its floor). Points: traced per frame, frames 2 on (the first has no last frame to measure), as % of"
+    echo "eccentricity only's. The scenes viewed from their own camera."
+    echo
+    echo "| scene | history | density | points % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  } >"$md"
+  for entry in "${scenes[@]}"; do
+    IFS='|' read -r name scene viewer <<<"$entry"
+    [ -z "$viewer" ] || continue  # the motion's head path starts at the scene's own camera
+    for c in 0 "$contrast"; do
+      echo "=== $name, flicker, content contrast $c" >&2
+      "$eval_bin" motion --scene "$scene" "${common[@]}" --content-contrast "$c" >"$dir/json/${name}_flicker_$c.json"
+    done
+    jq -r -s --arg name "$name" --arg c "$contrast" '
+      def r5: if . == null then "-" else . * 100000 | round / 100000 end;
+      def rings: .rings | map(.flicker_csf | r5) | join(" | ");
+      def later: .points_by_frame[1:] | add;
+      .[0] as $off | .[1] as $on
+      | ($off.tracks | keys[]) as $i | $off.tracks[$i] as $e | $on.tracks[$i] as $t
+      | "| \($name) | \($e.temporal) | eccentricity only | 100 | \($e | rings) |",
+        "| \($name) | \($t.temporal) | thin \($c) | \(($t | later) / ($e | later) * 1000 | round / 10) | \($t | rings) |"' \
+      "$dir/json/${name}_flicker_0.json" "$dir/json/${name}_flicker_$contrast.json" >>"$md"
+    jq -r --arg name "$name" '
+      def r5: if . == null then "-" else . * 100000 | round / 100000 end;
+      "| \($name) | | reference floor | | \(.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' \
+      "$dir/json/${name}_flicker_0.json" >>"$md"
   done
 }
 
