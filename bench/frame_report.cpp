@@ -13,9 +13,10 @@
 //    submissions, dispatches, barriers and ray-tracing launches the layer and
 //    the engine submitted (one steady frame), the rays of each kind and the
 //    BVH nodes and triangles visited per ray;
-//  * with --density, a third run, the timing run's with content density on:
-//    per eye its passes' GPU time (fill, contrast) beside that run's trace, and
-//    the rays and thinned points beside the timing run's rays.
+//  * the timing run's content density (on by default on the GPU path): per eye
+//    its passes' GPU time (fill, contrast) beside the trace, and the thinned
+//    points; with --eccentricity-only, a third run, the timing run's with
+//    content density off, whose rays stand beside the timing run's.
 // Bytes per stage are the sizes of the buffers the stage binds, computed here
 // from the eye size, the points, the rays, the tables' and the scene's bytes
 // (gpu_frame's JSON): an upper bound on the distinct bytes a stage touches
@@ -23,7 +24,7 @@
 // and --rays-per-s a predicted time per eye stands beside the measured one.
 // Exits 1, naming the device, when the GPU times read 0 (no timestamps).
 //   gpu_frame_report --timing FILE --counting FILE --vk-counts FILE --program NAME --frame-json FILE
-//                    [--density FILE] [--bandwidth-gbs X] [--rays-per-s Y]
+//                    [--eccentricity-only FILE] [--bandwidth-gbs X] [--rays-per-s Y]
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -47,7 +48,7 @@ constexpr double kColourBytes = 16.0;  // a traced colour, a point's colour, a l
 constexpr double kEncodedBytes = 4.0;  // an sRGB RGBA8 texel
 
 struct Inputs {
-  json timing, counting, frame, density;  // density: null without --density
+  json timing, counting, frame, eccentricity_only;  // eccentricity_only: null without --eccentricity-only
   std::vector<json> vk_records;
   std::string program;
   double bandwidth_gbs = 0.0, rays_per_s = 0.0;
@@ -201,16 +202,16 @@ void print_bytes_and_prediction(const Inputs& in, double rays_per_frame) {
               in.bandwidth_gbs, in.rays_per_s, bytes_ms + rays_ms, bytes_ms, rays_ms, measured);
 }
 
-// Content density's passes per eye (p50 over the steady frames) beside the density run's trace,
-// and its rays beside the timing run's: the newest finished frame's of each.
+// Content density's passes per eye (p50 over the steady frames) beside the timing run's trace,
+// and its rays beside the eccentricity-only run's: the newest finished frame's of each.
 void print_density(const Inputs& in) {
-  const json& d = in.density;
+  const json& d = in.timing;
   const json& stats = d["density"];
   if (!stats.is_object()) {
-    std::printf("content density: the density run reported no density stats\n");
+    std::printf("content density: the timing run reported no density stats\n");
     return;
   }
-  std::printf("content density, the density run's passes per eye (p50 of the frames with GPU times, the first left "
+  std::printf("content density, the timing run's passes per eye (p50 of the frames with GPU times, the first left "
               "out):\n");
   double rays_on = 0.0, rays_off = 0.0;
   for (int e = 0; e < 2; ++e) {
@@ -221,10 +222,11 @@ void print_density(const Inputs& in) {
                 fill, contrast, trace > 0.0 ? (fill + contrast) / trace * 100.0 : 0.0, trace,
                 stats["eyes"][e].value("points_thinned", 0.0));
     rays_on += d["eyes"][e].value("rays", 0.0);
-    rays_off += in.timing["eyes"][e].value("rays", 0.0);
+    if (in.eccentricity_only.is_object()) rays_off += in.eccentricity_only["eyes"][e].value("rays", 0.0);
   }
-  std::printf("  rays, both eyes: %.0f with content density, %.0f without (%.1f %%)\n", rays_on, rays_off,
-              rays_off > 0.0 ? rays_on / rays_off * 100.0 : 0.0);
+  if (!in.eccentricity_only.is_object()) return;
+  std::printf("  rays, both eyes: %.0f with content density, %.0f with eccentricity only (%.1f %%)\n", rays_on,
+              rays_off, rays_off > 0.0 ? rays_on / rays_off * 100.0 : 0.0);
 }
 
 // The GPU times must be real: 0 ms means the device gave no timestamps.
@@ -251,8 +253,9 @@ int main(int argc, char** argv) {
   cli.add_option("--vk-counts", vk_counts, "VK_LAYER_FOVEART_count's output of the counting run")->required();
   cli.add_option("--program", in.program, "the app's file name (hello_foveated)")->required();
   cli.add_option("--frame-json", frame, "gpu_frame --json (device, table and scene bytes)")->required();
-  std::string density;
-  cli.add_option("--density", density, "hello_foveated --json of the timing run with content density on");
+  std::string eccentricity_only;
+  cli.add_option("--eccentricity-only", eccentricity_only,
+                 "hello_foveated --json of the timing run with content density off (\"content_contrast\": 0)");
   cli.add_option("--bandwidth-gbs", in.bandwidth_gbs, "the device's memory bandwidth, GB/s (for a prediction)");
   cli.add_option("--rays-per-s", in.rays_per_s, "the engine's rays per second on the device (for a prediction)");
   CLI11_PARSE(cli, argc, argv);
@@ -260,11 +263,11 @@ int main(int argc, char** argv) {
   in.counting = read_json(counting);
   in.frame = read_json(frame);
   in.vk_records = foveart::vk_count::read_records(vk_counts);
-  if (!density.empty()) in.density = read_json(density);
+  if (!eccentricity_only.empty()) in.eccentricity_only = read_json(eccentricity_only);
   if (!in.timing.is_object() || !in.counting.is_object() || !in.frame.is_object() ||
-      (!density.empty() && !in.density.is_object())) {
-    std::fprintf(stderr, "gpu_frame_report: cannot read %s, %s, %s or %s as JSON\n", timing.c_str(),
-                 counting.c_str(), frame.c_str(), density.empty() ? "(no --density)" : density.c_str());
+      (!eccentricity_only.empty() && !in.eccentricity_only.is_object())) {
+    std::fprintf(stderr, "gpu_frame_report: cannot read %s, %s, %s or %s as JSON\n", timing.c_str(), counting.c_str(),
+                 frame.c_str(), eccentricity_only.empty() ? "(no --eccentricity-only)" : eccentricity_only.c_str());
     return 1;
   }
   if (!times_measured(in)) return 1;
@@ -281,6 +284,6 @@ int main(int argc, char** argv) {
   print_submitted_work(in);
   const double rays_per_frame = print_rays(in);
   print_bytes_and_prediction(in, rays_per_frame);
-  if (in.density.is_object()) print_density(in);
+  print_density(in);
   return 0;
 }

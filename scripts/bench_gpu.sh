@@ -14,9 +14,10 @@
 #     (dispatches, barriers, submissions per frame; rays of each kind, BVH nodes
 #     per ray); bench/frame_report.cpp prints it, with the bytes each stage binds,
 #     "fits"/"misses" for 3.5 ms and 7 ms per eye, and a predicted time per eye
-#     from --bandwidth-gbs and --rays-per-s (n/a without them, and on a CPU); a third
-#     run with content density (layer config "content_contrast": 0.5): its passes'
-#     GPU time per eye beside the trace, and its rays beside the timing run's;
+#     from --bandwidth-gbs and --rays-per-s (n/a without them, and on a CPU); the
+#     timing run's content density (the GPU path's default): its passes' GPU time
+#     per eye beside the trace, and its rays beside a third run's with content
+#     density off (layer config "content_contrast": 0);
 #  3. bench/reconstruction_paths.cpp: reconstruction + history per eye on the
 #     CPU and the GPU path.
 # Writes out/bench/ (the JSON and the counts) and docs/results/bench_gpu_<device>.md,
@@ -128,10 +129,10 @@ hello out/bench/hello_timing.json "$hello_frames"
 rm -f out/bench/vk_counts.jsonl
 VK_LAYER_PATH=$vk_layer_dir VK_INSTANCE_LAYERS=VK_LAYER_FOVEART_count FOVEART_VK_COUNT_OUT=$PWD/out/bench/vk_counts.jsonl \
   hello out/bench/hello_counting.json $((hello_frames + 1)) --count-work  # a steady frame after the start
-config_extra=', "content_contrast": 0.5' hello out/bench/hello_density.json "$hello_frames"
+config_extra=', "content_contrast": 0' hello out/bench/hello_eccentricity_only.json "$hello_frames"
 report_args=(--timing out/bench/hello_timing.json --counting out/bench/hello_counting.json
   --vk-counts out/bench/vk_counts.jsonl --program hello_foveated --frame-json "$json"
-  --density out/bench/hello_density.json)
+  --eccentricity-only out/bench/hello_eccentricity_only.json)
 [[ -n $bandwidth ]] && report_args+=(--bandwidth-gbs "$bandwidth")
 [[ -n $ray_rate ]] && report_args+=(--rays-per-s "$ray_rate")
 whole_table=$("$bin/gpu_frame_report" "${report_args[@]}" | tee /dev/stderr) ||
@@ -162,9 +163,9 @@ result=docs/results/bench_gpu_${slug:-device}.md
   echo "but the first, the reconstruction stages of the last reading, encode with the copy into the swapchain."
   echo "The host time is the app's steady clock around each xrEndFrame call. Work, rays and nodes come from a"
   echo "second run under VK_LAYER_FOVEART_count with the engine's work counters on; bytes are the sizes of the"
-  echo "buffers each stage binds, an upper bound on the bytes it touches. Content density: a third run, the timing"
-  echo "run's with layer config \`\"content_contrast\": 0.5\`: its fill and contrast passes per eye beside its trace,"
-  echo "and its rays beside the timing run's."
+  echo "buffers each stage binds, an upper bound on the bytes it touches. Content density (on by default on the GPU"
+  echo "path): the timing run's fill and contrast passes per eye beside its trace, and its rays beside a third run's,"
+  echo "the timing run's with layer config \`\"content_contrast\": 0\` (eccentricity only)."
   echo
   echo '```'
   echo "$whole_table"

@@ -101,6 +101,15 @@ struct Reader {
     });
   }
 
+  // A number in [0, 1], where 0 turns the setting off (as opposed to leaving it to its default).
+  void read_unit_or_off(const json& obj, const char* key, std::optional<float>* out) const {
+    read(obj, key, [&](const json& v) -> std::string {
+      if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= 1.0)) return "must be a number in [0, 1]";
+      *out = static_cast<float>(v.get<double>());
+      return {};
+    });
+  }
+
   void read_string(const json& obj, const char* key, std::initializer_list<std::string_view> allowed,
                    std::string* out) const {
     read(obj, key, [&](const json& v) -> std::string {
@@ -169,7 +178,7 @@ struct Reader {
     read_string(obj, "interpolation", {"nearest", "msm", "rbf"}, &c->interpolation);
     read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
-    read_float(obj, "content_contrast", 0.0f, 1.0f, &c->content_contrast);
+    read_unit_or_off(obj, "content_contrast", &c->content_contrast);
     read_float(obj, "content_rays", 0.0f, 1.0f, &c->content_rays);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
     read_removed_keys(obj, c);

@@ -58,8 +58,10 @@ struct LayerConfig {
   uint32_t k = 5;
   float density_scale = 1.0f;
   // Content-aware density (foveation/content_density.hpp): the Michelson contrast from which
-  // a screen tile traces all its points; 0 (the default): off, density by eccentricity alone.
-  float content_contrast = 0.0f;
+  // a screen tile traces all its points; 0: off, density by eccentricity alone. Unset: the
+  // path's default (content_contrast_for_path, renderer.hpp): on where reconstruction runs on
+  // the GPU, off on the CPU path.
+  std::optional<float> content_contrast;
   // Rays per point by the content (foveation/point_rays.hpp): the tile contrast from which a
   // point casts all rays_per_point rays; 0 (the default): off, every point casts them all.
   float content_rays = 0.0f;

@@ -141,6 +141,10 @@ XrFoveatedTemporalFOVEART xr_temporal(foveation::TemporalMode mode) {
   return XR_FOVEATED_TEMPORAL_OFF_FOVEART;
 }
 
+float content_contrast_for_path(const RendererSettings& settings, bool reconstruct_on_gpu) {
+  return settings.content_contrast.value_or(reconstruct_on_gpu ? kDeviceContentContrast : 0.0f);
+}
+
 foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu) {
   return settings.temporal.value_or(reconstruct_on_gpu ? foveation::TemporalMode::rays : foveation::TemporalMode::image);
 }

@@ -62,6 +62,10 @@ namespace foveart::layer::test {
 namespace {
 
 TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
+  // Content density off (the GPU path's default thins from the second frame): the two engines'
+  // colours differ by float rounding, enough to move a tile across a density level and a few
+  // points with it. AppRecordedContentDensityThinsAsTheCallbackModel compares thinning.
+  configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0)");
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   const AppRun cpu = launch("cpu", "cpu", gaze);
   ASSERT_NO_FATAL_FAILURE(expect_clean(cpu, "cpu"));
@@ -163,10 +167,11 @@ TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
 // first frame ("nan": every frame waited for, as no good image is shown yet)
 // and from frame 2 on ("late": pipelined frames, the fault kept on the device;
 // frame 2's status is read at frame 4); with "temporal": "rays" ("rays"),
-// the render cache fed by the device trace on the device; and with content
-// density beside that render cache ("density": the second frame thins by the first's
-// tiles on the device, the cache takes the traced points' rays;
-// XrFoveatedRendererDensityStatsFOVEART has its thinned points and passes' GPU ms).
+// the render cache fed by the device trace on the device, beside the path's default content
+// density (the second frame thins by the first's tiles on the device, the cache takes the
+// traced points' rays; XrFoveatedRendererDensityStatsFOVEART has its thinned points and
+// passes' GPU ms); with the config's content density and rays per point by contrast
+// ("density"); and with content density turned off by the config ("none": every stat 0).
 class GpuEngineValidated : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 // XrFoveatedRendererDensityStatsFOVEART through hello_foveated --json on a device trace: with
@@ -205,13 +210,16 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   IsolatedEnv::set("VK_LOADER_DEBUG", "layer");
   std::vector<std::string> extra{"--no-explicit-layer"};
   const bool rays = fault == "rays";  // no fault; the render cache fed by the device trace, on the device
-  const bool density = fault == "density";  // no fault; content density on the device trace
+  const bool density = fault == "density";  // no fault; the config's content density on the device trace
   if (density) configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0.1, "content_rays": 0.2)");
+  if (fault == "none") configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0)");
   if (fault == "nan") extra.insert(extra.end(), {"--fault", fault});
   if (fault == "late") extra.insert(extra.end(), {"--fault", "nan", "--fault-from-frame", "2"});
-  // "late", and "density" so that the stats hold frame 2, the first that thins (read when its slot comes round).
+  // "late", and the thinning runs so that the stats hold frame 2, the first that thins (read when its slot
+  // comes round).
   constexpr int kLateFrames = 4;
-  const int frames = fault == "late" || density ? kLateFrames : kFrames;
+  const bool thins = rays || density;
+  const int frames = fault == "late" || thins ? kLateFrames : kFrames;
   const AppRun r = launch("validated", "gpu", gaze, extra, frames, kRaysPerPoint, rays || density ? "rays" : "off");
   for (const char* name : {"XR_ENABLE_API_LAYERS", "VK_INSTANCE_LAYERS", "VK_LAYER_PATH", "VK_LAYER_ENABLES",
                            "XR_LOADER_DEBUG", "VK_LOADER_DEBUG"}) {
@@ -219,7 +227,7 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   }
   if (fault == "none" || rays || density) {
     ASSERT_NO_FATAL_FAILURE(expect_clean(r, "gpu", frames, rays || density ? "rays" : "off"));
-    ASSERT_NO_FATAL_FAILURE(expect_device_density_stats(r, density));
+    ASSERT_NO_FATAL_FAILURE(expect_device_density_stats(r, thins));
   } else if (fault == "late") {
     ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
     ASSERT_TRUE(r.stats.is_object()) << r.process.output;
@@ -297,6 +305,8 @@ INSTANTIATE_TEST_SUITE_P(Faults, FailingDeviceTrace, ::testing::Values("error", 
 // frames 5 and 6 are still in flight when the app reads the stats.
 TEST_F(GpuEngine, AFaultAfterGoodFramesShowsTheLastGoodImage) {
   constexpr int kRun = 6, kFirstFault = 4;  // the layer's frame indices count from 1
+  // Content density off, so that the good frames are alike (it thins from the second frame).
+  configure_hello_foveated(*env_, kRun, "gpu", {}, R"("content_contrast": 0)");
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   const AppRun r = launch("late_fault", "gpu", gaze,
                           {"--fault", "nan", "--fault-from-frame", std::to_string(kFirstFault)}, kRun);

@@ -82,7 +82,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "temporal") return s.temporal ? foveation::temporal_mode_name(*s.temporal) : "auto";
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
-  if (key == "content_contrast") return std::to_string(s.content_contrast);
+  if (key == "content_contrast") return s.content_contrast ? std::to_string(*s.content_contrast) : "path default";
   if (key == "content_rays") return std::to_string(s.content_rays);
   if (key == "gaze_clock") return s.gaze_clock_display_time ? "display_time" : "steady";
   if (key == "threads") return std::to_string(s.threads);
@@ -213,6 +213,29 @@ TEST(ResolveSettings, AutoTemporalFollowsTheReconstructionPath) {
   const RendererSettings off = resolve(use_config_info(), config_from(R"({"temporal": "off"})"));
   EXPECT_EQ(temporal_for_path(off, true), foveation::TemporalMode::off);
   EXPECT_EQ(temporal_for_path(off, false), foveation::TemporalMode::off);
+}
+
+// Content density unset is the path's own: on where the GPU reconstructs, off on the CPU path;
+// a contrast the config names holds on both, 0 (off) too; out of [0, 1] it is refused.
+TEST(ResolveSettings, UnsetContentContrastFollowsTheReconstructionPath) {
+  const RendererSettings automatic = resolve(use_config_info(), LayerConfig{});
+  EXPECT_FALSE(automatic.content_contrast.has_value());
+  EXPECT_EQ(content_contrast_for_path(automatic, /*reconstruct_on_gpu=*/true), kDeviceContentContrast);
+  EXPECT_EQ(content_contrast_for_path(automatic, /*reconstruct_on_gpu=*/false), 0.0f);
+  for (const float c : {0.0f, 0.5f}) {
+    const RendererSettings named =
+        resolve(use_config_info(), config_from("{\"content_contrast\": " + std::to_string(c) + "}"));
+    EXPECT_EQ(content_contrast_for_path(named, true), c);
+    EXPECT_EQ(content_contrast_for_path(named, false), c);
+  }
+  for (const char* bad : {"-0.1", "1.5", "\"high\""}) {
+    ConfigResult r;
+    apply_config_text(std::string("{\"content_contrast\": ") + bad + "}", "test.json", "app", &r);
+    EXPECT_FALSE(r.config.content_contrast.has_value()) << bad;
+    ASSERT_EQ(r.warnings.size(), 1u) << bad;
+    EXPECT_NE(r.warnings[0].find("content_contrast"), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find("[0, 1]"), std::string::npos) << r.warnings[0];
+  }
 }
 
 TEST(ResolveSettings, NearestNeighbourUsesOneTap) {
