@@ -156,26 +156,30 @@ detection_part() {
 cost_part() {
   need "$fovea"
   local md="$dir/cost.md"
-  local settings=(  # name | options: thinning alone at one ray per point; both levers at four
+  local settings=(  # name | options: eccentricity only and thinning alone at one ray per point; both levers at four
+    "off, 1 ray|--rays-per-point 1"
+    "thin 0.1, 1 ray|--content-contrast 0.1 --rays-per-point 1"
     "thin 0.5, 1 ray|--content-contrast 0.5 --rays-per-point 1"
     "both 0.5, 4 rays|--content-contrast 0.5 --content-rays 0.5 --rays-per-point 4"
   )
+  local entry name scene viewer setting sname soptions load json off_ms
   {
     header "What choosing the density costs, per stage, on the CPU"
-    echo "The whole FOVE eye ($whole_eye), MSM k = 5, centred gaze, in two settings: content contrast 0.5 at one ray per"
-    echo "point (thinning alone), and both levers from contrast 0.5 at four rays per point (\`--content-rays 0.5\`: the"
-    echo "per-point test also counts each point's rays):"
+    echo "The whole FOVE eye ($whole_eye), MSM k = 5, centred gaze, in four settings: at one ray per point eccentricity"
+    echo "only (off), and content contrast 0.1 (the GPU path's default) and 0.5 (thinning alone); both levers from"
+    echo "contrast 0.5 at four rays per point (\`--content-rays 0.5\`: the per-point test also counts each point's rays):"
     echo "\`$fovea render --scene SCENE VIEWER --preset fove --mode foveated --interpolation msm --k 5 SETTING"
     echo "--frames 5 --cache-dir out/cache --json\`, its median frame (select, trace and"
     echo "reconstruction: frame ms) and that frame's \`density_stages_ms\`: levels, the tiles' levels from the last"
     echo "frame's luminance ranges; test, the per-point test (thinned or traced, and its rays); observe, the traced"
     echo "colours into their tiles' ranges; fill, the thinned points from their parents. Test and observe run inside the"
     echo "parallel trace pass: their time summed over the threads, divided by the threads. Density ms is the four's sum."
-    echo "Rays % of full: primary rays over the full render's at the same rays per pixel. Load average (1 min) when each"
-    echo "ran. The device trace's passes: [cost_device.md](cost_device.md)."
+    echo "Rays % of full: primary rays over the full render's at the same rays per pixel. Frame % of off: the frame ms"
+    echo "over eccentricity only's at one ray per point, what the density nets in time (1-ray rows). Load average"
+    echo "(1 min) when each ran. The device trace's passes: [cost_device.md](cost_device.md)."
     echo
-    echo "| scene | setting | levels ms | test ms | observe ms | fill ms | density ms | frame ms | density % of the frame | rays % of full | load |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | setting | levels ms | test ms | observe ms | fill ms | density ms | frame ms | density % of the frame | rays % of full | frame % of off | load |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
   } >"$md"
   for entry in "${scenes[@]}"; do
     IFS='|' read -r name scene viewer <<<"$entry"
@@ -187,12 +191,15 @@ cost_part() {
       # shellcheck disable=SC2086
       "$fovea" render --scene "$scene" $viewer --preset fove --mode foveated --interpolation msm --k 5 $soptions \
         --frames 5 --cache-dir out/cache --json >"$json"
-      jq -r --arg name "$name" --arg setting "$sname" --arg load "$load" '
+      [ "$sname" = "off, 1 ray" ] && off_ms=$(jq '.foveated.total_ms' "$json")
+      jq -r --arg name "$name" --arg setting "$sname" --arg load "$load" --argjson off_ms "$off_ms" '
         def r2: . * 100 | round / 100;
         .foveated as $f | $f.density_stages_ms as $s
         | "| \($name) | \($setting) | \($s.levels | r2) | \($s.test | r2) | \($s.observe | r2) | \($s.fill | r2)"
           + " | \($f.density_ms | r2) | \($f.total_ms | r2) | \($f.density_ms / $f.total_ms * 1000 | round / 10)"
-          + " | \($f.rays.primary / .pixels / .rays_per_point * 1000 | round / 10) | \($load) |"' "$json" >>"$md"
+          + " | \($f.rays.primary / .pixels / .rays_per_point * 1000 | round / 10)"
+          + " | \(if .rays_per_point == 1 then $f.total_ms / $off_ms * 1000 | round / 10 else "-" end) | \($load) |"' \
+        "$json" >>"$md"
     done
   done
 }
