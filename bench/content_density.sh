@@ -22,8 +22,9 @@
 #    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
 #    density's passes from XrFoveatedRendererDensityStatsFOVEART beside the trace and frame.
 #  flicker (flicker.md): does thinning flicker? `fovea-eval motion` on the whole FOVE eye over the
-#    built-in head and gaze motion, with the image history, at content contrast 0.1 and without: the
-#    CSF-weighted flicker per ring against a converged reference sequence, and the points traced.
+#    built-in head and gaze motion, with both product histories (image, rays), at content contrast 0.1
+#    and without: the CSF-weighted flicker per ring against a converged reference sequence, its
+#    floor, and the points traced.
 # Usage: bench/content_density.sh [--part detection|cost|rays|device-cost|flicker] [--scenes NAME,...]
 #                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
@@ -337,14 +338,11 @@ flicker_part() {
       def rings: .rings | map(.flicker_csf | r5) | join(" | ");
       def later: .points_by_frame[1:] | add;
       .[0] as $off | .[1] as $on
-      | ($off.tracks | keys[]) as $i | $off.tracks[$i] as $e | $on.tracks[$i] as $t
-      | "| \($name) | \($e.temporal) | eccentricity only | 100 | \($e | rings) |",
-        "| \($name) | \($t.temporal) | thin \($c) | \(($t | later) / ($e | later) * 1000 | round / 10) | \($t | rings) |"' \
+      | (($off.tracks | keys[]) as $i | $off.tracks[$i] as $e | $on.tracks[$i] as $t
+         | "| \($name) | \($e.temporal) | eccentricity only | 100 | \($e | rings) |",
+           "| \($name) | \($t.temporal) | thin \($c) | \(($t | later) / ($e | later) * 1000 | round / 10) | \($t | rings) |"),
+        "| \($name) | | reference floor | | \($off.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' \
       "$dir/json/${name}_flicker_0.json" "$dir/json/${name}_flicker_$contrast.json" >>"$md"
-    jq -r --arg name "$name" '
-      def r5: if . == null then "-" else . * 100000 | round / 100000 end;
-      "| \($name) | | reference floor | | \(.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' \
-      "$dir/json/${name}_flicker_0.json" >>"$md"
   done
 }
 
