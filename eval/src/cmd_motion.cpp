@@ -243,7 +243,7 @@ struct MotionScene {
   setting.rays_per_point = o.rays_per_point;
   // Content density reads the colours at the display's exposure, as the product's view does.
   float exposure = 1.0f;
-  if (o.content_contrast > 0.0 || o.content_rays > 0.0) {
+  if (render_view::foveated_view_settings(o).content_density.enabled()) {
     const std::optional<foveation::DisplayTransform> display =
         render_view::render_display(o, *s.tracer, s.eye_at_rest, executor, error);
     if (!display) return false;
