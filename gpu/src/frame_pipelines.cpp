@@ -8,11 +8,9 @@
 
 namespace foveart::gpu {
 
-std::unique_ptr<FramePipelines> FramePipelines::create(VkDevice device, std::string device_trace_unsupported,
-                                                      std::string* error) {
+std::unique_ptr<FramePipelines> FramePipelines::create(VkDevice device, std::string* error) {
   std::unique_ptr<FramePipelines> p(new FramePipelines());
   p->device_ = device;
-  p->device_trace_unsupported_ = std::move(device_trace_unsupported);
   if (!create_storage_pipeline_layout(device, kFrameDescriptorCounts, kFrameBindings, kFramePushBytes,
                                       &p->set_layout_, &p->layout_, error)) {
     return nullptr;
@@ -35,7 +33,6 @@ std::unique_ptr<FramePipelines> FramePipelines::create(VkDevice device, std::str
 }
 
 const DeviceTracePipelines* FramePipelines::device_trace(std::string* error) const {
-  if (!device_trace_unsupported_.empty()) return *error = "device trace: " + device_trace_unsupported_, nullptr;
   if (device_trace_ == nullptr) device_trace_ = DeviceTracePipelines::create(device_, error);
   return device_trace_.get();
 }

@@ -29,21 +29,6 @@ std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_
   return {};
 }
 
-std::string device_trace_unsupported_reason(VkPhysicalDevice physical_device) {
-  VkPhysicalDeviceSubgroupProperties subgroup{};
-  subgroup.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES;
-  VkPhysicalDeviceProperties2 properties2{};
-  properties2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
-  properties2.pNext = &subgroup;
-  vkGetPhysicalDeviceProperties2(physical_device, &properties2);
-  const VkSubgroupFeatureFlags ballot = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
-  if ((subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) == 0 || (subgroup.supportedOperations & ballot) != ballot) {
-    return "the device reports no subgroup ballots in compute shaders (the ray compaction needs them; an app's "
-           "Vulkan 1.0 instance reports none)";
-  }
-  return {};
-}
-
 std::unique_ptr<Reconstructor> Reconstructor::create(const Device& device, std::string* error) {
   if (std::string why = unsupported_reason(device.physical_device, device.queue_family_index); !why.empty()) {
     return *error = why, nullptr;
@@ -51,7 +36,7 @@ std::unique_ptr<Reconstructor> Reconstructor::create(const Device& device, std::
   std::unique_ptr<Reconstructor> r(new Reconstructor());
   r->context_ = Context::create(device, error);
   if (r->context_ == nullptr) return nullptr;
-  r->pipelines_ = FramePipelines::create(device.device, device_trace_unsupported_reason(device.physical_device), error);
+  r->pipelines_ = FramePipelines::create(device.device, error);
   if (r->pipelines_ == nullptr) return nullptr;
   return r;
 }

@@ -34,7 +34,7 @@ XrResult FoveatedRenderer::Frames::acquire_refusal(const XrFoveatedRayBatchAcqui
     *why = "batch->views holds fewer than acquireInfo->viewCount views";
     return XR_ERROR_SIZE_INSUFFICIENT;
   }
-  if (reconstructor == nullptr || submission == nullptr || !reconstructor->device_trace_unsupported().empty()) {
+  if (reconstructor == nullptr || submission == nullptr) {
     *why = "this renderer reconstructs on the CPU (config \"reconstruction\", or a device the shaders cannot run on)";
     return XR_ERROR_FEATURE_UNSUPPORTED;
   }

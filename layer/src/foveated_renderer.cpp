@@ -462,14 +462,9 @@ bool FoveatedRenderer::Frames::choose_path(uint32_t e) {
   Eye& eye = eyes[e];
   EyePath path;
   path.reconstruct_on_gpu = reconstructor != nullptr && !eye.gpu_failed;
-  // The engine's device trace where the GPU reconstructs and can run it; its CPU callback elsewhere.
+  // The engine's device trace where the GPU reconstructs; its CPU callback elsewhere.
   const bool device_traced = settings.trace_rays_device != nullptr || settings.app_trace;
-  path.device_trace = path.reconstruct_on_gpu && device_traced && reconstructor->device_trace_unsupported().empty();
-  if (path.reconstruct_on_gpu && device_traced && !path.device_trace &&
-      device_once.first()) {
-    log(LogLevel::Warn, "foveated renderer: the engine's device trace cannot run here: ",
-        reconstructor->device_trace_unsupported(), "; its callback traces instead, where it registered one (logged once)");
-  }
+  path.device_trace = path.reconstruct_on_gpu && device_traced;
   if (!path.device_trace && settings.trace_rays == nullptr) return false;  // a device trace alone, and no GPU path
   if (path.reconstruct_on_gpu) {
     choose_gpu_path(path);

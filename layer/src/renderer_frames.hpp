@@ -252,7 +252,7 @@ struct FoveatedRenderer::Frames {
   XrResult device_engine_result = XR_SUCCESS;  // the engine's last device trace's (xr_device_trace_engine)
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once,
-      evicted_once, behind_once, rect_once, failed_once, gpu_once, device_once, submit_once;
+      evicted_once, behind_once, rect_once, failed_once, gpu_once, submit_once;
   LogOnce app_once, unreleased_once, mismatch_once;  // the app-recorded trace's
 };
 

@@ -44,9 +44,7 @@ inline constexpr uint32_t kFramePushBytes = uint32_t(
 
 class FramePipelines {
  public:
-  // device_trace_unsupported: why the device trace's shaders cannot run here (empty: they can).
-  static std::unique_ptr<FramePipelines> create(VkDevice device, std::string device_trace_unsupported,
-                                                std::string* error);
+  static std::unique_ptr<FramePipelines> create(VkDevice device, std::string* error);
   ~FramePipelines();
   FramePipelines(const FramePipelines&) = delete;
   FramePipelines& operator=(const FramePipelines&) = delete;
@@ -60,7 +58,6 @@ class FramePipelines {
   const RayCachePipelines& ray_cache() const { return *ray_cache_; }
   // The device trace's pipelines, made at the first call; null with *error where they cannot run.
   const DeviceTracePipelines* device_trace(std::string* error) const;
-  const std::string& device_trace_unsupported() const { return device_trace_unsupported_; }
 
  private:
   FramePipelines() = default;
@@ -69,7 +66,6 @@ class FramePipelines {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline scatter_ = VK_NULL_HANDLE, gather_ = VK_NULL_HANDLE, temporal_ = VK_NULL_HANDLE, encode_ = VK_NULL_HANDLE;
   std::unique_ptr<RayCachePipelines> ray_cache_;
-  std::string device_trace_unsupported_;
   mutable std::unique_ptr<DeviceTracePipelines> device_trace_;  // one thread at a time, as every stage
 };
 

@@ -19,8 +19,6 @@ namespace foveart::gpu {
 
 // Why the shaders cannot run on this device's queue family; empty when they can.
 std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_family_index);
-// Why the device trace's shaders cannot run on this device (beyond unsupported_reason); empty when they can.
-std::string device_trace_unsupported_reason(VkPhysicalDevice physical_device);
 
 class Reconstructor {
  public:
@@ -41,8 +39,6 @@ class Reconstructor {
     return context_->submit_and_wait(record, error);
   }
 
-  // Why frames cannot be device-traced here (EyeFrame::device); empty when they can.
-  const std::string& device_trace_unsupported() const { return pipelines_->device_trace_unsupported(); }
   VkDeviceSize max_chunk_bytes() const { return context_->max_storage_buffer_bytes(); }
   const Device& device() const { return context_->device(); }
   Context& context() { return *context_; }
