@@ -4,7 +4,9 @@
 
 namespace foveart::gpu {
 
-std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_family_index) {
+std::string unsupported_reason(const Device& device) {
+  const VkPhysicalDevice physical_device = device.physical_device;
+  const uint32_t queue_family_index = device.queue_family_index;
   uint32_t count = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, nullptr);
   std::vector<VkQueueFamilyProperties> families(count);
@@ -23,6 +25,11 @@ std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_
   if (VK_API_VERSION_MINOR(properties.apiVersion) < 1 && VK_API_VERSION_MAJOR(properties.apiVersion) == 1) {
     return "the device is Vulkan 1.0; the shaders are SPIR-V 1.3 (Vulkan 1.1)";
   }
+  // The app's instance caps the version its devices are used at (Vulkan spec, VkApplicationInfo).
+  if (device.instance_api_version != 0 && device.instance_api_version < VK_API_VERSION_1_1) {
+    return "the app's Vulkan instance asked for Vulkan 1.0 (VkApplicationInfo::apiVersion); the shaders are SPIR-V "
+           "1.3 (Vulkan 1.1)";
+  }
   if (properties.limits.maxPerStageDescriptorStorageBuffers < kFrameStorageBuffers) {
     return "the device binds fewer than " + std::to_string(kFrameStorageBuffers) + " storage buffers per stage";
   }
@@ -30,7 +37,7 @@ std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_
 }
 
 std::unique_ptr<Reconstructor> Reconstructor::create(const Device& device, std::string* error) {
-  if (std::string why = unsupported_reason(device.physical_device, device.queue_family_index); !why.empty()) {
+  if (std::string why = unsupported_reason(device); !why.empty()) {
     return *error = why, nullptr;
   }
   std::unique_ptr<Reconstructor> r(new Reconstructor());

@@ -34,7 +34,8 @@ bool load_next_dispatch(XrInstance instance, PFN_xrGetInstanceProcAddr next_gipa
   ok = load(instance, next_gipa, "xrAttachSessionActionSets", &d.AttachSessionActionSets) && ok;
   ok = load(instance, next_gipa, "xrSyncActions", &d.SyncActions) && ok;
   ok = load(instance, next_gipa, "xrGetCurrentInteractionProfile", &d.GetCurrentInteractionProfile) && ok;
-  load(instance, next_gipa, "xrCreateVulkanDeviceKHR", &d.CreateVulkanDeviceKHR);  // optional
+  load(instance, next_gipa, "xrCreateVulkanInstanceKHR", &d.CreateVulkanInstanceKHR);  // optional
+  load(instance, next_gipa, "xrCreateVulkanDeviceKHR", &d.CreateVulkanDeviceKHR);      // optional
   *out = d;
   return ok;
 }

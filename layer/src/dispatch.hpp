@@ -33,6 +33,7 @@ struct NextDispatch {
   PFN_xrSyncActions SyncActions = nullptr;
   PFN_xrGetCurrentInteractionProfile GetCurrentInteractionProfile = nullptr;
   // XR_KHR_vulkan_enable2, when the app enabled it (null otherwise).
+  PFN_xrCreateVulkanInstanceKHR CreateVulkanInstanceKHR = nullptr;
   PFN_xrCreateVulkanDeviceKHR CreateVulkanDeviceKHR = nullptr;
 };
 

@@ -282,7 +282,8 @@ void FoveatedRenderer::Frames::choose_reconstruction() {
   reconstructor = gpu::Reconstructor::create(
       gpu::Device{session->vk_physical_device, session->vk_device, session->vk_queue_family_index,
                   session->vk_queue_index, session->buffer_device_address,
-                  settings.app_queue_families},  // the app-recorded trace's families
+                  settings.app_queue_families,  // the app-recorded trace's families
+                  session->vk_instance_api_version},
       &why);
   const auto& properties = device;
   if (reconstructor != nullptr) submission = FrameSubmission::create(*session, &why);

@@ -43,6 +43,7 @@ XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateSession(XrInstance instance, const X
     if (auto* vk = find_in_chain<XrGraphicsBindingVulkanKHR>(info->next, XR_TYPE_GRAPHICS_BINDING_VULKAN_KHR)) {
       session->has_vulkan = true;
       session->vk_instance = vk->instance;
+      session->vk_instance_api_version = Registry::get().vulkan_instance_api_version(vk->instance);
       session->vk_physical_device = vk->physicalDevice;
       session->vk_device = vk->device;
       session->vk_queue_family_index = vk->queueFamilyIndex;
@@ -363,6 +364,7 @@ const HookEntry* hooks_begin(std::size_t* out_count) {
       {"xrAttachSessionActionSets", as_void(&hook_xrAttachSessionActionSets), false},
       {"xrSyncActions", as_void(&hook_xrSyncActions), false},
       {"xrGetCurrentInteractionProfile", as_void(&hook_xrGetCurrentInteractionProfile), false},
+      {"xrCreateVulkanInstanceKHR", as_void(&hook_xrCreateVulkanInstanceKHR), false},
       {"xrCreateVulkanDeviceKHR", as_void(&hook_xrCreateVulkanDeviceKHR), false},
       {"xrCreateFoveatedRendererFOVEART", as_void(&hook_xrCreateFoveatedRendererFOVEART), true},
       {"xrDestroyFoveatedRendererFOVEART", as_void(&hook_xrDestroyFoveatedRendererFOVEART), true},
@@ -383,6 +385,7 @@ PFN_xrVoidFunction find_hook(std::string_view name, const InstanceState& instanc
     if (hooks[i].name != name) continue;
     if (hooks[i].extension && !instance.extension_enabled) return nullptr;
     // Another extension's function: hooked only where the next link has it.
+    if (name == "xrCreateVulkanInstanceKHR" && instance.next.CreateVulkanInstanceKHR == nullptr) return nullptr;
     if (name == "xrCreateVulkanDeviceKHR" && instance.next.CreateVulkanDeviceKHR == nullptr) return nullptr;
     return hooks[i].function;
   }

@@ -35,6 +35,7 @@ std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_instance(XrInsta
     it = sessions_.erase(it);
   }
   std::erase_if(vulkan_devices_, [&](const auto& entry) { return entry.second.instance == handle; });
+  std::erase_if(vulkan_instances_, [&](const auto& entry) { return entry.second.first == handle; });
   instances_.erase(handle);
   return removed;
 }
@@ -142,6 +143,17 @@ std::optional<SwapchainExtent> Registry::swapchain(XrSwapchain handle, XrSession
 void Registry::add_vulkan_device(XrInstance instance, VkDevice device, const VulkanDeviceFeatures& features) {
   std::lock_guard lock(mutex_);
   vulkan_devices_[device] = VulkanDeviceEntry{instance, features};
+}
+
+void Registry::add_vulkan_instance(XrInstance instance, VkInstance vulkan_instance, uint32_t api_version) {
+  std::lock_guard lock(mutex_);
+  vulkan_instances_[vulkan_instance] = {instance, api_version};
+}
+
+uint32_t Registry::vulkan_instance_api_version(VkInstance vulkan_instance) const {
+  std::lock_guard lock(mutex_);
+  auto it = vulkan_instances_.find(vulkan_instance);
+  return it == vulkan_instances_.end() ? 0 : it->second.second;
 }
 
 VulkanDeviceFeatures Registry::vulkan_device(VkDevice device) const {

@@ -44,6 +44,7 @@ struct SessionState {
   std::shared_ptr<InstanceState> instance;
   bool has_vulkan = false;  // the session was created with a Vulkan graphics binding
   VkInstance vk_instance = VK_NULL_HANDLE;
+  uint32_t vk_instance_api_version = 0;  // what vk_instance asked for at xrCreateVulkanInstanceKHR; 0: unknown
   VkPhysicalDevice vk_physical_device = VK_NULL_HANDLE;
   VkDevice vk_device = VK_NULL_HANDLE;
   uint32_t vk_queue_family_index = 0;
@@ -93,6 +94,9 @@ class Registry {
   // The app swapchain's extent if it was created in `session`.
   std::optional<SwapchainExtent> swapchain(XrSwapchain handle, XrSession session) const;
 
+  // The Vulkan version an instance created through xrCreateVulkanInstanceKHR asked for; 0 for another instance.
+  void add_vulkan_instance(XrInstance instance, VkInstance vulkan_instance, uint32_t api_version);
+  uint32_t vulkan_instance_api_version(VkInstance vulkan_instance) const;
   // The features a device created through xrCreateVulkanDeviceKHR enabled; none for another device.
   void add_vulkan_device(XrInstance instance, VkDevice device, const VulkanDeviceFeatures& features);
   VulkanDeviceFeatures vulkan_device(VkDevice device) const;
@@ -118,6 +122,7 @@ class Registry {
   std::unordered_map<uint64_t, RendererEntry> renderers_;
   std::unordered_map<XrSwapchain, SwapchainExtent> swapchains_;
   std::unordered_map<VkDevice, VulkanDeviceEntry> vulkan_devices_;
+  std::unordered_map<VkInstance, std::pair<XrInstance, uint32_t>> vulkan_instances_;  // api version
   uint64_t next_renderer_id_ = 1;
 };
 

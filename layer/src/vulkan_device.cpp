@@ -23,6 +23,26 @@ VulkanDeviceFeatures enabled_device_features(const VkDeviceCreateInfo* info) {
   return features;
 }
 
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateVulkanInstanceKHR(XrInstance instance,
+                                                               const XrVulkanInstanceCreateInfoKHR* info,
+                                                               VkInstance* vulkan_instance,
+                                                               VkResult* vulkan_result) noexcept {
+  return exception_barrier("xrCreateVulkanInstanceKHR", [&]() -> XrResult {
+    auto state = Registry::get().instance(instance);
+    if (state == nullptr) return XR_ERROR_HANDLE_INVALID;
+    if (state->next.CreateVulkanInstanceKHR == nullptr) return XR_ERROR_FUNCTION_UNSUPPORTED;
+    const XrResult result = state->next.CreateVulkanInstanceKHR(instance, info, vulkan_instance, vulkan_result);
+    if (XR_SUCCEEDED(result) && info != nullptr && info->vulkanCreateInfo != nullptr && vulkan_instance != nullptr &&
+        *vulkan_instance != VK_NULL_HANDLE && (vulkan_result == nullptr || *vulkan_result == VK_SUCCESS)) {
+      // No application info, or an apiVersion of 0, means Vulkan 1.0 (VkApplicationInfo).
+      const VkApplicationInfo* app = info->vulkanCreateInfo->pApplicationInfo;
+      const uint32_t api_version = app != nullptr && app->apiVersion != 0 ? app->apiVersion : VK_API_VERSION_1_0;
+      Registry::get().add_vulkan_instance(instance, *vulkan_instance, api_version);
+    }
+    return result;
+  });
+}
+
 XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateVulkanDeviceKHR(XrInstance instance,
                                                              const XrVulkanDeviceCreateInfoKHR* info,
                                                              VkDevice* vulkan_device, VkResult* vulkan_result) noexcept {

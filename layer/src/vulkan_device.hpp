@@ -1,7 +1,8 @@
-// xrCreateVulkanDeviceKHR (XR_KHR_vulkan_enable2) passed down, with what the
-// app enabled on its VkDevice recorded in the Registry: xrCreateSession copies
-// it into the SessionState of a session on that device. A device the app made
-// without this call (XR_KHR_vulkan_enable) records nothing: no features.
+// xrCreateVulkanInstanceKHR and xrCreateVulkanDeviceKHR (XR_KHR_vulkan_enable2)
+// passed down, with the Vulkan version the app's VkInstance asked for and what
+// it enabled on its VkDevice recorded in the Registry: xrCreateSession copies
+// them into the SessionState of a session on them. An instance or device the
+// app made without these calls (XR_KHR_vulkan_enable) records nothing.
 #pragma once
 
 #include "state.hpp"
@@ -12,6 +13,11 @@ namespace foveart::layer {
 // VkPhysicalDeviceVulkan12Features, VkPhysicalDeviceBufferDeviceAddressFeatures
 // or VkPhysicalDeviceTimelineSemaphoreFeatures in its pNext chain.
 VulkanDeviceFeatures enabled_device_features(const VkDeviceCreateInfo* info);
+
+XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateVulkanInstanceKHR(XrInstance instance,
+                                                               const XrVulkanInstanceCreateInfoKHR* info,
+                                                               VkInstance* vulkan_instance,
+                                                               VkResult* vulkan_result) noexcept;
 
 XRAPI_ATTR XrResult XRAPI_CALL hook_xrCreateVulkanDeviceKHR(XrInstance instance,
                                                              const XrVulkanDeviceCreateInfoKHR* info,

@@ -232,7 +232,7 @@ TEST(LayerConformance, UnknownRendererHandleForwardsTheFrameUntraced) {
 }
 
 // The app-recorded trace's entry points on a session whose device has no
-// timelineSemaphore (the test app's Vulkan 1.0 device) and a renderer without
+// timelineSemaphore (the test app enables none) and a renderer without
 // it: every bad call is an XrResult, nothing is traced, the frame goes on.
 TEST(LayerConformance, AppRecordedTraceRefusesBadCallsWithXrResults) {
   FOVEART_REQUIRE_RUNTIME();
@@ -419,6 +419,25 @@ TEST(LayerConformance, ConfigCpuKeepsReconstructionOnTheCpu) {
   EXPECT_EQ(s.reconstruction.path, XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART);
   EXPECT_EQ(s.reconstruction.gpuGatherMs[0], 0.0f);
   EXPECT_NE(a.log().find("reconstruction on the CPU"), std::string::npos) << a.log();
+}
+
+// An app whose VkInstance asks for Vulkan 1.0 may not be handed SPIR-V 1.3 on
+// its device (the validation layer says "Invalid SPIR-V binary version 1.3
+// for target environment SPIR-V 1.0"), whatever the device offers: even with
+// "reconstruction": "gpu" the layer reconstructs on the CPU and says why.
+TEST(LayerConformance, AVulkan10InstanceKeepsReconstructionOnTheCpu) {
+  FOVEART_REQUIRE_RUNTIME();
+  IsolatedEnv env;
+  LayerApp a(env, config(env, R"(, "wait_for_tables": true, "reconstruction": "gpu")"));
+  a.app.vulkan_api_version = VK_API_VERSION_1_0;
+  a.start();
+  const auto renderer = a.make_renderer();
+  ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  const auto s = a.stats(renderer);
+  EXPECT_EQ(s.main.framesTraced, 1u);
+  EXPECT_EQ(s.main.framesFallback, 0u);
+  EXPECT_EQ(s.reconstruction.path, XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART);
+  EXPECT_NE(a.log().find("the app's Vulkan instance asked for Vulkan 1.0"), std::string::npos) << a.log();
 }
 
 TEST(LayerInputs, UnwritableCacheIsLoggedOnceAndCounted) {

@@ -80,7 +80,7 @@ XrResult XrTestApp::create_session() {
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
   app.pApplicationName = "sim_runtime_tests";
-  app.apiVersion = VK_API_VERSION_1_0;
+  app.apiVersion = vulkan_api_version;
   VkInstanceCreateInfo vk_info{};
   vk_info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   vk_info.pApplicationInfo = &app;

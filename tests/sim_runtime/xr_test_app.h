@@ -58,6 +58,8 @@ class XrTestApp {
   XrSessionState state = XR_SESSION_STATE_UNKNOWN;
   std::vector<XrSessionState> states;
   bool interaction_profile_changed = false;
+  // What the VkInstance asks for (VkApplicationInfo::apiVersion), set before create_session.
+  uint32_t vulkan_api_version = VK_API_VERSION_1_1;
   VkInstance vk_instance = VK_NULL_HANDLE;
   VkPhysicalDevice vk_physical = VK_NULL_HANDLE;
   VkDevice vk_device = VK_NULL_HANDLE;

@@ -31,6 +31,9 @@ struct Device {
   // Other queue families that use the buffers (the app-recorded trace's): with
   // any, every buffer made here is VK_SHARING_MODE_CONCURRENT over them and queue_family_index.
   std::vector<uint32_t> other_queue_families;
+  // The Vulkan version the app's instance asked for (VkApplicationInfo::apiVersion); 0: unknown, the
+  // device's version alone decides. The device work uses no more than the lower of the two.
+  uint32_t instance_api_version = 0;
 };
 
 class Context {

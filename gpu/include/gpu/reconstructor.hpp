@@ -18,7 +18,7 @@
 namespace foveart::gpu {
 
 // Why the shaders cannot run on this device's queue family; empty when they can.
-std::string unsupported_reason(VkPhysicalDevice physical_device, uint32_t queue_family_index);
+std::string unsupported_reason(const Device& device);
 
 class Reconstructor {
  public:
