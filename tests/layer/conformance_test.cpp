@@ -440,6 +440,40 @@ TEST(LayerConformance, AVulkan10InstanceKeepsReconstructionOnTheCpu) {
   EXPECT_NE(a.log().find("the app's Vulkan instance asked for Vulkan 1.0"), std::string::npos) << a.log();
 }
 
+// The layer's device work on the app's device, under the Vulkan validation layer
+// with synchronization validation (the app enables it): not one error,
+// with the app at Vulkan 1.1 (the GPU path through a resize and a new renderer)
+// and at 1.0 (the CPU path: no SPIR-V 1.3 on a device used at 1.0).
+class ValidatedLayerApp : public ::testing::TestWithParam<uint32_t> {};
+
+TEST_P(ValidatedLayerApp, TheLayersDeviceWorkHasNoValidationMessages) {
+  FOVEART_REQUIRE_RUNTIME();
+  IsolatedEnv env;
+  IsolatedEnv::set("VK_LAYER_PATH", "/usr/share/vulkan/explicit_layer.d");
+  LayerApp a(env, config(env, R"(, "wait_for_tables": true, "reconstruction": "gpu")"));
+  a.app.vulkan_api_version = GetParam();
+  a.app.vulkan_validation = true;
+  a.start();
+  ASSERT_TRUE(a.app.validation.active()) << "the Vulkan validation layer is not installed or gives no messenger";
+  const bool gpu = GetParam() >= VK_API_VERSION_1_1;
+  auto renderer = a.make_renderer();
+  for (const XrRect2Di rect : {kSmall, XrRect2Di{{0, 0}, {64, 48}}}) ASSERT_EQ(a.frame(renderer, rect), XR_SUCCESS);
+  EXPECT_EQ(a.destroy(renderer), XR_SUCCESS);
+  renderer = a.make_renderer();
+  ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  const auto s = a.stats(renderer);
+  EXPECT_EQ(s.main.framesTraced, 1u);
+  EXPECT_EQ(s.reconstruction.path,
+            gpu ? XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART : XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART);
+  EXPECT_EQ(a.destroy(renderer), XR_SUCCESS);
+  a.end_session();
+  ::unsetenv("VK_LAYER_PATH");
+  for (const std::string& m : a.app.validation.errors()) ADD_FAILURE() << m;
+}
+
+INSTANTIATE_TEST_SUITE_P(VulkanVersions, ValidatedLayerApp, ::testing::Values(VK_API_VERSION_1_1, VK_API_VERSION_1_0),
+                         [](const auto& version) { return version.param == VK_API_VERSION_1_0 ? "vulkan_1_0" : "vulkan_1_1"; });
+
 TEST(LayerInputs, UnwritableCacheIsLoggedOnceAndCounted) {
   FOVEART_REQUIRE_RUNTIME();
   IsolatedEnv env;

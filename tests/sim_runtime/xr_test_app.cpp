@@ -41,6 +41,7 @@ std::string fresh_dir(const std::string& name) {
 XrTestApp::~XrTestApp() {
   if (session != XR_NULL_HANDLE) xrDestroySession(session);
   if (vk_device != VK_NULL_HANDLE) vkDestroyDevice(vk_device, nullptr);
+  if (vk_instance != VK_NULL_HANDLE) validation.destroy(vk_instance);
   if (vk_instance != VK_NULL_HANDLE) vkDestroyInstance(vk_instance, nullptr);
   if (instance != XR_NULL_HANDLE) xrDestroyInstance(instance);
 }
@@ -65,18 +66,10 @@ XrResult XrTestApp::create_instance(bool eye_gaze, const std::vector<const char*
   return xrGetSystem(instance, &sys, &system);
 }
 
-XrResult XrTestApp::create_session() {
-  auto get_req =
-      proc<PFN_xrGetVulkanGraphicsRequirements2KHR>("xrGetVulkanGraphicsRequirements2KHR");
+// The VkInstance through xrCreateVulkanInstanceKHR, validated where vulkan_validation asks.
+XrResult XrTestApp::create_vulkan_instance() {
   auto create_vk_instance = proc<PFN_xrCreateVulkanInstanceKHR>("xrCreateVulkanInstanceKHR");
-  auto get_device = proc<PFN_xrGetVulkanGraphicsDevice2KHR>("xrGetVulkanGraphicsDevice2KHR");
-  auto create_vk_device = proc<PFN_xrCreateVulkanDeviceKHR>("xrCreateVulkanDeviceKHR");
-  if (!get_req || !create_vk_instance || !get_device || !create_vk_device)
-    return XR_ERROR_FUNCTION_UNSUPPORTED;
-  XrGraphicsRequirementsVulkan2KHR req{};
-  req.type = XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR;
-  if (XrResult r = get_req(instance, system, &req); XR_FAILED(r)) return r;
-
+  if (!create_vk_instance) return XR_ERROR_FUNCTION_UNSUPPORTED;
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
   app.pApplicationName = "sim_runtime_tests";
@@ -84,16 +77,32 @@ XrResult XrTestApp::create_session() {
   VkInstanceCreateInfo vk_info{};
   vk_info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
   vk_info.pApplicationInfo = &app;
+  validation.chain(vulkan_validation, &vk_info);
   XrVulkanInstanceCreateInfoKHR xr_vk{};
   xr_vk.type = XR_TYPE_VULKAN_INSTANCE_CREATE_INFO_KHR;
   xr_vk.systemId = system;
   xr_vk.pfnGetInstanceProcAddr = &vkGetInstanceProcAddr;
   xr_vk.vulkanCreateInfo = &vk_info;
   VkResult vr = VK_SUCCESS;
-  if (XrResult r = create_vk_instance(instance, &xr_vk, &vk_instance, &vr);
-      XR_FAILED(r) || vr != VK_SUCCESS) {
+  if (XrResult r = create_vk_instance(instance, &xr_vk, &vk_instance, &vr); XR_FAILED(r) || vr != VK_SUCCESS) {
     return XR_FAILED(r) ? r : XR_ERROR_RUNTIME_FAILURE;
   }
+  validation.register_for(vk_instance);
+  return XR_SUCCESS;
+}
+
+XrResult XrTestApp::create_session() {
+  auto get_req =
+      proc<PFN_xrGetVulkanGraphicsRequirements2KHR>("xrGetVulkanGraphicsRequirements2KHR");
+  auto get_device = proc<PFN_xrGetVulkanGraphicsDevice2KHR>("xrGetVulkanGraphicsDevice2KHR");
+  auto create_vk_device = proc<PFN_xrCreateVulkanDeviceKHR>("xrCreateVulkanDeviceKHR");
+  if (!get_req || !get_device || !create_vk_device)
+    return XR_ERROR_FUNCTION_UNSUPPORTED;
+  XrGraphicsRequirementsVulkan2KHR req{};
+  req.type = XR_TYPE_GRAPHICS_REQUIREMENTS_VULKAN2_KHR;
+  if (XrResult r = get_req(instance, system, &req); XR_FAILED(r)) return r;
+  if (XrResult r = create_vulkan_instance(); XR_FAILED(r)) return r;
+  VkResult vr = VK_SUCCESS;
   XrVulkanGraphicsDeviceGetInfoKHR dev_info{};
   dev_info.type = XR_TYPE_VULKAN_GRAPHICS_DEVICE_GET_INFO_KHR;
   dev_info.systemId = system;

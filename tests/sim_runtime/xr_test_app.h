@@ -14,6 +14,8 @@
 #include <openxr/openxr_platform.h>
 #include <time.h>
 
+#include <gpu_engine/validation_messenger.hpp>
+
 #include "sim_test_env.h"
 
 namespace foveart::sim::test {
@@ -60,10 +62,17 @@ class XrTestApp {
   bool interaction_profile_changed = false;
   // What the VkInstance asks for (VkApplicationInfo::apiVersion), set before create_session.
   uint32_t vulkan_api_version = VK_API_VERSION_1_1;
+  // Set before create_session: the VkInstance enables VK_LAYER_KHRONOS_validation with
+  // synchronization validation where the loader offers it, heard for its whole life by `validation`.
+  bool vulkan_validation = false;
+  gpu_engine::ValidationMessenger validation;
   VkInstance vk_instance = VK_NULL_HANDLE;
   VkPhysicalDevice vk_physical = VK_NULL_HANDLE;
   VkDevice vk_device = VK_NULL_HANDLE;
   uint32_t queue_family = 0;
+
+ private:
+  XrResult create_vulkan_instance();
 };
 
 // The app's eye gaze: one pose action bound to /user/eyes_ext/input/gaze_ext/pose,
