@@ -17,7 +17,8 @@
 
 namespace foveart::gpu {
 
-// Why the shaders cannot run on this device's queue family; empty when they can.
+// Why the shaders cannot run on `device`: its queue family, features and limits, and the Vulkan
+// version the app's instance lets them use; empty when they can.
 std::string unsupported_reason(const Device& device);
 
 class Reconstructor {
