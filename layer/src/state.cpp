@@ -35,7 +35,7 @@ std::vector<std::shared_ptr<FoveatedRenderer>> Registry::remove_instance(XrInsta
     it = sessions_.erase(it);
   }
   std::erase_if(vulkan_devices_, [&](const auto& entry) { return entry.second.instance == handle; });
-  std::erase_if(vulkan_instances_, [&](const auto& entry) { return entry.second.first == handle; });
+  std::erase_if(vulkan_instances_, [&](const auto& entry) { return entry.second.instance == handle; });
   instances_.erase(handle);
   return removed;
 }
@@ -147,13 +147,13 @@ void Registry::add_vulkan_device(XrInstance instance, VkDevice device, const Vul
 
 void Registry::add_vulkan_instance(XrInstance instance, VkInstance vulkan_instance, uint32_t api_version) {
   std::lock_guard lock(mutex_);
-  vulkan_instances_[vulkan_instance] = {instance, api_version};
+  vulkan_instances_[vulkan_instance] = VulkanInstanceEntry{instance, api_version};
 }
 
 uint32_t Registry::vulkan_instance_api_version(VkInstance vulkan_instance) const {
   std::lock_guard lock(mutex_);
   auto it = vulkan_instances_.find(vulkan_instance);
-  return it == vulkan_instances_.end() ? 0 : it->second.second;
+  return it == vulkan_instances_.end() ? 0 : it->second.api_version;
 }
 
 VulkanDeviceFeatures Registry::vulkan_device(VkDevice device) const {

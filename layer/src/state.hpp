@@ -112,6 +112,10 @@ class Registry {
     XrInstance instance;
     VulkanDeviceFeatures features;
   };
+  struct VulkanInstanceEntry {
+    XrInstance instance;
+    uint32_t api_version;
+  };
   // Moves the session's renderers into *removed and forgets its swapchains;
   // the caller holds mutex_ and erases the session itself.
   void erase_children_of_session(XrSession session, std::vector<std::shared_ptr<FoveatedRenderer>>* removed);
@@ -122,7 +126,7 @@ class Registry {
   std::unordered_map<uint64_t, RendererEntry> renderers_;
   std::unordered_map<XrSwapchain, SwapchainExtent> swapchains_;
   std::unordered_map<VkDevice, VulkanDeviceEntry> vulkan_devices_;
-  std::unordered_map<VkInstance, std::pair<XrInstance, uint32_t>> vulkan_instances_;  // api version
+  std::unordered_map<VkInstance, VulkanInstanceEntry> vulkan_instances_;
   uint64_t next_renderer_id_ = 1;
 };
 
