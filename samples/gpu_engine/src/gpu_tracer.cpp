@@ -321,7 +321,7 @@ bool GpuTracer::Impl::choose_backend(std::string* error) {
   return true;
 }
 
-// Backend, flatten + BVH (+ acceleration structures), upload, scene descriptor set, pipelines.
+// Backend, flatten + BVH (+ acceleration structures), upload, scene descriptor set, the trace pipeline.
 bool GpuTracer::Impl::create(std::string* error) {
   if (!check_device(error) || !choose_backend(error)) return false;
   ledger = std::make_shared<MemoryLedger>(ctx.physical_device, ctx.device, options.device_local_memory);
@@ -339,9 +339,8 @@ bool GpuTracer::Impl::create(std::string* error) {
   if (rt)
     return rt->create_pipelines(trace_pipeline_layout, full_pipeline_layout, effects.bits(), options.max_depth,
                                 textures.count(), error);
+  // The full-render pipeline waits for the first record_full: a foveated app never compiles it.
   return create_pipeline(foveart_gpu_trace_spv, sizeof(foveart_gpu_trace_spv), trace_pipeline_layout, &trace_pipeline,
-                         error) &&
-         create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline,
                          error);
 }
 
@@ -592,6 +591,9 @@ bool GpuTracer::Impl::record_full(VkCommandBuffer cb, const FoveartEyeView& view
     return fail(error, "gpu_engine: view too large for one dispatch");
   const VkDeviceSize bytes = VkDeviceSize{view.width_px} * view.height_px * 16;
   if (!check_range("full render output", out, offset, bytes, 16, error)) return false;
+  if (!rt && full_pipeline == VK_NULL_HANDLE &&
+      !create_pipeline(foveart_gpu_full_spv, sizeof(foveart_gpu_full_spv), full_pipeline_layout, &full_pipeline, error))
+    return false;
   const VkDescriptorBufferInfo info{out, offset, bytes};
   const VkDescriptorSet set = call_set(1, full_layout, &info, kFullBindings, error);
   if (set == VK_NULL_HANDLE) return false;

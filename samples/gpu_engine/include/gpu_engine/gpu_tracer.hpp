@@ -134,6 +134,7 @@ class GpuTracer {
   // A full render of `view` like engine::render_full (box-filter jitter
   // pixel_jitter(y * W + x, s, seed), spp rays per pixel, averaged) into `out`
   // at `offset`: W * H vec4 (rgb, w = the first ray's hit distance, +inf a miss).
+  // The compute backend compiles the full-render pipeline at the first call.
   [[nodiscard]] bool record_full(VkCommandBuffer cb, const FoveartEyeView& view, uint32_t spp, uint64_t seed, VkBuffer out,
                    VkDeviceSize offset, std::string* error);
 
