@@ -13,7 +13,8 @@
 
 const uint LEAF_BIT = 0x80000000u;
 const uint EMPTY_CHILD = LEAF_BIT;
-const int BVH_STACK = 64;      // > kMaxBvhDepth (bvh.hpp)
+// The built tree's inner levels (bvh_inner_levels, bvh.hpp): a node pushed per level at most.
+layout(constant_id = 5) const int BVH_STACK = 64;
 
 struct Node {
   vec3 lmin;

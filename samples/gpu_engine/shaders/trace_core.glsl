@@ -17,7 +17,9 @@ const bool FX_REFLECTION = (EFFECTS & 2u) != 0u;
 const bool FX_REFRACTION = (EFFECTS & 4u) != 0u;
 const bool FX_TEXTURES = (EFFECTS & 8u) != 0u;
 
-const int PENDING_STACK = 16;  // > GpuTracerOptions::kMaxDepth + 1
+// Depth first, a Whitted tree leaves at most one pending ray per level and two at the
+// deepest: MAX_DEPTH + 1 (its rays spawn none past MAX_DEPTH).
+const int PENDING_STACK = MAX_DEPTH + 1;
 const float INV_PI = 0.318309886;
 const float MIRROR_ROUGHNESS = 0.5;
 

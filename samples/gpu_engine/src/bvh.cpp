@@ -243,4 +243,15 @@ bool build_bvh(const engine::Mesh& mesh, const std::vector<uint32_t>& triangles,
   return true;
 }
 
+uint32_t bvh_inner_levels(const BvhData& bvh) {
+  // flatten numbers a node before its children: from the last node back, each
+  // node's children are done when it is reached.
+  std::vector<uint32_t> levels(bvh.nodes.size(), 1);
+  for (size_t i = bvh.nodes.size(); i-- > 0;) {
+    for (const uint32_t child : {bvh.nodes[i].left, bvh.nodes[i].right})
+      if ((child & kLeafBit) == 0u && child < levels.size()) levels[i] = std::max(levels[i], levels[child] + 1);
+  }
+  return levels.empty() ? 1u : levels[0];
+}
+
 }  // namespace foveart::gpu_engine

@@ -15,7 +15,7 @@ namespace foveart::gpu_engine {
 inline constexpr uint32_t kLeafBit = 0x80000000u;
 inline constexpr uint32_t kEmptyChild = kLeafBit;  // a leaf of zero entries
 inline constexpr uint32_t kMaxLeafSize = 4;
-inline constexpr uint32_t kMaxBvhDepth = 60;  // the shader's traversal stack holds 64
+inline constexpr uint32_t kMaxBvhDepth = 60;  // Embree's build limit; the shader's stack fits the built tree
 
 // Two child boxes per node (std430: vec3 + uint packs into 16 bytes).
 struct GpuNode {
@@ -31,9 +31,14 @@ struct GpuNode {
 static_assert(sizeof(GpuNode) == 64);
 
 struct BvhData {
-  std::vector<GpuNode> nodes;  // nodes[0] is the root (always present)
+  std::vector<GpuNode> nodes;  // nodes[0] is the root (always present); children follow their parent
   std::vector<uint32_t> prims; // leaf entries: indices into Scene::mesh.triangles
 };
+
+// The most inner nodes on a path from the root to a leaf (1: the root alone). The
+// traversal pushes at most one node per inner level it passes, so its stack needs
+// this many entries (scene_bvh.glsl's BVH_STACK).
+uint32_t bvh_inner_levels(const BvhData& bvh);
 
 // BVH over the triangles listed in `triangles` (indices into mesh.triangles).
 // False + *error when Embree fails.

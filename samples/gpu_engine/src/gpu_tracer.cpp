@@ -87,6 +87,7 @@ struct GpuTracer::Impl {
   GpuBackend backend = GpuBackend::compute;  // the one chosen
   std::string backend_fallback;                 // automatic fell back to compute: why
   uint64_t bvh_node_count = 0;                  // compute: inner nodes + non-empty leaves
+  uint32_t bvh_stack_entries = 1;               // compute: the traversal stack's size (bvh_inner_levels)
   VkShaderStageFlags stages = VK_SHADER_STAGE_COMPUTE_BIT;
   VkShaderStageFlags push_stage = VK_SHADER_STAGE_COMPUTE_BIT;
   VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
@@ -261,13 +262,15 @@ bool GpuTracer::Impl::create_pipeline(const uint32_t* code, size_t bytes, VkPipe
   VkShaderModule module = VK_NULL_HANDLE;
   VkResult r = vkCreateShaderModule(ctx.device, &module_info, nullptr, &module);
   if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateShaderModule", r));
-  // EFFECTS, MAX_DEPTH (trace_core.glsl), TEXTURE_COUNT, COUNT_WORK (scene_data.glsl; constant_id 3, 4).
-  const std::array<uint32_t, 4> values = {effects.bits(), static_cast<uint32_t>(options.max_depth), textures.count(),
-                                          options.count_work ? 1u : 0u};
-  const std::array<VkSpecializationMapEntry, 4> entries = {
+  // EFFECTS, MAX_DEPTH (trace_core.glsl), TEXTURE_COUNT, COUNT_WORK (scene_data.glsl; constant_id 3, 4),
+  // BVH_STACK (scene_bvh.glsl; constant_id 5).
+  const std::array<uint32_t, 5> values = {effects.bits(), static_cast<uint32_t>(options.max_depth), textures.count(),
+                                          options.count_work ? 1u : 0u, bvh_stack_entries};
+  const std::array<VkSpecializationMapEntry, 5> entries = {
       VkSpecializationMapEntry{0, 0, sizeof(uint32_t)}, VkSpecializationMapEntry{1, sizeof(uint32_t), sizeof(uint32_t)},
       VkSpecializationMapEntry{3, 2 * sizeof(uint32_t), sizeof(uint32_t)},
-      VkSpecializationMapEntry{4, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
+      VkSpecializationMapEntry{4, 3 * sizeof(uint32_t), sizeof(uint32_t)},
+      VkSpecializationMapEntry{5, 4 * sizeof(uint32_t), sizeof(uint32_t)}};
   VkSpecializationInfo spec{};
   spec.mapEntryCount = static_cast<uint32_t>(entries.size());
   spec.pMapEntries = entries.data();
@@ -330,7 +333,10 @@ bool GpuTracer::Impl::create(std::string* error) {
   if (!flatten_scene(scene, &data, error)) return false;
   scene_effects = data.scene_effects;
   effects = scene_effects & options.allowed;
-  if (backend == GpuBackend::compute) bvh_node_count = count_bvh_nodes(data.bvh);
+  if (backend == GpuBackend::compute) {
+    bvh_node_count = count_bvh_nodes(data.bvh);
+    bvh_stack_entries = bvh_inner_levels(data.bvh);
+  }
   if (backend == GpuBackend::ray_tracing_pipeline) {
     rt = RtPipelineTracer::create(ctx, ledger, data, error);
     if (rt == nullptr) return false;

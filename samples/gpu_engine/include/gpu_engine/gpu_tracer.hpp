@@ -108,7 +108,7 @@ struct GpuTracerOptions {
   // A device-trace ray's footprint picks its primary hit's texture level (record_trace);
   // false: every lookup at level 0 as the CPU engine's, footprints ignored (its equality tests).
   bool texture_lod = true;
-  static constexpr int kMaxDepth = 12;              // the shader's pending-ray stack bound
+  static constexpr int kMaxDepth = 12;              // the most bounces a pipeline is specialised for
 };
 
 class GpuTracer {
