@@ -14,8 +14,9 @@
 #define FOVEART_DEVICE_RAYS_COUNT 0u  // a workgroup per block of points: how many of them are visible
 #define FOVEART_DEVICE_RAYS_SCAN 1u   // one workgroup: where each block's points begin; the counts
 #define FOVEART_DEVICE_RAYS_WRITE 2u  // a workgroup per block: each visible point's rays at its rank
-// Points per block: the workgroup size of every pass.
-#define FOVEART_DEVICE_RAYS_BLOCK 256
+// Points per block: the workgroup size of every pass (128: on lavapipe each group's coroutine
+// frames, the invocations' state kept across barriers, then stay under 128 KiB).
+#define FOVEART_DEVICE_RAYS_BLOCK 128
 
 FOVEART_SHADER_INTERFACE_BEGIN
 
