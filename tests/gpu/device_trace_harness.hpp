@@ -53,15 +53,36 @@ inline std::shared_ptr<const foveation::ViewTables> small_tables() {
   return tables;
 }
 
+// A view wide enough that the device compaction's scan of the block sums loops:
+// more than 4 x FOVEART_DEVICE_RAYS_BLOCK blocks (scan.glsl takes 4 per invocation).
+// Nearest-neighbour tables, the cheapest to build: only the points matter here.
+inline constexpr uint32_t kWideViewW = 224;
+inline constexpr uint32_t kWideViewH = 192;
+inline std::shared_ptr<const foveation::ViewTables> wide_tables() {
+  static std::shared_ptr<const foveation::ViewTables> tables;
+  if (!tables) {
+    foveation::PointSetKey key;
+    key.display = foveation::DisplayModel::from_fov(kWideViewW, kWideViewH, 60.0);
+    key.seed = 1;
+    foveation::InterpOptions o;
+    o.method = foveation::InterpMethod::nearest;
+    o.k = 1;
+    foveation::Executor executor(2);
+    tables = foveation::load_view_tables(std::nullopt, key, o, executor);
+  }
+  return tables;
+}
+
 // The eye looks along (1, 1, 1): every ray direction of its 60-degree frustum
 // has positive components, so a direction is a valid colour (the "direction" engines).
-inline foveation::FrameRequest request(glm::vec2 gaze_px, uint64_t frame_index) {
+inline foveation::FrameRequest request(glm::vec2 gaze_px, uint64_t frame_index,
+                                       glm::uvec2 size_px = glm::uvec2(kViewW, kViewH)) {
   foveation::FrameRequest r;
   foveation::EyePose pose;
   pose.position_m = {-0.032f, 1.6f, 0.25f};
   const glm::vec3 forward(0.0f, 0.0f, -1.0f), diagonal = glm::normalize(glm::vec3(1.0f));
   pose.orientation = glm::angleAxis(std::acos(glm::dot(forward, diagonal)), glm::normalize(glm::cross(forward, diagonal)));
-  r.view = foveation::make_eye_view(0, kViewW, kViewH, pose, -0.4f, 0.42f, 0.38f, -0.36f);
+  r.view = foveation::make_eye_view(0, size_px.x, size_px.y, pose, -0.4f, 0.42f, 0.38f, -0.36f);
   r.frame_index = frame_index;
   r.gaze_px = gaze_px;
   return r;

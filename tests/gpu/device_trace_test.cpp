@@ -217,6 +217,53 @@ TEST_F(DeviceTraceTest, RaysAreInThePointSetOrderAndTheSameOnEveryRun) {
   for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control}) destroy_buffer(engine_.device, b);
 }
 
+// A frame of more blocks than one pass of the scan of the block sums takes (4 per
+// invocation of one workgroup, scan.glsl), as every FOVE-sized frame is: the scan
+// carries each pass's total into the next, so the rays are still the CPU path's,
+// each point's consecutive and the points in the set's order. A carry lost
+// between passes would place a later pass's rays over earlier ones.
+TEST_F(DeviceTraceTest, RaysAreTheCpuRaysWhenTheScanOfBlocksTakesSeveralPasses) {
+  std::string error;
+  tables_ = wide_tables();
+  constexpr std::size_t kBlocksPerPass = 4u * FOVEART_DEVICE_RAYS_BLOCK;
+  ASSERT_GT(tables_->points.size(), 2 * kBlocksPerPass * FOVEART_DEVICE_RAYS_BLOCK) << "three passes or more";
+  gpu_tables_ = gpu_->upload_tables(tables_, &error);
+  ASSERT_NE(gpu_tables_, nullptr) << error;
+  eye_ = gpu_->create_eye(kWideViewW, kWideViewH, &error);
+  ASSERT_NE(eye_, nullptr) << error;
+  const foveation::FrameRequest req = request(glm::vec2(70, 90), 5, glm::uvec2(kWideViewW, kWideViewH));
+  CpuRays cpu;
+  foveation::FoveatedView cpu_view(tables_, settings_);
+  ASSERT_TRUE(callback_frame(cpu_view, req, &record_cpu_rays, &cpu, &error)) << error;
+  engine_.copy = true;
+  foveation::FoveatedView device_view(tables_, settings_);
+  ASSERT_TRUE(device_frame(device_view, req, &error)) << error;
+  const uint32_t count = static_cast<const uint32_t*>(engine_.control.mapped)[0];
+  ASSERT_EQ(count, cpu.by_point.size() * kRaysPerPoint);
+  const std::size_t pass_points = kBlocksPerPass * FOVEART_DEVICE_RAYS_BLOCK;  // the points of one pass's blocks
+  const auto* rays = static_cast<const float*>(engine_.rays.mapped);
+  const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
+  float worst_px = 0.0f;
+  for (uint32_t r = 0; r < count; ++r) {
+    const uint32_t s = r % kRaysPerPoint;
+    if (s != 0) {
+      ASSERT_EQ(points[r], points[r - 1]) << "ray " << r << ": a point's rays are consecutive";
+    } else if (r > 0) {
+      ASSERT_GT(points[r], points[r - 1]) << "ray " << r << ": points in the set's order";
+    }
+    const auto it = cpu.by_point.find(points[r]);
+    ASSERT_NE(it, cpu.by_point.end()) << "point " << points[r] << " traced on the device only";
+    worst_px = std::max(worst_px, glm::length(glm::vec2(rays[8 * r + 3], rays[8 * r + 7]) - it->second[s].first));
+  }
+  EXPECT_LE(worst_px, 1e-3f);
+  ASSERT_GT(count, 0u);
+  EXPECT_LT(points[0], pass_points) << "traced points in the first pass's blocks";
+  EXPECT_GE(points[count - 1], 2 * pass_points) << "and in the third's";
+  engine_.copy = false;
+  for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control, &engine_.footprints})
+    destroy_buffer(engine_.device, b);
+}
+
 // Colours resolved on the device reconstruct as the callback's: a device
 // frame and a CPU-callback frame whose engines both answer each ray with its
 // direction (and its screen y as depth) give the same image, within one 8-bit
