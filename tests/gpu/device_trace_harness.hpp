@@ -36,20 +36,23 @@ inline constexpr uint32_t kViewW = 96;
 inline constexpr uint32_t kViewH = 80;
 inline constexpr uint32_t kRaysPerPoint = 2;
 
+// The tables of a width x height view of 60 degrees (seed 1), built once per caller's static.
+inline std::shared_ptr<const foveation::ViewTables> view_tables(uint32_t width_px, uint32_t height_px, double scale,
+                                                               foveation::InterpMethod method, int k) {
+  foveation::PointSetKey key;
+  key.display = foveation::DisplayModel::from_fov(width_px, height_px, 60.0);
+  key.display.scale = scale;
+  key.seed = 1;
+  foveation::InterpOptions o;
+  o.method = method;
+  o.k = k;
+  foveation::Executor executor(2);
+  return foveation::load_view_tables(std::nullopt, key, o, executor);
+}
+
 // Scale 6: the pixel grid's edge lies inside the view, so frames hold grid and disc points.
 inline std::shared_ptr<const foveation::ViewTables> small_tables() {
-  static std::shared_ptr<const foveation::ViewTables> tables;
-  if (!tables) {
-    foveation::PointSetKey key;
-    key.display = foveation::DisplayModel::from_fov(kViewW, kViewH, 60.0);
-    key.display.scale = 6.0;
-    key.seed = 1;
-    foveation::InterpOptions o;
-    o.method = foveation::InterpMethod::msm;
-    o.k = 5;
-    foveation::Executor executor(2);
-    tables = foveation::load_view_tables(std::nullopt, key, o, executor);
-  }
+  static const auto tables = view_tables(kViewW, kViewH, 6.0, foveation::InterpMethod::msm, 5);
   return tables;
 }
 
@@ -59,17 +62,7 @@ inline std::shared_ptr<const foveation::ViewTables> small_tables() {
 inline constexpr uint32_t kWideViewW = 224;
 inline constexpr uint32_t kWideViewH = 192;
 inline std::shared_ptr<const foveation::ViewTables> wide_tables() {
-  static std::shared_ptr<const foveation::ViewTables> tables;
-  if (!tables) {
-    foveation::PointSetKey key;
-    key.display = foveation::DisplayModel::from_fov(kWideViewW, kWideViewH, 60.0);
-    key.seed = 1;
-    foveation::InterpOptions o;
-    o.method = foveation::InterpMethod::nearest;
-    o.k = 1;
-    foveation::Executor executor(2);
-    tables = foveation::load_view_tables(std::nullopt, key, o, executor);
-  }
+  static const auto tables = view_tables(kWideViewW, kWideViewH, 1.0, foveation::InterpMethod::nearest, 1);
   return tables;
 }
 

@@ -225,8 +225,8 @@ TEST_F(DeviceTraceTest, RaysAreInThePointSetOrderAndTheSameOnEveryRun) {
 TEST_F(DeviceTraceTest, RaysAreTheCpuRaysWhenTheScanOfBlocksTakesSeveralPasses) {
   std::string error;
   tables_ = wide_tables();
-  constexpr std::size_t kBlocksPerPass = 4u * FOVEART_DEVICE_RAYS_BLOCK;
-  ASSERT_GT(tables_->points.size(), 2 * kBlocksPerPass * FOVEART_DEVICE_RAYS_BLOCK) << "three passes or more";
+  constexpr std::size_t kPassPoints = 4u * FOVEART_DEVICE_RAYS_BLOCK * FOVEART_DEVICE_RAYS_BLOCK;  // one pass's blocks
+  ASSERT_GT(tables_->points.size(), 2 * kPassPoints) << "three passes or more";
   gpu_tables_ = gpu_->upload_tables(tables_, &error);
   ASSERT_NE(gpu_tables_, nullptr) << error;
   eye_ = gpu_->create_eye(kWideViewW, kWideViewH, &error);
@@ -240,7 +240,6 @@ TEST_F(DeviceTraceTest, RaysAreTheCpuRaysWhenTheScanOfBlocksTakesSeveralPasses) 
   ASSERT_TRUE(device_frame(device_view, req, &error)) << error;
   const uint32_t count = static_cast<const uint32_t*>(engine_.control.mapped)[0];
   ASSERT_EQ(count, cpu.by_point.size() * kRaysPerPoint);
-  const std::size_t pass_points = kBlocksPerPass * FOVEART_DEVICE_RAYS_BLOCK;  // the points of one pass's blocks
   const auto* rays = static_cast<const float*>(engine_.rays.mapped);
   const auto* points = static_cast<const uint32_t*>(engine_.point_index.mapped);
   float worst_px = 0.0f;
@@ -257,8 +256,8 @@ TEST_F(DeviceTraceTest, RaysAreTheCpuRaysWhenTheScanOfBlocksTakesSeveralPasses) 
   }
   EXPECT_LE(worst_px, 1e-3f);
   ASSERT_GT(count, 0u);
-  EXPECT_LT(points[0], pass_points) << "traced points in the first pass's blocks";
-  EXPECT_GE(points[count - 1], 2 * pass_points) << "and in the third's";
+  EXPECT_LT(points[0], kPassPoints) << "traced points in the first pass's blocks";
+  EXPECT_GE(points[count - 1], 2 * kPassPoints) << "and in the third's";
   engine_.copy = false;
   for (BoundBuffer* b : {&engine_.rays, &engine_.point_index, &engine_.control, &engine_.footprints})
     destroy_buffer(engine_.device, b);
