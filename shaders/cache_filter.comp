@@ -18,7 +18,7 @@ void main() {
   const float half_width = filter_kind == FOVEART_RAY_CACHE_FILTER_BOX ? 0.5 : 1.5;
   const vec2 r = vec2(half_width * footprint_px);
   const ivec2 lo = max(ivec2(floor((centre - r) / CELL_PX)) + 1, ivec2(0));
-  const ivec2 hi = min(ivec2(floor((centre + r) / CELL_PX)) + 1, cells_xy - 1);
+  const ivec2 hi = min(ivec2(ceil((centre + r) / CELL_PX)), cells_xy - 1);  // foveation::filter_window_cells
   vec4 sum = vec4(0.0);
   for (int cy = lo.y; cy <= hi.y; ++cy) {
     for (int cx = lo.x; cx <= hi.x; ++cx) {

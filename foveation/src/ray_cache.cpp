@@ -110,9 +110,9 @@ void RayCache::filter_at(const std::vector<glm::vec2>& centres_px, const std::ve
   const float half_width = options_.filter == PixelFilter::box ? 0.5f : 1.5f;
   const int cells_x = (width_px_ + 2 * kCellPx - 1) / kCellPx + 1, cells_y = (height_px_ + 2 * kCellPx - 1) / kCellPx + 1;
   auto cell_range = [&](glm::vec2 centre, float footprint, glm::ivec2* lo, glm::ivec2* hi) {
-    const glm::vec2 r(half_width * footprint);
-    *lo = glm::max(glm::ivec2(glm::floor((centre - r) / float(kCellPx))) + 1, glm::ivec2(0));
-    *hi = glm::min(glm::ivec2(glm::floor((centre + r) / float(kCellPx))) + 1, glm::ivec2(cells_x - 1, cells_y - 1));
+    const CellRange cells = filter_window_cells(centre, half_width * footprint);
+    *lo = glm::max(cells.first, glm::ivec2(0));
+    *hi = glm::min(cells.last, glm::ivec2(cells_x - 1, cells_y - 1));
   };
   // The cells some centre reaches (one pass: a centre's cells overlap its neighbours').
   cell_needed_.assign(std::size_t(cells_x) * std::size_t(cells_y), 0);
@@ -133,7 +133,7 @@ void RayCache::filter_at(const std::vector<glm::vec2>& centres_px, const std::ve
     for (std::size_t i = c * chunk_rays, end = std::min(rays, i + chunk_rays); i < end; ++i) {
       cell_[i] = -1;
       if (row_[i] < 0) continue;
-      const glm::ivec2 cell = glm::ivec2(glm::floor(sample_px_[i] / float(kCellPx))) + 1;
+      const glm::ivec2 cell = ray_cache_cell(sample_px_[i]);
       if (cell.x < 0 || cell.y < 0 || cell.x >= cells_x || cell.y >= cells_y) continue;
       const std::size_t k = std::size_t(cell.y) * std::size_t(cells_x) + std::size_t(cell.x);
       if (cell_needed_[k] == 0) continue;

@@ -57,6 +57,42 @@ TEST(PixelFilterWeight, EachFilterSplitsARayIntoWeightsThatSumToOne) {
   }
 }
 
+// filter_at (and cache_filter.comp) reads the cells filter_window_cells names: every ray
+// inside a window lies in them, and the first and the last each overlap the window, so no
+// cell is read for nothing. At footprint 1 that is 2 cells per axis for bspline2
+// and 1 for box at every pixel (a closed window's floor() read a third, or a second, at
+// every other pixel).
+TEST(RayCache, AFilterWindowReadsTheCellsThatHoldItsRaysAndNoMore) {
+  constexpr float kStepPx = 1.0f / 16.0f;
+  for (const float half_width : {0.5f, 1.5f}) {
+    for (const float footprint_px : {1.0f, 1.37f, 2.0f, 3.5f}) {
+      const float r_px = half_width * footprint_px;
+      for (float centre_px = 0.5f; centre_px < 12.0f; centre_px += 0.25f) {
+        SCOPED_TRACE("half width " + std::to_string(half_width) + ", footprint " + std::to_string(footprint_px) +
+                     ", centre " + std::to_string(centre_px));
+        const CellRange cells = filter_window_cells(glm::vec2(centre_px, 3.0f * centre_px), r_px);
+        for (float q_px = centre_px - r_px - 2.0f; q_px < centre_px + r_px + 2.0f; q_px += kStepPx) {
+          const float t = (q_px - centre_px) / footprint_px;
+          if (t < -half_width || t >= half_width) continue;  // filter_at's test of a ray
+          const int cell = ray_cache_cell(glm::vec2(q_px)).x;
+          ASSERT_GE(cell, cells.first.x) << "a ray at " << q_px << " px in the window lies before the cells read";
+          ASSERT_LE(cell, cells.last.x) << "a ray at " << q_px << " px in the window lies after the cells read";
+        }
+        // Cell c covers [(c - 1) C, c C): the first ends after the window starts, the last starts before it ends.
+        const double cell_px = FOVEART_RAY_CACHE_CELL_PX, lo_px = double(centre_px) - double(r_px);
+        EXPECT_GT(cells.first.x * cell_px, lo_px) << "the first cell read ends before the window";
+        EXPECT_LT((cells.last.x - 1) * cell_px, double(centre_px) + double(r_px)) << "the last cell read starts at or after the window's end";
+        const CellRange y = filter_window_cells(glm::vec2(3.0f * centre_px, centre_px), r_px);
+        EXPECT_EQ(y.first.y, cells.first.x);  // the axes are alike
+        EXPECT_EQ(y.last.y, cells.last.x);
+        if (footprint_px == 1.0f && centre_px - std::floor(centre_px) == 0.5f) {
+          EXPECT_EQ(cells.last.x - cells.first.x + 1, half_width == 0.5f ? 1 : 2) << "a pixel's cells per axis";
+        }
+      }
+    }
+  }
+}
+
 // A kept hit lands where its surface point now projects (parallax); a kept
 // ray without depth is a direction, which a sideways step does not move.
 TEST(RayCache, KeptRaysLandWhereTheirAnchorProjectsInTheNewView) {

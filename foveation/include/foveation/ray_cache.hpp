@@ -79,6 +79,24 @@ inline float disc_footprint_px(PixelFilter filter, float radius_px) {
   return filter == PixelFilter::box ? 1.7320508f * radius_px : radius_px;
 }
 
+// The cell grid filter_at bins rays in (cache_filter.comp's too): cells of
+// FOVEART_RAY_CACHE_CELL_PX, the first one cell before the image, so that the
+// grid holds every ray within the filter's reach (at most 1 px beyond the image).
+inline glm::ivec2 ray_cache_cell(glm::vec2 sample_px) {
+  return glm::ivec2(glm::floor(sample_px / float(FOVEART_RAY_CACHE_CELL_PX))) + 1;
+}
+
+// The cells that hold every ray of a filter window [centre - r, centre + r)
+// per axis, before clamping to the grid. The window is half-open, so its last
+// cell is the one before the cell that starts at its end: at footprint 1,
+// every pixel reads 2 cells per axis (bspline2) or 1 (box), never a third.
+struct CellRange {
+  glm::ivec2 first, last;
+};
+inline CellRange filter_window_cells(glm::vec2 centre_px, float r_px) {
+  return {ray_cache_cell(centre_px - r_px), glm::ivec2(glm::ceil((centre_px + r_px) / float(FOVEART_RAY_CACHE_CELL_PX)))};
+}
+
 // One ray a frame traced, as the render cache takes it (RayCache::set_ray).
 struct TracedRay {
   glm::vec2 sample_px;
