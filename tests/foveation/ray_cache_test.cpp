@@ -79,9 +79,11 @@ TEST(RayCache, AFilterWindowReadsTheCellsThatHoldItsRaysAndNoMore) {
           ASSERT_LE(cell, cells.last.x) << "a ray at " << q_px << " px in the window lies after the cells read";
         }
         // Cell c covers [(c - 1) C, c C): the first ends after the window starts, the last starts before it ends.
-        const double cell_px = FOVEART_RAY_CACHE_CELL_PX, lo_px = double(centre_px) - double(r_px);
-        EXPECT_GT(cells.first.x * cell_px, lo_px) << "the first cell read ends before the window";
-        EXPECT_LT((cells.last.x - 1) * cell_px, double(centre_px) + double(r_px)) << "the last cell read starts at or after the window's end";
+        const double cell_px = FOVEART_RAY_CACHE_CELL_PX;
+        const double window_lo_px = double(centre_px) - double(r_px), window_hi_px = double(centre_px) + double(r_px);
+        EXPECT_GT(cells.first.x * cell_px, window_lo_px) << "the first cell read ends before the window";
+        EXPECT_LT((cells.last.x - 1) * cell_px, window_hi_px)
+            << "the last cell read starts at or after the window's end";
         const CellRange y = filter_window_cells(glm::vec2(3.0f * centre_px, centre_px), r_px);
         EXPECT_EQ(y.first.y, cells.first.x);  // the axes are alike
         EXPECT_EQ(y.last.y, cells.last.x);

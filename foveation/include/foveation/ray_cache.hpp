@@ -94,7 +94,8 @@ struct CellRange {
   glm::ivec2 first, last;
 };
 inline CellRange filter_window_cells(glm::vec2 centre_px, float r_px) {
-  return {ray_cache_cell(centre_px - r_px), glm::ivec2(glm::ceil((centre_px + r_px) / float(FOVEART_RAY_CACHE_CELL_PX)))};
+  return {ray_cache_cell(centre_px - r_px),
+          glm::ivec2(glm::ceil((centre_px + r_px) / float(FOVEART_RAY_CACHE_CELL_PX)))};
 }
 
 // One ray a frame traced, as the render cache takes it (RayCache::set_ray).
