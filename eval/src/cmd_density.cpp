@@ -2,6 +2,7 @@
 #include <eval/cmd_density.hpp>
 
 #include <eval/density_detection.hpp>
+#include <eval/detection_png.hpp>
 #include <eval/reference.hpp>
 #include <render_view/render_cli.hpp>
 
@@ -9,6 +10,8 @@
 #include <engine/render.hpp>
 #include <foveation/display_model.hpp>
 #include <metrics/image_metrics.hpp>
+#include <toolkit/image_io.hpp>
+#include <toolkit/outputs.hpp>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -49,6 +52,8 @@ std::string density_problem(DensityOptions& o) {
     o.render.fov.horizontal = 2.0 * std::atan(0.5 * o.crop_px->x / preset->view_distance_px) * 180.0 / std::numbers::pi;
   }
   o.render.mode = "foveated";
+  if (!o.render.out_prefix.empty() && !toolkit::check_writable_file(o.render.out_prefix + "_full.png", &bad))
+    return "--out: " + bad;
   return render_view::check_render_options(o.render, &bad) ? "" : bad;
 }
 
@@ -59,6 +64,7 @@ struct DensityRun {
   glm::vec2 gaze{};
   foveation::ImageRgb reference;
   int reference_spp = 0;
+  foveation::DisplayTransform display;  // the view's exposure and tone map, the images written through it
   PerceptualMetric metric;
 };
 
@@ -86,7 +92,7 @@ struct DensityRun {
   r->reference_spp = ref->spp;
   PerceptualDisplay pd = view_display(metrics::eccentricity_map(r->view, r->gaze), o.render.eye == "left" ? Eye::kLeft : Eye::kRight);
   pd.white_luminance_cd_m2 = o.white_cd_m2;
-  pd.transform = *display;
+  pd.transform = r->display = *display;
   return PerceptualMetric::create(pd, int(r->view.width_px), int(r->view.height_px), {}, r->metric, *error, &executor);
 }
 
@@ -110,7 +116,33 @@ Json row_json(const char* kind, const DensityDetection& d, const PerceptualResul
           {"unseen", unseen_in_every_ring(ring_p_max(d.p), ring_p_max(full))}};
 }
 
-// The baseline: the full render at the rows' rays per pixel against the reference, and its ms.
+// --out PREFIX: a measured image as PREFIX_<name>.png on the view's display and, with its
+// measurement, P per pixel as PREFIX_<name>_p.png; the paths into *files. False with *error.
+[[nodiscard]] bool write_measured(const std::string& prefix, const std::string& name, const foveation::ImageRgb& image,
+                                  const foveation::DisplayTransform& display, const PerceptualResult* p, Json* files,
+                                  std::string* error) {
+  const std::string path = prefix + "_" + name + ".png";
+  if (!toolkit::write_png(path, image, display, error)) return false;
+  files->push_back(path);
+  if (p == nullptr) return true;
+  const std::string p_path = prefix + "_" + name + "_p.png";
+  if (!write_detection_png(p_path, *p, error)) return false;
+  files->push_back(p_path);
+  return true;
+}
+
+// A row's name in the images' file names: its kind and the value it sweeps.
+std::string row_image_name(const char* kind, double scale, double contrast, double rays_contrast) {
+  char name[96];
+  if (std::string(kind) == "eccentricity")
+    std::snprintf(name, sizeof name, "%s_scale_%g", kind, scale);
+  else
+    std::snprintf(name, sizeof name, "%s_contrast_%g", kind, contrast > 0.0 ? contrast : rays_contrast);
+  return name;
+}
+
+// The baseline: the full render at the rows' rays per pixel against the reference, and its ms
+// (with --out, the reference's and its images too).
 [[nodiscard]] bool baseline_json(const DensityOptions& o, DensityRun& r, foveation::Executor& executor,
                                  PerceptualResult* p, Json* out, std::string* error) {
   engine::RenderSettings rs;
@@ -122,6 +154,13 @@ Json row_json(const char* kind, const DensityDetection& d, const PerceptualResul
   if (rr.status != FOVEART_RESULT_SUCCESS) return *error = "full render: engine callback failed", false;
   if (!r.metric.evaluate(full, r.reference, r.gaze, &executor, *p, *error)) return false;
   *out = {{"frame_ms", rr.trace_ms}, {"p_max", p->p_max}, {"rings_p_max", rings_p_max(*p)}};
+  const std::string& prefix = o.render.out_prefix;
+  if (prefix.empty()) return true;
+  Json files = Json::array();
+  if (!write_measured(prefix, "reference", r.reference, r.display, nullptr, &files, error) ||
+      !write_measured(prefix, "full", full, r.display, p, &files, error))
+    return false;
+  (*out)["images"] = std::move(files);
   return true;
 }
 
@@ -130,9 +169,12 @@ struct DensityAt {
   double scale = 1.0, contrast = 0.0, rays_contrast = 0.0;
 };
 
-// The rows of one kind and the smallest ray fraction among its unseen ones (null: none).
+// The rows of one kind and the smallest ray fraction among its unseen ones (null: none); with an
+// image prefix (--out), each row's frame and P per pixel written.
 [[nodiscard]] bool sweep(const DensityProbe& probe, const char* kind, const std::vector<DensityAt>& at,
-                         const PerceptualResult& full, std::ostream& err, Json* rows, Json* best, std::string* error) {
+                         const PerceptualResult& full, const std::string& image_prefix,
+                         const foveation::DisplayTransform& display, std::ostream& err, Json* rows, Json* best,
+                         std::string* error) {
   std::vector<UnseenCandidate> candidates;
   const std::size_t first = rows->size();
   for (const DensityAt& a : at) {
@@ -143,6 +185,12 @@ struct DensityAt {
     err << kDensityWho << kind << " scale " << a.scale << " contrast " << a.contrast << " rays by contrast "
         << a.rays_contrast << ": rays " << d.ray_fraction << ", P max " << d.p.p_max << "\n";
     Json row = row_json(kind, d, full);
+    if (!image_prefix.empty()) {
+      Json files = Json::array();
+      const std::string name = row_image_name(kind, a.scale, a.contrast, a.rays_contrast);
+      if (!write_measured(image_prefix, name, d.image, display, &d.p, &files, error)) return false;
+      row["images"] = std::move(files);
+    }
     candidates.push_back({d.ray_fraction, row["unseen"].get<bool>()});
     rows->push_back(std::move(row));
   }
@@ -212,15 +260,17 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   DensityProbe probe{r.tracer.get(), r.view, r.gaze, o.render, &r.reference, &r.metric, std::nullopt, {}, &executor};
   if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);
   probe.log = [&](const std::string& m) { err << kDensityWho << m << "\n"; };
+  probe.keep_image = !o.render.out_prefix.empty();
   std::vector<DensityAt> eccentricity, content, rays, both;
   for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0});
   for (const double c : o.contrasts) content.push_back({o.render.density_scale, c, 0.0});
   for (const double c : o.ray_contrasts) rays.push_back({o.render.density_scale, 0.0, c});
   for (const double c : o.both_contrasts) both.push_back({o.render.density_scale, c, c});
-  if (!sweep(probe, "eccentricity", eccentricity, full, err, &rows, &best_eccentricity, &error) ||
-      !sweep(probe, "content", content, full, err, &rows, &best_content, &error) ||
-      !sweep(probe, "rays", rays, full, err, &rows, &best_rays, &error) ||
-      !sweep(probe, "both", both, full, err, &rows, &best_both, &error))
+  const auto run_sweep = [&](const char* kind, const std::vector<DensityAt>& at, Json* best) {
+    return sweep(probe, kind, at, full, o.render.out_prefix, r.display, err, &rows, best, &error);
+  };
+  if (!run_sweep("eccentricity", eccentricity, &best_eccentricity) || !run_sweep("content", content, &best_content) ||
+      !run_sweep("rays", rays, &best_rays) || !run_sweep("both", both, &best_both))
     return err << kDensityWho << error << "\n", 1;
   const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
                        {"width", r.view.width_px}, {"height", r.view.height_px},
@@ -243,6 +293,9 @@ void register_density(CLI::App& app) {
   const std::shared_ptr<render_view::RenderOptions> render(o, &o->render);
   const std::function<void()> parse_common = render_view::add_render_options(cmd, render);
   add_reference_options(cmd, &o->reference, /*with_file=*/false);
+  cmd->get_option("--out")->description(
+      "Write each frame measured as PREFIX_<row>.png and its P per pixel as PREFIX_<row>_p.png (grey, white 1), "
+      "the reference and the full render too");
   cmd->add_option("--gaze", *gaze, "Gaze X,Y in pixels of the eye image (default: centre)");
   cmd->add_option("--pose", *pose, "Where the viewer stands, X,Y,Z, or an exact eye pose px,py,pz,qx,qy,qz,qw");
   cmd->add_option("--crop", *crop, "WxH: a crop of the preset's view at its pixels per degree, around its centre");

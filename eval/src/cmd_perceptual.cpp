@@ -1,6 +1,7 @@
 // `fovea-eval perceptual` (cmd_perceptual.hpp).
 #include <eval/cmd_perceptual.hpp>
 
+#include <eval/detection_png.hpp>
 #include <eval/perceptual_metric.hpp>
 #include <eval/pfm.hpp>
 #include <eval/pricelist_report.hpp>
@@ -87,14 +88,6 @@ void print_table(const PerceptualResult& r, std::ostream& out) {
   out << line;
 }
 
-// P per pixel as an 8-bit grey PNG, black 0 .. white 1.
-bool write_heatmap(const std::string& path, const PerceptualResult& r, std::string* error) {
-  std::vector<std::uint8_t> grey(r.p_detect.size());
-  for (std::size_t i = 0; i < grey.size(); ++i)
-    grey[i] = std::uint8_t(std::lround(255.0 * std::clamp(double(r.p_detect[i]), 0.0, 1.0)));
-  return toolkit::write_png_u8(path, r.width_px, r.height_px, 1, grey, error);
-}
-
 }  // namespace
 
 int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& err) {
@@ -111,7 +104,7 @@ int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& 
   if (!PerceptualMetric::create(d, test.width_px, test.height_px, {}, metric, error, &executor) ||
       !metric.evaluate(test, ref, *c.gaze_px, &executor, r, error))
     return err << kWho << error << "\n", 1;
-  if (!c.heatmap_png.empty() && !write_heatmap(c.heatmap_png, r, &error)) return err << kWho << error << "\n", 1;
+  if (!c.heatmap_png.empty() && !write_detection_png(c.heatmap_png, r, &error)) return err << kWho << error << "\n", 1;
   if (c.json)
     out << result_json(d, *c.gaze_px, r).dump(2) << "\n";
   else

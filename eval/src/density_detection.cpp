@@ -32,6 +32,7 @@ bool measure_density(const DensityProbe& probe, double density_scale, double con
   out->ray_fraction = double(fr.rays) / full_rays;
   out->density_ms = fr.density_ms;
   out->frame_ms = fr.select_ms + fr.trace_ms + fr.reconstruct_ms;
+  if (probe.keep_image) out->image = view.image();
   return probe.metric->evaluate(view.image(), *probe.reference, probe.gaze_px, probe.executor, out->p, *error);
 }
 

@@ -4,10 +4,12 @@
 // the thesis check (eval/density_detection.hpp).
 #include <eval/cmd_density.hpp>
 #include <eval/density_detection.hpp>
+#include <toolkit/image_io.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -69,6 +71,46 @@ TEST(DensityCommand, BadOptionsExitTwoNamingTheProblem) {
   o.crop_px = glm::ivec2(5000, 36);
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--crop"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
+  o.render.out_prefix = (dir.path / "no_such_folder" / "tiny").string();
+  EXPECT_EQ(run_density_command(o, &out, &err), 2) << "an output it cannot write fails before the sweep";
+  EXPECT_NE(err.find("--out"), std::string::npos) << err;
+  EXPECT_NE(err.find("no_such_folder"), std::string::npos) << err;
+}
+
+TEST(DensityCommand, OutWritesEachMeasuredFrameBesideWhereTheMetricSeesIt) {
+  engine_test::TempDir dir;
+  eval::DensityOptions o = tiny_density(dir.path.string());
+  o.contrasts = {1.0};
+  o.ray_contrasts.clear();
+  o.both_contrasts.clear();
+  o.render.out_prefix = (dir.path / "tiny").string();
+  std::string out, err;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  const auto j = nlohmann::json::parse(out);
+  const auto expect_images = [&](const nlohmann::json& images, const std::string& name, const nlohmann::json& p_max) {
+    ASSERT_EQ(images.size(), p_max.is_null() ? 1u : 2u) << images.dump();
+    EXPECT_EQ(images[0], o.render.out_prefix + "_" + name + ".png");
+    foveation::ImageRgb frame, p;
+    std::string error;
+    ASSERT_TRUE(toolkit::read_image(images[0], toolkit::PngValues::display, &frame, &error)) << error;
+    EXPECT_EQ(frame.width_px, 96);
+    EXPECT_EQ(frame.height_px, 108);
+    if (p_max.is_null()) return;
+    EXPECT_EQ(images[1], o.render.out_prefix + "_" + name + "_p.png");
+    ASSERT_TRUE(toolkit::read_image(images[1], toolkit::PngValues::display, &p, &error)) << error;
+    float brightest = 0.0f;
+    for (const float v : p.rgb) brightest = std::max(brightest, v);
+    EXPECT_NEAR(brightest, p_max.get<double>(), 0.5 / 255.0 + 1e-6) << name << ": the P map's brightest pixel is P max";
+  };
+  ASSERT_TRUE(j["full"]["images"].is_array()) << j["full"].dump();
+  ASSERT_EQ(j["full"]["images"].size(), 3u);
+  expect_images(nlohmann::json::array({j["full"]["images"][0]}), "reference", nullptr);
+  expect_images(nlohmann::json::array({j["full"]["images"][1], j["full"]["images"][2]}), "full", j["full"]["p_max"]);
+  ASSERT_EQ(j["rows"].size(), 3u);
+  expect_images(j["rows"][0]["images"], "eccentricity_scale_1", j["rows"][0]["p_max"]);
+  expect_images(j["rows"][1]["images"], "eccentricity_scale_4", j["rows"][1]["p_max"]);
+  expect_images(j["rows"][2]["images"], "content_contrast_1", j["rows"][2]["p_max"]);
 }
 
 TEST(DensityCommand, RowsTheirVerdictsAndTheSmallestUnseenRayFraction) {

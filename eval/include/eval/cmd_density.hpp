@@ -9,7 +9,8 @@
 // the ray fraction, the density's and the frame's ms and each ring's largest P; per kind the
 // smallest ray fraction at which every ring stays below P = 0.5, among the rings where the full
 // render itself stays below it (elsewhere its own noise hides foveation); and the content-aware row
-// (any of its kinds) with the fewest rays at eccentricity-only's detection (detected_no_more). JSON on stdout.
+// (any of its kinds) with the fewest rays at eccentricity-only's detection (detected_no_more). JSON on stdout;
+// with --out PREFIX, every frame measured and P per pixel beside it as PNGs, to look at what the metric sees.
 #pragma once
 
 #include <eval/lab_options.hpp>

@@ -33,6 +33,7 @@ struct DensityProbe {
   std::optional<std::filesystem::path> cache_dir;  // the foveated tables' cache
   foveation::LogFn log;
   foveation::Executor* executor = nullptr;
+  bool keep_image = false;  // DensityDetection::image: the measured frame, to be looked at
 };
 
 struct DensityDetection {
@@ -43,6 +44,7 @@ struct DensityDetection {
   double density_ms = 0.0;    // content-aware density's part of that frame (FrameResult::density_ms)
   double frame_ms = 0.0;      // that frame's select + trace + reconstruct
   PerceptualResult p;         // the frame against the reference
+  foveation::ImageRgb image;  // that frame, linear radiance (empty unless the probe keeps it)
 };
 
 // One density: frames without a history, two when content-aware (it thins, or varies the rays
