@@ -40,7 +40,9 @@ command=(build/bin/fovea-eval density --preset thesis --crop 256x256 --rays-per-
   echo "$(jq '.reference_spp' "$json") rays per pixel. P: the metric's detection probability per pixel (black 0,"
   echo "white 1); the image's largest P decides. The thesis's users noticed foveation half the time at density"
   echo "scale 1.75 ± 0.35 (NN, Table 3). The metric sees the first Poisson points that replace the pixel grid,"
-  echo "in the crop's corners from scale 0.76: the one-pixel jaggies they leave along the dark edge above the lit corridor end"
+  echo "in the crop's corners from scale 0.76: the one-pixel jaggies they leave along the dark edge above the lit"
+  echo "corridor end, a few pixels from the top (zoom into the frames' top corners to see them), and, from"
+  echo "scale 1, along the pillars' edges near the bottom"
   echo "([the thesis check](../../lab/perceptual_metric.md#the-thesis-check))."
   echo
   echo "| density | ray % | largest P | frame | P |"
