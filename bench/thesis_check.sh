@@ -4,24 +4,22 @@
 # (tests/eval/thesis_density_test.cpp): the centre 256x256 crop of the thesis preset's view at its
 # pixels per degree, the built-in scene's dark pillars against the lit corridor end, the gaze at the
 # crop's centre, nearest neighbour over the pixel grid where the density is a point per pixel or
-# more, 128 rays per point, a converged reference at 1024 rays per pixel, and the exposure of the
-# whole view (a crop's own would meter only the crop). `fovea-eval density --out` writes each frame
-# on the view's display and P per pixel (black 0, white 1); DIR/thesis_check.md lays them side by
-# side with each scale's ray fraction and largest P, headed by its command and this machine.
+# more, 128 rays per point, a converged reference at 1024 rays per pixel, exposed as the whole view
+# shows the crop (fovea-eval density meters a crop's whole view). `fovea-eval density --out` writes
+# each frame on the view's display and P per pixel (black 0, white 1); DIR/thesis_check.md lays them
+# side by side with each scale's ray fraction and largest P, headed by its command and this machine.
 # Usage: bench/thesis_check.sh [DIR]   (default docs/results/thesis_check; a minute on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 dir=${1:-docs/results/thesis_check}
 scales=0.7,0.8,1,1.75,3
-for bin in build/bin/fovea build/bin/fovea-eval; do
-  [ -x "$bin" ] || { echo "bench/thesis_check.sh: $bin is missing: build first (scripts/run.sh)" >&2; exit 2; }
-done
+[ -x build/bin/fovea-eval ] ||
+  { echo "bench/thesis_check.sh: build/bin/fovea-eval is missing: build first (scripts/run.sh)" >&2; exit 2; }
 mkdir -p "$dir/images" out/cache
 load=$(results_load)
-exposure=$(build/bin/fovea render --preset thesis --mode full --frames 1 --json | jq '.display.exposure')
 command=(build/bin/fovea-eval density --preset thesis --crop 256x256 --rays-per-point 128 --reference-spp 1024
-  --interpolation nearest --pattern pixel-grid --exposure "$exposure" --scales "$scales" --contrasts 1
+  --interpolation nearest --pattern pixel-grid --scales "$scales" --contrasts 1
   --cache-dir out/cache --out "$dir/images/crop")
 "${command[@]}" > "$dir/thesis_check.json"
 

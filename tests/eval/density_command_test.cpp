@@ -4,13 +4,18 @@
 // the thesis check (eval/density_detection.hpp).
 #include <eval/cmd_density.hpp>
 #include <eval/density_detection.hpp>
+#include <render_view/render_options.hpp>
 #include <toolkit/image_io.hpp>
+
+#include <engine/gltf_loader.hpp>
+#include <foveation/display_model.hpp>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <vector>
 
@@ -76,6 +81,39 @@ TEST(DensityCommand, BadOptionsExitTwoNamingTheProblem) {
   EXPECT_EQ(run_density_command(o, &out, &err), 2) << "an output it cannot write fails before the sweep";
   EXPECT_NE(err.find("--out"), std::string::npos) << err;
   EXPECT_NE(err.find("no_such_folder"), std::string::npos) << err;
+}
+
+// A crop shows what the whole view shows there: "auto" exposure meters the preset's whole view.
+// The control: the crop metered alone (the corridor end's bright wall) gets another exposure.
+TEST(DensityCommand, ACropIsExposedAsTheWholeViewShowsIt) {
+  engine_test::TempDir dir;
+  eval::DensityOptions o = tiny_density(dir.path.string());
+  o.scales = {1.0};
+  o.contrasts.clear();
+  o.ray_contrasts.clear();
+  o.both_contrasts.clear();
+  std::string out, err;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  const double exposure = nlohmann::json::parse(out)["exposure"].get<double>();
+
+  engine::LoadResult loaded = engine::load_scene("default");
+  ASSERT_TRUE(loaded.ok()) << loaded.error;
+  const auto tracer = engine::Tracer::create(std::move(*loaded.scene));
+  foveation::Executor executor(2);
+  std::string error;
+  render_view::RenderOptions whole;  // the fove preset's eye, as tiny_density's crop cuts from
+  const auto whole_display =
+      render_view::render_display(whole, *tracer, render_view::eye_view(whole, tracer->scene()), executor, &error);
+  ASSERT_TRUE(whole_display) << error;
+  EXPECT_DOUBLE_EQ(exposure, double(whole_display->exposure)) << "the JSON carries the float as it is";
+  render_view::RenderOptions crop = whole;
+  crop.size_px = *o.crop_px;
+  crop.fov.horizontal =
+      2.0 * std::atan(0.5 * o.crop_px->x / foveation::display_preset("fove")->view_distance_px) * 180.0 / std::numbers::pi;
+  const auto crop_display =
+      render_view::render_display(crop, *tracer, render_view::eye_view(crop, tracer->scene()), executor, &error);
+  ASSERT_TRUE(crop_display) << error;
+  EXPECT_NE(crop_display->exposure, whole_display->exposure) << "the control: metered alone, the crop differs";
 }
 
 TEST(DensityCommand, OutWritesEachMeasuredFrameBesideWhereTheMetricSeesIt) {
