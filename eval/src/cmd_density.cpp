@@ -58,9 +58,6 @@ std::string density_problem(DensityOptions& o) {
 }
 
 // The scene, the view, the gaze, the reference and the metric on the view's display.
-// A crop's display is the whole view's: "auto" exposure meters the preset's whole view,
-// so that the crop shows what the whole view shows there (metered alone, a crop of a
-// bright place comes out darker than the whole view shows it).
 struct DensityRun {
   std::unique_ptr<engine::Tracer> tracer;
   FoveartEyeView view{};
@@ -72,14 +69,16 @@ struct DensityRun {
 };
 
 [[nodiscard]] bool set_up_density(const DensityOptions& o, const render_view::RenderOptions& whole_view,
-                                  foveation::Executor& executor, std::ostream& err, DensityRun* r,
-                                  std::string* error) {
+                                  foveation::Executor& executor, std::ostream& err, DensityRun* r, std::string* error) {
   engine::LoadResult loaded = engine::load_scene(o.render.scene);
   if (!loaded.ok()) return *error = loaded.error, false;
   r->tracer = engine::Tracer::create(std::move(*loaded.scene), render_view::render_tracer_options(o.render), error);
   if (!r->tracer) return false;
   r->view = render_view::eye_view(o.render, r->tracer->scene());
   r->gaze = o.render.gaze_px.value_or(glm::vec2(0.5f * float(r->view.width_px), 0.5f * float(r->view.height_px)));
+  // A crop's display is the whole view's: "auto" exposure meters the preset's whole view, so
+  // that the crop shows what the whole view shows there (metered alone, a crop of a bright
+  // place comes out darker than the whole view shows it).
   const FoveartEyeView metered = o.crop_px ? render_view::eye_view(whole_view, r->tracer->scene()) : r->view;
   const auto display = render_view::render_display(o.render, *r->tracer, metered, executor, error);
   if (!display) return false;
@@ -263,7 +262,8 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   std::string error;
   Json baseline, rows = Json::array(), best_eccentricity, best_content, best_rays, best_both;
   PerceptualResult full;
-  if (!set_up_density(o, whole_view, executor, err, &r, &error) || !baseline_json(o, r, executor, &full, &baseline, &error))
+  if (!set_up_density(o, whole_view, executor, err, &r, &error) ||
+      !baseline_json(o, r, executor, &full, &baseline, &error))
     return err << kDensityWho << error << "\n", 1;
   DensityProbe probe{r.tracer.get(), r.view, r.gaze, o.render, &r.reference, &r.metric, std::nullopt, {}, &executor};
   if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);

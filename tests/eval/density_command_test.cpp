@@ -108,8 +108,8 @@ TEST(DensityCommand, ACropIsExposedAsTheWholeViewShowsIt) {
   EXPECT_DOUBLE_EQ(exposure, double(whole_display->exposure)) << "the JSON carries the float as it is";
   render_view::RenderOptions crop = whole;
   crop.size_px = *o.crop_px;
-  crop.fov.horizontal =
-      2.0 * std::atan(0.5 * o.crop_px->x / foveation::display_preset("fove")->view_distance_px) * 180.0 / std::numbers::pi;
+  crop.fov.horizontal = 2.0 * std::atan(0.5 * o.crop_px->x / foveation::display_preset("fove")->view_distance_px) *
+                        180.0 / std::numbers::pi;
   const auto crop_display =
       render_view::render_display(crop, *tracer, render_view::eye_view(crop, tracer->scene()), executor, &error);
   ASSERT_TRUE(crop_display) << error;
