@@ -21,7 +21,6 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <numbers>
 
 namespace foveart::eval {
 namespace {
@@ -44,12 +43,14 @@ std::string density_problem(DensityOptions& o) {
     if (!(c > 0.0 && c <= 1.0)) return "--both-contrasts: each contrast must be in (0, 1]";
   if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (o.crop_px) {
-    const std::optional<foveation::DisplayModel> preset = foveation::display_preset(o.render.preset);
-    if (!preset) return "--crop needs a display preset, got '" + o.render.preset + "'";
-    if (o.crop_px->x < 8 || o.crop_px->y < 8 || o.crop_px->x > preset->width_px || o.crop_px->y > preset->height_px)
+    std::optional<foveation::DisplayModel> crop = foveation::display_preset(o.render.preset);
+    if (!crop) return "--crop needs a display preset, got '" + o.render.preset + "'";
+    if (o.crop_px->x < 8 || o.crop_px->y < 8 || o.crop_px->x > crop->width_px || o.crop_px->y > crop->height_px)
       return "--crop must lie inside the preset's view";
+    crop->width_px = o.crop_px->x;  // the preset's viewing distance, the crop's size
+    crop->height_px = o.crop_px->y;
     o.render.size_px = *o.crop_px;
-    o.render.fov.horizontal = 2.0 * std::atan(0.5 * o.crop_px->x / preset->view_distance_px) * 180.0 / std::numbers::pi;
+    o.render.fov.horizontal = crop->horizontal_fov_deg();
   }
   o.render.mode = "foveated";
   if (!o.render.out_prefix.empty() && !toolkit::check_writable_file(o.render.out_prefix + "_full.png", &bad))

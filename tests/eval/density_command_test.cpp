@@ -15,7 +15,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 #include <vector>
 
@@ -106,10 +105,11 @@ TEST(DensityCommand, ACropIsExposedAsTheWholeViewShowsIt) {
       render_view::render_display(whole, *tracer, render_view::eye_view(whole, tracer->scene()), executor, &error);
   ASSERT_TRUE(whole_display) << error;
   EXPECT_DOUBLE_EQ(exposure, double(whole_display->exposure)) << "the JSON carries the float as it is";
+  foveation::DisplayModel crop_display_model = *foveation::display_preset("fove");
+  crop_display_model.width_px = o.crop_px->x;  // the eye's viewing distance, the crop's width
   render_view::RenderOptions crop = whole;
   crop.size_px = *o.crop_px;
-  crop.fov.horizontal = 2.0 * std::atan(0.5 * o.crop_px->x / foveation::display_preset("fove")->view_distance_px) *
-                        180.0 / std::numbers::pi;
+  crop.fov.horizontal = crop_display_model.horizontal_fov_deg();
   const auto crop_display =
       render_view::render_display(crop, *tracer, render_view::eye_view(crop, tracer->scene()), executor, &error);
   ASSERT_TRUE(crop_display) << error;
