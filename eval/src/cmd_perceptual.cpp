@@ -21,6 +21,7 @@
 #include <iostream>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 namespace foveart::eval {
 namespace {
@@ -58,7 +59,9 @@ std::string problem(const PerceptualCommand& c, const foveation::ImageRgb& test,
   return "";
 }
 
-nlohmann::ordered_json result_json(const PerceptualDisplay& d, glm::vec2 gaze, const PerceptualResult& r) {
+// The threshold multiple, when asked for: null (JSON) / left out (table) otherwise.
+nlohmann::ordered_json result_json(const PerceptualDisplay& d, glm::vec2 gaze, const PerceptualResult& r,
+                                   const std::optional<double>& multiple) {
   nlohmann::ordered_json rings = nlohmann::ordered_json::array();
   for (const PerceptualRing& ring : r.rings)
     rings.push_back({{"from_deg", ring.from_deg},
@@ -67,13 +70,19 @@ nlohmann::ordered_json result_json(const PerceptualDisplay& d, glm::vec2 gaze, c
                      {"p_detect_mean", ring.p_mean},
                      {"p_detect_max", ring.p_max},
                      {"p_detect_share", ring.detected_fraction}});
-  return {{"width", r.width_px}, {"height", r.height_px}, {"gaze", {gaze.x, gaze.y}},
-          {"pixels_per_deg", d.pixels_per_deg}, {"white_cd_m2", d.white_luminance_cd_m2},
-          {"p_detect_mean", r.p_mean}, {"p_detect_max", r.p_max}, {"p_detect_share", r.detected_fraction},
+  return {{"width", r.width_px},
+          {"height", r.height_px},
+          {"gaze", {gaze.x, gaze.y}},
+          {"pixels_per_deg", d.pixels_per_deg},
+          {"white_cd_m2", d.white_luminance_cd_m2},
+          {"p_detect_mean", r.p_mean},
+          {"p_detect_max", r.p_max},
+          {"p_detect_share", r.detected_fraction},
+          {"threshold_multiple", multiple ? nlohmann::ordered_json(*multiple) : nlohmann::ordered_json()},
           {"rings", rings}};
 }
 
-void print_table(const PerceptualResult& r, std::ostream& out) {
+void print_table(const PerceptualResult& r, const std::optional<double>& multiple, std::ostream& out) {
   char line[160];
   out << "ring (deg)   pixels   P mean   P max   share P>=0.5\n";
   for (std::size_t i = 0; i < r.rings.size(); ++i) {
@@ -85,6 +94,9 @@ void print_table(const PerceptualResult& r, std::ostream& out) {
   }
   std::snprintf(line, sizeof line, "%-10s %8zu   %.4f   %.4f   %.4f\n", "image", r.p_detect.size(), r.p_mean, r.p_max,
                 r.detected_fraction);
+  out << line;
+  if (!multiple) return;
+  std::snprintf(line, sizeof line, "threshold multiple %.3g (P max 0.5 at the difference divided by it)\n", *multiple);
   out << line;
 }
 
@@ -104,11 +116,14 @@ int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& 
   if (!PerceptualMetric::create(d, test.width_px, test.height_px, {}, metric, error, &executor) ||
       !metric.evaluate(test, ref, *c.gaze_px, &executor, r, error))
     return err << kWho << error << "\n", 1;
+  std::optional<double> multiple;
+  if (c.threshold_multiple && !metric.threshold_multiple(test, ref, *c.gaze_px, &executor, multiple.emplace(), error))
+    return err << kWho << error << "\n", 1;
   if (!c.heatmap_png.empty() && !write_detection_png(c.heatmap_png, r, &error)) return err << kWho << error << "\n", 1;
   if (c.json)
-    out << result_json(d, *c.gaze_px, r).dump(2) << "\n";
+    out << result_json(d, *c.gaze_px, r, multiple).dump(2) << "\n";
   else
-    print_table(r, out);
+    print_table(r, multiple, out);
   return 0;
 }
 
@@ -128,6 +143,9 @@ void register_perceptual(CLI::App& app) {
   cmd->add_option("--eye", c->eye, "left or right (which visual field is temporal)")->capture_default_str();
   cmd->add_flag("--json", c->json, "Print JSON instead of the table");
   cmd->add_option("--out", c->heatmap_png, "Write the detection probability per pixel as a grey PNG");
+  cmd->add_flag("--threshold-multiple", c->threshold_multiple,
+                "Also how many times above its detection threshold the difference is (a bisection: about 15 "
+                "evaluations)");
   cmd->callback([c, gaze, fov, ppd, fov_opt, ppd_opt] {
     if (!gaze->empty()) {
       try {

@@ -252,10 +252,49 @@ bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation
                                 std::string& error) const {
   if (bands_.empty()) return error = "perceptual metric: the model was not created", false;
   if (!check_inputs(test, reference, gaze_px, max_width_px_, max_height_px_, error)) return false;
-  const int levels = std::min(int(bands_.size()) / kBandsPerLevel, level_count(test.width_px, test.height_px));
-  const std::shared_ptr<const GazeTables> gt = gaze_tables(gaze_px, test.width_px, test.height_px, levels, executor);
-  const LaplacianPyramid pt = laplacian_pyramid(luminance_plane(test, display_, executor), levels, executor);
-  const LaplacianPyramid pr = laplacian_pyramid(luminance_plane(reference, display_, executor), levels, executor);
+  evaluate_luminance(luminance_plane(test, display_, executor), luminance_plane(reference, display_, executor), gaze_px,
+                     executor, out);
+  return true;
+}
+
+bool PerceptualMetric::threshold_multiple(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
+                                          glm::vec2 gaze_px, foveation::Executor* executor, double& multiple,
+                                          std::string& error) const {
+  if (bands_.empty()) return error = "perceptual metric: the model was not created", false;
+  if (!check_inputs(test, reference, gaze_px, max_width_px_, max_height_px_, error)) return false;
+  const Plane lt = luminance_plane(test, display_, executor), lr = luminance_plane(reference, display_, executor);
+  if (lt.v == lr.v) return multiple = 0.0, true;
+  // P max of reference + scale x (test - reference), in luminance; amplified, at least the display's black.
+  const auto p_max_at = [&](double log2_scale) {
+    Plane scaled = Plane::uninitialized(lt.width_px, lt.height_px);
+    const float scale = float(std::exp2(log2_scale)), floor_cd_m2 = float(display_.black_luminance_cd_m2);
+    const std::size_t row = std::size_t(lt.width_px);
+    for_rows(executor, lt.height_px, [&](int y0, int y1) {
+      for (std::size_t i = std::size_t(y0) * row; i < std::size_t(y1) * row; ++i)
+        scaled.v[i] = std::max(floor_cd_m2, lr.v[i] + scale * (lt.v[i] - lr.v[i]));
+    });
+    PerceptualResult r;
+    evaluate_luminance(scaled, lr, gaze_px, executor, r);
+    return r.p_max;
+  };
+  double lo = -kThresholdMultipleLog2Range, hi = kThresholdMultipleLog2Range;
+  if (p_max_at(hi) < 0.5) return multiple = 0.0, true;
+  if (p_max_at(lo) >= 0.5) return multiple = std::exp2(-lo), true;
+  while (hi - lo > kThresholdMultipleLog2Tolerance) {
+    const double mid = 0.5 * (lo + hi);
+    (p_max_at(mid) >= 0.5 ? hi : lo) = mid;
+  }
+  multiple = std::exp2(-0.5 * (lo + hi));
+  return true;
+}
+
+void PerceptualMetric::evaluate_luminance(const Plane& test_cd_m2, const Plane& reference_cd_m2, glm::vec2 gaze_px,
+                                          foveation::Executor* executor, PerceptualResult& out) const {
+  const int w = test_cd_m2.width_px, h = test_cd_m2.height_px;
+  const int levels = std::min(int(bands_.size()) / kBandsPerLevel, level_count(w, h));
+  const std::shared_ptr<const GazeTables> gt = gaze_tables(gaze_px, w, h, levels, executor);
+  const LaplacianPyramid pt = laplacian_pyramid(test_cd_m2, levels, executor);
+  const LaplacianPyramid pr = laplacian_pyramid(reference_cd_m2, levels, executor);
   Plane acc, lum_column;
   for (int b = levels * kBandsPerLevel - 1; b >= 0; --b) {
     const std::size_t level = std::size_t(b / kBandsPerLevel);
@@ -274,8 +313,8 @@ bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation
     acc = std::move(be.e_ach);
   }
   out = PerceptualResult{};
-  out.width_px = test.width_px;
-  out.height_px = test.height_px;
+  out.width_px = w;
+  out.height_px = h;
   out.p_detect.resize(acc.v.size());
   const float log_half = float(std::log(0.5)), half_beta = float(0.5 * kPsychometricBeta);
   for_rows(executor, acc.height_px, [&](int y0, int y1) {
@@ -283,7 +322,6 @@ bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation
       out.p_detect[i] = 0.0f - std::expm1(log_half * std::pow(std::max(0.0f, acc.v[i]), half_beta));
   });
   summarize(*gt, executor, out);
-  return true;
 }
 
 }  // namespace foveart::eval

@@ -1,5 +1,6 @@
 // `fovea-eval perceptual` in process: bad arguments exit 2 naming the problem; an identical pair
-// reads 0, a visible patch at the gaze is detected, the heat map has the images' size.
+// reads 0, a visible patch at the gaze is detected, the heat map has the images' size, the
+// threshold multiple is reported when asked for, over 1 for a seen difference and under for an unseen.
 #include <eval/cmd_perceptual.hpp>
 #include <eval/pfm.hpp>
 
@@ -84,4 +85,32 @@ TEST(PerceptualCommand, IdenticalPairReadsZeroAndAPatchAtTheGazeIsDetected) {
   EXPECT_EQ(heat.width_px, 64);
   EXPECT_EQ(heat.height_px, 48);
   EXPECT_GT(heat.at(32, 24)[0], 0.5f);  // P > 0.5 at the patch's centre
+}
+
+TEST(PerceptualCommand, ThresholdMultipleOnlyWhenAskedForAndAboveOneWhereSeen) {
+  engine_test::TempDir dir;
+  std::string error, out, err;
+  const std::string ref = (dir.path / "ref.pfm").string(), seen = (dir.path / "seen.pfm").string(),
+                    faint = (dir.path / "faint.pfm").string();
+  ASSERT_TRUE(eval::write_pfm(ref, image(0.0), &error)) << error;
+  ASSERT_TRUE(eval::write_pfm(seen, image(0.5), &error)) << error;
+  ASSERT_TRUE(eval::write_pfm(faint, image(0.0005), &error)) << error;
+  eval::PerceptualCommand c;
+  c.test = seen, c.reference = ref, c.gaze_px = glm::vec2(32, 24), c.ppd = 20.0, c.json = true;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  EXPECT_TRUE(nlohmann::json::parse(out)["threshold_multiple"].is_null()) << out;
+  c.threshold_multiple = true;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  auto j = nlohmann::json::parse(out);
+  EXPECT_GT(j["threshold_multiple"].get<double>(), 1.0) << out;
+  EXPECT_GE(j["p_detect_max"].get<double>(), 0.5) << out;
+  c.test = faint;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  j = nlohmann::json::parse(out);
+  EXPECT_GT(j["threshold_multiple"].get<double>(), 0.0) << out;
+  EXPECT_LT(j["threshold_multiple"].get<double>(), 1.0) << out;
+  EXPECT_LT(j["p_detect_max"].get<double>(), 0.5) << out;
+  c.json = false;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  EXPECT_NE(out.find("threshold multiple 0."), std::string::npos) << out;
 }

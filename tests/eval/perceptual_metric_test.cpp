@@ -1,5 +1,6 @@
 // The perceptual metric's contract: clear errors for bad input, no difference -> P = 0, a
-// visible difference detected at the fovea and not far out, masking, rings, the executor.
+// visible difference detected at the fovea and not far out, masking, rings, the executor, the
+// threshold multiple.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -124,4 +125,37 @@ TEST(PerceptualMetric, ExecutorGivesTheSameMapAndFoveEyeTime) {
   std::cout << "perceptual metric, one FOVE eye 1280x1440, 2 threads: " << ms << " ms\n";  // reported, not asserted
   EXPECT_EQ(serial.p_detect, parallel.p_detect);
   EXPECT_GT(serial.p_max, 0.5);
+}
+
+// The threshold multiple is the divisor of the difference at which P max is one half: the patch
+// at its contrast divided by the multiple sits at P = 0.5, twice the contrast has twice the multiple.
+TEST(PerceptualMetric, ThresholdMultipleDividesTheDifferenceToOneHalf) {
+  const int w = 128, h = 128;
+  const PerceptualMetric m = make(w, h);
+  const ImageRgb ref = flat(w, h, 0.5f);
+  std::string error;
+  for (const double contrast : {0.2, 0.001}) {  // well over castleCSF's threshold (~0.5 %), and under it
+    double multiple = 0.0, doubled = 0.0;
+    ASSERT_TRUE(m.threshold_multiple(patch(w, h, 64, 64, contrast), ref, {64, 64}, nullptr, multiple, error)) << error;
+    ASSERT_TRUE(m.threshold_multiple(patch(w, h, 64, 64, 2.0 * contrast), ref, {64, 64}, nullptr, doubled, error))
+        << error;
+    EXPECT_EQ(multiple > 1.0, contrast > 0.01) << multiple;
+    EXPECT_NEAR(doubled / multiple, 2.0, 0.01);
+    PerceptualResult at_threshold;
+    ASSERT_TRUE(m.evaluate(patch(w, h, 64, 64, contrast / multiple), ref, {64, 64}, nullptr, at_threshold, error));
+    EXPECT_NEAR(at_threshold.p_max, 0.5, 0.01) << "contrast " << contrast << ", multiple " << multiple;
+  }
+}
+
+TEST(PerceptualMetric, ThresholdMultipleOfNoDifferenceIsZeroAndBadInputIsAnError) {
+  const PerceptualMetric m = make(64, 64);
+  const ImageRgb img = patch(64, 64, 32, 32, 0.5);
+  double multiple = -1.0;
+  std::string error;
+  ASSERT_TRUE(m.threshold_multiple(img, img, {32, 32}, nullptr, multiple, error)) << error;
+  EXPECT_EQ(multiple, 0.0);
+  EXPECT_FALSE(m.threshold_multiple(img, flat(32, 64, 0.5f), {32, 32}, nullptr, multiple, error));
+  EXPECT_NE(error.find("the reference 32x64"), std::string::npos) << error;
+  EXPECT_FALSE(m.threshold_multiple(img, img, {-1, 32}, nullptr, multiple, error));
+  EXPECT_NE(error.find("off the image"), std::string::npos) << error;
 }

@@ -1,5 +1,6 @@
 // `fovea-eval perceptual`: the perceptual metric (perceptual_metric.hpp) of one image pair at a
-// gaze: per ring and whole-image detection probability, as text or JSON, and a heat map.
+// gaze: per ring and whole-image detection probability, as text or JSON, a heat map, and on request
+// how many times above threshold the difference is.
 #pragma once
 
 #include <iosfwd>
@@ -25,6 +26,7 @@ struct PerceptualCommand {
   std::string eye = "left";
   bool json = false;
   std::string heatmap_png;         // P per pixel, black 0 .. white 1
+  bool threshold_multiple = false;  // also how many times above threshold the difference is
 };
 
 // 0 done; 2 bad arguments or unreadable / mismatched images (the message on err); 1 a failure after that.

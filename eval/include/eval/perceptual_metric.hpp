@@ -99,6 +99,16 @@ class PerceptualMetric {
                               glm::vec2 gaze_px, foveation::Executor* executor, PerceptualResult& out,
                               std::string& error) const;
 
+  // How many times above its detection threshold the difference is: m such that the image whose
+  // luminance is the reference's plus (test - reference) / m is detected at P max = 0.5 (the test
+  // itself: P max >= 0.5 where m >= 1). The headroom a model of a less sensitive task would have to
+  // explain. Bisection over log2(1 / m) in [-12, 12] to within 1/256 (0.3 %); 0: identical images or
+  // not detected even amplified 4096 times (an amplified luminance stays at least the display's
+  // black); 4096: detected even divided by 4096. Errors: as evaluate().
+  [[nodiscard]] bool threshold_multiple(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
+                                        glm::vec2 gaze_px, foveation::Executor* executor, double& multiple,
+                                        std::string& error) const;
+
   const PerceptualDisplay& display() const { return display_; }
 
   // One band's tables over (log10 luminance, eccentricity) in both fields, per mechanism (0: the
@@ -118,6 +128,12 @@ class PerceptualMetric {
   };
 
  private:
+  static constexpr double kThresholdMultipleLog2Range = 12.0;
+  static constexpr double kThresholdMultipleLog2Tolerance = 1.0 / 256.0;
+  // evaluate() on checked luminance planes (cd/m^2) of equal size.
+  void evaluate_luminance(const Plane& test_cd_m2, const Plane& reference_cd_m2, glm::vec2 gaze_px,
+                          foveation::Executor* executor, PerceptualResult& out) const;
+
   PerceptualDisplay display_;
   PerceptualOptions options_;
   int max_width_px_ = 0;
