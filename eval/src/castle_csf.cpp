@@ -1,8 +1,9 @@
-// castleCSF for a static D65 luminance modulation (castle_csf.hpp).
+// castleCSF for a D65 luminance modulation (castle_csf.hpp).
 #include <eval/castle_csf.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <span>
 
 namespace foveart::eval {
@@ -16,6 +17,8 @@ struct Channel {
   double trunc = 0.0;             // achromatic: flat at 1 - trunc below the peak; < 0: chromatic (flat at 1)
   double area0_deg2 = 0.0;        // Rovamo's A_0
   double f0_cpd = 0.0;            // Rovamo's f_0
+  double sigma_sust = 0.0;        // sustained temporal response exp(-omega^beta / sigma); unused by the transient
+  double beta_sust = 0.0;
 };
 
 constexpr double kSustSmax[] = {56.0639, 6.64673, 0.144809, 5.30245e-07, 8.71574e+09};
@@ -29,10 +32,10 @@ constexpr double kYvFmax[] = {0.00363324};
 
 // Sustained A_0, f_0: Rovamo's 270 deg^2, 0.65 cpd, the values castleCSF's code evaluates (its fitted
 // ach_sust.A_0 / f_0 are never copied into the achromatic object, whose defaults lack them).
-constexpr Channel kSustained{kSustSmax, kSustFmax, 0.000212711, 0.282947, 270.0, 0.65};
+constexpr Channel kSustained{kSustSmax, kSustFmax, 0.000212711, 0.282947, 270.0, 0.65, 10.467, 1.3314};
 constexpr Channel kTransient{kTransSmax, kTransFmax, 2.67727, 0.000241177, 3.58559, 2.94741};
-constexpr Channel kRedGreen{kRgSmax, kRgFmax, 2.46441, -1.0, 2879.13, 0.0704339};
-constexpr Channel kYellowViolet{kYvSmax, kYvFmax, 2.72495, -1.0, 2.85765e+07, 0.000648528};
+constexpr Channel kRedGreen{kRgSmax, kRgFmax, 2.46441, -1.0, 2879.13, 0.0704339, 16.541, 1.15549};
+constexpr Channel kYellowViolet{kYvSmax, kYvFmax, 2.72495, -1.0, 2.85765e+07, 0.000648528, 7.9187, 0.999363};
 
 // Eccentricity drop 10^(-(a + b rho) e), temporal (alpha = 1) and nasal (alpha = 0) field.
 struct EccDrop {
@@ -76,10 +79,18 @@ double ecc_factor(const EccDrop& d, double rho, const CsfStimulus& s) {
   return std::pow(10.0, -(a + b * rho) * s.ecc_deg);
 }
 
-// stelaCSF eq. 6 at omega = 0: the transient channel's weight exp(-|omega_0^beta|^2 / sigma).
-double transient_weight(double lum) {
-  const double omega0 = std::log10(lum) * 2.36951 + 4.60295;
-  return std::exp(-std::pow(std::abs(omega0), 2.0 * 0.1898) / 0.085424);
+// stelaCSF eq. 5: a mechanism's sustained response to a flicker of omega Hz, exp(-omega^beta / sigma).
+double sustained_response(const Channel& c, double omega_hz) {
+  return omega_hz > 0.0 ? std::exp(-std::pow(omega_hz, c.beta_sust) / c.sigma_sust) : 1.0;
+}
+
+// stelaCSF eq. 6: the transient channel's response exp(-|omega^beta - omega_0^beta|^2 / sigma), its peak
+// omega_0 rising with log luminance. Below 0.011 cd/m^2 omega_0 < 0 and omega_0^beta is complex (the
+// principal power, as castleCSF evaluates it): the channel fades at every frequency, as at night.
+double transient_response(double omega_hz, double lum) {
+  constexpr double kBeta = 0.1898, kSigma = 0.085424;
+  const std::complex<double> omega0(std::log10(lum) * 2.36951 + 4.60295, 0.0);
+  return std::exp(-std::norm(std::pow(omega_hz, kBeta) - std::pow(omega0, kBeta)) / kSigma);
 }
 
 }  // namespace
@@ -95,14 +106,16 @@ double castle_chromatic_critical_area_deg2(double freq_cpd) {
 CsfParts castle_sensitivity_parts(const CsfStimulus& s, EccentricityTerm ecc) {
   const double rho = s.freq_cpd;
   const double lum = s.luminance_cd_m2;  // unclamped, as castleCSF evaluates it (the data reach 2e-5 cd/m^2)
+  const double omega = s.temporal_freq_hz;
   const bool drop = ecc == EccentricityTerm::kOn;
-  const double s_ach = (channel_sensitivity(kSustained, rho, s.area_deg2, lum) +
-                        transient_weight(lum) * channel_sensitivity(kTransient, rho, s.area_deg2, lum)) *
+  const double s_ach = (sustained_response(kSustained, omega) * channel_sensitivity(kSustained, rho, s.area_deg2, lum) +
+                        transient_response(omega, lum) * channel_sensitivity(kTransient, rho, s.area_deg2, lum)) *
                        (drop ? ecc_factor(kAchDrop, rho, s) : 1.0);
-  const double s_rg =
-      channel_sensitivity(kRedGreen, rho, s.area_deg2, lum) * (drop ? ecc_factor(kRgDrop, rho, s) : 1.0);
-  const double s_yv =
-      channel_sensitivity(kYellowViolet, rho, s.area_deg2, lum) * (drop ? ecc_factor(kYvDrop, rho, s) : 1.0);
+  const double s_rg = sustained_response(kRedGreen, omega) * channel_sensitivity(kRedGreen, rho, s.area_deg2, lum) *
+                      (drop ? ecc_factor(kRgDrop, rho, s) : 1.0);
+  const double s_yv = sustained_response(kYellowViolet, omega) *
+                      channel_sensitivity(kYellowViolet, rho, s.area_deg2, lum) *
+                      (drop ? ecc_factor(kYvDrop, rho, s) : 1.0);
   // castleCSF eq. 18: contrasts of a D65 luminance modulation in each mechanism, Minkowski beta = 2.
   const double a = kD65Lms[0] + kD65Lms[1];
   const double rg_share = std::abs(kD65Lms[0] - kRgM * kD65Lms[1]) / a;

@@ -1,5 +1,5 @@
 // The castleCSF human thresholds the perceptual metric is validated against
-// (tests/data/castlecsf_achromatic.csv, tests/data/README.md) and the statistics of a
+// (tests/data/castlecsf_achromatic*.csv, tests/data/README.md) and the statistics of a
 // prediction against them, per eccentricity band.
 #pragma once
 
@@ -18,10 +18,12 @@ struct CastleRow {
   double freq_cpd = 0, luminance_cd_m2 = 0, ge_sigma_deg = 0, area_deg2 = 0, ecc_deg = 0, vis_field_deg = 0;
   double sensitivity = 0;  // 1 / RMS cone contrast, as published
   double lum_sensitivity = 0;  // 1 / luminance (L + M) contrast of the same threshold
+  double temporal_freq_hz = 0;  // the flicker's frequency (the temporal file's last column; 0: static)
 };
 
-inline std::vector<CastleRow> load_castle_rows() {
-  std::ifstream in(std::string(FOVEART_TEST_DATA_DIR) + "/castlecsf_achromatic.csv");
+// The static rows (castlecsf_achromatic.csv) or the flickering ones (castlecsf_achromatic_temporal.csv).
+inline std::vector<CastleRow> load_castle_rows(const std::string& file = "castlecsf_achromatic.csv") {
+  std::ifstream in(std::string(FOVEART_TEST_DATA_DIR) + "/" + file);
   std::vector<CastleRow> rows;
   std::string line;
   std::getline(in, line);  // header
@@ -38,6 +40,7 @@ inline std::vector<CastleRow> load_castle_rows() {
     for (int i = 0; i < 3; ++i) cc2 += std::pow(std::stod(f[11 + std::size_t(i)]) / std::stod(f[14 + std::size_t(i)]), 2);
     const double lum_c = (std::stod(f[11]) + std::stod(f[12])) / (std::stod(f[14]) + std::stod(f[15]));
     r.lum_sensitivity = r.sensitivity * std::sqrt(cc2 / 3.0) / lum_c;
+    if (f.size() > 17) r.temporal_freq_hz = std::stod(f[17]);
     rows.push_back(r);
   }
   return rows;
@@ -50,7 +53,8 @@ inline double castle_dataset_adjustment(const std::string& dataset) {
   static const std::map<std::string, double> k = {
       {"modelfest", 1.019}, {"hdrvdp_csf", 1.351}, {"rovamo1993", 1.664}, {"virsu1979", 1.601},
       {"wright1983", 0.823}, {"colorfest", 0.889}, {"hdr_csf", 1.000}, {"hdr_csf_disc", 1.189},
-      {"hansen2009", 1.291}};
+      {"hansen2009", 1.291}, {"laird2006", 0.873}, {"snowden1995", 1.172}, {"robson1966", 1.097},
+      {"virsu1982", 0.965}};
   return k.at(dataset);
 }
 
@@ -60,7 +64,8 @@ inline double stelacsf_error_db(const std::string& dataset) {
   static const std::map<std::string, double> k = {
       {"modelfest", 2.77}, {"hdrvdp_csf", 2.23}, {"rovamo1993", 2.98}, {"virsu1979", 5.80},
       {"wright1983", 2.42}, {"colorfest", 3.42}, {"hdr_csf", 3.59}, {"hdr_csf_disc", 1.65},
-      {"hansen2009", 10.17}};
+      {"hansen2009", 10.17}, {"laird2006", 5.97}, {"snowden1995", 5.74}, {"robson1966", 2.87},
+      {"virsu1982", 4.14}};
   return k.at(dataset);
 }
 

@@ -1,27 +1,31 @@
 // Contrast sensitivity of the castleCSF model (Ashraf, Mantiuk, Chapiro & Wuerger 2024,
 // "castleCSF - A contrast sensitivity function of color, area, spatiotemporal frequency,
 // luminance and eccentricity", JoV 24(4):5; parameters of its release v0.2, the version
-// of the paper) for a static luminance modulation of a D65 background: the stimulus
-// the perceptual metric sees (docs/lab/perceptual_metric.md).
+// of the paper) for a luminance modulation of a D65 background, static (the stimulus the
+// perceptual metric sees, docs/lab/perceptual_metric.md) or flickering at one frequency.
 //
 // The achromatic mechanism is stelaCSF's (Mantiuk, Ashraf & Chapiro 2022, ACM TOG
 // 41(4):145): a truncated log-parabola whose peak and peak frequency depend on
 // luminance, Rovamo et al.'s (1993) area summation with a critical area A_c(rho), and
 // the window of visibility's drop with eccentricity, 10^(-(a + b rho) e) (FovVideoVDP,
-// Mantiuk et al. 2021). A luminance modulation of D65 also drives castleCSF's
-// red-green and yellow-violet mechanisms a little; their responses add as castleCSF's
-// Minkowski sum (beta = 2), so that this is castleCSF's prediction for such a stimulus.
+// Mantiuk et al. 2021), and its sustained and transient temporal channels: a flicker of
+// omega Hz weights the sustained channel by exp(-omega^beta / sigma) and the transient one
+// by a log-Gaussian around a peak frequency that rises with luminance (stelaCSF eqs. 5-6;
+// the chromatic mechanisms have sustained channels only). A luminance modulation of D65 also
+// drives castleCSF's red-green and yellow-violet mechanisms a little; their responses add as
+// castleCSF's Minkowski sum (beta = 2), so that this is castleCSF's prediction for such a stimulus.
 #pragma once
 
 namespace foveart::eval {
 
-// One static stimulus, in the castleCSF data's terms.
+// One stimulus, in the castleCSF data's terms.
 struct CsfStimulus {
   double freq_cpd = 1.0;            // spatial frequency, cycles per degree
   double luminance_cd_m2 = 100.0;   // background (adapting) luminance
   double area_deg2 = 1.0;           // Gabor: pi ge_sigma^2; very large: an unbounded grating
   double ecc_deg = 0.0;             // eccentricity
   double vis_field_deg = 180.0;     // polar angle in the right eye's visual field: 0 temporal, 90 up, 180 nasal
+  double temporal_freq_hz = 0.0;    // the modulation's flicker frequency; 0: static
 };
 
 // Whether the eccentricity term applies (kOff: the control that must fail off the fovea).
