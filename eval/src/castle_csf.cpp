@@ -95,8 +95,17 @@ double transient_response(double omega_hz, double lum) {
 
 }  // namespace
 
-double castle_critical_area_deg2(double freq_cpd) {
-  return kSustained.area0_deg2 / (1.0 + (freq_cpd / kSustained.f0_cpd) * (freq_cpd / kSustained.f0_cpd));
+double castle_critical_area_deg2(double freq_cpd, double temporal_freq_hz, double luminance_cd_m2) {
+  const auto area = [&](const Channel& c) {
+    return c.area0_deg2 / (1.0 + (freq_cpd / c.f0_cpd) * (freq_cpd / c.f0_cpd));
+  };
+  if (!(temporal_freq_hz > 0.0)) return area(kSustained);
+  constexpr double kLargeDeg2 = 1e6;
+  const double sustained = sustained_response(kSustained, temporal_freq_hz) *
+                           channel_sensitivity(kSustained, freq_cpd, kLargeDeg2, luminance_cd_m2);
+  const double transient = transient_response(temporal_freq_hz, luminance_cd_m2) *
+                           channel_sensitivity(kTransient, freq_cpd, kLargeDeg2, luminance_cd_m2);
+  return area(transient > sustained ? kTransient : kSustained);
 }
 
 double castle_chromatic_critical_area_deg2(double freq_cpd) {

@@ -105,8 +105,9 @@ std::vector<double> solve_frequencies(const std::vector<BandShape>& shapes) {
   return f;
 }
 
-double critical_area(int mechanism, double rho) {
-  return mechanism == 0 ? castle_critical_area_deg2(rho) : castle_chromatic_critical_area_deg2(rho);
+// A mechanism's critical area at rho for a difference flickering at omega Hz on luminance lum.
+double critical_area(int mechanism, double rho, double omega_hz, double lum) {
+  return mechanism == 0 ? castle_critical_area_deg2(rho, omega_hz, lum) : castle_chromatic_critical_area_deg2(rho);
 }
 
 // One table cell, one mechanism (0 achromatic, 1 chromatic share): the bands' weights w_b (squared
@@ -131,8 +132,9 @@ std::vector<double> cell_weights(const std::vector<BandShape>& shapes, const Sol
   std::vector<double> a(std::size_t(n), 0.0);
   for (std::size_t j = 0; j < freqs.size(); ++j) {
     const double rho = freqs[j] * ppd_local;
-    const double area = critical_area(mechanism, rho);
-    const CsfParts parts = castle_sensitivity_parts({rho, at.luminance_cd_m2, area, at.ecc_deg, at.vis_field_deg}, term);
+    const double area = critical_area(mechanism, rho, at.temporal_freq_hz, at.luminance_cd_m2);
+    const CsfParts parts = castle_sensitivity_parts(
+        {rho, at.luminance_cd_m2, area, at.ecc_deg, at.vis_field_deg, at.temporal_freq_hz}, term);
     // Below kMinSolveSensitivity a pattern is invisible at any contrast a display shows; aiming at that
     // floor keeps such bands quiet without letting 1 / S^2 of 1e-20 swamp the fit.
     const double s = std::max(kMinSolveSensitivity, mechanism == 0 ? parts.achromatic : parts.chromatic);
@@ -150,8 +152,9 @@ std::vector<double> cell_weights(const std::vector<BandShape>& shapes, const Sol
 }
 
 // Fills every band's tables (log10 sqrt w_b) over luminance x eccentricity, both fields, both mechanisms.
-void solve_tables(const PerceptualDisplay& d, const std::vector<BandShape>& shapes, const PerceptualMetric::TableGrid& g,
-                  EccentricityTerm term, foveation::Executor* ex, std::vector<PerceptualMetric::BandTable>& bands) {
+void solve_tables(const PerceptualDisplay& d, const std::vector<BandShape>& shapes,
+                  const PerceptualMetric::TableGrid& g, const PerceptualOptions& options, foveation::Executor* ex,
+                  std::vector<PerceptualMetric::BandTable>& bands) {
   SolveGrid grid{solve_frequencies(shapes), {}};
   for (const double f : grid.freqs)
     for (std::size_t b = 0; b < shapes.size(); ++b) grid.gain2.push_back(0.5 * std::pow(laplacian_band_gain(int(b), f), 2));
@@ -166,7 +169,8 @@ void solve_tables(const PerceptualDisplay& d, const std::vector<BandShape>& shap
       const std::size_t i = e * std::size_t(g.lum_steps) + std::size_t(l);
       for (const double field : {180.0, 0.0})
         for (int m = 0; m < kMechanisms; ++m) {
-          const std::vector<double> w = cell_weights(shapes, grid, {1.0, lum, 1.0, ecc, field}, ppd_local, term, m);
+          const std::vector<double> w = cell_weights(
+              shapes, grid, {1.0, lum, 1.0, ecc, field, options.temporal_freq_hz}, ppd_local, options.eccentricity, m);
           for (std::size_t b = 0; b < bands.size(); ++b) {
             auto& table = field == 0.0 ? bands[b].log_s_temporal : bands[b].log_s_nasal;
             table[std::size_t(m)][i] = float(0.5 * std::log10(std::max(w[b], 1e-30)));
@@ -181,13 +185,15 @@ void solve_tables(const PerceptualDisplay& d, const std::vector<BandShape>& shap
   }
 }
 
-// Band b's shape on `display`: the pooling Gaussians hold each mechanism's critical area at the band's peak.
-BandShape band_shape(int b, const PerceptualDisplay& display) {
+// Band b's shape on `display`: the pooling Gaussians hold each mechanism's critical area at the band's peak
+// (for a flicker, on a mid-grey of the display: half its white).
+BandShape band_shape(int b, const PerceptualDisplay& display, double omega_hz) {
   BandShape s;
   s.centre_cyc_px = band_centre_freq(b);
   const double rho0 = s.centre_cyc_px * display.pixels_per_deg;
   for (int m = 0; m < kMechanisms; ++m) {
-    const double sigma_deg = std::sqrt(critical_area(m, rho0) / (2.0 * std::numbers::pi));
+    const double sigma_deg =
+        std::sqrt(critical_area(m, rho0, omega_hz, 0.5 * display.white_luminance_cd_m2) / (2.0 * std::numbers::pi));
     const int level = b / kBandsPerLevel;
     s.pool_sigma_px[std::size_t(m)] = sigma_deg * display.pixels_per_deg / std::ldexp(1.0, level);
     s.pool_var_full_px2[std::size_t(m)] = box3_variance(s.pool_sigma_px[std::size_t(m)]) * std::ldexp(1.0, 2 * level);
@@ -216,6 +222,8 @@ bool PerceptualMetric::create(const PerceptualDisplay& display, int max_width_px
     return error = "perceptual metric: the black luminance must be in [0, white) cd/m^2", false;
   if (max_width_px < kMinBandSidePx || max_height_px < kMinBandSidePx)
     return error = "perceptual metric: images must be at least 8x8 pixels", false;
+  if (!(options.temporal_freq_hz >= 0.0) || !std::isfinite(options.temporal_freq_hz))
+    return error = "perceptual metric: the temporal frequency must be finite and >= 0 Hz", false;
   out = PerceptualMetric{};
   out.gaze_cache_ = std::make_shared<GazeCache>();
   out.display_ = display;
@@ -233,13 +241,13 @@ bool PerceptualMetric::create(const PerceptualDisplay& display, int max_width_px
   std::vector<BandShape> shapes;
   const int levels = level_count(max_width_px, max_height_px);
   for (int b = 0; b < levels * kBandsPerLevel; ++b) {
-    shapes.push_back(band_shape(b, display));
+    shapes.push_back(band_shape(b, display, options.temporal_freq_hz));
     PerceptualMetric::BandTable t;
     t.freq_cyc_px = shapes.back().centre_cyc_px;
     t.pool_sigma_px = shapes.back().pool_sigma_px;
     out.bands_.push_back(std::move(t));
   }
-  solve_tables(display, shapes, out.grid_, options.eccentricity, executor, out.bands_);
+  solve_tables(display, shapes, out.grid_, options, executor, out.bands_);
   return true;
 }
 

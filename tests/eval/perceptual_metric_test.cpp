@@ -159,3 +159,25 @@ TEST(PerceptualMetric, ThresholdMultipleOfNoDifferenceIsZeroAndBadInputIsAnError
   EXPECT_FALSE(m.threshold_multiple(img, img, {-1, 32}, nullptr, multiple, error));
   EXPECT_NE(error.find("off the image"), std::string::npos) << error;
 }
+
+// A difference that flickers fast is harder to see than the same one held still (castleCSF's
+// temporal channels): the 35 Hz metric's threshold multiple is below the static one's, and a
+// negative or non-finite frequency is an error.
+TEST(PerceptualMetric, FlickerAtHalfTheFrameRateIsHarderToSeeThanAStaticDifference) {
+  const int w = 128, h = 128;
+  const PerceptualMetric still = make(w, h);
+  PerceptualMetric flicker;
+  std::string error;
+  foveart::eval::PerceptualOptions fast;
+  fast.temporal_freq_hz = 35.0;
+  ASSERT_TRUE(PerceptualMetric::create({}, w, h, fast, flicker, error)) << error;
+  const ImageRgb ref = flat(w, h, 0.5f), test = patch(w, h, 64, 64, 0.2);
+  double m_still = 0.0, m_fast = 0.0;
+  ASSERT_TRUE(still.threshold_multiple(test, ref, {64, 64}, nullptr, m_still, error)) << error;
+  ASSERT_TRUE(flicker.threshold_multiple(test, ref, {64, 64}, nullptr, m_fast, error)) << error;
+  EXPECT_LT(m_fast, 0.5 * m_still) << m_fast << " against " << m_still;
+  EXPECT_GT(m_fast, 0.0);
+  fast.temporal_freq_hz = -1.0;
+  EXPECT_FALSE(PerceptualMetric::create({}, w, h, fast, flicker, error));
+  EXPECT_NE(error.find("temporal frequency"), std::string::npos) << error;
+}

@@ -44,8 +44,11 @@ struct CsfParts {
 [[nodiscard]] CsfParts castle_sensitivity_parts(const CsfStimulus& s, EccentricityTerm ecc = EccentricityTerm::kOn);
 
 // The critical area A_c(rho) of the achromatic sustained channel in deg^2 (Rovamo et al.
-// 1993 after eq. 25; stelaCSF eq. 11): the area over which contrast energy sums.
-[[nodiscard]] double castle_critical_area_deg2(double freq_cpd);
+// 1993 after eq. 25; stelaCSF eq. 11): the area over which contrast energy sums. For a flicker
+// (temporal_freq_hz > 0) at that background luminance, the critical area of the channel that
+// sees it: the transient's where its response to a large stimulus exceeds the sustained's.
+[[nodiscard]] double castle_critical_area_deg2(double freq_cpd, double temporal_freq_hz = 0.0,
+                                               double luminance_cd_m2 = 100.0);
 // The chromatic mechanisms' critical area (yellow-violet's A_0 / (1 + (rho / f_0)^2), deg^2; the
 // red-green one is within 20 % of it above 0.2 cpd): where the chromatic share sums.
 [[nodiscard]] double castle_chromatic_critical_area_deg2(double freq_cpd);

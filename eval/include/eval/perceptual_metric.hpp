@@ -60,6 +60,9 @@ PerceptualDisplay view_display(const metrics::EccentricityMap& map, Eye eye);
 struct PerceptualOptions {
   EccentricityTerm eccentricity = EccentricityTerm::kOn;  // kOff: the control without the drop
   bool masking = true;
+  // The sensitivity of castleCSF to a difference that flickers at this frequency (Hz): 0, a static
+  // difference; the display's half frame rate, one that alternates every frame.
+  double temporal_freq_hz = 0.0;
 };
 
 // One ring of metrics::kRingEdgesDeg.
