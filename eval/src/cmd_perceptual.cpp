@@ -49,6 +49,7 @@ std::string problem(const PerceptualCommand& c, const foveation::ImageRgb& test,
   if (c.ppd && !(*c.ppd > 0.0 && std::isfinite(*c.ppd))) return "--ppd must be positive";
   if (!(c.white_cd_m2 > 0.0 && std::isfinite(c.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (c.eye != "left" && c.eye != "right") return "--eye must be left or right";
+  if (!(c.flicker_hz >= 0.0 && std::isfinite(c.flicker_hz))) return "--flicker-hz must be finite and >= 0";
   // A flat screen of horizontal field H: D = (W / 2) / tan(H / 2) pixels, D pi / 180 per degree.
   const double to_rad = std::numbers::pi / 180.0;
   d->pixels_per_deg = c.fov_deg ? 0.5 * test.width_px / std::tan(0.5 * *c.fov_deg * to_rad) * to_rad : c.ppd.value_or(20.0);
@@ -60,8 +61,8 @@ std::string problem(const PerceptualCommand& c, const foveation::ImageRgb& test,
 }
 
 // The threshold multiple, when asked for: null (JSON) / left out (table) otherwise.
-nlohmann::ordered_json result_json(const PerceptualDisplay& d, glm::vec2 gaze, const PerceptualResult& r,
-                                   const std::optional<double>& multiple) {
+nlohmann::ordered_json result_json(const PerceptualDisplay& d, double flicker_hz, glm::vec2 gaze,
+                                   const PerceptualResult& r, const std::optional<double>& multiple) {
   nlohmann::ordered_json rings = nlohmann::ordered_json::array();
   for (const PerceptualRing& ring : r.rings)
     rings.push_back({{"from_deg", ring.from_deg},
@@ -75,6 +76,7 @@ nlohmann::ordered_json result_json(const PerceptualDisplay& d, glm::vec2 gaze, c
           {"gaze", {gaze.x, gaze.y}},
           {"pixels_per_deg", d.pixels_per_deg},
           {"white_cd_m2", d.white_luminance_cd_m2},
+          {"flicker_hz", flicker_hz},
           {"p_detect_mean", r.p_mean},
           {"p_detect_max", r.p_max},
           {"p_detect_share", r.detected_fraction},
@@ -113,7 +115,9 @@ int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& 
   foveation::Executor executor;
   PerceptualMetric metric;
   PerceptualResult r;
-  if (!PerceptualMetric::create(d, test.width_px, test.height_px, {}, metric, error, &executor) ||
+  PerceptualOptions options;
+  options.temporal_freq_hz = c.flicker_hz;
+  if (!PerceptualMetric::create(d, test.width_px, test.height_px, options, metric, error, &executor) ||
       !metric.evaluate(test, ref, *c.gaze_px, &executor, r, error))
     return err << kWho << error << "\n", 1;
   std::optional<double> multiple;
@@ -121,7 +125,7 @@ int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& 
     return err << kWho << error << "\n", 1;
   if (!c.heatmap_png.empty() && !write_detection_png(c.heatmap_png, r, &error)) return err << kWho << error << "\n", 1;
   if (c.json)
-    out << result_json(d, *c.gaze_px, r, multiple).dump(2) << "\n";
+    out << result_json(d, c.flicker_hz, *c.gaze_px, r, multiple).dump(2) << "\n";
   else
     print_table(r, multiple, out);
   return 0;
@@ -143,6 +147,10 @@ void register_perceptual(CLI::App& app) {
   cmd->add_option("--eye", c->eye, "left or right (which visual field is temporal)")->capture_default_str();
   cmd->add_flag("--json", c->json, "Print JSON instead of the table");
   cmd->add_option("--out", c->heatmap_png, "Write the detection probability per pixel as a grey PNG");
+  cmd->add_option("--flicker-hz", c->flicker_hz,
+                  "The difference flickers at this frequency (Hz; the display's half frame rate: it alternates "
+                  "every frame); 0: it is static")
+      ->capture_default_str();
   cmd->add_flag("--threshold-multiple", c->threshold_multiple,
                 "Also how many times above its detection threshold the difference is (a bisection: about 15 "
                 "evaluations)");

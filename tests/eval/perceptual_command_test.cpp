@@ -1,6 +1,7 @@
 // `fovea-eval perceptual` in process: bad arguments exit 2 naming the problem; an identical pair
 // reads 0, a visible patch at the gaze is detected, the heat map has the images' size, the
-// threshold multiple is reported when asked for, over 1 for a seen difference and under for an unseen.
+// threshold multiple is reported when asked for, over 1 for a seen difference and under for an unseen,
+// and lower for a flickering difference.
 #include <eval/cmd_perceptual.hpp>
 #include <eval/pfm.hpp>
 
@@ -61,6 +62,9 @@ TEST(PerceptualCommand, BadArgumentsExitTwoNamingTheProblem) {
   c.gaze_px = glm::vec2(32, 24), c.fov_deg = 90.0, c.ppd = 20.0;
   EXPECT_EQ(run(c, &out, &err), 2);
   EXPECT_NE(err.find("not both"), std::string::npos) << err;
+  c.fov_deg.reset(), c.flicker_hz = -5.0;
+  EXPECT_EQ(run(c, &out, &err), 2);
+  EXPECT_NE(err.find("--flicker-hz"), std::string::npos) << err;
 }
 
 TEST(PerceptualCommand, IdenticalPairReadsZeroAndAPatchAtTheGazeIsDetected) {
@@ -113,4 +117,13 @@ TEST(PerceptualCommand, ThresholdMultipleOnlyWhenAskedForAndAboveOneWhereSeen) {
   c.json = false;
   ASSERT_EQ(run(c, &out, &err), 0) << err;
   EXPECT_NE(out.find("threshold multiple 0."), std::string::npos) << out;
+  // The seen patch flickering at 35 Hz: less far above threshold than held still.
+  c.test = seen, c.json = true;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  const double still = nlohmann::json::parse(out)["threshold_multiple"].get<double>();
+  c.flicker_hz = 35.0;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  j = nlohmann::json::parse(out);
+  EXPECT_EQ(j["flicker_hz"].get<double>(), 35.0);
+  EXPECT_LT(j["threshold_multiple"].get<double>(), still) << out;
 }

@@ -27,6 +27,7 @@ struct PerceptualCommand {
   bool json = false;
   std::string heatmap_png;         // P per pixel, black 0 .. white 1
   bool threshold_multiple = false;  // also how many times above threshold the difference is
+  double flicker_hz = 0.0;          // the difference flickers at this frequency; 0: it is static
 };
 
 // 0 done; 2 bad arguments or unreadable / mismatched images (the message on err); 1 a failure after that.
