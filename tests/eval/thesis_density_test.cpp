@@ -20,7 +20,9 @@
 // crossing is the crop's geometry, asserted below: the metric sees the one-pixel jaggies of a
 // high-contrast edge rebuilt from Poisson points at any eccentricity of the crop. The study's
 // subjects judged "anything unnatural" with no reference beside them (thesis 6.2) and reported
-// trembling edges (thesis 6.3), a temporal effect this static difference metric does not model.
+// trembling edges (thesis 6.3), a temporal effect: the metric's flicker option brackets the study
+// between a gaze that steps (seen at every scale) and one that jitters every frame (seen from about
+// scale 3), bench/thesis_check.sh; predicting 1.75 needs the study's gaze statistics.
 #include <gtest/gtest.h>
 
 #include <algorithm>
