@@ -163,22 +163,24 @@ TEST_F(HelloFoveated, ContentContrastTracesFewerRaysWhereTheViewIsFlat) {
 }
 
 TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {
-  // 0.25 s of valid gaze at 120 Hz, then the tracker loses the eye for good.
+  // 3 samples (17 ms) of valid gaze at 120 Hz, then the tracker loses the eye for good. The
+  // provider steps with the frames' display time, so the replay keeps step with the 70 Hz frames
+  // however fast the machine runs them: the hold (200 ms) ends before frame 16 of 20.
   const auto trace = env_->root() / "gaze.csv";
   {
     std::ofstream csv(trace);
     csv << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n";
     for (int i = 0; i < 2400; ++i) {
-      const bool valid = i < 30;
+      const bool valid = i < 3;
       csv << i * 8333 << "," << i << "," << (valid ? 1 : 0) << ","
           << (valid ? "0.1,0.05,0.9937" : "nan,nan,nan") << "\n";
     }
   }
-  IsolatedEnv::set("FOVEART_SIM_FRAMES", "6");
+  configure_hello_foveated(*env_, 20, "auto", {}, R"("gaze_clock": "display_time")");
   const auto r = launch({"--gaze-source", "provider", "--gaze-provider", "replay:" + trace.string()});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
-  EXPECT_EQ(r.stats["frames_traced"], 6);
+  EXPECT_EQ(r.stats["frames_traced"], 20);
   EXPECT_EQ(r.stats["views_fallback"], 0);
   EXPECT_GT(r.stats["gaze_lost_frames"].get<int>(), 0);
 }
