@@ -126,3 +126,16 @@ TEST(CastleCsfValidation, TemporalBandsWithinStelaCsfPublishedError) {
     EXPECT_GT(control[i].rmse(), control[i].tolerance()) << "control, " << kBandNames[i];
   }
 }
+
+// The area a flicker sums over: the sustained channel's at 0 Hz (as for every static stimulus), the
+// transient channel's where a fast flicker is seen through it; and a 4 cpd Gabor flickering at
+// 35 Hz needs more than 5 times the contrast it needs held still.
+TEST(CastleCsfValidation, FlickerSumsOverTheAreaOfTheChannelThatSeesIt) {
+  using foveart::eval::castle_critical_area_deg2;
+  EXPECT_DOUBLE_EQ(castle_critical_area_deg2(1.0, 0.0, 100.0), castle_critical_area_deg2(1.0));
+  EXPECT_LT(castle_critical_area_deg2(1.0, 20.0, 100.0), 0.1 * castle_critical_area_deg2(1.0));
+  const foveart::eval::CsfStimulus still{4.0, 100.0, 1.0, 0.0, 180.0, 0.0};
+  foveart::eval::CsfStimulus fast = still;
+  fast.temporal_freq_hz = 35.0;
+  EXPECT_LT(foveart::eval::castle_sensitivity(fast), 0.2 * foveart::eval::castle_sensitivity(still));
+}
