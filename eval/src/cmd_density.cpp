@@ -283,7 +283,8 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
     return err << kDensityWho << error << "\n", 1;
   const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
                        {"width", r.view.width_px}, {"height", r.view.height_px},
-                       {"gaze", {r.gaze.x, r.gaze.y}}, {"pixels_per_deg", r.metric.display().pixels_per_deg},
+                       {"gaze", {r.gaze.x, r.gaze.y}}, {"fov_deg", render_view::fov_deg(r.view)},
+                       {"pixels_per_deg", r.metric.display().pixels_per_deg},
                        {"interpolation", o.render.interpolation}, {"rays_per_point", o.render.rays_per_point},
                        {"reference_spp", r.reference_spp}, {"exposure", r.display.exposure},
                        {"ring_edges_deg", metrics::kRingEdgesDeg},

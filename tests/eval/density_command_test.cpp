@@ -93,7 +93,8 @@ TEST(DensityCommand, ACropIsExposedAsTheWholeViewShowsIt) {
   o.both_contrasts.clear();
   std::string out, err;
   ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
-  const double exposure = nlohmann::json::parse(out)["exposure"].get<double>();
+  const auto report = nlohmann::json::parse(out);
+  const double exposure = report["exposure"].get<double>();
 
   engine::LoadResult loaded = engine::load_scene("default");
   ASSERT_TRUE(loaded.ok()) << loaded.error;
@@ -110,6 +111,8 @@ TEST(DensityCommand, ACropIsExposedAsTheWholeViewShowsIt) {
   render_view::RenderOptions crop = whole;
   crop.size_px = *o.crop_px;
   crop.fov.horizontal = crop_display_model.horizontal_fov_deg();
+  // The report's frustum is the crop's, so that `fovea render --fov-deg L,R,U,D` renders the same view.
+  EXPECT_NEAR(report["fov_deg"][1].get<double>() - report["fov_deg"][0].get<double>(), *crop.fov.horizontal, 1e-4);
   const auto crop_display =
       render_view::render_display(crop, *tracer, render_view::eye_view(crop, tracer->scene()), executor, &error);
   ASSERT_TRUE(crop_display) << error;

@@ -81,8 +81,6 @@ struct FrameTimes {
   double median_samples_ms() const { return samples_ms[median_frame()]; }
 };
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Whether frame i of n counts in a speedup: the first (first touches of the
 // images and caches) is left out when there are three or more.
 bool timed_frame(std::size_t i, std::size_t n) { return i > 0 || n < 3; }
@@ -177,9 +175,7 @@ void add_view_json(const render_view::RenderOptions& o, const RenderEngine& eng,
   report["width"] = view.width_px;
   report["height"] = view.height_px;
   report["gaze"] = {gaze.x, gaze.y};
-  auto deg = [](float rad) { return static_cast<double>(rad) * 180.0 / kPi; };
-  report["fov_deg"] = {deg(view.angle_left_rad), deg(view.angle_right_rad), deg(view.angle_up_rad),
-                       deg(view.angle_down_rad)};
+  report["fov_deg"] = render_view::fov_deg(view);
   report["pose"] = {view.position_m[0],        view.position_m[1],        view.position_m[2],
                     view.orientation_xyzw[0], view.orientation_xyzw[1], view.orientation_xyzw[2],
                     view.orientation_xyzw[3]};

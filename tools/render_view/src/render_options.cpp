@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <numbers>
 #include <vector>
 #include <utility>
 
@@ -125,6 +126,11 @@ FoveartEyeView eye_view(const RenderOptions& o, const engine::Scene& scene) {
     for (int i = 0; i < 4; ++i) view.orientation_xyzw[i] = static_cast<float>((*o.pose)[3 + i]);
   }
   return view;
+}
+
+std::array<double, 4> fov_deg(const FoveartEyeView& view) {
+  const auto deg = [](float rad) { return double(rad) * 180.0 / std::numbers::pi; };
+  return {deg(view.angle_left_rad), deg(view.angle_right_rad), deg(view.angle_up_rad), deg(view.angle_down_rad)};
 }
 
 namespace {

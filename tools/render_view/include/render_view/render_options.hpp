@@ -102,6 +102,9 @@ struct RenderOptions {
 // The eye view `fovea render` renders for these options (preset, eye, size,
 // --fov, --pose) of a scene. The options must have passed check_render_options.
 FoveartEyeView eye_view(const RenderOptions& options, const engine::Scene& scene);
+// A view's frustum in degrees, L, R, U, D (XrFovf's angles): what the reports print and
+// --fov-deg L,R,U,D reads back.
+std::array<double, 4> fov_deg(const FoveartEyeView& view);
 // The display the foveated view's tables are built for (preset, size, scale,
 // pattern); nullopt with *error when it is not valid.
 std::optional<foveation::DisplayModel> foveated_display(const RenderOptions& options, const FoveartEyeView& view,
