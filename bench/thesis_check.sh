@@ -33,7 +33,7 @@ json=$dir/thesis_check.json
 # compared with each other (the change's P per pixel written beside it).
 ppd=$(jq '.pixels_per_deg' "$json")
 exposure=$(jq '.exposure' "$json")
-fov_deg=$(jq '(1 | atan * 4) as $pi | (128 / (.pixels_per_deg * 180 / $pi) | atan) * 360 / $pi' "$json")
+fov_deg=$(jq -r '.fov_deg | map(tostring) | join(",")' "$json")  # the crop's frustum, L,R,U,D
 perceptual=(build/bin/fovea-eval perceptual --ppd "$ppd" --threshold-multiple --json)
 frame=(build/bin/fovea render --preset thesis --pattern pixel-grid --mode foveated --size 256x256 --fov-deg "$fov_deg"
   --rays-per-point 128 --interpolation nearest --exposure "$exposure" --cache-dir out/cache)
