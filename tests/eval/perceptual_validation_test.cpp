@@ -8,8 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "castle_validation.hpp"
 #include "eval/castle_csf.hpp"
@@ -63,6 +68,65 @@ std::vector<CastleRow> image_subset(const std::string& file = "castlecsf_achroma
 
 }  // namespace
 
+namespace {
+
+constexpr double kDiscretisationMargin = 0.05, kAgreementBound = 0.1;
+
+// One image-path validation's statistics: per band the metric's threshold sensitivities against the
+// human data, its own CSF path's on the same rows, a control's, and the image path's squared log
+// distance from its CSF path.
+struct ImagePathStats {
+  std::array<BandStats, 4> bands{}, csf{}, control{};
+  std::array<double, 4> agree2{};
+  int used = 0;
+};
+
+// Every row (every 4th under the sanitizers): the metric at the row's temporal frequency, its CSF,
+// and (not under the sanitizers) `control_sensitivity` of the row.
+ImagePathStats image_path_stats(const std::vector<CastleRow>& rows,
+                                const std::function<double(const CastleRow&)>& control_sensitivity) {
+  ImagePathStats st;
+  const std::size_t stride = kUnderSanitizer ? 4 : 1;
+  for (std::size_t i = 0; i < rows.size(); i += stride) {
+    const CastleRow& r = rows[i];
+    const double s = metric_sensitivity(r, foveart::eval::EccentricityTerm::kOn);
+    const double s_csf = foveart::eval::castle_sensitivity(
+        {r.freq_cpd, r.luminance_cd_m2, r.area_deg2, r.ecc_deg, r.vis_field_deg, r.temporal_freq_hz});
+    add_prediction(st.bands, r, s);
+    add_prediction(st.csf, r, s_csf);
+    if (!kUnderSanitizer) add_prediction(st.control, r, control_sensitivity(r));
+    st.agree2[std::size_t(ecc_band(r.ecc_deg))] += std::pow(std::log10(s / s_csf), 2);
+    ++st.used;
+  }
+  return st;
+}
+
+// The tables, then per band below 30 deg: the image path against its CSF within kAgreementBound
+// where `agreement_checks` asserts it; against the human data within the CSF path's tolerance widened
+// by kDiscretisationMargin, and the control outside it, where `checks` asserts it. Under the
+// sanitizers only the tables (and each threshold's P = 0.5 check, in metric_threshold_contrast).
+void expect_image_path(const ImagePathStats& st, const std::string& title, const std::array<BandCheck, 4>& checks,
+                       const std::array<BandCheck, 4>& agreement_checks) {
+  std::cout << band_table(title, st.bands, st.control, checks, kDiscretisationMargin)
+            << band_table("the CSF path on the same rows", st.csf, st.csf, checks);
+  for (std::size_t i = 0; i < 3; ++i) {
+    ASSERT_GT(st.bands[i].rows, 0) << kBandNames[i];
+    const double agreement = std::sqrt(st.agree2[i] / st.bands[i].rows);
+    std::printf("%s: image path against its CSF, RMS %.3f log10 (bound %.2f)\n", kBandNames[i], agreement,
+                kAgreementBound);
+    if (kUnderSanitizer) continue;
+    if (agreement_checks[i] == BandCheck::kAsserted) {
+      EXPECT_LE(agreement, kAgreementBound) << kBandNames[i];
+    }
+    if (checks[i] != BandCheck::kAsserted) continue;
+    EXPECT_LE(st.bands[i].rmse(), std::hypot(st.bands[i].tolerance(), kDiscretisationMargin)) << kBandNames[i];
+    EXPECT_GT(st.control[i].rmse(), std::hypot(st.control[i].tolerance(), kDiscretisationMargin))
+        << "control, " << kBandNames[i];
+  }
+}
+
+}  // namespace
+
 // Every band of the subset: the image path's error against the human thresholds, with the
 // tolerance of the CSF path (stelaCSF's published error, castle_csf_validation_test.cpp) widened
 // in quadrature by kDiscretisationMargin, the image path's own error against its CSF
@@ -76,37 +140,12 @@ std::vector<CastleRow> image_subset(const std::string& file = "castlecsf_achroma
 // (its 2 rows are discs). Under the sanitizers every 4th row runs and only the P = 0.5 check at
 // each threshold is asserted (a quarter of the rows is too few for the band statistics).
 TEST(PerceptualMetricValidation, ImagePathAgainstHumanThresholdsAndItsCsf) {
-  constexpr double kDiscretisationMargin = 0.05, kAgreementBound = 0.1;
-  std::array<BandStats, 4> bands{}, csf{}, control{};
-  std::array<double, 4> agree2{};
-  const auto rows = image_subset();
-  const std::size_t stride = kUnderSanitizer ? 4 : 1;
-  int used = 0;
-  for (std::size_t i = 0; i < rows.size(); i += stride) {
-    const CastleRow& r = rows[i];
-    const double s = metric_sensitivity(r, foveart::eval::EccentricityTerm::kOn);
-    const double s_csf =
-        foveart::eval::castle_sensitivity({r.freq_cpd, r.luminance_cd_m2, r.area_deg2, r.ecc_deg, r.vis_field_deg});
-    add_prediction(bands, r, s);
-    add_prediction(csf, r, s_csf);
-    if (!kUnderSanitizer) add_prediction(control, r, metric_sensitivity(r, foveart::eval::EccentricityTerm::kOff));
-    agree2[std::size_t(ecc_band(r.ecc_deg))] += std::pow(std::log10(s / s_csf), 2);
-    ++used;
-  }
+  const ImagePathStats st = image_path_stats(
+      image_subset(), [](const CastleRow& r) { return metric_sensitivity(r, foveart::eval::EccentricityTerm::kOff); });
   constexpr std::array<BandCheck, 4> checks = {BandCheck::kPrintedMiss, BandCheck::kAsserted, BandCheck::kAsserted,
                                                BandCheck::kReportOnly};
-  std::cout << band_table("image metric, threshold on rendered stimuli (" + std::to_string(used) + " rows)", bands,
-                          control, checks, kDiscretisationMargin)
-            << band_table("the CSF path on the same rows", csf, csf, checks);
-  for (std::size_t i = 0; i < 3; ++i) {
-    ASSERT_GT(bands[i].rows, 0) << kBandNames[i];
-    const double agreement = std::sqrt(agree2[i] / bands[i].rows);
-    std::printf("%s: image path against its CSF, RMS %.3f log10 (bound %.2f)\n", kBandNames[i], agreement, kAgreementBound);
-    if (kUnderSanitizer || checks[i] != BandCheck::kAsserted) continue;
-    EXPECT_LE(agreement, kAgreementBound) << kBandNames[i];
-    EXPECT_LE(bands[i].rmse(), std::hypot(bands[i].tolerance(), kDiscretisationMargin)) << kBandNames[i];
-    EXPECT_GT(control[i].rmse(), std::hypot(control[i].tolerance(), kDiscretisationMargin)) << "control, " << kBandNames[i];
-  }
+  expect_image_path(st, "image metric, threshold on rendered stimuli (" + std::to_string(st.used) + " rows)", checks,
+                    checks);
 }
 
 // Flicker through the image path: the metric evaluated at each row's temporal frequency on the
@@ -119,44 +158,16 @@ TEST(PerceptualMetricValidation, ImagePathAgainstHumanThresholdsAndItsCsf) {
 // cd/m^2 read 0.13-0.27 low, patterns of a few cycles at the pyramid's coarsest bands.
 // Under the sanitizers every 4th of these rows, P = 0.5 only.
 TEST(PerceptualMetricValidation, FlickerImagePathAgainstHumanThresholdsAndItsCsf) {
-  constexpr double kDiscretisationMargin = 0.05, kAgreementBound = 0.1;
-  std::array<BandStats, 4> bands{}, control{};
-  std::array<double, 4> agree2{};
-  const auto rows = image_subset("castlecsf_achromatic_temporal.csv", 16, 2);
-  const std::size_t stride = kUnderSanitizer ? 4 : 1;
-  int used = 0;
-  for (std::size_t i = 0; i < rows.size(); i += stride) {
-    const CastleRow& r = rows[i];
-    const double s = metric_sensitivity(r, foveart::eval::EccentricityTerm::kOn);
-    const double s_csf = foveart::eval::castle_sensitivity(
-        {r.freq_cpd, r.luminance_cd_m2, r.area_deg2, r.ecc_deg, r.vis_field_deg, r.temporal_freq_hz});
-    add_prediction(bands, r, s);
-    if (!kUnderSanitizer) {
-      CastleRow as_static = r;
-      as_static.temporal_freq_hz = 0.0;
-      add_prediction(control, r, metric_sensitivity(as_static, foveart::eval::EccentricityTerm::kOn));
-    }
-    agree2[std::size_t(ecc_band(r.ecc_deg))] += std::pow(std::log10(s / s_csf), 2);
-    ++used;
-  }
+  const ImagePathStats st =
+      image_path_stats(image_subset("castlecsf_achromatic_temporal.csv", 16, 2), [](const CastleRow& r) {
+        CastleRow as_static = r;
+        as_static.temporal_freq_hz = 0.0;
+        return metric_sensitivity(as_static, foveart::eval::EccentricityTerm::kOn);
+      });
   constexpr std::array<BandCheck, 4> checks = {BandCheck::kAsserted, BandCheck::kAsserted, BandCheck::kPrintedMiss,
                                                BandCheck::kReportOnly};
   constexpr std::array<BandCheck, 4> agreement_checks = {BandCheck::kPrintedMiss, BandCheck::kAsserted,
                                                          BandCheck::kPrintedMiss, BandCheck::kReportOnly};
-  std::cout << band_table("image metric, flicker (" + std::to_string(used) + " rows; control: the metric at 0 Hz)",
-                          bands, control, checks, kDiscretisationMargin);
-  for (std::size_t i = 0; i < 3; ++i) {
-    ASSERT_GT(bands[i].rows, 0) << kBandNames[i];
-    const double agreement = std::sqrt(agree2[i] / bands[i].rows);
-    std::printf("%s: image path against its CSF, RMS %.3f log10 (bound %.2f)\n", kBandNames[i], agreement,
-                kAgreementBound);
-    if (kUnderSanitizer) continue;
-    if (agreement_checks[i] == BandCheck::kAsserted) {
-      EXPECT_LE(agreement, kAgreementBound) << kBandNames[i];
-    }
-    if (checks[i] != BandCheck::kAsserted) continue;
-    EXPECT_LE(bands[i].rmse(), std::hypot(bands[i].tolerance(), kDiscretisationMargin)) << kBandNames[i];
-    EXPECT_GT(control[i].rmse(), std::hypot(control[i].tolerance(), kDiscretisationMargin))
-        << "control, " << kBandNames[i];
-  }
+  expect_image_path(st, "image metric, flicker (" + std::to_string(st.used) + " rows; control: the metric at 0 Hz)",
+                    checks, agreement_checks);
 }
