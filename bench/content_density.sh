@@ -3,14 +3,15 @@
 # scenes and viewers), in three parts, each writing its own file in DIR (headed by its command and
 # this machine) and its JSON in DIR/json/:
 #  detection (content_density.md): per scene, at a centred and an off-centre gaze, `fovea-eval
-#    density` sweeps the density scale (eccentricity only) and content-aware density at scale 1,
-#    its levers: the contrast that thins points, the contrast from which a point casts all its rays
-#    (rays per point by contrast), and both from one contrast; it gives, per kind, the smallest ray
-#    fraction at which the perceptual metric
-#    predicts P < 0.5 in every ring the full render at the same rays per pixel does not already
-#    show, against a converged reference (cached in out/cache/reference), and the content-aware
-#    row with the fewest rays at eccentricity only's detection per ring. The view: a CROP of the
-#    FOVE eye at its pixels per degree (10.2 at the gaze), RAYS rays per point and per pixel.
+#    density` sweeps the density scale (eccentricity only, from denser than the thesis's to far
+#    sparser) and content-aware density at scale 1 and at the sparsest scale the metric does not
+#    see, its levers: the contrast that thins points, the contrast from which
+#    a point casts all its rays (rays per point by contrast), and both from one contrast; it gives,
+#    per kind, the smallest ray fraction at which the perceptual metric predicts P < 0.5 in every
+#    ring the full render at the same rays per pixel does not already show, against a converged
+#    reference (cached in out/cache/reference), and the content-aware row with the fewest rays at
+#    eccentricity only's detection per ring at scale 1. The view: a CROP of the FOVE eye at its
+#    pixels per degree (10.2 at the gaze), RAYS rays per point and per pixel.
 #  cost (cost.md): what choosing the density costs in a product frame, per stage: `fovea render`
 #    on the whole FOVE eye, content contrast 0.5 at one ray per point, and both levers at four,
 #    against the frame's ms.
@@ -83,10 +84,10 @@ header() {  # the title, then this machine, the load and the command
 detection_part() {
   need "$eval_bin"
   local gazes=("centre|$((cw / 2)),$((ch / 2))" "off-centre|$((cw / 5)),$((ch / 5))")
-  local scales=1,1.5,2,3,4 contrasts=0.1,0.25,0.5,1 ray_contrasts=0.25,0.5,1 both_contrasts=0.25,0.5,1
+  local scales=0.3,0.4,0.5,0.7,1,1.5,2,3,4 contrasts=0.1,0.25,0.5,1 ray_contrasts=0.25,0.5,1 both_contrasts=0.25,0.5,1
   local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
                 --k 5 --scales "$scales" --contrasts "$contrasts" --ray-contrasts "$ray_contrasts"
-                --both-contrasts "$both_contrasts" --cache-dir out/cache)
+                --both-contrasts "$both_contrasts" --content-at-unseen --cache-dir out/cache)
   local md="$dir/content_density.md" details
   {
     header "Content-aware density on the benchmark set, judged by the perceptual metric"
@@ -101,8 +102,9 @@ detection_part() {
     echo "$reference_spp rays per pixel. A row is unseen when, in every ring where the full render at $rays rays per"
     echo "pixel stays below P = 0.5, the row's largest P stays below 0.5 too; rings the full render already shows are"
     echo "listed (its own noise hides foveation there). Ray %: the row's primary rays over the full render's at the"
-    echo "same rays per pixel. Eccentricity only sweeps the density scale $scales; content-aware density, at scale 1,"
-    echo "the contrast that thins points (\"thin C\": $contrasts) or the one from which a point casts all its rays"
+    echo "same rays per pixel. Eccentricity only sweeps the density scale $scales (below 1: denser than the"
+    echo "thesis's point set). Content-aware density, at scale 1 and at the sparsest of those scales that is unseen,"
+    echo "sweeps the contrast that thins points (\"thin C\": $contrasts) or the one from which a point casts all its rays"
     echo "(\"rays C\": $ray_contrasts, fewer below it), or both from one contrast (\"both C\": $both_contrasts)."
     echo "\"none\": no row of that kind is unseen. The goal is 10 % or less. Same detection: the"
     echo "content-aware row with the fewest rays whose largest P exceeds eccentricity only's at scale 1 by at most"
@@ -111,7 +113,7 @@ detection_part() {
       echo "What choosing the density costs per stage: [cost.md](cost.md); rays per point by contrast: [rays.md](rays.md)."
     fi
     echo
-    echo "| scene | gaze | rings the full render shows | eccentricity only: smallest unseen ray % (scale) | content-aware: smallest unseen ray % (lever) | eccentricity only at scale 1: ray %, rings seen | content-aware at the same detection: ray % (lever), rays saved % |"
+    echo "| scene | gaze | rings the full render shows | eccentricity only: smallest unseen ray % (scale) | content-aware: smallest unseen ray % (lever, scale) | eccentricity only at scale 1: ray %, rings seen | content-aware at the same detection: ray % (lever), rays saved % |"
     echo "|---|---|---|---|---|---|---|"
   } >"$md"
   details=$(mktemp)
@@ -127,11 +129,12 @@ detection_part() {
         def lever: if .kind == "rays" then "rays \(.content_rays)" elif .kind == "content" then "thin \(.content_contrast)"
           elif .kind == "both" then "both \(.content_contrast)" else "\(.density_scale)" end;
         def best($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever))" end;
+        def best_at($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever), \($b.density_scale))" end;
         def fewer($a; $b): if $a == null then $b elif $b == null then $a elif $b.ray_fraction < $a.ray_fraction then $b else $a end;
         (.rows[] | select(.kind == "eccentricity" and .density_scale == 1)) as $s1
         | .content_at_eccentricity_detection as $m
         | "| \($name) | \($gaze) | \(seen(.full.rings_p_max)) | \(best(.best_eccentricity))"
-          + " | \(best(fewer(fewer(.best_content; .best_rays); .best_both))) | \($s1.ray_fraction | pct), \(seen($s1.rings_p_max))"
+          + " | \(best_at(fewer(fewer(.best_content; .best_rays); .best_both))) | \($s1.ray_fraction | pct), \(seen($s1.rings_p_max))"
           + " | \(if $m == null then "none" else "\($m.ray_fraction | pct) (\($m | lever)), \((1 - $m.ray_fraction / $s1.ray_fraction) | pct)" end) |"' \
         "$json" >>"$md"
       jq -r --arg name "$name" --arg gaze "$gname" '

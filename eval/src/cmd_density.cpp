@@ -219,7 +219,8 @@ Json fewest_at_eccentricity_detection(const Json& rows, double density_scale) {
   if (baseline == rows.end()) return Json();
   Json best;
   for (const Json& row : rows)
-    if (row["kind"] != "eccentricity" && detected_no_more(p_of(row), p_of(*baseline)) &&
+    if (row["kind"] != "eccentricity" && row["density_scale"] == (*baseline)["density_scale"] &&
+        detected_no_more(p_of(row), p_of(*baseline)) &&
         (best.is_null() || row["ray_fraction"].get<double>() < best["ray_fraction"].get<double>()))
       best = row;
   return best;
@@ -270,16 +271,22 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);
   probe.log = [&](const std::string& m) { err << kDensityWho << m << "\n"; };
   probe.keep_image = !o.render.out_prefix.empty();
-  std::vector<DensityAt> eccentricity, content, rays, both;
-  for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0});
-  for (const double c : o.contrasts) content.push_back({o.render.density_scale, c, 0.0});
-  for (const double c : o.ray_contrasts) rays.push_back({o.render.density_scale, 0.0, c});
-  for (const double c : o.both_contrasts) both.push_back({o.render.density_scale, c, c});
   const auto run_sweep = [&](const char* kind, const std::vector<DensityAt>& at, Json* best) {
     return sweep(probe, kind, at, full, o.render.out_prefix, r.display, err, &rows, best, &error);
   };
-  if (!run_sweep("eccentricity", eccentricity, &best_eccentricity) || !run_sweep("content", content, &best_content) ||
-      !run_sweep("rays", rays, &best_rays) || !run_sweep("both", both, &best_both))
+  std::vector<DensityAt> eccentricity, content, rays, both;
+  for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0});
+  if (!run_sweep("eccentricity", eccentricity, &best_eccentricity)) return err << kDensityWho << error << "\n", 1;
+  Json content_scales = {o.render.density_scale};  // and, with --content-at-unseen, the sparsest unseen scale
+  if (o.content_at_unseen && !best_eccentricity.is_null() && best_eccentricity["density_scale"] != content_scales[0])
+    content_scales.push_back(best_eccentricity["density_scale"]);
+  for (const double s : content_scales) {
+    for (const double c : o.contrasts) content.push_back({s, c, 0.0});
+    for (const double c : o.ray_contrasts) rays.push_back({s, 0.0, c});
+    for (const double c : o.both_contrasts) both.push_back({s, c, c});
+  }
+  if (!run_sweep("content", content, &best_content) || !run_sweep("rays", rays, &best_rays) ||
+      !run_sweep("both", both, &best_both))
     return err << kDensityWho << error << "\n", 1;
   const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
                        {"width", r.view.width_px}, {"height", r.view.height_px},
@@ -290,7 +297,7 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
                        {"ring_edges_deg", metrics::kRingEdgesDeg},
                        {"full", baseline}, {"rows", rows},
                        {"best_eccentricity", best_eccentricity}, {"best_content", best_content},
-                       {"best_rays", best_rays}, {"best_both", best_both},
+                       {"best_rays", best_rays}, {"best_both", best_both}, {"content_density_scales", content_scales},
                        {"content_at_eccentricity_detection", fewest_at_eccentricity_detection(rows, o.render.density_scale)}};
   out << report.dump(2) << "\n";
   return 0;
@@ -321,6 +328,9 @@ void register_density(CLI::App& app) {
                   "Contrasts of rows that thin points and vary their rays from the same contrast (at --density-scale; "
                   "none by default)")
       ->delimiter(',')->capture_default_str();
+  cmd->add_flag("--content-at-unseen", o->content_at_unseen,
+                "The content-aware rows also at the sparsest --scales density the metric does not see, where it is "
+                "not --density-scale");
   cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();
   cmd->callback([o, gaze, pose, crop, parse_common] {
     parse_common();

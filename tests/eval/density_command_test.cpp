@@ -210,6 +210,44 @@ TEST(DensityCommand, RowsTheirVerdictsAndTheSmallestUnseenRayFraction) {
   }
 }
 
+// --content-at-unseen: the content-aware rows also thin from the sparsest density nobody sees
+// (eccentricity only's smallest unseen ray fraction); "same detection" stays at --density-scale.
+TEST(DensityCommand, ContentAtUnseenAlsoThinsFromTheSparsestUnseenScale) {
+  engine_test::TempDir dir;
+  eval::DensityOptions o = tiny_density(dir.path.string());
+  o.scales = {1.0, 2.0, 4.0};
+  o.ray_contrasts.clear();
+  o.both_contrasts.clear();
+  o.render.density_scale = 2.0;
+  o.content_at_unseen = true;
+  std::string out, err;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  const auto j = nlohmann::json::parse(out);
+  ASSERT_FALSE(j["best_eccentricity"].is_null()) << "the tiny view has a density the metric does not see";
+  const double unseen = j["best_eccentricity"]["density_scale"].get<double>();
+  ASSERT_NE(unseen, o.render.density_scale) << "the control: not --density-scale";
+  EXPECT_EQ(j["content_density_scales"], nlohmann::json::array({o.render.density_scale, unseen}));
+  ASSERT_EQ(j["rows"].size(), 5u);
+  for (const int i : {3, 4}) EXPECT_EQ(j["rows"][i]["kind"], "content") << i;
+  EXPECT_EQ(j["rows"][3]["density_scale"].get<double>(), o.render.density_scale);
+  EXPECT_EQ(j["rows"][4]["density_scale"].get<double>(), unseen);
+  const auto p_of = [](const nlohmann::json& row) {
+    std::vector<double> v;
+    for (const auto& p : row["rings_p_max"]) v.push_back(p.is_null() ? std::nan("") : p.get<double>());
+    return v;
+  };
+  ASSERT_EQ(j["rows"][1]["density_scale"].get<double>(), o.render.density_scale);
+  const bool same = eval::detected_no_more(p_of(j["rows"][3]), p_of(j["rows"][1]));
+  EXPECT_EQ(j["content_at_eccentricity_detection"], same ? j["rows"][3] : nlohmann::json())
+      << "judged at --density-scale only: " << out;
+
+  o.content_at_unseen = false;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  const auto without = nlohmann::json::parse(out);
+  EXPECT_EQ(without["content_density_scales"], nlohmann::json::array({o.render.density_scale}));
+  EXPECT_EQ(without["rows"].size(), 4u);
+}
+
 TEST(DensityDetection, BisectionFindsTheHalfCrossingOrSaysThereIsNone) {
   int calls = 0;
   const auto step_at_1_3 = [&](double s) -> std::optional<double> { return ++calls, s < 1.3 ? 0.2 : 0.9; };

@@ -4,6 +4,7 @@
 // frame over eccentricity-only density (--scales, the thesis's density scale), content-aware
 // density (--contrasts, at --density-scale), rays per point by contrast (--ray-contrasts, at
 // --density-scale; foveation/point_rays.hpp) and both from one contrast (--both-contrasts), each
+// (with --content-at-unseen, also at the sparsest eccentricity-only scale the metric does not see)
 // against a converged reference through the
 // metric (eval/density_detection.hpp) on the view's display (its exposure and tone map). Per row
 // the ray fraction, the density's and the frame's ms and each ring's largest P; per kind the
@@ -39,6 +40,9 @@ struct DensityOptions {
   std::vector<double> contrasts = {0.25, 0.5, 1.0};
   std::vector<double> ray_contrasts;  // none unless asked for: the benchmark's sweeps stay as they were
   std::vector<double> both_contrasts;  // rows that thin and vary the rays per point from the same contrast
+  // The content-aware rows also at the sparsest eccentricity-only scale the metric does not see
+  // (where it is not render.density_scale): thinning from a density nobody sees.
+  bool content_at_unseen = false;
   double white_cd_m2 = 100.0;
 };
 
