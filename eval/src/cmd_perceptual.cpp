@@ -60,17 +60,36 @@ std::string problem(const PerceptualCommand& c, const foveation::ImageRgb& test,
   return "";
 }
 
-// The threshold multiple, when asked for: null (JSON) / left out (table) otherwise.
+// How many times above threshold the difference is, when asked for: the whole image's, and each
+// ring's (empty unless asked for).
+struct Multiples {
+  std::optional<double> image;
+  std::vector<double> rings;
+};
+
+// A ring's threshold multiple: null (JSON) / "-" (table) when not asked for or the ring is empty.
+std::optional<double> ring_multiple(const PerceptualResult& r, const Multiples& m, std::size_t i) {
+  if (i >= m.rings.size() || r.rings[i].pixels == 0) return std::nullopt;
+  return m.rings[i];
+}
+
+// The threshold multiples, when asked for: null (JSON) / left out (table) otherwise.
 nlohmann::ordered_json result_json(const PerceptualDisplay& d, double flicker_hz, glm::vec2 gaze,
-                                   const PerceptualResult& r, const std::optional<double>& multiple) {
+                                   const PerceptualResult& r, const Multiples& multiples) {
+  const auto number_or_null = [](const std::optional<double>& v) {
+    return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json();
+  };
   nlohmann::ordered_json rings = nlohmann::ordered_json::array();
-  for (const PerceptualRing& ring : r.rings)
+  for (std::size_t i = 0; i < r.rings.size(); ++i) {
+    const PerceptualRing& ring = r.rings[i];
     rings.push_back({{"from_deg", ring.from_deg},
                      {"to_deg", std::isfinite(ring.to_deg) ? nlohmann::ordered_json(ring.to_deg) : nlohmann::ordered_json()},
                      {"pixels", ring.pixels},
                      {"p_detect_mean", ring.p_mean},
                      {"p_detect_max", ring.p_max},
-                     {"p_detect_share", ring.detected_fraction}});
+                     {"p_detect_share", ring.detected_fraction},
+                     {"threshold_multiple", number_or_null(ring_multiple(r, multiples, i))}});
+  }
   return {{"width", r.width_px},
           {"height", r.height_px},
           {"gaze", {gaze.x, gaze.y}},
@@ -80,25 +99,29 @@ nlohmann::ordered_json result_json(const PerceptualDisplay& d, double flicker_hz
           {"p_detect_mean", r.p_mean},
           {"p_detect_max", r.p_max},
           {"p_detect_share", r.detected_fraction},
-          {"threshold_multiple", multiple ? nlohmann::ordered_json(*multiple) : nlohmann::ordered_json()},
+          {"threshold_multiple", number_or_null(multiples.image)},
           {"rings", rings}};
 }
 
-void print_table(const PerceptualResult& r, const std::optional<double>& multiple, std::ostream& out) {
+void print_table(const PerceptualResult& r, const Multiples& multiples, std::ostream& out) {
   char line[160];
-  out << "ring (deg)   pixels   P mean   P max   share P>=0.5\n";
+  const bool per_ring = !multiples.rings.empty();
+  out << "ring (deg)   pixels   P mean   P max   share P>=0.5" << (per_ring ? "   threshold multiple" : "") << "\n";
   for (std::size_t i = 0; i < r.rings.size(); ++i) {
     const PerceptualRing& g = r.rings[i];
     if (g.pixels == 0) continue;
-    std::snprintf(line, sizeof line, "%-10s %8llu   %.4f   %.4f   %.4f\n", ring_name(i).c_str(),
+    std::snprintf(line, sizeof line, "%-10s %8llu   %.4f   %.4f   %.4f", ring_name(i).c_str(),
                   static_cast<unsigned long long>(g.pixels), g.p_mean, g.p_max, g.detected_fraction);
     out << line;
+    if (per_ring) std::snprintf(line, sizeof line, "         %.3g", *ring_multiple(r, multiples, i)), out << line;
+    out << "\n";
   }
   std::snprintf(line, sizeof line, "%-10s %8zu   %.4f   %.4f   %.4f\n", "image", r.p_detect.size(), r.p_mean, r.p_max,
                 r.detected_fraction);
   out << line;
-  if (!multiple) return;
-  std::snprintf(line, sizeof line, "threshold multiple %.3g (P max 0.5 at the difference divided by it)\n", *multiple);
+  if (!multiples.image) return;
+  std::snprintf(line, sizeof line, "threshold multiple %.3g (P max 0.5 at the difference divided by it)\n",
+                *multiples.image);
   out << line;
 }
 
@@ -120,14 +143,16 @@ int run_perceptual(const PerceptualCommand& c, std::ostream& out, std::ostream& 
   if (!PerceptualMetric::create(d, test.width_px, test.height_px, options, metric, error, &executor) ||
       !metric.evaluate(test, ref, *c.gaze_px, &executor, r, error))
     return err << kWho << error << "\n", 1;
-  std::optional<double> multiple;
-  if (c.threshold_multiple && !metric.threshold_multiple(test, ref, *c.gaze_px, &executor, multiple.emplace(), error))
+  Multiples multiples;
+  if ((c.threshold_multiple || c.ring_multiples) &&
+      !metric.threshold_multiple(test, ref, *c.gaze_px, &executor, multiples.image.emplace(), error,
+                                 c.ring_multiples ? &multiples.rings : nullptr))
     return err << kWho << error << "\n", 1;
   if (!c.heatmap_png.empty() && !write_detection_png(c.heatmap_png, r, &error)) return err << kWho << error << "\n", 1;
   if (c.json)
-    out << result_json(d, c.flicker_hz, *c.gaze_px, r, multiple).dump(2) << "\n";
+    out << result_json(d, c.flicker_hz, *c.gaze_px, r, multiples).dump(2) << "\n";
   else
-    print_table(r, multiple, out);
+    print_table(r, multiples, out);
   return 0;
 }
 
@@ -154,6 +179,9 @@ void register_perceptual(CLI::App& app) {
   cmd->add_flag("--threshold-multiple", c->threshold_multiple,
                 "Also how many times above its detection threshold the difference is (a bisection: about 15 "
                 "evaluations)");
+  cmd->add_flag("--ring-multiples", c->ring_multiples,
+                "Also each ring's threshold multiple, by its largest P (a bisection a ring: about 15 evaluations "
+                "each); implies --threshold-multiple");
   cmd->callback([c, gaze, fov, ppd, fov_opt, ppd_opt] {
     if (!gaze->empty()) {
       try {

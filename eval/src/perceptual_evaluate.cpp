@@ -11,6 +11,9 @@
 
 #include "perceptual_detail.hpp"
 
+#include <map>
+#include <vector>
+
 namespace foveart::eval {
 namespace {
 
@@ -259,13 +262,16 @@ bool PerceptualMetric::evaluate(const foveation::ImageRgb& test, const foveation
 
 bool PerceptualMetric::threshold_multiple(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
                                           glm::vec2 gaze_px, foveation::Executor* executor, double& multiple,
-                                          std::string& error) const {
+                                          std::string& error, std::vector<double>* ring_multiples) const {
   if (bands_.empty()) return error = "perceptual metric: the model was not created", false;
   if (!check_inputs(test, reference, gaze_px, max_width_px_, max_height_px_, error)) return false;
   const Plane lt = luminance_plane(test, display_, executor), lr = luminance_plane(reference, display_, executor);
-  if (lt.v == lr.v) return multiple = 0.0, true;
-  // P max of reference + scale x (test - reference), in luminance; amplified, at least the display's black.
-  const auto p_max_at = [&](double log2_scale) {
+  // The largest P of the image (index 0) and of each ring (1...) at reference + scale x (test -
+  // reference), in luminance; amplified, at least the display's black. Each scale is evaluated once.
+  std::map<double, std::vector<double>> p_max_at_scale;
+  const auto p_max_at = [&](double log2_scale) -> const std::vector<double>& {
+    const auto [it, added] = p_max_at_scale.try_emplace(log2_scale);
+    if (!added) return it->second;
     Plane scaled = Plane::uninitialized(lt.width_px, lt.height_px);
     const float scale = float(std::exp2(log2_scale)), floor_cd_m2 = float(display_.black_luminance_cd_m2);
     const std::size_t row = std::size_t(lt.width_px);
@@ -275,16 +281,27 @@ bool PerceptualMetric::threshold_multiple(const foveation::ImageRgb& test, const
     });
     PerceptualResult r;
     evaluate_luminance(scaled, lr, gaze_px, executor, r);
-    return r.p_max;
+    it->second.push_back(r.p_max);
+    for (const PerceptualRing& ring : r.rings) it->second.push_back(ring.p_max);
+    return it->second;
   };
-  double lo = -kThresholdMultipleLog2Range, hi = kThresholdMultipleLog2Range;
-  if (p_max_at(hi) < 0.5) return multiple = 0.0, true;
-  if (p_max_at(lo) >= 0.5) return multiple = std::exp2(-lo), true;
-  while (hi - lo > kThresholdMultipleLog2Tolerance) {
-    const double mid = 0.5 * (lo + hi);
-    (p_max_at(mid) >= 0.5 ? hi : lo) = mid;
-  }
-  multiple = std::exp2(-0.5 * (lo + hi));
+  // One bisection over log2(1 / m) on the largest P at index i.
+  const auto multiple_of = [&](std::size_t i) {
+    double lo = -kThresholdMultipleLog2Range, hi = kThresholdMultipleLog2Range;
+    if (p_max_at(hi)[i] < 0.5) return 0.0;
+    if (p_max_at(lo)[i] >= 0.5) return std::exp2(-lo);
+    while (hi - lo > kThresholdMultipleLog2Tolerance) {
+      const double mid = 0.5 * (lo + hi);
+      (p_max_at(mid)[i] >= 0.5 ? hi : lo) = mid;
+    }
+    return std::exp2(-0.5 * (lo + hi));
+  };
+  const bool same = lt.v == lr.v;
+  multiple = same ? 0.0 : multiple_of(0);
+  if (ring_multiples == nullptr) return true;
+  ring_multiples->clear();
+  const std::size_t rings = p_max_at(0.0).size() - 1;
+  for (std::size_t r = 0; r < rings; ++r) ring_multiples->push_back(same ? 0.0 : multiple_of(1 + r));
   return true;
 }
 

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -108,6 +109,21 @@ TEST(PerceptualCommand, ThresholdMultipleOnlyWhenAskedForAndAboveOneWhereSeen) {
   auto j = nlohmann::json::parse(out);
   EXPECT_GT(j["threshold_multiple"].get<double>(), 1.0) << out;
   EXPECT_GE(j["p_detect_max"].get<double>(), 0.5) << out;
+  for (const auto& ring : j["rings"]) EXPECT_TRUE(ring["threshold_multiple"].is_null()) << "not asked for: " << out;
+  // Per ring: the image's multiple is its most visible ring's; a ring without pixels has none.
+  c.ring_multiples = true;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  j = nlohmann::json::parse(out);
+  double largest = 0.0;
+  for (const auto& ring : j["rings"]) {
+    ASSERT_EQ(ring["threshold_multiple"].is_null(), ring["pixels"].get<int>() == 0) << out;
+    if (!ring["threshold_multiple"].is_null()) largest = std::max(largest, ring["threshold_multiple"].get<double>());
+  }
+  EXPECT_DOUBLE_EQ(largest, j["threshold_multiple"].get<double>()) << out;
+  c.json = false;
+  ASSERT_EQ(run(c, &out, &err), 0) << err;
+  EXPECT_NE(out.find("threshold multiple\n"), std::string::npos) << "the table's column: " << out;
+  c.json = true, c.ring_multiples = false;
   c.test = faint;
   ASSERT_EQ(run(c, &out, &err), 0) << err;
   j = nlohmann::json::parse(out);

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <vector>
 
 #include "eval/perceptual_metric.hpp"
 
@@ -145,6 +146,29 @@ TEST(PerceptualMetric, ThresholdMultipleDividesTheDifferenceToOneHalf) {
     ASSERT_TRUE(m.evaluate(patch(w, h, 64, 64, contrast / multiple), ref, {64, 64}, nullptr, at_threshold, error));
     EXPECT_NEAR(at_threshold.p_max, 0.5, 0.01) << "contrast " << contrast << ", multiple " << multiple;
   }
+}
+
+// Each ring's threshold multiple is its own: two patches 7.5 degrees apart, in rings 0 and 2, each
+// read as if it were alone (within 2 %: the pyramid's coarsest bands reach across), the image's is
+// the larger, and rings without pixels read 0.
+TEST(PerceptualMetric, RingThresholdMultiplesReadEachRingsOwnDifference) {
+  const int w = 256, h = 96;
+  const PerceptualMetric m = make(w, h);
+  const ImageRgb ref = flat(w, h, 0.5f), fovea = patch(w, h, 32, 48, 0.2), out = patch(w, h, 182, 48, 0.05);
+  ImageRgb both = fovea;
+  for (std::size_t i = 0; i < both.rgb.size(); ++i) both.rgb[i] += out.rgb[i] - 0.5f;
+  std::string error;
+  double alone_fovea = 0.0, alone_out = 0.0, image = 0.0;
+  std::vector<double> rings;
+  ASSERT_TRUE(m.threshold_multiple(fovea, ref, {32, 48}, nullptr, alone_fovea, error)) << error;
+  ASSERT_TRUE(m.threshold_multiple(out, ref, {32, 48}, nullptr, alone_out, error)) << error;
+  ASSERT_TRUE(m.threshold_multiple(both, ref, {32, 48}, nullptr, image, error, &rings)) << error;
+  ASSERT_EQ(rings.size(), 7u);
+  EXPECT_NEAR(rings[0] / alone_fovea, 1.0, 0.02) << rings[0] << " against " << alone_fovea;
+  EXPECT_NEAR(rings[2] / alone_out, 1.0, 0.02) << rings[2] << " against " << alone_out;
+  EXPECT_GT(rings[0], 1.5 * rings[2]) << "the control: the rings differ";
+  EXPECT_DOUBLE_EQ(image, std::max({rings[0], rings[1], rings[2], rings[3]}));
+  for (const std::size_t empty : {4u, 5u, 6u}) EXPECT_EQ(rings[empty], 0.0) << "ring " << empty << " has no pixels";
 }
 
 TEST(PerceptualMetric, ThresholdMultipleOfNoDifferenceIsZeroAndBadInputIsAnError) {

@@ -1,11 +1,12 @@
 // `fovea-eval perceptual`: the perceptual metric (perceptual_metric.hpp) of one image pair at a
 // gaze: per ring and whole-image detection probability, as text or JSON, a heat map, and on request
-// how many times above threshold the difference is.
+// how many times above threshold the difference is, in the whole image and per ring.
 #pragma once
 
 #include <iosfwd>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -27,6 +28,7 @@ struct PerceptualCommand {
   bool json = false;
   std::string heatmap_png;         // P per pixel, black 0 .. white 1
   bool threshold_multiple = false;  // also how many times above threshold the difference is
+  bool ring_multiples = false;      // and each ring's (implies threshold_multiple)
   double flicker_hz = 0.0;          // the difference flickers at this frequency; 0: it is static
 };
 

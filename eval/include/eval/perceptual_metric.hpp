@@ -107,10 +107,12 @@ class PerceptualMetric {
   // itself: P max >= 0.5 where m >= 1). The headroom a model of a less sensitive task would have to
   // explain. Bisection over log2(1 / m) in [-12, 12] to within 1/256 (0.3 %); 0: identical images or
   // not detected even amplified 4096 times (an amplified luminance stays at least the display's
-  // black); 4096: detected even divided by 4096. Errors: as evaluate().
+  // black); 4096: detected even divided by 4096. With ring_multiples (may be null), each ring's
+  // own multiple too, by its largest P (PerceptualResult::rings' order; 0 in a ring without
+  // pixels): about 15 more evaluations a ring. Errors: as evaluate().
   [[nodiscard]] bool threshold_multiple(const foveation::ImageRgb& test, const foveation::ImageRgb& reference,
                                         glm::vec2 gaze_px, foveation::Executor* executor, double& multiple,
-                                        std::string& error) const;
+                                        std::string& error, std::vector<double>* ring_multiples = nullptr) const;
 
   const PerceptualDisplay& display() const { return display_; }
 
