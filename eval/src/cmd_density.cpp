@@ -114,11 +114,22 @@ Json rings_p_max(const PerceptualResult& p) {
   return a;
 }
 
+// Each ring's threshold multiple (null where the ring has no pixels); nothing when not measured.
+void add_ring_multiples(const PerceptualResult& p, const std::vector<double>& multiples, Json* row) {
+  if (multiples.empty()) return;
+  Json a = Json::array();
+  for (std::size_t r = 0; r < p.rings.size() && r < multiples.size(); ++r)
+    a.push_back(p.rings[r].pixels > 0 ? Json(multiples[r]) : Json());
+  (*row)["rings_threshold_multiple"] = std::move(a);
+}
+
 Json row_json(const char* kind, const DensityDetection& d, const PerceptualResult& full) {
-  return {{"kind", kind},           {"density_scale", d.density_scale}, {"content_contrast", d.content_contrast},
-          {"content_rays", d.content_rays}, {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
-          {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},
-          {"unseen", unseen_in_every_ring(ring_p_max(d.p), ring_p_max(full))}};
+  Json row = {{"kind", kind},           {"density_scale", d.density_scale}, {"content_contrast", d.content_contrast},
+              {"content_rays", d.content_rays}, {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
+              {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},
+              {"unseen", unseen_in_every_ring(ring_p_max(d.p), ring_p_max(full))}};
+  add_ring_multiples(d.p, d.ring_multiples, &row);
+  return row;
 }
 
 // --out PREFIX: a measured image as PREFIX_<name>.png on the view's display and, with its
@@ -159,6 +170,13 @@ std::string row_image_name(const char* kind, double scale, double contrast, doub
   if (rr.status != FOVEART_RESULT_SUCCESS) return *error = "full render: engine callback failed", false;
   if (!r.metric.evaluate(full, r.reference, r.gaze, &executor, *p, *error)) return false;
   *out = {{"frame_ms", rr.trace_ms}, {"p_max", p->p_max}, {"rings_p_max", rings_p_max(*p)}};
+  if (o.ring_multiples) {
+    double image_multiple = 0.0;
+    std::vector<double> multiples;
+    if (!r.metric.threshold_multiple(full, r.reference, r.gaze, &executor, image_multiple, *error, &multiples))
+      return false;
+    add_ring_multiples(*p, multiples, out);
+  }
   const std::string& prefix = o.render.out_prefix;
   if (prefix.empty()) return true;
   Json files = Json::array();
@@ -271,6 +289,7 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   if (!o.render.cache_dir.empty()) probe.cache_dir = std::filesystem::path(o.render.cache_dir);
   probe.log = [&](const std::string& m) { err << kDensityWho << m << "\n"; };
   probe.keep_image = !o.render.out_prefix.empty();
+  probe.ring_multiples = o.ring_multiples;
   const auto run_sweep = [&](const char* kind, const std::vector<DensityAt>& at, Json* best) {
     return sweep(probe, kind, at, full, o.render.out_prefix, r.display, err, &rows, best, &error);
   };
@@ -331,6 +350,9 @@ void register_density(CLI::App& app) {
   cmd->add_flag("--content-at-unseen", o->content_at_unseen,
                 "The content-aware rows also at the sparsest --scales density the metric does not see, where it is "
                 "not --density-scale");
+  cmd->add_flag("--ring-multiples", o->ring_multiples,
+                "Also how many times above threshold each ring of each frame is (fovea-eval perceptual "
+                "--ring-multiples; about 100 evaluations of the metric a frame)");
   cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();
   cmd->callback([o, gaze, pose, crop, parse_common] {
     parse_common();

@@ -248,6 +248,36 @@ TEST(DensityCommand, ContentAtUnseenAlsoThinsFromTheSparsestUnseenScale) {
   EXPECT_EQ(without["rows"].size(), 4u);
 }
 
+// --ring-multiples: every row and the full render say how many times above threshold each ring
+// is: above 1 where its largest P reaches one half, none where the ring has no pixels.
+TEST(DensityCommand, RingMultiplesAgreeWithEachRingsDetection) {
+  engine_test::TempDir dir;
+  eval::DensityOptions o = tiny_density(dir.path.string());
+  o.scales = {4.0};
+  o.contrasts.clear();
+  o.ray_contrasts.clear();
+  o.both_contrasts.clear();
+  std::string out, err;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  EXPECT_FALSE(nlohmann::json::parse(out)["rows"][0].contains("rings_threshold_multiple")) << "not asked for";
+  o.ring_multiples = true;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  const auto j = nlohmann::json::parse(out);
+  int compared = 0;
+  for (const auto* row : {&j["full"], &j["rows"][0]}) {
+    const auto& p = (*row)["rings_p_max"];
+    const auto& m = (*row)["rings_threshold_multiple"];
+    ASSERT_EQ(m.size(), p.size()) << row->dump();
+    for (std::size_t r = 0; r < p.size(); ++r) {
+      ASSERT_EQ(m[r].is_null(), p[r].is_null()) << "ring " << r << ": " << row->dump();
+      if (p[r].is_null() || std::abs(p[r].get<double>() - 0.5) < 0.02) continue;  // at one half: the bisection's
+      EXPECT_EQ(m[r].get<double>() >= 1.0, p[r].get<double>() >= 0.5) << "ring " << r << ": " << row->dump();
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 4) << out;
+}
+
 TEST(DensityDetection, BisectionFindsTheHalfCrossingOrSaysThereIsNone) {
   int calls = 0;
   const auto step_at_1_3 = [&](double s) -> std::optional<double> { return ++calls, s < 1.3 ? 0.2 : 0.9; };

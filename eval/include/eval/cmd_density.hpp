@@ -11,7 +11,8 @@
 // smallest ray fraction at which every ring stays below P = 0.5, among the rings where the full
 // render itself stays below it (elsewhere its own noise hides foveation); and the content-aware row
 // (any of its kinds) with the fewest rays at eccentricity-only's detection (detected_no_more). JSON on stdout;
-// with --out PREFIX, every frame measured and P per pixel beside it as PNGs, to look at what the metric sees.
+// with --out PREFIX, every frame measured and P per pixel beside it as PNGs, to look at what the metric sees;
+// with --ring-multiples, how many times above threshold each ring of each frame is.
 #pragma once
 
 #include <eval/lab_options.hpp>
@@ -43,6 +44,7 @@ struct DensityOptions {
   // The content-aware rows also at the sparsest eccentricity-only scale the metric does not see
   // (where it is not render.density_scale): thinning from a density nobody sees.
   bool content_at_unseen = false;
+  bool ring_multiples = false;  // each row's (and the full render's) threshold multiple per ring
   double white_cd_m2 = 100.0;
 };
 

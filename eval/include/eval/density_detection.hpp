@@ -17,6 +17,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace foveart::eval {
 
@@ -34,6 +35,7 @@ struct DensityProbe {
   foveation::LogFn log;
   foveation::Executor* executor = nullptr;
   bool keep_image = false;  // DensityDetection::image: the measured frame, to be looked at
+  bool ring_multiples = false;  // DensityDetection::ring_multiples: each ring's threshold multiple (slow)
 };
 
 struct DensityDetection {
@@ -44,6 +46,7 @@ struct DensityDetection {
   double density_ms = 0.0;    // content-aware density's part of that frame (FrameResult::density_ms)
   double frame_ms = 0.0;      // that frame's select + trace + reconstruct
   PerceptualResult p;         // the frame against the reference
+  std::vector<double> ring_multiples;  // each ring's threshold multiple, when the probe asks (0: no pixels)
   foveation::ImageRgb image;  // that frame, linear radiance (empty unless the probe keeps it)
 };
 
