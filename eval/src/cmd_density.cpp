@@ -124,9 +124,15 @@ void add_ring_multiples(const PerceptualResult& p, const std::vector<double>& mu
 }
 
 Json row_json(const char* kind, const DensityDetection& d, const PerceptualResult& full) {
-  Json row = {{"kind", kind},           {"density_scale", d.density_scale}, {"content_contrast", d.content_contrast},
-              {"content_rays", d.content_rays}, {"ray_fraction", d.ray_fraction}, {"density_ms", d.density_ms}, {"frame_ms", d.frame_ms},
-              {"p_max", d.p.p_max},     {"rings_p_max", rings_p_max(d.p)},
+  Json row = {{"kind", kind},
+              {"density_scale", d.density_scale},
+              {"content_contrast", d.content_contrast},
+              {"content_rays", d.content_rays},
+              {"ray_fraction", d.ray_fraction},
+              {"density_ms", d.density_ms},
+              {"frame_ms", d.frame_ms},
+              {"p_max", d.p.p_max},
+              {"rings_p_max", rings_p_max(d.p)},
               {"unseen", unseen_in_every_ring(ring_p_max(d.p), ring_p_max(full))}};
   add_ring_multiples(d.p, d.ring_multiples, &row);
   return row;
@@ -307,17 +313,27 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
   if (!run_sweep("content", content, &best_content) || !run_sweep("rays", rays, &best_rays) ||
       !run_sweep("both", both, &best_both))
     return err << kDensityWho << error << "\n", 1;
-  const Json report = {{"scene", o.render.scene}, {"preset", o.render.preset},
-                       {"width", r.view.width_px}, {"height", r.view.height_px},
-                       {"gaze", {r.gaze.x, r.gaze.y}}, {"fov_deg", render_view::fov_deg(r.view)},
-                       {"pixels_per_deg", r.metric.display().pixels_per_deg},
-                       {"interpolation", o.render.interpolation}, {"rays_per_point", o.render.rays_per_point},
-                       {"reference_spp", r.reference_spp}, {"exposure", r.display.exposure},
-                       {"ring_edges_deg", metrics::kRingEdgesDeg},
-                       {"full", baseline}, {"rows", rows},
-                       {"best_eccentricity", best_eccentricity}, {"best_content", best_content},
-                       {"best_rays", best_rays}, {"best_both", best_both}, {"content_density_scales", content_scales},
-                       {"content_at_eccentricity_detection", fewest_at_eccentricity_detection(rows, o.render.density_scale)}};
+  const Json report = {
+      {"scene", o.render.scene},
+      {"preset", o.render.preset},
+      {"width", r.view.width_px},
+      {"height", r.view.height_px},
+      {"gaze", {r.gaze.x, r.gaze.y}},
+      {"fov_deg", render_view::fov_deg(r.view)},
+      {"pixels_per_deg", r.metric.display().pixels_per_deg},
+      {"interpolation", o.render.interpolation},
+      {"rays_per_point", o.render.rays_per_point},
+      {"reference_spp", r.reference_spp},
+      {"exposure", r.display.exposure},
+      {"ring_edges_deg", metrics::kRingEdgesDeg},
+      {"full", baseline},
+      {"rows", rows},
+      {"best_eccentricity", best_eccentricity},
+      {"best_content", best_content},
+      {"best_rays", best_rays},
+      {"best_both", best_both},
+      {"content_density_scales", content_scales},
+      {"content_at_eccentricity_detection", fewest_at_eccentricity_detection(rows, o.render.density_scale)}};
   out << report.dump(2) << "\n";
   return 0;
 }

@@ -82,13 +82,14 @@ nlohmann::ordered_json result_json(const PerceptualDisplay& d, double flicker_hz
   nlohmann::ordered_json rings = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i < r.rings.size(); ++i) {
     const PerceptualRing& ring = r.rings[i];
-    rings.push_back({{"from_deg", ring.from_deg},
-                     {"to_deg", std::isfinite(ring.to_deg) ? nlohmann::ordered_json(ring.to_deg) : nlohmann::ordered_json()},
-                     {"pixels", ring.pixels},
-                     {"p_detect_mean", ring.p_mean},
-                     {"p_detect_max", ring.p_max},
-                     {"p_detect_share", ring.detected_fraction},
-                     {"threshold_multiple", number_or_null(ring_multiple(r, multiples, i))}});
+    rings.push_back(
+        {{"from_deg", ring.from_deg},
+         {"to_deg", std::isfinite(ring.to_deg) ? nlohmann::ordered_json(ring.to_deg) : nlohmann::ordered_json()},
+         {"pixels", ring.pixels},
+         {"p_detect_mean", ring.p_mean},
+         {"p_detect_max", ring.p_max},
+         {"p_detect_share", ring.detected_fraction},
+         {"threshold_multiple", number_or_null(ring_multiple(r, multiples, i))}});
   }
   return {{"width", r.width_px},
           {"height", r.height_px},

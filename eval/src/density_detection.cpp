@@ -36,9 +36,9 @@ bool measure_density(const DensityProbe& probe, double density_scale, double con
   if (!probe.metric->evaluate(view.image(), *probe.reference, probe.gaze_px, probe.executor, out->p, *error))
     return false;
   double image_multiple = 0.0;
-  return !probe.ring_multiples || probe.metric->threshold_multiple(view.image(), *probe.reference, probe.gaze_px,
-                                                                   probe.executor, image_multiple, *error,
-                                                                   &out->ring_multiples);
+  return !probe.ring_multiples ||
+         probe.metric->threshold_multiple(view.image(), *probe.reference, probe.gaze_px, probe.executor, image_multiple,
+                                          *error, &out->ring_multiples);
 }
 
 std::optional<double> half_detection_scale(const std::function<std::optional<double>(double)>& detection, double lo,
