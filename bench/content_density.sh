@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Content-aware density and rays per point by contrast on the benchmark set (bench/scenes.sh's
-# scenes and viewers), in three parts, each writing its own file in DIR (headed by its command and
+# scenes and viewers), in parts, each writing its own file in DIR (headed by its command and
 # this machine) and its JSON in DIR/json/:
 #  detection (content_density.md): per scene, at a centred and an off-centre gaze, `fovea-eval
 #    density` sweeps the density scale (eccentricity only, from denser than the thesis's to far
@@ -12,6 +12,9 @@
 #    reference (cached in out/cache/reference), and the content-aware row with the fewest rays at
 #    eccentricity only's detection per ring at scale 1. The view: a CROP of the FOVE eye at its
 #    pixels per degree (10.2 at the gaze), RAYS rays per point and per pixel.
+#  multiples (multiples.md): centred gaze, how many times above threshold each ring of the CROP is
+#    (`fovea-eval density --ring-multiples`) at the thesis's scale 1, eccentricity only and thinned
+#    from contrast 0.1, with nearest-neighbour and MSM reconstruction, beside the full render's.
 #  cost (cost.md): what choosing the density costs in a product frame, per stage: `fovea render`
 #    on the whole FOVE eye, content contrast 0.5 at one ray per point, and both levers at four,
 #    against the frame's ms.
@@ -26,7 +29,7 @@
 #    built-in head and gaze motion, with both product histories (image, rays), at content contrast 0.1
 #    and without: the CSF-weighted flicker per ring against a converged reference sequence, its
 #    floor, and the points traced.
-# Usage: bench/content_density.sh [--part detection|cost|rays|device-cost|flicker] [--scenes NAME,...]
+# Usage: bench/content_density.sh [--part detection|multiples|cost|rays|device-cost|flicker] [--scenes NAME,...]
 #                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
 #   the whole eye, out to its widest eccentricities: about 5 minutes a scene on 2 cores.
@@ -34,11 +37,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 args=("$@")
-parts=(detection cost rays device-cost flicker)
+parts=(detection multiples cost rays device-cost flicker)
 if [ "${1:-}" = --part ]; then
   case "${2:-}" in
-    detection | cost | rays | device-cost | flicker) parts=("$2") ;;
-    *) echo "bench/content_density.sh: --part detection, cost, rays, device-cost or flicker" >&2; exit 2 ;;
+    detection | multiples | cost | rays | device-cost | flicker) parts=("$2") ;;
+    *) echo "bench/content_density.sh: --part detection, multiples, cost, rays, device-cost or flicker" >&2; exit 2 ;;
   esac
   shift 2
 fi
@@ -154,6 +157,49 @@ detection_part() {
     cat "$details"
   } >>"$md"
   rm -f "$details"
+}
+
+# Per scene, centred gaze, how many times above threshold each ring is at the thesis's density, by
+# reconstruction, beside the full render's own: multiples.md.
+multiples_part() {
+  need "$eval_bin"
+  local methods=("nearest|--interpolation nearest" "msm|--interpolation msm --k 5")
+  local common=(--preset fove --crop "$crop" --gaze "$((cw / 2)),$((ch / 2))" --rays-per-point "$rays"
+                --reference-spp "$reference_spp" --scales 1 --contrasts 0.1 --ring-multiples --cache-dir out/cache)
+  local md="$dir/multiples.md" entry name scene viewer method mname moptions json
+  {
+    header "How far above threshold foveation is, ring by ring"
+    echo "Per scene and reconstruction \`$eval_bin density --scene SCENE VIEWER METHOD ${common[*]}\`, METHOD"
+    echo "\`--interpolation nearest\` or \`--interpolation msm --k 5\`."
+    echo
+    echo "The centred gaze. Threshold multiple: how many times the frame's difference from a converged reference at"
+    echo "$reference_spp rays per pixel must be divided, in luminance, for the ring's largest P to fall to one half"
+    echo "(\`--ring-multiples\`); under 1 the ring is unseen, 0: unseen even amplified 4096 times. Frames: the full"
+    echo "render at $rays rays per pixel (where it is above 1, its own noise is seen); eccentricity-only density at"
+    echo "the thesis's scale 1; content-aware thinning from contrast 0.1 at the same scale. Ray %: primary rays over"
+    echo "the full render's."
+    echo
+    echo "| scene | frame | reconstruction | ray % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  } >"$md"
+  for entry in "${scenes[@]}"; do
+    IFS='|' read -r name scene viewer <<<"$entry"
+    for method in "${methods[@]}"; do
+      IFS='|' read -r mname moptions <<<"$method"
+      echo "=== $name, multiples, $mname" >&2
+      json="$dir/json/${name}_multiples_$mname.json"
+      # shellcheck disable=SC2086
+      "$eval_bin" density --scene "$scene" $viewer $moptions "${common[@]}" >"$json"
+      jq -r --arg name "$name" --arg method "$mname" '
+        def r2: if . == null then "-" elif . == 0 then "0" else . * 100 | round / 100 end;
+        def multiples: .rings_threshold_multiple | map(r2) | join(" | ");
+        (if $method == "nearest" then "| \($name) | full render | | 100 | \(.full | multiples) |" else empty end),
+        (.rows[] | "| \($name) | \(if .kind == "eccentricity" then "eccentricity only, scale 1" else "thin 0.1, scale 1" end)"
+          + " | \($method) | \(.ray_fraction * 1000 | round / 10) | \(multiples) |")' "$json" >>"$md"
+    done
+  done
+  echo >>"$md"
+  echo "Rings: degrees from the gaze." >>"$md"
 }
 
 # Per scene, content-aware density's CPU cost per stage in a product frame: cost.md.
