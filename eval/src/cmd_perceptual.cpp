@@ -67,7 +67,7 @@ struct Multiples {
   std::vector<double> rings;
 };
 
-// A ring's threshold multiple: null (JSON) / "-" (table) when not asked for or the ring is empty.
+// A ring's threshold multiple; none when not asked for or the ring has no pixels (the table skips it).
 std::optional<double> ring_multiple(const PerceptualResult& r, const Multiples& m, std::size_t i) {
   if (i >= m.rings.size() || r.rings[i].pixels == 0) return std::nullopt;
   return m.rings[i];
