@@ -60,6 +60,11 @@ double lum_dep(std::span<const double> p, double lum) {
   }
 }
 
+// Rovamo et al. 1993 (stelaCSF eq. 11): a channel's critical area A_0 / (1 + (rho / f_0)^2), deg^2.
+double critical_area_deg2(const Channel& c, double rho) {
+  return c.area0_deg2 / (1.0 + (rho / c.f0_cpd) * (rho / c.f0_cpd));
+}
+
 // stelaCSF eqs. 8-11: truncated log-parabola times Rovamo's area summation, times rho.
 double channel_sensitivity(const Channel& c, double rho, double area, double lum) {
   const double s_max = lum_dep(c.s_max, lum);
@@ -67,7 +72,7 @@ double channel_sensitivity(const Channel& c, double rho, double area, double lum
   const double d = std::log10(rho) - std::log10(f_max);
   double lp = std::pow(10.0, -d * d / std::exp2(c.bw));
   if (rho < f_max) lp = c.trunc < 0.0 ? 1.0 : std::max(lp, 1.0 - c.trunc);
-  const double ac = c.area0_deg2 / (1.0 + (rho / c.f0_cpd) * (rho / c.f0_cpd));
+  const double ac = critical_area_deg2(c, rho);
   return s_max * lp * std::sqrt(ac / (1.0 + ac / area)) * rho;
 }
 
@@ -96,20 +101,17 @@ double transient_response(double omega_hz, double lum) {
 }  // namespace
 
 double castle_critical_area_deg2(double freq_cpd, double temporal_freq_hz, double luminance_cd_m2) {
-  const auto area = [&](const Channel& c) {
-    return c.area0_deg2 / (1.0 + (freq_cpd / c.f0_cpd) * (freq_cpd / c.f0_cpd));
-  };
-  if (!(temporal_freq_hz > 0.0)) return area(kSustained);
+  if (!(temporal_freq_hz > 0.0)) return critical_area_deg2(kSustained, freq_cpd);
   constexpr double kLargeDeg2 = 1e6;
   const double sustained = sustained_response(kSustained, temporal_freq_hz) *
                            channel_sensitivity(kSustained, freq_cpd, kLargeDeg2, luminance_cd_m2);
   const double transient = transient_response(temporal_freq_hz, luminance_cd_m2) *
                            channel_sensitivity(kTransient, freq_cpd, kLargeDeg2, luminance_cd_m2);
-  return area(transient > sustained ? kTransient : kSustained);
+  return critical_area_deg2(transient > sustained ? kTransient : kSustained, freq_cpd);
 }
 
 double castle_chromatic_critical_area_deg2(double freq_cpd) {
-  return kYellowViolet.area0_deg2 / (1.0 + (freq_cpd / kYellowViolet.f0_cpd) * (freq_cpd / kYellowViolet.f0_cpd));
+  return critical_area_deg2(kYellowViolet, freq_cpd);
 }
 
 CsfParts castle_sensitivity_parts(const CsfStimulus& s, EccentricityTerm ecc) {
