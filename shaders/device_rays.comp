@@ -133,7 +133,7 @@ uint density_rays(uint i, vec2 screen) {
     }
   }
   const vec4 p = points[i].position_radius_grid;
-  if ((flags & FOVEART_DEVICE_RAYS_VARY) == 0u || p.w > 0.5) return rays_per_point;  // the fovea keeps all
+  if ((flags & FOVEART_DEVICE_RAYS_VARY) == 0u || p.w > 1.5) return rays_per_point;  // the fovea keeps all
   return density_ray_count(rays_per_point, p.z, contrast, rays_contrast);
 }
 

@@ -4,6 +4,7 @@
 
 #include "foveation/device.hpp"
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <sstream>
@@ -58,6 +59,12 @@ double DisplayModel::pixel_grid_radius_px() const {
   const double angle_rad = ecc_deg / scale / kDegPerRad;
   if (angle_rad >= 0.5 * std::numbers::pi) return std::numeric_limits<double>::infinity();
   return view_distance_px * std::tan(angle_rad);
+}
+
+double DisplayModel::exact_fovea_radius_px() const {
+  DisplayModel thesis_density = *this;
+  thesis_density.scale = std::max(scale, 1.0);
+  return thesis_density.pixel_grid_radius_px();
 }
 
 std::string_view fovea_pattern_name(FoveaPattern pattern) {

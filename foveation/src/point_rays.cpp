@@ -44,7 +44,7 @@ std::uint32_t point_ray_count(std::uint32_t rays_per_point, float radius_px, flo
 }
 
 std::uint32_t PointRays::rays_of(std::uint32_t id, float tile_contrast, float rays_contrast) const {
-  if (points_.on_pixel_grid(id)) return rays_per_point_;
+  if (points_.in_exact_fovea(id)) return rays_per_point_;
   return point_ray_count(rays_per_point_, points_.radius_px[id], tile_contrast, rays_contrast);
 }
 

@@ -150,7 +150,7 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
     }
     descriptors_stale_ = true;
   }
-  if (uploaded_points_ != &points) {  // the set's points, once per table set: canvas x, y, radius, pixel grid
+  if (uploaded_points_ != &points) {  // the set's points, once per table set: canvas x, y, radius, grid
     for (BoundBuffer* b : {&points_, &staging_, &blocks_, &point_rays_}) destroy_buffer(device_, b);
     uploaded_points_ = nullptr;
     const VkDeviceSize bytes = std::max<VkDeviceSize>(points.size() * sizeof(shader::DevicePoint), 16);
@@ -165,7 +165,9 @@ bool DeviceTrace::ensure_buffers(const foveation::PointSet& points, std::uint32_
     auto* packed = static_cast<shader::DevicePoint*>(staging_.mapped);
     for (std::size_t i = 0; i < points.size(); ++i) {
       packed[i].position_radius_grid = {points.position_px[i].x, points.position_px[i].y, points.radius_px[i],
-                                        points.on_pixel_grid(i) ? 1.0f : 0.0f};
+                                        points.in_exact_fovea(i)  ? 2.0f
+                                        : points.on_pixel_grid(i) ? 1.0f
+                                                                  : 0.0f};
     }
     staged_bytes_ = points.size() * sizeof(shader::DevicePoint);
     uploaded_points_ = &points;

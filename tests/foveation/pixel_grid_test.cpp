@@ -88,6 +88,7 @@ TEST_P(PixelGrid, NeverMorePointsThanPixelsForAnyScaleOrGaze) {
         if (ps.on_pixel_grid(i)) {
           ++grid_points;
           ASSERT_TRUE(at_pixel_centre(ps.position_px[i])) << "grid point " << i << " off a pixel centre";
+          ASSERT_TRUE(ps.in_exact_fovea(i)) << "grid point " << i << ": at scale 1 or more the grid is the fovea";
           ASSERT_LE(dist, grid_radius_px) << "grid point " << i;
         } else {
           ASSERT_GT(dist, grid_radius_px - 1.0) << "Poisson point " << i << " inside the grid";
@@ -111,6 +112,26 @@ TEST_P(PixelGrid, NeverMorePointsThanPixelsForAnyScaleOrGaze) {
       }
     }
   }
+}
+
+// The pixel-exact fovea is the grid of the thesis's density: the whole grid at scale 1 and
+// above; a denser scale widens the grid, not the fovea.
+TEST_P(PixelGrid, ExactFoveaIsTheGridOfTheThesisDensity) {
+  fv::DisplayModel thesis_density = GetParam().display;
+  thesis_density.scale = 1.0;
+  for (double scale : {0.5, 0.75, 1.0, 2.0}) {
+    fv::DisplayModel d = GetParam().display;
+    d.scale = scale;
+    SCOPED_TRACE(GetParam().name + " scale " + std::to_string(scale));
+    EXPECT_EQ(d.exact_fovea_radius_px(), (scale < 1.0 ? thesis_density : d).pixel_grid_radius_px());
+    EXPECT_LE(d.exact_fovea_radius_px(), d.pixel_grid_radius_px());
+    if (scale < 1.0 && std::isfinite(d.pixel_grid_radius_px()) && thesis_density.pixel_grid_radius_px() > 0.0) {
+      EXPECT_LT(d.exact_fovea_radius_px(), d.pixel_grid_radius_px());
+    }
+  }
+  fv::DisplayModel poisson = GetParam().display;
+  poisson.fovea_pattern = fv::FoveaPattern::kThesisPoisson;
+  EXPECT_EQ(poisson.exact_fovea_radius_px(), 0.0) << "no grid, no exact fovea";
 }
 
 INSTANTIATE_TEST_SUITE_P(Displays, PixelGrid, ::testing::ValuesIn(displays()),

@@ -88,6 +88,8 @@ TEST_F(CacheTest, RoundTrip) {
   EXPECT_EQ(ps->radius_px, points_.radius_px);
   EXPECT_EQ(ps->footprint, points_.footprint);
   EXPECT_EQ(ps->visible_margin_px, points_.visible_margin_px);
+  EXPECT_EQ(ps->exact_fovea_radius_px, points_.exact_fovea_radius_px);
+  EXPECT_GT(ps->exact_fovea_radius_px, 0.0f);
   EXPECT_GT(std::count(ps->footprint.begin(), ps->footprint.end(), fv::PointFootprint::kPixel), 100);
   const auto t = fv::load_neighbor_table(tf, key_, &err);
   ASSERT_TRUE(t.has_value()) << err;

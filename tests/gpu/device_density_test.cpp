@@ -5,9 +5,10 @@
 // each casts are those the CPU's rule (foveation::ContentDensity, PointRays::
 // rays_of) gives for the tiles of the colours the device resolved; flat content
 // gives up points and rays while the pixel-exact fovea keeps every point and
-// ray, high contrast keeps them all; a fault makes the next frame trace every
-// point; the frame reconstructs as the CPU path's content-density frame; and
-// the device's stage set passes the view's content density to the device.
+// ray (the grid margin of a denser scale its points only), high contrast keeps
+// them all; a fault makes the next frame trace every point; the frame
+// reconstructs as the CPU path's content-density frame; and the device's stage
+// set passes the view's content density to the device.
 #include <algorithm>
 #include <cstring>
 #include <iostream>
@@ -21,6 +22,7 @@
 #include "foveation/point_rays.hpp"
 #include "foveation/visible_points.hpp"
 #include "gpu/device_stages.hpp"
+#include "threaded/small_view.hpp"
 
 namespace foveart::gpu {
 namespace {
@@ -212,6 +214,38 @@ TEST_F(DeviceDensityTest, FlatContentGivesUpRaysTheFoveaAndEdgesKeepThem) {
   EXPECT_EQ(eye_->device_trace_status().thinned_points, 0u);
   EXPECT_EQ(eye_->device_trace_status().rays, first.rays);
   EXPECT_EQ(copied_rays(), first_rays);
+}
+
+// At a scale below 1 the grid margin beyond the pixel-exact fovea keeps every point but
+// casts by content as the CPU's rule does: flat content leaves it one ray a point, while the
+// exact fovea keeps all.
+TEST_F(DeviceDensityTest, TheGridMarginOfADenserScaleCastsByContentAsOnTheCpu) {
+  std::string error;
+  tables_ = foveation::small_view::grid_margin_tables(kViewW, kViewH, foveation::InterpMethod::msm, 5);
+  gpu_tables_ = gpu_->upload_tables(tables_, &error);
+  ASSERT_NE(gpu_tables_, nullptr) << error;
+  engine_.answer = TestEngine::Answer::fill;
+  engine_.copy = true;
+  foveation::FoveatedView view(tables_, settings_);
+  const glm::vec2 gaze(48, 40);
+  ASSERT_TRUE(density_frame(view, request(gaze, 0), &error)) << error;
+  foveation::GazeMapping before = view.hand_off().mapping;
+  DensityCounts expected;
+  const std::vector<uint32_t> flat_rays = expect_cpu_rule(view, gaze, 1, &before, copied_rays(), &expected);
+  const foveation::PointSet& points = tables_->points;
+  std::size_t exact = 0, margin = 0;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (!points.on_pixel_grid(p) || expected.rays[p] == 0) continue;  // not visible, or a Poisson point
+    if (points.in_exact_fovea(p)) {
+      ++exact;
+      EXPECT_EQ(flat_rays[p], kDensityRays) << "fovea point " << p;
+    } else {
+      ++margin;
+      EXPECT_EQ(flat_rays[p], 1u) << "margin point " << p;
+    }
+  }
+  EXPECT_GT(exact, 2000u);
+  EXPECT_GT(margin, 1000u);
 }
 
 // A frame whose colours are NaN (found by the resolve) leaves no contrast: the next

@@ -2,8 +2,9 @@
 // is flat by a test per point, never a rebuild (thesis 8.2: density that follows the
 // content). Level 0 is a Poisson subset at three times the set's spacing (about a ninth
 // of the points), level 1 adds points down to twice it (about a quarter), level 2 down
-// to sqrt(2) times it (about half), level 3 is the rest. The pixel-exact fovea is level
-// 0 throughout, so it is always traced.
+// to sqrt(2) times it (about half), level 3 is the rest. The pixel grid (the pixel-exact
+// fovea and the margin a denser scale adds to it) is level 0 throughout, so it is always
+// traced: filling a grid point from its neighbours would blur what the grid shows sharp.
 //
 // A point above level 0 keeps its nearest level-0 points and their inverse-distance
 // weights (Shepard 1968): a frame that does not trace it gives it their colour, so the

@@ -47,7 +47,8 @@ class PointRays {
 
   std::uint32_t rays_per_point() const { return rays_per_point_; }
   // The rays point id casts in a tile of that contrast: point_ray_count, or all of them
-  // for a pixel-grid point (the pixel-exact fovea samples its pixel as the full render).
+  // for a point of the pixel-exact fovea (it samples its pixel as the full render); a grid
+  // point beyond it (a denser scale's margin) casts as a disc of one pixel's area.
   std::uint32_t rays_of(std::uint32_t id, float tile_contrast, float rays_contrast) const;
 
  private:

@@ -46,9 +46,19 @@ struct PointSet {
   // its Poisson set; 0 for the pixel-grid pattern, whose frames then trace at
   // most one point per screen pixel.
   float visible_margin_px = kVisibleMarginPx;
+  // DisplayModel::exact_fovea_radius_px around the centre of interest (the canvas's
+  // centre): the grid points within it are the pixel-exact fovea.
+  float exact_fovea_radius_px = 0.0f;
 
   std::size_t size() const { return position_px.size(); }
   bool on_pixel_grid(std::size_t i) const { return !footprint.empty() && footprint[i] == PointFootprint::kPixel; }
+  // Point i is of the pixel-exact fovea: always traced, with all its rays.
+  bool in_exact_fovea(std::size_t i) const {
+    if (!on_pixel_grid(i)) return false;
+    const float dx = position_px[i].x - 0.5f * float(canvas_width_px);
+    const float dy = position_px[i].y - 0.5f * float(canvas_height_px);
+    return dx * dx + dy * dy <= exact_fovea_radius_px * exact_fovea_radius_px;
+  }
 };
 
 // The display's pattern: the pixel grid (if any) then variable-radius Bridson

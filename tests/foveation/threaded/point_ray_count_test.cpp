@@ -9,6 +9,7 @@
 #include <mutex>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "foveation/content_density.hpp"
@@ -60,8 +61,9 @@ int32_t count_rays(void* user, const FoveartRayBatch* batch) {
   return FOVEART_RESULT_SUCCESS;
 }
 
-FrameResult render_counting(FoveatedView& view, RayScene& scene, uint64_t frame_index, Executor& executor) {
-  scene.rays_of_point.assign(ray_tables()->points.size(), 0);
+FrameResult render_counting(FoveatedView& view, RayScene& scene, uint64_t frame_index, Executor& executor,
+                            const ViewTables& tables = *ray_tables()) {
+  scene.rays_of_point.assign(tables.points.size(), 0);
   return view.render(ray_request(frame_index), &count_rays, &scene, executor);
 }
 
@@ -146,6 +148,56 @@ TEST(PointRayCount, FramesGiveEdgesTheirRaysAndFlatOrDarkTilesOne) {
         ASSERT_NEAR(pa[0], b.at(int(x), int(y))[0], 1e-6f) << x << "," << y;
       }
     }
+}
+
+// A scale below 1 widens the pixel grid beyond the pixel-exact fovea (the grid of the
+// thesis's density). That margin keeps every point, as the thinning never takes a grid
+// point, but its rays follow the content as a Poisson point's of the same disc (a pixel's
+// area) do: a few beside the edge, one in a flat tile. The exact fovea keeps them all.
+TEST(PointRayCount, TheGridMarginOfADenserScaleCastsByContentTheExactFoveaAll) {
+  const auto tables = small_view::grid_margin_tables(kRaysW, kRaysH, InterpMethod::nearest, 1);
+  const PointSet& points = tables->points;
+  const double exact_px = tables->key.display.exact_fovea_radius_px();
+  ASSERT_LT(exact_px + 8.0, tables->key.display.pixel_grid_radius_px()) << "the scale leaves a margin";
+  Executor executor(2);
+  ViewSettings settings = ray_settings(kRaysContrast);
+  settings.content_density.full_contrast = 0.5f;  // and thinning, which leaves the whole grid traced
+  FoveatedView view(tables, settings);
+  RayScene scene;
+  ASSERT_TRUE(render_counting(view, scene, 1, executor, *tables).ok());
+  const FrameResult second = render_counting(view, scene, 2, executor, *tables);
+  ASSERT_TRUE(second.ok()) << second.message;
+  const VisiblePoints visible = select_visible_points(points, map_gaze(kRaysW, kRaysH, second.centre_px));
+  const glm::vec2 centre(0.5f * float(points.canvas_width_px), 0.5f * float(points.canvas_height_px));
+  const uint32_t beside_edge = point_ray_count(kRays, float(kPixelDiscRadiusPx), 1.0f, kRaysContrast);
+  ASSERT_LT(beside_edge, uint32_t(kRays));
+  std::size_t exact = 0, margin_edge = 0, margin_flat = 0;
+  for (std::size_t v = 0; v < visible.size(); ++v) {
+    const uint32_t id = visible.point_index[v];
+    if (!points.on_pixel_grid(id)) continue;
+    const uint32_t rays = scene.rays_of_point[id];
+    ASSERT_GT(rays, 0u) << "grid point " << id << " is never thinned";
+    const double distance_px = glm::distance(points.position_px[id], centre);
+    ASSERT_EQ(points.in_exact_fovea(id), distance_px <= exact_px) << "grid point " << id;
+    if (points.in_exact_fovea(id)) {
+      ++exact;
+      EXPECT_EQ(rays, uint32_t(kRays)) << "grid point " << id << ": the pixel-exact fovea keeps its rays";
+      continue;
+    }
+    const float x = visible.screen_px[v].x;
+    if (x < kRaysEdgeX + 16.0f) {  // the tiles beside the edge
+      ++margin_edge;
+      EXPECT_EQ(rays, beside_edge) << "margin point " << id << " at x = " << x;
+    } else if (x >= kRaysEdgeX + 32.0f) {  // flat tiles, their neighbours flat too
+      ++margin_flat;
+      EXPECT_EQ(rays, 1u) << "margin point " << id << " at x = " << x;
+    }
+  }
+  EXPECT_GT(exact, 2000u);
+  EXPECT_GT(margin_edge, 20u);
+  EXPECT_GT(margin_flat, 500u);
+  std::cout << "[ measured ] grid points: " << exact << " of the exact fovea, " << margin_edge << " + " << margin_flat
+            << " of the margin beside the edge and in flat tiles\n";
 }
 
 TEST(PointRayCount, ADarkTileReadsAsFlat) {

@@ -27,6 +27,22 @@ inline std::shared_ptr<const ViewTables> tables(std::uint32_t width_px, std::uin
   return load_view_tables(std::nullopt, key, o, executor);
 }
 
+// The view's tables at 64 pixels per degree and density scale 0.75: the pixel-exact fovea
+// (DisplayModel::exact_fovea_radius_px) about 33 px in radius around the centre, and the
+// grid margin the denser scale adds out to about 44 px.
+inline std::shared_ptr<const ViewTables> grid_margin_tables(std::uint32_t width_px, std::uint32_t height_px,
+                                                            InterpMethod method, int k) {
+  PointSetKey key;
+  key.display = DisplayModel::from_pixels_per_degree(int(width_px), int(height_px), 64.0);
+  key.display.scale = 0.75;
+  key.seed = 1;
+  InterpOptions o;
+  o.method = method;
+  o.k = k;
+  Executor executor(2);
+  return load_view_tables(std::nullopt, key, o, executor);
+}
+
 // Frame `frame_index` of the view from 1.6 m, the gaze at its centre.
 inline FrameRequest request(std::uint32_t width_px, std::uint32_t height_px, std::uint64_t frame_index) {
   FrameRequest r;

@@ -53,7 +53,8 @@
 
 FOVEART_SHADER_INTERFACE_BEGIN
 
-// A point of the set: canvas x, y (pixels), disc radius (pixels), 1 = on the pixel grid.
+// A point of the set: canvas x, y (pixels), disc radius (pixels), and 0 for a Poisson
+// point, 1 for a pixel-grid point, 2 for one of the pixel-exact fovea (PointSet::in_exact_fovea).
 struct DevicePoint {
   vec4 position_radius_grid;
 };
