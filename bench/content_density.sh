@@ -87,7 +87,7 @@ header() {  # the title, then this machine, the load and the command
 detection_part() {
   need "$eval_bin"
   local gazes=("centre|$((cw / 2)),$((ch / 2))" "off-centre|$((cw / 5)),$((ch / 5))")
-  local scales=0.3,0.4,0.5,0.7,1,1.5,2,3,4 contrasts=0.1,0.25,0.5,1 ray_contrasts=0.25,0.5,1 both_contrasts=0.25,0.5,1
+  local scales=0.3,0.4,0.5,0.7,0.8,0.9,1,1.2,1.5,2,3,4 contrasts=0.1,0.25,0.5,1 ray_contrasts=0.25,0.5,1 both_contrasts=0.25,0.5,1
   local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
                 --k 5 --scales "$scales" --contrasts "$contrasts" --ray-contrasts "$ray_contrasts"
                 --both-contrasts "$both_contrasts" --content-at-unseen --cache-dir out/cache)
