@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace foveart::fovea {
 namespace {
 
@@ -75,6 +77,23 @@ TEST_F(PointsetOptions, ValidSmallDisplayRunsAndWrites) {
   EXPECT_NE(r.out.find("\"width\": 64"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"height\": 48"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(outputs() / "points.png"));
+}
+
+// Below scale 1 the grid widens beyond the pixel-exact fovea, the grid of scale 1; the report
+// gives both.
+TEST_F(PointsetOptions, ReportsThePixelExactFoveaInsideAWiderGrid) {
+  fs::create_directories(outputs());
+  auto grid_of = [&](const char* scale) {
+    const ToolRun r = pointset({"--size", "128x96", "--pixels-per-degree", "64", "--density-scale", scale});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(r.out, nullptr, false)["pixel_grid"];
+  };
+  const nlohmann::json denser = grid_of("0.75"), thesis = grid_of("1");
+  ASSERT_TRUE(denser.is_object() && thesis.is_object());
+  EXPECT_EQ(thesis["exact_fovea"]["points"], thesis["points"]) << "at scale 1 the grid is the fovea";
+  EXPECT_EQ(denser["exact_fovea"]["points"], thesis["points"]) << "a denser scale widens the grid, not the fovea";
+  EXPECT_EQ(denser["exact_fovea"]["radius_px"], thesis["radius_px"]);
+  EXPECT_GT(denser["points"].get<double>(), 1.5 * denser["exact_fovea"]["points"].get<double>());
 }
 
 // --fov-deg L,R,U,D: the point set follows the horizontal span, as the layer's.

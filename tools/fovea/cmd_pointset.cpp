@@ -278,15 +278,27 @@ void add_density_json(const fv::FoveationTables& tables, const fv::DisplayModel&
     for (std::uint32_t i : vis.point_index) n += tables.points.on_pixel_grid(i);
     return n;
   };
+  auto radius_json = [](double radius_px) { return std::isfinite(radius_px) ? nlohmann::json(radius_px) : "all"; };
+  auto radius_deg = [&](double radius_px) {
+    return std::isfinite(radius_px) ? std::atan(radius_px / display.view_distance_px) * 180.0 / 3.141592653589793
+                                    : 90.0;
+  };
   const double grid_radius_px = display.pixel_grid_radius_px();
-  const bool finite = std::isfinite(grid_radius_px);
+  const double exact_radius_px = display.exact_fovea_radius_px();
+  std::size_t exact_points = 0;
+  for (std::size_t i = 0; i < tables.points.size(); ++i) exact_points += tables.points.in_exact_fovea(i);
   j["pixel_grid"] = {
-      {"radius_px", finite ? nlohmann::json(grid_radius_px) : nlohmann::json("all")},
-      {"radius_deg", finite ? std::atan(grid_radius_px / display.view_distance_px) * 180.0 / 3.141592653589793 : 90.0},
+      {"radius_px", radius_json(grid_radius_px)},
+      {"radius_deg", radius_deg(grid_radius_px)},
       {"radius_ecc_deg_scaled", std::max(0.0, fv::pixel_grid_ecc_deg(display.display_cpd(), display.csf))},
       {"points", density.pixel_grid_points},
       {"on_screen_centred", grid_points_of(v.centred)},
-      {"on_screen_at_gaze", grid_points_of(v.gaze)}};
+      {"on_screen_at_gaze", grid_points_of(v.gaze)},
+      // The pixel-exact fovea: the grid of scale 1 (all of it at scale 1 and above).
+      {"exact_fovea",
+       {{"radius_px", radius_json(exact_radius_px)},
+        {"radius_deg", radius_deg(exact_radius_px)},
+        {"points", exact_points}}}};
   j["max_points_in_a_pixel"] = density.max_points_in_a_pixel;
   j["max_points_per_px"] = density.max_points_per_px;  // densest 8x8 block of the canvas
 }
@@ -321,9 +333,10 @@ void print_text(const nlohmann::json& j, std::ostream& out) {
       << 100.0 * centred / pixels << "% of " << j["width"] << "x" << j["height"] << "), " << j["on_screen_corner"]
       << " at corner gaze\n"
       << "pattern: " << j["pattern"].get<std::string>() << ", pixel grid " << j["pixel_grid"]["points"]
-      << " points within " << j["pixel_grid"]["radius_px"] << " px (" << j["pixel_grid"]["radius_deg"]
-      << " deg); at most " << j["max_points_in_a_pixel"] << " point(s) in a pixel, " << j["max_points_per_px"]
-      << " per pixel in the densest 8x8 block\n"
+      << " points within " << j["pixel_grid"]["radius_px"] << " px (" << j["pixel_grid"]["radius_deg"] << " deg), "
+      << j["pixel_grid"]["exact_fovea"]["points"] << " of them the pixel-exact fovea within "
+      << j["pixel_grid"]["exact_fovea"]["radius_px"] << " px; at most " << j["max_points_in_a_pixel"]
+      << " point(s) in a pixel, " << j["max_points_per_px"] << " per pixel in the densest 8x8 block\n"
       << "neighbour table: k=" << j["k"] << ", " << j["table_bytes"].get<double>() / 1e6 << " MB\n"
       << "time: point set " << j["generation_ms"] << " ms, table " << j["table_ms"] << " ms\n";
 }
