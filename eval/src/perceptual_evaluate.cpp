@@ -300,8 +300,7 @@ bool PerceptualMetric::threshold_multiple(const foveation::ImageRgb& test, const
   multiple = same ? 0.0 : multiple_of(0);
   if (ring_multiples == nullptr) return true;
   ring_multiples->clear();
-  const std::size_t rings = p_max_at(0.0).size() - 1;
-  for (std::size_t r = 0; r < rings; ++r) ring_multiples->push_back(same ? 0.0 : multiple_of(1 + r));
+  for (std::size_t r = 0; r < metrics::kRingCount; ++r) ring_multiples->push_back(same ? 0.0 : multiple_of(1 + r));
   return true;
 }
 
