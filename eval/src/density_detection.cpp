@@ -14,7 +14,7 @@ bool measure_density(const DensityProbe& probe, double density_scale, double con
   foveation::ViewSettings settings = render_view::foveated_view_settings(o);
   settings.content_density.exposure = probe.metric->display().transform.exposure;
   foveation::FoveatedView view(tables, settings);
-  const int frames = content_contrast > 0.0 || o.content_rays > 0.0 ? 2 : 1;
+  const int frames = settings.content_density.enabled() ? 2 : 1;
   foveation::FrameResult fr;
   for (int frame = 0; frame < frames; ++frame) {
     foveation::FrameRequest request;
@@ -27,7 +27,7 @@ bool measure_density(const DensityProbe& probe, double density_scale, double con
   *out = DensityDetection{};
   out->density_scale = density_scale;
   out->content_contrast = content_contrast;
-  out->content_rays = o.content_rays;
+  out->content_rays = render_view::content_rays_of(o);
   const double full_rays = double(probe.view.width_px) * double(probe.view.height_px) * double(o.rays_per_point);
   out->ray_fraction = double(fr.rays) / full_rays;
   out->density_ms = fr.density_ms;

@@ -179,7 +179,7 @@ struct Reader {
     read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
     read_unit_or_off(obj, "content_contrast", &c->content_contrast);
-    read_float(obj, "content_rays", 0.0f, 1.0f, &c->content_rays);
+    read_unit_or_off(obj, "content_rays", &c->content_rays);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
     read_removed_keys(obj, c);
     read_string(obj, "temporal", {"auto", "off", "image", "rays"}, &c->temporal);

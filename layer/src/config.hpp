@@ -63,8 +63,9 @@ struct LayerConfig {
   // the GPU, off on the CPU path.
   std::optional<float> content_contrast;
   // Rays per point by the content (foveation/point_rays.hpp): the tile contrast from which a
-  // point casts all rays_per_point rays; 0 (the default): off, every point casts them all.
-  float content_rays = 0.0f;
+  // point casts all rays_per_point rays; 0: off, every point casts them all. Unset:
+  // content_rays_for (renderer.hpp), on where a point casts several rays at density scale 1 or above.
+  std::optional<float> content_rays;
   uint32_t rays_per_point = kDefaultRaysPerPoint;
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
   // (a reprojected image history) or "rays" (a render cache of the traced rays).

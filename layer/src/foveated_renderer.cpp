@@ -522,7 +522,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;
   vs.content_density.full_contrast = content_contrast_for_path(settings, path.reconstruct_on_gpu);
-  vs.content_density.rays_contrast = settings.content_rays;
+  vs.content_density.rays_contrast = content_rays_for(settings);
   vs.content_density.exposure = settings.display.exposure;
   eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs, path.stages(view_tables, vs));
 }

@@ -145,6 +145,11 @@ float content_contrast_for_path(const RendererSettings& settings, bool reconstru
   return settings.content_contrast.value_or(reconstruct_on_gpu ? kDeviceContentContrast : 0.0f);
 }
 
+float content_rays_for(const RendererSettings& settings) {
+  return settings.content_rays.value_or(
+      foveation::default_rays_contrast(int(settings.rays_per_point), settings.density_scale));
+}
+
 foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu) {
   return settings.temporal.value_or(reconstruct_on_gpu ? foveation::TemporalMode::rays : foveation::TemporalMode::image);
 }

@@ -41,7 +41,7 @@ struct RendererSettings {
   uint32_t k = 5;
   float density_scale = 1.0f;
   std::optional<float> content_contrast;  // LayerConfig::content_contrast; unset: content_contrast_for_path()
-  float content_rays = 0.0f;      // LayerConfig::content_rays (0: off)
+  std::optional<float> content_rays;      // LayerConfig::content_rays; unset: content_rays_for()
   uint32_t rays_per_point = 1;
   // LayerConfig::temporal; empty ("auto"): temporal_for_path() picks it by the reconstruction path.
   std::optional<foveation::TemporalMode> temporal;
@@ -74,6 +74,11 @@ foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool
 // costs about as much frame time as the rays it saves (from 17 % faster to 6 % slower a frame).
 inline constexpr float kDeviceContentContrast = 0.1f;
 float content_contrast_for_path(const RendererSettings& settings, bool reconstruct_on_gpu);
+// The contrast from which a point casts all its rays where the settings leave it unset:
+// foveation::default_rays_contrast of the resolved rays per point and density scale, on both
+// paths (at the thesis's density the perceptual metric sees nothing it adds on the benchmark
+// set, docs/results/content_density/).
+float content_rays_for(const RendererSettings& settings);
 
 // The extension's temporal enum and foveation's mode, both ways: false for a value that is
 // no mode (USE_CONFIG included).

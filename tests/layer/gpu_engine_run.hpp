@@ -20,6 +20,9 @@ constexpr int kWidth = 320, kHeight = 360;  // small eyes: lavapipe traces them 
 constexpr int kFrames = 2;                  // the first may come before the replay's first gaze sample
 // Two rays per point: the device resolve averages them in its own order.
 constexpr int kRaysPerPoint = 2;
+// The layer config that turns content density off: the GPU path thins by default, and rays per
+// point vary by contrast wherever a point casts several.
+constexpr const char* kContentDensityOff = R"("content_contrast": 0, "content_rays": 0)";
 // The scripted gaze, FOVE head space (+z forward): about 7 deg right, 4 deg down.
 constexpr double kGaze[3] = {0.12, -0.07, 0.99};
 

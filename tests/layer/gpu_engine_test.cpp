@@ -62,10 +62,11 @@ namespace foveart::layer::test {
 namespace {
 
 TEST_F(GpuEngine, FoveatedFramesMatchTheCpuEnginesPerEccentricityRing) {
-  // Content density off (the GPU path's default thins from the second frame): the two engines'
-  // colours differ by float rounding, enough to move a tile across a density level and a few
-  // points with it. AppRecordedContentDensityThinsAsTheCallbackModel compares thinning.
-  configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0)");
+  // Content density off (the GPU path's default thins from the second frame, and several rays
+  // per point vary by contrast): the two engines' colours differ by float rounding, enough to
+  // move a tile across a density level and a few points and rays with it.
+  // AppRecordedContentDensityThinsAsTheCallbackModel compares both levers.
+  configure_hello_foveated(*env_, kFrames, "gpu", {}, kContentDensityOff);
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   const AppRun cpu = launch("cpu", "cpu", gaze);
   ASSERT_NO_FATAL_FAILURE(expect_clean(cpu, "cpu"));
@@ -212,7 +213,7 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
   const bool rays = fault == "rays";  // no fault; the render cache fed by the device trace, on the device
   const bool density = fault == "density";  // no fault; the config's content density on the device trace
   if (density) configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0.1, "content_rays": 0.2)");
-  if (fault == "none") configure_hello_foveated(*env_, kFrames, "gpu", {}, R"("content_contrast": 0)");
+  if (fault == "none") configure_hello_foveated(*env_, kFrames, "gpu", {}, kContentDensityOff);
   if (fault == "nan") extra.insert(extra.end(), {"--fault", fault});
   if (fault == "late") extra.insert(extra.end(), {"--fault", "nan", "--fault-from-frame", "2"});
   // "late", and the thinning runs so that the stats hold frame 2, the first that thins (read when its slot
@@ -306,7 +307,7 @@ INSTANTIATE_TEST_SUITE_P(Faults, FailingDeviceTrace, ::testing::Values("error", 
 TEST_F(GpuEngine, AFaultAfterGoodFramesShowsTheLastGoodImage) {
   constexpr int kRun = 6, kFirstFault = 4;  // the layer's frame indices count from 1
   // Content density off, so that the good frames are alike (it thins from the second frame).
-  configure_hello_foveated(*env_, kRun, "gpu", {}, R"("content_contrast": 0)");
+  configure_hello_foveated(*env_, kRun, "gpu", {}, kContentDensityOff);
   const auto gaze = gaze_trace("gaze", kGaze[0], kGaze[1], kGaze[2]);
   const AppRun r = launch("late_fault", "gpu", gaze,
                           {"--fault", "nan", "--fault-from-frame", std::to_string(kFirstFault)}, kRun);

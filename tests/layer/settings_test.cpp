@@ -83,7 +83,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "gaze_source") return gaze_source_name(s.gaze_source);
   if (key == "gaze_provider") return s.gaze_provider_spec;
   if (key == "content_contrast") return s.content_contrast ? std::to_string(*s.content_contrast) : "path default";
-  if (key == "content_rays") return std::to_string(s.content_rays);
+  if (key == "content_rays") return s.content_rays ? std::to_string(*s.content_rays) : "rays default";
   if (key == "gaze_clock") return s.gaze_clock_display_time ? "display_time" : "steady";
   if (key == "threads") return std::to_string(s.threads);
   if (key == "cache_dir") return s.cache_dir;
@@ -235,6 +235,41 @@ TEST(ResolveSettings, UnsetContentContrastFollowsTheReconstructionPath) {
     ASSERT_EQ(r.warnings.size(), 1u) << bad;
     EXPECT_NE(r.warnings[0].find("content_contrast"), std::string::npos) << r.warnings[0];
     EXPECT_NE(r.warnings[0].find("[0, 1]"), std::string::npos) << r.warnings[0];
+  }
+}
+
+// Rays per point by contrast unset are on where a point casts several rays, from the app's rays
+// per point or the config's alike, at density scale 1 or above; one ray per point has none to
+// vary, and a denser scale keeps them off. A contrast the config names holds at any rays per
+// point and scale, 0 (off) too; out of [0, 1] it is refused.
+TEST(ResolveSettings, UnsetContentRaysVaryWhereAPointCastsSeveral) {
+  const RendererSettings one_ray = resolve(use_config_info(), LayerConfig{});
+  EXPECT_FALSE(one_ray.content_rays.has_value());
+  EXPECT_EQ(content_rays_for(one_ray), 0.0f);
+  const RendererSettings from_config = resolve(use_config_info(), config_from(R"({"rays_per_point": 4})"));
+  EXPECT_EQ(content_rays_for(from_config), foveation::kDefaultRaysContrast);
+  auto info = use_config_info();
+  info.raysPerPoint = 2;
+  EXPECT_EQ(content_rays_for(resolve(info, LayerConfig{})), foveation::kDefaultRaysContrast);
+  EXPECT_GT(foveation::kDefaultRaysContrast, 0.0f);
+  info.densityScale = 2.0f;
+  EXPECT_EQ(content_rays_for(resolve(info, LayerConfig{})), foveation::kDefaultRaysContrast);
+  info.densityScale = 0.7f;
+  EXPECT_EQ(content_rays_for(resolve(info, LayerConfig{})), 0.0f);
+  EXPECT_EQ(content_rays_for(resolve(use_config_info(), config_from(R"({"rays_per_point": 4, "density_scale": 0.7})"))),
+            0.0f);
+  for (const float c : {0.0f, 0.25f}) {
+    const std::string text =
+        "{\"rays_per_point\": 16, \"density_scale\": 0.7, \"content_rays\": " + std::to_string(c) + "}";
+    EXPECT_EQ(content_rays_for(resolve(use_config_info(), config_from(text))), c);
+  }
+  EXPECT_EQ(content_rays_for(resolve(use_config_info(), config_from(R"({"content_rays": 0.25})"))), 0.25f);
+  for (const char* bad : {"-0.1", "1.5", "\"high\""}) {
+    ConfigResult r;
+    apply_config_text(std::string("{\"content_rays\": ") + bad + "}", "test.json", "app", &r);
+    EXPECT_FALSE(r.config.content_rays.has_value()) << bad;
+    ASSERT_EQ(r.warnings.size(), 1u) << bad;
+    EXPECT_NE(r.warnings[0].find("content_rays"), std::string::npos) << r.warnings[0];
   }
 }
 

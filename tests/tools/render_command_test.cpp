@@ -6,6 +6,7 @@
 #include <engine/default_scene.hpp>
 #include <engine/render.hpp>
 #include <engine/tracer.hpp>
+#include <foveation/content_density.hpp>
 #include <foveation/display_model.hpp>
 #include <foveation/executor.hpp>
 #include <foveation/foveated_view.hpp>
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <fstream>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 using foveart::render_view::RenderOptions;
@@ -158,6 +160,43 @@ TEST(RenderCommand, TemporalIsTheLayersChoice) {
     CLI::App app;
     register_render(app);
     EXPECT_ANY_THROW(app.parse(static_cast<int>(bad.size()), bad.data())) << bad[2];
+  }
+}
+
+// `fovea render` leaves rays per point by contrast to the product's default: with several rays per
+// point at the thesis's density, a point casts all of them from contrast 0.5 of its tile and fewer
+// below, from the second frame (the first has no contrast yet); at one ray per point, at a denser
+// scale or with --content-rays 0 every point casts them all. (The lab's commands default to off.)
+TEST(RenderCommand, SeveralRaysPerPointFollowTheContrastByDefault) {
+  EXPECT_EQ(RenderOptions{}.content_rays, 0.0) << "the lab's rows are what they name";
+  struct Case {
+    int rays_per_point;
+    double density_scale;
+    std::optional<double> content_rays;  // unset: fovea render's default
+    double reported;
+  };
+  for (const Case& c : {Case{4, 1.0, std::nullopt, foveart::foveation::kDefaultRaysContrast},
+                        Case{4, 2.0, std::nullopt, foveart::foveation::kDefaultRaysContrast},
+                        Case{1, 1.0, std::nullopt, 0.0}, Case{4, 0.7, std::nullopt, 0.0}, Case{4, 1.0, 0.0, 0.0}}) {
+    SCOPED_TRACE(testing::Message() << c.rays_per_point << " rays, scale " << c.density_scale << ", content rays "
+                                    << (c.content_rays ? std::to_string(*c.content_rays) : "unset"));
+    RenderOptions o = small("foveated");
+    o.size_px = glm::ivec2(160, 180);
+    o.fov.horizontal = 2.5;  // 64 px/deg: a pixel-exact fovea of about 33 px radius, Poisson points around it
+    o.rays_per_point = c.rays_per_point;
+    o.density_scale = c.density_scale;
+    o.content_rays = c.content_rays;
+    o.frames = 2;
+    std::ostringstream out, err;
+    ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+    const auto j = nlohmann::json::parse(out.str());
+    const auto& fov = j["foveated"];
+    EXPECT_EQ(fov["content_rays"].get<double>(), c.reported);
+    const uint64_t all = j["points"].get<uint64_t>() * uint64_t(c.rays_per_point);
+    if (c.reported > 0.0)
+      EXPECT_LT(fov["rays"]["primary"].get<uint64_t>(), all) << "flat tiles cast fewer";
+    else
+      EXPECT_EQ(fov["rays"]["primary"].get<uint64_t>(), all);
   }
 }
 

@@ -43,6 +43,15 @@ struct ContentDensityOptions {
   bool enabled() const { return thins() || varies_rays(); }
 };
 
+// The products' rays per point by contrast where the user names none (docs/foveation.md,
+// "Defaults"): all of them from this tile contrast, where a point casts several rays and the
+// density is the thesis's or sparser. With one ray per point there is nothing to vary; at a
+// denser scale, Poisson discs under a pixel cast fewer rays and the perceptual metric sees it.
+inline constexpr float kDefaultRaysContrast = 0.5f;
+inline float default_rays_contrast(int rays_per_point, double density_scale) {
+  return rays_per_point > 1 && density_scale >= 1.0 ? kDefaultRaysContrast : 0.0f;
+}
+
 // Michelson contrast of a tile's luminance range with the dark floor (Peli 1990's band
 // contrast's simplest form): (max - min) / (max + min + 2 dark).
 float tile_contrast(float min_luminance, float max_luminance, float dark_luminance);

@@ -2,6 +2,8 @@
 
 #include <render_view/display_options.hpp>
 
+#include <foveation/content_density.hpp>
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -80,11 +82,17 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
                   "Content-aware density: a screen tile traces all its points from this Michelson contrast "
                   "(last frame's), about half from half of it, a quarter from a quarter, a ninth below; 0: off")
       ->capture_default_str();
+  std::ostringstream rays_default;  // the lab's 0 (off), or fovea render's by the rays per point
+  if (opts->content_rays)
+    rays_default << "default " << *opts->content_rays;
+  else
+    rays_default << "default " << foveation::kDefaultRaysContrast
+                 << " with several rays per point at --density-scale 1 or above, else off";
   cmd->add_option("--content-rays", opts->content_rays,
                   "Rays per point by the content: a point casts all --rays-per-point rays from this Michelson "
                   "contrast of its tile (last frame's), (contrast / this)^2 of them below, and fewer where its disc "
-                  "is under a pixel in radius; the pixel-exact fovea keeps all; 0: off")
-      ->capture_default_str();
+                  "is under a pixel in radius; the pixel-exact fovea keeps all; 0: off; " +
+                      rays_default.str());
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,

@@ -68,8 +68,12 @@ foveation::ViewSettings foveated_view_settings(const RenderOptions& o) {
   foveation::ViewSettings vs = foveation::temporal_view_settings(o.temporal, o.rays_per_point, o.seed);
   vs.pixel_filter = o.pixel_filter;
   vs.content_density.full_contrast = float(o.content_contrast);
-  vs.content_density.rays_contrast = float(o.content_rays);
+  vs.content_density.rays_contrast = float(content_rays_of(o));
   return vs;
+}
+
+double content_rays_of(const RenderOptions& o) {
+  return o.content_rays.value_or(foveation::default_rays_contrast(o.rays_per_point, o.density_scale));
 }
 
 int reconstruction_k(const RenderOptions& o) {
@@ -198,8 +202,8 @@ std::string render_options_problem(const RenderOptions& o) {
   if (!(o.density_scale > 0.0) || o.density_scale > 100.0) return "--density-scale must be in (0, 100]";
   if (!(o.content_contrast >= 0.0) || o.content_contrast > 1.0)
     return "--content-contrast must be in [0, 1] (0: off), got " + std::to_string(o.content_contrast);
-  if (!(o.content_rays >= 0.0) || o.content_rays > 1.0)
-    return "--content-rays must be in [0, 1] (0: off), got " + std::to_string(o.content_rays);
+  if (o.content_rays && (!(*o.content_rays >= 0.0) || *o.content_rays > 1.0))
+    return "--content-rays must be in [0, 1] (0: off), got " + std::to_string(*o.content_rays);
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";

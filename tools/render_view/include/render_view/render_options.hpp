@@ -55,8 +55,9 @@ struct RenderOptions {
   // a screen tile traces all its points; 0: off.
   double content_contrast = 0.0;
   // Rays per point by the content (foveation/point_rays.hpp, point_ray_count): the contrast
-  // from which a point casts all rays_per_point rays; 0: off.
-  double content_rays = 0.0;
+  // from which a point casts all rays_per_point rays; 0: off (the lab's default, so that its
+  // rows are what they name). Unset (`fovea render`'s default): content_rays_of.
+  std::optional<double> content_rays = 0.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
@@ -129,6 +130,10 @@ std::optional<foveation::DisplayTransform> render_display(const RenderOptions& o
 // (foveation::temporal_view_settings) at rays_per_point rays and the seed, with
 // the pixel filter asked for.
 foveation::ViewSettings foveated_view_settings(const RenderOptions& options);
+// The contrast from which a point casts all its rays: the one asked for, or where none is
+// (`fovea render`), the product's default for the rays per point and density scale
+// (foveation::default_rays_contrast).
+double content_rays_of(const RenderOptions& options);
 
 // Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
 int reconstruction_k(const RenderOptions& options);
