@@ -61,8 +61,10 @@ std::string render_track_frame(engine::Tracer& tracer, const MotionFrame& f, Seq
     t.points_by_frame.push_back(fr.points);
     image = &t.view->image();
   }
+  const engine::RayCounts frame_rays = tracer.counts() - before;
+  t.primary_rays_by_frame.push_back(frame_rays.primary);
   if (f.index == 0) {
-    t.rays = tracer.counts() - before;
+    t.rays = frame_rays;
     t.points = t.points_by_frame.front();
   }
   *display = metrics::display_encode(*image);
@@ -350,6 +352,7 @@ Json sequence_track_json(const SequenceTrack& t, const SequenceRun& run, double 
             {"time_fraction", anchor_ms > 0.0 ? Json(ms / anchor_ms) : Json(nullptr)},
             {"points", t.points},
             {"points_by_frame", t.points_by_frame},
+            {"primary_rays_by_frame", t.primary_rays_by_frame},
             {"rays", rays},
             {"temporal_resets", t.temporal_reset_frames.size()},
             {"temporal_reset_frames", t.temporal_reset_frames},

@@ -181,6 +181,10 @@ TEST(RenderMotion, TinySequenceReportsPerRingTemporalNumbersForEveryVariant) {
     ASSERT_EQ(t["points_by_frame"].size(), 3u) << t["id"];
     EXPECT_EQ(t["points_by_frame"][0], t["points"]) << t["id"];
     for (const auto& p : t["points_by_frame"]) EXPECT_EQ(p, 64 * 72) << t["id"];
+    // Primary rays per frame, the first frame's also in "rays": one a point at one ray per point.
+    ASSERT_EQ(t["primary_rays_by_frame"].size(), 3u) << t["id"];
+    EXPECT_EQ(t["primary_rays_by_frame"][0], t["rays"]["primary"]) << t["id"];
+    for (const auto& r : t["primary_rays_by_frame"]) EXPECT_EQ(r, 64 * 72) << t["id"];
     ASSERT_EQ(t["rings"].size(), 7u);
     // Every ring, the fovea included, has pixels at 64x72.
     for (const auto& r : t["rings"]) {

@@ -41,6 +41,7 @@ struct SequenceTrack {
   engine::RayCounts rays;        // the first frame's
   std::uint32_t points = 0;      // the first frame's traced points (pixels for the full render)
   std::vector<std::uint32_t> points_by_frame;  // every frame's (content density thins them from the second)
+  std::vector<std::uint64_t> primary_rays_by_frame;  // every frame's (rays by contrast vary them from the second)
   std::vector<int> temporal_reset_frames;  // the frames whose temporal history restarted
   std::uint64_t history_off_screen = 0, history_disoccluded = 0;  // pixels over the sequence (reproject)
 };
@@ -149,7 +150,8 @@ struct SequenceHooks {
 // controls per ring.
 nlohmann::ordered_json sequence_reference_json(const SequenceRun& run);
 // {"id", "temporal", "spp", "frames", "ms" (median frame), "time_fraction" (of anchor_ms; null without),
-// "points", "points_by_frame", "rays", "temporal_resets", "temporal_reset_frames", "history_off_screen", "history_disoccluded",
+// "points", "points_by_frame", "primary_rays_by_frame", "rays", "temporal_resets", "temporal_reset_frames",
+// "history_off_screen", "history_disoccluded",
 // "rings": [{from_deg, to_deg, flicker, flicker_tracked, psnr, rmse}], "bands": sequence_band_json}.
 nlohmann::ordered_json sequence_track_json(const SequenceTrack& track, const SequenceRun& run, double anchor_ms);
 // The central and the peripheral band (kCentralBand, kPeripheralBand) of one
