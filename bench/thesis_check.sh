@@ -36,7 +36,7 @@ exposure=$(jq '.exposure' "$json")
 fov_deg=$(jq -r '.fov_deg | map(tostring) | join(",")' "$json")  # the crop's frustum, L,R,U,D
 perceptual=(build/bin/fovea-eval perceptual --ppd "$ppd" --threshold-multiple --json)
 frame=(build/bin/fovea render --preset thesis --pattern pixel-grid --mode foveated --size 256x256 --fov-deg "$fov_deg"
-  --rays-per-point 128 --interpolation nearest --exposure "$exposure" --cache-dir out/cache)
+  --rays-per-point 128 --content-rays 0 --interpolation nearest --exposure "$exposure" --cache-dir out/cache)
 mkdir -p out/thesis_check
 multiples=$dir/threshold_multiples.jsonl
 : > "$multiples"
