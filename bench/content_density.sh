@@ -12,6 +12,9 @@
 #    reference (cached in out/cache/reference), and the content-aware row with the fewest rays at
 #    eccentricity only's detection per ring at scale 1. The view: a CROP of the FOVE eye at its
 #    pixels per degree (10.2 at the gaze), RAYS rays per point and per pixel.
+#  levers (levers.md): from the detection part's JSON, per lever and contrast over its scenes, gazes and
+#    scales, the rows where the lever makes a ring seen that eccentricity only at the same scale leaves
+#    unseen, the largest rise of P, and the rays it keeps.
 #  multiples (multiples.md): centred gaze, how many times above threshold each ring of the CROP is
 #    (`fovea-eval density --ring-multiples`) at the thesis's scale 1, eccentricity only and thinned
 #    from contrast 0.1, with nearest-neighbour and MSM reconstruction, beside the full render's.
@@ -25,11 +28,12 @@
 #    gpu` through the layer and the simulated runtime on lavapipe (the scenes it loads: not engine,
 #    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
 #    density's passes from XrFoveatedRendererDensityStatsFOVEART beside the trace and frame.
-#  flicker (flicker.md): does thinning flicker? `fovea-eval motion` on the whole FOVE eye over the
-#    built-in head and gaze motion, with both product histories (image, rays), at content contrast 0.1
-#    and without: the CSF-weighted flicker per ring against a converged reference sequence, its
-#    floor, and the points traced.
-# Usage: bench/content_density.sh [--part detection|multiples|cost|rays|device-cost|flicker] [--scenes NAME,...]
+#  flicker (flicker.md): do the levers flicker? `fovea-eval motion` on the whole FOVE eye over the
+#    built-in head and gaze motion, with both product histories (image, rays), thinning from content
+#    contrast 0.1 at one ray per point and rays by contrast from 0.5 at four, each against eccentricity
+#    only: the CSF-weighted flicker per ring against a converged reference sequence, its floor, and
+#    the points and rays traced.
+# Usage: bench/content_density.sh [--part detection|levers|multiples|cost|rays|device-cost|flicker] [--scenes NAME,...]
 #                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
 #   the whole eye, out to its widest eccentricities: about 5 minutes a scene on 2 cores.
@@ -37,11 +41,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 args=("$@")
-parts=(detection multiples cost rays device-cost flicker)
+parts=(detection levers multiples cost rays device-cost flicker)
 if [ "${1:-}" = --part ]; then
   case "${2:-}" in
-    detection | multiples | cost | rays | device-cost | flicker) parts=("$2") ;;
-    *) echo "bench/content_density.sh: --part detection, multiples, cost, rays, device-cost or flicker" >&2; exit 2 ;;
+    detection | levers | multiples | cost | rays | device-cost | flicker) parts=("$2") ;;
+    *) echo "bench/content_density.sh: --part detection, levers, multiples, cost, rays, device-cost or flicker" >&2; exit 2 ;;
   esac
   shift 2
 fi
@@ -159,6 +163,57 @@ detection_part() {
   rm -f "$details"
 }
 
+# Per lever and contrast, over the detection part's scenes, gazes and scales: what it adds that the
+# metric sees, against eccentricity only at the same scale: levers.md.
+levers_part() {
+  local md="$dir/levers.md" entry name g json rows pairs=0
+  rows=$(mktemp)
+  for entry in "${scenes[@]}"; do
+    IFS='|' read -r name _ <<<"$entry"
+    for g in centre off-centre; do
+      json="$dir/json/${name}_$g.json"
+      [ -f "$json" ] || continue
+      pairs=$((pairs + 1))
+      # Each content-aware row beside eccentricity only at its scale, per ring.
+      jq -c --arg where "$name, $g" '
+        [.rows[] | select(.kind == "eccentricity")] as $ecc
+        | .rows[] | select(.kind != "eccentricity") | . as $r
+        | ($ecc[] | select(.density_scale == $r.density_scale)) as $e
+        | [range(0; $r.rings_p_max | length) | select($r.rings_p_max[.] != null and $e.rings_p_max[.] != null)
+           | {ring: ., rise: ($r.rings_p_max[.] - $e.rings_p_max[.]),
+            new: ($r.rings_p_max[.] >= 0.5 and $e.rings_p_max[.] < 0.5)}] as $rings
+        | {kind: $r.kind, contrast: (if $r.kind == "rays" then $r.content_rays else $r.content_contrast end),
+           at: (if $r.density_scale < 1 then "below 1" elif $r.density_scale == 1 then "1" else "above 1" end),
+           where: "\($where), \($r.density_scale)", new: ($rings | any(.new)), top: ($rings | max_by(.rise)),
+           share: ($r.ray_fraction / $e.ray_fraction)}' "$json" >>"$rows"
+    done
+  done
+  [ "$pairs" -gt 0 ] || { echo "bench/content_density.sh: no detection results in $dir/json: run --part detection first" >&2; exit 2; }
+  {
+    header "What each lever adds that the perceptual metric sees"
+    echo "From the detection part's results in this directory ([content_density.md](content_density.md), $pairs scene"
+    echo "and gaze pairs): every content-aware row beside eccentricity only at the same density scale, both against the"
+    echo "same converged reference, at the thesis's density (scale 1) and at the sparsest scale at which eccentricity only is"
+    echo "unseen where that is below 1. Newly seen: rows where a ring reaches P = 0.5 that eccentricity only leaves below it."
+    echo "Largest rise: the largest P of any ring minus eccentricity only's, over every row of the lever. Ray %: the"
+    echo "rows' rays as a share of eccentricity only's at the same scale, smallest to largest."
+    echo
+    echo "| lever | contrast | scale | rows | rows newly seen | largest rise of P (scene, gaze, scale, ring) | ray % of eccentricity only's |"
+    echo "|---|---|---|---|---|---|---|"
+    jq -r -s '
+      def r2: . * 100 | round / 100;
+      def pct: . * 1000 | round / 10;
+      group_by([({content: 0, rays: 1, both: 2}[.kind]), .contrast, ({"below 1": 1, "1": 0, "above 1": 2}[.at])])[]
+      | (max_by(.top.rise)) as $m
+      | "| \(.[0].kind | if . == "content" then "thin" else . end) | \(.[0].contrast) | \(.[0].at) | \(length)"
+        + " | \(map(select(.new)) | length) | \($m.top.rise | r2) (\($m.where), \($m.top.ring))"
+        + " | \(map(.share) | min | pct) to \(map(.share) | max | pct) |"' "$rows"
+    echo
+    echo "Rings: 0: 0-2.5, 1: 2.5-5, 2: 5-10, 3: 10-20, 4: 20-30, 5: 30-45, 6: >45 degrees from the gaze."
+  } >"$md"
+  rm -f "$rows"
+}
+
 # Per scene, centred gaze, how many times above threshold each ring is at the thesis's density, by
 # reconstruction, beside the full render's own: multiples.md.
 multiples_part() {
@@ -206,18 +261,23 @@ multiples_part() {
 cost_part() {
   need "$fovea"
   local md="$dir/cost.md"
-  local settings=(  # name | options: eccentricity only and thinning alone at one ray per point; both levers at four
+  local settings=(  # name | options: each rays per point's eccentricity only (off) first, then its levers
     "off, 1 ray|--rays-per-point 1"
     "thin 0.1, 1 ray|--content-contrast 0.1 --rays-per-point 1"
     "thin 0.5, 1 ray|--content-contrast 0.5 --rays-per-point 1"
+    "off, 4 rays|--content-rays 0 --rays-per-point 4"
+    "rays 0.5 (default), 4 rays|--rays-per-point 4"
     "both 0.5, 4 rays|--content-contrast 0.5 --content-rays 0.5 --rays-per-point 4"
+    "off, 16 rays|--content-rays 0 --rays-per-point 16"
+    "rays 0.5 (default), 16 rays|--rays-per-point 16"
   )
   local entry name scene viewer setting sname soptions load json off_ms
   {
     header "What choosing the density costs, per stage, on the CPU"
-    echo "The whole FOVE eye ($whole_eye), MSM k = 5, centred gaze, in four settings: at one ray per point eccentricity"
-    echo "only (off), and content contrast 0.1 (the GPU path's default) and 0.5 (thinning alone); both levers from"
-    echo "contrast 0.5 at four rays per point (\`--content-rays 0.5\`: the per-point test also counts each point's rays):"
+    echo "The whole FOVE eye ($whole_eye), MSM k = 5, centred gaze: at one ray per point eccentricity only (off), and"
+    echo "content contrast 0.1 (the GPU path's default) and 0.5 (thinning alone); at four and sixteen rays per point"
+    echo "eccentricity only (\`--content-rays 0\`) and rays per point by contrast from 0.5, the products' default there"
+    echo "(the per-point test also counts each point's rays); at four, both levers from contrast 0.5:"
     echo "\`$fovea render --scene SCENE VIEWER --preset fove --mode foveated --interpolation msm --k 5 SETTING"
     echo "--frames 5 --cache-dir out/cache --json\`, its median frame (select, trace and"
     echo "reconstruction: frame ms) and that frame's \`density_stages_ms\`: levels, the tiles' levels from the last"
@@ -225,7 +285,7 @@ cost_part() {
     echo "colours into their tiles' ranges; fill, the thinned points from their parents. Test and observe run inside the"
     echo "parallel trace pass: their time summed over the threads, divided by the threads. Density ms is the four's sum."
     echo "Rays % of full: primary rays over the full render's at the same rays per pixel. Frame % of off: the frame ms"
-    echo "over eccentricity only's at one ray per point, what the density nets in time (1-ray rows). Load average"
+    echo "over eccentricity only's at the same rays per point, what the density nets in time. Load average"
     echo "(1 min) when each ran. The device trace's passes: [cost_device.md](cost_device.md)."
     echo
     echo "| scene | setting | levels ms | test ms | observe ms | fill ms | density ms | frame ms | density % of the frame | rays % of full | frame % of off | load |"
@@ -237,18 +297,18 @@ cost_part() {
       IFS='|' read -r sname soptions <<<"$setting"
       echo "=== $name, cost, $sname" >&2
       load=$(cut -d' ' -f1 /proc/loadavg)
-      json="$dir/json/${name}_cost_${sname//[ ,.]/_}.json"
+      json="$dir/json/${name}_cost_${sname//[ ,.()]/_}.json"
       # shellcheck disable=SC2086
       "$fovea" render --scene "$scene" $viewer --preset fove --mode foveated --interpolation msm --k 5 $soptions \
         --frames 5 --cache-dir out/cache --json >"$json"
-      [ "$sname" = "off, 1 ray" ] && off_ms=$(jq '.foveated.total_ms' "$json")
+      [[ "$sname" = off,* ]] && off_ms=$(jq '.foveated.total_ms' "$json")
       jq -r --arg name "$name" --arg setting "$sname" --arg load "$load" --argjson off_ms "$off_ms" '
         def r2: . * 100 | round / 100;
         .foveated as $f | $f.density_stages_ms as $s
         | "| \($name) | \($setting) | \($s.levels | r2) | \($s.test | r2) | \($s.observe | r2) | \($s.fill | r2)"
           + " | \($f.density_ms | r2) | \($f.total_ms | r2) | \($f.density_ms / $f.total_ms * 1000 | round / 10)"
           + " | \($f.rays.primary / .pixels / .rays_per_point * 1000 | round / 10)"
-          + " | \(if .rays_per_point == 1 then $f.total_ms / $off_ms * 1000 | round / 10 else "-" end) | \($load) |"' \
+          + " | \($f.total_ms / $off_ms * 1000 | round / 10) | \($load) |"' \
         "$json" >>"$md"
     done
   done
@@ -359,39 +419,52 @@ device_cost_part() {
 # Per scene, the flicker of thinned points over a head and gaze motion against eccentricity only: flicker.md.
 flicker_part() {
   need "$eval_bin"
-  local contrast=0.1 frames=12 motion_spp=32 md="$dir/flicker.md" entry name scene viewer c
+  local contrast=0.1 frames=12 motion_spp=32 md="$dir/flicker.md" entry name scene viewer lever
   local common=(--mode foveated --frames "$frames" --temporal image,rays --interpolation msm --k 5
                 --reference-spp "$motion_spp" --cache-dir out/cache --json)
+  local levers=(  # name | its JSON's suffix | eccentricity only's options | the lever's
+    "thin $contrast|$contrast|--content-contrast 0|--content-contrast $contrast"
+    "rays 0.5, 4 rays|rays_4|--rays-per-point 4 --content-rays 0|--rays-per-point 4 --content-rays 0.5"
+  )
   {
-    header "Does thinning flicker? Content-aware density over a head and gaze motion"
-    echo "Per scene, \`$eval_bin motion --scene SCENE ${common[*]}\` once with \`--content-contrast $contrast\` and"
-    echo "once without: the whole FOVE eye over the first $frames frames (70 Hz) of the built-in head and gaze motion, MSM"
-    echo "k = 5, one ray per point, with each temporal history of the product: image (the CPU path's default) and rays"
-    echo "(the render cache, the device path's). Flicker: the CSF-weighted frame-to-frame change of the error against a"
-    echo "converged reference sequence of $motion_spp rays per pixel (\`flicker_csf\`, per ring), and the reference's own"
-    echo "(its floor). Points: traced per frame, frames 2 on (the first has no last frame to measure), as % of"
-    echo "eccentricity only's. The scenes viewed from their own camera."
+    header "Does content-aware density flicker? Its levers over a head and gaze motion"
+    echo "Per scene and lever, \`$eval_bin motion --scene SCENE ${common[*]}\` with the lever's options and with"
+    echo "eccentricity only's: the whole FOVE eye over the first $frames frames (70 Hz) of the built-in head and gaze motion,"
+    echo "MSM k = 5, with each temporal history of the product: image (the CPU path's default) and rays (the render"
+    echo "cache, the device path's). The levers: thinning from content contrast $contrast at one ray per point"
+    echo "(\`--content-contrast $contrast\`), and rays per point by contrast from 0.5 at four rays per point, the products'"
+    echo "default where a point casts several (\`--rays-per-point 4 --content-rays 0.5\`, against \`--content-rays 0\`)."
+    echo "Flicker: the CSF-weighted frame-to-frame change of the error against a converged reference sequence of"
+    echo "$motion_spp rays per pixel (\`flicker_csf\`, per ring), and the reference's own (its floor). Points and rays:"
+    echo "per frame, frames 2 on (the first has no last frame to measure), as % of eccentricity only's. The scenes"
+    echo "viewed from their own camera."
     echo
-    echo "| scene | history | density | points % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+    echo "| scene | history | density | points % | rays % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
   } >"$md"
   for entry in "${scenes[@]}"; do
     IFS='|' read -r name scene viewer <<<"$entry"
     [ -z "$viewer" ] || continue  # the motion's head path starts at the scene's own camera
-    for c in 0 "$contrast"; do
-      echo "=== $name, flicker, content contrast $c" >&2
-      "$eval_bin" motion --scene "$scene" "${common[@]}" --content-contrast "$c" >"$dir/json/${name}_flicker_$c.json"
+    for lever in "${levers[@]}"; do
+      local lname suffix off_options on_options
+      IFS='|' read -r lname suffix off_options on_options <<<"$lever"
+      echo "=== $name, flicker, $lname" >&2
+      # shellcheck disable=SC2086
+      "$eval_bin" motion --scene "$scene" "${common[@]}" $off_options >"$dir/json/${name}_flicker_${suffix}_off.json"
+      # shellcheck disable=SC2086
+      "$eval_bin" motion --scene "$scene" "${common[@]}" $on_options >"$dir/json/${name}_flicker_$suffix.json"
+      jq -r -s --arg name "$name" --arg lever "$lname" '
+        def r5: if . == null then "-" else . * 100000 | round / 100000 end;
+        def rings: .rings | map(.flicker_csf | r5) | join(" | ");
+        def pct($a; $b): if $b > 0 then $a / $b * 1000 | round / 10 else "-" end;
+        .[0] as $off | .[1] as $on
+        | (($off.tracks | keys[]) as $i | $off.tracks[$i] as $e | $on.tracks[$i] as $t
+           | "| \($name) | \($e.temporal) | eccentricity only | 100 | 100 | \($e | rings) |",
+             "| \($name) | \($t.temporal) | \($lever) | \(pct($t.points_by_frame[1:] | add; $e.points_by_frame[1:] | add))"
+             + " | \(pct($t.primary_rays_by_frame[1:] | add; $e.primary_rays_by_frame[1:] | add)) | \($t | rings) |"),
+          "| \($name) | | reference floor | | | \($off.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' \
+        "$dir/json/${name}_flicker_${suffix}_off.json" "$dir/json/${name}_flicker_$suffix.json" >>"$md"
     done
-    jq -r -s --arg name "$name" --arg c "$contrast" '
-      def r5: if . == null then "-" else . * 100000 | round / 100000 end;
-      def rings: .rings | map(.flicker_csf | r5) | join(" | ");
-      def later: .points_by_frame[1:] | add;
-      .[0] as $off | .[1] as $on
-      | (($off.tracks | keys[]) as $i | $off.tracks[$i] as $e | $on.tracks[$i] as $t
-         | "| \($name) | \($e.temporal) | eccentricity only | 100 | \($e | rings) |",
-           "| \($name) | \($t.temporal) | thin \($c) | \(($t | later) / ($e | later) * 1000 | round / 10) | \($t | rings) |"),
-        "| \($name) | | reference floor | | \($off.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' \
-      "$dir/json/${name}_flicker_0.json" "$dir/json/${name}_flicker_$contrast.json" >>"$md"
   done
 }
 
