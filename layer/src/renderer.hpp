@@ -68,10 +68,10 @@ struct RendererSettings {
 foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu);
 
 // The content contrast that thins a view's points where the settings leave it unset: on the
-// GPU path, where on the benchmark set it traces 36-95 % of eccentricity-only's rays with no
-// detection or flicker added that the perceptual metric sees, and its passes cost under 1 % of
-// the trace (docs/results/content_density/); off on the CPU path, where its per-point test
-// costs about as much frame time as the rays it saves (from 17 % faster to 6 % slower a frame).
+// GPU path, where on the benchmark set it traces fewer rays with no detection or flicker added
+// that the perceptual metric sees, and its passes cost under 1 % of the trace
+// (docs/results/content_density/); off on the CPU path, where its per-point test costs about as
+// much frame time as the rays it saves (a frame faster on some scenes, slower on others).
 inline constexpr float kDeviceContentContrast = 0.1f;
 float content_contrast_for_path(const RendererSettings& settings, bool reconstruct_on_gpu);
 // The contrast from which a point casts all its rays where the settings leave it unset:

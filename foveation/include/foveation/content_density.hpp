@@ -43,7 +43,7 @@ struct ContentDensityOptions {
   bool enabled() const { return thins() || varies_rays(); }
 };
 
-// The products' rays per point by contrast where the user names none (docs/foveation.md,
+// The product's rays per point by contrast where the user names none (docs/foveation.md,
 // "Defaults"): all of them from this tile contrast, where a point casts several rays and the
 // density is the thesis's or sparser. With one ray per point there is nothing to vary; at a
 // denser scale, Poisson discs under a pixel cast fewer rays and the perceptual metric sees it.
