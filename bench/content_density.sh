@@ -19,8 +19,8 @@
 #    (`fovea-eval density --ring-multiples`) at the thesis's scale 1, eccentricity only and thinned
 #    from contrast 0.1, with nearest-neighbour and MSM reconstruction, beside the full render's.
 #  cost (cost.md): what choosing the density costs in a product frame, per stage: `fovea render`
-#    on the whole FOVE eye, content contrast 0.5 at one ray per point, and both levers at four,
-#    against the frame's ms.
+#    on the whole FOVE eye, thinning at one ray per point, rays by contrast (the default) at four and
+#    sixteen and both levers at four, against eccentricity only's frame at the same rays per point.
 #  rays (rays.md): rays per point by contrast, centred gaze: `fovea-eval density --ray-contrasts`
 #    on the CROP at 16 rays per point and density scale 2, the primary rays against eccentricity
 #    only at the same scale, and what the metric sees.
