@@ -169,6 +169,11 @@ TEST(RenderCommand, TemporalIsTheLayersChoice) {
 // scale or with --content-rays 0 every point casts them all. (The lab's commands default to off.)
 TEST(RenderCommand, SeveralRaysPerPointFollowTheContrastByDefault) {
   EXPECT_EQ(RenderOptions{}.content_rays, 0.0) << "the lab's rows are what they name";
+  CLI::App app;
+  register_render(app);  // fovea render's options start unset, and its help says what that means
+  const std::string help = app.get_subcommand("render")->get_option("--content-rays")->get_description();
+  EXPECT_NE(help.find("default 0.5 with several rays per point at --density-scale 1 or above"), std::string::npos)
+      << help;
   struct Case {
     int rays_per_point;
     double density_scale;
