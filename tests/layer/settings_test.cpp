@@ -4,6 +4,7 @@
 // real choices (nearest neighbour, no temporal history, fixed foveation).
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 #include <string_view>
@@ -215,6 +216,19 @@ TEST(ResolveSettings, AutoTemporalFollowsTheReconstructionPath) {
   EXPECT_EQ(temporal_for_path(off, false), foveation::TemporalMode::off);
 }
 
+// A key read as a number in [0, 1] or 0 for off (content_contrast, content_rays): out of that
+// range or not a number it is refused with one warning naming the key and the range, and stays unset.
+void expect_unit_or_off_refused(const char* key, std::optional<float> LayerConfig::*setting) {
+  for (const char* bad : {"-0.1", "1.5", "\"high\""}) {
+    ConfigResult r;
+    apply_config_text(std::string("{\"") + key + "\": " + bad + "}", "test.json", "app", &r);
+    EXPECT_FALSE((r.config.*setting).has_value()) << key << " " << bad;
+    ASSERT_EQ(r.warnings.size(), 1u) << key << " " << bad;
+    EXPECT_NE(r.warnings[0].find(key), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find("[0, 1]"), std::string::npos) << r.warnings[0];
+  }
+}
+
 // Content density unset is the path's own: on where the GPU reconstructs, off on the CPU path;
 // a contrast the config names holds on both, 0 (off) too; out of [0, 1] it is refused.
 TEST(ResolveSettings, UnsetContentContrastFollowsTheReconstructionPath) {
@@ -228,14 +242,7 @@ TEST(ResolveSettings, UnsetContentContrastFollowsTheReconstructionPath) {
     EXPECT_EQ(content_contrast_for_path(named, true), c);
     EXPECT_EQ(content_contrast_for_path(named, false), c);
   }
-  for (const char* bad : {"-0.1", "1.5", "\"high\""}) {
-    ConfigResult r;
-    apply_config_text(std::string("{\"content_contrast\": ") + bad + "}", "test.json", "app", &r);
-    EXPECT_FALSE(r.config.content_contrast.has_value()) << bad;
-    ASSERT_EQ(r.warnings.size(), 1u) << bad;
-    EXPECT_NE(r.warnings[0].find("content_contrast"), std::string::npos) << r.warnings[0];
-    EXPECT_NE(r.warnings[0].find("[0, 1]"), std::string::npos) << r.warnings[0];
-  }
+  expect_unit_or_off_refused("content_contrast", &LayerConfig::content_contrast);
 }
 
 // Rays per point by contrast unset are on where a point casts several rays, from the app's rays
@@ -264,13 +271,7 @@ TEST(ResolveSettings, UnsetContentRaysVaryWhereAPointCastsSeveral) {
     EXPECT_EQ(content_rays_for(resolve(use_config_info(), config_from(text))), c);
   }
   EXPECT_EQ(content_rays_for(resolve(use_config_info(), config_from(R"({"content_rays": 0.25})"))), 0.25f);
-  for (const char* bad : {"-0.1", "1.5", "\"high\""}) {
-    ConfigResult r;
-    apply_config_text(std::string("{\"content_rays\": ") + bad + "}", "test.json", "app", &r);
-    EXPECT_FALSE(r.config.content_rays.has_value()) << bad;
-    ASSERT_EQ(r.warnings.size(), 1u) << bad;
-    EXPECT_NE(r.warnings[0].find("content_rays"), std::string::npos) << r.warnings[0];
-  }
+  expect_unit_or_off_refused("content_rays", &LayerConfig::content_rays);
 }
 
 TEST(ResolveSettings, NearestNeighbourUsesOneTap) {
