@@ -280,8 +280,7 @@ void add_density_json(const fv::FoveationTables& tables, const fv::DisplayModel&
   };
   auto radius_json = [](double radius_px) { return std::isfinite(radius_px) ? nlohmann::json(radius_px) : "all"; };
   auto radius_deg = [&](double radius_px) {
-    return std::isfinite(radius_px) ? std::atan(radius_px / display.view_distance_px) * 180.0 / 3.141592653589793
-                                    : 90.0;
+    return std::isfinite(radius_px) ? fv::eccentricity_deg(radius_px, display.view_distance_px) : 90.0;
   };
   const double grid_radius_px = display.pixel_grid_radius_px();
   const double exact_radius_px = display.exact_fovea_radius_px();
