@@ -6,6 +6,7 @@
 
 #include <foveation/eye_rays.hpp>
 
+#include "command_slot.hpp"
 #include "icd_pin.h"
 #include "vk_helpers.hpp"
 
@@ -135,9 +136,7 @@ struct CallbackAdapter::Impl {
   std::string name;
   VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   bool ray_tracing = false;  // the device was created with the ray-tracing extensions
-  VkCommandPool pool = VK_NULL_HANDLE;
-  VkCommandBuffer cb = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;
+  CommandSlot commands;
   std::unique_ptr<GpuTracer> tracer;
 
   // Guarded by `mutex`: the staging buffers and the one submission in flight.
@@ -156,8 +155,7 @@ struct CallbackAdapter::Impl {
     count_buffer.destroy();
     rays.destroy();
     colors.destroy();
-    if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
-    if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, pool, nullptr);  // frees cb
+    commands.destroy();
     if (device != VK_NULL_HANDLE) vkDestroyDevice(device, nullptr);
     validation.destroy(instance);
     if (instance != VK_NULL_HANDLE) vkDestroyInstance(instance, nullptr);
@@ -174,7 +172,6 @@ struct CallbackAdapter::Impl {
   uint32_t pack_rays(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
                      const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m);
   int32_t record_trace(const FoveartRayBatch& batch, uint32_t valid);
-  int32_t submit_and_wait();
   void unpack_colors(const FoveartRayBatch& batch, uint32_t first, uint32_t n, float* out_depth) const;
 };
 
@@ -264,29 +261,7 @@ bool CallbackAdapter::Impl::create_logical_device(const CallbackAdapterOptions& 
 
 // The one command buffer, its fence and the ray count buffer every submission uses.
 bool CallbackAdapter::Impl::create_submission(std::string* error) {
-  VkCommandPoolCreateInfo pool_info{};
-  pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pool_info.queueFamilyIndex = family;
-  VkResult r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
-  if (r != VK_SUCCESS) {
-    pool = VK_NULL_HANDLE;
-    return fail(error, vk_error("vkCreateCommandPool", r));
-  }
-  VkCommandBufferAllocateInfo cb_info{};
-  cb_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-  cb_info.commandPool = pool;
-  cb_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cb_info.commandBufferCount = 1;
-  r = vkAllocateCommandBuffers(device, &cb_info, &cb);
-  if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateCommandBuffers", r));
-  VkFenceCreateInfo fence_info{};
-  fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-  r = vkCreateFence(device, &fence_info, nullptr, &fence);
-  if (r != VK_SUCCESS) {
-    fence = VK_NULL_HANDLE;
-    return fail(error, vk_error("vkCreateFence", r));
-  }
+  if (!commands.create(device, family, error)) return false;
   return count_buffer.create(physical, device, sizeof(XrFoveatedDeviceRayCountFOVEART),
                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, error);
 }
@@ -317,7 +292,8 @@ int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_
   skipped_primary += n - valid;
   if (valid > 0) {
     if (const int32_t r = record_trace(batch, valid); r != FOVEART_RESULT_SUCCESS) return r;
-    if (const int32_t r = submit_and_wait(); r != FOVEART_RESULT_SUCCESS) return r;
+    if (!commands.submit_and_wait(queue, kFenceTimeoutNs, "ray batch", &last_error))
+      return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
   }
   unpack_colors(batch, first, n, out_depth);
   return FOVEART_RESULT_SUCCESS;
@@ -363,15 +339,8 @@ int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32
   header.traceRays[2] = 1;
   std::memcpy(count_buffer.mapped, &header, sizeof(header));
 
-  VkResult r = vkResetCommandBuffer(cb, 0);
-  VkCommandBufferBeginInfo begin{};
-  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  if (r == VK_SUCCESS) r = vkBeginCommandBuffer(cb, &begin);
-  if (r != VK_SUCCESS) {
-    last_error = vk_error("vkBeginCommandBuffer", r);
-    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-  }
+  if (!commands.begin(&last_error)) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
+  const VkCommandBuffer cb = commands.cb();
   // Host writes of rays and count -> the shader's reads and the indirect dispatch's.
   VkMemoryBarrier before{};
   before.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
@@ -393,10 +362,8 @@ int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32
   device_batch.pointIndex = {VK_NULL_HANDLE, 0, 0};  // the trace does not read it
   device_batch.colors = {colors.buffer, 0, colors.size};
   device_batch.commandBuffer = cb;
-  std::string error;
-  if (!tracer->record_trace(device_batch, &error)) {
-    last_error = error;
-    vkEndCommandBuffer(cb);
+  if (!tracer->record_trace(device_batch, &last_error)) {
+    commands.abandon();
     return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
   }
   // The shader's writes (colours, the tracer's counters) -> host reads.
@@ -405,29 +372,6 @@ int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32
   after.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
   after.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
   vkCmdPipelineBarrier(cb, trace_stage, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0, nullptr);
-  return FOVEART_RESULT_SUCCESS;
-}
-
-// Ends, submits and waits for the command buffer; the fence is reset for the next.
-int32_t CallbackAdapter::Impl::submit_and_wait() {
-  VkResult r = vkEndCommandBuffer(cb);
-  VkSubmitInfo submit{};
-  submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &cb;
-  if (r == VK_SUCCESS) r = vkQueueSubmit(queue, 1, &submit, fence);
-  if (r != VK_SUCCESS) {
-    last_error = vk_error("vkQueueSubmit", r);
-    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-  }
-  r = vkWaitForFences(device, 1, &fence, VK_TRUE, kFenceTimeoutNs);
-  if (r != VK_SUCCESS) {
-    last_error = vk_error("vkWaitForFences", r);
-    vkDeviceWaitIdle(device);  // the buffers are reused: nothing may still run
-    vkResetFences(device, 1, &fence);
-    return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
-  }
-  if (vkResetFences(device, 1, &fence) != VK_SUCCESS) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
   return FOVEART_RESULT_SUCCESS;
 }
 

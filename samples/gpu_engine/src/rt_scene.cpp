@@ -3,6 +3,7 @@
 // device-local memory (filled through staging), the one TLAS instance in
 // host-visible memory (64 bytes the host writes once, read by one build).
 #include "rt_scene.hpp"
+#include "command_slot.hpp"
 #include "vk_helpers.hpp"
 
 #include "rt_layout.hpp"
@@ -21,64 +22,6 @@ constexpr VkBufferUsageFlags kBuildInput =
 constexpr VkBufferUsageFlags kStorage =
     VK_BUFFER_USAGE_ACCELERATION_STRUCTURE_STORAGE_BIT_KHR | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
 constexpr VkBufferUsageFlags kScratch = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
-
-// A command pool, one command buffer and a fence, released on scope exit.
-struct OneTimeCommands {
-  VkDevice device = VK_NULL_HANDLE;
-  VkCommandPool pool = VK_NULL_HANDLE;
-  VkCommandBuffer cb = VK_NULL_HANDLE;
-  VkFence fence = VK_NULL_HANDLE;
-  OneTimeCommands() = default;
-  OneTimeCommands(const OneTimeCommands&) = delete;
-  OneTimeCommands& operator=(const OneTimeCommands&) = delete;
-  ~OneTimeCommands() {
-    if (fence != VK_NULL_HANDLE) vkDestroyFence(device, fence, nullptr);
-    if (pool != VK_NULL_HANDLE) vkDestroyCommandPool(device, pool, nullptr);
-  }
-  bool begin(VkDevice d, uint32_t family, std::string* error) {
-    device = d;
-    VkCommandPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT;
-    pool_info.queueFamilyIndex = family;
-    VkResult r = vkCreateCommandPool(device, &pool_info, nullptr, &pool);
-    if (r != VK_SUCCESS) {
-      pool = VK_NULL_HANDLE;
-      return fail(error, vk_error("vkCreateCommandPool", r));
-    }
-    VkCommandBufferAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-    alloc.commandPool = pool;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    r = vkAllocateCommandBuffers(device, &alloc, &cb);
-    if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateCommandBuffers", r));
-    VkFenceCreateInfo fence_info{};
-    fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    r = vkCreateFence(device, &fence_info, nullptr, &fence);
-    if (r != VK_SUCCESS) {
-      fence = VK_NULL_HANDLE;
-      return fail(error, vk_error("vkCreateFence", r));
-    }
-    VkCommandBufferBeginInfo begin_info{};
-    begin_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-    begin_info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    r = vkBeginCommandBuffer(cb, &begin_info);
-    return r == VK_SUCCESS || fail(error, vk_error("vkBeginCommandBuffer", r));
-  }
-  bool submit_and_wait(VkQueue queue, std::string* error) {
-    VkResult r = vkEndCommandBuffer(cb);
-    if (r != VK_SUCCESS) return fail(error, vk_error("vkEndCommandBuffer", r));
-    VkSubmitInfo submit{};
-    submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cb;
-    r = vkQueueSubmit(queue, 1, &submit, fence);
-    if (r != VK_SUCCESS) return fail(error, vk_error("vkQueueSubmit (acceleration structure build)", r));
-    r = vkWaitForFences(device, 1, &fence, VK_TRUE, kBuildTimeoutNs);
-    return r == VK_SUCCESS || fail(error, vk_error("vkWaitForFences (acceleration structure build)", r));
-  }
-};
 
 VkPhysicalDeviceAccelerationStructurePropertiesKHR acceleration_structure_properties(const GpuContext& ctx) {
   VkPhysicalDeviceAccelerationStructurePropertiesKHR as_props{};
@@ -135,11 +78,11 @@ bool RtScene::build(const GpuContext& ctx, const SceneData& data, std::string* e
                            " triangles exceed the device's maxPrimitiveCount for one acceleration structure");
   Build b(ctx, std::max<VkDeviceSize>(as_props.minAccelerationStructureScratchOffsetAlignment, 1), error);
   if (!upload_vertices(b, data)) return false;
-  OneTimeCommands commands;
-  if (!commands.begin(device_, ctx.queue_family_index, error)) return false;
-  b.cb = commands.cb;
+  CommandSlot commands;
+  if (!commands.create(device_, ctx.queue_family_index, error) || !commands.begin(error)) return false;
+  b.cb = commands.cb();
   if (!build_blas(b) || !build_tlas(b)) return false;
-  return commands.submit_and_wait(ctx.queue, error);
+  return commands.submit_and_wait(ctx.queue, kBuildTimeoutNs, "acceleration structure build", error);
 }
 
 // Three world-space vertices per primitive, in prims_ order, into a build input buffer.

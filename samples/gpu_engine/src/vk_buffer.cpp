@@ -211,45 +211,11 @@ void DeviceBuffer::destroy() {
 Uploader::Uploader(VkPhysicalDevice physical_device, VkDevice device, uint32_t queue_family, VkQueue queue)
     : physical_(physical_device), device_(device), family_(queue_family), queue_(queue) {}
 
-Uploader::~Uploader() {
-  if (fence_ != VK_NULL_HANDLE) vkDestroyFence(device_, fence_, nullptr);
-  if (pool_ != VK_NULL_HANDLE) vkDestroyCommandPool(device_, pool_, nullptr);
-}
-
 bool Uploader::begin(std::string* error) {
   if (recording_) return true;
   if (queue_ == VK_NULL_HANDLE) return fail(error, "gpu_engine: uploading the scene needs GpuContext::queue");
-  VkResult r = VK_SUCCESS;
-  if (pool_ == VK_NULL_HANDLE) {
-    VkCommandPoolCreateInfo pool_info{};
-    pool_info.sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO;
-    pool_info.flags = VK_COMMAND_POOL_CREATE_TRANSIENT_BIT | VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool_info.queueFamilyIndex = family_;
-    r = vkCreateCommandPool(device_, &pool_info, nullptr, &pool_);
-    if (r != VK_SUCCESS) {
-      pool_ = VK_NULL_HANDLE;
-      return fail(error, vk_error("vkCreateCommandPool", r));
-    }
-    VkCommandBufferAllocateInfo alloc{};
-    alloc.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
-    alloc.commandPool = pool_;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    r = vkAllocateCommandBuffers(device_, &alloc, &cb_);
-    if (r != VK_SUCCESS) return fail(error, vk_error("vkAllocateCommandBuffers", r));
-    VkFenceCreateInfo fence_info{};
-    fence_info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
-    r = vkCreateFence(device_, &fence_info, nullptr, &fence_);
-    if (r != VK_SUCCESS) {
-      fence_ = VK_NULL_HANDLE;
-      return fail(error, vk_error("vkCreateFence", r));
-    }
-  }
-  VkCommandBufferBeginInfo begin_info{};
-  begin_info.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
-  begin_info.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  r = vkBeginCommandBuffer(cb_, &begin_info);
-  if (r != VK_SUCCESS) return fail(error, vk_error("vkBeginCommandBuffer", r));
+  if (!commands_.created() && !commands_.create(device_, family_, error)) return false;
+  if (!commands_.begin(error)) return false;
   recording_ = true;
   return true;
 }
@@ -262,20 +228,9 @@ bool Uploader::submit(std::string* error) {
   visible.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
   visible.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   visible.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
-  vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &visible, 0,
-                       nullptr, 0, nullptr);
-  VkResult r = vkEndCommandBuffer(cb_);
-  if (r != VK_SUCCESS) return fail(error, vk_error("vkEndCommandBuffer", r));
-  VkSubmitInfo submit_info{};
-  submit_info.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
-  submit_info.commandBufferCount = 1;
-  submit_info.pCommandBuffers = &cb_;
-  r = vkQueueSubmit(queue_, 1, &submit_info, fence_);
-  if (r != VK_SUCCESS) return fail(error, vk_error("vkQueueSubmit (scene upload)", r));
-  r = vkWaitForFences(device_, 1, &fence_, VK_TRUE, kUploadTimeoutNs);
-  if (r != VK_SUCCESS) return fail(error, vk_error("vkWaitForFences (scene upload)", r));
-  vkResetFences(device_, 1, &fence_);
-  vkResetCommandBuffer(cb_, 0);
+  vkCmdPipelineBarrier(commands_.cb(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1,
+                       &visible, 0, nullptr, 0, nullptr);
+  if (!commands_.submit_and_wait(queue_, kUploadTimeoutNs, "scene upload", error)) return false;
   staging_.clear();
   staged_bytes_ = 0;
   return true;
@@ -304,7 +259,7 @@ bool Uploader::buffer(const DeviceBuffer& dst, const void* data, VkDeviceSize by
   MappedBuffer* staging = stage(data, bytes, error);
   if (staging == nullptr) return false;
   const VkBufferCopy copy{0, 0, bytes};
-  vkCmdCopyBuffer(cb_, staging->buffer(), dst.buffer(), 1, &copy);
+  vkCmdCopyBuffer(commands_.cb(), staging->buffer(), dst.buffer(), 1, &copy);
   return true;
 }
 
@@ -321,19 +276,19 @@ bool Uploader::image(VkImage dst, uint32_t width, uint32_t height, uint32_t texe
   b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   b.image = dst;
   b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, level, 1, 0, 1};
-  vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0,
-                       nullptr, 1, &b);
+  vkCmdPipelineBarrier(commands_.cb(), VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr,
+                       0, nullptr, 1, &b);
   VkBufferImageCopy copy{};
   copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, level, 0, 1};
   copy.imageExtent = {width, height, 1};
-  vkCmdCopyBufferToImage(cb_, staging->buffer(), dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
+  vkCmdCopyBufferToImage(commands_.cb(), staging->buffer(), dst, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
   // The layout the shaders sample in; its visibility to them comes with submit()'s barrier.
   b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
   b.dstAccessMask = VK_ACCESS_SHADER_READ_BIT;
   b.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL;
   b.newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL;
-  vkCmdPipelineBarrier(cb_, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0, nullptr, 0,
-                       nullptr, 1, &b);
+  vkCmdPipelineBarrier(commands_.cb(), VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 0,
+                       nullptr, 0, nullptr, 1, &b);
   return true;
 }
 

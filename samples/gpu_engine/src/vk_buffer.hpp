@@ -15,6 +15,8 @@
 
 #include <gpu_engine/gpu_tracer.hpp>  // MemoryUse
 
+#include "command_slot.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -115,7 +117,6 @@ class DeviceBuffer {
 class Uploader {
  public:
   Uploader(VkPhysicalDevice physical_device, VkDevice device, uint32_t queue_family, VkQueue queue);
-  ~Uploader();
   Uploader(const Uploader&) = delete;
   Uploader& operator=(const Uploader&) = delete;
 
@@ -137,9 +138,7 @@ class Uploader {
   VkDevice device_;
   uint32_t family_;
   VkQueue queue_;
-  VkCommandPool pool_ = VK_NULL_HANDLE;
-  VkCommandBuffer cb_ = VK_NULL_HANDLE;
-  VkFence fence_ = VK_NULL_HANDLE;
+  CommandSlot commands_;
   bool recording_ = false;
   VkDeviceSize staged_bytes_ = 0;
   std::vector<std::unique_ptr<MappedBuffer>> staging_;

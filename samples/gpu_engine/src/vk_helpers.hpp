@@ -14,8 +14,8 @@ inline bool fail(std::string* error, const std::string& message) {
   return false;
 }
 
-inline std::string vk_error(const char* what, VkResult r) {
-  return std::string("gpu_engine: ") + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
+inline std::string vk_error(const std::string& what, VkResult r) {
+  return "gpu_engine: " + what + " failed (VkResult " + std::to_string(static_cast<int>(r)) + ")";
 }
 
 // v rounded up to a multiple of alignment (sizes and device addresses alike).
