@@ -3,7 +3,7 @@
 // is compiled per effect combination; an absent effect has no code in it.
 #include <engine/tracer.hpp>
 
-#include <foveation/eye_rays.hpp>
+#include <foveation/ray_batch_reader.hpp>
 
 #include "shading.hpp"
 #include "texture_sampler.hpp"
@@ -466,29 +466,18 @@ int Tracer::Impl::refraction_packet(const PacketIn& in, const PacketHits& hits, 
 }
 
 int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
-  if (!batch || batch->type != FOVEART_TYPE_RAY_BATCH ||
-      batch->size < offsetof(FoveartRayBatch, out_rgb) + sizeof(float*))
-    return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
-  if (batch->ray_count == 0) return FOVEART_RESULT_SUCCESS;
-  const bool explicit_rays = batch->origins_m && batch->directions;
-  const bool view_rays = batch->view && batch->sample_px && batch->view->type == FOVEART_TYPE_EYE_VIEW &&
-                         batch->view->size >= sizeof(FoveartEyeView) && batch->view->width_px > 0 &&
-                         batch->view->height_px > 0;
-  if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  ScopedFlushDenormals ftz;
+  foveation::RayBatchReader batch_rays;
+  if (const int32_t r = foveation::RayBatchReader::read(batch, &batch_rays);
+      r != FOVEART_RESULT_SUCCESS || batch_rays.size() == 0)
+    return r;
   try {
-    ScopedFlushDenormals ftz;
-    foveation::EyePose pose;
-    foveation::ScreenRayMap ray_map;
-    if (!explicit_rays) {
-      pose = foveation::eye_pose(*batch->view);
-      ray_map = foveation::screen_ray_map(foveation::eye_frustum(*batch->view), pose);
-    }
     LocalCounts counts;
     constexpr uint32_t kChunk = kLanes;
     glm::vec3 color[kChunk];
     float depth_m[kChunk];
     // The depth per ray (TAA reprojection) when the batch has room for it.
-    float* out_depth = batch->size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH ? batch->out_depth_m : nullptr;
+    float* out_depth = batch_rays.out_depth_m();
     PacketIn in;
     in.primary_depth_m = out_depth != nullptr ? depth_m : nullptr;
     for (uint32_t first = 0; first < batch->ray_count; first += kChunk) {
@@ -498,20 +487,8 @@ int32_t Tracer::Impl::trace(const FoveartRayBatch* batch) noexcept {
         depth_m[i] = std::numeric_limits<float>::quiet_NaN();  // a ray not traced gives no depth
         in.valid[i] = 0;
         if (i >= n) continue;
-        const uint32_t r = first + i;
-        glm::vec3 o, d;
-        if (explicit_rays) {
-          o = glm::vec3(batch->origins_m[3 * r], batch->origins_m[3 * r + 1], batch->origins_m[3 * r + 2]);
-          d = glm::vec3(batch->directions[3 * r], batch->directions[3 * r + 1], batch->directions[3 * r + 2]);
-        } else {
-          o = pose.position_m;
-          d = foveation::eye_ray_direction(ray_map, glm::vec2(batch->sample_px[2 * r], batch->sample_px[2 * r + 1]));
-        }
-        const float len2 = glm::dot(d, d);
-        if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) continue;  // black
+        if (!batch_rays.ray(first + i, &in.origin[i], &in.dir[i])) continue;  // black
         in.valid[i] = -1;
-        in.origin[i] = o;
-        in.dir[i] = d * (1.0f / std::sqrt(len2));
         in.weight[i] = glm::vec3(1.0f);
         in.target[i] = i;
       }

@@ -4,7 +4,7 @@
 #include <gpu_engine/rt_device.hpp>
 #include <gpu_engine/validation_messenger.hpp>
 
-#include <foveation/eye_rays.hpp>
+#include <foveation/ray_batch_reader.hpp>
 
 #include "command_slot.hpp"
 #include "icd_pin.h"
@@ -167,10 +167,8 @@ struct CallbackAdapter::Impl {
   bool create_logical_device(const CallbackAdapterOptions& options, std::string* error);
   bool create_submission(std::string* error);
   bool ensure_capacity(uint32_t rays_needed, std::string* error);
-  int32_t trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
-                      const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m, float* out_depth);
-  uint32_t pack_rays(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
-                     const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m);
+  int32_t trace_chunk(const foveation::RayBatchReader& batch_rays, uint32_t first, uint32_t n);
+  uint32_t pack_rays(const foveation::RayBatchReader& batch_rays, uint32_t first, uint32_t n);
   int32_t record_trace(const FoveartRayBatch& batch, uint32_t valid);
   void unpack_colors(const FoveartRayBatch& batch, uint32_t first, uint32_t n, float* out_depth) const;
 };
@@ -280,45 +278,35 @@ bool CallbackAdapter::Impl::ensure_capacity(uint32_t rays_needed, std::string* e
   return true;
 }
 
-int32_t CallbackAdapter::Impl::trace_chunk(const FoveartRayBatch& batch, uint32_t first, uint32_t n,
-                                           bool explicit_rays, const foveation::ScreenRayMap& ray_map,
-                                           glm::vec3 eye_m, float* out_depth) {
+int32_t CallbackAdapter::Impl::trace_chunk(const foveation::RayBatchReader& batch_rays, uint32_t first, uint32_t n) {
   std::string error;
   if (!ensure_capacity(n, &error)) {
     last_error = error;
     return FOVEART_RESULT_ERROR_OUT_OF_MEMORY;
   }
-  const uint32_t valid = pack_rays(batch, first, n, explicit_rays, ray_map, eye_m);
+  const FoveartRayBatch& batch = batch_rays.batch();
+  const uint32_t valid = pack_rays(batch_rays, first, n);
   skipped_primary += n - valid;
   if (valid > 0) {
     if (const int32_t r = record_trace(batch, valid); r != FOVEART_RESULT_SUCCESS) return r;
     if (!commands.submit_and_wait(queue, kFenceTimeoutNs, "ray batch", &last_error))
       return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
   }
-  unpack_colors(batch, first, n, out_depth);
+  unpack_colors(batch, first, n, batch_rays.out_depth_m());
   return FOVEART_RESULT_SUCCESS;
 }
 
 // Packs rays [first, first + n) of the batch, the valid ones only; `slot` says
 // where each went (UINT32_MAX: black with no depth, as engine::Tracer leaves it). Returns how many.
-uint32_t CallbackAdapter::Impl::pack_rays(const FoveartRayBatch& batch, uint32_t first, uint32_t n, bool explicit_rays,
-                                          const foveation::ScreenRayMap& ray_map, glm::vec3 eye_m) {
+uint32_t CallbackAdapter::Impl::pack_rays(const foveation::RayBatchReader& batch_rays, uint32_t first, uint32_t n) {
+  const FoveartRayBatch& batch = batch_rays.batch();
   auto* packed = static_cast<PackedRay*>(rays.mapped);
   slot.assign(n, UINT32_MAX);
   uint32_t valid = 0;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t r = first + i;
     glm::vec3 o, d;
-    if (explicit_rays) {
-      o = glm::vec3(batch.origins_m[3 * r], batch.origins_m[3 * r + 1], batch.origins_m[3 * r + 2]);
-      d = glm::vec3(batch.directions[3 * r], batch.directions[3 * r + 1], batch.directions[3 * r + 2]);
-    } else {
-      o = eye_m;
-      d = foveation::eye_ray_direction(ray_map, glm::vec2(batch.sample_px[2 * r], batch.sample_px[2 * r + 1]));
-    }
-    const float len2 = d.x * d.x + d.y * d.y + d.z * d.z;
-    if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) continue;
-    d *= 1.0f / std::sqrt(len2);
+    if (!batch_rays.ray(r, &o, &d)) continue;
     const float sx = batch.sample_px != nullptr ? batch.sample_px[2 * r] : 0.0f;
     const float sy = batch.sample_px != nullptr ? batch.sample_px[2 * r + 1] : 0.0f;
     packed[valid] = PackedRay{{o.x, o.y, o.z, sx}, {d.x, d.y, d.z, sy}};
@@ -427,27 +415,15 @@ std::unique_ptr<CallbackAdapter> CallbackAdapter::create(engine::Scene scene, co
 }
 
 int32_t CallbackAdapter::trace(const FoveartRayBatch* batch) noexcept {
-  if (!batch || batch->type != FOVEART_TYPE_RAY_BATCH ||
-      batch->size < offsetof(FoveartRayBatch, out_rgb) + sizeof(float*))
-    return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
-  if (batch->ray_count == 0) return FOVEART_RESULT_SUCCESS;
-  const bool explicit_rays = batch->origins_m && batch->directions;
-  const bool view_rays = batch->view && batch->sample_px && batch->view->type == FOVEART_TYPE_EYE_VIEW &&
-                         batch->view->size >= sizeof(FoveartEyeView) && batch->view->width_px > 0 &&
-                         batch->view->height_px > 0;
-  if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
+  foveation::RayBatchReader batch_rays;
+  if (const int32_t r = foveation::RayBatchReader::read(batch, &batch_rays);
+      r != FOVEART_RESULT_SUCCESS || batch_rays.size() == 0)
+    return r;
   try {
-    foveation::EyePose pose{};
-    foveation::ScreenRayMap ray_map;
-    if (!explicit_rays) {
-      pose = foveation::eye_pose(*batch->view);
-      ray_map = foveation::screen_ray_map(foveation::eye_frustum(*batch->view), pose);
-    }
-    float* out_depth = batch->size >= FOVEART_RAY_BATCH_SIZE_WITH_DEPTH ? batch->out_depth_m : nullptr;
     std::lock_guard lock(impl_->mutex);
-    for (uint32_t first = 0; first < batch->ray_count; first += kMaxRaysPerSubmit) {
-      const uint32_t n = std::min(kMaxRaysPerSubmit, batch->ray_count - first);
-      const int32_t status = impl_->trace_chunk(*batch, first, n, explicit_rays, ray_map, pose.position_m, out_depth);
+    for (uint32_t first = 0; first < batch_rays.size(); first += kMaxRaysPerSubmit) {
+      const uint32_t n = std::min(kMaxRaysPerSubmit, batch_rays.size() - first);
+      const int32_t status = impl_->trace_chunk(batch_rays, first, n);
       if (status != FOVEART_RESULT_SUCCESS) return status;
     }
     return FOVEART_RESULT_SUCCESS;
