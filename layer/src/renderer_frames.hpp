@@ -211,7 +211,7 @@ struct FoveatedRenderer::Frames {
   std::unique_ptr<GazeSource> gaze;
   // Tables per view size, built one after another on the builder thread
   // (seconds each): frames never wait for them unless wait_for_tables. At most
-  // kMaxTableSets are held; the least recently used goes first.
+  // kMaxTableSets (renderer_tables.cpp) are held; the least recently used goes first.
   std::mutex build_mutex;
   std::condition_variable build_wake, build_done;
   std::deque<std::pair<TableKey, foveation::PointSetKey>> build_queue;
