@@ -37,30 +37,6 @@
 // CPU-only: a device trace must never throw across its C call.
 // --fault-from-frame N (gpu): the device trace misbehaves from the layer's
 // frame N on (the batch's frameIndex, from 1), tracing right before it.
-// --json prints, besides the layer's stats: "engine" (cpu | gpu) and "engine_rays"
-// {"cpu": {primary, shadow, reflection, refraction}, "gpu": {...} or null}: the
-// rays each engine traced for the layer during the session (the CPU engine's
-// counts exclude the exposure pre-pass; the GPU engine's are its device counters),
-// and "gpu_engine" (null with --engine cpu): {"device", "backend", "batch": {footprints,
-// addresses} (what the layer's last batch chained: GpuTracer::last_batch_chain()), "memory":
-// {device_local_bytes, host_visible_bytes, texture_bytes, fallback} (memory_use(),
-// memory_fallback()), "work": {bvh_nodes, triangle_tests, bvh_node_count} with
-// --count-work on the compute backend, else null}. Its "per_frame" adds
-// "end_frame_host_ms" (the host wall time of each xrEndFrame call, steady clock,
-// in the app), and on the GPU path, once per finished frame whose times the stats
-// held (the newest finished, up to two older): "gpu_trace_ms" [L, R] (the
-// device trace's traceMs), "gpu_eye_ms" [L, R] (that plus the GPU stages) and
-// "gpu_frame_ms" (both eyes), each {p50, p95, p99, count}; and the series
-// end_frame_host_ms_per_frame (per traced frame), gpu_trace_ms_per_frame [L, R]
-// and gpu_eye_ms_per_frame [L, R] (per frame with GPU times).
-// "density": content density's cost (XrFoveatedRendererDensityStatsFOVEART):
-// "eyes" [L, R] of the last frame's {points_thinned, levels_ms, test_ms,
-// observe_ms, fill_ms (the CPU trace's host stages), gpu_fill_ms, gpu_contrast_ms
-// (the device trace's passes, of the newest finished frame)}; the series
-// gpu_fill_ms_per_frame and gpu_contrast_ms_per_frame [L, R] (as gpu_trace_ms);
-// and "per_frame": host_ms [L, R] (the host stages' sum per traced frame),
-// gpu_fill_ms and gpu_contrast_ms [L, R], each {p50, p95, p99, count}. The summary
-// without --json prints an eye's last frame where content density thinned points.
 // --mode full: the app renders every pixel of each eye itself with the chosen
 // engine (--rays-per-point rays per pixel; 0: the layer config's default, 1),
 // the layer's seed and jitter and no temporal history (each frame traced anew),
@@ -71,26 +47,9 @@
 // on the session's device, timed by GPU timestamps; the read back, CPU encode
 // and upload after it are timed apart (transfer_encode_ms_per_eye).
 // --mode both: a full session, then a foveated one, in one process.
-// --json with --mode full: {"mode": "full", "engine", "frames_submitted",
-// "frames_rendered", "views", "rays_per_pixel", "rays_per_eye" [L, R] (W * H *
-// rays per pixel), "trace_ms_per_eye" [L, R], "trace_ms" (both eyes),
-// "frame_ms", "trace_clock" (cpu_wall_clock | gpu_timestamps),
-// "transfer_encode_ms_per_eye", "temporal": "off", "history", "display",
-// "layer_frames_traced" (0), "layer_views_fallback", "engine_rays"}; the
-// times are medians per frame (nearest rank), frame_ms from xrBeginFrame's call
-// to xrEndFrame's return. Foveated mode adds "mode": "foveated" and the same
-// "rays_per_eye", "trace_ms_per_eye", "trace_ms" (the layer's traceMs),
-// "frame_ms", "frames_rendered" over the traced frames, "trace_clock":
-// "layer_stats". --mode both prints {"mode": "both", "engine", "full": {...},
-// "foveated": {...}, "speedup": {"frame_ms", "trace_ms"}} (full / foveated of
-// the medians; null if the foveated one is 0); without --json, a short table.
 // Note both sessions use --rays-per-point; with 0 the foveated one takes the
 // config file's value, the full one the default 1.
-// --json adds, per traced frame and in the same order: gaze_px_per_frame [frame, left x,
-// left y, right x, right y], temporal_reset_per_frame [left, right] (the eye's temporal history
-// restarted), gaze_saccade_per_frame / gaze_blink_per_frame (the gaze provider flagged
-// a saccade / a blink for it) and display_time_s_per_frame (predicted display time
-// after the first traced frame's); temporal_resets counts restarts of both eyes.
+// --json prints what report.hpp describes; without it, a short summary.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -116,9 +75,20 @@
 #include "foveation/executor.hpp"
 #include "full_frame.hpp"
 #include "layer/sampling_defaults.hpp"
+#include "report.hpp"
 #include "xr_app.hpp"
 
 namespace {
+
+using foveart::hello::app_trace_json;
+using foveart::hello::foveated_json;
+using foveart::hello::full_json;
+using foveart::hello::gpu_engine_json;
+using foveart::hello::print_both_table;
+using foveart::hello::print_foveated_summary;
+using foveart::hello::print_full_summary;
+using foveart::hello::ray_counts_json;
+using foveart::hello::speedup_json;
 
 // --fault: the engine misbehaving on purpose, to watch the layer's fallback.
 struct FaultyEngine {
@@ -166,249 +136,6 @@ XrResult faulty_trace_rays_device(void* user_data, const XrFoveatedDeviceRayBatc
                        0, nullptr, 1, &barrier, 0, nullptr);
   vkCmdFillBuffer(batch->commandBuffer, batch->colors.buffer, batch->colors.offset, bytes, 0x7FC00000u);
   return r;
-}
-
-nlohmann::json ray_counts_json(const foveart::engine::RayCounts& c) {
-  return {{"primary", c.primary}, {"shadow", c.shadow}, {"reflection", c.reflection}, {"refraction", c.refraction}};
-}
-
-// What the GPU engine holds on the device and, with --count-work, its traversal's work.
-nlohmann::json gpu_engine_json(const foveart::gpu_engine::GpuTracer& tracer, const std::string& device) {
-  const foveart::gpu_engine::MemoryUse m = tracer.memory_use();
-  const foveart::gpu_engine::WorkCounts w = tracer.work_counts();
-  const foveart::gpu_engine::BatchChain chain = tracer.last_batch_chain();
-  return {{"device", device},
-          {"backend", tracer.backend_name()},
-          {"batch", {{"footprints", chain.footprints}, {"addresses", chain.addresses}}},
-          {"memory", {{"device_local_bytes", m.device_local_bytes},
-                      {"host_visible_bytes", m.host_visible_bytes},
-                      {"texture_bytes", m.texture_bytes},
-                      {"fallback", tracer.memory_fallback()}}},
-          {"work", w.counted ? nlohmann::json{{"bvh_nodes", w.bvh_nodes},
-                                              {"triangle_tests", w.triangle_tests},
-                                              {"bvh_node_count", tracer.bvh_node_count()}}
-                             : nlohmann::json(nullptr)}};
-}
-
-const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
-  switch (s) {
-    case XR_FOVEATED_GAZE_SOURCE_PROVIDER_FOVEART: return "provider";
-    case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: return "eye_gaze_interaction";
-    default: return "none";
-  }
-}
-
-// Percentile by nearest rank; 0 for no samples.
-float percentile(std::vector<float> v, double p) {
-  if (v.empty()) return 0.0f;
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
-  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
-
-nlohmann::json distribution(const std::vector<float>& v) {
-  return {{"p50", percentile(v, 50)}, {"p95", percentile(v, 95)}, {"p99", percentile(v, 99)}, {"count", v.size()}};
-}
-
-// The last frame's submitted views: pose (the scene's space), FOV, size.
-nlohmann::json views_json(const foveart::hello::AppResult& r) {
-  nlohmann::json views = nlohmann::json::array();
-  for (const auto& v : r.views) {
-    views.push_back({{"position_m", {v.pose.position.x, v.pose.position.y, v.pose.position.z}},
-                     {"orientation_xyzw",
-                      {v.pose.orientation.x, v.pose.orientation.y, v.pose.orientation.z, v.pose.orientation.w}},
-                     {"fov_rad", {v.fov.angleLeft, v.fov.angleRight, v.fov.angleUp, v.fov.angleDown}},
-                     {"size_px", {v.width_px, v.height_px}}});
-  }
-  return views;
-}
-
-// Per traced frame [left, right] of two per-eye series.
-nlohmann::json eye_pairs(const std::vector<float>* per_eye) {
-  nlohmann::json pairs = nlohmann::json::array();
-  for (std::size_t f = 0; f < std::min(per_eye[0].size(), per_eye[1].size()); ++f)
-    pairs.push_back({per_eye[0][f], per_eye[1][f]});
-  return pairs;
-}
-
-// Content density's cost per eye (XrFoveatedRendererDensityStatsFOVEART): the last frame's
-// stages (host on a CPU trace, GPU on a device trace, the newest finished frame), and per frame.
-nlohmann::json density_json(const foveart::hello::AppResult& r) {
-  const auto& d = r.density;
-  nlohmann::json eyes = nlohmann::json::array();
-  for (int e = 0; e < 2; ++e) {
-    eyes.push_back({{"points_thinned", d.pointsThinned[e]},
-                    {"levels_ms", d.levelsMs[e]},
-                    {"test_ms", d.testMs[e]},
-                    {"observe_ms", d.observeMs[e]},
-                    {"fill_ms", d.fillMs[e]},
-                    {"gpu_fill_ms", d.gpuFillMs[e]},
-                    {"gpu_contrast_ms", d.gpuContrastMs[e]}});
-  }
-  return {{"eyes", eyes},
-          {"gpu_fill_ms_per_frame", eye_pairs(r.gpu_density_fill_ms)},
-          {"gpu_contrast_ms_per_frame", eye_pairs(r.gpu_density_contrast_ms)},
-          {"per_frame",
-           {{"host_ms", {distribution(r.density_ms[0]), distribution(r.density_ms[1])}},
-            {"gpu_fill_ms", {distribution(r.gpu_density_fill_ms[0]), distribution(r.gpu_density_fill_ms[1])}},
-            {"gpu_contrast_ms",
-             {distribution(r.gpu_density_contrast_ms[0]), distribution(r.gpu_density_contrast_ms[1])}}}}};
-}
-
-nlohmann::json stats_json(const foveart::hello::AppResult& r) {
-  const auto& s = r.stats;
-  nlohmann::json eyes = nlohmann::json::array();
-  for (int e = 0; e < 2; ++e) {
-    eyes.push_back({{"points", s.pointsPerEye[e]},
-                    {"rays", s.raysPerEye[e]},
-                    {"select_ms", s.selectMs[e]},
-                    {"trace_ms", s.traceMs[e]},
-                    {"reconstruct_ms", s.reconstructMs[e]},
-                    {"temporal_ms", s.temporalMs[e]},
-                    {"upload_ms", s.uploadMs[e]}});
-  }
-  const auto& rec = r.reconstruction;
-  nlohmann::json gpu_ms = nlohmann::json::array();
-  for (int e = 0; e < 2; ++e) {
-    gpu_ms.push_back({{"scatter", rec.gpuScatterMs[e]},
-                      {"gather", rec.gpuGatherMs[e]},
-                      {"temporal", rec.gpuTemporalMs[e]},
-                      {"encode", rec.gpuEncodeMs[e]}});
-  }
-  const char* path = rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_GPU_FOVEART   ? "gpu"
-                     : rec.path == XR_FOVEATED_RECONSTRUCTION_PATH_CPU_FOVEART ? "cpu"
-                                                                               : "none";
-  const char* temporal = rec.temporal == XR_FOVEATED_TEMPORAL_RAYS_FOVEART    ? "rays"
-                         : rec.temporal == XR_FOVEATED_TEMPORAL_IMAGE_FOVEART ? "image"
-                                                                              : "off";
-  // [left, right] per frame, built element by element: the std::array<bool, 2>
-  // conversion trips GCC 12's false -Wnull-dereference inside nlohmann.
-  nlohmann::json temporal_reset = nlohmann::json::array();
-  for (const auto& frame : r.temporal_reset) {
-    nlohmann::json pair = nlohmann::json::array();
-    pair.push_back(frame[0]);
-    pair.push_back(frame[1]);
-    temporal_reset.push_back(std::move(pair));
-  }
-  nlohmann::json views = views_json(r);
-  return {{"frames_submitted", r.frames},
-          {"views", views},
-          {"frames_traced", s.framesTraced},
-          {"views_fallback", s.framesFallback},
-          {"eyes", eyes},
-          {"reconstruction", path},
-          {"temporal", temporal},
-          {"gpu_stage_ms", gpu_ms},
-          {"gpu_fallbacks", rec.gpuFallbacks},
-          {"density", density_json(r)},
-          {"gaze_age_ms", s.gazeAgeMs},
-          {"gaze_source", gaze_source_name(s.gazeSource)},
-          {"fallback_flags", s.fallbackFlags},
-          {"callback_failures", s.callbackFailures},
-          {"invalid_colours", s.invalidColours},
-          {"gaze_lost_frames", s.gazeLostFrames},
-          {"gaze_px_per_frame", r.gaze_px},
-          {"end_frame_host_ms_per_frame", r.end_frame_host_ms},
-          {"gpu_trace_ms_per_frame", eye_pairs(r.gpu_trace_ms)},
-          {"gpu_eye_ms_per_frame", eye_pairs(r.gpu_eye_ms)},
-          {"temporal_resets", rec.temporalResets},
-          {"temporal_reset_per_frame", temporal_reset},
-          {"gaze_saccade_per_frame", r.gaze_saccade},
-          {"gaze_blink_per_frame", r.gaze_blink},
-          {"display_time_s_per_frame", r.display_time_s},
-          {"app_gaze_located_frames", r.app_gaze_located_frames},
-          {"per_frame",
-           {{"gaze_age_ms", distribution(r.gaze_age_ms)},
-            {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
-            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}},
-            {"gpu_trace_ms", {distribution(r.gpu_trace_ms[0]), distribution(r.gpu_trace_ms[1])}},
-            {"gpu_eye_ms", {distribution(r.gpu_eye_ms[0]), distribution(r.gpu_eye_ms[1])}},
-            {"gpu_frame_ms", distribution(r.gpu_frame_ms)},
-            {"end_frame_host_ms", distribution(r.end_frame_host_ms)}}}};
-}
-
-
-// --trace-model app: the layer's counts and the rays' extra gaze age.
-nlohmann::json app_trace_json(const foveart::hello::AppResult& r) {
-  const auto& a = r.app_trace;
-  return {{"batches_acquired", a.batchesAcquired},
-          {"unreleased_batches", a.unreleasedBatches},
-          {"rejected_releases", a.rejectedReleases},
-          {"mismatched_views", a.mismatchedViews},
-          {"release_errors", r.release_errors},
-          {"last_release_error", r.last_release_error},
-          {"second_queue", r.second_queue},
-          {"acquire_to_end_frame_ms", distribution(r.acquire_to_end_frame_ms)}};
-}
-
-// The medians of a mode: per eye and of each frame's both eyes (nearest rank).
-nlohmann::json medians_json(const std::vector<float>* per_eye_trace_ms, const std::vector<float>& frame_ms) {
-  std::vector<float> both;
-  for (std::size_t f = 0; f < std::min(per_eye_trace_ms[0].size(), per_eye_trace_ms[1].size()); ++f)
-    both.push_back(per_eye_trace_ms[0][f] + per_eye_trace_ms[1][f]);
-  return {{"trace_ms_per_eye", {percentile(per_eye_trace_ms[0], 50), percentile(per_eye_trace_ms[1], 50)}},
-          {"trace_ms", percentile(both, 50)},
-          {"frame_ms", percentile(frame_ms, 50)},
-          {"frames_rendered", frame_ms.size()}};
-}
-
-// stats_json and, to compare with --mode full, the medians over the traced frames.
-nlohmann::json foveated_json(const foveart::hello::AppResult& r) {
-  nlohmann::json out = stats_json(r);
-  const nlohmann::json medians = medians_json(r.trace_ms, r.frame_ms);
-  for (const auto& item : medians.items()) out[item.key()] = item.value();
-  out["rays_per_eye"] = {r.stats.raysPerEye[0], r.stats.raysPerEye[1]};
-  out["trace_clock"] = "layer_stats";
-  return out;
-}
-
-// --mode full: what the app's own render of every pixel cost, and that the layer stayed out.
-nlohmann::json full_json(const foveart::hello::AppResult& r, const foveart::hello::FullFrameTimes& times,
-                         uint32_t spp, const foveart::foveation::DisplayTransform& display, bool gpu) {
-  nlohmann::json views = views_json(r);
-  nlohmann::json out = medians_json(times.trace_ms, r.frame_ms);
-  nlohmann::json rays = nlohmann::json::array();
-  for (const auto& v : r.views) rays.push_back(uint64_t(v.width_px) * uint64_t(v.height_px) * spp);
-  out["frames_submitted"] = r.frames;
-  out["views"] = std::move(views);
-  out["rays_per_pixel"] = spp;
-  out["rays_per_eye"] = std::move(rays);
-  out["temporal"] = "off";  // a full render keeps nothing from earlier frames
-  out["history"] = "none: each frame is traced anew with the same seed";
-  out["trace_clock"] = gpu ? "gpu_timestamps" : "cpu_wall_clock";
-  out["transfer_encode_ms_per_eye"] = {percentile(times.transfer_encode_ms[0], 50),
-                                       percentile(times.transfer_encode_ms[1], 50)};
-  out["display"] = {{"exposure", display.exposure}, {"tone_map", foveart::foveation::tone_map_name(display.tone_map)}};
-  out["layer_frames_traced"] = r.stats.framesTraced;
-  out["layer_views_fallback"] = r.stats.framesFallback;
-  return out;
-}
-
-// full / foveated of the printed medians; null where the foveated one is 0.
-nlohmann::json speedup_json(const nlohmann::json& full, const nlohmann::json& foveated) {
-  const auto ratio = [&](const char* key) {
-    const double f = full[key].get<double>(), v = foveated[key].get<double>();
-    return v > 0.0 ? nlohmann::json(f / v) : nlohmann::json(nullptr);
-  };
-  return {{"frame_ms", ratio("frame_ms")}, {"trace_ms", ratio("trace_ms")}};
-}
-
-void print_both_table(const nlohmann::json& both) {
-  const auto& full = both["full"];
-  const auto& fov = both["foveated"];
-  const auto size = full["views"][0]["size_px"];
-  std::printf("hello_foveated --mode both: %s engine, %dx%d per eye, medians per frame\n",
-              both["engine"].get<std::string>().c_str(), size[0].get<int>(), size[1].get<int>());
-  std::printf("  %-9s %12s %18s %12s %12s\n", "mode", "frame ms", "trace ms (2 eyes)", "rays/eye L", "rays/eye R");
-  for (const auto* row : {&full, &fov}) {
-    std::printf("  %-9s %12.2f %18.2f %12llu %12llu\n", (*row)["mode"].get<std::string>().c_str(),
-                (*row)["frame_ms"].get<double>(), (*row)["trace_ms"].get<double>(),
-                static_cast<unsigned long long>((*row)["rays_per_eye"][0].get<uint64_t>()),
-                static_cast<unsigned long long>((*row)["rays_per_eye"][1].get<uint64_t>()));
-  }
-  const auto x = [](const nlohmann::json& v) { return v.is_null() ? 0.0 : v.get<double>(); };
-  std::printf("  %-9s %11.2fx %17.2fx   (full / foveated)\n", "speedup", x(both["speedup"]["frame_ms"]),
-              x(both["speedup"]["trace_ms"]));
 }
 
 // ---- The command line ----
@@ -726,33 +453,6 @@ class Sessions {
 };
 
 // ---- The results ----
-
-void print_full_summary(const nlohmann::json& f, bool gpu_engine, uint32_t full_spp) {
-  std::printf(
-      "hello_foveated: full render, %s engine: %llu frames, %u ray(s) per pixel, median frame %.2f ms, "
-      "trace %.2f ms (both eyes, %s)\n",
-      gpu_engine ? "GPU" : "CPU", static_cast<unsigned long long>(f["frames_submitted"].get<uint64_t>()), full_spp,
-      f["frame_ms"].get<double>(), f["trace_ms"].get<double>(), f["trace_clock"].get<std::string>().c_str());
-}
-
-void print_foveated_summary(const nlohmann::json& st, bool gpu_engine) {
-  std::printf(
-      "hello_foveated: %llu frames submitted, %llu traced, %llu views fell back; %s engine, reconstruction "
-      "on the %s, temporal \"%s\"\n",
-      static_cast<unsigned long long>(st["frames_submitted"].get<uint64_t>()),
-      static_cast<unsigned long long>(st["frames_traced"].get<uint64_t>()),
-      static_cast<unsigned long long>(st["views_fallback"].get<uint64_t>()), gpu_engine ? "GPU" : "CPU",
-      st["reconstruction"].get<std::string>() == "gpu" ? "GPU" : "CPU", st["temporal"].get<std::string>().c_str());
-  for (int e = 0; e < 2; ++e) {  // content density's last frame, where it thinned
-    const nlohmann::json& d = st["density"]["eyes"][e];
-    if (d["points_thinned"].get<uint64_t>() == 0) continue;
-    std::printf("  %s eye, content density: %llu points thinned; host ms levels %.2f, test %.2f, observe %.2f, "
-                "fill %.2f; device ms fill %.3f, contrast %.3f\n",
-                e == 0 ? "left" : "right", static_cast<unsigned long long>(d["points_thinned"].get<uint64_t>()),
-                d["levels_ms"].get<double>(), d["test_ms"].get<double>(), d["observe_ms"].get<double>(),
-                d["fill_ms"].get<double>(), d["gpu_fill_ms"].get<double>(), d["gpu_contrast_ms"].get<double>());
-  }
-}
 
 // The sessions' results: JSON (--json) or a summary; --mode both with the speedup.
 void print_results(const Args& a, const std::optional<nlohmann::json>& full_stats,
