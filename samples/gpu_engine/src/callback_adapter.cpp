@@ -8,6 +8,7 @@
 
 #include "command_slot.hpp"
 #include "icd_pin.h"
+#include "vk_buffer.hpp"
 #include "vk_helpers.hpp"
 
 #include <algorithm>
@@ -48,75 +49,6 @@ uint32_t compute_family(VkPhysicalDevice d) {
   return UINT32_MAX;
 }
 
-// A host-visible, coherent buffer mapped for its life (device-local too where offered).
-// The adapter's ray count, rays and colours stay host-visible on purpose: the
-// host writes every call's rays and reads its colours back, each byte once per
-// call, so a device-local copy would only add a staging copy each way; the
-// scene they are traced against is the tracer's, in device-local memory.
-struct HostBuffer {
-  VkDevice device = VK_NULL_HANDLE;
-  VkBuffer buffer = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkDeviceSize size = 0;
-  void* mapped = nullptr;
-
-  HostBuffer() = default;
-  HostBuffer(const HostBuffer&) = delete;
-  HostBuffer& operator=(const HostBuffer&) = delete;
-  ~HostBuffer() { destroy(); }
-
-  void destroy() {
-    if (device == VK_NULL_HANDLE) return;
-    if (buffer != VK_NULL_HANDLE) vkDestroyBuffer(device, buffer, nullptr);
-    if (memory != VK_NULL_HANDLE) vkFreeMemory(device, memory, nullptr);
-    buffer = VK_NULL_HANDLE;
-    memory = VK_NULL_HANDLE;
-    mapped = nullptr;
-    size = 0;
-  }
-
-  bool create(VkPhysicalDevice physical, VkDevice dev, VkDeviceSize bytes, VkBufferUsageFlags usage,
-              std::string* error) {
-    destroy();
-    device = dev;
-    VkBufferCreateInfo info{};
-    info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-    info.size = bytes;
-    info.usage = usage;
-    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    VkResult r = vkCreateBuffer(device, &info, nullptr, &buffer);
-    if (r != VK_SUCCESS) return fail(error, vk_error("vkCreateBuffer", r));
-    VkMemoryRequirements req{};
-    vkGetBufferMemoryRequirements(device, buffer, &req);
-    VkPhysicalDeviceMemoryProperties props{};
-    vkGetPhysicalDeviceMemoryProperties(physical, &props);
-    constexpr VkMemoryPropertyFlags kHost = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-    r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
-    // Device-local host-visible first (small heaps may refuse), then any host-visible coherent type.
-    for (VkMemoryPropertyFlags want : {kHost | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, kHost}) {
-      for (uint32_t i = 0; i < props.memoryTypeCount && r != VK_SUCCESS; ++i) {
-        if ((req.memoryTypeBits & (1u << i)) == 0 || (props.memoryTypes[i].propertyFlags & want) != want) continue;
-        VkMemoryAllocateInfo alloc{};
-        alloc.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-        alloc.allocationSize = req.size;
-        alloc.memoryTypeIndex = i;
-        r = vkAllocateMemory(device, &alloc, nullptr, &memory);
-      }
-      if (r == VK_SUCCESS) break;
-    }
-    if (r == VK_SUCCESS) r = vkBindBufferMemory(device, buffer, memory, 0);
-    if (r == VK_SUCCESS) r = vkMapMemory(device, memory, 0, VK_WHOLE_SIZE, 0, &mapped);
-    if (r != VK_SUCCESS) {
-      destroy();
-      return fail(error, "gpu_engine: allocating a " + std::to_string(bytes) +
-                                  "-byte host-visible buffer failed (VkResult " + std::to_string(static_cast<int>(r)) +
-                                  ")");
-    }
-    size = bytes;
-    return true;
-  }
-};
-
 struct PackedRay {
   float origin_sample_x[4];
   float direction_sample_y[4];
@@ -141,9 +73,12 @@ struct CallbackAdapter::Impl {
 
   // Guarded by `mutex`: the staging buffers and the one submission in flight.
   mutable std::mutex mutex;
-  HostBuffer count_buffer;  // XrFoveatedDeviceRayCountFOVEART
-  HostBuffer rays;          // capacity x 32 bytes
-  HostBuffer colors;        // capacity x vec4
+  // Host-visible on purpose: the host writes every call's rays and reads its colours back,
+  // each byte once per call, so a device-local copy would only add a staging copy each way;
+  // the scene they are traced against is the tracer's, in device-local memory.
+  MappedBuffer count_buffer;  // XrFoveatedDeviceRayCountFOVEART
+  MappedBuffer rays;          // capacity x 32 bytes
+  MappedBuffer colors;        // capacity x vec4
   uint32_t capacity = 0;
   std::vector<uint32_t> slot;  // per ray of the current chunk: its packed index, or UINT32_MAX (black)
   uint64_t skipped_primary = 0;  // rays given black on the host: primary rays as engine::Tracer counts them
@@ -260,8 +195,8 @@ bool CallbackAdapter::Impl::create_logical_device(const CallbackAdapterOptions& 
 // The one command buffer, its fence and the ray count buffer every submission uses.
 bool CallbackAdapter::Impl::create_submission(std::string* error) {
   if (!commands.create(device, family, error)) return false;
-  return count_buffer.create(physical, device, sizeof(XrFoveatedDeviceRayCountFOVEART),
-                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT, error);
+  return count_buffer.create(physical, device, sizeof(XrFoveatedDeviceRayCountFOVEART), nullptr, error,
+                             VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT);
 }
 
 // Rays and colours for at least `rays_needed` rays, grown by doubling.
@@ -270,9 +205,8 @@ bool CallbackAdapter::Impl::ensure_capacity(uint32_t rays_needed, std::string* e
   uint32_t grown = std::max<uint32_t>(capacity, 4096);
   while (grown < rays_needed) grown *= 2;
   capacity = 0;
-  if (!rays.create(physical, device, VkDeviceSize{grown} * sizeof(PackedRay), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                   error) ||
-      !colors.create(physical, device, VkDeviceSize{grown} * 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, error))
+  if (!rays.create(physical, device, VkDeviceSize{grown} * sizeof(PackedRay), nullptr, error) ||
+      !colors.create(physical, device, VkDeviceSize{grown} * 16, nullptr, error))
     return false;
   capacity = grown;
   return true;
@@ -300,7 +234,7 @@ int32_t CallbackAdapter::Impl::trace_chunk(const foveation::RayBatchReader& batc
 // where each went (UINT32_MAX: black with no depth, as engine::Tracer leaves it). Returns how many.
 uint32_t CallbackAdapter::Impl::pack_rays(const foveation::RayBatchReader& batch_rays, uint32_t first, uint32_t n) {
   const FoveartRayBatch& batch = batch_rays.batch();
-  auto* packed = static_cast<PackedRay*>(rays.mapped);
+  auto* packed = static_cast<PackedRay*>(rays.mapped());
   slot.assign(n, UINT32_MAX);
   uint32_t valid = 0;
   for (uint32_t i = 0; i < n; ++i) {
@@ -325,7 +259,7 @@ int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32
   header.traceRays[0] = valid;
   header.traceRays[1] = 1;
   header.traceRays[2] = 1;
-  std::memcpy(count_buffer.mapped, &header, sizeof(header));
+  std::memcpy(count_buffer.mapped(), &header, sizeof(header));
 
   if (!commands.begin(&last_error)) return FOVEART_RESULT_ERROR_ENGINE_FAILURE;
   const VkCommandBuffer cb = commands.cb();
@@ -345,10 +279,10 @@ int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32
   device_batch.view = batch.view;
   device_batch.rayCapacity = capacity;
   device_batch.raysPerPoint = 1;
-  device_batch.rayCount = {count_buffer.buffer, 0, count_buffer.size};
-  device_batch.rays = {rays.buffer, 0, rays.size};
+  device_batch.rayCount = {count_buffer.buffer(), 0, count_buffer.size()};
+  device_batch.rays = {rays.buffer(), 0, rays.size()};
   device_batch.pointIndex = {VK_NULL_HANDLE, 0, 0};  // the trace does not read it
-  device_batch.colors = {colors.buffer, 0, colors.size};
+  device_batch.colors = {colors.buffer(), 0, colors.size()};
   device_batch.commandBuffer = cb;
   if (!tracer->record_trace(device_batch, &last_error)) {
     commands.abandon();
@@ -366,7 +300,7 @@ int32_t CallbackAdapter::Impl::record_trace(const FoveartRayBatch& batch, uint32
 // The colours (clamped to >= 0, black if not finite) and depths of rays [first, first + n) into the batch.
 void CallbackAdapter::Impl::unpack_colors(const FoveartRayBatch& batch, uint32_t first, uint32_t n,
                                           float* out_depth) const {
-  const auto* rgbd = static_cast<const float*>(colors.mapped);
+  const auto* rgbd = static_cast<const float*>(colors.mapped());
   for (uint32_t i = 0; i < n; ++i) {
     float* out = batch.out_rgb + 3 * static_cast<size_t>(first + i);
     if (slot[i] == UINT32_MAX) {
