@@ -353,8 +353,10 @@ TEST_P(Taa, RejectedHistoryPixelsAreTheCurrentFrameExactly) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Constraints, Taa,
-                         ::testing::Values(HistoryClip::minmax_clamp, HistoryClip::variance_clip));
+INSTANTIATE_TEST_SUITE_P(Constraints, Taa, ::testing::Values(HistoryClip::minmax_clamp, HistoryClip::variance_clip),
+                         [](const ::testing::TestParamInfo<HistoryClip>& p) {
+                           return p.param == HistoryClip::minmax_clamp ? "minmax_clamp" : "variance_clip";
+                         });
 
 }  // namespace
 }  // namespace foveart::foveation

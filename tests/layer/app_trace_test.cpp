@@ -163,7 +163,8 @@ TEST_P(AppTraceValidated, AppRecordedTraceUnderSynchronizationValidationHasNoErr
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "never", "density"));
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "never", "density"),
+                         [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 // A batch the app never releases (never), or in whose place it releases an
 // unknown id (unknown): its views show the app's grey placeholder, counted,
@@ -202,7 +203,8 @@ TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown", "moved"));
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown", "moved"),
+                         [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 // Bad arguments: a clear message and a non-zero exit, before any session.
 TEST_F(GpuEngine, AppTraceModelNeedsTheGpuEngine) {

@@ -253,7 +253,8 @@ TEST_P(GpuEngineValidated, DeviceTraceUnderSynchronizationValidationHasNoErrors)
 
 // "rays": no fault, "temporal": "rays": the render cache runs on the device trace's rays (not downgraded to
 // "image", as the stats say), silently under synchronization validation.
-INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late", "rays", "density"));
+INSTANTIATE_TEST_SUITE_P(Faults, GpuEngineValidated, ::testing::Values("none", "nan", "late", "rays", "density"),
+                         [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 // A device trace that fails: every view falls back to the app's grey
 // placeholder, counted, logged once; the app exits 0.
@@ -292,7 +293,8 @@ TEST_P(FailingDeviceTrace, ViewsFallBackCountedAndTheAppExitsNormally) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, FailingDeviceTrace, ::testing::Values("error", "nan", "nothing"));
+INSTANTIATE_TEST_SUITE_P(Faults, FailingDeviceTrace, ::testing::Values("error", "nan", "nothing"),
+                         [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 // A device trace that writes NaN from the layer's frame 4 on, after three good
 // frames. The layer does not wait for those frames (two in flight): the device

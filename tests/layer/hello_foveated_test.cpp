@@ -218,7 +218,8 @@ TEST_P(HelloFoveatedValidated, FramePathUnderValidationLayersHasNoErrors) {
   EXPECT_EQ(r.stats["frames_traced"], 3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Paths, HelloFoveatedValidated, ::testing::Values("cpu", "gpu"));
+INSTANTIATE_TEST_SUITE_P(Paths, HelloFoveatedValidated, ::testing::Values("cpu", "gpu"),
+                         [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 // XR_EXT_eye_gaze_interaction as the gaze source. The simulated runtime plays
 // a trace of three fixations and a blink, 50 ms each; frames.csv has its gaze
@@ -352,7 +353,8 @@ TEST_P(FailingEngine, ViewsFallBackToTheAppsImage) {
   EXPECT_NEAR(img.max, 124.0, 1.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, FailingEngine, ::testing::Values("nan", "error", "throw"));
+INSTANTIATE_TEST_SUITE_P(Faults, FailingEngine, ::testing::Values("nan", "error", "throw"),
+                         [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 }  // namespace
 }  // namespace foveart::layer::test

@@ -288,8 +288,12 @@ TEST_P(ConstantColour, IsReproducedAtEveryPixel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, ConstantColour,
-                         ::testing::Combine(::testing::Values(InterpMethod::nearest, InterpMethod::msm, InterpMethod::rbf),
-                                            ::testing::Bool()));
+                         ::testing::Combine(::testing::Values(InterpMethod::nearest, InterpMethod::msm,
+                                                              InterpMethod::rbf),
+                                            ::testing::Bool()),
+                         [](const ::testing::TestParamInfo<std::tuple<InterpMethod, bool>>& p) {
+                           return std::string(method_name(std::get<0>(p.param))) + (std::get<1>(p.param) ? "_taa" : "");
+                         });
 
 // Bit for bit the same frame (with TAA over a gaze move) on 1, 2 and 3 threads.
 TEST(FoveatedView, SameFramesForAnyThreadCount) {
