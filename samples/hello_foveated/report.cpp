@@ -42,6 +42,11 @@ nlohmann::json views_json(const AppResult& r) {
   return views;
 }
 
+// [left, right] distributions of two per-eye series.
+nlohmann::json eye_distributions(const std::vector<float>* per_eye) {
+  return {distribution(per_eye[0]), distribution(per_eye[1])};
+}
+
 // Per traced frame [left, right] of two per-eye series.
 nlohmann::json eye_pairs(const std::vector<float>* per_eye) {
   nlohmann::json pairs = nlohmann::json::array();
@@ -68,10 +73,9 @@ nlohmann::json density_json(const AppResult& r) {
           {"gpu_fill_ms_per_frame", eye_pairs(r.gpu_density_fill_ms)},
           {"gpu_contrast_ms_per_frame", eye_pairs(r.gpu_density_contrast_ms)},
           {"per_frame",
-           {{"host_ms", {distribution(r.density_ms[0]), distribution(r.density_ms[1])}},
-            {"gpu_fill_ms", {distribution(r.gpu_density_fill_ms[0]), distribution(r.gpu_density_fill_ms[1])}},
-            {"gpu_contrast_ms",
-             {distribution(r.gpu_density_contrast_ms[0]), distribution(r.gpu_density_contrast_ms[1])}}}}};
+           {{"host_ms", eye_distributions(r.density_ms)},
+            {"gpu_fill_ms", eye_distributions(r.gpu_density_fill_ms)},
+            {"gpu_contrast_ms", eye_distributions(r.gpu_density_contrast_ms)}}}};
 }
 
 nlohmann::json stats_json(const AppResult& r) {
@@ -138,10 +142,10 @@ nlohmann::json stats_json(const AppResult& r) {
           {"app_gaze_located_frames", r.app_gaze_located_frames},
           {"per_frame",
            {{"gaze_age_ms", distribution(r.gaze_age_ms)},
-            {"layer_overhead_ms", {distribution(r.overhead_ms[0]), distribution(r.overhead_ms[1])}},
-            {"trace_ms", {distribution(r.trace_ms[0]), distribution(r.trace_ms[1])}},
-            {"gpu_trace_ms", {distribution(r.gpu_trace_ms[0]), distribution(r.gpu_trace_ms[1])}},
-            {"gpu_eye_ms", {distribution(r.gpu_eye_ms[0]), distribution(r.gpu_eye_ms[1])}},
+            {"layer_overhead_ms", eye_distributions(r.overhead_ms)},
+            {"trace_ms", eye_distributions(r.trace_ms)},
+            {"gpu_trace_ms", eye_distributions(r.gpu_trace_ms)},
+            {"gpu_eye_ms", eye_distributions(r.gpu_eye_ms)},
             {"gpu_frame_ms", distribution(r.gpu_frame_ms)},
             {"end_frame_host_ms", distribution(r.end_frame_host_ms)}}}};
 }
