@@ -36,10 +36,12 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "foveation/percentile.hpp"
 #include "vk_records.hpp"
 
 namespace {
 
+using foveart::foveation::percentile;
 using nlohmann::json;
 
 // Buffer element sizes of the layer's device frame (gpu/src/eye.cpp, gpu/src/device_trace.cpp):
@@ -60,14 +62,6 @@ json read_json(const std::string& path) {
 }
 
 const char* verdict(double ms, double budget_ms) { return ms <= budget_ms ? "fits" : "misses"; }
-
-// Nearest-rank percentile p of `v` (as hello_foveated's); 0 for none.
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
-  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
 
 // A per-frame series of the timing run without its first frame (the host's: the tables'
 // wait; the GPU's: first touches) where there are more; `eye` picks one of [L, R], -1 sums them.

@@ -32,7 +32,7 @@ endif()
 # The whole frame, both eyes, from hello_foveated's runs under the counting Vulkan
 # layer (scripts/bench_gpu.sh): times, submitted work, rays, bytes, prediction.
 add_executable(gpu_frame_report ${CMAKE_CURRENT_SOURCE_DIR}/frame_report.cpp)
-target_link_libraries(gpu_frame_report PRIVATE CLI11::CLI11 nlohmann_json::nlohmann_json)
+target_link_libraries(gpu_frame_report PRIVATE foveart::foveation CLI11::CLI11 nlohmann_json::nlohmann_json)
 target_include_directories(gpu_frame_report PRIVATE ${PROJECT_SOURCE_DIR}/tests/vk_count)  # vk_records.hpp
 foveart_target_defaults(gpu_frame_report)
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")

@@ -7,24 +7,19 @@
 //   xrWaitFrame does: mean interval and p99 lateness past each slot (ms).
 #include <benchmark/benchmark.h>
 
-#include <algorithm>
 #include <chrono>
 #include <thread>
 #include <vector>
 
+#include "foveation/percentile.hpp"
 #include "gaze_provider/backends.h"
 #include "sim_clock.h"
 
 namespace {
 
+using foveart::foveation::percentile;
 using namespace std::chrono_literals;
 namespace gaze = foveart::gaze;
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, std::size_t(p * double(v.size())))];
-}
 
 void SimProvider120Hz(benchmark::State& state) {
   for (auto _ : state) {
@@ -47,8 +42,8 @@ void SimProvider120Hz(benchmark::State& state) {
     for (std::size_t i = 1; i < all.size(); ++i)
       host_ms.push_back(double(all[i].host_time_ns - all[i - 1].host_time_ns) * 1e-6);
     state.counters["samples_in_2s"] = double(all.size());
-    state.counters["host_interval_p50_ms"] = percentile(host_ms, 0.5);
-    state.counters["host_interval_p99_ms"] = percentile(host_ms, 0.99);
+    state.counters["host_interval_p50_ms"] = percentile(host_ms, 50);
+    state.counters["host_interval_p99_ms"] = percentile(host_ms, 99);
   }
 }
 BENCHMARK(SimProvider120Hz)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -87,7 +82,7 @@ void SimClock70HzGrid(benchmark::State& state) {
       last = woke;
     }
     state.counters["mean_interval_ms"] = double(last - first) * 1e-6 / (kFrames - 1);
-    state.counters["late_p99_ms"] = percentile(late_ms, 0.99);
+    state.counters["late_p99_ms"] = percentile(late_ms, 99);
   }
 }
 BENCHMARK(SimClock70HzGrid)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -9,13 +9,13 @@
 namespace foveart::gaze {
 
 namespace {
-double percentile(std::vector<double> v, double q) {
+// Nearest rank, p in percent; 0 for none. The same definition as foveation/percentile.hpp,
+// which gaze_provider does not include: it depends on no other FoveaRT module (docs/design.md).
+double percentile(std::vector<double> v, double p_percent) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
-  const double pos = q * double(v.size() - 1);
-  const std::size_t i = std::size_t(pos);
-  const double f = pos - double(i);
-  return i + 1 < v.size() ? v[i] * (1.0 - f) + v[i + 1] * f : v[i];
+  const auto rank = static_cast<std::size_t>(std::ceil(p_percent / 100.0 * static_cast<double>(v.size())));
+  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
 std::string num(double v, int precision = 4) {
@@ -37,7 +37,7 @@ IntervalStats interval_stats(const std::vector<double>& ms) {
     sum2 += dt * dt;
   }
   const double n = double(ms.size());
-  return {percentile(ms, 0.5), percentile(ms, 0.99), std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)))};
+  return {percentile(ms, 50), percentile(ms, 99), std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)))};
 }
 
 // Validity, eye states, dropped frames, device-time intervals and latency.
@@ -65,7 +65,7 @@ void add_device_timing(std::span<const GazeSample> s, bool host_time_known, Trac
   }
   // Latency only when host and device share a clock (plausible 0..1 s offsets).
   if (!latency_ms.empty()) {
-    const double p50 = percentile(latency_ms, 0.5);
+    const double p50 = percentile(latency_ms, 50);
     if (p50 >= 0.0 && p50 < 1000.0) st.latency_p50_ms = p50;
   }
 }

@@ -6,8 +6,12 @@
 #include <utility>
 #include <vector>
 
+#include "foveation/percentile.hpp"
+
 namespace foveart::hello {
 namespace {
+
+using foveation::percentile;
 
 const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
   switch (s) {
@@ -15,14 +19,6 @@ const char* gaze_source_name(XrFoveatedGazeSourceFOVEART s) {
     case XR_FOVEATED_GAZE_SOURCE_EYE_GAZE_INTERACTION_FOVEART: return "eye_gaze_interaction";
     default: return "none";
   }
-}
-
-// Percentile by nearest rank; 0 for no samples.
-float percentile(std::vector<float> v, double p) {
-  if (v.empty()) return 0.0f;
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * static_cast<double>(v.size())));
-  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
 nlohmann::json distribution(const std::vector<float>& v) {
