@@ -26,7 +26,6 @@
 //   gpu_frame_report --timing FILE --counting FILE --vk-counts FILE --program NAME --frame-json FILE
 //                    [--eccentricity-only FILE] [--bandwidth-gbs X] [--rays-per-s Y]
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
