@@ -62,6 +62,7 @@ struct CallbackTrace::FramePass {
   const float inv_spp;
   ContentDensity* density;            // null: every visible point is traced
   const bool varies_rays;             // rays per point by the content (point_rays.hpp)
+  const RaysContrastSteps rays_contrast;  // when they vary: the contrast from which a point casts all
   std::atomic<std::uint64_t> traced_points{0}, traced_rays{0}, failed_batches{0}, invalid_colours{0};
   std::atomic<bool> any_depth{false};
   // Content density's per-point test and observations, CPU time summed over the workers.
@@ -90,8 +91,12 @@ TraceStats CallbackTrace::trace(const FrameContext& frame, FrameResources&, Exec
   stats.select_ms = ms_since(t_setup);
 
   const auto t_trace = Clock::now();
+  const RaysContrastSteps rays_contrast =
+      density_ ? rays_contrast_steps(density_->options().rays_contrast, density_->options().rays_doubling_ecc_deg,
+                                     points_.view_distance_px)
+               : RaysContrastSteps{};
   FramePass pass{frame, VisibleRegion(frame.mapping, points_.visible_margin_px), spp, batch_points, 1.0f / float(spp),
-                 density_ ? &*density_ : nullptr, density_ && density_->options().varies_rays()};
+                 density_ ? &*density_ : nullptr, density_ && density_->options().varies_rays(), rays_contrast};
   executor.parallel_for(traced_.runs.size(), [&](std::size_t run, unsigned worker) { trace_run(pass, run, worker); });
   const auto t_fill = Clock::now();
   const std::uint64_t filled = density_ ? fill_thinned(executor) : 0;
@@ -285,8 +290,8 @@ void CallbackTrace::count_rays(FramePass& pass, std::span<const std::uint32_t> i
   if (!pass.varies_rays) return;
   const auto t0 = Clock::now();
   for (const std::uint32_t id : ids)
-    counts.push_back(rays_.rays_of(id, pass.density->contrast(pass.visible.to_screen(points_.position_px[id])),
-                                   pass.density->options().rays_contrast));
+    counts.push_back(
+        rays_.rays_of(id, pass.density->contrast(pass.visible.to_screen(points_.position_px[id])), pass.rays_contrast));
   pass.test_ms.fetch_add(ms_since(t0), std::memory_order_relaxed);
 }
 

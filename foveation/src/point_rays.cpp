@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace foveart::foveation {
@@ -43,9 +44,24 @@ std::uint32_t point_ray_count(std::uint32_t rays_per_point, float radius_px, flo
   return rays >= 1.0f ? std::min(rays_per_point, std::uint32_t(rays)) : 1u;
 }
 
-std::uint32_t PointRays::rays_of(std::uint32_t id, float tile_contrast, float rays_contrast) const {
+RaysContrastSteps rays_contrast_steps(float rays_contrast, float doubling_ecc_deg, double view_distance_px) {
+  RaysContrastSteps steps;
+  steps.rays_contrast = rays_contrast;
+  if (!(doubling_ecc_deg > 0.0f)) return steps;
+  for (int k = 0; k < kRaysContrastSteps; ++k) {
+    const double ecc_rad = double(k + 1) * double(doubling_ecc_deg) * (std::numbers::pi / 180.0);
+    if (ecc_rad >= 0.5 * std::numbers::pi) break;
+    const double distance_px = view_distance_px * std::tan(ecc_rad);  // eccentricity_deg's inverse
+    steps.distance_sq_px2[std::size_t(k)] = float(distance_px * distance_px);
+  }
+  return steps;
+}
+
+std::uint32_t PointRays::rays_of(std::uint32_t id, float tile_contrast, const RaysContrastSteps& rays_contrast) const {
   if (points_.in_exact_fovea(id)) return rays_per_point_;
-  return point_ray_count(rays_per_point_, points_.radius_px[id], tile_contrast, rays_contrast);
+  const float contrast = rays_contrast.at(points_.position_px[id].x - 0.5f * float(points_.canvas_width_px),
+                                          points_.position_px[id].y - 0.5f * float(points_.canvas_height_px));
+  return point_ray_count(rays_per_point_, points_.radius_px[id], tile_contrast, contrast);
 }
 
 std::uint32_t PointRays::set_rays(RayBatch& batch, std::span<const std::uint32_t> ids, const VisibleRegion& region,

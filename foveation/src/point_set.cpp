@@ -194,6 +194,7 @@ class PointSampler {
     out.canvas_height_px = canvas_h_;
     out.visible_margin_px = pixel_grid_ ? 0.0f : kVisibleMarginPx;
     out.exact_fovea_radius_px = float(display_.exact_fovea_radius_px());
+    out.view_distance_px = float(display_.view_distance_px);
     out.position_px.resize(pos_.size());
     out.radius_px.resize(pos_.size());
     if (pixel_grid_) out.footprint.resize(pos_.size());

@@ -189,6 +189,7 @@ std::optional<PointSet> load_point_set(const std::filesystem::path& file, const 
   const bool pixel_grid = key.display.fovea_pattern == FoveaPattern::kPixelGrid;
   ps.visible_margin_px = pixel_grid ? 0.0f : kVisibleMarginPx;
   ps.exact_fovea_radius_px = float(key.display.exact_fovea_radius_px());
+  ps.view_distance_px = float(key.display.view_distance_px);
   if (pixel_grid) {
     ps.footprint.resize(n);
     std::memcpy(ps.footprint.data(), p + n * (sizeof(glm::vec2) + sizeof(float)), n * sizeof(PointFootprint));

@@ -38,6 +38,10 @@ struct ContentDensityOptions {
   // point_rays.hpp): the contrast from which a point casts all its rays. 0: off, every
   // point casts rays_per_point.
   float rays_contrast = 0.0f;
+  // Eccentricity (degrees) over which rays_contrast doubles, in steps: a point from 1, 2, 3,
+  // 4 times this away from the gaze casts all its rays from 2, 4, 8, 16 times rays_contrast
+  // (rays_contrast_steps, point_rays.hpp). 0: the same contrast everywhere.
+  float rays_doubling_ecc_deg = 0.0f;
   bool thins() const { return full_contrast > 0.0f; }
   bool varies_rays() const { return rays_contrast > 0.0f; }
   bool enabled() const { return thins() || varies_rays(); }

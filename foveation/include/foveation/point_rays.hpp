@@ -3,6 +3,8 @@
 // render samples that pixel; any other point jittered in its disc.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -28,6 +30,28 @@ namespace foveart::foveation {
 // rays_contrast)^2 of the rays. At least one ray.
 std::uint32_t point_ray_count(std::uint32_t rays_per_point, float radius_px, float tile_contrast, float rays_contrast);
 
+// Steps of the contrast from which a point casts all its rays, by eccentricity
+// (ContentDensityOptions::rays_doubling_ecc_deg): rays_contrast doubles at each step a
+// point lies beyond. A step is a squared distance from the canvas centre (the gaze), so
+// that both traces (device_rays.comp too) count a point's steps with the same float tests.
+inline constexpr int kRaysContrastSteps = 4;
+struct RaysContrastSteps {
+  float rays_contrast = 0.0f;
+  std::array<float, kRaysContrastSteps> distance_sq_px2{INFINITY, INFINITY, INFINITY, INFINITY};  // ascending
+
+  // The contrast at dx, dy pixels from the canvas centre.
+  float at(float dx_px, float dy_px) const {
+    const float distance_sq_px2_of_point = dx_px * dx_px + dy_px * dy_px;
+    float contrast = rays_contrast;
+    for (const float step : distance_sq_px2)
+      if (distance_sq_px2_of_point >= step) contrast *= 2.0f;
+    return contrast;
+  }
+};
+// Steps at 1..kRaysContrastSteps times doubling_ecc_deg, those under 90 degrees; none when
+// doubling_ecc_deg is 0. view_distance_px: DisplayModel's D (eccentricity_deg).
+RaysContrastSteps rays_contrast_steps(float rays_contrast, float doubling_ecc_deg, double view_distance_px);
+
 class PointRays {
  public:
   // `points` must outlive this. jitter_each_frame: the seed changes every
@@ -46,10 +70,11 @@ class PointRays {
                          int screen_width_px, std::span<const std::uint32_t> counts = {}) const;
 
   std::uint32_t rays_per_point() const { return rays_per_point_; }
-  // The rays point id casts in a tile of that contrast: point_ray_count, or all of them
-  // for a point of the pixel-exact fovea (it samples its pixel as the full render); a grid
-  // point beyond it (a denser scale's margin) casts as a disc of one pixel's area.
-  std::uint32_t rays_of(std::uint32_t id, float tile_contrast, float rays_contrast) const;
+  // The rays point id casts in a tile of that contrast: point_ray_count at the point's step
+  // of rays_contrast, or all of them for a point of the pixel-exact fovea (it samples its
+  // pixel as the full render); a grid point beyond it (a denser scale's margin) casts as a
+  // disc of one pixel's area.
+  std::uint32_t rays_of(std::uint32_t id, float tile_contrast, const RaysContrastSteps& rays_contrast) const;
 
  private:
   const PointSet& points_;

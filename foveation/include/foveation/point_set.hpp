@@ -49,6 +49,9 @@ struct PointSet {
   // DisplayModel::exact_fovea_radius_px around the centre of interest (the canvas's
   // centre): the grid points within it are the pixel-exact fovea.
   float exact_fovea_radius_px = 0.0f;
+  // DisplayModel::view_distance_px: a point's eccentricity is atan(its distance from the
+  // canvas centre / this).
+  float view_distance_px = 0.0f;
 
   std::size_t size() const { return position_px.size(); }
   bool on_pixel_grid(std::size_t i) const { return !footprint.empty() && footprint[i] == PointFootprint::kPixel; }

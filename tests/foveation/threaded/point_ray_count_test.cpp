@@ -2,11 +2,14 @@
 // rays_contrast): the rule's shares, and in frames: a point beside an edge casts what the rule
 // gives for its disc (all of them from a disc one pixel in radius), a point in a flat or dark
 // tile one ray, the pixel-exact fovea all of them, the first frame what the discs give, and the frame
-// stays whole (every visible point coloured, the flat parts unchanged).
+// stays whole (every visible point coloured, the flat parts unchanged); with the contrast doubling
+// by eccentricity (rays_doubling_ecc_deg), its steps where the eccentricity says and, in frames,
+// the points beyond them cast what the doubled contrast gives.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <mutex>
+#include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -80,6 +83,30 @@ TEST(PointRayCount, SharesOfDiscAndContrast) {
     EXPECT_LE(point_ray_count(16, 3.0f, c, 0.2f), point_ray_count(16, 3.0f, c + 0.01f, 0.2f)) << c;
     EXPECT_LE(point_ray_count(16, 0.1f + c, 1.0f, 0.2f), point_ray_count(16, 0.11f + c, 1.0f, 0.2f)) << c;
   }
+}
+
+TEST(PointRayCount, ContrastDoublesAtEachEccentricityStep) {
+  constexpr double kViewDistancePx = 500.0;
+  const auto distance_px = [&](double ecc_deg) {
+    return float(kViewDistancePx * std::tan(ecc_deg * std::numbers::pi / 180.0));
+  };
+  const RaysContrastSteps off = rays_contrast_steps(0.2f, 0.0f, kViewDistancePx);
+  EXPECT_EQ(off.at(0.0f, 0.0f), 0.2f);
+  EXPECT_EQ(off.at(1e5f, 1e5f), 0.2f) << "no steps: the same contrast everywhere";
+
+  const RaysContrastSteps thirty = rays_contrast_steps(0.2f, 30.0f, kViewDistancePx);
+  EXPECT_NEAR(std::sqrt(thirty.distance_sq_px2[0]), distance_px(30.0), 1e-3f);
+  EXPECT_NEAR(std::sqrt(thirty.distance_sq_px2[1]), distance_px(60.0), 1e-2f);
+  EXPECT_TRUE(std::isinf(thirty.distance_sq_px2[2])) << "90 degrees and beyond: no step";
+  EXPECT_EQ(thirty.at(distance_px(29.9), 0.0f), 0.2f);
+  EXPECT_EQ(thirty.at(0.0f, distance_px(30.1)), 0.4f) << "any direction from the gaze";
+  EXPECT_EQ(thirty.at(distance_px(45.0) * 0.6f, distance_px(45.0) * 0.8f), 0.4f);
+  EXPECT_EQ(thirty.at(distance_px(61.0), 0.0f), 0.8f);
+
+  const RaysContrastSteps twenty = rays_contrast_steps(0.2f, 20.0f, kViewDistancePx);
+  for (int k = 0; k < kRaysContrastSteps; ++k)
+    EXPECT_NEAR(std::sqrt(twenty.distance_sq_px2[std::size_t(k)]) / distance_px(20.0 * (k + 1)), 1.0f, 1e-5f) << k;
+  EXPECT_EQ(twenty.at(distance_px(85.0), 0.0f), 3.2f) << "at most four doublings";
 }
 
 TEST(PointRayCount, FramesGiveEdgesTheirRaysAndFlatOrDarkTilesOne) {
@@ -198,6 +225,53 @@ TEST(PointRayCount, TheGridMarginOfADenserScaleCastsByContentTheExactFoveaAll) {
   EXPECT_GT(margin_flat, 500u);
   std::cout << "[ measured ] grid points: " << exact << " of the exact fovea, " << margin_edge << " + " << margin_flat
             << " of the margin beside the edge and in flat tiles\n";
+}
+
+// The contrast doubling every 10 degrees: beside the edge, a Poisson point casts what its disc
+// and the edge tile's contrast give at the contrast of its eccentricity's step (counted here
+// from the eccentricity, atan(distance / D)); fewer rays than without the steps, none more.
+TEST(PointRayCount, BeyondEachEccentricityStepAPointCastsAsItsDoubledContrastGives) {
+  constexpr float kDoublingDeg = 10.0f;
+  Executor executor(2);
+  ViewSettings settings = ray_settings(0.5f);
+  settings.content_density.rays_doubling_ecc_deg = kDoublingDeg;
+  FoveatedView stepped(ray_tables(), settings), flat(ray_tables(), ray_settings(0.5f));
+  RayScene with_steps, without;
+  ASSERT_TRUE(render_counting(stepped, with_steps, 1, executor).ok());
+  ASSERT_TRUE(render_counting(flat, without, 1, executor).ok());
+  const FrameResult second = render_counting(stepped, with_steps, 2, executor);
+  ASSERT_TRUE(second.ok()) << second.message;
+  const FrameResult second_flat = render_counting(flat, without, 2, executor);
+  ASSERT_TRUE(second_flat.ok());
+  EXPECT_LT(second.rays, second_flat.rays);
+
+  const PointSet& points = ray_tables()->points;
+  // The tiles' luminance as ContentDensity::observe takes it (Rec. 709 weights, exposure 1) from grey.
+  const auto luminance = [](float grey) { return 0.2126f * grey + 0.7152f * grey + 0.0722f * grey; };
+  const float edge_contrast =
+      tile_contrast(luminance(with_steps.left), luminance(with_steps.right), ContentDensityOptions{}.dark_luminance);
+  const glm::vec2 centre(0.5f * float(points.canvas_width_px), 0.5f * float(points.canvas_height_px));
+  const VisiblePoints visible = select_visible_points(points, map_gaze(kRaysW, kRaysH, second.centre_px));
+  std::vector<std::size_t> edge_points_per_step(kRaysContrastSteps + 1, 0);
+  for (std::size_t v = 0; v < visible.size(); ++v) {
+    const uint32_t id = visible.point_index[v];
+    EXPECT_LE(with_steps.rays_of_point[id], without.rays_of_point[id]) << "point " << id;
+    const float x = visible.screen_px[v].x;
+    if (points.on_pixel_grid(id) || x < kRaysEdgeX - 16.0f || x >= kRaysEdgeX + 16.0f) continue;
+    const double ecc_deg = eccentricity_deg(glm::distance(points.position_px[id], centre), points.view_distance_px);
+    const double steps = ecc_deg / double(kDoublingDeg);
+    if (std::fabs(steps - std::round(steps)) < 1e-3) continue;  // on a step: float rounding decides
+    const int step = std::min(int(steps), kRaysContrastSteps);
+    ++edge_points_per_step[std::size_t(step)];
+    EXPECT_EQ(with_steps.rays_of_point[id],
+              point_ray_count(kRays, points.radius_px[id], edge_contrast, 0.5f * float(1 << step)))
+        << "point " << id << " at " << ecc_deg << " deg";
+  }
+  std::size_t beyond_second_step = 0;
+  for (std::size_t s = 2; s < edge_points_per_step.size(); ++s) beyond_second_step += edge_points_per_step[s];
+  EXPECT_GT(beyond_second_step, 20u) << "edge points where the doubled contrast is above the edge's";
+  std::cout << "[ measured ] rays of the second frame with the contrast doubling every " << kDoublingDeg
+            << " deg: " << second.rays << ", without: " << second_flat.rays << "\n";
 }
 
 TEST(PointRayCount, ADarkTileReadsAsFlat) {
