@@ -55,6 +55,16 @@ uint density_level(float contrast, float full_contrast) {
   return level;
 }
 
+// foveation::RaysContrastSteps::at: rays_contrast doubled at each step the point lies beyond.
+float density_rays_contrast_at(vec2 from_centre_px, float rays_contrast, vec4 step_distance_sq_px2) {
+  precise float distance_sq_px2 = from_centre_px.x * from_centre_px.x;
+  distance_sq_px2 = distance_sq_px2 + from_centre_px.y * from_centre_px.y;
+  float contrast = rays_contrast;
+  for (int k = 0; k < 4; ++k)
+    if (distance_sq_px2 >= step_distance_sq_px2[k]) contrast *= 2.0;
+  return contrast;
+}
+
 // foveation::point_ray_count.
 uint density_ray_count(uint rays_per_point, float radius_px, float tile_contrast, float rays_contrast) {
   precise float disc_share = min(1.0, radius_px * radius_px);

@@ -134,7 +134,8 @@ uint density_rays(uint i, vec2 screen) {
   }
   const vec4 p = points[i].position_radius_grid;
   if ((flags & FOVEART_DEVICE_RAYS_VARY) == 0u || p.w > 1.5) return rays_per_point;  // the fovea keeps all
-  return density_ray_count(rays_per_point, p.z, contrast, rays_contrast);
+  return density_ray_count(rays_per_point, p.z, contrast,
+                           density_rays_contrast_at(p.xy - canvas_centre_px, rays_contrast, rays_step_distance_sq_px2));
 }
 
 // Point i's rays this frame: 0 when invisible (*visible false) or thinned.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "foveation/eye_rays.hpp"
+#include "foveation/point_rays.hpp"
 #include "gpu/shader_interface/device_resolve.h"
 #include "gpu/shader_interface/device_rays.h"
 #include "gpu/shader_interface/ray_dispatch.h"
@@ -26,6 +27,8 @@ constexpr uint32_t kResolveBindings = 10;
 constexpr uint32_t kOnes[kResolveBindings] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 static_assert(FOVEART_DEVICE_FINEST_LEVEL == foveation::PointLevels::kFinest && foveation::PointLevels::kParents == 3 &&
               FOVEART_DEVICE_NO_PARENT == foveation::PointLevels::kNoParent);
+// The rays' steps fill one vec4, and the push constants Vulkan's guaranteed 128 bytes.
+static_assert(foveation::kRaysContrastSteps == 4 && sizeof(DeviceRaysPush) <= 128);
 constexpr uint32_t kNaNBits = 0x7FC00000u;
 constexpr VkDeviceSize kRayBytes = sizeof(shader::DeviceRay), kColorBytes = 16;
 
@@ -64,6 +67,11 @@ DeviceRaysPush rays_push(const DeviceTraceFrame& frame, bool tiles_measured) {
     push.full_contrast = frame.density.full_contrast;
     push.rays_contrast = frame.density.rays_contrast;
   }
+  push.canvas_centre_px = {0.5f * float(frame.points->canvas_width_px), 0.5f * float(frame.points->canvas_height_px)};
+  const foveation::RaysContrastSteps steps = foveation::rays_contrast_steps(
+      frame.density.rays_contrast, frame.density.rays_doubling_ecc_deg, frame.points->view_distance_px);
+  push.rays_step_distance_sq_px2 = {steps.distance_sq_px2[0], steps.distance_sq_px2[1], steps.distance_sq_px2[2],
+                                    steps.distance_sq_px2[3]};
   push.tile_px = uint32_t(std::max(frame.density.tile_px, 1));
   return push;
 }

@@ -99,6 +99,9 @@ class DeviceDensityTest : public DeviceTraceFixture {
     density.begin_frame(now, 1);
     const foveation::VisibleRegion is(now, points.visible_margin_px);
     const foveation::PointRays point_rays(points, int(kDensityRays), settings_.pixel_filter, true);
+    const foveation::RaysContrastSteps rays_contrast =
+        foveation::rays_contrast_steps(settings_.content_density.rays_contrast,
+                                       settings_.content_density.rays_doubling_ecc_deg, points.view_distance_px);
     DensityCounts out;
     out.rays.assign(points.size(), 0);
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -110,7 +113,7 @@ class DeviceDensityTest : public DeviceTraceFixture {
         ++out.thinned;
         continue;
       }
-      out.rays[i] = point_rays.rays_of(uint32_t(i), density.contrast(screen), settings_.content_density.rays_contrast);
+      out.rays[i] = point_rays.rays_of(uint32_t(i), density.contrast(screen), rays_contrast);
       out.total += out.rays[i];
     }
     return out;
@@ -177,6 +180,40 @@ TEST_F(DeviceDensityTest, PointsAndRaysFollowTheCpuRule) {
               << times.trace_ms << ", of it fill " << times.density_fill_ms << ", contrast "
               << times.density_contrast_ms << "\n";
   }
+}
+
+// With the contrast doubling every 8 degrees of eccentricity (four steps, the last inside this
+// 60-degree view's corners), each point's rays are still the CPU rule's, whose steps the device counts with the same
+// float tests: the outer points cast fewer rays than without the steps.
+TEST_F(DeviceDensityTest, RaysByEccentricityStepsFollowTheCpuRule) {
+  engine_.answer = TestEngine::Answer::direction;
+  engine_.copy = true;
+  settings_.content_density.rays_doubling_ecc_deg = 8.0f;
+  const foveation::RaysContrastSteps steps =
+      foveation::rays_contrast_steps(settings_.content_density.rays_contrast, 8.0f, tables_->points.view_distance_px);
+  ASSERT_LT(steps.distance_sq_px2[3], float(kViewW * kViewW + kViewH * kViewH) / 4.0f)
+      << "the view's corners lie beyond every step";
+  foveation::FoveatedView view(tables_, settings_);
+  std::string error;
+  ASSERT_TRUE(density_frame(view, request(glm::vec2(48, 40), 0), &error)) << error;
+  foveation::GazeMapping before = view.hand_off().mapping;
+  DensityCounts stepped;
+  const std::vector<uint32_t> first_rays = copied_rays();
+  const foveation::GazeMapping first_mapping = before;
+  std::vector<float> rgba;
+  ASSERT_TRUE(eye_->read_point_colors(0, &rgba, &error)) << error;
+  expect_cpu_rule(view, glm::vec2(48, 40), 1, &before, first_rays, &stepped);
+  settings_.content_density.rays_doubling_ecc_deg = 0.0f;  // the same tiles without the steps
+  const DensityCounts flat_contrast = cpu_rule(first_mapping, first_rays, rgba, before);
+  EXPECT_LT(stepped.total, flat_contrast.total) << "the steps take rays from the outer points";
+  std::size_t fewer = 0;
+  for (std::size_t p = 0; p < stepped.rays.size(); ++p) {
+    EXPECT_LE(stepped.rays[p], flat_contrast.rays[p]) << "point " << p << ": a step never adds rays";
+    fewer += stepped.rays[p] < flat_contrast.rays[p] ? 1 : 0;
+  }
+  EXPECT_GT(fewer, 0u);
+  std::cout << "[ device density ] rays with the contrast doubling every 8 degrees: " << stepped.total << " of "
+            << flat_contrast.total << " without\n";
 }
 
 // Flat content (every ray the same grey) gives up points and rays: the next frame's

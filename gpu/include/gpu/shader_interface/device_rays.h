@@ -35,6 +35,8 @@ FOVEART_PUSH_CONSTANTS(DeviceRaysPush) {
   float full_contrast;   // ContentDensityOptions
   float rays_contrast;
   uint tile_px;
+  vec2 canvas_centre_px;           // the gaze in the point set's canvas
+  vec4 rays_step_distance_sq_px2;  // foveation::RaysContrastSteps: where rays_contrast doubles (+inf: never)
 };
 
 FOVEART_SHADER_INTERFACE_END
