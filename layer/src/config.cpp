@@ -180,6 +180,11 @@ struct Reader {
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
     read_unit_or_off(obj, "content_contrast", &c->content_contrast);
     read_unit_or_off(obj, "content_rays", &c->content_rays);
+    read(obj, "content_rays_doubling_deg", [&](const json& v) -> std::string {
+      if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= 90.0)) return "must be a number in [0, 90]";
+      c->content_rays_doubling_deg = static_cast<float>(v.get<double>());
+      return {};
+    });
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
     read_removed_keys(obj, c);
     read_string(obj, "temporal", {"auto", "off", "image", "rays"}, &c->temporal);

@@ -26,10 +26,11 @@ namespace foveart::layer {
 
 // Every key the file may hold (top level; "applications" only there).
 inline constexpr std::string_view kConfigKeys[] = {
-    "enabled",       "log_level",      "log_file",        "interpolation",  "k",
-    "density_scale", "rays_per_point", "temporal",        "gaze_source",    "gaze_provider",
-    "threads",       "cache_dir",      "wait_for_tables", "reconstruction", "exposure",
-    "tone_map",      "gaze_clock",     "content_contrast", "content_rays", "applications"};
+    "enabled",       "log_level",      "log_file",         "interpolation",  "k",
+    "density_scale", "rays_per_point", "temporal",         "gaze_source",    "gaze_provider",
+    "threads",       "cache_dir",      "wait_for_tables",  "reconstruction", "exposure",
+    "tone_map",      "gaze_clock",     "content_contrast", "content_rays",   "content_rays_doubling_deg",
+    "applications"};
 
 // Keys earlier configs held: a file that names one still loads, with a warning that says
 // what replaced it. "taa" and "taa_history" are read into "temporal" when the same object
@@ -66,6 +67,9 @@ struct LayerConfig {
   // point casts all rays_per_point rays; 0: off, every point casts them all. Unset:
   // content_rays_for (renderer.hpp), on where a point casts several rays at density scale 1 or above.
   std::optional<float> content_rays;
+  // The eccentricity over which content_rays doubles, in steps (foveation::ContentDensityOptions::
+  // rays_doubling_ecc_deg); 0: off, the same contrast everywhere.
+  float content_rays_doubling_deg = 0.0f;
   uint32_t rays_per_point = kDefaultRaysPerPoint;
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
   // (a reprojected image history) or "rays" (a render cache of the traced rays).

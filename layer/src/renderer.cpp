@@ -55,6 +55,7 @@ bool resolve_settings(const XrFoveatedRendererCreateInfoFOVEART& info, const Lay
   s.density_scale = config.density_scale;
   s.content_contrast = config.content_contrast;
   s.content_rays = config.content_rays;
+  s.content_rays_doubling_deg = config.content_rays_doubling_deg;
   s.rays_per_point = config.rays_per_point;
   if (foveation::TemporalMode mode{}; foveation::parse_temporal_mode(config.temporal, &mode)) s.temporal = mode;
   s.gaze_source = gaze_source_from_name(config.gaze_source);

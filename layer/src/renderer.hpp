@@ -42,6 +42,7 @@ struct RendererSettings {
   float density_scale = 1.0f;
   std::optional<float> content_contrast;  // LayerConfig::content_contrast; unset: content_contrast_for_path()
   std::optional<float> content_rays;      // LayerConfig::content_rays; unset: content_rays_for()
+  float content_rays_doubling_deg = 0.0f;  // LayerConfig::content_rays_doubling_deg
   uint32_t rays_per_point = 1;
   // LayerConfig::temporal; empty ("auto"): temporal_for_path() picks it by the reconstruction path.
   std::optional<foveation::TemporalMode> temporal;

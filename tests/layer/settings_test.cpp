@@ -85,6 +85,7 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "gaze_provider") return s.gaze_provider_spec;
   if (key == "content_contrast") return s.content_contrast ? std::to_string(*s.content_contrast) : "path default";
   if (key == "content_rays") return s.content_rays ? std::to_string(*s.content_rays) : "rays default";
+  if (key == "content_rays_doubling_deg") return std::to_string(s.content_rays_doubling_deg);
   if (key == "gaze_clock") return s.gaze_clock_display_time ? "display_time" : "steady";
   if (key == "threads") return std::to_string(s.threads);
   if (key == "cache_dir") return s.cache_dir;
@@ -118,6 +119,7 @@ const KeyCase kRendererKeys[] = {
     {"gaze_clock", R"("display_time")", "display_time", nullptr, {}},
     {"content_contrast", "0.2", std::to_string(0.2f), nullptr, {}},
     {"content_rays", "0.5", std::to_string(0.5f), nullptr, {}},
+    {"content_rays_doubling_deg", "30", std::to_string(30.0f), nullptr, {}},
     {"threads", "3", "3", nullptr, {}},
     {"cache_dir", R"("/tmp/foveart-cache")", "/tmp/foveart-cache", nullptr, {}},
     {"wait_for_tables", "true", "true", nullptr, {}},
@@ -226,6 +228,20 @@ void expect_unit_or_off_refused(const char* key, std::optional<float> LayerConfi
     ASSERT_EQ(r.warnings.size(), 1u) << key << " " << bad;
     EXPECT_NE(r.warnings[0].find(key), std::string::npos) << r.warnings[0];
     EXPECT_NE(r.warnings[0].find("[0, 1]"), std::string::npos) << r.warnings[0];
+  }
+}
+
+// The eccentricity over which content_rays doubles: off unless named; 0 (off) to 90 degrees,
+// anything else refused with one warning naming the key and the range.
+TEST(ResolveSettings, ContentRaysDoublingIsOffUnlessNamedAndRefusedOutOfRange) {
+  EXPECT_EQ(resolve(use_config_info(), LayerConfig{}).content_rays_doubling_deg, 0.0f);
+  for (const char* bad : {"-1", "91", "\"far\"", "null"}) {
+    ConfigResult r;
+    apply_config_text(std::string("{\"content_rays_doubling_deg\": ") + bad + "}", "test.json", "app", &r);
+    EXPECT_EQ(r.config.content_rays_doubling_deg, 0.0f) << bad;
+    ASSERT_EQ(r.warnings.size(), 1u) << bad;
+    EXPECT_NE(r.warnings[0].find("content_rays_doubling_deg"), std::string::npos) << r.warnings[0];
+    EXPECT_NE(r.warnings[0].find("[0, 90]"), std::string::npos) << r.warnings[0];
   }
 }
 

@@ -85,6 +85,13 @@ TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
   err.str("");
   EXPECT_EQ(run_render(o, out, err), 2);
   EXPECT_NE(err.str().find("--gaze lists 2 gazes, more than --frames 1"), std::string::npos) << err.str();
+  for (const double doubling : {-1.0, 91.0, std::nan("")}) {
+    o = small("foveated");
+    o.content_rays_doubling_deg = doubling;
+    err.str("");
+    EXPECT_EQ(run_render(o, out, err), 2) << doubling;
+    EXPECT_NE(err.str().find("--content-rays-doubling must be in [0, 90]"), std::string::npos) << err.str();
+  }
 }
 
 TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImage) {

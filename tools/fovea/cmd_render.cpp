@@ -309,6 +309,7 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"density_scale", o.density_scale},
                         {"content_contrast", o.content_contrast},
                         {"content_rays", render_view::content_rays_of(o)},
+                        {"content_rays_doubling_deg", o.content_rays_doubling_deg},
                         {"density_ms", density.total_ms()},  // the median frame's, as its stages
                         {"density_stages_ms", {{"levels", density.levels_ms}, {"test", density.test_ms},
                                                {"observe", density.observe_ms}, {"fill", density.fill_ms}}},

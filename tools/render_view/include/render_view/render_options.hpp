@@ -58,6 +58,9 @@ struct RenderOptions {
   // from which a point casts all rays_per_point rays; 0: off (the lab's default, so that its
   // rows are what they name). Unset (`fovea render`'s default): content_rays_of.
   std::optional<double> content_rays = 0.0;
+  // The eccentricity over which content_rays doubles, in steps (foveation::ContentDensityOptions::
+  // rays_doubling_ecc_deg); 0: off.
+  double content_rays_doubling_deg = 0.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
