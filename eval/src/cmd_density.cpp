@@ -41,6 +41,9 @@ std::string density_problem(DensityOptions& o) {
     if (!(c > 0.0 && c <= 1.0)) return "--ray-contrasts: each contrast must be in (0, 1]";
   for (const double c : o.both_contrasts)
     if (!(c > 0.0 && c <= 1.0)) return "--both-contrasts: each contrast must be in (0, 1]";
+  for (const double d : o.rays_doublings)
+    if (!(d >= 0.0 && d <= 90.0)) return "--rays-doublings: each must be in [0, 90] degrees (0: off)";
+  if (o.rays_doublings.empty()) o.rays_doublings = {o.render.content_rays_doubling_deg};
   if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (o.crop_px) {
     std::optional<foveation::DisplayModel> crop = foveation::display_preset(o.render.preset);
@@ -128,6 +131,7 @@ Json row_json(const char* kind, const DensityDetection& d, const PerceptualResul
               {"density_scale", d.density_scale},
               {"content_contrast", d.content_contrast},
               {"content_rays", d.content_rays},
+              {"content_rays_doubling_deg", d.content_rays_doubling_deg},
               {"ray_fraction", d.ray_fraction},
               {"density_ms", d.density_ms},
               {"frame_ms", d.frame_ms},
@@ -154,10 +158,14 @@ Json row_json(const char* kind, const DensityDetection& d, const PerceptualResul
 }
 
 // A row's name in the images' file names: its kind and the value it sweeps.
-std::string row_image_name(const char* kind, double scale, double contrast, double rays_contrast) {
-  char name[96];
+std::string row_image_name(const char* kind, double scale, double contrast, double rays_contrast,
+                           double rays_doubling_deg) {
+  char name[128];
   if (std::string(kind) == "eccentricity")
     std::snprintf(name, sizeof name, "%s_scale_%g", kind, scale);
+  else if (rays_doubling_deg > 0.0)
+    std::snprintf(name, sizeof name, "%s_contrast_%g_doubling_%g", kind, contrast > 0.0 ? contrast : rays_contrast,
+                  rays_doubling_deg);
   else
     std::snprintf(name, sizeof name, "%s_contrast_%g", kind, contrast > 0.0 ? contrast : rays_contrast);
   return name;
@@ -193,9 +201,10 @@ std::string row_image_name(const char* kind, double scale, double contrast, doub
   return true;
 }
 
-// One row's density: its scale, content-aware density's contrast, the rays per point's (0: off).
+// One row's density: its scale, content-aware density's contrast, the rays per point's (0: off)
+// and the eccentricity over which that doubles (0: off).
 struct DensityAt {
-  double scale = 1.0, contrast = 0.0, rays_contrast = 0.0;
+  double scale = 1.0, contrast = 0.0, rays_contrast = 0.0, rays_doubling_deg = 0.0;
 };
 
 // The rows of one kind and the smallest ray fraction among its unseen ones (null: none); with an
@@ -209,14 +218,17 @@ struct DensityAt {
   for (const DensityAt& a : at) {
     DensityProbe p = probe;
     p.options.content_rays = a.rays_contrast;
+    p.options.content_rays_doubling_deg = a.rays_doubling_deg;
     DensityDetection d;
     if (!measure_density(p, a.scale, a.contrast, &d, error)) return false;
     err << kDensityWho << kind << " scale " << a.scale << " contrast " << a.contrast << " rays by contrast "
-        << a.rays_contrast << ": rays " << d.ray_fraction << ", P max " << d.p.p_max << "\n";
+        << a.rays_contrast;
+    if (a.rays_doubling_deg > 0.0) err << " doubling every " << a.rays_doubling_deg << " deg";
+    err << ": rays " << d.ray_fraction << ", P max " << d.p.p_max << "\n";
     Json row = row_json(kind, d, full);
     if (!image_prefix.empty()) {
       Json files = Json::array();
-      const std::string name = row_image_name(kind, a.scale, a.contrast, a.rays_contrast);
+      const std::string name = row_image_name(kind, a.scale, a.contrast, a.rays_contrast, a.rays_doubling_deg);
       if (!write_measured(image_prefix, name, d.image, display, &d.p, &files, error)) return false;
       row["images"] = std::move(files);
     }
@@ -300,15 +312,17 @@ int run_density(const DensityOptions& options, std::ostream& out, std::ostream& 
     return sweep(probe, kind, at, full, o.render.out_prefix, r.display, err, &rows, best, &error);
   };
   std::vector<DensityAt> eccentricity, content, rays, both;
-  for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0});
+  for (const double s : o.scales) eccentricity.push_back({s, 0.0, 0.0, 0.0});
   if (!run_sweep("eccentricity", eccentricity, &best_eccentricity)) return err << kDensityWho << error << "\n", 1;
   Json content_scales = {o.render.density_scale};  // and, with --content-at-unseen, the sparsest unseen scale
   if (o.content_at_unseen && !best_eccentricity.is_null() && best_eccentricity["density_scale"] != content_scales[0])
     content_scales.push_back(best_eccentricity["density_scale"]);
   for (const double s : content_scales) {
-    for (const double c : o.contrasts) content.push_back({s, c, 0.0});
-    for (const double c : o.ray_contrasts) rays.push_back({s, 0.0, c});
-    for (const double c : o.both_contrasts) both.push_back({s, c, c});
+    for (const double c : o.contrasts) content.push_back({s, c, 0.0, 0.0});
+    for (const double d : o.rays_doublings) {
+      for (const double c : o.ray_contrasts) rays.push_back({s, 0.0, c, d});
+      for (const double c : o.both_contrasts) both.push_back({s, c, c, d});
+    }
   }
   if (!run_sweep("content", content, &best_content) || !run_sweep("rays", rays, &best_rays) ||
       !run_sweep("both", both, &best_both))
@@ -353,8 +367,11 @@ void register_density(CLI::App& app) {
   cmd->add_option("--pose", *pose, "Where the viewer stands, X,Y,Z, or an exact eye pose px,py,pz,qx,qy,qz,qw");
   cmd->add_option("--crop", *crop, "WxH: a crop of the preset's view at its pixels per degree, around its centre");
   cmd->add_option("--scales", o->scales, "Density scales of the eccentricity-only rows")->delimiter(',')->capture_default_str();
-  cmd->add_option("--contrasts", o->contrasts, "Content contrasts of the content-aware rows (at --density-scale)")
-      ->delimiter(',')->capture_default_str();
+  CLI::Option* contrasts = cmd->add_option("--contrasts", o->contrasts,
+                                           "Content contrasts of the content-aware rows (at --density-scale; default "
+                                           "0.25,0.5,1); --contrasts alone: none")
+                               ->delimiter(',')
+                               ->expected(0, CLI::detail::expected_max_vector_size);
   cmd->add_option("--ray-contrasts", o->ray_contrasts,
                   "Contrasts from which a point casts all its rays, of the rays-per-point rows (at --density-scale; "
                   "none by default)")
@@ -363,6 +380,11 @@ void register_density(CLI::App& app) {
                   "Contrasts of rows that thin points and vary their rays from the same contrast (at --density-scale; "
                   "none by default)")
       ->delimiter(',')->capture_default_str();
+  cmd->add_option("--rays-doublings", o->rays_doublings,
+                  "Eccentricities (degrees) over which the rays and both rows' contrast doubles "
+                  "(--content-rays-doubling), a row each; 0: the same contrast everywhere (default: "
+                  "--content-rays-doubling's)")
+      ->delimiter(',');
   cmd->add_flag("--content-at-unseen", o->content_at_unseen,
                 "The content-aware rows also at the sparsest --scales density the metric does not see, where it is "
                 "not --density-scale");
@@ -370,8 +392,9 @@ void register_density(CLI::App& app) {
                 "Also how many times above threshold each ring of each frame is (fovea-eval perceptual "
                 "--ring-multiples; about 100 evaluations of the metric a frame)");
   cmd->add_option("--white-cd-m2", o->white_cd_m2, "Luminance of display white (cd/m^2)")->capture_default_str();
-  cmd->callback([o, gaze, pose, crop, parse_common] {
+  cmd->callback([o, gaze, pose, crop, parse_common, contrasts] {
     parse_common();
+    if (contrasts->count() == 1 && contrasts->results()[0].empty()) o->contrasts.clear();  // --contrasts alone
     if (!gaze->empty()) o->render.gaze_px = render_view::parse_gaze_option("--gaze", *gaze);
     if (!pose->empty()) render_view::parse_pose_option("--pose", *pose, &o->render);
     if (!crop->empty()) {

@@ -72,6 +72,10 @@ TEST(DensityCommand, BadOptionsExitTwoNamingTheProblem) {
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--both-contrasts"), std::string::npos) << err;
   o = tiny_density(dir.path.string());
+  o.rays_doublings = {0.0, 95.0};
+  EXPECT_EQ(run_density_command(o, &out, &err), 2);
+  EXPECT_NE(err.find("--rays-doublings"), std::string::npos) << err;
+  o = tiny_density(dir.path.string());
   o.crop_px = glm::ivec2(5000, 36);
   EXPECT_EQ(run_density_command(o, &out, &err), 2);
   EXPECT_NE(err.find("--crop"), std::string::npos) << err;
@@ -246,6 +250,35 @@ TEST(DensityCommand, ContentAtUnseenAlsoThinsFromTheSparsestUnseenScale) {
   const auto without = nlohmann::json::parse(out);
   EXPECT_EQ(without["content_density_scales"], nlohmann::json::array({o.render.density_scale}));
   EXPECT_EQ(without["rows"].size(), 4u);
+}
+
+// --rays-doublings: a rays row per contrast and doubling eccentricity, each naming its doubling;
+// the contrast doubling every 2 degrees (steps inside the 6-degree crop) casts fewer rays than
+// the same contrast everywhere. Without the list, --content-rays-doubling's one value.
+TEST(DensityCommand, RaysDoublingsGiveARaysRowEach) {
+  engine_test::TempDir dir;
+  eval::DensityOptions o = tiny_density(dir.path.string());
+  o.scales = {4.0};
+  o.contrasts.clear();
+  o.both_contrasts.clear();
+  o.ray_contrasts = {0.25};
+  o.rays_doublings = {0.0, 2.0};
+  std::string out, err;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  auto j = nlohmann::json::parse(out);
+  ASSERT_EQ(j["rows"].size(), 3u);
+  EXPECT_EQ(j["rows"][1]["kind"], "rays");
+  EXPECT_EQ(j["rows"][1]["content_rays_doubling_deg"], 0.0);
+  EXPECT_EQ(j["rows"][2]["kind"], "rays");
+  EXPECT_EQ(j["rows"][2]["content_rays_doubling_deg"], 2.0);
+  EXPECT_LT(j["rows"][2]["ray_fraction"].get<double>(), j["rows"][1]["ray_fraction"].get<double>());
+
+  o.rays_doublings.clear();
+  o.render.content_rays_doubling_deg = 2.0;
+  ASSERT_EQ(run_density_command(o, &out, &err), 0) << err;
+  j = nlohmann::json::parse(out);
+  ASSERT_EQ(j["rows"].size(), 2u);
+  EXPECT_EQ(j["rows"][1]["content_rays_doubling_deg"], 2.0);
 }
 
 // --ring-multiples: every row and the full render say how many times above threshold each ring

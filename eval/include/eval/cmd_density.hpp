@@ -41,6 +41,9 @@ struct DensityOptions {
   std::vector<double> contrasts = {0.25, 0.5, 1.0};
   std::vector<double> ray_contrasts;  // none unless asked for: the benchmark's sweeps stay as they were
   std::vector<double> both_contrasts;  // rows that thin and vary the rays per point from the same contrast
+  // Eccentricities over which the rays and both rows' contrast doubles (ContentDensityOptions::
+  // rays_doubling_ecc_deg), a row each; empty: render.content_rays_doubling_deg alone.
+  std::vector<double> rays_doublings;
   // The content-aware rows also at the sparsest eccentricity-only scale the metric does not see
   // (where it is not render.density_scale): thinning from a density nobody sees.
   bool content_at_unseen = false;

@@ -42,6 +42,7 @@ struct DensityDetection {
   double density_scale = 1.0;
   double content_contrast = 0.0;
   double content_rays = 0.0;  // the probe's rays per point by contrast (0: off)
+  double content_rays_doubling_deg = 0.0;  // and the eccentricity over which it doubles (0: off)
   double ray_fraction = 0.0;  // primary rays of the measured frame over the full render's at the same rays per pixel
   double density_ms = 0.0;    // content-aware density's part of that frame (FrameResult::density_ms)
   double frame_ms = 0.0;      // that frame's select + trace + reconstruct
