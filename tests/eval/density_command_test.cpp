@@ -10,6 +10,7 @@
 #include <engine/gltf_loader.hpp>
 #include <foveation/display_model.hpp>
 
+#include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -279,6 +280,35 @@ TEST(DensityCommand, RaysDoublingsGiveARaysRowEach) {
   j = nlohmann::json::parse(out);
   ASSERT_EQ(j["rows"].size(), 2u);
   EXPECT_EQ(j["rows"][1]["content_rays_doubling_deg"], 2.0);
+}
+
+// On the command line, --contrasts with no value leaves the thinning rows out; with a value
+// (the control) there is one.
+TEST(DensityCommand, ContrastsAloneOnTheCommandLineMeansNone) {
+  engine_test::TempDir dir;
+  for (const bool none : {true, false}) {
+    std::vector<std::string> args;
+    std::istringstream words(
+        "fovea-eval density --json --crop=96x108 --rays-per-point=2 --threads=2 --reference-spp=16 --scales=4 "
+        "--density-scale=4 --ray-contrasts=1 --contrasts");
+    for (std::string word; words >> word;) args.push_back(word);
+    if (!none) args.emplace_back("1");
+    args.push_back("--cache-dir=" + dir.path.string());
+    std::vector<const char*> argv;
+    for (const std::string& a : args) argv.push_back(a.c_str());
+    CLI::App app;
+    eval::register_density(app);
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    EXPECT_NO_THROW(app.parse(int(argv.size()), argv.data())) << (none ? "--contrasts alone" : "--contrasts 1");
+    const std::string out = testing::internal::GetCapturedStdout();
+    testing::internal::GetCapturedStderr();
+    const auto j = nlohmann::json::parse(out);
+    std::size_t content_rows = 0;
+    for (const auto& row : j["rows"]) content_rows += row["kind"] == "content" ? 1 : 0;
+    EXPECT_EQ(content_rows, none ? 0u : 1u) << out;
+    EXPECT_EQ(j["rows"].back()["kind"], "rays");
+  }
 }
 
 // --ring-multiples: every row and the full render say how many times above threshold each ring
