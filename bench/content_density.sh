@@ -24,6 +24,10 @@
 #  rays (rays.md): rays per point by contrast, centred gaze: `fovea-eval density --ray-contrasts`
 #    on the CROP at 16 rays per point and density scale 2, the primary rays against eccentricity
 #    only at the same scale, and what the metric sees.
+#  eccentricity (eccentricity.md): per scene and gaze, at eccentricity only's sparsest unseen scale
+#    (from the detection part's JSON), rays by contrast from 1 with the contrast the same everywhere
+#    and doubling every 30, 20 and 11.6 degrees of eccentricity (`--content-rays-doubling`): the ray
+#    fraction and the rings the metric sees, as in the detection part.
 #  device-cost (cost_device.md): the same on the device trace, per stage: `hello_foveated --engine
 #    gpu` through the layer and the simulated runtime on lavapipe (the scenes it loads: not engine,
 #    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
@@ -33,7 +37,8 @@
 #    contrast 0.1 at one ray per point and rays by contrast from 0.5 at four, each against eccentricity
 #    only: the CSF-weighted flicker per ring against a converged reference sequence, its floor, and
 #    the points and rays traced.
-# Usage: bench/content_density.sh [--part detection|levers|multiples|cost|rays|device-cost|flicker] [--scenes NAME,...]
+# Usage: bench/content_density.sh [--part detection|levers|multiples|cost|rays|eccentricity|device-cost|flicker]
+#                                  [--scenes NAME,...]
 #                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
 #   the whole eye, out to its widest eccentricities: about 5 minutes a scene on 2 cores.
@@ -41,11 +46,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 args=("$@")
-parts=(detection levers multiples cost rays device-cost flicker)
+parts=(detection levers multiples cost rays eccentricity device-cost flicker)
 if [ "${1:-}" = --part ]; then
   case "${2:-}" in
-    detection | levers | multiples | cost | rays | device-cost | flicker) parts=("$2") ;;
-    *) echo "bench/content_density.sh: --part detection, levers, multiples, cost, rays, device-cost or flicker" >&2; exit 2 ;;
+    detection | levers | multiples | cost | rays | eccentricity | device-cost | flicker) parts=("$2") ;;
+    *) echo "bench/content_density.sh: --part detection, levers, multiples, cost, rays, eccentricity, device-cost" \
+         "or flicker" >&2; exit 2 ;;
   esac
   shift 2
 fi
@@ -79,6 +85,48 @@ ch=${crop#*x}
 # jq: a fraction as a percentage to 0.1, and the rings (their indices) where P reaches 0.5.
 jq_rings='def pct: . * 1000 | round / 10;
   def seen($rings): [$rings | to_entries[] | select(.value != null and .value >= 0.5) | .key] | map(tostring) | join(",");'
+gazes=("centre|$((cw / 2)),$((ch / 2))" "off-centre|$((cw / 5)),$((ch / 5))")  # name | --gaze
+scene_gazes() {  # per scene and gaze: name|scene|viewer|gaze name|gaze
+  local entry g
+  for entry in "${scenes[@]}"; do
+    for g in "${gazes[@]}"; do echo "$entry|$g"; done
+  done
+}
+# The rings' legend, then every row's largest P per ring: the table body in DETAILS (removed after),
+# its columns before the rings named by HEAD ("scene | gaze | ..."), appended to MD.
+every_row_appendix() {  # md details head
+  local md=$1 details=$2 head=$3 columns
+  columns=$(awk -F' [|] ' '{print NF + 8}' <<<"$head")
+  {
+    echo
+    echo "Rings: 0: 0-2.5, 1: 2.5-5, 2: 5-10, 3: 10-20, 4: 20-30, 5: 30-45, 6: >45 degrees from the gaze."
+    echo
+    echo "## Every row: the largest P per ring"
+    echo
+    echo "| $head | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 | unseen |"
+    printf '|---%.0s' $(seq "$columns")
+    echo "|"
+    cat "$details"
+  } >>"$md"
+  rm -f "$details"
+}
+# One scene's flicker rows: eccentricity only (the first JSON of fovea-eval motion), then each
+# lever's (the next JSONs, named by LEVERS, a JSON array) per history, then the reference's floor.
+flicker_rows() {  # name levers off.json lever.json...
+  local name=$1 levers=$2
+  shift 2
+  jq -r -s --arg name "$name" --argjson levers "$levers" '
+    def r5: if . == null then "-" else . * 100000 | round / 100000 end;
+    def rings: .rings | map(.flicker_csf | r5) | join(" | ");
+    def pct($a; $b): if $b > 0 then $a / $b * 1000 | round / 10 else "-" end;
+    . as $runs | .[0] as $off
+    | (($off.tracks | keys[]) as $i | $off.tracks[$i] as $e
+       | "| \($name) | \($e.temporal) | eccentricity only | 100 | 100 | \($e | rings) |",
+         (range(1; $runs | length) as $k | $runs[$k].tracks[$i] as $t
+          | "| \($name) | \($t.temporal) | \($levers[$k - 1]) | \(pct($t.points_by_frame[1:] | add; $e.points_by_frame[1:] | add))"
+            + " | \(pct($t.primary_rays_by_frame[1:] | add; $e.primary_rays_by_frame[1:] | add)) | \($t | rings) |")),
+      "| \($name) | | reference floor | | | \($off.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' "$@"
+}
 header() {  # the title, then this machine, the load and the command
   echo "# $1"
   echo
@@ -90,12 +138,11 @@ header() {  # the title, then this machine, the load and the command
 # Per scene and gaze, the smallest unseen ray fraction of each kind: content_density.md.
 detection_part() {
   need "$eval_bin"
-  local gazes=("centre|$((cw / 2)),$((ch / 2))" "off-centre|$((cw / 5)),$((ch / 5))")
   local scales=0.3,0.4,0.5,0.7,0.8,0.9,1,1.2,1.5,2,3,4 contrasts=0.1,0.25,0.5,1 ray_contrasts=0.25,0.5,1 both_contrasts=0.25,0.5,1
   local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
                 --k 5 --scales "$scales" --contrasts "$contrasts" --ray-contrasts "$ray_contrasts"
                 --both-contrasts "$both_contrasts" --content-at-unseen --cache-dir out/cache)
-  local md="$dir/content_density.md" details
+  local md="$dir/content_density.md" details pair name scene viewer gname gaze json
   {
     header "Content-aware density on the benchmark set, judged by the perceptual metric"
     echo "Per scene and gaze \`$eval_bin density --scene SCENE VIEWER --gaze X,Y ${common[*]}\`."
@@ -124,43 +171,29 @@ detection_part() {
     echo "|---|---|---|---|---|---|---|"
   } >"$md"
   details=$(mktemp)
-  for entry in "${scenes[@]}"; do
-    IFS='|' read -r name scene viewer <<<"$entry"
-    for g in "${gazes[@]}"; do
-      IFS='|' read -r gname gaze <<<"$g"
-      echo "=== $name, $gname gaze" >&2
-      json="$dir/json/${name}_${gname}.json"
-      # shellcheck disable=SC2086
-      "$eval_bin" density --scene "$scene" $viewer --gaze "$gaze" "${common[@]}" >"$json"
-      jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings"'
-        def lever: if .kind == "rays" then "rays \(.content_rays)" elif .kind == "content" then "thin \(.content_contrast)"
-          elif .kind == "both" then "both \(.content_contrast)" else "\(.density_scale)" end;
-        def best($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever))" end;
-        def best_at($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever), \($b.density_scale))" end;
-        def fewer($a; $b): if $a == null then $b elif $b == null then $a elif $b.ray_fraction < $a.ray_fraction then $b else $a end;
-        (.rows[] | select(.kind == "eccentricity" and .density_scale == 1)) as $s1
-        | .content_at_eccentricity_detection as $m
-        | "| \($name) | \($gaze) | \(seen(.full.rings_p_max)) | \(best(.best_eccentricity))"
-          + " | \(best_at(fewer(fewer(.best_content; .best_rays); .best_both))) | \($s1.ray_fraction | pct), \(seen($s1.rings_p_max))"
-          + " | \(if $m == null then "none" else "\($m.ray_fraction | pct) (\($m | lever)), \((1 - $m.ray_fraction / $s1.ray_fraction) | pct)" end) |"' \
-        "$json" >>"$md"
-      jq -r --arg name "$name" --arg gaze "$gname" '
-        def r2: if . == null then "-" else . * 100 | round / 100 end;
-        .rows[] | "| \($name) | \($gaze) | \(.kind) | \(.density_scale) | \(.content_contrast) | \(.content_rays) | \(.ray_fraction * 1000 | round / 10)"
-          + " | \(.rings_p_max | map(r2) | join(" | ")) | \(if .unseen then "yes" else "no" end) |"' "$json" >>"$details"
-    done
-  done
-  {
-    echo
-    echo "Rings: 0: 0-2.5, 1: 2.5-5, 2: 5-10, 3: 10-20, 4: 20-30, 5: 30-45, 6: >45 degrees from the gaze."
-    echo
-    echo "## Every row: the largest P per ring"
-    echo
-    echo "| scene | gaze | density | scale | thin C | rays C | ray % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 | unseen |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-    cat "$details"
-  } >>"$md"
-  rm -f "$details"
+  while IFS='|' read -r name scene viewer gname gaze; do
+    echo "=== $name, $gname gaze" >&2
+    json="$dir/json/${name}_${gname}.json"
+    # shellcheck disable=SC2086
+    "$eval_bin" density --scene "$scene" $viewer --gaze "$gaze" "${common[@]}" >"$json" </dev/null
+    jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings"'
+      def lever: if .kind == "rays" then "rays \(.content_rays)" elif .kind == "content" then "thin \(.content_contrast)"
+        elif .kind == "both" then "both \(.content_contrast)" else "\(.density_scale)" end;
+      def best($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever))" end;
+      def best_at($b): if $b == null then "none" else "\($b.ray_fraction | pct) (\($b | lever), \($b.density_scale))" end;
+      def fewer($a; $b): if $a == null then $b elif $b == null then $a elif $b.ray_fraction < $a.ray_fraction then $b else $a end;
+      (.rows[] | select(.kind == "eccentricity" and .density_scale == 1)) as $s1
+      | .content_at_eccentricity_detection as $m
+      | "| \($name) | \($gaze) | \(seen(.full.rings_p_max)) | \(best(.best_eccentricity))"
+        + " | \(best_at(fewer(fewer(.best_content; .best_rays); .best_both))) | \($s1.ray_fraction | pct), \(seen($s1.rings_p_max))"
+        + " | \(if $m == null then "none" else "\($m.ray_fraction | pct) (\($m | lever)), \((1 - $m.ray_fraction / $s1.ray_fraction) | pct)" end) |"' \
+      "$json" >>"$md"
+    jq -r --arg name "$name" --arg gaze "$gname" '
+      def r2: if . == null then "-" else . * 100 | round / 100 end;
+      .rows[] | "| \($name) | \($gaze) | \(.kind) | \(.density_scale) | \(.content_contrast) | \(.content_rays) | \(.ray_fraction * 1000 | round / 10)"
+        + " | \(.rings_p_max | map(r2) | join(" | ")) | \(if .unseen then "yes" else "no" end) |"' "$json" >>"$details"
+  done < <(scene_gazes)
+  every_row_appendix "$md" "$details" "scene | gaze | density | scale | thin C | rays C | ray %"
 }
 
 # Per lever and contrast, over the detection part's scenes, gazes and scales: what it adds that the
@@ -453,18 +486,98 @@ flicker_part() {
       "$eval_bin" motion --scene "$scene" "${common[@]}" $off_options >"$dir/json/${name}_flicker_${suffix}_off.json"
       # shellcheck disable=SC2086
       "$eval_bin" motion --scene "$scene" "${common[@]}" $on_options >"$dir/json/${name}_flicker_$suffix.json"
-      jq -r -s --arg name "$name" --arg lever "$lname" '
-        def r5: if . == null then "-" else . * 100000 | round / 100000 end;
-        def rings: .rings | map(.flicker_csf | r5) | join(" | ");
-        def pct($a; $b): if $b > 0 then $a / $b * 1000 | round / 10 else "-" end;
-        .[0] as $off | .[1] as $on
-        | (($off.tracks | keys[]) as $i | $off.tracks[$i] as $e | $on.tracks[$i] as $t
-           | "| \($name) | \($e.temporal) | eccentricity only | 100 | 100 | \($e | rings) |",
-             "| \($name) | \($t.temporal) | \($lever) | \(pct($t.points_by_frame[1:] | add; $e.points_by_frame[1:] | add))"
-             + " | \(pct($t.primary_rays_by_frame[1:] | add; $e.primary_rays_by_frame[1:] | add)) | \($t | rings) |"),
-          "| \($name) | | reference floor | | | \($off.reference.rings | map(.flicker_csf_floor | r5) | join(" | ")) |"' \
-        "$dir/json/${name}_flicker_${suffix}_off.json" "$dir/json/${name}_flicker_$suffix.json" >>"$md"
+      flicker_rows "$name" "[\"$lname\"]" "$dir/json/${name}_flicker_${suffix}_off.json" \
+        "$dir/json/${name}_flicker_$suffix.json" >>"$md"
     done
+  done
+}
+
+# Per scene and gaze, rays by contrast with the contrast doubling by eccentricity, at eccentricity
+# only's sparsest unseen scale: eccentricity.md.
+eccentricity_part() {
+  need "$eval_bin"
+  # 11.6: castleCSF's achromatic threshold doubling (its slowest eccentricity drop, 10^(0.026 e) at low frequency).
+  local doublings=0,30,20,11.6
+  local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
+                --k 5 --contrasts --ray-contrasts 1 --rays-doublings "$doublings" --cache-dir out/cache)
+  local md="$dir/eccentricity.md" details name scene viewer gname gaze src scale json
+  {
+    header "Rays per point by contrast and eccentricity on the benchmark set"
+    echo "Per scene and gaze \`$eval_bin density --scene SCENE VIEWER --gaze X,Y --scales S --density-scale S ${common[*]}\`,"
+    echo "S: eccentricity only's sparsest unseen density scale in [content_density.md](content_density.md)."
+    echo
+    echo "Rays per point by contrast from C = 1, with C the same everywhere (same C) or doubling every 30, 20 or"
+    echo "11.6 degrees from the gaze, in steps (\`--content-rays-doubling\`: 2C from one step on, 4C from two). 11.6"
+    echo "degrees is the rate of castleCSF's achromatic threshold, its slowest rise with eccentricity. Ray % and"
+    echo "unseen as in [content_density.md](content_density.md): the row's primary rays over the full render's at"
+    echo "$rays rays per pixel, and unseen when every ring the full render does not show stays below P = 0.5."
+    echo "The goal is 10 % or less."
+    echo
+    echo "| scene | gaze | scale S | rings the full render shows | eccentricity only at S: ray %, rings seen | same C: ray %, rings seen | doubling 30: ray %, rings seen | doubling 20: ray %, rings seen | doubling 11.6: ray %, rings seen | smallest unseen ray % (doubling) |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
+  } >"$md"
+  details=$(mktemp)
+  while IFS='|' read -r name scene viewer gname gaze; do
+    src="$dir/json/${name}_${gname}.json"
+    [ -f "$src" ] || { echo "bench/content_density.sh: $src is missing: run --part detection first" >&2; exit 2; }
+    scale=$(jq -r '.best_eccentricity.density_scale // empty' "$src")
+    if [ -z "$scale" ]; then
+      echo "| $name | $gname | none | | | | | | | |" >>"$md"
+      continue
+    fi
+    echo "=== $name, $gname gaze, rays by contrast and eccentricity at scale $scale" >&2
+    json="$dir/json/${name}_${gname}_eccentricity.json"
+    # shellcheck disable=SC2086
+    "$eval_bin" density --scene "$scene" $viewer --gaze "$gaze" --scales "$scale" --density-scale "$scale" \
+      "${common[@]}" >"$json" </dev/null
+    jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings"'
+      def cell($r): if $r == null then "-" else "\($r.ray_fraction | pct), \(seen($r.rings_p_max) | if . == "" then "none" else . end)" end;
+      .full as $full
+      | [.rows[] | select(.kind == "rays")] as $rays
+      | def at($d): first($rays[] | select(.content_rays_doubling_deg == $d)) // null;
+      ([$rays[] | select(.unseen)] | min_by(.ray_fraction)) as $best
+      | "| \($name) | \($gaze) | \(.rows[0].density_scale) | \(seen($full.rings_p_max)) | \(cell(.rows[0]))"
+        + " | \(cell(at(0))) | \(cell(at(30))) | \(cell(at(20))) | \(cell(at(11.6)))"
+        + " | \(if $best == null then "none" else "\($best.ray_fraction | pct) (\($best.content_rays_doubling_deg | if . == 0 then "same C" else . end))" end) |"' \
+      "$json" >>"$md"
+    jq -r --arg name "$name" --arg gaze "$gname" '
+      def p: if . == null then "-" else . * 100 | round / 100 end;
+      .rows[] | "| \($name) | \($gaze) | \(if .kind == "rays" then "rays, doubling \(.content_rays_doubling_deg)" else .kind end)"
+        + " | \(.ray_fraction * 1000 | round / 10) | \(.rings_p_max | map(p) | join(" | ")) | \(if .unseen then "yes" else "no" end) |"' \
+      "$json" >>"$details"
+  done < <(scene_gazes)
+  every_row_appendix "$md" "$details" "scene | gaze | row | ray %"
+  eccentricity_flicker "$md"
+}
+
+# Does doubling every 30 degrees flicker? Over the flicker part's motion, rays by contrast from 0.5 at
+# four rays per point with the doubling, beside that part's runs without it: appended to MD.
+eccentricity_flicker() {  # md
+  local md=$1 entry name scene viewer base
+  local motion=(--mode foveated --frames 12 --temporal image,rays --interpolation msm --k 5 --reference-spp 32
+                --cache-dir out/cache --json --rays-per-point 4 --content-rays 0.5 --content-rays-doubling 30)
+  {
+    echo
+    echo "## Flicker over a head and gaze motion"
+    echo
+    echo "Per scene, \`$eval_bin motion --scene SCENE ${motion[*]}\` beside eccentricity only and rays by contrast"
+    echo "from 0.5 without the doubling: [flicker.md](flicker.md)'s runs, with its measures (the CSF-weighted"
+    echo "frame-to-frame change of the error per ring against a converged reference sequence, and that sequence's"
+    echo "own) and its points and rays per frame as % of eccentricity only's."
+    echo
+    echo "| scene | history | density | points % | rays % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+  } >>"$md"
+  for entry in "${scenes[@]}"; do
+    IFS='|' read -r name scene viewer <<<"$entry"
+    [ -z "$viewer" ] || continue  # the motion's head path starts at the scene's own camera
+    base="$dir/json/${name}_flicker_rays_4"
+    [ -f "${base}_off.json" ] && [ -f "$base.json" ] ||
+      { echo "bench/content_density.sh: ${base}*.json are missing: run --part flicker first" >&2; exit 2; }
+    echo "=== $name, flicker, rays 0.5 doubling every 30 degrees" >&2
+    "$eval_bin" motion --scene "$scene" "${motion[@]}" >"${base}_doubling_30.json"
+    flicker_rows "$name" '["rays 0.5, 4 rays", "rays 0.5, 4 rays, doubling 30"]' "${base}_off.json" "$base.json" \
+      "${base}_doubling_30.json" >>"$md"
   done
 }
 
