@@ -301,6 +301,7 @@ cost_part() {
     "off, 4 rays|--content-rays 0 --rays-per-point 4"
     "rays 0.5 (default), 4 rays|--rays-per-point 4"
     "both 0.5, 4 rays|--content-contrast 0.5 --content-rays 0.5 --rays-per-point 4"
+    "rays 0.5 doubling 30, 4 rays|--rays-per-point 4 --content-rays-doubling 30"
     "off, 16 rays|--content-rays 0 --rays-per-point 16"
     "rays 0.5 (default), 16 rays|--rays-per-point 16"
   )
@@ -310,7 +311,8 @@ cost_part() {
     echo "The whole FOVE eye ($whole_eye), MSM k = 5, centred gaze: at one ray per point eccentricity only (off), and"
     echo "content contrast 0.1 (the GPU path's default) and 0.5 (thinning alone); at four and sixteen rays per point"
     echo "eccentricity only (\`--content-rays 0\`) and rays per point by contrast from 0.5, the products' default there"
-    echo "(the per-point test also counts each point's rays); at four, both levers from contrast 0.5:"
+    echo "(the per-point test also counts each point's rays); at four, both levers from contrast 0.5, and rays by"
+    echo "contrast doubling every 30 degrees from the gaze (\`--content-rays-doubling 30\`):"
     echo "\`$fovea render --scene SCENE VIEWER --preset fove --mode foveated --interpolation msm --k 5 SETTING"
     echo "--frames 5 --cache-dir out/cache --json\`, its median frame (select, trace and"
     echo "reconstruction: frame ms) and that frame's \`density_stages_ms\`: levels, the tiles' levels from the last"
