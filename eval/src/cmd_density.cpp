@@ -8,6 +8,7 @@
 
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
+#include <foveation/content_density.hpp>
 #include <foveation/display_model.hpp>
 #include <metrics/image_metrics.hpp>
 #include <toolkit/image_io.hpp>
@@ -42,7 +43,7 @@ std::string density_problem(DensityOptions& o) {
   for (const double c : o.both_contrasts)
     if (!(c > 0.0 && c <= 1.0)) return "--both-contrasts: each contrast must be in (0, 1]";
   for (const double d : o.rays_doublings)
-    if (!(d >= 0.0 && d <= 90.0)) return "--rays-doublings: each must be in [0, 90] degrees (0: off)";
+    if (!foveation::valid_rays_doubling_ecc_deg(d)) return "--rays-doublings: each must be in [0, 90] degrees (0: off)";
   if (o.rays_doublings.empty()) o.rays_doublings = {o.render.content_rays_doubling_deg};
   if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (o.crop_px) {

@@ -59,8 +59,8 @@ RaysContrastSteps rays_contrast_steps(float rays_contrast, float doubling_ecc_de
 
 std::uint32_t PointRays::rays_of(std::uint32_t id, float tile_contrast, const RaysContrastSteps& rays_contrast) const {
   if (points_.in_exact_fovea(id)) return rays_per_point_;
-  const float contrast = rays_contrast.at(points_.position_px[id].x - 0.5f * float(points_.canvas_width_px),
-                                          points_.position_px[id].y - 0.5f * float(points_.canvas_height_px));
+  const glm::vec2 from_centre = points_.from_centre_px(id);
+  const float contrast = rays_contrast.at(from_centre.x, from_centre.y);
   return point_ray_count(rays_per_point_, points_.radius_px[id], tile_contrast, contrast);
 }
 

@@ -67,7 +67,8 @@ DeviceRaysPush rays_push(const DeviceTraceFrame& frame, bool tiles_measured) {
     push.full_contrast = frame.density.full_contrast;
     push.rays_contrast = frame.density.rays_contrast;
   }
-  push.canvas_centre_px = {0.5f * float(frame.points->canvas_width_px), 0.5f * float(frame.points->canvas_height_px)};
+  const glm::vec2 centre_px = frame.points->centre_px();
+  push.canvas_centre_px = {centre_px.x, centre_px.y};
   const foveation::RaysContrastSteps steps = foveation::rays_contrast_steps(
       frame.density.rays_contrast, frame.density.rays_doubling_ecc_deg, frame.points->view_distance_px);
   push.rays_step_distance_sq_px2 = {steps.distance_sq_px2[0], steps.distance_sq_px2[1], steps.distance_sq_px2[2],

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <foveation/content_density.hpp>
 #include <foveation/display_transform.hpp>
 
 #ifndef FOVEART_SYSTEM_CONFIG_DIR
@@ -101,10 +102,15 @@ struct Reader {
     });
   }
 
-  // A number in [0, 1], where 0 turns the setting off (as opposed to leaving it to its default).
-  void read_unit_or_off(const json& obj, const char* key, std::optional<float>* out) const {
+  // A number in [0, hi], where 0 turns the setting off (as opposed to leaving it to its default).
+  template <typename Setting>  // float, or std::optional<float> where unset means the default
+  void read_in_range_or_off(const json& obj, const char* key, double hi, Setting* out) const {
     read(obj, key, [&](const json& v) -> std::string {
-      if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= 1.0)) return "must be a number in [0, 1]";
+      if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= hi)) {
+        std::ostringstream wrong;
+        wrong << "must be a number in [0, " << hi << "]";
+        return wrong.str();
+      }
       *out = static_cast<float>(v.get<double>());
       return {};
     });
@@ -178,13 +184,10 @@ struct Reader {
     read_string(obj, "interpolation", {"nearest", "msm", "rbf"}, &c->interpolation);
     read_uint(obj, "k", 1, 20, &c->k);
     read_float(obj, "density_scale", 0.0f, 16.0f, &c->density_scale);
-    read_unit_or_off(obj, "content_contrast", &c->content_contrast);
-    read_unit_or_off(obj, "content_rays", &c->content_rays);
-    read(obj, "content_rays_doubling_deg", [&](const json& v) -> std::string {
-      if (!v.is_number() || !(v.get<double>() >= 0.0 && v.get<double>() <= 90.0)) return "must be a number in [0, 90]";
-      c->content_rays_doubling_deg = static_cast<float>(v.get<double>());
-      return {};
-    });
+    read_in_range_or_off(obj, "content_contrast", 1.0, &c->content_contrast);
+    read_in_range_or_off(obj, "content_rays", 1.0, &c->content_rays);
+    read_in_range_or_off(obj, "content_rays_doubling_deg", foveation::kMaxRaysDoublingEccDeg,
+                         &c->content_rays_doubling_deg);
     read_uint(obj, "rays_per_point", 1, 64, &c->rays_per_point);
     read_removed_keys(obj, c);
     read_string(obj, "temporal", {"auto", "off", "image", "rays"}, &c->temporal);

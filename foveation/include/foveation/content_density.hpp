@@ -47,6 +47,12 @@ struct ContentDensityOptions {
   bool enabled() const { return thins() || varies_rays(); }
 };
 
+// The largest rays_doubling_ecc_deg: a step at 90 degrees or beyond is never reached.
+inline constexpr double kMaxRaysDoublingEccDeg = 90.0;
+inline bool valid_rays_doubling_ecc_deg(double deg) {
+  return deg >= 0.0 && deg <= kMaxRaysDoublingEccDeg;
+}
+
 // The product's rays per point by contrast where the user names none (docs/foveation.md,
 // "Defaults"): all of them from this tile contrast, where a point casts several rays and the
 // density is the thesis's or sparser. With one ray per point there is nothing to vary; at a

@@ -55,12 +55,15 @@ struct PointSet {
 
   std::size_t size() const { return position_px.size(); }
   bool on_pixel_grid(std::size_t i) const { return !footprint.empty() && footprint[i] == PointFootprint::kPixel; }
+  // The canvas centre: the centre of interest (the gaze), in canvas pixels.
+  glm::vec2 centre_px() const { return {0.5f * float(canvas_width_px), 0.5f * float(canvas_height_px)}; }
+  // Point i's offset from it.
+  glm::vec2 from_centre_px(std::size_t i) const { return position_px[i] - centre_px(); }
   // Point i is of the pixel-exact fovea: always traced, with all its rays.
   bool in_exact_fovea(std::size_t i) const {
     if (!on_pixel_grid(i)) return false;
-    const float dx = position_px[i].x - 0.5f * float(canvas_width_px);
-    const float dy = position_px[i].y - 0.5f * float(canvas_height_px);
-    return dx * dx + dy * dy <= exact_fovea_radius_px * exact_fovea_radius_px;
+    const glm::vec2 d = from_centre_px(i);
+    return d.x * d.x + d.y * d.y <= exact_fovea_radius_px * exact_fovea_radius_px;
   }
 };
 

@@ -5,6 +5,7 @@
 
 #include <engine/exposure.hpp>
 #include <engine/render.hpp>
+#include <foveation/content_density.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -205,7 +206,7 @@ std::string render_options_problem(const RenderOptions& o) {
     return "--content-contrast must be in [0, 1] (0: off), got " + std::to_string(o.content_contrast);
   if (o.content_rays && (!(*o.content_rays >= 0.0) || *o.content_rays > 1.0))
     return "--content-rays must be in [0, 1] (0: off), got " + std::to_string(*o.content_rays);
-  if (!(o.content_rays_doubling_deg >= 0.0) || o.content_rays_doubling_deg > 90.0)
+  if (!foveation::valid_rays_doubling_ecc_deg(o.content_rays_doubling_deg))
     return "--content-rays-doubling must be in [0, 90] degrees (0: off), got " +
            std::to_string(o.content_rays_doubling_deg);
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
