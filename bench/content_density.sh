@@ -110,6 +110,16 @@ every_row_appendix() {  # md details head
   } >>"$md"
   rm -f "$details"
 }
+# The flicker runs: the whole FOVE eye over the built-in head and gaze motion, both product histories,
+# against a converged reference sequence (fovea-eval motion), and the head of their tables.
+flicker_frames=12
+flicker_spp=32
+flicker_motion=(--mode foveated --frames "$flicker_frames" --temporal image,rays --interpolation msm --k 5
+                --reference-spp "$flicker_spp" --cache-dir out/cache --json)
+flicker_table_head() {
+  echo "| scene | history | density | points % | rays % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+}
 # One scene's flicker rows: eccentricity only (the first JSON of fovea-eval motion), then each
 # lever's (the next JSONs, named by LEVERS, a JSON array) per history, then the reference's floor.
 flicker_rows() {  # name levers off.json lever.json...
@@ -142,7 +152,7 @@ detection_part() {
   local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
                 --k 5 --scales "$scales" --contrasts "$contrasts" --ray-contrasts "$ray_contrasts"
                 --both-contrasts "$both_contrasts" --content-at-unseen --cache-dir out/cache)
-  local md="$dir/content_density.md" details pair name scene viewer gname gaze json
+  local md="$dir/content_density.md" details name scene viewer gname gaze json
   {
     header "Content-aware density on the benchmark set, judged by the perceptual metric"
     echo "Per scene and gaze \`$eval_bin density --scene SCENE VIEWER --gaze X,Y ${common[*]}\`."
@@ -454,9 +464,8 @@ device_cost_part() {
 # Per scene, the flicker of thinned points over a head and gaze motion against eccentricity only: flicker.md.
 flicker_part() {
   need "$eval_bin"
-  local contrast=0.1 frames=12 motion_spp=32 md="$dir/flicker.md" entry name scene viewer lever
-  local common=(--mode foveated --frames "$frames" --temporal image,rays --interpolation msm --k 5
-                --reference-spp "$motion_spp" --cache-dir out/cache --json)
+  local contrast=0.1 md="$dir/flicker.md" entry name scene viewer lever
+  local common=("${flicker_motion[@]}")
   local levers=(  # name | its JSON's suffix | eccentricity only's options | the lever's
     "thin $contrast|$contrast|--content-contrast 0|--content-contrast $contrast"
     "rays 0.5, 4 rays|rays_4|--rays-per-point 4 --content-rays 0|--rays-per-point 4 --content-rays 0.5"
@@ -464,18 +473,17 @@ flicker_part() {
   {
     header "Does content-aware density flicker? Its levers over a head and gaze motion"
     echo "Per scene and lever, \`$eval_bin motion --scene SCENE ${common[*]}\` with the lever's options and with"
-    echo "eccentricity only's: the whole FOVE eye over the first $frames frames (70 Hz) of the built-in head and gaze motion,"
+    echo "eccentricity only's: the whole FOVE eye over the first $flicker_frames frames (70 Hz) of the built-in head and gaze motion,"
     echo "MSM k = 5, with each temporal history of the product: image (the CPU path's default) and rays (the render"
     echo "cache, the device path's). The levers: thinning from content contrast $contrast at one ray per point"
     echo "(\`--content-contrast $contrast\`), and rays per point by contrast from 0.5 at four rays per point, the products'"
     echo "default where a point casts several (\`--rays-per-point 4 --content-rays 0.5\`, against \`--content-rays 0\`)."
     echo "Flicker: the CSF-weighted frame-to-frame change of the error against a converged reference sequence of"
-    echo "$motion_spp rays per pixel (\`flicker_csf\`, per ring), and the reference's own (its floor). Points and rays:"
+    echo "$flicker_spp rays per pixel (\`flicker_csf\`, per ring), and the reference's own (its floor). Points and rays:"
     echo "per frame, frames 2 on (the first has no last frame to measure), as % of eccentricity only's. The scenes"
     echo "viewed from their own camera."
     echo
-    echo "| scene | history | density | points % | rays % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+    flicker_table_head
   } >"$md"
   for entry in "${scenes[@]}"; do
     IFS='|' read -r name scene viewer <<<"$entry"
@@ -556,8 +564,7 @@ eccentricity_part() {
 # four rays per point with the doubling, beside that part's runs without it: appended to MD.
 eccentricity_flicker() {  # md
   local md=$1 entry name scene viewer base
-  local motion=(--mode foveated --frames 12 --temporal image,rays --interpolation msm --k 5 --reference-spp 32
-                --cache-dir out/cache --json --rays-per-point 4 --content-rays 0.5 --content-rays-doubling 30)
+  local motion=("${flicker_motion[@]}" --rays-per-point 4 --content-rays 0.5 --content-rays-doubling 30)
   {
     echo
     echo "## Flicker over a head and gaze motion"
@@ -567,8 +574,7 @@ eccentricity_flicker() {  # md
     echo "frame-to-frame change of the error per ring against a converged reference sequence, and that sequence's"
     echo "own) and its points and rays per frame as % of eccentricity only's."
     echo
-    echo "| scene | history | density | points % | rays % | 0-2.5 | 2.5-5 | 5-10 | 10-20 | 20-30 | 30-45 | >45 |"
-    echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+    flicker_table_head
   } >>"$md"
   for entry in "${scenes[@]}"; do
     IFS='|' read -r name scene viewer <<<"$entry"
