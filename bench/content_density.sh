@@ -28,6 +28,9 @@
 #    (from the detection part's JSON), rays by contrast from 1 with the contrast the same everywhere
 #    and doubling every 30, 20 and 11.6 degrees of eccentricity (`--content-rays-doubling`): the ray
 #    fraction and the rings the metric sees, as in the detection part.
+#  doubling (doubling.md): the same doublings at the thesis's density (scale 1, where the product runs),
+#    rays by contrast from the product's default contrast and from 1: per scene and gaze, the rings
+#    the metric sees that eccentricity only at scale 1 leaves unseen, the largest rise of P, the ray fraction.
 #  device-cost (cost_device.md): the same on the device trace, per stage: `hello_foveated --engine
 #    gpu` through the layer and the simulated runtime on lavapipe (the scenes it loads: not engine,
 #    whose viewer it cannot place), with content contrast 0.5 and without; the GPU ms of the
@@ -37,7 +40,7 @@
 #    contrast 0.1 at one ray per point and rays by contrast from 0.5 at four, each against eccentricity
 #    only: the CSF-weighted flicker per ring against a converged reference sequence, its floor, and
 #    the points and rays traced.
-# Usage: bench/content_density.sh [--part detection|levers|multiples|cost|rays|eccentricity|device-cost|flicker]
+# Usage: bench/content_density.sh [--part detection|levers|multiples|cost|rays|eccentricity|doubling|device-cost|flicker]
 #                                  [--scenes NAME,...]
 #                                  [DIR [CROP [RAYS [REFERENCE_SPP]]]]
 #   (defaults: every part, every scene; out/content_density 320x360 128 512). CROP 1280x1440 is
@@ -46,11 +49,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 . bench/results_lib.sh
 args=("$@")
-parts=(detection levers multiples cost rays eccentricity device-cost flicker)
+parts=(detection levers multiples cost rays eccentricity doubling device-cost flicker)
 if [ "${1:-}" = --part ]; then
   case "${2:-}" in
-    detection | levers | multiples | cost | rays | eccentricity | device-cost | flicker) parts=("$2") ;;
-    *) echo "bench/content_density.sh: --part detection, levers, multiples, cost, rays, eccentricity, device-cost" \
+    detection | levers | multiples | cost | rays | eccentricity | doubling | device-cost | flicker) parts=("$2") ;;
+    *) echo "bench/content_density.sh: --part detection, levers, multiples, cost, rays, eccentricity, doubling, device-cost" \
          "or flicker" >&2; exit 2 ;;
   esac
   shift 2
@@ -587,6 +590,60 @@ eccentricity_flicker() {  # md
     flicker_rows "$name" '["rays 0.5, 4 rays", "rays 0.5, 4 rays, doubling 30"]' "${base}_off.json" "$base.json" \
       "${base}_doubling_30.json" >>"$md"
   done
+}
+
+# Does the doubling add what the metric sees at the thesis's density, where the product runs? Per
+# scene and gaze at scale 1, each contrast and doubling beside eccentricity only: doubling.md.
+doubling_part() {
+  need "$eval_bin"
+  local contrasts=0.5,1 doublings=0,30,20
+  local common=(--preset fove --crop "$crop" --rays-per-point "$rays" --reference-spp "$reference_spp" --interpolation msm
+                --k 5 --scales 1 --density-scale 1 --contrasts --ray-contrasts "$contrasts" --rays-doublings "$doublings"
+                --cache-dir out/cache)
+  local md="$dir/doubling.md" details name scene viewer gname gaze json
+  {
+    header "Rays per point by contrast and eccentricity at the thesis's density"
+    echo "Per scene and gaze \`$eval_bin density --scene SCENE VIEWER --gaze X,Y ${common[*]}\`."
+    echo
+    echo "At density scale 1, where the product runs, rays by contrast from C = 0.5 (the product's default) and"
+    echo "from 1, with C the same everywhere (same C) or doubling every 30 or 20 degrees from the gaze"
+    echo "(\`--content-rays-doubling\`), beside eccentricity only at scale 1, both against the same converged"
+    echo "reference at $reference_spp rays per pixel. A cell: the row's primary rays as % of the full render's at $rays"
+    echo "rays per pixel; the largest rise of P over eccentricity only's in any ring; and the rings newly seen,"
+    echo "where the row reaches P = 0.5 and eccentricity only stays below it (none: nothing added that the"
+    echo "metric sees)."
+    echo
+    echo "| scene | gaze | eccentricity only: ray %, rings seen | C 0.5 | C 0.5, doubling 30 | C 0.5, doubling 20 | C 1 | C 1, doubling 30 | C 1, doubling 20 |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+  } >"$md"
+  details=$(mktemp)
+  while IFS='|' read -r name scene viewer gname gaze; do
+    echo "=== $name, $gname gaze, rays by contrast and eccentricity at scale 1" >&2
+    json="$dir/json/${name}_${gname}_doubling.json"
+    # shellcheck disable=SC2086
+    "$eval_bin" density --scene "$scene" $viewer --gaze "$gaze" "${common[@]}" >"$json" </dev/null
+    jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings"'
+      def r2: . * 100 | round / 100;
+      (.rows[] | select(.kind == "eccentricity")) as $e
+      | def added($r): [range(0; $r.rings_p_max | length)
+                         | select($r.rings_p_max[.] != null and $e.rings_p_max[.] != null)] as $i
+          | {rise: ([$i[] | $r.rings_p_max[.] - $e.rings_p_max[.]] | max),
+             new: ([$i[] | select($r.rings_p_max[.] >= 0.5 and $e.rings_p_max[.] < 0.5) | tostring] | join(","))};
+      def cell($c; $d): first(.rows[] | select(.kind == "rays" and .content_rays == $c
+                                             and .content_rays_doubling_deg == $d)) // null
+          | if . == null then "-" else added(.) as $a
+            | ($a.rise | r2) as $rise
+            | "\(.ray_fraction | pct), \(if $rise > 0 then "+" else "" end)\($rise), \($a.new | if . == "" then "none" else . end)" end;
+      "| \($name) | \($gaze) | \($e.ray_fraction | pct), \(seen($e.rings_p_max) | if . == "" then "none" else . end)"
+      + " | \(cell(0.5; 0)) | \(cell(0.5; 30)) | \(cell(0.5; 20)) | \(cell(1; 0)) | \(cell(1; 30)) | \(cell(1; 20)) |"' \
+      "$json" >>"$md"
+    jq -r --arg name "$name" --arg gaze "$gname" '
+      def p: if . == null then "-" else . * 100 | round / 100 end;
+      .rows[] | "| \($name) | \($gaze) | \(if .kind == "rays" then "C \(.content_rays), doubling \(.content_rays_doubling_deg)" else .kind end)"
+        + " | \(.ray_fraction * 1000 | round / 10) | \(.rings_p_max | map(p) | join(" | ")) | \(if .unseen then "yes" else "no" end) |"' \
+      "$json" >>"$details"
+  done < <(scene_gazes)
+  every_row_appendix "$md" "$details" "scene | gaze | row | ray %"
 }
 
 if [ ! -f "$engine_glb" ]; then
