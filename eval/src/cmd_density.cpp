@@ -44,7 +44,7 @@ std::string density_problem(DensityOptions& o) {
     if (!(c > 0.0 && c <= 1.0)) return "--both-contrasts: each contrast must be in (0, 1]";
   for (const double d : o.rays_doublings)
     if (!foveation::valid_rays_doubling_ecc_deg(d)) return "--rays-doublings: each must be in [0, 90] degrees (0: off)";
-  if (o.rays_doublings.empty()) o.rays_doublings = {o.render.content_rays_doubling_deg};
+  if (o.rays_doublings.empty()) o.rays_doublings = {render_view::content_rays_doubling_of(o.render)};
   if (!(o.white_cd_m2 > 0.0 && std::isfinite(o.white_cd_m2))) return "--white-cd-m2 must be positive";
   if (o.crop_px) {
     std::optional<foveation::DisplayModel> crop = foveation::display_preset(o.render.preset);

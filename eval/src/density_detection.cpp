@@ -28,7 +28,7 @@ bool measure_density(const DensityProbe& probe, double density_scale, double con
   out->density_scale = density_scale;
   out->content_contrast = content_contrast;
   out->content_rays = render_view::content_rays_of(o);
-  out->content_rays_doubling_deg = o.content_rays_doubling_deg;
+  out->content_rays_doubling_deg = render_view::content_rays_doubling_of(o);
   const double full_rays = double(probe.view.width_px) * double(probe.view.height_px) * double(o.rays_per_point);
   out->ray_fraction = double(fr.rays) / full_rays;
   out->density_ms = fr.density_ms;

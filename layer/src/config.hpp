@@ -68,8 +68,9 @@ struct LayerConfig {
   // content_rays_for (renderer.hpp), on where a point casts several rays at density scale 1 or above.
   std::optional<float> content_rays;
   // The eccentricity over which content_rays doubles, in steps (foveation::ContentDensityOptions::
-  // rays_doubling_ecc_deg); 0: off, the same contrast everywhere.
-  float content_rays_doubling_deg = 0.0f;
+  // rays_doubling_ecc_deg); 0: off, the same contrast everywhere. Unset: content_rays_doubling_for
+  // (renderer.hpp), 30 degrees where the history keeps the traced rays ("rays"), else off.
+  std::optional<float> content_rays_doubling_deg;
   uint32_t rays_per_point = kDefaultRaysPerPoint;
   // What a frame keeps from earlier frames (foveation/temporal_mode.hpp): "off", "image"
   // (a reprojected image history) or "rays" (a render cache of the traced rays).

@@ -403,7 +403,7 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;
   vs.content_density.full_contrast = content_contrast_for_path(settings, path.reconstruct_on_gpu);
   vs.content_density.rays_contrast = content_rays_for(settings);
-  vs.content_density.rays_doubling_ecc_deg = settings.content_rays_doubling_deg;
+  vs.content_density.rays_doubling_ecc_deg = content_rays_doubling_for(settings, eye.temporal);
   vs.content_density.exposure = settings.display.exposure;
   eye.view = std::make_unique<foveation::FoveatedView>(view_tables, vs, path.stages(view_tables, vs));
 }

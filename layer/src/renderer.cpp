@@ -151,6 +151,10 @@ float content_rays_for(const RendererSettings& settings) {
       foveation::default_rays_contrast(int(settings.rays_per_point), settings.density_scale));
 }
 
+float content_rays_doubling_for(const RendererSettings& settings, foveation::TemporalMode temporal) {
+  return settings.content_rays_doubling_deg.value_or(foveation::default_rays_doubling_ecc_deg(temporal));
+}
+
 foveation::TemporalMode temporal_for_path(const RendererSettings& settings, bool reconstruct_on_gpu) {
   return settings.temporal.value_or(reconstruct_on_gpu ? foveation::TemporalMode::rays : foveation::TemporalMode::image);
 }

@@ -42,7 +42,8 @@ struct RendererSettings {
   float density_scale = 1.0f;
   std::optional<float> content_contrast;  // LayerConfig::content_contrast; unset: content_contrast_for_path()
   std::optional<float> content_rays;      // LayerConfig::content_rays; unset: content_rays_for()
-  float content_rays_doubling_deg = 0.0f;  // LayerConfig::content_rays_doubling_deg
+  // LayerConfig::content_rays_doubling_deg; unset: content_rays_doubling_for().
+  std::optional<float> content_rays_doubling_deg;
   uint32_t rays_per_point = 1;
   // LayerConfig::temporal; empty ("auto"): temporal_for_path() picks it by the reconstruction path.
   std::optional<foveation::TemporalMode> temporal;
@@ -80,6 +81,11 @@ float content_contrast_for_path(const RendererSettings& settings, bool reconstru
 // paths (at the thesis's density the perceptual metric sees nothing it adds on the benchmark
 // set, docs/results/content_density/).
 float content_rays_for(const RendererSettings& settings);
+// The eccentricity over which that contrast doubles where the settings leave it unset, for a view
+// of that temporal mode: foveation::default_rays_doubling_ecc_deg, every 30 degrees with the render
+// cache, whose flicker it leaves as it was (docs/results/content_density/whole_eye/); off with the
+// image history, whose outer rings flicker more where points cast fewer rays.
+float content_rays_doubling_for(const RendererSettings& settings, foveation::TemporalMode temporal);
 
 // The extension's temporal enum and foveation's mode, both ways: false for a value that is
 // no mode (USE_CONFIG included).

@@ -85,7 +85,8 @@ std::string setting_of(const RendererSettings& s, std::string_view key) {
   if (key == "gaze_provider") return s.gaze_provider_spec;
   if (key == "content_contrast") return s.content_contrast ? std::to_string(*s.content_contrast) : "path default";
   if (key == "content_rays") return s.content_rays ? std::to_string(*s.content_rays) : "rays default";
-  if (key == "content_rays_doubling_deg") return std::to_string(s.content_rays_doubling_deg);
+  if (key == "content_rays_doubling_deg")
+    return s.content_rays_doubling_deg ? std::to_string(*s.content_rays_doubling_deg) : "history default";
   if (key == "gaze_clock") return s.gaze_clock_display_time ? "display_time" : "steady";
   if (key == "threads") return std::to_string(s.threads);
   if (key == "cache_dir") return s.cache_dir;
@@ -231,14 +232,28 @@ void expect_unit_or_off_refused(const char* key, std::optional<float> LayerConfi
   }
 }
 
-// The eccentricity over which content_rays doubles: off unless named; 0 (off) to 90 degrees,
-// anything else refused with one warning naming the key and the range.
-TEST(ResolveSettings, ContentRaysDoublingIsOffUnlessNamedAndRefusedOutOfRange) {
-  EXPECT_EQ(resolve(use_config_info(), LayerConfig{}).content_rays_doubling_deg, 0.0f);
+// The eccentricity over which content_rays doubles, unset, follows the view's history: every 30
+// degrees with the render cache ("rays"), off with the image history or none. A value the config
+// names holds with any history, 0 (off) too; out of 0 to 90 degrees it is refused with one
+// warning naming the key and the range, and the default stays.
+TEST(ResolveSettings, UnsetContentRaysDoublingFollowsTheHistory) {
+  using foveation::TemporalMode;
+  const RendererSettings automatic = resolve(use_config_info(), LayerConfig{});
+  EXPECT_FALSE(automatic.content_rays_doubling_deg.has_value());
+  EXPECT_EQ(content_rays_doubling_for(automatic, TemporalMode::rays), foveation::kDefaultRaysDoublingEccDeg);
+  EXPECT_EQ(foveation::kDefaultRaysDoublingEccDeg, 30.0f);
+  EXPECT_EQ(content_rays_doubling_for(automatic, TemporalMode::image), 0.0f);
+  EXPECT_EQ(content_rays_doubling_for(automatic, TemporalMode::off), 0.0f);
+  for (const float d : {0.0f, 20.0f}) {
+    const RendererSettings named =
+        resolve(use_config_info(), config_from("{\"content_rays_doubling_deg\": " + std::to_string(d) + "}"));
+    for (const TemporalMode mode : {TemporalMode::rays, TemporalMode::image, TemporalMode::off})
+      EXPECT_EQ(content_rays_doubling_for(named, mode), d) << foveation::temporal_mode_name(mode);
+  }
   for (const char* bad : {"-1", "91", "\"far\"", "null"}) {
     ConfigResult r;
     apply_config_text(std::string("{\"content_rays_doubling_deg\": ") + bad + "}", "test.json", "app", &r);
-    EXPECT_EQ(r.config.content_rays_doubling_deg, 0.0f) << bad;
+    EXPECT_FALSE(r.config.content_rays_doubling_deg.has_value()) << bad;
     ASSERT_EQ(r.warnings.size(), 1u) << bad;
     EXPECT_NE(r.warnings[0].find("content_rays_doubling_deg"), std::string::npos) << r.warnings[0];
     EXPECT_NE(r.warnings[0].find("[0, 90]"), std::string::npos) << r.warnings[0];

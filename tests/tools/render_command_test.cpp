@@ -212,6 +212,38 @@ TEST(RenderCommand, SeveralRaysPerPointFollowTheContrastByDefault) {
   }
 }
 
+// `fovea render` leaves the doubling of that contrast with eccentricity to the product's default:
+// every 30 degrees with the render cache (--temporal rays), off with the image history or none; a
+// value asked for holds with any history. (The lab's commands default to off.)
+TEST(RenderCommand, TheRaysDoublingFollowsTheHistoryByDefault) {
+  using foveart::foveation::TemporalMode;
+  EXPECT_EQ(RenderOptions{}.content_rays_doubling_deg, 0.0) << "the lab's rows are what they name";
+  CLI::App app;
+  register_render(app);
+  const std::string help = app.get_subcommand("render")->get_option("--content-rays-doubling")->get_description();
+  EXPECT_NE(help.find("default 30 with --temporal rays, else off"), std::string::npos) << help;
+  struct Case {
+    TemporalMode temporal;
+    std::optional<double> doubling;  // unset: fovea render's default
+    double expected;
+  };
+  for (const Case& c : {Case{TemporalMode::rays, std::nullopt, foveart::foveation::kDefaultRaysDoublingEccDeg},
+                        Case{TemporalMode::image, std::nullopt, 0.0}, Case{TemporalMode::off, std::nullopt, 0.0},
+                        Case{TemporalMode::rays, 0.0, 0.0}, Case{TemporalMode::image, 20.0, 20.0}}) {
+    SCOPED_TRACE(testing::Message() << foveart::foveation::temporal_mode_name(c.temporal) << ", doubling "
+                                    << (c.doubling ? std::to_string(*c.doubling) : "unset"));
+    RenderOptions o = small("foveated");
+    o.rays_per_point = 4;
+    o.content_rays.reset();
+    o.temporal = c.temporal;
+    o.content_rays_doubling_deg = c.doubling;
+    EXPECT_EQ(foveart::render_view::foveated_view_settings(o).content_density.rays_doubling_ecc_deg, float(c.expected));
+    std::ostringstream out, err;
+    ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+    EXPECT_EQ(nlohmann::json::parse(out.str())["foveated"]["content_rays_doubling_deg"].get<double>(), c.expected);
+  }
+}
+
 TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
   std::ostringstream out, err;
   RenderOptions o = small("full");

@@ -309,7 +309,7 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"density_scale", o.density_scale},
                         {"content_contrast", o.content_contrast},
                         {"content_rays", render_view::content_rays_of(o)},
-                        {"content_rays_doubling_deg", o.content_rays_doubling_deg},
+                        {"content_rays_doubling_deg", render_view::content_rays_doubling_of(o)},
                         {"density_ms", density.total_ms()},  // the median frame's, as its stages
                         {"density_stages_ms", {{"levels", density.levels_ms}, {"test", density.test_ms},
                                                {"observe", density.observe_ms}, {"fill", density.fill_ms}}},
@@ -458,7 +458,8 @@ int run_render(const render_view::RenderOptions& o, std::ostream& out, std::ostr
 
 void register_render(CLI::App& app) {
   auto opts = std::make_shared<render_view::RenderOptions>();
-  opts->content_rays.reset();  // the product's default, by the rays per point
+  opts->content_rays.reset();  // the product's defaults, by the rays per point and the temporal mode
+  opts->content_rays_doubling_deg.reset();
   auto gaze = std::make_shared<std::string>();
   auto pose = std::make_shared<std::string>();
   CLI::App* cmd = app.add_subcommand(

@@ -21,6 +21,7 @@
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/point_levels.hpp"
+#include "foveation/temporal_mode.hpp"
 
 namespace foveart::foveation {
 
@@ -60,6 +61,15 @@ inline bool valid_rays_doubling_ecc_deg(double deg) {
 inline constexpr float kDefaultRaysContrast = 0.5f;
 inline float default_rays_contrast(int rays_per_point, double density_scale) {
   return rays_per_point > 1 && density_scale >= 1.0 ? kDefaultRaysContrast : 0.0f;
+}
+
+// The product's doubling of that contrast with eccentricity where the user names none (docs/
+// foveation.md, "By eccentricity"): every 30 degrees where the history keeps the traced rays (the
+// render cache), whose flicker it leaves as it was; off with the image history, whose outer
+// rings flicker more where points cast fewer rays, and with no history.
+inline constexpr float kDefaultRaysDoublingEccDeg = 30.0f;
+inline float default_rays_doubling_ecc_deg(TemporalMode temporal) {
+  return temporal == TemporalMode::rays ? kDefaultRaysDoublingEccDeg : 0.0f;
 }
 
 // Michelson contrast of a tile's luminance range with the dark floor (Peli 1990's band

@@ -93,10 +93,15 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
                   "contrast of its tile (last frame's), (contrast / this)^2 of them below, and fewer where its disc "
                   "is under a pixel in radius; the pixel-exact fovea keeps all; 0: off; " +
                       rays_default.str());
+  std::ostringstream doubling_default;  // the lab's 0 (off), or fovea render's by the temporal mode
+  if (opts->content_rays_doubling_deg)
+    doubling_default << "default " << *opts->content_rays_doubling_deg;
+  else
+    doubling_default << "default " << foveation::kDefaultRaysDoublingEccDeg << " with --temporal rays, else off";
   cmd->add_option("--content-rays-doubling", opts->content_rays_doubling_deg,
                   "Degrees of eccentricity over which --content-rays doubles, in steps: points from 1, 2, 3, 4 times "
-                  "this away from the gaze cast all their rays from 2, 4, 8, 16 times that contrast; 0: off")
-      ->capture_default_str();
+                  "this away from the gaze cast all their rays from 2, 4, 8, 16 times that contrast; 0: off; " +
+                      doubling_default.str());
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,

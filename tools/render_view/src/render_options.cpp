@@ -70,12 +70,16 @@ foveation::ViewSettings foveated_view_settings(const RenderOptions& o) {
   vs.pixel_filter = o.pixel_filter;
   vs.content_density.full_contrast = float(o.content_contrast);
   vs.content_density.rays_contrast = float(content_rays_of(o));
-  vs.content_density.rays_doubling_ecc_deg = float(o.content_rays_doubling_deg);
+  vs.content_density.rays_doubling_ecc_deg = float(content_rays_doubling_of(o));
   return vs;
 }
 
 double content_rays_of(const RenderOptions& o) {
   return o.content_rays.value_or(foveation::default_rays_contrast(o.rays_per_point, o.density_scale));
+}
+
+double content_rays_doubling_of(const RenderOptions& o) {
+  return o.content_rays_doubling_deg.value_or(foveation::default_rays_doubling_ecc_deg(o.temporal));
 }
 
 int reconstruction_k(const RenderOptions& o) {
@@ -206,9 +210,9 @@ std::string render_options_problem(const RenderOptions& o) {
     return "--content-contrast must be in [0, 1] (0: off), got " + std::to_string(o.content_contrast);
   if (o.content_rays && (!(*o.content_rays >= 0.0) || *o.content_rays > 1.0))
     return "--content-rays must be in [0, 1] (0: off), got " + std::to_string(*o.content_rays);
-  if (!foveation::valid_rays_doubling_ecc_deg(o.content_rays_doubling_deg))
+  if (o.content_rays_doubling_deg && !foveation::valid_rays_doubling_ecc_deg(*o.content_rays_doubling_deg))
     return "--content-rays-doubling must be in [0, 90] degrees (0: off), got " +
-           std::to_string(o.content_rays_doubling_deg);
+           std::to_string(*o.content_rays_doubling_deg);
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";

@@ -59,8 +59,9 @@ struct RenderOptions {
   // rows are what they name). Unset (`fovea render`'s default): content_rays_of.
   std::optional<double> content_rays = 0.0;
   // The eccentricity over which content_rays doubles, in steps (foveation::ContentDensityOptions::
-  // rays_doubling_ecc_deg); 0: off.
-  double content_rays_doubling_deg = 0.0;
+  // rays_doubling_ecc_deg); 0: off (the lab's default). Unset (`fovea render`'s default):
+  // content_rays_doubling_of.
+  std::optional<double> content_rays_doubling_deg = 0.0;
   std::string pattern;            // pixel-grid | thesis; empty: the preset's
   int threads = 0;                // 0: all cores
   int frames = 3;                 // per mode, interleaved; the report gives the median frame
@@ -137,6 +138,9 @@ foveation::ViewSettings foveated_view_settings(const RenderOptions& options);
 // (`fovea render`), the product's default for the rays per point and density scale
 // (foveation::default_rays_contrast).
 double content_rays_of(const RenderOptions& options);
+// The eccentricity over which that contrast doubles: the one asked for, or where none is (`fovea
+// render`), the product's default for the temporal mode (foveation::default_rays_doubling_ecc_deg).
+double content_rays_doubling_of(const RenderOptions& options);
 
 // Neighbours the reconstruction blends: 1 for nn, else --k (default 5).
 int reconstruction_k(const RenderOptions& options);
