@@ -162,6 +162,33 @@ TEST_F(HelloFoveated, ContentContrastTracesFewerRaysWhereTheViewIsFlat) {
   }
 }
 
+// Rays per point by contrast double with eccentricity by default where the history is the render
+// cache (content_rays_doubling_for), through the app and the layer: with "rays" an eye casts fewer
+// rays than with the config's "content_rays_doubling_deg": 0; with the image history the default
+// is off, so naming 0 casts the same rays.
+TEST_F(HelloFoveated, RaysDoublingWithEccentricityFollowsTheHistoryByDefault) {
+  for (const char* temporal : {"rays", "image"}) {
+    const std::vector<std::string> args{"--gaze-source", "none", "--rays-per-point", "4", "--temporal", temporal};
+    configure_hello_foveated(*env_, 3, "auto", {}, R"("density_scale": 4)");
+    const auto by_default = launch(args);
+    ASSERT_EQ(by_default.process.exit_code, 0) << by_default.process.output;
+    configure_hello_foveated(*env_, 3, "auto", {}, R"("density_scale": 4, "content_rays_doubling_deg": 0)");
+    const auto off = launch(args);
+    ASSERT_EQ(off.process.exit_code, 0) << off.process.output;
+    for (int e = 0; e < 2; ++e) {
+      const uint64_t rays = by_default.stats["eyes"][e]["rays"].get<uint64_t>();
+      const uint64_t rays_off = off.stats["eyes"][e]["rays"].get<uint64_t>();
+      std::cout << "[ measured ] " << temporal << ", eye " << e << ": " << rays << " rays by default, " << rays_off
+                << " with the doubling off\n";
+      if (std::string(temporal) == "rays") {
+        EXPECT_LT(rays, rays_off) << "eye " << e << ": the outer points cast fewer";
+      } else {
+        EXPECT_EQ(rays, rays_off) << "eye " << e;
+      }
+    }
+  }
+}
+
 TEST_F(HelloFoveated, GazeLostMidRunFallsBackToFixedFoveation) {
   // 3 samples (17 ms) of valid gaze at 120 Hz, then the tracker loses the eye for good. The
   // provider steps with the frames' display time, so the replay keeps step with the 70 Hz frames
