@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <string>
 
 namespace foveart::render_view {
 namespace {
@@ -36,6 +38,17 @@ std::string parse_list(const std::string& text, std::array<double, N>* out) {
   }
   if (!(in >> std::ws).eof()) return "expected " + std::to_string(N) + " comma-separated numbers";
   return "";
+}
+
+// A content option's default in its help: the lab's value, or where it is left unset (`fovea
+// render`), the product's default and when it applies.
+std::string default_help(const std::optional<double>& value, double product_default, const char* applies) {
+  std::ostringstream text;
+  if (value)
+    text << "default " << *value;
+  else
+    text << "default " << product_default << " " << applies;
+  return text.str();
 }
 
 }  // namespace
@@ -82,26 +95,17 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
                   "Content-aware density: a screen tile traces all its points from this Michelson contrast "
                   "(last frame's), about half from half of it, a quarter from a quarter, a ninth below; 0: off")
       ->capture_default_str();
-  std::ostringstream rays_default;  // the lab's 0 (off), or fovea render's by the rays per point
-  if (opts->content_rays)
-    rays_default << "default " << *opts->content_rays;
-  else
-    rays_default << "default " << foveation::kDefaultRaysContrast
-                 << " with several rays per point at --density-scale 1 or above, else off";
   cmd->add_option("--content-rays", opts->content_rays,
                   "Rays per point by the content: a point casts all --rays-per-point rays from this Michelson "
                   "contrast of its tile (last frame's), (contrast / this)^2 of them below, and fewer where its disc "
                   "is under a pixel in radius; the pixel-exact fovea keeps all; 0: off; " +
-                      rays_default.str());
-  std::ostringstream doubling_default;  // the lab's 0 (off), or fovea render's by the temporal mode
-  if (opts->content_rays_doubling_deg)
-    doubling_default << "default " << *opts->content_rays_doubling_deg;
-  else
-    doubling_default << "default " << foveation::kDefaultRaysDoublingEccDeg << " with --temporal rays, else off";
+                      default_help(opts->content_rays, foveation::kDefaultRaysContrast,
+                                   "with several rays per point at --density-scale 1 or above, else off"));
   cmd->add_option("--content-rays-doubling", opts->content_rays_doubling_deg,
                   "Degrees of eccentricity over which --content-rays doubles, in steps: points from 1, 2, 3, 4 times "
                   "this away from the gaze cast all their rays from 2, 4, 8, 16 times that contrast; 0: off; " +
-                      doubling_default.str());
+                      default_help(opts->content_rays_doubling_deg, foveation::kDefaultRaysDoublingEccDeg,
+                                   "with --temporal rays, else off"));
   cmd->add_option("--pattern", opts->pattern,
                   "Fovea sampling: pixel-grid (default) or thesis (Poisson everywhere; the thesis preset's)");
   cmd->add_option("--frames", opts->frames,
