@@ -88,6 +88,11 @@ ch=${crop#*x}
 # jq: a fraction as a percentage to 0.1, and the rings (their indices) where P reaches 0.5.
 jq_rings='def pct: . * 1000 | round / 10;
   def seen($rings): [$rings | to_entries[] | select(.value != null and .value >= 0.5) | .key] | map(tostring) | join(",");'
+# jq: a row beside eccentricity only at its scale ($e), per ring both measure: the rise of P, and
+# whether the row makes the ring seen (P >= 0.5) where eccentricity only leaves it unseen.
+jq_against='def against($r; $e): [range(0; $r.rings_p_max | length)
+    | select($r.rings_p_max[.] != null and $e.rings_p_max[.] != null)
+    | {ring: ., rise: ($r.rings_p_max[.] - $e.rings_p_max[.]), new: ($r.rings_p_max[.] >= 0.5 and $e.rings_p_max[.] < 0.5)}];'
 gazes=("centre|$((cw / 2)),$((ch / 2))" "off-centre|$((cw / 5)),$((ch / 5))")  # name | --gaze
 scene_gazes() {  # per scene and gaze: name|scene|viewer|gaze name|gaze
   local entry g
@@ -221,13 +226,11 @@ levers_part() {
       [ -f "$json" ] || continue
       pairs=$((pairs + 1))
       # Each content-aware row beside eccentricity only at its scale, per ring.
-      jq -c --arg where "$name, $g" '
+      jq -c --arg where "$name, $g" "$jq_against"'
         [.rows[] | select(.kind == "eccentricity")] as $ecc
         | .rows[] | select(.kind != "eccentricity") | . as $r
         | ($ecc[] | select(.density_scale == $r.density_scale)) as $e
-        | [range(0; $r.rings_p_max | length) | select($r.rings_p_max[.] != null and $e.rings_p_max[.] != null)
-           | {ring: ., rise: ($r.rings_p_max[.] - $e.rings_p_max[.]),
-            new: ($r.rings_p_max[.] >= 0.5 and $e.rings_p_max[.] < 0.5)}] as $rings
+        | against($r; $e) as $rings
         | {kind: $r.kind, contrast: (if $r.kind == "rays" then $r.content_rays else $r.content_contrast end),
            at: (if $r.density_scale < 1 then "below 1" elif $r.density_scale == 1 then "1" else "above 1" end),
            where: "\($where), \($r.density_scale)", new: ($rings | any(.new)), top: ($rings | max_by(.rise)),
@@ -622,18 +625,15 @@ doubling_part() {
     json="$dir/json/${name}_${gname}_doubling.json"
     # shellcheck disable=SC2086
     "$eval_bin" density --scene "$scene" $viewer --gaze "$gaze" "${common[@]}" >"$json" </dev/null
-    jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings"'
+    jq -r --arg name "$name" --arg gaze "$gname" "$jq_rings$jq_against"'
       def r2: . * 100 | round / 100;
       (.rows[] | select(.kind == "eccentricity")) as $e
-      | def added($r): [range(0; $r.rings_p_max | length)
-                         | select($r.rings_p_max[.] != null and $e.rings_p_max[.] != null)] as $i
-          | {rise: ([$i[] | $r.rings_p_max[.] - $e.rings_p_max[.]] | max),
-             new: ([$i[] | select($r.rings_p_max[.] >= 0.5 and $e.rings_p_max[.] < 0.5) | tostring] | join(","))};
-      def cell($c; $d): first(.rows[] | select(.kind == "rays" and .content_rays == $c
-                                             and .content_rays_doubling_deg == $d)) // null
-          | if . == null then "-" else added(.) as $a
-            | ($a.rise | r2) as $rise
-            | "\(.ray_fraction | pct), \(if $rise > 0 then "+" else "" end)\($rise), \($a.new | if . == "" then "none" else . end)" end;
+      | def cell($c; $d): first(.rows[] | select(.kind == "rays" and .content_rays == $c
+                                               and .content_rays_doubling_deg == $d)) // null
+          | if . == null then "-" else against(.; $e) as $rings
+            | ($rings | map(.rise) | max | r2) as $rise
+            | ($rings | map(select(.new) | .ring | tostring) | join(",")) as $new
+            | "\(.ray_fraction | pct), \(if $rise > 0 then "+" else "" end)\($rise), \($new | if . == "" then "none" else . end)" end;
       "| \($name) | \($gaze) | \($e.ray_fraction | pct), \(seen($e.rings_p_max) | if . == "" then "none" else . end)"
       + " | \(cell(0.5; 0)) | \(cell(0.5; 30)) | \(cell(0.5; 20)) | \(cell(1; 0)) | \(cell(1; 30)) | \(cell(1; 20)) |"' \
       "$json" >>"$md"
