@@ -92,6 +92,16 @@ TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
     EXPECT_EQ(run_render(o, out, err), 2) << doubling;
     EXPECT_NE(err.str().find("--content-rays-doubling must be in [0, 90]"), std::string::npos) << err.str();
   }
+  o = small("foveated");
+  o.content_rays_doubling_deg = 200.0;
+  err.str("");
+  EXPECT_EQ(run_render(o, out, err), 2);
+  EXPECT_NE(err.str().find("got 200\n"), std::string::npos) << "the value as typed: " << err.str();
+  o = small("foveated");
+  o.content_rays = 1.5;
+  err.str("");
+  EXPECT_EQ(run_render(o, out, err), 2);
+  EXPECT_NE(err.str().find("got 1.5\n"), std::string::npos) << "the value as typed: " << err.str();
 }
 
 TEST(RenderCommand, WithoutLeavesEffectsOutOfTheImage) {
