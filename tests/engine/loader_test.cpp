@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 using foveart::engine::load_gltf;
 using foveart::engine::LoadResult;
@@ -299,6 +300,16 @@ TEST(GltfLoaderErrors, TruncatedGlb) {
   const LoadResult r = load_gltf(p.string());
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error.find(p.string()), std::string::npos) << r.error;
+}
+
+TEST(GltfLoaderErrors, GlbWithoutItsMagicSaysSo) {
+  TempDir dir;
+  const auto p = write_glb(dir.path, "quad", unit_quad(false));
+  {
+    std::fstream f(p, std::ios::binary | std::ios::in | std::ios::out);
+    f.write("JUNK", 4);
+  }
+  expect_error(load_gltf(p.string()), p, "not a binary glTF");
 }
 
 // Debian's assimp-testmodels: the valid glTF 2.0 files load; the deliberately

@@ -21,6 +21,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -460,6 +461,9 @@ std::string read_json_text(const std::string& path, bool* out_glb, std::string* 
   f.seekg(0);
   if (!f.read(bytes.data(), size)) return "cannot read file";
   *out_glb = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (!*out_glb && ext == ".glb") return "not a binary glTF: the file does not start with 'glTF'";
   if (!*out_glb) {
     *out_json = std::move(bytes);
     return "";
