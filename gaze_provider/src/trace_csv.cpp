@@ -237,12 +237,14 @@ std::optional<std::string> parse_row(const std::vector<std::string_view>& f, con
 }  // namespace
 
 std::string TraceError::to_string() const {
-  return line == 0 ? message : "line " + std::to_string(line) + ": " + message;
+  std::string where = file;
+  if (line != 0) where += (where.empty() ? "line " : ":") + std::to_string(line);
+  return where.empty() ? message : where + ": " + message;
 }
 
 std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
   auto fail = [&](std::size_t line, std::string message) -> std::optional<Trace> {
-    if (error) *error = TraceError{line, std::move(message)};
+    if (error) *error = TraceError{line, std::move(message), {}};
     return std::nullopt;
   };
 
@@ -280,11 +282,11 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
 std::optional<Trace> read_trace_file(const std::string& path, TraceError* error) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
-    if (error) *error = TraceError{0, path + ": cannot open for reading"};
+    if (error) *error = TraceError{0, "cannot open for reading", path};
     return std::nullopt;
   }
   auto trace = read_trace(in, error);
-  if (!trace && error) error->message = path + ": " + error->message;
+  if (!trace && error) error->file = path;
   return trace;
 }
 

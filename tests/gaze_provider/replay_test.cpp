@@ -131,7 +131,7 @@ TEST(Replay, BadTracesFailCreationWithLineNumbers) {
   }
   CreateResult created = create_gaze_provider("replay:" + path);
   EXPECT_FALSE(created);
-  EXPECT_NE(created.error.find("line 3"), std::string::npos) << created.error;
+  EXPECT_NE(created.error.find(path + ":3: column 5 'gaze_y'"), std::string::npos) << created.error;
   {
     std::ofstream out(path);
     out << "device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n";

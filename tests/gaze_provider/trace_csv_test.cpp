@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <limits>
 #include <sstream>
@@ -169,6 +171,23 @@ TEST(TraceCsv, HeaderOnlyAndMissingFile) {
   EXPECT_FALSE(read_trace_file("/nonexistent/trace.csv", &e));
   EXPECT_EQ(e.line, 0u);
   EXPECT_NE(e.message.find("cannot open"), std::string::npos);
+  EXPECT_EQ(e.to_string(), "/nonexistent/trace.csv: cannot open for reading");
+}
+
+TEST(TraceCsv, AFileErrorNamesFileAndLineAsCompilersDo) {
+  const std::filesystem::path path = std::filesystem::temp_directory_path() / "foveart_trace_csv_bad_row.csv";
+  {
+    std::ofstream out(path);
+    out << kHeader << "1,1,1,0,0\n";
+  }
+  TraceError e;
+  EXPECT_FALSE(read_trace_file(path.string(), &e));
+  std::filesystem::remove(path);
+  EXPECT_EQ(e.line, 2u);
+  EXPECT_EQ(e.to_string().rfind(path.string() + ":2: truncated row", 0), 0u) << e.to_string();
+  std::istringstream in(std::string(kHeader) + "1,1,1,0,0\n");
+  EXPECT_FALSE(read_trace(in, &e));
+  EXPECT_EQ(e.to_string().rfind("line 2: truncated row", 0), 0u) << "a stream has no file name: " << e.to_string();
 }
 
 TEST(TraceCsv, GarbageNeverCrashes) {

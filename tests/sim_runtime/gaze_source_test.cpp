@@ -150,8 +150,8 @@ TEST(GazeSource, MalformedTracesAreRejectedWithFileAndLine) {
     const char* expect;
   };
   const Case cases[] = {
-      {"time,frame,valid,x,y,z\n0,1,1,0,0,1\n", "line 1: "},
-      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,zero,1\n", "line 2: "},
+      {"time,frame,valid,x,y,z\n0,1,1,0,0,1\n", "trace.csv:1: "},
+      {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,zero,1\n", "trace.csv:2: "},
       {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,2,0,0,1\n", "'valid'"},
       {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n0,1,1,0,0,0\n", "zero gaze direction"},
       {"device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z\n", "no samples"},

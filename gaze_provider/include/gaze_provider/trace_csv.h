@@ -52,6 +52,8 @@ struct Trace {
 struct TraceError {
   std::size_t line = 0;  // 1-based; 0 when the file could not be opened
   std::string message;
+  std::string file;  // read_trace_file's path; empty for a stream
+  // "FILE:LINE: message", as compilers write it (the parts it has).
   std::string to_string() const;
 };
 
