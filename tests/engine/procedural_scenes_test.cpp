@@ -34,6 +34,15 @@ FoveartEyeView small_fove_view(const Scene& scene) {
   return v;
 }
 
+TEST(ProceduralScenes, AMistypedNameListsTheBuiltInOnes) {
+  const LoadResult r = load_scene("hal");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error.rfind("hal: no such file, and not a built-in scene (default", 0), 0u) << r.error;
+  for (const std::string& name : procedural_scene_names()) EXPECT_NE(r.error.find(name), std::string::npos) << r.error;
+  EXPECT_NE(load_scene("missing.gltf").error.find("missing.gltf: no such file"), std::string::npos)
+      << "a path keeps the loader's own message";
+}
+
 TEST(ProceduralScenes, EachLoadsByNameWithACameraInsideAndOnlyTheEffectsItHas) {
   for (const std::string& name : procedural_scene_names()) {
     LoadResult loaded = load_scene(name);

@@ -568,6 +568,14 @@ LoadResult load_scene(const std::string& spec) {
     r.scene = std::move(*procedural);
     return r;
   }
+  std::error_code ec;
+  if (!std::filesystem::exists(spec, ec) && std::filesystem::path(spec).extension().empty()) {
+    LoadResult r;  // neither a file nor a built-in name: most likely a mistyped name
+    r.error = spec + ": no such file, and not a built-in scene (default";
+    for (const std::string& name : procedural_scene_names()) r.error += ", " + name;
+    r.error += ")";
+    return r;
+  }
   return load_gltf(spec);
 }
 
