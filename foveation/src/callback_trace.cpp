@@ -31,6 +31,7 @@ CallbackTrace::CallbackTrace(const PointSet& points, int rays_per_point, PixelFi
   traced_.colors.rgba.assign(points.size(), Rgba{});
   traced_.colors.invalid = points.size();
   traced_.depth_m.assign(points.size(), NAN);
+  traced_.rays_cast.assign(points.size(), 0);
   traced_.runs.resize((points.size() + kRunPoints - 1) / kRunPoints);
   filled_begin_.assign(traced_.runs.size(), 0);
   run_boxes_.resize(traced_.runs.size(), RunBox{glm::vec2(INFINITY), glm::vec2(-INFINITY)});
@@ -205,7 +206,11 @@ void CallbackTrace::forget_untraced(const std::vector<std::uint32_t>& before, st
     auto now = traced.begin();  // both ascend (the run's order)
     for (auto it = begin; it != end; ++it) {
       while (now != traced.end() && *now < *it) ++now;
-      if (now == traced.end() || *now != *it) traced_.colors.rgba[*it] = Rgba{}, traced_.depth_m[*it] = NAN;
+      if (now == traced.end() || *now != *it) {
+        traced_.colors.rgba[*it] = Rgba{};
+        traced_.depth_m[*it] = NAN;
+        traced_.rays_cast[*it] = 0;
+      }
     }
   };
   forget(before.begin(), before.begin() + std::ptrdiff_t(filled_before));
@@ -244,6 +249,7 @@ bool CallbackTrace::keep_ray_colors(const RayBatch& batch, std::span<const std::
     const bool has_depth = d >= 0.0f;
     colors.rgba[ids[j]] = Rgba{c.x, c.y, c.z, 1.0f};
     traced_.depth_m[ids[j]] = has_depth ? d : NAN;
+    traced_.rays_cast[ids[j]] = 1;
     any_depth = any_depth || has_depth;
   }
   traced.insert(traced.end(), ids.begin(), ids.end());
@@ -276,6 +282,7 @@ bool CallbackTrace::keep_mean_colors(const FramePass& pass, const RayBatch& batc
     sum *= counts.empty() ? pass.inv_spp : 1.0f / float(rays);
     colors.rgba[ids[j]] = Rgba{sum.x, sum.y, sum.z, 1.0f};
     traced_.depth_m[ids[j]] = nearest_m;
+    traced_.rays_cast[ids[j]] = std::uint16_t(rays);
     if (keep_rays_) traced_.farthest_m[ids[j]] = farthest_m;
     any_depth = any_depth || !std::isnan(nearest_m);
     traced.push_back(ids[j]);
@@ -337,6 +344,7 @@ bool CallbackTrace::fill_point(std::uint32_t id) {
   sum /= weight;
   rgba[id] = Rgba{sum.x, sum.y, sum.z, 1.0f};
   traced_.depth_m[id] = depth_m;
+  traced_.rays_cast[id] = 0;                           // its colour is its parents' rays
   if (keep_rays_) traced_.farthest_m[id] = -INFINITY;  // no ray of its own: no farthest hit for the ray history
   return true;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 namespace foveart::foveation {
 namespace {
@@ -18,7 +19,8 @@ PointRays::PointRays(const PointSet& points, int rays_per_point, PixelFilter pix
       rays_per_point_(std::uint32_t(rays_per_point)),
       pixel_filter_(pixel_filter),
       jitter_each_frame_(jitter_each_frame) {
-  if (rays_per_point < 1) throw std::invalid_argument("point rays: rays per point must be >= 1");
+  if (rays_per_point < 1 || rays_per_point > kMaxRaysPerPoint)
+    throw std::invalid_argument("point rays: rays per point must be in 1.." + std::to_string(kMaxRaysPerPoint));
 }
 
 void PointRays::prepare(std::uint64_t seed, Executor& executor) {

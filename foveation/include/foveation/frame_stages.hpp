@@ -82,6 +82,8 @@ struct FrameContext {
 struct TracedPoints {
   PointColors colors;                            // a slot per point of the set; a = 1: traced this frame
   std::vector<float> depth_m;                    // per point: nearest hit of its rays (NaN: none returned)
+  // Per point: the rays it cast this frame (0: none; not traced, or filled from its parents).
+  std::vector<std::uint16_t> rays_cast;
   // The points with a colour this frame, per run of the set: those traced, then those filled
   // (content density), each ascending.
   std::vector<std::vector<std::uint32_t>> runs;
@@ -92,7 +94,7 @@ struct TracedPoints {
   std::vector<float> farthest_m;
 };
 
-// Content-aware density's CPU cost per stage (docs/foveation.md, "Content-aware density"), ms;
+// Content-aware density's CPU cost per stage (docs/content_density.md), ms;
 // the two per-point stages are their CPU time over the threads, divided by the threads.
 struct DensityCost {
   double levels_ms = 0.0;   // the tiles' levels from the last frame's ranges; the first frame's builds the set's levels

@@ -52,10 +52,12 @@ struct RaysContrastSteps {
 // doubling_ecc_deg is 0. view_distance_px: DisplayModel's D (eccentricity_deg).
 RaysContrastSteps rays_contrast_steps(float rays_contrast, float doubling_ecc_deg, double view_distance_px);
 
+inline constexpr int kMaxRaysPerPoint = 65535;  // TracedPoints::rays_cast holds a point's rays in 16 bits
+
 class PointRays {
  public:
   // `points` must outlive this. jitter_each_frame: the seed changes every
-  // frame, so disc offsets are made per frame rather than once.
+  // frame, so disc offsets are made per frame rather than once. rays_per_point: 1 to kMaxRaysPerPoint.
   PointRays(const PointSet& points, int rays_per_point, PixelFilter pixel_filter, bool jitter_each_frame);
 
   // Before a frame of jitter seed `seed`: makes the disc offsets once for a

@@ -210,6 +210,19 @@ TEST(ContentDensity, FlatViewTracesLevelZeroFromItsSecondFrameWithTheSameImage) 
   EXPECT_EQ(second.points + second.points_thinned, first.points) << "every visible point has a colour";
   EXPECT_LT(double(second.points), 0.8 * double(first.points));
   EXPECT_LT(max_difference(full, view.image()), 1e-6f) << "a flat view's fill is its colour";
+  // The record of each point's rays: one for a traced point, none for a filled one (its colour
+  // is its parents') nor for a point off the screen.
+  const TracedPoints& traced = *view.hand_off().traced;
+  std::size_t filled = 0, cast = 0;
+  for (uint32_t i = 0; i < tables()->points.size(); ++i) {
+    const bool coloured = traced.colors.rgba[i].a == 1.0f;
+    const bool was_traced = scene.points.count(i) != 0;
+    ASSERT_EQ(traced.rays_cast[i], was_traced ? 1u : 0u) << "point " << i;
+    filled += coloured && !was_traced ? 1 : 0;
+    cast += traced.rays_cast[i];
+  }
+  EXPECT_EQ(filled, second.points_thinned);
+  EXPECT_EQ(cast, second.rays);
 }
 
 TEST(ContentDensity, AnEdgeOnATileBorderKeepsEveryPointOfTheTilesBesideIt) {

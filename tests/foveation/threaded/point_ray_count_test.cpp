@@ -159,6 +159,9 @@ TEST(PointRayCount, FramesGiveEdgesTheirRaysAndFlatOrDarkTilesOne) {
   ASSERT_GT(flat_points, 200u);
   ASSERT_GT(grid_points, 0u);
   EXPECT_EQ(second.rays, counted) << "the stats count the rays handed to the engine";
+  const TracedPoints& traced = *view.hand_off().traced;
+  for (uint32_t id = 0; id < points.size(); ++id)
+    ASSERT_EQ(traced.rays_cast[id], varied.rays_of_point[id]) << "the trace's record of point " << id << "'s rays";
   EXPECT_GT(second.density.test_ms, 0.0) << "a point's rays by its tile's contrast are density's per-point test";
   EXPECT_LT(double(second.rays), 0.7 * double(first.rays));
   std::cout << "[ measured ] rays of the second frame: " << second.rays << " of " << first.rays << " ("
