@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <fstream>
@@ -64,6 +65,19 @@ TEST(RenderCommand, WritesPngWithPrefix) {
   ASSERT_EQ(run_render(o, out, err), 0) << err.str();
   EXPECT_TRUE(std::filesystem::exists(dir.path / "img_full.png"));
   EXPECT_GT(std::filesystem::file_size(dir.path / "img_full.png"), 100u);
+}
+
+TEST(RenderCommand, AFoveatedRenderAlsoWritesItsRaysMap) {
+  engine_test::TempDir dir;
+  RenderOptions o = small("foveated");
+  o.rays_per_point = 4;
+  o.out_prefix = (dir.path / "img").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+  const nlohmann::json j = nlohmann::json::parse(out.str());
+  const std::string rays = o.out_prefix + "_rays.png";
+  EXPECT_NE(std::find(j["images"].begin(), j["images"].end(), rays), j["images"].end()) << j["images"];
+  EXPECT_GT(std::filesystem::file_size(rays), 100u);
 }
 
 TEST(RenderCommand, BadInputGivesMessageAndExitCode) {

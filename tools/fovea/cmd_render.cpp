@@ -9,6 +9,7 @@
 
 
 #include "content_speedup.hpp"
+#include "rays_map.hpp"
 #include <render_view/display_options.hpp>
 #include <render_view/render_cli.hpp>
 #include <metrics/comparison_json.hpp>
@@ -128,7 +129,7 @@ std::string engine_failure(const RenderEngine& eng, std::int32_t status, const s
     return false;
   }
   if (!render_view::check_render_options(o, error)) return false;
-  for (const char* suffix : {"_full.png", "_foveated.png"})
+  for (const char* suffix : {"_full.png", "_foveated.png", "_rays.png"})
     if (!o.out_prefix.empty() && !toolkit::check_writable_file(o.out_prefix + suffix, error)) {
       *error = "--out: " + *error;
       return false;
@@ -366,7 +367,8 @@ void add_speedup_json(const FoveartEyeView& view, glm::vec2 gaze, const Frames& 
   report["rings"] = c["rings"];
 }
 
-// --out PREFIX: PREFIX_full.png and PREFIX_foveated.png through the display transform.
+// --out PREFIX: PREFIX_full.png and PREFIX_foveated.png through the display transform; with a
+// CPU trace, PREFIX_rays.png: the last foveated frame's rays per point (rays_map.hpp).
 [[nodiscard]] bool write_images(const render_view::RenderOptions& o, const Frames& f, const Foveated& fov,
                                 const foveation::DisplayTransform& display, Json* files, std::string* error) {
   *files = Json::array();
@@ -377,6 +379,12 @@ void add_speedup_json(const FoveartEyeView& view, glm::vec2 gaze, const Frames& 
     if (!toolkit::write_png(path, *img, display, error)) return false;
     files->push_back(path);
   }
+  if (!fov.view || fov.view->image().rgb.empty() || fov.view->hand_off().traced == nullptr) return true;
+  const std::string path = o.out_prefix + "_rays.png";
+  const foveation::ImageRgb map =
+      rays_map(fov.view->tables(), fov.view->hand_off(), fov.view->image(), display, unsigned(o.rays_per_point));
+  if (!toolkit::write_png(path, map, toolkit::PngValues::display, error)) return false;
+  files->push_back(path);
   return true;
 }
 

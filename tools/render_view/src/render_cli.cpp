@@ -118,7 +118,9 @@ std::function<void()> add_render_options(CLI::App* cmd, const std::shared_ptr<Re
                   "Field of view in degrees: H, the horizontal span of a symmetric frustum, or an exact OpenXR "
                   "frustum L,R,U,D (XrFovf angles); the point set follows the horizontal span");
   add_renamed_option(cmd, "--fov", "--fov-deg L,R,U,D");
-  cmd->add_option("--out", opts->out_prefix, "Write PREFIX_full.png / PREFIX_foveated.png");
+  cmd->add_option("--out", opts->out_prefix,
+                  "Write PREFIX_full.png / PREFIX_foveated.png, and PREFIX_rays.png: the rays each point cast "
+                  "(grey: filled from its parents)");
   cmd->add_option("--cache-dir", opts->cache_dir, "Directory for cached point sets and neighbour tables");
   cmd->add_option("--seed", opts->seed, "Seed of point set and jitter")->capture_default_str();
   cmd->add_option("--without", opts->without,

@@ -1,0 +1,52 @@
+#include "rays_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace foveart::fovea {
+
+glm::vec3 rays_colour(unsigned rays, unsigned rays_per_point) {
+  if (rays == 0) return kFilledRgb;
+  const float t =
+      rays_per_point <= 1 ? 1.0f : std::clamp(std::log2(float(rays)) / std::log2(float(rays_per_point)), 0.0f, 1.0f);
+  return glm::mix(kOneRayRgb, kAllRaysRgb, t);
+}
+
+foveation::ImageRgb rays_map(const foveation::ViewTables& tables, const foveation::FrameHandOff& traced_frame,
+                             const foveation::ImageRgb& frame, const foveation::DisplayTransform& display,
+                             unsigned rays_per_point) {
+  foveation::ImageRgb map;
+  map.width_px = frame.width_px;
+  map.height_px = frame.height_px;
+  map.rgb.assign(frame.rgb.size(), 0.0f);
+  if (traced_frame.traced == nullptr) return map;
+  const foveation::TracedPoints& traced = *traced_frame.traced;
+  const foveation::NeighborTable& neighbors = tables.neighbors;
+  const glm::vec3 luma_weights(0.2126f, 0.7152f, 0.0722f);  // Rec. 709
+  for (int y = 0; y < frame.height_px; ++y) {
+    for (int x = 0; x < frame.width_px; ++x) {
+      const std::size_t pixel =
+          traced_frame.mapping.canvas_index(std::size_t(x), std::size_t(y), std::size_t(neighbors.width_px()));
+      glm::vec3 colour = kNoPointRgb;
+      for (int j = 0; j < neighbors.k(); ++j) {
+        const std::uint32_t point = neighbors.neighbor(pixel, j);
+        if (traced.colors.rgba[point].a != 1.0f) continue;
+        colour = rays_colour(traced.rays_cast[point], rays_per_point);
+        break;
+      }
+      const float* radiance = frame.at(x, y);
+      const float luma = glm::dot(display.apply(glm::vec3(radiance[0], radiance[1], radiance[2])), luma_weights);
+      const glm::vec3 shaded = colour * (0.3f + 0.7f * luma);
+      float* out = map.at(x, y);
+      out[0] = shaded.r;
+      out[1] = shaded.g;
+      out[2] = shaded.b;
+    }
+  }
+  return map;
+}
+
+}  // namespace foveart::fovea
