@@ -1,14 +1,13 @@
-// Density that follows the content (thesis 8.2; docs/foveation.md, "Content-aware
-// density"): each screen tile traces the points of the levels (point_levels.hpp) its
-// visible contrast calls for, measured from the colours the points had in the last
-// frame. A tile whose luminance range is flat or dark traces level 0 only (about a ninth
-// of its Poisson points), finer levels as its contrast rises, a high-contrast one all.
-// A tile's contrast is that of its 3x3 neighbourhood, so an edge keeps its density on
-// both sides, on a tile's border too. The first frame, the one after a failed frame and
-// the first at a new screen size trace every point. A saccade or a head move keeps them: the tiles' contrast is the last
-// frame's where its points fell on the screen (the 3x3 neighbourhood covers a move of less
-// than a tile). The same contrast sets how many rays a point casts (ContentDensityOptions::
-// rays_contrast, point_rays.hpp), with or without the thinning.
+// Density that follows the content (thesis 8.2; docs/content_density.md): each screen tile traces
+// the points of the levels (point_levels.hpp) its visible contrast calls for, measured from the
+// colours the points had in the last frame. A tile whose luminance range is flat or dark traces
+// level 0 only (about a ninth of its Poisson points), finer levels as its contrast rises, a high-
+// contrast one all. A tile's contrast is that of its 3x3 neighbourhood, so an edge keeps its
+// density on both sides, on a tile's border too. The first frame, the one after a failed frame
+// and the first at a new screen size trace every point. A saccade or a head move keeps them: the
+// tiles' contrast is the last frame's where its points fell on the screen (the 3x3 neighbourhood
+// covers a move of less than a tile). The same contrast sets how many rays a point casts
+// (ContentDensityOptions::rays_contrast, point_rays.hpp), with or without the thinning.
 #pragma once
 
 #include <algorithm>
@@ -54,7 +53,7 @@ inline bool valid_rays_doubling_ecc_deg(double deg) {
   return deg >= 0.0 && deg <= kMaxRaysDoublingEccDeg;
 }
 
-// The product's rays per point by contrast where the user names none (docs/foveation.md,
+// The product's rays per point by contrast where the user names none (docs/content_density.md,
 // "Defaults"): all of them from this tile contrast, where a point casts several rays and the
 // density is the thesis's or sparser. With one ray per point there is nothing to vary; at a
 // denser scale, Poisson discs under a pixel cast fewer rays and the perceptual metric sees it.
@@ -64,7 +63,7 @@ inline float default_rays_contrast(int rays_per_point, double density_scale) {
 }
 
 // The product's doubling of that contrast with eccentricity where the user names none (docs/
-// foveation.md, "By eccentricity"): every 30 degrees where the history keeps the traced rays (the
+// content_density.md, "By eccentricity"): every 30 degrees where the history keeps the traced rays (the
 // render cache), whose flicker it leaves as it was; off with the image history, whose outer
 // rings flicker more where points cast fewer rays, and with no history.
 inline constexpr float kDefaultRaysDoublingEccDeg = 30.0f;

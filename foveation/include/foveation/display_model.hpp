@@ -125,8 +125,7 @@ struct DisplayModel {
   // Radius of the pixel-exact fovea, whose points are always traced with all their rays:
   // the pixel grid at the thesis's density (scale 1), or the whole grid at a sparser
   // scale. A denser scale widens the grid beyond it: a margin that keeps its points but
-  // whose rays content-aware density reduces as a Poisson point's (docs/foveation.md,
-  // "Content-aware density").
+  // whose rays content-aware density reduces as a Poisson point's (docs/content_density.md).
   double exact_fovea_radius_px() const;
 
   // Empty string when usable, else what is wrong (sizes, FOV, scale, finite values).

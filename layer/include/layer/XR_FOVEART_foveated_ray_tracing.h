@@ -266,7 +266,7 @@ typedef struct XrFoveatedRendererReconstructionStatsFOVEART {
 /* Chain into XrFoveatedRendererStatsFOVEART::next to also get what choosing the
  * point density by content ("content_contrast" / "content_rays" in the config)
  * cost per eye, in milliseconds, and the points it thinned. All 0 while it is off.
- * The stages (docs/foveation.md, "Content-aware density"):
+ * The stages (docs/content_density.md):
  *   CPU trace (the traceRays callback, either reconstruction path), host time of
  *   the last frame: levelsMs, the tiles' levels from the last frame's luminance
  *   ranges; testMs, the per-point test (thinned or traced, rays by the tile's
