@@ -167,7 +167,8 @@ TEST(RenderEngine, GpuEngineBothModeMatchesTheCpuEnginePerRing) {
   EXPECT_TRUE(j["full"]["lanes_per_packet"].is_null());  // no Embree packets on the GPU
   EXPECT_EQ(j["foveated"]["rays"]["primary"], j["points"]);
   EXPECT_GT(j["speedup"].get<double>(), 0.0);
-  ASSERT_EQ(j["images"].size(), 2u);
+  ASSERT_EQ(j["images"].size(), 3u) << "full, foveated and the foveated frame's rays map";
+  EXPECT_EQ(j["images"][2], (dir.path / "gpu_rays.png").string()) << "the GPU engine is traced through the CPU trace";
 
   RenderOptions o;
   o.mode = "both";
