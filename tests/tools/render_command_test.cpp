@@ -22,6 +22,7 @@
 #include <numeric>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 using foveart::render_view::RenderOptions;
 using foveart::fovea::register_render;
@@ -56,28 +57,23 @@ TEST(RenderCommand, FullModeJsonReportsRaysPerEffectAndTimes) {
   EXPECT_FALSE(j.contains("foveated"));
 }
 
+// --out PREFIX: each mode's image, and a foveated render's rays map; the JSON lists them.
 TEST(RenderCommand, WritesPngWithPrefix) {
-  engine_test::TempDir dir;
-  RenderOptions o = small("full");
-  o.rays_per_point = 2;
-  o.out_prefix = (dir.path / "img").string();
-  std::ostringstream out, err;
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  EXPECT_TRUE(std::filesystem::exists(dir.path / "img_full.png"));
-  EXPECT_GT(std::filesystem::file_size(dir.path / "img_full.png"), 100u);
-}
-
-TEST(RenderCommand, AFoveatedRenderAlsoWritesItsRaysMap) {
-  engine_test::TempDir dir;
-  RenderOptions o = small("foveated");
-  o.rays_per_point = 4;
-  o.out_prefix = (dir.path / "img").string();
-  std::ostringstream out, err;
-  ASSERT_EQ(run_render(o, out, err), 0) << err.str();
-  const nlohmann::json j = nlohmann::json::parse(out.str());
-  const std::string rays = o.out_prefix + "_rays.png";
-  EXPECT_NE(std::find(j["images"].begin(), j["images"].end(), rays), j["images"].end()) << j["images"];
-  EXPECT_GT(std::filesystem::file_size(rays), 100u);
+  for (const auto& [mode, files] : {std::pair<std::string, std::vector<std::string>>{"full", {"_full.png"}},
+                                    {"foveated", {"_foveated.png", "_rays.png"}}}) {
+    engine_test::TempDir dir;
+    RenderOptions o = small(mode);
+    o.rays_per_point = 2;
+    o.out_prefix = (dir.path / "img").string();
+    std::ostringstream out, err;
+    ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+    const nlohmann::json images = nlohmann::json::parse(out.str())["images"];
+    ASSERT_EQ(images.size(), files.size()) << mode << ": " << images;
+    for (std::size_t i = 0; i < files.size(); ++i) {
+      EXPECT_EQ(images[i], o.out_prefix + files[i]) << mode;
+      EXPECT_GT(std::filesystem::file_size(o.out_prefix + files[i]), 100u) << mode << " " << files[i];
+    }
+  }
 }
 
 TEST(RenderCommand, BadInputGivesMessageAndExitCode) {
