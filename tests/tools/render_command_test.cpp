@@ -264,6 +264,28 @@ TEST(RenderCommand, TheRaysDoublingFollowsTheHistoryByDefault) {
   }
 }
 
+// The render cache's kept rays after each frame: they pile up while the view holds still (its
+// cost on the CPU grows with them); the image history keeps none.
+TEST(RenderCommand, TheJsonCountsTheRenderCachesRaysPerFrame) {
+  using foveart::foveation::TemporalMode;
+  for (const TemporalMode temporal : {TemporalMode::rays, TemporalMode::image}) {
+    RenderOptions o = small("foveated");
+    o.temporal = temporal;
+    o.frames = 3;
+    std::ostringstream out, err;
+    ASSERT_EQ(run_render(o, out, err), 0) << err.str();
+    const nlohmann::json kept = nlohmann::json::parse(out.str())["foveated"]["frames_cached_rays"];
+    ASSERT_EQ(kept.size(), 3u) << kept;
+    if (temporal == TemporalMode::image) {
+      EXPECT_EQ(kept, nlohmann::json::array({0, 0, 0}));
+      continue;
+    }
+    EXPECT_GT(kept[0].get<std::uint64_t>(), 0u);
+    EXPECT_GT(kept[1].get<std::uint64_t>(), kept[0].get<std::uint64_t>()) << kept;
+    EXPECT_GT(kept[2].get<std::uint64_t>(), kept[1].get<std::uint64_t>()) << kept;
+  }
+}
+
 TEST(RenderCommand, BadFovAndPoseAreRejectedWithTheirOptionNamed) {
   std::ostringstream out, err;
   RenderOptions o = small("full");

@@ -217,6 +217,7 @@ struct Frames {
   uint64_t fov_points = 0;
   uint64_t fov_points_thinned = 0;
   std::vector<foveation::DensityCost> fov_density;  // per frame, content-aware density's stages
+  std::vector<std::uint64_t> fov_cached_rays;       // per frame, the render cache's kept rays after it
 };
 
 [[nodiscard]] bool render_full_frame(const render_view::RenderOptions& o, const RenderEngine& eng,
@@ -268,6 +269,7 @@ struct Frames {
   f->fov_points = fr.points;
   f->fov_points_thinned = fr.points_thinned;
   f->fov_density.push_back(fr.density);
+  f->fov_cached_rays.push_back(foveated.cached_rays());
   return true;
 }
 
@@ -322,6 +324,7 @@ void add_modes_json(const render_view::RenderOptions& o, const RenderEngine& eng
                         {"reconstruct_ms", f.fov_times.median_reconstruct_ms()},
                         {"total_ms", f.fov_times.median_total_ms()},
                         {"frames_total_ms", f.fov_times.total_ms},
+                        {"frames_cached_rays", f.fov_cached_rays},
                         {"white_clipped_fraction", foveation::white_clipped_fraction(fov.view->image(), display)}};
 }
 
