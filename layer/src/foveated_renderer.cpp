@@ -398,6 +398,11 @@ void FoveatedRenderer::Frames::ensure_view(uint32_t e,
     return;
   }
   eye.temporal = temporal_for_path(settings, path.reconstruct_on_gpu);  // a device trace's rays stay on the GPU
+  if (eye.temporal == foveation::TemporalMode::rays && !path.reconstruct_on_gpu && cpu_render_cache_once.first())
+    log(LogLevel::Warn,
+        "temporal \"rays\" with reconstruction on the CPU: the render cache filters every ray it keeps ",
+        "into the pixels each frame, so its cost grows with them, up to 32 frames' rays, to many times the image ",
+        "history's; it is the GPU path's history (\"image\" is the CPU path's)");
   foveation::ViewSettings vs =
       foveation::temporal_view_settings(eye.temporal, static_cast<int>(settings.rays_per_point), kSampleSeed);
   vs.reconstruct_on_cpu = !path.reconstruct_on_gpu;

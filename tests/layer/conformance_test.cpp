@@ -421,6 +421,24 @@ TEST(LayerConformance, ConfigCpuKeepsReconstructionOnTheCpu) {
   EXPECT_NE(a.log().find("reconstruction on the CPU"), std::string::npos) << a.log();
 }
 
+// The render cache on the CPU path works, but its cost grows with the rays it keeps: the log
+// says so once, and only there.
+TEST(LayerConformance, TheRenderCacheOnTheCpuPathIsNamedSlowOnceInTheLog) {
+  FOVEART_REQUIRE_RUNTIME();
+  for (const char* reconstruction : {"cpu", "gpu"}) {
+    SCOPED_TRACE(reconstruction);
+    IsolatedEnv env;
+    LayerApp a(env,
+               config(env, std::string(R"(, "wait_for_tables": true, "reconstruction": ")") + reconstruction + "\""));
+    a.start();
+    const auto renderer = a.make_renderer(nullptr, false, XR_FOVEATED_TEMPORAL_RAYS_FOVEART);
+    for (int f = 0; f < 2; ++f) ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+    EXPECT_EQ(a.stats(renderer).main.framesTraced, 2u);
+    const std::size_t warnings = count_of(a.log(), "with reconstruction on the CPU: the render cache");
+    EXPECT_EQ(warnings, std::string(reconstruction) == "cpu" ? 1u : 0u) << a.log();
+  }
+}
+
 // An app whose VkInstance asks for Vulkan 1.0 may not be handed SPIR-V 1.3 on
 // its device (the validation layer says "Invalid SPIR-V binary version 1.3
 // for target environment SPIR-V 1.0"), whatever the device offers: even with
