@@ -74,11 +74,14 @@ TEST(RaysMap, EachPixelTakesItsNearestColouredPointShadedByTheFrame) {
              kNoPointRgb, "no point", kW / 2, kH / 2);
 }
 
-TEST(RaysMap, AFrameWithoutTracedPointsIsBlack) {
+TEST(RaysMap, AFrameWithoutPointsOnTheHostIsBlack) {
   const auto tables = foveation::small_view::tables(32, 24, 4.0, 1, foveation::InterpMethod::nearest, 1);
-  const foveation::FrameHandOff nothing;  // traced on the device: no points on the host
+  foveation::FrameHandOff nothing;  // traced on the device: no points on the host
   const foveation::ImageRgb map = rays_map(*tables, nothing, flat_frame(32, 24, 1.0f), foveation::kClampOnly, 4);
   for (float v : map.rgb) ASSERT_EQ(v, 0.0f);
+  const foveation::TracedPoints planned;  // FoveatedView::plan's hand-off: a frame with no points of its own
+  nothing.traced = &planned;
+  for (float v : rays_map(*tables, nothing, flat_frame(32, 24, 1.0f), foveation::kClampOnly, 4).rgb) ASSERT_EQ(v, 0.0f);
 }
 
 }  // namespace

@@ -4,7 +4,8 @@
 #include <cmath>
 
 #include <glm/common.hpp>
-#include <glm/geometric.hpp>
+
+#include "foveation/srgb.hpp"
 
 namespace foveart::fovea {
 
@@ -22,10 +23,12 @@ foveation::ImageRgb rays_map(const foveation::ViewTables& tables, const foveatio
   map.width_px = frame.width_px;
   map.height_px = frame.height_px;
   map.rgb.assign(frame.rgb.size(), 0.0f);
+  // No points on the host (a device trace, or a frame planned for one): nothing to show.
   if (traced_frame.traced == nullptr) return map;
   const foveation::TracedPoints& traced = *traced_frame.traced;
+  const std::size_t points = tables.points.size();
+  if (traced.colors.rgba.size() != points || traced.rays_cast.size() != points) return map;
   const foveation::NeighborTable& neighbors = tables.neighbors;
-  const glm::vec3 luma_weights(0.2126f, 0.7152f, 0.0722f);  // Rec. 709
   for (int y = 0; y < frame.height_px; ++y) {
     for (int x = 0; x < frame.width_px; ++x) {
       const std::size_t pixel =
@@ -38,7 +41,8 @@ foveation::ImageRgb rays_map(const foveation::ViewTables& tables, const foveatio
         break;
       }
       const float* radiance = frame.at(x, y);
-      const float luma = glm::dot(display.apply(glm::vec3(radiance[0], radiance[1], radiance[2])), luma_weights);
+      const glm::vec3 shown = display.apply(glm::vec3(radiance[0], radiance[1], radiance[2]));
+      const float luma = foveation::rec709_luminance(shown.r, shown.g, shown.b);
       const glm::vec3 shaded = colour * (0.3f + 0.7f * luma);
       float* out = map.at(x, y);
       out[0] = shaded.r;
