@@ -30,7 +30,7 @@ uint density_tile_of(vec2 screen, ivec2 screen_px, uint tile_px) {
   return min(at.y, tiles.y - 1u) * tiles.x + min(at.x, tiles.x - 1u);
 }
 
-// Rec. 709 luminance, display-linear (ContentDensity::observe).
+// Rec. 709 luminance, display-linear (ContentDensity::observe, foveation::rec709_luminance).
 float density_luminance(vec3 c, float exposure) {
   precise float l = 0.2126 * c.r + 0.7152 * c.g;
   l = l + 0.0722 * c.b;

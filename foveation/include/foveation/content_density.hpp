@@ -20,6 +20,7 @@
 #include "foveation/gather.hpp"
 #include "foveation/gaze_mapping.hpp"
 #include "foveation/point_levels.hpp"
+#include "foveation/srgb.hpp"
 #include "foveation/temporal_mode.hpp"
 
 namespace foveart::foveation {
@@ -103,8 +104,7 @@ class ContentDensity {
   }
   // A point's colour this frame, for the next frame's contrast (worker: the executor's slot).
   void observe(unsigned worker, glm::vec2 screen_px, const Rgba& colour) {
-    // Rec. 709 luminance of linear RGB.
-    const float l = (0.2126f * colour.r + 0.7152f * colour.g + 0.0722f * colour.b) * options_.exposure;
+    const float l = rec709_luminance(colour.r, colour.g, colour.b) * options_.exposure;
     glm::vec2& range = worker_range_[worker][tile_of(screen_px)];
     range.x = std::min(range.x, l);
     range.y = std::max(range.y, l);

@@ -1,6 +1,7 @@
 #include "engine/exposure.hpp"
 
 #include <engine/render.hpp>
+#include <foveation/srgb.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,7 @@ float exposure_for(const foveation::ImageRgb& image) {
   luminance.reserve(image.pixel_count());
   for (std::size_t i = 0; i < image.pixel_count(); ++i) {
     const float* p = &image.rgb[i * 3];
-    const float y = 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2];  // Rec. 709 luminance
+    const float y = foveation::rec709_luminance(p[0], p[1], p[2]);
     if (std::isfinite(y)) luminance.push_back(std::max(y, 0.0f));
   }
   if (luminance.empty()) return 1.0f;
