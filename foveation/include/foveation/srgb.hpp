@@ -14,7 +14,9 @@ namespace foveart::foveation {
 
 // Rec. 709 (ITU-R BT.709) luminance of linear RGB in sRGB's primaries, summed in this order (the
 // device's contrast pass, device_density.glsl, sums alike).
-inline float rec709_luminance(float r, float g, float b) { return 0.2126f * r + 0.7152f * g + 0.0722f * b; }
+inline float rec709_luminance(float r, float g, float b) {
+  return 0.2126f * r + 0.7152f * g + 0.0722f * b;
+}
 
 // IEC 61966-2-1: encoded [0,1] -> linear [0,1].
 inline float srgb_to_linear(float c) {
