@@ -71,9 +71,7 @@ reference_spp=${4:-512}
 eval_bin=build/bin/fovea-eval
 fovea=build/bin/fovea
 hello=build/bin/hello_foveated
-need() {
-  [ -x "$1" ] || { echo "bench/content_density.sh: $1 is missing: build first (scripts/run.sh)" >&2; exit 2; }
-}
+need() { results_need bench/content_density.sh "$@"; }
 mkdir -p "$dir/json" out/cache
 engine_glb=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
 scenes=(  # name | --scene | viewer options (bench/scenes.sh's)

@@ -15,7 +15,7 @@ dir=${1:-out/results}
 runs=${2:-1}
 tests=build/bin/gpu_engine_tests
 filter=GpuFootprint.TexturedFloorAt30DegFlickersLessWithTheFootprint
-[ -x "$tests" ] || { echo "bench/footprint_flicker.sh: $tests is missing: build first" >&2; exit 2; }
+results_need bench/footprint_flicker.sh "$tests"
 mkdir -p "$dir"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

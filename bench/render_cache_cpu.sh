@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 dir=${1:-out/results}
 frames=${2:-36}
 fovea=build/bin/fovea
-[ -x "$fovea" ] || { echo "bench/render_cache_cpu.sh: $fovea is missing: build first" >&2; exit 2; }
+results_need bench/render_cache_cpu.sh "$fovea"
 mkdir -p "$dir" out/cache
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -16,6 +16,15 @@ results_machine() {
        "$(. /etc/os-release; echo "$PRETTY_NAME"), $(g++ --version | head -1), RelWithDebInfo; $(date -u +%Y-%m-%d)."
 }
 
+# Exits 2 with "SCRIPT: BINARY is missing" unless each BINARY is built (an executable file).
+results_need() {
+  local script=$1 binary
+  shift
+  for binary in "$@"; do
+    [ -x "$binary" ] || { echo "$script: $binary is missing: build first (scripts/run.sh)" >&2; exit 2; }
+  done
+}
+
 # The load average (1, 5, 15 min) now.
 results_load() {
   cut -d' ' -f1-3 /proc/loadavg

@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 dir=${1:-out/scenes}
 frames=${2:-45}
 fovea=build/bin/fovea
-[ -x "$fovea" ] || { echo "bench/scenes.sh: $fovea is missing: build first (scripts/run.sh)" >&2; exit 2; }
+results_need bench/scenes.sh "$fovea"
 mkdir -p "$dir/img" "$dir/json" out/cache
 engine_glb=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
 # name | --scene | viewer options | frames per FRAMES: a scene whose frames

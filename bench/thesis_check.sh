@@ -17,8 +17,7 @@ cd "$(dirname "$0")/.."
 dir=${1:-docs/results/thesis_check}
 scales=0.7,0.8,1,1.5,1.75,2,2.5,3
 flicker_hz=0,5,10,15,20,25,30,35  # the gaze move's change held (0) and flickering
-[ -x build/bin/fovea-eval ] ||
-  { echo "bench/thesis_check.sh: build/bin/fovea-eval is missing: build first (scripts/run.sh)" >&2; exit 2; }
+results_need bench/thesis_check.sh build/bin/fovea-eval
 mkdir -p "$dir/images" out/cache
 load=$(results_load)
 command=(build/bin/fovea-eval density --preset thesis --crop 256x256 --rays-per-point 128 --reference-spp 1024
