@@ -254,7 +254,7 @@ struct FoveatedRenderer::Frames {
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once,
       evicted_once, behind_once, rect_once, failed_once, gpu_once, submit_once;
   LogOnce app_once, unreleased_once, mismatch_once;  // the app-recorded trace's
-  LogOnce cpu_render_cache_once;                     // "temporal": "rays" reconstructed on the CPU
+  LogOnce cpu_render_cache_once;                     // temporal "rays" (config or app) reconstructed on the CPU
 };
 
 }  // namespace foveart::layer
