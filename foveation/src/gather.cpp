@@ -159,13 +159,11 @@ void slow_pixel(const Frame& f, std::size_t cp, const W* w, float* dst, GatherSt
       return;
     }
   }
-  for (int j = 0; j < nt.k(); ++j) {  // nearest valid point within reach
-    const Rgba& c = f.colors[nt.neighbor(cp, j)];
-    if (c.a != 0.0f) {
-      dst[0] = c.r, dst[1] = c.g, dst[2] = c.b;
-      ++stats.nearest_valid;
-      return;
-    }
+  if (const std::uint32_t nearest = nearest_valid_point(nt, cp, f.colors); nearest != kNoValidPoint) {
+    const Rgba& c = f.colors[nearest];
+    dst[0] = c.r, dst[1] = c.g, dst[2] = c.b;
+    ++stats.nearest_valid;
+    return;
   }
   const auto& fb = f.options->fallback_rgb;
   dst[0] = fb[0], dst[1] = fb[1], dst[2] = fb[2];

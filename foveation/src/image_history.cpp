@@ -103,15 +103,8 @@ void ImageHistory::pixel_depths(const FrameContext& frame, const TracedPoints& t
     for (std::size_t y = y0; y < y1; ++y) {
       const std::size_t row = mapping.canvas_index(0, y, std::size_t(nt.width_px()));
       for (std::size_t x = 0; x < std::size_t(w); ++x) {
-        float depth = NAN;
-        for (int j = 0; j < nt.k(); ++j) {
-          const std::uint32_t p = nt.neighbor(row + x, j);
-          if (traced.colors.rgba[p].a != 0.0f) {
-            depth = traced.depth_m[p];
-            break;
-          }
-        }
-        depth_px_m_[y * std::size_t(w) + x] = depth;
+        const std::uint32_t p = nearest_valid_point(nt, row + x, traced.colors.rgba.data());
+        depth_px_m_[y * std::size_t(w) + x] = p == kNoValidPoint ? NAN : traced.depth_m[p];
       }
     }
   });

@@ -33,13 +33,9 @@ foveation::ImageRgb rays_map(const foveation::ViewTables& tables, const foveatio
     for (int x = 0; x < frame.width_px; ++x) {
       const std::size_t pixel =
           traced_frame.mapping.canvas_index(std::size_t(x), std::size_t(y), std::size_t(neighbors.width_px()));
-      glm::vec3 colour = kNoPointRgb;
-      for (int j = 0; j < neighbors.k(); ++j) {
-        const std::uint32_t point = neighbors.neighbor(pixel, j);
-        if (traced.colors.rgba[point].a != 1.0f) continue;
-        colour = rays_colour(traced.rays_cast[point], rays_per_point);
-        break;
-      }
+      const std::uint32_t point = foveation::nearest_valid_point(neighbors, pixel, traced.colors.rgba.data());
+      const glm::vec3 colour =
+          point == foveation::kNoValidPoint ? kNoPointRgb : rays_colour(traced.rays_cast[point], rays_per_point);
       const float* radiance = frame.at(x, y);
       const glm::vec3 shown = display.apply(glm::vec3(radiance[0], radiance[1], radiance[2]));
       const float luma = foveation::rec709_luminance(shown.r, shown.g, shown.b);

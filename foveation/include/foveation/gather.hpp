@@ -44,6 +44,18 @@ struct PointColors {
   std::size_t size() const { return rgba.size(); }
 };
 
+// Rule 2 above: the nearest of canvas pixel `pixel`'s NeighborTable entries with a valid colour,
+// in the table's order; kNoValidPoint when none is in reach. Also a pixel's depth (ImageHistory)
+// and its rays (`fovea render`'s rays map).
+inline constexpr std::uint32_t kNoValidPoint = UINT32_MAX;
+inline std::uint32_t nearest_valid_point(const NeighborTable& nt, std::size_t pixel, const Rgba* colors) {
+  for (int j = 0; j < nt.k(); ++j) {
+    const std::uint32_t point = nt.neighbor(pixel, j);
+    if (colors[point].a != 0.0f) return point;
+  }
+  return kNoValidPoint;
+}
+
 // From colours of some points (rgb: 3 floats per listed point, e.g. the
 // VisiblePoints order); unlisted points are invalid. Throws std::invalid_argument
 // when sizes disagree or an index is >= point_count.
