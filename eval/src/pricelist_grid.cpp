@@ -1,32 +1,24 @@
 // The price list's settings and their names.
 #include <eval/pricelist_grid.hpp>
 
-#include <cstdio>
+#include <toolkit/format.hpp>
+
 #include <sstream>
 #include <utility>
 
 namespace foveart::eval {
-namespace {
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-}  // namespace
 
 std::string PriceSetting::id() const {
   if (full) return "full_spp" + std::to_string(rays_per_point) + (history ? "_image" : "");
   return table_id() + "_r" + std::to_string(rays_per_point) +
-         (content_contrast > 0.0 ? "_c" + number(content_contrast) : "") +
-         (content_rays > 0.0 ? "_cr" + number(content_rays) : "") +
+         (content_contrast > 0.0 ? "_c" + toolkit::format_g(content_contrast) : "") +
+         (content_rays > 0.0 ? "_cr" + toolkit::format_g(content_rays) : "") +
          (history ? "_image" : "");  // e.g. nearest_k1_s1_thesis_r1, msm_k5_s1_pixel-grid_r1_c0.5
 }
 
 std::string PriceSetting::table_id() const {
   if (full) return "full";
-  return interpolation + "_k" + std::to_string(k) + "_s" + number(density_scale) + "_" + pattern;
+  return interpolation + "_k" + std::to_string(k) + "_s" + toolkit::format_g(density_scale) + "_" + pattern;
 }
 
 PriceGrid quick_grid() {
@@ -76,7 +68,7 @@ std::string add_foveated_rows(const PriceGrid& g, PriceSetting s, std::vector<Pr
 std::string add_content_rows(const PriceGrid& g, PriceSetting s, std::vector<PriceSetting>* out) {
   s.history = false;
   for (double contrast : g.content_contrast) {
-    if (!(contrast >= 0.0) || contrast > 1.0) return "content contrast " + number(contrast) + " [0, 1]";
+    if (!(contrast >= 0.0) || contrast > 1.0) return "content contrast " + toolkit::format_g(contrast) + " [0, 1]";
     if (contrast == 0.0) continue;  // the eccentricity-only rows
     s.content_contrast = contrast;
     for (int r : g.rays_per_point) {
@@ -86,7 +78,7 @@ std::string add_content_rows(const PriceGrid& g, PriceSetting s, std::vector<Pri
   }
   s.content_contrast = 0.0;
   for (double contrast : g.content_rays) {
-    if (!(contrast > 0.0) || contrast > 1.0) return "content rays " + number(contrast) + " (0, 1]";
+    if (!(contrast > 0.0) || contrast > 1.0) return "content rays " + toolkit::format_g(contrast) + " (0, 1]";
     s.content_rays = contrast;
     for (int r : g.rays_per_point) {
       if (r == 1) continue;
@@ -135,7 +127,7 @@ std::string grid_problem(const PriceGrid& g, std::vector<PriceSetting>* out) {
       return "interpolation '" + mk + "': k must be 1 for nearest, 1..20 otherwise";
     }
     for (double scale : g.density_scale) {
-      if (!(scale > 0.0) || scale > 100.0) return "density scale " + number(scale) + " (0, 100]";
+      if (!(scale > 0.0) || scale > 100.0) return "density scale " + toolkit::format_g(scale) + " (0, 100]";
       for (const std::string& pattern : g.pattern) {
         PriceSetting s;
         s.interpolation = method;

@@ -6,6 +6,7 @@
 
 #include <metrics/image_metrics.hpp>
 
+#include <toolkit/format.hpp>
 #include <toolkit/plot.hpp>
 
 #include <algorithm>
@@ -33,13 +34,6 @@ std::string fmt(double v, int decimals = 1) {
   if (!std::isfinite(v)) return "-";
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
-// A number as %g: 0.5, 1, 0.25.
-std::string fmt_g(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 
@@ -185,8 +179,9 @@ std::vector<double> rings_p(const Json& s, const char* key) {
 std::vector<std::string> families_of(const Json& s) {
   if (s["kind"] != "foveated" || has_history(s) || !s.value("p_detect_max", Json()).is_number()) return {};
   const double contrast = num(s.value("content_contrast", Json(0.0))), rays = num(s.value("content_rays", Json(0.0)));
-  if (contrast > 0.0) return {kContentFamily, std::string(kContentFamily) + ", contrast " + fmt_g(contrast)};
-  if (rays > 0.0) return {std::string(kRaysFamily) + ", contrast " + fmt_g(rays)};
+  if (contrast > 0.0)
+    return {kContentFamily, std::string(kContentFamily) + ", contrast " + toolkit::format_g(contrast)};
+  if (rays > 0.0) return {std::string(kRaysFamily) + ", contrast " + toolkit::format_g(rays)};
   return {kEccentricityFamily};
 }
 

@@ -6,12 +6,12 @@
 #include <engine/exposure.hpp>
 #include <engine/render.hpp>
 #include <foveation/content_density.hpp>
+#include <toolkit/format.hpp>
 
 #include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <numbers>
-#include <sstream>
 #include <vector>
 #include <utility>
 
@@ -19,13 +19,6 @@ namespace foveart::render_view {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// A value as the user would have typed it (200, 0.25), not std::to_string's 200.000000.
-std::string as_typed(double value) {
-  std::ostringstream s;
-  s << value;
-  return s.str();
-}
 
 // Per-eye size and symmetric frustum of a display preset.
 struct PresetGeometry {
@@ -215,12 +208,12 @@ std::string render_options_problem(const RenderOptions& o) {
   if (o.k < 0 || o.k > 20) return "--k must be in 1..20";
   if (!(o.density_scale > 0.0) || o.density_scale > 100.0) return "--density-scale must be in (0, 100]";
   if (!(o.content_contrast >= 0.0) || o.content_contrast > 1.0)
-    return "--content-contrast must be in [0, 1] (0: off), got " + as_typed(o.content_contrast);
+    return "--content-contrast must be in [0, 1] (0: off), got " + toolkit::format_g(o.content_contrast);
   if (o.content_rays && (!(*o.content_rays >= 0.0) || *o.content_rays > 1.0))
-    return "--content-rays must be in [0, 1] (0: off), got " + as_typed(*o.content_rays);
+    return "--content-rays must be in [0, 1] (0: off), got " + toolkit::format_g(*o.content_rays);
   if (o.content_rays_doubling_deg && !foveation::valid_rays_doubling_ecc_deg(*o.content_rays_doubling_deg))
     return "--content-rays-doubling must be in [0, 90] degrees (0: off), got " +
-           as_typed(*o.content_rays_doubling_deg);
+           toolkit::format_g(*o.content_rays_doubling_deg);
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
   if (o.threads < 0) return "--threads must be >= 0";
