@@ -4,7 +4,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -28,24 +30,43 @@ bool hid_library_ready() {
   return ok;
 }
 
+// Whether `path` names the same file as `listed` (a udev symlink to a hidraw node matches it).
+bool same_device_path(const std::string& path, const char* listed) {
+  if (listed == nullptr) return false;
+  if (path == listed) return true;
+  std::error_code ec;
+  return std::filesystem::equivalent(path, listed, ec);
+}
+
+// The device to open: an explicit path only when hidapi lists it (hidapi's hid_open_path
+// crashes on a character device that is not hidraw, /dev/null for one), else the first
+// device by VID:PID or usage page. "" with *error saying why when there is none.
 std::string find_device(const HidConfig& c, std::string* error) {
-  if (!c.path.empty()) return c.path;
-  std::string found;
+  const bool by_path = !c.path.empty(), by_id = c.vendor_id && c.product_id;
+  std::string found, listed;
   hid_device_info* list = hid_enumerate(0, 0);
   for (hid_device_info* d = list; d && found.empty(); d = d->next) {
-    const bool by_id = c.vendor_id && c.product_id;
-    if (by_id ? (d->vendor_id == *c.vendor_id && d->product_id == *c.product_id) : d->usage_page == c.usage_page)
+    if (by_path) {
+      if (same_device_path(c.path, d->path))
+        found = c.path;
+      else if (d->path && listed.find(d->path) == std::string::npos)
+        listed += std::string(listed.empty() ? "" : ", ") + d->path;
+    } else if (by_id ? (d->vendor_id == *c.vendor_id && d->product_id == *c.product_id)
+                     : d->usage_page == c.usage_page) {
       found = d->path ? d->path : "";
+    }
   }
   hid_free_enumeration(list);
   if (found.empty() && error) {
     char what[96];
-    if (c.vendor_id && c.product_id)
+    if (by_path)
+      *error = c.path + ": not a HID device (hidapi lists " + (listed.empty() ? std::string("none") : listed) + ")";
+    else if (by_id)
       std::snprintf(what, sizeof what, "no HID device %04x:%04x", unsigned(*c.vendor_id), unsigned(*c.product_id));
     else
       std::snprintf(what, sizeof what, "no HID device with usage page 0x%02x (Eye and Head Trackers)",
                     unsigned(c.usage_page));
-    *error = what;
+    if (!by_path) *error = what;
   }
   return found;
 }

@@ -204,6 +204,19 @@ TEST(HidUmockdev, StreamsByVidPid) { expect_inner_test_passed(run_in_testbed("hi
 
 TEST(HidUmockdev, FindsEyeTrackerUsagePage) { expect_inner_test_passed(run_in_testbed("hid")); }
 
+TEST(HidUmockdev, StreamsByPath) {
+  expect_inner_test_passed(run_in_testbed("hid:/dev/hidraw0"));
+}
+
+TEST(HidUmockdev, PathThatIsNotHidrawIsAnError) {
+  // hidapi's hid_open_path crashed on a character device that is not hidraw: the path must be one it lists.
+  for (const char* path : {"/dev/null", "/no/such/hidraw"}) {
+    CreateResult created = create_gaze_provider(std::string("hid:") + path);
+    EXPECT_FALSE(created) << path;
+    EXPECT_NE(created.error.find(std::string(path) + ": not a HID device"), std::string::npos) << created.error;
+  }
+}
+
 TEST(HidUmockdev, MissingDeviceIsAnError) {
   CreateResult created = create_gaze_provider("hid:dead:beef");
   EXPECT_FALSE(created);
