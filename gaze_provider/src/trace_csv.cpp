@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -17,6 +18,28 @@ namespace {
 
 constexpr std::array<std::string_view, 6> kRequired = {"device_time_us", "frame_id", "valid",
                                                         "gaze_x",         "gaze_y",   "gaze_z"};
+
+// The longest line a trace may have: its widest row (25 columns of full-precision numbers) is
+// about 500 bytes. A longer one is not a trace (/dev/zero, a binary file) and is not read on.
+constexpr std::size_t kMaxLineBytes = 4096;
+
+enum class LineRead { line, end, too_long };
+
+// std::getline that stops reading a line past kMaxLineBytes.
+LineRead read_line(std::istream& in, std::string& line) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return line.empty() ? LineRead::end : LineRead::line;
+    }
+    if (c == '\n') return LineRead::line;
+    if (line.size() == kMaxLineBytes) return LineRead::too_long;
+    line.push_back(char(c));
+  }
+}
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -248,10 +271,13 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
     return std::nullopt;
   };
 
+  const std::string too_long = "a line longer than " + std::to_string(kMaxLineBytes) + " bytes: not a gaze trace";
   std::string line;
-  std::size_t line_no = 0;
-  if (!std::getline(in, line)) return fail(1, "empty file: expected the header line 'device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z'");
-  ++line_no;
+  std::size_t line_no = 1;
+  const LineRead header = read_line(in, line);
+  if (header == LineRead::too_long) return fail(line_no, too_long);
+  if (header == LineRead::end)
+    return fail(1, "empty file: expected the header line 'device_time_us,frame_id,valid,gaze_x,gaze_y,gaze_z'");
   TraceColumns cols;
   if (std::string why = read_header(line, cols); !why.empty()) return fail(1, std::move(why));
 
@@ -261,8 +287,9 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
   trace.has_targets = cols.has_targets();
   bool have_prev = false;
   std::int64_t prev_ns = 0;
-  while (std::getline(in, line)) {
+  for (LineRead read; (read = read_line(in, line)) != LineRead::end;) {
     ++line_no;
+    if (read == LineRead::too_long) return fail(line_no, too_long);
     if (trim(line).empty()) continue;
     TraceRow row;
     if (auto why = parse_row(split(line), cols, row)) return fail(line_no, std::move(*why));
@@ -280,6 +307,11 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
 }
 
 std::optional<Trace> read_trace_file(const std::string& path, TraceError* error) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    if (error) *error = TraceError{0, "a directory, not a trace file", path};
+    return std::nullopt;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     if (error) *error = TraceError{0, "cannot open for reading", path};

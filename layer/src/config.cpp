@@ -12,6 +12,7 @@
 
 #include <foveation/content_density.hpp>
 #include <foveation/display_transform.hpp>
+#include <foveation/executor.hpp>
 
 #ifndef FOVEART_SYSTEM_CONFIG_DIR
 #define FOVEART_SYSTEM_CONFIG_DIR "/etc/xdg/foveart"
@@ -147,7 +148,7 @@ struct Reader {
                             "' was removed; replaced by " + std::string(removed.replaced_by));
       }
     }
-    if (!obj.contains("threads")) read_uint(obj, "worker_threads", 0, 256, &c->threads);
+    if (!obj.contains("threads")) read_uint(obj, "worker_threads", 0, foveation::kMaxExecutorThreads, &c->threads);
     if (obj.contains("temporal") || !(obj.contains("taa") || obj.contains("taa_history"))) return;
     const auto taa = obj.find("taa");
     const auto history = obj.find("taa_history");
@@ -194,7 +195,7 @@ struct Reader {
     read_string(obj, "gaze_source", {"none", "provider", "eye_gaze_interaction"}, &c->gaze_source);
     read_string(obj, "gaze_provider", {}, &c->gaze_provider);
     read_string(obj, "gaze_clock", {"steady", "display_time"}, &c->gaze_clock);
-    read_uint(obj, "threads", 0, 256, &c->threads);
+    read_uint(obj, "threads", 0, foveation::kMaxExecutorThreads, &c->threads);
     read_string(obj, "cache_dir", {}, &c->cache_dir);
     read_bool(obj, "wait_for_tables", &c->wait_for_tables);
     read_string(obj, "reconstruction", {"auto", "gpu", "cpu"}, &c->reconstruction);
@@ -367,7 +368,11 @@ ConfigResult load_config(std::string_view application_name, const GetEnvFn& env)
   ConfigResult result;
   std::vector<std::filesystem::path> candidates;
   if (auto p = env("FOVEART_CONFIG"); p && !p->empty()) {
-    if (std::filesystem::exists(*p)) candidates.emplace_back(*p);
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(*p, ec))
+      candidates.emplace_back(*p);
+    else if (std::filesystem::exists(*p, ec))
+      result.warnings.push_back("FOVEART_CONFIG names '" + *p + "', which is not a regular file; searching on");
     else result.warnings.push_back("FOVEART_CONFIG names '" + *p + "', which does not exist; searching on");
   }
   if (auto x = env("XDG_CONFIG_HOME"); x && !x->empty()) {

@@ -149,6 +149,12 @@ TEST(GltfLoaderErrors, MissingFile) {
   expect_error(load_gltf(p.string()), p, "no such file");
 }
 
+TEST(GltfLoaderErrors, ADirectoryOrDeviceIsNotAFile) {
+  TempDir dir;
+  expect_error(load_gltf(dir.path.string()), dir.path, "a directory, not a glTF file");
+  expect_error(load_gltf("/dev/null"), "/dev/null", "not a regular file");
+}
+
 TEST(GltfLoaderErrors, MalformedJson) {
   TempDir dir;
   const auto p = write_text(dir.path, "bad.gltf", "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [");

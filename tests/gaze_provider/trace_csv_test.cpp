@@ -174,6 +174,20 @@ TEST(TraceCsv, HeaderOnlyAndMissingFile) {
   EXPECT_EQ(e.to_string(), "/nonexistent/trace.csv: cannot open for reading");
 }
 
+TEST(TraceCsv, ADirectoryOrAnEndlessLineIsNotATrace) {
+  TraceError e;
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  EXPECT_FALSE(read_trace_file(dir, &e));
+  EXPECT_EQ(e.to_string(), dir + ": a directory, not a trace file");
+  // A file of one endless line (/dev/zero, a binary file) stops at the line limit instead of reading on.
+  e = read_error(std::string(100000, '\0'));
+  EXPECT_EQ(e.line, 1u);
+  EXPECT_NE(e.message.find("longer than 4096 bytes"), std::string::npos) << e.message;
+  e = read_error(std::string(kHeader) + "0,0,1,0,0,1\n" + std::string(5000, '1') + "\n");
+  EXPECT_EQ(e.line, 3u) << e.message;
+  EXPECT_NE(e.message.find("not a gaze trace"), std::string::npos) << e.message;
+}
+
 TEST(TraceCsv, AFileErrorNamesFileAndLineAsCompilersDo) {
   const std::filesystem::path path = std::filesystem::temp_directory_path() / "foveart_trace_csv_bad_row.csv";
   {

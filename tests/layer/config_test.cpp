@@ -76,6 +76,15 @@ TEST_F(ConfigTest, MissingFoveartConfigWarnsAndFallsBackToXdg) {
   EXPECT_TRUE(any_warning_contains(r, "nope.json"));
 }
 
+TEST_F(ConfigTest, FoveartConfigThatIsNotAFileWarnsAndFallsBackToXdg) {
+  write("xdg/foveart/config.json", R"({"k": 9})");
+  env_["XDG_CONFIG_HOME"] = (root_ / "xdg").string();
+  env_["FOVEART_CONFIG"] = root_.string();  // a directory
+  const auto r = load_config("app", env());
+  EXPECT_EQ(r.config.k, 9u);
+  EXPECT_TRUE(any_warning_contains(r, root_.string() + "', which is not a regular file"));
+}
+
 TEST_F(ConfigTest, HomeDotConfigWhenXdgUnset) {
   write("home/.config/foveart/config.json", R"({"rays_per_point": 4})");
   const auto r = load_config("app", env());

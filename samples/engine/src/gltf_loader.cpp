@@ -518,7 +518,9 @@ LoadResult load_gltf(const std::string& path) {
   try {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
-      result.error = path + ": no such file";
+      result.error = path + (std::filesystem::is_directory(path, ec) ? ": a directory, not a glTF file"
+                             : std::filesystem::exists(path, ec)     ? ": not a regular file"
+                                                                     : ": no such file");
       return result;
     }
     bool glb = false;
