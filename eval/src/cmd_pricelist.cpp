@@ -786,7 +786,9 @@ void add_run_options(CLI::App* cmd, PricelistOptions& o) {
   cmd->add_option("--history-frames", o.history_frames, "Sequence length of a setting with the image history")
       ->capture_default_str();
   render_view::add_renamed_option(cmd, "--taa-frames", "--history-frames");
-  cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")->capture_default_str();
+  cmd->add_option("--threads", o.threads, "Threads (0 = all cores)")
+      ->check(CLI::Range(0, int(foveation::kMaxExecutorThreads)))
+      ->capture_default_str();
   cmd->add_flag("--quick", o.quick, "The small grid and a 320x360 motion (docs/lab/pricelist.md)");
   cmd->add_option("--heatmap", o.heatmap, "Setting id for the error heat map (default: the thesis default)");
   cmd->add_option("--md", o.md_file, "Also write the report (command, machine, tables) to this markdown file");

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <stdexcept>
+#include <string>
 
 namespace foveart::foveation {
 
@@ -25,12 +27,24 @@ thread_local const Executor* tl_inside = nullptr;
 }  // namespace
 
 Executor::Executor(unsigned thread_count) {
-  if (thread_count == 0) thread_count = std::max(1u, std::thread::hardware_concurrency());
+  if (thread_count > kMaxExecutorThreads)
+    throw std::invalid_argument("an executor of " + std::to_string(thread_count) + " threads: at most " +
+                                std::to_string(kMaxExecutorThreads));
+  if (thread_count == 0) thread_count = std::clamp(std::thread::hardware_concurrency(), 1u, kMaxExecutorThreads);
   threads_.reserve(thread_count - 1);
-  for (unsigned i = 1; i < thread_count; ++i) threads_.emplace_back([this, i] { worker_loop(i); });
+  try {
+    for (unsigned i = 1; i < thread_count; ++i) threads_.emplace_back([this, i] { worker_loop(i); });
+  } catch (...) {
+    stop_workers();  // a joinable thread left in threads_ would terminate the process
+    throw;
+  }
 }
 
 Executor::~Executor() {
+  stop_workers();
+}
+
+void Executor::stop_workers() {
   {
     std::lock_guard lock(mutex_);
     stop_ = true;

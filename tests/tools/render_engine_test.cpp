@@ -275,6 +275,21 @@ TEST(RenderEngine, ExposureOutOfRangeIsRefusedWithItsBound) {
   }
 }
 
+// More threads than an executor runs is refused with a message (it aborted the process when the
+// system refused a thread).
+TEST(RenderEngine, ThreadsBeyondTheExecutorsMostAreRefused) {
+  for (int bad : {-1, 257, 100000}) {
+    RenderOptions o;
+    o.threads = bad;
+    o.size_px = glm::ivec2(16, 16);
+    std::ostringstream out, err;
+    EXPECT_EQ(run_render(o, out, err), 2) << bad;
+    EXPECT_NE(err.str().find("--threads must be in 0..256 (0: all cores), got " + std::to_string(bad)),
+              std::string::npos)
+        << err.str();
+  }
+}
+
 TEST(RenderEngine, BogusEngineAndNoDeviceAreRefusedWithAMessage) {
   RenderOptions o;
   o.engine = "bogus";

@@ -297,7 +297,9 @@ void register_reconstruct(CLI::App& app) {
   sub->add_option("--seed", a->seed, "point set and sample seed")->capture_default_str();
   sub->add_option("--cache-dir", a->cache_dir, "cache directory (default $FOVEART_CACHE_DIR, $XDG_CACHE_HOME/foveart)");
   sub->add_flag("--no-cache", a->no_cache, "build everything, store nothing");
-  sub->add_option("--threads", a->threads, "threads (0 = all cores)")->capture_default_str();
+  sub->add_option("--threads", a->threads, "threads (0 = all cores)")
+      ->check(CLI::Range(0, int(fv::kMaxExecutorThreads)))
+      ->capture_default_str();
   sub->add_option("--shape", a->shape, "RBF shape eps0 (0 = default)");
   sub->add_flag("--no-constant", a->no_constant, "RBF without the constant term (thesis form)");
   sub->add_option("--weights", a->weights, "weight storage f16 or f32 (default f16)")

@@ -25,10 +25,15 @@
 
 namespace foveart::foveation {
 
+// The most threads one executor runs: the layer's "threads" key and the tools' --threads.
+inline constexpr unsigned kMaxExecutorThreads = 256;
+
 class Executor {
  public:
   // thread_count: threads that work on a parallel_for, the caller included
-  // (0 = hardware concurrency). Starts thread_count - 1 workers.
+  // (0 = hardware concurrency). Starts thread_count - 1 workers. Throws
+  // std::invalid_argument above kMaxExecutorThreads, and std::system_error
+  // when the system refuses a thread (the ones started are stopped first).
   explicit Executor(unsigned thread_count = 0);
   ~Executor();
   Executor(const Executor&) = delete;
@@ -58,6 +63,7 @@ class Executor {
  private:
   struct Job;
   void worker_loop(unsigned worker);
+  void stop_workers();
 
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -61,6 +61,14 @@ TEST(Executor, OneThreadRunsOnTheCallerAndZeroTasksReturn) {
   EXPECT_EQ(calls, 5);
 }
 
+TEST(Executor, MoreThreadsThanTheMostIsRefusedWithoutStartingAny) {
+  EXPECT_THROW(Executor(kMaxExecutorThreads + 1), std::invalid_argument);
+  EXPECT_THROW(Executor(100000), std::invalid_argument);
+  Executor all_cores(0);
+  EXPECT_GE(all_cores.thread_count(), 1u);
+  EXPECT_LE(all_cores.thread_count(), kMaxExecutorThreads);
+}
+
 TEST(Executor, SeveralCallersShareTheWorkers) {
   Executor executor(3);
   std::vector<std::atomic<int>> a(300), b(300);

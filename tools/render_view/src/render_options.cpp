@@ -6,6 +6,7 @@
 #include <engine/exposure.hpp>
 #include <engine/render.hpp>
 #include <foveation/content_density.hpp>
+#include <foveation/executor.hpp>
 #include <toolkit/format.hpp>
 
 #include <cmath>
@@ -216,7 +217,9 @@ std::string render_options_problem(const RenderOptions& o) {
            toolkit::format_g(*o.content_rays_doubling_deg);
   if (!o.pattern.empty() && !foveation::parse_fovea_pattern(o.pattern))
     return "--pattern must be pixel-grid or thesis, got '" + o.pattern + "'";
-  if (o.threads < 0) return "--threads must be >= 0";
+  if (o.threads < 0 || o.threads > int(foveation::kMaxExecutorThreads))
+    return "--threads must be in 0.." + std::to_string(foveation::kMaxExecutorThreads) + " (0: all cores), got " +
+           std::to_string(o.threads);
   if (o.frames < 1 || o.frames > 1000) return "--frames must be in 1..1000";
   if (o.gaze_px_per_frame.size() > std::size_t(o.frames))
     return "--gaze lists " + std::to_string(o.gaze_px_per_frame.size()) + " gazes, more than --frames " +
