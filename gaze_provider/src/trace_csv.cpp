@@ -309,7 +309,7 @@ std::optional<Trace> read_trace(std::istream& in, TraceError* error) {
 std::optional<Trace> read_trace_file(const std::string& path, TraceError* error) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    if (error) *error = TraceError{0, "a directory, not a trace file", path};
+    if (error) *error = TraceError{0, "a directory, not a file", path};
     return std::nullopt;
   }
   std::ifstream in(path, std::ios::binary);

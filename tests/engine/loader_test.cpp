@@ -151,7 +151,7 @@ TEST(GltfLoaderErrors, MissingFile) {
 
 TEST(GltfLoaderErrors, ADirectoryOrDeviceIsNotAFile) {
   TempDir dir;
-  expect_error(load_gltf(dir.path.string()), dir.path, "a directory, not a glTF file");
+  expect_error(load_gltf(dir.path.string()), dir.path, "a directory, not a file");
   expect_error(load_gltf("/dev/null"), "/dev/null", "not a regular file");
 }
 

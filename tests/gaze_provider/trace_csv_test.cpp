@@ -178,7 +178,7 @@ TEST(TraceCsv, ADirectoryOrAnEndlessLineIsNotATrace) {
   TraceError e;
   const std::string dir = std::filesystem::temp_directory_path().string();
   EXPECT_FALSE(read_trace_file(dir, &e));
-  EXPECT_EQ(e.to_string(), dir + ": a directory, not a trace file");
+  EXPECT_EQ(e.to_string(), dir + ": a directory, not a file");
   // A file of one endless line (/dev/zero, a binary file) stops at the line limit instead of reading on.
   e = read_error(std::string(100000, '\0'));
   EXPECT_EQ(e.line, 1u);

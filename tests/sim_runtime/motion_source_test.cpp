@@ -98,7 +98,10 @@ TEST(MotionSource, BadMotionFilesAreErrorsNamingFileLineAndColumn) {
   EXPECT_NE(error.find("'abc'"), std::string::npos) << error;
   error.clear();
   EXPECT_FALSE(MotionSource::from_spec(dir + "/missing.csv", 1, &error).has_value());
-  EXPECT_NE(error.find(dir + "/missing.csv"), std::string::npos) << error;
+  EXPECT_NE(error.find(dir + "/missing.csv: no such file"), std::string::npos) << error;
+  error.clear();
+  EXPECT_FALSE(MotionSource::from_spec(dir, 1, &error).has_value());
+  EXPECT_NE(error.find(dir + ": a directory, not a file"), std::string::npos) << error;
 }
 
 TEST(MotionSource, ReadsTheMotionCsvThatTheScriptWrites) {

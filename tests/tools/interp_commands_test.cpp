@@ -242,7 +242,12 @@ TEST_F(InterpCommands, ReconstructErrors) {
   a.no_cache = true;
   std::ostringstream out, err;
   EXPECT_NE(run_reconstruct(a, out, err), 0);
-  EXPECT_NE(err.str().find("cannot read image"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("cannot read image " + a.image + ": no such file"), std::string::npos) << err.str();
+  a.image = dir_.string();
+  std::ostringstream dir_out, dir_err;
+  EXPECT_NE(run_reconstruct(a, dir_out, dir_err), 0);
+  EXPECT_NE(dir_err.str().find("cannot read image " + a.image + ": a directory, not a file"), std::string::npos)
+      << dir_err.str();
   const std::string bad_png = file("bad.png", "not a png");
   for (auto mutate : std::vector<std::function<void(ReconstructArgs&)>>{
            [](ReconstructArgs& r) { r.interpolation = "bicubic"; }, [](ReconstructArgs& r) { r.k = 0; },

@@ -4,6 +4,7 @@
 
 #include <engine/default_scene.hpp>
 #include <engine/procedural_scenes.hpp>
+#include <foveation/input_file.hpp>
 
 #include "gltf_accessors.hpp"
 #include "srgb.hpp"
@@ -517,10 +518,10 @@ LoadResult load_gltf(const std::string& path) {
   LoadResult result;
   try {
     std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) {
-      result.error = path + (std::filesystem::is_directory(path, ec) ? ": a directory, not a glTF file"
-                             : std::filesystem::exists(path, ec)     ? ": not a regular file"
-                                                                     : ": no such file");
+    std::string problem = foveation::input_file_problem(path);
+    if (problem.empty() && !std::filesystem::is_regular_file(path, ec)) problem = "not a regular file";
+    if (!problem.empty()) {  // tinygltf reads a file by its size: no pipe or device
+      result.error = path + ": " + problem;
       return result;
     }
     bool glb = false;

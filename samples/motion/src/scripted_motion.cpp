@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <foveation/input_file.hpp>
 
 namespace foveart::motion {
 namespace {
@@ -126,6 +127,8 @@ std::optional<ScriptedMotion> load_motion_csv(const std::filesystem::path& path,
     *error = std::move(message);
     return std::nullopt;
   };
+  if (const std::string problem = foveation::input_file_problem(path); !problem.empty())
+    return fail(path.string() + ": " + problem);
   std::ifstream in(path);
   if (!in) return fail(path.string() + ": cannot open the motion script");
   std::string line;

@@ -9,6 +9,7 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "foveation/input_file.hpp"
 #include "foveation/srgb.hpp"
 
 namespace foveart::toolkit {
@@ -59,6 +60,8 @@ bool write_png(const std::string& path, const foveation::ImageRgb& image, const 
 }
 
 bool read_image(const std::string& path, PngValues values, foveation::ImageRgb* out, std::string* error) {
+  if (const std::string problem = foveation::input_file_problem(path); !problem.empty())
+    return fail(error, "cannot read image " + path + ": " + problem);
   int w = 0, h = 0, n = 0;
   stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 3);
   if (data == nullptr) {
