@@ -101,6 +101,7 @@ bool FoveatedRenderer::Frames::plan_app_eye(uint32_t e, const FrameGaze& frame_g
   const auto w = static_cast<uint32_t>(size_px.width), h = static_cast<uint32_t>(size_px.height);
   AppEye app_eye;
   app_eye.request.view = eye_view_of(e, located.pose, located.fov, w, h);
+  if (!view_traceable(e, app_eye.request.view, "xrAcquireFoveatedRayBatchFOVEART", stats)) return false;
   const Tables found = tables_for(app_eye.request.view);
   if (eye.failed || found.failed || found.ready == nullptr) {
     if (!eye.failed)

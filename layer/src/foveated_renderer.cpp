@@ -13,6 +13,7 @@
 #include <map>
 
 #include "foveation/cache_dir.hpp"
+#include "foveation/eye_view_check.hpp"
 #include "foveation/rgba8.hpp"
 #include "layer/sampling_defaults.hpp"
 #include "log.hpp"
@@ -109,8 +110,14 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
       ++stats->framesFallback;
       continue;
     }
-    if (taken ? render_app_eye(e, *taken, views[e], stats) : render_eye(e, frame_gaze, views[e], stats)) ++rewritten;
-    else ++stats->framesFallback;
+    const auto& rect = views[e].subImage.imageRect;  // positive: checked above
+    const FoveartEyeView submitted =
+        eye_view_of(e, views[e].pose, views[e].fov, uint32_t(rect.extent.width), uint32_t(rect.extent.height));
+    if (view_traceable(e, submitted, "xrEndFrame", stats) &&
+        (taken ? render_app_eye(e, *taken, views[e], stats) : render_eye(e, frame_gaze, views[e], stats)))
+      ++rewritten;
+    else
+      ++stats->framesFallback;
   }
   if (taken && taken->released && submission != nullptr && submission->begun(slot)) {
     std::string error;  // the current semaphore: a released batch never changes it
@@ -568,6 +575,18 @@ bool FoveatedRenderer::Frames::present_cpu(uint32_t e, XrFoveatedRendererStatsFO
     t[e] = 0.0f;
   }
   return true;
+}
+
+bool FoveatedRenderer::Frames::view_traceable(uint32_t e, const FoveartEyeView& view, const char* where,
+                                              XrFoveatedRendererStatsFOVEART* stats) {
+  const std::string problem = foveation::eye_view_problem(view);
+  if (problem.empty()) return true;
+  // Forwarded as sent: the runtime judges the pose; no engine is handed a view it cannot trace.
+  stats->fallbackFlags |= XR_FOVEATED_FALLBACK_INVALID_VIEW_BIT_FOVEART;
+  if (view_once.first())
+    log(LogLevel::Warn, where, ": eye ", e, ": its view cannot be traced: ", problem,
+        "; forwarded as the app sent it, not ray traced (logged once, flagged in the stats)");
+  return false;
 }
 
 bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,

@@ -150,6 +150,9 @@ struct FoveatedRenderer::Frames {
   // fall back after all get the app's sub-image back. Returns how many.
   uint32_t finish_gpu_frame(uint32_t slot, XrCompositionLayerProjectionView* views,
                             const XrSwapchainSubImage* app_sub_images, XrFoveatedRendererStatsFOVEART* stats);
+  // False (flagged, logged once) when eye e's view cannot be traced (foveation::eye_view_problem);
+  // `where` names the call that brought it.
+  bool view_traceable(uint32_t e, const FoveartEyeView& view, const char* where, XrFoveatedRendererStatsFOVEART* stats);
   // One eye's frame, in the steps below: false when the view shows the app's own image.
   bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
                   XrFoveatedRendererStatsFOVEART* stats);
@@ -252,7 +255,7 @@ struct FoveatedRenderer::Frames {
   XrResult device_engine_result = XR_SUCCESS;  // the engine's last device trace's (xr_device_trace_engine)
   foveation::DisplayTransform display;  // this frame's (resolve_display)
   LogOnce display_once, callback_once, colour_once, upload_once, internal_once, rejected_once, unwritable_once,
-      evicted_once, behind_once, rect_once, failed_once, gpu_once, submit_once;
+      evicted_once, behind_once, rect_once, view_once, failed_once, gpu_once, submit_once;
   LogOnce app_once, unreleased_once, mismatch_once;  // the app-recorded trace's
   LogOnce cpu_render_cache_once;                     // temporal "rays" (config or app) reconstructed on the CPU
 };

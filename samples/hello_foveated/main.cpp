@@ -29,7 +29,8 @@
 // count}: how much older the rays' gaze is than with the callback}.
 // --release-fault (test aid, --trace-model app): never (no release), twice (a
 // second release), unknown (an unknown id released instead of the batch),
-// moved (the batch acquired for views 1 cm off those submitted).
+// moved (the batch acquired for views 1 cm off those submitted), nan (acquired
+// for views at a NaN position, which get no rays).
 // --fault: test aid, the engine misbehaving on purpose to watch the layer fall
 // back. cpu: nan (one NaN colour per batch), error, throw. gpu: nan (the real
 // trace, then NaN over the first ray's colour), error (XR_ERROR_RUNTIME_FAILURE),
@@ -240,8 +241,9 @@ void add_app_options(CLI::App& cli, Args& a) {
       ->capture_default_str();
   cli.add_option("--release-fault", a.options.release_fault,
                  "test aid, --trace-model app: never (the batch is never released), twice (released twice), "
-                 "unknown (an unknown id released instead), moved (acquired for views 1 cm off those submitted)")
-      ->check(CLI::IsMember({"never", "twice", "unknown", "moved"}));
+                 "unknown (an unknown id released instead), moved (acquired for views 1 cm off those submitted), "
+                 "nan (acquired for views at a NaN position)")
+      ->check(CLI::IsMember({"never", "twice", "unknown", "moved", "nan"}));
 }
 
 // Why the options do not go together; "" when they do.

@@ -7,6 +7,7 @@
 #include <array>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -467,6 +468,8 @@ class App {
     std::array<XrView, 2> acquired = views;
     if (options_.release_fault == "moved")
       for (XrView& v : acquired) v.pose.position.x += 0.01f;  // the layer's views differ at xrEndFrame
+    if (options_.release_fault == "nan")
+      for (XrView& v : acquired) v.pose.position.y = std::numeric_limits<float>::quiet_NaN();  // no rays
     acquire.views = acquired.data();
     acquire.imageSizes = sizes;
     std::array<XrFoveatedDeviceRayBatchFOVEART, 2> per_view{};

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <glm/gtc/quaternion.hpp>
@@ -93,6 +94,16 @@ TEST(RayBatchReader, RefusesABatchAnEngineCannotRead) {
     b.view.width_px = 0;
     EXPECT_EQ(read(b.batch), FOVEART_RESULT_ERROR_INVALID_ARGUMENT) << "an empty view";
   }
+  for (const auto& spoil : std::vector<void (*)(FoveartEyeView&)>{
+           [](FoveartEyeView& v) { v.position_m[1] = kNaN; }, [](FoveartEyeView& v) { v.position_m[0] = 2e9f; },
+           [](FoveartEyeView& v) { v.orientation_xyzw[3] = 2.0f; },
+           [](FoveartEyeView& v) { std::swap(v.angle_left_rad, v.angle_right_rad); },
+           [](FoveartEyeView& v) { v.angle_up_rad = 1.6f; }}) {
+    Batch b({{10.5f, 20.5f}});
+    b.batch.origins_m = nullptr;
+    spoil(b.view);
+    EXPECT_EQ(read(b.batch), FOVEART_RESULT_ERROR_INVALID_ARGUMENT) << fv::eye_view_problem(b.view);
+  }
   {
     Batch b({{10.5f, 20.5f}});
     b.batch.origins_m = nullptr;
@@ -128,7 +139,7 @@ TEST(RayBatchReader, ReadsTheSameRaysFromTheViewAsGivenExplicitly) {
 }
 
 TEST(RayBatchReader, NormalisesDirectionsAndRefusesRaysThatCannotBeTraced) {
-  Batch b({{1.5f, 1.5f}, {2.5f, 2.5f}, {3.5f, 3.5f}, {4.5f, 4.5f}, {5.5f, 5.5f}});
+  Batch b({{1.5f, 1.5f}, {2.5f, 2.5f}, {3.5f, 3.5f}, {4.5f, 4.5f}, {5.5f, 5.5f}, {6.5f, 6.5f}});
   const auto set = [&](int r, glm::vec3 o, glm::vec3 d) {
     for (int k = 0; k < 3; ++k) {
       b.origins_m[3 * r + k] = o[k];
@@ -140,6 +151,7 @@ TEST(RayBatchReader, NormalisesDirectionsAndRefusesRaysThatCannotBeTraced) {
   set(2, glm::vec3(0.0f), glm::vec3(kNaN, 0.0f, 1.0f));
   set(3, glm::vec3(kInf, 0.0f, 0.0f), glm::vec3(0.0f, 0.0f, -1.0f));
   set(4, glm::vec3(0.0f), glm::vec3(3e30f, 0.0f, 3e30f));  // its squared length overflows
+  set(5, glm::vec3(0.0f, 0.0f, 1e30f), glm::vec3(0.0f, 0.0f, -1.0f));  // Embree asserts on such an origin
   fv::RayBatchReader reader;
   ASSERT_EQ(fv::RayBatchReader::read(&b.batch, &reader), FOVEART_RESULT_SUCCESS);
   glm::vec3 o, d;
@@ -150,6 +162,7 @@ TEST(RayBatchReader, NormalisesDirectionsAndRefusesRaysThatCannotBeTraced) {
   EXPECT_FALSE(reader.ray(2, &o, &d)) << "NaN direction";
   EXPECT_FALSE(reader.ray(3, &o, &d)) << "infinite origin";
   EXPECT_FALSE(reader.ray(4, &o, &d)) << "overflowing direction";
+  EXPECT_FALSE(reader.ray(5, &o, &d)) << "an origin beyond kMaxPositionM";
 }
 
 TEST(RayBatchReader, GivesTheDepthArrayOnlyWhereTheBatchHasRoomForIt) {

@@ -171,7 +171,8 @@ INSTANTIATE_TEST_SUITE_P(Faults, AppTraceValidated, ::testing::Values("none", "n
 // the batch retired and logged once; the app's next acquire works. A second
 // release of a released batch (twice) is refused and retires it the same way. A
 // batch acquired for other views than those submitted (moved): each view
-// falls back, counted as mismatched.
+// falls back, counted as mismatched. Views the layer cannot trace (nan): no
+// rays, each view falls back, logged once.
 class AppTraceRelease : public GpuEngine, public ::testing::WithParamInterface<const char*> {};
 
 TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
@@ -180,6 +181,16 @@ TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
   const AppRun r = launch("release_" + fault, "gpu", gaze, {"--trace-model", "app", "--release-fault", fault});
   ASSERT_EQ(r.process.exit_code, 0) << r.process.output;
   ASSERT_TRUE(r.stats.is_object()) << r.process.output;
+  if (fault == "nan") {  // views the layer cannot trace: no rays, each view falls back, logged once
+    EXPECT_EQ(r.stats["app_trace"]["unreleased_batches"], 0);
+    EXPECT_EQ(r.stats["frames_traced"], 0);
+    EXPECT_EQ(r.stats["views_fallback"], 2 * kFrames);
+    EXPECT_NE(r.process.output.find("xrAcquireFoveatedRayBatchFOVEART: eye 0: its view cannot be traced: position"),
+              std::string::npos)
+        << r.process.output;
+    EXPECT_FALSE(traced_image(load_rgb(frame(r, kFrames - 1, "left"))));
+    return;
+  }
   if (fault == "moved") {
     EXPECT_EQ(r.stats["app_trace"]["mismatched_views"], 2 * kFrames);
     EXPECT_EQ(r.stats["app_trace"]["unreleased_batches"], 0);
@@ -203,7 +214,7 @@ TEST_P(AppTraceRelease, ErrorsAreXrResultsAndUnreleasedViewsFallBackCounted) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown", "moved"),
+INSTANTIATE_TEST_SUITE_P(Faults, AppTraceRelease, ::testing::Values("never", "twice", "unknown", "moved", "nan"),
                          [](const ::testing::TestParamInfo<const char*>& p) { return std::string(p.param); });
 
 // Bad arguments: a clear message and a non-zero exit, before any session.

@@ -8,9 +8,12 @@
 
 #include <chrono>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <thread>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "layer/XR_FOVEART_foveated_ray_tracing.h"
@@ -119,8 +122,8 @@ class LayerApp {
 
   // One frame with one projection layer of view_count views, each showing
   // `rect` of the swapchain, opted in for `renderer` (XR_NULL_HANDLE: not opted in).
-  XrResult frame(XrFoveatedRendererFOVEART renderer, XrRect2Di rect, uint32_t view_count = 2,
-                 float half_fov_rad = 0.7f) {
+  XrResult frame(XrFoveatedRendererFOVEART renderer, XrRect2Di rect, uint32_t view_count = 2, float half_fov_rad = 0.7f,
+                 const std::function<void(XrCompositionLayerProjectionView&)>& edit_first_view = {}) {
     auto wait = xr<XrFrameWaitInfo>(XR_TYPE_FRAME_WAIT_INFO);
     auto state = xr<XrFrameState>(XR_TYPE_FRAME_STATE);
     if (XrResult r = xrWaitFrame(app.session, &wait, &state); XR_FAILED(r)) return r;
@@ -134,6 +137,7 @@ class LayerApp {
       views[v].subImage.swapchain = swapchain;
       views[v].subImage.imageRect = rect;
     }
+    if (edit_first_view) edit_first_view(views[0]);
     auto opt_in = xr<XrFoveatedRayTracingLayerFOVEART>(XR_TYPE_FOVEATED_RAY_TRACING_LAYER_FOVEART);
     opt_in.renderer = renderer;
     auto projection = xr<XrCompositionLayerProjection>(XR_TYPE_COMPOSITION_LAYER_PROJECTION);
@@ -280,6 +284,40 @@ TEST(LayerConformance, ThreeViewsAreForwardedForTheRuntimeToReject) {
   const auto s = a.stats(renderer);
   EXPECT_EQ(s.main.framesFallback, 1u) << "the third view is the app's";
   EXPECT_EQ(a.frame(renderer, kSmall, 2), XR_SUCCESS);
+}
+
+TEST(LayerConformance, AViewThatCannotBeTracedIsForwardedAsSentAndNotTraced) {
+  FOVEART_REQUIRE_RUNTIME();
+  IsolatedEnv env;
+  LayerApp a(env, config(env, R"(, "wait_for_tables": true)"));
+  a.start();
+  const auto renderer = a.make_renderer();
+  ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  ASSERT_EQ(a.stats(renderer).main.framesTraced, 1u);
+  // A position beyond any scene (Embree aborts on such a ray origin), a NaN one, and a field of
+  // view turned inside out: the simulated runtime takes them, the layer does not trace them.
+  const std::function<void(XrCompositionLayerProjectionView&)> spoil[] = {
+      [](XrCompositionLayerProjectionView& v) { v.pose.position.x = 1e30f; },
+      [](XrCompositionLayerProjectionView& v) { v.pose.position.y = std::numeric_limits<float>::quiet_NaN(); },
+      [](XrCompositionLayerProjectionView& v) { std::swap(v.fov.angleLeft, v.fov.angleRight); }};
+  for (const auto& edit : spoil) {
+    EXPECT_EQ(a.frame(renderer, kSmall, 2, 0.7f, edit), XR_SUCCESS);
+    const auto s = a.stats(renderer);
+    EXPECT_NE(s.main.fallbackFlags & XR_FOVEATED_FALLBACK_INVALID_VIEW_BIT_FOVEART, 0u);
+  }
+  // A pose that is not a unit quaternion reaches the runtime as sent, which refuses it as without the layer.
+  EXPECT_EQ(
+      a.frame(renderer, kSmall, 2, 0.7f, [](XrCompositionLayerProjectionView& v) { v.pose.orientation.w = 2.0f; }),
+      XR_ERROR_POSE_INVALID);
+  const auto s = a.stats(renderer);
+  EXPECT_EQ(s.main.framesTraced, 5u) << "the first frame, and the other eye of each spoiled one";
+  EXPECT_EQ(s.main.framesFallback, 4u) << "one eye of each of the four spoiled frames";
+  EXPECT_EQ(count_of(a.log(), "its view cannot be traced"), 1u) << a.log();
+  EXPECT_NE(a.log().find("position (1e+30, 0, 0) m is not finite or lies beyond 1e+09 m"), std::string::npos)
+      << a.log();
+  ASSERT_EQ(a.frame(renderer, kSmall), XR_SUCCESS);
+  EXPECT_EQ(a.stats(renderer).main.fallbackFlags & XR_FOVEATED_FALLBACK_INVALID_VIEW_BIT_FOVEART, 0u)
+      << "the flag is the frame's";
 }
 
 TEST(LayerConformance, RectOutsideTheSwapchainIsForwardedAsSentAndNotTraced) {

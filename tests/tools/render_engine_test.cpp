@@ -20,6 +20,7 @@
 
 #include <sys/wait.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -286,6 +287,20 @@ TEST(RenderEngine, ThreadsBeyondTheExecutorsMostAreRefused) {
     EXPECT_EQ(run_render(o, out, err), 2) << bad;
     EXPECT_NE(err.str().find("--threads must be in 0..256 (0: all cores), got " + std::to_string(bad)),
               std::string::npos)
+        << err.str();
+  }
+}
+
+// A viewer beyond any scene is refused before the engine sees it (Embree aborted on its rays).
+TEST(RenderEngine, APoseBeyondAnySceneIsRefused) {
+  RenderOptions standing, exact;
+  standing.viewer_m = std::array<double, 3>{1e30, 0.0, 0.0};
+  exact.pose = std::array<double, 7>{0.0, 1.6, -2e9, 0.0, 0.0, 0.0, 1.0};
+  for (RenderOptions* o : {&standing, &exact}) {
+    o->size_px = glm::ivec2(16, 16);
+    std::ostringstream out, err;
+    EXPECT_EQ(run_render(*o, out, err), 2);
+    EXPECT_NE(err.str().find("--pose: the position must be finite and within 1e+09 m of the origin"), std::string::npos)
         << err.str();
   }
 }

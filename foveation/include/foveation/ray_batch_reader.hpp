@@ -7,11 +7,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "foveation/eye_rays.hpp"
+#include "foveation/eye_view_check.hpp"
 #include "foveation/ray_trace.h"
 
 namespace foveart::foveation {
@@ -20,8 +20,8 @@ class RayBatchReader {
  public:
   // FOVEART_RESULT_SUCCESS with *out ready to read, or FOVEART_RESULT_ERROR_INVALID_ARGUMENT
   // for a batch an engine must refuse: no (type, size) header, no out_rgb, or neither
-  // origins and directions nor a view (non-empty) with sample positions. A batch of no
-  // rays is valid whatever its arrays.
+  // origins and directions nor a view with sample positions that a frame can be traced
+  // from (eye_view_problem). A batch of no rays is valid whatever its arrays.
   static std::int32_t read(const FoveartRayBatch* batch, RayBatchReader* out) {
     if (!batch || batch->type != FOVEART_TYPE_RAY_BATCH ||
         batch->size < offsetof(FoveartRayBatch, out_rgb) + sizeof(float*))
@@ -30,8 +30,7 @@ class RayBatchReader {
     if (batch->ray_count == 0) return FOVEART_RESULT_SUCCESS;
     const bool explicit_rays = batch->origins_m && batch->directions;
     const bool view_rays = batch->view && batch->sample_px && batch->view->type == FOVEART_TYPE_EYE_VIEW &&
-                           batch->view->size >= sizeof(FoveartEyeView) && batch->view->width_px > 0 &&
-                           batch->view->height_px > 0;
+                           batch->view->size >= sizeof(FoveartEyeView) && eye_view_problem(*batch->view).empty();
     if (!batch->out_rgb || (!explicit_rays && !view_rays)) return FOVEART_RESULT_ERROR_INVALID_ARGUMENT;
     out->explicit_rays_ = explicit_rays;
     if (!explicit_rays) {
@@ -46,7 +45,8 @@ class RayBatchReader {
   std::uint32_t size() const { return batch_->ray_count; }
 
   // Ray r with its direction normalised; false for a ray that cannot be traced (a zero or
-  // non-finite direction, a non-finite origin), which the engine answers with black and no depth.
+  // non-finite direction, an origin that is not finite or lies beyond kMaxPositionM), which the
+  // engine answers with black and no depth.
   bool ray(std::uint32_t r, glm::vec3* origin_m, glm::vec3* direction) const {
     glm::vec3 o, d;
     if (explicit_rays_) {
@@ -57,7 +57,7 @@ class RayBatchReader {
       d = eye_ray_direction(ray_map_, glm::vec2(batch_->sample_px[2 * r], batch_->sample_px[2 * r + 1]));
     }
     const float len2 = glm::dot(d, d);
-    if (!(len2 > 0.0f) || !std::isfinite(len2) || !std::isfinite(o.x + o.y + o.z)) return false;
+    if (!(len2 > 0.0f) || !std::isfinite(len2) || !traceable_position(o)) return false;
     *origin_m = o;
     *direction = d * (1.0f / std::sqrt(len2));
     return true;

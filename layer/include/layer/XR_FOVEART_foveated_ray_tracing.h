@@ -146,6 +146,11 @@ static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_TABLES_FAILED_B
 /* The view's imageRect lies outside its swapchain image: forwarded as the app sent
  * it, for the runtime to judge, and not ray traced. */
 static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_IMAGE_RECT_BIT_FOVEART = 0x00000080;
+/* The view cannot be traced: a position that is not finite or lies beyond 1e9 m, an
+ * orientation that is not a unit quaternion, or a field of view that is not finite, inside
+ * (-pi/2, pi/2) and ordered. Forwarded as the app sent it, for the runtime to judge, and not
+ * ray traced; at xrAcquireFoveatedRayBatchFOVEART, that view gets no rays. */
+static const XrFoveatedFallbackFlagsFOVEART XR_FOVEATED_FALLBACK_INVALID_VIEW_BIT_FOVEART = 0x00000100;
 
 typedef struct XrFoveatedRendererCreateInfoFOVEART {
   XrStructureType type; /* XR_TYPE_FOVEATED_RENDERER_CREATE_INFO_FOVEART */

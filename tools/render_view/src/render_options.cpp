@@ -7,6 +7,8 @@
 #include <engine/render.hpp>
 #include <foveation/content_density.hpp>
 #include <foveation/executor.hpp>
+#include <foveation/eye_view_check.hpp>
+#include <foveation/executor.hpp>
 #include <toolkit/format.hpp>
 
 #include <cmath>
@@ -155,9 +157,16 @@ std::string check_view(const RenderOptions& o) {
       if (!std::isfinite((*o.pose)[i])) return "--pose values must be finite";
       if (i >= 3) norm2 += (*o.pose)[i] * (*o.pose)[i];
     }
-    if (std::abs(norm2 - 1.0) > 1e-3) return "--pose: the quaternion qx,qy,qz,qw must have unit length";
+    if (std::abs(norm2 - 1.0) > double(foveation::kUnitQuaternionTolerance))
+      return "--pose: the quaternion qx,qy,qz,qw must have unit length";
     if (o.look_at_m) return "--look-at turns a standing viewer (--pose X,Y,Z), not an exact eye pose";
   }
+  const std::optional<std::array<double, 3>> position_m =
+      o.pose ? std::optional(std::array<double, 3>{(*o.pose)[0], (*o.pose)[1], (*o.pose)[2]}) : o.viewer_m;
+  if (position_m && !foveation::traceable_position(
+                        glm::vec3(float((*position_m)[0]), float((*position_m)[1]), float((*position_m)[2]))))
+    return "--pose: the position must be finite and within " + toolkit::format_g(foveation::kMaxPositionM) +
+           " m of the origin on each axis";
   if (o.viewer_m && o.look_at_m && *o.viewer_m == *o.look_at_m) return "--look-at must differ from --pose X,Y,Z";
   return "";
 }
