@@ -46,7 +46,10 @@
  * Numbers:  structure type values are in the range 1000900000+ which the
  *           OpenXR registry has not assigned; this is a private (vendor)
  *           extension.
- * Versions: 10 adds the per-stage cost of content density
+ * Versions: 11 adds XR_FOVEATED_FALLBACK_INVALID_VIEW_BIT_FOVEART: a view whose
+ *           pose or field of view cannot be traced is forwarded untraced;
+ *           nothing else changed.
+ *           10 adds the per-stage cost of content density
  *           (XrFoveatedRendererDensityStatsFOVEART, chained into the stats);
  *           nothing else changed.
  *           9 adds the app-recorded trace (XrFoveatedAppTraceInfoFOVEART,
@@ -84,7 +87,7 @@ extern "C" {
 #endif
 
 #define XR_FOVEART_foveated_ray_tracing 1
-#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 10
+#define XR_FOVEART_foveated_ray_tracing_SPEC_VERSION 11
 #define XR_FOVEART_FOVEATED_RAY_TRACING_EXTENSION_NAME "XR_FOVEART_foveated_ray_tracing"
 #define XR_FOVEART_API_LAYER_NAME "XR_APILAYER_FOVEART_foveated_ray_tracing"
 
