@@ -581,8 +581,9 @@ TEST(LayerInputs, FailedTableBuildIsReportedNotWarmingUpForever) {
   LayerApp a(env, config(env, R"(, "wait_for_tables": true)"));
   a.start();
   const auto renderer = a.make_renderer();
-  EXPECT_EQ(a.frame(renderer, kSmall, 2, 0.0f), XR_SUCCESS);  // a zero field of view has no point set
-  EXPECT_EQ(a.frame(renderer, kSmall, 2, 0.0f), XR_SUCCESS);
+  // A field of view of 0.2 microradians is a view, but its point set holds one point: too few for k.
+  EXPECT_EQ(a.frame(renderer, kSmall, 2, 1e-7f), XR_SUCCESS);
+  EXPECT_EQ(a.frame(renderer, kSmall, 2, 1e-7f), XR_SUCCESS);
   const auto s = a.stats(renderer);
   EXPECT_EQ(s.input.tableBuildsFailed, 1u);
   EXPECT_NE(s.main.fallbackFlags & XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART, 0u);
