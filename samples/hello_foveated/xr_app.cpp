@@ -113,7 +113,11 @@ class App {
     info.enabledApiLayerNames = layers.data();
     info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
     info.enabledExtensionNames = extensions.data();
-    check(xrCreateInstance(&info, &instance_), "xrCreateInstance (is the FoveaRT layer installed?)");
+    const XrResult created = xrCreateInstance(&info, &instance_);
+    const bool layer_missing = created == XR_ERROR_API_LAYER_NOT_PRESENT || created == XR_ERROR_EXTENSION_NOT_PRESENT;
+    check(created, layer_missing ? "xrCreateInstance (is the FoveaRT layer installed? XR_API_LAYER_PATH names the "
+                                   "folder of its manifest)"
+                                 : "xrCreateInstance");
     auto system_info = xr_struct<XrSystemGetInfo>(XR_TYPE_SYSTEM_GET_INFO);
     system_info.formFactor = XR_FORM_FACTOR_HEAD_MOUNTED_DISPLAY;
     check(xrGetSystem(instance_, &system_info, &system_), "xrGetSystem");
