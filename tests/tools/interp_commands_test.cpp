@@ -159,7 +159,12 @@ TEST_F(InterpCommands, ErrorsAreClearAndNonZero) {
   a.queries_file = a.samples_file;
   std::ostringstream out, err;
   EXPECT_NE(run_interpolate(a, out, err), 0);
-  EXPECT_NE(err.str().find("cannot open"), std::string::npos);
+  EXPECT_NE(err.str().find("samples file '" + a.samples_file + "': no such file"), std::string::npos) << err.str();
+  a.samples_file = dir_.string();
+  std::ostringstream dir_out, dir_err;
+  EXPECT_NE(run_interpolate(a, dir_out, dir_err), 0);
+  EXPECT_NE(dir_err.str().find("samples file '" + a.samples_file + "': a directory, not a file"), std::string::npos)
+      << dir_err.str();
 }
 
 TEST_F(InterpCommands, HardInputsGiveFiniteOutput) {

@@ -19,6 +19,7 @@
 #include <nanoflann.hpp>
 
 #include "foveation/gather.hpp"
+#include "foveation/input_file.hpp"
 #include "foveation/interpolation_weights.hpp"
 #include "foveation/neighbor_table.hpp"
 #include "foveation/rbf_clamp.hpp"
@@ -149,6 +150,10 @@ std::optional<fv::InterpOptions> interp_options(const InterpolateArgs& a, bool* 
 // One CSV file of rows with `fields` numbers each into *values; false and *error naming the file.
 [[nodiscard]] bool read_rows(const std::string& file, const char* what, int fields, std::vector<double>* values,
                              std::string* error) {
+  if (const std::string problem = fv::input_file_problem(file); !problem.empty()) {
+    *error = std::string(what) + " file '" + file + "': " + problem;
+    return false;
+  }
   std::ifstream f(file);
   if (!f) {
     *error = std::string("cannot open ") + what + " file '" + file + "'";
