@@ -183,6 +183,17 @@ void print_memory(const char* what, const GpuTracer& t) {
               static_cast<unsigned long long>(m.host_visible_bytes), static_cast<unsigned long long>(m.texture_bytes));
 }
 
+// The GPU engine runs the CPU engine's scene check (engine::prepare_scene): a far scene is refused alike.
+TEST(GpuTracer, RefusesTheScenesTheCpuTracerRefuses) {
+  Scene scene = foveart::engine::make_default_scene();
+  scene.mesh.positions[0].y = -3e9f;
+  std::string cpu_error, gpu_error;
+  EXPECT_EQ(foveart::engine::Tracer::create(scene, {}, &cpu_error), nullptr);
+  EXPECT_EQ(GpuTracer::create(gpu().context(), scene, {}, &gpu_error), nullptr);
+  EXPECT_NE(cpu_error.find("lies beyond 1e+09 m of the origin"), std::string::npos) << cpu_error;
+  EXPECT_NE(gpu_error.find(cpu_error), std::string::npos) << gpu_error;
+}
+
 TEST(GpuTracer, SceneLivesInDeviceLocalMemory) {
   REQUIRE_GPU();
   auto g = make_gpu(foveart::engine::make_textured_hall());

@@ -454,6 +454,33 @@ TEST(Tracer, BadBatchesAreRejectedAndBadRaysAreBlack) {
   EXPECT_EQ(rgb[4], 0.0f);
 }
 
+// engine::prepare_scene, which both engines run: each broken scene is refused, naming its source
+// and what is wrong. A vertex beyond 1e9 m would spawn secondary rays that Embree aborts on.
+TEST(Tracer, ABrokenOrFarSceneIsRefusedByName) {
+  struct Case {
+    void (*spoil)(Scene&);
+    const char* says;
+  };
+  const Case cases[] = {
+      {[](Scene& s) { s.mesh.positions[2].z = 2e9f; },
+       "far: vertex 2 at (0.5, 0, 2e+09) m is not finite or lies beyond"},
+      {[](Scene& s) { s.mesh.positions[0].x = std::numeric_limits<float>::quiet_NaN(); }, "far: vertex 0 at (nan"},
+      {[](Scene& s) { s.mesh.normals.pop_back(); }, "far: inconsistent mesh arrays"},
+      {[](Scene& s) { s.mesh.triangles[1].z = 99; }, "far: triangle 1 refers past the vertex or material arrays"},
+      {[](Scene& s) { s.textures.push_back(Texture{}); }, "far: texture 0 has no or the wrong number of texels"},
+  };
+  for (const Case& c : cases) {
+    Scene scene;
+    scene.source = "far";
+    scene.materials.push_back(rough());
+    add_floor(scene, 0.5f, 0.0f, 0);
+    c.spoil(scene);
+    std::string error;
+    EXPECT_EQ(Tracer::create(std::move(scene), {}, &error), nullptr) << c.says;
+    EXPECT_EQ(error.rfind(c.says, 0), 0u) << error;
+  }
+}
+
 TEST(Tracer, EmptySceneSeesOnlySky) {
   Scene s;
   s.source = "empty";

@@ -2,14 +2,51 @@
 #include <engine/effects.hpp>
 #include <engine/scene.hpp>
 
+#include <foveation/eye_view_check.hpp>
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 
 namespace foveart::engine {
+
+bool prepare_scene(Scene& scene, std::string* error) {
+  const auto fail = [&](const std::string& what) {
+    if (error) *error = scene.source + ": " + what;
+    return false;
+  };
+  const Mesh& m = scene.mesh;
+  const size_t nv = m.positions.size();
+  if (m.triangle_material.size() != m.triangles.size() || m.normals.size() != nv ||
+      (!m.uv0.empty() && m.uv0.size() != nv) || (!m.uv1.empty() && m.uv1.size() != nv))
+    return fail("inconsistent mesh arrays");
+  for (size_t i = 0; i < m.triangles.size(); ++i) {
+    const glm::uvec3 t = m.triangles[i];
+    if (t.x >= nv || t.y >= nv || t.z >= nv || m.triangle_material[i] >= scene.materials.size())
+      return fail("triangle " + std::to_string(i) + " refers past the vertex or material arrays");
+  }
+  for (size_t i = 0; i < nv; ++i) {
+    if (foveation::traceable_position(m.positions[i])) continue;
+    const glm::vec3 p = m.positions[i];
+    std::ostringstream what;
+    what << "vertex " << i << " at (" << p.x << ", " << p.y << ", " << p.z << ") m is not finite or lies beyond "
+         << foveation::kMaxPositionM << " m of the origin";
+    return fail(what.str());
+  }
+  for (size_t i = 0; i < scene.textures.size(); ++i) {
+    const Texture& t = scene.textures[i];
+    if (t.width == 0 || t.height == 0 || t.texels.size() != static_cast<size_t>(t.width) * t.height)
+      return fail("texture " + std::to_string(i) + " has no or the wrong number of texels");
+  }
+  for (Material& mat : scene.materials)  // a texture index that does not exist is no texture
+    if (mat.base_color_texture >= static_cast<int>(scene.textures.size())) mat.base_color_texture = -1;
+  return true;
+}
 
 Bounds scene_bounds(const Mesh& mesh) {
   Bounds b;

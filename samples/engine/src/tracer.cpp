@@ -216,23 +216,8 @@ void Tracer::Impl::add_geometry(const std::vector<uint32_t>& tris, unsigned int 
 }
 
 bool Tracer::Impl::build(std::string* error) {
+  if (!prepare_scene(scene, error)) return false;
   const Mesh& m = scene.mesh;
-  if (m.triangle_material.size() != m.triangles.size() ||
-      m.normals.size() != m.positions.size()) {
-    if (error) *error = scene.source + ": inconsistent mesh arrays";
-    return false;
-  }
-  for (size_t i = 0; i < m.triangles.size(); ++i) {
-    const glm::uvec3 t = m.triangles[i];
-    if (t.x >= m.positions.size() || t.y >= m.positions.size() || t.z >= m.positions.size() ||
-        m.triangle_material[i] >= scene.materials.size()) {
-      if (error) *error = scene.source + ": triangle " + std::to_string(i) + " refers past the vertex or material arrays";
-      return false;
-    }
-  }
-  for (Material& mat : scene.materials)  // a texture index that does not exist is no texture
-    if (mat.base_color_texture >= static_cast<int>(scene.textures.size())) mat.base_color_texture = -1;
-
   scene_effects = derive_effects(scene);
   effects = scene_effects & options.allowed;
   static constexpr auto kKernels = make_kernels(std::make_integer_sequence<uint32_t, 16>{});

@@ -17,29 +17,6 @@ void put3(float (&dst)[3], glm::vec3 v) {
   dst[2] = v.z;
 }
 
-// The mesh's arrays agree and every index is in range; as engine::Tracer, a
-// texture index past the textures becomes "no texture".
-bool check_scene(engine::Scene& scene, std::string* error) {
-  const engine::Mesh& m = scene.mesh;
-  const size_t nv = m.positions.size();
-  if (m.triangle_material.size() != m.triangles.size() || m.normals.size() != nv ||
-      (!m.uv0.empty() && m.uv0.size() != nv) || (!m.uv1.empty() && m.uv1.size() != nv))
-    return fail(error, scene.source + ": inconsistent mesh arrays");
-  for (size_t i = 0; i < m.triangles.size(); ++i) {
-    const glm::uvec3 t = m.triangles[i];
-    if (t.x >= nv || t.y >= nv || t.z >= nv || m.triangle_material[i] >= scene.materials.size())
-      return fail(error, scene.source + ": triangle " + std::to_string(i) + " refers past the vertex or material arrays");
-  }
-  for (engine::Material& mat : scene.materials)  // as engine::Tracer: a missing texture is no texture
-    if (mat.base_color_texture >= static_cast<int>(scene.textures.size())) mat.base_color_texture = -1;
-  for (size_t i = 0; i < scene.textures.size(); ++i) {
-    const engine::Texture& t = scene.textures[i];
-    if (t.width == 0 || t.height == 0 || t.texels.size() != static_cast<size_t>(t.width) * t.height)
-      return fail(error, scene.source + ": texture " + std::to_string(i) + " has no or the wrong number of texels");
-  }
-  return true;
-}
-
 // Triangles and their shading data; returns those that go into the BVH: as
 // engine::Tracer::build, a MASK material without texture is decided here, one
 // with a texture per hit.
@@ -139,7 +116,7 @@ void assign_texture_slots(const engine::Scene& scene, SceneData* out) {
 }  // namespace
 
 bool flatten_scene(engine::Scene& scene, SceneData* out, std::string* error) {
-  if (!check_scene(scene, error)) return false;
+  if (!engine::prepare_scene(scene, error)) return false;
   out->scene_effects = engine::derive_effects(scene);
   const std::vector<uint32_t> traced = flatten_triangles(scene, out);
   if (!build_bvh(scene.mesh, traced, &out->bvh, error)) return false;

@@ -95,6 +95,13 @@ struct Scene {
   std::vector<std::string> warnings;           // things loaded approximately or skipped
 };
 
+// Makes a scene ready for an engine to trace, the one check both sample
+// engines run: false with *error naming the source and what is wrong when the
+// mesh's arrays disagree, an index points past them, a texture lacks texels,
+// or a vertex lies beyond foveation::kMaxPositionM (its hits would spawn rays
+// that Embree aborts on). A texture index past the textures becomes no texture.
+bool prepare_scene(Scene& scene, std::string* error);
+
 // Axis-aligned bounds of the mesh (empty scene: both zero).
 struct Bounds {
   glm::vec3 min{0.0f};
