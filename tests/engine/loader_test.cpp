@@ -149,6 +149,24 @@ TEST(GltfLoaderErrors, MissingFile) {
   expect_error(load_gltf(p.string()), p, "no such file");
 }
 
+// A camera whose transform leaves no view (a zero scale, or a place beyond 1e9 m) is ignored with a
+// warning: the scene is then framed as one without a camera, never shown through NaN rays.
+TEST(GltfLoader, ACameraThatCannotSeeIsIgnoredWithAWarning) {
+  for (const nlohmann::json& node : {nlohmann::json{{"camera", 0}, {"scale", {0.0, 0.0, 0.0}}},
+                                     nlohmann::json{{"camera", 0}, {"translation", {1e30, 0.0, 0.0}}}}) {
+    TempDir dir;
+    GltfDoc doc = unit_quad(false);
+    doc.json["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}}};
+    doc.json["nodes"].push_back(node);
+    doc.json["scenes"][0]["nodes"] = {0, 1};
+    const LoadResult r = load_gltf(write_embedded(dir.path, "camera", doc).string());
+    ASSERT_TRUE(r.ok()) << r.error;
+    EXPECT_FALSE(r.scene->camera.has_value()) << node.dump();
+    ASSERT_EQ(r.scene->warnings.size(), 1u) << node.dump();
+    EXPECT_EQ(r.scene->warnings[0], "camera 0: its transform has a zero scale or puts it beyond 1e9 m; ignored");
+  }
+}
+
 TEST(GltfLoaderErrors, ADirectoryOrDeviceIsNotAFile) {
   TempDir dir;
   expect_error(load_gltf(dir.path.string()), dir.path, "a directory, not a file");

@@ -4,6 +4,7 @@
 
 #include <engine/default_scene.hpp>
 #include <engine/procedural_scenes.hpp>
+#include <foveation/eye_view_check.hpp>
 #include <foveation/input_file.hpp>
 
 #include "gltf_accessors.hpp"
@@ -296,6 +297,13 @@ class Loader {
     const glm::mat3 r(glm::normalize(glm::vec3(world[0])), glm::normalize(glm::vec3(world[1])),
                       glm::normalize(glm::vec3(world[2])));
     cam.orientation = glm::normalize(glm::quat_cast(r));
+    const glm::quat& q = cam.orientation;
+    if (!foveation::traceable_position(cam.position_m) || !std::isfinite(q.x + q.y + q.z + q.w)) {
+      // A zero scale leaves no rotation; a camera past kMaxPositionM sees nothing that can be traced.
+      scene_.warnings.push_back("camera " + std::to_string(index) +
+                                ": its transform has a zero scale or puts it beyond 1e9 m; ignored");
+      return;
+    }
     if (c.type == "perspective" && c.perspective.yfov > 0.0) {
       cam.yfov_rad = static_cast<float>(c.perspective.yfov);
       cam.aspect = static_cast<float>(c.perspective.aspectRatio);
