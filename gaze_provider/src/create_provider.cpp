@@ -64,7 +64,7 @@ CreateResult create_gaze_provider(std::string_view source, const ProviderOptions
     r.provider = create_hid_provider(hid, options, &r.error);
   } else {
     r.error = "unknown gaze source '" + std::string(source) +
-              "' (expected sim, sim:SEED, replay:FILE, fove, fove:LIBRARY, hid, hid:VID:PID)";
+              "' (expected sim, sim:SEED, replay:FILE, fove, fove:LIBRARY, hid, hid:VID:PID, hid:/dev/hidrawN)";
   }
   if (!r.provider && r.error.empty()) r.error = "cannot create gaze source '" + std::string(source) + "'";
   return r;
