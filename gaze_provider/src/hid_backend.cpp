@@ -57,17 +57,18 @@ std::string find_device(const HidConfig& c, std::string* error) {
     }
   }
   hid_free_enumeration(list);
-  if (found.empty() && error) {
-    char what[96];
-    if (by_path)
-      *error = c.path + ": not a HID device (hidapi lists " + (listed.empty() ? std::string("none") : listed) + ")";
-    else if (by_id)
-      std::snprintf(what, sizeof what, "no HID device %04x:%04x", unsigned(*c.vendor_id), unsigned(*c.product_id));
-    else
-      std::snprintf(what, sizeof what, "no HID device with usage page 0x%02x (Eye and Head Trackers)",
-                    unsigned(c.usage_page));
-    if (!by_path) *error = what;
+  if (!found.empty() || error == nullptr) return found;
+  if (by_path) {
+    *error = c.path + ": not a HID device (hidapi lists " + (listed.empty() ? std::string("none") : listed) + ")";
+    return found;
   }
+  char what[96];
+  if (by_id)
+    std::snprintf(what, sizeof what, "no HID device %04x:%04x", unsigned(*c.vendor_id), unsigned(*c.product_id));
+  else
+    std::snprintf(what, sizeof what, "no HID device with usage page 0x%02x (Eye and Head Trackers)",
+                  unsigned(c.usage_page));
+  *error = what;
   return found;
 }
 

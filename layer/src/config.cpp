@@ -373,7 +373,8 @@ ConfigResult load_config(std::string_view application_name, const GetEnvFn& env)
       candidates.emplace_back(*p);
     else if (std::filesystem::exists(*p, ec))
       result.warnings.push_back("FOVEART_CONFIG names '" + *p + "', which is not a regular file; searching on");
-    else result.warnings.push_back("FOVEART_CONFIG names '" + *p + "', which does not exist; searching on");
+    else
+      result.warnings.push_back("FOVEART_CONFIG names '" + *p + "', which does not exist; searching on");
   }
   if (auto x = env("XDG_CONFIG_HOME"); x && !x->empty()) {
     candidates.emplace_back(std::filesystem::path(*x) / "foveart" / "config.json");

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
