@@ -1,7 +1,7 @@
 // Whether a frame can be traced from an eye view at all: the one check that the
-// layer (each submitted and acquired view), the tools (--pose, --fov-deg) and
-// the engines' batch reader share, so that no engine is handed a view or ray
-// it cannot trace.
+// layer (each submitted and acquired view) and the engines' batch reader share,
+// with the position bound that the tools' --pose and the engines' scenes meet
+// too, so that no engine is handed a view, ray or scene it cannot trace.
 #pragma once
 
 #include <cmath>
