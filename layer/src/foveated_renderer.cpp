@@ -114,7 +114,7 @@ uint32_t FoveatedRenderer::Frames::render(XrTime display_time, const XrCompositi
     const FoveartEyeView submitted =
         eye_view_of(e, views[e].pose, views[e].fov, uint32_t(rect.extent.width), uint32_t(rect.extent.height));
     if (view_traceable(e, submitted, "xrEndFrame", stats) &&
-        (taken ? render_app_eye(e, *taken, views[e], stats) : render_eye(e, frame_gaze, views[e], stats)))
+        (taken ? render_app_eye(e, *taken, views[e], stats) : render_eye(e, frame_gaze, submitted, views[e], stats)))
       ++rewritten;
     else
       ++stats->framesFallback;
@@ -589,18 +589,17 @@ bool FoveatedRenderer::Frames::view_traceable(uint32_t e, const FoveartEyeView& 
   return false;
 }
 
-bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze,
-                                          XrCompositionLayerProjectionView& view, XrFoveatedRendererStatsFOVEART* stats) {
+bool FoveatedRenderer::Frames::render_eye(uint32_t e, const FrameGaze& frame_gaze, const FoveartEyeView& submitted,
+                                          XrCompositionLayerProjectionView& view,
+                                          XrFoveatedRendererStatsFOVEART* stats) {
   Eye& eye = eyes[e];
   if (eye.failed) {
     stats->fallbackFlags |= XR_FOVEATED_FALLBACK_UPLOAD_FAILED_BIT_FOVEART;
     return false;
   }
-  const auto extent = view.subImage.imageRect.extent;  // positive: end_frame checked the rect
-  const auto w = static_cast<uint32_t>(extent.width);
-  const auto h = static_cast<uint32_t>(extent.height);
+  const uint32_t w = submitted.width_px, h = submitted.height_px;
   foveation::FrameRequest request;
-  request.view = eye_view_of(e, view.pose, view.fov, w, h);
+  request.view = submitted;
   const Tables found = tables_for(request.view);
   if (found.failed || found.ready == nullptr) {
     stats->fallbackFlags |= found.failed ? XR_FOVEATED_FALLBACK_TABLES_FAILED_BIT_FOVEART

@@ -153,9 +153,10 @@ struct FoveatedRenderer::Frames {
   // False (flagged, logged once) when eye e's view cannot be traced (foveation::eye_view_problem);
   // `where` names the call that brought it.
   bool view_traceable(uint32_t e, const FoveartEyeView& view, const char* where, XrFoveatedRendererStatsFOVEART* stats);
-  // One eye's frame, in the steps below: false when the view shows the app's own image.
-  bool render_eye(uint32_t e, const FrameGaze& gaze, XrCompositionLayerProjectionView& view,
-                  XrFoveatedRendererStatsFOVEART* stats);
+  // One eye's frame, in the steps below, from `submitted`, the view the app submitted as
+  // eye_view_of makes it (view_traceable passed it): false when the view shows the app's own image.
+  bool render_eye(uint32_t e, const FrameGaze& gaze, const FoveartEyeView& submitted,
+                  XrCompositionLayerProjectionView& view, XrFoveatedRendererStatsFOVEART* stats);
   bool ensure_swapchain(uint32_t e, uint32_t w, uint32_t h, XrFoveatedRendererStatsFOVEART* stats);
   // The eye's path: the GPU where the reconstructor runs and the eye's GPU path has not failed,
   // with the engine's device trace where it registered one; else the CPU with its callback.
