@@ -2,6 +2,7 @@
 // or the first device whose usage page is 0x12 (HID "Eye and Head Trackers").
 #include <hidapi/hidapi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -43,14 +44,15 @@ bool same_device_path(const std::string& path, const char* listed) {
 // device by VID:PID or usage page. "" with *error saying why when there is none.
 std::string find_device(const HidConfig& c, std::string* error) {
   const bool by_path = !c.path.empty(), by_id = c.vendor_id && c.product_id;
-  std::string found, listed;
+  std::string found;
+  std::vector<std::string> listed;  // hidapi lists a device once per usage: each path once here
   hid_device_info* list = hid_enumerate(0, 0);
   for (hid_device_info* d = list; d && found.empty(); d = d->next) {
     if (by_path) {
       if (same_device_path(c.path, d->path))
         found = c.path;
-      else if (d->path && listed.find(d->path) == std::string::npos)
-        listed += std::string(listed.empty() ? "" : ", ") + d->path;
+      else if (d->path && std::find(listed.begin(), listed.end(), d->path) == listed.end())
+        listed.emplace_back(d->path);
     } else if (by_id ? (d->vendor_id == *c.vendor_id && d->product_id == *c.product_id)
                      : d->usage_page == c.usage_page) {
       found = d->path ? d->path : "";
@@ -59,7 +61,9 @@ std::string find_device(const HidConfig& c, std::string* error) {
   hid_free_enumeration(list);
   if (!found.empty() || error == nullptr) return found;
   if (by_path) {
-    *error = c.path + ": not a HID device (hidapi lists " + (listed.empty() ? std::string("none") : listed) + ")";
+    std::string paths;
+    for (const std::string& p : listed) paths += (paths.empty() ? "" : ", ") + p;
+    *error = c.path + ": not a HID device (hidapi lists " + (paths.empty() ? std::string("none") : paths) + ")";
     return found;
   }
   char what[96];
