@@ -1,6 +1,6 @@
 // The castleCSF human thresholds the perceptual metric is validated against
-// (tests/data/castlecsf_achromatic*.csv, tests/data/README.md) and the statistics of a
-// prediction against them, per eccentricity band.
+// (tests/data/castlecsf_achromatic*.csv, tests/data/README.md), the statistics of a
+// prediction against them, per eccentricity band, and the reader of tests/data/ CSV files.
 #pragma once
 
 #include <array>
@@ -21,16 +21,24 @@ struct CastleRow {
   double temporal_freq_hz = 0;  // the flicker's frequency (the temporal file's last column; 0: static)
 };
 
-// The static rows (castlecsf_achromatic.csv) or the flickering ones (castlecsf_achromatic_temporal.csv).
-inline std::vector<CastleRow> load_castle_rows(const std::string& file = "castlecsf_achromatic.csv") {
+// The data rows of a CSV file in tests/data/ (README.md there), header skipped, split at commas.
+inline std::vector<std::vector<std::string>> test_data_rows(const std::string& file) {
   std::ifstream in(std::string(FOVEART_TEST_DATA_DIR) + "/" + file);
-  std::vector<CastleRow> rows;
+  std::vector<std::vector<std::string>> rows;
   std::string line;
   std::getline(in, line);  // header
   while (std::getline(in, line)) {
     std::stringstream ss(line);
-    std::vector<std::string> f;
+    std::vector<std::string>& f = rows.emplace_back();
     for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+  }
+  return rows;
+}
+
+// The static rows (castlecsf_achromatic.csv) or the flickering ones (castlecsf_achromatic_temporal.csv).
+inline std::vector<CastleRow> load_castle_rows(const std::string& file = "castlecsf_achromatic.csv") {
+  std::vector<CastleRow> rows;
+  for (const std::vector<std::string>& f : test_data_rows(file)) {
     if (f.size() < 17) continue;
     CastleRow r{f[0], f[1], std::stod(f[2]), std::stod(f[3]), std::stod(f[4]), std::stod(f[5]), std::stod(f[6]),
                 std::stod(f[7]), std::stod(f[10])};
