@@ -22,6 +22,7 @@
 #include "castle_validation.hpp"
 #include "eval/castle_csf.hpp"
 #include "eval/perceptual_metric.hpp"
+#include "foveation/display_model.hpp"
 
 namespace {
 
@@ -175,8 +176,8 @@ TEST(ResolutionLimitValidation, DataShippedForThreeEccentricities) {
 // field and the other's nasal one), against the median within kToleranceSd observer SDs at 10 and
 // 20 deg; the control without the eccentricity term must miss there. At the fovea the CSF's limit
 // is a printed miss: castleCSF's high-frequency fall is fitted to data up to 32 cpd (the shipped
-// rows' highest) and the limit lies beyond, near 90 cpd; a display resolves less than that below
-// about 180 pixels per degree, and the metric only sees frequencies the display shows.
+// rows' highest) and the limit lies beyond, near 95 cpd; a display below about 190 pixels per degree
+// shows no such frequency, and the metric only sees frequencies the display shows.
 TEST(ResolutionLimitValidation, CsfPathWithinTheObserversSpread) {
   std::ostringstream table;
   table << "\nresolution limit, CSF path (pixels per degree; deviation in observer SDs of log10 ppd)\n"
@@ -226,6 +227,28 @@ TEST(ResolutionLimitValidation, ImagePathAtOnePixelPerBarIsNoLessAcuteThanTheMed
     table << line;
     EXPECT_GE(o.deviation_sd(image), 0.0) << e << " deg";
     EXPECT_GE(control_p, 0.5) << e << " deg: without the eccentricity term the limit must be higher";
+  }
+  std::cout << table.str();
+}
+
+// What docs/foveation.md says of the point set's eye model: the thesis's cut-off (eq. 2, Geisler &
+// Perry 1998), the highest frequency seen at full contrast, lies below every observer's measured limit
+// at 10 and 20 deg, so a full-contrast one-pixel grating beyond the pixel grid is under-sampled.
+TEST(ResolutionLimitValidation, ThesisCutoffLiesBelowEveryObserverOffTheFovea) {
+  std::ostringstream table;
+  table << "\nthe thesis's cut-off (eq. 2) as a resolution limit, pixels per degree\n"
+        << "| ecc | eq. 2 | observers' lowest | median |\n|---|---|---|---|\n";
+  for (const double e : kEccentricitiesDeg) {
+    const Observers o = load_observers(e);
+    const double thesis_ppd = 2.0 * foveart::foveation::cutoff_frequency_cpd(e);
+    const double lowest_ppd = std::pow(10.0, *std::min_element(o.log10_ppd.begin(), o.log10_ppd.end()));
+    char line[160];
+    std::snprintf(line, sizeof line, "| %.0f deg | %.1f | %.1f | %.1f |\n", e, thesis_ppd, lowest_ppd,
+                  std::pow(10.0, o.median()));
+    table << line;
+    if (e > 0.0) {
+      EXPECT_LT(thesis_ppd, lowest_ppd) << e << " deg";
+    }
   }
   std::cout << table.str();
 }
