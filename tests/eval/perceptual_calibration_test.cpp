@@ -9,14 +9,9 @@
 #include "eval/castle_csf.hpp"
 #include "foveation/srgb.hpp"
 #include "perceptual_stimulus.hpp"
+#include "under_sanitizer.hpp"
 
 namespace {
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kUnderSanitizer = true;
-#else
-constexpr bool kUnderSanitizer = false;
-#endif
 
 using namespace foveart::test;
 using foveart::eval::PerceptualMetric;

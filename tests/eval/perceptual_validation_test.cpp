@@ -20,6 +20,7 @@
 #include "eval/castle_csf.hpp"
 #include "eval/perceptual_metric.hpp"
 #include "perceptual_stimulus.hpp"
+#include "under_sanitizer.hpp"
 
 namespace {
 
@@ -47,12 +48,6 @@ double metric_sensitivity(const CastleRow& r, foveart::eval::EccentricityTerm te
                 {r.freq_cpd, r.luminance_cd_m2, r.area_deg2, r.ecc_deg, r.vis_field_deg, r.temporal_freq_hz}, term);
   return 1.0 / metric_threshold_contrast(scene, m, guess);
 }
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kUnderSanitizer = true;
-#else
-constexpr bool kUnderSanitizer = false;
-#endif
 
 // Rows of modest size: every `fovea_stride`th at the fovea, every `off_stride`th off it.
 std::vector<CastleRow> image_subset(const std::string& file = "castlecsf_achromatic.csv", int fovea_stride = 8,

@@ -44,15 +44,11 @@
 #include <engine/gltf_loader.hpp>
 #include <engine/render.hpp>
 
+#include "under_sanitizer.hpp"
+
 namespace {
 
 using namespace foveart;
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kThesisUnderSanitizer = true;
-#else
-constexpr bool kThesisUnderSanitizer = false;
-#endif
 
 constexpr int kCropPx = 256;
 constexpr int kRaysPerPoint = 128;
@@ -204,10 +200,10 @@ TEST(ThesisDensity, HalfDetectionScalesAgainstTable3) {
   ASSERT_LT(baseline.p_max, 0.5) << "the full render's own noise is detected: the check cannot see foveation";
 
   std::vector<std::optional<double>> found;
-  const std::size_t methods = kThesisUnderSanitizer ? 1 : std::size(kTable3);  // NN only under the sanitizers
+  const std::size_t methods = test::kUnderSanitizer ? 1 : std::size(kTable3);  // NN only under the sanitizers
   for (std::size_t i = 0; i < methods; ++i) {
     const eval::DensityProbe probe = v.probe(kTable3[i].method, v.metric);
-    found.push_back(kThesisUnderSanitizer ? v.bracketed_half_scale(probe, first_poisson_scale()) : v.half_scale(probe));
+    found.push_back(test::kUnderSanitizer ? v.bracketed_half_scale(probe, first_poisson_scale()) : v.half_scale(probe));
     ASSERT_TRUE(v.error.empty()) << v.error;
   }
   ASSERT_TRUE(found[0]) << "nearest: no crossing of one half in " << kScaleLo << "-" << kScaleHi;
